@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// Minimal argument parsing for the deepcut sub-commands: positionals, `-o OUT`, `--flag`,
+// `--key VALUE` and `--key=VALUE`. Usage errors throw UsageError (exit code 2).
+
+#include <map>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace deepcut::cli {
+
+class UsageError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class Args {
+ public:
+  /// @param flags   options without a value (e.g. "--json")
+  /// @param options options with a value (e.g. "-o", "--radius")
+  Args(const std::vector<std::string>& argv, const std::set<std::string>& flags, const std::set<std::string>& options);
+
+  const std::vector<std::string>& positionals() const { return positionals_; }
+  bool flag(const std::string& name) const { return flags_.count(name) != 0; }
+  bool has(const std::string& name) const { return values_.count(name) != 0; }
+  std::string value(const std::string& name, const std::string& fallback = "") const;
+  /// Number option; UsageError when malformed or not finite.
+  double number(const std::string& name, double fallback) const;
+  /// Comma-separated numbers, exactly `count` of them, all finite.
+  std::vector<double> vector(const std::string& name, std::size_t count) const;
+
+ private:
+  std::vector<std::string> positionals_;
+  std::set<std::string> flags_;
+  std::map<std::string, std::string> values_;
+};
+
+}  // namespace deepcut::cli

@@ -1,0 +1,143 @@
+// SPDX-License-Identifier: MIT
+#include "commands.h"
+
+#include <chrono>
+#include <iomanip>
+#include <iostream>
+
+#include <nlohmann/json.hpp>
+
+#include "args.h"
+#include "deepcut/core/generate/cactus.h"
+#include "deepcut/core/io/gltf.h"
+#include "deepcut/core/validate.h"
+
+namespace deepcut::cli {
+namespace {
+
+using nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+std::string single_model(const Args& args, const char* command) {
+  if (args.positionals().size() != 1)
+    throw UsageError(std::string(command) + " needs exactly one MODEL (.glb or .gltf), got " +
+                     std::to_string(args.positionals().size()));
+  return args.positionals()[0];
+}
+
+std::string output_path(const Args& args, const char* command) {
+  if (!args.has("-o")) throw UsageError(std::string(command) + " needs -o OUT (.glb or .gltf)");
+  return args.value("-o");
+}
+
+}  // namespace
+
+int run_info(const std::vector<std::string>& argv) {
+  const Args args(argv, {"--json"}, {});
+  const std::string path = single_model(args, "info");
+  const auto t0 = Clock::now();
+  const Model model = read_gltf(path);
+  const double load_ms = ms_since(t0);
+  const ModelStats s = compute_stats(model);
+  const auto problems = find_problems(model);
+  json anims = json::array();
+  for (const auto& a : model.animations) anims.push_back({{"name", a.name}, {"duration", a.duration()}});
+  std::size_t merged = 0;
+  for (const auto& m : model.meshes)
+    for (const auto& p : m.primitives) merged += p.welded_merged;
+  const glm::vec3 lo = s.bounds.empty() ? glm::vec3(0.0f) : s.bounds.min, hi = s.bounds.empty() ? glm::vec3(0.0f) : s.bounds.max;
+  if (args.flag("--json")) {
+    json out = {{"file", path},
+                {"nodes", s.nodes},
+                {"meshes", s.meshes},
+                {"primitives", s.primitives},
+                {"vertices", s.gltf_vertices},
+                {"welded_vertices", s.welded_vertices},
+                {"weld_merged", merged},
+                {"triangles", s.triangles},
+                {"skins", s.skins},
+                {"joints", s.joints},
+                {"animations", s.animations},
+                {"animation_clips", anims},
+                {"materials", s.materials},
+                {"textures", s.textures},
+                {"images", s.images},
+                {"boundary_edges", s.boundary_edges},
+                {"nonmanifold_edges", s.nonmanifold_edges},
+                {"seam_edges", s.seam_edges},
+                {"components", s.components},
+                {"bbox", {{"min", {lo.x, lo.y, lo.z}}, {"max", {hi.x, hi.y, hi.z}}}},
+                {"problems", problems},
+                {"load_ms", load_ms}};
+    std::cout << out.dump(2) << "\n";
+    return 0;
+  }
+  std::cout << path << "\n"
+            << "  nodes " << s.nodes << ", meshes " << s.meshes << ", primitives " << s.primitives << "\n"
+            << "  vertices " << s.gltf_vertices << " (glTF), " << s.welded_vertices << " welded (" << merged
+            << " merged), triangles " << s.triangles << "\n"
+            << "  skins " << s.skins << ", joints " << s.joints << ", materials " << s.materials << ", textures "
+            << s.textures << ", images " << s.images << "\n"
+            << "  animations " << s.animations;
+  for (const auto& a : model.animations)
+    std::cout << "\n    '" << a.name << "' " << std::setprecision(4) << a.duration() << " s";
+  std::cout << "\n  edges: boundary " << s.boundary_edges << ", non-manifold " << s.nonmanifold_edges << ", seam "
+            << s.seam_edges << "; components " << s.components << "\n"
+            << "  bbox (rest pose) [" << lo.x << ", " << lo.y << ", " << lo.z << "] - [" << hi.x << ", " << hi.y << ", "
+            << hi.z << "]\n"
+            << "  problems: " << (problems.empty() ? "none" : std::to_string(problems.size())) << "\n";
+  for (const auto& p : problems) std::cout << "    - " << p << "\n";
+  return 0;
+}
+
+int run_convert(const std::vector<std::string>& argv) {
+  const Args args(argv, {"--json"}, {"-o"});
+  const std::string in = single_model(args, "convert");
+  const std::string out = output_path(args, "convert");
+  const auto t0 = Clock::now();
+  const Model model = read_gltf(in);
+  const double read_ms = ms_since(t0);
+  const auto t1 = Clock::now();
+  write_gltf(model, out);
+  const double write_ms = ms_since(t1);
+  if (args.flag("--json")) {
+    const ModelStats s = compute_stats(model);
+    std::cout << json{{"input", in}, {"output", out}, {"triangles", s.triangles}, {"welded_vertices", s.welded_vertices},
+                      {"read_ms", read_ms}, {"write_ms", write_ms}}
+                     .dump(2)
+              << "\n";
+  } else {
+    std::cerr << "deepcut: wrote " << out << "\n";
+  }
+  return 0;
+}
+
+int run_make_cactus(const std::vector<std::string>& argv) {
+  const Args args(argv, {"--json"}, {"-o", "--triangles", "--height"});
+  if (!args.positionals().empty()) throw UsageError("make-cactus takes no MODEL, only -o OUT");
+  const std::string out = output_path(args, "make-cactus");
+  CactusOptions options;
+  const double tris = args.number("--triangles", double(options.target_triangles));
+  if (tris < 1000 || tris > 2e8) throw UsageError("--triangles must be between 1000 and 200000000");
+  options.target_triangles = static_cast<std::size_t>(tris);
+  options.height = static_cast<float>(args.number("--height", options.height));
+  const auto t0 = Clock::now();
+  const Model model = make_cactus(options);
+  const double make_ms = ms_since(t0);
+  write_gltf(model, out);
+  const ModelStats s = compute_stats(model);
+  if (args.flag("--json")) {
+    std::cout << json{{"output", out}, {"triangles", s.triangles}, {"welded_vertices", s.welded_vertices},
+                      {"joints", s.joints}, {"ms", make_ms}}
+                     .dump(2)
+              << "\n";
+  } else {
+    std::cerr << "deepcut: wrote " << out << " (" << s.triangles << " triangles, " << s.welded_vertices
+              << " vertices, " << s.joints << " joints)\n";
+  }
+  return 0;
+}
+
+}  // namespace deepcut::cli

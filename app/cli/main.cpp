@@ -1,0 +1,54 @@
+// SPDX-License-Identifier: MIT
+// deepcut: cut, tear and drill rigged glTF models from the command line.
+// Exit codes: 0 success, 2 bad input or usage (one line on stderr), 1 internal error.
+#include <iostream>
+#include <new>
+#include <string>
+#include <vector>
+
+#include "args.h"
+#include "commands.h"
+#include "deepcut/core/errors.h"
+
+namespace {
+
+const char* kUsage =
+    "usage: deepcut COMMAND [options]\n"
+    "\n"
+    "commands:\n"
+    "  info MODEL [--json]                  counts, edges, bounding box and problems of a .glb/.gltf\n"
+    "  convert MODEL -o OUT [--json]        import, weld and export (.gltf <-> .glb)\n"
+    "  make-cactus -o OUT [--triangles N]   write the project's rigged test cactus (default 25300 triangles)\n"
+    "\n"
+    "exit codes: 0 ok, 2 bad input or usage, 1 internal error\n";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  if (args.empty() || args[0] == "-h" || args[0] == "--help" || args[0] == "help") {
+    std::cout << kUsage;
+    return args.empty() ? 2 : 0;
+  }
+  const std::string command = args[0];
+  args.erase(args.begin());
+  try {
+    if (command == "info") return deepcut::cli::run_info(args);
+    if (command == "convert") return deepcut::cli::run_convert(args);
+    if (command == "make-cactus") return deepcut::cli::run_make_cactus(args);
+    std::cerr << "deepcut: unknown command '" << command << "' (see deepcut --help)\n";
+    return 2;
+  } catch (const deepcut::cli::UsageError& e) {
+    std::cerr << "deepcut " << command << ": " << e.what() << " (see deepcut --help)\n";
+    return 2;
+  } catch (const deepcut::Error& e) {
+    std::cerr << "deepcut " << command << ": " << e.what() << "\n";
+    return e.is_input_error() ? 2 : 1;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "deepcut " << command << ": out of memory\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "deepcut " << command << ": internal error: " << e.what() << "\n";
+    return 1;
+  }
+}

@@ -1,0 +1,73 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file adjacency.h
+/// Vertex->faces, vertex->vertices, face->faces (across edges), boundary / non-manifold / seam
+/// edges and connected components. `build` is the slow, obviously correct reference;
+/// `apply(log)` updates an existing adjacency from an edit log, touching only what changed.
+
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "deepcut/core/edit_log.h"
+#include "deepcut/core/surface_mesh.h"
+
+namespace deepcut {
+
+/// An undirected edge with `a < b`.
+struct Edge {
+  VertexId a, b;
+  bool operator==(const Edge& o) const { return a == o.a && b == o.b; }
+  bool operator<(const Edge& o) const { return a == o.a ? b < o.b : a < o.a; }
+};
+inline Edge make_edge(VertexId u, VertexId v) { return u < v ? Edge{u, v} : Edge{v, u}; }
+
+class Adjacency {
+ public:
+  /// Full rebuild from the live faces of `mesh`. O(#faces).
+  static Adjacency build(const SurfaceMesh& mesh);
+  /// Updates from the edits of one or more operations, in order. O(#edits).
+  void apply(const EditLog& log);
+
+  std::size_t vertex_count() const { return vertex_faces_.size(); }
+  /// Live faces around `v`, sorted by id.
+  const std::vector<FaceId>& vertex_faces(VertexId v) const { return vertex_faces_[v.index]; }
+  /// Vertices sharing an edge with `v`, sorted by id.
+  std::vector<VertexId> vertex_neighbors(VertexId v) const;
+  /// Faces sharing an edge with `f`, sorted by id (more than three at non-manifold edges).
+  std::vector<FaceId> face_neighbors(FaceId f) const;
+  /// Faces using the edge (u, v); empty if it is not an edge.
+  const std::vector<FaceId>& edge_faces(VertexId u, VertexId v) const;
+  std::size_t edge_count() const { return edges_.size(); }
+
+  /// Edges with exactly one face, sorted.
+  std::vector<Edge> boundary_edges() const;
+  /// Edges with three or more faces, sorted.
+  std::vector<Edge> nonmanifold_edges() const;
+  /// Interior edges whose two faces disagree on any corner attribute at a shared vertex
+  /// (UV seams, hard normals), sorted.
+  std::vector<Edge> seam_edges(const SurfaceMesh& mesh) const;
+  /// Number of vertex-connected components of the live faces.
+  std::size_t component_count() const;
+  /// Component index per vertex (kInvalidIndex for vertices without faces) and the count.
+  std::vector<std::uint32_t> vertex_components(std::size_t* count = nullptr) const;
+
+  /// Same vertices, same faces per vertex and same faces per edge.
+  bool operator==(const Adjacency& other) const;
+  bool operator!=(const Adjacency& other) const { return !(*this == other); }
+
+ private:
+  struct EdgeHash {
+    std::size_t operator()(std::uint64_t k) const noexcept { return std::size_t(k * 0x9E3779B97F4A7C15ull >> 16); }
+  };
+  static std::uint64_t key(VertexId u, VertexId v);
+  void add_face(FaceId f, const Triangle& t);
+  void remove_face(FaceId f, const Triangle& t);
+  void ensure_vertex(VertexId v);
+
+  std::vector<std::vector<FaceId>> vertex_faces_;
+  std::unordered_map<std::uint64_t, std::vector<FaceId>, EdgeHash> edges_;
+  std::vector<Triangle> face_vertices_;  // by face slot; invalid ids for removed faces
+};
+
+}  // namespace deepcut

@@ -1,0 +1,189 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file attributes.h
+/// Named, typed attribute arrays that grow, shrink and interpolate together (pmp's property
+/// containers, VTK's InterpolateAllocate). A `SurfaceMesh` owns one `AttributeSet` per element
+/// kind, so adding or splitting a vertex updates every attribute, including ones a plugin added.
+
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <type_traits>
+#include <typeindex>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/type_precision.hpp>
+
+#include "deepcut/core/errors.h"
+
+namespace deepcut {
+
+/// Standard attribute names. The prefix says where the data lives: `v:` one per vertex,
+/// `c:` one per face corner (index 3 * face + k, so seams need no duplicated vertices),
+/// `f:` one per face.
+namespace attr {
+inline constexpr const char* kPosition = "v:position";  ///< glm::vec3, bind space
+inline constexpr const char* kJoints0 = "v:joints0";    ///< glm::u16vec4, glTF JOINTS_0
+inline constexpr const char* kWeights0 = "v:weights0";  ///< glm::vec4, glTF WEIGHTS_0
+inline constexpr const char* kJoints1 = "v:joints1";    ///< glm::u16vec4, glTF JOINTS_1
+inline constexpr const char* kWeights1 = "v:weights1";  ///< glm::vec4, glTF WEIGHTS_1
+inline constexpr const char* kNormal = "c:normal";      ///< glm::vec3 per corner, glTF NORMAL
+inline constexpr const char* kTangent = "c:tangent";    ///< glm::vec4 per corner, glTF TANGENT
+inline constexpr const char* kColor0 = "c:color0";      ///< glm::vec4 per corner, glTF COLOR_0
+/// glm::vec2 per corner, glTF TEXCOORD_n; `uv_name(0)` is "c:uv0".
+std::string uv_name(int set);
+inline constexpr const char* kUv0 = "c:uv0";
+}  // namespace attr
+
+/// Type-erased base: what `SurfaceMesh` and `MeshEditor` need without knowing `T`.
+class AttributeArrayBase {
+ public:
+  virtual ~AttributeArrayBase() = default;
+  virtual std::size_t size() const = 0;
+  virtual void resize(std::size_t n) = 0;
+  /// Appends one element: the weighted blend of `count` existing elements (`src[i]`, `w[i]`).
+  /// Floating-point types blend linearly; integer types take the source of largest weight.
+  virtual void push_blend(const std::uint32_t* src, const float* w, int count) = 0;
+  /// Sets element `dst` to the blend of `count` elements (same rule as `push_blend`).
+  virtual void set_blend(std::size_t dst, const std::uint32_t* src, const float* w, int count) = 0;
+  /// Copies element `src` over element `dst`.
+  virtual void copy(std::size_t dst, std::size_t src) = 0;
+  /// Keeps only the elements listed, in that order (`keep[i]` becomes element `i`).
+  virtual void gather(const std::vector<std::uint32_t>& keep) = 0;
+  virtual std::unique_ptr<AttributeArrayBase> clone() const = 0;
+  virtual std::type_index type() const = 0;
+  /// Bytes of one element and a pointer to element `i` (for hashing and exact comparison).
+  virtual std::size_t element_bytes() const = 0;
+  virtual const void* element_data(std::size_t i) const = 0;
+};
+
+template <class T>
+class AttributeArray final : public AttributeArrayBase {
+ public:
+  explicit AttributeArray(T default_value = T()) : default_(default_value) {}
+
+  std::size_t size() const override { return data_.size(); }
+  void resize(std::size_t n) override { data_.resize(n, default_); }
+  void push_blend(const std::uint32_t* src, const float* w, int count) override {
+    data_.push_back(blend(src, w, count));
+  }
+  void set_blend(std::size_t dst, const std::uint32_t* src, const float* w, int count) override {
+    data_[dst] = blend(src, w, count);
+  }
+  void copy(std::size_t dst, std::size_t src) override { data_[dst] = data_[src]; }
+  void gather(const std::vector<std::uint32_t>& keep) override {
+    std::vector<T> out;
+    out.reserve(keep.size());
+    for (std::uint32_t i : keep) out.push_back(data_[i]);
+    data_.swap(out);
+  }
+  std::unique_ptr<AttributeArrayBase> clone() const override {
+    return std::make_unique<AttributeArray<T>>(*this);
+  }
+  std::type_index type() const override { return typeid(T); }
+  std::size_t element_bytes() const override { return sizeof(T); }
+  const void* element_data(std::size_t i) const override { return &data_[i]; }
+
+  T& operator[](std::size_t i) { return data_[i]; }
+  const T& operator[](std::size_t i) const { return data_[i]; }
+  std::vector<T>& data() { return data_; }
+  const std::vector<T>& data() const { return data_; }
+  const T& default_value() const { return default_; }
+
+ private:
+  T blend(const std::uint32_t* src, const float* w, int count) const {
+    if constexpr (std::is_floating_point_v<T> || std::is_floating_point_v<typename GlmScalar<T>::type>) {
+      T out = T(0);
+      for (int i = 0; i < count; ++i) out += data_[src[i]] * w[i];
+      return out;
+    } else {
+      int best = 0;
+      for (int i = 1; i < count; ++i)
+        if (w[i] > w[best]) best = i;
+      return data_[src[best]];
+    }
+  }
+
+  template <class U, class = void>
+  struct GlmScalar {
+    using type = U;
+  };
+  template <class U>
+  struct GlmScalar<U, std::void_t<typename U::value_type>> {
+    using type = typename U::value_type;
+  };
+
+  std::vector<T> data_;
+  T default_;
+};
+
+/// The attributes of one element kind, all of the same size, kept sorted by name.
+class AttributeSet {
+ public:
+  AttributeSet() = default;
+  AttributeSet(const AttributeSet& other);
+  AttributeSet& operator=(const AttributeSet& other);
+  AttributeSet(AttributeSet&&) noexcept = default;
+  AttributeSet& operator=(AttributeSet&&) noexcept = default;
+
+  std::size_t size() const { return size_; }
+  void resize(std::size_t n);
+  /// Appends one element to every array: the blend of `count` existing elements.
+  void push_blend(const std::uint32_t* src, const float* w, int count);
+  /// Sets element `dst` of every array to the blend of `count` existing elements.
+  void set_blend(std::size_t dst, const std::uint32_t* src, const float* w, int count);
+  /// Copies element `src` over element `dst` in every array.
+  void copy(std::size_t dst, std::size_t src);
+  void gather(const std::vector<std::uint32_t>& keep);
+
+  /// Adds an attribute. @throws Error{InvalidArgument} if `name` exists.
+  template <class T>
+  AttributeArray<T>& add(const std::string& name, T default_value = T()) {
+    if (arrays_.count(name)) throw Error(ErrorCode::InvalidArgument, "attribute '" + name + "' already exists");
+    auto array = std::make_unique<AttributeArray<T>>(default_value);
+    array->resize(size_);
+    auto& ref = *array;
+    arrays_.emplace(name, std::move(array));
+    return ref;
+  }
+  /// @returns the attribute, or nullptr when absent. @throws Error{MissingAttribute} on a type mismatch.
+  template <class T>
+  AttributeArray<T>* find(const std::string& name) {
+    auto it = arrays_.find(name);
+    if (it == arrays_.end()) return nullptr;
+    if (it->second->type() != typeid(T))
+      throw Error(ErrorCode::MissingAttribute, "attribute '" + name + "' has another type");
+    return static_cast<AttributeArray<T>*>(it->second.get());
+  }
+  template <class T>
+  const AttributeArray<T>* find(const std::string& name) const {
+    return const_cast<AttributeSet*>(this)->find<T>(name);
+  }
+  /// @throws Error{MissingAttribute} when absent.
+  template <class T>
+  AttributeArray<T>& get(const std::string& name) {
+    if (auto* a = find<T>(name)) return *a;
+    throw Error(ErrorCode::MissingAttribute, "attribute '" + name + "' is missing");
+  }
+  template <class T>
+  const AttributeArray<T>& get(const std::string& name) const {
+    return const_cast<AttributeSet*>(this)->get<T>(name);
+  }
+  bool contains(const std::string& name) const { return arrays_.count(name) != 0; }
+  void remove(const std::string& name) { arrays_.erase(name); }
+  std::vector<std::string> names() const;
+  const AttributeArrayBase* base(const std::string& name) const;
+  AttributeArrayBase* base(const std::string& name);
+
+  /// True if element `i` and element `j` are bitwise equal in every array (seam detection).
+  bool elements_equal(std::size_t i, std::size_t j) const;
+
+ private:
+  std::map<std::string, std::unique_ptr<AttributeArrayBase>> arrays_;
+  std::size_t size_ = 0;
+};
+
+}  // namespace deepcut

@@ -1,0 +1,37 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file io/gltf.h
+/// glTF 2.0 import and export (.gltf with embedded or external buffers, and .glb).
+
+#include <string>
+
+#include "deepcut/core/model.h"
+
+namespace deepcut {
+
+struct ImportOptions {
+  /// Weld glTF vertices that share position and skin into one topological vertex (default on).
+  bool weld = true;
+};
+
+/// Reads a .gltf or .glb file. Triangle primitives (also strips and fans, converted) become welded
+/// `SurfaceMesh`es; skins without inverseBindMatrices get identity matrices; weights are
+/// normalised (repairs are listed in `Model::import_notes`).
+/// @throws Error{Io} when the file cannot be read, Error{InvalidInput} when it is malformed
+///         (the message starts with the file name and says what is wrong).
+Model read_gltf(const std::string& path, const ImportOptions& options = {});
+
+struct ExportOptions {
+  /// Pretty-print the JSON of .gltf files (default on; .glb JSON is always compact).
+  bool pretty = true;
+  std::string generator = "DeepCut Studio";
+};
+
+/// Writes `model` as .glb or .gltf (by extension; a .gltf embeds its buffer as a data URI).
+/// Corners are un-welded into glTF vertices; weights normalised, zero-weight joints set to 0,
+/// POSITION min/max written. Written to a temporary file in the same folder, then renamed,
+/// so a failure never leaves a partial file.
+/// @throws Error{InvalidArgument} for an unknown extension, Error{Io} when writing fails.
+void write_gltf(const Model& model, const std::string& path, const ExportOptions& options = {});
+
+}  // namespace deepcut

@@ -1,0 +1,121 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file model.h
+/// A glTF scene as the library sees it: node hierarchy, skins, animations, meshes whose triangle
+/// primitives are welded `SurfaceMesh`es, and everything the library does not edit (materials,
+/// textures, images, samplers, cameras, extensions) carried through untouched as glTF JSON text.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "deepcut/core/surface_mesh.h"
+#include "deepcut/core/types.h"
+
+namespace deepcut {
+
+struct Node {
+  std::string name;
+  std::vector<int> children;
+  glm::vec3 translation{0.0f};
+  glm::quat rotation{1.0f, 0.0f, 0.0f, 0.0f};  ///< w, x, y, z
+  glm::vec3 scale{1.0f};
+  std::optional<glm::mat4> matrix;  ///< set when the file gave `matrix` instead of TRS
+  int mesh = -1;
+  int skin = -1;
+  int camera = -1;
+  std::string extras_json;      ///< the node's `extras`, verbatim ("" when absent)
+  std::string extensions_json;  ///< the node's `extensions`, verbatim ("" when absent)
+
+  /// Local transform from TRS (or `matrix`).
+  glm::mat4 local_matrix() const;
+};
+
+struct Skin {
+  std::string name;
+  std::vector<int> joints;                          ///< node indices
+  std::vector<glm::mat4> inverse_bind_matrices;     ///< one per joint (identity when the file had none)
+  bool had_inverse_bind_matrices = true;            ///< false if the file omitted them
+  int skeleton = -1;                                ///< node index of the skeleton root, or -1
+};
+
+enum class Interpolation { Step, Linear, CubicSpline };
+enum class AnimationPath { Translation, Rotation, Scale, Weights };
+
+struct AnimationSampler {
+  std::vector<float> input;   ///< key times in seconds, increasing
+  std::vector<float> output;  ///< values: components per key (x3 for CubicSpline: in-tangent, value, out-tangent)
+  int components = 3;         ///< 3 translation/scale, 4 rotation (x, y, z, w), N for weights
+  Interpolation interpolation = Interpolation::Linear;
+};
+
+struct AnimationChannel {
+  int sampler = -1;
+  int node = -1;
+  AnimationPath path = AnimationPath::Translation;
+};
+
+struct Animation {
+  std::string name;
+  std::vector<AnimationSampler> samplers;
+  std::vector<AnimationChannel> channels;
+  /// Last key time over all samplers (0 for an empty animation).
+  float duration() const;
+};
+
+/// Triangle primitive. The mesh is welded: glTF's seam-duplicated vertices are one vertex here,
+/// with the seam kept in the corner attributes.
+struct Primitive {
+  SurfaceMesh mesh;
+  int material = -1;
+  std::string extras_json;
+  std::size_t gltf_vertices = 0;  ///< POSITION count in the file it came from (0 if made in code)
+  std::size_t welded_merged = 0;  ///< how many glTF vertices weld merged into others
+};
+
+struct Mesh {
+  std::string name;
+  std::vector<Primitive> primitives;
+  std::string extras_json;
+};
+
+/// A glTF image: its encoded bytes (PNG, JPEG, ...), whatever the file stored it as.
+struct Image {
+  std::string name;
+  std::string mime_type;
+  std::vector<unsigned char> data;
+};
+
+/// Carried-through glTF objects, verbatim JSON text. Texture `source` and material texture
+/// indices refer to the model's `images` / `textures` lists unchanged.
+struct PassthroughObject {
+  std::string name;
+  std::string json;
+};
+
+struct Model {
+  std::vector<Node> nodes;
+  std::vector<std::vector<int>> scenes;  ///< root nodes per scene
+  int default_scene = 0;
+  std::vector<Skin> skins;
+  std::vector<Animation> animations;
+  std::vector<Mesh> meshes;
+  std::vector<Image> images;
+  std::vector<PassthroughObject> materials;
+  std::vector<PassthroughObject> textures;
+  std::vector<PassthroughObject> samplers;
+  std::vector<PassthroughObject> cameras;
+  std::vector<std::string> extensions_used;
+  std::vector<std::string> extensions_required;
+  std::string extras_json;  ///< root `extras` (the operation history lives here)
+  std::string asset_copyright;
+  /// Things the importer noticed and repaired or dropped (one line each, for `info`).
+  std::vector<std::string> import_notes;
+
+  /// Roots of the default scene (all parentless nodes when the file had no scene).
+  std::vector<int> root_nodes() const;
+  /// Parent of each node (-1 for roots).
+  std::vector<int> parents() const;
+};
+
+}  // namespace deepcut

@@ -1,0 +1,93 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file surface_mesh.h
+/// A triangle mesh with named attribute arrays per vertex, per face and per face corner.
+/// Connectivity is a list of triangles; derived neighbourhoods live in `Adjacency`.
+/// Faces are deleted by marking (ids stay stable through an operation);
+/// `compact()` removes them explicitly.
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "deepcut/core/attributes.h"
+#include "deepcut/core/types.h"
+
+namespace deepcut {
+
+using Triangle = std::array<VertexId, 3>;
+
+class SurfaceMesh {
+ public:
+  SurfaceMesh();
+
+  // --- sizes -------------------------------------------------------------------------------
+  /// Number of vertex slots (vertices are never deleted, only left unreferenced).
+  std::size_t vertex_count() const { return vattrs_.size(); }
+  /// Number of face slots, deleted ones included.
+  std::size_t face_slots() const { return faces_.size(); }
+  /// Number of live (not deleted) faces.
+  std::size_t face_count() const { return faces_.size() - deleted_count_; }
+  bool is_deleted(FaceId f) const { return deleted_[f.index] != 0; }
+
+  // --- construction (importers and generators; operations use MeshEditor) -------------------
+  /// Appends a vertex at `p`; every other vertex attribute gets its default value.
+  VertexId add_vertex(const glm::vec3& p);
+  /// Appends a triangle; corner and face attributes get their default values.
+  /// @throws Error{InvalidArgument} if an index is out of range.
+  FaceId add_face(VertexId a, VertexId b, VertexId c);
+  void reserve(std::size_t vertices, std::size_t faces);
+
+  // --- access ------------------------------------------------------------------------------
+  const Triangle& face(FaceId f) const { return faces_[f.index]; }
+  const std::vector<Triangle>& faces() const { return faces_; }
+  std::vector<glm::vec3>& positions() { return positions_->data(); }
+  const std::vector<glm::vec3>& positions() const { return positions_->data(); }
+  const glm::vec3& position(VertexId v) const { return (*positions_)[v.index]; }
+
+  AttributeSet& vertex_attrs() { return vattrs_; }
+  const AttributeSet& vertex_attrs() const { return vattrs_; }
+  AttributeSet& face_attrs() { return fattrs_; }
+  const AttributeSet& face_attrs() const { return fattrs_; }
+  /// Corner `k` of face `f` is element `3 * f + k`.
+  AttributeSet& corner_attrs() { return cattrs_; }
+  const AttributeSet& corner_attrs() const { return cattrs_; }
+  static std::uint32_t corner(FaceId f, int k) { return 3u * f.index + static_cast<std::uint32_t>(k); }
+
+  /// Live faces, in order.
+  template <class F>
+  void for_each_face(F&& fn) const {
+    for (std::uint32_t i = 0; i < faces_.size(); ++i)
+      if (!deleted_[i]) fn(FaceId(i), faces_[i]);
+  }
+
+  // --- low-level edits: only MeshEditor (which logs them) and builders call these -----------
+  void set_face(FaceId f, const Triangle& t) { faces_[f.index] = t; }
+  void mark_deleted(FaceId f);
+  /// Drops deleted faces and unreferenced vertices; attributes follow.
+  /// @returns the old-to-new vertex map (kInvalidIndex for dropped vertices).
+  std::vector<std::uint32_t> compact();
+
+  // --- geometry ----------------------------------------------------------------------------
+  BoundingBox bounds() const;
+  /// Sum of the areas of live faces (bind positions unless `positions` is given).
+  double area(const std::vector<glm::vec3>* positions = nullptr) const;
+  /// Signed volume enclosed by live faces (meaningful for closed, consistently oriented meshes).
+  double volume(const std::vector<glm::vec3>* positions = nullptr) const;
+
+ private:
+  std::vector<Triangle> faces_;
+  std::vector<std::uint8_t> deleted_;
+  std::size_t deleted_count_ = 0;
+  AttributeSet vattrs_, fattrs_, cattrs_;
+  AttributeArray<glm::vec3>* positions_ = nullptr;
+
+ public:
+  SurfaceMesh(const SurfaceMesh& other);
+  SurfaceMesh& operator=(const SurfaceMesh& other);
+  SurfaceMesh(SurfaceMesh&& other) noexcept;
+  SurfaceMesh& operator=(SurfaceMesh&& other) noexcept;
+  ~SurfaceMesh() = default;
+};
+
+}  // namespace deepcut

@@ -1,0 +1,205 @@
+// SPDX-License-Identifier: MIT
+#include "deepcut/core/adjacency.h"
+
+#include <algorithm>
+#include <numeric>
+#include <type_traits>
+
+namespace deepcut {
+namespace {
+
+template <class T>
+void insert_sorted(std::vector<T>& list, T value) {
+  auto it = std::lower_bound(list.begin(), list.end(), value);
+  if (it == list.end() || *it != value) list.insert(it, value);
+}
+
+template <class T>
+void erase_sorted(std::vector<T>& list, T value) {
+  auto it = std::lower_bound(list.begin(), list.end(), value);
+  if (it != list.end() && *it == value) list.erase(it);
+}
+
+std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t x) {
+  while (parent[x] != x) {
+    parent[x] = parent[parent[x]];
+    x = parent[x];
+  }
+  return x;
+}
+
+const std::vector<FaceId> kNoFaces;
+
+}  // namespace
+
+std::uint64_t Adjacency::key(VertexId u, VertexId v) {
+  const auto e = make_edge(u, v);
+  return (std::uint64_t(e.a.index) << 32) | e.b.index;
+}
+
+void Adjacency::ensure_vertex(VertexId v) {
+  if (v.index >= vertex_faces_.size()) vertex_faces_.resize(v.index + 1);
+}
+
+void Adjacency::add_face(FaceId f, const Triangle& t) {
+  if (f.index >= face_vertices_.size()) face_vertices_.resize(f.index + 1, Triangle{});
+  face_vertices_[f.index] = t;
+  for (int k = 0; k < 3; ++k) {
+    ensure_vertex(t[k]);
+    insert_sorted(vertex_faces_[t[k].index], f);
+    if (t[k] != t[(k + 1) % 3]) insert_sorted(edges_[key(t[k], t[(k + 1) % 3])], f);
+  }
+}
+
+void Adjacency::remove_face(FaceId f, const Triangle& t) {
+  if (f.index < face_vertices_.size()) face_vertices_[f.index] = Triangle{};
+  for (int k = 0; k < 3; ++k) {
+    erase_sorted(vertex_faces_[t[k].index], f);
+    if (t[k] == t[(k + 1) % 3]) continue;
+    auto it = edges_.find(key(t[k], t[(k + 1) % 3]));
+    if (it == edges_.end()) continue;
+    erase_sorted(it->second, f);
+    if (it->second.empty()) edges_.erase(it);
+  }
+}
+
+Adjacency Adjacency::build(const SurfaceMesh& mesh) {
+  Adjacency adj;
+  adj.vertex_faces_.resize(mesh.vertex_count());
+  adj.face_vertices_.assign(mesh.face_slots(), Triangle{});
+  adj.edges_.reserve(mesh.face_count() * 3 / 2 + 16);
+  // Faces are visited in increasing id, so push_back keeps every list sorted.
+  mesh.for_each_face([&](FaceId f, const Triangle& t) {
+    adj.face_vertices_[f.index] = t;
+    for (int k = 0; k < 3; ++k) {
+      auto& vf = adj.vertex_faces_[t[k].index];
+      if (vf.empty() || vf.back() != f) vf.push_back(f);
+      if (t[k] == t[(k + 1) % 3]) continue;
+      auto& ef = adj.edges_[key(t[k], t[(k + 1) % 3])];
+      if (ef.empty() || ef.back() != f) ef.push_back(f);
+    }
+  });
+  return adj;
+}
+
+void Adjacency::apply(const EditLog& log) {
+  for (const Edit& edit : log.edits) {
+    std::visit(
+        [this](const auto& e) {
+          using T = std::decay_t<decltype(e)>;
+          if constexpr (std::is_same_v<T, VertexAdded>) {
+            ensure_vertex(e.v);
+          } else if constexpr (std::is_same_v<T, VertexSplit>) {
+            ensure_vertex(e.copy);
+          } else if constexpr (std::is_same_v<T, FaceAdded>) {
+            add_face(e.f, e.vertices);
+          } else if constexpr (std::is_same_v<T, FaceRemoved>) {
+            remove_face(e.f, e.vertices);
+          }
+        },
+        edit);
+  }
+}
+
+std::vector<VertexId> Adjacency::vertex_neighbors(VertexId v) const {
+  std::vector<VertexId> out;
+  for (FaceId f : vertex_faces_[v.index])
+    for (VertexId u : face_vertices_[f.index])
+      if (u != v) out.push_back(u);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+std::vector<FaceId> Adjacency::face_neighbors(FaceId f) const {
+  std::vector<FaceId> out;
+  if (f.index >= face_vertices_.size() || !face_vertices_[f.index][0].valid()) return out;
+  const auto& t = face_vertices_[f.index];
+  for (int k = 0; k < 3; ++k)
+    for (FaceId g : edge_faces(t[k], t[(k + 1) % 3]))
+      if (g != f) out.push_back(g);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+const std::vector<FaceId>& Adjacency::edge_faces(VertexId u, VertexId v) const {
+  auto it = edges_.find(key(u, v));
+  return it == edges_.end() ? kNoFaces : it->second;
+}
+
+std::vector<Edge> Adjacency::boundary_edges() const {
+  std::vector<Edge> out;
+  for (const auto& [k, faces] : edges_)
+    if (faces.size() == 1) out.push_back({VertexId(std::uint32_t(k >> 32)), VertexId(std::uint32_t(k))});
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::vector<Edge> Adjacency::nonmanifold_edges() const {
+  std::vector<Edge> out;
+  for (const auto& [k, faces] : edges_)
+    if (faces.size() > 2) out.push_back({VertexId(std::uint32_t(k >> 32)), VertexId(std::uint32_t(k))});
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::vector<Edge> Adjacency::seam_edges(const SurfaceMesh& mesh) const {
+  std::vector<Edge> out;
+  const auto& ca = mesh.corner_attrs();
+  auto corner_of = [&](FaceId f, VertexId v) {
+    const auto& t = mesh.face(f);
+    for (int k = 0; k < 3; ++k)
+      if (t[k] == v) return SurfaceMesh::corner(f, k);
+    return kInvalidIndex;
+  };
+  for (const auto& [k, faces] : edges_) {
+    if (faces.size() != 2) continue;
+    const VertexId a(std::uint32_t(k >> 32)), b{std::uint32_t(k)};
+    const bool same = ca.elements_equal(corner_of(faces[0], a), corner_of(faces[1], a)) &&
+                      ca.elements_equal(corner_of(faces[0], b), corner_of(faces[1], b));
+    if (!same) out.push_back({a, b});
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::vector<std::uint32_t> Adjacency::vertex_components(std::size_t* count) const {
+  const auto n = static_cast<std::uint32_t>(vertex_faces_.size());
+  std::vector<std::uint32_t> parent(n);
+  std::iota(parent.begin(), parent.end(), 0u);
+  for (const auto& t : face_vertices_) {
+    if (!t[0].valid()) continue;
+    for (int k = 1; k < 3; ++k) {
+      const auto r0 = find_root(parent, t[0].index), rk = find_root(parent, t[k].index);
+      if (r0 != rk) parent[std::max(r0, rk)] = std::min(r0, rk);
+    }
+  }
+  std::vector<std::uint32_t> label(n, kInvalidIndex), root_label(n, kInvalidIndex);
+  std::uint32_t next = 0;
+  for (std::uint32_t v = 0; v < n; ++v) {
+    if (vertex_faces_[v].empty()) continue;
+    const auto r = find_root(parent, v);
+    if (root_label[r] == kInvalidIndex) root_label[r] = next++;
+    label[v] = root_label[r];
+  }
+  if (count) *count = next;
+  return label;
+}
+
+std::size_t Adjacency::component_count() const {
+  std::size_t count = 0;
+  vertex_components(&count);
+  return count;
+}
+
+bool Adjacency::operator==(const Adjacency& other) const {
+  if (vertex_faces_ != other.vertex_faces_ || edges_.size() != other.edges_.size()) return false;
+  for (const auto& [k, faces] : edges_) {
+    auto it = other.edges_.find(k);
+    if (it == other.edges_.end() || it->second != faces) return false;
+  }
+  return true;
+}
+
+}  // namespace deepcut

@@ -1,0 +1,70 @@
+// SPDX-License-Identifier: MIT
+#include "deepcut/core/attributes.h"
+
+#include <cstring>
+
+namespace deepcut {
+
+std::string attr::uv_name(int set) { return "c:uv" + std::to_string(set); }
+
+AttributeSet::AttributeSet(const AttributeSet& other) : size_(other.size_) {
+  for (const auto& [name, array] : other.arrays_) arrays_.emplace(name, array->clone());
+}
+
+AttributeSet& AttributeSet::operator=(const AttributeSet& other) {
+  if (this != &other) {
+    AttributeSet copy(other);
+    *this = std::move(copy);
+  }
+  return *this;
+}
+
+void AttributeSet::resize(std::size_t n) {
+  for (auto& entry : arrays_) entry.second->resize(n);
+  size_ = n;
+}
+
+void AttributeSet::push_blend(const std::uint32_t* src, const float* w, int count) {
+  for (auto& entry : arrays_) entry.second->push_blend(src, w, count);
+  ++size_;
+}
+
+void AttributeSet::set_blend(std::size_t dst, const std::uint32_t* src, const float* w, int count) {
+  for (auto& entry : arrays_) entry.second->set_blend(dst, src, w, count);
+}
+
+void AttributeSet::copy(std::size_t dst, std::size_t src) {
+  for (auto& entry : arrays_) entry.second->copy(dst, src);
+}
+
+void AttributeSet::gather(const std::vector<std::uint32_t>& keep) {
+  for (auto& entry : arrays_) entry.second->gather(keep);
+  size_ = keep.size();
+}
+
+std::vector<std::string> AttributeSet::names() const {
+  std::vector<std::string> out;
+  out.reserve(arrays_.size());
+  for (const auto& entry : arrays_) out.push_back(entry.first);
+  return out;
+}
+
+const AttributeArrayBase* AttributeSet::base(const std::string& name) const {
+  auto it = arrays_.find(name);
+  return it == arrays_.end() ? nullptr : it->second.get();
+}
+
+AttributeArrayBase* AttributeSet::base(const std::string& name) {
+  auto it = arrays_.find(name);
+  return it == arrays_.end() ? nullptr : it->second.get();
+}
+
+bool AttributeSet::elements_equal(std::size_t i, std::size_t j) const {
+  for (const auto& entry : arrays_) {
+    const auto& a = *entry.second;
+    if (std::memcmp(a.element_data(i), a.element_data(j), a.element_bytes()) != 0) return false;
+  }
+  return true;
+}
+
+}  // namespace deepcut

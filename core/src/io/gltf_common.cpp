@@ -1,0 +1,127 @@
+// SPDX-License-Identifier: MIT
+#include "io/gltf_common.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include "deepcut/core/errors.h"
+
+namespace deepcut::gltf_detail {
+
+int component_count(const std::string& type) {
+  if (type == "SCALAR") return 1;
+  if (type == "VEC2") return 2;
+  if (type == "VEC3") return 3;
+  if (type == "VEC4") return 4;
+  if (type == "MAT2") return 4;
+  if (type == "MAT3") return 9;
+  if (type == "MAT4") return 16;
+  return 0;
+}
+
+int component_size(int component_type) {
+  switch (component_type) {
+    case kByte:
+    case kUnsignedByte:
+      return 1;
+    case kShort:
+    case kUnsignedShort:
+      return 2;
+    case kUnsignedInt:
+    case kFloat:
+      return 4;
+    default:
+      return 0;
+  }
+}
+
+std::string base64_encode(const unsigned char* data, std::size_t size) {
+  static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((size + 2) / 3 * 4);
+  std::size_t i = 0;
+  for (; i + 2 < size; i += 3) {
+    const std::uint32_t n = (std::uint32_t(data[i]) << 16) | (std::uint32_t(data[i + 1]) << 8) | data[i + 2];
+    out += table[(n >> 18) & 63];
+    out += table[(n >> 12) & 63];
+    out += table[(n >> 6) & 63];
+    out += table[n & 63];
+  }
+  if (i < size) {
+    std::uint32_t n = std::uint32_t(data[i]) << 16;
+    if (i + 1 < size) n |= std::uint32_t(data[i + 1]) << 8;
+    out += table[(n >> 18) & 63];
+    out += table[(n >> 12) & 63];
+    out += i + 1 < size ? table[(n >> 6) & 63] : '=';
+    out += '=';
+  }
+  return out;
+}
+
+std::vector<unsigned char> read_file(const std::string& path, std::size_t max_bytes) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw Error(ErrorCode::Io, path + ": no such file");
+  if (std::filesystem::is_directory(path, ec)) throw Error(ErrorCode::Io, path + ": is a directory, not a model file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(ErrorCode::Io, path + ": cannot open (" + std::strerror(errno) + ")");
+  in.seekg(0, std::ios::end);
+  const auto size = static_cast<std::size_t>(in.tellg());
+  if (size > max_bytes)
+    throw Error(ErrorCode::InvalidInput, path + ": file is " + std::to_string(size >> 20) + " MiB, over the " +
+                                             std::to_string(max_bytes >> 20) + " MiB limit");
+  in.seekg(0);
+  std::vector<unsigned char> bytes(size);
+  if (size && !in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(size)))
+    throw Error(ErrorCode::Io, path + ": read failed");
+  return bytes;
+}
+
+void write_file_atomic(const std::string& path, const std::vector<unsigned char>& bytes) {
+  namespace fs = std::filesystem;
+  const fs::path target(path);
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw Error(ErrorCode::Io, path + ": folder " + dir.string() + " does not exist");
+  std::random_device rd;
+  const fs::path tmp = dir / ("." + target.filename().string() + ".tmp" + std::to_string(rd()));
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (fd < 0) throw Error(ErrorCode::Io, path + ": cannot create a temporary file (" + std::strerror(errno) + ")");
+  std::size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      const std::string reason = std::strerror(errno);
+      ::close(fd);
+      ::unlink(tmp.c_str());
+      throw Error(ErrorCode::Io, path + ": write failed (" + reason + ")");
+    }
+    done += static_cast<std::size_t>(n);
+  }
+  if (::fsync(fd) != 0 || ::close(fd) != 0) {
+    const std::string reason = std::strerror(errno);
+    ::unlink(tmp.c_str());
+    throw Error(ErrorCode::Io, path + ": write failed (" + reason + ")");
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    const std::string reason = std::strerror(errno);
+    ::unlink(tmp.c_str());
+    throw Error(ErrorCode::Io, path + ": cannot replace the file (" + reason + ")");
+  }
+}
+
+bool has_extension(const std::string& path, const char* ext) {
+  std::string e = std::filesystem::path(path).extension().string();
+  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return e == ext;
+}
+
+}  // namespace deepcut::gltf_detail

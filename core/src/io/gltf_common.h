@@ -1,0 +1,30 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// Helpers shared by the glTF reader and writer (private to core).
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace deepcut::gltf_detail {
+
+// glTF component types.
+inline constexpr int kByte = 5120, kUnsignedByte = 5121, kShort = 5122, kUnsignedShort = 5123,
+                     kUnsignedInt = 5125, kFloat = 5126;
+
+int component_count(const std::string& type);  // "VEC3" -> 3; 0 if unknown
+int component_size(int component_type);        // bytes; 0 if unknown
+
+std::string base64_encode(const unsigned char* data, std::size_t size);
+
+// Reads a whole file; throws Error{Io} naming the file when it cannot.
+std::vector<unsigned char> read_file(const std::string& path, std::size_t max_bytes);
+
+// Writes `bytes` to a temporary file beside `path`, flushes it and renames it over `path`.
+// Throws Error{Io}; never leaves a partial file at `path`.
+void write_file_atomic(const std::string& path, const std::vector<unsigned char>& bytes);
+
+// "file.glb" -> true (case-insensitive extension test).
+bool has_extension(const std::string& path, const char* ext);
+
+}  // namespace deepcut::gltf_detail

@@ -1,0 +1,430 @@
+// SPDX-License-Identifier: MIT
+// glTF export: un-welds corners into glTF vertices, packs one binary buffer, writes the JSON with
+// nlohmann (so carried-through objects are emitted verbatim) and replaces the target atomically.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <unordered_map>
+
+#include <nlohmann/json.hpp>
+
+#include "deepcut/core/io/gltf.h"
+#include "deepcut/core/mesh_editor.h"
+#include "io/gltf_common.h"
+
+namespace deepcut {
+namespace {
+
+using nlohmann::json;
+using namespace gltf_detail;
+
+constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963;
+
+json parse_or(const std::string& text, json fallback) {
+  if (text.empty()) return fallback;
+  return json::parse(text, nullptr, /*allow_exceptions=*/false);
+}
+
+class Writer {
+ public:
+  Writer(const Model& model, const ExportOptions& options) : model_(model), options_(options) {}
+  std::vector<unsigned char> write(bool glb);
+
+ private:
+  int add_view(const void* data, std::size_t bytes, int target);
+  template <class T>
+  int add_accessor(const std::vector<T>& data, int components, int component_type, const char* type, int target,
+                   bool minmax = false);
+  void write_meshes();
+  void write_primitive(const Primitive& prim, json& out);
+  void write_skins();
+  void write_animations();
+  void write_nodes();
+  void write_images();
+
+  const Model& model_;
+  ExportOptions options_;
+  json doc_ = json::object();
+  std::vector<unsigned char> bin_;
+  std::vector<int> mesh_map_;  // model mesh -> glTF mesh (-1 when dropped)
+};
+
+int Writer::add_view(const void* data, std::size_t bytes, int target) {
+  while (bin_.size() % 4) bin_.push_back(0);
+  json view = {{"buffer", 0}, {"byteOffset", bin_.size()}, {"byteLength", bytes}};
+  if (target) view["target"] = target;
+  const auto* p = static_cast<const unsigned char*>(data);
+  bin_.insert(bin_.end(), p, p + bytes);
+  doc_["bufferViews"].push_back(view);
+  return static_cast<int>(doc_["bufferViews"].size() - 1);
+}
+
+template <class T>
+int Writer::add_accessor(const std::vector<T>& data, int components, int component_type, const char* type, int target,
+                         bool minmax) {
+  const std::size_t count = data.size() / std::size_t(components);
+  json acc = {{"bufferView", add_view(data.data(), data.size() * sizeof(T), target)},
+              {"componentType", component_type},
+              {"count", count},
+              {"type", type}};
+  if (minmax && count > 0) {
+    std::vector<T> lo(data.begin(), data.begin() + components), hi = lo;
+    for (std::size_t i = 0; i < count; ++i)
+      for (int c = 0; c < components; ++c) {
+        lo[c] = std::min(lo[c], data[i * components + c]);
+        hi[c] = std::max(hi[c], data[i * components + c]);
+      }
+    acc["min"] = lo;
+    acc["max"] = hi;
+  }
+  doc_["accessors"].push_back(acc);
+  return static_cast<int>(doc_["accessors"].size() - 1);
+}
+
+// glTF attribute name for one of our attribute names ("" if it is not exported).
+std::string gltf_name(const std::string& name) {
+  if (name == attr::kNormal) return "NORMAL";
+  if (name == attr::kTangent) return "TANGENT";
+  if (name == attr::kColor0) return "COLOR_0";
+  if (name.rfind("c:uv", 0) == 0) return "TEXCOORD_" + name.substr(4);
+  return "";
+}
+
+void Writer::write_primitive(const Primitive& prim, json& out) {
+  const SurfaceMesh* src = &prim.mesh;
+  SurfaceMesh compacted;
+  if (prim.mesh.face_count() != prim.mesh.face_slots()) {
+    compacted = prim.mesh;
+    compacted.compact();
+    src = &compacted;
+  }
+  const SurfaceMesh& mesh = *src;
+  const auto& ca = mesh.corner_attrs();
+  const auto names = ca.names();
+  std::vector<const AttributeArrayBase*> arrays;
+  std::vector<std::string> exported;
+  for (const auto& n : names)
+    if (!gltf_name(n).empty()) {
+      arrays.push_back(ca.base(n));
+      exported.push_back(n);
+    }
+  // Un-weld: one glTF vertex per distinct (vertex, exported corner attributes).
+  auto corner_hash = [&](std::size_t c, std::uint32_t v) {
+    std::uint64_t h = 1469598103934665603ull ^ v;
+    for (const auto* a : arrays) {
+      const auto* b = static_cast<const unsigned char*>(a->element_data(c));
+      for (std::size_t i = 0; i < a->element_bytes(); ++i) h = (h ^ b[i]) * 1099511628211ull;
+    }
+    return h;
+  };
+  auto corners_equal = [&](std::size_t c0, std::size_t c1) {
+    for (const auto* a : arrays)
+      if (std::memcmp(a->element_data(c0), a->element_data(c1), a->element_bytes()) != 0) return false;
+    return true;
+  };
+  std::unordered_multimap<std::uint64_t, std::uint32_t> seen;
+  std::vector<std::uint32_t> out_vertex, out_corner;  // per glTF vertex: welded vertex, source corner
+  std::vector<std::uint32_t> indices;
+  indices.reserve(mesh.face_slots() * 3);
+  for (std::uint32_t f = 0; f < mesh.face_slots(); ++f) {
+    const auto& t = mesh.face(FaceId(f));
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t c = 3 * f + static_cast<std::uint32_t>(k), v = t[k].index;
+      const auto h = corner_hash(c, v);
+      std::uint32_t id = kInvalidIndex;
+      auto range = seen.equal_range(h);
+      for (auto it = range.first; it != range.second && id == kInvalidIndex; ++it)
+        if (out_vertex[it->second] == v && corners_equal(out_corner[it->second], c)) id = it->second;
+      if (id == kInvalidIndex) {
+        id = static_cast<std::uint32_t>(out_vertex.size());
+        out_vertex.push_back(v);
+        out_corner.push_back(c);
+        seen.emplace(h, id);
+      }
+      indices.push_back(id);
+    }
+  }
+  const std::size_t n = out_vertex.size();
+  json attributes = json::object();
+  {
+    std::vector<float> pos(3 * n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto& p = mesh.positions()[out_vertex[i]];
+      for (int c = 0; c < 3; ++c) pos[3 * i + std::size_t(c)] = p[c];
+    }
+    attributes["POSITION"] = add_accessor(pos, 3, kFloat, "VEC3", kArrayBuffer, true);
+  }
+  // Skin influences, renormalised; zero-weight slots name joint 0.
+  const auto& va = mesh.vertex_attrs();
+  const char* jn[2] = {attr::kJoints0, attr::kJoints1};
+  const char* wn[2] = {attr::kWeights0, attr::kWeights1};
+  int sets = 0;
+  while (sets < 2 && va.find<glm::u16vec4>(jn[sets]) && va.find<glm::vec4>(wn[sets])) ++sets;
+  if (sets > 0) {
+    std::vector<std::vector<std::uint16_t>> joints(std::size_t(sets), std::vector<std::uint16_t>(4 * n));
+    std::vector<std::vector<float>> weights(std::size_t(sets), std::vector<float>(4 * n));
+    for (std::size_t i = 0; i < n; ++i) {
+      std::uint16_t jj[8] = {};
+      float ww[8] = {};
+      for (int s = 0; s < sets; ++s)
+        for (int c = 0; c < 4; ++c) {
+          jj[4 * s + c] = va.get<glm::u16vec4>(jn[s])[out_vertex[i]][c];
+          ww[4 * s + c] = va.get<glm::vec4>(wn[s])[out_vertex[i]][c];
+        }
+      normalize_influences(jj, ww, 4 * sets);
+      for (int s = 0; s < sets; ++s)
+        for (int c = 0; c < 4; ++c) {
+          joints[std::size_t(s)][4 * i + std::size_t(c)] = jj[4 * s + c];
+          weights[std::size_t(s)][4 * i + std::size_t(c)] = ww[4 * s + c];
+        }
+    }
+    for (int s = 0; s < sets; ++s) {
+      attributes["JOINTS_" + std::to_string(s)] = add_accessor(joints[std::size_t(s)], 4, kUnsignedShort, "VEC4", kArrayBuffer);
+      attributes["WEIGHTS_" + std::to_string(s)] = add_accessor(weights[std::size_t(s)], 4, kFloat, "VEC4", kArrayBuffer);
+    }
+  }
+  // Corner attributes.
+  for (std::size_t a = 0; a < arrays.size(); ++a) {
+    const std::string& name = exported[a];
+    const std::string gname = gltf_name(name);
+    const auto* array = arrays[a];
+    if (array->type() == typeid(glm::vec2)) {
+      const auto& d = static_cast<const AttributeArray<glm::vec2>*>(array)->data();
+      std::vector<float> out_data(2 * n);
+      for (std::size_t i = 0; i < n; ++i) {
+        out_data[2 * i] = d[out_corner[i]].x;
+        out_data[2 * i + 1] = d[out_corner[i]].y;
+      }
+      attributes[gname] = add_accessor(out_data, 2, kFloat, "VEC2", kArrayBuffer);
+    } else if (array->type() == typeid(glm::vec3)) {
+      const auto& d = static_cast<const AttributeArray<glm::vec3>*>(array)->data();
+      std::vector<float> out_data(3 * n);
+      for (std::size_t i = 0; i < n; ++i) {
+        glm::vec3 v = d[out_corner[i]];
+        if (gname == "NORMAL") {
+          const float len = glm::length(v);
+          if (len > 1e-12f && std::isfinite(len)) {
+            v /= len;
+          } else {  // a zero normal is invalid glTF: use the face's normal
+            const auto& t = mesh.face(FaceId(out_corner[i] / 3));
+            const glm::vec3 fn = glm::cross(mesh.position(t[1]) - mesh.position(t[0]), mesh.position(t[2]) - mesh.position(t[0]));
+            const float fl = glm::length(fn);
+            v = fl > 0.0f ? fn / fl : glm::vec3(0.0f, 0.0f, 1.0f);
+          }
+        }
+        for (int c = 0; c < 3; ++c) out_data[3 * i + std::size_t(c)] = v[c];
+      }
+      attributes[gname] = add_accessor(out_data, 3, kFloat, "VEC3", kArrayBuffer);
+    } else if (array->type() == typeid(glm::vec4)) {
+      const auto& d = static_cast<const AttributeArray<glm::vec4>*>(array)->data();
+      std::vector<float> out_data(4 * n);
+      for (std::size_t i = 0; i < n; ++i) {
+        glm::vec4 v = d[out_corner[i]];
+        if (gname == "TANGENT") {
+          glm::vec3 xyz(v);
+          const float len = glm::length(xyz);
+          xyz = len > 1e-12f && std::isfinite(len) ? xyz / len : glm::vec3(1.0f, 0.0f, 0.0f);
+          v = glm::vec4(xyz, v.w < 0.0f ? -1.0f : 1.0f);
+        } else if (gname == "COLOR_0") {
+          v = glm::clamp(v, glm::vec4(0.0f), glm::vec4(1.0f));
+        }
+        for (int c = 0; c < 4; ++c) out_data[4 * i + std::size_t(c)] = v[c];
+      }
+      attributes[gname] = add_accessor(out_data, 4, kFloat, "VEC4", kArrayBuffer);
+    }
+  }
+  out["attributes"] = attributes;
+  if (n <= 65535) {
+    std::vector<std::uint16_t> idx16(indices.begin(), indices.end());
+    out["indices"] = add_accessor(idx16, 1, kUnsignedShort, "SCALAR", kElementArrayBuffer);
+  } else {
+    out["indices"] = add_accessor(indices, 1, kUnsignedInt, "SCALAR", kElementArrayBuffer);
+  }
+  out["mode"] = 4;
+  if (prim.material >= 0 && static_cast<std::size_t>(prim.material) < model_.materials.size()) out["material"] = prim.material;
+  if (!prim.extras_json.empty()) out["extras"] = parse_or(prim.extras_json, json::object());
+}
+
+void Writer::write_meshes() {
+  mesh_map_.assign(model_.meshes.size(), -1);
+  for (std::size_t m = 0; m < model_.meshes.size(); ++m) {
+    const auto& mesh = model_.meshes[m];
+    json out = json::object();
+    if (!mesh.name.empty()) out["name"] = mesh.name;
+    for (const auto& prim : mesh.primitives) {
+      if (prim.mesh.face_count() == 0) continue;  // glTF has no empty primitives
+      json p = json::object();
+      write_primitive(prim, p);
+      out["primitives"].push_back(p);
+    }
+    if (!out.contains("primitives")) continue;  // every primitive was empty: drop the mesh
+    if (!mesh.extras_json.empty()) out["extras"] = parse_or(mesh.extras_json, json::object());
+    mesh_map_[m] = static_cast<int>(doc_["meshes"].size());
+    doc_["meshes"].push_back(out);
+  }
+}
+
+void Writer::write_skins() {
+  for (const auto& s : model_.skins) {
+    json out = {{"joints", s.joints}};
+    if (!s.name.empty()) out["name"] = s.name;
+    if (s.skeleton >= 0) out["skeleton"] = s.skeleton;
+    std::vector<float> m(16 * s.joints.size());
+    for (std::size_t j = 0; j < s.joints.size(); ++j) {
+      const glm::mat4 ibm = j < s.inverse_bind_matrices.size() ? s.inverse_bind_matrices[j] : glm::mat4(1.0f);
+      for (int k = 0; k < 16; ++k) m[16 * j + std::size_t(k)] = ibm[k / 4][k % 4];
+    }
+    if (!s.joints.empty()) out["inverseBindMatrices"] = add_accessor(m, 16, kFloat, "MAT4", 0);
+    doc_["skins"].push_back(out);
+  }
+}
+
+void Writer::write_animations() {
+  for (const auto& a : model_.animations) {
+    json out = json::object();
+    if (!a.name.empty()) out["name"] = a.name;
+    std::vector<int> used(a.samplers.size(), -1);
+    for (const auto& ch : a.channels) {
+      if (ch.path == AnimationPath::Weights || ch.sampler < 0 || static_cast<std::size_t>(ch.sampler) >= a.samplers.size())
+        continue;
+      const auto& s = a.samplers[ch.sampler];
+      if (s.input.empty()) continue;
+      if (used[ch.sampler] < 0) {
+        std::vector<float> output = s.output;
+        if (ch.path == AnimationPath::Rotation && s.interpolation != Interpolation::CubicSpline)
+          for (std::size_t k = 0; k + 3 < output.size(); k += 4) {
+            glm::vec4 q(output[k], output[k + 1], output[k + 2], output[k + 3]);
+            const float len = glm::length(q);
+            q = len > 0.0f ? q / len : glm::vec4(0, 0, 0, 1);
+            for (int c = 0; c < 4; ++c) output[k + std::size_t(c)] = q[c];
+          }
+        const char* type = s.components == 4 ? "VEC4" : s.components == 3 ? "VEC3" : "SCALAR";
+        json sampler = {{"input", add_accessor(s.input, 1, kFloat, "SCALAR", 0, true)},
+                        {"output", add_accessor(output, s.components == 4 || s.components == 3 ? s.components : 1, kFloat, type, 0)},
+                        {"interpolation", s.interpolation == Interpolation::Step          ? "STEP"
+                                          : s.interpolation == Interpolation::CubicSpline ? "CUBICSPLINE"
+                                                                                          : "LINEAR"}};
+        used[ch.sampler] = static_cast<int>(out["samplers"].size());
+        out["samplers"].push_back(sampler);
+      }
+      static const char* paths[] = {"translation", "rotation", "scale", "weights"};
+      out["channels"].push_back({{"sampler", used[ch.sampler]}, {"target", {{"node", ch.node}, {"path", paths[int(ch.path)]}}}});
+    }
+    if (!out.contains("channels")) continue;
+    doc_["animations"].push_back(out);
+  }
+}
+
+void Writer::write_nodes() {
+  for (const auto& n : model_.nodes) {
+    json out = json::object();
+    if (!n.name.empty()) out["name"] = n.name;
+    if (!n.children.empty()) out["children"] = n.children;
+    if (n.matrix) {
+      std::vector<float> m(16);
+      for (int k = 0; k < 16; ++k) m[std::size_t(k)] = (*n.matrix)[k / 4][k % 4];
+      if (*n.matrix != glm::mat4(1.0f)) out["matrix"] = m;
+    } else {
+      if (n.translation != glm::vec3(0.0f)) out["translation"] = {n.translation.x, n.translation.y, n.translation.z};
+      const glm::quat q = glm::normalize(n.rotation);
+      if (q != glm::quat(1.0f, 0.0f, 0.0f, 0.0f)) out["rotation"] = {q.x, q.y, q.z, q.w};
+      if (n.scale != glm::vec3(1.0f)) out["scale"] = {n.scale.x, n.scale.y, n.scale.z};
+    }
+    const int mesh = n.mesh >= 0 && static_cast<std::size_t>(n.mesh) < mesh_map_.size() ? mesh_map_[n.mesh] : -1;
+    if (mesh >= 0) {
+      out["mesh"] = mesh;
+      if (n.skin >= 0) out["skin"] = n.skin;
+    }
+    if (n.camera >= 0) out["camera"] = n.camera;
+    if (!n.extras_json.empty()) out["extras"] = parse_or(n.extras_json, json::object());
+    if (!n.extensions_json.empty()) out["extensions"] = parse_or(n.extensions_json, json::object());
+    doc_["nodes"].push_back(out);
+  }
+}
+
+void Writer::write_images() {
+  for (const auto& img : model_.images) {
+    json out = {{"bufferView", add_view(img.data.data(), img.data.size(), 0)}, {"mimeType", img.mime_type}};
+    if (!img.name.empty()) out["name"] = img.name;
+    doc_["images"].push_back(out);
+  }
+}
+
+std::vector<unsigned char> Writer::write(bool glb) {
+  json asset = {{"version", "2.0"}, {"generator", options_.generator}};
+  if (!model_.asset_copyright.empty()) asset["copyright"] = model_.asset_copyright;
+  doc_["asset"] = asset;
+  write_meshes();
+  write_nodes();
+  write_skins();
+  write_animations();
+  write_images();
+  auto passthrough = [&](const char* key, const std::vector<PassthroughObject>& list) {
+    for (const auto& o : list) doc_[key].push_back(parse_or(o.json, json::object()));
+  };
+  passthrough("materials", model_.materials);
+  passthrough("textures", model_.textures);
+  passthrough("samplers", model_.samplers);
+  passthrough("cameras", model_.cameras);
+  if (!model_.scenes.empty()) {
+    for (const auto& roots : model_.scenes) doc_["scenes"].push_back({{"nodes", roots}});
+    doc_["scene"] = std::clamp(model_.default_scene, 0, static_cast<int>(model_.scenes.size()) - 1);
+  }
+  // Extensions that only concern the original encoding no longer apply to what we write.
+  auto keep_extension = [](const std::string& e) {
+    return e != "KHR_mesh_quantization" && e != "KHR_draco_mesh_compression" && e != "EXT_meshopt_compression";
+  };
+  for (const auto& e : model_.extensions_used)
+    if (keep_extension(e)) doc_["extensionsUsed"].push_back(e);
+  for (const auto& e : model_.extensions_required)
+    if (keep_extension(e)) doc_["extensionsRequired"].push_back(e);
+  if (!model_.extras_json.empty()) doc_["extras"] = parse_or(model_.extras_json, json::object());
+
+  while (bin_.size() % 4) bin_.push_back(0);
+  if (!bin_.empty()) {
+    json buffer = {{"byteLength", bin_.size()}};
+    if (!glb) buffer["uri"] = "data:application/octet-stream;base64," + base64_encode(bin_.data(), bin_.size());
+    doc_["buffers"] = json::array({buffer});
+  }
+  if (!glb) {
+    const std::string text = options_.pretty ? doc_.dump(2) : doc_.dump();
+    return std::vector<unsigned char>(text.begin(), text.end());
+  }
+  std::string text = doc_.dump();
+  while (text.size() % 4) text += ' ';
+  const std::uint32_t total = static_cast<std::uint32_t>(12 + 8 + text.size() + (bin_.empty() ? 0 : 8 + bin_.size()));
+  std::vector<unsigned char> out;
+  out.reserve(total);
+  auto put32 = [&](std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) out.push_back(static_cast<unsigned char>(v >> (8 * i)));
+  };
+  put32(0x46546C67u);  // "glTF"
+  put32(2);
+  put32(total);
+  put32(static_cast<std::uint32_t>(text.size()));
+  put32(0x4E4F534Au);  // "JSON"
+  out.insert(out.end(), text.begin(), text.end());
+  if (!bin_.empty()) {
+    put32(static_cast<std::uint32_t>(bin_.size()));
+    put32(0x004E4942u);  // "BIN\0"
+    out.insert(out.end(), bin_.begin(), bin_.end());
+  }
+  return out;
+}
+
+}  // namespace
+
+void write_gltf(const Model& model, const std::string& path, const ExportOptions& options) {
+  const bool glb = has_extension(path, ".glb");
+  if (!glb && !has_extension(path, ".gltf"))
+    throw Error(ErrorCode::InvalidArgument, path + ": unknown output format (use .glb or .gltf)");
+  std::vector<unsigned char> bytes;
+  try {
+    bytes = Writer(model, options).write(glb);
+  } catch (const json::exception& e) {
+    throw Error(ErrorCode::InvariantViolated, path + ": could not encode the model (" + e.what() + ")");
+  }
+  write_file_atomic(path, bytes);
+}
+
+}  // namespace deepcut

@@ -1,0 +1,198 @@
+// SPDX-License-Identifier: MIT
+#include "deepcut/core/mesh_editor.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace deepcut {
+namespace {
+
+struct SkinSet {
+  AttributeArray<glm::u16vec4>* joints;
+  AttributeArray<glm::vec4>* weights;
+};
+
+// The skin sets present on a mesh, in order (JOINTS_0/WEIGHTS_0, then _1).
+int skin_sets(SurfaceMesh& mesh, SkinSet out[2]) {
+  int n = 0;
+  auto& va = mesh.vertex_attrs();
+  const char* names[2][2] = {{attr::kJoints0, attr::kWeights0}, {attr::kJoints1, attr::kWeights1}};
+  for (auto& pair : names) {
+    auto* j = va.find<glm::u16vec4>(pair[0]);
+    auto* w = va.find<glm::vec4>(pair[1]);
+    if (!j || !w) break;
+    out[n++] = {j, w};
+  }
+  return n;
+}
+
+}  // namespace
+
+bool normalize_influences(std::uint16_t* joints, float* weights, int slots) {
+  // Merge duplicate joints, then keep the largest `slots` (they already are `slots`), sort by
+  // weight so the strongest comes first, renormalise.
+  for (int i = 0; i < slots; ++i) {
+    if (!std::isfinite(weights[i]) || weights[i] < 0.0f) weights[i] = 0.0f;
+    for (int j = 0; j < i; ++j)
+      if (weights[j] > 0.0f && joints[j] == joints[i]) {
+        weights[j] += weights[i];
+        weights[i] = 0.0f;
+      }
+  }
+  double sum = 0.0;
+  for (int i = 0; i < slots; ++i) sum += weights[i];
+  if (!(sum > 0.0)) {
+    weights[0] = 1.0f;
+    for (int i = 1; i < slots; ++i) {
+      weights[i] = 0.0f;
+      joints[i] = 0;
+    }
+    return false;
+  }
+  for (int i = 0; i < slots; ++i) {
+    weights[i] = static_cast<float>(weights[i] / sum);
+    if (weights[i] == 0.0f) joints[i] = 0;
+  }
+  return true;
+}
+
+MeshEditor::MeshEditor(SurfaceMesh& mesh) : mesh_(mesh) {}
+
+EditLog MeshEditor::take_log() {
+  EditLog out;
+  out.edits.swap(log_.edits);
+  return out;
+}
+
+void MeshEditor::fix_skin_weights(VertexId v, const VertexId* src, const float* w, int count) {
+  SkinSet sets[2];
+  const int nsets = skin_sets(mesh_, sets);
+  if (nsets == 0) return;
+  // Union of the sources' joints with interpolated weights.
+  struct Influence {
+    std::uint16_t joint;
+    float weight;
+  };
+  Influence acc[24];
+  int n = 0;
+  for (int s = 0; s < count; ++s) {
+    if (w[s] <= 0.0f) continue;
+    for (int k = 0; k < nsets; ++k) {
+      const auto& j4 = (*sets[k].joints)[src[s].index];
+      const auto& w4 = (*sets[k].weights)[src[s].index];
+      for (int c = 0; c < 4; ++c) {
+        if (w4[c] <= 0.0f) continue;
+        int found = -1;
+        for (int i = 0; i < n; ++i)
+          if (acc[i].joint == j4[c]) found = i;
+        if (found < 0) {
+          acc[n] = {j4[c], 0.0f};
+          found = n++;
+        }
+        acc[found].weight += w4[c] * w[s];
+      }
+    }
+  }
+  std::stable_sort(acc, acc + n, [](const Influence& a, const Influence& b) { return a.weight > b.weight; });
+  const int slots = 4 * nsets;
+  std::uint16_t joints[8] = {};
+  float weights[8] = {};
+  for (int i = 0; i < std::min(n, slots); ++i) {
+    joints[i] = acc[i].joint;
+    weights[i] = acc[i].weight;
+  }
+  if (n == 0) joints[0] = (*sets[0].joints)[src[0].index][0];
+  normalize_influences(joints, weights, slots);
+  for (int k = 0; k < nsets; ++k)
+    for (int c = 0; c < 4; ++c) {
+      (*sets[k].joints)[v.index][c] = joints[4 * k + c];
+      (*sets[k].weights)[v.index][c] = weights[4 * k + c];
+    }
+}
+
+void MeshEditor::fix_corner_directions(FaceId f, int k, FaceId parent, const std::array<float, 3>& w) {
+  auto& ca = mesh_.corner_attrs();
+  const auto c = SurfaceMesh::corner(f, k);
+  if (auto* n = ca.find<glm::vec3>(attr::kNormal)) {
+    const float len = glm::length((*n)[c]);
+    if (len > 0.0f) (*n)[c] /= len;
+  }
+  if (auto* t = ca.find<glm::vec4>(attr::kTangent)) {
+    glm::vec3 xyz((*t)[c]);
+    const float len = glm::length(xyz);
+    if (len > 0.0f) xyz /= len;
+    // Handedness of the dominant source corner, never a blend of +1 and -1.
+    int best = 0;
+    for (int i = 1; i < 3; ++i)
+      if (w[i] > w[best]) best = i;
+    const float handedness = (*t)[SurfaceMesh::corner(parent, best)].w;
+    (*t)[c] = glm::vec4(xyz, handedness < 0.0f ? -1.0f : 1.0f);
+  }
+}
+
+VertexId MeshEditor::add_vertex_on_edge(VertexId a, VertexId b, float t) {
+  const std::uint32_t src[2] = {a.index, b.index};
+  const float w[2] = {1.0f - t, t};
+  mesh_.vertex_attrs().push_blend(src, w, 2);
+  const VertexId v(static_cast<std::uint32_t>(mesh_.vertex_count() - 1));
+  const VertexId vs[2] = {a, b};
+  fix_skin_weights(v, vs, w, 2);
+  log_.edits.push_back(VertexAdded{v, {a, b, VertexId()}, {w[0], w[1], 0.0f}});
+  return v;
+}
+
+VertexId MeshEditor::add_vertex_in_triangle(const Triangle& tri, const glm::vec3& bary) {
+  const std::uint32_t src[3] = {tri[0].index, tri[1].index, tri[2].index};
+  const float w[3] = {bary.x, bary.y, bary.z};
+  mesh_.vertex_attrs().push_blend(src, w, 3);
+  const VertexId v(static_cast<std::uint32_t>(mesh_.vertex_count() - 1));
+  fix_skin_weights(v, tri.data(), w, 3);
+  log_.edits.push_back(VertexAdded{v, tri, {w[0], w[1], w[2]}});
+  return v;
+}
+
+VertexId MeshEditor::split_vertex(VertexId v) {
+  const std::uint32_t src[1] = {v.index};
+  const float w[1] = {1.0f};
+  mesh_.vertex_attrs().push_blend(src, w, 1);
+  const VertexId copy(static_cast<std::uint32_t>(mesh_.vertex_count() - 1));
+  log_.edits.push_back(VertexSplit{v, copy});
+  return copy;
+}
+
+void MeshEditor::move_vertex(VertexId v, const glm::vec3& p) {
+  auto& pos = mesh_.positions()[v.index];
+  log_.edits.push_back(VertexMoved{v, pos, p});
+  pos = p;
+}
+
+FaceId MeshEditor::add_face_from(const Triangle& vertices, FaceId parent,
+                                 const std::array<glm::vec3, 3>& corner_bary) {
+  const FaceId f = mesh_.add_face(vertices[0], vertices[1], vertices[2]);
+  mesh_.face_attrs().copy(f.index, parent.index);
+  const std::uint32_t src[3] = {SurfaceMesh::corner(parent, 0), SurfaceMesh::corner(parent, 1),
+                                SurfaceMesh::corner(parent, 2)};
+  for (int k = 0; k < 3; ++k) {
+    const std::array<float, 3> w = {corner_bary[k].x, corner_bary[k].y, corner_bary[k].z};
+    mesh_.corner_attrs().set_blend(SurfaceMesh::corner(f, k), src, w.data(), 3);
+    fix_corner_directions(f, k, parent, w);
+  }
+  log_.edits.push_back(FaceAdded{f, parent, vertices});
+  return f;
+}
+
+FaceId MeshEditor::add_face(const Triangle& vertices) {
+  const FaceId f = mesh_.add_face(vertices[0], vertices[1], vertices[2]);
+  log_.edits.push_back(FaceAdded{f, FaceId(), vertices});
+  return f;
+}
+
+void MeshEditor::remove_face(FaceId f) {
+  if (f.index >= mesh_.face_slots() || mesh_.is_deleted(f))
+    throw Error(ErrorCode::InvalidArgument, "remove_face: face " + std::to_string(f.index) + " is not a live face");
+  mesh_.mark_deleted(f);
+  log_.edits.push_back(FaceRemoved{f, mesh_.face(f)});
+}
+
+}  // namespace deepcut

@@ -1,0 +1,246 @@
+// SPDX-License-Identifier: MIT
+#include "deepcut/core/skinning.h"
+
+#include <algorithm>
+#include <string>
+
+#include "deepcut/core/errors.h"
+
+namespace deepcut {
+namespace {
+
+// Key interval and local parameter for time t (clamped to the key range).
+void find_key(const std::vector<float>& input, float t, std::size_t& i, float& s, float& dt) {
+  const std::size_t n = input.size();
+  if (n < 2 || t <= input.front()) {
+    i = 0;
+    s = 0.0f;
+    dt = 0.0f;
+    return;
+  }
+  if (t >= input.back()) {
+    i = n - 2;
+    s = 1.0f;
+    dt = input[n - 1] - input[n - 2];
+    return;
+  }
+  i = static_cast<std::size_t>(std::upper_bound(input.begin(), input.end(), t) - input.begin()) - 1;
+  dt = input[i + 1] - input[i];
+  s = dt > 0.0f ? (t - input[i]) / dt : 0.0f;
+}
+
+// Value `c` of key `k`; for cubic splines the value sits between its two tangents.
+float value(const AnimationSampler& sm, std::size_t k, int c, int part = 1) {
+  const int n = sm.components;
+  if (sm.interpolation == Interpolation::CubicSpline) return sm.output[(3 * k + part) * n + c];
+  return sm.output[k * n + c];
+}
+
+template <int N>
+glm::vec<N, float> sample(const AnimationSampler& sm, float t, bool is_rotation) {
+  glm::vec<N, float> out(0.0f);
+  const std::size_t keys = sm.input.size();
+  const std::size_t per_key = sm.interpolation == Interpolation::CubicSpline ? 3 : 1;
+  if (keys == 0 || sm.output.size() < keys * per_key * N) return out;
+  std::size_t i;
+  float s, dt;
+  find_key(sm.input, t, i, s, dt);
+  if (keys == 1 || sm.interpolation == Interpolation::Step) {
+    const std::size_t k = (keys > 1 && s >= 1.0f) ? i + 1 : i;
+    for (int c = 0; c < N; ++c) out[c] = value(sm, k, c);
+    return out;
+  }
+  if (sm.interpolation == Interpolation::Linear) {
+    if (is_rotation) {
+      const glm::quat a(value(sm, i, 3), value(sm, i, 0), value(sm, i, 1), value(sm, i, 2));
+      const glm::quat b(value(sm, i + 1, 3), value(sm, i + 1, 0), value(sm, i + 1, 1), value(sm, i + 1, 2));
+      const glm::quat q = glm::slerp(glm::normalize(a), glm::normalize(b), s);  // shortest path
+      for (int c = 0; c < N; ++c) out[c] = q[c];  // glm stores x, y, z, w
+      return out;
+    }
+    for (int c = 0; c < N; ++c) out[c] = value(sm, i, c) + s * (value(sm, i + 1, c) - value(sm, i, c));
+    return out;
+  }
+  // Cubic Hermite spline (glTF 2.0 appendix C).
+  const float s2 = s * s, s3 = s2 * s;
+  const float h00 = 2 * s3 - 3 * s2 + 1, h10 = s3 - 2 * s2 + s, h01 = -2 * s3 + 3 * s2, h11 = s3 - s2;
+  for (int c = 0; c < N; ++c)
+    out[c] = h00 * value(sm, i, c) + h10 * dt * value(sm, i, c, 2) + h01 * value(sm, i + 1, c) +
+             h11 * dt * value(sm, i + 1, c, 0);
+  return out;
+}
+
+}  // namespace
+
+Pose rest_pose(const Model& model) {
+  Pose pose;
+  const auto n = model.nodes.size();
+  pose.translation.resize(n);
+  pose.rotation.resize(n);
+  pose.scale.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    pose.translation[i] = model.nodes[i].translation;
+    pose.rotation[i] = model.nodes[i].rotation;
+    pose.scale[i] = model.nodes[i].scale;
+  }
+  return pose;
+}
+
+Pose sample_pose(const Model& model, int animation, float time) {
+  Pose pose = rest_pose(model);
+  if (animation < 0) return pose;
+  if (static_cast<std::size_t>(animation) >= model.animations.size())
+    throw Error(ErrorCode::InvalidArgument, "animation " + std::to_string(animation) + " does not exist (the model has " +
+                                                std::to_string(model.animations.size()) + ")");
+  const Animation& anim = model.animations[animation];
+  for (const auto& ch : anim.channels) {
+    if (ch.node < 0 || static_cast<std::size_t>(ch.node) >= model.nodes.size()) continue;
+    if (ch.sampler < 0 || static_cast<std::size_t>(ch.sampler) >= anim.samplers.size()) continue;
+    const auto& sm = anim.samplers[ch.sampler];
+    switch (ch.path) {
+      case AnimationPath::Translation:
+        pose.translation[ch.node] = sample<3>(sm, time, false);
+        break;
+      case AnimationPath::Scale:
+        pose.scale[ch.node] = sample<3>(sm, time, false);
+        break;
+      case AnimationPath::Rotation: {
+        const glm::vec4 q = sample<4>(sm, time, true);
+        const glm::quat r = glm::normalize(glm::quat(q.w, q.x, q.y, q.z));
+        pose.rotation[ch.node] = r;
+        break;
+      }
+      case AnimationPath::Weights:
+        break;  // morph target weights: no morph targets are kept
+    }
+  }
+  return pose;
+}
+
+std::vector<glm::mat4> world_matrices(const Model& model, const Pose& pose) {
+  const auto n = model.nodes.size();
+  std::vector<glm::mat4> world(n, glm::mat4(1.0f));
+  std::vector<char> done(n, 0);
+  const auto parent = model.parents();
+  // Iterative: resolve each node after its parent (guards against cycles in bad files).
+  for (std::size_t start = 0; start < n; ++start) {
+    std::vector<int> chain;
+    int x = static_cast<int>(start);
+    while (x >= 0 && !done[x] && chain.size() <= n) {
+      chain.push_back(x);
+      x = parent[x];
+    }
+    for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
+      const int i = *it;
+      if (done[i]) continue;
+      const Node& node = model.nodes[i];
+      glm::mat4 local;
+      if (node.matrix) {
+        local = *node.matrix;
+      } else {
+        Node trs;
+        trs.translation = pose.translation[i];
+        trs.rotation = pose.rotation[i];
+        trs.scale = pose.scale[i];
+        local = trs.local_matrix();
+      }
+      const int p = parent[i];
+      world[i] = (p >= 0 && done[p]) ? world[p] * local : local;
+      done[i] = 1;
+    }
+  }
+  return world;
+}
+
+std::vector<glm::mat4> joint_matrices(const Model& model, int skin, const std::vector<glm::mat4>& world) {
+  const Skin& s = model.skins.at(static_cast<std::size_t>(skin));
+  std::vector<glm::mat4> out(s.joints.size(), glm::mat4(1.0f));
+  for (std::size_t j = 0; j < s.joints.size(); ++j) {
+    const int node = s.joints[j];
+    if (node < 0 || static_cast<std::size_t>(node) >= world.size()) continue;
+    const glm::mat4 ibm = j < s.inverse_bind_matrices.size() ? s.inverse_bind_matrices[j] : glm::mat4(1.0f);
+    out[j] = world[node] * ibm;
+  }
+  return out;
+}
+
+namespace {
+
+// Per-vertex skinning matrices, or an empty vector when the instance is not skinned.
+std::vector<glm::mat4> vertex_matrices(const Model& model, int node, const SurfaceMesh& mesh,
+                                       const std::vector<glm::mat4>& world) {
+  const Node& n = model.nodes.at(static_cast<std::size_t>(node));
+  const auto& va = mesh.vertex_attrs();
+  const auto* j0 = va.find<glm::u16vec4>(attr::kJoints0);
+  const auto* w0 = va.find<glm::vec4>(attr::kWeights0);
+  if (n.skin < 0 || static_cast<std::size_t>(n.skin) >= model.skins.size() || !j0 || !w0) return {};
+  const auto* j1 = va.find<glm::u16vec4>(attr::kJoints1);
+  const auto* w1 = va.find<glm::vec4>(attr::kWeights1);
+  const auto joints = joint_matrices(model, n.skin, world);
+  std::vector<glm::mat4> out(mesh.vertex_count());
+  for (std::size_t v = 0; v < out.size(); ++v) {
+    glm::mat4 m(0.0f);
+    auto add = [&](const glm::u16vec4& j, const glm::vec4& w) {
+      for (int c = 0; c < 4; ++c)
+        if (w[c] != 0.0f && j[c] < joints.size()) m += w[c] * joints[j[c]];
+    };
+    add((*j0)[v], (*w0)[v]);
+    if (j1 && w1) add((*j1)[v], (*w1)[v]);
+    out[v] = m;
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<glm::vec3> posed_positions(const Model& model, int node, const SurfaceMesh& mesh,
+                                       const std::vector<glm::mat4>& world) {
+  const auto& p = mesh.positions();
+  std::vector<glm::vec3> out(p.size());
+  const auto skin = vertex_matrices(model, node, mesh, world);
+  if (skin.empty()) {
+    const glm::mat4& m = world.at(static_cast<std::size_t>(node));
+    for (std::size_t v = 0; v < p.size(); ++v) out[v] = glm::vec3(m * glm::vec4(p[v], 1.0f));
+  } else {
+    for (std::size_t v = 0; v < p.size(); ++v) out[v] = glm::vec3(skin[v] * glm::vec4(p[v], 1.0f));
+  }
+  return out;
+}
+
+std::vector<glm::vec3> posed_normals(const Model& model, int node, const SurfaceMesh& mesh,
+                                     const std::vector<glm::mat4>& world) {
+  const auto* normals = mesh.corner_attrs().find<glm::vec3>(attr::kNormal);
+  if (!normals) return {};
+  const auto skin = vertex_matrices(model, node, mesh, world);
+  std::vector<glm::vec3> out(normals->size());
+  const glm::mat3 rigid = glm::transpose(glm::inverse(glm::mat3(world.at(static_cast<std::size_t>(node)))));
+  for (std::size_t f = 0; f < mesh.face_slots(); ++f) {
+    const auto& t = mesh.face(FaceId(static_cast<std::uint32_t>(f)));
+    for (int k = 0; k < 3; ++k) {
+      const auto c = 3 * f + static_cast<std::size_t>(k);
+      const glm::mat3 nm = skin.empty() ? rigid : glm::transpose(glm::inverse(glm::mat3(skin[t[k].index])));
+      const glm::vec3 n = nm * (*normals)[c];
+      const float len = glm::length(n);
+      out[c] = len > 0.0f ? n / len : n;
+    }
+  }
+  return out;
+}
+
+BoundingBox world_bounds(const Model& model, const Pose& pose) {
+  const auto world = world_matrices(model, pose);
+  BoundingBox box;
+  for (std::size_t i = 0; i < model.nodes.size(); ++i) {
+    const int m = model.nodes[i].mesh;
+    if (m < 0 || static_cast<std::size_t>(m) >= model.meshes.size()) continue;
+    for (const auto& prim : model.meshes[m].primitives) {
+      const auto posed = posed_positions(model, static_cast<int>(i), prim.mesh, world);
+      prim.mesh.for_each_face([&](FaceId, const Triangle& t) {
+        for (auto v : t) box.add(posed[v.index]);
+      });
+    }
+  }
+  return box;
+}
+
+}  // namespace deepcut

@@ -1,0 +1,160 @@
+// SPDX-License-Identifier: MIT
+#include "deepcut/core/surface_mesh.h"
+
+#include <string>
+
+namespace deepcut {
+
+SurfaceMesh::SurfaceMesh() { positions_ = &vattrs_.add<glm::vec3>(attr::kPosition); }
+
+SurfaceMesh::SurfaceMesh(const SurfaceMesh& other)
+    : faces_(other.faces_),
+      deleted_(other.deleted_),
+      deleted_count_(other.deleted_count_),
+      vattrs_(other.vattrs_),
+      fattrs_(other.fattrs_),
+      cattrs_(other.cattrs_),
+      positions_(vattrs_.find<glm::vec3>(attr::kPosition)) {}
+
+SurfaceMesh& SurfaceMesh::operator=(const SurfaceMesh& other) {
+  if (this != &other) {
+    SurfaceMesh copy(other);
+    *this = std::move(copy);
+  }
+  return *this;
+}
+
+// Moving an AttributeSet moves its std::map, whose nodes (and the arrays they own) stay put, so
+// positions_ can be carried over.
+SurfaceMesh::SurfaceMesh(SurfaceMesh&& other) noexcept
+    : faces_(std::move(other.faces_)),
+      deleted_(std::move(other.deleted_)),
+      deleted_count_(other.deleted_count_),
+      vattrs_(std::move(other.vattrs_)),
+      fattrs_(std::move(other.fattrs_)),
+      cattrs_(std::move(other.cattrs_)),
+      positions_(other.positions_) {
+  other.deleted_count_ = 0;
+  other.vattrs_ = AttributeSet();
+  other.fattrs_ = AttributeSet();
+  other.cattrs_ = AttributeSet();
+  other.positions_ = &other.vattrs_.add<glm::vec3>(attr::kPosition);
+}
+
+SurfaceMesh& SurfaceMesh::operator=(SurfaceMesh&& other) noexcept {
+  if (this != &other) {
+    faces_ = std::move(other.faces_);
+    deleted_ = std::move(other.deleted_);
+    deleted_count_ = other.deleted_count_;
+    vattrs_ = std::move(other.vattrs_);
+    fattrs_ = std::move(other.fattrs_);
+    cattrs_ = std::move(other.cattrs_);
+    positions_ = other.positions_;
+    other.faces_.clear();
+    other.deleted_.clear();
+    other.deleted_count_ = 0;
+    other.vattrs_ = AttributeSet();
+    other.fattrs_ = AttributeSet();
+    other.cattrs_ = AttributeSet();
+    other.positions_ = &other.vattrs_.add<glm::vec3>(attr::kPosition);
+  }
+  return *this;
+}
+
+VertexId SurfaceMesh::add_vertex(const glm::vec3& p) {
+  const auto n = vattrs_.size();
+  vattrs_.resize(n + 1);
+  (*positions_)[n] = p;
+  return VertexId(static_cast<std::uint32_t>(n));
+}
+
+FaceId SurfaceMesh::add_face(VertexId a, VertexId b, VertexId c) {
+  const auto nv = vertex_count();
+  if (a.index >= nv || b.index >= nv || c.index >= nv)
+    throw Error(ErrorCode::InvalidArgument, "add_face: vertex index out of range (" + std::to_string(a.index) + "," +
+                                                std::to_string(b.index) + "," + std::to_string(c.index) + " of " +
+                                                std::to_string(nv) + " vertices)");
+  faces_.push_back({a, b, c});
+  deleted_.push_back(0);
+  fattrs_.resize(faces_.size());
+  cattrs_.resize(3 * faces_.size());
+  return FaceId(static_cast<std::uint32_t>(faces_.size() - 1));
+}
+
+void SurfaceMesh::reserve(std::size_t vertices, std::size_t faces) {
+  positions_->data().reserve(vertices);
+  faces_.reserve(faces);
+  deleted_.reserve(faces);
+}
+
+void SurfaceMesh::mark_deleted(FaceId f) {
+  if (!deleted_[f.index]) {
+    deleted_[f.index] = 1;
+    ++deleted_count_;
+  }
+}
+
+std::vector<std::uint32_t> SurfaceMesh::compact() {
+  std::vector<std::uint32_t> vmap(vertex_count(), kInvalidIndex);
+  std::vector<std::uint32_t> keep_faces, keep_corners;
+  keep_faces.reserve(face_count());
+  keep_corners.reserve(3 * face_count());
+  for (std::uint32_t f = 0; f < faces_.size(); ++f) {
+    if (deleted_[f]) continue;
+    keep_faces.push_back(f);
+    for (int k = 0; k < 3; ++k) {
+      keep_corners.push_back(3 * f + static_cast<std::uint32_t>(k));
+      vmap[faces_[f][k].index] = 0;  // referenced
+    }
+  }
+  // Keep vertex order stable: renumber in increasing old index, not first-use order.
+  std::vector<std::uint32_t> sorted;
+  for (std::uint32_t v = 0; v < vmap.size(); ++v)
+    if (vmap[v] != kInvalidIndex) {
+      vmap[v] = static_cast<std::uint32_t>(sorted.size());
+      sorted.push_back(v);
+    }
+  std::vector<Triangle> faces;
+  faces.reserve(keep_faces.size());
+  for (std::uint32_t f : keep_faces) {
+    const auto& t = faces_[f];
+    faces.push_back({VertexId(vmap[t[0].index]), VertexId(vmap[t[1].index]), VertexId(vmap[t[2].index])});
+  }
+  faces_.swap(faces);
+  deleted_.assign(faces_.size(), 0);
+  deleted_count_ = 0;
+  vattrs_.gather(sorted);
+  fattrs_.gather(keep_faces);
+  cattrs_.gather(keep_corners);
+  return vmap;
+}
+
+BoundingBox SurfaceMesh::bounds() const {
+  BoundingBox box;
+  for_each_face([&](FaceId, const Triangle& t) {
+    for (auto v : t) box.add(position(v));
+  });
+  return box;
+}
+
+double SurfaceMesh::area(const std::vector<glm::vec3>* positions) const {
+  const auto& p = positions ? *positions : this->positions();
+  double sum = 0.0;
+  for_each_face([&](FaceId, const Triangle& t) {
+    const glm::dvec3 a(p[t[0].index]), b(p[t[1].index]), c(p[t[2].index]);
+    sum += 0.5 * glm::length(glm::cross(b - a, c - a));
+  });
+  return sum;
+}
+
+double SurfaceMesh::volume(const std::vector<glm::vec3>* positions) const {
+  const auto& p = positions ? *positions : this->positions();
+  double sum = 0.0;
+  for_each_face([&](FaceId, const Triangle& t) {
+    const glm::dvec3 a(p[t[0].index]), b(p[t[1].index]), c(p[t[2].index]);
+    sum += glm::dot(a, glm::cross(b, c)) / 6.0;
+  });
+  return sum;
+}
+
+}  // namespace deepcut

@@ -1,0 +1,138 @@
+// SPDX-License-Identifier: MIT
+#include "deepcut/core/validate.h"
+
+#include <cmath>
+#include <set>
+#include <string>
+
+#include "deepcut/core/adjacency.h"
+#include "deepcut/core/skinning.h"
+
+namespace deepcut {
+namespace {
+
+std::string where(const Model& model, std::size_t m, std::size_t p) {
+  const auto& name = model.meshes[m].name;
+  return "mesh " + std::to_string(m) + (name.empty() ? "" : " '" + name + "'") + " primitive " + std::to_string(p);
+}
+
+// Joint count of the skin each mesh is drawn with (-1 when unskinned).
+std::vector<int> mesh_joint_counts(const Model& model) {
+  std::vector<int> out(model.meshes.size(), -1);
+  for (const auto& n : model.nodes)
+    if (n.mesh >= 0 && static_cast<std::size_t>(n.mesh) < out.size() && n.skin >= 0 &&
+        static_cast<std::size_t>(n.skin) < model.skins.size())
+      out[n.mesh] = static_cast<int>(model.skins[n.skin].joints.size());
+  return out;
+}
+
+}  // namespace
+
+ModelStats compute_stats(const Model& model) {
+  ModelStats s;
+  s.nodes = model.nodes.size();
+  s.meshes = model.meshes.size();
+  s.skins = model.skins.size();
+  std::set<int> joints;
+  for (const auto& skin : model.skins) joints.insert(skin.joints.begin(), skin.joints.end());
+  s.joints = joints.size();
+  s.animations = model.animations.size();
+  s.materials = model.materials.size();
+  s.textures = model.textures.size();
+  s.images = model.images.size();
+  for (const auto& mesh : model.meshes)
+    for (const auto& prim : mesh.primitives) {
+      ++s.primitives;
+      s.gltf_vertices += prim.gltf_vertices ? prim.gltf_vertices : prim.mesh.vertex_count();
+      s.triangles += prim.mesh.face_count();
+      const auto adj = Adjacency::build(prim.mesh);
+      std::size_t used = 0;
+      for (std::uint32_t v = 0; v < adj.vertex_count(); ++v) used += !adj.vertex_faces(VertexId(v)).empty();
+      s.welded_vertices += used;
+      s.boundary_edges += adj.boundary_edges().size();
+      s.nonmanifold_edges += adj.nonmanifold_edges().size();
+      s.seam_edges += adj.seam_edges(prim.mesh).size();
+      s.components += adj.component_count();
+    }
+  s.bounds = world_bounds(model, rest_pose(model));
+  return s;
+}
+
+std::vector<std::string> find_problems(const Model& model) {
+  std::vector<std::string> out = model.import_notes;
+  const auto joint_counts = mesh_joint_counts(model);
+  for (std::size_t m = 0; m < model.meshes.size(); ++m)
+    for (std::size_t p = 0; p < model.meshes[m].primitives.size(); ++p) {
+      const auto& mesh = model.meshes[m].primitives[p].mesh;
+      std::size_t degenerate = 0, nonfinite = 0, unnormalised = 0, out_of_range = 0;
+      const auto& pos = mesh.positions();
+      for (const auto& q : pos)
+        if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z)) ++nonfinite;
+      mesh.for_each_face([&](FaceId, const Triangle& t) {
+        const glm::dvec3 a(pos[t[0].index]), b(pos[t[1].index]), c(pos[t[2].index]);
+        if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2] || glm::length(glm::cross(b - a, c - a)) == 0.0) ++degenerate;
+      });
+      const auto& va = mesh.vertex_attrs();
+      const auto* j0 = va.find<glm::u16vec4>(attr::kJoints0);
+      const auto* w0 = va.find<glm::vec4>(attr::kWeights0);
+      const auto* j1 = va.find<glm::u16vec4>(attr::kJoints1);
+      const auto* w1 = va.find<glm::vec4>(attr::kWeights1);
+      if (j0 && w0)
+        for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+          double sum = 0.0;
+          auto check = [&](const glm::u16vec4& j, const glm::vec4& w) {
+            for (int c = 0; c < 4; ++c) {
+              sum += w[c];
+              if (w[c] > 0.0f && joint_counts[m] >= 0 && j[c] >= joint_counts[m]) ++out_of_range;
+            }
+          };
+          check((*j0)[v], (*w0)[v]);
+          if (j1 && w1) check((*j1)[v], (*w1)[v]);
+          if (std::abs(sum - 1.0) > 1e-3) ++unnormalised;
+        }
+      const std::string w = where(model, m, p);
+      if (degenerate) out.push_back(w + ": " + std::to_string(degenerate) + " degenerate triangles");
+      if (nonfinite) out.push_back(w + ": " + std::to_string(nonfinite) + " positions are not finite");
+      if (unnormalised) out.push_back(w + ": " + std::to_string(unnormalised) + " vertices have weights not summing to 1");
+      if (out_of_range) out.push_back(w + ": " + std::to_string(out_of_range) + " influences name a joint past the skin");
+      if (j0 && w0 && joint_counts[m] < 0) out.push_back(w + ": has skin weights but no node draws it with a skin");
+    }
+  return out;
+}
+
+void validate_mesh(const SurfaceMesh& mesh, std::size_t joint_count) {
+  auto fail = [](const std::string& what) { throw Error(ErrorCode::InvariantViolated, "validate_mesh: " + what); };
+  const auto nv = mesh.vertex_count();
+  if (mesh.face_attrs().size() != mesh.face_slots()) fail("face attribute size differs from the face count");
+  if (mesh.corner_attrs().size() != 3 * mesh.face_slots()) fail("corner attribute size differs from 3 x face count");
+  mesh.for_each_face([&](FaceId f, const Triangle& t) {
+    for (auto v : t)
+      if (v.index >= nv) fail("face " + std::to_string(f.index) + " uses vertex " + std::to_string(v.index) + " past the end");
+  });
+  for (std::size_t v = 0; v < nv; ++v) {
+    const auto& p = mesh.positions()[v];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) fail("vertex " + std::to_string(v) + " is not finite");
+  }
+  const auto& va = mesh.vertex_attrs();
+  const auto* j0 = va.find<glm::u16vec4>(attr::kJoints0);
+  const auto* w0 = va.find<glm::vec4>(attr::kWeights0);
+  if (j0 && w0) {
+    const auto* j1 = va.find<glm::u16vec4>(attr::kJoints1);
+    const auto* w1 = va.find<glm::vec4>(attr::kWeights1);
+    for (std::size_t v = 0; v < nv; ++v) {
+      double sum = 0.0;
+      auto check = [&](const glm::u16vec4& j, const glm::vec4& w) {
+        for (int c = 0; c < 4; ++c) {
+          if (!(w[c] >= 0.0f)) fail("vertex " + std::to_string(v) + " has a negative or NaN weight");
+          sum += w[c];
+          if (w[c] > 0.0f && joint_count > 0 && j[c] >= joint_count) fail("vertex " + std::to_string(v) + " names a joint past the skin");
+        }
+      };
+      check((*j0)[v], (*w0)[v]);
+      if (j1 && w1) check((*j1)[v], (*w1)[v]);
+      if (std::abs(sum - 1.0) > 1e-4) fail("vertex " + std::to_string(v) + " weights sum to " + std::to_string(sum));
+    }
+  }
+}
+
+}  // namespace deepcut

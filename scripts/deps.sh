@@ -1,0 +1,121 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+#
+# Installs what DeepCut Studio needs to build and test, and only what is missing.
+# This is the ONE place that names Debian packages.
+#
+#   bash scripts/deps.sh [--no-validator]
+#
+#   --no-validator  skip the Khronos glTF validator (npm) and the Node.js packages it needs.
+#
+# Debian packages come from apt (sudo is used only when not root). The glTF validator comes
+# from the npm registry, pinned, into build/tools/node_modules/gltf-validator.
+set -euo pipefail
+
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd -P)"
+
+# Pinned: bump deliberately (check `npm view gltf-validator version`) and re-run the tests.
+readonly GLTF_VALIDATOR_VERSION="2.0.0-dev.3.10"
+
+# Build toolchain, libraries, test frameworks, and a virtual display for the GUI tests.
+readonly APT_PACKAGES=(
+  build-essential cmake ninja-build pkg-config git
+  libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  libvtk9-dev libvtk9-qt-dev qtbase5-dev
+  xvfb xauth libgl1-mesa-dri
+)
+# Only needed to run the glTF validator.
+readonly NODE_PACKAGES=(nodejs npm)
+
+log() { echo "[deepcut] $*" >&2; }
+die() {
+  echo "[deepcut] error: $*" >&2
+  exit 1
+}
+
+usage() {
+  sed -n '4,12s/^# \{0,1\}//p' "${BASH_SOURCE[0]}" >&2
+}
+
+with_validator=1
+for arg in "$@"; do
+  case "$arg" in
+    --no-validator) with_validator=0 ;;
+    -h | --help)
+      usage
+      exit 0
+      ;;
+    *)
+      usage
+      die "deps: unknown argument '$arg'"
+      ;;
+  esac
+done
+
+is_installed() {
+  # Multi-arch packages may print one status per architecture; any installed one will do.
+  dpkg-query -W -f='${Status}\n' "$1" 2>/dev/null | grep -qx 'install ok installed'
+}
+
+# Runs a command as root: directly when root, through sudo otherwise.
+as_root() {
+  if [[ $(id -u) -eq 0 ]]; then
+    "$@"
+  elif command -v sudo >/dev/null 2>&1; then
+    sudo "$@"
+  else
+    die "deps: need root to run '$*' (not root and sudo is not installed)"
+  fi
+}
+
+# ---- Debian packages --------------------------------------------------------------------------
+wanted=("${APT_PACKAGES[@]}")
+if [[ $with_validator -eq 1 ]]; then
+  if command -v node >/dev/null 2>&1 && command -v npm >/dev/null 2>&1; then
+    : # Node.js and npm are already here (possibly not from Debian): don't install Debian's.
+  else
+    wanted+=("${NODE_PACKAGES[@]}")
+  fi
+fi
+
+missing=()
+for pkg in "${wanted[@]}"; do
+  is_installed "$pkg" || missing+=("$pkg")
+done
+
+if [[ ${#missing[@]} -eq 0 ]]; then
+  log "deps: all ${#wanted[@]} Debian packages present"
+else
+  log "deps: installing missing Debian packages: ${missing[*]}"
+  # apt's output goes to stderr so callers' stdout stays clean.
+  as_root apt-get update >&2
+  as_root env DEBIAN_FRONTEND=noninteractive \
+    apt-get install -y --no-install-recommends "${missing[@]}" >&2
+fi
+
+# ---- glTF validator (npm) ---------------------------------------------------------------------
+if [[ $with_validator -eq 0 ]]; then
+  log "deps: --no-validator: skipping gltf-validator"
+  exit 0
+fi
+
+command -v node >/dev/null 2>&1 || die "deps: 'node' not found after installing nodejs"
+command -v npm >/dev/null 2>&1 || die "deps: 'npm' not found after installing npm"
+
+tools_dir="$ROOT/build/tools"
+validator_dir="$tools_dir/node_modules/gltf-validator"
+installed_version=""
+if [[ -f "$validator_dir/package.json" ]]; then
+  installed_version="$(node -p 'require(process.argv[1]).version' "$validator_dir/package.json" 2>/dev/null || true)"
+fi
+
+if [[ "$installed_version" == "$GLTF_VALIDATOR_VERSION" ]]; then
+  log "deps: gltf-validator $GLTF_VALIDATOR_VERSION present in build/tools"
+else
+  log "deps: installing gltf-validator@$GLTF_VALIDATOR_VERSION into build/tools${installed_version:+ (replacing $installed_version)}"
+  mkdir -p "$tools_dir"
+  # npm's own output goes to stderr so callers' stdout stays clean.
+  npm install --prefix "$tools_dir" --no-audit --no-fund "gltf-validator@$GLTF_VALIDATOR_VERSION" >&2
+  [[ -f "$validator_dir/package.json" ]] || die "deps: npm did not install gltf-validator into $validator_dir"
+fi

@@ -1,0 +1,142 @@
+// SPDX-License-Identifier: MIT
+#include "deepcut/core/adjacency.h"
+
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "deepcut/core/io/gltf.h"
+#include "deepcut/core/mesh_editor.h"
+#include "fixtures.h"
+
+namespace deepcut {
+namespace {
+
+// Random local edits through MeshEditor: 1-to-3 face splits, edge splits (both faces),
+// vertex splits with a face re-attached, and face removals.
+void random_edit(SurfaceMesh& mesh, MeshEditor& editor, const Adjacency& adj, std::mt19937& rng) {
+  std::vector<FaceId> live;
+  mesh.for_each_face([&](FaceId f, const Triangle&) { live.push_back(f); });
+  if (live.empty()) return;
+  const FaceId f = live[std::uniform_int_distribution<std::size_t>(0, live.size() - 1)(rng)];
+  const Triangle t = mesh.face(f);
+  switch (std::uniform_int_distribution<int>(0, 3)(rng)) {
+    case 0: {  // 1-to-3
+      const glm::vec3 b(0.3f, 0.3f, 0.4f);
+      const VertexId c = editor.add_vertex_in_triangle(t, b);
+      editor.remove_face(f);
+      const glm::vec3 e0(1, 0, 0), e1(0, 1, 0), e2(0, 0, 1);
+      editor.add_face_from({t[0], t[1], c}, f, {e0, e1, b});
+      editor.add_face_from({t[1], t[2], c}, f, {e1, e2, b});
+      editor.add_face_from({t[2], t[0], c}, f, {e2, e0, b});
+      break;
+    }
+    case 1: {  // split edge t0-t1 in every face that uses it
+      const VertexId a = t[0], b = t[1];
+      const auto faces = adj.edge_faces(a, b);
+      const VertexId m = editor.add_vertex_on_edge(a, b, 0.4f);
+      for (FaceId g : faces) {
+        const Triangle gt = mesh.face(g);
+        int ka = 0;
+        while (gt[ka] != a) ++ka;
+        const int kb = gt[(ka + 1) % 3] == b ? (ka + 1) % 3 : (ka + 2) % 3;
+        const int kc = 3 - ka - kb;
+        glm::vec3 ua(0.0f), ub(0.0f), uc(0.0f), um(0.0f);
+        ua[ka] = 1;
+        ub[kb] = 1;
+        uc[kc] = 1;
+        um[ka] = 0.6f;
+        um[kb] = 0.4f;
+        editor.remove_face(g);
+        // Keep the orientation of g: walk its corners, replacing edge (a,b) by (a,m,b).
+        if (kb == (ka + 1) % 3) {
+          editor.add_face_from({a, m, gt[kc]}, g, {ua, um, uc});
+          editor.add_face_from({m, b, gt[kc]}, g, {um, ub, uc});
+        } else {
+          editor.add_face_from({b, m, gt[kc]}, g, {ub, um, uc});
+          editor.add_face_from({m, a, gt[kc]}, g, {um, ua, uc});
+        }
+      }
+      break;
+    }
+    case 2: {  // detach a face at one vertex (tear-like)
+      const VertexId copy = editor.split_vertex(t[0]);
+      editor.remove_face(f);
+      editor.add_face_from({copy, t[1], t[2]}, f, {glm::vec3(1, 0, 0), glm::vec3(0, 1, 0), glm::vec3(0, 0, 1)});
+      break;
+    }
+    default:
+      editor.remove_face(f);
+  }
+}
+
+}  // namespace
+
+TEST(AdjacencyTest, grid_neighbourhoods_and_boundary) {
+  const SurfaceMesh mesh = test::make_grid(3, 3);
+  const Adjacency adj = Adjacency::build(mesh);
+  EXPECT_EQ(adj.boundary_edges().size(), 12u);
+  EXPECT_TRUE(adj.nonmanifold_edges().empty());
+  EXPECT_EQ(adj.component_count(), 1u);
+  EXPECT_EQ(adj.vertex_neighbors(VertexId(5)).size(), 6u);  // interior vertex of a regular grid
+  EXPECT_EQ(adj.face_neighbors(FaceId(8)).size(), 3u);
+  // The UV seam sits between columns 1 and 2 (x = 2/3): three vertical edges.
+  EXPECT_EQ(adj.seam_edges(mesh).size(), 3u);
+  const SurfaceMesh grid2 = test::make_grid(2, 2);
+  EXPECT_EQ(Adjacency::build(grid2).seam_edges(grid2).size(), 2u);
+}
+
+TEST(AdjacencyTest, closed_tube_has_no_boundary_and_detects_nonmanifold_edges) {
+  SurfaceMesh mesh = test::make_tube(8, 2);
+  Adjacency adj = Adjacency::build(mesh);
+  EXPECT_TRUE(adj.boundary_edges().empty());
+  for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) EXPECT_FALSE(adj.vertex_faces(VertexId(v)).empty());
+  // A fin on an existing edge makes it non-manifold.
+  const Triangle t = mesh.face(FaceId(0));
+  MeshEditor editor(mesh);
+  const VertexId tip = editor.add_vertex_in_triangle(t, glm::vec3(1.0f / 3));
+  editor.move_vertex(tip, mesh.position(tip) + glm::vec3(0, 0, 5));
+  editor.add_face({t[0], t[1], tip});
+  adj.apply(editor.log());
+  EXPECT_EQ(adj.nonmanifold_edges().size(), 1u);
+  test::expect_adjacency_matches_rebuild(adj, mesh);
+}
+
+TEST(AdjacencyTest, incremental_equals_rebuild_after_random_edits) {
+  for (unsigned seed : {1u, 2u, 3u}) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    SurfaceMesh mesh = seed == 2 ? test::make_tube(12, 6) : test::make_grid(6, 5);
+    Adjacency adj = Adjacency::build(mesh);
+    std::mt19937 rng(seed);
+    for (int step = 0; step < 300; ++step) {
+      MeshEditor editor(mesh);
+      random_edit(mesh, editor, adj, rng);
+      adj.apply(editor.take_log());
+      if (step % 25 == 0 || step == 299) {
+        SCOPED_TRACE("step " + std::to_string(step));
+        test::expect_adjacency_matches_rebuild(adj, mesh);
+        test::expect_valid(mesh);
+      }
+    }
+  }
+}
+
+TEST(AdjacencyTest, incremental_equals_rebuild_on_every_asset) {
+  for (const auto& path : test::asset_models()) {
+    SCOPED_TRACE(path);
+    Model model = read_gltf(path);
+    for (auto& mesh : model.meshes)
+      for (auto& prim : mesh.primitives) {
+        Adjacency adj = Adjacency::build(prim.mesh);
+        std::mt19937 rng(7);
+        for (int step = 0; step < 100; ++step) {
+          MeshEditor editor(prim.mesh);
+          random_edit(prim.mesh, editor, adj, rng);
+          adj.apply(editor.take_log());
+        }
+        test::expect_adjacency_matches_rebuild(adj, prim.mesh);
+      }
+  }
+}
+
+}  // namespace deepcut

@@ -1,0 +1,55 @@
+// SPDX-License-Identifier: MIT
+#include "deepcut/core/attributes.h"
+
+#include <gtest/gtest.h>
+
+namespace deepcut {
+
+TEST(AttributesTest, arrays_grow_together_and_blend_by_type) {
+  AttributeSet set;
+  auto& f = set.add<glm::vec2>("c:uv0", glm::vec2(-1.0f));
+  auto& j = set.add<glm::u16vec4>("v:joints0");
+  set.resize(2);
+  EXPECT_EQ(f.size(), 2u);
+  EXPECT_EQ(f[1], glm::vec2(-1.0f));  // default value
+  f[0] = {0.0f, 0.0f};
+  f[1] = {2.0f, 4.0f};
+  j[0] = {1, 2, 3, 4};
+  j[1] = {5, 6, 7, 8};
+  const std::uint32_t src[2] = {0, 1};
+  const float w[2] = {0.25f, 0.75f};
+  set.push_blend(src, w, 2);
+  ASSERT_EQ(set.size(), 3u);
+  EXPECT_FLOAT_EQ(f[2].x, 1.5f);
+  EXPECT_FLOAT_EQ(f[2].y, 3.0f);
+  EXPECT_EQ(j[2], glm::u16vec4(5, 6, 7, 8));  // integers take the dominant source
+}
+
+TEST(AttributesTest, add_rejects_duplicates_and_get_rejects_missing_or_wrong_type) {
+  AttributeSet set;
+  set.add<float>("v:x");
+  EXPECT_THROW(set.add<float>("v:x"), Error);
+  EXPECT_THROW(set.get<float>("v:y"), Error);
+  EXPECT_THROW(set.get<glm::vec3>("v:x"), Error);
+  EXPECT_EQ(set.find<float>("v:y"), nullptr);
+}
+
+TEST(AttributesTest, copy_is_deep_and_gather_reorders) {
+  AttributeSet set;
+  auto& a = set.add<float>("v:a");
+  set.resize(3);
+  a[0] = 10;
+  a[1] = 11;
+  a[2] = 12;
+  AttributeSet copy = set;
+  copy.get<float>("v:a")[0] = 99;
+  EXPECT_EQ(a[0], 10);
+  set.gather({2, 0});
+  ASSERT_EQ(set.size(), 2u);
+  EXPECT_EQ(set.get<float>("v:a")[0], 12);
+  EXPECT_EQ(set.get<float>("v:a")[1], 10);
+  EXPECT_TRUE(copy.elements_equal(1, 1));
+  EXPECT_FALSE(copy.elements_equal(0, 1));
+}
+
+}  // namespace deepcut

@@ -1,0 +1,247 @@
+// SPDX-License-Identifier: MIT
+#include "deepcut/core/io/gltf.h"
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "deepcut/core/validate.h"
+#include "fixtures.h"
+#include "tools.h"
+
+namespace deepcut {
+namespace {
+
+using nlohmann::json;
+
+std::string base64(const std::vector<unsigned char>& d) {
+  static const char* t = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  for (std::size_t i = 0; i < d.size(); i += 3) {
+    const unsigned n = (unsigned(d[i]) << 16) | (i + 1 < d.size() ? unsigned(d[i + 1]) << 8 : 0u) |
+                       (i + 2 < d.size() ? unsigned(d[i + 2]) : 0u);
+    out += t[(n >> 18) & 63];
+    out += t[(n >> 12) & 63];
+    out += i + 1 < d.size() ? t[(n >> 6) & 63] : '=';
+    out += i + 2 < d.size() ? t[n & 63] : '=';
+  }
+  return out;
+}
+
+template <class T>
+void append(std::vector<unsigned char>& buf, const std::vector<T>& values) {
+  const auto* p = reinterpret_cast<const unsigned char*>(values.data());
+  buf.insert(buf.end(), p, p + values.size() * sizeof(T));
+  while (buf.size() % 4) buf.push_back(0);
+}
+
+std::string write_text(const std::string& dir, const std::string& name, const std::string& text) {
+  const std::string path = dir + "/" + name;
+  std::ofstream(path, std::ios::binary) << text;
+  return path;
+}
+
+// A quad (two triangles) skinned to a skin WITHOUT inverseBindMatrices, positions interleaved with
+// normalised-short UVs (byteStride), a sparse accessor overriding one position, weights stored as
+// normalised unsigned bytes that do not sum to 255.
+json quirky_gltf(std::vector<unsigned char>& buf) {
+  // Interleaved: position (3 floats) + uv (2 normalised u16) = 16 bytes per vertex.
+  struct V {
+    float p[3];
+    std::uint16_t uv[2];
+  };
+  std::vector<V> verts = {{{0, 0, 0}, {0, 0}}, {{1, 0, 0}, {65535, 0}}, {{1, 1, 0}, {65535, 65535}}, {{0, 1, 0}, {0, 65535}}};
+  append(buf, verts);
+  const std::size_t idx_off = buf.size();
+  append(buf, std::vector<std::uint8_t>{0, 1, 2, 0, 2, 3});
+  const std::size_t joints_off = buf.size();
+  append(buf, std::vector<std::uint8_t>{0, 1, 0, 0, 0, 1, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0});
+  const std::size_t weights_off = buf.size();
+  append(buf, std::vector<std::uint8_t>{100, 100, 0, 0, 255, 0, 0, 0, 255, 0, 0, 0, 0, 255, 0, 0});
+  const std::size_t sparse_idx_off = buf.size();
+  append(buf, std::vector<std::uint16_t>{3});
+  const std::size_t sparse_val_off = buf.size();
+  append(buf, std::vector<float>{0, 2, 0});
+  json doc;
+  doc["asset"] = {{"version", "2.0"}};
+  doc["scene"] = 0;
+  doc["scenes"] = json::array({json{{"nodes", {0, 1}}}});
+  doc["nodes"] = json::array({json{{"mesh", 0}, {"skin", 0}, {"name", "quad"}}, json{{"name", "j0"}, {"children", {2}}},
+                              json{{"name", "j1"}, {"translation", {0, 1, 0}}}});
+  doc["skins"] = json::array({json{{"joints", {1, 2}}}});
+  json prim = {{"attributes", {{"POSITION", 0}, {"TEXCOORD_0", 1}, {"JOINTS_0", 3}, {"WEIGHTS_0", 4}}}, {"indices", 2}};
+  doc["meshes"] = json::array({json{{"primitives", json::array({prim})}}});
+  auto view = [](std::size_t offset, std::size_t length) { return json{{"buffer", 0}, {"byteOffset", offset}, {"byteLength", length}}; };
+  json interleaved = view(0, 64);
+  interleaved["byteStride"] = 16;
+  doc["bufferViews"] = json::array({interleaved, view(idx_off, 6), view(joints_off, 16), view(weights_off, 16),
+                                    view(sparse_idx_off, 2), view(sparse_val_off, 12)});
+  json positions = {{"bufferView", 0}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"}, {"min", {0, 0, 0}}, {"max", {1, 2, 0}}};
+  positions["sparse"] = {{"count", 1}, {"indices", {{"bufferView", 4}, {"componentType", 5123}}}, {"values", {{"bufferView", 5}}}};
+  doc["accessors"] = json::array(
+      {positions,
+       json{{"bufferView", 0}, {"byteOffset", 12}, {"componentType", 5123}, {"normalized", true}, {"count", 4}, {"type", "VEC2"}},
+       json{{"bufferView", 1}, {"componentType", 5121}, {"count", 6}, {"type", "SCALAR"}},
+       json{{"bufferView", 2}, {"componentType", 5121}, {"count", 4}, {"type", "VEC4"}},
+       json{{"bufferView", 3}, {"componentType", 5121}, {"normalized", true}, {"count", 4}, {"type", "VEC4"}}});
+  json material = {{"name", "m"}};
+  material["extensions"]["KHR_materials_emissive_strength"]["emissiveStrength"] = 2.5;
+  doc["materials"] = json::array({material});
+  doc["extensionsUsed"] = json::array({"KHR_materials_emissive_strength"});
+  doc["meshes"][0]["primitives"][0]["material"] = 0;
+  doc["buffers"] = json::array({json{{"byteLength", buf.size()}, {"uri", "data:application/octet-stream;base64," + base64(buf)}}});
+  return doc;
+}
+
+}  // namespace
+
+TEST(GltfTest, bundled_models_match_independently_known_counts) {
+  struct Known {
+    const char* file;
+    std::size_t vertices, welded, triangles, joints, animations;
+  };
+  // From the models' own documentation (shared/models/README.md), not from this importer.
+  const Known known[] = {{"models/RiggedSimple/RiggedSimple.gltf", 96, 96, 188, 2, 1},
+                         {"models/SimpleSkin/SimpleSkin.gltf", 10, 10, 8, 2, 1},
+                         {"models/RiggedFigure/RiggedFigure.glb", 370, 130, 256, 19, 1},
+                         {"models/CesiumMan/CesiumMan.glb", 3273, 2338, 4672, 19, 1},
+                         {"models/Fox/Fox.glb", 1728, 1728, 576, 24, 3}};
+  for (const auto& k : known) {
+    SCOPED_TRACE(k.file);
+    const Model model = read_gltf(std::string(DEEPCUT_ASSETS_DIR) + "/" + k.file);
+    const ModelStats s = compute_stats(model);
+    EXPECT_EQ(s.gltf_vertices, k.vertices);
+    if (std::string(k.file).find("Fox") == std::string::npos) {
+      EXPECT_EQ(s.welded_vertices, k.welded);
+    }
+    EXPECT_EQ(s.triangles, k.triangles);
+    EXPECT_EQ(s.joints, k.joints);
+    EXPECT_EQ(s.animations, k.animations);
+    EXPECT_TRUE(find_problems(model).empty());
+  }
+}
+
+TEST(GltfTest, fox_is_non_indexed_and_welds_to_a_closed_surface) {
+  const Model model = read_gltf(std::string(DEEPCUT_ASSETS_DIR) + "/models/Fox/Fox.glb");
+  const ModelStats s = compute_stats(model);
+  EXPECT_LT(s.welded_vertices, 1728u / 3);  // non-indexed: every corner its own glTF vertex
+  EXPECT_EQ(s.boundary_edges, 0u);
+  EXPECT_EQ(model.animations.size(), 3u);
+  EXPECT_EQ(model.animations[1].name, "Walk");
+  ASSERT_EQ(model.images.size(), 1u);
+  EXPECT_EQ(model.images[0].mime_type, "image/png");
+}
+
+TEST(GltfTest, strides_normalised_ints_sparse_and_skin_without_inverse_bind_matrices) {
+  std::vector<unsigned char> buf;
+  const json doc = quirky_gltf(buf);
+  const std::string dir = test::temp_dir("quirky");
+  const std::string path = write_text(dir, "quirky.gltf", doc.dump());
+  const Model model = read_gltf(path);
+  ASSERT_EQ(model.skins.size(), 1u);
+  EXPECT_FALSE(model.skins[0].had_inverse_bind_matrices);
+  EXPECT_EQ(model.skins[0].inverse_bind_matrices[1], glm::mat4(1.0f));
+  const SurfaceMesh& mesh = model.meshes[0].primitives[0].mesh;
+  ASSERT_EQ(mesh.vertex_count(), 4u);
+  EXPECT_EQ(mesh.positions()[3], glm::vec3(0, 2, 0));  // sparse override
+  const auto& uv = mesh.corner_attrs().get<glm::vec2>(attr::kUv0);
+  EXPECT_FLOAT_EQ(uv[1].x, 1.0f);  // corner 1 of face 0 is vertex 1: u = 65535/65535
+  const auto& w = mesh.vertex_attrs().get<glm::vec4>(attr::kWeights0);
+  EXPECT_FLOAT_EQ(w[0].x, 0.5f);  // 100/255 + 100/255 normalised to 0.5 + 0.5
+  EXPECT_FLOAT_EQ(w[0].y, 0.5f);
+  bool noted = false;
+  for (const auto& n : model.import_notes) noted |= n.find("not summing to 1") != std::string::npos;
+  EXPECT_TRUE(noted);
+  ASSERT_EQ(model.materials.size(), 1u);
+  EXPECT_NE(model.materials[0].json.find("emissiveStrength"), std::string::npos);
+
+  // Export writes inverseBindMatrices, keeps the extension, and the validator accepts it.
+  const std::string out = dir + "/quirky-out.glb";
+  write_gltf(model, out);
+  const auto v = test::validate_gltf(out);
+  EXPECT_EQ(v.exit_code, 0) << v.out << v.err;
+  const Model again = read_gltf(out);
+  EXPECT_TRUE(again.skins[0].had_inverse_bind_matrices);
+  EXPECT_EQ(again.extensions_used, model.extensions_used);
+  EXPECT_EQ(again.meshes[0].primitives[0].mesh.positions(), mesh.positions());
+  std::filesystem::remove_all(dir);
+}
+
+TEST(GltfTest, external_buffer_uris_must_stay_in_the_models_folder) {
+  std::vector<unsigned char> buf;
+  json doc = quirky_gltf(buf);
+  const std::string dir = test::temp_dir("escape");
+  std::filesystem::create_directories(dir + "/model");
+  std::ofstream(dir + "/secret.bin", std::ios::binary).write(reinterpret_cast<const char*>(buf.data()), std::streamsize(buf.size()));
+  doc["buffers"][0]["uri"] = "../secret.bin";
+  const std::string bad = write_text(dir + "/model", "escape.gltf", doc.dump());
+  try {
+    read_gltf(bad);
+    FAIL() << "a buffer outside the model's folder was read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("outside the model's folder"), std::string::npos) << e.what();
+  }
+  // The same file next to the model is fine.
+  std::filesystem::copy_file(dir + "/secret.bin", dir + "/model/data.bin");
+  doc["buffers"][0]["uri"] = "data.bin";
+  EXPECT_NO_THROW(read_gltf(write_text(dir + "/model", "ok.gltf", doc.dump())));
+  std::filesystem::remove_all(dir);
+}
+
+TEST(GltfTest, strips_and_fans_become_triangles) {
+  std::vector<unsigned char> buf;
+  json doc = quirky_gltf(buf);
+  const std::string dir = test::temp_dir("modes");
+  doc["meshes"][0]["primitives"][0]["mode"] = 6;  // fan over 0 1 2 0 2 3: 4 triangles
+  const Model fan = read_gltf(write_text(dir, "fan.gltf", doc.dump()));
+  EXPECT_EQ(fan.meshes[0].primitives[0].mesh.face_count(), 4u);
+  doc["meshes"][0]["primitives"][0]["mode"] = 1;  // lines: rejected clearly
+  try {
+    read_gltf(write_text(dir, "lines.gltf", doc.dump()));
+    FAIL() << "lines were accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("LINES"), std::string::npos);
+  }
+  std::filesystem::remove_all(dir);
+}
+
+TEST(GltfTest, write_is_atomic_and_rejects_unknown_extensions) {
+  const Model model = test::make_skinned_tube_model();
+  const std::string dir = test::temp_dir("atomic");
+  EXPECT_THROW(write_gltf(model, dir + "/x.obj"), Error);
+  EXPECT_THROW(write_gltf(model, dir + "/missing-folder/x.glb"), Error);
+  write_gltf(model, dir + "/tube.glb");
+  std::size_t files = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) files += e.is_regular_file();
+  EXPECT_EQ(files, 1u);  // no temporary left behind
+  const auto v = test::validate_gltf(dir + "/tube.glb");
+  EXPECT_EQ(v.exit_code, 0) << v.out << v.err;
+  std::filesystem::remove_all(dir);
+}
+
+TEST(GltfTest, brainstem_local_only_model_loads_when_present) {
+  const std::string path = std::string(DEEPCUT_SHARED_MODELS_DIR) + "/local-only/BrainStem/BrainStem.glb";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << "local-only models are not on this machine";
+  const Model model = read_gltf(path);
+  const ModelStats s = compute_stats(model);
+  EXPECT_EQ(s.primitives, 59u);
+  EXPECT_EQ(s.gltf_vertices, 34159u);
+  EXPECT_EQ(s.triangles, 61666u);
+  EXPECT_EQ(s.nonmanifold_edges, 72u);
+  const std::string dir = test::temp_dir("brainstem");
+  write_gltf(model, dir + "/b.glb");
+  const auto v = test::validate_gltf(dir + "/b.glb");
+  EXPECT_EQ(v.exit_code, 0) << v.out << v.err;
+  const Model again = read_gltf(dir + "/b.glb");
+  const ModelStats s2 = compute_stats(again);
+  EXPECT_EQ(s2.triangles, s.triangles);
+  EXPECT_EQ(s2.welded_vertices, s.welded_vertices);
+  EXPECT_EQ(s2.nonmanifold_edges, s.nonmanifold_edges);
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace deepcut

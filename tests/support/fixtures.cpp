@@ -1,0 +1,140 @@
+// SPDX-License-Identifier: MIT
+#include "fixtures.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <gtest/gtest.h>
+
+#include "deepcut/core/validate.h"
+
+namespace deepcut::test {
+
+SurfaceMesh make_grid(int nx, int ny) {
+  SurfaceMesh mesh;
+  auto& joints = mesh.vertex_attrs().add<glm::u16vec4>(attr::kJoints0);
+  auto& weights = mesh.vertex_attrs().add<glm::vec4>(attr::kWeights0);
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i) {
+      const float x = float(i) / float(nx), y = float(j) / float(ny);
+      const VertexId v = mesh.add_vertex({x, y, 0.0f});
+      joints[v.index] = {0, 1, 0, 0};
+      weights[v.index] = {1.0f - x, x, 0.0f, 0.0f};
+      if (weights[v.index][1] == 0.0f) joints[v.index][1] = 0;
+    }
+  auto& uv = mesh.corner_attrs().add<glm::vec2>(attr::kUv0);
+  auto& normal = mesh.corner_attrs().add<glm::vec3>(attr::kNormal);
+  auto id = [&](int i, int j) { return VertexId(static_cast<std::uint32_t>(j * (nx + 1) + i)); };
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const bool right = (i + 0.5f) / float(nx) > 0.5f;
+      for (const auto& tri : {Triangle{id(i, j), id(i + 1, j), id(i + 1, j + 1)}, Triangle{id(i, j), id(i + 1, j + 1), id(i, j + 1)}}) {
+        const FaceId f = mesh.add_face(tri[0], tri[1], tri[2]);
+        for (int k = 0; k < 3; ++k) {
+          const glm::vec3 p = mesh.position(tri[k]);
+          uv[SurfaceMesh::corner(f, k)] = {p.x + (right ? 1.0f : 0.0f), p.y};
+          normal[SurfaceMesh::corner(f, k)] = {0.0f, 0.0f, 1.0f};
+        }
+      }
+    }
+  return mesh;
+}
+
+SurfaceMesh make_tube(int around, int along, float radius, float length) {
+  SurfaceMesh mesh;
+  auto ring = [&](int j, int i) { return VertexId(static_cast<std::uint32_t>(j * around + (i % around))); };
+  for (int j = 0; j <= along; ++j)
+    for (int i = 0; i < around; ++i) {
+      const float a = 2.0f * float(M_PI) * float(i) / float(around);
+      mesh.add_vertex({radius * std::cos(a), length * float(j) / float(along), -radius * std::sin(a)});
+    }
+  const VertexId bottom = mesh.add_vertex({0.0f, 0.0f, 0.0f});
+  const VertexId top = mesh.add_vertex({0.0f, length, 0.0f});
+  for (int j = 0; j < along; ++j)
+    for (int i = 0; i < around; ++i) {
+      mesh.add_face(ring(j, i), ring(j, i + 1), ring(j + 1, i + 1));
+      mesh.add_face(ring(j, i), ring(j + 1, i + 1), ring(j + 1, i));
+    }
+  for (int i = 0; i < around; ++i) {
+    mesh.add_face(bottom, ring(0, i + 1), ring(0, i));
+    mesh.add_face(top, ring(along, i), ring(along, i + 1));
+  }
+  return mesh;
+}
+
+Model make_skinned_tube_model() {
+  Model model;
+  Primitive prim;
+  prim.mesh = make_tube(16, 8, 0.5f, 4.0f);
+  auto& joints = prim.mesh.vertex_attrs().add<glm::u16vec4>(attr::kJoints0);
+  auto& weights = prim.mesh.vertex_attrs().add<glm::vec4>(attr::kWeights0);
+  for (std::size_t v = 0; v < prim.mesh.vertex_count(); ++v) {
+    const float y = prim.mesh.positions()[v].y / 4.0f;
+    joints[v] = {0, 1, 0, 0};
+    weights[v] = {1.0f - y, y, 0.0f, 0.0f};
+    if (y == 0.0f) joints[v][1] = 0;
+  }
+  model.meshes.push_back({"tube", {}, ""});
+  model.meshes[0].primitives.push_back(std::move(prim));
+  Node mesh_node;
+  mesh_node.name = "tube";
+  mesh_node.mesh = 0;
+  mesh_node.skin = 0;
+  Node root_joint;
+  root_joint.name = "joint0";
+  root_joint.children = {3};
+  Node scene_root;
+  scene_root.name = "root";
+  scene_root.children = {1};
+  Node tip_joint;
+  tip_joint.name = "joint1";
+  tip_joint.translation = {0.0f, 2.0f, 0.0f};
+  model.nodes = {mesh_node, root_joint, scene_root, tip_joint};
+  model.nodes[1].children = {3};
+  model.scenes = {{0, 2}};
+  Skin skin;
+  skin.joints = {1, 3};
+  skin.inverse_bind_matrices = {glm::mat4(1.0f), glm::inverse(glm::translate(glm::mat4(1.0f), glm::vec3(0, 2, 0)))};
+  skin.skeleton = 2;
+  model.skins.push_back(skin);
+  Animation anim;
+  anim.name = "bend";
+  AnimationSampler s;
+  s.input = {0.0f, 1.0f, 2.0f};
+  const glm::quat q0(1, 0, 0, 0), q1 = glm::angleAxis(glm::radians(60.0f), glm::vec3(0, 0, 1));
+  s.output = {q0.x, q0.y, q0.z, q0.w, q1.x, q1.y, q1.z, q1.w, q0.x, q0.y, q0.z, q0.w};
+  s.components = 4;
+  anim.samplers.push_back(s);
+  anim.channels.push_back({0, 3, AnimationPath::Rotation});
+  model.animations.push_back(anim);
+  model.materials.push_back({"red", R"({"name":"red","pbrMetallicRoughness":{"baseColorFactor":[1,0,0,1]}})"});
+  model.meshes[0].primitives[0].material = 0;
+  return model;
+}
+
+void expect_valid(const SurfaceMesh& mesh, std::size_t joint_count) {
+  EXPECT_NO_THROW(validate_mesh(mesh, joint_count));
+}
+
+void expect_adjacency_matches_rebuild(const Adjacency& incremental, const SurfaceMesh& mesh) {
+  const Adjacency rebuilt = Adjacency::build(mesh);
+  ASSERT_EQ(incremental.vertex_count(), rebuilt.vertex_count());
+  EXPECT_EQ(incremental.edge_count(), rebuilt.edge_count());
+  EXPECT_TRUE(incremental == rebuilt) << "incremental adjacency differs from a full rebuild";
+  EXPECT_EQ(incremental.boundary_edges().size(), rebuilt.boundary_edges().size());
+  EXPECT_EQ(incremental.component_count(), rebuilt.component_count());
+}
+
+std::vector<std::string> asset_models() {
+  std::vector<std::string> out;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(DEEPCUT_ASSETS_DIR)) {
+    const auto ext = entry.path().extension().string();
+    if (entry.is_regular_file() && (ext == ".glb" || ext == ".gltf")) out.push_back(entry.path().string());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+}  // namespace deepcut::test

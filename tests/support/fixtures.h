@@ -1,0 +1,34 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// Small meshes built in code (pmp's tests/helpers.h) and invariant checks shared by the tests.
+
+#include <string>
+#include <vector>
+
+#include "deepcut/core/adjacency.h"
+#include "deepcut/core/model.h"
+#include "deepcut/core/surface_mesh.h"
+
+namespace deepcut::test {
+
+/// nx x ny quads split into triangles in the xy plane, [0,1]^2; per-corner UVs equal to xy,
+/// with a UV seam down the middle column (u shifted by +1 right of x = 0.5); skinned to two
+/// joints blending along x.
+SurfaceMesh make_grid(int nx, int ny);
+
+/// Closed cylinder (tube with capped ends), consistently outward oriented.
+SurfaceMesh make_tube(int around, int along, float radius = 1.0f, float length = 2.0f);
+
+/// A model with one skinned tube along +y and a two-joint chain with a rotation animation.
+Model make_skinned_tube_model();
+
+/// Checks mesh consistency and weights (gtest failures, not exceptions).
+void expect_valid(const SurfaceMesh& mesh, std::size_t joint_count = 0);
+
+/// Incremental adjacency equals the full rebuild.
+void expect_adjacency_matches_rebuild(const Adjacency& incremental, const SurfaceMesh& mesh);
+
+/// Every model file under assets/ (sorted), as absolute paths.
+std::vector<std::string> asset_models();
+
+}  // namespace deepcut::test

@@ -1,0 +1,145 @@
+// SPDX-License-Identifier: MIT
+#include "deepcut/widgets/poly_data_bridge.h"
+
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <unordered_map>
+
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkFloatArray.h>
+#include <vtkIdTypeArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkUnsignedShortArray.h>
+
+namespace deepcut {
+
+vtkSmartPointer<vtkPolyData> to_poly_data(const SurfaceMesh& mesh, const PolyDataOptions& options) {
+  const auto& pos = options.positions ? *options.positions : mesh.positions();
+  const auto& ca = mesh.corner_attrs();
+  const auto* uv = options.split_corners ? ca.find<glm::vec2>(attr::kUv0) : nullptr;
+  const auto* normal = options.split_corners ? ca.find<glm::vec3>(attr::kNormal) : nullptr;
+
+  // Point per (vertex, uv, normal) when splitting, per vertex otherwise.
+  std::vector<std::uint32_t> point_vertex, point_corner;
+  std::vector<vtkIdType> corner_point(3 * mesh.face_slots(), -1);
+  std::unordered_multimap<std::uint64_t, vtkIdType> seen;
+  std::vector<vtkIdType> vertex_point(mesh.vertex_count(), -1);
+  auto same_corner = [&](std::uint32_t a, std::uint32_t b) {
+    return (!uv || (*uv)[a] == (*uv)[b]) && (!normal || (*normal)[a] == (*normal)[b]);
+  };
+  mesh.for_each_face([&](FaceId f, const Triangle& t) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t c = SurfaceMesh::corner(f, k), v = t[k].index;
+      vtkIdType id = -1;
+      if (!uv && !normal) {
+        id = vertex_point[v];
+      } else {
+        std::uint64_t h = v;
+        if (uv) h = h * 1000003u ^ std::hash<float>()((*uv)[c].x) ^ (std::hash<float>()((*uv)[c].y) << 1);
+        if (normal) h = h * 1000003u ^ std::hash<float>()((*normal)[c].x) ^ (std::hash<float>()((*normal)[c].z) << 1);
+        auto range = seen.equal_range(h);
+        for (auto it = range.first; it != range.second && id < 0; ++it)
+          if (point_vertex[std::size_t(it->second)] == v && same_corner(point_corner[std::size_t(it->second)], c)) id = it->second;
+        if (id < 0) seen.emplace(h, static_cast<vtkIdType>(point_vertex.size()));
+      }
+      if (id < 0) {
+        id = static_cast<vtkIdType>(point_vertex.size());
+        point_vertex.push_back(v);
+        point_corner.push_back(c);
+        vertex_point[v] = id;
+      }
+      corner_point[c] = id;
+    }
+  });
+
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToFloat();
+  points->SetNumberOfPoints(static_cast<vtkIdType>(point_vertex.size()));
+  vtkNew<vtkIdTypeArray> vertex_ids;
+  vertex_ids->SetName("vertex_id");
+  vertex_ids->SetNumberOfValues(points->GetNumberOfPoints());
+  for (std::size_t i = 0; i < point_vertex.size(); ++i) {
+    const auto& p = pos[point_vertex[i]];
+    points->SetPoint(static_cast<vtkIdType>(i), p.x, p.y, p.z);
+    vertex_ids->SetValue(static_cast<vtkIdType>(i), point_vertex[i]);
+  }
+  vtkNew<vtkCellArray> polys;
+  vtkNew<vtkIdTypeArray> face_ids;
+  face_ids->SetName("face_id");
+  mesh.for_each_face([&](FaceId f, const Triangle&) {
+    const vtkIdType ids[3] = {corner_point[SurfaceMesh::corner(f, 0)], corner_point[SurfaceMesh::corner(f, 1)],
+                              corner_point[SurfaceMesh::corner(f, 2)]};
+    polys->InsertNextCell(3, ids);
+    face_ids->InsertNextValue(f.index);
+  });
+  auto poly = vtkSmartPointer<vtkPolyData>::New();
+  poly->SetPoints(points);
+  poly->SetPolys(polys);
+  poly->GetPointData()->AddArray(vertex_ids);
+  poly->GetCellData()->AddArray(face_ids);
+
+  const auto n = static_cast<vtkIdType>(point_vertex.size());
+  if (uv) {
+    vtkNew<vtkFloatArray> a;
+    a->SetName("uv0");
+    a->SetNumberOfComponents(2);
+    a->SetNumberOfTuples(n);
+    for (vtkIdType i = 0; i < n; ++i) a->SetTypedTuple(i, &(*uv)[point_corner[std::size_t(i)]].x);
+    poly->GetPointData()->SetTCoords(a);
+  }
+  if (normal) {
+    vtkNew<vtkFloatArray> a;
+    a->SetName("normal");
+    a->SetNumberOfComponents(3);
+    a->SetNumberOfTuples(n);
+    for (vtkIdType i = 0; i < n; ++i) a->SetTypedTuple(i, &(*normal)[point_corner[std::size_t(i)]].x);
+    poly->GetPointData()->SetNormals(a);
+  }
+  const auto& va = mesh.vertex_attrs();
+  if (const auto* j = va.find<glm::u16vec4>(attr::kJoints0)) {
+    vtkNew<vtkUnsignedShortArray> a;
+    a->SetName("joints0");
+    a->SetNumberOfComponents(4);
+    a->SetNumberOfTuples(n);
+    for (vtkIdType i = 0; i < n; ++i) a->SetTypedTuple(i, &(*j)[point_vertex[std::size_t(i)]].x);
+    poly->GetPointData()->AddArray(a);
+  }
+  if (const auto* w = va.find<glm::vec4>(attr::kWeights0)) {
+    vtkNew<vtkFloatArray> a;
+    a->SetName("weights0");
+    a->SetNumberOfComponents(4);
+    a->SetNumberOfTuples(n);
+    for (vtkIdType i = 0; i < n; ++i) a->SetTypedTuple(i, &(*w)[point_vertex[std::size_t(i)]].x);
+    poly->GetPointData()->AddArray(a);
+  }
+  return poly;
+}
+
+SurfaceMesh from_poly_data(vtkPolyData* poly) {
+  SurfaceMesh mesh;
+  const vtkIdType np = poly->GetNumberOfPoints();
+  mesh.reserve(static_cast<std::size_t>(np), static_cast<std::size_t>(poly->GetNumberOfPolys()));
+  for (vtkIdType i = 0; i < np; ++i) {
+    double p[3];
+    poly->GetPoint(i, p);
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+      throw Error(ErrorCode::InvalidInput, "from_poly_data: point " + std::to_string(i) + " is not finite");
+    mesh.add_vertex(glm::vec3(p[0], p[1], p[2]));
+  }
+  vtkCellArray* polys = poly->GetPolys();
+  if (!polys) return mesh;
+  vtkNew<vtkIdList> cell;
+  polys->InitTraversal();
+  while (polys->GetNextCell(cell)) {
+    for (vtkIdType k = 2; k < cell->GetNumberOfIds(); ++k)
+      mesh.add_face(VertexId(static_cast<std::uint32_t>(cell->GetId(0))), VertexId(static_cast<std::uint32_t>(cell->GetId(k - 1))),
+                    VertexId(static_cast<std::uint32_t>(cell->GetId(k))));
+  }
+  return mesh;
+}
+
+}  // namespace deepcut
