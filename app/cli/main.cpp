@@ -19,6 +19,10 @@ const char* kUsage =
     "  info MODEL [--json]                  counts, edges, bounding box and problems of a .glb/.gltf\n"
     "  convert MODEL -o OUT [--json]        import, weld and export (.gltf <-> .glb)\n"
     "  make-cactus -o OUT [--triangles N]   write the project's rigged test cactus (default 25300 triangles)\n"
+    "  cut MODEL -o OUT --plane PX,PY,PZ,NX,NY,NZ [--keep both|positive|negative] [--cap] [--components]\n"
+    "      [--time T] [--animation I] [--json]\n"
+    "                                       cut every mesh by a plane (world space, pose at time T)\n"
+    "  apply MODEL HISTORY.json -o OUT [--json]   replay a list of operations\n"
     "\n"
     "exit codes: 0 ok, 2 bad input or usage, 1 internal error\n";
 
@@ -36,6 +40,8 @@ int main(int argc, char** argv) {
     if (command == "info") return deepcut::cli::run_info(args);
     if (command == "convert") return deepcut::cli::run_convert(args);
     if (command == "make-cactus") return deepcut::cli::run_make_cactus(args);
+    if (command == "cut") return deepcut::cli::run_cut(args);
+    if (command == "apply") return deepcut::cli::run_apply(args);
     std::cerr << "deepcut: unknown command '" << command << "' (see deepcut --help)\n";
     return 2;
   } catch (const deepcut::cli::UsageError& e) {

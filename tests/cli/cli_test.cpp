@@ -257,3 +257,76 @@ TEST_F(CliTest, usage_errors_give_exit_2) {
 }
 
 }  // namespace deepcut
+
+namespace deepcut {
+
+TEST_F(CliTest, cut_reports_pieces_and_misses_leave_the_model_unchanged) {
+  const std::string cactus = std::string(DEEPCUT_ASSETS_DIR) + "/cactus.glb";
+  const std::string out = dir_ + "/cut.glb";
+  auto r = test::run_cli("cut " + test::quote(cactus) + " -o " + test::quote(out) + " --plane 0,5,0,0.2,1,0 --cap --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  json j = json::parse(r.out);
+  EXPECT_EQ(j["status"], "ok");
+  ASSERT_EQ(j["pieces"].size(), 2u);
+  EXPECT_GT(j["pieces"][0]["triangles"].get<int>(), 0);
+  EXPECT_GT(j["pieces"][1]["vertices"].get<int>(), 0);
+  EXPECT_GT(j["intersection_points"].get<int>(), 0);
+  EXPECT_TRUE(j["ms"].is_number());
+  EXPECT_EQ(test::validate_gltf(out).exit_code, 0);
+  const Model cut = read_gltf(out);
+  EXPECT_EQ(cut.skins.size(), 1u);
+  EXPECT_NE(cut.extras_json.find("deepcut_history"), std::string::npos) << "the export carries its history";
+
+  // A plane that misses: exit 0, status no_intersection, the output is the unchanged model.
+  const std::string miss = dir_ + "/miss.glb";
+  r = test::run_cli("cut " + test::quote(cactus) + " -o " + test::quote(miss) + " --plane 0,50,0,0,1,0 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  j = json::parse(r.out);
+  EXPECT_EQ(j["status"], "no_intersection");
+  EXPECT_TRUE(j["pieces"].empty());
+  expect_same_model(read_gltf(cactus), read_gltf(miss));
+
+  // Zero normal: exit 2, one line, nothing written.
+  const std::string bad = dir_ + "/bad.glb";
+  r = test::run_cli("cut " + test::quote(cactus) + " -o " + test::quote(bad) + " --plane 0,5,0,0,0,0");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(line_count(r.err), 1u) << r.err;
+  EXPECT_NE(r.err.find("normal"), std::string::npos);
+  EXPECT_FALSE(fs::exists(bad));
+  EXPECT_EQ(test::run_cli("cut " + test::quote(cactus) + " -o " + test::quote(bad) + " --plane 0,5,0").exit_code, 2);
+  EXPECT_EQ(test::run_cli("cut " + test::quote(cactus) + " -o " + test::quote(bad) + " --plane 0,5,0,0,1,0 --keep up").exit_code, 2);
+}
+
+TEST_F(CliTest, apply_replays_a_history_like_the_single_commands) {
+  const std::string cactus = std::string(DEEPCUT_ASSETS_DIR) + "/cactus.glb";
+  const std::string history = dir_ + "/history.json";
+  std::ofstream(history) << R"({"operations": [
+    {"op": "cut", "plane": [0, 6, 0, 0, 1, 0.1], "keep": "both", "cap": true, "animation": -1},
+    {"op": "cut", "plane": [0.5, 0, 0, 1, 0, 0], "keep": "negative", "cap": false, "time": 1.5}
+  ]})";
+  const std::string replayed = dir_ + "/replayed.glb";
+  auto r = test::run_cli("apply " + test::quote(cactus) + " " + test::quote(history) + " -o " + test::quote(replayed) + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(json::parse(r.out)["operations"].size(), 2u);
+  // The same two cuts one by one through `deepcut cut`.
+  const std::string step1 = dir_ + "/step1.glb", step2 = dir_ + "/step2.glb";
+  ASSERT_EQ(test::run_cli("cut " + test::quote(cactus) + " -o " + test::quote(step1) + " --plane 0,6,0,0,1,0.1 --cap").exit_code, 0);
+  ASSERT_EQ(test::run_cli("cut " + test::quote(step1) + " -o " + test::quote(step2) +
+                          " --plane 0.5,0,0,1,0,0 --keep negative --time 1.5").exit_code, 0);
+  expect_same_model(read_gltf(replayed), read_gltf(step2));
+  EXPECT_EQ(test::validate_gltf(replayed).exit_code, 0);
+  // The export carries the history; replaying it on the original gives the same model again.
+  const std::string again = dir_ + "/again.glb";
+  const Model replayed_model = read_gltf(replayed);
+  std::ofstream(dir_ + "/embedded.json") << json::parse(replayed_model.extras_json)["deepcut_history"].dump();
+  ASSERT_EQ(test::run_cli("apply " + test::quote(cactus) + " " + test::quote(dir_ + "/embedded.json") + " -o " + test::quote(again)).exit_code, 0);
+  expect_same_model(read_gltf(again), replayed_model);
+
+  std::ofstream(dir_ + "/broken.json") << R"({"operations": [{"op": "cut", "plane": [0, 1]}]})";
+  r = test::run_cli("apply " + test::quote(cactus) + " " + test::quote(dir_ + "/broken.json") + " -o " + test::quote(dir_ + "/x.glb"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("broken.json"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("operation 0"), std::string::npos) << r.err;
+}
+
+}  // namespace deepcut

@@ -36,6 +36,9 @@ inline constexpr const char* kColor0 = "c:color0";      ///< glm::vec4 per corne
 /// glm::vec2 per corner, glTF TEXCOORD_n; `uv_name(0)` is "c:uv0".
 std::string uv_name(int set);
 inline constexpr const char* kUv0 = "c:uv0";
+/// std::uint8_t per face: 1 for surface an operation created (cut caps, drill walls), which
+/// gets its own material slot ("cut surface") on export.
+inline constexpr const char* kCutSurface = "f:cut_surface";
 }  // namespace attr
 
 /// Type-erased base: what `SurfaceMesh` and `MeshEditor` need without knowing `T`.

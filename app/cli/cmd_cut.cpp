@@ -1,0 +1,118 @@
+// SPDX-License-Identifier: MIT
+// deepcut cut / deepcut apply.
+#include <chrono>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "args.h"
+#include "commands.h"
+#include "deepcut/core/io/gltf.h"
+#include "deepcut/core/ops/history.h"
+
+namespace deepcut::cli {
+namespace {
+
+using nlohmann::json;
+
+// Vertices (welded) and triangles of every piece node's mesh.
+json piece_list(const Model& model, const std::vector<int>& nodes) {
+  json out = json::array();
+  for (int n : nodes) {
+    std::size_t v = 0, t = 0;
+    const int m = model.nodes[n].mesh;
+    if (m >= 0)
+      for (const auto& p : model.meshes[m].primitives) {
+        v += p.mesh.vertex_count();
+        t += p.mesh.face_count();
+      }
+    out.push_back({{"node", model.nodes[n].name}, {"vertices", v}, {"triangles", t}});
+  }
+  return out;
+}
+
+}  // namespace
+
+int pose_animation(const Args& args, const Model& model) {
+  const int animation = static_cast<int>(args.number("--animation", model.animations.empty() ? -1 : 0));
+  if (animation >= static_cast<int>(model.animations.size()))
+    throw UsageError("--animation " + std::to_string(animation) + ": the model has " + std::to_string(model.animations.size()) +
+                     " animations");
+  return args.has("--time") ? animation : -1;
+}
+
+int run_cut(const std::vector<std::string>& argv) {
+  const Args args(argv, {"--json", "--cap", "--components"}, {"-o", "--plane", "--keep", "--time", "--animation"});
+  if (args.positionals().size() != 1) throw UsageError("cut needs exactly one MODEL");
+  if (!args.has("-o")) throw UsageError("cut needs -o OUT (.glb or .gltf)");
+  if (!args.has("--plane")) throw UsageError("cut needs --plane PX,PY,PZ,NX,NY,NZ");
+  const auto p = args.vector("--plane", 6);
+  CutOperation cut;
+  cut.plane = {{p[0], p[1], p[2]}, {p[3], p[4], p[5]}};
+  const std::string keep = args.value("--keep", "both");
+  if (keep == "both") cut.options.keep = CutKeep::Both;
+  else if (keep == "positive") cut.options.keep = CutKeep::Positive;
+  else if (keep == "negative") cut.options.keep = CutKeep::Negative;
+  else throw UsageError("--keep must be both, positive or negative");
+  cut.options.cap = args.flag("--cap");
+  cut.options.split_components = args.flag("--components");
+  if (glm::length(cut.plane.normal) == 0.0f) throw Error(ErrorCode::InvalidArgument, "cut: the plane normal is zero");
+
+  Model model = read_gltf(args.positionals()[0]);
+  Operation op;
+  op.params = cut;
+  op.animation = pose_animation(args, model);
+  op.time = static_cast<float>(args.number("--time", 0.0));
+  const auto t0 = std::chrono::steady_clock::now();
+  const ModelCutResult r = cut_model(model, cut.plane, cut.options, op.animation, op.time);
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  if (r.status == OpStatus::Ok) record_operation(model, op);
+  write_gltf(model, args.value("-o"));
+  if (args.flag("--json")) {
+    std::cout << json{{"status", to_string(r.status)},
+                      {"pieces", piece_list(model, r.piece_nodes)},
+                      {"intersection_points", r.intersection_points},
+                      {"rim_vertices", r.rim_vertices},
+                      {"ms", ms}}
+                     .dump(2)
+              << "\n";
+  } else {
+    std::cerr << "deepcut: " << (r.status == OpStatus::Ok ? "cut into " + std::to_string(r.piece_nodes.size()) + " pieces"
+                                                          : std::string("the plane misses the model; wrote it unchanged"))
+              << " -> " << args.value("-o") << "\n";
+  }
+  return 0;
+}
+
+int run_apply(const std::vector<std::string>& argv) {
+  const Args args(argv, {"--json"}, {"-o"});
+  if (args.positionals().size() != 2) throw UsageError("apply needs MODEL and HISTORY.json");
+  if (!args.has("-o")) throw UsageError("apply needs -o OUT (.glb or .gltf)");
+  const std::string history_path = args.positionals()[1];
+  std::ifstream in(history_path);
+  if (!in) throw Error(ErrorCode::Io, history_path + ": cannot open history file");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  History history;
+  try {
+    history = parse_history(ss.str());
+  } catch (const Error& e) {
+    throw Error(e.code(), history_path + ": " + e.what());
+  }
+  Model model = read_gltf(args.positionals()[0]);
+  json reports = json::array();
+  const auto t0 = std::chrono::steady_clock::now();
+  for (const auto& op : history.operations) reports.push_back(json::parse(apply_operation(model, op).summary_json));
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  write_gltf(model, args.value("-o"));
+  if (args.flag("--json")) {
+    std::cout << json{{"operations", reports}, {"ms", ms}}.dump(2) << "\n";
+  } else {
+    std::cerr << "deepcut: applied " << history.operations.size() << " operations -> " << args.value("-o") << "\n";
+  }
+  return 0;
+}
+
+}  // namespace deepcut::cli

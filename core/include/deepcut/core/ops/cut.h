@@ -1,0 +1,76 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file ops/cut.h
+/// Cut by an infinite plane (DESIGN section 4, "Cut"). Predicates run on the posed positions
+/// (what the designer sees); the resulting edge parameters are applied to the bind-space mesh,
+/// so the cut lands where it was placed and the pieces still animate.
+
+#include <vector>
+
+#include "deepcut/core/edit_log.h"
+#include "deepcut/core/model.h"
+#include "deepcut/core/ops/op_status.h"
+#include "deepcut/core/surface_mesh.h"
+
+namespace deepcut {
+
+enum class CutKeep { Both, Positive, Negative };
+
+struct CutOptions {
+  /// Snapping tolerance as a fraction of the model size (bounding-box diagonal of the posed
+  /// positions): vertices closer to the plane count as on it and no sliver thinner than this is
+  /// made. Default 1e-5.
+  float relative_tolerance = 1e-5f;
+  /// Which side(s) to keep (default both, as separate pieces).
+  CutKeep keep = CutKeep::Both;
+  /// Split each side further into its connected components (default off).
+  bool split_components = false;
+  /// Close each rim loop of a closed piece with a triangulated cap (default off).
+  bool cap = false;
+};
+
+struct CutResult {
+  OpStatus status = OpStatus::Ok;
+  /// Number of mesh edges the plane crossed (each split once): the paper's "intersection points".
+  std::size_t intersection_points = 0;
+  /// Vertices on the plane after the cut, positive side's copies included.
+  std::vector<VertexId> rim_vertices;
+  /// Live faces of each output piece (side, then component when requested), in a stable order.
+  std::vector<std::vector<FaceId>> pieces;
+  /// Side of each piece: +1 where the normal points, -1 behind the plane.
+  std::vector<int> piece_sides;
+  /// Every change, in order (vertex splits separate the two sides topologically).
+  EditLog log;
+};
+
+/// Cuts one mesh in place. `posed` gives the world position of every vertex (the pose the plane
+/// was placed against; pass `mesh.positions()` for the bind pose). The sides end up topologically
+/// separate (rim vertices are split), so pieces are connected components of the result.
+/// @param mesh     triangle mesh, edited through MeshEditor.
+/// @param posed    one world position per vertex of `mesh` (size == mesh.vertex_count()).
+/// @param plane    point and normal (world space); the normal need not be unit.
+/// @param options  see CutOptions (defaults: both sides, no cap, tolerance 1e-5 of model size).
+/// @pre posed.size() == mesh.vertex_count().
+/// @throws Error{InvalidArgument} for a zero or non-finite normal or point, or a size mismatch.
+/// @returns NoIntersection (mesh untouched, log empty) when every vertex lies on one side.
+/// @note Non-manifold edges are split like any other (each face keeps its own half), so
+///       non-manifold input is handled, not rejected.
+CutResult cut_mesh(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const Plane& plane,
+                   const CutOptions& options = {});
+
+struct ModelCutResult {
+  OpStatus status = OpStatus::Ok;
+  std::size_t intersection_points = 0;
+  std::size_t rim_vertices = 0;
+  /// One entry per output piece node: the node index in the cut model.
+  std::vector<int> piece_nodes;
+};
+
+/// Cuts every mesh instance of `model` posed at `time` of `animation` (-1: rest pose). Each
+/// output piece becomes its own node and mesh bound to the original skin. Instances the plane
+/// misses are left as they are.
+/// @throws Error{InvalidArgument} as cut_mesh, or for an animation index out of range.
+ModelCutResult cut_model(Model& model, const Plane& plane, const CutOptions& options = {}, int animation = -1,
+                         float time = 0.0f);
+
+}  // namespace deepcut

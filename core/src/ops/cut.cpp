@@ -1,0 +1,570 @@
+// SPDX-License-Identifier: MIT
+#include "deepcut/core/ops/cut.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <string>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "deepcut/core/mesh_editor.h"
+#include "deepcut/core/skinning.h"
+#include "ops/polygon_triangulation.h"
+
+namespace deepcut {
+namespace {
+
+std::uint64_t edge_key(VertexId a, VertexId b) {
+  const auto lo = std::min(a.index, b.index), hi = std::max(a.index, b.index);
+  return (std::uint64_t(lo) << 32) | hi;
+}
+
+std::uint64_t directed_key(VertexId a, VertexId b) { return (std::uint64_t(a.index) << 32) | b.index; }
+
+class Cutter {
+ public:
+  Cutter(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const Plane& plane, const CutOptions& options)
+      : mesh_(mesh), editor_(mesh), posed_(posed), options_(options) {
+    normal_ = glm::dvec3(plane.normal);
+    point_ = glm::dvec3(plane.point);
+  }
+
+  CutResult run();
+
+ private:
+  struct Split {
+    VertexId lo, hi, v;
+    float t;  // parameter from lo to hi
+  };
+  struct Corner {
+    VertexId v;
+    glm::vec3 bary;
+  };
+
+  VertexId split_edge(VertexId a, VertexId b);
+  Corner split_corner(const Triangle& t, int ka, int kb);
+  void split_face(FaceId f);
+  void separate_sides();
+  void collect_pieces(CutResult& result);
+  void cap_piece(std::vector<FaceId>& piece);
+  std::vector<std::pair<VertexId, VertexId>> rim_halfedges(const std::vector<FaceId>& piece) const;
+  int face_side(const Triangle& t) const;
+
+  SurfaceMesh& mesh_;
+  MeshEditor editor_;
+  std::vector<glm::vec3> posed_;
+  CutOptions options_;
+  glm::dvec3 normal_, point_;
+  std::vector<double> dist_;
+  std::vector<std::int8_t> sign_;
+  std::unordered_map<std::uint64_t, Split> splits_;
+  std::size_t intersections_ = 0;
+};
+
+int Cutter::face_side(const Triangle& t) const {
+  for (auto v : t)
+    if (sign_[v.index] != 0) return sign_[v.index];
+  return 1;  // a face lying in the plane goes to the positive side
+}
+
+VertexId Cutter::split_edge(VertexId a, VertexId b) {
+  const auto key = edge_key(a, b);
+  auto it = splits_.find(key);
+  if (it != splits_.end()) return it->second.v;
+  const VertexId lo = a < b ? a : b, hi = a < b ? b : a;
+  const double dl = dist_[lo.index], dh = dist_[hi.index];
+  const float t = static_cast<float>(dl / (dl - dh));
+  const VertexId v = editor_.add_vertex_on_edge(lo, hi, t);
+  posed_.push_back(glm::mix(posed_[lo.index], posed_[hi.index], t));
+  dist_.push_back(0.0);
+  sign_.push_back(0);
+  splits_.emplace(key, Split{lo, hi, v, t});
+  ++intersections_;
+  return v;
+}
+
+Cutter::Corner Cutter::split_corner(const Triangle& t, int ka, int kb) {
+  const VertexId v = split_edge(t[ka], t[kb]);
+  const Split& s = splits_.at(edge_key(t[ka], t[kb]));
+  glm::vec3 bary(0.0f);
+  const float wa = t[ka] == s.lo ? 1.0f - s.t : s.t;
+  bary[ka] = wa;
+  bary[kb] = 1.0f - wa;
+  return {v, bary};
+}
+
+void Cutter::split_face(FaceId f) {
+  const Triangle t = mesh_.face(f);
+  const std::int8_t s[3] = {sign_[t[0].index], sign_[t[1].index], sign_[t[2].index]};
+  const bool pos = s[0] > 0 || s[1] > 0 || s[2] > 0, neg = s[0] < 0 || s[1] < 0 || s[2] < 0;
+  if (!pos || !neg) return;
+  auto corner = [&](int k) {
+    glm::vec3 b(0.0f);
+    b[k] = 1.0f;
+    return Corner{t[k], b};
+  };
+  auto emit = [&](const Corner& a, const Corner& b, const Corner& c) {
+    editor_.add_face_from({a.v, b.v, c.v}, f, {a.bary, b.bary, c.bary});
+  };
+  editor_.remove_face(f);
+  int zero = -1;
+  for (int k = 0; k < 3; ++k)
+    if (s[k] == 0) zero = k;
+  if (zero >= 0) {  // the plane runs through one corner and the opposite edge
+    const int k1 = (zero + 1) % 3, k2 = (zero + 2) % 3;
+    const Corner m = split_corner(t, k1, k2);
+    emit(corner(zero), corner(k1), m);
+    emit(corner(zero), m, corner(k2));
+    return;
+  }
+  int lone = 0;  // the corner alone on its side
+  for (int k = 0; k < 3; ++k)
+    if (s[k] != s[(k + 1) % 3] && s[k] != s[(k + 2) % 3]) lone = k;
+  const int k1 = (lone + 1) % 3, k2 = (lone + 2) % 3;
+  const Corner m1 = split_corner(t, lone, k1), m2 = split_corner(t, lone, k2);
+  emit(corner(lone), m1, m2);
+  // The quad (m1, k1, k2, m2): split along its shorter diagonal.
+  const float d1 = glm::length(posed_[m1.v.index] - posed_[t[k2].index]);
+  const float d2 = glm::length(posed_[t[k1].index] - posed_[m2.v.index]);
+  if (d1 <= d2) {
+    emit(m1, corner(k1), corner(k2));
+    emit(m1, corner(k2), m2);
+  } else {
+    emit(m1, corner(k1), m2);
+    emit(corner(k1), corner(k2), m2);
+  }
+}
+
+// Rim vertices used by both sides get a copy for the positive side, so the sides come apart.
+void Cutter::separate_sides() {
+  std::unordered_map<std::uint32_t, std::uint8_t> touches;  // bit 1: positive face, bit 2: negative
+  std::vector<FaceId> rim_faces;
+  mesh_.for_each_face([&](FaceId f, const Triangle& t) {
+    const bool on_rim = sign_[t[0].index] == 0 || sign_[t[1].index] == 0 || sign_[t[2].index] == 0;
+    if (!on_rim) return;
+    rim_faces.push_back(f);
+    const std::uint8_t bit = face_side(t) > 0 ? 1 : 2;
+    for (auto v : t)
+      if (sign_[v.index] == 0) touches[v.index] |= bit;
+  });
+  std::unordered_map<std::uint32_t, VertexId> copy;
+  std::vector<std::uint32_t> shared;
+  for (const auto& [v, bits] : touches)
+    if (bits == 3) shared.push_back(v);
+  std::sort(shared.begin(), shared.end());  // deterministic vertex numbering
+  for (std::uint32_t v : shared) {
+    const VertexId c = editor_.split_vertex(VertexId(v));
+    posed_.push_back(posed_[v]);
+    dist_.push_back(dist_[v]);
+    sign_.push_back(0);
+    copy.emplace(v, c);
+  }
+  if (copy.empty()) return;
+  const glm::vec3 e[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  for (FaceId f : rim_faces) {
+    const Triangle t = mesh_.face(f);
+    if (face_side(t) < 0) continue;
+    Triangle moved = t;
+    bool changed = false;
+    for (auto& v : moved) {
+      auto it = copy.find(v.index);
+      if (it != copy.end()) {
+        v = it->second;
+        changed = true;
+      }
+    }
+    if (!changed) continue;
+    editor_.remove_face(f);
+    editor_.add_face_from(moved, f, {e[0], e[1], e[2]});
+  }
+}
+
+std::vector<std::pair<VertexId, VertexId>> Cutter::rim_halfedges(const std::vector<FaceId>& piece) const {
+  std::unordered_map<std::uint64_t, int> count;
+  for (FaceId f : piece) {
+    const auto& t = mesh_.face(f);
+    for (int k = 0; k < 3; ++k) ++count[edge_key(t[k], t[(k + 1) % 3])];
+  }
+  std::vector<std::pair<VertexId, VertexId>> out;
+  for (FaceId f : piece) {
+    const auto& t = mesh_.face(f);
+    for (int k = 0; k < 3; ++k) {
+      const VertexId a = t[k], b = t[(k + 1) % 3];
+      if (count[edge_key(a, b)] == 1 && sign_[a.index] == 0 && sign_[b.index] == 0) out.emplace_back(a, b);
+    }
+  }
+  return out;
+}
+
+void Cutter::cap_piece(std::vector<FaceId>& piece) {
+  // The cap runs along the piece's rim edges in the opposite direction.
+  std::unordered_map<std::uint32_t, std::vector<VertexId>> next;
+  std::unordered_set<std::uint64_t> unused;
+  for (const auto& [a, b] : rim_halfedges(piece)) {
+    next[b.index].push_back(a);
+    unused.insert(directed_key(b, a));
+  }
+  std::vector<std::vector<std::uint32_t>> loops;  // indices into `verts`
+  std::vector<VertexId> verts;
+  std::unordered_map<std::uint32_t, std::uint32_t> local;
+  auto local_index = [&](VertexId v) {
+    auto [it, inserted] = local.emplace(v.index, static_cast<std::uint32_t>(verts.size()));
+    if (inserted) verts.push_back(v);
+    return it->second;
+  };
+  std::vector<std::uint32_t> starts;
+  for (const auto& [v, list] : next) starts.push_back(v);
+  std::sort(starts.begin(), starts.end());
+  for (std::uint32_t s : starts) {
+    for (VertexId first_next : next[s]) {
+      if (!unused.count(directed_key(VertexId(s), first_next))) continue;
+      std::vector<VertexId> loop = {VertexId(s)};
+      VertexId cur = VertexId(s), nxt = first_next;
+      bool closed = false;
+      while (true) {
+        unused.erase(directed_key(cur, nxt));
+        if (nxt == VertexId(s)) {
+          closed = true;
+          break;
+        }
+        loop.push_back(nxt);
+        cur = nxt;
+        VertexId pick;
+        for (VertexId cand : next[cur.index])
+          if (unused.count(directed_key(cur, cand))) {
+            pick = cand;
+            break;
+          }
+        if (!pick.valid()) break;  // an open rim chain (open input): not capped
+        nxt = pick;
+      }
+      if (closed && loop.size() >= 3) {
+        std::vector<std::uint32_t> l;
+        for (VertexId v : loop) l.push_back(local_index(v));
+        loops.push_back(std::move(l));
+      }
+    }
+  }
+  if (loops.empty()) return;
+  // 2D frame in the plane.
+  const glm::dvec3 n = normal_;
+  const glm::dvec3 u = glm::normalize(std::abs(n.x) < 0.9 ? glm::cross(n, glm::dvec3(1, 0, 0)) : glm::cross(n, glm::dvec3(0, 1, 0)));
+  const glm::dvec3 w = glm::cross(n, u);
+  std::vector<glm::dvec2> pts(verts.size());
+  for (std::size_t i = 0; i < verts.size(); ++i) {
+    const glm::dvec3 p = glm::dvec3(posed_[verts[i].index]) - point_;
+    pts[i] = {glm::dot(p, u), glm::dot(p, w)};
+  }
+  // The largest loop is an outer one; its orientation is the cap's.
+  std::size_t largest = 0;
+  for (std::size_t i = 1; i < loops.size(); ++i)
+    if (std::abs(detail::signed_area2(pts, loops[i])) > std::abs(detail::signed_area2(pts, loops[largest]))) largest = i;
+  const int outer_sign = detail::signed_area2(pts, loops[largest]) >= 0 ? 1 : -1;
+  const auto tris = detail::triangulate_loops(pts, loops, outer_sign);
+
+  auto& ca = mesh_.corner_attrs();
+  auto* cap_flag = mesh_.face_attrs().find<std::uint8_t>(attr::kCutSurface);
+  if (!cap_flag) cap_flag = &mesh_.face_attrs().add<std::uint8_t>(attr::kCutSurface);
+  auto* uv = ca.find<glm::vec2>(attr::kUv0);
+  auto* normals = ca.find<glm::vec3>(attr::kNormal);
+  auto* tangents = ca.find<glm::vec4>(attr::kTangent);
+  auto* colors = ca.find<glm::vec4>(attr::kColor0);
+  double extent = 0.0;
+  for (const auto& p : pts) extent = std::max({extent, std::abs(p.x), std::abs(p.y)});
+  if (extent <= 0.0) extent = 1.0;
+  const auto& bind = mesh_.positions();
+  for (const auto& tri : tris) {
+    const Triangle t = {verts[tri[0]], verts[tri[1]], verts[tri[2]]};
+    const FaceId f = editor_.add_face(t);
+    piece.push_back(f);
+    (*cap_flag)[f.index] = 1;
+    glm::vec3 fn = glm::cross(bind[t[1].index] - bind[t[0].index], bind[t[2].index] - bind[t[0].index]);
+    const float len = glm::length(fn);
+    fn = len > 0.0f ? fn / len : glm::vec3(float(outer_sign) * glm::vec3(n));
+    for (int k = 0; k < 3; ++k) {
+      const auto c = SurfaceMesh::corner(f, k);
+      const glm::dvec2 p = pts[tri[k]];
+      if (uv) (*uv)[c] = glm::vec2(0.5 + 0.5 * p.x / extent, 0.5 + 0.5 * p.y / extent);
+      if (normals) (*normals)[c] = fn;
+      if (tangents) (*tangents)[c] = glm::vec4(glm::vec3(u), 1.0f);
+      if (colors) (*colors)[c] = glm::vec4(1.0f);
+    }
+  }
+}
+
+void Cutter::collect_pieces(CutResult& result) {
+  std::vector<FaceId> side_faces[2];  // positive, negative
+  mesh_.for_each_face([&](FaceId f, const Triangle& t) { side_faces[face_side(t) > 0 ? 0 : 1].push_back(f); });
+  for (int s = 0; s < 2; ++s) {
+    if (side_faces[s].empty()) continue;
+    const int side = s == 0 ? 1 : -1;
+    if (!options_.split_components) {
+      result.pieces.push_back(side_faces[s]);
+      result.piece_sides.push_back(side);
+      continue;
+    }
+    std::vector<std::uint32_t> parent(mesh_.vertex_count());
+    std::iota(parent.begin(), parent.end(), 0u);
+    auto root = [&](std::uint32_t x) {
+      while (parent[x] != x) x = parent[x] = parent[parent[x]];
+      return x;
+    };
+    for (FaceId f : side_faces[s]) {
+      const auto& t = mesh_.face(f);
+      for (int k = 1; k < 3; ++k) {
+        const auto a = root(t[0].index), b = root(t[k].index);
+        if (a != b) parent[std::max(a, b)] = std::min(a, b);
+      }
+    }
+    std::unordered_map<std::uint32_t, std::size_t> piece_of;
+    for (FaceId f : side_faces[s]) {
+      const auto r = root(mesh_.face(f)[0].index);
+      auto [it, inserted] = piece_of.emplace(r, result.pieces.size());
+      if (inserted) {
+        result.pieces.emplace_back();
+        result.piece_sides.push_back(side);
+      }
+      result.pieces[it->second].push_back(f);
+    }
+  }
+}
+
+CutResult Cutter::run() {
+  CutResult result;
+  const std::size_t nv = mesh_.vertex_count();
+  if (posed_.size() != nv)
+    throw Error(ErrorCode::InvalidArgument, "cut: " + std::to_string(posed_.size()) + " posed positions for " +
+                                                std::to_string(nv) + " vertices");
+  const double nlen = glm::length(normal_);
+  if (!std::isfinite(nlen) || nlen == 0.0) throw Error(ErrorCode::InvalidArgument, "cut: the plane normal is zero or not finite");
+  if (!std::isfinite(point_.x) || !std::isfinite(point_.y) || !std::isfinite(point_.z))
+    throw Error(ErrorCode::InvalidArgument, "cut: the plane point is not finite");
+  normal_ /= nlen;
+
+  std::vector<std::uint8_t> used(nv, 0);
+  BoundingBox box;
+  mesh_.for_each_face([&](FaceId, const Triangle& t) {
+    for (auto v : t) {
+      used[v.index] = 1;
+      box.add(posed_[v.index]);
+    }
+  });
+  const double tol = double(options_.relative_tolerance) * double(box.diagonal());
+  dist_.assign(nv, 0.0);
+  sign_.assign(nv, 0);
+  bool pos = false, neg = false;
+  for (std::size_t v = 0; v < nv; ++v) {
+    if (!used[v]) continue;
+    const double d = glm::dot(glm::dvec3(posed_[v]) - point_, normal_);
+    dist_[v] = d;
+    sign_[v] = d > tol ? 1 : (d < -tol ? -1 : 0);
+    pos |= sign_[v] > 0;
+    neg |= sign_[v] < 0;
+  }
+  if (!pos || !neg) {
+    result.status = OpStatus::NoIntersection;
+    return result;
+  }
+  std::vector<FaceId> faces;
+  mesh_.for_each_face([&](FaceId f, const Triangle&) { faces.push_back(f); });
+  for (FaceId f : faces) split_face(f);
+
+  if (options_.keep == CutKeep::Both) {
+    separate_sides();
+  } else {
+    const int drop = options_.keep == CutKeep::Positive ? -1 : 1;
+    std::vector<FaceId> doomed;
+    mesh_.for_each_face([&](FaceId f, const Triangle& t) {
+      if (face_side(t) == drop) doomed.push_back(f);
+    });
+    for (FaceId f : doomed) editor_.remove_face(f);
+  }
+  collect_pieces(result);
+  // Rim: vertices on the plane that bound a piece.
+  std::unordered_set<std::uint32_t> rim;
+  for (const auto& piece : result.pieces)
+    for (const auto& [a, b] : rim_halfedges(piece)) {
+      rim.insert(a.index);
+      rim.insert(b.index);
+    }
+  if (options_.cap)
+    for (auto& piece : result.pieces) cap_piece(piece);
+  result.rim_vertices.reserve(rim.size());
+  for (auto v : rim) result.rim_vertices.push_back(VertexId(v));
+  std::sort(result.rim_vertices.begin(), result.rim_vertices.end());
+  result.intersection_points = intersections_;
+  result.log = editor_.take_log();
+  return result;
+}
+
+}  // namespace
+
+CutResult cut_mesh(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const Plane& plane, const CutOptions& options) {
+  return Cutter(mesh, posed, plane, options).run();
+}
+
+namespace {
+
+// A copy of `mesh` holding only `faces` (unused vertices dropped).
+SurfaceMesh extract(const SurfaceMesh& mesh, const std::vector<FaceId>& faces) {
+  SurfaceMesh out = mesh;
+  std::vector<std::uint8_t> keep(mesh.face_slots(), 0);
+  for (FaceId f : faces) keep[f.index] = 1;
+  for (std::uint32_t f = 0; f < out.face_slots(); ++f)
+    if (!keep[f] && !out.is_deleted(FaceId(f))) out.mark_deleted(FaceId(f));
+  out.compact();
+  return out;
+}
+
+// Splits a piece's faces into the original-material part and the cut-surface part.
+void add_piece_primitives(const SurfaceMesh& piece, int material, int cut_material, Mesh& out) {
+  const auto* flag = piece.face_attrs().find<std::uint8_t>(attr::kCutSurface);
+  std::vector<FaceId> body, cap;
+  piece.for_each_face([&](FaceId f, const Triangle&) { (flag && (*flag)[f.index] ? cap : body).push_back(f); });
+  auto add = [&](const std::vector<FaceId>& faces, int mat) {
+    if (faces.empty()) return;
+    Primitive p;
+    p.mesh = faces.size() == piece.face_count() ? piece : extract(piece, faces);
+    p.mesh.face_attrs().remove(attr::kCutSurface);
+    p.material = mat;
+    out.primitives.push_back(std::move(p));
+  };
+  add(body, material);
+  add(cap, cut_material);
+}
+
+int cut_surface_material(Model& model) {
+  for (std::size_t i = 0; i < model.materials.size(); ++i)
+    if (model.materials[i].name == "Cut surface") return static_cast<int>(i);
+  model.materials.push_back({"Cut surface",
+                             R"({"name":"Cut surface","doubleSided":false,"pbrMetallicRoughness":)"
+                             R"({"baseColorFactor":[0.8,0.18,0.16,1.0],"metallicFactor":0.0,"roughnessFactor":0.9}})"});
+  return static_cast<int>(model.materials.size() - 1);
+}
+
+}  // namespace
+
+ModelCutResult cut_model(Model& model, const Plane& plane, const CutOptions& options, int animation, float time) {
+  const Pose pose = sample_pose(model, animation, time);
+  const auto world = world_matrices(model, pose);
+  ModelCutResult result;
+  result.status = OpStatus::NoIntersection;
+  const auto parents = model.parents();
+  const std::size_t node_count = model.nodes.size();
+  std::vector<int> mesh_users(model.meshes.size(), 0);
+  for (const auto& n : model.nodes)
+    if (n.mesh >= 0) ++mesh_users[n.mesh];
+  int cut_material = -1;
+  std::vector<std::pair<std::size_t, int>> missed;  // instance node, side it lies on
+  for (std::size_t ni = 0; ni < node_count; ++ni) {
+    const int mi = model.nodes[ni].mesh;
+    if (mi < 0) continue;
+    // Cut a copy: the mesh may be shared by other instances, and a miss must leave it untouched.
+    std::vector<SurfaceMesh> cut_prims;
+    std::vector<CutResult> results;
+    bool any = false;
+    for (const auto& prim : model.meshes[mi].primitives) {
+      SurfaceMesh copy = prim.mesh;
+      const auto posed = posed_positions(model, static_cast<int>(ni), copy, world);
+      results.push_back(cut_mesh(copy, posed, plane, options));
+      if (results.back().status == OpStatus::NoIntersection) {
+        // Which side the untouched primitive lies on (it may be on the side that is dropped).
+        double d = 0.0;
+        copy.for_each_face([&](FaceId, const Triangle& t) {
+          for (auto v : t) d += glm::dot(glm::dvec3(posed[v.index]) - glm::dvec3(plane.point), glm::dvec3(plane.normal));
+        });
+        results.back().piece_sides = {d >= 0.0 ? 1 : -1};
+      }
+      any |= results.back().status == OpStatus::Ok;
+      cut_prims.push_back(std::move(copy));
+    }
+    if (!any) {
+      int votes = 0;
+      for (const auto& r : results) votes += r.piece_sides.empty() ? 0 : r.piece_sides[0];
+      missed.emplace_back(ni, votes >= 0 ? 1 : -1);
+      continue;
+    }
+    result.status = OpStatus::Ok;
+    if (options.cap && cut_material < 0) cut_material = cut_surface_material(model);
+    // Group each primitive's pieces into output meshes: without split_components piece k of
+    // every primitive (0 positive, 1 negative) shares a mesh; with it, every piece is its own.
+    std::vector<Mesh> piece_meshes;
+    const Mesh& source = model.meshes[mi];
+    for (std::size_t p = 0; p < cut_prims.size(); ++p) {
+      const CutResult& r = results[p];
+      result.intersection_points += r.intersection_points;
+      result.rim_vertices += r.rim_vertices.size();
+      std::vector<std::vector<FaceId>> pieces = r.pieces;
+      if (r.status == OpStatus::NoIntersection) {
+        const int side = r.piece_sides[0];
+        if ((options.keep == CutKeep::Positive && side < 0) || (options.keep == CutKeep::Negative && side > 0)) continue;
+        std::vector<FaceId> all;
+        cut_prims[p].for_each_face([&](FaceId f, const Triangle&) { all.push_back(f); });
+        pieces = {all};
+      }
+      for (std::size_t k = 0; k < pieces.size(); ++k) {
+        const int side = r.piece_sides[k];
+        const std::size_t slot = options.split_components ? piece_meshes.size() : (side > 0 ? 0 : 1);
+        if (slot >= piece_meshes.size()) piece_meshes.resize(slot + 1);
+        add_piece_primitives(extract(cut_prims[p], pieces[k]), source.primitives[p].material, cut_material,
+                             piece_meshes[slot]);
+      }
+    }
+    piece_meshes.erase(std::remove_if(piece_meshes.begin(), piece_meshes.end(), [](const Mesh& m) { return m.primitives.empty(); }),
+                       piece_meshes.end());
+    if (piece_meshes.empty()) continue;
+    // Copies: pushing meshes below invalidates `source`.
+    const std::string source_name = source.name, source_extras = source.extras_json;
+    const std::string base = model.nodes[ni].name.empty() ? source_name : model.nodes[ni].name;
+    for (std::size_t k = 0; k < piece_meshes.size(); ++k) {
+      Mesh& m = piece_meshes[k];
+      m.name = (source_name.empty() ? base : source_name) + "_piece" + std::to_string(k);
+      m.extras_json = source_extras;
+      int target_mesh;
+      if (k == 0 && mesh_users[mi] == 1) {
+        model.meshes[mi] = std::move(m);
+        target_mesh = mi;
+      } else {
+        model.meshes.push_back(std::move(m));
+        target_mesh = static_cast<int>(model.meshes.size() - 1);
+      }
+      if (k == 0) {
+        model.nodes[ni].mesh = target_mesh;
+        result.piece_nodes.push_back(static_cast<int>(ni));
+        continue;
+      }
+      Node node = model.nodes[ni];
+      node.children.clear();
+      node.camera = -1;
+      node.name = base + "_piece" + std::to_string(k);
+      node.mesh = target_mesh;
+      const int index = static_cast<int>(model.nodes.size());
+      model.nodes.push_back(node);
+      const int parent = parents[ni];
+      if (parent >= 0) {
+        model.nodes[parent].children.push_back(index);
+      } else {
+        for (auto& roots : model.scenes)
+          if (std::find(roots.begin(), roots.end(), static_cast<int>(ni)) != roots.end()) roots.push_back(index);
+      }
+      result.piece_nodes.push_back(index);
+    }
+    if (mesh_users[mi] > 1) --mesh_users[mi];
+  }
+  // Whole instances on the dropped side go too (only when something was cut: a plane that
+  // misses everything leaves the model unchanged).
+  if (result.status == OpStatus::Ok && options.keep != CutKeep::Both) {
+    const int drop = options.keep == CutKeep::Positive ? -1 : 1;
+    for (const auto& [ni, side] : missed) {
+      if (side != drop) continue;
+      const int mi = model.nodes[ni].mesh;
+      if (--mesh_users[mi] == 0) model.meshes[mi].primitives.clear();
+      model.nodes[ni].mesh = -1;
+      model.nodes[ni].skin = -1;
+    }
+  }
+  return result;
+}
+
+}  // namespace deepcut

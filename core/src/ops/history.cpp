@@ -1,0 +1,136 @@
+// SPDX-License-Identifier: MIT
+#include "deepcut/core/ops/history.h"
+
+#include <cmath>
+
+#include <nlohmann/json.hpp>
+
+namespace deepcut {
+namespace {
+
+using nlohmann::json;
+
+[[noreturn]] void fail(std::size_t index, const std::string& what) {
+  throw Error(ErrorCode::InvalidInput, "history operation " + std::to_string(index) + ": " + what);
+}
+
+std::vector<float> numbers(const json& o, const char* key, std::size_t count, std::size_t index) {
+  if (!o.contains(key) || !o[key].is_array() || o[key].size() != count)
+    fail(index, std::string("'") + key + "' must be a list of " + std::to_string(count) + " numbers");
+  std::vector<float> out;
+  for (const auto& v : o[key]) {
+    if (!v.is_number() || !std::isfinite(v.get<double>())) fail(index, std::string("'") + key + "' holds a non-number");
+    out.push_back(v.get<float>());
+  }
+  return out;
+}
+
+const char* keep_name(CutKeep k) { return k == CutKeep::Both ? "both" : k == CutKeep::Positive ? "positive" : "negative"; }
+
+json to_json(const Operation& op) {
+  json out;
+  std::visit(
+      [&](const auto& p) {
+        using T = std::decay_t<decltype(p)>;
+        if constexpr (std::is_same_v<T, CutOperation>) {
+          out = {{"op", "cut"},
+                 {"plane", {p.plane.point.x, p.plane.point.y, p.plane.point.z, p.plane.normal.x, p.plane.normal.y, p.plane.normal.z}},
+                 {"keep", keep_name(p.options.keep)},
+                 {"cap", p.options.cap},
+                 {"components", p.options.split_components}};
+        }
+      },
+      op.params);
+  out["time"] = op.time;
+  out["animation"] = op.animation;
+  return out;
+}
+
+Operation from_json(const json& o, std::size_t index) {
+  if (!o.is_object()) fail(index, "is not an object");
+  const std::string kind = o.value("op", "");
+  Operation op;
+  op.animation = 0;  // absent: the model's first animation (the rest pose when it has none)
+  if (o.contains("time")) {
+    if (!o["time"].is_number() || !std::isfinite(o["time"].get<double>())) fail(index, "'time' must be a number");
+    op.time = o["time"].get<float>();
+  }
+  if (o.contains("animation")) {
+    if (!o["animation"].is_number_integer() || o["animation"].get<int>() < -1)
+      fail(index, "'animation' must be an animation index, or -1 for the rest pose");
+    op.animation = o["animation"].get<int>();
+  }
+  if (kind == "cut") {
+    CutOperation c;
+    const auto p = numbers(o, "plane", 6, index);
+    c.plane = {{p[0], p[1], p[2]}, {p[3], p[4], p[5]}};
+    const std::string keep = o.value("keep", "both");
+    if (keep == "both") c.options.keep = CutKeep::Both;
+    else if (keep == "positive") c.options.keep = CutKeep::Positive;
+    else if (keep == "negative") c.options.keep = CutKeep::Negative;
+    else fail(index, "'keep' must be both, positive or negative");
+    c.options.cap = o.value("cap", false);
+    c.options.split_components = o.value("components", false);
+    op.params = c;
+  } else {
+    fail(index, "unknown op '" + kind + "'");
+  }
+  return op;
+}
+
+}  // namespace
+
+History parse_history(const std::string& json_text) {
+  const json doc = json::parse(json_text, nullptr, false);
+  if (doc.is_discarded()) throw Error(ErrorCode::InvalidInput, "history: invalid JSON");
+  if (!doc.is_object() || !doc.contains("operations") || !doc["operations"].is_array())
+    throw Error(ErrorCode::InvalidInput, "history: expected an object with an \"operations\" list");
+  History h;
+  for (std::size_t i = 0; i < doc["operations"].size(); ++i) h.operations.push_back(from_json(doc["operations"][i], i));
+  return h;
+}
+
+std::string history_to_json(const History& history) {
+  json ops = json::array();
+  for (const auto& op : history.operations) ops.push_back(to_json(op));
+  return json{{"operations", ops}}.dump();
+}
+
+OperationReport apply_operation(Model& model, const Operation& operation) {
+  OperationReport report;
+  const int animation = operation.animation >= 0 && model.animations.empty() ? -1 : operation.animation;
+  std::visit(
+      [&](const auto& p) {
+        using T = std::decay_t<decltype(p)>;
+        if constexpr (std::is_same_v<T, CutOperation>) {
+          const ModelCutResult r = cut_model(model, p.plane, p.options, animation, operation.time);
+          report.status = r.status;
+          report.summary_json = json{{"op", "cut"},
+                                     {"status", to_string(r.status)},
+                                     {"intersection_points", r.intersection_points},
+                                     {"pieces", r.piece_nodes.size()}}
+                                    .dump();
+        }
+      },
+      operation.params);
+  if (report.status == OpStatus::Ok) record_operation(model, operation);
+  return report;
+}
+
+History model_history(const Model& model) {
+  if (model.extras_json.empty()) return {};
+  const json extras = json::parse(model.extras_json, nullptr, false);
+  if (!extras.is_object() || !extras.contains("deepcut_history")) return {};
+  return parse_history(extras["deepcut_history"].dump());
+}
+
+void record_operation(Model& model, const Operation& operation) {
+  json extras = model.extras_json.empty() ? json::object() : json::parse(model.extras_json, nullptr, false);
+  if (!extras.is_object()) extras = json::object();
+  if (!extras.contains("deepcut_history") || !extras["deepcut_history"].is_object())
+    extras["deepcut_history"] = {{"operations", json::array()}};
+  extras["deepcut_history"]["operations"].push_back(to_json(operation));
+  model.extras_json = extras.dump();
+}
+
+}  // namespace deepcut

@@ -1,0 +1,178 @@
+// SPDX-License-Identifier: MIT
+#include "ops/polygon_triangulation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+namespace deepcut::detail {
+namespace {
+
+double cross(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c) {
+  return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+}
+
+bool point_in_loop(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& loop, const glm::dvec2& p) {
+  bool inside = false;
+  for (std::size_t i = 0, j = loop.size() - 1; i < loop.size(); j = i++) {
+    const auto& a = pts[loop[i]];
+    const auto& b = pts[loop[j]];
+    if ((a.y > p.y) != (b.y > p.y) && p.x < (b.x - a.x) * (p.y - a.y) / (b.y - a.y) + a.x) inside = !inside;
+  }
+  return inside;
+}
+
+bool segments_cross(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c, const glm::dvec2& d) {
+  const double d1 = cross(a, b, c), d2 = cross(a, b, d), d3 = cross(c, d, a), d4 = cross(c, d, b);
+  return ((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0));
+}
+
+// Joins `hole` into `outer` with a bridge from the hole's rightmost point to a visible outer point.
+void bridge_hole(const std::vector<glm::dvec2>& pts, std::vector<std::uint32_t>& outer, const std::vector<std::uint32_t>& hole) {
+  std::size_t hi = 0;
+  for (std::size_t i = 1; i < hole.size(); ++i)
+    if (pts[hole[i]].x > pts[hole[hi]].x) hi = i;
+  const glm::dvec2 h = pts[hole[hi]];
+  // Candidate outer vertices sorted by distance; take the nearest whose bridge crosses no edge.
+  std::vector<std::size_t> order(outer.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return glm::length(pts[outer[a]] - h) < glm::length(pts[outer[b]] - h);
+  });
+  std::size_t best = order.front();
+  for (std::size_t candidate : order) {
+    const glm::dvec2 o = pts[outer[candidate]];
+    bool blocked = false;
+    for (std::size_t i = 0; i < outer.size() && !blocked; ++i) {
+      const std::uint32_t a = outer[i], b = outer[(i + 1) % outer.size()];
+      if (a == outer[candidate] || b == outer[candidate]) continue;
+      blocked = segments_cross(h, o, pts[a], pts[b]);
+    }
+    for (std::size_t i = 0; i < hole.size() && !blocked; ++i) {
+      const std::uint32_t a = hole[i], b = hole[(i + 1) % hole.size()];
+      if (a == hole[hi] || b == hole[hi]) continue;
+      blocked = segments_cross(h, o, pts[a], pts[b]);
+    }
+    if (!blocked) {
+      best = candidate;
+      break;
+    }
+  }
+  std::vector<std::uint32_t> merged;
+  merged.reserve(outer.size() + hole.size() + 2);
+  for (std::size_t i = 0; i <= best; ++i) merged.push_back(outer[i]);
+  for (std::size_t k = 0; k <= hole.size(); ++k) merged.push_back(hole[(hi + k) % hole.size()]);
+  merged.push_back(outer[best]);
+  for (std::size_t i = best + 1; i < outer.size(); ++i) merged.push_back(outer[i]);
+  outer.swap(merged);
+}
+
+// Ear clipping of one (possibly bridged, so weakly simple) counter-clockwise polygon.
+void clip_ears(const std::vector<glm::dvec2>& pts, std::vector<std::uint32_t> poly,
+               std::vector<std::array<std::uint32_t, 3>>& out) {
+  // Drop consecutive duplicates.
+  poly.erase(std::unique(poly.begin(), poly.end()), poly.end());
+  while (poly.size() > 1 && poly.front() == poly.back()) poly.pop_back();
+  // Every pass removes one vertex, so the loop ends; the guard only bounds pathological input.
+  const std::size_t limit = 2 * poly.size() + 16;
+  for (std::size_t guard = 0; poly.size() > 3 && guard < limit; ++guard) {
+    const std::size_t n = poly.size();
+    std::size_t best = n;
+    double best_quality = -1.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto& a = pts[poly[(i + n - 1) % n]];
+      const auto& b = pts[poly[i]];
+      const auto& c = pts[poly[(i + 1) % n]];
+      const double area = cross(a, b, c);
+      if (area <= 0.0) continue;  // reflex or degenerate
+      bool contains = false;
+      for (std::size_t j = 0; j < n && !contains; ++j) {
+        const std::uint32_t q = poly[j];
+        if (q == poly[(i + n - 1) % n] || q == poly[i] || q == poly[(i + 1) % n]) continue;
+        const auto& p = pts[q];
+        contains = cross(a, b, p) >= 0 && cross(b, c, p) >= 0 && cross(c, a, p) >= 0;
+      }
+      if (contains) continue;
+      // Prefer well-shaped ears: area over the squared longest edge.
+      const double longest = std::max({glm::dot(b - a, b - a), glm::dot(c - b, c - b), glm::dot(a - c, a - c)});
+      const double quality = area / std::max(longest, 1e-300);
+      if (quality > best_quality) {
+        best_quality = quality;
+        best = i;
+      }
+    }
+    if (best == n) {
+      // No proper ear (numerically degenerate polygon): cut the flattest corner.
+      double flattest = std::numeric_limits<double>::max();
+      for (std::size_t i = 0; i < n; ++i) {
+        const double a = std::abs(cross(pts[poly[(i + n - 1) % n]], pts[poly[i]], pts[poly[(i + 1) % n]]));
+        if (a < flattest) {
+          flattest = a;
+          best = i;
+        }
+      }
+      poly.erase(poly.begin() + static_cast<std::ptrdiff_t>(best));
+      continue;
+    }
+    out.push_back({poly[(best + n - 1) % n], poly[best], poly[(best + 1) % n]});
+    poly.erase(poly.begin() + static_cast<std::ptrdiff_t>(best));
+  }
+  if (poly.size() == 3 && cross(pts[poly[0]], pts[poly[1]], pts[poly[2]]) > 0.0) out.push_back({poly[0], poly[1], poly[2]});
+}
+
+}  // namespace
+
+double signed_area2(const std::vector<glm::dvec2>& points, const std::vector<std::uint32_t>& loop) {
+  double a = 0.0;
+  for (std::size_t i = 0; i < loop.size(); ++i) {
+    const auto& p = points[loop[i]];
+    const auto& q = points[loop[(i + 1) % loop.size()]];
+    a += p.x * q.y - q.x * p.y;
+  }
+  return a;
+}
+
+std::vector<std::array<std::uint32_t, 3>> triangulate_loops(const std::vector<glm::dvec2>& points,
+                                                             const std::vector<std::vector<std::uint32_t>>& loops,
+                                                             int outer_sign) {
+  // Work counter-clockwise: mirror when the outer loops are clockwise, flip the output back.
+  std::vector<glm::dvec2> pts = points;
+  if (outer_sign < 0)
+    for (auto& p : pts) p.x = -p.x;
+  std::vector<std::size_t> outers, holes;
+  std::vector<double> area(loops.size());
+  for (std::size_t i = 0; i < loops.size(); ++i) {
+    if (loops[i].size() < 3) continue;
+    area[i] = signed_area2(pts, loops[i]);
+    if (area[i] > 0) outers.push_back(i);
+    else if (area[i] < 0) holes.push_back(i);
+  }
+  std::vector<std::vector<std::size_t>> holes_of(loops.size());
+  for (std::size_t h : holes) {
+    std::size_t owner = loops.size();
+    for (std::size_t o : outers)
+      if (point_in_loop(pts, loops[o], pts[loops[h][0]]) && (owner == loops.size() || area[o] < area[owner])) owner = o;
+    if (owner != loops.size()) holes_of[owner].push_back(h);
+  }
+  std::vector<std::array<std::uint32_t, 3>> out;
+  for (std::size_t o : outers) {
+    std::vector<std::uint32_t> poly = loops[o];
+    // Bridge holes from right to left so earlier bridges do not block later ones.
+    auto& hs = holes_of[o];
+    std::sort(hs.begin(), hs.end(), [&](std::size_t a, std::size_t b) {
+      auto maxx = [&](std::size_t l) {
+        double m = -std::numeric_limits<double>::max();
+        for (auto i : loops[l]) m = std::max(m, pts[i].x);
+        return m;
+      };
+      return maxx(a) > maxx(b);
+    });
+    for (std::size_t h : hs) bridge_hole(pts, poly, loops[h]);
+    clip_ears(pts, poly, out);
+  }
+  // Mirroring reversed orientation once, so `out` already has the outer loops' orientation.
+  return out;
+}
+
+}  // namespace deepcut::detail

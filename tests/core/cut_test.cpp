@@ -1,0 +1,345 @@
+// SPDX-License-Identifier: MIT
+#include "deepcut/core/ops/cut.h"
+
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "deepcut/core/adjacency.h"
+#include "deepcut/core/io/gltf.h"
+#include "deepcut/core/mesh_editor.h"
+#include "deepcut/core/skinning.h"
+#include "deepcut/core/validate.h"
+#include "fixtures.h"
+#include "tools.h"
+
+namespace deepcut {
+namespace {
+
+double signed_distance(const glm::vec3& p, const Plane& plane) {
+  return glm::dot(glm::dvec3(p) - glm::dvec3(plane.point), glm::normalize(glm::dvec3(plane.normal)));
+}
+
+// Directed-edge census of a face set: closed and consistently oriented means every directed edge
+// appears once and its reverse once.
+struct EdgeCensus {
+  std::size_t boundary = 0, inconsistent = 0;
+};
+EdgeCensus census(const SurfaceMesh& mesh, const std::vector<FaceId>& faces) {
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
+  for (FaceId f : faces) {
+    const auto& t = mesh.face(f);
+    for (int k = 0; k < 3; ++k) ++directed[{t[k].index, t[(k + 1) % 3].index}];
+  }
+  EdgeCensus c;
+  for (const auto& [e, n] : directed) {
+    const auto it = directed.find({e.second, e.first});
+    if (n > 1) ++c.inconsistent;
+    if (it == directed.end()) ++c.boundary;
+  }
+  return c;
+}
+
+double volume_of(const SurfaceMesh& mesh, const std::vector<FaceId>& faces) {
+  double v = 0.0;
+  for (FaceId f : faces) {
+    const auto& t = mesh.face(f);
+    const glm::dvec3 a(mesh.position(t[0])), b(mesh.position(t[1])), c(mesh.position(t[2]));
+    v += glm::dot(a, glm::cross(b, c)) / 6.0;
+  }
+  return v;
+}
+
+Plane random_plane(const BoundingBox& box, std::mt19937& rng) {
+  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+  std::normal_distribution<float> gauss(0.0f, 1.0f);
+  glm::vec3 n;
+  do n = {gauss(rng), gauss(rng), gauss(rng)};
+  while (glm::length(n) < 1e-3f);
+  const glm::vec3 p = box.min + (box.max - box.min) * glm::vec3(0.1f + 0.8f * u01(rng), 0.1f + 0.8f * u01(rng), 0.1f + 0.8f * u01(rng));
+  return {p, n};
+}
+
+// All the invariants of one mesh-level cut on bind positions.
+void check_cut(const SurfaceMesh& input, const Plane& plane, const CutOptions& options, std::size_t joints) {
+  SurfaceMesh mesh = input;
+  const Adjacency before = Adjacency::build(input);
+  const bool closed = before.boundary_edges().empty() && before.nonmanifold_edges().empty();
+  const double size = input.bounds().diagonal();
+  const double tol = options.relative_tolerance * size;
+  Adjacency adj = before;
+  const CutResult r = cut_mesh(mesh, mesh.positions(), plane, options);
+  if (r.status == OpStatus::NoIntersection) {
+    EXPECT_TRUE(r.log.empty());
+    EXPECT_EQ(mesh.face_count(), input.face_count());
+    return;
+  }
+  adj.apply(r.log);
+  test::expect_adjacency_matches_rebuild(adj, mesh);
+  test::expect_valid(mesh, joints);
+  // No triangle has corners strictly on both sides.
+  mesh.for_each_face([&](FaceId f, const Triangle& t) {
+    bool pos = false, neg = false;
+    for (auto v : t) {
+      const double d = signed_distance(mesh.position(v), plane);
+      pos |= d > tol * 1.01 + 1e-7 * size;
+      neg |= d < -tol * 1.01 - 1e-7 * size;
+    }
+    ASSERT_FALSE(pos && neg) << "face " << f.index << " straddles the plane";
+  });
+  // New boundary edges lie on the plane; the others are pieces of the input's boundary edges.
+  // Origin of each vertex: itself, or the input edge it was split from (through copies too).
+  std::vector<std::array<std::uint32_t, 2>> origin(mesh.vertex_count());
+  for (std::uint32_t v = 0; v < input.vertex_count(); ++v) origin[v] = {v, v};
+  for (const Edit& e : r.log.edits) {
+    if (const auto* a = std::get_if<VertexAdded>(&e)) origin[a->v.index] = {origin[a->from[0].index][0], origin[a->from[1].index][0]};
+    if (const auto* sp = std::get_if<VertexSplit>(&e)) origin[sp->copy.index] = origin[sp->original.index];
+  }
+  const auto old_boundary = before.boundary_edges();
+  for (const Edge& e : adj.boundary_edges()) {
+    std::vector<std::uint32_t> ends = {origin[e.a.index][0], origin[e.a.index][1], origin[e.b.index][0], origin[e.b.index][1]};
+    std::sort(ends.begin(), ends.end());
+    ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
+    if (ends.size() == 2 && std::binary_search(old_boundary.begin(), old_boundary.end(), make_edge(VertexId(ends[0]), VertexId(ends[1]))))
+      continue;
+    ASSERT_LE(std::abs(signed_distance(mesh.position(e.a), plane)), tol + 1e-6 * size);
+    ASSERT_LE(std::abs(signed_distance(mesh.position(e.b), plane)), tol + 1e-6 * size);
+  }
+  for (VertexId v : r.rim_vertices) ASSERT_LE(std::abs(signed_distance(mesh.position(v), plane)), tol + 1e-6 * size);
+  if (!options.cap && options.keep == CutKeep::Both) {
+    EXPECT_NEAR(mesh.area(), input.area(), 1e-4 * input.area());
+  } else if (closed && options.keep == CutKeep::Both) {
+    double total = 0.0;
+    for (const auto& piece : r.pieces) {
+      const EdgeCensus c = census(mesh, piece);
+      EXPECT_EQ(c.boundary, 0u) << "a capped piece of closed input is closed";
+      EXPECT_EQ(c.inconsistent, 0u) << "a capped piece is consistently oriented";
+      total += volume_of(mesh, piece);
+    }
+    EXPECT_NEAR(total, input.volume(), 1e-4 * std::abs(input.volume()));
+  }
+  if (options.keep == CutKeep::Both) {
+    EXPECT_GE(r.pieces.size(), 2u);
+  }
+}
+
+}  // namespace
+
+TEST(CutTest, plane_through_grid_vertices_and_along_edges) {
+  const SurfaceMesh grid = test::make_grid(4, 4);
+  // x = 0.5 runs through a column of vertices and along vertical edges; y = x along diagonals.
+  for (const Plane& plane : {Plane{{0.5f, 0, 0}, {1, 0, 0}}, Plane{{0, 0.5f, 0}, {0, 1, 0}}, Plane{{0, 0, 0}, {1, -1, 0}},
+                             Plane{{0.3f, 0, 0}, {1, 0.2f, 0}}}) {
+    SCOPED_TRACE(plane.normal.x + 10 * plane.normal.y);
+    check_cut(grid, plane, {}, 2);
+  }
+  SurfaceMesh mesh = grid;
+  const CutResult r = cut_mesh(mesh, mesh.positions(), Plane{{0.5f, 0, 0}, {1, 0, 0}});
+  EXPECT_EQ(r.intersection_points, 0u);     // no edge crosses: the plane runs through vertices
+  EXPECT_EQ(r.rim_vertices.size(), 10u);    // five on the plane, each split into two sides
+  ASSERT_EQ(r.pieces.size(), 2u);
+  EXPECT_EQ(Adjacency::build(mesh).component_count(), 2u);
+}
+
+TEST(CutTest, crossing_edges_are_split_once_and_shared) {
+  SurfaceMesh mesh = test::make_grid(3, 3);
+  const CutResult r = cut_mesh(mesh, mesh.positions(), Plane{{0.5f, 0, 0}, {1, 0.1f, 0}});
+  ASSERT_EQ(r.status, OpStatus::Ok);
+  // Each crossed edge gave one new vertex; after separating the sides it has two copies.
+  std::size_t added = 0, split = 0;
+  for (const auto& e : r.log.edits) {
+    added += std::holds_alternative<VertexAdded>(e);
+    split += std::holds_alternative<VertexSplit>(e);
+  }
+  EXPECT_EQ(added, r.intersection_points);
+  EXPECT_EQ(split, r.intersection_points);
+  EXPECT_EQ(r.rim_vertices.size(), 2 * r.intersection_points);
+}
+
+TEST(CutTest, tangent_missing_and_zero_normal_planes) {
+  const SurfaceMesh tube = test::make_tube(16, 4);
+  for (const Plane& plane : {Plane{{1.0f, 0, 0}, {1, 0, 0}}, Plane{{0, 100, 0}, {0, 1, 0}}}) {
+    SurfaceMesh mesh = tube;
+    const CutResult r = cut_mesh(mesh, mesh.positions(), plane);
+    EXPECT_EQ(r.status, OpStatus::NoIntersection);
+    EXPECT_TRUE(r.log.empty());
+    EXPECT_EQ(mesh.faces(), tube.faces());
+  }
+  SurfaceMesh mesh = tube;
+  EXPECT_THROW(cut_mesh(mesh, mesh.positions(), Plane{{0, 0, 0}, {0, 0, 0}}), Error);
+  EXPECT_THROW(cut_mesh(mesh, mesh.positions(), Plane{{0, NAN, 0}, {0, 1, 0}}), Error);
+  EXPECT_THROW(cut_mesh(mesh, std::vector<glm::vec3>(3), Plane{{0, 1, 0}, {0, 1, 0}}), Error);
+}
+
+TEST(CutTest, capped_tube_gives_two_closed_pieces_with_cut_surface_faces) {
+  const SurfaceMesh tube = test::make_tube(24, 6, 1.0f, 2.0f);
+  CutOptions options;
+  options.cap = true;
+  check_cut(tube, Plane{{0, 0.9f, 0}, {0.2f, 1, 0.1f}}, options, 0);
+  SurfaceMesh mesh = tube;
+  const CutResult r = cut_mesh(mesh, mesh.positions(), Plane{{0, 0.9f, 0}, {0, 1, 0}}, options);
+  const auto& flag = mesh.face_attrs().get<std::uint8_t>(attr::kCutSurface);
+  std::size_t caps = 0;
+  mesh.for_each_face([&](FaceId f, const Triangle&) { caps += flag[f.index]; });
+  // The plane crosses each of the 24 side quads twice (an edge and the diagonal): a 48-gon per side.
+  EXPECT_EQ(caps, 2u * (48 - 2));
+  EXPECT_EQ(r.pieces.size(), 2u);
+}
+
+TEST(CutTest, cap_handles_nested_loops) {
+  // A thick-walled pipe (outer and inner tube, inner reversed): the cross-section is an annulus.
+  SurfaceMesh pipe = test::make_tube(32, 4, 2.0f, 2.0f);
+  const SurfaceMesh inner = test::make_tube(32, 4, 1.0f, 2.0f);
+  {
+    // Append the inner tube reversed, and drop both tubes' end caps joined by an annulus: simpler,
+    // keep both tubes closed; the section then has two nested loops per side.
+    const auto offset = static_cast<std::uint32_t>(pipe.vertex_count());
+    for (const auto& p : inner.positions()) pipe.add_vertex(p);
+    inner.for_each_face([&](FaceId, const Triangle& t) {
+      pipe.add_face(VertexId(t[0].index + offset), VertexId(t[2].index + offset), VertexId(t[1].index + offset));
+    });
+  }
+  CutOptions options;
+  options.cap = true;
+  SurfaceMesh mesh = pipe;
+  const double v0 = pipe.volume();
+  const CutResult r = cut_mesh(mesh, mesh.positions(), Plane{{0, 1.1f, 0}, {0, 1, 0}}, options);
+  ASSERT_EQ(r.pieces.size(), 2u);
+  for (const auto& piece : r.pieces) {
+    const EdgeCensus c = census(mesh, piece);
+    EXPECT_EQ(c.boundary, 0u);
+    EXPECT_EQ(c.inconsistent, 0u);
+  }
+  EXPECT_NEAR(mesh.volume(), v0, 1e-4 * std::abs(v0));
+  // The cap is an annulus: its area is the ring between the two 32-gons.
+  const double ring = 0.5 * 32 * std::sin(2 * M_PI / 32) * (4.0 - 1.0);
+  const auto& flag = mesh.face_attrs().get<std::uint8_t>(attr::kCutSurface);
+  double cap_area = 0.0;
+  mesh.for_each_face([&](FaceId f, const Triangle& t) {
+    if (!flag[f.index]) return;
+    cap_area += 0.5 * glm::length(glm::cross(mesh.position(t[1]) - mesh.position(t[0]), mesh.position(t[2]) - mesh.position(t[0])));
+  });
+  EXPECT_NEAR(cap_area, 2 * ring, 1e-3 * ring);
+}
+
+TEST(CutTest, keep_one_side_and_split_components) {
+  SurfaceMesh mesh = test::make_grid(6, 2);
+  CutOptions options;
+  options.keep = CutKeep::Negative;
+  const CutResult r = cut_mesh(mesh, mesh.positions(), Plane{{0.45f, 0, 0}, {1, 0, 0}}, options);
+  ASSERT_EQ(r.pieces.size(), 1u);
+  EXPECT_EQ(r.piece_sides[0], -1);
+  mesh.for_each_face([&](FaceId, const Triangle& t) {
+    for (auto v : t) EXPECT_LE(mesh.position(v).x, 0.45f + 1e-5f);
+  });
+  // Two separate tubes side by side, cut across both, with components: four pieces.
+  SurfaceMesh two = test::make_tube(12, 3);
+  const SurfaceMesh other = test::make_tube(12, 3);
+  const auto offset = static_cast<std::uint32_t>(two.vertex_count());
+  for (const auto& p : other.positions()) two.add_vertex(p + glm::vec3(5, 0, 0));
+  other.for_each_face([&](FaceId, const Triangle& t) {
+    two.add_face(VertexId(t[0].index + offset), VertexId(t[1].index + offset), VertexId(t[2].index + offset));
+  });
+  CutOptions comps;
+  comps.split_components = true;
+  const CutResult rc = cut_mesh(two, two.positions(), Plane{{0, 1, 0}, {0, 1, 0}}, comps);
+  EXPECT_EQ(rc.pieces.size(), 4u);
+}
+
+TEST(CutTest, non_manifold_input_is_cut) {
+  SurfaceMesh mesh = test::make_grid(2, 2);
+  {  // a fin on the middle vertical edge makes it non-manifold
+    MeshEditor editor(mesh);
+    const VertexId tip = mesh.add_vertex({0.5f, 0.25f, 1.0f});
+    mesh.vertex_attrs().get<glm::vec4>(attr::kWeights0)[tip.index] = {1, 0, 0, 0};
+    mesh.add_face(VertexId(1), VertexId(4), tip);
+  }
+  ASSERT_EQ(Adjacency::build(mesh).nonmanifold_edges().size(), 1u);
+  check_cut(mesh, Plane{{0, 0.3f, 0}, {0, 1, 0.05f}}, {}, 0);
+}
+
+TEST(CutTest, random_planes_on_every_asset_keep_all_invariants) {
+  const unsigned seed = 20261121;
+  for (const auto& path : test::asset_models()) {
+    SCOPED_TRACE(path + " (seed " + std::to_string(seed) + ")");
+    const Model model = read_gltf(path);
+    const std::size_t joints = model.skins.empty() ? 0 : model.skins[0].joints.size();
+    std::mt19937 rng(seed);
+    for (int i = 0; i < 200; ++i) {
+      for (const auto& mesh : model.meshes)
+        for (const auto& prim : mesh.primitives) {
+          const Plane plane = random_plane(prim.mesh.bounds(), rng);
+          CutOptions options;
+          options.cap = i % 2 == 1;
+          options.keep = i % 7 == 3 ? CutKeep::Positive : CutKeep::Both;
+          SCOPED_TRACE("plane " + std::to_string(i));
+          check_cut(prim.mesh, plane, options, joints);
+          if (::testing::Test::HasFatalFailure()) return;
+        }
+    }
+  }
+}
+
+TEST(CutTest, posed_cut_puts_rim_vertices_on_the_plane_in_that_pose) {
+  const Model model = read_gltf(std::string(DEEPCUT_ASSETS_DIR) + "/cactus.glb");
+  int node = -1;
+  for (std::size_t n = 0; n < model.nodes.size(); ++n)
+    if (model.nodes[n].mesh == 0) node = static_cast<int>(n);
+  const float t = 0.3f * model.animations[0].duration();
+  const auto world = world_matrices(model, sample_pose(model, 0, t));
+  SurfaceMesh mesh = model.meshes[0].primitives[0].mesh;
+  const auto posed = posed_positions(model, node, mesh, world);
+  const float size = world_bounds(model, sample_pose(model, 0, t)).diagonal();
+  const Plane plane{{0.3f, 6.0f, 0.0f}, {0.3f, 1.0f, 0.2f}};
+  const CutResult r = cut_mesh(mesh, posed, plane);
+  ASSERT_EQ(r.status, OpStatus::Ok);
+  const auto after = posed_positions(model, node, mesh, world);  // re-skinned, new vertices included
+  ASSERT_FALSE(r.rim_vertices.empty());
+  for (VertexId v : r.rim_vertices) ASSERT_LE(std::abs(signed_distance(after[v.index], plane)), 1e-3 * size);
+  // The same plane in the bind pose would land elsewhere: the pose matters.
+  double bind_offset = 0.0;
+  for (VertexId v : r.rim_vertices) bind_offset = std::max(bind_offset, std::abs(signed_distance(mesh.position(v), plane)));
+  EXPECT_GT(bind_offset, 1e-3 * size);
+}
+
+TEST(CutTest, model_cut_exports_animated_pieces_that_pass_the_validator) {
+  const std::string dir = test::temp_dir("cutmodel");
+  std::vector<std::string> outputs;
+  std::mt19937 rng(5);
+  for (const auto& path : test::asset_models()) {
+    SCOPED_TRACE(path);
+    const Model original = read_gltf(path);
+    const BoundingBox box = world_bounds(original, rest_pose(original));
+    for (int i = 0; i < 12; ++i) {
+      Model model = original;
+      CutOptions options;
+      options.cap = i % 2 == 0;
+      options.split_components = i % 3 == 0;
+      const ModelCutResult r = cut_model(model, random_plane(box, rng), options);
+      if (r.status == OpStatus::NoIntersection) continue;
+      EXPECT_GE(r.piece_nodes.size(), 2u);
+      for (int n : r.piece_nodes) {
+        EXPECT_EQ(model.nodes[n].skin, original.nodes[r.piece_nodes[0]].skin) << "pieces stay bound to the skin";
+        const auto& m = model.meshes[model.nodes[n].mesh];
+        for (const auto& p : m.primitives) test::expect_valid(p.mesh);
+      }
+      const std::string out = dir + "/" + std::filesystem::path(path).stem().string() + std::to_string(i) + (i % 2 ? ".gltf" : ".glb");
+      write_gltf(model, out);
+      outputs.push_back(out);
+      const Model again = read_gltf(out);
+      EXPECT_EQ(again.skins.size(), original.skins.size());
+      EXPECT_EQ(again.animations.size(), original.animations.size());
+    }
+  }
+  ASSERT_FALSE(outputs.empty());
+  std::string files;
+  for (const auto& o : outputs) files += " " + test::quote(o);
+  const auto v = test::run_command("node " + test::quote(DEEPCUT_VALIDATOR_SCRIPT) + files);
+  EXPECT_EQ(v.exit_code, 0) << v.out << v.err;
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace deepcut
