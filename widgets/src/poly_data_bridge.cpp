@@ -13,6 +13,7 @@
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
+#include <vtkUnsignedCharArray.h>
 #include <vtkUnsignedShortArray.h>
 
 namespace deepcut {
@@ -62,10 +63,14 @@ vtkSmartPointer<vtkPolyData> to_poly_data(const SurfaceMesh& mesh, const PolyDat
   vtkNew<vtkIdTypeArray> vertex_ids;
   vertex_ids->SetName("vertex_id");
   vertex_ids->SetNumberOfValues(points->GetNumberOfPoints());
+  vtkNew<vtkIdTypeArray> corner_ids;
+  corner_ids->SetName("corner_id");
+  corner_ids->SetNumberOfValues(points->GetNumberOfPoints());
   for (std::size_t i = 0; i < point_vertex.size(); ++i) {
     const auto& p = pos[point_vertex[i]];
     points->SetPoint(static_cast<vtkIdType>(i), p.x, p.y, p.z);
     vertex_ids->SetValue(static_cast<vtkIdType>(i), point_vertex[i]);
+    corner_ids->SetValue(static_cast<vtkIdType>(i), point_corner[i]);
   }
   vtkNew<vtkCellArray> polys;
   vtkNew<vtkIdTypeArray> face_ids;
@@ -80,6 +85,7 @@ vtkSmartPointer<vtkPolyData> to_poly_data(const SurfaceMesh& mesh, const PolyDat
   poly->SetPoints(points);
   poly->SetPolys(polys);
   poly->GetPointData()->AddArray(vertex_ids);
+  poly->GetPointData()->AddArray(corner_ids);
   poly->GetCellData()->AddArray(face_ids);
 
   const auto n = static_cast<vtkIdType>(point_vertex.size());
@@ -117,6 +123,87 @@ vtkSmartPointer<vtkPolyData> to_poly_data(const SurfaceMesh& mesh, const PolyDat
     poly->GetPointData()->AddArray(a);
   }
   return poly;
+}
+
+namespace {
+
+vtkIdTypeArray* id_array(vtkDataSetAttributes* data, const char* name, const char* function) {
+  auto* array = vtkIdTypeArray::SafeDownCast(data ? data->GetArray(name) : nullptr);
+  if (!array)
+    throw Error(ErrorCode::InvalidArgument,
+                std::string(function) + ": the poly data has no '" + name + "' array (make it with to_poly_data)");
+  return array;
+}
+
+vtkSmartPointer<vtkUnsignedCharArray> color_array(vtkIdTypeArray* ids, const std::vector<glm::u8vec3>& colors,
+                                                  const char* function) {
+  auto out = vtkSmartPointer<vtkUnsignedCharArray>::New();
+  out->SetName("colors");
+  out->SetNumberOfComponents(3);
+  out->SetNumberOfTuples(ids->GetNumberOfTuples());
+  for (vtkIdType i = 0; i < ids->GetNumberOfTuples(); ++i) {
+    const vtkIdType e = ids->GetValue(i);
+    if (e < 0 || static_cast<std::size_t>(e) >= colors.size())
+      throw Error(ErrorCode::InvalidArgument, std::string(function) + ": element " + std::to_string(e) + " has no colour (" +
+                                                  std::to_string(colors.size()) + " given)");
+    out->SetTypedTuple(i, &colors[static_cast<std::size_t>(e)].x);
+  }
+  return out;
+}
+
+}  // namespace
+
+void update_poly_data_points(vtkPolyData* poly, const std::vector<glm::vec3>& positions,
+                             const std::vector<glm::vec3>* corner_normals) {
+  vtkIdTypeArray* vertex_ids = id_array(poly->GetPointData(), "vertex_id", "update_poly_data_points");
+  vtkPoints* points = poly->GetPoints();
+  const vtkIdType n = vertex_ids->GetNumberOfTuples();
+  if (!points || points->GetNumberOfPoints() != n)
+    throw Error(ErrorCode::InvalidArgument, "update_poly_data_points: point count does not match 'vertex_id'");
+  for (vtkIdType i = 0; i < n; ++i) {
+    const vtkIdType v = vertex_ids->GetValue(i);
+    if (v < 0 || static_cast<std::size_t>(v) >= positions.size())
+      throw Error(ErrorCode::InvalidArgument, "update_poly_data_points: vertex " + std::to_string(v) + " has no position (" +
+                                                  std::to_string(positions.size()) + " given)");
+    const glm::vec3& p = positions[static_cast<std::size_t>(v)];
+    points->SetPoint(i, p.x, p.y, p.z);
+  }
+  points->Modified();
+  auto* normals = vtkFloatArray::SafeDownCast(poly->GetPointData()->GetNormals());
+  if (corner_normals && !corner_normals->empty() && normals) {
+    vtkIdTypeArray* corner_ids = id_array(poly->GetPointData(), "corner_id", "update_poly_data_points");
+    for (vtkIdType i = 0; i < n; ++i) {
+      const vtkIdType c = corner_ids->GetValue(i);
+      if (c < 0 || static_cast<std::size_t>(c) >= corner_normals->size())
+        throw Error(ErrorCode::InvalidArgument, "update_poly_data_points: corner " + std::to_string(c) + " has no normal");
+      normals->SetTypedTuple(i, &(*corner_normals)[static_cast<std::size_t>(c)].x);
+    }
+    normals->Modified();
+  }
+  poly->Modified();
+}
+
+void set_vertex_colors(vtkPolyData* poly, const std::vector<glm::u8vec3>& vertex_colors) {
+  auto colors = color_array(id_array(poly->GetPointData(), "vertex_id", "set_vertex_colors"), vertex_colors,
+                            "set_vertex_colors");
+  poly->GetCellData()->RemoveArray("colors");
+  poly->GetPointData()->RemoveArray("colors");
+  poly->GetPointData()->SetScalars(colors);
+  poly->Modified();
+}
+
+void set_face_colors(vtkPolyData* poly, const std::vector<glm::u8vec3>& face_colors) {
+  auto colors = color_array(id_array(poly->GetCellData(), "face_id", "set_face_colors"), face_colors, "set_face_colors");
+  poly->GetPointData()->RemoveArray("colors");
+  poly->GetCellData()->RemoveArray("colors");
+  poly->GetCellData()->SetScalars(colors);
+  poly->Modified();
+}
+
+void clear_colors(vtkPolyData* poly) {
+  poly->GetPointData()->RemoveArray("colors");
+  poly->GetCellData()->RemoveArray("colors");
+  poly->Modified();
 }
 
 SurfaceMesh from_poly_data(vtkPolyData* poly) {

@@ -1,0 +1,608 @@
+// SPDX-License-Identifier: MIT
+#include "main_window.h"
+
+#include <QAction>
+#include <QActionGroup>
+#include <QApplication>
+#include <QCloseEvent>
+#include <QComboBox>
+#include <QDockWidget>
+#include <QDragEnterEvent>
+#include <QDropEvent>
+#include <QElapsedTimer>
+#include <QFileDialog>
+#include <QFileInfo>
+#include <QLabel>
+#include <QMenuBar>
+#include <QMessageBox>
+#include <QMimeData>
+#include <QSettings>
+#include <QStackedWidget>
+#include <QStatusBar>
+#include <QStyle>
+#include <QToolBar>
+#include <QUndoStack>
+#include <QUndoView>
+#include <QUrl>
+#include <QVBoxLayout>
+#include <new>
+
+#include "deepcut/core/errors.h"
+#include "deepcut/core/io/gltf.h"
+#include "deepcut/plugins/registry.h"
+#include "scene_tree.h"
+#include "scene_view.h"
+#include "timeline.h"
+
+namespace deepcut::studio {
+namespace {
+
+constexpr int kMaxRecent = 10;
+const char* kRecentKey = "recent_files";
+
+/// One undoable change of model state: the snapshots before and after.
+class ModelCommand : public QUndoCommand {
+ public:
+  ModelCommand(MainWindow* window, const QString& label, std::shared_ptr<const Model> before,
+               std::shared_ptr<const Model> after)
+      : QUndoCommand(label), window_(window), before_(std::move(before)), after_(std::move(after)) {}
+  void undo() override { window_->show_model(before_); }
+  void redo() override { window_->show_model(after_); }
+
+ private:
+  MainWindow* window_;
+  std::shared_ptr<const Model> before_, after_;
+};
+
+bool is_model_file(const QString& path) {
+  const QString suffix = QFileInfo(path).suffix().toLower();
+  return suffix == "glb" || suffix == "gltf";
+}
+
+QString thousands(std::size_t n) { return QLocale(QLocale::English).toString(static_cast<qulonglong>(n)); }
+
+}  // namespace
+
+MainWindow::MainWindow(const MainWindowOptions& options, QWidget* parent)
+    : QMainWindow(parent), options_(options) {
+  setWindowTitle("DeepCut Studio");
+  setObjectName("main_window");
+  setAcceptDrops(true);
+  setDockNestingEnabled(true);
+  resize(1400, 880);
+
+  view_ = new SceneView(this);
+  setCentralWidget(view_);
+  view_->set_pick_handler([this](const plugins::Pick& pick) { on_pick(pick); });
+
+  history_ = new QUndoStack(this);
+  for (const plugins::InspectorInfo& info : plugins::builtin_inspectors().list()) {
+    inspectors_.push_back(info.create());
+    inspectors_.back()->set_changed_callback([this] { refresh_inspector(); });
+  }
+  build_docks();
+  build_menus();
+
+  counts_label_ = new QLabel(this);
+  time_label_ = new QLabel(this);
+  operation_label_ = new QLabel(this);
+  operation_label_->setObjectName("status_operation");
+  statusBar()->addPermanentWidget(operation_label_);
+  statusBar()->addPermanentWidget(time_label_);
+  statusBar()->addPermanentWidget(counts_label_);
+  refresh_status();
+
+  QSettings settings;
+  restoreState(settings.value("window_state").toByteArray());
+}
+
+MainWindow::~MainWindow() = default;
+
+void MainWindow::build_docks() {
+  tree_ = new SceneTree(this);
+  auto* scene_dock = new QDockWidget("Scene", this);
+  scene_dock->setObjectName("scene_dock");
+  scene_dock->setWidget(tree_);
+  addDockWidget(Qt::LeftDockWidgetArea, scene_dock);
+  connect(tree_, &SceneTree::joint_selected, this, [this](int joint) {
+    if (!plugins::builtin_inspectors().find("weights")) return;
+    set_inspector("weights");
+    plugins::Pick pick;
+    pick.joint_node = joint;
+    sync_active_inspector();
+    if (inspector()->pick(pick)) refresh_inspector();
+  });
+
+  auto* history_dock = new QDockWidget("History", this);
+  history_dock->setObjectName("history_dock");
+  auto* undo_view = new QUndoView(history_, history_dock);
+  undo_view->setEmptyLabel("Opened model");
+  history_dock->setWidget(undo_view);
+  addDockWidget(Qt::LeftDockWidgetArea, history_dock);
+  splitDockWidget(scene_dock, history_dock, Qt::Vertical);
+  resizeDocks({scene_dock, history_dock}, {620, 160}, Qt::Vertical);
+
+  auto* inspector_dock = new QDockWidget("Inspector", this);
+  inspector_dock->setObjectName("inspector_dock");
+  auto* panel = new QWidget(inspector_dock);
+  auto* layout = new QVBoxLayout(panel);
+  layout->setContentsMargins(4, 4, 4, 4);
+  inspector_combo_ = new QComboBox(panel);
+  inspector_combo_->setObjectName("inspector_combo");
+  inspector_combo_->addItem("Shaded (materials)", QString());
+  inspector_stack_ = new QStackedWidget(panel);
+  auto* none = new QLabel(
+      "The model with its own materials and textures, posed at the time line's time.\n\n"
+      "Choose an inspector above (or Inspect menu) to look at skin weights or adjacency.",
+      inspector_stack_);
+  none->setWordWrap(true);
+  none->setAlignment(Qt::AlignTop | Qt::AlignLeft);
+  none->setMargin(6);
+  inspector_stack_->addWidget(none);
+  for (const auto& inspector : inspectors_) {
+    inspector_combo_->addItem(QString::fromStdString(inspector->title()),
+                              QString::fromStdString(inspector->id()));
+    inspector_stack_->addWidget(inspector->create_panel(inspector_stack_));
+  }
+  layout->addWidget(inspector_combo_);
+  layout->addWidget(inspector_stack_, 1);
+  inspector_dock->setWidget(panel);
+  inspector_dock->setMinimumWidth(300);
+  addDockWidget(Qt::RightDockWidgetArea, inspector_dock);
+  connect(inspector_combo_, QOverload<int>::of(&QComboBox::activated), this,
+          [this](int index) { set_inspector(inspector_combo_->itemData(index).toString().toStdString()); });
+
+  timeline_ = new Timeline(this);
+  auto* timeline_dock = new QDockWidget("Time line", this);
+  timeline_dock->setObjectName("timeline_dock");
+  timeline_dock->setWidget(timeline_);
+  addDockWidget(Qt::BottomDockWidgetArea, timeline_dock);
+  connect(timeline_, &Timeline::pose_changed, this, &MainWindow::on_pose_changed);
+  resizeDocks({scene_dock, inspector_dock}, {300, 330}, Qt::Horizontal);
+}
+
+void MainWindow::build_menus() {
+  QStyle* s = style();
+  // File
+  QMenu* file = menuBar()->addMenu("&File");
+  QAction* open = file->addAction(s->standardIcon(QStyle::SP_DialogOpenButton), "&Open...", this,
+                                  &MainWindow::choose_open);
+  open->setShortcut(QKeySequence::Open);
+  recent_menu_ = file->addMenu("Open &Recent");
+  connect(recent_menu_, &QMenu::aboutToShow, this, &MainWindow::refresh_recent_menu);
+  file->addSeparator();
+  QAction* export_action = file->addAction(s->standardIcon(QStyle::SP_DialogSaveButton),
+                                           "&Export .glb / .gltf...", this, &MainWindow::choose_export);
+  export_action->setShortcut(QKeySequence("Ctrl+E"));
+  file->addSeparator();
+  QAction* quit = file->addAction("&Quit", this, &QWidget::close);
+  quit->setShortcut(QKeySequence::Quit);
+
+  // Edit: undo and redo follow the history (disabled while it is empty).
+  QMenu* edit = menuBar()->addMenu("&Edit");
+  undo_ = history_->createUndoAction(this, "&Undo");
+  undo_->setShortcut(QKeySequence::Undo);
+  undo_->setIcon(s->standardIcon(QStyle::SP_ArrowBack));
+  redo_ = history_->createRedoAction(this, "&Redo");
+  redo_->setShortcuts({QKeySequence("Ctrl+Shift+Z"), QKeySequence("Ctrl+Y")});
+  redo_->setIcon(s->standardIcon(QStyle::SP_ArrowForward));
+  edit->addAction(undo_);
+  edit->addAction(redo_);
+
+  // View
+  QMenu* view = menuBar()->addMenu("&View");
+  QAction* reset = view->addAction(s->standardIcon(QStyle::SP_BrowserReload), "&Reset camera", this, [this] {
+    view_->reset_camera();
+    view_->render();
+  });
+  reset->setShortcuts({QKeySequence("Home"), QKeySequence("R")});
+  view->addSeparator();
+  display_group_ = new QActionGroup(this);
+  const std::pair<const char*, DisplayMode> modes[] = {{"&Shaded", DisplayMode::Shaded},
+                                                       {"&Wireframe", DisplayMode::Wireframe},
+                                                       {"Shaded + &edges", DisplayMode::ShadedEdges}};
+  int key = 1;
+  for (const auto& [text, mode] : modes) {
+    QAction* action = view->addAction(text);
+    action->setCheckable(true);
+    action->setChecked(mode == DisplayMode::Shaded);
+    action->setShortcut(QKeySequence(QString::number(key++)));
+    action->setData(static_cast<int>(mode));
+    display_group_->addAction(action);
+    connect(action, &QAction::triggered, this, [this, m = mode] { set_display_mode(m); });
+  }
+  view->addSeparator();
+  skeleton_action_ = view->addAction("Show s&keleton");
+  skeleton_action_->setCheckable(true);
+  skeleton_action_->setChecked(show_skeleton_);
+  skeleton_action_->setShortcut(QKeySequence("K"));
+  connect(skeleton_action_, &QAction::toggled, this, &MainWindow::set_skeleton_visible);
+  normals_action_ = view->addAction("Show &normals");
+  normals_action_->setCheckable(true);
+  normals_action_->setShortcut(QKeySequence("N"));
+  connect(normals_action_, &QAction::toggled, this, &MainWindow::set_normals_visible);
+  view->addSeparator();
+  QMenu* panels = view->addMenu("&Panels");
+  for (QDockWidget* dock : findChildren<QDockWidget*>()) panels->addAction(dock->toggleViewAction());
+
+  // Inspect: one entry per registered inspector.
+  QMenu* inspect = menuBar()->addMenu("&Inspect");
+  inspect_group_ = new QActionGroup(this);
+  auto add_mode = [&](const QString& text, const std::string& id, int index) {
+    QAction* action = inspect->addAction(text);
+    action->setCheckable(true);
+    action->setChecked(id.empty());
+    action->setShortcut(QKeySequence(QString("Ctrl+%1").arg(index)));
+    action->setData(QString::fromStdString(id));
+    inspect_group_->addAction(action);
+    connect(action, &QAction::triggered, this, [this, id] { set_inspector(id); });
+  };
+  add_mode("&Shaded (materials)", "", 0);
+  for (std::size_t i = 0; i < inspectors_.size(); ++i)
+    add_mode(QString::fromStdString(inspectors_[i]->title()), inspectors_[i]->id(), static_cast<int>(i) + 1);
+
+  // Animation
+  QMenu* animation = menuBar()->addMenu("&Animation");
+  QAction* play = animation->addAction(s->standardIcon(QStyle::SP_MediaPlay), "&Play / pause", timeline_,
+                                       &Timeline::toggle_play);
+  play->setShortcut(QKeySequence("Space"));
+  QAction* start = animation->addAction("Go to &start", this, [this] { timeline_->set_time(0.0f); });
+  start->setShortcut(QKeySequence("Shift+Left"));
+
+  QMenu* help = menuBar()->addMenu("&Help");
+  help->addAction("&About DeepCut Studio", this, [this] {
+    QMessageBox::about(
+        this, "About DeepCut Studio",
+        "DeepCut Studio: cut, tear and drill rigged glTF models, inspect what the algorithms built, "
+        "and export a rigged glTF.\n\nMouse: left drag rotates, middle drag (or Shift + left) pans, "
+        "wheel zooms; click picks a vertex or a bone.");
+  });
+
+  QToolBar* tools = addToolBar("Main");
+  tools->setObjectName("main_toolbar");
+  tools->setToolButtonStyle(Qt::ToolButtonTextBesideIcon);
+  tools->addAction(open);
+  tools->addAction(export_action);
+  tools->addSeparator();
+  tools->addAction(undo_);
+  tools->addAction(redo_);
+  tools->addSeparator();
+  tools->addAction(reset);
+  for (QAction* action : display_group_->actions()) tools->addAction(action);
+  tools->addSeparator();
+  tools->addAction(skeleton_action_);
+  tools->addAction(normals_action_);
+}
+
+QStringList MainWindow::recent_files() const { return QSettings().value(kRecentKey).toStringList(); }
+
+void MainWindow::remember_recent(const QString& path) {
+  QSettings settings;
+  QStringList list = settings.value(kRecentKey).toStringList();
+  const QString absolute = QFileInfo(path).absoluteFilePath();
+  list.removeAll(absolute);
+  list.prepend(absolute);
+  while (list.size() > kMaxRecent) list.removeLast();
+  settings.setValue(kRecentKey, list);
+}
+
+void MainWindow::refresh_recent_menu() {
+  recent_menu_->clear();
+  const QStringList list = recent_files();
+  for (const QString& path : list) {
+    QAction* action =
+        recent_menu_->addAction(QFileInfo(path).fileName(), this, [this, path] { open_file(path); });
+    action->setToolTip(path);
+    action->setEnabled(QFileInfo::exists(path));
+  }
+  if (list.isEmpty()) recent_menu_->addAction("(none)")->setEnabled(false);
+  recent_menu_->addSeparator();
+  recent_menu_->addAction("Clear list", this, [] { QSettings().remove(kRecentKey); });
+}
+
+void MainWindow::choose_open() {
+  const QString dir = path_.isEmpty() ? QString() : QFileInfo(path_).absolutePath();
+  const QString path =
+      QFileDialog::getOpenFileName(this, "Open model", dir, "glTF models (*.glb *.gltf);;All files (*)");
+  if (!path.isEmpty()) open_file(path);
+}
+
+void MainWindow::choose_export() {
+  if (!model_) return report_error("export: no model is open");
+  const QString glb = "glTF binary (*.glb)", gltf = "glTF JSON, embedded buffers (*.gltf)";
+  QString filter = glb;
+  const QString suggested =
+      path_.isEmpty() ? QString("model.glb") : QFileInfo(path_).completeBaseName() + "-export.glb";
+  QString path = QFileDialog::getSaveFileName(this, "Export model", suggested, glb + ";;" + gltf, &filter);
+  if (path.isEmpty()) return;
+  if (!is_model_file(path)) path += filter == gltf ? ".gltf" : ".glb";
+  export_file(path);
+}
+
+void MainWindow::report_error(const QString& message) {
+  last_error_ = message;
+  statusBar()->showMessage(message, 15000);
+  if (options_.error_dialogs) QMessageBox::critical(this, "DeepCut Studio", message);
+}
+
+void MainWindow::note_operation(const QString& label, double ms) {
+  last_operation_ = QString("%1: %2 ms").arg(label).arg(ms, 0, 'f', ms < 10.0 ? 1 : 0);
+  refresh_status();
+}
+
+bool MainWindow::open_file(const QString& path) {
+  try {
+    load_file(path);
+    return true;
+  } catch (const Error& e) {
+    report_error(QString::fromStdString(e.what()));
+  } catch (const std::bad_alloc&) {
+    report_error(QFileInfo(path).fileName() + ": out of memory");
+  } catch (const std::exception& e) {
+    report_error(QFileInfo(path).fileName() + ": internal error: " + e.what());
+  }
+  return false;
+}
+
+void MainWindow::load_file(const QString& path) {
+  QElapsedTimer clock;
+  clock.start();
+  auto model = std::make_shared<const Model>(read_gltf(path.toStdString()));
+  // Build the new scene before touching the current state, so a failure keeps the old model.
+  const int animation = model->animations.empty() ? -1 : 0;
+  plugins::Scene scene = plugins::make_scene(model, animation, 0.0f);
+  std::vector<std::pair<QString, float>> clips;
+  for (const Animation& a : model->animations)
+    clips.emplace_back(QString::fromStdString(a.name), a.duration());
+
+  path_ = path;
+  history_->clear();
+  timeline_->set_animations(clips);
+  model_ = model;
+  if (!scene_) scene_ = std::make_unique<plugins::Scene>();
+  *scene_ = std::move(scene);
+  const std::vector<std::string> notes = view_->set_scene(*scene_);
+  tree_->set_scene(*scene_);
+  mark_inspectors_stale(plugins::SceneChange::Model);
+  refresh_inspector();
+  view_->reset_camera();
+  view_->render();
+  remember_recent(path);
+  setWindowTitle(QFileInfo(path).fileName() + " - DeepCut Studio");
+  last_error_.clear();
+  note_operation("Open " + QFileInfo(path).fileName(), static_cast<double>(clock.nsecsElapsed()) / 1e6);
+  if (!notes.empty()) statusBar()->showMessage(QString::fromStdString(notes.front()), 15000);
+  emit model_changed();
+}
+
+void MainWindow::show_model(std::shared_ptr<const Model> model) {
+  if (!model) return;
+  int animation = timeline_->animation();
+  if (animation >= static_cast<int>(model->animations.size())) animation = model->animations.empty() ? -1 : 0;
+  model_ = std::move(model);
+  *scene_ = plugins::make_scene(model_, animation, timeline_->time());
+  view_->set_scene(*scene_);
+  tree_->set_scene(*scene_);
+  mark_inspectors_stale(plugins::SceneChange::Model);
+  refresh_inspector();
+  emit model_changed();
+}
+
+bool MainWindow::export_file(const QString& path) {
+  if (!model_) {
+    report_error("export: no model is open");
+    return false;
+  }
+  QElapsedTimer clock;
+  clock.start();
+  try {
+    write_gltf(*model_, path.toStdString());
+  } catch (const Error& e) {
+    report_error(QString::fromStdString(e.what()));
+    return false;
+  } catch (const std::exception& e) {
+    report_error(QFileInfo(path).fileName() + ": internal error: " + e.what());
+    return false;
+  }
+  note_operation("Export " + QFileInfo(path).fileName(), static_cast<double>(clock.nsecsElapsed()) / 1e6);
+  statusBar()->showMessage("Exported " + path, 8000);
+  return true;
+}
+
+void MainWindow::apply_operation(const QString& label, std::shared_ptr<const Model> result, double ms) {
+  if (!model_ || !result) return;
+  history_->push(new ModelCommand(this, label, model_, std::move(result)));
+  note_operation(label, ms);
+}
+
+void MainWindow::set_inspector(const std::string& id) {
+  int index = -1;
+  if (!id.empty() && id != "none") {
+    for (std::size_t i = 0; i < inspectors_.size(); ++i)
+      if (inspectors_[i]->id() == id) index = static_cast<int>(i);
+    if (index < 0)
+      throw Error(ErrorCode::InvalidArgument,
+                  "unknown inspector '" + id + "' (known: " + plugins::builtin_inspectors().ids() + ")");
+  }
+  active_ = index;
+  inspector_combo_->setCurrentIndex(index + 1);
+  inspector_stack_->setCurrentIndex(index + 1);
+  for (QAction* action : inspect_group_->actions())
+    if (action->data().toString().toStdString() == (index < 0 ? std::string() : id)) action->setChecked(true);
+  QElapsedTimer clock;
+  clock.start();
+  refresh_inspector();
+  if (index >= 0 && scene_)
+    note_operation("Inspect " + QString::fromStdString(inspectors_[static_cast<std::size_t>(index)]->title()),
+                   static_cast<double>(clock.nsecsElapsed()) / 1e6);
+}
+
+void MainWindow::set_inspector_option(const std::string& name, const std::string& value) {
+  plugins::Inspector* active = inspector();
+  if (!active)
+    throw Error(ErrorCode::InvalidArgument, "option '" + name + "' needs an inspector (--inspect)");
+  sync_active_inspector();
+  active->set_option(name, value);
+  refresh_inspector();
+}
+
+plugins::Inspector* MainWindow::inspector() const {
+  return active_ >= 0 ? inspectors_[static_cast<std::size_t>(active_)].get() : nullptr;
+}
+
+std::string MainWindow::inspector_id() const { return inspector() ? inspector()->id() : std::string(); }
+
+void MainWindow::set_pose(int animation, float time) {
+  if (animation != timeline_->animation()) timeline_->set_animation(animation);
+  timeline_->set_time(time);
+}
+
+void MainWindow::set_display_mode(DisplayMode mode) {
+  view_->set_display_mode(mode);
+  for (QAction* action : display_group_->actions())
+    if (action->data().toInt() == static_cast<int>(mode)) action->setChecked(true);
+  view_->render();
+}
+
+void MainWindow::set_skeleton_visible(bool visible) {
+  show_skeleton_ = visible;
+  if (skeleton_action_->isChecked() != visible) skeleton_action_->setChecked(visible);
+  refresh_overlays();
+  view_->render();
+}
+
+void MainWindow::set_normals_visible(bool visible) {
+  if (normals_action_->isChecked() != visible) normals_action_->setChecked(visible);
+  view_->set_normals_visible(visible);
+  view_->render();
+}
+
+void MainWindow::mark_inspectors_stale(plugins::SceneChange change) {
+  stale_.resize(inspectors_.size(), Stale::None);
+  for (Stale& s : stale_)
+    if (change == plugins::SceneChange::Model)
+      s = Stale::Model;
+    else if (s == Stale::None)
+      s = Stale::Pose;
+}
+
+void MainWindow::sync_active_inspector() {
+  if (active_ < 0 || !scene_) return;
+  stale_.resize(inspectors_.size(), Stale::Model);
+  Stale& s = stale_[static_cast<std::size_t>(active_)];
+  if (s != Stale::None)
+    inspectors_[static_cast<std::size_t>(active_)]->set_scene(
+        *scene_, s == Stale::Model ? plugins::SceneChange::Model : plugins::SceneChange::Pose);
+  s = Stale::None;
+}
+
+void MainWindow::refresh_inspector() {
+  if (!scene_) return;
+  sync_active_inspector();
+  plugins::Inspector* active = inspector();
+  for (std::size_t i = 0; i < scene_->pieces.size(); ++i)
+    view_->set_piece_colors(i, active ? active->piece_colors(i) : plugins::PieceColors{});
+  view_->set_color_bar(active ? active->color_bar() : std::nullopt);
+  refresh_overlays();
+  view_->render();
+}
+
+void MainWindow::refresh_overlays() {
+  if (!scene_) return;
+  const Model& model = *scene_->model;
+  const bool skeleton = show_skeleton_ && !model.skins.empty();
+  view_->set_overlay(SceneView::Layer::Skeleton, skeleton ? plugins::skeleton_overlay(*scene_) : Overlay{});
+  std::vector<BoneHandle> handles;
+  if (skeleton) {
+    auto origin = [&](int node) { return glm::vec3(scene_->world[static_cast<std::size_t>(node)][3]); };
+    for (int j : plugins::joint_nodes(model)) handles.push_back({j, origin(j), origin(j)});
+    for (const auto& [parent, child] : plugins::skeleton_bones(model))
+      handles.push_back({parent, origin(parent), origin(child)});
+  }
+  view_->set_bone_handles(std::move(handles));
+  plugins::Inspector* active = inspector();
+  view_->set_overlay(SceneView::Layer::Inspector, active ? active->overlay() : Overlay{});
+  std::vector<std::string> caption = {QFileInfo(path_).fileName().toStdString() + "  |  " +
+                                      (active ? active->title() : std::string("Shaded"))};
+  if (active)
+    for (const std::string& line : active->summary()) caption.push_back(line);
+  view_->set_caption(caption);
+  refresh_status();
+}
+
+void MainWindow::refresh_status() {
+  if (!scene_) {
+    counts_label_->setText("no model");
+    time_label_->setText("");
+    operation_label_->setText(last_operation_);
+    return;
+  }
+  const plugins::SceneCounts counts = plugins::scene_counts(*scene_);
+  counts_label_->setText(
+      QString("%1 vertices  %2 triangles").arg(thousands(counts.vertices), thousands(counts.triangles)));
+  const int a = scene_->animation;
+  const QString clip =
+      a < 0 ? QString("Rest pose")
+            : (scene_->model->animations[static_cast<std::size_t>(a)].name.empty()
+                   ? QString("Animation %1").arg(a)
+                   : QString::fromStdString(scene_->model->animations[static_cast<std::size_t>(a)].name));
+  time_label_->setText(QString("%1  t = %2 s").arg(clip).arg(scene_->time, 0, 'f', 3));
+  operation_label_->setText(last_operation_);
+}
+
+void MainWindow::on_pose_changed(int animation, float time) {
+  if (!scene_) return;
+  plugins::pose_scene(*scene_, animation, time);
+  view_->update_pose();
+  mark_inspectors_stale(plugins::SceneChange::Pose);
+  sync_active_inspector();
+  refresh_overlays();
+  view_->render();
+}
+
+void MainWindow::on_pick(const plugins::Pick& pick) {
+  if (!scene_) return;
+  if (plugins::Inspector* active = inspector()) {
+    sync_active_inspector();
+    if (active->pick(pick)) refresh_inspector();
+    return;
+  }
+  if (pick.joint_node >= 0)
+    statusBar()->showMessage(
+        QString("Joint %1 (Inspect > Skin weights shows its weights)")
+            .arg(QString::fromStdString(plugins::node_label(*scene_->model, pick.joint_node))),
+        8000);
+  else if (pick.piece < scene_->pieces.size())
+    statusBar()->showMessage(
+        QString("Piece %1, vertex %2, face %3").arg(pick.piece).arg(pick.vertex.index).arg(pick.face.index),
+        8000);
+}
+
+QImage MainWindow::screenshot() {
+  view_->render();
+  QApplication::processEvents();
+  return grab().toImage();
+}
+
+void MainWindow::dragEnterEvent(QDragEnterEvent* event) {
+  const QMimeData* mime = event->mimeData();
+  if (mime->hasUrls() && !mime->urls().isEmpty() && is_model_file(mime->urls().first().toLocalFile()))
+    event->acceptProposedAction();
+}
+
+void MainWindow::dropEvent(QDropEvent* event) {
+  const QMimeData* mime = event->mimeData();
+  if (!mime->hasUrls() || mime->urls().isEmpty()) return;
+  const QString path = mime->urls().first().toLocalFile();
+  if (!is_model_file(path)) return;
+  event->acceptProposedAction();
+  open_file(path);
+}
+
+void MainWindow::closeEvent(QCloseEvent* event) {
+  timeline_->pause();
+  QSettings().setValue("window_state", saveState());
+  event->accept();
+}
+
+}  // namespace deepcut::studio

@@ -1,0 +1,154 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// The studio's main window: the 3D view, the scene tree, the inspector panel, the time line,
+// the history, menus (File, Edit, View, Inspect, Help), drag and drop, and the status bar.
+// The model is kept as immutable snapshots (`std::shared_ptr<const Model>`); every change of
+// model state goes through the undo stack.
+
+#include <QMainWindow>
+#include <QString>
+#include <QStringList>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "deepcut/core/model.h"
+#include "deepcut/plugins/inspector.h"
+#include "deepcut/plugins/scene.h"
+
+class QAction;
+class QActionGroup;
+class QComboBox;
+class QLabel;
+class QMenu;
+class QStackedWidget;
+class QUndoStack;
+
+namespace deepcut::studio {
+
+class SceneTree;
+class SceneView;
+class Timeline;
+enum class DisplayMode;
+
+/// Where recent files and window layout are remembered, and whether errors open dialogs.
+struct MainWindowOptions {
+  /// Show errors in a modal dialog (default on). Off: errors only reach `last_error()` and the
+  /// status bar (headless screenshots).
+  bool error_dialogs = true;
+};
+
+class MainWindow : public QMainWindow {
+  Q_OBJECT
+
+ public:
+  explicit MainWindow(const MainWindowOptions& options = {}, QWidget* parent = nullptr);
+  ~MainWindow() override;
+
+  /// Reads `path` and shows it (the history starts anew). On failure the current model stays,
+  /// the one-line message is shown (dialog) and kept in `last_error()`.
+  /// @returns true when the model was opened.
+  bool open_file(const QString& path);
+  /// Like `open_file` but lets the error propagate instead of reporting it.
+  /// @throws Error from read_gltf (Io, InvalidInput).
+  void load_file(const QString& path);
+  /// Writes the current model state with `write_gltf` (.glb or .gltf by extension), exactly as
+  /// `deepcut convert` would write it. @returns true on success; errors are reported like open_file's.
+  bool export_file(const QString& path);
+
+  /// Replaces the model by `result` of an operation named `label` that took `ms`, undoably.
+  void apply_operation(const QString& label, std::shared_ptr<const Model> result, double ms);
+
+  /// Activates inspector `id` ("" or "none": the model's own look).
+  /// @throws Error{InvalidArgument} for an unknown id.
+  void set_inspector(const std::string& id);
+  /// Passes an option to the active inspector. @throws Error{InvalidArgument} (see Inspector).
+  void set_inspector_option(const std::string& name, const std::string& value);
+  /// The active inspector, or nullptr.
+  plugins::Inspector* inspector() const;
+  std::string inspector_id() const;
+
+  /// Poses the model: animation `animation` (-1 rest pose) at `time` seconds (clamped).
+  void set_pose(int animation, float time);
+
+  void set_display_mode(DisplayMode mode);
+  void set_skeleton_visible(bool visible);
+  void set_normals_visible(bool visible);
+
+  /// The current model state (null before the first successful open).
+  std::shared_ptr<const Model> model() const { return model_; }
+  const plugins::Scene* scene() const { return scene_.get(); }
+  QString model_path() const { return path_; }
+  QString last_error() const { return last_error_; }
+  QString last_operation() const { return last_operation_; }
+  QStringList recent_files() const;
+
+  SceneView* view() const { return view_; }
+  Timeline* timeline() const { return timeline_; }
+  SceneTree* scene_tree() const { return tree_; }
+  QUndoStack* history() const { return history_; }
+  QAction* undo_action() const { return undo_; }
+  QAction* redo_action() const { return redo_; }
+
+  /// Renders the view and grabs the whole window (view included) as an image.
+  QImage screenshot();
+
+  /// Shows `model` as the current state (used by the undo stack; not itself undoable).
+  void show_model(std::shared_ptr<const Model> model);
+
+ signals:
+  void model_changed();
+
+ protected:
+  void dragEnterEvent(QDragEnterEvent* event) override;
+  void dropEvent(QDropEvent* event) override;
+  void closeEvent(QCloseEvent* event) override;
+
+ private:
+  void build_menus();
+  void build_docks();
+  void report_error(const QString& message);
+  void note_operation(const QString& label, double ms);
+  void remember_recent(const QString& path);
+  void refresh_recent_menu();
+  void refresh_inspector();
+  /// Inspectors see the scene lazily: only the active one is kept current.
+  void mark_inspectors_stale(plugins::SceneChange change);
+  void sync_active_inspector();
+  void refresh_overlays();
+  void refresh_status();
+  void on_pose_changed(int animation, float time);
+  void on_pick(const plugins::Pick& pick);
+  void choose_open();
+  void choose_export();
+
+  MainWindowOptions options_;
+  std::shared_ptr<const Model> model_;
+  std::unique_ptr<plugins::Scene> scene_;
+  QString path_, last_error_, last_operation_;
+  std::vector<std::unique_ptr<plugins::Inspector>> inspectors_;  // in registry order
+  int active_ = -1;                                              // index into inspectors_
+  enum class Stale { None, Pose, Model };
+  std::vector<Stale> stale_;  // per inspector: what changed since it last saw the scene
+  bool show_skeleton_ = true;
+
+  SceneView* view_ = nullptr;
+  SceneTree* tree_ = nullptr;
+  Timeline* timeline_ = nullptr;
+  QUndoStack* history_ = nullptr;
+  QComboBox* inspector_combo_ = nullptr;
+  QStackedWidget* inspector_stack_ = nullptr;
+  QMenu* recent_menu_ = nullptr;
+  QAction* undo_ = nullptr;
+  QAction* redo_ = nullptr;
+  QAction* skeleton_action_ = nullptr;
+  QAction* normals_action_ = nullptr;
+  QActionGroup* display_group_ = nullptr;
+  QActionGroup* inspect_group_ = nullptr;
+  QLabel* counts_label_ = nullptr;
+  QLabel* time_label_ = nullptr;
+  QLabel* operation_label_ = nullptr;
+};
+
+}  // namespace deepcut::studio

@@ -1,0 +1,483 @@
+// SPDX-License-Identifier: MIT
+#include "scene_view.h"
+
+#include <QVTKOpenGLNativeWidget.h>
+#include <vtkActor.h>
+#include <vtkAxesActor.h>
+#include <vtkCallbackCommand.h>
+#include <vtkCamera.h>
+#include <vtkCaptionActor2D.h>
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkCellPicker.h>
+#include <vtkCornerAnnotation.h>
+#include <vtkGenericOpenGLRenderWindow.h>
+#include <vtkIdTypeArray.h>
+#include <vtkInteractorStyleTrackballCamera.h>
+#include <vtkLightKit.h>
+#include <vtkNew.h>
+#include <vtkObjectFactory.h>
+#include <vtkOrientationMarkerWidget.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkPolyDataMapper.h>
+#include <vtkProperty.h>
+#include <vtkRenderWindowInteractor.h>
+#include <vtkRenderer.h>
+#include <vtkTextProperty.h>
+#include <vtkTexture.h>
+
+#include <QVBoxLayout>
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "deepcut/core/errors.h"
+#include "deepcut/widgets/material_look.h"
+#include "deepcut/widgets/overlay_props.h"
+#include "deepcut/widgets/poly_data_bridge.h"
+#include "deepcut/widgets/texture.h"
+
+namespace deepcut::studio {
+namespace {
+
+/// Trackball camera (left rotate, middle pan, wheel/right zoom) that reports clicks and leaves
+/// the keyboard to the studio's menus (VTK's own keys would quit or restyle behind its back).
+class ClickStyle : public vtkInteractorStyleTrackballCamera {
+ public:
+  static ClickStyle* New();
+  vtkTypeMacro(ClickStyle, vtkInteractorStyleTrackballCamera)
+
+      void OnChar() override {}
+  void OnLeftButtonDown() override {
+    GetInteractor()->GetEventPosition(press_);
+    Superclass::OnLeftButtonDown();
+  }
+  void OnLeftButtonUp() override {
+    Superclass::OnLeftButtonUp();
+    int p[2];
+    GetInteractor()->GetEventPosition(p);
+    if (on_click && std::abs(p[0] - press_[0]) <= 3 && std::abs(p[1] - press_[1]) <= 3) on_click(p[0], p[1]);
+  }
+
+  std::function<void(int, int)> on_click;
+
+ private:
+  int press_[2] = {0, 0};
+};
+vtkStandardNewMacro(ClickStyle);
+
+struct PieceActor {
+  vtkSmartPointer<vtkPolyData> poly;
+  vtkSmartPointer<vtkPolyDataMapper> mapper;
+  vtkSmartPointer<vtkActor> actor;
+  vtkSmartPointer<vtkTexture> texture;  // the material's base colour texture, or null
+  MaterialLook look;
+};
+
+double distance_to_segment(const glm::dvec2& p, const glm::dvec2& a, const glm::dvec2& b) {
+  const glm::dvec2 ab = b - a;
+  const double len2 = glm::dot(ab, ab);
+  const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+  return glm::length(p - (a + t * ab));
+}
+
+}  // namespace
+
+struct SceneView::Impl {
+  QVTKOpenGLNativeWidget* widget = nullptr;
+  vtkNew<vtkGenericOpenGLRenderWindow> window;
+  vtkNew<vtkRenderer> renderer;  // the model and depth-tested overlays
+  vtkNew<vtkRenderer> top;       // overlays drawn over the model
+  vtkNew<vtkCellPicker> picker;
+  vtkNew<vtkCornerAnnotation> caption;
+  vtkNew<vtkOrientationMarkerWidget> axes;
+  vtkNew<ClickStyle> style;
+  vtkSmartPointer<vtkProp> color_bar;
+  vtkSmartPointer<vtkActor> normals;
+  std::map<Layer, OverlayProps> overlays;
+  std::vector<PieceActor> pieces;
+  std::map<int, vtkSmartPointer<vtkTexture>> textures;  // by image index
+  const plugins::Scene* scene = nullptr;
+  DisplayMode mode = DisplayMode::Shaded;
+  bool show_normals = false;
+  std::vector<BoneHandle> bones;
+  std::function<void(const plugins::Pick&)> on_pick;
+
+  void apply_look(PieceActor& piece) const;
+  void apply_display_mode(PieceActor& piece) const;
+  void rebuild_normals();
+  glm::dvec2 to_display(const glm::vec3& p) const;
+  bool pick_display(int x, int y);
+};
+
+void SceneView::Impl::apply_look(PieceActor& piece) const {
+  vtkProperty* property = piece.actor->GetProperty();
+  const glm::vec4 c = piece.look.base_color;
+  property->SetColor(c.r, c.g, c.b);
+  property->SetOpacity(piece.look.blend ? c.a : 1.0);
+  piece.mapper->ScalarVisibilityOff();
+  piece.actor->SetTexture(piece.texture);
+  // Rough, non-metallic materials get a dull highlight; shiny ones a sharper one.
+  property->SetSpecular(0.05 + 0.3 * (1.0 - piece.look.roughness));
+}
+
+void SceneView::Impl::apply_display_mode(PieceActor& piece) const {
+  vtkProperty* property = piece.actor->GetProperty();
+  property->SetRepresentation(mode == DisplayMode::Wireframe ? VTK_WIREFRAME : VTK_SURFACE);
+  property->SetEdgeVisibility(mode == DisplayMode::ShadedEdges);
+  property->SetEdgeColor(0.08, 0.09, 0.1);
+  property->SetLineWidth(1.0f);
+}
+
+void SceneView::Impl::rebuild_normals() {
+  if (normals) renderer->RemoveActor(normals);
+  normals = nullptr;
+  if (!show_normals || !scene) return;
+  const float length = 0.015f * scene->size;
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToFloat();
+  vtkNew<vtkCellArray> lines;
+  std::size_t total = 0;
+  for (const PieceActor& piece : pieces) total += static_cast<std::size_t>(piece.poly->GetNumberOfPoints());
+  // Big meshes: draw every k-th normal so the view stays readable and responsive.
+  const std::size_t stride = std::max<std::size_t>(1, total / 60000);
+  for (const PieceActor& piece : pieces) {
+    vtkDataArray* n = piece.poly->GetPointData()->GetNormals();
+    if (!n) continue;
+    for (vtkIdType i = 0; i < piece.poly->GetNumberOfPoints(); i += static_cast<vtkIdType>(stride)) {
+      double p[3], d[3];
+      piece.poly->GetPoint(i, p);
+      n->GetTuple(i, d);
+      const vtkIdType a = points->InsertNextPoint(p);
+      const vtkIdType b =
+          points->InsertNextPoint(p[0] + length * d[0], p[1] + length * d[1], p[2] + length * d[2]);
+      const vtkIdType ids[2] = {a, b};
+      lines->InsertNextCell(2, ids);
+    }
+  }
+  vtkNew<vtkPolyData> poly;
+  poly->SetPoints(points);
+  poly->SetLines(lines);
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputData(poly);
+  normals = vtkSmartPointer<vtkActor>::New();
+  normals->SetMapper(mapper);
+  normals->GetProperty()->SetColor(0.35, 0.85, 1.0);
+  normals->GetProperty()->LightingOff();
+  normals->PickableOff();
+  renderer->AddActor(normals);
+}
+
+glm::dvec2 SceneView::Impl::to_display(const glm::vec3& p) const {
+  renderer->SetWorldPoint(p.x, p.y, p.z, 1.0);
+  renderer->WorldToDisplay();
+  double d[3];
+  renderer->GetDisplayPoint(d);
+  return {d[0], d[1]};
+}
+
+bool SceneView::Impl::pick_display(int x, int y) {
+  if (!scene || !on_pick) return false;
+  plugins::Pick pick;
+  // Bones first: they are drawn over the model.
+  const double ratio = widget->devicePixelRatioF();
+  double best = 8.0 * ratio;
+  for (const BoneHandle& bone : bones) {
+    const glm::dvec2 click(x, y);
+    const bool marker = bone.head == bone.tail;
+    const double d = distance_to_segment(click, to_display(bone.head), to_display(bone.tail)) -
+                     (marker ? 2.0 * ratio : 0.0);
+    if (d < best) {
+      best = d;
+      pick.joint_node = bone.joint;
+    }
+  }
+  if (pick.joint_node >= 0) {
+    on_pick(pick);
+    return true;
+  }
+  if (!picker->Pick(x, y, 0.0, renderer) || picker->GetCellId() < 0) return false;
+  vtkActor* actor = picker->GetActor();
+  const auto it =
+      std::find_if(pieces.begin(), pieces.end(), [&](const PieceActor& p) { return p.actor.Get() == actor; });
+  if (it == pieces.end()) return false;
+  pick.piece = static_cast<std::size_t>(it - pieces.begin());
+  vtkPolyData* poly = it->poly;
+  auto* face_ids = vtkIdTypeArray::SafeDownCast(poly->GetCellData()->GetArray("face_id"));
+  auto* vertex_ids = vtkIdTypeArray::SafeDownCast(poly->GetPointData()->GetArray("vertex_id"));
+  if (!face_ids || !vertex_ids) return false;
+  const vtkIdType cell = picker->GetCellId();
+  pick.face = FaceId(static_cast<std::uint32_t>(face_ids->GetValue(cell)));
+  double world[3];
+  picker->GetPickPosition(world);
+  pick.position = glm::vec3(world[0], world[1], world[2]);
+  vtkIdType npts = 0;
+  const vtkIdType* pts = nullptr;
+  poly->GetCellPoints(cell, npts, pts);
+  double nearest = std::numeric_limits<double>::max();
+  for (vtkIdType k = 0; k < npts; ++k) {
+    double p[3];
+    poly->GetPoint(pts[k], p);
+    const double d = std::hypot(p[0] - world[0], p[1] - world[1], p[2] - world[2]);
+    if (d < nearest) {
+      nearest = d;
+      pick.vertex = VertexId(static_cast<std::uint32_t>(vertex_ids->GetValue(pts[k])));
+    }
+  }
+  on_pick(pick);
+  return true;
+}
+
+SceneView::SceneView(QWidget* parent) : QWidget(parent), impl_(std::make_unique<Impl>()) {
+  Impl& d = *impl_;
+  auto* layout = new QVBoxLayout(this);
+  layout->setContentsMargins(0, 0, 0, 0);
+  d.widget = new QVTKOpenGLNativeWidget(this);
+  d.widget->setObjectName("vtk_view");
+  // Drops go to the main window, which opens the file.
+  d.widget->setAcceptDrops(false);
+  layout->addWidget(d.widget);
+  d.widget->setRenderWindow(d.window);
+
+  d.window->SetNumberOfLayers(2);
+  d.window->AddRenderer(d.renderer);
+  d.window->AddRenderer(d.top);
+  d.top->SetLayer(1);
+  d.top->InteractiveOff();
+  d.top->SetActiveCamera(d.renderer->GetActiveCamera());
+
+  // A studio backdrop: dark, slightly blue gradient (Blender / ParaView users know it).
+  d.renderer->GradientBackgroundOn();
+  d.renderer->SetBackground(0.13, 0.14, 0.16);
+  d.renderer->SetBackground2(0.34, 0.37, 0.42);
+  // Smooth edges by multisampling (FXAA does not combine with the overlay layer).
+  d.window->SetMultiSamples(8);
+  vtkNew<vtkLightKit> lights;
+  lights->SetKeyLightIntensity(0.9);
+  lights->AddLightsToRenderer(d.renderer);
+
+  d.caption->SetMaximumFontSize(15);
+  d.caption->SetLinearFontScaleFactor(2);
+  d.caption->SetNonlinearFontScaleFactor(1);
+  d.caption->GetTextProperty()->SetColor(0.93, 0.93, 0.93);
+  d.caption->GetTextProperty()->SetFontFamilyToArial();
+  d.caption->GetTextProperty()->ShadowOn();
+  d.top->AddViewProp(d.caption);
+
+  d.picker->SetTolerance(0.0005);
+  d.picker->PickFromListOn();
+
+  vtkRenderWindowInteractor* interactor = d.window->GetInteractor();
+  d.style->SetDefaultRenderer(d.renderer);
+  d.style->on_click = [this](int x, int y) { impl_->pick_display(x, y); };
+  interactor->SetInteractorStyle(d.style);
+
+  vtkNew<vtkAxesActor> axes_actor;
+  axes_actor->SetShaftTypeToCylinder();
+  axes_actor->SetTotalLength(1.0, 1.0, 1.0);
+  for (vtkCaptionActor2D* label : {axes_actor->GetXAxisCaptionActor2D(), axes_actor->GetYAxisCaptionActor2D(),
+                                   axes_actor->GetZAxisCaptionActor2D()}) {
+    label->GetCaptionTextProperty()->SetColor(0.95, 0.95, 0.95);
+    label->GetCaptionTextProperty()->ShadowOff();
+    label->GetCaptionTextProperty()->ItalicOff();
+  }
+  d.axes->SetOrientationMarker(axes_actor);
+  d.axes->SetInteractor(interactor);
+  d.axes->SetViewport(0.0, 0.0, 0.11, 0.17);
+  d.axes->SetEnabled(1);
+  d.axes->InteractiveOff();
+}
+
+SceneView::~SceneView() = default;
+
+std::vector<std::string> SceneView::set_scene(const plugins::Scene& scene) {
+  Impl& d = *impl_;
+  std::vector<std::string> notes;
+  for (PieceActor& piece : d.pieces) d.renderer->RemoveActor(piece.actor);
+  d.pieces.clear();
+  d.textures.clear();
+  d.picker->InitializePickList();
+  d.scene = &scene;
+  const Model& model = *scene.model;
+  for (const plugins::ScenePiece& sp : scene.pieces) {
+    PieceActor piece;
+    PolyDataOptions options;
+    options.positions = &sp.posed;
+    piece.poly = to_poly_data(*sp.surface, options);
+    if (!sp.posed_normals.empty()) update_poly_data_points(piece.poly, sp.posed, &sp.posed_normals);
+    piece.mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
+    piece.mapper->SetInputData(piece.poly);
+    piece.mapper->SetColorModeToDirectScalars();
+    piece.actor = vtkSmartPointer<vtkActor>::New();
+    piece.actor->SetMapper(piece.mapper);
+    const int material = model.meshes[static_cast<std::size_t>(sp.mesh)]
+                             .primitives[static_cast<std::size_t>(sp.primitive)]
+                             .material;
+    piece.look = material_look(model, material);
+    if (piece.look.base_color_image >= 0) {
+      if (piece.look.texcoord != 0) {
+        notes.push_back("material '" + piece.look.name + "': base colour texture uses TEXCOORD_" +
+                        std::to_string(piece.look.texcoord) + "; shown without it");
+      } else if (!piece.poly->GetPointData()->GetTCoords()) {
+        notes.push_back("material '" + piece.look.name +
+                        "' has a texture but the mesh has no UVs; shown without it");
+      } else {
+        auto cached = d.textures.find(piece.look.base_color_image);
+        if (cached == d.textures.end()) {
+          vtkSmartPointer<vtkTexture> texture;
+          try {
+            texture = make_texture(model.images[static_cast<std::size_t>(piece.look.base_color_image)]);
+          } catch (const Error& e) {
+            notes.push_back(e.what());
+          }
+          cached = d.textures.emplace(piece.look.base_color_image, texture).first;
+        }
+        piece.texture = cached->second;
+      }
+    }
+    vtkProperty* property = piece.actor->GetProperty();
+    property->SetInterpolationToPhong();
+    property->SetAmbient(0.12);
+    property->SetDiffuse(0.88);
+    property->SetSpecularPower(24.0);
+    property->BackfaceCullingOff();
+    d.apply_look(piece);
+    d.apply_display_mode(piece);
+    d.renderer->AddActor(piece.actor);
+    d.picker->AddPickList(piece.actor);
+    d.pieces.push_back(std::move(piece));
+  }
+  d.rebuild_normals();
+  return notes;
+}
+
+void SceneView::update_pose() {
+  Impl& d = *impl_;
+  if (!d.scene) return;
+  for (std::size_t i = 0; i < d.pieces.size() && i < d.scene->pieces.size(); ++i) {
+    const plugins::ScenePiece& sp = d.scene->pieces[i];
+    update_poly_data_points(d.pieces[i].poly, sp.posed,
+                            sp.posed_normals.empty() ? nullptr : &sp.posed_normals);
+  }
+  d.rebuild_normals();
+}
+
+void SceneView::set_piece_colors(std::size_t piece, const plugins::PieceColors& colors) {
+  Impl& d = *impl_;
+  if (piece >= d.pieces.size()) return;
+  PieceActor& p = d.pieces[piece];
+  using Kind = plugins::PieceColors::Kind;
+  if (colors.kind == Kind::None) {
+    clear_colors(p.poly);
+    d.apply_look(p);
+    return;
+  }
+  if (colors.kind == Kind::PerVertex) {
+    set_vertex_colors(p.poly, colors.colors);
+    p.mapper->SetScalarModeToUsePointData();
+  } else {
+    set_face_colors(p.poly, colors.colors);
+    p.mapper->SetScalarModeToUseCellData();
+  }
+  p.mapper->ScalarVisibilityOn();
+  p.mapper->SetColorModeToDirectScalars();
+  p.actor->SetTexture(nullptr);
+  p.actor->GetProperty()->SetColor(1.0, 1.0, 1.0);
+  p.actor->GetProperty()->SetOpacity(1.0);
+  p.actor->GetProperty()->SetSpecular(0.08);
+}
+
+void SceneView::set_overlay(Layer layer, const Overlay& overlay) {
+  Impl& d = *impl_;
+  OverlayProps& old = d.overlays[layer];
+  for (auto& prop : old.depth_tested) d.renderer->RemoveViewProp(prop);
+  for (auto& prop : old.on_top) d.top->RemoveViewProp(prop);
+  old = make_overlay_props(overlay);
+  for (auto& prop : old.depth_tested) d.renderer->AddViewProp(prop);
+  for (auto& prop : old.on_top) d.top->AddViewProp(prop);
+}
+
+void SceneView::set_color_bar(const std::optional<ColorBar>& bar) {
+  Impl& d = *impl_;
+  if (d.color_bar) d.top->RemoveViewProp(d.color_bar);
+  d.color_bar = bar ? make_color_bar(*bar) : nullptr;
+  if (d.color_bar) d.top->AddViewProp(d.color_bar);
+}
+
+void SceneView::set_caption(const std::vector<std::string>& lines) {
+  std::string text;
+  for (const std::string& line : lines) text += (text.empty() ? "" : "\n") + line;
+  impl_->caption->SetText(vtkCornerAnnotation::UpperLeft, text.c_str());
+}
+
+void SceneView::set_bone_handles(std::vector<BoneHandle> handles) { impl_->bones = std::move(handles); }
+
+void SceneView::set_display_mode(DisplayMode mode) {
+  impl_->mode = mode;
+  for (PieceActor& piece : impl_->pieces) impl_->apply_display_mode(piece);
+}
+
+DisplayMode SceneView::display_mode() const { return impl_->mode; }
+
+void SceneView::set_normals_visible(bool visible) {
+  impl_->show_normals = visible;
+  impl_->rebuild_normals();
+}
+
+bool SceneView::normals_visible() const { return impl_->show_normals; }
+
+void SceneView::reset_camera() {
+  Impl& d = *impl_;
+  vtkCamera* camera = d.renderer->GetActiveCamera();
+  BoundingBox box;
+  if (d.scene)
+    for (const plugins::ScenePiece& piece : d.scene->pieces)
+      for (const glm::vec3& p : piece.posed) box.add(p);
+  if (box.empty()) {
+    d.renderer->ResetCamera();
+    return;
+  }
+  const glm::vec3 center = 0.5f * (box.min + box.max);
+  // glTF is +Y up with the model facing +Z: look from the front, a little from the right and above.
+  const glm::vec3 direction = glm::normalize(glm::vec3(0.45f, 0.3f, 1.0f));
+  camera->SetFocalPoint(center.x, center.y, center.z);
+  camera->SetPosition(center.x + direction.x, center.y + direction.y, center.z + direction.z);
+  camera->SetViewUp(0.0, 1.0, 0.0);
+  const double bounds[6] = {box.min.x, box.max.x, box.min.y, box.max.y, box.min.z, box.max.z};
+  d.renderer->ResetCamera(bounds);
+  camera->Dolly(1.08);
+  d.renderer->ResetCameraClippingRange(bounds);
+}
+
+void SceneView::render() {
+  impl_->renderer->ResetCameraClippingRange();
+  impl_->window->Render();
+  impl_->widget->update();
+}
+
+QImage SceneView::grab_view() {
+  render();
+  return impl_->widget->grabFramebuffer();
+}
+
+void SceneView::set_pick_handler(std::function<void(const plugins::Pick&)> handler) {
+  impl_->on_pick = std::move(handler);
+}
+
+bool SceneView::pick_at(const QPoint& position) {
+  const double ratio = impl_->widget->devicePixelRatioF();
+  const int x = static_cast<int>(std::lround(position.x() * ratio));
+  const int y = static_cast<int>(std::lround((impl_->widget->height() - position.y() - 1) * ratio));
+  return impl_->pick_display(x, y);
+}
+
+QPoint SceneView::project(const glm::vec3& p) const {
+  const glm::dvec2 d = impl_->to_display(p);
+  const double ratio = impl_->widget->devicePixelRatioF();
+  return QPoint(static_cast<int>(std::lround(d.x / ratio)),
+                static_cast<int>(std::lround(impl_->widget->height() - 1 - d.y / ratio)));
+}
+
+}  // namespace deepcut::studio

@@ -1,0 +1,79 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// The 3D view of the studio: a QVTKOpenGLNativeWidget showing every piece of the scene posed,
+// with its material (base colour and texture) or an inspector's colours, overlays (skeleton,
+// normals, the inspector's markers and edges), a colour bar and a caption. VTK stays inside
+// scene_view.cpp; this header is cheap to include.
+
+#include <QImage>
+#include <QWidget>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "deepcut/plugins/inspector.h"
+#include "deepcut/plugins/scene.h"
+#include "deepcut/widgets/overlay.h"
+
+namespace deepcut::studio {
+
+enum class DisplayMode { Shaded, Wireframe, ShadedEdges };
+
+/// A clickable part of the skeleton in world space: the bone of `joint` from `head` to `tail`
+/// (head == tail for a joint marker alone).
+struct BoneHandle {
+  int joint = -1;
+  glm::vec3 head{0.0f}, tail{0.0f};
+};
+
+class SceneView : public QWidget {
+ public:
+  explicit SceneView(QWidget* parent = nullptr);
+  ~SceneView() override;
+
+  /// Builds the actors of a new scene (decodes textures). The scene must outlive the next call.
+  /// @returns notes about what could not be shown as the file asks (e.g. an image that does not
+  ///          decode), one line each.
+  std::vector<std::string> set_scene(const plugins::Scene& scene);
+  /// Moves every actor (and the normals, when shown) to the scene's current pose.
+  void update_pose();
+
+  /// Colours piece `piece` (Kind::None restores its material look).
+  void set_piece_colors(std::size_t piece, const plugins::PieceColors& colors);
+  /// Layers of overlays, replaced independently.
+  enum class Layer { Skeleton, Inspector };
+  void set_overlay(Layer layer, const Overlay& overlay);
+  void set_color_bar(const std::optional<ColorBar>& bar);
+  /// Text in the upper left corner of the view.
+  void set_caption(const std::vector<std::string>& lines);
+  /// Skeleton parts that a click can hit (empty: bones are not pickable).
+  void set_bone_handles(std::vector<BoneHandle> handles);
+
+  void set_display_mode(DisplayMode mode);
+  DisplayMode display_mode() const;
+  void set_normals_visible(bool visible);
+  bool normals_visible() const;
+
+  /// Frames the whole scene (current pose) from a three-quarter front view.
+  void reset_camera();
+  /// Renders now.
+  void render();
+  /// The rendered view as an image (renders first).
+  QImage grab_view();
+
+  /// Called when the user clicks (press and release without dragging) on a piece or a bone.
+  void set_pick_handler(std::function<void(const plugins::Pick&)> handler);
+  /// Picks at widget coordinates (logical pixels, origin top left), as a click there would.
+  /// @returns false when nothing was hit.
+  bool pick_at(const QPoint& position);
+  /// Where world point `p` appears in the widget (logical pixels, origin top left).
+  QPoint project(const glm::vec3& p) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace deepcut::studio

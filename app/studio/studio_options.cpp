@@ -1,0 +1,113 @@
+// SPDX-License-Identifier: MIT
+#include "studio_options.h"
+
+#include <cmath>
+#include <filesystem>
+
+namespace deepcut::studio {
+
+const char* studio_usage() {
+  return "usage: deepcut-studio [MODEL] [options]\n"
+         "\n"
+         "Opens MODEL (.glb or .gltf; default: the bundled assets/cactus.glb) in the studio.\n"
+         "\n"
+         "options:\n"
+         "  --screenshot OUT.png     render one frame of the window to OUT.png and exit\n"
+         "  --inspect ID             start with an inspector: weights, adjacency, clusters, ... or none\n"
+         "  --joint NAME             weights inspector: show the weights of joint NAME\n"
+         "  --vertex N               adjacency inspector: pick vertex N of the first mesh\n"
+         "  --animation N|NAME       choose the animation (index or name)\n"
+         "  --time T                 pose time in seconds\n"
+         "  --view shaded|wireframe|edges\n"
+         "  --normals                show normals\n"
+         "  --no-skeleton            hide the skeleton\n"
+         "  --size WxH               window size (default 1440x900)\n"
+         "\n"
+         "exit codes: 0 ok, 2 bad input or usage (one line on stderr), 1 internal error\n";
+}
+
+StudioOptions parse_studio_options(const std::vector<std::string>& args) {
+  StudioOptions o;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    std::string arg = args[i];
+    std::string value;
+    bool has_inline = false;
+    if (arg.rfind("--", 0) == 0) {
+      const auto eq = arg.find('=');
+      if (eq != std::string::npos) {
+        value = arg.substr(eq + 1);
+        arg = arg.substr(0, eq);
+        has_inline = true;
+      }
+    }
+    auto take = [&]() -> std::string {
+      if (has_inline) return value;
+      if (i + 1 >= args.size()) throw UsageError(arg + " needs a value");
+      return args[++i];
+    };
+    if (arg == "-h" || arg == "--help") {
+      o.help = true;
+    } else if (arg == "--screenshot") {
+      o.screenshot = take();
+      if (o.screenshot.empty()) throw UsageError("--screenshot needs a file name");
+    } else if (arg == "--inspect") {
+      o.inspect = take();
+    } else if (arg == "--joint") {
+      o.joint = take();
+    } else if (arg == "--vertex") {
+      o.vertex = take();
+    } else if (arg == "--animation") {
+      o.animation = take();
+    } else if (arg == "--time") {
+      const std::string t = take();
+      std::size_t used = 0;
+      float seconds = 0.0f;
+      try {
+        seconds = std::stof(t, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != t.size() || t.empty() || !std::isfinite(seconds) || seconds < 0.0f)
+        throw UsageError("--time must be a number of seconds >= 0, not '" + t + "'");
+      o.time = seconds;
+    } else if (arg == "--view") {
+      o.view = take();
+      if (o.view != "shaded" && o.view != "wireframe" && o.view != "edges")
+        throw UsageError("--view must be shaded, wireframe or edges, not '" + o.view + "'");
+    } else if (arg == "--normals") {
+      o.normals = true;
+    } else if (arg == "--no-skeleton") {
+      o.skeleton = false;
+    } else if (arg == "--size") {
+      const std::string s = take();
+      int w = 0, h = 0;
+      char x = 0, extra = 0;
+      if (std::sscanf(s.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || x != 'x' || w < 320 || h < 240 ||
+          w > 8192 || h > 8192)
+        throw UsageError("--size must be WIDTHxHEIGHT between 320x240 and 8192x8192, not '" + s + "'");
+      o.width = w;
+      o.height = h;
+    } else if (arg.size() > 1 && arg[0] == '-') {
+      throw UsageError("unknown option '" + arg + "'");
+    } else {
+      if (!o.model.empty()) throw UsageError("more than one MODEL ('" + o.model + "' and '" + arg + "')");
+      o.model = arg;
+    }
+  }
+  return o;
+}
+
+std::string default_model_path(const std::string& exe_dir, std::vector<std::string>* searched) {
+  namespace fs = std::filesystem;
+  const fs::path dir(exe_dir);
+  const fs::path candidates[] = {dir / ".." / ".." / "assets" / "cactus.glb",
+                                 dir / ".." / "share" / "deepcut" / "assets" / "cactus.glb"};
+  for (const fs::path& p : candidates) {
+    if (searched) searched->push_back(p.lexically_normal().string());
+    std::error_code ec;
+    if (fs::is_regular_file(p, ec)) return p.lexically_normal().string();
+  }
+  return {};
+}
+
+}  // namespace deepcut::studio

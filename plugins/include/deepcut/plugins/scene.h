@@ -1,0 +1,66 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file scene.h
+/// What the studio shows, as data shared by the view and the inspectors: the model, one piece
+/// per drawn primitive (mesh instance x primitive) with its posed world positions, and the
+/// skeleton. No VTK and no Qt here.
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "deepcut/core/model.h"
+#include "deepcut/widgets/overlay.h"
+
+namespace deepcut::plugins {
+
+/// One drawn primitive: primitive `primitive` of mesh `mesh`, instanced by node `node`.
+struct ScenePiece {
+  int node = -1, mesh = -1, primitive = -1;
+  int skin = -1;  ///< the node's skin, or -1 for a rigid instance
+  const SurfaceMesh* surface = nullptr;
+  std::vector<glm::vec3> posed;          ///< world positions for the current pose, one per vertex
+  std::vector<glm::vec3> posed_normals;  ///< world normals, one per corner (empty without normals)
+};
+
+struct Scene {
+  std::shared_ptr<const Model> model;
+  std::vector<ScenePiece> pieces;
+  std::vector<glm::mat4> world;  ///< world matrix of every node for the current pose
+  int animation = -1;            ///< -1: rest pose
+  float time = 0.0f;             ///< seconds
+  float size = 1.0f;             ///< diagonal of the rest-pose world bounds (1 when empty)
+};
+
+/// Builds the scene of `model` posed by `animation` at `time`: one piece per triangle primitive
+/// of every mesh instance reachable from the default scene's roots, in node order.
+/// @param with_normals  also compute posed corner normals (the view needs them; default on).
+/// @throws Error{InvalidArgument} if `model` is null or `animation` is out of range.
+Scene make_scene(std::shared_ptr<const Model> model, int animation, float time, bool with_normals = true);
+
+/// Re-poses `scene` in place (positions, normals, world matrices).
+/// @throws Error{InvalidArgument} if `animation` is out of range.
+void pose_scene(Scene& scene, int animation, float time, bool with_normals = true);
+
+/// Every joint node of every skin, each once, in skin order.
+std::vector<int> joint_nodes(const Model& model);
+
+/// Bones as (parent joint node, child joint node): each joint linked to its nearest ancestor
+/// that is also a joint. Roots of the skeleton have no bone.
+std::vector<std::pair<int, int>> skeleton_bones(const Model& model);
+
+/// Display name of node `node`: its name, or "node N" when it has none.
+std::string node_label(const Model& model, int node);
+
+/// The skeleton drawn over the model: bones as lines and joints as markers, in world space for
+/// the scene's pose, sized relative to the model.
+Overlay skeleton_overlay(const Scene& scene);
+
+/// Number of live triangles and of referenced (welded) vertices over all pieces.
+struct SceneCounts {
+  std::size_t vertices = 0, triangles = 0;
+};
+SceneCounts scene_counts(const Scene& scene);
+
+}  // namespace deepcut::plugins

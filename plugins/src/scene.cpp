@@ -1,0 +1,143 @@
+// SPDX-License-Identifier: MIT
+#include "deepcut/plugins/scene.h"
+
+#include <algorithm>
+#include <unordered_set>
+
+#include "deepcut/core/errors.h"
+#include "deepcut/core/skinning.h"
+#include "deepcut/plugins/colors.h"
+
+namespace deepcut::plugins {
+namespace {
+
+void collect_instances(const Model& model, int node, std::vector<int>& out, std::vector<char>& seen) {
+  if (node < 0 || node >= static_cast<int>(model.nodes.size()) || seen[static_cast<std::size_t>(node)])
+    return;
+  seen[static_cast<std::size_t>(node)] = 1;
+  const Node& n = model.nodes[static_cast<std::size_t>(node)];
+  if (n.mesh >= 0 && n.mesh < static_cast<int>(model.meshes.size())) out.push_back(node);
+  for (int child : n.children) collect_instances(model, child, out, seen);
+}
+
+Pose pose_for(const Model& model, int animation, float time) {
+  if (animation >= static_cast<int>(model.animations.size()))
+    throw Error(ErrorCode::InvalidArgument, "pose: animation " + std::to_string(animation) +
+                                                " does not exist (the model has " +
+                                                std::to_string(model.animations.size()) + ")");
+  return animation < 0 ? rest_pose(model) : sample_pose(model, animation, time);
+}
+
+}  // namespace
+
+Scene make_scene(std::shared_ptr<const Model> model, int animation, float time, bool with_normals) {
+  if (!model) throw Error(ErrorCode::InvalidArgument, "make_scene: no model");
+  Scene scene;
+  scene.model = std::move(model);
+  const Model& m = *scene.model;
+  std::vector<int> instances;
+  std::vector<char> seen(m.nodes.size(), 0);
+  for (int root : m.root_nodes()) collect_instances(m, root, instances, seen);
+  for (int node : instances) {
+    const Node& n = m.nodes[static_cast<std::size_t>(node)];
+    const Mesh& mesh = m.meshes[static_cast<std::size_t>(n.mesh)];
+    for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
+      ScenePiece piece;
+      piece.node = node;
+      piece.mesh = n.mesh;
+      piece.primitive = static_cast<int>(p);
+      piece.skin = n.skin >= 0 && n.skin < static_cast<int>(m.skins.size()) ? n.skin : -1;
+      piece.surface = &mesh.primitives[p].mesh;
+      scene.pieces.push_back(std::move(piece));
+    }
+  }
+  const BoundingBox rest = world_bounds(m, rest_pose(m));
+  scene.size = rest.empty() || rest.diagonal() <= 0.0f ? 1.0f : rest.diagonal();
+  pose_scene(scene, animation, time, with_normals);
+  return scene;
+}
+
+void pose_scene(Scene& scene, int animation, float time, bool with_normals) {
+  const Model& m = *scene.model;
+  const Pose pose = pose_for(m, animation, time);
+  scene.animation = animation;
+  scene.time = time;
+  scene.world = world_matrices(m, pose);
+  for (ScenePiece& piece : scene.pieces) {
+    piece.posed = posed_positions(m, piece.node, *piece.surface, scene.world);
+    if (with_normals)
+      piece.posed_normals = posed_normals(m, piece.node, *piece.surface, scene.world);
+    else
+      piece.posed_normals.clear();
+  }
+}
+
+std::vector<int> joint_nodes(const Model& model) {
+  std::vector<int> out;
+  std::unordered_set<int> seen;
+  for (const Skin& skin : model.skins)
+    for (int j : skin.joints)
+      if (j >= 0 && j < static_cast<int>(model.nodes.size()) && seen.insert(j).second) out.push_back(j);
+  return out;
+}
+
+std::vector<std::pair<int, int>> skeleton_bones(const Model& model) {
+  const std::vector<int> joints = joint_nodes(model);
+  std::vector<char> is_joint(model.nodes.size(), 0);
+  for (int j : joints) is_joint[static_cast<std::size_t>(j)] = 1;
+  const std::vector<int> parents = model.parents();
+  std::vector<std::pair<int, int>> bones;
+  for (int j : joints) {
+    int p = parents[static_cast<std::size_t>(j)];
+    // Nearest joint ancestor; a cycle guard keeps malformed hierarchies from looping.
+    for (std::size_t guard = 0;
+         p >= 0 && !is_joint[static_cast<std::size_t>(p)] && guard < model.nodes.size(); ++guard)
+      p = parents[static_cast<std::size_t>(p)];
+    if (p >= 0 && is_joint[static_cast<std::size_t>(p)]) bones.emplace_back(p, j);
+  }
+  return bones;
+}
+
+std::string node_label(const Model& model, int node) {
+  if (node < 0 || node >= static_cast<int>(model.nodes.size())) return "(none)";
+  const std::string& name = model.nodes[static_cast<std::size_t>(node)].name;
+  return name.empty() ? "node " + std::to_string(node) : name;
+}
+
+Overlay skeleton_overlay(const Scene& scene) {
+  Overlay overlay;
+  const Model& m = *scene.model;
+  auto origin = [&](int node) { return glm::vec3(scene.world[static_cast<std::size_t>(node)][3]); };
+  OverlayLines bones;
+  bones.color = palette::kBone;
+  bones.width_px = 3.0f;
+  bones.on_top = true;
+  for (const auto& [parent, child] : skeleton_bones(m)) {
+    bones.endpoints.push_back(origin(parent));
+    bones.endpoints.push_back(origin(child));
+  }
+  OverlayPoints joints;
+  joints.color = glm::vec3(0.9f, 0.95f, 1.0f);
+  joints.size_px = 7.0f;
+  joints.on_top = true;
+  for (int j : joint_nodes(m)) joints.positions.push_back(origin(j));
+  overlay.lines.push_back(std::move(bones));
+  overlay.points.push_back(std::move(joints));
+  return overlay;
+}
+
+SceneCounts scene_counts(const Scene& scene) {
+  SceneCounts counts;
+  for (const ScenePiece& piece : scene.pieces) {
+    const SurfaceMesh& mesh = *piece.surface;
+    counts.triangles += mesh.face_count();
+    std::vector<char> used(mesh.vertex_count(), 0);
+    mesh.for_each_face([&](FaceId, const Triangle& t) {
+      for (VertexId v : t) used[v.index] = 1;
+    });
+    counts.vertices += static_cast<std::size_t>(std::count(used.begin(), used.end(), 1));
+  }
+  return counts;
+}
+
+}  // namespace deepcut::plugins
