@@ -1,9 +1,13 @@
 // SPDX-License-Identifier: MIT
 #include "deepcut/core/validate.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <numeric>
 #include <set>
 #include <string>
+#include <unordered_set>
 
 #include "deepcut/core/adjacency.h"
 #include "deepcut/core/skinning.h"
@@ -24,6 +28,74 @@ std::vector<int> mesh_joint_counts(const Model& model) {
         static_cast<std::size_t>(n.skin) < model.skins.size())
       out[n.mesh] = static_cast<int>(model.skins[n.skin].joints.size());
   return out;
+}
+
+// Vertices whose faces form more than one fan (faces joined through edges at the vertex), e.g. two
+// surfaces that touch only at that vertex (a bow tie).
+std::size_t count_nonmanifold_vertices(const SurfaceMesh& mesh, const Adjacency& adj) {
+  std::size_t count = 0;
+  std::vector<std::uint32_t> parent;
+  for (std::uint32_t v = 0; v < adj.vertex_count(); ++v) {
+    const auto& faces = adj.vertex_faces(VertexId(v));
+    if (faces.size() < 2) continue;
+    parent.resize(faces.size());
+    std::iota(parent.begin(), parent.end(), 0u);
+    auto root = [&](std::uint32_t x) {
+      while (parent[x] != x) x = parent[x] = parent[parent[x]];
+      return x;
+    };
+    auto slot = [&](FaceId f) {
+      return static_cast<std::uint32_t>(std::lower_bound(faces.begin(), faces.end(), f) - faces.begin());
+    };
+    for (std::size_t i = 0; i < faces.size(); ++i) {
+      const auto& t = mesh.face(faces[i]);
+      for (const VertexId u : t) {
+        if (u.index == v) continue;
+        for (const FaceId g : adj.edge_faces(VertexId(v), u)) {
+          const auto a = root(static_cast<std::uint32_t>(i)), b = root(slot(g));
+          if (a != b) parent[std::max(a, b)] = std::min(a, b);
+        }
+      }
+    }
+    std::size_t fans = 0;
+    for (std::uint32_t i = 0; i < faces.size(); ++i) fans += root(i) == i;
+    count += fans > 1;
+  }
+  return count;
+}
+
+// Faces using the same three vertices as an earlier face (in either winding).
+std::size_t count_duplicate_faces(const SurfaceMesh& mesh) {
+  struct Hash {
+    std::size_t operator()(const std::array<std::uint32_t, 3>& k) const noexcept {
+      return (std::size_t(k[0]) * 0x9E3779B97F4A7C15ull) ^ (std::size_t(k[1]) * 0xC2B2AE3D27D4EB4Full) ^ k[2];
+    }
+  };
+  std::unordered_set<std::array<std::uint32_t, 3>, Hash> seen;
+  std::size_t count = 0;
+  mesh.for_each_face([&](FaceId, const Triangle& t) {
+    std::array<std::uint32_t, 3> k{t[0].index, t[1].index, t[2].index};
+    std::sort(k.begin(), k.end());
+    count += !seen.insert(k).second;
+  });
+  return count;
+}
+
+// Faces whose three corner normals all point against the face's winding (its geometric normal).
+std::size_t count_inverted_normal_faces(const SurfaceMesh& mesh) {
+  const auto* normals = mesh.corner_attrs().find<glm::vec3>(attr::kNormal);
+  if (!normals) return 0;
+  const auto& pos = mesh.positions();
+  std::size_t count = 0;
+  mesh.for_each_face([&](FaceId f, const Triangle& t) {
+    const glm::dvec3 a(pos[t[0].index]), b(pos[t[1].index]), c(pos[t[2].index]);
+    const glm::dvec3 n = glm::cross(b - a, c - a);
+    if (glm::length(n) == 0.0) return;
+    bool against = true;
+    for (int k = 0; k < 3; ++k) against = against && glm::dot(n, glm::dvec3((*normals)[SurfaceMesh::corner(f, k)])) < 0.0;
+    count += against;
+  });
+  return count;
 }
 
 }  // namespace
@@ -91,6 +163,21 @@ std::vector<std::string> find_problems(const Model& model) {
           if (std::abs(sum - 1.0) > 1e-3) ++unnormalised;
         }
       const std::string w = where(model, m, p);
+      if (mesh.face_count() == 0) out.push_back(w + ": has no triangles (left out on export)");
+      const auto adj = Adjacency::build(mesh);
+      const std::size_t nonmanifold_edges = adj.nonmanifold_edges().size();
+      const std::size_t nonmanifold_vertices = count_nonmanifold_vertices(mesh, adj);
+      const std::size_t duplicates = count_duplicate_faces(mesh);
+      const std::size_t inverted = count_inverted_normal_faces(mesh);
+      if (nonmanifold_edges)
+        out.push_back(w + ": " + std::to_string(nonmanifold_edges) + " non-manifold edges (more than two triangles)");
+      if (nonmanifold_vertices)
+        out.push_back(w + ": " + std::to_string(nonmanifold_vertices) +
+                      " non-manifold vertices (surfaces that touch only at a vertex)");
+      if (duplicates) out.push_back(w + ": " + std::to_string(duplicates) + " duplicate triangles (same three vertices)");
+      if (inverted)
+        out.push_back(w + ": " + std::to_string(inverted) + " of " + std::to_string(mesh.face_count()) +
+                      " triangles have normals pointing against their winding (inverted normals)");
       if (degenerate) out.push_back(w + ": " + std::to_string(degenerate) + " degenerate triangles");
       if (nonfinite) out.push_back(w + ": " + std::to_string(nonfinite) + " positions are not finite");
       if (unnormalised) out.push_back(w + ": " + std::to_string(unnormalised) + " vertices have weights not summing to 1");

@@ -70,6 +70,8 @@ std::vector<unsigned char> read_file(const std::string& path, std::size_t max_by
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw Error(ErrorCode::Io, path + ": no such file");
   if (std::filesystem::is_directory(path, ec)) throw Error(ErrorCode::Io, path + ": is a directory, not a model file");
+  // A FIFO or device would block or never end: only regular files (or symlinks to them) are read.
+  if (!std::filesystem::is_regular_file(path, ec)) throw Error(ErrorCode::Io, path + ": is not a regular file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(ErrorCode::Io, path + ": cannot open (" + std::strerror(errno) + ")");
   in.seekg(0, std::ios::end);

@@ -24,15 +24,29 @@ using namespace gltf_detail;
 
 constexpr std::size_t kMaxFileBytes = std::size_t(2) << 30;     // 2 GiB
 constexpr std::size_t kMaxAccessorElements = std::size_t(1) << 28;
+// JSON nested deeper than this is refused before any parser sees it: tinygltf converts extras
+// recursively, so a deeply nested file would otherwise overflow the stack.
+constexpr int kMaxJsonDepth = 512;
+// Largest image side accepted (GPUs cap textures at 16384 or 32768 pixels a side).
+constexpr std::uint32_t kMaxImageSide = 32768;
+// What all accessors together may decode to: this many bytes plus kDecodePerInputByte times the
+// input's size (file, buffers and images). A file's own data decodes to at most 4x its size
+// (normalised bytes to floats); the rest is headroom for accessors that several primitives share.
+// It stops amplification: accessors without a bufferView (zero-filled, backed by no bytes) and one
+// accessor reused by thousands of primitives cannot make a tiny file allocate gigabytes.
+constexpr std::size_t kDecodeBaseBytes = std::size_t(64) << 20;
+constexpr std::size_t kDecodePerInputByte = 32;
 
 // ---- file system callbacks: external URIs must stay inside the model's folder ---------------
 
 struct FsContext {
   std::filesystem::path base;  // canonical folder of the model
+  bool allow_files = true;     // false when reading from memory: no file is touched at all
   std::string error;
 };
 
-bool fs_exists(const std::string& path, void*) {
+bool fs_exists(const std::string& path, void* user) {
+  if (!static_cast<FsContext*>(user)->allow_files) return false;
   std::error_code ec;
   return std::filesystem::exists(path, ec);
 }
@@ -41,6 +55,11 @@ std::string fs_expand(const std::string& path, void*) { return path; }  // no sh
 
 bool fs_read(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
   auto* ctx = static_cast<FsContext*>(user);
+  if (!ctx->allow_files) {
+    ctx->error = "refusing to read '" + path + "': the model was read from memory, external files are not allowed";
+    if (err) *err += ctx->error;
+    return false;
+  }
   std::error_code ec;
   const auto canonical = std::filesystem::weakly_canonical(path, ec);
   const auto rel = canonical.lexically_relative(ctx->base);
@@ -64,26 +83,110 @@ bool fs_write(std::string* err, const std::string&, const std::vector<unsigned c
   return false;
 }
 
-// Keeps the encoded bytes; decoding is the viewer's business.
+// Keeps the encoded bytes; decoding is the viewer's business. Images in a bufferView are skipped:
+// tinygltf hands them over without checking the view against its buffer (a view past the end
+// would be read out of bounds), and Reader::read_images copies them itself with bounds checks.
 bool keep_image_bytes(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
                       const unsigned char* bytes, int size, void*) {
-  image->image.assign(bytes, bytes + size);
+  if (image->bufferView < 0 && size > 0) image->image.assign(bytes, bytes + size);
   image->width = image->height = -1;
   return true;
+}
+
+// ---- text helpers ------------------------------------------------------------------------------
+
+// True when arrays/objects in the JSON text nest deeper than `limit` (strings are skipped).
+bool json_nests_deeper_than(const std::string& text, int limit) {
+  int depth = 0;
+  bool in_string = false, escaped = false;
+  for (const char c : text) {
+    if (in_string) {
+      if (escaped) escaped = false;
+      else if (c == '\\') escaped = true;
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > limit) return true;
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+  return false;
+}
+
+// "a%2Fb" -> "a/b" (RFC 3986 percent-decoding; malformed escapes are kept as they are).
+std::string percent_decode(const std::string& uri) {
+  auto hex = [](char c) {
+    if (c >= '0' && c <= '9') return c - '0';
+    if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+    if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+    return -1;
+  };
+  std::string out;
+  for (std::size_t i = 0; i < uri.size(); ++i) {
+    if (uri[i] == '%' && i + 2 < uri.size() && hex(uri[i + 1]) >= 0 && hex(uri[i + 2]) >= 0) {
+      out += static_cast<char>(hex(uri[i + 1]) * 16 + hex(uri[i + 2]));
+      i += 2;
+    } else {
+      out += uri[i];
+    }
+  }
+  return out;
+}
+
+// True for "http://...", "file:...", "C:..." : a URI with a scheme, not a relative path.
+bool has_uri_scheme(const std::string& uri) {
+  const auto colon = uri.find(':');
+  if (colon == std::string::npos || colon == 0 || !std::isalpha(static_cast<unsigned char>(uri[0]))) return false;
+  for (std::size_t i = 1; i < colon; ++i) {
+    const auto c = static_cast<unsigned char>(uri[i]);
+    if (!std::isalnum(c) && c != '+' && c != '-' && c != '.') return false;
+  }
+  return true;
+}
+
+// Keeps messages to one readable line: control characters become spaces and any run of more
+// than 100 characters without a space (a data URI quoted by tinygltf) is cut short.
+std::string one_line(const std::string& text) {
+  std::string out;
+  std::size_t run = 0;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    char c = text[i];
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7F) c = ' ';
+    run = c == ' ' ? 0 : run + 1;
+    if (run == 61) {
+      std::size_t end = i;
+      while (end < text.size() && text[end] != ' ') ++end;
+      if (end - i > 40) {
+        out += "...(" + std::to_string(end - i + 60) + " characters)";
+        i = end - 1;
+        run = 0;
+        continue;
+      }
+    }
+    out += c;
+  }
+  return out;
 }
 
 // ---- the reader -------------------------------------------------------------------------------
 
 class Reader {
  public:
-  Reader(std::string path, const ImportOptions& options) : path_(std::move(path)), options_(options) {}
+  /// Reads the file at `path`, or `*memory` (then `path` only names it and no file is read).
+  Reader(std::string path, const ImportOptions& options, const std::vector<unsigned char>* memory = nullptr)
+      : path_(std::move(path)), options_(options), memory_(memory) {}
   Model read();
 
  private:
-  [[noreturn]] void fail(const std::string& what) const { throw Error(ErrorCode::InvalidInput, path_ + ": " + what); }
+  [[noreturn]] void fail(const std::string& what) const {
+    throw Error(ErrorCode::InvalidInput, path_ + ": " + one_line(what));
+  }
   void note(const std::string& what) { model_.import_notes.push_back(what); }
 
   void parse_container();
+  void check_uris() const;
   std::vector<float> read_floats(int accessor, const char* what, int* components_out = nullptr);
   std::vector<std::uint32_t> read_uints(int accessor, const char* what, int* components_out = nullptr);
   template <class T, class Convert>
@@ -101,17 +204,24 @@ class Reader {
 
   std::string path_;
   ImportOptions options_;
+  const std::vector<unsigned char>* memory_ = nullptr;
+  std::size_t decode_left_ = 0;  // bytes that accessors may still decode to (see kDecodeBaseBytes)
   tinygltf::Model gltf_;
   json raw_;
   Model model_;
 };
 
 void Reader::parse_container() {
-  const auto bytes = read_file(path_, kMaxFileBytes);
+  std::vector<unsigned char> file_bytes;
+  if (!memory_) file_bytes = read_file(path_, kMaxFileBytes);
+  const std::vector<unsigned char>& bytes = memory_ ? *memory_ : file_bytes;
   if (bytes.empty()) fail("file is empty");
+  if (bytes.size() > kMaxFileBytes) fail("input is over the " + std::to_string(kMaxFileBytes >> 20) + " MiB limit");
   FsContext ctx;
+  ctx.allow_files = memory_ == nullptr;
   std::error_code ec;
-  ctx.base = std::filesystem::weakly_canonical(std::filesystem::absolute(path_).parent_path(), ec);
+  if (ctx.allow_files)
+    ctx.base = std::filesystem::weakly_canonical(std::filesystem::absolute(path_).parent_path(), ec);
   const std::string base_dir = ctx.base.string();
 
   tinygltf::TinyGLTF loader;
@@ -139,9 +249,13 @@ void Reader::parse_container() {
       std::memcpy(chunk, bytes.data() + bin_start, 8);
       if (bin_start + 8 + std::size_t(chunk[0]) > header[2]) fail(".glb BIN chunk length runs past the end of the file");
     }
+  } else if (has_extension(path_, ".glb")) {
+    fail("not a .glb file: it does not start with the magic 'glTF'");
   } else {
     json_text.assign(bytes.begin(), bytes.end());
   }
+  if (json_nests_deeper_than(json_text, kMaxJsonDepth))
+    fail("JSON nests arrays or objects more than " + std::to_string(kMaxJsonDepth) + " levels deep");
   try {
     raw_ = json::parse(json_text);
   } catch (const json::parse_error& e) {
@@ -157,6 +271,10 @@ void Reader::parse_container() {
     if (raw_.contains("extensionsRequired") && raw_["extensionsRequired"].is_array())
       for (const auto& e : raw_["extensionsRequired"])
         if (e.is_string() && e.get<std::string>() == ext) fail(std::string("requires ") + ext + ", which is not supported");
+  for (const char* key : {"accessors", "animations", "buffers", "bufferViews", "cameras", "images", "materials", "meshes",
+                          "nodes", "samplers", "scenes", "skins", "textures", "extensionsUsed", "extensionsRequired"})
+    if (raw_.contains(key) && !raw_[key].is_array()) fail(std::string("invalid glTF: '") + key + "' is not an array");
+  check_uris();
 
   if (glb) {
     ok = loader.LoadBinaryFromMemory(&gltf_, &err, &warn, bytes.data(), static_cast<unsigned>(bytes.size()), base_dir);
@@ -178,8 +296,58 @@ void Reader::parse_container() {
   }
   if (!ctx.error.empty()) fail(ctx.error);
   if (!ok || !real_errors.empty()) fail(real_errors.empty() ? "tinygltf could not parse the file" : real_errors);
+  std::size_t input_bytes = bytes.size();
+  for (const auto& b : gltf_.buffers) input_bytes += b.data.size();
+  for (const auto& i : gltf_.images) input_bytes += i.image.size();
+  decode_left_ = kDecodeBaseBytes + kDecodePerInputByte * input_bytes;
 }
 
+// External URIs are checked before tinygltf resolves them: only relative paths that stay inside
+// the model's folder are read (fs_read checks the resolved path again, which catches symlinks).
+void Reader::check_uris() const {
+  for (const char* key : {"buffers", "images"}) {
+    if (!raw_.contains(key) || !raw_[key].is_array()) continue;
+    const std::string kind = std::string(key) == "buffers" ? "buffer" : "image";
+    for (std::size_t i = 0; i < raw_[key].size(); ++i) {
+      const json& o = raw_[key][i];
+      if (!o.is_object() || !o.contains("uri") || !o["uri"].is_string()) continue;
+      const std::string uri = o["uri"].get<std::string>();
+      if (uri.rfind("data:", 0) == 0) {
+        // A base64 data URI's size is known without decoding it: say plainly when it is wrong.
+        const auto comma = uri.find(',');
+        if (kind != "buffer" || comma == std::string::npos || uri.rfind(";base64", comma) == std::string::npos) continue;
+        std::size_t chars = 0;
+        bool valid = true;
+        for (std::size_t c = comma + 1; c < uri.size() && uri[c] != '='; ++c) {
+          const auto ch = static_cast<unsigned char>(uri[c]);
+          valid = valid && (std::isalnum(ch) || ch == '+' || ch == '/');
+          ++chars;
+        }
+        if (!valid) fail(kind + " " + std::to_string(i) + ": its data URI is not valid base64");
+        const std::size_t holds = chars * 3 / 4;
+        if (o.contains("byteLength") && o["byteLength"].is_number_unsigned() && o["byteLength"].get<std::uint64_t>() > holds)
+          fail(kind + " " + std::to_string(i) + " claims " + std::to_string(o["byteLength"].get<std::uint64_t>()) +
+               " bytes, its data URI holds " + std::to_string(holds));
+        continue;
+      }
+      const std::string what = kind + " " + std::to_string(i) + " URI '" + uri + "'";
+      if (memory_) fail(what + " names an external file, but a model read from memory may only use data: URIs");
+      const std::string decoded = percent_decode(uri);
+      if (decoded.empty()) fail(what + " is empty");
+      if (has_uri_scheme(decoded)) fail(what + " is not a relative file path; only files inside the model's folder are read");
+      const std::filesystem::path rel(decoded);
+      if (rel.is_absolute())
+        fail(what + " is an absolute path, outside the model's folder (refused, not read)");
+      const auto normal = rel.lexically_normal();
+      if (normal.empty() || *normal.begin() == "..")
+        fail(what + " points outside the model's folder (refused, not read)");
+    }
+  }
+}
+
+// Where `count` elements of `elem` bytes, `stride` apart, start at `offset` inside bufferView `view`;
+// fails unless all of them lie inside the view and the view inside its buffer. The arithmetic
+// cannot overflow, whatever the file claims.
 const unsigned char* Reader::view_bytes(int view, std::size_t offset, std::size_t stride, std::size_t elem,
                                         std::size_t count, const std::string& what) {
   if (view < 0 || static_cast<std::size_t>(view) >= gltf_.bufferViews.size())
@@ -191,13 +359,15 @@ const unsigned char* Reader::view_bytes(int view, std::size_t offset, std::size_
   if (bv.byteOffset > buf.size() || bv.byteLength > buf.size() - bv.byteOffset)
     fail(what + ": bufferView " + std::to_string(view) + " runs past the end of its buffer");
   if (count > 0) {
-    const std::size_t need = offset + stride * (count - 1) + elem;
-    if (stride != 0 && (count - 1) > (bv.byteLength / stride) + 1) fail(what + ": data runs past the end of its bufferView");
-    if (need > bv.byteLength)
-      fail(what + ": data needs " + std::to_string(need) + " bytes, bufferView " + std::to_string(view) + " has " +
-           std::to_string(bv.byteLength));
+    const std::size_t size = bv.byteLength;
+    const bool fits = offset <= size && elem <= size - offset &&
+                      (count == 1 || stride == 0 || count - 1 <= (size - offset - elem) / stride);
+    if (!fits)
+      fail(what + ": " + std::to_string(count) + " elements of " + std::to_string(elem) + " bytes at offset " +
+           std::to_string(offset) + " run past the end of bufferView " + std::to_string(view) + " (" +
+           std::to_string(size) + " bytes)");
   }
-  return buf.data() + bv.byteOffset;
+  return buf.data() + bv.byteOffset + (count > 0 ? offset : 0);
 }
 
 template <class T, class Convert>
@@ -222,31 +392,51 @@ std::vector<T> Reader::decode(int index, const char* what_c, int* components_out
   if (acc.count > kMaxAccessorElements) fail(what + ": count " + std::to_string(acc.count) + " is implausibly large");
   if (components_out) *components_out = comps;
   const std::size_t elem = std::size_t(comps) * std::size_t(csize);
+
+  // Every claim is checked against the bytes that back it before anything is allocated: a tiny
+  // file may claim millions of elements.
+  const unsigned char* base = nullptr;
+  std::size_t stride = elem;
+  if (acc.bufferView >= 0) {
+    if (static_cast<std::size_t>(acc.bufferView) >= gltf_.bufferViews.size())
+      fail(what + ": bufferView " + std::to_string(acc.bufferView) + " does not exist");
+    const auto& bv = gltf_.bufferViews[acc.bufferView];
+    if (bv.byteStride) stride = bv.byteStride;
+    if (stride < elem) fail(what + ": byteStride " + std::to_string(stride) + " is smaller than an element");
+    base = view_bytes(acc.bufferView, acc.byteOffset, stride, elem, acc.count, what);
+  }
+  const std::size_t decoded_bytes = acc.count * std::size_t(comps) * sizeof(T);  // <= 2^28 * 16 * 4
+  if (decoded_bytes > decode_left_)
+    fail(what + ": decoding " + std::to_string(acc.count) + " elements" +
+         (acc.bufferView < 0 ? " (no bufferView: zeros)" : "") + " would take the model past " +
+         std::to_string(kDecodeBaseBytes >> 20) + " MiB plus " + std::to_string(kDecodePerInputByte) +
+         " times its input size; the file claims far more data than it holds");
+  decode_left_ -= decoded_bytes;
+  const auto& sp = acc.sparse;
+  const std::size_t n = sp.isSparse ? static_cast<std::size_t>(std::max(sp.count, 0)) : 0;
+  const unsigned char* ibase = nullptr;
+  const unsigned char* vbase = nullptr;
+  int isize = 0;
+  if (sp.isSparse) {
+    if (sp.count < 0 || n > acc.count) fail(what + ": sparse count " + std::to_string(sp.count) + " is out of range");
+    isize = component_size(sp.indices.componentType);
+    if (isize == 0 || sp.indices.componentType == kFloat) fail(what + ": sparse indices have a bad componentType");
+    if (sp.indices.byteOffset < 0 || sp.values.byteOffset < 0) fail(what + ": sparse byteOffset is negative");
+    ibase = view_bytes(sp.indices.bufferView, std::size_t(sp.indices.byteOffset), std::size_t(isize), std::size_t(isize), n,
+                       what + " sparse indices");
+    vbase = view_bytes(sp.values.bufferView, std::size_t(sp.values.byteOffset), elem, elem, n, what + " sparse values");
+  }
+
   std::vector<T> out(acc.count * std::size_t(comps), T(0));
-  auto load = [&](const unsigned char* base, std::size_t stride, std::size_t count, auto&& dst_index) {
+  auto load = [&](const unsigned char* from, std::size_t step, std::size_t count, auto&& dst_index) {
     for (std::size_t i = 0; i < count; ++i) {
-      const unsigned char* p = base + i * stride;
+      const unsigned char* p = from + i * step;
       const std::size_t d = dst_index(i);
       for (int c = 0; c < comps; ++c) out[d * comps + c] = convert(p + std::size_t(c) * csize, acc.componentType, acc.normalized);
     }
   };
-  if (acc.bufferView >= 0) {
-    const auto& bv = gltf_.bufferViews.at(acc.bufferView);
-    std::size_t stride = bv.byteStride ? bv.byteStride : elem;
-    if (stride < elem) fail(what + ": byteStride " + std::to_string(stride) + " is smaller than an element");
-    const unsigned char* base = view_bytes(acc.bufferView, acc.byteOffset, stride, elem, acc.count, what);
-    load(base + acc.byteOffset, stride, acc.count, [](std::size_t i) { return i; });
-  }
-  if (acc.sparse.isSparse) {
-    const auto& sp = acc.sparse;
-    const std::size_t n = static_cast<std::size_t>(sp.count);
-    if (n > acc.count) fail(what + ": sparse count exceeds the accessor count");
-    const int isize = component_size(sp.indices.componentType);
-    if (isize == 0 || sp.indices.componentType == kFloat) fail(what + ": sparse indices have a bad componentType");
-    const unsigned char* ibase =
-        view_bytes(sp.indices.bufferView, sp.indices.byteOffset, isize, isize, n, what + " sparse indices") + sp.indices.byteOffset;
-    const unsigned char* vbase =
-        view_bytes(sp.values.bufferView, sp.values.byteOffset, elem, elem, n, what + " sparse values") + sp.values.byteOffset;
+  if (base) load(base, stride, acc.count, [](std::size_t i) { return i; });
+  if (sp.isSparse) {
     std::vector<std::size_t> targets(n);
     for (std::size_t i = 0; i < n; ++i) {
       std::uint32_t idx = 0;
@@ -320,6 +510,12 @@ void Reader::read_nodes() {
       n.rotation = glm::quat(static_cast<float>(g.rotation[3]), static_cast<float>(g.rotation[0]),
                              static_cast<float>(g.rotation[1]), static_cast<float>(g.rotation[2]));
     if (g.scale.size() == 3) n.scale = glm::vec3(g.scale[0], g.scale[1], g.scale[2]);
+    bool finite = true;
+    if (n.matrix)
+      for (int k = 0; k < 16; ++k) finite = finite && std::isfinite((*n.matrix)[k / 4][k % 4]);
+    for (int k = 0; k < 3; ++k) finite = finite && std::isfinite(n.translation[k]) && std::isfinite(n.scale[k]);
+    for (int k = 0; k < 4; ++k) finite = finite && std::isfinite(n.rotation[k]);
+    if (!finite) fail("node " + std::to_string(i) + ": its transform is not finite (a value overflows a 32-bit float)");
     auto check = [&](int idx, std::size_t size, const char* kind) {
       if (idx >= 0 && static_cast<std::size_t>(idx) >= size)
         fail("node " + std::to_string(i) + " refers to " + kind + " " + std::to_string(idx) + ", which does not exist");
@@ -370,6 +566,7 @@ void Reader::read_skins() {
         fail("skin " + std::to_string(i) + " names joint node " + std::to_string(j) + ", which does not exist");
       s.joints.push_back(j);
     }
+    if (s.joints.empty()) fail("skin " + std::to_string(i) + " has no joints");
     if (g.skeleton >= 0 && static_cast<std::size_t>(g.skeleton) < model_.nodes.size()) s.skeleton = g.skeleton;
     if (g.inverseBindMatrices >= 0) {
       int comps = 0;
@@ -379,6 +576,9 @@ void Reader::read_skins() {
       for (std::size_t j = 0; j < s.joints.size(); ++j) {
         glm::mat4 mat;
         for (int k = 0; k < 16; ++k) mat[k / 4][k % 4] = m[16 * j + static_cast<std::size_t>(k)];
+        for (int k = 0; k < 16; ++k)
+          if (!std::isfinite(mat[k / 4][k % 4]))
+            fail("skin " + std::to_string(i) + ": inverse bind matrix " + std::to_string(j) + " is not finite (NaN or Inf)");
         s.inverse_bind_matrices.push_back(mat);
       }
     } else {
@@ -430,6 +630,8 @@ void Reader::read_animations() {
         const std::size_t per_key = s.interpolation == Interpolation::CubicSpline ? 3 : 1;
         if (s.output.size() != s.input.size() * per_key * std::size_t(out_comps))
           fail("animation " + std::to_string(a) + ": sampler output count does not match its input count");
+        for (const float v : s.output)
+          if (!std::isfinite(v)) fail("animation " + std::to_string(a) + ": a sampler output value is not finite (NaN or Inf)");
         sampler_map[ch.sampler] = static_cast<int>(anim.samplers.size());
         anim.samplers.push_back(std::move(s));
       }
@@ -437,6 +639,29 @@ void Reader::read_animations() {
       const int need = out.path == AnimationPath::Rotation ? 4 : 3;
       if (anim.samplers[out.sampler].components != need)
         fail("animation " + std::to_string(a) + " channel " + std::to_string(c) + ": output has the wrong type for " + ch.target_path);
+      if (out.path == AnimationPath::Rotation) {
+        // Rotations must be unit quaternions (glTF; the validator checks it): normalise them, and
+        // make a zero one the identity. For cubic splines only the values, not the tangents.
+        auto& smp = anim.samplers[out.sampler];
+        const std::size_t per_key = smp.interpolation == Interpolation::CubicSpline ? 3 : 1;
+        // Float noise (SimpleSkin's 0.707s are 1.5e-4 short) is fixed silently, larger errors noted.
+        std::size_t fixed = 0;
+        for (std::size_t k = 0; k < smp.input.size(); ++k) {
+          float* q = &smp.output[4 * (k * per_key + (per_key == 3 ? 1 : 0))];
+          const double len = std::sqrt(double(q[0]) * q[0] + double(q[1]) * q[1] + double(q[2]) * q[2] + double(q[3]) * q[3]);
+          if (std::abs(len - 1.0) <= 1e-6) continue;
+          fixed += std::abs(len - 1.0) > 1e-3;
+          if (len < 1e-12 || !std::isfinite(len)) {
+            q[0] = q[1] = q[2] = 0.0f;
+            q[3] = 1.0f;
+          } else {
+            for (int i = 0; i < 4; ++i) q[i] = static_cast<float>(q[i] / len);
+          }
+        }
+        if (fixed)
+          note("animation " + std::to_string(a) + " channel " + std::to_string(c) + ": " + std::to_string(fixed) +
+               " rotations were not unit quaternions (normalised)");
+      }
       anim.channels.push_back(out);
     }
     model_.animations.push_back(std::move(anim));
@@ -513,7 +738,7 @@ Primitive Reader::read_primitive(const tinygltf::Primitive& p, const std::string
     sets.push_back(std::move(d));
   }
   const int slots = 4 * static_cast<int>(sets.size());
-  std::size_t renormalised = 0, out_of_range = 0, zero = 0;
+  std::size_t renormalised = 0, out_of_range = 0, zero = 0, bad_weights = 0;
   std::vector<glm::u16vec4> joints(sets.size() * nv);
   std::vector<glm::vec4> weights(sets.size() * nv);
   for (std::size_t v = 0; v < nv && slots > 0; ++v) {
@@ -524,10 +749,16 @@ Primitive Reader::read_primitive(const tinygltf::Primitive& p, const std::string
       const auto& d = sets[std::size_t(k / 4)];
       std::uint32_t joint = d.joints[4 * v + std::size_t(k % 4)];
       float weight = d.weights[4 * v + std::size_t(k % 4)];
-      if (!std::isfinite(weight) || weight < 0.0f) weight = 0.0f;
-      if (weight > 0.0f && joint_count >= 0 && joint >= static_cast<std::uint32_t>(joint_count)) {
-        ++out_of_range;
+      if (!std::isfinite(weight) || weight < 0.0f) {
+        ++bad_weights;
         weight = 0.0f;
+      }
+      if (joint_count >= 0 && joint >= static_cast<std::uint32_t>(joint_count)) {
+        // Dropped, and the slot points at joint 0: a vertex left with no weight is bound to its
+        // first slot's joint, which must exist.
+        out_of_range += weight > 0.0f;
+        weight = 0.0f;
+        joint = 0;
       }
       if (joint > 65535u) joint = 0;
       jj[k] = static_cast<std::uint16_t>(joint);
@@ -541,6 +772,7 @@ Primitive Reader::read_primitive(const tinygltf::Primitive& p, const std::string
       weights[s * nv + v] = glm::vec4(ww[4 * s], ww[4 * s + 1], ww[4 * s + 2], ww[4 * s + 3]);
     }
   }
+  if (bad_weights) note(where + ": " + std::to_string(bad_weights) + " weights were negative or NaN (set to 0)");
   if (renormalised) note(where + ": " + std::to_string(renormalised) + " vertices had weights not summing to 1 (normalised)");
   if (out_of_range) note(where + ": " + std::to_string(out_of_range) + " influences named a joint past the skin (dropped)");
   if (zero) note(where + ": " + std::to_string(zero) + " vertices had no weight (bound to their first joint)");
@@ -563,7 +795,15 @@ Primitive Reader::read_primitive(const tinygltf::Primitive& p, const std::string
     if (name == "NORMAL") { cs.name = attr::kNormal; cs.comps = 3; }
     else if (name == "TANGENT") { cs.name = attr::kTangent; cs.comps = 4; }
     else if (name == "COLOR_0") { cs.name = attr::kColor0; cs.comps = 4; }
-    else if (name.rfind("TEXCOORD_", 0) == 0) { cs.name = attr::uv_name(std::stoi(name.substr(9))); cs.comps = 2; }
+    else if (name.rfind("TEXCOORD_", 0) == 0) {
+      const std::string set = name.substr(9);
+      if (set.empty() || set.size() > 2 || !std::all_of(set.begin(), set.end(), [](unsigned char c) { return std::isdigit(c); })) {
+        note(where + ": attribute " + name + " dropped (not a valid glTF attribute name)");
+        continue;
+      }
+      cs.name = attr::uv_name(std::stoi(set));
+      cs.comps = 2;
+    }
     else {
       note(where + ": attribute " + name + " dropped (not supported)");
       continue;
@@ -714,6 +954,23 @@ std::string sniff_mime(const std::vector<unsigned char>& d) {
   return "";
 }
 
+// Width and height that a PNG or JPEG header claims ({0, 0} when unknown). Reads headers only.
+std::pair<std::uint32_t, std::uint32_t> image_dimensions(const std::vector<unsigned char>& d) {
+  auto be16 = [&](std::size_t at) { return std::uint32_t(d[at]) << 8 | d[at + 1]; };
+  auto be32 = [&](std::size_t at) { return be16(at) << 16 | be16(at + 2); };
+  if (d.size() >= 24 && d[0] == 0x89 && d[1] == 'P' && std::memcmp(d.data() + 12, "IHDR", 4) == 0) return {be32(16), be32(20)};
+  if (d.size() >= 4 && d[0] == 0xFF && d[1] == 0xD8) {
+    std::size_t at = 2;
+    while (at + 9 < d.size() && d[at] == 0xFF) {
+      const unsigned char marker = d[at + 1];
+      const bool sof = marker >= 0xC0 && marker <= 0xCF && marker != 0xC4 && marker != 0xC8 && marker != 0xCC;
+      if (sof) return {be16(at + 7), be16(at + 5)};
+      at += 2 + be16(at + 2);
+    }
+  }
+  return {0, 0};
+}
+
 void Reader::read_images() {
   for (std::size_t i = 0; i < gltf_.images.size(); ++i) {
     const auto& g = gltf_.images[i];
@@ -726,6 +983,12 @@ void Reader::read_images() {
     } else {
       img.data = g.image;
     }
+    // Images are carried through undecoded, but whoever displays the model will decode them: a
+    // header claiming more than any GPU texture can hold is a decompression bomb, not a texture.
+    const auto [width, height] = image_dimensions(img.data);
+    if (width > kMaxImageSide || height > kMaxImageSide)
+      fail("image " + std::to_string(i) + " claims " + std::to_string(width) + " x " + std::to_string(height) +
+           " pixels, over the " + std::to_string(kMaxImageSide) + "-pixel limit per side");
     img.mime_type = g.mimeType.empty() ? sniff_mime(img.data) : g.mimeType;
     if (img.mime_type.empty()) img.mime_type = "image/png";
     model_.images.push_back(std::move(img));
@@ -775,6 +1038,18 @@ Model Reader::read() {
 
 }  // namespace
 
+Model read_gltf_memory(const std::vector<unsigned char>& bytes, const std::string& name, const ImportOptions& options) {
+  try {
+    return Reader(name, options, &bytes).read();
+  } catch (const Error&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    throw Error(ErrorCode::InvalidInput, name + ": out of memory while reading (the file claims too much data)");
+  } catch (const std::exception& e) {
+    throw Error(ErrorCode::InvalidInput, name + ": " + one_line(e.what()));
+  }
+}
+
 Model read_gltf(const std::string& path, const ImportOptions& options) {
   try {
     return Reader(path, options).read();
@@ -783,7 +1058,7 @@ Model read_gltf(const std::string& path, const ImportOptions& options) {
   } catch (const std::bad_alloc&) {
     throw Error(ErrorCode::InvalidInput, path + ": out of memory while reading (the file claims too much data)");
   } catch (const std::exception& e) {
-    throw Error(ErrorCode::InvalidInput, path + ": " + e.what());
+    throw Error(ErrorCode::InvalidInput, path + ": " + one_line(e.what()));
   }
 }
 

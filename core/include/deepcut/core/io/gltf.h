@@ -4,6 +4,7 @@
 /// glTF 2.0 import and export (.gltf with embedded or external buffers, and .glb).
 
 #include <string>
+#include <vector>
 
 #include "deepcut/core/model.h"
 
@@ -20,6 +21,15 @@ struct ImportOptions {
 /// @throws Error{Io} when the file cannot be read, Error{InvalidInput} when it is malformed
 ///         (the message starts with the file name and says what is wrong).
 Model read_gltf(const std::string& path, const ImportOptions& options = {});
+
+/// Reads a .glb or .gltf held in memory (fuzzing, data from a network or an archive).
+/// @param bytes  the whole file.
+/// @param name   names the input in messages; a name ending in .glb demands the .glb magic.
+/// @note No file is ever opened: external URIs are refused, so only a .glb's BIN chunk and
+///       `data:` URIs supply buffers and images. Otherwise the same as `read_gltf`.
+/// @throws Error{InvalidInput} when malformed (the message starts with `name`).
+Model read_gltf_memory(const std::vector<unsigned char>& bytes, const std::string& name,
+                       const ImportOptions& options = {});
 
 struct ExportOptions {
   /// Pretty-print the JSON of .gltf files (default on; .glb JSON is always compact).
