@@ -23,6 +23,12 @@ const char* kUsage =
     "      [--time T] [--animation I] [--json]\n"
     "                                       cut every mesh by a plane (world space, pose at time T)\n"
     "  apply MODEL HISTORY.json -o OUT [--json]   replay a list of operations\n"
+    "  cluster MODEL (--radius RHO | --particles N) [--cover F] [--json]\n"
+    "                                       soft-body particles of radius RHO (rest pose): counts, timing\n"
+    "  softbody MODEL --poke X,Y,Z [--radius R] [--impulse IX,IY,IZ | --speed S] [--frames N] [--dt DT]\n"
+    "      [--rho RHO | --particles N] [--stiffness K] [--damping C] [--mass M] [--time T] [--animation I]\n"
+    "      [--animate] [--json]\n"
+    "                                       poke the soft body, step N frames, report max displacement\n"
     "\n"
     "exit codes: 0 ok, 2 bad input or usage, 1 internal error\n";
 
@@ -42,6 +48,8 @@ int main(int argc, char** argv) {
     if (command == "make-cactus") return deepcut::cli::run_make_cactus(args);
     if (command == "cut") return deepcut::cli::run_cut(args);
     if (command == "apply") return deepcut::cli::run_apply(args);
+    if (command == "cluster") return deepcut::cli::run_cluster(args);
+    if (command == "softbody") return deepcut::cli::run_softbody(args);
     std::cerr << "deepcut: unknown command '" << command << "' (see deepcut --help)\n";
     return 2;
   } catch (const deepcut::cli::UsageError& e) {

@@ -1,0 +1,891 @@
+// SPDX-License-Identifier: MIT
+#include "deepcut/core/softbody/clustering.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "deepcut/core/errors.h"
+
+namespace deepcut {
+namespace {
+
+/// Raw weights never reach 0, so a vertex exactly at distance rho keeps a usable influence.
+constexpr float kMinRawWeight = 1e-6f;
+/// Relative slack on "within rho" for vertices placed by interpolation (a lerp of two points
+/// inside a ball is inside it, up to float rounding).
+constexpr float kRadiusSlack = 1e-5f;
+
+float falloff(float d2, float rho2) {
+  const float f = std::max(0.0f, 1.0f - d2 / rho2);
+  return std::max(f * f, kMinRawWeight);
+}
+
+float distance2(const glm::vec3& a, const glm::vec3& b) {
+  const glm::vec3 d = a - b;
+  return glm::dot(d, d);
+}
+
+/// A uniform grid over a set of points, stored as a counting-sorted list per cell (CSR).
+class PointGrid {
+ public:
+  PointGrid(const std::vector<glm::vec3>& pos, const std::vector<std::uint32_t>& ids, float cell) : pos_(pos) {
+    for (std::uint32_t v : ids) box_.add(pos[v]);
+    const glm::vec3 ext = box_.empty() ? glm::vec3(0.0f) : box_.max - box_.min;
+    // Cap the cell count (a tiny cell relative to the model would make a huge grid).
+    const double max_cells = std::max(4096.0, 2.0 * double(ids.size()));
+    h_ = std::max(cell, 1e-30f);
+    for (int guard = 0; guard < 64; ++guard) {
+      const double n = (std::floor(double(ext.x) / h_) + 1) * (std::floor(double(ext.y) / h_) + 1) *
+                       (std::floor(double(ext.z) / h_) + 1);
+      if (n <= max_cells) break;
+      h_ = static_cast<float>(h_ * std::max(1.01, std::cbrt(n / max_cells)));
+    }
+    for (int k = 0; k < 3; ++k) dims_[k] = static_cast<int>(std::floor(double(ext[k]) / h_)) + 1;
+    const std::size_t cells = std::size_t(dims_[0]) * dims_[1] * dims_[2];
+    start_.assign(cells + 1, 0);
+    for (std::uint32_t v : ids) ++start_[cell_of(pos[v]) + 1];
+    for (std::size_t c = 0; c < cells; ++c) start_[c + 1] += start_[c];
+    items_.resize(ids.size());
+    std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
+    for (std::uint32_t v : ids) items_[fill[cell_of(pos[v])]++] = v;
+  }
+
+  std::size_t cell_count() const { return start_.size() - 1; }
+  /// The points of cell `c`.
+  const std::uint32_t* cell_begin(std::size_t c) const { return items_.data() + start_[c]; }
+  const std::uint32_t* cell_end(std::size_t c) const { return items_.data() + start_[c + 1]; }
+
+  /// Calls fn(cell) for every non-empty cell the ball (c, r) overlaps.
+  template <class F>
+  void for_each_cell_near(const glm::vec3& c, float r, F&& fn) const {
+    if (items_.empty()) return;
+    int lo[3], hi[3];
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = clamp_cell(std::floor((double(c[k]) - r - box_.min[k]) / h_), k);
+      hi[k] = clamp_cell(std::floor((double(c[k]) + r - box_.min[k]) / h_), k);
+    }
+    for (int z = lo[2]; z <= hi[2]; ++z)
+      for (int y = lo[1]; y <= hi[1]; ++y) {
+        const std::size_t row = (std::size_t(z) * dims_[1] + y) * dims_[0];
+        for (int x = lo[0]; x <= hi[0]; ++x)
+          if (start_[row + x] != start_[row + x + 1]) fn(row + x);
+      }
+  }
+
+  /// Calls fn(v) for every point in the cells the ball (c, r) overlaps (a superset of the ball).
+  template <class F>
+  void for_each_near(const glm::vec3& c, float r, F&& fn) const {
+    for_each_cell_near(c, r, [&](std::size_t cell) {
+      for (const std::uint32_t* v = cell_begin(cell); v != cell_end(cell); ++v) fn(*v);
+    });
+  }
+
+ private:
+  int clamp_cell(double x, int k) const { return static_cast<int>(std::min(std::max(x, 0.0), double(dims_[k] - 1))); }
+  std::size_t cell_of(const glm::vec3& p) const {
+    std::size_t idx[3];
+    for (int k = 0; k < 3; ++k) idx[k] = std::size_t(clamp_cell(std::floor(double(p[k] - box_.min[k]) / h_), k));
+    return (idx[2] * dims_[1] + idx[1]) * dims_[0] + idx[0];
+  }
+
+  const std::vector<glm::vec3>& pos_;
+  BoundingBox box_;
+  float h_ = 1.0f;
+  int dims_[3] = {1, 1, 1};
+  std::vector<std::uint32_t> start_, items_;
+};
+
+/// Farthest-point sampling until every point lies within `cover` of a seed. The first seed is
+/// the point farthest from the bounding-box centre; ties go to the smaller index. A new seed only
+/// lowers the distances of points closer to it than the current maximum, which the grid finds.
+/// A max tree over the grid cells (each leaf: the farthest point of its cell) gives the next
+/// seed; only the cells a seed's ball reaches are rescanned.
+std::vector<std::uint32_t> farthest_point_seeds(const std::vector<glm::vec3>& rest,
+                                                const std::vector<std::uint32_t>& ids, const PointGrid& grid,
+                                                float cover) {
+  std::vector<std::uint32_t> seeds;
+  if (ids.empty()) return seeds;
+  BoundingBox box;
+  for (std::uint32_t v : ids) box.add(rest[v]);
+  const glm::vec3 centre = 0.5f * (box.min + box.max);
+  std::uint32_t first = ids[0];
+  float best = -1.0f;
+  for (std::uint32_t v : ids) {
+    const float d = distance2(rest[v], centre);
+    if (d > best) best = d, first = v;
+  }
+  struct Item {
+    float d2 = -1.0f;
+    std::uint32_t v = kInvalidIndex;
+  };
+  // Farther first; among equals the smaller vertex index.
+  auto better = [](const Item& a, const Item& b) { return a.d2 > b.d2 || (a.d2 == b.d2 && a.v < b.v); };
+  std::size_t leaves = 1;
+  while (leaves < grid.cell_count()) leaves *= 2;
+  std::vector<Item> tree(2 * leaves);
+  std::vector<float> dist2(rest.size(), std::numeric_limits<float>::infinity());
+  auto rescan = [&](std::size_t cell, const glm::vec3& ps) {
+    Item top;
+    for (const std::uint32_t* it = grid.cell_begin(cell); it != grid.cell_end(cell); ++it) {
+      const float d2 = std::min(dist2[*it], distance2(rest[*it], ps));
+      dist2[*it] = d2;
+      if (better({d2, *it}, top)) top = {d2, *it};
+    }
+    std::size_t node = leaves + cell;
+    tree[node] = top;
+    for (node /= 2; node >= 1; node /= 2) {
+      const Item& a = tree[2 * node];
+      const Item& b = tree[2 * node + 1];
+      const Item up = better(b, a) ? b : a;
+      if (tree[node].d2 == up.d2 && tree[node].v == up.v) break;
+      tree[node] = up;
+    }
+  };
+  const float cover2 = cover * cover;
+  std::uint32_t seed = first;
+  float reach = std::numeric_limits<float>::infinity();
+  for (;;) {
+    seeds.push_back(seed);
+    const glm::vec3 ps = rest[seed];
+    grid.for_each_cell_near(ps, reach, [&](std::size_t cell) { rescan(cell, ps); });
+    const Item top = tree[1];
+    if (top.v == kInvalidIndex || top.d2 <= cover2) break;
+    seed = top.v;
+    reach = std::sqrt(top.d2);
+  }
+  return seeds;
+}
+
+void check_radius(float radius, const char* what) {
+  if (!(radius > 0.0f) || !std::isfinite(radius))
+    throw Error(ErrorCode::InvalidArgument,
+                std::string(what) + ": radius must be a positive finite number, got " + std::to_string(radius));
+}
+
+void check_rest(const SurfaceMesh& mesh, const std::vector<glm::vec3>& rest, const char* what) {
+  if (rest.size() != mesh.vertex_count())
+    throw Error(ErrorCode::InvalidArgument, std::string(what) + ": " + std::to_string(rest.size()) +
+                                                " rest positions for a mesh of " +
+                                                std::to_string(mesh.vertex_count()) + " vertices");
+}
+
+}  // namespace
+
+// ------------------------------------------------------------------------------------------------
+// Small helpers on rows and particles.
+
+void Clusters::set_row(std::uint32_t v, const Influence* first, std::size_t count) {
+  Row& r = rows_[v];
+  if (count > r.capacity) {
+    pool_garbage_ += r.capacity;
+    r.begin = static_cast<std::uint32_t>(pool_.size());
+    r.capacity = static_cast<std::uint32_t>(count);
+    pool_.resize(pool_.size() + count);
+  }
+  std::copy(first, first + count, pool_.begin() + r.begin);
+  r.size = static_cast<std::uint32_t>(count);
+  sort_row(v);
+}
+
+void Clusters::sort_row(std::uint32_t v) {
+  const Row& r = rows_[v];
+  Influence* row = pool_.data() + r.begin;
+  // Rows are short: insertion sort.
+  for (std::uint32_t i = 1; i < r.size; ++i)
+    for (std::uint32_t j = i; j > 0 && row[j].particle < row[j - 1].particle; --j) std::swap(row[j], row[j - 1]);
+}
+
+void Clusters::compact_pool() {
+  std::vector<Influence> pool;
+  pool.reserve(pool_.size() - pool_garbage_);
+  for (Row& r : rows_) {
+    const auto b = static_cast<std::uint32_t>(pool.size());
+    pool.insert(pool.end(), pool_.begin() + r.begin, pool_.begin() + r.begin + r.size);
+    r.begin = b;
+    r.capacity = r.size;
+  }
+  pool_.swap(pool);
+  pool_garbage_ = 0;
+}
+
+void Clusters::renormalise(std::uint32_t v) {
+  const Row& r = rows_[v];
+  double sum = 0.0;
+  for (std::uint32_t i = 0; i < r.size; ++i) sum += pool_[r.begin + i].weight;
+  for (std::uint32_t i = 0; i < r.size; ++i) {
+    Influence& e = pool_[r.begin + i];
+    e.weight = sum > 0.0 ? static_cast<float>(e.weight / sum) : 1.0f / float(r.size);
+  }
+}
+
+void Clusters::recompute_centre(std::uint32_t p, const std::vector<glm::vec3>& rest) {
+  const auto& m = members_[p];
+  if (m.empty()) {
+    centres_[p] = seeds_[p];
+    return;
+  }
+  glm::dvec3 sum(0.0);
+  for (std::uint32_t v : m) sum += glm::dvec3(rest[v]);
+  centres_[p] = glm::vec3(sum / double(m.size()));
+}
+
+std::uint32_t Clusters::new_particle(const glm::vec3& seed) {
+  const auto p = static_cast<std::uint32_t>(seeds_.size());
+  seeds_.push_back(seed);
+  centres_.push_back(seed);
+  members_.emplace_back();
+  return p;
+}
+
+std::size_t Clusters::particle_count() const {
+  std::size_t n = 0;
+  for (const auto& m : members_) n += m.empty() ? 0 : 1;
+  return n;
+}
+
+// ------------------------------------------------------------------------------------------------
+// Splitting particles into connected parts.
+
+template <class ForEachFace>
+std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& particles, ForEachFace&& for_each_face,
+                                         std::vector<ClusterUpdate::NewParticle>& created) {
+  if (particles.empty()) return 0;
+  auto entry_of = [&](std::uint32_t v, std::uint32_t p) {
+    const Row& r = rows_[v];
+    for (std::uint32_t i = 0; i < r.size; ++i)
+      if (pool_[r.begin + i].particle == p) return r.begin + i;
+    throw Error(ErrorCode::InvariantViolated, "clusters: vertex " + std::to_string(v) + " is listed in particle " +
+                                                  std::to_string(p) + " but has no influence from it");
+  };
+  std::vector<std::uint8_t> in_set(seeds_.size(), 0);
+  for (std::uint32_t p : particles) in_set[p] = 1;
+
+  // Union-find over the pool entries (one per vertex-in-particle) of the listed particles.
+  std::vector<std::uint32_t> uf(pool_.size());
+  for (std::uint32_t p : particles)
+    for (std::uint32_t v : members_[p]) {
+      const std::uint32_t e = entry_of(v, p);
+      uf[e] = e;
+    }
+  auto find = [&](std::uint32_t x) {
+    while (uf[x] != x) {
+      uf[x] = uf[uf[x]];
+      x = uf[x];
+    }
+    return x;
+  };
+  for_each_face([&](const Triangle& t) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = t[k].index, b = t[(k + 1) % 3].index;
+      if (a == b) continue;
+      // Rows are sorted by particle: walk both at once.
+      const Row& ra = rows_[a];
+      const Row& rb = rows_[b];
+      std::uint32_t i = ra.begin, j = rb.begin;
+      const std::uint32_t ie = ra.begin + ra.size, je = rb.begin + rb.size;
+      while (i < ie && j < je) {
+        const std::uint32_t pa = pool_[i].particle, pb = pool_[j].particle;
+        if (pa < pb) {
+          ++i;
+        } else if (pb < pa) {
+          ++j;
+        } else {
+          if (in_set[pa]) {
+            const std::uint32_t x = find(i), y = find(j);
+            if (x != y) uf[std::max(x, y)] = std::min(x, y);
+          }
+          ++i;
+          ++j;
+        }
+      }
+    }
+  });
+
+  // Group each particle's members by root; the largest part keeps the particle.
+  struct Minor {
+    std::uint32_t particle;
+    std::vector<std::uint32_t> vertices;  // sorted
+  };
+  std::vector<Minor> minors;
+  std::vector<std::uint8_t> minor_entry;  // by pool entry, allocated on the first split
+  std::size_t split_count = 0;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> by_root;  // (root, vertex)
+  for (std::uint32_t p : particles) {
+    const auto& m = members_[p];
+    if (m.size() < 2) continue;
+    by_root.clear();
+    bool single = true;
+    std::uint32_t first_root = kInvalidIndex;
+    for (std::uint32_t v : m) {
+      const std::uint32_t r = find(entry_of(v, p));
+      if (first_root == kInvalidIndex) first_root = r;
+      single = single && r == first_root;
+      by_root.emplace_back(r, v);
+    }
+    if (single) continue;
+    ++split_count;
+    std::sort(by_root.begin(), by_root.end());
+    // Parts as ranges of by_root; the largest (first on ties) is the main part.
+    std::size_t best_begin = 0, best_size = 0;
+    for (std::size_t i = 0; i < by_root.size();) {
+      std::size_t j = i;
+      while (j < by_root.size() && by_root[j].first == by_root[i].first) ++j;
+      if (j - i > best_size) best_begin = i, best_size = j - i;
+      i = j;
+    }
+    if (minor_entry.empty()) minor_entry.assign(pool_.size(), 0);
+    std::vector<std::uint32_t> main;
+    for (std::size_t i = 0; i < by_root.size();) {
+      std::size_t j = i;
+      while (j < by_root.size() && by_root[j].first == by_root[i].first) ++j;
+      if (i == best_begin) {
+        for (std::size_t k = i; k < j; ++k) main.push_back(by_root[k].second);
+      } else {
+        Minor part{p, {}};
+        for (std::size_t k = i; k < j; ++k) {
+          part.vertices.push_back(by_root[k].second);
+          minor_entry[entry_of(by_root[k].second, p)] = 1;
+        }
+        std::sort(part.vertices.begin(), part.vertices.end());
+        minors.push_back(std::move(part));
+      }
+      i = j;
+    }
+    std::sort(main.begin(), main.end());
+    members_[p] = std::move(main);
+  }
+  if (minors.empty()) return split_count;
+
+  // A part whose every vertex keeps a main-part influence elsewhere is dropped; any other part
+  // becomes a particle of its own (same seed, so the radius invariant holds).
+  // Decide every part first: the decisions read minor_entry by pool position, which the
+  // renames below may reorder.
+  std::vector<std::uint8_t> drop(minors.size(), 1);
+  for (std::size_t k = 0; k < minors.size(); ++k)
+    for (std::uint32_t v : minors[k].vertices) {
+      const Row& r = rows_[v];
+      bool has_main = false;
+      for (std::uint32_t i = 0; i < r.size && !has_main; ++i)
+        has_main = pool_[r.begin + i].particle != minors[k].particle && !minor_entry[r.begin + i];
+      if (!has_main) {
+        drop[k] = 0;
+        break;
+      }
+    }
+  std::vector<std::uint32_t> dropped_vertices;
+  for (std::size_t k = 0; k < minors.size(); ++k) {
+    Minor& part = minors[k];
+    if (drop[k]) {
+      for (std::uint32_t v : part.vertices) {
+        pool_[entry_of(v, part.particle)].particle = kInvalidIndex;
+        dropped_vertices.push_back(v);
+      }
+    } else {
+      const std::uint32_t q = new_particle(seeds_[part.particle]);
+      for (std::uint32_t v : part.vertices) {
+        pool_[entry_of(v, part.particle)].particle = q;
+        sort_row(v);
+      }
+      members_[q] = std::move(part.vertices);
+      created.push_back({q, part.particle});
+    }
+  }
+  std::sort(dropped_vertices.begin(), dropped_vertices.end());
+  dropped_vertices.erase(std::unique(dropped_vertices.begin(), dropped_vertices.end()), dropped_vertices.end());
+  for (std::uint32_t v : dropped_vertices) {
+    Row& r = rows_[v];
+    std::uint32_t n = 0;
+    for (std::uint32_t i = 0; i < r.size; ++i)
+      if (pool_[r.begin + i].particle != kInvalidIndex) pool_[r.begin + n++] = pool_[r.begin + i];
+    r.size = n;
+    renormalise(v);
+  }
+  return split_count;
+}
+
+// ------------------------------------------------------------------------------------------------
+// Build.
+
+Clusters Clusters::build(const SurfaceMesh& mesh, const ClusterOptions& options) {
+  return build(mesh, mesh.positions(), options);
+}
+
+Clusters Clusters::build(const SurfaceMesh& mesh, const std::vector<glm::vec3>& rest, const ClusterOptions& options) {
+  check_radius(options.radius, "cluster");
+  if (!(options.cover_fraction > 0.0f && options.cover_fraction <= 1.0f))
+    throw Error(ErrorCode::InvalidArgument,
+                "cluster: cover fraction must lie in (0, 1], got " + std::to_string(options.cover_fraction));
+  check_rest(mesh, rest, "cluster");
+  Clusters c;
+  c.radius_ = options.radius;
+  const std::size_t n = mesh.vertex_count();
+  c.rows_.assign(n, Row{});
+  c.face_refs_.assign(n, 0);
+  mesh.for_each_face([&](FaceId, const Triangle& t) {
+    for (int k = 0; k < 3; ++k) ++c.face_refs_[t[k].index];
+  });
+  std::vector<std::uint32_t> ids;
+  for (std::uint32_t v = 0; v < n; ++v)
+    if (c.face_refs_[v]) {
+      const glm::vec3& p = rest[v];
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+        throw Error(ErrorCode::InvalidInput, "cluster: vertex " + std::to_string(v) + " has a non-finite position");
+      ids.push_back(v);
+    }
+  if (ids.empty()) return c;
+
+  const float rho = options.radius, rho2 = rho * rho;
+  const PointGrid grid(rest, ids, rho);
+  const std::vector<std::uint32_t> seeds = farthest_point_seeds(rest, ids, grid, rho * options.cover_fraction);
+
+  // Particle-major memberships, then vertex-major rows (counting sort; rows sorted by particle).
+  std::vector<std::uint32_t> pm_start{0}, pm_vertex;
+  std::vector<float> pm_weight;
+  pm_vertex.reserve(ids.size() * 4);
+  pm_weight.reserve(ids.size() * 4);
+  std::vector<std::uint32_t> count(n, 0);
+  for (std::uint32_t s : seeds) {
+    const glm::vec3 ps = rest[s];
+    grid.for_each_near(ps, rho, [&](std::uint32_t v) {
+      const float d2 = distance2(rest[v], ps);
+      if (d2 <= rho2) {
+        pm_vertex.push_back(v);
+        pm_weight.push_back(falloff(d2, rho2));
+        ++count[v];
+      }
+    });
+    pm_start.push_back(static_cast<std::uint32_t>(pm_vertex.size()));
+  }
+  c.pool_.resize(pm_vertex.size());
+  std::uint32_t offset = 0;
+  for (std::uint32_t v = 0; v < n; ++v) {
+    c.rows_[v] = Row{offset, 0, count[v]};
+    offset += count[v];
+  }
+  const auto particles = static_cast<std::uint32_t>(seeds.size());
+  c.seeds_.reserve(particles);
+  c.members_.resize(particles);
+  for (std::uint32_t p = 0; p < particles; ++p) {
+    c.seeds_.push_back(rest[seeds[p]]);
+    c.members_[p].reserve(pm_start[p + 1] - pm_start[p]);
+    for (std::uint32_t i = pm_start[p]; i < pm_start[p + 1]; ++i) {
+      Row& r = c.rows_[pm_vertex[i]];
+      c.pool_[r.begin + r.size++] = Influence{p, pm_weight[i]};
+    }
+  }
+  // Member lists from the rows, visited in vertex order, come out sorted.
+  for (std::uint32_t v : ids) {
+    c.renormalise(v);
+    for (const Influence& in : c.influences(VertexId(v))) c.members_[in.particle].push_back(v);
+  }
+  c.centres_ = c.seeds_;
+
+  std::vector<std::uint32_t> all(particles);
+  for (std::uint32_t p = 0; p < particles; ++p) all[p] = p;
+  std::vector<ClusterUpdate::NewParticle> created;
+  c.split_disconnected(
+      all, [&](auto&& fn) { mesh.for_each_face([&](FaceId, const Triangle& t) { fn(t); }); }, created);
+  for (std::uint32_t p = 0; p < c.seeds_.size(); ++p) c.recompute_centre(p, rest);
+  return c;
+}
+
+// ------------------------------------------------------------------------------------------------
+// Apply an edit log.
+
+ClusterUpdate Clusters::apply(const SurfaceMesh& mesh, const EditLog& log, const Adjacency* adjacency) {
+  return apply(mesh, mesh.positions(), log, adjacency);
+}
+
+ClusterUpdate Clusters::apply(const SurfaceMesh& mesh, const std::vector<glm::vec3>& rest, const EditLog& log,
+                              const Adjacency* adjacency) {
+  check_rest(mesh, rest, "clusters.apply");
+  const std::size_t n = mesh.vertex_count();
+  if (n < rows_.size())
+    throw Error(ErrorCode::InvalidArgument, "clusters.apply: the mesh has " + std::to_string(n) +
+                                                " vertices but the clusters know " + std::to_string(rows_.size()) +
+                                                " (compacted? build the clusters again)");
+  if (adjacency && adjacency->vertex_count() > n)
+    throw Error(ErrorCode::InvalidArgument, "clusters.apply: the adjacency has more vertices than the mesh");
+  auto check_vertex = [&](VertexId v) {
+    if (v.index >= n)
+      throw Error(ErrorCode::InvalidArgument, "clusters.apply: edit names vertex " + std::to_string(v.index) +
+                                                  ", the mesh has " + std::to_string(n));
+    const glm::vec3& p = rest[v.index];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      throw Error(ErrorCode::InvalidInput,
+                  "clusters.apply: vertex " + std::to_string(v.index) + " has a non-finite position");
+  };
+  auto check_face = [&](FaceId f, const Triangle& t) {
+    if (f.index >= mesh.face_slots())
+      throw Error(ErrorCode::InvalidArgument, "clusters.apply: edit names face " + std::to_string(f.index) +
+                                                  ", the mesh has " + std::to_string(mesh.face_slots()));
+    for (const VertexId v : t) check_vertex(v);
+  };
+
+  // 0. Check the whole log before changing anything (a throw leaves the clusters as they were).
+  {
+    std::vector<std::pair<std::uint32_t, std::int64_t>> refs;  // (vertex, live faces), sorted
+    auto live_faces = [&](std::uint32_t v) -> std::int64_t& {
+      auto it = std::lower_bound(refs.begin(), refs.end(), std::make_pair(v, std::int64_t(-1)),
+                                 [](const auto& a, const auto& b) { return a.first < b.first; });
+      if (it == refs.end() || it->first != v)
+        it = refs.insert(it, {v, v < face_refs_.size() ? std::int64_t(face_refs_[v]) : 0});
+      return it->second;
+    };
+    for (const Edit& edit : log.edits) {
+      if (const auto* e = std::get_if<VertexAdded>(&edit)) {
+        check_vertex(e->v);
+        for (const VertexId from : e->from)
+          if (from.valid()) check_vertex(from);
+      } else if (const auto* sp = std::get_if<VertexSplit>(&edit)) {
+        check_vertex(sp->original);
+        check_vertex(sp->copy);
+      } else if (const auto* m = std::get_if<VertexMoved>(&edit)) {
+        check_vertex(m->v);
+      } else if (const auto* fa = std::get_if<FaceAdded>(&edit)) {
+        check_face(fa->f, fa->vertices);
+        for (const VertexId v : fa->vertices) ++live_faces(v.index);
+      } else if (const auto* fr = std::get_if<FaceRemoved>(&edit)) {
+        check_face(fr->f, fr->vertices);
+        // Face ids are never reused, so a face the log removes is deleted in the edited mesh.
+        if (!mesh.is_deleted(fr->f))
+          throw Error(ErrorCode::InvalidArgument, "clusters.apply: the log removes face " +
+                                                      std::to_string(fr->f.index) +
+                                                      " but the mesh still has it (log and mesh do not match)");
+        for (const VertexId v : fr->vertices)
+          if (--live_faces(v.index) < 0)
+            throw Error(ErrorCode::InvalidArgument, "clusters.apply: face " + std::to_string(fr->f.index) +
+                                                        " is removed twice or was never added (log applied twice?)");
+      }
+    }
+  }
+
+  const std::size_t old_count = rows_.size();
+  rows_.resize(n, Row{});
+  face_refs_.resize(n, 0);
+  ClusterUpdate update;
+  const float rho2 = radius_ * radius_;
+  const float rho2_slack = rho2 * (1.0f + kRadiusSlack) * (1.0f + kRadiusSlack);
+
+  // 1. Walk the log: rows for new vertices, live-face counts, the vertices to revisit.
+  std::vector<std::uint32_t> touched_vertices;
+  std::vector<Influence> acc;
+  for (const Edit& edit : log.edits) {
+    if (const auto* e = std::get_if<VertexAdded>(&edit)) {
+      acc.clear();
+      for (int i = 0; i < 3; ++i) {
+        if (!e->from[i].valid() || !(e->weight[i] > 0.0f)) continue;
+        for (const Influence& in : influences(e->from[i])) {
+          auto it = std::find_if(acc.begin(), acc.end(), [&](const Influence& a) { return a.particle == in.particle; });
+          if (it == acc.end()) acc.push_back({in.particle, e->weight[i] * in.weight});
+          else it->weight += e->weight[i] * in.weight;
+        }
+      }
+      set_row(e->v.index, acc.data(), acc.size());
+      for (const Influence& in : acc) members_[in.particle].push_back(e->v.index);
+      touched_vertices.push_back(e->v.index);
+    } else if (const auto* s = std::get_if<VertexSplit>(&edit)) {
+      const InfluenceRange from = influences(s->original);
+      acc.assign(from.begin(), from.end());
+      set_row(s->copy.index, acc.data(), acc.size());
+      for (const Influence& in : acc) members_[in.particle].push_back(s->copy.index);
+      touched_vertices.push_back(s->copy.index);
+      touched_vertices.push_back(s->original.index);
+    } else if (const auto* m = std::get_if<VertexMoved>(&edit)) {
+      touched_vertices.push_back(m->v.index);
+    } else if (const auto* fa = std::get_if<FaceAdded>(&edit)) {
+      for (const VertexId v : fa->vertices) {
+        ++face_refs_[v.index];
+        touched_vertices.push_back(v.index);
+      }
+    } else if (const auto* fr = std::get_if<FaceRemoved>(&edit)) {
+      for (const VertexId v : fr->vertices) {
+        --face_refs_[v.index];
+        touched_vertices.push_back(v.index);
+      }
+    }
+  }
+  std::sort(touched_vertices.begin(), touched_vertices.end());
+  touched_vertices.erase(std::unique(touched_vertices.begin(), touched_vertices.end()), touched_vertices.end());
+
+  // 2. The particles to revisit: every particle of a touched vertex (before any removal).
+  std::vector<std::uint8_t> is_touched(seeds_.size(), 0);
+  std::vector<std::uint32_t> touched;
+  auto touch = [&](std::uint32_t p) {
+    if (p >= is_touched.size()) is_touched.resize(seeds_.size(), 0);
+    if (!is_touched[p]) {
+      is_touched[p] = 1;
+      touched.push_back(p);
+    }
+  };
+  for (std::uint32_t v : touched_vertices)
+    for (const Influence& in : influences(VertexId(v))) touch(in.particle);
+
+  // 3. Dead vertices leave; memberships beyond rho go; uncovered vertices find a particle.
+  for (std::uint32_t v : touched_vertices) {
+    Row& r = rows_[v];
+    if (face_refs_[v] == 0) {
+      if (r.size && v < old_count) ++update.vertices_removed;
+      r.size = 0;
+      continue;
+    }
+    // MeshEditor only ever adds new ids, so a vertex the clusters did not know, or knew without
+    // influences, is joining now.
+    const bool joining = v >= old_count || r.size == 0;
+    std::uint32_t kept = 0;
+    for (std::uint32_t i = 0; i < r.size; ++i) {
+      const Influence in = pool_[r.begin + i];
+      if (distance2(rest[v], seeds_[in.particle]) <= rho2_slack && in.weight > 0.0f) pool_[r.begin + kept++] = in;
+    }
+    r.size = kept;
+    if (r.size == 0) {
+      // Nearest live particle whose seed is within rho, or a new particle seeded here.
+      std::uint32_t best = kInvalidIndex;
+      float best_d2 = rho2;
+      for (std::uint32_t p = 0; p < seeds_.size(); ++p) {
+        if (members_[p].empty()) continue;
+        const float d2 = distance2(rest[v], seeds_[p]);
+        if (d2 <= best_d2) best_d2 = d2, best = p;
+      }
+      if (best == kInvalidIndex) {
+        best = new_particle(rest[v]);
+        best_d2 = 0.0f;
+        update.created.push_back({best, kInvalidIndex});
+      }
+      const Influence in{best, falloff(best_d2, rho2)};
+      set_row(v, &in, 1);
+      members_[best].push_back(v);
+      touch(best);
+    }
+    renormalise(v);
+    if (joining) ++update.vertices_added;
+  }
+
+  // 4. Member lists of touched particles follow the rows.
+  for (std::uint32_t p : touched) {
+    auto& m = members_[p];
+    std::sort(m.begin(), m.end());
+    m.erase(std::unique(m.begin(), m.end()), m.end());
+    m.erase(std::remove_if(m.begin(), m.end(),
+                           [&](std::uint32_t v) {
+                             for (const Influence& in : influences(VertexId(v)))
+                               if (in.particle == p) return false;
+                             return true;
+                           }),
+            m.end());
+  }
+
+  // 5. No particle may keep disconnected parts.
+  const std::size_t created_before = update.created.size();
+  if (adjacency) {
+    update.particles_split = split_disconnected(
+        touched,
+        [&](auto&& fn) {
+          for (std::uint32_t p : touched)
+            for (std::uint32_t v : members_[p]) {
+              if (v >= adjacency->vertex_count()) continue;
+              for (const FaceId f : adjacency->vertex_faces(VertexId(v))) fn(mesh.face(f));
+            }
+        },
+        update.created);
+  } else {
+    update.particles_split = split_disconnected(
+        touched, [&](auto&& fn) { mesh.for_each_face([&](FaceId, const Triangle& t) { fn(t); }); }, update.created);
+  }
+  for (std::size_t i = created_before; i < update.created.size(); ++i) touch(update.created[i].particle);
+
+  // 6. Rest centres of touched particles only.
+  for (std::uint32_t p : touched) recompute_centre(p, rest);
+  std::sort(touched.begin(), touched.end());
+  update.touched = std::move(touched);
+  if (pool_garbage_ > 1024 && pool_garbage_ * 2 > pool_.size()) compact_pool();
+  return update;
+}
+
+// ------------------------------------------------------------------------------------------------
+// Reports and checks.
+
+ClusterStats cluster_stats(const Clusters& clusters, const SurfaceMesh& mesh) {
+  ClusterStats s;
+  std::size_t min_v = std::numeric_limits<std::size_t>::max(), max_v = 0;
+  for (std::uint32_t p = 0; p < clusters.particle_slots(); ++p) {
+    const std::size_t m = clusters.members(p).size();
+    if (m == 0) continue;
+    ++s.particles;
+    s.memberships += m;
+    min_v = std::min(min_v, m);
+    max_v = std::max(max_v, m);
+  }
+  if (s.particles) {
+    s.min_vertices = min_v;
+    s.max_vertices = max_v;
+    s.mean_vertices = double(s.memberships) / double(s.particles);
+  }
+  std::vector<std::uint8_t> referenced(mesh.vertex_count(), 0);
+  mesh.for_each_face([&](FaceId, const Triangle& t) {
+    for (const VertexId v : t) referenced[v.index] = 1;
+  });
+  for (std::uint32_t v = 0; v < referenced.size(); ++v) {
+    if (!referenced[v]) continue;
+    const bool covered = v < clusters.vertex_count() && !clusters.influences(VertexId(v)).empty();
+    ++(covered ? s.covered_vertices : s.uncovered_vertices);
+  }
+  return s;
+}
+
+std::vector<std::string> check_clusters(const Clusters& clusters, const SurfaceMesh& mesh,
+                                        const std::vector<glm::vec3>& rest, std::size_t max_problems) {
+  std::vector<std::string> problems;
+  auto report = [&](const std::string& line) {
+    if (problems.size() < max_problems) problems.push_back(line);
+  };
+  const std::size_t n = mesh.vertex_count();
+  if (clusters.vertex_count() != n) {
+    report("clusters know " + std::to_string(clusters.vertex_count()) + " vertices, the mesh has " + std::to_string(n));
+    return problems;
+  }
+  if (rest.size() != n) {
+    report("rest positions: " + std::to_string(rest.size()) + " for " + std::to_string(n) + " vertices");
+    return problems;
+  }
+  const float rho = clusters.radius();
+  const float limit2 = rho * rho * (1.0f + kRadiusSlack) * (1.0f + kRadiusSlack);
+  const std::size_t slots = clusters.particle_slots();
+  std::vector<std::uint8_t> referenced(n, 0);
+  mesh.for_each_face([&](FaceId, const Triangle& t) {
+    for (const VertexId v : t) referenced[v.index] = 1;
+  });
+
+  // Rows: coverage, weights, radius, and agreement with the member lists.
+  for (std::uint32_t v = 0; v < n; ++v) {
+    const InfluenceRange row = clusters.influences(VertexId(v));
+    if (referenced[v] && row.empty()) report("coverage: vertex " + std::to_string(v) + " is in no particle");
+    if (!referenced[v] && !row.empty())
+      report("vertex " + std::to_string(v) + " has no live face but is in " + std::to_string(row.size()) + " particles");
+    double sum = 0.0;
+    for (const Influence* a = row.begin(); a != row.end(); ++a) {
+      if (a->particle >= slots) {
+        report("vertex " + std::to_string(v) + " names particle " + std::to_string(a->particle) + " of " +
+               std::to_string(slots));
+        continue;
+      }
+      if (!(a->weight > 0.0f) || !std::isfinite(a->weight))
+        report("vertex " + std::to_string(v) + " has weight " + std::to_string(a->weight) + " in particle " +
+               std::to_string(a->particle));
+      sum += a->weight;
+      for (const Influence* b = row.begin(); b != a; ++b)
+        if (b->particle == a->particle)
+          report("vertex " + std::to_string(v) + " lists particle " + std::to_string(a->particle) + " twice");
+      const auto& m = clusters.members(a->particle);
+      if (!std::binary_search(m.begin(), m.end(), v))
+        report("vertex " + std::to_string(v) + " is influenced by particle " + std::to_string(a->particle) +
+               " but not among its members");
+      const float d2 = distance2(rest[v], clusters.seed(a->particle));
+      if (d2 > limit2)
+        report("radius: vertex " + std::to_string(v) + " lies " + std::to_string(std::sqrt(d2)) +
+               " from the seed of particle " + std::to_string(a->particle) + " (rho " + std::to_string(rho) + ")");
+    }
+    if (!row.empty() && std::abs(sum - 1.0) > 1e-4)
+      report("vertex " + std::to_string(v) + " weights sum to " + std::to_string(sum));
+  }
+
+  // Particles: sorted members that agree with the rows, rest centres, connectivity.
+  const Adjacency adjacency = Adjacency::build(mesh);
+  std::vector<std::uint32_t> stamp(n, kInvalidIndex), queue;
+  for (std::uint32_t p = 0; p < slots; ++p) {
+    const auto& m = clusters.members(p);
+    if (m.empty()) continue;
+    if (!std::is_sorted(m.begin(), m.end()) || std::adjacent_find(m.begin(), m.end()) != m.end())
+      report("particle " + std::to_string(p) + ": members not sorted and unique");
+    glm::dvec3 sum(0.0);
+    for (std::uint32_t v : m) {
+      if (v >= n) {
+        report("particle " + std::to_string(p) + " lists vertex " + std::to_string(v) + " outside the mesh");
+        return problems;
+      }
+      bool listed = false;
+      for (const Influence& in : clusters.influences(VertexId(v))) listed = listed || in.particle == p;
+      if (!listed)
+        report("particle " + std::to_string(p) + " lists vertex " + std::to_string(v) + " without an influence");
+      sum += glm::dvec3(rest[v]);
+      stamp[v] = p;
+    }
+    const glm::vec3 centre(sum / double(m.size()));
+    const float tol = 1e-4f * std::max(rho, glm::length(centre));
+    if (glm::length(centre - clusters.rest_centre(p)) > tol)
+      report("particle " + std::to_string(p) + ": rest centre is stale");
+    // Breadth-first search from the first member over edges between members.
+    std::size_t reached = 1;
+    queue.assign(1, m[0]);
+    stamp[m[0]] = kInvalidIndex - 1 - p % 2;  // visited marker distinct from "member of p"
+    const std::uint32_t visited = stamp[m[0]];
+    for (std::size_t q = 0; q < queue.size(); ++q) {
+      const std::uint32_t v = queue[q];
+      if (v >= adjacency.vertex_count()) continue;
+      for (const FaceId f : adjacency.vertex_faces(VertexId(v)))
+        for (const VertexId u : mesh.face(f))
+          if (stamp[u.index] == p) {
+            stamp[u.index] = visited;
+            queue.push_back(u.index);
+            ++reached;
+          }
+    }
+    if (reached != m.size())
+      report("connectivity: particle " + std::to_string(p) + " holds " + std::to_string(m.size()) +
+             " vertices of which only " + std::to_string(reached) + " are connected to vertex " +
+             std::to_string(m[0]) + " through its members");
+    for (std::uint32_t v : m) stamp[v] = kInvalidIndex;
+  }
+  return problems;
+}
+
+float radius_for_particle_count(const SurfaceMesh& mesh, const std::vector<glm::vec3>& rest, std::size_t target,
+                                const ClusterOptions& options, std::size_t* particles) {
+  return radius_for_particle_count({ClusterInput{&mesh, &rest}}, target, options, particles);
+}
+
+float radius_for_particle_count(const std::vector<ClusterInput>& inputs, std::size_t target,
+                                const ClusterOptions& options, std::size_t* particles) {
+  if (target == 0) throw Error(ErrorCode::InvalidArgument, "cluster: the target particle count must be at least 1");
+  BoundingBox box;
+  std::size_t live = 0;
+  for (const ClusterInput& in : inputs) {
+    if (!in.mesh || !in.rest) throw Error(ErrorCode::InvalidArgument, "cluster: null mesh or rest positions");
+    check_rest(*in.mesh, *in.rest, "cluster");
+    in.mesh->for_each_face([&](FaceId, const Triangle& t) {
+      ++live;
+      for (const VertexId v : t) box.add((*in.rest)[v.index]);
+    });
+  }
+  if (live == 0) throw Error(ErrorCode::InvalidArgument, "cluster: the mesh has no live face");
+  const double size = std::max(double(box.diagonal()), 1e-12);
+  double lo = size * 1e-4, hi = size;
+  double best_r = hi;
+  std::size_t best_n = 0;
+  bool have = false;
+  const auto diff = [&](std::size_t c) { return c > target ? c - target : target - c; };
+  auto consider = [&](double r) {
+    ClusterOptions o = options;
+    o.radius = float(r);
+    std::size_t count = 0;
+    for (const ClusterInput& in : inputs) count += Clusters::build(*in.mesh, *in.rest, o).particle_count();
+    if (!have || diff(count) < diff(best_n) || (diff(count) == diff(best_n) && r > best_r)) {
+      best_r = r;
+      best_n = count;
+      have = true;
+    }
+    return count;
+  };
+  consider(hi);
+  for (int i = 0; i < 26 && best_n != target; ++i) {
+    const double mid = std::sqrt(lo * hi);
+    if (consider(mid) > target) lo = mid;
+    else hi = mid;
+  }
+  if (particles) *particles = best_n;
+  return float(best_r);
+}
+
+}  // namespace deepcut
