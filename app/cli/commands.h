@@ -22,6 +22,7 @@ int run_info(const std::vector<std::string>& args);
 int run_convert(const std::vector<std::string>& args);
 int run_make_cactus(const std::vector<std::string>& args);
 int run_cut(const std::vector<std::string>& args);
+int run_tear(const std::vector<std::string>& args);
 int run_apply(const std::vector<std::string>& args);
 int run_cluster(const std::vector<std::string>& args);
 int run_softbody(const std::vector<std::string>& args);

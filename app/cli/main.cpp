@@ -22,6 +22,9 @@ const char* kUsage =
     "  cut MODEL -o OUT --plane PX,PY,PZ,NX,NY,NZ [--keep both|positive|negative] [--cap] [--components]\n"
     "      [--time T] [--animation I] [--json]\n"
     "                                       cut every mesh by a plane (world space, pose at time T)\n"
+    "  tear MODEL -o OUT --blade-start HX,HY,HZ,TX,TY,TZ --blade-end HX,HY,HZ,TX,TY,TZ [--width W]\n"
+    "      [--time T] [--animation I] [--json]\n"
+    "                                       tear with a scalpel swept from one blade pose to another\n"
     "  apply MODEL HISTORY.json -o OUT [--json]   replay a list of operations\n"
     "  cluster MODEL (--radius RHO | --particles N) [--cover F] [--json]\n"
     "                                       soft-body particles of radius RHO (rest pose): counts, timing\n"
@@ -47,6 +50,7 @@ int main(int argc, char** argv) {
     if (command == "convert") return deepcut::cli::run_convert(args);
     if (command == "make-cactus") return deepcut::cli::run_make_cactus(args);
     if (command == "cut") return deepcut::cli::run_cut(args);
+    if (command == "tear") return deepcut::cli::run_tear(args);
     if (command == "apply") return deepcut::cli::run_apply(args);
     if (command == "cluster") return deepcut::cli::run_cluster(args);
     if (command == "softbody") return deepcut::cli::run_softbody(args);

@@ -28,14 +28,7 @@ std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t x) {
   return x;
 }
 
-const std::vector<FaceId> kNoFaces;
-
 }  // namespace
-
-std::uint64_t Adjacency::key(VertexId u, VertexId v) {
-  const auto e = make_edge(u, v);
-  return (std::uint64_t(e.a.index) << 32) | e.b.index;
-}
 
 void Adjacency::ensure_vertex(VertexId v) {
   if (v.index >= vertex_faces_.size()) vertex_faces_.resize(v.index + 1);
@@ -47,36 +40,31 @@ void Adjacency::add_face(FaceId f, const Triangle& t) {
   for (int k = 0; k < 3; ++k) {
     ensure_vertex(t[k]);
     insert_sorted(vertex_faces_[t[k].index], f);
-    if (t[k] != t[(k + 1) % 3]) insert_sorted(edges_[key(t[k], t[(k + 1) % 3])], f);
   }
 }
 
 void Adjacency::remove_face(FaceId f, const Triangle& t) {
   if (f.index < face_vertices_.size()) face_vertices_[f.index] = Triangle{};
-  for (int k = 0; k < 3; ++k) {
-    erase_sorted(vertex_faces_[t[k].index], f);
-    if (t[k] == t[(k + 1) % 3]) continue;
-    auto it = edges_.find(key(t[k], t[(k + 1) % 3]));
-    if (it == edges_.end()) continue;
-    erase_sorted(it->second, f);
-    if (it->second.empty()) edges_.erase(it);
-  }
+  for (int k = 0; k < 3; ++k)
+    if (t[k].index < vertex_faces_.size()) erase_sorted(vertex_faces_[t[k].index], f);
 }
 
 Adjacency Adjacency::build(const SurfaceMesh& mesh) {
   Adjacency adj;
-  adj.vertex_faces_.resize(mesh.vertex_count());
+  const std::size_t nv = mesh.vertex_count();
+  std::vector<std::uint32_t> valence(nv, 0);
+  mesh.for_each_face([&](FaceId, const Triangle& t) {
+    for (int k = 0; k < 3; ++k) ++valence[t[k].index];
+  });
+  adj.vertex_faces_.resize(nv);
+  for (std::size_t v = 0; v < nv; ++v) adj.vertex_faces_[v].reserve(valence[v]);
   adj.face_vertices_.assign(mesh.face_slots(), Triangle{});
-  adj.edges_.reserve(mesh.face_count() * 3 / 2 + 16);
   // Faces are visited in increasing id, so push_back keeps every list sorted.
   mesh.for_each_face([&](FaceId f, const Triangle& t) {
     adj.face_vertices_[f.index] = t;
     for (int k = 0; k < 3; ++k) {
       auto& vf = adj.vertex_faces_[t[k].index];
       if (vf.empty() || vf.back() != f) vf.push_back(f);
-      if (t[k] == t[(k + 1) % 3]) continue;
-      auto& ef = adj.edges_[key(t[k], t[(k + 1) % 3])];
-      if (ef.empty() || ef.back() != f) ef.push_back(f);
     }
   });
   return adj;
@@ -111,6 +99,15 @@ std::vector<VertexId> Adjacency::vertex_neighbors(VertexId v) const {
   return out;
 }
 
+std::vector<FaceId> Adjacency::edge_faces(VertexId u, VertexId v) const {
+  std::vector<FaceId> out;
+  if (u == v || u.index >= vertex_faces_.size() || v.index >= vertex_faces_.size()) return out;
+  const auto& a = vertex_faces_[u.index];
+  const auto& b = vertex_faces_[v.index];
+  std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(out));
+  return out;
+}
+
 std::vector<FaceId> Adjacency::face_neighbors(FaceId f) const {
   std::vector<FaceId> out;
   if (f.index >= face_vertices_.size() || !face_vertices_[f.index][0].valid()) return out;
@@ -123,23 +120,45 @@ std::vector<FaceId> Adjacency::face_neighbors(FaceId f) const {
   return out;
 }
 
-const std::vector<FaceId>& Adjacency::edge_faces(VertexId u, VertexId v) const {
-  auto it = edges_.find(key(u, v));
-  return it == edges_.end() ? kNoFaces : it->second;
+template <class Fn>
+void Adjacency::for_each_edge(Fn&& fn) const {
+  // Each edge is reported from its lowest-numbered face, so exactly once.
+  for (std::uint32_t f = 0; f < face_vertices_.size(); ++f) {
+    const auto& t = face_vertices_[f];
+    if (!t[0].valid()) continue;
+    for (int k = 0; k < 3; ++k) {
+      const VertexId a = t[k], b = t[(k + 1) % 3];
+      if (a == b) continue;
+      const auto faces = edge_faces(a, b);
+      if (faces.empty() || faces.front() != FaceId(f)) continue;
+      // A face listing the same edge twice (a degenerate fold) reports it from its first corner only.
+      bool earlier = false;
+      for (int j = 0; j < k; ++j) earlier |= make_edge(t[j], t[(j + 1) % 3]) == make_edge(a, b);
+      if (!earlier) fn(make_edge(a, b), faces);
+    }
+  }
+}
+
+std::size_t Adjacency::edge_count() const {
+  std::size_t n = 0;
+  for_each_edge([&](const Edge&, const std::vector<FaceId>&) { ++n; });
+  return n;
 }
 
 std::vector<Edge> Adjacency::boundary_edges() const {
   std::vector<Edge> out;
-  for (const auto& [k, faces] : edges_)
-    if (faces.size() == 1) out.push_back({VertexId(std::uint32_t(k >> 32)), VertexId(std::uint32_t(k))});
+  for_each_edge([&](const Edge& e, const std::vector<FaceId>& faces) {
+    if (faces.size() == 1) out.push_back(e);
+  });
   std::sort(out.begin(), out.end());
   return out;
 }
 
 std::vector<Edge> Adjacency::nonmanifold_edges() const {
   std::vector<Edge> out;
-  for (const auto& [k, faces] : edges_)
-    if (faces.size() > 2) out.push_back({VertexId(std::uint32_t(k >> 32)), VertexId(std::uint32_t(k))});
+  for_each_edge([&](const Edge& e, const std::vector<FaceId>& faces) {
+    if (faces.size() > 2) out.push_back(e);
+  });
   std::sort(out.begin(), out.end());
   return out;
 }
@@ -153,13 +172,12 @@ std::vector<Edge> Adjacency::seam_edges(const SurfaceMesh& mesh) const {
       if (t[k] == v) return SurfaceMesh::corner(f, k);
     return kInvalidIndex;
   };
-  for (const auto& [k, faces] : edges_) {
-    if (faces.size() != 2) continue;
-    const VertexId a(std::uint32_t(k >> 32)), b{std::uint32_t(k)};
-    const bool same = ca.elements_equal(corner_of(faces[0], a), corner_of(faces[1], a)) &&
-                      ca.elements_equal(corner_of(faces[0], b), corner_of(faces[1], b));
-    if (!same) out.push_back({a, b});
-  }
+  for_each_edge([&](const Edge& e, const std::vector<FaceId>& faces) {
+    if (faces.size() != 2) return;
+    const bool same = ca.elements_equal(corner_of(faces[0], e.a), corner_of(faces[1], e.a)) &&
+                      ca.elements_equal(corner_of(faces[0], e.b), corner_of(faces[1], e.b));
+    if (!same) out.push_back(e);
+  });
   std::sort(out.begin(), out.end());
   return out;
 }
@@ -194,10 +212,13 @@ std::size_t Adjacency::component_count() const {
 }
 
 bool Adjacency::operator==(const Adjacency& other) const {
-  if (vertex_faces_ != other.vertex_faces_ || edges_.size() != other.edges_.size()) return false;
-  for (const auto& [k, faces] : edges_) {
-    auto it = other.edges_.find(k);
-    if (it == other.edges_.end() || it->second != faces) return false;
+  if (vertex_faces_ != other.vertex_faces_) return false;
+  // Face slots beyond the shorter list must all be removed ones.
+  const std::size_t n = std::max(face_vertices_.size(), other.face_vertices_.size());
+  for (std::size_t f = 0; f < n; ++f) {
+    const Triangle a = f < face_vertices_.size() ? face_vertices_[f] : Triangle{};
+    const Triangle b = f < other.face_vertices_.size() ? other.face_vertices_[f] : Triangle{};
+    if (a != b) return false;
   }
   return true;
 }

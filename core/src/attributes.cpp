@@ -24,6 +24,11 @@ void AttributeSet::resize(std::size_t n) {
   size_ = n;
 }
 
+void AttributeSet::push_default(std::size_t count) {
+  for (auto& entry : arrays_) entry.second->push_default(count);
+  size_ += count;
+}
+
 void AttributeSet::push_blend(const std::uint32_t* src, const float* w, int count) {
   for (auto& entry : arrays_) entry.second->push_blend(src, w, count);
   ++size_;

@@ -6,29 +6,6 @@
 #include <string>
 
 namespace deepcut {
-namespace {
-
-struct SkinSet {
-  AttributeArray<glm::u16vec4>* joints;
-  AttributeArray<glm::vec4>* weights;
-};
-
-// The skin sets present on a mesh, in order (JOINTS_0/WEIGHTS_0, then _1).
-int skin_sets(SurfaceMesh& mesh, SkinSet out[2]) {
-  int n = 0;
-  auto& va = mesh.vertex_attrs();
-  const char* names[2][2] = {{attr::kJoints0, attr::kWeights0}, {attr::kJoints1, attr::kWeights1}};
-  for (auto& pair : names) {
-    auto* j = va.find<glm::u16vec4>(pair[0]);
-    auto* w = va.find<glm::vec4>(pair[1]);
-    if (!j || !w) break;
-    out[n++] = {j, w};
-  }
-  return n;
-}
-
-}  // namespace
-
 bool normalize_influences(std::uint16_t* joints, float* weights, int slots) {
   // Merge duplicate joints, then keep the largest `slots` (they already are `slots`), sort by
   // weight so the strongest comes first, renormalise.
@@ -57,7 +34,20 @@ bool normalize_influences(std::uint16_t* joints, float* weights, int slots) {
   return true;
 }
 
-MeshEditor::MeshEditor(SurfaceMesh& mesh) : mesh_(mesh) {}
+MeshEditor::MeshEditor(SurfaceMesh& mesh) : mesh_(mesh) {
+  auto& va = mesh_.vertex_attrs();
+  const char* names[2][2] = {{attr::kJoints0, attr::kWeights0}, {attr::kJoints1, attr::kWeights1}};
+  for (auto& pair : names) {
+    auto* j = va.find<glm::u16vec4>(pair[0]);
+    auto* w = va.find<glm::vec4>(pair[1]);
+    if (!j || !w) break;
+    joints_[skin_sets_] = j;
+    weights_[skin_sets_] = w;
+    ++skin_sets_;
+  }
+  normals_ = mesh_.corner_attrs().find<glm::vec3>(attr::kNormal);
+  tangents_ = mesh_.corner_attrs().find<glm::vec4>(attr::kTangent);
+}
 
 EditLog MeshEditor::take_log() {
   EditLog out;
@@ -66,8 +56,7 @@ EditLog MeshEditor::take_log() {
 }
 
 void MeshEditor::fix_skin_weights(VertexId v, const VertexId* src, const float* w, int count) {
-  SkinSet sets[2];
-  const int nsets = skin_sets(mesh_, sets);
+  const int nsets = skin_sets_;
   if (nsets == 0) return;
   // Union of the sources' joints with interpolated weights.
   struct Influence {
@@ -79,8 +68,8 @@ void MeshEditor::fix_skin_weights(VertexId v, const VertexId* src, const float* 
   for (int s = 0; s < count; ++s) {
     if (w[s] <= 0.0f) continue;
     for (int k = 0; k < nsets; ++k) {
-      const auto& j4 = (*sets[k].joints)[src[s].index];
-      const auto& w4 = (*sets[k].weights)[src[s].index];
+      const auto& j4 = (*joints_[k])[src[s].index];
+      const auto& w4 = (*weights_[k])[src[s].index];
       for (int c = 0; c < 4; ++c) {
         if (w4[c] <= 0.0f) continue;
         int found = -1;
@@ -102,23 +91,22 @@ void MeshEditor::fix_skin_weights(VertexId v, const VertexId* src, const float* 
     joints[i] = acc[i].joint;
     weights[i] = acc[i].weight;
   }
-  if (n == 0) joints[0] = (*sets[0].joints)[src[0].index][0];
+  if (n == 0) joints[0] = (*joints_[0])[src[0].index][0];
   normalize_influences(joints, weights, slots);
   for (int k = 0; k < nsets; ++k)
     for (int c = 0; c < 4; ++c) {
-      (*sets[k].joints)[v.index][c] = joints[4 * k + c];
-      (*sets[k].weights)[v.index][c] = weights[4 * k + c];
+      (*joints_[k])[v.index][c] = joints[4 * k + c];
+      (*weights_[k])[v.index][c] = weights[4 * k + c];
     }
 }
 
 void MeshEditor::fix_corner_directions(FaceId f, int k, FaceId parent, const std::array<float, 3>& w) {
-  auto& ca = mesh_.corner_attrs();
   const auto c = SurfaceMesh::corner(f, k);
-  if (auto* n = ca.find<glm::vec3>(attr::kNormal)) {
+  if (auto* n = normals_) {
     const float len = glm::length((*n)[c]);
     if (len > 0.0f) (*n)[c] /= len;
   }
-  if (auto* t = ca.find<glm::vec4>(attr::kTangent)) {
+  if (auto* t = tangents_) {
     glm::vec3 xyz((*t)[c]);
     const float len = glm::length(xyz);
     if (len > 0.0f) xyz /= len;

@@ -63,7 +63,7 @@ SurfaceMesh& SurfaceMesh::operator=(SurfaceMesh&& other) noexcept {
 
 VertexId SurfaceMesh::add_vertex(const glm::vec3& p) {
   const auto n = vattrs_.size();
-  vattrs_.resize(n + 1);
+  vattrs_.push_default(1);
   (*positions_)[n] = p;
   return VertexId(static_cast<std::uint32_t>(n));
 }
@@ -76,8 +76,8 @@ FaceId SurfaceMesh::add_face(VertexId a, VertexId b, VertexId c) {
                                                 std::to_string(nv) + " vertices)");
   faces_.push_back({a, b, c});
   deleted_.push_back(0);
-  fattrs_.resize(faces_.size());
-  cattrs_.resize(3 * faces_.size());
+  fattrs_.push_default(1);
+  cattrs_.push_default(3);
   return FaceId(static_cast<std::uint32_t>(faces_.size() - 1));
 }
 
@@ -92,6 +92,24 @@ void SurfaceMesh::mark_deleted(FaceId f) {
     deleted_[f.index] = 1;
     ++deleted_count_;
   }
+}
+
+void SurfaceMesh::assign(std::vector<Triangle> faces, AttributeSet vertex_attrs, AttributeSet face_attrs,
+                         AttributeSet corner_attrs) {
+  auto* positions = vertex_attrs.find<glm::vec3>(attr::kPosition);
+  if (!positions) throw Error(ErrorCode::InvalidArgument, "SurfaceMesh::assign: no positions");
+  if (face_attrs.size() != faces.size() || corner_attrs.size() != 3 * faces.size())
+    throw Error(ErrorCode::InvalidArgument, "SurfaceMesh::assign: attribute sizes do not match the faces");
+  for (const auto& t : faces)
+    for (auto v : t)
+      if (v.index >= vertex_attrs.size()) throw Error(ErrorCode::InvalidArgument, "SurfaceMesh::assign: vertex index out of range");
+  faces_ = std::move(faces);
+  deleted_.assign(faces_.size(), 0);
+  deleted_count_ = 0;
+  vattrs_ = std::move(vertex_attrs);
+  fattrs_ = std::move(face_attrs);
+  cattrs_ = std::move(corner_attrs);
+  positions_ = vattrs_.find<glm::vec3>(attr::kPosition);
 }
 
 std::vector<std::uint32_t> SurfaceMesh::compact() {

@@ -25,7 +25,7 @@ std::uint64_t directed_key(VertexId a, VertexId b) { return (std::uint64_t(a.ind
 class Cutter {
  public:
   Cutter(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const Plane& plane, const CutOptions& options)
-      : mesh_(mesh), editor_(mesh), posed_(posed), options_(options) {
+      : mesh_(mesh), editor_(mesh), input_posed_(posed), first_new_(mesh.vertex_count()), options_(options) {
     normal_ = glm::dvec3(plane.normal);
     point_ = glm::dvec3(plane.point);
   }
@@ -47,18 +47,29 @@ class Cutter {
   void split_face(FaceId f);
   void separate_sides();
   void collect_pieces(CutResult& result);
-  void cap_piece(std::vector<FaceId>& piece);
-  std::vector<std::pair<VertexId, VertexId>> rim_halfedges(const std::vector<FaceId>& piece) const;
+  void cap_piece(std::vector<FaceId>& piece, std::size_t index);
+  void index_rim(const CutResult& result);
+  std::vector<std::pair<VertexId, VertexId>> rim_halfedges(std::size_t piece) const;
   int face_side(const Triangle& t) const;
 
   SurfaceMesh& mesh_;
   MeshEditor editor_;
-  std::vector<glm::vec3> posed_;
+  // Posed positions: the caller's for existing vertices, ours for the ones the cut adds.
+  const glm::vec3& posed(VertexId v) const {
+    return v.index < first_new_ ? input_posed_[v.index] : new_posed_[v.index - first_new_];
+  }
+  const std::vector<glm::vec3>& input_posed_;
+  std::vector<glm::vec3> new_posed_;
+  std::size_t first_new_;
   CutOptions options_;
   glm::dvec3 normal_, point_;
   std::vector<double> dist_;
   std::vector<std::int8_t> sign_;
   std::unordered_map<std::uint64_t, Split> splits_;
+  // Faces with two or more corners on the plane (the only ones that can have rim edges), and
+  // the piece of each face slot.
+  std::vector<FaceId> rim_faces_;
+  std::vector<std::uint32_t> piece_of_face_;
   std::size_t intersections_ = 0;
 };
 
@@ -76,7 +87,7 @@ VertexId Cutter::split_edge(VertexId a, VertexId b) {
   const double dl = dist_[lo.index], dh = dist_[hi.index];
   const float t = static_cast<float>(dl / (dl - dh));
   const VertexId v = editor_.add_vertex_on_edge(lo, hi, t);
-  posed_.push_back(glm::mix(posed_[lo.index], posed_[hi.index], t));
+  new_posed_.push_back(glm::mix(posed(lo), posed(hi), t));
   dist_.push_back(0.0);
   sign_.push_back(0);
   splits_.emplace(key, Split{lo, hi, v, t});
@@ -125,8 +136,8 @@ void Cutter::split_face(FaceId f) {
   const Corner m1 = split_corner(t, lone, k1), m2 = split_corner(t, lone, k2);
   emit(corner(lone), m1, m2);
   // The quad (m1, k1, k2, m2): split along its shorter diagonal.
-  const float d1 = glm::length(posed_[m1.v.index] - posed_[t[k2].index]);
-  const float d2 = glm::length(posed_[t[k1].index] - posed_[m2.v.index]);
+  const float d1 = glm::length(posed(m1.v) - posed(t[k2]));
+  const float d2 = glm::length(posed(t[k1]) - posed(m2.v));
   if (d1 <= d2) {
     emit(m1, corner(k1), corner(k2));
     emit(m1, corner(k2), m2);
@@ -155,7 +166,7 @@ void Cutter::separate_sides() {
   std::sort(shared.begin(), shared.end());  // deterministic vertex numbering
   for (std::uint32_t v : shared) {
     const VertexId c = editor_.split_vertex(VertexId(v));
-    posed_.push_back(posed_[v]);
+    new_posed_.push_back(posed(VertexId(v)));
     dist_.push_back(dist_[v]);
     sign_.push_back(0);
     copy.emplace(v, c);
@@ -180,28 +191,44 @@ void Cutter::separate_sides() {
   }
 }
 
-std::vector<std::pair<VertexId, VertexId>> Cutter::rim_halfedges(const std::vector<FaceId>& piece) const {
+void Cutter::index_rim(const CutResult& result) {
+  piece_of_face_.assign(mesh_.face_slots(), kInvalidIndex);
+  for (std::size_t p = 0; p < result.pieces.size(); ++p)
+    for (FaceId f : result.pieces[p]) piece_of_face_[f.index] = static_cast<std::uint32_t>(p);
+  rim_faces_.clear();
+  mesh_.for_each_face([&](FaceId f, const Triangle& t) {
+    const int zeros = (sign_[t[0].index] == 0) + (sign_[t[1].index] == 0) + (sign_[t[2].index] == 0);
+    if (zeros >= 2) rim_faces_.push_back(f);
+  });
+}
+
+std::vector<std::pair<VertexId, VertexId>> Cutter::rim_halfedges(std::size_t piece) const {
+  // An edge with both ends on the plane belongs only to faces with two corners on it, so
+  // counting within rim_faces_ is exact.
   std::unordered_map<std::uint64_t, int> count;
-  for (FaceId f : piece) {
+  for (FaceId f : rim_faces_) {
+    if (piece_of_face_[f.index] != piece) continue;
     const auto& t = mesh_.face(f);
-    for (int k = 0; k < 3; ++k) ++count[edge_key(t[k], t[(k + 1) % 3])];
+    for (int k = 0; k < 3; ++k)
+      if (sign_[t[k].index] == 0 && sign_[t[(k + 1) % 3].index] == 0) ++count[edge_key(t[k], t[(k + 1) % 3])];
   }
   std::vector<std::pair<VertexId, VertexId>> out;
-  for (FaceId f : piece) {
+  for (FaceId f : rim_faces_) {
+    if (piece_of_face_[f.index] != piece) continue;
     const auto& t = mesh_.face(f);
     for (int k = 0; k < 3; ++k) {
       const VertexId a = t[k], b = t[(k + 1) % 3];
-      if (count[edge_key(a, b)] == 1 && sign_[a.index] == 0 && sign_[b.index] == 0) out.emplace_back(a, b);
+      if (sign_[a.index] == 0 && sign_[b.index] == 0 && count[edge_key(a, b)] == 1) out.emplace_back(a, b);
     }
   }
   return out;
 }
 
-void Cutter::cap_piece(std::vector<FaceId>& piece) {
+void Cutter::cap_piece(std::vector<FaceId>& piece, std::size_t index) {
   // The cap runs along the piece's rim edges in the opposite direction.
   std::unordered_map<std::uint32_t, std::vector<VertexId>> next;
   std::unordered_set<std::uint64_t> unused;
-  for (const auto& [a, b] : rim_halfedges(piece)) {
+  for (const auto& [a, b] : rim_halfedges(index)) {
     next[b.index].push_back(a);
     unused.insert(directed_key(b, a));
   }
@@ -253,7 +280,7 @@ void Cutter::cap_piece(std::vector<FaceId>& piece) {
   const glm::dvec3 w = glm::cross(n, u);
   std::vector<glm::dvec2> pts(verts.size());
   for (std::size_t i = 0; i < verts.size(); ++i) {
-    const glm::dvec3 p = glm::dvec3(posed_[verts[i].index]) - point_;
+    const glm::dvec3 p = glm::dvec3(posed(verts[i])) - point_;
     pts[i] = {glm::dot(p, u), glm::dot(p, w)};
   }
   // The largest loop is an outer one; its orientation is the cap's.
@@ -333,8 +360,8 @@ void Cutter::collect_pieces(CutResult& result) {
 CutResult Cutter::run() {
   CutResult result;
   const std::size_t nv = mesh_.vertex_count();
-  if (posed_.size() != nv)
-    throw Error(ErrorCode::InvalidArgument, "cut: " + std::to_string(posed_.size()) + " posed positions for " +
+  if (input_posed_.size() != nv)
+    throw Error(ErrorCode::InvalidArgument, "cut: " + std::to_string(input_posed_.size()) + " posed positions for " +
                                                 std::to_string(nv) + " vertices");
   const double nlen = glm::length(normal_);
   if (!std::isfinite(nlen) || nlen == 0.0) throw Error(ErrorCode::InvalidArgument, "cut: the plane normal is zero or not finite");
@@ -347,7 +374,7 @@ CutResult Cutter::run() {
   mesh_.for_each_face([&](FaceId, const Triangle& t) {
     for (auto v : t) {
       used[v.index] = 1;
-      box.add(posed_[v.index]);
+      box.add(input_posed_[v.index]);
     }
   });
   const double tol = double(options_.relative_tolerance) * double(box.diagonal());
@@ -356,7 +383,7 @@ CutResult Cutter::run() {
   bool pos = false, neg = false;
   for (std::size_t v = 0; v < nv; ++v) {
     if (!used[v]) continue;
-    const double d = glm::dot(glm::dvec3(posed_[v]) - point_, normal_);
+    const double d = glm::dot(glm::dvec3(input_posed_[v]) - point_, normal_);
     dist_[v] = d;
     sign_[v] = d > tol ? 1 : (d < -tol ? -1 : 0);
     pos |= sign_[v] > 0;
@@ -381,15 +408,16 @@ CutResult Cutter::run() {
     for (FaceId f : doomed) editor_.remove_face(f);
   }
   collect_pieces(result);
+  index_rim(result);
   // Rim: vertices on the plane that bound a piece.
   std::unordered_set<std::uint32_t> rim;
-  for (const auto& piece : result.pieces)
-    for (const auto& [a, b] : rim_halfedges(piece)) {
+  for (std::size_t p = 0; p < result.pieces.size(); ++p)
+    for (const auto& [a, b] : rim_halfedges(p)) {
       rim.insert(a.index);
       rim.insert(b.index);
     }
   if (options_.cap)
-    for (auto& piece : result.pieces) cap_piece(piece);
+    for (std::size_t p = 0; p < result.pieces.size(); ++p) cap_piece(result.pieces[p], p);
   result.rim_vertices.reserve(rim.size());
   for (auto v : rim) result.rim_vertices.push_back(VertexId(v));
   std::sort(result.rim_vertices.begin(), result.rim_vertices.end());

@@ -38,6 +38,11 @@ json to_json(const Operation& op) {
                  {"keep", keep_name(p.options.keep)},
                  {"cap", p.options.cap},
                  {"components", p.options.split_components}};
+        } else if constexpr (std::is_same_v<T, TearOperation>) {
+          out = {{"op", "tear"},
+                 {"blade_start", {p.start.handle.x, p.start.handle.y, p.start.handle.z, p.start.tip.x, p.start.tip.y, p.start.tip.z}},
+                 {"blade_end", {p.end.handle.x, p.end.handle.y, p.end.handle.z, p.end.tip.x, p.end.tip.y, p.end.tip.z}}};
+          if (p.options.width >= 0.0f) out["width"] = p.options.width;
         }
       },
       op.params);
@@ -72,6 +77,18 @@ Operation from_json(const json& o, std::size_t index) {
     c.options.cap = o.value("cap", false);
     c.options.split_components = o.value("components", false);
     op.params = c;
+  } else if (kind == "tear") {
+    TearOperation t;
+    const auto s = numbers(o, "blade_start", 6, index);
+    const auto e = numbers(o, "blade_end", 6, index);
+    t.start = {{s[0], s[1], s[2]}, {s[3], s[4], s[5]}};
+    t.end = {{e[0], e[1], e[2]}, {e[3], e[4], e[5]}};
+    if (o.contains("width")) {
+      if (!o["width"].is_number() || !std::isfinite(o["width"].get<double>()) || o["width"].get<double>() < 0.0)
+        fail(index, "'width' must be a number >= 0");
+      t.options.width = o["width"].get<float>();
+    }
+    op.params = t;
   } else {
     fail(index, "unknown op '" + kind + "'");
   }
@@ -109,6 +126,16 @@ OperationReport apply_operation(Model& model, const Operation& operation) {
                                      {"status", to_string(r.status)},
                                      {"intersection_points", r.intersection_points},
                                      {"pieces", r.piece_nodes.size()}}
+                                    .dump();
+        } else if constexpr (std::is_same_v<T, TearOperation>) {
+          const ModelTearResult r = tear_model(model, p.start, p.end, p.options, animation, operation.time);
+          report.status = r.status;
+          report.summary_json = json{{"op", "tear"},
+                                     {"status", to_string(r.status)},
+                                     {"intersection_points", r.intersection_points},
+                                     {"tear_vertices", r.tear_vertices},
+                                     {"slits", r.slits},
+                                     {"width", r.width}}
                                     .dump();
         }
       },

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <queue>
 
 namespace deepcut::detail {
 namespace {
@@ -68,57 +69,96 @@ void bridge_hole(const std::vector<glm::dvec2>& pts, std::vector<std::uint32_t>&
   outer.swap(merged);
 }
 
-// Ear clipping of one (possibly bridged, so weakly simple) counter-clockwise polygon.
+// Ear clipping of one (possibly bridged, so weakly simple) counter-clockwise polygon. Ears are
+// taken best-shaped first from a priority queue; only reflex vertices can lie inside an ear, so
+// only they are tested, and clipping a vertex re-evaluates just its two neighbours.
 void clip_ears(const std::vector<glm::dvec2>& pts, std::vector<std::uint32_t> poly,
                std::vector<std::array<std::uint32_t, 3>>& out) {
-  // Drop consecutive duplicates.
   poly.erase(std::unique(poly.begin(), poly.end()), poly.end());
   while (poly.size() > 1 && poly.front() == poly.back()) poly.pop_back();
-  // Every pass removes one vertex, so the loop ends; the guard only bounds pathological input.
-  const std::size_t limit = 2 * poly.size() + 16;
-  for (std::size_t guard = 0; poly.size() > 3 && guard < limit; ++guard) {
-    const std::size_t n = poly.size();
-    std::size_t best = n;
-    double best_quality = -1.0;
-    for (std::size_t i = 0; i < n; ++i) {
-      const auto& a = pts[poly[(i + n - 1) % n]];
-      const auto& b = pts[poly[i]];
-      const auto& c = pts[poly[(i + 1) % n]];
-      const double area = cross(a, b, c);
-      if (area <= 0.0) continue;  // reflex or degenerate
-      bool contains = false;
-      for (std::size_t j = 0; j < n && !contains; ++j) {
-        const std::uint32_t q = poly[j];
-        if (q == poly[(i + n - 1) % n] || q == poly[i] || q == poly[(i + 1) % n]) continue;
-        const auto& p = pts[q];
-        contains = cross(a, b, p) >= 0 && cross(b, c, p) >= 0 && cross(c, a, p) >= 0;
-      }
-      if (contains) continue;
-      // Prefer well-shaped ears: area over the squared longest edge.
-      const double longest = std::max({glm::dot(b - a, b - a), glm::dot(c - b, c - b), glm::dot(a - c, a - c)});
-      const double quality = area / std::max(longest, 1e-300);
-      if (quality > best_quality) {
-        best_quality = quality;
-        best = i;
-      }
-    }
-    if (best == n) {
-      // No proper ear (numerically degenerate polygon): cut the flattest corner.
-      double flattest = std::numeric_limits<double>::max();
-      for (std::size_t i = 0; i < n; ++i) {
-        const double a = std::abs(cross(pts[poly[(i + n - 1) % n]], pts[poly[i]], pts[poly[(i + 1) % n]]));
-        if (a < flattest) {
-          flattest = a;
-          best = i;
-        }
-      }
-      poly.erase(poly.begin() + static_cast<std::ptrdiff_t>(best));
-      continue;
-    }
-    out.push_back({poly[(best + n - 1) % n], poly[best], poly[(best + 1) % n]});
-    poly.erase(poly.begin() + static_cast<std::ptrdiff_t>(best));
+  const std::size_t n = poly.size();
+  if (n < 3) return;
+  std::vector<std::size_t> prev(n), next(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    prev[i] = (i + n - 1) % n;
+    next[i] = (i + 1) % n;
   }
-  if (poly.size() == 3 && cross(pts[poly[0]], pts[poly[1]], pts[poly[2]]) > 0.0) out.push_back({poly[0], poly[1], poly[2]});
+  std::vector<char> alive(n, 1), reflex(n, 0);
+  std::vector<std::uint32_t> version(n, 0);
+  std::vector<std::size_t> reflex_list;
+  auto corner = [&](std::size_t i) { return cross(pts[poly[prev[i]]], pts[poly[i]], pts[poly[next[i]]]); };
+  auto update_reflex = [&](std::size_t i) {
+    const bool r = corner(i) <= 0.0;
+    if (r && !reflex[i]) reflex_list.push_back(i);
+    reflex[i] = r;
+  };
+  auto is_ear = [&](std::size_t i) {
+    if (reflex[i]) return false;
+    const std::uint32_t ia = poly[prev[i]], ib = poly[i], ic = poly[next[i]];
+    const auto &a = pts[ia], &b = pts[ib], &c = pts[ic];
+    for (std::size_t q : reflex_list) {
+      if (!alive[q] || !reflex[q]) continue;
+      const std::uint32_t iq = poly[q];
+      if (iq == ia || iq == ib || iq == ic) continue;  // the same point (bridges repeat points)
+      const auto& p = pts[iq];
+      if (cross(a, b, p) >= 0 && cross(b, c, p) >= 0 && cross(c, a, p) >= 0) return false;
+    }
+    return true;
+  };
+  auto quality = [&](std::size_t i) {
+    const auto &a = pts[poly[prev[i]]], &b = pts[poly[i]], &c = pts[poly[next[i]]];
+    const double longest = std::max({glm::dot(b - a, b - a), glm::dot(c - b, c - b), glm::dot(a - c, a - c)});
+    return corner(i) / std::max(longest, 1e-300);
+  };
+  struct Entry {
+    double quality;
+    std::size_t i;
+    std::uint32_t version;
+    bool operator<(const Entry& o) const { return quality < o.quality; }
+  };
+  std::priority_queue<Entry> ears;
+  for (std::size_t i = 0; i < n; ++i) update_reflex(i);
+  for (std::size_t i = 0; i < n; ++i)
+    if (is_ear(i)) ears.push({quality(i), i, version[i]});
+  std::size_t remaining = n;
+  std::size_t start = 0;  // some alive vertex
+  while (remaining > 3) {
+    std::size_t i = n;
+    while (!ears.empty()) {
+      const Entry e = ears.top();
+      ears.pop();
+      if (alive[e.i] && e.version == version[e.i]) {
+        i = e.i;
+        break;
+      }
+    }
+    bool emit = true;
+    if (i == n) {
+      // No ear (numerically degenerate input): clip the most convex corner so the loop ends.
+      double best = -std::numeric_limits<double>::max();
+      std::size_t j = start;
+      for (std::size_t k = 0; k < remaining; ++k, j = next[j])
+        if (corner(j) > best) {
+          best = corner(j);
+          i = j;
+        }
+      emit = best > 0.0;
+    }
+    const std::size_t a = prev[i], c = next[i];
+    if (emit) out.push_back({poly[a], poly[i], poly[c]});
+    alive[i] = 0;
+    next[a] = c;
+    prev[c] = a;
+    start = a;
+    --remaining;
+    for (std::size_t j : {a, c}) {
+      ++version[j];
+      update_reflex(j);
+      if (is_ear(j)) ears.push({quality(j), j, version[j]});
+    }
+  }
+  const std::size_t a = start, b = next[a], c = next[b];
+  if (cross(pts[poly[a]], pts[poly[b]], pts[poly[c]]) > 0.0) out.push_back({poly[a], poly[b], poly[c]});
 }
 
 }  // namespace

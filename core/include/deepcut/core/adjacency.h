@@ -6,7 +6,6 @@
 /// `apply(log)` updates an existing adjacency from an edit log, touching only what changed.
 
 #include <cstdint>
-#include <unordered_map>
 #include <vector>
 
 #include "deepcut/core/edit_log.h"
@@ -36,9 +35,10 @@ class Adjacency {
   std::vector<VertexId> vertex_neighbors(VertexId v) const;
   /// Faces sharing an edge with `f`, sorted by id (more than three at non-manifold edges).
   std::vector<FaceId> face_neighbors(FaceId f) const;
-  /// Faces using the edge (u, v); empty if it is not an edge.
-  const std::vector<FaceId>& edge_faces(VertexId u, VertexId v) const;
-  std::size_t edge_count() const { return edges_.size(); }
+  /// Faces using the edge (u, v), sorted; empty if it is not an edge. O(valence).
+  std::vector<FaceId> edge_faces(VertexId u, VertexId v) const;
+  /// Number of distinct edges of the live faces. O(#faces).
+  std::size_t edge_count() const;
 
   /// Edges with exactly one face, sorted.
   std::vector<Edge> boundary_edges() const;
@@ -52,21 +52,21 @@ class Adjacency {
   /// Component index per vertex (kInvalidIndex for vertices without faces) and the count.
   std::vector<std::uint32_t> vertex_components(std::size_t* count = nullptr) const;
 
-  /// Same vertices, same faces per vertex and same faces per edge.
+  /// Same vertices and same faces per vertex (edges follow from those and the faces).
   bool operator==(const Adjacency& other) const;
   bool operator!=(const Adjacency& other) const { return !(*this == other); }
 
  private:
-  struct EdgeHash {
-    std::size_t operator()(std::uint64_t k) const noexcept { return std::size_t(k * 0x9E3779B97F4A7C15ull >> 16); }
-  };
-  static std::uint64_t key(VertexId u, VertexId v);
+  // Calls fn(a, b, faces_of_edge) once per edge (a < b) of the live faces.
+  template <class Fn>
+  void for_each_edge(Fn&& fn) const;
   void add_face(FaceId f, const Triangle& t);
   void remove_face(FaceId f, const Triangle& t);
   void ensure_vertex(VertexId v);
 
+  // Edges are not stored: the faces of edge (u, v) are those in both vertex lists, which are
+  // short and sorted. That keeps build and every update to one sorted insert per corner.
   std::vector<std::vector<FaceId>> vertex_faces_;
-  std::unordered_map<std::uint64_t, std::vector<FaceId>, EdgeHash> edges_;
   std::vector<Triangle> face_vertices_;  // by face slot; invalid ids for removed faces
 };
 

@@ -47,6 +47,8 @@ class AttributeArrayBase {
   virtual ~AttributeArrayBase() = default;
   virtual std::size_t size() const = 0;
   virtual void resize(std::size_t n) = 0;
+  /// Appends `count` default values (cheaper than resize for one element at a time).
+  virtual void push_default(std::size_t count) = 0;
   /// Appends one element: the weighted blend of `count` existing elements (`src[i]`, `w[i]`).
   /// Floating-point types blend linearly; integer types take the source of largest weight.
   virtual void push_blend(const std::uint32_t* src, const float* w, int count) = 0;
@@ -70,6 +72,9 @@ class AttributeArray final : public AttributeArrayBase {
 
   std::size_t size() const override { return data_.size(); }
   void resize(std::size_t n) override { data_.resize(n, default_); }
+  void push_default(std::size_t count) override {
+    for (std::size_t i = 0; i < count; ++i) data_.push_back(default_);
+  }
   void push_blend(const std::uint32_t* src, const float* w, int count) override {
     data_.push_back(blend(src, w, count));
   }
@@ -134,6 +139,8 @@ class AttributeSet {
 
   std::size_t size() const { return size_; }
   void resize(std::size_t n);
+  /// Appends `count` default elements to every array.
+  void push_default(std::size_t count);
   /// Appends one element to every array: the blend of `count` existing elements.
   void push_blend(const std::uint32_t* src, const float* w, int count);
   /// Sets element `dst` of every array to the blend of `count` existing elements.

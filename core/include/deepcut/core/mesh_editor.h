@@ -17,6 +17,8 @@
 
 namespace deepcut {
 
+/// @note The editor looks up the skin, normal and tangent attributes once, when it is made: add
+///       such attributes before making the editor (other attributes may come and go).
 class MeshEditor {
  public:
   explicit MeshEditor(SurfaceMesh& mesh);
@@ -51,6 +53,12 @@ class MeshEditor {
 
   SurfaceMesh& mesh_;
   EditLog log_;
+  // Attributes with special interpolation rules, looked up once.
+  AttributeArray<glm::u16vec4>* joints_[2] = {nullptr, nullptr};
+  AttributeArray<glm::vec4>* weights_[2] = {nullptr, nullptr};
+  int skin_sets_ = 0;
+  AttributeArray<glm::vec3>* normals_ = nullptr;
+  AttributeArray<glm::vec4>* tangents_ = nullptr;
 };
 
 /// Applies the skin-weight rule to one vertex's raw influences: keeps the `slots` largest,

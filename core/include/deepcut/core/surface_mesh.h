@@ -45,6 +45,8 @@ class SurfaceMesh {
   const std::vector<glm::vec3>& positions() const { return positions_->data(); }
   const glm::vec3& position(VertexId v) const { return (*positions_)[v.index]; }
 
+  /// Add, get or remove vertex attributes here; never assign a whole AttributeSet to it
+  /// (use `assign`), since the positions array must stay the one the mesh knows.
   AttributeSet& vertex_attrs() { return vattrs_; }
   const AttributeSet& vertex_attrs() const { return vattrs_; }
   AttributeSet& face_attrs() { return fattrs_; }
@@ -64,6 +66,10 @@ class SurfaceMesh {
   // --- low-level edits: only MeshEditor (which logs them) and builders call these -----------
   void set_face(FaceId f, const Triangle& t) { faces_[f.index] = t; }
   void mark_deleted(FaceId f);
+  /// Replaces the whole mesh (wholesale builders such as weld). `vertex_attrs` must hold
+  /// attr::kPosition; sizes must agree (vertices, faces, 3 x faces). Deleted marks are cleared.
+  /// @throws Error{InvalidArgument} on a size mismatch or a face index out of range.
+  void assign(std::vector<Triangle> faces, AttributeSet vertex_attrs, AttributeSet face_attrs, AttributeSet corner_attrs);
   /// Drops deleted faces and unreferenced vertices; attributes follow.
   /// @returns the old-to-new vertex map (kInvalidIndex for dropped vertices).
   std::vector<std::uint32_t> compact();

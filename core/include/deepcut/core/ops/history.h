@@ -11,6 +11,7 @@
 
 #include "deepcut/core/model.h"
 #include "deepcut/core/ops/cut.h"
+#include "deepcut/core/ops/tear.h"
 
 namespace deepcut {
 
@@ -19,8 +20,14 @@ struct CutOperation {
   CutOptions options;
 };
 
+/// A scalpel stroke: the blade's start and end poses (world space, in the operation's pose).
+struct TearOperation {
+  Blade start, end;
+  TearOptions options;
+};
+
 /// One operation's parameters; tear and drill join as they land.
-using OperationParams = std::variant<CutOperation>;
+using OperationParams = std::variant<CutOperation, TearOperation>;
 
 struct Operation {
   OperationParams params;

@@ -1,0 +1,63 @@
+// SPDX-License-Identifier: MIT
+// deepcut tear.
+#include <chrono>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "args.h"
+#include "commands.h"
+#include "deepcut/core/io/gltf.h"
+#include "deepcut/core/ops/history.h"
+
+namespace deepcut::cli {
+
+int run_tear(const std::vector<std::string>& argv) {
+  const Args args(argv, {"--json"},
+                  {"-o", "--blade-start", "--blade-end", "--width", "--time", "--animation"});
+  if (args.positionals().size() != 1) throw UsageError("tear needs exactly one MODEL");
+  if (!args.has("-o")) throw UsageError("tear needs -o OUT (.glb or .gltf)");
+  if (!args.has("--blade-start")) throw UsageError("tear needs --blade-start HX,HY,HZ,TX,TY,TZ");
+  if (!args.has("--blade-end")) throw UsageError("tear needs --blade-end HX,HY,HZ,TX,TY,TZ");
+  const auto s = args.vector("--blade-start", 6);
+  const auto e = args.vector("--blade-end", 6);
+  TearOperation tear;
+  tear.start = {glm::vec3(s[0], s[1], s[2]), glm::vec3(s[3], s[4], s[5])};
+  tear.end = {glm::vec3(e[0], e[1], e[2]), glm::vec3(e[3], e[4], e[5])};
+  if (args.has("--width")) {
+    const double w = args.number("--width", 0.0);
+    if (w < 0.0) throw UsageError("--width must be >= 0");
+    tear.options.width = static_cast<float>(w);
+  }
+  swept_quad_triangles(tear.start, tear.end);  // a degenerate blade fails before the model is read
+
+  Model model = read_gltf(args.positionals()[0]);
+  Operation op;
+  op.animation = pose_animation(args, model);
+  op.time = static_cast<float>(args.number("--time", 0.0));
+  const auto t0 = std::chrono::steady_clock::now();
+  const ModelTearResult r = tear_model(model, tear.start, tear.end, tear.options, op.animation, op.time);
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  tear.options.width = r.width;  // the history records the width used
+  op.params = tear;
+  if (r.status == OpStatus::Ok) record_operation(model, op);
+  write_gltf(model, args.value("-o"));
+  if (args.flag("--json")) {
+    std::cout << nlohmann::json{{"status", to_string(r.status)},
+                                {"tear_vertices", r.tear_vertices},
+                                {"intersection_points", r.intersection_points},
+                                {"slits", r.slits},
+                                {"width", r.width},
+                                {"ms", ms}}
+                     .dump(2)
+              << "\n";
+  } else {
+    std::cerr << "deepcut: "
+              << (r.status == OpStatus::Ok ? "tore " + std::to_string(r.slits) + " slit(s), " +
+                                                 std::to_string(r.tear_vertices) + " tear vertices"
+                                           : std::string("the blade misses the model; wrote it unchanged"))
+              << " -> " << args.value("-o") << "\n";
+  }
+  return 0;
+}
+
+}  // namespace deepcut::cli

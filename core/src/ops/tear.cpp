@@ -1,0 +1,1129 @@
+// SPDX-License-Identifier: MIT
+#include "deepcut/core/ops/tear.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <queue>
+#include <string>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "deepcut/core/mesh_editor.h"
+#include "deepcut/core/skinning.h"
+
+namespace deepcut {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+std::uint64_t edge_key(VertexId a, VertexId b) {
+  const auto lo = std::min(a.index, b.index), hi = std::max(a.index, b.index);
+  return (std::uint64_t(lo) << 32) | hi;
+}
+
+bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+// One planar part of the tear surface: a plane and one or two triangles in it, each given by its
+// three inward half-planes in the plane's 2D frame (h(q) = dot(q - corner, inward) >= 0 inside).
+struct Piece {
+  glm::dvec3 origin{0.0}, normal{0.0}, e1{0.0}, e2{0.0};
+  std::vector<std::array<glm::dvec2, 3>> corners;  // counter-clockwise in (e1, e2)
+  std::vector<std::array<glm::dvec2, 3>> inward;   // unit inward normal of edge k (corner k -> k+1)
+  std::vector<std::array<glm::vec3, 3>> world;     // the triangles in world space
+  BoundingBox box;
+
+  glm::dvec2 project(const glm::dvec3& p) const {
+    return {glm::dot(p - origin, e1), glm::dot(p - origin, e2)};
+  }
+  std::size_t hcount() const { return 3 * corners.size(); }
+};
+
+// Half-plane values of one point against every triangle of a piece (at most two triangles).
+using HValues = std::array<double, 6>;
+
+HValues hvalues(const Piece& piece, const glm::dvec2& q) {
+  HValues h{};
+  for (std::size_t j = 0; j < piece.corners.size(); ++j)
+    for (int k = 0; k < 3; ++k) h[3 * j + k] = glm::dot(q - piece.corners[j][k], piece.inward[j][k]);
+  return h;
+}
+
+bool inside(const Piece& piece, const HValues& h) {
+  for (std::size_t j = 0; j < piece.corners.size(); ++j)
+    if (h[3 * j] >= 0.0 && h[3 * j + 1] >= 0.0 && h[3 * j + 2] >= 0.0) return true;
+  return false;
+}
+
+struct Interval {
+  double lo, hi;
+};
+
+// The parts of the segment a -> b (parameter 0..1) inside the piece, from the endpoints'
+// half-plane values (the same values decide inside(a), so the two tests never disagree), merged,
+// snapped to the ends within `snap` and without pieces shorter than `snap` (a whole segment is
+// always kept).
+std::vector<Interval> clip_segment(const Piece& piece, const HValues& ha, const HValues& hb, double snap) {
+  std::vector<Interval> raw;
+  for (std::size_t j = 0; j < piece.corners.size(); ++j) {
+    double lo = 0.0, hi = 1.0;
+    bool empty = false;
+    for (int k = 0; k < 3 && !empty; ++k) {
+      const double a = ha[3 * j + k], b = hb[3 * j + k];
+      if (a >= 0.0 && b >= 0.0) continue;
+      if (a < 0.0 && b < 0.0) {
+        empty = true;
+        break;
+      }
+      const double s = a / (a - b);
+      if (a < 0.0)
+        lo = std::max(lo, s);
+      else
+        hi = std::min(hi, s);
+    }
+    if (!empty && lo <= hi) raw.push_back({lo, hi});
+  }
+  std::sort(raw.begin(), raw.end(), [](const Interval& x, const Interval& y) { return x.lo < y.lo; });
+  std::vector<Interval> merged;
+  for (const Interval& iv : raw) {
+    if (!merged.empty() && iv.lo <= merged.back().hi + snap)
+      merged.back().hi = std::max(merged.back().hi, iv.hi);
+    else
+      merged.push_back(iv);
+  }
+  std::vector<Interval> out;
+  for (Interval iv : merged) {
+    if (iv.lo < snap) iv.lo = 0.0;
+    if (iv.hi > 1.0 - snap) iv.hi = 1.0;
+    const bool whole = iv.lo == 0.0 && iv.hi == 1.0;
+    if (whole || iv.hi - iv.lo > snap) out.push_back(iv);
+  }
+  return out;
+}
+
+bool in_intervals(const std::vector<Interval>& ivs, double s) {
+  for (const Interval& iv : ivs)
+    if (s >= iv.lo && s <= iv.hi) return true;
+  return false;
+}
+
+void check_blade(const Blade& b, const char* which) {
+  if (!finite(b.handle) || !finite(b.tip))
+    throw Error(ErrorCode::InvalidArgument, std::string("tear: the ") + which + " blade is not finite");
+}
+
+Piece make_piece(const glm::dvec3& normal, const glm::dvec3& origin) {
+  Piece p;
+  p.normal = glm::normalize(normal);
+  p.origin = origin;
+  const glm::dvec3 axis = std::abs(p.normal.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+  p.e1 = glm::normalize(glm::cross(p.normal, axis));
+  p.e2 = glm::cross(p.normal, p.e1);
+  return p;
+}
+
+// Adds a triangle (world corners, assumed in or projected onto the piece's plane).
+void add_triangle(Piece& piece, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
+                  double min_area2) {
+  std::array<glm::dvec2, 3> q = {piece.project(a), piece.project(b), piece.project(c)};
+  const double area2 = (q[1].x - q[0].x) * (q[2].y - q[0].y) - (q[1].y - q[0].y) * (q[2].x - q[0].x);
+  if (std::abs(area2) <= min_area2) return;
+  if (area2 < 0.0) std::swap(q[1], q[2]);
+  std::array<glm::dvec2, 3> m;
+  for (int k = 0; k < 3; ++k) {
+    const glm::dvec2 d = q[(k + 1) % 3] - q[k];
+    m[k] = glm::normalize(glm::dvec2(-d.y, d.x));
+  }
+  piece.corners.push_back(q);
+  piece.inward.push_back(m);
+  std::array<glm::vec3, 3> w;
+  for (int k = 0; k < 3; ++k) {
+    const glm::dvec3 p = piece.origin + q[k].x * piece.e1 + q[k].y * piece.e2;
+    w[k] = glm::vec3(p);
+    piece.box.add(w[k]);
+  }
+  piece.world.push_back(w);
+}
+
+// The tear surface: one piece (planar quad) or two (quad folded along H0-T1).
+std::vector<Piece> make_pieces(const Blade& start, const Blade& end) {
+  check_blade(start, "start");
+  check_blade(end, "end");
+  const glm::dvec3 h0(start.handle), t0(start.tip), h1(end.handle), t1(end.tip);
+  const double size = std::max({glm::length(t0 - h0), glm::length(t1 - h1), glm::length(h1 - h0),
+                                glm::length(t1 - t0), glm::length(t1 - h0), glm::length(h1 - t0)});
+  if (glm::length(t0 - h0) <= 1e-6 * size || size == 0.0)
+    throw Error(ErrorCode::InvalidArgument, "tear: the start blade has zero length (handle == tip)");
+  if (glm::length(t1 - h1) <= 1e-6 * size)
+    throw Error(ErrorCode::InvalidArgument, "tear: the end blade has zero length (handle == tip)");
+  if (glm::length(h1 - h0) + glm::length(t1 - t0) <= 1e-6 * size)
+    throw Error(ErrorCode::InvalidArgument, "tear: the blade's start and end poses are identical");
+  const glm::dvec3 n1 = glm::cross(t0 - h0, t1 - h0), n2 = glm::cross(t1 - h0, h1 - h0);
+  glm::dvec3 n = n1 + n2;
+  const double min_area2 = 1e-9 * size * size;
+  if (glm::length(n) <= min_area2) n = glm::length(n1) >= glm::length(n2) ? n1 : n2;
+  if (glm::length(n) <= min_area2)
+    throw Error(ErrorCode::InvalidArgument,
+                "tear: the blade moves along its own line; the swept quad has no area");
+  const glm::dvec3 centre = 0.25 * (h0 + t0 + t1 + h1);
+  const glm::dvec3 nn = glm::normalize(n);
+  double off = 0.0;
+  for (const auto& p : {h0, t0, t1, h1}) off = std::max(off, std::abs(glm::dot(p - centre, nn)));
+  std::vector<Piece> pieces;
+  if (off <= 1e-3 * size) {
+    Piece p = make_piece(nn, centre);
+    add_triangle(p, h0, t0, t1, min_area2);
+    add_triangle(p, h0, t1, h1, min_area2);
+    pieces.push_back(std::move(p));
+  } else {
+    for (const auto& tri : {std::array<glm::dvec3, 3>{h0, t0, t1}, std::array<glm::dvec3, 3>{h0, t1, h1}}) {
+      const glm::dvec3 tn = glm::cross(tri[1] - tri[0], tri[2] - tri[0]);
+      if (glm::length(tn) <= min_area2) continue;
+      Piece p = make_piece(tn, (tri[0] + tri[1] + tri[2]) / 3.0);
+      add_triangle(p, tri[0], tri[1], tri[2], min_area2);
+      pieces.push_back(std::move(p));
+    }
+  }
+  std::size_t tris = 0;
+  for (const auto& p : pieces) tris += p.corners.size();
+  if (tris == 0) throw Error(ErrorCode::InvalidArgument, "tear: the swept quad has no area");
+  return pieces;
+}
+
+// Triangulates one face with points inserted in order along a straight chord: each point lands
+// inside a sub-triangle (split in three) or on a sub-edge (its faces split in two). Inserted in
+// chord order, consecutive chord points always end up joined by an edge.
+class LocalTriangulation {
+ public:
+  LocalTriangulation(const Triangle& t) {
+    points_ = {{t[0], {1, 0, 0}}, {t[1], {0, 1, 0}}, {t[2], {0, 0, 1}}};
+    tris_ = {{0, 1, 2}};
+  }
+  /// Inserts a point; returns the vertex that represents it (itself, or a coincident vertex).
+  VertexId insert(VertexId v, const glm::dvec3& bary) {
+    const glm::dvec2 q(bary.y, bary.z);
+    int best = -1;
+    glm::dvec3 best_l(0.0);
+    double best_min = -1e300;
+    for (std::size_t i = 0; i < tris_.size(); ++i) {
+      const glm::dvec3 l = local_bary(tris_[i], q);
+      const double m = std::min({l.x, l.y, l.z});
+      if (m > best_min) {
+        best_min = m;
+        best = static_cast<int>(i);
+        best_l = l;
+      }
+    }
+    constexpr double eps = 1e-9;
+    int zeros = 0, zk = -1, nz = -1;
+    for (int k = 0; k < 3; ++k) {
+      if (std::abs(best_l[k]) <= eps) {
+        ++zeros;
+        zk = k;
+      } else {
+        nz = k;
+      }
+    }
+    const std::array<int, 3> t = tris_[best];
+    if (zeros >= 2) return points_[t[nz]].v;  // coincides with an existing vertex
+    const int id = static_cast<int>(points_.size());
+    points_.push_back({v, bary});
+    if (zeros == 0) {
+      tris_[best] = {t[0], t[1], id};
+      tris_.push_back({t[1], t[2], id});
+      tris_.push_back({t[2], t[0], id});
+      return v;
+    }
+    // On the edge opposite corner zk: split this triangle and the one across the edge.
+    const int a = t[zk], b = t[(zk + 1) % 3], c = t[(zk + 2) % 3];
+    tris_[best] = {a, b, id};
+    tris_.push_back({a, id, c});
+    for (std::size_t i = 0; i < tris_.size(); ++i) {
+      auto& o = tris_[i];
+      for (int k = 0; k < 3; ++k)
+        if (o[k] == c && o[(k + 1) % 3] == b) {
+          const int x = o[(k + 2) % 3];
+          o = {x, c, id};
+          tris_.push_back({x, id, b});
+          return v;
+        }
+    }
+    return v;
+  }
+  struct Point {
+    VertexId v;
+    glm::dvec3 bary;
+  };
+  const std::vector<Point>& points() const { return points_; }
+  const std::vector<std::array<int, 3>>& triangles() const { return tris_; }
+
+ private:
+  glm::dvec3 local_bary(const std::array<int, 3>& t, const glm::dvec2& q) const {
+    const glm::dvec2 a(points_[t[0]].bary.y, points_[t[0]].bary.z),
+        b(points_[t[1]].bary.y, points_[t[1]].bary.z), c(points_[t[2]].bary.y, points_[t[2]].bary.z);
+    const double d = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+    if (d == 0.0) return glm::dvec3(-1e300);
+    const double l1 = ((q.x - a.x) * (c.y - a.y) - (q.y - a.y) * (c.x - a.x)) / d;
+    const double l2 = ((b.x - a.x) * (q.y - a.y) - (b.y - a.y) * (q.x - a.x)) / d;
+    return {1.0 - l1 - l2, l1, l2};
+  }
+
+  std::vector<Point> points_;
+  std::vector<std::array<int, 3>> tris_;
+};
+
+class Tearer {
+ public:
+  Tearer(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const std::vector<glm::mat3>& skin_linear,
+         const TearOptions& options)
+      : mesh_(mesh), editor_(mesh), options_(options) {
+    posed_.assign(posed.begin(), posed.end());
+    if (!skin_linear.empty()) linear_.assign(skin_linear.begin(), skin_linear.end());
+  }
+
+  TearResult run(const Blade& start, const Blade& end);
+
+ private:
+  struct Crossing {  // where the plane crosses a mesh edge
+    VertexId lo, hi;
+    double t;  // from lo to hi
+    glm::dvec3 p;
+    HValues h;
+    bool in = false, split = false;
+    VertexId v;
+  };
+  struct ZeroVertex {  // a vertex on the plane
+    HValues h;
+    bool in = false;
+  };
+  struct ChordEnd {
+    glm::dvec3 p;
+    glm::dvec3 bary;
+    const HValues* h;
+    VertexId corner;             // valid when the end is a face corner
+    std::uint64_t crossing = 0;  // edge key otherwise
+  };
+  struct FacePlan {
+    FaceId f;
+    Triangle t;
+    ChordEnd a, b;
+    std::vector<Interval> torn;
+    std::vector<double> interior;        // chord parameters of points strictly inside the face
+    std::vector<VertexId> interior_ids;  // their vertices, once made
+  };
+  struct ZeroEdge {  // a mesh edge lying in the plane
+    VertexId lo, hi;
+    std::uint8_t sides = 0;  // bit 1: a face on the positive side, bit 2: negative
+    int faces = 0;
+    bool coplanar = false;
+    std::vector<Interval> torn;
+    std::vector<std::pair<double, VertexId>> points;  // split points (parameter from lo)
+  };
+
+  void tear_piece(const Piece& piece, std::size_t piece_index);
+  void split_lone_edges();
+  void separate_and_open(TearResult& result);
+  const ZeroVertex& zero_vertex(const Piece& piece, VertexId v);
+  Crossing& crossing(const Piece& piece, VertexId a, VertexId b);
+  void add_torn(VertexId a, VertexId b, std::size_t piece);
+  void note_new_vertex(VertexId v, const glm::dvec3& p, const VertexId* src, const double* w, int n);
+  glm::mat3 linear(VertexId v) const { return linear_.empty() ? glm::mat3(1.0f) : linear_[v.index]; }
+  // Signed distance of `p` to the nearest of the listed pieces (its side of a folded quad).
+  double nearest_side(const std::vector<std::size_t>& pieces, const glm::dvec3& p) const {
+    double best = 1e300, side = 0.0;
+    for (std::size_t i : pieces) {
+      const Piece& pc = pieces_[i];
+      const double d = glm::dot(p - pc.origin, pc.normal);
+      const HValues h = hvalues(pc, pc.project(p));
+      double out = 1e300;
+      for (std::size_t j = 0; j < pc.corners.size(); ++j)
+        out = std::min(out, std::max({0.0, -h[3 * j], -h[3 * j + 1], -h[3 * j + 2]}));
+      const double dist = d * d + out * out;
+      if (dist < best) {
+        best = dist;
+        side = d;
+      }
+    }
+    return side;
+  }
+
+  SurfaceMesh& mesh_;
+  MeshEditor editor_;
+  TearOptions options_;
+  std::vector<glm::vec3> posed_;
+  std::vector<glm::mat3> linear_;
+  std::vector<Piece> pieces_;
+  double tol_ = 0.0;
+  float width_ = 0.0f;
+  // Per piece (cleared between pieces).
+  std::vector<double> dist_;
+  std::vector<std::int8_t> sign_;
+  std::unordered_map<std::uint32_t, ZeroVertex> zero_;
+  std::unordered_map<std::uint64_t, Crossing> crossings_;
+  // Over the whole tear.
+  std::unordered_map<std::uint64_t, std::size_t> torn_;  // edge -> piece that tore it
+  std::vector<FaceId> region_;                           // faces examined or made
+  std::size_t intersections_ = 0;
+};
+
+const Tearer::ZeroVertex& Tearer::zero_vertex(const Piece& piece, VertexId v) {
+  auto it = zero_.find(v.index);
+  if (it != zero_.end()) return it->second;
+  ZeroVertex z;
+  z.h = hvalues(piece, piece.project(glm::dvec3(posed_[v.index])));
+  z.in = inside(piece, z.h);
+  return zero_.emplace(v.index, z).first->second;
+}
+
+Tearer::Crossing& Tearer::crossing(const Piece& piece, VertexId a, VertexId b) {
+  const auto key = edge_key(a, b);
+  auto it = crossings_.find(key);
+  if (it != crossings_.end()) return it->second;
+  Crossing c;
+  c.lo = a < b ? a : b;
+  c.hi = a < b ? b : a;
+  const double dl = dist_[c.lo.index], dh = dist_[c.hi.index];
+  c.t = dl / (dl - dh);
+  c.p = glm::mix(glm::dvec3(posed_[c.lo.index]), glm::dvec3(posed_[c.hi.index]), c.t);
+  c.h = hvalues(piece, piece.project(c.p));
+  c.in = inside(piece, c.h);
+  c.split = c.in;
+  return crossings_.emplace(key, c).first->second;
+}
+
+void Tearer::add_torn(VertexId a, VertexId b, std::size_t piece) {
+  if (a == b) return;
+  torn_.emplace(edge_key(a, b), piece);
+}
+
+void Tearer::note_new_vertex(VertexId v, const glm::dvec3& p, const VertexId* src, const double* w, int n) {
+  if (posed_.size() <= v.index) posed_.resize(v.index + 1);
+  posed_[v.index] = glm::vec3(p);
+  if (!linear_.empty()) {
+    if (linear_.size() <= v.index) linear_.resize(v.index + 1);
+    glm::mat3 m(0.0f);
+    for (int i = 0; i < n; ++i) m += float(w[i]) * linear_[src[i].index];
+    linear_[v.index] = m;
+  }
+}
+
+void Tearer::tear_piece(const Piece& piece, std::size_t piece_index) {
+  const std::size_t nv = mesh_.vertex_count();
+  dist_.assign(nv, 0.0);
+  sign_.assign(nv, 0);
+  zero_.clear();
+  crossings_.clear();
+
+  // Faces whose posed bounding box meets the piece's (inflated by a few tolerances).
+  BoundingBox box = piece.box;
+  const glm::vec3 pad(static_cast<float>(4.0 * tol_));
+  box.add(box.min - pad);
+  box.add(box.max + pad);
+  std::vector<FaceId> faces;
+  std::vector<std::uint8_t> seen(nv, 0);
+  mesh_.for_each_face([&](FaceId f, const Triangle& t) {
+    const glm::vec3 &a = posed_[t[0].index], &b = posed_[t[1].index], &c = posed_[t[2].index];
+    const glm::vec3 lo = glm::min(a, glm::min(b, c)), hi = glm::max(a, glm::max(b, c));
+    if (lo.x > box.max.x || lo.y > box.max.y || lo.z > box.max.z || hi.x < box.min.x || hi.y < box.min.y ||
+        hi.z < box.min.z)
+      return;
+    faces.push_back(f);
+    for (auto v : t) {
+      if (seen[v.index]) continue;
+      seen[v.index] = 1;
+      const double d = glm::dot(glm::dvec3(posed_[v.index]) - piece.origin, piece.normal);
+      dist_[v.index] = d;
+      sign_[v.index] = d > tol_ ? 1 : (d < -tol_ ? -1 : 0);
+    }
+  });
+
+  // Plan: chords of faces crossed by the plane, clipped to the piece.
+  std::vector<FacePlan> plans;
+  std::unordered_map<std::uint64_t, ZeroEdge> zero_edges;
+  for (FaceId f : faces) {
+    const Triangle t = mesh_.face(f);
+    const std::int8_t s[3] = {sign_[t[0].index], sign_[t[1].index], sign_[t[2].index]};
+    const int zeros = (s[0] == 0) + (s[1] == 0) + (s[2] == 0);
+    if (zeros == 3) {
+      for (int k = 0; k < 3; ++k) {
+        auto& ze = zero_edges[edge_key(t[k], t[(k + 1) % 3])];
+        ze.lo = t[k] < t[(k + 1) % 3] ? t[k] : t[(k + 1) % 3];
+        ze.hi = t[k] < t[(k + 1) % 3] ? t[(k + 1) % 3] : t[k];
+        ze.coplanar = true;
+        ++ze.faces;
+      }
+      continue;
+    }
+    if (zeros == 2) {
+      int k = 0;
+      while (s[(k + 2) % 3] == 0) ++k;  // the non-zero corner is k + 2
+      const VertexId a = t[k], b = t[(k + 1) % 3];
+      auto& ze = zero_edges[edge_key(a, b)];
+      ze.lo = a < b ? a : b;
+      ze.hi = a < b ? b : a;
+      ze.sides |= s[(k + 2) % 3] > 0 ? 1 : 2;
+      ++ze.faces;
+      continue;
+    }
+    const bool pos = s[0] > 0 || s[1] > 0 || s[2] > 0, neg = s[0] < 0 || s[1] < 0 || s[2] < 0;
+    if (!pos || !neg) continue;  // no chord, or the plane only touches a corner
+    FacePlan plan;
+    plan.f = f;
+    plan.t = t;
+    ChordEnd ends[2];
+    int n = 0;
+    for (int k = 0; k < 3; ++k) {
+      if (s[k] == 0) {
+        const ZeroVertex& z = zero_vertex(piece, t[k]);
+        glm::dvec3 bary(0.0);
+        bary[k] = 1.0;
+        ends[n++] = {glm::dvec3(posed_[t[k].index]), bary, &z.h, t[k], 0};
+      }
+    }
+    for (int k = 0; k < 3; ++k) {
+      const int k1 = (k + 1) % 3;
+      if (s[k] == 0 || s[k1] == 0 || s[k] == s[k1]) continue;
+      Crossing& c = crossing(piece, t[k], t[k1]);
+      glm::dvec3 bary(0.0);
+      const double wk = t[k] == c.lo ? 1.0 - c.t : c.t;
+      bary[k] = wk;
+      bary[k1] = 1.0 - wk;
+      ends[n++] = {c.p, bary, &c.h, VertexId(), edge_key(t[k], t[k1])};
+    }
+    if (n != 2) continue;
+    plan.a = ends[0];
+    plan.b = ends[1];
+    const double len = glm::length(plan.b.p - plan.a.p);
+    const double snap = len > 0.0 ? tol_ / len : 1.0;
+    plan.torn = clip_segment(piece, *plan.a.h, *plan.b.h, snap);
+    if (plan.torn.empty()) continue;
+    for (const Interval& iv : plan.torn) {
+      for (double s_end : {iv.lo, iv.hi}) {
+        if (s_end == 0.0 && plan.a.crossing)
+          crossings_.at(plan.a.crossing).split = true;
+        else if (s_end == 1.0 && plan.b.crossing)
+          crossings_.at(plan.b.crossing).split = true;
+        else if (s_end > 0.0 && s_end < 1.0)
+          plan.interior.push_back(s_end);
+      }
+    }
+    std::sort(plan.interior.begin(), plan.interior.end());
+    plans.push_back(std::move(plan));
+  }
+  // Edges lying in the plane tear where the surface passes through them (faces on both sides).
+  bool any_edge_torn = false;
+  for (auto& [key, ze] : zero_edges) {
+    if (ze.coplanar || ze.faces != 2 || ze.sides != 3) continue;
+    const ZeroVertex& za = zero_vertex(piece, ze.lo);
+    const ZeroVertex& zb = zero_vertex(piece, ze.hi);
+    const double len = glm::length(glm::dvec3(posed_[ze.hi.index]) - glm::dvec3(posed_[ze.lo.index]));
+    ze.torn = clip_segment(piece, za.h, zb.h, len > 0.0 ? tol_ / len : 1.0);
+    any_edge_torn |= !ze.torn.empty();
+  }
+  if (plans.empty() && !any_edge_torn) return;  // this piece tears nothing: leave the mesh as it is
+
+  // Edits. New vertices: on crossed edges, on in-plane edges, inside faces.
+  std::vector<std::uint64_t> split_keys;
+  for (const auto& [key, c] : crossings_)
+    if (c.split) split_keys.push_back(key);
+  std::sort(split_keys.begin(), split_keys.end());  // deterministic vertex numbering
+  for (std::uint64_t key : split_keys) {
+    Crossing& c = crossings_.at(key);
+    c.v = editor_.add_vertex_on_edge(c.lo, c.hi, static_cast<float>(c.t));
+    const VertexId src[2] = {c.lo, c.hi};
+    const double w[2] = {1.0 - c.t, c.t};
+    note_new_vertex(c.v, c.p, src, w, 2);
+    ++intersections_;
+    // An edge torn by an earlier piece stays torn in its two halves.
+    auto it = torn_.find(key);
+    if (it != torn_.end()) {
+      const std::size_t p = it->second;
+      torn_.erase(it);
+      add_torn(c.lo, c.v, p);
+      add_torn(c.v, c.hi, p);
+    }
+  }
+  std::vector<std::uint64_t> zero_keys;
+  for (const auto& [key, ze] : zero_edges)
+    if (!ze.torn.empty()) zero_keys.push_back(key);
+  std::sort(zero_keys.begin(), zero_keys.end());
+  for (std::uint64_t key : zero_keys) {
+    ZeroEdge& ze = zero_edges.at(key);
+    std::vector<double> params;
+    for (const Interval& iv : ze.torn)
+      for (double s : {iv.lo, iv.hi})
+        if (s > 0.0 && s < 1.0) params.push_back(s);
+    std::sort(params.begin(), params.end());
+    for (double s : params) {
+      const VertexId v = editor_.add_vertex_on_edge(ze.lo, ze.hi, static_cast<float>(s));
+      const VertexId src[2] = {ze.lo, ze.hi};
+      const double w[2] = {1.0 - s, s};
+      note_new_vertex(v, glm::mix(glm::dvec3(posed_[ze.lo.index]), glm::dvec3(posed_[ze.hi.index]), s), src,
+                      w, 2);
+      ze.points.emplace_back(s, v);
+    }
+    // An edge torn by an earlier piece stays torn in its pieces.
+    auto it = torn_.find(key);
+    if (it != torn_.end() && !ze.points.empty()) {
+      const std::size_t p = it->second;
+      torn_.erase(it);
+      VertexId prev = ze.lo;
+      for (const auto& [s, v] : ze.points) {
+        add_torn(prev, v, p);
+        prev = v;
+      }
+      add_torn(prev, ze.hi, p);
+    }
+  }
+  for (FacePlan& plan : plans) {
+    for (double s : plan.interior) {
+      const glm::dvec3 bary = glm::mix(plan.a.bary, plan.b.bary, s);
+      const VertexId v = editor_.add_vertex_in_triangle(plan.t, glm::vec3(bary));
+      const double w[3] = {bary.x, bary.y, bary.z};
+      note_new_vertex(v, glm::mix(plan.a.p, plan.b.p, s), plan.t.data(), w, 3);
+      plan.interior_ids.push_back(v);
+    }
+  }
+
+  // Re-triangulate every face that got a point: along its chord, in chord order.
+  struct Insert {
+    double s;
+    VertexId v;
+    glm::dvec3 bary;
+  };
+  std::unordered_map<std::uint32_t, std::vector<Insert>> inserts;  // by face
+  std::unordered_map<std::uint32_t, std::size_t> plan_of;
+  for (std::size_t i = 0; i < plans.size(); ++i) plan_of.emplace(plans[i].f.index, i);
+  for (FaceId f : faces) {
+    const Triangle t = mesh_.face(f);
+    std::vector<Insert> list;
+    auto pit = plan_of.find(f.index);
+    if (pit != plan_of.end()) {
+      const FacePlan& plan = plans[pit->second];
+      for (std::size_t i = 0; i < plan.interior.size(); ++i)
+        list.push_back(
+            {plan.interior[i], plan.interior_ids[i], glm::mix(plan.a.bary, plan.b.bary, plan.interior[i])});
+    }
+    // Points on this face's edges: split crossings and in-plane edge points. They all lie on the
+    // face's chord (a crossing is a chord end of every face around its edge).
+    for (int k = 0; k < 3; ++k) {
+      const int k1 = (k + 1) % 3;
+      const auto key = edge_key(t[k], t[k1]);
+      auto cit = crossings_.find(key);
+      if (cit != crossings_.end() && cit->second.split) {
+        const Crossing& c = cit->second;
+        glm::dvec3 bary(0.0);
+        const double wk = t[k] == c.lo ? 1.0 - c.t : c.t;
+        bary[k] = wk;
+        bary[k1] = 1.0 - wk;
+        double s = 0.0;
+        if (pit != plan_of.end()) s = plans[pit->second].b.crossing == key ? 1.0 : 0.0;
+        list.push_back({s, c.v, bary});
+      }
+      auto zit = zero_edges.find(key);
+      if (zit != zero_edges.end() && !zit->second.points.empty()) {
+        const ZeroEdge& ze = zit->second;
+        for (const auto& [param, v] : ze.points) {
+          glm::dvec3 bary(0.0);
+          const double wk = t[k] == ze.lo ? 1.0 - param : param;
+          bary[k] = wk;
+          bary[k1] = 1.0 - wk;
+          list.push_back({param, v, bary});
+        }
+      }
+    }
+    if (list.empty()) continue;
+    std::sort(list.begin(), list.end(), [](const Insert& x, const Insert& y) { return x.s < y.s; });
+    LocalTriangulation local(t);
+    std::unordered_map<std::uint32_t, VertexId> alias;
+    for (const Insert& ins : list) {
+      const VertexId got = local.insert(ins.v, ins.bary);
+      if (got != ins.v) alias.emplace(ins.v.index, got);
+    }
+    editor_.remove_face(f);
+    const auto& pts = local.points();
+    for (const auto& tri : local.triangles()) {
+      const Triangle nt = {pts[tri[0]].v, pts[tri[1]].v, pts[tri[2]].v};
+      const FaceId nf = editor_.add_face_from(
+          nt, f, {glm::vec3(pts[tri[0]].bary), glm::vec3(pts[tri[1]].bary), glm::vec3(pts[tri[2]].bary)});
+      region_.push_back(nf);
+    }
+    // Torn pieces of this face's chord.
+    if (pit != plan_of.end()) {
+      const FacePlan& plan = plans[pit->second];
+      std::vector<std::pair<double, VertexId>> chain;
+      auto resolve = [&](VertexId v) {
+        auto a = alias.find(v.index);
+        return a == alias.end() ? v : a->second;
+      };
+      if (plan.a.corner.valid())
+        chain.emplace_back(0.0, plan.a.corner);
+      else if (crossings_.at(plan.a.crossing).split)
+        chain.emplace_back(0.0, crossings_.at(plan.a.crossing).v);
+      for (std::size_t i = 0; i < plan.interior.size(); ++i)
+        chain.emplace_back(plan.interior[i], resolve(plan.interior_ids[i]));
+      if (plan.b.corner.valid())
+        chain.emplace_back(1.0, plan.b.corner);
+      else if (crossings_.at(plan.b.crossing).split)
+        chain.emplace_back(1.0, crossings_.at(plan.b.crossing).v);
+      for (std::size_t i = 0; i + 1 < chain.size(); ++i)
+        if (in_intervals(plan.torn, 0.5 * (chain[i].first + chain[i + 1].first)))
+          add_torn(chain[i].second, chain[i + 1].second, piece_index);
+    }
+  }
+  for (FaceId f : faces) region_.push_back(f);
+  for (std::uint64_t key : zero_keys) {
+    const ZeroEdge& ze = zero_edges.at(key);
+    std::vector<std::pair<double, VertexId>> chain = {{0.0, ze.lo}};
+    chain.insert(chain.end(), ze.points.begin(), ze.points.end());
+    chain.emplace_back(1.0, ze.hi);
+    for (std::size_t i = 0; i + 1 < chain.size(); ++i)
+      if (in_intervals(ze.torn, 0.5 * (chain[i].first + chain[i + 1].first)))
+        add_torn(chain[i].second, chain[i + 1].second, piece_index);
+  }
+}
+
+// A slit made of one torn edge between two ends (a blade path inside one face, or across one
+// corner) has no interior vertex to duplicate: give it one at the edge's midpoint.
+void Tearer::split_lone_edges() {
+  std::unordered_map<std::uint32_t, int> degree;
+  for (const auto& [key, piece] : torn_) {
+    ++degree[static_cast<std::uint32_t>(key >> 32)];
+    ++degree[static_cast<std::uint32_t>(key & 0xffffffffu)];
+  }
+  std::vector<std::uint64_t> lone;
+  for (const auto& [key, piece] : torn_)
+    if (degree[static_cast<std::uint32_t>(key >> 32)] == 1 &&
+        degree[static_cast<std::uint32_t>(key & 0xffffffffu)] == 1)
+      lone.push_back(key);
+  if (lone.empty()) return;
+  std::sort(lone.begin(), lone.end());
+  std::unordered_map<std::uint64_t, std::vector<FaceId>> faces_of;
+  for (std::uint64_t key : lone) faces_of[key];
+  std::sort(region_.begin(), region_.end());
+  region_.erase(std::unique(region_.begin(), region_.end()), region_.end());
+  for (FaceId f : region_) {
+    if (mesh_.is_deleted(f)) continue;
+    const Triangle& t = mesh_.face(f);
+    for (int k = 0; k < 3; ++k) {
+      auto it = faces_of.find(edge_key(t[k], t[(k + 1) % 3]));
+      if (it != faces_of.end()) it->second.push_back(f);
+    }
+  }
+  for (std::uint64_t key : lone) {
+    const VertexId a(static_cast<std::uint32_t>(key >> 32)), b(static_cast<std::uint32_t>(key & 0xffffffffu));
+    const std::size_t piece = torn_.at(key);
+    const VertexId m = editor_.add_vertex_on_edge(a, b, 0.5f);
+    const VertexId src[2] = {a, b};
+    const double w[2] = {0.5, 0.5};
+    note_new_vertex(m, 0.5 * (glm::dvec3(posed_[a.index]) + glm::dvec3(posed_[b.index])), src, w, 2);
+    for (FaceId f : faces_of[key]) {
+      const Triangle t = mesh_.face(f);
+      int k = 0;
+      while (edge_key(t[k], t[(k + 1) % 3]) != key) ++k;
+      const int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+      glm::vec3 ek(0.0f), ek1(0.0f), ek2(0.0f), mid(0.0f);
+      ek[k] = 1.0f;
+      ek1[k1] = 1.0f;
+      ek2[k2] = 1.0f;
+      mid[k] = 0.5f;
+      mid[k1] = 0.5f;
+      editor_.remove_face(f);
+      region_.push_back(editor_.add_face_from({t[k], m, t[k2]}, f, {ek, mid, ek2}));
+      region_.push_back(editor_.add_face_from({m, t[k1], t[k2]}, f, {mid, ek1, ek2}));
+    }
+    torn_.erase(key);
+    add_torn(a, m, piece);
+    add_torn(m, b, piece);
+  }
+}
+
+// Splits the vertices along the torn edges into one copy per wedge of faces between torn edges,
+// then pushes the lips apart.
+void Tearer::separate_and_open(TearResult& result) {
+  // Chain vertices and their torn degree.
+  std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> graph;
+  for (const auto& [key, piece] : torn_) {
+    const auto a = static_cast<std::uint32_t>(key >> 32), b = static_cast<std::uint32_t>(key & 0xffffffffu);
+    graph[a].push_back(b);
+    graph[b].push_back(a);
+  }
+  std::vector<std::uint32_t> chain;
+  for (const auto& [v, nb] : graph) chain.push_back(v);
+  std::sort(chain.begin(), chain.end());
+  for (auto& [v, nb] : graph) std::sort(nb.begin(), nb.end());
+
+  // Stars of the chain vertices (every face around a chain vertex is in the region).
+  std::sort(region_.begin(), region_.end());
+  region_.erase(std::unique(region_.begin(), region_.end()), region_.end());
+  std::unordered_map<std::uint32_t, std::vector<FaceId>> star;
+  for (FaceId f : region_) {
+    if (mesh_.is_deleted(f)) continue;
+    for (auto v : mesh_.face(f))
+      if (graph.count(v.index)) star[v.index].push_back(f);
+  }
+
+  // Wedges: faces around v connected across edges (v, x) that are not torn.
+  struct Wedge {
+    std::vector<FaceId> faces;
+  };
+  std::unordered_map<std::uint32_t, std::vector<Wedge>> wedges;
+  std::unordered_set<std::uint32_t> on_boundary;  // chain vertices on a boundary before this tear
+  for (std::uint32_t v : chain) {
+    const auto& fs = star[v];
+    std::vector<std::uint32_t> parent(fs.size());
+    std::iota(parent.begin(), parent.end(), 0u);
+    auto root = [&](std::uint32_t x) {
+      while (parent[x] != x) x = parent[x] = parent[parent[x]];
+      return x;
+    };
+    std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> around;  // neighbour -> faces
+    for (std::uint32_t i = 0; i < fs.size(); ++i) {
+      const Triangle& t = mesh_.face(fs[i]);
+      for (int k = 0; k < 3; ++k)
+        if (t[k].index == v) {
+          around[t[(k + 1) % 3].index].push_back(i);
+          around[t[(k + 2) % 3].index].push_back(i);
+        }
+    }
+    for (const auto& [x, list] : around) {
+      if (list.size() == 1 && !torn_.count(edge_key(VertexId(v), VertexId(x)))) on_boundary.insert(v);
+      if (torn_.count(edge_key(VertexId(v), VertexId(x)))) continue;
+      for (std::size_t i = 1; i < list.size(); ++i) {
+        const auto a = root(list[0]), b = root(list[i]);
+        if (a != b) parent[std::max(a, b)] = std::min(a, b);
+      }
+    }
+    std::map<std::uint32_t, Wedge> groups;
+    for (std::uint32_t i = 0; i < fs.size(); ++i) groups[root(i)].faces.push_back(fs[i]);
+    auto& list = wedges[v];
+    for (auto& [r, w] : groups) list.push_back(std::move(w));
+  }
+
+  // Taper along each slit: arc length to the nearest end (torn degree 1, or an old boundary).
+  std::unordered_map<std::uint32_t, double> to_end;
+  std::unordered_map<std::uint32_t, std::uint32_t> comp;
+  std::vector<double> comp_length;
+  std::vector<bool> comp_has_end;
+  auto edge_len = [&](std::uint32_t a, std::uint32_t b) {
+    return static_cast<double>(glm::length(posed_[a] - posed_[b]));
+  };
+  for (std::uint32_t v : chain) {
+    if (comp.count(v)) continue;
+    const auto c = static_cast<std::uint32_t>(comp_length.size());
+    comp_length.push_back(0.0);
+    comp_has_end.push_back(false);
+    std::vector<std::uint32_t> stack = {v}, members;
+    comp[v] = c;
+    while (!stack.empty()) {
+      const auto x = stack.back();
+      stack.pop_back();
+      members.push_back(x);
+      for (auto y : graph[x]) {
+        if (x < y) comp_length[c] += edge_len(x, y);
+        if (!comp.count(y)) {
+          comp[y] = c;
+          stack.push_back(y);
+        }
+      }
+    }
+    using Item = std::pair<double, std::uint32_t>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+    for (auto x : members) {
+      if (graph[x].size() == 1 || on_boundary.count(x)) {
+        to_end[x] = 0.0;
+        queue.emplace(0.0, x);
+        comp_has_end[c] = true;
+      }
+    }
+    while (!queue.empty()) {
+      const auto [d, x] = queue.top();
+      queue.pop();
+      if (d > to_end[x]) continue;
+      for (auto y : graph[x]) {
+        const double nd = d + edge_len(x, y);
+        auto it = to_end.find(y);
+        if (it == to_end.end() || nd < it->second) {
+          to_end[y] = nd;
+          queue.emplace(nd, y);
+        }
+      }
+    }
+  }
+  result.slits = comp_length.size();
+  for (bool has_end : comp_has_end) result.closed_slits += has_end ? 0 : 1;
+
+  // Lip normal at each chain vertex: the normal of the piece(s) that tore its edges.
+  std::unordered_map<std::uint32_t, glm::dvec3> lip_normal;
+  std::unordered_map<std::uint32_t, std::vector<std::size_t>> vertex_pieces;
+  for (const auto& [key, piece] : torn_) {
+    for (const auto v :
+         {static_cast<std::uint32_t>(key >> 32), static_cast<std::uint32_t>(key & 0xffffffffu)}) {
+      auto& list = vertex_pieces[v];
+      if (std::find(list.begin(), list.end(), piece) == list.end()) {
+        list.push_back(piece);
+        lip_normal[v] += pieces_[piece].normal;
+      }
+    }
+  }
+
+  // Split: wedge 0 keeps the vertex, every other wedge gets a copy.
+  struct Lip {
+    VertexId v;        // vertex or copy
+    std::uint32_t of;  // chain vertex it came from
+    std::vector<FaceId> faces;
+    glm::dvec3 move{0.0};  // world displacement
+  };
+  std::vector<Lip> lips;
+  std::unordered_map<std::uint32_t, std::vector<std::pair<std::uint32_t, VertexId>>>
+      replace;  // face -> (old, new)
+  std::vector<VertexId> tear_vertices;
+  std::unordered_set<std::uint32_t> split_from;  // copies made here
+  for (std::uint32_t v : chain) {
+    auto& ws = wedges[v];
+    tear_vertices.push_back(VertexId(v));
+    if (ws.size() < 2) continue;
+    for (std::size_t w = 0; w < ws.size(); ++w) {
+      VertexId id(v);
+      if (w > 0) {
+        id = editor_.split_vertex(VertexId(v));
+        const VertexId src[1] = {VertexId(v)};
+        const double one[1] = {1.0};
+        note_new_vertex(id, glm::dvec3(posed_[v]), src, one, 1);
+        tear_vertices.push_back(id);
+        split_from.insert(id.index);
+        for (FaceId f : ws[w].faces) replace[f.index].emplace_back(v, id);
+      }
+      lips.push_back({id, v, ws[w].faces, glm::dvec3(0.0)});
+    }
+  }
+  std::unordered_map<std::uint32_t, FaceId> renamed;
+  std::vector<std::uint32_t> replaced_faces;
+  for (const auto& [f, list] : replace) replaced_faces.push_back(f);
+  std::sort(replaced_faces.begin(), replaced_faces.end());
+  const glm::vec3 e[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  for (std::uint32_t fi : replaced_faces) {
+    Triangle t = mesh_.face(FaceId(fi));
+    for (const auto& [old, copy] : replace[fi])
+      for (auto& v : t)
+        if (v.index == old) v = copy;
+    editor_.remove_face(FaceId(fi));
+    renamed.emplace(fi, editor_.add_face_from(t, FaceId(fi), {e[0], e[1], e[2]}));
+  }
+  for (Lip& lip : lips)
+    for (FaceId& f : lip.faces) {
+      auto it = renamed.find(f.index);
+      if (it != renamed.end()) f = it->second;
+    }
+  std::sort(tear_vertices.begin(), tear_vertices.end());
+  result.tear_vertices = tear_vertices;
+
+  // Opening: each lip moves half the width, tapered, away from the plane on its own side.
+  if (width_ > 0.0f) {
+    std::unordered_map<std::uint32_t, std::size_t> lip_of;  // vertex -> lip
+    for (std::size_t i = 0; i < lips.size(); ++i) {
+      Lip& lip = lips[i];
+      const std::uint32_t c = comp[lip.of];
+      const double length = comp_length[c];
+      double taper = 1.0;
+      if (comp_has_end[c] && length > 0.0) {
+        auto it = to_end.find(lip.of);
+        const double d = it == to_end.end() ? 0.5 * length : std::min(it->second, 0.5 * length);
+        taper = std::sin(kPi * d / length);
+      }
+      glm::dvec3 n = lip_normal[lip.of];
+      if (glm::length(n) == 0.0 || taper <= 0.0) continue;
+      n = glm::normalize(n);
+      // Which side the wedge lies on: its vertices off the tear, measured against the plane(s)
+      // of the piece(s) that tore this vertex (the centroids would mislead at a folded quad's
+      // crease, where the other piece's lip vertices stand off the mean plane).
+      double side = 0.0, fallback = 0.0;
+      const glm::dvec3 pv(posed_[lip.of]);
+      const auto& planes = vertex_pieces[lip.of];
+      for (FaceId f : lip.faces) {
+        const Triangle& t = mesh_.face(f);
+        glm::dvec3 centre(0.0);
+        for (auto x : t) {
+          const glm::dvec3 px(posed_[x.index]);
+          centre += px / 3.0;
+          if (graph.count(x.index) || split_from.count(x.index)) continue;
+          side += nearest_side(planes, px);
+        }
+        fallback += glm::dot(centre - pv, n);
+      }
+      if (side == 0.0) side = fallback;
+      if (side == 0.0) continue;
+      lip.move = (side > 0.0 ? 1.0 : -1.0) * 0.5 * double(width_) * taper * n;
+      lip_of.emplace(lip.v.index, i);
+    }
+    // Halve moves that would flip a face (or nearly collapse it), until none does.
+    std::vector<FaceId> check;
+    for (const Lip& lip : lips)
+      if (glm::length(lip.move) > 0.0) check.insert(check.end(), lip.faces.begin(), lip.faces.end());
+    std::sort(check.begin(), check.end());
+    check.erase(std::unique(check.begin(), check.end()), check.end());
+    auto moved = [&](VertexId v) {
+      auto it = lip_of.find(v.index);
+      const glm::dvec3 p(posed_[v.index]);
+      return it == lip_of.end() ? p : p + lips[it->second].move;
+    };
+    for (int round = 0; round < 12; ++round) {
+      bool flipped = false;
+      for (FaceId f : check) {
+        const Triangle& t = mesh_.face(f);
+        const glm::dvec3 a(posed_[t[0].index]), b(posed_[t[1].index]), c(posed_[t[2].index]);
+        const glm::dvec3 n0 = glm::cross(b - a, c - a);
+        const glm::dvec3 n1 = glm::cross(moved(t[1]) - moved(t[0]), moved(t[2]) - moved(t[0]));
+        const double l0 = glm::length(n0);
+        if (l0 == 0.0) continue;
+        if (glm::dot(n0, n1) > 0.25 * l0 * glm::length(n1) && glm::length(n1) > 0.2 * l0) continue;
+        flipped = true;
+        for (auto v : t) {
+          auto it = lip_of.find(v.index);
+          if (it != lip_of.end()) lips[it->second].move *= round == 11 ? 0.0 : 0.5;
+        }
+      }
+      if (!flipped) break;
+    }
+    for (const Lip& lip : lips) {
+      if (glm::length(lip.move) == 0.0) continue;
+      const glm::mat3 m = linear(lip.v);
+      if (std::abs(glm::determinant(m)) < 1e-12f) continue;
+      const glm::vec3 bind_move = glm::inverse(m) * glm::vec3(lip.move);
+      editor_.move_vertex(lip.v, mesh_.position(lip.v) + bind_move);
+    }
+  }
+}
+
+TearResult Tearer::run(const Blade& start, const Blade& end) {
+  TearResult result;
+  const std::size_t nv = mesh_.vertex_count();
+  if (posed_.size() != nv)
+    throw Error(ErrorCode::InvalidArgument, "tear: " + std::to_string(posed_.size()) +
+                                                " posed positions for " + std::to_string(nv) + " vertices");
+  if (!linear_.empty() && linear_.size() != nv)
+    throw Error(ErrorCode::InvalidArgument, "tear: " + std::to_string(linear_.size()) +
+                                                " skin matrices for " + std::to_string(nv) + " vertices");
+  if (!std::isfinite(options_.width))
+    throw Error(ErrorCode::InvalidArgument, "tear: the width is not finite");
+  if (!(options_.relative_tolerance >= 0.0f) || !std::isfinite(options_.relative_tolerance))
+    throw Error(ErrorCode::InvalidArgument, "tear: the tolerance must be a finite number >= 0");
+  pieces_ = make_pieces(start, end);
+  width_ = resolved_tear_width(start, end, options_);
+  result.width = width_;
+  BoundingBox box;
+  for (const auto& p : posed_) box.add(p);
+  tol_ = double(options_.relative_tolerance) * double(box.diagonal());
+  for (std::size_t i = 0; i < pieces_.size(); ++i) tear_piece(pieces_[i], i);
+  if (torn_.empty() && editor_.log().empty()) {
+    result.status = OpStatus::NoIntersection;
+    return result;
+  }
+  split_lone_edges();
+  separate_and_open(result);
+  result.intersection_points = intersections_;
+  result.log = editor_.take_log();
+  return result;
+}
+
+}  // namespace
+
+std::vector<std::array<glm::vec3, 3>> swept_quad_triangles(const Blade& start, const Blade& end) {
+  std::vector<std::array<glm::vec3, 3>> out;
+  for (const Piece& p : make_pieces(start, end)) out.insert(out.end(), p.world.begin(), p.world.end());
+  return out;
+}
+
+float resolved_tear_width(const Blade& start, const Blade& end, const TearOptions& options) {
+  if (options.width >= 0.0f) return options.width;
+  return 0.05f * 0.5f * (glm::length(start.tip - start.handle) + glm::length(end.tip - end.handle));
+}
+
+TearResult tear_mesh(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed,
+                     const std::vector<glm::mat3>& skin_linear, const Blade& start, const Blade& end,
+                     const TearOptions& options) {
+  return Tearer(mesh, posed, skin_linear, options).run(start, end);
+}
+
+namespace {
+
+// World positions and the linear part of the bind-to-world map of every vertex of one instance.
+void instance_pose(const Model& model, int node, const SurfaceMesh& mesh, const std::vector<glm::mat4>& world,
+                   std::vector<glm::vec3>& posed, std::vector<glm::mat3>& linear) {
+  const Node& n = model.nodes.at(static_cast<std::size_t>(node));
+  const auto& va = mesh.vertex_attrs();
+  const auto* j0 = va.find<glm::u16vec4>(attr::kJoints0);
+  const auto* w0 = va.find<glm::vec4>(attr::kWeights0);
+  const auto* j1 = va.find<glm::u16vec4>(attr::kJoints1);
+  const auto* w1 = va.find<glm::vec4>(attr::kWeights1);
+  const auto& p = mesh.positions();
+  posed.resize(p.size());
+  linear.resize(p.size());
+  if (n.skin < 0 || static_cast<std::size_t>(n.skin) >= model.skins.size() || !j0 || !w0) {
+    const glm::mat4& m = world.at(static_cast<std::size_t>(node));
+    for (std::size_t v = 0; v < p.size(); ++v) {
+      posed[v] = glm::vec3(m * glm::vec4(p[v], 1.0f));
+      linear[v] = glm::mat3(m);
+    }
+    return;
+  }
+  const auto joints = joint_matrices(model, n.skin, world);
+  for (std::size_t v = 0; v < p.size(); ++v) {
+    glm::mat4 m(0.0f);
+    auto add = [&](const glm::u16vec4& j, const glm::vec4& w) {
+      for (int c = 0; c < 4; ++c)
+        if (w[c] != 0.0f && j[c] < joints.size()) m += w[c] * joints[j[c]];
+    };
+    add((*j0)[v], (*w0)[v]);
+    if (j1 && w1) add((*j1)[v], (*w1)[v]);
+    posed[v] = glm::vec3(m * glm::vec4(p[v], 1.0f));
+    linear[v] = glm::mat3(m);
+  }
+}
+
+}  // namespace
+
+ModelTearResult tear_model(Model& model, const Blade& start, const Blade& end, const TearOptions& options,
+                           int animation, float time) {
+  make_pieces(start, end);  // reject a degenerate blade even when the model has no mesh
+  const Pose pose = sample_pose(model, animation, time);
+  const auto world = world_matrices(model, pose);
+  ModelTearResult result;
+  result.status = OpStatus::NoIntersection;
+  result.width = resolved_tear_width(start, end, options);
+  std::vector<int> mesh_users(model.meshes.size(), 0);
+  for (const auto& n : model.nodes)
+    if (n.mesh >= 0 && static_cast<std::size_t>(n.mesh) < model.meshes.size()) ++mesh_users[n.mesh];
+  std::vector<glm::vec3> posed;
+  std::vector<glm::mat3> linear;
+  for (std::size_t ni = 0; ni < model.nodes.size(); ++ni) {
+    const int mi = model.nodes[ni].mesh;
+    if (mi < 0 || static_cast<std::size_t>(mi) >= model.meshes.size()) continue;
+    // A mesh drawn by several instances is torn on a copy that this instance then owns.
+    const bool shared = mesh_users[mi] > 1;
+    Mesh copy;
+    Mesh& target = shared ? (copy = model.meshes[mi], copy) : model.meshes[mi];
+    bool any = false;
+    for (auto& prim : target.primitives) {
+      instance_pose(model, static_cast<int>(ni), prim.mesh, world, posed, linear);
+      const TearResult r = tear_mesh(prim.mesh, posed, linear, start, end, options);
+      if (r.status != OpStatus::Ok) continue;
+      any = true;
+      result.intersection_points += r.intersection_points;
+      result.tear_vertices += r.tear_vertices.size();
+      result.slits += r.slits;
+    }
+    if (!any) continue;
+    result.status = OpStatus::Ok;
+    if (shared) {
+      --mesh_users[mi];
+      model.meshes.push_back(std::move(copy));
+      model.nodes[ni].mesh = static_cast<int>(model.meshes.size() - 1);
+      mesh_users.push_back(1);
+    }
+  }
+  return result;
+}
+
+}  // namespace deepcut

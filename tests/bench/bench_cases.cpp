@@ -1,0 +1,256 @@
+// SPDX-License-Identifier: MIT
+#include "bench_cases.h"
+
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <string>
+
+#include <benchmark/benchmark.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <vtkClipClosedSurface.h>
+#include <vtkClipPolyData.h>
+#include <vtkNew.h>
+#include <vtkPlane.h>
+#include <vtkPlaneCollection.h>
+#include <vtkPolyData.h>
+
+#include "deepcut/core/adjacency.h"
+#include "deepcut/core/generate/cactus.h"
+#include "deepcut/core/ops/cut.h"
+#include "deepcut/core/weld.h"
+#include "deepcut/widgets/poly_data_bridge.h"
+
+namespace deepcut::bench {
+namespace {
+
+struct Input {
+  SurfaceMesh mesh;          // welded, with UVs, normals, joints, weights
+  Adjacency adjacency;       // built once (the preprocessing)
+  vtkSmartPointer<vtkPolyData> poly;  // the same mesh for VTK: split at seams, same arrays
+  Plane plane;               // through the middle, slightly tilted
+};
+
+const Input& input(std::size_t triangles) {
+  static std::map<std::size_t, std::unique_ptr<Input>> cache;
+  auto& slot = cache[triangles];
+  if (!slot) {
+    CactusOptions options;
+    options.target_triangles = triangles;
+    Model model = make_cactus(options);
+    slot = std::make_unique<Input>();
+    slot->mesh = std::move(model.meshes[0].primitives[0].mesh);
+    slot->adjacency = Adjacency::build(slot->mesh);
+    slot->poly = to_poly_data(slot->mesh);
+    const BoundingBox box = slot->mesh.bounds();
+    slot->plane = {0.5f * (box.min + box.max) + glm::vec3(0.0f, 0.13f, 0.0f), glm::vec3(0.1f, 1.0f, 0.05f)};
+  }
+  return *slot;
+}
+
+std::string size_name(std::size_t triangles) { return triangles >= 500000 ? "1M" : "25k"; }
+
+void set_triangles(benchmark::State& state, const SurfaceMesh& mesh) {
+  state.counters["triangles"] = static_cast<double>(mesh.face_count());
+}
+
+void bm_cut_ours(benchmark::State& state, std::size_t triangles, bool cap) {
+  const Input& in = input(triangles);
+  CutOptions options;
+  options.cap = cap;
+  for (auto _ : state) {
+    state.PauseTiming();
+    SurfaceMesh mesh = in.mesh;
+    Adjacency adjacency = in.adjacency;
+    state.ResumeTiming();
+    CutResult r = cut_mesh(mesh, mesh.positions(), in.plane, options);
+    adjacency.apply(r.log);
+    benchmark::DoNotOptimize(r.pieces.data());
+    state.PauseTiming();
+    mesh = SurfaceMesh();  // free outside the timed region
+    adjacency = Adjacency();
+    state.ResumeTiming();
+  }
+  set_triangles(state, in.mesh);
+}
+
+vtkNew<vtkPlane> vtk_plane(const Plane& p) {
+  vtkNew<vtkPlane> plane;
+  plane->SetOrigin(p.point.x, p.point.y, p.point.z);
+  const glm::vec3 n = glm::normalize(p.normal);
+  plane->SetNormal(n.x, n.y, n.z);
+  return plane;
+}
+
+void bm_cut_vtk(benchmark::State& state, std::size_t triangles) {
+  const Input& in = input(triangles);
+  auto plane = vtk_plane(in.plane);
+  vtkNew<vtkClipPolyData> clip;
+  clip->SetInputData(in.poly);
+  clip->SetClipFunction(plane);
+  clip->GenerateClippedOutputOn();
+  for (auto _ : state) {
+    clip->Modified();
+    clip->Update();
+    benchmark::DoNotOptimize(clip->GetOutput()->GetNumberOfCells());
+  }
+  set_triangles(state, in.mesh);
+}
+
+void bm_cut_cap_vtk(benchmark::State& state, std::size_t triangles) {
+  const Input& in = input(triangles);
+  auto plane = vtk_plane(in.plane);
+  vtkNew<vtkPlaneCollection> planes;
+  planes->AddItem(plane);
+  vtkNew<vtkClipClosedSurface> clip;
+  clip->SetInputData(in.poly);
+  clip->SetClippingPlanes(planes);
+  clip->GenerateFacesOn();
+  for (auto _ : state) {
+    clip->Modified();
+    clip->Update();
+    benchmark::DoNotOptimize(clip->GetOutput()->GetNumberOfCells());
+  }
+  set_triangles(state, in.mesh);
+}
+
+// Weld + adjacency on the mesh as a file stores it (every corner its own vertex where attributes
+// differ), i.e. preprocessing without file parsing.
+void bm_preprocess(benchmark::State& state, std::size_t triangles) {
+  const Input& in = input(triangles);
+  // Un-weld at UV/normal seams the way glTF stores it: one vertex per distinct corner.
+  static std::map<std::size_t, SurfaceMesh> split_cache;
+  auto it = split_cache.find(triangles);
+  if (it == split_cache.end()) {
+    SurfaceMesh split;
+    const auto& src = in.mesh;
+    auto& j = split.vertex_attrs().add<glm::u16vec4>(attr::kJoints0);
+    auto& w = split.vertex_attrs().add<glm::vec4>(attr::kWeights0);
+    auto& uv = split.corner_attrs().add<glm::vec2>(attr::kUv0);
+    auto& nrm = split.corner_attrs().add<glm::vec3>(attr::kNormal);
+    const auto& sj = src.vertex_attrs().get<glm::u16vec4>(attr::kJoints0);
+    const auto& sw = src.vertex_attrs().get<glm::vec4>(attr::kWeights0);
+    const auto& suv = src.corner_attrs().get<glm::vec2>(attr::kUv0);
+    const auto& sn = src.corner_attrs().get<glm::vec3>(attr::kNormal);
+    src.for_each_face([&](FaceId f, const Triangle& t) {
+      VertexId v[3];
+      for (int k = 0; k < 3; ++k) {
+        v[k] = split.add_vertex(src.position(t[k]));
+        j[v[k].index] = sj[t[k].index];
+        w[v[k].index] = sw[t[k].index];
+      }
+      const FaceId g = split.add_face(v[0], v[1], v[2]);
+      for (int k = 0; k < 3; ++k) {
+        uv[SurfaceMesh::corner(g, k)] = suv[SurfaceMesh::corner(f, k)];
+        nrm[SurfaceMesh::corner(g, k)] = sn[SurfaceMesh::corner(f, k)];
+      }
+    });
+    it = split_cache.emplace(triangles, std::move(split)).first;
+  }
+  for (auto _ : state) {
+    state.PauseTiming();
+    SurfaceMesh mesh = it->second;
+    state.ResumeTiming();
+    weld(mesh);
+    Adjacency adjacency = Adjacency::build(mesh);
+    benchmark::DoNotOptimize(adjacency.edge_count());
+    state.PauseTiming();
+    mesh = SurfaceMesh();
+    adjacency = Adjacency();
+    state.ResumeTiming();
+  }
+  set_triangles(state, in.mesh);
+}
+
+// The floor: touching the mesh once (copying positions and triangles).
+void bm_memory_floor(benchmark::State& state, std::size_t triangles) {
+  const Input& in = input(triangles);
+  for (auto _ : state) {
+    std::vector<glm::vec3> p = in.mesh.positions();
+    std::vector<Triangle> f = in.mesh.faces();
+    benchmark::DoNotOptimize(p.data());
+    benchmark::DoNotOptimize(f.data());
+  }
+  set_triangles(state, in.mesh);
+}
+
+std::size_t read_status_kb(const char* key) {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind(key, 0) == 0) return std::stoul(line.substr(std::strlen(key)));
+  return 0;
+}
+
+}  // namespace
+
+void register_cases(bool with_1m) {
+  std::vector<std::size_t> sizes = {25300};
+  if (with_1m) sizes.push_back(1000000);
+  for (std::size_t n : sizes) {
+    const std::string s = size_name(n);
+    const int iterations_hint = n >= 500000 ? 3 : 30;
+    auto reg = [&](const std::string& name, auto fn) {
+      benchmark::RegisterBenchmark(name.c_str(), fn)->Unit(benchmark::kMillisecond)->Iterations(iterations_hint);
+    };
+    reg("cut/ours/" + s, [n](benchmark::State& st) { bm_cut_ours(st, n, false); });
+    reg("cut/vtkClipPolyData/" + s, [n](benchmark::State& st) { bm_cut_vtk(st, n); });
+    reg("cut_cap/ours/" + s, [n](benchmark::State& st) { bm_cut_ours(st, n, true); });
+    reg("cut_cap/vtkClipClosedSurface/" + s, [n](benchmark::State& st) { bm_cut_cap_vtk(st, n); });
+    reg("preprocess/ours/" + s, [n](benchmark::State& st) { bm_preprocess(st, n); });
+    reg("memory_floor/ours/" + s, [n](benchmark::State& st) { bm_memory_floor(st, n); });
+  }
+}
+
+std::vector<Quoted> quoted_figures() {
+  return {{"preprocess", 14480.0, "paper Table 1: preprocess for tear 13.6 s + drill 0.88 s (i7-7700HQ), quoted"},
+          {"cut", 440.0, "paper Table 1: cut 0.44 s, 156 intersection points, quoted"},
+          {"cut_cap", 440.0, "paper Table 1: cut 0.44 s (the paper does not cap), quoted"}};
+}
+
+MemoryReport measure_cut_memory() {
+  int fds[2];
+  MemoryReport report;
+  if (pipe(fds) != 0) return report;
+  const pid_t pid = fork();
+  if (pid == 0) {
+    close(fds[0]);
+    CactusOptions options;
+    options.target_triangles = 1000000;
+    Model model = make_cactus(options);
+    SurfaceMesh& mesh = model.meshes[0].primitives[0].mesh;
+    Adjacency adjacency = Adjacency::build(mesh);
+    std::size_t bytes = mesh.faces().size() * sizeof(Triangle);
+    for (const auto* set : {&mesh.vertex_attrs(), &mesh.corner_attrs(), &mesh.face_attrs()})
+      for (const auto& name : set->names()) bytes += set->size() * set->base(name)->element_bytes();
+    const BoundingBox box = mesh.bounds();
+    const Plane plane{0.5f * (box.min + box.max), glm::vec3(0.1f, 1.0f, 0.05f)};
+    { std::ofstream("/proc/self/clear_refs") << "5"; }  // reset the peak (VmHWM) to the current RSS
+    const std::size_t before_kb = read_status_kb("VmRSS:");
+    CutResult r = cut_mesh(mesh, mesh.positions(), plane);
+    adjacency.apply(r.log);
+    const std::size_t peak_kb = read_status_kb("VmHWM:");
+    double out[4] = {bytes / 1048576.0, (peak_kb > before_kb ? peak_kb - before_kb : 0) / 1024.0, 0.0,
+                     static_cast<double>(mesh.face_count())};
+    out[2] = (out[0] + out[1]) / out[0];
+    if (write(fds[1], out, sizeof(out)) != static_cast<ssize_t>(sizeof(out))) _exit(1);
+    _exit(0);
+  }
+  close(fds[1]);
+  double in[4] = {0, 0, 0, 0};
+  if (read(fds[0], in, sizeof(in)) == static_cast<ssize_t>(sizeof(in))) {
+    report.mesh_mb = in[0];
+    report.extra_peak_mb = in[1];
+    report.ratio = in[2];
+    report.triangles = static_cast<std::size_t>(in[3]);
+  }
+  close(fds[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return report;
+}
+
+}  // namespace deepcut::bench
