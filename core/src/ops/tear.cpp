@@ -277,9 +277,8 @@ class Tearer {
  public:
   Tearer(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const std::vector<glm::mat3>& skin_linear,
          const TearOptions& options)
-      : mesh_(mesh), editor_(mesh), options_(options) {
+      : mesh_(mesh), editor_(mesh), options_(options), input_linear_(skin_linear) {
     posed_.assign(posed.begin(), posed.end());
-    if (!skin_linear.empty()) linear_.assign(skin_linear.begin(), skin_linear.end());
   }
 
   TearResult run(const Blade& start, const Blade& end);
@@ -328,7 +327,13 @@ class Tearer {
   Crossing& crossing(const Piece& piece, VertexId a, VertexId b);
   void add_torn(VertexId a, VertexId b, std::size_t piece);
   void note_new_vertex(VertexId v, const glm::dvec3& p, const VertexId* src, const double* w, int n);
-  glm::mat3 linear(VertexId v) const { return linear_.empty() ? glm::mat3(1.0f) : linear_[v.index]; }
+  // Bind-to-world linear map of a vertex: the caller's, or the blend made for a new vertex.
+  glm::mat3 linear(VertexId v) const {
+    if (input_linear_.empty()) return glm::mat3(1.0f);
+    if (v.index < input_linear_.size()) return input_linear_[v.index];
+    auto it = new_linear_.find(v.index);
+    return it == new_linear_.end() ? glm::mat3(1.0f) : it->second;
+  }
   // Signed distance of `p` to the nearest of the listed pieces (its side of a folded quad).
   double nearest_side(const std::vector<std::size_t>& pieces, const glm::dvec3& p) const {
     double best = 1e300, side = 0.0;
@@ -352,7 +357,8 @@ class Tearer {
   MeshEditor editor_;
   TearOptions options_;
   std::vector<glm::vec3> posed_;
-  std::vector<glm::mat3> linear_;
+  const std::vector<glm::mat3>& input_linear_;
+  std::unordered_map<std::uint32_t, glm::mat3> new_linear_;  // vertices made by this tear
   std::vector<Piece> pieces_;
   double tol_ = 0.0;
   float width_ = 0.0f;
@@ -400,11 +406,10 @@ void Tearer::add_torn(VertexId a, VertexId b, std::size_t piece) {
 void Tearer::note_new_vertex(VertexId v, const glm::dvec3& p, const VertexId* src, const double* w, int n) {
   if (posed_.size() <= v.index) posed_.resize(v.index + 1);
   posed_[v.index] = glm::vec3(p);
-  if (!linear_.empty()) {
-    if (linear_.size() <= v.index) linear_.resize(v.index + 1);
+  if (!input_linear_.empty()) {
     glm::mat3 m(0.0f);
-    for (int i = 0; i < n; ++i) m += float(w[i]) * linear_[src[i].index];
-    linear_[v.index] = m;
+    for (int i = 0; i < n; ++i) m += float(w[i]) * linear(src[i]);
+    new_linear_[v.index] = m;
   }
 }
 
@@ -1002,8 +1007,8 @@ TearResult Tearer::run(const Blade& start, const Blade& end) {
   if (posed_.size() != nv)
     throw Error(ErrorCode::InvalidArgument, "tear: " + std::to_string(posed_.size()) +
                                                 " posed positions for " + std::to_string(nv) + " vertices");
-  if (!linear_.empty() && linear_.size() != nv)
-    throw Error(ErrorCode::InvalidArgument, "tear: " + std::to_string(linear_.size()) +
+  if (!input_linear_.empty() && input_linear_.size() != nv)
+    throw Error(ErrorCode::InvalidArgument, "tear: " + std::to_string(input_linear_.size()) +
                                                 " skin matrices for " + std::to_string(nv) + " vertices");
   if (!std::isfinite(options_.width))
     throw Error(ErrorCode::InvalidArgument, "tear: the width is not finite");
