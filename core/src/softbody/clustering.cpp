@@ -663,10 +663,13 @@ ClusterUpdate Clusters::apply(const SurfaceMesh& mesh, const std::vector<glm::ve
     if (joining) ++update.vertices_added;
   }
 
-  // 4. Member lists of touched particles follow the rows.
+  // 4. Member lists of touched particles follow the rows. Each list is a sorted prefix (the
+  // members before this apply) followed by the vertices that joined.
   for (std::uint32_t p : touched) {
     auto& m = members_[p];
-    std::sort(m.begin(), m.end());
+    const auto tail = std::is_sorted_until(m.begin(), m.end());
+    std::sort(tail, m.end());
+    std::inplace_merge(m.begin(), tail, m.end());
     m.erase(std::unique(m.begin(), m.end()), m.end());
     m.erase(std::remove_if(m.begin(), m.end(),
                            [&](std::uint32_t v) {
@@ -680,13 +683,26 @@ ClusterUpdate Clusters::apply(const SurfaceMesh& mesh, const std::vector<glm::ve
   // 5. No particle may keep disconnected parts.
   const std::size_t created_before = update.created.size();
   if (adjacency) {
+    // The live faces around the members of touched particles, each once without a visited set:
+    // a vertex is visited from its first touched particle, a face from its first such vertex.
+    auto first_touched = [&](std::uint32_t v) {
+      for (const Influence& in : influences(VertexId(v)))
+        if (in.particle < is_touched.size() && is_touched[in.particle]) return in.particle;
+      return kInvalidIndex;
+    };
     update.particles_split = split_disconnected(
         touched,
         [&](auto&& fn) {
           for (std::uint32_t p : touched)
             for (std::uint32_t v : members_[p]) {
-              if (v >= adjacency->vertex_count()) continue;
-              for (const FaceId f : adjacency->vertex_faces(VertexId(v))) fn(mesh.face(f));
+              if (v >= adjacency->vertex_count() || first_touched(v) != p) continue;
+              for (const FaceId f : adjacency->vertex_faces(VertexId(v))) {
+                const Triangle& t = mesh.face(f);
+                std::uint32_t first = kInvalidIndex;
+                for (int k = 0; k < 3 && first == kInvalidIndex; ++k)
+                  if (first_touched(t[k].index) != kInvalidIndex) first = t[k].index;
+                if (first == v) fn(t);
+              }
             }
         },
         update.created);
