@@ -23,7 +23,7 @@ readonly APT_PACKAGES=(
   libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libvtk9-dev libvtk9-qt-dev qtbase5-dev
-  xvfb xauth libgl1-mesa-dri
+  xvfb xauth libgl1-mesa-dri fonts-dejavu-core
 )
 # Only needed to run the glTF validator.
 readonly NODE_PACKAGES=(nodejs npm)

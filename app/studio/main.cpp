@@ -3,9 +3,12 @@
 // --screenshot it renders one frame of the real window to a PNG and exits (headless use under
 // xvfb-run). Exit codes: 0 ok, 2 bad input or usage (one line on stderr), 1 internal error.
 #include <QVTKOpenGLNativeWidget.h>
+#include <unistd.h>
 
 #include <QApplication>
+#include <QDir>
 #include <QElapsedTimer>
+#include <QFile>
 #include <QFileInfo>
 #include <QImageWriter>
 #include <QMessageBox>
@@ -79,6 +82,9 @@ void apply_options(MainWindow& window, const StudioOptions& o) {
                                                 : DisplayMode::Shaded);
   window.set_normals_visible(o.normals);
   window.set_skeleton_visible(o.skeleton);
+  if (o.frame && !window.frame_selected())
+    throw Error(ErrorCode::InvalidArgument,
+                "--frame: nothing selected (use --joint or --vertex with an inspector)");
 }
 
 std::string model_path(const StudioOptions& o) {
@@ -121,6 +127,14 @@ int screenshot(MainWindow& window, const StudioOptions& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Qt warns on stderr when XDG_RUNTIME_DIR is unset (xvfb-run, CI); give it a private one so
+  // stderr keeps to the one-line messages the exit codes promise.
+  if (qEnvironmentVariableIsEmpty("XDG_RUNTIME_DIR")) {
+    const QString dir = QDir::tempPath() + "/runtime-deepcut-" + QString::number(::getuid());
+    if (QDir().mkpath(dir) &&
+        QFile::setPermissions(dir, QFileDevice::ReadOwner | QFileDevice::WriteOwner | QFileDevice::ExeOwner))
+      qputenv("XDG_RUNTIME_DIR", dir.toLocal8Bit());
+  }
   QSurfaceFormat::setDefaultFormat(QVTKOpenGLNativeWidget::defaultFormat());
   QApplication app(argc, argv);
   QApplication::setOrganizationName("DeepCut");

@@ -196,6 +196,11 @@ void MainWindow::build_menus() {
     view_->render();
   });
   reset->setShortcuts({QKeySequence("Home"), QKeySequence("R")});
+  QAction* frame = view->addAction("&Frame selected", this, [this] {
+    if (!frame_selected())
+      statusBar()->showMessage("Nothing selected: pick a vertex or a joint in an inspector", 5000);
+  });
+  frame->setShortcuts({QKeySequence("F"), QKeySequence(".")});
   view->addSeparator();
   display_group_ = new QActionGroup(this);
   const std::pair<const char*, DisplayMode> modes[] = {{"&Shaded", DisplayMode::Shaded},
@@ -462,6 +467,15 @@ void MainWindow::set_display_mode(DisplayMode mode) {
   for (QAction* action : display_group_->actions())
     if (action->data().toInt() == static_cast<int>(mode)) action->setChecked(true);
   view_->render();
+}
+
+bool MainWindow::frame_selected() {
+  const plugins::Inspector* active = inspector();
+  const auto focus = active ? active->focus() : std::nullopt;
+  if (!focus) return false;
+  view_->frame(focus->center, focus->radius);
+  view_->render();
+  return true;
 }
 
 void MainWindow::set_skeleton_visible(bool visible) {

@@ -73,6 +73,9 @@ class MainWindow : public QMainWindow {
   void set_pose(int animation, float time);
 
   void set_display_mode(DisplayMode mode);
+  /// Zooms the view to the active inspector's selection (picked vertex, chosen joint).
+  /// @returns false when there is nothing selected.
+  bool frame_selected();
   void set_skeleton_visible(bool visible);
   void set_normals_visible(bool visible);
 

@@ -451,6 +451,22 @@ void SceneView::reset_camera() {
   d.renderer->ResetCameraClippingRange(bounds);
 }
 
+void SceneView::frame(const glm::vec3& center, float radius) {
+  vtkCamera* camera = impl_->renderer->GetActiveCamera();
+  double position[3], focal[3];
+  camera->GetPosition(position);
+  camera->GetFocalPoint(focal);
+  glm::dvec3 direction(position[0] - focal[0], position[1] - focal[1], position[2] - focal[2]);
+  if (glm::length(direction) <= 0.0) direction = glm::dvec3(0.0, 0.0, 1.0);
+  direction = glm::normalize(direction);
+  const double half_angle = glm::radians(camera->GetViewAngle() / 2.0);
+  const double distance = std::max(1e-6, static_cast<double>(radius)) / std::sin(half_angle);
+  camera->SetFocalPoint(center.x, center.y, center.z);
+  camera->SetPosition(center.x + distance * direction.x, center.y + distance * direction.y,
+                      center.z + distance * direction.z);
+  impl_->renderer->ResetCameraClippingRange();
+}
+
 void SceneView::render() {
   impl_->renderer->ResetCameraClippingRange();
   impl_->window->Render();

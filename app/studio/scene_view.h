@@ -58,6 +58,8 @@ class SceneView : public QWidget {
 
   /// Frames the whole scene (current pose) from a three-quarter front view.
   void reset_camera();
+  /// Zooms to a sphere (world space) keeping the view direction.
+  void frame(const glm::vec3& center, float radius);
   /// Renders now.
   void render();
   /// The rendered view as an image (renders first).

@@ -20,6 +20,7 @@ const char* studio_usage() {
          "  --time T                 pose time in seconds\n"
          "  --view shaded|wireframe|edges\n"
          "  --normals                show normals\n"
+         "  --frame                  zoom to the inspector's selection (picked vertex, joint)\n"
          "  --no-skeleton            hide the skeleton\n"
          "  --size WxH               window size (default 1440x900)\n"
          "\n"
@@ -76,6 +77,8 @@ StudioOptions parse_studio_options(const std::vector<std::string>& args) {
         throw UsageError("--view must be shaded, wireframe or edges, not '" + o.view + "'");
     } else if (arg == "--normals") {
       o.normals = true;
+    } else if (arg == "--frame") {
+      o.frame = true;
     } else if (arg == "--no-skeleton") {
       o.skeleton = false;
     } else if (arg == "--size") {

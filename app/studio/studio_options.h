@@ -25,6 +25,7 @@ struct StudioOptions {
   std::optional<float> time;       ///< --time T, seconds
   std::string view = "shaded";     ///< --view shaded|wireframe|edges
   bool normals = false;            ///< --normals
+  bool frame = false;              ///< --frame: zoom to the inspector's selection
   bool skeleton = true;            ///< --no-skeleton turns it off
   int width = 1440, height = 900;  ///< --size WxH (screenshots)
   bool help = false;

@@ -39,6 +39,7 @@ class AdjacencyInspector final : public Inspector {
   PieceColors piece_colors(std::size_t piece) const override;
   Overlay overlay() const override;
   std::vector<std::string> summary() const override;
+  std::optional<Focus> focus() const override;
   bool pick(const Pick& pick) override;
   void set_option(const std::string& name, const std::string& value) override;
 
@@ -96,7 +97,8 @@ PieceColors AdjacencyInspector::piece_colors(std::size_t piece) const {
   if (tint_components_)
     mesh.for_each_face([&](FaceId f, const Triangle& tri) {
       const std::uint32_t c = t.component[tri[0].index];
-      out.colors[f.index] = to_rgb8(pastel(category_color(offset + c), 0.55f));
+      // Start three hues in, away from the orange of the one-ring highlight.
+      out.colors[f.index] = to_rgb8(pastel(category_color(offset + c + 3), 0.5f));
     });
   if (has_pick() && picked_piece_ == piece)
     for (FaceId f : t.adjacency.vertex_faces(picked_vertex_))
@@ -176,6 +178,16 @@ std::vector<std::string> AdjacencyInspector::summary() const {
     lines.push_back(c.str());
   }
   return lines;
+}
+
+std::optional<Focus> AdjacencyInspector::focus() const {
+  if (!has_pick()) return std::nullopt;
+  const auto& posed = scene_->pieces[picked_piece_].posed;
+  const glm::vec3 center = posed[picked_vertex_.index];
+  float reach = 0.0f;
+  for (VertexId n : topology_[picked_piece_].adjacency.vertex_neighbors(picked_vertex_))
+    reach = std::max(reach, glm::distance(center, posed[n.index]));
+  return Focus{center, reach > 0.0f ? 7.0f * reach : 0.05f * scene_->size};
 }
 
 bool AdjacencyInspector::pick(const Pick& pick) {

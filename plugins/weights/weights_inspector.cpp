@@ -4,7 +4,6 @@
 // sum to one are flagged.
 #include <QButtonGroup>
 #include <QCheckBox>
-#include <QHeaderView>
 #include <QLabel>
 #include <QLinearGradient>
 #include <QPainter>
@@ -45,6 +44,7 @@ class WeightsInspector final : public Inspector {
   PieceColors piece_colors(std::size_t piece) const override;
   Overlay overlay() const override;
   std::optional<ColorBar> color_bar() const override;
+  std::optional<Focus> focus() const override;
   std::vector<std::string> summary() const override;
   bool pick(const Pick& pick) override;
   void set_option(const std::string& name, const std::string& value) override;
@@ -242,6 +242,17 @@ std::optional<ColorBar> WeightsInspector::color_bar() const {
   return ColorBar{"Weight", weight_ramp(), 0.0f, 1.0f};
 }
 
+std::optional<Focus> WeightsInspector::focus() const {
+  if (!scene_ || joint_ < 0) return std::nullopt;
+  const auto origin = [&](int node) { return glm::vec3(scene_->world[static_cast<std::size_t>(node)][3]); };
+  const glm::vec3 center = origin(joint_);
+  float reach = 0.0f;
+  for (const auto& [parent, child] : skeleton_bones(*scene_->model))
+    if (parent == joint_ || child == joint_)
+      reach = std::max(reach, glm::distance(origin(parent), origin(child)));
+  return Focus{center, std::max(1.5f * reach, 0.1f * scene_->size)};
+}
+
 std::vector<std::string> WeightsInspector::summary() const {
   std::vector<std::string> lines;
   if (!scene_) return lines;
@@ -329,10 +340,7 @@ QWidget* WeightsInspector::create_panel(QWidget* parent) {
   legend_ = new QLabel(panel);
   layout->addWidget(legend_);
   tree_ = new QTreeWidget(panel);
-  tree_->setHeaderLabels({"Joint", "Node"});
-  tree_->header()->setStretchLastSection(false);
-  tree_->header()->setSectionResizeMode(0, QHeaderView::Stretch);
-  tree_->header()->setSectionResizeMode(1, QHeaderView::ResizeToContents);
+  tree_->setHeaderLabels({"Joint (colour: dominant-joint mode)"});
   tree_->setRootIsDecorated(true);
   tree_->setUniformRowHeights(true);
   tree_->setObjectName("weights_joint_tree");

@@ -42,6 +42,12 @@ struct Pick {
   int joint_node = -1;           ///< the joint whose bone was clicked, or -1
 };
 
+/// A region of interest in world space (what "Frame selected" zooms to).
+struct Focus {
+  glm::vec3 center{0.0f};
+  float radius = 1.0f;
+};
+
 /// What changed since the last `set_scene` call.
 enum class SceneChange {
   Model,  ///< a new model or a new version of it (topology and attributes may differ)
@@ -71,6 +77,8 @@ class Inspector {
   virtual Overlay overlay() const = 0;
   /// A colour bar to show beside the view, if the colours encode a continuous value.
   virtual std::optional<ColorBar> color_bar() const { return std::nullopt; }
+  /// The selection to frame (picked vertex, chosen joint), if any, at the current pose.
+  virtual std::optional<Focus> focus() const { return std::nullopt; }
   /// One to four short lines describing what is shown (view caption, tests, headless use).
   virtual std::vector<std::string> summary() const = 0;
 

@@ -1,0 +1,177 @@
+// SPDX-License-Identifier: MIT
+// `deepcut-studio --screenshot` as a user runs it (under xvfb-run): exit codes, and the content
+// of the picture (model pixels against the backdrop, heat-map colours in weights mode, edge and
+// highlight colours in adjacency mode), never byte equality.
+#include <QImage>
+#include <QtTest/QtTest>
+#include <functional>
+#include <set>
+
+#include "tools.h"
+
+namespace {
+
+using deepcut::test::quote;
+using deepcut::test::RunResult;
+
+RunResult run_studio(const std::string& args) {
+  return deepcut::test::run_command(quote(DEEPCUT_STUDIO) + " " + args);
+}
+
+/// The middle of the 3D view in a default-size window (the docks take the sides).
+QImage view_middle(const QImage& shot) {
+  return shot
+      .copy(QRect(shot.width() * 27 / 100, shot.height() * 10 / 100, shot.width() * 40 / 100,
+                  shot.height() * 75 / 100))
+      .convertToFormat(QImage::Format_RGB32);
+}
+
+int count_pixels(const QImage& image, const std::function<bool(const QColor&)>& predicate) {
+  int n = 0;
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x) n += predicate(QColor(image.pixel(x, y)));
+  return n;
+}
+
+/// Pixels that differ from the backdrop: the backdrop is a vertical gradient, so each row is
+/// compared with its own left-most pixel (left of the model).
+int model_pixels(const QImage& image) {
+  int n = 0;
+  for (int y = 0; y < image.height(); ++y) {
+    const QColor backdrop(image.pixel(0, y));
+    for (int x = 0; x < image.width(); ++x) {
+      const QColor c(image.pixel(x, y));
+      n += std::abs(c.red() - backdrop.red()) + std::abs(c.green() - backdrop.green()) +
+               std::abs(c.blue() - backdrop.blue()) >
+           40;
+    }
+  }
+  return n;
+}
+
+bool heat_blue(const QColor& c) { return c.blue() > 150 && c.red() < 60 && c.green() < 90; }
+bool heat_high(const QColor& c) {
+  return c.red() > 170 && c.green() < 200 && c.blue() < 60;
+}  // orange to red
+bool heat_middle(const QColor& c) { return c.green() > 150 && c.blue() < 80; }  // green to yellow
+
+}  // namespace
+
+class ScreenshotTest : public QObject {
+  Q_OBJECT
+
+  std::string dir_;
+
+  QImage shoot(const std::string& name, const std::string& args) {
+    const std::string out = dir_ + "/" + name + ".png";
+    const RunResult r = run_studio("--screenshot " + quote(out) + " " + args);
+    if (r.exit_code != 0) {
+      qWarning("deepcut-studio exited %d: %s", r.exit_code, r.err.c_str());
+      return QImage();
+    }
+    return QImage(QString::fromStdString(out));
+  }
+
+ private slots:
+  void initTestCase() { dir_ = deepcut::test::temp_dir("studio-shots"); }
+
+  void default_model_without_arguments() {
+    const QImage shot = shoot("default", "");
+    QVERIFY(!shot.isNull());
+    QCOMPARE(shot.size(), QSize(1440, 900));
+    const QImage middle = view_middle(shot);
+    const int model = model_pixels(middle);
+    QVERIFY2(model > middle.width() * middle.height() / 10,
+             qPrintable(QString("only %1 model pixels").arg(model)));
+    QVERIFY2(count_pixels(middle,
+                          [](const QColor& c) {
+                            return c.green() > c.red() + 30 && c.green() > c.blue() + 30;
+                          }) > 20000,
+             "the cactus is green");
+    QCOMPARE(count_pixels(middle, heat_blue), 0);
+  }
+
+  void weights_mode_shows_a_heat_map() {
+    const QImage shot = shoot("weights", "--inspect weights --joint trunk_3 --time 1");
+    QVERIFY(!shot.isNull());
+    const QImage middle = view_middle(shot);
+    QVERIFY2(count_pixels(middle, heat_blue) > 10000, "weight 0 is blue");
+    QVERIFY2(count_pixels(middle, heat_high) > 1000, "weights near 1 at the joint are orange to red");
+    QVERIFY2(count_pixels(middle, heat_middle) > 1000, "blends are green to yellow");
+  }
+
+  void adjacency_mode_shows_edges_components_and_the_picked_ring() {
+    const QImage shot = shoot("adjacency", "--inspect adjacency --vertex 4049 --frame --view edges");
+    QVERIFY(!shot.isNull());
+    const QImage middle = view_middle(shot);
+    QVERIFY2(
+        count_pixels(
+            middle, [](const QColor& c) { return c.green() > 200 && c.red() < 110 && c.blue() < 150; }) > 300,
+        "seam edges are bright green");
+    QVERIFY2(count_pixels(middle,
+                          [](const QColor& c) {
+                            return c.red() > 150 && c.red() > c.green() + 50 && c.green() > 70 &&
+                                   c.blue() < 45;
+                          }) > 800,
+             "the picked vertex's faces, framed, are orange");
+  }
+
+  void clusters_mode_colours_particles() {
+    const QImage shot = shoot("clusters", "--inspect clusters --time 2");
+    QVERIFY(!shot.isNull());
+    const QImage middle = view_middle(shot);
+    // Many particles, many hues: count the distinct coarse hues of saturated pixels.
+    std::set<int> hues;
+    for (int y = 0; y < middle.height(); ++y)
+      for (int x = 0; x < middle.width(); ++x) {
+        const QColor c(middle.pixel(x, y));
+        if (c.hsvSaturation() > 120 && c.value() > 120) hues.insert(c.hsvHue() / 15);
+      }
+    QVERIFY2(hues.size() >= 12, qPrintable(QString("%1 hue bins").arg(hues.size())));
+    QVERIFY(model_pixels(middle) > middle.width() * middle.height() / 10);
+  }
+
+  void textured_model_is_drawn() {
+    const QImage shot =
+        shoot("cesium", quote(DEEPCUT_ASSETS_DIR "/models/CesiumMan/CesiumMan.glb") + " --time 0.5");
+    QVERIFY(!shot.isNull());
+    const QImage middle = view_middle(shot);
+    QVERIFY2(model_pixels(middle) > middle.width() * middle.height() / 30, "CesiumMan is in view");
+  }
+
+  void unreadable_model_exits_2_with_one_line() {
+    const std::string bad = dir_ + "/bad.gltf";
+    {
+      QFile file(QString::fromStdString(bad));
+      QVERIFY(file.open(QIODevice::WriteOnly));
+      file.write("{\"asset\": ");
+    }
+    const std::string out = dir_ + "/never.png";
+    RunResult r = run_studio("--screenshot " + quote(out) + " " + quote(bad));
+    QCOMPARE(r.exit_code, 2);
+    QVERIFY2(r.err.find("bad.gltf") != std::string::npos, r.err.c_str());
+    QCOMPARE(std::count(r.err.begin(), r.err.end(), '\n'), 1l);
+    QVERIFY(!QFile::exists(QString::fromStdString(out)));
+
+    r = run_studio("--screenshot " + quote(out) + " " + quote(dir_ + "/missing.glb"));
+    QCOMPARE(r.exit_code, 2);
+    QVERIFY2(r.err.find("missing.glb") != std::string::npos, r.err.c_str());
+  }
+
+  void bad_options_exit_2() {
+    const std::string out = dir_ + "/never.png";
+    for (const std::string& args :
+         {std::string("--inspect nope"), std::string("--joint nobody"), std::string("--time soon"),
+          std::string("--vertex 99999999"), std::string("--frobnicate"), std::string("--frame"),
+          std::string("--inspect clusters --frame")}) {
+      const RunResult r = run_studio("--screenshot " + quote(out) + " " + args);
+      QVERIFY2(r.exit_code == 2, (args + ": exit " + std::to_string(r.exit_code)).c_str());
+      QVERIFY2(std::count(r.err.begin(), r.err.end(), '\n') == 1, (args + ": " + r.err).c_str());
+    }
+    QVERIFY(!QFile::exists(QString::fromStdString(out)));
+  }
+};
+
+QTEST_GUILESS_MAIN(ScreenshotTest)
+
+#include "screenshot_test.moc"
