@@ -115,7 +115,7 @@ int screenshot(MainWindow& window, const StudioOptions& o) {
   if (image.isNull())
     throw Error(ErrorCode::InvariantViolated, "screenshot: the window could not be grabbed");
   QImageWriter writer(QString::fromStdString(o.screenshot), "png");
-  writer.setCompression(9);
+  writer.setQuality(0);  // PNG: 0 is the strongest (lossless) compression
   if (!writer.write(image))
     throw Error(ErrorCode::Io,
                 o.screenshot + ": cannot write the screenshot (" + writer.errorString().toStdString() + ")");
