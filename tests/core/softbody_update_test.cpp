@@ -10,6 +10,7 @@
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/mesh_editor.h"
 #include "deepcut/core/ops/cut.h"
+#include "deepcut/core/ops/tear.h"
 #include "deepcut/core/skinning.h"
 #include "deepcut/core/softbody/clustering.h"
 #include "deepcut/core/softbody/simulation.h"
@@ -387,6 +388,83 @@ TEST(SoftbodyUpdateTest, after_a_cut_no_particle_holds_both_sides) {
     EXPECT_EQ(cluster_stats(clusters, mesh).covered_vertices, cluster_stats(fresh, mesh).covered_vertices);
   }
   expect_original_seeds_kept(original, clusters);
+}
+
+/// Lip pairs of a tear farther than 2 rho from both ends of the slit share no particle: a
+/// particle's members lie within rho of its seed, so only a particle reaching round an end of the
+/// slit could still connect the two lips. Returns how many pairs were checked.
+std::size_t expect_lips_apart(const Clusters& c, const SurfaceMesh& mesh, const TearResult& tear) {
+  std::vector<std::pair<VertexId, VertexId>> lips;
+  for (const Edit& e : tear.log.edits)
+    if (const auto* s = std::get_if<VertexSplit>(&e)) lips.emplace_back(s->original, s->copy);
+  std::vector<VertexId> ends;
+  for (const VertexId v : tear.tear_vertices) {
+    const bool lip = std::any_of(lips.begin(), lips.end(), [&](const auto& l) { return l.first == v || l.second == v; });
+    if (!lip) ends.push_back(v);
+  }
+  EXPECT_FALSE(ends.empty());
+  std::size_t checked = 0;
+  for (const auto& [a, b] : lips) {
+    bool far = true;
+    for (const VertexId e : ends) far = far && glm::length(mesh.position(a) - mesh.position(e)) > 2.0f * c.radius() + 0.1f;
+    if (!far) continue;
+    ++checked;
+    for (const Influence& x : c.influences(a))
+      for (const Influence& y : c.influences(b))
+        EXPECT_NE(x.particle, y.particle) << "lips " << a.index << " and " << b.index << " share particle " << x.particle;
+  }
+  return checked;
+}
+
+TEST(SoftbodyUpdateTest, after_a_tear_no_particle_holds_both_lips) {
+  SurfaceMesh mesh = test::make_tube(32, 40, 1.0f, 6.0f);
+  Clusters clusters = Clusters::build(mesh, ClusterOptions{0.4f});
+  const Clusters original = clusters;
+  Adjacency adjacency = Adjacency::build(mesh);
+  // A slit 4 units long down the +x wall of the tube.
+  const Blade start{{2.0f, 1.0f, 0.05f}, {0.5f, 1.0f, 0.05f}}, end{{2.0f, 5.0f, 0.05f}, {0.5f, 5.0f, 0.05f}};
+  const TearResult tear = tear_mesh(mesh, mesh.positions(), {}, start, end);
+  ASSERT_EQ(tear.status, OpStatus::Ok);
+  ASSERT_EQ(tear.slits, 1u);
+  adjacency.apply(tear.log);
+  Clusters scanning = clusters;
+  const ClusterUpdate update = clusters.apply(mesh, tear.log, &adjacency);
+  scanning.apply(mesh, tear.log);
+  expect_invariants(clusters, mesh);
+  expect_same_clusters(clusters, scanning);
+  expect_original_seeds_kept(original, clusters);
+  EXPECT_GT(update.particles_split, 0u);
+  EXPECT_GT(expect_lips_apart(clusters, mesh, tear), 10u);
+
+  // A second stroke continuing the slit, then a cut through it: the updates chain.
+  const Blade start2{{2.0f, 0.4f, 0.3f}, {0.5f, 0.4f, 0.3f}}, end2{{2.0f, 1.2f, 0.05f}, {0.5f, 1.2f, 0.05f}};
+  const TearResult tear2 = tear_mesh(mesh, mesh.positions(), {}, start2, end2);
+  ASSERT_EQ(tear2.status, OpStatus::Ok);
+  adjacency.apply(tear2.log);
+  clusters.apply(mesh, tear2.log, &adjacency);
+  expect_invariants(clusters, mesh);
+  const CutResult cut = cut_mesh(mesh, mesh.positions(), Plane{{0.0f, 3.0f, 0.0f}, {0.0f, 1.0f, 0.1f}});
+  ASSERT_EQ(cut.status, OpStatus::Ok);
+  adjacency.apply(cut.log);
+  clusters.apply(mesh, cut.log, &adjacency);
+  expect_invariants(clusters, mesh);
+  expect_no_particle_on_both_sides(clusters, mesh, cut);
+  expect_original_seeds_kept(original, clusters);
+}
+
+TEST(SoftbodyUpdateTest, after_a_tear_on_the_cactus_the_lips_separate) {
+  CutCase cc = load_cactus();
+  SurfaceMesh& mesh = *cc.mesh;
+  Clusters clusters = Clusters::build(mesh, ClusterOptions{0.3f});
+  // Down the front of the trunk (its surface crosses x = 0 at z ~0.74; the tip stays short of
+  // the arms' roots inside the trunk, so this is one slit).
+  const Blade start{{0.0f, 2.5f, 2.0f}, {0.0f, 2.5f, 0.65f}}, end{{0.0f, 6.5f, 2.0f}, {0.0f, 6.5f, 0.65f}};
+  const TearResult tear = tear_mesh(mesh, mesh.positions(), {}, start, end);
+  ASSERT_EQ(tear.status, OpStatus::Ok);
+  ASSERT_EQ(tear.slits, 1u);
+  clusters.apply(mesh, tear.log);
+  expect_invariants(clusters, mesh);
+  EXPECT_GT(expect_lips_apart(clusters, mesh, tear), 10u);
 }
 
 TEST(SoftbodyUpdateTest, cut_in_an_animated_pose_keeps_the_invariants) {
