@@ -6,7 +6,6 @@
 #include <iomanip>
 #include <iostream>
 #include <limits>
-
 #include <nlohmann/json.hpp>
 
 #include "args.h"
@@ -22,7 +21,9 @@ namespace {
 using nlohmann::json;
 using Clock = std::chrono::steady_clock;
 
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
 
 /// One drawn primitive: a node that instances a mesh, and one of that mesh's primitives.
 struct Instance {
@@ -39,7 +40,8 @@ std::vector<Instance> instances(const Model& model) {
     if (m < 0 || static_cast<std::size_t>(m) >= model.meshes.size()) continue;
     for (const auto& prim : model.meshes[m].primitives) {
       if (prim.mesh.face_count() == 0) continue;
-      out.push_back({static_cast<int>(n), &prim.mesh, posed_positions(model, static_cast<int>(n), prim.mesh, world)});
+      out.push_back(
+          {static_cast<int>(n), &prim.mesh, posed_positions(model, static_cast<int>(n), prim.mesh, world)});
     }
   }
   if (out.empty()) throw Error(ErrorCode::InvalidInput, "the model has no triangles");
@@ -152,8 +154,10 @@ int run_cluster(const std::vector<std::string>& argv) {
     return 0;
   }
   std::cout << path << "\n";
-  if (choice.searched) std::cout << "  radius for ~" << choice.target << " particles: ";
-  else std::cout << "  radius: ";
+  if (choice.searched)
+    std::cout << "  radius for ~" << choice.target << " particles: ";
+  else
+    std::cout << "  radius: ";
   std::cout << choice.options.radius << " (cover fraction " << choice.options.cover_fraction << ")\n"
             << "  particles " << s.particles << ", vertices per particle min " << s.min_vertices << " / mean "
             << std::fixed << std::setprecision(1) << s.mean_vertices << " / max " << s.max_vertices << "\n"
@@ -167,10 +171,11 @@ int run_cluster(const std::vector<std::string>& argv) {
 
 int run_softbody(const std::vector<std::string>& argv) {
   const Args args(argv, {"--json", "--animate"},
-                  {"--poke", "--radius", "--impulse", "--speed", "--frames", "--dt", "--rho", "--particles", "--cover",
-                   "--stiffness", "--damping", "--mass", "--time", "--animation"});
+                  {"--poke", "--radius", "--impulse", "--speed", "--frames", "--dt", "--rho", "--particles",
+                   "--cover", "--stiffness", "--damping", "--mass", "--time", "--animation"});
   const std::string path = model_path(args, "softbody");
-  if (!args.has("--poke")) throw UsageError("softbody needs --poke X,Y,Z (world space of the pose at --time)");
+  if (!args.has("--poke"))
+    throw UsageError("softbody needs --poke X,Y,Z (world space of the pose at --time)");
   const glm::vec3 point = to_vec3(args.vector("--poke", 3));
   const double frames_d = args.number("--frames", 60);
   if (!(frames_d >= 1 && frames_d <= 100000) || frames_d != std::floor(frames_d))
@@ -230,8 +235,9 @@ int run_softbody(const std::vector<std::string>& argv) {
         if (glm::dot(centroid - point, centroid - point) <= r2) normal += glm::cross(b - a, cc - a);
       });
     if (glm::length(normal) == 0.0f)
-      throw Error(ErrorCode::InvalidArgument, "softbody: no surface within --radius " + std::to_string(poke_radius) +
-                                                  " of the poke point; move it onto the model or pass --impulse");
+      throw Error(ErrorCode::InvalidArgument,
+                  "softbody: no surface within --radius " + std::to_string(poke_radius) +
+                      " of the poke point; move it onto the model or pass --impulse");
     const double speed = args.number("--speed", 0.5);
     if (!(speed > 0.0)) throw UsageError("--speed must be positive");
     impulse = -glm::normalize(normal) * float(speed) * size * sim.mass;
@@ -246,7 +252,8 @@ int run_softbody(const std::vector<std::string>& argv) {
   if (reached == 0)
     throw Error(ErrorCode::InvalidArgument, "softbody: the poke at (" + std::to_string(point.x) + ", " +
                                                 std::to_string(point.y) + ", " + std::to_string(point.z) +
-                                                ") with radius " + std::to_string(poke_radius) + " reaches no particle");
+                                                ") with radius " + std::to_string(poke_radius) +
+                                                " reaches no particle");
 
   // Step: springs, then the vertices (skinned pose + displacement), as the studio does per frame.
   std::vector<double> max_disp;
@@ -265,7 +272,8 @@ int run_softbody(const std::vector<std::string>& argv) {
       m = std::max(m, deformed_positions(states[k], c.clusters[k], posed[k], deformed));
       for (const auto& p : deformed)
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-          throw Error(ErrorCode::InvariantViolated, "softbody: non-finite vertex at frame " + std::to_string(f));
+          throw Error(ErrorCode::InvariantViolated,
+                      "softbody: non-finite vertex at frame " + std::to_string(f));
     }
     step_ms += ms_since(t0);
     max_disp.push_back(m);
@@ -277,7 +285,8 @@ int run_softbody(const std::vector<std::string>& argv) {
                       {"rho", choice.options.radius},
                       {"particles", c.total.particles},
                       {"cluster_ms", c.ms},
-                      {"poke", {{"point", to_json(point)}, {"radius", poke_radius}, {"impulse", to_json(impulse)}}},
+                      {"poke",
+                       {{"point", to_json(point)}, {"radius", poke_radius}, {"impulse", to_json(impulse)}}},
                       {"particles_reached", reached},
                       {"frames", frames},
                       {"dt", dt},
@@ -289,21 +298,21 @@ int run_softbody(const std::vector<std::string>& argv) {
                       {"final", max_disp.back()},
                       {"final_relative", size > 0.0f ? max_disp.back() / size : 0.0},
                       {"step_ms", step_ms / frames}}
-                         .dump(2)
+                     .dump(2)
               << "\n";
     return 0;
   }
   std::cout << path << "\n"
             << "  particles " << c.total.particles << " (rho " << choice.options.radius << "), poke reached "
             << reached << "\n"
-            << "  max displacement: peak " << *peak << " at frame " << peak_frame << ", final " << max_disp.back()
-            << " (" << (size > 0.0f ? max_disp.back() / size : 0.0) << " of the model size) after " << frames
-            << " frames of " << dt << " s\n"
+            << "  max displacement: peak " << *peak << " at frame " << peak_frame << ", final "
+            << max_disp.back() << " (" << (size > 0.0f ? max_disp.back() / size : 0.0)
+            << " of the model size) after " << frames << " frames of " << dt << " s\n"
             << "  step + vertex update " << std::fixed << std::setprecision(4) << step_ms / frames
             << " ms per frame\n";
   for (int f = 0; f < frames; ++f)
-    std::cout << "    frame " << std::setw(4) << f << "  " << std::scientific << std::setprecision(3) << max_disp[f]
-              << std::fixed << "\n";
+    std::cout << "    frame " << std::setw(4) << f << "  " << std::scientific << std::setprecision(3)
+              << max_disp[f] << std::fixed << "\n";
   return 0;
 }
 

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
 // deepcut cluster and deepcut softbody as a user runs them.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include "tools.h"
 
@@ -27,7 +27,8 @@ json run_json(const std::string& args) {
 
 TEST(SoftbodyCliTest, cluster_reports_counts_and_timing) {
   const json j = run_json("cluster " + test::quote(kCactus) + " --radius 0.73 --json");
-  for (const char* key : {"particles", "min_vertices", "mean_vertices", "max_vertices", "uncovered_vertices", "ms"})
+  for (const char* key :
+       {"particles", "min_vertices", "mean_vertices", "max_vertices", "uncovered_vertices", "ms"})
     ASSERT_TRUE(j.contains(key)) << key;
   EXPECT_GT(j["particles"].get<int>(), 100);
   EXPECT_EQ(j["uncovered_vertices"].get<int>(), 0);
@@ -45,13 +46,14 @@ TEST(SoftbodyCliTest, cluster_finds_the_radius_for_224_particles) {
   EXPECT_GT(j["radius"].get<double>(), 0.3);
   EXPECT_LT(j["radius"].get<double>(), 1.5);
   // The radius it reports gives that count again.
-  const json again = run_json("cluster " + test::quote(kCactus) + " --radius " + std::to_string(j["radius"].get<double>()) +
-                              " --json");
+  const json again = run_json("cluster " + test::quote(kCactus) + " --radius " +
+                              std::to_string(j["radius"].get<double>()) + " --json");
   EXPECT_NEAR(again["particles"].get<double>(), j["particles"].get<double>(), 3.0);
 }
 
 TEST(SoftbodyCliTest, poke_rises_then_decays_to_rest) {
-  const json j = run_json("softbody " + test::quote(kCactus) + " --poke 1.1,5,0 --radius 1.2 --frames 90 --json");
+  const json j =
+      run_json("softbody " + test::quote(kCactus) + " --poke 1.1,5,0 --radius 1.2 --frames 90 --json");
   ASSERT_TRUE(j.contains("max_displacement"));
   const auto series = j["max_displacement"].get<std::vector<double>>();
   ASSERT_EQ(series.size(), 90u);
@@ -76,7 +78,8 @@ TEST(SoftbodyCliTest, poke_while_the_animation_plays) {
 }
 
 TEST(SoftbodyCliTest, text_output_lists_frames) {
-  const test::RunResult r = test::run_cli("softbody " + test::quote(kCactus) + " --poke 1.1,5,0 --frames 5 --rho 0.8");
+  const test::RunResult r =
+      test::run_cli("softbody " + test::quote(kCactus) + " --poke 1.1,5,0 --frames 5 --rho 0.8");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("frame    4"), std::string::npos) << r.out;
 }
@@ -84,14 +87,19 @@ TEST(SoftbodyCliTest, text_output_lists_frames) {
 TEST(SoftbodyCliTest, bad_input_exits_2_with_one_line) {
   const std::string model = test::quote(kCactus);
   const std::vector<std::string> cases = {
-       "cluster " + model, "cluster " + model + " --radius -1", "cluster " + model + " --radius abc",
-        "cluster " + model + " --radius 0.5 --particles 10", "cluster " + model + " --radius 0.5 --cover 2",
-        "cluster /nonexistent/model.glb --radius 0.5", "softbody " + model, "softbody " + model + " --poke 1,2",
-        "softbody " + model + " --poke 1,5,0 --rho 0.8 --frames 0",
-        "softbody " + model + " --poke 1,5,0 --rho 0.8 --dt -0.1",
-        "softbody " + model + " --poke 100,100,100 --rho 0.8",
-        "softbody " + model + " --poke 100,100,100 --rho 0.8 --impulse 1,0,0",
-        "softbody " + model + " --poke 1,5,0 --rho 0.8 --mass 0"};
+      "cluster " + model,
+      "cluster " + model + " --radius -1",
+      "cluster " + model + " --radius abc",
+      "cluster " + model + " --radius 0.5 --particles 10",
+      "cluster " + model + " --radius 0.5 --cover 2",
+      "cluster /nonexistent/model.glb --radius 0.5",
+      "softbody " + model,
+      "softbody " + model + " --poke 1,2",
+      "softbody " + model + " --poke 1,5,0 --rho 0.8 --frames 0",
+      "softbody " + model + " --poke 1,5,0 --rho 0.8 --dt -0.1",
+      "softbody " + model + " --poke 100,100,100 --rho 0.8",
+      "softbody " + model + " --poke 100,100,100 --rho 0.8 --impulse 1,0,0",
+      "softbody " + model + " --poke 1,5,0 --rho 0.8 --mass 0"};
   for (const std::string& args : cases) {
     SCOPED_TRACE(args);
     const test::RunResult r = test::run_cli(args);

@@ -1,15 +1,14 @@
 // SPDX-License-Identifier: MIT
-#include "deepcut/core/softbody/clustering.h"
+#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <limits>
 
-#include <gtest/gtest.h>
-
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/skinning.h"
+#include "deepcut/core/softbody/clustering.h"
 #include "fixtures.h"
 
 namespace deepcut {

@@ -1,14 +1,13 @@
 // SPDX-License-Identifier: MIT
-#include "deepcut/core/softbody/simulation.h"
+#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include <gtest/gtest.h>
-
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/skinning.h"
+#include "deepcut/core/softbody/simulation.h"
 #include "fixtures.h"
 
 namespace deepcut {
@@ -48,8 +47,9 @@ std::uint32_t nearest_vertex(const std::vector<glm::vec3>& positions, const glm:
 }
 
 bool all_finite(const std::vector<glm::vec3>& v) {
-  return std::all_of(v.begin(), v.end(),
-                     [](const glm::vec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); });
+  return std::all_of(v.begin(), v.end(), [](const glm::vec3& p) {
+    return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+  });
 }
 
 TEST(SoftbodySimulationTest, poke_rises_then_decays_monotonically_to_rest) {
@@ -67,11 +67,13 @@ TEST(SoftbodySimulationTest, poke_rises_then_decays_monotonically_to_rest) {
       series.push_back(deformed_positions(state, clusters, c.rest, out));
       ASSERT_TRUE(all_finite(out));
     }
-    const std::size_t peak = static_cast<std::size_t>(std::max_element(series.begin(), series.end()) - series.begin());
+    const std::size_t peak =
+        static_cast<std::size_t>(std::max_element(series.begin(), series.end()) - series.begin());
     EXPECT_GT(peak, 0u) << "the displacement must rise first";
     EXPECT_GT(series[peak], 1e-3f * c.size);
     for (std::size_t f = peak + 1; f < series.size(); ++f)
-      ASSERT_LE(series[f], series[f - 1] * (1.0f + 1e-5f) + 1e-7f * c.size) << "frame " << f << " grew after the peak";
+      ASSERT_LE(series[f], series[f - 1] * (1.0f + 1e-5f) + 1e-7f * c.size)
+          << "frame " << f << " grew after the peak";
     EXPECT_LT(series.back(), 1e-4f * c.size);
     EXPECT_FLOAT_EQ(max_vertex_displacement(state, clusters), series.back());
   }
@@ -90,7 +92,8 @@ TEST(SoftbodySimulationTest, any_step_up_to_a_thirtieth_and_beyond_is_finite_and
       SCOPED_TRACE("k " + std::to_string(o.stiffness) + " c " + std::to_string(o.damping) + " m " +
                    std::to_string(o.mass) + " dt " + std::to_string(dt));
       SoftBodyState state = make_soft_body(clusters);
-      ASSERT_GT(poke(state, clusters, mesh.positions(), {0.5f, 0.5f, 0.0f}, {0.0f, 0.0f, o.mass}, 0.6f, o), 0u);
+      ASSERT_GT(poke(state, clusters, mesh.positions(), {0.5f, 0.5f, 0.0f}, {0.0f, 0.0f, o.mass}, 0.6f, o),
+                0u);
       auto energy = [&]() {
         double e = 0.0;
         for (std::size_t p = 0; p < state.displacement.size(); ++p)
@@ -104,8 +107,10 @@ TEST(SoftbodySimulationTest, any_step_up_to_a_thirtieth_and_beyond_is_finite_and
         step_soft_body(state, dt, o);
         ASSERT_TRUE(all_finite(state.displacement) && all_finite(state.velocity)) << "frame " << f;
         const double e = energy();
-        if (o.damping > 0.0f) ASSERT_LE(e, previous * (1.0 + 1e-5) + 1e-12) << "energy grew at frame " << f;
-        else ASSERT_NEAR(e, e0, 1e-4 * e0) << "undamped energy drifted at frame " << f;
+        if (o.damping > 0.0f)
+          ASSERT_LE(e, previous * (1.0 + 1e-5) + 1e-12) << "energy grew at frame " << f;
+        else
+          ASSERT_NEAR(e, e0, 1e-4 * e0) << "undamped energy drifted at frame " << f;
         previous = e;
       }
       std::vector<glm::vec3> out;
@@ -133,7 +138,8 @@ TEST(SoftbodySimulationTest, springs_follow_the_closed_form_solution) {
        }},  // underdamped
       {100.0f, 50.0f,
        [](double t) {
-         const double r1 = (-50.0 + std::sqrt(2500.0 - 400.0)) / 2.0, r2 = (-50.0 - std::sqrt(2500.0 - 400.0)) / 2.0;
+         const double r1 = (-50.0 + std::sqrt(2500.0 - 400.0)) / 2.0,
+                      r2 = (-50.0 - std::sqrt(2500.0 - 400.0)) / 2.0;
          return (std::exp(r1 * t) - std::exp(r2 * t)) / (r1 - r2);
        }},  // overdamped
   };
@@ -148,7 +154,8 @@ TEST(SoftbodySimulationTest, springs_follow_the_closed_form_solution) {
       for (int s = 0; s < steps; ++s) step_soft_body(state, dt, o);
       const double t = double(dt) * steps;
       const double expected = k.x(t) * (1.0 - 0.0);  // the poke is at the centre: falloff 1
-      EXPECT_NEAR(state.displacement[0].z, expected, 1e-5 + 1e-4 * std::abs(expected)) << "c " << k.c << " steps " << steps;
+      EXPECT_NEAR(state.displacement[0].z, expected, 1e-5 + 1e-4 * std::abs(expected))
+          << "c " << k.c << " steps " << steps;
       EXPECT_EQ(state.displacement[0].x, 0.0f);
     }
 }
@@ -170,7 +177,8 @@ TEST(SoftbodySimulationTest, poking_while_animating_moves_vertices_relative_to_t
 
   // Vertices outside every poked particle.
   std::vector<std::uint8_t> reached(clusters.particle_slots(), 0);
-  for (std::uint32_t p = 0; p < clusters.particle_slots(); ++p) reached[p] = glm::length(animated.velocity[p]) > 0.0f;
+  for (std::uint32_t p = 0; p < clusters.particle_slots(); ++p)
+    reached[p] = glm::length(animated.velocity[p]) > 0.0f;
   std::vector<std::uint32_t> far;
   for (std::uint32_t v = 0; v < c.rest.size(); ++v) {
     bool touched = false;
@@ -192,10 +200,12 @@ TEST(SoftbodySimulationTest, poking_while_animating_moves_vertices_relative_to_t
     for (std::uint32_t v = 0; v < posed.size(); ++v) {
       animation_motion = std::max(animation_motion, glm::length(posed[v] - c.rest[v]));
       // The offset from the animated pose is the soft-body displacement, whatever the pose.
-      ASSERT_NEAR(glm::length((out_animated[v] - posed[v]) - (out_still[v] - c.rest[v])), 0.0f, 1e-5f * c.size)
+      ASSERT_NEAR(glm::length((out_animated[v] - posed[v]) - (out_still[v] - c.rest[v])), 0.0f,
+                  1e-5f * c.size)
           << "vertex " << v << " frame " << f;
     }
-    for (std::uint32_t v : far) ASSERT_EQ(out_animated[v], posed[v]) << "far vertex " << v << " left the animated pose";
+    for (std::uint32_t v : far)
+      ASSERT_EQ(out_animated[v], posed[v]) << "far vertex " << v << " left the animated pose";
     const glm::vec3 offset = out_animated[target] - posed[target];
     peak = std::max(peak, glm::length(offset));
     if (f < 5) {
@@ -203,7 +213,8 @@ TEST(SoftbodySimulationTest, poking_while_animating_moves_vertices_relative_to_t
     }
     if (f == 119) {
       for (std::uint32_t v = 0; v < posed.size(); ++v)
-        ASSERT_LT(glm::length(out_animated[v] - posed[v]), 1e-4f * c.size) << "vertex " << v << " did not spring back";
+        ASSERT_LT(glm::length(out_animated[v] - posed[v]), 1e-4f * c.size)
+            << "vertex " << v << " did not spring back";
     }
   }
   EXPECT_GT(animation_motion, 0.01f * c.size) << "the animation should move the model";
@@ -221,7 +232,8 @@ TEST(SoftbodySimulationTest, drag_holds_the_grabbed_region_then_springs_back) {
   for (int f = 0; f < 120; ++f) step_soft_body(state, 1.0f / 30.0f);
   deformed_positions(state, clusters, mesh.positions(), out);
   glm::vec3 expected(0.0f);
-  for (const Influence& in : clusters.influences(VertexId(v))) expected += in.weight * state.goal[in.particle];
+  for (const Influence& in : clusters.influences(VertexId(v)))
+    expected += in.weight * state.goal[in.particle];
   EXPECT_GT(expected.z, 0.1f);
   EXPECT_NEAR(out[v].z - mesh.positions()[v].z, expected.z, 1e-4f);
   EXPECT_NEAR(out[v].x, mesh.positions()[v].x, 1e-5f);

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
 // Clusters following edit logs (Clusters::apply): never a re-clustering, always the invariants.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <random>
-
-#include <gtest/gtest.h>
 
 #include "deepcut/core/adjacency.h"
 #include "deepcut/core/io/gltf.h"
@@ -116,7 +116,8 @@ TEST(SoftbodyUpdateTest, split_vertices_join_the_same_particles_then_separate) {
   Adjacency adjacency = Adjacency::build(mesh);
   MeshEditor editor(mesh);
   std::vector<VertexId> copies;
-  for (int i = 0; i < around; ++i) copies.push_back(editor.split_vertex(VertexId(static_cast<std::uint32_t>(15 * around + i))));
+  for (int i = 0; i < around; ++i)
+    copies.push_back(editor.split_vertex(VertexId(static_cast<std::uint32_t>(15 * around + i))));
   for (int i = 0; i < around; ++i)
     for (int k = 0; k < 2; ++k) {
       const FaceId f = tube_face(around, 15, i, k);
@@ -156,7 +157,8 @@ TEST(SoftbodyUpdateTest, split_vertices_join_the_same_particles_then_separate) {
       for (const auto& c : update.created)
         if (c.particle == q) q = c.parent;
       const auto& from = original_particles[i];
-      EXPECT_NE(std::find(from.begin(), from.end(), q), from.end()) << "copy " << copy.index << " in particle " << b.particle;
+      EXPECT_NE(std::find(from.begin(), from.end(), q), from.end())
+          << "copy " << copy.index << " in particle " << b.particle;
     }
   }
 }
@@ -171,14 +173,19 @@ TEST(SoftbodyUpdateTest, added_vertex_interpolates_its_sources_influences) {
   std::vector<std::pair<std::uint32_t, double>> expected;
   for (int i = 0; i < 3; ++i)
     for (const Influence& in : clusters.influences(t[i])) {
-      auto it = std::find_if(expected.begin(), expected.end(), [&](const auto& e) { return e.first == in.particle; });
-      if (it == expected.end()) expected.emplace_back(in.particle, bary[i] * in.weight);
-      else it->second += bary[i] * in.weight;
+      auto it = std::find_if(expected.begin(), expected.end(),
+                             [&](const auto& e) { return e.first == in.particle; });
+      if (it == expected.end())
+        expected.emplace_back(in.particle, bary[i] * in.weight);
+      else
+        it->second += bary[i] * in.weight;
     }
-  const glm::vec3 p = bary.x * mesh.position(t[0]) + bary.y * mesh.position(t[1]) + bary.z * mesh.position(t[2]);
-  expected.erase(std::remove_if(expected.begin(), expected.end(),
-                                [&](const auto& e) { return glm::length(p - clusters.seed(e.first)) > 0.3f; }),
-                 expected.end());
+  const glm::vec3 p =
+      bary.x * mesh.position(t[0]) + bary.y * mesh.position(t[1]) + bary.z * mesh.position(t[2]);
+  expected.erase(
+      std::remove_if(expected.begin(), expected.end(),
+                     [&](const auto& e) { return glm::length(p - clusters.seed(e.first)) > 0.3f; }),
+      expected.end());
   double sum = 0.0;
   for (const auto& e : expected) sum += e.second;
   ASSERT_GT(sum, 0.0);
@@ -197,7 +204,8 @@ TEST(SoftbodyUpdateTest, added_vertex_interpolates_its_sources_influences) {
   const InfluenceRange row = clusters.influences(c);
   ASSERT_EQ(row.size(), expected.size());
   for (const Influence& in : row) {
-    auto it = std::find_if(expected.begin(), expected.end(), [&](const auto& e) { return e.first == in.particle; });
+    auto it =
+        std::find_if(expected.begin(), expected.end(), [&](const auto& e) { return e.first == in.particle; });
     ASSERT_NE(it, expected.end()) << "unexpected particle " << in.particle;
     EXPECT_NEAR(in.weight, it->second / sum, 1e-5);
     const auto& m = clusters.members(in.particle);
@@ -347,7 +355,8 @@ void expect_no_particle_on_both_sides(const Clusters& c, const SurfaceMesh& mesh
   for (std::uint32_t k = 0; k < cut.pieces.size(); ++k)
     for (FaceId f : cut.pieces[k])
       for (const VertexId v : mesh.face(f)) {
-        ASSERT_TRUE(side[v.index] == kInvalidIndex || side[v.index] == k) << "vertex " << v.index << " in two pieces";
+        ASSERT_TRUE(side[v.index] == kInvalidIndex || side[v.index] == k)
+            << "vertex " << v.index << " in two pieces";
         side[v.index] = k;
       }
   for (std::uint32_t p = 0; p < c.particle_slots(); ++p) {
@@ -366,8 +375,8 @@ TEST(SoftbodyUpdateTest, after_a_cut_no_particle_holds_both_sides) {
   const Clusters original = clusters;
   Adjacency adjacency = Adjacency::build(mesh);
 
-  const Plane planes[] = {{{0.0f, 5.0f, 0.0f}, {0.0f, 1.0f, 0.0f}},     // across the trunk
-                          {{0.3f, 4.0f, 0.1f}, {1.0f, 0.3f, -0.2f}},   // oblique, through an arm joint
+  const Plane planes[] = {{{0.0f, 5.0f, 0.0f}, {0.0f, 1.0f, 0.0f}},   // across the trunk
+                          {{0.3f, 4.0f, 0.1f}, {1.0f, 0.3f, -0.2f}},  // oblique, through an arm joint
                           {{-0.2f, 2.5f, 0.0f}, {0.2f, -1.0f, 0.7f}}};
   for (const Plane& plane : planes) {
     const CutResult cut = cut_mesh(mesh, mesh.positions(), plane);
@@ -399,19 +408,22 @@ std::size_t expect_lips_apart(const Clusters& c, const SurfaceMesh& mesh, const 
     if (const auto* s = std::get_if<VertexSplit>(&e)) lips.emplace_back(s->original, s->copy);
   std::vector<VertexId> ends;
   for (const VertexId v : tear.tear_vertices) {
-    const bool lip = std::any_of(lips.begin(), lips.end(), [&](const auto& l) { return l.first == v || l.second == v; });
+    const bool lip =
+        std::any_of(lips.begin(), lips.end(), [&](const auto& l) { return l.first == v || l.second == v; });
     if (!lip) ends.push_back(v);
   }
   EXPECT_FALSE(ends.empty());
   std::size_t checked = 0;
   for (const auto& [a, b] : lips) {
     bool far = true;
-    for (const VertexId e : ends) far = far && glm::length(mesh.position(a) - mesh.position(e)) > 2.0f * c.radius() + 0.1f;
+    for (const VertexId e : ends)
+      far = far && glm::length(mesh.position(a) - mesh.position(e)) > 2.0f * c.radius() + 0.1f;
     if (!far) continue;
     ++checked;
     for (const Influence& x : c.influences(a))
       for (const Influence& y : c.influences(b))
-        EXPECT_NE(x.particle, y.particle) << "lips " << a.index << " and " << b.index << " share particle " << x.particle;
+        EXPECT_NE(x.particle, y.particle)
+            << "lips " << a.index << " and " << b.index << " share particle " << x.particle;
   }
   return checked;
 }
@@ -496,7 +508,8 @@ TEST(SoftbodyUpdateTest, soft_body_state_follows_split_particles) {
 
   const ClusterUpdate update = clusters.apply(mesh, cut.log);
   ASSERT_FALSE(update.created.empty());
-  EXPECT_THROW(deformed_positions(state, clusters, mesh.positions(), deformed_before), Error) << "state not synced";
+  EXPECT_THROW(deformed_positions(state, clusters, mesh.positions(), deformed_before), Error)
+      << "state not synced";
   sync_soft_body(state, clusters, update);
   ASSERT_EQ(state.displacement.size(), clusters.particle_slots());
   for (const auto& c : update.created) {
@@ -518,7 +531,8 @@ TEST(SoftbodyUpdateTest, soft_body_state_follows_split_particles) {
   }
   EXPECT_GT(compared, mesh.vertex_count() / 2);
   step_soft_body(state, 1.0f / 30.0f);
-  for (const auto& p : state.displacement) EXPECT_TRUE(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
+  for (const auto& p : state.displacement)
+    EXPECT_TRUE(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
 }
 
 TEST(SoftbodyUpdateTest, rejects_logs_and_meshes_that_do_not_match) {

@@ -30,7 +30,8 @@ float distance2(const glm::vec3& a, const glm::vec3& b) {
 /// A uniform grid over a set of points, stored as a counting-sorted list per cell (CSR).
 class PointGrid {
  public:
-  PointGrid(const std::vector<glm::vec3>& pos, const std::vector<std::uint32_t>& ids, float cell) : pos_(pos) {
+  PointGrid(const std::vector<glm::vec3>& pos, const std::vector<std::uint32_t>& ids, float cell)
+      : pos_(pos) {
     for (std::uint32_t v : ids) box_.add(pos[v]);
     const glm::vec3 ext = box_.empty() ? glm::vec3(0.0f) : box_.max - box_.min;
     // Cap the cell count (a tiny cell relative to the model would make a huge grid).
@@ -83,10 +84,13 @@ class PointGrid {
   }
 
  private:
-  int clamp_cell(double x, int k) const { return static_cast<int>(std::min(std::max(x, 0.0), double(dims_[k] - 1))); }
+  int clamp_cell(double x, int k) const {
+    return static_cast<int>(std::min(std::max(x, 0.0), double(dims_[k] - 1)));
+  }
   std::size_t cell_of(const glm::vec3& p) const {
     std::size_t idx[3];
-    for (int k = 0; k < 3; ++k) idx[k] = std::size_t(clamp_cell(std::floor(double(p[k] - box_.min[k]) / h_), k));
+    for (int k = 0; k < 3; ++k)
+      idx[k] = std::size_t(clamp_cell(std::floor(double(p[k] - box_.min[k]) / h_), k));
     return (idx[2] * dims_[1] + idx[1]) * dims_[0] + idx[0];
   }
 
@@ -160,8 +164,9 @@ std::vector<std::uint32_t> farthest_point_seeds(const std::vector<glm::vec3>& re
 
 void check_radius(float radius, const char* what) {
   if (!(radius > 0.0f) || !std::isfinite(radius))
-    throw Error(ErrorCode::InvalidArgument,
-                std::string(what) + ": radius must be a positive finite number, got " + std::to_string(radius));
+    throw Error(
+        ErrorCode::InvalidArgument,
+        std::string(what) + ": radius must be a positive finite number, got " + std::to_string(radius));
 }
 
 void check_rest(const SurfaceMesh& mesh, const std::vector<glm::vec3>& rest, const char* what) {
@@ -194,7 +199,8 @@ void Clusters::sort_row(std::uint32_t v) {
   Influence* row = pool_.data() + r.begin;
   // Rows are short: insertion sort.
   for (std::uint32_t i = 1; i < r.size; ++i)
-    for (std::uint32_t j = i; j > 0 && row[j].particle < row[j - 1].particle; --j) std::swap(row[j], row[j - 1]);
+    for (std::uint32_t j = i; j > 0 && row[j].particle < row[j - 1].particle; --j)
+      std::swap(row[j], row[j - 1]);
 }
 
 void Clusters::compact_pool() {
@@ -249,15 +255,17 @@ std::size_t Clusters::particle_count() const {
 // Splitting particles into connected parts.
 
 template <class ForEachFace>
-std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& particles, ForEachFace&& for_each_face,
+std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& particles,
+                                         ForEachFace&& for_each_face,
                                          std::vector<ClusterUpdate::NewParticle>& created) {
   if (particles.empty()) return 0;
   auto entry_of = [&](std::uint32_t v, std::uint32_t p) {
     const Row& r = rows_[v];
     for (std::uint32_t i = 0; i < r.size; ++i)
       if (pool_[r.begin + i].particle == p) return r.begin + i;
-    throw Error(ErrorCode::InvariantViolated, "clusters: vertex " + std::to_string(v) + " is listed in particle " +
-                                                  std::to_string(p) + " but has no influence from it");
+    throw Error(ErrorCode::InvariantViolated, "clusters: vertex " + std::to_string(v) +
+                                                  " is listed in particle " + std::to_string(p) +
+                                                  " but has no influence from it");
   };
   std::vector<std::uint8_t> in_set(seeds_.size(), 0);
   for (std::uint32_t p : particles) in_set[p] = 1;
@@ -393,7 +401,8 @@ std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& parti
     }
   }
   std::sort(dropped_vertices.begin(), dropped_vertices.end());
-  dropped_vertices.erase(std::unique(dropped_vertices.begin(), dropped_vertices.end()), dropped_vertices.end());
+  dropped_vertices.erase(std::unique(dropped_vertices.begin(), dropped_vertices.end()),
+                         dropped_vertices.end());
   for (std::uint32_t v : dropped_vertices) {
     Row& r = rows_[v];
     std::uint32_t n = 0;
@@ -412,7 +421,8 @@ Clusters Clusters::build(const SurfaceMesh& mesh, const ClusterOptions& options)
   return build(mesh, mesh.positions(), options);
 }
 
-Clusters Clusters::build(const SurfaceMesh& mesh, const std::vector<glm::vec3>& rest, const ClusterOptions& options) {
+Clusters Clusters::build(const SurfaceMesh& mesh, const std::vector<glm::vec3>& rest,
+                         const ClusterOptions& options) {
   check_radius(options.radius, "cluster");
   if (!(options.cover_fraction > 0.0f && options.cover_fraction <= 1.0f))
     throw Error(ErrorCode::InvalidArgument,
@@ -431,14 +441,16 @@ Clusters Clusters::build(const SurfaceMesh& mesh, const std::vector<glm::vec3>& 
     if (c.face_refs_[v]) {
       const glm::vec3& p = rest[v];
       if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-        throw Error(ErrorCode::InvalidInput, "cluster: vertex " + std::to_string(v) + " has a non-finite position");
+        throw Error(ErrorCode::InvalidInput,
+                    "cluster: vertex " + std::to_string(v) + " has a non-finite position");
       ids.push_back(v);
     }
   if (ids.empty()) return c;
 
   const float rho = options.radius, rho2 = rho * rho;
   const PointGrid grid(rest, ids, rho);
-  const std::vector<std::uint32_t> seeds = farthest_point_seeds(rest, ids, grid, rho * options.cover_fraction);
+  const std::vector<std::uint32_t> seeds =
+      farthest_point_seeds(rest, ids, grid, rho * options.cover_fraction);
 
   // Particle-major memberships, then vertex-major rows (counting sort; rows sorted by particle).
   std::vector<std::uint32_t> pm_start{0}, pm_vertex;
@@ -503,9 +515,9 @@ ClusterUpdate Clusters::apply(const SurfaceMesh& mesh, const std::vector<glm::ve
   check_rest(mesh, rest, "clusters.apply");
   const std::size_t n = mesh.vertex_count();
   if (n < rows_.size())
-    throw Error(ErrorCode::InvalidArgument, "clusters.apply: the mesh has " + std::to_string(n) +
-                                                " vertices but the clusters know " + std::to_string(rows_.size()) +
-                                                " (compacted? build the clusters again)");
+    throw Error(ErrorCode::InvalidArgument,
+                "clusters.apply: the mesh has " + std::to_string(n) + " vertices but the clusters know " +
+                    std::to_string(rows_.size()) + " (compacted? build the clusters again)");
   if (adjacency && adjacency->vertex_count() > n)
     throw Error(ErrorCode::InvalidArgument, "clusters.apply: the adjacency has more vertices than the mesh");
   auto check_vertex = [&](VertexId v) {
@@ -551,13 +563,14 @@ ClusterUpdate Clusters::apply(const SurfaceMesh& mesh, const std::vector<glm::ve
         check_face(fr->f, fr->vertices);
         // Face ids are never reused, so a face the log removes is deleted in the edited mesh.
         if (!mesh.is_deleted(fr->f))
-          throw Error(ErrorCode::InvalidArgument, "clusters.apply: the log removes face " +
-                                                      std::to_string(fr->f.index) +
-                                                      " but the mesh still has it (log and mesh do not match)");
+          throw Error(ErrorCode::InvalidArgument,
+                      "clusters.apply: the log removes face " + std::to_string(fr->f.index) +
+                          " but the mesh still has it (log and mesh do not match)");
         for (const VertexId v : fr->vertices)
           if (--live_faces(v.index) < 0)
-            throw Error(ErrorCode::InvalidArgument, "clusters.apply: face " + std::to_string(fr->f.index) +
-                                                        " is removed twice or was never added (log applied twice?)");
+            throw Error(ErrorCode::InvalidArgument,
+                        "clusters.apply: face " + std::to_string(fr->f.index) +
+                            " is removed twice or was never added (log applied twice?)");
       }
     }
   }
@@ -578,9 +591,12 @@ ClusterUpdate Clusters::apply(const SurfaceMesh& mesh, const std::vector<glm::ve
       for (int i = 0; i < 3; ++i) {
         if (!e->from[i].valid() || !(e->weight[i] > 0.0f)) continue;
         for (const Influence& in : influences(e->from[i])) {
-          auto it = std::find_if(acc.begin(), acc.end(), [&](const Influence& a) { return a.particle == in.particle; });
-          if (it == acc.end()) acc.push_back({in.particle, e->weight[i] * in.weight});
-          else it->weight += e->weight[i] * in.weight;
+          auto it = std::find_if(acc.begin(), acc.end(),
+                                 [&](const Influence& a) { return a.particle == in.particle; });
+          if (it == acc.end())
+            acc.push_back({in.particle, e->weight[i] * in.weight});
+          else
+            it->weight += e->weight[i] * in.weight;
         }
       }
       set_row(e->v.index, acc.data(), acc.size());
@@ -608,7 +624,8 @@ ClusterUpdate Clusters::apply(const SurfaceMesh& mesh, const std::vector<glm::ve
     }
   }
   std::sort(touched_vertices.begin(), touched_vertices.end());
-  touched_vertices.erase(std::unique(touched_vertices.begin(), touched_vertices.end()), touched_vertices.end());
+  touched_vertices.erase(std::unique(touched_vertices.begin(), touched_vertices.end()),
+                         touched_vertices.end());
 
   // 2. The particles to revisit: every particle of a touched vertex (before any removal).
   std::vector<std::uint8_t> is_touched(seeds_.size(), 0);
@@ -637,7 +654,8 @@ ClusterUpdate Clusters::apply(const SurfaceMesh& mesh, const std::vector<glm::ve
     std::uint32_t kept = 0;
     for (std::uint32_t i = 0; i < r.size; ++i) {
       const Influence in = pool_[r.begin + i];
-      if (distance2(rest[v], seeds_[in.particle]) <= rho2_slack && in.weight > 0.0f) pool_[r.begin + kept++] = in;
+      if (distance2(rest[v], seeds_[in.particle]) <= rho2_slack && in.weight > 0.0f)
+        pool_[r.begin + kept++] = in;
     }
     r.size = kept;
     if (r.size == 0) {
@@ -708,7 +726,8 @@ ClusterUpdate Clusters::apply(const SurfaceMesh& mesh, const std::vector<glm::ve
         update.created);
   } else {
     update.particles_split = split_disconnected(
-        touched, [&](auto&& fn) { mesh.for_each_face([&](FaceId, const Triangle& t) { fn(t); }); }, update.created);
+        touched, [&](auto&& fn) { mesh.for_each_face([&](FaceId, const Triangle& t) { fn(t); }); },
+        update.created);
   }
   for (std::size_t i = created_before; i < update.created.size(); ++i) touch(update.created[i].particle);
 
@@ -759,7 +778,8 @@ std::vector<std::string> check_clusters(const Clusters& clusters, const SurfaceM
   };
   const std::size_t n = mesh.vertex_count();
   if (clusters.vertex_count() != n) {
-    report("clusters know " + std::to_string(clusters.vertex_count()) + " vertices, the mesh has " + std::to_string(n));
+    report("clusters know " + std::to_string(clusters.vertex_count()) + " vertices, the mesh has " +
+           std::to_string(n));
     return problems;
   }
   if (rest.size() != n) {
@@ -779,7 +799,8 @@ std::vector<std::string> check_clusters(const Clusters& clusters, const SurfaceM
     const InfluenceRange row = clusters.influences(VertexId(v));
     if (referenced[v] && row.empty()) report("coverage: vertex " + std::to_string(v) + " is in no particle");
     if (!referenced[v] && !row.empty())
-      report("vertex " + std::to_string(v) + " has no live face but is in " + std::to_string(row.size()) + " particles");
+      report("vertex " + std::to_string(v) + " has no live face but is in " + std::to_string(row.size()) +
+             " particles");
     double sum = 0.0;
     for (const Influence* a = row.begin(); a != row.end(); ++a) {
       if (a->particle >= slots) {
@@ -801,7 +822,8 @@ std::vector<std::string> check_clusters(const Clusters& clusters, const SurfaceM
       const float d2 = distance2(rest[v], clusters.seed(a->particle));
       if (d2 > limit2)
         report("radius: vertex " + std::to_string(v) + " lies " + std::to_string(std::sqrt(d2)) +
-               " from the seed of particle " + std::to_string(a->particle) + " (rho " + std::to_string(rho) + ")");
+               " from the seed of particle " + std::to_string(a->particle) + " (rho " + std::to_string(rho) +
+               ")");
     }
     if (!row.empty() && std::abs(sum - 1.0) > 1e-4)
       report("vertex " + std::to_string(v) + " weights sum to " + std::to_string(sum));
@@ -824,7 +846,8 @@ std::vector<std::string> check_clusters(const Clusters& clusters, const SurfaceM
       bool listed = false;
       for (const Influence& in : clusters.influences(VertexId(v))) listed = listed || in.particle == p;
       if (!listed)
-        report("particle " + std::to_string(p) + " lists vertex " + std::to_string(v) + " without an influence");
+        report("particle " + std::to_string(p) + " lists vertex " + std::to_string(v) +
+               " without an influence");
       sum += glm::dvec3(rest[v]);
       stamp[v] = p;
     }
@@ -857,14 +880,15 @@ std::vector<std::string> check_clusters(const Clusters& clusters, const SurfaceM
   return problems;
 }
 
-float radius_for_particle_count(const SurfaceMesh& mesh, const std::vector<glm::vec3>& rest, std::size_t target,
-                                const ClusterOptions& options, std::size_t* particles) {
+float radius_for_particle_count(const SurfaceMesh& mesh, const std::vector<glm::vec3>& rest,
+                                std::size_t target, const ClusterOptions& options, std::size_t* particles) {
   return radius_for_particle_count({ClusterInput{&mesh, &rest}}, target, options, particles);
 }
 
 float radius_for_particle_count(const std::vector<ClusterInput>& inputs, std::size_t target,
                                 const ClusterOptions& options, std::size_t* particles) {
-  if (target == 0) throw Error(ErrorCode::InvalidArgument, "cluster: the target particle count must be at least 1");
+  if (target == 0)
+    throw Error(ErrorCode::InvalidArgument, "cluster: the target particle count must be at least 1");
   BoundingBox box;
   std::size_t live = 0;
   for (const ClusterInput& in : inputs) {
@@ -897,8 +921,10 @@ float radius_for_particle_count(const std::vector<ClusterInput>& inputs, std::si
   consider(hi);
   for (int i = 0; i < 26 && best_n != target; ++i) {
     const double mid = std::sqrt(lo * hi);
-    if (consider(mid) > target) lo = mid;
-    else hi = mid;
+    if (consider(mid) > target)
+      lo = mid;
+    else
+      hi = mid;
   }
   if (particles) *particles = best_n;
   return float(best_r);

@@ -16,8 +16,9 @@ void check_synced(const SoftBodyState& state, const Clusters& clusters, const ch
   const std::size_t n = clusters.particle_slots();
   if (state.displacement.size() != n || state.velocity.size() != n || state.goal.size() != n)
     throw Error(ErrorCode::InvalidArgument, std::string(what) + ": the soft-body state has " +
-                                                std::to_string(state.displacement.size()) + " particles, the clusters " +
-                                                std::to_string(n) + " (call sync_soft_body after clusters.apply)");
+                                                std::to_string(state.displacement.size()) +
+                                                " particles, the clusters " + std::to_string(n) +
+                                                " (call sync_soft_body after clusters.apply)");
 }
 
 void check_posed(const Clusters& clusters, const std::vector<glm::vec3>& posed, const char* what) {
@@ -29,7 +30,8 @@ void check_posed(const Clusters& clusters, const std::vector<glm::vec3>& posed, 
 
 void check_options(const SoftBodyOptions& o) {
   if (!(o.mass > 0.0f) || !std::isfinite(o.mass))
-    throw Error(ErrorCode::InvalidArgument, "soft body: mass must be positive and finite, got " + std::to_string(o.mass));
+    throw Error(ErrorCode::InvalidArgument,
+                "soft body: mass must be positive and finite, got " + std::to_string(o.mass));
   if (!(o.stiffness >= 0.0f) || !std::isfinite(o.stiffness))
     throw Error(ErrorCode::InvalidArgument,
                 "soft body: stiffness must be non-negative and finite, got " + std::to_string(o.stiffness));
@@ -40,8 +42,9 @@ void check_options(const SoftBodyOptions& o) {
 
 void check_radius(float radius, const char* what) {
   if (!(radius > 0.0f) || !std::isfinite(radius))
-    throw Error(ErrorCode::InvalidArgument,
-                std::string(what) + ": radius must be a positive finite number, got " + std::to_string(radius));
+    throw Error(
+        ErrorCode::InvalidArgument,
+        std::string(what) + ": radius must be a positive finite number, got " + std::to_string(radius));
 }
 
 float falloff(float d2, float r2) {
@@ -128,7 +131,8 @@ std::vector<glm::vec3> posed_particle_centres(const Clusters& clusters, const st
 }
 
 std::size_t poke(SoftBodyState& state, const Clusters& clusters, const std::vector<glm::vec3>& posed,
-                 const glm::vec3& point, const glm::vec3& impulse, float radius, const SoftBodyOptions& options) {
+                 const glm::vec3& point, const glm::vec3& impulse, float radius,
+                 const SoftBodyOptions& options) {
   check_synced(state, clusters, "poke");
   check_radius(radius, "poke");
   check_options(options);
@@ -152,7 +156,8 @@ std::size_t drag(SoftBodyState& state, const Clusters& clusters, const std::vect
                  const glm::vec3& grab, const glm::vec3& target, float radius) {
   check_synced(state, clusters, "drag");
   check_radius(radius, "drag");
-  if (!finite(grab) || !finite(target)) throw Error(ErrorCode::InvalidArgument, "drag: points must be finite");
+  if (!finite(grab) || !finite(target))
+    throw Error(ErrorCode::InvalidArgument, "drag: points must be finite");
   const std::vector<glm::vec3> centres = posed_particle_centres(clusters, posed);
   const float r2 = radius * radius;
   const glm::vec3 offset = target - grab;
@@ -174,7 +179,8 @@ void release_drag(SoftBodyState& state) { std::fill(state.goal.begin(), state.go
 void step_soft_body(SoftBodyState& state, float dt, const SoftBodyOptions& options) {
   check_options(options);
   if (!(dt >= 0.0f) || !std::isfinite(dt))
-    throw Error(ErrorCode::InvalidArgument, "soft body: time step must be non-negative and finite, got " + std::to_string(dt));
+    throw Error(ErrorCode::InvalidArgument,
+                "soft body: time step must be non-negative and finite, got " + std::to_string(dt));
   if (state.velocity.size() != state.displacement.size() || state.goal.size() != state.displacement.size())
     throw Error(ErrorCode::InvalidArgument, "soft body: state arrays differ in size");
   if (dt == 0.0f) return;
@@ -190,8 +196,8 @@ void step_soft_body(SoftBodyState& state, float dt, const SoftBodyOptions& optio
   }
 }
 
-float deformed_positions(const SoftBodyState& state, const Clusters& clusters, const std::vector<glm::vec3>& posed,
-                         std::vector<glm::vec3>& out) {
+float deformed_positions(const SoftBodyState& state, const Clusters& clusters,
+                         const std::vector<glm::vec3>& posed, std::vector<glm::vec3>& out) {
   check_synced(state, clusters, "soft body");
   check_posed(clusters, posed, "soft body");
   out.resize(posed.size());

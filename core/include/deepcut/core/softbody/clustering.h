@@ -88,21 +88,22 @@ class Clusters {
   /// Seeds are chosen by farthest-point sampling over a uniform grid (never all pairs): the
   /// next seed is the vertex farthest from all seeds so far, until every vertex lies within
   /// cover_fraction * rho of a seed. The seed order does not depend on rho, so the number of
-  /// seeds falls as rho grows. Each seed's ball is then split into its connected parts (mesh edges between
-  /// members); a part other than the largest is dropped when each of its vertices is also
-  /// covered by another particle's main part (a sliver of a neighbouring surface sheet), and
-  /// becomes a particle of its own otherwise.
+  /// seeds falls as rho grows. Each seed's ball (the vertices within rho) is then split into
+  /// its connected parts (mesh edges between members); a part other than the largest is
+  /// dropped when each of its vertices is also covered by another particle's main part (a
+  /// sliver of a neighbouring surface sheet), and becomes a particle of its own otherwise.
   /// Raw weights fall off as (1 - (d / rho)^2)^2 (floored at 1e-6), then are normalised per
   /// vertex.
   /// @param mesh     triangle mesh; only vertices referenced by live faces are clustered.
   /// @param rest     one rest position per vertex (size == mesh.vertex_count()): the mesh's
   ///                 bind positions, or the world positions of the rest pose.
   /// @param options  radius rho (> 0, finite) and cover fraction (in (0, 1]).
-  /// @throws Error{InvalidArgument} for a bad radius or cover fraction, or a size mismatch, Error{InvalidInput}
-  ///         for a non-finite rest position of a referenced vertex.
-  /// @note O(V log V + memberships). With a tiny rho relative to the model the grid is coarser
+  /// @throws Error{InvalidArgument} for a bad radius or cover fraction, or a size mismatch;
+  ///         Error{InvalidInput} for a non-finite rest position of a referenced vertex.
+  /// @note Typically O(V log V + memberships). With a tiny rho relative to the model the grid is coarser
   ///       than rho (its cell count is capped), which costs time but not correctness.
-  static Clusters build(const SurfaceMesh& mesh, const std::vector<glm::vec3>& rest, const ClusterOptions& options);
+  static Clusters build(const SurfaceMesh& mesh, const std::vector<glm::vec3>& rest,
+                        const ClusterOptions& options);
   /// Same, with the mesh's bind positions as the rest positions.
   static Clusters build(const SurfaceMesh& mesh, const ClusterOptions& options);
 
@@ -123,9 +124,17 @@ class Clusters {
   /// @param adjacency  optional: the mesh's adjacency, already updated with `log`. With it the
   ///                   connectivity check visits only the faces around edited particles;
   ///                   without it, one pass over the faces (O(F), no allocation per face).
-  /// @throws Error{InvalidArgument} if `rest` or `adjacency` does not match the mesh, or an
-  ///         edit names a vertex or face outside the mesh.
+  /// @throws Error{InvalidArgument} if `rest` or `adjacency` does not match the mesh, an edit
+  ///         names a vertex or face outside the mesh, or the log does not fit the mesh (a face it
+  ///         removes is still live, or is removed twice); Error{InvalidInput} for a non-finite
+  ///         rest position of an edited vertex. The log is checked before anything changes, so
+  ///         after a throw the clusters are as they were.
   /// @returns what changed.
+  /// @note Cost: O(edits) to walk the log, plus the members of the touched particles and (with
+  ///       `adjacency`) their faces; a cut across the cactus trunk costs about as much as the cut.
+  /// @note A tear separates its lips only where a particle cannot reach round an end of the
+  ///       slit: near the ends the lips are still joined by the surface, and a particle there
+  ///       may keep both (it is connected through its members).
   ClusterUpdate apply(const SurfaceMesh& mesh, const std::vector<glm::vec3>& rest, const EditLog& log,
                       const Adjacency* adjacency = nullptr);
   /// Same, with the mesh's bind positions as the rest positions.
@@ -145,7 +154,7 @@ class Clusters {
   const glm::vec3& seed(std::uint32_t p) const { return seeds_[p]; }
   /// Mean rest position of the members of `p` (its seed when it has none).
   const glm::vec3& rest_centre(std::uint32_t p) const { return centres_[p]; }
-  /// Influences of vertex `v` (empty when it is in no particle).
+  /// Influences of vertex `v`, sorted by particle (empty when it is in no particle).
   InfluenceRange influences(VertexId v) const {
     const Row& r = rows_[v.index];
     return {pool_.data() + r.begin, pool_.data() + r.begin + r.size};
@@ -173,10 +182,11 @@ class Clusters {
   std::vector<glm::vec3> seeds_;
   std::vector<glm::vec3> centres_;
   std::vector<std::vector<std::uint32_t>> members_;
-  std::vector<Row> rows_;               // one per vertex: its influences in pool_, sorted by particle
-  std::vector<Influence> pool_;         // rows, with gaps left by relocated rows
-  std::size_t pool_garbage_ = 0;        // entries in pool_ no row uses
-  std::vector<std::uint32_t> face_refs_;  // live faces per vertex (corners, so a degenerate face counts twice)
+  std::vector<Row> rows_;         // one per vertex: its influences in pool_, sorted by particle
+  std::vector<Influence> pool_;   // rows, with gaps left by relocated rows
+  std::size_t pool_garbage_ = 0;  // entries in pool_ no row uses
+  std::vector<std::uint32_t>
+      face_refs_;  // live faces per vertex (corners, so a degenerate face counts twice)
 };
 
 /// Particle counts, members per particle and coverage.
@@ -207,7 +217,8 @@ struct ClusterInput {
 float radius_for_particle_count(const std::vector<ClusterInput>& inputs, std::size_t target,
                                 const ClusterOptions& options = {}, std::size_t* particles = nullptr);
 /// Same, for one mesh.
-float radius_for_particle_count(const SurfaceMesh& mesh, const std::vector<glm::vec3>& rest, std::size_t target,
-                                const ClusterOptions& options = {}, std::size_t* particles = nullptr);
+float radius_for_particle_count(const SurfaceMesh& mesh, const std::vector<glm::vec3>& rest,
+                                std::size_t target, const ClusterOptions& options = {},
+                                std::size_t* particles = nullptr);
 
 }  // namespace deepcut

@@ -63,7 +63,8 @@ std::vector<glm::vec3> posed_particle_centres(const Clusters& clusters, const st
 ///         mismatch, or a state not synced with the clusters.
 /// @returns the number of particles reached (0: the poke missed; the state is unchanged).
 std::size_t poke(SoftBodyState& state, const Clusters& clusters, const std::vector<glm::vec3>& posed,
-                 const glm::vec3& point, const glm::vec3& impulse, float radius, const SoftBodyOptions& options = {});
+                 const glm::vec3& point, const glm::vec3& impulse, float radius,
+                 const SoftBodyOptions& options = {});
 
 /// A drag: the particles whose posed centre lies within `radius` of `grab` are pulled towards
 /// an offset of (target - grab) scaled by the same falloff as `poke`, and stay there until
@@ -87,8 +88,8 @@ void step_soft_body(SoftBodyState& state, float dt, const SoftBodyOptions& optio
 /// @throws Error{InvalidArgument} on a size mismatch or a state not synced with the clusters.
 /// @returns the largest vertex displacement length.
 /// @note O(memberships), no allocation once `out` has its size.
-float deformed_positions(const SoftBodyState& state, const Clusters& clusters, const std::vector<glm::vec3>& posed,
-                         std::vector<glm::vec3>& out);
+float deformed_positions(const SoftBodyState& state, const Clusters& clusters,
+                         const std::vector<glm::vec3>& posed, std::vector<glm::vec3>& out);
 
 /// Largest vertex displacement length without writing positions (same cost as above).
 float max_vertex_displacement(const SoftBodyState& state, const Clusters& clusters);
