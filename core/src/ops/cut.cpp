@@ -70,6 +70,8 @@ class Cutter {
   // the piece of each face slot.
   std::vector<FaceId> rim_faces_;
   std::vector<std::uint32_t> piece_of_face_;
+  // Faces that may touch the plane: untouched ones with a corner on it, and every new face.
+  std::vector<FaceId> rim_candidates_;
   std::size_t intersections_ = 0;
 };
 
@@ -151,14 +153,14 @@ void Cutter::split_face(FaceId f) {
 void Cutter::separate_sides() {
   std::unordered_map<std::uint32_t, std::uint8_t> touches;  // bit 1: positive face, bit 2: negative
   std::vector<FaceId> rim_faces;
-  mesh_.for_each_face([&](FaceId f, const Triangle& t) {
-    const bool on_rim = sign_[t[0].index] == 0 || sign_[t[1].index] == 0 || sign_[t[2].index] == 0;
-    if (!on_rim) return;
+  for (FaceId f : rim_candidates_) {
+    if (mesh_.is_deleted(f)) continue;
+    const Triangle& t = mesh_.face(f);
     rim_faces.push_back(f);
     const std::uint8_t bit = face_side(t) > 0 ? 1 : 2;
     for (auto v : t)
       if (sign_[v.index] == 0) touches[v.index] |= bit;
-  });
+  }
   std::unordered_map<std::uint32_t, VertexId> copy;
   std::vector<std::uint32_t> shared;
   for (const auto& [v, bits] : touches)
@@ -196,10 +198,12 @@ void Cutter::index_rim(const CutResult& result) {
   for (std::size_t p = 0; p < result.pieces.size(); ++p)
     for (FaceId f : result.pieces[p]) piece_of_face_[f.index] = static_cast<std::uint32_t>(p);
   rim_faces_.clear();
-  mesh_.for_each_face([&](FaceId f, const Triangle& t) {
+  for (FaceId f : rim_candidates_) {
+    if (mesh_.is_deleted(f)) continue;
+    const Triangle& t = mesh_.face(f);
     const int zeros = (sign_[t[0].index] == 0) + (sign_[t[1].index] == 0) + (sign_[t[2].index] == 0);
     if (zeros >= 2) rim_faces_.push_back(f);
-  });
+  }
 }
 
 std::vector<std::pair<VertexId, VertexId>> Cutter::rim_halfedges(std::size_t piece) const {
@@ -369,22 +373,24 @@ CutResult Cutter::run() {
     throw Error(ErrorCode::InvalidArgument, "cut: the plane point is not finite");
   normal_ /= nlen;
 
+  // Classify every vertex once: distances and the model size in one pass over the vertices.
   std::vector<std::uint8_t> used(nv, 0);
-  BoundingBox box;
-  mesh_.for_each_face([&](FaceId, const Triangle& t) {
-    for (auto v : t) {
-      used[v.index] = 1;
-      box.add(input_posed_[v.index]);
-    }
-  });
-  const double tol = double(options_.relative_tolerance) * double(box.diagonal());
+  for (const auto& t : mesh_.faces()) used[t[0].index] = used[t[1].index] = used[t[2].index] = 1;
+  const glm::vec3 point(point_), normal(normal_);
   dist_.assign(nv, 0.0);
   sign_.assign(nv, 0);
+  BoundingBox box;
+  for (std::size_t v = 0; v < nv; ++v) {
+    if (!used[v]) continue;
+    const glm::vec3& p = input_posed_[v];
+    box.add(p);
+    dist_[v] = glm::dot(p - point, normal);
+  }
+  const double tol = double(options_.relative_tolerance) * double(box.diagonal());
   bool pos = false, neg = false;
   for (std::size_t v = 0; v < nv; ++v) {
     if (!used[v]) continue;
-    const double d = glm::dot(glm::dvec3(input_posed_[v]) - point_, normal_);
-    dist_[v] = d;
+    const double d = dist_[v];
     sign_[v] = d > tol ? 1 : (d < -tol ? -1 : 0);
     pos |= sign_[v] > 0;
     neg |= sign_[v] < 0;
@@ -393,12 +399,26 @@ CutResult Cutter::run() {
     result.status = OpStatus::NoIntersection;
     return result;
   }
-  std::vector<FaceId> faces;
-  mesh_.for_each_face([&](FaceId f, const Triangle&) { faces.push_back(f); });
-  for (FaceId f : faces) split_face(f);
+  // Split crossed faces; remember untouched faces with a corner on the plane (rim candidates).
+  const auto first_new_face = static_cast<std::uint32_t>(mesh_.face_slots());
+  for (std::uint32_t i = 0; i < first_new_face; ++i) {
+    const FaceId f(i);
+    if (mesh_.is_deleted(f)) continue;
+    const auto& t = mesh_.face(f);
+    const int s0 = sign_[t[0].index], s1 = sign_[t[1].index], s2 = sign_[t[2].index];
+    const bool crossed = (s0 > 0 || s1 > 0 || s2 > 0) && (s0 < 0 || s1 < 0 || s2 < 0);
+    if (crossed) {
+      split_face(f);
+    } else if (s0 == 0 || s1 == 0 || s2 == 0) {
+      rim_candidates_.push_back(f);
+    }
+  }
+  for (auto i = first_new_face; i < mesh_.face_slots(); ++i) rim_candidates_.push_back(FaceId(i));
 
   if (options_.keep == CutKeep::Both) {
+    const auto before = static_cast<std::uint32_t>(mesh_.face_slots());
     separate_sides();
+    for (auto i = before; i < mesh_.face_slots(); ++i) rim_candidates_.push_back(FaceId(i));
   } else {
     const int drop = options_.keep == CutKeep::Positive ? -1 : 1;
     std::vector<FaceId> doomed;
