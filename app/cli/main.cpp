@@ -25,6 +25,9 @@ const char* kUsage =
     "  tear MODEL -o OUT --blade-start HX,HY,HZ,TX,TY,TZ --blade-end HX,HY,HZ,TX,TY,TZ [--width W]\n"
     "      [--time T] [--animation I] [--json]\n"
     "                                       tear with a scalpel swept from one blade pose to another\n"
+    "  drill MODEL -o OUT --axis AX,AY,AZ,BX,BY,BZ --radius R [--min-rim-edges N] [--wall]\n"
+    "      [--time T] [--animation I] [--json]\n"
+    "                                       drill every mesh with a finite cylinder (world space, pose at time T)\n"
     "  apply MODEL HISTORY.json -o OUT [--json]   replay a list of operations\n"
     "  cluster MODEL (--radius RHO | --particles N) [--cover F] [--json]\n"
     "                                       soft-body particles of radius RHO (rest pose): counts, timing\n"
@@ -32,8 +35,17 @@ const char* kUsage =
     "      [--rho RHO | --particles N] [--stiffness K] [--damping C] [--mass M] [--time T] [--animation I]\n"
     "      [--animate] [--json]\n"
     "                                       poke the soft body, step N frames, report max displacement\n"
+    "  bench [--json] [--quick]             the benchmark suite, with VTK peers measured in the same run\n"
     "\n"
     "exit codes: 0 ok, 2 bad input or usage, 1 internal error\n";
+
+// Errors stay on one stderr line whatever they quote (a file name or JSON string with a newline).
+std::string one_line(const char* text) {
+  std::string out(text);
+  for (char& c : out)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7F) c = ' ';
+  return out;
+}
 
 }  // namespace
 
@@ -51,22 +63,24 @@ int main(int argc, char** argv) {
     if (command == "make-cactus") return deepcut::cli::run_make_cactus(args);
     if (command == "cut") return deepcut::cli::run_cut(args);
     if (command == "tear") return deepcut::cli::run_tear(args);
+    if (command == "drill") return deepcut::cli::run_drill(args);
     if (command == "apply") return deepcut::cli::run_apply(args);
+    if (command == "bench") return deepcut::cli::run_bench(args);
     if (command == "cluster") return deepcut::cli::run_cluster(args);
     if (command == "softbody") return deepcut::cli::run_softbody(args);
     std::cerr << "deepcut: unknown command '" << command << "' (see deepcut --help)\n";
     return 2;
   } catch (const deepcut::cli::UsageError& e) {
-    std::cerr << "deepcut " << command << ": " << e.what() << " (see deepcut --help)\n";
+    std::cerr << "deepcut " << one_line(command.c_str()) << ": " << one_line(e.what()) << " (see deepcut --help)\n";
     return 2;
   } catch (const deepcut::Error& e) {
-    std::cerr << "deepcut " << command << ": " << e.what() << "\n";
+    std::cerr << "deepcut " << one_line(command.c_str()) << ": " << one_line(e.what()) << "\n";
     return e.is_input_error() ? 2 : 1;
   } catch (const std::bad_alloc&) {
     std::cerr << "deepcut " << command << ": out of memory\n";
     return 1;
   } catch (const std::exception& e) {
-    std::cerr << "deepcut " << command << ": internal error: " << e.what() << "\n";
+    std::cerr << "deepcut " << one_line(command.c_str()) << ": internal error: " << one_line(e.what()) << "\n";
     return 1;
   }
 }

@@ -1,0 +1,34 @@
+// SPDX-License-Identifier: MIT
+// deepcut bench: runs the benchmark suite (build/bin/deepcut_bench, built beside deepcut).
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+#include "args.h"
+#include "commands.h"
+#include "deepcut/core/errors.h"
+
+namespace deepcut::cli {
+
+int run_bench(const std::vector<std::string>& argv) {
+  const Args args(argv, {"--json", "--quick"}, {"--benchmark_filter"});
+  if (!args.positionals().empty()) throw UsageError("bench takes no MODEL: it generates its own inputs");
+  std::error_code ec;
+  const auto self = std::filesystem::read_symlink("/proc/self/exe", ec);
+  const auto bench = (ec ? std::filesystem::path(".") : self.parent_path()) / "deepcut_bench";
+  if (!std::filesystem::exists(bench))
+    throw Error(ErrorCode::Io, bench.string() + ": not built (it needs VTK and Google Benchmark: run scripts/build.sh)");
+  std::vector<std::string> forward = {bench.string()};
+  if (args.flag("--json")) forward.push_back("--json");
+  if (args.flag("--quick")) forward.push_back("--quick");
+  if (args.has("--benchmark_filter")) forward.push_back("--benchmark_filter=" + args.value("--benchmark_filter"));
+  std::vector<char*> raw;
+  for (auto& s : forward) raw.push_back(s.data());
+  raw.push_back(nullptr);
+  ::execv(raw[0], raw.data());
+  throw Error(ErrorCode::Io, bench.string() + ": could not start");
+}
+
+}  // namespace deepcut::cli
