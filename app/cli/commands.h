@@ -23,6 +23,7 @@ int run_convert(const std::vector<std::string>& args);
 int run_make_cactus(const std::vector<std::string>& args);
 int run_cut(const std::vector<std::string>& args);
 int run_tear(const std::vector<std::string>& args);
+int run_drill(const std::vector<std::string>& args);
 int run_apply(const std::vector<std::string>& args);
 int run_bench(const std::vector<std::string>& args);
 int run_cluster(const std::vector<std::string>& args);

@@ -25,6 +25,9 @@ const char* kUsage =
     "  tear MODEL -o OUT --blade-start HX,HY,HZ,TX,TY,TZ --blade-end HX,HY,HZ,TX,TY,TZ [--width W]\n"
     "      [--time T] [--animation I] [--json]\n"
     "                                       tear with a scalpel swept from one blade pose to another\n"
+    "  drill MODEL -o OUT --axis AX,AY,AZ,BX,BY,BZ --radius R [--min-rim-edges N] [--wall]\n"
+    "      [--time T] [--animation I] [--json]\n"
+    "                                       drill every mesh with a finite cylinder (world space, pose at time T)\n"
     "  apply MODEL HISTORY.json -o OUT [--json]   replay a list of operations\n"
     "  cluster MODEL (--radius RHO | --particles N) [--cover F] [--json]\n"
     "                                       soft-body particles of radius RHO (rest pose): counts, timing\n"
@@ -60,6 +63,7 @@ int main(int argc, char** argv) {
     if (command == "make-cactus") return deepcut::cli::run_make_cactus(args);
     if (command == "cut") return deepcut::cli::run_cut(args);
     if (command == "tear") return deepcut::cli::run_tear(args);
+    if (command == "drill") return deepcut::cli::run_drill(args);
     if (command == "apply") return deepcut::cli::run_apply(args);
     if (command == "bench") return deepcut::cli::run_bench(args);
     if (command == "cluster") return deepcut::cli::run_cluster(args);

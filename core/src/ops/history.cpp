@@ -14,7 +14,12 @@ using nlohmann::json;
   throw Error(ErrorCode::InvalidInput, "history operation " + std::to_string(index) + ": " + what);
 }
 
-std::vector<float> numbers(const json& o, const char* key, std::size_t count, std::size_t index) {
+std::vector<float> numbers(const json& o, const char* key, std::size_t count, std::size_t index, bool scalar = false) {
+  if (scalar) {
+    if (!o.contains(key) || !o[key].is_number() || !std::isfinite(o[key].get<double>()))
+      fail(index, std::string("'") + key + "' must be a number");
+    return {o[key].get<float>()};
+  }
   if (!o.contains(key) || !o[key].is_array() || o[key].size() != count)
     fail(index, std::string("'") + key + "' must be a list of " + std::to_string(count) + " numbers");
   std::vector<float> out;
@@ -43,6 +48,13 @@ json to_json(const Operation& op) {
                  {"blade_start", {p.start.handle.x, p.start.handle.y, p.start.handle.z, p.start.tip.x, p.start.tip.y, p.start.tip.z}},
                  {"blade_end", {p.end.handle.x, p.end.handle.y, p.end.handle.z, p.end.tip.x, p.end.tip.y, p.end.tip.z}}};
           if (p.options.width >= 0.0f) out["width"] = p.options.width;
+        } else if constexpr (std::is_same_v<T, DrillOperation>) {
+          const Cylinder& c = p.cylinder;
+          out = {{"op", "drill"},
+                 {"axis", {c.a.x, c.a.y, c.a.z, c.b.x, c.b.y, c.b.z}},
+                 {"radius", c.radius},
+                 {"min_rim_edges", p.options.min_rim_edges},
+                 {"wall", p.options.wall}};
         }
       },
       op.params);
@@ -89,6 +101,21 @@ Operation from_json(const json& o, std::size_t index) {
       t.options.width = o["width"].get<float>();
     }
     op.params = t;
+  } else if (kind == "drill") {
+    DrillOperation d;
+    const auto a = numbers(o, "axis", 6, index);
+    d.cylinder.a = {a[0], a[1], a[2]};
+    d.cylinder.b = {a[3], a[4], a[5]};
+    d.cylinder.radius = numbers(o, "radius", 1, index, true)[0];
+    if (o.contains("min_rim_edges")) {
+      if (!o["min_rim_edges"].is_number_integer()) fail(index, "'min_rim_edges' must be an integer");
+      d.options.min_rim_edges = o["min_rim_edges"].get<int>();
+    }
+    if (o.contains("wall")) {
+      if (!o["wall"].is_boolean()) fail(index, "'wall' must be true or false");
+      d.options.wall = o["wall"].get<bool>();
+    }
+    op.params = d;
   } else {
     fail(index, "unknown op '" + kind + "'");
   }
@@ -136,6 +163,16 @@ OperationReport apply_operation(Model& model, const Operation& operation) {
                                      {"tear_vertices", r.tear_vertices},
                                      {"slits", r.slits},
                                      {"width", r.width}}
+                                    .dump();
+        } else if constexpr (std::is_same_v<T, DrillOperation>) {
+          const ModelDrillResult r = drill_model(model, p.cylinder, p.options, animation, operation.time);
+          report.status = r.status;
+          report.summary_json = json{{"op", "drill"},
+                                     {"status", to_string(r.status)},
+                                     {"holes", r.rim_vertices.size()},
+                                     {"rim_vertices", r.rim_vertices},
+                                     {"triangles_removed", r.triangles_removed},
+                                     {"triangles_added", r.triangles_added}}
                                     .dump();
         }
       },

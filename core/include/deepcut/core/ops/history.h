@@ -12,6 +12,7 @@
 #include "deepcut/core/model.h"
 #include "deepcut/core/ops/cut.h"
 #include "deepcut/core/ops/tear.h"
+#include "deepcut/core/ops/drill.h"
 
 namespace deepcut {
 
@@ -20,14 +21,19 @@ struct CutOperation {
   CutOptions options;
 };
 
+struct DrillOperation {
+  Cylinder cylinder;
+  DrillOptions options;
+};
+
 /// A scalpel stroke: the blade's start and end poses (world space, in the operation's pose).
 struct TearOperation {
   Blade start, end;
   TearOptions options;
 };
 
-/// One operation's parameters; tear and drill join as they land.
-using OperationParams = std::variant<CutOperation, TearOperation>;
+/// One operation's parameters; tear joins as it lands.
+using OperationParams = std::variant<CutOperation, DrillOperation, TearOperation>;
 
 struct Operation {
   OperationParams params;

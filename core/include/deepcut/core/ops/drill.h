@@ -1,0 +1,121 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file ops/drill.h
+/// Drill with a finite cylinder (DESIGN section 4, "Drill"). Every surface layer the solid
+/// cylinder (axis A->B, radius r) meets loses the surface inside it; the new rim lies on the
+/// cylinder. The circle is inserted into each crossed triangle in that triangle's own plane
+/// (conforming insertion: crossed edges are split once and shared, rim points inside a triangle
+/// are sampled at fixed angles around the axis, and each kept part of the triangle is
+/// re-triangulated), so holes are round however coarse the mesh is, and UVs, normals and
+/// colours are interpolated in each triangle's own parameterisation. Predicates run on the posed
+/// positions; the edits are applied to the bind-space mesh (as for Cut).
+
+#include <functional>
+#include <vector>
+
+#include "deepcut/core/edit_log.h"
+#include "deepcut/core/model.h"
+#include "deepcut/core/ops/op_status.h"
+#include "deepcut/core/spatial_index.h"
+#include "deepcut/core/surface_mesh.h"
+
+namespace deepcut {
+
+/// A finite solid cylinder: axis from `a` to `b`, radius `radius` (world space).
+struct Cylinder {
+  glm::vec3 a{0.0f};
+  glm::vec3 b{0.0f, 1.0f, 0.0f};
+  float radius = 0.1f;
+};
+
+struct DrillOptions {
+  /// Rim edges of a hole whose layer the axis crosses: the circle is sampled at this many
+  /// equal angles around the axis (edge crossings add more). Default 32; at least 3.
+  int min_rim_edges = 32;
+  /// Join the entry and exit rims with a tube on the cylinder (and close a hole that ends inside
+  /// the model with a disk), faces flagged `attr::kCutSurface`. Default off.
+  bool wall = false;
+  /// Snapping tolerance as a fraction of the radius: vertices closer to the cylinder count as
+  /// on it, and no rim vertex is made closer than this to another. Default 2e-3.
+  float relative_tolerance = 2e-3f;
+};
+
+/// One rim: a chain of new boundary edges around a hole (closed unless the hole merged with an
+/// earlier boundary, such as an older hole, a cut rim or a tear).
+struct DrillHole {
+  /// Rim vertices in boundary order (the kept surface on the left of each step).
+  std::vector<VertexId> rim;
+  bool closed = true;
+  /// Turns around the axis: +1 where the axis enters the surface against its normal, -1 where
+  /// it leaves, 0 for a notch the axis itself does not cross.
+  int winding = 0;
+  /// True when a wall (tube or disk) was attached to this rim.
+  bool walled = false;
+};
+
+struct DrillResult {
+  OpStatus status = OpStatus::Ok;
+  std::vector<DrillHole> holes;
+  /// Mesh edges the cylinder crossed (each split once): the paper's "intersection points".
+  std::size_t intersection_points = 0;
+  std::size_t triangles_removed = 0;
+  std::size_t triangles_added = 0;
+  /// Wall faces (tube and disks) among the added triangles.
+  std::size_t wall_triangles = 0;
+  /// Posed position of every vertex the drill added, in id order (vertex `first_new_vertex + i`),
+  /// so callers can extend their posed positions and spatial index.
+  std::vector<glm::vec3> added_posed;
+  std::uint32_t first_new_vertex = 0;
+  /// Every change, in order.
+  EditLog log;
+};
+
+/// Maps the posed position of a new wall vertex back to bind space. The vertex's skin weights
+/// (blended from the rims) are already set when it is called.
+using Unposer = std::function<glm::vec3(const SurfaceMesh& mesh, VertexId v, const glm::vec3& posed)>;
+
+/// Drills one mesh in place.
+/// @param mesh      triangle mesh, edited through MeshEditor.
+/// @param posed     one world position per vertex of `mesh` (pass `mesh.positions()` for the
+///                  bind pose).
+/// @param cylinder  axis end points and radius, world space.
+/// @param options   see DrillOptions (defaults: 32 rim edges, no wall, tolerance 2e-3 r).
+/// @param index     optional grid over `posed` (TriangleGrid::build(mesh, posed)); with it the
+///                  cost grows with the hole, not the mesh. Update it afterwards with
+///                  `index.apply(result.log, posed_with_added)`.
+/// @param unpose    places new wall vertices in bind space; empty means posed == bind.
+/// @pre posed.size() == mesh.vertex_count(); `index`, when given, was built on `posed`.
+/// @throws Error{InvalidArgument} for a radius <= 0, A == B, non-finite input, fewer than 3 rim
+///         edges, a negative tolerance or a size mismatch.
+/// @returns NoIntersection (mesh untouched, log empty) when no surface lies inside the cylinder.
+/// @note Surface is removed exactly where it lies inside the finite cylinder, so a layer that
+///       B only partly reaches gets a notch closed by the end disk's plane (rim vertices there
+///       lie on that plane, not on the cylinder). A hole whose layer the axis does not cross
+///       (a notch in a grazed wall) gets the rim points its triangles meet, which can be fewer
+///       than `min_rim_edges`. Walls are built for rims that go once around the axis on the
+///       cylinder side, paired along the axis (entry with the next exit); rims touching an end
+///       plane or a grazed layer get none (`DrillHole::walled`). Non-manifold edges are split
+///       like any other.
+DrillResult drill_mesh(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const Cylinder& cylinder,
+                       const DrillOptions& options = {}, const TriangleGrid* index = nullptr,
+                       const Unposer& unpose = {});
+
+struct ModelDrillResult {
+  OpStatus status = OpStatus::Ok;
+  /// Rim vertex count of every hole, over all mesh instances.
+  std::vector<std::size_t> rim_vertices;
+  std::size_t intersection_points = 0;
+  std::size_t triangles_removed = 0;
+  std::size_t triangles_added = 0;
+  std::size_t wall_triangles = 0;
+};
+
+/// Drills every mesh instance of `model` posed at `time` of `animation` (-1: rest pose). Wall
+/// faces go to a separate primitive with the "Cut surface" material; skins and animations are
+/// kept, and new wall vertices are placed in bind space by inverting their blended skinning.
+/// Meshes shared by several instances are copied before they change.
+/// @throws Error{InvalidArgument} as drill_mesh, or for an animation index out of range.
+ModelDrillResult drill_model(Model& model, const Cylinder& cylinder, const DrillOptions& options = {},
+                             int animation = -1, float time = 0.0f);
+
+}  // namespace deepcut

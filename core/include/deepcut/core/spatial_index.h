@@ -1,0 +1,67 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file spatial_index.h
+/// A uniform grid over triangles (their bounding boxes), built once from a set of positions
+/// (usually the posed positions the operations test against) and updated from edit logs, so an
+/// operation finds the triangles near its tool without scanning the mesh.
+
+#include <cstdint>
+#include <vector>
+
+#include "deepcut/core/edit_log.h"
+#include "deepcut/core/surface_mesh.h"
+
+namespace deepcut {
+
+class TriangleGrid {
+ public:
+  TriangleGrid() = default;
+
+  /// Builds the grid over the live faces of `mesh`, placed at `points`.
+  /// @param points     one position per vertex of `mesh` (e.g. posed positions).
+  /// @param cell_size  edge length of a cell; 0 (default) picks about two mean triangle extents,
+  ///                   limited so the grid has at most about one cell per face.
+  /// @throws Error{InvalidArgument} if `points` does not have one entry per vertex.
+  /// @note O(faces). Faces added later outside the build bounds go to the border cells.
+  static TriangleGrid build(const SurfaceMesh& mesh, const std::vector<glm::vec3>& points,
+                            float cell_size = 0.0f);
+
+  /// Follows an edit log: removed faces leave, added faces join at `points` (which must cover
+  /// every vertex the added faces use). O(edits).
+  void apply(const EditLog& log, const std::vector<glm::vec3>& points);
+
+  /// Live faces in the cells `box` overlaps (a superset of the faces whose bounding box overlaps
+  /// it), sorted by id.
+  std::vector<FaceId> query_box(const BoundingBox& box) const;
+  /// Live faces whose bounding box may come within `radius` of the segment a-b (a superset of
+  /// the faces meeting the capsule), sorted by id. Visits only the cells along the segment.
+  std::vector<FaceId> query_capsule(const glm::vec3& a, const glm::vec3& b, float radius) const;
+
+  /// Bounds of the faces at build time.
+  const BoundingBox& bounds() const { return bounds_; }
+  float cell_size() const { return cell_; }
+  /// Number of live faces indexed.
+  std::size_t face_count() const { return live_; }
+  bool empty() const { return cells_.empty(); }
+
+ private:
+  void insert(FaceId f, const Triangle& t, const std::vector<glm::vec3>& points);
+  glm::ivec3 cell_of(const glm::vec3& p) const;
+  std::size_t cell_index(int x, int y, int z) const {
+    return (static_cast<std::size_t>(z) * static_cast<std::size_t>(dims_.y) + static_cast<std::size_t>(y)) *
+               static_cast<std::size_t>(dims_.x) +
+           static_cast<std::size_t>(x);
+  }
+  void collect(int x, int y, int z0, int z1, std::vector<FaceId>& out) const;
+  static void sort_unique(std::vector<FaceId>& v);
+
+  BoundingBox bounds_;
+  glm::vec3 origin_{0.0f};
+  float cell_ = 1.0f;
+  glm::ivec3 dims_{0};
+  std::vector<std::vector<std::uint32_t>> cells_;
+  std::vector<std::uint8_t> alive_;  // by face slot
+  std::size_t live_ = 0;
+};
+
+}  // namespace deepcut

@@ -1,0 +1,1505 @@
+// SPDX-License-Identifier: MIT
+// Drill: conforming insertion of a finite cylinder's rim into each crossed triangle.
+//
+// 1. Candidate faces come from the spatial index (or a bounding-sphere scan).
+// 2. Each candidate edge is intersected once with the solid cylinder (exact quadratic on the
+//    posed positions); crossings closer than the tolerance to an end snap to it, grazes are
+//    ignored, and every kept crossing becomes one shared vertex (no T-junctions).
+// 3. Each affected triangle is handled in its own plane, where the cylinder cuts an ellipse
+//    (clipped by the end planes): the rim inside the triangle is sampled where the fixed
+//    rulings (min_rim_edges equal angles around the axis) meet the plane, plus the ellipse's
+//    corners on the end planes. The kept parts of the triangle (one boundary run and one rim
+//    arc each, or the triangle with an elliptic hole) are triangulated and flipped to Delaunay
+//    in the plane; corners get barycentric coordinates of the parent (add_face_from).
+// 4. Rims are chained; with `wall`, rims that go once around the axis are paired along it and
+//    joined by a tube triangulated in log-polar coordinates of the cylinder (conformal, so the
+//    Delaunay flips there give well-shaped triangles on the cylinder).
+#include "deepcut/core/ops/drill.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <string>
+#include <tuple>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "deepcut/core/mesh_editor.h"
+#include "deepcut/core/skinning.h"
+#include "ops/polygon_triangulation.h"
+
+namespace deepcut {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+std::uint64_t edge_key(VertexId a, VertexId b) {
+  const auto lo = std::min(a.index, b.index), hi = std::max(a.index, b.index);
+  return (std::uint64_t(lo) << 32) | hi;
+}
+
+double wrap_2pi(double x) {
+  x = std::fmod(x, 2.0 * kPi);
+  return x < 0.0 ? x + 2.0 * kPi : x;
+}
+
+double orient(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c) {
+  return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+}
+
+// > 0 when d lies inside the circle through the counter-clockwise triangle a, b, c.
+double incircle(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c, const glm::dvec2& d) {
+  const double adx = a.x - d.x, ady = a.y - d.y, bdx = b.x - d.x, bdy = b.y - d.y, cdx = c.x - d.x,
+               cdy = c.y - d.y;
+  const double ad = adx * adx + ady * ady, bd = bdx * bdx + bdy * bdy, cd = cdx * cdx + cdy * cdy;
+  return adx * (bdy * cd - bd * cdy) - ady * (bdx * cd - bd * cdx) + ad * (bdx * cdy - bdy * cdx);
+}
+
+using LocalTri = std::array<std::uint32_t, 3>;
+
+// Lawson flips towards the Delaunay triangulation of a triangulated polygon: edges used by two
+// triangles are interior (the polygon's own edges are used once and never flip).
+void delaunay_flips(const std::vector<glm::dvec2>& pts, std::vector<LocalTri>& tris) {
+  if (tris.size() < 2) return;
+  double scale = 0.0;
+  for (const auto& t : tris)
+    for (int k = 0; k < 3; ++k) scale = std::max(scale, glm::length(pts[t[k]] - pts[t[(k + 1) % 3]]));
+  const double eps = 1e-12 * scale * scale * scale * scale;
+  const std::size_t max_passes = 4 * tris.size() + 8;
+  for (std::size_t pass = 0; pass < max_passes; ++pass) {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, std::pair<std::size_t, int>>
+        half;  // directed edge -> tri, k
+    for (std::size_t i = 0; i < tris.size(); ++i)
+      for (int k = 0; k < 3; ++k) half[{tris[i][k], tris[i][(k + 1) % 3]}] = {i, k};
+    bool flipped = false;
+    for (const auto& [e, tk] : half) {
+      if (e.first > e.second) continue;
+      const auto it = half.find({e.second, e.first});
+      if (it == half.end()) continue;
+      const std::size_t t1 = tk.first, t2 = it->second.first;
+      if (t1 == t2) continue;
+      const std::uint32_t p = e.first, q = e.second;
+      const std::uint32_t r = tris[t1][(tk.second + 2) % 3], s = tris[t2][(it->second.second + 2) % 3];
+      if (r == s) continue;
+      // tri1 = (p, q, r), tri2 = (q, p, s); flip to (p, s, r) and (s, q, r).
+      if (incircle(pts[p], pts[q], pts[r], pts[s]) <= eps) continue;
+      if (orient(pts[p], pts[s], pts[r]) <= 0.0 || orient(pts[s], pts[q], pts[r]) <= 0.0) continue;
+      tris[t1] = {p, s, r};
+      tris[t2] = {s, q, r};
+      flipped = true;
+      break;  // the edge map is stale now
+    }
+    if (!flipped) return;
+  }
+}
+
+// Ear clipping of one counter-clockwise, weakly simple polygon (indices into `pts`; a bridged
+// hole repeats two points). An ear must have positive area and no other polygon point in its
+// closed triangle, so points on a diagonal (collinear rim and edge points) never make T-junctions.
+// Best-shaped ears first.
+void clip_polygon(const std::vector<glm::dvec2>& pts, std::vector<std::uint32_t> poly,
+                  std::vector<LocalTri>& out) {
+  while (poly.size() > 3) {
+    const std::size_t n = poly.size();
+    std::size_t best = n;
+    double best_quality = -1.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::uint32_t ia = poly[(i + n - 1) % n], ib = poly[i], ic = poly[(i + 1) % n];
+      const glm::dvec2 &a = pts[ia], &b = pts[ib], &c = pts[ic];
+      const double area = orient(a, b, c);
+      const double longest =
+          std::max({glm::dot(b - a, b - a), glm::dot(c - b, c - b), glm::dot(a - c, a - c)});
+      const double tiny = 1e-13 * longest;  // relative: the log-polar plane spans many scales
+      if (area <= tiny) continue;
+      bool contains = false;
+      for (std::size_t j = 0; j < n && !contains; ++j) {
+        const std::uint32_t iq = poly[j];
+        if (iq == ia || iq == ib || iq == ic) continue;
+        const glm::dvec2& p = pts[iq];
+        contains = orient(a, b, p) >= -tiny && orient(b, c, p) >= -tiny && orient(c, a, p) >= -tiny;
+      }
+      if (contains) continue;
+      const double quality = area / std::max(longest, 1e-300);
+      if (quality > best_quality) {
+        best_quality = quality;
+        best = i;
+      }
+    }
+    if (best == n) {  // no proper ear: numerically degenerate; clip the most convex corner
+      double most = -std::numeric_limits<double>::max();
+      for (std::size_t i = 0; i < n; ++i) {
+        const double area = orient(pts[poly[(i + n - 1) % n]], pts[poly[i]], pts[poly[(i + 1) % n]]);
+        if (area > most) {
+          most = area;
+          best = i;
+        }
+      }
+      if (most > 0.0) out.push_back({poly[(best + n - 1) % n], poly[best], poly[(best + 1) % n]});
+    } else {
+      out.push_back({poly[(best + n - 1) % n], poly[best], poly[(best + 1) % n]});
+    }
+    poly.erase(poly.begin() + static_cast<std::ptrdiff_t>(best));
+  }
+  if (poly.size() == 3 && orient(pts[poly[0]], pts[poly[1]], pts[poly[2]]) > 0.0)
+    out.push_back({poly[0], poly[1], poly[2]});
+}
+
+// Joins a clockwise `hole` lying inside the counter-clockwise `outer` into one weakly simple
+// polygon, bridging from the hole point nearest to an outer point that sees it.
+std::vector<std::uint32_t> bridge(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& outer,
+                                  const std::vector<std::uint32_t>& hole,
+                                  const std::vector<std::vector<std::uint32_t>>& others = {}) {
+  auto crosses = [&](const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c, const glm::dvec2& d) {
+    const double d1 = orient(a, b, c), d2 = orient(a, b, d), d3 = orient(c, d, a), d4 = orient(c, d, b);
+    return ((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0));
+  };
+  std::vector<std::tuple<double, std::size_t, std::size_t>> pairs;
+  for (std::size_t o = 0; o < outer.size(); ++o)
+    for (std::size_t h = 0; h < hole.size(); ++h)
+      pairs.emplace_back(glm::length(pts[outer[o]] - pts[hole[h]]), o, h);
+  std::sort(pairs.begin(), pairs.end());
+  std::size_t bo = std::get<1>(pairs[0]), bh = std::get<2>(pairs[0]);
+  for (const auto& [dist, o, h] : pairs) {
+    (void)dist;
+    const glm::dvec2 &p = pts[outer[o]], &q = pts[hole[h]];
+    bool blocked = false;
+    auto check = [&](const std::vector<std::uint32_t>& loop) {
+      for (std::size_t i = 0; i < loop.size() && !blocked; ++i)
+        blocked = crosses(p, q, pts[loop[i]], pts[loop[(i + 1) % loop.size()]]);
+    };
+    check(outer);
+    check(hole);
+    for (const auto& other : others) check(other);
+    if (!blocked) {
+      bo = o;
+      bh = h;
+      break;
+    }
+  }
+  std::vector<std::uint32_t> merged;
+  for (std::size_t i = 0; i <= bo; ++i) merged.push_back(outer[i]);
+  for (std::size_t k = 0; k <= hole.size(); ++k) merged.push_back(hole[(bh + k) % hole.size()]);
+  for (std::size_t i = bo; i < outer.size(); ++i) merged.push_back(outer[i]);
+  return merged;
+}
+
+// Triangulates a counter-clockwise outer loop with at most one clockwise hole inside it.
+std::vector<LocalTri> triangulate(const std::vector<glm::dvec2>& pts,
+                                  const std::vector<std::vector<std::uint32_t>>& loops) {
+  std::vector<LocalTri> out;
+  clip_polygon(pts, loops.size() > 1 ? bridge(pts, loops[0], loops[1]) : loops[0], out);
+  return out;
+}
+
+// A triangulation of points in the plane with neighbour links: Lawson flips to the constrained
+// Delaunay triangulation (edges with one triangle are the constraints) and point insertion.
+class FlipTriangulation {
+ public:
+  FlipTriangulation(std::vector<glm::dvec2>& pts, std::vector<LocalTri> tris)
+      : pts_(pts), tris_(std::move(tris)) {
+    nbr_.assign(tris_.size(), {-1, -1, -1});
+    std::map<std::pair<std::uint32_t, std::uint32_t>, std::pair<int, int>> half;
+    for (std::size_t i = 0; i < tris_.size(); ++i)
+      for (int k = 0; k < 3; ++k) half[{tris_[i][k], tris_[i][(k + 1) % 3]}] = {static_cast<int>(i), k};
+    for (std::size_t i = 0; i < tris_.size(); ++i)
+      for (int k = 0; k < 3; ++k) {
+        const auto it = half.find({tris_[i][(k + 1) % 3], tris_[i][k]});
+        if (it != half.end() && it->second.first != static_cast<int>(i)) nbr_[i][k] = it->second.first;
+      }
+  }
+
+  const std::vector<LocalTri>& triangles() const { return tris_; }
+
+  /// True if the edge a-b is shared by two triangles.
+  bool is_interior(std::uint32_t a, std::uint32_t b) const {
+    for (std::size_t t = 0; t < tris_.size(); ++t)
+      for (int k = 0; k < 3; ++k)
+        if (tris_[t][k] == a && tris_[t][(k + 1) % 3] == b) return nbr_[t][k] >= 0;
+    return false;
+  }
+
+  void make_delaunay() {
+    std::vector<std::pair<int, int>> stack;
+    for (std::size_t i = 0; i < tris_.size(); ++i)
+      for (int k = 0; k < 3; ++k) stack.emplace_back(static_cast<int>(i), k);
+    legalize(stack);
+  }
+
+  /// Inserts `p` if it lies strictly inside a triangle (appending it to the points).
+  bool insert(const glm::dvec2& p) {
+    const int t = locate(p);
+    if (t < 0) return false;
+    const auto id = static_cast<std::uint32_t>(pts_.size());
+    pts_.push_back(p);
+    const LocalTri old = tris_[t];
+    const auto n = nbr_[t];
+    const int t1 = static_cast<int>(tris_.size()), t2 = t1 + 1;
+    tris_[t] = {old[0], old[1], id};
+    tris_.push_back({old[1], old[2], id});
+    tris_.push_back({old[2], old[0], id});
+    nbr_[t] = {n[0], t1, t2};
+    nbr_.push_back({n[1], t2, t});
+    nbr_.push_back({n[2], t, t1});
+    relink(n[1], t, t1);
+    relink(n[2], t, t2);
+    std::vector<std::pair<int, int>> stack = {{t, 0}, {t1, 0}, {t2, 0}};
+    legalize(stack);
+    last_ = static_cast<std::size_t>(t);
+    return true;
+  }
+
+ private:
+  void relink(int n, int from, int to) {
+    if (n < 0) return;
+    for (int k = 0; k < 3; ++k)
+      if (nbr_[n][k] == from) nbr_[n][k] = to;
+  }
+
+  double orient_rel(std::uint32_t a, std::uint32_t b, const glm::dvec2& p) const {
+    const glm::dvec2 e = pts_[b] - pts_[a], f = p - pts_[a];
+    const double scale = std::max(glm::dot(e, e), glm::dot(f, f));
+    const double o = e.x * f.y - e.y * f.x;
+    return std::abs(o) <= 1e-12 * scale ? 0.0 : o;
+  }
+
+  int locate(const glm::dvec2& p) const {
+    int t = last_ < tris_.size() ? static_cast<int>(last_) : 0;
+    for (std::size_t steps = 0; steps < tris_.size() + 3; ++steps) {
+      int next = -2;
+      for (int k = 0; k < 3 && next == -2; ++k)
+        if (orient_rel(tris_[t][k], tris_[t][(k + 1) % 3], p) < 0.0) next = nbr_[t][k];
+      if (next == -2) break;  // inside (or on an edge)
+      if (next < 0) return scan(p);
+      t = next;
+    }
+    for (int k = 0; k < 3; ++k)
+      if (orient_rel(tris_[t][k], tris_[t][(k + 1) % 3], p) <= 0.0) return scan(p);
+    return t;
+  }
+
+  int scan(const glm::dvec2& p) const {
+    for (std::size_t t = 0; t < tris_.size(); ++t) {
+      bool in = true;
+      for (int k = 0; k < 3 && in; ++k) in = orient_rel(tris_[t][k], tris_[t][(k + 1) % 3], p) > 0.0;
+      if (in) return static_cast<int>(t);
+    }
+    return -1;
+  }
+
+  void legalize(std::vector<std::pair<int, int>>& stack) {
+    std::size_t guard = 64 * (tris_.size() + 16) * (tris_.size() + 16);
+    while (!stack.empty() && guard-- > 0) {
+      const auto [t, k] = stack.back();
+      stack.pop_back();
+      const int u = nbr_[t][k];
+      if (u < 0) continue;
+      const std::uint32_t a = tris_[t][k], b = tris_[t][(k + 1) % 3], c = tris_[t][(k + 2) % 3];
+      int j = -1;
+      for (int m = 0; m < 3; ++m)
+        if (tris_[u][m] == b && tris_[u][(m + 1) % 3] == a) j = m;
+      if (j < 0) continue;
+      const std::uint32_t d = tris_[u][(j + 2) % 3];
+      if (d == c) continue;
+      const glm::dvec2 &pa = pts_[a], &pb = pts_[b], &pc = pts_[c], &pd = pts_[d];
+      double scale = 0.0;
+      for (const auto* q : {&pa, &pb, &pc}) scale = std::max(scale, glm::dot(*q - pd, *q - pd));
+      if (incircle(pa, pb, pc, pd) <= 1e-10 * scale * scale) continue;
+      if (orient(pc, pa, pd) <= 0.0 || orient(pd, pb, pc) <= 0.0) continue;
+      const int n_bc = nbr_[t][(k + 1) % 3], n_ca = nbr_[t][(k + 2) % 3];
+      const int n_ad = nbr_[u][(j + 1) % 3], n_db = nbr_[u][(j + 2) % 3];
+      tris_[t] = {c, a, d};
+      nbr_[t] = {n_ca, n_ad, u};
+      tris_[u] = {d, b, c};
+      nbr_[u] = {n_db, n_bc, t};
+      relink(n_ad, u, t);
+      relink(n_bc, t, u);
+      stack.emplace_back(t, 0);
+      stack.emplace_back(t, 1);
+      stack.emplace_back(u, 0);
+      stack.emplace_back(u, 1);
+    }
+  }
+
+  std::vector<glm::dvec2>& pts_;
+  std::vector<LocalTri> tris_;
+  std::vector<std::array<int, 3>> nbr_;
+  std::size_t last_ = 0;
+};
+
+// The cylinder in double precision, with an orthonormal frame (u, w, d).
+struct Frame {
+  glm::dvec3 a, d, u, w;
+  double len = 0.0, r = 0.0;
+
+  double s(const glm::dvec3& p) const { return glm::dot(p - a, d); }
+  glm::dvec3 perp(const glm::dvec3& p) const {
+    const glm::dvec3 q = p - a;
+    return q - glm::dot(q, d) * d;
+  }
+  double rho(const glm::dvec3& p) const { return glm::length(perp(p)); }
+  double theta(const glm::dvec3& p) const {
+    const glm::dvec3 q = perp(p);
+    return std::atan2(glm::dot(q, w), glm::dot(q, u));
+  }
+  // Signed distance-like function: negative inside, 1-Lipschitz, <= the true distance outside.
+  double sd(const glm::dvec3& p) const {
+    const double sv = s(p);
+    return std::max({rho(p) - r, -sv, sv - len});
+  }
+  glm::dvec3 ruling(double th) const { return std::cos(th) * u + std::sin(th) * w; }
+  glm::dvec3 at(double th, double sv) const { return a + r * ruling(th) + sv * d; }
+};
+
+// What the solid cylinder does to one mesh edge, from `lo` to `hi` (lo < hi).
+struct EdgeCut {
+  VertexId lo, hi;
+  int n = 0;                           // kept crossings
+  double t[2] = {0.0, 0.0};            // their parameters, increasing
+  VertexId v[2];                       // their vertices
+  std::uint8_t inside[3] = {0, 0, 0};  // sub-segments between 0, t[0..n-1], 1
+};
+
+// A point on the boundary of a triangle's kept region, or on its rim.
+struct LocalPoint {
+  VertexId v;           // invalid until a rim sample is created
+  glm::dvec3 p;         // posed
+  glm::dvec3 bary;      // w.r.t. the parent triangle's corners
+  glm::dvec2 q;         // in the triangle's plane frame
+  double phi = 0.0;     // angle around the ellipse centre (normalised frame)
+  bool on_rim = false;  // lies on the cylinder's boundary
+};
+
+// The region the solid cylinder cuts from one triangle's plane, in plane coordinates (a, b):
+// an ellipse (semi-axes ra along e1, rb along e2) clipped to alo <= a <= ahi by the end planes.
+struct PlaneCut {
+  glm::dvec3 o, n, e1, e2;
+  double dn = 0.0;  // d . n
+  bool parallel = false, empty = true;
+  double a0 = 0.0, b0 = 0.0, ra = kInf, rb = 0.0, c1 = 0.0, so = 0.0;
+  double alo = -kInf, ahi = kInf, ac = 0.0, ha = 1.0;
+
+  glm::dvec2 coords(const glm::dvec3& x) const { return {glm::dot(x - o, e1), glm::dot(x - o, e2)}; }
+  glm::dvec3 point(double av, double bv) const { return o + av * e1 + bv * e2; }
+  double phi(const glm::dvec2& q) const { return std::atan2((q.y - b0) / rb, (q.x - ac) / ha); }
+};
+
+PlaneCut plane_cut(const Frame& cyl, const glm::dvec3 p[3]) {
+  PlaneCut pc;
+  glm::dvec3 n = glm::cross(p[1] - p[0], p[2] - p[0]);
+  const double nl = glm::length(n);
+  if (!(nl > 0.0)) return pc;
+  n /= nl;
+  pc.o = p[0];
+  pc.n = n;
+  pc.dn = glm::dot(cyl.d, n);
+  const glm::dvec3 proj = cyl.d - pc.dn * n;
+  pc.c1 = glm::length(proj);
+  pc.e1 = pc.c1 > 1e-12 ? proj / pc.c1 : glm::normalize(cyl.u - glm::dot(cyl.u, n) * n);
+  if (pc.c1 <= 1e-12) pc.c1 = 0.0;
+  pc.e2 = glm::cross(n, pc.e1);
+  pc.so = cyl.s(pc.o);
+  pc.parallel = std::abs(pc.dn) < 1e-9;
+  if (!pc.parallel) {
+    const glm::dvec3 centre = cyl.a + cyl.d * (glm::dot(pc.o - cyl.a, n) / pc.dn);
+    const glm::dvec2 c = pc.coords(centre);
+    pc.a0 = c.x;
+    pc.b0 = c.y;
+    pc.ra = cyl.r / std::abs(pc.dn);
+    pc.rb = cyl.r;
+  } else {
+    const glm::dvec3 m = cyl.perp(pc.o);
+    const double me2 = glm::dot(m, pc.e2);
+    const double h2 = cyl.r * cyl.r - (glm::dot(m, m) - me2 * me2);
+    if (!(h2 > 0.0)) return pc;
+    pc.b0 = -me2;
+    pc.rb = std::sqrt(h2);
+  }
+  if (pc.c1 > 0.0) {
+    pc.alo = -pc.so / pc.c1;
+    pc.ahi = (cyl.len - pc.so) / pc.c1;
+  } else if (!(pc.so > 0.0 && pc.so < cyl.len)) {
+    return pc;
+  }
+  const double lo = pc.parallel ? pc.alo : std::max(pc.a0 - pc.ra, pc.alo);
+  const double hi = pc.parallel ? pc.ahi : std::min(pc.a0 + pc.ra, pc.ahi);
+  if (!(hi > lo) || !std::isfinite(lo) || !std::isfinite(hi)) return pc;
+  pc.ac = 0.5 * (lo + hi);
+  pc.ha = 0.5 * (hi - lo);
+  pc.empty = false;
+  return pc;
+}
+
+class Driller {
+ public:
+  Driller(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const Cylinder& cylinder,
+          const DrillOptions& options, const TriangleGrid* index, const Unposer& unpose)
+      : mesh_(mesh), editor_(mesh), posed_(posed), options_(options), index_(index), unpose_(unpose) {
+    cyl_.a = glm::dvec3(cylinder.a);
+    const glm::dvec3 b(cylinder.b);
+    cyl_.len = glm::length(b - cyl_.a);
+    cyl_.d = (b - cyl_.a) / cyl_.len;
+    cyl_.r = cylinder.radius;
+    const glm::dvec3 helper = std::abs(cyl_.d.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+    cyl_.u = glm::normalize(glm::cross(helper, cyl_.d));
+    cyl_.w = glm::cross(cyl_.d, cyl_.u);
+    const double scale = glm::length(cyl_.a) + glm::length(b) + cyl_.len;
+    eps_ = std::max(double(options.relative_tolerance) * cyl_.r, 1e-6 * scale);
+    samples_ = options.min_rim_edges;
+    sep_ = 0.3 * 2.0 * cyl_.r * std::sin(kPi / samples_);
+    first_new_ = static_cast<std::uint32_t>(mesh.vertex_count());
+  }
+
+  DrillResult run();
+
+ private:
+  glm::dvec3 posed(VertexId v) const {
+    return v.index < first_new_ ? glm::dvec3(posed_[v.index]) : added_posed_[v.index - first_new_];
+  }
+  const EdgeCut& edge(VertexId a, VertexId b);
+  void process_face(FaceId f);
+  void emit_polygon(FaceId f, const Triangle& tri, std::vector<LocalPoint>& pts,
+                    const std::vector<std::vector<std::uint32_t>>& loops);
+  VertexId vertex_of(const Triangle& tri, LocalPoint& lp);
+  void collect_holes(DrillResult& result);
+  void build_walls(DrillResult& result);
+
+  // Walls.
+  struct WallPoint {
+    double theta, s;
+    VertexId v;
+  };
+  using Curve = std::vector<WallPoint>;
+  void disk(const Curve& ring, bool at_end);
+  VertexId wall_vertex(VertexId a, VertexId b, float t, const glm::dvec3& p);
+  FaceId wall_face(const Triangle& t, int kind);
+  void finish_wall_attributes();
+
+  SurfaceMesh& mesh_;
+  MeshEditor editor_;
+  const std::vector<glm::vec3>& posed_;
+  DrillOptions options_;
+  const TriangleGrid* index_;
+  const Unposer& unpose_;
+  Frame cyl_;
+  double eps_ = 0.0, sep_ = 0.0;
+  int samples_ = 32;
+  std::uint32_t first_new_ = 0;
+  std::vector<glm::dvec3> added_posed_;
+  std::unordered_map<std::uint64_t, EdgeCut> edges_;
+  std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> rim_next_;  // directed rim edges
+  std::size_t crossings_ = 0, removed_ = 0, added_ = 0;
+  // Wall faces: 0 tube, 1 disk; vertex normals of the tube are accumulated over tube faces.
+  std::vector<std::pair<FaceId, int>> wall_faces_;
+  std::unordered_map<std::uint32_t, WallPoint> wall_coords_;
+};
+
+const EdgeCut& Driller::edge(VertexId a, VertexId b) {
+  const auto key = edge_key(a, b);
+  auto it = edges_.find(key);
+  if (it != edges_.end()) return it->second;
+  EdgeCut e;
+  e.lo = a < b ? a : b;
+  e.hi = a < b ? b : a;
+  const glm::dvec3 p = posed(e.lo), q = posed(e.hi);
+  const double len = glm::length(q - p);
+  // Parameter interval of the segment inside the closed solid cylinder.
+  double t0 = 0.0, t1 = 1.0, tc = 0.5;
+  const double sp = cyl_.s(p), ds = cyl_.s(q) - sp;
+  if (std::abs(ds) > 0.0) {
+    double ta = -sp / ds, tb = (cyl_.len - sp) / ds;
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+  } else if (sp < 0.0 || sp > cyl_.len) {
+    t0 = 1.0;
+    t1 = 0.0;
+  }
+  const glm::dvec3 mp = cyl_.perp(p), dm = cyl_.perp(q) - mp;
+  const double aq = glm::dot(dm, dm), bq = glm::dot(mp, dm), cq = glm::dot(mp, mp) - cyl_.r * cyl_.r;
+  if (aq > 1e-30 * (cyl_.r * cyl_.r)) {
+    const double disc = bq * bq - aq * cq;
+    if (disc < 0.0) {
+      t0 = 1.0;
+      t1 = 0.0;
+    } else {
+      const double sq = std::sqrt(disc);
+      t0 = std::max(t0, (-bq - sq) / aq);
+      t1 = std::min(t1, (-bq + sq) / aq);
+      tc = -bq / aq;
+    }
+  } else if (cq > 0.0) {
+    t0 = 1.0;
+    t1 = 0.0;
+  }
+  if (t0 < t1) {
+    // A graze (never deeper than the tolerance) does not cut the edge.
+    const double tm = 0.5 * (t0 + t1);
+    tc = std::clamp(tc, t0, t1);
+    const double depth = -std::min(cyl_.sd(glm::mix(p, q, tm)), cyl_.sd(glm::mix(p, q, tc)));
+    if (depth > eps_) {
+      double cuts[2];
+      int n = 0;
+      if (t0 * len > eps_) cuts[n++] = t0;
+      if ((1.0 - t1) * len > eps_) cuts[n++] = t1;
+      e.n = n;
+      double bounds[4] = {0.0, 0.0, 0.0, 0.0};
+      for (int i = 0; i < n; ++i) bounds[i + 1] = cuts[i];
+      bounds[n + 1] = 1.0;
+      for (int i = 0; i <= n; ++i) {
+        const double mid = 0.5 * (bounds[i] + bounds[i + 1]);
+        e.inside[i] = mid >= t0 && mid <= t1 ? 1 : 0;
+      }
+      for (int i = 0; i < n; ++i) {
+        e.t[i] = cuts[i];
+        e.v[i] = editor_.add_vertex_on_edge(e.lo, e.hi, static_cast<float>(cuts[i]));
+        // The exact point on the cylinder (the bind vertex uses the same parameter).
+        added_posed_.push_back(glm::mix(p, q, cuts[i]));
+        ++crossings_;
+      }
+    }
+  }
+  return edges_.emplace(key, e).first->second;
+}
+
+VertexId Driller::vertex_of(const Triangle& tri, LocalPoint& lp) {
+  if (lp.v.valid()) return lp.v;
+  lp.v = editor_.add_vertex_in_triangle(tri, glm::vec3(lp.bary));
+  added_posed_.push_back(lp.p);
+  return lp.v;
+}
+
+void Driller::process_face(FaceId f) {
+  const Triangle tri = mesh_.face(f);
+  const glm::dvec3 corner[3] = {posed(tri[0]), posed(tri[1]), posed(tri[2])};
+  // The triangle's boundary: corners and crossings in order, with the state of each segment.
+  std::vector<LocalPoint> pts;
+  std::vector<std::uint8_t> seg_inside;
+  for (int k = 0; k < 3; ++k) {
+    const int k1 = (k + 1) % 3;
+    const EdgeCut& e = edge(tri[k], tri[k1]);
+    LocalPoint c;
+    c.v = tri[k];
+    c.p = corner[k];
+    c.bary = glm::dvec3(0.0);
+    c.bary[k] = 1.0;
+    pts.push_back(c);
+    const bool forward = tri[k] == e.lo;
+    for (int i = 0; i < e.n; ++i) {
+      const int j = forward ? i : e.n - 1 - i;
+      const double t = forward ? e.t[j] : 1.0 - e.t[j];  // from corner k to corner k1
+      LocalPoint x;
+      x.v = e.v[j];
+      x.p = added_posed_[e.v[j].index - first_new_];
+      x.bary = glm::dvec3(0.0);
+      x.bary[k] = 1.0 - t;
+      x.bary[k1] = t;
+      x.on_rim = true;
+      pts.push_back(x);
+    }
+    for (int i = 0; i <= e.n; ++i) seg_inside.push_back(e.inside[forward ? i : e.n - i]);
+  }
+  const std::size_t m = pts.size();
+  bool any_inside = false, all_inside = true;
+  for (auto s : seg_inside) {
+    any_inside |= s != 0;
+    all_inside &= s != 0;
+  }
+  for (std::size_t i = 0; i < m; ++i)
+    if (seg_inside[i] || seg_inside[(i + m - 1) % m] || std::abs(cyl_.sd(pts[i].p)) <= eps_)
+      pts[i].on_rim = true;
+  if (all_inside) {
+    editor_.remove_face(f);
+    ++removed_;
+    return;
+  }
+  const PlaneCut pc = plane_cut(cyl_, corner);
+  if (pc.empty) {
+    if (any_inside) {  // a degenerate triangle or a plane the cylinder only touches
+      editor_.remove_face(f);
+      ++removed_;
+    }
+    return;
+  }
+  glm::dvec2 tq[3];
+  for (int k = 0; k < 3; ++k) tq[k] = pc.coords(corner[k]);
+  const double area2 = orient(tq[0], tq[1], tq[2]);
+  if (!(area2 > 0.0)) {
+    if (any_inside) {
+      editor_.remove_face(f);
+      ++removed_;
+    }
+    return;
+  }
+  auto bary_of = [&](const glm::dvec2& q) {
+    return glm::dvec3(orient(q, tq[1], tq[2]), orient(tq[0], q, tq[2]), orient(tq[0], tq[1], q)) / area2;
+  };
+  if (!any_inside) {
+    // Only a hole wholly inside the triangle can be left: its centre must lie inside.
+    const glm::dvec3 cb = bary_of({pc.ac, pc.b0});
+    if (cb.x <= 0.0 || cb.y <= 0.0 || cb.z <= 0.0) return;
+  }
+  for (auto& lp : pts) {
+    lp.q = pc.coords(lp.p);
+    lp.phi = pc.phi(lp.q);
+  }
+  // Rim samples: the fixed rulings' points in this plane, and the ellipse's end-plane corners.
+  std::vector<LocalPoint> rim;
+  auto consider = [&](const glm::dvec3& x, bool corner_point) {
+    LocalPoint lp;
+    lp.p = x;
+    lp.q = pc.coords(x);
+    lp.bary = bary_of(lp.q);
+    for (int k = 0; k < 3; ++k)
+      if (lp.bary[k] < 1e-7) return;
+    for (const auto& b : pts)
+      if (b.on_rim && glm::length(b.p - x) < sep_) return;
+    if (!corner_point)
+      for (const auto& other : rim)
+        if (glm::length(other.p - x) < sep_) return;
+    lp.phi = pc.phi(lp.q);
+    lp.on_rim = true;
+    rim.push_back(lp);
+  };
+  if (pc.c1 > 0.0) {  // end-plane corners first, so rulings next to them give way
+    for (double s_cap : {0.0, cyl_.len}) {
+      const double a_cap = (s_cap - pc.so) / pc.c1;
+      double hh = 0.0;
+      if (pc.parallel)
+        hh = pc.rb;
+      else if (std::abs(a_cap - pc.a0) < pc.ra)
+        hh = pc.rb * std::sqrt(1.0 - std::pow((a_cap - pc.a0) / pc.ra, 2.0));
+      if (hh > 0.0) {
+        consider(pc.point(a_cap, pc.b0 + hh), true);
+        consider(pc.point(a_cap, pc.b0 - hh), true);
+      }
+    }
+  }
+  if (!pc.parallel) {
+    for (int k = 0; k < samples_; ++k) {
+      const double th = 2.0 * kPi * k / samples_;
+      const glm::dvec3 base = cyl_.a + cyl_.r * cyl_.ruling(th);
+      const double sv = glm::dot(pc.o - base, pc.n) / pc.dn;
+      if (sv < 0.0 || sv > cyl_.len) continue;
+      consider(base + sv * cyl_.d, false);
+    }
+  }
+  if (!any_inside) {
+    if (rim.size() < 3) return;
+    // Triangle with an elliptic hole: the hole runs clockwise (decreasing phi).
+    std::sort(rim.begin(), rim.end(), [](const LocalPoint& x, const LocalPoint& y) { return x.phi > y.phi; });
+    std::vector<LocalPoint> all = {pts[0], pts[1], pts[2]};
+    std::vector<std::uint32_t> outer = {0, 1, 2}, hole;
+    for (auto& lp : rim) {
+      hole.push_back(static_cast<std::uint32_t>(all.size()));
+      all.push_back(lp);
+    }
+    editor_.remove_face(f);
+    ++removed_;
+    emit_polygon(f, tri, all, {outer, hole});
+    return;
+  }
+  // Runs of outside segments; each closes with the rim arc from its end back to its start.
+  std::size_t start = m;
+  for (std::size_t i = 0; i < m; ++i)
+    if (seg_inside[(i + m - 1) % m] && !seg_inside[i]) {
+      start = i;
+      break;
+    }
+  editor_.remove_face(f);
+  ++removed_;
+  if (start == m) return;
+  std::vector<std::uint8_t> used(rim.size(), 0);
+  for (std::size_t step = 0; step < m; ++step) {
+    const std::size_t j = (start + step) % m;
+    if (!(seg_inside[(j + m - 1) % m] && !seg_inside[j])) continue;
+    std::vector<LocalPoint> poly;
+    std::size_t k = j;
+    poly.push_back(pts[k]);
+    while (!seg_inside[k]) {
+      k = (k + 1) % m;
+      poly.push_back(pts[k]);
+      if (k == j) break;
+    }
+    const double phi_end = pts[k].phi, span = wrap_2pi(phi_end - pts[j].phi);
+    std::vector<std::pair<double, std::size_t>> arc;
+    for (std::size_t i = 0; i < rim.size(); ++i) {
+      if (used[i]) continue;
+      const double delta = wrap_2pi(phi_end - rim[i].phi);
+      if (delta > 0.0 && delta < span) arc.emplace_back(delta, i);
+    }
+    std::sort(arc.begin(), arc.end());
+    for (const auto& [delta, i] : arc) {
+      used[i] = 1;
+      poly.push_back(rim[i]);
+    }
+    std::vector<std::uint32_t> loop(poly.size());
+    for (std::size_t i = 0; i < poly.size(); ++i) loop[i] = static_cast<std::uint32_t>(i);
+    emit_polygon(f, tri, poly, {loop});
+  }
+}
+
+void Driller::emit_polygon(FaceId f, const Triangle& tri, std::vector<LocalPoint>& pts,
+                           const std::vector<std::vector<std::uint32_t>>& loops) {
+  std::vector<glm::dvec2> q(pts.size());
+  for (std::size_t i = 0; i < pts.size(); ++i) q[i] = pts[i].q;
+  auto tris = triangulate(q, loops);
+  delaunay_flips(q, tris);
+  for (auto& lp : pts) vertex_of(tri, lp);
+  for (const auto& t : tris) {
+    editor_.add_face_from({pts[t[0]].v, pts[t[1]].v, pts[t[2]].v}, f,
+                          {glm::vec3(pts[t[0]].bary), glm::vec3(pts[t[1]].bary), glm::vec3(pts[t[2]].bary)});
+    ++added_;
+  }
+}
+
+// Rim edges are found from the topology the edits left: boundary half-edges of the new faces
+// whose ends lie on the cylinder. An edge between two old vertices is an edge of the parent
+// triangle; it is a boundary only if the face across it was removed and not replaced there.
+void Driller::collect_holes(DrillResult& result) {
+  std::unordered_map<std::uint64_t, int> added, removed;
+  auto directed = [](VertexId a, VertexId b) { return (std::uint64_t(a.index) << 32) | b.index; };
+  for (const Edit& e : editor_.log().edits) {
+    if (const auto* fa = std::get_if<FaceAdded>(&e)) {
+      for (int k = 0; k < 3; ++k) ++added[directed(fa->vertices[k], fa->vertices[(k + 1) % 3])];
+    } else if (const auto* fr = std::get_if<FaceRemoved>(&e)) {
+      for (int k = 0; k < 3; ++k) ++removed[directed(fr->vertices[k], fr->vertices[(k + 1) % 3])];
+    }
+  }
+  auto on_rim = [&](VertexId v) {
+    return v.index >= first_new_ || std::abs(cyl_.sd(posed(v))) <= 2.0 * eps_;
+  };
+  for (const Edit& e : editor_.log().edits) {
+    const auto* fa = std::get_if<FaceAdded>(&e);
+    if (!fa || mesh_.is_deleted(fa->f)) continue;
+    for (int k = 0; k < 3; ++k) {
+      const VertexId a = fa->vertices[k], b = fa->vertices[(k + 1) % 3];
+      if (!on_rim(a) || !on_rim(b) || added.count(directed(b, a))) continue;
+      if (a.index < first_new_ && b.index < first_new_ && !removed.count(directed(b, a))) continue;
+      rim_next_[a.index].push_back(b.index);
+    }
+  }
+  std::unordered_map<std::uint32_t, int> indegree;
+  for (const auto& [v, next] : rim_next_)
+    for (auto w : next) ++indegree[w];
+  std::vector<std::uint32_t> starts;
+  for (const auto& [v, next] : rim_next_) starts.push_back(v);
+  std::sort(starts.begin(), starts.end());
+  // Open chains first (from vertices nothing leads to), then closed loops.
+  std::stable_partition(starts.begin(), starts.end(), [&](std::uint32_t v) { return indegree[v] == 0; });
+  std::unordered_map<std::uint32_t, std::size_t> taken;  // outgoing edges used per vertex
+  for (std::uint32_t s : starts) {
+    while (taken[s] < rim_next_[s].size()) {
+      DrillHole hole;
+      std::uint32_t cur = s;
+      hole.rim.push_back(VertexId(cur));
+      while (true) {
+        auto it = rim_next_.find(cur);
+        if (it == rim_next_.end() || taken[cur] >= it->second.size()) {
+          hole.closed = false;
+          break;
+        }
+        const std::uint32_t nxt = it->second[taken[cur]++];
+        if (nxt == s) {
+          hole.closed = true;
+          break;
+        }
+        hole.rim.push_back(VertexId(nxt));
+        cur = nxt;
+      }
+      if (hole.closed) {
+        double turn = 0.0;
+        for (std::size_t i = 0; i < hole.rim.size(); ++i) {
+          const double a = cyl_.theta(posed(hole.rim[i])),
+                       b = cyl_.theta(posed(hole.rim[(i + 1) % hole.rim.size()]));
+          double dth = b - a;
+          while (dth > kPi) dth -= 2.0 * kPi;
+          while (dth < -kPi) dth += 2.0 * kPi;
+          turn += dth;
+        }
+        hole.winding = static_cast<int>(std::lround(turn / (2.0 * kPi)));
+      }
+      result.holes.push_back(std::move(hole));
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Walls
+
+VertexId Driller::wall_vertex(VertexId a, VertexId b, float t, const glm::dvec3& p) {
+  const VertexId v = editor_.add_vertex_on_edge(a, b, t);
+  added_posed_.push_back(p);
+  const glm::vec3 bind = unpose_ ? unpose_(mesh_, v, glm::vec3(p)) : glm::vec3(p);
+  editor_.move_vertex(v, bind);
+  return v;
+}
+
+FaceId Driller::wall_face(const Triangle& t, int kind) {
+  const FaceId f = editor_.add_face(t);
+  wall_faces_.emplace_back(f, kind);
+  ++added_;
+  return f;
+}
+
+// Nearest curve vertices around angle th: the two bracketing ones and the blend between them.
+struct Bracket {
+  VertexId a, b;
+  float t;
+  double s;
+};
+template <class CurveT>
+Bracket bracket(const CurveT& c, double th) {
+  Bracket best{c[0].v, c[0].v, 0.0f, c[0].s};
+  double best_gap = kInf;
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    const auto& p = c[i];
+    const auto& q = c[(i + 1) % c.size()];
+    double span = q.theta - p.theta;
+    while (span > kPi) span -= 2.0 * kPi;
+    while (span < -kPi) span += 2.0 * kPi;
+    double off = th - p.theta;
+    while (off > kPi) off -= 2.0 * kPi;
+    while (off < -kPi) off += 2.0 * kPi;
+    if (std::abs(span) > 0.0 && off / span >= 0.0 && off / span <= 1.0) {
+      const double t = off / span;
+      const double gap = std::abs(span);
+      if (gap < best_gap) {
+        best_gap = gap;
+        best = {p.v, q.v, static_cast<float>(t), p.s + t * (q.s - p.s)};
+      }
+    }
+  }
+  if (best_gap == kInf) {  // not bracketed (should not happen for a winding curve): nearest
+    double nearest = kInf;
+    for (const auto& p : c) {
+      double off = std::abs(std::remainder(th - p.theta, 2.0 * kPi));
+      if (off < nearest) {
+        nearest = off;
+        best = {p.v, p.v, 0.0f, p.s};
+      }
+    }
+  }
+  return best;
+}
+
+void Driller::disk(const Curve& ring, bool at_end) {
+  const double s = ring[0].s;
+  const std::size_t n = ring.size();
+  const Triangle src = {ring[0].v, ring[n / 3].v, ring[(2 * n) / 3].v};
+  const VertexId c = editor_.add_vertex_in_triangle(src, glm::vec3(1.0f / 3.0f));
+  const glm::dvec3 p = cyl_.a + s * cyl_.d;
+  added_posed_.push_back(p);
+  editor_.move_vertex(c, unpose_ ? unpose_(mesh_, c, glm::vec3(p)) : glm::vec3(p));
+  wall_coords_[c.index] = {0.0, s, c};
+  for (std::size_t k = 0; k < n; ++k) {
+    wall_coords_[ring[k].v.index] = ring[k];
+    const VertexId a = ring[k].v, b = ring[(k + 1) % n].v;
+    wall_face(at_end ? Triangle{c, b, a} : Triangle{c, a, b}, 1);
+  }
+}
+
+// The wall is the part of the cylinder's side inside the solid, bounded by the rims. It is
+// triangulated in the log-polar plane of the cylinder, z = exp(s / r) (cos theta, sin theta):
+// the map is conformal, rims around the axis become nested loops and notch rims loops beside
+// them, and Delaunay triangles there are well shaped on the cylinder. Steiner points on a grid
+// of the rim spacing keep the triangles small enough to follow the curved wall.
+void Driller::build_walls(DrillResult& result) {
+  // Every rim must be closed and lie on the cylinder's side; otherwise (a notch cut by an end
+  // plane, a chain merged with an older boundary) no wall is built.
+  std::vector<Curve> rims;
+  for (const DrillHole& hole : result.holes) {
+    if (!hole.closed) return;
+    Curve c;
+    for (VertexId v : hole.rim) {
+      const glm::dvec3 p = posed(v);
+      const double sv = cyl_.s(p);
+      if (std::abs(cyl_.rho(p) - cyl_.r) > 2.0 * eps_ || sv <= eps_ || sv >= cyl_.len - eps_) return;
+      c.push_back({cyl_.theta(p), sv, v});
+    }
+    std::reverse(c.begin(), c.end());  // the wall runs along each rim the other way
+    rims.push_back(std::move(c));
+  }
+  if (rims.empty()) return;
+  // The first rim around the axis is an exit when A lies inside the solid; the last an entry
+  // when B does.
+  std::vector<std::pair<double, std::size_t>> essential;
+  for (std::size_t h = 0; h < rims.size(); ++h)
+    if (std::abs(result.holes[h].winding) == 1) essential.emplace_back(bracket(rims[h], 0.0).s, h);
+  std::sort(essential.begin(), essential.end());
+  const bool a_inside = !essential.empty() && result.holes[essential.front().second].winding < 0;
+  const bool b_inside = !essential.empty() && result.holes[essential.back().second].winding > 0;
+
+  struct WP {
+    double theta, s;
+    VertexId v, a, b;  // the vertex, or (until created) the sources of its attributes
+    float t;
+  };
+  std::vector<WP> pts;
+  std::vector<std::vector<std::uint32_t>> loops;
+  for (const Curve& c : rims) {
+    std::vector<std::uint32_t> loop;
+    for (const auto& p : c) {
+      loop.push_back(static_cast<std::uint32_t>(pts.size()));
+      pts.push_back({p.theta, p.s, p.v, VertexId(), VertexId(), 0.0f});
+    }
+    loops.push_back(std::move(loop));
+  }
+  auto add_ring = [&](double sv, const Curve& from, bool clockwise) {
+    std::vector<std::uint32_t> ring;
+    for (int k = 0; k < samples_; ++k) {
+      const double th = 2.0 * kPi * k / samples_;
+      const Bracket br = bracket(from, th);
+      ring.push_back(static_cast<std::uint32_t>(pts.size()));
+      pts.push_back({th, sv, VertexId(), br.a, br.b, br.t});
+    }
+    if (clockwise) std::reverse(ring.begin(), ring.end());
+    loops.push_back(ring);
+    return ring;
+  };
+  std::vector<std::uint32_t> ring_a, ring_b;
+  if (a_inside) ring_a = add_ring(0.0, rims[essential.front().second], true);
+  if (b_inside) ring_b = add_ring(cyl_.len, rims[essential.back().second], false);
+  double base = kInf, top = -kInf;
+  for (const auto& p : pts) {
+    base = std::min(base, p.s);
+    top = std::max(top, p.s);
+  }
+  const double kappa = std::max(1.0, (top - base) / (40.0 * cyl_.r));
+  auto plane = [&](double th, double sv) {
+    const double rad = std::exp((sv - base) / (cyl_.r * kappa));
+    return glm::dvec2(rad * std::cos(th), rad * std::sin(th));
+  };
+  std::vector<glm::dvec2> xy;
+  for (const auto& p : pts) xy.push_back(plane(p.theta, p.s));
+  // Rims that cross each other (self-intersecting input) bound no region: no wall.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> segments;
+  for (const auto& l : loops)
+    for (std::size_t i = 0; i < l.size(); ++i) segments.emplace_back(l[i], l[(i + 1) % l.size()]);
+  for (std::size_t i = 0; i < segments.size(); ++i)
+    for (std::size_t j = i + 1; j < segments.size(); ++j) {
+      const auto [a, b] = segments[i];
+      const auto [c, d] = segments[j];
+      if (a == c || a == d || b == c || b == d) continue;
+      const double d1 = orient(xy[a], xy[b], xy[c]), d2 = orient(xy[a], xy[b], xy[d]);
+      const double d3 = orient(xy[c], xy[d], xy[a]), d4 = orient(xy[c], xy[d], xy[b]);
+      if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0))) return;
+    }
+  // Outer loops (counter-clockwise) and the holes each one holds.
+  std::vector<double> area(loops.size());
+  std::vector<std::size_t> outers, holes;
+  for (std::size_t i = 0; i < loops.size(); ++i) {
+    area[i] = detail::signed_area2(xy, loops[i]);
+    (area[i] > 0.0 ? outers : holes).push_back(i);
+  }
+  auto contains = [&](const std::vector<std::uint32_t>& loop, const glm::dvec2& p) {
+    bool in = false;
+    for (std::size_t i = 0, j = loop.size() - 1; i < loop.size(); j = i++) {
+      const auto &a = xy[loop[i]], &b = xy[loop[j]];
+      if ((a.y > p.y) != (b.y > p.y) && p.x < (b.x - a.x) * (p.y - a.y) / (b.y - a.y) + a.x) in = !in;
+    }
+    return in;
+  };
+  std::vector<std::vector<std::size_t>> holes_of(loops.size());
+  for (std::size_t h : holes) {
+    std::size_t owner = loops.size();
+    for (std::size_t o : outers)
+      if (contains(loops[o], xy[loops[h][0]]) && (owner == loops.size() || area[o] < area[owner])) owner = o;
+    if (owner == loops.size()) return;  // not a bounded region
+    holes_of[owner].push_back(h);
+  }
+  // Surface edges between rim vertices: the wall must not reuse one as a diagonal.
+  std::unordered_set<std::uint64_t> surface_edges;
+  for (const Edit& e : editor_.log().edits)
+    if (const auto* fa = std::get_if<FaceAdded>(&e))
+      for (int k = 0; k < 3; ++k) surface_edges.insert(edge_key(fa->vertices[k], fa->vertices[(k + 1) % 3]));
+  const double h = 2.0 * kPi * cyl_.r / samples_;
+  auto unrolled2 = [&](double th0, double s0, double th1, double s1) {
+    const double dth = std::remainder(th1 - th0, 2.0 * kPi) * cyl_.r, ds = s1 - s0;
+    return dth * dth + ds * ds;
+  };
+  const std::size_t boundary_points = pts.size();
+  auto near_boundary = [&](double th, double sv) {
+    for (std::size_t i = 0; i < boundary_points; ++i)
+      if (std::abs(pts[i].s - sv) < 0.6 * h && unrolled2(th, sv, pts[i].theta, pts[i].s) < 0.36 * h * h)
+        return true;
+    for (const auto& [a, b] : segments) {
+      const glm::dvec2 qa(std::remainder(pts[a].theta - th, 2.0 * kPi) * cyl_.r, pts[a].s - sv);
+      const glm::dvec2 qb(std::remainder(pts[b].theta - th, 2.0 * kPi) * cyl_.r, pts[b].s - sv);
+      if (std::min(qa.y, qb.y) > 0.5 * h || std::max(qa.y, qb.y) < -0.5 * h) continue;
+      const glm::dvec2 e = qb - qa;
+      const double tt = std::clamp(-glm::dot(qa, e) / std::max(glm::dot(e, e), 1e-300), 0.0, 1.0);
+      if (glm::length(qa + tt * e) < 0.45 * h) return true;
+    }
+    return false;
+  };
+  // A Steiner point takes its attributes from the nearest vertex of the two nearest rims.
+  auto add_steiner = [&](double th, double sv) {
+    double best[2] = {kInf, kInf};
+    VertexId src[2];
+    for (const Curve& c : rims) {
+      double d = kInf;
+      VertexId v;
+      for (const auto& p : c) {
+        const double dd = unrolled2(th, sv, p.theta, p.s);
+        if (dd < d) {
+          d = dd;
+          v = p.v;
+        }
+      }
+      if (d < best[0]) {
+        best[1] = best[0];
+        src[1] = src[0];
+        best[0] = d;
+        src[0] = v;
+      } else if (d < best[1]) {
+        best[1] = d;
+        src[1] = v;
+      }
+    }
+    if (!src[1].valid()) {
+      src[1] = src[0];
+      best[1] = best[0];
+    }
+    const double d0 = std::sqrt(best[0]), d1 = std::sqrt(best[1]);
+    pts.push_back({std::remainder(th, 2.0 * kPi), sv, VertexId(), src[0], src[1],
+                   static_cast<float>(d0 / std::max(d0 + d1, 1e-300))});
+    return static_cast<std::uint32_t>(pts.size() - 1);
+  };
+  std::vector<LocalTri> wall_tris;  // indices into pts
+  const double row = 0.866 * h, step = 2.0 * kPi / samples_;
+  for (std::size_t o : outers) {
+    // Coordinates of this region: the unrolled cylinder (s, r theta), an isometry that keeps
+    // the orientation (outer loops stay counter-clockwise). A region that goes around the axis
+    // is cut open between its outer loop and its inner loop around the axis: both are unwrapped
+    // from the ends of the cut, whose end points appear twice (2 pi r apart).
+    const bool around = contains(loops[o], glm::dvec2(0.0));
+    std::vector<std::uint32_t> global;
+    std::vector<glm::dvec2> local;
+    auto add_local = [&](std::uint32_t i, double th) {
+      global.push_back(i);
+      local.emplace_back(pts[i].s, cyl_.r * th);
+      return static_cast<std::uint32_t>(local.size() - 1);
+    };
+    // Unwraps loop `l` starting at its element `first`, whose angle becomes `th0`.
+    auto unwrap = [&](const std::vector<std::uint32_t>& l, std::size_t first, double th0, bool close) {
+      std::vector<std::uint32_t> out;
+      double th = th0;
+      for (std::size_t k = 0; k <= l.size(); ++k) {
+        const std::uint32_t i = l[(first + k) % l.size()];
+        if (k > 0) th += std::remainder(pts[i].theta - pts[l[(first + k - 1) % l.size()]].theta, 2.0 * kPi);
+        if (k == l.size() && !close) break;
+        out.push_back(add_local(i, th));
+      }
+      return out;
+    };
+    std::vector<std::uint32_t> poly;
+    std::vector<std::size_t> windows;  // holes that do not go around the axis
+    if (around) {
+      std::size_t inner = loops.size();
+      for (std::size_t hidx : holes_of[o])
+        if (contains(loops[hidx], glm::dvec2(0.0))) {
+          if (inner != loops.size()) return;  // two loops around the axis in one region
+          inner = hidx;
+        } else {
+          windows.push_back(hidx);
+        }
+      if (inner == loops.size()) return;
+      const auto& lo = loops[inner];
+      const auto& lh = loops[o];
+      // The cut: the closest pair (in the unrolled metric) whose segment crosses no rim.
+      std::vector<std::tuple<double, std::size_t, std::size_t>> pairs;
+      for (std::size_t a = 0; a < lh.size(); ++a)
+        for (std::size_t b = 0; b < lo.size(); ++b)
+          pairs.emplace_back(unrolled2(pts[lh[a]].theta, pts[lh[a]].s, pts[lo[b]].theta, pts[lo[b]].s), a, b);
+      std::sort(pairs.begin(), pairs.end());
+      bool found = false;
+      std::size_t ca = 0, cb = 0;
+      for (std::size_t n = 0; n < pairs.size() && n < 64 && !found; ++n) {
+        const auto [d2, a, b] = pairs[n];
+        (void)d2;
+        const double tha = pts[lh[a]].theta;
+        const glm::dvec2 p(pts[lh[a]].s, cyl_.r * tha);
+        const glm::dvec2 q(pts[lo[b]].s, cyl_.r * (tha + std::remainder(pts[lo[b]].theta - tha, 2.0 * kPi)));
+        bool blocked = false;
+        for (const auto& [u, v] : segments) {
+          if (u == lh[a] || v == lh[a] || u == lo[b] || v == lo[b]) continue;
+          const double thu = tha + std::remainder(pts[u].theta - tha, 2.0 * kPi);
+          const double thv = thu + std::remainder(pts[v].theta - pts[u].theta, 2.0 * kPi);
+          const glm::dvec2 e0(pts[u].s, cyl_.r * thu), e1(pts[v].s, cyl_.r * thv);
+          const double d1 = orient(p, q, e0), d2b = orient(p, q, e1), d3 = orient(e0, e1, p),
+                       d4 = orient(e0, e1, q);
+          if (((d1 > 0 && d2b < 0) || (d1 < 0 && d2b > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0)))
+            blocked = true;
+          if (blocked) break;
+        }
+        if (!blocked) {
+          found = true;
+          ca = a;
+          cb = b;
+        }
+      }
+      if (!found) return;
+      const double tha = pts[lh[ca]].theta;
+      const double thb = tha + std::remainder(pts[lo[cb]].theta - tha, 2.0 * kPi);
+      // Outer loop: angle increases by 2 pi; then the inner loop, whose angle decreases by 2 pi,
+      // starting from the copy next to the outer loop's end.
+      poly = unwrap(lh, ca, tha, true);
+      const std::vector<std::uint32_t> in = unwrap(lo, cb, thb + 2.0 * kPi, true);
+      poly.insert(poly.end(), in.begin(), in.end());
+    } else {
+      windows = holes_of[o];
+      poly = unwrap(loops[o], 0, pts[loops[o][0]].theta, false);
+    }
+    if (detail::signed_area2(local, poly) <= 0.0) return;
+    // Windows: unwrapped on the branch that puts them inside the polygon.
+    std::vector<std::vector<std::uint32_t>> holes_local;
+    for (std::size_t w : windows) {
+      bool placed = false;
+      for (int shift : {0, -1, 1, -2, 2}) {
+        const double th0 = pts[loops[w][0]].theta + 2.0 * kPi * shift;
+        const glm::dvec2 p0(pts[loops[w][0]].s, cyl_.r * th0);
+        bool in = false;
+        for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+          const auto &a = local[poly[i]], &b = local[poly[j]];
+          if ((a.y > p0.y) != (b.y > p0.y) && p0.x < (b.x - a.x) * (p0.y - a.y) / (b.y - a.y) + a.x) in = !in;
+        }
+        if (!in) continue;
+        holes_local.push_back(unwrap(loops[w], 0, th0, false));
+        placed = true;
+        break;
+      }
+      if (!placed) return;
+    }
+    double th_lo = kInf, th_hi = -kInf, s_lo = kInf, s_hi = -kInf;
+    for (const auto& p : local) {
+      s_lo = std::min(s_lo, p.x);
+      s_hi = std::max(s_hi, p.x);
+      th_lo = std::min(th_lo, p.y / cyl_.r);
+      th_hi = std::max(th_hi, p.y / cyl_.r);
+    }
+    std::vector<LocalTri> tris;
+    std::sort(holes_local.begin(), holes_local.end(), [&](const auto& a, const auto& b) {
+      double ma = -kInf, mb = -kInf;
+      for (auto i : a) ma = std::max(ma, local[i].x);
+      for (auto i : b) mb = std::max(mb, local[i].x);
+      return ma > mb;
+    });
+    for (std::size_t k = 0; k < holes_local.size(); ++k) {
+      std::vector<std::vector<std::uint32_t>> others(holes_local.begin() + static_cast<std::ptrdiff_t>(k) + 1,
+                                                     holes_local.end());
+      poly = bridge(local, poly, holes_local[k], others);
+    }
+    clip_polygon(local, poly, tris);
+    FlipTriangulation ft(local, std::move(tris));
+    ft.make_delaunay();
+    const std::size_t loop_points = local.size();
+    // Steiner points on a staggered grid of the rim spacing, away from the rims.
+    for (int j = 0; s_lo + (j + 0.5) * row < s_hi; ++j) {
+      const double sv = s_lo + (j + 0.5) * row;
+      const double offset = j % 2 ? 0.5 * step : 0.0;
+      const double k0 = std::floor((th_lo - offset) / step), k1 = std::ceil((th_hi - offset) / step);
+      for (double k = k0; k <= k1; k += 1.0) {
+        const double th = k * step + offset;
+        if (near_boundary(th, sv)) continue;
+        if (!ft.insert(glm::dvec2(sv, cyl_.r * th))) continue;
+        global.push_back(add_steiner(th, sv));
+      }
+    }
+    // No wall diagonal may repeat a surface edge between two rim vertices (that edge would get
+    // four faces): a point next to its midpoint makes the flips remove it.
+    for (int pass = 0; pass < 8; ++pass) {
+      bool changed = false;
+      const auto tri_copy = ft.triangles();
+      for (const auto& t : tri_copy) {
+        for (int k = 0; k < 3 && !changed; ++k) {
+          const std::uint32_t a = t[k], b = t[(k + 1) % 3], c = t[(k + 2) % 3];
+          if (a >= loop_points || b >= loop_points) continue;
+          const VertexId va = pts[global[a]].v, vb = pts[global[b]].v;
+          if (!va.valid() || !vb.valid() || !surface_edges.count(edge_key(va, vb))) continue;
+          if (!ft.is_interior(a, b)) continue;
+          const glm::dvec2 p = 0.5 * (local[a] + local[b]) + 0.01 * (local[c] - 0.5 * (local[a] + local[b]));
+          if (ft.insert(p)) {
+            global.push_back(add_steiner(p.y / cyl_.r, p.x));
+            changed = true;
+          }
+        }
+        if (changed) break;
+      }
+      if (!changed) break;
+    }
+    for (const auto& t : ft.triangles()) wall_tris.push_back({global[t[0]], global[t[1]], global[t[2]]});
+  }
+  // Create the new vertices and the faces.
+  for (auto& p : pts) {
+    if (!p.v.valid()) p.v = wall_vertex(p.a, p.b, p.t, cyl_.at(p.theta, p.s));
+    wall_coords_[p.v.index] = {p.theta, p.s, p.v};
+  }
+  for (const auto& t : wall_tris) wall_face({pts[t[0]].v, pts[t[1]].v, pts[t[2]].v}, 0);
+  auto ring_curve = [&](std::vector<std::uint32_t> ring) {
+    Curve c;
+    std::sort(ring.begin(), ring.end());  // created in increasing angle
+    for (auto i : ring) c.push_back({pts[i].theta, pts[i].s, pts[i].v});
+    return c;
+  };
+  if (a_inside) disk(ring_curve(ring_a), false);
+  if (b_inside) disk(ring_curve(ring_b), true);
+  for (auto& hole : result.holes) hole.walled = true;
+  finish_wall_attributes();
+}
+
+void Driller::finish_wall_attributes() {
+  if (wall_faces_.empty()) return;
+  auto* flag = mesh_.face_attrs().find<std::uint8_t>(attr::kCutSurface);
+  if (!flag) flag = &mesh_.face_attrs().add<std::uint8_t>(attr::kCutSurface);
+  auto& ca = mesh_.corner_attrs();
+  auto* normals = ca.find<glm::vec3>(attr::kNormal);
+  auto* tangents = ca.find<glm::vec4>(attr::kTangent);
+  auto* colors = ca.find<glm::vec4>(attr::kColor0);
+  std::vector<AttributeArray<glm::vec2>*> uvs;
+  for (int set = 0; set < 8; ++set)
+    if (auto* uv = ca.find<glm::vec2>(attr::uv_name(set))) uvs.push_back(uv);
+  const auto& bind = mesh_.positions();
+  // Smooth tube normals from the bind-space tube faces; disks are flat.
+  std::unordered_map<std::uint32_t, glm::dvec3> tube_normal;
+  for (const auto& [f, kind] : wall_faces_) {
+    if (kind != 0) continue;
+    const auto& t = mesh_.face(f);
+    const glm::dvec3 n = glm::cross(glm::dvec3(bind[t[1].index] - bind[t[0].index]),
+                                    glm::dvec3(bind[t[2].index] - bind[t[0].index]));
+    for (auto v : t) tube_normal[v.index] += n;
+  }
+  const double circumference = 2.0 * kPi * cyl_.r;
+  for (const auto& [f, kind] : wall_faces_) {
+    (*flag)[f.index] = 1;
+    const Triangle t = mesh_.face(f);
+    glm::dvec2 uv[3];
+    if (kind == 0) {
+      double th[3];
+      for (int k = 0; k < 3; ++k) th[k] = wall_coords_.at(t[k].index).theta;
+      for (int k = 1; k < 3; ++k) th[k] = th[0] + std::remainder(th[k] - th[0], 2.0 * kPi);
+      for (int k = 0; k < 3; ++k)
+        uv[k] = {th[k] / (2.0 * kPi), wall_coords_.at(t[k].index).s / circumference};
+    } else {
+      for (int k = 0; k < 3; ++k) {
+        const glm::dvec3 q = cyl_.perp(posed(t[k]));
+        uv[k] = {0.5 + 0.5 * glm::dot(q, cyl_.u) / cyl_.r, 0.5 + 0.5 * glm::dot(q, cyl_.w) / cyl_.r};
+      }
+    }
+    const glm::dvec3 p0(bind[t[0].index]), p1(bind[t[1].index]), p2(bind[t[2].index]);
+    glm::dvec3 fn = glm::cross(p1 - p0, p2 - p0);
+    fn = glm::length(fn) > 0.0 ? glm::normalize(fn) : -cyl_.d;
+    // Tangent: the bind-space direction of increasing u.
+    const glm::dvec3 e1 = p1 - p0, e2 = p2 - p0;
+    const glm::dvec2 d1 = uv[1] - uv[0], d2 = uv[2] - uv[0];
+    const double det = d1.x * d2.y - d2.x * d1.y;
+    glm::dvec3 tangent = std::abs(det) > 1e-300 ? (e1 * d2.y - e2 * d1.y) / det : e1;
+    tangent -= fn * glm::dot(fn, tangent);
+    tangent = glm::length(tangent) > 0.0 ? glm::normalize(tangent) : glm::normalize(e1);
+    for (int k = 0; k < 3; ++k) {
+      const auto c = SurfaceMesh::corner(f, k);
+      for (auto* a : uvs) (*a)[c] = glm::vec2(uv[k]);
+      if (normals) {
+        glm::dvec3 n = fn;
+        if (kind == 0) {
+          const glm::dvec3 acc = tube_normal[t[k].index];
+          if (glm::length(acc) > 0.0) n = glm::normalize(acc);
+        }
+        (*normals)[c] = glm::vec3(n);
+      }
+      if (tangents) (*tangents)[c] = glm::vec4(glm::vec3(tangent), 1.0f);
+      if (colors) (*colors)[c] = glm::vec4(1.0f);
+    }
+  }
+}
+
+DrillResult Driller::run() {
+  DrillResult result;
+  result.first_new_vertex = first_new_;
+  std::vector<FaceId> candidates;
+  const double reach = cyl_.r + 2.0 * eps_;
+  auto near_axis = [&](const Triangle& t) {
+    const glm::dvec3 p0 = posed(t[0]), p1 = posed(t[1]), p2 = posed(t[2]);
+    const glm::dvec3 c = (p0 + p1 + p2) / 3.0;
+    const double rad =
+        std::sqrt(std::max({glm::dot(p0 - c, p0 - c), glm::dot(p1 - c, p1 - c), glm::dot(p2 - c, p2 - c)}));
+    const double sv = std::clamp(cyl_.s(c), 0.0, cyl_.len);
+    const glm::dvec3 closest = cyl_.a + sv * cyl_.d;
+    return glm::length(c - closest) <= reach + rad;
+  };
+  if (index_) {
+    for (FaceId f : index_->query_capsule(glm::vec3(cyl_.a), glm::vec3(cyl_.a + cyl_.len * cyl_.d),
+                                          static_cast<float>(reach)))
+      if (f.index < mesh_.face_slots() && !mesh_.is_deleted(f) && near_axis(mesh_.face(f)))
+        candidates.push_back(f);
+  } else {
+    mesh_.for_each_face([&](FaceId f, const Triangle& t) {
+      if (near_axis(t)) candidates.push_back(f);
+    });
+  }
+  for (FaceId f : candidates) process_face(f);
+  if (editor_.log().empty()) {
+    result.status = OpStatus::NoIntersection;
+    return result;
+  }
+  collect_holes(result);
+  if (options_.wall) build_walls(result);
+  for (const auto& [f, kind] : wall_faces_) {
+    (void)kind;
+    ++result.wall_triangles;
+  }
+  result.intersection_points = crossings_;
+  result.triangles_removed = removed_;
+  result.triangles_added = added_;
+  result.added_posed.reserve(added_posed_.size());
+  for (const auto& p : added_posed_) result.added_posed.push_back(glm::vec3(p));
+  result.log = editor_.take_log();
+  return result;
+}
+
+void check_arguments(const Cylinder& c, const DrillOptions& options) {
+  auto finite = [](const glm::vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+  };
+  if (!finite(c.a) || !finite(c.b))
+    throw Error(ErrorCode::InvalidArgument, "drill: the axis end points are not finite");
+  if (!std::isfinite(c.radius) || !(c.radius > 0.0f))
+    throw Error(ErrorCode::InvalidArgument, "drill: the radius must be a positive number");
+  const double len = glm::length(glm::dvec3(c.b) - glm::dvec3(c.a));
+  const double scale = glm::length(glm::dvec3(c.a)) + glm::length(glm::dvec3(c.b));
+  if (!(len > 1e-7 * scale) || len == 0.0)
+    throw Error(ErrorCode::InvalidArgument, "drill: the axis end points A and B coincide");
+  if (options.min_rim_edges < 3 || options.min_rim_edges > 4096)
+    throw Error(ErrorCode::InvalidArgument, "drill: min_rim_edges must be between 3 and 4096");
+  if (!std::isfinite(options.relative_tolerance) || options.relative_tolerance < 0.0f ||
+      options.relative_tolerance > 0.1f)
+    throw Error(ErrorCode::InvalidArgument, "drill: relative_tolerance must be between 0 and 0.1");
+}
+
+}  // namespace
+
+DrillResult drill_mesh(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const Cylinder& cylinder,
+                       const DrillOptions& options, const TriangleGrid* index, const Unposer& unpose) {
+  check_arguments(cylinder, options);
+  if (posed.size() != mesh.vertex_count())
+    throw Error(ErrorCode::InvalidArgument, "drill: " + std::to_string(posed.size()) +
+                                                " posed positions for " +
+                                                std::to_string(mesh.vertex_count()) + " vertices");
+  return Driller(mesh, posed, cylinder, options, index, unpose).run();
+}
+
+namespace {
+
+// A copy of `mesh` holding only `faces` (unused vertices dropped).
+SurfaceMesh extract(const SurfaceMesh& mesh, const std::vector<FaceId>& faces) {
+  SurfaceMesh out = mesh;
+  std::vector<std::uint8_t> keep(mesh.face_slots(), 0);
+  for (FaceId f : faces) keep[f.index] = 1;
+  for (std::uint32_t f = 0; f < out.face_slots(); ++f)
+    if (!keep[f] && !out.is_deleted(FaceId(f))) out.mark_deleted(FaceId(f));
+  out.compact();
+  return out;
+}
+
+int cut_surface_material(Model& model) {
+  for (std::size_t i = 0; i < model.materials.size(); ++i)
+    if (model.materials[i].name == "Cut surface") return static_cast<int>(i);
+  model.materials.push_back(
+      {"Cut surface",
+       R"({"name":"Cut surface","doubleSided":false,"pbrMetallicRoughness":)"
+       R"({"baseColorFactor":[0.8,0.18,0.16,1.0],"metallicFactor":0.0,"roughnessFactor":0.9}})"});
+  return static_cast<int>(model.materials.size() - 1);
+}
+
+}  // namespace
+
+ModelDrillResult drill_model(Model& model, const Cylinder& cylinder, const DrillOptions& options,
+                             int animation, float time) {
+  check_arguments(cylinder, options);
+  const Pose pose = sample_pose(model, animation, time);
+  const auto world = world_matrices(model, pose);
+  ModelDrillResult result;
+  result.status = OpStatus::NoIntersection;
+  std::vector<int> mesh_users(model.meshes.size(), 0);
+  for (const auto& n : model.nodes)
+    if (n.mesh >= 0 && static_cast<std::size_t>(n.mesh) < model.meshes.size()) ++mesh_users[n.mesh];
+  int cut_material = -1;
+  for (std::size_t ni = 0; ni < model.nodes.size(); ++ni) {
+    const int mi = model.nodes[ni].mesh;
+    if (mi < 0 || static_cast<std::size_t>(mi) >= model.meshes.size()) continue;
+    const Node& node = model.nodes[ni];
+    std::vector<glm::mat4> joints;
+    if (node.skin >= 0 && static_cast<std::size_t>(node.skin) < model.skins.size())
+      joints = joint_matrices(model, node.skin, world);
+    const glm::mat4 node_world = world.at(ni);
+    Mesh out;
+    out.name = model.meshes[mi].name;
+    out.extras_json = model.meshes[mi].extras_json;
+    bool any = false;
+    for (const auto& prim : model.meshes[mi].primitives) {
+      SurfaceMesh copy = prim.mesh;
+      const auto posed = posed_positions(model, static_cast<int>(ni), copy, world);
+      // Inverse of the vertex's blended skinning (or of the node's world matrix).
+      const Unposer unpose = [&](const SurfaceMesh& m, VertexId v, const glm::vec3& p) {
+        glm::mat4 skin(0.0f);
+        const auto* j0 = m.vertex_attrs().find<glm::u16vec4>(attr::kJoints0);
+        const auto* w0 = m.vertex_attrs().find<glm::vec4>(attr::kWeights0);
+        bool skinned = !joints.empty() && j0 && w0;
+        if (skinned) {
+          auto add = [&](const glm::u16vec4& j, const glm::vec4& w) {
+            for (int c = 0; c < 4; ++c)
+              if (w[c] != 0.0f && j[c] < joints.size()) skin += w[c] * joints[j[c]];
+          };
+          add((*j0)[v.index], (*w0)[v.index]);
+          const auto* j1 = m.vertex_attrs().find<glm::u16vec4>(attr::kJoints1);
+          const auto* w1 = m.vertex_attrs().find<glm::vec4>(attr::kWeights1);
+          if (j1 && w1) add((*j1)[v.index], (*w1)[v.index]);
+        }
+        const glm::mat4 mat = skinned ? skin : node_world;
+        const glm::dmat4 inv = glm::inverse(glm::dmat4(mat));
+        const glm::dvec4 b = inv * glm::dvec4(glm::dvec3(p), 1.0);
+        return std::isfinite(b.x) && std::isfinite(b.y) && std::isfinite(b.z) ? glm::vec3(b) : p;
+      };
+      const DrillResult r = drill_mesh(copy, posed, cylinder, options, nullptr, unpose);
+      if (r.status == OpStatus::NoIntersection) {
+        out.primitives.push_back(prim);
+        continue;
+      }
+      any = true;
+      result.status = OpStatus::Ok;
+      result.intersection_points += r.intersection_points;
+      result.triangles_removed += r.triangles_removed;
+      result.triangles_added += r.triangles_added;
+      result.wall_triangles += r.wall_triangles;
+      for (const auto& h : r.holes) result.rim_vertices.push_back(h.rim.size());
+      const auto* flag = copy.face_attrs().find<std::uint8_t>(attr::kCutSurface);
+      std::vector<FaceId> body, wall;
+      copy.for_each_face(
+          [&](FaceId f, const Triangle&) { (flag && (*flag)[f.index] ? wall : body).push_back(f); });
+      auto add = [&](const std::vector<FaceId>& faces, int material) {
+        if (faces.empty()) return;
+        Primitive p;
+        p.mesh = extract(copy, faces);
+        p.mesh.face_attrs().remove(attr::kCutSurface);
+        p.material = material;
+        p.extras_json = prim.extras_json;
+        out.primitives.push_back(std::move(p));
+      };
+      add(body, prim.material);
+      if (!wall.empty() && cut_material < 0) cut_material = cut_surface_material(model);
+      add(wall, cut_material);
+    }
+    if (!any) continue;
+    if (mesh_users[mi] > 1) {
+      --mesh_users[mi];
+      model.meshes.push_back(std::move(out));
+      model.nodes[ni].mesh = static_cast<int>(model.meshes.size() - 1);
+    } else {
+      model.meshes[mi] = std::move(out);
+    }
+  }
+  return result;
+}
+
+}  // namespace deepcut

@@ -1,0 +1,391 @@
+// SPDX-License-Identifier: MIT
+#include "deepcut/core/ops/drill.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <random>
+#include <set>
+
+#include "deepcut/core/adjacency.h"
+#include "deepcut/core/io/gltf.h"
+#include "deepcut/core/skinning.h"
+#include "deepcut/core/spatial_index.h"
+#include "deepcut/core/validate.h"
+#include "fixtures.h"
+#include "tools.h"
+
+namespace deepcut {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct Axis {
+  glm::dvec3 a, d;
+  double len, r;
+  explicit Axis(const Cylinder& c)
+      : a(c.a), len(glm::length(glm::dvec3(c.b) - glm::dvec3(c.a))), r(c.radius) {
+    d = (glm::dvec3(c.b) - a) / len;
+  }
+  double s(const glm::vec3& p) const { return glm::dot(glm::dvec3(p) - a, d); }
+  double rho(const glm::vec3& p) const {
+    const glm::dvec3 q = glm::dvec3(p) - a;
+    return glm::length(q - glm::dot(q, d) * d);
+  }
+};
+
+struct EdgeCensus {
+  std::size_t boundary = 0, inconsistent = 0;
+};
+EdgeCensus census(const SurfaceMesh& mesh) {
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
+  mesh.for_each_face([&](FaceId, const Triangle& t) {
+    for (int k = 0; k < 3; ++k) ++directed[{t[k].index, t[(k + 1) % 3].index}];
+  });
+  EdgeCensus c;
+  for (const auto& [e, n] : directed) {
+    if (n > 1) ++c.inconsistent;
+    if (!directed.count({e.second, e.first})) ++c.boundary;
+  }
+  return c;
+}
+
+// Signed volume of the solid inside the finite cylinder, integrated along lines parallel to the
+// axis (winding number of each point, so overlapping closed components count like the signed
+// volume of the mesh does).
+double drilled_volume(const SurfaceMesh& mesh, const Cylinder& c) {
+  const Axis ax(c);
+  const glm::dvec3 helper = std::abs(ax.d.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+  const glm::dvec3 u = glm::normalize(glm::cross(helper, ax.d)), w = glm::cross(ax.d, u);
+  const int rings = 12, sectors = 48;
+  double volume = 0.0;
+  for (int i = 0; i < rings; ++i) {
+    const double r0 = ax.r * i / rings, r1 = ax.r * (i + 1) / rings, rm = 0.5 * (r0 + r1);
+    const double cell = 0.5 * (r1 * r1 - r0 * r0) * 2.0 * kPi / sectors;
+    for (int j = 0; j < sectors; ++j) {
+      const double th = 2.0 * kPi * (j + 0.5) / sectors;
+      const glm::dvec3 o = ax.a + rm * (std::cos(th) * u + std::sin(th) * w);
+      std::vector<std::pair<double, int>> hits;  // s, winding change
+      mesh.for_each_face([&](FaceId, const Triangle& t) {
+        const glm::dvec3 p0(mesh.position(t[0])), p1(mesh.position(t[1])), p2(mesh.position(t[2]));
+        const glm::dvec3 e1 = p1 - p0, e2 = p2 - p0, pv = glm::cross(ax.d, e2);
+        const double det = glm::dot(e1, pv);
+        if (std::abs(det) < 1e-300) return;
+        const glm::dvec3 tv = o - p0;
+        const double bu = glm::dot(tv, pv) / det;
+        if (bu < 0.0 || bu > 1.0) return;
+        const glm::dvec3 qv = glm::cross(tv, e1);
+        const double bv = glm::dot(ax.d, qv) / det;
+        if (bv < 0.0 || bu + bv > 1.0) return;
+        const double s = glm::dot(e2, qv) / det;
+        hits.emplace_back(s, glm::dot(glm::cross(e1, e2), ax.d) < 0.0 ? 1 : -1);
+      });
+      std::sort(hits.begin(), hits.end());
+      int winding = 0;
+      double prev = -1e300;
+      for (const auto& [s, change] : hits) {
+        const double lo = std::max(prev, 0.0), hi = std::min(s, ax.len);
+        if (hi > lo) volume += winding * (hi - lo) * cell;
+        winding += change;
+        prev = s;
+      }
+      if (prev < ax.len) volume += winding * (ax.len - std::max(prev, 0.0)) * cell;
+    }
+  }
+  return volume;
+}
+
+Cylinder random_through_drill(const BoundingBox& box, std::mt19937& rng) {
+  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+  std::normal_distribution<float> gauss(0.0f, 1.0f);
+  glm::vec3 dir;
+  do dir = {gauss(rng), gauss(rng), gauss(rng)};
+  while (glm::length(dir) < 1e-3f);
+  dir = glm::normalize(dir);
+  const float size = box.diagonal();
+  const glm::vec3 p =
+      box.min +
+      (box.max - box.min) * glm::vec3(0.2f + 0.6f * u01(rng), 0.2f + 0.6f * u01(rng), 0.2f + 0.6f * u01(rng));
+  Cylinder c;
+  c.a = p - dir * size;
+  c.b = p + dir * size;
+  c.radius = size * (0.01f + 0.14f * u01(rng));
+  return c;
+}
+
+struct Checked {
+  bool intersected = false;
+  bool all_walled = false;
+  std::size_t round_holes = 0;
+};
+
+// All the invariants of one mesh-level drill on bind positions (posed == bind).
+void check_drill_into(Checked& out, const SurfaceMesh& input, const Cylinder& cyl,
+                      const DrillOptions& options, std::size_t joints, bool use_index) {
+  SurfaceMesh mesh = input;
+  const Adjacency before = Adjacency::build(input);
+  const bool closed = before.boundary_edges().empty() && before.nonmanifold_edges().empty();
+  const Axis ax(cyl);
+  const double tol = 2.0 * options.relative_tolerance * cyl.radius +
+                     1e-5 * (glm::length(cyl.a) + glm::length(cyl.b) + ax.len);
+  TriangleGrid grid;
+  if (use_index) grid = TriangleGrid::build(mesh, mesh.positions());
+  const DrillResult r = drill_mesh(mesh, mesh.positions(), cyl, options, use_index ? &grid : nullptr);
+  if (r.status == OpStatus::NoIntersection) {
+    EXPECT_TRUE(r.log.empty());
+    EXPECT_EQ(mesh.faces(), input.faces());
+    return;
+  }
+  out.intersected = true;
+  EXPECT_EQ(r.added_posed.size(), mesh.vertex_count() - input.vertex_count());
+  Adjacency adj = before;
+  adj.apply(r.log);
+  test::expect_adjacency_matches_rebuild(adj, mesh);
+  test::expect_valid(mesh, joints);
+  const auto* wall_flag = mesh.face_attrs().find<std::uint8_t>(attr::kCutSurface);
+  auto is_wall = [&](FaceId f) {
+    return wall_flag && (*wall_flag)[f.index] && f.index >= input.face_slots();
+  };
+  // No surface left inside the open cylinder (the rim polygon's chords may cut 1% inside).
+  mesh.for_each_face([&](FaceId f, const Triangle& t) {
+    if (is_wall(f)) return;
+    const glm::vec3 c = (mesh.position(t[0]) + mesh.position(t[1]) + mesh.position(t[2])) / 3.0f;
+    const double s = ax.s(c);
+    const bool inside = ax.rho(c) < 0.99 * ax.r && s > tol && s < ax.len - tol;
+    ASSERT_FALSE(inside) << "face " << f.index << " centroid inside the cylinder (rho " << ax.rho(c) / ax.r
+                         << " r)"
+                         << " corners " << t[0].index << ":" << ax.rho(mesh.position(t[0])) / ax.r << " "
+                         << t[1].index << ":" << ax.rho(mesh.position(t[1])) / ax.r << " " << t[2].index
+                         << ":" << ax.rho(mesh.position(t[2])) / ax.r << " input v " << input.vertex_count()
+                         << " faces " << input.face_slots() << " r " << ax.r;
+  });
+  // Every new vertex on a boundary lies on the cylinder (within 1% of r) or on an end plane;
+  // every boundary edge is new rim or a piece of an old boundary edge (no cracks elsewhere).
+  std::vector<std::array<std::uint32_t, 2>> origin(mesh.vertex_count());
+  for (std::uint32_t v = 0; v < input.vertex_count(); ++v) origin[v] = {v, v};
+  for (const Edit& e : r.log.edits)
+    if (const auto* a = std::get_if<VertexAdded>(&e))
+      origin[a->v.index] = {a->from[0].index, a->from[2].valid() ? kInvalidIndex : a->from[1].index};
+  const auto old_boundary = before.boundary_edges();
+  auto on_cylinder = [&](VertexId v) {
+    const glm::vec3& p = mesh.position(v);
+    const double s = ax.s(p);
+    return std::abs(ax.rho(p) - ax.r) <= 0.01 * ax.r || std::abs(s) <= tol || std::abs(s - ax.len) <= tol;
+  };
+  for (const Edge& e : adj.boundary_edges()) {
+    for (VertexId v : {e.a, e.b})
+      if (v.index >= input.vertex_count()) {
+        ASSERT_TRUE(on_cylinder(v)) << "new boundary vertex off the cylinder: rho "
+                                    << ax.rho(mesh.position(v)) / ax.r;
+      }
+    if (on_cylinder(e.a) && on_cylinder(e.b)) continue;
+    std::vector<std::uint32_t> ends = {origin[e.a.index][0], origin[e.a.index][1], origin[e.b.index][0],
+                                       origin[e.b.index][1]};
+    std::sort(ends.begin(), ends.end());
+    ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
+    ASSERT_TRUE(ends.size() == 2 && std::binary_search(old_boundary.begin(), old_boundary.end(),
+                                                       make_edge(VertexId(ends[0]), VertexId(ends[1]))))
+        << "boundary edge (" << e.a.index << "," << e.b.index << ") is neither rim nor old boundary; rho/r "
+        << ax.rho(mesh.position(e.a)) / ax.r << " " << ax.rho(mesh.position(e.b)) / ax.r << " s "
+        << ax.s(mesh.position(e.a)) << " " << ax.s(mesh.position(e.b)) << " len " << ax.len
+        << " input vertices " << input.vertex_count();
+  }
+  // Holes the axis goes through are round; their rims are boundary edges (or walled).
+  const auto boundary = adj.boundary_edges();
+  out.all_walled = true;
+  for (const DrillHole& h : r.holes) {
+    out.all_walled &= h.walled;
+    for (std::size_t i = 0; i + 1 < h.rim.size() + (h.closed ? 1 : 0); ++i) {
+      const Edge e = make_edge(h.rim[i], h.rim[(i + 1) % h.rim.size()]);
+      if (!h.walled) {
+        ASSERT_TRUE(std::binary_search(boundary.begin(), boundary.end(), e))
+            << "rim edge is not a boundary edge";
+      }
+    }
+    if (h.closed && std::abs(h.winding) == 1) {
+      ++out.round_holes;
+      EXPECT_GE(h.rim.size(), static_cast<std::size_t>(options.min_rim_edges));
+    }
+  }
+  if (options.wall && closed && out.all_walled) {
+    const EdgeCensus c = census(mesh);
+    EXPECT_EQ(c.boundary, 0u) << "walled drill of closed input is closed";
+    EXPECT_EQ(c.inconsistent, 0u) << "walled drill is consistently oriented";
+    // The wall is inscribed in the cylinder with min_rim_edges vertices around: an N-gon prism.
+    const double n = options.min_rim_edges;
+    const double expected = drilled_volume(input, cyl) * n / (2.0 * kPi) * std::sin(2.0 * kPi / n);
+    const double removed = input.volume() - mesh.volume();
+    EXPECT_NEAR(removed, expected, 0.02 * std::abs(expected) + 1e-9) << "volume " << input.volume();
+  }
+}
+
+Checked check_drill(const SurfaceMesh& input, const Cylinder& cyl, const DrillOptions& options,
+                    std::size_t joints, bool use_index) {
+  Checked out;
+  check_drill_into(out, input, cyl, options, joints, use_index);
+  return out;
+}
+
+}  // namespace
+
+TEST(DrillTest, small_hole_inside_one_big_triangle_is_round) {
+  SurfaceMesh mesh = test::make_grid(1, 1);  // two triangles
+  Cylinder c{{0.7f, 0.3f, -1.0f}, {0.7f, 0.3f, 1.0f}, 0.05f};
+  check_drill(mesh, c, {}, 2, false);
+  const DrillResult r = drill_mesh(mesh, mesh.positions(), c);
+  ASSERT_EQ(r.status, OpStatus::Ok);
+  ASSERT_EQ(r.holes.size(), 1u);
+  EXPECT_TRUE(r.holes[0].closed);
+  EXPECT_EQ(std::abs(r.holes[0].winding), 1);
+  EXPECT_EQ(r.holes[0].rim.size(), 32u);
+  EXPECT_EQ(r.intersection_points, 0u);
+  EXPECT_EQ(r.triangles_removed, 1u);
+  // The hole's area is the 32-gon's.
+  const double polygon = 0.5 * 32 * std::sin(2 * kPi / 32) * 0.05 * 0.05;
+  EXPECT_NEAR(mesh.area(), 1.0 - polygon, 1e-5);
+}
+
+TEST(DrillTest, hole_across_edges_and_seam_splits_each_edge_once) {
+  const SurfaceMesh grid = test::make_grid(4, 4);
+  for (const Cylinder& c :
+       {Cylinder{{0.5f, 0.5f, -1}, {0.5f, 0.5f, 1}, 0.3f}, Cylinder{{0.4f, 0.45f, -1}, {0.6f, 0.5f, 1}, 0.2f},
+        Cylinder{{0.5f, 0.5f, -1}, {0.5f, 0.5f, 1}, 0.25f}}) {
+    check_drill(grid, c, {}, 2, false);
+    check_drill(grid, c, {}, 2, true);
+  }
+  SurfaceMesh mesh = grid;
+  const DrillResult r =
+      drill_mesh(mesh, mesh.positions(), Cylinder{{0.4f, 0.45f, -1}, {0.6f, 0.5f, 1}, 0.2f});
+  std::size_t added = 0;
+  for (const auto& e : r.log.edits)
+    if (const auto* a = std::get_if<VertexAdded>(&e)) added += !a->from[2].valid();
+  EXPECT_EQ(added, r.intersection_points);
+  ASSERT_EQ(r.holes.size(), 1u);
+  EXPECT_GE(r.holes[0].rim.size(), 32u);
+}
+
+TEST(DrillTest, rejects_bad_cylinders_and_misses_leave_the_mesh_untouched) {
+  const SurfaceMesh tube = test::make_tube(16, 4);
+  SurfaceMesh mesh = tube;
+  EXPECT_THROW(drill_mesh(mesh, mesh.positions(), Cylinder{{0, 1, -2}, {0, 1, 2}, 0.0f}), Error);
+  EXPECT_THROW(drill_mesh(mesh, mesh.positions(), Cylinder{{0, 1, -2}, {0, 1, 2}, -0.1f}), Error);
+  EXPECT_THROW(drill_mesh(mesh, mesh.positions(), Cylinder{{0, 1, 2}, {0, 1, 2}, 0.1f}), Error);
+  EXPECT_THROW(drill_mesh(mesh, mesh.positions(), Cylinder{{0, NAN, -2}, {0, 1, 2}, 0.1f}), Error);
+  EXPECT_THROW(drill_mesh(mesh, mesh.positions(), Cylinder{{0, 1, -2}, {0, 1, 2}, NAN}), Error);
+  DrillOptions few;
+  few.min_rim_edges = 2;
+  EXPECT_THROW(drill_mesh(mesh, mesh.positions(), Cylinder{{0, 1, -2}, {0, 1, 2}, 0.1f}, few), Error);
+  EXPECT_THROW(drill_mesh(mesh, std::vector<glm::vec3>(3), Cylinder{{0, 1, -2}, {0, 1, 2}, 0.1f}), Error);
+  for (const Cylinder& c : {Cylinder{{5, 1, -2}, {5, 1, 2}, 0.5f}, Cylinder{{0, 1, -5}, {0, 1, -3}, 0.5f},
+                            Cylinder{{0, 1, -0.5f}, {0, 1, 0.5f}, 0.2f}}) {  // the last lies inside
+    SurfaceMesh m = tube;
+    const DrillResult r = drill_mesh(m, m.positions(), c);
+    EXPECT_EQ(r.status, OpStatus::NoIntersection);
+    EXPECT_TRUE(r.log.empty());
+    EXPECT_EQ(m.faces(), tube.faces());
+    EXPECT_EQ(m.vertex_count(), tube.vertex_count());
+  }
+}
+
+TEST(DrillTest, through_tube_with_wall_is_closed_and_loses_the_drilled_volume) {
+  const SurfaceMesh tube = test::make_tube(24, 6, 1.0f, 2.0f);
+  DrillOptions options;
+  options.wall = true;
+  for (const Cylinder& c :
+       {Cylinder{{0, 1, -3}, {0, 1, 3}, 0.3f}, Cylinder{{-3, 1.1f, -2}, {3, 0.9f, 2}, 0.25f},
+        Cylinder{{0.2f, -1, 0.1f}, {0.1f, 3, -0.2f}, 0.4f}}) {
+    const Checked k = check_drill(tube, c, options, 0, true);
+    EXPECT_TRUE(k.all_walled);
+    EXPECT_EQ(k.round_holes, 2u);
+  }
+}
+
+TEST(DrillTest, blind_hole_and_start_inside_get_a_disk) {
+  const SurfaceMesh tube = test::make_tube(24, 6, 1.0f, 2.0f);
+  DrillOptions options;
+  options.wall = true;
+  // B inside: only the entry wall is drilled, closed by a disk at B.
+  const Cylinder blind{{0, 1, -3}, {0, 1, 0.2f}, 0.3f};
+  const Checked k = check_drill(tube, blind, options, 0, false);
+  EXPECT_TRUE(k.all_walled);
+  EXPECT_EQ(k.round_holes, 1u);
+  SurfaceMesh mesh = tube;
+  const DrillResult r = drill_mesh(mesh, mesh.positions(), blind, options);
+  ASSERT_EQ(r.holes.size(), 1u);
+  for (VertexId v : r.holes[0].rim)
+    EXPECT_LT(mesh.position(v).z, -0.9f) << "only the wall before B is drilled";
+  // A inside: the exit wall only, with a disk at A.
+  const Cylinder inside{{0.1f, 1, 0.3f}, {0.1f, 1, 3}, 0.3f};
+  EXPECT_TRUE(check_drill(tube, inside, options, 0, false).all_walled);
+  // Without a wall the blind hole is simply open.
+  EXPECT_EQ(check_drill(tube, blind, {}, 0, false).round_holes, 1u);
+}
+
+TEST(DrillTest, random_drills_on_every_asset_keep_all_invariants) {
+  const unsigned seed = 20261122;
+  std::printf("drill random seed %u\n", seed);
+  for (const auto& path : test::asset_models()) {
+    SCOPED_TRACE(path + " (seed " + std::to_string(seed) + ")");
+    const Model model = read_gltf(path);
+    const std::size_t joints = model.skins.empty() ? 0 : model.skins[0].joints.size();
+    std::mt19937 rng(seed);
+    std::size_t hits = 0, walled = 0, round = 0;
+    for (const auto& mesh : model.meshes)
+      for (const auto& prim : mesh.primitives) {
+        const BoundingBox box = prim.mesh.bounds();
+        for (int i = 0; i < 100; ++i) {
+          const Cylinder c = random_through_drill(box, rng);
+          DrillOptions options;
+          options.wall = i % 4 == 1;
+          options.min_rim_edges = i % 5 == 2 ? 48 : 32;
+          SCOPED_TRACE("drill " + std::to_string(i));
+          const Checked k = check_drill(prim.mesh, c, options, joints, i % 2 == 0);
+          if (::testing::Test::HasFatalFailure()) return;
+          hits += k.intersected;
+          walled += options.wall && k.all_walled && k.intersected;
+          round += k.round_holes;
+        }
+      }
+    // Radii up to 15% of the model size often sever thin parts (rims that do not go around the
+    // axis); the rest are round holes, and walls close most drills (not where components of the
+    // input intersect each other, as the cactus' arms and body do).
+    EXPECT_GT(hits, 50u) << "most random drills through the model hit it";
+    EXPECT_GT(round, hits / 20) << "through drills make round holes";
+    EXPECT_GE(walled, 10u) << "walls close drills of closed input";
+    std::printf("%s: %zu hits, %zu fully walled, %zu round holes\n", path.c_str(), hits, walled, round);
+  }
+}
+
+TEST(DrillTest, incremental_adjacency_follows_a_random_sequence) {
+  const unsigned seed = 77;
+  std::printf("drill sequence seed %u\n", seed);
+  for (const auto& path : test::asset_models()) {
+    SCOPED_TRACE(path);
+    const Model model = read_gltf(path);
+    SurfaceMesh mesh = model.meshes[0].primitives[0].mesh;
+    const BoundingBox box = mesh.bounds();
+    std::vector<glm::vec3> posed = mesh.positions();
+    TriangleGrid grid = TriangleGrid::build(mesh, posed);
+    Adjacency adj = Adjacency::build(mesh);
+    std::mt19937 rng(seed);
+    for (int i = 0; i < 12; ++i) {
+      Cylinder c = random_through_drill(box, rng);
+      c.radius *= 0.5f;
+      DrillOptions options;
+      options.wall = i % 3 == 0;
+      const DrillResult r = drill_mesh(mesh, posed, c, options, &grid);
+      posed.insert(posed.end(), r.added_posed.begin(), r.added_posed.end());
+      ASSERT_EQ(posed.size(), mesh.vertex_count());
+      grid.apply(r.log, posed);
+      adj.apply(r.log);
+      test::expect_adjacency_matches_rebuild(adj, mesh);
+      test::expect_valid(mesh, model.skins.empty() ? 0 : model.skins[0].joints.size());
+      EXPECT_EQ(grid.face_count(), mesh.face_count());
+      if (::testing::Test::HasFatalFailure()) return;
+    }
+  }
+}
+
+}  // namespace deepcut
