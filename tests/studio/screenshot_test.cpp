@@ -2,6 +2,7 @@
 // `deepcut-studio --screenshot` as a user runs it (under xvfb-run): exit codes, and the content
 // of the picture (model pixels against the backdrop, heat-map colours in weights mode, edge and
 // highlight colours in adjacency mode), never byte equality.
+#include <QDir>
 #include <QImage>
 #include <QtTest/QtTest>
 #include <functional>
@@ -169,6 +170,26 @@ class ScreenshotTest : public QObject {
       QVERIFY2(std::count(r.err.begin(), r.err.end(), '\n') == 1, (args + ": " + r.err).c_str());
     }
     QVERIFY(!QFile::exists(QString::fromStdString(out)));
+  }
+
+  void bad_input_catalogue_exits_0_or_2() {
+    // Every hostile file of tests/data/bad: either refused with one line (2) or shown (0),
+    // never a crash, with the weights inspector (the most skin-dependent view) active.
+    const QDir dir(DEEPCUT_SOURCE_DIR "/tests/data/bad");
+    const QStringList files = dir.entryList({"*.gltf", "*.glb"}, QDir::Files, QDir::Name);
+    QVERIFY2(files.size() > 20, "the bad-input catalogue is there");
+    const std::string out = dir_ + "/bad.png";
+    for (const QString& name : files) {
+      const std::string path = dir.filePath(name).toStdString();
+      const RunResult r =
+          run_studio("--size 640x480 --screenshot " + quote(out) + " --inspect weights " + quote(path));
+      QVERIFY2(r.exit_code == 0 || r.exit_code == 2,
+               (path + ": exit " + std::to_string(r.exit_code) + ": " + r.err).c_str());
+      if (r.exit_code == 2) {
+        QVERIFY2(std::count(r.err.begin(), r.err.end(), '\n') == 1, (path + ": " + r.err).c_str());
+        QVERIFY2(r.err.find(name.toStdString()) != std::string::npos, (path + ": " + r.err).c_str());
+      }
+    }
   }
 };
 

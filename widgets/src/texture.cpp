@@ -1,21 +1,24 @@
 // SPDX-License-Identifier: MIT
 #include "deepcut/widgets/texture.h"
 
-#include <vtkCallbackCommand.h>
-#include <vtkCommand.h>
+#include <stb/stb_image.h>
 #include <vtkImageData.h>
-#include <vtkImageFlip.h>
-#include <vtkImageReader2.h>
-#include <vtkJPEGReader.h>
 #include <vtkNew.h>
-#include <vtkPNGReader.h>
+#include <vtkPointData.h>
+#include <vtkUnsignedCharArray.h>
 
+#include <cstring>
+#include <limits>
+#include <memory>
 #include <string>
 
 #include "deepcut/core/errors.h"
 
 namespace deepcut {
 namespace {
+
+/// Larger images are refused rather than decoded (a small file can claim a huge size).
+constexpr long long kMaxPixels = 64ll * 1024 * 1024;
 
 bool starts_with(const std::vector<unsigned char>& data, std::initializer_list<unsigned char> magic) {
   if (data.size() < magic.size()) return false;
@@ -25,52 +28,47 @@ bool starts_with(const std::vector<unsigned char>& data, std::initializer_list<u
   return true;
 }
 
-/// Records that the reader reported an error, instead of letting VTK print it.
-void note_error(vtkObject*, unsigned long, void* client_data, void*) {
-  *static_cast<bool*>(client_data) = true;
-}
-
 }  // namespace
 
 vtkSmartPointer<vtkTexture> make_texture(const Image& image) {
   const std::string what = "image '" + (image.name.empty() ? std::string("(unnamed)") : image.name) + "'";
-  vtkSmartPointer<vtkImageReader2> reader;
-  if (starts_with(image.data, {0x89, 'P', 'N', 'G'}))
-    reader = vtkSmartPointer<vtkPNGReader>::New();
-  else if (starts_with(image.data, {0xFF, 0xD8, 0xFF}))
-    reader = vtkSmartPointer<vtkJPEGReader>::New();
-  else
+  if (!starts_with(image.data, {0x89, 'P', 'N', 'G'}) && !starts_with(image.data, {0xFF, 0xD8, 0xFF}))
     throw Error(ErrorCode::InvalidInput, what + ": not a PNG or JPEG image (" +
                                              (image.mime_type.empty() ? "no MIME type" : image.mime_type) +
                                              ")");
-  bool failed = false;
-  vtkNew<vtkCallbackCommand> on_error;
-  on_error->SetCallback(note_error);
-  on_error->SetClientData(&failed);
-  reader->AddObserver(vtkCommand::ErrorEvent, on_error);
-  reader->AddObserver(vtkCommand::WarningEvent, on_error);
-  reader->SetMemoryBuffer(image.data.data());
-  reader->SetMemoryBufferLength(static_cast<vtkIdType>(image.data.size()));
-  // glTF puts v = 0 at the top row; the readers put the top row last, so flip it first.
-  vtkNew<vtkImageFlip> flip;
-  flip->SetFilteredAxis(1);
-  flip->SetInputConnection(reader->GetOutputPort());
-  flip->AddObserver(vtkCommand::ErrorEvent, on_error);
-  flip->Update();
-  vtkImageData* decoded = flip->GetOutput();
-  int dims[3] = {0, 0, 0};
-  decoded->GetDimensions(dims);
-  if (failed || dims[0] <= 0 || dims[1] <= 0 || decoded->GetNumberOfScalarComponents() < 1)
-    throw Error(ErrorCode::InvalidInput, what + ": the image data does not decode");
-  vtkNew<vtkImageData> owned;
-  owned->DeepCopy(decoded);
+  if (image.data.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+    throw Error(ErrorCode::InvalidInput, what + ": too large");
+  // stb_image reports failures as return values (never aborts or prints), unlike libpng
+  // through VTK's readers.
+  const auto size = static_cast<int>(image.data.size());
+  int width = 0, height = 0, channels = 0;
+  if (!stbi_info_from_memory(image.data.data(), size, &width, &height, &channels))
+    throw Error(ErrorCode::InvalidInput,
+                what + ": the image data does not decode (" + stbi_failure_reason() + ")");
+  if (width <= 0 || height <= 0 || static_cast<long long>(width) * height > kMaxPixels)
+    throw Error(ErrorCode::InvalidInput, what + ": " + std::to_string(width) + " x " +
+                                             std::to_string(height) + " pixels is too large to show");
+  std::unique_ptr<unsigned char, void (*)(void*)> pixels(
+      stbi_load_from_memory(image.data.data(), size, &width, &height, &channels, 0), stbi_image_free);
+  if (!pixels || channels < 1 || channels > 4)
+    throw Error(ErrorCode::InvalidInput,
+                what + ": the image data does not decode (" + stbi_failure_reason() + ")");
+
+  // stb's first row is the top of the picture, where glTF puts v = 0; VTK's t = 0 is the first
+  // row of the image data. So rows go over as they are and glTF UVs apply unchanged.
+  vtkNew<vtkImageData> data;
+  data->SetDimensions(width, height, 1);
+  vtkNew<vtkUnsignedCharArray> scalars;
+  scalars->SetNumberOfComponents(channels);
+  scalars->SetNumberOfTuples(static_cast<vtkIdType>(width) * height);
+  std::memcpy(scalars->GetPointer(0), pixels.get(), static_cast<std::size_t>(width) * height * channels);
+  data->GetPointData()->SetScalars(scalars);
   auto texture = vtkSmartPointer<vtkTexture>::New();
-  texture->SetInputData(owned);
+  texture->SetInputData(data);
   texture->InterpolateOn();
   texture->MipmapOn();
   texture->RepeatOn();
   texture->EdgeClampOff();
-  texture->SetColorModeToDirectScalars();
   return texture;
 }
 

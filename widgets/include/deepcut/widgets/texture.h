@@ -10,9 +10,10 @@
 
 namespace deepcut {
 
-/// Decodes `image` and wraps it in a texture (linear filtering, mipmaps, repeat), flipped so
+/// Decodes `image` and wraps it in a texture (linear filtering, mipmaps, repeat), laid out so
 /// that glTF texture coordinates (v pointing down the image) map as in glTF.
-/// @throws Error{InvalidInput} when the bytes are neither PNG nor JPEG, or do not decode.
+/// @throws Error{InvalidInput} when the bytes are neither PNG nor JPEG, do not decode, or claim
+///         more than 64 Mpixels.
 vtkSmartPointer<vtkTexture> make_texture(const Image& image);
 
 }  // namespace deepcut
