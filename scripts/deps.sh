@@ -22,6 +22,7 @@ readonly APT_PACKAGES=(
   build-essential cmake ninja-build pkg-config git
   libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  python3
   libvtk9-dev libvtk9-qt-dev qtbase5-dev
   xvfb xauth libgl1-mesa-dri fonts-dejavu-core
 )

@@ -250,6 +250,18 @@ TEST_F(HostileFileSystemTest, a_symlink_out_of_the_folder_is_refused_and_not_rea
   EXPECT_NE(r.err.find("outside the model's folder"), std::string::npos) << r.err;
 }
 
+TEST_F(HostileFileSystemTest, a_file_name_with_a_newline_still_gives_one_line) {
+  const std::string path = dir_ + "/two\nlines.gltf";
+  fs::copy_file(kBadDir + "/position_nan.gltf", path);
+  for (const std::string& cmd : {"info " + test::quote(path), "convert " + test::quote(path) + " -o " + test::quote(dir_ + "/o.glb")}) {
+    const auto r = run_limited(cmd);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_EQ(line_count(r.err), 1u) << r.err;
+    EXPECT_NE(r.err.find("two lines.gltf"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("is not finite"), std::string::npos) << r.err;
+  }
+}
+
 TEST_F(HostileFileSystemTest, a_fifo_is_refused_instead_of_blocking) {
   // Reading a FIFO with no writer would block forever; the timeout in run_limited turns a hang
   // into exit code 124.

@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+#
+# Builds DeepCut Studio with AddressSanitizer + UndefinedBehaviorSanitizer into build-asan/ and
+# runs the whole test suite there (benchmarks and fuzzers excluded). Independent of CTest labels
+# and of the default build/: what docs/RELIABILITY.md reports as "the sanitizer run".
+#
+#   bash scripts/sanitize.sh [ctest arguments...]     e.g.  bash scripts/sanitize.sh -R BadInput
+#
+# Environment:
+#   DEEPCUT_ASAN_BUILD  build folder (default: build-asan in the repository)
+#   DEEPCUT_JOBS        parallel build jobs (default: nproc)
+# Any sanitizer report aborts the process that made it, so the test running it fails; the
+# reports are in the ctest log (build-asan/ctest-output.log).
+set -euo pipefail
+
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd -P)"
+BUILD="${DEEPCUT_ASAN_BUILD:-$ROOT/build-asan}"
+
+log() { echo "[deepcut] $*" >&2; }
+
+bash "$ROOT/scripts/deps.sh"
+
+# Leaks are reported too; third-party libraries that keep allocations until exit (Mesa, Qt,
+# fontconfig, VTK's factories) are suppressed in scripts/lsan.supp, our own code is not.
+export ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}abort_on_error=1:detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1"
+export UBSAN_OPTIONS="${UBSAN_OPTIONS:+$UBSAN_OPTIONS:}print_stacktrace=1:halt_on_error=1"
+export LSAN_OPTIONS="${LSAN_OPTIONS:+$LSAN_OPTIONS:}suppressions=$ROOT/scripts/lsan.supp:print_suppressions=0"
+
+log "sanitize: configuring $BUILD (ASan + UBSan, RelWithDebInfo)"
+# Warnings are not errors here (the default build enforces them; sanitizer instrumentation makes
+# gcc warn spuriously).
+cmake -S "$ROOT" -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDEEPCUT_SANITIZE=ON -DDEEPCUT_STRICT=OFF
+jobs="${DEEPCUT_JOBS:-$(nproc)}"
+log "sanitize: building with $jobs jobs"
+cmake --build "$BUILD" -j"$jobs"
+
+log "sanitize: running ctest (benchmarks and fuzzers excluded)"
+ctest_log="$BUILD/ctest-output.log"
+set +e
+ctest --test-dir "$BUILD" --output-on-failure --no-tests=error -j2 --timeout 1800 -LE 'bench|fuzz' "$@" 2>&1 |
+  tee "$ctest_log"
+status=${PIPESTATUS[0]}
+set -e
+if [[ $status -eq 0 ]]; then
+  log "sanitize: PASSED, no sanitizer report (log in $ctest_log)"
+else
+  log "sanitize: FAILED (ctest exit $status; sanitizer reports, if any, in $ctest_log)"
+fi
+exit "$status"
