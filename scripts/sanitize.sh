@@ -10,6 +10,8 @@
 # Environment:
 #   DEEPCUT_ASAN_BUILD  build folder (default: build-asan in the repository)
 #   DEEPCUT_JOBS        parallel build jobs (default: nproc)
+#   DEEPCUT_CMAKE_ARGS  extra configure arguments, whitespace-separated (e.g. "-DDEEPCUT_BUILD_VTK=OFF"
+#                       for a quicker core + CLI run without the VTK widgets and the studio)
 # Any sanitizer report aborts the process that made it, so the test running it fails; the
 # reports are in the ctest log (build-asan/ctest-output.log).
 set -euo pipefail
@@ -27,10 +29,15 @@ export ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}abort_on_error=1:detect_leak
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:+$UBSAN_OPTIONS:}print_stacktrace=1:halt_on_error=1"
 export LSAN_OPTIONS="${LSAN_OPTIONS:+$LSAN_OPTIONS:}suppressions=$ROOT/scripts/lsan.supp:print_suppressions=0"
 
-log "sanitize: configuring $BUILD (ASan + UBSan, RelWithDebInfo)"
+extra_args=()
+if [[ -n "${DEEPCUT_CMAKE_ARGS:-}" ]]; then
+  read -r -a extra_args <<<"$DEEPCUT_CMAKE_ARGS"
+fi
+
+log "sanitize: configuring $BUILD (ASan + UBSan, RelWithDebInfo${extra_args[*]:+, ${extra_args[*]}})"
 # Warnings are not errors here (the default build enforces them; sanitizer instrumentation makes
 # gcc warn spuriously).
-cmake -S "$ROOT" -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDEEPCUT_SANITIZE=ON -DDEEPCUT_STRICT=OFF
+cmake -S "$ROOT" -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDEEPCUT_SANITIZE=ON -DDEEPCUT_STRICT=OFF "${extra_args[@]}"
 jobs="${DEEPCUT_JOBS:-$(nproc)}"
 log "sanitize: building with $jobs jobs"
 cmake --build "$BUILD" -j"$jobs"
