@@ -111,6 +111,9 @@ int screenshot(MainWindow& window, const StudioOptions& o) {
   while ((!window.windowHandle() || !window.windowHandle()->isExposed()) && clock.elapsed() < 10000)
     QApplication::processEvents(QEventLoop::AllEvents, 50);
   for (int i = 0; i < 5; ++i) QApplication::processEvents(QEventLoop::AllEvents, 20);
+  // Frame again now that the view has its final size (the aspect ratio decides the framing).
+  window.view()->reset_camera();
+  if (o.frame) window.frame_selected();
   const QImage image = window.screenshot();
   if (image.isNull())
     throw Error(ErrorCode::InvariantViolated, "screenshot: the window could not be grabbed");
@@ -127,6 +130,18 @@ int screenshot(MainWindow& window, const StudioOptions& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // --help, and a clear message instead of Qt's abort when there is no display at all.
+  for (int i = 1; i < argc; ++i)
+    if (std::string(argv[i]) == "-h" || std::string(argv[i]) == "--help") {
+      std::cout << deepcut::studio::studio_usage();
+      return 0;
+    }
+  if (qEnvironmentVariableIsEmpty("DISPLAY") && qEnvironmentVariableIsEmpty("WAYLAND_DISPLAY") &&
+      qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM")) {
+    std::cerr << "deepcut-studio: no display; run it under xvfb-run -a -s \"-screen 0 1600x1000x24\" "
+                 "(scripts/run.sh does)\n";
+    return 1;
+  }
   // Qt warns on stderr when XDG_RUNTIME_DIR is unset (xvfb-run, CI); give it a private one so
   // stderr keeps to the one-line messages the exit codes promise.
   if (qEnvironmentVariableIsEmpty("XDG_RUNTIME_DIR")) {
@@ -151,10 +166,6 @@ int main(int argc, char** argv) {
     std::cerr << "deepcut-studio: " << e.what() << " (see deepcut-studio --help)\n";
     return 2;
   }
-  if (options.help) {
-    std::cout << deepcut::studio::studio_usage();
-    return 0;
-  }
 
   try {
     deepcut::studio::MainWindowOptions window_options;
@@ -163,6 +174,7 @@ int main(int argc, char** argv) {
     if (!options.screenshot.empty()) return screenshot(window, options);
 
     window.show();
+    QApplication::processEvents();  // lay the window out, so the first framing sees the view's size
     std::string path;
     try {
       path = model_path(options);

@@ -537,7 +537,7 @@ void MainWindow::refresh_overlays() {
   plugins::Inspector* active = inspector();
   view_->set_overlay(SceneView::Layer::Inspector, active ? active->overlay() : Overlay{});
   std::vector<std::string> caption = {QFileInfo(path_).fileName().toStdString() + "  |  " +
-                                      (active ? active->title() : std::string("Shaded"))};
+                                      (active ? active->title() : std::string("Materials"))};
   if (active)
     for (const std::string& line : active->summary()) caption.push_back(line);
   view_->set_caption(caption);

@@ -143,18 +143,42 @@ void SceneView::Impl::rebuild_normals() {
   for (const PieceActor& piece : pieces) total += static_cast<std::size_t>(piece.poly->GetNumberOfPoints());
   // Big meshes: draw every k-th normal so the view stays readable and responsive.
   const std::size_t stride = std::max<std::size_t>(1, total / 60000);
+  auto add_line = [&](const double p[3], const double d[3]) {
+    const vtkIdType a = points->InsertNextPoint(p);
+    const vtkIdType b =
+        points->InsertNextPoint(p[0] + length * d[0], p[1] + length * d[1], p[2] + length * d[2]);
+    const vtkIdType ids[2] = {a, b};
+    lines->InsertNextCell(2, ids);
+  };
   for (const PieceActor& piece : pieces) {
     vtkDataArray* n = piece.poly->GetPointData()->GetNormals();
-    if (!n) continue;
-    for (vtkIdType i = 0; i < piece.poly->GetNumberOfPoints(); i += static_cast<vtkIdType>(stride)) {
-      double p[3], d[3];
-      piece.poly->GetPoint(i, p);
-      n->GetTuple(i, d);
-      const vtkIdType a = points->InsertNextPoint(p);
-      const vtkIdType b =
-          points->InsertNextPoint(p[0] + length * d[0], p[1] + length * d[1], p[2] + length * d[2]);
-      const vtkIdType ids[2] = {a, b};
-      lines->InsertNextCell(2, ids);
+    if (n) {
+      for (vtkIdType i = 0; i < piece.poly->GetNumberOfPoints(); i += static_cast<vtkIdType>(stride)) {
+        double p[3], d[3];
+        piece.poly->GetPoint(i, p);
+        n->GetTuple(i, d);
+        add_line(p, d);
+      }
+      continue;
+    }
+    // No normals in the file: show the face normals (what the renderer shades with) at the
+    // face centres.
+    vtkCellArray* polys = piece.poly->GetPolys();
+    vtkIdType npts = 0;
+    const vtkIdType* ids = nullptr;
+    vtkIdType cell = 0;
+    for (polys->InitTraversal(); polys->GetNextCell(npts, ids); ++cell) {
+      if (npts != 3 || cell % static_cast<vtkIdType>(stride) != 0) continue;
+      double a[3], b[3], c[3];
+      piece.poly->GetPoint(ids[0], a);
+      piece.poly->GetPoint(ids[1], b);
+      piece.poly->GetPoint(ids[2], c);
+      const glm::dvec3 pa(a[0], a[1], a[2]), pb(b[0], b[1], b[2]), pc(c[0], c[1], c[2]);
+      const glm::dvec3 cross = glm::cross(pb - pa, pc - pa);
+      if (glm::length(cross) <= 0.0) continue;
+      const glm::dvec3 centre = (pa + pb + pc) / 3.0, normal = glm::normalize(cross);
+      const double p[3] = {centre.x, centre.y, centre.z}, d[3] = {normal.x, normal.y, normal.z};
+      add_line(p, d);
     }
   }
   vtkNew<vtkPolyData> poly;
@@ -447,7 +471,9 @@ void SceneView::reset_camera() {
   camera->SetViewUp(0.0, 1.0, 0.0);
   const double bounds[6] = {box.min.x, box.max.x, box.min.y, box.max.y, box.min.z, box.max.z};
   d.renderer->ResetCamera(bounds);
-  camera->Dolly(1.08);
+  // The bounding sphere leaves a wide margin in a wide view; use a little of it.
+  const QSize size = impl_->widget->size();
+  if (size.width() >= size.height()) camera->Dolly(1.08);
   d.renderer->ResetCameraClippingRange(bounds);
 }
 
