@@ -323,6 +323,49 @@ TEST(DrillTest, blind_hole_and_start_inside_get_a_disk) {
   EXPECT_EQ(check_drill(tube, blind, {}, 0, false).round_holes, 1u);
 }
 
+TEST(DrillTest, coarse_fox_gets_a_round_hole_with_uvs_inside_the_islands_it_crosses) {
+  const Model fox = read_gltf(std::string(DEEPCUT_ASSETS_DIR) + "/models/Fox/Fox.glb");
+  const SurfaceMesh& input = fox.meshes[0].primitives[0].mesh;
+  ASSERT_EQ(input.face_count(), 576u);
+  const std::size_t joints = fox.skins[0].joints.size();
+  for (const Cylinder& c :
+       {Cylinder{{-40, 45, 0}, {40, 45, 0}, 4.0f}, Cylinder{{-40, 40, -30}, {40, 42, -25}, 6.0f},
+        Cylinder{{0, 120, 10}, {0, -20, 10}, 3.0f}}) {
+    const Checked k = check_drill(input, c, {}, joints, false);
+    EXPECT_GE(k.round_holes, 1u);
+    SurfaceMesh mesh = input;
+    const DrillResult r = drill_mesh(mesh, mesh.positions(), c);
+    ASSERT_EQ(r.status, OpStatus::Ok);
+    for (const DrillHole& h : r.holes) {
+      if (h.closed && std::abs(h.winding) == 1) {
+        EXPECT_GE(h.rim.size(), 32u);
+      }
+    }
+    // Every new corner's UV is a convex combination of its parent triangle's UVs: inside the
+    // texture island the parent belongs to, never stretched across a seam.
+    const auto& uv = mesh.corner_attrs().get<glm::vec2>(attr::kUv0);
+    std::size_t checked = 0;
+    for (const Edit& e : r.log.edits) {
+      const auto* a = std::get_if<FaceAdded>(&e);
+      if (!a || !a->parent.valid()) continue;
+      const glm::vec2 p0 = uv[SurfaceMesh::corner(a->parent, 0)], p1 = uv[SurfaceMesh::corner(a->parent, 1)],
+                      p2 = uv[SurfaceMesh::corner(a->parent, 2)];
+      const float area = (p1.x - p0.x) * (p2.y - p0.y) - (p2.x - p0.x) * (p1.y - p0.y);
+      if (std::abs(area) < 1e-12f) continue;
+      for (int k2 = 0; k2 < 3; ++k2) {
+        const glm::vec2 q = uv[SurfaceMesh::corner(a->f, k2)];
+        const float b1 = ((q.x - p0.x) * (p2.y - p0.y) - (p2.x - p0.x) * (q.y - p0.y)) / area;
+        const float b2 = ((p1.x - p0.x) * (q.y - p0.y) - (q.x - p0.x) * (p1.y - p0.y)) / area;
+        EXPECT_GE(b1, -1e-3f);
+        EXPECT_GE(b2, -1e-3f);
+        EXPECT_LE(b1 + b2, 1.0f + 1e-3f);
+        ++checked;
+      }
+    }
+    EXPECT_GT(checked, 0u);
+  }
+}
+
 TEST(DrillTest, random_drills_on_every_asset_keep_all_invariants) {
   const unsigned seed = 20261122;
   std::printf("drill random seed %u\n", seed);

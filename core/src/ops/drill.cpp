@@ -19,7 +19,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <string>
 #include <tuple>
 #include <unordered_map>
@@ -58,42 +57,6 @@ double incircle(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c, c
 }
 
 using LocalTri = std::array<std::uint32_t, 3>;
-
-// Lawson flips towards the Delaunay triangulation of a triangulated polygon: edges used by two
-// triangles are interior (the polygon's own edges are used once and never flip).
-void delaunay_flips(const std::vector<glm::dvec2>& pts, std::vector<LocalTri>& tris) {
-  if (tris.size() < 2) return;
-  double scale = 0.0;
-  for (const auto& t : tris)
-    for (int k = 0; k < 3; ++k) scale = std::max(scale, glm::length(pts[t[k]] - pts[t[(k + 1) % 3]]));
-  const double eps = 1e-12 * scale * scale * scale * scale;
-  const std::size_t max_passes = 4 * tris.size() + 8;
-  for (std::size_t pass = 0; pass < max_passes; ++pass) {
-    std::map<std::pair<std::uint32_t, std::uint32_t>, std::pair<std::size_t, int>>
-        half;  // directed edge -> tri, k
-    for (std::size_t i = 0; i < tris.size(); ++i)
-      for (int k = 0; k < 3; ++k) half[{tris[i][k], tris[i][(k + 1) % 3]}] = {i, k};
-    bool flipped = false;
-    for (const auto& [e, tk] : half) {
-      if (e.first > e.second) continue;
-      const auto it = half.find({e.second, e.first});
-      if (it == half.end()) continue;
-      const std::size_t t1 = tk.first, t2 = it->second.first;
-      if (t1 == t2) continue;
-      const std::uint32_t p = e.first, q = e.second;
-      const std::uint32_t r = tris[t1][(tk.second + 2) % 3], s = tris[t2][(it->second.second + 2) % 3];
-      if (r == s) continue;
-      // tri1 = (p, q, r), tri2 = (q, p, s); flip to (p, s, r) and (s, q, r).
-      if (incircle(pts[p], pts[q], pts[r], pts[s]) <= eps) continue;
-      if (orient(pts[p], pts[s], pts[r]) <= 0.0 || orient(pts[s], pts[q], pts[r]) <= 0.0) continue;
-      tris[t1] = {p, s, r};
-      tris[t2] = {s, q, r};
-      flipped = true;
-      break;  // the edge map is stale now
-    }
-    if (!flipped) return;
-  }
-}
 
 // Ear clipping of one counter-clockwise, weakly simple polygon (indices into `pts`; a bridged
 // hole repeats two points). An ear must have positive area and no other polygon point in its
@@ -200,13 +163,15 @@ class FlipTriangulation {
   FlipTriangulation(std::vector<glm::dvec2>& pts, std::vector<LocalTri> tris)
       : pts_(pts), tris_(std::move(tris)) {
     nbr_.assign(tris_.size(), {-1, -1, -1});
-    std::map<std::pair<std::uint32_t, std::uint32_t>, std::pair<int, int>> half;
+    std::unordered_map<std::uint64_t, int> half;
+    half.reserve(3 * tris_.size());
+    auto key = [](std::uint32_t a, std::uint32_t b) { return (std::uint64_t(a) << 32) | b; };
     for (std::size_t i = 0; i < tris_.size(); ++i)
-      for (int k = 0; k < 3; ++k) half[{tris_[i][k], tris_[i][(k + 1) % 3]}] = {static_cast<int>(i), k};
+      for (int k = 0; k < 3; ++k) half[key(tris_[i][k], tris_[i][(k + 1) % 3])] = static_cast<int>(i);
     for (std::size_t i = 0; i < tris_.size(); ++i)
       for (int k = 0; k < 3; ++k) {
-        const auto it = half.find({tris_[i][(k + 1) % 3], tris_[i][k]});
-        if (it != half.end() && it->second.first != static_cast<int>(i)) nbr_[i][k] = it->second.first;
+        const auto it = half.find(key(tris_[i][(k + 1) % 3], tris_[i][k]));
+        if (it != half.end() && it->second != static_cast<int>(i)) nbr_[i][k] = it->second;
       }
   }
 
@@ -449,6 +414,8 @@ class Driller {
     samples_ = options.min_rim_edges;
     sep_ = 0.3 * 2.0 * cyl_.r * std::sin(kPi / samples_);
     first_new_ = static_cast<std::uint32_t>(mesh.vertex_count());
+    for (int k = 0; k < samples_; ++k)
+      ruling_base_.push_back(cyl_.a + cyl_.r * cyl_.ruling(2.0 * kPi * k / samples_));
   }
 
   DrillResult run();
@@ -487,6 +454,7 @@ class Driller {
   int samples_ = 32;
   std::uint32_t first_new_ = 0;
   std::vector<glm::dvec3> added_posed_;
+  std::vector<glm::dvec3> ruling_base_;  // where each sampled ruling starts (s = 0)
   std::unordered_map<std::uint64_t, EdgeCut> edges_;
   std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> rim_next_;  // directed rim edges
   std::size_t crossings_ = 0, removed_ = 0, added_ = 0;
@@ -678,8 +646,7 @@ void Driller::process_face(FaceId f) {
   }
   if (!pc.parallel) {
     for (int k = 0; k < samples_; ++k) {
-      const double th = 2.0 * kPi * k / samples_;
-      const glm::dvec3 base = cyl_.a + cyl_.r * cyl_.ruling(th);
+      const glm::dvec3& base = ruling_base_[static_cast<std::size_t>(k)];
       const double sv = glm::dot(pc.o - base, pc.n) / pc.dn;
       if (sv < 0.0 || sv > cyl_.len) continue;
       consider(base + sv * cyl_.d, false);
@@ -744,8 +711,14 @@ void Driller::emit_polygon(FaceId f, const Triangle& tri, std::vector<LocalPoint
                            const std::vector<std::vector<std::uint32_t>>& loops) {
   std::vector<glm::dvec2> q(pts.size());
   for (std::size_t i = 0; i < pts.size(); ++i) q[i] = pts[i].q;
-  auto tris = triangulate(q, loops);
-  delaunay_flips(q, tris);
+  std::vector<LocalTri> tris;
+  if (loops.size() == 1 && loops[0].size() == 3) {
+    tris.push_back({loops[0][0], loops[0][1], loops[0][2]});
+  } else {
+    FlipTriangulation ft(q, triangulate(q, loops));
+    ft.make_delaunay();
+    tris = ft.triangles();
+  }
   for (auto& lp : pts) vertex_of(tri, lp);
   for (const auto& t : tris) {
     editor_.add_face_from({pts[t[0]].v, pts[t[1]].v, pts[t[2]].v}, f,
@@ -1192,6 +1165,20 @@ void Driller::build_walls(DrillResult& result) {
       poly = bridge(local, poly, holes_local[k], others);
     }
     clip_polygon(local, poly, tris);
+    // Crossing-number test against the bridged polygon (its bridge edges cancel out).
+    const std::vector<glm::dvec2> outline = [&] {
+      std::vector<glm::dvec2> o2;
+      for (auto i : poly) o2.push_back(local[i]);
+      return o2;
+    }();
+    auto inside_polygon = [&](const glm::dvec2& p) {
+      bool in = false;
+      for (std::size_t i = 0, j = outline.size() - 1; i < outline.size(); j = i++) {
+        const auto &a = outline[i], &b = outline[j];
+        if ((a.y > p.y) != (b.y > p.y) && p.x < (b.x - a.x) * (p.y - a.y) / (b.y - a.y) + a.x) in = !in;
+      }
+      return in;
+    };
     FlipTriangulation ft(local, std::move(tris));
     ft.make_delaunay();
     const std::size_t loop_points = local.size();
@@ -1202,8 +1189,9 @@ void Driller::build_walls(DrillResult& result) {
       const double k0 = std::floor((th_lo - offset) / step), k1 = std::ceil((th_hi - offset) / step);
       for (double k = k0; k <= k1; k += 1.0) {
         const double th = k * step + offset;
-        if (near_boundary(th, sv)) continue;
-        if (!ft.insert(glm::dvec2(sv, cyl_.r * th))) continue;
+        const glm::dvec2 z(sv, cyl_.r * th);
+        if (!inside_polygon(z) || near_boundary(th, sv)) continue;
+        if (!ft.insert(z)) continue;
         global.push_back(add_steiner(th, sv));
       }
     }
@@ -1338,6 +1326,7 @@ DrillResult Driller::run() {
       if (near_axis(t)) candidates.push_back(f);
     });
   }
+  edges_.reserve(2 * candidates.size() + 16);
   for (FaceId f : candidates) process_face(f);
   if (editor_.log().empty()) {
     result.status = OpStatus::NoIntersection;

@@ -11,8 +11,8 @@
 
 #include "deepcut/core/model.h"
 #include "deepcut/core/ops/cut.h"
-#include "deepcut/core/ops/tear.h"
 #include "deepcut/core/ops/drill.h"
+#include "deepcut/core/ops/tear.h"
 
 namespace deepcut {
 
@@ -32,7 +32,7 @@ struct TearOperation {
   TearOptions options;
 };
 
-/// One operation's parameters; tear joins as it lands.
+/// One operation's parameters.
 using OperationParams = std::variant<CutOperation, DrillOperation, TearOperation>;
 
 struct Operation {
@@ -40,7 +40,7 @@ struct Operation {
   /// Animation whose pose the tool was placed against (-1: the rest pose). In history files an
   /// absent "animation" means 0, the model's first animation (the rest pose when it has none).
   int animation = -1;
-  float time = 0.0f;   ///< seconds into that animation
+  float time = 0.0f;  ///< seconds into that animation
 };
 
 struct History {
