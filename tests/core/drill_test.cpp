@@ -5,12 +5,14 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <random>
 #include <set>
 
 #include "deepcut/core/adjacency.h"
 #include "deepcut/core/io/gltf.h"
+#include "deepcut/core/ops/cut.h"
 #include "deepcut/core/skinning.h"
 #include "deepcut/core/spatial_index.h"
 #include "deepcut/core/validate.h"
@@ -364,6 +366,109 @@ TEST(DrillTest, coarse_fox_gets_a_round_hole_with_uvs_inside_the_islands_it_cros
     }
     EXPECT_GT(checked, 0u);
   }
+}
+
+// Boundary edges grouped into connected chains (union-find over their vertices).
+std::size_t boundary_components(const Adjacency& adj) {
+  std::map<std::uint32_t, std::uint32_t> parent;
+  std::function<std::uint32_t(std::uint32_t)> root = [&](std::uint32_t x) {
+    if (!parent.count(x)) parent[x] = x;
+    return parent[x] == x ? x : parent[x] = root(parent[x]);
+  };
+  for (const Edge& e : adj.boundary_edges()) parent[root(e.a.index)] = root(e.b.index);
+  std::set<std::uint32_t> roots;
+  for (const auto& [v, p] : parent) roots.insert(root(v));
+  return roots.size();
+}
+
+TEST(DrillTest, overlapping_holes_and_a_cut_rim_merge_into_one_boundary) {
+  const SurfaceMesh grid = test::make_grid(6, 6);
+  const Cylinder first{{0.4f, 0.5f, -1}, {0.4f, 0.5f, 1}, 0.2f},
+      second{{0.62f, 0.52f, -1}, {0.62f, 0.52f, 1}, 0.18f};
+  SurfaceMesh mesh = grid;
+  Adjacency adj = Adjacency::build(mesh);
+  for (const Cylinder& c : {first, second}) {
+    const DrillResult r = drill_mesh(mesh, mesh.positions(), c);
+    ASSERT_EQ(r.status, OpStatus::Ok);
+    adj.apply(r.log);
+  }
+  test::expect_adjacency_matches_rebuild(adj, mesh);
+  test::expect_valid(mesh, 2);
+  EXPECT_EQ(boundary_components(adj), 2u) << "the outer border and one merged hole";
+  for (const Cylinder& c : {first, second}) {
+    const Axis ax(c);
+    mesh.for_each_face([&](FaceId, const Triangle& t) {
+      const glm::vec3 m = (mesh.position(t[0]) + mesh.position(t[1]) + mesh.position(t[2])) / 3.0f;
+      EXPECT_GE(ax.rho(m), 0.99 * ax.r);
+    });
+  }
+  // Every hole vertex lies on one of the two circles.
+  for (const Edge& e : adj.boundary_edges())
+    for (VertexId v : {e.a, e.b}) {
+      const glm::vec3 p = mesh.position(v);
+      const bool border = p.x <= 1e-6f || p.y <= 1e-6f || p.x >= 1 - 1e-6f || p.y >= 1 - 1e-6f;
+      const double d1 = std::abs(Axis(first).rho(p) - first.radius) / first.radius;
+      const double d2 = std::abs(Axis(second).rho(p) - second.radius) / second.radius;
+      EXPECT_TRUE(border || d1 <= 0.01 || d2 <= 0.01) << p.x << "," << p.y;
+    }
+  // Across a cut: the two pieces each get half a hole whose rims end on the cut line.
+  SurfaceMesh cut = grid;
+  Adjacency cadj = Adjacency::build(cut);
+  cadj.apply(cut_mesh(cut, cut.positions(), Plane{{0.5f, 0, 0}, {1, 0.1f, 0}}).log);
+  const DrillResult r = drill_mesh(cut, cut.positions(), first);
+  ASSERT_EQ(r.status, OpStatus::Ok);
+  cadj.apply(r.log);
+  test::expect_adjacency_matches_rebuild(cadj, cut);
+  test::expect_valid(cut, 2);
+  EXPECT_EQ(boundary_components(cadj), 2u) << "each piece keeps one border, now with a bite out of it";
+  std::size_t open = 0;
+  for (const DrillHole& h : r.holes) open += !h.closed;
+  EXPECT_EQ(open, 2u) << "one rim chain per piece, ending on the cut";
+}
+
+TEST(DrillTest, posed_drill_puts_rims_and_walls_on_the_cylinder_in_that_pose) {
+  Model model = test::make_skinned_tube_model();  // tube along +y, bends from y = 2 up
+  const float t = 1.0f;                           // the bend's extreme
+  const auto world = world_matrices(model, sample_pose(model, 0, t));
+  const auto posed_before = posed_positions(model, 0, model.meshes[0].primitives[0].mesh, world);
+  // An axis across the bent upper part, through the centre of the posed ring at bind y = 3.5.
+  const auto& bind_positions = model.meshes[0].primitives[0].mesh.positions();
+  glm::vec3 centre(0.0f);
+  int n = 0;
+  for (std::size_t v = 0; v < bind_positions.size(); ++v)
+    if (std::abs(bind_positions[v].y - 3.5f) < 1e-4f &&
+        glm::length(glm::vec2(bind_positions[v].x, bind_positions[v].z)) > 0.1f) {
+      centre += posed_before[v];
+      ++n;
+    }
+  ASSERT_GT(n, 0);
+  centre /= float(n);
+  const Cylinder c{centre + glm::vec3(0, 0, -3), centre + glm::vec3(0, 0, 3), 0.2f};
+  DrillOptions options;
+  options.wall = true;
+  const ModelDrillResult r = drill_model(model, c, options, 0, t);
+  ASSERT_EQ(r.status, OpStatus::Ok);
+  EXPECT_EQ(r.rim_vertices.size(), 2u);
+  ASSERT_EQ(model.meshes[0].primitives.size(), 2u) << "body and wall";
+  const Axis ax(c);
+  for (const auto& prim : model.meshes[0].primitives) {
+    test::expect_valid(prim.mesh, 2);
+    const auto posed = posed_positions(model, 0, prim.mesh, world);
+    const Adjacency adj = Adjacency::build(prim.mesh);
+    std::size_t checked = 0;
+    for (const Edge& e : adj.boundary_edges())
+      for (VertexId v : {e.a, e.b}) {
+        EXPECT_NEAR(ax.rho(posed[v.index]), ax.r, 0.01 * ax.r);
+        ++checked;
+      }
+    EXPECT_GT(checked, 60u);
+  }
+  // The wall's own vertices sit on the cylinder in the pose too (inverse skinning).
+  const auto wall_posed = posed_positions(model, 0, model.meshes[0].primitives[1].mesh, world);
+  for (const auto& p : wall_posed) EXPECT_NEAR(ax.rho(p), ax.r, 0.01 * ax.r);
+  // The same axis in the bind pose would miss the bent part: the pose matters.
+  SurfaceMesh bind = test::make_skinned_tube_model().meshes[0].primitives[0].mesh;
+  EXPECT_EQ(drill_mesh(bind, bind.positions(), c).status, OpStatus::NoIntersection);
 }
 
 TEST(DrillTest, random_drills_on_every_asset_keep_all_invariants) {

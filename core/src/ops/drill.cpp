@@ -429,6 +429,7 @@ class Driller {
   void emit_polygon(FaceId f, const Triangle& tri, std::vector<LocalPoint>& pts,
                     const std::vector<std::vector<std::uint32_t>>& loops);
   VertexId vertex_of(const Triangle& tri, LocalPoint& lp);
+  void place(VertexId v, const glm::dvec3& target);
   void collect_holes(DrillResult& result);
   void build_walls(DrillResult& result);
 
@@ -522,8 +523,10 @@ const EdgeCut& Driller::edge(VertexId a, VertexId b) {
       for (int i = 0; i < n; ++i) {
         e.t[i] = cuts[i];
         e.v[i] = editor_.add_vertex_on_edge(e.lo, e.hi, static_cast<float>(cuts[i]));
-        // The exact point on the cylinder (the bind vertex uses the same parameter).
+        // The exact point on the cylinder; the bind vertex uses the same parameter, corrected
+        // through its own (blended) skinning when the pose is not the bind pose.
         added_posed_.push_back(glm::mix(p, q, cuts[i]));
+        place(e.v[i], added_posed_.back());
         ++crossings_;
       }
     }
@@ -531,10 +534,19 @@ const EdgeCut& Driller::edge(VertexId a, VertexId b) {
   return edges_.emplace(key, e).first->second;
 }
 
+// Skinning is not linear in the blended weights, so a new vertex interpolated in bind space
+// would land beside its posed target: with an unposer it is placed by inverse skinning.
+void Driller::place(VertexId v, const glm::dvec3& target) {
+  if (!unpose_) return;
+  const glm::vec3 bind = unpose_(mesh_, v, glm::vec3(target));
+  if (bind != mesh_.position(v)) editor_.move_vertex(v, bind);
+}
+
 VertexId Driller::vertex_of(const Triangle& tri, LocalPoint& lp) {
   if (lp.v.valid()) return lp.v;
   lp.v = editor_.add_vertex_in_triangle(tri, glm::vec3(lp.bary));
   added_posed_.push_back(lp.p);
+  place(lp.v, lp.p);
   return lp.v;
 }
 
