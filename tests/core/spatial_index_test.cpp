@@ -1,0 +1,94 @@
+// SPDX-License-Identifier: MIT
+#include "deepcut/core/spatial_index.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+
+#include "deepcut/core/mesh_editor.h"
+#include "fixtures.h"
+
+namespace deepcut {
+namespace {
+
+// Faces whose bounding box comes within `radius` of the segment a-b (brute force, with the
+// box approximated by its corners' distance minus its half diagonal: a conservative test).
+std::vector<FaceId> brute_capsule(const SurfaceMesh& mesh, const glm::vec3& a, const glm::vec3& b,
+                                  float radius) {
+  std::vector<FaceId> out;
+  const glm::vec3 d = b - a;
+  mesh.for_each_face([&](FaceId f, const Triangle& t) {
+    // Distance from the segment to the triangle, sampled densely: a face within the capsule.
+    bool near = false;
+    for (int i = 0; i <= 20 && !near; ++i)
+      for (int j = 0; i + j <= 20 && !near; ++j) {
+        const float u = i / 20.0f, v = j / 20.0f;
+        const glm::vec3 p =
+            mesh.position(t[0]) * (1 - u - v) + mesh.position(t[1]) * u + mesh.position(t[2]) * v;
+        const float s = std::clamp(glm::dot(p - a, d) / glm::dot(d, d), 0.0f, 1.0f);
+        near = glm::length(p - (a + s * d)) <= radius;
+      }
+    if (near) out.push_back(f);
+  });
+  return out;
+}
+
+}  // namespace
+
+TEST(SpatialIndexTest, capsule_and_box_queries_contain_every_face_they_must) {
+  SurfaceMesh mesh = test::make_tube(24, 12, 1.0f, 4.0f);
+  const TriangleGrid grid = TriangleGrid::build(mesh, mesh.positions());
+  EXPECT_EQ(grid.face_count(), mesh.face_count());
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-2.0f, 2.0f);
+  for (int i = 0; i < 50; ++i) {
+    const glm::vec3 a(u(rng), u(rng) + 2.0f, u(rng)), b(u(rng), u(rng) + 2.0f, u(rng));
+    const float radius = 0.05f + 0.1f * (i % 5);
+    const auto got = grid.query_capsule(a, b, radius);
+    EXPECT_TRUE(std::is_sorted(got.begin(), got.end()));
+    for (FaceId f : brute_capsule(mesh, a, b, radius))
+      EXPECT_TRUE(std::binary_search(got.begin(), got.end(), f))
+          << "face " << f.index << " missing from the capsule query";
+    EXPECT_LT(got.size(), mesh.face_count()) << "a thin capsule does not return the whole mesh";
+  }
+  BoundingBox box;
+  box.add(glm::vec3(-0.2f, 1.0f, -2.0f));
+  box.add(glm::vec3(0.2f, 1.5f, 2.0f));
+  const auto in_box = grid.query_box(box);
+  mesh.for_each_face([&](FaceId f, const Triangle& t) {
+    BoundingBox fb;
+    for (auto v : t) fb.add(mesh.position(v));
+    const bool overlap = fb.min.x <= box.max.x && fb.max.x >= box.min.x && fb.min.y <= box.max.y &&
+                         fb.max.y >= box.min.y && fb.min.z <= box.max.z && fb.max.z >= box.min.z;
+    if (overlap) {
+      EXPECT_TRUE(std::binary_search(in_box.begin(), in_box.end(), f));
+    }
+  });
+}
+
+TEST(SpatialIndexTest, follows_the_edit_log) {
+  SurfaceMesh mesh = test::make_grid(8, 8);
+  TriangleGrid grid = TriangleGrid::build(mesh, mesh.positions());
+  MeshEditor editor(mesh);
+  // Split one face into three around its centre, far from the others.
+  const FaceId f(10);
+  const Triangle t = mesh.face(f);
+  const VertexId c = editor.add_vertex_in_triangle(t, glm::vec3(1.0f / 3.0f));
+  editor.remove_face(f);
+  const glm::vec3 e[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  const glm::vec3 third(1.0f / 3.0f);
+  editor.add_face_from({t[0], t[1], c}, f, {e[0], e[1], third});
+  editor.add_face_from({t[1], t[2], c}, f, {e[1], e[2], third});
+  editor.add_face_from({t[2], t[0], c}, f, {e[2], e[0], third});
+  grid.apply(editor.take_log(), mesh.positions());
+  EXPECT_EQ(grid.face_count(), mesh.face_count());
+  BoundingBox everything = mesh.bounds();
+  const auto all = grid.query_box(everything);
+  std::vector<FaceId> live;
+  mesh.for_each_face([&](FaceId g, const Triangle&) { live.push_back(g); });
+  EXPECT_EQ(all, live) << "removed faces leave, added faces join";
+  EXPECT_THROW(TriangleGrid::build(mesh, std::vector<glm::vec3>(3)), Error);
+}
+
+}  // namespace deepcut
