@@ -13,6 +13,7 @@
 #include "deepcut/core/adjacency.h"
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/ops/cut.h"
+#include "deepcut/core/ops/tear.h"
 #include "deepcut/core/skinning.h"
 #include "deepcut/core/spatial_index.h"
 #include "deepcut/core/validate.h"
@@ -424,6 +425,28 @@ TEST(DrillTest, overlapping_holes_and_a_cut_rim_merge_into_one_boundary) {
   std::size_t open = 0;
   for (const DrillHole& h : r.holes) open += !h.closed;
   EXPECT_EQ(open, 2u) << "one rim chain per piece, ending on the cut";
+  // Across a tear: the slit and the hole become one opening.
+  SurfaceMesh torn = test::make_grid(8, 8);
+  Adjacency tadj = Adjacency::build(torn);
+  TearOptions topt;
+  topt.width = 0.02f;
+  const TearResult tr = tear_mesh(torn, torn.positions(), {}, Blade{{0.3f, 0.5f, 1}, {0.3f, 0.5f, -1}},
+                                  Blade{{0.7f, 0.5f, 1}, {0.7f, 0.5f, -1}}, topt);
+  ASSERT_EQ(tr.status, OpStatus::Ok);
+  tadj.apply(tr.log);
+  ASSERT_EQ(boundary_components(tadj), 2u) << "the border and the slit";
+  const Cylinder across{{0.5f, 0.5f, -1}, {0.5f, 0.5f, 1}, 0.1f};
+  const DrillResult tdr = drill_mesh(torn, torn.positions(), across);
+  ASSERT_EQ(tdr.status, OpStatus::Ok);
+  tadj.apply(tdr.log);
+  test::expect_adjacency_matches_rebuild(tadj, torn);
+  test::expect_valid(torn, 2);
+  EXPECT_EQ(boundary_components(tadj), 2u) << "the border and one opening: slit and hole merged";
+  const Axis tax(across);
+  torn.for_each_face([&](FaceId, const Triangle& t) {
+    const glm::vec3 m = (torn.position(t[0]) + torn.position(t[1]) + torn.position(t[2])) / 3.0f;
+    EXPECT_GE(tax.rho(m), 0.99 * tax.r);
+  });
 }
 
 TEST(DrillTest, posed_drill_puts_rims_and_walls_on_the_cylinder_in_that_pose) {
