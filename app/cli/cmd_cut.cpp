@@ -104,7 +104,14 @@ int run_apply(const std::vector<std::string>& argv) {
   Model model = read_gltf(args.positionals()[0]);
   json reports = json::array();
   const auto t0 = std::chrono::steady_clock::now();
-  for (const auto& op : history.operations) reports.push_back(json::parse(apply_operation(model, op).summary_json));
+  for (std::size_t i = 0; i < history.operations.size(); ++i) {
+    try {
+      reports.push_back(json::parse(apply_operation(model, history.operations[i]).summary_json));
+    } catch (const Error& e) {
+      // Name the history file and the operation, whatever the operation complained about.
+      throw Error(e.code(), history_path + ": operation " + std::to_string(i) + ": " + e.what());
+    }
+  }
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   write_gltf(model, args.value("-o"));
   if (args.flag("--json")) {

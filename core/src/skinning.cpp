@@ -227,6 +227,13 @@ std::vector<glm::vec3> posed_normals(const Model& model, int node, const Surface
   return out;
 }
 
+std::vector<glm::mat4> vertex_skin_matrices(const Model& model, int node, const SurfaceMesh& mesh,
+                                            const std::vector<glm::mat4>& world) {
+  auto out = vertex_matrices(model, node, mesh, world);
+  if (out.empty()) out.assign(mesh.vertex_count(), world.at(static_cast<std::size_t>(node)));
+  return out;
+}
+
 BoundingBox world_bounds(const Model& model, const Pose& pose) {
   const auto world = world_matrices(model, pose);
   BoundingBox box;

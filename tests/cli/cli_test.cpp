@@ -322,6 +322,22 @@ TEST_F(CliTest, apply_replays_a_history_like_the_single_commands) {
   ASSERT_EQ(test::run_cli("apply " + test::quote(cactus) + " " + test::quote(dir_ + "/embedded.json") + " -o " + test::quote(again)).exit_code, 0);
   expect_same_model(read_gltf(again), replayed_model);
 
+  // Wrong types, unknown keys and bad poses: exit 2, naming the file and the operation.
+  for (const char* op : {R"({"op": "cut", "plane": [0, 5, 0, 0, 1, 0], "cap": "yes"})",
+                                R"({"op": "cut", "plane": [0, 5, 0, 0, 1, 0], "components": 1})",
+                                R"({"op": "cut", "plane": [0, 5, 0, 0, 1, 0], "keep": 5})",
+                                R"({"op": 5, "plane": [0, 5, 0, 0, 1, 0]})",
+                                R"({"op": "cut", "plane": [0, 5, 0, 0, 1, 0], "cpa": true})",
+                                R"({"op": "cut", "plane": [0, 5, 0, 0, 1, 0], "animation": 7})",
+                                R"({"op": "cut", "plane": [0, 5, 0, 0, 0, 0]})"}) {
+    SCOPED_TRACE(op);
+    std::ofstream(dir_ + "/typed.json") << std::string(R"({"operations": [)") + op + "]}";
+    r = test::run_cli("apply " + test::quote(cactus) + " " + test::quote(dir_ + "/typed.json") + " -o " + test::quote(dir_ + "/x.glb"));
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_EQ(line_count(r.err), 1u) << r.err;
+    EXPECT_NE(r.err.find("typed.json"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("operation 0"), std::string::npos) << r.err;
+  }
   std::ofstream(dir_ + "/broken.json") << R"({"operations": [{"op": "cut", "plane": [0, 1]}]})";
   r = test::run_cli("apply " + test::quote(cactus) + " " + test::quote(dir_ + "/broken.json") + " -o " + test::quote(dir_ + "/x.glb"));
   EXPECT_EQ(r.exit_code, 2);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <set>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -340,6 +341,27 @@ TEST(CutTest, model_cut_exports_animated_pieces_that_pass_the_validator) {
   const auto v = test::run_command("node " + test::quote(DEEPCUT_VALIDATOR_SCRIPT) + files);
   EXPECT_EQ(v.exit_code, 0) << v.out << v.err;
   std::filesystem::remove_all(dir);
+}
+
+}  // namespace deepcut
+
+namespace deepcut {
+
+TEST(CutTest, posed_recut_with_the_same_plane_finds_nothing_and_piece_names_stay_unique) {
+  Model model = read_gltf(std::string(DEEPCUT_ASSETS_DIR) + "/cactus.glb");
+  const Plane plane{{0.0f, 8.0f, 0.0f}, {0.3f, 1.0f, 0.0f}};
+  const float t = 2.0f;
+  ASSERT_EQ(cut_model(model, plane, {}, 0, t).status, OpStatus::Ok);
+  // The rim was snapped onto the plane in that pose, so nothing is left to cut.
+  Model again = model;
+  EXPECT_EQ(cut_model(again, plane, {}, 0, t).status, OpStatus::NoIntersection);
+  // A second, different cut makes more pieces; no two nodes share a name.
+  ASSERT_EQ(cut_model(model, Plane{{0, 5, 0}, {0, 1, 0.2f}}, {}, 0, t).status, OpStatus::Ok);
+  std::set<std::string> names;
+  for (const auto& n : model.nodes)
+    if (n.mesh >= 0) {
+      EXPECT_TRUE(names.insert(n.name).second) << "duplicate node name " << n.name;
+    }
 }
 
 }  // namespace deepcut

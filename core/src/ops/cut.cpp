@@ -482,6 +482,36 @@ void add_piece_primitives(const SurfaceMesh& piece, int material, int cut_materi
   add(cap, cut_material);
 }
 
+// New rim vertices get bind positions interpolated along their edges and blended weights;
+// skinning is not linear in those, so in a pose their posed position can sit a little off the
+// plane. Move each rim vertex in bind space by the amount that puts it back on the plane in the
+// pose the cut was made in, so a second cut with the same plane finds nothing left to cut.
+void snap_rim_to_plane(const Model& model, int node, const std::vector<glm::mat4>& world, const Plane& plane,
+                       const CutResult& result, SurfaceMesh& mesh) {
+  if (result.rim_vertices.empty()) return;
+  const glm::vec3 n = glm::normalize(plane.normal);
+  const auto skin = vertex_skin_matrices(model, node, mesh, world);
+  auto& bind = mesh.positions();
+  for (VertexId v : result.rim_vertices) {
+    const glm::mat4& m = skin[v.index];
+    const float off = glm::dot(glm::vec3(m * glm::vec4(bind[v.index], 1.0f)) - plane.point, n);
+    if (off == 0.0f) continue;
+    const glm::mat3 linear(m);
+    if (std::abs(glm::determinant(linear)) < 1e-12f) continue;
+    bind[v.index] -= off * (glm::inverse(linear) * n);
+  }
+}
+
+// A node name not used yet: `wanted`, or `wanted_2`, `wanted_3`, ...
+std::string unique_node_name(const Model& model, const std::string& wanted) {
+  auto taken = [&](const std::string& name) {
+    return std::any_of(model.nodes.begin(), model.nodes.end(), [&](const Node& n) { return n.name == name; });
+  };
+  if (!taken(wanted)) return wanted;
+  for (int i = 2;; ++i)
+    if (!taken(wanted + "_" + std::to_string(i))) return wanted + "_" + std::to_string(i);
+}
+
 int cut_surface_material(Model& model) {
   for (std::size_t i = 0; i < model.materials.size(); ++i)
     if (model.materials[i].name == "Cut surface") return static_cast<int>(i);
@@ -516,6 +546,7 @@ ModelCutResult cut_model(Model& model, const Plane& plane, const CutOptions& opt
       SurfaceMesh copy = prim.mesh;
       const auto posed = posed_positions(model, static_cast<int>(ni), copy, world);
       results.push_back(cut_mesh(copy, posed, plane, options));
+      if (results.back().status == OpStatus::Ok) snap_rim_to_plane(model, static_cast<int>(ni), world, plane, results.back(), copy);
       if (results.back().status == OpStatus::NoIntersection) {
         // Which side the untouched primitive lies on (it may be on the side that is dropped).
         double d = 0.0;
@@ -585,7 +616,7 @@ ModelCutResult cut_model(Model& model, const Plane& plane, const CutOptions& opt
       Node node = model.nodes[ni];
       node.children.clear();
       node.camera = -1;
-      node.name = base + "_piece" + std::to_string(k);
+      node.name = unique_node_name(model, base + "_piece" + std::to_string(k));
       node.mesh = target_mesh;
       const int index = static_cast<int>(model.nodes.size());
       model.nodes.push_back(node);

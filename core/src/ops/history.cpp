@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "deepcut/core/ops/history.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <nlohmann/json.hpp>
@@ -63,9 +64,30 @@ json to_json(const Operation& op) {
   return out;
 }
 
+// A boolean member, false when absent. @throws (via fail) when present with another type.
+bool flag(const json& o, const char* key, std::size_t index) {
+  if (!o.contains(key)) return false;
+  if (!o[key].is_boolean()) fail(index, std::string("'") + key + "' must be true or false");
+  return o[key].get<bool>();
+}
+
+// Members an operation of kind `kind` may have; anything else is a typo the user should hear of.
+void reject_unknown_keys(const json& o, const std::string& kind, std::size_t index) {
+  std::vector<std::string> allowed = {"op", "time", "animation"};
+  if (kind == "cut") allowed.insert(allowed.end(), {"plane", "keep", "cap", "components"});
+  if (kind == "tear") allowed.insert(allowed.end(), {"blade_start", "blade_end", "width"});
+  if (kind == "drill") allowed.insert(allowed.end(), {"axis", "radius", "min_rim_edges", "wall"});
+  for (const auto& item : o.items())
+    if (std::find(allowed.begin(), allowed.end(), item.key()) == allowed.end())
+      fail(index, "unknown key '" + item.key() + "' for a " + kind + " operation");
+}
+
 Operation from_json(const json& o, std::size_t index) {
   if (!o.is_object()) fail(index, "is not an object");
-  const std::string kind = o.value("op", "");
+  if (!o.contains("op") || !o["op"].is_string()) fail(index, "'op' must be \"cut\", \"tear\" or \"drill\"");
+  const std::string kind = o["op"].get<std::string>();
+  if (kind != "cut" && kind != "tear" && kind != "drill") fail(index, "unknown op '" + kind + "'");
+  reject_unknown_keys(o, kind, index);
   Operation op;
   op.animation = 0;  // absent: the model's first animation (the rest pose when it has none)
   if (o.contains("time")) {
@@ -81,13 +103,14 @@ Operation from_json(const json& o, std::size_t index) {
     CutOperation c;
     const auto p = numbers(o, "plane", 6, index);
     c.plane = {{p[0], p[1], p[2]}, {p[3], p[4], p[5]}};
+    if (o.contains("keep") && !o["keep"].is_string()) fail(index, "'keep' must be both, positive or negative");
     const std::string keep = o.value("keep", "both");
     if (keep == "both") c.options.keep = CutKeep::Both;
     else if (keep == "positive") c.options.keep = CutKeep::Positive;
     else if (keep == "negative") c.options.keep = CutKeep::Negative;
     else fail(index, "'keep' must be both, positive or negative");
-    c.options.cap = o.value("cap", false);
-    c.options.split_components = o.value("components", false);
+    c.options.cap = flag(o, "cap", index);
+    c.options.split_components = flag(o, "components", index);
     op.params = c;
   } else if (kind == "tear") {
     TearOperation t;
@@ -111,10 +134,7 @@ Operation from_json(const json& o, std::size_t index) {
       if (!o["min_rim_edges"].is_number_integer()) fail(index, "'min_rim_edges' must be an integer");
       d.options.min_rim_edges = o["min_rim_edges"].get<int>();
     }
-    if (o.contains("wall")) {
-      if (!o["wall"].is_boolean()) fail(index, "'wall' must be true or false");
-      d.options.wall = o["wall"].get<bool>();
-    }
+    d.options.wall = flag(o, "wall", index);
     op.params = d;
   } else {
     fail(index, "unknown op '" + kind + "'");

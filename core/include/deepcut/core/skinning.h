@@ -34,6 +34,12 @@ std::vector<glm::mat4> joint_matrices(const Model& model, int skin, const std::v
 /// glTF requires), the node's world matrix otherwise.
 std::vector<glm::vec3> posed_positions(const Model& model, int node, const SurfaceMesh& mesh,
                                        const std::vector<glm::mat4>& world);
+/// The matrix that takes each vertex of `mesh`, drawn by node `node`, from bind space to world
+/// space: the weighted sum of its joint matrices when the node has a skin, the node's world
+/// matrix otherwise. One per vertex.
+std::vector<glm::mat4> vertex_skin_matrices(const Model& model, int node, const SurfaceMesh& mesh,
+                                            const std::vector<glm::mat4>& world);
+
 /// World-space corner normals (one per corner), skinned like the positions and renormalised.
 /// Empty if the mesh has no normals.
 std::vector<glm::vec3> posed_normals(const Model& model, int node, const SurfaceMesh& mesh,
