@@ -24,6 +24,10 @@ void AttributeSet::resize(std::size_t n) {
   size_ = n;
 }
 
+void AttributeSet::reserve(std::size_t n) {
+  for (auto& entry : arrays_) entry.second->reserve(n);
+}
+
 void AttributeSet::push_default(std::size_t count) {
   for (auto& entry : arrays_) entry.second->push_default(count);
   size_ += count;

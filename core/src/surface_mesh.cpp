@@ -82,7 +82,9 @@ FaceId SurfaceMesh::add_face(VertexId a, VertexId b, VertexId c) {
 }
 
 void SurfaceMesh::reserve(std::size_t vertices, std::size_t faces) {
-  positions_->data().reserve(vertices);
+  vattrs_.reserve(vertices);
+  fattrs_.reserve(faces);
+  cattrs_.reserve(3 * faces);
   faces_.reserve(faces);
   deleted_.reserve(faces);
 }

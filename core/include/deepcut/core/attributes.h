@@ -49,6 +49,8 @@ class AttributeArrayBase {
   virtual void resize(std::size_t n) = 0;
   /// Appends `count` default values (cheaper than resize for one element at a time).
   virtual void push_default(std::size_t count) = 0;
+  /// Reserves room for `n` elements, so growing up to `n` never reallocates.
+  virtual void reserve(std::size_t n) = 0;
   /// Appends one element: the weighted blend of `count` existing elements (`src[i]`, `w[i]`).
   /// Floating-point types blend linearly; integer types take the source of largest weight.
   virtual void push_blend(const std::uint32_t* src, const float* w, int count) = 0;
@@ -75,6 +77,7 @@ class AttributeArray final : public AttributeArrayBase {
   void push_default(std::size_t count) override {
     for (std::size_t i = 0; i < count; ++i) data_.push_back(default_);
   }
+  void reserve(std::size_t n) override { data_.reserve(n); }
   void push_blend(const std::uint32_t* src, const float* w, int count) override {
     data_.push_back(blend(src, w, count));
   }
@@ -141,6 +144,8 @@ class AttributeSet {
   void resize(std::size_t n);
   /// Appends `count` default elements to every array.
   void push_default(std::size_t count);
+  /// Reserves room for `n` elements in every array.
+  void reserve(std::size_t n);
   /// Appends one element to every array: the blend of `count` existing elements.
   void push_blend(const std::uint32_t* src, const float* w, int count);
   /// Sets element `dst` of every array to the blend of `count` existing elements.

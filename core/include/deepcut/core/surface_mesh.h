@@ -36,6 +36,9 @@ class SurfaceMesh {
   /// Appends a triangle; corner and face attributes get their default values.
   /// @throws Error{InvalidArgument} if an index is out of range.
   FaceId add_face(VertexId a, VertexId b, VertexId c);
+  /// Reserves room in every array (vertex, face and corner attributes included), so edits that
+  /// grow the mesh up to these sizes never reallocate: interactive sessions call it once with
+  /// some headroom after loading, which keeps the first operation from paying for the growth.
   void reserve(std::size_t vertices, std::size_t faces);
 
   // --- access ------------------------------------------------------------------------------
