@@ -13,6 +13,8 @@
 #include <unistd.h>
 #include <vtkClipClosedSurface.h>
 #include <vtkClipPolyData.h>
+#include <vtkCylinder.h>
+#include <vtkTransform.h>
 #include <vtkNew.h>
 #include <vtkPlane.h>
 #include <vtkPlaneCollection.h>
@@ -21,6 +23,8 @@
 #include "deepcut/core/adjacency.h"
 #include "deepcut/core/generate/cactus.h"
 #include "deepcut/core/ops/cut.h"
+#include "deepcut/core/ops/drill.h"
+#include "deepcut/core/spatial_index.h"
 #include "deepcut/core/ops/tear.h"
 #include "deepcut/core/softbody/clustering.h"
 #include "deepcut/core/softbody/simulation.h"
@@ -115,6 +119,57 @@ void bm_cut_cap_vtk(benchmark::State& state, std::size_t triangles) {
   clip->SetInputData(in.poly);
   clip->SetClippingPlanes(planes);
   clip->GenerateFacesOn();
+  for (auto _ : state) {
+    clip->Modified();
+    clip->Update();
+    benchmark::DoNotOptimize(clip->GetOutput()->GetNumberOfCells());
+  }
+  set_triangles(state, in.mesh);
+}
+
+// A hole through the trunk, front to back, at half its height (radius 3% of the model size).
+Cylinder drill_cylinder(const Input& in) {
+  const BoundingBox box = in.mesh.bounds();
+  const glm::vec3 c = 0.5f * (box.min + box.max);
+  const float r = 0.03f * box.diagonal();
+  return {{c.x, c.y, box.max.z + 1.0f}, {c.x, c.y, box.min.z - 1.0f}, r};
+}
+
+void bm_drill_ours(benchmark::State& state, std::size_t triangles) {
+  const Input& in = input(triangles);
+  static std::map<std::size_t, TriangleGrid> grids;
+  auto it = grids.find(triangles);
+  if (it == grids.end()) it = grids.emplace(triangles, TriangleGrid::build(in.mesh, in.mesh.positions())).first;
+  const Cylinder cyl = drill_cylinder(in);
+  for (auto _ : state) {
+    state.PauseTiming();
+    SurfaceMesh mesh = in.mesh;
+    Adjacency adjacency = in.adjacency;
+    mesh.reserve(mesh.vertex_count() + mesh.vertex_count() / 8 + 4096, mesh.face_slots() + mesh.face_slots() / 8 + 8192);
+    state.ResumeTiming();
+    DrillResult r = drill_mesh(mesh, mesh.positions(), cyl, {}, &it->second);
+    adjacency.apply(r.log);
+    benchmark::DoNotOptimize(r.log.size());
+    state.PauseTiming();
+    mesh = SurfaceMesh();
+    adjacency = Adjacency();
+    state.ResumeTiming();
+  }
+  set_triangles(state, in.mesh);
+}
+
+// The peer clips with an infinite cylinder: it neither bounds the depth, rounds the rim, nor
+// blends the weights by the skin rule (it interpolates them linearly).
+void bm_drill_vtk(benchmark::State& state, std::size_t triangles) {
+  const Input& in = input(triangles);
+  const Cylinder cyl = drill_cylinder(in);
+  vtkNew<vtkCylinder> cylinder;  // along y by default: rotate to the drill axis (z)
+  cylinder->SetCenter(cyl.a.x, cyl.a.y, 0.0);
+  cylinder->SetRadius(cyl.radius);
+  cylinder->SetAxis(0.0, 0.0, 1.0);
+  vtkNew<vtkClipPolyData> clip;
+  clip->SetInputData(in.poly);
+  clip->SetClipFunction(cylinder);
   for (auto _ : state) {
     clip->Modified();
     clip->Update();
@@ -277,6 +332,8 @@ void register_cases(bool with_1m) {
     reg("cut_cap/vtkClipClosedSurface/" + s, [n](benchmark::State& st) { bm_cut_cap_vtk(st, n); });
     reg("preprocess/ours/" + s, [n](benchmark::State& st) { bm_preprocess(st, n); });
     reg("tear/ours/" + s, [n](benchmark::State& st) { bm_tear(st, n); });
+    reg("drill/ours/" + s, [n](benchmark::State& st) { bm_drill_ours(st, n); });
+    reg("drill/vtkClipPolyData+vtkCylinder/" + s, [n](benchmark::State& st) { bm_drill_vtk(st, n); });
     reg("cluster/ours/" + s, [n](benchmark::State& st) { bm_cluster(st, n); });
     reg("softbody_step_224/ours/" + s, [n](benchmark::State& st) { bm_softbody_step(st, n, 224); });
     reg("softbody_step_863/ours/" + s, [n](benchmark::State& st) { bm_softbody_step(st, n, 863); });
@@ -289,6 +346,8 @@ std::vector<Quoted> quoted_figures() {
           {"cut", 440.0, "paper Table 1: cut 0.44 s, 156 intersection points, quoted"},
           {"cut_cap", 440.0, "paper Table 1: cut 0.44 s (the paper does not cap), quoted"},
           {"tear", 95.0, "paper Table 1: tear 0.095 s, 26 intersection points, quoted"},
+          {"drill", 200.0, "paper Table 1: drill 0.20 s, 27 intersection points, quoted; the VTK peer clips an infinite "
+                           "cylinder: no depth bound, no round rim, linear weights"},
           {"cluster", 41300.0, "paper Table 1: soft-body clustering 41.3 s (224 particles), quoted"},
           {"softbody_step_224", 3.7, "paper Table 2: 1.5-3.7 ms per step with 224 particles (upper bound), quoted"},
           {"softbody_step_863", 6.7, "paper Table 2: 2.0-6.7 ms per step with 863 particles (upper bound), quoted"}};
