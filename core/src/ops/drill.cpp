@@ -429,6 +429,17 @@ class Driller {
   void emit_polygon(FaceId f, const Triangle& tri, std::vector<LocalPoint>& pts,
                     const std::vector<std::vector<std::uint32_t>>& loops);
   VertexId vertex_of(const Triangle& tri, LocalPoint& lp);
+  void refine(FlipTriangulation& ft, std::vector<glm::dvec2>& q, std::vector<LocalPoint>& pts,
+              const std::vector<std::vector<std::uint32_t>>& loops);
+  // The plane of the triangle being processed, and barycentric coordinates in it.
+  PlaneCut plane_;
+  glm::dvec2 corner_q_[3];
+  double corner_area2_ = 1.0;
+  glm::dvec3 bary_of_(const glm::dvec2& x) const {
+    return glm::dvec3(orient(x, corner_q_[1], corner_q_[2]), orient(corner_q_[0], x, corner_q_[2]),
+                      orient(corner_q_[0], corner_q_[1], x)) /
+           corner_area2_;
+  }
   void place(VertexId v, const glm::dvec3& target);
   void collect_holes(DrillResult& result);
   void build_walls(DrillResult& result);
@@ -612,6 +623,9 @@ void Driller::process_face(FaceId f) {
     }
     return;
   }
+  plane_ = pc;
+  for (int k = 0; k < 3; ++k) corner_q_[k] = tq[k];
+  corner_area2_ = area2;
   auto bary_of = [&](const glm::dvec2& q) {
     return glm::dvec3(orient(q, tq[1], tq[2]), orient(tq[0], q, tq[2]), orient(tq[0], tq[1], q)) / area2;
   };
@@ -719,6 +733,69 @@ void Driller::process_face(FaceId f) {
   }
 }
 
+// Chew-style refinement of one kept part: points at the circumcentres of skinny triangles that
+// are larger than the rim spacing (needles from a far corner to a small hole), kept away from
+// the part's boundary so no edge of the parent triangle is split (its neighbour shares it).
+void Driller::refine(FlipTriangulation& ft, std::vector<glm::dvec2>& q, std::vector<LocalPoint>& pts,
+                     const std::vector<std::vector<std::uint32_t>>& loops) {
+  const double spacing = 2.0 * cyl_.r * std::sin(kPi / samples_);
+  const std::size_t boundary = pts.size();
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> segments;
+  for (const auto& l : loops)
+    for (std::size_t i = 0; i < l.size(); ++i) segments.emplace_back(l[i], l[(i + 1) % l.size()]);
+  std::unordered_set<std::uint64_t> failed;
+  auto tri_key = [](const LocalTri& t) {
+    std::array<std::uint32_t, 3> s = {t[0], t[1], t[2]};
+    std::sort(s.begin(), s.end());
+    return (std::uint64_t(s[0]) << 42) ^ (std::uint64_t(s[1]) << 21) ^ s[2];
+  };
+  const std::size_t budget = 4 * boundary + 8;
+  for (std::size_t added = 0; added < budget;) {
+    const LocalTri* worst = nullptr;
+    double worst_ratio = 0.684;  // shortest edge / circumradius = 2 sin(min angle): 20 degrees
+    for (const auto& t : ft.triangles()) {
+      const glm::dvec2 &a = q[t[0]], &b = q[t[1]], &c = q[t[2]];
+      const double la = glm::length(b - c), lb = glm::length(c - a), lc = glm::length(a - b);
+      const double area2 = std::abs(orient(a, b, c));
+      if (!(area2 > 0.0) || std::max({la, lb, lc}) < 2.0 * spacing) continue;
+      const double circumradius = la * lb * lc / (2.0 * area2);
+      const double ratio = std::min({la, lb, lc}) / circumradius;
+      if (ratio < worst_ratio && !failed.count(tri_key(t))) {
+        worst_ratio = ratio;
+        worst = &t;
+      }
+    }
+    if (!worst) return;
+    const LocalTri t = *worst;
+    const glm::dvec2 &a = q[t[0]], &b = q[t[1]], &c = q[t[2]];
+    const glm::dvec2 ab = b - a, ac = c - a;
+    const double d = 2.0 * (ab.x * ac.y - ab.y * ac.x);
+    const glm::dvec2 centre = a + glm::dvec2(ac.y * glm::dot(ab, ab) - ab.y * glm::dot(ac, ac),
+                                             ab.x * glm::dot(ac, ac) - ac.x * glm::dot(ab, ab)) /
+                                      d;
+    bool ok = std::isfinite(centre.x) && std::isfinite(centre.y);
+    const glm::dvec3 bary = ok ? bary_of_(centre) : glm::dvec3(-1.0);
+    ok = ok && bary.x > 1e-6 && bary.y > 1e-6 && bary.z > 1e-6;
+    for (std::size_t i = 0; i < boundary && ok; ++i) ok = glm::length(q[i] - centre) > 0.5 * spacing;
+    for (const auto& [u, v] : segments) {
+      if (!ok) break;
+      const glm::dvec2 e = q[v] - q[u];
+      const double tt = std::clamp(glm::dot(centre - q[u], e) / std::max(glm::dot(e, e), 1e-300), 0.0, 1.0);
+      ok = glm::length(q[u] + tt * e - centre) > 0.35 * spacing;
+    }
+    if (!ok || !ft.insert(centre)) {
+      failed.insert(tri_key(t));
+      continue;
+    }
+    LocalPoint lp;
+    lp.q = centre;
+    lp.p = plane_.point(centre.x, centre.y);
+    lp.bary = bary;
+    pts.push_back(lp);
+    ++added;
+  }
+}
+
 void Driller::emit_polygon(FaceId f, const Triangle& tri, std::vector<LocalPoint>& pts,
                            const std::vector<std::vector<std::uint32_t>>& loops) {
   std::vector<glm::dvec2> q(pts.size());
@@ -729,6 +806,7 @@ void Driller::emit_polygon(FaceId f, const Triangle& tri, std::vector<LocalPoint
   } else {
     FlipTriangulation ft(q, triangulate(q, loops));
     ft.make_delaunay();
+    refine(ft, q, pts, loops);
     tris = ft.triangles();
   }
   for (auto& lp : pts) vertex_of(tri, lp);
