@@ -16,6 +16,7 @@
 #include <QMenuBar>
 #include <QMessageBox>
 #include <QMimeData>
+#include <QPushButton>
 #include <QSettings>
 #include <QStackedWidget>
 #include <QStatusBar>
@@ -29,6 +30,7 @@
 
 #include "deepcut/core/errors.h"
 #include "deepcut/core/io/gltf.h"
+#include "deepcut/core/ops/history.h"
 #include "deepcut/plugins/registry.h"
 #include "scene_tree.h"
 #include "scene_view.h"
@@ -59,6 +61,24 @@ bool is_model_file(const QString& path) {
   return suffix == "glb" || suffix == "gltf";
 }
 
+QString vec(const glm::vec3& v) { return QString("(%1, %2, %3)").arg(v.x, 0, 'g', 4).arg(v.y, 0, 'g', 4).arg(v.z, 0, 'g', 4); }
+
+/// The history entry's text: operation type, its main parameters and the pose time.
+QString operation_label(const Operation& op) {
+  QString text;
+  if (const auto* cut = std::get_if<CutOperation>(&op.params))
+    text = "Cut  point " + vec(cut->plane.point) + " normal " + vec(cut->plane.normal) +
+           (cut->options.cap ? "  cap" : "") + (cut->options.split_components ? "  components" : "") +
+           (cut->options.keep == CutKeep::Positive ? "  keep +" : cut->options.keep == CutKeep::Negative ? "  keep -" : "");
+  else if (const auto* tear = std::get_if<TearOperation>(&op.params))
+    text = "Tear  " + vec(tear->start.tip) + " to " + vec(tear->end.tip) +
+           QString("  width %1").arg(tear->options.width, 0, 'g', 4);
+  else if (const auto* drill = std::get_if<DrillOperation>(&op.params))
+    text = "Drill  " + vec(drill->cylinder.a) + " to " + vec(drill->cylinder.b) +
+           QString("  r %1").arg(drill->cylinder.radius, 0, 'g', 4) + (drill->options.wall ? "  wall" : "");
+  return text + (op.animation < 0 ? QString("  @ rest") : QString("  @ anim %1 t = %2 s").arg(op.animation).arg(op.time, 0, 'f', 3));
+}
+
 QString thousands(std::size_t n) { return QLocale(QLocale::English).toString(static_cast<qulonglong>(n)); }
 
 }  // namespace
@@ -79,6 +99,10 @@ MainWindow::MainWindow(const MainWindowOptions& options, QWidget* parent)
   for (const plugins::InspectorInfo& info : plugins::builtin_inspectors().list()) {
     inspectors_.push_back(info.create());
     inspectors_.back()->set_changed_callback([this] { refresh_inspector(); });
+  }
+  for (const plugins::ToolInfo& info : plugins::builtin_tools().list()) {
+    tools_.push_back(info.create());
+    tools_.back()->set_changed_callback([this] { refresh_tool_preview(); });
   }
   build_docks();
   build_menus();
@@ -151,6 +175,31 @@ void MainWindow::build_docks() {
   addDockWidget(Qt::RightDockWidgetArea, inspector_dock);
   connect(inspector_combo_, QOverload<int>::of(&QComboBox::activated), this,
           [this](int index) { set_inspector(inspector_combo_->itemData(index).toString().toStdString()); });
+
+  auto* tool_dock = new QDockWidget("Tool", this);
+  tool_dock->setObjectName("tool_dock");
+  auto* tool_panel = new QWidget(tool_dock);
+  auto* tool_layout = new QVBoxLayout(tool_panel);
+  tool_layout->setContentsMargins(4, 4, 4, 4);
+  tool_stack_ = new QStackedWidget(tool_panel);
+  auto* no_tool = new QLabel(
+      "Choose Plane, Scalpel or Drill on the Tools bar: the tool places itself on the model and its "
+      "contour, tear path or rims are drawn live. Edit the numbers here, then Apply (Enter).",
+      tool_stack_);
+  no_tool->setWordWrap(true);
+  no_tool->setAlignment(Qt::AlignTop | Qt::AlignLeft);
+  no_tool->setMargin(6);
+  tool_stack_->addWidget(no_tool);
+  for (const auto& tool : tools_) tool_stack_->addWidget(tool->create_panel(tool_stack_));
+  apply_button_ = new QPushButton("Apply (Enter)", tool_panel);
+  apply_button_->setObjectName("apply_button");
+  apply_button_->setEnabled(false);
+  connect(apply_button_, &QPushButton::clicked, this, [this] { apply_tool(); });
+  tool_layout->addWidget(tool_stack_, 1);
+  tool_layout->addWidget(apply_button_);
+  tool_dock->setWidget(tool_panel);
+  addDockWidget(Qt::RightDockWidgetArea, tool_dock);
+  splitDockWidget(inspector_dock, tool_dock, Qt::Vertical);
 
   timeline_ = new Timeline(this);
   auto* timeline_dock = new QDockWidget("Time line", this);
@@ -246,6 +295,26 @@ void MainWindow::build_menus() {
   for (std::size_t i = 0; i < inspectors_.size(); ++i)
     add_mode(QString::fromStdString(inspectors_[i]->title()), inspectors_[i]->id(), static_cast<int>(i) + 1);
 
+  // Tools: one checkable entry per registered tool (at most one active), and Apply.
+  QMenu* tools_menu = menuBar()->addMenu("&Tools");
+  tool_group_ = new QActionGroup(this);
+  tool_group_->setExclusionPolicy(QActionGroup::ExclusionPolicy::ExclusiveOptional);
+  for (const auto& tool : tools_) {
+    QAction* action = tools_menu->addAction(QString::fromStdString(tool->title()));
+    action->setObjectName(QString::fromStdString("tool_" + tool->id()));
+    action->setCheckable(true);
+    action->setData(QString::fromStdString(tool->id()));
+    tool_group_->addAction(action);
+    connect(action, &QAction::triggered, this,
+            [this, action, id = tool->id()](bool on) { set_tool(on || action->isChecked() ? id : std::string()); });
+  }
+  tools_menu->addSeparator();
+  apply_action_ = tools_menu->addAction(s->standardIcon(QStyle::SP_DialogApplyButton), "&Apply tool", this,
+                                        [this] { apply_tool(); });
+  apply_action_->setObjectName("apply_tool");
+  apply_action_->setShortcuts({QKeySequence(Qt::Key_Return), QKeySequence(Qt::Key_Enter)});
+  apply_action_->setEnabled(false);
+
   // Animation
   QMenu* animation = menuBar()->addMenu("&Animation");
   QAction* play = animation->addAction(s->standardIcon(QStyle::SP_MediaPlay), "&Play / pause", timeline_,
@@ -277,6 +346,12 @@ void MainWindow::build_menus() {
   tools->addSeparator();
   tools->addAction(skeleton_action_);
   tools->addAction(normals_action_);
+
+  QToolBar* operation_bar = addToolBar("Tools");
+  operation_bar->setObjectName("tools_toolbar");
+  operation_bar->setToolButtonStyle(Qt::ToolButtonTextOnly);
+  for (QAction* action : tool_group_->actions()) operation_bar->addAction(action);
+  operation_bar->addAction(apply_action_);
 }
 
 QStringList MainWindow::recent_files() const { return QSettings().value(kRecentKey).toStringList(); }
@@ -371,6 +446,8 @@ void MainWindow::load_file(const QString& path) {
   mark_inspectors_stale(plugins::SceneChange::Model);
   refresh_inspector();
   view_->reset_camera();
+  if (plugins::Tool* active_tool = tool()) active_tool->place(*scene_, view_->view_direction());
+  refresh_tool_preview();
   view_->render();
   remember_recent(path);
   setWindowTitle(QFileInfo(path).fileName() + " - DeepCut Studio");
@@ -389,6 +466,7 @@ void MainWindow::show_model(std::shared_ptr<const Model> model) {
   view_->set_scene(*scene_);
   tree_->set_scene(*scene_);
   mark_inspectors_stale(plugins::SceneChange::Model);
+  refresh_tool_preview();
   refresh_inspector();
   emit model_changed();
 }
@@ -418,6 +496,73 @@ void MainWindow::apply_operation(const QString& label, std::shared_ptr<const Mod
   if (!model_ || !result) return;
   history_->push(new ModelCommand(this, label, model_, std::move(result)));
   note_operation(label, ms);
+}
+
+void MainWindow::set_tool(const std::string& id) {
+  int index = -1;
+  if (!id.empty() && id != "none") {
+    for (std::size_t i = 0; i < tools_.size(); ++i)
+      if (tools_[i]->id() == id) index = static_cast<int>(i);
+    if (index < 0)
+      throw Error(ErrorCode::InvalidArgument,
+                  "unknown tool '" + id + "' (known: " + plugins::builtin_tools().ids() + ")");
+  }
+  active_tool_ = index;
+  tool_stack_->setCurrentIndex(index + 1);
+  for (QAction* action : tool_group_->actions())
+    action->setChecked(index >= 0 && action->data().toString().toStdString() == id);
+  apply_button_->setEnabled(index >= 0);
+  apply_action_->setEnabled(index >= 0);
+  if (index >= 0 && scene_) tools_[static_cast<std::size_t>(index)]->place(*scene_, view_->view_direction());
+  refresh_tool_preview();
+  view_->render();
+}
+
+plugins::Tool* MainWindow::tool() const {
+  return active_tool_ >= 0 ? tools_[static_cast<std::size_t>(active_tool_)].get() : nullptr;
+}
+
+std::string MainWindow::tool_id() const { return tool() ? tool()->id() : std::string(); }
+
+void MainWindow::refresh_tool_preview() {
+  plugins::Tool* active_tool = tool();
+  view_->set_overlay(SceneView::Layer::Tool, active_tool && scene_ ? active_tool->preview(*scene_) : Overlay{});
+  view_->render();
+}
+
+bool MainWindow::apply_tool() {
+  plugins::Tool* active_tool = tool();
+  if (!model_ || !scene_) {
+    report_error("apply: no model is open");
+    return false;
+  }
+  if (!active_tool) {
+    report_error("apply: no tool is chosen (Tools: Plane, Scalpel or Drill)");
+    return false;
+  }
+  Operation op;
+  op.params = active_tool->parameters();
+  op.animation = scene_->animation;
+  op.time = scene_->time;
+  QElapsedTimer clock;
+  clock.start();
+  try {
+    auto result = std::make_shared<Model>(*model_);
+    const OperationReport report = deepcut::apply_operation(*result, op);
+    if (report.status != OpStatus::Ok) {
+      report_error(QString::fromStdString(active_tool->title()) + ": the tool misses the model (nothing changed)");
+      return false;
+    }
+    apply_operation(operation_label(op), std::move(result), static_cast<double>(clock.nsecsElapsed()) / 1e6);
+  } catch (const Error& e) {
+    report_error(QString::fromStdString(active_tool->title() + ": " + e.what()));
+    return false;
+  } catch (const std::bad_alloc&) {
+    report_error(QString::fromStdString(active_tool->title()) + ": out of memory");
+    return false;
+  }
+  last_error_.clear();
+  return true;
 }
 
 void MainWindow::set_inspector(const std::string& id) {
@@ -570,6 +715,7 @@ void MainWindow::on_pose_changed(int animation, float time) {
   view_->update_pose();
   mark_inspectors_stale(plugins::SceneChange::Pose);
   sync_active_inspector();
+  refresh_tool_preview();
   refresh_overlays();
   view_->render();
 }

@@ -16,11 +16,13 @@
 #include "deepcut/core/model.h"
 #include "deepcut/plugins/inspector.h"
 #include "deepcut/plugins/scene.h"
+#include "deepcut/plugins/tool.h"
 
 class QAction;
 class QActionGroup;
 class QComboBox;
 class QLabel;
+class QPushButton;
 class QMenu;
 class QStackedWidget;
 class QUndoStack;
@@ -59,6 +61,19 @@ class MainWindow : public QMainWindow {
 
   /// Replaces the model by `result` of an operation named `label` that took `ms`, undoably.
   void apply_operation(const QString& label, std::shared_ptr<const Model> result, double ms);
+
+  /// Chooses operation tool `id` ("cut", "tear", "drill"; "" or "none": no tool). The tool
+  /// places itself on the model (current pose and view) and its preview is drawn.
+  /// @throws Error{InvalidArgument} for an unknown id.
+  void set_tool(const std::string& id);
+  /// The active tool, or nullptr.
+  plugins::Tool* tool() const;
+  std::string tool_id() const;
+  /// Applies the active tool's parameters at the current pose (animation and time) through
+  /// `deepcut::apply_operation`, undoably; the history entry names type, parameters and time.
+  /// Errors and a tool that misses the model are reported like open_file's.
+  /// @returns true when the model changed.
+  bool apply_tool();
 
   /// Activates inspector `id` ("" or "none": the model's own look).
   /// @throws Error{InvalidArgument} for an unknown id.
@@ -121,6 +136,7 @@ class MainWindow : public QMainWindow {
   void sync_active_inspector();
   void refresh_overlays();
   void refresh_status();
+  void refresh_tool_preview();
   void on_pose_changed(int animation, float time);
   void on_pick(const plugins::Pick& pick);
   void choose_open();
@@ -135,6 +151,8 @@ class MainWindow : public QMainWindow {
   enum class Stale { None, Pose, Model };
   std::vector<Stale> stale_;  // per inspector: what changed since it last saw the scene
   bool show_skeleton_ = true;
+  std::vector<std::unique_ptr<plugins::Tool>> tools_;  // in registry order
+  int active_tool_ = -1;                               // index into tools_
 
   SceneView* view_ = nullptr;
   SceneTree* tree_ = nullptr;
@@ -143,6 +161,10 @@ class MainWindow : public QMainWindow {
   QComboBox* inspector_combo_ = nullptr;
   QStackedWidget* inspector_stack_ = nullptr;
   QMenu* recent_menu_ = nullptr;
+  QStackedWidget* tool_stack_ = nullptr;
+  QPushButton* apply_button_ = nullptr;
+  QActionGroup* tool_group_ = nullptr;
+  QAction* apply_action_ = nullptr;
   QAction* undo_ = nullptr;
   QAction* redo_ = nullptr;
   QAction* skeleton_action_ = nullptr;

@@ -477,6 +477,13 @@ void SceneView::reset_camera() {
   d.renderer->ResetCameraClippingRange(bounds);
 }
 
+glm::vec3 SceneView::view_direction() const {
+  double d[3];
+  impl_->renderer->GetActiveCamera()->GetDirectionOfProjection(d);
+  const glm::vec3 v(static_cast<float>(d[0]), static_cast<float>(d[1]), static_cast<float>(d[2]));
+  return glm::length(v) > 0.0f ? glm::normalize(v) : glm::vec3(0.0f, 0.0f, -1.0f);
+}
+
 void SceneView::frame(const glm::vec3& center, float radius) {
   vtkCamera* camera = impl_->renderer->GetActiveCamera();
   double position[3], focal[3];

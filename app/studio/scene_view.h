@@ -43,7 +43,7 @@ class SceneView : public QWidget {
   /// Colours piece `piece` (Kind::None restores its material look).
   void set_piece_colors(std::size_t piece, const plugins::PieceColors& colors);
   /// Layers of overlays, replaced independently.
-  enum class Layer { Skeleton, Inspector };
+  enum class Layer { Skeleton, Inspector, Tool };
   void set_overlay(Layer layer, const Overlay& overlay);
   void set_color_bar(const std::optional<ColorBar>& bar);
   /// Text in the upper left corner of the view.
@@ -60,6 +60,8 @@ class SceneView : public QWidget {
   void reset_camera();
   /// Zooms to a sphere (world space) keeping the view direction.
   void frame(const glm::vec3& center, float radius);
+  /// The camera's direction of projection (world space, unit length).
+  glm::vec3 view_direction() const;
   /// Renders now.
   void render();
   /// The rendered view as an image (renders first).
