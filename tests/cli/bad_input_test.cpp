@@ -4,16 +4,15 @@
 // what `deepcut info` and `deepcut convert` must do: refuse it (exit 2, exactly one stderr line
 // naming the file and the problem, nothing written) or handle it (exit 0, the problem listed in
 // `info --json` "problems", an export that passes the Khronos validator and reads back).
+#include <gtest/gtest.h>
 #include <sys/stat.h>
 
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <set>
-
-#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/validate.h"
@@ -63,8 +62,10 @@ const Expectation kCatalogue[] = {
     {"json_wrong_types.gltf", kRefused, "'accessors' is not an array"},
     // accessors, buffer views, buffers
     {"accessor_missing.gltf", kRefused, "accessor out of bounds"},
-    {"accessor_past_buffer_view.gltf", kRefused, "100000 elements of 2 bytes at offset 0 run past the end of bufferView 0"},
-    {"accessor_offset_overflow.gltf", kRefused, "at offset 18446744073709551516 run past the end of bufferView 1"},
+    {"accessor_past_buffer_view.gltf", kRefused,
+     "100000 elements of 2 bytes at offset 0 run past the end of bufferView 0"},
+    {"accessor_offset_overflow.gltf", kRefused,
+     "at offset 18446744073709551516 run past the end of bufferView 1"},
     {"accessor_stride_too_small.gltf", kRefused, "byteStride 4 is smaller than an element"},
     {"accessor_bad_component_type.gltf", kRefused, "unknown componentType 5130"},
     {"accessor_sparse_index_out_of_range.gltf", kRefused, "sparse index 1000 is out of range"},
@@ -76,7 +77,8 @@ const Expectation kCatalogue[] = {
     {"buffer_length_mismatch.gltf", kRefused, "claims 1000000000 bytes, its data URI holds 168"},
     {"index_past_vertex_count.gltf", kRefused, "index 65000 (position 5) is past the 10 vertices"},
     {"index_count_not_multiple_of_3.gltf", kRefused, "index count 23 is not a multiple of 3"},
-    {"triangles_10m_claim.gltf", kRefused, "30000000 elements of 2 bytes at offset 0 run past the end of bufferView 0"},
+    {"triangles_10m_claim.gltf", kRefused,
+     "30000000 elements of 2 bytes at offset 0 run past the end of bufferView 0"},
     {"triangles_10m_sparse_claim.gltf", kRefused, "claims far more data than it holds"},
     {"primitive_lines.gltf", kRefused, "only triangle primitives are supported"},
     {"primitive_no_position.gltf", kRefused, "has no POSITION attribute"},
@@ -108,17 +110,21 @@ const Expectation kCatalogue[] = {
     {"image_view_past_buffer.gltf", kRefused, "runs past the end of its buffer"},
     {"image_uri_escapes.gltf", kRefused, "points outside the model's folder (refused, not read)"},
     // URIs
-    {"uri_escapes_etc_passwd.gltf", kRefused, "'../../etc/passwd' points outside the model's folder (refused, not read)"},
+    {"uri_escapes_etc_passwd.gltf", kRefused,
+     "'../../etc/passwd' points outside the model's folder (refused, not read)"},
     {"uri_absolute.gltf", kRefused, "'/etc/passwd' is an absolute path, outside the model's folder"},
     {"uri_percent_encoded.gltf", kRefused, "points outside the model's folder (refused, not read)"},
     {"uri_missing_file.gltf", kRefused, "missing.bin"},
-    {"escape/uri_to_parent_folder.gltf", kRefused, "'../escape_target.bin' points outside the model's folder"},
+    {"escape/uri_to_parent_folder.gltf", kRefused,
+     "'../escape_target.bin' points outside the model's folder"},
 };
 
 // Test names print the file, not the bytes of the struct.
 void PrintTo(const Expectation& e, std::ostream* os) { *os << e.file; }
 
-std::size_t line_count(const std::string& s) { return static_cast<std::size_t>(std::count(s.begin(), s.end(), '\n')); }
+std::size_t line_count(const std::string& s) {
+  return static_cast<std::size_t>(std::count(s.begin(), s.end(), '\n'));
+}
 
 #if defined(__SANITIZE_ADDRESS__)
 constexpr bool kSanitized = true;
@@ -129,8 +135,9 @@ constexpr bool kSanitized = false;
 // `deepcut ARGS` under a 2 GiB memory limit and a timeout. ASan reserves terabytes of address
 // space, so a sanitizer build limits the resident size through ASan instead of `ulimit -v`.
 test::RunResult run_limited(const std::string& args) {
-  const std::string limit = kSanitized ? "ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}hard_rss_limit_mb=2048\" "
-                                       : "ulimit -v 2097152; ";
+  const std::string limit = kSanitized
+                                ? "ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}hard_rss_limit_mb=2048\" "
+                                : "ulimit -v 2097152; ";
   const std::string timeout = kSanitized ? "timeout 300 " : "timeout 60 ";
   return test::run_command(limit + timeout + test::quote(DEEPCUT_CLI) + " " + args);
 }
@@ -165,7 +172,8 @@ TEST_P(BadInputTest, info_and_convert_refuse_or_handle_it) {
       EXPECT_EQ(r->exit_code, 2) << r->err;
       EXPECT_EQ(line_count(r->err), 1u) << "exactly one stderr line: " << r->err;
       EXPECT_NE(r->err.find(name), std::string::npos) << "the line should name the file: " << r->err;
-      EXPECT_NE(r->err.find(e.words), std::string::npos) << "the line should say '" << e.words << "': " << r->err;
+      EXPECT_NE(r->err.find(e.words), std::string::npos)
+          << "the line should say '" << e.words << "': " << r->err;
       EXPECT_TRUE(r->out.empty()) << "nothing on stdout: " << r->out;
     }
     EXPECT_FALSE(fs::exists(out)) << "nothing may be written on failure";
@@ -210,8 +218,8 @@ TEST(BadInputCatalogue, every_file_has_an_expectation_and_every_expectation_a_fi
 }
 
 TEST(BadInputCatalogue, matches_its_generator) {
-  const auto r = test::run_command("python3 " + test::quote(std::string(DEEPCUT_SOURCE_DIR) + "/scripts/make_bad_inputs.py") +
-                                   " --check");
+  const auto r = test::run_command(
+      "python3 " + test::quote(std::string(DEEPCUT_SOURCE_DIR) + "/scripts/make_bad_inputs.py") + " --check");
   EXPECT_EQ(r.exit_code, 0) << "tests/data/bad differs from scripts/make_bad_inputs.py; rerun it:\n" << r.err;
 }
 
@@ -253,7 +261,8 @@ TEST_F(HostileFileSystemTest, a_symlink_out_of_the_folder_is_refused_and_not_rea
 TEST_F(HostileFileSystemTest, a_file_name_with_a_newline_still_gives_one_line) {
   const std::string path = dir_ + "/two\nlines.gltf";
   fs::copy_file(kBadDir + "/position_nan.gltf", path);
-  for (const std::string& cmd : {"info " + test::quote(path), "convert " + test::quote(path) + " -o " + test::quote(dir_ + "/o.glb")}) {
+  for (const std::string& cmd : {"info " + test::quote(path),
+                                 "convert " + test::quote(path) + " -o " + test::quote(dir_ + "/o.glb")}) {
     const auto r = run_limited(cmd);
     EXPECT_EQ(r.exit_code, 2) << r.err;
     EXPECT_EQ(line_count(r.err), 1u) << r.err;

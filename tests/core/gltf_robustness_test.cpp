@@ -3,11 +3,11 @@
 // read_gltf on the whole bad-input catalogue, every model the reader accepts holds the mesh
 // invariants, and every input the fuzzer ever found (tests/fuzz/regressions/) plus the seed
 // corpus (tests/fuzz/corpus/) is rejected cleanly or read into a valid model.
+#include <gtest/gtest.h>
+
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-
-#include <gtest/gtest.h>
 
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/validate.h"
@@ -36,7 +36,8 @@ std::vector<fs::path> files_under(const fs::path& dir) {
 void expect_valid_model(const Model& model) {
   std::vector<std::size_t> joints(model.meshes.size(), 0);
   for (const auto& n : model.nodes)
-    if (n.mesh >= 0 && n.skin >= 0) joints[static_cast<std::size_t>(n.mesh)] = model.skins[n.skin].joints.size();
+    if (n.mesh >= 0 && n.skin >= 0)
+      joints[static_cast<std::size_t>(n.mesh)] = model.skins[n.skin].joints.size();
   for (std::size_t m = 0; m < model.meshes.size(); ++m)
     for (const auto& prim : model.meshes[m].primitives) EXPECT_NO_THROW(validate_mesh(prim.mesh, joints[m]));
   EXPECT_NO_THROW(compute_stats(model));
@@ -50,7 +51,8 @@ void expect_clean_outcome(const std::vector<unsigned char>& bytes, const std::st
     expect_valid_model(model);
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ErrorCode::InvalidInput) << e.what();
-    EXPECT_EQ(std::string(e.what()).rfind(name + ": ", 0), 0u) << "the message should start with the name: " << e.what();
+    EXPECT_EQ(std::string(e.what()).rfind(name + ": ", 0), 0u)
+        << "the message should start with the name: " << e.what();
     EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << "one line: " << e.what();
   }
 }
@@ -108,7 +110,8 @@ TEST(GltfRobustnessTest, memory_reader_never_opens_a_file) {
     read_gltf_memory(read_bytes(path), "in-memory.gltf");
     FAIL() << "an external URI was accepted from memory";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("read from memory may only use data: URIs"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("read from memory may only use data: URIs"), std::string::npos)
+        << e.what();
   }
   // And the assets that embed everything read the same from memory as from their file.
   for (const auto& asset : test::asset_models()) {

@@ -3,13 +3,13 @@
 // Bad input must end in deepcut::Error; anything else (a crash, a sanitizer report, another
 // exception, a hang or an allocation past -rss_limit_mb) is a finding. Input the reader accepts
 // must also hold the mesh invariants and survive an export + re-import with the same counts.
+#include <unistd.h>
+
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <string>
 #include <vector>
-
-#include <unistd.h>
 
 #include "deepcut/core/errors.h"
 #include "deepcut/core/io/gltf.h"
@@ -26,15 +26,17 @@ namespace {
 void check_model(const deepcut::Model& model) {
   std::vector<std::size_t> joints(model.meshes.size(), 0);
   for (const auto& n : model.nodes)
-    if (n.mesh >= 0 && n.skin >= 0) joints[static_cast<std::size_t>(n.mesh)] = model.skins[n.skin].joints.size();
+    if (n.mesh >= 0 && n.skin >= 0)
+      joints[static_cast<std::size_t>(n.mesh)] = model.skins[n.skin].joints.size();
   for (std::size_t m = 0; m < model.meshes.size(); ++m)
     for (const auto& prim : model.meshes[m].primitives) deepcut::validate_mesh(prim.mesh, joints[m]);
   (void)deepcut::find_problems(model);
 }
 
 const std::string& scratch_path() {
-  static const std::string path = (std::filesystem::temp_directory_path() /
-                                   ("deepcut-fuzz-" + std::to_string(::getpid()) + ".glb")).string();
+  static const std::string path =
+      (std::filesystem::temp_directory_path() / ("deepcut-fuzz-" + std::to_string(::getpid()) + ".glb"))
+          .string();
   return path;
 }
 
@@ -46,7 +48,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     model = deepcut::read_gltf_memory(bytes, "fuzz.gltf");
   } catch (const deepcut::Error& e) {
-    if (e.code() != deepcut::ErrorCode::InvalidInput) finding(std::string("unexpected error code: ") + e.what());
+    if (e.code() != deepcut::ErrorCode::InvalidInput)
+      finding(std::string("unexpected error code: ") + e.what());
     return 0;  // rejected cleanly
   } catch (const std::exception& e) {
     finding(std::string("exception that is not deepcut::Error: ") + e.what());

@@ -237,7 +237,10 @@ void Clusters::recompute_centre(std::uint32_t p, const std::vector<glm::vec3>& r
   centres_[p] = glm::vec3(sum / double(m.size()));
 }
 
-std::uint32_t Clusters::new_particle(const glm::vec3& seed) {
+std::uint32_t Clusters::new_particle(const glm::vec3& seed_ref) {
+  // Copy first: callers pass seeds_[i], which seeds_.push_back may reallocate (ASan found the
+  // read of the freed seed in centres_.push_back).
+  const glm::vec3 seed = seed_ref;
   const auto p = static_cast<std::uint32_t>(seeds_.size());
   seeds_.push_back(seed);
   centres_.push_back(seed);
