@@ -6,6 +6,7 @@
 #include <map>
 #include <numeric>
 #include <queue>
+#include <sstream>
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
@@ -153,10 +154,30 @@ std::vector<Piece> make_pieces(const Blade& start, const Blade& end) {
   const glm::dvec3 h0(start.handle), t0(start.tip), h1(end.handle), t1(end.tip);
   const double size = std::max({glm::length(t0 - h0), glm::length(t1 - h1), glm::length(h1 - h0),
                                 glm::length(t1 - t0), glm::length(t1 - h0), glm::length(h1 - t0)});
-  if (glm::length(t0 - h0) <= 1e-6 * size || size == 0.0)
+  // A blade a million times shorter than the sweep is as degenerate as a zero-length one; say
+  // which pose is out of scale (usually a mistyped coordinate) rather than blame the shorter one.
+  const double len0 = glm::length(t0 - h0), len1 = glm::length(t1 - h1);
+  if (len0 == 0.0 || size == 0.0)
     throw Error(ErrorCode::InvalidArgument, "tear: the start blade has zero length (handle == tip)");
-  if (glm::length(t1 - h1) <= 1e-6 * size)
+  if (len1 == 0.0)
     throw Error(ErrorCode::InvalidArgument, "tear: the end blade has zero length (handle == tip)");
+  if (std::min(len0, len1) <= 1e-6 * size) {
+    const auto text = [](double v) {
+      std::ostringstream o;
+      o << v;
+      return o.str();
+    };
+    const bool start_longer = len0 > len1;
+    const double longer = std::max(len0, len1), shorter = std::min(len0, len1);
+    if (longer > 1e6 * shorter)
+      throw Error(ErrorCode::InvalidArgument,
+                  std::string("tear: the ") + (start_longer ? "start" : "end") + " blade (length " + text(longer) +
+                      ") is over a million times longer than the " + (start_longer ? "end" : "start") +
+                      " blade (length " + text(shorter) + "); check its coordinates");
+    throw Error(ErrorCode::InvalidArgument, "tear: the blade (length " + text(shorter) +
+                                                ") is over a million times shorter than its sweep (" +
+                                                text(size) + "); check the end pose's coordinates");
+  }
   if (glm::length(h1 - h0) + glm::length(t1 - t0) <= 1e-6 * size)
     throw Error(ErrorCode::InvalidArgument, "tear: the blade's start and end poses are identical");
   const glm::dvec3 n1 = glm::cross(t0 - h0, t1 - h0), n2 = glm::cross(t1 - h0, h1 - h0);
@@ -959,7 +980,16 @@ void Tearer::separate_and_open(TearResult& result) {
       }
       if (side == 0.0) side = fallback;
       if (side == 0.0) continue;
-      lip.move = (side > 0.0 ? 1.0 : -1.0) * 0.5 * double(width_) * taper * n;
+      // No lip moves further than the longest edge of its faces: a longer move flips them anyway,
+      // and halving from a huge width (1e9) would give up before reaching a size that fits.
+      double reach = 0.0;
+      for (FaceId f : lip.faces) {
+        const Triangle& t = mesh_.face(f);
+        for (int k = 0; k < 3; ++k)
+          reach = std::max(reach, glm::length(glm::dvec3(posed_[t[k].index]) - glm::dvec3(posed_[t[(k + 1) % 3].index])));
+      }
+      const double half = std::min(0.5 * double(width_) * taper, reach);
+      lip.move = (side > 0.0 ? 1.0 : -1.0) * half * n;
       lip_of.emplace(lip.v.index, i);
     }
     // Halve moves that would flip a face (or nearly collapse it), until none does.
@@ -991,6 +1021,14 @@ void Tearer::separate_and_open(TearResult& result) {
       }
       if (!flipped) break;
     }
+    // The opening achieved: the widest gap between two copies of one slit vertex.
+    std::unordered_map<std::uint32_t, std::vector<glm::dvec3>> moves_of;
+    for (const Lip& lip : lips) moves_of[lip.of].push_back(lip.move);
+    double opening = 0.0;
+    for (const auto& [of, moves] : moves_of)
+      for (std::size_t i = 0; i < moves.size(); ++i)
+        for (std::size_t j = i + 1; j < moves.size(); ++j) opening = std::max(opening, glm::length(moves[i] - moves[j]));
+    result.opening = static_cast<float>(opening);
     for (const Lip& lip : lips) {
       if (glm::length(lip.move) == 0.0) continue;
       const glm::mat3 m = linear(lip.v);
@@ -1118,6 +1156,7 @@ ModelTearResult tear_model(Model& model, const Blade& start, const Blade& end, c
       result.intersection_points += r.intersection_points;
       result.tear_vertices += r.tear_vertices.size();
       result.slits += r.slits;
+      result.opening = std::max(result.opening, r.opening);
     }
     if (!any) continue;
     result.status = OpStatus::Ok;

@@ -63,8 +63,11 @@ struct TearResult {
   /// Slits that close on themselves (the quad sliced all the way round a part): each leaves two
   /// boundary loops, and the part comes off.
   std::size_t closed_slits = 0;
-  /// The opening width used (model units).
+  /// The opening width asked for (model units): TearOptions::width with the default resolved.
   float width = 0.0f;
+  /// The opening achieved (world units): the widest gap between the two lips of any slit vertex
+  /// after the moves were capped and halved (see the note on tear_mesh); at most `width`.
+  float opening = 0.0f;
   /// Every change, in order: vertices added on edges and inside faces, faces replaced, lip
   /// vertices split (VertexSplit) and moved apart (VertexMoved).
   EditLog log;
@@ -90,8 +93,10 @@ struct TearResult {
 ///       one pass over the faces' bounding boxes plus work proportional to the tear.
 /// @note Opening: each lip vertex moves by (width / 2) * sin(pi * s / L) along the quad normal
 ///       (s: arc length from the slit's nearer end, L: the slit's length; a slit that closes on
-///       itself opens fully). A move that would flip a neighbouring face is halved until it does
-///       not, so coarse meshes open less than `width` rather than fold over.
+///       itself opens fully). No lip vertex moves further than the longest edge of its faces, and
+///       a move that would flip a neighbouring face is halved until it does not, so coarse meshes
+///       (or huge widths) open less than `width` rather than fold over: TearResult::opening says
+///       how far they opened. The slits made (the topology) never depend on the width.
 TearResult tear_mesh(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed,
                      const std::vector<glm::mat3>& skin_linear, const Blade& start, const Blade& end,
                      const TearOptions& options = {});
@@ -101,7 +106,8 @@ struct ModelTearResult {
   std::size_t intersection_points = 0;
   std::size_t tear_vertices = 0;
   std::size_t slits = 0;
-  float width = 0.0f;
+  float width = 0.0f;    ///< asked for
+  float opening = 0.0f;  ///< achieved: the largest TearResult::opening over the torn meshes
 };
 
 /// Tears every mesh instance of `model` posed at `time` of `animation` (-1: rest pose). Torn
