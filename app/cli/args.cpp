@@ -59,6 +59,35 @@ double Args::number(const std::string& name, double fallback) const {
   return has(name) ? parse_number(value(name), name) : fallback;
 }
 
+long long Args::integer(const std::string& name, long long fallback) const {
+  if (!has(name)) return fallback;
+  const std::string text = value(name);
+  std::size_t used = 0;
+  long long v = 0;
+  try {
+    v = std::stoll(text, &used, 10);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != text.size()) throw UsageError(name + ": '" + text + "' is not a whole number");
+  return v;
+}
+
+std::string count_of(std::size_t n, const std::string& singular, const std::string& plural) {
+  return std::to_string(n) + " " + (n == 1 ? singular : plural);
+}
+
+int animation_option(const Args& args, std::size_t count) {
+  const long long animation = args.integer("--animation", count == 0 ? -1 : 0);
+  if (animation < -1 || animation >= static_cast<long long>(count)) {
+    const std::string range = count == 0 ? "only -1 (the rest pose) is valid"
+                                         : "valid: -1 (the rest pose) to " + std::to_string(count - 1);
+    throw UsageError("--animation " + std::to_string(animation) + ": the model has " + std::to_string(count) +
+                     (count == 1 ? " animation; " : " animations; ") + range);
+  }
+  return static_cast<int>(animation);
+}
+
 std::vector<double> Args::vector(const std::string& name, std::size_t count) const {
   std::vector<double> out;
   std::stringstream ss(value(name));

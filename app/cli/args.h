@@ -28,6 +28,9 @@ class Args {
   std::string value(const std::string& name, const std::string& fallback = "") const;
   /// Number option; UsageError when malformed or not finite.
   double number(const std::string& name, double fallback) const;
+  /// Whole-number option (e.g. "3", "-1"; not "0.5" or "1e3x").
+  /// @throws UsageError when the value is not an integer or does not fit in a long long.
+  long long integer(const std::string& name, long long fallback) const;
   /// Comma-separated numbers, exactly `count` of them, all finite.
   std::vector<double> vector(const std::string& name, std::size_t count) const;
 
@@ -36,5 +39,13 @@ class Args {
   std::set<std::string> flags_;
   std::map<std::string, std::string> values_;
 };
+
+/// "1 piece", "3 pieces": `n` followed by the noun in the right number.
+std::string count_of(std::size_t n, const std::string& singular, const std::string& plural);
+
+/// `--animation I` checked against a model with `count` animations: a whole number in
+/// -1..count-1 (-1 is the rest pose). Default 0, or -1 when the model has no animation.
+/// @throws UsageError for a non-integer or out-of-range index.
+int animation_option(const Args& args, std::size_t count);
 
 }  // namespace deepcut::cli

@@ -4,13 +4,30 @@
 #include <cmath>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <vector>
 
 #include "args.h"
 #include "commands.h"
 #include "deepcut/core/io/gltf.h"
+#include "deepcut/core/model.h"
 #include "deepcut/core/ops/history.h"
 
 namespace deepcut::cli {
+
+namespace {
+
+// Live triangles drawn by each node (0 for nodes without a mesh).
+std::vector<std::size_t> instance_triangles(const Model& model) {
+  std::vector<std::size_t> out(model.nodes.size(), 0);
+  for (std::size_t ni = 0; ni < model.nodes.size(); ++ni) {
+    const int mi = model.nodes[ni].mesh;
+    if (mi < 0 || static_cast<std::size_t>(mi) >= model.meshes.size()) continue;
+    for (const auto& prim : model.meshes[static_cast<std::size_t>(mi)].primitives) out[ni] += prim.mesh.face_count();
+  }
+  return out;
+}
+
+}  // namespace
 
 int run_drill(const std::vector<std::string>& argv) {
   const Args args(argv, {"--json", "--wall"},
@@ -38,27 +55,44 @@ int run_drill(const std::vector<std::string>& argv) {
   Model model = read_gltf(args.positionals()[0]);
   Operation op;
   op.params = drill;
-  op.animation = pose_animation(args, model);
+  const int animation = animation_option(args, model.animations.size());  // -1..N-1, whole numbers
+  op.animation = args.has("--time") ? animation : -1;                     // no --time: the rest pose
   op.time = static_cast<float>(args.number("--time", 0.0));
+  const auto before = instance_triangles(model);
   const auto t0 = std::chrono::steady_clock::now();
   const ModelDrillResult r = drill_model(model, drill.cylinder, drill.options, op.animation, op.time);
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  // A drill that swallows a whole instance is not a hole: refuse it rather than write an empty mesh.
+  const auto after = instance_triangles(model);
+  for (std::size_t ni = 0; ni < before.size(); ++ni)
+    if (before[ni] > 0 && after[ni] == 0)
+      throw Error(ErrorCode::InvalidArgument,
+                  "the cylinder removes every triangle of node " + std::to_string(ni) +
+                      (model.nodes[ni].name.empty() ? std::string() : " '" + model.nodes[ni].name + "'") +
+                      " (" + std::to_string(before[ni]) + " triangles); use a smaller --radius");
   if (r.status == OpStatus::Ok) record_operation(model, op);
   write_gltf(model, args.value("-o"));
+  // --wall asked for but no rim pair qualified: say so instead of staying silent.
+  std::string wall_note;
+  if (drill.options.wall && r.status == OpStatus::Ok && r.wall_triangles == 0)
+    wall_note = "no wall: none of the " + std::to_string(r.rim_vertices.size()) +
+                " holes pairs with another along the axis (a wall joins an entry and the next exit rim that "
+                "each go once around the cylinder side; rims touching an end plane or a grazed layer get none)";
   if (args.flag("--json")) {
-    std::cout << nlohmann::json{{"status", to_string(r.status)},
-                                {"holes", r.rim_vertices.size()},
-                                {"rim_vertices", r.rim_vertices},
-                                {"intersection_points", r.intersection_points},
-                                {"triangles_removed", r.triangles_removed},
-                                {"triangles_added", r.triangles_added},
-                                {"wall_triangles", r.wall_triangles},
-                                {"ms", ms}}
-                     .dump(2)
-              << "\n";
+    nlohmann::json j{{"status", to_string(r.status)},
+                     {"holes", r.rim_vertices.size()},
+                     {"rim_vertices", r.rim_vertices},
+                     {"intersection_points", r.intersection_points},
+                     {"triangles_removed", r.triangles_removed},
+                     {"triangles_added", r.triangles_added},
+                     {"wall_triangles", r.wall_triangles},
+                     {"ms", ms}};
+    if (!wall_note.empty()) j["wall_note"] = wall_note;
+    std::cout << j.dump(2) << "\n";
   } else {
+    if (!wall_note.empty()) std::cerr << "deepcut: " << wall_note << "\n";
     std::cerr << "deepcut: "
-              << (r.status == OpStatus::Ok ? "drilled " + std::to_string(r.rim_vertices.size()) + " holes"
+              << (r.status == OpStatus::Ok ? "drilled " + count_of(r.rim_vertices.size(), "hole", "holes")
                                            : std::string("the drill misses the model; wrote it unchanged"))
               << " -> " << args.value("-o") << "\n";
   }

@@ -189,12 +189,11 @@ int run_softbody(const std::vector<std::string>& argv) {
   sim.mass = static_cast<float>(args.number("--mass", sim.mass));
 
   const Model model = read_gltf(path);
-  int animation = static_cast<int>(args.number("--animation", model.animations.empty() ? -1 : 0));
-  if (animation >= static_cast<int>(model.animations.size()))
-    throw UsageError("--animation " + std::to_string(animation) + ": the model has " +
-                     std::to_string(model.animations.size()) + " animations");
+  int animation = animation_option(args, model.animations.size());
   const bool animate = args.flag("--animate");
-  if (animate && animation < 0) throw UsageError("--animate: the model has no animation");
+  if (animate && model.animations.empty()) throw UsageError("--animate: the model has no animation");
+  if (animate && animation < 0)
+    throw UsageError("--animate needs an animation to play; --animation -1 is the rest pose");
   if (!animate && !args.has("--time")) animation = -1;
   const auto t_start = static_cast<float>(args.number("--time", 0.0));
 
@@ -242,6 +241,8 @@ int run_softbody(const std::vector<std::string>& argv) {
     if (!(speed > 0.0)) throw UsageError("--speed must be positive");
     impulse = -glm::normalize(normal) * float(speed) * size * sim.mass;
   }
+  if (!std::isfinite(impulse.x) || !std::isfinite(impulse.y) || !std::isfinite(impulse.z))
+    throw UsageError("the impulse overflows single precision; use a smaller --speed or --impulse");
 
   std::vector<SoftBodyState> states;
   std::size_t reached = 0;
@@ -270,10 +271,14 @@ int run_softbody(const std::vector<std::string>& argv) {
     for (std::size_t k = 0; k < inst.size(); ++k) {
       step_soft_body(states[k], dt, sim);
       m = std::max(m, deformed_positions(states[k], c.clusters[k], posed[k], deformed));
-      for (const auto& p : deformed)
-        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-          throw Error(ErrorCode::InvariantViolated,
-                      "softbody: non-finite vertex at frame " + std::to_string(f));
+      // An impulse this large drives the displacement past float range: the input's fault.
+      const bool overflow = !std::isfinite(m) || std::any_of(deformed.begin(), deformed.end(), [](const glm::vec3& p) {
+                              return !std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z);
+                            });
+      if (overflow)
+        throw Error(ErrorCode::InvalidArgument,
+                    "the displacement overflows at frame " + std::to_string(f) +
+                        "; use a smaller --speed or --impulse");
     }
     step_ms += ms_since(t0);
     max_disp.push_back(m);

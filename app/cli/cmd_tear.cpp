@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 // deepcut tear.
 #include <chrono>
+#include <cmath>
+#include <limits>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
@@ -20,6 +22,13 @@ int run_tear(const std::vector<std::string>& argv) {
   if (!args.has("--blade-end")) throw UsageError("tear needs --blade-end HX,HY,HZ,TX,TY,TZ");
   const auto s = args.vector("--blade-start", 6);
   const auto e = args.vector("--blade-end", 6);
+  const auto check_range = [](const char* name, const std::vector<double>& values) {
+    for (const double v : values)
+      if (std::abs(v) > double(std::numeric_limits<float>::max()))
+        throw UsageError(std::string(name) + ": a coordinate beyond 3.4e38 overflows single precision");
+  };
+  check_range("--blade-start", s);
+  check_range("--blade-end", e);
   TearOperation tear;
   tear.start = {glm::vec3(s[0], s[1], s[2]), glm::vec3(s[3], s[4], s[5])};
   tear.end = {glm::vec3(e[0], e[1], e[2]), glm::vec3(e[3], e[4], e[5])};
@@ -32,7 +41,8 @@ int run_tear(const std::vector<std::string>& argv) {
 
   Model model = read_gltf(args.positionals()[0]);
   Operation op;
-  op.animation = pose_animation(args, model);
+  const int animation = animation_option(args, model.animations.size());  // -1..N-1, whole numbers
+  op.animation = args.has("--time") ? animation : -1;                     // no --time: the rest pose
   op.time = static_cast<float>(args.number("--time", 0.0));
   const auto t0 = std::chrono::steady_clock::now();
   const ModelTearResult r = tear_model(model, tear.start, tear.end, tear.options, op.animation, op.time);
@@ -47,13 +57,15 @@ int run_tear(const std::vector<std::string>& argv) {
                                 {"intersection_points", r.intersection_points},
                                 {"slits", r.slits},
                                 {"width", r.width},
+                                {"opening", r.opening},
                                 {"ms", ms}}
                      .dump(2)
               << "\n";
   } else {
     std::cerr << "deepcut: "
-              << (r.status == OpStatus::Ok ? "tore " + std::to_string(r.slits) + " slit(s), " +
-                                                 std::to_string(r.tear_vertices) + " tear vertices"
+              << (r.status == OpStatus::Ok ? "tore " + count_of(r.slits, "slit", "slits") + ", " +
+                                                 count_of(r.tear_vertices, "tear vertex", "tear vertices") + ", opening " +
+                                                 std::to_string(r.opening) + " (asked " + std::to_string(r.width) + ")"
                                            : std::string("the blade misses the model; wrote it unchanged"))
               << " -> " << args.value("-o") << "\n";
   }

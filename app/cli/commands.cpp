@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+#include <algorithm>
 #include "commands.h"
 
 #include <chrono>
@@ -41,7 +42,12 @@ int run_info(const std::vector<std::string>& argv) {
   const Model model = read_gltf(path);
   const double load_ms = ms_since(t0);
   const ModelStats s = compute_stats(model);
-  const auto problems = find_problems(model);
+  auto problems = find_problems(model);
+  // A file with nothing to draw is a problem for every command that edits meshes.
+  const bool reported = std::any_of(problems.begin(), problems.end(),
+                                    [](const std::string& p) { return p.find("no triangles") != std::string::npos; });
+  if (s.meshes == 0) problems.push_back("the scene has no mesh");
+  else if (s.triangles == 0 && !reported) problems.push_back("the mesh has no triangles");
   json anims = json::array();
   for (const auto& a : model.animations) anims.push_back({{"name", a.name}, {"duration", a.duration()}});
   std::size_t merged = 0;
@@ -119,8 +125,9 @@ int run_make_cactus(const std::vector<std::string>& argv) {
   if (!args.positionals().empty()) throw UsageError("make-cactus takes no MODEL, only -o OUT");
   const std::string out = output_path(args, "make-cactus");
   CactusOptions options;
-  const double tris = args.number("--triangles", double(options.target_triangles));
-  if (tris < 1000 || tris > 2e8) throw UsageError("--triangles must be between 1000 and 200000000");
+  const long long tris = args.integer("--triangles", static_cast<long long>(options.target_triangles));
+  if (tris < 1000 || tris > 200000000)
+    throw UsageError("--triangles must be a whole number between 1000 and 200000000");
   options.target_triangles = static_cast<std::size_t>(tris);
   options.height = static_cast<float>(args.number("--height", options.height));
   const auto t0 = Clock::now();

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // deepcut: cut, tear and drill rigged glTF models from the command line.
 // Exit codes: 0 success, 2 bad input or usage (one line on stderr), 1 internal error.
+#include <algorithm>
 #include <iostream>
 #include <new>
 #include <string>
@@ -47,6 +48,25 @@ std::string one_line(const char* text) {
   return out;
 }
 
+// The lines of kUsage that describe `command` (its synopsis, continuation and description lines),
+// or an empty string for an unknown command.
+std::string command_usage(const std::string& command) {
+  std::string out;
+  bool inside = false;
+  std::size_t start = 0;
+  const std::string usage(kUsage);
+  while (start < usage.size()) {
+    const std::size_t end = usage.find('\n', start);
+    const std::string line = usage.substr(start, end - start);
+    start = end == std::string::npos ? usage.size() : end + 1;
+    const bool synopsis = line.size() > 2 && line.compare(0, 2, "  ") == 0 && line[2] != ' ';
+    if (synopsis) inside = line.compare(2, command.size() + 1, command + " ") == 0;
+    else if (line.empty()) inside = false;
+    if (inside) out += line + "\n";
+  }
+  return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -57,6 +77,12 @@ int main(int argc, char** argv) {
   }
   const std::string command = args[0];
   args.erase(args.begin());
+  const std::string usage = command_usage(command);
+  const auto wants_help = [](const std::string& a) { return a == "--help" || a == "-h"; };
+  if (!usage.empty() && std::find_if(args.begin(), args.end(), wants_help) != args.end()) {
+    std::cout << "usage: deepcut " << usage.substr(2);
+    return 0;
+  }
   try {
     if (command == "info") return deepcut::cli::run_info(args);
     if (command == "convert") return deepcut::cli::run_convert(args);
