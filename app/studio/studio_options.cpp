@@ -103,8 +103,12 @@ StudioOptions parse_studio_options(const std::vector<std::string>& args) {
 std::string default_model_path(const std::string& exe_dir, std::vector<std::string>* searched) {
   namespace fs = std::filesystem;
   const fs::path dir(exe_dir);
-  const fs::path candidates[] = {dir / ".." / ".." / "assets" / "cactus.glb",
-                                 dir / ".." / "share" / "deepcut" / "assets" / "cactus.glb"};
+  std::vector<fs::path> candidates = {dir / ".." / ".." / "assets" / "cactus.glb",
+                                      dir / ".." / "share" / "deepcut" / "assets" / "cactus.glb"};
+#ifdef DEEPCUT_SOURCE_ASSETS_DIR
+  // A build tree anywhere (not only build/ inside the sources) still finds the source assets.
+  candidates.push_back(fs::path(DEEPCUT_SOURCE_ASSETS_DIR) / "cactus.glb");
+#endif
   for (const fs::path& p : candidates) {
     if (searched) searched->push_back(p.lexically_normal().string());
     std::error_code ec;

@@ -39,7 +39,8 @@ StudioOptions parse_studio_options(const std::vector<std::string>& args);
 const char* studio_usage();
 
 /// The bundled default model next to the executable in `exe_dir`: `../../assets/cactus.glb`
-/// (a build tree), then `../share/deepcut/assets/cactus.glb` (an install).
+/// (a build tree), then `../share/deepcut/assets/cactus.glb` (an install), then the source
+/// tree's `assets/cactus.glb` this program was built from (an out-of-tree build).
 /// @returns the first that exists, or "" with `searched` listing the candidates.
 std::string default_model_path(const std::string& exe_dir, std::vector<std::string>* searched = nullptr);
 

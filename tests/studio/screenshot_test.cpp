@@ -191,6 +191,26 @@ class ScreenshotTest : public QObject {
       }
     }
   }
+
+  void default_model_from_an_out_of_tree_build() {
+    // A copy of the program far from any assets/ folder still opens the source tree's cactus.
+    const std::string bin = dir_ + "/elsewhere/bin";
+    QVERIFY(QDir().mkpath(QString::fromStdString(bin)));
+    const std::string copy = bin + "/deepcut-studio";
+    QFile::remove(QString::fromStdString(copy));
+    QVERIFY(QFile::copy(DEEPCUT_STUDIO, QString::fromStdString(copy)));
+    const std::string out = dir_ + "/elsewhere.png";
+    const RunResult r = deepcut::test::run_command(quote(copy) + " --size 640x480 --screenshot " + quote(out));
+    QVERIFY2(r.exit_code == 0, r.err.c_str());
+    QVERIFY(!QImage(QString::fromStdString(out)).isNull());
+  }
+
+  void help_without_a_display() {
+    const RunResult r =
+        deepcut::test::run_command("env -u DISPLAY -u WAYLAND_DISPLAY -u QT_QPA_PLATFORM " + quote(DEEPCUT_STUDIO) + " --help");
+    QCOMPARE(r.exit_code, 0);
+    QVERIFY2(r.out.find("deepcut-studio") != std::string::npos, r.out.c_str());
+  }
 };
 
 QTEST_GUILESS_MAIN(ScreenshotTest)
