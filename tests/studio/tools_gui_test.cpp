@@ -187,6 +187,59 @@ class StudioToolsTest : public QObject {
     QVERIFY(export_to("back") == before[1]);
   }
 
+  void thirty_mixed_operations_with_undo_redo_replay_with_the_cli() {
+    auto window = shown_window();
+    QVERIFY(window);
+    QVERIFY(window->open_file(kCactus));
+    const std::string dir = deepcut::test::temp_dir("studio-session");
+    std::uint32_t state = 12345u;  // a fixed linear congruential sequence: the same session every run
+    auto next = [&state] {
+      state = state * 1664525u + 1013904223u;
+      return static_cast<float>(state >> 8) / static_cast<float>(1u << 24);  // [0, 1)
+    };
+    int applied = 0;
+    for (int i = 0; i < 30; ++i) {
+      const float size = window->scene()->size;
+      const char* ids[3] = {"cut", "tear", "drill"};
+      window->set_tool(ids[i % 3]);
+      deepcut::OperationParams params = window->tool()->parameters();
+      if (auto* cut = std::get_if<deepcut::CutOperation>(&params)) {
+        cut->plane.point.y += (next() - 0.5f) * 0.6f * size;
+        cut->plane.normal = glm::vec3(next() - 0.5f, 1.0f, next() - 0.5f);
+      } else if (auto* tear = std::get_if<deepcut::TearOperation>(&params)) {
+        const glm::vec3 shift((next() - 0.5f) * 0.2f * size, (next() - 0.5f) * 0.4f * size, 0.0f);
+        for (glm::vec3* p : {&tear->start.handle, &tear->start.tip, &tear->end.handle, &tear->end.tip}) *p += shift;
+      } else if (auto* drill = std::get_if<deepcut::DrillOperation>(&params)) {
+        const glm::vec3 shift(0.0f, (next() - 0.5f) * 0.5f * size, 0.0f);
+        drill->cylinder.a += shift;
+        drill->cylinder.b += shift;
+        drill->cylinder.radius = (0.01f + 0.02f * next()) * size;
+      }
+      window->tool()->set_parameters(params);
+      if (window->apply_tool()) ++applied;
+      else QVERIFY2(window->last_error().contains("misses"), qPrintable(window->last_error()));
+      if (i % 4 == 3) window->undo_action()->trigger();
+      if (i % 8 == 7) window->redo_action()->trigger();
+      if (!window->model()->animations.empty()) window->timeline()->set_time(next() * 2.0f);
+    }
+    QVERIFY(applied >= 15);
+    const std::string studio = dir + "/session.glb";
+    QVERIFY(window->export_file(QString::fromStdString(studio)));
+    const deepcut::History history = deepcut::model_history(deepcut::read_gltf(studio));
+    QCOMPARE(static_cast<int>(history.operations.size()), window->history()->index());
+    {
+      std::ofstream out(dir + "/history.json");
+      out << deepcut::history_to_json(history);
+    }
+    const auto run = deepcut::test::run_cli("apply " + deepcut::test::quote(kCactus.toStdString()) + " " +
+                                            deepcut::test::quote(dir + "/history.json") + " -o " +
+                                            deepcut::test::quote(dir + "/cli.glb"));
+    QVERIFY2(run.exit_code == 0, run.err.c_str());
+    QVERIFY2(read_bytes(dir + "/cli.glb") == read_bytes(studio), "deepcut apply of the session differs");
+    const auto validation = deepcut::test::validate_gltf(studio);
+    QVERIFY2(validation.exit_code == 0, (validation.out + validation.err).c_str());
+  }
+
   void a_tool_that_misses_reports_and_keeps_the_model() {
     auto window = shown_window();
     QVERIFY(window);
