@@ -36,10 +36,7 @@ json piece_list(const Model& model, const std::vector<int>& nodes) {
 }  // namespace
 
 int pose_animation(const Args& args, const Model& model) {
-  const int animation = static_cast<int>(args.number("--animation", model.animations.empty() ? -1 : 0));
-  if (animation >= static_cast<int>(model.animations.size()))
-    throw UsageError("--animation " + std::to_string(animation) + ": the model has " + std::to_string(model.animations.size()) +
-                     " animations");
+  const int animation = animation_option(args, model.animations.size());
   return args.has("--time") ? animation : -1;
 }
 
@@ -79,7 +76,7 @@ int run_cut(const std::vector<std::string>& argv) {
                      .dump(2)
               << "\n";
   } else {
-    std::cerr << "deepcut: " << (r.status == OpStatus::Ok ? "cut into " + std::to_string(r.piece_nodes.size()) + " pieces"
+    std::cerr << "deepcut: " << (r.status == OpStatus::Ok ? "cut into " + count_of(r.piece_nodes.size(), "piece", "pieces")
                                                           : std::string("the plane misses the model; wrote it unchanged"))
               << " -> " << args.value("-o") << "\n";
   }
@@ -117,7 +114,8 @@ int run_apply(const std::vector<std::string>& argv) {
   if (args.flag("--json")) {
     std::cout << json{{"operations", reports}, {"ms", ms}}.dump(2) << "\n";
   } else {
-    std::cerr << "deepcut: applied " << history.operations.size() << " operations -> " << args.value("-o") << "\n";
+    std::cerr << "deepcut: applied " << count_of(history.operations.size(), "operation", "operations") << " -> "
+              << args.value("-o") << "\n";
   }
   return 0;
 }
