@@ -494,6 +494,17 @@ TEST(DrillTest, posed_drill_puts_rims_and_walls_on_the_cylinder_in_that_pose) {
   EXPECT_EQ(drill_mesh(bind, bind.positions(), c).status, OpStatus::NoIntersection);
 }
 
+TEST(DrillTest, a_cylinder_that_swallows_an_instance_leaves_no_empty_mesh) {
+  Model model = test::make_skinned_tube_model();  // radius 0.5, y from 0 to 4
+  const ModelDrillResult r = drill_model(model, Cylinder{{0, -1, 0}, {0, 5, 0}, 2.0f});
+  ASSERT_EQ(r.status, OpStatus::Ok);
+  EXPECT_EQ(model.nodes[0].mesh, -1) << "the node draws nothing rather than an empty mesh";
+  const std::string dir = test::temp_dir("drillswallow");
+  write_gltf(model, dir + "/empty.glb");
+  EXPECT_EQ(read_gltf(dir + "/empty.glb").skins.size(), 1u);
+  std::filesystem::remove_all(dir);
+}
+
 TEST(DrillTest, random_drills_on_every_asset_keep_all_invariants) {
   const unsigned seed = 20261122;
   std::printf("drill random seed %u\n", seed);

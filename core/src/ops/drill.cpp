@@ -1570,6 +1570,12 @@ ModelDrillResult drill_model(Model& model, const Cylinder& cylinder, const Drill
       add(wall, cut_material);
     }
     if (!any) continue;
+    if (out.primitives.empty()) {  // the cylinder swallowed the whole instance: it draws nothing now
+      if (--mesh_users[mi] == 0) model.meshes[mi].primitives.clear();
+      model.nodes[ni].mesh = -1;
+      model.nodes[ni].skin = -1;
+      continue;
+    }
     if (mesh_users[mi] > 1) {
       --mesh_users[mi];
       model.meshes.push_back(std::move(out));

@@ -113,7 +113,8 @@ struct ModelDrillResult {
 /// Drills every mesh instance of `model` posed at `time` of `animation` (-1: rest pose). Wall
 /// faces go to a separate primitive with the "Cut surface" material; skins and animations are
 /// kept, and new wall vertices are placed in bind space by inverting their blended skinning.
-/// Meshes shared by several instances are copied before they change.
+/// Meshes shared by several instances are copied before they change; an instance the cylinder
+/// swallows whole loses its mesh (and skin) reference.
 /// @throws Error{InvalidArgument} as drill_mesh, or for an animation index out of range.
 ModelDrillResult drill_model(Model& model, const Cylinder& cylinder, const DrillOptions& options = {},
                              int animation = -1, float time = 0.0f);
