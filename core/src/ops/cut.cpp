@@ -10,6 +10,7 @@
 
 #include "deepcut/core/mesh_editor.h"
 #include "deepcut/core/skinning.h"
+#include "ops/pieces.h"
 #include "ops/polygon_triangulation.h"
 
 namespace deepcut {
@@ -454,17 +455,6 @@ CutResult cut_mesh(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const
 
 namespace {
 
-// A copy of `mesh` holding only `faces` (unused vertices dropped).
-SurfaceMesh extract(const SurfaceMesh& mesh, const std::vector<FaceId>& faces) {
-  SurfaceMesh out = mesh;
-  std::vector<std::uint8_t> keep(mesh.face_slots(), 0);
-  for (FaceId f : faces) keep[f.index] = 1;
-  for (std::uint32_t f = 0; f < out.face_slots(); ++f)
-    if (!keep[f] && !out.is_deleted(FaceId(f))) out.mark_deleted(FaceId(f));
-  out.compact();
-  return out;
-}
-
 // Splits a piece's faces into the original-material part and the cut-surface part.
 void add_piece_primitives(const SurfaceMesh& piece, int material, int cut_material, Mesh& out) {
   const auto* flag = piece.face_attrs().find<std::uint8_t>(attr::kCutSurface);
@@ -473,7 +463,7 @@ void add_piece_primitives(const SurfaceMesh& piece, int material, int cut_materi
   auto add = [&](const std::vector<FaceId>& faces, int mat) {
     if (faces.empty()) return;
     Primitive p;
-    p.mesh = faces.size() == piece.face_count() ? piece : extract(piece, faces);
+    p.mesh = faces.size() == piece.face_count() ? piece : detail::extract(piece, faces);
     p.mesh.face_attrs().remove(attr::kCutSurface);
     p.material = mat;
     out.primitives.push_back(std::move(p));
@@ -510,15 +500,6 @@ std::string unique_node_name(const Model& model, const std::string& wanted) {
   if (!taken(wanted)) return wanted;
   for (int i = 2;; ++i)
     if (!taken(wanted + "_" + std::to_string(i))) return wanted + "_" + std::to_string(i);
-}
-
-int cut_surface_material(Model& model) {
-  for (std::size_t i = 0; i < model.materials.size(); ++i)
-    if (model.materials[i].name == "Cut surface") return static_cast<int>(i);
-  model.materials.push_back({"Cut surface",
-                             R"({"name":"Cut surface","doubleSided":false,"pbrMetallicRoughness":)"
-                             R"({"baseColorFactor":[0.8,0.18,0.16,1.0],"metallicFactor":0.0,"roughnessFactor":0.9}})"});
-  return static_cast<int>(model.materials.size() - 1);
 }
 
 }  // namespace
@@ -565,7 +546,7 @@ ModelCutResult cut_model(Model& model, const Plane& plane, const CutOptions& opt
       continue;
     }
     result.status = OpStatus::Ok;
-    if (options.cap && cut_material < 0) cut_material = cut_surface_material(model);
+    if (options.cap && cut_material < 0) cut_material = detail::cut_surface_material(model);
     // Group each primitive's pieces into output meshes: without split_components piece k of
     // every primitive (0 positive, 1 negative) shares a mesh; with it, every piece is its own.
     std::vector<Mesh> piece_meshes;
@@ -586,7 +567,7 @@ ModelCutResult cut_model(Model& model, const Plane& plane, const CutOptions& opt
         const int side = r.piece_sides[k];
         const std::size_t slot = options.split_components ? piece_meshes.size() : (side > 0 ? 0 : 1);
         if (slot >= piece_meshes.size()) piece_meshes.resize(slot + 1);
-        add_piece_primitives(extract(cut_prims[p], pieces[k]), source.primitives[p].material, cut_material,
+        add_piece_primitives(detail::extract(cut_prims[p], pieces[k]), source.primitives[p].material, cut_material,
                              piece_meshes[slot]);
       }
     }

@@ -26,6 +26,7 @@
 
 #include "deepcut/core/mesh_editor.h"
 #include "deepcut/core/skinning.h"
+#include "ops/pieces.h"
 #include "ops/polygon_triangulation.h"
 
 namespace deepcut {
@@ -1470,27 +1471,6 @@ DrillResult drill_mesh(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, c
 
 namespace {
 
-// A copy of `mesh` holding only `faces` (unused vertices dropped).
-SurfaceMesh extract(const SurfaceMesh& mesh, const std::vector<FaceId>& faces) {
-  SurfaceMesh out = mesh;
-  std::vector<std::uint8_t> keep(mesh.face_slots(), 0);
-  for (FaceId f : faces) keep[f.index] = 1;
-  for (std::uint32_t f = 0; f < out.face_slots(); ++f)
-    if (!keep[f] && !out.is_deleted(FaceId(f))) out.mark_deleted(FaceId(f));
-  out.compact();
-  return out;
-}
-
-int cut_surface_material(Model& model) {
-  for (std::size_t i = 0; i < model.materials.size(); ++i)
-    if (model.materials[i].name == "Cut surface") return static_cast<int>(i);
-  model.materials.push_back(
-      {"Cut surface",
-       R"({"name":"Cut surface","doubleSided":false,"pbrMetallicRoughness":)"
-       R"({"baseColorFactor":[0.8,0.18,0.16,1.0],"metallicFactor":0.0,"roughnessFactor":0.9}})"});
-  return static_cast<int>(model.materials.size() - 1);
-}
-
 }  // namespace
 
 ModelDrillResult drill_model(Model& model, const Cylinder& cylinder, const DrillOptions& options,
@@ -1559,14 +1539,14 @@ ModelDrillResult drill_model(Model& model, const Cylinder& cylinder, const Drill
       auto add = [&](const std::vector<FaceId>& faces, int material) {
         if (faces.empty()) return;
         Primitive p;
-        p.mesh = extract(copy, faces);
+        p.mesh = detail::extract(copy, faces);
         p.mesh.face_attrs().remove(attr::kCutSurface);
         p.material = material;
         p.extras_json = prim.extras_json;
         out.primitives.push_back(std::move(p));
       };
       add(body, prim.material);
-      if (!wall.empty() && cut_material < 0) cut_material = cut_surface_material(model);
+      if (!wall.empty() && cut_material < 0) cut_material = detail::cut_surface_material(model);
       add(wall, cut_material);
     }
     if (!any) continue;
