@@ -299,9 +299,12 @@ void MainWindow::build_menus() {
   QMenu* tools_menu = menuBar()->addMenu("&Tools");
   tool_group_ = new QActionGroup(this);
   tool_group_->setExclusionPolicy(QActionGroup::ExclusionPolicy::ExclusiveOptional);
-  for (const auto& tool : tools_) {
+  for (std::size_t i = 0; i < tools_.size(); ++i) {
+    const auto& tool = tools_[i];
     QAction* action = tools_menu->addAction(QString::fromStdString(tool->title()));
     action->setObjectName(QString::fromStdString("tool_" + tool->id()));
+    const std::string& shortcut = plugins::builtin_tools().list()[i].shortcut;
+    if (!shortcut.empty()) action->setShortcut(QKeySequence(QString::fromStdString(shortcut)));
     action->setCheckable(true);
     action->setData(QString::fromStdString(tool->id()));
     tool_group_->addAction(action);
@@ -446,7 +449,11 @@ void MainWindow::load_file(const QString& path) {
   mark_inspectors_stale(plugins::SceneChange::Model);
   refresh_inspector();
   view_->reset_camera();
-  if (plugins::Tool* active_tool = tool()) active_tool->place(*scene_, view_->view_direction());
+  last_surface_click_.reset();
+  if (plugins::Tool* active_tool = tool()) {
+    active_tool->place(*scene_, tool_placement());
+    view_->set_tool_widget(active_tool->widget());
+  }
   refresh_tool_preview();
   view_->render();
   remember_recent(path);
@@ -513,9 +520,21 @@ void MainWindow::set_tool(const std::string& id) {
     action->setChecked(index >= 0 && action->data().toString().toStdString() == id);
   apply_button_->setEnabled(index >= 0);
   apply_action_->setEnabled(index >= 0);
-  if (index >= 0 && scene_) tools_[static_cast<std::size_t>(index)]->place(*scene_, view_->view_direction());
+  plugins::Tool* chosen = tool();
+  if (chosen && scene_) chosen->place(*scene_, tool_placement());
+  view_->set_tool_widget(chosen && scene_ ? chosen->widget() : nullptr);
   refresh_tool_preview();
   view_->render();
+}
+
+plugins::ToolPlacement MainWindow::tool_placement() {
+  plugins::ToolPlacement placement;
+  placement.view_direction = view_->view_direction();
+  placement.view_up = view_->view_up();
+  if (const std::optional<QPoint> cursor = view_->cursor_position())
+    placement.point = view_->surface_point_at(*cursor);
+  if (!placement.point) placement.point = last_surface_click_;
+  return placement;
 }
 
 plugins::Tool* MainWindow::tool() const {
@@ -722,6 +741,7 @@ void MainWindow::on_pose_changed(int animation, float time) {
 
 void MainWindow::on_pick(const plugins::Pick& pick) {
   if (!scene_) return;
+  if (pick.joint_node < 0 && pick.piece < scene_->pieces.size()) last_surface_click_ = pick.position;
   if (plugins::Inspector* active = inspector()) {
     sync_active_inspector();
     if (active->pick(pick)) refresh_inspector();

@@ -63,7 +63,9 @@ class MainWindow : public QMainWindow {
   void apply_operation(const QString& label, std::shared_ptr<const Model> result, double ms);
 
   /// Chooses operation tool `id` ("cut", "tear", "drill"; "" or "none": no tool). The tool
-  /// places itself on the model (current pose and view) and its preview is drawn.
+  /// places itself on the model (current pose and view; at the surface point under the mouse
+  /// cursor, else at the last clicked surface point), its widget appears in the view and its
+  /// preview is drawn.
   /// @throws Error{InvalidArgument} for an unknown id.
   void set_tool(const std::string& id);
   /// The active tool, or nullptr.
@@ -137,6 +139,8 @@ class MainWindow : public QMainWindow {
   void refresh_overlays();
   void refresh_status();
   void refresh_tool_preview();
+  /// Camera and surface point for placing a tool (see set_tool).
+  plugins::ToolPlacement tool_placement();
   void on_pose_changed(int animation, float time);
   void on_pick(const plugins::Pick& pick);
   void choose_open();
@@ -153,6 +157,7 @@ class MainWindow : public QMainWindow {
   bool show_skeleton_ = true;
   std::vector<std::unique_ptr<plugins::Tool>> tools_;  // in registry order
   int active_tool_ = -1;                               // index into tools_
+  std::optional<glm::vec3> last_surface_click_;        // posed world point of the last click on the model
 
   SceneView* view_ = nullptr;
   SceneTree* tree_ = nullptr;

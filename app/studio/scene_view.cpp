@@ -2,6 +2,7 @@
 #include "scene_view.h"
 
 #include <QVTKOpenGLNativeWidget.h>
+#include <vtkAbstractWidget.h>
 #include <vtkActor.h>
 #include <vtkAxesActor.h>
 #include <vtkCallbackCommand.h>
@@ -15,6 +16,7 @@
 #include <vtkIdTypeArray.h>
 #include <vtkInteractorStyleTrackballCamera.h>
 #include <vtkLightKit.h>
+#include <vtkMath.h>
 #include <vtkNew.h>
 #include <vtkObjectFactory.h>
 #include <vtkOrientationMarkerWidget.h>
@@ -28,6 +30,7 @@
 #include <vtkTextProperty.h>
 #include <vtkTexture.h>
 
+#include <QCursor>
 #include <QVBoxLayout>
 #include <algorithm>
 #include <cmath>
@@ -104,6 +107,8 @@ struct SceneView::Impl {
   bool show_normals = false;
   std::vector<BoneHandle> bones;
   std::function<void(const plugins::Pick&)> on_pick;
+  vtkSmartPointer<vtkAbstractWidget> tool_widget;
+  vtkNew<vtkCallbackCommand> clipping;
 
   void apply_look(PieceActor& piece) const;
   void apply_display_mode(PieceActor& piece) const;
@@ -290,6 +295,25 @@ SceneView::SceneView(QWidget* parent) : QWidget(parent), impl_(std::make_unique<
   d.caption->GetTextProperty()->ShadowOn();
   d.top->AddViewProp(d.caption);
 
+  // Every frame (also those a widget's drag renders) keeps the tool widget and the overlays
+  // inside the clipping range: they may reach beyond the model.
+  d.clipping->SetClientData(&d);
+  d.clipping->SetCallback([](vtkObject*, unsigned long, void* client, void*) {
+    auto* impl = static_cast<Impl*>(client);
+    double bounds[6], top[6];
+    impl->renderer->ComputeVisiblePropBounds(bounds);
+    impl->top->ComputeVisiblePropBounds(top);
+    if (!vtkMath::AreBoundsInitialized(bounds))
+      std::copy(top, top + 6, bounds);
+    else if (vtkMath::AreBoundsInitialized(top))
+      for (int k = 0; k < 3; ++k) {
+        bounds[2 * k] = std::min(bounds[2 * k], top[2 * k]);
+        bounds[2 * k + 1] = std::max(bounds[2 * k + 1], top[2 * k + 1]);
+      }
+    if (vtkMath::AreBoundsInitialized(bounds)) impl->renderer->ResetCameraClippingRange(bounds);
+  });
+  d.renderer->AddObserver(vtkCommand::StartEvent, d.clipping);
+
   d.picker->SetTolerance(0.0005);
   d.picker->PickFromListOn();
 
@@ -314,7 +338,9 @@ SceneView::SceneView(QWidget* parent) : QWidget(parent), impl_(std::make_unique<
   d.axes->InteractiveOff();
 }
 
-SceneView::~SceneView() = default;
+SceneView::~SceneView() {
+  if (impl_->tool_widget) impl_->tool_widget->Off();
+}
 
 std::vector<std::string> SceneView::set_scene(const plugins::Scene& scene) {
   Impl& d = *impl_;
@@ -484,6 +510,48 @@ glm::vec3 SceneView::view_direction() const {
   return glm::length(v) > 0.0f ? glm::normalize(v) : glm::vec3(0.0f, 0.0f, -1.0f);
 }
 
+glm::vec3 SceneView::view_up() const {
+  vtkCamera* camera = impl_->renderer->GetActiveCamera();
+  double up[3], d[3];
+  camera->GetViewUp(up);
+  camera->GetDirectionOfProjection(d);
+  glm::vec3 u(static_cast<float>(up[0]), static_cast<float>(up[1]), static_cast<float>(up[2]));
+  const glm::vec3 dir = view_direction();
+  u -= glm::dot(u, dir) * dir;
+  return glm::length(u) > 1e-6f ? glm::normalize(u) : glm::vec3(0.0f, 1.0f, 0.0f);
+}
+
+void SceneView::set_tool_widget(vtkAbstractWidget* widget) {
+  Impl& d = *impl_;
+  if (d.tool_widget == widget) return;
+  if (d.tool_widget) d.tool_widget->Off();
+  d.tool_widget = widget;
+  if (!widget) return;
+  widget->SetInteractor(d.window->GetInteractor());
+  // Drawn over the model (like the overlays), so a handle inside the model stays reachable.
+  widget->SetDefaultRenderer(d.top);
+  widget->SetCurrentRenderer(d.top);
+  widget->On();
+}
+
+std::optional<glm::vec3> SceneView::surface_point_at(const QPoint& position) {
+  Impl& d = *impl_;
+  if (!d.scene) return std::nullopt;
+  const double ratio = d.widget->devicePixelRatioF();
+  const int x = static_cast<int>(std::lround(position.x() * ratio));
+  const int y = static_cast<int>(std::lround((d.widget->height() - position.y() - 1) * ratio));
+  if (!d.picker->Pick(x, y, 0.0, d.renderer) || d.picker->GetCellId() < 0) return std::nullopt;
+  double world[3];
+  d.picker->GetPickPosition(world);
+  return glm::vec3(world[0], world[1], world[2]);
+}
+
+std::optional<QPoint> SceneView::cursor_position() const {
+  const QPoint p = impl_->widget->mapFromGlobal(QCursor::pos());
+  if (!impl_->widget->rect().contains(p)) return std::nullopt;
+  return p;
+}
+
 void SceneView::frame(const glm::vec3& center, float radius) {
   vtkCamera* camera = impl_->renderer->GetActiveCamera();
   double position[3], focal[3];
@@ -501,7 +569,6 @@ void SceneView::frame(const glm::vec3& center, float radius) {
 }
 
 void SceneView::render() {
-  impl_->renderer->ResetCameraClippingRange();
   impl_->window->Render();
   impl_->widget->update();
 }

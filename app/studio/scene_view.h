@@ -17,6 +17,8 @@
 #include "deepcut/plugins/scene.h"
 #include "deepcut/widgets/overlay.h"
 
+class vtkAbstractWidget;
+
 namespace deepcut::studio {
 
 enum class DisplayMode { Shaded, Wireframe, ShadedEdges };
@@ -66,6 +68,20 @@ class SceneView : public QWidget {
   void render();
   /// The rendered view as an image (renders first).
   QImage grab_view();
+
+  /// The camera's up direction (world space, unit length, across the view direction).
+  glm::vec3 view_up() const;
+
+  /// Shows `widget` (a tool's VTK widget; nullptr: none) over the model and lets it take the
+  /// mouse: it gets the view's interactor and the overlay renderer and is enabled; the previous
+  /// widget is disabled. The caller keeps the widget alive while it is shown.
+  void set_tool_widget(vtkAbstractWidget* widget);
+
+  /// The model's surface point under widget coordinates `position` (logical pixels, origin top
+  /// left), without reporting a pick; nullopt when no piece is there.
+  std::optional<glm::vec3> surface_point_at(const QPoint& position);
+  /// Widget coordinates of the mouse cursor when it is over the view, else nullopt.
+  std::optional<QPoint> cursor_position() const;
 
   /// Called when the user clicks (press and release without dragging) on a piece or a bone.
   void set_pick_handler(std::function<void(const plugins::Pick&)> handler);

@@ -1,6 +1,10 @@
 // SPDX-License-Identifier: MIT
-// The Plane tool: a cutting plane placed through the model's centre, its contour on the posed
+// The Plane tool: a cutting plane (PlaneWidget: drag its normal, origin or the plane itself)
+// placed through the model's centre, mirrored with the numeric panel, its contour on the posed
 // surface drawn live, applied with deepcut::apply_operation (CutOperation).
+#include <vtkCommand.h>
+#include <vtkSmartPointer.h>
+
 #include <QCheckBox>
 #include <QComboBox>
 #include <QFormLayout>
@@ -13,12 +17,24 @@
 #include "deepcut/core/errors.h"
 #include "deepcut/plugins/tool.h"
 #include "deepcut/plugins/tool_panel.h"
+#include "deepcut/widgets/plane_widget.h"
 
 namespace deepcut::plugins {
 namespace {
 
 class CutTool final : public Tool {
  public:
+  CutTool() {
+    widget_ = vtkSmartPointer<PlaneWidget>::New();
+    widget_->CreateDefaultRepresentation();
+    widget_->AddObserver(vtkCommand::InteractionEvent, this, &CutTool::on_widget_moved);
+    sync_widget();
+  }
+  ~CutTool() override {
+    widget_->RemoveAllObservers();
+    widget_->Off();
+  }
+
   std::string id() const override { return "cut"; }
   std::string title() const override { return "Plane"; }
 
@@ -27,10 +43,12 @@ class CutTool final : public Tool {
     auto* form = new QFormLayout(panel);
     point_.emplace(form, "Point", "cut.point", [this] {
       op_.plane.point = point_->value();
+      sync_widget();
       notify_changed();
     });
     normal_.emplace(form, "Normal", "cut.normal", [this] {
       op_.plane.normal = normal_->value();
+      sync_widget();
       notify_changed();
     });
     keep_ = new QComboBox(panel);
@@ -61,15 +79,25 @@ class CutTool final : public Tool {
     return panel;
   }
 
-  void place(const Scene& scene, const glm::vec3& view_direction) override {
-    (void)view_direction;
+  /// Through the bounding box's centre, normal +Y (glTF up): a horizontal cut.
+  void place(const Scene& scene, const ToolPlacement&) override {
     const BoundingBox box = scene_bounds(scene);
     if (box.empty()) return;
-    op_.plane.point = 0.5f * (box.min + box.max);
+    // The plane is drawn cropped to the model's box with a margin.
+    const glm::vec3 c = 0.5f * (box.min + box.max),
+                    half = 0.55f * (box.max - box.min) + 0.02f * box.diagonal();
+    double bounds[6] = {c.x - half.x, c.x + half.x, c.y - half.y, c.y + half.y, c.z - half.z, c.z + half.z};
+    PlaneRepresentation* rep = widget_->GetPlaneRepresentation();
+    rep->SetPlaceFactor(1.0);
+    rep->PlaceWidget(bounds);
+    op_.plane.point = c;
     op_.plane.normal = glm::vec3(0.0f, 1.0f, 0.0f);
     show();
+    sync_widget();
     notify_changed();
   }
+
+  vtkAbstractWidget* widget() override { return widget_; }
 
   OperationParams parameters() const override { return op_; }
 
@@ -78,6 +106,7 @@ class CutTool final : public Tool {
     if (!cut) throw Error(ErrorCode::InvalidArgument, "the Plane tool takes cut parameters");
     op_ = *cut;
     show();
+    sync_widget();
     notify_changed();
   }
 
@@ -89,35 +118,31 @@ class CutTool final : public Tool {
     contour.width_px = 3.0f;
     contour.on_top = true;
     overlay.lines.push_back(std::move(contour));
-    // The plane itself: a square outline through the point and the normal as a short stroke.
-    const float len = glm::length(op_.plane.normal);
-    if (len > 0.0f) {
-      const glm::vec3 n = op_.plane.normal / len;
-      const glm::vec3 helper = std::abs(n.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
-      const glm::vec3 u = glm::normalize(glm::cross(n, helper)), v = glm::cross(n, u);
-      const float r = 0.6f * scene.size;
-      const glm::vec3 c = op_.plane.point;
-      const glm::vec3 corners[4] = {c + r * (u + v), c + r * (-u + v), c + r * (-u - v), c + r * (u - v)};
-      OverlayLines frame;
-      for (int k = 0; k < 4; ++k) {
-        frame.endpoints.push_back(corners[k]);
-        frame.endpoints.push_back(corners[(k + 1) % 4]);
-      }
-      frame.endpoints.push_back(c);
-      frame.endpoints.push_back(c + 0.2f * scene.size * n);
-      frame.color = {0.3f, 0.7f, 1.0f};
-      overlay.lines.push_back(std::move(frame));
-      OverlayPoints handle;
-      handle.positions = {c};
-      handle.color = {0.3f, 0.7f, 1.0f};
-      handle.size_px = 10.0f;
-      handle.on_top = true;
-      overlay.points.push_back(std::move(handle));
-    }
     return overlay;
   }
 
  private:
+  /// A drag of the widget: its plane becomes the parameters (and the panel's numbers).
+  void on_widget_moved() {
+    PlaneRepresentation* rep = widget_->GetPlaneRepresentation();
+    double origin[3], normal[3];
+    rep->GetOrigin(origin);
+    rep->GetNormal(normal);
+    op_.plane.point = glm::vec3(origin[0], origin[1], origin[2]);
+    op_.plane.normal = glm::vec3(normal[0], normal[1], normal[2]);
+    show();
+    notify_changed();
+  }
+
+  /// The parameters moved the plane: show it in the widget (no interaction event).
+  void sync_widget() {
+    PlaneRepresentation* rep = widget_->GetPlaneRepresentation();
+    rep->SetOrigin(op_.plane.point.x, op_.plane.point.y, op_.plane.point.z);
+    // A zero normal cuts nothing (the preview is empty); the widget keeps its last direction.
+    if (glm::length(op_.plane.normal) > 0.0f)
+      rep->SetNormal(op_.plane.normal.x, op_.plane.normal.y, op_.plane.normal.z);
+  }
+
   void show() {
     if (!point_) return;
     point_->set(op_.plane.point);
@@ -129,6 +154,7 @@ class CutTool final : public Tool {
   }
 
   CutOperation op_;
+  vtkSmartPointer<PlaneWidget> widget_;
   std::optional<Vec3Entry> point_, normal_;
   QComboBox* keep_ = nullptr;
   QCheckBox* cap_ = nullptr;
@@ -138,7 +164,7 @@ class CutTool final : public Tool {
 }  // namespace
 
 void register_cut(ToolRegistry& registry) {
-  registry.add({"cut", "Plane", [] { return std::make_unique<CutTool>(); }});
+  registry.add({"cut", "Plane", [] { return std::make_unique<CutTool>(); }, "P"});
 }
 
 }  // namespace deepcut::plugins

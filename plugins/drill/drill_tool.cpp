@@ -1,13 +1,19 @@
 // SPDX-License-Identifier: MIT
-// The Drill tool: a finite cylinder from axis end A to B with a radius, placed along the view
-// direction through the model's centre. The rims (cylinder against the posed triangles) are
-// drawn live; applied with deepcut::apply_operation (DrillOperation).
+// The Drill tool: a finite cylinder from axis end A to B with a radius (DrillWidget: drag the
+// ends, the radius handle or the whole cylinder), placed along the view direction through the
+// picked point or the model's centre, mirrored with the numeric panel. The rims (cylinder
+// against the posed triangles) are drawn live; applied with deepcut::apply_operation
+// (DrillOperation).
+#include <vtkCommand.h>
+#include <vtkSmartPointer.h>
+
 #include <QCheckBox>
 #include <QDoubleSpinBox>
 #include <QFormLayout>
 #include <QSignalBlocker>
 #include <QSpinBox>
 #include <QWidget>
+#include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <memory>
@@ -16,6 +22,7 @@
 #include "deepcut/core/errors.h"
 #include "deepcut/plugins/tool.h"
 #include "deepcut/plugins/tool_panel.h"
+#include "deepcut/widgets/drill_widget.h"
 
 namespace deepcut::plugins {
 namespace {
@@ -25,6 +32,17 @@ constexpr float kPi = 3.14159265358979f;
 
 class DrillTool final : public Tool {
  public:
+  DrillTool() {
+    widget_ = vtkSmartPointer<DrillWidget>::New();
+    widget_->CreateDefaultRepresentation();
+    widget_->AddObserver(vtkCommand::InteractionEvent, this, &DrillTool::on_widget_moved);
+    sync_widget();
+  }
+  ~DrillTool() override {
+    widget_->RemoveAllObservers();
+    widget_->Off();
+  }
+
   std::string id() const override { return "drill"; }
   std::string title() const override { return "Drill"; }
 
@@ -33,16 +51,19 @@ class DrillTool final : public Tool {
     auto* form = new QFormLayout(panel);
     a_.emplace(form, "Axis end A", "drill.a", [this] {
       op_.cylinder.a = a_->value();
+      sync_widget();
       notify_changed();
     });
     b_.emplace(form, "Axis end B", "drill.b", [this] {
       op_.cylinder.b = b_->value();
+      sync_widget();
       notify_changed();
     });
     radius_ = make_number(panel, "drill.radius", 0.0, 1e6);
     form->addRow("Radius", radius_);
     QObject::connect(radius_, QOverload<double>::of(&QDoubleSpinBox::valueChanged), panel, [this](double r) {
       op_.cylinder.radius = static_cast<float>(r);
+      sync_widget();
       notify_changed();
     });
     rim_edges_ = new QSpinBox(panel);
@@ -65,17 +86,32 @@ class DrillTool final : public Tool {
     return panel;
   }
 
-  void place(const Scene& scene, const glm::vec3& view_direction) override {
+  /// Along the view direction through the surface point (else the box's centre): A in front
+  /// of the model, B beyond its far side, so the hole goes through every layer behind the point.
+  void place(const Scene& scene, const ToolPlacement& placement) override {
     const BoundingBox box = scene_bounds(scene);
     if (box.empty()) return;
-    const glm::vec3 c = 0.5f * (box.min + box.max);
-    const float reach = 0.6f * box.diagonal();
-    op_.cylinder.a = c - reach * view_direction;
-    op_.cylinder.b = c + reach * view_direction;
+    const glm::vec3 d = placement.view_direction;
+    const glm::vec3 through = placement.point ? *placement.point : 0.5f * (box.min + box.max);
+    // How far the box reaches in front of and behind `through` along d.
+    float front = 0.0f, back = 0.0f;
+    for (int k = 0; k < 8; ++k) {
+      const glm::vec3 corner((k & 1) ? box.max.x : box.min.x, (k & 2) ? box.max.y : box.min.y,
+                             (k & 4) ? box.max.z : box.min.z);
+      const float t = glm::dot(corner - through, d);
+      front = std::min(front, t);
+      back = std::max(back, t);
+    }
+    const float margin = 0.05f * box.diagonal();
+    op_.cylinder.a = through + (front - margin) * d;
+    op_.cylinder.b = through + (back + margin) * d;
     op_.cylinder.radius = 0.03f * box.diagonal();
     show();
+    sync_widget();
     notify_changed();
   }
+
+  vtkAbstractWidget* widget() override { return widget_; }
 
   OperationParams parameters() const override { return op_; }
 
@@ -84,21 +120,19 @@ class DrillTool final : public Tool {
     if (!drill) throw Error(ErrorCode::InvalidArgument, "the Drill tool takes drill parameters");
     op_ = *drill;
     show();
+    sync_widget();
     notify_changed();
   }
 
+  /// The rims: the cylinder's side (a prism of thin triangles) against the posed surface.
   Overlay preview(const Scene& scene) const override {
     Overlay overlay;
     const glm::vec3 a = op_.cylinder.a, b = op_.cylinder.b;
     const float r = op_.cylinder.radius;
-    OverlayLines axis;
-    axis.endpoints = {a, b};
-    axis.color = {0.3f, 0.7f, 1.0f};
-    OverlayPoints ends;
-    ends.positions = {a, b};
-    ends.color = {0.3f, 0.7f, 1.0f};
-    ends.size_px = 10.0f;
-    ends.on_top = true;
+    OverlayLines rim;
+    rim.color = {0.2f, 1.0f, 0.4f};
+    rim.width_px = 3.0f;
+    rim.on_top = true;
     const float length = glm::length(b - a);
     if (length > 0.0f && r > 0.0f) {
       const glm::vec3 w = (b - a) / length;
@@ -108,8 +142,6 @@ class DrillTool final : public Tool {
         const float t = 2.0f * kPi * static_cast<float>(k) / kPreviewSides;
         return r * (std::cos(t) * u + std::sin(t) * v);
       };
-      // The rim: the cylinder's side (as a prism of thin triangles) against the posed surface.
-      OverlayLines rim, outline;
       for (int k = 0; k < kPreviewSides; ++k) {
         const glm::vec3 p = ring(k), q = ring(k + 1);
         for (const std::array<glm::vec3, 3>& tri :
@@ -117,30 +149,34 @@ class DrillTool final : public Tool {
           const std::vector<glm::vec3> part = triangle_contour(scene, tri);
           rim.endpoints.insert(rim.endpoints.end(), part.begin(), part.end());
         }
-        for (const glm::vec3& end : {a, b}) {
-          outline.endpoints.push_back(end + p);
-          outline.endpoints.push_back(end + q);
-        }
       }
-      rim.color = {0.2f, 1.0f, 0.4f};
-      rim.width_px = 3.0f;
-      rim.on_top = true;
-      outline.color = {0.3f, 0.7f, 1.0f};
-      overlay.lines.push_back(std::move(rim));
-      overlay.lines.push_back(std::move(outline));
-      OverlayPoints radius_handle;
-      radius_handle.positions = {a + ring(0)};
-      radius_handle.color = {1.0f, 0.8f, 0.2f};
-      radius_handle.size_px = 9.0f;
-      radius_handle.on_top = true;
-      overlay.points.push_back(std::move(radius_handle));
     }
-    overlay.lines.push_back(std::move(axis));
-    overlay.points.push_back(std::move(ends));
+    overlay.lines.push_back(std::move(rim));
     return overlay;
   }
 
  private:
+  /// A drag of the widget: its cylinder becomes the parameters (and the panel's numbers).
+  void on_widget_moved() {
+    DrillRepresentation* rep = widget_->GetDrillRepresentation();
+    auto point = [](const double* p) { return glm::vec3(p[0], p[1], p[2]); };
+    op_.cylinder.a = point(rep->GetEndA());
+    op_.cylinder.b = point(rep->GetEndB());
+    op_.cylinder.radius = static_cast<float>(rep->GetRadius());
+    show();
+    notify_changed();
+  }
+
+  /// The parameters moved the cylinder: show it in the widget (no interaction event).
+  void sync_widget() {
+    DrillRepresentation* rep = widget_->GetDrillRepresentation();
+    const double a[3] = {op_.cylinder.a.x, op_.cylinder.a.y, op_.cylinder.a.z};
+    const double b[3] = {op_.cylinder.b.x, op_.cylinder.b.y, op_.cylinder.b.z};
+    rep->SetEndA(a);
+    rep->SetEndB(b);
+    rep->SetRadius(op_.cylinder.radius);
+  }
+
   void show() {
     if (!a_) return;
     a_->set(op_.cylinder.a);
@@ -152,6 +188,7 @@ class DrillTool final : public Tool {
   }
 
   DrillOperation op_;
+  vtkSmartPointer<DrillWidget> widget_;
   std::optional<Vec3Entry> a_, b_;
   QDoubleSpinBox* radius_ = nullptr;
   QSpinBox* rim_edges_ = nullptr;
@@ -161,7 +198,7 @@ class DrillTool final : public Tool {
 }  // namespace
 
 void register_drill(ToolRegistry& registry) {
-  registry.add({"drill", "Drill", [] { return std::make_unique<DrillTool>(); }});
+  registry.add({"drill", "Drill", [] { return std::make_unique<DrillTool>(); }, "D"});
 }
 
 }  // namespace deepcut::plugins

@@ -1,7 +1,11 @@
 // SPDX-License-Identifier: MIT
 // The Scalpel tool: a blade (handle, tip) at a start and an end pose; the swept quad is what
-// tears. The tear path (quad against the posed triangles) is drawn live; applied with
+// tears. ScalpelWidget drags the points, the blades and the whole scalpel, mirrored with the
+// numeric panel; the tear path (quad against the posed triangles) is drawn live; applied with
 // deepcut::apply_operation (TearOperation).
+#include <vtkCommand.h>
+#include <vtkSmartPointer.h>
+
 #include <QDoubleSpinBox>
 #include <QFormLayout>
 #include <QSignalBlocker>
@@ -13,12 +17,24 @@
 #include "deepcut/core/errors.h"
 #include "deepcut/plugins/tool.h"
 #include "deepcut/plugins/tool_panel.h"
+#include "deepcut/widgets/scalpel_widget.h"
 
 namespace deepcut::plugins {
 namespace {
 
 class TearTool final : public Tool {
  public:
+  TearTool() {
+    widget_ = vtkSmartPointer<ScalpelWidget>::New();
+    widget_->CreateDefaultRepresentation();
+    widget_->AddObserver(vtkCommand::InteractionEvent, this, &TearTool::on_widget_moved);
+    sync_widget();
+  }
+  ~TearTool() override {
+    widget_->RemoveAllObservers();
+    widget_->Off();
+  }
+
   std::string id() const override { return "tear"; }
   std::string title() const override { return "Scalpel"; }
 
@@ -27,18 +43,22 @@ class TearTool final : public Tool {
     auto* form = new QFormLayout(panel);
     start_handle_.emplace(form, "Start handle", "tear.start.handle", [this] {
       op_.start.handle = start_handle_->value();
+      sync_widget();
       notify_changed();
     });
     start_tip_.emplace(form, "Start tip", "tear.start.tip", [this] {
       op_.start.tip = start_tip_->value();
+      sync_widget();
       notify_changed();
     });
     end_handle_.emplace(form, "End handle", "tear.end.handle", [this] {
       op_.end.handle = end_handle_->value();
+      sync_widget();
       notify_changed();
     });
     end_tip_.emplace(form, "End tip", "tear.end.tip", [this] {
       op_.end.tip = end_tip_->value();
+      sync_widget();
       notify_changed();
     });
     width_ = make_number(panel, "tear.width", -1.0, 1e6);
@@ -53,13 +73,24 @@ class TearTool final : public Tool {
     return panel;
   }
 
-  /// The blade points along the view direction from in front of the model to its centre and
-  /// sweeps down across the model's front.
-  void place(const Scene& scene, const glm::vec3& view_direction) override {
+  /// At a surface point: the blade points along the view direction, from in front of the point
+  /// into the surface, and sweeps down the screen across it. Without a point: from in front of
+  /// the model to its centre, sweeping down across the model's front.
+  void place(const Scene& scene, const ToolPlacement& placement) override {
     const BoundingBox box = scene_bounds(scene);
     if (box.empty()) return;
+    const glm::vec3 d = placement.view_direction;
+    if (placement.point) {
+      const glm::vec3 p = *placement.point, up = placement.view_up;
+      const float size = box.diagonal(), outside = 0.08f * size, inside = 0.04f * size, sweep = 0.08f * size;
+      op_.start = {p - outside * d + sweep * up, p + inside * d + sweep * up};
+      op_.end = {p - outside * d - sweep * up, p + inside * d - sweep * up};
+      show();
+      sync_widget();
+      notify_changed();
+      return;
+    }
     const glm::vec3 c = 0.5f * (box.min + box.max), extent = box.max - box.min;
-    const glm::vec3 d = view_direction;
     glm::vec3 up = glm::vec3(0.0f, 1.0f, 0.0f) - d.y * d;
     up = glm::length(up) > 1e-3f ? glm::normalize(up) : glm::vec3(0.0f, 0.0f, 1.0f);
     const float depth = 0.5f * glm::dot(glm::abs(d), extent);
@@ -68,8 +99,11 @@ class TearTool final : public Tool {
     op_.start = {handle + 0.3f * height * up, tip + 0.3f * height * up};
     op_.end = {handle - 0.3f * height * up, tip - 0.3f * height * up};
     show();
+    sync_widget();
     notify_changed();
   }
+
+  vtkAbstractWidget* widget() override { return widget_; }
 
   OperationParams parameters() const override { return op_; }
 
@@ -78,46 +112,54 @@ class TearTool final : public Tool {
     if (!tear) throw Error(ErrorCode::InvalidArgument, "the Scalpel tool takes tear parameters");
     op_ = *tear;
     show();
+    sync_widget();
     notify_changed();
   }
 
   Overlay preview(const Scene& scene) const override {
     Overlay overlay;
-    OverlayLines path, quad;
+    OverlayLines path;
     try {
       for (const auto& tri : swept_quad_triangles(op_.start, op_.end)) {
         const std::vector<glm::vec3> part = triangle_contour(scene, tri);
         path.endpoints.insert(path.endpoints.end(), part.begin(), part.end());
       }
     } catch (const Error&) {
-      // A degenerate sweep tears nothing: only the blades are drawn.
+      // A degenerate sweep tears nothing: no path (the widget still shows the blades).
     }
     path.color = {1.0f, 0.2f, 0.2f};
     path.width_px = 3.0f;
     path.on_top = true;
     overlay.lines.push_back(std::move(path));
-    const glm::vec3 outline[4] = {op_.start.handle, op_.start.tip, op_.end.tip, op_.end.handle};
-    for (int k = 0; k < 4; ++k) {
-      quad.endpoints.push_back(outline[k]);
-      quad.endpoints.push_back(outline[(k + 1) % 4]);
-    }
-    quad.color = {0.9f, 0.9f, 0.9f};
-    overlay.lines.push_back(std::move(quad));
-    OverlayPoints handles, tips;
-    handles.positions = {op_.start.handle, op_.end.handle};
-    handles.color = {0.3f, 0.7f, 1.0f};
-    handles.size_px = 10.0f;
-    handles.on_top = true;
-    tips.positions = {op_.start.tip, op_.end.tip};
-    tips.color = {1.0f, 0.4f, 0.2f};
-    tips.size_px = 10.0f;
-    tips.on_top = true;
-    overlay.points.push_back(std::move(handles));
-    overlay.points.push_back(std::move(tips));
     return overlay;
   }
 
  private:
+  /// A drag of the widget: its blade poses become the parameters (and the panel's numbers).
+  void on_widget_moved() {
+    ScalpelRepresentation* rep = widget_->GetScalpelRepresentation();
+    auto point = [](const double* p) { return glm::vec3(p[0], p[1], p[2]); };
+    op_.start = {point(rep->GetStartHandle()), point(rep->GetStartTip())};
+    op_.end = {point(rep->GetEndHandle()), point(rep->GetEndTip())};
+    show();
+    notify_changed();
+  }
+
+  /// The parameters moved the blades: show them in the widget (no interaction event).
+  void sync_widget() {
+    ScalpelRepresentation* rep = widget_->GetScalpelRepresentation();
+    auto set = [](const glm::vec3& p, double out[3]) { out[0] = p.x, out[1] = p.y, out[2] = p.z; };
+    double p[3];
+    set(op_.start.handle, p);
+    rep->SetStartHandle(p);
+    set(op_.start.tip, p);
+    rep->SetStartTip(p);
+    set(op_.end.handle, p);
+    rep->SetEndHandle(p);
+    set(op_.end.tip, p);
+    rep->SetEndTip(p);
+  }
+
   void show() {
     if (!start_handle_) return;
     start_handle_->set(op_.start.handle);
@@ -129,6 +171,7 @@ class TearTool final : public Tool {
   }
 
   TearOperation op_;
+  vtkSmartPointer<ScalpelWidget> widget_;
   std::optional<Vec3Entry> start_handle_, start_tip_, end_handle_, end_tip_;
   QDoubleSpinBox* width_ = nullptr;
 };
@@ -136,7 +179,7 @@ class TearTool final : public Tool {
 }  // namespace
 
 void register_tear(ToolRegistry& registry) {
-  registry.add({"tear", "Scalpel", [] { return std::make_unique<TearTool>(); }});
+  registry.add({"tear", "Scalpel", [] { return std::make_unique<TearTool>(); }, "T"});
 }
 
 }  // namespace deepcut::plugins

@@ -2,13 +2,15 @@
 #pragma once
 /// @file tool.h
 /// Operation tools (Plane cut, Scalpel tear, Drill): each plugin folder `plugins/NAME/` holds a
-/// tool's parameters, its numeric panel, its placement on the model and its live preview, and
-/// defines `void deepcut::plugins::register_NAME(ToolRegistry&)`. The build list
-/// `DEEPCUT_TOOL_PLUGINS` in `plugins/CMakeLists.txt` generates `builtin_tools()`. The studio
-/// applies a tool's parameters with `deepcut::apply_operation`, exactly as `deepcut apply` does.
+/// tool's parameters, its numeric panel, its interactive 3D widget (a widgets/ VTK pair), its
+/// placement on the model and its live preview, and defines
+/// `void deepcut::plugins::register_NAME(ToolRegistry&)`. The build list `DEEPCUT_TOOL_PLUGINS` in
+/// `plugins/CMakeLists.txt` generates `builtin_tools()`. The studio applies a tool's parameters
+/// with `deepcut::apply_operation`, exactly as `deepcut apply` does.
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,11 +19,22 @@
 #include "deepcut/widgets/overlay.h"
 
 class QWidget;
+class vtkAbstractWidget;
 
 namespace deepcut::plugins {
 
-/// One operation tool. Parameters live in the tool; its panel and `set_parameters` both change
-/// them, and every change calls the changed callback (the studio redraws the preview).
+/// Where the studio asks a tool to place itself: the camera and, when there is one, the point
+/// of the model's surface the user means (under the cursor, else the last clicked point).
+struct ToolPlacement {
+  glm::vec3 view_direction{0.0f, 0.0f, -1.0f};  ///< camera direction of projection (unit)
+  glm::vec3 view_up{0.0f, 1.0f, 0.0f};          ///< camera up (unit, across view_direction)
+  std::optional<glm::vec3> point;               ///< a surface point (posed world space), if any
+};
+
+/// One operation tool. Parameters live in the tool; its panel, its widget and `set_parameters`
+/// all change them and mirror each other (a drag updates the panel's numbers, a typed number
+/// moves the widget; showing a value is never an edit, so nothing loops), and every change calls
+/// the changed callback (the studio redraws the preview).
 class Tool {
  public:
   virtual ~Tool() = default;
@@ -31,15 +44,19 @@ class Tool {
   virtual std::string title() const = 0;
   /// Builds the numeric parameter panel (owned by `parent`). Called once.
   virtual QWidget* create_panel(QWidget* parent) = 0;
-  /// Places the tool sensibly on `scene` (posed world positions) and refreshes the panel.
-  /// @param view_direction  the camera's direction of projection (world space, unit length).
-  virtual void place(const Scene& scene, const glm::vec3& view_direction) = 0;
+  /// Places the tool sensibly on `scene` (posed world positions) and refreshes the panel and
+  /// the widget.
+  virtual void place(const Scene& scene, const ToolPlacement& placement) = 0;
+  /// The tool's interactive 3D widget, owned by the tool (nullptr: numbers only). The studio
+  /// gives it the view's interactor and overlay renderer and enables it while the tool is
+  /// chosen; the tool observes its InteractionEvent.
+  virtual vtkAbstractWidget* widget() { return nullptr; }
   /// The operation the tool would apply now.
   virtual OperationParams parameters() const = 0;
   /// Sets the parameters (and the panel). @throws Error{InvalidArgument} for another tool's type.
   virtual void set_parameters(const OperationParams& params) = 0;
-  /// What applying would touch on the posed scene (contour, path, rim) plus the tool itself,
-  /// as world-space lines and markers.
+  /// What applying would touch on the posed scene (contour, path, rim), as world-space lines
+  /// (the first line set) and markers; the tool itself is drawn by its widget.
   virtual Overlay preview(const Scene& scene) const = 0;
 
   void set_changed_callback(std::function<void()> callback) { changed_ = std::move(callback); }
@@ -57,6 +74,7 @@ struct ToolInfo {
   std::string id;     ///< operation name, unique
   std::string title;  ///< tool bar text
   std::function<std::unique_ptr<Tool>()> create;
+  std::string shortcut;  ///< key sequence that chooses the tool ("" none), e.g. "P"
 };
 
 class ToolRegistry {
