@@ -86,6 +86,24 @@ std::vector<unsigned char> read_file(const std::string& path, std::size_t max_by
   return bytes;
 }
 
+namespace {
+
+// Writes all of `bytes` to `fd` and flushes it to disk; returns errno on failure, 0 on success.
+int write_all_and_sync(int fd, const std::vector<unsigned char>& bytes) {
+  std::size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return errno;
+    }
+    done += static_cast<std::size_t>(n);
+  }
+  return ::fsync(fd) != 0 ? errno : 0;
+}
+
+}  // namespace
+
 void write_file_atomic(const std::string& path, const std::vector<unsigned char>& bytes) {
   namespace fs = std::filesystem;
   const fs::path target(path);
@@ -94,29 +112,49 @@ void write_file_atomic(const std::string& path, const std::vector<unsigned char>
   if (!fs::is_directory(dir, ec)) throw Error(ErrorCode::Io, path + ": folder " + dir.string() + " does not exist");
   std::random_device rd;
   const fs::path tmp = dir / ("." + target.filename().string() + ".tmp" + std::to_string(rd()));
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-  if (fd < 0) throw Error(ErrorCode::Io, path + ": cannot create a temporary file (" + std::strerror(errno) + ")");
-  std::size_t done = 0;
-  while (done < bytes.size()) {
-    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      const std::string reason = std::strerror(errno);
+  auto fail = [&](const std::string& what, int err) {
+    throw Error(ErrorCode::Io, path + ": " + what + " (" + std::strerror(err) + ")");
+  };
+#ifdef O_TMPFILE
+  // Preferred: an unnamed temporary (O_TMPFILE). Until it is linked it has no name, so a writer
+  // killed while writing (SIGKILL, power loss) leaves nothing behind; it gets its temporary name
+  // only for the instant between the link and the rename.
+  int fd = ::open(dir.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0644);
+  if (fd >= 0) {
+    if (const int err = write_all_and_sync(fd, bytes)) {
       ::close(fd);
-      ::unlink(tmp.c_str());
-      throw Error(ErrorCode::Io, path + ": write failed (" + reason + ")");
+      fail("write failed", err);
     }
-    done += static_cast<std::size_t>(n);
+    const std::string self = "/proc/self/fd/" + std::to_string(fd);
+    const bool linked = ::linkat(AT_FDCWD, self.c_str(), AT_FDCWD, tmp.c_str(), AT_SYMLINK_FOLLOW) == 0;
+    ::close(fd);
+    if (linked) {
+      if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+        const int err = errno;
+        ::unlink(tmp.c_str());
+        fail("cannot replace the file", err);
+      }
+      return;
+    }
+    // No /proc or no link support: fall back to a named temporary below.
   }
-  if (::fsync(fd) != 0 || ::close(fd) != 0) {
-    const std::string reason = std::strerror(errno);
+#endif
+  const int named = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (named < 0) fail("cannot create a temporary file", errno);
+  if (const int err = write_all_and_sync(named, bytes)) {
+    ::close(named);
     ::unlink(tmp.c_str());
-    throw Error(ErrorCode::Io, path + ": write failed (" + reason + ")");
+    fail("write failed", err);
+  }
+  if (::close(named) != 0) {
+    const int err = errno;
+    ::unlink(tmp.c_str());
+    fail("write failed", err);
   }
   if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    const std::string reason = std::strerror(errno);
+    const int err = errno;
     ::unlink(tmp.c_str());
-    throw Error(ErrorCode::Io, path + ": cannot replace the file (" + reason + ")");
+    fail("cannot replace the file", err);
   }
 }
 

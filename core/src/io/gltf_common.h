@@ -21,7 +21,9 @@ std::string base64_encode(const unsigned char* data, std::size_t size);
 std::vector<unsigned char> read_file(const std::string& path, std::size_t max_bytes);
 
 // Writes `bytes` to a temporary file beside `path`, flushes it and renames it over `path`.
-// Throws Error{Io}; never leaves a partial file at `path`.
+// Throws Error{Io}; never leaves a partial file at `path`. The temporary is unnamed (O_TMPFILE)
+// where the file system allows, so a killed writer leaves no temporary behind either; elsewhere a
+// writer killed mid-write leaves a hidden `.<name>.tmp<number>` beside the target.
 void write_file_atomic(const std::string& path, const std::vector<unsigned char>& bytes);
 
 // "file.glb" -> true (case-insensitive extension test).
