@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "deepcut/core/ops/cut.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -362,6 +364,39 @@ TEST(CutTest, posed_recut_with_the_same_plane_finds_nothing_and_piece_names_stay
     if (n.mesh >= 0) {
       EXPECT_TRUE(names.insert(n.name).second) << "duplicate node name " << n.name;
     }
+}
+
+// Found by the random sequences (RiggedSimple seed 20261809 step 84): a face lying in the cut
+// plane whose neighbours all fall on the other side becomes a piece of its own, its edges are rim
+// edges, and the cap used to cover that rim with the same three vertices again (reversed): a
+// duplicate face.
+TEST(CutTest, cap_never_duplicates_a_face_lying_in_the_plane) {
+  SurfaceMesh mesh;
+  // A tetrahedron standing below z = 0 with its top face in the plane, and one wholly above.
+  const VertexId a = mesh.add_vertex({0, 0, 0}), b = mesh.add_vertex({1, 0, 0}), c = mesh.add_vertex({0, 1, 0}),
+                 d = mesh.add_vertex({0.3f, 0.3f, -1});
+  mesh.add_face(a, b, c);
+  mesh.add_face(a, d, b);
+  mesh.add_face(b, d, c);
+  mesh.add_face(c, d, a);
+  const VertexId e = mesh.add_vertex({3, 0, 1}), f = mesh.add_vertex({4, 0, 1}), g = mesh.add_vertex({3, 1, 1}),
+                 h = mesh.add_vertex({3.3f, 0.3f, 2});
+  mesh.add_face(e, g, f);
+  mesh.add_face(e, f, h);
+  mesh.add_face(f, g, h);
+  mesh.add_face(g, e, h);
+  CutOptions options;
+  options.cap = true;
+  const CutResult r = cut_mesh(mesh, mesh.positions(), Plane{{0, 0, 0}, {0, 0, 1}}, options);
+  ASSERT_EQ(r.status, OpStatus::Ok);
+  std::set<std::array<std::uint32_t, 3>> seen;
+  mesh.for_each_face([&](FaceId face, const Triangle& t) {
+    std::array<std::uint32_t, 3> k{t[0].index, t[1].index, t[2].index};
+    std::sort(k.begin(), k.end());
+    EXPECT_TRUE(seen.insert(k).second) << "face " << face.index << " repeats the vertices of another face";
+  });
+  test::expect_valid(mesh);
+  EXPECT_TRUE(Adjacency::build(mesh).nonmanifold_edges().empty());
 }
 
 }  // namespace deepcut

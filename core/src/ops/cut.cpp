@@ -50,7 +50,10 @@ class Cutter {
   void collect_pieces(CutResult& result);
   void cap_piece(std::vector<FaceId>& piece, std::size_t index);
   void index_rim(const CutResult& result);
-  std::vector<std::pair<VertexId, VertexId>> rim_halfedges(std::size_t piece) const;
+  /// On-plane edges used by exactly one face of the piece, as that face's halfedges; faces in
+  /// `skip` (sorted) count as absent.
+  std::vector<std::pair<VertexId, VertexId>> rim_halfedges(std::size_t piece, const std::vector<FaceId>& skip = {}) const;
+  bool flat(const Triangle& t) const { return sign_[t[0].index] == 0 && sign_[t[1].index] == 0 && sign_[t[2].index] == 0; }
   int face_side(const Triangle& t) const;
 
   SurfaceMesh& mesh_;
@@ -207,19 +210,20 @@ void Cutter::index_rim(const CutResult& result) {
   }
 }
 
-std::vector<std::pair<VertexId, VertexId>> Cutter::rim_halfedges(std::size_t piece) const {
+std::vector<std::pair<VertexId, VertexId>> Cutter::rim_halfedges(std::size_t piece, const std::vector<FaceId>& skip) const {
   // An edge with both ends on the plane belongs only to faces with two corners on it, so
   // counting within rim_faces_ is exact.
+  auto skipped = [&](FaceId f) { return std::binary_search(skip.begin(), skip.end(), f); };
   std::unordered_map<std::uint64_t, int> count;
   for (FaceId f : rim_faces_) {
-    if (piece_of_face_[f.index] != piece) continue;
+    if (piece_of_face_[f.index] != piece || skipped(f)) continue;
     const auto& t = mesh_.face(f);
     for (int k = 0; k < 3; ++k)
       if (sign_[t[k].index] == 0 && sign_[t[(k + 1) % 3].index] == 0) ++count[edge_key(t[k], t[(k + 1) % 3])];
   }
   std::vector<std::pair<VertexId, VertexId>> out;
   for (FaceId f : rim_faces_) {
-    if (piece_of_face_[f.index] != piece) continue;
+    if (piece_of_face_[f.index] != piece || skipped(f)) continue;
     const auto& t = mesh_.face(f);
     for (int k = 0; k < 3; ++k) {
       const VertexId a = t[k], b = t[(k + 1) % 3];
@@ -230,13 +234,6 @@ std::vector<std::pair<VertexId, VertexId>> Cutter::rim_halfedges(std::size_t pie
 }
 
 void Cutter::cap_piece(std::vector<FaceId>& piece, std::size_t index) {
-  // The cap runs along the piece's rim edges in the opposite direction.
-  std::unordered_map<std::uint32_t, std::vector<VertexId>> next;
-  std::unordered_set<std::uint64_t> unused;
-  for (const auto& [a, b] : rim_halfedges(index)) {
-    next[b.index].push_back(a);
-    unused.insert(directed_key(b, a));
-  }
   std::vector<std::vector<std::uint32_t>> loops;  // indices into `verts`
   std::vector<VertexId> verts;
   std::unordered_map<std::uint32_t, std::uint32_t> local;
@@ -245,39 +242,83 @@ void Cutter::cap_piece(std::vector<FaceId>& piece, std::size_t index) {
     if (inserted) verts.push_back(v);
     return it->second;
   };
-  std::vector<std::uint32_t> starts;
-  for (const auto& [v, list] : next) starts.push_back(v);
-  std::sort(starts.begin(), starts.end());
-  for (std::uint32_t s : starts) {
-    for (VertexId first_next : next[s]) {
-      if (!unused.count(directed_key(VertexId(s), first_next))) continue;
-      std::vector<VertexId> loop = {VertexId(s)};
-      VertexId cur = VertexId(s), nxt = first_next;
-      bool closed = false;
-      while (true) {
-        unused.erase(directed_key(cur, nxt));
-        if (nxt == VertexId(s)) {
-          closed = true;
-          break;
-        }
-        loop.push_back(nxt);
-        cur = nxt;
-        VertexId pick;
-        for (VertexId cand : next[cur.index])
-          if (unused.count(directed_key(cur, cand))) {
-            pick = cand;
+  // Follows the rim halfedges backwards (the cap runs along the piece's rim edges in the opposite
+  // direction) into closed loops; returns false if some rim chain is open.
+  auto trace = [&](const std::vector<std::pair<VertexId, VertexId>>& halfedges) {
+    loops.clear();
+    verts.clear();
+    local.clear();
+    bool all_closed = true;
+    std::unordered_map<std::uint32_t, std::vector<VertexId>> next;
+    std::unordered_set<std::uint64_t> unused;
+    for (const auto& [a, b] : halfedges) {
+      next[b.index].push_back(a);
+      unused.insert(directed_key(b, a));
+    }
+    std::vector<std::uint32_t> starts;
+    for (const auto& [v, list] : next) starts.push_back(v);
+    std::sort(starts.begin(), starts.end());
+    for (std::uint32_t s : starts) {
+      for (VertexId first_next : next[s]) {
+        if (!unused.count(directed_key(VertexId(s), first_next))) continue;
+        std::vector<VertexId> loop = {VertexId(s)};
+        VertexId cur = VertexId(s), nxt = first_next;
+        bool closed = false;
+        while (true) {
+          unused.erase(directed_key(cur, nxt));
+          if (nxt == VertexId(s)) {
+            closed = true;
             break;
           }
-        if (!pick.valid()) break;  // an open rim chain (open input): not capped
-        nxt = pick;
-      }
-      if (closed && loop.size() >= 3) {
-        std::vector<std::uint32_t> l;
-        for (VertexId v : loop) l.push_back(local_index(v));
-        loops.push_back(std::move(l));
+          loop.push_back(nxt);
+          cur = nxt;
+          VertexId pick;
+          for (VertexId cand : next[cur.index])
+            if (unused.count(directed_key(cur, cand))) {
+              pick = cand;
+              break;
+            }
+          if (!pick.valid()) break;  // an open rim chain (open input): not capped
+          nxt = pick;
+        }
+        all_closed = all_closed && closed;
+        if (closed && loop.size() >= 3) {
+          std::vector<std::uint32_t> l;
+          for (VertexId v : loop) l.push_back(local_index(v));
+          loops.push_back(std::move(l));
+        }
       }
     }
+    return all_closed;
+  };
+  // Faces of the piece lying in the plane (every corner on it) are where the cap goes: capping
+  // round them would put a second layer on top of them (a duplicate face, or cap triangles
+  // sharing their edges: non-manifold edges; found by the random sequences). When the rim
+  // closes without them they are removed and the cap takes their place; otherwise (open input)
+  // they stay and the rim is capped as it is.
+  std::vector<FaceId> flat_faces;
+  for (FaceId f : rim_faces_)
+    if (piece_of_face_[f.index] == index && flat(mesh_.face(f))) flat_faces.push_back(f);
+  std::sort(flat_faces.begin(), flat_faces.end());
+  std::vector<Triangle> kept_flat;  // flat faces the cap must not repeat
+  if (flat_faces.empty() || !trace(rim_halfedges(index, flat_faces))) {
+    for (FaceId f : flat_faces) kept_flat.push_back(mesh_.face(f));
+    flat_faces.clear();
+    trace(rim_halfedges(index));
   }
+  if (!flat_faces.empty() && !loops.empty()) {
+    for (FaceId f : flat_faces) editor_.remove_face(f);
+    piece.erase(std::remove_if(piece.begin(), piece.end(),
+                               [&](FaceId f) { return std::binary_search(flat_faces.begin(), flat_faces.end(), f); }),
+                piece.end());
+  }
+  auto repeats_flat = [&](Triangle t) {
+    std::sort(t.begin(), t.end());
+    return std::any_of(kept_flat.begin(), kept_flat.end(), [&](Triangle g) {
+      std::sort(g.begin(), g.end());
+      return g == t;
+    });
+  };
   if (loops.empty()) return;
   // 2D frame in the plane.
   const glm::dvec3 n = normal_;
@@ -308,6 +349,7 @@ void Cutter::cap_piece(std::vector<FaceId>& piece, std::size_t index) {
   const auto& bind = mesh_.positions();
   for (const auto& tri : tris) {
     const Triangle t = {verts[tri[0]], verts[tri[1]], verts[tri[2]]};
+    if (repeats_flat(t)) continue;  // that surface is there already
     const FaceId f = editor_.add_face(t);
     piece.push_back(f);
     (*cap_flag)[f.index] = 1;
