@@ -11,6 +11,7 @@
 #include <QDropEvent>
 #include <QElapsedTimer>
 #include <QFileDialog>
+#include <QDir>
 #include <QFileInfo>
 #include <QLabel>
 #include <QMenuBar>
@@ -394,12 +395,21 @@ void MainWindow::choose_export() {
   if (!model_) return report_error("export: no model is open");
   const QString glb = "glTF binary (*.glb)", gltf = "glTF JSON, embedded buffers (*.gltf)";
   QString filter = glb;
-  const QString suggested =
-      path_.isEmpty() ? QString("model.glb") : QFileInfo(path_).completeBaseName() + "-export.glb";
-  QString path = QFileDialog::getSaveFileName(this, "Export model", suggested, glb + ";;" + gltf, &filter);
+  QString path =
+      QFileDialog::getSaveFileName(this, "Export model", suggested_export_path(), glb + ";;" + gltf, &filter);
   if (path.isEmpty()) return;
   if (!is_model_file(path)) path += filter == gltf ? ".gltf" : ".glb";
   export_file(path);
+}
+
+QString MainWindow::suggested_export_path() const {
+  const QFileInfo input(path_);
+  const QDir dir = path_.isEmpty() ? QDir::current() : input.absoluteDir();
+  const QString base = path_.isEmpty() ? QString("model") : input.completeBaseName() + "-export";
+  QString candidate = dir.absoluteFilePath(base + ".glb");
+  for (int n = 2; QFileInfo::exists(candidate) || QFileInfo(candidate) == input; ++n)
+    candidate = dir.absoluteFilePath(base + "-" + QString::number(n) + ".glb");
+  return candidate;
 }
 
 void MainWindow::report_error(const QString& message) {

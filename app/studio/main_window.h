@@ -58,6 +58,11 @@ class MainWindow : public QMainWindow {
   /// Writes the current model state with `write_gltf` (.glb or .gltf by extension), exactly as
   /// `deepcut convert` would write it. @returns true on success; errors are reported like open_file's.
   bool export_file(const QString& path);
+  /// What the Export dialog offers: `<model>-export.glb` in the model's folder (`model.glb` in
+  /// the working folder when nothing was opened from a file), numbered `-export-2`, `-export-3`...
+  /// past files that exist, so accepting the dialog never overwrites the input or an earlier
+  /// export unless the user picks that file (and confirms the overwrite).
+  QString suggested_export_path() const;
 
   /// Replaces the model by `result` of an operation named `label` that took `ms`, undoably.
   void apply_operation(const QString& label, std::shared_ptr<const Model> result, double ms);

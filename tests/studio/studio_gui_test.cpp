@@ -366,6 +366,31 @@ class StudioGuiTest : public QObject {
     QVERIFY(!window->last_error().isEmpty());
   }
 
+  void export_never_overwrites_the_input_unless_asked() {
+    auto window = shown_window();
+    QVERIFY(window);
+    const std::string dir = deepcut::test::temp_dir("studio-export-name");
+    const QString input = QString::fromStdString(dir + "/cactus.glb");
+    QVERIFY(QFile::copy(kCactus, input));
+    const std::string original = read_bytes(input.toStdString());
+    QVERIFY(window->open_file(input));
+    // The dialog offers a new file beside the input, never the input itself.
+    const QString first = window->suggested_export_path();
+    QCOMPARE(QFileInfo(first).absolutePath(), QFileInfo(input).absolutePath());
+    QVERIFY2(QFileInfo(first) != QFileInfo(input), qPrintable(first));
+    QVERIFY(!QFileInfo::exists(first));
+    QVERIFY2(window->export_file(first), qPrintable(window->last_error()));
+    // An earlier export is not offered again either.
+    const QString second = window->suggested_export_path();
+    QVERIFY2(second != first && !QFileInfo::exists(second), qPrintable(second));
+    QVERIFY(window->export_file(second));
+    QVERIFY(read_bytes(input.toStdString()) == original);
+    QVERIFY(read_bytes(first.toStdString()) == read_bytes(second.toStdString()));
+    // Overwriting the input is possible when asked for explicitly (the dialog confirms it).
+    QVERIFY(window->export_file(input));
+    QVERIFY(read_bytes(input.toStdString()) == read_bytes(first.toStdString()));
+  }
+
   void menus_offer_what_a_blender_or_paraview_user_expects() {
     auto window = shown_window();
     QVERIFY(window);
