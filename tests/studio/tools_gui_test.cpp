@@ -216,9 +216,20 @@ class StudioToolsTest : public QObject {
         drill->cylinder.radius = (0.01f + 0.02f * next()) * size;
       }
       window->tool()->set_parameters(params);
-      if (window->apply_tool()) ++applied;
+      // Undo after any operation restores the model byte for byte (export equality).
+      const std::string snapshot = dir + "/state.glb";
+      QVERIFY(window->export_file(QString::fromStdString(snapshot)));
+      const std::string before = read_bytes(snapshot);
+      const bool ok = window->apply_tool();
+      if (ok) ++applied;
       else QVERIFY2(window->last_error().contains("misses"), qPrintable(window->last_error()));
-      if (i % 4 == 3) window->undo_action()->trigger();
+      if (i % 4 == 3) {
+        window->undo_action()->trigger();
+        if (ok) {
+          QVERIFY(window->export_file(QString::fromStdString(snapshot)));
+          QVERIFY2(read_bytes(snapshot) == before, ("undo of operation " + std::to_string(i) + " does not restore the export").c_str());
+        }
+      }
       if (i % 8 == 7) window->redo_action()->trigger();
       if (!window->model()->animations.empty()) window->timeline()->set_time(next() * 2.0f);
     }
