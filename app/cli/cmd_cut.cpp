@@ -10,6 +10,7 @@
 #include "args.h"
 #include "commands.h"
 #include "deepcut/core/io/gltf.h"
+#include "deepcut/plugins/formats.h"
 #include "deepcut/core/ops/history.h"
 
 namespace deepcut::cli {
@@ -57,7 +58,7 @@ int run_cut(const std::vector<std::string>& argv) {
   cut.options.split_components = args.flag("--components");
   if (glm::length(cut.plane.normal) == 0.0f) throw Error(ErrorCode::InvalidArgument, "cut: the plane normal is zero");
 
-  Model model = read_gltf(args.positionals()[0]);
+  Model model = plugins::read_model(args.positionals()[0]);
   Operation op;
   op.params = cut;
   op.animation = pose_animation(args, model);
@@ -98,7 +99,7 @@ int run_apply(const std::vector<std::string>& argv) {
   } catch (const Error& e) {
     throw Error(e.code(), history_path + ": " + e.what());
   }
-  Model model = read_gltf(args.positionals()[0]);
+  Model model = plugins::read_model(args.positionals()[0]);
   json reports = json::array();
   const auto t0 = std::chrono::steady_clock::now();
   for (std::size_t i = 0; i < history.operations.size(); ++i) {

@@ -9,6 +9,7 @@
 #include "args.h"
 #include "commands.h"
 #include "deepcut/core/io/gltf.h"
+#include "deepcut/plugins/formats.h"
 #include "deepcut/core/model.h"
 #include "deepcut/core/ops/history.h"
 
@@ -52,7 +53,7 @@ int run_drill(const std::vector<std::string>& argv) {
   if (drill.cylinder.a == drill.cylinder.b)
     throw Error(ErrorCode::InvalidArgument, "drill: the axis end points A and B coincide");
 
-  Model model = read_gltf(args.positionals()[0]);
+  Model model = plugins::read_model(args.positionals()[0]);
   Operation op;
   op.params = drill;
   const int animation = animation_option(args, model.animations.size());  // -1..N-1, whole numbers

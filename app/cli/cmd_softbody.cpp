@@ -11,6 +11,7 @@
 #include "args.h"
 #include "commands.h"
 #include "deepcut/core/io/gltf.h"
+#include "deepcut/plugins/formats.h"
 #include "deepcut/core/skinning.h"
 #include "deepcut/core/softbody/clustering.h"
 #include "deepcut/core/softbody/simulation.h"
@@ -50,7 +51,7 @@ std::vector<Instance> instances(const Model& model) {
 
 std::string model_path(const Args& args, const char* command) {
   if (args.positionals().size() != 1)
-    throw UsageError(std::string(command) + " needs exactly one MODEL (.glb or .gltf), got " +
+    throw UsageError(std::string(command) + " needs exactly one MODEL (.glb, .gltf, .obj, .ply, .stl or .off), got " +
                      std::to_string(args.positionals().size()));
   return args.positionals()[0];
 }
@@ -128,7 +129,7 @@ int run_cluster(const std::vector<std::string>& argv) {
   const std::string path = model_path(args, "cluster");
   if (!args.has("--radius") && !args.has("--particles"))
     throw UsageError("cluster needs --radius RHO (rest-pose model units) or --particles N");
-  const Model model = read_gltf(path);
+  const Model model = plugins::read_model(path);
   const auto inst = instances(model);
   const ClusterChoice choice = choose_clusters(args, inst, "--radius", 0);
   const Clustered c = cluster_all(inst, choice.options);
@@ -188,7 +189,7 @@ int run_softbody(const std::vector<std::string>& argv) {
   sim.damping = static_cast<float>(args.number("--damping", sim.damping));
   sim.mass = static_cast<float>(args.number("--mass", sim.mass));
 
-  const Model model = read_gltf(path);
+  const Model model = plugins::read_model(path);
   int animation = animation_option(args, model.animations.size());
   const bool animate = args.flag("--animate");
   if (animate && model.animations.empty()) throw UsageError("--animate: the model has no animation");

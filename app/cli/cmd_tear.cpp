@@ -9,6 +9,7 @@
 #include "args.h"
 #include "commands.h"
 #include "deepcut/core/io/gltf.h"
+#include "deepcut/plugins/formats.h"
 #include "deepcut/core/ops/history.h"
 
 namespace deepcut::cli {
@@ -39,7 +40,7 @@ int run_tear(const std::vector<std::string>& argv) {
   }
   swept_quad_triangles(tear.start, tear.end);  // a degenerate blade fails before the model is read
 
-  Model model = read_gltf(args.positionals()[0]);
+  Model model = plugins::read_model(args.positionals()[0]);
   Operation op;
   const int animation = animation_option(args, model.animations.size());  // -1..N-1, whole numbers
   op.animation = args.has("--time") ? animation : -1;                     // no --time: the rest pose

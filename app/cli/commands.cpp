@@ -11,6 +11,7 @@
 #include "args.h"
 #include "deepcut/core/generate/cactus.h"
 #include "deepcut/core/io/gltf.h"
+#include "deepcut/plugins/formats.h"
 #include "deepcut/core/validate.h"
 
 namespace deepcut::cli {
@@ -23,7 +24,7 @@ double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std
 
 std::string single_model(const Args& args, const char* command) {
   if (args.positionals().size() != 1)
-    throw UsageError(std::string(command) + " needs exactly one MODEL (.glb or .gltf), got " +
+    throw UsageError(std::string(command) + " needs exactly one MODEL (.glb, .gltf, .obj, .ply, .stl or .off), got " +
                      std::to_string(args.positionals().size()));
   return args.positionals()[0];
 }
@@ -39,7 +40,7 @@ int run_info(const std::vector<std::string>& argv) {
   const Args args(argv, {"--json"}, {});
   const std::string path = single_model(args, "info");
   const auto t0 = Clock::now();
-  const Model model = read_gltf(path);
+  const Model model = plugins::read_model(path);
   const double load_ms = ms_since(t0);
   const ModelStats s = compute_stats(model);
   auto problems = find_problems(model);
@@ -103,7 +104,7 @@ int run_convert(const std::vector<std::string>& argv) {
   const std::string in = single_model(args, "convert");
   const std::string out = output_path(args, "convert");
   const auto t0 = Clock::now();
-  const Model model = read_gltf(in);
+  const Model model = plugins::read_model(in);
   const double read_ms = ms_since(t0);
   const auto t1 = Clock::now();
   write_gltf(model, out);

@@ -17,7 +17,7 @@ const char* kUsage =
     "usage: deepcut COMMAND [options]\n"
     "\n"
     "commands:\n"
-    "  info MODEL [--json]                  counts, edges, bounding box and problems of a .glb/.gltf\n"
+    "  info MODEL [--json]                  counts, edges, bounding box and problems of a model\n"
     "  convert MODEL -o OUT [--json]        import, weld and export (.gltf <-> .glb)\n"
     "  make-cactus -o OUT [--triangles N]   write the project's rigged test cactus (default 25300 triangles)\n"
     "  cut MODEL -o OUT --plane PX,PY,PZ,NX,NY,NZ [--keep both|positive|negative] [--cap] [--components]\n"
@@ -37,6 +37,9 @@ const char* kUsage =
     "      [--animate] [--json]\n"
     "                                       poke the soft body, step N frames, report max displacement\n"
     "  bench [--json] [--quick]             the benchmark suite, with VTK peers measured in the same run\n"
+    "\n"
+    "MODEL is a rigged .glb/.gltf, or a static .obj/.ply/.stl/.off mesh (loaded unrigged: one root\n"
+    "joint, so every export is a rigged glTF)\n"
     "\n"
     "exit codes: 0 ok, 2 bad input or usage, 1 internal error\n";
 

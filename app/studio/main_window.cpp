@@ -32,6 +32,7 @@
 #include "deepcut/core/errors.h"
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/ops/history.h"
+#include "deepcut/plugins/formats.h"
 #include "deepcut/plugins/registry.h"
 #include "scene_tree.h"
 #include "scene_view.h"
@@ -57,9 +58,25 @@ class ModelCommand : public QUndoCommand {
   std::shared_ptr<const Model> before_, after_;
 };
 
+/// An export target: the exporter writes glTF only.
 bool is_model_file(const QString& path) {
   const QString suffix = QFileInfo(path).suffix().toLower();
   return suffix == "glb" || suffix == "gltf";
+}
+
+/// A file some format plugin opens (.glb, .gltf, .obj, .ply, .stl, .off, ...).
+bool is_openable_file(const QString& path) { return plugins::builtin_formats().find(path.toStdString()) != nullptr; }
+
+/// "All models (*.glb *.gltf *.obj ...);;glTF (*.glb *.gltf);;Wavefront OBJ (*.obj);;...;;All files (*)".
+QString open_filters() {
+  QStringList all, each;
+  for (const plugins::ModelFormat& format : plugins::builtin_formats().list()) {
+    QStringList patterns;
+    for (const std::string& ext : format.extensions) patterns << "*." + QString::fromStdString(ext);
+    all << patterns;
+    each << QString::fromStdString(format.name) + " (" + patterns.join(' ') + ")";
+  }
+  return "All models (" + all.join(' ') + ");;" + each.join(";;") + ";;All files (*)";
 }
 
 QString vec(const glm::vec3& v) { return QString("(%1, %2, %3)").arg(v.x, 0, 'g', 4).arg(v.y, 0, 'g', 4).arg(v.z, 0, 'g', 4); }
@@ -387,7 +404,7 @@ void MainWindow::refresh_recent_menu() {
 void MainWindow::choose_open() {
   const QString dir = path_.isEmpty() ? QString() : QFileInfo(path_).absolutePath();
   const QString path =
-      QFileDialog::getOpenFileName(this, "Open model", dir, "glTF models (*.glb *.gltf);;All files (*)");
+      QFileDialog::getOpenFileName(this, "Open model", dir, open_filters());
   if (!path.isEmpty()) open_file(path);
 }
 
@@ -440,7 +457,7 @@ bool MainWindow::open_file(const QString& path) {
 void MainWindow::load_file(const QString& path) {
   QElapsedTimer clock;
   clock.start();
-  auto model = std::make_shared<const Model>(read_gltf(path.toStdString()));
+  auto model = std::make_shared<const Model>(plugins::read_model(path.toStdString()));
   // Build the new scene before touching the current state, so a failure keeps the old model.
   const int animation = model->animations.empty() ? -1 : 0;
   plugins::Scene scene = plugins::make_scene(model, animation, 0.0f);
@@ -776,7 +793,7 @@ QImage MainWindow::screenshot() {
 
 void MainWindow::dragEnterEvent(QDragEnterEvent* event) {
   const QMimeData* mime = event->mimeData();
-  if (mime->hasUrls() && !mime->urls().isEmpty() && is_model_file(mime->urls().first().toLocalFile()))
+  if (mime->hasUrls() && !mime->urls().isEmpty() && is_openable_file(mime->urls().first().toLocalFile()))
     event->acceptProposedAction();
 }
 
@@ -784,7 +801,7 @@ void MainWindow::dropEvent(QDropEvent* event) {
   const QMimeData* mime = event->mimeData();
   if (!mime->hasUrls() || mime->urls().isEmpty()) return;
   const QString path = mime->urls().first().toLocalFile();
-  if (!is_model_file(path)) return;
+  if (!is_openable_file(path)) return;
   event->acceptProposedAction();
   open_file(path);
 }

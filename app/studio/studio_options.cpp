@@ -9,7 +9,8 @@ namespace deepcut::studio {
 const char* studio_usage() {
   return "usage: deepcut-studio [MODEL] [options]\n"
          "\n"
-         "Opens MODEL (.glb or .gltf; default: the bundled assets/cactus.glb) in the studio.\n"
+         "Opens MODEL (.glb, .gltf, or a static .obj, .ply, .stl, .off mesh; default: the bundled\n"
+         "assets/cactus.glb) in the studio.\n"
          "\n"
          "options:\n"
          "  --screenshot OUT.png     render one frame of the window to OUT.png and exit\n"

@@ -1,0 +1,52 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file formats.h
+/// Model file formats: which reader opens which file. glTF (.glb, .gltf) is built in; format
+/// plugin folders (`plugins/NAME/`, listed in DEEPCUT_FORMAT_PLUGINS of plugins/CMakeLists.txt)
+/// define `void deepcut::plugins::register_NAME(FormatRegistry&)` and add more. The command line
+/// and the studio both open models through `read_model`, so a new format reaches both at once.
+/// This part of the plugin API needs no Qt.
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "deepcut/core/model.h"
+
+namespace deepcut::plugins {
+
+struct ModelFormat {
+  std::string name;                     ///< "Wavefront OBJ": the file dialog's filter name
+  std::vector<std::string> extensions;  ///< lower case, without the dot: {"obj"}
+  /// Reads the file at `path`. @throws Error{InvalidInput} or Error{Io}, the message starting
+  /// with `path` and saying what is wrong.
+  std::function<Model(const std::string& path)> read;
+};
+
+class FormatRegistry {
+ public:
+  /// @throws Error{InvalidArgument} if the name or the extensions are empty, an extension is
+  ///         taken already, or `read` is empty.
+  void add(ModelFormat format);
+  const std::vector<ModelFormat>& list() const { return formats_; }
+  /// The format reading files like `path` (by extension, case-insensitive), or nullptr.
+  const ModelFormat* find(const std::string& path) const;
+  /// Every extension, with dots, space separated (".glb .gltf .obj").
+  std::string extensions() const;
+
+ private:
+  std::vector<ModelFormat> formats_;
+};
+
+/// Registers the built-in glTF reader (.glb, .gltf).
+void register_gltf(FormatRegistry& registry);
+
+/// glTF first, then the format plugins in build-list order.
+const FormatRegistry& builtin_formats();
+
+/// Reads `path` with the built-in format its extension names; a file with another extension is
+/// read as glTF, which recognises .glb and .gltf by their content (and refuses anything else).
+/// @throws Error as the reader does.
+Model read_model(const std::string& path);
+
+}  // namespace deepcut::plugins
