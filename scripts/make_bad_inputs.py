@@ -730,6 +730,178 @@ def _(name):
 
 # ---- fuzz seeds ----------------------------------------------------------------------------------
 SEEDS = []  # (name, builder)
+# ---- static meshes (OBJ, PLY, STL, OFF: plugins/static_formats) ----------------------------------
+# Derived from assets/models/spot/spot.obj or from a unit cube written here; under static/.
+CUBE_CORNERS = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]
+CUBE_QUADS = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (2, 3, 7, 6), (1, 2, 6, 5), (0, 4, 7, 3)]
+
+
+def spot_obj():
+    with open(os.path.join(ASSETS, "models", "spot", "spot.obj"), "rb") as f:
+        return f.read()
+
+
+def cube_off(corners=CUBE_CORNERS, quads=CUBE_QUADS, counts=None):
+    nv, nf = counts if counts else (len(corners), len(quads))
+    lines = ["OFF", "%d %d 0" % (nv, nf)] + ["%s %s %s" % c for c in corners]
+    lines += ["%d %s" % (len(q), " ".join(str(i) for i in q)) for q in quads]
+    return ("\n".join(lines) + "\n").encode("ascii")
+
+
+def cube_obj(corners=CUBE_CORNERS, quads=CUBE_QUADS):
+    lines = ["v %s %s %s" % c for c in corners]
+    lines += ["f " + " ".join(str(i + 1) for i in q) for q in quads]
+    return ("\n".join(lines) + "\n").encode("ascii")
+
+
+def cube_ply_binary(quads=CUBE_QUADS, vertex_count=None):
+    head = ("ply\nformat binary_little_endian 1.0\nelement vertex %d\nproperty float x\nproperty float y\n"
+            "property float z\nelement face %d\nproperty list uchar int vertex_indices\nend_header\n"
+            % (vertex_count if vertex_count is not None else len(CUBE_CORNERS), len(quads)))
+    body = b"".join(struct.pack("<3f", *c) for c in CUBE_CORNERS)
+    body += b"".join(struct.pack("<B4i", 4, *q) for q in quads)
+    return head.encode("ascii") + body
+
+
+def cube_triangles():
+    c = CUBE_CORNERS
+    return [tri for q in CUBE_QUADS for tri in ((c[q[0]], c[q[1]], c[q[2]]), (c[q[0]], c[q[2]], c[q[3]]))]
+
+
+def cube_stl_binary(count=None, edit=None):
+    tris = [list(t) for t in cube_triangles()]
+    if edit:
+        edit(tris)
+    out = b"deepcut bad-input catalogue".ljust(80, b" ") + struct.pack("<I", len(tris) if count is None else count)
+    for t in tris:
+        out += struct.pack("<3f", 0.0, 0.0, 0.0) + b"".join(struct.pack("<3f", *p) for p in t) + b"\0\0"
+    return out
+
+
+def cube_stl_ascii():
+    lines = ["solid cube"]
+    for t in cube_triangles():
+        lines += [" facet normal 0 0 0", "  outer loop"] + ["   vertex %s %s %s" % p for p in t] + ["  endloop", " endfacet"]
+    return ("\n".join(lines + ["endsolid cube"]) + "\n").encode("ascii")
+
+
+@case("static/control_cube.off", "a good OFF cube of quads, the control for the static cases (quads split into fans)")
+def _(name):
+    return {name: cube_off()}
+
+
+@case("static/control_cube_ascii.stl", "a good ASCII STL cube (12 triangles, 36 unwelded corners)")
+def _(name):
+    return {name: cube_stl_ascii()}
+
+
+@case("static/obj_empty.obj", "zero bytes")
+def _(name):
+    return {name: b""}
+
+
+@case("static/obj_truncated.obj", "spot.obj cut off at 20% of its length: part of the vertices, no faces")
+def _(name):
+    data = spot_obj()
+    return {name: data[: len(data) // 5]}
+
+
+@case("static/obj_index_out_of_range.obj", "a cube whose last face names vertex 99 of 8")
+def _(name):
+    return {name: cube_obj(quads=CUBE_QUADS[:-1] + [(0, 4, 7, 98)])}
+
+
+@case("static/obj_nan.obj", "a cube with vertex 2 at (nan, 0, 0)")
+def _(name):
+    return {name: cube_obj(corners=CUBE_CORNERS[:1] + [("nan", 0, 0)] + CUBE_CORNERS[2:])}
+
+
+@case("static/obj_binary_garbage.obj", "4 KiB of seeded random bytes")
+def _(name):
+    rng = random.Random(1117)
+    return {name: bytes(rng.randrange(256) for _ in range(4096))}
+
+
+@case("static/obj_unreferenced_vertices.obj", "a cube plus 3 vertices no face uses (handled: dropped and reported)")
+def _(name):
+    return {name: cube_obj(corners=CUBE_CORNERS + [(5, 5, 5), (6, 5, 5), (5, 6, 5)])}
+
+
+@case("static/off_truncated.off", "an OFF cube whose last two faces are missing")
+def _(name):
+    data = cube_off().decode("ascii").splitlines()
+    return {name: ("\n".join(data[:-2]) + "\n").encode("ascii")}
+
+
+@case("static/off_huge_counts.off", "an OFF header claiming 100 million vertices and 200 million faces in 40 bytes")
+def _(name):
+    return {name: b"OFF\n100000000 200000000 0\n0 0 0\n1 0 0\n"}
+
+
+@case("static/off_index_out_of_range.off", "an OFF cube whose last face names vertex 8 of 8")
+def _(name):
+    return {name: cube_off(quads=CUBE_QUADS[:-1] + [(0, 4, 7, 8)])}
+
+
+@case("static/off_negative_index.off", "an OFF cube whose last face names vertex -1")
+def _(name):
+    return {name: cube_off(quads=CUBE_QUADS[:-1] + [(0, 4, 7, -1)])}
+
+
+@case("static/off_nan.off", "an OFF cube with vertex 1 at (0, inf, 0)")
+def _(name):
+    return {name: cube_off(corners=CUBE_CORNERS[:1] + [(0, "inf", 0)] + CUBE_CORNERS[2:])}
+
+
+@case("static/off_no_faces.off", "an OFF file with 8 vertices and 0 faces")
+def _(name):
+    return {name: cube_off(quads=[])}
+
+
+@case("static/ply_truncated.ply", "a binary PLY cube cut off in its face list")
+def _(name):
+    data = cube_ply_binary()
+    return {name: data[:-30]}
+
+
+@case("static/ply_huge_count.ply", "a binary PLY header claiming 100 million vertices, with 8 in the file")
+def _(name):
+    return {name: cube_ply_binary(vertex_count=100000000)}
+
+
+@case("static/ply_index_out_of_range.ply", "a binary PLY cube whose last face names vertex 1000")
+def _(name):
+    return {name: cube_ply_binary(quads=CUBE_QUADS[:-1] + [(0, 4, 7, 1000)])}
+
+
+@case("static/ply_no_end_header.ply", "a PLY header that never ends")
+def _(name):
+    return {name: b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n" + b"comment x\n" * 8000}
+
+
+@case("static/stl_empty.stl", "zero bytes")
+def _(name):
+    return {name: b""}
+
+
+@case("static/stl_truncated.stl", "a binary STL cube cut off in its fifth triangle")
+def _(name):
+    return {name: cube_stl_binary()[: 84 + 50 * 4 + 20]}
+
+
+@case("static/stl_huge_count.stl", "a binary STL header claiming 10 million triangles, with 12 in the file")
+def _(name):
+    return {name: cube_stl_binary(count=10000000)}
+
+
+@case("static/stl_nan.stl", "a binary STL cube with a NaN corner in triangle 3")
+def _(name):
+    def edit(tris):
+        tris[3][1] = (float("nan"), 0.0, 0.0)
+
+    return {name: cube_stl_binary(edit=edit)}
+
+
 SEED_FROM_CATALOGUE = ["control_simple_skin.glb", "control_textured.gltf", "skin_without_inverse_bind_matrices.gltf",
                        "triangles_duplicate.gltf", "nonmanifold_vertex.gltf", "weights_sum_zero.gltf"]
 

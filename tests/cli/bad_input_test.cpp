@@ -117,6 +117,29 @@ const Expectation kCatalogue[] = {
     {"uri_missing_file.gltf", kRefused, "missing.bin"},
     {"escape/uri_to_parent_folder.gltf", kRefused,
      "'../escape_target.bin' points outside the model's folder"},
+    // static meshes (plugins/static_formats)
+    {"static/control_cube.off", kHandled, "6 polygons split into triangle fans"},
+    {"static/control_cube_ascii.stl", kHandled, ""},
+    {"static/obj_empty.obj", kRefused, "file is empty"},
+    {"static/obj_truncated.obj", kRefused, "no faces (only 2204 points)"},
+    {"static/obj_index_out_of_range.obj", kRefused, "face 5 uses vertex 98, past the 8 vertices"},
+    {"static/obj_nan.obj", kRefused, "line 2: 'nan' is not a finite number"},
+    {"static/obj_binary_garbage.obj", kRefused, "Line longer than"},
+    {"static/obj_unreferenced_vertices.obj", kHandled, "3 unreferenced vertices dropped"},
+    {"static/off_truncated.off", kRefused, "truncated: the header claims 6 faces, the file holds 4"},
+    {"static/off_huge_counts.off", kRefused, "the header claims 100000000 vertices; the file is only 38 bytes"},
+    {"static/off_index_out_of_range.off", kRefused, "face 5 uses vertex 8, past the 8 vertices"},
+    {"static/off_negative_index.off", kRefused, "face 5 uses vertex -1"},
+    {"static/off_nan.off", kRefused, "vertex 1 is not finite"},
+    {"static/off_no_faces.off", kRefused, "no faces (only 8 points)"},
+    {"static/ply_truncated.ply", kRefused, "truncated PLY: face 4 of 6 is missing or incomplete"},
+    {"static/ply_huge_count.ply", kRefused, "claims 100000000 vertex elements"},
+    {"static/ply_index_out_of_range.ply", kRefused, "face 5 uses vertex 1000, past the 8 vertices"},
+    {"static/ply_no_end_header.ply", kRefused, "no 'end_header'"},
+    {"static/stl_empty.stl", kRefused, "file is empty"},
+    {"static/stl_truncated.stl", kRefused, "truncated binary STL: the header says 12 triangles, the file holds 4"},
+    {"static/stl_huge_count.stl", kRefused, "the header says 10000000 triangles"},
+    {"static/stl_nan.stl", kRefused, "is not finite"},
 };
 
 // Test names print the file, not the bytes of the struct.
@@ -210,11 +233,12 @@ TEST(BadInputCatalogue, every_file_has_an_expectation_and_every_expectation_a_fi
     if (!entry.is_regular_file()) continue;
     const std::string rel = fs::relative(entry.path(), kBadDir).generic_string();
     const std::string ext = entry.path().extension().string();
-    if (ext == ".gltf" || ext == ".glb") found.insert(rel);
+    for (const char* model : {".gltf", ".glb", ".obj", ".ply", ".stl", ".off"})
+      if (ext == model) found.insert(rel);
   }
   for (const auto& f : found) EXPECT_TRUE(listed.count(f)) << f << " has no row in kCatalogue";
   for (const auto& f : listed) EXPECT_TRUE(found.count(f)) << f << " is listed but not in " << kBadDir;
-  EXPECT_GE(found.size(), 60u);
+  EXPECT_GE(found.size(), 80u);
 }
 
 TEST(BadInputCatalogue, matches_its_generator) {

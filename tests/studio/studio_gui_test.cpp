@@ -332,6 +332,19 @@ class StudioGuiTest : public QObject {
     QApplication::sendEvent(window.get(), &drop);
     QCOMPARE(window->model_path(), fox);
     QCOMPARE(window->model()->animations.size(), std::size_t(3));
+    // A static mesh (format plugin) drops in as an unrigged model: one skin with one joint.
+    const QString spot = QStringLiteral(DEEPCUT_ASSETS_DIR "/models/spot/spot.obj");
+    QMimeData obj;
+    obj.setUrls({QUrl::fromLocalFile(spot)});
+    QDragEnterEvent enter_obj(centre, Qt::CopyAction, &obj, Qt::LeftButton, Qt::NoModifier);
+    QApplication::sendEvent(window.get(), &enter_obj);
+    QVERIFY(enter_obj.isAccepted());
+    QDropEvent drop_obj(centre, Qt::CopyAction, &obj, Qt::LeftButton, Qt::NoModifier);
+    QApplication::sendEvent(window.get(), &drop_obj);
+    QCOMPARE(window->model_path(), spot);
+    QCOMPARE(window->model()->skins.size(), std::size_t(1));
+    QCOMPARE(window->model()->skins[0].joints.size(), std::size_t(1));
+    QVERIFY(!window->scene()->pieces.empty());
     QMimeData text;
     text.setUrls({QUrl::fromLocalFile(DEEPCUT_ASSETS_DIR "/README.md")});
     QDragEnterEvent refused(centre, Qt::CopyAction, &text, Qt::LeftButton, Qt::NoModifier);

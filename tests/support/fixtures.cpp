@@ -137,4 +137,14 @@ std::vector<std::string> asset_models() {
   return out;
 }
 
+std::vector<std::string> static_models() {
+  std::vector<std::string> out = {std::string(DEEPCUT_ASSETS_DIR) + "/models/spot/spot.obj"};
+  const std::string local = std::string(DEEPCUT_SHARED_MODELS_DIR) + "/local-only/";
+  for (const char* rel : {"stanford-bunny/stanford-bunny.obj", "bunny-libigl/bunny.off", "fandisk/fandisk-libigl.off",
+                          "fertility/fertility.off", "horse/horse.ply", "armadillo/armadillo.obj",
+                          "cactus-cagedeform/cactus.obj"})
+    if (std::filesystem::is_regular_file(local + rel)) out.push_back(local + rel);
+  return out;
+}
+
 }  // namespace deepcut::test

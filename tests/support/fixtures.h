@@ -31,4 +31,13 @@ void expect_adjacency_matches_rebuild(const Adjacency& incremental, const Surfac
 /// Every model file under assets/ (sorted), as absolute paths.
 std::vector<std::string> asset_models();
 
+/// The static (unrigged) meshes of the robustness suite, as absolute paths: assets/models/spot
+/// (always), then the scanned meshes of ../shared/models/local-only/ that are present (never
+/// copied into the project: their terms forbid it) - Stanford bunny (holes, unreferenced
+/// vertices), libigl bunny (.off), fandisk (.off, sharp features), fertility (.off, genus 4),
+/// horse (binary .ply, ~97K triangles), armadillo (.obj, ~86K triangles), the cage-deformation
+/// cactus (.obj, three open parts with UVs). Load them with `plugins::read_model` (link
+/// deepcut::formats, which needs the VTK build).
+std::vector<std::string> static_models();
+
 }  // namespace deepcut::test
