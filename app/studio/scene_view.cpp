@@ -92,7 +92,8 @@ struct SceneView::Impl {
   QVTKOpenGLNativeWidget* widget = nullptr;
   vtkNew<vtkGenericOpenGLRenderWindow> window;
   vtkNew<vtkRenderer> renderer;  // the model and depth-tested overlays
-  vtkNew<vtkRenderer> top;       // overlays drawn over the model
+  vtkNew<vtkRenderer> tools;     // the tool widget, over the model
+  vtkNew<vtkRenderer> top;       // overlays drawn over the model and the widget
   vtkNew<vtkCellPicker> picker;
   vtkNew<vtkCornerAnnotation> caption;
   vtkNew<vtkOrientationMarkerWidget> axes;
@@ -270,10 +271,16 @@ SceneView::SceneView(QWidget* parent) : QWidget(parent), impl_(std::make_unique<
   layout->addWidget(d.widget);
   d.widget->setRenderWindow(d.window);
 
-  d.window->SetNumberOfLayers(2);
+  d.window->SetNumberOfLayers(3);
   d.window->AddRenderer(d.renderer);
+  d.window->AddRenderer(d.tools);
   d.window->AddRenderer(d.top);
-  d.top->SetLayer(1);
+  // The tool widget between the model and the overlays: drawn over the model, while the
+  // contour, path and rim lines stay crisp over the widget's translucent plane, quad or cylinder.
+  d.tools->SetLayer(1);
+  d.tools->InteractiveOff();
+  d.tools->SetActiveCamera(d.renderer->GetActiveCamera());
+  d.top->SetLayer(2);
   d.top->InteractiveOff();
   d.top->SetActiveCamera(d.renderer->GetActiveCamera());
 
@@ -300,16 +307,20 @@ SceneView::SceneView(QWidget* parent) : QWidget(parent), impl_(std::make_unique<
   d.clipping->SetClientData(&d);
   d.clipping->SetCallback([](vtkObject*, unsigned long, void* client, void*) {
     auto* impl = static_cast<Impl*>(client);
-    double bounds[6], top[6];
+    double bounds[6], layer[6];
     impl->renderer->ComputeVisiblePropBounds(bounds);
-    impl->top->ComputeVisiblePropBounds(top);
-    if (!vtkMath::AreBoundsInitialized(bounds))
-      std::copy(top, top + 6, bounds);
-    else if (vtkMath::AreBoundsInitialized(top))
-      for (int k = 0; k < 3; ++k) {
-        bounds[2 * k] = std::min(bounds[2 * k], top[2 * k]);
-        bounds[2 * k + 1] = std::max(bounds[2 * k + 1], top[2 * k + 1]);
+    for (vtkRenderer* over : {impl->tools.Get(), impl->top.Get()}) {
+      over->ComputeVisiblePropBounds(layer);
+      if (!vtkMath::AreBoundsInitialized(layer)) continue;
+      if (!vtkMath::AreBoundsInitialized(bounds)) {
+        std::copy(layer, layer + 6, bounds);
+        continue;
       }
+      for (int k = 0; k < 3; ++k) {
+        bounds[2 * k] = std::min(bounds[2 * k], layer[2 * k]);
+        bounds[2 * k + 1] = std::max(bounds[2 * k + 1], layer[2 * k + 1]);
+      }
+    }
     if (vtkMath::AreBoundsInitialized(bounds)) impl->renderer->ResetCameraClippingRange(bounds);
   });
   d.renderer->AddObserver(vtkCommand::StartEvent, d.clipping);
@@ -528,9 +539,9 @@ void SceneView::set_tool_widget(vtkAbstractWidget* widget) {
   d.tool_widget = widget;
   if (!widget) return;
   widget->SetInteractor(d.window->GetInteractor());
-  // Drawn over the model (like the overlays), so a handle inside the model stays reachable.
-  widget->SetDefaultRenderer(d.top);
-  widget->SetCurrentRenderer(d.top);
+  // Drawn over the model, so a handle inside the model stays reachable.
+  widget->SetDefaultRenderer(d.tools);
+  widget->SetCurrentRenderer(d.tools);
   widget->On();
 }
 

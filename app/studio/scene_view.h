@@ -73,8 +73,9 @@ class SceneView : public QWidget {
   glm::vec3 view_up() const;
 
   /// Shows `widget` (a tool's VTK widget; nullptr: none) over the model and lets it take the
-  /// mouse: it gets the view's interactor and the overlay renderer and is enabled; the previous
-  /// widget is disabled. The caller keeps the widget alive while it is shown.
+  /// mouse: it gets the view's interactor and a renderer layered between the model and the
+  /// overlays, and is enabled; the previous widget is disabled. The caller keeps the widget
+  /// alive while it is shown.
   void set_tool_widget(vtkAbstractWidget* widget);
 
   /// The model's surface point under widget coordinates `position` (logical pixels, origin top

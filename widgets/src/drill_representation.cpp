@@ -58,6 +58,8 @@ DrillRepresentation::DrillRepresentation() {
   side_mapper->SetInputData(this->Side);
   this->SideActor->SetMapper(side_mapper);
   this->SideActor->SetProperty(this->SideProperty);
+  // Blended in the opaque pass, after the other parts (see ScalpelRepresentation).
+  this->SideActor->ForceOpaqueOn();
   vtkNew<vtkPolyDataMapper> line_mapper;
   line_mapper->SetInputData(this->Lines);
   this->LinesActor->SetMapper(line_mapper);
@@ -100,8 +102,9 @@ void DrillRepresentation::PlaceWidget(double bounds[6]) {
 }
 
 std::vector<vtkActor*> DrillRepresentation::GetToolActors() {
-  return {this->SideActor, this->LinesActor, this->SphereActors[0], this->SphereActors[1],
-          this->SphereActors[2]};
+  // The translucent side last, blended over the lines and handles.
+  return {this->LinesActor, this->SphereActors[0], this->SphereActors[1], this->SphereActors[2],
+          this->SideActor};
 }
 
 void DrillRepresentation::ComputeFrame(double u[3], double v[3]) const {

@@ -48,6 +48,9 @@ ScalpelRepresentation::ScalpelRepresentation() {
   vtkNew<vtkPolyDataMapper> mapper;
   mapper->SetInputData(this->Quad);
   this->QuadActor->SetMapper(mapper);
+  // Blended in the opaque pass, after the other parts: the translucent pass (order-independent
+  // transparency) stripes a layered view on some OpenGL drivers.
+  this->QuadActor->ForceOpaqueOn();
   this->BuildRepresentation();
 }
 
@@ -90,9 +93,9 @@ void ScalpelRepresentation::PlaceWidget(double bounds[6]) {
 }
 
 std::vector<vtkActor*> ScalpelRepresentation::GetToolActors() {
-  // The quad first: translucent, drawn under the blades and spheres.
-  return {this->QuadActor,       this->BladeActors[0],  this->BladeActors[1], this->SphereActors[0],
-          this->SphereActors[1], this->SphereActors[2], this->SphereActors[3]};
+  // The translucent quad last, blended over the blades and spheres.
+  return {this->BladeActors[0],  this->BladeActors[1],  this->SphereActors[0], this->SphereActors[1],
+          this->SphereActors[2], this->SphereActors[3], this->QuadActor};
 }
 
 void ScalpelRepresentation::BuildRepresentation() {

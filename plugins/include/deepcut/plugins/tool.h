@@ -48,8 +48,8 @@ class Tool {
   /// the widget.
   virtual void place(const Scene& scene, const ToolPlacement& placement) = 0;
   /// The tool's interactive 3D widget, owned by the tool (nullptr: numbers only). The studio
-  /// gives it the view's interactor and overlay renderer and enables it while the tool is
-  /// chosen; the tool observes its InteractionEvent.
+  /// gives it the view's interactor and a renderer drawn over the model and enables it while
+  /// the tool is chosen; the tool observes its InteractionEvent.
   virtual vtkAbstractWidget* widget() { return nullptr; }
   /// The operation the tool would apply now.
   virtual OperationParams parameters() const = 0;
