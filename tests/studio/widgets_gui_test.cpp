@@ -63,7 +63,9 @@ std::unique_ptr<MainWindow> shown_window() {
   return window;
 }
 
-QVTKOpenGLNativeWidget* vtk_view(MainWindow& window) { return window.findChild<QVTKOpenGLNativeWidget*>("vtk_view"); }
+QVTKOpenGLNativeWidget* vtk_view(MainWindow& window) {
+  return window.findChild<QVTKOpenGLNativeWidget*>("vtk_view");
+}
 
 vtkRenderer* model_renderer(MainWindow& window) {
   return vtk_view(window)->renderWindow()->GetRenderers()->GetFirstRenderer();
@@ -79,7 +81,9 @@ glm::dvec2 display(MainWindow& window, const glm::vec3& p) {
   return {d[0], d[1]};
 }
 
-glm::ivec2 pixel(const glm::dvec2& d) { return {static_cast<int>(std::lround(d.x)), static_cast<int>(std::lround(d.y))}; }
+glm::ivec2 pixel(const glm::dvec2& d) {
+  return {static_cast<int>(std::lround(d.x)), static_cast<int>(std::lround(d.y))};
+}
 
 /// Plays `events` on the view (vtkInteractorEventRecorder's stream version 1, one event a line:
 /// name, x, y, ctrl, shift, key code, repeat count, key sym).
@@ -100,7 +104,8 @@ std::string event_line(const char* name, const glm::ivec2& p) {
 
 /// A left-button drag from `from` to `to` (display pixels) in a few steps, as a mouse would.
 std::string drag_events(const glm::ivec2& from, const glm::ivec2& to, const char* button = "Left") {
-  std::string log = event_line("MouseMoveEvent", from) + event_line((std::string(button) + "ButtonPressEvent").c_str(), from);
+  std::string log = event_line("MouseMoveEvent", from) +
+                    event_line((std::string(button) + "ButtonPressEvent").c_str(), from);
   for (int k = 1; k <= 6; ++k) log += event_line("MouseMoveEvent", from + (to - from) * k / 6);
   return log + event_line((std::string(button) + "ButtonReleaseEvent").c_str(), to);
 }
@@ -108,7 +113,8 @@ std::string drag_events(const glm::ivec2& from, const glm::ivec2& to, const char
 glm::vec3 panel_vec(MainWindow& window, const QString& name) {
   glm::vec3 v;
   const char* axes[3] = {".x", ".y", ".z"};
-  for (int k = 0; k < 3; ++k) v[k] = static_cast<float>(window.findChild<QDoubleSpinBox*>(name + axes[k])->value());
+  for (int k = 0; k < 3; ++k)
+    v[k] = static_cast<float>(window.findChild<QDoubleSpinBox*>(name + axes[k])->value());
   return v;
 }
 
@@ -136,7 +142,8 @@ std::string numbers(std::initializer_list<glm::vec3> vs) {
 void click(MainWindow& window, const glm::vec3& p) {
   window.set_skeleton_visible(false);
   const glm::ivec2 at = pixel(display(window, p));
-  play(window, event_line("MouseMoveEvent", at) + event_line("LeftButtonPressEvent", at) + event_line("LeftButtonReleaseEvent", at));
+  play(window, event_line("MouseMoveEvent", at) + event_line("LeftButtonPressEvent", at) +
+                   event_line("LeftButtonReleaseEvent", at));
 }
 
 /// The middle of the cactus's trunk at the front, found by picking through the view centre.
@@ -218,7 +225,8 @@ class StudioWidgetsTest : public QObject {
     window->findChild<QDoubleSpinBox*>("cut.normal.x")->setValue(1.0);
     const glm::vec3 normal = glm::normalize(glm::vec3(1.0f, 1.0f, 0.0f));
     QVERIFY(glm::length(to_vec(widget->GetPlaneRepresentation()->GetNormal()) - normal) < 1e-5f);
-    QCOMPARE(std::get<deepcut::CutOperation>(window->tool()->parameters()).plane.normal, glm::vec3(1.0f, 1.0f, 0.0f));
+    QCOMPARE(std::get<deepcut::CutOperation>(window->tool()->parameters()).plane.normal,
+             glm::vec3(1.0f, 1.0f, 0.0f));
     // Choosing no tool hides the widget.
     window->set_tool("");
     QVERIFY(!widget->GetEnabled());
@@ -255,14 +263,16 @@ class StudioWidgetsTest : public QObject {
     QCOMPARE(dragged.end.handle, op.end.handle);
     QVERIFY(glm::length(dragged.end.tip - op.end.tip) > 1e-3f * size);
     QVERIFY(glm::length(display(*window, dragged.end.tip) - glm::dvec2(to)) < 2.0);
-    QVERIFY(std::abs(glm::dot(dragged.end.tip - op.end.tip, window->view()->view_direction())) < 1e-3f * size);
+    QVERIFY(std::abs(glm::dot(dragged.end.tip - op.end.tip, window->view()->view_direction())) <
+            1e-3f * size);
     QVERIFY(panel_shows(panel_vec(*window, "tear.end.tip"), dragged.end.tip));
     QVERIFY(glm::length(to_vec(widget->GetScalpelRepresentation()->GetEndTip()) - dragged.end.tip) < 1e-5f);
 
     // Escape during a drag puts the scalpel back where the drag started.
     const glm::ivec2 handle = pixel(display(*window, dragged.start.handle));
     std::string log = event_line("MouseMoveEvent", handle) + event_line("LeftButtonPressEvent", handle);
-    log += event_line("MouseMoveEvent", handle + glm::ivec2(20, 20)) + event_line("MouseMoveEvent", handle + glm::ivec2(40, 30));
+    log += event_line("MouseMoveEvent", handle + glm::ivec2(20, 20)) +
+           event_line("MouseMoveEvent", handle + glm::ivec2(40, 30));
     play(*window, log);
     QVERIFY(glm::length(std::get<deepcut::TearOperation>(window->tool()->parameters()).start.handle -
                         dragged.start.handle) > 1e-3f * size);
@@ -305,10 +315,12 @@ class StudioWidgetsTest : public QObject {
     const glm::ivec2 to = grab + glm::ivec2(25, 0);
     play(*window, drag_events(grab, to));
     const auto widened = std::get<deepcut::DrillOperation>(window->tool()->parameters());
-    QVERIFY2(widened.cylinder.radius > placed.cylinder.radius * 1.2f, "dragging the radius handle out widens");
+    QVERIFY2(widened.cylinder.radius > placed.cylinder.radius * 1.2f,
+             "dragging the radius handle out widens");
     QCOMPARE(widened.cylinder.a, placed.cylinder.a);
     QCOMPARE(widened.cylinder.b, placed.cylinder.b);
-    QVERIFY(std::abs(window->findChild<QDoubleSpinBox*>("drill.radius")->value() - widened.cylinder.radius) < 1e-4);
+    QVERIFY(std::abs(window->findChild<QDoubleSpinBox*>("drill.radius")->value() - widened.cylinder.radius) <
+            1e-4);
     const glm::vec3 moved_handle = to_vec(widget->GetDrillRepresentation()->GetRadiusHandle());
     QVERIFY(glm::length(display(*window, moved_handle) - glm::dvec2(to)) < 2.0);
 
@@ -325,7 +337,8 @@ class StudioWidgetsTest : public QObject {
     auto* radius = window->findChild<QDoubleSpinBox*>("drill.radius");
     radius->setValue(0.02 * size);
     QVERIFY(std::abs(radius->value() - 0.02 * size) < 1e-4);
-    QCOMPARE(static_cast<float>(widget->GetDrillRepresentation()->GetRadius()), static_cast<float>(radius->value()));
+    QCOMPARE(static_cast<float>(widget->GetDrillRepresentation()->GetRadius()),
+             static_cast<float>(radius->value()));
     QCOMPARE(std::get<deepcut::DrillOperation>(window->tool()->parameters()).cylinder.radius,
              static_cast<float>(radius->value()));
   }
@@ -342,7 +355,9 @@ class StudioWidgetsTest : public QObject {
       if (!window->export_file(QString::fromStdString(path))) return std::string();
       return read_bytes(path);
     };
-    auto shot = [&](const std::string& name) { window->view()->grab_view().save(QString::fromStdString(dir + "/" + name + ".png")); };
+    auto shot = [&](const std::string& name) {
+      window->view()->grab_view().save(QString::fromStdString(dir + "/" + name + ".png"));
+    };
 
     // Plane: dragged, then applied with the panel's button.
     window->findChild<QAction*>("tool_cut")->trigger();
@@ -369,7 +384,8 @@ class StudioWidgetsTest : public QObject {
     QVERIFY(panel_shows(panel_vec(*window, "tear.end.tip"), tear.end.tip));
     window->findChild<QDoubleSpinBox*>("tear.width")->setValue(0.01 * size);
     tear = std::get<deepcut::TearOperation>(window->tool()->parameters());
-    QVERIFY2(!window->tool()->preview(*window->scene()).lines.front().endpoints.empty(), "the tear path is drawn");
+    QVERIFY2(!window->tool()->preview(*window->scene()).lines.front().endpoints.empty(),
+             "the tear path is drawn");
     window->view()->frame(p, 0.22f * size);
     shot("widget_scalpel");
     before.push_back(export_to("before1"));
@@ -386,12 +402,15 @@ class StudioWidgetsTest : public QObject {
     window->set_tool("drill");
     auto* drill_widget = static_cast<deepcut::DrillWidget*>(window->tool()->widget());
     window->view()->render();
-    const glm::ivec2 grab = pixel(display(*window, to_vec(drill_widget->GetDrillRepresentation()->GetRadiusHandle())));
+    const glm::ivec2 grab =
+        pixel(display(*window, to_vec(drill_widget->GetDrillRepresentation()->GetRadiusHandle())));
     play(*window, drag_events(grab, grab + glm::ivec2(10, 0)));
     turn_camera(*window, 40.0);
     const auto drill = std::get<deepcut::DrillOperation>(window->tool()->parameters());
-    QVERIFY(std::abs(window->findChild<QDoubleSpinBox*>("drill.radius")->value() - drill.cylinder.radius) < 1e-4);
-    QVERIFY2(window->tool()->preview(*window->scene()).lines.front().endpoints.size() > 16, "the rims are drawn");
+    QVERIFY(std::abs(window->findChild<QDoubleSpinBox*>("drill.radius")->value() - drill.cylinder.radius) <
+            1e-4);
+    QVERIFY2(window->tool()->preview(*window->scene()).lines.front().endpoints.size() > 16,
+             "the rims are drawn");
     shot("widget_drill");
     before.push_back(export_to("before2"));
     window->findChild<QAction*>("apply_tool")->trigger();
@@ -436,13 +455,14 @@ class StudioWidgetsTest : public QObject {
       return " --time " + number(op.time) + " --animation " + std::to_string(op.animation);
     };
     const std::string cli_args[3] = {
-        "cut " + original + " --plane " + numbers({h_cut.plane.point, h_cut.plane.normal}) + pose(history.operations[0]),
-        "tear " + original + " --blade-start " + numbers({h_tear.start.handle, h_tear.start.tip}) + " --blade-end " +
-            numbers({h_tear.end.handle, h_tear.end.tip}) + " --width " + number(h_tear.options.width) +
-            pose(history.operations[1]),
+        "cut " + original + " --plane " + numbers({h_cut.plane.point, h_cut.plane.normal}) +
+            pose(history.operations[0]),
+        "tear " + original + " --blade-start " + numbers({h_tear.start.handle, h_tear.start.tip}) +
+            " --blade-end " + numbers({h_tear.end.handle, h_tear.end.tip}) + " --width " +
+            number(h_tear.options.width) + pose(history.operations[1]),
         "drill " + original + " --axis " + numbers({h_drill.cylinder.a, h_drill.cylinder.b}) + " --radius " +
-            number(h_drill.cylinder.radius) + " --min-rim-edges " + std::to_string(h_drill.options.min_rim_edges) +
-            pose(history.operations[2])};
+            number(h_drill.cylinder.radius) + " --min-rim-edges " +
+            std::to_string(h_drill.options.min_rim_edges) + pose(history.operations[2])};
     const char* ids[3] = {"cut", "tear", "drill"};
     for (int i = 0; i < 3; ++i) {
       while (window->history()->index() > 0) window->undo_action()->trigger();
@@ -455,7 +475,8 @@ class StudioWidgetsTest : public QObject {
       QVERIFY(window->export_file(QString::fromStdString(alone)));
       run = deepcut::test::run_cli(cli_args[i] + " -o " + quote(cli));
       QVERIFY2(run.exit_code == 0, run.err.c_str());
-      QVERIFY2(read_bytes(cli) == read_bytes(alone), (std::string("deepcut ") + ids[i] + " differs from the studio").c_str());
+      QVERIFY2(read_bytes(cli) == read_bytes(alone),
+               (std::string("deepcut ") + ids[i] + " differs from the studio").c_str());
       const auto checked = deepcut::test::validate_gltf(alone);
       QVERIFY2(checked.exit_code == 0, (checked.out + checked.err).c_str());
     }
