@@ -152,11 +152,6 @@ BoundingBox face_box(const Triangle& t, const std::vector<glm::vec3>& points) {
   return b;
 }
 
-bool overlaps(const BoundingBox& a, const BoundingBox& b) {
-  return a.min.x <= b.max.x && b.min.x <= a.max.x && a.min.y <= b.max.y && b.min.y <= a.max.y &&
-         a.min.z <= b.max.z && b.min.z <= a.max.z;
-}
-
 class Sequence {
  public:
   Sequence(std::string path, std::uint64_t seed, int steps)
@@ -536,18 +531,24 @@ class Sequence {
     if (part.grid_current) {
       part.grid.apply(log, part.posed);
       ASSERT_EQ(part.grid.face_count(), mesh.face_count()) << where << "spatial index face count";
-      BoundingBox near;
+      // Every face the log added or moved (through a moved vertex) is found at its new place.
+      std::vector<bool> moved(mesh.vertex_count(), false);
       for (const Edit& e : log.edits)
-        if (const auto* a = std::get_if<FaceAdded>(&e)) near.add(face_box(a->vertices, part.posed));
-      if (!near.empty()) {
-        const auto found = part.grid.query_box(near);
-        mesh.for_each_face([&](FaceId f, const Triangle& t) {
-          if (overlaps(face_box(t, part.posed), near)) {
-            ASSERT_TRUE(std::binary_search(found.begin(), found.end(), f))
-                << where << "spatial index misses live face " << f.index << " in the edited region";
-          }
-        });
-      }
+        if (const auto* m = std::get_if<VertexMoved>(&e)) moved[m->v.index] = true;
+      mesh.for_each_face([&](FaceId f, const Triangle& t) {
+        if (!(moved[t[0].index] || moved[t[1].index] || moved[t[2].index])) return;
+        const auto found = part.grid.query_box(face_box(t, part.posed));
+        ASSERT_TRUE(std::binary_search(found.begin(), found.end(), f))
+            << where << "spatial index misses live face " << f.index << " after its vertex moved";
+      });
+      if (::testing::Test::HasFatalFailure()) return;
+      for (const Edit& e : log.edits)
+        if (const auto* a = std::get_if<FaceAdded>(&e)) {
+          if (mesh.is_deleted(a->f)) continue;
+          const auto found = part.grid.query_box(face_box(mesh.face(a->f), part.posed));
+          ASSERT_TRUE(std::binary_search(found.begin(), found.end(), a->f))
+              << where << "spatial index misses new face " << a->f.index;
+        }
     }
   }
 
