@@ -187,10 +187,14 @@ class Sequence {
     for (const auto& e : exports) args += " " + test::quote(e);
     const auto v = test::run_command("node " + test::quote(DEEPCUT_VALIDATOR_SCRIPT) + args);
     EXPECT_EQ(v.exit_code, 0) << header() << "validator on the exports (step-NNNN = after step NNNN):\n" << v.out << v.err;
-    std::printf("[sequence] %s seed %llu: %d steps in %zu rounds (%zu ok, %zu missed), %zu cuts, %zu tears, %zu drills, %zu faces at the end "
-                "(%zu at the start), %zu exports validated, %zu zero-area faces, %zu pinched vertices, %zu non-manifold cap edges, %.1f s\n",
-                name_.c_str(), static_cast<unsigned long long>(seed_), step_ > steps_ ? steps_ : step_, rounds_, ok_, missed_, counts_[0],
-                counts_[1], counts_[2], live_faces(), start_faces_, exports.size(), zero_area_, pinches_, cap_overlaps_, seconds);
+    std::printf("[sequence] %s seed %llu: %d steps in %zu rounds (%zu ok, %zu missed), %zu cuts, %zu tears, %zu drills, "
+                "%zu faces at the end (%zu at the start), %zu exports validated, %.1f s\n",
+                name_.c_str(), static_cast<unsigned long long>(seed_), step_ > steps_ ? steps_ : step_, rounds_, ok_,
+                missed_, counts_[0], counts_[1], counts_[2], live_faces(), start_faces_, exports.size(), seconds);
+    std::printf("[sequence] %s open defects (cut/tear/drill): zero-area faces %zu/%zu/%zu, pinched vertices %zu/%zu/%zu; "
+                "non-manifold cap edges %zu\n",
+                name_.c_str(), zero_area_[0], zero_area_[1], zero_area_[2], pinches_[0], pinches_[1], pinches_[2],
+                cap_overlaps_);
     if (!::testing::Test::HasFailure()) std::filesystem::remove_all(dir);
   }
 
@@ -310,6 +314,7 @@ class Sequence {
 
   void choose_operation(const glm::vec3& p, const glm::vec3& n, float size) {
     const int kind = std::uniform_int_distribution<int>(0, 2)(rng_);
+    kind_ = kind;
     ++counts_[kind];
     if (kind == 0) {
       CutOperation cut;
@@ -460,7 +465,7 @@ class Sequence {
         ASSERT_FALSE(t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) << where << "new face " << a->f.index << " repeats a vertex";
         const glm::dvec3 x(mesh.position(t[0])), y(mesh.position(t[1])), z(mesh.position(t[2]));
         if (!(glm::length(glm::cross(y - x, z - x)) > 0.0)) {
-          ++zero_area_;
+          ++zero_area_[kind_];
           if (strict_) FAIL() << where << "new face " << a->f.index << " has zero area: vertices " << describe(mesh, part.posed, t);
         }
         for (const VertexId v : t) touched.push_back(v);
@@ -508,7 +513,7 @@ class Sequence {
       touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
       for (const VertexId v : touched)
         if (nonmanifold_vertices(mesh, rebuilt, {v}) != 0) {
-          ++pinches_;
+          ++pinches_[kind_];
           if (strict_)
             FAIL() << where << "vertex " << v.index << " became non-manifold (two fans of faces meet only there); its faces: "
                    << describe_faces(mesh, rebuilt.vertex_faces(v));
@@ -586,7 +591,9 @@ class Sequence {
   std::size_t ok_ = 0, missed_ = 0, start_faces_ = 0;
   // Known open defects (docs/RELIABILITY.md), counted, and failures with DEEPCUT_SEQUENCE_STRICT=1.
   bool strict_ = env_number("DEEPCUT_SEQUENCE_STRICT", 0) != 0;
-  std::size_t zero_area_ = 0, pinches_ = 0, cap_overlaps_ = 0, rounds_ = 1;
+  std::array<std::size_t, 3> zero_area_{}, pinches_{};  // per operation kind: cut, tear, drill
+  std::size_t cap_overlaps_ = 0, rounds_ = 1;
+  int kind_ = 0;
   std::array<std::size_t, 3> counts_{};
 };
 
