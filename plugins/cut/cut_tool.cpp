@@ -8,6 +8,8 @@
 #include <QCheckBox>
 #include <QComboBox>
 #include <QFormLayout>
+#include <QHBoxLayout>
+#include <QPushButton>
 #include <QSignalBlocker>
 #include <QWidget>
 #include <glm/geometric.hpp>
@@ -51,6 +53,24 @@ class CutTool final : public Tool {
       sync_widget();
       notify_changed();
     });
+    // ParaView's quick normals: the plane across an axis, keeping its point.
+    auto* axes = new QWidget(panel);
+    auto* axes_layout = new QHBoxLayout(axes);
+    axes_layout->setContentsMargins(0, 0, 0, 0);
+    const glm::vec3 units[3] = {{1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, {0.0f, 0.0f, 1.0f}};
+    const char* names[3] = {"X", "Y", "Z"};
+    for (int k = 0; k < 3; ++k) {
+      auto* button = new QPushButton(QString("%1 normal").arg(names[k]), axes);
+      button->setObjectName(QString("cut.normal_%1").arg(QChar(names[k][0]).toLower()));
+      axes_layout->addWidget(button);
+      QObject::connect(button, &QPushButton::clicked, panel, [this, unit = units[k]] {
+        op_.plane.normal = unit;
+        show();
+        sync_widget();
+        notify_changed();
+      });
+    }
+    form->addRow("", axes);
     keep_ = new QComboBox(panel);
     keep_->setObjectName("cut.keep");
     keep_->addItem("Both sides", static_cast<int>(CutKeep::Both));

@@ -227,6 +227,15 @@ class StudioWidgetsTest : public QObject {
     QVERIFY(glm::length(to_vec(widget->GetPlaneRepresentation()->GetNormal()) - normal) < 1e-5f);
     QCOMPARE(std::get<deepcut::CutOperation>(window->tool()->parameters()).plane.normal,
              glm::vec3(1.0f, 1.0f, 0.0f));
+    // The quick normal buttons turn the plane about its point, panel and widget alike.
+    const glm::vec3 point = std::get<deepcut::CutOperation>(window->tool()->parameters()).plane.point;
+    QTest::mouseClick(window->findChild<QPushButton*>("cut.normal_x"), Qt::LeftButton);
+    const auto across_x = std::get<deepcut::CutOperation>(window->tool()->parameters());
+    QCOMPARE(across_x.plane.normal, glm::vec3(1.0f, 0.0f, 0.0f));
+    QCOMPARE(across_x.plane.point, point);
+    QCOMPARE(panel_vec(*window, "cut.normal"), glm::vec3(1.0f, 0.0f, 0.0f));
+    QVERIFY(glm::length(to_vec(widget->GetPlaneRepresentation()->GetNormal()) - glm::vec3(1.0f, 0.0f, 0.0f)) <
+            1e-6f);
     // Choosing no tool hides the widget.
     window->set_tool("");
     QVERIFY(!widget->GetEnabled());
