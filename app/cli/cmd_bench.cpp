@@ -6,8 +6,8 @@
 
 #include <unistd.h>
 
-#include "args.h"
 #include "commands.h"
+#include "deepcut/plugins/command_args.h"
 #include "deepcut/core/errors.h"
 
 namespace deepcut::cli {

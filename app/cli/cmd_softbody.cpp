@@ -8,8 +8,8 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 
-#include "args.h"
 #include "commands.h"
+#include "deepcut/plugins/command_args.h"
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/plugins/formats.h"
 #include "deepcut/core/skinning.h"

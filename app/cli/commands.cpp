@@ -1,18 +1,18 @@
 // SPDX-License-Identifier: MIT
-#include <algorithm>
 #include "commands.h"
 
+#include <algorithm>
 #include <chrono>
 #include <iomanip>
 #include <iostream>
 
 #include <nlohmann/json.hpp>
 
-#include "args.h"
 #include "deepcut/core/generate/cactus.h"
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/plugins/formats.h"
 #include "deepcut/core/validate.h"
+#include "deepcut/plugins/command_args.h"
 
 namespace deepcut::cli {
 namespace {

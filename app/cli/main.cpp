@@ -7,28 +7,18 @@
 #include <string>
 #include <vector>
 
-#include "args.h"
 #include "commands.h"
 #include "deepcut/core/errors.h"
+#include "deepcut/plugins/command_args.h"
+#include "deepcut/plugins/tool_registry.h"
 
 namespace {
 
-const char* kUsage =
-    "usage: deepcut COMMAND [options]\n"
-    "\n"
-    "commands:\n"
+// The app's own commands; the tools' sub-commands follow from the plugin registry (usage()).
+const char* kCommands =
     "  info MODEL [--json]                  counts, edges, bounding box and problems of a model\n"
     "  convert MODEL -o OUT [--json]        import, weld and export (.gltf <-> .glb)\n"
     "  make-cactus -o OUT [--triangles N]   write the project's rigged test cactus (default 25300 triangles)\n"
-    "  cut MODEL -o OUT --plane PX,PY,PZ,NX,NY,NZ [--keep both|positive|negative] [--cap] [--components]\n"
-    "      [--time T] [--animation I] [--json]\n"
-    "                                       cut every mesh by a plane (world space, pose at time T)\n"
-    "  tear MODEL -o OUT --blade-start HX,HY,HZ,TX,TY,TZ --blade-end HX,HY,HZ,TX,TY,TZ [--width W]\n"
-    "      [--time T] [--animation I] [--json]\n"
-    "                                       tear with a scalpel swept from one blade pose to another\n"
-    "  drill MODEL -o OUT --axis AX,AY,AZ,BX,BY,BZ --radius R [--min-rim-edges N] [--wall]\n"
-    "      [--time T] [--animation I] [--json]\n"
-    "                                       drill every mesh with a finite cylinder (world space, pose at time T)\n"
     "  apply MODEL HISTORY.json -o OUT [--json]   replay a list of operations\n"
     "  cluster MODEL (--radius RHO | --particles N) [--cover F] [--json]\n"
     "                                       soft-body particles of radius RHO (rest pose): counts, timing\n"
@@ -36,12 +26,32 @@ const char* kUsage =
     "      [--rho RHO | --particles N] [--stiffness K] [--damping C] [--mass M] [--time T] [--animation I]\n"
     "      [--animate] [--json]\n"
     "                                       poke the soft body, step N frames, report max displacement\n"
-    "  bench [--json] [--quick]             the benchmark suite, with VTK peers measured in the same run\n"
-    "\n"
-    "MODEL is a rigged .glb/.gltf, or a static .obj/.ply/.stl/.off mesh (loaded unrigged: one root\n"
-    "joint, so every export is a rigged glTF)\n"
-    "\n"
-    "exit codes: 0 ok, 2 bad input or usage, 1 internal error\n";
+    "  bench [--json] [--quick]             the benchmark suite, with VTK peers measured in the same run\n";
+
+constexpr std::size_t kSummaryColumn = 39;
+
+// The whole usage text: the app's commands, then every registered tool's sub-commands (synopsis
+// lines indented by two, the summary in its own line at kSummaryColumn, as the app's own).
+std::string usage() {
+  std::string out = "usage: deepcut COMMAND [options]\n\ncommands:\n";
+  out += kCommands;
+  const auto& tools = deepcut::plugins::builtin_tools();
+  out += "\ntool commands (registered by the tool plugins: " + tools.ids() + "):\n";
+  for (const auto& tool : tools.list())
+    for (const auto& command : tool.commands) {
+      std::size_t start = 0;
+      while (start <= command.synopsis.size()) {
+        const std::size_t end = std::min(command.synopsis.find('\n', start), command.synopsis.size());
+        out += "  " + command.synopsis.substr(start, end - start) + "\n";
+        start = end + 1;
+      }
+      out += std::string(kSummaryColumn, ' ') + command.summary + "\n";
+    }
+  out += "\nMODEL is a rigged .glb/.gltf, or a static .obj/.ply/.stl/.off mesh (loaded unrigged: one root\n"
+         "joint, so every export is a rigged glTF)\n";
+  out += "\nexit codes: 0 ok, 2 bad input or usage, 1 internal error\n";
+  return out;
+}
 
 // Errors stay on one stderr line whatever they quote (a file name or JSON string with a newline).
 std::string one_line(const char* text) {
@@ -51,13 +61,13 @@ std::string one_line(const char* text) {
   return out;
 }
 
-// The lines of kUsage that describe `command` (its synopsis, continuation and description lines),
+// The lines of usage() that describe `command` (its synopsis, continuation and description lines),
 // or an empty string for an unknown command.
 std::string command_usage(const std::string& command) {
   std::string out;
   bool inside = false;
   std::size_t start = 0;
-  const std::string usage(kUsage);
+  const std::string usage = ::usage();
   while (start < usage.size()) {
     const std::size_t end = usage.find('\n', start);
     const std::string line = usage.substr(start, end - start);
@@ -75,7 +85,7 @@ std::string command_usage(const std::string& command) {
 int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "-h" || args[0] == "--help" || args[0] == "help") {
-    std::cout << kUsage;
+    std::cout << usage();
     return args.empty() ? 2 : 0;
   }
   const std::string command = args[0];
@@ -90,13 +100,12 @@ int main(int argc, char** argv) {
     if (command == "info") return deepcut::cli::run_info(args);
     if (command == "convert") return deepcut::cli::run_convert(args);
     if (command == "make-cactus") return deepcut::cli::run_make_cactus(args);
-    if (command == "cut") return deepcut::cli::run_cut(args);
-    if (command == "tear") return deepcut::cli::run_tear(args);
-    if (command == "drill") return deepcut::cli::run_drill(args);
     if (command == "apply") return deepcut::cli::run_apply(args);
     if (command == "bench") return deepcut::cli::run_bench(args);
     if (command == "cluster") return deepcut::cli::run_cluster(args);
     if (command == "softbody") return deepcut::cli::run_softbody(args);
+    if (const auto* tool_command = deepcut::plugins::builtin_tools().find_command(command))
+      return tool_command->run(args);
     std::cerr << "deepcut: unknown command '" << command << "' (see deepcut --help)\n";
     return 2;
   } catch (const deepcut::cli::UsageError& e) {

@@ -183,8 +183,6 @@ class CutTool final : public Tool {
 
 }  // namespace
 
-void register_cut(ToolRegistry& registry) {
-  registry.add({"cut", "Plane", [] { return std::make_unique<CutTool>(); }, "P"});
-}
+std::unique_ptr<Tool> create_cut_tool() { return std::make_unique<CutTool>(); }
 
 }  // namespace deepcut::plugins

@@ -197,8 +197,6 @@ class DrillTool final : public Tool {
 
 }  // namespace
 
-void register_drill(ToolRegistry& registry) {
-  registry.add({"drill", "Drill", [] { return std::make_unique<DrillTool>(); }, "D"});
-}
+std::unique_ptr<Tool> create_drill_tool() { return std::make_unique<DrillTool>(); }
 
 }  // namespace deepcut::plugins

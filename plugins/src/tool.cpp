@@ -9,29 +9,11 @@
 
 namespace deepcut::plugins {
 
-void ToolRegistry::add(ToolInfo info) {
-  if (info.id.empty()) throw Error(ErrorCode::InvalidArgument, "tool registry: a tool has no id");
-  if (!info.create) throw Error(ErrorCode::InvalidArgument, "tool registry: '" + info.id + "' has no factory");
-  if (find(info.id)) throw Error(ErrorCode::InvalidArgument, "tool registry: '" + info.id + "' is registered twice");
-  infos_.push_back(std::move(info));
-}
-
-const ToolInfo* ToolRegistry::find(const std::string& id) const {
-  for (const ToolInfo& info : infos_)
-    if (info.id == id) return &info;
-  return nullptr;
-}
-
-std::unique_ptr<Tool> ToolRegistry::create(const std::string& id) const {
-  const ToolInfo* info = find(id);
-  if (!info) throw Error(ErrorCode::InvalidArgument, "unknown tool '" + id + "' (known: " + ids() + ")");
+std::unique_ptr<Tool> create_tool(const ToolRegistry& registry, const std::string& id) {
+  const ToolInfo* info = registry.find(id);
+  if (!info || !info->create)
+    throw Error(ErrorCode::InvalidArgument, "unknown tool '" + id + "' (known: " + registry.ids() + ")");
   return info->create();
-}
-
-std::string ToolRegistry::ids() const {
-  std::string out;
-  for (const ToolInfo& info : infos_) out += (out.empty() ? "" : ", ") + info.id;
-  return out;
 }
 
 namespace {

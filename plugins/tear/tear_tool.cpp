@@ -178,8 +178,6 @@ class TearTool final : public Tool {
 
 }  // namespace
 
-void register_tear(ToolRegistry& registry) {
-  registry.add({"tear", "Scalpel", [] { return std::make_unique<TearTool>(); }, "T"});
-}
+std::unique_ptr<Tool> create_tear_tool() { return std::make_unique<TearTool>(); }
 
 }  // namespace deepcut::plugins

@@ -4,9 +4,11 @@
 /// Operation tools (Plane cut, Scalpel tear, Drill): each plugin folder `plugins/NAME/` holds a
 /// tool's parameters, its numeric panel, its interactive 3D widget (a widgets/ VTK pair), its
 /// placement on the model and its live preview, and defines
-/// `void deepcut::plugins::register_NAME(ToolRegistry&)`. The build list `DEEPCUT_TOOL_PLUGINS` in
-/// `plugins/CMakeLists.txt` generates `builtin_tools()`. The studio applies a tool's parameters
-/// with `deepcut::apply_operation`, exactly as `deepcut apply` does.
+/// `std::unique_ptr<Tool> deepcut::plugins::create_NAME_tool()`, which the registry
+/// (tool_registry.h) lists. The studio applies a tool's parameters with
+/// `deepcut::apply_operation`, exactly as `deepcut apply` does. A tool that acts on the model
+/// directly instead (the soft-body Poke) makes no operation and takes the mouse and a clock
+/// (`press` / `move` / `release`, `step`, `displaced_positions`).
 
 #include <functional>
 #include <memory>
@@ -15,7 +17,9 @@
 #include <vector>
 
 #include "deepcut/core/ops/history.h"
+#include "deepcut/plugins/inspector.h"
 #include "deepcut/plugins/scene.h"
+#include "deepcut/plugins/tool_registry.h"
 #include "deepcut/widgets/overlay.h"
 
 class QWidget;
@@ -29,6 +33,13 @@ struct ToolPlacement {
   glm::vec3 view_direction{0.0f, 0.0f, -1.0f};  ///< camera direction of projection (unit)
   glm::vec3 view_up{0.0f, 1.0f, 0.0f};          ///< camera up (unit, across view_direction)
   std::optional<glm::vec3> point;               ///< a surface point (posed world space), if any
+};
+
+/// Where the cursor is, for tools that take the mouse: its ray through the view (world space).
+struct ToolPointer {
+  glm::vec3 ray_origin{0.0f};
+  glm::vec3 ray_direction{0.0f, 0.0f, -1.0f};   ///< unit length, into the scene
+  glm::vec3 view_direction{0.0f, 0.0f, -1.0f};  ///< the camera's direction of projection
 };
 
 /// One operation tool. Parameters live in the tool; its panel, its widget and `set_parameters`
@@ -59,6 +70,30 @@ class Tool {
   /// (the first line set) and markers; the tool itself is drawn by its widget.
   virtual Overlay preview(const Scene& scene) const = 0;
 
+  /// False for a tool that makes no operation (no Apply, no history entry); its `parameters`
+  /// and `set_parameters` throw Error{InvalidArgument}.
+  virtual bool makes_operation() const { return true; }
+  /// The left button went down on the model at `pick`. @returns true to take the drag: the
+  /// camera stays still and `move` / `release` follow until the button goes up.
+  virtual bool press(const Scene& scene, const Pick& pick, const ToolPointer& pointer) {
+    (void)scene, (void)pick, (void)pointer;
+    return false;
+  }
+  virtual void move(const Scene& scene, const ToolPointer& pointer) { (void)scene, (void)pointer; }
+  virtual void release(const Scene& scene) { (void)scene; }
+  /// Advances the tool's own motion by `dt` seconds (the studio calls it from a timer, also
+  /// while the animation plays). @returns true while anything still moves.
+  virtual bool step(const Scene& scene, float dt) {
+    (void)scene, (void)dt;
+    return false;
+  }
+  /// The positions to draw piece `piece` at instead of its posed ones (one per vertex slot).
+  /// @returns false when the piece is drawn as posed.
+  virtual bool displaced_positions(const Scene& scene, std::size_t piece, std::vector<glm::vec3>& out) const {
+    (void)scene, (void)piece, (void)out;
+    return false;
+  }
+
   void set_changed_callback(std::function<void()> callback) { changed_ = std::move(callback); }
 
  protected:
@@ -70,31 +105,9 @@ class Tool {
   std::function<void()> changed_;
 };
 
-struct ToolInfo {
-  std::string id;     ///< operation name, unique
-  std::string title;  ///< tool bar text
-  std::function<std::unique_ptr<Tool>()> create;
-  std::string shortcut;  ///< key sequence that chooses the tool ("" none), e.g. "P"
-};
-
-class ToolRegistry {
- public:
-  /// @throws Error{InvalidArgument} if the id is empty, taken, or `create` is empty.
-  void add(ToolInfo info);
-  const std::vector<ToolInfo>& list() const { return infos_; }
-  /// @returns the entry with `id`, or nullptr.
-  const ToolInfo* find(const std::string& id) const;
-  /// @throws Error{InvalidArgument} naming the known ids if `id` is unknown.
-  std::unique_ptr<Tool> create(const std::string& id) const;
-  /// The ids, comma separated ("cut, tear, drill").
-  std::string ids() const;
-
- private:
-  std::vector<ToolInfo> infos_;
-};
-
-/// The tools built into this program, in build-list order.
-const ToolRegistry& builtin_tools();
+/// Creates the interactive tool `id` of `registry`.
+/// @throws Error{InvalidArgument} naming the known ids if `id` is unknown or has no factory.
+std::unique_ptr<Tool> create_tool(const ToolRegistry& registry, const std::string& id);
 
 /// Segments where the triangles of `scene` meet `plane` (the cut contour), world space.
 std::vector<glm::vec3> plane_contour(const Scene& scene, const Plane& plane);

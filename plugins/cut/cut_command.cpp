@@ -1,17 +1,15 @@
 // SPDX-License-Identifier: MIT
-// deepcut cut / deepcut apply.
+// The Plane tool's command line: deepcut cut (the studio side is cut_tool.cpp).
 #include <chrono>
-#include <fstream>
 #include <iostream>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 
-#include "args.h"
-#include "commands.h"
 #include "deepcut/core/io/gltf.h"
-#include "deepcut/plugins/formats.h"
 #include "deepcut/core/ops/history.h"
+#include "deepcut/plugins/command_args.h"
+#include "deepcut/plugins/formats.h"
+#include "deepcut/plugins/tool_registry.h"
 
 namespace deepcut::cli {
 namespace {
@@ -32,13 +30,6 @@ json piece_list(const Model& model, const std::vector<int>& nodes) {
     out.push_back({{"node", model.nodes[n].name}, {"vertices", v}, {"triangles", t}});
   }
   return out;
-}
-
-}  // namespace
-
-int pose_animation(const Args& args, const Model& model) {
-  const int animation = animation_option(args, model.animations.size());
-  return args.has("--time") ? animation : -1;
 }
 
 int run_cut(const std::vector<std::string>& argv) {
@@ -84,41 +75,20 @@ int run_cut(const std::vector<std::string>& argv) {
   return 0;
 }
 
-int run_apply(const std::vector<std::string>& argv) {
-  const Args args(argv, {"--json"}, {"-o"});
-  if (args.positionals().size() != 2) throw UsageError("apply needs MODEL and HISTORY.json");
-  if (!args.has("-o")) throw UsageError("apply needs -o OUT (.glb or .gltf)");
-  const std::string history_path = args.positionals()[1];
-  std::ifstream in(history_path);
-  if (!in) throw Error(ErrorCode::Io, history_path + ": cannot open history file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  History history;
-  try {
-    history = parse_history(ss.str());
-  } catch (const Error& e) {
-    throw Error(e.code(), history_path + ": " + e.what());
-  }
-  Model model = plugins::read_model(args.positionals()[0]);
-  json reports = json::array();
-  const auto t0 = std::chrono::steady_clock::now();
-  for (std::size_t i = 0; i < history.operations.size(); ++i) {
-    try {
-      reports.push_back(json::parse(apply_operation(model, history.operations[i]).summary_json));
-    } catch (const Error& e) {
-      // Name the history file and the operation, whatever the operation complained about.
-      throw Error(e.code(), history_path + ": operation " + std::to_string(i) + ": " + e.what());
-    }
-  }
-  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  write_gltf(model, args.value("-o"));
-  if (args.flag("--json")) {
-    std::cout << json{{"operations", reports}, {"ms", ms}}.dump(2) << "\n";
-  } else {
-    std::cerr << "deepcut: applied " << count_of(history.operations.size(), "operation", "operations") << " -> "
-              << args.value("-o") << "\n";
-  }
-  return 0;
+}  // namespace
+}  // namespace deepcut::cli
+
+namespace deepcut::plugins {
+
+void describe_cut(ToolInfo& info) {
+  info.id = "cut";
+  info.title = "Plane";
+  info.shortcut = "P";
+  info.commands.push_back(
+      {"cut",
+       "cut MODEL -o OUT --plane PX,PY,PZ,NX,NY,NZ [--keep both|positive|negative] [--cap] [--components]\n"
+       "    [--time T] [--animation I] [--json]",
+       "cut every mesh by a plane (world space, pose at time T)", cli::run_cut});
 }
 
-}  // namespace deepcut::cli
+}  // namespace deepcut::plugins

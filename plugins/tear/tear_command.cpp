@@ -1,18 +1,19 @@
 // SPDX-License-Identifier: MIT
-// deepcut tear.
+// The Scalpel tool's command line: deepcut tear (the studio side is tear_tool.cpp).
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "args.h"
-#include "commands.h"
 #include "deepcut/core/io/gltf.h"
-#include "deepcut/plugins/formats.h"
 #include "deepcut/core/ops/history.h"
+#include "deepcut/plugins/command_args.h"
+#include "deepcut/plugins/formats.h"
+#include "deepcut/plugins/tool_registry.h"
 
 namespace deepcut::cli {
+namespace {
 
 int run_tear(const std::vector<std::string>& argv) {
   const Args args(argv, {"--json"},
@@ -73,4 +74,20 @@ int run_tear(const std::vector<std::string>& argv) {
   return 0;
 }
 
+}  // namespace
 }  // namespace deepcut::cli
+
+namespace deepcut::plugins {
+
+void describe_tear(ToolInfo& info) {
+  info.id = "tear";
+  info.title = "Scalpel";
+  info.shortcut = "T";
+  info.commands.push_back(
+      {"tear",
+       "tear MODEL -o OUT --blade-start HX,HY,HZ,TX,TY,TZ --blade-end HX,HY,HZ,TX,TY,TZ [--width W]\n"
+       "    [--time T] [--animation I] [--json]",
+       "tear with a scalpel swept from one blade pose to another", cli::run_tear});
+}
+
+}  // namespace deepcut::plugins

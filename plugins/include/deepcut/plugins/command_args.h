@@ -1,13 +1,19 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// Minimal argument parsing for the deepcut sub-commands: positionals, `-o OUT`, `--flag`,
-// `--key VALUE` and `--key=VALUE`. Usage errors throw UsageError (exit code 2).
+/// @file command_args.h
+/// Argument parsing shared by the `deepcut` sub-commands, whether the app defines them or a tool
+/// plugin registers them (tool_registry.h): positionals, `-o OUT`, `--flag`, `--key VALUE` and
+/// `--key=VALUE`. Usage errors throw UsageError (exit code 2). No Qt, no VTK.
 
 #include <map>
 #include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+namespace deepcut {
+struct Model;
+}
 
 namespace deepcut::cli {
 
@@ -47,5 +53,9 @@ std::string count_of(std::size_t n, const std::string& singular, const std::stri
 /// -1..count-1 (-1 is the rest pose). Default 0, or -1 when the model has no animation.
 /// @throws UsageError for a non-integer or out-of-range index.
 int animation_option(const Args& args, std::size_t count);
+
+/// The animation an operation's `--time` refers to: `--animation I` (default 0), or -1 (rest
+/// pose) when no `--time` is given. @throws UsageError for an index past the model's animations.
+int pose_animation(const Args& args, const Model& model);
 
 }  // namespace deepcut::cli

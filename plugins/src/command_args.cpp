@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
-#include "args.h"
+#include "deepcut/plugins/command_args.h"
 
 #include <cmath>
 #include <sstream>
+
+#include "deepcut/core/model.h"
 
 namespace deepcut::cli {
 
@@ -86,6 +88,11 @@ int animation_option(const Args& args, std::size_t count) {
                      (count == 1 ? " animation; " : " animations; ") + range);
   }
   return static_cast<int>(animation);
+}
+
+int pose_animation(const Args& args, const Model& model) {
+  const int animation = animation_option(args, model.animations.size());
+  return args.has("--time") ? animation : -1;
 }
 
 std::vector<double> Args::vector(const std::string& name, std::size_t count) const {

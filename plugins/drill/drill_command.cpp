@@ -1,17 +1,17 @@
 // SPDX-License-Identifier: MIT
-// deepcut drill.
+// The Drill tool's command line: deepcut drill (the studio side is drill_tool.cpp).
 #include <chrono>
 #include <cmath>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <vector>
 
-#include "args.h"
-#include "commands.h"
 #include "deepcut/core/io/gltf.h"
-#include "deepcut/plugins/formats.h"
 #include "deepcut/core/model.h"
 #include "deepcut/core/ops/history.h"
+#include "deepcut/plugins/command_args.h"
+#include "deepcut/plugins/formats.h"
+#include "deepcut/plugins/tool_registry.h"
 
 namespace deepcut::cli {
 
@@ -27,8 +27,6 @@ std::vector<std::size_t> instance_triangles(const Model& model) {
   }
   return out;
 }
-
-}  // namespace
 
 int run_drill(const std::vector<std::string>& argv) {
   const Args args(argv, {"--json", "--wall"},
@@ -103,4 +101,20 @@ int run_drill(const std::vector<std::string>& argv) {
   return 0;
 }
 
+}  // namespace
 }  // namespace deepcut::cli
+
+namespace deepcut::plugins {
+
+void describe_drill(ToolInfo& info) {
+  info.id = "drill";
+  info.title = "Drill";
+  info.shortcut = "D";
+  info.commands.push_back(
+      {"drill",
+       "drill MODEL -o OUT --axis AX,AY,AZ,BX,BY,BZ --radius R [--min-rim-edges N] [--wall]\n"
+       "    [--time T] [--animation I] [--json]",
+       "drill every mesh with a finite cylinder (world space, pose at time T)", cli::run_drill});
+}
+
+}  // namespace deepcut::plugins
