@@ -16,10 +16,13 @@
 #include <QStyleFactory>
 #include <QSurfaceFormat>
 #include <QWindow>
+#include <fstream>
 #include <iostream>
 #include <new>
+#include <sstream>
 
 #include "deepcut/core/errors.h"
+#include "deepcut/core/ops/history.h"
 #include "main_window.h"
 #include "scene_view.h"
 #include "studio_options.h"
@@ -72,6 +75,19 @@ void apply_options(MainWindow& window, const StudioOptions& o) {
                                                   std::to_string(model->animations.size()) + ")");
     window.set_pose(index, 0.0f);
   }
+  if (!o.apply.empty()) {
+    std::ifstream in(o.apply);
+    if (!in) throw Error(ErrorCode::Io, o.apply + ": cannot open history file");
+    std::stringstream text;
+    text << in.rdbuf();
+    deepcut::History history;
+    try {
+      history = deepcut::parse_history(text.str());
+    } catch (const Error& e) {
+      throw Error(e.code(), o.apply + ": " + e.what());
+    }
+    window.apply_history(history, o.apply);
+  }
   if (o.time) window.set_pose(window.scene() ? window.scene()->animation : -1, *o.time);
   if (!inspect.empty()) window.set_inspector(inspect);
   if (!o.joint.empty()) window.set_inspector_option("joint", o.joint);
@@ -85,6 +101,7 @@ void apply_options(MainWindow& window, const StudioOptions& o) {
   if (o.frame && !window.frame_selected())
     throw Error(ErrorCode::InvalidArgument,
                 "--frame: nothing selected (use --joint or --vertex with an inspector)");
+  if (o.look_at) window.view()->frame({(*o.look_at)[0], (*o.look_at)[1], (*o.look_at)[2]}, (*o.look_at)[3]);
 }
 
 std::string model_path(const StudioOptions& o) {
@@ -114,6 +131,7 @@ int screenshot(MainWindow& window, const StudioOptions& o) {
   // Frame again now that the view has its final size (the aspect ratio decides the framing).
   window.view()->reset_camera();
   if (o.frame) window.frame_selected();
+  if (o.look_at) window.view()->frame({(*o.look_at)[0], (*o.look_at)[1], (*o.look_at)[2]}, (*o.look_at)[3]);
   const QImage image = window.screenshot();
   if (image.isNull())
     throw Error(ErrorCode::InvariantViolated, "screenshot: the window could not be grabbed");

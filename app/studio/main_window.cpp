@@ -5,6 +5,7 @@
 #include <QActionGroup>
 #include <QApplication>
 #include <QCloseEvent>
+#include <QColor>
 #include <QComboBox>
 #include <QDockWidget>
 #include <QDragEnterEvent>
@@ -13,7 +14,10 @@
 #include <QFileDialog>
 #include <QDir>
 #include <QFileInfo>
+#include <QFont>
+#include <QHBoxLayout>
 #include <QLabel>
+#include <QListWidget>
 #include <QMenuBar>
 #include <QMessageBox>
 #include <QMimeData>
@@ -22,11 +26,13 @@
 #include <QStackedWidget>
 #include <QStatusBar>
 #include <QStyle>
+#include <QTimer>
 #include <QToolBar>
 #include <QUndoStack>
 #include <QUndoView>
 #include <QUrl>
 #include <QVBoxLayout>
+#include <algorithm>
 #include <new>
 
 #include "deepcut/core/errors.h"
@@ -112,6 +118,10 @@ MainWindow::MainWindow(const MainWindowOptions& options, QWidget* parent)
   view_ = new SceneView(this);
   setCentralWidget(view_);
   view_->set_pick_handler([this](const plugins::Pick& pick) { on_pick(pick); });
+  view_->set_pointer_handler([this](const PointerEvent& event) { return on_pointer(event); });
+  tool_timer_ = new QTimer(this);
+  tool_timer_->setInterval(16);
+  connect(tool_timer_, &QTimer::timeout, this, &MainWindow::step_tool);
 
   history_ = new QUndoStack(this);
   for (const plugins::InspectorInfo& info : plugins::builtin_inspectors().list()) {
@@ -119,6 +129,7 @@ MainWindow::MainWindow(const MainWindowOptions& options, QWidget* parent)
     inspectors_.back()->set_changed_callback([this] { refresh_inspector(); });
   }
   for (const plugins::ToolInfo& info : plugins::builtin_tools().list()) {
+    if (!info.create) continue;  // a command-line-only entry
     tools_.push_back(info.create());
     tools_.back()->set_changed_callback([this] { refresh_tool_preview(); });
   }
@@ -155,14 +166,41 @@ void MainWindow::build_docks() {
     if (inspector()->pick(pick)) refresh_inspector();
   });
 
+  // History: the operations of the current state (edit one: the later ones re-run) above the
+  // undo stack (click an entry to go back).
   auto* history_dock = new QDockWidget("History", this);
   history_dock->setObjectName("history_dock");
-  auto* undo_view = new QUndoView(history_, history_dock);
+  auto* history_panel = new QWidget(history_dock);
+  auto* history_layout = new QVBoxLayout(history_panel);
+  history_layout->setContentsMargins(4, 4, 4, 4);
+  history_layout->addWidget(new QLabel("Operations (double-click to edit; later ones re-run)", history_panel));
+  operations_list_ = new QListWidget(history_panel);
+  operations_list_->setObjectName("operations_list");
+  history_layout->addWidget(operations_list_, 1);
+  auto* edit_row = new QHBoxLayout();
+  edit_button_ = new QPushButton("Edit operation", history_panel);
+  edit_button_->setObjectName("edit_operation");
+  edit_button_->setEnabled(false);
+  cancel_edit_button_ = new QPushButton("Cancel edit", history_panel);
+  cancel_edit_button_->setObjectName("cancel_edit");
+  cancel_edit_button_->setEnabled(false);
+  edit_row->addWidget(edit_button_);
+  edit_row->addWidget(cancel_edit_button_);
+  history_layout->addLayout(edit_row);
+  connect(operations_list_, &QListWidget::currentRowChanged, this,
+          [this](int row) { edit_button_->setEnabled(row >= 0 && editing_.index < 0); });
+  connect(operations_list_, &QListWidget::itemDoubleClicked, this,
+          [this](QListWidgetItem* item) { edit_operation(operations_list_->row(item)); });
+  connect(edit_button_, &QPushButton::clicked, this, [this] { edit_operation(operations_list_->currentRow()); });
+  connect(cancel_edit_button_, &QPushButton::clicked, this, &MainWindow::cancel_edit);
+  history_layout->addWidget(new QLabel("Undo history (click to go back)", history_panel));
+  auto* undo_view = new QUndoView(history_, history_panel);
   undo_view->setEmptyLabel("Opened model");
-  history_dock->setWidget(undo_view);
+  history_layout->addWidget(undo_view, 1);
+  history_dock->setWidget(history_panel);
   addDockWidget(Qt::LeftDockWidgetArea, history_dock);
   splitDockWidget(scene_dock, history_dock, Qt::Vertical);
-  resizeDocks({scene_dock, history_dock}, {620, 160}, Qt::Vertical);
+  resizeDocks({scene_dock, history_dock}, {480, 300}, Qt::Vertical);
 
   auto* inspector_dock = new QDockWidget("Inspector", this);
   inspector_dock->setObjectName("inspector_dock");
@@ -199,10 +237,17 @@ void MainWindow::build_docks() {
   auto* tool_panel = new QWidget(tool_dock);
   auto* tool_layout = new QVBoxLayout(tool_panel);
   tool_layout->setContentsMargins(4, 4, 4, 4);
+  edit_banner_ = new QLabel(tool_panel);
+  edit_banner_->setObjectName("edit_banner");
+  edit_banner_->setWordWrap(true);
+  edit_banner_->setStyleSheet("QLabel { background: #5a4a1e; color: #ffe9a8; padding: 4px; }");
+  edit_banner_->hide();
+  tool_layout->addWidget(edit_banner_);
   tool_stack_ = new QStackedWidget(tool_panel);
   auto* no_tool = new QLabel(
       "Choose Plane, Scalpel or Drill on the Tools bar: the tool places itself on the model and its "
-      "contour, tear path or rims are drawn live. Edit the numbers here, then Apply (Enter).",
+      "contour, tear path or rims are drawn live. Edit the numbers here, then Apply (Enter). "
+      "With Poke, drag on the model to pull it as a soft body.",
       tool_stack_);
   no_tool->setWordWrap(true);
   no_tool->setAlignment(Qt::AlignTop | Qt::AlignLeft);
@@ -255,6 +300,9 @@ void MainWindow::build_menus() {
   redo_->setIcon(s->standardIcon(QStyle::SP_ArrowForward));
   edit->addAction(undo_);
   edit->addAction(redo_);
+  edit->addSeparator();
+  QAction* cancel_edit_action = edit->addAction("&Cancel operation edit", this, &MainWindow::cancel_edit);
+  cancel_edit_action->setShortcut(QKeySequence(Qt::Key_Escape));
 
   // View
   QMenu* view = menuBar()->addMenu("&View");
@@ -321,7 +369,8 @@ void MainWindow::build_menus() {
     const auto& tool = tools_[i];
     QAction* action = tools_menu->addAction(QString::fromStdString(tool->title()));
     action->setObjectName(QString::fromStdString("tool_" + tool->id()));
-    const std::string& shortcut = plugins::builtin_tools().list()[i].shortcut;
+    const plugins::ToolInfo* info = plugins::builtin_tools().find(tool->id());
+    const std::string shortcut = info ? info->shortcut : std::string();
     if (!shortcut.empty()) action->setShortcut(QKeySequence(QString::fromStdString(shortcut)));
     action->setCheckable(true);
     action->setData(QString::fromStdString(tool->id()));
@@ -466,12 +515,17 @@ void MainWindow::load_file(const QString& path) {
     clips.emplace_back(QString::fromStdString(a.name), a.duration());
 
   path_ = path;
+  editing_ = {};
   history_->clear();
+  original_ = model;
+  opened_operations_ = model_history(*model).operations.size();
+  reruns_.clear();
   timeline_->set_animations(clips);
   model_ = model;
   if (!scene_) scene_ = std::make_unique<plugins::Scene>();
   *scene_ = std::move(scene);
   const std::vector<std::string> notes = view_->set_scene(*scene_);
+  tool_displaced_ = false;
   tree_->set_scene(*scene_);
   mark_inspectors_stale(plugins::SceneChange::Model);
   refresh_inspector();
@@ -487,21 +541,26 @@ void MainWindow::load_file(const QString& path) {
   setWindowTitle(QFileInfo(path).fileName() + " - DeepCut Studio");
   last_error_.clear();
   note_operation("Open " + QFileInfo(path).fileName(), static_cast<double>(clock.nsecsElapsed()) / 1e6);
+  refresh_operations();
   if (!notes.empty()) statusBar()->showMessage(QString::fromStdString(notes.front()), 15000);
   emit model_changed();
 }
 
 void MainWindow::show_model(std::shared_ptr<const Model> model) {
   if (!model) return;
+  // Undo, redo or a click in the undo history while editing an operation: the edit is dropped.
+  if (editing_.index >= 0 && !entering_edit_) editing_ = {};
   int animation = timeline_->animation();
   if (animation >= static_cast<int>(model->animations.size())) animation = model->animations.empty() ? -1 : 0;
   model_ = std::move(model);
   *scene_ = plugins::make_scene(model_, animation, timeline_->time());
   view_->set_scene(*scene_);
+  tool_displaced_ = false;
   tree_->set_scene(*scene_);
   mark_inspectors_stale(plugins::SceneChange::Model);
   refresh_tool_preview();
   refresh_inspector();
+  refresh_operations();
   emit model_changed();
 }
 
@@ -541,12 +600,16 @@ void MainWindow::set_tool(const std::string& id) {
       throw Error(ErrorCode::InvalidArgument,
                   "unknown tool '" + id + "' (known: " + plugins::builtin_tools().ids() + ")");
   }
+  if (plugins::Tool* previous = tool(); previous && scene_) previous->release(*scene_);
   active_tool_ = index;
+  tool_timer_->stop();
+  show_tool_displacement();  // back to the posed model
   tool_stack_->setCurrentIndex(index + 1);
   for (QAction* action : tool_group_->actions())
     action->setChecked(index >= 0 && action->data().toString().toStdString() == id);
-  apply_button_->setEnabled(index >= 0);
-  apply_action_->setEnabled(index >= 0);
+  const bool operation = index >= 0 && tools_[static_cast<std::size_t>(index)]->makes_operation();
+  apply_button_->setEnabled(operation);
+  apply_action_->setEnabled(operation);
   plugins::Tool* chosen = tool();
   if (chosen && scene_) chosen->place(*scene_, tool_placement());
   view_->set_tool_widget(chosen && scene_ ? chosen->widget() : nullptr);
@@ -582,10 +645,11 @@ bool MainWindow::apply_tool() {
     report_error("apply: no model is open");
     return false;
   }
-  if (!active_tool) {
-    report_error("apply: no tool is chosen (Tools: Plane, Scalpel or Drill)");
+  if (!active_tool || !active_tool->makes_operation()) {
+    report_error("apply: no operation tool is chosen (Tools: Plane, Scalpel or Drill)");
     return false;
   }
+  if (editing_.index >= 0) return apply_edit();
   Operation op;
   op.params = active_tool->parameters();
   op.animation = scene_->animation;
@@ -599,6 +663,12 @@ bool MainWindow::apply_tool() {
       report_error(QString::fromStdString(active_tool->title()) + ": the tool misses the model (nothing changed)");
       return false;
     }
+    // A state made by an edit keeps its skipped operations listed after a new one.
+    if (const auto* entries = rerun_entries(model_.get())) {
+      std::vector<OperationEntry> next = *entries;
+      next.push_back({op, OpStatus::Ok, {}});
+      reruns_.emplace_back(result, std::move(next));
+    }
     apply_operation(operation_label(op), std::move(result), static_cast<double>(clock.nsecsElapsed()) / 1e6);
   } catch (const Error& e) {
     report_error(QString::fromStdString(active_tool->title() + ": " + e.what()));
@@ -608,6 +678,199 @@ bool MainWindow::apply_tool() {
     return false;
   }
   last_error_.clear();
+  return true;
+}
+
+void MainWindow::apply_history(const History& history, const std::string& source) {
+  if (!model_) throw Error(ErrorCode::InvalidArgument, source + ": no model is open");
+  // Run all first, so a bad operation leaves the history as it was.
+  std::vector<std::pair<QString, std::shared_ptr<const Model>>> states;
+  std::shared_ptr<const Model> state = model_;
+  for (std::size_t i = 0; i < history.operations.size(); ++i) {
+    const Operation& op = history.operations[i];
+    auto next = std::make_shared<Model>(*state);
+    try {
+      if (deepcut::apply_operation(*next, op).status != OpStatus::Ok) continue;
+    } catch (const Error& e) {
+      throw Error(e.code(), source + ": operation " + std::to_string(i) + ": " + e.what());
+    }
+    state = next;
+    states.emplace_back(operation_label(op), state);
+  }
+  for (auto& [label, after] : states) apply_operation(label, after, 0.0);
+}
+
+const std::vector<MainWindow::OperationEntry>* MainWindow::rerun_entries(const Model* model) const {
+  for (const auto& [state, entries] : reruns_)
+    if (const auto alive = state.lock(); alive && alive.get() == model) return &entries;
+  return nullptr;
+}
+
+std::vector<MainWindow::OperationEntry> MainWindow::operations() const {
+  if (editing_.index >= 0) return editing_.entries;
+  if (!model_) return {};
+  if (const auto* entries = rerun_entries(model_.get())) return *entries;
+  std::vector<OperationEntry> out;
+  const History history = model_history(*model_);
+  for (std::size_t i = opened_operations_; i < history.operations.size(); ++i)
+    out.push_back({history.operations[i], OpStatus::Ok, {}});
+  return out;
+}
+
+void MainWindow::refresh_operations() {
+  // Forget the lists of states no command holds any more.
+  reruns_.erase(std::remove_if(reruns_.begin(), reruns_.end(), [](const auto& r) { return r.first.expired(); }),
+                reruns_.end());
+  const std::vector<OperationEntry> entries = operations();
+  const int row = operations_list_->currentRow();
+  operations_list_->clear();
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    const OperationEntry& entry = entries[i];
+    QString text = QString("%1. %2").arg(i + 1).arg(operation_label(entry.operation));
+    auto* item = new QListWidgetItem(operations_list_);
+    if (!entry.applied()) {
+      const QString why = entry.error.empty() ? QString("no longer applies (%1)").arg(to_string(entry.status))
+                                              : QString("failed: %1").arg(QString::fromStdString(entry.error));
+      text = QString::fromUtf8("✗ ") + text + "  - " + why + ", skipped";
+      item->setForeground(QColor(255, 120, 110));
+      item->setToolTip("After the last edit this operation " + why + "; it was skipped. Edit it to fix it.");
+    }
+    if (static_cast<int>(i) == editing_.index) {
+      QFont font = item->font();
+      font.setBold(true);
+      item->setFont(font);
+      text = QString::fromUtf8("✎ ") + text;
+    }
+    item->setText(text);
+  }
+  if (row >= 0 && row < operations_list_->count()) operations_list_->setCurrentRow(row);
+  edit_button_->setEnabled(editing_.index < 0 && operations_list_->currentRow() >= 0);
+  cancel_edit_button_->setEnabled(editing_.index >= 0);
+  const bool editing = editing_.index >= 0;
+  edit_banner_->setVisible(editing);
+  if (editing)
+    edit_banner_->setText(QString("Editing operation %1 of %2 (the model as it was before it). Apply re-runs "
+                                  "it and the %3 after it as one undoable step; Esc cancels.")
+                              .arg(editing_.index + 1)
+                              .arg(entries.size())
+                              .arg(static_cast<int>(entries.size()) - editing_.index - 1));
+  apply_button_->setText(editing ? "Re-run from here (Enter)" : "Apply (Enter)");
+}
+
+namespace {
+
+std::string tool_of(const Operation& op) {
+  if (std::holds_alternative<CutOperation>(op.params)) return "cut";
+  if (std::holds_alternative<TearOperation>(op.params)) return "tear";
+  return "drill";
+}
+
+/// Applies `entry` to `model` as `deepcut apply` would, noting whether it applied.
+void run_entry(Model& model, MainWindow::OperationEntry& entry) {
+  entry.error.clear();
+  try {
+    entry.status = deepcut::apply_operation(model, entry.operation).status;
+  } catch (const Error& e) {
+    entry.status = OpStatus::Ok;
+    entry.error = e.what();
+  }
+}
+
+}  // namespace
+
+bool MainWindow::edit_operation(int index) {
+  if (editing_.index >= 0) cancel_edit();
+  const std::vector<OperationEntry> entries = operations();
+  if (!model_ || !original_ || index < 0 || index >= static_cast<int>(entries.size())) {
+    report_error(QString("edit: there is no operation %1 to edit").arg(index + 1));
+    return false;
+  }
+  QElapsedTimer clock;
+  clock.start();
+  // The state before the operation: the opened model and the operations before it, re-run.
+  auto base = std::make_shared<Model>(*original_);
+  std::vector<OperationEntry> replayed = entries;
+  try {
+    for (int i = 0; i < index; ++i) run_entry(*base, replayed[static_cast<std::size_t>(i)]);
+  } catch (const std::bad_alloc&) {
+    report_error("edit: out of memory");
+    return false;
+  }
+  const OperationEntry& edited = entries[static_cast<std::size_t>(index)];
+  editing_ = {index, model_, entries};
+  entering_edit_ = true;
+  show_model(base);
+  entering_edit_ = false;
+  // Its tool with its parameters, at its pose.
+  if (edited.operation.animation < static_cast<int>(model_->animations.size()))
+    set_pose(edited.operation.animation, edited.operation.time);
+  set_tool(tool_of(edited.operation));
+  tool()->set_parameters(edited.operation.params);
+  refresh_operations();
+  operations_list_->setCurrentRow(index);
+  note_operation(QString("Edit operation %1").arg(index + 1), static_cast<double>(clock.nsecsElapsed()) / 1e6);
+  return true;
+}
+
+void MainWindow::cancel_edit() {
+  if (editing_.index < 0) return;
+  const std::shared_ptr<const Model> current = editing_.current;
+  editing_ = {};
+  show_model(current);
+  statusBar()->showMessage("Edit cancelled: the history is unchanged", 5000);
+}
+
+bool MainWindow::apply_edit() {
+  plugins::Tool* active_tool = tool();
+  const int index = editing_.index;
+  std::vector<OperationEntry> entries = editing_.entries;
+  OperationEntry& edited = entries[static_cast<std::size_t>(index)];
+  edited.operation.params = active_tool->parameters();
+  edited.operation.animation = scene_->animation;
+  edited.operation.time = scene_->time;
+  QElapsedTimer clock;
+  clock.start();
+  auto result = std::make_shared<Model>(*model_);  // the state before the edited operation
+  try {
+    run_entry(*result, edited);
+  } catch (const std::bad_alloc&) {
+    report_error(QString::fromStdString(active_tool->title()) + ": out of memory");
+    return false;
+  }
+  if (!edited.error.empty()) {
+    report_error(QString::fromStdString(active_tool->title() + ": " + edited.error));
+    return false;
+  }
+  if (edited.status != OpStatus::Ok) {
+    report_error(QString::fromStdString(active_tool->title()) + ": the edited operation misses the model (nothing changed)");
+    return false;
+  }
+  std::size_t skipped = 0;
+  try {
+    for (std::size_t i = static_cast<std::size_t>(index) + 1; i < entries.size(); ++i) {
+      run_entry(*result, entries[i]);
+      if (!entries[i].applied()) ++skipped;
+    }
+  } catch (const std::bad_alloc&) {
+    report_error("edit: out of memory while re-running the history");
+    return false;
+  }
+  const std::shared_ptr<const Model> before = editing_.current;
+  const QString label = QString("Edit %1: %2").arg(index + 1).arg(operation_label(edited.operation));
+  std::shared_ptr<const Model> after = result;
+  reruns_.emplace_back(after, entries);
+  editing_ = {};
+  history_->push(new ModelCommand(this, label, before, std::move(after)));
+  note_operation(label, static_cast<double>(clock.nsecsElapsed()) / 1e6);
+  last_error_.clear();
+  operations_list_->setCurrentRow(index);
+  if (skipped > 0)
+    statusBar()->showMessage(QString("%1 later operation%2 no longer appl%3 and %4 skipped (marked in History)")
+                                 .arg(skipped)
+                                 .arg(skipped == 1 ? "" : "s")
+                                 .arg(skipped == 1 ? "ies" : "y")
+                                 .arg(skipped == 1 ? "was" : "were"),
+                             15000);
   return true;
 }
 
@@ -759,11 +1022,69 @@ void MainWindow::on_pose_changed(int animation, float time) {
   if (!scene_) return;
   plugins::pose_scene(*scene_, animation, time);
   view_->update_pose();
+  tool_displaced_ = false;
+  show_tool_displacement();
   mark_inspectors_stale(plugins::SceneChange::Pose);
   sync_active_inspector();
   refresh_tool_preview();
   refresh_overlays();
   view_->render();
+}
+
+bool MainWindow::on_pointer(const PointerEvent& event) {
+  plugins::Tool* active_tool = tool();
+  if (!active_tool || !scene_) return false;
+  plugins::ToolPointer pointer;
+  pointer.ray_origin = event.ray_origin;
+  pointer.ray_direction = event.ray_direction;
+  pointer.view_direction = view_->view_direction();
+  switch (event.phase) {
+    case PointerEvent::Phase::Press:
+      if (!event.pick || !active_tool->press(*scene_, *event.pick, pointer)) return false;
+      break;
+    case PointerEvent::Phase::Move:
+      active_tool->move(*scene_, pointer);
+      break;
+    case PointerEvent::Phase::Release:
+      active_tool->release(*scene_);
+      break;
+  }
+  if (!tool_timer_->isActive()) {
+    tool_clock_.start();
+    tool_timer_->start();
+  }
+  step_tool();
+  return true;
+}
+
+void MainWindow::step_tool() {
+  plugins::Tool* active_tool = tool();
+  if (!active_tool || !scene_) {
+    tool_timer_->stop();
+    return;
+  }
+  // Real time since the last step, capped so a stalled event loop does not jump.
+  const float dt = std::min(0.05f, static_cast<float>(tool_clock_.restart()) / 1000.0f);
+  const bool moving = active_tool->step(*scene_, dt);
+  show_tool_displacement();
+  if (!moving) tool_timer_->stop();
+  view_->render();
+}
+
+void MainWindow::show_tool_displacement() {
+  if (!scene_) return;
+  plugins::Tool* active_tool = tool();
+  std::vector<glm::vec3> positions;
+  bool displaced = false;
+  for (std::size_t i = 0; i < scene_->pieces.size(); ++i)
+    if (active_tool && active_tool->displaced_positions(*scene_, i, positions)) {
+      view_->set_piece_positions(i, positions);
+      displaced = true;
+    }
+  // Settled (or another tool): draw the posed model again, once.
+  if (!displaced && tool_displaced_)
+    for (std::size_t i = 0; i < scene_->pieces.size(); ++i) view_->set_piece_positions(i, scene_->pieces[i].posed);
+  tool_displaced_ = displaced;
 }
 
 void MainWindow::on_pick(const plugins::Pick& pick) {

@@ -5,6 +5,7 @@
 // The model is kept as immutable snapshots (`std::shared_ptr<const Model>`); every change of
 // model state goes through the undo stack.
 
+#include <QElapsedTimer>
 #include <QMainWindow>
 #include <QString>
 #include <QStringList>
@@ -22,13 +23,16 @@ class QAction;
 class QActionGroup;
 class QComboBox;
 class QLabel;
+class QListWidget;
 class QPushButton;
 class QMenu;
 class QStackedWidget;
+class QTimer;
 class QUndoStack;
 
 namespace deepcut::studio {
 
+struct PointerEvent;
 class SceneTree;
 class SceneView;
 class Timeline;
@@ -76,11 +80,37 @@ class MainWindow : public QMainWindow {
   /// The active tool, or nullptr.
   plugins::Tool* tool() const;
   std::string tool_id() const;
+  /// Runs the operations of `history` on the current model as `deepcut apply` would, each one an
+  /// undoable history entry (one that misses the model changes nothing and makes none).
+  /// @throws Error naming `source` and the operation index when one is invalid (nothing changes).
+  void apply_history(const History& history, const std::string& source);
   /// Applies the active tool's parameters at the current pose (animation and time) through
   /// `deepcut::apply_operation`, undoably; the history entry names type, parameters and time.
   /// Errors and a tool that misses the model are reported like open_file's.
   /// @returns true when the model changed.
   bool apply_tool();
+
+  /// One operation made since the model was opened, as it last ran: `status` Ok, NoIntersection
+  /// (it no longer applies and was skipped), or `error` set (it failed and was skipped).
+  struct OperationEntry {
+    Operation operation;
+    OpStatus status = OpStatus::Ok;
+    std::string error;
+    bool applied() const { return status == OpStatus::Ok && error.empty(); }
+  };
+  /// The operations of the current state since the model was opened (the Operations list):
+  /// what `deepcut apply` of them on the opened file reproduces.
+  std::vector<OperationEntry> operations() const;
+  /// Starts editing operation `index` of `operations()`: the model is shown as it was before it,
+  /// its tool is chosen with its parameters and pose, and Apply re-runs it with the panel's
+  /// parameters and then every later operation, as one undoable step (an operation that no
+  /// longer applies is skipped and marked). @returns false (reported) for a bad index.
+  bool edit_operation(int index);
+  /// Leaves editing without changing anything.
+  void cancel_edit();
+  /// The operation being edited, or -1.
+  int editing_operation() const { return editing_.index; }
+  QListWidget* operations_list() const { return operations_list_; }
 
   /// Activates inspector `id` ("" or "none": the model's own look).
   /// @throws Error{InvalidArgument} for an unknown id.
@@ -146,13 +176,35 @@ class MainWindow : public QMainWindow {
   void refresh_tool_preview();
   /// Camera and surface point for placing a tool (see set_tool).
   plugins::ToolPlacement tool_placement();
+  void refresh_operations();
+  /// Re-runs the edited operation with the tool's parameters and every later one.
+  bool apply_edit();
+  /// The re-run list recorded for `model` by an edit, if any.
+  const std::vector<OperationEntry>* rerun_entries(const Model* model) const;
   void on_pose_changed(int animation, float time);
+  /// A left drag in the view, offered to the active tool (the Poke takes it).
+  bool on_pointer(const PointerEvent& event);
+  /// One tick of the active tool's own motion (soft body), then the view follows.
+  void step_tool();
+  /// Draws the pieces where the active tool displaces them (or as posed).
+  void show_tool_displacement();
   void on_pick(const plugins::Pick& pick);
   void choose_open();
   void choose_export();
 
   MainWindowOptions options_;
   std::shared_ptr<const Model> model_;
+  std::shared_ptr<const Model> original_;  // as opened: edited histories re-run from it
+  std::size_t opened_operations_ = 0;      // operations already in the opened file's history
+  // Operation lists of states made by an edit (skipped entries included), by state.
+  std::vector<std::pair<std::weak_ptr<const Model>, std::vector<OperationEntry>>> reruns_;
+  struct Editing {
+    int index = -1;
+    std::shared_ptr<const Model> current;  // the state to return to (and undo to)
+    std::vector<OperationEntry> entries;   // its operations
+  };
+  Editing editing_;
+  bool entering_edit_ = false;  // show_model called by edit_operation itself
   std::unique_ptr<plugins::Scene> scene_;
   QString path_, last_error_, last_operation_;
   std::vector<std::unique_ptr<plugins::Inspector>> inspectors_;  // in registry order
@@ -163,6 +215,9 @@ class MainWindow : public QMainWindow {
   std::vector<std::unique_ptr<plugins::Tool>> tools_;  // in registry order
   int active_tool_ = -1;                               // index into tools_
   std::optional<glm::vec3> last_surface_click_;        // posed world point of the last click on the model
+  QTimer* tool_timer_ = nullptr;                       // steps a tool that moves (the Poke's soft body)
+  QElapsedTimer tool_clock_;                           // since the last step
+  bool tool_displaced_ = false;                        // the view shows displaced positions
 
   SceneView* view_ = nullptr;
   SceneTree* tree_ = nullptr;
@@ -173,6 +228,10 @@ class MainWindow : public QMainWindow {
   QMenu* recent_menu_ = nullptr;
   QStackedWidget* tool_stack_ = nullptr;
   QPushButton* apply_button_ = nullptr;
+  QListWidget* operations_list_ = nullptr;
+  QPushButton* edit_button_ = nullptr;
+  QPushButton* cancel_edit_button_ = nullptr;
+  QLabel* edit_banner_ = nullptr;
   QActionGroup* tool_group_ = nullptr;
   QAction* apply_action_ = nullptr;
   QAction* undo_ = nullptr;

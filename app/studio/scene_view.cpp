@@ -55,9 +55,29 @@ class ClickStyle : public vtkInteractorStyleTrackballCamera {
       void OnChar() override {}
   void OnLeftButtonDown() override {
     GetInteractor()->GetEventPosition(press_);
+    if (on_press && on_press(press_[0], press_[1])) {
+      dragging_ = true;  // a tool took the drag: the camera stays
+      return;
+    }
     Superclass::OnLeftButtonDown();
   }
+  void OnMouseMove() override {
+    if (dragging_) {
+      int p[2];
+      GetInteractor()->GetEventPosition(p);
+      if (on_drag) on_drag(p[0], p[1], false);
+      return;
+    }
+    Superclass::OnMouseMove();
+  }
   void OnLeftButtonUp() override {
+    if (dragging_) {
+      dragging_ = false;
+      int p[2];
+      GetInteractor()->GetEventPosition(p);
+      if (on_drag) on_drag(p[0], p[1], true);
+      return;
+    }
     Superclass::OnLeftButtonUp();
     int p[2];
     GetInteractor()->GetEventPosition(p);
@@ -65,9 +85,14 @@ class ClickStyle : public vtkInteractorStyleTrackballCamera {
   }
 
   std::function<void(int, int)> on_click;
+  /// A left press at display (x, y): true when a tool takes the drag.
+  std::function<bool(int, int)> on_press;
+  /// The taken drag moved (`released` false) or ended (true) at display (x, y).
+  std::function<void(int, int, bool released)> on_drag;
 
  private:
   int press_[2] = {0, 0};
+  bool dragging_ = false;
 };
 vtkStandardNewMacro(ClickStyle);
 
@@ -110,12 +135,17 @@ struct SceneView::Impl {
   std::function<void(const plugins::Pick&)> on_pick;
   vtkSmartPointer<vtkAbstractWidget> tool_widget;
   vtkNew<vtkCallbackCommand> clipping;
+  std::function<bool(const PointerEvent&)> on_pointer;
 
   void apply_look(PieceActor& piece) const;
   void apply_display_mode(PieceActor& piece) const;
   void rebuild_normals();
   glm::dvec2 to_display(const glm::vec3& p) const;
   bool pick_display(int x, int y);
+  /// The model (not the bones) under display (x, y).
+  bool pick_model(int x, int y, plugins::Pick& pick);
+  /// The ray through display (x, y), world space.
+  void display_ray(int x, int y, PointerEvent& event) const;
 };
 
 void SceneView::Impl::apply_look(PieceActor& piece) const {
@@ -228,6 +258,12 @@ bool SceneView::Impl::pick_display(int x, int y) {
     on_pick(pick);
     return true;
   }
+  if (!pick_model(x, y, pick)) return false;
+  on_pick(pick);
+  return true;
+}
+
+bool SceneView::Impl::pick_model(int x, int y, plugins::Pick& pick) {
   if (!picker->Pick(x, y, 0.0, renderer) || picker->GetCellId() < 0) return false;
   vtkActor* actor = picker->GetActor();
   const auto it =
@@ -256,8 +292,23 @@ bool SceneView::Impl::pick_display(int x, int y) {
       pick.vertex = VertexId(static_cast<std::uint32_t>(vertex_ids->GetValue(pts[k])));
     }
   }
-  on_pick(pick);
   return true;
+}
+
+void SceneView::Impl::display_ray(int x, int y, PointerEvent& event) const {
+  double near_point[4], far_point[4];
+  renderer->SetDisplayPoint(x, y, 0.0);
+  renderer->DisplayToWorld();
+  renderer->GetWorldPoint(near_point);
+  renderer->SetDisplayPoint(x, y, 1.0);
+  renderer->DisplayToWorld();
+  renderer->GetWorldPoint(far_point);
+  for (double* p : {near_point, far_point})
+    if (p[3] != 0.0)
+      for (int k = 0; k < 3; ++k) p[k] /= p[3];
+  const glm::vec3 a(near_point[0], near_point[1], near_point[2]), b(far_point[0], far_point[1], far_point[2]);
+  event.ray_origin = a;
+  event.ray_direction = glm::length(b - a) > 0.0f ? glm::normalize(b - a) : glm::vec3(0.0f, 0.0f, -1.0f);
 }
 
 SceneView::SceneView(QWidget* parent) : QWidget(parent), impl_(std::make_unique<Impl>()) {
@@ -331,6 +382,24 @@ SceneView::SceneView(QWidget* parent) : QWidget(parent), impl_(std::make_unique<
   vtkRenderWindowInteractor* interactor = d.window->GetInteractor();
   d.style->SetDefaultRenderer(d.renderer);
   d.style->on_click = [this](int x, int y) { impl_->pick_display(x, y); };
+  d.style->on_press = [this](int x, int y) {
+    Impl& i = *impl_;
+    if (!i.on_pointer || !i.scene) return false;
+    PointerEvent event;
+    event.phase = PointerEvent::Phase::Press;
+    plugins::Pick pick;
+    if (i.pick_model(x, y, pick)) event.pick = pick;
+    i.display_ray(x, y, event);
+    return i.on_pointer(event);
+  };
+  d.style->on_drag = [this](int x, int y, bool released) {
+    Impl& i = *impl_;
+    if (!i.on_pointer) return;
+    PointerEvent event;
+    event.phase = released ? PointerEvent::Phase::Release : PointerEvent::Phase::Move;
+    i.display_ray(x, y, event);
+    i.on_pointer(event);
+  };
   interactor->SetInteractorStyle(d.style);
 
   vtkNew<vtkAxesActor> axes_actor;
@@ -423,6 +492,28 @@ void SceneView::update_pose() {
                             sp.posed_normals.empty() ? nullptr : &sp.posed_normals);
   }
   d.rebuild_normals();
+}
+
+void SceneView::set_piece_positions(std::size_t piece, const std::vector<glm::vec3>& positions) {
+  Impl& d = *impl_;
+  if (piece >= d.pieces.size()) return;
+  update_poly_data_points(d.pieces[piece].poly, positions, nullptr);
+}
+
+std::vector<glm::vec3> SceneView::piece_positions(std::size_t piece) const {
+  const Impl& d = *impl_;
+  if (piece >= d.pieces.size() || !d.scene || piece >= d.scene->pieces.size()) return {};
+  std::vector<glm::vec3> out = d.scene->pieces[piece].posed;
+  vtkPolyData* poly = d.pieces[piece].poly;
+  auto* vertex_ids = vtkIdTypeArray::SafeDownCast(poly->GetPointData()->GetArray("vertex_id"));
+  if (!vertex_ids) return out;
+  for (vtkIdType i = 0; i < poly->GetNumberOfPoints(); ++i) {
+    const auto v = static_cast<std::size_t>(vertex_ids->GetValue(i));
+    double p[3];
+    poly->GetPoint(i, p);
+    if (v < out.size()) out[v] = glm::vec3(p[0], p[1], p[2]);
+  }
+  return out;
 }
 
 void SceneView::set_piece_colors(std::size_t piece, const plugins::PieceColors& colors) {
@@ -591,6 +682,10 @@ QImage SceneView::grab_view() {
 
 void SceneView::set_pick_handler(std::function<void(const plugins::Pick&)> handler) {
   impl_->on_pick = std::move(handler);
+}
+
+void SceneView::set_pointer_handler(std::function<bool(const PointerEvent&)> handler) {
+  impl_->on_pointer = std::move(handler);
 }
 
 bool SceneView::pick_at(const QPoint& position) {

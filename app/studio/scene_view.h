@@ -30,6 +30,15 @@ struct BoneHandle {
   glm::vec3 head{0.0f}, tail{0.0f};
 };
 
+/// A left-button drag the view offers to the active tool before the camera gets it.
+struct PointerEvent {
+  enum class Phase { Press, Move, Release };
+  Phase phase = Phase::Press;
+  std::optional<plugins::Pick> pick;  ///< Press: the model under the cursor (none: missed it)
+  glm::vec3 ray_origin{0.0f};         ///< the cursor's ray, world space
+  glm::vec3 ray_direction{0.0f, 0.0f, -1.0f};
+};
+
 class SceneView : public QWidget {
  public:
   explicit SceneView(QWidget* parent = nullptr);
@@ -41,6 +50,12 @@ class SceneView : public QWidget {
   std::vector<std::string> set_scene(const plugins::Scene& scene);
   /// Moves every actor (and the normals, when shown) to the scene's current pose.
   void update_pose();
+  /// Draws piece `piece` at `positions` (world, one per vertex slot of its mesh) instead of its
+  /// posed positions, until the next `update_pose` or `set_scene`.
+  void set_piece_positions(std::size_t piece, const std::vector<glm::vec3>& positions);
+  /// The world positions piece `piece` is drawn at, one per vertex slot (slots that are not
+  /// drawn keep the posed position). Empty for an unknown piece.
+  std::vector<glm::vec3> piece_positions(std::size_t piece) const;
 
   /// Colours piece `piece` (Kind::None restores its material look).
   void set_piece_colors(std::size_t piece, const plugins::PieceColors& colors);
@@ -86,6 +101,9 @@ class SceneView : public QWidget {
 
   /// Called when the user clicks (press and release without dragging) on a piece or a bone.
   void set_pick_handler(std::function<void(const plugins::Pick&)> handler);
+  /// Called on a left press (with what is under the cursor), and, when it returned true for the
+  /// press, on every move and on the release; the camera does not move during such a drag.
+  void set_pointer_handler(std::function<bool(const PointerEvent&)> handler);
   /// Picks at widget coordinates (logical pixels, origin top left), as a click there would.
   /// @returns false when nothing was hit.
   bool pick_at(const QPoint& position);

@@ -2,6 +2,7 @@
 #include "studio_options.h"
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 
 namespace deepcut::studio {
@@ -19,6 +20,8 @@ const char* studio_usage() {
          "  --vertex N               adjacency inspector: pick vertex N of the first mesh\n"
          "  --animation N|NAME       choose the animation (index or name)\n"
          "  --time T                 pose time in seconds\n"
+         "  --apply HISTORY.json     run the operations of a history file (as deepcut apply) after opening\n"
+         "  --look-at X,Y,Z,R        point the camera at the sphere of radius R around X,Y,Z (world)\n"
          "  --view shaded|wireframe|edges\n"
          "  --normals                show normals\n"
          "  --frame                  zoom to the inspector's selection (picked vertex, joint)\n"
@@ -72,6 +75,18 @@ StudioOptions parse_studio_options(const std::vector<std::string>& args) {
       if (used != t.size() || t.empty() || !std::isfinite(seconds) || seconds < 0.0f)
         throw UsageError("--time must be a number of seconds >= 0, not '" + t + "'");
       o.time = seconds;
+    } else if (arg == "--apply") {
+      o.apply = take();
+      if (o.apply.empty()) throw UsageError("--apply needs a history file (.json)");
+    } else if (arg == "--look-at") {
+      const std::string text = take();
+      std::array<float, 4> v{};
+      char extra = 0;
+      if (std::sscanf(text.c_str(), "%f,%f,%f,%f%c", &v[0], &v[1], &v[2], &v[3], &extra) != 4 ||
+          !std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2]) || !std::isfinite(v[3]) ||
+          !(v[3] > 0.0f))
+        throw UsageError("--look-at must be X,Y,Z,R (finite, R > 0), not '" + text + "'");
+      o.look_at = v;
     } else if (arg == "--view") {
       o.view = take();
       if (o.view != "shaded" && o.view != "wireframe" && o.view != "edges")

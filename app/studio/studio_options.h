@@ -2,6 +2,7 @@
 #pragma once
 // Command line of deepcut-studio, and where the bundled default model is.
 
+#include <array>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -22,6 +23,8 @@ struct StudioOptions {
   std::string joint;               ///< --joint NAME (weights inspector)
   std::string vertex;              ///< --vertex N (adjacency inspector: the picked vertex)
   std::string animation;           ///< --animation N|NAME
+  std::string apply;               ///< --apply HISTORY.json: run its operations (undoable) after opening
+  std::optional<std::array<float, 4>> look_at;  ///< --look-at X,Y,Z,R: zoom to that sphere (world)
   std::optional<float> time;       ///< --time T, seconds
   std::string view = "shaded";     ///< --view shaded|wireframe|edges
   bool normals = false;            ///< --normals

@@ -6,6 +6,7 @@
 #include <QImage>
 #include <QtTest/QtTest>
 #include <functional>
+#include <map>
 #include <set>
 
 #include "tools.h"
@@ -130,6 +131,59 @@ class ScreenshotTest : public QObject {
       }
     QVERIFY2(hues.size() >= 12, qPrintable(QString("%1 hue bins").arg(hues.size())));
     QVERIFY(model_pixels(middle) > middle.width() * middle.height() / 10);
+  }
+
+  void applied_history_shows_pieces_slit_and_hole() {
+    const std::string histories = DEEPCUT_SOURCE_DIR "/tests/data/histories/";
+    // The cut's two pieces, each in its own colour (the pieces inspector), the caps darker.
+    const QImage pieces = shoot("cut_pieces", "--apply " + quote(histories + "cut_pieces.json") + " --inspect pieces");
+    QVERIFY(!pieces.isNull());
+    const QImage middle = view_middle(pieces);
+    std::set<int> hues;
+    std::map<int, int> hue_pixels;
+    for (int y = 0; y < middle.height(); ++y)
+      for (int x = 0; x < middle.width(); ++x) {
+        const QColor c(middle.pixel(x, y));
+        if (c.hsvSaturation() > 100 && c.value() > 90) ++hue_pixels[c.hsvHue() / 20];
+      }
+    for (const auto& [bin, n] : hue_pixels)
+      if (n > 5000) hues.insert(bin);
+    QVERIFY2(hues.size() >= 2, qPrintable(QString("%1 large hue areas: the pieces are not told apart").arg(hues.size())));
+    // The slit, zoomed in with the adjacency inspector: its lips are boundary edges (blue); the
+    // cactus has none before the tear.
+    const std::string slit_args = "--look-at 0.41,4,0.95,1.3 --no-skeleton --inspect adjacency";
+    const QImage slit = shoot("tear_slit", "--apply " + quote(histories + "tear_slit.json") + " " + slit_args);
+    const QImage whole = shoot("tear_none", slit_args);
+    QVERIFY(!slit.isNull() && !whole.isNull());
+    const auto boundary_blue = [](const QColor& c) {
+      return c.blue() > 200 && c.red() < 90 && c.green() > 100 && c.green() < 190;
+    };
+    const int lips = count_pixels(view_middle(slit), boundary_blue), none = count_pixels(view_middle(whole), boundary_blue);
+    QVERIFY2(lips > 300 && none < 50, qPrintable(QString("boundary pixels: %1 torn, %2 whole").arg(lips).arg(none)));
+    // The hole, zoomed in: the backdrop shows through it.
+    const std::string hole_args = "--look-at 0,7,0,1.2 --no-skeleton";
+    const QImage hole = shoot("drill_hole", "--apply " + quote(histories + "drill_hole.json") + " " + hole_args);
+    const QImage solid = shoot("drill_none", hole_args);
+    QVERIFY(!hole.isNull() && !solid.isNull());
+    QVERIFY2(model_pixels(view_middle(hole)) < model_pixels(view_middle(solid)) - 2000,
+             "the drilled trunk shows the backdrop through its hole");
+  }
+
+  void a_bad_history_exits_2_with_one_line() {
+    const std::string out = dir_ + "/never.png";
+    const std::string bad = dir_ + "/bad_history.json";
+    {
+      QFile file(QString::fromStdString(bad));
+      QVERIFY(file.open(QIODevice::WriteOnly));
+      file.write("{\"operations\": [{\"op\": \"saw\"}]}");
+    }
+    for (const std::string& args : {"--apply " + quote(bad), "--apply " + quote(dir_ + "/missing.json"),
+                                     std::string("--look-at 1,2,3"), std::string("--look-at 0,0,0,-1")}) {
+      const RunResult r = run_studio("--screenshot " + quote(out) + " " + args);
+      QVERIFY2(r.exit_code == 2, (args + ": exit " + std::to_string(r.exit_code)).c_str());
+      QVERIFY2(std::count(r.err.begin(), r.err.end(), '\n') == 1, (args + ": " + r.err).c_str());
+    }
+    QVERIFY(!QFile::exists(QString::fromStdString(out)));
   }
 
   void textured_model_is_drawn() {

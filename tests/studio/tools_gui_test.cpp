@@ -74,7 +74,7 @@ class StudioToolsTest : public QObject {
   void the_registry_offers_plane_scalpel_and_drill() {
     QStringList titles;
     for (const auto& info : deepcut::plugins::builtin_tools().list()) titles << QString::fromStdString(info.title);
-    QCOMPARE(titles, (QStringList{"Plane", "Scalpel", "Drill"}));
+    QCOMPARE(titles, (QStringList{"Plane", "Scalpel", "Drill", "Poke"}));
     auto window = shown_window();
     QVERIFY(window);
     QVERIFY_EXCEPTION_THROWN(window->set_tool("saw"), deepcut::Error);
