@@ -159,7 +159,8 @@ class ScreenshotTest : public QObject {
       return c.blue() > 200 && c.red() < 90 && c.green() > 100 && c.green() < 190;
     };
     const int lips = count_pixels(view_middle(slit), boundary_blue), none = count_pixels(view_middle(whole), boundary_blue);
-    QVERIFY2(lips > 300 && none < 50, qPrintable(QString("boundary pixels: %1 torn, %2 whole").arg(lips).arg(none)));
+    // (Both include the inspector's blue legend swatch at the crop's edge.)
+    QVERIFY2(lips > none + 150, qPrintable(QString("boundary pixels: %1 torn, %2 whole").arg(lips).arg(none)));
     // The hole, zoomed in: the backdrop shows through it.
     const std::string hole_args = "--look-at 0,7,0,1.2 --no-skeleton";
     const QImage hole = shoot("drill_hole", "--apply " + quote(histories + "drill_hole.json") + " " + hole_args);

@@ -34,10 +34,10 @@ struct ToolCommand {
 struct ToolInfo {
   std::string id;                      ///< history and tool name ("cut"), unique
   std::string title;                   ///< tool bar text ("Plane")
-  std::string shortcut;                ///< key sequence that chooses the tool ("" none), e.g. "P"
   std::vector<ToolCommand> commands;   ///< command-line sub-commands (may be empty)
   /// The interactive tool; empty in programs built without the studio (the command line).
   std::function<std::unique_ptr<Tool>()> create;
+  std::string shortcut;                ///< key sequence that chooses the tool ("" none), e.g. "P"
 };
 
 class ToolRegistry {
