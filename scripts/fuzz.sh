@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
 #
-# Builds the libFuzzer targets with clang into build-fuzz/ (ASan + UBSan + coverage, VTK and the
-# studio off) and runs them: `ctest -L fuzz`, i.e. each target fuzzes for SECONDS from its seed
+# Builds the libFuzzer targets with clang into build-fuzz/ (ASan + UBSan + coverage; VTK on for
+# the static mesh readers, the studio off; only the fuzz targets are compiled) and runs them:
+# `ctest -L fuzz`, i.e. each target fuzzes for SECONDS from its seed
 # corpus (tests/fuzz/corpus/<target>/), then replays the seeds and saved regressions.
 #
 #   bash scripts/fuzz.sh [SECONDS]          default 60
@@ -43,8 +44,8 @@ log "fuzz: configuring $BUILD (clang, libFuzzer, ASan + UBSan)"
 cmake -S "$ROOT" -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
   -DDEEPCUT_FUZZ=ON -DDEEPCUT_FUZZ_SECONDS="$SECONDS_PER_TARGET" \
-  -DDEEPCUT_BUILD_VTK=OFF -DDEEPCUT_BUILD_STUDIO=OFF -DDEEPCUT_BUILD_TESTS=ON -DDEEPCUT_STRICT=OFF
-cmake --build "$BUILD" -j"${DEEPCUT_JOBS:-$(nproc)}" --target all
+  -DDEEPCUT_BUILD_VTK=ON -DDEEPCUT_BUILD_STUDIO=OFF -DDEEPCUT_BUILD_TESTS=ON -DDEEPCUT_STRICT=OFF
+cmake --build "$BUILD" -j"${DEEPCUT_JOBS:-$(nproc)}" --target deepcut_fuzzers
 
 log "fuzz: running ctest -L fuzz ($SECONDS_PER_TARGET s per target)"
 fuzz_log="$BUILD/fuzz-output.log"
