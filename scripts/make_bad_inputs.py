@@ -827,6 +827,14 @@ def _(name):
     return {name: cube_obj(corners=CUBE_CORNERS + [(5, 5, 5), (6, 5, 5), (5, 6, 5)])}
 
 
+@case("static/obj_uv_index_out_of_range.obj",
+      "60 faces of spot.obj with one texture coordinate index 5454 of 71 (found by fuzz_read_obj: vtkOBJReader crashed)")
+def _(name):
+    with open(os.path.join(ROOT, "tests", "fuzz", "corpus", "obj", "spot_patch.obj"), "rb") as f:
+        data = f.read()
+    return {name: data.replace(b"f 53/53 45/45 54/54", b"f 53/53 45/5 4/5454")}
+
+
 @case("static/off_truncated.off", "an OFF cube whose last two faces are missing")
 def _(name):
     data = cube_off().decode("ascii").splitlines()
@@ -874,6 +882,14 @@ def _(name):
     return {name: cube_ply_binary(quads=CUBE_QUADS[:-1] + [(0, 4, 7, 1000)])}
 
 
+@case("static/ply_index_huge.ply",
+      "a binary PLY cube whose third face names vertex 65536 (found by fuzz_read_ply: vtkPLYReader crashed)")
+def _(name):
+    quads = list(CUBE_QUADS)
+    quads[2] = (0, 65536, 5, 4)
+    return {name: cube_ply_binary(quads=quads)}
+
+
 @case("static/ply_no_end_header.ply", "a PLY header that never ends")
 def _(name):
     return {name: b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n" + b"comment x\n" * 8000}
@@ -892,6 +908,12 @@ def _(name):
 @case("static/stl_huge_count.stl", "a binary STL header claiming 10 million triangles, with 12 in the file")
 def _(name):
     return {name: cube_stl_binary(count=10000000)}
+
+
+@case("static/stl_solid_with_control_bytes.stl",
+      "starts like an ASCII STL ('solid') but holds control bytes, so VTK reads it as binary with a huge count (found by fuzz_read_stl: 9.7 GB asked for)")
+def _(name):
+    return {name: cube_stl_ascii()[:100] + b"\x1e" * 312}
 
 
 @case("static/stl_nan.stl", "a binary STL cube with a NaN corner in triangle 3")

@@ -136,16 +136,30 @@ void check_ply(const std::string& path, std::uintmax_t size) {
   const std::string head = read_head(path, 64 * 1024);
   if (head.compare(0, 3, "ply") != 0 || (head.size() > 3 && head[3] != '\n' && head[3] != '\r'))
     fail(path, "does not start with 'ply'");
-  const std::size_t end = head.find("end_header");
-  if (end == std::string::npos) fail(path, "no 'end_header' in the first 64 KiB (truncated or not a PLY header)");
-  std::size_t body = head.find('\n', end);
-  if (body == std::string::npos) fail(path, "truncated after 'end_header'");
-  ++body;
+  // The header ends with a line that is exactly "end_header" (vtkPLY reads on into the binary
+  // body otherwise), and holds printable text only.
+  std::size_t end = std::string::npos, body = 0;
+  for (const char* marker : {"\nend_header\n", "\nend_header\r\n"}) {
+    const std::size_t at = head.find(marker);
+    if (at != std::string::npos && at < end) {
+      end = at + 1;
+      body = at + std::strlen(marker);
+    }
+  }
+  if (end == std::string::npos) fail(path, "no 'end_header' line in the first 64 KiB (truncated or not a PLY header)");
+  for (std::size_t i = 0; i < end; ++i) {
+    const auto c = static_cast<unsigned char>(head[i]);
+    if ((c < 0x20 && c != '\n' && c != '\r' && c != '\t') || c >= 0x7F)
+      fail(path, "the PLY header holds a byte that is not text (offset " + std::to_string(i) + ")");
+  }
   struct Property {
+    std::string name;
     bool list = false;
     int count_size = 0;  // list: bytes of the count
     bool count_signed = false;
     int size = 0;  // scalar bytes, or bytes per list item
+    bool item_signed = false;
+    bool vertex_ids = false;  // a face's vertex_indices: each checked against the vertex count
   };
   struct Element {
     std::string name;
@@ -192,17 +206,38 @@ void check_ply(const std::string& path, std::uintmax_t size) {
       Property prop;
       if (type == "list") {
         std::string count_type, item_type;
-        words >> count_type >> item_type;
+        words >> count_type >> item_type >> prop.name;
         prop.list = true;
         prop.count_size = type_size(count_type, &prop.count_signed, true);
-        prop.size = type_size(item_type);
+        prop.vertex_ids = e.name == "face" && (prop.name == "vertex_indices" || prop.name == "vertex_index");
+        prop.size = type_size(item_type, &prop.item_signed, prop.vertex_ids);
       } else {
+        words >> prop.name;
         prop.size = type_size(type);
       }
       e.properties.push_back(prop);
+    } else if (!word.empty() && word != "comment" && word != "obj_info" && word != "ply") {
+      // vtkPLY's header parser misreads lines it does not know (a fuzzer crashed it).
+      fail(path, "the PLY header line '" + line.substr(0, 32) + "' is not format, element, property or comment");
     }
   }
   if (format.empty()) fail(path, "the PLY header has no format line");
+  // vtkPLYReader needs vertices with x, y and z and faces with a vertex index list.
+  const auto find = [&](const char* name) -> const Element* {
+    for (const Element& e : elements)
+      if (e.name == name) return &e;
+    return nullptr;
+  };
+  const Element* vertex = find("vertex");
+  const Element* face = find("face");
+  const auto has = [](const Element* e, const char* name, bool list) {
+    return e && std::any_of(e->properties.begin(), e->properties.end(),
+                            [&](const Property& p) { return p.name == name && p.list == list; });
+  };
+  if (!has(vertex, "x", false) || !has(vertex, "y", false) || !has(vertex, "z", false))
+    fail(path, "the PLY header has no vertex element with x, y and z");
+  if (!has(face, "vertex_indices", true) && !has(face, "vertex_index", true))
+    fail(path, "no faces (the PLY header has no face element with a vertex_indices list)");
   const std::uintmax_t left = size > body ? size - body : 0;
   for (const Element& e : elements) {
     if (e.properties.empty() && e.count > 0) fail(path, "PLY element '" + e.name.substr(0, 32) + "' has no properties");
@@ -213,6 +248,14 @@ void check_ply(const std::string& path, std::uintmax_t size) {
                      std::to_string(left) + " bytes after its header");
   }
 
+  // VTK reads the points a face names without checking them: each id must name a vertex.
+  long long vertices = 0;
+  for (const Element& e : elements)
+    if (e.name == "vertex") vertices = static_cast<long long>(e.count);
+  const auto bad_id = [&](const Element& e, std::uintmax_t i, long long id) {
+    fail(path, e.name.substr(0, 32) + " " + std::to_string(i) + " uses vertex " + std::to_string(id) + ", past the " +
+                   std::to_string(vertices) + " vertices");
+  };
   std::ifstream in(path, std::ios::binary);
   in.seekg(static_cast<std::streamoff>(body));
   const auto truncated = [&](const Element& e, std::uintmax_t i) {
@@ -236,8 +279,12 @@ void check_ply(const std::string& path, std::uintmax_t size) {
           const long long n = std::strtoll(word.c_str(), &stop, 10);
           if (*stop != '\0' || n < 0 || n > 1 << 20)
             fail(path, e.name.substr(0, 32) + " " + std::to_string(i) + ": list length '" + word.substr(0, 32) + "' is not a whole number from 0 to 2^20");
-          for (long long k = 0; k < n; ++k)
+          for (long long k = 0; k < n; ++k) {
             if (!(words >> word)) truncated(e, i);
+            if (!prop.vertex_ids) continue;
+            const long long id = std::strtoll(word.c_str(), &stop, 10);
+            if (*stop != '\0' || id < 0 || id >= vertices) bad_id(e, i, id);
+          }
         }
       }
     return;
@@ -260,30 +307,77 @@ void check_ply(const std::string& path, std::uintmax_t size) {
         if (prop.count_signed && (raw >> (8 * prop.count_size - 1)) & 1u) n = -1;
         if (n < 0 || n > 1 << 20)
           fail(path, e.name.substr(0, 32) + " " + std::to_string(i) + ": list length is not from 0 to 2^20");
-        offset += std::uintmax_t(prop.count_size) + std::uintmax_t(n) * std::uintmax_t(prop.size);
+        offset += std::uintmax_t(prop.count_size);
+        if (prop.vertex_ids) {
+          for (long long k = 0; k < n; ++k, offset += std::uintmax_t(prop.size)) {
+            unsigned char v[4] = {};
+            if (offset + std::uintmax_t(prop.size) > size || !in.read(reinterpret_cast<char*>(v), prop.size)) truncated(e, i);
+            std::uint32_t u = 0;
+            for (int c = 0; c < prop.size; ++c) u |= std::uint32_t(v[big ? prop.size - 1 - c : c]) << (8 * c);
+            long long id = u;
+            if (prop.item_signed && (u >> (8 * prop.size - 1)) & 1u) id = static_cast<long long>(u) - (1ll << (8 * prop.size));
+            if (id < 0 || id >= vertices) bad_id(e, i, id);
+          }
+        } else {
+          offset += std::uintmax_t(n) * std::uintmax_t(prop.size);
+        }
         if (offset > size) truncated(e, i);
       }
   if (offset > size) fail(path, "truncated PLY: the elements need " + std::to_string(offset) + " bytes, the file has " + std::to_string(size));
 }
 
-/// Wavefront OBJ numbers: vtkOBJReader reads "nan" or "1e999" without a word (as 0 or Inf), so
-/// the v, vt and vn lines are checked here first: every value a finite number.
-void check_obj_numbers(const std::string& path) {
+/// Wavefront OBJ: vtkOBJReader reads "nan" or "1e999" without a word (as 0 or Inf) and follows
+/// a face's texture coordinate or normal index past the end of its arrays (a crash). So the file
+/// is read here first: every v, vt and vn value must be a finite number, and every index of a
+/// face, line or point must name an element defined before it (negative: counted back from there).
+void check_obj(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::string line;
   std::uintmax_t line_no = 0;
+  long long counts[3] = {0, 0, 0};  // v, vt, vn
+  static const char* kinds[3] = {"vertices", "texture coordinates", "normals"};
   while (std::getline(in, line)) {
     ++line_no;
-    if (line.size() < 2 || line[0] != 'v' || (line[1] != ' ' && line[1] != '\t' && line[1] != 't' && line[1] != 'n')) continue;
-    const std::size_t start = line[1] == ' ' || line[1] == '\t' ? 1 : 2;
-    std::istringstream words(line.substr(start));
+    if (line.size() < 2) continue;
+    const char c0 = line[0], c1 = line[1];
+    const bool blank1 = c1 == ' ' || c1 == '\t';
+    if (c0 == 'v' && (blank1 || ((c1 == 't' || c1 == 'n') && line.size() > 2 && (line[2] == ' ' || line[2] == '\t')))) {
+      ++counts[blank1 ? 0 : c1 == 't' ? 1 : 2];
+      std::istringstream words(line.substr(blank1 ? 1 : 2));
+      std::string word;
+      while (words >> word) {
+        if (word[0] == '#') break;
+        char* stop = nullptr;
+        const double v = std::strtod(word.c_str(), &stop);
+        if (*stop != '\0' || !std::isfinite(v))
+          fail(path, "line " + std::to_string(line_no) + ": '" + word.substr(0, 32) + "' is not a finite number");
+      }
+      continue;
+    }
+    if (!((c0 == 'f' || c0 == 'l' || c0 == 'p') && blank1)) continue;
+    std::istringstream words(line.substr(1));
     std::string word;
     while (words >> word) {
       if (word[0] == '#') break;
-      char* stop = nullptr;
-      const double v = std::strtod(word.c_str(), &stop);
-      if (*stop != '\0' || !std::isfinite(v))
-        fail(path, "line " + std::to_string(line_no) + ": '" + word.substr(0, 32) + "' is not a finite number");
+      std::size_t start = 0;
+      for (int kind = 0; kind < 3 && start <= word.size(); ++kind) {
+        const std::size_t slash = std::min(word.find('/', start), word.size());
+        const std::string part = word.substr(start, slash - start);
+        start = slash + 1;
+        if (part.empty()) {
+          if (kind == 0) fail(path, "line " + std::to_string(line_no) + ": '" + word.substr(0, 32) + "' names no vertex");
+          continue;
+        }
+        char* stop = nullptr;
+        errno = 0;
+        const long long id = std::strtoll(part.c_str(), &stop, 10);
+        const long long resolved = id < 0 ? counts[kind] + id + 1 : id;
+        if (*stop != '\0' || errno == ERANGE || id == 0 || resolved < 1 || resolved > counts[kind])
+          fail(path, "line " + std::to_string(line_no) + ": '" + part.substr(0, 32) + "' is not one of the " +
+                         std::to_string(counts[kind]) + " " + kinds[kind] +
+                         " defined before it");
+        if (slash == word.size()) break;
+      }
     }
   }
 }
@@ -291,8 +385,13 @@ void check_obj_numbers(const std::string& path) {
 /// A binary STL's triangle count must fit the file (50 bytes per triangle after 84).
 void check_stl(const std::string& path, std::uintmax_t size) {
   const std::string head = read_head(path, 256);
-  const bool text = head.compare(0, 5, "solid") == 0 &&
-                    std::none_of(head.begin(), head.end(), [](char c) { return c == '\0' || static_cast<unsigned char>(c) > 127; });
+  // Text only if it starts with "solid" and its head is printable: VTK takes anything else with
+  // control bytes as binary and allocates what bytes 80-83 say (a fuzzer found 9.7 GB asked for).
+  const auto printable = [](char ch) {
+    const auto c = static_cast<unsigned char>(ch);
+    return (c >= 0x20 && c < 0x7F) || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v';
+  };
+  const bool text = head.compare(0, 5, "solid") == 0 && std::all_of(head.begin(), head.end(), printable);
   if (text) return;
   if (size < 84) fail(path, "truncated binary STL: " + std::to_string(size) + " bytes, the header alone is 84");
   std::uint32_t count = 0;
@@ -425,7 +524,7 @@ Model read_static_model(const std::string& path) {
     if (static_cast<std::uintmax_t>(in.gcount()) != size) throw Error(ErrorCode::Io, path + ": could not read the whole file");
     mesh = parse_off(text, path);
   } else if (ext == ".obj") {
-    check_obj_numbers(path);
+    check_obj(path);
     vtkNew<vtkOBJReader> reader;
     mesh = read_with(reader.GetPointer(), path);
   } else if (ext == ".ply") {

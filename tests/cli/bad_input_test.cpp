@@ -122,10 +122,11 @@ const Expectation kCatalogue[] = {
     {"static/control_cube_ascii.stl", kHandled, ""},
     {"static/obj_empty.obj", kRefused, "file is empty"},
     {"static/obj_truncated.obj", kRefused, "no faces (only 2204 points)"},
-    {"static/obj_index_out_of_range.obj", kRefused, "face 5 uses vertex 98, past the 8 vertices"},
+    {"static/obj_index_out_of_range.obj", kRefused, "line 14: '99' is not one of the 8 vertices defined before it"},
     {"static/obj_nan.obj", kRefused, "line 2: 'nan' is not a finite number"},
     {"static/obj_binary_garbage.obj", kRefused, "Line longer than"},
     {"static/obj_unreferenced_vertices.obj", kHandled, "3 unreferenced vertices dropped"},
+    {"static/obj_uv_index_out_of_range.obj", kRefused, "line 187: '5454' is not one of the 71 texture coordinates"},
     {"static/off_truncated.off", kRefused, "truncated: the header claims 6 faces, the file holds 4"},
     {"static/off_huge_counts.off", kRefused, "the header claims 100000000 vertices; the file is only 38 bytes"},
     {"static/off_index_out_of_range.off", kRefused, "face 5 uses vertex 8, past the 8 vertices"},
@@ -135,11 +136,13 @@ const Expectation kCatalogue[] = {
     {"static/ply_truncated.ply", kRefused, "truncated PLY: face 4 of 6 is missing or incomplete"},
     {"static/ply_huge_count.ply", kRefused, "claims 100000000 vertex elements"},
     {"static/ply_index_out_of_range.ply", kRefused, "face 5 uses vertex 1000, past the 8 vertices"},
-    {"static/ply_no_end_header.ply", kRefused, "no 'end_header'"},
+    {"static/ply_no_end_header.ply", kRefused, "no 'end_header' line"},
+    {"static/ply_index_huge.ply", kRefused, "face 2 uses vertex 65536, past the 8 vertices"},
     {"static/stl_empty.stl", kRefused, "file is empty"},
     {"static/stl_truncated.stl", kRefused, "truncated binary STL: the header says 12 triangles, the file holds 4"},
     {"static/stl_huge_count.stl", kRefused, "the header says 10000000 triangles"},
     {"static/stl_nan.stl", kRefused, "is not finite"},
+    {"static/stl_solid_with_control_bytes.stl", kRefused, "truncated binary STL: the header says"},
 };
 
 // Test names print the file, not the bytes of the struct.

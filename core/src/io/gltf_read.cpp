@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <filesystem>
 #include <map>
 #include <unordered_map>
@@ -470,7 +471,12 @@ std::uint32_t to_uint(const unsigned char* p, int type, bool) {
     case kUnsignedInt: { std::uint32_t v; std::memcpy(&v, p, 4); return v; }
     case kByte: return static_cast<std::uint32_t>(std::max<int>(0, static_cast<std::int8_t>(*p)));
     case kShort: { std::int16_t v; std::memcpy(&v, p, 2); return static_cast<std::uint32_t>(std::max<int>(0, v)); }
-    case kFloat: { float f; std::memcpy(&f, p, 4); return std::isfinite(f) && f > 0 ? static_cast<std::uint32_t>(f) : 0u; }
+    case kFloat: {  // past 2^32 the cast is undefined: such a value is out of every range anyway
+      float f;
+      std::memcpy(&f, p, 4);
+      if (!(f > 0.0f)) return 0u;
+      return f < 4294967296.0f ? static_cast<std::uint32_t>(f) : std::numeric_limits<std::uint32_t>::max();
+    }
     default: return 0;
   }
 }
