@@ -270,10 +270,20 @@ void check_ply(const std::string& path, std::uintmax_t size) {
         do {
           if (!std::getline(in, row)) truncated(e, i);
         } while (row.find_first_not_of(" \t\r") == std::string::npos);
+        // vtkPLY splits lines as C strings: a NUL or another control byte loses words (a crash).
+        for (const char ch : row) {
+          const auto c = static_cast<unsigned char>(ch);
+          if ((c < 0x20 && c != '\t' && c != '\r') || c >= 0x7F)
+            fail(path, e.name.substr(0, 32) + " " + std::to_string(i) + ": a byte that is not text in an ASCII PLY");
+        }
         std::istringstream words(row);
         std::string word;
         for (const Property& prop : e.properties) {
           if (!(words >> word)) truncated(e, i);
+          char* end_of_number = nullptr;
+          (void)std::strtod(word.c_str(), &end_of_number);
+          if (*end_of_number != '\0')
+            fail(path, e.name.substr(0, 32) + " " + std::to_string(i) + ": '" + word.substr(0, 32) + "' is not a number");
           if (!prop.list) continue;
           char* stop = nullptr;
           const long long n = std::strtoll(word.c_str(), &stop, 10);
