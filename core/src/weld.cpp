@@ -2,41 +2,100 @@
 #include "deepcut/core/weld.h"
 
 #include <cstring>
-#include <unordered_map>
 #include <vector>
+
+#include "deepcut/core/parallel.h"
 
 namespace deepcut {
 namespace {
 
-struct VertexBytes {
-  const SurfaceMesh& mesh;
-  std::vector<const AttributeArrayBase*> arrays;
+constexpr std::size_t kGrain = 16384;
 
-  explicit VertexBytes(const SurfaceMesh& m) : mesh(m) {
-    for (const auto& name : m.vertex_attrs().names()) arrays.push_back(m.vertex_attrs().base(name));
-  }
-  // Positions hash with -0 folded into +0 so they weld; other attributes hash raw.
-  std::uint64_t hash(std::uint32_t v, bool position_only) const {
-    std::uint64_t h = 1469598103934665603ull;
-    const glm::vec3 p = mesh.positions()[v] + glm::vec3(0.0f);
-    const auto* pb = reinterpret_cast<const unsigned char*>(&p);
-    for (std::size_t i = 0; i < sizeof(p); ++i) h = (h ^ pb[i]) * 1099511628211ull;
-    if (position_only) return h;
-    for (const auto* a : arrays) {
-      if (a == mesh.vertex_attrs().base(attr::kPosition)) continue;
-      const auto* b = static_cast<const unsigned char*>(a->element_data(v));
-      for (std::size_t i = 0; i < a->element_bytes(); ++i) h = (h ^ b[i]) * 1099511628211ull;
+// The vertex attributes as raw arrays (no virtual call per vertex): positions compare by value
+// (+0 == -0) and hash with -0 folded into +0; every other attribute compares and hashes raw.
+class VertexBytes {
+ public:
+  explicit VertexBytes(const SurfaceMesh& mesh) : positions_(mesh.positions().data()) {
+    const auto& va = mesh.vertex_attrs();
+    if (va.size() == 0) return;
+    for (const auto& name : va.names()) {
+      if (name == attr::kPosition) continue;
+      const AttributeArrayBase* a = va.base(name);
+      arrays_.push_back({static_cast<const unsigned char*>(a->element_data(0)), a->element_bytes()});
     }
-    return h;
   }
+
+  std::uint64_t hash(std::uint32_t v) const {
+    std::uint64_t h = position_hash(v);
+    for (const auto& a : arrays_) {
+      const unsigned char* p = a.data + std::size_t(v) * a.bytes;
+      std::size_t i = 0;
+      for (; i + 4 <= a.bytes; i += 4) {
+        std::uint32_t word;
+        std::memcpy(&word, p + i, 4);
+        h = mix(h, word);
+      }
+      for (; i < a.bytes; ++i) h = mix(h, p[i]);
+    }
+    return finish(h);
+  }
+  std::uint64_t position_hash(std::uint32_t v) const {
+    const glm::vec3 p = positions_[v] + glm::vec3(0.0f);  // -0 + 0 = +0
+    std::uint32_t w[3];
+    std::memcpy(w, &p, sizeof(w));
+    return mix(mix(mix(0x243f6a8885a308d3ull, w[0]), w[1]), w[2]);
+  }
+  bool same_position(std::uint32_t u, std::uint32_t v) const { return positions_[u] == positions_[v]; }
   bool equal(std::uint32_t u, std::uint32_t v) const {
-    if (mesh.positions()[u] != mesh.positions()[v]) return false;  // -0 == +0 here
-    for (const auto* a : arrays) {
-      if (a == mesh.vertex_attrs().base(attr::kPosition)) continue;
-      if (std::memcmp(a->element_data(u), a->element_data(v), a->element_bytes()) != 0) return false;
-    }
+    if (!same_position(u, v)) return false;
+    for (const auto& a : arrays_)
+      if (std::memcmp(a.data + std::size_t(u) * a.bytes, a.data + std::size_t(v) * a.bytes, a.bytes) != 0) return false;
     return true;
   }
+
+ private:
+  static std::uint64_t mix(std::uint64_t h, std::uint32_t word) {
+    return (h ^ word) * 0x9e3779b97f4a7c15ull;
+  }
+  static std::uint64_t finish(std::uint64_t h) {
+    h ^= h >> 29;
+    h *= 0xbf58476d1ce4e5b9ull;
+    return h ^ (h >> 32);
+  }
+
+  struct Raw {
+    const unsigned char* data;
+    std::size_t bytes;
+  };
+  const glm::vec3* positions_;
+  std::vector<Raw> arrays_;
+};
+
+// Open addressing over new-vertex ids, keyed by a 64-bit hash; equality decides.
+class VertexTable {
+ public:
+  explicit VertexTable(std::size_t expected) {
+    std::size_t n = 16;
+    while (n < 2 * expected) n *= 2;
+    slots_.assign(n, kInvalidIndex);
+    mask_ = n - 1;
+  }
+  // The id stored under `h` for which `same(id)` holds, or kInvalidIndex after storing `id`.
+  template <class Same>
+  std::uint32_t find_or_insert(std::uint64_t h, std::uint32_t id, const std::vector<std::uint64_t>& hashes, Same&& same) {
+    for (std::size_t i = h & mask_;; i = (i + 1) & mask_) {
+      const std::uint32_t s = slots_[i];
+      if (s == kInvalidIndex) {
+        slots_[i] = id;
+        return kInvalidIndex;
+      }
+      if (hashes[s] == h && same(s)) return s;
+    }
+  }
+
+ private:
+  std::vector<std::uint32_t> slots_;
+  std::size_t mask_ = 0;
 };
 
 }  // namespace
@@ -45,42 +104,81 @@ WeldReport weld(SurfaceMesh& mesh) {
   WeldReport report;
   const VertexBytes bytes(mesh);
   const auto nv = static_cast<std::uint32_t>(mesh.vertex_count());
+  const auto& in_faces = mesh.faces();
+
+  // Vertices in order of first use by the live faces.
+  std::vector<std::uint32_t> first_use;
+  first_use.reserve(nv);
+  std::vector<std::uint8_t> used(nv, 0);
+  std::vector<std::uint32_t> kept_faces;  // live face slots, in order
+  kept_faces.reserve(mesh.face_count());
+  mesh.for_each_face([&](FaceId f, const Triangle& t) {
+    kept_faces.push_back(f.index);
+    for (VertexId v : t)
+      if (!used[v.index]) {
+        used[v.index] = 1;
+        first_use.push_back(v.index);
+      }
+  });
+  report.dropped = nv - first_use.size();
+
+  // Hashes, in parallel; then the merge in first-use order, so the first user of a class is its
+  // representative (its bytes, e.g. the sign of a zero coordinate, are the ones kept).
+  const std::size_t nu = first_use.size();
+  std::vector<std::uint64_t> hash(nu), position_hash(nu);
+  parallel_for(nu, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      hash[i] = bytes.hash(first_use[i]);
+      position_hash[i] = bytes.position_hash(first_use[i]);
+    }
+  });
   std::vector<std::uint32_t> to_new(nv, kInvalidIndex);
   std::vector<std::uint32_t> keep;  // new vertex -> old representative
-  keep.reserve(nv);
-  std::unordered_multimap<std::uint64_t, std::uint32_t> seen;  // hash -> new vertex
-  std::unordered_map<std::uint64_t, std::uint32_t> at_position;
-  seen.reserve(nv);
-  std::vector<Triangle> faces;
-  std::vector<std::uint32_t> kept_faces, corners;
-  faces.reserve(mesh.face_count());
-  auto map = [&](VertexId v) {
-    std::uint32_t& slot = to_new[v.index];
-    if (slot != kInvalidIndex) return VertexId(slot);
-    const auto h = bytes.hash(v.index, false);
-    auto range = seen.equal_range(h);
-    for (auto it = range.first; it != range.second; ++it)
-      if (bytes.equal(keep[it->second], v.index)) {
-        slot = it->second;
-        ++report.merged;
-        return VertexId(slot);
-      }
-    slot = static_cast<std::uint32_t>(keep.size());
-    keep.push_back(v.index);
-    seen.emplace(h, slot);
-    if (!at_position.emplace(bytes.hash(v.index, true), slot).second) ++report.kept_apart;
-    return VertexId(slot);
-  };
-  mesh.for_each_face([&](FaceId f, const Triangle& t) {
-    faces.push_back({map(t[0]), map(t[1]), map(t[2])});
-    kept_faces.push_back(f.index);
-    for (int k = 0; k < 3; ++k) corners.push_back(SurfaceMesh::corner(f, k));
+  std::vector<std::uint64_t> keep_hash, keep_position_hash;
+  keep.reserve(nu);
+  keep_hash.reserve(nu);
+  keep_position_hash.reserve(nu);
+  VertexTable classes(nu), positions(nu);
+  for (std::size_t i = 0; i < nu; ++i) {
+    const std::uint32_t v = first_use[i];
+    const auto id = static_cast<std::uint32_t>(keep.size());
+    keep_hash.push_back(hash[i]);
+    const std::uint32_t same =
+        classes.find_or_insert(hash[i], id, keep_hash, [&](std::uint32_t s) { return bytes.equal(keep[s], v); });
+    if (same != kInvalidIndex) {
+      keep_hash.pop_back();
+      to_new[v] = same;
+      ++report.merged;
+      continue;
+    }
+    to_new[v] = id;
+    keep.push_back(v);
+    keep_position_hash.push_back(position_hash[i]);
+    const std::uint32_t at = positions.find_or_insert(position_hash[i], id, keep_position_hash, [&](std::uint32_t s) {
+      return bytes.same_position(keep[s], v);
+    });
+    if (at != kInvalidIndex) ++report.kept_apart;
+  }
+
+  std::vector<Triangle> faces(kept_faces.size());
+  parallel_for(faces.size(), kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      const Triangle& t = in_faces[kept_faces[i]];
+      faces[i] = {VertexId(to_new[t[0].index]), VertexId(to_new[t[1].index]), VertexId(to_new[t[2].index])};
+    }
   });
-  for (std::uint32_t v = 0; v < nv; ++v) report.dropped += to_new[v] == kInvalidIndex;
-  AttributeSet vattrs = mesh.vertex_attrs(), fattrs = mesh.face_attrs(), cattrs = mesh.corner_attrs();
+  // The attribute sets leave the mesh (no copy) and come back gathered.
+  const bool faces_deleted = kept_faces.size() != in_faces.size();
+  AttributeSet vattrs = std::move(mesh.vertex_attrs()), fattrs = std::move(mesh.face_attrs()),
+               cattrs = std::move(mesh.corner_attrs());
   vattrs.gather(keep);
-  fattrs.gather(kept_faces);
-  cattrs.gather(corners);
+  if (faces_deleted) {
+    std::vector<std::uint32_t> corners(3 * kept_faces.size());
+    for (std::size_t i = 0; i < kept_faces.size(); ++i)
+      for (std::uint32_t k = 0; k < 3; ++k) corners[3 * i + k] = 3 * kept_faces[i] + k;
+    fattrs.gather(kept_faces);
+    cattrs.gather(corners);
+  }
   mesh.assign(std::move(faces), std::move(vattrs), std::move(fattrs), std::move(cattrs));
   return report;
 }

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "deepcut/core/adjacency.h"
+#include "deepcut/core/parallel.h"
 #include "fixtures.h"
 
 namespace deepcut {
@@ -58,6 +59,36 @@ TEST(WeldTest, never_merges_different_skin_weights_and_drops_unused_vertices) {
   EXPECT_EQ(mesh.vertex_count(), 5u);
   EXPECT_EQ(r.kept_apart, 1u);
   EXPECT_EQ(r.dropped, 1u);
+}
+
+}  // namespace deepcut
+
+namespace deepcut {
+
+TEST(WeldTest, the_result_does_not_depend_on_the_thread_count) {
+  // Large enough for several parallel chunks.
+  const SurfaceMesh split = unweld(test::make_grid(160, 120));
+  std::vector<SurfaceMesh> welded;
+  std::vector<WeldReport> reports;
+  const std::size_t saved = thread_count();
+  for (std::size_t threads : {1u, 2u, 3u}) {
+    set_thread_count(threads);
+    SurfaceMesh mesh = split;
+    reports.push_back(weld(mesh));
+    welded.push_back(std::move(mesh));
+  }
+  set_thread_count(saved);
+  for (std::size_t i = 1; i < welded.size(); ++i) {
+    EXPECT_EQ(welded[i].faces(), welded[0].faces());
+    EXPECT_EQ(welded[i].positions(), welded[0].positions());
+    EXPECT_EQ(welded[i].corner_attrs().get<glm::vec2>(attr::kUv0).data(),
+              welded[0].corner_attrs().get<glm::vec2>(attr::kUv0).data());
+    EXPECT_EQ(welded[i].vertex_attrs().get<glm::vec4>(attr::kWeights0).data(),
+              welded[0].vertex_attrs().get<glm::vec4>(attr::kWeights0).data());
+    EXPECT_EQ(reports[i].merged, reports[0].merged);
+  }
+  EXPECT_EQ(welded[0].vertex_count(), 161u * 121u);
+  EXPECT_EQ(reports[0].merged, split.vertex_count() - 161u * 121u);
 }
 
 }  // namespace deepcut

@@ -18,6 +18,7 @@
 #include <glm/gtc/type_precision.hpp>
 
 #include "deepcut/core/errors.h"
+#include "deepcut/core/parallel.h"
 
 namespace deepcut {
 
@@ -86,9 +87,10 @@ class AttributeArray final : public AttributeArrayBase {
   }
   void copy(std::size_t dst, std::size_t src) override { data_[dst] = data_[src]; }
   void gather(const std::vector<std::uint32_t>& keep) override {
-    std::vector<T> out;
-    out.reserve(keep.size());
-    for (std::uint32_t i : keep) out.push_back(data_[i]);
+    std::vector<T> out(keep.size());
+    parallel_for(keep.size(), 32768, [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i < e; ++i) out[i] = data_[keep[i]];
+    });
     data_.swap(out);
   }
   std::unique_ptr<AttributeArrayBase> clone() const override {
