@@ -14,6 +14,7 @@
 #include "deepcut/core/adjacency.h"
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/mesh_editor.h"
+#include "deepcut/core/parallel.h"
 #include "deepcut/core/skinning.h"
 #include "deepcut/core/validate.h"
 #include "fixtures.h"
@@ -397,6 +398,40 @@ TEST(CutTest, cap_never_duplicates_a_face_lying_in_the_plane) {
   });
   test::expect_valid(mesh);
   EXPECT_TRUE(Adjacency::build(mesh).nonmanifold_edges().empty());
+}
+
+}  // namespace deepcut
+
+namespace deepcut {
+
+TEST(CutTest, the_result_does_not_depend_on_the_thread_count) {
+  // Large enough for several parallel chunks of vertices and faces.
+  const SurfaceMesh input = test::make_grid(260, 140);
+  const Plane plane{{0.5f, 0.5f, 0.0f}, {1.0f, 0.37f, 0.0f}};
+  const std::size_t saved = thread_count();
+  std::vector<SurfaceMesh> meshes;
+  std::vector<CutResult> results;
+  for (std::size_t threads : {1u, 2u, 3u}) {
+    set_thread_count(threads);
+    for (bool split : {false, true}) {
+      SurfaceMesh mesh = input;
+      CutOptions options;
+      options.split_components = split;
+      results.push_back(cut_mesh(mesh, mesh.positions(), plane, options));
+      meshes.push_back(std::move(mesh));
+    }
+  }
+  set_thread_count(saved);
+  for (std::size_t i = 2; i < meshes.size(); ++i) {
+    const std::size_t j = i % 2;  // same options, one thread
+    EXPECT_EQ(meshes[i].faces(), meshes[j].faces());
+    EXPECT_EQ(meshes[i].positions(), meshes[j].positions());
+    EXPECT_EQ(results[i].pieces, results[j].pieces);
+    EXPECT_EQ(results[i].rim_vertices, results[j].rim_vertices);
+    EXPECT_EQ(results[i].log.size(), results[j].log.size());
+  }
+  ASSERT_EQ(results[0].pieces.size(), 2u);
+  EXPECT_EQ(results[0].pieces[0].size() + results[0].pieces[1].size(), meshes[0].face_count());
 }
 
 }  // namespace deepcut

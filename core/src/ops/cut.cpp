@@ -9,12 +9,17 @@
 #include <unordered_set>
 
 #include "deepcut/core/mesh_editor.h"
+#include "deepcut/core/parallel.h"
 #include "deepcut/core/skinning.h"
 #include "ops/pieces.h"
 #include "ops/polygon_triangulation.h"
 
 namespace deepcut {
 namespace {
+
+// Elements per parallel chunk: small meshes (the default cactus) stay on one thread, where
+// waking another would cost more than it saves.
+constexpr std::size_t kGrain = 32768;
 
 std::uint64_t edge_key(VertexId a, VertexId b) {
   const auto lo = std::min(a.index, b.index), hi = std::max(a.index, b.index);
@@ -67,13 +72,22 @@ class Cutter {
   std::size_t first_new_;
   CutOptions options_;
   glm::dvec3 normal_, point_;
-  std::vector<double> dist_;
+  // Signed distance to the plane (computed in float from the posed positions, so stored as
+  // float) and its snapped sign, per vertex.
+  std::vector<float> dist_;
   std::vector<std::int8_t> sign_;
   std::unordered_map<std::uint64_t, Split> splits_;
   // Faces with two or more corners on the plane (the only ones that can have rim edges), and
   // the piece of each face slot.
   std::vector<FaceId> rim_faces_;
+  // Piece of each rim face: by side (piece_of_side_) unless components were split, then by
+  // face slot (piece_of_face_).
   std::vector<std::uint32_t> piece_of_face_;
+  std::uint32_t piece_of_side_[2] = {kInvalidIndex, kInvalidIndex};
+  std::uint32_t piece_of(FaceId f) const {
+    if (options_.split_components) return piece_of_face_[f.index];
+    return piece_of_side_[face_side(mesh_.face(f)) > 0 ? 0 : 1];
+  }
   // Faces that may touch the plane: untouched ones with a corner on it, and every new face.
   std::vector<FaceId> rim_candidates_;
   std::size_t intersections_ = 0;
@@ -94,7 +108,7 @@ VertexId Cutter::split_edge(VertexId a, VertexId b) {
   const float t = static_cast<float>(dl / (dl - dh));
   const VertexId v = editor_.add_vertex_on_edge(lo, hi, t);
   new_posed_.push_back(glm::mix(posed(lo), posed(hi), t));
-  dist_.push_back(0.0);
+  dist_.push_back(0.0f);
   sign_.push_back(0);
   splits_.emplace(key, Split{lo, hi, v, t});
   ++intersections_;
@@ -198,9 +212,14 @@ void Cutter::separate_sides() {
 }
 
 void Cutter::index_rim(const CutResult& result) {
-  piece_of_face_.assign(mesh_.face_slots(), kInvalidIndex);
-  for (std::size_t p = 0; p < result.pieces.size(); ++p)
-    for (FaceId f : result.pieces[p]) piece_of_face_[f.index] = static_cast<std::uint32_t>(p);
+  if (options_.split_components) {
+    piece_of_face_.assign(mesh_.face_slots(), kInvalidIndex);
+    for (std::size_t p = 0; p < result.pieces.size(); ++p)
+      for (FaceId f : result.pieces[p]) piece_of_face_[f.index] = static_cast<std::uint32_t>(p);
+  } else {
+    for (std::size_t p = 0; p < result.pieces.size(); ++p)
+      piece_of_side_[result.piece_sides[p] > 0 ? 0 : 1] = static_cast<std::uint32_t>(p);
+  }
   rim_faces_.clear();
   for (FaceId f : rim_candidates_) {
     if (mesh_.is_deleted(f)) continue;
@@ -216,14 +235,14 @@ std::vector<std::pair<VertexId, VertexId>> Cutter::rim_halfedges(std::size_t pie
   auto skipped = [&](FaceId f) { return std::binary_search(skip.begin(), skip.end(), f); };
   std::unordered_map<std::uint64_t, int> count;
   for (FaceId f : rim_faces_) {
-    if (piece_of_face_[f.index] != piece || skipped(f)) continue;
+    if (piece_of(f) != piece || skipped(f)) continue;
     const auto& t = mesh_.face(f);
     for (int k = 0; k < 3; ++k)
       if (sign_[t[k].index] == 0 && sign_[t[(k + 1) % 3].index] == 0) ++count[edge_key(t[k], t[(k + 1) % 3])];
   }
   std::vector<std::pair<VertexId, VertexId>> out;
   for (FaceId f : rim_faces_) {
-    if (piece_of_face_[f.index] != piece || skipped(f)) continue;
+    if (piece_of(f) != piece || skipped(f)) continue;
     const auto& t = mesh_.face(f);
     for (int k = 0; k < 3; ++k) {
       const VertexId a = t[k], b = t[(k + 1) % 3];
@@ -298,7 +317,7 @@ void Cutter::cap_piece(std::vector<FaceId>& piece, std::size_t index) {
   // they stay and the rim is capped as it is.
   std::vector<FaceId> flat_faces;
   for (FaceId f : rim_faces_)
-    if (piece_of_face_[f.index] == index && flat(mesh_.face(f))) flat_faces.push_back(f);
+    if (piece_of(f) == index && flat(mesh_.face(f))) flat_faces.push_back(f);
   std::sort(flat_faces.begin(), flat_faces.end());
   std::vector<Triangle> kept_flat;  // flat faces the cap must not repeat
   if (flat_faces.empty() || !trace(rim_halfedges(index, flat_faces))) {
@@ -368,13 +387,34 @@ void Cutter::cap_piece(std::vector<FaceId>& piece, std::size_t index) {
 }
 
 void Cutter::collect_pieces(CutResult& result) {
-  std::vector<FaceId> side_faces[2];  // positive, negative
-  mesh_.for_each_face([&](FaceId f, const Triangle& t) { side_faces[face_side(t) > 0 ? 0 : 1].push_back(f); });
+  // Live faces by side, in id order: chunks listed in parallel, joined in chunk order.
+  struct Lists {
+    std::vector<FaceId> side[2];  // positive, negative
+  };
+  const std::size_t slots = mesh_.face_slots();
+  const std::size_t chunks = (slots + kGrain - 1) / kGrain;
+  std::vector<Lists> parts(chunks);
+  parallel_for(slots, kGrain, [&](std::size_t b, std::size_t e) {
+    Lists& out = parts[b / kGrain];
+    out.side[0].reserve(e - b);
+    for (auto i = static_cast<std::uint32_t>(b); i < e; ++i) {
+      const FaceId f(i);
+      if (!mesh_.is_deleted(f)) out.side[face_side(mesh_.face(f)) > 0 ? 0 : 1].push_back(f);
+    }
+  });
+  std::vector<FaceId> side_faces[2];
+  for (int s = 0; s < 2; ++s) {
+    std::size_t n = 0;
+    for (const Lists& l : parts) n += l.side[s].size();
+    side_faces[s].reserve(n);
+    for (const Lists& l : parts) side_faces[s].insert(side_faces[s].end(), l.side[s].begin(), l.side[s].end());
+  }
+  parts.clear();
   for (int s = 0; s < 2; ++s) {
     if (side_faces[s].empty()) continue;
     const int side = s == 0 ? 1 : -1;
     if (!options_.split_components) {
-      result.pieces.push_back(side_faces[s]);
+      result.pieces.push_back(std::move(side_faces[s]));
       result.piece_sides.push_back(side);
       continue;
     }
@@ -416,45 +456,74 @@ CutResult Cutter::run() {
     throw Error(ErrorCode::InvalidArgument, "cut: the plane point is not finite");
   normal_ /= nlen;
 
-  // Classify every vertex once: distances and the model size in one pass over the vertices.
+  // Classify every vertex once: distances and the model size in one pass over the vertices
+  // (vertices no face uses count for neither), in parallel chunks.
   std::vector<std::uint8_t> used(nv, 0);
   for (const auto& t : mesh_.faces()) used[t[0].index] = used[t[1].index] = used[t[2].index] = 1;
   const glm::vec3 point(point_), normal(normal_);
-  dist_.assign(nv, 0.0);
-  sign_.assign(nv, 0);
-  BoundingBox box;
-  for (std::size_t v = 0; v < nv; ++v) {
-    if (!used[v]) continue;
-    const glm::vec3& p = input_posed_[v];
-    box.add(p);
-    dist_[v] = glm::dot(p - point, normal);
-  }
+  dist_.resize(nv);
+  sign_.resize(nv);
+  const BoundingBox box = parallel_reduce(
+      nv, kGrain, BoundingBox(),
+      [&](std::size_t b, std::size_t e) {
+        BoundingBox part;
+        for (std::size_t v = b; v < e; ++v) {
+          if (!used[v]) {
+            dist_[v] = 0.0f;
+            continue;
+          }
+          const glm::vec3& p = input_posed_[v];
+          part.add(p);
+          dist_[v] = glm::dot(p - point, normal);
+        }
+        return part;
+      },
+      [](BoundingBox acc, const BoundingBox& part) {
+        acc.add(part);
+        return acc;
+      });
   const double tol = double(options_.relative_tolerance) * double(box.diagonal());
-  bool pos = false, neg = false;
-  for (std::size_t v = 0; v < nv; ++v) {
-    if (!used[v]) continue;
-    const double d = dist_[v];
-    sign_[v] = d > tol ? 1 : (d < -tol ? -1 : 0);
-    pos |= sign_[v] > 0;
-    neg |= sign_[v] < 0;
-  }
-  if (!pos || !neg) {
+  const int sides = parallel_reduce(
+      nv, kGrain, 0,
+      [&](std::size_t b, std::size_t e) {
+        int bits = 0;
+        for (std::size_t v = b; v < e; ++v) {
+          const double d = dist_[v];
+          const std::int8_t sg = !used[v] ? 0 : (d > tol ? 1 : (d < -tol ? -1 : 0));
+          sign_[v] = sg;
+          bits |= sg > 0 ? 1 : (sg < 0 ? 2 : 0);
+        }
+        return bits;
+      },
+      [](int acc, int bits) { return acc | bits; });
+  if (sides != 3) {
     result.status = OpStatus::NoIntersection;
     return result;
   }
-  // Split crossed faces; remember untouched faces with a corner on the plane (rim candidates).
+  // Faces the plane crosses (split below) and untouched faces with a corner on the plane (rim
+  // candidates), found in parallel chunks and handled in id order.
   const auto first_new_face = static_cast<std::uint32_t>(mesh_.face_slots());
-  for (std::uint32_t i = 0; i < first_new_face; ++i) {
-    const FaceId f(i);
-    if (mesh_.is_deleted(f)) continue;
-    const auto& t = mesh_.face(f);
-    const int s0 = sign_[t[0].index], s1 = sign_[t[1].index], s2 = sign_[t[2].index];
-    const bool crossed = (s0 > 0 || s1 > 0 || s2 > 0) && (s0 < 0 || s1 < 0 || s2 < 0);
-    if (crossed) {
-      split_face(f);
-    } else if (s0 == 0 || s1 == 0 || s2 == 0) {
-      rim_candidates_.push_back(f);
+  struct Found {
+    std::vector<FaceId> crossed, touching;
+  };
+  std::vector<Found> found((first_new_face + kGrain - 1) / kGrain);
+  parallel_for(first_new_face, kGrain, [&](std::size_t b, std::size_t e) {
+    Found& out = found[b / kGrain];
+    for (auto i = static_cast<std::uint32_t>(b); i < e; ++i) {
+      const FaceId f(i);
+      if (mesh_.is_deleted(f)) continue;
+      const auto& t = mesh_.face(f);
+      const int s0 = sign_[t[0].index], s1 = sign_[t[1].index], s2 = sign_[t[2].index];
+      const bool crossed = (s0 > 0 || s1 > 0 || s2 > 0) && (s0 < 0 || s1 < 0 || s2 < 0);
+      if (crossed)
+        out.crossed.push_back(f);
+      else if (s0 == 0 || s1 == 0 || s2 == 0)
+        out.touching.push_back(f);
     }
+  });
+  for (const Found& part : found) {
+    for (FaceId f : part.crossed) split_face(f);
+    rim_candidates_.insert(rim_candidates_.end(), part.touching.begin(), part.touching.end());
   }
   for (auto i = first_new_face; i < mesh_.face_slots(); ++i) rim_candidates_.push_back(FaceId(i));
 
