@@ -49,6 +49,11 @@ void Adjacency::remove_face(FaceId f, const Triangle& t) {
     if (t[k].index < vertex_faces_.size()) erase_sorted(vertex_faces_[t[k].index], f);
 }
 
+void Adjacency::reserve(std::size_t vertices, std::size_t faces) {
+  vertex_faces_.reserve(vertices);
+  face_vertices_.reserve(faces);
+}
+
 Adjacency Adjacency::build(const SurfaceMesh& mesh) {
   Adjacency adj;
   const std::size_t nv = mesh.vertex_count();

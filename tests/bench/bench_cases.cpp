@@ -60,12 +60,26 @@ const Input& input(std::size_t triangles) {
 
 // A fresh copy of the input as a session holds it after loading: with room to grow, so a timing
 // is the operation's, not the first reallocation of every attribute array (memory_floor shows
-// that cost), and with its adjacency.
+// that cost), and with its adjacency (with the same room).
 std::pair<SurfaceMesh, Adjacency> session_copy(const Input& in) {
   std::pair<SurfaceMesh, Adjacency> out{in.mesh, in.adjacency};
   SurfaceMesh& mesh = out.first;
-  mesh.reserve(mesh.vertex_count() + mesh.vertex_count() / 8 + 4096, mesh.face_slots() + mesh.face_slots() / 8 + 8192);
+  const std::size_t vertices = mesh.vertex_count() + mesh.vertex_count() / 8 + 4096;
+  const std::size_t faces = mesh.face_slots() + mesh.face_slots() / 8 + 8192;
+  mesh.reserve(vertices, faces);
+  out.second.reserve(vertices, faces);
   return out;
+}
+
+// The session's spatial index over the input (built once, like the adjacency).
+const TriangleGrid& grid_for(std::size_t triangles) {
+  static std::map<std::size_t, TriangleGrid> grids;
+  auto it = grids.find(triangles);
+  if (it == grids.end()) {
+    const Input& in = input(triangles);
+    it = grids.emplace(triangles, TriangleGrid::build(in.mesh, in.mesh.positions())).first;
+  }
+  return it->second;
 }
 
 std::string size_name(std::size_t triangles) { return triangles >= 500000 ? "1M" : "25k"; }
@@ -143,15 +157,13 @@ Cylinder drill_cylinder(const Input& in) {
 
 void bm_drill_ours(benchmark::State& state, std::size_t triangles) {
   const Input& in = input(triangles);
-  static std::map<std::size_t, TriangleGrid> grids;
-  auto it = grids.find(triangles);
-  if (it == grids.end()) it = grids.emplace(triangles, TriangleGrid::build(in.mesh, in.mesh.positions())).first;
+  const TriangleGrid& grid = grid_for(triangles);
   const Cylinder cyl = drill_cylinder(in);
   for (auto _ : state) {
     state.PauseTiming();
     auto [mesh, adjacency] = session_copy(in);
     state.ResumeTiming();
-    DrillResult r = drill_mesh(mesh, mesh.positions(), cyl, {}, &it->second);
+    DrillResult r = drill_mesh(mesh, mesh.positions(), cyl, {}, &grid);
     adjacency.apply(r.log);
     benchmark::DoNotOptimize(r.log.size());
     state.PauseTiming();
@@ -182,9 +194,11 @@ void bm_drill_vtk(benchmark::State& state, std::size_t triangles) {
   set_triangles(state, in.mesh);
 }
 
-// One scalpel stroke across the front of the trunk (a local edit: its cost follows the slit).
+// One scalpel stroke across the front of the trunk (a local edit: its cost follows the slit,
+// with the session's spatial index).
 void bm_tear(benchmark::State& state, std::size_t triangles) {
   const Input& in = input(triangles);
+  const TriangleGrid& grid = grid_for(triangles);
   const BoundingBox box = in.mesh.bounds();
   const glm::vec3 c = 0.5f * (box.min + box.max);
   const float h = box.max.y - box.min.y;
@@ -197,7 +211,7 @@ void bm_tear(benchmark::State& state, std::size_t triangles) {
     state.PauseTiming();
     auto [mesh, adjacency] = session_copy(in);
     state.ResumeTiming();
-    TearResult r = tear_mesh(mesh, mesh.positions(), no_skin, start, end);
+    TearResult r = tear_mesh(mesh, mesh.positions(), no_skin, start, end, {}, &grid);
     adjacency.apply(r.log);
     points = r.intersection_points;
     state.PauseTiming();

@@ -665,3 +665,70 @@ TEST(TearTest, model_tears_export_animated_files_that_pass_the_validator) {
 }
 
 }  // namespace deepcut
+
+namespace deepcut {
+namespace {
+
+// Faces (in slot order, deleted ones marked) and positions: what two tears must agree on.
+struct MeshState {
+  std::vector<Triangle> faces;
+  std::vector<bool> deleted;
+  std::vector<glm::vec3> positions;
+  bool operator==(const MeshState& o) const {
+    return faces == o.faces && deleted == o.deleted && positions == o.positions;
+  }
+};
+MeshState state_of(const SurfaceMesh& mesh) {
+  MeshState s{mesh.faces(), {}, mesh.positions()};
+  for (std::size_t f = 0; f < mesh.face_slots(); ++f) s.deleted.push_back(mesh.is_deleted(FaceId(std::uint32_t(f))));
+  return s;
+}
+
+// Tears `strokes` in a row on two copies of `input`, one scanning every face and one using a
+// spatial index kept up to date from the logs: the results must be the same, stroke by stroke.
+void expect_index_gives_the_same_tears(const SurfaceMesh& input, const std::vector<std::pair<Blade, Blade>>& strokes,
+                                       const TearOptions& options) {
+  SurfaceMesh scanned = input, indexed = input;
+  TriangleGrid index = TriangleGrid::build(indexed, indexed.positions());
+  const std::vector<glm::mat3> no_skin;
+  for (std::size_t i = 0; i < strokes.size(); ++i) {
+    SCOPED_TRACE("stroke " + std::to_string(i));
+    const TearResult a = tear_mesh(scanned, scanned.positions(), no_skin, strokes[i].first, strokes[i].second, options);
+    const TearResult b =
+        tear_mesh(indexed, indexed.positions(), no_skin, strokes[i].first, strokes[i].second, options, &index);
+    index.apply(b.log, indexed.positions());
+    ASSERT_EQ(a.status, OpStatus::Ok);
+    ASSERT_EQ(b.status, OpStatus::Ok);
+    EXPECT_EQ(a.intersection_points, b.intersection_points);
+    EXPECT_EQ(a.tear_vertices, b.tear_vertices);
+    EXPECT_EQ(a.slits, b.slits);
+    EXPECT_EQ(a.opening, b.opening);
+    EXPECT_EQ(a.log.size(), b.log.size());
+    ASSERT_TRUE(state_of(scanned) == state_of(indexed));
+  }
+}
+
+}  // namespace
+
+TEST(TearTest, a_spatial_index_gives_the_same_tears_as_scanning_every_face) {
+  Model model = read_gltf(std::string(DEEPCUT_ASSETS_DIR) + "/cactus.glb");
+  const SurfaceMesh cactus = model.meshes[0].primitives[0].mesh;
+  auto pose = [](double y, double phi) {
+    const glm::vec3 dir(float(std::sin(phi)), 0.0f, float(std::cos(phi)));
+    return Blade{glm::vec3(0.0f, float(y), 0.0f) + 1.6f * dir, glm::vec3(0.0f, float(y), 0.0f) + 0.7f * dir};
+  };
+  std::vector<std::pair<Blade, Blade>> strokes;
+  for (int k = 0; k < 4; ++k) strokes.emplace_back(pose(3.0 + 0.3 * k, -0.3 + 0.15 * k), pose(3.3 + 0.3 * k, -0.15 + 0.15 * k));
+  strokes.emplace_back(pose(3.45, -0.35), pose(3.45, 0.25));  // across the slit
+  expect_index_gives_the_same_tears(cactus, strokes, {});
+  // A twisted blade (the quad folds into two planar pieces) on a grid, twice in a row.
+  const SurfaceMesh grid = test::make_grid(24, 24);
+  TearOptions narrow;
+  narrow.width = 0.01f;
+  expect_index_gives_the_same_tears(grid,
+                                    {{{{0.2f, 0.3f, 1}, {0.2f, 0.3f, -1}}, {{0.8f, 0.6f, 1}, {0.8f, 0.4f, -1}}},
+                                     {{{0.5f, 0.1f, 1}, {0.5f, 0.1f, -1}}, {{0.55f, 0.9f, -1}, {0.45f, 0.9f, 1}}}},
+                                    narrow);
+}
+
+}  // namespace deepcut

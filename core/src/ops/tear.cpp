@@ -12,7 +12,9 @@
 #include <unordered_set>
 
 #include "deepcut/core/mesh_editor.h"
+#include "deepcut/core/parallel.h"
 #include "deepcut/core/skinning.h"
+#include "deepcut/core/spatial_index.h"
 
 namespace deepcut {
 namespace {
@@ -297,10 +299,15 @@ class LocalTriangulation {
 class Tearer {
  public:
   Tearer(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const std::vector<glm::mat3>& skin_linear,
-         const TearOptions& options)
-      : mesh_(mesh), editor_(mesh), options_(options), input_linear_(skin_linear) {
-    posed_.assign(posed.begin(), posed.end());
-  }
+         const TearOptions& options, const TriangleGrid* index)
+      : mesh_(mesh),
+        editor_(mesh),
+        options_(options),
+        input_posed_(posed),
+        first_new_(static_cast<std::uint32_t>(mesh.vertex_count())),
+        first_new_face_(static_cast<std::uint32_t>(mesh.face_slots())),
+        index_(index),
+        input_linear_(skin_linear) {}
 
   TearResult run(const Blade& start, const Blade& end);
 
@@ -377,15 +384,36 @@ class Tearer {
   SurfaceMesh& mesh_;
   MeshEditor editor_;
   TearOptions options_;
-  std::vector<glm::vec3> posed_;
+  // Posed positions: the caller's for existing vertices, ours for the ones the tear adds.
+  const glm::vec3& posed(std::uint32_t v) const {
+    return v < first_new_ ? input_posed_[v] : added_posed_[v - first_new_];
+  }
+  const std::vector<glm::vec3>& input_posed_;
+  std::vector<glm::vec3> added_posed_;
+  std::uint32_t first_new_;
+  std::uint32_t first_new_face_;
+  const TriangleGrid* index_;
   const std::vector<glm::mat3>& input_linear_;
   std::unordered_map<std::uint32_t, glm::mat3> new_linear_;  // vertices made by this tear
   std::vector<Piece> pieces_;
   double tol_ = 0.0;
   float width_ = 0.0f;
   // Per piece (cleared between pieces).
-  std::vector<double> dist_;
-  std::vector<std::int8_t> sign_;
+  // Signed distance to the piece's plane and its snapped sign, for the vertices of the faces
+  // examined (the rest of the mesh is never visited).
+  struct Classified {
+    double dist;
+    std::int8_t sign;
+  };
+  std::unordered_map<std::uint32_t, Classified> classified_;
+  double dist(VertexId v) const {
+    auto it = classified_.find(v.index);
+    return it == classified_.end() ? 0.0 : it->second.dist;
+  }
+  std::int8_t sign(VertexId v) const {
+    auto it = classified_.find(v.index);
+    return it == classified_.end() ? 0 : it->second.sign;
+  }
   std::unordered_map<std::uint32_t, ZeroVertex> zero_;
   std::unordered_map<std::uint64_t, Crossing> crossings_;
   // Over the whole tear.
@@ -398,7 +426,7 @@ const Tearer::ZeroVertex& Tearer::zero_vertex(const Piece& piece, VertexId v) {
   auto it = zero_.find(v.index);
   if (it != zero_.end()) return it->second;
   ZeroVertex z;
-  z.h = hvalues(piece, piece.project(glm::dvec3(posed_[v.index])));
+  z.h = hvalues(piece, piece.project(glm::dvec3(posed(v.index))));
   z.in = inside(piece, z.h);
   return zero_.emplace(v.index, z).first->second;
 }
@@ -410,9 +438,9 @@ Tearer::Crossing& Tearer::crossing(const Piece& piece, VertexId a, VertexId b) {
   Crossing c;
   c.lo = a < b ? a : b;
   c.hi = a < b ? b : a;
-  const double dl = dist_[c.lo.index], dh = dist_[c.hi.index];
+  const double dl = dist(c.lo), dh = dist(c.hi);
   c.t = dl / (dl - dh);
-  c.p = glm::mix(glm::dvec3(posed_[c.lo.index]), glm::dvec3(posed_[c.hi.index]), c.t);
+  c.p = glm::mix(glm::dvec3(posed(c.lo.index)), glm::dvec3(posed(c.hi.index)), c.t);
   c.h = hvalues(piece, piece.project(c.p));
   c.in = inside(piece, c.h);
   c.split = c.in;
@@ -425,8 +453,8 @@ void Tearer::add_torn(VertexId a, VertexId b, std::size_t piece) {
 }
 
 void Tearer::note_new_vertex(VertexId v, const glm::dvec3& p, const VertexId* src, const double* w, int n) {
-  if (posed_.size() <= v.index) posed_.resize(v.index + 1);
-  posed_[v.index] = glm::vec3(p);
+  if (added_posed_.size() <= v.index - first_new_) added_posed_.resize(v.index - first_new_ + 1);
+  added_posed_[v.index - first_new_] = glm::vec3(p);
   if (!input_linear_.empty()) {
     glm::mat3 m(0.0f);
     for (int i = 0; i < n; ++i) m += float(w[i]) * linear(src[i]);
@@ -435,41 +463,48 @@ void Tearer::note_new_vertex(VertexId v, const glm::dvec3& p, const VertexId* sr
 }
 
 void Tearer::tear_piece(const Piece& piece, std::size_t piece_index) {
-  const std::size_t nv = mesh_.vertex_count();
-  dist_.assign(nv, 0.0);
-  sign_.assign(nv, 0);
+  classified_.clear();
   zero_.clear();
   crossings_.clear();
 
-  // Faces whose posed bounding box meets the piece's (inflated by a few tolerances).
+  // Faces whose posed bounding box meets the piece's (inflated by a few tolerances): from the
+  // index (plus the faces this tear made) when there is one, else from a scan of every face.
   BoundingBox box = piece.box;
   const glm::vec3 pad(static_cast<float>(4.0 * tol_));
   box.add(box.min - pad);
   box.add(box.max + pad);
-  std::vector<FaceId> faces;
-  std::vector<std::uint8_t> seen(nv, 0);
-  mesh_.for_each_face([&](FaceId f, const Triangle& t) {
-    const glm::vec3 &a = posed_[t[0].index], &b = posed_[t[1].index], &c = posed_[t[2].index];
+  auto overlaps = [&](const Triangle& t) {
+    const glm::vec3 &a = posed(t[0].index), &b = posed(t[1].index), &c = posed(t[2].index);
     const glm::vec3 lo = glm::min(a, glm::min(b, c)), hi = glm::max(a, glm::max(b, c));
-    if (lo.x > box.max.x || lo.y > box.max.y || lo.z > box.max.z || hi.x < box.min.x || hi.y < box.min.y ||
-        hi.z < box.min.z)
-      return;
-    faces.push_back(f);
-    for (auto v : t) {
-      if (seen[v.index]) continue;
-      seen[v.index] = 1;
-      const double d = glm::dot(glm::dvec3(posed_[v.index]) - piece.origin, piece.normal);
-      dist_[v.index] = d;
-      sign_[v.index] = d > tol_ ? 1 : (d < -tol_ ? -1 : 0);
+    return !(lo.x > box.max.x || lo.y > box.max.y || lo.z > box.max.z || hi.x < box.min.x || hi.y < box.min.y ||
+             hi.z < box.min.z);
+  };
+  std::vector<FaceId> faces;
+  if (index_) {
+    for (FaceId f : index_->query_box(box))
+      if (f.index < first_new_face_ && !mesh_.is_deleted(f) && overlaps(mesh_.face(f))) faces.push_back(f);
+    for (auto i = first_new_face_; i < mesh_.face_slots(); ++i)
+      if (!mesh_.is_deleted(FaceId(i)) && overlaps(mesh_.face(FaceId(i)))) faces.push_back(FaceId(i));
+  } else {
+    mesh_.for_each_face([&](FaceId f, const Triangle& t) {
+      if (overlaps(t)) faces.push_back(f);
+    });
+  }
+  classified_.reserve(2 * faces.size() + 16);
+  for (FaceId f : faces)
+    for (auto v : mesh_.face(f)) {
+      auto [it, inserted] = classified_.try_emplace(v.index, Classified{0.0, 0});
+      if (!inserted) continue;
+      const double d = glm::dot(glm::dvec3(posed(v.index)) - piece.origin, piece.normal);
+      it->second = {d, static_cast<std::int8_t>(d > tol_ ? 1 : (d < -tol_ ? -1 : 0))};
     }
-  });
 
   // Plan: chords of faces crossed by the plane, clipped to the piece.
   std::vector<FacePlan> plans;
   std::unordered_map<std::uint64_t, ZeroEdge> zero_edges;
   for (FaceId f : faces) {
     const Triangle t = mesh_.face(f);
-    const std::int8_t s[3] = {sign_[t[0].index], sign_[t[1].index], sign_[t[2].index]};
+    const std::int8_t s[3] = {sign(t[0]), sign(t[1]), sign(t[2])};
     const int zeros = (s[0] == 0) + (s[1] == 0) + (s[2] == 0);
     if (zeros == 3) {
       for (int k = 0; k < 3; ++k) {
@@ -504,7 +539,7 @@ void Tearer::tear_piece(const Piece& piece, std::size_t piece_index) {
         const ZeroVertex& z = zero_vertex(piece, t[k]);
         glm::dvec3 bary(0.0);
         bary[k] = 1.0;
-        ends[n++] = {glm::dvec3(posed_[t[k].index]), bary, &z.h, t[k], 0};
+        ends[n++] = {glm::dvec3(posed(t[k].index)), bary, &z.h, t[k], 0};
       }
     }
     for (int k = 0; k < 3; ++k) {
@@ -543,7 +578,7 @@ void Tearer::tear_piece(const Piece& piece, std::size_t piece_index) {
     if (ze.coplanar || ze.faces != 2 || ze.sides != 3) continue;
     const ZeroVertex& za = zero_vertex(piece, ze.lo);
     const ZeroVertex& zb = zero_vertex(piece, ze.hi);
-    const double len = glm::length(glm::dvec3(posed_[ze.hi.index]) - glm::dvec3(posed_[ze.lo.index]));
+    const double len = glm::length(glm::dvec3(posed(ze.hi.index)) - glm::dvec3(posed(ze.lo.index)));
     ze.torn = clip_segment(piece, za.h, zb.h, len > 0.0 ? tol_ / len : 1.0);
     any_edge_torn |= !ze.torn.empty();
   }
@@ -585,7 +620,7 @@ void Tearer::tear_piece(const Piece& piece, std::size_t piece_index) {
       const VertexId v = editor_.add_vertex_on_edge(ze.lo, ze.hi, static_cast<float>(s));
       const VertexId src[2] = {ze.lo, ze.hi};
       const double w[2] = {1.0 - s, s};
-      note_new_vertex(v, glm::mix(glm::dvec3(posed_[ze.lo.index]), glm::dvec3(posed_[ze.hi.index]), s), src,
+      note_new_vertex(v, glm::mix(glm::dvec3(posed(ze.lo.index)), glm::dvec3(posed(ze.hi.index)), s), src,
                       w, 2);
       ze.points.emplace_back(s, v);
     }
@@ -743,7 +778,7 @@ void Tearer::split_lone_edges() {
     const VertexId m = editor_.add_vertex_on_edge(a, b, 0.5f);
     const VertexId src[2] = {a, b};
     const double w[2] = {0.5, 0.5};
-    note_new_vertex(m, 0.5 * (glm::dvec3(posed_[a.index]) + glm::dvec3(posed_[b.index])), src, w, 2);
+    note_new_vertex(m, 0.5 * (glm::dvec3(posed(a.index)) + glm::dvec3(posed(b.index))), src, w, 2);
     for (FaceId f : faces_of[key]) {
       const Triangle t = mesh_.face(f);
       int k = 0;
@@ -804,27 +839,43 @@ void Tearer::separate_and_open(TearResult& result) {
       while (parent[x] != x) x = parent[x] = parent[parent[x]];
       return x;
     };
-    std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> around;  // neighbour -> faces
+    // (neighbour, face) pairs, grouped by neighbour with the faces in star order.
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> around;
+    around.reserve(2 * fs.size());
     for (std::uint32_t i = 0; i < fs.size(); ++i) {
       const Triangle& t = mesh_.face(fs[i]);
       for (int k = 0; k < 3; ++k)
         if (t[k].index == v) {
-          around[t[(k + 1) % 3].index].push_back(i);
-          around[t[(k + 2) % 3].index].push_back(i);
+          around.emplace_back(t[(k + 1) % 3].index, i);
+          around.emplace_back(t[(k + 2) % 3].index, i);
         }
     }
-    for (const auto& [x, list] : around) {
-      if (list.size() == 1 && !torn_.count(edge_key(VertexId(v), VertexId(x)))) on_boundary.insert(v);
-      if (torn_.count(edge_key(VertexId(v), VertexId(x)))) continue;
-      for (std::size_t i = 1; i < list.size(); ++i) {
-        const auto a = root(list[0]), b = root(list[i]);
+    std::stable_sort(around.begin(), around.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    const std::size_t n_around = around.size();
+    for (std::size_t lo = 0, hi = 0; lo < n_around; lo = hi) {
+      const std::uint32_t x = around[lo].first;
+      hi = lo + 1;
+      while (hi < n_around && around[hi].first == x) ++hi;
+      const bool torn = torn_.count(edge_key(VertexId(v), VertexId(x))) != 0;
+      if (hi - lo == 1 && !torn) on_boundary.insert(v);
+      if (torn) continue;
+      for (std::size_t i = lo + 1; i < hi; ++i) {
+        const auto a = root(around[lo].second), b = root(around[i].second);
         if (a != b) parent[std::max(a, b)] = std::min(a, b);
       }
     }
-    std::map<std::uint32_t, Wedge> groups;
-    for (std::uint32_t i = 0; i < fs.size(); ++i) groups[root(i)].faces.push_back(fs[i]);
+    // A set's root is its smallest member, so groups in order of first member are groups in
+    // order of root.
     auto& list = wedges[v];
-    for (auto& [r, w] : groups) list.push_back(std::move(w));
+    std::vector<std::uint32_t> group_of(fs.size(), kInvalidIndex);
+    for (std::uint32_t i = 0; i < fs.size(); ++i) {
+      const std::uint32_t r = root(i);
+      if (group_of[r] == kInvalidIndex) {
+        group_of[r] = static_cast<std::uint32_t>(list.size());
+        list.emplace_back();
+      }
+      list[group_of[r]].faces.push_back(fs[i]);
+    }
   }
 
   // Taper along each slit: arc length to the nearest end (torn degree 1, or an old boundary).
@@ -833,7 +884,7 @@ void Tearer::separate_and_open(TearResult& result) {
   std::vector<double> comp_length;
   std::vector<bool> comp_has_end;
   auto edge_len = [&](std::uint32_t a, std::uint32_t b) {
-    return static_cast<double>(glm::length(posed_[a] - posed_[b]));
+    return static_cast<double>(glm::length(posed(a) - posed(b)));
   };
   for (std::uint32_t v : chain) {
     if (comp.count(v)) continue;
@@ -916,7 +967,7 @@ void Tearer::separate_and_open(TearResult& result) {
         id = editor_.split_vertex(VertexId(v));
         const VertexId src[1] = {VertexId(v)};
         const double one[1] = {1.0};
-        note_new_vertex(id, glm::dvec3(posed_[v]), src, one, 1);
+        note_new_vertex(id, glm::dvec3(posed(v)), src, one, 1);
         tear_vertices.push_back(id);
         split_from.insert(id.index);
         for (FaceId f : ws[w].faces) replace[f.index].emplace_back(v, id);
@@ -965,13 +1016,13 @@ void Tearer::separate_and_open(TearResult& result) {
       // of the piece(s) that tore this vertex (the centroids would mislead at a folded quad's
       // crease, where the other piece's lip vertices stand off the mean plane).
       double side = 0.0, fallback = 0.0;
-      const glm::dvec3 pv(posed_[lip.of]);
+      const glm::dvec3 pv(posed(lip.of));
       const auto& planes = vertex_pieces[lip.of];
       for (FaceId f : lip.faces) {
         const Triangle& t = mesh_.face(f);
         glm::dvec3 centre(0.0);
         for (auto x : t) {
-          const glm::dvec3 px(posed_[x.index]);
+          const glm::dvec3 px(posed(x.index));
           centre += px / 3.0;
           if (graph.count(x.index) || split_from.count(x.index)) continue;
           side += nearest_side(planes, px);
@@ -986,7 +1037,7 @@ void Tearer::separate_and_open(TearResult& result) {
       for (FaceId f : lip.faces) {
         const Triangle& t = mesh_.face(f);
         for (int k = 0; k < 3; ++k)
-          reach = std::max(reach, glm::length(glm::dvec3(posed_[t[k].index]) - glm::dvec3(posed_[t[(k + 1) % 3].index])));
+          reach = std::max(reach, glm::length(glm::dvec3(posed(t[k].index)) - glm::dvec3(posed(t[(k + 1) % 3].index))));
       }
       const double half = std::min(0.5 * double(width_) * taper, reach);
       lip.move = (side > 0.0 ? 1.0 : -1.0) * half * n;
@@ -998,26 +1049,52 @@ void Tearer::separate_and_open(TearResult& result) {
       if (glm::length(lip.move) > 0.0) check.insert(check.end(), lip.faces.begin(), lip.faces.end());
     std::sort(check.begin(), check.end());
     check.erase(std::unique(check.begin(), check.end()), check.end());
-    auto moved = [&](VertexId v) {
-      auto it = lip_of.find(v.index);
-      const glm::dvec3 p(posed_[v.index]);
-      return it == lip_of.end() ? p : p + lips[it->second].move;
+    // Each face's corners and lips are looked up once. A face is evaluated again only when one
+    // of its lips changed since its last evaluation (at or after it, in face order): otherwise it
+    // would pass again, so the rounds give what evaluating every face every round gives.
+    struct Check {
+      glm::dvec3 p[3];
+      glm::dvec3 n0;
+      double l0;
+      std::uint32_t lip[3];
+      std::uint64_t evaluated = 0;  // clock of the last evaluation (0: never)
     };
+    std::vector<Check> checks;
+    checks.reserve(check.size());
+    for (FaceId f : check) {
+      const Triangle& t = mesh_.face(f);
+      Check c;
+      for (int k = 0; k < 3; ++k) {
+        c.p[k] = glm::dvec3(posed(t[k].index));
+        auto it = lip_of.find(t[k].index);
+        c.lip[k] = it == lip_of.end() ? kInvalidIndex : static_cast<std::uint32_t>(it->second);
+      }
+      c.n0 = glm::cross(c.p[1] - c.p[0], c.p[2] - c.p[0]);
+      c.l0 = glm::length(c.n0);
+      if (c.l0 == 0.0) continue;  // never flips, never halves
+      checks.push_back(c);
+    }
+    std::vector<std::uint64_t> changed(lips.size(), 0);  // clock of each lip's last halving
+    std::uint64_t clock = 0;
     for (int round = 0; round < 12; ++round) {
       bool flipped = false;
-      for (FaceId f : check) {
-        const Triangle& t = mesh_.face(f);
-        const glm::dvec3 a(posed_[t[0].index]), b(posed_[t[1].index]), c(posed_[t[2].index]);
-        const glm::dvec3 n0 = glm::cross(b - a, c - a);
-        const glm::dvec3 n1 = glm::cross(moved(t[1]) - moved(t[0]), moved(t[2]) - moved(t[0]));
-        const double l0 = glm::length(n0);
-        if (l0 == 0.0) continue;
-        if (glm::dot(n0, n1) > 0.25 * l0 * glm::length(n1) && glm::length(n1) > 0.2 * l0) continue;
-        flipped = true;
-        for (auto v : t) {
-          auto it = lip_of.find(v.index);
-          if (it != lip_of.end()) lips[it->second].move *= round == 11 ? 0.0 : 0.5;
+      for (Check& c : checks) {
+        if (c.evaluated != 0) {
+          bool dirty = false;
+          for (std::uint32_t l : c.lip) dirty |= l != kInvalidIndex && changed[l] >= c.evaluated;
+          if (!dirty) continue;
         }
+        c.evaluated = ++clock;
+        glm::dvec3 m[3];
+        for (int k = 0; k < 3; ++k) m[k] = c.lip[k] == kInvalidIndex ? c.p[k] : c.p[k] + lips[c.lip[k]].move;
+        const glm::dvec3 n1 = glm::cross(m[1] - m[0], m[2] - m[0]);
+        if (glm::dot(c.n0, n1) > 0.25 * c.l0 * glm::length(n1) && glm::length(n1) > 0.2 * c.l0) continue;
+        flipped = true;
+        for (std::uint32_t l : c.lip)
+          if (l != kInvalidIndex) {
+            lips[l].move *= round == 11 ? 0.0 : 0.5;
+            changed[l] = clock;
+          }
       }
       if (!flipped) break;
     }
@@ -1042,8 +1119,8 @@ void Tearer::separate_and_open(TearResult& result) {
 TearResult Tearer::run(const Blade& start, const Blade& end) {
   TearResult result;
   const std::size_t nv = mesh_.vertex_count();
-  if (posed_.size() != nv)
-    throw Error(ErrorCode::InvalidArgument, "tear: " + std::to_string(posed_.size()) +
+  if (input_posed_.size() != nv)
+    throw Error(ErrorCode::InvalidArgument, "tear: " + std::to_string(input_posed_.size()) +
                                                 " posed positions for " + std::to_string(nv) + " vertices");
   if (!input_linear_.empty() && input_linear_.size() != nv)
     throw Error(ErrorCode::InvalidArgument, "tear: " + std::to_string(input_linear_.size()) +
@@ -1055,8 +1132,23 @@ TearResult Tearer::run(const Blade& start, const Blade& end) {
   pieces_ = make_pieces(start, end);
   width_ = resolved_tear_width(start, end, options_);
   result.width = width_;
+  // The model size: the index's bounds, or those of every posed position.
   BoundingBox box;
-  for (const auto& p : posed_) box.add(p);
+  if (index_ && !index_->empty()) {
+    box = index_->bounds();
+  } else {
+    box = parallel_reduce(
+        input_posed_.size(), 65536, BoundingBox(),
+        [&](std::size_t b, std::size_t e) {
+          BoundingBox part;
+          for (std::size_t i = b; i < e; ++i) part.add(input_posed_[i]);
+          return part;
+        },
+        [](BoundingBox acc, const BoundingBox& part) {
+          acc.add(part);
+          return acc;
+        });
+  }
   tol_ = double(options_.relative_tolerance) * double(box.diagonal());
   for (std::size_t i = 0; i < pieces_.size(); ++i) tear_piece(pieces_[i], i);
   if (torn_.empty() && editor_.log().empty()) {
@@ -1085,8 +1177,8 @@ float resolved_tear_width(const Blade& start, const Blade& end, const TearOption
 
 TearResult tear_mesh(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed,
                      const std::vector<glm::mat3>& skin_linear, const Blade& start, const Blade& end,
-                     const TearOptions& options) {
-  return Tearer(mesh, posed, skin_linear, options).run(start, end);
+                     const TearOptions& options, const TriangleGrid* index) {
+  return Tearer(mesh, posed, skin_linear, options, index).run(start, end);
 }
 
 namespace {

@@ -27,6 +27,10 @@ class Adjacency {
   static Adjacency build(const SurfaceMesh& mesh);
   /// Updates from the edits of one or more operations, in order. O(#edits).
   void apply(const EditLog& log);
+  /// Reserves room for `vertices` vertices and `faces` face slots, so updates that grow the
+  /// adjacency up to these sizes never move the existing lists (call it with the headroom given
+  /// to SurfaceMesh::reserve; a copy of an Adjacency keeps only the room it uses).
+  void reserve(std::size_t vertices, std::size_t faces);
 
   std::size_t vertex_count() const { return vertex_faces_.size(); }
   /// Live faces around `v`, sorted by id.

@@ -18,6 +18,7 @@
 #include "deepcut/core/edit_log.h"
 #include "deepcut/core/model.h"
 #include "deepcut/core/ops/op_status.h"
+#include "deepcut/core/spatial_index.h"
 #include "deepcut/core/surface_mesh.h"
 
 namespace deepcut {
@@ -84,13 +85,20 @@ struct TearResult {
 ///                     through the inverse of this matrix, so the posed result shows the opening.
 /// @param start, end   the blade's two poses (world space).
 /// @param options      see TearOptions (defaults: width 5% of the blade length, tolerance 1e-5).
-/// @pre posed.size() == mesh.vertex_count(); skin_linear empty or of the same size.
+/// @param index        optional grid over `posed` (TriangleGrid::build(mesh, posed), kept up to
+///                     date with `apply` after each operation). With it the candidate faces come
+///                     from the grid and the model size for the tolerance is the grid's bounds,
+///                     so the cost follows the tear, not the mesh. Without it every face's
+///                     bounding box is tested and the model size is that of every posed position.
+/// @pre posed.size() == mesh.vertex_count(); skin_linear empty or of the same size; `index`,
+///      when given, indexes the live faces of `mesh` at `posed`.
 /// @throws Error{InvalidArgument} for a degenerate blade or sweep (see swept_quad_triangles), a
 ///         non-finite width or tolerance, or a size mismatch.
 /// @returns NoIntersection (mesh untouched, log empty) when the quad crosses no part of the
 ///          surface.
 /// @note Local: only faces whose posed bounding box meets the quad's are examined; the cost is
-///       one pass over the faces' bounding boxes plus work proportional to the tear.
+///       work proportional to the tear with `index`, plus one pass over the faces' bounding
+///       boxes and the posed positions without it.
 /// @note Opening: each lip vertex moves by (width / 2) * sin(pi * s / L) along the quad normal
 ///       (s: arc length from the slit's nearer end, L: the slit's length; a slit that closes on
 ///       itself opens fully). No lip vertex moves further than the longest edge of its faces, and
@@ -99,7 +107,7 @@ struct TearResult {
 ///       how far they opened. The slits made (the topology) never depend on the width.
 TearResult tear_mesh(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed,
                      const std::vector<glm::mat3>& skin_linear, const Blade& start, const Blade& end,
-                     const TearOptions& options = {});
+                     const TearOptions& options = {}, const TriangleGrid* index = nullptr);
 
 struct ModelTearResult {
   OpStatus status = OpStatus::Ok;
