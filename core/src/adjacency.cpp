@@ -5,6 +5,8 @@
 #include <numeric>
 #include <type_traits>
 
+#include "deepcut/core/parallel.h"
+
 namespace deepcut {
 namespace {
 
@@ -57,20 +59,37 @@ void Adjacency::reserve(std::size_t vertices, std::size_t faces) {
 Adjacency Adjacency::build(const SurfaceMesh& mesh) {
   Adjacency adj;
   const std::size_t nv = mesh.vertex_count();
-  std::vector<std::uint32_t> valence(nv, 0);
+  const auto& faces = mesh.faces();
+  // Counting sort of the corners by vertex (faces in increasing id, so every list comes out
+  // sorted), then each vertex's list is copied out, in parallel chunks of vertices.
+  std::vector<std::uint32_t> start(nv + 1, 0);
   mesh.for_each_face([&](FaceId, const Triangle& t) {
-    for (int k = 0; k < 3; ++k) ++valence[t[k].index];
+    for (int k = 0; k < 3; ++k) ++start[t[k].index + 1];
   });
+  for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
+  std::vector<FaceId> incident(start[nv]);
+  {
+    std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
+    mesh.for_each_face([&](FaceId f, const Triangle& t) {
+      for (int k = 0; k < 3; ++k) incident[next[t[k].index]++] = f;
+    });
+  }
   adj.vertex_faces_.resize(nv);
-  for (std::size_t v = 0; v < nv; ++v) adj.vertex_faces_[v].reserve(valence[v]);
-  adj.face_vertices_.assign(mesh.face_slots(), Triangle{});
-  // Faces are visited in increasing id, so push_back keeps every list sorted.
-  mesh.for_each_face([&](FaceId f, const Triangle& t) {
-    adj.face_vertices_[f.index] = t;
-    for (int k = 0; k < 3; ++k) {
-      auto& vf = adj.vertex_faces_[t[k].index];
-      if (vf.empty() || vf.back() != f) vf.push_back(f);
+  parallel_for(nv, 8192, [&](std::size_t b, std::size_t e) {
+    for (std::size_t v = b; v < e; ++v) {
+      // A face using the vertex twice (a degenerate fold) is listed once.
+      const FaceId* first = incident.data() + start[v];
+      const FaceId* last = incident.data() + start[v + 1];
+      auto& list = adj.vertex_faces_[v];
+      list.reserve(static_cast<std::size_t>(last - first));
+      for (const FaceId* f = first; f != last; ++f)
+        if (list.empty() || list.back() != *f) list.push_back(*f);
     }
+  });
+  adj.face_vertices_.resize(faces.size());
+  parallel_for(faces.size(), 32768, [&](std::size_t b, std::size_t e) {
+    for (std::size_t f = b; f < e; ++f)
+      adj.face_vertices_[f] = mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f))) ? Triangle{} : faces[f];
   });
   return adj;
 }

@@ -29,7 +29,10 @@ std::size_t default_threads() {
 }
 
 // One job at a time: the caller publishes it, wakes the workers, and takes chunks itself.
-// Workers sleep on a condition variable between jobs (the machine is shared: no spinning).
+// Workers sleep on a condition variable between jobs (the machine may be shared: no spinning).
+// The caller waits for the chunks, never for a worker to wake up: a worker the scheduler runs
+// late finds every chunk taken and goes back to sleep, so a busy machine costs no more than
+// running serially.
 class Pool {
  public:
   explicit Pool(std::size_t threads) { start(threads); }
@@ -51,26 +54,51 @@ class Pool {
       run_serial(chunks, task);
       return;
     }
+    auto job = std::make_shared<Job>();
+    job->task = &task;
+    job->chunks = chunks;
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      task_ = &task;
-      chunks_ = chunks;
-      next_.store(0, std::memory_order_relaxed);
-      pending_ = workers_.size();
-      error_ = nullptr;
+      job_ = job;
       ++generation_;
     }
     wake_.notify_all();
     t_inside = true;
-    work();
+    job->work();
     t_inside = false;
-    std::unique_lock<std::mutex> lock(mutex_);
-    done_.wait(lock, [&] { return pending_ == 0; });
-    task_ = nullptr;
-    if (error_) std::rethrow_exception(error_);
+    std::unique_lock<std::mutex> lock(job->mutex);
+    job->finished.wait(lock, [&] { return job->done == job->chunks; });
+    if (job->error) std::rethrow_exception(job->error);
   }
 
  private:
+  struct Job {
+    const std::function<void(std::size_t)>* task = nullptr;
+    std::size_t chunks = 0;
+    std::atomic<std::size_t> next{0};
+    std::mutex mutex;  // guards done and error
+    std::condition_variable finished;
+    std::size_t done = 0;
+    std::exception_ptr error;
+
+    // Takes chunks until none are left.
+    void work() {
+      for (;;) {
+        const std::size_t c = next.fetch_add(1, std::memory_order_relaxed);
+        if (c >= chunks) return;
+        std::exception_ptr failed;
+        try {
+          (*task)(c);
+        } catch (...) {
+          failed = std::current_exception();
+        }
+        std::lock_guard<std::mutex> lock(mutex);
+        if (failed && !error) error = failed;
+        if (++done == chunks) finished.notify_all();
+      }
+    }
+  };
+
   static void run_serial(std::size_t chunks, const std::function<void(std::size_t)>& task) {
     const bool was_inside = t_inside;
     t_inside = true;
@@ -86,33 +114,19 @@ class Pool {
     if (error) std::rethrow_exception(error);
   }
 
-  // Takes chunks until none are left.
-  void work() {
-    for (;;) {
-      const std::size_t c = next_.fetch_add(1, std::memory_order_relaxed);
-      if (c >= chunks_) return;
-      try {
-        (*task_)(c);
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(mutex_);
-        if (!error_) error_ = std::current_exception();
-      }
-    }
-  }
-
   void worker_loop() {
     t_inside = true;
     std::uint64_t seen = 0;
     for (;;) {
+      std::shared_ptr<Job> job;
       {
         std::unique_lock<std::mutex> lock(mutex_);
         wake_.wait(lock, [&] { return quit_ || generation_ != seen; });
         if (quit_) return;
         seen = generation_;
+        job = job_;
       }
-      work();
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (--pending_ == 0) done_.notify_one();
+      if (job) job->work();
     }
   }
 
@@ -133,6 +147,7 @@ class Pool {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       quit_ = true;
+      job_.reset();
     }
     wake_.notify_all();
     for (auto& w : workers_) w.join();
@@ -140,15 +155,11 @@ class Pool {
   }
 
   std::mutex submit_;  // one job at a time
-  std::mutex mutex_;   // guards the job fields below
-  std::condition_variable wake_, done_;
+  std::mutex mutex_;   // guards job_, generation_ and quit_
+  std::condition_variable wake_;
   std::vector<std::thread> workers_;
-  const std::function<void(std::size_t)>* task_ = nullptr;
-  std::size_t chunks_ = 0;
-  std::atomic<std::size_t> next_{0};
-  std::size_t pending_ = 0;
+  std::shared_ptr<Job> job_;
   std::uint64_t generation_ = 0;
-  std::exception_ptr error_;
   bool quit_ = false;
   pid_t owner_ = 0;
 };

@@ -5,9 +5,13 @@
 #include <string>
 
 #include "deepcut/core/errors.h"
+#include "deepcut/core/parallel.h"
 
 namespace deepcut {
 namespace {
+
+// Vertices (or faces) per parallel chunk: the default cactus stays on one thread.
+constexpr std::size_t kGrain = 16384;
 
 // Key interval and local parameter for time t (clamped to the key range).
 void find_key(const std::vector<float>& input, float t, std::size_t& i, float& s, float& dt) {
@@ -178,16 +182,18 @@ std::vector<glm::mat4> vertex_matrices(const Model& model, int node, const Surfa
   const auto* w1 = va.find<glm::vec4>(attr::kWeights1);
   const auto joints = joint_matrices(model, n.skin, world);
   std::vector<glm::mat4> out(mesh.vertex_count());
-  for (std::size_t v = 0; v < out.size(); ++v) {
-    glm::mat4 m(0.0f);
-    auto add = [&](const glm::u16vec4& j, const glm::vec4& w) {
-      for (int c = 0; c < 4; ++c)
-        if (w[c] != 0.0f && j[c] < joints.size()) m += w[c] * joints[j[c]];
-    };
-    add((*j0)[v], (*w0)[v]);
-    if (j1 && w1) add((*j1)[v], (*w1)[v]);
-    out[v] = m;
-  }
+  parallel_for(out.size(), kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t v = b; v < e; ++v) {
+      glm::mat4 m(0.0f);
+      auto add = [&](const glm::u16vec4& j, const glm::vec4& w) {
+        for (int c = 0; c < 4; ++c)
+          if (w[c] != 0.0f && j[c] < joints.size()) m += w[c] * joints[j[c]];
+      };
+      add((*j0)[v], (*w0)[v]);
+      if (j1 && w1) add((*j1)[v], (*w1)[v]);
+      out[v] = m;
+    }
+  });
   return out;
 }
 
@@ -198,12 +204,14 @@ std::vector<glm::vec3> posed_positions(const Model& model, int node, const Surfa
   const auto& p = mesh.positions();
   std::vector<glm::vec3> out(p.size());
   const auto skin = vertex_matrices(model, node, mesh, world);
-  if (skin.empty()) {
-    const glm::mat4& m = world.at(static_cast<std::size_t>(node));
-    for (std::size_t v = 0; v < p.size(); ++v) out[v] = glm::vec3(m * glm::vec4(p[v], 1.0f));
-  } else {
-    for (std::size_t v = 0; v < p.size(); ++v) out[v] = glm::vec3(skin[v] * glm::vec4(p[v], 1.0f));
-  }
+  const glm::mat4& rigid = world.at(static_cast<std::size_t>(node));
+  parallel_for(p.size(), kGrain, [&](std::size_t b, std::size_t e) {
+    if (skin.empty()) {
+      for (std::size_t v = b; v < e; ++v) out[v] = glm::vec3(rigid * glm::vec4(p[v], 1.0f));
+    } else {
+      for (std::size_t v = b; v < e; ++v) out[v] = glm::vec3(skin[v] * glm::vec4(p[v], 1.0f));
+    }
+  });
   return out;
 }
 
@@ -214,16 +222,18 @@ std::vector<glm::vec3> posed_normals(const Model& model, int node, const Surface
   const auto skin = vertex_matrices(model, node, mesh, world);
   std::vector<glm::vec3> out(normals->size());
   const glm::mat3 rigid = glm::transpose(glm::inverse(glm::mat3(world.at(static_cast<std::size_t>(node)))));
-  for (std::size_t f = 0; f < mesh.face_slots(); ++f) {
-    const auto& t = mesh.face(FaceId(static_cast<std::uint32_t>(f)));
-    for (int k = 0; k < 3; ++k) {
-      const auto c = 3 * f + static_cast<std::size_t>(k);
-      const glm::mat3 nm = skin.empty() ? rigid : glm::transpose(glm::inverse(glm::mat3(skin[t[k].index])));
-      const glm::vec3 n = nm * (*normals)[c];
-      const float len = glm::length(n);
-      out[c] = len > 0.0f ? n / len : n;
+  parallel_for(mesh.face_slots(), kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t f = b; f < e; ++f) {
+      const auto& t = mesh.face(FaceId(static_cast<std::uint32_t>(f)));
+      for (int k = 0; k < 3; ++k) {
+        const auto c = 3 * f + static_cast<std::size_t>(k);
+        const glm::mat3 nm = skin.empty() ? rigid : glm::transpose(glm::inverse(glm::mat3(skin[t[k].index])));
+        const glm::vec3 n = nm * (*normals)[c];
+        const float len = glm::length(n);
+        out[c] = len > 0.0f ? n / len : n;
+      }
     }
-  }
+  });
   return out;
 }
 

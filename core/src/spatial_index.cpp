@@ -3,9 +3,24 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
+#include "deepcut/core/parallel.h"
+
 namespace deepcut {
+
+namespace {
+
+constexpr std::size_t kGrain = 32768;
+
+struct Extent {
+  BoundingBox bounds;
+  double extent_sum = 0.0;
+  std::size_t faces = 0;
+};
+
+}  // namespace
 
 TriangleGrid TriangleGrid::build(const SurfaceMesh& mesh, const std::vector<glm::vec3>& points,
                                  float cell_size) {
@@ -14,21 +29,42 @@ TriangleGrid TriangleGrid::build(const SurfaceMesh& mesh, const std::vector<glm:
                                                 " positions for " + std::to_string(mesh.vertex_count()) +
                                                 " vertices");
   TriangleGrid grid;
-  double extent_sum = 0.0;
-  std::size_t faces = 0;
-  mesh.for_each_face([&](FaceId, const Triangle& t) {
-    BoundingBox b;
-    for (auto v : t) b.add(points[v.index]);
-    grid.bounds_.add(b);
-    const glm::vec3 e = b.max - b.min;
-    extent_sum += std::max({e.x, e.y, e.z});
-    ++faces;
-  });
-  grid.alive_.assign(mesh.face_slots(), 0);
+  const auto& tris = mesh.faces();
+  const std::size_t slots = tris.size();
+  auto face_box = [&](const Triangle& t) {
+    const glm::vec3 &a = points[t[0].index], &b = points[t[1].index], &c = points[t[2].index];
+    BoundingBox box;
+    box.min = glm::min(a, glm::min(b, c));
+    box.max = glm::max(a, glm::max(b, c));
+    return box;
+  };
+  const Extent extent = parallel_reduce(
+      slots, kGrain, Extent(),
+      [&](std::size_t b, std::size_t e) {
+        Extent part;
+        for (std::size_t f = b; f < e; ++f) {
+          if (mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) continue;
+          const BoundingBox box = face_box(tris[f]);
+          part.bounds.add(box);
+          const glm::vec3 d = box.max - box.min;
+          part.extent_sum += std::max({d.x, d.y, d.z});
+          ++part.faces;
+        }
+        return part;
+      },
+      [](Extent acc, const Extent& part) {
+        acc.bounds.add(part.bounds);
+        acc.extent_sum += part.extent_sum;
+        acc.faces += part.faces;
+        return acc;
+      });
+  grid.bounds_ = extent.bounds;
+  const std::size_t faces = extent.faces;
+  grid.alive_.assign(slots, 0);
   if (faces == 0) return grid;
   const glm::vec3 size =
       glm::max(grid.bounds_.max - grid.bounds_.min, glm::vec3(1e-6f * (grid.bounds_.diagonal() + 1.0f)));
-  float cell = cell_size > 0.0f ? cell_size : static_cast<float>(2.0 * extent_sum / double(faces));
+  float cell = cell_size > 0.0f ? cell_size : static_cast<float>(2.0 * extent.extent_sum / double(faces));
   // At most about one cell per face (and never a degenerate cell).
   const double volume = double(size.x) * size.y * size.z;
   const double min_cell = std::cbrt(volume / double(faces + 64));
@@ -37,8 +73,42 @@ TriangleGrid TriangleGrid::build(const SurfaceMesh& mesh, const std::vector<glm:
   grid.cell_ = cell;
   grid.origin_ = grid.bounds_.min;
   grid.dims_ = glm::max(glm::ivec3(glm::ceil(size / cell)), glm::ivec3(1));
-  grid.cells_.resize(static_cast<std::size_t>(grid.dims_.x) * grid.dims_.y * grid.dims_.z);
-  mesh.for_each_face([&](FaceId f, const Triangle& t) { grid.insert(f, t, points); });
+  const std::size_t cells = static_cast<std::size_t>(grid.dims_.x) * grid.dims_.y * grid.dims_.z;
+
+  // Cell range of every live face (parallel), then a counting sort into the packed lists.
+  struct Range {
+    glm::ivec3 lo, hi;
+  };
+  std::vector<Range> range(slots);
+  parallel_for(slots, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t f = b; f < e; ++f) {
+      if (mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) {
+        range[f] = {glm::ivec3(0), glm::ivec3(-1)};
+        continue;
+      }
+      const BoundingBox box = face_box(tris[f]);
+      range[f] = {grid.cell_of(box.min), grid.cell_of(box.max)};
+    }
+  });
+  grid.start_.assign(cells + 1, 0);
+  for (std::size_t f = 0; f < slots; ++f) {
+    const Range& r = range[f];
+    for (int z = r.lo.z; z <= r.hi.z; ++z)
+      for (int y = r.lo.y; y <= r.hi.y; ++y)
+        for (int x = r.lo.x; x <= r.hi.x; ++x) ++grid.start_[grid.cell_index(x, y, z) + 1];
+  }
+  for (std::size_t c = 0; c < cells; ++c) grid.start_[c + 1] += grid.start_[c];
+  grid.faces_.resize(grid.start_[cells]);
+  std::vector<std::uint32_t> next(grid.start_.begin(), grid.start_.end() - 1);
+  for (std::size_t f = 0; f < slots; ++f) {
+    const Range& r = range[f];
+    if (r.hi.x < r.lo.x) continue;
+    grid.alive_[f] = 1;
+    for (int z = r.lo.z; z <= r.hi.z; ++z)
+      for (int y = r.lo.y; y <= r.hi.y; ++y)
+        for (int x = r.lo.x; x <= r.hi.x; ++x) grid.faces_[next[grid.cell_index(x, y, z)]++] = static_cast<std::uint32_t>(f);
+  }
+  grid.live_ = faces;
   return grid;
 }
 
@@ -62,11 +132,11 @@ void TriangleGrid::insert(FaceId f, const Triangle& t, const std::vector<glm::ve
   const glm::ivec3 lo = cell_of(b.min), hi = cell_of(b.max);
   for (int z = lo.z; z <= hi.z; ++z)
     for (int y = lo.y; y <= hi.y; ++y)
-      for (int x = lo.x; x <= hi.x; ++x) cells_[cell_index(x, y, z)].push_back(f.index);
+      for (int x = lo.x; x <= hi.x; ++x) added_[cell_index(x, y, z)].push_back(f.index);
 }
 
 void TriangleGrid::apply(const EditLog& log, const std::vector<glm::vec3>& points) {
-  if (cells_.empty()) return;
+  if (empty()) return;
   for (const Edit& e : log.edits) {
     if (const auto* r = std::get_if<FaceRemoved>(&e)) {
       if (r->f.index < alive_.size() && alive_[r->f.index]) {
@@ -84,15 +154,23 @@ void TriangleGrid::sort_unique(std::vector<FaceId>& v) {
   v.erase(std::unique(v.begin(), v.end()), v.end());
 }
 
+void TriangleGrid::collect_cell(std::size_t c, std::vector<FaceId>& out) const {
+  for (std::uint32_t i = start_[c]; i < start_[c + 1]; ++i)
+    if (alive_[faces_[i]]) out.push_back(FaceId(faces_[i]));
+  if (added_.empty()) return;
+  auto it = added_.find(c);
+  if (it == added_.end()) return;
+  for (std::uint32_t f : it->second)
+    if (alive_[f]) out.push_back(FaceId(f));
+}
+
 void TriangleGrid::collect(int x, int y, int z0, int z1, std::vector<FaceId>& out) const {
-  for (int z = z0; z <= z1; ++z)
-    for (std::uint32_t f : cells_[cell_index(x, y, z)])
-      if (alive_[f]) out.push_back(FaceId(f));
+  for (int z = z0; z <= z1; ++z) collect_cell(cell_index(x, y, z), out);
 }
 
 std::vector<FaceId> TriangleGrid::query_box(const BoundingBox& box) const {
   std::vector<FaceId> out;
-  if (cells_.empty() || box.empty()) return out;
+  if (empty() || box.empty()) return out;
   const glm::ivec3 lo = cell_of(box.min), hi = cell_of(box.max);
   for (int y = lo.y; y <= hi.y; ++y)
     for (int x = lo.x; x <= hi.x; ++x) collect(x, y, lo.z, hi.z, out);
@@ -102,7 +180,7 @@ std::vector<FaceId> TriangleGrid::query_box(const BoundingBox& box) const {
 
 std::vector<FaceId> TriangleGrid::query_capsule(const glm::vec3& a, const glm::vec3& b, float radius) const {
   std::vector<FaceId> out;
-  if (cells_.empty()) return out;
+  if (empty()) return out;
   BoundingBox box;
   box.add(glm::min(a, b) - glm::vec3(radius));
   box.add(glm::max(a, b) + glm::vec3(radius));
@@ -136,6 +214,55 @@ std::vector<FaceId> TriangleGrid::query_capsule(const glm::vec3& a, const glm::v
                 cz1 = cell_of(glm::vec3(origin_.x, origin_.y, zhi)).z;
       collect(x, y, cz0, cz1, out);
     }
+  sort_unique(out);
+  return out;
+}
+
+}  // namespace deepcut
+
+namespace deepcut {
+
+std::vector<FaceId> TriangleGrid::query_slab(const BoundingBox& box, const glm::vec3& point, const glm::vec3& normal,
+                                             float half_width) const {
+  std::vector<FaceId> out;
+  if (empty() || box.empty()) return out;
+  const glm::dvec3 n(normal);
+  const double len = glm::length(n);
+  if (!(len > 0.0) || !std::isfinite(len)) return query_box(box);
+  const glm::dvec3 u = n / len;
+  const double reach = std::max(0.0, double(half_width));
+  const double plane = glm::dot(u, glm::dvec3(point));
+  const glm::ivec3 lo = cell_of(box.min), hi = cell_of(box.max);
+  // Range of dot(u, p) over one cell. Border cells reach to infinity outward (faces outside the
+  // build bounds are filed there), which a non-zero normal component makes unbounded.
+  auto axis_range = [&](int axis, int i, double& mn, double& mx) {
+    const double a = double(origin_[axis]) + double(i) * cell_, b = a + cell_;
+    const bool open_lo = i == 0, open_hi = i == dims_[axis] - 1;
+    const double c = u[axis];
+    if (c == 0.0) {
+      mn = mx = 0.0;
+      return;
+    }
+    const double inf = std::numeric_limits<double>::infinity();
+    const double va = open_lo ? (c > 0.0 ? -inf : inf) : c * a, vb = open_hi ? (c > 0.0 ? inf : -inf) : c * b;
+    mn = std::min(va, vb);
+    mx = std::max(va, vb);
+  };
+  std::vector<double> xmn(hi.x - lo.x + 1), xmx(hi.x - lo.x + 1);
+  for (int x = lo.x; x <= hi.x; ++x) axis_range(0, x, xmn[x - lo.x], xmx[x - lo.x]);
+  for (int y = lo.y; y <= hi.y; ++y) {
+    double ymn, ymx;
+    axis_range(1, y, ymn, ymx);
+    for (int z = lo.z; z <= hi.z; ++z) {
+      double zmn, zmx;
+      axis_range(2, z, zmn, zmx);
+      for (int x = lo.x; x <= hi.x; ++x) {
+        const double mn = xmn[x - lo.x] + ymn + zmn, mx = xmx[x - lo.x] + ymx + zmx;
+        if (mn - plane > reach || plane - mx > reach) continue;
+        collect_cell(cell_index(x, y, z), out);
+      }
+    }
+  }
   sort_unique(out);
   return out;
 }

@@ -159,6 +159,7 @@ void bm_drill_ours(benchmark::State& state, std::size_t triangles) {
   const Input& in = input(triangles);
   const TriangleGrid& grid = grid_for(triangles);
   const Cylinder cyl = drill_cylinder(in);
+  std::size_t touched = 0;
   for (auto _ : state) {
     state.PauseTiming();
     auto [mesh, adjacency] = session_copy(in);
@@ -166,11 +167,13 @@ void bm_drill_ours(benchmark::State& state, std::size_t triangles) {
     DrillResult r = drill_mesh(mesh, mesh.positions(), cyl, {}, &grid);
     adjacency.apply(r.log);
     benchmark::DoNotOptimize(r.log.size());
+    touched = r.triangles_removed;
     state.PauseTiming();
     mesh = SurfaceMesh();
     adjacency = Adjacency();
     state.ResumeTiming();
   }
+  state.counters["touched"] = static_cast<double>(touched);  // triangles the hole replaced
   set_triangles(state, in.mesh);
 }
 
@@ -206,7 +209,7 @@ void bm_tear(benchmark::State& state, std::size_t triangles) {
   const Blade start{{c.x - 0.08f * h, box.min.y + 0.33f * h, box.max.z + 0.5f}, {c.x - 0.08f * h, box.min.y + 0.33f * h, c.z}};
   const Blade end{{c.x + 0.08f * h, box.min.y + 0.35f * h, box.max.z + 0.5f}, {c.x + 0.08f * h, box.min.y + 0.35f * h, c.z}};
   const std::vector<glm::mat3> no_skin;
-  std::size_t points = 0;
+  std::size_t points = 0, touched = 0;
   for (auto _ : state) {
     state.PauseTiming();
     auto [mesh, adjacency] = session_copy(in);
@@ -214,12 +217,15 @@ void bm_tear(benchmark::State& state, std::size_t triangles) {
     TearResult r = tear_mesh(mesh, mesh.positions(), no_skin, start, end, {}, &grid);
     adjacency.apply(r.log);
     points = r.intersection_points;
+    touched = 0;
+    for (const Edit& e : r.log.edits) touched += std::holds_alternative<FaceRemoved>(e) ? 1 : 0;
     state.PauseTiming();
     mesh = SurfaceMesh();
     adjacency = Adjacency();
     state.ResumeTiming();
   }
   state.counters["intersection_points"] = static_cast<double>(points);
+  state.counters["touched"] = static_cast<double>(touched);  // faces the stroke replaced (original or made)
   set_triangles(state, in.mesh);
 }
 

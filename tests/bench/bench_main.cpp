@@ -26,6 +26,7 @@ class Collector : public benchmark::BenchmarkReporter {
   struct Row {
     double ms = 0;
     double triangles = 0;
+    double touched = -1;  // triangles a local edit replaced (drill, tear), -1 when not reported
   };
   std::map<std::string, Row> medians;
 
@@ -38,6 +39,8 @@ class Collector : public benchmark::BenchmarkReporter {
       row.ms = run.GetAdjustedRealTime();  // in the benchmark's unit: milliseconds
       auto it = run.counters.find("triangles");
       if (it != run.counters.end()) row.triangles = it->second.value;
+      auto touched = run.counters.find("touched");
+      if (touched != run.counters.end()) row.touched = touched->second.value;
       medians[name] = row;
     }
   }
@@ -64,7 +67,7 @@ int main(int argc, char** argv) {
   // Pair "<case>/ours/<size>" with "<case>/<peer>/<size>".
   struct Case {
     std::string name, size, peer;
-    double triangles = 0, ours_ms = 0, peer_ms = 0;
+    double triangles = 0, ours_ms = 0, peer_ms = 0, touched = -1;
   };
   std::map<std::pair<std::string, std::string>, Case> cases;
   for (const auto& [full, row] : collector.medians) {
@@ -76,6 +79,7 @@ int main(int argc, char** argv) {
     c.triangles = row.triangles;
     if (impl == "ours") {
       c.ours_ms = row.ms;
+      c.touched = row.touched;
     } else {
       c.peer = impl;
       c.peer_ms = row.ms;
@@ -87,6 +91,7 @@ int main(int argc, char** argv) {
   json out = {{"cases", json::array()}};
   for (const auto& [key, c] : cases) {
     json j = {{"name", c.name}, {"size", c.size}, {"triangles", c.triangles}, {"ours_ms", c.ours_ms}};
+    if (c.touched >= 0) j["touched_triangles"] = c.touched;
     if (!c.peer.empty()) {
       j["peer"] = c.peer;
       j["peer_ms"] = c.peer_ms;

@@ -91,4 +91,59 @@ TEST(SpatialIndexTest, follows_the_edit_log) {
   EXPECT_THROW(TriangleGrid::build(mesh, std::vector<glm::vec3>(3)), Error);
 }
 
+TEST(SpatialIndexTest, slab_query_contains_every_face_near_the_plane_and_far_faces_added_later) {
+  SurfaceMesh mesh = test::make_tube(32, 16, 1.0f, 4.0f);
+  TriangleGrid grid = TriangleGrid::build(mesh, mesh.positions());
+  // A face far outside the build bounds, added through the editor: it goes to a border cell.
+  MeshEditor editor(mesh);
+  const VertexId a = editor.add_vertex_on_edge(VertexId(0), VertexId(1), 0.5f);
+  const VertexId b = editor.add_vertex_on_edge(VertexId(1), VertexId(2), 0.5f);
+  const VertexId c = editor.add_vertex_on_edge(VertexId(2), VertexId(0), 0.5f);
+  mesh.positions()[a.index] = {10.0f, 1.0f, 0.0f};
+  mesh.positions()[b.index] = {10.5f, 1.0f, 0.0f};
+  mesh.positions()[c.index] = {10.0f, 1.5f, 0.0f};
+  editor.add_face({a, b, c});
+  grid.apply(editor.take_log(), mesh.positions());
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::size_t total = 0;
+  for (int i = 0; i < 60; ++i) {
+    const glm::vec3 point(u(rng), 2.0f + 2.0f * u(rng), u(rng));
+    glm::vec3 normal(u(rng), u(rng), u(rng));
+    if (i % 7 == 0) normal = {1.0f, 0.0f, 0.0f};  // axis-aligned: zero components
+    if (glm::length(normal) < 0.1f) normal = {0.0f, 1.0f, 0.0f};
+    const float half = 0.02f * float(i % 4);
+    BoundingBox box;
+    box.add(point - glm::vec3(1.5f + 20.0f * float(i % 2)));
+    box.add(point + glm::vec3(1.5f + 20.0f * float(i % 2)));
+    const auto got = grid.query_slab(box, point, normal, half);
+    EXPECT_TRUE(std::is_sorted(got.begin(), got.end()));
+    const glm::vec3 n = glm::normalize(normal);
+    mesh.for_each_face([&](FaceId f, const Triangle& t) {
+      BoundingBox fb;
+      int above = 0, below = 0;
+      for (auto v : t) {
+        fb.add(mesh.position(v));
+        const float d = glm::dot(mesh.position(v) - point, n);
+        above += d > half;
+        below += d < -half;
+      }
+      const bool overlap = fb.min.x <= box.max.x && fb.max.x >= box.min.x && fb.min.y <= box.max.y &&
+                           fb.max.y >= box.min.y && fb.min.z <= box.max.z && fb.max.z >= box.min.z;
+      if (overlap && above < 3 && below < 3) {
+        ++total;
+        EXPECT_TRUE(std::binary_search(got.begin(), got.end(), f)) << "face " << f.index << " missing, query " << i;
+      }
+    });
+    EXPECT_LT(got.size(), grid.query_box(box).size() + 1);
+  }
+  EXPECT_GT(total, 100u) << "the planes meet the tube";
+  // A slab through the far face finds it, one away from everything misses it.
+  BoundingBox far;
+  far.add(glm::vec3(9.0f, 0.0f, -1.0f));
+  far.add(glm::vec3(11.0f, 2.0f, 1.0f));
+  const auto hit = grid.query_slab(far, glm::vec3(10.2f, 1.2f, 0.0f), glm::vec3(0.0f, 0.0f, 1.0f), 0.01f);
+  EXPECT_TRUE(std::find(hit.begin(), hit.end(), FaceId(static_cast<std::uint32_t>(mesh.face_slots() - 1))) != hit.end());
+}
+
 }  // namespace deepcut

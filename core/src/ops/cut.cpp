@@ -2,7 +2,9 @@
 #include "deepcut/core/ops/cut.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <memory>
 #include <numeric>
 #include <string>
 #include <unordered_map>
@@ -17,9 +19,10 @@
 namespace deepcut {
 namespace {
 
-// Elements per parallel chunk: small meshes (the default cactus) stay on one thread, where
-// waking another would cost more than it saves.
-constexpr std::size_t kGrain = 32768;
+// Smallest parallel chunk: below it, waking another thread costs more than it saves. Every
+// parallel pass of the cut is exact (min / max, flags, disjoint writes, lists joined in order),
+// so the chunks may follow the thread count.
+constexpr std::size_t kMinGrain = 4096;
 
 std::uint64_t edge_key(VertexId a, VertexId b) {
   const auto lo = std::min(a.index, b.index), hi = std::max(a.index, b.index);
@@ -392,11 +395,15 @@ void Cutter::collect_pieces(CutResult& result) {
     std::vector<FaceId> side[2];  // positive, negative
   };
   const std::size_t slots = mesh_.face_slots();
-  const std::size_t chunks = (slots + kGrain - 1) / kGrain;
-  std::vector<Lists> parts(chunks);
-  parallel_for(slots, kGrain, [&](std::size_t b, std::size_t e) {
-    Lists& out = parts[b / kGrain];
-    out.side[0].reserve(e - b);
+  const std::size_t grain = grain_per_thread(slots, kMinGrain);
+  std::vector<Lists> parts((slots + grain - 1) / grain);
+  parallel_for(slots, grain, [&](std::size_t b, std::size_t e) {
+    Lists& out = parts[b / grain];
+    std::size_t n[2] = {0, 0};
+    for (auto i = static_cast<std::uint32_t>(b); i < e; ++i)
+      if (!mesh_.is_deleted(FaceId(i))) ++n[face_side(mesh_.face(FaceId(i))) > 0 ? 0 : 1];
+    out.side[0].reserve(n[0]);
+    out.side[1].reserve(n[1]);
     for (auto i = static_cast<std::uint32_t>(b); i < e; ++i) {
       const FaceId f(i);
       if (!mesh_.is_deleted(f)) out.side[face_side(mesh_.face(f)) > 0 ? 0 : 1].push_back(f);
@@ -404,6 +411,10 @@ void Cutter::collect_pieces(CutResult& result) {
   });
   std::vector<FaceId> side_faces[2];
   for (int s = 0; s < 2; ++s) {
+    if (parts.size() == 1) {
+      side_faces[s] = std::move(parts[0].side[s]);
+      continue;
+    }
     std::size_t n = 0;
     for (const Lists& l : parts) n += l.side[s].size();
     side_faces[s].reserve(n);
@@ -458,17 +469,24 @@ CutResult Cutter::run() {
 
   // Classify every vertex once: distances and the model size in one pass over the vertices
   // (vertices no face uses count for neither), in parallel chunks.
-  std::vector<std::uint8_t> used(nv, 0);
-  for (const auto& t : mesh_.faces()) used[t[0].index] = used[t[1].index] = used[t[2].index] = 1;
+  // Vertices a face slot uses (threads may mark one vertex together: relaxed atomic bytes).
+  std::unique_ptr<std::atomic<std::uint8_t>[]> used_flags(new std::atomic<std::uint8_t>[nv]());
+  const auto& all_faces = mesh_.faces();
+  parallel_for(all_faces.size(), grain_per_thread(all_faces.size(), kMinGrain), [&](std::size_t b, std::size_t e) {
+    for (std::size_t f = b; f < e; ++f)
+      for (VertexId v : all_faces[f]) used_flags[v.index].store(1, std::memory_order_relaxed);
+  });
+  auto used = [&](std::size_t v) { return used_flags[v].load(std::memory_order_relaxed) != 0; };
   const glm::vec3 point(point_), normal(normal_);
   dist_.resize(nv);
   sign_.resize(nv);
+  const std::size_t vgrain = grain_per_thread(nv, kMinGrain);
   const BoundingBox box = parallel_reduce(
-      nv, kGrain, BoundingBox(),
+      nv, vgrain, BoundingBox(),
       [&](std::size_t b, std::size_t e) {
         BoundingBox part;
         for (std::size_t v = b; v < e; ++v) {
-          if (!used[v]) {
+          if (!used(v)) {
             dist_[v] = 0.0f;
             continue;
           }
@@ -484,12 +502,12 @@ CutResult Cutter::run() {
       });
   const double tol = double(options_.relative_tolerance) * double(box.diagonal());
   const int sides = parallel_reduce(
-      nv, kGrain, 0,
+      nv, vgrain, 0,
       [&](std::size_t b, std::size_t e) {
         int bits = 0;
         for (std::size_t v = b; v < e; ++v) {
           const double d = dist_[v];
-          const std::int8_t sg = !used[v] ? 0 : (d > tol ? 1 : (d < -tol ? -1 : 0));
+          const std::int8_t sg = !used(v) ? 0 : (d > tol ? 1 : (d < -tol ? -1 : 0));
           sign_[v] = sg;
           bits |= sg > 0 ? 1 : (sg < 0 ? 2 : 0);
         }
@@ -506,9 +524,10 @@ CutResult Cutter::run() {
   struct Found {
     std::vector<FaceId> crossed, touching;
   };
-  std::vector<Found> found((first_new_face + kGrain - 1) / kGrain);
-  parallel_for(first_new_face, kGrain, [&](std::size_t b, std::size_t e) {
-    Found& out = found[b / kGrain];
+  const std::size_t fgrain = grain_per_thread(first_new_face, kMinGrain);
+  std::vector<Found> found((first_new_face + fgrain - 1) / fgrain);
+  parallel_for(first_new_face, fgrain, [&](std::size_t b, std::size_t e) {
+    Found& out = found[b / fgrain];
     for (auto i = static_cast<std::uint32_t>(b); i < e; ++i) {
       const FaceId f(i);
       if (mesh_.is_deleted(f)) continue;

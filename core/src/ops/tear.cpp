@@ -467,27 +467,39 @@ void Tearer::tear_piece(const Piece& piece, std::size_t piece_index) {
   zero_.clear();
   crossings_.clear();
 
-  // Faces whose posed bounding box meets the piece's (inflated by a few tolerances): from the
-  // index (plus the faces this tear made) when there is one, else from a scan of every face.
+  // Faces whose posed bounding box meets the piece's (inflated by a few tolerances) and that
+  // reach the band of the piece's plane (a face with every corner further than that on one side
+  // has nothing to tear): from the index (plus the faces this tear made) when there is one, else
+  // from a scan of every face.
   BoundingBox box = piece.box;
-  const glm::vec3 pad(static_cast<float>(4.0 * tol_));
+  const double band = 4.0 * tol_;
+  const glm::vec3 pad(static_cast<float>(band));
   box.add(box.min - pad);
   box.add(box.max + pad);
-  auto overlaps = [&](const Triangle& t) {
+  auto candidate = [&](const Triangle& t) {
     const glm::vec3 &a = posed(t[0].index), &b = posed(t[1].index), &c = posed(t[2].index);
     const glm::vec3 lo = glm::min(a, glm::min(b, c)), hi = glm::max(a, glm::max(b, c));
-    return !(lo.x > box.max.x || lo.y > box.max.y || lo.z > box.max.z || hi.x < box.min.x || hi.y < box.min.y ||
-             hi.z < box.min.z);
+    if (lo.x > box.max.x || lo.y > box.max.y || lo.z > box.max.z || hi.x < box.min.x || hi.y < box.min.y ||
+        hi.z < box.min.z)
+      return false;
+    int above = 0, below = 0;
+    for (const glm::vec3* p : {&a, &b, &c}) {
+      const double d = glm::dot(glm::dvec3(*p) - piece.origin, piece.normal);
+      above += d > band;
+      below += d < -band;
+    }
+    return above < 3 && below < 3;
   };
   std::vector<FaceId> faces;
   if (index_) {
-    for (FaceId f : index_->query_box(box))
-      if (f.index < first_new_face_ && !mesh_.is_deleted(f) && overlaps(mesh_.face(f))) faces.push_back(f);
+    const float reach = static_cast<float>(band) + 0.01f * index_->cell_size();
+    for (FaceId f : index_->query_slab(box, glm::vec3(piece.origin), glm::vec3(piece.normal), reach))
+      if (f.index < first_new_face_ && !mesh_.is_deleted(f) && candidate(mesh_.face(f))) faces.push_back(f);
     for (auto i = first_new_face_; i < mesh_.face_slots(); ++i)
-      if (!mesh_.is_deleted(FaceId(i)) && overlaps(mesh_.face(FaceId(i)))) faces.push_back(FaceId(i));
+      if (!mesh_.is_deleted(FaceId(i)) && candidate(mesh_.face(FaceId(i)))) faces.push_back(FaceId(i));
   } else {
     mesh_.for_each_face([&](FaceId f, const Triangle& t) {
-      if (overlaps(t)) faces.push_back(f);
+      if (candidate(t)) faces.push_back(f);
     });
   }
   classified_.reserve(2 * faces.size() + 16);
@@ -1195,26 +1207,31 @@ void instance_pose(const Model& model, int node, const SurfaceMesh& mesh, const 
   const auto& p = mesh.positions();
   posed.resize(p.size());
   linear.resize(p.size());
+  constexpr std::size_t kGrain = 16384;
   if (n.skin < 0 || static_cast<std::size_t>(n.skin) >= model.skins.size() || !j0 || !w0) {
     const glm::mat4& m = world.at(static_cast<std::size_t>(node));
-    for (std::size_t v = 0; v < p.size(); ++v) {
-      posed[v] = glm::vec3(m * glm::vec4(p[v], 1.0f));
-      linear[v] = glm::mat3(m);
-    }
+    parallel_for(p.size(), kGrain, [&](std::size_t b, std::size_t e) {
+      for (std::size_t v = b; v < e; ++v) {
+        posed[v] = glm::vec3(m * glm::vec4(p[v], 1.0f));
+        linear[v] = glm::mat3(m);
+      }
+    });
     return;
   }
   const auto joints = joint_matrices(model, n.skin, world);
-  for (std::size_t v = 0; v < p.size(); ++v) {
-    glm::mat4 m(0.0f);
-    auto add = [&](const glm::u16vec4& j, const glm::vec4& w) {
-      for (int c = 0; c < 4; ++c)
-        if (w[c] != 0.0f && j[c] < joints.size()) m += w[c] * joints[j[c]];
-    };
-    add((*j0)[v], (*w0)[v]);
-    if (j1 && w1) add((*j1)[v], (*w1)[v]);
-    posed[v] = glm::vec3(m * glm::vec4(p[v], 1.0f));
-    linear[v] = glm::mat3(m);
-  }
+  parallel_for(p.size(), kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t v = b; v < e; ++v) {
+      glm::mat4 m(0.0f);
+      auto add = [&](const glm::u16vec4& j, const glm::vec4& w) {
+        for (int c = 0; c < 4; ++c)
+          if (w[c] != 0.0f && j[c] < joints.size()) m += w[c] * joints[j[c]];
+      };
+      add((*j0)[v], (*w0)[v]);
+      if (j1 && w1) add((*j1)[v], (*w1)[v]);
+      posed[v] = glm::vec3(m * glm::vec4(p[v], 1.0f));
+      linear[v] = glm::mat3(m);
+    }
+  });
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "deepcut/core/errors.h"
+#include "deepcut/core/parallel.h"
 
 namespace deepcut {
 namespace {
@@ -202,13 +203,21 @@ float deformed_positions(const SoftBodyState& state, const Clusters& clusters,
   check_posed(clusters, posed, "soft body");
   out.resize(posed.size());
   const glm::vec3* x = state.displacement.data();
-  float max2 = 0.0f;
-  for (std::uint32_t v = 0, n = static_cast<std::uint32_t>(posed.size()); v < n; ++v) {
-    glm::vec3 d(0.0f);
-    for (const Influence& in : clusters.influences(VertexId(v))) d += in.weight * x[in.particle];
-    out[v] = posed[v] + d;
-    max2 = std::max(max2, glm::dot(d, d));
-  }
+  // Every vertex on its own: parallel chunks (the largest displacement is exact in any order).
+  const float max2 = parallel_reduce(
+      posed.size(), 16384, 0.0f,
+      [&](std::size_t b, std::size_t e) {
+        float m2 = 0.0f;
+        for (std::size_t v = b; v < e; ++v) {
+          glm::vec3 d(0.0f);
+          for (const Influence& in : clusters.influences(VertexId(static_cast<std::uint32_t>(v))))
+            d += in.weight * x[in.particle];
+          out[v] = posed[v] + d;
+          m2 = std::max(m2, glm::dot(d, d));
+        }
+        return m2;
+      },
+      [](float a, float b) { return std::max(a, b); });
   return std::sqrt(max2);
 }
 

@@ -14,6 +14,7 @@
 /// `DEEPCUT_THREADS` (a positive integer) overrides it, and `set_thread_count` changes it at run
 /// time. Calls made from inside a parallel body run serially on the calling thread.
 
+#include <algorithm>
 #include <cstddef>
 #include <functional>
 #include <vector>
@@ -56,6 +57,14 @@ T parallel_reduce(std::size_t n, std::size_t grain, T init, Map&& map, Combine&&
   T acc = std::move(init);
   for (auto& p : partial) acc = combine(std::move(acc), std::move(p));
   return acc;
+}
+
+/// A grain giving each thread about one chunk of a range of `n` elements, never less than
+/// `min_grain`. Only for bodies whose result cannot depend on where chunks start (disjoint
+/// writes, min / max, flags, lists joined in chunk order), since it follows the thread count.
+inline std::size_t grain_per_thread(std::size_t n, std::size_t min_grain) {
+  const std::size_t threads = thread_count();
+  return std::max(min_grain, (n + threads - 1) / threads);
 }
 
 /// Runs independent tasks (e.g. one per attribute array) over the pool.

@@ -6,6 +6,7 @@
 /// operation finds the triangles near its tool without scanning the mesh.
 
 #include <cstdint>
+#include <unordered_map>
 #include <vector>
 
 #include "deepcut/core/edit_log.h"
@@ -22,7 +23,8 @@ class TriangleGrid {
   /// @param cell_size  edge length of a cell; 0 (default) picks about two mean triangle extents,
   ///                   limited so the grid has at most about one cell per face.
   /// @throws Error{InvalidArgument} if `points` does not have one entry per vertex.
-  /// @note O(faces). Faces added later outside the build bounds go to the border cells.
+  /// @note O(faces), in parallel chunks (the layout never depends on the thread count). Faces
+  ///       added later outside the build bounds go to the border cells.
   static TriangleGrid build(const SurfaceMesh& mesh, const std::vector<glm::vec3>& points,
                             float cell_size = 0.0f);
 
@@ -36,13 +38,19 @@ class TriangleGrid {
   /// Live faces whose bounding box may come within `radius` of the segment a-b (a superset of
   /// the faces meeting the capsule), sorted by id. Visits only the cells along the segment.
   std::vector<FaceId> query_capsule(const glm::vec3& a, const glm::vec3& b, float radius) const;
+  /// Live faces in the cells `box` overlaps that also meet the slab of points within
+  /// `half_width` of the plane through `point` with normal `normal` (a superset of the faces
+  /// whose bounding box overlaps `box` and meets the slab), sorted by id. Visits only the cells
+  /// along the plane, so a thin tool (a scalpel's swept quad) costs what its band holds.
+  std::vector<FaceId> query_slab(const BoundingBox& box, const glm::vec3& point, const glm::vec3& normal,
+                                 float half_width) const;
 
   /// Bounds of the faces at build time.
   const BoundingBox& bounds() const { return bounds_; }
   float cell_size() const { return cell_; }
   /// Number of live faces indexed.
   std::size_t face_count() const { return live_; }
-  bool empty() const { return cells_.empty(); }
+  bool empty() const { return start_.empty(); }
 
  private:
   void insert(FaceId f, const Triangle& t, const std::vector<glm::vec3>& points);
@@ -52,6 +60,7 @@ class TriangleGrid {
                static_cast<std::size_t>(dims_.x) +
            static_cast<std::size_t>(x);
   }
+  void collect_cell(std::size_t c, std::vector<FaceId>& out) const;
   void collect(int x, int y, int z0, int z1, std::vector<FaceId>& out) const;
   static void sort_unique(std::vector<FaceId>& v);
 
@@ -59,7 +68,12 @@ class TriangleGrid {
   glm::vec3 origin_{0.0f};
   float cell_ = 1.0f;
   glm::ivec3 dims_{0};
-  std::vector<std::vector<std::uint32_t>> cells_;
+  // The faces of each cell at build time, packed: cell c holds faces_[start_[c] .. start_[c+1]).
+  // One allocation for the whole grid instead of one per cell.
+  std::vector<std::uint32_t> start_;
+  std::vector<std::uint32_t> faces_;
+  // Faces that `apply` added, per cell, made on demand.
+  std::unordered_map<std::size_t, std::vector<std::uint32_t>> added_;
   std::vector<std::uint8_t> alive_;  // by face slot
   std::size_t live_ = 0;
 };
