@@ -148,17 +148,18 @@ void bm_cut_cap_vtk(benchmark::State& state, std::size_t triangles) {
 }
 
 // A hole through the trunk, front to back, at half its height (radius 3% of the model size).
-Cylinder drill_cylinder(const Input& in) {
+// `radius` is a fraction of the model size.
+Cylinder drill_cylinder(const Input& in, float radius = 0.03f) {
   const BoundingBox box = in.mesh.bounds();
   const glm::vec3 c = 0.5f * (box.min + box.max);
-  const float r = 0.03f * box.diagonal();
+  const float r = radius * box.diagonal();
   return {{c.x, c.y, box.max.z + 1.0f}, {c.x, c.y, box.min.z - 1.0f}, r};
 }
 
-void bm_drill_ours(benchmark::State& state, std::size_t triangles) {
+void bm_drill_ours(benchmark::State& state, std::size_t triangles, float radius = 0.03f) {
   const Input& in = input(triangles);
   const TriangleGrid& grid = grid_for(triangles);
-  const Cylinder cyl = drill_cylinder(in);
+  const Cylinder cyl = drill_cylinder(in, radius);
   std::size_t touched = 0;
   for (auto _ : state) {
     state.PauseTiming();
@@ -358,6 +359,8 @@ void register_cases(bool with_1m) {
     reg("tear/ours/" + s, [n](benchmark::State& st) { bm_tear(st, n); });
     reg("drill/ours/" + s, [n](benchmark::State& st) { bm_drill_ours(st, n); });
     reg("drill/vtkClipPolyData+vtkCylinder/" + s, [n](benchmark::State& st) { bm_drill_vtk(st, n); });
+    // The locality target: a hole touching at most about 1000 triangles of the 1M model.
+    if (n >= 500000) reg("drill_small/ours/" + s, [n](benchmark::State& st) { bm_drill_ours(st, n, 0.008f); });
     reg("cluster/ours/" + s, [n](benchmark::State& st) { bm_cluster(st, n); });
     reg("softbody_step_224/ours/" + s, [n](benchmark::State& st) { bm_softbody_step(st, n, 224); });
     reg("softbody_step_863/ours/" + s, [n](benchmark::State& st) { bm_softbody_step(st, n, 863); });
