@@ -116,8 +116,15 @@ glm::ivec3 TriangleGrid::cell_of(const glm::vec3& p) const {
   const glm::vec3 q = (p - origin_) / cell_;
   glm::ivec3 c;
   for (int i = 0; i < 3; ++i) {
-    const float v = std::isfinite(q[i]) ? std::floor(q[i]) : 0.0f;
-    c[i] = static_cast<int>(std::clamp(v, 0.0f, float(dims_[i] - 1)));
+    // Negative, NaN and infinite coordinates go to cell 0, those past the end to the last cell
+    // (what clamping floor(q) gives, without the library calls: this runs for every face).
+    const float v = q[i];
+    if (!(v >= 0.0f) || v == std::numeric_limits<float>::infinity())
+      c[i] = 0;
+    else if (v >= float(dims_[i] - 1))
+      c[i] = dims_[i] - 1;
+    else
+      c[i] = static_cast<int>(v);
   }
   return c;
 }

@@ -25,8 +25,9 @@ class VertexBytes {
     }
   }
 
-  std::uint64_t hash(std::uint32_t v) const {
-    std::uint64_t h = position_hash(v);
+  // The full hash, continued from the position's.
+  std::uint64_t hash(std::uint32_t v, std::uint64_t seed) const {
+    std::uint64_t h = seed;
     for (const auto& a : arrays_) {
       const unsigned char* p = a.data + std::size_t(v) * a.bytes;
       std::size_t i = 0;
@@ -128,8 +129,8 @@ WeldReport weld(SurfaceMesh& mesh) {
   std::vector<std::uint64_t> hash(nu), position_hash(nu);
   parallel_for(nu, kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) {
-      hash[i] = bytes.hash(first_use[i]);
       position_hash[i] = bytes.position_hash(first_use[i]);
+      hash[i] = bytes.hash(first_use[i], position_hash[i]);
     }
   });
   std::vector<std::uint32_t> to_new(nv, kInvalidIndex);
