@@ -406,6 +406,8 @@ class Sequence {
     if (!surface_point(p, n)) return;
     const float size = model_size();
     choose_operation(p, n, size);
+    // DEEPCUT_SEQUENCE_TRACE=1 prints every operation before it runs (to find one that hangs).
+    if (trace_) std::fprintf(stderr, "[sequence] %s step %d: %s\n", name_.c_str(), step_, history_to_json(History{{op_}}).c_str());
     bool any = false;
     for (auto& part : parts_) {
       EditLog log;
@@ -591,6 +593,7 @@ class Sequence {
   std::size_t ok_ = 0, missed_ = 0, start_faces_ = 0;
   // Known open defects (docs/RELIABILITY.md), counted, and failures with DEEPCUT_SEQUENCE_STRICT=1.
   bool strict_ = env_number("DEEPCUT_SEQUENCE_STRICT", 0) != 0;
+  bool trace_ = env_number("DEEPCUT_SEQUENCE_TRACE", 0) != 0;
   std::array<std::size_t, 3> zero_area_{}, pinches_{};  // per operation kind: cut, tear, drill
   std::size_t cap_overlaps_ = 0, rounds_ = 1;
   int kind_ = 0;
