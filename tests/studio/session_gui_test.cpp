@@ -135,8 +135,8 @@ class StudioSessionTest : public QObject {
 
     const QPoint at = window->view()->project(front_point(*window));
     press_and_drag(*window, at, QPoint(90, -30));
-    const float pulled = drawn_offset(*window);
-    QVERIFY2(pulled > 0.02f * size, qPrintable(QString("the drag moved vertices by %1 (size %2)").arg(pulled).arg(size)));
+    // The springs pull the grabbed particles after the cursor on the timer (however busy the machine).
+    QTRY_VERIFY_WITH_TIMEOUT(drawn_offset(*window) > 0.02f * size, 10000);
     QVERIFY(!window->tool()->preview(*window->scene()).empty());  // grab point and reach drawn
     save_shot(*window, "poke_drag");
     release(*window, at + QPoint(90, -30));
@@ -172,12 +172,10 @@ class StudioSessionTest : public QObject {
     window->timeline()->play();
     const float t0 = window->scene()->time;
     press_and_drag(*window, at, QPoint(-80, 40));
-    // Dented against the pose of the moment, while the time runs.
-    const float pulled = drawn_offset(*window);
-    QVERIFY2(pulled > 0.02f * size, qPrintable(QString("moved by %1").arg(pulled)));
-    QTest::qWait(200);
+    // Dented against the pose of the moment, while the time runs; the dent stays while held.
+    QTRY_VERIFY_WITH_TIMEOUT(drawn_offset(*window) > 0.02f * size, 10000);
+    QTRY_VERIFY_WITH_TIMEOUT(window->scene()->time != t0, 5000);
     QVERIFY2(drawn_offset(*window) > 0.02f * size, "the dent stays while held and the model animates");
-    QVERIFY(window->scene()->time != t0);
     save_shot(*window, "poke_playing");
     release(*window, at + QPoint(-80, 40));
     QTRY_VERIFY_WITH_TIMEOUT(drawn_offset(*window) <= 1e-5f * size, 15000);
