@@ -1469,26 +1469,7 @@ bool Driller::wall_shell(const std::vector<std::size_t>& hole_ids, const DrillRe
     }
     wall_coords_[w.v.index] = {w.theta, std::clamp(w.s, 0.0, cy.len), w.where, w.v};
   }
-  // A kept surface triangle whose three corners all lie on the rim (an island on the cylinder)
-  // would get its own mirror image as wall: both go instead.
-  std::unordered_map<std::uint64_t, FaceId> surface_tri;
-  auto tri_key = [](VertexId x, VertexId y, VertexId z) {
-    std::array<std::uint32_t, 3> k = {x.index, y.index, z.index};
-    std::sort(k.begin(), k.end());
-    return (std::uint64_t(k[0]) << 42) ^ (std::uint64_t(k[1]) << 21) ^ k[2];
-  };
-  for (const Edit& e : editor_.log().edits)
-    if (const auto* fa = std::get_if<FaceAdded>(&e))
-      if (!mesh_.is_deleted(fa->f)) surface_tri[tri_key(fa->vertices[0], fa->vertices[1], fa->vertices[2])] = fa->f;
-  for (FaceId f : candidates_)
-    if (!mesh_.is_deleted(f)) surface_tri[tri_key(mesh_.face(f)[0], mesh_.face(f)[1], mesh_.face(f)[2])] = f;
   for (const auto& t : wall_tris) {
-    const auto twin = surface_tri.find(tri_key(pts[t[0]].v, pts[t[1]].v, pts[t[2]].v));
-    if (twin != surface_tri.end() && !mesh_.is_deleted(twin->second)) {
-      editor_.remove_face(twin->second);
-      ++removed_;
-      continue;
-    }
     const int kind = pts[t[0]].where != 0 && pts[t[0]].where == pts[t[1]].where &&
                              pts[t[1]].where == pts[t[2]].where
                          ? 1
