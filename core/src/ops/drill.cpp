@@ -942,56 +942,6 @@ FaceId Driller::wall_face(const Triangle& t, int kind) {
 }
 
 
-// Angle at `c` in the triangle (a, b, c), in 3D.
-double angle_at(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
-  const glm::dvec3 u = a - c, v = b - c;
-  const double lu = glm::length(u), lv = glm::length(v);
-  if (!(lu > 0.0) || !(lv > 0.0)) return kPi;
-  return std::acos(std::clamp(glm::dot(u, v) / (lu * lv), -1.0, 1.0));
-}
-
-// Lawson flips on a curved surface (the cylinder): an interior edge whose opposite angles sum
-// to more than pi is flipped when the two new triangles keep the orientation, so the plane
-// map's distortion (compressed along the axis on long walls) leaves no needles. Edges with one
-// triangle (the rims) are constraints; `forbidden` says whether a new edge may not be made.
-template <class Forbidden>
-void flip_on_surface(std::vector<LocalTri>& tris, const std::vector<glm::dvec3>& p, const Forbidden& forbidden) {
-  auto key = [](std::uint32_t a, std::uint32_t b) { return (std::uint64_t(a) << 32) | b; };
-  std::unordered_map<std::uint64_t, std::uint32_t> half;  // directed edge -> triangle
-  half.reserve(3 * tris.size());
-  for (std::uint32_t t = 0; t < tris.size(); ++t)
-    for (int k = 0; k < 3; ++k) half[key(tris[t][k], tris[t][(k + 1) % 3])] = t;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> stack;
-  for (const auto& tri : tris)
-    for (int k = 0; k < 3; ++k) stack.emplace_back(tri[k], tri[(k + 1) % 3]);
-  std::size_t guard = 50 * tris.size() + 100;
-  while (!stack.empty() && guard-- > 0) {
-    const auto [a, b] = stack.back();
-    stack.pop_back();
-    const auto i1 = half.find(key(a, b)), i2 = half.find(key(b, a));
-    if (i1 == half.end() || i2 == half.end()) continue;
-    const std::uint32_t t1 = i1->second, t2 = i2->second;
-    if (t1 == t2) continue;
-    std::uint32_t c = 0, d = 0;
-    for (int k = 0; k < 3; ++k) {
-      if (tris[t1][k] != a && tris[t1][k] != b) c = tris[t1][k];
-      if (tris[t2][k] != a && tris[t2][k] != b) d = tris[t2][k];
-    }
-    if (c == d || half.count(key(c, d)) || half.count(key(d, c)) || forbidden(c, d)) continue;
-    if (angle_at(p[a], p[b], p[c]) + angle_at(p[a], p[b], p[d]) <= kPi + 1e-9) continue;
-    const glm::dvec3 n_old = glm::cross(p[b] - p[a], p[c] - p[a]) + glm::cross(p[a] - p[b], p[d] - p[b]);
-    const glm::dvec3 n1 = glm::cross(p[d] - p[a], p[c] - p[a]), n2 = glm::cross(p[b] - p[d], p[c] - p[d]);
-    if (glm::dot(n1, n_old) <= 0.0 || glm::dot(n2, n_old) <= 0.0) continue;
-    for (std::uint32_t t : {t1, t2})
-      for (int k = 0; k < 3; ++k) half.erase(key(tris[t][k], tris[t][(k + 1) % 3]));
-    tris[t1] = {a, d, c};
-    tris[t2] = {d, b, c};
-    for (std::uint32_t t : {t1, t2})
-      for (int k = 0; k < 3; ++k) half[key(tris[t][k], tris[t][(k + 1) % 3])] = t;
-    stack.insert(stack.end(), {{a, d}, {d, c}, {c, a}, {d, b}, {b, c}});
-  }
-}
-
 // Winding number of closed loops (indices into `xy`) around `p`.
 int winding(const std::vector<glm::dvec2>& xy, const std::vector<std::vector<std::uint32_t>>& loops,
             const glm::dvec2& p) {
@@ -1424,14 +1374,7 @@ bool Driller::wall_shell(const std::vector<std::size_t>& hole_ids, const DrillRe
       }
       if (!changed) break;
     }
-    std::vector<LocalTri> sheet_tris;
-    for (const auto& t : ft.triangles()) sheet_tris.push_back({global[t[0]], global[t[1]], global[t[2]]});
-    std::vector<glm::dvec3> where3(pts.size());
-    for (std::size_t i = 0; i < pts.size(); ++i) where3[i] = pts[i].p;
-    flip_on_surface(sheet_tris, where3, [&](std::uint32_t x, std::uint32_t y) {
-      return pts[x].v.valid() && pts[y].v.valid() && surface_edges.count(edge_key(pts[x].v, pts[y].v)) > 0;
-    });
-    wall_tris.insert(wall_tris.end(), sheet_tris.begin(), sheet_tris.end());
+    for (const auto& t : ft.triangles()) wall_tris.push_back({global[t[0]], global[t[1]], global[t[2]]});
   }
   if (wall_tris.empty()) return false;
   // Create the new vertices (attributes from the nearest vertices of the two nearest rims) and
