@@ -71,12 +71,14 @@ int run_drill(const std::vector<std::string>& argv) {
                       " (" + std::to_string(before[ni]) + " triangles); use a smaller --radius");
   if (r.status == OpStatus::Ok) record_operation(model, op);
   write_gltf(model, args.value("-o"));
-  // --wall asked for but no rim pair qualified: say so instead of staying silent.
+  // --wall asked for but some holes could not be closed: say so instead of staying silent.
   std::string wall_note;
-  if (drill.options.wall && r.status == OpStatus::Ok && r.wall_triangles == 0)
-    wall_note = "no wall: none of the " + std::to_string(r.rim_vertices.size()) +
-                " holes pairs with another along the axis (a wall joins an entry and the next exit rim that "
-                "each go once around the cylinder side; rims touching an end plane or a grazed layer get none)";
+  if (drill.options.wall && r.status == OpStatus::Ok && r.unwalled_holes > 0)
+    wall_note = "no wall for " + std::to_string(r.unwalled_holes) + " of the " +
+                count_of(r.rim_vertices.size(), "hole", "holes") +
+                ": their rims join a boundary the model already had (an earlier hole, cut or tear without a "
+                "wall) so the surface there was open before the drill, or the surface passes through itself there more "
+                "than twice";
   if (args.flag("--json")) {
     nlohmann::json j{{"status", to_string(r.status)},
                      {"holes", r.rim_vertices.size()},
@@ -85,6 +87,7 @@ int run_drill(const std::vector<std::string>& argv) {
                      {"triangles_removed", r.triangles_removed},
                      {"triangles_added", r.triangles_added},
                      {"wall_triangles", r.wall_triangles},
+                     {"unwalled_holes", r.unwalled_holes},
                      {"ms", ms}};
     if (!wall_note.empty()) j["wall_note"] = wall_note;
     std::cout << j.dump(2) << "\n";

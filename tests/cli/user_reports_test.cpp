@@ -127,17 +127,31 @@ TEST_F(UserReportsTest, help_after_a_command_prints_that_commands_usage) {
 }
 
 TEST_F(UserReportsTest, a_wall_that_cannot_be_built_is_reported_not_silently_left_out) {
-  // Along the trunk's axis: every rim touches an end plane or none goes once round, so no tube.
-  const auto r = test::run_cli("drill " + test::quote(kCactus) + " -o " + test::quote(dir_ + "/w.glb") +
+  // Along the trunk's axis, the end planes inside the cactus: every hole of the closed model is
+  // walled (bottom disks included), so there is nothing to report.
+  const std::string walled = dir_ + "/w.glb";
+  const auto r = test::run_cli("drill " + test::quote(kCactus) + " -o " + test::quote(walled) +
                                " --axis 0,-1,0,0,12,0 --radius 0.3 --wall --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json j = json::parse(r.out);
-  if (j["wall_triangles"].get<std::size_t>() == 0) {
-    ASSERT_TRUE(j.contains("wall_note")) << r.out;
-    EXPECT_NE(j["wall_note"].get<std::string>().find("no wall"), std::string::npos);
-  } else {
-    EXPECT_FALSE(j.contains("wall_note")) << r.out;
-  }
+  EXPECT_GT(j["wall_triangles"].get<std::size_t>(), 0u) << r.out;
+  EXPECT_EQ(j["unwalled_holes"].get<std::size_t>(), 0u) << r.out;
+  EXPECT_FALSE(j.contains("wall_note")) << r.out;
+  // An open hole first, then a walled drill overlapping it: the new rims join the old opening,
+  // which no wall can close; the output says how many holes and why.
+  const std::string open = dir_ + "/open.glb";
+  ASSERT_EQ(test::run_cli("drill " + test::quote(kCactus) + " -o " + test::quote(open) +
+                          " --axis -3,5,0,3,5,0 --radius 0.4")
+                .exit_code,
+            0);
+  const auto again = test::run_cli("drill " + test::quote(open) + " -o " + test::quote(dir_ + "/w2.glb") +
+                                   " --axis -3,5.3,0,3,5.3,0 --radius 0.4 --wall --json");
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  const json k = json::parse(again.out);
+  ASSERT_GT(k["unwalled_holes"].get<std::size_t>(), 0u) << again.out;
+  ASSERT_TRUE(k.contains("wall_note")) << again.out;
+  EXPECT_NE(k["wall_note"].get<std::string>().find("no wall for"), std::string::npos);
+  EXPECT_NE(k["wall_note"].get<std::string>().find("boundary the model already had"), std::string::npos);
 }
 
 TEST_F(UserReportsTest, counts_in_messages_agree_with_their_nouns) {

@@ -57,42 +57,59 @@ EdgeCensus census(const SurfaceMesh& mesh) {
 
 // Signed volume of the solid inside the finite cylinder, integrated along lines parallel to the
 // axis (winding number of each point, so overlapping closed components count like the signed
-// volume of the mesh does).
-double drilled_volume(const SurfaceMesh& mesh, const Cylinder& c) {
+// volume of the mesh does): `rings` x 4 `rings` lines over the disk, the midpoint rule.
+double drilled_volume(const SurfaceMesh& mesh, const Cylinder& c, int rings) {
   const Axis ax(c);
   const glm::dvec3 helper = std::abs(ax.d.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
   const glm::dvec3 u = glm::normalize(glm::cross(helper, ax.d)), w = glm::cross(ax.d, u);
-  const int rings = 12, sectors = 48;
+  const int sectors = 4 * rings;
+  // Faces whose shadow meets the disk, bucketed on a grid over it.
+  const int cells = 32;
+  std::vector<std::vector<FaceId>> grid(cells * cells);
+  auto cell_of = [&](double x) { return std::clamp(static_cast<int>((x / ax.r + 1.0) * 0.5 * cells), 0, cells - 1); };
+  mesh.for_each_face([&](FaceId f, const Triangle& t) {
+    double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+    for (VertexId v : t) {
+      const glm::dvec3 q = glm::dvec3(mesh.position(v)) - ax.a;
+      const double x[2] = {glm::dot(q, u), glm::dot(q, w)};
+      for (int k = 0; k < 2; ++k) lo[k] = std::min(lo[k], x[k]), hi[k] = std::max(hi[k], x[k]);
+    }
+    if (lo[0] > ax.r || lo[1] > ax.r || hi[0] < -ax.r || hi[1] < -ax.r) return;
+    for (int i = cell_of(lo[0]); i <= cell_of(hi[0]); ++i)
+      for (int j = cell_of(lo[1]); j <= cell_of(hi[1]); ++j) grid[i * cells + j].push_back(f);
+  });
   double volume = 0.0;
   for (int i = 0; i < rings; ++i) {
     const double r0 = ax.r * i / rings, r1 = ax.r * (i + 1) / rings, rm = 0.5 * (r0 + r1);
     const double cell = 0.5 * (r1 * r1 - r0 * r0) * 2.0 * kPi / sectors;
     for (int j = 0; j < sectors; ++j) {
       const double th = 2.0 * kPi * (j + 0.5) / sectors;
-      const glm::dvec3 o = ax.a + rm * (std::cos(th) * u + std::sin(th) * w);
+      const double x = rm * std::cos(th), y = rm * std::sin(th);
+      const glm::dvec3 o = ax.a + x * u + y * w;
       std::vector<std::pair<double, int>> hits;  // s, winding change
-      mesh.for_each_face([&](FaceId, const Triangle& t) {
+      for (FaceId f : grid[cell_of(x) * cells + cell_of(y)]) {
+        const Triangle& t = mesh.face(f);
         const glm::dvec3 p0(mesh.position(t[0])), p1(mesh.position(t[1])), p2(mesh.position(t[2]));
         const glm::dvec3 e1 = p1 - p0, e2 = p2 - p0, pv = glm::cross(ax.d, e2);
         const double det = glm::dot(e1, pv);
-        if (std::abs(det) < 1e-300) return;
+        if (std::abs(det) < 1e-300) continue;
         const glm::dvec3 tv = o - p0;
         const double bu = glm::dot(tv, pv) / det;
-        if (bu < 0.0 || bu > 1.0) return;
+        if (bu < 0.0 || bu > 1.0) continue;
         const glm::dvec3 qv = glm::cross(tv, e1);
         const double bv = glm::dot(ax.d, qv) / det;
-        if (bv < 0.0 || bu + bv > 1.0) return;
-        const double s = glm::dot(e2, qv) / det;
-        hits.emplace_back(s, glm::dot(glm::cross(e1, e2), ax.d) < 0.0 ? 1 : -1);
-      });
+        if (bv < 0.0 || bu + bv > 1.0) continue;
+        const double sv = glm::dot(e2, qv) / det;
+        hits.emplace_back(sv, glm::dot(glm::cross(e1, e2), ax.d) < 0.0 ? 1 : -1);
+      }
       std::sort(hits.begin(), hits.end());
       int winding = 0;
       double prev = -1e300;
-      for (const auto& [s, change] : hits) {
-        const double lo = std::max(prev, 0.0), hi = std::min(s, ax.len);
+      for (const auto& [sv, change] : hits) {
+        const double lo = std::max(prev, 0.0), hi = std::min(sv, ax.len);
         if (hi > lo) volume += winding * (hi - lo) * cell;
         winding += change;
-        prev = s;
+        prev = sv;
       }
       if (prev < ax.len) volume += winding * (ax.len - std::max(prev, 0.0)) * cell;
     }
@@ -100,7 +117,9 @@ double drilled_volume(const SurfaceMesh& mesh, const Cylinder& c) {
   return volume;
 }
 
-Cylinder random_through_drill(const BoundingBox& box, std::mt19937& rng) {
+// An axis through a random point of the box; with `finite`, A and B at random distances from
+// that point (often inside the model: blind holes, holes starting inside, notches at the ends).
+Cylinder random_through_drill(const BoundingBox& box, std::mt19937& rng, bool finite = false) {
   std::uniform_real_distribution<float> u01(0.0f, 1.0f);
   std::normal_distribution<float> gauss(0.0f, 1.0f);
   glm::vec3 dir;
@@ -112,16 +131,31 @@ Cylinder random_through_drill(const BoundingBox& box, std::mt19937& rng) {
       box.min +
       (box.max - box.min) * glm::vec3(0.2f + 0.6f * u01(rng), 0.2f + 0.6f * u01(rng), 0.2f + 0.6f * u01(rng));
   Cylinder c;
-  c.a = p - dir * size;
-  c.b = p + dir * size;
+  c.a = p - dir * size * (finite ? 0.05f + 0.6f * u01(rng) : 1.0f);
+  c.b = p + dir * size * (finite ? 0.05f + 0.6f * u01(rng) : 1.0f);
   c.radius = size * (0.01f + 0.14f * u01(rng));
   return c;
 }
 
+// Smallest angle of a triangle, degrees.
+double min_angle(const SurfaceMesh& mesh, const Triangle& t) {
+  double best = 180.0;
+  for (int k = 0; k < 3; ++k) {
+    const glm::dvec3 c(mesh.position(t[k])), a(mesh.position(t[(k + 1) % 3])), b(mesh.position(t[(k + 2) % 3]));
+    const double la = glm::length(a - c), lb = glm::length(b - c);
+    if (!(la > 0.0) || !(lb > 0.0)) return 0.0;
+    best = std::min(best, std::acos(std::clamp(glm::dot(a - c, b - c) / (la * lb), -1.0, 1.0)) * 180.0 / kPi);
+  }
+  return best;
+}
+
 struct Checked {
+  // New triangles, and those under 5 degrees: surface ones whose parent was not itself thin
+  // (under 10 degrees), and wall ones.
+  std::size_t surface = 0, surface_thin = 0, wall = 0, wall_thin = 0, degenerate = 0;
   bool intersected = false;
   bool all_walled = false;
-  std::size_t round_holes = 0;
+  std::size_t round_holes = 0, d_holes = 0;  // holes the axis crosses: on the side, across an end plane
 };
 
 // All the invariants of one mesh-level drill on bind positions (posed == bind).
@@ -142,6 +176,10 @@ void check_drill_into(Checked& out, const SurfaceMesh& input, const Cylinder& cy
     return;
   }
   out.intersected = true;
+  char cyl_text[200];
+  std::snprintf(cyl_text, sizeof cyl_text, "cylinder %.9g,%.9g,%.9g,%.9g,%.9g,%.9g r %.9g", cyl.a.x, cyl.a.y, cyl.a.z,
+                cyl.b.x, cyl.b.y, cyl.b.z, cyl.radius);
+  SCOPED_TRACE(cyl_text);
   EXPECT_EQ(r.added_posed.size(), mesh.vertex_count() - input.vertex_count());
   Adjacency adj = before;
   adj.apply(r.log);
@@ -151,17 +189,39 @@ void check_drill_into(Checked& out, const SurfaceMesh& input, const Cylinder& cy
   auto is_wall = [&](FaceId f) {
     return wall_flag && (*wall_flag)[f.index] && f.index >= input.face_slots();
   };
-  // No surface left inside the open cylinder (the rim polygon's chords may cut 1% inside).
+  for (const Edit& e : r.log.edits) {
+    const auto* fa = std::get_if<FaceAdded>(&e);
+    if (!fa || mesh.is_deleted(fa->f)) continue;
+    const double angle = min_angle(mesh, mesh.face(fa->f));
+    out.degenerate += angle < 1e-3;
+    if (is_wall(fa->f)) {
+      ++out.wall;
+      out.wall_thin += angle < 5.0;
+    } else if (!fa->parent.valid() || min_angle(input, input.face(fa->parent)) >= 10.0) {
+      ++out.surface;
+      out.surface_thin += angle < 5.0;
+    }
+  }
+  // No surface left inside the open cylinder (the rim polygon's chords may cut 1% of r inside,
+  // on the side as at the end planes, where a chord joins a side point to an end-plane point).
+  const double end_margin = tol + 0.01 * ax.r;
   mesh.for_each_face([&](FaceId f, const Triangle& t) {
     if (is_wall(f)) return;
     const glm::vec3 c = (mesh.position(t[0]) + mesh.position(t[1]) + mesh.position(t[2])) / 3.0f;
     const double s = ax.s(c);
-    const bool inside = ax.rho(c) < 0.99 * ax.r && s > tol && s < ax.len - tol;
+    bool inside = ax.rho(c) < 0.99 * ax.r && s > end_margin && s < ax.len - end_margin;
+    // A triangle whose corners all lie on or outside the cylinder spans a rim chord: on a layer
+    // the axis grazes, its centroid can sit a little deeper (2%).
+    bool corners_out = true;
+    for (VertexId v : t) corners_out &= ax.rho(mesh.position(v)) >= ax.r - tol;
+    if (corners_out) inside = ax.rho(c) < 0.98 * ax.r && s > end_margin && s < ax.len - end_margin;
     ASSERT_FALSE(inside) << "face " << f.index << " centroid inside the cylinder (rho " << ax.rho(c) / ax.r
                          << " r)"
                          << " corners " << t[0].index << ":" << ax.rho(mesh.position(t[0])) / ax.r << " "
                          << t[1].index << ":" << ax.rho(mesh.position(t[1])) / ax.r << " " << t[2].index
-                         << ":" << ax.rho(mesh.position(t[2])) / ax.r << " input v " << input.vertex_count()
+                         << ":" << ax.rho(mesh.position(t[2])) / ax.r << " s " << ax.s(mesh.position(t[0])) << " "
+                         << ax.s(mesh.position(t[1])) << " " << ax.s(mesh.position(t[2])) << " of " << ax.len
+                         << " input v " << input.vertex_count()
                          << " faces " << input.face_slots() << " r " << ax.r;
   });
   // Every new vertex on a boundary lies on the cylinder (within 1% of r) or on an end plane;
@@ -207,20 +267,77 @@ void check_drill_into(Checked& out, const SurfaceMesh& input, const Cylinder& cy
             << "rim edge is not a boundary edge";
       }
     }
-    if (h.closed && std::abs(h.winding) == 1) {
-      ++out.round_holes;
-      EXPECT_GE(h.rim.size(), static_cast<std::size_t>(options.min_rim_edges));
+    // A hole the axis goes through whose rim stays on the cylinder's side is round; one that
+    // reaches an end plane is D-shaped (the layer crosses the end disk), its side arc sampled
+    // at the same angles and its straight part at the same spacing.
+    bool on_side = true;
+    for (VertexId v : h.rim) {
+      const double sv = ax.s(mesh.position(v));
+      on_side &= sv > tol && sv < ax.len - tol;
+    }
+    // A rim wholly on an end plane (a part the plane severs inside the cylinder) is the part's
+    // cross-section, sampled at the rim spacing.
+    bool on_end = true;
+    for (VertexId v : h.rim) on_end &= std::abs(ax.rho(mesh.position(v)) - ax.r) > tol;
+    if (h.closed && std::abs(h.winding) == 1 && !on_end) {
+      ++(on_side ? out.round_holes : out.d_holes);
+      EXPECT_GE(h.rim.size(), static_cast<std::size_t>(options.min_rim_edges)) << (on_side ? "round" : "D-shaped");
     }
   }
-  if (options.wall && closed && out.all_walled) {
+  if (options.wall && closed) {
+    EXPECT_TRUE(out.all_walled) << "every rim of a closed input gets its wall";
     const EdgeCensus c = census(mesh);
     EXPECT_EQ(c.boundary, 0u) << "walled drill of closed input is closed";
     EXPECT_EQ(c.inconsistent, 0u) << "walled drill is consistently oriented";
     // The wall is inscribed in the cylinder with min_rim_edges vertices around: an N-gon prism.
     const double n = options.min_rim_edges;
-    const double expected = drilled_volume(input, cyl) * n / (2.0 * kPi) * std::sin(2.0 * kPi / n);
+    // The reference is a quadrature: its own error (fine vs coarse) widens the 2% where the
+    // drilled volume is a thin shaving that the lines barely resolve.
+    const double fine = drilled_volume(input, cyl, 48), coarse = drilled_volume(input, cyl, 24);
+    // The wall's side is inscribed in the cylinder (vertices min_rim_edges to the turn): its
+    // chords leave r pi^2 / (3 n^2) of volume per unit of side area (exact for a full prism).
+    // Snapping moves the cut surface by at most twice the tolerance: that much of the wall's
+    // area in volume is the drill's own allowance (it shows only on shavings).
+    // Wall triangles wider (across the axis) than the ruling spacing, as across a narrow
+    // notch, cut deeper chords: their sagitta L^2 / 8r bounds the rest.
+    double side_area = 0.0, wall_area = 0.0, corner = 0.0, chord = 2.0 * kPi * ax.r / n;
+    mesh.for_each_face([&](FaceId f, const Triangle& t) {
+      if (!is_wall(f)) return;
+      const glm::dvec3 p0(mesh.position(t[0])), p1(mesh.position(t[1])), p2(mesh.position(t[2]));
+      const glm::dvec3 nrm = glm::cross(p1 - p0, p2 - p0);
+      for (const glm::dvec3& e : {p1 - p0, p2 - p1, p0 - p2})
+        chord = std::max(chord, glm::length(e - glm::dot(e, ax.d) * ax.d));
+      wall_area += 0.5 * glm::length(nrm);
+      // A wall triangle from an end disk to the side cuts the cylinder's rim edge: at most its
+      // area times half its longest edge.
+      bool on_end = false, on_side = false;
+      for (VertexId v : t) {
+        const double sv = ax.s(mesh.position(v)), rho = ax.rho(mesh.position(v));
+        on_end |= (std::abs(sv) <= tol || std::abs(sv - ax.len) <= tol) && rho < ax.r - tol;
+        on_side |= std::abs(rho - ax.r) <= tol && sv > tol && sv < ax.len - tol;
+      }
+      if (on_end && on_side)
+        corner += 0.25 * glm::length(nrm) *
+                  std::max({glm::length(p1 - p0), glm::length(p2 - p1), glm::length(p0 - p2)});
+      if (glm::length(nrm) > 0.0 && std::abs(glm::dot(nrm, ax.d)) < 0.5 * glm::length(nrm))
+        side_area += 0.5 * glm::length(nrm);
+    });
+    const double expected = fine - side_area * ax.r * kPi * kPi / (3.0 * n * n);
     const double removed = input.volume() - mesh.volume();
-    EXPECT_NEAR(removed, expected, 0.02 * std::abs(expected) + 1e-9) << "volume " << input.volume();
+    const double sagitta = side_area * (chord * chord - std::pow(2.0 * kPi * ax.r / n, 2.0)) / (8.0 * ax.r);
+    const double slack = 0.02 * std::abs(expected) + 2.0 * std::abs(fine - coarse) + sagitta + corner;
+    if (std::abs(removed - expected) > slack) {
+      // Surface within the snapping tolerance of the cylinder may stay (a graze shallower than
+      // the tolerance is not cut) or go: between the cylinder shrunk and grown by it.
+      const double band = 2.0 * (options.relative_tolerance * cyl.radius + 1e-6 * ax.len);
+      Cylinder shrunk = cyl, grown = cyl;
+      const glm::vec3 dir = glm::vec3(ax.d) * static_cast<float>(band);
+      shrunk.a += dir, shrunk.b -= dir, shrunk.radius -= static_cast<float>(band);
+      grown.a -= dir, grown.b += dir, grown.radius += static_cast<float>(band);
+      const double lower = drilled_volume(input, shrunk, 48) * expected / fine, upper = drilled_volume(input, grown, 48);
+      EXPECT_GE(removed, lower - slack) << "volume " << input.volume() << " expected " << expected;
+      EXPECT_LE(removed, upper + slack) << "volume " << input.volume() << " expected " << expected;
+    }
   }
 }
 
@@ -513,30 +630,51 @@ TEST(DrillTest, random_drills_on_every_asset_keep_all_invariants) {
     const Model model = read_gltf(path);
     const std::size_t joints = model.skins.empty() ? 0 : model.skins[0].joints.size();
     std::mt19937 rng(seed);
-    std::size_t hits = 0, walled = 0, round = 0;
+    std::size_t hits = 0, wall_hits = 0, walled = 0, round = 0, d_shaped = 0;
+    Checked quality;
+    bool closed = true;
     for (const auto& mesh : model.meshes)
       for (const auto& prim : mesh.primitives) {
         const BoundingBox box = prim.mesh.bounds();
+        const Adjacency adj = Adjacency::build(prim.mesh);
+        closed &= adj.boundary_edges().empty() && adj.nonmanifold_edges().empty();
         for (int i = 0; i < 100; ++i) {
-          const Cylinder c = random_through_drill(box, rng);
+          const Cylinder c = random_through_drill(box, rng, i % 4 == 3);
           DrillOptions options;
-          options.wall = i % 4 == 1;
+          options.wall = i % 2 == 1;
           options.min_rim_edges = i % 5 == 2 ? 48 : 32;
           SCOPED_TRACE("drill " + std::to_string(i));
-          const Checked k = check_drill(prim.mesh, c, options, joints, i % 2 == 0);
+          const Checked k = check_drill(prim.mesh, c, options, joints, (i / 2) % 2 == 0);
           if (::testing::Test::HasFatalFailure()) return;
           hits += k.intersected;
+          quality.surface += k.surface, quality.surface_thin += k.surface_thin, quality.wall += k.wall;
+          quality.wall_thin += k.wall_thin, quality.degenerate += k.degenerate;
+          wall_hits += options.wall && k.intersected;
           walled += options.wall && k.all_walled && k.intersected;
           round += k.round_holes;
+          d_shaped += k.d_holes;
         }
       }
     // Radii up to 15% of the model size often sever thin parts (rims that do not go around the
-    // axis); the rest are round holes, and walls close most drills (not where components of the
-    // input intersect each other, as the cactus' arms and body do).
+    // axis); the rest are round holes. On closed input every wall drill closes (check_drill
+    // asserts closedness, orientation and the volume), also where closed components of the
+    // input intersect each other, as the cactus' arms and trunk do.
     EXPECT_GT(hits, 50u) << "most random drills through the model hit it";
     EXPECT_GT(round, hits / 20) << "through drills make round holes";
-    EXPECT_GE(walled, 10u) << "walls close drills of closed input";
-    std::printf("%s: %zu hits, %zu fully walled, %zu round holes\n", path.c_str(), hits, walled, round);
+    if (closed) {
+      EXPECT_EQ(walled, wall_hits) << "walls close every drill of closed input";
+    }
+    // Triangle quality: no degenerate triangle. Needles (under 5 degrees) among the new
+    // surface triangles of well-shaped parents: 5-13% on these assets (rim points that fall
+    // close to each other, to a corner or to an edge of a parent), held here so they cannot
+    // grow; on the walls (Lawson flips on the cylinder) under 5%.
+    EXPECT_EQ(quality.degenerate, 0u);
+    EXPECT_LE(quality.surface_thin, quality.surface * 15 / 100) << "surface needles";
+    EXPECT_LE(quality.wall_thin, quality.wall / 20) << "wall needles";
+    std::printf("%s: %zu hits, %zu fully walled, %zu round holes, %zu D-shaped; under 5 degrees: %zu of %zu new surface "
+                "triangles, %zu of %zu wall triangles\n",
+                path.c_str(), hits, walled, round, d_shaped, quality.surface_thin, quality.surface, quality.wall_thin,
+                quality.wall);
   }
 }
 

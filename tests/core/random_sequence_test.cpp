@@ -195,6 +195,11 @@ class Sequence {
                 "non-manifold cap edges %zu\n",
                 name_.c_str(), zero_area_[0], zero_area_[1], zero_area_[2], pinches_[0], pinches_[1], pinches_[2],
                 cap_overlaps_);
+    // The slowest single operation of each kind (speed targets live in tests/bench; this line
+    // shows a step that stalls, with its replay step).
+    std::printf("[sequence] %s slowest operation (cut/tear/drill): %.0f ms (step %d) / %.0f ms (step %d) / %.0f ms (step %d)\n",
+                name_.c_str(), slowest_ms_[0], slowest_step_[0], slowest_ms_[1], slowest_step_[1], slowest_ms_[2],
+                slowest_step_[2]);
     if (!::testing::Test::HasFailure()) std::filesystem::remove_all(dir);
   }
 
@@ -413,7 +418,13 @@ class Sequence {
       EditLog log;
       bool changed = false;
       try {
+        const auto t0 = std::chrono::steady_clock::now();
         changed = apply(part, log);
+        const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        if (ms > slowest_ms_[kind_]) {
+          slowest_ms_[kind_] = ms;
+          slowest_step_[kind_] = step_;
+        }
       } catch (const std::exception& e) {
         FAIL() << context() << "the operation threw on mesh " << part.mesh_index << " primitive " << part.primitive << ": "
                << e.what();
@@ -596,6 +607,8 @@ class Sequence {
   bool trace_ = env_number("DEEPCUT_SEQUENCE_TRACE", 0) != 0;
   std::array<std::size_t, 3> zero_area_{}, pinches_{};  // per operation kind: cut, tear, drill
   std::size_t cap_overlaps_ = 0, rounds_ = 1;
+  std::array<double, 3> slowest_ms_{};  // per operation kind, one part
+  std::array<int, 3> slowest_step_{};
   int kind_ = 0;
   std::array<std::size_t, 3> counts_{};
 };

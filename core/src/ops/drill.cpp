@@ -11,9 +11,10 @@
 //    corners on the end planes. The kept parts of the triangle (one boundary run and one rim
 //    arc each, or the triangle with an elliptic hole) are triangulated and flipped to Delaunay
 //    in the plane; corners get barycentric coordinates of the parent (add_face_from).
-// 4. Rims are chained; with `wall`, rims that go once around the axis are paired along it and
-//    joined by a tube triangulated in log-polar coordinates of the cylinder (conformal, so the
-//    Delaunay flips there give well-shaped triangles on the cylinder).
+// 4. Rims are chained; with `wall`, each connected shell gets the part of the cylinder's surface
+//    (side and end disks) inside it, triangulated in one plane the surface is mapped to
+//    conformally (log-polar on the side, the end disks continuing it), where the shell's rims
+//    are nested loops (see wall_shell).
 #include "deepcut/core/ops/drill.h"
 
 #include <algorithm>
@@ -34,6 +35,14 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// The wall plane map spans at most exp(kWallSpan) in scale: exact orientation tests stay
+// reliable, and longer walls are compressed along the axis (kappa).
+constexpr double kWallSpan = 8.0;
+// Wall Steiner rows grow apart up to this many rim spacings; at most kWallRows rows along the
+// axis and kWallRings rings on an end disk (long, thin drills with many rim edges stay cheap).
+constexpr double kWallRowStretch = 6.0;
+constexpr double kWallRows = 256.0;
+constexpr double kWallRings = 24.0;
 
 std::uint64_t edge_key(VertexId a, VertexId b) {
   const auto lo = std::min(a.index, b.index), hi = std::max(a.index, b.index);
@@ -119,6 +128,15 @@ std::vector<std::uint32_t> bridge(const std::vector<glm::dvec2>& pts, const std:
     const double d1 = orient(a, b, c), d2 = orient(a, b, d), d3 = orient(c, d, a), d4 = orient(c, d, b);
     return ((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0));
   };
+  // A hole that touches the outer loop at a shared point is spliced in there (no bridge).
+  for (std::size_t o = 0; o < outer.size(); ++o)
+    for (std::size_t h = 0; h < hole.size(); ++h)
+      if (outer[o] == hole[h]) {
+        std::vector<std::uint32_t> merged(outer.begin(), outer.begin() + static_cast<std::ptrdiff_t>(o) + 1);
+        for (std::size_t k = 1; k <= hole.size(); ++k) merged.push_back(hole[(h + k) % hole.size()]);
+        merged.insert(merged.end(), outer.begin() + static_cast<std::ptrdiff_t>(o) + 1, outer.end());
+        return merged;
+      }
   std::vector<std::tuple<double, std::size_t, std::size_t>> pairs;
   for (std::size_t o = 0; o < outer.size(); ++o)
     for (std::size_t h = 0; h < hole.size(); ++h)
@@ -446,12 +464,19 @@ class Driller {
   void build_walls(DrillResult& result);
 
   // Walls.
-  struct WallPoint {
+  struct WallPt {
+    glm::dvec3 p{0.0};  // posed, on the cylinder's surface
+    double theta = 0.0, s = 0.0, rho = 0.0;
+    int where = 0;       // 0 side, 1 end disk at A, 2 end disk at B
+    bool pole = false;   // the B disk's centre when the plane map sends it to the origin
+    VertexId v;          // the vertex (rim), or invalid until a Steiner point is created
+  };
+  struct WallCoord {
     double theta, s;
+    int where;
     VertexId v;
   };
-  using Curve = std::vector<WallPoint>;
-  void disk(const Curve& ring, bool at_end);
+  bool wall_shell(const std::vector<std::size_t>& hole_ids, const DrillResult& result, std::vector<char>& walled_ok);
   VertexId wall_vertex(VertexId a, VertexId b, float t, const glm::dvec3& p);
   FaceId wall_face(const Triangle& t, int kind);
   void finish_wall_attributes();
@@ -469,11 +494,12 @@ class Driller {
   std::vector<glm::dvec3> added_posed_;
   std::vector<glm::dvec3> ruling_base_;  // where each sampled ruling starts (s = 0)
   std::unordered_map<std::uint64_t, EdgeCut> edges_;
+  std::vector<FaceId> candidates_;  // faces near the cylinder, in processing order
   std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> rim_next_;  // directed rim edges
   std::size_t crossings_ = 0, removed_ = 0, added_ = 0;
   // Wall faces: 0 tube, 1 disk; vertex normals of the tube are accumulated over tube faces.
   std::vector<std::pair<FaceId, int>> wall_faces_;
-  std::unordered_map<std::uint32_t, WallPoint> wall_coords_;
+  std::unordered_map<std::uint32_t, WallCoord> wall_coords_;
 };
 
 const EdgeCut& Driller::edge(VertexId a, VertexId b) {
@@ -657,6 +683,7 @@ void Driller::process_face(FaceId f) {
     lp.on_rim = true;
     rim.push_back(lp);
   };
+  std::array<std::pair<double, double>, 2> chords{};  // (a, half length) on each end plane
   if (pc.c1 > 0.0) {  // end-plane corners first, so rulings next to them give way
     for (double s_cap : {0.0, cyl_.len}) {
       const double a_cap = (s_cap - pc.so) / pc.c1;
@@ -669,15 +696,29 @@ void Driller::process_face(FaceId f) {
         consider(pc.point(a_cap, pc.b0 + hh), true);
         consider(pc.point(a_cap, pc.b0 - hh), true);
       }
+      chords[s_cap > 0.0 ? 1 : 0] = {a_cap, hh};
     }
   }
+  int arc_rulings = 0;  // rulings whose point in this plane lies between the end planes
   if (!pc.parallel) {
     for (int k = 0; k < samples_; ++k) {
       const glm::dvec3& base = ruling_base_[static_cast<std::size_t>(k)];
       const double sv = glm::dot(pc.o - base, pc.n) / pc.dn;
       if (sv < 0.0 || sv > cyl_.len) continue;
+      ++arc_rulings;
       consider(base + sv * cyl_.d, false);
     }
+  }
+  // A layer that crosses an end disk gets a D-shaped rim: its straight part on the end plane is
+  // sampled at the rim spacing, and densely enough (down to half of it) that the whole D has
+  // min_rim_edges edges when the axis crosses the layer (its arc is then at least half a turn).
+  for (const auto& [a_cap, hh] : chords) {
+    if (!(hh > 0.0)) continue;
+    const double spacing = 2.0 * cyl_.r * std::sin(kPi / samples_);
+    const int by_spacing = static_cast<int>(std::ceil(2.0 * hh / spacing));
+    const int by_count = std::min(samples_ - arc_rulings + 1, static_cast<int>(std::floor(4.0 * hh / spacing)));
+    const int pieces = std::min(std::max(by_spacing, by_count), 4 * samples_);
+    for (int j = 1; j < pieces; ++j) consider(pc.point(a_cap, pc.b0 - hh + 2.0 * hh * j / pieces), false);
   }
   if (!any_inside) {
     if (rim.size() < 3) return;
@@ -834,16 +875,29 @@ void Driller::collect_holes(DrillResult& result) {
   auto on_rim = [&](VertexId v) {
     return v.index >= first_new_ || std::abs(cyl_.sd(posed(v))) <= 2.0 * eps_;
   };
+  // Faces the drill left alone can border the hole too: an old edge that lies on the cylinder
+  // (within the tolerance) between a removed face and an untouched one.
+  std::unordered_set<std::uint64_t> untouched;
+  for (FaceId f : candidates_)
+    if (!mesh_.is_deleted(f)) {
+      const Triangle& t = mesh_.face(f);
+      for (int k = 0; k < 3; ++k) untouched.insert(directed(t[k], t[(k + 1) % 3]));
+    }
+  auto consider = [&](VertexId a, VertexId b) {
+    if (!on_rim(a) || !on_rim(b) || added.count(directed(b, a)) || untouched.count(directed(b, a))) return;
+    if (a.index < first_new_ && b.index < first_new_ && !removed.count(directed(b, a))) return;
+    rim_next_[a.index].push_back(b.index);
+  };
   for (const Edit& e : editor_.log().edits) {
     const auto* fa = std::get_if<FaceAdded>(&e);
     if (!fa || mesh_.is_deleted(fa->f)) continue;
-    for (int k = 0; k < 3; ++k) {
-      const VertexId a = fa->vertices[k], b = fa->vertices[(k + 1) % 3];
-      if (!on_rim(a) || !on_rim(b) || added.count(directed(b, a))) continue;
-      if (a.index < first_new_ && b.index < first_new_ && !removed.count(directed(b, a))) continue;
-      rim_next_[a.index].push_back(b.index);
-    }
+    for (int k = 0; k < 3; ++k) consider(fa->vertices[k], fa->vertices[(k + 1) % 3]);
   }
+  for (FaceId f : candidates_)
+    if (!mesh_.is_deleted(f)) {
+      const Triangle t = mesh_.face(f);
+      for (int k = 0; k < 3; ++k) consider(t[k], t[(k + 1) % 3]);
+    }
   std::unordered_map<std::uint32_t, int> indegree;
   for (const auto& [v, next] : rim_next_)
     for (auto w : next) ++indegree[w];
@@ -907,400 +961,511 @@ FaceId Driller::wall_face(const Triangle& t, int kind) {
   return f;
 }
 
-// Nearest curve vertices around angle th: the two bracketing ones and the blend between them.
-struct Bracket {
-  VertexId a, b;
-  float t;
-  double s;
-};
-template <class CurveT>
-Bracket bracket(const CurveT& c, double th) {
-  Bracket best{c[0].v, c[0].v, 0.0f, c[0].s};
-  double best_gap = kInf;
-  for (std::size_t i = 0; i < c.size(); ++i) {
-    const auto& p = c[i];
-    const auto& q = c[(i + 1) % c.size()];
-    double span = q.theta - p.theta;
-    while (span > kPi) span -= 2.0 * kPi;
-    while (span < -kPi) span += 2.0 * kPi;
-    double off = th - p.theta;
-    while (off > kPi) off -= 2.0 * kPi;
-    while (off < -kPi) off += 2.0 * kPi;
-    if (std::abs(span) > 0.0 && off / span >= 0.0 && off / span <= 1.0) {
-      const double t = off / span;
-      const double gap = std::abs(span);
-      if (gap < best_gap) {
-        best_gap = gap;
-        best = {p.v, q.v, static_cast<float>(t), p.s + t * (q.s - p.s)};
-      }
-    }
-  }
-  if (best_gap == kInf) {  // not bracketed (should not happen for a winding curve): nearest
-    double nearest = kInf;
-    for (const auto& p : c) {
-      double off = std::abs(std::remainder(th - p.theta, 2.0 * kPi));
-      if (off < nearest) {
-        nearest = off;
-        best = {p.v, p.v, 0.0f, p.s};
-      }
-    }
-  }
-  return best;
+
+// Angle at `c` in the triangle (a, b, c), in 3D.
+double angle_at(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+  const glm::dvec3 u = a - c, v = b - c;
+  const double lu = glm::length(u), lv = glm::length(v);
+  if (!(lu > 0.0) || !(lv > 0.0)) return kPi;
+  return std::acos(std::clamp(glm::dot(u, v) / (lu * lv), -1.0, 1.0));
 }
 
-void Driller::disk(const Curve& ring, bool at_end) {
-  const double s = ring[0].s;
-  const std::size_t n = ring.size();
-  const Triangle src = {ring[0].v, ring[n / 3].v, ring[(2 * n) / 3].v};
-  const VertexId c = editor_.add_vertex_in_triangle(src, glm::vec3(1.0f / 3.0f));
-  const glm::dvec3 p = cyl_.a + s * cyl_.d;
-  added_posed_.push_back(p);
-  editor_.move_vertex(c, unpose_ ? unpose_(mesh_, c, glm::vec3(p)) : glm::vec3(p));
-  wall_coords_[c.index] = {0.0, s, c};
-  for (std::size_t k = 0; k < n; ++k) {
-    wall_coords_[ring[k].v.index] = ring[k];
-    const VertexId a = ring[k].v, b = ring[(k + 1) % n].v;
-    wall_face(at_end ? Triangle{c, b, a} : Triangle{c, a, b}, 1);
+// Lawson flips on a curved surface (the cylinder): an interior edge whose opposite angles sum
+// to more than pi is flipped when the two new triangles keep the orientation, so the plane
+// map's distortion (compressed along the axis on long walls) leaves no needles. Edges with one
+// triangle (the rims) are constraints; `forbidden` says whether a new edge may not be made.
+template <class Forbidden>
+void flip_on_surface(std::vector<LocalTri>& tris, const std::vector<glm::dvec3>& p, const Forbidden& forbidden) {
+  auto key = [](std::uint32_t a, std::uint32_t b) { return (std::uint64_t(a) << 32) | b; };
+  std::unordered_map<std::uint64_t, std::uint32_t> half;  // directed edge -> triangle
+  half.reserve(3 * tris.size());
+  for (std::uint32_t t = 0; t < tris.size(); ++t)
+    for (int k = 0; k < 3; ++k) half[key(tris[t][k], tris[t][(k + 1) % 3])] = t;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> stack;
+  for (const auto& tri : tris)
+    for (int k = 0; k < 3; ++k) stack.emplace_back(tri[k], tri[(k + 1) % 3]);
+  std::size_t guard = 50 * tris.size() + 100;
+  while (!stack.empty() && guard-- > 0) {
+    const auto [a, b] = stack.back();
+    stack.pop_back();
+    const auto i1 = half.find(key(a, b)), i2 = half.find(key(b, a));
+    if (i1 == half.end() || i2 == half.end()) continue;
+    const std::uint32_t t1 = i1->second, t2 = i2->second;
+    if (t1 == t2) continue;
+    std::uint32_t c = 0, d = 0;
+    for (int k = 0; k < 3; ++k) {
+      if (tris[t1][k] != a && tris[t1][k] != b) c = tris[t1][k];
+      if (tris[t2][k] != a && tris[t2][k] != b) d = tris[t2][k];
+    }
+    if (c == d || half.count(key(c, d)) || half.count(key(d, c)) || forbidden(c, d)) continue;
+    if (angle_at(p[a], p[b], p[c]) + angle_at(p[a], p[b], p[d]) <= kPi + 1e-9) continue;
+    const glm::dvec3 n_old = glm::cross(p[b] - p[a], p[c] - p[a]) + glm::cross(p[a] - p[b], p[d] - p[b]);
+    const glm::dvec3 n1 = glm::cross(p[d] - p[a], p[c] - p[a]), n2 = glm::cross(p[b] - p[d], p[c] - p[d]);
+    if (glm::dot(n1, n_old) <= 0.0 || glm::dot(n2, n_old) <= 0.0) continue;
+    for (std::uint32_t t : {t1, t2})
+      for (int k = 0; k < 3; ++k) half.erase(key(tris[t][k], tris[t][(k + 1) % 3]));
+    tris[t1] = {a, d, c};
+    tris[t2] = {d, b, c};
+    for (std::uint32_t t : {t1, t2})
+      for (int k = 0; k < 3; ++k) half[key(tris[t][k], tris[t][(k + 1) % 3])] = t;
+    stack.insert(stack.end(), {{a, d}, {d, c}, {c, a}, {d, b}, {b, c}});
   }
 }
 
-// The wall is the part of the cylinder's side inside the solid, bounded by the rims. It is
-// triangulated in the log-polar plane of the cylinder, z = exp(s / r) (cos theta, sin theta):
-// the map is conformal, rims around the axis become nested loops and notch rims loops beside
-// them, and Delaunay triangles there are well shaped on the cylinder. Steiner points on a grid
-// of the rim spacing keep the triangles small enough to follow the curved wall.
-void Driller::build_walls(DrillResult& result) {
-  // Every rim must be closed and lie on the cylinder's side; otherwise (a notch cut by an end
-  // plane, a chain merged with an older boundary) no wall is built.
-  std::vector<Curve> rims;
-  for (const DrillHole& hole : result.holes) {
-    if (!hole.closed) return;
-    Curve c;
-    for (VertexId v : hole.rim) {
-      const glm::dvec3 p = posed(v);
-      const double sv = cyl_.s(p);
-      if (std::abs(cyl_.rho(p) - cyl_.r) > 2.0 * eps_ || sv <= eps_ || sv >= cyl_.len - eps_) return;
-      c.push_back({cyl_.theta(p), sv, v});
+// Winding number of closed loops (indices into `xy`) around `p`.
+int winding(const std::vector<glm::dvec2>& xy, const std::vector<std::vector<std::uint32_t>>& loops,
+            const glm::dvec2& p) {
+  int w = 0;
+  for (const auto& l : loops)
+    for (std::size_t i = 0; i < l.size(); ++i) {
+      const glm::dvec2 &a = xy[l[i]], &b = xy[l[(i + 1) % l.size()]];
+      if (a.y <= p.y) {
+        if (b.y > p.y && orient(a, b, p) > 0.0) ++w;
+      } else if (b.y <= p.y && orient(a, b, p) < 0.0) {
+        --w;
+      }
     }
-    std::reverse(c.begin(), c.end());  // the wall runs along each rim the other way
-    rims.push_back(std::move(c));
-  }
-  if (rims.empty()) return;
-  // The first rim around the axis is an exit when A lies inside the solid; the last an entry
-  // when B does.
-  std::vector<std::pair<double, std::size_t>> essential;
-  for (std::size_t h = 0; h < rims.size(); ++h)
-    if (std::abs(result.holes[h].winding) == 1) essential.emplace_back(bracket(rims[h], 0.0).s, h);
-  std::sort(essential.begin(), essential.end());
-  const bool a_inside = !essential.empty() && result.holes[essential.front().second].winding < 0;
-  const bool b_inside = !essential.empty() && result.holes[essential.back().second].winding > 0;
+  return w;
+}
 
-  struct WP {
-    double theta, s;
-    VertexId v, a, b;  // the vertex, or (until created) the sources of its attributes
-    float t;
-  };
-  std::vector<WP> pts;
-  std::vector<std::vector<std::uint32_t>> loops;
-  for (const Curve& c : rims) {
-    std::vector<std::uint32_t> loop;
-    for (const auto& p : c) {
-      loop.push_back(static_cast<std::uint32_t>(pts.size()));
-      pts.push_back({p.theta, p.s, p.v, VertexId(), VertexId(), 0.0f});
+double segment_distance2(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b) {
+  const glm::dvec3 e = b - a;
+  const double t = std::clamp(glm::dot(p - a, e) / std::max(glm::dot(e, e), 1e-300), 0.0, 1.0);
+  const glm::dvec3 d = a + t * e - p;
+  return glm::dot(d, d);
+}
+
+
+// The wall of one closed shell is the part of the cylinder's surface (side and both end disks)
+// inside that shell, bounded by the shell's rims. The surface is mapped to one plane:
+// z = exp(l) (cos theta, sin theta), with l = (s - base) / (r kappa) on the side, and the end
+// disks continuing it conformally (l - l_A = ln(rho / r) on the disk at A, l_B - l = ln(rho / r)
+// at B, whose centre goes to infinity). The rims become closed loops there, the region inside
+// the shell is where their winding number plus a constant is 1, and it is triangulated as outer
+// loops with holes (a Moebius map first brings the centre of the B disk in from infinity when it
+// lies inside). Steiner points on a grid of the rim spacing over the side and on rings over the
+// disks keep the triangles small and well shaped (the map is conformal for kappa = 1).
+bool Driller::wall_shell(const std::vector<std::size_t>& hole_ids, const DrillResult& result,
+                         std::vector<char>& walled_ok) {
+  // The end disk whose rims are mapped without distortion is the one at A: when more rim
+  // vertices lie on the disk at B, the wall is built in the reversed frame (B to A).
+  const double tol = 2.0 * eps_;
+  int at_a = 0, at_b = 0;
+  for (std::size_t h : hole_ids)
+    for (VertexId v : result.holes[h].rim) {
+      const double sv = cyl_.s(posed(v));
+      at_a += std::abs(sv) <= tol;
+      at_b += std::abs(sv - cyl_.len) <= tol;
     }
-    loops.push_back(std::move(loop));
-  }
-  auto add_ring = [&](double sv, const Curve& from, bool clockwise) {
-    std::vector<std::uint32_t> ring;
-    for (int k = 0; k < samples_; ++k) {
-      const double th = 2.0 * kPi * k / samples_;
-      const Bracket br = bracket(from, th);
-      ring.push_back(static_cast<std::uint32_t>(pts.size()));
-      pts.push_back({th, sv, VertexId(), br.a, br.b, br.t});
+  Frame reversed = cyl_;
+  reversed.a = cyl_.a + cyl_.len * cyl_.d;
+  reversed.d = -cyl_.d;
+  reversed.w = -cyl_.w;
+  const Frame& cy = at_b > at_a ? reversed : cyl_;
+  std::vector<WallPt> pts;
+  std::vector<std::vector<std::uint32_t>> rim_loops;
+  std::vector<std::size_t> loop_hole;  // the hole each loop comes from
+  auto classify = [&](const glm::dvec3& p, WallPt& w) {
+    w.p = p;
+    w.s = cy.s(p);
+    const double rho = cy.rho(p);
+    w.rho = rho;
+    w.theta = cy.theta(p);
+    w.where = 0;
+    if (rho < cy.r - tol) {
+      if (std::abs(w.s) <= tol) w.where = 1;
+      else if (std::abs(w.s - cy.len) <= tol) w.where = 2;
+      else return false;  // neither on the side nor on an end disk
+    } else if (std::abs(rho - cy.r) > tol || w.s < -tol || w.s > cy.len + tol) {
+      return false;
     }
-    if (clockwise) std::reverse(ring.begin(), ring.end());
-    loops.push_back(ring);
-    return ring;
+    return true;
   };
-  std::vector<std::uint32_t> ring_a, ring_b;
-  if (a_inside) ring_a = add_ring(0.0, rims[essential.front().second], true);
-  if (b_inside) ring_b = add_ring(cyl_.len, rims[essential.back().second], false);
-  double base = kInf, top = -kInf;
-  for (const auto& p : pts) {
-    base = std::min(base, p.s);
-    top = std::max(top, p.s);
+  double s_lo = kInf, s_hi = -kInf;
+  for (std::size_t h : hole_ids) {
+    const DrillHole& hole = result.holes[h];
+    // The wall runs along each rim the other way. A rim that touches itself (a vertex on the
+    // cylinder where two arcs of the rim meet) is split there into simple loops.
+    std::vector<std::uint32_t> stack;
+    std::unordered_map<std::uint32_t, std::size_t> at;  // vertex -> position in stack
+    for (std::size_t i = hole.rim.size(); i-- > 0;) {
+      const VertexId v = hole.rim[i];
+      const auto seen = at.find(v.index);
+      if (seen != at.end()) {
+        const std::size_t first = seen->second;
+        std::vector<std::uint32_t> loop(stack.begin() + static_cast<std::ptrdiff_t>(first), stack.end());
+        for (std::size_t k = first + 1; k < stack.size(); ++k) at.erase(pts[stack[k]].v.index);
+        stack.resize(first + 1);
+        if (loop.size() >= 3) {
+          rim_loops.push_back(std::move(loop));
+          loop_hole.push_back(h);
+        }
+        continue;
+      }
+      WallPt w;
+      if (!classify(posed(v), w)) return false;
+      w.v = v;
+      s_lo = std::min(s_lo, std::clamp(w.s, 0.0, cy.len));
+      s_hi = std::max(s_hi, std::clamp(w.s, 0.0, cy.len));
+      at[v.index] = stack.size();
+      stack.push_back(static_cast<std::uint32_t>(pts.size()));
+      pts.push_back(w);
+    }
+    if (stack.size() >= 3) {
+      rim_loops.push_back(std::move(stack));
+      loop_hole.push_back(h);
+    }
   }
-  const double kappa = std::max(1.0, (top - base) / (40.0 * cyl_.r));
-  auto plane = [&](double th, double sv) {
-    const double rad = std::exp((sv - base) / (cyl_.r * kappa));
-    return glm::dvec2(rad * std::cos(th), rad * std::sin(th));
+  // The plane map (and its inverse, for points placed in the plane).
+  double base = s_lo, kappa = std::max(1.0, (s_hi - s_lo) / (kWallSpan * cy.r));
+  bool mobius = false;
+  glm::dvec2 z0(0.0);
+  auto l_a = [&] { return (0.0 - base) / (cy.r * kappa); };
+  auto l_b = [&] { return (cy.len - base) / (cy.r * kappa); };
+  auto to_plane = [&](const WallPt& w) {
+    double l = (w.s - base) / (cy.r * kappa);
+    if (w.where == 1) l = l_a() + std::log(std::max(w.rho, 1e-12 * cy.r) / cy.r);
+    if (w.where == 2) l = l_b() - std::log(std::max(w.rho, 1e-12 * cy.r) / cy.r);
+    glm::dvec2 z = std::exp(l) * glm::dvec2(std::cos(w.theta), std::sin(w.theta));
+    if (w.where == 1 && w.rho <= 0.0) z = glm::dvec2(0.0);
+    if (mobius) {
+      const glm::dvec2 d = z - z0;
+      z = glm::dvec2(d.x, -d.y) / glm::dot(d, d);
+    }
+    return z;
+  };
+  auto from_plane = [&](glm::dvec2 z) {
+    if (mobius) z = z0 + glm::dvec2(z.x, -z.y) / glm::dot(z, z);
+    WallPt w;
+    w.theta = std::atan2(z.y, z.x);
+    const double l = std::log(glm::length(z));
+    if (l < l_a()) {
+      w.where = 1;
+      w.s = 0.0;
+      w.rho = cy.r * std::exp(l - l_a());
+    } else if (l > l_b()) {
+      w.where = 2;
+      w.s = cy.len;
+      w.rho = cy.r * std::exp(l_b() - l);
+    } else {
+      w.s = base + cy.r * kappa * l;
+      w.rho = cy.r;
+    }
+    w.p = cy.a + w.s * cy.d + w.rho * cy.ruling(w.theta);
+    return w;
   };
   std::vector<glm::dvec2> xy;
-  for (const auto& p : pts) xy.push_back(plane(p.theta, p.s));
-  // Rims that cross each other (self-intersecting input) bound no region: no wall.
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> segments;
-  for (const auto& l : loops)
-    for (std::size_t i = 0; i < l.size(); ++i) segments.emplace_back(l[i], l[(i + 1) % l.size()]);
-  for (std::size_t i = 0; i < segments.size(); ++i)
-    for (std::size_t j = i + 1; j < segments.size(); ++j) {
-      const auto [a, b] = segments[i];
-      const auto [c, d] = segments[j];
+  auto map_loops = [&] {
+    xy.clear();
+    for (const auto& w : pts) xy.push_back(to_plane(w));
+  };
+  map_loops();
+  // Loops of one shell never cross, unless the shell intersects itself (a limb modelled into
+  // the body): then the loops form two sheets, each walled on its own (crossing loops go to
+  // different sheets; the others to the first sheet they are consistent with, largest first).
+  std::vector<std::size_t> seg_loop;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> all_segments;
+  for (std::size_t li = 0; li < rim_loops.size(); ++li)
+    for (std::size_t i = 0; i < rim_loops[li].size(); ++i) {
+      all_segments.emplace_back(rim_loops[li][i], rim_loops[li][(i + 1) % rim_loops[li].size()]);
+      seg_loop.push_back(li);
+    }
+  std::vector<std::vector<std::size_t>> crossing(rim_loops.size());
+  for (std::size_t i = 0; i < all_segments.size(); ++i)
+    for (std::size_t j = i + 1; j < all_segments.size(); ++j) {
+      const auto [a, b] = all_segments[i];
+      const auto [c, d] = all_segments[j];
       if (a == c || a == d || b == c || b == d) continue;
       const double d1 = orient(xy[a], xy[b], xy[c]), d2 = orient(xy[a], xy[b], xy[d]);
       const double d3 = orient(xy[c], xy[d], xy[a]), d4 = orient(xy[c], xy[d], xy[b]);
-      if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0))) return;
+      if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0))) {
+        if (seg_loop[i] == seg_loop[j]) return false;  // a loop crossing itself
+        crossing[seg_loop[i]].push_back(seg_loop[j]);
+        crossing[seg_loop[j]].push_back(seg_loop[i]);
+      }
     }
-  // Outer loops (counter-clockwise) and the holes each one holds.
+  auto side_point = [&](std::uint32_t a, std::uint32_t b, double offset) {
+    const glm::dvec2 e = xy[b] - xy[a];
+    return 0.5 * (xy[a] + xy[b]) + offset * glm::dvec2(-e.y, e.x);
+  };
+  auto longest_step = [&](const std::vector<std::uint32_t>& l) {
+    std::size_t best = 0;
+    double len2 = -1.0;
+    for (std::size_t i = 0; i < l.size(); ++i) {
+      const glm::dvec2 e = xy[l[(i + 1) % l.size()]] - xy[l[i]];
+      if (glm::dot(e, e) > len2) {
+        len2 = glm::dot(e, e);
+        best = i;
+      }
+    }
+    return best;
+  };
+  // Inside a sheet: winding + c == 1 just left of every rim step, 0 just right of it.
+  auto consistent = [&](const std::vector<std::vector<std::uint32_t>>& ls, int& c) {
+    for (std::size_t li = 0; li < ls.size(); ++li) {
+      const auto& l = ls[li];
+      const std::size_t i = longest_step(l);
+      const std::uint32_t a = l[i], b = l[(i + 1) % l.size()];
+      const int left = winding(xy, ls, side_point(a, b, 1e-6)), right = winding(xy, ls, side_point(a, b, -1e-6));
+      if (left - right != 1) return false;
+      if (li == 0) c = 1 - left;
+      else if (left + c != 1) return false;
+    }
+    return true;
+  };
+  std::vector<int> sheet(rim_loops.size(), -1);
+  for (std::size_t li = 0; li < rim_loops.size(); ++li) {
+    if (sheet[li] >= 0 || crossing[li].empty()) continue;
+    std::vector<std::size_t> queue = {li};
+    sheet[li] = 0;
+    for (std::size_t qi = 0; qi < queue.size(); ++qi)
+      for (std::size_t other : crossing[queue[qi]]) {
+        if (sheet[other] < 0) {
+          sheet[other] = 1 - sheet[queue[qi]];
+          queue.push_back(other);
+        } else if (sheet[other] == sheet[queue[qi]]) {
+          return false;  // three sheets through one spot
+        }
+      }
+  }
+  std::vector<std::size_t> free_loops;
+  for (std::size_t li = 0; li < rim_loops.size(); ++li)
+    if (sheet[li] < 0) free_loops.push_back(li);
+  std::sort(free_loops.begin(), free_loops.end(), [&](std::size_t x, std::size_t y) {
+    return std::abs(detail::signed_area2(xy, rim_loops[x])) > std::abs(detail::signed_area2(xy, rim_loops[y]));
+  });
+  auto sheet_loops = [&](int k, std::size_t extra) {
+    std::vector<std::vector<std::uint32_t>> ls;
+    for (std::size_t li = 0; li < rim_loops.size(); ++li)
+      if (sheet[li] == k || li == extra) ls.push_back(rim_loops[li]);
+    return ls;
+  };
+  for (std::size_t li : free_loops) {
+    int c = 0;
+    for (int k = 0; k < 2 && sheet[li] < 0; ++k)
+      if (consistent(sheet_loops(k, li), c)) sheet[li] = k;
+    if (sheet[li] < 0) return false;
+  }
+  // One sheet's region, triangulated and added (nothing is added when it returns false).
+  auto wall_sheet = [&](const std::vector<std::vector<std::uint32_t>>& loops) -> bool {
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> segments;
+  for (const auto& l : loops)
+    for (std::size_t i = 0; i < l.size(); ++i) segments.emplace_back(l[i], l[(i + 1) % l.size()]);
+  double smin = kInf, smax = -kInf;
+  for (const auto& l : loops)
+    for (auto i : l) {
+      smin = std::min(smin, std::clamp(pts[i].s, 0.0, cy.len));
+      smax = std::max(smax, std::clamp(pts[i].s, 0.0, cy.len));
+    }
+  base = s_lo;
+  kappa = std::max(1.0, (s_hi - s_lo) / (kWallSpan * cy.r));
+  mobius = false;
+  map_loops();
+  int c = 0;
+  if (!consistent(loops, c)) return false;
+  // Which end disks the region reaches; then the final map over that extent.
+  const bool a_inside = winding(xy, loops, glm::dvec2(0.0)) + c == 1;
+  const bool b_inside = c == 1;
+  bool touches_a = a_inside, touches_b = b_inside;
+  for (const auto& l : loops)
+    for (auto i : l) {
+      touches_a |= pts[i].where == 1 || pts[i].s <= tol;
+      touches_b |= pts[i].where == 2 || pts[i].s >= cy.len - tol;
+    }
+  const double lo = touches_a ? 0.0 : smin, hi = touches_b ? cy.len : smax;
+  base = lo;
+  kappa = std::max(1.0, (hi - lo) / (kWallSpan * cy.r));
+  map_loops();
+  if (b_inside) {  // bring infinity (the B disk's centre) in: a point outside the shell goes there
+    bool found = false;
+    for (std::size_t li = 0; li < loops.size() && !found; ++li) {
+      const auto& l = loops[li];
+      const std::size_t i = longest_step(l);
+      const std::uint32_t a = l[i], b = l[(i + 1) % l.size()];
+      for (double offset : {-0.3, -0.1, -0.03, -0.01}) {
+        const glm::dvec2 z = side_point(a, b, offset);
+        if (winding(xy, loops, z) + c != 0) continue;
+        const double e2 = glm::dot(xy[b] - xy[a], xy[b] - xy[a]);
+        bool clear = true;
+        for (const auto& [u, v] : segments) {
+          const glm::dvec2 e = xy[v] - xy[u];
+          const double t = std::clamp(glm::dot(z - xy[u], e) / std::max(glm::dot(e, e), 1e-300), 0.0, 1.0);
+          const glm::dvec2 q = xy[u] + t * e - z;
+          if (glm::dot(q, q) < 0.25 * offset * offset * e2) clear = false;
+        }
+        if (!clear) continue;
+        z0 = z;
+        found = true;
+        break;
+      }
+    }
+    if (!found) return false;
+    mobius = true;
+    map_loops();
+  }
+  // Outer loops (counter-clockwise now) and the holes each one holds.
   std::vector<double> area(loops.size());
-  std::vector<std::size_t> outers, holes;
+  std::vector<std::size_t> outers;
   for (std::size_t i = 0; i < loops.size(); ++i) {
     area[i] = detail::signed_area2(xy, loops[i]);
-    (area[i] > 0.0 ? outers : holes).push_back(i);
+    if (area[i] > 0.0) outers.push_back(i);
   }
-  auto contains = [&](const std::vector<std::uint32_t>& loop, const glm::dvec2& p) {
-    bool in = false;
-    for (std::size_t i = 0, j = loop.size() - 1; i < loop.size(); j = i++) {
-      const auto &a = xy[loop[i]], &b = xy[loop[j]];
-      if ((a.y > p.y) != (b.y > p.y) && p.x < (b.x - a.x) * (p.y - a.y) / (b.y - a.y) + a.x) in = !in;
-    }
-    return in;
-  };
   std::vector<std::vector<std::size_t>> holes_of(loops.size());
-  for (std::size_t h : holes) {
+  for (std::size_t hidx = 0; hidx < loops.size(); ++hidx) {
+    if (area[hidx] > 0.0) continue;
     std::size_t owner = loops.size();
     for (std::size_t o : outers)
-      if (contains(loops[o], xy[loops[h][0]]) && (owner == loops.size() || area[o] < area[owner])) owner = o;
-    if (owner == loops.size()) return;  // not a bounded region
-    holes_of[owner].push_back(h);
+      if (winding(xy, {loops[o]}, xy[loops[hidx][0]]) != 0 && (owner == loops.size() || area[o] < area[owner]))
+        owner = o;
+    if (owner == loops.size()) return false;
+    holes_of[owner].push_back(hidx);
+  }
+  // Steiner candidates on the cylinder's surface, away from the rims.
+  const double h = 2.0 * kPi * cy.r / samples_, row = 0.866 * h, step = 2.0 * kPi / samples_;
+  auto near_boundary = [&](const glm::dvec3& p) {
+    for (const auto& [u, v] : segments)
+      if (segment_distance2(p, pts[u].p, pts[v].p) < 0.2 * h * h) return true;
+    return false;
+  };
+  std::vector<WallPt> candidates;
+  auto consider = [&](WallPt w) {
+    w.p = cy.a + w.s * cy.d + w.rho * cy.ruling(w.theta);
+    if (!near_boundary(w.p)) candidates.push_back(w);
+  };
+  // Rows of side points: the end circles, then a staggered grid whose rows are a rim spacing
+  // apart next to the rims (and end circles) and grow apart geometrically away from them, up to
+  // kWallRowStretch spacings (long walls are mostly rulings, so long triangles along the axis
+  // stay well shaped), and at most kWallRows rows: the cost follows the rims, not the length.
+  std::vector<double> features;  // s of every rim point on the side, and the end circles
+  for (const auto& l : loops)
+    for (auto i : l)
+      if (pts[i].where == 0) features.push_back(std::clamp(pts[i].s, 0.0, cy.len));
+  if (touches_a) features.push_back(0.0);
+  if (touches_b) features.push_back(cy.len);
+  std::sort(features.begin(), features.end());
+  auto gap = [&](double sv) {
+    const auto it = std::lower_bound(features.begin(), features.end(), sv);
+    double g = kInf;
+    if (it != features.end()) g = *it - sv;
+    if (it != features.begin()) g = std::min(g, sv - *std::prev(it));
+    return g;
+  };
+  const double widest = std::max(kWallRowStretch * row, (hi - lo) / kWallRows);
+  std::vector<double> rows;
+  if (touches_a) rows.push_back(0.0);
+  for (double sv = lo + 0.5 * row; sv <= hi - (touches_b ? 0.4 * row : 0.0) && rows.size() < 2 * kWallRows;) {
+    rows.push_back(sv);
+    sv += std::clamp(0.45 * gap(sv), row, widest);
+  }
+  if (touches_b) rows.push_back(cy.len);
+  for (std::size_t j = 0; j < rows.size(); ++j)
+    for (int k = 0; k < samples_; ++k) {
+      WallPt w;
+      w.theta = std::remainder((k + (j % 2 ? 0.5 : 0.0)) * step, 2.0 * kPi);
+      w.s = rows[j];
+      w.rho = cy.r;
+      consider(w);
+    }
+  for (int end = 1; end <= 2; ++end) {
+    if (!(end == 1 ? touches_a : touches_b)) continue;
+    // Rings a row apart (at most kWallRings of them), each with points a rim spacing apart.
+    const double ring = std::max(row, cy.r / kWallRings);
+    for (int j = 0;; ++j) {
+      const double rho = cy.r - (j + 0.5) * ring;
+      if (rho < 0.5 * ring) break;
+      const int n = std::clamp(static_cast<int>(std::lround(2.0 * kPi * rho / std::max(h, ring))), 3, samples_);
+      for (int k = 0; k < n; ++k) {
+        WallPt w;
+        w.where = end;
+        w.theta = std::remainder(2.0 * kPi * (k + 0.5 * (j % 2)) / n, 2.0 * kPi);
+        w.s = end == 1 ? 0.0 : cy.len;
+        w.rho = rho;
+        consider(w);
+      }
+    }
+    if (end == 1) {  // the centre of the A disk (the B disk's is infinity, or the Moebius pole)
+      WallPt w;
+      w.where = 1;
+      w.s = 0.0;
+      w.rho = 0.0;
+      w.theta = 0.0;
+      consider(w);
+    } else if (mobius) {
+      WallPt w;
+      w.where = 2;
+      w.s = cy.len;
+      w.rho = 0.0;
+      w.theta = 0.0;
+      w.p = cy.a + cy.len * cy.d;
+      if (!near_boundary(w.p)) {
+        w.pole = true;
+        candidates.push_back(w);
+      }
+    }
   }
   // Surface edges between rim vertices: the wall must not reuse one as a diagonal.
   std::unordered_set<std::uint64_t> surface_edges;
   for (const Edit& e : editor_.log().edits)
     if (const auto* fa = std::get_if<FaceAdded>(&e))
       for (int k = 0; k < 3; ++k) surface_edges.insert(edge_key(fa->vertices[k], fa->vertices[(k + 1) % 3]));
-  const double h = 2.0 * kPi * cyl_.r / samples_;
-  auto unrolled2 = [&](double th0, double s0, double th1, double s1) {
-    const double dth = std::remainder(th1 - th0, 2.0 * kPi) * cyl_.r, ds = s1 - s0;
-    return dth * dth + ds * ds;
-  };
-  const std::size_t boundary_points = pts.size();
-  auto near_boundary = [&](double th, double sv) {
-    for (std::size_t i = 0; i < boundary_points; ++i)
-      if (std::abs(pts[i].s - sv) < 0.6 * h && unrolled2(th, sv, pts[i].theta, pts[i].s) < 0.36 * h * h)
-        return true;
-    for (const auto& [a, b] : segments) {
-      const glm::dvec2 qa(std::remainder(pts[a].theta - th, 2.0 * kPi) * cyl_.r, pts[a].s - sv);
-      const glm::dvec2 qb(std::remainder(pts[b].theta - th, 2.0 * kPi) * cyl_.r, pts[b].s - sv);
-      if (std::min(qa.y, qb.y) > 0.5 * h || std::max(qa.y, qb.y) < -0.5 * h) continue;
-      const glm::dvec2 e = qb - qa;
-      const double tt = std::clamp(-glm::dot(qa, e) / std::max(glm::dot(e, e), 1e-300), 0.0, 1.0);
-      if (glm::length(qa + tt * e) < 0.45 * h) return true;
-    }
-    return false;
-  };
-  // A Steiner point takes its attributes from the nearest vertex of the two nearest rims.
-  auto add_steiner = [&](double th, double sv) {
-    double best[2] = {kInf, kInf};
-    VertexId src[2];
-    for (const Curve& c : rims) {
-      double d = kInf;
-      VertexId v;
-      for (const auto& p : c) {
-        const double dd = unrolled2(th, sv, p.theta, p.s);
-        if (dd < d) {
-          d = dd;
-          v = p.v;
-        }
-      }
-      if (d < best[0]) {
-        best[1] = best[0];
-        src[1] = src[0];
-        best[0] = d;
-        src[0] = v;
-      } else if (d < best[1]) {
-        best[1] = d;
-        src[1] = v;
-      }
-    }
-    if (!src[1].valid()) {
-      src[1] = src[0];
-      best[1] = best[0];
-    }
-    const double d0 = std::sqrt(best[0]), d1 = std::sqrt(best[1]);
-    pts.push_back({std::remainder(th, 2.0 * kPi), sv, VertexId(), src[0], src[1],
-                   static_cast<float>(d0 / std::max(d0 + d1, 1e-300))});
-    return static_cast<std::uint32_t>(pts.size() - 1);
-  };
+  // Old faces the drill kept can join two rim vertices too (both within the tolerance of the
+  // cylinder): their edges are as forbidden (random sequence SimpleSkin seed 20261982 step 221).
+  for (FaceId f : candidates_)
+    if (!mesh_.is_deleted(f))
+      for (int k = 0; k < 3; ++k) surface_edges.insert(edge_key(mesh_.face(f)[k], mesh_.face(f)[(k + 1) % 3]));
+  std::vector<std::uint8_t> taken(candidates.size(), 0);
   std::vector<LocalTri> wall_tris;  // indices into pts
-  const double row = 0.866 * h, step = 2.0 * kPi / samples_;
   for (std::size_t o : outers) {
-    // Coordinates of this region: the unrolled cylinder (s, r theta), an isometry that keeps
-    // the orientation (outer loops stay counter-clockwise). A region that goes around the axis
-    // is cut open between its outer loop and its inner loop around the axis: both are unwrapped
-    // from the ends of the cut, whose end points appear twice (2 pi r apart).
-    const bool around = contains(loops[o], glm::dvec2(0.0));
-    std::vector<std::uint32_t> global;
-    std::vector<glm::dvec2> local;
-    auto add_local = [&](std::uint32_t i, double th) {
-      global.push_back(i);
-      local.emplace_back(pts[i].s, cyl_.r * th);
-      return static_cast<std::uint32_t>(local.size() - 1);
-    };
-    // Unwraps loop `l` starting at its element `first`, whose angle becomes `th0`.
-    auto unwrap = [&](const std::vector<std::uint32_t>& l, std::size_t first, double th0, bool close) {
-      std::vector<std::uint32_t> out;
-      double th = th0;
-      for (std::size_t k = 0; k <= l.size(); ++k) {
-        const std::uint32_t i = l[(first + k) % l.size()];
-        if (k > 0) th += std::remainder(pts[i].theta - pts[l[(first + k - 1) % l.size()]].theta, 2.0 * kPi);
-        if (k == l.size() && !close) break;
-        out.push_back(add_local(i, th));
-      }
-      return out;
-    };
-    std::vector<std::uint32_t> poly;
-    std::vector<std::size_t> windows;  // holes that do not go around the axis
-    if (around) {
-      std::size_t inner = loops.size();
-      for (std::size_t hidx : holes_of[o])
-        if (contains(loops[hidx], glm::dvec2(0.0))) {
-          if (inner != loops.size()) return;  // two loops around the axis in one region
-          inner = hidx;
-        } else {
-          windows.push_back(hidx);
-        }
-      if (inner == loops.size()) return;
-      const auto& lo = loops[inner];
-      const auto& lh = loops[o];
-      // The cut: the closest pair (in the unrolled metric) whose segment crosses no rim.
-      std::vector<std::tuple<double, std::size_t, std::size_t>> pairs;
-      for (std::size_t a = 0; a < lh.size(); ++a)
-        for (std::size_t b = 0; b < lo.size(); ++b)
-          pairs.emplace_back(unrolled2(pts[lh[a]].theta, pts[lh[a]].s, pts[lo[b]].theta, pts[lo[b]].s), a, b);
-      std::sort(pairs.begin(), pairs.end());
-      bool found = false;
-      std::size_t ca = 0, cb = 0;
-      for (std::size_t n = 0; n < pairs.size() && n < 64 && !found; ++n) {
-        const auto [d2, a, b] = pairs[n];
-        (void)d2;
-        const double tha = pts[lh[a]].theta;
-        const glm::dvec2 p(pts[lh[a]].s, cyl_.r * tha);
-        const glm::dvec2 q(pts[lo[b]].s, cyl_.r * (tha + std::remainder(pts[lo[b]].theta - tha, 2.0 * kPi)));
-        bool blocked = false;
-        for (const auto& [u, v] : segments) {
-          if (u == lh[a] || v == lh[a] || u == lo[b] || v == lo[b]) continue;
-          const double thu = tha + std::remainder(pts[u].theta - tha, 2.0 * kPi);
-          const double thv = thu + std::remainder(pts[v].theta - pts[u].theta, 2.0 * kPi);
-          const glm::dvec2 e0(pts[u].s, cyl_.r * thu), e1(pts[v].s, cyl_.r * thv);
-          const double d1 = orient(p, q, e0), d2b = orient(p, q, e1), d3 = orient(e0, e1, p),
-                       d4 = orient(e0, e1, q);
-          if (((d1 > 0 && d2b < 0) || (d1 < 0 && d2b > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0)))
-            blocked = true;
-          if (blocked) break;
-        }
-        if (!blocked) {
-          found = true;
-          ca = a;
-          cb = b;
-        }
-      }
-      if (!found) return;
-      const double tha = pts[lh[ca]].theta;
-      const double thb = tha + std::remainder(pts[lo[cb]].theta - tha, 2.0 * kPi);
-      // Outer loop: angle increases by 2 pi; then the inner loop, whose angle decreases by 2 pi,
-      // starting from the copy next to the outer loop's end.
-      poly = unwrap(lh, ca, tha, true);
-      const std::vector<std::uint32_t> in = unwrap(lo, cb, thb + 2.0 * kPi, true);
-      poly.insert(poly.end(), in.begin(), in.end());
-    } else {
-      windows = holes_of[o];
-      poly = unwrap(loops[o], 0, pts[loops[o][0]].theta, false);
-    }
-    if (detail::signed_area2(local, poly) <= 0.0) return;
-    // Windows: unwrapped on the branch that puts them inside the polygon.
+    std::vector<glm::dvec2> local = xy;  // FlipTriangulation appends Steiner points
+    std::vector<std::uint32_t> global(xy.size());  // local point -> pts (loop points first)
+    for (std::uint32_t i = 0; i < xy.size(); ++i) global[i] = i;
     std::vector<std::vector<std::uint32_t>> holes_local;
-    for (std::size_t w : windows) {
-      bool placed = false;
-      for (int shift : {0, -1, 1, -2, 2}) {
-        const double th0 = pts[loops[w][0]].theta + 2.0 * kPi * shift;
-        const glm::dvec2 p0(pts[loops[w][0]].s, cyl_.r * th0);
-        bool in = false;
-        for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
-          const auto &a = local[poly[i]], &b = local[poly[j]];
-          if ((a.y > p0.y) != (b.y > p0.y) && p0.x < (b.x - a.x) * (p0.y - a.y) / (b.y - a.y) + a.x) in = !in;
-        }
-        if (!in) continue;
-        holes_local.push_back(unwrap(loops[w], 0, th0, false));
-        placed = true;
-        break;
-      }
-      if (!placed) return;
-    }
-    double th_lo = kInf, th_hi = -kInf, s_lo = kInf, s_hi = -kInf;
-    for (const auto& p : local) {
-      s_lo = std::min(s_lo, p.x);
-      s_hi = std::max(s_hi, p.x);
-      th_lo = std::min(th_lo, p.y / cyl_.r);
-      th_hi = std::max(th_hi, p.y / cyl_.r);
-    }
-    std::vector<LocalTri> tris;
+    for (std::size_t hidx : holes_of[o]) holes_local.push_back(loops[hidx]);
     std::sort(holes_local.begin(), holes_local.end(), [&](const auto& a, const auto& b) {
       double ma = -kInf, mb = -kInf;
       for (auto i : a) ma = std::max(ma, local[i].x);
       for (auto i : b) mb = std::max(mb, local[i].x);
       return ma > mb;
     });
+    std::vector<std::uint32_t> poly = loops[o];
     for (std::size_t k = 0; k < holes_local.size(); ++k) {
       std::vector<std::vector<std::uint32_t>> others(holes_local.begin() + static_cast<std::ptrdiff_t>(k) + 1,
                                                      holes_local.end());
       poly = bridge(local, poly, holes_local[k], others);
     }
+    std::vector<LocalTri> tris;
     clip_polygon(local, poly, tris);
-    // Crossing-number test against the bridged polygon (its bridge edges cancel out).
-    const std::vector<glm::dvec2> outline = [&] {
-      std::vector<glm::dvec2> o2;
-      for (auto i : poly) o2.push_back(local[i]);
-      return o2;
-    }();
-    auto inside_polygon = [&](const glm::dvec2& p) {
-      bool in = false;
-      for (std::size_t i = 0, j = outline.size() - 1; i < outline.size(); j = i++) {
-        const auto &a = outline[i], &b = outline[j];
-        if ((a.y > p.y) != (b.y > p.y) && p.x < (b.x - a.x) * (p.y - a.y) / (b.y - a.y) + a.x) in = !in;
-      }
-      return in;
-    };
+    std::vector<std::vector<std::uint32_t>> region = {loops[o]};
+    for (std::size_t hidx : holes_of[o]) region.push_back(loops[hidx]);
     FlipTriangulation ft(local, std::move(tris));
     ft.make_delaunay();
-    const std::size_t loop_points = local.size();
-    // Steiner points on a staggered grid of the rim spacing, away from the rims.
-    for (int j = 0; s_lo + (j + 0.5) * row < s_hi; ++j) {
-      const double sv = s_lo + (j + 0.5) * row;
-      const double offset = j % 2 ? 0.5 * step : 0.0;
-      const double k0 = std::floor((th_lo - offset) / step), k1 = std::ceil((th_hi - offset) / step);
-      for (double k = k0; k <= k1; k += 1.0) {
-        const double th = k * step + offset;
-        const glm::dvec2 z(sv, cyl_.r * th);
-        if (!inside_polygon(z) || near_boundary(th, sv)) continue;
-        if (!ft.insert(z)) continue;
-        global.push_back(add_steiner(th, sv));
-      }
+    for (std::size_t i = 0; i < candidates.size(); ++i) {
+      if (taken[i]) continue;
+      const glm::dvec2 z = candidates[i].pole ? glm::dvec2(0.0) : to_plane(candidates[i]);
+      if (!std::isfinite(z.x) || !std::isfinite(z.y) || winding(xy, region, z) != 1) continue;
+      if (!ft.insert(z)) continue;
+      taken[i] = 1;
+      global.push_back(static_cast<std::uint32_t>(pts.size()));
+      pts.push_back(candidates[i]);
     }
     // No wall diagonal may repeat a surface edge between two rim vertices (that edge would get
     // four faces): a point next to its midpoint makes the flips remove it.
+    const std::size_t loop_points = xy.size();
     for (int pass = 0; pass < 8; ++pass) {
       bool changed = false;
       const auto tri_copy = ft.triangles();
       for (const auto& t : tri_copy) {
         for (int k = 0; k < 3 && !changed; ++k) {
-          const std::uint32_t a = t[k], b = t[(k + 1) % 3], c = t[(k + 2) % 3];
+          const std::uint32_t a = t[k], b = t[(k + 1) % 3], cc = t[(k + 2) % 3];
           if (a >= loop_points || b >= loop_points) continue;
-          const VertexId va = pts[global[a]].v, vb = pts[global[b]].v;
-          if (!va.valid() || !vb.valid() || !surface_edges.count(edge_key(va, vb))) continue;
+          if (!surface_edges.count(edge_key(pts[global[a]].v, pts[global[b]].v))) continue;
           if (!ft.is_interior(a, b)) continue;
-          const glm::dvec2 p = 0.5 * (local[a] + local[b]) + 0.01 * (local[c] - 0.5 * (local[a] + local[b]));
+          const glm::dvec2 m = 0.5 * (local[a] + local[b]);
+          const glm::dvec2 p = m + 0.01 * (local[cc] - m);
           if (ft.insert(p)) {
-            global.push_back(add_steiner(p.y / cyl_.r, p.x));
+            WallPt w = from_plane(p);
+            global.push_back(static_cast<std::uint32_t>(pts.size()));
+            pts.push_back(w);
             changed = true;
           }
         }
@@ -1308,25 +1473,156 @@ void Driller::build_walls(DrillResult& result) {
       }
       if (!changed) break;
     }
-    for (const auto& t : ft.triangles()) wall_tris.push_back({global[t[0]], global[t[1]], global[t[2]]});
+    std::vector<LocalTri> sheet_tris;
+    for (const auto& t : ft.triangles()) sheet_tris.push_back({global[t[0]], global[t[1]], global[t[2]]});
+    std::vector<glm::dvec3> where3(pts.size());
+    for (std::size_t i = 0; i < pts.size(); ++i) where3[i] = pts[i].p;
+    flip_on_surface(sheet_tris, where3, [&](std::uint32_t x, std::uint32_t y) {
+      return pts[x].v.valid() && pts[y].v.valid() && surface_edges.count(edge_key(pts[x].v, pts[y].v)) > 0;
+    });
+    wall_tris.insert(wall_tris.end(), sheet_tris.begin(), sheet_tris.end());
   }
-  // Create the new vertices and the faces.
-  for (auto& p : pts) {
-    if (!p.v.valid()) p.v = wall_vertex(p.a, p.b, p.t, cyl_.at(p.theta, p.s));
-    wall_coords_[p.v.index] = {p.theta, p.s, p.v};
+  if (wall_tris.empty()) return false;
+  // A wall face may use an edge between two existing vertices only against the one face that
+  // borders it (a rim edge): anything else (a diagonal along a kept surface edge, an edge an
+  // earlier sheet used) would make the edge non-manifold, so the sheet is left open instead.
+  {
+    auto directed = [](VertexId a, VertexId b) { return (std::uint64_t(a.index) << 32) | b.index; };
+    std::unordered_set<std::uint64_t> used;
+    auto add_face_edges = [&](const Triangle& t) {
+      for (int k = 0; k < 3; ++k) used.insert(directed(t[k], t[(k + 1) % 3]));
+    };
+    for (const Edit& e : editor_.log().edits)
+      if (const auto* fa = std::get_if<FaceAdded>(&e))
+        if (!mesh_.is_deleted(fa->f)) add_face_edges(mesh_.face(fa->f));
+    for (FaceId f : candidates_)
+      if (!mesh_.is_deleted(f)) add_face_edges(mesh_.face(f));
+    std::unordered_set<std::uint64_t> mine;
+    for (const auto& t : wall_tris)
+      for (int k = 0; k < 3; ++k) {
+        const VertexId a = pts[t[k]].v, b = pts[t[(k + 1) % 3]].v;
+        if (!a.valid() || !b.valid()) continue;
+        if (used.count(directed(a, b)) || !mine.insert(directed(a, b)).second) return false;
+      }
   }
-  for (const auto& t : wall_tris) wall_face({pts[t[0]].v, pts[t[1]].v, pts[t[2]].v}, 0);
-  auto ring_curve = [&](std::vector<std::uint32_t> ring) {
-    Curve c;
-    std::sort(ring.begin(), ring.end());  // created in increasing angle
-    for (auto i : ring) c.push_back({pts[i].theta, pts[i].s, pts[i].v});
-    return c;
+  // Create the new vertices (attributes from the nearest vertices of the two nearest rims) and
+  // the faces.
+  for (auto& w : pts) {
+    if (!w.v.valid()) {
+      double best[2] = {kInf, kInf};
+      VertexId src[2];
+      for (std::size_t h2 : hole_ids) {
+        double d = kInf;
+        VertexId v;
+        for (VertexId rv : result.holes[h2].rim) {
+          const glm::dvec3 q = posed(rv) - w.p;
+          if (glm::dot(q, q) < d) {
+            d = glm::dot(q, q);
+            v = rv;
+          }
+        }
+        if (d < best[0]) {
+          best[1] = best[0];
+          src[1] = src[0];
+          best[0] = d;
+          src[0] = v;
+        } else if (d < best[1]) {
+          best[1] = d;
+          src[1] = v;
+        }
+      }
+      if (!src[1].valid()) {
+        src[1] = src[0];
+        best[1] = best[0];
+      }
+      const double d0 = std::sqrt(best[0]), d1 = std::sqrt(best[1]);
+      w.v = wall_vertex(src[0], src[1], static_cast<float>(d0 / std::max(d0 + d1, 1e-300)), w.p);
+    }
+    wall_coords_[w.v.index] = {w.theta, std::clamp(w.s, 0.0, cy.len), w.where, w.v};
+  }
+  // A kept surface triangle whose three corners all lie on the rim (an island on the cylinder)
+  // would get its own mirror image as wall: both go instead.
+  std::unordered_map<std::uint64_t, FaceId> surface_tri;
+  auto tri_key = [](VertexId x, VertexId y, VertexId z) {
+    std::array<std::uint32_t, 3> k = {x.index, y.index, z.index};
+    std::sort(k.begin(), k.end());
+    return (std::uint64_t(k[0]) << 42) ^ (std::uint64_t(k[1]) << 21) ^ k[2];
   };
-  if (a_inside) disk(ring_curve(ring_a), false);
-  if (b_inside) disk(ring_curve(ring_b), true);
-  for (auto& hole : result.holes) hole.walled = true;
+  for (const Edit& e : editor_.log().edits)
+    if (const auto* fa = std::get_if<FaceAdded>(&e))
+      if (!mesh_.is_deleted(fa->f)) surface_tri[tri_key(fa->vertices[0], fa->vertices[1], fa->vertices[2])] = fa->f;
+  for (FaceId f : candidates_)
+    if (!mesh_.is_deleted(f)) surface_tri[tri_key(mesh_.face(f)[0], mesh_.face(f)[1], mesh_.face(f)[2])] = f;
+  for (const auto& t : wall_tris) {
+    const auto twin = surface_tri.find(tri_key(pts[t[0]].v, pts[t[1]].v, pts[t[2]].v));
+    if (twin != surface_tri.end() && !mesh_.is_deleted(twin->second)) {
+      editor_.remove_face(twin->second);
+      ++removed_;
+      continue;
+    }
+    const int kind = pts[t[0]].where != 0 && pts[t[0]].where == pts[t[1]].where &&
+                             pts[t[1]].where == pts[t[2]].where
+                         ? 1
+                         : 0;
+    wall_face({pts[t[0]].v, pts[t[1]].v, pts[t[2]].v}, kind);
+  }
+  return true;
+  };
+  bool any = false;
+  for (int k = 0; k < 2; ++k) {
+    const auto ls = sheet_loops(k, rim_loops.size());
+    if (ls.empty()) continue;
+    const bool ok = wall_sheet(ls);
+    for (std::size_t li = 0; li < rim_loops.size(); ++li)
+      if (sheet[li] == k && !ok) walled_ok[loop_hole[li]] = false;
+    any |= ok;
+  }
+  return any;
+}
+
+
+
+// Vertex groups of the connected surface sheets (union-find over the faces' corners).
+std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t x) {
+  while (parent[x] != x) x = parent[x] = parent[parent[x]];
+  return x;
+}
+
+
+// Walls close each shell separately: its rims (which never cross each other) bound the part of
+// the cylinder's surface inside it. Rims of different shells (overlapping closed components, as
+// the cactus' arms and trunk) may cross; each shell gets its own wall.
+void Driller::build_walls(DrillResult& result) {
+  if (result.holes.empty()) return;
+  std::vector<std::uint32_t> parent(mesh_.vertex_count());
+  for (std::uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
+  mesh_.for_each_face([&](FaceId, const Triangle& t) {
+    const std::uint32_t a = find_root(parent, t[0].index);
+    for (int k = 1; k < 3; ++k) {
+      const std::uint32_t b = find_root(parent, t[k].index);
+      if (a != b) parent[b] = a;
+    }
+  });
+  std::unordered_map<std::uint32_t, std::vector<std::size_t>> shells;
+  for (std::size_t h = 0; h < result.holes.size(); ++h)
+    shells[find_root(parent, result.holes[h].rim[0].index)].push_back(h);
+  std::vector<char> walled_ok(result.holes.size(), 0);
+  std::vector<std::uint32_t> order;
+  for (const auto& [root, ids] : shells) order.push_back(root);
+  std::sort(order.begin(), order.end());
+  for (std::uint32_t root : order) {
+    const auto& ids = shells[root];
+    bool closed = true;
+    for (std::size_t h : ids) closed &= result.holes[h].closed;
+    if (!closed) continue;  // a rim merged with an older boundary: the shell was open already
+    for (std::size_t h : ids) walled_ok[h] = 1;
+    if (!wall_shell(ids, result, walled_ok))  // builds nothing when it returns false
+      for (std::size_t h : ids) walled_ok[h] = 0;
+  }
+  for (std::size_t h = 0; h < result.holes.size(); ++h) result.holes[h].walled = walled_ok[h] != 0;
   finish_wall_attributes();
 }
+
 
 void Driller::finish_wall_attributes() {
   if (wall_faces_.empty()) return;
@@ -1396,7 +1692,7 @@ void Driller::finish_wall_attributes() {
 DrillResult Driller::run() {
   DrillResult result;
   result.first_new_vertex = first_new_;
-  std::vector<FaceId> candidates;
+  std::vector<FaceId>& candidates = candidates_;
   const double reach = cyl_.r + 2.0 * eps_;
   auto near_axis = [&](const Triangle& t) {
     const glm::dvec3 p0 = posed(t[0]), p1 = posed(t[1]), p2 = posed(t[2]);
@@ -1531,7 +1827,10 @@ ModelDrillResult drill_model(Model& model, const Cylinder& cylinder, const Drill
       result.triangles_removed += r.triangles_removed;
       result.triangles_added += r.triangles_added;
       result.wall_triangles += r.wall_triangles;
-      for (const auto& h : r.holes) result.rim_vertices.push_back(h.rim.size());
+      for (const auto& h : r.holes) {
+        result.rim_vertices.push_back(h.rim.size());
+        result.unwalled_holes += options.wall && !h.walled;
+      }
       const auto* flag = copy.face_attrs().find<std::uint8_t>(attr::kCutSurface);
       std::vector<FaceId> body, wall;
       copy.for_each_face(

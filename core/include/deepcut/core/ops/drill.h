@@ -92,10 +92,13 @@ using Unposer = std::function<glm::vec3(const SurfaceMesh& mesh, VertexId v, con
 ///       B only partly reaches gets a notch closed by the end disk's plane (rim vertices there
 ///       lie on that plane, not on the cylinder). A hole whose layer the axis does not cross
 ///       (a notch in a grazed wall) gets the rim points its triangles meet, which can be fewer
-///       than `min_rim_edges`. Walls are built for rims that go once around the axis on the
-///       cylinder side, paired along the axis (entry with the next exit); rims touching an end
-///       plane or a grazed layer get none (`DrillHole::walled`). Non-manifold edges are split
-///       like any other.
+///       than `min_rim_edges`. Walls close each connected shell on its own: the part of the
+///       cylinder's surface (side and end disks) inside the shell, bounded by its rims, so blind
+///       holes get their bottom, notches at an end plane their piece of the end disk, and
+///       overlapping shells (a limb passing into a body) each stay closed. A shell that passes
+///       through itself is walled per sheet. Rims that are not closed (they joined a boundary the
+///       input already had: an earlier hole, cut or tear without a wall) get no wall
+///       (`DrillHole::walled`). Non-manifold edges are split like any other.
 DrillResult drill_mesh(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const Cylinder& cylinder,
                        const DrillOptions& options = {}, const TriangleGrid* index = nullptr,
                        const Unposer& unpose = {});
@@ -108,6 +111,9 @@ struct ModelDrillResult {
   std::size_t triangles_removed = 0;
   std::size_t triangles_added = 0;
   std::size_t wall_triangles = 0;
+  /// With `wall`: holes that got no wall (their rim joins an open boundary the input already had,
+  /// or the surface there passes through itself more than twice).
+  std::size_t unwalled_holes = 0;
 };
 
 /// Drills every mesh instance of `model` posed at `time` of `animation` (-1: rest pose). Wall
