@@ -2,9 +2,6 @@
 // The Plane tool: a cutting plane (PlaneWidget: drag its normal, origin or the plane itself)
 // placed through the model's centre, mirrored with the numeric panel, its contour on the posed
 // surface drawn live, applied with deepcut::apply_operation (CutOperation).
-#include <vtkCommand.h>
-#include <vtkSmartPointer.h>
-
 #include <QCheckBox>
 #include <QComboBox>
 #include <QFormLayout>
@@ -16,26 +13,15 @@
 #include <memory>
 #include <optional>
 
-#include "deepcut/core/errors.h"
-#include "deepcut/plugins/tool.h"
-#include "deepcut/plugins/tool_panel.h"
+#include "deepcut/plugins/widget_tool.h"
 #include "deepcut/widgets/plane_widget.h"
 
 namespace deepcut::plugins {
 namespace {
 
-class CutTool final : public Tool {
+class CutTool final : public WidgetTool<CutOperation, PlaneWidget> {
  public:
-  CutTool() {
-    widget_ = vtkSmartPointer<PlaneWidget>::New();
-    widget_->CreateDefaultRepresentation();
-    widget_->AddObserver(vtkCommand::InteractionEvent, this, &CutTool::on_widget_moved);
-    sync_widget();
-  }
-  ~CutTool() override {
-    widget_->RemoveAllObservers();
-    widget_->Off();
-  }
+  CutTool() { write_widget(); }
 
   std::string id() const override { return "cut"; }
   std::string title() const override { return "Plane"; }
@@ -43,16 +29,8 @@ class CutTool final : public Tool {
   QWidget* create_panel(QWidget* parent) override {
     auto* panel = new QWidget(parent);
     auto* form = new QFormLayout(panel);
-    point_.emplace(form, "Point", "cut.point", [this] {
-      op_.plane.point = point_->value();
-      sync_widget();
-      notify_changed();
-    });
-    normal_.emplace(form, "Normal", "cut.normal", [this] {
-      op_.plane.normal = normal_->value();
-      sync_widget();
-      notify_changed();
-    });
+    add_vec3_row(point_, form, "Point", "cut.point", op_.plane.point);
+    add_vec3_row(normal_, form, "Normal", "cut.normal", op_.plane.normal);
     // ParaView's quick normals: the plane across an axis, keeping its point.
     auto* axes = new QWidget(panel);
     auto* axes_layout = new QHBoxLayout(axes);
@@ -65,9 +43,7 @@ class CutTool final : public Tool {
       axes_layout->addWidget(button);
       QObject::connect(button, &QPushButton::clicked, panel, [this, unit = units[k]] {
         op_.plane.normal = unit;
-        show();
-        sync_widget();
-        notify_changed();
+        refresh();
       });
     }
     form->addRow("", axes);
@@ -95,7 +71,7 @@ class CutTool final : public Tool {
       op_.options.split_components = on;
       notify_changed();
     });
-    show();
+    show_panel();
     return panel;
   }
 
@@ -112,22 +88,7 @@ class CutTool final : public Tool {
     rep->PlaceWidget(bounds);
     op_.plane.point = c;
     op_.plane.normal = glm::vec3(0.0f, 1.0f, 0.0f);
-    show();
-    sync_widget();
-    notify_changed();
-  }
-
-  vtkAbstractWidget* widget() override { return widget_; }
-
-  OperationParams parameters() const override { return op_; }
-
-  void set_parameters(const OperationParams& params) override {
-    const auto* cut = std::get_if<CutOperation>(&params);
-    if (!cut) throw Error(ErrorCode::InvalidArgument, "the Plane tool takes cut parameters");
-    op_ = *cut;
-    show();
-    sync_widget();
-    notify_changed();
+    refresh();
   }
 
   Overlay preview(const Scene& scene) const override {
@@ -142,20 +103,16 @@ class CutTool final : public Tool {
   }
 
  private:
-  /// A drag of the widget: its plane becomes the parameters (and the panel's numbers).
-  void on_widget_moved() {
+  void read_widget() override {
     PlaneRepresentation* rep = widget_->GetPlaneRepresentation();
     double origin[3], normal[3];
     rep->GetOrigin(origin);
     rep->GetNormal(normal);
     op_.plane.point = glm::vec3(origin[0], origin[1], origin[2]);
     op_.plane.normal = glm::vec3(normal[0], normal[1], normal[2]);
-    show();
-    notify_changed();
   }
 
-  /// The parameters moved the plane: show it in the widget (no interaction event).
-  void sync_widget() {
+  void write_widget() override {
     PlaneRepresentation* rep = widget_->GetPlaneRepresentation();
     rep->SetOrigin(op_.plane.point.x, op_.plane.point.y, op_.plane.point.z);
     // A zero normal cuts nothing (the preview is empty); the widget keeps its last direction.
@@ -163,7 +120,7 @@ class CutTool final : public Tool {
       rep->SetNormal(op_.plane.normal.x, op_.plane.normal.y, op_.plane.normal.z);
   }
 
-  void show() {
+  void show_panel() override {
     if (!point_) return;
     point_->set(op_.plane.point);
     normal_->set(op_.plane.normal);
@@ -173,8 +130,6 @@ class CutTool final : public Tool {
     components_->setChecked(op_.options.split_components);
   }
 
-  CutOperation op_;
-  vtkSmartPointer<PlaneWidget> widget_;
   std::optional<Vec3Entry> point_, normal_;
   QComboBox* keep_ = nullptr;
   QCheckBox* cap_ = nullptr;

@@ -4,9 +4,6 @@
 // picked point or the model's centre, mirrored with the numeric panel. The rims (cylinder
 // against the posed triangles) are drawn live; applied with deepcut::apply_operation
 // (DrillOperation).
-#include <vtkCommand.h>
-#include <vtkSmartPointer.h>
-
 #include <QCheckBox>
 #include <QDoubleSpinBox>
 #include <QFormLayout>
@@ -19,9 +16,7 @@
 #include <memory>
 #include <optional>
 
-#include "deepcut/core/errors.h"
-#include "deepcut/plugins/tool.h"
-#include "deepcut/plugins/tool_panel.h"
+#include "deepcut/plugins/widget_tool.h"
 #include "deepcut/widgets/drill_widget.h"
 
 namespace deepcut::plugins {
@@ -30,18 +25,9 @@ namespace {
 constexpr int kPreviewSides = 48;
 constexpr float kPi = 3.14159265358979f;
 
-class DrillTool final : public Tool {
+class DrillTool final : public WidgetTool<DrillOperation, DrillWidget> {
  public:
-  DrillTool() {
-    widget_ = vtkSmartPointer<DrillWidget>::New();
-    widget_->CreateDefaultRepresentation();
-    widget_->AddObserver(vtkCommand::InteractionEvent, this, &DrillTool::on_widget_moved);
-    sync_widget();
-  }
-  ~DrillTool() override {
-    widget_->RemoveAllObservers();
-    widget_->Off();
-  }
+  DrillTool() { write_widget(); }
 
   std::string id() const override { return "drill"; }
   std::string title() const override { return "Drill"; }
@@ -49,21 +35,13 @@ class DrillTool final : public Tool {
   QWidget* create_panel(QWidget* parent) override {
     auto* panel = new QWidget(parent);
     auto* form = new QFormLayout(panel);
-    a_.emplace(form, "Axis end A", "drill.a", [this] {
-      op_.cylinder.a = a_->value();
-      sync_widget();
-      notify_changed();
-    });
-    b_.emplace(form, "Axis end B", "drill.b", [this] {
-      op_.cylinder.b = b_->value();
-      sync_widget();
-      notify_changed();
-    });
+    add_vec3_row(a_, form, "Axis end A", "drill.a", op_.cylinder.a);
+    add_vec3_row(b_, form, "Axis end B", "drill.b", op_.cylinder.b);
     radius_ = make_number(panel, "drill.radius", 0.0, 1e6);
     form->addRow("Radius", radius_);
     QObject::connect(radius_, QOverload<double>::of(&QDoubleSpinBox::valueChanged), panel, [this](double r) {
       op_.cylinder.radius = static_cast<float>(r);
-      sync_widget();
+      write_widget();
       notify_changed();
     });
     rim_edges_ = new QSpinBox(panel);
@@ -82,7 +60,7 @@ class DrillTool final : public Tool {
       op_.options.wall = on;
       notify_changed();
     });
-    show();
+    show_panel();
     return panel;
   }
 
@@ -106,22 +84,7 @@ class DrillTool final : public Tool {
     op_.cylinder.a = through + (front - margin) * d;
     op_.cylinder.b = through + (back + margin) * d;
     op_.cylinder.radius = 0.03f * box.diagonal();
-    show();
-    sync_widget();
-    notify_changed();
-  }
-
-  vtkAbstractWidget* widget() override { return widget_; }
-
-  OperationParams parameters() const override { return op_; }
-
-  void set_parameters(const OperationParams& params) override {
-    const auto* drill = std::get_if<DrillOperation>(&params);
-    if (!drill) throw Error(ErrorCode::InvalidArgument, "the Drill tool takes drill parameters");
-    op_ = *drill;
-    show();
-    sync_widget();
-    notify_changed();
+    refresh();
   }
 
   /// The rims: the cylinder's side (a prism of thin triangles) against the posed surface.
@@ -156,19 +119,15 @@ class DrillTool final : public Tool {
   }
 
  private:
-  /// A drag of the widget: its cylinder becomes the parameters (and the panel's numbers).
-  void on_widget_moved() {
+  void read_widget() override {
     DrillRepresentation* rep = widget_->GetDrillRepresentation();
     auto point = [](const double* p) { return glm::vec3(p[0], p[1], p[2]); };
     op_.cylinder.a = point(rep->GetEndA());
     op_.cylinder.b = point(rep->GetEndB());
     op_.cylinder.radius = static_cast<float>(rep->GetRadius());
-    show();
-    notify_changed();
   }
 
-  /// The parameters moved the cylinder: show it in the widget (no interaction event).
-  void sync_widget() {
+  void write_widget() override {
     DrillRepresentation* rep = widget_->GetDrillRepresentation();
     const double a[3] = {op_.cylinder.a.x, op_.cylinder.a.y, op_.cylinder.a.z};
     const double b[3] = {op_.cylinder.b.x, op_.cylinder.b.y, op_.cylinder.b.z};
@@ -177,7 +136,7 @@ class DrillTool final : public Tool {
     rep->SetRadius(op_.cylinder.radius);
   }
 
-  void show() {
+  void show_panel() override {
     if (!a_) return;
     a_->set(op_.cylinder.a);
     b_->set(op_.cylinder.b);
@@ -187,8 +146,6 @@ class DrillTool final : public Tool {
     wall_->setChecked(op_.options.wall);
   }
 
-  DrillOperation op_;
-  vtkSmartPointer<DrillWidget> widget_;
   std::optional<Vec3Entry> a_, b_;
   QDoubleSpinBox* radius_ = nullptr;
   QSpinBox* rim_edges_ = nullptr;

@@ -3,9 +3,6 @@
 // tears. ScalpelWidget drags the points, the blades and the whole scalpel, mirrored with the
 // numeric panel; the tear path (quad against the posed triangles) is drawn live; applied with
 // deepcut::apply_operation (TearOperation).
-#include <vtkCommand.h>
-#include <vtkSmartPointer.h>
-
 #include <QDoubleSpinBox>
 #include <QFormLayout>
 #include <QSignalBlocker>
@@ -15,25 +12,15 @@
 #include <optional>
 
 #include "deepcut/core/errors.h"
-#include "deepcut/plugins/tool.h"
-#include "deepcut/plugins/tool_panel.h"
+#include "deepcut/plugins/widget_tool.h"
 #include "deepcut/widgets/scalpel_widget.h"
 
 namespace deepcut::plugins {
 namespace {
 
-class TearTool final : public Tool {
+class TearTool final : public WidgetTool<TearOperation, ScalpelWidget> {
  public:
-  TearTool() {
-    widget_ = vtkSmartPointer<ScalpelWidget>::New();
-    widget_->CreateDefaultRepresentation();
-    widget_->AddObserver(vtkCommand::InteractionEvent, this, &TearTool::on_widget_moved);
-    sync_widget();
-  }
-  ~TearTool() override {
-    widget_->RemoveAllObservers();
-    widget_->Off();
-  }
+  TearTool() { write_widget(); }
 
   std::string id() const override { return "tear"; }
   std::string title() const override { return "Scalpel"; }
@@ -41,26 +28,10 @@ class TearTool final : public Tool {
   QWidget* create_panel(QWidget* parent) override {
     auto* panel = new QWidget(parent);
     auto* form = new QFormLayout(panel);
-    start_handle_.emplace(form, "Start handle", "tear.start.handle", [this] {
-      op_.start.handle = start_handle_->value();
-      sync_widget();
-      notify_changed();
-    });
-    start_tip_.emplace(form, "Start tip", "tear.start.tip", [this] {
-      op_.start.tip = start_tip_->value();
-      sync_widget();
-      notify_changed();
-    });
-    end_handle_.emplace(form, "End handle", "tear.end.handle", [this] {
-      op_.end.handle = end_handle_->value();
-      sync_widget();
-      notify_changed();
-    });
-    end_tip_.emplace(form, "End tip", "tear.end.tip", [this] {
-      op_.end.tip = end_tip_->value();
-      sync_widget();
-      notify_changed();
-    });
+    add_vec3_row(start_handle_, form, "Start handle", "tear.start.handle", op_.start.handle);
+    add_vec3_row(start_tip_, form, "Start tip", "tear.start.tip", op_.start.tip);
+    add_vec3_row(end_handle_, form, "End handle", "tear.end.handle", op_.end.handle);
+    add_vec3_row(end_tip_, form, "End tip", "tear.end.tip", op_.end.tip);
     width_ = make_number(panel, "tear.width", -1.0, 1e6);
     width_->setSpecialValueText("auto (5% of the blade)");
     width_->setToolTip("Opening width in model units; auto: 5% of the mean blade length; 0: no gap");
@@ -69,7 +40,7 @@ class TearTool final : public Tool {
       op_.options.width = static_cast<float>(w);
       notify_changed();
     });
-    show();
+    show_panel();
     return panel;
   }
 
@@ -85,9 +56,7 @@ class TearTool final : public Tool {
       const float size = box.diagonal(), outside = 0.08f * size, inside = 0.04f * size, sweep = 0.08f * size;
       op_.start = {p - outside * d + sweep * up, p + inside * d + sweep * up};
       op_.end = {p - outside * d - sweep * up, p + inside * d - sweep * up};
-      show();
-      sync_widget();
-      notify_changed();
+      refresh();
       return;
     }
     const glm::vec3 c = 0.5f * (box.min + box.max), extent = box.max - box.min;
@@ -98,22 +67,7 @@ class TearTool final : public Tool {
     const glm::vec3 handle = c - 1.5f * depth * d, tip = c;
     op_.start = {handle + 0.3f * height * up, tip + 0.3f * height * up};
     op_.end = {handle - 0.3f * height * up, tip - 0.3f * height * up};
-    show();
-    sync_widget();
-    notify_changed();
-  }
-
-  vtkAbstractWidget* widget() override { return widget_; }
-
-  OperationParams parameters() const override { return op_; }
-
-  void set_parameters(const OperationParams& params) override {
-    const auto* tear = std::get_if<TearOperation>(&params);
-    if (!tear) throw Error(ErrorCode::InvalidArgument, "the Scalpel tool takes tear parameters");
-    op_ = *tear;
-    show();
-    sync_widget();
-    notify_changed();
+    refresh();
   }
 
   Overlay preview(const Scene& scene) const override {
@@ -135,18 +89,14 @@ class TearTool final : public Tool {
   }
 
  private:
-  /// A drag of the widget: its blade poses become the parameters (and the panel's numbers).
-  void on_widget_moved() {
+  void read_widget() override {
     ScalpelRepresentation* rep = widget_->GetScalpelRepresentation();
     auto point = [](const double* p) { return glm::vec3(p[0], p[1], p[2]); };
     op_.start = {point(rep->GetStartHandle()), point(rep->GetStartTip())};
     op_.end = {point(rep->GetEndHandle()), point(rep->GetEndTip())};
-    show();
-    notify_changed();
   }
 
-  /// The parameters moved the blades: show them in the widget (no interaction event).
-  void sync_widget() {
+  void write_widget() override {
     ScalpelRepresentation* rep = widget_->GetScalpelRepresentation();
     auto set = [](const glm::vec3& p, double out[3]) { out[0] = p.x, out[1] = p.y, out[2] = p.z; };
     double p[3];
@@ -160,7 +110,7 @@ class TearTool final : public Tool {
     rep->SetEndTip(p);
   }
 
-  void show() {
+  void show_panel() override {
     if (!start_handle_) return;
     start_handle_->set(op_.start.handle);
     start_tip_->set(op_.start.tip);
@@ -170,8 +120,6 @@ class TearTool final : public Tool {
     width_->setValue(static_cast<double>(op_.options.width));
   }
 
-  TearOperation op_;
-  vtkSmartPointer<ScalpelWidget> widget_;
   std::optional<Vec3Entry> start_handle_, start_tip_, end_handle_, end_tip_;
   QDoubleSpinBox* width_ = nullptr;
 };
