@@ -1,14 +1,10 @@
 // SPDX-License-Identifier: MIT
 // The Plane tool's command line: deepcut cut (the studio side is cut_tool.cpp).
-#include <chrono>
-#include <iostream>
-
 #include <nlohmann/json.hpp>
 
-#include "deepcut/core/io/gltf.h"
-#include "deepcut/core/ops/history.h"
-#include "deepcut/plugins/command_args.h"
+#include "deepcut/core/errors.h"
 #include "deepcut/plugins/formats.h"
+#include "deepcut/plugins/operation_command.h"
 #include "deepcut/plugins/tool_registry.h"
 
 namespace deepcut::cli {
@@ -54,24 +50,14 @@ int run_cut(const std::vector<std::string>& argv) {
   op.params = cut;
   op.animation = pose_animation(args, model);
   op.time = static_cast<float>(args.number("--time", 0.0));
-  const auto t0 = std::chrono::steady_clock::now();
-  const ModelCutResult r = cut_model(model, cut.plane, cut.options, op.animation, op.time);
-  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  if (r.status == OpStatus::Ok) record_operation(model, op);
-  write_gltf(model, args.value("-o"));
-  if (args.flag("--json")) {
-    std::cout << json{{"status", to_string(r.status)},
-                      {"pieces", piece_list(model, r.piece_nodes)},
-                      {"intersection_points", r.intersection_points},
-                      {"rim_vertices", r.rim_vertices},
-                      {"ms", ms}}
-                     .dump(2)
-              << "\n";
-  } else {
-    std::cerr << "deepcut: " << (r.status == OpStatus::Ok ? "cut into " + count_of(r.piece_nodes.size(), "piece", "pieces")
-                                                          : std::string("the plane misses the model; wrote it unchanged"))
-              << " -> " << args.value("-o") << "\n";
-  }
+  double ms = 0.0;
+  const ModelCutResult r =
+      run_timed([&] { return cut_model(model, cut.plane, cut.options, op.animation, op.time); }, ms);
+  finish_operation(args, model, op, r.status, ms,
+                   {{"pieces", piece_list(model, r.piece_nodes)},
+                    {"intersection_points", r.intersection_points},
+                    {"rim_vertices", r.rim_vertices}},
+                   "cut into " + count_of(r.piece_nodes.size(), "piece", "pieces"), "plane");
   return 0;
 }
 

@@ -1,16 +1,15 @@
 // SPDX-License-Identifier: MIT
 // The Drill tool's command line: deepcut drill (the studio side is drill_tool.cpp).
-#include <chrono>
 #include <cmath>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <utility>
 #include <vector>
 
-#include "deepcut/core/io/gltf.h"
+#include "deepcut/core/errors.h"
 #include "deepcut/core/model.h"
-#include "deepcut/core/ops/history.h"
-#include "deepcut/plugins/command_args.h"
 #include "deepcut/plugins/formats.h"
+#include "deepcut/plugins/operation_command.h"
 #include "deepcut/plugins/tool_registry.h"
 
 namespace deepcut::cli {
@@ -54,13 +53,12 @@ int run_drill(const std::vector<std::string>& argv) {
   Model model = plugins::read_model(args.positionals()[0]);
   Operation op;
   op.params = drill;
-  const int animation = animation_option(args, model.animations.size());  // -1..N-1, whole numbers
-  op.animation = args.has("--time") ? animation : -1;                     // no --time: the rest pose
+  op.animation = pose_animation(args, model);
   op.time = static_cast<float>(args.number("--time", 0.0));
   const auto before = instance_triangles(model);
-  const auto t0 = std::chrono::steady_clock::now();
-  const ModelDrillResult r = drill_model(model, drill.cylinder, drill.options, op.animation, op.time);
-  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  double ms = 0.0;
+  const ModelDrillResult r =
+      run_timed([&] { return drill_model(model, drill.cylinder, drill.options, op.animation, op.time); }, ms);
   // A drill that swallows a whole instance is not a hole: refuse it rather than write an empty mesh.
   const auto after = instance_triangles(model);
   for (std::size_t ni = 0; ni < before.size(); ++ni)
@@ -69,35 +67,26 @@ int run_drill(const std::vector<std::string>& argv) {
                   "the cylinder removes every triangle of node " + std::to_string(ni) +
                       (model.nodes[ni].name.empty() ? std::string() : " '" + model.nodes[ni].name + "'") +
                       " (" + std::to_string(before[ni]) + " triangles); use a smaller --radius");
-  if (r.status == OpStatus::Ok) record_operation(model, op);
-  write_gltf(model, args.value("-o"));
+  nlohmann::json report{{"holes", r.rim_vertices.size()},
+                        {"rim_vertices", r.rim_vertices},
+                        {"intersection_points", r.intersection_points},
+                        {"triangles_removed", r.triangles_removed},
+                        {"triangles_added", r.triangles_added},
+                        {"wall_triangles", r.wall_triangles},
+                        {"unwalled_holes", r.unwalled_holes}};
   // --wall asked for but some holes could not be closed: say so instead of staying silent.
-  std::string wall_note;
-  if (drill.options.wall && r.status == OpStatus::Ok && r.unwalled_holes > 0)
-    wall_note = "no wall for " + std::to_string(r.unwalled_holes) + " of the " +
-                count_of(r.rim_vertices.size(), "hole", "holes") +
-                ": their rims join a boundary the model already had (an earlier hole, cut or tear without a "
-                "wall) so the surface there was open before the drill, or the surface passes through itself there more "
-                "than twice";
-  if (args.flag("--json")) {
-    nlohmann::json j{{"status", to_string(r.status)},
-                     {"holes", r.rim_vertices.size()},
-                     {"rim_vertices", r.rim_vertices},
-                     {"intersection_points", r.intersection_points},
-                     {"triangles_removed", r.triangles_removed},
-                     {"triangles_added", r.triangles_added},
-                     {"wall_triangles", r.wall_triangles},
-                     {"unwalled_holes", r.unwalled_holes},
-                     {"ms", ms}};
-    if (!wall_note.empty()) j["wall_note"] = wall_note;
-    std::cout << j.dump(2) << "\n";
-  } else {
-    if (!wall_note.empty()) std::cerr << "deepcut: " << wall_note << "\n";
-    std::cerr << "deepcut: "
-              << (r.status == OpStatus::Ok ? "drilled " + count_of(r.rim_vertices.size(), "hole", "holes")
-                                           : std::string("the drill misses the model; wrote it unchanged"))
-              << " -> " << args.value("-o") << "\n";
+  if (drill.options.wall && r.status == OpStatus::Ok && r.unwalled_holes > 0) {
+    const std::string note =
+        "no wall for " + std::to_string(r.unwalled_holes) + " of the " +
+        count_of(r.rim_vertices.size(), "hole", "holes") +
+        ": their rims join a boundary the model already had (an earlier hole, cut or tear without a "
+        "wall) so the surface there was open before the drill, or the surface passes through itself there more "
+        "than twice";
+    report["wall_note"] = note;
+    if (!args.flag("--json")) std::cerr << "deepcut: " << note << "\n";
   }
+  finish_operation(args, model, op, r.status, ms, std::move(report),
+                   "drilled " + count_of(r.rim_vertices.size(), "hole", "holes"), "drill");
   return 0;
 }
 

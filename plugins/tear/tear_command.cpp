@@ -1,15 +1,11 @@
 // SPDX-License-Identifier: MIT
 // The Scalpel tool's command line: deepcut tear (the studio side is tear_tool.cpp).
-#include <chrono>
 #include <cmath>
 #include <limits>
-#include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "deepcut/core/io/gltf.h"
-#include "deepcut/core/ops/history.h"
-#include "deepcut/plugins/command_args.h"
 #include "deepcut/plugins/formats.h"
+#include "deepcut/plugins/operation_command.h"
 #include "deepcut/plugins/tool_registry.h"
 
 namespace deepcut::cli {
@@ -43,34 +39,23 @@ int run_tear(const std::vector<std::string>& argv) {
 
   Model model = plugins::read_model(args.positionals()[0]);
   Operation op;
-  const int animation = animation_option(args, model.animations.size());  // -1..N-1, whole numbers
-  op.animation = args.has("--time") ? animation : -1;                     // no --time: the rest pose
+  op.animation = pose_animation(args, model);
   op.time = static_cast<float>(args.number("--time", 0.0));
-  const auto t0 = std::chrono::steady_clock::now();
-  const ModelTearResult r = tear_model(model, tear.start, tear.end, tear.options, op.animation, op.time);
-  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  double ms = 0.0;
+  const ModelTearResult r = run_timed(
+      [&] { return tear_model(model, tear.start, tear.end, tear.options, op.animation, op.time); }, ms);
   tear.options.width = r.width;  // the history records the width used
   op.params = tear;
-  if (r.status == OpStatus::Ok) record_operation(model, op);
-  write_gltf(model, args.value("-o"));
-  if (args.flag("--json")) {
-    std::cout << nlohmann::json{{"status", to_string(r.status)},
-                                {"tear_vertices", r.tear_vertices},
-                                {"intersection_points", r.intersection_points},
-                                {"slits", r.slits},
-                                {"width", r.width},
-                                {"opening", r.opening},
-                                {"ms", ms}}
-                     .dump(2)
-              << "\n";
-  } else {
-    std::cerr << "deepcut: "
-              << (r.status == OpStatus::Ok ? "tore " + count_of(r.slits, "slit", "slits") + ", " +
-                                                 count_of(r.tear_vertices, "tear vertex", "tear vertices") + ", opening " +
-                                                 std::to_string(r.opening) + " (asked " + std::to_string(r.width) + ")"
-                                           : std::string("the blade misses the model; wrote it unchanged"))
-              << " -> " << args.value("-o") << "\n";
-  }
+  finish_operation(args, model, op, r.status, ms,
+                   {{"tear_vertices", r.tear_vertices},
+                    {"intersection_points", r.intersection_points},
+                    {"slits", r.slits},
+                    {"width", r.width},
+                    {"opening", r.opening}},
+                   "tore " + count_of(r.slits, "slit", "slits") + ", " +
+                       count_of(r.tear_vertices, "tear vertex", "tear vertices") + ", opening " +
+                       std::to_string(r.opening) + " (asked " + std::to_string(r.width) + ")",
+                   "blade");
   return 0;
 }
 
