@@ -21,8 +21,6 @@
 #include <QUndoStack>
 #include <QtTest/QtTest>
 #include <algorithm>
-#include <fstream>
-#include <iterator>
 
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/ops/history.h"
@@ -30,28 +28,16 @@
 #include "main_window.h"
 #include "scene_view.h"
 #include "timeline.h"
+#include "studio_test_support.h"
 #include "tools.h"
 
 using deepcut::studio::MainWindow;
+using deepcut::test::studio::export_bytes;
+using deepcut::test::studio::kCactus;
+using deepcut::test::studio::read_bytes;
+using deepcut::test::studio::shown_window;
 
 namespace {
-
-const QString kCactus = QStringLiteral(DEEPCUT_ASSETS_DIR "/cactus.glb");
-
-std::string read_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-std::unique_ptr<MainWindow> shown_window() {
-  deepcut::studio::MainWindowOptions options;
-  options.error_dialogs = false;
-  auto window = std::make_unique<MainWindow>(options);
-  window->resize(1280, 800);
-  window->show();
-  if (!QTest::qWaitForWindowExposed(window.get())) return nullptr;
-  return window;
-}
 
 /// Largest distance between what the view draws for piece 0 and the skinned pose of the scene.
 float drawn_offset(MainWindow& window) {
@@ -97,15 +83,7 @@ std::string cli_apply(const std::vector<MainWindow::OperationEntry>& entries, co
                       const std::string& name) {
   deepcut::History history;
   for (const auto& entry : entries) history.operations.push_back(entry.operation);
-  {
-    std::ofstream out(dir + "/" + name + ".json");
-    out << deepcut::history_to_json(history);
-  }
-  const auto run = deepcut::test::run_cli("apply " + deepcut::test::quote(kCactus.toStdString()) + " " +
-                                          deepcut::test::quote(dir + "/" + name + ".json") + " -o " +
-                                          deepcut::test::quote(dir + "/" + name + ".glb"));
-  if (run.exit_code != 0) return "deepcut apply failed: " + run.err;
-  return read_bytes(dir + "/" + name + ".glb");
+  return deepcut::test::studio::cli_apply(history, dir, name);
 }
 
 }  // namespace
@@ -191,11 +169,7 @@ class StudioSessionTest : public QObject {
     QVERIFY(window);
     QVERIFY(window->open_file(kCactus));
     const std::string dir = deepcut::test::temp_dir("studio-edit");
-    auto export_to = [&](const std::string& name) {
-      const std::string path = dir + "/" + name + ".glb";
-      if (!window->export_file(QString::fromStdString(path))) return std::string();
-      return read_bytes(path);
-    };
+    auto export_to = [&](const std::string& name) { return export_bytes(*window, dir, name); };
     const float size = window->scene()->size;
     const deepcut::plugins::SceneCounts opened = deepcut::plugins::scene_counts(*window->scene());
 

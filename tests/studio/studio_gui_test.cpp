@@ -21,9 +21,7 @@
 #include <QUndoStack>
 #include <QUrl>
 #include <QtTest/QtTest>
-#include <fstream>
 #include <functional>
-#include <iterator>
 
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/mesh_editor.h"
@@ -33,18 +31,16 @@
 #include "main_window.h"
 #include "scene_view.h"
 #include "timeline.h"
+#include "studio_test_support.h"
 #include "tools.h"
 
 using deepcut::studio::MainWindow;
+using deepcut::test::studio::export_bytes;
+using deepcut::test::studio::kCactus;
+using deepcut::test::studio::read_bytes;
+using deepcut::test::studio::shown_window;
 
 namespace {
-
-const QString kCactus = QStringLiteral(DEEPCUT_ASSETS_DIR "/cactus.glb");
-
-std::string read_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
 
 /// Pixels of `image` for which `predicate(color)` holds.
 int count_pixels(const QImage& image, const std::function<bool(const QColor&)>& predicate) {
@@ -71,16 +67,6 @@ void accept_next_message_box(QString* text) {
     }
   });
   timer->start();
-}
-
-std::unique_ptr<MainWindow> shown_window(bool dialogs = false) {
-  deepcut::studio::MainWindowOptions options;
-  options.error_dialogs = dialogs;
-  auto window = std::make_unique<MainWindow>(options);
-  window->resize(1280, 800);
-  window->show();
-  if (!QTest::qWaitForWindowExposed(window.get())) return nullptr;
-  return window;
 }
 
 }  // namespace

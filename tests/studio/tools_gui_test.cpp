@@ -14,8 +14,6 @@
 #include <QSurfaceFormat>
 #include <QUndoStack>
 #include <QtTest/QtTest>
-#include <fstream>
-#include <iterator>
 
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/ops/history.h"
@@ -23,28 +21,18 @@
 #include "main_window.h"
 #include "scene_view.h"
 #include "timeline.h"
+#include "studio_test_support.h"
 #include "tools.h"
 
 using deepcut::studio::MainWindow;
+using deepcut::test::studio::check_cli_apply_equals;
+using deepcut::test::studio::check_undo_all_redo_all;
+using deepcut::test::studio::export_bytes;
+using deepcut::test::studio::kCactus;
+using deepcut::test::studio::read_bytes;
+using deepcut::test::studio::shown_window;
 
 namespace {
-
-const QString kCactus = QStringLiteral(DEEPCUT_ASSETS_DIR "/cactus.glb");
-
-std::string read_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-std::unique_ptr<MainWindow> shown_window() {
-  deepcut::studio::MainWindowOptions options;
-  options.error_dialogs = false;
-  auto window = std::make_unique<MainWindow>(options);
-  window->resize(1280, 800);
-  window->show();
-  if (!QTest::qWaitForWindowExposed(window.get())) return nullptr;
-  return window;
-}
 
 QAction* action_named(MainWindow& window, const QString& name) {
   return window.findChild<QAction*>(name);
@@ -89,11 +77,7 @@ class StudioToolsTest : public QObject {
     const std::string dir = deepcut::test::temp_dir("studio-tools");
     const std::string shots = dir;
     std::vector<std::string> before;  // export before each operation
-    auto export_to = [&](const std::string& name) {
-      const std::string path = dir + "/" + name + ".glb";
-      if (!window->export_file(QString::fromStdString(path))) return std::string();
-      return read_bytes(path);
-    };
+    auto export_to = [&](const std::string& name) { return export_bytes(*window, dir, name); };
 
     // Plane: chosen on the tool bar, placed through the centre; move it with the panel.
     action_named(*window, "tool_cut")->trigger();
@@ -157,30 +141,15 @@ class StudioToolsTest : public QObject {
     save_shot(*window, shots, "drill_applied");
     const std::string final_bytes = export_to("final");
 
-    // Undo all: each state exports exactly as it did before its operation.
-    for (int i = 2; i >= 0; --i) {
-      window->undo_action()->trigger();
-      QVERIFY2(export_to("undo" + std::to_string(i)) == before[static_cast<std::size_t>(i)],
-               ("undo of operation " + std::to_string(i) + " does not restore the export").c_str());
-    }
-    // Redo all.
-    for (int i = 0; i < 3; ++i) window->redo_action()->trigger();
-    QVERIFY2(export_to("redo") == final_bytes, "redo all does not give the same export");
-    const auto validation = deepcut::test::validate_gltf(dir + "/redo.glb");
-    QVERIFY2(validation.exit_code == 0, (validation.out + validation.err).c_str());
+    // Undo all (each state exports exactly as it did before its operation), redo all, validate.
+    check_undo_all_redo_all(*window, dir, before, final_bytes);
+    if (QTest::currentTestFailed()) return;
 
     // The exported history replayed by the command line on the original model.
     const deepcut::History history = deepcut::model_history(deepcut::read_gltf(dir + "/redo.glb"));
     QCOMPARE(history.operations.size(), std::size_t(3));
-    {
-      std::ofstream out(dir + "/history.json");
-      out << deepcut::history_to_json(history);
-    }
-    const auto run = deepcut::test::run_cli("apply " + deepcut::test::quote(kCactus.toStdString()) + " " +
-                                            deepcut::test::quote(dir + "/history.json") + " -o " +
-                                            deepcut::test::quote(dir + "/cli.glb"));
-    QVERIFY2(run.exit_code == 0, run.err.c_str());
-    QVERIFY2(read_bytes(dir + "/cli.glb") == final_bytes, "deepcut apply of the history differs from the studio");
+    check_cli_apply_equals(history, dir, final_bytes);
+    if (QTest::currentTestFailed()) return;
 
     // Clicking the first history entry goes back to that state (QUndoView sets the index).
     window->history()->setIndex(1);
@@ -238,15 +207,8 @@ class StudioToolsTest : public QObject {
     QVERIFY(window->export_file(QString::fromStdString(studio)));
     const deepcut::History history = deepcut::model_history(deepcut::read_gltf(studio));
     QCOMPARE(static_cast<int>(history.operations.size()), window->history()->index());
-    {
-      std::ofstream out(dir + "/history.json");
-      out << deepcut::history_to_json(history);
-    }
-    const auto run = deepcut::test::run_cli("apply " + deepcut::test::quote(kCactus.toStdString()) + " " +
-                                            deepcut::test::quote(dir + "/history.json") + " -o " +
-                                            deepcut::test::quote(dir + "/cli.glb"));
-    QVERIFY2(run.exit_code == 0, run.err.c_str());
-    QVERIFY2(read_bytes(dir + "/cli.glb") == read_bytes(studio), "deepcut apply of the session differs");
+    check_cli_apply_equals(history, dir, read_bytes(studio));
+    if (QTest::currentTestFailed()) return;
     const auto validation = deepcut::test::validate_gltf(studio);
     QVERIFY2(validation.exit_code == 0, (validation.out + validation.err).c_str());
   }

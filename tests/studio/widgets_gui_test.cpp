@@ -26,9 +26,7 @@
 #include <QUndoStack>
 #include <QtTest/QtTest>
 #include <cstdio>
-#include <fstream>
 #include <glm/geometric.hpp>
-#include <iterator>
 #include <sstream>
 
 #include "deepcut/core/io/gltf.h"
@@ -40,28 +38,18 @@
 #include "main_window.h"
 #include "scene_view.h"
 #include "timeline.h"
+#include "studio_test_support.h"
 #include "tools.h"
 
 using deepcut::studio::MainWindow;
+using deepcut::test::studio::check_cli_apply_equals;
+using deepcut::test::studio::check_undo_all_redo_all;
+using deepcut::test::studio::export_bytes;
+using deepcut::test::studio::kCactus;
+using deepcut::test::studio::read_bytes;
+using deepcut::test::studio::shown_window;
 
 namespace {
-
-const QString kCactus = QStringLiteral(DEEPCUT_ASSETS_DIR "/cactus.glb");
-
-std::string read_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-std::unique_ptr<MainWindow> shown_window() {
-  deepcut::studio::MainWindowOptions options;
-  options.error_dialogs = false;
-  auto window = std::make_unique<MainWindow>(options);
-  window->resize(1280, 800);
-  window->show();
-  if (!QTest::qWaitForWindowExposed(window.get())) return nullptr;
-  return window;
-}
 
 QVTKOpenGLNativeWidget* vtk_view(MainWindow& window) {
   return window.findChild<QVTKOpenGLNativeWidget*>("vtk_view");
@@ -359,11 +347,7 @@ class StudioWidgetsTest : public QObject {
     const float size = window->scene()->size;
     const std::string dir = deepcut::test::temp_dir("studio-widgets");
     std::vector<std::string> before;
-    auto export_to = [&](const std::string& name) {
-      const std::string path = dir + "/" + name + ".glb";
-      if (!window->export_file(QString::fromStdString(path))) return std::string();
-      return read_bytes(path);
-    };
+    auto export_to = [&](const std::string& name) { return export_bytes(*window, dir, name); };
     auto shot = [&](const std::string& name) {
       window->view()->grab_view().save(QString::fromStdString(dir + "/" + name + ".png"));
     };
@@ -427,30 +411,17 @@ class StudioWidgetsTest : public QObject {
     QCOMPARE(window->history()->count(), 3);
     const std::string final_bytes = export_to("final");
 
-    // Undo all: each state exports as it did before its operation; redo all.
-    for (int i = 2; i >= 0; --i) {
-      window->undo_action()->trigger();
-      QVERIFY2(export_to("undo" + std::to_string(i)) == before[static_cast<std::size_t>(i)],
-               ("undo of operation " + std::to_string(i) + " does not restore the export").c_str());
-    }
-    for (int i = 0; i < 3; ++i) window->redo_action()->trigger();
-    QVERIFY2(export_to("redo") == final_bytes, "redo all does not give the same export");
-    const auto validation = deepcut::test::validate_gltf(dir + "/redo.glb");
-    QVERIFY2(validation.exit_code == 0, (validation.out + validation.err).c_str());
+    // Undo all (each state exports as it did before its operation), redo all, validate.
+    check_undo_all_redo_all(*window, dir, before, final_bytes);
+    if (QTest::currentTestFailed()) return;
 
     // The whole session replayed by `deepcut apply` on the original model.
     const deepcut::History history = deepcut::model_history(deepcut::read_gltf(dir + "/redo.glb"));
     QCOMPARE(history.operations.size(), std::size_t(3));
-    {
-      std::ofstream out(dir + "/history.json");
-      out << deepcut::history_to_json(history);
-    }
+    check_cli_apply_equals(history, dir, final_bytes);
+    if (QTest::currentTestFailed()) return;
     using deepcut::test::quote;
     const std::string original = quote(kCactus.toStdString());
-    auto run = deepcut::test::run_cli("apply " + original + " " + quote(dir + "/history.json") + " -o " +
-                                      quote(dir + "/cli_apply.glb"));
-    QVERIFY2(run.exit_code == 0, run.err.c_str());
-    QVERIFY2(read_bytes(dir + "/cli_apply.glb") == final_bytes, "deepcut apply of the session differs");
 
     // Each operation alone on the original model equals `deepcut cut`, `tear` or `drill` run with
     // the numbers the panel shows (read back from the history, at the pose they were applied).
@@ -482,7 +453,7 @@ class StudioWidgetsTest : public QObject {
       QVERIFY(window->apply_tool());
       const std::string alone = dir + "/alone_" + ids[i] + ".glb", cli = dir + "/cli_" + ids[i] + ".glb";
       QVERIFY(window->export_file(QString::fromStdString(alone)));
-      run = deepcut::test::run_cli(cli_args[i] + " -o " + quote(cli));
+      const auto run = deepcut::test::run_cli(cli_args[i] + " -o " + quote(cli));
       QVERIFY2(run.exit_code == 0, run.err.c_str());
       QVERIFY2(read_bytes(cli) == read_bytes(alone),
                (std::string("deepcut ") + ids[i] + " differs from the studio").c_str());
