@@ -8,6 +8,7 @@ namespace deepcut::plugins {
 void describe_poke(ToolInfo& info) {
   info.id = "poke";
   info.title = "Poke";
+  info.shortcut = "G";  // Blender's grab
 }
 
 }  // namespace deepcut::plugins

@@ -22,6 +22,7 @@
 #include <QUrl>
 #include <QtTest/QtTest>
 #include <functional>
+#include <map>
 
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/mesh_editor.h"
@@ -406,6 +407,19 @@ class StudioGuiTest : public QObject {
     window->set_normals_visible(true);
     QVERIFY(window->view()->normals_visible());
     QVERIFY(window->view()->grab_view().isNull() == false);
+
+    // Every tool has a key of its own, and no key means two things.
+    std::map<QString, QString> owner;
+    for (QAction* action : window->findChildren<QAction*>()) {
+      if (action->objectName().startsWith("tool_"))
+        QVERIFY2(!action->shortcut().isEmpty(), qPrintable(action->text() + " has no shortcut"));
+      for (const QKeySequence& key : action->shortcuts()) {
+        const QString name = key.toString();
+        const auto [it, fresh] = owner.emplace(name, action->text());
+        QVERIFY2(fresh, qPrintable(name + " is the shortcut of both " + it->second + " and " + action->text()));
+      }
+    }
+    QVERIFY(owner.count("G"));
   }
 };
 
