@@ -566,6 +566,32 @@ TEST(DrillTest, overlapping_holes_and_a_cut_rim_merge_into_one_boundary) {
   });
 }
 
+// A walled drill that overlaps an earlier walled hole cuts through that hole's wall as through
+// any surface: rims and walls merge, and the model stays closed (check_drill asserts closedness,
+// orientation and the volume against the mesh with the earlier holes).
+TEST(DrillTest, walled_holes_that_overlap_merge_and_stay_closed) {
+  const Model cactus = read_gltf(std::string(DEEPCUT_ASSETS_DIR) + "/cactus.glb");
+  SurfaceMesh mesh = cactus.meshes[0].primitives[0].mesh;
+  const Adjacency adj = Adjacency::build(mesh);
+  ASSERT_TRUE(adj.boundary_edges().empty() && adj.nonmanifold_edges().empty());
+  DrillOptions options;
+  options.wall = true;
+  const Cylinder drills[] = {{{-3, 5, 0}, {3, 5, 0}, 0.4f},                       // through the trunk
+                             {{-3, 5.3f, 0}, {3, 5.3f, 0}, 0.4f},                 // overlapping it
+                             {{0, 5.15f, -3}, {0, 5.15f, 3}, 0.3f},               // across both
+                             {{-0.2f, 5.2f, -3}, {-0.2f, 5.2f, 0.1f}, 0.25f}};  // blind, ending in them
+  for (const Cylinder& c : drills) {
+    const Checked k = check_drill(mesh, c, options, cactus.skins.empty() ? 0 : cactus.skins[0].joints.size(), false);
+    if (::testing::Test::HasFatalFailure()) return;
+    ASSERT_TRUE(k.intersected);
+    EXPECT_TRUE(k.all_walled);
+    drill_mesh(mesh, mesh.positions(), c, options);
+  }
+  const EdgeCensus c = census(mesh);
+  EXPECT_EQ(c.boundary, 0u);
+  EXPECT_EQ(c.inconsistent, 0u);
+}
+
 TEST(DrillTest, posed_drill_puts_rims_and_walls_on_the_cylinder_in_that_pose) {
   Model model = test::make_skinned_tube_model();  // tube along +y, bends from y = 2 up
   const float t = 1.0f;                           // the bend's extreme

@@ -67,10 +67,22 @@ struct Part {
   bool edge_manifold_input = false;    // the input had no edge with three or more faces
   bool vertex_manifold_input = false;  // ... and no vertex joining two fans
   std::size_t duplicates = 0;          // faces using the same three vertices as another one
+  bool closed = false;                 // no boundary edge, manifold and consistently oriented
 
   SurfaceMesh& mesh(Model& m) const { return m.meshes[mesh_index].primitives[primitive].mesh; }
   const SurfaceMesh& mesh(const Model& m) const { return m.meshes[mesh_index].primitives[primitive].mesh; }
 };
+
+bool closed_and_oriented(const SurfaceMesh& mesh, const Adjacency& adj) {
+  if (!adj.boundary_edges().empty() || !adj.nonmanifold_edges().empty()) return false;
+  std::unordered_set<std::uint64_t> directed;
+  bool consistent = true;
+  mesh.for_each_face([&](FaceId, const Triangle& t) {
+    for (int k = 0; k < 3; ++k)
+      consistent &= directed.insert((std::uint64_t(t[k].index) << 32) | t[(k + 1) % 3].index).second;
+  });
+  return consistent;
+}
 
 std::size_t nonmanifold_vertices(const SurfaceMesh& mesh, const Adjacency& adj, const std::vector<VertexId>& which) {
   std::size_t count = 0;
@@ -197,9 +209,10 @@ class Sequence {
                 cap_overlaps_);
     // The slowest single operation of each kind (speed targets live in tests/bench; this line
     // shows a step that stalls, with its replay step).
-    std::printf("[sequence] %s slowest operation (cut/tear/drill): %.0f ms (step %d) / %.0f ms (step %d) / %.0f ms (step %d)\n",
+    std::printf("[sequence] %s slowest operation (cut/tear/drill): %.0f ms (step %d) / %.0f ms (step %d) / %.0f ms (step %d); "
+                "%zu walled drills of closed parts, all still closed\n",
                 name_.c_str(), slowest_ms_[0], slowest_step_[0], slowest_ms_[1], slowest_step_[1], slowest_ms_[2],
-                slowest_step_[2]);
+                slowest_step_[2], closed_walls_);
     if (!::testing::Test::HasFailure()) std::filesystem::remove_all(dir);
   }
 
@@ -236,6 +249,7 @@ class Sequence {
         if (mesh.face_count() == 0) continue;
         part.adjacency = Adjacency::build(mesh);
         part.edge_manifold_input = part.adjacency.nonmanifold_edges().empty();
+        part.closed = closed_and_oriented(mesh, part.adjacency);
         part.vertex_manifold_input =
             part.edge_manifold_input && nonmanifold_vertices(mesh, part.adjacency, all_vertices(mesh)) == 0;
         ClusterOptions co;
@@ -506,6 +520,15 @@ class Sequence {
     part.adjacency.apply(log);
     const Adjacency rebuilt = Adjacency::build(mesh);
     ASSERT_TRUE(part.adjacency == rebuilt) << where << "incremental adjacency differs from a rebuild";
+    // A walled drill keeps a closed part closed and consistently oriented.
+    const bool closed = closed_and_oriented(mesh, rebuilt);
+    if (const auto* drill = std::get_if<DrillOperation>(&op_.params)) {
+      if (drill->options.wall && part.closed) {
+        ++closed_walls_;
+        ASSERT_TRUE(closed) << where << "the walled drill left the closed part open or inconsistently oriented";
+      }
+    }
+    part.closed = closed;
     // Manifold where the input was.
     if (part.edge_manifold_input) {
       const auto bad = rebuilt.nonmanifold_edges();
@@ -607,6 +630,7 @@ class Sequence {
   bool trace_ = env_number("DEEPCUT_SEQUENCE_TRACE", 0) != 0;
   std::array<std::size_t, 3> zero_area_{}, pinches_{};  // per operation kind: cut, tear, drill
   std::size_t cap_overlaps_ = 0, rounds_ = 1;
+  std::size_t closed_walls_ = 0;       // walled drills of a closed part (each must keep it closed)
   std::array<double, 3> slowest_ms_{};  // per operation kind, one part
   std::array<int, 3> slowest_step_{};
   int kind_ = 0;
