@@ -1480,6 +1480,24 @@ bool Driller::wall_shell(const std::vector<std::size_t>& hole_ids, const DrillRe
     flip_on_surface(sheet_tris, where3, [&](std::uint32_t x, std::uint32_t y) {
       return pts[x].v.valid() && pts[y].v.valid() && surface_edges.count(edge_key(pts[x].v, pts[y].v)) > 0;
     });
+    // The triangles must cover the region exactly: each step of its loops once, every other
+    // edge once each way. Ear clipping can find no proper ear where rims run a hair apart in
+    // the plane map and leave a gap: the sheet is then left open and its holes reported
+    // unwalled rather than walled with a crack (cactus, random drill test seed 2, drill 1).
+    {
+      auto key = [](std::uint32_t a, std::uint32_t b) { return (std::uint64_t(a) << 32) | b; };
+      std::unordered_set<std::uint64_t> half, rim_steps;
+      for (const auto& t : sheet_tris)
+        for (int k = 0; k < 3; ++k)
+          if (!half.insert(key(t[k], t[(k + 1) % 3])).second) return false;
+      for (const auto& l : region)
+        for (std::size_t i = 0; i < l.size(); ++i) rim_steps.insert(key(l[i], l[(i + 1) % l.size()]));
+      for (const std::uint64_t e : half)
+        if (!half.count(key(static_cast<std::uint32_t>(e), static_cast<std::uint32_t>(e >> 32))) && !rim_steps.count(e))
+          return false;
+      for (const std::uint64_t e : rim_steps)
+        if (!half.count(e)) return false;
+    }
     wall_tris.insert(wall_tris.end(), sheet_tris.begin(), sheet_tris.end());
   }
   if (wall_tris.empty()) return false;
