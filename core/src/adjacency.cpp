@@ -32,8 +32,17 @@ std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t x) {
 
 }  // namespace
 
+// Room every vertex's face list keeps beyond its faces, so the few faces an edit adds around an
+// old vertex (a split face leaves two or three where there was one) fit without reallocating
+// the list; a vertex an edit makes starts with room for a typical fan.
+constexpr std::size_t kListSlack = 4;
+constexpr std::size_t kNewListRoom = 8;
+
 void Adjacency::ensure_vertex(VertexId v) {
-  if (v.index >= vertex_faces_.size()) vertex_faces_.resize(v.index + 1);
+  if (v.index < vertex_faces_.size()) return;
+  const std::size_t first = vertex_faces_.size();
+  vertex_faces_.resize(v.index + 1);
+  for (std::size_t i = first; i < vertex_faces_.size(); ++i) vertex_faces_[i].reserve(kNewListRoom);
 }
 
 void Adjacency::add_face(FaceId f, const Triangle& t) {
@@ -51,9 +60,30 @@ void Adjacency::remove_face(FaceId f, const Triangle& t) {
     if (t[k].index < vertex_faces_.size()) erase_sorted(vertex_faces_[t[k].index], f);
 }
 
+Adjacency::Adjacency(const Adjacency& other) : face_vertices_(other.face_vertices_) {
+  vertex_faces_.resize(other.vertex_faces_.size());
+  for (std::size_t v = 0; v < vertex_faces_.size(); ++v) {
+    const auto& from = other.vertex_faces_[v];
+    vertex_faces_[v].reserve(from.size() + kListSlack);
+    vertex_faces_[v].assign(from.begin(), from.end());
+  }
+}
+
+Adjacency& Adjacency::operator=(const Adjacency& other) {
+  if (this != &other) *this = Adjacency(other);
+  return *this;
+}
+
 void Adjacency::reserve(std::size_t vertices, std::size_t faces) {
   vertex_faces_.reserve(vertices);
   face_vertices_.reserve(faces);
+  // A copied adjacency's lists hold exactly their faces: give them back their room.
+  parallel_for(vertex_faces_.size(), 8192, [&](std::size_t b, std::size_t e) {
+    for (std::size_t v = b; v < e; ++v) {
+      auto& list = vertex_faces_[v];
+      if (list.capacity() < list.size() + kListSlack) list.reserve(list.size() + kListSlack);
+    }
+  });
 }
 
 Adjacency Adjacency::build(const SurfaceMesh& mesh) {
@@ -81,7 +111,7 @@ Adjacency Adjacency::build(const SurfaceMesh& mesh) {
       const FaceId* first = incident.data() + start[v];
       const FaceId* last = incident.data() + start[v + 1];
       auto& list = adj.vertex_faces_[v];
-      list.reserve(static_cast<std::size_t>(last - first));
+      list.reserve(static_cast<std::size_t>(last - first) + kListSlack);
       for (const FaceId* f = first; f != last; ++f)
         if (list.empty() || list.back() != *f) list.push_back(*f);
     }

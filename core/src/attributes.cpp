@@ -42,6 +42,10 @@ void AttributeSet::set_blend(std::size_t dst, const std::uint32_t* src, const fl
   for (auto& entry : arrays_) entry.second->set_blend(dst, src, w, count);
 }
 
+void AttributeSet::set_blend3(std::size_t dst, std::size_t src, const float* w) {
+  for (auto& entry : arrays_) entry.second->set_blend3(dst, src, w);
+}
+
 void AttributeSet::copy(std::size_t dst, std::size_t src) {
   for (auto& entry : arrays_) entry.second->copy(dst, src);
 }

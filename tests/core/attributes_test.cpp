@@ -52,4 +52,27 @@ TEST(AttributesTest, copy_is_deep_and_gather_reorders) {
   EXPECT_FALSE(copy.elements_equal(0, 1));
 }
 
+TEST(AttributesTest, set_blend3_equals_three_set_blends) {
+  // The editor's one-call corner blend must give exactly what blending corner by corner gives.
+  AttributeSet one, three;
+  for (AttributeSet* set : {&one, &three}) {
+    auto& uv = set->add<glm::vec2>("c:uv0");
+    auto& j = set->add<glm::u16vec4>("c:ids");
+    set->resize(6);
+    for (std::uint32_t i = 0; i < 3; ++i) {
+      uv[i] = {0.1f * float(i) + 0.37f, 1.0f / float(i + 3)};
+      j[i] = glm::u16vec4(std::uint16_t(i + 1));
+    }
+  }
+  const float w[9] = {0.2f, 0.3f, 0.5f, 1.0f, 0.0f, 0.0f, 0.1f, 0.7f, 0.2f};
+  one.set_blend3(3, 0, w);
+  const std::uint32_t src[3] = {0, 1, 2};
+  for (int k = 0; k < 3; ++k) three.set_blend(3 + std::size_t(k), src, w + 3 * k, 3);
+  for (std::size_t i = 3; i < 6; ++i) {
+    EXPECT_EQ(one.get<glm::vec2>("c:uv0")[i], three.get<glm::vec2>("c:uv0")[i]) << i;
+    EXPECT_EQ(one.get<glm::u16vec4>("c:ids")[i], three.get<glm::u16vec4>("c:ids")[i]) << i;
+  }
+  EXPECT_EQ(one.get<glm::u16vec4>("c:ids")[5], glm::u16vec4(2));  // the dominant source
+}
+
 }  // namespace deepcut

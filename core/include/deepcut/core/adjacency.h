@@ -23,13 +23,23 @@ inline Edge make_edge(VertexId u, VertexId v) { return u < v ? Edge{u, v} : Edge
 
 class Adjacency {
  public:
+  Adjacency() = default;
+  /// A copy keeps every vertex list's spare room (see `reserve`), so the copy's first edit does
+  /// not reallocate the lists it touches either.
+  Adjacency(const Adjacency& other);
+  Adjacency& operator=(const Adjacency& other);
+  Adjacency(Adjacency&&) noexcept = default;
+  Adjacency& operator=(Adjacency&&) noexcept = default;
+
   /// Full rebuild from the live faces of `mesh`. O(#faces).
   static Adjacency build(const SurfaceMesh& mesh);
   /// Updates from the edits of one or more operations, in order. O(#edits).
   void apply(const EditLog& log);
   /// Reserves room for `vertices` vertices and `faces` face slots, so updates that grow the
   /// adjacency up to these sizes never move the existing lists (call it with the headroom given
-  /// to SurfaceMesh::reserve; a copy of an Adjacency keeps only the room it uses).
+  /// to SurfaceMesh::reserve; a copy of an Adjacency keeps only the room it uses). Also gives
+  /// every vertex's face list the few spare entries `build` leaves, so an edit's inserts around
+  /// an old vertex do not reallocate its list.
   void reserve(std::size_t vertices, std::size_t faces);
 
   std::size_t vertex_count() const { return vertex_faces_.size(); }
