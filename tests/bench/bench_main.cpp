@@ -115,16 +115,17 @@ int main(int argc, char** argv) {
     std::cout << out.dump(2) << "\n";
     return 0;
   }
-  std::printf("\n%-14s %-5s %10s %12s %-22s %12s %9s %12s\n", "case", "size", "triangles", "ours ms", "peer", "peer ms",
-              "ratio", "paper ms");
+  std::printf("\n%-14s %-5s %10s %12s %-22s %12s %9s %12s %8s\n", "case", "size", "triangles", "ours ms", "peer", "peer ms",
+              "ratio", "paper ms", "touched");
   for (const auto& j : out["cases"]) {
     if (j["name"] == "cut_peak_memory") continue;
-    std::printf("%-14s %-5s %10.0f %12.3f %-22s %12s %9s %12s\n", j["name"].get<std::string>().c_str(),
+    std::printf("%-14s %-5s %10.0f %12.3f %-22s %12s %9s %12s %8s\n", j["name"].get<std::string>().c_str(),
                 j["size"].get<std::string>().c_str(), j["triangles"].get<double>(), j["ours_ms"].get<double>(),
                 j.value("peer", std::string("-")).c_str(),
                 j.contains("peer_ms") ? std::to_string(j["peer_ms"].get<double>()).c_str() : "-",
                 j.contains("ratio") ? (std::to_string(j["ratio"].get<double>()).substr(0, 6) + "x").c_str() : "-",
-                j.contains("paper_ms") ? std::to_string(j["paper_ms"].get<double>()).c_str() : "-");
+                j.contains("paper_ms") ? std::to_string(j["paper_ms"].get<double>()).c_str() : "-",
+                j.contains("touched_triangles") ? std::to_string(j["touched_triangles"].get<long long>()).c_str() : "-");
   }
   if (!quick)
     std::printf("\ncut peak memory on %zu triangles: mesh %.1f MB, cut adds %.1f MB at peak: %.2fx the mesh's own size\n",
