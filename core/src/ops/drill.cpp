@@ -19,6 +19,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
+#include <iterator>
 #include <limits>
 #include <string>
 #include <tuple>
@@ -182,15 +184,21 @@ class FlipTriangulation {
   FlipTriangulation(std::vector<glm::dvec2>& pts, std::vector<LocalTri> tris)
       : pts_(pts), tris_(std::move(tris)) {
     nbr_.assign(tris_.size(), {-1, -1, -1});
-    std::unordered_map<std::uint64_t, int> half;
-    half.reserve(3 * tris_.size());
+    // Half-edges sorted by key (a flat table: a polygon has a few dozen); where a half-edge
+    // repeats, the last triangle listing it is the one found, as a map overwritten in order gives.
     auto key = [](std::uint32_t a, std::uint32_t b) { return (std::uint64_t(a) << 32) | b; };
+    std::vector<std::pair<std::uint64_t, int>> half;
+    half.reserve(3 * tris_.size());
     for (std::size_t i = 0; i < tris_.size(); ++i)
-      for (int k = 0; k < 3; ++k) half[key(tris_[i][k], tris_[i][(k + 1) % 3])] = static_cast<int>(i);
+      for (int k = 0; k < 3; ++k) half.emplace_back(key(tris_[i][k], tris_[i][(k + 1) % 3]), static_cast<int>(i));
+    std::stable_sort(half.begin(), half.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
     for (std::size_t i = 0; i < tris_.size(); ++i)
       for (int k = 0; k < 3; ++k) {
-        const auto it = half.find(key(tris_[i][(k + 1) % 3], tris_[i][k]));
-        if (it != half.end() && it->second != static_cast<int>(i)) nbr_[i][k] = it->second;
+        const std::uint64_t want = key(tris_[i][(k + 1) % 3], tris_[i][k]);
+        auto it = std::upper_bound(half.begin(), half.end(), want,
+                                   [](std::uint64_t v, const auto& x) { return v < x.first; });
+        if (it == half.begin() || std::prev(it)->first != want) continue;
+        if (std::prev(it)->second != static_cast<int>(i)) nbr_[i][k] = std::prev(it)->second;
       }
   }
 
@@ -493,19 +501,55 @@ class Driller {
   std::uint32_t first_new_ = 0;
   std::vector<glm::dvec3> added_posed_;
   std::vector<glm::dvec3> ruling_base_;  // where each sampled ruling starts (s = 0)
-  std::unordered_map<std::uint64_t, EdgeCut> edges_;
+  // Edges met so far: an open-addressing table (at most half full) of edge keys to indices into
+  // edge_cuts_, sized for the candidates' edges up front: no allocation per edge. A deque, so
+  // references to earlier edges stay valid as edges are added.
+  static constexpr std::uint64_t kNoEdge = ~std::uint64_t(0);  // edge_key of no real edge
+  void size_edge_table(std::size_t edges);
+  std::vector<std::uint64_t> edge_keys_;
+  std::vector<std::uint32_t> edge_index_;
+  std::deque<EdgeCut> edge_cuts_;
+  int edge_shift_ = 64;
   std::vector<FaceId> candidates_;  // faces near the cylinder, in processing order
   std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> rim_next_;  // directed rim edges
   std::size_t crossings_ = 0, removed_ = 0, added_ = 0;
   // Wall faces: 0 tube, 1 disk; vertex normals of the tube are accumulated over tube faces.
   std::vector<std::pair<FaceId, int>> wall_faces_;
+  // process_face's working lists, kept between faces so their memory is reused.
+  std::vector<LocalPoint> pts_scratch_, rim_scratch_, all_scratch_, poly_scratch_;
+  std::vector<std::uint8_t> seg_scratch_, used_scratch_;
   std::unordered_map<std::uint32_t, WallCoord> wall_coords_;
 };
 
+void Driller::size_edge_table(std::size_t edges) {
+  std::size_t size = 16;
+  int shift = 60;
+  while (size < 2 * edges) {
+    size *= 2;
+    --shift;
+  }
+  if (size <= edge_keys_.size()) return;
+  edge_keys_.assign(size, kNoEdge);
+  edge_index_.assign(size, 0);
+  edge_shift_ = shift;
+  for (std::uint32_t i = 0; i < edge_cuts_.size(); ++i) {
+    const std::uint64_t key = edge_key(edge_cuts_[i].lo, edge_cuts_[i].hi);
+    std::size_t slot = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> edge_shift_);
+    while (edge_keys_[slot] != kNoEdge) slot = (slot + 1) & (size - 1);
+    edge_keys_[slot] = key;
+    edge_index_[slot] = i;
+  }
+}
+
 const EdgeCut& Driller::edge(VertexId a, VertexId b) {
   const auto key = edge_key(a, b);
-  auto it = edges_.find(key);
-  if (it != edges_.end()) return it->second;
+  if (2 * (edge_cuts_.size() + 1) > edge_keys_.size()) size_edge_table(2 * edge_cuts_.size() + 16);
+  std::size_t slot = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> edge_shift_);
+  const std::size_t mask = edge_keys_.size() - 1;
+  while (edge_keys_[slot] != kNoEdge) {
+    if (edge_keys_[slot] == key) return edge_cuts_[edge_index_[slot]];
+    slot = (slot + 1) & mask;
+  }
   EdgeCut e;
   e.lo = a < b ? a : b;
   e.hi = a < b ? b : a;
@@ -569,7 +613,10 @@ const EdgeCut& Driller::edge(VertexId a, VertexId b) {
       }
     }
   }
-  return edges_.emplace(key, e).first->second;
+  edge_keys_[slot] = key;
+  edge_index_[slot] = static_cast<std::uint32_t>(edge_cuts_.size());
+  edge_cuts_.push_back(e);
+  return edge_cuts_.back();
 }
 
 // Skinning is not linear in the blended weights, so a new vertex interpolated in bind space
@@ -592,8 +639,10 @@ void Driller::process_face(FaceId f) {
   const Triangle tri = mesh_.face(f);
   const glm::dvec3 corner[3] = {posed(tri[0]), posed(tri[1]), posed(tri[2])};
   // The triangle's boundary: corners and crossings in order, with the state of each segment.
-  std::vector<LocalPoint> pts;
-  std::vector<std::uint8_t> seg_inside;
+  std::vector<LocalPoint>& pts = pts_scratch_;
+  std::vector<std::uint8_t>& seg_inside = seg_scratch_;
+  pts.clear();
+  seg_inside.clear();
   for (int k = 0; k < 3; ++k) {
     const int k1 = (k + 1) % 3;
     const EdgeCut& e = edge(tri[k], tri[k1]);
@@ -666,7 +715,8 @@ void Driller::process_face(FaceId f) {
     lp.phi = pc.phi(lp.q);
   }
   // Rim samples: the fixed rulings' points in this plane, and the ellipse's end-plane corners.
-  std::vector<LocalPoint> rim;
+  std::vector<LocalPoint>& rim = rim_scratch_;
+  rim.clear();
   auto consider = [&](const glm::dvec3& x, bool corner_point) {
     LocalPoint lp;
     lp.p = x;
@@ -724,7 +774,8 @@ void Driller::process_face(FaceId f) {
     if (rim.size() < 3) return;
     // Triangle with an elliptic hole: the hole runs clockwise (decreasing phi).
     std::sort(rim.begin(), rim.end(), [](const LocalPoint& x, const LocalPoint& y) { return x.phi > y.phi; });
-    std::vector<LocalPoint> all = {pts[0], pts[1], pts[2]};
+    std::vector<LocalPoint>& all = all_scratch_;
+    all.assign(pts.begin(), pts.begin() + 3);
     std::vector<std::uint32_t> outer = {0, 1, 2}, hole;
     for (auto& lp : rim) {
       hole.push_back(static_cast<std::uint32_t>(all.size()));
@@ -745,11 +796,13 @@ void Driller::process_face(FaceId f) {
   editor_.remove_face(f);
   ++removed_;
   if (start == m) return;
-  std::vector<std::uint8_t> used(rim.size(), 0);
+  std::vector<std::uint8_t>& used = used_scratch_;
+  used.assign(rim.size(), 0);
   for (std::size_t step = 0; step < m; ++step) {
     const std::size_t j = (start + step) % m;
     if (!(seg_inside[(j + m - 1) % m] && !seg_inside[j])) continue;
-    std::vector<LocalPoint> poly;
+    std::vector<LocalPoint>& poly = poly_scratch_;
+    poly.clear();
     std::size_t k = j;
     poly.push_back(pts[k]);
     while (!seg_inside[k]) {
@@ -863,29 +916,36 @@ void Driller::emit_polygon(FaceId f, const Triangle& tri, std::vector<LocalPoint
 // whose ends lie on the cylinder. An edge between two old vertices is an edge of the parent
 // triangle; it is a boundary only if the face across it was removed and not replaced there.
 void Driller::collect_holes(DrillResult& result) {
-  std::unordered_map<std::uint64_t, int> added, removed;
+  // Half-edges of the added and of the removed faces, as sorted lists (only membership matters).
+  std::vector<std::uint64_t> added, removed;
   auto directed = [](VertexId a, VertexId b) { return (std::uint64_t(a.index) << 32) | b.index; };
   for (const Edit& e : editor_.log().edits) {
     if (const auto* fa = std::get_if<FaceAdded>(&e)) {
-      for (int k = 0; k < 3; ++k) ++added[directed(fa->vertices[k], fa->vertices[(k + 1) % 3])];
+      for (int k = 0; k < 3; ++k) added.push_back(directed(fa->vertices[k], fa->vertices[(k + 1) % 3]));
     } else if (const auto* fr = std::get_if<FaceRemoved>(&e)) {
-      for (int k = 0; k < 3; ++k) ++removed[directed(fr->vertices[k], fr->vertices[(k + 1) % 3])];
+      for (int k = 0; k < 3; ++k) removed.push_back(directed(fr->vertices[k], fr->vertices[(k + 1) % 3]));
     }
   }
+  std::sort(added.begin(), added.end());
+  std::sort(removed.begin(), removed.end());
+  auto contains = [](const std::vector<std::uint64_t>& list, std::uint64_t key) {
+    return std::binary_search(list.begin(), list.end(), key);
+  };
   auto on_rim = [&](VertexId v) {
     return v.index >= first_new_ || std::abs(cyl_.sd(posed(v))) <= 2.0 * eps_;
   };
   // Faces the drill left alone can border the hole too: an old edge that lies on the cylinder
   // (within the tolerance) between a removed face and an untouched one.
-  std::unordered_set<std::uint64_t> untouched;
+  std::vector<std::uint64_t> untouched;
   for (FaceId f : candidates_)
     if (!mesh_.is_deleted(f)) {
       const Triangle& t = mesh_.face(f);
-      for (int k = 0; k < 3; ++k) untouched.insert(directed(t[k], t[(k + 1) % 3]));
+      for (int k = 0; k < 3; ++k) untouched.push_back(directed(t[k], t[(k + 1) % 3]));
     }
+  std::sort(untouched.begin(), untouched.end());
   auto consider = [&](VertexId a, VertexId b) {
-    if (!on_rim(a) || !on_rim(b) || added.count(directed(b, a)) || untouched.count(directed(b, a))) return;
-    if (a.index < first_new_ && b.index < first_new_ && !removed.count(directed(b, a))) return;
+    if (!on_rim(a) || !on_rim(b) || contains(added, directed(b, a)) || contains(untouched, directed(b, a))) return;
+    if (a.index < first_new_ && b.index < first_new_ && !contains(removed, directed(b, a))) return;
     rim_next_[a.index].push_back(b.index);
   };
   for (const Edit& e : editor_.log().edits) {
@@ -1731,7 +1791,7 @@ DrillResult Driller::run() {
       if (near_axis(t)) candidates.push_back(f);
     });
   }
-  edges_.reserve(2 * candidates.size() + 16);
+  size_edge_table(3 * candidates.size() + 3);  // every edge looked up is a candidate's
   for (FaceId f : candidates) process_face(f);
   if (editor_.log().empty()) {
     result.status = OpStatus::NoIntersection;
