@@ -404,6 +404,35 @@ TEST(CutTest, cap_never_duplicates_a_face_lying_in_the_plane) {
 
 namespace deepcut {
 
+// Found by the random sequences (pinched vertices after cuts): a plane through a saddle vertex
+// (its ring goes up, down, up, down) leaves each side two wedges meeting only at that vertex.
+// Each wedge gets its own vertex, so both sides stay manifold.
+TEST(CutTest, plane_through_a_saddle_vertex_leaves_no_pinched_vertex) {
+  for (const CutKeep keep : {CutKeep::Both, CutKeep::Positive, CutKeep::Negative}) {
+    SurfaceMesh mesh;
+    const VertexId v = mesh.add_vertex({0, 0, 0});
+    const VertexId ring[4] = {mesh.add_vertex({1, 0, 1}), mesh.add_vertex({0, 1, -1}), mesh.add_vertex({-1, 0, 1}),
+                              mesh.add_vertex({0, -1, -1})};
+    for (int k = 0; k < 4; ++k) mesh.add_face(v, ring[k], ring[(k + 1) % 4]);
+    ASSERT_TRUE(test::pinched_vertices(mesh).empty());
+    Adjacency adj = Adjacency::build(mesh);
+    CutOptions options;
+    options.keep = keep;
+    const CutResult r = cut_mesh(mesh, mesh.positions(), Plane{{0, 0, 0}, {0, 0, 1}}, options);
+    ASSERT_EQ(r.status, OpStatus::Ok);
+    EXPECT_TRUE(test::pinched_vertices(mesh).empty()) << "keep " << int(keep);
+    adj.apply(r.log);
+    test::expect_adjacency_matches_rebuild(adj, mesh);
+    test::expect_valid(mesh);
+    // Four wedges with both sides kept, two with one (each the two half-faces around one ring
+    // vertex), and a centre vertex each.
+    std::size_t centre_copies = 0;
+    for (std::uint32_t i = 0; i < mesh.vertex_count(); ++i)
+      centre_copies += mesh.position(VertexId(i)) == glm::vec3(0.0f) && !adj.vertex_faces(VertexId(i)).empty();
+    EXPECT_EQ(centre_copies, keep == CutKeep::Both ? 4u : 2u) << "keep " << int(keep);
+  }
+}
+
 TEST(CutTest, the_result_does_not_depend_on_the_thread_count) {
   // Large enough for several parallel chunks of vertices and faces.
   const SurfaceMesh input = test::make_grid(260, 140);

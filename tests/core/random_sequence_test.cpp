@@ -203,10 +203,8 @@ class Sequence {
                 "%zu faces at the end (%zu at the start), %zu exports validated, %.1f s\n",
                 name_.c_str(), static_cast<unsigned long long>(seed_), step_ > steps_ ? steps_ : step_, rounds_, ok_,
                 missed_, counts_[0], counts_[1], counts_[2], live_faces(), start_faces_, exports.size(), seconds);
-    std::printf("[sequence] %s open defects (cut/tear/drill): zero-area faces %zu/%zu/%zu, pinched vertices %zu/%zu/%zu; "
-                "non-manifold cap edges %zu\n",
-                name_.c_str(), zero_area_[0], zero_area_[1], zero_area_[2], pinches_[0], pinches_[1], pinches_[2],
-                cap_overlaps_);
+    std::printf("[sequence] %s open defects (cut/tear/drill): zero-area faces %zu/%zu/%zu; non-manifold cap edges %zu\n",
+                name_.c_str(), zero_area_[0], zero_area_[1], zero_area_[2], cap_overlaps_);
     // The slowest single operation of each kind (speed targets live in tests/bench; this line
     // shows a step that stalls, with its replay step).
     std::printf("[sequence] %s slowest operation (cut/tear/drill): %.0f ms (step %d) / %.0f ms (step %d) / %.0f ms (step %d); "
@@ -548,12 +546,9 @@ class Sequence {
       std::sort(touched.begin(), touched.end());
       touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
       for (const VertexId v : touched)
-        if (nonmanifold_vertices(mesh, rebuilt, {v}) != 0) {
-          ++pinches_[kind_];
-          if (strict_)
-            FAIL() << where << "vertex " << v.index << " became non-manifold (two fans of faces meet only there); its faces: "
-                   << describe_faces(mesh, rebuilt.vertex_faces(v));
-        }
+        if (nonmanifold_vertices(mesh, rebuilt, {v}) != 0)
+          FAIL() << where << "vertex " << v.index << " became non-manifold (two fans of faces meet only there); its faces: "
+                 << describe_faces(mesh, rebuilt.vertex_faces(v));
     }
     // Clusters followed through the log keep the invariants clustering guarantees.
     try {
@@ -628,7 +623,7 @@ class Sequence {
   // Known open defects (docs/RELIABILITY.md), counted, and failures with DEEPCUT_SEQUENCE_STRICT=1.
   bool strict_ = env_number("DEEPCUT_SEQUENCE_STRICT", 0) != 0;
   bool trace_ = env_number("DEEPCUT_SEQUENCE_TRACE", 0) != 0;
-  std::array<std::size_t, 3> zero_area_{}, pinches_{};  // per operation kind: cut, tear, drill
+  std::array<std::size_t, 3> zero_area_{};  // per operation kind: cut, tear, drill
   std::size_t cap_overlaps_ = 0, rounds_ = 1;
   std::size_t closed_walls_ = 0;       // walled drills of a closed part (each must keep it closed)
   std::array<double, 3> slowest_ms_{};  // per operation kind, one part

@@ -114,6 +114,43 @@ Model make_skinned_tube_model() {
   return model;
 }
 
+std::vector<VertexId> pinched_vertices(const SurfaceMesh& mesh) {
+  // Per vertex, its faces and a union-find over them joined by the other corner they share.
+  std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> around(mesh.vertex_count());  // (other, face)
+  mesh.for_each_face([&](FaceId f, const Triangle& t) {
+    for (int k = 0; k < 3; ++k) {
+      around[t[k].index].emplace_back(t[(k + 1) % 3].index, f.index);
+      around[t[k].index].emplace_back(t[(k + 2) % 3].index, f.index);
+    }
+  });
+  std::vector<VertexId> out;
+  for (std::uint32_t v = 0; v < around.size(); ++v) {
+    auto& list = around[v];
+    if (list.size() < 4) continue;
+    std::vector<std::uint32_t> faces;
+    for (const auto& [u, f] : list) faces.push_back(f);
+    std::sort(faces.begin(), faces.end());
+    faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+    std::vector<std::uint32_t> parent(faces.size());
+    for (std::uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
+    auto slot = [&](std::uint32_t f) { return static_cast<std::uint32_t>(std::lower_bound(faces.begin(), faces.end(), f) - faces.begin()); };
+    auto root = [&](std::uint32_t x) {
+      while (parent[x] != x) x = parent[x] = parent[parent[x]];
+      return x;
+    };
+    std::sort(list.begin(), list.end());
+    for (std::size_t i = 1; i < list.size(); ++i)
+      if (list[i].first == list[i - 1].first) {
+        const auto a = root(slot(list[i].second)), b = root(slot(list[i - 1].second));
+        if (a != b) parent[std::max(a, b)] = std::min(a, b);
+      }
+    std::size_t fans = 0;
+    for (std::uint32_t i = 0; i < parent.size(); ++i) fans += root(i) == i;
+    if (fans > 1) out.push_back(VertexId(v));
+  }
+  return out;
+}
+
 void expect_valid(const SurfaceMesh& mesh, std::size_t joint_count) {
   EXPECT_NO_THROW(validate_mesh(mesh, joint_count));
 }

@@ -25,6 +25,10 @@ Model make_skinned_tube_model();
 /// Checks mesh consistency and weights (gtest failures, not exceptions).
 void expect_valid(const SurfaceMesh& mesh, std::size_t joint_count = 0);
 
+/// Vertices whose live faces form two or more fans (faces joined through an edge at the vertex)
+/// meeting only at the vertex, in id order: pinched (non-manifold) vertices.
+std::vector<VertexId> pinched_vertices(const SurfaceMesh& mesh);
+
 /// Incremental adjacency equals the full rebuild.
 void expect_adjacency_matches_rebuild(const Adjacency& incremental, const SurfaceMesh& mesh);
 

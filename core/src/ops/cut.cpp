@@ -14,6 +14,7 @@
 #include "deepcut/core/parallel.h"
 #include "deepcut/core/skinning.h"
 #include "ops/pieces.h"
+#include "ops/pinches.h"
 #include "ops/polygon_triangulation.h"
 
 namespace deepcut {
@@ -55,6 +56,7 @@ class Cutter {
   Corner split_corner(const Triangle& t, int ka, int kb);
   void split_face(FaceId f);
   void separate_sides();
+  void split_pinches();
   void collect_pieces(CutResult& result);
   void cap_piece(std::vector<FaceId>& piece, std::size_t index);
   void index_rim(const CutResult& result);
@@ -212,6 +214,27 @@ void Cutter::separate_sides() {
     editor_.remove_face(f);
     editor_.add_face_from(moved, f, {e[0], e[1], e[2]});
   }
+}
+
+// A rim through a vertex on the plane (a saddle, or a fold touching the plane within the
+// tolerance) can leave that vertex joining two fans of one side's faces that meet only there:
+// each fan gets its own vertex. Every face using an on-plane vertex is a rim candidate.
+void Cutter::split_pinches() {
+  std::vector<VertexId> on_plane;
+  for (FaceId f : rim_candidates_) {
+    if (mesh_.is_deleted(f)) continue;
+    for (const VertexId v : mesh_.face(f))
+      if (sign_[v.index] == 0) on_plane.push_back(v);
+  }
+  const std::size_t before = mesh_.face_slots();
+  const auto splits = detail::split_pinched_vertices(editor_, on_plane, rim_candidates_);
+  for (const auto& [v, c] : splits.copies) {
+    (void)c;
+    new_posed_.push_back(posed(v));
+    dist_.push_back(dist_[v.index]);
+    sign_.push_back(0);
+  }
+  for (auto i = static_cast<std::uint32_t>(before); i < mesh_.face_slots(); ++i) rim_candidates_.push_back(FaceId(i));
 }
 
 void Cutter::index_rim(const CutResult& result) {
@@ -558,6 +581,7 @@ CutResult Cutter::run() {
     });
     for (FaceId f : doomed) editor_.remove_face(f);
   }
+  split_pinches();
   collect_pieces(result);
   index_rim(result);
   // Rim: vertices on the plane that bound a piece.

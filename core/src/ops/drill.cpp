@@ -30,6 +30,7 @@
 #include "deepcut/core/mesh_editor.h"
 #include "deepcut/core/skinning.h"
 #include "ops/pieces.h"
+#include "ops/pinches.h"
 #include "ops/polygon_triangulation.h"
 
 namespace deepcut {
@@ -1796,6 +1797,17 @@ DrillResult Driller::run() {
   if (editor_.log().empty()) {
     result.status = OpStatus::NoIntersection;
     return result;
+  }
+  // A rim through a vertex snapped onto the cylinder can leave it joining two fans: one vertex
+  // each, before the rims are traced (so each rim runs through its own copy).
+  {
+    const auto touched = detail::edited_vertices(editor_.log());
+    const auto pinches = detail::split_pinched_vertices(
+        editor_, touched, detail::faces_around(mesh_, editor_.log(), touched, first_new_, index_, posed_));
+    for (const auto& [v, c] : pinches.copies) {
+      (void)c;
+      added_posed_.push_back(posed(v));
+    }
   }
   collect_holes(result);
   if (options_.wall) build_walls(result);

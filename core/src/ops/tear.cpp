@@ -15,6 +15,7 @@
 #include "deepcut/core/parallel.h"
 #include "deepcut/core/skinning.h"
 #include "deepcut/core/spatial_index.h"
+#include "ops/pinches.h"
 
 namespace deepcut {
 namespace {
@@ -1169,6 +1170,14 @@ TearResult Tearer::run(const Blade& start, const Blade& end) {
   }
   split_lone_edges();
   separate_and_open(result);
+  // Lips are split per wedge of untorn edges; a vertex the tear touched elsewhere (a slit end on
+  // an old boundary, a face replaced around a vertex on the quad) can still join two fans.
+  const auto touched = detail::edited_vertices(editor_.log());
+  const auto pinches = detail::split_pinched_vertices(
+      editor_, touched, detail::faces_around(mesh_, editor_.log(), touched, first_new_, index_, input_posed_));
+  for (const auto& [v, c] : pinches.copies)
+    if (std::binary_search(result.tear_vertices.begin(), result.tear_vertices.end(), v)) result.tear_vertices.push_back(c);
+  std::sort(result.tear_vertices.begin(), result.tear_vertices.end());
   result.intersection_points = intersections_;
   result.log = editor_.take_log();
   return result;

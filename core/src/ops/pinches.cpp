@@ -1,0 +1,139 @@
+// SPDX-License-Identifier: MIT
+#include "ops/pinches.h"
+
+#include <algorithm>
+#include <numeric>
+
+namespace deepcut::detail {
+
+std::vector<VertexId> edited_vertices(const EditLog& log) {
+  std::vector<VertexId> out;
+  for (const Edit& e : log.edits) {
+    if (const auto* a = std::get_if<FaceAdded>(&e)) {
+      out.insert(out.end(), a->vertices.begin(), a->vertices.end());
+    } else if (const auto* r = std::get_if<FaceRemoved>(&e)) {
+      out.insert(out.end(), r->vertices.begin(), r->vertices.end());
+    } else if (const auto* s = std::get_if<VertexSplit>(&e)) {
+      out.push_back(s->original);
+      out.push_back(s->copy);
+    }
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+std::vector<FaceId> faces_using(const SurfaceMesh& mesh, const std::vector<VertexId>& vertices) {
+  std::vector<FaceId> out;
+  if (vertices.empty()) return out;
+  std::vector<bool> wanted(mesh.vertex_count(), false);
+  for (const VertexId v : vertices)
+    if (v.index < wanted.size()) wanted[v.index] = true;
+  mesh.for_each_face([&](FaceId f, const Triangle& t) {
+    if (wanted[t[0].index] || wanted[t[1].index] || wanted[t[2].index]) out.push_back(f);
+  });
+  return out;
+}
+
+std::vector<FaceId> faces_around(const SurfaceMesh& mesh, const EditLog& log, const std::vector<VertexId>& vertices,
+                                 std::uint32_t first_new_vertex, const TriangleGrid* index,
+                                 const std::vector<glm::vec3>& input_posed) {
+  if (!index) return faces_using(mesh, vertices);
+  std::vector<FaceId> out;
+  for (const Edit& e : log.edits)
+    if (const auto* a = std::get_if<FaceAdded>(&e)) out.push_back(a->f);
+  for (const VertexId v : vertices) {
+    if (v.index >= first_new_vertex || v.index >= input_posed.size()) continue;
+    // Every face using v had v's position inside its box when the grid was built.
+    BoundingBox box;
+    box.add(input_posed[v.index]);
+    const auto found = index->query_box(box);
+    out.insert(out.end(), found.begin(), found.end());
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+PinchSplits split_pinched_vertices(MeshEditor& editor, const std::vector<VertexId>& candidates,
+                                   const std::vector<FaceId>& incident) {
+  PinchSplits out;
+  if (candidates.empty()) return out;
+  SurfaceMesh& mesh = editor.mesh();
+  std::vector<VertexId> sorted = candidates;
+  std::sort(sorted.begin(), sorted.end());
+  sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
+  auto slot = [&](VertexId v) {
+    const auto it = std::lower_bound(sorted.begin(), sorted.end(), v);
+    return it != sorted.end() && *it == v ? static_cast<std::size_t>(it - sorted.begin()) : sorted.size();
+  };
+  // Live faces around each candidate, in id order (a face may be listed twice in `incident`).
+  std::vector<FaceId> faces = incident;
+  std::sort(faces.begin(), faces.end());
+  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  std::vector<std::vector<FaceId>> around(sorted.size());
+  for (const FaceId f : faces) {
+    if (f.index >= mesh.face_slots() || mesh.is_deleted(f)) continue;
+    const Triangle& t = mesh.face(f);
+    for (const VertexId v : t) {
+      const std::size_t s = slot(v);
+      if (s < sorted.size() && (around[s].empty() || around[s].back() != f)) around[s].push_back(f);
+    }
+  }
+  const glm::vec3 e[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  std::vector<std::uint32_t> parent;
+  for (std::size_t s = 0; s < sorted.size(); ++s) {
+    const VertexId v = sorted[s];
+    const std::vector<FaceId>& fs = around[s];
+    if (fs.size() < 2) continue;
+    // Fans: faces joined through an edge (v, u), i.e. sharing a second vertex u.
+    parent.resize(fs.size());
+    std::iota(parent.begin(), parent.end(), 0u);
+    auto root = [&](std::uint32_t x) {
+      while (parent[x] != x) x = parent[x] = parent[parent[x]];
+      return x;
+    };
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> by_other;  // (other vertex, face slot in fs)
+    for (std::uint32_t i = 0; i < fs.size(); ++i)
+      for (const VertexId u : mesh.face(fs[i]))
+        if (u != v) by_other.emplace_back(u.index, i);
+    std::sort(by_other.begin(), by_other.end());
+    for (std::size_t i = 1; i < by_other.size(); ++i)
+      if (by_other[i].first == by_other[i - 1].first) {
+        const auto a = root(by_other[i].second), b = root(by_other[i - 1].second);
+        if (a != b) parent[std::max(a, b)] = std::min(a, b);
+      }
+    // fs is in id order, so fan roots are each fan's lowest face; fan 0 keeps v.
+    std::vector<std::uint32_t> fan_copy(fs.size(), kInvalidIndex);
+    for (std::uint32_t i = 0; i < fs.size(); ++i) {
+      const std::uint32_t r = root(i);
+      if (r == 0) continue;
+      if (fan_copy[r] == kInvalidIndex) {
+        const VertexId c = editor.split_vertex(v);
+        fan_copy[r] = c.index;
+        out.copies.emplace_back(v, c);
+      }
+      const FaceId f = fs[i];
+      Triangle t = mesh.face(f);
+      for (VertexId& w : t)
+        if (w == v) w = VertexId(fan_copy[r]);
+      editor.remove_face(f);
+      const FaceId g = editor.add_face_from(t, f, {e[0], e[1], e[2]});
+      out.replaced.emplace_back(f, g);
+      // Later candidates on this face now see it under its new id.
+      for (const VertexId w : t) {
+        const std::size_t o = slot(w);
+        if (o <= s || o >= sorted.size()) continue;
+        auto& list = around[o];
+        const auto it = std::lower_bound(list.begin(), list.end(), f);
+        if (it != list.end() && *it == f) {
+          list.erase(it);
+          list.push_back(g);  // g is the newest face: the list stays in id order
+        }
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace deepcut::detail
