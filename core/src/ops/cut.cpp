@@ -56,7 +56,7 @@ class Cutter {
   Corner split_corner(const Triangle& t, int ka, int kb);
   void split_face(FaceId f);
   void separate_sides();
-  void split_pinches();
+  std::vector<std::pair<VertexId, VertexId>> split_pinches(CutResult* result = nullptr);
   void collect_pieces(CutResult& result);
   void cap_piece(std::vector<FaceId>& piece, std::size_t index);
   void index_rim(const CutResult& result);
@@ -217,9 +217,11 @@ void Cutter::separate_sides() {
 }
 
 // A rim through a vertex on the plane (a saddle, or a fold touching the plane within the
-// tolerance) can leave that vertex joining two fans of one side's faces that meet only there:
-// each fan gets its own vertex. Every face using an on-plane vertex is a rim candidate.
-void Cutter::split_pinches() {
+// tolerance) can leave that vertex joining two fans of one side's faces that meet only there, and
+// a cap over a rim that touches itself can too: each fan gets its own vertex. Every face using an
+// on-plane vertex is a rim candidate or a cap face. With `result`, its pieces follow the faces
+// moved onto copies.
+std::vector<std::pair<VertexId, VertexId>> Cutter::split_pinches(CutResult* result) {
   std::vector<VertexId> on_plane;
   for (FaceId f : rim_candidates_) {
     if (mesh_.is_deleted(f)) continue;
@@ -235,6 +237,17 @@ void Cutter::split_pinches() {
     sign_.push_back(0);
   }
   for (auto i = static_cast<std::uint32_t>(before); i < mesh_.face_slots(); ++i) rim_candidates_.push_back(FaceId(i));
+  if (!result || splits.replaced.empty()) return splits.copies;
+  std::unordered_map<std::uint32_t, FaceId> moved;
+  for (const auto& [f, g] : splits.replaced) moved.emplace(f.index, g);
+  for (auto& piece : result->pieces) {
+    for (FaceId& f : piece) {
+      const auto it = moved.find(f.index);
+      if (it != moved.end()) f = it->second;
+    }
+    std::sort(piece.begin(), piece.end());
+  }
+  return splits.copies;
 }
 
 void Cutter::index_rim(const CutResult& result) {
@@ -591,8 +604,13 @@ CutResult Cutter::run() {
       rim.insert(a.index);
       rim.insert(b.index);
     }
-  if (options_.cap)
+  if (options_.cap) {
+    const auto first_cap_face = static_cast<std::uint32_t>(mesh_.face_slots());
     for (std::size_t p = 0; p < result.pieces.size(); ++p) cap_piece(result.pieces[p], p);
+    for (auto i = first_cap_face; i < mesh_.face_slots(); ++i) rim_candidates_.push_back(FaceId(i));
+    for (const auto& [v, c] : split_pinches(&result))
+      if (rim.count(v.index)) rim.insert(c.index);
+  }
   result.rim_vertices.reserve(rim.size());
   for (auto v : rim) result.rim_vertices.push_back(VertexId(v));
   std::sort(result.rim_vertices.begin(), result.rim_vertices.end());

@@ -1799,18 +1799,25 @@ DrillResult Driller::run() {
     return result;
   }
   // A rim through a vertex snapped onto the cylinder can leave it joining two fans: one vertex
-  // each, before the rims are traced (so each rim runs through its own copy).
-  {
+  // each. Without walls before the rims are traced, so each rim runs through its own copy; with
+  // walls after them (a wall can join the fans again), the rims following the copies.
+  auto split_pinches = [&]() {
     const auto touched = detail::edited_vertices(editor_.log());
-    const auto pinches = detail::split_pinched_vertices(
+    auto pinches = detail::split_pinched_vertices(
         editor_, touched, detail::faces_around(mesh_, editor_.log(), touched, first_new_, index_, posed_));
     for (const auto& [v, c] : pinches.copies) {
       (void)c;
       added_posed_.push_back(posed(v));
     }
-  }
+    return pinches;
+  };
+  if (!options_.wall) split_pinches();
   collect_holes(result);
-  if (options_.wall) build_walls(result);
+  if (options_.wall) {
+    build_walls(result);
+    const auto pinches = split_pinches();
+    for (DrillHole& h : result.holes) detail::follow_pinch_splits(mesh_, pinches, h.rim, h.closed);
+  }
   for (const auto& [f, kind] : wall_faces_) {
     (void)kind;
     ++result.wall_triangles;

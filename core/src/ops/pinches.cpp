@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <numeric>
+#include <unordered_map>
 
 namespace deepcut::detail {
 
@@ -104,6 +105,7 @@ PinchSplits split_pinched_vertices(MeshEditor& editor, const std::vector<VertexI
         if (a != b) parent[std::max(a, b)] = std::min(a, b);
       }
     // fs is in id order, so fan roots are each fan's lowest face; fan 0 keeps v.
+    const std::size_t before = out.replaced.size();
     std::vector<std::uint32_t> fan_copy(fs.size(), kInvalidIndex);
     for (std::uint32_t i = 0; i < fs.size(); ++i) {
       const std::uint32_t r = root(i);
@@ -132,8 +134,57 @@ PinchSplits split_pinched_vertices(MeshEditor& editor, const std::vector<VertexI
         }
       }
     }
+    if (out.replaced.size() == before) continue;
+    for (std::uint32_t i = 0; i < fs.size(); ++i)
+      if (root(i) == 0) out.around.push_back(fs[i]);
+    for (std::size_t r = before; r < out.replaced.size(); ++r) out.around.push_back(out.replaced[r].second);
   }
   return out;
+}
+
+void follow_pinch_splits(const SurfaceMesh& mesh, const PinchSplits& splits, std::vector<VertexId>& chain, bool closed) {
+  if (splits.copies.empty() || chain.size() < 2) return;
+  std::unordered_map<std::uint32_t, std::uint32_t> original;  // copy -> original, original -> itself
+  for (const auto& [v, c] : splits.copies) {
+    original.emplace(c.index, v.index);
+    original.emplace(v.index, v.index);
+  }
+  auto base = [&](VertexId v) {
+    const auto it = original.find(v.index);
+    return it == original.end() ? v.index : it->second;
+  };
+  auto key = [](std::uint32_t a, std::uint32_t b) { return (std::uint64_t(a) << 32) | b; };
+  // Halfedges around the split vertices, by the originals of their ends.
+  std::unordered_map<std::uint64_t, std::vector<std::pair<VertexId, VertexId>>> halfedges;
+  for (const FaceId f : splits.around) {
+    if (mesh.is_deleted(f)) continue;
+    const Triangle& t = mesh.face(f);
+    for (int k = 0; k < 3; ++k) halfedges[key(base(t[k]), base(t[(k + 1) % 3]))].emplace_back(t[k], t[(k + 1) % 3]);
+  }
+  const std::size_t n = chain.size();
+  std::vector<VertexId> out = chain;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t b = base(chain[i]);
+    if (!original.count(b)) continue;
+    std::vector<VertexId> from_next, from_prev;
+    if (closed || i + 1 < n) {
+      const auto it = halfedges.find(key(b, base(chain[(i + 1) % n])));
+      if (it != halfedges.end())
+        for (const auto& [x, y] : it->second) from_next.push_back(x);
+    }
+    if (closed || i > 0) {
+      const auto it = halfedges.find(key(base(chain[(i + n - 1) % n]), b));
+      if (it != halfedges.end())
+        for (const auto& [x, y] : it->second) from_prev.push_back(y);
+    }
+    VertexId pick;
+    for (const VertexId x : from_next)
+      if (!pick.valid() && std::find(from_prev.begin(), from_prev.end(), x) != from_prev.end()) pick = x;
+    if (!pick.valid() && !from_next.empty()) pick = from_next.front();
+    if (!pick.valid() && !from_prev.empty()) pick = from_prev.front();
+    if (pick.valid()) out[i] = pick;
+  }
+  chain.swap(out);
 }
 
 }  // namespace deepcut::detail

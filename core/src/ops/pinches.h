@@ -18,6 +18,8 @@ struct PinchSplits {
   std::vector<std::pair<VertexId, VertexId>> copies;
   /// (old face, new face) for every face moved onto a copy (the old one is removed).
   std::vector<std::pair<FaceId, FaceId>> replaced;
+  /// Live faces using a split vertex or one of its copies, after the split.
+  std::vector<FaceId> around;
 };
 
 /// Vertices the edits so far used or freed (corners of added and removed faces, both ends of
@@ -43,5 +45,10 @@ std::vector<FaceId> faces_around(const SurfaceMesh& mesh, const EditLog& log, co
 ///                  deleted ones are skipped). A face missing here would split a vertex wrongly.
 PinchSplits split_pinched_vertices(MeshEditor& editor, const std::vector<VertexId>& candidates,
                                    const std::vector<FaceId>& incident);
+
+/// Rewrites a chain of vertices that follows mesh edges (a hole's rim, the kept surface on the
+/// left of each step: a->b is a halfedge of a face) after split_pinched_vertices: where it passes
+/// a split vertex it takes the copy whose faces hold both its steps there, else one of them.
+void follow_pinch_splits(const SurfaceMesh& mesh, const PinchSplits& splits, std::vector<VertexId>& chain, bool closed);
 
 }  // namespace deepcut::detail
