@@ -197,7 +197,8 @@ void check_drill_into(Checked& out, const SurfaceMesh& input, const Cylinder& cy
     if (is_wall(fa->f)) {
       ++out.wall;
       out.wall_thin += angle < 5.0;
-    } else if (!fa->parent.valid() || min_angle(input, input.face(fa->parent)) >= 10.0) {
+    } else if (!fa->parent.valid() || fa->parent.index >= input.face_slots() ||  // re-added in this drill
+               min_angle(input, input.face(fa->parent)) >= 10.0) {
       ++out.surface;
       out.surface_thin += angle < 5.0;
     }
