@@ -98,7 +98,9 @@ using Unposer = std::function<glm::vec3(const SurfaceMesh& mesh, VertexId v, con
 ///       overlapping shells (a limb passing into a body) each stay closed. A shell that passes
 ///       through itself is walled per sheet. Rims that are not closed (they joined a boundary the
 ///       input already had: an earlier hole, cut or tear without a wall) get no wall
-///       (`DrillHole::walled`). Non-manifold edges are split like any other.
+///       (`DrillHole::walled`), nor do the rims of a sheet whose wall cannot be triangulated
+///       exactly (rare: two rims touching at a vertex on the cylinder); those stay open, never
+///       walled with a crack. Non-manifold edges are split like any other.
 DrillResult drill_mesh(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const Cylinder& cylinder,
                        const DrillOptions& options = {}, const TriangleGrid* index = nullptr,
                        const Unposer& unpose = {});
