@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <memory_resource>
 #include <numeric>
 #include <queue>
 #include <sstream>
@@ -21,6 +22,14 @@ namespace deepcut {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+
+// A tear's hash maps and sets take their nodes from one arena per tear (a bump allocator freed
+// when the tear ends) instead of one malloc and free per node: same containers, same hashing and
+// iteration order, so the same results.
+template <class K, class V>
+using Map = std::pmr::unordered_map<K, V>;
+template <class K>
+using Set = std::pmr::unordered_set<K>;
 
 std::uint64_t edge_key(VertexId a, VertexId b) {
   const auto lo = std::min(a.index, b.index), hi = std::max(a.index, b.index);
@@ -395,7 +404,8 @@ class Tearer {
   std::uint32_t first_new_face_;
   const TriangleGrid* index_;
   const std::vector<glm::mat3>& input_linear_;
-  std::unordered_map<std::uint32_t, glm::mat3> new_linear_;  // vertices made by this tear
+  std::pmr::monotonic_buffer_resource arena_{std::size_t(1) << 16};  // before every map using it
+  Map<std::uint32_t, glm::mat3> new_linear_{&arena_};  // vertices made by this tear
   std::vector<Piece> pieces_;
   double tol_ = 0.0;
   float width_ = 0.0f;
@@ -406,7 +416,7 @@ class Tearer {
     double dist;
     std::int8_t sign;
   };
-  std::unordered_map<std::uint32_t, Classified> classified_;
+  Map<std::uint32_t, Classified> classified_{&arena_};
   double dist(VertexId v) const {
     auto it = classified_.find(v.index);
     return it == classified_.end() ? 0.0 : it->second.dist;
@@ -415,10 +425,10 @@ class Tearer {
     auto it = classified_.find(v.index);
     return it == classified_.end() ? 0 : it->second.sign;
   }
-  std::unordered_map<std::uint32_t, ZeroVertex> zero_;
-  std::unordered_map<std::uint64_t, Crossing> crossings_;
+  Map<std::uint32_t, ZeroVertex> zero_{&arena_};
+  Map<std::uint64_t, Crossing> crossings_{&arena_};
   // Over the whole tear.
-  std::unordered_map<std::uint64_t, std::size_t> torn_;  // edge -> piece that tore it
+  Map<std::uint64_t, std::size_t> torn_{&arena_};  // edge -> piece that tore it
   std::vector<FaceId> region_;                           // faces examined or made
   std::size_t intersections_ = 0;
 };
@@ -426,7 +436,7 @@ class Tearer {
 const Tearer::ZeroVertex& Tearer::zero_vertex(const Piece& piece, VertexId v) {
   auto it = zero_.find(v.index);
   if (it != zero_.end()) return it->second;
-  ZeroVertex z;
+  ZeroVertex z{};
   z.h = hvalues(piece, piece.project(glm::dvec3(posed(v.index))));
   z.in = inside(piece, z.h);
   return zero_.emplace(v.index, z).first->second;
@@ -514,7 +524,7 @@ void Tearer::tear_piece(const Piece& piece, std::size_t piece_index) {
 
   // Plan: chords of faces crossed by the plane, clipped to the piece.
   std::vector<FacePlan> plans;
-  std::unordered_map<std::uint64_t, ZeroEdge> zero_edges;
+  Map<std::uint64_t, ZeroEdge> zero_edges(&arena_);
   for (FaceId f : faces) {
     const Triangle t = mesh_.face(f);
     const std::int8_t s[3] = {sign(t[0]), sign(t[1]), sign(t[2])};
@@ -666,8 +676,7 @@ void Tearer::tear_piece(const Piece& piece, std::size_t piece_index) {
     VertexId v;
     glm::dvec3 bary;
   };
-  std::unordered_map<std::uint32_t, std::vector<Insert>> inserts;  // by face
-  std::unordered_map<std::uint32_t, std::size_t> plan_of;
+  Map<std::uint32_t, std::size_t> plan_of(&arena_);
   for (std::size_t i = 0; i < plans.size(); ++i) plan_of.emplace(plans[i].f.index, i);
   for (FaceId f : faces) {
     const Triangle t = mesh_.face(f);
@@ -710,7 +719,7 @@ void Tearer::tear_piece(const Piece& piece, std::size_t piece_index) {
     if (list.empty()) continue;
     std::sort(list.begin(), list.end(), [](const Insert& x, const Insert& y) { return x.s < y.s; });
     LocalTriangulation local(t);
-    std::unordered_map<std::uint32_t, VertexId> alias;
+    Map<std::uint32_t, VertexId> alias(&arena_);
     for (const Insert& ins : list) {
       const VertexId got = local.insert(ins.v, ins.bary);
       if (got != ins.v) alias.emplace(ins.v.index, got);
@@ -761,7 +770,7 @@ void Tearer::tear_piece(const Piece& piece, std::size_t piece_index) {
 // A slit made of one torn edge between two ends (a blade path inside one face, or across one
 // corner) has no interior vertex to duplicate: give it one at the edge's midpoint.
 void Tearer::split_lone_edges() {
-  std::unordered_map<std::uint32_t, int> degree;
+  Map<std::uint32_t, int> degree(&arena_);
   for (const auto& [key, piece] : torn_) {
     ++degree[static_cast<std::uint32_t>(key >> 32)];
     ++degree[static_cast<std::uint32_t>(key & 0xffffffffu)];
@@ -773,7 +782,7 @@ void Tearer::split_lone_edges() {
       lone.push_back(key);
   if (lone.empty()) return;
   std::sort(lone.begin(), lone.end());
-  std::unordered_map<std::uint64_t, std::vector<FaceId>> faces_of;
+  Map<std::uint64_t, std::vector<FaceId>> faces_of(&arena_);
   for (std::uint64_t key : lone) faces_of[key];
   std::sort(region_.begin(), region_.end());
   region_.erase(std::unique(region_.begin(), region_.end()), region_.end());
@@ -817,7 +826,7 @@ void Tearer::split_lone_edges() {
 // then pushes the lips apart.
 void Tearer::separate_and_open(TearResult& result) {
   // Chain vertices and their torn degree.
-  std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> graph;
+  Map<std::uint32_t, std::vector<std::uint32_t>> graph(&arena_);
   for (const auto& [key, piece] : torn_) {
     const auto a = static_cast<std::uint32_t>(key >> 32), b = static_cast<std::uint32_t>(key & 0xffffffffu);
     graph[a].push_back(b);
@@ -831,7 +840,7 @@ void Tearer::separate_and_open(TearResult& result) {
   // Stars of the chain vertices (every face around a chain vertex is in the region).
   std::sort(region_.begin(), region_.end());
   region_.erase(std::unique(region_.begin(), region_.end()), region_.end());
-  std::unordered_map<std::uint32_t, std::vector<FaceId>> star;
+  Map<std::uint32_t, std::vector<FaceId>> star(&arena_);
   for (FaceId f : region_) {
     if (mesh_.is_deleted(f)) continue;
     for (auto v : mesh_.face(f))
@@ -842,8 +851,8 @@ void Tearer::separate_and_open(TearResult& result) {
   struct Wedge {
     std::vector<FaceId> faces;
   };
-  std::unordered_map<std::uint32_t, std::vector<Wedge>> wedges;
-  std::unordered_set<std::uint32_t> on_boundary;  // chain vertices on a boundary before this tear
+  Map<std::uint32_t, std::vector<Wedge>> wedges(&arena_);
+  Set<std::uint32_t> on_boundary(&arena_);  // chain vertices on a boundary before this tear
   for (std::uint32_t v : chain) {
     const auto& fs = star[v];
     std::vector<std::uint32_t> parent(fs.size());
@@ -892,8 +901,8 @@ void Tearer::separate_and_open(TearResult& result) {
   }
 
   // Taper along each slit: arc length to the nearest end (torn degree 1, or an old boundary).
-  std::unordered_map<std::uint32_t, double> to_end;
-  std::unordered_map<std::uint32_t, std::uint32_t> comp;
+  Map<std::uint32_t, double> to_end(&arena_);
+  Map<std::uint32_t, std::uint32_t> comp(&arena_);
   std::vector<double> comp_length;
   std::vector<bool> comp_has_end;
   auto edge_len = [&](std::uint32_t a, std::uint32_t b) {
@@ -945,8 +954,8 @@ void Tearer::separate_and_open(TearResult& result) {
   for (bool has_end : comp_has_end) result.closed_slits += has_end ? 0 : 1;
 
   // Lip normal at each chain vertex: the normal of the piece(s) that tore its edges.
-  std::unordered_map<std::uint32_t, glm::dvec3> lip_normal;
-  std::unordered_map<std::uint32_t, std::vector<std::size_t>> vertex_pieces;
+  Map<std::uint32_t, glm::dvec3> lip_normal(&arena_);
+  Map<std::uint32_t, std::vector<std::size_t>> vertex_pieces(&arena_);
   for (const auto& [key, piece] : torn_) {
     for (const auto v :
          {static_cast<std::uint32_t>(key >> 32), static_cast<std::uint32_t>(key & 0xffffffffu)}) {
@@ -966,10 +975,9 @@ void Tearer::separate_and_open(TearResult& result) {
     glm::dvec3 move{0.0};  // world displacement
   };
   std::vector<Lip> lips;
-  std::unordered_map<std::uint32_t, std::vector<std::pair<std::uint32_t, VertexId>>>
-      replace;  // face -> (old, new)
+  Map<std::uint32_t, std::vector<std::pair<std::uint32_t, VertexId>>> replace(&arena_);  // face -> (old, new)
   std::vector<VertexId> tear_vertices;
-  std::unordered_set<std::uint32_t> split_from;  // copies made here
+  Set<std::uint32_t> split_from(&arena_);  // copies made here
   for (std::uint32_t v : chain) {
     auto& ws = wedges[v];
     tear_vertices.push_back(VertexId(v));
@@ -988,7 +996,7 @@ void Tearer::separate_and_open(TearResult& result) {
       lips.push_back({id, v, ws[w].faces, glm::dvec3(0.0)});
     }
   }
-  std::unordered_map<std::uint32_t, FaceId> renamed;
+  Map<std::uint32_t, FaceId> renamed(&arena_);
   std::vector<std::uint32_t> replaced_faces;
   for (const auto& [f, list] : replace) replaced_faces.push_back(f);
   std::sort(replaced_faces.begin(), replaced_faces.end());
@@ -1011,7 +1019,7 @@ void Tearer::separate_and_open(TearResult& result) {
 
   // Opening: each lip moves half the width, tapered, away from the plane on its own side.
   if (width_ > 0.0f) {
-    std::unordered_map<std::uint32_t, std::size_t> lip_of;  // vertex -> lip
+    Map<std::uint32_t, std::size_t> lip_of(&arena_);  // vertex -> lip
     for (std::size_t i = 0; i < lips.size(); ++i) {
       Lip& lip = lips[i];
       const std::uint32_t c = comp[lip.of];
@@ -1112,7 +1120,7 @@ void Tearer::separate_and_open(TearResult& result) {
       if (!flipped) break;
     }
     // The opening achieved: the widest gap between two copies of one slit vertex.
-    std::unordered_map<std::uint32_t, std::vector<glm::dvec3>> moves_of;
+    Map<std::uint32_t, std::vector<glm::dvec3>> moves_of(&arena_);
     for (const Lip& lip : lips) moves_of[lip.of].push_back(lip.move);
     double opening = 0.0;
     for (const auto& [of, moves] : moves_of)
