@@ -27,8 +27,12 @@ bool normalize_influences(std::uint16_t* joints, float* weights, int slots) {
     }
     return false;
   }
+  // Weights that already sum to 1 as closely as floats can (2e-7: a few units in the last place)
+  // are kept as they are, so normalising is idempotent and an exported model re-exports to the
+  // same bytes.
+  const bool divide = std::abs(sum - 1.0) > 2e-7;
   for (int i = 0; i < slots; ++i) {
-    weights[i] = static_cast<float>(weights[i] / sum);
+    if (divide) weights[i] = static_cast<float>(weights[i] / sum);
     if (weights[i] == 0.0f) joints[i] = 0;
   }
   return true;

@@ -20,6 +20,11 @@ using namespace gltf_detail;
 
 constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963;
 
+// A normal, tangent or rotation this close to unit length is written as it is: dividing it by its length
+// again would move its last bit, so exporting an imported export would not give the same bytes.
+// (The validator accepts lengths within 5e-4 of 1; a division lands within 1e-7.)
+bool unit_enough(float length) { return std::abs(length - 1.0f) <= 1e-6f; }
+
 json parse_or(const std::string& text, json fallback) {
   if (text.empty()) return fallback;
   return json::parse(text, nullptr, /*allow_exceptions=*/false);
@@ -204,7 +209,7 @@ void Writer::write_primitive(const Primitive& prim, json& out) {
         if (gname == "NORMAL") {
           const float len = glm::length(v);
           if (len > 1e-12f && std::isfinite(len)) {
-            v /= len;
+            if (!unit_enough(len)) v /= len;
           } else {  // a zero normal is invalid glTF: use the face's normal
             const auto& t = mesh.face(FaceId(out_corner[i] / 3));
             const glm::vec3 fn = glm::cross(mesh.position(t[1]) - mesh.position(t[0]), mesh.position(t[2]) - mesh.position(t[0]));
@@ -223,7 +228,8 @@ void Writer::write_primitive(const Primitive& prim, json& out) {
         if (gname == "TANGENT") {
           glm::vec3 xyz(v);
           const float len = glm::length(xyz);
-          xyz = len > 1e-12f && std::isfinite(len) ? xyz / len : glm::vec3(1.0f, 0.0f, 0.0f);
+          if (!(len > 1e-12f && std::isfinite(len))) xyz = glm::vec3(1.0f, 0.0f, 0.0f);
+          else if (!unit_enough(len)) xyz /= len;
           v = glm::vec4(xyz, v.w < 0.0f ? -1.0f : 1.0f);
         } else if (gname == "COLOR_0") {
           v = glm::clamp(v, glm::vec4(0.0f), glm::vec4(1.0f));
@@ -295,7 +301,8 @@ void Writer::write_animations() {
           for (std::size_t k = 0; k + 3 < output.size(); k += 4) {
             glm::vec4 q(output[k], output[k + 1], output[k + 2], output[k + 3]);
             const float len = glm::length(q);
-            q = len > 0.0f ? q / len : glm::vec4(0, 0, 0, 1);
+            if (!(len > 0.0f)) q = glm::vec4(0, 0, 0, 1);
+            else if (!unit_enough(len)) q /= len;
             for (int c = 0; c < 4; ++c) output[k + std::size_t(c)] = q[c];
           }
         const char* type = s.components == 4 ? "VEC4" : s.components == 3 ? "VEC3" : "SCALAR";
@@ -326,7 +333,8 @@ void Writer::write_nodes() {
       if (*n.matrix != glm::mat4(1.0f)) out["matrix"] = m;
     } else {
       if (n.translation != glm::vec3(0.0f)) out["translation"] = {n.translation.x, n.translation.y, n.translation.z};
-      const glm::quat q = glm::normalize(n.rotation);
+      const float len = glm::length(n.rotation);
+      const glm::quat q = unit_enough(len) ? n.rotation : glm::normalize(n.rotation);
       if (q != glm::quat(1.0f, 0.0f, 0.0f, 0.0f)) out["rotation"] = {q.x, q.y, q.z, q.w};
       if (n.scale != glm::vec3(1.0f)) out["scale"] = {n.scale.x, n.scale.y, n.scale.z};
     }
