@@ -735,4 +735,39 @@ TEST(DrillTest, incremental_adjacency_follows_a_random_sequence) {
   }
 }
 
+// Found by the random sequences (pinched vertices after drills, e.g. Fox seed 20261986 step 211):
+// a saddle vertex lying on the cylinder's side, its surface rising into the cylinder towards +x
+// and -x and falling away towards +y and -y. The kept surface is two wedges (around +y and -y)
+// that meet only at that vertex; each gets its own vertex, with and without a wall, and with the
+// spatial index.
+TEST(DrillTest, rim_through_a_saddle_vertex_leaves_no_pinched_vertex) {
+  for (const bool wall : {false, true})
+    for (const bool indexed : {false, true}) {
+      SCOPED_TRACE(std::string(wall ? "wall" : "no wall") + (indexed ? ", indexed" : ""));
+      SurfaceMesh mesh;
+      const VertexId v = mesh.add_vertex({0, 0, 0});
+      const VertexId ring[4] = {mesh.add_vertex({1, 0, 1}), mesh.add_vertex({0, 1, -1}), mesh.add_vertex({-1, 0, 1}),
+                                mesh.add_vertex({0, -1, -1})};
+      for (int k = 0; k < 4; ++k) mesh.add_face(v, ring[k], ring[(k + 1) % 4]);
+      const std::vector<glm::vec3> posed = mesh.positions();
+      const TriangleGrid grid = TriangleGrid::build(mesh, posed);
+      Adjacency adj = Adjacency::build(mesh);
+      DrillOptions options;
+      options.wall = wall;
+      // Axis along x at height 0.6, radius 0.6: the cylinder's side touches z = 0 along the x axis.
+      const DrillResult r = drill_mesh(mesh, posed, Cylinder{{-2, 0, 0.6f}, {2, 0, 0.6f}, 0.6f}, options,
+                                       indexed ? &grid : nullptr);
+      ASSERT_EQ(r.status, OpStatus::Ok);
+      adj.apply(r.log);
+      test::expect_adjacency_matches_rebuild(adj, mesh);
+      test::expect_valid(mesh);
+      EXPECT_TRUE(test::pinched_vertices(mesh).empty());
+      std::size_t at_origin = 0;  // used vertices at the saddle point
+      for (std::uint32_t i = 0; i < mesh.vertex_count(); ++i)
+        at_origin += glm::length(mesh.position(VertexId(i))) < 1e-6f && !adj.vertex_faces(VertexId(i)).empty();
+      EXPECT_EQ(at_origin, 2u);
+      EXPECT_EQ(r.added_posed.size(), mesh.vertex_count() - r.first_new_vertex);
+    }
+}
+
 }  // namespace deepcut

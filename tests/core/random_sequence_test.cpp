@@ -620,7 +620,8 @@ class Sequence {
   bool pose_changed_ = true;
   int step_ = 0;
   std::size_t ok_ = 0, missed_ = 0, start_faces_ = 0;
-  // Known open defects (docs/RELIABILITY.md), counted, and failures with DEEPCUT_SEQUENCE_STRICT=1.
+  // Known open defects (docs/RELIABILITY.md: zero-area faces, non-manifold cap edges), counted,
+  // and failures with DEEPCUT_SEQUENCE_STRICT=1. Pinched vertices always fail.
   bool strict_ = env_number("DEEPCUT_SEQUENCE_STRICT", 0) != 0;
   bool trace_ = env_number("DEEPCUT_SEQUENCE_TRACE", 0) != 0;
   std::array<std::size_t, 3> zero_area_{};  // per operation kind: cut, tear, drill
