@@ -433,6 +433,35 @@ TEST(CutTest, plane_through_a_saddle_vertex_leaves_no_pinched_vertex) {
   }
 }
 
+// Found by the random sequences (zero-area faces after cuts): a needle whose lone corner X is on
+// one side and whose two far corners lie one float step apart on the other. Both crossings round
+// to one bind position; they become one vertex, and the needle's tip beyond the plane (a face
+// with two corners at one point) is not made.
+TEST(CutTest, a_needle_split_near_its_tip_makes_no_zero_area_face) {
+  SurfaceMesh mesh;
+  const float one_up = std::nextafter(1.0f, 2.0f);
+  const VertexId x = mesh.add_vertex({0, 1, 0}), p = mesh.add_vertex({1, 0.5f, 0}), a = mesh.add_vertex({1, 1, 0}),
+                 b = mesh.add_vertex({1, one_up, 0}), q = mesh.add_vertex({1, 1.5f, 0});
+  mesh.add_face(x, p, a);
+  mesh.add_face(x, a, b);
+  mesh.add_face(x, b, q);
+  Adjacency adj = Adjacency::build(mesh);
+  const CutResult r = cut_mesh(mesh, mesh.positions(), Plane{{0.5f, 0, 0}, {1, 0, 0}});
+  ASSERT_EQ(r.status, OpStatus::Ok);
+  adj.apply(r.log);
+  test::expect_adjacency_matches_rebuild(adj, mesh);
+  test::expect_valid(mesh);
+  std::size_t near_side = 0;
+  mesh.for_each_face([&](FaceId f, const Triangle& t) {
+    const glm::dvec3 u(mesh.position(t[0])), v(mesh.position(t[1])), w(mesh.position(t[2]));
+    EXPECT_GT(glm::length(glm::cross(v - u, w - u)), 0.0) << "face " << f.index << " has zero area";
+    near_side += std::max({u.x, v.x, w.x}) <= 0.5;
+  });
+  EXPECT_EQ(near_side, 2u) << "X keeps two faces, not the needle's zero-area tip";
+  EXPECT_TRUE(adj.nonmanifold_edges().empty());
+  EXPECT_NEAR(mesh.area(), 0.5, 1e-5) << "the cut keeps the area (two flanking faces of 0.25, the needle's none)";
+}
+
 TEST(CutTest, the_result_does_not_depend_on_the_thread_count) {
   // Large enough for several parallel chunks of vertices and faces.
   const SurfaceMesh input = test::make_grid(260, 140);

@@ -54,7 +54,12 @@ class Cutter {
 
   VertexId split_edge(VertexId a, VertexId b);
   Corner split_corner(const Triangle& t, int ka, int kb);
+  void split_crossings(FaceId f);
   void split_face(FaceId f);
+  VertexId merged(VertexId v) const {
+    for (auto it = merged_.find(v.index); it != merged_.end(); it = merged_.find(v.index)) v = it->second;
+    return v;
+  }
   void separate_sides();
   std::vector<std::pair<VertexId, VertexId>> split_pinches(CutResult* result = nullptr);
   void collect_pieces(CutResult& result);
@@ -82,6 +87,9 @@ class Cutter {
   std::vector<float> dist_;
   std::vector<std::int8_t> sign_;
   std::unordered_map<std::uint64_t, Split> splits_;
+  // Crossings that fell on one bind position (the two long edges of a needle split at the same
+  // parameter): the later one maps to the earlier, so the needle's tip is not a zero-area face.
+  std::unordered_map<std::uint32_t, VertexId> merged_;
   // Faces with two or more corners on the plane (the only ones that can have rim edges), and
   // the piece of each face slot.
   std::vector<FaceId> rim_faces_;
@@ -121,13 +129,36 @@ VertexId Cutter::split_edge(VertexId a, VertexId b) {
 }
 
 Cutter::Corner Cutter::split_corner(const Triangle& t, int ka, int kb) {
-  const VertexId v = split_edge(t[ka], t[kb]);
+  const VertexId v = merged(split_edge(t[ka], t[kb]));
   const Split& s = splits_.at(edge_key(t[ka], t[kb]));
   glm::vec3 bary(0.0f);
   const float wa = t[ka] == s.lo ? 1.0f - s.t : s.t;
   bary[ka] = wa;
   bary[kb] = 1.0f - wa;
   return {v, bary};
+}
+
+// Adds the crossings of a face the plane crosses, in the order split_face uses them. A face whose
+// lone corner has two long edges to corners a hair apart (a needle: the lips of a narrow tear, a
+// sliver) has its two crossings rounded to one bind position: they become one vertex, and the
+// needle's tip beyond the plane (a zero-area triangle) is not made.
+void Cutter::split_crossings(FaceId f) {
+  const Triangle& t = mesh_.face(f);
+  const std::int8_t s[3] = {sign_[t[0].index], sign_[t[1].index], sign_[t[2].index]};
+  const bool pos = s[0] > 0 || s[1] > 0 || s[2] > 0, neg = s[0] < 0 || s[1] < 0 || s[2] < 0;
+  if (!pos || !neg) return;
+  for (int k = 0; k < 3; ++k)
+    if (s[k] == 0) {
+      split_edge(t[(k + 1) % 3], t[(k + 2) % 3]);
+      return;
+    }
+  int lone = 0;
+  for (int k = 0; k < 3; ++k)
+    if (s[k] != s[(k + 1) % 3] && s[k] != s[(k + 2) % 3]) lone = k;
+  const Triangle copy = t;  // split_edge adds vertices, not faces, but keep no reference across it
+  const VertexId a = merged(split_edge(copy[lone], copy[(lone + 1) % 3]));
+  const VertexId b = merged(split_edge(copy[lone], copy[(lone + 2) % 3]));
+  if (a != b && mesh_.position(a) == mesh_.position(b)) merged_.emplace(std::max(a, b).index, std::min(a, b));
 }
 
 void Cutter::split_face(FaceId f) {
@@ -141,6 +172,7 @@ void Cutter::split_face(FaceId f) {
     return Corner{t[k], b};
   };
   auto emit = [&](const Corner& a, const Corner& b, const Corner& c) {
+    if (a.v == b.v || b.v == c.v || a.v == c.v) return;  // the tip of a needle whose crossings merged
     editor_.add_face_from({a.v, b.v, c.v}, f, {a.bary, b.bary, c.bary});
   };
   editor_.remove_face(f);
@@ -576,6 +608,8 @@ CutResult Cutter::run() {
         out.touching.push_back(f);
     }
   });
+  for (const Found& part : found)
+    for (FaceId f : part.crossed) split_crossings(f);
   for (const Found& part : found) {
     for (FaceId f : part.crossed) split_face(f);
     rim_candidates_.insert(rim_candidates_.end(), part.touching.begin(), part.touching.end());
