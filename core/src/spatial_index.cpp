@@ -185,6 +185,22 @@ std::vector<FaceId> TriangleGrid::query_box(const BoundingBox& box) const {
   return out;
 }
 
+std::vector<FaceId> TriangleGrid::query_points(const std::vector<glm::vec3>& points) const {
+  std::vector<FaceId> out;
+  if (empty() || points.empty()) return out;
+  std::vector<std::size_t> cells;
+  cells.reserve(points.size());
+  for (const glm::vec3& p : points) {
+    const glm::ivec3 c = cell_of(p);
+    cells.push_back(cell_index(c.x, c.y, c.z));
+  }
+  std::sort(cells.begin(), cells.end());
+  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+  for (std::size_t c : cells) collect_cell(c, out);
+  sort_unique(out);
+  return out;
+}
+
 std::vector<FaceId> TriangleGrid::query_capsule(const glm::vec3& a, const glm::vec3& b, float radius) const {
   std::vector<FaceId> out;
   if (empty()) return out;

@@ -43,14 +43,14 @@ std::vector<FaceId> faces_around(const SurfaceMesh& mesh, const EditLog& log, co
   std::vector<FaceId> out;
   for (const Edit& e : log.edits)
     if (const auto* a = std::get_if<FaceAdded>(&e)) out.push_back(a->f);
-  for (const VertexId v : vertices) {
-    if (v.index >= first_new_vertex || v.index >= input_posed.size()) continue;
-    // Every face using v had v's position inside its box when the grid was built.
-    BoundingBox box;
-    box.add(input_posed[v.index]);
-    const auto found = index->query_box(box);
-    out.insert(out.end(), found.begin(), found.end());
-  }
+  // Every face using an old vertex v had v's position inside its box when the grid was built:
+  // the faces filed in the cells of those positions (each cell visited once).
+  std::vector<glm::vec3> points;
+  points.reserve(vertices.size());
+  for (const VertexId v : vertices)
+    if (v.index < first_new_vertex && v.index < input_posed.size()) points.push_back(input_posed[v.index]);
+  const auto found = index->query_points(points);
+  out.insert(out.end(), found.begin(), found.end());
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;

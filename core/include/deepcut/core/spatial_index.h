@@ -35,6 +35,10 @@ class TriangleGrid {
   /// Live faces in the cells `box` overlaps (a superset of the faces whose bounding box overlaps
   /// it), sorted by id.
   std::vector<FaceId> query_box(const BoundingBox& box) const;
+  /// Live faces filed in the cells holding any of `points`, sorted and unique: the union of
+  /// `query_box` over each point's own box, visiting each cell once (points along a rim or a
+  /// slit share cells).
+  std::vector<FaceId> query_points(const std::vector<glm::vec3>& points) const;
   /// Live faces whose bounding box may come within `radius` of the segment a-b (a superset of
   /// the faces meeting the capsule), sorted by id. Visits only the cells along the segment.
   std::vector<FaceId> query_capsule(const glm::vec3& a, const glm::vec3& b, float radius) const;
