@@ -298,6 +298,11 @@ void MainWindow::build_menus() {
   redo_ = history_->createRedoAction(this, "&Redo");
   redo_->setShortcuts({QKeySequence("Ctrl+Shift+Z"), QKeySequence("Ctrl+Y")});
   redo_->setIcon(s->standardIcon(QStyle::SP_ArrowForward));
+  // The menu says what would be undone ("Undo Drill (1.19, ...) r 0.35"); on the tool bar that
+  // text pushed the Tools bar off the window, so the buttons say Undo / Redo and the full text
+  // is their tooltip.
+  undo_->setIconText("Undo");
+  redo_->setIconText("Redo");
   edit->addAction(undo_);
   edit->addAction(redo_);
   edit->addSeparator();

@@ -18,6 +18,7 @@
 #include <QStatusBar>
 #include <QSurfaceFormat>
 #include <QTimer>
+#include <QToolBar>
 #include <QUndoStack>
 #include <QUrl>
 #include <QtTest/QtTest>
@@ -420,6 +421,23 @@ class StudioGuiTest : public QObject {
       }
     }
     QVERIFY(owner.count("G"));
+
+    // After an operation the Undo button does not grow with its long text ("Undo Drill (1.19,
+    // ...)"), so at the default window size every tool stays on the Tools bar, none in its
+    // overflow menu.
+    window->set_tool("drill");
+    QVERIFY(window->apply_tool());
+    QVERIFY(window->undo_action()->text().size() > 30);
+    window->resize(1440, 900);
+    QTest::qWait(50);
+    auto* bar = window->findChild<QToolBar*>("tools_toolbar");
+    QVERIFY(bar);
+    for (QAction* action : bar->actions()) {
+      if (!action->objectName().startsWith("tool_")) continue;
+      QWidget* button = bar->widgetForAction(action);
+      QVERIFY2(button && button->isVisible(), qPrintable(action->text() + " is not visible on the Tools bar"));
+      QVERIFY(bar->rect().contains(button->geometry()));
+    }
   }
 };
 
