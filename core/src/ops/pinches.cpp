@@ -82,7 +82,8 @@ PinchSplits split_pinched_vertices(MeshEditor& editor, const std::vector<VertexI
     }
   }
   const glm::vec3 e[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-  std::vector<std::uint32_t> parent;
+  std::vector<std::uint32_t> parent, fan_copy;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> by_other;  // (other vertex, face slot in fs)
   for (std::size_t s = 0; s < sorted.size(); ++s) {
     const VertexId v = sorted[s];
     const std::vector<FaceId>& fs = around[s];
@@ -94,7 +95,7 @@ PinchSplits split_pinched_vertices(MeshEditor& editor, const std::vector<VertexI
       while (parent[x] != x) x = parent[x] = parent[parent[x]];
       return x;
     };
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> by_other;  // (other vertex, face slot in fs)
+    by_other.clear();
     for (std::uint32_t i = 0; i < fs.size(); ++i)
       for (const VertexId u : mesh.face(fs[i]))
         if (u != v) by_other.emplace_back(u.index, i);
@@ -106,7 +107,7 @@ PinchSplits split_pinched_vertices(MeshEditor& editor, const std::vector<VertexI
       }
     // fs is in id order, so fan roots are each fan's lowest face; fan 0 keeps v.
     const std::size_t before = out.replaced.size();
-    std::vector<std::uint32_t> fan_copy(fs.size(), kInvalidIndex);
+    fan_copy.assign(fs.size(), kInvalidIndex);
     for (std::uint32_t i = 0; i < fs.size(); ++i) {
       const std::uint32_t r = root(i);
       if (r == 0) continue;
