@@ -415,6 +415,37 @@ TEST(TearTest, tear_through_grid_vertices_and_along_edges) {
   EXPECT_EQ(d.new_loops, 1);
 }
 
+// Found by the random sequences (zero-area faces after tears): a needle whose lone corner X lies
+// on one side of the blade and whose two far corners lie one float step apart on the other. Both
+// crossings round to one bind position; they become one vertex, and the needle's tip (a face with
+// two corners at one point) is not made. The slit runs through the needle and ends inside its two
+// flanking faces.
+TEST(TearTest, a_needle_torn_near_its_tip_makes_no_zero_area_face) {
+  for (const float width : {0.0f, 0.02f}) {
+    SCOPED_TRACE(width);
+    SurfaceMesh mesh;
+    const float one_up = std::nextafter(1.0f, 2.0f);
+    const VertexId x = mesh.add_vertex({0, 1, 0}), p = mesh.add_vertex({1, 0.5f, 0}), a = mesh.add_vertex({1, 1, 0}),
+                   b = mesh.add_vertex({1, one_up, 0}), q = mesh.add_vertex({1, 1.5f, 0});
+    mesh.add_face(x, p, a);
+    mesh.add_face(x, a, b);
+    mesh.add_face(x, b, q);
+    TearOptions options;
+    options.width = width;
+    Adjacency adj = Adjacency::build(mesh);
+    const Blade start{{0.5f, 0.8f, 1.0f}, {0.5f, 0.8f, -1.0f}}, end{{0.5f, 1.2f, 1.0f}, {0.5f, 1.2f, -1.0f}};
+    const TearCheck c = check_tear(mesh, start, end, options, 1, &adj);
+    ASSERT_EQ(c.result.status, OpStatus::Ok);
+    EXPECT_EQ(c.result.slits, 1u);
+    EXPECT_EQ(c.new_loops, 1);
+    mesh.for_each_face([&](FaceId f, const Triangle& t) {
+      const glm::dvec3 u(mesh.position(t[0])), v(mesh.position(t[1])), w(mesh.position(t[2]));
+      EXPECT_GT(glm::length(glm::cross(v - u, w - u)), 0.0) << "face " << f.index << " has zero area";
+    });
+    EXPECT_TRUE(adj.nonmanifold_edges().empty());
+  }
+}
+
 TEST(TearTest, tear_from_the_border_opens_the_border) {
   SurfaceMesh mesh = test::make_grid(6, 6);
   TearOptions options;

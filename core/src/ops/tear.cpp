@@ -430,6 +430,13 @@ class Tearer {
   // Over the whole tear.
   Map<std::uint64_t, std::size_t> torn_{&arena_};  // edge -> piece that tore it
   std::vector<FaceId> region_;                           // faces examined or made
+  // Crossings that fell on one bind position (the two long edges of a needle split at the same
+  // parameter): the later vertex maps to the earlier, so the needle's tip is not a zero-area face.
+  Map<std::uint32_t, VertexId> merged_{&arena_};
+  VertexId merged(VertexId v) const {
+    for (auto it = merged_.find(v.index); it != merged_.end(); it = merged_.find(v.index)) v = it->second;
+    return v;
+  }
   std::size_t intersections_ = 0;
 };
 
@@ -619,6 +626,24 @@ void Tearer::tear_piece(const Piece& piece, std::size_t piece_index) {
     const double w[2] = {1.0 - c.t, c.t};
     note_new_vertex(c.v, c.p, src, w, 2);
     ++intersections_;
+  }
+  // A face whose lone corner has two long edges to corners a hair apart (a needle: the lips of a
+  // narrow tear, a sliver) can have both crossings rounded to one bind position: they become one
+  // vertex, and the needle's tip (a zero-area triangle) is not made. Same rule as the cut.
+  for (FaceId f : faces) {
+    const Triangle& t = mesh_.face(f);
+    VertexId ends[3];
+    int n = 0;
+    for (int k = 0; k < 3; ++k) {
+      auto cit = crossings_.find(edge_key(t[k], t[(k + 1) % 3]));
+      if (cit != crossings_.end() && cit->second.split) ends[n++] = merged(cit->second.v);
+    }
+    if (n != 2 || ends[0] == ends[1] || mesh_.position(ends[0]) != mesh_.position(ends[1])) continue;
+    merged_.emplace(std::max(ends[0], ends[1]).index, std::min(ends[0], ends[1]));
+  }
+  for (std::uint64_t key : split_keys) {
+    Crossing& c = crossings_.at(key);
+    c.v = merged(c.v);
     // An edge torn by an earlier piece stays torn in its two halves.
     auto it = torn_.find(key);
     if (it != torn_.end()) {
@@ -728,6 +753,7 @@ void Tearer::tear_piece(const Piece& piece, std::size_t piece_index) {
     const auto& pts = local.points();
     for (const auto& tri : local.triangles()) {
       const Triangle nt = {pts[tri[0]].v, pts[tri[1]].v, pts[tri[2]].v};
+      if (nt[0] == nt[1] || nt[1] == nt[2] || nt[0] == nt[2]) continue;  // a needle's tip whose crossings merged
       const FaceId nf = editor_.add_face_from(
           nt, f, {glm::vec3(pts[tri[0]].bary), glm::vec3(pts[tri[1]].bary), glm::vec3(pts[tri[2]].bary)});
       region_.push_back(nf);
