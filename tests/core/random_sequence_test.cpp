@@ -203,8 +203,8 @@ class Sequence {
                 "%zu faces at the end (%zu at the start), %zu exports validated, %.1f s\n",
                 name_.c_str(), static_cast<unsigned long long>(seed_), step_ > steps_ ? steps_ : step_, rounds_, ok_,
                 missed_, counts_[0], counts_[1], counts_[2], live_faces(), start_faces_, exports.size(), seconds);
-    std::printf("[sequence] %s open defects (cut/tear/drill): zero-area faces %zu/%zu/%zu; non-manifold cap edges %zu\n",
-                name_.c_str(), zero_area_[0], zero_area_[1], zero_area_[2], cap_overlaps_);
+    std::printf("[sequence] %s open defects (cut/tear/drill): zero-area faces %zu/%zu/%zu\n", name_.c_str(),
+                zero_area_[0], zero_area_[1], zero_area_[2]);
     // The slowest single operation of each kind (speed targets live in tests/bench; this line
     // shows a step that stalls, with its replay step).
     std::printf("[sequence] %s slowest operation (cut/tear/drill): %.0f ms (step %d) / %.0f ms (step %d) / %.0f ms (step %d); "
@@ -530,17 +530,8 @@ class Sequence {
     // Manifold where the input was.
     if (part.edge_manifold_input) {
       const auto bad = rebuilt.nonmanifold_edges();
-      // Known open defect: a cap on an open piece (one with tears or holes reaching the plane)
-      // that has faces lying in the plane can share their edges (docs/RELIABILITY.md).
-      const auto* cut = std::get_if<CutOperation>(&op_.params);
-      const bool known = cut && cut->options.cap && !strict_;
-      if (!bad.empty() && known) {
-        cap_overlaps_ += bad.size();
-        part.edge_manifold_input = false;  // from here on the primitive is not edge-manifold
-      } else {
-        ASSERT_TRUE(bad.empty()) << where << bad.size() << " non-manifold edges, e.g. " << bad[0].a.index << "-"
-                                 << bad[0].b.index;
-      }
+      ASSERT_TRUE(bad.empty()) << where << bad.size() << " non-manifold edges, e.g. " << bad[0].a.index << "-"
+                               << bad[0].b.index;
     }
     if (part.vertex_manifold_input) {
       std::sort(touched.begin(), touched.end());
@@ -620,12 +611,12 @@ class Sequence {
   bool pose_changed_ = true;
   int step_ = 0;
   std::size_t ok_ = 0, missed_ = 0, start_faces_ = 0;
-  // Known open defects (docs/RELIABILITY.md: zero-area faces, non-manifold cap edges), counted,
-  // and failures with DEEPCUT_SEQUENCE_STRICT=1. Pinched vertices always fail.
+  // Known open defect (docs/RELIABILITY.md: zero-area faces), counted, and failures with
+  // DEEPCUT_SEQUENCE_STRICT=1. Pinched vertices and non-manifold edges always fail.
   bool strict_ = env_number("DEEPCUT_SEQUENCE_STRICT", 0) != 0;
   bool trace_ = env_number("DEEPCUT_SEQUENCE_TRACE", 0) != 0;
   std::array<std::size_t, 3> zero_area_{};  // per operation kind: cut, tear, drill
-  std::size_t cap_overlaps_ = 0, rounds_ = 1;
+  std::size_t rounds_ = 1;
   std::size_t closed_walls_ = 0;       // walled drills of a closed part (each must keep it closed)
   std::array<double, 3> slowest_ms_{};  // per operation kind, one part
   std::array<int, 3> slowest_step_{};

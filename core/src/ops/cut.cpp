@@ -395,6 +395,20 @@ void Cutter::cap_piece(std::vector<FaceId>& piece, std::size_t index) {
     for (FaceId f : flat_faces) kept_flat.push_back(mesh_.face(f));
     flat_faces.clear();
     trace(rim_halfedges(index));
+    // A rim loop that runs along a kept flat face (two of its corners on the loop) would be
+    // capped over or beside that face, and cap triangles would share its edges (non-manifold
+    // edges; the random sequences found them on open pieces, SimpleSkin seed 20261982 step 321).
+    // The surface there is partly in the plane already, and a cap of the other loops could cover
+    // it as a hole, so the piece gets no cap rather than a doubled one.
+    if (!kept_flat.empty()) {
+      std::unordered_set<std::uint32_t> on_loop;
+      for (const auto& loop : loops)
+        for (std::uint32_t i : loop) on_loop.insert(verts[i].index);
+      const bool runs_along = std::any_of(kept_flat.begin(), kept_flat.end(), [&](const Triangle& t) {
+        return on_loop.count(t[0].index) + on_loop.count(t[1].index) + on_loop.count(t[2].index) >= 2;
+      });
+      if (runs_along) loops.clear();
+    }
   }
   if (!flat_faces.empty() && !loops.empty()) {
     for (FaceId f : flat_faces) editor_.remove_face(f);
