@@ -141,7 +141,10 @@ class StudioGuiTest : public QObject {
     {
       QFile file(bad);
       QVERIFY(file.open(QIODevice::WriteOnly));
-      file.write("glTF\x02\x00\x00\x00garbage that is not a glb", 36);
+      // A GLB header (magic, version 2) followed by text that is no chunk. The length comes from
+      // the literal: a hand-counted 36 read past its end (found by ASan).
+      static const char kBroken[] = "glTF\x02\x00\x00\x00garbage that is not a glb";
+      file.write(kBroken, sizeof kBroken - 1);
     }
     QString shown;
     accept_next_message_box(&shown);
