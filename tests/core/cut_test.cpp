@@ -438,13 +438,7 @@ TEST(CutTest, plane_through_a_saddle_vertex_leaves_no_pinched_vertex) {
 // to one bind position; they become one vertex, and the needle's tip beyond the plane (a face
 // with two corners at one point) is not made.
 TEST(CutTest, a_needle_split_near_its_tip_makes_no_zero_area_face) {
-  SurfaceMesh mesh;
-  const float one_up = std::nextafter(1.0f, 2.0f);
-  const VertexId x = mesh.add_vertex({0, 1, 0}), p = mesh.add_vertex({1, 0.5f, 0}), a = mesh.add_vertex({1, 1, 0}),
-                 b = mesh.add_vertex({1, one_up, 0}), q = mesh.add_vertex({1, 1.5f, 0});
-  mesh.add_face(x, p, a);
-  mesh.add_face(x, a, b);
-  mesh.add_face(x, b, q);
+  SurfaceMesh mesh = test::make_needle_fan();
   Adjacency adj = Adjacency::build(mesh);
   const CutResult r = cut_mesh(mesh, mesh.positions(), Plane{{0.5f, 0, 0}, {1, 0, 0}});
   ASSERT_EQ(r.status, OpStatus::Ok);

@@ -423,13 +423,7 @@ TEST(TearTest, tear_through_grid_vertices_and_along_edges) {
 TEST(TearTest, a_needle_torn_near_its_tip_makes_no_zero_area_face) {
   for (const float width : {0.0f, 0.02f}) {
     SCOPED_TRACE(width);
-    SurfaceMesh mesh;
-    const float one_up = std::nextafter(1.0f, 2.0f);
-    const VertexId x = mesh.add_vertex({0, 1, 0}), p = mesh.add_vertex({1, 0.5f, 0}), a = mesh.add_vertex({1, 1, 0}),
-                   b = mesh.add_vertex({1, one_up, 0}), q = mesh.add_vertex({1, 1.5f, 0});
-    mesh.add_face(x, p, a);
-    mesh.add_face(x, a, b);
-    mesh.add_face(x, b, q);
+    SurfaceMesh mesh = test::make_needle_fan();
     TearOptions options;
     options.width = width;
     Adjacency adj = Adjacency::build(mesh);

@@ -42,6 +42,17 @@ SurfaceMesh make_grid(int nx, int ny) {
   return mesh;
 }
 
+SurfaceMesh make_needle_fan() {
+  SurfaceMesh mesh;
+  const float one_up = std::nextafter(1.0f, 2.0f);
+  const VertexId x = mesh.add_vertex({0, 1, 0}), p = mesh.add_vertex({1, 0.5f, 0}), a = mesh.add_vertex({1, 1, 0}),
+                 b = mesh.add_vertex({1, one_up, 0}), q = mesh.add_vertex({1, 1.5f, 0});
+  mesh.add_face(x, p, a);
+  mesh.add_face(x, a, b);
+  mesh.add_face(x, b, q);
+  return mesh;
+}
+
 SurfaceMesh make_tube(int around, int along, float radius, float length) {
   SurfaceMesh mesh;
   auto ring = [&](int j, int i) { return VertexId(static_cast<std::uint32_t>(j * around + (i % around))); };

@@ -19,6 +19,12 @@ SurfaceMesh make_grid(int nx, int ny);
 /// Closed cylinder (tube with capped ends), consistently outward oriented.
 SurfaceMesh make_tube(int around, int along, float radius = 1.0f, float length = 2.0f);
 
+/// A needle found by the random sequences: a corner X = (0, 1, 0) fanned to four points on the
+/// line x = 1 (y = 0.5, 1, the next float above 1, 1.5), three faces. The middle face is a
+/// needle whose two far corners lie one float step apart, so a tool crossing it splits both
+/// long edges at one parameter and the two new points round to one position.
+SurfaceMesh make_needle_fan();
+
 /// A model with one skinned tube along +y and a two-joint chain with a rotation animation.
 Model make_skinned_tube_model();
 
