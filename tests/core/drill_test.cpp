@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <functional>
 #include <map>
@@ -265,7 +266,24 @@ void check_drill_into(Checked& out, const SurfaceMesh& input, const Cylinder& cy
       const Edge e = make_edge(h.rim[i], h.rim[(i + 1) % h.rim.size()]);
       if (!h.walled) {
         ASSERT_TRUE(std::binary_search(boundary.begin(), boundary.end(), e))
-            << "rim edge is not a boundary edge";
+            << "rim edge is not a boundary edge: " << e.a.index << "-" << e.b.index << " faces "
+            << adj.edge_faces(e.a, e.b).size() << " hole closed " << h.closed << " rim " << h.rim.size()
+            << " holes " << r.holes.size() << " first new " << r.first_new_vertex << [&] {
+                 std::string o;
+                 for (const Edit& ed : r.log.edits)
+                   if (const auto* sp = std::get_if<VertexSplit>(&ed))
+                     if (sp->original == e.a || sp->original == e.b || sp->copy == e.a || sp->copy == e.b)
+                       o += " split " + std::to_string(sp->original.index) + "->" + std::to_string(sp->copy.index);
+                 for (const DrillHole& h2 : r.holes)
+                   o += " [hole rim " + std::to_string(h2.rim.size()) + " walled " + std::to_string(h2.walled) +
+                        " closed " + std::to_string(h2.closed) + "]";
+                 int pos = 0;
+                 for (std::size_t j = 0; j < h.rim.size(); ++j) if (h.rim[j] == e.a || h.rim[j] == e.b) pos = int(j);
+                 o += " at " + std::to_string(pos) + " of rim:";
+                 for (int j = std::max(0, pos - 3); j < std::min<int>(int(h.rim.size()), pos + 3); ++j)
+                   o += " " + std::to_string(h.rim[j].index);
+                 return o;
+               }();
       }
     }
     // A hole the axis goes through whose rim stays on the cylinder's side is round; one that
@@ -650,9 +668,16 @@ TEST(DrillTest, a_cylinder_that_swallows_an_instance_leaves_no_empty_mesh) {
 }
 
 TEST(DrillTest, random_drills_on_every_asset_keep_all_invariants) {
-  const unsigned seed = 20261122;
+  // DEEPCUT_DRILL_SEED replays another seed (the invariants must hold for any); CI keeps this one.
+  const char* seed_env = std::getenv("DEEPCUT_DRILL_SEED");
+  const unsigned seed = seed_env ? static_cast<unsigned>(std::strtoul(seed_env, nullptr, 10)) : 20261122u;
   std::printf("drill random seed %u\n", seed);
+  // Replaying one failure: DEEPCUT_DRILL_MODEL (part of the asset's path) and DEEPCUT_DRILL_STEP
+  // (the drill's number) check only that drill; the random draws stay the same.
+  const char* only_model = std::getenv("DEEPCUT_DRILL_MODEL");
+  const char* only_step = std::getenv("DEEPCUT_DRILL_STEP");
   for (const auto& path : test::asset_models()) {
+    if (only_model && path.find(only_model) == std::string::npos) continue;
     SCOPED_TRACE(path + " (seed " + std::to_string(seed) + ")");
     const Model model = read_gltf(path);
     const std::size_t joints = model.skins.empty() ? 0 : model.skins[0].joints.size();
@@ -670,6 +695,7 @@ TEST(DrillTest, random_drills_on_every_asset_keep_all_invariants) {
           DrillOptions options;
           options.wall = i % 2 == 1;
           options.min_rim_edges = i % 5 == 2 ? 48 : 32;
+          if (only_step && std::atoi(only_step) != i) continue;
           SCOPED_TRACE("drill " + std::to_string(i));
           const Checked k = check_drill(prim.mesh, c, options, joints, (i / 2) % 2 == 0);
           if (::testing::Test::HasFatalFailure()) return;
@@ -686,6 +712,7 @@ TEST(DrillTest, random_drills_on_every_asset_keep_all_invariants) {
     // axis); the rest are round holes. On closed input every wall drill closes (check_drill
     // asserts closedness, orientation and the volume), also where closed components of the
     // input intersect each other, as the cactus' arms and trunk do.
+    if (only_step) continue;
     EXPECT_GT(hits, 50u) << "most random drills through the model hit it";
     EXPECT_GT(round, hits / 20) << "through drills make round holes";
     if (closed) {
@@ -767,6 +794,59 @@ TEST(DrillTest, rim_through_a_saddle_vertex_leaves_no_pinched_vertex) {
         at_origin += glm::length(mesh.position(VertexId(i))) < 1e-6f && !adj.vertex_faces(VertexId(i)).empty();
       EXPECT_EQ(at_origin, 2u);
       EXPECT_EQ(r.added_posed.size(), mesh.vertex_count() - r.first_new_vertex);
+    }
+}
+
+// Found by random drills with other seeds (DEEPCUT_DRILL_SEED): the corner where a D-shaped
+// rim's straight part (on the end plane at B) meets its arc. It was skipped when a crossing lay
+// within the rim spacing of it (Fox, seed 1 drill 83; cactus, seed 3 drill 35) or when it lay
+// just outside the triangle the rim bends in (cactus, seed 2 drill 15): the chord between the
+// two parts then left kept surface up to 2.5% of r inside the cylinder.
+TEST(DrillTest, rim_corner_on_an_end_plane_is_kept) {
+  const Model cactus = read_gltf(std::string(DEEPCUT_ASSETS_DIR) + "/cactus.glb");
+  const Model fox = read_gltf(std::string(DEEPCUT_ASSETS_DIR) + "/models/Fox/Fox.glb");
+  struct Case {
+    const Model* model;
+    Cylinder c;
+  };
+  const Case cases[] = {
+      {&fox, {{5.43106747f, 43.0290604f, 0.525301933f}, {9.20565319f, 15.536129f, -40.5920792f}, 14.184804f}},
+      {&cactus, {{1.30557191f, 10.2793427f, -1.0248698f}, {-1.61410236f, 4.22243118f, 1.19152451f}, 0.477234244f}},
+      {&cactus, {{1.89666462f, 5.35040665f, -1.75495446f}, {-0.600944042f, 2.68694258f, 0.668461919f}, 0.682955205f}}};
+  for (const Case& k : cases)
+    for (const bool wall : {false, true}) {
+      SCOPED_TRACE(wall ? "wall" : "no wall");
+      DrillOptions options;
+      options.wall = wall;
+      const Checked out = check_drill(k.model->meshes[0].primitives[0].mesh, k.c, options,
+                                      k.model->skins.empty() ? 0 : k.model->skins[0].joints.size(), false);
+      if (::testing::Test::HasFatalFailure()) return;
+      EXPECT_TRUE(out.intersected);
+      if (wall) {
+        EXPECT_TRUE(out.all_walled);
+      }
+    }
+}
+
+// Found by random drills (cactus, seed 2 drill 1, with a wall): where two rims meet at one vertex
+// on the cylinder, each incoming rim edge goes on with the outgoing one of its own fan. Paired the
+// other way, the rims crossed there: the shell could not be walled and, after the pinch split,
+// the hole's rim ran along an edge that no longer existed.
+TEST(DrillTest, rims_meeting_at_a_vertex_follow_their_own_fans) {
+  const Model cactus = read_gltf(std::string(DEEPCUT_ASSETS_DIR) + "/cactus.glb");
+  const Cylinder c{{7.87602472f, 6.90400934f, -5.91235971f}, {-9.16912842f, -1.46460295f, 6.17348909f}, 0.876988471f};
+  for (const bool wall : {false, true})
+    for (const bool indexed : {false, true}) {
+      SCOPED_TRACE(std::string(wall ? "wall" : "no wall") + (indexed ? ", indexed" : ""));
+      DrillOptions options;
+      options.wall = wall;
+      const Checked out = check_drill(cactus.meshes[0].primitives[0].mesh, c, options,
+                                      cactus.skins.empty() ? 0 : cactus.skins[0].joints.size(), indexed);
+      if (::testing::Test::HasFatalFailure()) return;
+      EXPECT_TRUE(out.intersected);
+      if (wall) {
+        EXPECT_TRUE(out.all_walled);
+      }
     }
 }
 

@@ -725,14 +725,53 @@ void Driller::process_face(FaceId f) {
     lp.bary = bary_of(lp.q);
     for (int k = 0; k < 3; ++k)
       if (lp.bary[k] < 1e-7) return;
+    // An end-plane corner gives way only to a rim point a hair away: without it the chord from
+    // the end-plane part to the side part of a D-shaped rim cuts the corner off, as deep as
+    // the gap (a triangle of kept surface with its centroid inside the cylinder).
+    const double gap = corner_point ? 2.0 * eps_ : sep_;
     for (const auto& b : pts)
-      if (b.on_rim && glm::length(b.p - x) < sep_) return;
+      if (b.on_rim && glm::length(b.p - x) < gap) return;
     if (!corner_point)
       for (const auto& other : rim)
         if (glm::length(other.p - x) < sep_) return;
     lp.phi = pc.phi(lp.q);
     lp.on_rim = true;
     rim.push_back(lp);
+  };
+  // Distance of a plane point inside the triangle from its nearest edge (negative outside).
+  double height[3];
+  for (int k = 0; k < 3; ++k) height[k] = area2 / std::max(glm::length(tq[(k + 2) % 3] - tq[(k + 1) % 3]), 1e-300);
+  auto clearance = [&](const glm::dvec2& q) {
+    const glm::dvec3 b = bary_of(q);
+    return std::min({b.x * height[0], b.y * height[1], b.z * height[2]});
+  };
+  // The corner where the rim's straight part (on an end plane) meets its arc. One lying just
+  // outside the triangle (within a rim spacing: an edge grazes the hole there, too shallowly to
+  // be cut, or cuts off the corner alone) still bends the rim inside: the rim then gets the
+  // first points of both parts 2 tolerances inside, or the chord between the two parts'
+  // crossings cuts the corner off (kept surface up to a few % of r inside the cylinder).
+  auto end_corner = [&](double a_cap, double hh, double sign) {
+    const glm::dvec2 qc(a_cap, pc.b0 + sign * hh);
+    const double out = -clearance(qc);
+    if (out <= 0.0 || out > sep_) {
+      consider(pc.point(qc.x, qc.y), true);
+      return;
+    }
+    const double margin = 2.0 * eps_, toward = pc.ac > a_cap ? 1.0 : -1.0;
+    for (int part = 0; part < 2; ++part)
+      for (double t = margin; t < hh; t *= 2.0) {
+        glm::dvec2 q(a_cap, pc.b0 + sign * (hh - t));  // along the end plane's line
+        if (part == 1) {  // along the arc
+          q.x = a_cap + toward * t;
+          const double e = pc.parallel ? 0.0 : (q.x - pc.a0) / pc.ra;
+          if (std::abs(e) >= 1.0) break;
+          q.y = pc.b0 + sign * pc.rb * std::sqrt(1.0 - e * e);
+        }
+        if (clearance(q) >= margin) {
+          consider(pc.point(q.x, q.y), true);
+          break;
+        }
+      }
   };
   std::array<std::pair<double, double>, 2> chords{};  // (a, half length) on each end plane
   if (pc.c1 > 0.0) {  // end-plane corners first, so rulings next to them give way
@@ -743,10 +782,8 @@ void Driller::process_face(FaceId f) {
         hh = pc.rb;
       else if (std::abs(a_cap - pc.a0) < pc.ra)
         hh = pc.rb * std::sqrt(1.0 - std::pow((a_cap - pc.a0) / pc.ra, 2.0));
-      if (hh > 0.0) {
-        consider(pc.point(a_cap, pc.b0 + hh), true);
-        consider(pc.point(a_cap, pc.b0 - hh), true);
-      }
+      if (hh > 0.0)
+        for (const double sign : {1.0, -1.0}) end_corner(a_cap, hh, sign);
       chords[s_cap > 0.0 ? 1 : 0] = {a_cap, hh};
     }
   }
@@ -967,25 +1004,64 @@ void Driller::collect_holes(DrillResult& result) {
   std::sort(starts.begin(), starts.end());
   // Open chains first (from vertices nothing leads to), then closed loops.
   std::stable_partition(starts.begin(), starts.end(), [&](std::uint32_t v) { return indegree[v] == 0; });
-  std::unordered_map<std::uint32_t, std::size_t> taken;  // outgoing edges used per vertex
+  // Where several rims meet at one vertex (a vertex on the cylinder whose surface the hole pinches,
+  // or two holes touching there), each incoming rim edge continues with the outgoing one of its
+  // own fan: turning around the vertex through the kept faces from the incoming edge's face to
+  // the next boundary edge. Pairing them otherwise crosses the rims there (they cannot be walled,
+  // and after the pinch split the rim would jump between the vertex's copies).
+  std::unordered_map<std::uint64_t, std::uint32_t> third;  // half-edge a->b of a kept face: its third corner
+  auto add_face = [&](const Triangle& t) {
+    for (int k = 0; k < 3; ++k) third[directed(t[k], t[(k + 1) % 3])] = t[(k + 2) % 3].index;
+  };
+  for (const Edit& e : editor_.log().edits)
+    if (const auto* fa = std::get_if<FaceAdded>(&e))
+      if (!mesh_.is_deleted(fa->f)) add_face(mesh_.face(fa->f));
+  for (FaceId f : candidates_)
+    if (!mesh_.is_deleted(f)) add_face(mesh_.face(f));
+  std::unordered_map<std::uint32_t, std::vector<char>> used;  // per outgoing rim edge
+  for (const auto& [v, next] : rim_next_) used[v].assign(next.size(), 0);
+  // The outgoing rim edge of `cur` in the fan of prev->cur (used or not; -1 when the faces
+  // around do not say).
+  auto fan_next = [&](std::uint32_t prev, std::uint32_t cur) -> int {
+    const auto& next = rim_next_[cur];
+    std::uint32_t from = prev;  // turn from the face holding prev->cur
+    for (std::size_t guard = 0; guard < 256; ++guard) {
+      const auto it = third.find(directed(VertexId(from), VertexId(cur)));
+      if (it == third.end()) return -1;
+      const std::uint32_t out = it->second;  // cur->out is the next half-edge of that face
+      int found = -1;
+      for (std::size_t i = 0; i < next.size(); ++i)
+        if (next[i] == out && (found < 0 || !used[cur][i])) found = static_cast<int>(i);
+      if (found >= 0) return found;
+      if (out == prev) return -1;  // went all the way round
+      from = out;  // across cur->out to the face holding out->cur
+    }
+    return -1;
+  };
   for (std::uint32_t s : starts) {
-    while (taken[s] < rim_next_[s].size()) {
+    for (std::size_t first = 0; first < rim_next_[s].size(); ++first) {
+      if (used[s][first]) continue;
+      used[s][first] = 1;
       DrillHole hole;
-      std::uint32_t cur = s;
-      hole.rim.push_back(VertexId(cur));
+      hole.rim.push_back(VertexId(s));
+      std::uint32_t prev = s, cur = rim_next_[s][first];
+      hole.closed = false;
       while (true) {
-        auto it = rim_next_.find(cur);
-        if (it == rim_next_.end() || taken[cur] >= it->second.size()) {
-          hole.closed = false;
-          break;
-        }
-        const std::uint32_t nxt = it->second[taken[cur]++];
-        if (nxt == s) {
+        const auto it = rim_next_.find(cur);
+        const int fan = it == rim_next_.end() ? -1 : fan_next(prev, cur);
+        if (cur == s && (fan < 0 || fan == static_cast<int>(first))) {  // back through the start's own fan
           hole.closed = true;
           break;
         }
-        hole.rim.push_back(VertexId(nxt));
-        cur = nxt;
+        hole.rim.push_back(VertexId(cur));
+        if (it == rim_next_.end()) break;
+        int i = fan >= 0 && !used[cur][static_cast<std::size_t>(fan)] ? fan : -1;
+        for (std::size_t j = 0; j < it->second.size() && i < 0; ++j)
+          if (!used[cur][j]) i = static_cast<int>(j);
+        if (i < 0) break;
+        used[cur][static_cast<std::size_t>(i)] = 1;
+        prev = cur;
+        cur = it->second[static_cast<std::size_t>(i)];
       }
       if (hole.closed) {
         double turn = 0.0;
