@@ -850,4 +850,32 @@ TEST(DrillTest, rims_meeting_at_a_vertex_follow_their_own_fans) {
     }
 }
 
+// Found by random drills with other seeds (walled drills of closed input that stayed open):
+// - cactus, seed 4 drill 11: two rims of one shell touching at a vertex on the cylinder; the
+//   hole loop was given to no outer loop, judged at the shared vertex (winding number there is
+//   0 or 1 by rounding).
+// - RiggedSimple, seed 4 drill 15: a layer that only clips the cylinder's end circle cuts a thin
+//   lens; without a point on its arc the rim was the straight part and its chord, a hole of zero
+//   area no wall can close.
+TEST(DrillTest, walls_close_rims_that_touch_and_thin_lenses_at_an_end) {
+  const Model cactus = read_gltf(std::string(DEEPCUT_ASSETS_DIR) + "/cactus.glb");
+  const Model simple = read_gltf(std::string(DEEPCUT_ASSETS_DIR) + "/models/RiggedSimple/RiggedSimple.gltf");
+  struct Case {
+    const Model* model;
+    Cylinder c;
+  };
+  const Case cases[] = {
+      {&cactus, {{-1.70535243f, 9.63420868f, 4.90398598f}, {1.43953931f, 4.25307465f, -5.2903614f}, 0.674046218f}},
+      {&simple, {{2.87141538f, -0.539521337f, 3.19743991f}, {-1.04472518f, 0.391219884f, -4.29873753f}, 0.587547898f}}};
+  for (const Case& k : cases) {
+    DrillOptions options;
+    options.wall = true;
+    const Checked out = check_drill(k.model->meshes[0].primitives[0].mesh, k.c, options,
+                                    k.model->skins.empty() ? 0 : k.model->skins[0].joints.size(), false);
+    if (::testing::Test::HasFatalFailure()) return;
+    EXPECT_TRUE(out.intersected);
+    EXPECT_TRUE(out.all_walled);
+  }
+}
+
 }  // namespace deepcut

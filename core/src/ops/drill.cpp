@@ -788,6 +788,7 @@ void Driller::process_face(FaceId f) {
     }
   }
   int arc_rulings = 0;  // rulings whose point in this plane lies between the end planes
+  const std::size_t before_rulings = rim.size();
   if (!pc.parallel) {
     for (int k = 0; k < samples_; ++k) {
       const glm::dvec3& base = ruling_base_[static_cast<std::size_t>(k)];
@@ -796,6 +797,15 @@ void Driller::process_face(FaceId f) {
       ++arc_rulings;
       consider(base + sv * cyl_.d, false);
     }
+  }
+  const bool arc_sampled = rim.size() > before_rulings;
+  // A layer that only clips the cylinder's rim edge (one end plane, no ruling point kept between
+  // the end planes here) cuts a thin lens: without a point on its arc (the ellipse's apex, taken before
+  // the straight part's points, which give way to it) the chord between the corners would run
+  // along the straight part, a hole of zero area (a slit no wall can close).
+  if (!pc.parallel && !arc_sampled && (chords[0].second > 0.0) != (chords[1].second > 0.0)) {
+    const double a_cap = chords[0].second > 0.0 ? chords[0].first : chords[1].first;
+    consider(pc.point(a_cap < pc.ac ? pc.a0 + pc.ra : pc.a0 - pc.ra, pc.b0), false);
   }
   // A layer that crosses an end disk gets a D-shaped rim: its straight part on the end plane is
   // sampled at the rim spacing, and densely enough (down to half of it) that the whole D has
@@ -1451,9 +1461,20 @@ bool Driller::wall_shell(const std::vector<std::size_t>& hole_ids, const DrillRe
   for (std::size_t hidx = 0; hidx < loops.size(); ++hidx) {
     if (area[hidx] > 0.0) continue;
     std::size_t owner = loops.size();
-    for (std::size_t o : outers)
-      if (winding(xy, {loops[o]}, xy[loops[hidx][0]]) != 0 && (owner == loops.size() || area[o] < area[owner]))
+    for (std::size_t o : outers) {
+      // Judged at a corner of the hole that is not on the outer loop: rims can touch at a vertex
+      // on the cylinder, where the winding number is that of the boundary (0 or 1 by rounding).
+      std::size_t probe = loops[hidx].size();
+      for (std::size_t i = 0; i < loops[hidx].size() && probe == loops[hidx].size(); ++i) {
+        const WallPt& w = pts[loops[hidx][i]];
+        bool shared = false;
+        for (auto j : loops[o]) shared |= pts[j].v == w.v || xy[j] == xy[loops[hidx][i]];
+        if (!shared) probe = i;
+      }
+      if (probe == loops[hidx].size()) continue;
+      if (winding(xy, {loops[o]}, xy[loops[hidx][probe]]) != 0 && (owner == loops.size() || area[o] < area[owner]))
         owner = o;
+    }
     if (owner == loops.size()) return false;
     holes_of[owner].push_back(hidx);
   }
