@@ -878,4 +878,35 @@ TEST(DrillTest, walls_close_rims_that_touch_and_thin_lenses_at_an_end) {
   }
 }
 
+// Found by the random sequences (zero-area faces after drills): a needle whose two long edges
+// run from X to corners one float step apart. The circle crosses both edges nearer X than the
+// far corners, where both crossings round to one bind position; they become one vertex, and the
+// needle's kept tip (a face with two corners at one point) is not made.
+TEST(DrillTest, a_rim_across_a_needle_makes_no_zero_area_face) {
+  for (const bool indexed : {false, true}) {
+    SCOPED_TRACE(indexed ? "indexed" : "scan");
+    SurfaceMesh mesh = test::make_needle_fan();  // X (0,1,0); far corners at x = 1
+    const std::vector<glm::vec3> posed = mesh.positions();
+    const TriangleGrid grid = TriangleGrid::build(mesh, posed);
+    Adjacency adj = Adjacency::build(mesh);
+    // Axis along z through (1.3, 1): the circle of radius 0.9 crosses the needle at x = 0.4.
+    const DrillResult r =
+        drill_mesh(mesh, posed, Cylinder{{1.3f, 1, -1}, {1.3f, 1, 1}, 0.9f}, {}, indexed ? &grid : nullptr);
+    ASSERT_EQ(r.status, OpStatus::Ok);
+    adj.apply(r.log);
+    test::expect_adjacency_matches_rebuild(adj, mesh);
+    test::expect_valid(mesh);
+    std::size_t at_tip = 0;  // used vertices where the needle is crossed
+    for (std::uint32_t i = 0; i < mesh.vertex_count(); ++i)
+      at_tip += glm::distance(mesh.position(VertexId(i)), glm::vec3(0.4f, 1, 0)) < 1e-6f &&
+                !adj.vertex_faces(VertexId(i)).empty();
+    EXPECT_EQ(at_tip, 1u) << "both crossings of the needle are one vertex";
+    mesh.for_each_face([&](FaceId f, const Triangle& t) {
+      const glm::dvec3 u(mesh.position(t[0])), v(mesh.position(t[1])), w(mesh.position(t[2]));
+      EXPECT_GT(glm::length(glm::cross(v - u, w - u)), 0.0) << "face " << f.index << " has zero area";
+      for (const VertexId c : t) EXPECT_GE(glm::distance(glm::vec2(mesh.position(c)), glm::vec2(1.3f, 1)), 0.9f * 0.99f);
+    });
+  }
+}
+
 }  // namespace deepcut

@@ -453,6 +453,11 @@ class Driller {
     return v.index < first_new_ ? glm::dvec3(posed_[v.index]) : added_posed_[v.index - first_new_];
   }
   const EdgeCut& edge(VertexId a, VertexId b);
+  void merge_crossings(FaceId f);
+  VertexId merged(VertexId v) const {
+    for (auto it = merged_.find(v.index); it != merged_.end(); it = merged_.find(v.index)) v = it->second;
+    return v;
+  }
   void process_face(FaceId f);
   void emit_polygon(FaceId f, const Triangle& tri, std::vector<LocalPoint>& pts,
                     const std::vector<std::vector<std::uint32_t>>& loops);
@@ -512,6 +517,9 @@ class Driller {
   std::deque<EdgeCut> edge_cuts_;
   int edge_shift_ = 64;
   std::vector<FaceId> candidates_;  // faces near the cylinder, in processing order
+  // Crossings that fell on one bind position (the two long edges of a needle crossed at the same
+  // parameter): the later vertex maps to the earlier, so the needle's tip is not a zero-area face.
+  std::unordered_map<std::uint32_t, VertexId> merged_;
   std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> rim_next_;  // directed rim edges
   std::size_t crossings_ = 0, removed_ = 0, added_ = 0;
   // Wall faces: 0 tube, 1 disk; vertex normals of the tube are accumulated over tube faces.
@@ -636,6 +644,23 @@ VertexId Driller::vertex_of(const Triangle& tri, LocalPoint& lp) {
   return lp.v;
 }
 
+// Crosses a candidate's edges (in the order process_face asks for them). A face whose corner has
+// two long edges to corners a hair apart (a needle: the lips of a narrow tear, a sliver) can have
+// the crossings nearest that corner rounded to one bind position: they become one vertex, and
+// the needle's tip (a zero-area triangle) is not made. Same rule as the cut and the tear.
+void Driller::merge_crossings(FaceId f) {
+  const Triangle tri = mesh_.face(f);
+  for (int k = 0; k < 3; ++k) edge(tri[k], tri[(k + 1) % 3]);
+  for (int k = 0; k < 3; ++k) {
+    const VertexId x = tri[k];
+    const EdgeCut ea = edge(x, tri[(k + 1) % 3]), eb = edge(x, tri[(k + 2) % 3]);
+    if (ea.n == 0 || eb.n == 0) continue;
+    const VertexId a = merged(ea.lo == x ? ea.v[0] : ea.v[ea.n - 1]);
+    const VertexId b = merged(eb.lo == x ? eb.v[0] : eb.v[eb.n - 1]);
+    if (a != b && mesh_.position(a) == mesh_.position(b)) merged_.emplace(std::max(a, b).index, std::min(a, b));
+  }
+}
+
 void Driller::process_face(FaceId f) {
   const Triangle tri = mesh_.face(f);
   const glm::dvec3 corner[3] = {posed(tri[0]), posed(tri[1]), posed(tri[2])};
@@ -658,7 +683,7 @@ void Driller::process_face(FaceId f) {
       const int j = forward ? i : e.n - 1 - i;
       const double t = forward ? e.t[j] : 1.0 - e.t[j];  // from corner k to corner k1
       LocalPoint x;
-      x.v = e.v[j];
+      x.v = merged(e.v[j]);
       x.p = added_posed_[e.v[j].index - first_new_];
       x.bary = glm::dvec3(0.0);
       x.bary[k] = 1.0 - t;
@@ -954,6 +979,7 @@ void Driller::emit_polygon(FaceId f, const Triangle& tri, std::vector<LocalPoint
   }
   for (auto& lp : pts) vertex_of(tri, lp);
   for (const auto& t : tris) {
+    if (pts[t[0]].v == pts[t[1]].v || pts[t[1]].v == pts[t[2]].v || pts[t[0]].v == pts[t[2]].v) continue;  // merged tip
     editor_.add_face_from({pts[t[0]].v, pts[t[1]].v, pts[t[2]].v}, f,
                           {glm::vec3(pts[t[0]].bary), glm::vec3(pts[t[1]].bary), glm::vec3(pts[t[2]].bary)});
     ++added_;
@@ -1890,6 +1916,7 @@ DrillResult Driller::run() {
     });
   }
   size_edge_table(3 * candidates.size() + 3);  // every edge looked up is a candidate's
+  for (FaceId f : candidates) merge_crossings(f);
   for (FaceId f : candidates) process_face(f);
   if (editor_.log().empty()) {
     result.status = OpStatus::NoIntersection;
