@@ -174,25 +174,13 @@ namespace {
 std::vector<glm::mat4> vertex_matrices(const Model& model, int node, const SurfaceMesh& mesh,
                                        const std::vector<glm::mat4>& world) {
   const Node& n = model.nodes.at(static_cast<std::size_t>(node));
-  const auto& va = mesh.vertex_attrs();
-  const auto* j0 = va.find<glm::u16vec4>(attr::kJoints0);
-  const auto* w0 = va.find<glm::vec4>(attr::kWeights0);
-  if (n.skin < 0 || static_cast<std::size_t>(n.skin) >= model.skins.size() || !j0 || !w0) return {};
-  const auto* j1 = va.find<glm::u16vec4>(attr::kJoints1);
-  const auto* w1 = va.find<glm::vec4>(attr::kWeights1);
+  if (n.skin < 0 || static_cast<std::size_t>(n.skin) >= model.skins.size()) return {};
   const auto joints = joint_matrices(model, n.skin, world);
+  const SkinBlend blend(mesh, joints);
+  if (!blend.skinned()) return {};
   std::vector<glm::mat4> out(mesh.vertex_count());
   parallel_for(out.size(), kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t v = b; v < e; ++v) {
-      glm::mat4 m(0.0f);
-      auto add = [&](const glm::u16vec4& j, const glm::vec4& w) {
-        for (int c = 0; c < 4; ++c)
-          if (w[c] != 0.0f && j[c] < joints.size()) m += w[c] * joints[j[c]];
-      };
-      add((*j0)[v], (*w0)[v]);
-      if (j1 && w1) add((*j1)[v], (*w1)[v]);
-      out[v] = m;
-    }
+    for (std::size_t v = b; v < e; ++v) out[v] = blend.matrix(v);
   });
   return out;
 }

@@ -394,15 +394,8 @@ class Sequence {
     }
     const auto& drill = std::get<DrillOperation>(op_.params);
     const Unposer unpose = [&part](const SurfaceMesh& m, VertexId v, const glm::vec3& p) {
-      glm::mat4 skin(0.0f);
-      const auto* j0 = m.vertex_attrs().find<glm::u16vec4>(attr::kJoints0);
-      const auto* w0 = m.vertex_attrs().find<glm::vec4>(attr::kWeights0);
-      const bool skinned = !part.joints.empty() && j0 && w0;
-      if (skinned)
-        for (int c = 0; c < 4; ++c)
-          if ((*w0)[v.index][c] != 0.0f && (*j0)[v.index][c] < part.joints.size())
-            skin += (*w0)[v.index][c] * part.joints[(*j0)[v.index][c]];
-      const glm::dmat4 inv = glm::inverse(glm::dmat4(skinned ? skin : part.node_world));
+      const SkinBlend blend(m, part.joints);
+      const glm::dmat4 inv = glm::inverse(glm::dmat4(blend.skinned() ? blend.matrix(v.index) : part.node_world));
       const glm::dvec4 b = inv * glm::dvec4(glm::dvec3(p), 1.0);
       return std::isfinite(b.x) && std::isfinite(b.y) && std::isfinite(b.z) ? glm::vec3(b) : p;
     };

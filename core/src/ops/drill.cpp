@@ -2018,21 +2018,8 @@ ModelDrillResult drill_model(Model& model, const Cylinder& cylinder, const Drill
       const auto posed = posed_positions(model, static_cast<int>(ni), copy, world);
       // Inverse of the vertex's blended skinning (or of the node's world matrix).
       const Unposer unpose = [&](const SurfaceMesh& m, VertexId v, const glm::vec3& p) {
-        glm::mat4 skin(0.0f);
-        const auto* j0 = m.vertex_attrs().find<glm::u16vec4>(attr::kJoints0);
-        const auto* w0 = m.vertex_attrs().find<glm::vec4>(attr::kWeights0);
-        bool skinned = !joints.empty() && j0 && w0;
-        if (skinned) {
-          auto add = [&](const glm::u16vec4& j, const glm::vec4& w) {
-            for (int c = 0; c < 4; ++c)
-              if (w[c] != 0.0f && j[c] < joints.size()) skin += w[c] * joints[j[c]];
-          };
-          add((*j0)[v.index], (*w0)[v.index]);
-          const auto* j1 = m.vertex_attrs().find<glm::u16vec4>(attr::kJoints1);
-          const auto* w1 = m.vertex_attrs().find<glm::vec4>(attr::kWeights1);
-          if (j1 && w1) add((*j1)[v.index], (*w1)[v.index]);
-        }
-        const glm::mat4 mat = skinned ? skin : node_world;
+        const SkinBlend blend(m, joints);  // per call: the drill grows the mesh between calls
+        const glm::mat4 mat = blend.skinned() ? blend.matrix(v.index) : node_world;
         const glm::dmat4 inv = glm::inverse(glm::dmat4(mat));
         const glm::dvec4 b = inv * glm::dvec4(glm::dvec3(p), 1.0);
         return std::isfinite(b.x) && std::isfinite(b.y) && std::isfinite(b.z) ? glm::vec3(b) : p;

@@ -1242,16 +1242,15 @@ namespace {
 void instance_pose(const Model& model, int node, const SurfaceMesh& mesh, const std::vector<glm::mat4>& world,
                    std::vector<glm::vec3>& posed, std::vector<glm::mat3>& linear) {
   const Node& n = model.nodes.at(static_cast<std::size_t>(node));
-  const auto& va = mesh.vertex_attrs();
-  const auto* j0 = va.find<glm::u16vec4>(attr::kJoints0);
-  const auto* w0 = va.find<glm::vec4>(attr::kWeights0);
-  const auto* j1 = va.find<glm::u16vec4>(attr::kJoints1);
-  const auto* w1 = va.find<glm::vec4>(attr::kWeights1);
   const auto& p = mesh.positions();
   posed.resize(p.size());
   linear.resize(p.size());
   constexpr std::size_t kGrain = 16384;
-  if (n.skin < 0 || static_cast<std::size_t>(n.skin) >= model.skins.size() || !j0 || !w0) {
+  std::vector<glm::mat4> joints;
+  if (n.skin >= 0 && static_cast<std::size_t>(n.skin) < model.skins.size())
+    joints = joint_matrices(model, n.skin, world);
+  const SkinBlend blend(mesh, joints);
+  if (!blend.skinned()) {
     const glm::mat4& m = world.at(static_cast<std::size_t>(node));
     parallel_for(p.size(), kGrain, [&](std::size_t b, std::size_t e) {
       for (std::size_t v = b; v < e; ++v) {
@@ -1261,16 +1260,9 @@ void instance_pose(const Model& model, int node, const SurfaceMesh& mesh, const 
     });
     return;
   }
-  const auto joints = joint_matrices(model, n.skin, world);
   parallel_for(p.size(), kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t v = b; v < e; ++v) {
-      glm::mat4 m(0.0f);
-      auto add = [&](const glm::u16vec4& j, const glm::vec4& w) {
-        for (int c = 0; c < 4; ++c)
-          if (w[c] != 0.0f && j[c] < joints.size()) m += w[c] * joints[j[c]];
-      };
-      add((*j0)[v], (*w0)[v]);
-      if (j1 && w1) add((*j1)[v], (*w1)[v]);
+      const glm::mat4 m = blend.matrix(v);
       posed[v] = glm::vec3(m * glm::vec4(p[v], 1.0f));
       linear[v] = glm::mat3(m);
     }

@@ -29,6 +29,44 @@ std::vector<glm::mat4> world_matrices(const Model& model, const Pose& pose);
 /// Joint matrices of `skin` (world(joint) * inverseBind), one per joint.
 std::vector<glm::mat4> joint_matrices(const Model& model, int skin, const std::vector<glm::mat4>& world);
 
+/// Linear blend skinning of one mesh's vertices: its JOINTS_0/WEIGHTS_0 (and _1) looked up once,
+/// then the blended matrix of any vertex. The one place the blend is written (posing, the tear's
+/// per-vertex frames, the drill's inverse skinning of new wall vertices).
+class SkinBlend {
+ public:
+  /// @param joints  joint matrices of the skin (joint_matrices); kept by reference.
+  SkinBlend(const SurfaceMesh& mesh, const std::vector<glm::mat4>& joints)
+      : joints_(joints),
+        j0_(mesh.vertex_attrs().find<glm::u16vec4>(attr::kJoints0)),
+        w0_(mesh.vertex_attrs().find<glm::vec4>(attr::kWeights0)),
+        j1_(mesh.vertex_attrs().find<glm::u16vec4>(attr::kJoints1)),
+        w1_(mesh.vertex_attrs().find<glm::vec4>(attr::kWeights1)) {
+    if (!j1_ || !w1_) j1_ = nullptr, w1_ = nullptr;
+  }
+  /// False when there is nothing to blend (no joints, or no JOINTS_0/WEIGHTS_0): callers use the
+  /// node's world matrix instead.
+  bool skinned() const { return !joints_.empty() && j0_ && w0_; }
+  /// Sum of the vertex's joint matrices weighted by its weights; zero weights and joints past the
+  /// skin are skipped (as glTF viewers do). @pre skinned().
+  glm::mat4 matrix(std::size_t v) const {
+    glm::mat4 m(0.0f);
+    add(m, (*j0_)[v], (*w0_)[v]);
+    if (j1_) add(m, (*j1_)[v], (*w1_)[v]);
+    return m;
+  }
+
+ private:
+  void add(glm::mat4& m, const glm::u16vec4& j, const glm::vec4& w) const {
+    for (int c = 0; c < 4; ++c)
+      if (w[c] != 0.0f && j[c] < joints_.size()) m += w[c] * joints_[j[c]];
+  }
+  const std::vector<glm::mat4>& joints_;
+  const AttributeArray<glm::u16vec4>* j0_;
+  const AttributeArray<glm::vec4>* w0_;
+  const AttributeArray<glm::u16vec4>* j1_;
+  const AttributeArray<glm::vec4>* w1_;
+};
+
 /// World-space positions of the vertices of `mesh`, drawn by node `node` (mesh instance):
 /// linear blend skinning when the node has a skin (the node's own transform is ignored, as
 /// glTF requires), the node's world matrix otherwise.
