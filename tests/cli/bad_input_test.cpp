@@ -185,7 +185,14 @@ class BadInputTest : public ::testing::TestWithParam<Expectation> {
 }  // namespace
 
 TEST_P(BadInputTest, info_and_convert_refuse_or_handle_it) {
-  const Expectation& e = GetParam();
+  Expectation e = GetParam();
+  // A build without the static formats plugin (DEEPCUT_BUILD_VTK=OFF, e.g. the quick sanitizer
+  // run) refuses every static file, good or bad, saying it cannot read that kind of file.
+  std::string unreadable;
+  if (!DEEPCUT_HAVE_STATIC_FORMATS && std::string(e.file).rfind("static/", 0) == 0) {
+    unreadable = "cannot read ." + fs::path(e.file).extension().string().substr(1) + " files";
+    e = {e.file, kRefused, unreadable.c_str()};
+  }
   const std::string path = kBadDir + "/" + e.file;
   ASSERT_TRUE(fs::exists(path)) << "missing from the catalogue; run python3 scripts/make_bad_inputs.py";
   const std::string name = fs::path(e.file).filename().string();

@@ -228,6 +228,9 @@ TEST_F(CliTest, malformed_input_gives_exit_2_and_one_line) {
     doc["buffers"][0]["uri"] = "../../../../../../etc/passwd";
     add_json("escape.gltf", doc, "outside the model's folder");
   }
+  // A mesh format no build reads: named, with what this build reads, not a glTF parse error.
+  std::ofstream(dir_ + "/scene.FBX", std::ios::binary) << std::string("Kaydara FBX Binary  \0\x1a\0", 23);
+  cases.push_back({"scene.FBX", "cannot read .fbx files (it reads .glb .gltf"});
   cases.push_back({"missing.glb", "no such file"});
 
   for (const auto& c : cases) {
