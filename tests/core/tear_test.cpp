@@ -440,6 +440,41 @@ TEST(TearTest, a_needle_torn_near_its_tip_makes_no_zero_area_face) {
   }
 }
 
+// Found by the random sequences (RiggedFigure, a zero-area face after a tear): a needle whose
+// two far corners lie a few float steps apart, near y = 0, torn across near its middle with a
+// width. The two crossings stay apart (a sliver between them), but the opening moves both along
+// the blade's normal, which has a y part: at the larger y they round onto one point and the
+// sliver loses its area. Such a face keeps its lips where they were.
+TEST(TearTest, opening_a_tear_across_a_needle_makes_no_zero_area_face) {
+  for (int steps = 2; steps <= 8; steps += 2)
+    for (const float width : {0.02f, 0.05f}) {
+      SCOPED_TRACE("far corners " + std::to_string(steps) + " float steps apart, width " + std::to_string(width));
+      SurfaceMesh mesh;
+      float y = 1e-3f;
+      for (int i = 0; i < steps; ++i) y = std::nextafter(y, 1.0f);
+      const VertexId x = mesh.add_vertex({0, 0, 0}), p = mesh.add_vertex({1, -0.5f, 0}),
+                     a = mesh.add_vertex({1, 1e-3f, 0}), b = mesh.add_vertex({1, y, 0}), q = mesh.add_vertex({1, 0.5f, 0});
+      mesh.add_face(x, p, a);
+      mesh.add_face(x, a, b);
+      mesh.add_face(x, b, q);
+      TearOptions options;
+      options.width = width;
+      Adjacency adj = Adjacency::build(mesh);
+      // The blade's plane: normal (1, 1, 0) through (0.5, 5e-4, 0), swept across the needle.
+      const glm::vec3 c(0.5f, 5e-4f, 0.0f), along(0.15f, -0.15f, 0.0f);
+      const Blade start{c - along + glm::vec3(0, 0, 1), c - along - glm::vec3(0, 0, 1)};
+      const Blade end{c + along + glm::vec3(0, 0, 1), c + along - glm::vec3(0, 0, 1)};
+      const TearCheck t = check_tear(mesh, start, end, options, 1, &adj);
+      ASSERT_EQ(t.result.status, OpStatus::Ok);
+      EXPECT_EQ(t.result.slits, 1u);
+      EXPECT_GT(t.result.opening, 0.0f);
+      mesh.for_each_face([&](FaceId f, const Triangle& tri) {
+        const glm::dvec3 u(mesh.position(tri[0])), v(mesh.position(tri[1])), w(mesh.position(tri[2]));
+        EXPECT_GT(glm::length(glm::cross(v - u, w - u)), 0.0) << "face " << f.index << " has zero area";
+      });
+    }
+}
+
 TEST(TearTest, tear_from_the_border_opens_the_border) {
   SurfaceMesh mesh = test::make_grid(6, 6);
   TearOptions options;

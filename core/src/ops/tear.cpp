@@ -629,16 +629,28 @@ void Tearer::tear_piece(const Piece& piece, std::size_t piece_index) {
   }
   // A face whose lone corner has two long edges to corners a hair apart (a needle: the lips of a
   // narrow tear, a sliver) can have both crossings rounded to one bind position: they become one
-  // vertex, and the needle's tip (a zero-area triangle) is not made. Same rule as the cut.
+  // vertex, and the needle's tip (a zero-area triangle) is not made. Same rule as the cut. The
+  // tear also merges two crossings closer than its tolerance (posed) when the slit crosses the
+  // face without stopping in it: left apart, they bound a sliver a few float steps wide, which
+  // the opening (moving both along the blade's normal) would round to zero area.
+  Set<std::uint32_t> stops(&arena_);  // faces the slit starts or ends in
+  for (const FacePlan& plan : plans)
+    if (!plan.interior.empty()) stops.insert(plan.f.index);
   for (FaceId f : faces) {
     const Triangle& t = mesh_.face(f);
     VertexId ends[3];
+    glm::dvec3 at[3];
     int n = 0;
     for (int k = 0; k < 3; ++k) {
       auto cit = crossings_.find(edge_key(t[k], t[(k + 1) % 3]));
-      if (cit != crossings_.end() && cit->second.split) ends[n++] = merged(cit->second.v);
+      if (cit != crossings_.end() && cit->second.split) {
+        at[n] = cit->second.p;
+        ends[n++] = merged(cit->second.v);
+      }
     }
-    if (n != 2 || ends[0] == ends[1] || mesh_.position(ends[0]) != mesh_.position(ends[1])) continue;
+    if (n != 2 || ends[0] == ends[1]) continue;
+    const bool close = glm::length(at[1] - at[0]) <= tol_ && !stops.count(f.index);
+    if (!close && mesh_.position(ends[0]) != mesh_.position(ends[1])) continue;
     merged_.emplace(std::max(ends[0], ends[1]).index, std::min(ends[0], ends[1]));
   }
   for (std::uint64_t key : split_keys) {
@@ -1145,6 +1157,46 @@ void Tearer::separate_and_open(TearResult& result) {
       }
       if (!flipped) break;
     }
+    // Bind positions after the opening, as stored (float). Two lip vertices a few float steps
+    // apart (the crossings of a needle, a sliver's corners) moved together can round onto one
+    // point, which the check above (posed, in double) cannot see: a face that would lose its
+    // area keeps its lips where they were, until no face does.
+    std::vector<glm::vec3> target(lips.size());
+    std::vector<bool> moving(lips.size(), false);
+    for (std::size_t i = 0; i < lips.size(); ++i) {
+      if (glm::length(lips[i].move) == 0.0) continue;
+      const glm::mat3 m = linear(lips[i].v);
+      if (std::abs(glm::determinant(m)) < 1e-12f) continue;
+      target[i] = mesh_.position(lips[i].v) + glm::inverse(m) * glm::vec3(lips[i].move);
+      moving[i] = true;
+    }
+    auto has_area = [](const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
+      const glm::dvec3 x(a), y(b), z(c);
+      return glm::length(glm::cross(y - x, z - x)) > 0.0;
+    };
+    for (bool again = true; again;) {
+      again = false;
+      for (FaceId f : check) {
+        const Triangle& t = mesh_.face(f);
+        glm::vec3 p[3];
+        bool moved = false;
+        std::uint32_t lip[3];
+        for (int k = 0; k < 3; ++k) {
+          auto it = lip_of.find(t[k].index);
+          lip[k] = it == lip_of.end() ? kInvalidIndex : static_cast<std::uint32_t>(it->second);
+          moved |= lip[k] != kInvalidIndex && moving[lip[k]];
+          p[k] = lip[k] != kInvalidIndex && moving[lip[k]] ? target[lip[k]] : mesh_.position(t[k]);
+        }
+        if (!moved || has_area(p[0], p[1], p[2]) ||
+            !has_area(mesh_.position(t[0]), mesh_.position(t[1]), mesh_.position(t[2])))
+          continue;
+        for (std::uint32_t l : lip)
+          if (l != kInvalidIndex) moving[l] = false;
+        again = true;
+      }
+    }
+    for (std::size_t i = 0; i < lips.size(); ++i)
+      if (!moving[i]) lips[i].move = glm::dvec3(0.0);
     // The opening achieved: the widest gap between two copies of one slit vertex.
     Map<std::uint32_t, std::vector<glm::dvec3>> moves_of(&arena_);
     for (const Lip& lip : lips) moves_of[lip.of].push_back(lip.move);
@@ -1153,13 +1205,8 @@ void Tearer::separate_and_open(TearResult& result) {
       for (std::size_t i = 0; i < moves.size(); ++i)
         for (std::size_t j = i + 1; j < moves.size(); ++j) opening = std::max(opening, glm::length(moves[i] - moves[j]));
     result.opening = static_cast<float>(opening);
-    for (const Lip& lip : lips) {
-      if (glm::length(lip.move) == 0.0) continue;
-      const glm::mat3 m = linear(lip.v);
-      if (std::abs(glm::determinant(m)) < 1e-12f) continue;
-      const glm::vec3 bind_move = glm::inverse(m) * glm::vec3(lip.move);
-      editor_.move_vertex(lip.v, mesh_.position(lip.v) + bind_move);
-    }
+    for (std::size_t i = 0; i < lips.size(); ++i)
+      if (moving[i]) editor_.move_vertex(lips[i].v, target[i]);
   }
 }
 
