@@ -203,8 +203,6 @@ class Sequence {
                 "%zu faces at the end (%zu at the start), %zu exports validated, %.1f s\n",
                 name_.c_str(), static_cast<unsigned long long>(seed_), step_ > steps_ ? steps_ : step_, rounds_, ok_,
                 missed_, counts_[0], counts_[1], counts_[2], live_faces(), start_faces_, exports.size(), seconds);
-    std::printf("[sequence] %s open defects (cut/tear/drill): zero-area faces %zu/%zu/%zu\n", name_.c_str(),
-                zero_area_[0], zero_area_[1], zero_area_[2]);
     // The slowest single operation of each kind (speed targets live in tests/bench; this line
     // shows a step that stalls, with its replay step).
     std::printf("[sequence] %s slowest operation (cut/tear/drill): %.0f ms (step %d) / %.0f ms (step %d) / %.0f ms (step %d); "
@@ -470,7 +468,7 @@ class Sequence {
       if (type == typeid(glm::vec4)) check(mesh.corner_attrs().find<glm::vec4>(name), 4);
       if (::testing::Test::HasFatalFailure()) return;
     }
-    // New faces: not degenerate (repeated vertex or zero area, in bind space and posed), and no
+    // New faces: not degenerate (a repeated vertex, or zero area in bind space: what is stored), and no
     // face uses the same three vertices as another live face.
     std::unordered_set<std::array<std::uint32_t, 3>, KeyHash> keys;
     mesh.for_each_face([&](FaceId, const Triangle& t) { keys.insert(sorted_key(t)); });
@@ -482,10 +480,8 @@ class Sequence {
         const Triangle& t = mesh.face(a->f);
         ASSERT_FALSE(t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) << where << "new face " << a->f.index << " repeats a vertex";
         const glm::dvec3 x(mesh.position(t[0])), y(mesh.position(t[1])), z(mesh.position(t[2]));
-        if (!(glm::length(glm::cross(y - x, z - x)) > 0.0)) {
-          ++zero_area_[kind_];
-          if (strict_) FAIL() << where << "new face " << a->f.index << " has zero area: vertices " << describe(mesh, part.posed, t);
-        }
+        ASSERT_TRUE(glm::length(glm::cross(y - x, z - x)) > 0.0)
+            << where << "new face " << a->f.index << " has zero area: vertices " << describe(mesh, part.posed, t);
         for (const VertexId v : t) touched.push_back(v);
       } else if (const auto* r = std::get_if<FaceRemoved>(&e)) {
         for (const VertexId v : r->vertices) touched.push_back(v);
@@ -607,11 +603,7 @@ class Sequence {
   bool pose_changed_ = true;
   int step_ = 0;
   std::size_t ok_ = 0, missed_ = 0, start_faces_ = 0;
-  // Known open defect (docs/RELIABILITY.md: zero-area faces), counted, and failures with
-  // DEEPCUT_SEQUENCE_STRICT=1. Pinched vertices and non-manifold edges always fail.
-  bool strict_ = env_number("DEEPCUT_SEQUENCE_STRICT", 0) != 0;
   bool trace_ = env_number("DEEPCUT_SEQUENCE_TRACE", 0) != 0;
-  std::array<std::size_t, 3> zero_area_{};  // per operation kind: cut, tear, drill
   std::size_t rounds_ = 1;
   std::size_t closed_walls_ = 0;       // walled drills of a closed part (each must keep it closed)
   std::array<double, 3> slowest_ms_{};  // per operation kind, one part
