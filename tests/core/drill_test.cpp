@@ -878,6 +878,40 @@ TEST(DrillTest, walls_close_rims_that_touch_and_thin_lenses_at_an_end) {
   }
 }
 
+// Found by the random sequences (RiggedSimple seed 1 step 237, a zero-area face after a walled
+// drill): the circle crosses both long edges of a needle twice. The crossings nearer the far
+// corners (one float step apart) round to one bind position too; they become one vertex, so the
+// kept part at the needle's far end is one triangle, not one plus a face with two corners at one
+// point.
+TEST(DrillTest, a_hole_inside_a_needle_makes_no_zero_area_face) {
+  for (const bool wall : {false, true}) {
+    SCOPED_TRACE(wall ? "walled" : "no wall");
+    SurfaceMesh mesh = test::make_needle_fan();  // X (0,1,0); far corners at x = 1
+    const std::vector<glm::vec3> posed = mesh.positions();
+    Adjacency adj = Adjacency::build(mesh);
+    // Axis along z through (0.2, 1): the circle of radius 0.1 crosses the needle at x = 0.1 and
+    // x = 0.3, where both edges' crossings round to y = 1.
+    DrillOptions options;
+    options.wall = wall;
+    const DrillResult r = drill_mesh(mesh, posed, Cylinder{{0.2f, 1, -1}, {0.2f, 1, 1}, 0.1f}, options);
+    ASSERT_EQ(r.status, OpStatus::Ok);
+    adj.apply(r.log);
+    test::expect_adjacency_matches_rebuild(adj, mesh);
+    test::expect_valid(mesh);
+    for (const float x : {0.1f, 0.3f}) {
+      std::size_t used = 0;  // used vertices where the needle is crossed
+      for (std::uint32_t i = 0; i < mesh.vertex_count(); ++i)
+        used += glm::distance(mesh.position(VertexId(i)), glm::vec3(x, 1, 0)) < 1e-6f &&
+                !adj.vertex_faces(VertexId(i)).empty();
+      EXPECT_EQ(used, 1u) << "both crossings of the needle at x = " << x << " are one vertex";
+    }
+    mesh.for_each_face([&](FaceId f, const Triangle& t) {
+      const glm::dvec3 u(mesh.position(t[0])), v(mesh.position(t[1])), w(mesh.position(t[2]));
+      EXPECT_GT(glm::length(glm::cross(v - u, w - u)), 0.0) << "face " << f.index << " has zero area";
+    });
+  }
+}
+
 // Found by the random sequences (zero-area faces after drills): a needle whose two long edges
 // run from X to corners one float step apart. The circle crosses both edges nearer X than the
 // far corners, where both crossings round to one bind position; they become one vertex, and the

@@ -646,18 +646,20 @@ VertexId Driller::vertex_of(const Triangle& tri, LocalPoint& lp) {
 
 // Crosses a candidate's edges (in the order process_face asks for them). A face whose corner has
 // two long edges to corners a hair apart (a needle: the lips of a narrow tear, a sliver) can have
-// the crossings nearest that corner rounded to one bind position: they become one vertex, and
-// the needle's tip (a zero-area triangle) is not made. Same rule as the cut and the tear.
+// crossings of the two edges rounded to one bind position: they become one vertex, and the
+// needle's tip, or the kept part at its far end when the circle crosses each edge twice (a
+// triangle with two corners at one point), is not made. Same rule as the cut and the tear.
 void Driller::merge_crossings(FaceId f) {
   const Triangle tri = mesh_.face(f);
   for (int k = 0; k < 3; ++k) edge(tri[k], tri[(k + 1) % 3]);
   for (int k = 0; k < 3; ++k) {
     const VertexId x = tri[k];
     const EdgeCut ea = edge(x, tri[(k + 1) % 3]), eb = edge(x, tri[(k + 2) % 3]);
-    if (ea.n == 0 || eb.n == 0) continue;
-    const VertexId a = merged(ea.lo == x ? ea.v[0] : ea.v[ea.n - 1]);
-    const VertexId b = merged(eb.lo == x ? eb.v[0] : eb.v[eb.n - 1]);
-    if (a != b && mesh_.position(a) == mesh_.position(b)) merged_.emplace(std::max(a, b).index, std::min(a, b));
+    for (int i = 0; i < ea.n; ++i)
+      for (int j = 0; j < eb.n; ++j) {
+        const VertexId a = merged(ea.v[i]), b = merged(eb.v[j]);
+        if (a != b && mesh_.position(a) == mesh_.position(b)) merged_.emplace(std::max(a, b).index, std::min(a, b));
+      }
   }
 }
 
