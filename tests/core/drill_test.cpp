@@ -943,4 +943,56 @@ TEST(DrillTest, a_rim_across_a_needle_makes_no_zero_area_face) {
   }
 }
 
+// A vertex on the cylinder that the drill pinches is split before the rims are traced (without a
+// wall); its copy is a new vertex, but the faces moved onto it keep their old edges. An old
+// boundary edge from it to another old vertex on the cylinder is not rim: the rim stops there,
+// where it joins the boundary the input already had.
+TEST(DrillTest, an_old_boundary_edge_at_a_split_vertex_is_not_rim) {
+  for (const bool indexed : {false, true}) {
+    SCOPED_TRACE(indexed ? "indexed" : "scan");
+    SurfaceMesh mesh;
+    // The saddle of rim_through_a_saddle_vertex_leaves_no_pinched_vertex, opened between +x and +y:
+    // the boundary edge v-w lies along the line where the cylinder touches z = 0.
+    const VertexId v = mesh.add_vertex({0, 0, 0}), w = mesh.add_vertex({0.5f, 0, 0});
+    const VertexId py = mesh.add_vertex({0, 1, -1}), mx = mesh.add_vertex({-1, 0, 1}), my = mesh.add_vertex({0, -1, -1}),
+                   my2 = mesh.add_vertex({0.3f, -1, -1}), px = mesh.add_vertex({1, 0, 1});
+    mesh.add_face(v, my, my2);  // untouched, lowest id: the -y wedge keeps v, the +y wedge gets the copy
+    mesh.add_face(v, mx, my);
+    mesh.add_face(v, my2, px);
+    mesh.add_face(v, w, py);
+    mesh.add_face(v, py, mx);
+    const Adjacency before = Adjacency::build(mesh);
+    const auto old_boundary = before.boundary_edges();
+    ASSERT_TRUE(std::binary_search(old_boundary.begin(), old_boundary.end(), make_edge(v, w)));
+    const std::vector<glm::vec3> posed = mesh.positions();
+    const TriangleGrid grid = TriangleGrid::build(mesh, posed);
+    const std::uint32_t old_count = static_cast<std::uint32_t>(mesh.vertex_count());
+    const DrillResult r =
+        drill_mesh(mesh, posed, Cylinder{{-2, 0, 0.6f}, {2, 0, 0.6f}, 0.6f}, {}, indexed ? &grid : nullptr);
+    ASSERT_EQ(r.status, OpStatus::Ok);
+    test::expect_valid(mesh);
+    std::map<std::uint32_t, std::uint32_t> original;
+    std::size_t splits = 0;
+    for (const Edit& e : r.log.edits)
+      if (const auto* sp = std::get_if<VertexSplit>(&e)) {
+        original[sp->copy.index] = sp->original.index;
+        ++splits;
+      }
+    EXPECT_EQ(splits, 1u) << "the saddle vertex is split";
+    EXPECT_FALSE(r.holes.empty());
+    auto base = [&](VertexId x) {
+      const auto it = original.find(x.index);
+      return VertexId(it == original.end() ? x.index : it->second);
+    };
+    for (const DrillHole& h : r.holes)
+      for (std::size_t i = 0; i + 1 < h.rim.size() + (h.closed ? 1 : 0); ++i) {
+        const VertexId a = base(h.rim[i]), b = base(h.rim[(i + 1) % h.rim.size()]);
+        if (a.index >= old_count || b.index >= old_count) continue;
+        EXPECT_FALSE(std::binary_search(old_boundary.begin(), old_boundary.end(), make_edge(a, b)))
+            << "rim step " << h.rim[i].index << "->" << h.rim[(i + 1) % h.rim.size()].index
+            << " is the old boundary edge " << a.index << "-" << b.index;
+      }
+  }
+}
+
 }  // namespace deepcut

@@ -521,6 +521,7 @@ class Driller {
   // parameter): the later vertex maps to the earlier, so the needle's tip is not a zero-area face.
   std::unordered_map<std::uint32_t, VertexId> merged_;
   std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> rim_next_;  // directed rim edges
+  std::unordered_map<std::uint32_t, std::uint32_t> copy_of_;  // pinch-split copy -> original (no wall)
   std::size_t crossings_ = 0, removed_ = 0, added_ = 0;
   // Wall faces: 0 tube, 1 disk; vertex normals of the tube are accumulated over tube faces.
   std::vector<std::pair<FaceId, int>> wall_faces_;
@@ -1007,7 +1008,14 @@ void Driller::collect_holes(DrillResult& result) {
   auto contains = [](const std::vector<std::uint64_t>& list, std::uint64_t key) {
     return std::binary_search(list.begin(), list.end(), key);
   };
+  // A copy the pinch split made of an old vertex is new, but the faces moved onto it keep their
+  // old edges: both are judged by the original (an old boundary edge at a split vertex is not rim).
+  auto base = [&](VertexId v) {
+    const auto it = copy_of_.find(v.index);
+    return it == copy_of_.end() ? v : VertexId(it->second);
+  };
   auto on_rim = [&](VertexId v) {
+    v = base(v);
     return v.index >= first_new_ || std::abs(cyl_.sd(posed(v))) <= 2.0 * eps_;
   };
   // Faces the drill left alone can border the hole too: an old edge that lies on the cylinder
@@ -1021,7 +1029,8 @@ void Driller::collect_holes(DrillResult& result) {
   std::sort(untouched.begin(), untouched.end());
   auto consider = [&](VertexId a, VertexId b) {
     if (!on_rim(a) || !on_rim(b) || contains(added, directed(b, a)) || contains(untouched, directed(b, a))) return;
-    if (a.index < first_new_ && b.index < first_new_ && !contains(removed, directed(b, a))) return;
+    const VertexId oa = base(a), ob = base(b);
+    if (oa.index < first_new_ && ob.index < first_new_ && !contains(removed, directed(ob, oa))) return;
     rim_next_[a.index].push_back(b.index);
   };
   for (const Edit& e : editor_.log().edits) {
@@ -1174,6 +1183,9 @@ void flip_on_surface(std::vector<LocalTri>& tris, const std::vector<glm::dvec3>&
     }
     if (c == d || half.count(key(c, d)) || half.count(key(d, c)) || forbidden(c, d)) continue;
     if (angle_at(p[a], p[b], p[c]) + angle_at(p[a], p[b], p[d]) <= kPi + 1e-9) continue;
+    // On a curved surface both diagonals of a quad can fail the test: flip only to one that
+    // passes it, or the two would be flipped back and forth until the guard.
+    if (angle_at(p[c], p[d], p[a]) + angle_at(p[c], p[d], p[b]) >= kPi - 1e-9) continue;
     const glm::dvec3 n_old = glm::cross(p[b] - p[a], p[c] - p[a]) + glm::cross(p[a] - p[b], p[d] - p[b]);
     const glm::dvec3 n1 = glm::cross(p[d] - p[a], p[c] - p[a]), n2 = glm::cross(p[b] - p[d], p[c] - p[d]);
     if (glm::dot(n1, n_old) <= 0.0 || glm::dot(n2, n_old) <= 0.0) continue;
@@ -1937,7 +1949,8 @@ DrillResult Driller::run() {
     }
     return pinches;
   };
-  if (!options_.wall) split_pinches();
+  if (!options_.wall)
+    for (const auto& [v, c] : split_pinches().copies) copy_of_.emplace(c.index, v.index);
   collect_holes(result);
   if (options_.wall) {
     build_walls(result);
