@@ -638,5 +638,15 @@ TEST_P(RandomSequenceTest, random_cut_tear_drill_sequence_keeps_every_invariant)
 INSTANTIATE_TEST_SUITE_P(Assets, RandomSequenceTest, ::testing::ValuesIn(model_names()),
                          [](const ::testing::TestParamInfo<std::string>& param) { return param.param; });
 
+// Replays of other seeds that found a defect, up to the step that showed it (seconds each).
+// Fox seed 5 step 225: a tear around a spike's tip (a three-face cone whose every edge the slit
+// crosses) merged two of the tip's three crossings because they lay within its tolerance; the
+// tip's other two faces became one triangle twice, reversed (duplicate faces).
+TEST(RandomSequenceReplay, fox_seed_5_a_tear_around_a_spike_tip_makes_no_duplicate_face) {
+  const std::string path = model_path("Fox");
+  ASSERT_FALSE(path.empty());
+  Sequence(path, 5, 225).run();
+}
+
 }  // namespace
 }  // namespace deepcut

@@ -636,22 +636,56 @@ void Tearer::tear_piece(const Piece& piece, std::size_t piece_index) {
   Set<std::uint32_t> stops(&arena_);  // faces the slit starts or ends in
   for (const FacePlan& plan : plans)
     if (!plan.interior.empty()) stops.insert(plan.f.index);
+  // A close merge (not one forced by rounding) must not leave fewer than three crossings around a
+  // corner the slit cuts off whole (every edge at it crossed, each in two of these faces: a
+  // spike's tip). Its faces would become one triangle twice, reversed (Fox seed 5 step 225).
+  Map<std::uint32_t, std::vector<std::uint64_t>> corner_edges(&arena_);  // edge keys at a corner, once per face
+  for (FaceId f : faces) {
+    const Triangle& t = mesh_.face(f);
+    for (int k = 0; k < 3; ++k) {
+      corner_edges[t[k].index].push_back(edge_key(t[k], t[(k + 1) % 3]));
+      corner_edges[t[k].index].push_back(edge_key(t[k], t[(k + 2) % 3]));
+    }
+  }
+  auto ring_after_merge = [&](VertexId x, VertexId a, VertexId b) {
+    std::vector<std::uint64_t> keys = corner_edges[x.index];
+    std::sort(keys.begin(), keys.end());
+    std::vector<std::uint32_t> ring;
+    for (std::size_t i = 0; i < keys.size(); i += 2) {
+      if (i + 1 >= keys.size() || keys[i] != keys[i + 1] || (i + 2 < keys.size() && keys[i + 2] == keys[i]))
+        return std::size_t(3);  // an edge at x in one face only (or three): x is not cut off whole
+      auto cit = crossings_.find(keys[i]);
+      if (cit == crossings_.end() || !cit->second.split) return std::size_t(3);  // an edge at x stays whole
+      VertexId v = merged(cit->second.v);
+      if (v == b) v = a;
+      ring.push_back(v.index);
+    }
+    std::sort(ring.begin(), ring.end());
+    return static_cast<std::size_t>(std::unique(ring.begin(), ring.end()) - ring.begin());
+  };
   for (FaceId f : faces) {
     const Triangle& t = mesh_.face(f);
     VertexId ends[3];
     glm::dvec3 at[3];
+    int crossed[3];
     int n = 0;
     for (int k = 0; k < 3; ++k) {
       auto cit = crossings_.find(edge_key(t[k], t[(k + 1) % 3]));
       if (cit != crossings_.end() && cit->second.split) {
         at[n] = cit->second.p;
+        crossed[n] = k;
         ends[n++] = merged(cit->second.v);
       }
     }
     if (n != 2 || ends[0] == ends[1]) continue;
-    const bool close = glm::length(at[1] - at[0]) <= tol_ && !stops.count(f.index);
-    if (!close && mesh_.position(ends[0]) != mesh_.position(ends[1])) continue;
-    merged_.emplace(std::max(ends[0], ends[1]).index, std::min(ends[0], ends[1]));
+    const VertexId lo = std::min(ends[0], ends[1]), hi = std::max(ends[0], ends[1]);
+    if (mesh_.position(ends[0]) != mesh_.position(ends[1])) {
+      if (glm::length(at[1] - at[0]) > tol_ || stops.count(f.index)) continue;
+      // The corner both crossed edges share: edges k and k+1 (mod 3) meet at corner k+1.
+      const VertexId x = t[(crossed[0] + 1) % 3 == crossed[1] ? crossed[1] : crossed[0]];
+      if (ring_after_merge(x, lo, hi) < 3) continue;
+    }
+    merged_.emplace(hi.index, lo);
   }
   for (std::uint64_t key : split_keys) {
     Crossing& c = crossings_.at(key);
