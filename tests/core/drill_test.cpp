@@ -367,6 +367,14 @@ Checked check_drill(const SurfaceMesh& input, const Cylinder& cyl, const DrillOp
   return out;
 }
 
+/// check_drill on the first primitive of an asset model (the decoded replays of random drills).
+Checked check_asset_drill(const Model& model, const Cylinder& cyl, bool wall, bool use_index) {
+  DrillOptions options;
+  options.wall = wall;
+  return check_drill(model.meshes[0].primitives[0].mesh, cyl, options,
+                     model.skins.empty() ? 0 : model.skins[0].joints.size(), use_index);
+}
+
 }  // namespace
 
 TEST(DrillTest, small_hole_inside_one_big_triangle_is_round) {
@@ -816,10 +824,7 @@ TEST(DrillTest, rim_corner_on_an_end_plane_is_kept) {
   for (const Case& k : cases)
     for (const bool wall : {false, true}) {
       SCOPED_TRACE(wall ? "wall" : "no wall");
-      DrillOptions options;
-      options.wall = wall;
-      const Checked out = check_drill(k.model->meshes[0].primitives[0].mesh, k.c, options,
-                                      k.model->skins.empty() ? 0 : k.model->skins[0].joints.size(), false);
+      const Checked out = check_asset_drill(*k.model, k.c, wall, false);
       if (::testing::Test::HasFatalFailure()) return;
       EXPECT_TRUE(out.intersected);
       if (wall) {
@@ -838,10 +843,7 @@ TEST(DrillTest, rims_meeting_at_a_vertex_follow_their_own_fans) {
   for (const bool wall : {false, true})
     for (const bool indexed : {false, true}) {
       SCOPED_TRACE(std::string(wall ? "wall" : "no wall") + (indexed ? ", indexed" : ""));
-      DrillOptions options;
-      options.wall = wall;
-      const Checked out = check_drill(cactus.meshes[0].primitives[0].mesh, c, options,
-                                      cactus.skins.empty() ? 0 : cactus.skins[0].joints.size(), indexed);
+      const Checked out = check_asset_drill(cactus, c, wall, indexed);
       if (::testing::Test::HasFatalFailure()) return;
       EXPECT_TRUE(out.intersected);
       if (wall) {
@@ -868,10 +870,7 @@ TEST(DrillTest, walls_close_rims_that_touch_and_thin_lenses_at_an_end) {
       {&cactus, {{-1.70535243f, 9.63420868f, 4.90398598f}, {1.43953931f, 4.25307465f, -5.2903614f}, 0.674046218f}},
       {&simple, {{2.87141538f, -0.539521337f, 3.19743991f}, {-1.04472518f, 0.391219884f, -4.29873753f}, 0.587547898f}}};
   for (const Case& k : cases) {
-    DrillOptions options;
-    options.wall = true;
-    const Checked out = check_drill(k.model->meshes[0].primitives[0].mesh, k.c, options,
-                                    k.model->skins.empty() ? 0 : k.model->skins[0].joints.size(), false);
+    const Checked out = check_asset_drill(*k.model, k.c, true, false);
     if (::testing::Test::HasFatalFailure()) return;
     EXPECT_TRUE(out.intersected);
     EXPECT_TRUE(out.all_walled);
@@ -1005,10 +1004,7 @@ TEST(DrillTest, a_ruling_beyond_a_grazed_edge_keeps_its_rim_point) {
   for (const bool wall : {false, true})
     for (const bool indexed : {false, true}) {
       SCOPED_TRACE(std::string(wall ? "wall" : "no wall") + (indexed ? ", indexed" : ""));
-      DrillOptions options;
-      options.wall = wall;
-      const Checked out = check_drill(simple.meshes[0].primitives[0].mesh, c, options,
-                                      simple.skins.empty() ? 0 : simple.skins[0].joints.size(), indexed);
+      const Checked out = check_asset_drill(simple, c, wall, indexed);
       if (::testing::Test::HasFatalFailure()) return;
       EXPECT_EQ(out.round_holes, 1u) << "check_drill counts its rim edges";
     }
