@@ -55,6 +55,13 @@ void AttributeSet::gather(const std::vector<std::uint32_t>& keep) {
   size_ = keep.size();
 }
 
+AttributeSet AttributeSet::subset(const std::vector<std::uint32_t>& keep) const {
+  AttributeSet out;
+  for (const auto& [name, array] : arrays_) out.arrays_.emplace(name, array->clone_subset(keep));
+  out.size_ = keep.size();
+  return out;
+}
+
 std::vector<std::string> AttributeSet::names() const {
   std::vector<std::string> out;
   out.reserve(arrays_.size());

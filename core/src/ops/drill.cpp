@@ -28,6 +28,7 @@
 #include <unordered_set>
 
 #include "deepcut/core/mesh_editor.h"
+#include "deepcut/core/model_index.h"
 #include "deepcut/core/skinning.h"
 #include "ops/pieces.h"
 #include "ops/pinches.h"
@@ -2023,36 +2024,39 @@ DrillResult drill_mesh(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, c
   return Driller(mesh, posed, cylinder, options, index, unpose).run();
 }
 
-namespace {
-
-}  // namespace
-
 ModelDrillResult drill_model(Model& model, const Cylinder& cylinder, const DrillOptions& options,
-                             int animation, float time) {
+                             int animation, float time, ModelIndex* index) {
   check_arguments(cylinder, options);
   const Pose pose = sample_pose(model, animation, time);
   const auto world = world_matrices(model, pose);
+  if (index) index->prepare(model, animation, time);
   ModelDrillResult result;
   result.status = OpStatus::NoIntersection;
   std::vector<int> mesh_users(model.meshes.size(), 0);
   for (const auto& n : model.nodes)
     if (n.mesh >= 0 && static_cast<std::size_t>(n.mesh) < model.meshes.size()) ++mesh_users[n.mesh];
   int cut_material = -1;
+  std::vector<glm::vec3> own_posed;
   for (std::size_t ni = 0; ni < model.nodes.size(); ++ni) {
     const int mi = model.nodes[ni].mesh;
     if (mi < 0 || static_cast<std::size_t>(mi) >= model.meshes.size()) continue;
-    const Node& node = model.nodes[ni];
+    const int node_id = static_cast<int>(ni);
     std::vector<glm::mat4> joints;
-    if (node.skin >= 0 && static_cast<std::size_t>(node.skin) < model.skins.size())
-      joints = joint_matrices(model, node.skin, world);
+    if (model.nodes[ni].skin >= 0 && static_cast<std::size_t>(model.nodes[ni].skin) < model.skins.size())
+      joints = joint_matrices(model, model.nodes[ni].skin, world);
     const glm::mat4 node_world = world.at(ni);
-    Mesh out;
-    out.name = model.meshes[mi].name;
-    out.extras_json = model.meshes[mi].extras_json;
+    // The primitives are drilled in place (no copy, no re-extraction: the cost follows the hole);
+    // a mesh drawn by several instances is drilled on a copy that this instance then owns.
+    const bool shared = mesh_users[mi] > 1;
+    Mesh copy;
+    Mesh& target = shared ? (copy = model.meshes[mi], copy) : model.meshes[mi];
+    std::vector<Primitive> walls;
     bool any = false;
-    for (const auto& prim : model.meshes[mi].primitives) {
-      SurfaceMesh copy = prim.mesh;
-      const auto posed = posed_positions(model, static_cast<int>(ni), copy, world);
+    for (std::size_t pi = 0; pi < target.primitives.size(); ++pi) {
+      Primitive& prim = target.primitives[pi];
+      ModelIndex::Instance* inst = index ? index->find(node_id, static_cast<int>(pi)) : nullptr;
+      if (!inst) own_posed = posed_positions(model, node_id, prim.mesh, world);
+      const std::vector<glm::vec3>& posed = inst ? inst->posed : own_posed;
       // Inverse of the vertex's blended skinning (or of the node's world matrix).
       const Unposer unpose = [&](const SurfaceMesh& m, VertexId v, const glm::vec3& p) {
         const SkinBlend blend(m, joints);  // per call: the drill grows the mesh between calls
@@ -2061,11 +2065,10 @@ ModelDrillResult drill_model(Model& model, const Cylinder& cylinder, const Drill
         const glm::dvec4 b = inv * glm::dvec4(glm::dvec3(p), 1.0);
         return std::isfinite(b.x) && std::isfinite(b.y) && std::isfinite(b.z) ? glm::vec3(b) : p;
       };
-      const DrillResult r = drill_mesh(copy, posed, cylinder, options, nullptr, unpose);
-      if (r.status == OpStatus::NoIntersection) {
-        out.primitives.push_back(prim);
-        continue;
-      }
+      // Faces flagged before the drill (a mesh made in code) go to the wall too, as new ones do.
+      const bool flagged_before = prim.mesh.face_attrs().contains(attr::kCutSurface);
+      DrillResult r = drill_mesh(prim.mesh, posed, cylinder, options, inst ? &inst->grid : nullptr, unpose);
+      if (r.status == OpStatus::NoIntersection) continue;
       any = true;
       result.status = OpStatus::Ok;
       result.intersection_points += r.intersection_points;
@@ -2076,37 +2079,61 @@ ModelDrillResult drill_model(Model& model, const Cylinder& cylinder, const Drill
         result.rim_vertices.push_back(h.rim.size());
         result.unwalled_holes += options.wall && !h.walled;
       }
-      const auto* flag = copy.face_attrs().find<std::uint8_t>(attr::kCutSurface);
-      std::vector<FaceId> body, wall;
-      copy.for_each_face(
-          [&](FaceId f, const Triangle&) { (flag && (*flag)[f.index] ? wall : body).push_back(f); });
-      auto add = [&](const std::vector<FaceId>& faces, int material) {
-        if (faces.empty()) return;
-        Primitive p;
-        p.mesh = detail::extract(copy, faces);
-        p.mesh.face_attrs().remove(attr::kCutSurface);
-        p.material = material;
-        p.extras_json = prim.extras_json;
-        out.primitives.push_back(std::move(p));
-      };
-      add(body, prim.material);
-      if (!wall.empty() && cut_material < 0) cut_material = detail::cut_surface_material(model);
-      add(wall, cut_material);
+      // Wall faces move to a primitive of their own (the "Cut surface" material): gathered from
+      // the log, extracted at the wall's cost, and removed from the body through the editor.
+      std::vector<FaceId> wall;
+      if (const auto* flag = prim.mesh.face_attrs().find<std::uint8_t>(attr::kCutSurface)) {
+        if (flagged_before) {
+          prim.mesh.for_each_face([&](FaceId f, const Triangle&) {
+            if ((*flag)[f.index]) wall.push_back(f);
+          });
+        } else {
+          for (const Edit& e : r.log.edits)
+            if (const auto* a = std::get_if<FaceAdded>(&e))
+              if (!prim.mesh.is_deleted(a->f) && (*flag)[a->f.index]) wall.push_back(a->f);
+          std::sort(wall.begin(), wall.end());
+        }
+      }
+      if (!wall.empty()) {
+        Primitive w;
+        w.mesh = detail::extract(prim.mesh, wall);
+        w.mesh.face_attrs().remove(attr::kCutSurface);
+        if (cut_material < 0) cut_material = detail::cut_surface_material(model);
+        w.material = cut_material;
+        w.extras_json = prim.extras_json;
+        walls.push_back(std::move(w));
+        MeshEditor editor(prim.mesh);
+        for (FaceId f : wall) editor.remove_face(f);
+        r.log.append(editor.take_log());
+      }
+      prim.mesh.face_attrs().remove(attr::kCutSurface);
+      if (inst) index->follow(model, node_id, static_cast<int>(pi), prim.mesh, r.log);
     }
     if (!any) continue;
-    if (out.primitives.empty()) {  // the cylinder swallowed the whole instance: it draws nothing now
+    // Primitives the cylinder swallowed go; the walls follow the primitives.
+    for (std::size_t pi = target.primitives.size(); pi-- > 0;)
+      if (target.primitives[pi].mesh.face_count() == 0) {
+        target.primitives.erase(target.primitives.begin() + static_cast<std::ptrdiff_t>(pi));
+        if (index) index->erase_primitive(node_id, static_cast<int>(pi));
+      }
+    const std::size_t first_wall = target.primitives.size();
+    for (auto& w : walls) target.primitives.push_back(std::move(w));
+    if (target.primitives.empty()) {  // the cylinder swallowed the whole instance: it draws nothing now
       if (--mesh_users[mi] == 0) model.meshes[mi].primitives.clear();
       model.nodes[ni].mesh = -1;
       model.nodes[ni].skin = -1;
+      if (index) index->erase_node(node_id);
       continue;
     }
-    if (mesh_users[mi] > 1) {
+    const std::size_t primitives = target.primitives.size();
+    if (shared) {
       --mesh_users[mi];
-      model.meshes.push_back(std::move(out));
+      model.meshes.push_back(std::move(copy));
       model.nodes[ni].mesh = static_cast<int>(model.meshes.size() - 1);
-    } else {
-      model.meshes[mi] = std::move(out);
+      if (index) index->rename_mesh(node_id, model.nodes[ni].mesh);
     }
+    if (index)
+      for (std::size_t pi = first_wall; pi < primitives; ++pi) index->add(model, node_id, static_cast<int>(pi));
   }
   return result;
 }

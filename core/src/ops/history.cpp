@@ -160,7 +160,7 @@ std::string history_to_json(const History& history) {
   return json{{"operations", ops}}.dump();
 }
 
-OperationReport apply_operation(Model& model, const Operation& operation) {
+OperationReport apply_operation(Model& model, const Operation& operation, ModelIndex* index) {
   OperationReport report;
   const int animation = operation.animation >= 0 && model.animations.empty() ? -1 : operation.animation;
   std::visit(
@@ -168,6 +168,8 @@ OperationReport apply_operation(Model& model, const Operation& operation) {
         using T = std::decay_t<decltype(p)>;
         if constexpr (std::is_same_v<T, CutOperation>) {
           const ModelCutResult r = cut_model(model, p.plane, p.options, animation, operation.time);
+          // The cut rebuilds meshes and adds nodes: the next operation indexes the model anew.
+          if (index && r.status == OpStatus::Ok) index->invalidate();
           report.status = r.status;
           report.summary_json = json{{"op", "cut"},
                                      {"status", to_string(r.status)},
@@ -175,7 +177,7 @@ OperationReport apply_operation(Model& model, const Operation& operation) {
                                      {"pieces", r.piece_nodes.size()}}
                                     .dump();
         } else if constexpr (std::is_same_v<T, TearOperation>) {
-          const ModelTearResult r = tear_model(model, p.start, p.end, p.options, animation, operation.time);
+          const ModelTearResult r = tear_model(model, p.start, p.end, p.options, animation, operation.time, index);
           report.status = r.status;
           report.summary_json = json{{"op", "tear"},
                                      {"status", to_string(r.status)},
@@ -185,7 +187,7 @@ OperationReport apply_operation(Model& model, const Operation& operation) {
                                      {"width", r.width}}
                                     .dump();
         } else if constexpr (std::is_same_v<T, DrillOperation>) {
-          const ModelDrillResult r = drill_model(model, p.cylinder, p.options, animation, operation.time);
+          const ModelDrillResult r = drill_model(model, p.cylinder, p.options, animation, operation.time, index);
           report.status = r.status;
           report.summary_json = json{{"op", "drill"},
                                      {"status", to_string(r.status)},

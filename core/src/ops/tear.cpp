@@ -309,7 +309,7 @@ class LocalTriangulation {
 class Tearer {
  public:
   Tearer(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const std::vector<glm::mat3>& skin_linear,
-         const TearOptions& options, const TriangleGrid* index)
+         const TearOptions& options, const TriangleGrid* index, const BoundingBox* posed_bounds)
       : mesh_(mesh),
         editor_(mesh),
         options_(options),
@@ -317,6 +317,7 @@ class Tearer {
         first_new_(static_cast<std::uint32_t>(mesh.vertex_count())),
         first_new_face_(static_cast<std::uint32_t>(mesh.face_slots())),
         index_(index),
+        posed_bounds_(posed_bounds),
         input_linear_(skin_linear) {}
 
   TearResult run(const Blade& start, const Blade& end);
@@ -403,6 +404,7 @@ class Tearer {
   std::uint32_t first_new_;
   std::uint32_t first_new_face_;
   const TriangleGrid* index_;
+  const BoundingBox* posed_bounds_;
   const std::vector<glm::mat3>& input_linear_;
   std::pmr::monotonic_buffer_resource arena_{std::size_t(1) << 16};  // before every map using it
   Map<std::uint32_t, glm::mat3> new_linear_{&arena_};  // vertices made by this tear
@@ -1260,9 +1262,11 @@ TearResult Tearer::run(const Blade& start, const Blade& end) {
   pieces_ = make_pieces(start, end);
   width_ = resolved_tear_width(start, end, options_);
   result.width = width_;
-  // The model size: the index's bounds, or those of every posed position.
+  // The model size: the bounds given, the index's, or those of every posed position.
   BoundingBox box;
-  if (index_ && !index_->empty()) {
+  if (posed_bounds_) {
+    box = *posed_bounds_;
+  } else if (index_ && !index_->empty()) {
     box = index_->bounds();
   } else {
     box = parallel_reduce(
@@ -1313,8 +1317,8 @@ float resolved_tear_width(const Blade& start, const Blade& end, const TearOption
 
 TearResult tear_mesh(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed,
                      const std::vector<glm::mat3>& skin_linear, const Blade& start, const Blade& end,
-                     const TearOptions& options, const TriangleGrid* index) {
-  return Tearer(mesh, posed, skin_linear, options, index).run(start, end);
+                     const TearOptions& options, const TriangleGrid* index, const BoundingBox* posed_bounds) {
+  return Tearer(mesh, posed, skin_linear, options, index, posed_bounds).run(start, end);
 }
 
 namespace {
@@ -1353,30 +1357,39 @@ void instance_pose(const Model& model, int node, const SurfaceMesh& mesh, const 
 }  // namespace
 
 ModelTearResult tear_model(Model& model, const Blade& start, const Blade& end, const TearOptions& options,
-                           int animation, float time) {
+                           int animation, float time, ModelIndex* index) {
   make_pieces(start, end);  // reject a degenerate blade even when the model has no mesh
   const Pose pose = sample_pose(model, animation, time);
   const auto world = world_matrices(model, pose);
+  if (index) index->prepare(model, animation, time);
   ModelTearResult result;
   result.status = OpStatus::NoIntersection;
   result.width = resolved_tear_width(start, end, options);
   std::vector<int> mesh_users(model.meshes.size(), 0);
   for (const auto& n : model.nodes)
     if (n.mesh >= 0 && static_cast<std::size_t>(n.mesh) < model.meshes.size()) ++mesh_users[n.mesh];
-  std::vector<glm::vec3> posed;
-  std::vector<glm::mat3> linear;
+  std::vector<glm::vec3> own_posed;
+  std::vector<glm::mat3> own_linear;
   for (std::size_t ni = 0; ni < model.nodes.size(); ++ni) {
     const int mi = model.nodes[ni].mesh;
     if (mi < 0 || static_cast<std::size_t>(mi) >= model.meshes.size()) continue;
+    const int node_id = static_cast<int>(ni);
     // A mesh drawn by several instances is torn on a copy that this instance then owns.
     const bool shared = mesh_users[mi] > 1;
     Mesh copy;
     Mesh& target = shared ? (copy = model.meshes[mi], copy) : model.meshes[mi];
     bool any = false;
-    for (auto& prim : target.primitives) {
-      instance_pose(model, static_cast<int>(ni), prim.mesh, world, posed, linear);
-      const TearResult r = tear_mesh(prim.mesh, posed, linear, start, end, options);
+    for (std::size_t pi = 0; pi < target.primitives.size(); ++pi) {
+      Primitive& prim = target.primitives[pi];
+      ModelIndex::Instance* inst = index ? index->find(node_id, static_cast<int>(pi)) : nullptr;
+      if (!inst) instance_pose(model, node_id, prim.mesh, world, own_posed, own_linear);
+      // With the index, its exact bounds of the posed positions are the model size the tear
+      // measures without one, so both give the same slits.
+      const TearResult r = inst ? tear_mesh(prim.mesh, inst->posed, inst->linear, start, end, options, &inst->grid,
+                                            &inst->bounds)
+                                : tear_mesh(prim.mesh, own_posed, own_linear, start, end, options);
       if (r.status != OpStatus::Ok) continue;
+      if (inst) index->follow(model, node_id, static_cast<int>(pi), prim.mesh, r.log);
       any = true;
       result.intersection_points += r.intersection_points;
       result.tear_vertices += r.tear_vertices.size();
@@ -1390,6 +1403,7 @@ ModelTearResult tear_model(Model& model, const Blade& start, const Blade& end, c
       model.meshes.push_back(std::move(copy));
       model.nodes[ni].mesh = static_cast<int>(model.meshes.size() - 1);
       mesh_users.push_back(1);
+      if (index) index->rename_mesh(node_id, model.nodes[ni].mesh);
     }
   }
   return result;

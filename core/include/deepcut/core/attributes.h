@@ -67,6 +67,9 @@ class AttributeArrayBase {
   /// Keeps only the elements listed, in that order (`keep[i]` becomes element `i`).
   virtual void gather(const std::vector<std::uint32_t>& keep) = 0;
   virtual std::unique_ptr<AttributeArrayBase> clone() const = 0;
+  /// A copy holding only the elements listed, in that order (`keep[i]` becomes element `i`):
+  /// `clone()` then `gather(keep)` without copying the whole array first.
+  virtual std::unique_ptr<AttributeArrayBase> clone_subset(const std::vector<std::uint32_t>& keep) const = 0;
   virtual std::type_index type() const = 0;
   /// Bytes of one element and a pointer to element `i` (for hashing and exact comparison).
   virtual std::size_t element_bytes() const = 0;
@@ -105,6 +108,12 @@ class AttributeArray final : public AttributeArrayBase {
   }
   std::unique_ptr<AttributeArrayBase> clone() const override {
     return std::make_unique<AttributeArray<T>>(*this);
+  }
+  std::unique_ptr<AttributeArrayBase> clone_subset(const std::vector<std::uint32_t>& keep) const override {
+    auto out = std::make_unique<AttributeArray<T>>(default_);
+    out->data_.reserve(keep.size());
+    for (std::uint32_t i : keep) out->data_.push_back(data_[i]);
+    return out;
   }
   std::type_index type() const override { return typeid(T); }
   std::size_t element_bytes() const override { return sizeof(T); }
@@ -167,6 +176,9 @@ class AttributeSet {
   /// Copies element `src` over element `dst` in every array.
   void copy(std::size_t dst, std::size_t src);
   void gather(const std::vector<std::uint32_t>& keep);
+  /// A set with the same attributes holding only the elements listed, in that order: what a
+  /// copy followed by `gather(keep)` gives, at the cost of `keep` rather than of the whole set.
+  AttributeSet subset(const std::vector<std::uint32_t>& keep) const;
 
   /// Adds an attribute. @throws Error{InvalidArgument} if `name` exists.
   template <class T>

@@ -15,6 +15,7 @@
 
 #include "deepcut/core/edit_log.h"
 #include "deepcut/core/model.h"
+#include "deepcut/core/model_index.h"
 #include "deepcut/core/ops/op_status.h"
 #include "deepcut/core/spatial_index.h"
 #include "deepcut/core/surface_mesh.h"
@@ -118,13 +119,19 @@ struct ModelDrillResult {
   std::size_t unwalled_holes = 0;
 };
 
-/// Drills every mesh instance of `model` posed at `time` of `animation` (-1: rest pose). Wall
-/// faces go to a separate primitive with the "Cut surface" material; skins and animations are
-/// kept, and new wall vertices are placed in bind space by inverting their blended skinning.
-/// Meshes shared by several instances are copied before they change; an instance the cylinder
-/// swallows whole loses its mesh (and skin) reference.
+/// Drills every mesh instance of `model` posed at `time` of `animation` (-1: rest pose). The
+/// primitives are edited in place (their deleted faces and the wall's vertices stay as unused
+/// slots until export compacts them); wall faces go to a new primitive, after the mesh's others,
+/// with the "Cut surface" material; a primitive the cylinder swallows is dropped. Skins and
+/// animations are kept, and new wall vertices are placed in bind space by inverting their
+/// blended skinning. Meshes shared by several instances are copied before they change; an
+/// instance the cylinder swallows whole loses its mesh (and skin) reference.
+/// @param index  optional preprocessing (model_index.h): prepared for this pose (built when it
+///               was made for another), used for the posed positions and the candidate faces,
+///               and updated from the edit logs, so with a warm index the cost grows with the
+///               hole, not the mesh. The result is byte-identical with and without it.
 /// @throws Error{InvalidArgument} as drill_mesh, or for an animation index out of range.
 ModelDrillResult drill_model(Model& model, const Cylinder& cylinder, const DrillOptions& options = {},
-                             int animation = -1, float time = 0.0f);
+                             int animation = -1, float time = 0.0f, ModelIndex* index = nullptr);
 
 }  // namespace deepcut

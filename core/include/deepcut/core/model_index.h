@@ -1,0 +1,101 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file model_index.h
+/// Preprocessing for the model-level operations (DESIGN section 5, "Preprocessing"): for every
+/// mesh instance (node x primitive) of a model posed at one animation time, the posed world
+/// position and the bind-to-world linear map of every vertex, the exact bounds of those
+/// positions, and a `TriangleGrid` over the faces at them. Built once (when the studio loads or
+/// poses the model, in the CLI before the operation), passed to `drill_model` / `tear_model` /
+/// `apply_operation`, and updated from each operation's edit log, so an operation costs what
+/// the tool touches, not the mesh. The updated index equals a fresh build on the edited model
+/// (positions and bounds bit for bit, grids answering every query with the same faces), and
+/// the operations give byte-identical results with and without it.
+
+#include <cstddef>
+#include <map>
+#include <utility>
+#include <vector>
+
+#include "deepcut/core/edit_log.h"
+#include "deepcut/core/model.h"
+#include "deepcut/core/spatial_index.h"
+
+namespace deepcut {
+
+class ModelIndex {
+ public:
+  /// One drawn primitive: primitive `primitive` of mesh `mesh`, instanced by node `node`.
+  struct Instance {
+    int node = -1, mesh = -1, primitive = -1;
+    /// World position of every vertex slot of the primitive's mesh at the index's pose.
+    std::vector<glm::vec3> posed;
+    /// Linear part of each vertex's bind-to-world map (the weighted sum of its joint matrices
+    /// when skinned, else the node's world matrix): what `tear_mesh` takes as `skin_linear`.
+    std::vector<glm::mat3> linear;
+    /// Bounds of every entry of `posed` (unreferenced vertices included, as `tear_mesh`
+    /// measures the model without an index).
+    BoundingBox bounds;
+    /// Grid over the live faces at `posed`.
+    TriangleGrid grid;
+  };
+
+  ModelIndex() = default;
+
+  /// Indexes every mesh instance of `model` posed at `time` of `animation` (-1: rest pose).
+  /// O(vertices + faces), in parallel.
+  /// @throws Error{InvalidArgument} for an animation index out of range.
+  static ModelIndex build(const Model& model, int animation, float time);
+
+  /// True once built (and not invalidated).
+  bool valid() const { return valid_; }
+  /// True when built for this pose (`animation` -1 and an out-of-range time both as given).
+  bool matches(int animation, float time) const { return valid_ && animation == animation_ && time == time_; }
+  int animation() const { return animation_; }
+  float time() const { return time_; }
+  /// Forgets everything (the next `prepare` rebuilds).
+  void invalidate();
+
+  /// Makes the index describe `model` at this pose: rebuilds it when it was made for another
+  /// pose (or invalidated); otherwise only instances whose mesh no longer fits (another mesh
+  /// index, another vertex or face-slot count: the model was changed without the index) are
+  /// rebuilt. The operations call this first.
+  /// @pre when the index was built for this pose, every change to `model` since went through
+  ///      `follow` (or was made by an operation given the index).
+  void prepare(const Model& model, int animation, float time);
+
+  /// The instance (node, primitive), or nullptr.
+  Instance* find(int node, int primitive);
+  const Instance* find(int node, int primitive) const;
+  /// Number of indexed instances.
+  std::size_t size() const { return instances_.size(); }
+  /// Every instance, by (node, primitive).
+  const std::map<std::pair<int, int>, Instance>& instances() const { return instances_; }
+
+  // --- upkeep by the operations (each O(edits)) ----------------------------------------------
+  /// Follows `log`, made on the mesh of instance (node, primitive) (now `mesh`): positions and
+  /// linear maps of added, split and moved vertices, the bounds, and the grid (removed faces
+  /// leave, added faces join, faces around moved vertices are filed again).
+  void follow(const Model& model, int node, int primitive, const SurfaceMesh& mesh, const EditLog& log);
+  /// (Re)indexes instance (node, primitive) of `model` from scratch (a new primitive, such as a
+  /// drill's wall). O(its vertices + faces).
+  void add(const Model& model, int node, int primitive);
+  /// Drops instance (node, primitive); instances of later primitives of the node move down one.
+  void erase_primitive(int node, int primitive);
+  /// Drops every instance of `node` (it no longer draws a mesh).
+  void erase_node(int node);
+  /// Node `node` now draws mesh `mesh` (a copy of the one it drew: same vertices and faces).
+  void rename_mesh(int node, int mesh);
+
+ private:
+  Instance make_instance(const Model& model, int node, int primitive) const;
+  const std::vector<glm::mat4>& joints_of(const Model& model, int node) const;
+
+  bool valid_ = false;
+  int animation_ = -1;
+  float time_ = 0.0f;
+  std::vector<glm::mat4> world_;               // every node's world matrix at the pose
+  std::vector<std::vector<glm::mat4>> joints_;  // joint matrices of every skin at the pose
+  std::map<std::pair<int, int>, Instance> instances_;
+};
+
+}  // namespace deepcut

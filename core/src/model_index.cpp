@@ -1,0 +1,236 @@
+// SPDX-License-Identifier: MIT
+#include "deepcut/core/model_index.h"
+
+#include <algorithm>
+
+#include "deepcut/core/parallel.h"
+#include "deepcut/core/skinning.h"
+
+namespace deepcut {
+
+namespace {
+
+constexpr std::size_t kGrain = 16384;
+
+// Bounds of every position, combined in chunk order (min / max are exact in any order).
+BoundingBox bounds_of(const std::vector<glm::vec3>& points) {
+  return parallel_reduce(
+      points.size(), 65536, BoundingBox(),
+      [&](std::size_t b, std::size_t e) {
+        BoundingBox part;
+        for (std::size_t i = b; i < e; ++i) part.add(points[i]);
+        return part;
+      },
+      [](BoundingBox acc, const BoundingBox& part) {
+        acc.add(part);
+        return acc;
+      });
+}
+
+bool on_boundary(const BoundingBox& box, const glm::vec3& p) {
+  for (int k = 0; k < 3; ++k)
+    if (p[k] == box.min[k] || p[k] == box.max[k]) return true;
+  return false;
+}
+
+// Poses vertex slots the same way posed_positions and the tear's frames do: the vertex's
+// blended joint matrix when the instance is skinned, the node's world matrix otherwise.
+class VertexPoser {
+ public:
+  VertexPoser(const SurfaceMesh& mesh, const std::vector<glm::mat4>& joints, const glm::mat4& rigid)
+      : p_(mesh.positions()), blend_(mesh, joints), skinned_(blend_.skinned()), rigid_(rigid) {}
+  void operator()(std::size_t v, ModelIndex::Instance& inst) const {
+    const glm::mat4 m = skinned_ ? blend_.matrix(v) : rigid_;
+    inst.posed[v] = glm::vec3(m * glm::vec4(p_[v], 1.0f));
+    inst.linear[v] = glm::mat3(m);
+  }
+
+ private:
+  const std::vector<glm::vec3>& p_;
+  SkinBlend blend_;
+  bool skinned_;
+  glm::mat4 rigid_;
+};
+
+const SurfaceMesh* instance_mesh(const Model& model, int node, int primitive) {
+  if (node < 0 || static_cast<std::size_t>(node) >= model.nodes.size()) return nullptr;
+  const int mi = model.nodes[static_cast<std::size_t>(node)].mesh;
+  if (mi < 0 || static_cast<std::size_t>(mi) >= model.meshes.size()) return nullptr;
+  const auto& prims = model.meshes[static_cast<std::size_t>(mi)].primitives;
+  if (primitive < 0 || static_cast<std::size_t>(primitive) >= prims.size()) return nullptr;
+  return &prims[static_cast<std::size_t>(primitive)].mesh;
+}
+
+}  // namespace
+
+ModelIndex ModelIndex::build(const Model& model, int animation, float time) {
+  ModelIndex index;
+  index.world_ = world_matrices(model, sample_pose(model, animation, time));
+  index.joints_.resize(model.skins.size());
+  for (std::size_t s = 0; s < model.skins.size(); ++s)
+    index.joints_[s] = joint_matrices(model, static_cast<int>(s), index.world_);
+  index.animation_ = animation;
+  index.time_ = time;
+  index.valid_ = true;
+  for (std::size_t ni = 0; ni < model.nodes.size(); ++ni) {
+    const int mi = model.nodes[ni].mesh;
+    if (mi < 0 || static_cast<std::size_t>(mi) >= model.meshes.size()) continue;
+    for (std::size_t p = 0; p < model.meshes[static_cast<std::size_t>(mi)].primitives.size(); ++p)
+      index.add(model, static_cast<int>(ni), static_cast<int>(p));
+  }
+  return index;
+}
+
+void ModelIndex::invalidate() { *this = ModelIndex(); }
+
+const std::vector<glm::mat4>& ModelIndex::joints_of(const Model& model, int node) const {
+  static const std::vector<glm::mat4> kNone;
+  const int skin = model.nodes.at(static_cast<std::size_t>(node)).skin;
+  if (skin < 0 || static_cast<std::size_t>(skin) >= joints_.size()) return kNone;
+  return joints_[static_cast<std::size_t>(skin)];
+}
+
+ModelIndex::Instance ModelIndex::make_instance(const Model& model, int node, int primitive) const {
+  const SurfaceMesh& mesh = *instance_mesh(model, node, primitive);
+  Instance inst;
+  inst.node = node;
+  inst.mesh = model.nodes[static_cast<std::size_t>(node)].mesh;
+  inst.primitive = primitive;
+  inst.posed.resize(mesh.vertex_count());
+  inst.linear.resize(mesh.vertex_count());
+  const VertexPoser pose(mesh, joints_of(model, node), world_.at(static_cast<std::size_t>(node)));
+  parallel_for(mesh.vertex_count(), kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t v = b; v < e; ++v) pose(v, inst);
+  });
+  inst.bounds = bounds_of(inst.posed);
+  inst.grid = TriangleGrid::build(mesh, inst.posed);
+  return inst;
+}
+
+void ModelIndex::add(const Model& model, int node, int primitive) {
+  if (!instance_mesh(model, node, primitive)) return;
+  instances_[{node, primitive}] = make_instance(model, node, primitive);
+}
+
+void ModelIndex::prepare(const Model& model, int animation, float time) {
+  if (!matches(animation, time) || world_.size() != model.nodes.size() || joints_.size() != model.skins.size()) {
+    *this = build(model, animation, time);
+    return;
+  }
+  for (auto it = instances_.begin(); it != instances_.end();) {
+    const SurfaceMesh* mesh = instance_mesh(model, it->first.first, it->first.second);
+    const Instance& inst = it->second;
+    if (!mesh) {
+      it = instances_.erase(it);
+    } else if (inst.mesh != model.nodes[static_cast<std::size_t>(inst.node)].mesh ||
+               inst.posed.size() != mesh->vertex_count() || inst.grid.face_count() != mesh->face_count()) {
+      it->second = make_instance(model, inst.node, inst.primitive);
+      ++it;
+    } else {
+      ++it;
+    }
+  }
+  for (std::size_t ni = 0; ni < model.nodes.size(); ++ni) {
+    const int mi = model.nodes[ni].mesh;
+    if (mi < 0 || static_cast<std::size_t>(mi) >= model.meshes.size()) continue;
+    for (std::size_t p = 0; p < model.meshes[static_cast<std::size_t>(mi)].primitives.size(); ++p)
+      if (!instances_.count({static_cast<int>(ni), static_cast<int>(p)}))
+        add(model, static_cast<int>(ni), static_cast<int>(p));
+  }
+}
+
+ModelIndex::Instance* ModelIndex::find(int node, int primitive) {
+  auto it = instances_.find({node, primitive});
+  return it == instances_.end() ? nullptr : &it->second;
+}
+
+const ModelIndex::Instance* ModelIndex::find(int node, int primitive) const {
+  auto it = instances_.find({node, primitive});
+  return it == instances_.end() ? nullptr : &it->second;
+}
+
+void ModelIndex::follow(const Model& model, int node, int primitive, const SurfaceMesh& mesh, const EditLog& log) {
+  Instance* found = find(node, primitive);
+  if (!found) return;
+  Instance& inst = *found;
+  const std::size_t old_count = inst.posed.size();
+  // Vertices an edit moved, with where they were posed before it.
+  std::vector<std::pair<std::uint32_t, glm::vec3>> moved;
+  std::vector<std::uint32_t> added_faces;
+  for (const Edit& e : log.edits) {
+    if (const auto* m = std::get_if<VertexMoved>(&e)) {
+      if (m->v.index < old_count) moved.emplace_back(m->v.index, inst.posed[m->v.index]);
+    } else if (const auto* a = std::get_if<FaceAdded>(&e)) {
+      added_faces.push_back(a->f.index);
+    }
+  }
+  std::sort(moved.begin(), moved.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  moved.erase(std::unique(moved.begin(), moved.end(), [](const auto& x, const auto& y) { return x.first == y.first; }),
+              moved.end());
+  std::sort(added_faces.begin(), added_faces.end());
+  // New vertices (edge and face points, tear copies, wall vertices) and moved ones, posed from
+  // their final bind position and skin weights exactly as a fresh build would.
+  inst.posed.resize(mesh.vertex_count());
+  inst.linear.resize(mesh.vertex_count());
+  const VertexPoser pose(mesh, joints_of(model, node), world_.at(static_cast<std::size_t>(node)));
+  for (std::size_t v = old_count; v < mesh.vertex_count(); ++v) {
+    pose(v, inst);
+    inst.bounds.add(inst.posed[v]);
+  }
+  bool remeasure = false;
+  for (const auto& [v, before] : moved) {
+    pose(v, inst);
+    // A vertex leaving the bounds' edge may shrink them: measure again (rare: lips move inward).
+    if (on_boundary(inst.bounds, before)) remeasure = true;
+    inst.bounds.add(inst.posed[v]);
+  }
+  if (remeasure) inst.bounds = bounds_of(inst.posed);
+  inst.grid.apply(log, inst.posed);
+  if (moved.empty()) return;
+  // Faces around a moved vertex that this log did not add are filed where the vertex was: file
+  // them again at its new position (a face filed in more cells than it needs stays correct).
+  std::vector<glm::vec3> before;
+  before.reserve(moved.size());
+  for (const auto& m : moved) before.push_back(m.second);
+  auto is_moved = [&](VertexId v) {
+    auto it = std::lower_bound(moved.begin(), moved.end(), v.index,
+                               [](const auto& m, std::uint32_t x) { return m.first < x; });
+    return it != moved.end() && it->first == v.index;
+  };
+  EditLog refile;
+  for (FaceId f : inst.grid.query_points(before)) {
+    if (f.index >= mesh.face_slots() || mesh.is_deleted(f)) continue;
+    if (std::binary_search(added_faces.begin(), added_faces.end(), f.index)) continue;
+    const Triangle& t = mesh.face(f);
+    if (!is_moved(t[0]) && !is_moved(t[1]) && !is_moved(t[2])) continue;
+    refile.edits.push_back(FaceRemoved{f, t});
+    refile.edits.push_back(FaceAdded{f, FaceId(), t});
+  }
+  inst.grid.apply(refile, inst.posed);
+}
+
+void ModelIndex::erase_primitive(int node, int primitive) {
+  instances_.erase({node, primitive});
+  std::vector<Instance> later;
+  for (auto it = instances_.lower_bound({node, primitive + 1});
+       it != instances_.end() && it->first.first == node;) {
+    later.push_back(std::move(it->second));
+    it = instances_.erase(it);
+  }
+  for (Instance& inst : later) {
+    --inst.primitive;
+    const std::pair<int, int> key{inst.node, inst.primitive};
+    instances_.emplace(key, std::move(inst));
+  }
+}
+
+void ModelIndex::erase_node(int node) {
+  instances_.erase(instances_.lower_bound({node, 0}), instances_.lower_bound({node + 1, 0}));
+}
+
+void ModelIndex::rename_mesh(int node, int mesh) {
+  for (auto it = instances_.lower_bound({node, 0}); it != instances_.end() && it->first.first == node; ++it)
+    it->second.mesh = mesh;
+}
+
+}  // namespace deepcut
