@@ -9,6 +9,7 @@
 
 #include "commands.h"
 #include "deepcut/core/io/gltf.h"
+#include "deepcut/core/model_index.h"
 #include "deepcut/core/ops/history.h"
 #include "deepcut/plugins/command_args.h"
 #include "deepcut/plugins/formats.h"
@@ -35,9 +36,12 @@ int run_apply(const std::vector<std::string>& argv) {
   Model model = plugins::read_model(args.positionals()[0]);
   json reports = json::array();
   const auto t0 = std::chrono::steady_clock::now();
+  // One preprocessing for the whole run (built by the first drill or tear, rebuilt when an
+  // operation's pose differs or after a cut), followed from each operation's edit log.
+  ModelIndex index;
   for (std::size_t i = 0; i < history.operations.size(); ++i) {
     try {
-      reports.push_back(json::parse(apply_operation(model, history.operations[i]).summary_json));
+      reports.push_back(json::parse(apply_operation(model, history.operations[i], &index).summary_json));
     } catch (const Error& e) {
       // Name the history file and the operation, whatever the operation complained about.
       throw Error(e.code(), history_path + ": operation " + std::to_string(i) + ": " + e.what());

@@ -122,6 +122,13 @@ MainWindow::MainWindow(const MainWindowOptions& options, QWidget* parent)
   tool_timer_ = new QTimer(this);
   tool_timer_->setInterval(16);
   connect(tool_timer_, &QTimer::timeout, this, &MainWindow::step_tool);
+  index_timer_ = new QTimer(this);
+  index_timer_->setSingleShot(true);
+  index_timer_->setInterval(300);
+  connect(index_timer_, &QTimer::timeout, this, [this] {
+    if (timeline_->playing()) return;  // playing: re-posing every frame; the next stop rebuilds
+    refresh_operation_index();
+  });
 
   history_ = new QUndoStack(this);
   for (const plugins::InspectorInfo& info : plugins::builtin_inspectors().list()) {
@@ -515,6 +522,8 @@ void MainWindow::load_file(const QString& path) {
   // Build the new scene before touching the current state, so a failure keeps the old model.
   const int animation = model->animations.empty() ? -1 : 0;
   plugins::Scene scene = plugins::make_scene(model, animation, 0.0f);
+  // The operations' preprocessing, once per model (and pose): every drill and tear updates it.
+  auto index = std::make_unique<ModelIndex>(ModelIndex::build(*model, animation, 0.0f));
   std::vector<std::pair<QString, float>> clips;
   for (const Animation& a : model->animations)
     clips.emplace_back(QString::fromStdString(a.name), a.duration());
@@ -527,6 +536,9 @@ void MainWindow::load_file(const QString& path) {
   reruns_.clear();
   timeline_->set_animations(clips);
   model_ = model;
+  index_ = std::move(index);
+  index_state_ = model;
+  index_timer_->stop();
   if (!scene_) scene_ = std::make_unique<plugins::Scene>();
   *scene_ = std::move(scene);
   const std::vector<std::string> notes = view_->set_scene(*scene_);
@@ -566,7 +578,36 @@ void MainWindow::show_model(std::shared_ptr<const Model> model) {
   refresh_tool_preview();
   refresh_inspector();
   refresh_operations();
+  // Undo, redo or an edit: the preprocessing describes another state; rebuild it when idle.
+  if (index_state_.lock() != model_) index_timer_->start();
   emit model_changed();
+}
+
+const ModelIndex* MainWindow::operation_index() const {
+  if (!index_ || !model_ || index_state_.lock() != model_ || !index_->valid()) return nullptr;
+  return index_.get();
+}
+
+void MainWindow::refresh_operation_index() {
+  if (!model_ || !scene_) return;
+  try {
+    index_for(model_)->prepare(*model_, scene_->animation, scene_->time);
+  } catch (const Error&) {
+    index_state_.reset();  // the next operation builds it (and reports what is wrong)
+  } catch (const std::bad_alloc&) {
+    index_.reset();
+    index_state_.reset();
+  }
+}
+
+ModelIndex* MainWindow::index_for(const std::shared_ptr<const Model>& state) {
+  if (!index_) index_ = std::make_unique<ModelIndex>();
+  if (index_state_.lock() != state) {
+    index_->invalidate();  // free the old one before building the new one
+    *index_ = ModelIndex::build(*state, scene_->animation, scene_->time);
+    index_state_ = state;
+  }
+  return index_.get();
 }
 
 bool MainWindow::export_file(const QString& path) {
@@ -663,7 +704,12 @@ bool MainWindow::apply_tool() {
   clock.start();
   try {
     auto result = std::make_shared<Model>(*model_);
-    const OperationReport report = deepcut::apply_operation(*result, op);
+    // The operation follows and updates the preprocessing, which then describes `result` (a
+    // miss leaves both as they were; a failure leaves the index for a rebuild).
+    ModelIndex* index = index_for(model_);
+    index_state_.reset();
+    const OperationReport report = deepcut::apply_operation(*result, op, index);
+    index_state_ = report.status == OpStatus::Ok ? std::shared_ptr<const Model>(result) : model_;
     if (report.status != OpStatus::Ok) {
       report_error(QString::fromStdString(active_tool->title()) + ": the tool misses the model (nothing changed)");
       return false;
@@ -694,11 +740,17 @@ void MainWindow::apply_history(const History& history, const std::string& source
   for (std::size_t i = 0; i < history.operations.size(); ++i) {
     const Operation& op = history.operations[i];
     auto next = std::make_shared<Model>(*state);
+    ModelIndex* index = index_for(state);
+    index_state_.reset();
     try {
-      if (deepcut::apply_operation(*next, op).status != OpStatus::Ok) continue;
+      if (deepcut::apply_operation(*next, op, index).status != OpStatus::Ok) {
+        index_state_ = state;
+        continue;
+      }
     } catch (const Error& e) {
       throw Error(e.code(), source + ": operation " + std::to_string(i) + ": " + e.what());
     }
+    index_state_ = next;
     state = next;
     states.emplace_back(operation_label(op), state);
   }
@@ -771,13 +823,16 @@ std::string tool_of(const Operation& op) {
 }
 
 /// Applies `entry` to `model` as `deepcut apply` would, noting whether it applied.
-void run_entry(Model& model, MainWindow::OperationEntry& entry) {
+/// `index` (the preprocessing describing `model`, or nullptr) follows the operation; after a
+/// failure it is invalidated, so the next operation rebuilds it.
+void run_entry(Model& model, MainWindow::OperationEntry& entry, ModelIndex* index) {
   entry.error.clear();
   try {
-    entry.status = deepcut::apply_operation(model, entry.operation).status;
+    entry.status = deepcut::apply_operation(model, entry.operation, index).status;
   } catch (const Error& e) {
     entry.status = OpStatus::Ok;
     entry.error = e.what();
+    if (index) index->invalidate();
   }
 }
 
@@ -796,7 +851,10 @@ bool MainWindow::edit_operation(int index) {
   auto base = std::make_shared<Model>(*original_);
   std::vector<OperationEntry> replayed = entries;
   try {
-    for (int i = 0; i < index; ++i) run_entry(*base, replayed[static_cast<std::size_t>(i)]);
+    ModelIndex* model_index = index < 1 ? nullptr : index_for(original_);
+    index_state_.reset();
+    for (int i = 0; i < index; ++i) run_entry(*base, replayed[static_cast<std::size_t>(i)], model_index);
+    if (model_index) index_state_ = std::shared_ptr<const Model>(base);
   } catch (const std::bad_alloc&) {
     report_error("edit: out of memory");
     return false;
@@ -836,8 +894,11 @@ bool MainWindow::apply_edit() {
   QElapsedTimer clock;
   clock.start();
   auto result = std::make_shared<Model>(*model_);  // the state before the edited operation
+  ModelIndex* model_index = nullptr;
   try {
-    run_entry(*result, edited);
+    model_index = index_for(model_);
+    index_state_.reset();  // it follows `result` from here on
+    run_entry(*result, edited, model_index);
   } catch (const std::bad_alloc&) {
     report_error(QString::fromStdString(active_tool->title()) + ": out of memory");
     return false;
@@ -853,7 +914,7 @@ bool MainWindow::apply_edit() {
   std::size_t skipped = 0;
   try {
     for (std::size_t i = static_cast<std::size_t>(index) + 1; i < entries.size(); ++i) {
-      run_entry(*result, entries[i]);
+      run_entry(*result, entries[i], model_index);
       if (!entries[i].applied()) ++skipped;
     }
   } catch (const std::bad_alloc&) {
@@ -863,6 +924,7 @@ bool MainWindow::apply_edit() {
   const std::shared_ptr<const Model> before = editing_.current;
   const QString label = QString("Edit %1: %2").arg(index + 1).arg(operation_label(edited.operation));
   std::shared_ptr<const Model> after = result;
+  index_state_ = after;
   reruns_.emplace_back(after, entries);
   editing_ = {};
   history_->push(new ModelCommand(this, label, before, std::move(after)));
@@ -1025,6 +1087,7 @@ void MainWindow::refresh_status() {
 
 void MainWindow::on_pose_changed(int animation, float time) {
   if (!scene_) return;
+  index_timer_->start();  // the operations' preprocessing follows once the pose stays put
   plugins::pose_scene(*scene_, animation, time);
   view_->update_pose();
   tool_displaced_ = false;

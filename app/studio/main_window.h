@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "deepcut/core/model.h"
+#include "deepcut/core/model_index.h"
 #include "deepcut/plugins/inspector.h"
 #include "deepcut/plugins/scene.h"
 #include "deepcut/plugins/tool.h"
@@ -152,6 +153,15 @@ class MainWindow : public QMainWindow {
   /// Shows `model` as the current state (used by the undo stack; not itself undoable).
   void show_model(std::shared_ptr<const Model> model);
 
+  /// The operations' preprocessing (model_index.h) when it describes the current model, else
+  /// nullptr. Built when a model is opened, kept up to date by every drill and tear the studio
+  /// applies, and rebuilt shortly after the pose stops changing or the state changes otherwise
+  /// (undo, redo, an edit, a cut), or at the next operation, whichever comes first.
+  const ModelIndex* operation_index() const;
+  /// Brings the preprocessing up to date for the current model and pose now (what the studio
+  /// does once the pose stays put for a moment).
+  void refresh_operation_index();
+
  signals:
   void model_changed();
 
@@ -182,6 +192,8 @@ class MainWindow : public QMainWindow {
   /// The re-run list recorded for `model` by an edit, if any.
   const std::vector<OperationEntry>* rerun_entries(const Model* model) const;
   void on_pose_changed(int animation, float time);
+  /// The preprocessing for `state`, built for the current pose when it describes another state.
+  ModelIndex* index_for(const std::shared_ptr<const Model>& state);
   /// A left drag in the view, offered to the active tool (the Poke takes it).
   bool on_pointer(const PointerEvent& event);
   /// One tick of the active tool's own motion (soft body), then the view follows.
@@ -206,6 +218,11 @@ class MainWindow : public QMainWindow {
   Editing editing_;
   bool entering_edit_ = false;  // show_model called by edit_operation itself
   std::unique_ptr<plugins::Scene> scene_;
+  // The operations' preprocessing and the state it describes (operations run on a copy of the
+  // current state: the index follows them and then describes the copy).
+  std::unique_ptr<ModelIndex> index_;
+  std::weak_ptr<const Model> index_state_;
+  QTimer* index_timer_ = nullptr;  // rebuilds the index once the pose or state settles
   QString path_, last_error_, last_operation_;
   std::vector<std::unique_ptr<plugins::Inspector>> inspectors_;  // in registry order
   int active_ = -1;                                              // index into inspectors_

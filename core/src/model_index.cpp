@@ -96,6 +96,11 @@ ModelIndex::Instance ModelIndex::make_instance(const Model& model, int node, int
   inst.node = node;
   inst.mesh = model.nodes[static_cast<std::size_t>(node)].mesh;
   inst.primitive = primitive;
+  // Room to grow (as interactive sessions reserve the meshes), so following the first
+  // operations never reallocates the whole arrays.
+  const std::size_t room = mesh.vertex_count() + mesh.vertex_count() / 8 + 1024;
+  inst.posed.reserve(room);
+  inst.linear.reserve(room);
   inst.posed.resize(mesh.vertex_count());
   inst.linear.resize(mesh.vertex_count());
   const VertexPoser pose(mesh, joints_of(model, node), world_.at(static_cast<std::size_t>(node)));

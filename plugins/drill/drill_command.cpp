@@ -8,6 +8,7 @@
 
 #include "deepcut/core/errors.h"
 #include "deepcut/core/model.h"
+#include "deepcut/core/model_index.h"
 #include "deepcut/plugins/formats.h"
 #include "deepcut/plugins/operation_command.h"
 #include "deepcut/plugins/tool_registry.h"
@@ -56,9 +57,11 @@ int run_drill(const std::vector<std::string>& argv) {
   op.animation = pose_animation(args, model);
   op.time = static_cast<float>(args.number("--time", 0.0));
   const auto before = instance_triangles(model);
-  double ms = 0.0;
-  const ModelDrillResult r =
-      run_timed([&] { return drill_model(model, drill.cylinder, drill.options, op.animation, op.time); }, ms);
+  // Preprocessing (posed positions and the triangle grid), timed apart as in the paper's Table 1.
+  double preprocess_ms = 0.0, ms = 0.0;
+  ModelIndex index = run_timed([&] { return ModelIndex::build(model, op.animation, op.time); }, preprocess_ms);
+  const ModelDrillResult r = run_timed(
+      [&] { return drill_model(model, drill.cylinder, drill.options, op.animation, op.time, &index); }, ms);
   // A drill that swallows a whole instance is not a hole: refuse it rather than write an empty mesh.
   const auto after = instance_triangles(model);
   for (std::size_t ni = 0; ni < before.size(); ++ni)
@@ -73,7 +76,8 @@ int run_drill(const std::vector<std::string>& argv) {
                         {"triangles_removed", r.triangles_removed},
                         {"triangles_added", r.triangles_added},
                         {"wall_triangles", r.wall_triangles},
-                        {"unwalled_holes", r.unwalled_holes}};
+                        {"unwalled_holes", r.unwalled_holes},
+                        {"preprocess_ms", preprocess_ms}};
   // --wall asked for but some holes could not be closed: say so instead of staying silent.
   if (drill.options.wall && r.status == OpStatus::Ok && r.unwalled_holes > 0) {
     const std::string note =
