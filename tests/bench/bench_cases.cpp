@@ -256,11 +256,12 @@ Model session_model(std::size_t triangles) {
   return model;
 }
 
-// The small hole of drill_small (radius 0.62% of the size) through the trunk, with a wall.
-void bm_drill_model(benchmark::State& state, std::size_t triangles, bool indexed) {
+// The small hole of drill_small (radius 0.62% of the size) through the trunk, without or with
+// a wall.
+void bm_drill_model(benchmark::State& state, std::size_t triangles, bool indexed, bool wall = false) {
   const Cylinder cyl = drill_cylinder(input(triangles), 0.0062f);
   DrillOptions options;
-  options.wall = true;
+  options.wall = wall;
   std::size_t touched = 0;
   for (auto _ : state) {
     state.PauseTiming();
@@ -454,6 +455,8 @@ void register_cases(bool with_1m) {
     // Model level: "ours" keeps a warm ModelIndex, the peer is the same call without one.
     reg("drill_model_small/ours/" + s, [n](benchmark::State& st) { bm_drill_model(st, n, true); });
     reg("drill_model_small/uncached/" + s, [n](benchmark::State& st) { bm_drill_model(st, n, false); });
+    reg("drill_model_wall/ours/" + s, [n](benchmark::State& st) { bm_drill_model(st, n, true, true); });
+    reg("drill_model_wall/uncached/" + s, [n](benchmark::State& st) { bm_drill_model(st, n, false, true); });
     reg("tear_model/ours/" + s, [n](benchmark::State& st) { bm_tear_model(st, n, true); });
     reg("tear_model/uncached/" + s, [n](benchmark::State& st) { bm_tear_model(st, n, false); });
     reg("model_index/ours/" + s, [n](benchmark::State& st) { bm_model_index(st, n); });
