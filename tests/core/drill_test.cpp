@@ -13,6 +13,7 @@
 
 #include "deepcut/core/adjacency.h"
 #include "deepcut/core/io/gltf.h"
+#include "deepcut/core/mesh_editor.h"
 #include "deepcut/core/ops/cut.h"
 #include "deepcut/core/ops/tear.h"
 #include "deepcut/core/skinning.h"
@@ -463,6 +464,74 @@ TEST(DrillTest, through_tube_with_wall_is_closed_and_loses_the_drilled_volume) {
     EXPECT_TRUE(k.all_walled);
     EXPECT_EQ(k.round_holes, 2u);
   }
+}
+
+// Issue 10 (random sequences, CesiumMan seed 4): walled drills grew the mesh from 4 672 to
+// 457 699 triangles. The wall's rows were graded by the rim spacing alone, so a long thin wall
+// cost about 2 x rim edges x length / (0.8 r) triangles. A straight wall in one bone needs rows
+// only next to its rims: away from them rings keep 24 points and rows are at most 7 of their
+// spacings apart, so each radius of length costs at most 2 x 24 / (7 x 2 pi / 24), about 26
+// triangles, whatever the rim count; closed, oriented and within the volume (check_drill).
+TEST(DrillTest, a_long_wall_in_one_bone_costs_its_rims_not_its_length) {
+  const float r = 0.1f;
+  auto wall_triangles = [&](float length, int rim_edges) {
+    SurfaceMesh tube = test::make_tube(24, 4, 1.0f, length);
+    auto& joints = tube.vertex_attrs().add<glm::u16vec4>(attr::kJoints0);
+    auto& weights = tube.vertex_attrs().add<glm::vec4>(attr::kWeights0);
+    for (std::size_t v = 0; v < tube.vertex_count(); ++v) {
+      joints[v] = {0, 0, 0, 0};
+      weights[v] = {1.0f, 0.0f, 0.0f, 0.0f};
+    }
+    DrillOptions options;
+    options.wall = true;
+    options.min_rim_edges = rim_edges;
+    // Along the tube, through both caps: one wall the tube's length long.
+    const Cylinder c{{0.05f, -1.0f, 0.03f}, {0.05f, length + 1.0f, 0.03f}, r};
+    const Checked k = check_drill(tube, c, options, 1, false);
+    EXPECT_TRUE(k.all_walled);
+    EXPECT_EQ(k.round_holes, 2u);
+    return k.wall;
+  };
+  for (const int rim_edges : {24, 48, 96}) {
+    SCOPED_TRACE(std::to_string(rim_edges) + " rim edges");
+    const std::size_t short_wall = wall_triangles(2.0f, rim_edges), long_wall = wall_triangles(8.0f, rim_edges);
+    std::printf("%d rim edges: %zu wall triangles at 20 r, %zu at 80 r\n", rim_edges, short_wall, long_wall);
+    EXPECT_LE(long_wall, short_wall + static_cast<std::size_t>(30.0 * 6.0 / r))
+        << "60 r more of straight wall costs about 26 triangles per r, whatever the rim count";
+  }
+}
+
+// Issue 10 (random sequences, CesiumMan default seed step 275 once the rows were fixed): a shell
+// with a boundary of its own has no inside, so its rims' orientation alone picked the wall's
+// side. On torn parts that was a cup out to an end of the cylinder, or the whole cylinder but
+// a patch where a rim did not go around the axis: 56 such walls in one drill, 131 000
+// triangles. An open shell now gets tubes between its rims only.
+TEST(DrillTest, an_open_shell_gets_tubes_between_its_rims_but_no_cup) {
+  DrillOptions options;
+  options.wall = true;
+  // An open sheet: one rim around the axis, nothing to join it to.
+  SurfaceMesh sheet = test::make_grid(8, 8);
+  const DrillResult cup = drill_mesh(sheet, sheet.positions(), Cylinder{{0.47f, 0.52f, -1}, {0.47f, 0.52f, 1}, 0.1f}, options);
+  ASSERT_EQ(cup.status, OpStatus::Ok);
+  ASSERT_EQ(cup.holes.size(), 1u);
+  EXPECT_FALSE(cup.holes[0].walled);
+  EXPECT_EQ(cup.wall_triangles, 0u);
+  // A closed tube torn open at one cap (far from the drill): the drill across it still gets
+  // its tube from the entry rim to the exit rim, and the cap's gap is the only boundary.
+  SurfaceMesh torn = test::make_tube(24, 6, 1.0f, 2.0f);
+  {
+    MeshEditor editor(torn);
+    editor.remove_face(FaceId(2 * 24 * 6 + 1));  // a face of the cap at y = 2
+  }
+  const Adjacency before = Adjacency::build(torn);
+  ASSERT_EQ(before.boundary_edges().size(), 3u);
+  SurfaceMesh mesh = torn;
+  const DrillResult tube = drill_mesh(mesh, mesh.positions(), Cylinder{{0, 1, -3}, {0, 1, 3}, 0.3f}, options);
+  ASSERT_EQ(tube.holes.size(), 2u);
+  for (const DrillHole& h : tube.holes) EXPECT_TRUE(h.walled);
+  EXPECT_GT(tube.wall_triangles, 0u);
+  EXPECT_EQ(Adjacency::build(mesh).boundary_edges().size(), 3u);
+  test::expect_valid(mesh);
 }
 
 TEST(DrillTest, blind_hole_and_start_inside_get_a_disk) {

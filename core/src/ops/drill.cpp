@@ -42,9 +42,14 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // The wall plane map spans at most exp(kWallSpan) in scale: exact orientation tests stay
 // reliable, and longer walls are compressed along the axis (kappa).
 constexpr double kWallSpan = 8.0;
-// Wall Steiner rows grow apart up to this many rim spacings; at most kWallRows rows along the
-// axis and kWallRings rings on an end disk (long, thin drills with many rim edges stay cheap).
-constexpr double kWallRowStretch = 6.0;
+// Wall Steiner rows (see wall_shell): away from the rims a ring keeps at least kWallSides points
+// (an inscribed 24-gon holds 98.9% of the circle's area), rows are at most kWallAspect of its
+// spacing apart (triangles of about 8 degrees at the narrowest), and where the rims' skin
+// weights differ, rows at most kWallBend of weight change apart let the wall bend with them. At
+// most kWallRows rows along the axis and kWallRings rings on an end disk.
+constexpr int kWallSides = 24;
+constexpr double kWallAspect = 7.0;
+constexpr double kWallBend = 0.125;
 constexpr double kWallRows = 256.0;
 constexpr double kWallRings = 24.0;
 
@@ -491,7 +496,8 @@ class Driller {
     int where;
     VertexId v;
   };
-  bool wall_shell(const std::vector<std::size_t>& hole_ids, const DrillResult& result, std::vector<char>& walled_ok);
+  bool wall_shell(const std::vector<std::size_t>& hole_ids, const DrillResult& result, bool open_shell,
+                  std::vector<char>& walled_ok);
   VertexId wall_vertex(VertexId a, VertexId b, float t, const glm::dvec3& p);
   FaceId wall_face(const Triangle& t, int kind);
   void finish_wall_attributes();
@@ -1245,6 +1251,35 @@ double segment_distance2(const glm::dvec3& p, const glm::dvec3& a, const glm::dv
   return glm::dot(d, d);
 }
 
+// How far apart two vertices' skins are: half the L1 distance of their joint weights (0 for the
+// same influences, 1 for disjoint ones; 0 without a skin).
+double skin_change(const SurfaceMesh& mesh, VertexId a, VertexId b) {
+  const auto& va = mesh.vertex_attrs();
+  std::array<std::pair<std::uint16_t, float>, 16> diff;
+  std::size_t n = 0;
+  const char* names[2][2] = {{attr::kJoints0, attr::kWeights0}, {attr::kJoints1, attr::kWeights1}};
+  for (const auto& pair : names) {
+    const auto* j = va.find<glm::u16vec4>(pair[0]);
+    const auto* w = va.find<glm::vec4>(pair[1]);
+    if (!j || !w) break;
+    for (int side = 0; side < 2; ++side) {
+      const VertexId v = side == 0 ? a : b;
+      for (int c = 0; c < 4; ++c) {
+        const float weight = (side == 0 ? 1.0f : -1.0f) * (*w)[v.index][c];
+        if (weight == 0.0f) continue;
+        const std::uint16_t joint = (*j)[v.index][c];
+        std::size_t i = 0;
+        while (i < n && diff[i].first != joint) ++i;
+        if (i == n) diff[n++] = {joint, 0.0f};
+        diff[i].second += weight;
+      }
+    }
+  }
+  double sum = 0.0;
+  for (std::size_t i = 0; i < n; ++i) sum += std::abs(diff[i].second);
+  return 0.5 * sum;
+}
+
 
 // The wall of one closed shell is the part of the cylinder's surface (side and both end disks)
 // inside that shell, bounded by the shell's rims. The surface is mapped to one plane:
@@ -1255,7 +1290,7 @@ double segment_distance2(const glm::dvec3& p, const glm::dvec3& a, const glm::dv
 // loops with holes (a Moebius map first brings the centre of the B disk in from infinity when it
 // lies inside). Steiner points on a grid of the rim spacing over the side and on rings over the
 // disks keep the triangles small and well shaped (the map is conformal for kappa = 1).
-bool Driller::wall_shell(const std::vector<std::size_t>& hole_ids, const DrillResult& result,
+bool Driller::wall_shell(const std::vector<std::size_t>& hole_ids, const DrillResult& result, bool open_shell,
                          std::vector<char>& walled_ok) {
   // The end disk whose rims are mapped without distortion is the one at A: when more rim
   // vertices lie on the disk at B, the wall is built in the reversed frame (B to A).
@@ -1476,6 +1511,12 @@ bool Driller::wall_shell(const std::vector<std::size_t>& hole_ids, const DrillRe
   // Which end disks the region reaches; then the final map over that extent.
   const bool a_inside = winding(xy, loops, glm::dvec2(0.0)) + c == 1;
   const bool b_inside = c == 1;
+  // A shell with a boundary of its own (an open sheet, a torn part) has no inside: its rims'
+  // orientation still picks a side, but a region holding an end disk's centre is then a cup out
+  // to that end, or the whole cylinder but a small patch where a rim does not go around the
+  // axis (56 of them in one drill of a torn CesiumMan, 131 000 triangles). Such a shell gets
+  // tubes between its rims only.
+  if (open_shell && (a_inside || b_inside)) return false;
   bool touches_a = a_inside, touches_b = b_inside;
   for (const auto& l : loops)
     for (auto i : l) {
@@ -1542,7 +1583,7 @@ bool Driller::wall_shell(const std::vector<std::size_t>& hole_ids, const DrillRe
     holes_of[owner].push_back(hidx);
   }
   // Steiner candidates on the cylinder's surface, away from the rims.
-  const double h = 2.0 * kPi * cy.r / samples_, row = 0.866 * h, step = 2.0 * kPi / samples_;
+  const double h = 2.0 * kPi * cy.r / samples_, row = 0.866 * h;
   auto near_boundary = [&](const glm::dvec3& p) {
     for (const auto& [u, v] : segments)
       if (segment_distance2(p, pts[u].p, pts[v].p) < 0.2 * h * h) return true;
@@ -1553,40 +1594,62 @@ bool Driller::wall_shell(const std::vector<std::size_t>& hole_ids, const DrillRe
     w.p = cy.a + w.s * cy.d + w.rho * cy.ruling(w.theta);
     if (!near_boundary(w.p)) candidates.push_back(w);
   };
-  // Rows of side points: the end circles, then a staggered grid whose rows are a rim spacing
-  // apart next to the rims (and end circles) and grow apart geometrically away from them, up to
-  // kWallRowStretch spacings (long walls are mostly rulings, so long triangles along the axis
-  // stay well shaped), and at most kWallRows rows: the cost follows the rims, not the length.
-  std::vector<double> features;  // s of every rim point on the side, and the end circles
+  // Rows of side points: the end circles, then staggered rings. Next to the rims (and end
+  // circles) rings have a rim spacing between points and rows are a spacing apart; away from
+  // them both grow geometrically, the rings down to kWallSides points and the rows up to
+  // kWallAspect of the ring spacing apart. Rows closer than that come only from the skin: where
+  // the weights of the rims on either side of a stretch differ, kWallBend of change per row.
+  // A straight wall in one bone costs its rims' rows plus a few triangles per radius of length,
+  // whatever the rim count (a drill with 48 rim edges had rows every 0.8 r: 120 triangles per r).
+  std::vector<std::pair<double, VertexId>> features;  // s of every rim point on the side, end circles
   for (const auto& l : loops)
     for (auto i : l)
-      if (pts[i].where == 0) features.push_back(std::clamp(pts[i].s, 0.0, cy.len));
-  if (touches_a) features.push_back(0.0);
-  if (touches_b) features.push_back(cy.len);
-  std::sort(features.begin(), features.end());
+      if (pts[i].where == 0) features.emplace_back(std::clamp(pts[i].s, 0.0, cy.len), pts[i].v);
+  if (touches_a) features.emplace_back(0.0, VertexId());
+  if (touches_b) features.emplace_back(cy.len, VertexId());
+  std::sort(features.begin(), features.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  auto after = [&](double sv) {
+    return std::lower_bound(features.begin(), features.end(), sv,
+                            [](const auto& f, double x) { return f.first < x; });
+  };
   auto gap = [&](double sv) {
-    const auto it = std::lower_bound(features.begin(), features.end(), sv);
+    const auto it = after(sv);
     double g = kInf;
-    if (it != features.end()) g = *it - sv;
-    if (it != features.begin()) g = std::min(g, sv - *std::prev(it));
+    if (it != features.end()) g = it->first - sv;
+    if (it != features.begin()) g = std::min(g, sv - std::prev(it)->first);
     return g;
   };
-  const double widest = std::max(kWallRowStretch * row, (hi - lo) / kWallRows);
+  auto bend = [&](double sv) {  // the widest row step the skins on either side allow
+    const auto it = after(sv);
+    if (it == features.begin() || it == features.end() || !it->second.valid() || !std::prev(it)->second.valid())
+      return kInf;
+    const double change = skin_change(mesh_, std::prev(it)->second, it->second);
+    return change > 0.0 ? (it->first - std::prev(it)->first) / std::ceil(change / kWallBend) : kInf;
+  };
+  const int fewest = std::min(samples_, kWallSides);
+  const double widest_ring = 2.0 * kPi * cy.r / fewest;
+  auto ring_spacing = [&](double sv) { return std::clamp(0.2 * gap(sv), h, widest_ring); };
   std::vector<double> rows;
   if (touches_a) rows.push_back(0.0);
   for (double sv = lo + 0.5 * row; sv <= hi - (touches_b ? 0.4 * row : 0.0) && rows.size() < 2 * kWallRows;) {
     rows.push_back(sv);
-    sv += std::clamp(0.45 * gap(sv), row, widest);
+    const double grown = std::min({0.45 * gap(sv), kWallAspect * ring_spacing(sv), bend(sv)});
+    sv += std::max({row, (hi - lo) / kWallRows, grown});
   }
   if (touches_b) rows.push_back(cy.len);
-  for (std::size_t j = 0; j < rows.size(); ++j)
-    for (int k = 0; k < samples_; ++k) {
+  for (std::size_t j = 0; j < rows.size(); ++j) {
+    const bool end_circle = (touches_a && rows[j] == 0.0) || (touches_b && rows[j] == cy.len);
+    const int n = end_circle ? samples_
+                             : std::clamp(static_cast<int>(std::lround(2.0 * kPi * cy.r / ring_spacing(rows[j]))),
+                                          fewest, samples_);
+    for (int k = 0; k < n; ++k) {
       WallPt w;
-      w.theta = std::remainder((k + (j % 2 ? 0.5 : 0.0)) * step, 2.0 * kPi);
+      w.theta = std::remainder((k + (j % 2 ? 0.5 : 0.0)) * 2.0 * kPi / n, 2.0 * kPi);
       w.s = rows[j];
       w.rho = cy.r;
       consider(w);
     }
+  }
   for (int end = 1; end <= 2; ++end) {
     if (!(end == 1 ? touches_a : touches_b)) continue;
     // Rings a row apart (at most kWallRings of them), each with points a rim spacing apart.
@@ -1845,6 +1908,25 @@ void Driller::build_walls(DrillResult& result) {
   std::unordered_map<std::uint32_t, std::vector<std::size_t>> shells;
   for (std::size_t h = 0; h < result.holes.size(); ++h)
     shells[find_root(parent, result.holes[h].rim[0].index)].push_back(h);
+  // Shells with a boundary other than this drill's rims (each directed edge without its
+  // reverse that is not a rim step).
+  std::unordered_set<std::uint64_t> rim_steps, half;
+  auto directed = [](VertexId a, VertexId b) { return (std::uint64_t(a.index) << 32) | b.index; };
+  for (const DrillHole& hole : result.holes)
+    for (std::size_t i = 0; i < hole.rim.size(); ++i) {
+      const VertexId a = hole.rim[i], b = hole.rim[(i + 1) % hole.rim.size()];
+      rim_steps.insert(directed(a, b));
+      rim_steps.insert(directed(b, a));
+    }
+  mesh_.for_each_face([&](FaceId, const Triangle& t) {
+    if (shells.count(find_root(parent, t[0].index)))
+      for (int k = 0; k < 3; ++k) half.insert(directed(t[k], t[(k + 1) % 3]));
+  });
+  std::unordered_set<std::uint32_t> open;
+  for (const std::uint64_t e : half) {
+    const VertexId a(static_cast<std::uint32_t>(e >> 32)), b(static_cast<std::uint32_t>(e));
+    if (!half.count(directed(b, a)) && !rim_steps.count(e)) open.insert(find_root(parent, a.index));
+  }
   std::vector<char> walled_ok(result.holes.size(), 0);
   std::vector<std::uint32_t> order;
   for (const auto& [root, ids] : shells) order.push_back(root);
@@ -1855,7 +1937,7 @@ void Driller::build_walls(DrillResult& result) {
     for (std::size_t h : ids) closed &= result.holes[h].closed;
     if (!closed) continue;  // a rim merged with an older boundary: the shell was open already
     for (std::size_t h : ids) walled_ok[h] = 1;
-    if (!wall_shell(ids, result, walled_ok))  // builds nothing when it returns false
+    if (!wall_shell(ids, result, open.count(root) > 0, walled_ok))  // builds nothing when it returns false
       for (std::size_t h : ids) walled_ok[h] = 0;
   }
   for (std::size_t h = 0; h < result.holes.size(); ++h) result.holes[h].walled = walled_ok[h] != 0;
