@@ -648,5 +648,15 @@ TEST(RandomSequenceReplay, fox_seed_5_a_tear_around_a_spike_tip_makes_no_duplica
   Sequence(path, 5, 225).run();
 }
 
+// CesiumMan seed 1 step 247: a walled drill (6 rim edges) through a place where the posed skin
+// passes through itself. One hole's rim crossed itself on the cylinder (a real crossing: the
+// arc between the crossing steps still crossed after six midpoint splits), no wall lying on the
+// cylinder could close it, and the hole was left open. The wall now folds with the surface.
+TEST(RandomSequenceReplay, cesiumman_seed_1_a_rim_crossing_itself_is_walled) {
+  const std::string path = model_path("CesiumMan");
+  ASSERT_FALSE(path.empty());
+  Sequence(path, 1, 247).run();
+}
+
 }  // namespace
 }  // namespace deepcut

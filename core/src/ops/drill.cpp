@@ -51,6 +51,7 @@ constexpr int kWallSides = 24;
 constexpr double kWallAspect = 7.0;
 constexpr double kWallBend = 0.125;
 constexpr double kWallRows = 256.0;
+constexpr double kWallNeedle = 6.0 * 3.14159265358979323846 / 180.0;  // refined below this angle
 constexpr double kWallRings = 24.0;
 
 std::uint64_t edge_key(VertexId a, VertexId b) {
@@ -1405,6 +1406,47 @@ bool Driller::wall_shell(const std::vector<std::size_t>& hole_ids, const DrillRe
     for (const auto& w : pts) xy.push_back(to_plane(w));
   };
   map_loops();
+  // A rim crosses itself on the cylinder where the posed surface passes through itself (a skin
+  // folding at a joint: CesiumMan seed 1 step 247, Fox seed 5 step 132 once the wall needles
+  // were refined). No wall lying on the cylinder can close it, so the wall folds with the
+  // surface: where steps a->b and c->d cross, the loop is short-cut by a->d, and the lobe cut
+  // off (b ... c, the shorter side) is closed by the triangles (a, b, c), (a, c, d) and a fan
+  // from b over the lobe, all in the loop's direction (closed and consistently oriented; it
+  // overlaps itself there as the surface does).
+  std::vector<std::pair<std::size_t, LocalTri>> lobe_tris;  // loop, triangle (indices into pts)
+  for (int fold = 0; fold < 8; ++fold) {
+    bool found = false;
+    for (std::size_t li = 0; li < rim_loops.size() && !found; ++li) {
+      auto& l = rim_loops[li];
+      const std::size_t m = l.size();
+      for (std::size_t i = 0; i < m && !found; ++i)
+        for (std::size_t j = i + 2; j < m && !found; ++j) {
+          if ((j + 1) % m == i) continue;
+          const std::uint32_t a = l[i], b = l[(i + 1) % m], c = l[j], d = l[(j + 1) % m];
+          if (a == c || a == d || b == c || b == d) continue;
+          const double d1 = orient(xy[a], xy[b], xy[c]), d2 = orient(xy[a], xy[b], xy[d]);
+          const double d3 = orient(xy[c], xy[d], xy[a]), d4 = orient(xy[c], xy[d], xy[b]);
+          if (!(((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0)))) continue;
+          found = true;
+          // Steps i (a->b) and j (c->d); the lobe is b..c (positions i+1..j) or d..a (j+1..i).
+          std::size_t first = i, second = j;
+          if (j - i > m - (j - i)) std::swap(first, second);
+          const std::uint32_t fa = l[first], fb = l[(first + 1) % m], fc = l[second], fd = l[(second + 1) % m];
+          if (m - ((second + m - first) % m) < 3) return false;  // nothing would be left of the loop
+          lobe_tris.push_back({li, {fa, fb, fc}});
+          lobe_tris.push_back({li, {fa, fc, fd}});
+          for (std::size_t k = (first + 1) % m; (k + 1) % m != second; k = (k + 1) % m)
+            lobe_tris.push_back({li, {fb, l[(k + 1) % m], l[(k + 2) % m]}});
+          std::vector<std::uint32_t> kept;
+          for (std::size_t k = (second + 1) % m;; k = (k + 1) % m) {
+            kept.push_back(l[k]);
+            if (k == first) break;
+          }
+          l = std::move(kept);
+        }
+    }
+    if (!found) break;
+  }
   // Loops of one shell never cross, unless the shell intersects itself (a limb modelled into
   // the body): then the loops form two sheets, each walled on its own (crossing loops go to
   // different sheets; the others to the first sheet they are consistent with, largest first).
@@ -1492,7 +1534,7 @@ bool Driller::wall_shell(const std::vector<std::size_t>& hole_ids, const DrillRe
     if (sheet[li] < 0) return false;
   }
   // One sheet's region, triangulated and added (nothing is added when it returns false).
-  auto wall_sheet = [&](const std::vector<std::vector<std::uint32_t>>& loops) -> bool {
+  auto wall_sheet = [&](const std::vector<std::vector<std::uint32_t>>& loops, int sheet_id) -> bool {
   std::vector<std::pair<std::uint32_t, std::uint32_t>> segments;
   for (const auto& l : loops)
     for (std::size_t i = 0; i < l.size(); ++i) segments.emplace_back(l[i], l[(i + 1) % l.size()]);
@@ -1757,6 +1799,70 @@ bool Driller::wall_shell(const std::vector<std::size_t>& hole_ids, const DrillRe
       }
       if (!changed) break;
     }
+    // Rim vertices a hair apart (two surface edges crossing the cylinder next to each other: 97%
+    // of the cactus' wall needles) make needles with any point a rim spacing away. Triangles at a
+    // rim under kWallNeedle degrees (on the cylinder) get a point at their circumcentre in the plane when it
+    // lies in the region and outside every rim step's diametral circle (no rim step is
+    // encroached); repeated, the points grade down towards the short step. In passes, worst
+    // first, skipping a triangle whose circumcircle holds a point this pass added (it is gone),
+    // with a budget of points per rim point: the cost follows the needles.
+    {
+      std::vector<std::pair<std::uint32_t, std::uint32_t>> steps;
+      for (const auto& l : region)
+        for (std::size_t i = 0; i < l.size(); ++i) steps.emplace_back(l[i], l[(i + 1) % l.size()]);
+      auto min_angle = [&](const LocalTri& t) {
+        const glm::dvec3 &p0 = pts[global[t[0]]].p, &p1 = pts[global[t[1]]].p, &p2 = pts[global[t[2]]].p;
+        return std::min({angle_at(p1, p2, p0), angle_at(p2, p0, p1), angle_at(p0, p1, p2)});
+      };
+      std::unordered_set<std::uint64_t> failed;
+      auto tri_key = [](const LocalTri& t) {
+        std::array<std::uint32_t, 3> k = {t[0], t[1], t[2]};
+        std::sort(k.begin(), k.end());
+        return (std::uint64_t(k[0]) << 42) ^ (std::uint64_t(k[1]) << 21) ^ k[2];
+      };
+      std::size_t budget = 2 * loop_points + 16;
+      for (int pass = 0; pass < 12 && budget > 0; ++pass) {
+        std::vector<std::pair<double, LocalTri>> skinny;
+        for (const auto& t : ft.triangles()) {
+          // At the rims only: elsewhere the plane map's compression (kappa) leaves triangles the
+          // flips on the cylinder below make well shaped.
+          if (t[0] >= loop_points && t[1] >= loop_points && t[2] >= loop_points) continue;
+          const double angle = min_angle(t);
+          if (angle < kWallNeedle && !failed.count(tri_key(t))) skinny.emplace_back(angle, t);
+        }
+        if (skinny.empty()) break;
+        std::sort(skinny.begin(), skinny.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+        std::vector<glm::dvec2> added_now;
+        for (const auto& [angle, t] : skinny) {
+          if (budget == 0) break;
+          const glm::dvec2 &p0 = local[t[0]], &p1 = local[t[1]], &p2 = local[t[2]];
+          const glm::dvec2 ab = p1 - p0, ac = p2 - p0;
+          const double d = 2.0 * (ab.x * ac.y - ab.y * ac.x);
+          const glm::dvec2 centre = p0 + glm::dvec2(ac.y * glm::dot(ab, ab) - ab.y * glm::dot(ac, ac),
+                                                   ab.x * glm::dot(ac, ac) - ac.x * glm::dot(ab, ab)) / d;
+          if (!std::isfinite(centre.x) || !std::isfinite(centre.y)) {
+            failed.insert(tri_key(t));
+            continue;
+          }
+          const double radius = glm::length(p0 - centre);
+          bool stale = false;
+          for (const glm::dvec2& q : added_now) stale |= glm::length(q - centre) < radius;
+          if (stale) continue;
+          failed.insert(tri_key(t));
+          bool ok = true;
+          for (std::size_t i = 0; i < steps.size() && ok; ++i) {
+            const glm::dvec2 &u = local[steps[i].first], &v = local[steps[i].second];
+            ok = glm::length(centre - 0.5 * (u + v)) > 0.525 * glm::length(v - u);
+          }
+          if (!ok || winding(xy, region, centre) != 1 || !ft.insert(centre)) continue;
+          added_now.push_back(centre);
+          global.push_back(static_cast<std::uint32_t>(pts.size()));
+          pts.push_back(from_plane(centre));
+          --budget;
+        }
+        if (added_now.empty()) break;
+      }
+    }
     std::vector<LocalTri> sheet_tris;
     for (const auto& t : ft.triangles()) sheet_tris.push_back({global[t[0]], global[t[1]], global[t[2]]});
     std::vector<glm::dvec3> where3(pts.size());
@@ -1785,6 +1891,8 @@ bool Driller::wall_shell(const std::vector<std::size_t>& hole_ids, const DrillRe
     wall_tris.insert(wall_tris.end(), sheet_tris.begin(), sheet_tris.end());
   }
   if (wall_tris.empty()) return false;
+  for (const auto& [li, t] : lobe_tris)
+    if (sheet[li] == sheet_id) wall_tris.push_back(t);
   // A wall face may use an edge between two existing vertices only against the one face that
   // borders it (a rim edge): anything else (a diagonal along a kept surface edge, an edge an
   // earlier sheet used) would make the edge non-manifold, so the sheet is left open instead.
@@ -1874,7 +1982,7 @@ bool Driller::wall_shell(const std::vector<std::size_t>& hole_ids, const DrillRe
   for (int k = 0; k < 2; ++k) {
     const auto ls = sheet_loops(k, rim_loops.size());
     if (ls.empty()) continue;
-    const bool ok = wall_sheet(ls);
+    const bool ok = wall_sheet(ls, k);
     for (std::size_t li = 0; li < rim_loops.size(); ++li)
       if (sheet[li] == k && !ok) walled_ok[loop_hole[li]] = false;
     any |= ok;
