@@ -51,7 +51,7 @@ constexpr int kWallSides = 24;
 constexpr double kWallAspect = 7.0;
 constexpr double kWallBend = 0.125;
 constexpr double kWallRows = 256.0;
-constexpr double kWallNeedle = 6.0 * 3.14159265358979323846 / 180.0;  // refined below this angle
+constexpr double kWallNeedle = 6.0 * kPi / 180.0;  // wall triangles at a rim refined below this angle
 constexpr double kWallRings = 24.0;
 
 std::uint64_t edge_key(VertexId a, VertexId b) {

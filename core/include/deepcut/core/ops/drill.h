@@ -97,7 +97,10 @@ using Unposer = std::function<glm::vec3(const SurfaceMesh& mesh, VertexId v, con
 ///       cylinder's surface (side and end disks) inside the shell, bounded by its rims, so blind
 ///       holes get their bottom, notches at an end plane their piece of the end disk, and
 ///       overlapping shells (a limb passing into a body) each stay closed. A shell that passes
-///       through itself is walled per sheet. Rims that are not closed (they joined a boundary the
+///       through itself is walled per sheet; a rim that crosses itself (the posed surface
+///       passing through itself) gets a wall folding with it. A shell with a boundary of its
+///       own (an open sheet, a torn part) gets tubes between its rims but no cup out to an end
+///       disk. Rims that are not closed (they joined a boundary the
 ///       input already had: an earlier hole, cut or tear without a wall) get no wall
 ///       (`DrillHole::walled`), nor do the rims of a sheet whose wall cannot be triangulated
 ///       exactly (rare: two rims touching at a vertex on the cylinder); those stay open, never
