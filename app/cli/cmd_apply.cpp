@@ -39,6 +39,7 @@ int run_apply(const std::vector<std::string>& argv) {
   // One preprocessing for the whole run (built by the first drill or tear, rebuilt when an
   // operation's pose differs or after a cut), followed from each operation's edit log.
   ModelIndex index;
+  reserve_for_operations(model);
   for (std::size_t i = 0; i < history.operations.size(); ++i) {
     try {
       reports.push_back(json::parse(apply_operation(model, history.operations[i], &index).summary_json));

@@ -518,7 +518,9 @@ bool MainWindow::open_file(const QString& path) {
 void MainWindow::load_file(const QString& path) {
   QElapsedTimer clock;
   clock.start();
-  auto model = std::make_shared<const Model>(plugins::read_model(path.toStdString()));
+  Model loaded = plugins::read_model(path.toStdString());
+  reserve_for_operations(loaded);  // room to grow, kept by every snapshot copied from it
+  auto model = std::make_shared<const Model>(std::move(loaded));
   // Build the new scene before touching the current state, so a failure keeps the old model.
   const int animation = model->animations.empty() ? -1 : 0;
   plugins::Scene scene = plugins::make_scene(model, animation, 0.0f);

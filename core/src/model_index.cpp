@@ -63,6 +63,14 @@ const SurfaceMesh* instance_mesh(const Model& model, int node, int primitive) {
 
 }  // namespace
 
+void reserve_for_operations(Model& model) {
+  for (Mesh& mesh : model.meshes)
+    for (Primitive& prim : mesh.primitives) {
+      SurfaceMesh& m = prim.mesh;
+      m.reserve(m.vertex_count() + m.vertex_count() / 8 + 1024, m.face_slots() + m.face_slots() / 8 + 2048);
+    }
+}
+
 ModelIndex ModelIndex::build(const Model& model, int animation, float time) {
   ModelIndex index;
   index.world_ = world_matrices(model, sample_pose(model, animation, time));

@@ -7,14 +7,19 @@ namespace deepcut {
 
 SurfaceMesh::SurfaceMesh() { positions_ = &vattrs_.add<glm::vec3>(attr::kPosition); }
 
+// A copy keeps the room reserved for growth (as the attribute arrays do), so an operation on a
+// copy of a session's model (the studio's undo snapshots) does not reallocate every array.
 SurfaceMesh::SurfaceMesh(const SurfaceMesh& other)
-    : faces_(other.faces_),
-      deleted_(other.deleted_),
-      deleted_count_(other.deleted_count_),
+    : deleted_count_(other.deleted_count_),
       vattrs_(other.vattrs_),
       fattrs_(other.fattrs_),
       cattrs_(other.cattrs_),
-      positions_(vattrs_.find<glm::vec3>(attr::kPosition)) {}
+      positions_(vattrs_.find<glm::vec3>(attr::kPosition)) {
+  faces_.reserve(other.faces_.capacity());
+  faces_.assign(other.faces_.begin(), other.faces_.end());
+  deleted_.reserve(other.deleted_.capacity());
+  deleted_.assign(other.deleted_.begin(), other.deleted_.end());
+}
 
 SurfaceMesh& SurfaceMesh::operator=(const SurfaceMesh& other) {
   if (this != &other) {

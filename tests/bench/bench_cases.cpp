@@ -248,11 +248,7 @@ const Model& cactus_model(std::size_t triangles) {
 
 Model session_model(std::size_t triangles) {
   Model model = cactus_model(triangles);
-  for (auto& mesh : model.meshes)
-    for (auto& prim : mesh.primitives) {
-      SurfaceMesh& m = prim.mesh;
-      m.reserve(m.vertex_count() + m.vertex_count() / 8 + 4096, m.face_slots() + m.face_slots() / 8 + 8192);
-    }
+  reserve_for_operations(model);
   return model;
 }
 

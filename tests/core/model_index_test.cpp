@@ -335,6 +335,29 @@ TEST(ModelIndexTest, another_pose_rebuilds_and_a_cut_invalidates) {
   expect_index_matches_rebuild(index, model, rng);
 }
 
+TEST(ModelIndexTest, reserved_room_survives_copies_so_operations_on_snapshots_do_not_reallocate) {
+  Model model = test::make_skinned_tube_model();
+  reserve_for_operations(model);
+  const SurfaceMesh& mesh = model.meshes[0].primitives[0].mesh;
+  const std::size_t vertex_room = mesh.positions().capacity(), face_room = mesh.faces().capacity();
+  EXPECT_GT(vertex_room, mesh.vertex_count());
+  EXPECT_GT(face_room, mesh.face_slots());
+  const Model snapshot = model;  // the studio copies its state before every operation
+  const SurfaceMesh& copy = snapshot.meshes[0].primitives[0].mesh;
+  EXPECT_EQ(copy.positions().capacity(), vertex_room);
+  EXPECT_EQ(copy.faces().capacity(), face_room);
+  const auto* weights = copy.vertex_attrs().find<glm::vec4>(attr::kWeights0);
+  ASSERT_NE(weights, nullptr);
+  EXPECT_EQ(weights->data().capacity(), vertex_room);
+  // A drill on the copy that stays within the room keeps the arrays where they were.
+  const glm::vec3* positions = copy.positions().data();
+  Model edited = snapshot;
+  const glm::vec3* before = edited.meshes[0].primitives[0].mesh.positions().data();
+  ASSERT_EQ(drill_model(edited, Cylinder{{0.0f, 2.0f, -3.0f}, {0.0f, 2.0f, 3.0f}, 0.3f}).status, OpStatus::Ok);
+  EXPECT_EQ(edited.meshes[0].primitives[0].mesh.positions().data(), before) << "no reallocation";
+  EXPECT_EQ(copy.positions().data(), positions);
+}
+
 TEST(ModelIndexTest, a_small_drill_leaves_the_body_in_place_and_extracts_only_the_wall) {
   Model model = test::make_skinned_tube_model();
   const std::size_t slots = model.meshes[0].primitives[0].mesh.face_slots();

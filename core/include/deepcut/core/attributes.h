@@ -66,6 +66,7 @@ class AttributeArrayBase {
   virtual void copy(std::size_t dst, std::size_t src) = 0;
   /// Keeps only the elements listed, in that order (`keep[i]` becomes element `i`).
   virtual void gather(const std::vector<std::uint32_t>& keep) = 0;
+  /// A copy with the same capacity (room reserved for growth is kept).
   virtual std::unique_ptr<AttributeArrayBase> clone() const = 0;
   /// A copy holding only the elements listed, in that order (`keep[i]` becomes element `i`):
   /// `clone()` then `gather(keep)` without copying the whole array first.
@@ -107,7 +108,12 @@ class AttributeArray final : public AttributeArrayBase {
     data_.swap(out);
   }
   std::unique_ptr<AttributeArrayBase> clone() const override {
-    return std::make_unique<AttributeArray<T>>(*this);
+    // Keeps the room to grow (SurfaceMesh::reserve), so a copy of a session's model edits
+    // without reallocating the whole array first.
+    auto out = std::make_unique<AttributeArray<T>>(default_);
+    out->data_.reserve(data_.capacity());
+    out->data_.assign(data_.begin(), data_.end());
+    return out;
   }
   std::unique_ptr<AttributeArrayBase> clone_subset(const std::vector<std::uint32_t>& keep) const override {
     auto out = std::make_unique<AttributeArray<T>>(default_);

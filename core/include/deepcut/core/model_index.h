@@ -22,6 +22,11 @@
 
 namespace deepcut {
 
+/// Gives every primitive of `model` room to grow by about an eighth (SurfaceMesh::reserve), as a
+/// session does once after loading: the first operations then edit without reallocating whole
+/// attribute arrays, and copies of the model (undo snapshots) keep the room. O(mesh), once.
+void reserve_for_operations(Model& model);
+
 class ModelIndex {
  public:
   /// One drawn primitive: primitive `primitive` of mesh `mesh`, instanced by node `node`.
