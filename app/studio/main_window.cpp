@@ -538,11 +538,13 @@ void MainWindow::load_file(const QString& path) {
   reruns_.clear();
   timeline_->set_animations(clips);
   model_ = model;
+  detach_index();
   index_ = std::move(index);
   index_state_ = model;
   index_timer_->stop();
   if (!scene_) scene_ = std::make_unique<plugins::Scene>();
   *scene_ = std::move(scene);
+  attach_index();
   const std::vector<std::string> notes = view_->set_scene(*scene_);
   tool_displaced_ = false;
   tree_->set_scene(*scene_);
@@ -573,6 +575,7 @@ void MainWindow::show_model(std::shared_ptr<const Model> model) {
   if (animation >= static_cast<int>(model->animations.size())) animation = model->animations.empty() ? -1 : 0;
   model_ = std::move(model);
   *scene_ = plugins::make_scene(model_, animation, timeline_->time());
+  if (index_state_.lock() == model_) attach_index();
   view_->set_scene(*scene_);
   tool_displaced_ = false;
   tree_->set_scene(*scene_);
@@ -594,6 +597,8 @@ void MainWindow::refresh_operation_index() {
   if (!model_ || !scene_) return;
   try {
     index_for(model_)->prepare(*model_, scene_->animation, scene_->time);
+    attach_index();
+    refresh_tool_preview();
   } catch (const Error&) {
     index_state_.reset();  // the next operation builds it (and reports what is wrong)
   } catch (const std::bad_alloc&) {
@@ -602,7 +607,27 @@ void MainWindow::refresh_operation_index() {
   }
 }
 
+void MainWindow::detach_index() {
+  if (!scene_) return;
+  for (plugins::ScenePiece& piece : scene_->pieces) piece.grid = nullptr;
+}
+
+void MainWindow::attach_index() {
+  detach_index();
+  const ModelIndex* index = operation_index();
+  if (!index || !scene_ || scene_->model != model_ || !index->matches(scene_->animation, scene_->time)) return;
+  for (plugins::ScenePiece& piece : scene_->pieces) {
+    const ModelIndex::Instance* inst = index->find(piece.node, piece.primitive);
+    // The grid is filed at the index's posed positions: attach it only where they are the
+    // scene's, bit for bit (both pose with the same skinning; this guards the assumption).
+    if (inst && inst->mesh == piece.mesh && inst->posed.size() == piece.posed.size() &&
+        std::equal(inst->posed.begin(), inst->posed.end(), piece.posed.begin()))
+      piece.grid = &inst->grid;
+  }
+}
+
 ModelIndex* MainWindow::index_for(const std::shared_ptr<const Model>& state) {
+  detach_index();
   if (!index_) index_ = std::make_unique<ModelIndex>();
   if (index_state_.lock() != state) {
     index_->invalidate();  // free the old one before building the new one
@@ -713,6 +738,7 @@ bool MainWindow::apply_tool() {
     const OperationReport report = deepcut::apply_operation(*result, op, index);
     index_state_ = report.status == OpStatus::Ok ? std::shared_ptr<const Model>(result) : model_;
     if (report.status != OpStatus::Ok) {
+      attach_index();  // a miss changed nothing: the index still describes the shown model
       report_error(QString::fromStdString(active_tool->title()) + ": the tool misses the model (nothing changed)");
       return false;
     }
@@ -1090,6 +1116,7 @@ void MainWindow::refresh_status() {
 void MainWindow::on_pose_changed(int animation, float time) {
   if (!scene_) return;
   index_timer_->start();  // the operations' preprocessing follows once the pose stays put
+  detach_index();         // its grids are filed at the previous pose
   plugins::pose_scene(*scene_, animation, time);
   view_->update_pose();
   tool_displaced_ = false;

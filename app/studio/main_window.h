@@ -193,7 +193,12 @@ class MainWindow : public QMainWindow {
   const std::vector<OperationEntry>* rerun_entries(const Model* model) const;
   void on_pose_changed(int animation, float time);
   /// The preprocessing for `state`, built for the current pose when it describes another state.
+  /// Detaches it from the scene first (it may change).
   ModelIndex* index_for(const std::shared_ptr<const Model>& state);
+  /// Gives the scene's pieces the index's grids when it describes the shown model and pose (the
+  /// tools' previews then visit only the cells they cross), or takes them away.
+  void attach_index();
+  void detach_index();
   /// A left drag in the view, offered to the active tool (the Poke takes it).
   bool on_pointer(const PointerEvent& event);
   /// One tick of the active tool's own motion (soft body), then the view follows.

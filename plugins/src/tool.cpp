@@ -41,11 +41,22 @@ bool triangle_plane_segment(const glm::vec3& p0, const glm::vec3& p1, const glm:
   return true;
 }
 
-template <class F>
-void for_each_posed_triangle(const Scene& scene, F&& fn) {
+// Calls `fn` on the posed triangles of every piece that `candidates(grid)` returns when the
+// piece has a grid (faces in id order, as the scan visits them), else on every live triangle.
+template <class Query, class F>
+void for_each_posed_triangle(const Scene& scene, Query&& candidates, F&& fn) {
   for (const ScenePiece& piece : scene.pieces) {
     if (!piece.surface || piece.posed.size() < piece.surface->vertex_count()) continue;
-    piece.surface->for_each_face([&](FaceId, const Triangle& t) {
+    const SurfaceMesh& mesh = *piece.surface;
+    if (piece.grid) {
+      for (FaceId f : candidates(*piece.grid)) {
+        if (f.index >= mesh.face_slots() || mesh.is_deleted(f)) continue;
+        const Triangle& t = mesh.face(f);
+        fn(piece.posed[t[0].index], piece.posed[t[1].index], piece.posed[t[2].index]);
+      }
+      continue;
+    }
+    mesh.for_each_face([&](FaceId, const Triangle& t) {
       fn(piece.posed[t[0].index], piece.posed[t[1].index], piece.posed[t[2].index]);
     });
   }
@@ -58,7 +69,9 @@ std::vector<glm::vec3> plane_contour(const Scene& scene, const Plane& plane) {
   const float len = glm::length(plane.normal);
   if (!(len > 0.0f)) return out;
   const glm::vec3 n = plane.normal / len;
-  for_each_posed_triangle(scene, [&](const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& p2) {
+  // With a grid only the cells along the plane are visited (its bounds cover every cell).
+  auto along_plane = [&](const TriangleGrid& grid) { return grid.query_slab(grid.bounds(), plane.point, n, 0.0f); };
+  for_each_posed_triangle(scene, along_plane, [&](const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& p2) {
     glm::vec3 a, b;
     if (triangle_plane_segment(p0, p1, p2, plane.point, n, a, b)) {
       out.push_back(a);
@@ -78,7 +91,11 @@ std::vector<glm::vec3> triangle_contour(const Scene& scene, const std::array<glm
   glm::vec3 edge_normal[3];
   for (int k = 0; k < 3; ++k) edge_normal[k] = glm::cross(n, tri[(k + 1) % 3] - tri[k]);
   const glm::vec3 lo = glm::min(tri[0], glm::min(tri[1], tri[2])), hi = glm::max(tri[0], glm::max(tri[1], tri[2]));
-  for_each_posed_triangle(scene, [&](const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& p2) {
+  BoundingBox box;
+  box.add(lo);
+  box.add(hi);
+  auto in_box = [&](const TriangleGrid& grid) { return grid.query_box(box); };
+  for_each_posed_triangle(scene, in_box, [&](const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& p2) {
     const glm::vec3 flo = glm::min(p0, glm::min(p1, p2)), fhi = glm::max(p0, glm::max(p1, p2));
     if (glm::any(glm::lessThan(fhi, lo)) || glm::any(glm::greaterThan(flo, hi))) return;
     glm::vec3 a, b;

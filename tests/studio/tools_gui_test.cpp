@@ -234,6 +234,21 @@ class StudioToolsTest : public QObject {
         QVERIFY2(got->grid.face_count() == want.grid.face_count(), when);
       }
     };
+    // The previews visit the index's grid cells and draw exactly what a scan of every face draws.
+    auto expect_same_previews = [&](const char* when) {
+      const deepcut::plugins::Scene& scene = *window->scene();
+      QVERIFY2(std::any_of(scene.pieces.begin(), scene.pieces.end(), [](const auto& p) { return p.grid != nullptr; }), when);
+      deepcut::plugins::Scene scan = scene;
+      for (auto& piece : scan.pieces) piece.grid = nullptr;
+      for (const char* id : {"cut", "tear", "drill"}) {
+        window->set_tool(id);
+        const deepcut::Overlay with_grid = window->tool()->preview(scene), without = window->tool()->preview(scan);
+        QVERIFY2(!with_grid.lines.empty() && !with_grid.lines.front().endpoints.empty(), when);
+        QVERIFY2(with_grid.lines.front().endpoints == without.lines.front().endpoints, when);
+      }
+    };
+    expect_same_previews("after opening");
+    if (QTest::currentTestFailed()) return;
     const float size = window->scene()->size;
     window->set_tool("drill");
     auto drill = std::get<deepcut::DrillOperation>(window->tool()->parameters());
@@ -246,6 +261,8 @@ class StudioToolsTest : public QObject {
     QVERIFY2(window->apply_tool(), qPrintable(window->last_error()));
     expect_fresh("after a tear");
     if (QTest::currentTestFailed()) return;
+    expect_same_previews("after a drill and a tear");
+    if (QTest::currentTestFailed()) return;
     window->undo_action()->trigger();
     QVERIFY(window->operation_index() == nullptr);  // it described the undone state
     window->refresh_operation_index();
@@ -256,6 +273,8 @@ class StudioToolsTest : public QObject {
       window->refresh_operation_index();
       QVERIFY(window->operation_index()->time() == window->scene()->time);
       expect_fresh("after a new pose");
+      if (QTest::currentTestFailed()) return;
+      expect_same_previews("after a new pose");
       if (QTest::currentTestFailed()) return;
       window->set_tool("drill");
       QVERIFY2(window->apply_tool(), qPrintable(window->last_error()));

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "deepcut/core/model.h"
+#include "deepcut/core/spatial_index.h"
 #include "deepcut/widgets/overlay.h"
 
 namespace deepcut::plugins {
@@ -22,6 +23,9 @@ struct ScenePiece {
   const SurfaceMesh* surface = nullptr;
   std::vector<glm::vec3> posed;          ///< world positions for the current pose, one per vertex
   std::vector<glm::vec3> posed_normals;  ///< world normals, one per corner (empty without normals)
+  /// A grid over the live faces at `posed` (the studio's operation index, attached while it
+  /// matches this pose and model), or nullptr: the tools' previews then test every face.
+  const TriangleGrid* grid = nullptr;
 };
 
 struct Scene {
