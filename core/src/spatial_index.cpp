@@ -61,6 +61,8 @@ TriangleGrid TriangleGrid::build(const SurfaceMesh& mesh, const std::vector<glm:
   grid.bounds_ = extent.bounds;
   const std::size_t faces = extent.faces;
   grid.alive_.assign(slots, 0);
+  grid.tris_ = tris;
+  grid.placed_ = points;
   if (faces == 0) return grid;
   const glm::vec3 size =
       glm::max(grid.bounds_.max - grid.bounds_.min, glm::vec3(1e-6f * (grid.bounds_.diagonal() + 1.0f)));
@@ -134,6 +136,12 @@ void TriangleGrid::insert(FaceId f, const Triangle& t, const std::vector<glm::ve
   if (alive_[f.index]) return;
   alive_[f.index] = 1;
   ++live_;
+  if (f.index >= tris_.size()) tris_.resize(f.index + 1);
+  tris_[f.index] = t;
+  file(f, t, points);
+}
+
+void TriangleGrid::file(FaceId f, const Triangle& t, const std::vector<glm::vec3>& points) {
   BoundingBox b;
   for (auto v : t) b.add(points[v.index]);
   const glm::ivec3 lo = cell_of(b.min), hi = cell_of(b.max);
@@ -144,6 +152,7 @@ void TriangleGrid::insert(FaceId f, const Triangle& t, const std::vector<glm::ve
 
 void TriangleGrid::apply(const EditLog& log, const std::vector<glm::vec3>& points) {
   if (empty()) return;
+  std::vector<VertexId> moved;
   for (const Edit& e : log.edits) {
     if (const auto* r = std::get_if<FaceRemoved>(&e)) {
       if (r->f.index < alive_.size() && alive_[r->f.index]) {
@@ -152,8 +161,35 @@ void TriangleGrid::apply(const EditLog& log, const std::vector<glm::vec3>& point
       }
     } else if (const auto* a = std::get_if<FaceAdded>(&e)) {
       insert(a->f, a->vertices, points);
+    } else if (const auto* m = std::get_if<VertexMoved>(&e)) {
+      // A vertex made by this log has only faces the log adds (filed at `points` above).
+      if (m->v.index < placed_.size() && m->v.index < points.size()) moved.push_back(m->v);
     }
   }
+  std::sort(moved.begin(), moved.end());
+  moved.erase(std::unique(moved.begin(), moved.end()), moved.end());
+  // Every face using v has v's old place inside its box: it is filed in that place's cell. Those
+  // still live are filed again over their new box (a superset stays a superset). Each old cell
+  // is visited once (a tear moves a row of lip vertices that share cells).
+  std::vector<std::size_t> cells;
+  cells.reserve(moved.size());
+  for (const VertexId v : moved) {
+    const glm::ivec3 c = cell_of(placed_[v.index]);
+    cells.push_back(cell_index(c.x, c.y, c.z));
+  }
+  std::sort(cells.begin(), cells.end());
+  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+  auto is_moved = [&](VertexId v) { return std::binary_search(moved.begin(), moved.end(), v); };
+  std::vector<FaceId> near;
+  for (const std::size_t c : cells) collect_cell(c, near);
+  sort_unique(near);
+  for (const FaceId f : near) {
+    const Triangle& t = tris_[f.index];
+    if (is_moved(t[0]) || is_moved(t[1]) || is_moved(t[2])) file(f, t, points);
+  }
+  const std::size_t before = placed_.size();
+  if (points.size() > before) placed_.insert(placed_.end(), points.begin() + static_cast<std::ptrdiff_t>(before), points.end());
+  for (const VertexId v : moved) placed_[v.index] = points[v.index];
 }
 
 void TriangleGrid::sort_unique(std::vector<FaceId>& v) {

@@ -828,6 +828,7 @@ TEST(DrillTest, random_drills_on_every_asset_keep_all_invariants) {
 TEST(DrillTest, incremental_adjacency_follows_a_random_sequence) {
   const unsigned seed = 77;
   std::printf("drill sequence seed %u\n", seed);
+  std::size_t moved = 0;
   for (const auto& path : test::asset_models()) {
     SCOPED_TRACE(path);
     const Model model = read_gltf(path);
@@ -843,6 +844,12 @@ TEST(DrillTest, incremental_adjacency_follows_a_random_sequence) {
       DrillOptions options;
       options.wall = i % 3 == 0;
       const DrillResult r = drill_mesh(mesh, posed, c, options, &grid);
+      // Vertices snapped onto the cylinder move (posed == bind here), then new ones join.
+      for (const auto& m : r.moved) {
+        EXPECT_LE(glm::length(m.posed - mesh.position(m.v)), 1e-5f * (1.0f + glm::length(m.posed)));
+        posed[m.v.index] = m.posed;
+      }
+      moved += r.moved.size();
       posed.insert(posed.end(), r.added_posed.begin(), r.added_posed.end());
       ASSERT_EQ(posed.size(), mesh.vertex_count());
       grid.apply(r.log, posed);
@@ -850,9 +857,20 @@ TEST(DrillTest, incremental_adjacency_follows_a_random_sequence) {
       test::expect_adjacency_matches_rebuild(adj, mesh);
       test::expect_valid(mesh, model.skins.empty() ? 0 : model.skins[0].joints.size());
       EXPECT_EQ(grid.face_count(), mesh.face_count());
+      // The grid finds every face around a moved vertex at its new place.
+      std::vector<bool> is_moved(mesh.vertex_count(), false);
+      for (const auto& m : r.moved) is_moved[m.v.index] = true;
+      mesh.for_each_face([&](FaceId f, const Triangle& t) {
+        if (!is_moved[t[0].index] && !is_moved[t[1].index] && !is_moved[t[2].index]) return;
+        BoundingBox b;
+        for (VertexId v : t) b.add(posed[v.index]);
+        const auto found = grid.query_box(b);
+        EXPECT_TRUE(std::binary_search(found.begin(), found.end(), f)) << "face around a moved vertex";
+      });
       if (::testing::Test::HasFatalFailure()) return;
     }
   }
+  EXPECT_GT(moved, 0u) << "some drills snap a vertex onto the cylinder (so the moves are followed)";
 }
 
 // Found by the random sequences (pinched vertices after drills, e.g. Fox seed 20261986 step 211):
@@ -1078,6 +1096,62 @@ TEST(DrillTest, a_ruling_beyond_a_grazed_edge_keeps_its_rim_point) {
       if (::testing::Test::HasFatalFailure()) return;
       EXPECT_EQ(out.round_holes, 1u) << "check_drill counts its rim edges";
     }
+}
+
+// A vertex lying just inside the cylinder (1% of r, a tenth of the rim spacing) had two edges
+// crossed a hair from it: it went, and the far corners of its faces fanned to the two close
+// crossings (needles; on a needle parent, degenerate triangles). It is now slid onto the
+// cylinder and becomes a rim vertex; its bind position moves through its own skinning (here a
+// translation between bind and posed space), and DrillResult::moved reports the posed one.
+TEST(DrillTest, a_vertex_just_inside_the_cylinder_becomes_a_rim_vertex) {
+  for (const bool indexed : {false, true}) {
+    SCOPED_TRACE(indexed ? "indexed" : "scan");
+    SurfaceMesh mesh = test::make_grid(8, 8);  // unit square, spacing 0.125
+    const SurfaceMesh input = mesh;
+    const glm::vec3 offset(0.3f, -0.2f, 0.1f);  // posed = bind + offset
+    std::vector<glm::vec3> posed = mesh.positions();
+    for (auto& p : posed) p += offset;
+    const VertexId centre(4 * 9 + 4);  // at (0.5, 0.5)
+    const float r = 0.2f;
+    Cylinder c;
+    // The axis 0.99 r from it, towards 200 degrees: the circle is tangent to no grid line there.
+    const glm::vec3 toward(std::cos(3.49066f), std::sin(3.49066f), 0.0f);
+    c.a = glm::vec3(0.5f, 0.5f, -1.0f) + 0.99f * r * toward + offset;
+    c.b = glm::vec3(0.5f, 0.5f, 1.0f) + 0.99f * r * toward + offset;
+    c.radius = r;
+    const Unposer unpose = [&](const SurfaceMesh&, VertexId, const glm::vec3& p) { return p - offset; };
+    const TriangleGrid grid = TriangleGrid::build(mesh, posed);
+    const DrillResult res = drill_mesh(mesh, posed, c, DrillOptions{}, indexed ? &grid : nullptr, unpose);
+    ASSERT_EQ(res.status, OpStatus::Ok);
+    // No needle there: the faces with a corner within a rim spacing of where the vertex was keep
+    // at least 10 degrees (without the snap: two crossings a hair apart, faces under 1.5).
+    const glm::vec3 was = input.position(centre);
+    const double spacing = 2.0 * r * std::sin(kPi / 32);
+    mesh.for_each_face([&](FaceId f, const Triangle& t) {
+      bool near = false;
+      for (VertexId v : t) near |= glm::length(mesh.position(v) - was) < spacing;
+      if (near) {
+        EXPECT_GE(min_angle(mesh, t), 10.0) << "face " << f.index << " near the vertex";
+      }
+    });
+    const auto it = std::find_if(res.moved.begin(), res.moved.end(), [&](const auto& m) { return m.v == centre; });
+    ASSERT_NE(it, res.moved.end()) << "the vertex is moved";
+    const glm::vec3 moved = it->posed;
+    EXPECT_NEAR(glm::length(glm::vec2(moved - c.a)), r, 1e-5f) << "on the cylinder";
+    EXPECT_NEAR(moved.z - offset.z, 0.0f, 1e-6f) << "slid in its own plane";
+    EXPECT_LT(glm::length(mesh.position(centre) + offset - moved), 1e-5f) << "bind moved with posed";
+    std::size_t moves = 0;
+    for (const Edit& e : res.log.edits)
+      if (const auto* m = std::get_if<VertexMoved>(&e)) moves += m->v == centre;
+    EXPECT_EQ(moves, 1u) << "logged as VertexMoved";
+    ASSERT_EQ(res.holes.size(), 1u);
+    EXPECT_NE(std::find(res.holes[0].rim.begin(), res.holes[0].rim.end(), centre), res.holes[0].rim.end())
+        << "the vertex is on the rim";
+    Adjacency adj = Adjacency::build(input);
+    adj.apply(res.log);
+    test::expect_adjacency_matches_rebuild(adj, mesh);
+    test::expect_valid(mesh, 2);
+  }
 }
 
 }  // namespace deepcut

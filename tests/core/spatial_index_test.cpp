@@ -91,6 +91,48 @@ TEST(SpatialIndexTest, follows_the_edit_log) {
   EXPECT_THROW(TriangleGrid::build(mesh, std::vector<glm::vec3>(3)), Error);
 }
 
+// A moved vertex (a drill snapping a vertex onto its cylinder, a tear's lips) changes the boxes of
+// faces the log does not list: the grid finds them through the cell it filed them in.
+TEST(SpatialIndexTest, faces_around_a_moved_vertex_are_found_at_their_new_place) {
+  SurfaceMesh mesh = test::make_grid(8, 8);  // unit square, z = 0
+  TriangleGrid grid = TriangleGrid::build(mesh, mesh.positions(), 0.05f);
+  const VertexId v(4 * 9 + 4);  // the centre
+  auto faces_using_v = [&] {
+    std::vector<FaceId> out;
+    mesh.for_each_face([&](FaceId f, const Triangle& t) {
+      if (t[0] == v || t[1] == v || t[2] == v) out.push_back(f);
+    });
+    return out;
+  };
+  auto box_of = [&](FaceId f) {
+    BoundingBox b;
+    for (VertexId w : mesh.face(f)) b.add(mesh.position(w));
+    return b;
+  };
+  ASSERT_EQ(faces_using_v().size(), 6u);
+  // Twice, the second time from the place the first move left it (and in the same log as an
+  // edit elsewhere).
+  const glm::vec3 targets[2] = {{0.8f, 0.3f, 0.4f}, {0.2f, 0.9f, -0.3f}};
+  for (std::uint32_t i = 0; i < 2; ++i) {
+    const glm::vec3 to = targets[i];
+    MeshEditor editor(mesh);
+    editor.move_vertex(v, to);
+    const FaceId far(i);
+    const Triangle t = mesh.face(far);
+    editor.remove_face(far);
+    editor.add_face_from(t, far, {glm::vec3(1, 0, 0), glm::vec3(0, 1, 0), glm::vec3(0, 0, 1)});
+    grid.apply(editor.take_log(), mesh.positions());
+    EXPECT_EQ(grid.face_count(), mesh.face_count());
+    for (const FaceId f : faces_using_v()) {
+      const auto found = grid.query_box(box_of(f));
+      EXPECT_TRUE(std::binary_search(found.begin(), found.end(), f))
+          << "face " << f.index << " around the moved vertex, at (" << to.x << ", " << to.y << ", " << to.z << ")";
+      const auto capsule = grid.query_capsule(to, to, 0.01f);
+      EXPECT_TRUE(std::binary_search(capsule.begin(), capsule.end(), f)) << "capsule at the new place";
+    }
+  }
+}
+
 TEST(SpatialIndexTest, slab_query_contains_every_face_near_the_plane_and_far_faces_added_later) {
   SurfaceMesh mesh = test::make_tube(32, 16, 1.0f, 4.0f);
   TriangleGrid grid = TriangleGrid::build(mesh, mesh.positions());

@@ -53,6 +53,10 @@ constexpr double kWallBend = 0.125;
 constexpr double kWallRows = 256.0;
 constexpr double kWallNeedle = 6.0 * kPi / 180.0;  // wall triangles at a rim refined below this angle
 constexpr double kWallRings = 24.0;
+// Old vertices within this many rim spacings of the cylinder's side, with crossings of two of
+// their edges within kSnapClose rim spacings, are slid onto it (snap_shallow_vertices).
+constexpr double kSnapBand = 0.1;
+constexpr double kSnapClose = 0.5;
 
 std::uint64_t edge_key(VertexId a, VertexId b) {
   const auto lo = std::min(a.index, b.index), hi = std::max(a.index, b.index);
@@ -457,8 +461,15 @@ class Driller {
 
  private:
   glm::dvec3 posed(VertexId v) const {
-    return v.index < first_new_ ? glm::dvec3(posed_[v.index]) : added_posed_[v.index - first_new_];
+    if (v.index >= first_new_) return added_posed_[v.index - first_new_];
+    if (!moved_.empty()) {
+      const auto it = std::lower_bound(moved_.begin(), moved_.end(), std::make_pair(v.index, glm::dvec3(-kInf)),
+                                       [](const auto& x, const auto& y) { return x.first < y.first; });
+      if (it != moved_.end() && it->first == v.index) return it->second;
+    }
+    return glm::dvec3(posed_[v.index]);
   }
+  void snap_shallow_vertices();
   const EdgeCut& edge(VertexId a, VertexId b);
   void merge_crossings(FaceId f);
   VertexId merged(VertexId v) const {
@@ -514,6 +525,8 @@ class Driller {
   int samples_ = 32;
   std::uint32_t first_new_ = 0;
   std::vector<glm::dvec3> added_posed_;
+  // Old vertices snap_shallow_vertices moved onto the cylinder: (index, new posed), by index.
+  std::vector<std::pair<std::uint32_t, glm::dvec3>> moved_;
   std::vector<glm::dvec3> ruling_base_;  // where each sampled ruling starts (s = 0)
   // Edges met so far: an open-addressing table (at most half full) of edge keys to indices into
   // edge_cuts_, sized for the candidates' edges up front: no allocation per edge. A deque, so
@@ -536,6 +549,7 @@ class Driller {
   // process_face's working lists, kept between faces so their memory is reused.
   std::vector<LocalPoint> pts_scratch_, rim_scratch_, all_scratch_, poly_scratch_;
   std::vector<std::uint8_t> seg_scratch_, used_scratch_;
+  std::vector<VertexId> ring_scratch_;
   std::unordered_map<std::uint32_t, WallCoord> wall_coords_;
 };
 
@@ -669,6 +683,100 @@ void Driller::merge_crossings(FaceId f) {
         const VertexId a = merged(ea.v[i]), b = merged(eb.v[j]);
         if (a != b && mesh_.position(a) == mesh_.position(b)) merged_.emplace(std::max(a, b).index, std::min(a, b));
       }
+  }
+}
+
+// An old vertex lying just inside (or just outside) the cylinder leaves the crossings of two of
+// its edges a hair apart: the far corners of its faces fan to those two close rim points (needles
+// under a degree), or it stays as the tip of a sliver between them. Such a vertex, within
+// kSnapBand rim spacings of the side, is slid in its tangent plane onto the cylinder before any
+// edge is split, so it becomes a rim vertex itself and its edges are not cut there. Only where
+// every face around it keeps its orientation (and a non-zero area) in posed and in bind space;
+// the bind position moves by the vertex's own skinning inverted (the unposer), so the edit is a
+// VertexMoved in the log and the new posed position is reported (DrillResult::moved).
+void Driller::snap_shallow_vertices() {
+  const double spacing = 2.0 * cyl_.r * std::sin(kPi / samples_);
+  const double band = kSnapBand * spacing, close = kSnapClose * spacing;
+  // Every face around a vertex within the band of the side is a candidate (the reach covers it).
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> corners;  // (old vertex, candidate face)
+  for (FaceId f : candidates_)
+    for (VertexId v : mesh_.face(f))
+      if (v.index < first_new_) corners.emplace_back(v.index, f.index);
+  std::sort(corners.begin(), corners.end());
+  for (std::size_t i = 0, j = 0; i < corners.size(); i = j) {
+    while (j < corners.size() && corners[j].first == corners[i].first) ++j;
+    const VertexId x(corners[i].first);
+    const glm::dvec3 p = posed(x);
+    const double sv = cyl_.s(p), off = cyl_.rho(p) - cyl_.r;
+    if (sv < spacing || sv > cyl_.len - spacing || std::abs(off) > band || std::abs(off) <= 1e-9 * cyl_.r) continue;
+    // The crossings its edges would get near it (entering from outside, leaving from inside).
+    const glm::dvec3 m = cyl_.perp(p);
+    int near = 0;
+    glm::dvec3 normal(0.0);
+    std::vector<VertexId>& ring = ring_scratch_;
+    ring.clear();
+    for (std::size_t c = i; c < j; ++c) {
+      const Triangle& t = mesh_.face(FaceId(corners[c].second));
+      normal += glm::cross(posed(t[1]) - posed(t[0]), posed(t[2]) - posed(t[0]));
+      for (VertexId y : t)
+        if (y != x) ring.push_back(y);
+    }
+    std::sort(ring.begin(), ring.end());
+    ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+    for (VertexId y : ring) {
+      const glm::dvec3 q = posed(y), k = cyl_.perp(q) - m;
+      const double a = glm::dot(k, k), b = glm::dot(m, k), cq = glm::dot(m, m) - cyl_.r * cyl_.r;
+      const double disc = b * b - a * cq;
+      if (!(a > 0.0) || disc < 0.0) continue;
+      const double tt = off > 0.0 ? (-b - std::sqrt(disc)) / a : (-b + std::sqrt(disc)) / a;
+      near += tt > 0.0 && tt < 1.0 && tt * glm::length(q - p) < close;
+    }
+    if (near < 2) continue;
+    const double nl = glm::length(normal);
+    if (!(nl > 0.0)) continue;
+    normal /= nl;
+    const glm::dvec3 radial = m / glm::length(m);
+    glm::dvec3 dir = radial - glm::dot(radial, normal) * normal;
+    const double dl = glm::length(dir);
+    if (dl < 0.5) continue;  // the surface runs along the cylinder there: no slide reaches it
+    dir /= dl;
+    const glm::dvec3 k = dir - glm::dot(dir, cyl_.d) * cyl_.d;
+    const double a = glm::dot(k, k), b = glm::dot(m, k), cq = glm::dot(m, m) - cyl_.r * cyl_.r;
+    const double disc = b * b - a * cq;
+    if (!(a > 0.0) || disc < 0.0) continue;
+    const double l1 = (-b - std::sqrt(disc)) / a, l2 = (-b + std::sqrt(disc)) / a;
+    const double step = std::abs(l1) < std::abs(l2) ? l1 : l2;
+    if (!(std::abs(step) <= 2.0 * band)) continue;
+    const glm::dvec3 target = p + step * dir;
+    const double st = cyl_.s(target);
+    if (st < spacing || st > cyl_.len - spacing) continue;
+    const glm::vec3 bind = mesh_.position(x);
+    glm::dvec3 shift = target - p;
+    if (unpose_) shift = glm::dvec3(unpose_(mesh_, x, glm::vec3(target))) - glm::dvec3(unpose_(mesh_, x, glm::vec3(p)));
+    const glm::vec3 moved = glm::vec3(glm::dvec3(bind) + shift);
+    if (!(std::isfinite(moved.x) && std::isfinite(moved.y) && std::isfinite(moved.z)) || moved == bind) continue;
+    bool ok = true;
+    for (std::size_t c = i; c < j && ok; ++c) {
+      const Triangle& t = mesh_.face(FaceId(corners[c].second));
+      glm::dvec3 pp[3], pn[3], bp[3], bn[3];
+      for (int q = 0; q < 3; ++q) {
+        pp[q] = posed(t[q]);
+        pn[q] = t[q] == x ? target : pp[q];
+        bp[q] = glm::dvec3(mesh_.position(t[q]));
+        bn[q] = glm::dvec3(t[q] == x ? moved : mesh_.position(t[q]));
+      }
+      for (int space = 0; space < 2 && ok; ++space) {
+        const glm::dvec3* o = space == 0 ? pp : bp;
+        const glm::dvec3* n = space == 0 ? pn : bn;
+        const glm::dvec3 before = glm::cross(o[1] - o[0], o[2] - o[0]), after = glm::cross(n[1] - n[0], n[2] - n[0]);
+        const double longest =
+            std::max({glm::dot(n[1] - n[0], n[1] - n[0]), glm::dot(n[2] - n[1], n[2] - n[1]), glm::dot(n[0] - n[2], n[0] - n[2])});
+        ok = glm::length(after) > 1e-9 * longest && glm::dot(before, after) > 0.5 * glm::length(before) * glm::length(after);
+      }
+    }
+    if (!ok) continue;
+    editor_.move_vertex(x, moved);
+    moved_.emplace_back(x.index, target);  // in index order: the corners are sorted
   }
 }
 
@@ -2122,7 +2230,8 @@ DrillResult Driller::run() {
   DrillResult result;
   result.first_new_vertex = first_new_;
   std::vector<FaceId>& candidates = candidates_;
-  const double reach = cyl_.r + 2.0 * eps_;
+  // Far enough to hold every face around a vertex snap_shallow_vertices may move.
+  const double reach = cyl_.r + std::max(2.0 * eps_, (kSnapBand + 0.01) * 2.0 * cyl_.r * std::sin(kPi / samples_));
   auto near_axis = [&](const Triangle& t) {
     const glm::dvec3 p0 = posed(t[0]), p1 = posed(t[1]), p2 = posed(t[2]);
     const glm::dvec3 c = (p0 + p1 + p2) / 3.0;
@@ -2143,9 +2252,12 @@ DrillResult Driller::run() {
     });
   }
   size_edge_table(3 * candidates.size() + 3);  // every edge looked up is a candidate's
+  snap_shallow_vertices();
   for (FaceId f : candidates) merge_crossings(f);
   for (FaceId f : candidates) process_face(f);
-  if (editor_.log().empty()) {
+  if (editor_.log().size() == moved_.size()) {  // nothing cut: the snaps go back, the log stays empty
+    for (const Edit& e : editor_.log().edits)
+      if (const auto* mv = std::get_if<VertexMoved>(&e)) mesh_.positions()[mv->v.index] = mv->from;
     result.status = OpStatus::NoIntersection;
     return result;
   }
@@ -2154,8 +2266,12 @@ DrillResult Driller::run() {
   // walls after them (a wall can join the fans again), the rims following the copies.
   auto split_pinches = [&]() {
     const auto touched = detail::edited_vertices(editor_.log());
-    auto pinches = detail::split_pinched_vertices(
-        editor_, touched, detail::faces_around(mesh_, editor_.log(), touched, first_new_, index_, posed_));
+    // With the index, faces are found where their old vertices were filed; the faces around a
+    // snapped vertex (filed where it was, and `posed_` may be the mesh's own positions) are all
+    // candidates.
+    auto around = detail::faces_around(mesh_, editor_.log(), touched, first_new_, index_, posed_);
+    if (index_ && !moved_.empty()) around.insert(around.end(), candidates_.begin(), candidates_.end());
+    auto pinches = detail::split_pinched_vertices(editor_, touched, around);
     for (const auto& [v, c] : pinches.copies) {
       (void)c;
       added_posed_.push_back(posed(v));
@@ -2179,6 +2295,7 @@ DrillResult Driller::run() {
   result.triangles_added = added_;
   result.added_posed.reserve(added_posed_.size());
   for (const auto& p : added_posed_) result.added_posed.push_back(glm::vec3(p));
+  for (const auto& [v, p] : moved_) result.moved.push_back({VertexId(v), glm::vec3(p)});
   result.log = editor_.take_log();
   return result;
 }

@@ -29,7 +29,10 @@ class TriangleGrid {
                             float cell_size = 0.0f);
 
   /// Follows an edit log: removed faces leave, added faces join at `points` (which must cover
-  /// every vertex the added faces use). O(edits).
+  /// every vertex the added faces use), and the faces around a moved vertex (VertexMoved: a
+  /// drill's snapped vertex, a tear's lips) join the cells of their new place too. `points` holds
+  /// the positions after the edits, moved vertices included; the grid remembers where it placed
+  /// each vertex, so it finds a moved vertex's faces where they were filed. O(edits).
   void apply(const EditLog& log, const std::vector<glm::vec3>& points);
 
   /// Live faces in the cells `box` overlaps (a superset of the faces whose bounding box overlaps
@@ -58,6 +61,7 @@ class TriangleGrid {
 
  private:
   void insert(FaceId f, const Triangle& t, const std::vector<glm::vec3>& points);
+  void file(FaceId f, const Triangle& t, const std::vector<glm::vec3>& points);
   glm::ivec3 cell_of(const glm::vec3& p) const;
   std::size_t cell_index(int x, int y, int z) const {
     return (static_cast<std::size_t>(z) * static_cast<std::size_t>(dims_.y) + static_cast<std::size_t>(y)) *
@@ -80,6 +84,10 @@ class TriangleGrid {
   std::unordered_map<std::size_t, std::vector<std::uint32_t>> added_;
   std::vector<std::uint8_t> alive_;  // by face slot
   std::size_t live_ = 0;
+  // The corners of every face slot and where each vertex was when its faces were filed: the
+  // faces around a moved vertex are those of its old cell that use it.
+  std::vector<Triangle> tris_;
+  std::vector<glm::vec3> placed_;
 };
 
 }  // namespace deepcut

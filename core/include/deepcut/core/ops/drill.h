@@ -67,6 +67,16 @@ struct DrillResult {
   /// so callers can extend their posed positions and spatial index.
   std::vector<glm::vec3> added_posed;
   std::uint32_t first_new_vertex = 0;
+  /// Old vertices the drill moved onto the cylinder, with their new posed positions (a vertex
+  /// lying within a tenth of the rim spacing of the cylinder, whose edges would be crossed a
+  /// hair from it, becomes a rim vertex itself instead of leaving needles; its bind position
+  /// moves through its own skinning, logged as VertexMoved). Callers set these in their posed
+  /// positions before `index.apply(result.log, posed)`.
+  struct Moved {
+    VertexId v;
+    glm::vec3 posed{0.0f};
+  };
+  std::vector<Moved> moved;
   /// Every change, in order.
   EditLog log;
 };
