@@ -1154,4 +1154,39 @@ TEST(DrillTest, a_vertex_just_inside_the_cylinder_becomes_a_rim_vertex) {
   }
 }
 
+// Found by the random sequences (SimpleSkin seed 4 step 282, a drill without wall): a part cut
+// down to a speck 2e-5 across at coordinates about 1.3 got a drill of radius 3.1e-7 (1% of the
+// speck) with 48 rim edges: rim points 4e-8 apart, a third of a float step there, so the bind
+// positions of a rim's new face rounded onto one line (three distinct corners, zero area). Such
+// a cylinder is refused: its rim spacing must exceed the drill's absolute tolerance (1e-6 of the
+// axis' coordinates); just above that every new face keeps a non-zero area.
+TEST(DrillTest, a_rim_finer_than_float_precision_is_refused) {
+  SurfaceMesh mesh = test::make_grid(4, 4);
+  const glm::vec3 at(0.743281424f, 1.24779034f, -0.000512723869f);
+  for (auto& p : mesh.positions()) p = at + 2e-5f * (p - glm::vec3(0.5f, 0.5f, 0.0f));
+  Cylinder c;
+  c.a = at + glm::vec3(1e-7f, 2e-7f, -1e-5f);
+  c.b = at + glm::vec3(1e-7f, 2e-7f, 1e-5f);
+  DrillOptions options;
+  options.min_rim_edges = 48;
+  for (const float radius : {3.1e-7f, 1e-6f, 2e-6f}) {
+    c.radius = radius;
+    SurfaceMesh copy = mesh;
+    EXPECT_THROW(drill_mesh(copy, copy.positions(), c, options), Error) << "radius " << radius;
+    EXPECT_EQ(copy.faces(), mesh.faces());
+  }
+  const double scale = glm::length(glm::dvec3(c.a)) + glm::length(glm::dvec3(c.b)) + 2e-5;
+  c.radius = static_cast<float>(2.0 * 1e-6 * scale / (2.0 * std::sin(kPi / 48)));
+  SurfaceMesh copy = mesh;
+  const DrillResult r = drill_mesh(copy, copy.positions(), c, options);
+  ASSERT_EQ(r.status, OpStatus::Ok);
+  for (const Edit& e : r.log.edits)
+    if (const auto* fa = std::get_if<FaceAdded>(&e)) {
+      const glm::dvec3 x(copy.position(fa->vertices[0])), y(copy.position(fa->vertices[1])),
+          z(copy.position(fa->vertices[2]));
+      EXPECT_GT(glm::length(glm::cross(y - x, z - x)), 0.0) << "new face " << fa->f.index << " has zero area";
+    }
+  test::expect_valid(copy, 2);
+}
+
 }  // namespace deepcut

@@ -403,6 +403,11 @@ class Sequence {
       part.grid = TriangleGrid::build(mesh, part.posed);
       part.grid_current = true;
     }
+    // A speck of a part gets a radius finer than float positions resolve there: refused.
+    if (drill.cylinder.radius < min_drill_radius(drill.cylinder, drill.options.min_rim_edges)) {
+      EXPECT_THROW(drill_mesh(mesh, part.posed, drill.cylinder, drill.options, nullptr, unpose), Error) << context();
+      return false;
+    }
     DrillResult r = drill_mesh(mesh, part.posed, drill.cylinder, drill.options, use_index ? &part.grid : nullptr, unpose);
     log = std::move(r.log);
     return r.status == OpStatus::Ok;

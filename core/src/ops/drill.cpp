@@ -19,6 +19,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <deque>
 #include <iterator>
 #include <limits>
@@ -2300,6 +2301,11 @@ DrillResult Driller::run() {
   return result;
 }
 
+double axis_scale(const Cylinder& c) {
+  const glm::dvec3 a(c.a), b(c.b);
+  return glm::length(a) + glm::length(b) + glm::length(b - a);
+}
+
 void check_arguments(const Cylinder& c, const DrillOptions& options) {
   auto finite = [](const glm::vec3& v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
@@ -2314,12 +2320,29 @@ void check_arguments(const Cylinder& c, const DrillOptions& options) {
     throw Error(ErrorCode::InvalidArgument, "drill: the axis end points A and B coincide");
   if (options.min_rim_edges < 3 || options.min_rim_edges > 4096)
     throw Error(ErrorCode::InvalidArgument, "drill: min_rim_edges must be between 3 and 4096");
+  // Rim points closer than the absolute tolerance (a few float steps of the coordinates there)
+  // round onto each other or onto one line in float: faces of zero area.
+  if (c.radius < min_drill_radius(c, options.min_rim_edges)) {
+    char text[240];
+    std::snprintf(text, sizeof text,
+                  "drill: radius %.3g with %d rim edges puts rim points %.3g apart, finer than the precision of "
+                  "positions around the axis (%.3g); the radius must be at least %.3g",
+                  double(c.radius), options.min_rim_edges, 2.0 * c.radius * std::sin(kPi / options.min_rim_edges),
+                  1e-6 * axis_scale(c), double(min_drill_radius(c, options.min_rim_edges)));
+    throw Error(ErrorCode::InvalidArgument, text);
+  }
   if (!std::isfinite(options.relative_tolerance) || options.relative_tolerance < 0.0f ||
       options.relative_tolerance > 0.1f)
     throw Error(ErrorCode::InvalidArgument, "drill: relative_tolerance must be between 0 and 0.1");
 }
 
 }  // namespace
+
+float min_drill_radius(const Cylinder& cylinder, int min_rim_edges) {
+  const double spacing = 1e-6 * axis_scale(cylinder);  // the Driller's absolute tolerance
+  const double r = spacing / (2.0 * std::sin(kPi / std::max(min_rim_edges, 3)));
+  return std::nextafter(static_cast<float>(r), std::numeric_limits<float>::infinity());
+}
 
 DrillResult drill_mesh(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const Cylinder& cylinder,
                        const DrillOptions& options, const TriangleGrid* index, const Unposer& unpose) {

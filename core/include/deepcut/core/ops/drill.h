@@ -85,6 +85,11 @@ struct DrillResult {
 /// (blended from the rims) are already set when it is called.
 using Unposer = std::function<glm::vec3(const SurfaceMesh& mesh, VertexId v, const glm::vec3& posed)>;
 
+/// The smallest radius drill_mesh and drill_model accept for these axis end points and rim
+/// edges: rim points must lie farther apart than the drill's absolute tolerance (1e-6 of the
+/// axis' coordinates, a few float steps), or their float positions round onto one point or line.
+float min_drill_radius(const Cylinder& cylinder, int min_rim_edges);
+
 /// Drills one mesh in place.
 /// @param mesh      triangle mesh, edited through MeshEditor.
 /// @param posed     one world position per vertex of `mesh` (pass `mesh.positions()` for the
@@ -96,8 +101,8 @@ using Unposer = std::function<glm::vec3(const SurfaceMesh& mesh, VertexId v, con
 ///                  `index.apply(result.log, posed_with_added)`.
 /// @param unpose    places new wall vertices in bind space; empty means posed == bind.
 /// @pre posed.size() == mesh.vertex_count(); `index`, when given, was built on `posed`.
-/// @throws Error{InvalidArgument} for a radius <= 0, A == B, non-finite input, fewer than 3 rim
-///         edges, a negative tolerance or a size mismatch.
+/// @throws Error{InvalidArgument} for a radius <= 0 or under min_drill_radius, A == B, non-finite
+///         input, fewer than 3 rim edges, a negative tolerance or a size mismatch.
 /// @returns NoIntersection (mesh untouched, log empty) when no surface lies inside the cylinder.
 /// @note Surface is removed exactly where it lies inside the finite cylinder, so a layer that
 ///       B only partly reaches gets a notch closed by the end disk's plane (rim vertices there
