@@ -89,8 +89,9 @@ int run_drill(const std::vector<std::string>& argv) {
         "no wall for " + std::to_string(r.unwalled_holes) + " of the " +
         count_of(r.rim_vertices.size(), "hole", "holes") +
         ": their rims join a boundary the model already had (an earlier hole, cut or tear without a "
-        "wall) so the surface there was open before the drill, or the surface passes through itself there more "
-        "than twice";
+        "wall) so the surface there was open before the drill, or their part was open already (an open sheet "
+        "or a torn part gets tubes between its rims, never a cup to the end of the cylinder), or the surface "
+        "passes through itself there more than twice";
     report["wall_note"] = note;
     if (!args.flag("--json")) std::cerr << "deepcut: " << note << "\n";
   }

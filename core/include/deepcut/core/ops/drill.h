@@ -133,7 +133,8 @@ struct ModelDrillResult {
   std::size_t triangles_added = 0;
   std::size_t wall_triangles = 0;
   /// With `wall`: holes that got no wall (their rim joins an open boundary the input already had,
-  /// or the surface there passes through itself more than twice).
+  /// their part was open already and the wall would be a cup to an end of the cylinder, or the
+  /// surface there passes through itself more than twice).
   std::size_t unwalled_holes = 0;
 };
 
