@@ -1522,11 +1522,13 @@ bool Driller::wall_shell(const std::vector<std::size_t>& hole_ids, const DrillRe
   // off (b ... c, the shorter side) is closed by the triangles (a, b, c), (a, c, d) and a fan
   // from b over the lobe, all in the loop's direction (closed and consistently oriented; it
   // overlaps itself there as the surface does).
-  std::vector<std::pair<std::size_t, LocalTri>> lobe_tris;  // loop, triangle (indices into pts)
-  for (int fold = 0; fold < 8; ++fold) {
+  // The wall maps the loops again per sheet (over its own extent), where a fold can show that
+  // the first map did not: each map is folded (`emit` gets the loop and the lobe's triangles).
+  auto fold = [&](std::vector<std::vector<std::uint32_t>>& loops_to_fold, auto&& emit) -> bool {
+  for (int fold_round = 0; fold_round < 8; ++fold_round) {
     bool found = false;
-    for (std::size_t li = 0; li < rim_loops.size() && !found; ++li) {
-      auto& l = rim_loops[li];
+    for (std::size_t li = 0; li < loops_to_fold.size() && !found; ++li) {
+      auto& l = loops_to_fold[li];
       const std::size_t m = l.size();
       for (std::size_t i = 0; i < m && !found; ++i)
         for (std::size_t j = i + 2; j < m && !found; ++j) {
@@ -1542,10 +1544,10 @@ bool Driller::wall_shell(const std::vector<std::size_t>& hole_ids, const DrillRe
           if (j - i > m - (j - i)) std::swap(first, second);
           const std::uint32_t fa = l[first], fb = l[(first + 1) % m], fc = l[second], fd = l[(second + 1) % m];
           if (m - ((second + m - first) % m) < 3) return false;  // nothing would be left of the loop
-          lobe_tris.push_back({li, {fa, fb, fc}});
-          lobe_tris.push_back({li, {fa, fc, fd}});
+          emit(li, LocalTri{fa, fb, fc});
+          emit(li, LocalTri{fa, fc, fd});
           for (std::size_t k = (first + 1) % m; (k + 1) % m != second; k = (k + 1) % m)
-            lobe_tris.push_back({li, {fb, l[(k + 1) % m], l[(k + 2) % m]}});
+            emit(li, LocalTri{fb, l[(k + 1) % m], l[(k + 2) % m]});
           std::vector<std::uint32_t> kept;
           for (std::size_t k = (second + 1) % m;; k = (k + 1) % m) {
             kept.push_back(l[k]);
@@ -1556,6 +1558,10 @@ bool Driller::wall_shell(const std::vector<std::size_t>& hole_ids, const DrillRe
     }
     if (!found) break;
   }
+  return true;
+  };
+  std::vector<std::pair<std::size_t, LocalTri>> lobe_tris;  // loop, triangle (indices into pts)
+  if (!fold(rim_loops, [&](std::size_t li, const LocalTri& t) { lobe_tris.push_back({li, t}); })) return false;
   // Loops of one shell never cross, unless the shell intersects itself (a limb modelled into
   // the body): then the loops form two sheets, each walled on its own (crossing loops go to
   // different sheets; the others to the first sheet they are consistent with, largest first).
@@ -1643,7 +1649,8 @@ bool Driller::wall_shell(const std::vector<std::size_t>& hole_ids, const DrillRe
     if (sheet[li] < 0) return false;
   }
   // One sheet's region, triangulated and added (nothing is added when it returns false).
-  auto wall_sheet = [&](const std::vector<std::vector<std::uint32_t>>& loops, int sheet_id) -> bool {
+  auto wall_sheet = [&](const std::vector<std::vector<std::uint32_t>>& sheet_loops_in, int sheet_id) -> bool {
+  std::vector<std::vector<std::uint32_t>> loops = sheet_loops_in;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> segments;
   for (const auto& l : loops)
     for (std::size_t i = 0; i < l.size(); ++i) segments.emplace_back(l[i], l[(i + 1) % l.size()]);
@@ -1705,6 +1712,8 @@ bool Driller::wall_shell(const std::vector<std::size_t>& hole_ids, const DrillRe
     mobius = true;
     map_loops();
   }
+  std::vector<LocalTri> sheet_lobes;
+  if (!fold(loops, [&](std::size_t, const LocalTri& t) { sheet_lobes.push_back(t); })) return false;
   // Outer loops (counter-clockwise now) and the holes each one holds.
   std::vector<double> area(loops.size());
   std::vector<std::size_t> outers;
@@ -2002,6 +2011,7 @@ bool Driller::wall_shell(const std::vector<std::size_t>& hole_ids, const DrillRe
   if (wall_tris.empty()) return false;
   for (const auto& [li, t] : lobe_tris)
     if (sheet[li] == sheet_id) wall_tris.push_back(t);
+  wall_tris.insert(wall_tris.end(), sheet_lobes.begin(), sheet_lobes.end());
   // A wall face may use an edge between two existing vertices only against the one face that
   // borders it (a rim edge): anything else (a diagonal along a kept surface edge, an edge an
   // earlier sheet used) would make the edge non-manifold, so the sheet is left open instead.
