@@ -534,6 +534,43 @@ TEST(DrillTest, an_open_shell_gets_tubes_between_its_rims_but_no_cup) {
   test::expect_valid(mesh);
 }
 
+// Found by the random sequences (CesiumMan seed 1 step 247, Fox seed 5 step 132): where the
+// posed skin passes through itself (a fold at a joint), one hole's rim crosses itself on the
+// cylinder; no wall lying on the cylinder can close it, and the hole was left open. A tube bent
+// by 170 degrees at its joint (linear blend skinning folds the inner side of the elbow through
+// itself), taken as it is posed: the wall folds with the surface and the drill stays closed and
+// consistently oriented.
+TEST(DrillTest, a_rim_crossing_itself_where_the_surface_does_is_walled) {
+  Model model = test::make_skinned_tube_model();
+  Pose pose = rest_pose(model);
+  pose.rotation[3] = glm::angleAxis(glm::radians(170.0f), glm::vec3(0, 0, 1));
+  SurfaceMesh bent = model.meshes[0].primitives[0].mesh;
+  bent.positions() = posed_positions(model, 0, bent, world_matrices(model, pose));
+  const Cylinder c{{2.418143f, 2.325492f, 1.140820f}, {-3.211093f, 0.937094f, -0.403217f}, 0.252299f};
+  for (const int rim_edges : {6, 12, 32}) {
+    SCOPED_TRACE(std::to_string(rim_edges) + " rim edges");
+    SurfaceMesh mesh = bent;
+    DrillOptions options;
+    options.wall = true;
+    options.min_rim_edges = rim_edges;
+    const DrillResult r = drill_mesh(mesh, mesh.positions(), c, options);
+    ASSERT_EQ(r.status, OpStatus::Ok);
+    ASSERT_FALSE(r.holes.empty());
+    for (const DrillHole& h : r.holes) EXPECT_TRUE(h.walled);
+    const EdgeCensus k = census(mesh);
+    EXPECT_EQ(k.boundary, 0u) << "closed";
+    EXPECT_EQ(k.inconsistent, 0u) << "consistently oriented";
+    test::expect_valid(mesh, 2);
+    std::set<std::array<std::uint32_t, 3>> faces;
+    mesh.for_each_face([&](FaceId, const Triangle& t) {
+      std::array<std::uint32_t, 3> key = {t[0].index, t[1].index, t[2].index};
+      std::sort(key.begin(), key.end());
+      EXPECT_TRUE(faces.insert(key).second) << "duplicate face";
+      EXPECT_GT(glm::length(glm::cross(mesh.position(t[1]) - mesh.position(t[0]), mesh.position(t[2]) - mesh.position(t[0]))), 0.0f);
+    });
+  }
+}
+
 TEST(DrillTest, blind_hole_and_start_inside_get_a_disk) {
   const SurfaceMesh tube = test::make_tube(24, 6, 1.0f, 2.0f);
   DrillOptions options;
@@ -1190,3 +1227,4 @@ TEST(DrillTest, a_rim_finer_than_float_precision_is_refused) {
 }
 
 }  // namespace deepcut
+
