@@ -2135,9 +2135,12 @@ void Driller::build_walls(DrillResult& result) {
   std::unordered_map<std::uint32_t, std::vector<std::size_t>> shells;
   for (std::size_t h = 0; h < result.holes.size(); ++h)
     shells[find_root(parent, result.holes[h].rim[0].index)].push_back(h);
-  // Shells with a boundary other than this drill's rims (each directed edge without its
-  // reverse that is not a rim step).
-  std::unordered_set<std::uint64_t> rim_steps, half;
+  // Shells with a boundary other than this drill's rims: a directed edge of one of their faces
+  // whose reverse no face has and that is not a rim step. The reverse is looked for among the
+  // faces around the edge's first corner, from a flat vertex-to-face table (a counting sort over
+  // the drilled shells' faces): O(their faces) in flat arrays. A hash set of every directed edge
+  // took about 1.2 s of a walled drill on a 1M-triangle cactus.
+  std::unordered_set<std::uint64_t> rim_steps;
   auto directed = [](VertexId a, VertexId b) { return (std::uint64_t(a.index) << 32) | b.index; };
   for (const DrillHole& hole : result.holes)
     for (std::size_t i = 0; i < hole.rim.size(); ++i) {
@@ -2145,14 +2148,44 @@ void Driller::build_walls(DrillResult& result) {
       rim_steps.insert(directed(a, b));
       rim_steps.insert(directed(b, a));
     }
-  mesh_.for_each_face([&](FaceId, const Triangle& t) {
-    if (shells.count(find_root(parent, t[0].index)))
-      for (int k = 0; k < 3; ++k) half.insert(directed(t[k], t[(k + 1) % 3]));
+  const std::vector<Triangle>& faces = mesh_.faces();
+  const std::size_t nv = mesh_.vertex_count();
+  std::vector<char> drilled(nv, 0);  // by shell root
+  constexpr std::uint32_t kNoShell = ~std::uint32_t{0};
+  for (const auto& [root, ids] : shells) drilled[root] = 1;
+  std::vector<std::uint32_t> shell_of(faces.size(), kNoShell);
+  std::vector<std::uint32_t> first(nv + 1, 0);
+  mesh_.for_each_face([&](FaceId f, const Triangle& t) {
+    const std::uint32_t root = find_root(parent, t[0].index);
+    if (!drilled[root]) return;
+    shell_of[f.index] = root;
+    for (VertexId v : t) ++first[v.index + 1];
   });
-  std::unordered_set<std::uint32_t> open;
-  for (const std::uint64_t e : half) {
-    const VertexId a(static_cast<std::uint32_t>(e >> 32)), b(static_cast<std::uint32_t>(e));
-    if (!half.count(directed(b, a)) && !rim_steps.count(e)) open.insert(find_root(parent, a.index));
+  for (std::size_t i = 0; i < nv; ++i) first[i + 1] += first[i];
+  std::vector<std::uint32_t> around(first[nv]);
+  {
+    std::vector<std::uint32_t> next(first.begin(), first.end() - 1);
+    for (std::uint32_t f = 0; f < faces.size(); ++f)
+      if (shell_of[f] != kNoShell)
+        for (VertexId v : faces[f]) around[next[v.index]++] = f;
+  }
+  auto has_reverse = [&](VertexId a, VertexId b) {  // some face has the directed edge b -> a
+    for (std::uint32_t i = first[a.index]; i < first[a.index + 1]; ++i) {
+      const Triangle& g = faces[around[i]];
+      for (int k = 0; k < 3; ++k)
+        if (g[k] == b && g[(k + 1) % 3] == a) return true;
+    }
+    return false;
+  };
+  std::vector<char> open(nv, 0);  // by shell root
+  for (std::uint32_t f = 0; f < faces.size(); ++f) {
+    const std::uint32_t root = shell_of[f];
+    if (root == kNoShell || open[root]) continue;
+    const Triangle& t = faces[f];
+    for (int k = 0; k < 3 && !open[root]; ++k) {
+      const VertexId a = t[k], b = t[(k + 1) % 3];
+      if (!has_reverse(a, b) && !rim_steps.count(directed(a, b))) open[root] = 1;
+    }
   }
   std::vector<char> walled_ok(result.holes.size(), 0);
   std::vector<std::uint32_t> order;
@@ -2164,7 +2197,7 @@ void Driller::build_walls(DrillResult& result) {
     for (std::size_t h : ids) closed &= result.holes[h].closed;
     if (!closed) continue;  // a rim merged with an older boundary: the shell was open already
     for (std::size_t h : ids) walled_ok[h] = 1;
-    if (!wall_shell(ids, result, open.count(root) > 0, walled_ok))  // builds nothing when it returns false
+    if (!wall_shell(ids, result, open[root] != 0, walled_ok))  // builds nothing when it returns false
       for (std::size_t h : ids) walled_ok[h] = 0;
   }
   for (std::size_t h = 0; h < result.holes.size(); ++h) result.holes[h].walled = walled_ok[h] != 0;
