@@ -58,6 +58,9 @@ constexpr double kWallRings = 24.0;
 // their edges within kSnapClose rim spacings, are slid onto it (snap_shallow_vertices).
 constexpr double kSnapBand = 0.1;
 constexpr double kSnapClose = 0.5;
+// Steiner points on crossed edges (see edge()) lie at least this many rim spacings outside.
+constexpr double kSteinerClear = 0.3;
+constexpr double kSteinerParentAngle = 10.0 * kPi / 180.0;
 
 std::uint64_t edge_key(VertexId a, VertexId b) {
   const auto lo = std::min(a.index, b.index), hi = std::max(a.index, b.index);
@@ -364,6 +367,9 @@ struct EdgeCut {
   double t[2] = {0.0, 0.0};            // their parameters, increasing
   VertexId v[2];                       // their vertices
   std::uint8_t inside[3] = {0, 0, 0};  // sub-segments between 0, t[0..n-1], 1
+  // Points on the kept parts of a crossed edge, graded away from the crossings (see edge()):
+  // parameters, increasing, and their vertices.
+  std::vector<std::pair<double, VertexId>> steiner;
 };
 
 // A point on the boundary of a triangle's kept region, or on its rim.
@@ -473,6 +479,7 @@ class Driller {
   void snap_shallow_vertices();
   const EdgeCut& edge(VertexId a, VertexId b);
   void merge_crossings(FaceId f);
+  void allow_steiner();
   VertexId merged(VertexId v) const {
     for (auto it = merged_.find(v.index); it != merged_.end(); it = merged_.find(v.index)) v = it->second;
     return v;
@@ -539,6 +546,7 @@ class Driller {
   std::deque<EdgeCut> edge_cuts_;
   int edge_shift_ = 64;
   std::vector<FaceId> candidates_;  // faces near the cylinder, in processing order
+  std::unordered_set<std::uint64_t> steiner_edges_;  // edges that may take Steiner points (allow_steiner)
   // Crossings that fell on one bind position (the two long edges of a needle crossed at the same
   // parameter): the later vertex maps to the earlier, so the needle's tip is not a zero-area face.
   std::unordered_map<std::uint32_t, VertexId> merged_;
@@ -644,6 +652,27 @@ const EdgeCut& Driller::edge(VertexId a, VertexId b) {
         place(e.v[i], added_posed_.back());
         ++crossings_;
       }
+      // The kept parts of a crossed edge get points a rim spacing from each crossing, then 2,
+      // 4, ... spacings (Ruppert's grading), up to a spacing before the far end: both faces on
+      // the edge are processed (it is crossed), so both take them, and their kept parts meet
+      // the rim with boundary points at its scale instead of fanning a far corner to close rim
+      // points or leaving rim points near a long edge (needles the in-plane refinement cannot
+      // mend: its points would fall outside the parent). Only points well outside the cylinder.
+      const double spacing = 2.0 * cyl_.r * std::sin(kPi / samples_);
+      for (int i = 0; i < n && steiner_edges_.count(key); ++i) {
+        const double dir = e.inside[i + 1] ? -1.0 : 1.0;  // toward the kept part
+        const double room = (dir > 0.0 ? 1.0 - cuts[i] : cuts[i]) * len;
+        for (double step = spacing; step + spacing <= room; step *= 2.0) {
+          const double t = cuts[i] + dir * step / len;
+          const glm::dvec3 x = glm::mix(p, q, t);
+          if (!(cyl_.sd(x) > kSteinerClear * spacing)) continue;
+          const VertexId v = editor_.add_vertex_on_edge(e.lo, e.hi, static_cast<float>(t));
+          added_posed_.push_back(x);
+          place(v, x);
+          e.steiner.emplace_back(t, v);
+        }
+      }
+      std::sort(e.steiner.begin(), e.steiner.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
     }
   }
   edge_keys_[slot] = key;
@@ -685,6 +714,35 @@ void Driller::merge_crossings(FaceId f) {
         if (a != b && mesh_.position(a) == mesh_.position(b)) merged_.emplace(std::max(a, b).index, std::min(a, b));
       }
   }
+}
+
+// Steiner points (see edge()) go only on edges between two candidates of good shape (smallest
+// angle 10 degrees or more), one on each side: not on the mesh's border or a non-manifold edge,
+// where a point off the cylinder could end up on the hole's boundary, and not on a needle's long
+// edges, whose points at one parameter would round to one bind position (zero-area faces).
+void Driller::allow_steiner() {
+  steiner_edges_.clear();
+  std::unordered_map<std::uint64_t, int> sides;  // +1 per half-edge lo -> hi, +16 per hi -> lo
+  std::unordered_set<std::uint64_t> bad;
+  for (FaceId f : candidates_) {
+    const Triangle& t = mesh_.face(f);
+    double smallest = kInf;
+    for (int k = 0; k < 3; ++k) {
+      const glm::dvec3 a = posed(t[k]), b = posed(t[(k + 1) % 3]), c = posed(t[(k + 2) % 3]);
+      const double lb = glm::length(b - a), lc = glm::length(c - a);
+      smallest = lb > 0.0 && lc > 0.0 ? std::min(smallest, std::acos(std::clamp(glm::dot(b - a, c - a) / (lb * lc), -1.0, 1.0)))
+                                      : 0.0;
+    }
+    const bool good = smallest >= kSteinerParentAngle;
+    for (int k = 0; k < 3; ++k) {
+      const VertexId a = t[k], b = t[(k + 1) % 3];
+      const std::uint64_t key = edge_key(a, b);
+      sides[key] += a < b ? 1 : 16;
+      if (!good) bad.insert(key);
+    }
+  }
+  for (const auto& [key, count] : sides)
+    if (count == 17 && !bad.count(key)) steiner_edges_.insert(key);
 }
 
 // An old vertex lying just inside (or just outside) the cylinder leaves the crossings of two of
@@ -799,19 +857,46 @@ void Driller::process_face(FaceId f) {
     c.bary[k] = 1.0;
     pts.push_back(c);
     const bool forward = tri[k] == e.lo;
-    for (int i = 0; i < e.n; ++i) {
+    seg_inside.push_back(e.inside[forward ? 0 : e.n]);
+    // Crossings and Steiner points in order from corner k to corner k1 (parameters from lo).
+    std::size_t si = 0;
+    const std::size_t ns = e.steiner.size();
+    for (int i = 0; i < e.n;) {
       const int j = forward ? i : e.n - 1 - i;
-      const double t = forward ? e.t[j] : 1.0 - e.t[j];  // from corner k to corner k1
+      const double tc = e.t[j];
+      const bool steiner_first =
+          si < ns && (forward ? e.steiner[si].first < tc : e.steiner[ns - 1 - si].first > tc);
+      const double tl = steiner_first ? e.steiner[forward ? si : ns - 1 - si].first : tc;
+      const double t = forward ? tl : 1.0 - tl;  // from corner k to corner k1
+      const VertexId sv = steiner_first ? e.steiner[forward ? si : ns - 1 - si].second : e.v[j];
       LocalPoint x;
-      x.v = merged(e.v[j]);
-      x.p = added_posed_[e.v[j].index - first_new_];
+      x.v = steiner_first ? sv : merged(sv);
+      x.p = added_posed_[sv.index - first_new_];
       x.bary = glm::dvec3(0.0);
       x.bary[k] = 1.0 - t;
       x.bary[k1] = t;
-      x.on_rim = true;
+      x.on_rim = !steiner_first;
       pts.push_back(x);
+      if (steiner_first) {
+        seg_inside.push_back(seg_inside.back());
+        ++si;
+      } else {
+        seg_inside.push_back(e.inside[forward ? i + 1 : e.n - 1 - i]);
+        ++i;
+      }
     }
-    for (int i = 0; i <= e.n; ++i) seg_inside.push_back(e.inside[forward ? i : e.n - i]);
+    for (; si < ns; ++si) {
+      const auto& [tl, sv] = e.steiner[forward ? si : ns - 1 - si];
+      const double t = forward ? tl : 1.0 - tl;
+      LocalPoint x;
+      x.v = sv;
+      x.p = added_posed_[sv.index - first_new_];
+      x.bary = glm::dvec3(0.0);
+      x.bary[k] = 1.0 - t;
+      x.bary[k1] = t;
+      pts.push_back(x);
+      seg_inside.push_back(seg_inside.back());
+    }
   }
   const std::size_t m = pts.size();
   bool any_inside = false, all_inside = true;
@@ -2297,6 +2382,7 @@ DrillResult Driller::run() {
   }
   size_edge_table(3 * candidates.size() + 3);  // every edge looked up is a candidate's
   snap_shallow_vertices();
+  allow_steiner();
   for (FaceId f : candidates) merge_crossings(f);
   for (FaceId f : candidates) process_face(f);
   if (editor_.log().size() == moved_.size()) {  // nothing cut: the snaps go back, the log stays empty
