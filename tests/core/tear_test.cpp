@@ -599,6 +599,46 @@ TEST(TearTest, twisted_blade_folds_the_quad_and_still_gives_one_slit) {
   EXPECT_EQ(c.new_loops, 1);
 }
 
+// Found by the random sequences (SimpleSkin seed 11 step 177 at aa5d4fd): a tear 1e-5 wide through
+// a speck of tiny faces (a few tolerances across) of a model about 2 units tall. Each of its nine
+// crossings lay within the tolerance of the next one in a face the slit crossed, so the close
+// merges chained them all into one vertex: two pairs of faces became one triangle twice,
+// reversed. A merge that would make a face twice (or use a directed edge twice) is refused.
+TEST(TearTest, chained_close_merges_in_a_speck_of_tiny_faces_make_no_duplicate_face) {
+  SurfaceMesh mesh;
+  const glm::vec3 p[] = {
+      {0x1.3df2cp-3f, 0x1.5bed02p+0f, 0x1.d16288p-16f}, {0x1.3e37bp-3f, 0x1.5bfa4cp+0f, 0x1.ecd5f6p-17f},
+      {0x1.3e5a5p-3f, 0x1.5bfeep+0f, 0x1.291f5ep-18f},  {0x1.3df248p-3f, 0x1.5bec74p+0f, 0x1.c4f8e8p-16f},
+      {0x1.3e191p-3f, 0x1.5beb08p+0f, 0x1.04db5ap-18f}, {0x1.3de7bp-3f, 0x1.5bec28p+0f, 0x1.bd1f2cp-16f},
+      {0x1.3e0b08p-3f, 0x1.5bed0ep+0f, 0x1.f65be2p-17f}, {0x1.3e1738p-3f, 0x1.5bec42p+0f, 0x1.da5fdcp-18f},
+      {0x1.3e36ap-3f, 0x1.5bf61p+0f, 0x1.044eaap-17f},  {0x1.3e1ap-3f, 0x1.5bf16ep+0f, 0x1.ee9beap-17f}};
+  for (const glm::vec3& q : p) mesh.add_vertex(q);
+  const std::array<std::uint32_t, 3> faces[] = {{1, 0, 2}, {0, 3, 6}, {0, 6, 9}, {8, 2, 0}, {4, 2, 8},
+                                                {7, 8, 9}, {8, 7, 4}, {9, 6, 7}, {8, 0, 9}, {3, 0, 5}};
+  for (const auto& f : faces) mesh.add_face(VertexId(f[0]), VertexId(f[1]), VertexId(f[2]));
+  const Blade start{{0.15547019243240356f, 1.359025001525879f, 7.018661563051865e-05f},
+                    {0.1554069072008133f, 1.359110713005066f, -0.00015965558122843504f}};
+  const Blade end{{0.15519806742668152f, 1.359145164489746f, 0.000159528135554865f},
+                  {0.15513478219509125f, 1.359230875968933f, -7.03140685800463e-05f}};
+  TearOptions options;
+  options.width = 1.0596721949696075e-05f;
+  BoundingBox model;  // the whole model's bounds set the tolerance (2.1e-5 here)
+  model.add(glm::vec3(0.0f));
+  model.add(glm::vec3(0.0f, 2.15f, 0.0f));
+  const std::vector<glm::vec3> posed = mesh.positions();
+  const TearResult r = tear_mesh(mesh, posed, {}, start, end, options, nullptr, &model);
+  ASSERT_EQ(r.status, OpStatus::Ok);
+  test::expect_valid(mesh);
+  std::set<std::array<std::uint32_t, 3>> seen;
+  mesh.for_each_face([&](FaceId f, const Triangle& t) {
+    std::array<std::uint32_t, 3> k = {t[0].index, t[1].index, t[2].index};
+    std::sort(k.begin(), k.end());
+    EXPECT_TRUE(seen.insert(k).second) << "face " << f.index << " (" << t[0].index << " " << t[1].index << " "
+                                       << t[2].index << ") is made twice";
+  });
+  EXPECT_TRUE(Adjacency::build(mesh).nonmanifold_edges().empty());
+}
+
 TEST(TearTest, random_sweeps_on_every_asset_keep_all_invariants) {
   const unsigned seed = 20261122;
   for (const auto& path : test::asset_models()) {

@@ -629,78 +629,6 @@ void Tearer::tear_piece(const Piece& piece, std::size_t piece_index) {
     note_new_vertex(c.v, c.p, src, w, 2);
     ++intersections_;
   }
-  // A face whose lone corner has two long edges to corners a hair apart (a needle: the lips of a
-  // narrow tear, a sliver) can have both crossings rounded to one bind position: they become one
-  // vertex, and the needle's tip (a zero-area triangle) is not made. Same rule as the cut. The
-  // tear also merges two crossings closer than its tolerance (posed) when the slit crosses the
-  // face without stopping in it: left apart, they bound a sliver a few float steps wide, which
-  // the opening (moving both along the blade's normal) would round to zero area.
-  Set<std::uint32_t> stops(&arena_);  // faces the slit starts or ends in
-  for (const FacePlan& plan : plans)
-    if (!plan.interior.empty()) stops.insert(plan.f.index);
-  // A close merge (not one forced by rounding) must not leave fewer than three crossings around a
-  // corner the slit cuts off whole (every edge at it crossed, each in two of these faces: a
-  // spike's tip). Its faces would become one triangle twice, reversed (Fox seed 5 step 225).
-  Map<std::uint32_t, std::vector<std::uint64_t>> corner_edges(&arena_);  // edge keys at a corner, once per face
-  for (FaceId f : faces) {
-    const Triangle& t = mesh_.face(f);
-    for (int k = 0; k < 3; ++k) {
-      corner_edges[t[k].index].push_back(edge_key(t[k], t[(k + 1) % 3]));
-      corner_edges[t[k].index].push_back(edge_key(t[k], t[(k + 2) % 3]));
-    }
-  }
-  auto ring_after_merge = [&](VertexId x, VertexId a, VertexId b) {
-    std::vector<std::uint64_t> keys = corner_edges[x.index];
-    std::sort(keys.begin(), keys.end());
-    std::vector<std::uint32_t> ring;
-    for (std::size_t i = 0; i < keys.size(); i += 2) {
-      if (i + 1 >= keys.size() || keys[i] != keys[i + 1] || (i + 2 < keys.size() && keys[i + 2] == keys[i]))
-        return std::size_t(3);  // an edge at x in one face only (or three): x is not cut off whole
-      auto cit = crossings_.find(keys[i]);
-      if (cit == crossings_.end() || !cit->second.split) return std::size_t(3);  // an edge at x stays whole
-      VertexId v = merged(cit->second.v);
-      if (v == b) v = a;
-      ring.push_back(v.index);
-    }
-    std::sort(ring.begin(), ring.end());
-    return static_cast<std::size_t>(std::unique(ring.begin(), ring.end()) - ring.begin());
-  };
-  for (FaceId f : faces) {
-    const Triangle& t = mesh_.face(f);
-    VertexId ends[3];
-    glm::dvec3 at[3];
-    int crossed[3];
-    int n = 0;
-    for (int k = 0; k < 3; ++k) {
-      auto cit = crossings_.find(edge_key(t[k], t[(k + 1) % 3]));
-      if (cit != crossings_.end() && cit->second.split) {
-        at[n] = cit->second.p;
-        crossed[n] = k;
-        ends[n++] = merged(cit->second.v);
-      }
-    }
-    if (n != 2 || ends[0] == ends[1]) continue;
-    const VertexId lo = std::min(ends[0], ends[1]), hi = std::max(ends[0], ends[1]);
-    if (mesh_.position(ends[0]) != mesh_.position(ends[1])) {
-      if (glm::length(at[1] - at[0]) > tol_ || stops.count(f.index)) continue;
-      // The corner both crossed edges share: edges k and k+1 (mod 3) meet at corner k+1.
-      const VertexId x = t[(crossed[0] + 1) % 3 == crossed[1] ? crossed[1] : crossed[0]];
-      if (ring_after_merge(x, lo, hi) < 3) continue;
-    }
-    merged_.emplace(hi.index, lo);
-  }
-  for (std::uint64_t key : split_keys) {
-    Crossing& c = crossings_.at(key);
-    c.v = merged(c.v);
-    // An edge torn by an earlier piece stays torn in its two halves.
-    auto it = torn_.find(key);
-    if (it != torn_.end()) {
-      const std::size_t p = it->second;
-      torn_.erase(it);
-      add_torn(c.lo, c.v, p);
-      add_torn(c.v, c.hi, p);
-    }
-  }
   std::vector<std::uint64_t> zero_keys;
   for (const auto& [key, ze] : zero_edges)
     if (!ze.torn.empty()) zero_keys.push_back(key);
@@ -720,18 +648,6 @@ void Tearer::tear_piece(const Piece& piece, std::size_t piece_index) {
                       w, 2);
       ze.points.emplace_back(s, v);
     }
-    // An edge torn by an earlier piece stays torn in its pieces.
-    auto it = torn_.find(key);
-    if (it != torn_.end() && !ze.points.empty()) {
-      const std::size_t p = it->second;
-      torn_.erase(it);
-      VertexId prev = ze.lo;
-      for (const auto& [s, v] : ze.points) {
-        add_torn(prev, v, p);
-        prev = v;
-      }
-      add_torn(prev, ze.hi, p);
-    }
   }
   for (FacePlan& plan : plans) {
     for (double s : plan.interior) {
@@ -743,14 +659,22 @@ void Tearer::tear_piece(const Piece& piece, std::size_t piece_index) {
     }
   }
 
-  // Re-triangulate every face that got a point: along its chord, in chord order.
+  // Re-triangulate every face that got a point: along its chord, in chord order. The sub-faces
+  // are planned first and written after the merges below, which are checked against them.
   struct Insert {
     double s;
     VertexId v;
     glm::dvec3 bary;
   };
+  struct Retriangulated {
+    FaceId f;
+    std::size_t plan;  // index into plans, or plans.size() for a face without a chord
+    LocalTriangulation local;
+    std::vector<std::pair<std::uint32_t, VertexId>> alias;  // inserted vertex -> coincident one
+  };
   Map<std::uint32_t, std::size_t> plan_of(&arena_);
   for (std::size_t i = 0; i < plans.size(); ++i) plan_of.emplace(plans[i].f.index, i);
+  std::vector<Retriangulated> retriangulated;
   for (FaceId f : faces) {
     const Triangle t = mesh_.face(f);
     std::vector<Insert> list;
@@ -791,28 +715,147 @@ void Tearer::tear_piece(const Piece& piece, std::size_t piece_index) {
     }
     if (list.empty()) continue;
     std::sort(list.begin(), list.end(), [](const Insert& x, const Insert& y) { return x.s < y.s; });
-    LocalTriangulation local(t);
-    Map<std::uint32_t, VertexId> alias(&arena_);
+    Retriangulated r{f, pit == plan_of.end() ? plans.size() : pit->second, LocalTriangulation(t), {}};
     for (const Insert& ins : list) {
-      const VertexId got = local.insert(ins.v, ins.bary);
-      if (got != ins.v) alias.emplace(ins.v.index, got);
+      const VertexId got = r.local.insert(ins.v, ins.bary);
+      if (got != ins.v) r.alias.emplace_back(ins.v.index, got);
     }
-    editor_.remove_face(f);
-    const auto& pts = local.points();
-    for (const auto& tri : local.triangles()) {
+    retriangulated.push_back(std::move(r));
+  }
+  // The sub-faces as vertex triples (updated as crossings merge), and the ones at each vertex.
+  std::vector<Triangle> planned;
+  Map<std::uint32_t, std::vector<std::uint32_t>> planned_at(&arena_);
+  for (const Retriangulated& r : retriangulated) {
+    const auto& pts = r.local.points();
+    for (const auto& tri : r.local.triangles()) {
       const Triangle nt = {pts[tri[0]].v, pts[tri[1]].v, pts[tri[2]].v};
+      for (VertexId v : nt) planned_at[v.index].push_back(static_cast<std::uint32_t>(planned.size()));
+      planned.push_back(nt);
+    }
+  }
+  // Faces made twice (in either orientation) and directed edges used twice among the planned
+  // faces `which`, with `from` renamed `to` (faces that become degenerate are not made).
+  auto clashes = [&](const std::vector<std::uint32_t>& which, VertexId from, VertexId to) {
+    std::vector<std::array<std::uint32_t, 3>> keys;
+    std::vector<std::uint64_t> directed;
+    for (std::uint32_t i : which) {
+      Triangle t = planned[i];
+      for (VertexId& v : t)
+        if (v == from) v = to;
+      if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;
+      std::array<std::uint32_t, 3> k = {t[0].index, t[1].index, t[2].index};
+      std::sort(k.begin(), k.end());
+      keys.push_back(k);
+      for (int j = 0; j < 3; ++j) directed.push_back((std::uint64_t(t[j].index) << 32) | t[(j + 1) % 3].index);
+    }
+    std::sort(keys.begin(), keys.end());
+    std::sort(directed.begin(), directed.end());
+    std::size_t n = 0;
+    for (std::size_t i = 1; i < keys.size(); ++i) n += keys[i] == keys[i - 1];
+    for (std::size_t i = 1; i < directed.size(); ++i) n += directed[i] == directed[i - 1];
+    return n;
+  };
+  // Merging `hi` into `lo` may only drop the faces between them: every face it changes uses `lo`
+  // afterwards, so the faces at the two vertices show any face it would make twice.
+  auto merge_keeps_faces_apart = [&](VertexId hi, VertexId lo) {
+    std::vector<std::uint32_t> which = planned_at[lo.index];
+    const auto& at_hi = planned_at[hi.index];
+    which.insert(which.end(), at_hi.begin(), at_hi.end());
+    std::sort(which.begin(), which.end());
+    which.erase(std::unique(which.begin(), which.end()), which.end());
+    return clashes(which, hi, lo) <= clashes(which, hi, hi);
+  };
+  auto merge = [&](VertexId hi, VertexId lo) {
+    merged_.emplace(hi.index, lo);
+    auto it = planned_at.find(hi.index);
+    if (it == planned_at.end()) return;
+    for (std::uint32_t i : it->second) {
+      for (VertexId& v : planned[i])
+        if (v == hi) v = lo;
+      planned_at[lo.index].push_back(i);
+    }
+    planned_at.erase(hi.index);
+  };
+
+  // A face whose lone corner has two long edges to corners a hair apart (a needle: the lips of a
+  // narrow tear, a sliver) can have both crossings rounded to one bind position: they become one
+  // vertex, and the needle's tip (a zero-area triangle) is not made. Same rule as the cut. The
+  // tear also merges two crossings closer than its tolerance (posed) when the slit crosses the
+  // face without stopping in it: left apart, they bound a sliver a few float steps wide, which
+  // the opening (moving both along the blade's normal) would round to zero area. No merge may
+  // make a face twice: around a spike's tip (a three-face cone whose every edge the slit crosses,
+  // Fox seed 5 step 225) its other faces would become one triangle twice, reversed, and close
+  // merges chained through a speck of faces a few tolerances across collapse its whole slit into
+  // one vertex (SimpleSkin seed 11 step 177). Such a merge is refused.
+  Set<std::uint32_t> stops(&arena_);  // faces the slit starts or ends in
+  for (const FacePlan& plan : plans)
+    if (!plan.interior.empty()) stops.insert(plan.f.index);
+  for (FaceId f : faces) {
+    const Triangle& t = mesh_.face(f);
+    VertexId ends[3];
+    glm::dvec3 at[3];
+    int n = 0;
+    for (int k = 0; k < 3; ++k) {
+      auto cit = crossings_.find(edge_key(t[k], t[(k + 1) % 3]));
+      if (cit != crossings_.end() && cit->second.split) {
+        at[n] = cit->second.p;
+        ends[n++] = merged(cit->second.v);
+      }
+    }
+    if (n != 2 || ends[0] == ends[1]) continue;
+    const VertexId lo = std::min(ends[0], ends[1]), hi = std::max(ends[0], ends[1]);
+    if (mesh_.position(ends[0]) != mesh_.position(ends[1]) &&
+        (glm::length(at[1] - at[0]) > tol_ || stops.count(f.index)))
+      continue;
+    if (merge_keeps_faces_apart(hi, lo)) merge(hi, lo);
+  }
+  for (std::uint64_t key : split_keys) {
+    Crossing& c = crossings_.at(key);
+    c.v = merged(c.v);
+    // An edge torn by an earlier piece stays torn in its two halves.
+    auto it = torn_.find(key);
+    if (it != torn_.end()) {
+      const std::size_t p = it->second;
+      torn_.erase(it);
+      add_torn(c.lo, c.v, p);
+      add_torn(c.v, c.hi, p);
+    }
+  }
+  for (std::uint64_t key : zero_keys) {
+    ZeroEdge& ze = zero_edges.at(key);
+    // An edge torn by an earlier piece stays torn in its pieces.
+    auto it = torn_.find(key);
+    if (it != torn_.end() && !ze.points.empty()) {
+      const std::size_t p = it->second;
+      torn_.erase(it);
+      VertexId prev = ze.lo;
+      for (const auto& [s, v] : ze.points) {
+        add_torn(prev, v, p);
+        prev = v;
+      }
+      add_torn(prev, ze.hi, p);
+    }
+  }
+
+  for (const Retriangulated& r : retriangulated) {
+    const FaceId f = r.f;
+    editor_.remove_face(f);
+    const auto& pts = r.local.points();
+    for (const auto& tri : r.local.triangles()) {
+      const Triangle nt = {merged(pts[tri[0]].v), merged(pts[tri[1]].v), merged(pts[tri[2]].v)};
       if (nt[0] == nt[1] || nt[1] == nt[2] || nt[0] == nt[2]) continue;  // a needle's tip whose crossings merged
       const FaceId nf = editor_.add_face_from(
           nt, f, {glm::vec3(pts[tri[0]].bary), glm::vec3(pts[tri[1]].bary), glm::vec3(pts[tri[2]].bary)});
       region_.push_back(nf);
     }
     // Torn pieces of this face's chord.
-    if (pit != plan_of.end()) {
-      const FacePlan& plan = plans[pit->second];
+    if (r.plan < plans.size()) {
+      const FacePlan& plan = plans[r.plan];
       std::vector<std::pair<double, VertexId>> chain;
       auto resolve = [&](VertexId v) {
-        auto a = alias.find(v.index);
-        return a == alias.end() ? v : a->second;
+        for (const auto& [from, to] : r.alias)
+          if (from == v.index) return merged(to);
+        return merged(v);
       };
       if (plan.a.corner.valid())
         chain.emplace_back(0.0, plan.a.corner);
