@@ -763,10 +763,17 @@ bool MainWindow::apply_tool() {
 void MainWindow::apply_history(const History& history, const std::string& source) {
   if (!model_) throw Error(ErrorCode::InvalidArgument, source + ": no model is open");
   // Run all first, so a bad operation leaves the history as it was.
-  std::vector<std::pair<QString, std::shared_ptr<const Model>>> states;
+  struct Applied {
+    QString label;
+    std::shared_ptr<const Model> model;
+    double ms = 0.0;
+  };
+  std::vector<Applied> states;
   std::shared_ptr<const Model> state = model_;
   for (std::size_t i = 0; i < history.operations.size(); ++i) {
     const Operation& op = history.operations[i];
+    QElapsedTimer clock;
+    clock.start();
     auto next = std::make_shared<Model>(*state);
     ModelIndex* index = index_for(state);
     index_state_.reset();
@@ -780,9 +787,9 @@ void MainWindow::apply_history(const History& history, const std::string& source
     }
     index_state_ = next;
     state = next;
-    states.emplace_back(operation_label(op), state);
+    states.push_back({operation_label(op), state, static_cast<double>(clock.nsecsElapsed()) / 1e6});
   }
-  for (auto& [label, after] : states) apply_operation(label, after, 0.0);
+  for (auto& applied : states) apply_operation(applied.label, applied.model, applied.ms);
 }
 
 const std::vector<MainWindow::OperationEntry>* MainWindow::rerun_entries(const Model* model) const {
