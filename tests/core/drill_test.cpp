@@ -1196,6 +1196,42 @@ TEST(DrillTest, a_vertex_just_inside_the_cylinder_becomes_a_rim_vertex) {
   }
 }
 
+// The snap leaves a vertex on the mesh's border where it is: a primitive split at a material
+// seam keeps its own copy of every seam vertex, and the other primitive, drilled on its own,
+// would not slide its copy the same way (a crack along the seam). Here X is the apex of a
+// three-quarter fan (its two outer spokes are border edges), just inside the cylinder, with
+// spokes crossed a hair from it: an inner vertex there would be slid (test above).
+TEST(DrillTest, a_border_vertex_just_inside_the_cylinder_stays) {
+  SurfaceMesh mesh;
+  const VertexId x = mesh.add_vertex({0.0f, 0.0f, 0.0f});
+  std::vector<VertexId> ring;
+  for (int i = 0; i <= 9; ++i) {
+    const float a = static_cast<float>(i) * static_cast<float>(kPi) / 6.0f;  // 0 to 270 degrees
+    ring.push_back(mesh.add_vertex({0.125f * std::cos(a), 0.125f * std::sin(a), 0.0f}));
+  }
+  for (std::size_t i = 0; i + 1 < ring.size(); ++i) mesh.add_face(x, ring[i], ring[i + 1]);
+  const SurfaceMesh input = mesh;
+  const float r = 0.2f;
+  // The axis 0.99 r from X into the missing quarter: the spokes towards 120 and 150 degrees
+  // leave the circle within 1% of r of X (half a rim spacing is 0.02).
+  const glm::vec3 toward(std::cos(1.75f * static_cast<float>(kPi)), std::sin(1.75f * static_cast<float>(kPi)), 0.0f);
+  Cylinder c{glm::vec3(0.0f, 0.0f, -1.0f) + 0.99f * r * toward, glm::vec3(0.0f, 0.0f, 1.0f) + 0.99f * r * toward, r};
+  const DrillResult res = drill_mesh(mesh, mesh.positions(), c);
+  ASSERT_EQ(res.status, OpStatus::Ok);
+  for (const auto& m : res.moved) {
+    EXPECT_NE(m.v, x) << "the border vertex was slid";
+  }
+  for (const Edit& e : res.log.edits) {
+    if (const auto* m = std::get_if<VertexMoved>(&e)) {
+      EXPECT_NE(m->v, x) << "a move of the border vertex is logged";
+    }
+  }
+  EXPECT_EQ(mesh.position(x), input.position(x));
+  Adjacency adj = Adjacency::build(input);
+  adj.apply(res.log);
+  test::expect_adjacency_matches_rebuild(adj, mesh);
+}
+
 // Found by the random sequences (SimpleSkin seed 4 step 282, a drill without wall): a part cut
 // down to a speck 2e-5 across at coordinates about 1.3 got a drill of radius 3.1e-7 (1% of the
 // speck) with 48 rim edges: rim points 4e-8 apart, a third of a float step there, so the bind

@@ -18,11 +18,13 @@
 #include "deepcut/core/ops/drill.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <deque>
 #include <iterator>
 #include <limits>
+#include <map>
 #include <string>
 #include <tuple>
 #include <unordered_map>
@@ -559,6 +561,7 @@ class Driller {
   std::vector<LocalPoint> pts_scratch_, rim_scratch_, all_scratch_, poly_scratch_;
   std::vector<std::uint8_t> seg_scratch_, used_scratch_;
   std::vector<VertexId> ring_scratch_;
+  std::array<std::vector<VertexId>, 2> border_scratch_;  // edges ahead of / behind a vertex in its faces
   std::unordered_map<std::uint32_t, WallCoord> wall_coords_;
 };
 
@@ -780,6 +783,22 @@ void Driller::snap_shallow_vertices() {
       for (VertexId y : t)
         if (y != x) ring.push_back(y);
     }
+    // A vertex on the mesh's border stays where it is: primitives split at a material seam keep
+    // a copy of each seam vertex each, and sliding one copy alone would open a crack along the
+    // seam. It is on the border when an edge from it has a face on one side only.
+    std::vector<VertexId>& ahead = border_scratch_[0];
+    std::vector<VertexId>& behind = border_scratch_[1];
+    ahead.clear();
+    behind.clear();
+    for (std::size_t c = i; c < j; ++c) {
+      const Triangle& t = mesh_.face(FaceId(corners[c].second));
+      const int q = t[0] == x ? 0 : t[1] == x ? 1 : 2;
+      ahead.push_back(t[(q + 1) % 3]);
+      behind.push_back(t[(q + 2) % 3]);
+    }
+    std::sort(ahead.begin(), ahead.end());
+    std::sort(behind.begin(), behind.end());
+    if (ahead != behind) continue;
     std::sort(ring.begin(), ring.end());
     ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
     for (VertexId y : ring) {
@@ -2156,11 +2175,13 @@ bool Driller::wall_shell(const std::vector<std::size_t>& hole_ids, const DrillRe
   }
   // A kept surface triangle whose three corners all lie on the rim (an island on the cylinder)
   // would get its own mirror image as wall: both go instead.
-  std::unordered_map<std::uint64_t, FaceId> surface_tri;
+  // Keyed by the sorted corner ids themselves: a packed 64-bit key would collide once vertex ids
+  // pass 2^21, and the drill would then remove an unrelated face.
+  std::map<std::array<std::uint32_t, 3>, FaceId> surface_tri;
   auto tri_key = [](VertexId x, VertexId y, VertexId z) {
     std::array<std::uint32_t, 3> k = {x.index, y.index, z.index};
     std::sort(k.begin(), k.end());
-    return (std::uint64_t(k[0]) << 42) ^ (std::uint64_t(k[1]) << 21) ^ k[2];
+    return k;
   };
   for (const Edit& e : editor_.log().edits)
     if (const auto* fa = std::get_if<FaceAdded>(&e))
