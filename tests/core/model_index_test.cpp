@@ -217,7 +217,9 @@ void check_random_sequence(const Model& model, int steps, unsigned seed) {
     op.params = maker.make(p, n, size);
     op.animation = animation;
     op.time = time;
-    if (step % 7 == 6) op.params = maker.make(p + 10.0f * size * n, n, 0.01f * size);  // a miss
+    // A miss, ten sizes away (its radius stays above what float positions resolve out there,
+    // min_drill_radius, or the drill refuses it instead of missing).
+    if (step % 7 == 6) op.params = maker.make(p + 10.0f * size * n, n, 0.1f * size);
     const OperationReport a = apply_operation(cached, op, &index);
     const OperationReport b = apply_operation(plain, op);
     ASSERT_EQ(a.status, b.status);
@@ -344,11 +346,11 @@ TEST(ModelIndexTest, reserved_room_survives_copies_so_operations_on_snapshots_do
   EXPECT_GT(face_room, mesh.face_slots());
   const Model snapshot = model;  // the studio copies its state before every operation
   const SurfaceMesh& copy = snapshot.meshes[0].primitives[0].mesh;
-  EXPECT_EQ(copy.positions().capacity(), vertex_room);
-  EXPECT_EQ(copy.faces().capacity(), face_room);
+  EXPECT_GE(copy.positions().capacity(), vertex_room);
+  EXPECT_GE(copy.faces().capacity(), face_room);
   const auto* weights = copy.vertex_attrs().find<glm::vec4>(attr::kWeights0);
   ASSERT_NE(weights, nullptr);
-  EXPECT_EQ(weights->data().capacity(), vertex_room);
+  EXPECT_GE(weights->data().capacity(), vertex_room);
   // A drill on the copy that stays within the room keeps the arrays where they were.
   const glm::vec3* positions = copy.positions().data();
   Model edited = snapshot;
