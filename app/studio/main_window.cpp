@@ -583,8 +583,9 @@ void MainWindow::show_model(std::shared_ptr<const Model> model) {
   refresh_tool_preview();
   refresh_inspector();
   refresh_operations();
-  // Undo, redo or an edit: the preprocessing describes another state; rebuild it when idle.
-  if (index_state_.lock() != model_) index_timer_->start();
+  // Undo, redo or an edit: the preprocessing describes another state; a cut dropped it (its
+  // pieces are new meshes). Rebuild it when idle.
+  if (index_state_.lock() != model_ || !index_ || !index_->valid()) index_timer_->start();
   emit model_changed();
 }
 

@@ -282,6 +282,26 @@ class StudioToolsTest : public QObject {
     }
   }
 
+  // A cut drops the operations' index (its pieces are new meshes); the studio rebuilds it once
+  // idle, so the previews and the next drill or tear do not pay for a whole build themselves.
+  void a_cut_leaves_the_operation_index_to_an_idle_rebuild() {
+    auto window = shown_window();
+    QVERIFY(window);
+    QVERIFY(window->open_file(kCactus));
+    QVERIFY(window->operation_index() != nullptr);
+    window->set_tool("cut");
+    QVERIFY2(window->apply_tool(), qPrintable(window->last_error()));
+    QTRY_VERIFY_WITH_TIMEOUT(window->operation_index() != nullptr, 20000);
+    const deepcut::ModelIndex* index = window->operation_index();
+    const deepcut::ModelIndex fresh = deepcut::ModelIndex::build(*window->model(), index->animation(), index->time());
+    QCOMPARE(index->size(), fresh.size());
+    for (const auto& [key, want] : fresh.instances()) {
+      const deepcut::ModelIndex::Instance* got = index->find(key.first, key.second);
+      QVERIFY(got != nullptr);
+      QVERIFY(got->posed == want.posed);
+    }
+  }
+
   void a_tool_that_misses_reports_and_keeps_the_model() {
     auto window = shown_window();
     QVERIFY(window);
