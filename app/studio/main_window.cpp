@@ -756,6 +756,10 @@ bool MainWindow::apply_tool() {
   } catch (const std::bad_alloc&) {
     report_error(QString::fromStdString(active_tool->title()) + ": out of memory");
     return false;
+  } catch (const std::exception& e) {  // a defect in an operation: reported, never a crash
+    index_state_.reset();                // the index may have followed part of the operation
+    report_error(QString::fromStdString(active_tool->title() + ": internal error: " + e.what()));
+    return false;
   }
   last_error_.clear();
   return true;
@@ -869,6 +873,13 @@ void run_entry(Model& model, MainWindow::OperationEntry& entry, ModelIndex* inde
     entry.status = OpStatus::Ok;
     entry.error = e.what();
     if (index) index->invalidate();
+  } catch (const std::bad_alloc&) {
+    if (index) index->invalidate();
+    throw;  // the caller reports it
+  } catch (const std::exception& e) {  // a defect in an operation: reported, never a crash
+    entry.status = OpStatus::Ok;
+    entry.error = std::string("internal error: ") + e.what();
+    if (index) index->invalidate();
   }
 }
 
@@ -888,7 +899,7 @@ bool MainWindow::edit_operation(int index) {
   std::vector<OperationEntry> replayed = entries;
   try {
     ModelIndex* model_index = index < 1 ? nullptr : index_for(original_);
-    index_state_.reset();
+    if (model_index) index_state_.reset();  // it follows `base` from here on
     for (int i = 0; i < index; ++i) run_entry(*base, replayed[static_cast<std::size_t>(i)], model_index);
     if (model_index) index_state_ = std::shared_ptr<const Model>(base);
   } catch (const std::bad_alloc&) {
