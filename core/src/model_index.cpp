@@ -169,18 +169,12 @@ void ModelIndex::follow(const Model& model, int node, int primitive, const Surfa
   const std::size_t old_count = inst.posed.size();
   // Vertices an edit moved, with where they were posed before it.
   std::vector<std::pair<std::uint32_t, glm::vec3>> moved;
-  std::vector<std::uint32_t> added_faces;
-  for (const Edit& e : log.edits) {
-    if (const auto* m = std::get_if<VertexMoved>(&e)) {
+  for (const Edit& e : log.edits)
+    if (const auto* m = std::get_if<VertexMoved>(&e))
       if (m->v.index < old_count) moved.emplace_back(m->v.index, inst.posed[m->v.index]);
-    } else if (const auto* a = std::get_if<FaceAdded>(&e)) {
-      added_faces.push_back(a->f.index);
-    }
-  }
   std::sort(moved.begin(), moved.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
   moved.erase(std::unique(moved.begin(), moved.end(), [](const auto& x, const auto& y) { return x.first == y.first; }),
               moved.end());
-  std::sort(added_faces.begin(), added_faces.end());
   // New vertices (edge and face points, tear copies, wall vertices) and moved ones, posed from
   // their final bind position and skin weights exactly as a fresh build would.
   inst.posed.resize(mesh.vertex_count());
@@ -198,28 +192,8 @@ void ModelIndex::follow(const Model& model, int node, int primitive, const Surfa
     inst.bounds.add(inst.posed[v]);
   }
   if (remeasure) inst.bounds = bounds_of(inst.posed);
+  // The grid files the faces around moved vertices again itself (TriangleGrid::apply).
   inst.grid.apply(log, inst.posed);
-  if (moved.empty()) return;
-  // Faces around a moved vertex that this log did not add are filed where the vertex was: file
-  // them again at its new position (a face filed in more cells than it needs stays correct).
-  std::vector<glm::vec3> before;
-  before.reserve(moved.size());
-  for (const auto& m : moved) before.push_back(m.second);
-  auto is_moved = [&](VertexId v) {
-    auto it = std::lower_bound(moved.begin(), moved.end(), v.index,
-                               [](const auto& m, std::uint32_t x) { return m.first < x; });
-    return it != moved.end() && it->first == v.index;
-  };
-  EditLog refile;
-  for (FaceId f : inst.grid.query_points(before)) {
-    if (f.index >= mesh.face_slots() || mesh.is_deleted(f)) continue;
-    if (std::binary_search(added_faces.begin(), added_faces.end(), f.index)) continue;
-    const Triangle& t = mesh.face(f);
-    if (!is_moved(t[0]) && !is_moved(t[1]) && !is_moved(t[2])) continue;
-    refile.edits.push_back(FaceRemoved{f, t});
-    refile.edits.push_back(FaceAdded{f, FaceId(), t});
-  }
-  inst.grid.apply(refile, inst.posed);
 }
 
 void ModelIndex::erase_primitive(int node, int primitive) {
