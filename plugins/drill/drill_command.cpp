@@ -57,14 +57,8 @@ int run_drill(const std::vector<std::string>& argv) {
   op.animation = pose_animation(args, model);
   op.time = static_cast<float>(args.number("--time", 0.0));
   const auto before = instance_triangles(model);
-  // Preprocessing (posed positions and the triangle grid), timed apart as in the paper's Table 1.
   double preprocess_ms = 0.0, ms = 0.0;
-  ModelIndex index = run_timed(
-      [&] {
-        reserve_for_operations(model);
-        return ModelIndex::build(model, op.animation, op.time);
-      },
-      preprocess_ms);
+  ModelIndex index = preprocess(model, op, preprocess_ms);
   const ModelDrillResult r = run_timed(
       [&] { return drill_model(model, drill.cylinder, drill.options, op.animation, op.time, &index); }, ms);
   // A drill that swallows a whole instance is not a hole: refuse it rather than write an empty mesh.

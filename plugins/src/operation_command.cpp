@@ -7,6 +7,15 @@
 
 namespace deepcut::cli {
 
+ModelIndex preprocess(Model& model, const Operation& op, double& preprocess_ms) {
+  return run_timed(
+      [&] {
+        reserve_for_operations(model);
+        return ModelIndex::build(model, op.animation, op.time);
+      },
+      preprocess_ms);
+}
+
 void finish_operation(const Args& args, Model& model, const Operation& op, OpStatus status, double ms,
                       nlohmann::json report, const std::string& done, const std::string& tool) {
   if (status == OpStatus::Ok) record_operation(model, op);

@@ -41,14 +41,8 @@ int run_tear(const std::vector<std::string>& argv) {
   Operation op;
   op.animation = pose_animation(args, model);
   op.time = static_cast<float>(args.number("--time", 0.0));
-  // Preprocessing (posed positions, skin frames, the triangle grid), timed apart.
   double preprocess_ms = 0.0, ms = 0.0;
-  ModelIndex index = run_timed(
-      [&] {
-        reserve_for_operations(model);
-        return ModelIndex::build(model, op.animation, op.time);
-      },
-      preprocess_ms);
+  ModelIndex index = preprocess(model, op, preprocess_ms);
   const ModelTearResult r = run_timed(
       [&] { return tear_model(model, tear.start, tear.end, tear.options, op.animation, op.time, &index); }, ms);
   tear.options.width = r.width;  // the history records the width used
