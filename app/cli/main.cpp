@@ -112,7 +112,10 @@ int main(int argc, char** argv) {
     std::cerr << "deepcut " << one_line(command.c_str()) << ": " << one_line(e.what()) << " (see deepcut --help)\n";
     return 2;
   } catch (const deepcut::Error& e) {
-    std::cerr << "deepcut " << one_line(command.c_str()) << ": " << one_line(e.what()) << "\n";
+    // The library's messages name their operation ("drill: ..."); the line names it already.
+    std::string message = one_line(e.what());
+    if (message.rfind(command + ": ", 0) == 0) message.erase(0, command.size() + 2);
+    std::cerr << "deepcut " << one_line(command.c_str()) << ": " << message << "\n";
     return e.is_input_error() ? 2 : 1;
   } catch (const std::bad_alloc&) {
     std::cerr << "deepcut " << command << ": out of memory\n";

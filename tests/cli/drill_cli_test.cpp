@@ -128,6 +128,8 @@ TEST_F(DrillCliTest, misses_leave_the_model_unchanged_and_bad_input_exits_2) {
     r = test::run_cli(base + args);
     EXPECT_EQ(r.exit_code, 2) << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_EQ(r.err.rfind("deepcut drill: ", 0), 0u) << r.err;
+    EXPECT_EQ(r.err.find("drill: drill:"), std::string::npos) << "the operation is named once: " << r.err;
     EXPECT_FALSE(fs::exists(bad));
   }
 }
