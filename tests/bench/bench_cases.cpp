@@ -252,6 +252,24 @@ Model session_model(std::size_t triangles) {
   return model;
 }
 
+// Times `operation(model, index)` (index: the warm ModelIndex, or nullptr) on a fresh session
+// copy of the cactus each iteration; the copy, the index build and the clean-up are not timed.
+template <class Operation>
+void time_on_session_model(benchmark::State& state, std::size_t triangles, bool indexed, Operation&& operation) {
+  for (auto _ : state) {
+    state.PauseTiming();
+    Model model = session_model(triangles);
+    ModelIndex index;
+    if (indexed) index = ModelIndex::build(model, -1, 0.0f);
+    state.ResumeTiming();
+    operation(model, indexed ? &index : nullptr);
+    state.PauseTiming();
+    model = Model();
+    index = ModelIndex();
+    state.ResumeTiming();
+  }
+}
+
 // The small hole of drill_small (radius 0.62% of the size) through the trunk, without or with
 // a wall.
 void bm_drill_model(benchmark::State& state, std::size_t triangles, bool indexed, bool wall = false) {
@@ -259,20 +277,11 @@ void bm_drill_model(benchmark::State& state, std::size_t triangles, bool indexed
   DrillOptions options;
   options.wall = wall;
   std::size_t touched = 0;
-  for (auto _ : state) {
-    state.PauseTiming();
-    Model model = session_model(triangles);
-    ModelIndex index;
-    if (indexed) index = ModelIndex::build(model, -1, 0.0f);
-    state.ResumeTiming();
-    const ModelDrillResult r = drill_model(model, cyl, options, -1, 0.0f, indexed ? &index : nullptr);
+  time_on_session_model(state, triangles, indexed, [&](Model& model, ModelIndex* index) {
+    const ModelDrillResult r = drill_model(model, cyl, options, -1, 0.0f, index);
     benchmark::DoNotOptimize(r.triangles_added);
     touched = r.triangles_removed;
-    state.PauseTiming();
-    model = Model();
-    index = ModelIndex();
-    state.ResumeTiming();
-  }
+  });
   state.counters["touched"] = static_cast<double>(touched);
   set_triangles(state, input(triangles).mesh);
 }
@@ -286,20 +295,11 @@ void bm_tear_model(benchmark::State& state, std::size_t triangles, bool indexed)
   const Blade start{{c.x - 0.08f * h, box.min.y + 0.33f * h, box.max.z + 0.5f}, {c.x - 0.08f * h, box.min.y + 0.33f * h, c.z}};
   const Blade end{{c.x + 0.08f * h, box.min.y + 0.35f * h, box.max.z + 0.5f}, {c.x + 0.08f * h, box.min.y + 0.35f * h, c.z}};
   std::size_t points = 0;
-  for (auto _ : state) {
-    state.PauseTiming();
-    Model model = session_model(triangles);
-    ModelIndex index;
-    if (indexed) index = ModelIndex::build(model, -1, 0.0f);
-    state.ResumeTiming();
-    const ModelTearResult r = tear_model(model, start, end, {}, -1, 0.0f, indexed ? &index : nullptr);
+  time_on_session_model(state, triangles, indexed, [&](Model& model, ModelIndex* index) {
+    const ModelTearResult r = tear_model(model, start, end, {}, -1, 0.0f, index);
     benchmark::DoNotOptimize(r.slits);
     points = r.intersection_points;
-    state.PauseTiming();
-    model = Model();
-    index = ModelIndex();
-    state.ResumeTiming();
-  }
+  });
   state.counters["intersection_points"] = static_cast<double>(points);
   set_triangles(state, in.mesh);
 }
