@@ -155,9 +155,8 @@ class OperationMaker {
       const glm::vec3 a = inst.posed[t[0].index], b = inst.posed[t[1].index], c = inst.posed[t[2].index];
       const glm::vec3 cr = glm::cross(b - a, c - a);
       if (!(glm::length(cr) > 0.0f)) continue;
-      float s = uniform(0.0f, 1.0f), r = uniform(0.0f, 1.0f);
-      if (s + r > 1.0f) s = 1.0f - s, r = 1.0f - r;
-      p = a + s * (b - a) + r * (c - a);
+      const float s = uniform(0.0f, 1.0f), r = uniform(0.0f, 1.0f);
+      p = test::point_in_triangle(a, b, c, s, r);
       n = glm::normalize(cr);
       return true;
     }

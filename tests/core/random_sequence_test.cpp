@@ -310,9 +310,8 @@ class Sequence {
       const glm::vec3 a = part.posed[t[0].index], b = part.posed[t[1].index], c = part.posed[t[2].index];
       const glm::vec3 n = glm::cross(b - a, c - a);
       if (!(glm::length(n) > 0.0f)) continue;
-      float u = uniform(0.0f, 1.0f), v = uniform(0.0f, 1.0f);
-      if (u + v > 1.0f) u = 1.0f - u, v = 1.0f - v;
-      point = a + u * (b - a) + v * (c - a);
+      const float u = uniform(0.0f, 1.0f), v = uniform(0.0f, 1.0f);
+      point = test::point_in_triangle(a, b, c, u, v);
       normal = glm::normalize(n);
       return true;
     }

@@ -195,4 +195,9 @@ std::vector<std::string> static_models() {
   return out;
 }
 
+glm::vec3 point_in_triangle(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, float s, float r) {
+  if (s + r > 1.0f) s = 1.0f - s, r = 1.0f - r;
+  return a + s * (b - a) + r * (c - a);
+}
+
 }  // namespace deepcut::test

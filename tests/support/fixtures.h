@@ -38,6 +38,10 @@ std::vector<VertexId> pinched_vertices(const SurfaceMesh& mesh);
 /// Incremental adjacency equals the full rebuild.
 void expect_adjacency_matches_rebuild(const Adjacency& incremental, const SurfaceMesh& mesh);
 
+/// The point (s, r) of the parallelogram a + s (b - a) + r (c - a), folded into the triangle
+/// abc: for s, r uniform in [0, 1] it is uniform over the triangle.
+glm::vec3 point_in_triangle(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, float s, float r);
+
 /// Every model file under assets/ (sorted), as absolute paths.
 std::vector<std::string> asset_models();
 
