@@ -9,7 +9,7 @@
 
 #include "commands.h"
 #include "deepcut/core/io/gltf.h"
-#include "deepcut/core/model_index.h"
+#include "deepcut/core/posed_model.h"
 #include "deepcut/core/ops/history.h"
 #include "deepcut/plugins/command_args.h"
 #include "deepcut/plugins/formats.h"
@@ -38,7 +38,7 @@ int run_apply(const std::vector<std::string>& argv) {
   const auto t0 = std::chrono::steady_clock::now();
   // One preprocessing for the whole run (built by the first drill or tear, rebuilt when an
   // operation's pose differs or after a cut), followed from each operation's edit log.
-  ModelIndex index;
+  PosedModel index;
   reserve_for_operations(model);
   for (std::size_t i = 0; i < history.operations.size(); ++i) {
     try {

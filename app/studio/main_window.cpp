@@ -525,7 +525,7 @@ void MainWindow::load_file(const QString& path) {
   const int animation = model->animations.empty() ? -1 : 0;
   plugins::Scene scene = plugins::make_scene(model, animation, 0.0f);
   // The operations' preprocessing, once per model (and pose): every drill and tear updates it.
-  auto index = std::make_unique<ModelIndex>(ModelIndex::build(*model, animation, 0.0f));
+  auto index = std::make_unique<PosedModel>(PosedModel::build(*model, animation, 0.0f));
   std::vector<std::pair<QString, float>> clips;
   for (const Animation& a : model->animations)
     clips.emplace_back(QString::fromStdString(a.name), a.duration());
@@ -589,7 +589,7 @@ void MainWindow::show_model(std::shared_ptr<const Model> model) {
   emit model_changed();
 }
 
-const ModelIndex* MainWindow::operation_index() const {
+const PosedModel* MainWindow::operation_index() const {
   if (!index_ || !model_ || index_state_.lock() != model_ || !index_->valid()) return nullptr;
   return index_.get();
 }
@@ -615,10 +615,10 @@ void MainWindow::detach_index() {
 
 void MainWindow::attach_index() {
   detach_index();
-  const ModelIndex* index = operation_index();
+  const PosedModel* index = operation_index();
   if (!index || !scene_ || scene_->model != model_ || !index->matches(scene_->animation, scene_->time)) return;
   for (plugins::ScenePiece& piece : scene_->pieces) {
-    const ModelIndex::Instance* inst = index->find(piece.node, piece.primitive);
+    const PosedMesh* inst = index->find(piece.node, piece.primitive);
     // The grid is filed at the index's posed positions: attach it only where they are the
     // scene's, bit for bit (both pose with the same skinning; this guards the assumption).
     if (inst && inst->mesh == piece.mesh && inst->posed.size() == piece.posed.size() &&
@@ -627,12 +627,12 @@ void MainWindow::attach_index() {
   }
 }
 
-ModelIndex* MainWindow::index_for(const std::shared_ptr<const Model>& state) {
+PosedModel* MainWindow::index_for(const std::shared_ptr<const Model>& state) {
   detach_index();
-  if (!index_) index_ = std::make_unique<ModelIndex>();
+  if (!index_) index_ = std::make_unique<PosedModel>();
   if (index_state_.lock() != state) {
     index_->invalidate();  // free the old one before building the new one
-    *index_ = ModelIndex::build(*state, scene_->animation, scene_->time);
+    *index_ = PosedModel::build(*state, scene_->animation, scene_->time);
     index_state_ = state;
   }
   return index_.get();
@@ -734,7 +734,7 @@ bool MainWindow::apply_tool() {
     auto result = std::make_shared<Model>(*model_);
     // The operation follows and updates the preprocessing, which then describes `result` (a
     // miss leaves both as they were; a failure leaves the index for a rebuild).
-    ModelIndex* index = index_for(model_);
+    PosedModel* index = index_for(model_);
     index_state_.reset();
     const OperationReport report = deepcut::apply_operation(*result, op, index);
     index_state_ = report.status == OpStatus::Ok ? std::shared_ptr<const Model>(result) : model_;
@@ -780,7 +780,7 @@ void MainWindow::apply_history(const History& history, const std::string& source
     QElapsedTimer clock;
     clock.start();
     auto next = std::make_shared<Model>(*state);
-    ModelIndex* index = index_for(state);
+    PosedModel* index = index_for(state);
     index_state_.reset();
     try {
       if (deepcut::apply_operation(*next, op, index).status != OpStatus::Ok) {
@@ -865,7 +865,7 @@ std::string tool_of(const Operation& op) {
 /// Applies `entry` to `model` as `deepcut apply` would, noting whether it applied.
 /// `index` (the preprocessing describing `model`, or nullptr) follows the operation; after a
 /// failure it is invalidated, so the next operation rebuilds it.
-void run_entry(Model& model, MainWindow::OperationEntry& entry, ModelIndex* index) {
+void run_entry(Model& model, MainWindow::OperationEntry& entry, PosedModel* index) {
   entry.error.clear();
   try {
     entry.status = deepcut::apply_operation(model, entry.operation, index).status;
@@ -898,7 +898,7 @@ bool MainWindow::edit_operation(int index) {
   auto base = std::make_shared<Model>(*original_);
   std::vector<OperationEntry> replayed = entries;
   try {
-    ModelIndex* model_index = index < 1 ? nullptr : index_for(original_);
+    PosedModel* model_index = index < 1 ? nullptr : index_for(original_);
     if (model_index) index_state_.reset();  // it follows `base` from here on
     for (int i = 0; i < index; ++i) run_entry(*base, replayed[static_cast<std::size_t>(i)], model_index);
     if (model_index) index_state_ = std::shared_ptr<const Model>(base);
@@ -941,7 +941,7 @@ bool MainWindow::apply_edit() {
   QElapsedTimer clock;
   clock.start();
   auto result = std::make_shared<Model>(*model_);  // the state before the edited operation
-  ModelIndex* model_index = nullptr;
+  PosedModel* model_index = nullptr;
   try {
     model_index = index_for(model_);
     index_state_.reset();  // it follows `result` from here on

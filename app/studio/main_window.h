@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "deepcut/core/model.h"
-#include "deepcut/core/model_index.h"
+#include "deepcut/core/posed_model.h"
 #include "deepcut/plugins/inspector.h"
 #include "deepcut/plugins/scene.h"
 #include "deepcut/plugins/tool.h"
@@ -153,11 +153,11 @@ class MainWindow : public QMainWindow {
   /// Shows `model` as the current state (used by the undo stack; not itself undoable).
   void show_model(std::shared_ptr<const Model> model);
 
-  /// The operations' preprocessing (model_index.h) when it describes the current model, else
+  /// The operations' preprocessing (posed_model.h) when it describes the current model, else
   /// nullptr. Built when a model is opened, kept up to date by every drill and tear the studio
   /// applies, and rebuilt shortly after the pose stops changing or the state changes otherwise
   /// (undo, redo, an edit, a cut), or at the next operation, whichever comes first.
-  const ModelIndex* operation_index() const;
+  const PosedModel* operation_index() const;
   /// Brings the preprocessing up to date for the current model and pose now (what the studio
   /// does once the pose stays put for a moment).
   void refresh_operation_index();
@@ -194,7 +194,7 @@ class MainWindow : public QMainWindow {
   void on_pose_changed(int animation, float time);
   /// The preprocessing for `state`, built for the current pose when it describes another state.
   /// Detaches it from the scene first (it may change).
-  ModelIndex* index_for(const std::shared_ptr<const Model>& state);
+  PosedModel* index_for(const std::shared_ptr<const Model>& state);
   /// Gives the scene's pieces the index's grids when it describes the shown model and pose (the
   /// tools' previews then visit only the cells they cross), or takes them away.
   void attach_index();
@@ -225,7 +225,7 @@ class MainWindow : public QMainWindow {
   std::unique_ptr<plugins::Scene> scene_;
   // The operations' preprocessing and the state it describes (operations run on a copy of the
   // current state: the index follows them and then describes the copy).
-  std::unique_ptr<ModelIndex> index_;
+  std::unique_ptr<PosedModel> index_;
   std::weak_ptr<const Model> index_state_;
   QTimer* index_timer_ = nullptr;  // rebuilds the index once the pose or state settles
   QString path_, last_error_, last_operation_;

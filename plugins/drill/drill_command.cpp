@@ -8,7 +8,7 @@
 
 #include "deepcut/core/errors.h"
 #include "deepcut/core/model.h"
-#include "deepcut/core/model_index.h"
+#include "deepcut/core/posed_model.h"
 #include "deepcut/plugins/formats.h"
 #include "deepcut/plugins/operation_command.h"
 #include "deepcut/plugins/tool_registry.h"
@@ -58,7 +58,7 @@ int run_drill(const std::vector<std::string>& argv) {
   op.time = static_cast<float>(args.number("--time", 0.0));
   const auto before = instance_triangles(model);
   double preprocess_ms = 0.0, ms = 0.0;
-  ModelIndex index = preprocess(model, op, preprocess_ms);
+  PosedModel index = preprocess(model, op, preprocess_ms);
   const ModelDrillResult r = run_timed(
       [&] { return drill_model(model, drill.cylinder, drill.options, op.animation, op.time, &index); }, ms);
   // A drill that swallows a whole instance is not a hole: refuse it rather than write an empty mesh.

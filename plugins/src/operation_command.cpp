@@ -7,11 +7,11 @@
 
 namespace deepcut::cli {
 
-ModelIndex preprocess(Model& model, const Operation& op, double& preprocess_ms) {
+PosedModel preprocess(Model& model, const Operation& op, double& preprocess_ms) {
   return run_timed(
       [&] {
         reserve_for_operations(model);
-        return ModelIndex::build(model, op.animation, op.time);
+        return PosedModel::build(model, op.animation, op.time);
       },
       preprocess_ms);
 }

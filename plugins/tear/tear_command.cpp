@@ -42,7 +42,7 @@ int run_tear(const std::vector<std::string>& argv) {
   op.animation = pose_animation(args, model);
   op.time = static_cast<float>(args.number("--time", 0.0));
   double preprocess_ms = 0.0, ms = 0.0;
-  ModelIndex index = preprocess(model, op, preprocess_ms);
+  PosedModel index = preprocess(model, op, preprocess_ms);
   const ModelTearResult r = run_timed(
       [&] { return tear_model(model, tear.start, tear.end, tear.options, op.animation, op.time, &index); }, ms);
   tear.options.width = r.width;  // the history records the width used

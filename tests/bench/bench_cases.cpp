@@ -23,7 +23,7 @@
 #include "deepcut/core/adjacency.h"
 #include "deepcut/core/generate/cactus.h"
 #include "deepcut/core/ops/cut.h"
-#include "deepcut/core/model_index.h"
+#include "deepcut/core/posed_model.h"
 #include "deepcut/core/ops/drill.h"
 #include "deepcut/core/spatial_index.h"
 #include "deepcut/core/ops/tear.h"
@@ -232,7 +232,7 @@ void bm_tear(benchmark::State& state, std::size_t triangles) {
 }
 
 // The model-level API as the studio and `deepcut apply` call it: the whole skinned cactus Model,
-// with and without its ModelIndex (built before the timed region, as a session builds it when
+// with and without its PosedModel (built before the timed region, as a session builds it when
 // the model is loaded or posed). Each iteration starts from a fresh copy of the model (with the
 // session's room to grow) and a fresh index, outside the timed region.
 const Model& cactus_model(std::size_t triangles) {
@@ -252,20 +252,20 @@ Model session_model(std::size_t triangles) {
   return model;
 }
 
-// Times `operation(model, index)` (index: the warm ModelIndex, or nullptr) on a fresh session
+// Times `operation(model, index)` (index: the warm PosedModel, or nullptr) on a fresh session
 // copy of the cactus each iteration; the copy, the index build and the clean-up are not timed.
 template <class Operation>
 void time_on_session_model(benchmark::State& state, std::size_t triangles, bool indexed, Operation&& operation) {
   for (auto _ : state) {
     state.PauseTiming();
     Model model = session_model(triangles);
-    ModelIndex index;
-    if (indexed) index = ModelIndex::build(model, -1, 0.0f);
+    PosedModel index;
+    if (indexed) index = PosedModel::build(model, -1, 0.0f);
     state.ResumeTiming();
     operation(model, indexed ? &index : nullptr);
     state.PauseTiming();
     model = Model();
-    index = ModelIndex();
+    index = PosedModel();
     state.ResumeTiming();
   }
 }
@@ -277,7 +277,7 @@ void bm_drill_model(benchmark::State& state, std::size_t triangles, bool indexed
   DrillOptions options;
   options.wall = wall;
   std::size_t touched = 0;
-  time_on_session_model(state, triangles, indexed, [&](Model& model, ModelIndex* index) {
+  time_on_session_model(state, triangles, indexed, [&](Model& model, PosedModel* index) {
     const ModelDrillResult r = drill_model(model, cyl, options, -1, 0.0f, index);
     benchmark::DoNotOptimize(r.triangles_added);
     touched = r.triangles_removed;
@@ -295,7 +295,7 @@ void bm_tear_model(benchmark::State& state, std::size_t triangles, bool indexed)
   const Blade start{{c.x - 0.08f * h, box.min.y + 0.33f * h, box.max.z + 0.5f}, {c.x - 0.08f * h, box.min.y + 0.33f * h, c.z}};
   const Blade end{{c.x + 0.08f * h, box.min.y + 0.35f * h, box.max.z + 0.5f}, {c.x + 0.08f * h, box.min.y + 0.35f * h, c.z}};
   std::size_t points = 0;
-  time_on_session_model(state, triangles, indexed, [&](Model& model, ModelIndex* index) {
+  time_on_session_model(state, triangles, indexed, [&](Model& model, PosedModel* index) {
     const ModelTearResult r = tear_model(model, start, end, {}, -1, 0.0f, index);
     benchmark::DoNotOptimize(r.slits);
     points = r.intersection_points;
@@ -308,10 +308,10 @@ void bm_tear_model(benchmark::State& state, std::size_t triangles, bool indexed)
 void bm_model_index(benchmark::State& state, std::size_t triangles) {
   const Model& model = cactus_model(triangles);
   for (auto _ : state) {
-    ModelIndex index = ModelIndex::build(model, 0, 1.0f);
+    PosedModel index = PosedModel::build(model, 0, 1.0f);
     benchmark::DoNotOptimize(index.size());
     state.PauseTiming();
-    index = ModelIndex();
+    index = PosedModel();
     state.ResumeTiming();
   }
   set_triangles(state, input(triangles).mesh);
@@ -448,7 +448,7 @@ void register_cases(bool with_1m) {
     reg("drill/vtkClipPolyData+vtkCylinder/" + s, [n](benchmark::State& st) { bm_drill_vtk(st, n); });
     // The locality target: a hole touching at most 1000 triangles of the 1M model (926).
     if (n >= 500000) reg("drill_small/ours/" + s, [n](benchmark::State& st) { bm_drill_ours(st, n, 0.0062f); });
-    // Model level: "ours" keeps a warm ModelIndex, the peer is the same call without one.
+    // Model level: "ours" keeps a warm PosedModel, the peer is the same call without one.
     reg("drill_model_small/ours/" + s, [n](benchmark::State& st) { bm_drill_model(st, n, true); });
     reg("drill_model_small/uncached/" + s, [n](benchmark::State& st) { bm_drill_model(st, n, false); });
     reg("drill_model_wall/ours/" + s, [n](benchmark::State& st) { bm_drill_model(st, n, true, true); });

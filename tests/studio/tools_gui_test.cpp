@@ -222,12 +222,12 @@ class StudioToolsTest : public QObject {
     QVERIFY(window->open_file(kCactus));
     QVERIFY(window->operation_index() != nullptr);
     auto expect_fresh = [&](const char* when) {
-      const deepcut::ModelIndex* index = window->operation_index();
+      const deepcut::PosedModel* index = window->operation_index();
       QVERIFY2(index != nullptr, when);
-      const deepcut::ModelIndex fresh = deepcut::ModelIndex::build(*window->model(), index->animation(), index->time());
+      const deepcut::PosedModel fresh = deepcut::PosedModel::build(*window->model(), index->animation(), index->time());
       QVERIFY2(index->size() == fresh.size(), when);
       for (const auto& [key, want] : fresh.instances()) {
-        const deepcut::ModelIndex::Instance* got = index->find(key.first, key.second);
+        const deepcut::PosedMesh* got = index->find(key.first, key.second);
         QVERIFY2(got != nullptr, when);
         QVERIFY2(got->posed == want.posed, when);
         QVERIFY2(got->bounds.min == want.bounds.min && got->bounds.max == want.bounds.max, when);
@@ -292,11 +292,11 @@ class StudioToolsTest : public QObject {
     window->set_tool("cut");
     QVERIFY2(window->apply_tool(), qPrintable(window->last_error()));
     QTRY_VERIFY_WITH_TIMEOUT(window->operation_index() != nullptr, 20000);
-    const deepcut::ModelIndex* index = window->operation_index();
-    const deepcut::ModelIndex fresh = deepcut::ModelIndex::build(*window->model(), index->animation(), index->time());
+    const deepcut::PosedModel* index = window->operation_index();
+    const deepcut::PosedModel fresh = deepcut::PosedModel::build(*window->model(), index->animation(), index->time());
     QCOMPARE(index->size(), fresh.size());
     for (const auto& [key, want] : fresh.instances()) {
-      const deepcut::ModelIndex::Instance* got = index->find(key.first, key.second);
+      const deepcut::PosedMesh* got = index->find(key.first, key.second);
       QVERIFY(got != nullptr);
       QVERIFY(got->posed == want.posed);
     }

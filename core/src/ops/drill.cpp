@@ -31,7 +31,7 @@
 #include <unordered_set>
 
 #include "deepcut/core/mesh_editor.h"
-#include "deepcut/core/model_index.h"
+#include "deepcut/core/posed_model.h"
 #include "deepcut/core/skinning.h"
 #include "ops/pieces.h"
 #include "ops/pinches.h"
@@ -2505,7 +2505,7 @@ DrillResult drill_mesh(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, c
 }
 
 ModelDrillResult drill_model(Model& model, const Cylinder& cylinder, const DrillOptions& options,
-                             int animation, float time, ModelIndex* index) {
+                             int animation, float time, PosedModel* index) {
   check_arguments(cylinder, options);
   const Pose pose = sample_pose(model, animation, time);
   const auto world = world_matrices(model, pose);
@@ -2534,7 +2534,7 @@ ModelDrillResult drill_model(Model& model, const Cylinder& cylinder, const Drill
     bool any = false;
     for (std::size_t pi = 0; pi < target.primitives.size(); ++pi) {
       Primitive& prim = target.primitives[pi];
-      ModelIndex::Instance* inst = index ? index->find(node_id, static_cast<int>(pi)) : nullptr;
+      PosedMesh* inst = index ? index->find(node_id, static_cast<int>(pi)) : nullptr;
       if (!inst) own_posed = posed_positions(model, node_id, prim.mesh, world);
       const std::vector<glm::vec3>& posed = inst ? inst->posed : own_posed;
       // Inverse of the vertex's blended skinning (or of the node's world matrix).

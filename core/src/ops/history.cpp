@@ -160,7 +160,7 @@ std::string history_to_json(const History& history) {
   return json{{"operations", ops}}.dump();
 }
 
-OperationReport apply_operation(Model& model, const Operation& operation, ModelIndex* index) {
+OperationReport apply_operation(Model& model, const Operation& operation, PosedModel* index) {
   OperationReport report;
   const int animation = operation.animation >= 0 && model.animations.empty() ? -1 : operation.animation;
   std::visit(

@@ -1400,7 +1400,7 @@ void instance_pose(const Model& model, int node, const SurfaceMesh& mesh, const 
 }  // namespace
 
 ModelTearResult tear_model(Model& model, const Blade& start, const Blade& end, const TearOptions& options,
-                           int animation, float time, ModelIndex* index) {
+                           int animation, float time, PosedModel* index) {
   make_pieces(start, end);  // reject a degenerate blade even when the model has no mesh
   const Pose pose = sample_pose(model, animation, time);
   const auto world = world_matrices(model, pose);
@@ -1424,7 +1424,7 @@ ModelTearResult tear_model(Model& model, const Blade& start, const Blade& end, c
     bool any = false;
     for (std::size_t pi = 0; pi < target.primitives.size(); ++pi) {
       Primitive& prim = target.primitives[pi];
-      ModelIndex::Instance* inst = index ? index->find(node_id, static_cast<int>(pi)) : nullptr;
+      PosedMesh* inst = index ? index->find(node_id, static_cast<int>(pi)) : nullptr;
       if (!inst) instance_pose(model, node_id, prim.mesh, world, own_posed, own_linear);
       // With the index, its exact bounds of the posed positions are the model size the tear
       // measures without one, so both give the same slits.

@@ -9,7 +9,7 @@
 #include <string>
 #include <utility>
 
-#include "deepcut/core/model_index.h"
+#include "deepcut/core/posed_model.h"
 #include "deepcut/core/ops/history.h"
 #include "deepcut/core/ops/op_status.h"
 #include "deepcut/plugins/command_args.h"
@@ -26,9 +26,9 @@ auto run_timed(F&& operation, double& ms) {
 }
 
 /// The operations' preprocessing, timed apart as in the paper's Table 1: gives the model room
-/// to grow and builds its ModelIndex (posed positions, skin frames, triangle grids) at `op`'s
+/// to grow and builds its PosedModel (posed positions, skin frames, triangle grids) at `op`'s
 /// pose. `preprocess_ms` gets the wall time.
-ModelIndex preprocess(Model& model, const Operation& op, double& preprocess_ms);
+PosedModel preprocess(Model& model, const Operation& op, double& preprocess_ms);
 
 /// Records `op` in the model's history when it changed the model (`status` Ok), writes the
 /// model to `-o` (temporary file + rename), then reports: with `--json`, `report` plus

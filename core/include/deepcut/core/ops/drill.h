@@ -15,7 +15,7 @@
 
 #include "deepcut/core/edit_log.h"
 #include "deepcut/core/model.h"
-#include "deepcut/core/model_index.h"
+#include "deepcut/core/posed_model.h"
 #include "deepcut/core/ops/op_status.h"
 #include "deepcut/core/spatial_index.h"
 #include "deepcut/core/surface_mesh.h"
@@ -145,12 +145,12 @@ struct ModelDrillResult {
 /// animations are kept, and new wall vertices are placed in bind space by inverting their
 /// blended skinning. Meshes shared by several instances are copied before they change; an
 /// instance the cylinder swallows whole loses its mesh (and skin) reference.
-/// @param index  optional preprocessing (model_index.h): prepared for this pose (built when it
+/// @param index  optional preprocessing (posed_model.h): prepared for this pose (built when it
 ///               was made for another), used for the posed positions and the candidate faces,
 ///               and updated from the edit logs, so with a warm index the cost grows with the
 ///               hole, not the mesh. The result is byte-identical with and without it.
 /// @throws Error{InvalidArgument} as drill_mesh, or for an animation index out of range.
 ModelDrillResult drill_model(Model& model, const Cylinder& cylinder, const DrillOptions& options = {},
-                             int animation = -1, float time = 0.0f, ModelIndex* index = nullptr);
+                             int animation = -1, float time = 0.0f, PosedModel* index = nullptr);
 
 }  // namespace deepcut

@@ -60,10 +60,10 @@ History parse_history(const std::string& json_text);
 std::string history_to_json(const History& history);
 
 /// Applies one operation to the model. @throws Error{InvalidArgument} for bad parameters.
-/// @param index  optional preprocessing (model_index.h) describing `model`: drills and tears use
+/// @param index  optional preprocessing (posed_model.h) describing `model`: drills and tears use
 ///               and update it (see drill_model, tear_model), a cut invalidates it. After an
 ///               exception it no longer describes the model: invalidate it.
-OperationReport apply_operation(Model& model, const Operation& operation, ModelIndex* index = nullptr);
+OperationReport apply_operation(Model& model, const Operation& operation, PosedModel* index = nullptr);
 
 /// The history recorded in the model's root extras (empty if none).
 History model_history(const Model& model);

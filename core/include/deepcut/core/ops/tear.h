@@ -17,7 +17,7 @@
 
 #include "deepcut/core/edit_log.h"
 #include "deepcut/core/model.h"
-#include "deepcut/core/model_index.h"
+#include "deepcut/core/posed_model.h"
 #include "deepcut/core/ops/op_status.h"
 #include "deepcut/core/spatial_index.h"
 #include "deepcut/core/surface_mesh.h"
@@ -91,7 +91,7 @@ struct TearResult {
 ///                     from the grid and the model size for the tolerance is the grid's bounds,
 ///                     so the cost follows the tear, not the mesh. Without it every face's
 ///                     bounding box is tested and the model size is that of every posed position.
-/// @param posed_bounds optional bounds of every entry of `posed` (ModelIndex keeps them exact),
+/// @param posed_bounds optional bounds of every entry of `posed` (PosedModel keeps them exact),
 ///                     the model size for the tolerance instead of the index's or a pass over
 ///                     `posed`.
 /// @pre posed.size() == mesh.vertex_count(); skin_linear empty or of the same size; `index`,
@@ -126,12 +126,12 @@ struct ModelTearResult {
 /// Tears every mesh instance of `model` posed at `time` of `animation` (-1: rest pose). Torn
 /// primitives keep their skin, so the slit animates; a mesh shared by several instances is copied
 /// for the instances the blade reaches. Instances the quad misses are left as they are.
-/// @param index  optional preprocessing (model_index.h), prepared for this pose and updated from
+/// @param index  optional preprocessing (posed_model.h), prepared for this pose and updated from
 ///               the edit logs: with a warm index the cost follows the tear, not the mesh; the
 ///               result is byte-identical with and without it.
 /// @throws Error{InvalidArgument} as tear_mesh, or for an animation index out of range.
 ModelTearResult tear_model(Model& model, const Blade& start, const Blade& end,
                            const TearOptions& options = {}, int animation = -1, float time = 0.0f,
-                           ModelIndex* index = nullptr);
+                           PosedModel* index = nullptr);
 
 }  // namespace deepcut

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "deepcut/core/model_index.h"
+#include "deepcut/core/posed_model.h"
 
 #include <algorithm>
 
@@ -39,7 +39,7 @@ class VertexPoser {
  public:
   VertexPoser(const SurfaceMesh& mesh, const std::vector<glm::mat4>& joints, const glm::mat4& rigid)
       : p_(mesh.positions()), blend_(mesh, joints), skinned_(blend_.skinned()), rigid_(rigid) {}
-  void operator()(std::size_t v, ModelIndex::Instance& inst) const {
+  void operator()(std::size_t v, PosedMesh& inst) const {
     const glm::mat4 m = skinned_ ? blend_.matrix(v) : rigid_;
     inst.posed[v] = glm::vec3(m * glm::vec4(p_[v], 1.0f));
     inst.linear[v] = glm::mat3(m);
@@ -71,8 +71,8 @@ void reserve_for_operations(Model& model) {
     }
 }
 
-ModelIndex ModelIndex::build(const Model& model, int animation, float time) {
-  ModelIndex index;
+PosedModel PosedModel::build(const Model& model, int animation, float time) {
+  PosedModel index;
   index.world_ = world_matrices(model, sample_pose(model, animation, time));
   index.joints_.resize(model.skins.size());
   for (std::size_t s = 0; s < model.skins.size(); ++s)
@@ -89,18 +89,18 @@ ModelIndex ModelIndex::build(const Model& model, int animation, float time) {
   return index;
 }
 
-void ModelIndex::invalidate() { *this = ModelIndex(); }
+void PosedModel::invalidate() { *this = PosedModel(); }
 
-const std::vector<glm::mat4>& ModelIndex::joints_of(const Model& model, int node) const {
+const std::vector<glm::mat4>& PosedModel::joints_of(const Model& model, int node) const {
   static const std::vector<glm::mat4> kNone;
   const int skin = model.nodes.at(static_cast<std::size_t>(node)).skin;
   if (skin < 0 || static_cast<std::size_t>(skin) >= joints_.size()) return kNone;
   return joints_[static_cast<std::size_t>(skin)];
 }
 
-ModelIndex::Instance ModelIndex::make_instance(const Model& model, int node, int primitive) const {
+PosedMesh PosedModel::make_instance(const Model& model, int node, int primitive) const {
   const SurfaceMesh& mesh = *instance_mesh(model, node, primitive);
-  Instance inst;
+  PosedMesh inst;
   inst.node = node;
   inst.mesh = model.nodes[static_cast<std::size_t>(node)].mesh;
   inst.primitive = primitive;
@@ -120,19 +120,19 @@ ModelIndex::Instance ModelIndex::make_instance(const Model& model, int node, int
   return inst;
 }
 
-void ModelIndex::add(const Model& model, int node, int primitive) {
+void PosedModel::add(const Model& model, int node, int primitive) {
   if (!instance_mesh(model, node, primitive)) return;
   instances_[{node, primitive}] = make_instance(model, node, primitive);
 }
 
-void ModelIndex::prepare(const Model& model, int animation, float time) {
+void PosedModel::prepare(const Model& model, int animation, float time) {
   if (!matches(animation, time) || world_.size() != model.nodes.size() || joints_.size() != model.skins.size()) {
     *this = build(model, animation, time);
     return;
   }
   for (auto it = instances_.begin(); it != instances_.end();) {
     const SurfaceMesh* mesh = instance_mesh(model, it->first.first, it->first.second);
-    const Instance& inst = it->second;
+    const PosedMesh& inst = it->second;
     if (!mesh) {
       it = instances_.erase(it);
     } else if (inst.mesh != model.nodes[static_cast<std::size_t>(inst.node)].mesh ||
@@ -152,20 +152,20 @@ void ModelIndex::prepare(const Model& model, int animation, float time) {
   }
 }
 
-ModelIndex::Instance* ModelIndex::find(int node, int primitive) {
+PosedMesh* PosedModel::find(int node, int primitive) {
   auto it = instances_.find({node, primitive});
   return it == instances_.end() ? nullptr : &it->second;
 }
 
-const ModelIndex::Instance* ModelIndex::find(int node, int primitive) const {
+const PosedMesh* PosedModel::find(int node, int primitive) const {
   auto it = instances_.find({node, primitive});
   return it == instances_.end() ? nullptr : &it->second;
 }
 
-void ModelIndex::follow(const Model& model, int node, int primitive, const SurfaceMesh& mesh, const EditLog& log) {
-  Instance* found = find(node, primitive);
+void PosedModel::follow(const Model& model, int node, int primitive, const SurfaceMesh& mesh, const EditLog& log) {
+  PosedMesh* found = find(node, primitive);
   if (!found) return;
-  Instance& inst = *found;
+  PosedMesh& inst = *found;
   const std::size_t old_count = inst.posed.size();
   // Vertices an edit moved, with where they were posed before it.
   std::vector<std::pair<std::uint32_t, glm::vec3>> moved;
@@ -196,26 +196,26 @@ void ModelIndex::follow(const Model& model, int node, int primitive, const Surfa
   inst.grid.apply(log, inst.posed);
 }
 
-void ModelIndex::erase_primitive(int node, int primitive) {
+void PosedModel::erase_primitive(int node, int primitive) {
   instances_.erase({node, primitive});
-  std::vector<Instance> later;
+  std::vector<PosedMesh> later;
   for (auto it = instances_.lower_bound({node, primitive + 1});
        it != instances_.end() && it->first.first == node;) {
     later.push_back(std::move(it->second));
     it = instances_.erase(it);
   }
-  for (Instance& inst : later) {
+  for (PosedMesh& inst : later) {
     --inst.primitive;
     const std::pair<int, int> key{inst.node, inst.primitive};
     instances_.emplace(key, std::move(inst));
   }
 }
 
-void ModelIndex::erase_node(int node) {
+void PosedModel::erase_node(int node) {
   instances_.erase(instances_.lower_bound({node, 0}), instances_.lower_bound({node + 1, 0}));
 }
 
-void ModelIndex::rename_mesh(int node, int mesh) {
+void PosedModel::rename_mesh(int node, int mesh) {
   for (auto it = instances_.lower_bound({node, 0}); it != instances_.end() && it->first.first == node; ++it)
     it->second.mesh = mesh;
 }

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
-// ModelIndex: the model-level operations' preprocessing, followed through random drills and tears,
+// PosedModel: the model-level operations' preprocessing, followed through random drills and tears,
 // must equal a fresh build, and the operations must give the same model with and without it.
-#include "deepcut/core/model_index.h"
+#include "deepcut/core/posed_model.h"
 
 #include <gtest/gtest.h>
 
@@ -86,12 +86,12 @@ std::vector<FaceId> meeting(const std::vector<FaceId>& answer, const SurfaceMesh
 // The followed index equals a fresh build of `model`: same instances, the same posed positions,
 // linear maps and bounds bit for bit, and grids whose answers to box queries hold the same faces
 // (those of the brute-force answer) wherever the query lands.
-void expect_index_matches_rebuild(const ModelIndex& index, const Model& model, std::mt19937& rng) {
+void expect_index_matches_rebuild(const PosedModel& index, const Model& model, std::mt19937& rng) {
   ASSERT_TRUE(index.valid());
-  const ModelIndex fresh = ModelIndex::build(model, index.animation(), index.time());
+  const PosedModel fresh = PosedModel::build(model, index.animation(), index.time());
   ASSERT_EQ(index.size(), fresh.size());
   for (const auto& [key, want] : fresh.instances()) {
-    const ModelIndex::Instance* got = index.find(key.first, key.second);
+    const PosedMesh* got = index.find(key.first, key.second);
     ASSERT_NE(got, nullptr) << "node " << key.first << " primitive " << key.second;
     EXPECT_EQ(got->mesh, want.mesh);
     ASSERT_EQ(got->posed.size(), want.posed.size());
@@ -140,8 +140,8 @@ class OperationMaker {
   }
 
   // A point on the posed surface of a random instance and its normal (false for an empty model).
-  bool surface_point(const ModelIndex& index, const Model& model, glm::vec3& p, glm::vec3& n) {
-    std::vector<const ModelIndex::Instance*> instances;
+  bool surface_point(const PosedModel& index, const Model& model, glm::vec3& p, glm::vec3& n) {
+    std::vector<const PosedMesh*> instances;
     for (const auto& [key, inst] : index.instances())
       if (model.meshes[static_cast<std::size_t>(inst.mesh)].primitives[static_cast<std::size_t>(key.second)].mesh.face_count() > 0)
         instances.push_back(&inst);
@@ -192,13 +192,13 @@ class OperationMaker {
 };
 
 // Runs `steps` random drills and tears on two copies of `model`: one through the operations with
-// a ModelIndex kept across them, one without. After each: identical models, index == rebuild.
+// a PosedModel kept across them, one without. After each: identical models, index == rebuild.
 void check_random_sequence(const Model& model, int steps, unsigned seed) {
   Model cached = model, plain = model;
   OperationMaker maker(seed);
   int animation = model.animations.empty() ? -1 : 0;
   float time = model.animations.empty() ? 0.0f : 0.37f * model.animations[0].duration();
-  ModelIndex index = ModelIndex::build(cached, animation, time);
+  PosedModel index = PosedModel::build(cached, animation, time);
   const float size = [&] {
     BoundingBox box;
     for (const auto& [key, inst] : index.instances()) box.add(inst.bounds);
@@ -238,17 +238,17 @@ void check_random_sequence(const Model& model, int steps, unsigned seed) {
 
 }  // namespace
 
-TEST(ModelIndexTest, skinned_tube_random_drills_and_tears_match_a_rebuild_and_the_uncached_path) {
+TEST(PosedModelTest, skinned_tube_random_drills_and_tears_match_a_rebuild_and_the_uncached_path) {
   check_random_sequence(test::make_skinned_tube_model(), 40, 1);
 }
 
-TEST(ModelIndexTest, animated_cactus_random_drills_and_tears_match_a_rebuild_and_the_uncached_path) {
+TEST(PosedModelTest, animated_cactus_random_drills_and_tears_match_a_rebuild_and_the_uncached_path) {
   CactusOptions options;
   options.target_triangles = 8000;
   check_random_sequence(make_cactus(options), 30, 2);
 }
 
-TEST(ModelIndexTest, asset_models_random_drills_and_tears_match_a_rebuild_and_the_uncached_path) {
+TEST(PosedModelTest, asset_models_random_drills_and_tears_match_a_rebuild_and_the_uncached_path) {
   unsigned seed = 3;
   for (const std::string& path : test::asset_models()) {
     SCOPED_TRACE(path);
@@ -257,18 +257,18 @@ TEST(ModelIndexTest, asset_models_random_drills_and_tears_match_a_rebuild_and_th
   }
 }
 
-TEST(ModelIndexTest, follows_moved_vertices_and_shrinking_bounds) {
+TEST(PosedModelTest, follows_moved_vertices_and_shrinking_bounds) {
   // Operations may move existing vertices (VertexMoved): their posed positions, the bounds (which
   // shrink when an extreme vertex moves inward) and the grid cells of the faces around them follow.
   Model model = test::make_skinned_tube_model();
   const float t = 0.5f * model.animations[0].duration();
-  ModelIndex index = ModelIndex::build(model, 0, t);
+  PosedModel index = PosedModel::build(model, 0, t);
   SurfaceMesh& mesh = model.meshes[0].primitives[0].mesh;
   std::mt19937 rng(7);
   for (int round = 0; round < 20; ++round) {
     SCOPED_TRACE("round " + std::to_string(round));
     MeshEditor editor(mesh);
-    const ModelIndex::Instance& inst = *index.find(0, 0);
+    const PosedMesh& inst = *index.find(0, 0);
     // The vertex at the top of the posed bounds, and a few random ones, move by up to a ring.
     std::uint32_t top = 0;
     for (std::uint32_t v = 0; v < inst.posed.size(); ++v)
@@ -292,7 +292,7 @@ TEST(ModelIndexTest, follows_moved_vertices_and_shrinking_bounds) {
   }
 }
 
-TEST(ModelIndexTest, a_mesh_shared_by_two_instances_is_copied_for_the_drilled_one) {
+TEST(PosedModelTest, a_mesh_shared_by_two_instances_is_copied_for_the_drilled_one) {
   Model model = test::make_skinned_tube_model();
   // A second, rigid instance of the same mesh, moved aside.
   Node twin;
@@ -301,7 +301,7 @@ TEST(ModelIndexTest, a_mesh_shared_by_two_instances_is_copied_for_the_drilled_on
   model.nodes.push_back(twin);
   model.scenes[0].push_back(static_cast<int>(model.nodes.size() - 1));
   Model plain = model;
-  ModelIndex index = ModelIndex::build(model, -1, 0.0f);
+  PosedModel index = PosedModel::build(model, -1, 0.0f);
   EXPECT_EQ(index.size(), 2u);
   DrillOptions options;
   options.wall = true;
@@ -314,9 +314,9 @@ TEST(ModelIndexTest, a_mesh_shared_by_two_instances_is_copied_for_the_drilled_on
   expect_index_matches_rebuild(index, model, rng);
 }
 
-TEST(ModelIndexTest, another_pose_rebuilds_and_a_cut_invalidates) {
+TEST(PosedModelTest, another_pose_rebuilds_and_a_cut_invalidates) {
   Model model = test::make_skinned_tube_model();
-  ModelIndex index = ModelIndex::build(model, -1, 0.0f);
+  PosedModel index = PosedModel::build(model, -1, 0.0f);
   EXPECT_TRUE(index.matches(-1, 0.0f));
   const float t = model.animations[0].duration();
   Operation drill{DrillOperation{Cylinder{{0.0f, 2.0f, -3.0f}, {0.0f, 2.0f, 3.0f}, 0.3f}, {}}, 0, t};
@@ -336,7 +336,7 @@ TEST(ModelIndexTest, another_pose_rebuilds_and_a_cut_invalidates) {
   expect_index_matches_rebuild(index, model, rng);
 }
 
-TEST(ModelIndexTest, reserved_room_survives_copies_so_operations_on_snapshots_do_not_reallocate) {
+TEST(PosedModelTest, reserved_room_survives_copies_so_operations_on_snapshots_do_not_reallocate) {
   Model model = test::make_skinned_tube_model();
   reserve_for_operations(model);
   const SurfaceMesh& mesh = model.meshes[0].primitives[0].mesh;
@@ -359,7 +359,7 @@ TEST(ModelIndexTest, reserved_room_survives_copies_so_operations_on_snapshots_do
   EXPECT_EQ(copy.positions().data(), positions);
 }
 
-TEST(ModelIndexTest, a_small_drill_leaves_the_body_in_place_and_extracts_only_the_wall) {
+TEST(PosedModelTest, a_small_drill_leaves_the_body_in_place_and_extracts_only_the_wall) {
   Model model = test::make_skinned_tube_model();
   const std::size_t slots = model.meshes[0].primitives[0].mesh.face_slots();
   DrillOptions options;

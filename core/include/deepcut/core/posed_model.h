@@ -1,15 +1,14 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-/// @file model_index.h
-/// Preprocessing for the model-level operations (DESIGN section 5, "Preprocessing"): for every
-/// mesh instance (node x primitive) of a model posed at one animation time, the posed world
-/// position and the bind-to-world linear map of every vertex, the exact bounds of those
-/// positions, and a `TriangleGrid` over the faces at them. Built once (when the studio loads or
-/// poses the model, in the CLI before the operation), passed to `drill_model` / `tear_model` /
-/// `apply_operation`, and updated from each operation's edit log, so an operation costs what
-/// the tool touches, not the mesh. The updated index equals a fresh build on the edited model
-/// (positions and bounds bit for bit, grids answering every query with the same faces), and
-/// the operations give byte-identical results with and without it.
+/// @file posed_model.h
+/// The model at one pose. For every mesh instance (node x primitive) of a model posed at one
+/// animation time: the posed world position and the bind-to-world linear map of every vertex,
+/// the exact bounds of those positions, and a `TriangleGrid` over the faces at them. Built once
+/// per model state and pose (when the studio loads or poses the model, in the CLI before the
+/// operation), handed to the operations, and updated from each operation's edit log, so an
+/// operation costs what the tool touches, not the mesh. The updated posed model equals a fresh
+/// build on the edited model (positions and bounds bit for bit, grids answering every query with
+/// the same faces).
 
 #include <cstddef>
 #include <map>
@@ -27,29 +26,29 @@ namespace deepcut {
 /// attribute arrays, and copies of the model (undo snapshots) keep the room. O(mesh), once.
 void reserve_for_operations(Model& model);
 
-class ModelIndex {
- public:
-  /// One drawn primitive: primitive `primitive` of mesh `mesh`, instanced by node `node`.
-  struct Instance {
-    int node = -1, mesh = -1, primitive = -1;
-    /// World position of every vertex slot of the primitive's mesh at the index's pose.
-    std::vector<glm::vec3> posed;
-    /// Linear part of each vertex's bind-to-world map (the weighted sum of its joint matrices
-    /// when skinned, else the node's world matrix): what `tear_mesh` takes as `skin_linear`.
-    std::vector<glm::mat3> linear;
-    /// Bounds of every entry of `posed` (unreferenced vertices included, as `tear_mesh`
-    /// measures the model without an index).
-    BoundingBox bounds;
-    /// Grid over the live faces at `posed`.
-    TriangleGrid grid;
-  };
+/// One drawn primitive: primitive `primitive` of mesh `mesh`, instanced by node `node`.
+struct PosedMesh {
+  int node = -1, mesh = -1, primitive = -1;
+  /// World position of every vertex slot of the primitive's mesh at the index's pose.
+  std::vector<glm::vec3> posed;
+  /// Linear part of each vertex's bind-to-world map (the weighted sum of its joint matrices
+  /// when skinned, else the node's world matrix): what `tear_mesh` takes as `skin_linear`.
+  std::vector<glm::mat3> linear;
+  /// Bounds of every entry of `posed` (unreferenced vertices included, as `tear_mesh`
+  /// measures the model without an index).
+  BoundingBox bounds;
+  /// Grid over the live faces at `posed`.
+  TriangleGrid grid;
+};
 
-  ModelIndex() = default;
+class PosedModel {
+ public:
+  PosedModel() = default;
 
   /// Indexes every mesh instance of `model` posed at `time` of `animation` (-1: rest pose).
   /// O(vertices + faces), in parallel.
   /// @throws Error{InvalidArgument} for an animation index out of range.
-  static ModelIndex build(const Model& model, int animation, float time);
+  static PosedModel build(const Model& model, int animation, float time);
 
   /// True once built (and not invalidated).
   bool valid() const { return valid_; }
@@ -69,12 +68,12 @@ class ModelIndex {
   void prepare(const Model& model, int animation, float time);
 
   /// The instance (node, primitive), or nullptr.
-  Instance* find(int node, int primitive);
-  const Instance* find(int node, int primitive) const;
+  PosedMesh* find(int node, int primitive);
+  const PosedMesh* find(int node, int primitive) const;
   /// Number of indexed instances.
   std::size_t size() const { return instances_.size(); }
   /// Every instance, by (node, primitive).
-  const std::map<std::pair<int, int>, Instance>& instances() const { return instances_; }
+  const std::map<std::pair<int, int>, PosedMesh>& instances() const { return instances_; }
 
   // --- upkeep by the operations (each O(edits)) ----------------------------------------------
   /// Follows `log`, made on the mesh of instance (node, primitive) (now `mesh`): positions and
@@ -92,7 +91,7 @@ class ModelIndex {
   void rename_mesh(int node, int mesh);
 
  private:
-  Instance make_instance(const Model& model, int node, int primitive) const;
+  PosedMesh make_instance(const Model& model, int node, int primitive) const;
   const std::vector<glm::mat4>& joints_of(const Model& model, int node) const;
 
   bool valid_ = false;
@@ -100,7 +99,7 @@ class ModelIndex {
   float time_ = 0.0f;
   std::vector<glm::mat4> world_;               // every node's world matrix at the pose
   std::vector<std::vector<glm::mat4>> joints_;  // joint matrices of every skin at the pose
-  std::map<std::pair<int, int>, Instance> instances_;
+  std::map<std::pair<int, int>, PosedMesh> instances_;
 };
 
 }  // namespace deepcut
