@@ -39,10 +39,10 @@ class VertexPoser {
  public:
   VertexPoser(const SurfaceMesh& mesh, const std::vector<glm::mat4>& joints, const glm::mat4& rigid)
       : p_(mesh.positions()), blend_(mesh, joints), skinned_(blend_.skinned()), rigid_(rigid) {}
-  void operator()(std::size_t v, PosedMesh& inst) const {
+  void operator()(std::size_t v, PosedMesh& inst, bool with_linear = true) const {
     const glm::mat4 m = skinned_ ? blend_.matrix(v) : rigid_;
     inst.posed[v] = glm::vec3(m * glm::vec4(p_[v], 1.0f));
-    inst.linear[v] = glm::mat3(m);
+    if (with_linear) inst.linear[v] = glm::mat3(m);
   }
 
  private:
@@ -111,7 +111,9 @@ PosedMesh PosedModel::make_instance(const Model& model, int node, int primitive)
   inst.linear.reserve(room);
   inst.posed.resize(mesh.vertex_count());
   inst.linear.resize(mesh.vertex_count());
-  const VertexPoser pose(mesh, joints_of(model, node), world_.at(static_cast<std::size_t>(node)));
+  inst.joints = joints_of(model, node);
+  inst.world = world_.at(static_cast<std::size_t>(node));
+  const VertexPoser pose(mesh, inst.joints, inst.world);
   parallel_for(mesh.vertex_count(), kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t v = b; v < e; ++v) pose(v, inst);
   });
@@ -162,11 +164,22 @@ const PosedMesh* PosedModel::find(int node, int primitive) const {
   return it == instances_.end() ? nullptr : &it->second;
 }
 
-void PosedModel::follow(const Model& model, int node, int primitive, const SurfaceMesh& mesh, const EditLog& log) {
-  PosedMesh* found = find(node, primitive);
-  if (!found) return;
-  PosedMesh& inst = *found;
+void PosedModel::follow(const Model&, int node, int primitive, const SurfaceMesh& mesh, const EditLog& log) {
+  if (PosedMesh* inst = find(node, primitive)) inst->follow(mesh, log);
+}
+
+PosedMesh PosedMesh::at_rest(const SurfaceMesh& surface) {
+  PosedMesh inst;
+  inst.posed = surface.positions();
+  inst.bounds = bounds_of(inst.posed);
+  inst.grid = TriangleGrid::build(surface, inst.posed);
+  return inst;
+}
+
+void PosedMesh::follow(const SurfaceMesh& surface, const EditLog& log) {
+  PosedMesh& inst = *this;
   const std::size_t old_count = inst.posed.size();
+  const bool with_linear = inst.linear.size() == old_count;  // else empty: the identity
   // Vertices an edit moved, with where they were posed before it.
   std::vector<std::pair<std::uint32_t, glm::vec3>> moved;
   for (const Edit& e : log.edits)
@@ -177,16 +190,16 @@ void PosedModel::follow(const Model& model, int node, int primitive, const Surfa
               moved.end());
   // New vertices (edge and face points, tear copies, wall vertices) and moved ones, posed from
   // their final bind position and skin weights exactly as a fresh build would.
-  inst.posed.resize(mesh.vertex_count());
-  inst.linear.resize(mesh.vertex_count());
-  const VertexPoser pose(mesh, joints_of(model, node), world_.at(static_cast<std::size_t>(node)));
-  for (std::size_t v = old_count; v < mesh.vertex_count(); ++v) {
-    pose(v, inst);
+  inst.posed.resize(surface.vertex_count());
+  if (with_linear) inst.linear.resize(surface.vertex_count());
+  const VertexPoser pose(surface, inst.joints, inst.world);
+  for (std::size_t v = old_count; v < surface.vertex_count(); ++v) {
+    pose(v, inst, with_linear);
     inst.bounds.add(inst.posed[v]);
   }
   bool remeasure = false;
   for (const auto& [v, before] : moved) {
-    pose(v, inst);
+    pose(v, inst, with_linear);
     // A vertex leaving the bounds' edge may shrink them: measure again (rare: lips move inward).
     if (on_boundary(inst.bounds, before)) remeasure = true;
     inst.bounds.add(inst.posed[v]);

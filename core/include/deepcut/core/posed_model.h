@@ -32,13 +32,28 @@ struct PosedMesh {
   /// World position of every vertex slot of the primitive's mesh at the index's pose.
   std::vector<glm::vec3> posed;
   /// Linear part of each vertex's bind-to-world map (the weighted sum of its joint matrices
-  /// when skinned, else the node's world matrix): what `tear_mesh` takes as `skin_linear`.
+  /// when skinned, else the node's world matrix): `tear_mesh` maps its world moves to bind space
+  /// through its inverse.
   std::vector<glm::mat3> linear;
-  /// Bounds of every entry of `posed` (unreferenced vertices included, as `tear_mesh`
-  /// measures the model without an index).
+  /// Bounds of every entry of `posed` (unreferenced vertices included): the model size the
+  /// operations' tolerances are relative to.
   BoundingBox bounds;
   /// Grid over the live faces at `posed`.
   TriangleGrid grid;
+  /// How the vertices are posed, so that `follow` poses added and moved ones as a fresh build
+  /// would: the joint matrices of the node's skin at the pose (empty: not skinned) and the node's
+  /// world matrix.
+  std::vector<glm::mat4> joints;
+  glm::mat4 world{1.0f};
+
+  /// `surface` on its own at rest (world = bind space): `posed` holds its positions, `linear` is
+  /// empty (the identity for every vertex), the grid indexes its faces. O(vertices + faces).
+  static PosedMesh at_rest(const SurfaceMesh& surface);
+
+  /// Follows `log`, made on `surface` (the mesh this poses): positions (and linear maps, unless
+  /// `linear` is empty) of added, split and moved vertices, the bounds, and the grid (removed
+  /// faces leave, added faces join, faces around moved vertices are filed again). O(edits).
+  void follow(const SurfaceMesh& surface, const EditLog& log);
 };
 
 class PosedModel {
@@ -76,9 +91,8 @@ class PosedModel {
   const std::map<std::pair<int, int>, PosedMesh>& instances() const { return instances_; }
 
   // --- upkeep by the operations (each O(edits)) ----------------------------------------------
-  /// Follows `log`, made on the mesh of instance (node, primitive) (now `mesh`): positions and
-  /// linear maps of added, split and moved vertices, the bounds, and the grid (removed faces
-  /// leave, added faces join, faces around moved vertices are filed again).
+  /// Follows `log`, made on the mesh of instance (node, primitive) (now `mesh`): PosedMesh::follow
+  /// on that instance (an operation given the instance itself, such as tear_mesh, has done so).
   void follow(const Model& model, int node, int primitive, const SurfaceMesh& mesh, const EditLog& log);
   /// (Re)indexes instance (node, primitive) of `model` from scratch (a new primitive, such as a
   /// drill's wall). O(its vertices + faces).
