@@ -44,7 +44,7 @@ int run_tear(const std::vector<std::string>& argv) {
   double preprocess_ms = 0.0, ms = 0.0;
   PosedModel index = preprocess(model, op, preprocess_ms);
   const ModelTearResult r = run_timed(
-      [&] { return tear_model(model, tear.start, tear.end, tear.options, op.animation, op.time, &index); }, ms);
+      [&] { return tear_model(model, index, tear.start, tear.end, tear.options, op.animation, op.time); }, ms);
   tear.options.width = r.width;  // the history records the width used
   op.params = tear;
   finish_operation(args, model, op, r.status, ms,

@@ -210,18 +210,23 @@ void bm_tear(benchmark::State& state, std::size_t triangles) {
   // The blade cuts into the trunk's front (+z) face, sweeping sideways at a third of the height.
   const Blade start{{c.x - 0.08f * h, box.min.y + 0.33f * h, box.max.z + 0.5f}, {c.x - 0.08f * h, box.min.y + 0.33f * h, c.z}};
   const Blade end{{c.x + 0.08f * h, box.min.y + 0.35f * h, box.max.z + 0.5f}, {c.x + 0.08f * h, box.min.y + 0.35f * h, c.z}};
-  const std::vector<glm::mat3> no_skin;
+  PosedMesh at_rest;  // the session's posed mesh: its positions, bounds and grid
+  at_rest.posed = in.mesh.positions();
+  for (const glm::vec3& p : at_rest.posed) at_rest.bounds.add(p);
+  at_rest.grid = grid;
   std::size_t points = 0, touched = 0;
   for (auto _ : state) {
     state.PauseTiming();
     auto [mesh, adjacency] = session_copy(in);
+    PosedMesh posed = at_rest;
     state.ResumeTiming();
-    TearResult r = tear_mesh(mesh, mesh.positions(), no_skin, start, end, {}, &grid);
+    TearResult r = tear_mesh(mesh, posed, start, end);
     adjacency.apply(r.log);
     points = r.intersection_points;
     touched = 0;
     for (const Edit& e : r.log.edits) touched += std::holds_alternative<FaceRemoved>(e) ? 1 : 0;
     state.PauseTiming();
+    posed = PosedMesh();
     mesh = SurfaceMesh();
     adjacency = Adjacency();
     state.ResumeTiming();
@@ -296,7 +301,7 @@ void bm_tear_model(benchmark::State& state, std::size_t triangles, bool indexed)
   const Blade end{{c.x + 0.08f * h, box.min.y + 0.35f * h, box.max.z + 0.5f}, {c.x + 0.08f * h, box.min.y + 0.35f * h, c.z}};
   std::size_t points = 0;
   time_on_session_model(state, triangles, indexed, [&](Model& model, PosedModel* index) {
-    const ModelTearResult r = tear_model(model, start, end, {}, -1, 0.0f, index);
+    const ModelTearResult r = index ? tear_model(model, *index, start, end, {}, -1, 0.0f) : tear_model(model, start, end, {}, -1, 0.0f);
     benchmark::DoNotOptimize(r.slits);
     points = r.intersection_points;
   });

@@ -700,7 +700,8 @@ TEST(DrillTest, overlapping_holes_and_a_cut_rim_merge_into_one_boundary) {
   Adjacency tadj = Adjacency::build(torn);
   TearOptions topt;
   topt.width = 0.02f;
-  const TearResult tr = tear_mesh(torn, torn.positions(), {}, Blade{{0.3f, 0.5f, 1}, {0.3f, 0.5f, -1}},
+  PosedMesh torn_posed = PosedMesh::at_rest(torn);
+  const TearResult tr = tear_mesh(torn, torn_posed, Blade{{0.3f, 0.5f, 1}, {0.3f, 0.5f, -1}},
                                   Blade{{0.7f, 0.5f, 1}, {0.7f, 0.5f, -1}}, topt);
   ASSERT_EQ(tr.status, OpStatus::Ok);
   tadj.apply(tr.log);

@@ -383,9 +383,14 @@ class Sequence {
       return r.status == OpStatus::Ok;
     }
     if (const auto* tear = std::get_if<TearOperation>(&op_.params)) {
-      std::vector<glm::mat3> linear;
-      for (const auto& m : vertex_skin_matrices(model_, part.node, mesh, world_)) linear.emplace_back(m);
-      TearResult r = tear_mesh(mesh, part.posed, linear, tear->start, tear->end, tear->options);
+      PosedMesh posed;
+      posed.posed = part.posed;
+      for (const auto& m : vertex_skin_matrices(model_, part.node, mesh, world_)) posed.linear.emplace_back(m);
+      for (const glm::vec3& p : part.posed) posed.bounds.add(p);
+      posed.grid = TriangleGrid::build(mesh, part.posed);
+      posed.joints = part.joints;
+      posed.world = part.node_world;
+      TearResult r = tear_mesh(mesh, posed, tear->start, tear->end, tear->options);
       log = std::move(r.log);
       return r.status == OpStatus::Ok;
     }

@@ -87,7 +87,8 @@ void run_sequence(SurfaceMesh& mesh, unsigned seed, int steps, SequenceCounts& c
         const glm::vec3 depth = n * (0.03f * size);
         const Blade start{p - along + depth, p - along - depth};
         const Blade end{p + along + depth, p + along - depth};
-        TearResult r = tear_mesh(mesh, posed, {}, start, end);
+        PosedMesh at_rest = PosedMesh::at_rest(mesh);
+        TearResult r = tear_mesh(mesh, at_rest, start, end);
         status = r.status;
         log = std::move(r.log);
         ++counts.tears;

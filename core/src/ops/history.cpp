@@ -177,7 +177,8 @@ OperationReport apply_operation(Model& model, const Operation& operation, PosedM
                                      {"pieces", r.piece_nodes.size()}}
                                     .dump();
         } else if constexpr (std::is_same_v<T, TearOperation>) {
-          const ModelTearResult r = tear_model(model, p.start, p.end, p.options, animation, operation.time, index);
+          const ModelTearResult r = index ? tear_model(model, *index, p.start, p.end, p.options, animation, operation.time)
+                                          : tear_model(model, p.start, p.end, p.options, animation, operation.time);
           report.status = r.status;
           report.summary_json = json{{"op", "tear"},
                                      {"status", to_string(r.status)},

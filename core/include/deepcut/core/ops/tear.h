@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 /// @file ops/tear.h
-/// Tear with a scalpel (DESIGN section 4, "Tear"). The blade is a segment (handle, tip) at a start
+/// Tear with a scalpel. The blade is a segment (handle, tip) at a start
 /// pose and at an end pose; the quad H0 T0 T1 H1 it sweeps is the tear surface. Mesh edges crossing
 /// the quad are split (once, shared by their faces), the vertices along the tear's interior are
 /// duplicated so the two lips separate, and the lips are pushed apart along the quad's normal by an
@@ -77,42 +77,32 @@ struct TearResult {
 
 /// Tears one mesh in place.
 /// @param mesh         triangle mesh, edited through MeshEditor.
-/// @param posed        one world position per vertex of `mesh` (the pose the blade was placed
-///                     against; pass `mesh.positions()` for the bind pose).
-/// @param skin_linear  the linear part (3x3) of each vertex's bind-to-world transform (for a
-///                     skinned vertex the weighted sum of its joint matrices, else the node's world
-///                     matrix), one per vertex; empty means identity. The lips are pushed apart
-///                     along the quad's world normal, and that displacement is mapped to bind space
-///                     through the inverse of this matrix, so the posed result shows the opening.
+/// @param posed        the mesh at the pose the blade was placed against (posed_model.h): its
+///                     posed positions (the predicates' geometry), linear skin maps (the lips are
+///                     pushed apart along the quad's world normal, mapped to bind space through
+///                     their inverse, so the posed result shows the opening; empty: identity),
+///                     bounds (the model size for the tolerance) and grid (the candidate faces,
+///                     so the cost follows the tear, not the mesh). PosedMesh::at_rest(mesh) for a
+///                     mesh on its own. On success it follows the tear's log (PosedMesh::follow),
+///                     so it describes the torn mesh for the next operation.
 /// @param start, end   the blade's two poses (world space).
 /// @param options      see TearOptions (defaults: width 5% of the blade length, tolerance 1e-5).
-/// @param index        optional grid over `posed` (TriangleGrid::build(mesh, posed), kept up to
-///                     date with `apply` after each operation). With it the candidate faces come
-///                     from the grid and the model size for the tolerance is the grid's bounds,
-///                     so the cost follows the tear, not the mesh. Without it every face's
-///                     bounding box is tested and the model size is that of every posed position.
-/// @param posed_bounds optional bounds of every entry of `posed` (PosedModel keeps them exact),
-///                     the model size for the tolerance instead of the index's or a pass over
-///                     `posed`.
-/// @pre posed.size() == mesh.vertex_count(); skin_linear empty or of the same size; `index`,
-///      when given, indexes the live faces of `mesh` at `posed`.
+/// @pre `posed` poses `mesh`: one posed position per vertex, `linear` empty or of the same size,
+///      the grid over the live faces of `mesh` at `posed`.
 /// @throws Error{InvalidArgument} for a degenerate blade or sweep (see swept_quad_triangles), a
 ///         non-finite width or tolerance, or a size mismatch.
-/// @returns NoIntersection (mesh untouched, log empty) when the quad crosses no part of the
-///          surface.
-/// @note Local: only faces whose posed bounding box meets the quad's are examined; the cost is
-///       work proportional to the tear with `index`, plus one pass over the faces' bounding
-///       boxes and the posed positions without it.
+/// @returns NoIntersection (mesh and `posed` untouched, log empty) when the quad crosses no part
+///          of the surface.
+/// @note Local: only faces the grid files along the quad's plane (and faces the tear made) are
+///       examined.
 /// @note Opening: each lip vertex moves by (width / 2) * sin(pi * s / L) along the quad normal
 ///       (s: arc length from the slit's nearer end, L: the slit's length; a slit that closes on
 ///       itself opens fully). No lip vertex moves further than the longest edge of its faces, and
 ///       a move that would flip a neighbouring face is halved until it does not, so coarse meshes
 ///       (or huge widths) open less than `width` rather than fold over: TearResult::opening says
 ///       how far they opened. The slits made (the topology) never depend on the width.
-TearResult tear_mesh(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed,
-                     const std::vector<glm::mat3>& skin_linear, const Blade& start, const Blade& end,
-                     const TearOptions& options = {}, const TriangleGrid* index = nullptr,
-                     const BoundingBox* posed_bounds = nullptr);
+TearResult tear_mesh(SurfaceMesh& mesh, PosedMesh& posed, const Blade& start, const Blade& end,
+                     const TearOptions& options = {});
 
 struct ModelTearResult {
   OpStatus status = OpStatus::Ok;
@@ -126,12 +116,15 @@ struct ModelTearResult {
 /// Tears every mesh instance of `model` posed at `time` of `animation` (-1: rest pose). Torn
 /// primitives keep their skin, so the slit animates; a mesh shared by several instances is copied
 /// for the instances the blade reaches. Instances the quad misses are left as they are.
-/// @param index  optional preprocessing (posed_model.h), prepared for this pose and updated from
-///               the edit logs: with a warm index the cost follows the tear, not the mesh; the
-///               result is byte-identical with and without it.
+/// @param posed  the model at this pose (posed_model.h): prepared for it first (PosedModel::prepare)
+///               and kept up to date from the edit logs, so with a warm one the cost follows the
+///               tear, not the mesh.
 /// @throws Error{InvalidArgument} as tear_mesh, or for an animation index out of range.
-ModelTearResult tear_model(Model& model, const Blade& start, const Blade& end,
-                           const TearOptions& options = {}, int animation = -1, float time = 0.0f,
-                           PosedModel* index = nullptr);
+ModelTearResult tear_model(Model& model, PosedModel& posed, const Blade& start, const Blade& end,
+                           const TearOptions& options = {}, int animation = -1, float time = 0.0f);
+
+/// tear_model on a PosedModel built for this call (the blade is checked first).
+ModelTearResult tear_model(Model& model, const Blade& start, const Blade& end, const TearOptions& options = {},
+                           int animation = -1, float time = 0.0f);
 
 }  // namespace deepcut

@@ -1,0 +1,128 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// The stages of a tear and the data they hand each other. Private to the tear: tear.cpp runs
+// them (sweep -> slit insertion, per sweep facet -> lips), ops/tear.h describes the operation.
+
+#include <cstddef>
+#include <cstdint>
+#include <memory_resource>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+#include "deepcut/core/mesh_editor.h"
+#include "deepcut/core/posed_model.h"
+#include "ops/tear/sweep.h"
+
+namespace deepcut::detail::tear {
+
+// A tear's hash maps and sets take their nodes from one arena per tear (a bump allocator freed
+// when the tear ends) instead of one malloc and free per node: same containers, same hashing and
+// iteration order, so the same results.
+template <class K, class V>
+using Map = std::pmr::unordered_map<K, V>;
+template <class K>
+using Set = std::pmr::unordered_set<K>;
+
+inline std::uint64_t edge_key(VertexId a, VertexId b) {
+  const auto lo = std::min(a.index, b.index), hi = std::max(a.index, b.index);
+  return (std::uint64_t(lo) << 32) | hi;
+}
+inline VertexId key_lo(std::uint64_t key) { return VertexId(static_cast<std::uint32_t>(key >> 32)); }
+inline VertexId key_hi(std::uint64_t key) { return VertexId(static_cast<std::uint32_t>(key & 0xffffffffu)); }
+
+/// Posed positions and bind-to-world linear maps during one tear: the PosedMesh's for the
+/// vertices it holds, the tear's own for the vertices it adds (interpolated where they are made,
+/// so the predicates see the surface the blade was placed against).
+class PosedOverlay {
+ public:
+  PosedOverlay(const PosedMesh& input, std::uint32_t first_new, std::pmr::memory_resource* arena)
+      : input_posed_(input.posed), input_linear_(input.linear), first_new_(first_new), new_linear_(arena) {}
+
+  const glm::vec3& posed(std::uint32_t v) const {
+    return v < first_new_ ? input_posed_[v] : added_posed_[v - first_new_];
+  }
+  /// The linear map of `v`: the input's, or the blend made for a new vertex (identity when the
+  /// input has none).
+  glm::mat3 linear(VertexId v) const {
+    if (input_linear_.empty()) return glm::mat3(1.0f);
+    if (v.index < input_linear_.size()) return input_linear_[v.index];
+    auto it = new_linear_.find(v.index);
+    return it == new_linear_.end() ? glm::mat3(1.0f) : it->second;
+  }
+  /// Records new vertex `v` at posed position `p`, its linear map blended from `src` with
+  /// weights `w` (n of each).
+  void add(VertexId v, const glm::dvec3& p, const VertexId* src, const double* w, int n) {
+    if (added_posed_.size() <= v.index - first_new_) added_posed_.resize(v.index - first_new_ + 1);
+    added_posed_[v.index - first_new_] = glm::vec3(p);
+    if (!input_linear_.empty()) {
+      glm::mat3 m(0.0f);
+      for (int i = 0; i < n; ++i) m += float(w[i]) * linear(src[i]);
+      new_linear_[v.index] = m;
+    }
+  }
+
+ private:
+  const std::vector<glm::vec3>& input_posed_;
+  const std::vector<glm::mat3>& input_linear_;
+  std::uint32_t first_new_;
+  std::vector<glm::vec3> added_posed_;
+  Map<std::uint32_t, glm::mat3> new_linear_;
+};
+
+/// What every stage works on: the mesh and its editor, the posed positions, the grid over the
+/// input faces, the tolerance and the arena.
+struct TearContext {
+  SurfaceMesh& mesh;
+  MeshEditor& editor;
+  PosedOverlay& pose;
+  const TriangleGrid& grid;
+  std::uint32_t first_new_face;  ///< faces from here on were made by this tear
+  double tol;                    ///< snapping tolerance, world units
+  std::pmr::memory_resource* arena;
+};
+
+/// The slits so far: what slit insertion hands to the lips.
+struct Slits {
+  explicit Slits(std::pmr::memory_resource* arena) : torn(arena), merged(arena) {}
+  /// Torn edges (edge_key) -> the sweep facet that tore them.
+  Map<std::uint64_t, std::size_t> torn;
+  /// Faces examined or made (every face around a slit vertex is among them).
+  std::vector<FaceId> region;
+  /// Crossings that fell on one bind position (the two long edges of a needle split at the same
+  /// parameter): the later vertex maps to the earlier, so the needle's tip is not a zero-area face.
+  Map<std::uint32_t, VertexId> merged;
+  /// Mesh edges split where the tear surface crosses them.
+  std::size_t intersections = 0;
+
+  void add_torn(VertexId a, VertexId b, std::size_t facet) {
+    if (a == b) return;
+    torn.emplace(edge_key(a, b), facet);
+  }
+  VertexId resolve(VertexId v) const {
+    for (auto it = merged.find(v.index); it != merged.end(); it = merged.find(v.index)) v = it->second;
+    return v;
+  }
+};
+
+/// Slit insertion (slit_insertion.cpp): splits the mesh along where `facet` crosses it (edges it
+/// crosses, edges lying in its plane, points where it ends inside a face) and records the torn
+/// edges in `slits`. Leaves the mesh as it is when the facet tears nothing.
+void insert_slit(TearContext& ctx, const SweepFacet& facet, std::size_t facet_index, Slits& slits);
+
+/// Lips (lips.cpp), first step: a slit made of one torn edge between two ends gets a vertex at
+/// the edge's midpoint, so it has an interior vertex to duplicate.
+void split_lone_edges(TearContext& ctx, Slits& slits);
+
+/// What separating and opening the lips gives.
+struct Separation {
+  std::vector<VertexId> tear_vertices;  ///< sorted
+  std::size_t slits = 0, closed_slits = 0;
+  float opening = 0.0f;
+};
+
+/// Lips (lips.cpp): splits the vertices along the torn edges into one copy per wedge of faces
+/// between torn edges, then pushes the lips apart by up to `width` (tapered along each slit).
+Separation separate_and_open(TearContext& ctx, const std::vector<SweepFacet>& facets, float width, Slits& slits);
+
+}  // namespace deepcut::detail::tear
