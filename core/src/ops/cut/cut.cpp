@@ -12,12 +12,13 @@
 
 #include "deepcut/core/mesh_editor.h"
 #include "deepcut/core/parallel.h"
+#include "deepcut/core/posed_model.h"
 #include "deepcut/core/skinning.h"
 #include "ops/common/crossing_table.h"
 #include "ops/common/model_surgery.h"
 #include "ops/common/pinches.h"
 #include "ops/common/posed_overlay.h"
-#include "ops/polygon_triangulation.h"
+#include "ops/cut/caps.h"
 
 namespace deepcut {
 namespace {
@@ -27,7 +28,6 @@ namespace {
 // so the chunks may follow the thread count.
 constexpr std::size_t kMinGrain = 4096;
 
-using detail::directed_key;
 using detail::edge_key;
 
 class Cutter {
@@ -39,6 +39,8 @@ class Cutter {
   }
 
   CutResult run();
+  /// Posed positions of the vertices the cut added, by id from the input's vertex count.
+  const std::vector<glm::vec3>& added_posed() const { return posed_.added(); }
 
  private:
   struct Split {
@@ -57,13 +59,14 @@ class Cutter {
   void separate_sides();
   std::vector<std::pair<VertexId, VertexId>> split_pinches(CutResult* result = nullptr);
   void collect_pieces(CutResult& result);
-  void cap_piece(std::vector<FaceId>& piece, std::size_t index);
-  void index_rim(const CutResult& result);
-  /// On-plane edges used by exactly one face of the piece, as that face's halfedges; faces in
-  /// `skip` (sorted) count as absent.
-  std::vector<std::pair<VertexId, VertexId>> rim_halfedges(std::size_t piece, const std::vector<FaceId>& skip = {}) const;
-  bool flat(const Triangle& t) const { return sign_[t[0].index] == 0 && sign_[t[1].index] == 0 && sign_[t[2].index] == 0; }
+  std::vector<detail::CapInput> rim_of_pieces(const CutResult& result) const;
   int face_side(const Triangle& t) const;
+  // Stages of run().
+  void check_arguments() const;
+  bool classify_vertices();
+  void split_crossed_faces();
+  void separate_or_drop_side();
+  void cap_pieces(CutResult& result, std::unordered_set<std::uint32_t>& rim);
 
   SurfaceMesh& mesh_;
   MeshEditor editor_;
@@ -77,17 +80,6 @@ class Cutter {
   std::vector<std::int8_t> sign_;
   detail::CrossingTable<Split> splits_;
   detail::NeedleMerges merges_;
-  // Faces with two or more corners on the plane (the only ones that can have rim edges), and
-  // the piece of each face slot.
-  std::vector<FaceId> rim_faces_;
-  // Piece of each rim face: by side (piece_of_side_) unless components were split, then by
-  // face slot (piece_of_face_).
-  std::vector<std::uint32_t> piece_of_face_;
-  std::uint32_t piece_of_side_[2] = {kInvalidIndex, kInvalidIndex};
-  std::uint32_t piece_of(FaceId f) const {
-    if (options_.split_components) return piece_of_face_[f.index];
-    return piece_of_side_[face_side(mesh_.face(f)) > 0 ? 0 : 1];
-  }
   // Faces that may touch the plane: untouched ones with a corner on it, and every new face.
   std::vector<FaceId> rim_candidates_;
   std::size_t intersections_ = 0;
@@ -268,193 +260,36 @@ std::vector<std::pair<VertexId, VertexId>> Cutter::split_pinches(CutResult* resu
   return splits.copies;
 }
 
-void Cutter::index_rim(const CutResult& result) {
+// The rim faces of each piece (faces with two or more corners on the plane: the only ones that
+// can have rim edges), in face order, as the caps take them.
+std::vector<detail::CapInput> Cutter::rim_of_pieces(const CutResult& result) const {
+  std::vector<detail::CapInput> rims(result.pieces.size());
+  for (detail::CapInput& rim : rims) {
+    rim.normal = normal_;
+    rim.point = point_;
+    rim.posed = &posed_;
+    rim.sign = &sign_;
+  }
+  // Piece of each face: by face slot when components were split, else by side.
+  std::vector<std::uint32_t> piece_of_face;
+  std::uint32_t piece_of_side[2] = {kInvalidIndex, kInvalidIndex};
   if (options_.split_components) {
-    piece_of_face_.assign(mesh_.face_slots(), kInvalidIndex);
+    piece_of_face.assign(mesh_.face_slots(), kInvalidIndex);
     for (std::size_t p = 0; p < result.pieces.size(); ++p)
-      for (FaceId f : result.pieces[p]) piece_of_face_[f.index] = static_cast<std::uint32_t>(p);
+      for (FaceId f : result.pieces[p]) piece_of_face[f.index] = static_cast<std::uint32_t>(p);
   } else {
     for (std::size_t p = 0; p < result.pieces.size(); ++p)
-      piece_of_side_[result.piece_sides[p] > 0 ? 0 : 1] = static_cast<std::uint32_t>(p);
+      piece_of_side[result.piece_sides[p] > 0 ? 0 : 1] = static_cast<std::uint32_t>(p);
   }
-  rim_faces_.clear();
   for (FaceId f : rim_candidates_) {
     if (mesh_.is_deleted(f)) continue;
     const Triangle& t = mesh_.face(f);
     const int zeros = (sign_[t[0].index] == 0) + (sign_[t[1].index] == 0) + (sign_[t[2].index] == 0);
-    if (zeros >= 2) rim_faces_.push_back(f);
+    if (zeros < 2) continue;
+    const std::uint32_t p = options_.split_components ? piece_of_face[f.index] : piece_of_side[face_side(t) > 0 ? 0 : 1];
+    if (p != kInvalidIndex) rims[p].rim_faces.push_back(f);
   }
-}
-
-std::vector<std::pair<VertexId, VertexId>> Cutter::rim_halfedges(std::size_t piece, const std::vector<FaceId>& skip) const {
-  // An edge with both ends on the plane belongs only to faces with two corners on it, so
-  // counting within rim_faces_ is exact.
-  auto skipped = [&](FaceId f) { return std::binary_search(skip.begin(), skip.end(), f); };
-  std::unordered_map<std::uint64_t, int> count;
-  for (FaceId f : rim_faces_) {
-    if (piece_of(f) != piece || skipped(f)) continue;
-    const auto& t = mesh_.face(f);
-    for (int k = 0; k < 3; ++k)
-      if (sign_[t[k].index] == 0 && sign_[t[(k + 1) % 3].index] == 0) ++count[edge_key(t[k], t[(k + 1) % 3])];
-  }
-  std::vector<std::pair<VertexId, VertexId>> out;
-  for (FaceId f : rim_faces_) {
-    if (piece_of(f) != piece || skipped(f)) continue;
-    const auto& t = mesh_.face(f);
-    for (int k = 0; k < 3; ++k) {
-      const VertexId a = t[k], b = t[(k + 1) % 3];
-      if (sign_[a.index] == 0 && sign_[b.index] == 0 && count[edge_key(a, b)] == 1) out.emplace_back(a, b);
-    }
-  }
-  return out;
-}
-
-void Cutter::cap_piece(std::vector<FaceId>& piece, std::size_t index) {
-  std::vector<std::vector<std::uint32_t>> loops;  // indices into `verts`
-  std::vector<VertexId> verts;
-  std::unordered_map<std::uint32_t, std::uint32_t> local;
-  auto local_index = [&](VertexId v) {
-    auto [it, inserted] = local.emplace(v.index, static_cast<std::uint32_t>(verts.size()));
-    if (inserted) verts.push_back(v);
-    return it->second;
-  };
-  // Follows the rim halfedges backwards (the cap runs along the piece's rim edges in the opposite
-  // direction) into closed loops; returns false if some rim chain is open.
-  auto trace = [&](const std::vector<std::pair<VertexId, VertexId>>& halfedges) {
-    loops.clear();
-    verts.clear();
-    local.clear();
-    bool all_closed = true;
-    std::unordered_map<std::uint32_t, std::vector<VertexId>> next;
-    std::unordered_set<std::uint64_t> unused;
-    for (const auto& [a, b] : halfedges) {
-      next[b.index].push_back(a);
-      unused.insert(directed_key(b, a));
-    }
-    std::vector<std::uint32_t> starts;
-    for (const auto& [v, list] : next) starts.push_back(v);
-    std::sort(starts.begin(), starts.end());
-    for (std::uint32_t s : starts) {
-      for (VertexId first_next : next[s]) {
-        if (!unused.count(directed_key(VertexId(s), first_next))) continue;
-        std::vector<VertexId> loop = {VertexId(s)};
-        VertexId cur = VertexId(s), nxt = first_next;
-        bool closed = false;
-        while (true) {
-          unused.erase(directed_key(cur, nxt));
-          if (nxt == VertexId(s)) {
-            closed = true;
-            break;
-          }
-          loop.push_back(nxt);
-          cur = nxt;
-          VertexId pick;
-          for (VertexId cand : next[cur.index])
-            if (unused.count(directed_key(cur, cand))) {
-              pick = cand;
-              break;
-            }
-          if (!pick.valid()) break;  // an open rim chain (open input): not capped
-          nxt = pick;
-        }
-        all_closed = all_closed && closed;
-        if (closed && loop.size() >= 3) {
-          std::vector<std::uint32_t> l;
-          for (VertexId v : loop) l.push_back(local_index(v));
-          loops.push_back(std::move(l));
-        }
-      }
-    }
-    return all_closed;
-  };
-  // Faces of the piece lying in the plane (every corner on it) are where the cap goes: capping
-  // round them would put a second layer on top of them (a duplicate face, or cap triangles
-  // sharing their edges: non-manifold edges; found by the random sequences). When the rim
-  // closes without them they are removed and the cap takes their place; otherwise (open input)
-  // they stay and the rim is capped as it is.
-  std::vector<FaceId> flat_faces;
-  for (FaceId f : rim_faces_)
-    if (piece_of(f) == index && flat(mesh_.face(f))) flat_faces.push_back(f);
-  std::sort(flat_faces.begin(), flat_faces.end());
-  std::vector<Triangle> kept_flat;  // flat faces the cap must not repeat
-  if (flat_faces.empty() || !trace(rim_halfedges(index, flat_faces))) {
-    for (FaceId f : flat_faces) kept_flat.push_back(mesh_.face(f));
-    flat_faces.clear();
-    trace(rim_halfedges(index));
-    // A rim loop that runs along a kept flat face (two of its corners on the loop) would be
-    // capped over or beside that face, and cap triangles would share its edges (non-manifold
-    // edges; the random sequences found them on open pieces, SimpleSkin seed 20261982 step 321).
-    // The surface there is partly in the plane already, and a cap of the other loops could cover
-    // it as a hole, so the piece gets no cap rather than a doubled one.
-    if (!kept_flat.empty()) {
-      std::unordered_set<std::uint32_t> on_loop;
-      for (const auto& loop : loops)
-        for (std::uint32_t i : loop) on_loop.insert(verts[i].index);
-      const bool runs_along = std::any_of(kept_flat.begin(), kept_flat.end(), [&](const Triangle& t) {
-        return on_loop.count(t[0].index) + on_loop.count(t[1].index) + on_loop.count(t[2].index) >= 2;
-      });
-      if (runs_along) loops.clear();
-    }
-  }
-  if (!flat_faces.empty() && !loops.empty()) {
-    for (FaceId f : flat_faces) editor_.remove_face(f);
-    piece.erase(std::remove_if(piece.begin(), piece.end(),
-                               [&](FaceId f) { return std::binary_search(flat_faces.begin(), flat_faces.end(), f); }),
-                piece.end());
-  }
-  auto repeats_flat = [&](Triangle t) {
-    std::sort(t.begin(), t.end());
-    return std::any_of(kept_flat.begin(), kept_flat.end(), [&](Triangle g) {
-      std::sort(g.begin(), g.end());
-      return g == t;
-    });
-  };
-  if (loops.empty()) return;
-  // 2D frame in the plane.
-  const glm::dvec3 n = normal_;
-  const glm::dvec3 u = glm::normalize(std::abs(n.x) < 0.9 ? glm::cross(n, glm::dvec3(1, 0, 0)) : glm::cross(n, glm::dvec3(0, 1, 0)));
-  const glm::dvec3 w = glm::cross(n, u);
-  std::vector<glm::dvec2> pts(verts.size());
-  for (std::size_t i = 0; i < verts.size(); ++i) {
-    const glm::dvec3 p = glm::dvec3(posed_(verts[i])) - point_;
-    pts[i] = {glm::dot(p, u), glm::dot(p, w)};
-  }
-  // The largest loop is an outer one; its orientation is the cap's.
-  std::size_t largest = 0;
-  for (std::size_t i = 1; i < loops.size(); ++i)
-    if (std::abs(detail::signed_area2(pts, loops[i])) > std::abs(detail::signed_area2(pts, loops[largest]))) largest = i;
-  const int outer_sign = detail::signed_area2(pts, loops[largest]) >= 0 ? 1 : -1;
-  const auto tris = detail::triangulate_loops(pts, loops, outer_sign);
-
-  auto& ca = mesh_.corner_attrs();
-  auto* cap_flag = mesh_.face_attrs().find<std::uint8_t>(attr::kCutSurface);
-  if (!cap_flag) cap_flag = &mesh_.face_attrs().add<std::uint8_t>(attr::kCutSurface);
-  auto* uv = ca.find<glm::vec2>(attr::kUv0);
-  auto* normals = ca.find<glm::vec3>(attr::kNormal);
-  auto* tangents = ca.find<glm::vec4>(attr::kTangent);
-  auto* colors = ca.find<glm::vec4>(attr::kColor0);
-  double extent = 0.0;
-  for (const auto& p : pts) extent = std::max({extent, std::abs(p.x), std::abs(p.y)});
-  if (extent <= 0.0) extent = 1.0;
-  const auto& bind = mesh_.positions();
-  for (const auto& tri : tris) {
-    const Triangle t = {verts[tri[0]], verts[tri[1]], verts[tri[2]]};
-    if (repeats_flat(t)) continue;  // that surface is there already
-    const FaceId f = editor_.add_face(t);
-    piece.push_back(f);
-    (*cap_flag)[f.index] = 1;
-    glm::vec3 fn = glm::cross(bind[t[1].index] - bind[t[0].index], bind[t[2].index] - bind[t[0].index]);
-    const float len = glm::length(fn);
-    fn = len > 0.0f ? fn / len : glm::vec3(float(outer_sign) * glm::vec3(n));
-    for (int k = 0; k < 3; ++k) {
-      const auto c = SurfaceMesh::corner(f, k);
-      const glm::dvec2 p = pts[tri[k]];
-      if (uv) (*uv)[c] = glm::vec2(0.5 + 0.5 * p.x / extent, 0.5 + 0.5 * p.y / extent);
-      if (normals) (*normals)[c] = fn;
-      if (tangents) (*tangents)[c] = glm::vec4(glm::vec3(u), 1.0f);
-      if (colors) (*colors)[c] = glm::vec4(1.0f);
-    }
-  }
+  return rims;
 }
 
 void Cutter::collect_pieces(CutResult& result) {
@@ -523,8 +358,7 @@ void Cutter::collect_pieces(CutResult& result) {
   }
 }
 
-CutResult Cutter::run() {
-  CutResult result;
+void Cutter::check_arguments() const {
   const std::size_t nv = mesh_.vertex_count();
   if (posed_.input().size() != nv)
     throw Error(ErrorCode::InvalidArgument, "cut: " + std::to_string(posed_.input().size()) + " posed positions for " +
@@ -533,10 +367,13 @@ CutResult Cutter::run() {
   if (!std::isfinite(nlen) || nlen == 0.0) throw Error(ErrorCode::InvalidArgument, "cut: the plane normal is zero or not finite");
   if (!std::isfinite(point_.x) || !std::isfinite(point_.y) || !std::isfinite(point_.z))
     throw Error(ErrorCode::InvalidArgument, "cut: the plane point is not finite");
-  normal_ /= nlen;
+}
 
-  // Classify every vertex once: distances and the model size in one pass over the vertices
-  // (vertices no face uses count for neither), in parallel chunks.
+// Classifies every vertex once: distances and the model size in one pass over the vertices
+// (vertices no face uses count for neither), in parallel chunks. False when every vertex lies
+// on one side.
+bool Cutter::classify_vertices() {
+  const std::size_t nv = mesh_.vertex_count();
   // Vertices a face slot uses (threads may mark one vertex together: relaxed atomic bytes).
   std::unique_ptr<std::atomic<std::uint8_t>[]> used_flags(new std::atomic<std::uint8_t>[nv]());
   const auto& all_faces = mesh_.faces();
@@ -582,10 +419,10 @@ CutResult Cutter::run() {
         return bits;
       },
       [](int acc, int bits) { return acc | bits; });
-  if (sides != 3) {
-    result.status = OpStatus::NoIntersection;
-    return result;
-  }
+  return sides == 3;
+}
+
+void Cutter::split_crossed_faces() {
   // Faces the plane crosses (split below) and untouched faces with a corner on the plane (rim
   // candidates), found in parallel chunks and handled in id order.
   const auto first_new_face = static_cast<std::uint32_t>(mesh_.face_slots());
@@ -615,7 +452,9 @@ CutResult Cutter::run() {
     rim_candidates_.insert(rim_candidates_.end(), part.touching.begin(), part.touching.end());
   }
   for (auto i = first_new_face; i < mesh_.face_slots(); ++i) rim_candidates_.push_back(FaceId(i));
+}
 
+void Cutter::separate_or_drop_side() {
   if (options_.keep == CutKeep::Both) {
     const auto before = static_cast<std::uint32_t>(mesh_.face_slots());
     separate_sides();
@@ -628,23 +467,38 @@ CutResult Cutter::run() {
     });
     for (FaceId f : doomed) editor_.remove_face(f);
   }
-  split_pinches();
-  collect_pieces(result);
-  index_rim(result);
-  // Rim: vertices on the plane that bound a piece.
-  std::unordered_set<std::uint32_t> rim;
-  for (std::size_t p = 0; p < result.pieces.size(); ++p)
-    for (const auto& [a, b] : rim_halfedges(p)) {
+}
+
+// Rim vertices (on the plane, bounding a piece) into `rim`; with caps, each piece capped.
+void Cutter::cap_pieces(CutResult& result, std::unordered_set<std::uint32_t>& rim) {
+  const std::vector<detail::CapInput> rims = rim_of_pieces(result);
+  for (const detail::CapInput& in : rims)
+    for (const auto& [a, b] : detail::rim_halfedges(mesh_, in)) {
       rim.insert(a.index);
       rim.insert(b.index);
     }
-  if (options_.cap) {
-    const auto first_cap_face = static_cast<std::uint32_t>(mesh_.face_slots());
-    for (std::size_t p = 0; p < result.pieces.size(); ++p) cap_piece(result.pieces[p], p);
-    for (auto i = first_cap_face; i < mesh_.face_slots(); ++i) rim_candidates_.push_back(FaceId(i));
-    for (const auto& [v, c] : split_pinches(&result))
-      if (rim.count(v.index)) rim.insert(c.index);
+  if (!options_.cap) return;
+  const auto first_cap_face = static_cast<std::uint32_t>(mesh_.face_slots());
+  for (std::size_t p = 0; p < result.pieces.size(); ++p) detail::cap_piece(editor_, rims[p], result.pieces[p]);
+  for (auto i = first_cap_face; i < mesh_.face_slots(); ++i) rim_candidates_.push_back(FaceId(i));
+  for (const auto& [v, c] : split_pinches(&result))
+    if (rim.count(v.index)) rim.insert(c.index);
+}
+
+CutResult Cutter::run() {
+  CutResult result;
+  check_arguments();
+  normal_ /= glm::length(normal_);
+  if (!classify_vertices()) {
+    result.status = OpStatus::NoIntersection;
+    return result;
   }
+  split_crossed_faces();
+  separate_or_drop_side();
+  split_pinches();
+  collect_pieces(result);
+  std::unordered_set<std::uint32_t> rim;
+  cap_pieces(result, rim);
   result.rim_vertices.reserve(rim.size());
   for (auto v : rim) result.rim_vertices.push_back(VertexId(v));
   std::sort(result.rim_vertices.begin(), result.rim_vertices.end());
@@ -654,6 +508,14 @@ CutResult Cutter::run() {
 }
 
 }  // namespace
+
+CutResult cut_mesh(SurfaceMesh& mesh, PosedMesh& posed, const Plane& plane, const CutOptions& options) {
+  Cutter cutter(mesh, posed.posed, plane, options);
+  CutResult result = cutter.run();
+  const std::vector<glm::vec3>& added = cutter.added_posed();
+  posed.posed.insert(posed.posed.end(), added.begin(), added.end());
+  return result;
+}
 
 CutResult cut_mesh(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const Plane& plane, const CutOptions& options) {
   return Cutter(mesh, posed, plane, options).run();
@@ -698,139 +560,136 @@ void snap_rim_to_plane(const Model& model, int node, const std::vector<glm::mat4
   }
 }
 
-// A node name not used yet: `wanted`, or `wanted_2`, `wanted_3`, ...
-std::string unique_node_name(const Model& model, const std::string& wanted) {
-  auto taken = [&](const std::string& name) {
-    return std::any_of(model.nodes.begin(), model.nodes.end(), [&](const Node& n) { return n.name == name; });
-  };
-  if (!taken(wanted)) return wanted;
-  for (int i = 2;; ++i)
-    if (!taken(wanted + "_" + std::to_string(i))) return wanted + "_" + std::to_string(i);
+// Side an untouched primitive lies on (it may be on the side that is dropped).
+int side_of(const SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const Plane& plane) {
+  double d = 0.0;
+  mesh.for_each_face([&](FaceId, const Triangle& t) {
+    for (auto v : t) d += glm::dot(glm::dvec3(posed[v.index]) - glm::dvec3(plane.point), glm::dvec3(plane.normal));
+  });
+  return d >= 0.0 ? 1 : -1;
+}
+
+// The cut of one instance's primitives, each on a copy (the mesh may be shared by other
+// instances, and a miss must leave it untouched).
+struct InstanceCut {
+  std::vector<SurfaceMesh> prims;
+  std::vector<CutResult> results;
+  bool any = false;
+};
+
+InstanceCut cut_instance(detail::InstanceEdit& inst, const std::vector<glm::mat4>& world, const Plane& plane,
+                         const CutOptions& options) {
+  InstanceCut out;
+  const auto& prims = inst.source().primitives;
+  for (std::size_t p = 0; p < prims.size(); ++p) {
+    SurfaceMesh copy = prims[p].mesh;
+    PosedMesh own;
+    PosedMesh* posed = inst.posed(static_cast<int>(p));
+    if (!posed) {
+      own.posed = posed_positions(inst.model(), inst.node(), copy, world);
+      posed = &own;
+    }
+    out.results.push_back(cut_mesh(copy, *posed, plane, options));
+    CutResult& r = out.results.back();
+    if (r.status == OpStatus::Ok) snap_rim_to_plane(inst.model(), inst.node(), world, plane, r, copy);
+    if (r.status == OpStatus::NoIntersection) r.piece_sides = {side_of(copy, posed->posed, plane)};
+    out.any |= r.status == OpStatus::Ok;
+    out.prims.push_back(std::move(copy));
+  }
+  return out;
+}
+
+// Groups each primitive's pieces into output meshes: without split_components piece k of every
+// primitive (0 positive, 1 negative) shares a mesh; with it, every piece is its own.
+std::vector<Mesh> group_pieces(const Mesh& source, const InstanceCut& cut, const CutOptions& options, int cut_material,
+                               ModelCutResult& result) {
+  std::vector<Mesh> piece_meshes;
+  for (std::size_t p = 0; p < cut.prims.size(); ++p) {
+    const CutResult& r = cut.results[p];
+    result.intersection_points += r.intersection_points;
+    result.rim_vertices += r.rim_vertices.size();
+    std::vector<std::vector<FaceId>> pieces = r.pieces;
+    if (r.status == OpStatus::NoIntersection) {
+      const int side = r.piece_sides[0];
+      if ((options.keep == CutKeep::Positive && side < 0) || (options.keep == CutKeep::Negative && side > 0)) continue;
+      std::vector<FaceId> all;
+      cut.prims[p].for_each_face([&](FaceId f, const Triangle&) { all.push_back(f); });
+      pieces = {all};
+    }
+    for (std::size_t k = 0; k < pieces.size(); ++k) {
+      const int side = r.piece_sides[k];
+      const std::size_t slot = options.split_components ? piece_meshes.size() : (side > 0 ? 0 : 1);
+      if (slot >= piece_meshes.size()) piece_meshes.resize(slot + 1);
+      add_piece_primitives(detail::extract(cut.prims[p], pieces[k]), source.primitives[p].material, cut_material,
+                           piece_meshes[slot]);
+    }
+  }
+  piece_meshes.erase(std::remove_if(piece_meshes.begin(), piece_meshes.end(), [](const Mesh& m) { return m.primitives.empty(); }),
+                     piece_meshes.end());
+  return piece_meshes;
+}
+
+// The instance draws the first piece; every other piece becomes a node beside it.
+void install_pieces(detail::InstanceEdit& inst, std::vector<Mesh> piece_meshes, ModelCutResult& result) {
+  // Copies: replacing the mesh below overwrites the source.
+  const std::string source_name = inst.source().name, source_extras = inst.source().extras_json;
+  const std::string& node_name = inst.model().nodes[static_cast<std::size_t>(inst.node())].name;
+  const std::string base = node_name.empty() ? source_name : node_name;
+  for (std::size_t k = 0; k < piece_meshes.size(); ++k) {
+    Mesh& m = piece_meshes[k];
+    m.name = (source_name.empty() ? base : source_name) + "_piece" + std::to_string(k);
+    m.extras_json = source_extras;
+    if (k == 0) {
+      inst.replace_mesh(std::move(m));
+      result.piece_nodes.push_back(inst.node());
+    } else {
+      result.piece_nodes.push_back(inst.add_piece_node(std::move(m), base + "_piece" + std::to_string(k)));
+    }
+  }
 }
 
 }  // namespace
 
-ModelCutResult cut_model(Model& model, const Plane& plane, const CutOptions& options, int animation, float time) {
-  const Pose pose = sample_pose(model, animation, time);
-  const auto world = world_matrices(model, pose);
+ModelCutResult cut_model(Model& model, PosedModel& posed, const Plane& plane, const CutOptions& options, int animation,
+                         float time) {
+  const auto world = world_matrices(model, sample_pose(model, animation, time));
+  posed.prepare(model, animation, time);
   ModelCutResult result;
   result.status = OpStatus::NoIntersection;
-  const auto parents = model.parents();
-  const std::size_t node_count = model.nodes.size();
-  std::vector<int> mesh_users(model.meshes.size(), 0);
-  for (const auto& n : model.nodes)
-    if (n.mesh >= 0) ++mesh_users[n.mesh];
   int cut_material = -1;
-  std::vector<std::pair<std::size_t, int>> missed;  // instance node, side it lies on
-  for (std::size_t ni = 0; ni < node_count; ++ni) {
-    const int mi = model.nodes[ni].mesh;
-    if (mi < 0) continue;
-    // Cut a copy: the mesh may be shared by other instances, and a miss must leave it untouched.
-    std::vector<SurfaceMesh> cut_prims;
-    std::vector<CutResult> results;
-    bool any = false;
-    for (const auto& prim : model.meshes[mi].primitives) {
-      SurfaceMesh copy = prim.mesh;
-      const auto posed = posed_positions(model, static_cast<int>(ni), copy, world);
-      results.push_back(cut_mesh(copy, posed, plane, options));
-      if (results.back().status == OpStatus::Ok) snap_rim_to_plane(model, static_cast<int>(ni), world, plane, results.back(), copy);
-      if (results.back().status == OpStatus::NoIntersection) {
-        // Which side the untouched primitive lies on (it may be on the side that is dropped).
-        double d = 0.0;
-        copy.for_each_face([&](FaceId, const Triangle& t) {
-          for (auto v : t) d += glm::dot(glm::dvec3(posed[v.index]) - glm::dvec3(plane.point), glm::dvec3(plane.normal));
-        });
-        results.back().piece_sides = {d >= 0.0 ? 1 : -1};
-      }
-      any |= results.back().status == OpStatus::Ok;
-      cut_prims.push_back(std::move(copy));
-    }
-    if (!any) {
+  std::vector<std::pair<int, int>> missed;  // instance node, side it lies on
+  detail::ModelSurgery surgery(model, posed);
+  surgery.for_each_instance([&](detail::InstanceEdit& inst) {
+    const InstanceCut cut = cut_instance(inst, world, plane, options);
+    if (!cut.any) {
       int votes = 0;
-      for (const auto& r : results) votes += r.piece_sides.empty() ? 0 : r.piece_sides[0];
-      missed.emplace_back(ni, votes >= 0 ? 1 : -1);
-      continue;
+      for (const auto& r : cut.results) votes += r.piece_sides.empty() ? 0 : r.piece_sides[0];
+      missed.emplace_back(inst.node(), votes >= 0 ? 1 : -1);
+      return false;
     }
     result.status = OpStatus::Ok;
     if (options.cap && cut_material < 0) cut_material = detail::cut_surface_material(model);
-    // Group each primitive's pieces into output meshes: without split_components piece k of
-    // every primitive (0 positive, 1 negative) shares a mesh; with it, every piece is its own.
-    std::vector<Mesh> piece_meshes;
-    const Mesh& source = model.meshes[mi];
-    for (std::size_t p = 0; p < cut_prims.size(); ++p) {
-      const CutResult& r = results[p];
-      result.intersection_points += r.intersection_points;
-      result.rim_vertices += r.rim_vertices.size();
-      std::vector<std::vector<FaceId>> pieces = r.pieces;
-      if (r.status == OpStatus::NoIntersection) {
-        const int side = r.piece_sides[0];
-        if ((options.keep == CutKeep::Positive && side < 0) || (options.keep == CutKeep::Negative && side > 0)) continue;
-        std::vector<FaceId> all;
-        cut_prims[p].for_each_face([&](FaceId f, const Triangle&) { all.push_back(f); });
-        pieces = {all};
-      }
-      for (std::size_t k = 0; k < pieces.size(); ++k) {
-        const int side = r.piece_sides[k];
-        const std::size_t slot = options.split_components ? piece_meshes.size() : (side > 0 ? 0 : 1);
-        if (slot >= piece_meshes.size()) piece_meshes.resize(slot + 1);
-        add_piece_primitives(detail::extract(cut_prims[p], pieces[k]), source.primitives[p].material, cut_material,
-                             piece_meshes[slot]);
-      }
+    std::vector<Mesh> piece_meshes = group_pieces(inst.source(), cut, options, cut_material, result);
+    if (piece_meshes.empty()) {
+      posed.erase_node(inst.node());  // its posed primitives grew with the cut: indexed anew
+      return false;
     }
-    piece_meshes.erase(std::remove_if(piece_meshes.begin(), piece_meshes.end(), [](const Mesh& m) { return m.primitives.empty(); }),
-                       piece_meshes.end());
-    if (piece_meshes.empty()) continue;
-    // Copies: pushing meshes below invalidates `source`.
-    const std::string source_name = source.name, source_extras = source.extras_json;
-    const std::string base = model.nodes[ni].name.empty() ? source_name : model.nodes[ni].name;
-    for (std::size_t k = 0; k < piece_meshes.size(); ++k) {
-      Mesh& m = piece_meshes[k];
-      m.name = (source_name.empty() ? base : source_name) + "_piece" + std::to_string(k);
-      m.extras_json = source_extras;
-      int target_mesh;
-      if (k == 0 && mesh_users[mi] == 1) {
-        model.meshes[mi] = std::move(m);
-        target_mesh = mi;
-      } else {
-        model.meshes.push_back(std::move(m));
-        target_mesh = static_cast<int>(model.meshes.size() - 1);
-      }
-      if (k == 0) {
-        model.nodes[ni].mesh = target_mesh;
-        result.piece_nodes.push_back(static_cast<int>(ni));
-        continue;
-      }
-      Node node = model.nodes[ni];
-      node.children.clear();
-      node.camera = -1;
-      node.name = unique_node_name(model, base + "_piece" + std::to_string(k));
-      node.mesh = target_mesh;
-      const int index = static_cast<int>(model.nodes.size());
-      model.nodes.push_back(node);
-      const int parent = parents[ni];
-      if (parent >= 0) {
-        model.nodes[parent].children.push_back(index);
-      } else {
-        for (auto& roots : model.scenes)
-          if (std::find(roots.begin(), roots.end(), static_cast<int>(ni)) != roots.end()) roots.push_back(index);
-      }
-      result.piece_nodes.push_back(index);
-    }
-    if (mesh_users[mi] > 1) --mesh_users[mi];
-  }
+    install_pieces(inst, std::move(piece_meshes), result);
+    return true;
+  });
   // Whole instances on the dropped side go too (only when something was cut: a plane that
   // misses everything leaves the model unchanged).
   if (result.status == OpStatus::Ok && options.keep != CutKeep::Both) {
     const int drop = options.keep == CutKeep::Positive ? -1 : 1;
-    for (const auto& [ni, side] : missed) {
-      if (side != drop) continue;
-      const int mi = model.nodes[ni].mesh;
-      if (--mesh_users[mi] == 0) model.meshes[mi].primitives.clear();
-      model.nodes[ni].mesh = -1;
-      model.nodes[ni].skin = -1;
-    }
+    for (const auto& [node, side] : missed)
+      if (side == drop) surgery.drop_instance(node);
   }
   return result;
+}
+
+ModelCutResult cut_model(Model& model, const Plane& plane, const CutOptions& options, int animation, float time) {
+  PosedModel posed;
+  return cut_model(model, posed, plane, options, animation, time);
 }
 
 }  // namespace deepcut
