@@ -33,8 +33,8 @@
 #include "deepcut/core/mesh_editor.h"
 #include "deepcut/core/posed_model.h"
 #include "deepcut/core/skinning.h"
-#include "ops/pieces.h"
-#include "ops/pinches.h"
+#include "ops/common/model_surgery.h"
+#include "ops/common/pinches.h"
 #include "ops/polygon_triangulation.h"
 
 namespace deepcut {

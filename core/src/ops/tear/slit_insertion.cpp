@@ -35,7 +35,7 @@ struct Classified {  // signed distance to the facet's plane and its snapped sig
 class FacetScan {
  public:
   FacetScan(const TearContext& ctx, const SweepFacet& facet)
-      : ctx_(ctx), facet_(facet), classified(ctx.arena), zero(ctx.arena), crossings(ctx.arena) {}
+      : ctx_(ctx), facet_(facet), classified(ctx.arena), zero(ctx.arena) {}
 
   double dist(VertexId v) const {
     auto it = classified.find(v.index);
@@ -54,10 +54,9 @@ class FacetScan {
     return zero.emplace(v.index, z).first->second;
   }
   Crossing& crossing(VertexId a, VertexId b) {
-    const auto key = edge_key(a, b);
-    auto it = crossings.find(key);
-    if (it != crossings.end()) return it->second;
-    Crossing c;
+    const auto [found, added] = crossings.try_emplace(a, b);
+    if (!added) return *found;
+    Crossing& c = *found;
     c.lo = a < b ? a : b;
     c.hi = a < b ? b : a;
     const double dl = dist(c.lo), dh = dist(c.hi);
@@ -66,8 +65,12 @@ class FacetScan {
     c.h = hvalues(facet_, facet_.project(c.p));
     c.in = inside(facet_, c.h);
     c.split = c.in;
-    return crossings.emplace(key, c).first->second;
+    return c;
   }
+  // The crossing of the edge with key `key` (one made by crossing()).
+  Crossing& at(std::uint64_t key) { return *crossings.find(key_lo(key), key_hi(key)); }
+  const Crossing& at(std::uint64_t key) const { return *crossings.find(key_lo(key), key_hi(key)); }
+  const Crossing* find(VertexId a, VertexId b) const { return crossings.find(a, b); }
 
  private:
   const TearContext& ctx_;
@@ -76,7 +79,7 @@ class FacetScan {
  public:
   Map<std::uint32_t, Classified> classified;
   Map<std::uint32_t, ZeroVertex> zero;
-  Map<std::uint64_t, Crossing> crossings;
+  CrossingTable<Crossing> crossings;
 };
 
 struct ChordEnd {
@@ -158,6 +161,7 @@ std::vector<FaceId> candidate_faces(const TearContext& ctx, const SweepFacet& fa
 
 void classify(FacetScan& scan, const TearContext& ctx, const SweepFacet& facet, const std::vector<FaceId>& faces) {
   scan.classified.reserve(2 * faces.size() + 16);
+  scan.crossings.reserve(faces.size() + 16);
   for (FaceId f : faces)
     for (auto v : ctx.mesh.face(f)) {
       auto [it, inserted] = scan.classified.try_emplace(v.index, Classified{0.0, 0});
@@ -231,9 +235,9 @@ bool plan_chord(FacetScan& scan, const TearContext& ctx, const SweepFacet& facet
   for (const Interval& iv : plan.torn) {
     for (double s_end : {iv.lo, iv.hi}) {
       if (s_end == 0.0 && plan.a.crossing)
-        scan.crossings.at(plan.a.crossing).split = true;
+        scan.at(plan.a.crossing).split = true;
       else if (s_end == 1.0 && plan.b.crossing)
-        scan.crossings.at(plan.b.crossing).split = true;
+        scan.at(plan.b.crossing).split = true;
       else if (s_end > 0.0 && s_end < 1.0)
         plan.interior.push_back(s_end);
     }
@@ -275,11 +279,11 @@ bool tear_in_plane_edges(FacetScan& scan, const TearContext& ctx, const SweepFac
 // Edits. New vertices: on crossed edges, on in-plane edges, inside faces.
 SlitVertices add_slit_vertices(FacetScan& scan, TearContext& ctx, Chords& chords, Slits& slits) {
   SlitVertices out;
-  for (const auto& [key, c] : scan.crossings)
-    if (c.split) out.split_keys.push_back(key);
+  for (std::size_t i = 0; i < scan.crossings.size(); ++i)
+    if (scan.crossings[i].split) out.split_keys.push_back(scan.crossings.key(i));
   std::sort(out.split_keys.begin(), out.split_keys.end());  // deterministic vertex numbering
   for (std::uint64_t key : out.split_keys) {
-    Crossing& c = scan.crossings.at(key);
+    Crossing& c = scan.at(key);
     c.v = ctx.editor.add_vertex_on_edge(c.lo, c.hi, static_cast<float>(c.t));
     const VertexId src[2] = {c.lo, c.hi};
     const double w[2] = {1.0 - c.t, c.t};
@@ -335,9 +339,9 @@ std::vector<Insert> points_of_face(const FacetScan& scan, const Chords& chords, 
   for (int k = 0; k < 3; ++k) {
     const int k1 = (k + 1) % 3;
     const auto key = edge_key(t[k], t[k1]);
-    auto cit = scan.crossings.find(key);
-    if (cit != scan.crossings.end() && cit->second.split) {
-      const Crossing& c = cit->second;
+    const Crossing* cit = scan.find(t[k], t[k1]);
+    if (cit && cit->split) {
+      const Crossing& c = *cit;
       glm::dvec3 bary(0.0);
       const double wk = t[k] == c.lo ? 1.0 - c.t : c.t;
       bary[k] = wk;
@@ -411,9 +415,9 @@ class PlannedFaces {
     return clashes(which, hi, lo) <= clashes(which, hi, hi);
   }
 
-  // Merges `hi` into `lo`: records it in `merged` and renames it in the planned faces.
-  void merge(VertexId hi, VertexId lo, Map<std::uint32_t, VertexId>& merged) {
-    merged.emplace(hi.index, lo);
+  // Merges `hi` into `lo`: records it in `merges` and renames it in the planned faces.
+  void merge(VertexId hi, VertexId lo, NeedleMerges& merges) {
+    merges.merge(hi, lo);
     auto it = at_.find(hi.index);
     if (it == at_.end()) return;
     for (std::uint32_t i : it->second) {
@@ -473,10 +477,10 @@ void merge_needles(const FacetScan& scan, const TearContext& ctx, const Chords& 
     glm::dvec3 at[3];
     int n = 0;
     for (int k = 0; k < 3; ++k) {
-      auto cit = scan.crossings.find(edge_key(t[k], t[(k + 1) % 3]));
-      if (cit != scan.crossings.end() && cit->second.split) {
-        at[n] = cit->second.p;
-        ends[n++] = slits.resolve(cit->second.v);
+      const Crossing* cit = scan.find(t[k], t[(k + 1) % 3]);
+      if (cit && cit->split) {
+        at[n] = cit->p;
+        ends[n++] = slits.resolve(cit->v);
       }
     }
     if (n != 2 || ends[0] == ends[1]) continue;
@@ -484,7 +488,7 @@ void merge_needles(const FacetScan& scan, const TearContext& ctx, const Chords& 
     if (ctx.mesh.position(ends[0]) != ctx.mesh.position(ends[1]) &&
         (glm::length(at[1] - at[0]) > ctx.tol || stops.count(f.index)))
       continue;
-    if (planned.merge_keeps_faces_apart(hi, lo)) planned.merge(hi, lo, slits.merged);
+    if (planned.merge_keeps_faces_apart(hi, lo)) planned.merge(hi, lo, slits.merges);
   }
 }
 
@@ -492,7 +496,7 @@ void merge_needles(const FacetScan& scan, const TearContext& ctx, const Chords& 
 // take their merged vertex.
 void carry_torn_edges(FacetScan& scan, const Chords& chords, const SlitVertices& made, Slits& slits) {
   for (std::uint64_t key : made.split_keys) {
-    Crossing& c = scan.crossings.at(key);
+    Crossing& c = scan.at(key);
     c.v = slits.resolve(c.v);
     auto it = slits.torn.find(key);
     if (it != slits.torn.end()) {
@@ -537,13 +541,13 @@ void add_torn_chord(const FacetScan& scan, const FacePlan& plan, const Refined& 
   };
   if (plan.a.corner.valid())
     chain.emplace_back(0.0, plan.a.corner);
-  else if (scan.crossings.at(plan.a.crossing).split)
-    chain.emplace_back(0.0, scan.crossings.at(plan.a.crossing).v);
+  else if (scan.at(plan.a.crossing).split)
+    chain.emplace_back(0.0, scan.at(plan.a.crossing).v);
   for (std::size_t i = 0; i < plan.interior.size(); ++i) chain.emplace_back(plan.interior[i], resolve(plan.interior_ids[i]));
   if (plan.b.corner.valid())
     chain.emplace_back(1.0, plan.b.corner);
-  else if (scan.crossings.at(plan.b.crossing).split)
-    chain.emplace_back(1.0, scan.crossings.at(plan.b.crossing).v);
+  else if (scan.at(plan.b.crossing).split)
+    chain.emplace_back(1.0, scan.at(plan.b.crossing).v);
   add_torn_chain(chain, plan.torn, facet_index, slits);
 }
 

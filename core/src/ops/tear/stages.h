@@ -12,6 +12,8 @@
 
 #include "deepcut/core/mesh_editor.h"
 #include "deepcut/core/posed_model.h"
+#include "ops/common/crossing_table.h"
+#include "ops/common/posed_overlay.h"
 #include "ops/tear/sweep.h"
 
 namespace deepcut::detail::tear {
@@ -24,24 +26,18 @@ using Map = std::pmr::unordered_map<K, V>;
 template <class K>
 using Set = std::pmr::unordered_set<K>;
 
-inline std::uint64_t edge_key(VertexId a, VertexId b) {
-  const auto lo = std::min(a.index, b.index), hi = std::max(a.index, b.index);
-  return (std::uint64_t(lo) << 32) | hi;
-}
 inline VertexId key_lo(std::uint64_t key) { return VertexId(static_cast<std::uint32_t>(key >> 32)); }
 inline VertexId key_hi(std::uint64_t key) { return VertexId(static_cast<std::uint32_t>(key & 0xffffffffu)); }
 
 /// Posed positions and bind-to-world linear maps during one tear: the PosedMesh's for the
 /// vertices it holds, the tear's own for the vertices it adds (interpolated where they are made,
 /// so the predicates see the surface the blade was placed against).
-class PosedOverlay {
+class TearPose {
  public:
-  PosedOverlay(const PosedMesh& input, std::uint32_t first_new, std::pmr::memory_resource* arena)
-      : input_posed_(input.posed), input_linear_(input.linear), first_new_(first_new), new_linear_(arena) {}
+  TearPose(const PosedMesh& input, std::pmr::memory_resource* arena)
+      : posed_(input.posed), input_linear_(input.linear), new_linear_(arena) {}
 
-  const glm::vec3& posed(std::uint32_t v) const {
-    return v < first_new_ ? input_posed_[v] : added_posed_[v - first_new_];
-  }
+  glm::vec3 posed(std::uint32_t v) const { return posed_(v); }
   /// The linear map of `v`: the input's, or the blend made for a new vertex (identity when the
   /// input has none).
   glm::mat3 linear(VertexId v) const {
@@ -53,8 +49,7 @@ class PosedOverlay {
   /// Records new vertex `v` at posed position `p`, its linear map blended from `src` with
   /// weights `w` (n of each).
   void add(VertexId v, const glm::dvec3& p, const VertexId* src, const double* w, int n) {
-    if (added_posed_.size() <= v.index - first_new_) added_posed_.resize(v.index - first_new_ + 1);
-    added_posed_[v.index - first_new_] = glm::vec3(p);
+    posed_.set_added(v, glm::vec3(p));
     if (!input_linear_.empty()) {
       glm::mat3 m(0.0f);
       for (int i = 0; i < n; ++i) m += float(w[i]) * linear(src[i]);
@@ -63,10 +58,8 @@ class PosedOverlay {
   }
 
  private:
-  const std::vector<glm::vec3>& input_posed_;
+  PosedOverlay<glm::vec3> posed_;
   const std::vector<glm::mat3>& input_linear_;
-  std::uint32_t first_new_;
-  std::vector<glm::vec3> added_posed_;
   Map<std::uint32_t, glm::mat3> new_linear_;
 };
 
@@ -75,7 +68,7 @@ class PosedOverlay {
 struct TearContext {
   SurfaceMesh& mesh;
   MeshEditor& editor;
-  PosedOverlay& pose;
+  TearPose& pose;
   const TriangleGrid& grid;
   std::uint32_t first_new_face;  ///< faces from here on were made by this tear
   double tol;                    ///< snapping tolerance, world units
@@ -84,14 +77,13 @@ struct TearContext {
 
 /// The slits so far: what slit insertion hands to the lips.
 struct Slits {
-  explicit Slits(std::pmr::memory_resource* arena) : torn(arena), merged(arena) {}
+  explicit Slits(std::pmr::memory_resource* arena) : torn(arena) {}
   /// Torn edges (edge_key) -> the sweep facet that tore them.
   Map<std::uint64_t, std::size_t> torn;
   /// Faces examined or made (every face around a slit vertex is among them).
   std::vector<FaceId> region;
-  /// Crossings that fell on one bind position (the two long edges of a needle split at the same
-  /// parameter): the later vertex maps to the earlier, so the needle's tip is not a zero-area face.
-  Map<std::uint32_t, VertexId> merged;
+  /// Crossings merged into one vertex (ops/common/crossing_table.h), over every facet.
+  NeedleMerges merges;
   /// Mesh edges split where the tear surface crosses them.
   std::size_t intersections = 0;
 
@@ -99,10 +91,7 @@ struct Slits {
     if (a == b) return;
     torn.emplace(edge_key(a, b), facet);
   }
-  VertexId resolve(VertexId v) const {
-    for (auto it = merged.find(v.index); it != merged.end(); it = merged.find(v.index)) v = it->second;
-    return v;
-  }
+  VertexId resolve(VertexId v) const { return merges.merged(v); }
 };
 
 /// Slit insertion (slit_insertion.cpp): splits the mesh along where `facet` crosses it (edges it

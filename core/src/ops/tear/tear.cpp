@@ -5,7 +5,7 @@
 //      crosses it, the torn edges recorded (Slits);
 //   3. lips (lips.cpp): lone torn edges split, the vertices along the slits copied per wedge and
 //      the lips pushed apart (Separation);
-//   4. pinch repair (ops/pinches.h), then the PosedMesh follows the log.
+//   4. pinch repair (ops/common/pinches.h), then the PosedMesh follows the log.
 // tear_model runs tear_mesh on every mesh instance of a posed model.
 #include "deepcut/core/ops/tear.h"
 
@@ -15,7 +15,8 @@
 #include <string>
 
 #include "deepcut/core/mesh_editor.h"
-#include "ops/pinches.h"
+#include "ops/common/model_surgery.h"
+#include "ops/common/pinches.h"
 #include "ops/tear/stages.h"
 
 namespace deepcut {
@@ -74,7 +75,7 @@ TearResult tear_mesh(SurfaceMesh& mesh, PosedMesh& posed, const Blade& start, co
   const std::vector<SweepFacet> facets = stage::make_sweep(start, end);
   const float width = resolved_tear_width(start, end, options);
   result.width = width;
-  stage::PosedOverlay pose(posed, first_new, &arena);
+  stage::TearPose pose(posed, &arena);
   const double tol = double(options.relative_tolerance) * double(posed.bounds.diagonal());
   stage::TearContext ctx{mesh, editor, pose, posed.grid, first_new_face, tol, &arena};
   stage::Slits slits(&arena);
@@ -103,22 +104,14 @@ ModelTearResult tear_model(Model& model, PosedModel& posed, const Blade& start, 
   ModelTearResult result;
   result.status = OpStatus::NoIntersection;
   result.width = resolved_tear_width(start, end, options);
-  std::vector<int> mesh_users(model.meshes.size(), 0);
-  for (const auto& n : model.nodes)
-    if (n.mesh >= 0 && static_cast<std::size_t>(n.mesh) < model.meshes.size()) ++mesh_users[n.mesh];
-  for (std::size_t ni = 0; ni < model.nodes.size(); ++ni) {
-    const int mi = model.nodes[ni].mesh;
-    if (mi < 0 || static_cast<std::size_t>(mi) >= model.meshes.size()) continue;
-    const int node_id = static_cast<int>(ni);
-    // A mesh drawn by several instances is torn on a copy that this instance then owns.
-    const bool shared = mesh_users[mi] > 1;
-    Mesh copy;
-    Mesh& target = shared ? (copy = model.meshes[mi], copy) : model.meshes[mi];
+  // A mesh drawn by several instances is torn on a copy that the instance then owns.
+  detail::for_each_instance(model, posed, [&](detail::InstanceEdit& inst) {
+    Mesh& target = inst.edit();
     bool any = false;
     for (std::size_t pi = 0; pi < target.primitives.size(); ++pi) {
-      PosedMesh* inst = posed.find(node_id, static_cast<int>(pi));
-      if (!inst) continue;  // prepare indexes every instance
-      const TearResult r = tear_mesh(target.primitives[pi].mesh, *inst, start, end, options);
+      PosedMesh* instance = inst.posed(static_cast<int>(pi));
+      if (!instance) continue;  // prepare indexes every instance
+      const TearResult r = tear_mesh(target.primitives[pi].mesh, *instance, start, end, options);
       if (r.status != OpStatus::Ok) continue;
       any = true;
       result.intersection_points += r.intersection_points;
@@ -126,16 +119,9 @@ ModelTearResult tear_model(Model& model, PosedModel& posed, const Blade& start, 
       result.slits += r.slits;
       result.opening = std::max(result.opening, r.opening);
     }
-    if (!any) continue;
-    result.status = OpStatus::Ok;
-    if (shared) {
-      --mesh_users[mi];
-      model.meshes.push_back(std::move(copy));
-      model.nodes[ni].mesh = static_cast<int>(model.meshes.size() - 1);
-      mesh_users.push_back(1);
-      posed.rename_mesh(node_id, model.nodes[ni].mesh);
-    }
-  }
+    if (any) result.status = OpStatus::Ok;
+    return any;
+  });
   return result;
 }
 
