@@ -157,5 +157,36 @@ TEST(GeometryPredicates, WindingNumbers) {
   }
 }
 
+TEST(GeometryPredicates, SegmentDistance) {
+  using V = glm::dvec3;
+  const V a(0, 0, 0), b(4, 0, 0);
+  EXPECT_EQ(segment_distance2(V(2, 3, 0), a, b), 9.0);   // above the middle
+  EXPECT_EQ(segment_distance2(V(-3, 0, 4), a, b), 25.0);  // beyond an end: to the end point
+  EXPECT_EQ(segment_distance2(V(7, 4, 0), a, b), 25.0);
+  EXPECT_EQ(segment_distance2(V(1, 0, 0), a, b), 0.0);    // on it
+  EXPECT_EQ(segment_distance2(V(1, 2, 2), a, a), 9.0);    // a zero-length segment is its point
+  EXPECT_EQ(segment_distance2(V(1, 2, 2), a, b), segment_distance2(V(1, 2, 2), b, a));
+  // The planar version agrees with the spatial one in the z = 0 plane.
+  EXPECT_EQ(segment_distance2(P(2, 3), P(0, 0), P(4, 0)), 9.0);
+  EXPECT_EQ(segment_distance2(P(-3, 4), P(0, 0), P(4, 0)), 25.0);
+  // A needle segment: still the distance to its line inside it.
+  EXPECT_NEAR(segment_distance2(P(0.5, 1.0), P(0, 0), P(1, 1e-9)), 1.0, 1e-8);
+}
+
+TEST(GeometryPredicates, AngleAt) {
+  using V = glm::dvec3;
+  const double pi = 3.14159265358979323846;
+  EXPECT_NEAR(angle_at(V(1, 0, 0), V(0, 1, 0), V(0, 0, 0)), pi / 2, 1e-15);
+  EXPECT_NEAR(angle_at(V(1, 0, 0), V(1, 1, 0), V(0, 0, 0)), pi / 4, 1e-15);
+  EXPECT_NEAR(angle_at(V(1, 0, 0), V(-1, 0, 0), V(0, 0, 0)), pi, 1e-15);  // straight
+  EXPECT_EQ(angle_at(V(1, 0, 0), V(2, 0, 0), V(0, 0, 0)), 0.0);            // collinear, same side
+  EXPECT_EQ(angle_at(V(0, 0, 0), V(1, 0, 0), V(0, 0, 0)), pi);             // degenerate corner
+  // The angles of a triangle add up to pi, needles included.
+  for (const double h : {1.0, 1e-3, 1e-8}) {
+    const V a(0, 0, 0), b(1, 0, 0), c(0.3, h, 0.2);
+    EXPECT_NEAR(angle_at(b, c, a) + angle_at(c, a, b) + angle_at(a, b, c), pi, 1e-12);
+  }
+}
+
 }  // namespace
 }  // namespace deepcut::geometry

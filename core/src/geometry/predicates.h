@@ -1,10 +1,13 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// Planar predicates shared by the triangulators and the operations. Plain double arithmetic
-// (no exact fallback): callers that need tolerances scale them by their own lengths. Private
-// to core.
+// Geometric predicates shared by the triangulators and the operations: planar orientation,
+// circle, crossing and containment tests, and the few distance and angle measures the
+// operations take in 2D or 3D. Plain double arithmetic (no exact fallback): callers that need
+// tolerances scale them by their own lengths. Private to core.
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -77,6 +80,23 @@ inline int winding(const std::vector<glm::dvec2>& xy, const std::vector<std::vec
       }
     }
   return w;
+}
+
+/// Squared distance from `p` to the segment a-b (2D or 3D); a zero-length segment is its point.
+template <glm::length_t L>
+double segment_distance2(const glm::vec<L, double>& p, const glm::vec<L, double>& a, const glm::vec<L, double>& b) {
+  const glm::vec<L, double> e = b - a;
+  const double t = std::clamp(glm::dot(p - a, e) / std::max(glm::dot(e, e), 1e-300), 0.0, 1.0);
+  const glm::vec<L, double> d = a + t * e - p;
+  return glm::dot(d, d);
+}
+
+/// Angle at `c` in the triangle (a, b, c), in radians; pi when a or b coincides with c.
+inline double angle_at(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+  const glm::dvec3 u = a - c, v = b - c;
+  const double lu = glm::length(u), lv = glm::length(v);
+  if (!(lu > 0.0) || !(lv > 0.0)) return 3.14159265358979323846;
+  return std::acos(std::clamp(glm::dot(u, v) / (lu * lv), -1.0, 1.0));
 }
 
 }  // namespace deepcut::geometry
