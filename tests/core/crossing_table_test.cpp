@@ -39,6 +39,8 @@ TEST(CrossingTable, FindsEachEdgeEitherWayAndMakesItOnce) {
   EXPECT_EQ(table.find(VertexId(1), VertexId(2))->value, 12);
   EXPECT_EQ(table.size(), 1u);
   EXPECT_EQ(table.key(0), edge_key(VertexId(1), VertexId(2)));
+  EXPECT_EQ(table.find_key(table.key(0)), r);
+  EXPECT_EQ(table.find_key(edge_key(VertexId(1), VertexId(3))), nullptr);
 }
 
 // Many random edges, with and without sizing up front: every lookup agrees with a std map,

@@ -61,6 +61,12 @@ class CrossingTable {
     const std::uint32_t e = slots_.find(edge_key(a, b));
     return e == EdgeSlots::kNone ? nullptr : &records_[e];
   }
+  /// The record of the edge with key `key` (edge_key), or nullptr.
+  T* find_key(std::uint64_t key) { return at_entry(slots_.find(key)); }
+  const T* find_key(std::uint64_t key) const {
+    const std::uint32_t e = slots_.find(key);
+    return e == EdgeSlots::kNone ? nullptr : &records_[e];
+  }
   /// The record of edge {a, b}, default-made when the edge is new (`second` true: fill it in).
   std::pair<T*, bool> try_emplace(VertexId a, VertexId b) {
     const std::uint64_t key = edge_key(a, b);
