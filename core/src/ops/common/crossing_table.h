@@ -39,7 +39,9 @@ class EdgeSlots {
   static constexpr std::uint32_t kNone = ~std::uint32_t(0);
 
  private:
-  std::size_t slot_of(std::uint64_t key) const { return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> shift_); }
+  std::size_t slot_of(std::uint64_t key) const {
+    return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> shift_);
+  }
   void rehash(std::size_t size, int shift);
   static constexpr std::uint64_t kNoKey = ~std::uint64_t(0);  // edge_key of no real edge
   std::vector<std::uint64_t> keys_;
