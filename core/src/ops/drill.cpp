@@ -36,8 +36,8 @@
 #include "geometry/delaunay_flip.h"
 #include "geometry/polygon_triangulation.h"
 #include "geometry/predicates.h"
-#include "ops/pieces.h"
-#include "ops/pinches.h"
+#include "ops/common/model_surgery.h"
+#include "ops/common/pinches.h"
 
 namespace deepcut {
 namespace {

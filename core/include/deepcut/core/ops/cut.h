@@ -1,15 +1,16 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 /// @file ops/cut.h
-/// Cut by an infinite plane (DESIGN section 4, "Cut"). Predicates run on the posed positions
-/// (what the designer sees); the resulting edge parameters are applied to the bind-space mesh,
-/// so the cut lands where it was placed and the pieces still animate.
+/// Cut by an infinite plane. Predicates run on the posed positions (what the designer sees); the
+/// resulting edge parameters are applied to the bind-space mesh, so the cut lands where it was
+/// placed and the pieces still animate. The stages are laid out in docs/architecture.md.
 
 #include <vector>
 
 #include "deepcut/core/edit_log.h"
 #include "deepcut/core/model.h"
 #include "deepcut/core/ops/op_status.h"
+#include "deepcut/core/posed_model.h"
 #include "deepcut/core/surface_mesh.h"
 
 namespace deepcut {
@@ -43,18 +44,26 @@ struct CutResult {
   EditLog log;
 };
 
-/// Cuts one mesh in place. `posed` gives the world position of every vertex (the pose the plane
-/// was placed against; pass `mesh.positions()` for the bind pose). The sides end up topologically
-/// separate (rim vertices are split), so pieces are connected components of the result.
+/// Cuts one mesh in place. `posed.posed` gives the world position of every vertex (the pose the
+/// plane was placed against). The sides end up topologically separate (rim vertices are split),
+/// so pieces are connected components of the result.
 /// @param mesh     triangle mesh, edited through MeshEditor.
-/// @param posed    one world position per vertex of `mesh` (size == mesh.vertex_count()).
+/// @param posed    the mesh at the pose; only `posed.posed` is read. On return `posed.posed` also
+///                 holds the posed position of every vertex the cut added (edge points where the
+///                 plane crossed, side copies where their originals are); `linear`, `bounds` and
+///                 `grid` are left describing the input (the model-level cut re-poses its pieces).
 /// @param plane    point and normal (world space); the normal need not be unit.
 /// @param options  see CutOptions (defaults: both sides, no cap, tolerance 1e-5 of model size).
-/// @pre posed.size() == mesh.vertex_count().
+/// @pre posed.posed.size() == mesh.vertex_count().
 /// @throws Error{InvalidArgument} for a zero or non-finite normal or point, or a size mismatch.
-/// @returns NoIntersection (mesh untouched, log empty) when every vertex lies on one side.
+/// @returns NoIntersection (mesh and `posed` untouched, log empty) when every vertex lies on one
+///          side.
 /// @note Non-manifold edges are split like any other (each face keeps its own half), so
 ///       non-manifold input is handled, not rejected.
+CutResult cut_mesh(SurfaceMesh& mesh, PosedMesh& posed, const Plane& plane, const CutOptions& options = {});
+
+/// Convenience: cut_mesh with posed positions at hand (`mesh.positions()` for the bind pose),
+/// read only. Same result.
 CutResult cut_mesh(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const Plane& plane,
                    const CutOptions& options = {});
 
@@ -69,7 +78,15 @@ struct ModelCutResult {
 /// Cuts every mesh instance of `model` posed at `time` of `animation` (-1: rest pose). Each
 /// output piece becomes its own node and mesh bound to the original skin. Instances the plane
 /// misses are left as they are.
+/// @param posed  the model at that pose: prepared first (PosedModel::prepare, so it is rebuilt
+///               when made for another pose). The instances the cut rewrote or dropped leave it,
+///               and piece nodes are added, so the next `prepare` indexes what changed (it
+///               rebuilds when nodes were added); the other instances stay as they were.
 /// @throws Error{InvalidArgument} as cut_mesh, or for an animation index out of range.
+ModelCutResult cut_model(Model& model, PosedModel& posed, const Plane& plane, const CutOptions& options, int animation,
+                         float time);
+
+/// Convenience: cut_model with a posed model built for the call.
 ModelCutResult cut_model(Model& model, const Plane& plane, const CutOptions& options = {}, int animation = -1,
                          float time = 0.0f);
 

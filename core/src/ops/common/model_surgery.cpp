@@ -1,0 +1,184 @@
+// SPDX-License-Identifier: MIT
+#include "ops/common/model_surgery.h"
+
+#include <algorithm>
+#include <string>
+#include <utility>
+
+namespace deepcut::detail {
+
+SurfaceMesh extract(const SurfaceMesh& mesh, const std::vector<FaceId>& faces) {
+  // What a copy with every other face deleted, compacted, holds (faces and vertices in id
+  // order), gathered straight from `mesh`: the cost follows `faces`, not the mesh, so a drill's
+  // wall or a small piece comes out in time proportional to its own size.
+  std::vector<std::uint32_t> keep_faces;
+  keep_faces.reserve(faces.size());
+  for (FaceId f : faces)
+    if (!mesh.is_deleted(f)) keep_faces.push_back(f.index);
+  std::sort(keep_faces.begin(), keep_faces.end());
+  keep_faces.erase(std::unique(keep_faces.begin(), keep_faces.end()), keep_faces.end());
+  std::vector<std::uint32_t> keep_vertices, keep_corners;
+  keep_vertices.reserve(3 * keep_faces.size());
+  keep_corners.reserve(3 * keep_faces.size());
+  for (std::uint32_t f : keep_faces)
+    for (int k = 0; k < 3; ++k) {
+      keep_vertices.push_back(mesh.face(FaceId(f))[k].index);
+      keep_corners.push_back(3 * f + static_cast<std::uint32_t>(k));
+    }
+  std::sort(keep_vertices.begin(), keep_vertices.end());
+  keep_vertices.erase(std::unique(keep_vertices.begin(), keep_vertices.end()), keep_vertices.end());
+  auto new_index = [&](VertexId v) {
+    return VertexId(static_cast<std::uint32_t>(
+        std::lower_bound(keep_vertices.begin(), keep_vertices.end(), v.index) - keep_vertices.begin()));
+  };
+  std::vector<Triangle> tris;
+  tris.reserve(keep_faces.size());
+  for (std::uint32_t f : keep_faces) {
+    const Triangle& t = mesh.face(FaceId(f));
+    tris.push_back({new_index(t[0]), new_index(t[1]), new_index(t[2])});
+  }
+  SurfaceMesh out;
+  out.assign(std::move(tris), mesh.vertex_attrs().subset(keep_vertices), mesh.face_attrs().subset(keep_faces),
+             mesh.corner_attrs().subset(keep_corners));
+  return out;
+}
+
+int cut_surface_material(Model& model) {
+  for (std::size_t i = 0; i < model.materials.size(); ++i)
+    if (model.materials[i].name == "Cut surface") return static_cast<int>(i);
+  model.materials.push_back(
+      {"Cut surface",
+       R"({"name":"Cut surface","doubleSided":false,"pbrMetallicRoughness":)"
+       R"({"baseColorFactor":[0.8,0.18,0.16,1.0],"metallicFactor":0.0,"roughnessFactor":0.9}})"});
+  return static_cast<int>(model.materials.size() - 1);
+}
+
+std::string unique_node_name(const Model& model, const std::string& wanted) {
+  auto taken = [&](const std::string& name) {
+    return std::any_of(model.nodes.begin(), model.nodes.end(), [&](const Node& n) { return n.name == name; });
+  };
+  if (!taken(wanted)) return wanted;
+  for (int i = 2;; ++i)
+    if (!taken(wanted + "_" + std::to_string(i))) return wanted + "_" + std::to_string(i);
+}
+
+bool InstanceEdit::shared() const { return surgery_.users(mesh_) > 1; }
+
+const Mesh& InstanceEdit::source() const { return surgery_.model_.meshes[static_cast<std::size_t>(mesh_)]; }
+
+Mesh& InstanceEdit::edit() {
+  if (!shared()) return surgery_.model_.meshes[static_cast<std::size_t>(mesh_)];
+  if (!copied_) {
+    copy_ = source();
+    copied_ = true;
+  }
+  return copy_;
+}
+
+PosedMesh* InstanceEdit::posed(int primitive) { return surgery_.posed_.find(node_, primitive); }
+
+PosedModel& InstanceEdit::posed_model() { return surgery_.posed_; }
+
+Model& InstanceEdit::model() { return surgery_.model_; }
+
+void InstanceEdit::erase_primitive(int primitive) {
+  auto& prims = edit().primitives;
+  prims.erase(prims.begin() + primitive);
+  surgery_.posed_.erase_primitive(node_, primitive);
+}
+
+void InstanceEdit::add_primitive(Primitive primitive) {
+  auto& prims = edit().primitives;
+  added_primitives_.push_back(static_cast<int>(prims.size()));
+  prims.push_back(std::move(primitive));
+}
+
+void InstanceEdit::drop() { dropped_ = true; }
+
+void InstanceEdit::replace_mesh(Mesh mesh) {
+  Model& model = surgery_.model_;
+  auto& users = surgery_.users_;
+  int target = mesh_;
+  if (users[static_cast<std::size_t>(mesh_)] == 1) {
+    model.meshes[static_cast<std::size_t>(mesh_)] = std::move(mesh);
+  } else {
+    --users[static_cast<std::size_t>(mesh_)];
+    model.meshes.push_back(std::move(mesh));
+    users.push_back(1);
+    target = static_cast<int>(model.meshes.size() - 1);
+  }
+  model.nodes[static_cast<std::size_t>(node_)].mesh = target;
+  replaced_ = true;
+}
+
+int InstanceEdit::add_piece_node(Mesh mesh, const std::string& name) {
+  Model& model = surgery_.model_;
+  model.meshes.push_back(std::move(mesh));
+  surgery_.users_.push_back(1);
+  Node node = model.nodes[static_cast<std::size_t>(node_)];
+  node.children.clear();
+  node.camera = -1;
+  node.name = unique_node_name(model, name);
+  node.mesh = static_cast<int>(model.meshes.size() - 1);
+  const int index = static_cast<int>(model.nodes.size());
+  model.nodes.push_back(std::move(node));
+  const int parent = surgery_.parents_[static_cast<std::size_t>(node_)];
+  if (parent >= 0) {
+    model.nodes[static_cast<std::size_t>(parent)].children.push_back(index);
+  } else {
+    for (auto& roots : model.scenes)
+      if (std::find(roots.begin(), roots.end(), node_) != roots.end()) roots.push_back(index);
+  }
+  return index;
+}
+
+ModelSurgery::ModelSurgery(Model& model, PosedModel& posed)
+    : model_(model), posed_(posed), users_(model.meshes.size(), 0), parents_(model.parents()) {
+  for (const auto& n : model.nodes)
+    if (n.mesh >= 0 && static_cast<std::size_t>(n.mesh) < model.meshes.size())
+      ++users_[static_cast<std::size_t>(n.mesh)];
+}
+
+void ModelSurgery::for_each_instance(const std::function<bool(InstanceEdit&)>& fn) {
+  const std::size_t node_count = model_.nodes.size();
+  for (std::size_t ni = 0; ni < node_count; ++ni) {
+    const int mi = model_.nodes[ni].mesh;
+    if (mi < 0 || static_cast<std::size_t>(mi) >= model_.meshes.size()) continue;
+    InstanceEdit edit(*this, static_cast<int>(ni), mi);
+    const bool edited = fn(edit);
+    if (edit.dropped_) {
+      drop_instance(edit.node_);
+    } else if (edit.replaced_) {
+      posed_.erase_node(edit.node_);
+    } else if (edited) {
+      finish(edit);
+    }
+  }
+}
+
+void ModelSurgery::finish(InstanceEdit& edit) {
+  if (edit.copied_) {
+    --users_[static_cast<std::size_t>(edit.mesh_)];
+    model_.meshes.push_back(std::move(edit.copy_));
+    users_.push_back(1);
+    const int target = static_cast<int>(model_.meshes.size() - 1);
+    model_.nodes[static_cast<std::size_t>(edit.node_)].mesh = target;
+    posed_.rename_mesh(edit.node_, target);
+  }
+  for (int p : edit.added_primitives_) posed_.add(model_, edit.node_, p);
+}
+
+void ModelSurgery::drop_instance(int node) {
+  Node& n = model_.nodes[static_cast<std::size_t>(node)];
+  if (--users_[static_cast<std::size_t>(n.mesh)] == 0)
+    model_.meshes[static_cast<std::size_t>(n.mesh)].primitives.clear();
+  n.mesh = -1;
+  n.skin = -1;
+  posed_.erase_node(node);
+}
+
+void for_each_instance(Model& model, PosedModel& posed, const std::function<bool(InstanceEdit&)>& fn) {
+  ModelSurgery(model, posed).for_each_instance(fn);
+}
+
+}  // namespace deepcut::detail

@@ -1,0 +1,102 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// Model surgery: the one instance loop of the model-level operations (cut_model, tear_model,
+// drill_model) and the edits they make to the scene: copy-on-write of meshes several nodes draw,
+// primitives added and removed, piece nodes added, instances dropped, with the PosedModel kept in
+// step. Private to core. The data flow is described in docs/architecture.md.
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "deepcut/core/model.h"
+#include "deepcut/core/posed_model.h"
+
+namespace deepcut::detail {
+
+/// A copy of `mesh` holding only `faces` (unused vertices dropped, attributes following).
+SurfaceMesh extract(const SurfaceMesh& mesh, const std::vector<FaceId>& faces);
+
+/// Index of the model's "Cut surface" material (cut caps, drill walls), added on first use.
+int cut_surface_material(Model& model);
+
+/// A node name not used yet: `wanted`, or `wanted_2`, `wanted_3`, ...
+std::string unique_node_name(const Model& model, const std::string& wanted);
+
+class ModelSurgery;
+
+/// One node drawing a mesh, as the instance loop hands it to the operation.
+class InstanceEdit {
+ public:
+  int node() const { return node_; }
+  /// The mesh the node drew when the loop reached it.
+  int mesh() const { return mesh_; }
+  /// True when other nodes draw that mesh too.
+  bool shared() const;
+  /// That mesh, to read.
+  const Mesh& source() const;
+  /// The node's mesh, to edit in place: the model's own when no other node draws it, else a copy
+  /// (made on the first call) that becomes this node's own mesh when the callback returns true.
+  Mesh& edit();
+  /// Instance (node, primitive) of the posed model, or nullptr.
+  PosedMesh* posed(int primitive);
+  PosedModel& posed_model();
+  Model& model();
+
+  /// Removes primitive `primitive` of edit(); the posed model follows.
+  void erase_primitive(int primitive);
+  /// Appends `primitive` to edit(); the posed model indexes it once the callback returns.
+  void add_primitive(Primitive primitive);
+  /// The node draws nothing any more (its mesh is emptied when no other node draws it); the
+  /// callback's edits to edit() are dropped.
+  void drop();
+  /// The node draws `mesh` instead (in place of its old mesh when no other node draws that). Its
+  /// posed instances are dropped: the next PosedModel::prepare indexes the new mesh.
+  void replace_mesh(Mesh mesh);
+  /// A new node beside this one (same parent, transform and skin; no children, no camera) named
+  /// unique_node_name(`name`), drawing `mesh` (appended to the model). Returns its index. Adding
+  /// nodes makes the next PosedModel::prepare rebuild.
+  int add_piece_node(Mesh mesh, const std::string& name);
+
+ private:
+  friend class ModelSurgery;
+  InstanceEdit(ModelSurgery& surgery, int node, int mesh) : surgery_(surgery), node_(node), mesh_(mesh) {}
+  ModelSurgery& surgery_;
+  int node_, mesh_;
+  bool copied_ = false, dropped_ = false, replaced_ = false;
+  Mesh copy_;
+  std::vector<int> added_primitives_;
+};
+
+/// The instance loop over a model and its posed model.
+class ModelSurgery {
+ public:
+  /// @pre `posed` was prepared for `model` at the operation's pose (PosedModel::prepare).
+  ModelSurgery(Model& model, PosedModel& posed);
+
+  /// Calls `fn` for every node drawing a mesh, in node order (nodes it adds are not visited).
+  /// `fn` returns true when it edited the instance through edit(): a shared mesh's copy then
+  /// becomes the node's own mesh (the posed model renamed), and primitives it added are indexed.
+  void for_each_instance(const std::function<bool(InstanceEdit&)>& fn);
+
+  /// Node `node` draws nothing any more (as InstanceEdit::drop, outside the loop).
+  void drop_instance(int node);
+  /// Number of nodes drawing mesh `mesh` now.
+  int users(int mesh) const { return users_[static_cast<std::size_t>(mesh)]; }
+
+  Model& model() { return model_; }
+  PosedModel& posed() { return posed_; }
+
+ private:
+  friend class InstanceEdit;
+  void finish(InstanceEdit& edit);
+  Model& model_;
+  PosedModel& posed_;
+  std::vector<int> users_;    // nodes drawing each mesh
+  std::vector<int> parents_;  // of the nodes as the surgery began
+};
+
+/// ModelSurgery(model, posed).for_each_instance(fn).
+void for_each_instance(Model& model, PosedModel& posed, const std::function<bool(InstanceEdit&)>& fn);
+
+}  // namespace deepcut::detail

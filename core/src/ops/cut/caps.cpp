@@ -1,0 +1,216 @@
+// SPDX-License-Identifier: MIT
+#include "ops/cut/caps.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "ops/common/crossing_table.h"
+#include "geometry/polygon_triangulation.h"
+
+namespace deepcut::detail {
+namespace {
+
+bool flat(const std::vector<std::int8_t>& sign, const Triangle& t) {
+  return sign[t[0].index] == 0 && sign[t[1].index] == 0 && sign[t[2].index] == 0;
+}
+
+// Closed rim loops as indices into `verts` (each rim vertex once).
+struct RimLoops {
+  std::vector<std::vector<std::uint32_t>> loops;
+  std::vector<VertexId> verts;
+};
+
+// Follows the rim halfedges backwards (the cap runs along the piece's rim edges in the opposite
+// direction) into closed loops; returns false if some rim chain is open.
+bool trace_loops(const std::vector<std::pair<VertexId, VertexId>>& halfedges, RimLoops& out) {
+  out.loops.clear();
+  out.verts.clear();
+  std::unordered_map<std::uint32_t, std::uint32_t> local;
+  auto local_index = [&](VertexId v) {
+    auto [it, inserted] = local.emplace(v.index, static_cast<std::uint32_t>(out.verts.size()));
+    if (inserted) out.verts.push_back(v);
+    return it->second;
+  };
+  bool all_closed = true;
+  std::unordered_map<std::uint32_t, std::vector<VertexId>> next;
+  std::unordered_set<std::uint64_t> unused;
+  for (const auto& [a, b] : halfedges) {
+    next[b.index].push_back(a);
+    unused.insert(directed_key(b, a));
+  }
+  std::vector<std::uint32_t> starts;
+  for (const auto& [v, list] : next) starts.push_back(v);
+  std::sort(starts.begin(), starts.end());
+  for (std::uint32_t s : starts) {
+    for (VertexId first_next : next[s]) {
+      if (!unused.count(directed_key(VertexId(s), first_next))) continue;
+      std::vector<VertexId> loop = {VertexId(s)};
+      VertexId cur = VertexId(s), nxt = first_next;
+      bool closed = false;
+      while (true) {
+        unused.erase(directed_key(cur, nxt));
+        if (nxt == VertexId(s)) {
+          closed = true;
+          break;
+        }
+        loop.push_back(nxt);
+        cur = nxt;
+        VertexId pick;
+        for (VertexId cand : next[cur.index])
+          if (unused.count(directed_key(cur, cand))) {
+            pick = cand;
+            break;
+          }
+        if (!pick.valid()) break;  // an open rim chain (open input): not capped
+        nxt = pick;
+      }
+      all_closed = all_closed && closed;
+      if (closed && loop.size() >= 3) {
+        std::vector<std::uint32_t> l;
+        for (VertexId v : loop) l.push_back(local_index(v));
+        out.loops.push_back(std::move(l));
+      }
+    }
+  }
+  return all_closed;
+}
+
+// Faces of the piece lying in the plane (every corner on it) are where the cap goes: capping
+// round them would put a second layer on top of them (a duplicate face, or cap triangles sharing
+// their edges: non-manifold edges). When the rim closes without them they are removed and the
+// cap takes their place; otherwise (open input) they stay and the rim is capped as it is, and
+// they are returned: the cap must not repeat them.
+std::vector<Triangle> choose_loops(MeshEditor& editor, const CapInput& in, std::vector<FaceId>& piece,
+                                   RimLoops& rim) {
+  const SurfaceMesh& mesh = editor.mesh();
+  std::vector<FaceId> flat_faces;
+  for (FaceId f : in.rim_faces)
+    if (flat(*in.sign, mesh.face(f))) flat_faces.push_back(f);
+  std::sort(flat_faces.begin(), flat_faces.end());
+  std::vector<Triangle> kept_flat;
+  if (flat_faces.empty() || !trace_loops(rim_halfedges(mesh, in, flat_faces), rim)) {
+    for (FaceId f : flat_faces) kept_flat.push_back(mesh.face(f));
+    flat_faces.clear();
+    trace_loops(rim_halfedges(mesh, in), rim);
+    // A rim loop that runs along a kept flat face (two of its corners on the loop) would be
+    // capped over or beside that face, and cap triangles would share its edges (non-manifold
+    // edges on open pieces). The surface there is partly in the plane already, and a cap of the
+    // other loops could cover it as a hole, so the piece gets no cap rather than a doubled one.
+    if (!kept_flat.empty()) {
+      std::unordered_set<std::uint32_t> on_loop;
+      for (const auto& loop : rim.loops)
+        for (std::uint32_t i : loop) on_loop.insert(rim.verts[i].index);
+      const bool runs_along = std::any_of(kept_flat.begin(), kept_flat.end(), [&](const Triangle& t) {
+        return on_loop.count(t[0].index) + on_loop.count(t[1].index) + on_loop.count(t[2].index) >= 2;
+      });
+      if (runs_along) rim.loops.clear();
+    }
+  }
+  if (!flat_faces.empty() && !rim.loops.empty()) {
+    for (FaceId f : flat_faces) editor.remove_face(f);
+    piece.erase(
+        std::remove_if(piece.begin(), piece.end(),
+                       [&](FaceId f) { return std::binary_search(flat_faces.begin(), flat_faces.end(), f); }),
+        piece.end());
+  }
+  return kept_flat;
+}
+
+// Triangulates the loops in the plane's 2D frame and adds the cap faces with their attributes.
+void add_cap_faces(MeshEditor& editor, const CapInput& in, const RimLoops& rim,
+                   const std::vector<Triangle>& kept_flat, std::vector<FaceId>& piece) {
+  auto repeats_flat = [&](Triangle t) {
+    std::sort(t.begin(), t.end());
+    return std::any_of(kept_flat.begin(), kept_flat.end(), [&](Triangle g) {
+      std::sort(g.begin(), g.end());
+      return g == t;
+    });
+  };
+  const auto& loops = rim.loops;
+  const auto& verts = rim.verts;
+  // 2D frame in the plane.
+  const glm::dvec3 n = in.normal;
+  const glm::dvec3 u = glm::normalize(std::abs(n.x) < 0.9 ? glm::cross(n, glm::dvec3(1, 0, 0))
+                                                          : glm::cross(n, glm::dvec3(0, 1, 0)));
+  const glm::dvec3 w = glm::cross(n, u);
+  std::vector<glm::dvec2> pts(verts.size());
+  for (std::size_t i = 0; i < verts.size(); ++i) {
+    const glm::dvec3 p = glm::dvec3((*in.posed)(verts[i])) - in.point;
+    pts[i] = {glm::dot(p, u), glm::dot(p, w)};
+  }
+  // The largest loop is an outer one; its orientation is the cap's.
+  std::size_t largest = 0;
+  for (std::size_t i = 1; i < loops.size(); ++i)
+    if (std::abs(geometry::signed_area2(pts, loops[i])) > std::abs(geometry::signed_area2(pts, loops[largest]))) largest = i;
+  const int outer_sign = geometry::signed_area2(pts, loops[largest]) >= 0 ? 1 : -1;
+  const auto tris = geometry::triangulate_loops(pts, loops, outer_sign);
+
+  SurfaceMesh& mesh = editor.mesh();
+  auto& ca = mesh.corner_attrs();
+  auto* cap_flag = mesh.face_attrs().find<std::uint8_t>(attr::kCutSurface);
+  if (!cap_flag) cap_flag = &mesh.face_attrs().add<std::uint8_t>(attr::kCutSurface);
+  auto* uv = ca.find<glm::vec2>(attr::kUv0);
+  auto* normals = ca.find<glm::vec3>(attr::kNormal);
+  auto* tangents = ca.find<glm::vec4>(attr::kTangent);
+  auto* colors = ca.find<glm::vec4>(attr::kColor0);
+  double extent = 0.0;
+  for (const auto& p : pts) extent = std::max({extent, std::abs(p.x), std::abs(p.y)});
+  if (extent <= 0.0) extent = 1.0;
+  const auto& bind = mesh.positions();
+  for (const auto& tri : tris) {
+    const Triangle t = {verts[tri[0]], verts[tri[1]], verts[tri[2]]};
+    if (repeats_flat(t)) continue;  // that surface is there already
+    const FaceId f = editor.add_face(t);
+    piece.push_back(f);
+    (*cap_flag)[f.index] = 1;
+    glm::vec3 fn = glm::cross(bind[t[1].index] - bind[t[0].index], bind[t[2].index] - bind[t[0].index]);
+    const float len = glm::length(fn);
+    fn = len > 0.0f ? fn / len : glm::vec3(float(outer_sign) * glm::vec3(n));
+    for (int k = 0; k < 3; ++k) {
+      const auto c = SurfaceMesh::corner(f, k);
+      const glm::dvec2 p = pts[tri[k]];
+      if (uv) (*uv)[c] = glm::vec2(0.5 + 0.5 * p.x / extent, 0.5 + 0.5 * p.y / extent);
+      if (normals) (*normals)[c] = fn;
+      if (tangents) (*tangents)[c] = glm::vec4(glm::vec3(u), 1.0f);
+      if (colors) (*colors)[c] = glm::vec4(1.0f);
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<std::pair<VertexId, VertexId>> rim_halfedges(const SurfaceMesh& mesh, const CapInput& in,
+                                                         const std::vector<FaceId>& skip) {
+  // An edge with both ends on the plane belongs only to faces with two corners on it, so
+  // counting within the rim faces is exact.
+  const auto& sign = *in.sign;
+  auto skipped = [&](FaceId f) { return std::binary_search(skip.begin(), skip.end(), f); };
+  std::unordered_map<std::uint64_t, int> count;
+  for (FaceId f : in.rim_faces) {
+    if (skipped(f)) continue;
+    const auto& t = mesh.face(f);
+    for (int k = 0; k < 3; ++k)
+      if (sign[t[k].index] == 0 && sign[t[(k + 1) % 3].index] == 0) ++count[edge_key(t[k], t[(k + 1) % 3])];
+  }
+  std::vector<std::pair<VertexId, VertexId>> out;
+  for (FaceId f : in.rim_faces) {
+    if (skipped(f)) continue;
+    const auto& t = mesh.face(f);
+    for (int k = 0; k < 3; ++k) {
+      const VertexId a = t[k], b = t[(k + 1) % 3];
+      if (sign[a.index] == 0 && sign[b.index] == 0 && count[edge_key(a, b)] == 1) out.emplace_back(a, b);
+    }
+  }
+  return out;
+}
+
+void cap_piece(MeshEditor& editor, const CapInput& in, std::vector<FaceId>& piece) {
+  RimLoops rim;
+  const std::vector<Triangle> kept_flat = choose_loops(editor, in, piece, rim);
+  if (rim.loops.empty()) return;
+  add_cap_faces(editor, in, rim, kept_flat, piece);
+}
+
+}  // namespace deepcut::detail

@@ -1,0 +1,35 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// The cut's caps: the rim of each piece (its on-plane edges used by one of its faces) traced into
+// loops and closed with triangles in the plane. Private to the cut (ops/cut/cut.cpp).
+
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "deepcut/core/mesh_editor.h"
+#include "ops/common/posed_overlay.h"
+
+namespace deepcut::detail {
+
+/// What the cap of one piece is made from.
+struct CapInput {
+  glm::dvec3 normal{0.0}, point{0.0};  // the plane (unit normal)
+  const PosedOverlay<glm::vec3>* posed = nullptr;
+  /// Snapped side of every vertex (0: on the plane).
+  const std::vector<std::int8_t>* sign = nullptr;
+  /// The piece's faces with two or more corners on the plane (the only ones with rim edges).
+  std::vector<FaceId> rim_faces;
+};
+
+/// On-plane edges used by exactly one of `in.rim_faces`, as that face's halfedges (a -> b), in
+/// face order; faces in `skip` (sorted) count as absent.
+std::vector<std::pair<VertexId, VertexId>> rim_halfedges(const SurfaceMesh& mesh, const CapInput& in,
+                                                         const std::vector<FaceId>& skip = {});
+
+/// Caps the piece whose faces are `piece`: traces its rim into loops and adds cap faces (flagged
+/// attr::kCutSurface, corner attributes set) to `piece`. Faces of the piece lying in the plane
+/// are replaced by the cap when the rim closes without them; open rims are not capped.
+void cap_piece(MeshEditor& editor, const CapInput& in, std::vector<FaceId>& piece);
+
+}  // namespace deepcut::detail

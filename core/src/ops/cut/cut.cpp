@@ -1,0 +1,706 @@
+// SPDX-License-Identifier: MIT
+// The cut (ops/cut.h). Cutter::run states the stages:
+//   1. classify_vertices: signed distance to the plane and snapped side of every vertex, at its
+//      posed position;
+//   2. split_crossed_faces: each crossed edge split once (ops/common/crossing_table.h, with the
+//      needle merges), each crossed face made again from up to three triangles;
+//   3. separate_or_drop_side: rim vertices both sides use get a copy for the positive side, or
+//      the dropped side's faces go;
+//   4. pinch repair (ops/common/pinches.h), then the pieces: live faces by side (and component);
+//   5. cap_pieces: each piece's rim, and with caps its cap (caps.cpp).
+// cut_model runs cut_mesh on every instance through the instance loop of
+// ops/common/model_surgery.h and turns the pieces into meshes and nodes.
+#include "deepcut/core/ops/cut.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <memory>
+#include <numeric>
+#include <string>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "deepcut/core/mesh_editor.h"
+#include "deepcut/core/parallel.h"
+#include "deepcut/core/posed_model.h"
+#include "deepcut/core/skinning.h"
+#include "ops/common/crossing_table.h"
+#include "ops/common/model_surgery.h"
+#include "ops/common/pinches.h"
+#include "ops/common/posed_overlay.h"
+#include "ops/cut/caps.h"
+
+namespace deepcut {
+namespace {
+
+// Smallest parallel chunk: below it, waking another thread costs more than it saves. Every
+// parallel pass of the cut is exact (min / max, flags, disjoint writes, lists joined in order),
+// so the chunks may follow the thread count.
+constexpr std::size_t kMinGrain = 4096;
+
+using detail::edge_key;
+
+class Cutter {
+ public:
+  Cutter(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const Plane& plane, const CutOptions& options)
+      : mesh_(mesh), editor_(mesh), posed_(posed), options_(options) {
+    normal_ = glm::dvec3(plane.normal);
+    point_ = glm::dvec3(plane.point);
+  }
+
+  CutResult run();
+  /// Posed positions of the vertices the cut added, by id from the input's vertex count.
+  const std::vector<glm::vec3>& added_posed() const { return posed_.added(); }
+
+ private:
+  struct Split {
+    VertexId lo, hi, v;
+    float t = 0.0f;  // parameter from lo to hi
+  };
+  struct Corner {
+    VertexId v;
+    glm::vec3 bary;
+  };
+
+  const Split& split_edge(VertexId a, VertexId b);
+  Corner split_corner(const Triangle& t, int ka, int kb);
+  void split_crossings(FaceId f);
+  void split_face(FaceId f);
+  void separate_sides();
+  std::vector<std::pair<VertexId, VertexId>> split_pinches(CutResult* result = nullptr);
+  void collect_pieces(CutResult& result);
+  std::vector<detail::CapInput> rim_of_pieces(const CutResult& result) const;
+  int face_side(const Triangle& t) const;
+  // Stages of run().
+  void check_arguments() const;
+  bool classify_vertices();
+  void split_crossed_faces();
+  void separate_or_drop_side();
+  void cap_pieces(CutResult& result, std::unordered_set<std::uint32_t>& rim);
+
+  SurfaceMesh& mesh_;
+  MeshEditor editor_;
+  // Posed positions: the caller's for existing vertices, ours for the ones the cut adds.
+  detail::PosedOverlay<glm::vec3> posed_;
+  CutOptions options_;
+  glm::dvec3 normal_, point_;
+  // Signed distance to the plane (computed in float from the posed positions, so stored as
+  // float) and its snapped sign, per vertex.
+  std::vector<float> dist_;
+  std::vector<std::int8_t> sign_;
+  detail::CrossingTable<Split> splits_;
+  detail::NeedleMerges merges_;
+  // Faces that may touch the plane: untouched ones with a corner on it, and every new face.
+  std::vector<FaceId> rim_candidates_;
+  std::size_t intersections_ = 0;
+};
+
+int Cutter::face_side(const Triangle& t) const {
+  for (auto v : t)
+    if (sign_[v.index] != 0) return sign_[v.index];
+  return 1;  // a face lying in the plane goes to the positive side
+}
+
+const Cutter::Split& Cutter::split_edge(VertexId a, VertexId b) {
+  const auto [s, made] = splits_.try_emplace(a, b);
+  if (!made) return *s;
+  const VertexId lo = a < b ? a : b, hi = a < b ? b : a;
+  const double dl = dist_[lo.index], dh = dist_[hi.index];
+  const float t = static_cast<float>(dl / (dl - dh));
+  const VertexId v = editor_.add_vertex_on_edge(lo, hi, t);
+  posed_.add(glm::mix(posed_(lo), posed_(hi), t));
+  dist_.push_back(0.0f);
+  sign_.push_back(0);
+  *s = Split{lo, hi, v, t};
+  ++intersections_;
+  return *s;
+}
+
+Cutter::Corner Cutter::split_corner(const Triangle& t, int ka, int kb) {
+  const Split& s = split_edge(t[ka], t[kb]);
+  const VertexId v = merges_.merged(s.v);
+  glm::vec3 bary(0.0f);
+  const float wa = t[ka] == s.lo ? 1.0f - s.t : s.t;
+  bary[ka] = wa;
+  bary[kb] = 1.0f - wa;
+  return {v, bary};
+}
+
+// Adds the crossings of a face the plane crosses, in the order split_face uses them. A face whose
+// lone corner has two long edges to corners a hair apart (a needle: the lips of a narrow tear, a
+// sliver) has its two crossings rounded to one bind position: they become one vertex, and the
+// needle's tip beyond the plane (a zero-area triangle) is not made.
+void Cutter::split_crossings(FaceId f) {
+  const Triangle& t = mesh_.face(f);
+  const std::int8_t s[3] = {sign_[t[0].index], sign_[t[1].index], sign_[t[2].index]};
+  const bool pos = s[0] > 0 || s[1] > 0 || s[2] > 0, neg = s[0] < 0 || s[1] < 0 || s[2] < 0;
+  if (!pos || !neg) return;
+  for (int k = 0; k < 3; ++k)
+    if (s[k] == 0) {
+      split_edge(t[(k + 1) % 3], t[(k + 2) % 3]);
+      return;
+    }
+  int lone = 0;
+  for (int k = 0; k < 3; ++k)
+    if (s[k] != s[(k + 1) % 3] && s[k] != s[(k + 2) % 3]) lone = k;
+  const Triangle copy = t;  // split_edge adds vertices, not faces, but keep no reference across it
+  const VertexId a = split_edge(copy[lone], copy[(lone + 1) % 3]).v;
+  const VertexId b = split_edge(copy[lone], copy[(lone + 2) % 3]).v;
+  merges_.merge_if_coincident(mesh_, a, b);
+}
+
+void Cutter::split_face(FaceId f) {
+  const Triangle t = mesh_.face(f);
+  const std::int8_t s[3] = {sign_[t[0].index], sign_[t[1].index], sign_[t[2].index]};
+  const bool pos = s[0] > 0 || s[1] > 0 || s[2] > 0, neg = s[0] < 0 || s[1] < 0 || s[2] < 0;
+  if (!pos || !neg) return;
+  auto corner = [&](int k) {
+    glm::vec3 b(0.0f);
+    b[k] = 1.0f;
+    return Corner{t[k], b};
+  };
+  auto emit = [&](const Corner& a, const Corner& b, const Corner& c) {
+    if (a.v == b.v || b.v == c.v || a.v == c.v) return;  // the tip of a needle whose crossings merged
+    editor_.add_face_from({a.v, b.v, c.v}, f, {a.bary, b.bary, c.bary});
+  };
+  editor_.remove_face(f);
+  int zero = -1;
+  for (int k = 0; k < 3; ++k)
+    if (s[k] == 0) zero = k;
+  if (zero >= 0) {  // the plane runs through one corner and the opposite edge
+    const int k1 = (zero + 1) % 3, k2 = (zero + 2) % 3;
+    const Corner m = split_corner(t, k1, k2);
+    emit(corner(zero), corner(k1), m);
+    emit(corner(zero), m, corner(k2));
+    return;
+  }
+  int lone = 0;  // the corner alone on its side
+  for (int k = 0; k < 3; ++k)
+    if (s[k] != s[(k + 1) % 3] && s[k] != s[(k + 2) % 3]) lone = k;
+  const int k1 = (lone + 1) % 3, k2 = (lone + 2) % 3;
+  const Corner m1 = split_corner(t, lone, k1), m2 = split_corner(t, lone, k2);
+  emit(corner(lone), m1, m2);
+  // The quad (m1, k1, k2, m2): split along its shorter diagonal.
+  const float d1 = glm::length(posed_(m1.v) - posed_(t[k2]));
+  const float d2 = glm::length(posed_(t[k1]) - posed_(m2.v));
+  if (d1 <= d2) {
+    emit(m1, corner(k1), corner(k2));
+    emit(m1, corner(k2), m2);
+  } else {
+    emit(m1, corner(k1), m2);
+    emit(corner(k1), corner(k2), m2);
+  }
+}
+
+// Rim vertices used by both sides get a copy for the positive side, so the sides come apart.
+void Cutter::separate_sides() {
+  std::unordered_map<std::uint32_t, std::uint8_t> touches;  // bit 1: positive face, bit 2: negative
+  std::vector<FaceId> rim_faces;
+  for (FaceId f : rim_candidates_) {
+    if (mesh_.is_deleted(f)) continue;
+    const Triangle& t = mesh_.face(f);
+    rim_faces.push_back(f);
+    const std::uint8_t bit = face_side(t) > 0 ? 1 : 2;
+    for (auto v : t)
+      if (sign_[v.index] == 0) touches[v.index] |= bit;
+  }
+  std::unordered_map<std::uint32_t, VertexId> copy;
+  std::vector<std::uint32_t> shared;
+  for (const auto& [v, bits] : touches)
+    if (bits == 3) shared.push_back(v);
+  std::sort(shared.begin(), shared.end());  // deterministic vertex numbering
+  for (std::uint32_t v : shared) {
+    const VertexId c = editor_.split_vertex(VertexId(v));
+    posed_.add(posed_(VertexId(v)));
+    dist_.push_back(dist_[v]);
+    sign_.push_back(0);
+    copy.emplace(v, c);
+  }
+  if (copy.empty()) return;
+  const glm::vec3 e[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  for (FaceId f : rim_faces) {
+    const Triangle t = mesh_.face(f);
+    if (face_side(t) < 0) continue;
+    Triangle moved = t;
+    bool changed = false;
+    for (auto& v : moved) {
+      auto it = copy.find(v.index);
+      if (it != copy.end()) {
+        v = it->second;
+        changed = true;
+      }
+    }
+    if (!changed) continue;
+    editor_.remove_face(f);
+    editor_.add_face_from(moved, f, {e[0], e[1], e[2]});
+  }
+}
+
+// A rim through a vertex on the plane (a saddle, or a fold touching the plane within the
+// tolerance) can leave that vertex joining two fans of one side's faces that meet only there, and
+// a cap over a rim that touches itself can too: each fan gets its own vertex. Every face using an
+// on-plane vertex is a rim candidate or a cap face. With `result`, its pieces follow the faces
+// moved onto copies.
+std::vector<std::pair<VertexId, VertexId>> Cutter::split_pinches(CutResult* result) {
+  std::vector<VertexId> on_plane;
+  for (FaceId f : rim_candidates_) {
+    if (mesh_.is_deleted(f)) continue;
+    for (const VertexId v : mesh_.face(f))
+      if (sign_[v.index] == 0) on_plane.push_back(v);
+  }
+  const std::size_t before = mesh_.face_slots();
+  const auto splits = detail::split_pinched_vertices(editor_, on_plane, rim_candidates_);
+  for (const auto& [v, c] : splits.copies) {
+    (void)c;
+    posed_.add(posed_(v));
+    dist_.push_back(dist_[v.index]);
+    sign_.push_back(0);
+  }
+  for (auto i = static_cast<std::uint32_t>(before); i < mesh_.face_slots(); ++i) rim_candidates_.push_back(FaceId(i));
+  if (!result || splits.replaced.empty()) return splits.copies;
+  std::unordered_map<std::uint32_t, FaceId> moved;
+  for (const auto& [f, g] : splits.replaced) moved.emplace(f.index, g);
+  for (auto& piece : result->pieces) {
+    for (FaceId& f : piece) {
+      const auto it = moved.find(f.index);
+      if (it != moved.end()) f = it->second;
+    }
+    std::sort(piece.begin(), piece.end());
+  }
+  return splits.copies;
+}
+
+// The rim faces of each piece (faces with two or more corners on the plane: the only ones that
+// can have rim edges), in face order, as the caps take them.
+std::vector<detail::CapInput> Cutter::rim_of_pieces(const CutResult& result) const {
+  std::vector<detail::CapInput> rims(result.pieces.size());
+  for (detail::CapInput& rim : rims) {
+    rim.normal = normal_;
+    rim.point = point_;
+    rim.posed = &posed_;
+    rim.sign = &sign_;
+  }
+  // Piece of each face: by face slot when components were split, else by side.
+  std::vector<std::uint32_t> piece_of_face;
+  std::uint32_t piece_of_side[2] = {kInvalidIndex, kInvalidIndex};
+  if (options_.split_components) {
+    piece_of_face.assign(mesh_.face_slots(), kInvalidIndex);
+    for (std::size_t p = 0; p < result.pieces.size(); ++p)
+      for (FaceId f : result.pieces[p]) piece_of_face[f.index] = static_cast<std::uint32_t>(p);
+  } else {
+    for (std::size_t p = 0; p < result.pieces.size(); ++p)
+      piece_of_side[result.piece_sides[p] > 0 ? 0 : 1] = static_cast<std::uint32_t>(p);
+  }
+  for (FaceId f : rim_candidates_) {
+    if (mesh_.is_deleted(f)) continue;
+    const Triangle& t = mesh_.face(f);
+    const int zeros = (sign_[t[0].index] == 0) + (sign_[t[1].index] == 0) + (sign_[t[2].index] == 0);
+    if (zeros < 2) continue;
+    const std::uint32_t p = options_.split_components ? piece_of_face[f.index] : piece_of_side[face_side(t) > 0 ? 0 : 1];
+    if (p != kInvalidIndex) rims[p].rim_faces.push_back(f);
+  }
+  return rims;
+}
+
+void Cutter::collect_pieces(CutResult& result) {
+  // Live faces by side, in id order: chunks listed in parallel, joined in chunk order.
+  struct Lists {
+    std::vector<FaceId> side[2];  // positive, negative
+  };
+  const std::size_t slots = mesh_.face_slots();
+  const std::size_t grain = grain_per_thread(slots, kMinGrain);
+  std::vector<Lists> parts((slots + grain - 1) / grain);
+  parallel_for(slots, grain, [&](std::size_t b, std::size_t e) {
+    Lists& out = parts[b / grain];
+    std::size_t n[2] = {0, 0};
+    for (auto i = static_cast<std::uint32_t>(b); i < e; ++i)
+      if (!mesh_.is_deleted(FaceId(i))) ++n[face_side(mesh_.face(FaceId(i))) > 0 ? 0 : 1];
+    out.side[0].reserve(n[0]);
+    out.side[1].reserve(n[1]);
+    for (auto i = static_cast<std::uint32_t>(b); i < e; ++i) {
+      const FaceId f(i);
+      if (!mesh_.is_deleted(f)) out.side[face_side(mesh_.face(f)) > 0 ? 0 : 1].push_back(f);
+    }
+  });
+  std::vector<FaceId> side_faces[2];
+  for (int s = 0; s < 2; ++s) {
+    if (parts.size() == 1) {
+      side_faces[s] = std::move(parts[0].side[s]);
+      continue;
+    }
+    std::size_t n = 0;
+    for (const Lists& l : parts) n += l.side[s].size();
+    side_faces[s].reserve(n);
+    for (const Lists& l : parts) side_faces[s].insert(side_faces[s].end(), l.side[s].begin(), l.side[s].end());
+  }
+  parts.clear();
+  for (int s = 0; s < 2; ++s) {
+    if (side_faces[s].empty()) continue;
+    const int side = s == 0 ? 1 : -1;
+    if (!options_.split_components) {
+      result.pieces.push_back(std::move(side_faces[s]));
+      result.piece_sides.push_back(side);
+      continue;
+    }
+    std::vector<std::uint32_t> parent(mesh_.vertex_count());
+    std::iota(parent.begin(), parent.end(), 0u);
+    auto root = [&](std::uint32_t x) {
+      while (parent[x] != x) x = parent[x] = parent[parent[x]];
+      return x;
+    };
+    for (FaceId f : side_faces[s]) {
+      const auto& t = mesh_.face(f);
+      for (int k = 1; k < 3; ++k) {
+        const auto a = root(t[0].index), b = root(t[k].index);
+        if (a != b) parent[std::max(a, b)] = std::min(a, b);
+      }
+    }
+    std::unordered_map<std::uint32_t, std::size_t> piece_of;
+    for (FaceId f : side_faces[s]) {
+      const auto r = root(mesh_.face(f)[0].index);
+      auto [it, inserted] = piece_of.emplace(r, result.pieces.size());
+      if (inserted) {
+        result.pieces.emplace_back();
+        result.piece_sides.push_back(side);
+      }
+      result.pieces[it->second].push_back(f);
+    }
+  }
+}
+
+void Cutter::check_arguments() const {
+  const std::size_t nv = mesh_.vertex_count();
+  if (posed_.input().size() != nv)
+    throw Error(ErrorCode::InvalidArgument, "cut: " + std::to_string(posed_.input().size()) + " posed positions for " +
+                                                std::to_string(nv) + " vertices");
+  const double nlen = glm::length(normal_);
+  if (!std::isfinite(nlen) || nlen == 0.0) throw Error(ErrorCode::InvalidArgument, "cut: the plane normal is zero or not finite");
+  if (!std::isfinite(point_.x) || !std::isfinite(point_.y) || !std::isfinite(point_.z))
+    throw Error(ErrorCode::InvalidArgument, "cut: the plane point is not finite");
+}
+
+// Classifies every vertex once: distances and the model size in one pass over the vertices
+// (vertices no face uses count for neither), in parallel chunks. False when every vertex lies
+// on one side.
+bool Cutter::classify_vertices() {
+  const std::size_t nv = mesh_.vertex_count();
+  // Vertices a face slot uses (threads may mark one vertex together: relaxed atomic bytes).
+  std::unique_ptr<std::atomic<std::uint8_t>[]> used_flags(new std::atomic<std::uint8_t>[nv]());
+  const auto& all_faces = mesh_.faces();
+  parallel_for(all_faces.size(), grain_per_thread(all_faces.size(), kMinGrain), [&](std::size_t b, std::size_t e) {
+    for (std::size_t f = b; f < e; ++f)
+      for (VertexId v : all_faces[f]) used_flags[v.index].store(1, std::memory_order_relaxed);
+  });
+  auto used = [&](std::size_t v) { return used_flags[v].load(std::memory_order_relaxed) != 0; };
+  const glm::vec3 point(point_), normal(normal_);
+  dist_.resize(nv);
+  sign_.resize(nv);
+  const std::size_t vgrain = grain_per_thread(nv, kMinGrain);
+  const BoundingBox box = parallel_reduce(
+      nv, vgrain, BoundingBox(),
+      [&](std::size_t b, std::size_t e) {
+        BoundingBox part;
+        for (std::size_t v = b; v < e; ++v) {
+          if (!used(v)) {
+            dist_[v] = 0.0f;
+            continue;
+          }
+          const glm::vec3& p = posed_.input()[v];
+          part.add(p);
+          dist_[v] = glm::dot(p - point, normal);
+        }
+        return part;
+      },
+      [](BoundingBox acc, const BoundingBox& part) {
+        acc.add(part);
+        return acc;
+      });
+  const double tol = double(options_.relative_tolerance) * double(box.diagonal());
+  const int sides = parallel_reduce(
+      nv, vgrain, 0,
+      [&](std::size_t b, std::size_t e) {
+        int bits = 0;
+        for (std::size_t v = b; v < e; ++v) {
+          const double d = dist_[v];
+          const std::int8_t sg = !used(v) ? 0 : (d > tol ? 1 : (d < -tol ? -1 : 0));
+          sign_[v] = sg;
+          bits |= sg > 0 ? 1 : (sg < 0 ? 2 : 0);
+        }
+        return bits;
+      },
+      [](int acc, int bits) { return acc | bits; });
+  return sides == 3;
+}
+
+void Cutter::split_crossed_faces() {
+  // Faces the plane crosses (split below) and untouched faces with a corner on the plane (rim
+  // candidates), found in parallel chunks and handled in id order.
+  const auto first_new_face = static_cast<std::uint32_t>(mesh_.face_slots());
+  struct Found {
+    std::vector<FaceId> crossed, touching;
+  };
+  const std::size_t fgrain = grain_per_thread(first_new_face, kMinGrain);
+  std::vector<Found> found((first_new_face + fgrain - 1) / fgrain);
+  parallel_for(first_new_face, fgrain, [&](std::size_t b, std::size_t e) {
+    Found& out = found[b / fgrain];
+    for (auto i = static_cast<std::uint32_t>(b); i < e; ++i) {
+      const FaceId f(i);
+      if (mesh_.is_deleted(f)) continue;
+      const auto& t = mesh_.face(f);
+      const int s0 = sign_[t[0].index], s1 = sign_[t[1].index], s2 = sign_[t[2].index];
+      const bool crossed = (s0 > 0 || s1 > 0 || s2 > 0) && (s0 < 0 || s1 < 0 || s2 < 0);
+      if (crossed)
+        out.crossed.push_back(f);
+      else if (s0 == 0 || s1 == 0 || s2 == 0)
+        out.touching.push_back(f);
+    }
+  });
+  for (const Found& part : found)
+    for (FaceId f : part.crossed) split_crossings(f);
+  for (const Found& part : found) {
+    for (FaceId f : part.crossed) split_face(f);
+    rim_candidates_.insert(rim_candidates_.end(), part.touching.begin(), part.touching.end());
+  }
+  for (auto i = first_new_face; i < mesh_.face_slots(); ++i) rim_candidates_.push_back(FaceId(i));
+}
+
+void Cutter::separate_or_drop_side() {
+  if (options_.keep == CutKeep::Both) {
+    const auto before = static_cast<std::uint32_t>(mesh_.face_slots());
+    separate_sides();
+    for (auto i = before; i < mesh_.face_slots(); ++i) rim_candidates_.push_back(FaceId(i));
+  } else {
+    const int drop = options_.keep == CutKeep::Positive ? -1 : 1;
+    std::vector<FaceId> doomed;
+    mesh_.for_each_face([&](FaceId f, const Triangle& t) {
+      if (face_side(t) == drop) doomed.push_back(f);
+    });
+    for (FaceId f : doomed) editor_.remove_face(f);
+  }
+}
+
+// Rim vertices (on the plane, bounding a piece) into `rim`; with caps, each piece capped.
+void Cutter::cap_pieces(CutResult& result, std::unordered_set<std::uint32_t>& rim) {
+  const std::vector<detail::CapInput> rims = rim_of_pieces(result);
+  for (const detail::CapInput& in : rims)
+    for (const auto& [a, b] : detail::rim_halfedges(mesh_, in)) {
+      rim.insert(a.index);
+      rim.insert(b.index);
+    }
+  if (!options_.cap) return;
+  const auto first_cap_face = static_cast<std::uint32_t>(mesh_.face_slots());
+  for (std::size_t p = 0; p < result.pieces.size(); ++p) detail::cap_piece(editor_, rims[p], result.pieces[p]);
+  for (auto i = first_cap_face; i < mesh_.face_slots(); ++i) rim_candidates_.push_back(FaceId(i));
+  for (const auto& [v, c] : split_pinches(&result))
+    if (rim.count(v.index)) rim.insert(c.index);
+}
+
+CutResult Cutter::run() {
+  CutResult result;
+  check_arguments();
+  normal_ /= glm::length(normal_);
+  if (!classify_vertices()) {
+    result.status = OpStatus::NoIntersection;
+    return result;
+  }
+  split_crossed_faces();
+  separate_or_drop_side();
+  split_pinches();
+  collect_pieces(result);
+  std::unordered_set<std::uint32_t> rim;
+  cap_pieces(result, rim);
+  result.rim_vertices.reserve(rim.size());
+  for (auto v : rim) result.rim_vertices.push_back(VertexId(v));
+  std::sort(result.rim_vertices.begin(), result.rim_vertices.end());
+  result.intersection_points = intersections_;
+  result.log = editor_.take_log();
+  return result;
+}
+
+}  // namespace
+
+CutResult cut_mesh(SurfaceMesh& mesh, PosedMesh& posed, const Plane& plane, const CutOptions& options) {
+  Cutter cutter(mesh, posed.posed, plane, options);
+  CutResult result = cutter.run();
+  const std::vector<glm::vec3>& added = cutter.added_posed();
+  posed.posed.insert(posed.posed.end(), added.begin(), added.end());
+  return result;
+}
+
+CutResult cut_mesh(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const Plane& plane, const CutOptions& options) {
+  return Cutter(mesh, posed, plane, options).run();
+}
+
+namespace {
+
+// Splits a piece's faces into the original-material part and the cut-surface part.
+void add_piece_primitives(const SurfaceMesh& piece, int material, int cut_material, Mesh& out) {
+  const auto* flag = piece.face_attrs().find<std::uint8_t>(attr::kCutSurface);
+  std::vector<FaceId> body, cap;
+  piece.for_each_face([&](FaceId f, const Triangle&) { (flag && (*flag)[f.index] ? cap : body).push_back(f); });
+  auto add = [&](const std::vector<FaceId>& faces, int mat) {
+    if (faces.empty()) return;
+    Primitive p;
+    p.mesh = faces.size() == piece.face_count() ? piece : detail::extract(piece, faces);
+    p.mesh.face_attrs().remove(attr::kCutSurface);
+    p.material = mat;
+    out.primitives.push_back(std::move(p));
+  };
+  add(body, material);
+  add(cap, cut_material);
+}
+
+// New rim vertices get bind positions interpolated along their edges and blended weights;
+// skinning is not linear in those, so in a pose their posed position can sit a little off the
+// plane. Move each rim vertex in bind space by the amount that puts it back on the plane in the
+// pose the cut was made in, so a second cut with the same plane finds nothing left to cut.
+void snap_rim_to_plane(const Model& model, int node, const std::vector<glm::mat4>& world, const Plane& plane,
+                       const CutResult& result, SurfaceMesh& mesh) {
+  if (result.rim_vertices.empty()) return;
+  const glm::vec3 n = glm::normalize(plane.normal);
+  const auto skin = vertex_skin_matrices(model, node, mesh, world);
+  auto& bind = mesh.positions();
+  for (VertexId v : result.rim_vertices) {
+    const glm::mat4& m = skin[v.index];
+    const float off = glm::dot(glm::vec3(m * glm::vec4(bind[v.index], 1.0f)) - plane.point, n);
+    if (off == 0.0f) continue;
+    const glm::mat3 linear(m);
+    if (std::abs(glm::determinant(linear)) < 1e-12f) continue;
+    bind[v.index] -= off * (glm::inverse(linear) * n);
+  }
+}
+
+// Side an untouched primitive lies on (it may be on the side that is dropped).
+int side_of(const SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const Plane& plane) {
+  double d = 0.0;
+  mesh.for_each_face([&](FaceId, const Triangle& t) {
+    for (auto v : t) d += glm::dot(glm::dvec3(posed[v.index]) - glm::dvec3(plane.point), glm::dvec3(plane.normal));
+  });
+  return d >= 0.0 ? 1 : -1;
+}
+
+// The cut of one instance's primitives, each on a copy (the mesh may be shared by other
+// instances, and a miss must leave it untouched).
+struct InstanceCut {
+  std::vector<SurfaceMesh> prims;
+  std::vector<CutResult> results;
+  bool any = false;
+};
+
+InstanceCut cut_instance(detail::InstanceEdit& inst, const std::vector<glm::mat4>& world, const Plane& plane,
+                         const CutOptions& options) {
+  InstanceCut out;
+  const auto& prims = inst.source().primitives;
+  for (std::size_t p = 0; p < prims.size(); ++p) {
+    SurfaceMesh copy = prims[p].mesh;
+    PosedMesh own;
+    PosedMesh* posed = inst.posed(static_cast<int>(p));
+    if (!posed) {
+      own.posed = posed_positions(inst.model(), inst.node(), copy, world);
+      posed = &own;
+    }
+    out.results.push_back(cut_mesh(copy, *posed, plane, options));
+    CutResult& r = out.results.back();
+    if (r.status == OpStatus::Ok) snap_rim_to_plane(inst.model(), inst.node(), world, plane, r, copy);
+    if (r.status == OpStatus::NoIntersection) r.piece_sides = {side_of(copy, posed->posed, plane)};
+    out.any |= r.status == OpStatus::Ok;
+    out.prims.push_back(std::move(copy));
+  }
+  return out;
+}
+
+// Groups each primitive's pieces into output meshes: without split_components piece k of every
+// primitive (0 positive, 1 negative) shares a mesh; with it, every piece is its own.
+std::vector<Mesh> group_pieces(const Mesh& source, const InstanceCut& cut, const CutOptions& options, int cut_material,
+                               ModelCutResult& result) {
+  std::vector<Mesh> piece_meshes;
+  for (std::size_t p = 0; p < cut.prims.size(); ++p) {
+    const CutResult& r = cut.results[p];
+    result.intersection_points += r.intersection_points;
+    result.rim_vertices += r.rim_vertices.size();
+    std::vector<std::vector<FaceId>> pieces = r.pieces;
+    if (r.status == OpStatus::NoIntersection) {
+      const int side = r.piece_sides[0];
+      if ((options.keep == CutKeep::Positive && side < 0) || (options.keep == CutKeep::Negative && side > 0)) continue;
+      std::vector<FaceId> all;
+      cut.prims[p].for_each_face([&](FaceId f, const Triangle&) { all.push_back(f); });
+      pieces = {all};
+    }
+    for (std::size_t k = 0; k < pieces.size(); ++k) {
+      const int side = r.piece_sides[k];
+      const std::size_t slot = options.split_components ? piece_meshes.size() : (side > 0 ? 0 : 1);
+      if (slot >= piece_meshes.size()) piece_meshes.resize(slot + 1);
+      add_piece_primitives(detail::extract(cut.prims[p], pieces[k]), source.primitives[p].material, cut_material,
+                           piece_meshes[slot]);
+    }
+  }
+  piece_meshes.erase(std::remove_if(piece_meshes.begin(), piece_meshes.end(), [](const Mesh& m) { return m.primitives.empty(); }),
+                     piece_meshes.end());
+  return piece_meshes;
+}
+
+// The instance draws the first piece; every other piece becomes a node beside it.
+void install_pieces(detail::InstanceEdit& inst, std::vector<Mesh> piece_meshes, ModelCutResult& result) {
+  // Copies: replacing the mesh below overwrites the source.
+  const std::string source_name = inst.source().name, source_extras = inst.source().extras_json;
+  const std::string& node_name = inst.model().nodes[static_cast<std::size_t>(inst.node())].name;
+  const std::string base = node_name.empty() ? source_name : node_name;
+  for (std::size_t k = 0; k < piece_meshes.size(); ++k) {
+    Mesh& m = piece_meshes[k];
+    m.name = (source_name.empty() ? base : source_name) + "_piece" + std::to_string(k);
+    m.extras_json = source_extras;
+    if (k == 0) {
+      inst.replace_mesh(std::move(m));
+      result.piece_nodes.push_back(inst.node());
+    } else {
+      result.piece_nodes.push_back(inst.add_piece_node(std::move(m), base + "_piece" + std::to_string(k)));
+    }
+  }
+}
+
+}  // namespace
+
+ModelCutResult cut_model(Model& model, PosedModel& posed, const Plane& plane, const CutOptions& options, int animation,
+                         float time) {
+  const auto world = world_matrices(model, sample_pose(model, animation, time));
+  posed.prepare(model, animation, time);
+  ModelCutResult result;
+  result.status = OpStatus::NoIntersection;
+  int cut_material = -1;
+  std::vector<std::pair<int, int>> missed;  // instance node, side it lies on
+  detail::ModelSurgery surgery(model, posed);
+  surgery.for_each_instance([&](detail::InstanceEdit& inst) {
+    const InstanceCut cut = cut_instance(inst, world, plane, options);
+    if (!cut.any) {
+      int votes = 0;
+      for (const auto& r : cut.results) votes += r.piece_sides.empty() ? 0 : r.piece_sides[0];
+      missed.emplace_back(inst.node(), votes >= 0 ? 1 : -1);
+      return false;
+    }
+    result.status = OpStatus::Ok;
+    if (options.cap && cut_material < 0) cut_material = detail::cut_surface_material(model);
+    std::vector<Mesh> piece_meshes = group_pieces(inst.source(), cut, options, cut_material, result);
+    if (piece_meshes.empty()) {
+      posed.erase_node(inst.node());  // its posed primitives grew with the cut: indexed anew
+      return false;
+    }
+    install_pieces(inst, std::move(piece_meshes), result);
+    return true;
+  });
+  // Whole instances on the dropped side go too (only when something was cut: a plane that
+  // misses everything leaves the model unchanged).
+  if (result.status == OpStatus::Ok && options.keep != CutKeep::Both) {
+    const int drop = options.keep == CutKeep::Positive ? -1 : 1;
+    for (const auto& [node, side] : missed)
+      if (side == drop) surgery.drop_instance(node);
+  }
+  return result;
+}
+
+ModelCutResult cut_model(Model& model, const Plane& plane, const CutOptions& options, int animation, float time) {
+  PosedModel posed;
+  return cut_model(model, posed, plane, options, animation, time);
+}
+
+}  // namespace deepcut

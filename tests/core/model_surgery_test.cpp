@@ -1,0 +1,218 @@
+// SPDX-License-Identifier: MIT
+// Model surgery (ops/common): the one instance loop of the model-level operations, with
+// copy-on-write of shared meshes, primitives added and removed, piece nodes and dropped
+// instances, and the posed model kept in step.
+#include "ops/common/model_surgery.h"
+
+#include <gtest/gtest.h>
+
+#include "deepcut/core/mesh_editor.h"
+#include "fixtures.h"
+
+namespace deepcut::detail {
+namespace {
+
+// Nodes: 0 "root" (scene root, parent of 1), 1 "a" and 2 "b" drawing mesh 0 (shared), 3 "c"
+// drawing mesh 1 alone (a scene root); node 2 moved along x.
+Model make_scene() {
+  Model model;
+  Mesh shared{"shared", {}, ""};
+  Primitive prim;
+  prim.mesh = test::make_tube(8, 2);
+  shared.primitives.push_back(prim);
+  Mesh own{"own", {}, ""};
+  own.primitives.push_back(prim);
+  own.primitives.push_back(prim);
+  model.meshes = {shared, own};
+  Node root, a, b, c;
+  root.name = "root";
+  root.children = {1};
+  a.name = "a";
+  a.mesh = 0;
+  b.name = "b";
+  b.mesh = 0;
+  b.translation = {3.0f, 0.0f, 0.0f};
+  c.name = "c";
+  c.mesh = 1;
+  model.nodes = {root, a, b, c};
+  model.scenes = {{0, 2, 3}};
+  return model;
+}
+
+void expect_posed_matches_rebuild(PosedModel& posed, const Model& model) {
+  posed.prepare(model, -1, 0.0f);
+  const PosedModel fresh = PosedModel::build(model, -1, 0.0f);
+  ASSERT_EQ(posed.size(), fresh.size());
+  for (const auto& [key, inst] : fresh.instances()) {
+    const PosedMesh* mine = posed.find(key.first, key.second);
+    ASSERT_NE(mine, nullptr) << key.first << "," << key.second;
+    EXPECT_EQ(mine->mesh, inst.mesh);
+    EXPECT_EQ(mine->posed, inst.posed);
+  }
+}
+
+TEST(ModelSurgery, VisitsEveryNodeDrawingAMeshWithItsPosedPrimitives) {
+  Model model = make_scene();
+  PosedModel posed = PosedModel::build(model, -1, 0.0f);
+  std::vector<int> nodes;
+  for_each_instance(model, posed, [&](InstanceEdit& inst) {
+    nodes.push_back(inst.node());
+    EXPECT_EQ(inst.shared(), inst.mesh() == 0);
+    for (std::size_t p = 0; p < inst.source().primitives.size(); ++p) {
+      const PosedMesh* pm = inst.posed(static_cast<int>(p));
+      EXPECT_NE(pm, nullptr);
+      if (pm) {
+        EXPECT_EQ(pm->posed.size(), inst.source().primitives[p].mesh.vertex_count());
+      }
+    }
+    return false;
+  });
+  EXPECT_EQ(nodes, (std::vector<int>{1, 2, 3}));
+}
+
+TEST(ModelSurgery, AnEditedSharedMeshBecomesTheNodesOwnCopy) {
+  Model model = make_scene();
+  const Model before = model;
+  PosedModel posed = PosedModel::build(model, -1, 0.0f);
+  for_each_instance(model, posed, [&](InstanceEdit& inst) {
+    if (inst.node() != 2) return false;
+    Mesh& mesh = inst.edit();
+    EXPECT_NE(&mesh, &inst.source());  // shared: a copy
+    MeshEditor editor(mesh.primitives[0].mesh);
+    editor.remove_face(FaceId(0));
+    posed.follow(model, 2, 0, mesh.primitives[0].mesh, editor.log());
+    return true;
+  });
+  ASSERT_EQ(model.meshes.size(), 3u);
+  EXPECT_EQ(model.nodes[1].mesh, 0);
+  EXPECT_EQ(model.nodes[2].mesh, 2);
+  EXPECT_EQ(model.meshes[0].primitives[0].mesh.face_count(),
+            before.meshes[0].primitives[0].mesh.face_count());
+  EXPECT_EQ(model.meshes[2].primitives[0].mesh.face_count() + 1,
+            before.meshes[0].primitives[0].mesh.face_count());
+  EXPECT_EQ(posed.find(2, 0)->mesh, 2);
+  expect_posed_matches_rebuild(posed, model);
+}
+
+TEST(ModelSurgery, ACopyNotReportedAsEditedIsDropped) {
+  Model model = make_scene();
+  PosedModel posed = PosedModel::build(model, -1, 0.0f);
+  for_each_instance(model, posed, [&](InstanceEdit& inst) {
+    inst.edit();
+    return false;
+  });
+  EXPECT_EQ(model.meshes.size(), 2u);
+  EXPECT_EQ(model.nodes[2].mesh, 0);
+}
+
+TEST(ModelSurgery, AnUnsharedMeshIsEditedInPlace) {
+  Model model = make_scene();
+  PosedModel posed = PosedModel::build(model, -1, 0.0f);
+  for_each_instance(model, posed, [&](InstanceEdit& inst) {
+    if (inst.node() == 3) {
+      EXPECT_EQ(&inst.edit(), &model.meshes[1]);
+    }
+    return inst.node() == 3;
+  });
+  EXPECT_EQ(model.meshes.size(), 2u);
+  EXPECT_EQ(model.nodes[3].mesh, 1);
+}
+
+TEST(ModelSurgery, PrimitivesAddedAndErasedAreFollowedByThePosedModel) {
+  Model model = make_scene();
+  PosedModel posed = PosedModel::build(model, -1, 0.0f);
+  for_each_instance(model, posed, [&](InstanceEdit& inst) {
+    if (inst.node() == 1) return false;
+    inst.erase_primitive(0);
+    Primitive extra;
+    extra.mesh = test::make_tube(4, 1);
+    inst.add_primitive(std::move(extra));
+    return true;
+  });
+  // Node 2's shared mesh went to a copy; node 3's mesh was edited in place.
+  ASSERT_EQ(model.meshes.size(), 3u);
+  EXPECT_EQ(model.nodes[2].mesh, 2);
+  EXPECT_EQ(model.meshes[2].primitives.size(), 1u);
+  EXPECT_EQ(model.meshes[1].primitives.size(), 2u);
+  EXPECT_EQ(model.meshes[0].primitives.size(), 1u);
+  ASSERT_NE(posed.find(3, 1), nullptr);
+  EXPECT_EQ(posed.find(3, 1)->posed.size(), model.meshes[1].primitives[1].mesh.vertex_count());
+  expect_posed_matches_rebuild(posed, model);
+}
+
+TEST(ModelSurgery, DroppedInstancesDrawNothingAndTheLastUserEmptiesTheMesh) {
+  Model model = make_scene();
+  PosedModel posed = PosedModel::build(model, -1, 0.0f);
+  for_each_instance(model, posed, [&](InstanceEdit& inst) {
+    if (inst.node() == 1 || inst.node() == 3) inst.drop();
+    return true;
+  });
+  EXPECT_EQ(model.nodes[1].mesh, -1);
+  EXPECT_EQ(model.nodes[1].skin, -1);
+  EXPECT_EQ(model.meshes[0].primitives.size(), 1u);  // node 2 still draws it
+  EXPECT_TRUE(model.meshes[1].primitives.empty());   // nobody draws it
+  EXPECT_EQ(posed.find(1, 0), nullptr);
+  EXPECT_EQ(posed.find(3, 0), nullptr);
+  ModelSurgery surgery(model, posed);
+  surgery.drop_instance(2);
+  EXPECT_TRUE(model.meshes[0].primitives.empty());
+  expect_posed_matches_rebuild(posed, model);
+}
+
+TEST(ModelSurgery, PiecesReplaceTheMeshAndAddNodesBesideTheInstance) {
+  Model model = make_scene();
+  model.nodes.push_back(model.nodes[1]);  // a node already named "a_piece1" would clash
+  model.nodes.back().name = "a_piece1";
+  model.nodes.back().mesh = -1;
+  model.nodes[0].children.push_back(4);
+  PosedModel posed = PosedModel::build(model, -1, 0.0f);
+  std::vector<int> added;
+  for_each_instance(model, posed, [&](InstanceEdit& inst) {
+    if (inst.node() != 1 && inst.node() != 3) return false;
+    Mesh piece0 = inst.source(), piece1 = inst.source();
+    piece0.name = "p0";
+    piece1.name = "p1";
+    inst.replace_mesh(std::move(piece0));
+    added.push_back(inst.add_piece_node(std::move(piece1),
+                                        model.nodes[static_cast<std::size_t>(inst.node())].name + "_piece1"));
+    return true;
+  });
+  // Node 1 shared mesh 0: its piece is a new mesh; node 3 owned mesh 1: replaced in place.
+  ASSERT_EQ(added, (std::vector<int>{5, 6}));
+  EXPECT_EQ(model.nodes[1].mesh, 2);
+  EXPECT_EQ(model.meshes[2].name, "p0");
+  EXPECT_EQ(model.nodes[5].mesh, 3);
+  EXPECT_EQ(model.nodes[5].name, "a_piece1_2");
+  EXPECT_EQ(model.nodes[3].mesh, 1);
+  EXPECT_EQ(model.meshes[1].name, "p0");
+  EXPECT_EQ(model.nodes[6].mesh, 4);
+  EXPECT_EQ(model.nodes[6].name, "c_piece1");
+  EXPECT_EQ(model.nodes[2].mesh, 0);  // the other user keeps the shared mesh
+  // Piece nodes hang where their instance hangs: under node 0, or as a scene root.
+  EXPECT_EQ(model.nodes[0].children, (std::vector<int>{1, 4, 5}));
+  EXPECT_EQ(model.scenes[0], (std::vector<int>{0, 2, 3, 6}));
+  EXPECT_TRUE(model.nodes[5].children.empty());
+  EXPECT_EQ(posed.find(1, 0), nullptr);  // indexed anew by the next prepare
+  expect_posed_matches_rebuild(posed, model);
+}
+
+TEST(ModelSurgery, ExtractKeepsOnlyTheGivenFacesAndTheirVertices) {
+  const SurfaceMesh mesh = test::make_grid(2, 1);
+  const SurfaceMesh part = extract(mesh, {FaceId(1), FaceId(0)});
+  EXPECT_EQ(part.face_count(), 2u);
+  EXPECT_EQ(part.vertex_count(), 4u);
+  for (std::uint32_t f = 0; f < 2; ++f)
+    for (int k = 0; k < 3; ++k)
+      EXPECT_EQ(part.position(part.face(FaceId(f))[k]), mesh.position(mesh.face(FaceId(f))[k]));
+}
+
+TEST(ModelSurgery, CutSurfaceMaterialIsAddedOnce) {
+  Model model = make_scene();
+  const int m = cut_surface_material(model);
+  EXPECT_EQ(model.materials[static_cast<std::size_t>(m)].name, "Cut surface");
+  EXPECT_EQ(cut_surface_material(model), m);
+  EXPECT_EQ(model.materials.size(), 1u);
+}
+
+}  // namespace
+}  // namespace deepcut::detail
