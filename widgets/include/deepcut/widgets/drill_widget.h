@@ -48,9 +48,9 @@ namespace deepcut {
 class DrillWidget : public ToolWidget {
  public:
   static DrillWidget* New();
-  vtkTypeMacro(DrillWidget, ToolWidget)
+  vtkTypeMacro(DrillWidget, ToolWidget);
 
-      void SetRepresentation(DrillRepresentation* representation) {
+  void SetRepresentation(DrillRepresentation* representation) {
     this->SetWidgetRepresentation(representation);
   }
   DrillRepresentation* GetDrillRepresentation() {

@@ -12,9 +12,10 @@ namespace deepcut {
 class PlaneRepresentation : public vtkImplicitPlaneRepresentation {
  public:
   static PlaneRepresentation* New();
-  vtkTypeMacro(PlaneRepresentation, vtkImplicitPlaneRepresentation)
+  vtkTypeMacro(PlaneRepresentation, vtkImplicitPlaneRepresentation);
 
-      protected : PlaneRepresentation();
+ protected:
+  PlaneRepresentation();
   ~PlaneRepresentation() override = default;
 
  private:

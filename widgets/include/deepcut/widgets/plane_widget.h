@@ -48,9 +48,9 @@ namespace deepcut {
 class PlaneWidget : public vtkImplicitPlaneWidget2 {
  public:
   static PlaneWidget* New();
-  vtkTypeMacro(PlaneWidget, vtkImplicitPlaneWidget2)
+  vtkTypeMacro(PlaneWidget, vtkImplicitPlaneWidget2);
 
-      PlaneRepresentation* GetPlaneRepresentation() {
+  PlaneRepresentation* GetPlaneRepresentation() {
     return static_cast<PlaneRepresentation*>(this->GetRepresentation());
   }
   void CreateDefaultRepresentation() override;

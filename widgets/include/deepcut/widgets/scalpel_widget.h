@@ -45,9 +45,9 @@ namespace deepcut {
 class ScalpelWidget : public ToolWidget {
  public:
   static ScalpelWidget* New();
-  vtkTypeMacro(ScalpelWidget, ToolWidget)
+  vtkTypeMacro(ScalpelWidget, ToolWidget);
 
-      void SetRepresentation(ScalpelRepresentation* representation) {
+  void SetRepresentation(ScalpelRepresentation* representation) {
     this->SetWidgetRepresentation(representation);
   }
   ScalpelRepresentation* GetScalpelRepresentation() {

@@ -27,12 +27,10 @@ namespace deepcut {
 
 class ToolWidget : public vtkAbstractWidget {
  public:
-  vtkTypeMacro(ToolWidget, vtkAbstractWidget)
+  vtkTypeMacro(ToolWidget, vtkAbstractWidget);
 
-      /// True while a part is being dragged.
-      bool IsDragging() const {
-    return this->WidgetState == Active;
-  }
+  /// True while a part is being dragged.
+  bool IsDragging() const { return this->WidgetState == Active; }
 
  protected:
   ToolWidget();
