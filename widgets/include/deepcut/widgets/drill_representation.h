@@ -21,7 +21,7 @@ namespace deepcut {
 class DrillRepresentation : public ToolRepresentation {
  public:
   static DrillRepresentation* New();
-  vtkTypeMacro(DrillRepresentation, ToolRepresentation);
+  vtkTypeMacro(DrillRepresentation, ToolRepresentation)
 
   /// The parts, as interaction states.
   enum InteractionStateType {

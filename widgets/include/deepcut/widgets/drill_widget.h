@@ -48,7 +48,7 @@ namespace deepcut {
 class DrillWidget : public ToolWidget {
  public:
   static DrillWidget* New();
-  vtkTypeMacro(DrillWidget, ToolWidget);
+  vtkTypeMacro(DrillWidget, ToolWidget)
 
   void SetRepresentation(DrillRepresentation* representation) {
     this->SetWidgetRepresentation(representation);

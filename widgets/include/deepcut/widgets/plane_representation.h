@@ -12,7 +12,7 @@ namespace deepcut {
 class PlaneRepresentation : public vtkImplicitPlaneRepresentation {
  public:
   static PlaneRepresentation* New();
-  vtkTypeMacro(PlaneRepresentation, vtkImplicitPlaneRepresentation);
+  vtkTypeMacro(PlaneRepresentation, vtkImplicitPlaneRepresentation)
 
  protected:
   PlaneRepresentation();

@@ -48,7 +48,7 @@ namespace deepcut {
 class PlaneWidget : public vtkImplicitPlaneWidget2 {
  public:
   static PlaneWidget* New();
-  vtkTypeMacro(PlaneWidget, vtkImplicitPlaneWidget2);
+  vtkTypeMacro(PlaneWidget, vtkImplicitPlaneWidget2)
 
   PlaneRepresentation* GetPlaneRepresentation() {
     return static_cast<PlaneRepresentation*>(this->GetRepresentation());

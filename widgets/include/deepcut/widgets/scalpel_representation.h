@@ -21,7 +21,7 @@ namespace deepcut {
 class ScalpelRepresentation : public ToolRepresentation {
  public:
   static ScalpelRepresentation* New();
-  vtkTypeMacro(ScalpelRepresentation, ToolRepresentation);
+  vtkTypeMacro(ScalpelRepresentation, ToolRepresentation)
 
   /// The parts, as interaction states.
   enum InteractionStateType {

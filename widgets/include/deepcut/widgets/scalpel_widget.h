@@ -45,7 +45,7 @@ namespace deepcut {
 class ScalpelWidget : public ToolWidget {
  public:
   static ScalpelWidget* New();
-  vtkTypeMacro(ScalpelWidget, ToolWidget);
+  vtkTypeMacro(ScalpelWidget, ToolWidget)
 
   void SetRepresentation(ScalpelRepresentation* representation) {
     this->SetWidgetRepresentation(representation);

@@ -21,7 +21,7 @@ namespace deepcut {
 
 class ToolRepresentation : public vtkWidgetRepresentation {
  public:
-  vtkTypeMacro(ToolRepresentation, vtkWidgetRepresentation);
+  vtkTypeMacro(ToolRepresentation, vtkWidgetRepresentation)
 
   /// Interaction state 0 is "outside" in every subclass; parts are numbered from 1.
   static constexpr int Outside = 0;

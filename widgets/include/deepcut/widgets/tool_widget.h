@@ -27,7 +27,7 @@ namespace deepcut {
 
 class ToolWidget : public vtkAbstractWidget {
  public:
-  vtkTypeMacro(ToolWidget, vtkAbstractWidget);
+  vtkTypeMacro(ToolWidget, vtkAbstractWidget)
 
   /// True while a part is being dragged.
   bool IsDragging() const { return this->WidgetState == Active; }
