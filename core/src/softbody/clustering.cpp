@@ -182,6 +182,47 @@ Parts parts_by_root(std::vector<std::pair<std::uint32_t, std::uint32_t>>& by_roo
   return parts;
 }
 
+// Where an uncovered vertex goes: the nearest live particle whose seed lies within rho of it
+// (ties to the higher index). The candidates come from a grid over the seeds of the particles
+// live at the first question (a scan of every particle for every vertex would make long edit
+// sequences quadratic) plus the particles created since, reported with `created`: members are
+// only added meanwhile, so that is the live set.
+class NearestLiveParticle {
+ public:
+  // `seeds`: the clusters' seed array (read once, when the grid is built).
+  NearestLiveParticle(const Clusters& clusters, const std::vector<glm::vec3>& seeds)
+      : clusters_(clusters), seeds_(seeds) {}
+
+  // The particle, or kInvalidIndex when no live seed lies within rho; `d2` its squared distance.
+  std::uint32_t find(const glm::vec3& at, float& d2) {
+    const float radius = clusters_.radius();
+    std::uint32_t best = kInvalidIndex;
+    float best_d2 = radius * radius;
+    auto consider = [&](std::uint32_t p) {
+      if (clusters_.members(p).empty()) return;
+      const float e2 = distance2(at, clusters_.seed(p));
+      if (e2 < best_d2 || (e2 == best_d2 && (best == kInvalidIndex || p > best))) best_d2 = e2, best = p;
+    };
+    if (!grid_) {
+      std::vector<std::uint32_t> live;
+      for (std::uint32_t p = 0; p < clusters_.particle_slots(); ++p)
+        if (!clusters_.members(p).empty()) live.push_back(p);
+      grid_.emplace(seeds_, live, radius);
+    }
+    grid_->for_each_near(at, radius, consider);
+    for (std::uint32_t p : created_) consider(p);
+    d2 = best_d2;
+    return best;
+  }
+  void created(std::uint32_t p) { created_.push_back(p); }
+
+ private:
+  const Clusters& clusters_;
+  const std::vector<glm::vec3>& seeds_;
+  std::optional<PointGrid> grid_;
+  std::vector<std::uint32_t> created_;
+};
+
 // Brings the member list `m` of particle `p` in line with the rows: `m` is a sorted prefix (the
 // members before this apply) followed by the vertices that joined; vertices whose row no longer
 // names `p` leave.
@@ -620,12 +661,7 @@ ClusterUpdate Clusters::apply(const SurfaceMesh& mesh, const std::vector<glm::ve
     for (const Influence& in : influences(VertexId(v))) touch(in.particle);
 
   // 3. Dead vertices leave; memberships beyond rho go; uncovered vertices find a particle.
-  // Candidates come from a grid over the seeds of the particles live when the first uncovered
-  // vertex asks (a scan of every particle per vertex made long edit sequences quadratic: Fox's
-  // 500 steps spent 40% of their time there). Members are only added in this step, so the live
-  // set is that grid plus the particles created here.
-  std::optional<PointGrid> live_grid;
-  std::vector<std::uint32_t> created_here;
+  NearestLiveParticle nearest(*this, seeds_);
   for (std::uint32_t v : touched_vertices) {
     Row& r = rows_[v];
     if (face_refs_[v] == 0) {
@@ -644,29 +680,14 @@ ClusterUpdate Clusters::apply(const SurfaceMesh& mesh, const std::vector<glm::ve
     }
     r.size = kept;
     if (r.size == 0) {
-      // Nearest live particle whose seed is within rho (ties to the higher index), or a new
-      // particle seeded here.
-      std::uint32_t best = kInvalidIndex;
-      float best_d2 = rho2;
-      auto consider = [&](std::uint32_t p) {
-        if (members_[p].empty()) return;
-        const float d2 = distance2(rest[v], seeds_[p]);
-        if (d2 < best_d2 || (d2 == best_d2 && (best == kInvalidIndex || p > best)))
-          best_d2 = d2, best = p;
-      };
-      if (!live_grid) {
-        std::vector<std::uint32_t> live;
-        for (std::uint32_t p = 0; p < seeds_.size(); ++p)
-          if (!members_[p].empty()) live.push_back(p);
-        live_grid.emplace(seeds_, live, radius_);
-      }
-      live_grid->for_each_near(rest[v], radius_, consider);
-      for (std::uint32_t p : created_here) consider(p);
+      // The nearest live particle whose seed is within rho, or a new particle seeded here.
+      float best_d2 = 0.0f;
+      std::uint32_t best = nearest.find(rest[v], best_d2);
       if (best == kInvalidIndex) {
         best = new_particle(rest[v]);
         best_d2 = 0.0f;
         update.created.push_back({best, kInvalidIndex});
-        created_here.push_back(best);
+        nearest.created(best);
       }
       const Influence in{best, falloff(best_d2, rho2)};
       set_row(v, &in, 1);
