@@ -37,7 +37,7 @@
 
 #include "deepcut/core/errors.h"
 #include "deepcut/core/io/gltf.h"
-#include "deepcut/core/ops/history.h"
+#include "deepcut/core/ops/operation.h"
 #include "deepcut/plugins/formats.h"
 #include "deepcut/plugins/registry.h"
 #include "scene_tree.h"
@@ -736,7 +736,7 @@ bool MainWindow::apply_tool() {
     // miss leaves both as they were; a failure leaves the index for a rebuild).
     PosedModel* index = index_for(model_);
     index_state_.reset();
-    const OperationReport report = deepcut::apply_operation(*result, op, index);
+    const OperationResult report = deepcut::apply_operation(*result, op, index);
     index_state_ = report.status == OpStatus::Ok ? std::shared_ptr<const Model>(result) : model_;
     if (report.status != OpStatus::Ok) {
       attach_index();  // a miss changed nothing: the index still describes the shown model

@@ -10,7 +10,7 @@
 #include <utility>
 
 #include "deepcut/core/posed_model.h"
-#include "deepcut/core/ops/history.h"
+#include "deepcut/core/ops/operation.h"
 #include "deepcut/core/ops/op_status.h"
 #include "deepcut/plugins/command_args.h"
 
