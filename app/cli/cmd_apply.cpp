@@ -12,7 +12,7 @@
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/posed_model.h"
 #include "deepcut/core/ops/operation.h"
-#include "deepcut/plugins/command_args.h"
+#include "args.h"
 #include "deepcut/plugins/formats.h"
 
 namespace deepcut::cli {

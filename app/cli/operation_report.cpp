@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "operation_report.h"
 
-#include "deepcut/plugins/command_args.h"
+#include "args.h"
 
 namespace deepcut::cli {
 namespace {

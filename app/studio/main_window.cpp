@@ -39,7 +39,7 @@
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/ops/operation.h"
 #include "deepcut/plugins/formats.h"
-#include "deepcut/plugins/registry.h"
+#include "deepcut/plugins/inspector_registry.h"
 #include "scene_tree.h"
 #include "scene_view.h"
 #include "timeline.h"
@@ -71,7 +71,7 @@ bool is_model_file(const QString& path) {
 }
 
 /// A file some format plugin opens (.glb, .gltf, .obj, .ply, .stl, .off, ...).
-bool is_openable_file(const QString& path) { return plugins::builtin_formats().find(path.toStdString()) != nullptr; }
+bool is_openable_file(const QString& path) { return plugins::find_format(plugins::builtin_formats(), path.toStdString()) != nullptr; }
 
 /// "All models (*.glb *.gltf *.obj ...);;glTF (*.glb *.gltf);;Wavefront OBJ (*.obj);;...;;All files (*)".
 QString open_filters() {
