@@ -8,10 +8,11 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "operation_report.h"
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/posed_model.h"
-#include "deepcut/core/ops/history.h"
-#include "deepcut/plugins/command_args.h"
+#include "deepcut/core/ops/operation.h"
+#include "args.h"
 #include "deepcut/plugins/formats.h"
 
 namespace deepcut::cli {
@@ -42,7 +43,11 @@ int run_apply(const std::vector<std::string>& argv) {
   reserve_for_operations(model);
   for (std::size_t i = 0; i < history.operations.size(); ++i) {
     try {
-      reports.push_back(json::parse(apply_operation(model, history.operations[i], &index).summary_json));
+      const Operation& op = history.operations[i];
+      const OperationResult result = apply_operation(model, op, index);
+      json report = operation_report(model, op, result);
+      report["op"] = operation_name(op);
+      reports.push_back(std::move(report));
     } catch (const Error& e) {
       // Name the history file and the operation, whatever the operation complained about.
       throw Error(e.code(), history_path + ": operation " + std::to_string(i) + ": " + e.what());

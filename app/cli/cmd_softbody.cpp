@@ -9,8 +9,9 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
-#include "deepcut/plugins/command_args.h"
+#include "args.h"
 #include "deepcut/core/io/gltf.h"
+#include "deepcut/core/posed_model.h"
 #include "deepcut/plugins/formats.h"
 #include "deepcut/core/skinning.h"
 #include "deepcut/core/softbody/clustering.h"
@@ -26,24 +27,19 @@ double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
-/// One drawn primitive: a node that instances a mesh, and one of that mesh's primitives.
+/// One drawn primitive with triangles, at the rest pose (what rho is measured in).
 struct Instance {
-  int node = -1;
+  const PosedMesh* rest = nullptr;  ///< its world positions in the rest pose
   const SurfaceMesh* mesh = nullptr;
-  std::vector<glm::vec3> rest;  ///< world positions in the rest pose: what rho is measured in
 };
 
-std::vector<Instance> instances(const Model& model) {
-  const auto world = world_matrices(model, rest_pose(model));
+/// The primitives of `rest` (the model at its rest pose) that have triangles, by (node, primitive).
+std::vector<Instance> instances(const Model& model, const PosedModel& rest) {
   std::vector<Instance> out;
-  for (std::size_t n = 0; n < model.nodes.size(); ++n) {
-    const int m = model.nodes[n].mesh;
-    if (m < 0 || static_cast<std::size_t>(m) >= model.meshes.size()) continue;
-    for (const auto& prim : model.meshes[m].primitives) {
-      if (prim.mesh.face_count() == 0) continue;
-      out.push_back(
-          {static_cast<int>(n), &prim.mesh, posed_positions(model, static_cast<int>(n), prim.mesh, world)});
-    }
+  for (const auto& [key, posed] : rest.instances()) {
+    const SurfaceMesh& mesh = model.meshes[static_cast<std::size_t>(posed.mesh)].primitives[static_cast<std::size_t>(key.second)].mesh;
+    if (mesh.face_count() == 0) continue;
+    out.push_back({&posed, &mesh});
   }
   if (out.empty()) throw Error(ErrorCode::InvalidInput, "the model has no triangles");
   return out;
@@ -84,7 +80,7 @@ ClusterChoice choose_clusters(const Args& args, const std::vector<Instance>& ins
   c.searched = true;
   c.target = static_cast<std::size_t>(target);
   std::vector<ClusterInput> inputs;
-  for (const auto& i : inst) inputs.push_back({i.mesh, &i.rest});
+  for (const auto& i : inst) inputs.push_back({i.mesh, &i.rest->posed});
   const auto t0 = Clock::now();
   c.options.radius = radius_for_particle_count(inputs, c.target, c.options);
   c.search_ms = ms_since(t0);
@@ -102,7 +98,7 @@ Clustered cluster_all(const std::vector<Instance>& inst, const ClusterOptions& o
   std::size_t min_v = std::numeric_limits<std::size_t>::max();
   for (const auto& i : inst) {
     const auto t0 = Clock::now();
-    out.clusters.push_back(Clusters::build(*i.mesh, i.rest, options));
+    out.clusters.push_back(Clusters::build(*i.mesh, i.rest->posed, options));
     out.ms += ms_since(t0);
     const ClusterStats s = cluster_stats(out.clusters.back(), *i.mesh);
     out.total.particles += s.particles;
@@ -122,6 +118,35 @@ Clustered cluster_all(const std::vector<Instance>& inst, const ClusterOptions& o
 glm::vec3 to_vec3(const std::vector<double>& v) { return {float(v[0]), float(v[1]), float(v[2])}; }
 json to_json(const glm::vec3& v) { return json::array({v.x, v.y, v.z}); }
 
+// The impulse: --impulse, or --speed (model sizes per second, default 0.5) times the mass,
+// pushing into the surface: against the area-weighted normal of the faces near the point.
+glm::vec3 poke_impulse(const Args& args, const std::vector<Instance>& inst, const std::vector<std::vector<glm::vec3>>& posed,
+                       const glm::vec3& point, float poke_radius, float size, float mass) {
+  glm::vec3 impulse(0.0f);
+  if (args.has("--impulse")) {
+    impulse = to_vec3(args.vector("--impulse", 3));
+  } else {
+    glm::vec3 normal(0.0f);
+    const float r2 = poke_radius * poke_radius;
+    for (std::size_t k = 0; k < inst.size(); ++k)
+      inst[k].mesh->for_each_face([&](FaceId, const Triangle& t) {
+        const glm::vec3 &a = posed[k][t[0].index], &b = posed[k][t[1].index], &cc = posed[k][t[2].index];
+        const glm::vec3 centroid = (a + b + cc) / 3.0f;
+        if (glm::dot(centroid - point, centroid - point) <= r2) normal += glm::cross(b - a, cc - a);
+      });
+    if (glm::length(normal) == 0.0f)
+      throw Error(ErrorCode::InvalidArgument,
+                  "softbody: no surface within --radius " + std::to_string(poke_radius) +
+                      " of the poke point; move it onto the model or pass --impulse");
+    const double speed = args.number("--speed", 0.5);
+    if (!(speed > 0.0)) throw UsageError("--speed must be positive");
+    impulse = -glm::normalize(normal) * float(speed) * size * mass;
+  }
+  if (!std::isfinite(impulse.x) || !std::isfinite(impulse.y) || !std::isfinite(impulse.z))
+    throw UsageError("the impulse overflows single precision; use a smaller --speed or --impulse");
+  return impulse;
+}
+
 }  // namespace
 
 int run_cluster(const std::vector<std::string>& argv) {
@@ -130,7 +155,8 @@ int run_cluster(const std::vector<std::string>& argv) {
   if (!args.has("--radius") && !args.has("--particles"))
     throw UsageError("cluster needs --radius RHO (rest-pose model units) or --particles N");
   const Model model = plugins::read_model(path);
-  const auto inst = instances(model);
+  const PosedModel rest = PosedModel::build(model, -1, 0.0f);
+  const auto inst = instances(model, rest);
   const ClusterChoice choice = choose_clusters(args, inst, "--radius", 0);
   const Clustered c = cluster_all(inst, choice.options);
   const ClusterStats& s = c.total;
@@ -198,7 +224,8 @@ int run_softbody(const std::vector<std::string>& argv) {
   if (!animate && !args.has("--time")) animation = -1;
   const auto t_start = static_cast<float>(args.number("--time", 0.0));
 
-  const auto inst = instances(model);
+  const PosedModel rest = PosedModel::build(model, -1, 0.0f);
+  const auto inst = instances(model, rest);
   const ClusterChoice choice = choose_clusters(args, inst, "--rho", 224);
   Clustered c = cluster_all(inst, choice.options);
   const float poke_radius = static_cast<float>(args.number("--radius", 1.5 * choice.options.radius));
@@ -209,7 +236,7 @@ int run_softbody(const std::vector<std::string>& argv) {
     const Pose pose = animation < 0 ? rest_pose(model) : sample_pose(model, animation, t);
     const auto world = world_matrices(model, pose);
     std::vector<std::vector<glm::vec3>> out;
-    for (const auto& i : inst) out.push_back(posed_positions(model, i.node, *i.mesh, world));
+    for (const auto& i : inst) out.push_back(posed_positions(model, i.rest->node, *i.mesh, world));
     return out;
   };
   auto posed = pose_at(t_start);
@@ -220,30 +247,7 @@ int run_softbody(const std::vector<std::string>& argv) {
     });
   const float size = box.diagonal();
 
-  // The impulse: --impulse, or --speed (model sizes per second, default 0.5) times the mass,
-  // pushing into the surface: against the area-weighted normal of the faces near the point.
-  glm::vec3 impulse(0.0f);
-  if (args.has("--impulse")) {
-    impulse = to_vec3(args.vector("--impulse", 3));
-  } else {
-    glm::vec3 normal(0.0f);
-    const float r2 = poke_radius * poke_radius;
-    for (std::size_t k = 0; k < inst.size(); ++k)
-      inst[k].mesh->for_each_face([&](FaceId, const Triangle& t) {
-        const glm::vec3 &a = posed[k][t[0].index], &b = posed[k][t[1].index], &cc = posed[k][t[2].index];
-        const glm::vec3 centroid = (a + b + cc) / 3.0f;
-        if (glm::dot(centroid - point, centroid - point) <= r2) normal += glm::cross(b - a, cc - a);
-      });
-    if (glm::length(normal) == 0.0f)
-      throw Error(ErrorCode::InvalidArgument,
-                  "softbody: no surface within --radius " + std::to_string(poke_radius) +
-                      " of the poke point; move it onto the model or pass --impulse");
-    const double speed = args.number("--speed", 0.5);
-    if (!(speed > 0.0)) throw UsageError("--speed must be positive");
-    impulse = -glm::normalize(normal) * float(speed) * size * sim.mass;
-  }
-  if (!std::isfinite(impulse.x) || !std::isfinite(impulse.y) || !std::isfinite(impulse.z))
-    throw UsageError("the impulse overflows single precision; use a smaller --speed or --impulse");
+  const glm::vec3 impulse = poke_impulse(args, inst, posed, point, poke_radius, size, sim.mass);
 
   std::vector<SoftBodyState> states;
   std::size_t reached = 0;

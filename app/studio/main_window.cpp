@@ -37,9 +37,9 @@
 
 #include "deepcut/core/errors.h"
 #include "deepcut/core/io/gltf.h"
-#include "deepcut/core/ops/history.h"
+#include "deepcut/core/ops/operation.h"
 #include "deepcut/plugins/formats.h"
-#include "deepcut/plugins/registry.h"
+#include "deepcut/plugins/inspector_registry.h"
 #include "scene_tree.h"
 #include "scene_view.h"
 #include "timeline.h"
@@ -71,7 +71,7 @@ bool is_model_file(const QString& path) {
 }
 
 /// A file some format plugin opens (.glb, .gltf, .obj, .ply, .stl, .off, ...).
-bool is_openable_file(const QString& path) { return plugins::builtin_formats().find(path.toStdString()) != nullptr; }
+bool is_openable_file(const QString& path) { return plugins::find_format(plugins::builtin_formats(), path.toStdString()) != nullptr; }
 
 /// "All models (*.glb *.gltf *.obj ...);;glTF (*.glb *.gltf);;Wavefront OBJ (*.obj);;...;;All files (*)".
 QString open_filters() {
@@ -736,7 +736,7 @@ bool MainWindow::apply_tool() {
     // miss leaves both as they were; a failure leaves the index for a rebuild).
     PosedModel* index = index_for(model_);
     index_state_.reset();
-    const OperationReport report = deepcut::apply_operation(*result, op, index);
+    const OperationResult report = deepcut::apply_operation(*result, op, index);
     index_state_ = report.status == OpStatus::Ok ? std::shared_ptr<const Model>(result) : model_;
     if (report.status != OpStatus::Ok) {
       attach_index();  // a miss changed nothing: the index still describes the shown model

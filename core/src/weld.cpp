@@ -15,9 +15,10 @@ constexpr std::size_t kGrain = 16384;
 // (+0 == -0) and hash with -0 folded into +0; every other attribute compares and hashes raw.
 class VertexBytes {
  public:
-  explicit VertexBytes(const SurfaceMesh& mesh) : positions_(mesh.positions().data()) {
+  // With `with_attributes` false only the positions count (WeldKey::Position).
+  VertexBytes(const SurfaceMesh& mesh, bool with_attributes) : positions_(mesh.positions().data()) {
     const auto& va = mesh.vertex_attrs();
-    if (va.size() == 0) return;
+    if (va.size() == 0 || !with_attributes) return;
     for (const auto& name : va.names()) {
       if (name == attr::kPosition) continue;
       const AttributeArrayBase* a = va.base(name);
@@ -99,33 +100,47 @@ class VertexTable {
   std::size_t mask_ = 0;
 };
 
-}  // namespace
+// The live faces, and the vertices in order of first use by them.
+struct FaceUse {
+  std::vector<std::uint32_t> faces;      // live face slots, in order
+  std::vector<std::uint32_t> first_use;  // vertices, in order of first use by `faces`
+};
 
-WeldReport weld(SurfaceMesh& mesh) {
-  WeldReport report;
-  const VertexBytes bytes(mesh);
-  const auto nv = static_cast<std::uint32_t>(mesh.vertex_count());
-  const auto& in_faces = mesh.faces();
-
-  // Vertices in order of first use by the live faces.
-  std::vector<std::uint32_t> first_use;
-  first_use.reserve(nv);
-  std::vector<std::uint8_t> used(nv, 0);
-  std::vector<std::uint32_t> kept_faces;  // live face slots, in order
-  kept_faces.reserve(mesh.face_count());
+FaceUse first_uses(const SurfaceMesh& mesh) {
+  FaceUse use;
+  use.first_use.reserve(mesh.vertex_count());
+  use.faces.reserve(mesh.face_count());
+  std::vector<std::uint8_t> used(mesh.vertex_count(), 0);
   mesh.for_each_face([&](FaceId f, const Triangle& t) {
-    kept_faces.push_back(f.index);
+    use.faces.push_back(f.index);
     for (VertexId v : t)
       if (!used[v.index]) {
         used[v.index] = 1;
-        first_use.push_back(v.index);
+        use.first_use.push_back(v.index);
       }
   });
-  report.dropped = nv - first_use.size();
+  return use;
+}
 
-  // Hashes, in parallel; then the merge in first-use order, so the first user of a class is its
-  // representative (its bytes, e.g. the sign of a zero coordinate, are the ones kept).
+// The welded vertices: old vertex -> new vertex, and new vertex -> its representative.
+struct Classes {
+  std::vector<std::uint32_t> to_new;  // kInvalidIndex for a vertex no face uses
+  std::vector<std::uint32_t> keep;    // new vertex -> old representative (its first user)
+  std::size_t kept_apart = 0;
+};
+
+// Keying every used vertex, in first-use order, so the first user of a class is its
+// representative (its bytes, e.g. the sign of a zero coordinate, are the ones kept).
+Classes classify(const VertexBytes& bytes, const std::vector<std::uint32_t>& first_use, std::size_t nv, WeldKey key) {
+  Classes out;
+  out.to_new.assign(nv, kInvalidIndex);
   const std::size_t nu = first_use.size();
+  if (key == WeldKey::None) {
+    out.keep = first_use;
+    for (std::size_t i = 0; i < nu; ++i) out.to_new[first_use[i]] = static_cast<std::uint32_t>(i);
+    return out;
+  }
+  // Hashes in parallel; then the merge, in order.
   std::vector<std::uint64_t> hash(nu), position_hash(nu);
   parallel_for(nu, kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) {
@@ -133,13 +148,13 @@ WeldReport weld(SurfaceMesh& mesh) {
       hash[i] = bytes.hash(first_use[i], position_hash[i]);
     }
   });
-  std::vector<std::uint32_t> to_new(nv, kInvalidIndex);
-  std::vector<std::uint32_t> keep;  // new vertex -> old representative
+  const bool count_apart = key == WeldKey::PositionAndSkin;
+  auto& keep = out.keep;
   std::vector<std::uint64_t> keep_hash, keep_position_hash;
   keep.reserve(nu);
   keep_hash.reserve(nu);
   keep_position_hash.reserve(nu);
-  VertexTable classes(nu), positions(nu);
+  VertexTable classes(nu), positions(count_apart ? nu : 0);
   for (std::size_t i = 0; i < nu; ++i) {
     const std::uint32_t v = first_use[i];
     const auto id = static_cast<std::uint32_t>(keep.size());
@@ -148,19 +163,68 @@ WeldReport weld(SurfaceMesh& mesh) {
         classes.find_or_insert(hash[i], id, keep_hash, [&](std::uint32_t s) { return bytes.equal(keep[s], v); });
     if (same != kInvalidIndex) {
       keep_hash.pop_back();
-      to_new[v] = same;
-      ++report.merged;
+      out.to_new[v] = same;
       continue;
     }
-    to_new[v] = id;
+    out.to_new[v] = id;
     keep.push_back(v);
+    if (!count_apart) continue;
     keep_position_hash.push_back(position_hash[i]);
     const std::uint32_t at = positions.find_or_insert(position_hash[i], id, keep_position_hash, [&](std::uint32_t s) {
       return bytes.same_position(keep[s], v);
     });
-    if (at != kInvalidIndex) ++report.kept_apart;
+    if (at != kInvalidIndex) ++out.kept_apart;
   }
+  return out;
+}
 
+// Representatives that share a position (each counted once per earlier one at its position).
+std::size_t count_kept_apart(const VertexBytes& bytes, const std::vector<std::uint32_t>& keep) {
+  std::size_t apart = 0;
+  std::vector<std::uint64_t> keep_position_hash;
+  keep_position_hash.reserve(keep.size());
+  VertexTable positions(keep.size());
+  for (std::size_t i = 0; i < keep.size(); ++i) {
+    const std::uint32_t v = keep[i];
+    keep_position_hash.push_back(bytes.position_hash(v));
+    const std::uint32_t at = positions.find_or_insert(
+        keep_position_hash.back(), static_cast<std::uint32_t>(i), keep_position_hash,
+        [&](std::uint32_t s) { return bytes.same_position(keep[s], v); });
+    apart += at != kInvalidIndex;
+  }
+  return apart;
+}
+
+// Drops the faces of `use.faces` whose corners fall on one welded vertex and renumbers the
+// welded vertices by first use in the faces left; vertices only dropped faces used go.
+// @returns the number of faces dropped.
+std::size_t drop_repeating_faces(const std::vector<Triangle>& in_faces, FaceUse& use, Classes& classes) {
+  std::vector<std::uint32_t> faces;
+  faces.reserve(use.faces.size());
+  std::vector<std::uint32_t> renumber(classes.keep.size(), kInvalidIndex), keep;
+  for (const std::uint32_t f : use.faces) {
+    const Triangle& t = in_faces[f];
+    const std::uint32_t w[3] = {classes.to_new[t[0].index], classes.to_new[t[1].index], classes.to_new[t[2].index]};
+    if (w[0] == w[1] || w[1] == w[2] || w[0] == w[2]) continue;
+    faces.push_back(f);
+    for (const std::uint32_t c : w)
+      if (renumber[c] == kInvalidIndex) {
+        renumber[c] = static_cast<std::uint32_t>(keep.size());
+        keep.push_back(classes.keep[c]);
+      }
+  }
+  const std::size_t dropped = use.faces.size() - faces.size();
+  use.faces = std::move(faces);
+  for (std::uint32_t& to : classes.to_new)
+    if (to != kInvalidIndex) to = renumber[to];
+  classes.keep = std::move(keep);
+  return dropped;
+}
+
+// The mesh rebuilt from the kept faces, their corners and the representatives' vertex attributes.
+void rebuild(SurfaceMesh& mesh, const std::vector<std::uint32_t>& kept_faces, const Classes& classes) {
+  const auto& in_faces = mesh.faces();
+  const auto& to_new = classes.to_new;
   std::vector<Triangle> faces(kept_faces.size());
   parallel_for(faces.size(), kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) {
@@ -172,7 +236,7 @@ WeldReport weld(SurfaceMesh& mesh) {
   const bool faces_deleted = kept_faces.size() != in_faces.size();
   AttributeSet vattrs = std::move(mesh.vertex_attrs()), fattrs = std::move(mesh.face_attrs()),
                cattrs = std::move(mesh.corner_attrs());
-  vattrs.gather(keep);
+  vattrs.gather(classes.keep);
   if (faces_deleted) {
     std::vector<std::uint32_t> corners(3 * kept_faces.size());
     for (std::size_t i = 0; i < kept_faces.size(); ++i)
@@ -181,6 +245,29 @@ WeldReport weld(SurfaceMesh& mesh) {
     cattrs.gather(corners);
   }
   mesh.assign(std::move(faces), std::move(vattrs), std::move(fattrs), std::move(cattrs));
+}
+
+}  // namespace
+
+WeldReport weld(SurfaceMesh& mesh, const WeldOptions& options) {
+  WeldReport report;
+  const VertexBytes bytes(mesh, options.key == WeldKey::PositionAndSkin);
+  const std::size_t nv = mesh.vertex_count();
+  FaceUse use = first_uses(mesh);
+  Classes classes = classify(bytes, use.first_use, nv, options.key);
+  report.kept_apart = classes.kept_apart;
+  std::size_t used = use.first_use.size();
+  if (options.drop_repeating_faces) {
+    report.faces_dropped = drop_repeating_faces(mesh.faces(), use, classes);
+    if (report.faces_dropped) {
+      used = 0;
+      for (const std::uint32_t to : classes.to_new) used += to != kInvalidIndex;
+      if (options.key == WeldKey::PositionAndSkin) report.kept_apart = count_kept_apart(bytes, classes.keep);
+    }
+  }
+  report.dropped = nv - used;
+  report.merged = used - classes.keep.size();
+  rebuild(mesh, use.faces, classes);
   return report;
 }
 

@@ -128,11 +128,42 @@ std::string read_head(const std::string& path, std::size_t bytes) {
   return head;
 }
 
-/// A PLY file must hold every element its header declares: VTK's PLY code allocates what the
-/// header says and reads on past a truncated body (a crash, not an error). So the header is
-/// parsed here (short lines, known types, counts that fit the file), then the body is walked
-/// element by element, list counts included, before vtkPLYReader opens the file.
-void check_ply(const std::string& path, std::uintmax_t size) {
+/// A PLY header as parsed: the format, the elements with their properties, and where the body
+/// starts.
+struct PlyProperty {
+  std::string name;
+  bool list = false;
+  int count_size = 0;  // list: bytes of the count
+  bool count_signed = false;
+  int size = 0;  // scalar bytes, or bytes per list item
+  bool item_signed = false;
+  bool vertex_ids = false;  // a face's vertex_indices: each checked against the vertex count
+};
+struct PlyElement {
+  std::string name;
+  std::uintmax_t count = 0;
+  std::vector<PlyProperty> properties;
+};
+
+struct PlyHeader {
+  std::string format;
+  std::vector<PlyElement> elements;
+  std::size_t body = 0;  // offset of the first byte after the header
+};
+
+// Bytes of a PLY scalar type (and whether it is signed); `integer`: a list count or index type.
+int ply_type_size(const std::string& path, const std::string& t, bool* is_signed = nullptr, bool integer = false) {
+  if (is_signed) *is_signed = t == "char" || t == "int8" || t == "short" || t == "int16" || t == "int" || t == "int32";
+  if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
+  if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
+  if (t == "int" || t == "uint" || t == "int32" || t == "uint32") return 4;
+  if (!integer && (t == "float" || t == "float32")) return 4;
+  if (!integer && (t == "double" || t == "float64")) return 8;
+  fail(path, "PLY property type '" + t.substr(0, 32) + (integer ? "' cannot count a list" : "' is unknown"));
+}
+
+// The header: short printable lines, known types, at most 64 elements of 256 properties.
+PlyHeader parse_ply_header(const std::string& path) {
   const std::string head = read_head(path, 64 * 1024);
   if (head.compare(0, 3, "ply") != 0 || (head.size() > 3 && head[3] != '\n' && head[3] != '\r'))
     fail(path, "does not start with 'ply'");
@@ -152,31 +183,10 @@ void check_ply(const std::string& path, std::uintmax_t size) {
     if ((c < 0x20 && c != '\n' && c != '\r' && c != '\t') || c >= 0x7F)
       fail(path, "the PLY header holds a byte that is not text (offset " + std::to_string(i) + ")");
   }
-  struct Property {
-    std::string name;
-    bool list = false;
-    int count_size = 0;  // list: bytes of the count
-    bool count_signed = false;
-    int size = 0;  // scalar bytes, or bytes per list item
-    bool item_signed = false;
-    bool vertex_ids = false;  // a face's vertex_indices: each checked against the vertex count
-  };
-  struct Element {
-    std::string name;
-    std::uintmax_t count = 0;
-    std::vector<Property> properties;
-  };
-  std::vector<Element> elements;
-  std::string format;
-  const auto type_size = [&](const std::string& t, bool* is_signed = nullptr, bool integer = false) -> int {
-    if (is_signed) *is_signed = t == "char" || t == "int8" || t == "short" || t == "int16" || t == "int" || t == "int32";
-    if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
-    if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
-    if (t == "int" || t == "uint" || t == "int32" || t == "uint32") return 4;
-    if (!integer && (t == "float" || t == "float32")) return 4;
-    if (!integer && (t == "double" || t == "float64")) return 8;
-    fail(path, "PLY property type '" + t.substr(0, 32) + (integer ? "' cannot count a list" : "' is unknown"));
-  };
+  PlyHeader header;
+  header.body = body;
+  std::vector<PlyElement>& elements = header.elements;
+  std::string& format = header.format;
   std::istringstream lines(head.substr(0, end));
   std::string line;
   while (std::getline(lines, line)) {
@@ -189,7 +199,7 @@ void check_ply(const std::string& path, std::uintmax_t size) {
       if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian")
         fail(path, "PLY format '" + format.substr(0, 32) + "' is unknown");
     } else if (word == "element") {
-      Element e;
+      PlyElement e;
       std::string count;
       words >> e.name >> count;
       if (count.empty() || count.size() > 12 || !std::all_of(count.begin(), count.end(), [](char c) { return c >= '0' && c <= '9'; }))
@@ -199,21 +209,21 @@ void check_ply(const std::string& path, std::uintmax_t size) {
       if (elements.size() > 64) fail(path, "the PLY header declares more than 64 elements");
     } else if (word == "property") {
       if (elements.empty()) fail(path, "a PLY property comes before any element");
-      Element& e = elements.back();
+      PlyElement& e = elements.back();
       if (e.properties.size() >= 256) fail(path, "PLY element '" + e.name.substr(0, 32) + "' has more than 256 properties");
       std::string type;
       words >> type;
-      Property prop;
+      PlyProperty prop;
       if (type == "list") {
         std::string count_type, item_type;
         words >> count_type >> item_type >> prop.name;
         prop.list = true;
-        prop.count_size = type_size(count_type, &prop.count_signed, true);
+        prop.count_size = ply_type_size(path, count_type, &prop.count_signed, true);
         prop.vertex_ids = e.name == "face" && (prop.name == "vertex_indices" || prop.name == "vertex_index");
-        prop.size = type_size(item_type, &prop.item_signed, prop.vertex_ids);
+        prop.size = ply_type_size(path, item_type, &prop.item_signed, prop.vertex_ids);
       } else {
         words >> prop.name;
-        prop.size = type_size(type);
+        prop.size = ply_type_size(path, type);
       }
       e.properties.push_back(prop);
     } else if (!word.empty() && word != "comment" && word != "obj_info" && word != "ply") {
@@ -222,24 +232,32 @@ void check_ply(const std::string& path, std::uintmax_t size) {
     }
   }
   if (format.empty()) fail(path, "the PLY header has no format line");
-  // vtkPLYReader needs vertices with x, y and z and faces with a vertex index list.
-  const auto find = [&](const char* name) -> const Element* {
-    for (const Element& e : elements)
+  return header;
+}
+
+// vtkPLYReader needs vertices with x, y and z and faces with a vertex index list, and every
+// element must fit in the bytes after the header.
+void check_ply_elements(const std::string& path, const PlyHeader& header, std::uintmax_t size) {
+  const auto& elements = header.elements;
+  const auto& format = header.format;
+  const std::size_t body = header.body;
+  const auto find = [&](const char* name) -> const PlyElement* {
+    for (const PlyElement& e : elements)
       if (e.name == name) return &e;
     return nullptr;
   };
-  const Element* vertex = find("vertex");
-  const Element* face = find("face");
-  const auto has = [](const Element* e, const char* name, bool list) {
+  const PlyElement* vertex = find("vertex");
+  const PlyElement* face = find("face");
+  const auto has = [](const PlyElement* e, const char* name, bool list) {
     return e && std::any_of(e->properties.begin(), e->properties.end(),
-                            [&](const Property& p) { return p.name == name && p.list == list; });
+                            [&](const PlyProperty& p) { return p.name == name && p.list == list; });
   };
   if (!has(vertex, "x", false) || !has(vertex, "y", false) || !has(vertex, "z", false))
     fail(path, "the PLY header has no vertex element with x, y and z");
   if (!has(face, "vertex_indices", true) && !has(face, "vertex_index", true))
     fail(path, "no faces (the PLY header has no face element with a vertex_indices list)");
   const std::uintmax_t left = size > body ? size - body : 0;
-  for (const Element& e : elements) {
+  for (const PlyElement& e : elements) {
     if (e.properties.empty() && e.count > 0) fail(path, "PLY element '" + e.name.substr(0, 32) + "' has no properties");
     // At least one byte per property per element (ASCII: a character and a separator).
     const std::uintmax_t per = (format == "ascii" ? 2 : 1) * std::max<std::uintmax_t>(e.properties.size(), 1);
@@ -247,70 +265,75 @@ void check_ply(const std::string& path, std::uintmax_t size) {
       fail(path, "the PLY header claims " + std::to_string(e.count) + " " + e.name.substr(0, 32) + " elements; the file holds " +
                      std::to_string(left) + " bytes after its header");
   }
+}
 
-  // VTK reads the points a face names without checking them: each id must name a vertex.
-  long long vertices = 0;
-  for (const Element& e : elements)
-    if (e.name == "vertex") vertices = static_cast<long long>(e.count);
-  const auto bad_id = [&](const Element& e, std::uintmax_t i, long long id) {
-    fail(path, e.name.substr(0, 32) + " " + std::to_string(i) + " uses vertex " + std::to_string(id) + ", past the " +
-                   std::to_string(vertices) + " vertices");
-  };
+[[noreturn]] void ply_truncated(const std::string& path, const PlyElement& e, std::uintmax_t i) {
+  fail(path, "truncated PLY: " + e.name.substr(0, 32) + " " + std::to_string(i) + " of " + std::to_string(e.count) +
+                 " is missing or incomplete");
+}
+
+[[noreturn]] void ply_bad_id(const std::string& path, const PlyElement& e, std::uintmax_t i, long long id, long long vertices) {
+  fail(path, e.name.substr(0, 32) + " " + std::to_string(i) + " uses vertex " + std::to_string(id) + ", past the " +
+                 std::to_string(vertices) + " vertices");
+}
+
+// An ASCII body: vtkPLY reads one element per line, so each line must hold all of its element's
+// values, as numbers, with list lengths in range and vertex ids naming a vertex.
+void check_ply_ascii_body(const std::string& path, const PlyHeader& header, long long vertices) {
   std::ifstream in(path, std::ios::binary);
-  in.seekg(static_cast<std::streamoff>(body));
-  const auto truncated = [&](const Element& e, std::uintmax_t i) {
-    fail(path, "truncated PLY: " + e.name.substr(0, 32) + " " + std::to_string(i) + " of " + std::to_string(e.count) +
-                   " is missing or incomplete");
-  };
-  if (format == "ascii") {
-    // vtkPLY reads one element per line: each line must hold all of its element's values.
-    std::string row;
-    for (const Element& e : elements)
-      for (std::uintmax_t i = 0; i < e.count; ++i) {
-        do {
-          if (!std::getline(in, row)) truncated(e, i);
-        } while (row.find_first_not_of(" \t\r") == std::string::npos);
-        // vtkPLY splits lines as C strings: a NUL or another control byte loses words (a crash).
-        for (const char ch : row) {
-          const auto c = static_cast<unsigned char>(ch);
-          if ((c < 0x20 && c != '\t' && c != '\r') || c >= 0x7F)
-            fail(path, e.name.substr(0, 32) + " " + std::to_string(i) + ": a byte that is not text in an ASCII PLY");
-        }
-        std::istringstream words(row);
-        std::string word;
-        for (const Property& prop : e.properties) {
-          if (!(words >> word)) truncated(e, i);
-          char* end_of_number = nullptr;
-          (void)std::strtod(word.c_str(), &end_of_number);
-          if (*end_of_number != '\0')
-            fail(path, e.name.substr(0, 32) + " " + std::to_string(i) + ": '" + word.substr(0, 32) + "' is not a number");
-          if (!prop.list) continue;
-          char* stop = nullptr;
-          const long long n = std::strtoll(word.c_str(), &stop, 10);
-          if (*stop != '\0' || n < 0 || n > 1 << 20)
-            fail(path, e.name.substr(0, 32) + " " + std::to_string(i) + ": list length '" + word.substr(0, 32) + "' is not a whole number from 0 to 2^20");
-          for (long long k = 0; k < n; ++k) {
-            if (!(words >> word)) truncated(e, i);
-            if (!prop.vertex_ids) continue;
-            const long long id = std::strtoll(word.c_str(), &stop, 10);
-            if (*stop != '\0' || id < 0 || id >= vertices) bad_id(e, i, id);
-          }
+  in.seekg(static_cast<std::streamoff>(header.body));
+  std::string row;
+  for (const PlyElement& e : header.elements)
+    for (std::uintmax_t i = 0; i < e.count; ++i) {
+      do {
+        if (!std::getline(in, row)) ply_truncated(path, e, i);
+      } while (row.find_first_not_of(" \t\r") == std::string::npos);
+      // vtkPLY splits lines as C strings: a NUL or another control byte loses words (a crash).
+      for (const char ch : row) {
+        const auto c = static_cast<unsigned char>(ch);
+        if ((c < 0x20 && c != '\t' && c != '\r') || c >= 0x7F)
+          fail(path, e.name.substr(0, 32) + " " + std::to_string(i) + ": a byte that is not text in an ASCII PLY");
+      }
+      std::istringstream words(row);
+      std::string word;
+      for (const PlyProperty& prop : e.properties) {
+        if (!(words >> word)) ply_truncated(path, e, i);
+        char* end_of_number = nullptr;
+        (void)std::strtod(word.c_str(), &end_of_number);
+        if (*end_of_number != '\0')
+          fail(path, e.name.substr(0, 32) + " " + std::to_string(i) + ": '" + word.substr(0, 32) + "' is not a number");
+        if (!prop.list) continue;
+        char* stop = nullptr;
+        const long long n = std::strtoll(word.c_str(), &stop, 10);
+        if (*stop != '\0' || n < 0 || n > 1 << 20)
+          fail(path, e.name.substr(0, 32) + " " + std::to_string(i) + ": list length '" + word.substr(0, 32) + "' is not a whole number from 0 to 2^20");
+        for (long long k = 0; k < n; ++k) {
+          if (!(words >> word)) ply_truncated(path, e, i);
+          if (!prop.vertex_ids) continue;
+          const long long id = std::strtoll(word.c_str(), &stop, 10);
+          if (*stop != '\0' || id < 0 || id >= vertices) ply_bad_id(path, e, i, id, vertices);
         }
       }
-    return;
-  }
+    }
+}
+
+// A binary body: list lengths in range, vertex ids naming a vertex, and everything inside the file.
+void check_ply_binary_body(const std::string& path, const PlyHeader& header, std::uintmax_t size, long long vertices) {
+  std::ifstream in(path, std::ios::binary);
+  in.seekg(static_cast<std::streamoff>(header.body));
+  const auto& format = header.format;
   const bool big = format == "binary_big_endian";
-  std::uintmax_t offset = body;
-  for (const Element& e : elements)
+  std::uintmax_t offset = header.body;
+  for (const PlyElement& e : header.elements)
     for (std::uintmax_t i = 0; i < e.count; ++i)
-      for (const Property& prop : e.properties) {
+      for (const PlyProperty& prop : e.properties) {
         if (!prop.list) {
           offset += std::uintmax_t(prop.size);
           continue;
         }
         unsigned char b[4] = {};
         in.seekg(static_cast<std::streamoff>(offset));
-        if (offset + std::uintmax_t(prop.count_size) > size || !in.read(reinterpret_cast<char*>(b), prop.count_size)) truncated(e, i);
+        if (offset + std::uintmax_t(prop.count_size) > size || !in.read(reinterpret_cast<char*>(b), prop.count_size)) ply_truncated(path, e, i);
         std::uint32_t raw = 0;
         for (int k = 0; k < prop.count_size; ++k) raw |= std::uint32_t(b[big ? prop.count_size - 1 - k : k]) << (8 * k);
         long long n = raw;
@@ -321,19 +344,36 @@ void check_ply(const std::string& path, std::uintmax_t size) {
         if (prop.vertex_ids) {
           for (long long k = 0; k < n; ++k, offset += std::uintmax_t(prop.size)) {
             unsigned char v[4] = {};
-            if (offset + std::uintmax_t(prop.size) > size || !in.read(reinterpret_cast<char*>(v), prop.size)) truncated(e, i);
+            if (offset + std::uintmax_t(prop.size) > size || !in.read(reinterpret_cast<char*>(v), prop.size)) ply_truncated(path, e, i);
             std::uint32_t u = 0;
             for (int c = 0; c < prop.size; ++c) u |= std::uint32_t(v[big ? prop.size - 1 - c : c]) << (8 * c);
             long long id = u;
             if (prop.item_signed && (u >> (8 * prop.size - 1)) & 1u) id = static_cast<long long>(u) - (1ll << (8 * prop.size));
-            if (id < 0 || id >= vertices) bad_id(e, i, id);
+            if (id < 0 || id >= vertices) ply_bad_id(path, e, i, id, vertices);
           }
         } else {
           offset += std::uintmax_t(n) * std::uintmax_t(prop.size);
         }
-        if (offset > size) truncated(e, i);
+        if (offset > size) ply_truncated(path, e, i);
       }
   if (offset > size) fail(path, "truncated PLY: the elements need " + std::to_string(offset) + " bytes, the file has " + std::to_string(size));
+}
+
+/// A PLY file must hold every element its header declares: VTK's PLY code allocates what the
+/// header says and reads on past a truncated body (a crash, not an error). So the header is
+/// parsed here (short lines, known types, counts that fit the file), then the body is walked
+/// element by element, list counts included, before vtkPLYReader opens the file.
+void check_ply(const std::string& path, std::uintmax_t size) {
+  const PlyHeader header = parse_ply_header(path);
+  check_ply_elements(path, header, size);
+  // VTK reads the points a face names without checking them: each id must name a vertex.
+  long long vertices = 0;
+  for (const PlyElement& e : header.elements)
+    if (e.name == "vertex") vertices = static_cast<long long>(e.count);
+  if (header.format == "ascii")
+    check_ply_ascii_body(path, header, vertices);
+  else
+    check_ply_binary_body(path, header, size, vertices);
 }
 
 /// Wavefront OBJ: vtkOBJReader reads "nan" or "1e999" without a word (as 0 or Inf) and follows

@@ -399,7 +399,7 @@ void bm_preprocess(benchmark::State& state, std::size_t triangles) {
     state.PauseTiming();
     SurfaceMesh mesh = it->second;
     state.ResumeTiming();
-    weld(mesh);
+    weld(mesh, {WeldKey::PositionAndSkin});  // the glTF importer's weld (io/gltf_read_mesh.cpp)
     Adjacency adjacency = Adjacency::build(mesh);
     TriangleGrid grid = TriangleGrid::build(mesh, mesh.positions());  // the drill's and preview's index
     benchmark::DoNotOptimize(adjacency.vertex_count());

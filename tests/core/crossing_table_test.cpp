@@ -2,10 +2,10 @@
 // The crossing table and needle merges the conforming insertions share (ops/common).
 #include "ops/common/crossing_table.h"
 
+#include <gtest/gtest.h>
+
 #include <random>
 #include <unordered_map>
-
-#include <gtest/gtest.h>
 
 #include "deepcut/core/mesh_editor.h"
 #include "fixtures.h"
@@ -39,6 +39,8 @@ TEST(CrossingTable, FindsEachEdgeEitherWayAndMakesItOnce) {
   EXPECT_EQ(table.find(VertexId(1), VertexId(2))->value, 12);
   EXPECT_EQ(table.size(), 1u);
   EXPECT_EQ(table.key(0), edge_key(VertexId(1), VertexId(2)));
+  EXPECT_EQ(table.find_key(table.key(0)), r);
+  EXPECT_EQ(table.find_key(edge_key(VertexId(1), VertexId(3))), nullptr);
 }
 
 // Many random edges, with and without sizing up front: every lookup agrees with a std map,
@@ -83,7 +85,8 @@ TEST(CrossingTable, AgreesWithAMapThroughGrowthAndKeepsRecordsInPlace) {
 
 TEST(CrossingTable, ClearForgetsEveryEdge) {
   CrossingTable<Record> table;
-  for (std::uint32_t i = 0; i < 100; ++i) table.try_emplace(VertexId(i), VertexId(i + 1)).first->value = int(i);
+  for (std::uint32_t i = 0; i < 100; ++i)
+    table.try_emplace(VertexId(i), VertexId(i + 1)).first->value = int(i);
   table.clear();
   EXPECT_TRUE(table.empty());
   for (std::uint32_t i = 0; i < 100; ++i) EXPECT_EQ(table.find(VertexId(i), VertexId(i + 1)), nullptr);

@@ -128,6 +128,28 @@ TEST(GltfTest, bundled_models_match_independently_known_counts) {
   }
 }
 
+TEST(GltfTest, import_without_weld_keeps_every_referenced_gltf_vertex_in_order_of_first_use) {
+  const std::string fox = std::string(DEEPCUT_ASSETS_DIR) + "/models/Fox/Fox.glb";
+  ImportOptions apart;
+  apart.weld = false;
+  const Model welded = read_gltf(fox), split = read_gltf(fox, apart);
+  ASSERT_EQ(split.meshes.size(), welded.meshes.size());
+  const Primitive& a = welded.meshes[0].primitives[0];
+  const Primitive& b = split.meshes[0].primitives[0];
+  // Fox is non-indexed: glTF vertex i is corner i, so vertex i of the unwelded mesh is glTF vertex i.
+  EXPECT_EQ(b.mesh.vertex_count(), b.gltf_vertices);
+  EXPECT_EQ(b.welded_merged, 0u);
+  EXPECT_EQ(a.welded_merged, a.gltf_vertices - a.mesh.vertex_count());
+  ASSERT_EQ(b.mesh.face_count(), a.mesh.face_count());
+  for (std::uint32_t f = 0; f < b.mesh.face_count(); ++f) {
+    const Triangle& t = b.mesh.face(FaceId(f));
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(t[k].index, 3 * f + std::uint32_t(k));
+      EXPECT_EQ(b.mesh.position(t[k]), a.mesh.position(a.mesh.face(FaceId(f))[k]));
+    }
+  }
+}
+
 TEST(GltfTest, fox_is_non_indexed_and_welds_to_a_closed_surface) {
   const Model model = read_gltf(std::string(DEEPCUT_ASSETS_DIR) + "/models/Fox/Fox.glb");
   const ModelStats s = compute_stats(model);

@@ -86,8 +86,10 @@ TEST(ModelSurgery, AnEditedSharedMeshBecomesTheNodesOwnCopy) {
   ASSERT_EQ(model.meshes.size(), 3u);
   EXPECT_EQ(model.nodes[1].mesh, 0);
   EXPECT_EQ(model.nodes[2].mesh, 2);
-  EXPECT_EQ(model.meshes[0].primitives[0].mesh.face_count(), before.meshes[0].primitives[0].mesh.face_count());
-  EXPECT_EQ(model.meshes[2].primitives[0].mesh.face_count() + 1, before.meshes[0].primitives[0].mesh.face_count());
+  EXPECT_EQ(model.meshes[0].primitives[0].mesh.face_count(),
+            before.meshes[0].primitives[0].mesh.face_count());
+  EXPECT_EQ(model.meshes[2].primitives[0].mesh.face_count() + 1,
+            before.meshes[0].primitives[0].mesh.face_count());
   EXPECT_EQ(posed.find(2, 0)->mesh, 2);
   expect_posed_matches_rebuild(posed, model);
 }
@@ -171,7 +173,8 @@ TEST(ModelSurgery, PiecesReplaceTheMeshAndAddNodesBesideTheInstance) {
     piece0.name = "p0";
     piece1.name = "p1";
     inst.replace_mesh(std::move(piece0));
-    added.push_back(inst.add_piece_node(std::move(piece1), model.nodes[static_cast<std::size_t>(inst.node())].name + "_piece1"));
+    added.push_back(inst.add_piece_node(std::move(piece1),
+                                        model.nodes[static_cast<std::size_t>(inst.node())].name + "_piece1"));
     return true;
   });
   // Node 1 shared mesh 0: its piece is a new mesh; node 3 owned mesh 1: replaced in place.

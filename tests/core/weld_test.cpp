@@ -92,3 +92,83 @@ TEST(WeldTest, the_result_does_not_depend_on_the_thread_count) {
 }
 
 }  // namespace deepcut
+
+namespace deepcut {
+
+// The key policies, on two triangles that share an edge and were stored apart, as a file does.
+TEST(WeldTest, position_key_merges_different_skin_weights_keeping_the_first_users) {
+  SurfaceMesh mesh = unweld(test::make_grid(1, 1));  // two triangles, six vertices
+  auto& w = mesh.vertex_attrs().get<glm::vec4>(attr::kWeights0);
+  for (std::uint32_t v = 0; v < 6; ++v) w[v] = {1.0f - 0.1f * float(v), 0.1f * float(v), 0.0f, 0.0f};
+  const std::vector<glm::vec3> positions = mesh.positions();
+  const WeldReport r = weld(mesh, {WeldKey::Position});
+  EXPECT_EQ(mesh.vertex_count(), 4u);
+  EXPECT_EQ(r.merged, 2u);
+  EXPECT_EQ(r.kept_apart, 0u);
+  EXPECT_EQ(r.dropped, 0u);
+  // Vertices 0-2 are the first triangle's, first used in that order: they keep their weights.
+  const auto& welded = mesh.vertex_attrs().get<glm::vec4>(attr::kWeights0);
+  for (std::uint32_t v = 0; v < 3; ++v) {
+    EXPECT_EQ(mesh.positions()[v], positions[v]);
+    EXPECT_EQ(welded[v], glm::vec4(1.0f - 0.1f * float(v), 0.1f * float(v), 0.0f, 0.0f));
+  }
+}
+
+TEST(WeldTest, position_and_skin_key_keeps_different_weights_apart_and_counts_them) {
+  SurfaceMesh mesh = unweld(test::make_grid(1, 1));
+  auto& w = mesh.vertex_attrs().get<glm::vec4>(attr::kWeights0);
+  for (std::uint32_t v = 0; v < 6; ++v) w[v] = {1.0f - 0.1f * float(v), 0.1f * float(v), 0.0f, 0.0f};
+  const WeldReport r = weld(mesh, {WeldKey::PositionAndSkin});
+  EXPECT_EQ(mesh.vertex_count(), 6u);
+  EXPECT_EQ(r.merged, 0u);
+  EXPECT_EQ(r.kept_apart, 2u);  // the shared edge's two positions, each stored twice
+}
+
+TEST(WeldTest, no_key_merges_nothing_and_only_drops_and_renumbers) {
+  SurfaceMesh mesh;
+  for (int i = 0; i < 5; ++i) mesh.add_vertex({float(i % 3), float(i / 3), 0.0f});
+  mesh.positions()[4] = mesh.positions()[1];  // a duplicate that stays apart
+  mesh.add_face(VertexId(2), VertexId(4), VertexId(1));  // vertex 3 is unreferenced
+  mesh.add_face(VertexId(0), VertexId(1), VertexId(2));
+  const WeldReport r = weld(mesh, {WeldKey::None});
+  EXPECT_EQ(r.merged, 0u);
+  EXPECT_EQ(r.kept_apart, 0u);
+  EXPECT_EQ(r.dropped, 1u);
+  ASSERT_EQ(mesh.vertex_count(), 4u);
+  // Numbered by first use: 2, 4, 1, 0.
+  EXPECT_EQ(mesh.face(FaceId(0)), (Triangle{VertexId(0), VertexId(1), VertexId(2)}));
+  EXPECT_EQ(mesh.face(FaceId(1)), (Triangle{VertexId(3), VertexId(2), VertexId(0)}));
+  EXPECT_EQ(mesh.positions()[0], glm::vec3(2, 0, 0));
+  EXPECT_EQ(mesh.positions()[1], glm::vec3(1, 0, 0));
+}
+
+TEST(WeldTest, dropping_repeating_faces_renumbers_by_the_kept_faces_and_drops_what_only_they_used) {
+  // Face 0 collapses (its corners 0 and 1 share a position); face 1 is a proper triangle that
+  // reuses face 0's position of vertex 0 through vertex 3. Vertex 2 is used by face 0 only.
+  SurfaceMesh mesh;
+  mesh.add_vertex({0, 0, 0});
+  mesh.add_vertex({-0.0f, 0, 0});  // -0 equals +0
+  mesh.add_vertex({5, 5, 5});
+  mesh.add_vertex({0, 0, 0});
+  mesh.add_vertex({1, 0, 0});
+  mesh.add_vertex({0, 1, 0});
+  mesh.corner_attrs().add<glm::vec2>(attr::kUv0);
+  mesh.add_face(VertexId(0), VertexId(1), VertexId(2));
+  mesh.add_face(VertexId(4), VertexId(5), VertexId(3));
+  auto& uv = mesh.corner_attrs().get<glm::vec2>(attr::kUv0);
+  for (std::uint32_t c = 0; c < 6; ++c) uv[c] = glm::vec2(float(c), 0.0f);
+  const WeldReport r = weld(mesh, {WeldKey::Position, /*drop_repeating_faces=*/true});
+  EXPECT_EQ(r.faces_dropped, 1u);
+  EXPECT_EQ(r.dropped, 1u);  // vertex 2
+  EXPECT_EQ(r.merged, 2u);   // vertices 1 and 3 into vertex 0
+  ASSERT_EQ(mesh.face_count(), 1u);
+  ASSERT_EQ(mesh.vertex_count(), 3u);
+  EXPECT_EQ(mesh.face(FaceId(0)), (Triangle{VertexId(0), VertexId(1), VertexId(2)}));
+  EXPECT_EQ(mesh.positions()[0], glm::vec3(1, 0, 0));
+  EXPECT_EQ(mesh.positions()[2], glm::vec3(0, 0, 0));
+  const auto& kept_uv = mesh.corner_attrs().get<glm::vec2>(attr::kUv0);
+  EXPECT_EQ(kept_uv[0], glm::vec2(3, 0));
+  EXPECT_EQ(kept_uv[2], glm::vec2(5, 0));
+}
+
+}  // namespace deepcut

@@ -410,9 +410,9 @@ AnimationSampler sway_sampler(float seconds, const glm::vec3& axis, float amplit
   return sampler;
 }
 
-}  // namespace
+const glm::dvec3 kUp(0.0, 1.0, 0.0);
 
-Model make_cactus(const CactusOptions& options) {
+void check_options(const CactusOptions& options) {
   if (options.target_triangles < 1000)
     throw Error(ErrorCode::InvalidArgument, "make_cactus: target_triangles " +
                                                 std::to_string(options.target_triangles) + " is below 1000");
@@ -427,12 +427,12 @@ Model make_cactus(const CactusOptions& options) {
     throw Error(ErrorCode::InvalidArgument, "make_cactus: animation_seconds " +
                                                 std::to_string(options.animation_seconds) +
                                                 " is not a positive number");
+}
 
-  const double h = options.height;
-  const double scale = std::sqrt(static_cast<double>(options.target_triangles) / kReferenceTriangles);
-  const glm::dvec3 up(0.0, 1.0, 0.0);
-
-  // --- shape -------------------------------------------------------------------------------
+// The trunk and the two arms: spines, radii, pleats, caps and their chains of joints (the
+// parent joint of each arm is found with the skeleton).
+std::vector<LimbSpec> cactus_limbs(double h, double scale) {
+  const glm::dvec3& up = kUp;
   const double trunk_radius = 0.08 * h;
   LimbSpec trunk;
   trunk.name = "trunk";
@@ -488,12 +488,26 @@ Model make_cactus(const CactusOptions& options) {
     arm.rig.spacing = (arm.spine.length() + arm.end_cap - arm.rig.start_s) / kArmJoints;
     limbs.push_back(arm);
   }
+  return limbs;
+}
 
-  // --- skeleton ----------------------------------------------------------------------------
-  // Joint world positions (rest rotations are identity, so world matrices are translations).
-  std::vector<glm::dvec3> joint_pos(kTrunkJoints + 2 * kArmJoints);
-  std::vector<int> joint_parent(joint_pos.size(), -1);
-  std::vector<std::string> joint_name(joint_pos.size());
+// Joint world positions (rest rotations are identity, so world matrices are translations).
+struct Skeleton {
+  std::vector<glm::dvec3> position;
+  std::vector<int> parent;
+  std::vector<std::string> name;
+};
+
+// The trunk's chain, then each arm's, hung from the trunk joint nearest to where the arm leaves
+// the trunk (recorded in the arm's rig).
+Skeleton cactus_skeleton(std::vector<LimbSpec>& limbs, double h) {
+  Skeleton skeleton;
+  auto& joint_pos = skeleton.position;
+  auto& joint_parent = skeleton.parent;
+  auto& joint_name = skeleton.name;
+  joint_pos.resize(kTrunkJoints + 2 * kArmJoints);
+  joint_parent.assign(joint_pos.size(), -1);
+  joint_name.resize(joint_pos.size());
   for (int i = 0; i < kTrunkJoints; ++i) {
     joint_pos[i] = glm::dvec3(0.0, h * i / kTrunkJoints, 0.0);
     joint_parent[i] = i - 1;
@@ -515,8 +529,11 @@ Model make_cactus(const CactusOptions& options) {
       joint_name[j] = arm.name + "_" + std::to_string(k);
     }
   }
+  return skeleton;
+}
 
-  // --- resolution --------------------------------------------------------------------------
+// The swept surface with its skin weights, UVs and area-weighted corner normals.
+SurfaceMesh cactus_mesh(const std::vector<LimbSpec>& limbs, std::size_t target_triangles) {
   // Rings are spaced like the columns (square-ish quads), then all ring counts are scaled
   // together so that the total, 2 * sum(segments * rings), meets the target.
   std::vector<double> estimate(limbs.size());
@@ -526,7 +543,7 @@ Model make_cactus(const CactusOptions& options) {
     estimate[i] = limbs[i].meridian().length() / spacing;
     estimated_triangles += 2.0 * limbs[i].segments() * estimate[i];
   }
-  const double ring_scale = static_cast<double>(options.target_triangles) / estimated_triangles;
+  const double ring_scale = static_cast<double>(target_triangles) / estimated_triangles;
   std::vector<int> rings(limbs.size());
   std::size_t vertices = 0, triangles = 0, normal_slots = 0;
   for (std::size_t i = 0; i < limbs.size(); ++i) {
@@ -537,7 +554,6 @@ Model make_cactus(const CactusOptions& options) {
     normal_slots += ring_count * (limbs[i].segments() + limbs[i].ribs) + 2;
   }
 
-  // --- mesh --------------------------------------------------------------------------------
   Builder b;
   b.mesh.reserve(vertices, triangles);
   b.joints.reserve(vertices);
@@ -561,7 +577,7 @@ Model make_cactus(const CactusOptions& options) {
   }
   for (glm::vec3& n : b.normals) n = glm::normalize(n);
 
-  SurfaceMesh& mesh = b.mesh;
+  SurfaceMesh mesh = std::move(b.mesh);
   if (mesh.vertex_count() != b.joints.size() || 3 * mesh.face_slots() != b.uvs.size())
     throw Error(ErrorCode::InvariantViolated, "make_cactus: attribute sizes do not match the mesh");
   mesh.vertex_attrs().add<glm::u16vec4>(attr::kJoints0).data() = std::move(b.joints);
@@ -569,8 +585,48 @@ Model make_cactus(const CactusOptions& options) {
   mesh.corner_attrs().add<glm::vec2>(attr::kUv0).data() = std::move(b.uvs);
   auto& corner_normals = mesh.corner_attrs().add<glm::vec3>(attr::kNormal).data();
   for (std::size_t c = 0; c < corner_normals.size(); ++c) corner_normals[c] = b.normals[b.slots[c]];
+  return mesh;
+}
 
-  // --- model -------------------------------------------------------------------------------
+// One sway channel per joint: the trunk sways side to side, the arms bend in their plane.
+Animation sway_animation(const std::vector<LimbSpec>& limbs, std::size_t joint_count, int joint_node0, float seconds) {
+  const glm::dvec3& up = kUp;
+  Animation sway;
+  sway.name = "Sway";
+  const float deg = static_cast<float>(kPi / 180.0);
+  for (std::size_t j = 0; j < joint_count; ++j) {
+    glm::vec3 axis(0.0f, 0.0f, 1.0f);  // the trunk sways side to side
+    float amplitude = 1.2f * deg, phase = 0.35f * static_cast<float>(j);
+    if (j >= static_cast<std::size_t>(kTrunkJoints)) {
+      const std::size_t a = (j - kTrunkJoints) / kArmJoints;
+      const std::size_t k = (j - kTrunkJoints) % kArmJoints;
+      axis = glm::vec3(glm::cross(limbs[1 + a].spine.first_dir, up));  // arms bend in their plane
+      amplitude = 3.0f * deg;
+      phase = (a == 0 ? 0.8f : 1.9f) + 0.45f * static_cast<float>(k);
+    }
+    sway.samplers.push_back(sway_sampler(seconds, axis, amplitude, phase));
+    AnimationChannel channel;
+    channel.sampler = static_cast<int>(j);
+    channel.node = joint_node0 + static_cast<int>(j);
+    channel.path = AnimationPath::Rotation;
+    sway.channels.push_back(channel);
+  }
+  return sway;
+}
+
+}  // namespace
+
+Model make_cactus(const CactusOptions& options) {
+  check_options(options);
+  const double h = options.height;
+  const double scale = std::sqrt(static_cast<double>(options.target_triangles) / kReferenceTriangles);
+  std::vector<LimbSpec> limbs = cactus_limbs(h, scale);
+  const Skeleton skeleton = cactus_skeleton(limbs, h);
+  SurfaceMesh mesh = cactus_mesh(limbs, options.target_triangles);
+  const auto& joint_pos = skeleton.position;
+  const auto& joint_parent = skeleton.parent;
+  const auto& joint_name = skeleton.name;
+
   Model model;
   const int joint_node0 = 2;
   model.nodes.resize(joint_node0 + joint_pos.size());
@@ -595,28 +651,7 @@ Model make_cactus(const CactusOptions& options) {
   }
   model.skins.push_back(std::move(skin));
 
-  Animation sway;
-  sway.name = "Sway";
-  const float seconds = options.animation_seconds;
-  const float deg = static_cast<float>(kPi / 180.0);
-  for (std::size_t j = 0; j < joint_pos.size(); ++j) {
-    glm::vec3 axis(0.0f, 0.0f, 1.0f);  // the trunk sways side to side
-    float amplitude = 1.2f * deg, phase = 0.35f * static_cast<float>(j);
-    if (j >= static_cast<std::size_t>(kTrunkJoints)) {
-      const std::size_t a = (j - kTrunkJoints) / kArmJoints;
-      const std::size_t k = (j - kTrunkJoints) % kArmJoints;
-      axis = glm::vec3(glm::cross(arm_params[a].direction, up));  // arms bend in their plane
-      amplitude = 3.0f * deg;
-      phase = (a == 0 ? 0.8f : 1.9f) + 0.45f * static_cast<float>(k);
-    }
-    sway.samplers.push_back(sway_sampler(seconds, axis, amplitude, phase));
-    AnimationChannel channel;
-    channel.sampler = static_cast<int>(j);
-    channel.node = joint_node0 + static_cast<int>(j);
-    channel.path = AnimationPath::Rotation;
-    sway.channels.push_back(channel);
-  }
-  model.animations.push_back(std::move(sway));
+  model.animations.push_back(sway_animation(limbs, joint_pos.size(), joint_node0, options.animation_seconds));
 
   model.materials.push_back(
       {"CactusGreen",

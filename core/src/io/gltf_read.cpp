@@ -1,35 +1,27 @@
 // SPDX-License-Identifier: MIT
-// glTF import: tinygltf parses the container, buffers and images; accessors are decoded here
-// (strides, normalised integers, sparse) with bounds checks, and the raw JSON supplies the
-// objects we carry through untouched (materials, textures, samplers, cameras, extras).
+// glTF import: the sandbox (limits, file-system callbacks), the container and the accessors
+// (strides, normalised integers, sparse) with bounds checks; the raw JSON supplies the objects we
+// carry through untouched (materials, textures, samplers, cameras, extras). The sections are read
+// in gltf_read_scene.cpp and gltf_read_mesh.cpp.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
 #include <filesystem>
-#include <map>
-#include <unordered_map>
 
-#include <nlohmann/json.hpp>
-#include <tiny_gltf.h>
-
-#include "deepcut/core/io/gltf.h"
-#include "deepcut/core/mesh_editor.h"
 #include "io/gltf_common.h"
+#include "io/gltf_reader.h"
 
-namespace deepcut {
+namespace deepcut::gltf_detail {
 namespace {
 
 using nlohmann::json;
-using namespace gltf_detail;
 
 constexpr std::size_t kMaxFileBytes = std::size_t(2) << 30;     // 2 GiB
 constexpr std::size_t kMaxAccessorElements = std::size_t(1) << 28;
 // JSON nested deeper than this is refused before any parser sees it: tinygltf converts extras
 // recursively, so a deeply nested file would otherwise overflow the stack.
 constexpr int kMaxJsonDepth = 512;
-// Largest image side accepted (GPUs cap textures at 16384 or 32768 pixels a side).
-constexpr std::uint32_t kMaxImageSide = 32768;
 // What all accessors together may decode to: this many bytes plus kDecodePerInputByte times the
 // input's size (file, buffers and images). A file's own data decodes to at most 4x its size
 // (normalised bytes to floats); the rest is headroom for accessors that several primitives share.
@@ -147,8 +139,8 @@ bool has_uri_scheme(const std::string& uri) {
   return true;
 }
 
-// Keeps messages to one readable line: control characters become spaces and any run of more
-// than 100 characters without a space (a data URI quoted by tinygltf) is cut short.
+}  // namespace
+
 std::string one_line(const std::string& text) {
   std::string out;
   std::size_t run = 0;
@@ -171,46 +163,12 @@ std::string one_line(const std::string& text) {
   return out;
 }
 
-// ---- the reader -------------------------------------------------------------------------------
+std::string dump_member(const json& o, const char* key) {
+  if (!o.is_object() || !o.contains(key)) return "";
+  return o[key].dump();
+}
 
-class Reader {
- public:
-  /// Reads the file at `path`, or `*memory` (then `path` only names it and no file is read).
-  Reader(std::string path, const ImportOptions& options, const std::vector<unsigned char>* memory = nullptr)
-      : path_(std::move(path)), options_(options), memory_(memory) {}
-  Model read();
-
- private:
-  [[noreturn]] void fail(const std::string& what) const {
-    throw Error(ErrorCode::InvalidInput, path_ + ": " + one_line(what));
-  }
-  void note(const std::string& what) { model_.import_notes.push_back(what); }
-
-  void parse_container();
-  void check_uris() const;
-  std::vector<float> read_floats(int accessor, const char* what, int* components_out = nullptr);
-  std::vector<std::uint32_t> read_uints(int accessor, const char* what, int* components_out = nullptr);
-  template <class T, class Convert>
-  std::vector<T> decode(int accessor, const char* what, int* components_out, Convert convert);
-  const unsigned char* view_bytes(int view, std::size_t offset, std::size_t stride, std::size_t elem,
-                                  std::size_t count, const std::string& what);
-
-  void read_nodes();
-  void read_skins();
-  void read_animations();
-  void read_meshes();
-  void read_images();
-  void read_passthrough();
-  Primitive read_primitive(const tinygltf::Primitive& p, const std::string& where, int joint_count);
-
-  std::string path_;
-  ImportOptions options_;
-  const std::vector<unsigned char>* memory_ = nullptr;
-  std::size_t decode_left_ = 0;  // bytes that accessors may still decode to (see kDecodeBaseBytes)
-  tinygltf::Model gltf_;
-  json raw_;
-  Model model_;
-};
+// ---- the reader: container and accessors -----------------------------------------------------
 
 void Reader::parse_container() {
   std::vector<unsigned char> file_bytes;
@@ -452,6 +410,8 @@ std::vector<T> Reader::decode(int index, const char* what_c, int* components_out
   return out;
 }
 
+namespace {
+
 float to_float(const unsigned char* p, int type, bool normalized) {
   switch (type) {
     case kFloat: { float f; std::memcpy(&f, p, 4); return f; }
@@ -481,554 +441,14 @@ std::uint32_t to_uint(const unsigned char* p, int type, bool) {
   }
 }
 
+}  // namespace
+
 std::vector<float> Reader::read_floats(int accessor, const char* what, int* components_out) {
   return decode<float>(accessor, what, components_out, &to_float);
 }
 
 std::vector<std::uint32_t> Reader::read_uints(int accessor, const char* what, int* components_out) {
   return decode<std::uint32_t>(accessor, what, components_out, &to_uint);
-}
-
-std::string dump_member(const json& o, const char* key) {
-  if (!o.is_object() || !o.contains(key)) return "";
-  return o[key].dump();
-}
-
-void Reader::read_nodes() {
-  const json empty = json::object();
-  for (std::size_t i = 0; i < gltf_.nodes.size(); ++i) {
-    const auto& g = gltf_.nodes[i];
-    const json& r = raw_.contains("nodes") && raw_["nodes"].is_array() && i < raw_["nodes"].size() ? raw_["nodes"][i] : empty;
-    Node n;
-    n.name = g.name;
-    for (int c : g.children) {
-      if (c < 0 || static_cast<std::size_t>(c) >= gltf_.nodes.size())
-        fail("node " + std::to_string(i) + " has child " + std::to_string(c) + ", which does not exist");
-      n.children.push_back(c);
-    }
-    if (g.matrix.size() == 16) {
-      glm::mat4 m;
-      for (int k = 0; k < 16; ++k) m[k / 4][k % 4] = static_cast<float>(g.matrix[k]);
-      n.matrix = m;
-    }
-    if (g.translation.size() == 3) n.translation = glm::vec3(g.translation[0], g.translation[1], g.translation[2]);
-    if (g.rotation.size() == 4)
-      n.rotation = glm::quat(static_cast<float>(g.rotation[3]), static_cast<float>(g.rotation[0]),
-                             static_cast<float>(g.rotation[1]), static_cast<float>(g.rotation[2]));
-    if (g.scale.size() == 3) n.scale = glm::vec3(g.scale[0], g.scale[1], g.scale[2]);
-    bool finite = true;
-    if (n.matrix)
-      for (int k = 0; k < 16; ++k) finite = finite && std::isfinite((*n.matrix)[k / 4][k % 4]);
-    for (int k = 0; k < 3; ++k) finite = finite && std::isfinite(n.translation[k]) && std::isfinite(n.scale[k]);
-    for (int k = 0; k < 4; ++k) finite = finite && std::isfinite(n.rotation[k]);
-    if (!finite) fail("node " + std::to_string(i) + ": its transform is not finite (a value overflows a 32-bit float)");
-    auto check = [&](int idx, std::size_t size, const char* kind) {
-      if (idx >= 0 && static_cast<std::size_t>(idx) >= size)
-        fail("node " + std::to_string(i) + " refers to " + kind + " " + std::to_string(idx) + ", which does not exist");
-      return idx;
-    };
-    n.mesh = check(g.mesh, gltf_.meshes.size(), "mesh");
-    n.skin = check(g.skin, gltf_.skins.size(), "skin");
-    n.camera = check(g.camera, gltf_.cameras.size(), "camera");
-    n.extras_json = dump_member(r, "extras");
-    n.extensions_json = dump_member(r, "extensions");
-    if (!g.weights.empty()) note("node '" + g.name + "': morph target weights dropped (morph targets are not supported)");
-    model_.nodes.push_back(std::move(n));
-  }
-  // Cycles or a node with two parents would make the hierarchy ill-defined.
-  std::vector<int> parent(model_.nodes.size(), -1);
-  for (std::size_t i = 0; i < model_.nodes.size(); ++i)
-    for (int c : model_.nodes[i].children) {
-      if (parent[c] >= 0 || c == static_cast<int>(i)) fail("node " + std::to_string(c) + " has more than one parent");
-      parent[c] = static_cast<int>(i);
-    }
-  for (std::size_t i = 0; i < parent.size(); ++i) {
-    std::size_t steps = 0;
-    for (int x = parent[i]; x >= 0; x = parent[x])
-      if (++steps > parent.size()) fail("the node hierarchy has a cycle through node " + std::to_string(i));
-  }
-  for (const auto& s : gltf_.scenes) {
-    std::vector<int> roots;
-    for (int n : s.nodes) {
-      if (n < 0 || static_cast<std::size_t>(n) >= gltf_.nodes.size()) fail("a scene refers to node " + std::to_string(n) + ", which does not exist");
-      roots.push_back(n);
-    }
-    model_.scenes.push_back(std::move(roots));
-  }
-  model_.default_scene = gltf_.defaultScene >= 0 ? gltf_.defaultScene : 0;
-  if (model_.scenes.empty()) {
-    model_.scenes.push_back(model_.root_nodes());
-    model_.default_scene = 0;
-  }
-}
-
-void Reader::read_skins() {
-  for (std::size_t i = 0; i < gltf_.skins.size(); ++i) {
-    const auto& g = gltf_.skins[i];
-    Skin s;
-    s.name = g.name;
-    for (int j : g.joints) {
-      if (j < 0 || static_cast<std::size_t>(j) >= model_.nodes.size())
-        fail("skin " + std::to_string(i) + " names joint node " + std::to_string(j) + ", which does not exist");
-      s.joints.push_back(j);
-    }
-    if (s.joints.empty()) fail("skin " + std::to_string(i) + " has no joints");
-    if (g.skeleton >= 0 && static_cast<std::size_t>(g.skeleton) < model_.nodes.size()) s.skeleton = g.skeleton;
-    if (g.inverseBindMatrices >= 0) {
-      int comps = 0;
-      const auto m = read_floats(g.inverseBindMatrices, "skin inverseBindMatrices", &comps);
-      if (comps != 16) fail("skin " + std::to_string(i) + ": inverseBindMatrices are not MAT4");
-      if (m.size() / 16 < s.joints.size()) fail("skin " + std::to_string(i) + ": fewer inverseBindMatrices than joints");
-      for (std::size_t j = 0; j < s.joints.size(); ++j) {
-        glm::mat4 mat;
-        for (int k = 0; k < 16; ++k) mat[k / 4][k % 4] = m[16 * j + static_cast<std::size_t>(k)];
-        for (int k = 0; k < 16; ++k)
-          if (!std::isfinite(mat[k / 4][k % 4]))
-            fail("skin " + std::to_string(i) + ": inverse bind matrix " + std::to_string(j) + " is not finite (NaN or Inf)");
-        s.inverse_bind_matrices.push_back(mat);
-      }
-    } else {
-      s.had_inverse_bind_matrices = false;
-      s.inverse_bind_matrices.assign(s.joints.size(), glm::mat4(1.0f));
-      note("skin " + std::to_string(i) + " has no inverseBindMatrices: identity matrices used (written explicitly on export)");
-    }
-    model_.skins.push_back(std::move(s));
-  }
-}
-
-void Reader::read_animations() {
-  for (std::size_t a = 0; a < gltf_.animations.size(); ++a) {
-    const auto& g = gltf_.animations[a];
-    Animation anim;
-    anim.name = g.name;
-    std::vector<int> sampler_map(g.samplers.size(), -1);
-    for (std::size_t c = 0; c < g.channels.size(); ++c) {
-      const auto& ch = g.channels[c];
-      if (ch.sampler < 0 || static_cast<std::size_t>(ch.sampler) >= g.samplers.size())
-        fail("animation " + std::to_string(a) + " channel " + std::to_string(c) + " refers to a missing sampler");
-      if (ch.target_node < 0) continue;  // targets defined by extensions are not animated here
-      if (static_cast<std::size_t>(ch.target_node) >= model_.nodes.size())
-        fail("animation " + std::to_string(a) + " channel " + std::to_string(c) + " targets a missing node");
-      AnimationChannel out;
-      out.node = ch.target_node;
-      if (ch.target_path == "translation") out.path = AnimationPath::Translation;
-      else if (ch.target_path == "rotation") out.path = AnimationPath::Rotation;
-      else if (ch.target_path == "scale") out.path = AnimationPath::Scale;
-      else if (ch.target_path == "weights") {
-        note("animation '" + g.name + "': morph weight channel dropped (morph targets are not supported)");
-        continue;
-      } else fail("animation " + std::to_string(a) + " channel " + std::to_string(c) + ": unknown path '" + ch.target_path + "'");
-      if (sampler_map[ch.sampler] < 0) {
-        const auto& gs = g.samplers[ch.sampler];
-        AnimationSampler s;
-        int in_comps = 0, out_comps = 0;
-        s.input = read_floats(gs.input, "animation sampler input", &in_comps);
-        s.output = read_floats(gs.output, "animation sampler output", &out_comps);
-        if (in_comps != 1) fail("animation " + std::to_string(a) + ": sampler input is not SCALAR");
-        for (std::size_t k = 0; k < s.input.size(); ++k) {
-          if (!std::isfinite(s.input[k])) fail("animation " + std::to_string(a) + ": key time is not finite");
-          if (k && s.input[k] < s.input[k - 1]) fail("animation " + std::to_string(a) + ": key times are not increasing");
-        }
-        s.components = out_comps;
-        if (gs.interpolation == "STEP") s.interpolation = Interpolation::Step;
-        else if (gs.interpolation == "CUBICSPLINE") s.interpolation = Interpolation::CubicSpline;
-        else s.interpolation = Interpolation::Linear;
-        const std::size_t per_key = s.interpolation == Interpolation::CubicSpline ? 3 : 1;
-        if (s.output.size() != s.input.size() * per_key * std::size_t(out_comps))
-          fail("animation " + std::to_string(a) + ": sampler output count does not match its input count");
-        for (const float v : s.output)
-          if (!std::isfinite(v)) fail("animation " + std::to_string(a) + ": a sampler output value is not finite (NaN or Inf)");
-        sampler_map[ch.sampler] = static_cast<int>(anim.samplers.size());
-        anim.samplers.push_back(std::move(s));
-      }
-      out.sampler = sampler_map[ch.sampler];
-      const int need = out.path == AnimationPath::Rotation ? 4 : 3;
-      if (anim.samplers[out.sampler].components != need)
-        fail("animation " + std::to_string(a) + " channel " + std::to_string(c) + ": output has the wrong type for " + ch.target_path);
-      if (out.path == AnimationPath::Rotation) {
-        // Rotations must be unit quaternions (glTF; the validator checks it): normalise them, and
-        // make a zero one the identity. For cubic splines only the values, not the tangents.
-        auto& smp = anim.samplers[out.sampler];
-        const std::size_t per_key = smp.interpolation == Interpolation::CubicSpline ? 3 : 1;
-        // Float noise (SimpleSkin's 0.707s are 1.5e-4 short) is fixed silently, larger errors noted.
-        std::size_t fixed = 0;
-        for (std::size_t k = 0; k < smp.input.size(); ++k) {
-          float* q = &smp.output[4 * (k * per_key + (per_key == 3 ? 1 : 0))];
-          const double len = std::sqrt(double(q[0]) * q[0] + double(q[1]) * q[1] + double(q[2]) * q[2] + double(q[3]) * q[3]);
-          if (std::abs(len - 1.0) <= 1e-6) continue;
-          fixed += std::abs(len - 1.0) > 1e-3;
-          if (len < 1e-12 || !std::isfinite(len)) {
-            q[0] = q[1] = q[2] = 0.0f;
-            q[3] = 1.0f;
-          } else {
-            for (int i = 0; i < 4; ++i) q[i] = static_cast<float>(q[i] / len);
-          }
-        }
-        if (fixed)
-          note("animation " + std::to_string(a) + " channel " + std::to_string(c) + ": " + std::to_string(fixed) +
-               " rotations were not unit quaternions (normalised)");
-      }
-      anim.channels.push_back(out);
-    }
-    model_.animations.push_back(std::move(anim));
-  }
-}
-
-Primitive Reader::read_primitive(const tinygltf::Primitive& p, const std::string& where, int joint_count) {
-  Primitive out;
-  out.material = p.material;
-  if (p.material >= 0 && static_cast<std::size_t>(p.material) >= gltf_.materials.size())
-    fail(where + " uses material " + std::to_string(p.material) + ", which does not exist");
-  if (p.mode != TINYGLTF_MODE_TRIANGLES && p.mode != TINYGLTF_MODE_TRIANGLE_STRIP && p.mode != TINYGLTF_MODE_TRIANGLE_FAN &&
-      p.mode != -1) {
-    static const char* names[] = {"POINTS", "LINES", "LINE_LOOP", "LINE_STRIP"};
-    fail(where + " has mode " + (p.mode >= 0 && p.mode < 4 ? names[p.mode] : std::to_string(p.mode)) +
-         "; only triangle primitives are supported");
-  }
-  auto pos_it = p.attributes.find("POSITION");
-  if (pos_it == p.attributes.end()) fail(where + " has no POSITION attribute");
-  int comps = 0;
-  const auto pos = read_floats(pos_it->second, "POSITION", &comps);
-  if (comps != 3) fail(where + ": POSITION is not VEC3");
-  const std::size_t nv = pos.size() / 3;
-  for (std::size_t i = 0; i < pos.size(); ++i)
-    if (!std::isfinite(pos[i])) fail(where + ": POSITION " + std::to_string(i / 3) + " is not finite (NaN or Inf)");
-  out.gltf_vertices = nv;
-
-  // Triangles as glTF vertex indices.
-  std::vector<std::uint32_t> idx;
-  if (p.indices >= 0) {
-    int ic = 0;
-    idx = read_uints(p.indices, "indices", &ic);
-    if (ic != 1) fail(where + ": indices are not SCALAR");
-    if (gltf_.accessors[p.indices].componentType == kFloat) fail(where + ": indices must be integers");
-    for (std::size_t i = 0; i < idx.size(); ++i)
-      if (idx[i] >= nv)
-        fail(where + ": index " + std::to_string(idx[i]) + " (position " + std::to_string(i) + ") is past the " +
-             std::to_string(nv) + " vertices");
-  } else {
-    idx.resize(nv);
-    for (std::size_t i = 0; i < nv; ++i) idx[i] = static_cast<std::uint32_t>(i);
-  }
-  std::vector<std::uint32_t> tris;
-  if (p.mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
-    for (std::size_t i = 2; i < idx.size(); ++i) {
-      if (i % 2 == 0) tris.insert(tris.end(), {idx[i - 2], idx[i - 1], idx[i]});
-      else tris.insert(tris.end(), {idx[i - 1], idx[i - 2], idx[i]});
-    }
-    note(where + ": triangle strip converted to triangles");
-  } else if (p.mode == TINYGLTF_MODE_TRIANGLE_FAN) {
-    for (std::size_t i = 2; i < idx.size(); ++i) tris.insert(tris.end(), {idx[0], idx[i - 1], idx[i]});
-    note(where + ": triangle fan converted to triangles");
-  } else {
-    if (idx.size() % 3 != 0) fail(where + ": index count " + std::to_string(idx.size()) + " is not a multiple of 3");
-    tris = std::move(idx);
-  }
-
-  // Vertex attributes: skin influences.
-  struct SkinSetData {
-    std::vector<std::uint32_t> joints;
-    std::vector<float> weights;
-  };
-  std::vector<SkinSetData> sets;
-  for (int s = 0; s < 2; ++s) {
-    auto j = p.attributes.find("JOINTS_" + std::to_string(s));
-    auto w = p.attributes.find("WEIGHTS_" + std::to_string(s));
-    if (j == p.attributes.end() || w == p.attributes.end()) break;
-    SkinSetData d;
-    int jc = 0, wc = 0;
-    d.joints = read_uints(j->second, "JOINTS", &jc);
-    d.weights = read_floats(w->second, "WEIGHTS", &wc);
-    if (jc != 4 || wc != 4 || d.joints.size() != 4 * nv || d.weights.size() != 4 * nv)
-      fail(where + ": JOINTS_" + std::to_string(s) + "/WEIGHTS_" + std::to_string(s) + " must be VEC4 with one per vertex");
-    sets.push_back(std::move(d));
-  }
-  const int slots = 4 * static_cast<int>(sets.size());
-  std::size_t renormalised = 0, out_of_range = 0, zero = 0, bad_weights = 0;
-  std::vector<glm::u16vec4> joints(sets.size() * nv);
-  std::vector<glm::vec4> weights(sets.size() * nv);
-  for (std::size_t v = 0; v < nv && slots > 0; ++v) {
-    std::uint16_t jj[8] = {};
-    float ww[8] = {};
-    double sum = 0.0;
-    for (int k = 0; k < slots; ++k) {
-      const auto& d = sets[std::size_t(k / 4)];
-      std::uint32_t joint = d.joints[4 * v + std::size_t(k % 4)];
-      float weight = d.weights[4 * v + std::size_t(k % 4)];
-      if (!std::isfinite(weight) || weight < 0.0f) {
-        ++bad_weights;
-        weight = 0.0f;
-      }
-      if (joint_count >= 0 && joint >= static_cast<std::uint32_t>(joint_count)) {
-        // Dropped, and the slot points at joint 0: a vertex left with no weight is bound to its
-        // first slot's joint, which must exist.
-        out_of_range += weight > 0.0f;
-        weight = 0.0f;
-        joint = 0;
-      }
-      if (joint > 65535u) joint = 0;
-      jj[k] = static_cast<std::uint16_t>(joint);
-      ww[k] = weight;
-      sum += weight;
-    }
-    if (std::abs(sum - 1.0) > 1e-3) ++renormalised;
-    if (!normalize_influences(jj, ww, slots)) ++zero;
-    for (std::size_t s = 0; s < sets.size(); ++s) {
-      joints[s * nv + v] = glm::u16vec4(jj[4 * s], jj[4 * s + 1], jj[4 * s + 2], jj[4 * s + 3]);
-      weights[s * nv + v] = glm::vec4(ww[4 * s], ww[4 * s + 1], ww[4 * s + 2], ww[4 * s + 3]);
-    }
-  }
-  if (bad_weights) note(where + ": " + std::to_string(bad_weights) + " weights were negative or NaN (set to 0)");
-  if (renormalised) note(where + ": " + std::to_string(renormalised) + " vertices had weights not summing to 1 (normalised)");
-  if (out_of_range) note(where + ": " + std::to_string(out_of_range) + " influences named a joint past the skin (dropped)");
-  if (zero) note(where + ": " + std::to_string(zero) + " vertices had no weight (bound to their first joint)");
-
-  // Corner attributes.
-  struct CornerSource {
-    std::string name;
-    int comps;  // stored components (2, 3 or 4)
-    std::vector<float> data;
-    int data_comps;
-  };
-  std::vector<CornerSource> corner_sources;
-  for (const auto& [name, accessor] : p.attributes) {
-    if (name == "POSITION" || name.rfind("JOINTS_", 0) == 0 || name.rfind("WEIGHTS_", 0) == 0) {
-      if ((name.rfind("JOINTS_", 0) == 0 || name.rfind("WEIGHTS_", 0) == 0) && name.back() > '1')
-        note(where + ": " + name + " dropped (at most 8 influences are kept)");
-      continue;
-    }
-    CornerSource cs;
-    if (name == "NORMAL") { cs.name = attr::kNormal; cs.comps = 3; }
-    else if (name == "TANGENT") { cs.name = attr::kTangent; cs.comps = 4; }
-    else if (name == "COLOR_0") { cs.name = attr::kColor0; cs.comps = 4; }
-    else if (name.rfind("TEXCOORD_", 0) == 0) {
-      const std::string set = name.substr(9);
-      if (set.empty() || set.size() > 2 || !std::all_of(set.begin(), set.end(), [](unsigned char c) { return std::isdigit(c); })) {
-        note(where + ": attribute " + name + " dropped (not a valid glTF attribute name)");
-        continue;
-      }
-      cs.name = attr::uv_name(std::stoi(set));
-      cs.comps = 2;
-    }
-    else {
-      note(where + ": attribute " + name + " dropped (not supported)");
-      continue;
-    }
-    cs.data = read_floats(accessor, name.c_str(), &cs.data_comps);
-    if (cs.data.size() / std::size_t(std::max(cs.data_comps, 1)) != nv) fail(where + ": " + name + " count differs from POSITION count");
-    const bool ok = cs.data_comps == cs.comps || (name == "COLOR_0" && cs.data_comps == 3);
-    if (!ok) fail(where + ": " + name + " has " + std::to_string(cs.data_comps) + " components");
-    corner_sources.push_back(std::move(cs));
-  }
-  if (!p.targets.empty()) note(where + ": " + std::to_string(p.targets.size()) + " morph targets dropped (not supported)");
-
-  // Weld: one topological vertex per distinct (position, skin); numbered by first use.
-  SurfaceMesh& mesh = out.mesh;
-  mesh.reserve(nv, tris.size() / 3);
-  struct Key {
-    float p[3];
-    std::uint16_t j[8];
-    float w[8];
-  };
-  auto make_key = [&](std::uint32_t v) {
-    Key k{};
-    for (int c = 0; c < 3; ++c) k.p[c] = pos[3 * v + std::size_t(c)] + 0.0f;  // -0 == +0
-    for (std::size_t s = 0; s < sets.size(); ++s)
-      for (int c = 0; c < 4; ++c) {
-        k.j[4 * s + std::size_t(c)] = joints[s * nv + v][c];
-        k.w[4 * s + std::size_t(c)] = weights[s * nv + v][c];
-      }
-    return k;
-  };
-  auto key_hash = [](const Key& k) {
-    std::size_t h = 1469598103934665603ull;
-    const auto* b = reinterpret_cast<const unsigned char*>(&k);
-    for (std::size_t i = 0; i < sizeof(Key); ++i) h = (h ^ b[i]) * 1099511628211ull;
-    return h;
-  };
-  std::unordered_multimap<std::size_t, std::uint32_t> seen;  // hash -> welded vertex
-  std::vector<Key> welded_keys;
-  std::vector<std::uint32_t> gltf_to_welded(nv, kInvalidIndex);
-  std::unordered_map<std::size_t, std::uint32_t> position_seen;  // position-only hash
-  std::size_t kept_apart = 0;
-  auto weld_vertex = [&](std::uint32_t v) {
-    if (gltf_to_welded[v] != kInvalidIndex) return gltf_to_welded[v];
-    const Key k = make_key(v);
-    std::uint32_t id = kInvalidIndex;
-    if (options_.weld) {
-      const auto h = key_hash(k);
-      auto range = seen.equal_range(h);
-      for (auto it = range.first; it != range.second && id == kInvalidIndex; ++it)
-        if (std::memcmp(&welded_keys[it->second], &k, sizeof(Key)) == 0) id = it->second;
-      if (id == kInvalidIndex) {
-        id = static_cast<std::uint32_t>(welded_keys.size());
-        seen.emplace(h, id);
-        Key pk{};
-        std::memcpy(pk.p, k.p, sizeof(k.p));
-        if (!position_seen.emplace(key_hash(pk), id).second) ++kept_apart;
-      }
-    } else {
-      id = static_cast<std::uint32_t>(welded_keys.size());
-    }
-    if (id == welded_keys.size()) {
-      welded_keys.push_back(k);
-      mesh.add_vertex(glm::vec3(k.p[0], k.p[1], k.p[2]));
-    }
-    gltf_to_welded[v] = id;
-    return id;
-  };
-  std::vector<std::uint32_t> corner_gltf(tris.size());
-  for (std::size_t i = 0; i < tris.size(); i += 3) {
-    const auto a = weld_vertex(tris[i]), b = weld_vertex(tris[i + 1]), c = weld_vertex(tris[i + 2]);
-    mesh.add_face(VertexId(a), VertexId(b), VertexId(c));
-    corner_gltf[i] = tris[i];
-    corner_gltf[i + 1] = tris[i + 1];
-    corner_gltf[i + 2] = tris[i + 2];
-  }
-  std::size_t referenced = 0;
-  for (auto w : gltf_to_welded) referenced += w != kInvalidIndex;
-  out.welded_merged = referenced - mesh.vertex_count();
-  if (kept_apart)
-    note(where + ": " + std::to_string(kept_apart) + " vertices share a position with different skin weights (kept apart)");
-  if (referenced < nv) note(where + ": " + std::to_string(nv - referenced) + " unreferenced vertices dropped");
-
-  // Skin attributes per welded vertex.
-  if (!sets.empty()) {
-    const char* jn[2] = {attr::kJoints0, attr::kJoints1};
-    const char* wn[2] = {attr::kWeights0, attr::kWeights1};
-    for (std::size_t s = 0; s < sets.size(); ++s) {
-      auto& ja = mesh.vertex_attrs().add<glm::u16vec4>(jn[s]);
-      auto& wa = mesh.vertex_attrs().add<glm::vec4>(wn[s]);
-      for (std::uint32_t v = 0; v < nv; ++v) {
-        const auto w = gltf_to_welded[v];
-        if (w == kInvalidIndex) continue;
-        ja[w] = joints[s * nv + v];
-        wa[w] = weights[s * nv + v];
-      }
-    }
-  }
-  // Corner attributes from the glTF vertex of each corner.
-  for (const auto& cs : corner_sources) {
-    const std::size_t nc = corner_gltf.size();
-    if (cs.comps == 2) {
-      auto& a = mesh.corner_attrs().add<glm::vec2>(cs.name);
-      for (std::size_t c = 0; c < nc; ++c) a[c] = glm::vec2(cs.data[2 * corner_gltf[c]], cs.data[2 * corner_gltf[c] + 1]);
-    } else if (cs.comps == 3) {
-      auto& a = mesh.corner_attrs().add<glm::vec3>(cs.name);
-      for (std::size_t c = 0; c < nc; ++c) {
-        const float* d = &cs.data[3 * corner_gltf[c]];
-        a[c] = glm::vec3(d[0], d[1], d[2]);
-      }
-    } else {
-      auto& a = mesh.corner_attrs().add<glm::vec4>(cs.name, glm::vec4(1.0f));
-      for (std::size_t c = 0; c < nc; ++c) {
-        const float* d = &cs.data[std::size_t(cs.data_comps) * corner_gltf[c]];
-        a[c] = glm::vec4(d[0], d[1], d[2], cs.data_comps == 4 ? d[3] : 1.0f);
-      }
-    }
-  }
-  return out;
-}
-
-void Reader::read_meshes() {
-  // The skin a mesh is drawn with decides the valid joint range of its influences.
-  std::vector<int> mesh_joints(gltf_.meshes.size(), -1);
-  for (const auto& n : model_.nodes)
-    if (n.mesh >= 0 && n.skin >= 0) mesh_joints[n.mesh] = static_cast<int>(model_.skins[n.skin].joints.size());
-  for (std::size_t m = 0; m < gltf_.meshes.size(); ++m) {
-    const auto& g = gltf_.meshes[m];
-    Mesh mesh;
-    mesh.name = g.name;
-    const json& r = raw_.contains("meshes") && m < raw_["meshes"].size() ? raw_["meshes"][m] : json::object();
-    mesh.extras_json = dump_member(r, "extras");
-    for (std::size_t p = 0; p < g.primitives.size(); ++p) {
-      const std::string where = "mesh " + std::to_string(m) + (g.name.empty() ? "" : " '" + g.name + "'") + " primitive " +
-                                std::to_string(p);
-      Primitive prim = read_primitive(g.primitives[p], where, mesh_joints[m]);
-      if (r.contains("primitives") && p < r["primitives"].size()) prim.extras_json = dump_member(r["primitives"][p], "extras");
-      mesh.primitives.push_back(std::move(prim));
-    }
-    model_.meshes.push_back(std::move(mesh));
-  }
-}
-
-std::string sniff_mime(const std::vector<unsigned char>& d) {
-  if (d.size() >= 8 && d[0] == 0x89 && d[1] == 'P' && d[2] == 'N' && d[3] == 'G') return "image/png";
-  if (d.size() >= 3 && d[0] == 0xFF && d[1] == 0xD8 && d[2] == 0xFF) return "image/jpeg";
-  if (d.size() >= 12 && std::memcmp(d.data(), "RIFF", 4) == 0 && std::memcmp(d.data() + 8, "WEBP", 4) == 0) return "image/webp";
-  if (d.size() >= 4 && std::memcmp(d.data(), "\xABKTX", 4) == 0) return "image/ktx2";
-  return "";
-}
-
-// Width and height that a PNG or JPEG header claims ({0, 0} when unknown). Reads headers only.
-std::pair<std::uint32_t, std::uint32_t> image_dimensions(const std::vector<unsigned char>& d) {
-  auto be16 = [&](std::size_t at) { return std::uint32_t(d[at]) << 8 | d[at + 1]; };
-  auto be32 = [&](std::size_t at) { return be16(at) << 16 | be16(at + 2); };
-  if (d.size() >= 24 && d[0] == 0x89 && d[1] == 'P' && std::memcmp(d.data() + 12, "IHDR", 4) == 0) return {be32(16), be32(20)};
-  if (d.size() >= 4 && d[0] == 0xFF && d[1] == 0xD8) {
-    std::size_t at = 2;
-    while (at + 9 < d.size() && d[at] == 0xFF) {
-      const unsigned char marker = d[at + 1];
-      const bool sof = marker >= 0xC0 && marker <= 0xCF && marker != 0xC4 && marker != 0xC8 && marker != 0xCC;
-      if (sof) return {be16(at + 7), be16(at + 5)};
-      at += 2 + be16(at + 2);
-    }
-  }
-  return {0, 0};
-}
-
-void Reader::read_images() {
-  for (std::size_t i = 0; i < gltf_.images.size(); ++i) {
-    const auto& g = gltf_.images[i];
-    Image img;
-    img.name = g.name;
-    if (g.bufferView >= 0) {
-      const auto& bv = gltf_.bufferViews.at(g.bufferView);
-      const unsigned char* base = view_bytes(g.bufferView, 0, 1, 1, bv.byteLength, "image " + std::to_string(i));
-      img.data.assign(base, base + bv.byteLength);
-    } else {
-      img.data = g.image;
-    }
-    // Images are carried through undecoded, but whoever displays the model will decode them: a
-    // header claiming more than any GPU texture can hold is a decompression bomb, not a texture.
-    const auto [width, height] = image_dimensions(img.data);
-    if (width > kMaxImageSide || height > kMaxImageSide)
-      fail("image " + std::to_string(i) + " claims " + std::to_string(width) + " x " + std::to_string(height) +
-           " pixels, over the " + std::to_string(kMaxImageSide) + "-pixel limit per side");
-    img.mime_type = g.mimeType.empty() ? sniff_mime(img.data) : g.mimeType;
-    if (img.mime_type.empty()) img.mime_type = "image/png";
-    model_.images.push_back(std::move(img));
-  }
-}
-
-void Reader::read_passthrough() {
-  auto take = [&](const char* key, std::vector<PassthroughObject>& out) {
-    if (!raw_.contains(key) || !raw_[key].is_array()) return;
-    for (const auto& o : raw_[key]) {
-      if (!o.is_object()) fail(std::string("'") + key + "' holds something that is not an object");
-      out.push_back({o.value("name", ""), o.dump()});
-    }
-  };
-  take("materials", model_.materials);
-  take("textures", model_.textures);
-  take("samplers", model_.samplers);
-  take("cameras", model_.cameras);
-  for (const auto& t : raw_.value("textures", json::array())) {
-    const int src = t.value("source", -1);
-    if (src >= 0 && static_cast<std::size_t>(src) >= gltf_.images.size())
-      fail("a texture refers to image " + std::to_string(src) + ", which does not exist");
-    const int smp = t.value("sampler", -1);
-    if (smp >= 0 && static_cast<std::size_t>(smp) >= model_.samplers.size())
-      fail("a texture refers to sampler " + std::to_string(smp) + ", which does not exist");
-  }
-  for (const char* key : {"extensionsUsed", "extensionsRequired"}) {
-    if (!raw_.contains(key) || !raw_[key].is_array()) continue;
-    auto& out = std::string(key) == "extensionsUsed" ? model_.extensions_used : model_.extensions_required;
-    for (const auto& e : raw_[key])
-      if (e.is_string()) out.push_back(e.get<std::string>());
-  }
-  model_.extras_json = dump_member(raw_, "extras");
-  model_.asset_copyright = raw_["asset"].value("copyright", "");
 }
 
 Model Reader::read() {
@@ -1042,7 +462,12 @@ Model Reader::read() {
   return std::move(model_);
 }
 
-}  // namespace
+}  // namespace deepcut::gltf_detail
+
+namespace deepcut {
+
+using gltf_detail::one_line;
+using gltf_detail::Reader;
 
 Model read_gltf_memory(const std::vector<unsigned char>& bytes, const std::string& name, const ImportOptions& options) {
   try {

@@ -42,6 +42,9 @@ class Writer {
                    bool minmax = false);
   void write_meshes();
   void write_primitive(const Primitive& prim, json& out);
+  void write_influences(const SurfaceMesh& mesh, const std::vector<std::uint32_t>& out_vertex, json& attributes);
+  void write_corner_attribute(const SurfaceMesh& mesh, const std::string& name, const AttributeArrayBase& corner_array,
+                              const std::vector<std::uint32_t>& out_corner, json& attributes);
   void write_skins();
   void write_animations();
   void write_nodes();
@@ -86,34 +89,16 @@ int Writer::add_accessor(const std::vector<T>& data, int components, int compone
   return static_cast<int>(doc_["accessors"].size() - 1);
 }
 
-// glTF attribute name for one of our attribute names ("" if it is not exported).
-std::string gltf_name(const std::string& name) {
-  if (name == attr::kNormal) return "NORMAL";
-  if (name == attr::kTangent) return "TANGENT";
-  if (name == attr::kColor0) return "COLOR_0";
-  if (name.rfind("c:uv", 0) == 0) return "TEXCOORD_" + name.substr(4);
-  return "";
-}
+// The glTF vertices of a mesh: one per distinct (vertex, exported corner attributes), numbered
+// in order of first use by the corners.
+struct GltfVertices {
+  std::vector<std::uint32_t> vertex;   // glTF vertex -> mesh vertex
+  std::vector<std::uint32_t> corner;   // glTF vertex -> a corner it came from
+  std::vector<std::uint32_t> indices;  // corner -> glTF vertex
+};
 
-void Writer::write_primitive(const Primitive& prim, json& out) {
-  const SurfaceMesh* src = &prim.mesh;
-  SurfaceMesh compacted;
-  if (prim.mesh.face_count() != prim.mesh.face_slots()) {
-    compacted = prim.mesh;
-    compacted.compact();
-    src = &compacted;
-  }
-  const SurfaceMesh& mesh = *src;
-  const auto& ca = mesh.corner_attrs();
-  const auto names = ca.names();
-  std::vector<const AttributeArrayBase*> arrays;
-  std::vector<std::string> exported;
-  for (const auto& n : names)
-    if (!gltf_name(n).empty()) {
-      arrays.push_back(ca.base(n));
-      exported.push_back(n);
-    }
-  // Un-weld: one glTF vertex per distinct (vertex, exported corner attributes).
+// Un-welds `mesh` (no deleted faces) by the corner attributes in `arrays`.
+GltfVertices unweld(const SurfaceMesh& mesh, const std::vector<const AttributeArrayBase*>& arrays) {
   auto corner_hash = [&](std::size_t c, std::uint32_t v) {
     std::uint64_t h = 1469598103934665603ull ^ v;
     for (const auto* a : arrays) {
@@ -128,8 +113,10 @@ void Writer::write_primitive(const Primitive& prim, json& out) {
     return true;
   };
   std::unordered_multimap<std::uint64_t, std::uint32_t> seen;
-  std::vector<std::uint32_t> out_vertex, out_corner;  // per glTF vertex: welded vertex, source corner
-  std::vector<std::uint32_t> indices;
+  GltfVertices out;
+  auto& out_vertex = out.vertex;
+  auto& out_corner = out.corner;
+  auto& indices = out.indices;
   indices.reserve(mesh.face_slots() * 3);
   for (std::uint32_t f = 0; f < mesh.face_slots(); ++f) {
     const auto& t = mesh.face(FaceId(f));
@@ -149,17 +136,64 @@ void Writer::write_primitive(const Primitive& prim, json& out) {
       indices.push_back(id);
     }
   }
-  const std::size_t n = out_vertex.size();
+  return out;
+}
+
+// glTF attribute name for one of our attribute names ("" if it is not exported).
+std::string gltf_name(const std::string& name) {
+  if (name == attr::kNormal) return "NORMAL";
+  if (name == attr::kTangent) return "TANGENT";
+  if (name == attr::kColor0) return "COLOR_0";
+  if (name.rfind("c:uv", 0) == 0) return "TEXCOORD_" + name.substr(4);
+  return "";
+}
+
+void Writer::write_primitive(const Primitive& prim, json& out) {
+  const SurfaceMesh* src = &prim.mesh;
+  SurfaceMesh compacted;
+  if (prim.mesh.face_count() != prim.mesh.face_slots()) {
+    compacted = prim.mesh;
+    compacted.compact();
+    src = &compacted;
+  }
+  const SurfaceMesh& mesh = *src;
+  const auto& ca = mesh.corner_attrs();
+  std::vector<const AttributeArrayBase*> arrays;
+  std::vector<std::string> exported;
+  for (const auto& n : ca.names())
+    if (!gltf_name(n).empty()) {
+      arrays.push_back(ca.base(n));
+      exported.push_back(n);
+    }
+  const GltfVertices vertices = unweld(mesh, arrays);
+  const std::size_t n = vertices.vertex.size();
   json attributes = json::object();
   {
     std::vector<float> pos(3 * n);
     for (std::size_t i = 0; i < n; ++i) {
-      const auto& p = mesh.positions()[out_vertex[i]];
+      const auto& p = mesh.positions()[vertices.vertex[i]];
       for (int c = 0; c < 3; ++c) pos[3 * i + std::size_t(c)] = p[c];
     }
     attributes["POSITION"] = add_accessor(pos, 3, kFloat, "VEC3", kArrayBuffer, true);
   }
-  // Skin influences, renormalised; zero-weight slots name joint 0.
+  write_influences(mesh, vertices.vertex, attributes);
+  for (std::size_t a = 0; a < arrays.size(); ++a) write_corner_attribute(mesh, exported[a], *arrays[a], vertices.corner, attributes);
+  out["attributes"] = attributes;
+  const auto& indices = vertices.indices;
+  if (n <= 65535) {
+    std::vector<std::uint16_t> idx16(indices.begin(), indices.end());
+    out["indices"] = add_accessor(idx16, 1, kUnsignedShort, "SCALAR", kElementArrayBuffer);
+  } else {
+    out["indices"] = add_accessor(indices, 1, kUnsignedInt, "SCALAR", kElementArrayBuffer);
+  }
+  out["mode"] = 4;
+  if (prim.material >= 0 && static_cast<std::size_t>(prim.material) < model_.materials.size()) out["material"] = prim.material;
+  if (!prim.extras_json.empty()) out["extras"] = parse_or(prim.extras_json, json::object());
+}
+
+// Skin influences of each glTF vertex, renormalised; zero-weight slots name joint 0.
+void Writer::write_influences(const SurfaceMesh& mesh, const std::vector<std::uint32_t>& out_vertex, json& attributes) {
+  const std::size_t n = out_vertex.size();
   const auto& va = mesh.vertex_attrs();
   const char* jn[2] = {attr::kJoints0, attr::kJoints1};
   const char* wn[2] = {attr::kWeights0, attr::kWeights1};
@@ -188,67 +222,59 @@ void Writer::write_primitive(const Primitive& prim, json& out) {
       attributes["WEIGHTS_" + std::to_string(s)] = add_accessor(weights[std::size_t(s)], 4, kFloat, "VEC4", kArrayBuffer);
     }
   }
-  // Corner attributes.
-  for (std::size_t a = 0; a < arrays.size(); ++a) {
-    const std::string& name = exported[a];
-    const std::string gname = gltf_name(name);
-    const auto* array = arrays[a];
-    if (array->type() == typeid(glm::vec2)) {
-      const auto& d = static_cast<const AttributeArray<glm::vec2>*>(array)->data();
-      std::vector<float> out_data(2 * n);
-      for (std::size_t i = 0; i < n; ++i) {
-        out_data[2 * i] = d[out_corner[i]].x;
-        out_data[2 * i + 1] = d[out_corner[i]].y;
-      }
-      attributes[gname] = add_accessor(out_data, 2, kFloat, "VEC2", kArrayBuffer);
-    } else if (array->type() == typeid(glm::vec3)) {
-      const auto& d = static_cast<const AttributeArray<glm::vec3>*>(array)->data();
-      std::vector<float> out_data(3 * n);
-      for (std::size_t i = 0; i < n; ++i) {
-        glm::vec3 v = d[out_corner[i]];
-        if (gname == "NORMAL") {
-          const float len = glm::length(v);
-          if (len > 1e-12f && std::isfinite(len)) {
-            if (!unit_enough(len)) v /= len;
-          } else {  // a zero normal is invalid glTF: use the face's normal
-            const auto& t = mesh.face(FaceId(out_corner[i] / 3));
-            const glm::vec3 fn = glm::cross(mesh.position(t[1]) - mesh.position(t[0]), mesh.position(t[2]) - mesh.position(t[0]));
-            const float fl = glm::length(fn);
-            v = fl > 0.0f ? fn / fl : glm::vec3(0.0f, 0.0f, 1.0f);
-          }
-        }
-        for (int c = 0; c < 3; ++c) out_data[3 * i + std::size_t(c)] = v[c];
-      }
-      attributes[gname] = add_accessor(out_data, 3, kFloat, "VEC3", kArrayBuffer);
-    } else if (array->type() == typeid(glm::vec4)) {
-      const auto& d = static_cast<const AttributeArray<glm::vec4>*>(array)->data();
-      std::vector<float> out_data(4 * n);
-      for (std::size_t i = 0; i < n; ++i) {
-        glm::vec4 v = d[out_corner[i]];
-        if (gname == "TANGENT") {
-          glm::vec3 xyz(v);
-          const float len = glm::length(xyz);
-          if (!(len > 1e-12f && std::isfinite(len))) xyz = glm::vec3(1.0f, 0.0f, 0.0f);
-          else if (!unit_enough(len)) xyz /= len;
-          v = glm::vec4(xyz, v.w < 0.0f ? -1.0f : 1.0f);
-        } else if (gname == "COLOR_0") {
-          v = glm::clamp(v, glm::vec4(0.0f), glm::vec4(1.0f));
-        }
-        for (int c = 0; c < 4; ++c) out_data[4 * i + std::size_t(c)] = v[c];
-      }
-      attributes[gname] = add_accessor(out_data, 4, kFloat, "VEC4", kArrayBuffer);
+}
+
+// One exported corner attribute, per glTF vertex (normals and tangents made unit, colours clamped).
+void Writer::write_corner_attribute(const SurfaceMesh& mesh, const std::string& name, const AttributeArrayBase& corner_array,
+                                    const std::vector<std::uint32_t>& out_corner, json& attributes) {
+  const std::size_t n = out_corner.size();
+  const auto* array = &corner_array;
+  const std::string gname = gltf_name(name);
+  if (array->type() == typeid(glm::vec2)) {
+    const auto& d = static_cast<const AttributeArray<glm::vec2>*>(array)->data();
+    std::vector<float> out_data(2 * n);
+    for (std::size_t i = 0; i < n; ++i) {
+      out_data[2 * i] = d[out_corner[i]].x;
+      out_data[2 * i + 1] = d[out_corner[i]].y;
     }
+    attributes[gname] = add_accessor(out_data, 2, kFloat, "VEC2", kArrayBuffer);
+  } else if (array->type() == typeid(glm::vec3)) {
+    const auto& d = static_cast<const AttributeArray<glm::vec3>*>(array)->data();
+    std::vector<float> out_data(3 * n);
+    for (std::size_t i = 0; i < n; ++i) {
+      glm::vec3 v = d[out_corner[i]];
+      if (gname == "NORMAL") {
+        const float len = glm::length(v);
+        if (len > 1e-12f && std::isfinite(len)) {
+          if (!unit_enough(len)) v /= len;
+        } else {  // a zero normal is invalid glTF: use the face's normal
+          const auto& t = mesh.face(FaceId(out_corner[i] / 3));
+          const glm::vec3 fn = glm::cross(mesh.position(t[1]) - mesh.position(t[0]), mesh.position(t[2]) - mesh.position(t[0]));
+          const float fl = glm::length(fn);
+          v = fl > 0.0f ? fn / fl : glm::vec3(0.0f, 0.0f, 1.0f);
+        }
+      }
+      for (int c = 0; c < 3; ++c) out_data[3 * i + std::size_t(c)] = v[c];
+    }
+    attributes[gname] = add_accessor(out_data, 3, kFloat, "VEC3", kArrayBuffer);
+  } else if (array->type() == typeid(glm::vec4)) {
+    const auto& d = static_cast<const AttributeArray<glm::vec4>*>(array)->data();
+    std::vector<float> out_data(4 * n);
+    for (std::size_t i = 0; i < n; ++i) {
+      glm::vec4 v = d[out_corner[i]];
+      if (gname == "TANGENT") {
+        glm::vec3 xyz(v);
+        const float len = glm::length(xyz);
+        if (!(len > 1e-12f && std::isfinite(len))) xyz = glm::vec3(1.0f, 0.0f, 0.0f);
+        else if (!unit_enough(len)) xyz /= len;
+        v = glm::vec4(xyz, v.w < 0.0f ? -1.0f : 1.0f);
+      } else if (gname == "COLOR_0") {
+        v = glm::clamp(v, glm::vec4(0.0f), glm::vec4(1.0f));
+      }
+      for (int c = 0; c < 4; ++c) out_data[4 * i + std::size_t(c)] = v[c];
+    }
+    attributes[gname] = add_accessor(out_data, 4, kFloat, "VEC4", kArrayBuffer);
   }
-  out["attributes"] = attributes;
-  if (n <= 65535) {
-    std::vector<std::uint16_t> idx16(indices.begin(), indices.end());
-    out["indices"] = add_accessor(idx16, 1, kUnsignedShort, "SCALAR", kElementArrayBuffer);
-  } else {
-    out["indices"] = add_accessor(indices, 1, kUnsignedInt, "SCALAR", kElementArrayBuffer);
-  }
-  out["mode"] = 4;
-  if (prim.material >= 0 && static_cast<std::size_t>(prim.material) < model_.materials.size()) out["material"] = prim.material;
-  if (!prim.extras_json.empty()) out["extras"] = parse_or(prim.extras_json, json::object());
 }
 
 void Writer::write_meshes() {

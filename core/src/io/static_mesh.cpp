@@ -2,36 +2,13 @@
 #include "deepcut/core/io/static_mesh.h"
 
 #include <cmath>
-#include <cstring>
-#include <unordered_map>
 
 #include "deepcut/core/attributes.h"
 #include "deepcut/core/errors.h"
+#include "deepcut/core/weld.h"
 
 namespace deepcut {
 namespace {
-
-struct PositionKey {
-  std::uint32_t bits[3];
-  bool operator==(const PositionKey& o) const { return std::memcmp(bits, o.bits, sizeof(bits)) == 0; }
-};
-
-struct PositionHash {
-  std::size_t operator()(const PositionKey& k) const {
-    std::size_t h = 1469598103934665603ull;
-    for (std::uint32_t b : k.bits) h = (h ^ b) * 1099511628211ull;
-    return h;
-  }
-};
-
-PositionKey key_of(const glm::vec3& p) {
-  PositionKey k{};
-  for (int c = 0; c < 3; ++c) {
-    const float f = p[c] + 0.0f;  // -0 == +0
-    std::memcpy(&k.bits[c], &f, sizeof(float));
-  }
-  return k;
-}
 
 template <class T>
 bool all_finite(const std::vector<T>& values) {
@@ -43,6 +20,30 @@ bool all_finite(const std::vector<T>& values) {
 
 std::string plural(std::size_t n, const char* one, const char* many) {
   return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
+// The mesh as the reader found it: point i is vertex i (-0 coordinates read as +0), triangle t
+// is face t, and the per-point attributes become corner attributes (uvs and colours only when
+// finite, colours clamped to [0, 1]; normals as given).
+SurfaceMesh file_mesh(const StaticMesh& in, bool uvs_ok, bool colors_ok) {
+  SurfaceMesh mesh;
+  const std::size_t np = in.positions.size();
+  mesh.reserve(np, in.triangles.size());
+  mesh.vertex_attrs().resize(np);
+  for (std::size_t i = 0; i < np; ++i) mesh.positions()[i] = in.positions[i] + glm::vec3(0.0f);
+  for (const auto& t : in.triangles) mesh.add_face(VertexId(t[0]), VertexId(t[1]), VertexId(t[2]));
+  const auto corner_values = [&](const auto& values, auto& array) {
+    for (std::size_t f = 0; f < in.triangles.size(); ++f)
+      for (int k = 0; k < 3; ++k) array[3 * f + std::size_t(k)] = values[in.triangles[f][std::size_t(k)]];
+  };
+  if (!in.uvs.empty() && uvs_ok) corner_values(in.uvs, mesh.corner_attrs().add<glm::vec2>(attr::kUv0));
+  if (!in.colors.empty() && colors_ok) {
+    std::vector<glm::vec4> clamped(in.colors.size());
+    for (std::size_t i = 0; i < clamped.size(); ++i) clamped[i] = glm::clamp(in.colors[i], 0.0f, 1.0f);
+    corner_values(clamped, mesh.corner_attrs().add<glm::vec4>(attr::kColor0, glm::vec4(1.0f)));
+  }
+  if (!in.normals.empty()) corner_values(in.normals, mesh.corner_attrs().add<glm::vec3>(attr::kNormal));
+  return mesh;
 }
 
 }  // namespace
@@ -71,93 +72,33 @@ Model make_static_model(const StaticMesh& in, const std::string& name, const std
   model.import_notes = in.notes;
   const auto note = [&](const std::string& what) { model.import_notes.push_back(what); };
 
-  // Weld equal positions; triangles that then repeat a vertex go; the vertices the kept
-  // triangles use are numbered in order of first use.
-  std::unordered_map<PositionKey, std::uint32_t, PositionHash> welded;
-  welded.reserve(np);
-  std::vector<std::uint32_t> point_to_weld(np, kInvalidIndex);
-  std::vector<std::uint32_t> weld_point;  // a point of each welded position
-  std::vector<std::array<std::uint32_t, 3>> kept;  // welded ids
-  std::vector<std::array<std::uint32_t, 3>> corners;  // the points each corner came from
-  kept.reserve(in.triangles.size());
-  corners.reserve(in.triangles.size());
-  std::size_t repeated = 0;
-  for (const auto& t : in.triangles) {
-    std::array<std::uint32_t, 3> w{};
-    for (int k = 0; k < 3; ++k) {
-      std::uint32_t& id = point_to_weld[t[k]];
-      if (id == kInvalidIndex) {
-        const auto [it, added] = welded.emplace(key_of(in.positions[t[k]]), static_cast<std::uint32_t>(weld_point.size()));
-        if (added) weld_point.push_back(t[k]);
-        id = it->second;
-      }
-      w[k] = id;
-    }
-    if (w[0] == w[1] || w[1] == w[2] || w[0] == w[2]) {
-      ++repeated;
-      continue;
-    }
-    kept.push_back(w);
-    corners.push_back(t);
-  }
-  if (kept.empty()) fail("every face repeats a vertex (nothing to draw)");
-  std::vector<std::uint32_t> weld_to_vertex(weld_point.size(), kInvalidIndex);
-  std::vector<glm::vec3> positions;
-  std::vector<std::array<std::uint32_t, 3>> triangles;
-  triangles.reserve(kept.size());
-  for (const auto& w : kept) {
-    std::array<std::uint32_t, 3> v{};
-    for (int k = 0; k < 3; ++k) {
-      std::uint32_t& id = weld_to_vertex[w[k]];
-      if (id == kInvalidIndex) {
-        id = static_cast<std::uint32_t>(positions.size());
-        positions.push_back(in.positions[weld_point[w[k]]] + glm::vec3(0.0f));
-      }
-      v[k] = id;
-    }
-    triangles.push_back(v);
-  }
-  // Points whose position a kept triangle uses (directly or through a weld) are referenced.
-  std::size_t referenced = 0;
-  for (std::uint32_t id : point_to_weld) referenced += id != kInvalidIndex && weld_to_vertex[id] != kInvalidIndex;
-  if (repeated) note(plural(repeated, "face repeats a vertex", "faces repeat a vertex") + " (dropped)");
-  if (referenced < np) note(plural(np - referenced, "unreferenced vertex", "unreferenced vertices") + " dropped");
-
+  // The mesh as the file stores it (one vertex per point, -0 coordinates read as +0; per-point
+  // attributes on the corners, so seams survive), welded by position: triangles that then repeat
+  // a vertex go, and the vertices the kept triangles use are numbered in order of first use.
+  const bool uvs_ok = all_finite(in.uvs), colors_ok = all_finite(in.colors);
   Primitive prim;
   prim.gltf_vertices = np;
-  prim.welded_merged = referenced - positions.size();
   SurfaceMesh& mesh = prim.mesh;
-  mesh.reserve(positions.size(), triangles.size());
-  for (const glm::vec3& p : positions) mesh.add_vertex(p);
-  for (const auto& t : triangles) mesh.add_face(VertexId(t[0]), VertexId(t[1]), VertexId(t[2]));
-  const std::size_t nv = positions.size();
+  mesh = file_mesh(in, uvs_ok, colors_ok);
+  const WeldReport welded = weld(mesh, {WeldKey::Position, /*drop_repeating_faces=*/true});
+  if (mesh.face_count() == 0) fail("every face repeats a vertex (nothing to draw)");
+  if (welded.faces_dropped)
+    note(plural(welded.faces_dropped, "face repeats a vertex", "faces repeat a vertex") + " (dropped)");
+  if (welded.dropped) note(plural(welded.dropped, "unreferenced vertex", "unreferenced vertices") + " dropped");
+  prim.welded_merged = welded.merged;
+  const std::size_t nv = mesh.vertex_count();
   mesh.vertex_attrs().add<glm::u16vec4>(attr::kJoints0, glm::u16vec4(0)).resize(nv);
   mesh.vertex_attrs().add<glm::vec4>(attr::kWeights0, glm::vec4(1.0f, 0.0f, 0.0f, 0.0f)).resize(nv);
 
-  // Per-point attributes become corner attributes: a seam keeps both sides' values.
-  const auto corner_values = [&](const auto& values, auto& array) {
-    for (std::size_t f = 0; f < corners.size(); ++f)
-      for (int k = 0; k < 3; ++k) array[3 * f + std::size_t(k)] = values[corners[f][std::size_t(k)]];
-  };
-  if (!in.uvs.empty()) {
-    if (all_finite(in.uvs)) corner_values(in.uvs, mesh.corner_attrs().add<glm::vec2>(attr::kUv0));
-    else note("texture coordinates dropped (some are not finite)");
-  }
-  if (!in.colors.empty()) {
-    if (all_finite(in.colors)) {
-      std::vector<glm::vec4> clamped(in.colors.size());
-      for (std::size_t i = 0; i < clamped.size(); ++i) clamped[i] = glm::clamp(in.colors[i], 0.0f, 1.0f);
-      corner_values(clamped, mesh.corner_attrs().add<glm::vec4>(attr::kColor0, glm::vec4(1.0f)));
-    } else {
-      note("vertex colours dropped (some are not finite)");
-    }
-  }
+  if (!in.uvs.empty() && !uvs_ok) note("texture coordinates dropped (some are not finite)");
+  if (!in.colors.empty() && !colors_ok) note("vertex colours dropped (some are not finite)");
   if (!in.normals.empty()) {
     // A zero or non-finite normal takes its face's normal (the file gave no usable direction).
-    auto& normals = mesh.corner_attrs().add<glm::vec3>(attr::kNormal);
-    corner_values(in.normals, normals);
+    auto& normals = mesh.corner_attrs().get<glm::vec3>(attr::kNormal);
+    const auto& positions = mesh.positions();
     std::size_t replaced = 0;
-    for (std::size_t f = 0; f < triangles.size(); ++f) {
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+      const Triangle& t = mesh.face(FaceId(static_cast<std::uint32_t>(f)));
       for (int k = 0; k < 3; ++k) {
         glm::vec3& n = normals[3 * f + std::size_t(k)];
         const float len = glm::length(n);
@@ -165,7 +106,7 @@ Model make_static_model(const StaticMesh& in, const std::string& name, const std
           n /= len;
           continue;
         }
-        const glm::vec3 a = positions[triangles[f][0]], b = positions[triangles[f][1]], c = positions[triangles[f][2]];
+        const glm::vec3 a = positions[t[0].index], b = positions[t[1].index], c = positions[t[2].index];
         const glm::vec3 face = glm::cross(b - a, c - a);
         const float face_len = glm::length(face);
         n = std::isfinite(face_len) && face_len > 0.0f ? face / face_len : glm::vec3(0.0f, 0.0f, 1.0f);

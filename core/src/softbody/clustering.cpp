@@ -8,99 +8,13 @@
 #include <string>
 
 #include "deepcut/core/errors.h"
+#include "softbody/clustering_detail.h"
+#include "softbody/point_grid.h"
 
 namespace deepcut {
 namespace {
 
-/// Raw weights never reach 0, so a vertex exactly at distance rho keeps a usable influence.
-constexpr float kMinRawWeight = 1e-6f;
-/// Relative slack on "within rho" for vertices placed by interpolation (a lerp of two points
-/// inside a ball is inside it, up to float rounding).
-constexpr float kRadiusSlack = 1e-5f;
-
-float falloff(float d2, float rho2) {
-  const float f = std::max(0.0f, 1.0f - d2 / rho2);
-  return std::max(f * f, kMinRawWeight);
-}
-
-float distance2(const glm::vec3& a, const glm::vec3& b) {
-  const glm::vec3 d = a - b;
-  return glm::dot(d, d);
-}
-
-/// A uniform grid over a set of points, stored as a counting-sorted list per cell (CSR).
-class PointGrid {
- public:
-  PointGrid(const std::vector<glm::vec3>& pos, const std::vector<std::uint32_t>& ids, float cell)
-      : pos_(pos) {
-    for (std::uint32_t v : ids) box_.add(pos[v]);
-    const glm::vec3 ext = box_.empty() ? glm::vec3(0.0f) : box_.max - box_.min;
-    // Cap the cell count (a tiny cell relative to the model would make a huge grid).
-    const double max_cells = std::max(4096.0, 2.0 * double(ids.size()));
-    h_ = std::max(cell, 1e-30f);
-    for (int guard = 0; guard < 64; ++guard) {
-      const double n = (std::floor(double(ext.x) / h_) + 1) * (std::floor(double(ext.y) / h_) + 1) *
-                       (std::floor(double(ext.z) / h_) + 1);
-      if (n <= max_cells) break;
-      h_ = static_cast<float>(h_ * std::max(1.01, std::cbrt(n / max_cells)));
-    }
-    for (int k = 0; k < 3; ++k) dims_[k] = static_cast<int>(std::floor(double(ext[k]) / h_)) + 1;
-    const std::size_t cells = std::size_t(dims_[0]) * dims_[1] * dims_[2];
-    start_.assign(cells + 1, 0);
-    for (std::uint32_t v : ids) ++start_[cell_of(pos[v]) + 1];
-    for (std::size_t c = 0; c < cells; ++c) start_[c + 1] += start_[c];
-    items_.resize(ids.size());
-    std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
-    for (std::uint32_t v : ids) items_[fill[cell_of(pos[v])]++] = v;
-  }
-
-  std::size_t cell_count() const { return start_.size() - 1; }
-  /// The points of cell `c`.
-  const std::uint32_t* cell_begin(std::size_t c) const { return items_.data() + start_[c]; }
-  const std::uint32_t* cell_end(std::size_t c) const { return items_.data() + start_[c + 1]; }
-
-  /// Calls fn(cell) for every non-empty cell the ball (c, r) overlaps.
-  template <class F>
-  void for_each_cell_near(const glm::vec3& c, float r, F&& fn) const {
-    if (items_.empty()) return;
-    int lo[3], hi[3];
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = clamp_cell(std::floor((double(c[k]) - r - box_.min[k]) / h_), k);
-      hi[k] = clamp_cell(std::floor((double(c[k]) + r - box_.min[k]) / h_), k);
-    }
-    for (int z = lo[2]; z <= hi[2]; ++z)
-      for (int y = lo[1]; y <= hi[1]; ++y) {
-        const std::size_t row = (std::size_t(z) * dims_[1] + y) * dims_[0];
-        for (int x = lo[0]; x <= hi[0]; ++x)
-          if (start_[row + x] != start_[row + x + 1]) fn(row + x);
-      }
-  }
-
-  /// Calls fn(v) for every point in the cells the ball (c, r) overlaps (a superset of the ball).
-  template <class F>
-  void for_each_near(const glm::vec3& c, float r, F&& fn) const {
-    for_each_cell_near(c, r, [&](std::size_t cell) {
-      for (const std::uint32_t* v = cell_begin(cell); v != cell_end(cell); ++v) fn(*v);
-    });
-  }
-
- private:
-  int clamp_cell(double x, int k) const {
-    return static_cast<int>(std::min(std::max(x, 0.0), double(dims_[k] - 1)));
-  }
-  std::size_t cell_of(const glm::vec3& p) const {
-    std::size_t idx[3];
-    for (int k = 0; k < 3; ++k)
-      idx[k] = std::size_t(clamp_cell(std::floor(double(p[k] - box_.min[k]) / h_), k));
-    return (idx[2] * dims_[1] + idx[1]) * dims_[0] + idx[0];
-  }
-
-  const std::vector<glm::vec3>& pos_;
-  BoundingBox box_;
-  float h_ = 1.0f;
-  int dims_[3] = {1, 1, 1};
-  std::vector<std::uint32_t> start_, items_;
-};
+using namespace clustering_detail;
 
 /// Farthest-point sampling until every point lies within `cover` of a seed. The first seed is
 /// the point farthest from the bounding-box centre; ties go to the smaller index. A new seed only
@@ -163,19 +77,206 @@ std::vector<std::uint32_t> farthest_point_seeds(const std::vector<glm::vec3>& re
   return seeds;
 }
 
-void check_radius(float radius, const char* what) {
-  if (!(radius > 0.0f) || !std::isfinite(radius))
-    throw Error(
-        ErrorCode::InvalidArgument,
-        std::string(what) + ": radius must be a positive finite number, got " + std::to_string(radius));
+// Checks that `log` fits `mesh` before `apply` changes anything: every vertex and face it names
+// exists (vertices with a finite rest position), and every face it removes is deleted in the mesh
+// and was live (`face_refs`: the live faces per vertex before the log).
+void check_log(const SurfaceMesh& mesh, const std::vector<glm::vec3>& rest, const EditLog& log,
+               const std::vector<std::uint32_t>& face_refs) {
+  const std::size_t n = mesh.vertex_count();
+  auto check_vertex = [&](VertexId v) {
+    if (v.index >= n)
+      throw Error(ErrorCode::InvalidArgument, "clusters.apply: edit names vertex " + std::to_string(v.index) +
+                                                  ", the mesh has " + std::to_string(n));
+    const glm::vec3& p = rest[v.index];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      throw Error(ErrorCode::InvalidInput,
+                  "clusters.apply: vertex " + std::to_string(v.index) + " has a non-finite position");
+  };
+  auto check_face = [&](FaceId f, const Triangle& t) {
+    if (f.index >= mesh.face_slots())
+      throw Error(ErrorCode::InvalidArgument, "clusters.apply: edit names face " + std::to_string(f.index) +
+                                                  ", the mesh has " + std::to_string(mesh.face_slots()));
+    for (const VertexId v : t) check_vertex(v);
+  };
+
+  std::vector<std::pair<std::uint32_t, std::int64_t>> refs;  // (vertex, live faces), sorted
+  auto live_faces = [&](std::uint32_t v) -> std::int64_t& {
+    auto it = std::lower_bound(refs.begin(), refs.end(), std::make_pair(v, std::int64_t(-1)),
+                               [](const auto& a, const auto& b) { return a.first < b.first; });
+    if (it == refs.end() || it->first != v)
+      it = refs.insert(it, {v, v < face_refs.size() ? std::int64_t(face_refs[v]) : 0});
+    return it->second;
+  };
+  for (const Edit& edit : log.edits) {
+    if (const auto* e = std::get_if<VertexAdded>(&edit)) {
+      check_vertex(e->v);
+      for (const VertexId from : e->from)
+        if (from.valid()) check_vertex(from);
+    } else if (const auto* sp = std::get_if<VertexSplit>(&edit)) {
+      check_vertex(sp->original);
+      check_vertex(sp->copy);
+    } else if (const auto* m = std::get_if<VertexMoved>(&edit)) {
+      check_vertex(m->v);
+    } else if (const auto* fa = std::get_if<FaceAdded>(&edit)) {
+      check_face(fa->f, fa->vertices);
+      for (const VertexId v : fa->vertices) ++live_faces(v.index);
+    } else if (const auto* fr = std::get_if<FaceRemoved>(&edit)) {
+      check_face(fr->f, fr->vertices);
+      // Face ids are never reused, so a face the log removes is deleted in the edited mesh.
+      if (!mesh.is_deleted(fr->f))
+        throw Error(ErrorCode::InvalidArgument,
+                    "clusters.apply: the log removes face " + std::to_string(fr->f.index) +
+                        " but the mesh still has it (log and mesh do not match)");
+      for (const VertexId v : fr->vertices)
+        if (--live_faces(v.index) < 0)
+          throw Error(ErrorCode::InvalidArgument,
+                      "clusters.apply: face " + std::to_string(fr->f.index) +
+                          " is removed twice or was never added (log applied twice?)");
+    }
+  }
 }
 
-void check_rest(const SurfaceMesh& mesh, const std::vector<glm::vec3>& rest, const char* what) {
-  if (rest.size() != mesh.vertex_count())
-    throw Error(ErrorCode::InvalidArgument, std::string(what) + ": " + std::to_string(rest.size()) +
-                                                " rest positions for a mesh of " +
-                                                std::to_string(mesh.vertex_count()) + " vertices");
+// The influences of a vertex added by interpolation: its sources' influences, weighted by the
+// edit's weights and summed per particle (in order of first appearance), into `acc`.
+void blend_influences(const VertexAdded& e, const Clusters& clusters, std::vector<Influence>& acc) {
+  acc.clear();
+  for (int i = 0; i < 3; ++i) {
+    if (!e.from[i].valid() || !(e.weight[i] > 0.0f)) continue;
+    for (const Influence& in : clusters.influences(e.from[i])) {
+      auto it = std::find_if(acc.begin(), acc.end(), [&](const Influence& a) { return a.particle == in.particle; });
+      if (it == acc.end())
+        acc.push_back({in.particle, e.weight[i] * in.weight});
+      else
+        it->weight += e.weight[i] * in.weight;
+    }
+  }
 }
+
+// The connected parts of one particle's members: the largest (the first in root order on ties)
+// and the others, each sorted by vertex.
+struct Parts {
+  std::vector<std::uint32_t> main;
+  std::vector<std::vector<std::uint32_t>> minors;
+};
+
+// `by_root`: (union-find root, vertex) for every member; sorted here.
+Parts parts_by_root(std::vector<std::pair<std::uint32_t, std::uint32_t>>& by_root) {
+  std::sort(by_root.begin(), by_root.end());
+  // Parts as ranges of by_root.
+  std::size_t best_begin = 0, best_size = 0;
+  for (std::size_t i = 0; i < by_root.size();) {
+    std::size_t j = i;
+    while (j < by_root.size() && by_root[j].first == by_root[i].first) ++j;
+    if (j - i > best_size) best_begin = i, best_size = j - i;
+    i = j;
+  }
+  Parts parts;
+  for (std::size_t i = 0; i < by_root.size();) {
+    std::size_t j = i;
+    while (j < by_root.size() && by_root[j].first == by_root[i].first) ++j;
+    std::vector<std::uint32_t>& out = i == best_begin ? parts.main : parts.minors.emplace_back();
+    for (std::size_t k = i; k < j; ++k) out.push_back(by_root[k].second);
+    std::sort(out.begin(), out.end());
+    i = j;
+  }
+  return parts;
+}
+
+// Where an uncovered vertex goes: the nearest live particle whose seed lies within rho of it
+// (ties to the higher index). The candidates come from a grid over the seeds of the particles
+// live at the first question (a scan of every particle for every vertex would make long edit
+// sequences quadratic) plus the particles created since, reported with `created`: members are
+// only added meanwhile, so that is the live set.
+class NearestLiveParticle {
+ public:
+  // `seeds`: the clusters' seed array (read once, when the grid is built).
+  NearestLiveParticle(const Clusters& clusters, const std::vector<glm::vec3>& seeds)
+      : clusters_(clusters), seeds_(seeds) {}
+
+  // The particle, or kInvalidIndex when no live seed lies within rho; `d2` its squared distance.
+  std::uint32_t find(const glm::vec3& at, float& d2) {
+    const float radius = clusters_.radius();
+    std::uint32_t best = kInvalidIndex;
+    float best_d2 = radius * radius;
+    auto consider = [&](std::uint32_t p) {
+      if (clusters_.members(p).empty()) return;
+      const float e2 = distance2(at, clusters_.seed(p));
+      if (e2 < best_d2 || (e2 == best_d2 && (best == kInvalidIndex || p > best))) best_d2 = e2, best = p;
+    };
+    if (!grid_) {
+      std::vector<std::uint32_t> live;
+      for (std::uint32_t p = 0; p < clusters_.particle_slots(); ++p)
+        if (!clusters_.members(p).empty()) live.push_back(p);
+      grid_.emplace(seeds_, live, radius);
+    }
+    grid_->for_each_near(at, radius, consider);
+    for (std::uint32_t p : created_) consider(p);
+    d2 = best_d2;
+    return best;
+  }
+  void created(std::uint32_t p) { created_.push_back(p); }
+
+ private:
+  const Clusters& clusters_;
+  const std::vector<glm::vec3>& seeds_;
+  std::optional<PointGrid> grid_;
+  std::vector<std::uint32_t> created_;
+};
+
+// Brings the member list `m` of particle `p` in line with the rows: `m` is a sorted prefix (the
+// members before this apply) followed by the vertices that joined; vertices whose row no longer
+// names `p` leave.
+void follow_rows(std::vector<std::uint32_t>& m, std::uint32_t p, const Clusters& clusters) {
+  const auto tail = std::is_sorted_until(m.begin(), m.end());
+  std::sort(tail, m.end());
+  std::inplace_merge(m.begin(), tail, m.end());
+  m.erase(std::unique(m.begin(), m.end()), m.end());
+  m.erase(std::remove_if(m.begin(), m.end(),
+                         [&](std::uint32_t v) {
+                           for (const Influence& in : clusters.influences(VertexId(v)))
+                             if (in.particle == p) return false;
+                           return true;
+                         }),
+          m.end());
+}
+
+// The live faces around the members of the touched particles, each visited once without a
+// visited set: a vertex is visited from its first touched particle, a face from its first such
+// vertex.
+class FacesAroundParticles {
+ public:
+  FacesAroundParticles(const SurfaceMesh& mesh, const Adjacency& adjacency, const Clusters& clusters,
+                       const std::vector<std::uint32_t>& touched, const std::vector<std::uint8_t>& is_touched)
+      : mesh_(mesh), adjacency_(adjacency), clusters_(clusters), touched_(touched), is_touched_(is_touched) {}
+
+  template <class Fn>
+  void operator()(Fn&& fn) const {
+    for (std::uint32_t p : touched_)
+      for (std::uint32_t v : clusters_.members(p)) {
+        if (v >= adjacency_.vertex_count() || first_touched(v) != p) continue;
+        for (const FaceId f : adjacency_.vertex_faces(VertexId(v))) {
+          const Triangle& t = mesh_.face(f);
+          std::uint32_t first = kInvalidIndex;
+          for (int k = 0; k < 3 && first == kInvalidIndex; ++k)
+            if (first_touched(t[k].index) != kInvalidIndex) first = t[k].index;
+          if (first == v) fn(t);
+        }
+      }
+  }
+
+ private:
+  std::uint32_t first_touched(std::uint32_t v) const {
+    for (const Influence& in : clusters_.influences(VertexId(v)))
+      if (in.particle < is_touched_.size() && is_touched_[in.particle]) return in.particle;
+    return kInvalidIndex;
+  }
+
+  const SurfaceMesh& mesh_;
+  const Adjacency& adjacency_;
+  const Clusters& clusters_;
+  const std::vector<std::uint32_t>& touched_;
+  const std::vector<std::uint8_t>& is_touched_;
+};
 
 }  // namespace
 
@@ -338,35 +439,13 @@ std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& parti
     }
     if (single) continue;
     ++split_count;
-    std::sort(by_root.begin(), by_root.end());
-    // Parts as ranges of by_root; the largest (first on ties) is the main part.
-    std::size_t best_begin = 0, best_size = 0;
-    for (std::size_t i = 0; i < by_root.size();) {
-      std::size_t j = i;
-      while (j < by_root.size() && by_root[j].first == by_root[i].first) ++j;
-      if (j - i > best_size) best_begin = i, best_size = j - i;
-      i = j;
-    }
+    Parts parts = parts_by_root(by_root);
     if (minor_entry.empty()) minor_entry.assign(pool_.size(), 0);
-    std::vector<std::uint32_t> main;
-    for (std::size_t i = 0; i < by_root.size();) {
-      std::size_t j = i;
-      while (j < by_root.size() && by_root[j].first == by_root[i].first) ++j;
-      if (i == best_begin) {
-        for (std::size_t k = i; k < j; ++k) main.push_back(by_root[k].second);
-      } else {
-        Minor part{p, {}};
-        for (std::size_t k = i; k < j; ++k) {
-          part.vertices.push_back(by_root[k].second);
-          minor_entry[entry_of(by_root[k].second, p)] = 1;
-        }
-        std::sort(part.vertices.begin(), part.vertices.end());
-        minors.push_back(std::move(part));
-      }
-      i = j;
+    for (auto& vertices : parts.minors) {
+      for (std::uint32_t v : vertices) minor_entry[entry_of(v, p)] = 1;
+      minors.push_back({p, std::move(vertices)});
     }
-    std::sort(main.begin(), main.end());
-    members_[p] = std::move(main);
+    members_[p] = std::move(parts.main);
   }
   if (minors.empty()) return split_count;
 
@@ -524,60 +603,8 @@ ClusterUpdate Clusters::apply(const SurfaceMesh& mesh, const std::vector<glm::ve
                     std::to_string(rows_.size()) + " (compacted? build the clusters again)");
   if (adjacency && adjacency->vertex_count() > n)
     throw Error(ErrorCode::InvalidArgument, "clusters.apply: the adjacency has more vertices than the mesh");
-  auto check_vertex = [&](VertexId v) {
-    if (v.index >= n)
-      throw Error(ErrorCode::InvalidArgument, "clusters.apply: edit names vertex " + std::to_string(v.index) +
-                                                  ", the mesh has " + std::to_string(n));
-    const glm::vec3& p = rest[v.index];
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-      throw Error(ErrorCode::InvalidInput,
-                  "clusters.apply: vertex " + std::to_string(v.index) + " has a non-finite position");
-  };
-  auto check_face = [&](FaceId f, const Triangle& t) {
-    if (f.index >= mesh.face_slots())
-      throw Error(ErrorCode::InvalidArgument, "clusters.apply: edit names face " + std::to_string(f.index) +
-                                                  ", the mesh has " + std::to_string(mesh.face_slots()));
-    for (const VertexId v : t) check_vertex(v);
-  };
-
   // 0. Check the whole log before changing anything (a throw leaves the clusters as they were).
-  {
-    std::vector<std::pair<std::uint32_t, std::int64_t>> refs;  // (vertex, live faces), sorted
-    auto live_faces = [&](std::uint32_t v) -> std::int64_t& {
-      auto it = std::lower_bound(refs.begin(), refs.end(), std::make_pair(v, std::int64_t(-1)),
-                                 [](const auto& a, const auto& b) { return a.first < b.first; });
-      if (it == refs.end() || it->first != v)
-        it = refs.insert(it, {v, v < face_refs_.size() ? std::int64_t(face_refs_[v]) : 0});
-      return it->second;
-    };
-    for (const Edit& edit : log.edits) {
-      if (const auto* e = std::get_if<VertexAdded>(&edit)) {
-        check_vertex(e->v);
-        for (const VertexId from : e->from)
-          if (from.valid()) check_vertex(from);
-      } else if (const auto* sp = std::get_if<VertexSplit>(&edit)) {
-        check_vertex(sp->original);
-        check_vertex(sp->copy);
-      } else if (const auto* m = std::get_if<VertexMoved>(&edit)) {
-        check_vertex(m->v);
-      } else if (const auto* fa = std::get_if<FaceAdded>(&edit)) {
-        check_face(fa->f, fa->vertices);
-        for (const VertexId v : fa->vertices) ++live_faces(v.index);
-      } else if (const auto* fr = std::get_if<FaceRemoved>(&edit)) {
-        check_face(fr->f, fr->vertices);
-        // Face ids are never reused, so a face the log removes is deleted in the edited mesh.
-        if (!mesh.is_deleted(fr->f))
-          throw Error(ErrorCode::InvalidArgument,
-                      "clusters.apply: the log removes face " + std::to_string(fr->f.index) +
-                          " but the mesh still has it (log and mesh do not match)");
-        for (const VertexId v : fr->vertices)
-          if (--live_faces(v.index) < 0)
-            throw Error(ErrorCode::InvalidArgument,
-                        "clusters.apply: face " + std::to_string(fr->f.index) +
-                            " is removed twice or was never added (log applied twice?)");
-      }
-    }
-  }
+  check_log(mesh, rest, log, face_refs_);
 
   const std::size_t old_count = rows_.size();
   rows_.resize(n, Row{});
@@ -591,18 +618,7 @@ ClusterUpdate Clusters::apply(const SurfaceMesh& mesh, const std::vector<glm::ve
   std::vector<Influence> acc;
   for (const Edit& edit : log.edits) {
     if (const auto* e = std::get_if<VertexAdded>(&edit)) {
-      acc.clear();
-      for (int i = 0; i < 3; ++i) {
-        if (!e->from[i].valid() || !(e->weight[i] > 0.0f)) continue;
-        for (const Influence& in : influences(e->from[i])) {
-          auto it = std::find_if(acc.begin(), acc.end(),
-                                 [&](const Influence& a) { return a.particle == in.particle; });
-          if (it == acc.end())
-            acc.push_back({in.particle, e->weight[i] * in.weight});
-          else
-            it->weight += e->weight[i] * in.weight;
-        }
-      }
+      blend_influences(*e, *this, acc);
       set_row(e->v.index, acc.data(), acc.size());
       for (const Influence& in : acc) members_[in.particle].push_back(e->v.index);
       touched_vertices.push_back(e->v.index);
@@ -645,12 +661,7 @@ ClusterUpdate Clusters::apply(const SurfaceMesh& mesh, const std::vector<glm::ve
     for (const Influence& in : influences(VertexId(v))) touch(in.particle);
 
   // 3. Dead vertices leave; memberships beyond rho go; uncovered vertices find a particle.
-  // Candidates come from a grid over the seeds of the particles live when the first uncovered
-  // vertex asks (a scan of every particle per vertex made long edit sequences quadratic: Fox's
-  // 500 steps spent 40% of their time there). Members are only added in this step, so the live
-  // set is that grid plus the particles created here.
-  std::optional<PointGrid> live_grid;
-  std::vector<std::uint32_t> created_here;
+  NearestLiveParticle nearest(*this, seeds_);
   for (std::uint32_t v : touched_vertices) {
     Row& r = rows_[v];
     if (face_refs_[v] == 0) {
@@ -669,29 +680,14 @@ ClusterUpdate Clusters::apply(const SurfaceMesh& mesh, const std::vector<glm::ve
     }
     r.size = kept;
     if (r.size == 0) {
-      // Nearest live particle whose seed is within rho (ties to the higher index), or a new
-      // particle seeded here.
-      std::uint32_t best = kInvalidIndex;
-      float best_d2 = rho2;
-      auto consider = [&](std::uint32_t p) {
-        if (members_[p].empty()) return;
-        const float d2 = distance2(rest[v], seeds_[p]);
-        if (d2 < best_d2 || (d2 == best_d2 && (best == kInvalidIndex || p > best)))
-          best_d2 = d2, best = p;
-      };
-      if (!live_grid) {
-        std::vector<std::uint32_t> live;
-        for (std::uint32_t p = 0; p < seeds_.size(); ++p)
-          if (!members_[p].empty()) live.push_back(p);
-        live_grid.emplace(seeds_, live, radius_);
-      }
-      live_grid->for_each_near(rest[v], radius_, consider);
-      for (std::uint32_t p : created_here) consider(p);
+      // The nearest live particle whose seed is within rho, or a new particle seeded here.
+      float best_d2 = 0.0f;
+      std::uint32_t best = nearest.find(rest[v], best_d2);
       if (best == kInvalidIndex) {
         best = new_particle(rest[v]);
         best_d2 = 0.0f;
         update.created.push_back({best, kInvalidIndex});
-        created_here.push_back(best);
+        nearest.created(best);
       }
       const Influence in{best, falloff(best_d2, rho2)};
       set_row(v, &in, 1);
@@ -704,47 +700,13 @@ ClusterUpdate Clusters::apply(const SurfaceMesh& mesh, const std::vector<glm::ve
 
   // 4. Member lists of touched particles follow the rows. Each list is a sorted prefix (the
   // members before this apply) followed by the vertices that joined.
-  for (std::uint32_t p : touched) {
-    auto& m = members_[p];
-    const auto tail = std::is_sorted_until(m.begin(), m.end());
-    std::sort(tail, m.end());
-    std::inplace_merge(m.begin(), tail, m.end());
-    m.erase(std::unique(m.begin(), m.end()), m.end());
-    m.erase(std::remove_if(m.begin(), m.end(),
-                           [&](std::uint32_t v) {
-                             for (const Influence& in : influences(VertexId(v)))
-                               if (in.particle == p) return false;
-                             return true;
-                           }),
-            m.end());
-  }
+  for (std::uint32_t p : touched) follow_rows(members_[p], p, *this);
 
   // 5. No particle may keep disconnected parts.
   const std::size_t created_before = update.created.size();
   if (adjacency) {
-    // The live faces around the members of touched particles, each once without a visited set:
-    // a vertex is visited from its first touched particle, a face from its first such vertex.
-    auto first_touched = [&](std::uint32_t v) {
-      for (const Influence& in : influences(VertexId(v)))
-        if (in.particle < is_touched.size() && is_touched[in.particle]) return in.particle;
-      return kInvalidIndex;
-    };
     update.particles_split = split_disconnected(
-        touched,
-        [&](auto&& fn) {
-          for (std::uint32_t p : touched)
-            for (std::uint32_t v : members_[p]) {
-              if (v >= adjacency->vertex_count() || first_touched(v) != p) continue;
-              for (const FaceId f : adjacency->vertex_faces(VertexId(v))) {
-                const Triangle& t = mesh.face(f);
-                std::uint32_t first = kInvalidIndex;
-                for (int k = 0; k < 3 && first == kInvalidIndex; ++k)
-                  if (first_touched(t[k].index) != kInvalidIndex) first = t[k].index;
-                if (first == v) fn(t);
-              }
-            }
-        },
-        update.created);
+        touched, FacesAroundParticles(mesh, *adjacency, *this, touched, is_touched), update.created);
   } else {
     update.particles_split = split_disconnected(
         touched, [&](auto&& fn) { mesh.for_each_face([&](FaceId, const Triangle& t) { fn(t); }); },
@@ -758,197 +720,6 @@ ClusterUpdate Clusters::apply(const SurfaceMesh& mesh, const std::vector<glm::ve
   update.touched = std::move(touched);
   if (pool_garbage_ > 1024 && pool_garbage_ * 2 > pool_.size()) compact_pool();
   return update;
-}
-
-// ------------------------------------------------------------------------------------------------
-// Reports and checks.
-
-ClusterStats cluster_stats(const Clusters& clusters, const SurfaceMesh& mesh) {
-  ClusterStats s;
-  std::size_t min_v = std::numeric_limits<std::size_t>::max(), max_v = 0;
-  for (std::uint32_t p = 0; p < clusters.particle_slots(); ++p) {
-    const std::size_t m = clusters.members(p).size();
-    if (m == 0) continue;
-    ++s.particles;
-    s.memberships += m;
-    min_v = std::min(min_v, m);
-    max_v = std::max(max_v, m);
-  }
-  if (s.particles) {
-    s.min_vertices = min_v;
-    s.max_vertices = max_v;
-    s.mean_vertices = double(s.memberships) / double(s.particles);
-  }
-  std::vector<std::uint8_t> referenced(mesh.vertex_count(), 0);
-  mesh.for_each_face([&](FaceId, const Triangle& t) {
-    for (const VertexId v : t) referenced[v.index] = 1;
-  });
-  for (std::uint32_t v = 0; v < referenced.size(); ++v) {
-    if (!referenced[v]) continue;
-    const bool covered = v < clusters.vertex_count() && !clusters.influences(VertexId(v)).empty();
-    ++(covered ? s.covered_vertices : s.uncovered_vertices);
-  }
-  return s;
-}
-
-std::vector<std::string> check_clusters(const Clusters& clusters, const SurfaceMesh& mesh,
-                                        const std::vector<glm::vec3>& rest, std::size_t max_problems) {
-  std::vector<std::string> problems;
-  auto report = [&](const std::string& line) {
-    if (problems.size() < max_problems) problems.push_back(line);
-  };
-  const std::size_t n = mesh.vertex_count();
-  if (clusters.vertex_count() != n) {
-    report("clusters know " + std::to_string(clusters.vertex_count()) + " vertices, the mesh has " +
-           std::to_string(n));
-    return problems;
-  }
-  if (rest.size() != n) {
-    report("rest positions: " + std::to_string(rest.size()) + " for " + std::to_string(n) + " vertices");
-    return problems;
-  }
-  const float rho = clusters.radius();
-  const float limit2 = rho * rho * (1.0f + kRadiusSlack) * (1.0f + kRadiusSlack);
-  const std::size_t slots = clusters.particle_slots();
-  std::vector<std::uint8_t> referenced(n, 0);
-  mesh.for_each_face([&](FaceId, const Triangle& t) {
-    for (const VertexId v : t) referenced[v.index] = 1;
-  });
-
-  // Rows: coverage, weights, radius, and agreement with the member lists.
-  for (std::uint32_t v = 0; v < n; ++v) {
-    const InfluenceRange row = clusters.influences(VertexId(v));
-    if (referenced[v] && row.empty()) report("coverage: vertex " + std::to_string(v) + " is in no particle");
-    if (!referenced[v] && !row.empty())
-      report("vertex " + std::to_string(v) + " has no live face but is in " + std::to_string(row.size()) +
-             " particles");
-    double sum = 0.0;
-    for (const Influence* a = row.begin(); a != row.end(); ++a) {
-      if (a->particle >= slots) {
-        report("vertex " + std::to_string(v) + " names particle " + std::to_string(a->particle) + " of " +
-               std::to_string(slots));
-        continue;
-      }
-      if (!(a->weight > 0.0f) || !std::isfinite(a->weight))
-        report("vertex " + std::to_string(v) + " has weight " + std::to_string(a->weight) + " in particle " +
-               std::to_string(a->particle));
-      sum += a->weight;
-      for (const Influence* b = row.begin(); b != a; ++b)
-        if (b->particle == a->particle)
-          report("vertex " + std::to_string(v) + " lists particle " + std::to_string(a->particle) + " twice");
-      const auto& m = clusters.members(a->particle);
-      if (!std::binary_search(m.begin(), m.end(), v))
-        report("vertex " + std::to_string(v) + " is influenced by particle " + std::to_string(a->particle) +
-               " but not among its members");
-      const float d2 = distance2(rest[v], clusters.seed(a->particle));
-      if (d2 > limit2)
-        report("radius: vertex " + std::to_string(v) + " lies " + std::to_string(std::sqrt(d2)) +
-               " from the seed of particle " + std::to_string(a->particle) + " (rho " + std::to_string(rho) +
-               ")");
-    }
-    if (!row.empty() && std::abs(sum - 1.0) > 1e-4)
-      report("vertex " + std::to_string(v) + " weights sum to " + std::to_string(sum));
-  }
-
-  // Particles: sorted members that agree with the rows, rest centres, connectivity.
-  const Adjacency adjacency = Adjacency::build(mesh);
-  std::vector<std::uint32_t> stamp(n, kInvalidIndex), queue;
-  for (std::uint32_t p = 0; p < slots; ++p) {
-    const auto& m = clusters.members(p);
-    if (m.empty()) continue;
-    if (!std::is_sorted(m.begin(), m.end()) || std::adjacent_find(m.begin(), m.end()) != m.end())
-      report("particle " + std::to_string(p) + ": members not sorted and unique");
-    glm::dvec3 sum(0.0);
-    for (std::uint32_t v : m) {
-      if (v >= n) {
-        report("particle " + std::to_string(p) + " lists vertex " + std::to_string(v) + " outside the mesh");
-        return problems;
-      }
-      bool listed = false;
-      for (const Influence& in : clusters.influences(VertexId(v))) listed = listed || in.particle == p;
-      if (!listed)
-        report("particle " + std::to_string(p) + " lists vertex " + std::to_string(v) +
-               " without an influence");
-      sum += glm::dvec3(rest[v]);
-      stamp[v] = p;
-    }
-    const glm::vec3 centre(sum / double(m.size()));
-    const float tol = 1e-4f * std::max(rho, glm::length(centre));
-    if (glm::length(centre - clusters.rest_centre(p)) > tol)
-      report("particle " + std::to_string(p) + ": rest centre is stale");
-    // Breadth-first search from the first member over edges between members.
-    std::size_t reached = 1;
-    queue.assign(1, m[0]);
-    stamp[m[0]] = kInvalidIndex - 1 - p % 2;  // visited marker distinct from "member of p"
-    const std::uint32_t visited = stamp[m[0]];
-    for (std::size_t q = 0; q < queue.size(); ++q) {
-      const std::uint32_t v = queue[q];
-      if (v >= adjacency.vertex_count()) continue;
-      for (const FaceId f : adjacency.vertex_faces(VertexId(v)))
-        for (const VertexId u : mesh.face(f))
-          if (stamp[u.index] == p) {
-            stamp[u.index] = visited;
-            queue.push_back(u.index);
-            ++reached;
-          }
-    }
-    if (reached != m.size())
-      report("connectivity: particle " + std::to_string(p) + " holds " + std::to_string(m.size()) +
-             " vertices of which only " + std::to_string(reached) + " are connected to vertex " +
-             std::to_string(m[0]) + " through its members");
-    for (std::uint32_t v : m) stamp[v] = kInvalidIndex;
-  }
-  return problems;
-}
-
-float radius_for_particle_count(const SurfaceMesh& mesh, const std::vector<glm::vec3>& rest,
-                                std::size_t target, const ClusterOptions& options, std::size_t* particles) {
-  return radius_for_particle_count({ClusterInput{&mesh, &rest}}, target, options, particles);
-}
-
-float radius_for_particle_count(const std::vector<ClusterInput>& inputs, std::size_t target,
-                                const ClusterOptions& options, std::size_t* particles) {
-  if (target == 0)
-    throw Error(ErrorCode::InvalidArgument, "cluster: the target particle count must be at least 1");
-  BoundingBox box;
-  std::size_t live = 0;
-  for (const ClusterInput& in : inputs) {
-    if (!in.mesh || !in.rest) throw Error(ErrorCode::InvalidArgument, "cluster: null mesh or rest positions");
-    check_rest(*in.mesh, *in.rest, "cluster");
-    in.mesh->for_each_face([&](FaceId, const Triangle& t) {
-      ++live;
-      for (const VertexId v : t) box.add((*in.rest)[v.index]);
-    });
-  }
-  if (live == 0) throw Error(ErrorCode::InvalidArgument, "cluster: the mesh has no live face");
-  const double size = std::max(double(box.diagonal()), 1e-12);
-  double lo = size * 1e-4, hi = size;
-  double best_r = hi;
-  std::size_t best_n = 0;
-  bool have = false;
-  const auto diff = [&](std::size_t c) { return c > target ? c - target : target - c; };
-  auto consider = [&](double r) {
-    ClusterOptions o = options;
-    o.radius = float(r);
-    std::size_t count = 0;
-    for (const ClusterInput& in : inputs) count += Clusters::build(*in.mesh, *in.rest, o).particle_count();
-    if (!have || diff(count) < diff(best_n) || (diff(count) == diff(best_n) && r > best_r)) {
-      best_r = r;
-      best_n = count;
-      have = true;
-    }
-    return count;
-  };
-  consider(hi);
-  for (int i = 0; i < 26 && best_n != target; ++i) {
-    const double mid = std::sqrt(lo * hi);
-    if (consider(mid) > target)
-      lo = mid;
-    else
-      hi = mid;
-  }
-  if (particles) *particles = best_n;
-  return float(best_r);
 }
 
 }  // namespace deepcut

@@ -3,6 +3,8 @@
 /// @file weld.h
 /// "Model optimisation" in the paper: merge vertices that a file duplicated at UV seams or hard
 /// normals into one topological vertex. Corner attributes keep the seam, so nothing is lost.
+/// The importers build the mesh as the file stores it (one vertex per file vertex, per-corner
+/// data as corner attributes) and call `weld` with the key their format needs.
 
 #include <cstddef>
 
@@ -10,18 +12,39 @@
 
 namespace deepcut {
 
-struct WeldReport {
-  std::size_t merged = 0;      ///< vertices merged into another
-  std::size_t kept_apart = 0;  ///< vertices sharing a position with another but not its skin weights
-  std::size_t dropped = 0;     ///< vertices no live face used
+/// What two vertices must share to become one. Positions compare by value (+0 and -0 are equal);
+/// every other vertex attribute compares bitwise.
+enum class WeldKey {
+  /// Position and every other vertex attribute (a glTF primitive's joints and weights): vertices
+  /// at one position with different skin weights are kept apart (counted in `kept_apart`).
+  PositionAndSkin,
+  /// Position only (formats without skins): the merged vertex keeps the other vertex
+  /// attributes of its first user.
+  Position,
+  /// No two vertices merge: unreferenced vertices are dropped and the rest renumbered.
+  None,
 };
 
-/// Merges vertices whose every vertex attribute (position, joints, weights, ...) is bitwise
-/// equal (+0 and -0 count as equal). Vertices are renumbered in order of first use by the faces;
-/// unreferenced vertices are dropped; deleted faces are removed. Vertices at one position with
-/// different skin weights are never merged (counted in `kept_apart`).
+struct WeldOptions {
+  WeldKey key = WeldKey::PositionAndSkin;
+  /// Also drops the faces that repeat a vertex once welded (two corners at one position); the
+  /// vertices only those faces used are then dropped too.
+  bool drop_repeating_faces = false;
+};
+
+struct WeldReport {
+  std::size_t merged = 0;      ///< vertices merged into another (kept) vertex
+  std::size_t kept_apart = 0;  ///< vertices sharing a position with another but not its skin weights
+  std::size_t dropped = 0;     ///< vertices no kept face used, directly or through a merge
+  std::size_t faces_dropped = 0;  ///< faces that repeated a vertex (with `drop_repeating_faces`)
+};
+
+/// Merges the vertices that `options.key` says are equal. Vertices are renumbered in order of
+/// first use by the kept faces, and each keeps the attributes of its first user (that is, its
+/// first user in the faces before any was dropped); unreferenced vertices are dropped; deleted
+/// faces are removed.
 /// @note This rebuilds the mesh wholesale (an import step), so it records no edit log: build
 ///       `Adjacency` after it. O(#vertices + #faces) expected.
-WeldReport weld(SurfaceMesh& mesh);
+WeldReport weld(SurfaceMesh& mesh, const WeldOptions& options = {});
 
 }  // namespace deepcut

@@ -39,7 +39,9 @@ class EdgeSlots {
   static constexpr std::uint32_t kNone = ~std::uint32_t(0);
 
  private:
-  std::size_t slot_of(std::uint64_t key) const { return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> shift_); }
+  std::size_t slot_of(std::uint64_t key) const {
+    return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> shift_);
+  }
   void rehash(std::size_t size, int shift);
   static constexpr std::uint64_t kNoKey = ~std::uint64_t(0);  // edge_key of no real edge
   std::vector<std::uint64_t> keys_;
@@ -59,6 +61,12 @@ class CrossingTable {
   T* find(VertexId a, VertexId b) { return at_entry(slots_.find(edge_key(a, b))); }
   const T* find(VertexId a, VertexId b) const {
     const std::uint32_t e = slots_.find(edge_key(a, b));
+    return e == EdgeSlots::kNone ? nullptr : &records_[e];
+  }
+  /// The record of the edge with key `key` (edge_key), or nullptr.
+  T* find_key(std::uint64_t key) { return at_entry(slots_.find(key)); }
+  const T* find_key(std::uint64_t key) const {
+    const std::uint32_t e = slots_.find(key);
     return e == EdgeSlots::kNone ? nullptr : &records_[e];
   }
   /// The record of edge {a, b}, default-made when the edge is new (`second` true: fill it in).

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "geometry/predicates.h"
+
 namespace deepcut::detail {
 
 FaceRefinement::FaceRefinement(const Triangle& face) {
@@ -66,10 +68,10 @@ VertexId FaceRefinement::insert(VertexId v, const glm::dvec3& bary) {
 glm::dvec3 FaceRefinement::local_bary(const std::array<int, 3>& t, const glm::dvec2& q) const {
   const glm::dvec2 a(points_[t[0]].bary.y, points_[t[0]].bary.z), b(points_[t[1]].bary.y, points_[t[1]].bary.z),
       c(points_[t[2]].bary.y, points_[t[2]].bary.z);
-  const double d = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+  const double d = geometry::orient(a, b, c);
   if (d == 0.0) return glm::dvec3(-1e300);
-  const double l1 = ((q.x - a.x) * (c.y - a.y) - (q.y - a.y) * (c.x - a.x)) / d;
-  const double l2 = ((b.x - a.x) * (q.y - a.y) - (b.y - a.y) * (q.x - a.x)) / d;
+  const double l1 = geometry::orient(a, q, c) / d;
+  const double l2 = geometry::orient(a, b, q) / d;
   return {1.0 - l1 - l2, l1, l2};
 }
 

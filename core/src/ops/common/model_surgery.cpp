@@ -46,9 +46,10 @@ SurfaceMesh extract(const SurfaceMesh& mesh, const std::vector<FaceId>& faces) {
 int cut_surface_material(Model& model) {
   for (std::size_t i = 0; i < model.materials.size(); ++i)
     if (model.materials[i].name == "Cut surface") return static_cast<int>(i);
-  model.materials.push_back({"Cut surface",
-                             R"({"name":"Cut surface","doubleSided":false,"pbrMetallicRoughness":)"
-                             R"({"baseColorFactor":[0.8,0.18,0.16,1.0],"metallicFactor":0.0,"roughnessFactor":0.9}})"});
+  model.materials.push_back(
+      {"Cut surface",
+       R"({"name":"Cut surface","doubleSided":false,"pbrMetallicRoughness":)"
+       R"({"baseColorFactor":[0.8,0.18,0.16,1.0],"metallicFactor":0.0,"roughnessFactor":0.9}})"});
   return static_cast<int>(model.materials.size() - 1);
 }
 
@@ -134,7 +135,8 @@ int InstanceEdit::add_piece_node(Mesh mesh, const std::string& name) {
 ModelSurgery::ModelSurgery(Model& model, PosedModel& posed)
     : model_(model), posed_(posed), users_(model.meshes.size(), 0), parents_(model.parents()) {
   for (const auto& n : model.nodes)
-    if (n.mesh >= 0 && static_cast<std::size_t>(n.mesh) < model.meshes.size()) ++users_[static_cast<std::size_t>(n.mesh)];
+    if (n.mesh >= 0 && static_cast<std::size_t>(n.mesh) < model.meshes.size())
+      ++users_[static_cast<std::size_t>(n.mesh)];
 }
 
 void ModelSurgery::for_each_instance(const std::function<bool(InstanceEdit&)>& fn) {
@@ -168,7 +170,8 @@ void ModelSurgery::finish(InstanceEdit& edit) {
 
 void ModelSurgery::drop_instance(int node) {
   Node& n = model_.nodes[static_cast<std::size_t>(node)];
-  if (--users_[static_cast<std::size_t>(n.mesh)] == 0) model_.meshes[static_cast<std::size_t>(n.mesh)].primitives.clear();
+  if (--users_[static_cast<std::size_t>(n.mesh)] == 0)
+    model_.meshes[static_cast<std::size_t>(n.mesh)].primitives.clear();
   n.mesh = -1;
   n.skin = -1;
   posed_.erase_node(node);

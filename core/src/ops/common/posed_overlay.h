@@ -6,10 +6,9 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <glm/glm.hpp>
 #include <utility>
 #include <vector>
-
-#include <glm/glm.hpp>
 
 #include "deepcut/core/surface_mesh.h"
 
@@ -29,8 +28,9 @@ class PosedOverlay {
   Vec operator()(std::uint32_t v) const {
     if (v >= first_new_) return added_[v - first_new_];
     if (!moved_.empty()) {
-      const auto it = std::lower_bound(moved_.begin(), moved_.end(), v,
-                                       [](const std::pair<std::uint32_t, Vec>& x, std::uint32_t i) { return x.first < i; });
+      const auto it = std::lower_bound(
+          moved_.begin(), moved_.end(), v,
+          [](const std::pair<std::uint32_t, Vec>& x, std::uint32_t i) { return x.first < i; });
       if (it != moved_.end() && it->first == v) return it->second;
     }
     return Vec(input_[v]);
@@ -48,8 +48,9 @@ class PosedOverlay {
   }
   /// New posed position of input vertex `v` (below first_new()).
   void move(VertexId v, const Vec& p) {
-    const auto it = std::lower_bound(moved_.begin(), moved_.end(), v.index,
-                                     [](const std::pair<std::uint32_t, Vec>& x, std::uint32_t i) { return x.first < i; });
+    const auto it =
+        std::lower_bound(moved_.begin(), moved_.end(), v.index,
+                         [](const std::pair<std::uint32_t, Vec>& x, std::uint32_t i) { return x.first < i; });
     if (it != moved_.end() && it->first == v.index)
       it->second = p;
     else

@@ -7,7 +7,7 @@
 #include <unordered_set>
 
 #include "ops/common/crossing_table.h"
-#include "ops/polygon_triangulation.h"
+#include "geometry/polygon_triangulation.h"
 
 namespace deepcut::detail {
 namespace {
@@ -82,7 +82,8 @@ bool trace_loops(const std::vector<std::pair<VertexId, VertexId>>& halfedges, Ri
 // their edges: non-manifold edges). When the rim closes without them they are removed and the
 // cap takes their place; otherwise (open input) they stay and the rim is capped as it is, and
 // they are returned: the cap must not repeat them.
-std::vector<Triangle> choose_loops(MeshEditor& editor, const CapInput& in, std::vector<FaceId>& piece, RimLoops& rim) {
+std::vector<Triangle> choose_loops(MeshEditor& editor, const CapInput& in, std::vector<FaceId>& piece,
+                                   RimLoops& rim) {
   const SurfaceMesh& mesh = editor.mesh();
   std::vector<FaceId> flat_faces;
   for (FaceId f : in.rim_faces)
@@ -109,16 +110,17 @@ std::vector<Triangle> choose_loops(MeshEditor& editor, const CapInput& in, std::
   }
   if (!flat_faces.empty() && !rim.loops.empty()) {
     for (FaceId f : flat_faces) editor.remove_face(f);
-    piece.erase(std::remove_if(piece.begin(), piece.end(),
-                               [&](FaceId f) { return std::binary_search(flat_faces.begin(), flat_faces.end(), f); }),
-                piece.end());
+    piece.erase(
+        std::remove_if(piece.begin(), piece.end(),
+                       [&](FaceId f) { return std::binary_search(flat_faces.begin(), flat_faces.end(), f); }),
+        piece.end());
   }
   return kept_flat;
 }
 
 // Triangulates the loops in the plane's 2D frame and adds the cap faces with their attributes.
-void add_cap_faces(MeshEditor& editor, const CapInput& in, const RimLoops& rim, const std::vector<Triangle>& kept_flat,
-                   std::vector<FaceId>& piece) {
+void add_cap_faces(MeshEditor& editor, const CapInput& in, const RimLoops& rim,
+                   const std::vector<Triangle>& kept_flat, std::vector<FaceId>& piece) {
   auto repeats_flat = [&](Triangle t) {
     std::sort(t.begin(), t.end());
     return std::any_of(kept_flat.begin(), kept_flat.end(), [&](Triangle g) {
@@ -130,7 +132,8 @@ void add_cap_faces(MeshEditor& editor, const CapInput& in, const RimLoops& rim, 
   const auto& verts = rim.verts;
   // 2D frame in the plane.
   const glm::dvec3 n = in.normal;
-  const glm::dvec3 u = glm::normalize(std::abs(n.x) < 0.9 ? glm::cross(n, glm::dvec3(1, 0, 0)) : glm::cross(n, glm::dvec3(0, 1, 0)));
+  const glm::dvec3 u = glm::normalize(std::abs(n.x) < 0.9 ? glm::cross(n, glm::dvec3(1, 0, 0))
+                                                          : glm::cross(n, glm::dvec3(0, 1, 0)));
   const glm::dvec3 w = glm::cross(n, u);
   std::vector<glm::dvec2> pts(verts.size());
   for (std::size_t i = 0; i < verts.size(); ++i) {
@@ -140,9 +143,9 @@ void add_cap_faces(MeshEditor& editor, const CapInput& in, const RimLoops& rim, 
   // The largest loop is an outer one; its orientation is the cap's.
   std::size_t largest = 0;
   for (std::size_t i = 1; i < loops.size(); ++i)
-    if (std::abs(signed_area2(pts, loops[i])) > std::abs(signed_area2(pts, loops[largest]))) largest = i;
-  const int outer_sign = signed_area2(pts, loops[largest]) >= 0 ? 1 : -1;
-  const auto tris = triangulate_loops(pts, loops, outer_sign);
+    if (std::abs(geometry::signed_area2(pts, loops[i])) > std::abs(geometry::signed_area2(pts, loops[largest]))) largest = i;
+  const int outer_sign = geometry::signed_area2(pts, loops[largest]) >= 0 ? 1 : -1;
+  const auto tris = geometry::triangulate_loops(pts, loops, outer_sign);
 
   SurfaceMesh& mesh = editor.mesh();
   auto& ca = mesh.corner_attrs();

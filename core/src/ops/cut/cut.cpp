@@ -1,4 +1,15 @@
 // SPDX-License-Identifier: MIT
+// The cut (ops/cut.h). Cutter::run states the stages:
+//   1. classify_vertices: signed distance to the plane and snapped side of every vertex, at its
+//      posed position;
+//   2. split_crossed_faces: each crossed edge split once (ops/common/crossing_table.h, with the
+//      needle merges), each crossed face made again from up to three triangles;
+//   3. separate_or_drop_side: rim vertices both sides use get a copy for the positive side, or
+//      the dropped side's faces go;
+//   4. pinch repair (ops/common/pinches.h), then the pieces: live faces by side (and component);
+//   5. cap_pieces: each piece's rim, and with caps its cap (caps.cpp).
+// cut_model runs cut_mesh on every instance through the instance loop of
+// ops/common/model_surgery.h and turns the pieces into meshes and nodes.
 #include "deepcut/core/ops/cut.h"
 
 #include <algorithm>

@@ -68,8 +68,8 @@ class FacetScan {
     return c;
   }
   // The crossing of the edge with key `key` (one made by crossing()).
-  Crossing& at(std::uint64_t key) { return *crossings.find(key_lo(key), key_hi(key)); }
-  const Crossing& at(std::uint64_t key) const { return *crossings.find(key_lo(key), key_hi(key)); }
+  Crossing& at(std::uint64_t key) { return *crossings.find_key(key); }
+  const Crossing& at(std::uint64_t key) const { return *crossings.find_key(key); }
   const Crossing* find(VertexId a, VertexId b) const { return crossings.find(a, b); }
 
  private:

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "deepcut/core/errors.h"
+#include "geometry/predicates.h"
 
 namespace deepcut::detail::tear {
 namespace {
@@ -57,7 +58,7 @@ SweepFacet make_facet(const glm::dvec3& normal, const glm::dvec3& origin) {
 void add_triangle(SweepFacet& facet, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
                   double min_area2) {
   std::array<glm::dvec2, 3> q = {facet.project(a), facet.project(b), facet.project(c)};
-  const double area2 = (q[1].x - q[0].x) * (q[2].y - q[0].y) - (q[1].y - q[0].y) * (q[2].x - q[0].x);
+  const double area2 = geometry::orient(q[0], q[1], q[2]);
   if (std::abs(area2) <= min_area2) return;
   if (area2 < 0.0) std::swap(q[1], q[2]);
   std::array<glm::dvec2, 3> m;

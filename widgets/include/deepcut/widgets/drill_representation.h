@@ -23,14 +23,14 @@ class DrillRepresentation : public ToolRepresentation {
   static DrillRepresentation* New();
   vtkTypeMacro(DrillRepresentation, ToolRepresentation)
 
-      /// The parts, as interaction states.
-      enum InteractionStateType {
-        OnEndA = 1,  ///< drag: axis end A
-        OnEndB,      ///< drag: axis end B
-        OnRadius,    ///< drag: the radius (distance from the cursor to the axis)
-        OnCylinder,  ///< drag: the whole cylinder (its side or its axis)
-        Translating  ///< the whole cylinder (middle button)
-      };
+  /// The parts, as interaction states.
+  enum InteractionStateType {
+    OnEndA = 1,  ///< drag: axis end A
+    OnEndB,      ///< drag: axis end B
+    OnRadius,    ///< drag: the radius (distance from the cursor to the axis)
+    OnCylinder,  ///< drag: the whole cylinder (its side or its axis)
+    Translating  ///< the whole cylinder (middle button)
+  };
 
   ///@{
   /// Axis ends, world space (default (0, 0, 1) and (0, 0, -1)).

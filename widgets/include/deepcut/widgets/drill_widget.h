@@ -50,7 +50,7 @@ class DrillWidget : public ToolWidget {
   static DrillWidget* New();
   vtkTypeMacro(DrillWidget, ToolWidget)
 
-      void SetRepresentation(DrillRepresentation* representation) {
+  void SetRepresentation(DrillRepresentation* representation) {
     this->SetWidgetRepresentation(representation);
   }
   DrillRepresentation* GetDrillRepresentation() {

@@ -14,7 +14,8 @@ class PlaneRepresentation : public vtkImplicitPlaneRepresentation {
   static PlaneRepresentation* New();
   vtkTypeMacro(PlaneRepresentation, vtkImplicitPlaneRepresentation)
 
-      protected : PlaneRepresentation();
+ protected:
+  PlaneRepresentation();
   ~PlaneRepresentation() override = default;
 
  private:

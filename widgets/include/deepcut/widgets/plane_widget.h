@@ -50,7 +50,7 @@ class PlaneWidget : public vtkImplicitPlaneWidget2 {
   static PlaneWidget* New();
   vtkTypeMacro(PlaneWidget, vtkImplicitPlaneWidget2)
 
-      PlaneRepresentation* GetPlaneRepresentation() {
+  PlaneRepresentation* GetPlaneRepresentation() {
     return static_cast<PlaneRepresentation*>(this->GetRepresentation());
   }
   void CreateDefaultRepresentation() override;

@@ -23,17 +23,17 @@ class ScalpelRepresentation : public ToolRepresentation {
   static ScalpelRepresentation* New();
   vtkTypeMacro(ScalpelRepresentation, ToolRepresentation)
 
-      /// The parts, as interaction states.
-      enum InteractionStateType {
-        OnStartHandle = 1,  ///< drag: the start pose's handle point
-        OnStartTip,         ///< drag: the start pose's tip point
-        OnEndHandle,        ///< drag: the end pose's handle point
-        OnEndTip,           ///< drag: the end pose's tip point
-        OnStartBlade,       ///< drag: the whole start pose (handle and tip)
-        OnEndBlade,         ///< drag: the whole end pose
-        OnQuad,             ///< drag: the whole scalpel
-        Translating         ///< the whole scalpel (middle button)
-      };
+  /// The parts, as interaction states.
+  enum InteractionStateType {
+    OnStartHandle = 1,  ///< drag: the start pose's handle point
+    OnStartTip,         ///< drag: the start pose's tip point
+    OnEndHandle,        ///< drag: the end pose's handle point
+    OnEndTip,           ///< drag: the end pose's tip point
+    OnStartBlade,       ///< drag: the whole start pose (handle and tip)
+    OnEndBlade,         ///< drag: the whole end pose
+    OnQuad,             ///< drag: the whole scalpel
+    Translating         ///< the whole scalpel (middle button)
+  };
 
   ///@{
   /// The blade poses, world space. Setting them does not invoke interaction events.

@@ -47,7 +47,7 @@ class ScalpelWidget : public ToolWidget {
   static ScalpelWidget* New();
   vtkTypeMacro(ScalpelWidget, ToolWidget)
 
-      void SetRepresentation(ScalpelRepresentation* representation) {
+  void SetRepresentation(ScalpelRepresentation* representation) {
     this->SetWidgetRepresentation(representation);
   }
   ScalpelRepresentation* GetScalpelRepresentation() {

@@ -23,8 +23,8 @@ class ToolRepresentation : public vtkWidgetRepresentation {
  public:
   vtkTypeMacro(ToolRepresentation, vtkWidgetRepresentation)
 
-      /// Interaction state 0 is "outside" in every subclass; parts are numbered from 1.
-      static constexpr int Outside = 0;
+  /// Interaction state 0 is "outside" in every subclass; parts are numbered from 1.
+  static constexpr int Outside = 0;
 
   /// Sets the interaction state (a part, or the subclass's translate state) without a pick:
   /// the widget uses it for middle-button translation.

@@ -29,10 +29,8 @@ class ToolWidget : public vtkAbstractWidget {
  public:
   vtkTypeMacro(ToolWidget, vtkAbstractWidget)
 
-      /// True while a part is being dragged.
-      bool IsDragging() const {
-    return this->WidgetState == Active;
-  }
+  /// True while a part is being dragged.
+  bool IsDragging() const { return this->WidgetState == Active; }
 
  protected:
   ToolWidget();

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 /// @file softbody/clustering.h
-/// Soft-body particles (DESIGN section 4, "Soft body"; the paper's "Soft Body Meshes"): every
+/// Soft-body particles (the paper's "Soft Body Meshes"): every
 /// particle holds the vertices lying within radius rho of its seed (Euclidean distance in the
 /// rest pose), a vertex may belong to several particles, and each vertex carries one influence
 /// weight per particle (smooth falloff, normalised to sum 1).

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 /// @file softbody/simulation.h
-/// Soft-body deformation layered on skinning (DESIGN section 4, "Soft body"). Each particle of a
+/// Soft-body deformation layered on skinning. Each particle of a
 /// `Clusters` is a damped spring pulling its displacement back to zero (or to a drag goal);
 /// vertices follow the weighted displacement of their particles.
 ///

@@ -1,0 +1,279 @@
+// SPDX-License-Identifier: MIT
+// glTF import: nodes, skins, animations, images and the objects carried through untouched.
+#include <cmath>
+#include <cstring>
+#include <utility>
+
+#include "io/gltf_reader.h"
+
+namespace deepcut::gltf_detail {
+namespace {
+
+using nlohmann::json;
+
+// Largest image side accepted (GPUs cap textures at 16384 or 32768 pixels a side).
+constexpr std::uint32_t kMaxImageSide = 32768;
+
+std::string sniff_mime(const std::vector<unsigned char>& d) {
+  if (d.size() >= 8 && d[0] == 0x89 && d[1] == 'P' && d[2] == 'N' && d[3] == 'G') return "image/png";
+  if (d.size() >= 3 && d[0] == 0xFF && d[1] == 0xD8 && d[2] == 0xFF) return "image/jpeg";
+  if (d.size() >= 12 && std::memcmp(d.data(), "RIFF", 4) == 0 && std::memcmp(d.data() + 8, "WEBP", 4) == 0) return "image/webp";
+  if (d.size() >= 4 && std::memcmp(d.data(), "\xABKTX", 4) == 0) return "image/ktx2";
+  return "";
+}
+
+// Width and height that a PNG or JPEG header claims ({0, 0} when unknown). Reads headers only.
+std::pair<std::uint32_t, std::uint32_t> image_dimensions(const std::vector<unsigned char>& d) {
+  auto be16 = [&](std::size_t at) { return std::uint32_t(d[at]) << 8 | d[at + 1]; };
+  auto be32 = [&](std::size_t at) { return be16(at) << 16 | be16(at + 2); };
+  if (d.size() >= 24 && d[0] == 0x89 && d[1] == 'P' && std::memcmp(d.data() + 12, "IHDR", 4) == 0) return {be32(16), be32(20)};
+  if (d.size() >= 4 && d[0] == 0xFF && d[1] == 0xD8) {
+    std::size_t at = 2;
+    while (at + 9 < d.size() && d[at] == 0xFF) {
+      const unsigned char marker = d[at + 1];
+      const bool sof = marker >= 0xC0 && marker <= 0xCF && marker != 0xC4 && marker != 0xC8 && marker != 0xCC;
+      if (sof) return {be16(at + 7), be16(at + 5)};
+      at += 2 + be16(at + 2);
+    }
+  }
+  return {0, 0};
+}
+
+
+}  // namespace
+
+void Reader::read_nodes() {
+  const json empty = json::object();
+  for (std::size_t i = 0; i < gltf_.nodes.size(); ++i) {
+    const auto& g = gltf_.nodes[i];
+    const json& r = raw_.contains("nodes") && raw_["nodes"].is_array() && i < raw_["nodes"].size() ? raw_["nodes"][i] : empty;
+    Node n;
+    n.name = g.name;
+    for (int c : g.children) {
+      if (c < 0 || static_cast<std::size_t>(c) >= gltf_.nodes.size())
+        fail("node " + std::to_string(i) + " has child " + std::to_string(c) + ", which does not exist");
+      n.children.push_back(c);
+    }
+    if (g.matrix.size() == 16) {
+      glm::mat4 m;
+      for (int k = 0; k < 16; ++k) m[k / 4][k % 4] = static_cast<float>(g.matrix[k]);
+      n.matrix = m;
+    }
+    if (g.translation.size() == 3) n.translation = glm::vec3(g.translation[0], g.translation[1], g.translation[2]);
+    if (g.rotation.size() == 4)
+      n.rotation = glm::quat(static_cast<float>(g.rotation[3]), static_cast<float>(g.rotation[0]),
+                             static_cast<float>(g.rotation[1]), static_cast<float>(g.rotation[2]));
+    if (g.scale.size() == 3) n.scale = glm::vec3(g.scale[0], g.scale[1], g.scale[2]);
+    bool finite = true;
+    if (n.matrix)
+      for (int k = 0; k < 16; ++k) finite = finite && std::isfinite((*n.matrix)[k / 4][k % 4]);
+    for (int k = 0; k < 3; ++k) finite = finite && std::isfinite(n.translation[k]) && std::isfinite(n.scale[k]);
+    for (int k = 0; k < 4; ++k) finite = finite && std::isfinite(n.rotation[k]);
+    if (!finite) fail("node " + std::to_string(i) + ": its transform is not finite (a value overflows a 32-bit float)");
+    auto check = [&](int idx, std::size_t size, const char* kind) {
+      if (idx >= 0 && static_cast<std::size_t>(idx) >= size)
+        fail("node " + std::to_string(i) + " refers to " + kind + " " + std::to_string(idx) + ", which does not exist");
+      return idx;
+    };
+    n.mesh = check(g.mesh, gltf_.meshes.size(), "mesh");
+    n.skin = check(g.skin, gltf_.skins.size(), "skin");
+    n.camera = check(g.camera, gltf_.cameras.size(), "camera");
+    n.extras_json = dump_member(r, "extras");
+    n.extensions_json = dump_member(r, "extensions");
+    if (!g.weights.empty()) note("node '" + g.name + "': morph target weights dropped (morph targets are not supported)");
+    model_.nodes.push_back(std::move(n));
+  }
+  // Cycles or a node with two parents would make the hierarchy ill-defined.
+  std::vector<int> parent(model_.nodes.size(), -1);
+  for (std::size_t i = 0; i < model_.nodes.size(); ++i)
+    for (int c : model_.nodes[i].children) {
+      if (parent[c] >= 0 || c == static_cast<int>(i)) fail("node " + std::to_string(c) + " has more than one parent");
+      parent[c] = static_cast<int>(i);
+    }
+  for (std::size_t i = 0; i < parent.size(); ++i) {
+    std::size_t steps = 0;
+    for (int x = parent[i]; x >= 0; x = parent[x])
+      if (++steps > parent.size()) fail("the node hierarchy has a cycle through node " + std::to_string(i));
+  }
+  for (const auto& s : gltf_.scenes) {
+    std::vector<int> roots;
+    for (int n : s.nodes) {
+      if (n < 0 || static_cast<std::size_t>(n) >= gltf_.nodes.size()) fail("a scene refers to node " + std::to_string(n) + ", which does not exist");
+      roots.push_back(n);
+    }
+    model_.scenes.push_back(std::move(roots));
+  }
+  model_.default_scene = gltf_.defaultScene >= 0 ? gltf_.defaultScene : 0;
+  if (model_.scenes.empty()) {
+    model_.scenes.push_back(model_.root_nodes());
+    model_.default_scene = 0;
+  }
+}
+
+void Reader::read_skins() {
+  for (std::size_t i = 0; i < gltf_.skins.size(); ++i) {
+    const auto& g = gltf_.skins[i];
+    Skin s;
+    s.name = g.name;
+    for (int j : g.joints) {
+      if (j < 0 || static_cast<std::size_t>(j) >= model_.nodes.size())
+        fail("skin " + std::to_string(i) + " names joint node " + std::to_string(j) + ", which does not exist");
+      s.joints.push_back(j);
+    }
+    if (s.joints.empty()) fail("skin " + std::to_string(i) + " has no joints");
+    if (g.skeleton >= 0 && static_cast<std::size_t>(g.skeleton) < model_.nodes.size()) s.skeleton = g.skeleton;
+    if (g.inverseBindMatrices >= 0) {
+      int comps = 0;
+      const auto m = read_floats(g.inverseBindMatrices, "skin inverseBindMatrices", &comps);
+      if (comps != 16) fail("skin " + std::to_string(i) + ": inverseBindMatrices are not MAT4");
+      if (m.size() / 16 < s.joints.size()) fail("skin " + std::to_string(i) + ": fewer inverseBindMatrices than joints");
+      for (std::size_t j = 0; j < s.joints.size(); ++j) {
+        glm::mat4 mat;
+        for (int k = 0; k < 16; ++k) mat[k / 4][k % 4] = m[16 * j + static_cast<std::size_t>(k)];
+        for (int k = 0; k < 16; ++k)
+          if (!std::isfinite(mat[k / 4][k % 4]))
+            fail("skin " + std::to_string(i) + ": inverse bind matrix " + std::to_string(j) + " is not finite (NaN or Inf)");
+        s.inverse_bind_matrices.push_back(mat);
+      }
+    } else {
+      s.had_inverse_bind_matrices = false;
+      s.inverse_bind_matrices.assign(s.joints.size(), glm::mat4(1.0f));
+      note("skin " + std::to_string(i) + " has no inverseBindMatrices: identity matrices used (written explicitly on export)");
+    }
+    model_.skins.push_back(std::move(s));
+  }
+}
+
+void Reader::read_animations() {
+  for (std::size_t a = 0; a < gltf_.animations.size(); ++a) {
+    const auto& g = gltf_.animations[a];
+    Animation anim;
+    anim.name = g.name;
+    std::vector<int> sampler_map(g.samplers.size(), -1);
+    for (std::size_t c = 0; c < g.channels.size(); ++c) {
+      const auto& ch = g.channels[c];
+      if (ch.sampler < 0 || static_cast<std::size_t>(ch.sampler) >= g.samplers.size())
+        fail("animation " + std::to_string(a) + " channel " + std::to_string(c) + " refers to a missing sampler");
+      if (ch.target_node < 0) continue;  // targets defined by extensions are not animated here
+      if (static_cast<std::size_t>(ch.target_node) >= model_.nodes.size())
+        fail("animation " + std::to_string(a) + " channel " + std::to_string(c) + " targets a missing node");
+      AnimationChannel out;
+      out.node = ch.target_node;
+      if (ch.target_path == "translation") out.path = AnimationPath::Translation;
+      else if (ch.target_path == "rotation") out.path = AnimationPath::Rotation;
+      else if (ch.target_path == "scale") out.path = AnimationPath::Scale;
+      else if (ch.target_path == "weights") {
+        note("animation '" + g.name + "': morph weight channel dropped (morph targets are not supported)");
+        continue;
+      } else fail("animation " + std::to_string(a) + " channel " + std::to_string(c) + ": unknown path '" + ch.target_path + "'");
+      if (sampler_map[ch.sampler] < 0) {
+        const auto& gs = g.samplers[ch.sampler];
+        AnimationSampler s;
+        int in_comps = 0, out_comps = 0;
+        s.input = read_floats(gs.input, "animation sampler input", &in_comps);
+        s.output = read_floats(gs.output, "animation sampler output", &out_comps);
+        if (in_comps != 1) fail("animation " + std::to_string(a) + ": sampler input is not SCALAR");
+        for (std::size_t k = 0; k < s.input.size(); ++k) {
+          if (!std::isfinite(s.input[k])) fail("animation " + std::to_string(a) + ": key time is not finite");
+          if (k && s.input[k] < s.input[k - 1]) fail("animation " + std::to_string(a) + ": key times are not increasing");
+        }
+        s.components = out_comps;
+        if (gs.interpolation == "STEP") s.interpolation = Interpolation::Step;
+        else if (gs.interpolation == "CUBICSPLINE") s.interpolation = Interpolation::CubicSpline;
+        else s.interpolation = Interpolation::Linear;
+        const std::size_t per_key = s.interpolation == Interpolation::CubicSpline ? 3 : 1;
+        if (s.output.size() != s.input.size() * per_key * std::size_t(out_comps))
+          fail("animation " + std::to_string(a) + ": sampler output count does not match its input count");
+        for (const float v : s.output)
+          if (!std::isfinite(v)) fail("animation " + std::to_string(a) + ": a sampler output value is not finite (NaN or Inf)");
+        sampler_map[ch.sampler] = static_cast<int>(anim.samplers.size());
+        anim.samplers.push_back(std::move(s));
+      }
+      out.sampler = sampler_map[ch.sampler];
+      const int need = out.path == AnimationPath::Rotation ? 4 : 3;
+      if (anim.samplers[out.sampler].components != need)
+        fail("animation " + std::to_string(a) + " channel " + std::to_string(c) + ": output has the wrong type for " + ch.target_path);
+      if (out.path == AnimationPath::Rotation) {
+        // Rotations must be unit quaternions (glTF; the validator checks it): normalise them, and
+        // make a zero one the identity. For cubic splines only the values, not the tangents.
+        auto& smp = anim.samplers[out.sampler];
+        const std::size_t per_key = smp.interpolation == Interpolation::CubicSpline ? 3 : 1;
+        // Float noise (SimpleSkin's 0.707s are 1.5e-4 short) is fixed silently, larger errors noted.
+        std::size_t fixed = 0;
+        for (std::size_t k = 0; k < smp.input.size(); ++k) {
+          float* q = &smp.output[4 * (k * per_key + (per_key == 3 ? 1 : 0))];
+          const double len = std::sqrt(double(q[0]) * q[0] + double(q[1]) * q[1] + double(q[2]) * q[2] + double(q[3]) * q[3]);
+          if (std::abs(len - 1.0) <= 1e-6) continue;
+          fixed += std::abs(len - 1.0) > 1e-3;
+          if (len < 1e-12 || !std::isfinite(len)) {
+            q[0] = q[1] = q[2] = 0.0f;
+            q[3] = 1.0f;
+          } else {
+            for (int i = 0; i < 4; ++i) q[i] = static_cast<float>(q[i] / len);
+          }
+        }
+        if (fixed)
+          note("animation " + std::to_string(a) + " channel " + std::to_string(c) + ": " + std::to_string(fixed) +
+               " rotations were not unit quaternions (normalised)");
+      }
+      anim.channels.push_back(out);
+    }
+    model_.animations.push_back(std::move(anim));
+  }
+}
+
+void Reader::read_images() {
+  for (std::size_t i = 0; i < gltf_.images.size(); ++i) {
+    const auto& g = gltf_.images[i];
+    Image img;
+    img.name = g.name;
+    if (g.bufferView >= 0) {
+      const auto& bv = gltf_.bufferViews.at(g.bufferView);
+      const unsigned char* base = view_bytes(g.bufferView, 0, 1, 1, bv.byteLength, "image " + std::to_string(i));
+      img.data.assign(base, base + bv.byteLength);
+    } else {
+      img.data = g.image;
+    }
+    // Images are carried through undecoded, but whoever displays the model will decode them: a
+    // header claiming more than any GPU texture can hold is a decompression bomb, not a texture.
+    const auto [width, height] = image_dimensions(img.data);
+    if (width > kMaxImageSide || height > kMaxImageSide)
+      fail("image " + std::to_string(i) + " claims " + std::to_string(width) + " x " + std::to_string(height) +
+           " pixels, over the " + std::to_string(kMaxImageSide) + "-pixel limit per side");
+    img.mime_type = g.mimeType.empty() ? sniff_mime(img.data) : g.mimeType;
+    if (img.mime_type.empty()) img.mime_type = "image/png";
+    model_.images.push_back(std::move(img));
+  }
+}
+
+void Reader::read_passthrough() {
+  auto take = [&](const char* key, std::vector<PassthroughObject>& out) {
+    if (!raw_.contains(key) || !raw_[key].is_array()) return;
+    for (const auto& o : raw_[key]) {
+      if (!o.is_object()) fail(std::string("'") + key + "' holds something that is not an object");
+      out.push_back({o.value("name", ""), o.dump()});
+    }
+  };
+  take("materials", model_.materials);
+  take("textures", model_.textures);
+  take("samplers", model_.samplers);
+  take("cameras", model_.cameras);
+  for (const auto& t : raw_.value("textures", json::array())) {
+    const int src = t.value("source", -1);
+    if (src >= 0 && static_cast<std::size_t>(src) >= gltf_.images.size())
+      fail("a texture refers to image " + std::to_string(src) + ", which does not exist");
+    const int smp = t.value("sampler", -1);
+    if (smp >= 0 && static_cast<std::size_t>(smp) >= model_.samplers.size())
+      fail("a texture refers to sampler " + std::to_string(smp) + ", which does not exist");
+  }
+  for (const char* key : {"extensionsUsed", "extensionsRequired"}) {
+    if (!raw_.contains(key) || !raw_[key].is_array()) continue;
+    auto& out = std::string(key) == "extensionsUsed" ? model_.extensions_used : model_.extensions_required;
+    for (const auto& e : raw_[key])
+      if (e.is_string()) out.push_back(e.get<std::string>());
+  }
+  model_.extras_json = dump_member(raw_, "extras");
+  model_.asset_copyright = raw_["asset"].value("copyright", "");
+}
+
+}  // namespace deepcut::gltf_detail
