@@ -7,7 +7,7 @@
 #include <unistd.h>
 
 #include "commands.h"
-#include "deepcut/plugins/command_args.h"
+#include "args.h"
 #include "deepcut/core/errors.h"
 
 namespace deepcut::cli {

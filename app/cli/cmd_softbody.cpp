@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
-#include "deepcut/plugins/command_args.h"
+#include "args.h"
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/plugins/formats.h"
 #include "deepcut/core/skinning.h"

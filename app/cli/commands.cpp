@@ -12,7 +12,7 @@
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/plugins/formats.h"
 #include "deepcut/core/validate.h"
-#include "deepcut/plugins/command_args.h"
+#include "args.h"
 
 namespace deepcut::cli {
 namespace {

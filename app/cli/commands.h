@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// The deepcut sub-commands the app defines (the tools' own, such as cut, tear and drill, come
-// from the plugins' registry: deepcut/plugins/tool_registry.h). Each returns the process exit
-// code; errors propagate as deepcut::Error (input problems, exit 2) or cli::UsageError (exit 2).
+// The deepcut sub-commands besides the operation commands (cut, tear and drill, which one runner
+// applies: operation_command.h). Each returns the process exit code; errors propagate as
+// deepcut::Error (input problems, exit 2) or cli::UsageError (exit 2).
 
 #include <string>
 #include <vector>

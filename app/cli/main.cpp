@@ -9,12 +9,12 @@
 
 #include "commands.h"
 #include "deepcut/core/errors.h"
-#include "deepcut/plugins/command_args.h"
-#include "deepcut/plugins/tool_registry.h"
+#include "args.h"
+#include "operation_command.h"
 
 namespace {
 
-// The app's own commands; the tools' sub-commands follow from the plugin registry (usage()).
+// The app's own commands; the operation commands follow from operation_commands() (usage()).
 const char* kCommands =
     "  info MODEL [--json]                  counts, edges, bounding box and problems of a model\n"
     "  convert MODEL -o OUT [--json]        import, weld and export (.gltf <-> .glb)\n"
@@ -30,23 +30,23 @@ const char* kCommands =
 
 constexpr std::size_t kSummaryColumn = 39;
 
-// The whole usage text: the app's commands, then every registered tool's sub-commands (synopsis
-// lines indented by two, the summary in its own line at kSummaryColumn, as the app's own).
+// The whole usage text: the app's commands, then the operation commands (synopsis lines
+// indented by two, the summary in its own line at kSummaryColumn, as the app's own).
 std::string usage() {
   std::string out = "usage: deepcut COMMAND [options]\n\ncommands:\n";
   out += kCommands;
-  const auto& tools = deepcut::plugins::builtin_tools();
-  out += "\ntool commands (registered by the tool plugins: " + tools.ids() + "):\n";
-  for (const auto& tool : tools.list())
-    for (const auto& command : tool.commands) {
-      std::size_t start = 0;
-      while (start <= command.synopsis.size()) {
-        const std::size_t end = std::min(command.synopsis.find('\n', start), command.synopsis.size());
-        out += "  " + command.synopsis.substr(start, end - start) + "\n";
-        start = end + 1;
-      }
-      out += std::string(kSummaryColumn, ' ') + command.summary + "\n";
+  std::string names;
+  for (const auto& command : deepcut::cli::operation_commands()) names += (names.empty() ? "" : ", ") + command.name;
+  out += "\noperation commands (the operations of history files: " + names + "):\n";
+  for (const auto& command : deepcut::cli::operation_commands()) {
+    std::size_t start = 0;
+    while (start <= command.synopsis.size()) {
+      const std::size_t end = std::min(command.synopsis.find('\n', start), command.synopsis.size());
+      out += "  " + command.synopsis.substr(start, end - start) + "\n";
+      start = end + 1;
     }
+    out += std::string(kSummaryColumn, ' ') + command.summary + "\n";
+  }
   out += "\nMODEL is a rigged .glb/.gltf, or a static .obj/.ply/.stl/.off mesh (loaded unrigged: one root\n"
          "joint, so every export is a rigged glTF)\n";
   out += "\nexit codes: 0 ok, 2 bad input or usage, 1 internal error\n";
@@ -104,8 +104,8 @@ int main(int argc, char** argv) {
     if (command == "bench") return deepcut::cli::run_bench(args);
     if (command == "cluster") return deepcut::cli::run_cluster(args);
     if (command == "softbody") return deepcut::cli::run_softbody(args);
-    if (const auto* tool_command = deepcut::plugins::builtin_tools().find_command(command))
-      return tool_command->run(args);
+    if (const auto* operation = deepcut::cli::find_operation_command(command))
+      return deepcut::cli::run_operation(*operation, args);
     std::cerr << "deepcut: unknown command '" << command << "' (see deepcut --help)\n";
     return 2;
   } catch (const deepcut::cli::UsageError& e) {

@@ -86,9 +86,9 @@ Applied Session::apply(const Operation& op) {
   // leaves both as they were; a failure leaves it for a rebuild).
   PosedModel* posed = posed_for(current_);
   Applied applied;
-  applied.report = apply_operation(*result, op, posed);
+  applied.result = apply_operation(*result, op, posed);
   applied.ms = ms_since(start);
-  if (applied.report.status != OpStatus::Ok) {
+  if (applied.result.status != OpStatus::Ok) {
     posed_state_ = current_;
     return applied;
   }
@@ -103,7 +103,8 @@ Applied Session::apply(const Operation& op) {
   return applied;
 }
 
-std::vector<Applied> Session::apply_history(const History& history, const std::string& source) {
+std::vector<Applied> Session::apply_history(const History& history, const std::string& source,
+                                           const AppliedObserver& observer) {
   if (!current_) throw Error(ErrorCode::InvalidArgument, source + ": no model is open");
   std::vector<Applied> out;
   std::vector<std::shared_ptr<const Model>> states;  // after each operation that applied
@@ -117,13 +118,14 @@ std::vector<Applied> Session::apply_history(const History& history, const std::s
     PosedModel* posed = posed_for(state);
     Applied applied;
     try {
-      applied.report = apply_operation(*next, history.operations[i], posed);
+      applied.result = apply_operation(*next, history.operations[i], posed);
     } catch (const Error& e) {
       throw Error(e.code(), source + ": operation " + std::to_string(i) + ": " + e.what());
     }
     applied.ms = ms_since(start);
+    if (observer) observer(i, *next, applied);
     out.push_back(std::move(applied));
-    if (out.back().report.status != OpStatus::Ok) {
+    if (out.back().result.status != OpStatus::Ok) {
       posed_state_ = state;
       continue;
     }

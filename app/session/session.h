@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "deepcut/core/model.h"
-#include "deepcut/core/ops/history.h"
+#include "deepcut/core/ops/operation.h"
 #include "deepcut/core/posed_model.h"
 
 namespace deepcut::session {
@@ -33,9 +33,9 @@ struct OperationEntry {
   bool applied() const { return status == OpStatus::Ok && error.empty(); }
 };
 
-/// What `Session::apply` did: the operation's report and how long it took.
+/// What `Session::apply` did: the operation's result and how long it took.
 struct Applied {
-  OperationReport report;
+  OperationResult result;
   double ms = 0.0;
 };
 
@@ -72,11 +72,14 @@ class Session {
   /// @pre not editing. @throws Error (bad parameters; nothing changes) and whatever the
   ///      operation throws (nothing changes).
   Applied apply(const Operation& op);
+  /// Sees operation `index` of a history just applied, with the model right after it.
+  using AppliedObserver = std::function<void(std::size_t index, const Model& after, const Applied& applied)>;
   /// Runs every operation of `history` on the current state as `deepcut apply` does (one that
   /// misses changes nothing); all first, so a bad operation leaves the session as it was.
   /// @returns one entry per operation of `history`.
   /// @throws Error naming `source` and the operation index when one is invalid.
-  std::vector<Applied> apply_history(const History& history, const std::string& source);
+  std::vector<Applied> apply_history(const History& history, const std::string& source,
+                                     const AppliedObserver& observer = {});
   /// Makes `state` current as one undo step (a change made outside the operations).
   void commit(std::shared_ptr<const Model> state);
 

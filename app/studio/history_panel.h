@@ -8,7 +8,7 @@
 #include <QWidget>
 #include <vector>
 
-#include "deepcut/core/ops/history.h"
+#include "deepcut/core/ops/operation.h"
 #include "session.h"
 
 class QListWidget;

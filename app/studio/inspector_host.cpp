@@ -10,7 +10,7 @@
 #include <QVBoxLayout>
 
 #include "deepcut/core/errors.h"
-#include "deepcut/plugins/registry.h"
+#include "deepcut/plugins/inspector_registry.h"
 #include "scene_view.h"
 
 namespace deepcut::studio {

@@ -22,7 +22,7 @@
 #include <sstream>
 
 #include "deepcut/core/errors.h"
-#include "deepcut/core/ops/history.h"
+#include "deepcut/core/ops/operation.h"
 #include "main_window.h"
 #include "scene_view.h"
 #include "studio_options.h"

@@ -28,9 +28,9 @@
 
 #include "deepcut/core/errors.h"
 #include "deepcut/core/io/gltf.h"
-#include "deepcut/core/ops/history.h"
+#include "deepcut/core/ops/operation.h"
 #include "deepcut/plugins/formats.h"
-#include "deepcut/plugins/registry.h"
+#include "deepcut/plugins/inspector_registry.h"
 #include "history_panel.h"
 #include "inspector_host.h"
 #include "scene_tree.h"
@@ -52,7 +52,7 @@ bool is_model_file(const QString& path) {
 }
 
 /// A file some format plugin opens (.glb, .gltf, .obj, .ply, .stl, .off, ...).
-bool is_openable_file(const QString& path) { return plugins::builtin_formats().find(path.toStdString()) != nullptr; }
+bool is_openable_file(const QString& path) { return plugins::find_format(plugins::builtin_formats(), path.toStdString()) != nullptr; }
 
 /// "All models (*.glb *.gltf *.obj ...);;glTF (*.glb *.gltf);;Wavefront OBJ (*.obj);;...;;All files (*)".
 QString open_filters() {
@@ -522,7 +522,7 @@ bool MainWindow::apply_tool() {
   op.time = scene_->time;
   session::Applied applied;
   if (!reporting(active_tool->title(), [&] { applied = session_.apply(op); })) return false;
-  if (applied.report.status != OpStatus::Ok) {
+  if (applied.result.status != OpStatus::Ok) {
     lend_grids();  // a miss changed nothing: the posed model still describes the shown state
     report_error(QString::fromStdString(active_tool->title()) + ": the tool misses the model (nothing changed)");
     return false;
@@ -536,7 +536,7 @@ bool MainWindow::apply_tool() {
 void MainWindow::apply_history(const History& history, const std::string& source) {
   const std::vector<session::Applied> applied = session_.apply_history(history, source);
   for (std::size_t i = 0; i < applied.size(); ++i)
-    if (applied[i].report.status == OpStatus::Ok) {
+    if (applied[i].result.status == OpStatus::Ok) {
       push_step(operation_label(history.operations[i]));
       note_operation(operation_label(history.operations[i]), applied[i].ms);
     }

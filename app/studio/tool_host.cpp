@@ -13,7 +13,7 @@
 #include <algorithm>
 
 #include "deepcut/core/errors.h"
-#include "deepcut/plugins/registry.h"
+#include "deepcut/plugins/tool_registry.h"
 #include "scene_view.h"
 
 namespace deepcut::studio {

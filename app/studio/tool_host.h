@@ -49,6 +49,7 @@ class ToolHost : public QObject {
 
   /// The scene the tools work on (the window's, kept at one address), or nullptr.
   void set_scene(plugins::Scene* scene) { scene_ = scene; }
+  plugins::Scene* scene() const { return scene_; }
 
   /// Chooses tool `id` ("" or "none": no tool), placed on the scene. See MainWindow::set_tool.
   /// @throws Error{InvalidArgument} for an unknown id.

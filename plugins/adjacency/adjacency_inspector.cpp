@@ -16,7 +16,7 @@
 #include "deepcut/core/adjacency.h"
 #include "deepcut/core/errors.h"
 #include "deepcut/plugins/colors.h"
-#include "deepcut/plugins/registry.h"
+#include "deepcut/plugins/inspector_registry.h"
 
 namespace deepcut::plugins {
 namespace {

@@ -46,7 +46,7 @@ class DrillTool final : public WidgetTool<DrillOperation, DrillWidget> {
     });
     rim_edges_ = new QSpinBox(panel);
     rim_edges_->setObjectName("drill.min_rim_edges");
-    rim_edges_->setRange(3, 4096);
+    rim_edges_->setRange(DrillOptions::kMinRimEdgesMin, DrillOptions::kMinRimEdgesMax);
     rim_edges_->setKeyboardTracking(false);
     form->addRow("Min rim edges", rim_edges_);
     QObject::connect(rim_edges_, QOverload<int>::of(&QSpinBox::valueChanged), panel, [this](int n) {

@@ -24,32 +24,36 @@ std::string extension_of(const std::string& path) {
 
 }  // namespace
 
-void FormatRegistry::add(ModelFormat format) {
+void check_entry(ModelFormat& format, const std::vector<ModelFormat>& taken) {
   if (format.name.empty() || format.extensions.empty() || !format.read)
     throw Error(ErrorCode::InvalidArgument, "format registry: a format needs a name, extensions and a reader");
   for (std::string& ext : format.extensions) {
     ext = lower(ext);
     if (ext.empty() || ext[0] == '.')
       throw Error(ErrorCode::InvalidArgument, "format registry: '" + format.name + "' has an empty or dotted extension");
-    for (const ModelFormat& other : formats_)
+    for (const ModelFormat& other : taken)
       if (std::find(other.extensions.begin(), other.extensions.end(), ext) != other.extensions.end())
         throw Error(ErrorCode::InvalidArgument, "format registry: ." + ext + " is read by '" + other.name + "' already");
   }
-  formats_.push_back(std::move(format));
 }
 
-const ModelFormat* FormatRegistry::find(const std::string& path) const {
+const ModelFormat* find_format(const FormatRegistry& registry, const std::string& path) {
   const std::string ext = extension_of(path);
-  for (const ModelFormat& f : formats_)
+  for (const ModelFormat& f : registry.list())
     if (std::find(f.extensions.begin(), f.extensions.end(), ext) != f.extensions.end()) return &f;
   return nullptr;
 }
 
-std::string FormatRegistry::extensions() const {
+std::string extensions(const FormatRegistry& registry) {
   std::string out;
-  for (const ModelFormat& f : formats_)
+  for (const ModelFormat& f : registry.list())
     for (const std::string& ext : f.extensions) out += (out.empty() ? "." : " .") + ext;
   return out;
+}
+
+void check_registry_id(const std::string& id, bool taken) {
+  if (id.empty()) throw Error(ErrorCode::InvalidArgument, "plugin registry: an entry has no id");
+  if (taken) throw Error(ErrorCode::InvalidArgument, "plugin registry: '" + id + "' is registered twice");
 }
 
 void register_gltf(FormatRegistry& registry) {

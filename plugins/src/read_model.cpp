@@ -11,7 +11,7 @@ namespace deepcut::plugins {
 
 Model read_model(const std::string& path) {
   const FormatRegistry& formats = builtin_formats();
-  if (const ModelFormat* format = formats.find(path)) return format->read(path);
+  if (const ModelFormat* format = find_format(formats, path)) return format->read(path);
   // Mesh formats users bring that no reader of this build takes: say so, instead of the glTF
   // parser's complaint about the first byte.
   static const char* const kKnownMeshFormats[] = {"obj", "ply", "stl", "off", "fbx", "dae", "3ds", "blend",
@@ -22,7 +22,7 @@ Model read_model(const std::string& path) {
     for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     if (std::find(std::begin(kKnownMeshFormats), std::end(kKnownMeshFormats), ext) != std::end(kKnownMeshFormats))
       throw Error(ErrorCode::InvalidInput, path + ": this build of DeepCut cannot read ." + ext + " files (it reads " +
-                                               formats.extensions() + ")");
+                                               extensions(formats) + ")");
   }
   return read_gltf(path);
 }

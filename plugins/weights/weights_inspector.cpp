@@ -22,7 +22,7 @@
 #include "deepcut/core/attributes.h"
 #include "deepcut/core/errors.h"
 #include "deepcut/plugins/colors.h"
-#include "deepcut/plugins/registry.h"
+#include "deepcut/plugins/inspector_registry.h"
 
 namespace deepcut::plugins {
 namespace {

@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "deepcut/core/io/gltf.h"
-#include "deepcut/core/ops/history.h"
+#include "deepcut/core/ops/operation.h"
 #include "deepcut/core/validate.h"
 #include "tools.h"
 

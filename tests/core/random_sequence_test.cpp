@@ -31,7 +31,7 @@
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/ops/cut.h"
 #include "deepcut/core/ops/drill.h"
-#include "deepcut/core/ops/history.h"
+#include "deepcut/core/ops/operation.h"
 #include "deepcut/core/ops/tear.h"
 #include "deepcut/core/skinning.h"
 #include "deepcut/core/softbody/clustering.h"

@@ -334,9 +334,9 @@ TEST(FormatRegistryTest, lists_gltf_first_and_refuses_taken_extensions) {
   const plugins::FormatRegistry& formats = plugins::builtin_formats();
   ASSERT_GE(formats.list().size(), 5u);
   EXPECT_EQ(formats.list()[0].name, "glTF");
-  EXPECT_EQ(formats.extensions(), ".glb .gltf .obj .ply .stl .off");
-  EXPECT_NE(formats.find("/a/b/Model.OBJ"), nullptr);
-  EXPECT_EQ(formats.find("/a.obj/model"), nullptr);
+  EXPECT_EQ(plugins::extensions(formats), ".glb .gltf .obj .ply .stl .off");
+  EXPECT_NE(plugins::find_format(formats, "/a/b/Model.OBJ"), nullptr);
+  EXPECT_EQ(plugins::find_format(formats, "/a.obj/model"), nullptr);
   plugins::FormatRegistry mine = formats;
   EXPECT_THROW(mine.add({"Other OBJ", {"obj"}, plugins::read_static_model}), Error);
   EXPECT_THROW(mine.add({"Dotted", {".xyz"}, plugins::read_static_model}), Error);

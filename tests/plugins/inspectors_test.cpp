@@ -12,7 +12,7 @@
 #include "deepcut/core/softbody/clustering.h"
 #include "deepcut/core/softbody/simulation.h"
 #include "deepcut/plugins/colors.h"
-#include "deepcut/plugins/registry.h"
+#include "deepcut/plugins/inspector_registry.h"
 #include "deepcut/plugins/scene.h"
 #include "fixtures.h"
 

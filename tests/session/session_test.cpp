@@ -144,7 +144,7 @@ TEST(SessionTest, apply_makes_one_undo_step_and_undo_redo_give_back_the_states) 
   Operations ops(*opened, 1);
   const Operation cut = ops.cut();
   const Applied applied = session.apply(cut);
-  ASSERT_EQ(applied.report.status, OpStatus::Ok);
+  ASSERT_EQ(applied.result.status, OpStatus::Ok);
   EXPECT_NE(session.current(), opened);
   EXPECT_EQ(session.undo_count(), 1u);
   ASSERT_EQ(session.operations().size(), 1u);
@@ -164,7 +164,7 @@ TEST(SessionTest, apply_makes_one_undo_step_and_undo_redo_give_back_the_states) 
 
   // A new operation after an undo drops the undone step.
   session.undo();
-  ASSERT_EQ(session.apply(ops.drill()).report.status, OpStatus::Ok);
+  ASSERT_EQ(session.apply(ops.drill()).result.status, OpStatus::Ok);
   EXPECT_EQ(session.undo_count(), 1u);
   EXPECT_FALSE(session.can_redo());
 }
@@ -178,7 +178,7 @@ TEST(SessionTest, a_miss_or_a_bad_operation_changes_nothing) {
   far.plane.point = glm::vec3(0.0f, 1000.0f, 0.0f);
   Operation miss;
   miss.params = far;
-  EXPECT_EQ(session.apply(miss).report.status, OpStatus::NoIntersection);
+  EXPECT_EQ(session.apply(miss).result.status, OpStatus::NoIntersection);
   EXPECT_EQ(session.current(), opened);
   EXPECT_EQ(session.undo_count(), 0u);
   EXPECT_NE(session.posed_model(), nullptr);  // a miss keeps it
@@ -202,7 +202,7 @@ TEST(SessionTest, apply_history_equals_applying_one_by_one_and_a_bad_one_changes
   Session one_by_one;
   one_by_one.open(cactus);
   std::size_t ok = 0;
-  for (const Operation& op : history.operations) ok += one_by_one.apply(op).report.status == OpStatus::Ok;
+  for (const Operation& op : history.operations) ok += one_by_one.apply(op).result.status == OpStatus::Ok;
   const std::string want = bytes(*one_by_one.current());
 
   Session session;
@@ -236,9 +236,9 @@ TEST(SessionTest, editing_an_operation_reruns_the_later_ones_as_one_undo_step) {
   Operations ops(*session.current(), 3);
   Operation cut = ops.cut();
   std::get<CutOperation>(cut.params).plane.normal = glm::vec3(0.0f, 1.0f, 0.0f);
-  ASSERT_EQ(session.apply(cut).report.status, OpStatus::Ok);
-  ASSERT_EQ(session.apply(ops.tear()).report.status, OpStatus::Ok);
-  ASSERT_EQ(session.apply(ops.drill()).report.status, OpStatus::Ok);
+  ASSERT_EQ(session.apply(cut).result.status, OpStatus::Ok);
+  ASSERT_EQ(session.apply(ops.tear()).result.status, OpStatus::Ok);
+  ASSERT_EQ(session.apply(ops.drill()).result.status, OpStatus::Ok);
   const auto before_edit = session.current();
   const std::string before_bytes = bytes(*before_edit);
 
@@ -288,8 +288,8 @@ TEST(SessionTest, an_edit_that_makes_a_later_operation_miss_marks_it_and_undo_br
   drill.animation = -1;
   std::get<DrillOperation>(drill.params).cylinder.a.y = std::get<CutOperation>(cut.params).plane.point.y - 0.05f * size;
   std::get<DrillOperation>(drill.params).cylinder.b.y = std::get<DrillOperation>(drill.params).cylinder.a.y;
-  ASSERT_EQ(session.apply(cut).report.status, OpStatus::Ok);
-  ASSERT_EQ(session.apply(drill).report.status, OpStatus::Ok);
+  ASSERT_EQ(session.apply(cut).result.status, OpStatus::Ok);
+  ASSERT_EQ(session.apply(drill).result.status, OpStatus::Ok);
   const auto drilled = session.current();
 
   ASSERT_TRUE(session.begin_edit(0));
@@ -320,7 +320,7 @@ TEST(SessionTest, thirty_mixed_operations_undone_and_redone_all_the_way_are_byte
     const Operation op = ops.any(i);
     const std::string when = "operation " + std::to_string(i);
     const Applied applied = session.apply(op);
-    if (applied.report.status != OpStatus::Ok) {
+    if (applied.result.status != OpStatus::Ok) {
       ++misses;
       EXPECT_EQ(bytes(*session.current()), states.back()) << when;
     } else {

@@ -28,7 +28,7 @@
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/mesh_editor.h"
 #include "deepcut/core/validate.h"
-#include "deepcut/plugins/registry.h"
+#include "deepcut/plugins/inspector_registry.h"
 #include "fixtures.h"
 #include "main_window.h"
 #include "scene_view.h"

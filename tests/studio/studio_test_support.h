@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "deepcut/core/io/gltf.h"
-#include "deepcut/core/ops/history.h"
+#include "deepcut/core/ops/operation.h"
 #include "main_window.h"
 #include "tools.h"
 

@@ -16,7 +16,7 @@
 #include <QtTest/QtTest>
 
 #include "deepcut/core/io/gltf.h"
-#include "deepcut/core/ops/history.h"
+#include "deepcut/core/ops/operation.h"
 #include "deepcut/plugins/tool.h"
 #include "main_window.h"
 #include "scene_view.h"

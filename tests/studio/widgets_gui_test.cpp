@@ -30,7 +30,7 @@
 #include <sstream>
 
 #include "deepcut/core/io/gltf.h"
-#include "deepcut/core/ops/history.h"
+#include "deepcut/core/ops/operation.h"
 #include "deepcut/plugins/tool.h"
 #include "deepcut/widgets/drill_widget.h"
 #include "deepcut/widgets/plane_widget.h"

@@ -2,16 +2,16 @@
 #pragma once
 /// @file formats.h
 /// Model file formats: which reader opens which file. glTF (.glb, .gltf) is built in; format
-/// plugin folders (`plugins/NAME/`, listed in DEEPCUT_FORMAT_PLUGINS of plugins/CMakeLists.txt)
-/// define `void deepcut::plugins::register_NAME(FormatRegistry&)` and add more. The command line
-/// and the studio both open models through `read_model`, so a new format reaches both at once.
-/// This part of the plugin API needs no Qt.
+/// plugin folders (`plugins/NAME/`) define `void deepcut::plugins::register_NAME(FormatRegistry&)`
+/// and add more, in the order plugins/src/builtin.cpp lists them. The command line and the
+/// studio both open models through `read_model`, so a new format reaches both at once. No Qt.
 
 #include <functional>
 #include <string>
 #include <vector>
 
 #include "deepcut/core/model.h"
+#include "deepcut/plugins/registry.h"
 
 namespace deepcut::plugins {
 
@@ -23,25 +23,22 @@ struct ModelFormat {
   std::function<Model(const std::string& path)> read;
 };
 
-class FormatRegistry {
- public:
-  /// @throws Error{InvalidArgument} if the name or the extensions are empty, an extension is
-  ///         taken already, or `read` is empty.
-  void add(ModelFormat format);
-  const std::vector<ModelFormat>& list() const { return formats_; }
-  /// The format reading files like `path` (by extension, case-insensitive), or nullptr.
-  const ModelFormat* find(const std::string& path) const;
-  /// Every extension, with dots, space separated (".glb .gltf .obj").
-  std::string extensions() const;
+inline const std::string& registry_id(const ModelFormat& format) { return format.name; }
+/// Lowers the extensions. @throws Error{InvalidArgument} if the name or the extensions are empty,
+/// an extension is dotted or read by a `taken` format already, or `read` is empty.
+void check_entry(ModelFormat& format, const std::vector<ModelFormat>& taken);
 
- private:
-  std::vector<ModelFormat> formats_;
-};
+using FormatRegistry = Registry<ModelFormat>;
+
+/// The format reading files like `path` (by extension, case-insensitive), or nullptr.
+const ModelFormat* find_format(const FormatRegistry& registry, const std::string& path);
+/// Every extension, with dots, space separated (".glb .gltf .obj").
+std::string extensions(const FormatRegistry& registry);
 
 /// Registers the built-in glTF reader (.glb, .gltf).
 void register_gltf(FormatRegistry& registry);
 
-/// glTF first, then the format plugins in build-list order.
+/// glTF first, then the format plugins in list order.
 const FormatRegistry& builtin_formats();
 
 /// Reads `path` with the built-in format its extension names; a file with another extension is

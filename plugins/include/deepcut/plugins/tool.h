@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "deepcut/core/ops/history.h"
+#include "deepcut/core/ops/operation.h"
 #include "deepcut/plugins/inspector.h"
 #include "deepcut/plugins/scene.h"
 #include "deepcut/plugins/tool_registry.h"

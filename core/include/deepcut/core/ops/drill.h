@@ -30,6 +30,7 @@ struct Cylinder {
 };
 
 struct DrillOptions {
+  static constexpr int kMinRimEdgesMin = 3, kMinRimEdgesMax = 4096;  ///< min_rim_edges' range
   /// Rim edges of a hole whose layer the axis crosses: the circle is sampled at this many
   /// equal angles around the axis (edge crossings add more). Default 32; at least 3.
   int min_rim_edges = 32;
@@ -39,6 +40,9 @@ struct DrillOptions {
   /// Snapping tolerance as a fraction of the radius: vertices closer to the cylinder count as
   /// on it, and no rim vertex is made closer than this to another. Default 2e-3.
   float relative_tolerance = 2e-3f;
+  /// apply_operation refuses (Error{InvalidArgument}) a drill that removes every triangle of an
+  /// instance, rather than leave its node without a mesh. Default on; not a history key.
+  bool refuse_swallowed_instances = true;
 };
 
 /// One rim: a chain of new boundary edges around a hole (closed unless the hole merged with an

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "deepcut/core/ops/history.h"
+#include "deepcut/core/ops/operation.h"
 
 #include <algorithm>
 #include <cmath>
@@ -160,47 +160,94 @@ std::string history_to_json(const History& history) {
   return json{{"operations", ops}}.dump();
 }
 
-OperationReport apply_operation(Model& model, const Operation& operation, PosedModel* index) {
-  OperationReport report;
+const char* operation_name(const Operation& operation) {
+  if (std::holds_alternative<CutOperation>(operation.params)) return "cut";
+  if (std::holds_alternative<TearOperation>(operation.params)) return "tear";
+  return "drill";
+}
+
+void check_operation(const Operation& operation, const ParameterName& name) {
+  const auto named = [&](const char* key) { return name ? name(key) : std::string(key); };
+  if (const auto* cut = std::get_if<CutOperation>(&operation.params)) {
+    if (glm::length(cut->plane.normal) == 0.0f) throw Error(ErrorCode::InvalidArgument, "cut: the plane normal is zero");
+  } else if (const auto* tear = std::get_if<TearOperation>(&operation.params)) {
+    swept_quad_triangles(tear->start, tear->end);  // throws for a degenerate blade or sweep
+  } else if (const auto* drill = std::get_if<DrillOperation>(&operation.params)) {
+    const int edges = drill->options.min_rim_edges;
+    if (edges < DrillOptions::kMinRimEdgesMin || edges > DrillOptions::kMinRimEdgesMax)
+      throw Error(ErrorCode::InvalidArgument, "drill: " + named("min_rim_edges") + " must be between " +
+                                                  std::to_string(DrillOptions::kMinRimEdgesMin) + " and " +
+                                                  std::to_string(DrillOptions::kMinRimEdgesMax));
+    if (!(drill->cylinder.radius > 0.0f))
+      throw Error(ErrorCode::InvalidArgument, "drill: " + named("radius") + " must be positive");
+    if (drill->cylinder.a == drill->cylinder.b)
+      throw Error(ErrorCode::InvalidArgument, "drill: the axis end points A and B coincide");
+  }
+}
+
+namespace {
+
+// Live triangles drawn by each node (0 for nodes without a mesh).
+std::vector<std::size_t> instance_triangles(const Model& model) {
+  std::vector<std::size_t> out(model.nodes.size(), 0);
+  for (std::size_t ni = 0; ni < model.nodes.size(); ++ni) {
+    const int mi = model.nodes[ni].mesh;
+    if (mi < 0 || static_cast<std::size_t>(mi) >= model.meshes.size()) continue;
+    for (const auto& prim : model.meshes[static_cast<std::size_t>(mi)].primitives) out[ni] += prim.mesh.face_count();
+  }
+  return out;
+}
+
+// drill_model, refusing a drill that swallows a whole instance when the options say so: such a
+// drill is not a hole, and the node would be left without a mesh.
+ModelDrillResult drill_instances(Model& model, const DrillOperation& drill, int animation, float time,
+                                 PosedModel* posed) {
+  if (!drill.options.refuse_swallowed_instances)
+    return drill_model(model, drill.cylinder, drill.options, animation, time, posed);
+  const auto before = instance_triangles(model);
+  ModelDrillResult result = drill_model(model, drill.cylinder, drill.options, animation, time, posed);
+  const auto after = instance_triangles(model);
+  for (std::size_t ni = 0; ni < before.size(); ++ni)
+    if (before[ni] > 0 && after[ni] == 0)
+      throw Error(ErrorCode::InvalidArgument,
+                  "the cylinder removes every triangle of node " + std::to_string(ni) +
+                      (model.nodes[ni].name.empty() ? std::string() : " '" + model.nodes[ni].name + "'") + " (" +
+                      std::to_string(before[ni]) + " triangles); use a smaller --radius");
+  return result;
+}
+
+}  // namespace
+
+OperationResult apply_operation(Model& model, const Operation& operation, PosedModel& posed) {
+  return apply_operation(model, operation, &posed);
+}
+
+OperationResult apply_operation(Model& model, const Operation& operation, PosedModel* posed) {
+  check_operation(operation);
+  OperationResult out;
   const int animation = operation.animation >= 0 && model.animations.empty() ? -1 : operation.animation;
   std::visit(
       [&](const auto& p) {
         using T = std::decay_t<decltype(p)>;
         if constexpr (std::is_same_v<T, CutOperation>) {
           const ModelCutResult r = cut_model(model, p.plane, p.options, animation, operation.time);
-          // The cut rebuilds meshes and adds nodes: the next operation indexes the model anew.
-          if (index && r.status == OpStatus::Ok) index->invalidate();
-          report.status = r.status;
-          report.summary_json = json{{"op", "cut"},
-                                     {"status", to_string(r.status)},
-                                     {"intersection_points", r.intersection_points},
-                                     {"pieces", r.piece_nodes.size()}}
-                                    .dump();
+          // The cut rebuilds meshes and adds nodes: the next operation poses the model anew.
+          if (posed && r.status == OpStatus::Ok) posed->invalidate();
+          out.status = r.status;
+          out.result = r;
         } else if constexpr (std::is_same_v<T, TearOperation>) {
-          const ModelTearResult r = tear_model(model, p.start, p.end, p.options, animation, operation.time, index);
-          report.status = r.status;
-          report.summary_json = json{{"op", "tear"},
-                                     {"status", to_string(r.status)},
-                                     {"intersection_points", r.intersection_points},
-                                     {"tear_vertices", r.tear_vertices},
-                                     {"slits", r.slits},
-                                     {"width", r.width}}
-                                    .dump();
+          const ModelTearResult r = tear_model(model, p.start, p.end, p.options, animation, operation.time, posed);
+          out.status = r.status;
+          out.result = r;
         } else if constexpr (std::is_same_v<T, DrillOperation>) {
-          const ModelDrillResult r = drill_model(model, p.cylinder, p.options, animation, operation.time, index);
-          report.status = r.status;
-          report.summary_json = json{{"op", "drill"},
-                                     {"status", to_string(r.status)},
-                                     {"holes", r.rim_vertices.size()},
-                                     {"rim_vertices", r.rim_vertices},
-                                     {"triangles_removed", r.triangles_removed},
-                                     {"triangles_added", r.triangles_added}}
-                                    .dump();
+          const ModelDrillResult r = drill_instances(model, p, animation, operation.time, posed);
+          out.status = r.status;
+          out.result = r;
         }
       },
       operation.params);
-  if (report.status == OpStatus::Ok) record_operation(model, operation);
-  return report;
+  if (out.status == OpStatus::Ok) record_operation(model, operation);
+  return out;
 }
 
 History model_history(const Model& model) {

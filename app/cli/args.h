@@ -1,9 +1,8 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-/// @file command_args.h
-/// Argument parsing shared by the `deepcut` sub-commands, whether the app defines them or a tool
-/// plugin registers them (tool_registry.h): positionals, `-o OUT`, `--flag`, `--key VALUE` and
-/// `--key=VALUE`. Usage errors throw UsageError (exit code 2). No Qt, no VTK.
+/// @file args.h
+/// Argument parsing shared by the `deepcut` sub-commands: positionals, `-o OUT`, `--flag`,
+/// `--key VALUE` and `--key=VALUE`. Usage errors throw UsageError (exit code 2).
 
 #include <map>
 #include <set>

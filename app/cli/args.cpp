@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "deepcut/plugins/command_args.h"
+#include "args.h"
 
 #include <cmath>
 #include <sstream>

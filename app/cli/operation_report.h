@@ -1,0 +1,32 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file operation_report.h
+/// The one report of an applied operation: `deepcut cut|tear|drill --json` print it (with their
+/// timings) and `deepcut apply --json` prints it for each operation (with its "op"), so the
+/// front ends report the same keys (listed in docs/cli.md). Core returns typed results
+/// (OperationResult); turning them into JSON and sentences is the command line's business.
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "deepcut/core/ops/operation.h"
+
+namespace deepcut::cli {
+
+/// The report of `operation`, applied with `result`: "status" and, by kind,
+///   cut:   "pieces" (per piece node: "node", "vertices", "triangles"), "intersection_points",
+///          "rim_vertices";
+///   tear:  "tear_vertices", "intersection_points", "slits", "width", "opening";
+///   drill: "holes", "rim_vertices", "intersection_points", "triangles_removed",
+///          "triangles_added", "wall_triangles", "unwalled_holes", and "wall_note" when a wall was
+///          asked for and some holes got none.
+/// @param model  the model after the operation (the cut's pieces are counted in it)
+nlohmann::json operation_report(const Model& model, const Operation& operation, const OperationResult& result);
+
+/// What the operation did, for people: "cut into 2 pieces", "tore 1 slit, ...", "drilled 3 holes".
+std::string operation_summary(const OperationResult& result);
+
+/// The tool a miss names ("the blade misses the model"): "plane", "blade" or "drill".
+const char* operation_tool(const Operation& operation);
+
+}  // namespace deepcut::cli

@@ -1,0 +1,103 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file ops/operation.h
+/// One operation as a record (type, parameters, pose) and the one path that applies it. The
+/// studio, `deepcut apply` and the `deepcut cut|tear|drill` commands all build an `Operation`
+/// and call `apply_operation`, so they check the same rules and make the same model. Records
+/// form the history that the studio undoes, redoes and re-runs, that `deepcut apply` replays,
+/// and that exports carry in the root `extras` under "deepcut_history" (format: docs/cli.md,
+/// "History files").
+
+#include <functional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "deepcut/core/model.h"
+#include "deepcut/core/ops/cut.h"
+#include "deepcut/core/ops/drill.h"
+#include "deepcut/core/ops/tear.h"
+
+namespace deepcut {
+
+struct CutOperation {
+  Plane plane;
+  CutOptions options;
+};
+
+struct DrillOperation {
+  Cylinder cylinder;
+  DrillOptions options;
+};
+
+/// A scalpel stroke: the blade's start and end poses (world space, in the operation's pose).
+struct TearOperation {
+  Blade start, end;
+  TearOptions options;
+};
+
+/// One operation's parameters.
+using OperationParams = std::variant<CutOperation, DrillOperation, TearOperation>;
+
+struct Operation {
+  OperationParams params;
+  /// Animation whose pose the tool was placed against (-1: the rest pose). In history files an
+  /// absent "animation" means 0, the model's first animation (the rest pose when it has none).
+  int animation = -1;
+  float time = 0.0f;  ///< seconds into that animation
+};
+
+struct History {
+  std::vector<Operation> operations;
+};
+
+/// What applying one operation did: the model operation's own result, typed (the alternative
+/// matches the operation's kind: a cut gives a ModelCutResult, and so on).
+struct OperationResult {
+  OpStatus status = OpStatus::Ok;  ///< the model operation's status, repeated for convenience
+  std::variant<ModelCutResult, ModelTearResult, ModelDrillResult> result;
+};
+
+/// "cut", "tear" or "drill": the operation's kind as history files name it.
+const char* operation_name(const Operation& operation);
+
+/// Parses a history file's text ({"operations": [...]}, format in docs/cli.md).
+/// @throws Error{InvalidInput} naming the operation index and the problem.
+History parse_history(const std::string& json_text);
+/// The JSON text of a history (the inverse of parse_history).
+std::string history_to_json(const History& history);
+
+/// How a message names an operation's parameter, given its history key ("radius"): the key
+/// itself by default; the command line passes its flags ("--radius").
+using ParameterName = std::function<std::string(const std::string& key)>;
+
+/// The checks of an operation's parameters that need no model, made by apply_operation first
+/// and by front ends that refuse an operation before they read a model. The ranges are the
+/// operations' own (DrillOptions::kMinRimEdgesMin and kMinRimEdgesMax); the operations check
+/// the rest.
+/// @throws Error{InvalidArgument} naming the operation: "drill: radius must be positive",
+///         "drill: min_rim_edges must be between 3 and 4096", "drill: the axis end points A and
+///         B coincide", "cut: the plane normal is zero", or a degenerate blade
+///         (swept_quad_triangles).
+void check_operation(const Operation& operation, const ParameterName& name = {});
+
+/// Applies one operation to the model and records it in the model's history when it changed
+/// the model (status Ok).
+/// @param posed  the model at a pose (posed_model.h), used and updated by drills and tears
+///               (rebuilt when it was made for another pose), invalidated by a cut. The result
+///               is byte-identical with and without it.
+/// @throws Error{InvalidArgument} for bad parameters (check_operation, then the operation's own
+///         checks), and for a drill that removes every triangle of an instance while its
+///         DrillOptions::refuse_swallowed_instances is set (the default). After an exception the
+///         model may be partly changed and `posed` no longer describes it: apply to a copy, and
+///         invalidate `posed`.
+OperationResult apply_operation(Model& model, const Operation& operation, PosedModel& posed);
+/// The same, with `posed` optional (nullptr: the operation poses the model itself).
+OperationResult apply_operation(Model& model, const Operation& operation, PosedModel* posed = nullptr);
+
+/// The history recorded in the model's root extras (empty if none).
+History model_history(const Model& model);
+/// Appends `operation` to the history in the model's root extras, keeping other extras.
+void record_operation(Model& model, const Operation& operation);
+
+}  // namespace deepcut
