@@ -32,12 +32,12 @@
 #include "deepcut/plugins/formats.h"
 #include "deepcut/plugins/inspector_registry.h"
 #include "history_panel.h"
+#include "operations_host.h"
 #include "inspector_host.h"
 #include "scene_tree.h"
 #include "scene_view.h"
 #include "timeline.h"
 #include "tool_host.h"
-#include "undo_commands.h"
 
 namespace deepcut::studio {
 namespace {
@@ -70,12 +70,6 @@ QString thousands(std::size_t n) { return QLocale(QLocale::English).toString(sta
 
 double ms_since(const QElapsedTimer& clock) { return static_cast<double>(clock.nsecsElapsed()) / 1e6; }
 
-std::string tool_of(const Operation& op) {
-  if (std::holds_alternative<CutOperation>(op.params)) return "cut";
-  if (std::holds_alternative<TearOperation>(op.params)) return "tear";
-  return "drill";
-}
-
 }  // namespace
 
 MainWindow::MainWindow(const MainWindowOptions& options, QWidget* parent)
@@ -95,8 +89,15 @@ MainWindow::MainWindow(const MainWindowOptions& options, QWidget* parent)
   connect(tools_, &ToolHost::apply_requested, this, [this] { apply_tool(); });
   connect(inspectors_, &InspectorHost::changed, this, &MainWindow::refresh_inspector);
   connect(inspectors_, &InspectorHost::chosen, this, [this](const QString& id) { set_inspector(id.toStdString()); });
+  operations_ = new OperationsHost(tools_, this);
+  connect(operations_, &OperationsHost::state_changed, this, &MainWindow::show_current);
+  connect(operations_, &OperationsHost::failed, this, &MainWindow::report_error);
+  connect(operations_, &OperationsHost::done, this, &MainWindow::note_operation);
+  connect(operations_, &OperationsHost::note, this, [this](const QString& text, int ms) { statusBar()->showMessage(text, ms); });
+  connect(operations_, &OperationsHost::pose_requested, this, &MainWindow::set_pose);
+  connect(operations_, &OperationsHost::state_kept, this, &MainWindow::lend_grids);
   // The session's posed model changes: the scene gives back the grids it lent.
-  session_.set_posed_model_listener([this] { tools_->lend_grids(nullptr, nullptr); });
+  operations_->session().set_posed_model_listener([this] { tools_->lend_grids(nullptr, nullptr); });
   posed_timer_ = new QTimer(this);
   posed_timer_->setSingleShot(true);
   posed_timer_->setInterval(300);
@@ -105,7 +106,6 @@ MainWindow::MainWindow(const MainWindowOptions& options, QWidget* parent)
     refresh_operation_index();
   });
 
-  history_ = new QUndoStack(this);
   build_docks();
   build_menus();
 
@@ -141,10 +141,7 @@ void MainWindow::build_docks() {
 
   auto* history_dock = new QDockWidget("History", this);
   history_dock->setObjectName("history_dock");
-  history_panel_ = new HistoryPanel(history_, history_dock);
-  connect(history_panel_, &HistoryPanel::edit_requested, this, &MainWindow::edit_operation);
-  connect(history_panel_, &HistoryPanel::cancel_requested, this, &MainWindow::cancel_edit);
-  history_dock->setWidget(history_panel_);
+  history_dock->setWidget(operations_->create_panel(history_dock));
   addDockWidget(Qt::LeftDockWidgetArea, history_dock);
   splitDockWidget(scene_dock, history_dock, Qt::Vertical);
   resizeDocks({scene_dock, history_dock}, {480, 300}, Qt::Vertical);
@@ -215,10 +212,10 @@ void MainWindow::build_edit_menu() {
   QStyle* s = style();
   // Edit: undo and redo follow the history (disabled while it is empty).
   QMenu* edit = menuBar()->addMenu("&Edit");
-  undo_ = history_->createUndoAction(this, "&Undo");
+  undo_ = history()->createUndoAction(this, "&Undo");
   undo_->setShortcut(QKeySequence::Undo);
   undo_->setIcon(s->standardIcon(QStyle::SP_ArrowBack));
-  redo_ = history_->createRedoAction(this, "&Redo");
+  redo_ = history()->createRedoAction(this, "&Redo");
   redo_->setShortcuts({QKeySequence("Ctrl+Shift+Z"), QKeySequence("Ctrl+Y")});
   redo_->setIcon(s->standardIcon(QStyle::SP_ArrowForward));
   // The menu says what would be undone ("Undo Drill (1.19, ...) r 0.35"); on the tool bar that
@@ -333,7 +330,7 @@ void MainWindow::choose_open() {
 }
 
 void MainWindow::choose_export() {
-  if (!session_.current()) return report_error("export: no model is open");
+  if (!session().current()) return report_error("export: no model is open");
   const QString glb = "glTF binary (*.glb)", gltf = "glTF JSON, embedded buffers (*.gltf)";
   QString filter = glb;
   QString path =
@@ -392,8 +389,7 @@ void MainWindow::load_file(const QString& path) {
     clips.emplace_back(QString::fromStdString(a.name), a.duration());
 
   path_ = path;
-  history_->clear();
-  session_.open(model);
+  operations_->open(model);
   timeline_->set_animations(clips);
   if (!scene_) {
     scene_ = std::make_unique<plugins::Scene>();
@@ -402,7 +398,7 @@ void MainWindow::load_file(const QString& path) {
   }
   *scene_ = std::move(scene);
   // The operations' posed model, once per model (and pose): every drill and tear updates it.
-  session_.refresh_posed_model(animation, 0.0f);
+  operations_->session().refresh_posed_model(animation, 0.0f);
   posed_timer_->stop();
   const std::vector<std::string> notes = present_scene();
   refresh_inspector();
@@ -414,7 +410,7 @@ void MainWindow::load_file(const QString& path) {
   setWindowTitle(QFileInfo(path).fileName() + " - DeepCut Studio");
   last_error_.clear();
   note_operation("Open " + QFileInfo(path).fileName(), ms_since(clock));
-  refresh_operations();
+  operations_->refresh_list();
   if (!notes.empty()) statusBar()->showMessage(QString::fromStdString(notes.front()), 15000);
   emit model_changed();
 }
@@ -429,40 +425,40 @@ std::vector<std::string> MainWindow::present_scene() {
 }
 
 void MainWindow::show_current() {
-  const std::shared_ptr<const Model>& model = session_.current();
+  const std::shared_ptr<const Model>& model = session().current();
   int animation = timeline_->animation();
   if (animation >= static_cast<int>(model->animations.size())) animation = model->animations.empty() ? -1 : 0;
   *scene_ = plugins::make_scene(model, animation, timeline_->time());
   present_scene();
   tools_->refresh_preview();
   refresh_inspector();
-  refresh_operations();
+  operations_->refresh_list();
   // Undo, redo or an edit: the posed model describes another state; a cut dropped it (its
   // pieces are new meshes). Rebuild it when idle.
-  if (!session_.posed_model()) posed_timer_->start();
+  if (!session().posed_model()) posed_timer_->start();
   emit model_changed();
 }
 
-const PosedModel* MainWindow::operation_index() const { return session_.posed_model(); }
+const PosedModel* MainWindow::operation_index() const { return session().posed_model(); }
 
 void MainWindow::refresh_operation_index() {
-  if (!session_.current() || !scene_) return;
-  if (!session_.refresh_posed_model(scene_->animation, scene_->time)) return;
+  if (!session().current() || !scene_) return;
+  if (!operations_->session().refresh_posed_model(scene_->animation, scene_->time)) return;
   lend_grids();
   tools_->refresh_preview();
 }
 
-void MainWindow::lend_grids() { tools_->lend_grids(session_.current(), session_.posed_model()); }
+void MainWindow::lend_grids() { tools_->lend_grids(session().current(), session().posed_model()); }
 
 bool MainWindow::export_file(const QString& path) {
-  if (!session_.current()) {
+  if (!session().current()) {
     report_error("export: no model is open");
     return false;
   }
   QElapsedTimer clock;
   clock.start();
   try {
-    write_gltf(*session_.current(), path.toStdString());
+    write_gltf(*session().current(), path.toStdString());
   } catch (const Error& e) {
     report_error(QString::fromStdString(e.what()));
     return false;
@@ -475,161 +471,32 @@ bool MainWindow::export_file(const QString& path) {
   return true;
 }
 
-void MainWindow::push_step(const QString& label) {
-  history_->push(new SessionStepCommand(session_, label, [this] { show_current(); }));
-}
-
-void MainWindow::apply_operation(const QString& label, std::shared_ptr<const Model> result, double ms) {
-  if (!session_.current() || !result) return;
-  session_.commit(std::move(result));
-  push_step(label);
-  note_operation(label, ms);
-}
-
 void MainWindow::set_tool(const std::string& id) { tools_->set_tool(id); }
 plugins::Tool* MainWindow::tool() const { return tools_->tool(); }
 std::string MainWindow::tool_id() const { return tools_->tool_id(); }
 
-template <class Run>
-bool MainWindow::reporting(const std::string& title, Run&& run) {
-  try {
-    run();
-    return true;
-  } catch (const Error& e) {
-    report_error(QString::fromStdString(title + ": " + e.what()));
-  } catch (const std::bad_alloc&) {
-    report_error(QString::fromStdString(title) + ": out of memory");
-  } catch (const std::exception& e) {  // a defect in an operation: reported, never a crash
-    report_error(QString::fromStdString(title + ": internal error: " + e.what()));
-  }
-  return false;
-}
-
 bool MainWindow::apply_tool() {
-  plugins::Tool* active_tool = tool();
-  if (!session_.current() || !scene_) {
-    report_error("apply: no model is open");
-    return false;
-  }
-  if (!active_tool || !active_tool->makes_operation()) {
-    report_error("apply: no operation tool is chosen (Tools: Plane, Scalpel or Drill)");
-    return false;
-  }
-  if (session_.editing() >= 0) return apply_edit();
-  Operation op;
-  op.params = active_tool->parameters();
-  op.animation = scene_->animation;
-  op.time = scene_->time;
-  session::Applied applied;
-  if (!reporting(active_tool->title(), [&] { applied = session_.apply(op); })) return false;
-  if (applied.result.status != OpStatus::Ok) {
-    lend_grids();  // a miss changed nothing: the posed model still describes the shown state
-    report_error(QString::fromStdString(active_tool->title()) + ": the tool misses the model (nothing changed)");
-    return false;
-  }
-  push_step(operation_label(op));
-  note_operation(operation_label(op), applied.ms);
-  last_error_.clear();
-  return true;
+  const bool applied = operations_->apply_tool();
+  if (applied) last_error_.clear();
+  return applied;
 }
 
 void MainWindow::apply_history(const History& history, const std::string& source) {
-  const std::vector<session::Applied> applied = session_.apply_history(history, source);
-  for (std::size_t i = 0; i < applied.size(); ++i)
-    if (applied[i].result.status == OpStatus::Ok) {
-      push_step(operation_label(history.operations[i]));
-      note_operation(operation_label(history.operations[i]), applied[i].ms);
-    }
+  operations_->apply_history(history, source);
 }
 
-std::vector<MainWindow::OperationEntry> MainWindow::operations() const { return session_.operations(); }
-
-QListWidget* MainWindow::operations_list() const { return history_panel_->operations_list(); }
-
-void MainWindow::refresh_operations() {
-  const std::vector<OperationEntry> entries = session_.operations();
-  const int editing = session_.editing();
-  history_panel_->show_operations(entries, editing);
-  if (editing < 0) return tools_->set_banner(QString(), "Apply (Enter)");
-  tools_->set_banner(QString("Editing operation %1 of %2 (the model as it was before it). Apply re-runs "
-                             "it and the %3 after it as one undoable step; Esc cancels.")
-                         .arg(editing + 1)
-                         .arg(entries.size())
-                         .arg(static_cast<int>(entries.size()) - editing - 1),
-                     "Re-run from here (Enter)");
+void MainWindow::apply_operation(const QString& label, std::shared_ptr<const Model> result, double ms) {
+  operations_->commit(label, std::move(result), ms);
 }
 
-bool MainWindow::edit_operation(int index) {
-  if (session_.editing() >= 0) cancel_edit();
-  QElapsedTimer clock;
-  clock.start();
-  bool started = false;
-  try {
-    started = session_.begin_edit(index);
-  } catch (const std::bad_alloc&) {
-    report_error("edit: out of memory");
-    return false;
-  }
-  if (!started) {
-    report_error(QString("edit: there is no operation %1 to edit").arg(index + 1));
-    return false;
-  }
-  const Operation edited = session_.edited_entry().operation;
-  show_current();
-  // Its tool with its parameters, at its pose.
-  if (edited.animation < static_cast<int>(session_.current()->animations.size())) set_pose(edited.animation, edited.time);
-  set_tool(tool_of(edited));
-  tool()->set_parameters(edited.params);
-  refresh_operations();
-  operations_list()->setCurrentRow(index);
-  note_operation(QString("Edit operation %1").arg(index + 1), ms_since(clock));
-  return true;
-}
-
-void MainWindow::cancel_edit() {
-  if (session_.editing() < 0) return;
-  session_.cancel_edit();
-  show_current();
-  statusBar()->showMessage("Edit cancelled: the history is unchanged", 5000);
-}
-
-bool MainWindow::apply_edit() {
-  const std::string title = tool()->title();
-  const int index = session_.editing();
-  Operation op = session_.edited_entry().operation;
-  op.params = tool()->parameters();
-  op.animation = scene_->animation;
-  op.time = scene_->time;
-  session::EditOutcome outcome;
-  try {
-    outcome = session_.finish_edit(op);
-  } catch (const std::bad_alloc&) {
-    report_error(QString::fromStdString(title) + ": out of memory");
-    return false;
-  }
-  if (!outcome.edited.error.empty()) {
-    report_error(QString::fromStdString(title + ": " + outcome.edited.error));
-    return false;
-  }
-  if (outcome.edited.status != OpStatus::Ok) {
-    report_error(QString::fromStdString(title) + ": the edited operation misses the model (nothing changed)");
-    return false;
-  }
-  const QString label = QString("Edit %1: %2").arg(index + 1).arg(operation_label(outcome.edited.operation));
-  push_step(label);
-  note_operation(label, outcome.ms);
-  last_error_.clear();
-  operations_list()->setCurrentRow(index);
-  const std::size_t skipped = outcome.skipped;
-  if (skipped > 0)
-    statusBar()->showMessage(QString("%1 later operation%2 no longer appl%3 and %4 skipped (marked in History)")
-                                 .arg(skipped)
-                                 .arg(skipped == 1 ? "" : "s")
-                                 .arg(skipped == 1 ? "ies" : "y")
-                                 .arg(skipped == 1 ? "was" : "were"),
-                             15000);
-  return true;
-}
+bool MainWindow::edit_operation(int index) { return operations_->edit_operation(index); }
+void MainWindow::cancel_edit() { operations_->cancel_edit(); }
+int MainWindow::editing_operation() const { return session().editing(); }
+std::vector<MainWindow::OperationEntry> MainWindow::operations() const { return session().operations(); }
+QListWidget* MainWindow::operations_list() const { return operations_->operations_list(); }
+const session::Session& MainWindow::session() const { return operations_->session(); }
+std::shared_ptr<const Model> MainWindow::model() const { return session().current(); }
+QUndoStack* MainWindow::history() const { return operations_->undo_stack(); }
 
 void MainWindow::set_inspector(const std::string& id) {
   inspectors_->set_inspector(id);

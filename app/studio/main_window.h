@@ -30,7 +30,7 @@ class QUndoStack;
 
 namespace deepcut::studio {
 
-class HistoryPanel;
+class OperationsHost;
 class InspectorHost;
 class SceneTree;
 class SceneView;
@@ -103,7 +103,7 @@ class MainWindow : public QMainWindow {
   /// Leaves editing without changing anything.
   void cancel_edit();
   /// The operation being edited, or -1.
-  int editing_operation() const { return session_.editing(); }
+  int editing_operation() const;
   QListWidget* operations_list() const;
 
   /// Activates inspector `id` ("" or "none": the model's own look).
@@ -126,9 +126,9 @@ class MainWindow : public QMainWindow {
   void set_normals_visible(bool visible);
 
   /// The current model state (null before the first successful open).
-  std::shared_ptr<const Model> model() const { return session_.current(); }
+  std::shared_ptr<const Model> model() const;
   /// The model states, operations and undo steps shown.
-  const session::Session& session() const { return session_; }
+  const session::Session& session() const;
   const plugins::Scene* scene() const { return scene_.get(); }
   QString model_path() const { return path_; }
   QString last_error() const { return last_error_; }
@@ -138,7 +138,7 @@ class MainWindow : public QMainWindow {
   SceneView* view() const { return view_; }
   Timeline* timeline() const { return timeline_; }
   SceneTree* scene_tree() const { return tree_; }
-  QUndoStack* history() const { return history_; }
+  QUndoStack* history() const;
   QAction* undo_action() const { return undo_; }
   QAction* redo_action() const { return redo_; }
 
@@ -181,14 +181,6 @@ class MainWindow : public QMainWindow {
   void refresh_inspector();
   void refresh_overlays();
   void refresh_status();
-  void refresh_operations();
-  /// Pushes the session's newest step on the undo stack, named `label`.
-  void push_step(const QString& label);
-  /// Re-runs the edited operation with the tool's parameters and every later one.
-  bool apply_edit();
-  /// Reports what `run` throws (an operation's defect included) as `title: ...`.
-  template <class Run>
-  bool reporting(const std::string& title, Run&& run);
   void on_pose_changed(int animation, float time);
   /// Lends the scene the session's posed model's grids when it describes the shown state and pose.
   void lend_grids();
@@ -197,7 +189,6 @@ class MainWindow : public QMainWindow {
   void choose_export();
 
   MainWindowOptions options_;
-  session::Session session_;
   std::unique_ptr<plugins::Scene> scene_;
   QTimer* posed_timer_ = nullptr;  // rebuilds the posed model once the pose or state settles
   QString path_, last_error_, last_operation_;
@@ -208,8 +199,7 @@ class MainWindow : public QMainWindow {
   Timeline* timeline_ = nullptr;
   ToolHost* tools_ = nullptr;
   InspectorHost* inspectors_ = nullptr;
-  HistoryPanel* history_panel_ = nullptr;
-  QUndoStack* history_ = nullptr;
+  OperationsHost* operations_ = nullptr;
   QMenu* recent_menu_ = nullptr;
   QAction* undo_ = nullptr;
   QAction* redo_ = nullptr;
