@@ -5,7 +5,8 @@
 /// operations made since it was opened, applying one operation or a whole history, editing a past
 /// operation and re-running the ones after it, the undo/redo stack, and the posed model the
 /// operations share (posed_model.h). The studio shows what a Session holds; `deepcut apply` runs
-/// a history through one. No Qt and no VTK here. See docs/architecture.md.
+/// a history through one. No Qt and no VTK here. See docs/studio.md (History panel, undo) and
+/// docs/cli.md ("History files").
 ///
 /// Model states are immutable snapshots (`std::shared_ptr<const Model>`): an operation copies the
 /// current state, edits the copy and makes it current, so undo and redo give back the very

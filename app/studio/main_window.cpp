@@ -13,14 +13,12 @@
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QLabel>
-#include <QListWidget>
 #include <QMenuBar>
 #include <QMessageBox>
 #include <QMimeData>
 #include <QSettings>
 #include <QStatusBar>
 #include <QStyle>
-#include <QTimer>
 #include <QToolBar>
 #include <QUndoStack>
 #include <QUrl>
@@ -31,9 +29,10 @@
 #include "deepcut/core/ops/operation.h"
 #include "deepcut/plugins/formats.h"
 #include "deepcut/plugins/inspector_registry.h"
-#include "history_panel.h"
-#include "operations_host.h"
 #include "inspector_host.h"
+#include "operations_host.h"
+#include "recent_files.h"
+#include "scene_host.h"
 #include "scene_tree.h"
 #include "scene_view.h"
 #include "timeline.h"
@@ -41,9 +40,6 @@
 
 namespace deepcut::studio {
 namespace {
-
-constexpr int kMaxRecent = 10;
-const char* kRecentKey = "recent_files";
 
 /// An export target: the exporter writes glTF only.
 bool is_model_file(const QString& path) {
@@ -84,38 +80,31 @@ MainWindow::MainWindow(const MainWindowOptions& options, QWidget* parent)
   setCentralWidget(view_);
   inspectors_ = new InspectorHost(view_, this);
   tools_ = new ToolHost(view_, this);
-  view_->set_pick_handler([this](const plugins::Pick& pick) { on_pick(pick); });
+  view_->set_pick_handler([this](const plugins::Pick& pick) { scene_host_->pick(pick); });
   view_->set_pointer_handler([this](const PointerEvent& event) { return tools_->on_pointer(event); });
   connect(tools_, &ToolHost::apply_requested, this, [this] { apply_tool(); });
-  connect(inspectors_, &InspectorHost::changed, this, &MainWindow::refresh_inspector);
+  connect(inspectors_, &InspectorHost::changed, this, [this] { scene_host_->refresh_inspector(); });
   connect(inspectors_, &InspectorHost::chosen, this, [this](const QString& id) { set_inspector(id.toStdString()); });
   operations_ = new OperationsHost(tools_, this);
   connect(operations_, &OperationsHost::state_changed, this, &MainWindow::show_current);
   connect(operations_, &OperationsHost::failed, this, &MainWindow::report_error);
   connect(operations_, &OperationsHost::done, this, &MainWindow::note_operation);
-  connect(operations_, &OperationsHost::note, this, [this](const QString& text, int ms) { statusBar()->showMessage(text, ms); });
+  connect(operations_, &OperationsHost::note, statusBar(), &QStatusBar::showMessage);
   connect(operations_, &OperationsHost::pose_requested, this, &MainWindow::set_pose);
-  connect(operations_, &OperationsHost::state_kept, this, &MainWindow::lend_grids);
-  // The session's posed model changes: the scene gives back the grids it lent.
-  operations_->session().set_posed_model_listener([this] { tools_->lend_grids(nullptr, nullptr); });
-  posed_timer_ = new QTimer(this);
-  posed_timer_->setSingleShot(true);
-  posed_timer_->setInterval(300);
-  connect(posed_timer_, &QTimer::timeout, this, [this] {
-    if (timeline_->playing()) return;  // playing: re-posing every frame; the next stop rebuilds
-    refresh_operation_index();
-  });
 
   build_docks();
+  scene_host_ = new SceneHost(view_, tree_, timeline_, tools_, inspectors_, operations_->session(), this);
+  connect(operations_, &OperationsHost::state_kept, scene_host_, &SceneHost::lend_grids);
+  connect(scene_host_, &SceneHost::overlays_changed, this, &MainWindow::refresh_status);
+  connect(scene_host_, &SceneHost::note, statusBar(), &QStatusBar::showMessage);
+  connect(timeline_, &Timeline::pose_changed, scene_host_, &SceneHost::pose);
   build_menus();
 
-  counts_label_ = new QLabel(this);
-  time_label_ = new QLabel(this);
-  operation_label_ = new QLabel(this);
+  for (QLabel** label : {&operation_label_, &time_label_, &counts_label_}) {
+    *label = new QLabel(this);
+    statusBar()->addPermanentWidget(*label);
+  }
   operation_label_->setObjectName("status_operation");
-  statusBar()->addPermanentWidget(operation_label_);
-  statusBar()->addPermanentWidget(time_label_);
-  statusBar()->addPermanentWidget(counts_label_);
   refresh_status();
 
   QSettings settings;
@@ -125,45 +114,31 @@ MainWindow::MainWindow(const MainWindowOptions& options, QWidget* parent)
 MainWindow::~MainWindow() = default;
 
 void MainWindow::build_docks() {
+  auto dock = [this](const QString& title, const char* name, QWidget* widget, Qt::DockWidgetArea area) {
+    auto* added = new QDockWidget(title, this);
+    added->setObjectName(name);
+    added->setWidget(widget);
+    addDockWidget(area, added);
+    return added;
+  };
   tree_ = new SceneTree(this);
-  auto* scene_dock = new QDockWidget("Scene", this);
-  scene_dock->setObjectName("scene_dock");
-  scene_dock->setWidget(tree_);
-  addDockWidget(Qt::LeftDockWidgetArea, scene_dock);
+  QDockWidget* scene_dock = dock("Scene", "scene_dock", tree_, Qt::LeftDockWidgetArea);
   connect(tree_, &SceneTree::joint_selected, this, [this](int joint) {
     if (!plugins::builtin_inspectors().find("weights")) return;
     set_inspector("weights");
     plugins::Pick pick;
     pick.joint_node = joint;
-    bool changed = false;
-    if (inspectors_->pick(pick, changed) && changed) refresh_inspector();
+    scene_host_->pick(pick);  // the inspector takes it
   });
-
-  auto* history_dock = new QDockWidget("History", this);
-  history_dock->setObjectName("history_dock");
-  history_dock->setWidget(operations_->create_panel(history_dock));
-  addDockWidget(Qt::LeftDockWidgetArea, history_dock);
+  QDockWidget* history_dock = dock("History", "history_dock", operations_->create_panel(this), Qt::LeftDockWidgetArea);
   splitDockWidget(scene_dock, history_dock, Qt::Vertical);
   resizeDocks({scene_dock, history_dock}, {480, 300}, Qt::Vertical);
-
-  auto* inspector_dock = new QDockWidget("Inspector", this);
-  inspector_dock->setObjectName("inspector_dock");
-  inspector_dock->setWidget(inspectors_->create_panel(inspector_dock));
+  QDockWidget* inspector_dock = dock("Inspector", "inspector_dock", inspectors_->create_panel(this), Qt::RightDockWidgetArea);
   inspector_dock->setMinimumWidth(300);
-  addDockWidget(Qt::RightDockWidgetArea, inspector_dock);
-
-  auto* tool_dock = new QDockWidget("Tool", this);
-  tool_dock->setObjectName("tool_dock");
-  tool_dock->setWidget(tools_->create_panel(tool_dock));
-  addDockWidget(Qt::RightDockWidgetArea, tool_dock);
+  QDockWidget* tool_dock = dock("Tool", "tool_dock", tools_->create_panel(this), Qt::RightDockWidgetArea);
   splitDockWidget(inspector_dock, tool_dock, Qt::Vertical);
-
   timeline_ = new Timeline(this);
-  auto* timeline_dock = new QDockWidget("Time line", this);
-  timeline_dock->setObjectName("timeline_dock");
-  timeline_dock->setWidget(timeline_);
-  addDockWidget(Qt::BottomDockWidgetArea, timeline_dock);
-  connect(timeline_, &Timeline::pose_changed, this, &MainWindow::on_pose_changed);
+  dock("Time line", "timeline_dock", timeline_, Qt::BottomDockWidgetArea);
   resizeDocks({scene_dock, inspector_dock}, {300, 330}, Qt::Horizontal);
 }
 
@@ -174,8 +149,7 @@ void MainWindow::build_menus() {
   QAction* open = file->addAction(s->standardIcon(QStyle::SP_DialogOpenButton), "&Open...", this,
                                   &MainWindow::choose_open);
   open->setShortcut(QKeySequence::Open);
-  recent_menu_ = file->addMenu("Open &Recent");
-  connect(recent_menu_, &QMenu::aboutToShow, this, &MainWindow::refresh_recent_menu);
+  new RecentFiles(file->addMenu("Open &Recent"), [this](const QString& path) { open_file(path); }, this);
   file->addSeparator();
   QAction* export_action = file->addAction(s->standardIcon(QStyle::SP_DialogSaveButton),
                                            "&Export .glb / .gltf...", this, &MainWindow::choose_export);
@@ -261,7 +235,7 @@ QAction* MainWindow::build_view_menu() {
   view->addSeparator();
   skeleton_action_ = view->addAction("Show s&keleton");
   skeleton_action_->setCheckable(true);
-  skeleton_action_->setChecked(show_skeleton_);
+  skeleton_action_->setChecked(scene_host_->skeleton_visible());
   skeleton_action_->setShortcut(QKeySequence("K"));
   connect(skeleton_action_, &QAction::toggled, this, &MainWindow::set_skeleton_visible);
   normals_action_ = view->addAction("Show &normals");
@@ -296,36 +270,11 @@ void MainWindow::build_toolbars(QAction* open, QAction* export_action, QAction* 
   for (QAction* action : tools_->actions()) operation_bar->addAction(action);
 }
 
-QStringList MainWindow::recent_files() const { return QSettings().value(kRecentKey).toStringList(); }
-
-void MainWindow::remember_recent(const QString& path) {
-  QSettings settings;
-  QStringList list = settings.value(kRecentKey).toStringList();
-  const QString absolute = QFileInfo(path).absoluteFilePath();
-  list.removeAll(absolute);
-  list.prepend(absolute);
-  while (list.size() > kMaxRecent) list.removeLast();
-  settings.setValue(kRecentKey, list);
-}
-
-void MainWindow::refresh_recent_menu() {
-  recent_menu_->clear();
-  const QStringList list = recent_files();
-  for (const QString& path : list) {
-    QAction* action =
-        recent_menu_->addAction(QFileInfo(path).fileName(), this, [this, path] { open_file(path); });
-    action->setToolTip(path);
-    action->setEnabled(QFileInfo::exists(path));
-  }
-  if (list.isEmpty()) recent_menu_->addAction("(none)")->setEnabled(false);
-  recent_menu_->addSeparator();
-  recent_menu_->addAction("Clear list", this, [] { QSettings().remove(kRecentKey); });
-}
+QStringList MainWindow::recent_files() const { return RecentFiles::list(); }
 
 void MainWindow::choose_open() {
   const QString dir = path_.isEmpty() ? QString() : QFileInfo(path_).absolutePath();
-  const QString path =
-      QFileDialog::getOpenFileName(this, "Open model", dir, open_filters());
+  const QString path = QFileDialog::getOpenFileName(this, "Open model", dir, open_filters());
   if (!path.isEmpty()) open_file(path);
 }
 
@@ -333,8 +282,7 @@ void MainWindow::choose_export() {
   if (!session().current()) return report_error("export: no model is open");
   const QString glb = "glTF binary (*.glb)", gltf = "glTF JSON, embedded buffers (*.gltf)";
   QString filter = glb;
-  QString path =
-      QFileDialog::getSaveFileName(this, "Export model", suggested_export_path(), glb + ";;" + gltf, &filter);
+  QString path = QFileDialog::getSaveFileName(this, "Export model", suggested_export_path(), glb + ";;" + gltf, &filter);
   if (path.isEmpty()) return;
   if (!is_model_file(path)) path += filter == gltf ? ".gltf" : ".glb";
   export_file(path);
@@ -391,22 +339,8 @@ void MainWindow::load_file(const QString& path) {
   path_ = path;
   operations_->open(model);
   timeline_->set_animations(clips);
-  if (!scene_) {
-    scene_ = std::make_unique<plugins::Scene>();
-    tools_->set_scene(scene_.get());
-    inspectors_->set_scene(scene_.get());
-  }
-  *scene_ = std::move(scene);
-  // The operations' posed model, once per model (and pose): every drill and tear updates it.
-  operations_->session().refresh_posed_model(animation, 0.0f);
-  posed_timer_->stop();
-  const std::vector<std::string> notes = present_scene();
-  refresh_inspector();
-  view_->reset_camera();
-  tools_->forget_pick();
-  tools_->place_on_new_scene();
-  view_->render();
-  remember_recent(path);
+  const std::vector<std::string> notes = scene_host_->show_opened(std::move(scene), QFileInfo(path).fileName());
+  RecentFiles::remember(path);
   setWindowTitle(QFileInfo(path).fileName() + " - DeepCut Studio");
   last_error_.clear();
   note_operation("Open " + QFileInfo(path).fileName(), ms_since(clock));
@@ -415,40 +349,15 @@ void MainWindow::load_file(const QString& path) {
   emit model_changed();
 }
 
-std::vector<std::string> MainWindow::present_scene() {
-  lend_grids();
-  std::vector<std::string> notes = view_->set_scene(*scene_);
-  tools_->scene_redrawn();
-  tree_->set_scene(*scene_);
-  inspectors_->mark_stale(plugins::SceneChange::Model);
-  return notes;
-}
-
 void MainWindow::show_current() {
-  const std::shared_ptr<const Model>& model = session().current();
-  int animation = timeline_->animation();
-  if (animation >= static_cast<int>(model->animations.size())) animation = model->animations.empty() ? -1 : 0;
-  *scene_ = plugins::make_scene(model, animation, timeline_->time());
-  present_scene();
-  tools_->refresh_preview();
-  refresh_inspector();
+  scene_host_->show_current();
   operations_->refresh_list();
-  // Undo, redo or an edit: the posed model describes another state; a cut dropped it (its
-  // pieces are new meshes). Rebuild it when idle.
-  if (!session().posed_model()) posed_timer_->start();
   emit model_changed();
 }
 
 const PosedModel* MainWindow::operation_index() const { return session().posed_model(); }
-
-void MainWindow::refresh_operation_index() {
-  if (!session().current() || !scene_) return;
-  if (!operations_->session().refresh_posed_model(scene_->animation, scene_->time)) return;
-  lend_grids();
-  tools_->refresh_preview();
-}
-
-void MainWindow::lend_grids() { tools_->lend_grids(session().current(), session().posed_model()); }
+const plugins::Scene* MainWindow::scene() const { return scene_host_->scene(); }
+void MainWindow::refresh_operation_index() { scene_host_->refresh_posed_model(); }
 
 bool MainWindow::export_file(const QString& path) {
   if (!session().current()) {
@@ -466,7 +375,7 @@ bool MainWindow::export_file(const QString& path) {
     report_error(QFileInfo(path).fileName() + ": internal error: " + e.what());
     return false;
   }
-  note_operation("Export " + QFileInfo(path).fileName(), static_cast<double>(clock.nsecsElapsed()) / 1e6);
+  note_operation("Export " + QFileInfo(path).fileName(), ms_since(clock));
   statusBar()->showMessage("Exported " + path, 8000);
   return true;
 }
@@ -481,9 +390,7 @@ bool MainWindow::apply_tool() {
   return applied;
 }
 
-void MainWindow::apply_history(const History& history, const std::string& source) {
-  operations_->apply_history(history, source);
-}
+void MainWindow::apply_history(const History& history, const std::string& source) { operations_->apply_history(history, source); }
 
 void MainWindow::apply_operation(const QString& label, std::shared_ptr<const Model> result, double ms) {
   operations_->commit(label, std::move(result), ms);
@@ -502,14 +409,14 @@ void MainWindow::set_inspector(const std::string& id) {
   inspectors_->set_inspector(id);
   QElapsedTimer clock;
   clock.start();
-  refresh_inspector();
-  if (inspectors_->inspector() && scene_)
+  scene_host_->refresh_inspector();
+  if (inspectors_->inspector() && scene())
     note_operation("Inspect " + QString::fromStdString(inspectors_->inspector()->title()), ms_since(clock));
 }
 
 void MainWindow::set_inspector_option(const std::string& name, const std::string& value) {
   inspectors_->set_option(name, value);
-  refresh_inspector();
+  scene_host_->refresh_inspector();
 }
 
 plugins::Inspector* MainWindow::inspector() const { return inspectors_->inspector(); }
@@ -527,20 +434,11 @@ void MainWindow::set_display_mode(DisplayMode mode) {
   view_->render();
 }
 
-bool MainWindow::frame_selected() {
-  const plugins::Inspector* active = inspector();
-  const auto focus = active ? active->focus() : std::nullopt;
-  if (!focus) return false;
-  view_->frame(focus->center, focus->radius);
-  view_->render();
-  return true;
-}
+bool MainWindow::frame_selected() { return scene_host_->frame_selected(); }
 
 void MainWindow::set_skeleton_visible(bool visible) {
-  show_skeleton_ = visible;
   if (skeleton_action_->isChecked() != visible) skeleton_action_->setChecked(visible);
-  refresh_overlays();
-  view_->render();
+  scene_host_->set_skeleton_visible(visible);
 }
 
 void MainWindow::set_normals_visible(bool visible) {
@@ -549,88 +447,20 @@ void MainWindow::set_normals_visible(bool visible) {
   view_->render();
 }
 
-void MainWindow::refresh_inspector() {
-  if (!scene_) return;
-  inspectors_->draw_colors();
-  refresh_overlays();
-  view_->render();
-}
-
-void MainWindow::refresh_overlays() {
-  if (!scene_) return;
-  const Model& model = *scene_->model;
-  const bool skeleton = show_skeleton_ && !model.skins.empty();
-  view_->set_overlay(SceneView::Layer::Skeleton, skeleton ? plugins::skeleton_overlay(*scene_) : Overlay{});
-  std::vector<BoneHandle> handles;
-  if (skeleton) {
-    auto origin = [&](int node) { return glm::vec3(scene_->world[static_cast<std::size_t>(node)][3]); };
-    for (int j : plugins::joint_nodes(model)) handles.push_back({j, origin(j), origin(j)});
-    for (const auto& [parent, child] : plugins::skeleton_bones(model))
-      handles.push_back({parent, origin(parent), origin(child)});
-  }
-  view_->set_bone_handles(std::move(handles));
-  plugins::Inspector* active = inspector();
-  view_->set_overlay(SceneView::Layer::Inspector, active ? active->overlay() : Overlay{});
-  std::vector<std::string> caption = {QFileInfo(path_).fileName().toStdString() + "  |  " +
-                                      (active ? active->title() : std::string("Materials"))};
-  if (active)
-    for (const std::string& line : active->summary()) caption.push_back(line);
-  view_->set_caption(caption);
-  refresh_status();
-}
-
 void MainWindow::refresh_status() {
-  if (!scene_) {
+  operation_label_->setText(last_operation_);
+  if (!scene()) {
     counts_label_->setText("no model");
     time_label_->setText("");
-    operation_label_->setText(last_operation_);
     return;
   }
-  const plugins::SceneCounts counts = plugins::scene_counts(*scene_);
+  const plugins::SceneCounts counts = plugins::scene_counts(*scene());
   counts_label_->setText(
       QString("%1 vertices  %2 triangles").arg(thousands(counts.vertices), thousands(counts.triangles)));
-  const int a = scene_->animation;
-  const QString clip =
-      a < 0 ? QString("Rest pose")
-            : (scene_->model->animations[static_cast<std::size_t>(a)].name.empty()
-                   ? QString("Animation %1").arg(a)
-                   : QString::fromStdString(scene_->model->animations[static_cast<std::size_t>(a)].name));
-  time_label_->setText(QString("%1  t = %2 s").arg(clip).arg(scene_->time, 0, 'f', 3));
-  operation_label_->setText(last_operation_);
-}
-
-void MainWindow::on_pose_changed(int animation, float time) {
-  if (!scene_) return;
-  posed_timer_->start();              // the operations' posed model follows once the pose stays put
-  tools_->lend_grids(nullptr, nullptr);  // its grids are filed at the previous pose
-  plugins::pose_scene(*scene_, animation, time);
-  view_->update_pose();
-  tools_->scene_redrawn();
-  tools_->show_displacement();
-  inspectors_->mark_stale(plugins::SceneChange::Pose);
-  inspectors_->sync();
-  tools_->refresh_preview();
-  refresh_overlays();
-  view_->render();
-}
-
-void MainWindow::on_pick(const plugins::Pick& pick) {
-  if (!scene_) return;
-  tools_->note_pick(pick);
-  bool changed = false;
-  if (inspectors_->pick(pick, changed)) {
-    if (changed) refresh_inspector();
-    return;
-  }
-  if (pick.joint_node >= 0)
-    statusBar()->showMessage(
-        QString("Joint %1 (Inspect > Skin weights shows its weights)")
-            .arg(QString::fromStdString(plugins::node_label(*scene_->model, pick.joint_node))),
-        8000);
-  else if (pick.piece < scene_->pieces.size())
-    statusBar()->showMessage(
-        QString("Piece %1, vertex %2, face %3").arg(pick.piece).arg(pick.vertex.index).arg(pick.face.index),
-        8000);
+  const int a = scene()->animation;
+  const std::string name = a < 0 ? std::string() : scene()->model->animations[static_cast<std::size_t>(a)].name;
+  const QString clip = a < 0 ? QString("Rest pose") : name.empty() ? QString("Animation %1").arg(a) : QString::fromStdString(name);
+  time_label_->setText(QString("%1  t = %2 s").arg(clip).arg(scene()->time, 0, 'f', 3));
 }
 
 QImage MainWindow::screenshot() {

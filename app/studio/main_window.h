@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// The studio's main window: the 3D view, the scene tree, the inspector and tool panels (their
-// hosts: inspector_host.h, tool_host.h), the time line, the history, menus (File, Edit, View,
-// Inspect, Tools, Animation, Help), drag and drop, dialogs and the status bar. The model states,
-// operations and undo steps are the Session's (app/session/session.h); the window shows them.
+// The studio's main window: menus (File, Edit, View, Inspect, Tools, Animation, Help), tool bars,
+// docks, dialogs, drag and drop and the status bar. The model states, operations and undo steps
+// are the Session's (app/session/session.h), applied and edited through operations_host.h; the
+// drawn scene is scene_host.h's; tools and inspectors live in tool_host.h and inspector_host.h.
 
 #include <QMainWindow>
 #include <QString>
@@ -24,14 +24,13 @@ class QAction;
 class QActionGroup;
 class QLabel;
 class QListWidget;
-class QMenu;
-class QTimer;
 class QUndoStack;
 
 namespace deepcut::studio {
 
-class OperationsHost;
 class InspectorHost;
+class OperationsHost;
+class SceneHost;
 class SceneTree;
 class SceneView;
 class Timeline;
@@ -129,7 +128,7 @@ class MainWindow : public QMainWindow {
   std::shared_ptr<const Model> model() const;
   /// The model states, operations and undo steps shown.
   const session::Session& session() const;
-  const plugins::Scene* scene() const { return scene_.get(); }
+  const plugins::Scene* scene() const;
   QString model_path() const { return path_; }
   QString last_error() const { return last_error_; }
   QString last_operation() const { return last_operation_; }
@@ -171,28 +170,14 @@ class MainWindow : public QMainWindow {
   void build_toolbars(QAction* open, QAction* export_action, QAction* reset);
   void report_error(const QString& message);
   void note_operation(const QString& label, double ms);
-  void remember_recent(const QString& path);
-  void refresh_recent_menu();
   /// Shows the session's current state (after an undo step, an edit, a cancelled edit).
   void show_current();
-  /// Hands the new scene to the view, the tree and the hosts.
-  /// @returns the view's notes on what it cannot draw.
-  std::vector<std::string> present_scene();
-  void refresh_inspector();
-  void refresh_overlays();
   void refresh_status();
-  void on_pose_changed(int animation, float time);
-  /// Lends the scene the session's posed model's grids when it describes the shown state and pose.
-  void lend_grids();
-  void on_pick(const plugins::Pick& pick);
   void choose_open();
   void choose_export();
 
   MainWindowOptions options_;
-  std::unique_ptr<plugins::Scene> scene_;
-  QTimer* posed_timer_ = nullptr;  // rebuilds the posed model once the pose or state settles
   QString path_, last_error_, last_operation_;
-  bool show_skeleton_ = true;
 
   SceneView* view_ = nullptr;
   SceneTree* tree_ = nullptr;
@@ -200,7 +185,7 @@ class MainWindow : public QMainWindow {
   ToolHost* tools_ = nullptr;
   InspectorHost* inspectors_ = nullptr;
   OperationsHost* operations_ = nullptr;
-  QMenu* recent_menu_ = nullptr;
+  SceneHost* scene_host_ = nullptr;
   QAction* undo_ = nullptr;
   QAction* redo_ = nullptr;
   QAction* skeleton_action_ = nullptr;
