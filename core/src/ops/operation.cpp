@@ -223,7 +223,6 @@ OperationResult apply_operation(Model& model, const Operation& operation, PosedM
 }
 
 OperationResult apply_operation(Model& model, const Operation& operation, PosedModel* posed) {
-  check_operation(operation);
   OperationResult out;
   const int animation = operation.animation >= 0 && model.animations.empty() ? -1 : operation.animation;
   std::visit(

@@ -71,10 +71,10 @@ std::string history_to_json(const History& history);
 /// itself by default; the command line passes its flags ("--radius").
 using ParameterName = std::function<std::string(const std::string& key)>;
 
-/// The checks of an operation's parameters that need no model, made by apply_operation first
-/// and by front ends that refuse an operation before they read a model. The ranges are the
-/// operations' own (DrillOptions::kMinRimEdgesMin and kMinRimEdgesMax); the operations check
-/// the rest.
+/// The checks of an operation's parameters that need no model, for front ends that refuse an
+/// operation before they read one (`deepcut cut|tear|drill`). The operations make these checks
+/// themselves too (apply_operation's messages are theirs); the ranges are the operations' own
+/// (DrillOptions::kMinRimEdgesMin and kMinRimEdgesMax).
 /// @throws Error{InvalidArgument} naming the operation: "drill: radius must be positive",
 ///         "drill: min_rim_edges must be between 3 and 4096", "drill: the axis end points A and
 ///         B coincide", "cut: the plane normal is zero", or a degenerate blade
@@ -86,8 +86,8 @@ void check_operation(const Operation& operation, const ParameterName& name = {})
 /// @param posed  the model at a pose (posed_model.h), used and updated by drills and tears
 ///               (rebuilt when it was made for another pose), invalidated by a cut. The result
 ///               is byte-identical with and without it.
-/// @throws Error{InvalidArgument} for bad parameters (check_operation, then the operation's own
-///         checks), and for a drill that removes every triangle of an instance while its
+/// @throws Error{InvalidArgument} for bad parameters (the operation's own checks), and for a
+///         drill that removes every triangle of an instance while its
 ///         DrillOptions::refuse_swallowed_instances is set (the default). After an exception the
 ///         model may be partly changed and `posed` no longer describes it: apply to a copy, and
 ///         invalidate `posed`.
