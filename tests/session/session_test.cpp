@@ -2,7 +2,8 @@
 // The session without a window: apply, undo, redo, apply a history, edit a past operation and
 // re-run the later ones, and 30 mixed cuts, tears and drills at poses undone and redone all the
 // way, every state compared byte for byte (glTF export) and the posed model compared with a
-// fresh build after each step. No display needed.
+// fresh build after each step; what it writes is what `deepcut apply` writes, and both refuse a
+// drill that would swallow an instance alike. No display needed.
 #include "session.h"
 
 #include <gtest/gtest.h>
@@ -341,6 +342,56 @@ TEST(SessionTest, thirty_mixed_operations_undone_and_redone_all_the_way_are_byte
     ASSERT_EQ(bytes(*session.current()), states[i]) << "redo to state " << i;
   }
   EXPECT_EQ(applied_bytes(history_of(session.operations())), states.back());
+}
+
+TEST(SessionTest, a_session_writes_what_deepcut_apply_writes_and_refuses_a_swallowing_drill_alike) {
+  const std::string dir = test::temp_dir("session-cli");
+  Session session;
+  session.open(load_cactus());
+  Operations ops(*session.current(), 99);
+  History history;
+  for (int i = 0; i < 6; ++i) {
+    const Operation op = ops.any(i);
+    if (session.apply(op).result.status == OpStatus::Ok) history.operations.push_back(op);
+  }
+  ASSERT_GE(history.operations.size(), 3u);
+  const std::string studio = bytes(*session.current());
+  {
+    std::ofstream out(dir + "/history.json");
+    out << history_to_json(history);
+  }
+  const std::string cactus = DEEPCUT_ASSETS_DIR "/cactus.glb";
+  const auto run = test::run_cli("apply " + test::quote(cactus) + " " + test::quote(dir + "/history.json") +
+                                 " -o " + test::quote(dir + "/cli.glb"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  std::ifstream in(dir + "/cli.glb", std::ios::binary);
+  EXPECT_TRUE(std::string(std::istreambuf_iterator<char>(in), {}) == studio) << "deepcut apply wrote other bytes";
+
+  // A drill that would remove every triangle of an instance: refused, nothing changes.
+  session.open(load_cactus());
+  DrillOperation swallow;
+  swallow.cylinder = {{0.0f, -10.0f, 0.0f}, {0.0f, 20.0f, 0.0f}, 100.0f};
+  const auto before = session.current();
+  const std::size_t steps = session.undo_count();
+  std::string message;
+  try {
+    session.apply(Operation{swallow, -1, 0.0f});
+    FAIL() << "the session drilled away a whole instance";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::InvalidArgument);
+    message = e.what();
+  }
+  EXPECT_NE(message.find("removes every triangle of node"), std::string::npos) << message;
+  EXPECT_EQ(session.current(), before);
+  EXPECT_EQ(session.undo_count(), steps);
+  {
+    std::ofstream out(dir + "/swallow.json");
+    out << history_to_json(History{{Operation{swallow, -1, 0.0f}}});
+  }
+  const auto refused = test::run_cli("apply " + test::quote(cactus) + " " + test::quote(dir + "/swallow.json") +
+                                     " -o " + test::quote(dir + "/swallow.glb"));
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_NE(refused.err.find(": operation 0: " + message + "\n"), std::string::npos) << refused.err;
 }
 
 }  // namespace
