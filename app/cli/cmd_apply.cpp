@@ -14,6 +14,7 @@
 #include "deepcut/core/ops/operation.h"
 #include "args.h"
 #include "deepcut/plugins/formats.h"
+#include "session.h"
 
 namespace deepcut::cli {
 
@@ -35,26 +36,23 @@ int run_apply(const std::vector<std::string>& argv) {
     throw Error(e.code(), history_path + ": " + e.what());
   }
   Model model = plugins::read_model(args.positionals()[0]);
+  reserve_for_operations(model);
+  // A session without undo steps: one copy of the model that every operation edits, and one
+  // posed model (built by the first drill or tear, rebuilt when an operation's pose differs or
+  // after a cut), followed from each operation's edit log. Errors name the history file and the
+  // operation, whatever the operation complained about.
+  session::Session session(session::Session::Undo::None);
+  session.open(std::make_shared<const Model>(std::move(model)));
   json reports = json::array();
   const auto t0 = std::chrono::steady_clock::now();
-  // One preprocessing for the whole run (built by the first drill or tear, rebuilt when an
-  // operation's pose differs or after a cut), followed from each operation's edit log.
-  PosedModel index;
-  reserve_for_operations(model);
-  for (std::size_t i = 0; i < history.operations.size(); ++i) {
-    try {
-      const Operation& op = history.operations[i];
-      const OperationResult result = apply_operation(model, op, index);
-      json report = operation_report(model, op, result);
-      report["op"] = operation_name(op);
-      reports.push_back(std::move(report));
-    } catch (const Error& e) {
-      // Name the history file and the operation, whatever the operation complained about.
-      throw Error(e.code(), history_path + ": operation " + std::to_string(i) + ": " + e.what());
-    }
-  }
+  session.apply_history(history, history_path, [&](std::size_t i, const Model& after, const session::Applied& applied) {
+    const Operation& op = history.operations[i];
+    json report = operation_report(after, op, applied.result);
+    report["op"] = operation_name(op);
+    reports.push_back(std::move(report));
+  });
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  write_gltf(model, args.value("-o"));
+  write_gltf(*session.current(), args.value("-o"));
   if (args.flag("--json")) {
     std::cout << json{{"operations", reports}, {"ms", ms}}.dump(2) << "\n";
   } else {

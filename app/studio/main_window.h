@@ -1,11 +1,10 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// The studio's main window: the 3D view, the scene tree, the inspector panel, the time line,
-// the history, menus (File, Edit, View, Inspect, Help), drag and drop, and the status bar.
-// The model is kept as immutable snapshots (`std::shared_ptr<const Model>`); every change of
-// model state goes through the undo stack.
+// The studio's main window: menus (File, Edit, View, Inspect, Tools, Animation, Help), tool bars,
+// docks, dialogs, drag and drop and the status bar. The model states, operations and undo steps
+// are the Session's (app/session/session.h), applied and edited through operations_host.h; the
+// drawn scene is scene_host.h's; tools and inspectors live in tool_host.h and inspector_host.h.
 
-#include <QElapsedTimer>
 #include <QMainWindow>
 #include <QString>
 #include <QStringList>
@@ -19,24 +18,23 @@
 #include "deepcut/plugins/inspector.h"
 #include "deepcut/plugins/scene.h"
 #include "deepcut/plugins/tool.h"
+#include "session.h"
 
 class QAction;
 class QActionGroup;
-class QComboBox;
 class QLabel;
 class QListWidget;
-class QPushButton;
-class QMenu;
-class QStackedWidget;
-class QTimer;
 class QUndoStack;
 
 namespace deepcut::studio {
 
-struct PointerEvent;
+class InspectorHost;
+class OperationsHost;
+class SceneHost;
 class SceneTree;
 class SceneView;
 class Timeline;
+class ToolHost;
 enum class DisplayMode;
 
 /// Where recent files and window layout are remembered, and whether errors open dialogs.
@@ -91,14 +89,8 @@ class MainWindow : public QMainWindow {
   /// @returns true when the model changed.
   bool apply_tool();
 
-  /// One operation made since the model was opened, as it last ran: `status` Ok, NoIntersection
-  /// (it no longer applies and was skipped), or `error` set (it failed and was skipped).
-  struct OperationEntry {
-    Operation operation;
-    OpStatus status = OpStatus::Ok;
-    std::string error;
-    bool applied() const { return status == OpStatus::Ok && error.empty(); }
-  };
+  /// One operation made since the model was opened, as it last ran (session.h).
+  using OperationEntry = session::OperationEntry;
   /// The operations of the current state since the model was opened (the Operations list):
   /// what `deepcut apply` of them on the opened file reproduces.
   std::vector<OperationEntry> operations() const;
@@ -110,8 +102,8 @@ class MainWindow : public QMainWindow {
   /// Leaves editing without changing anything.
   void cancel_edit();
   /// The operation being edited, or -1.
-  int editing_operation() const { return editing_.index; }
-  QListWidget* operations_list() const { return operations_list_; }
+  int editing_operation() const;
+  QListWidget* operations_list() const;
 
   /// Activates inspector `id` ("" or "none": the model's own look).
   /// @throws Error{InvalidArgument} for an unknown id.
@@ -133,8 +125,10 @@ class MainWindow : public QMainWindow {
   void set_normals_visible(bool visible);
 
   /// The current model state (null before the first successful open).
-  std::shared_ptr<const Model> model() const { return model_; }
-  const plugins::Scene* scene() const { return scene_.get(); }
+  std::shared_ptr<const Model> model() const;
+  /// The model states, operations and undo steps shown.
+  const session::Session& session() const;
+  const plugins::Scene* scene() const;
   QString model_path() const { return path_; }
   QString last_error() const { return last_error_; }
   QString last_operation() const { return last_operation_; }
@@ -143,15 +137,12 @@ class MainWindow : public QMainWindow {
   SceneView* view() const { return view_; }
   Timeline* timeline() const { return timeline_; }
   SceneTree* scene_tree() const { return tree_; }
-  QUndoStack* history() const { return history_; }
+  QUndoStack* history() const;
   QAction* undo_action() const { return undo_; }
   QAction* redo_action() const { return redo_; }
 
   /// Renders the view and grabs the whole window (view included) as an image.
   QImage screenshot();
-
-  /// Shows `model` as the current state (used by the undo stack; not itself undoable).
-  void show_model(std::shared_ptr<const Model> model);
 
   /// The operations' preprocessing (posed_model.h) when it describes the current model, else
   /// nullptr. Built when a model is opened, kept up to date by every drill and tear the studio
@@ -171,97 +162,35 @@ class MainWindow : public QMainWindow {
   void closeEvent(QCloseEvent* event) override;
 
  private:
-  void build_menus();
   void build_docks();
+  void build_menus();
+  void build_edit_menu();
+  /// @returns Reset camera (the tool bar shows it).
+  QAction* build_view_menu();
+  void build_toolbars(QAction* open, QAction* export_action, QAction* reset);
   void report_error(const QString& message);
   void note_operation(const QString& label, double ms);
-  void remember_recent(const QString& path);
-  void refresh_recent_menu();
-  void refresh_inspector();
-  /// Inspectors see the scene lazily: only the active one is kept current.
-  void mark_inspectors_stale(plugins::SceneChange change);
-  void sync_active_inspector();
-  void refresh_overlays();
+  /// Shows the session's current state (after an undo step, an edit, a cancelled edit).
+  void show_current();
   void refresh_status();
-  void refresh_tool_preview();
-  /// Camera and surface point for placing a tool (see set_tool).
-  plugins::ToolPlacement tool_placement();
-  void refresh_operations();
-  /// Re-runs the edited operation with the tool's parameters and every later one.
-  bool apply_edit();
-  /// The re-run list recorded for `model` by an edit, if any.
-  const std::vector<OperationEntry>* rerun_entries(const Model* model) const;
-  void on_pose_changed(int animation, float time);
-  /// The preprocessing for `state`, built for the current pose when it describes another state.
-  /// Detaches it from the scene first (it may change).
-  PosedModel* index_for(const std::shared_ptr<const Model>& state);
-  /// Gives the scene's pieces the index's grids when it describes the shown model and pose (the
-  /// tools' previews then visit only the cells they cross), or takes them away.
-  void attach_index();
-  void detach_index();
-  /// A left drag in the view, offered to the active tool (the Poke takes it).
-  bool on_pointer(const PointerEvent& event);
-  /// One tick of the active tool's own motion (soft body), then the view follows.
-  void step_tool();
-  /// Draws the pieces where the active tool displaces them (or as posed).
-  void show_tool_displacement();
-  void on_pick(const plugins::Pick& pick);
   void choose_open();
   void choose_export();
 
   MainWindowOptions options_;
-  std::shared_ptr<const Model> model_;
-  std::shared_ptr<const Model> original_;  // as opened: edited histories re-run from it
-  std::size_t opened_operations_ = 0;      // operations already in the opened file's history
-  // Operation lists of states made by an edit (skipped entries included), by state.
-  std::vector<std::pair<std::weak_ptr<const Model>, std::vector<OperationEntry>>> reruns_;
-  struct Editing {
-    int index = -1;
-    std::shared_ptr<const Model> current;  // the state to return to (and undo to)
-    std::vector<OperationEntry> entries;   // its operations
-  };
-  Editing editing_;
-  bool entering_edit_ = false;  // show_model called by edit_operation itself
-  std::unique_ptr<plugins::Scene> scene_;
-  // The operations' preprocessing and the state it describes (operations run on a copy of the
-  // current state: the index follows them and then describes the copy).
-  std::unique_ptr<PosedModel> index_;
-  std::weak_ptr<const Model> index_state_;
-  QTimer* index_timer_ = nullptr;  // rebuilds the index once the pose or state settles
   QString path_, last_error_, last_operation_;
-  std::vector<std::unique_ptr<plugins::Inspector>> inspectors_;  // in registry order
-  int active_ = -1;                                              // index into inspectors_
-  enum class Stale { None, Pose, Model };
-  std::vector<Stale> stale_;  // per inspector: what changed since it last saw the scene
-  bool show_skeleton_ = true;
-  std::vector<std::unique_ptr<plugins::Tool>> tools_;  // in registry order
-  int active_tool_ = -1;                               // index into tools_
-  std::optional<glm::vec3> last_surface_click_;        // posed world point of the last click on the model
-  QTimer* tool_timer_ = nullptr;                       // steps a tool that moves (the Poke's soft body)
-  QElapsedTimer tool_clock_;                           // since the last step
-  bool tool_displaced_ = false;                        // the view shows displaced positions
 
   SceneView* view_ = nullptr;
   SceneTree* tree_ = nullptr;
   Timeline* timeline_ = nullptr;
-  QUndoStack* history_ = nullptr;
-  QComboBox* inspector_combo_ = nullptr;
-  QStackedWidget* inspector_stack_ = nullptr;
-  QMenu* recent_menu_ = nullptr;
-  QStackedWidget* tool_stack_ = nullptr;
-  QPushButton* apply_button_ = nullptr;
-  QListWidget* operations_list_ = nullptr;
-  QPushButton* edit_button_ = nullptr;
-  QPushButton* cancel_edit_button_ = nullptr;
-  QLabel* edit_banner_ = nullptr;
-  QActionGroup* tool_group_ = nullptr;
-  QAction* apply_action_ = nullptr;
+  ToolHost* tools_ = nullptr;
+  InspectorHost* inspectors_ = nullptr;
+  OperationsHost* operations_ = nullptr;
+  SceneHost* scene_host_ = nullptr;
   QAction* undo_ = nullptr;
   QAction* redo_ = nullptr;
   QAction* skeleton_action_ = nullptr;
   QAction* normals_action_ = nullptr;
   QActionGroup* display_group_ = nullptr;
-  QActionGroup* inspect_group_ = nullptr;
   QLabel* counts_label_ = nullptr;
   QLabel* time_label_ = nullptr;
   QLabel* operation_label_ = nullptr;

@@ -84,7 +84,7 @@ void SceneTree::set_scene(const plugins::Scene& scene) {
 
   QTreeWidgetItem* pieces = add(nullptr, "Pieces", QString("%1 drawn").arg(scene.pieces.size()));
   for (std::size_t i = 0; i < scene.pieces.size(); ++i) {
-    const plugins::ScenePiece& piece = scene.pieces[i];
+    const plugins::SceneInstance& piece = scene.pieces[i];
     add(pieces, QString("piece %1: %2").arg(i).arg(label(piece.node)),
         QString("mesh %1 / primitive %2, %3 triangles%4")
             .arg(piece.mesh)

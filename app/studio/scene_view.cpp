@@ -132,10 +132,10 @@ struct SceneView::Impl {
   DisplayMode mode = DisplayMode::Shaded;
   bool show_normals = false;
   std::vector<BoneHandle> bones;
-  std::function<void(const plugins::Pick&)> on_pick;
+  std::function<void(const plugins::Pick&)> pick_handler;
   vtkSmartPointer<vtkAbstractWidget> tool_widget;
   vtkNew<vtkCallbackCommand> clipping;
-  std::function<bool(const PointerEvent&)> on_pointer;
+  std::function<bool(const PointerEvent&)> pointer_handler;
 
   void apply_look(PieceActor& piece) const;
   void apply_display_mode(PieceActor& piece) const;
@@ -239,7 +239,7 @@ glm::dvec2 SceneView::Impl::to_display(const glm::vec3& p) const {
 }
 
 bool SceneView::Impl::pick_display(int x, int y) {
-  if (!scene || !on_pick) return false;
+  if (!scene || !pick_handler) return false;
   plugins::Pick pick;
   // Bones first: they are drawn over the model.
   const double ratio = widget->devicePixelRatioF();
@@ -255,11 +255,11 @@ bool SceneView::Impl::pick_display(int x, int y) {
     }
   }
   if (pick.joint_node >= 0) {
-    on_pick(pick);
+    pick_handler(pick);
     return true;
   }
   if (!pick_model(x, y, pick)) return false;
-  on_pick(pick);
+  pick_handler(pick);
   return true;
 }
 
@@ -384,21 +384,21 @@ SceneView::SceneView(QWidget* parent) : QWidget(parent), impl_(std::make_unique<
   d.style->on_click = [this](int x, int y) { impl_->pick_display(x, y); };
   d.style->on_press = [this](int x, int y) {
     Impl& i = *impl_;
-    if (!i.on_pointer || !i.scene) return false;
+    if (!i.pointer_handler || !i.scene) return false;
     PointerEvent event;
     event.phase = PointerEvent::Phase::Press;
     plugins::Pick pick;
     if (i.pick_model(x, y, pick)) event.pick = pick;
     i.display_ray(x, y, event);
-    return i.on_pointer(event);
+    return i.pointer_handler(event);
   };
   d.style->on_drag = [this](int x, int y, bool released) {
     Impl& i = *impl_;
-    if (!i.on_pointer) return;
+    if (!i.pointer_handler) return;
     PointerEvent event;
     event.phase = released ? PointerEvent::Phase::Release : PointerEvent::Phase::Move;
     i.display_ray(x, y, event);
-    i.on_pointer(event);
+    i.pointer_handler(event);
   };
   interactor->SetInteractorStyle(d.style);
 
@@ -431,7 +431,7 @@ std::vector<std::string> SceneView::set_scene(const plugins::Scene& scene) {
   d.picker->InitializePickList();
   d.scene = &scene;
   const Model& model = *scene.model;
-  for (const plugins::ScenePiece& sp : scene.pieces) {
+  for (const plugins::SceneInstance& sp : scene.pieces) {
     PieceActor piece;
     PolyDataOptions options;
     options.positions = &sp.posed;
@@ -487,7 +487,7 @@ void SceneView::update_pose() {
   Impl& d = *impl_;
   if (!d.scene) return;
   for (std::size_t i = 0; i < d.pieces.size() && i < d.scene->pieces.size(); ++i) {
-    const plugins::ScenePiece& sp = d.scene->pieces[i];
+    const plugins::SceneInstance& sp = d.scene->pieces[i];
     update_poly_data_points(d.pieces[i].poly, sp.posed,
                             sp.posed_normals.empty() ? nullptr : &sp.posed_normals);
   }
@@ -585,7 +585,7 @@ void SceneView::reset_camera() {
   vtkCamera* camera = d.renderer->GetActiveCamera();
   BoundingBox box;
   if (d.scene)
-    for (const plugins::ScenePiece& piece : d.scene->pieces)
+    for (const plugins::SceneInstance& piece : d.scene->pieces)
       for (const glm::vec3& p : piece.posed) box.add(p);
   if (box.empty()) {
     d.renderer->ResetCamera();
@@ -681,11 +681,11 @@ QImage SceneView::grab_view() {
 }
 
 void SceneView::set_pick_handler(std::function<void(const plugins::Pick&)> handler) {
-  impl_->on_pick = std::move(handler);
+  impl_->pick_handler = std::move(handler);
 }
 
 void SceneView::set_pointer_handler(std::function<bool(const PointerEvent&)> handler) {
-  impl_->on_pointer = std::move(handler);
+  impl_->pointer_handler = std::move(handler);
 }
 
 bool SceneView::pick_at(const QPoint& position) {

@@ -69,7 +69,7 @@ void AdjacencyInspector::set_scene(const Scene& scene, SceneChange change) {
   topology_.clear();
   component_total_ = edge_total_ = 0;
   picked_piece_ = Pick::kNoPiece;
-  for (const ScenePiece& piece : scene.pieces) {
+  for (const SceneInstance& piece : scene.pieces) {
     PieceTopology t;
     t.adjacency = Adjacency::build(*piece.surface);
     t.boundary = t.adjacency.boundary_edges();

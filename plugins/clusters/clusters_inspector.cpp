@@ -101,7 +101,7 @@ void ClustersInspector::recluster() {
   std::uint32_t next_id = 0;
   ClusterOptions options;
   options.radius = rho_;
-  for (const ScenePiece& piece : scene_->pieces) {
+  for (const SceneInstance& piece : scene_->pieces) {
     PieceClusters pc;
     pc.rest = posed_positions(model, piece.node, *piece.surface, rest_world);
     pc.clusters = Clusters::build(*piece.surface, pc.rest, options);

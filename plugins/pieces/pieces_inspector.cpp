@@ -79,7 +79,7 @@ class PiecesInspector final : public Inspector {
     }
     QString text;
     for (std::size_t i = 0; i < scene_->pieces.size(); ++i) {
-      const ScenePiece& piece = scene_->pieces[i];
+      const SceneInstance& piece = scene_->pieces[i];
       const glm::u8vec3 c = to_rgb8(category_color(i));
       std::size_t created = 0;
       if (const auto* flags = piece.surface->face_attrs().find<std::uint8_t>(attr::kCutSurface))

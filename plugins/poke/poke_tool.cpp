@@ -233,7 +233,7 @@ class PokeTool final : public Tool {
       const std::vector<glm::mat4> rest_world = world_matrices(model, rest_pose(model));
       ClusterOptions options;
       options.radius = rho_value_;
-      for (const ScenePiece& piece : scene.pieces) {
+      for (const SceneInstance& piece : scene.pieces) {
         PieceBody body;
         // Rest-pose world positions: rho is measured in the units the user sees.
         body.clusters =

@@ -42,7 +42,7 @@ Scene make_scene(std::shared_ptr<const Model> model, int animation, float time, 
     const Node& n = m.nodes[static_cast<std::size_t>(node)];
     const Mesh& mesh = m.meshes[static_cast<std::size_t>(n.mesh)];
     for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
-      ScenePiece piece;
+      SceneInstance piece;
       piece.node = node;
       piece.mesh = n.mesh;
       piece.primitive = static_cast<int>(p);
@@ -63,7 +63,7 @@ void pose_scene(Scene& scene, int animation, float time, bool with_normals) {
   scene.animation = animation;
   scene.time = time;
   scene.world = world_matrices(m, pose);
-  for (ScenePiece& piece : scene.pieces) {
+  for (SceneInstance& piece : scene.pieces) {
     piece.posed = posed_positions(m, piece.node, *piece.surface, scene.world);
     if (with_normals)
       piece.posed_normals = posed_normals(m, piece.node, *piece.surface, scene.world);
@@ -128,7 +128,7 @@ Overlay skeleton_overlay(const Scene& scene) {
 
 SceneCounts scene_counts(const Scene& scene) {
   SceneCounts counts;
-  for (const ScenePiece& piece : scene.pieces) {
+  for (const SceneInstance& piece : scene.pieces) {
     const SurfaceMesh& mesh = *piece.surface;
     counts.triangles += mesh.face_count();
     std::vector<char> used(mesh.vertex_count(), 0);

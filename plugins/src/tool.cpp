@@ -45,7 +45,7 @@ bool triangle_plane_segment(const glm::vec3& p0, const glm::vec3& p1, const glm:
 // piece has a grid (faces in id order, as the scan visits them), else on every live triangle.
 template <class Query, class F>
 void for_each_posed_triangle(const Scene& scene, Query&& candidates, F&& fn) {
-  for (const ScenePiece& piece : scene.pieces) {
+  for (const SceneInstance& piece : scene.pieces) {
     if (!piece.surface || piece.posed.size() < piece.surface->vertex_count()) continue;
     const SurfaceMesh& mesh = *piece.surface;
     if (piece.grid) {
@@ -116,7 +116,7 @@ std::vector<glm::vec3> triangle_contour(const Scene& scene, const std::array<glm
 
 BoundingBox scene_bounds(const Scene& scene) {
   BoundingBox box;
-  for (const ScenePiece& piece : scene.pieces) {
+  for (const SceneInstance& piece : scene.pieces) {
     if (!piece.surface) continue;
     piece.surface->for_each_face([&](FaceId, const Triangle& t) {
       for (VertexId v : t)

@@ -77,7 +77,7 @@ class WeightsInspector final : public Inspector {
 
 VertexWeights WeightsInspector::weights_of(std::size_t piece, VertexId v) const {
   VertexWeights out;
-  const ScenePiece& p = scene_->pieces[piece];
+  const SceneInstance& p = scene_->pieces[piece];
   if (p.skin < 0) return out;
   const auto& joints = scene_->model->skins[static_cast<std::size_t>(p.skin)].joints;
   const AttributeSet& va = p.surface->vertex_attrs();
@@ -112,7 +112,7 @@ void WeightsInspector::set_scene(const Scene& scene, SceneChange change) {
   unnormalised_.assign(scene.pieces.size(), {});
   std::map<int, std::size_t> influence;  // vertices influenced per joint, to choose a default
   for (std::size_t i = 0; i < scene.pieces.size(); ++i) {
-    const ScenePiece& piece = scene.pieces[i];
+    const SceneInstance& piece = scene.pieces[i];
     if (piece.skin < 0) continue;
     const auto* w0 = piece.surface->vertex_attrs().find<glm::vec4>(attr::kWeights0);
     if (!w0) continue;
@@ -176,7 +176,7 @@ void WeightsInspector::set_mode(Mode mode) {
 PieceColors WeightsInspector::piece_colors(std::size_t piece) const {
   PieceColors out;
   if (!scene_ || piece >= scene_->pieces.size()) return out;
-  const ScenePiece& p = scene_->pieces[piece];
+  const SceneInstance& p = scene_->pieces[piece];
   out.kind = PieceColors::Kind::PerVertex;
   out.colors.assign(p.surface->vertex_count(), to_rgb8(palette::kUnskinned));
   if (p.skin < 0 || !p.surface->vertex_attrs().contains(attr::kWeights0)) return out;

@@ -69,7 +69,7 @@ TEST(SceneTest, pieces_follow_the_pose_and_skeleton_links_joints) {
   const auto model = tube_model();
   Scene scene = make_scene(model, -1, 0.0f);
   ASSERT_EQ(scene.pieces.size(), 1u);
-  const ScenePiece& piece = scene.pieces[0];
+  const SceneInstance& piece = scene.pieces[0];
   EXPECT_EQ(piece.node, 0);
   EXPECT_EQ(piece.skin, 0);
   ASSERT_EQ(piece.posed.size(), piece.surface->vertex_count());

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 /// @file scene.h
-/// What the studio shows, as data shared by the view and the inspectors: the model, one piece
+/// What the studio shows, as data shared by the view and the inspectors: the model, one instance
 /// per drawn primitive (mesh instance x primitive) with its posed world positions, and the
 /// skeleton. No VTK and no Qt here.
 
@@ -17,7 +17,7 @@
 namespace deepcut::plugins {
 
 /// One drawn primitive: primitive `primitive` of mesh `mesh`, instanced by node `node`.
-struct ScenePiece {
+struct SceneInstance {
   int node = -1, mesh = -1, primitive = -1;
   int skin = -1;  ///< the node's skin, or -1 for a rigid instance
   const SurfaceMesh* surface = nullptr;
@@ -30,14 +30,14 @@ struct ScenePiece {
 
 struct Scene {
   std::shared_ptr<const Model> model;
-  std::vector<ScenePiece> pieces;
+  std::vector<SceneInstance> pieces;  ///< the drawn instances (indexed as `Pick::piece`)
   std::vector<glm::mat4> world;  ///< world matrix of every node for the current pose
   int animation = -1;            ///< -1: rest pose
   float time = 0.0f;             ///< seconds
   float size = 1.0f;             ///< diagonal of the rest-pose world bounds (1 when empty)
 };
 
-/// Builds the scene of `model` posed by `animation` at `time`: one piece per triangle primitive
+/// Builds the scene of `model` posed by `animation` at `time`: one instance per triangle primitive
 /// of every mesh instance reachable from the default scene's roots, in node order.
 /// @param with_normals  also compute posed corner normals (the view needs them; default on).
 /// @throws Error{InvalidArgument} if `model` is null or `animation` is out of range.
@@ -61,7 +61,7 @@ std::string node_label(const Model& model, int node);
 /// the scene's pose, sized relative to the model.
 Overlay skeleton_overlay(const Scene& scene);
 
-/// Number of live triangles and of referenced (welded) vertices over all pieces.
+/// Number of live triangles and of referenced (welded) vertices over all instances.
 struct SceneCounts {
   std::size_t vertices = 0, triangles = 0;
 };

@@ -1,0 +1,197 @@
+// SPDX-License-Identifier: MIT
+#include "operations_host.h"
+
+#include <QElapsedTimer>
+#include <QListWidget>
+#include <QUndoStack>
+#include <new>
+
+#include "deepcut/core/errors.h"
+#include "history_panel.h"
+#include "tool_host.h"
+#include "undo_commands.h"
+
+namespace deepcut::studio {
+namespace {
+
+std::string tool_of(const Operation& op) {
+  if (std::holds_alternative<CutOperation>(op.params)) return "cut";
+  if (std::holds_alternative<TearOperation>(op.params)) return "tear";
+  return "drill";
+}
+
+/// The active tool's parameters at the scene's pose.
+Operation tool_operation(const ToolHost& tools) {
+  Operation op;
+  op.params = tools.tool()->parameters();
+  op.animation = tools.scene()->animation;
+  op.time = tools.scene()->time;
+  return op;
+}
+
+}  // namespace
+
+OperationsHost::OperationsHost(ToolHost* tools, QObject* parent) : QObject(parent), tools_(tools) {
+  undo_stack_ = new QUndoStack(this);
+}
+
+QWidget* OperationsHost::create_panel(QWidget* parent) {
+  panel_ = new HistoryPanel(undo_stack_, parent);
+  connect(panel_, &HistoryPanel::edit_requested, this, &OperationsHost::edit_operation);
+  connect(panel_, &HistoryPanel::cancel_requested, this, &OperationsHost::cancel_edit);
+  return panel_;
+}
+
+QListWidget* OperationsHost::operations_list() const { return panel_->operations_list(); }
+
+void OperationsHost::open(std::shared_ptr<const Model> model) {
+  undo_stack_->clear();
+  session_.open(std::move(model));
+}
+
+void OperationsHost::push_step(const QString& label) {
+  undo_stack_->push(new SessionStepCommand(session_, label, [this] { emit state_changed(); }));
+}
+
+void OperationsHost::commit(const QString& label, std::shared_ptr<const Model> state, double ms) {
+  if (!session_.current() || !state) return;
+  session_.commit(std::move(state));
+  push_step(label);
+  emit done(label, ms);
+}
+
+template <class Run>
+bool OperationsHost::reporting(const std::string& title, Run&& run) {
+  try {
+    run();
+    return true;
+  } catch (const Error& e) {
+    emit failed(QString::fromStdString(title + ": " + e.what()));
+  } catch (const std::bad_alloc&) {
+    emit failed(QString::fromStdString(title) + ": out of memory");
+  } catch (const std::exception& e) {  // a defect in an operation: reported, never a crash
+    emit failed(QString::fromStdString(title + ": internal error: " + e.what()));
+  }
+  return false;
+}
+
+bool OperationsHost::apply_tool() {
+  plugins::Tool* tool = tools_->tool();
+  if (!session_.current() || !tools_->scene()) {
+    emit failed("apply: no model is open");
+    return false;
+  }
+  if (!tool || !tool->makes_operation()) {
+    emit failed("apply: no operation tool is chosen (Tools: Plane, Scalpel or Drill)");
+    return false;
+  }
+  if (session_.editing() >= 0) return apply_edit();
+  const Operation op = tool_operation(*tools_);
+  session::Applied applied;
+  if (!reporting(tool->title(), [&] { applied = session_.apply(op); })) return false;
+  if (applied.result.status != OpStatus::Ok) {
+    emit state_kept();
+    emit failed(QString::fromStdString(tool->title()) + ": the tool misses the model (nothing changed)");
+    return false;
+  }
+  push_step(operation_label(op));
+  emit done(operation_label(op), applied.ms);
+  return true;
+}
+
+void OperationsHost::apply_history(const History& history, const std::string& source) {
+  const std::vector<session::Applied> applied = session_.apply_history(history, source);
+  for (std::size_t i = 0; i < applied.size(); ++i)
+    if (applied[i].result.status == OpStatus::Ok) {
+      push_step(operation_label(history.operations[i]));
+      emit done(operation_label(history.operations[i]), applied[i].ms);
+    }
+}
+
+void OperationsHost::refresh_list() {
+  const std::vector<session::OperationEntry> entries = session_.operations();
+  const int editing = session_.editing();
+  panel_->show_operations(entries, editing);
+  if (editing < 0) return tools_->set_banner(QString(), "Apply (Enter)");
+  tools_->set_banner(QString("Editing operation %1 of %2 (the model as it was before it). Apply re-runs "
+                             "it and the %3 after it as one undoable step; Esc cancels.")
+                         .arg(editing + 1)
+                         .arg(entries.size())
+                         .arg(static_cast<int>(entries.size()) - editing - 1),
+                     "Re-run from here (Enter)");
+}
+
+bool OperationsHost::edit_operation(int index) {
+  if (session_.editing() >= 0) cancel_edit();
+  QElapsedTimer clock;
+  clock.start();
+  bool started = false;
+  try {
+    started = session_.begin_edit(index);
+  } catch (const std::bad_alloc&) {
+    emit failed("edit: out of memory");
+    return false;
+  }
+  if (!started) {
+    emit failed(QString("edit: there is no operation %1 to edit").arg(index + 1));
+    return false;
+  }
+  const Operation edited = session_.edited_entry().operation;
+  emit state_changed();
+  // Its tool with its parameters, at its pose.
+  if (edited.animation < static_cast<int>(session_.current()->animations.size()))
+    emit pose_requested(edited.animation, edited.time);
+  tools_->set_tool(tool_of(edited));
+  tools_->tool()->set_parameters(edited.params);
+  refresh_list();
+  operations_list()->setCurrentRow(index);
+  emit done(QString("Edit operation %1").arg(index + 1), static_cast<double>(clock.nsecsElapsed()) / 1e6);
+  return true;
+}
+
+void OperationsHost::cancel_edit() {
+  if (session_.editing() < 0) return;
+  session_.cancel_edit();
+  emit state_changed();
+  emit note("Edit cancelled: the history is unchanged", 5000);
+}
+
+bool OperationsHost::apply_edit() {
+  const std::string title = tools_->tool()->title();
+  const int index = session_.editing();
+  Operation op = session_.edited_entry().operation;
+  const Operation placed = tool_operation(*tools_);
+  op.params = placed.params;
+  op.animation = placed.animation;
+  op.time = placed.time;
+  session::EditOutcome outcome;
+  try {
+    outcome = session_.finish_edit(op);
+  } catch (const std::bad_alloc&) {
+    emit failed(QString::fromStdString(title) + ": out of memory");
+    return false;
+  }
+  if (!outcome.edited.error.empty()) {
+    emit failed(QString::fromStdString(title + ": " + outcome.edited.error));
+    return false;
+  }
+  if (outcome.edited.status != OpStatus::Ok) {
+    emit failed(QString::fromStdString(title) + ": the edited operation misses the model (nothing changed)");
+    return false;
+  }
+  const QString label = QString("Edit %1: %2").arg(index + 1).arg(operation_label(outcome.edited.operation));
+  push_step(label);
+  emit done(label, outcome.ms);
+  operations_list()->setCurrentRow(index);
+  const std::size_t skipped = outcome.skipped;
+  if (skipped > 0)
+    emit note(QString("%1 later operation%2 no longer appl%3 and %4 skipped (marked in History)")
+                  .arg(skipped)
+                  .arg(skipped == 1 ? "" : "s")
+                  .arg(skipped == 1 ? "ies" : "y")
+                  .arg(skipped == 1 ? "was" : "were"),
+              15000);
+  return true;
+}
+
+}  // namespace deepcut::studio

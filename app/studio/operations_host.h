@@ -1,0 +1,86 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file operations_host.h
+/// The studio's side of the Session (app/session/session.h): applies the active tool's operation
+/// or a whole history at the shown pose, edits a past operation and re-runs the later ones,
+/// mirrors the session's steps on the undo stack (undo_commands.h) and lists the operations in
+/// the History panel (history_panel.h). The window shows the states it makes and reports what
+/// it says. See docs/studio.md.
+
+#include <QObject>
+#include <QString>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "deepcut/core/ops/operation.h"
+#include "session.h"
+
+class QListWidget;
+class QUndoStack;
+class QWidget;
+
+namespace deepcut::studio {
+
+class HistoryPanel;
+class ToolHost;
+
+class OperationsHost : public QObject {
+  Q_OBJECT
+
+ public:
+  /// Operations take their parameters from `tools` and their pose from its scene.
+  OperationsHost(ToolHost* tools, QObject* parent);
+
+  session::Session& session() { return session_; }
+  const session::Session& session() const { return session_; }
+  QUndoStack* undo_stack() const { return undo_stack_; }
+  /// The History panel (operations list over the undo stack).
+  QWidget* create_panel(QWidget* parent);
+  QListWidget* operations_list() const;
+
+  /// Starts anew from `model` (no undo steps, no operations).
+  void open(std::shared_ptr<const Model> model);
+  /// See MainWindow::apply_tool (the caller clears its last error on success).
+  bool apply_tool();
+  /// See MainWindow::apply_history. @throws Error naming `source` and the operation.
+  void apply_history(const History& history, const std::string& source);
+  /// `state` becomes current as one undo step named `label`.
+  void commit(const QString& label, std::shared_ptr<const Model> state, double ms);
+  /// See MainWindow::edit_operation.
+  bool edit_operation(int index);
+  void cancel_edit();
+  /// Lists the session's operations (and the edit in progress) in the History panel and the
+  /// tool panel's banner.
+  void refresh_list();
+
+ signals:
+  /// The session's current state changed: show it.
+  void state_changed();
+  /// An operation (or an edit) could not be applied: report `message`.
+  void failed(const QString& message);
+  /// `label` was done in `ms` (the status bar's last operation).
+  void done(const QString& label, double ms);
+  /// A passing note for the status bar.
+  void note(const QString& text, int timeout_ms);
+  /// Editing an operation poses the model as the operation was placed.
+  void pose_requested(int animation, float time);
+  /// A miss changed nothing: the posed model still describes the shown state.
+  void state_kept();
+
+ private:
+  /// Pushes the session's newest step on the undo stack, named `label`.
+  void push_step(const QString& label);
+  /// Re-runs the edited operation with the tool's parameters and every later one.
+  bool apply_edit();
+  /// Reports what `run` throws (an operation's defect included) as `title: ...`.
+  template <class Run>
+  bool reporting(const std::string& title, Run&& run);
+
+  ToolHost* tools_;
+  session::Session session_;
+  QUndoStack* undo_stack_ = nullptr;
+  HistoryPanel* panel_ = nullptr;
+};
+
+}  // namespace deepcut::studio

@@ -1,0 +1,164 @@
+// SPDX-License-Identifier: MIT
+#include "scene_host.h"
+
+#include <QTimer>
+
+#include "inspector_host.h"
+#include "scene_tree.h"
+#include "scene_view.h"
+#include "timeline.h"
+#include "tool_host.h"
+
+namespace deepcut::studio {
+
+SceneHost::SceneHost(SceneView* view, SceneTree* tree, Timeline* timeline, ToolHost* tools,
+                     InspectorHost* inspectors, session::Session& session, QObject* parent)
+    : QObject(parent),
+      view_(view),
+      tree_(tree),
+      timeline_(timeline),
+      tools_(tools),
+      inspectors_(inspectors),
+      session_(session) {
+  // The session's posed model changes: the scene gives back the grids it lent.
+  session_.set_posed_model_listener([this] { tools_->lend_grids(nullptr, nullptr); });
+  posed_timer_ = new QTimer(this);
+  posed_timer_->setSingleShot(true);
+  posed_timer_->setInterval(300);
+  connect(posed_timer_, &QTimer::timeout, this, [this] {
+    if (timeline_->playing()) return;  // playing: re-posing every frame; the next stop rebuilds
+    refresh_posed_model();
+  });
+}
+
+SceneHost::~SceneHost() = default;
+
+std::vector<std::string> SceneHost::show_opened(plugins::Scene scene, const QString& title) {
+  if (!scene_) {
+    scene_ = std::make_unique<plugins::Scene>();
+    tools_->set_scene(scene_.get());
+    inspectors_->set_scene(scene_.get());
+  }
+  *scene_ = std::move(scene);
+  title_ = title;
+  // The operations' posed model, once per model (and pose): every drill and tear updates it.
+  session_.refresh_posed_model(scene_->animation, scene_->time);
+  posed_timer_->stop();
+  std::vector<std::string> notes = present();
+  refresh_inspector();
+  view_->reset_camera();
+  tools_->forget_pick();
+  tools_->place_on_new_scene();
+  view_->render();
+  return notes;
+}
+
+std::vector<std::string> SceneHost::present() {
+  lend_grids();
+  std::vector<std::string> notes = view_->set_scene(*scene_);
+  tools_->scene_redrawn();
+  tree_->set_scene(*scene_);
+  inspectors_->mark_stale(plugins::SceneChange::Model);
+  return notes;
+}
+
+void SceneHost::show_current() {
+  const std::shared_ptr<const Model>& model = session_.current();
+  int animation = timeline_->animation();
+  if (animation >= static_cast<int>(model->animations.size())) animation = model->animations.empty() ? -1 : 0;
+  *scene_ = plugins::make_scene(model, animation, timeline_->time());
+  present();
+  tools_->refresh_preview();
+  refresh_inspector();
+  // Undo, redo or an edit: the posed model describes another state; a cut dropped it (its
+  // pieces are new meshes). Rebuild it when idle.
+  if (!session_.posed_model()) posed_timer_->start();
+}
+
+void SceneHost::pose(int animation, float time) {
+  if (!scene_) return;
+  posed_timer_->start();                 // the operations' posed model follows once the pose stays put
+  tools_->lend_grids(nullptr, nullptr);  // its grids are filed at the previous pose
+  plugins::pose_scene(*scene_, animation, time);
+  view_->update_pose();
+  tools_->scene_redrawn();
+  tools_->show_displacement();
+  inspectors_->mark_stale(plugins::SceneChange::Pose);
+  inspectors_->sync();
+  tools_->refresh_preview();
+  refresh_overlays();
+  view_->render();
+}
+
+void SceneHost::refresh_posed_model() {
+  if (!session_.current() || !scene_) return;
+  if (!session_.refresh_posed_model(scene_->animation, scene_->time)) return;
+  lend_grids();
+  tools_->refresh_preview();
+}
+
+void SceneHost::lend_grids() { tools_->lend_grids(session_.current(), session_.posed_model()); }
+
+void SceneHost::refresh_inspector() {
+  if (!scene_) return;
+  inspectors_->draw_colors();
+  refresh_overlays();
+  view_->render();
+}
+
+void SceneHost::refresh_overlays() {
+  if (!scene_) return;
+  const Model& model = *scene_->model;
+  const bool skeleton = show_skeleton_ && !model.skins.empty();
+  view_->set_overlay(SceneView::Layer::Skeleton, skeleton ? plugins::skeleton_overlay(*scene_) : Overlay{});
+  std::vector<BoneHandle> handles;
+  if (skeleton) {
+    auto origin = [&](int node) { return glm::vec3(scene_->world[static_cast<std::size_t>(node)][3]); };
+    for (int j : plugins::joint_nodes(model)) handles.push_back({j, origin(j), origin(j)});
+    for (const auto& [parent, child] : plugins::skeleton_bones(model))
+      handles.push_back({parent, origin(parent), origin(child)});
+  }
+  view_->set_bone_handles(std::move(handles));
+  plugins::Inspector* active = inspectors_->inspector();
+  view_->set_overlay(SceneView::Layer::Inspector, active ? active->overlay() : Overlay{});
+  std::vector<std::string> caption = {title_.toStdString() + "  |  " +
+                                      (active ? active->title() : std::string("Materials"))};
+  if (active)
+    for (const std::string& line : active->summary()) caption.push_back(line);
+  view_->set_caption(caption);
+  emit overlays_changed();
+}
+
+void SceneHost::set_skeleton_visible(bool visible) {
+  show_skeleton_ = visible;
+  refresh_overlays();
+  view_->render();
+}
+
+bool SceneHost::frame_selected() {
+  const plugins::Inspector* active = inspectors_->inspector();
+  const auto focus = active ? active->focus() : std::nullopt;
+  if (!focus) return false;
+  view_->frame(focus->center, focus->radius);
+  view_->render();
+  return true;
+}
+
+void SceneHost::pick(const plugins::Pick& pick) {
+  if (!scene_) return;
+  tools_->note_pick(pick);
+  bool changed = false;
+  if (inspectors_->pick(pick, changed)) {
+    if (changed) refresh_inspector();
+    return;
+  }
+  if (pick.joint_node >= 0)
+    emit note(QString("Joint %1 (Inspect > Skin weights shows its weights)")
+                  .arg(QString::fromStdString(plugins::node_label(*scene_->model, pick.joint_node))),
+              8000);
+  else if (pick.piece < scene_->pieces.size())
+    emit note(QString("Piece %1, vertex %2, face %3").arg(pick.piece).arg(pick.vertex.index).arg(pick.face.index),
+              8000);
+}
+
+}  // namespace deepcut::studio

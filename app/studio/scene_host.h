@@ -1,0 +1,88 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file scene_host.h
+/// The drawn state: the Scene (plugins/include/deepcut/plugins/scene.h) of the session's current
+/// state at the time line's pose, handed to the view, the scene tree and the tool and inspector
+/// hosts; the session's posed model lent to it (its grids) and rebuilt once the pose settles;
+/// the overlays drawn over it (skeleton, inspector, caption) and clicks on it. See
+/// docs/studio.md.
+
+#include <QObject>
+#include <QString>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "deepcut/plugins/inspector.h"
+#include "deepcut/plugins/scene.h"
+#include "session.h"
+
+class QTimer;
+
+namespace deepcut::studio {
+
+class InspectorHost;
+class SceneTree;
+class SceneView;
+class Timeline;
+class ToolHost;
+
+class SceneHost : public QObject {
+  Q_OBJECT
+
+ public:
+  SceneHost(SceneView* view, SceneTree* tree, Timeline* timeline, ToolHost* tools, InspectorHost* inspectors,
+            session::Session& session, QObject* parent);
+  ~SceneHost() override;
+
+  /// The drawn scene (null before the first model).
+  const plugins::Scene* scene() const { return scene_.get(); }
+  /// Shows `scene`, the session's newly opened state, named `title` in the caption; the camera
+  /// frames it. @returns the view's notes on what it cannot draw.
+  std::vector<std::string> show_opened(plugins::Scene scene, const QString& title);
+  /// Shows the session's current state at the time line's pose (after an undo step or an edit).
+  void show_current();
+  /// Poses the scene at `time` of `animation` (the time line moved).
+  void pose(int animation, float time);
+
+  /// Brings the session's posed model up to date for the shown state and pose now (else done
+  /// once the pose stays put for a moment), and lends the scene its grids.
+  void refresh_posed_model();
+  /// Lends the scene the posed model's grids when it describes the shown state and pose.
+  void lend_grids();
+
+  /// Redraws the active inspector's colours and every overlay.
+  void refresh_inspector();
+  /// Redraws the skeleton, the inspector's overlay and the caption.
+  void refresh_overlays();
+  void set_skeleton_visible(bool visible);
+  bool skeleton_visible() const { return show_skeleton_; }
+  /// Zooms the view to the active inspector's selection. @returns false when there is none.
+  bool frame_selected();
+  /// A click on the model or a bone: the tools note it, the active inspector takes it, else the
+  /// status bar names what was hit.
+  void pick(const plugins::Pick& pick);
+
+ signals:
+  /// The overlays were drawn (counts, pose or caption may have changed).
+  void overlays_changed();
+  /// A passing note for the status bar.
+  void note(const QString& text, int timeout_ms);
+
+ private:
+  /// Hands the scene to the view, the tree and the hosts. @returns the view's notes.
+  std::vector<std::string> present();
+
+  SceneView* view_;
+  SceneTree* tree_;
+  Timeline* timeline_;
+  ToolHost* tools_;
+  InspectorHost* inspectors_;
+  session::Session& session_;
+  std::unique_ptr<plugins::Scene> scene_;  // created once, then kept at one address
+  QTimer* posed_timer_ = nullptr;          // rebuilds the posed model once the pose or state settles
+  QString title_;
+  bool show_skeleton_ = true;
+};
+
+}  // namespace deepcut::studio

@@ -1,0 +1,398 @@
+// SPDX-License-Identifier: MIT
+// The session without a window: apply, undo, redo, apply a history, edit a past operation and
+// re-run the later ones, and 30 mixed cuts, tears and drills at poses undone and redone all the
+// way, every state compared byte for byte (glTF export) and the posed model compared with a
+// fresh build after each step; what it writes is what `deepcut apply` writes, and both refuse a
+// drill that would swallow an instance alike. No display needed.
+#include "session.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "deepcut/core/errors.h"
+#include "deepcut/core/io/gltf.h"
+#include "deepcut/core/posed_model.h"
+#include "tools.h"
+
+namespace deepcut::session {
+namespace {
+
+std::shared_ptr<const Model> load_cactus() {
+  Model model = read_gltf(DEEPCUT_ASSETS_DIR "/cactus.glb");
+  reserve_for_operations(model);
+  return std::make_shared<const Model>(std::move(model));
+}
+
+/// The glTF export of `model`, as bytes.
+std::string bytes(const Model& model) {
+  static const std::string dir = test::temp_dir("session");
+  const std::string path = dir + "/state.glb";
+  write_gltf(model, path);
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+/// Bounds of the model at rest.
+BoundingBox rest_bounds(const Model& model) {
+  BoundingBox box;
+  const PosedModel rest = PosedModel::build(model, -1, 0.0f);
+  for (const auto& [key, mesh] : rest.instances()) box.add(mesh.bounds);
+  return box;
+}
+
+/// Seeded cuts, tears and drills around the model's middle (a linear congruential sequence: the
+/// same operations on every platform).
+class Operations {
+ public:
+  explicit Operations(const Model& model, std::uint32_t seed) : box_(rest_bounds(model)), state_(seed) {
+    if (!model.animations.empty()) duration_ = model.animations.front().duration();
+  }
+
+  Operation cut() {
+    CutOperation cut;
+    cut.plane.point = centre() + glm::vec3(0.0f, (next() - 0.5f) * 0.6f * size(), 0.0f);
+    cut.plane.normal = glm::vec3(next() - 0.5f, 1.0f, next() - 0.5f);
+    return posed(cut);
+  }
+  Operation tear() {
+    const glm::vec3 d(0.0f, 0.0f, -1.0f), up(0.0f, 1.0f, 0.0f);
+    const glm::vec3 c = centre() + glm::vec3((next() - 0.5f) * 0.2f * size(), (next() - 0.5f) * 0.4f * size(), 0.0f);
+    const float depth = 0.5f * (box_.max.z - box_.min.z), height = 0.5f * (box_.max.y - box_.min.y);
+    const glm::vec3 handle = c - 1.5f * depth * d;
+    TearOperation tear;
+    tear.start = {handle + 0.3f * height * up, c + 0.3f * height * up};
+    tear.end = {handle - 0.3f * height * up, c - 0.3f * height * up};
+    return posed(tear);
+  }
+  Operation drill() {
+    const glm::vec3 c = centre() + glm::vec3(0.0f, (next() - 0.5f) * 0.5f * size(), 0.0f);
+    DrillOperation drill;
+    drill.cylinder.a = c - glm::vec3(0.0f, 0.0f, size());
+    drill.cylinder.b = c + glm::vec3(0.0f, 0.0f, size());
+    drill.cylinder.radius = (0.01f + 0.02f * next()) * size();
+    drill.options.wall = next() < 0.3f;
+    return posed(drill);
+  }
+  Operation any(int i) { return i % 3 == 0 ? cut() : i % 3 == 1 ? tear() : drill(); }
+
+ private:
+  float next() {
+    state_ = state_ * 1664525u + 1013904223u;
+    return static_cast<float>(state_ >> 8) / static_cast<float>(1u << 24);  // [0, 1)
+  }
+  glm::vec3 centre() const { return 0.5f * (box_.min + box_.max); }
+  float size() const { return box_.diagonal(); }
+  Operation posed(OperationParams params) {
+    Operation op;
+    op.params = std::move(params);
+    if (duration_ > 0.0f && next() < 0.7f) {
+      op.animation = 0;
+      op.time = next() * duration_;
+    }
+    return op;
+  }
+
+  BoundingBox box_;
+  std::uint32_t state_;
+  float duration_ = 0.0f;
+};
+
+/// The session's posed model describes its current state as a fresh build at the same pose
+/// does (after `refresh_posed_model` when the last step left it for a rebuild).
+void expect_posed_model_fresh(Session& session, int animation, float time, const std::string& when) {
+  if (!session.posed_model()) {
+    ASSERT_TRUE(session.refresh_posed_model(animation, time)) << when;
+  }
+  const PosedModel* posed = session.posed_model();
+  ASSERT_NE(posed, nullptr) << when;
+  const PosedModel fresh = PosedModel::build(*session.current(), posed->animation(), posed->time());
+  ASSERT_EQ(posed->size(), fresh.size()) << when;
+  for (const auto& [key, want] : fresh.instances()) {
+    const PosedMesh* got = posed->find(key.first, key.second);
+    ASSERT_NE(got, nullptr) << when;
+    EXPECT_EQ(got->mesh, want.mesh) << when;
+    EXPECT_TRUE(got->posed == want.posed) << when;
+    EXPECT_TRUE(got->linear == want.linear) << when;
+    EXPECT_TRUE(got->bounds.min == want.bounds.min && got->bounds.max == want.bounds.max) << when;
+    EXPECT_EQ(got->grid.face_count(), want.grid.face_count()) << when;
+  }
+}
+
+History history_of(const std::vector<OperationEntry>& entries) {
+  History history;
+  for (const auto& entry : entries) history.operations.push_back(entry.operation);
+  return history;
+}
+
+/// What `deepcut apply` makes of `history` on the opened cactus.
+std::string applied_bytes(const History& history) {
+  Session replay(Session::Undo::None);
+  replay.open(load_cactus());
+  replay.apply_history(history, "replay");
+  return bytes(*replay.current());
+}
+
+TEST(SessionTest, apply_makes_one_undo_step_and_undo_redo_give_back_the_states) {
+  Session session;
+  session.open(load_cactus());
+  const auto opened = session.current();
+  const std::string opened_bytes = bytes(*opened);
+  Operations ops(*opened, 1);
+  const Operation cut = ops.cut();
+  const Applied applied = session.apply(cut);
+  ASSERT_EQ(applied.result.status, OpStatus::Ok);
+  EXPECT_NE(session.current(), opened);
+  EXPECT_EQ(session.undo_count(), 1u);
+  ASSERT_EQ(session.operations().size(), 1u);
+  const auto after = session.current();
+  const std::string after_bytes = bytes(*after);
+  EXPECT_NE(after_bytes, opened_bytes);
+
+  session.undo();
+  EXPECT_EQ(session.current(), opened);
+  EXPECT_EQ(bytes(*session.current()), opened_bytes);
+  EXPECT_TRUE(session.operations().empty());
+  EXPECT_FALSE(session.can_undo());
+  session.redo();
+  EXPECT_EQ(session.current(), after);
+  EXPECT_EQ(bytes(*session.current()), after_bytes);
+  EXPECT_FALSE(session.can_redo());
+
+  // A new operation after an undo drops the undone step.
+  session.undo();
+  ASSERT_EQ(session.apply(ops.drill()).result.status, OpStatus::Ok);
+  EXPECT_EQ(session.undo_count(), 1u);
+  EXPECT_FALSE(session.can_redo());
+}
+
+TEST(SessionTest, a_miss_or_a_bad_operation_changes_nothing) {
+  Session session;
+  session.open(load_cactus());
+  const auto opened = session.current();
+  ASSERT_TRUE(session.refresh_posed_model(-1, 0.0f));
+  CutOperation far;
+  far.plane.point = glm::vec3(0.0f, 1000.0f, 0.0f);
+  Operation miss;
+  miss.params = far;
+  EXPECT_EQ(session.apply(miss).result.status, OpStatus::NoIntersection);
+  EXPECT_EQ(session.current(), opened);
+  EXPECT_EQ(session.undo_count(), 0u);
+  EXPECT_NE(session.posed_model(), nullptr);  // a miss keeps it
+
+  DrillOperation bad;
+  bad.cylinder.radius = -1.0f;
+  Operation invalid;
+  invalid.params = bad;
+  EXPECT_THROW(session.apply(invalid), Error);
+  EXPECT_EQ(session.current(), opened);
+  EXPECT_EQ(session.undo_count(), 0u);
+  expect_posed_model_fresh(session, -1, 0.0f, "after a failed operation");
+}
+
+TEST(SessionTest, apply_history_equals_applying_one_by_one_and_a_bad_one_changes_nothing) {
+  const auto cactus = load_cactus();
+  Operations ops(*cactus, 7);
+  History history;
+  for (int i = 0; i < 6; ++i) history.operations.push_back(ops.any(i));
+
+  Session one_by_one;
+  one_by_one.open(cactus);
+  std::size_t ok = 0;
+  for (const Operation& op : history.operations) ok += one_by_one.apply(op).result.status == OpStatus::Ok;
+  const std::string want = bytes(*one_by_one.current());
+
+  Session session;
+  session.open(cactus);
+  const std::vector<Applied> reports = session.apply_history(history, "h.json");
+  ASSERT_EQ(reports.size(), history.operations.size());
+  EXPECT_EQ(session.undo_count(), ok);  // one step per operation that applied
+  EXPECT_EQ(bytes(*session.current()), want);
+  EXPECT_EQ(applied_bytes(history), want);  // one copy, no undo steps: the same bytes
+  EXPECT_EQ(session.operations().size(), ok);
+
+  History bad = history;
+  DrillOperation broken;
+  broken.cylinder.radius = 0.0f;
+  bad.operations.insert(bad.operations.begin() + 2, Operation{broken, -1, 0.0f});
+  const auto before = session.current();
+  try {
+    session.apply_history(bad, "bad.json");
+    FAIL() << "a bad operation must throw";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("bad.json: operation 2: ", 0), 0u) << e.what();
+  }
+  EXPECT_EQ(session.current(), before);
+  EXPECT_EQ(session.undo_count(), ok);
+}
+
+TEST(SessionTest, editing_an_operation_reruns_the_later_ones_as_one_undo_step) {
+  Session session;
+  session.open(load_cactus());
+  const std::string opened_bytes = bytes(*session.current());
+  Operations ops(*session.current(), 3);
+  Operation cut = ops.cut();
+  std::get<CutOperation>(cut.params).plane.normal = glm::vec3(0.0f, 1.0f, 0.0f);
+  ASSERT_EQ(session.apply(cut).result.status, OpStatus::Ok);
+  ASSERT_EQ(session.apply(ops.tear()).result.status, OpStatus::Ok);
+  ASSERT_EQ(session.apply(ops.drill()).result.status, OpStatus::Ok);
+  const auto before_edit = session.current();
+  const std::string before_bytes = bytes(*before_edit);
+
+  // Editing shows the state before the operation; cancelling changes nothing.
+  ASSERT_FALSE(session.begin_edit(3));
+  ASSERT_TRUE(session.begin_edit(1));
+  EXPECT_EQ(session.editing(), 1);
+  EXPECT_EQ(session.undo_count(), 3u);
+  session.cancel_edit();
+  EXPECT_EQ(session.editing(), -1);
+  EXPECT_EQ(session.current(), before_edit);
+
+  ASSERT_TRUE(session.begin_edit(0));
+  EXPECT_EQ(bytes(*session.current()), opened_bytes);
+  EXPECT_EQ(session.operations().size(), 3u);
+  Operation edited = session.edited_entry().operation;
+  std::get<CutOperation>(edited.params).plane.point.y -= 0.05f * rest_bounds(*session.current()).diagonal();
+  const EditOutcome outcome = session.finish_edit(edited);
+  ASSERT_TRUE(outcome.edited.applied()) << outcome.edited.error;
+  EXPECT_EQ(session.editing(), -1);
+  EXPECT_EQ(session.undo_count(), 4u);
+  const std::vector<OperationEntry> entries = session.operations();
+  ASSERT_EQ(entries.size(), 3u);
+  EXPECT_EQ(std::get<CutOperation>(entries[0].operation.params).plane.point,
+            std::get<CutOperation>(edited.params).plane.point);
+  const std::string edited_bytes = bytes(*session.current());
+  EXPECT_NE(edited_bytes, before_bytes);
+  EXPECT_EQ(applied_bytes(history_of(entries)), edited_bytes);
+  expect_posed_model_fresh(session, -1, 0.0f, "after the re-run");
+
+  session.undo();
+  EXPECT_EQ(session.current(), before_edit);
+  EXPECT_EQ(bytes(*session.current()), before_bytes);
+  session.redo();
+  EXPECT_EQ(bytes(*session.current()), edited_bytes);
+}
+
+TEST(SessionTest, an_edit_that_makes_a_later_operation_miss_marks_it_and_undo_brings_it_back) {
+  Session session;
+  session.open(load_cactus());
+  const float size = rest_bounds(*session.current()).diagonal();
+  Operations ops(*session.current(), 5);
+  Operation cut = ops.cut();
+  cut.animation = -1;
+  std::get<CutOperation>(cut.params).plane.normal = glm::vec3(0.0f, 1.0f, 0.0f);
+  Operation drill = ops.drill();
+  drill.animation = -1;
+  std::get<DrillOperation>(drill.params).cylinder.a.y = std::get<CutOperation>(cut.params).plane.point.y - 0.05f * size;
+  std::get<DrillOperation>(drill.params).cylinder.b.y = std::get<DrillOperation>(drill.params).cylinder.a.y;
+  ASSERT_EQ(session.apply(cut).result.status, OpStatus::Ok);
+  ASSERT_EQ(session.apply(drill).result.status, OpStatus::Ok);
+  const auto drilled = session.current();
+
+  ASSERT_TRUE(session.begin_edit(0));
+  Operation edited = session.edited_entry().operation;
+  auto& plane = std::get<CutOperation>(edited.params);
+  plane.plane.point.y += 0.25f * size;
+  plane.options.keep = CutKeep::Positive;
+  const EditOutcome outcome = session.finish_edit(edited);
+  ASSERT_TRUE(outcome.edited.applied()) << outcome.edited.error;
+  EXPECT_EQ(outcome.skipped, 1u);
+  const auto entries = session.operations();
+  ASSERT_EQ(entries.size(), 2u);
+  EXPECT_TRUE(entries[0].applied());
+  EXPECT_EQ(entries[1].status, OpStatus::NoIntersection);
+  EXPECT_EQ(applied_bytes(history_of(entries)), bytes(*session.current()));
+  session.undo();
+  EXPECT_EQ(session.current(), drilled);
+  EXPECT_TRUE(session.operations()[1].applied());
+}
+
+TEST(SessionTest, thirty_mixed_operations_undone_and_redone_all_the_way_are_byte_exact) {
+  Session session;
+  session.open(load_cactus());
+  Operations ops(*session.current(), 12345);
+  std::vector<std::string> states = {bytes(*session.current())};  // after each undo step
+  int misses = 0;
+  for (int i = 0; i < 30; ++i) {
+    const Operation op = ops.any(i);
+    const std::string when = "operation " + std::to_string(i);
+    const Applied applied = session.apply(op);
+    if (applied.result.status != OpStatus::Ok) {
+      ++misses;
+      EXPECT_EQ(bytes(*session.current()), states.back()) << when;
+    } else {
+      states.push_back(bytes(*session.current()));
+    }
+    ASSERT_EQ(session.undo_count(), states.size() - 1) << when;
+    expect_posed_model_fresh(session, op.animation, op.time, when);
+  }
+  EXPECT_LE(misses, 10);
+  for (std::size_t i = states.size() - 1; i-- > 0;) {
+    session.undo();
+    ASSERT_EQ(bytes(*session.current()), states[i]) << "undo to state " << i;
+    EXPECT_EQ(session.posed_model(), nullptr) << "it describes a later state";
+  }
+  expect_posed_model_fresh(session, 0, 0.5f, "after undo all");
+  for (std::size_t i = 1; i < states.size(); ++i) {
+    session.redo();
+    ASSERT_EQ(bytes(*session.current()), states[i]) << "redo to state " << i;
+  }
+  EXPECT_EQ(applied_bytes(history_of(session.operations())), states.back());
+}
+
+TEST(SessionTest, a_session_writes_what_deepcut_apply_writes_and_refuses_a_swallowing_drill_alike) {
+  const std::string dir = test::temp_dir("session-cli");
+  Session session;
+  session.open(load_cactus());
+  Operations ops(*session.current(), 99);
+  History history;
+  for (int i = 0; i < 6; ++i) {
+    const Operation op = ops.any(i);
+    if (session.apply(op).result.status == OpStatus::Ok) history.operations.push_back(op);
+  }
+  ASSERT_GE(history.operations.size(), 3u);
+  const std::string studio = bytes(*session.current());
+  {
+    std::ofstream out(dir + "/history.json");
+    out << history_to_json(history);
+  }
+  const std::string cactus = DEEPCUT_ASSETS_DIR "/cactus.glb";
+  const auto run = test::run_cli("apply " + test::quote(cactus) + " " + test::quote(dir + "/history.json") +
+                                 " -o " + test::quote(dir + "/cli.glb"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  std::ifstream in(dir + "/cli.glb", std::ios::binary);
+  EXPECT_TRUE(std::string(std::istreambuf_iterator<char>(in), {}) == studio) << "deepcut apply wrote other bytes";
+
+  // A drill that would remove every triangle of an instance: refused, nothing changes.
+  session.open(load_cactus());
+  DrillOperation swallow;
+  swallow.cylinder = {{0.0f, -10.0f, 0.0f}, {0.0f, 20.0f, 0.0f}, 100.0f};
+  const auto before = session.current();
+  const std::size_t steps = session.undo_count();
+  std::string message;
+  try {
+    session.apply(Operation{swallow, -1, 0.0f});
+    FAIL() << "the session drilled away a whole instance";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::InvalidArgument);
+    message = e.what();
+  }
+  EXPECT_NE(message.find("removes every triangle of node"), std::string::npos) << message;
+  EXPECT_EQ(session.current(), before);
+  EXPECT_EQ(session.undo_count(), steps);
+  {
+    std::ofstream out(dir + "/swallow.json");
+    out << history_to_json(History{{Operation{swallow, -1, 0.0f}}});
+  }
+  const auto refused = test::run_cli("apply " + test::quote(cactus) + " " + test::quote(dir + "/swallow.json") +
+                                     " -o " + test::quote(dir + "/swallow.glb"));
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_NE(refused.err.find(": operation 0: " + message + "\n"), std::string::npos) << refused.err;
+}
+
+}  // namespace
+}  // namespace deepcut::session
