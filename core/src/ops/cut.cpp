@@ -13,9 +13,9 @@
 #include "deepcut/core/mesh_editor.h"
 #include "deepcut/core/parallel.h"
 #include "deepcut/core/skinning.h"
+#include "geometry/polygon_triangulation.h"
 #include "ops/pieces.h"
 #include "ops/pinches.h"
-#include "ops/polygon_triangulation.h"
 
 namespace deepcut {
 namespace {
@@ -436,9 +436,9 @@ void Cutter::cap_piece(std::vector<FaceId>& piece, std::size_t index) {
   // The largest loop is an outer one; its orientation is the cap's.
   std::size_t largest = 0;
   for (std::size_t i = 1; i < loops.size(); ++i)
-    if (std::abs(detail::signed_area2(pts, loops[i])) > std::abs(detail::signed_area2(pts, loops[largest]))) largest = i;
-  const int outer_sign = detail::signed_area2(pts, loops[largest]) >= 0 ? 1 : -1;
-  const auto tris = detail::triangulate_loops(pts, loops, outer_sign);
+    if (std::abs(geometry::signed_area2(pts, loops[i])) > std::abs(geometry::signed_area2(pts, loops[largest]))) largest = i;
+  const int outer_sign = geometry::signed_area2(pts, loops[largest]) >= 0 ? 1 : -1;
+  const auto tris = geometry::triangulate_loops(pts, loops, outer_sign);
 
   auto& ca = mesh_.corner_attrs();
   auto* cap_flag = mesh_.face_attrs().find<std::uint8_t>(attr::kCutSurface);

@@ -6,7 +6,6 @@
 #include <unordered_map>
 
 #include "ops/drill/walls/wall_shell.h"
-#include "ops/polygon_triangulation.h"
 
 namespace deepcut::drill {
 namespace {
@@ -117,7 +116,7 @@ bool split_sheets(WallShell& shell) {
   for (std::size_t li = 0; li < rim_loops.size(); ++li)
     if (sheet[li] < 0) free_loops.push_back(li);
   std::sort(free_loops.begin(), free_loops.end(), [&](std::size_t x, std::size_t y) {
-    return std::abs(detail::signed_area2(xy, rim_loops[x])) > std::abs(detail::signed_area2(xy, rim_loops[y]));
+    return std::abs(signed_area2(xy, rim_loops[x])) > std::abs(signed_area2(xy, rim_loops[y]));
   });
   for (std::size_t li : free_loops) {
     int c = 0;

@@ -8,7 +8,6 @@
 #include <unordered_set>
 
 #include "ops/drill/walls/wall_shell.h"
-#include "ops/polygon_triangulation.h"
 
 namespace deepcut::drill {
 namespace {
@@ -142,7 +141,7 @@ bool nest_loops(const WallShell& shell, const Loops& loops, std::vector<std::siz
   std::vector<double> area(loops.size());
 
   for (std::size_t i = 0; i < loops.size(); ++i) {
-    area[i] = detail::signed_area2(xy, loops[i]);
+    area[i] = signed_area2(xy, loops[i]);
     if (area[i] > 0.0) outers.push_back(i);
   }
   holes_of.assign(loops.size(), {});

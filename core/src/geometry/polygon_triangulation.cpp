@@ -1,13 +1,14 @@
 // SPDX-License-Identifier: MIT
-#include "ops/polygon_triangulation.h"
+#include "geometry/polygon_triangulation.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numeric>
 #include <queue>
+#include <tuple>
 
-namespace deepcut::detail {
+namespace deepcut::geometry {
 namespace {
 
 double cross(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c) {
@@ -215,4 +216,111 @@ std::vector<std::array<std::uint32_t, 3>> triangulate_loops(const std::vector<gl
   return out;
 }
 
-}  // namespace deepcut::detail
+// Ear clipping of one counter-clockwise, weakly simple polygon (indices into `pts`; a bridged
+// hole repeats two points). An ear must have positive area and no other polygon point in its
+// closed triangle, so points on a diagonal (collinear rim and edge points) never make T-junctions.
+// Best-shaped ears first.
+void clip_polygon(const std::vector<glm::dvec2>& pts, std::vector<std::uint32_t> poly,
+                  std::vector<LocalTri>& out) {
+  while (poly.size() > 3) {
+    const std::size_t n = poly.size();
+    std::size_t best = n;
+    double best_quality = -1.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::uint32_t ia = poly[(i + n - 1) % n], ib = poly[i], ic = poly[(i + 1) % n];
+      const glm::dvec2 &a = pts[ia], &b = pts[ib], &c = pts[ic];
+      const double area = orient(a, b, c);
+      const double longest =
+          std::max({glm::dot(b - a, b - a), glm::dot(c - b, c - b), glm::dot(a - c, a - c)});
+      const double tiny = 1e-13 * longest;  // relative: the log-polar plane spans many scales
+      if (area <= tiny) continue;
+      bool contains = false;
+      for (std::size_t j = 0; j < n && !contains; ++j) {
+        const std::uint32_t iq = poly[j];
+        if (iq == ia || iq == ib || iq == ic) continue;
+        const glm::dvec2& p = pts[iq];
+        contains = orient(a, b, p) >= -tiny && orient(b, c, p) >= -tiny && orient(c, a, p) >= -tiny;
+      }
+      if (contains) continue;
+      const double quality = area / std::max(longest, 1e-300);
+      if (quality > best_quality) {
+        best_quality = quality;
+        best = i;
+      }
+    }
+    if (best == n) {  // no proper ear: numerically degenerate; clip the most convex corner
+      double most = -std::numeric_limits<double>::max();
+      for (std::size_t i = 0; i < n; ++i) {
+        const double area = orient(pts[poly[(i + n - 1) % n]], pts[poly[i]], pts[poly[(i + 1) % n]]);
+        if (area > most) {
+          most = area;
+          best = i;
+        }
+      }
+      if (most > 0.0) out.push_back({poly[(best + n - 1) % n], poly[best], poly[(best + 1) % n]});
+    } else {
+      out.push_back({poly[(best + n - 1) % n], poly[best], poly[(best + 1) % n]});
+    }
+    poly.erase(poly.begin() + static_cast<std::ptrdiff_t>(best));
+  }
+  if (poly.size() == 3 && orient(pts[poly[0]], pts[poly[1]], pts[poly[2]]) > 0.0)
+    out.push_back({poly[0], poly[1], poly[2]});
+}
+
+// Joins a clockwise `hole` lying inside the counter-clockwise `outer` into one weakly simple
+// polygon, bridging from the hole point nearest to an outer point that sees it.
+std::vector<std::uint32_t> bridge(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& outer,
+                                  const std::vector<std::uint32_t>& hole,
+                                  const std::vector<std::vector<std::uint32_t>>& others) {
+  auto crosses = [&](const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c, const glm::dvec2& d) {
+    const double d1 = orient(a, b, c), d2 = orient(a, b, d), d3 = orient(c, d, a), d4 = orient(c, d, b);
+    return ((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0));
+  };
+  // A hole that touches the outer loop at a shared point is spliced in there (no bridge).
+  for (std::size_t o = 0; o < outer.size(); ++o)
+    for (std::size_t h = 0; h < hole.size(); ++h)
+      if (outer[o] == hole[h]) {
+        std::vector<std::uint32_t> merged(outer.begin(), outer.begin() + static_cast<std::ptrdiff_t>(o) + 1);
+        for (std::size_t k = 1; k <= hole.size(); ++k) merged.push_back(hole[(h + k) % hole.size()]);
+        merged.insert(merged.end(), outer.begin() + static_cast<std::ptrdiff_t>(o) + 1, outer.end());
+        return merged;
+      }
+  std::vector<std::tuple<double, std::size_t, std::size_t>> pairs;
+  for (std::size_t o = 0; o < outer.size(); ++o)
+    for (std::size_t h = 0; h < hole.size(); ++h)
+      pairs.emplace_back(glm::length(pts[outer[o]] - pts[hole[h]]), o, h);
+  std::sort(pairs.begin(), pairs.end());
+  std::size_t bo = std::get<1>(pairs[0]), bh = std::get<2>(pairs[0]);
+  for (const auto& [dist, o, h] : pairs) {
+    (void)dist;
+    const glm::dvec2 &p = pts[outer[o]], &q = pts[hole[h]];
+    bool blocked = false;
+    auto check = [&](const std::vector<std::uint32_t>& loop) {
+      for (std::size_t i = 0; i < loop.size() && !blocked; ++i)
+        blocked = crosses(p, q, pts[loop[i]], pts[loop[(i + 1) % loop.size()]]);
+    };
+    check(outer);
+    check(hole);
+    for (const auto& other : others) check(other);
+    if (!blocked) {
+      bo = o;
+      bh = h;
+      break;
+    }
+  }
+  std::vector<std::uint32_t> merged;
+  for (std::size_t i = 0; i <= bo; ++i) merged.push_back(outer[i]);
+  for (std::size_t k = 0; k <= hole.size(); ++k) merged.push_back(hole[(bh + k) % hole.size()]);
+  for (std::size_t i = bo; i < outer.size(); ++i) merged.push_back(outer[i]);
+  return merged;
+}
+
+// Triangulates a counter-clockwise outer loop with at most one clockwise hole inside it.
+std::vector<LocalTri> triangulate(const std::vector<glm::dvec2>& pts,
+                                  const std::vector<std::vector<std::uint32_t>>& loops) {
+  std::vector<LocalTri> out;
+  clip_polygon(pts, loops.size() > 1 ? bridge(pts, loops[0], loops[1]) : loops[0], out);
+  return out;
+}
+
+}  // namespace deepcut::geometry

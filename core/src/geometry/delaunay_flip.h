@@ -1,0 +1,50 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// Constrained Delaunay triangulation by Lawson flips, with point insertion. Private to core:
+// used by the drill's rim faces and walls.
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "geometry/predicates.h"
+
+namespace deepcut::geometry {
+
+/// A triangulation of points in the plane with neighbour links: Lawson flips to the constrained
+/// Delaunay triangulation (edges with one triangle are the constraints) and point insertion.
+/// The triangles are counter-clockwise and index the caller's point list, which insert() extends.
+class FlipTriangulation {
+ public:
+  FlipTriangulation(std::vector<glm::dvec2>& pts, std::vector<LocalTri> tris);
+
+  const std::vector<LocalTri>& triangles() const { return tris_; }
+
+  /// True if the edge a-b is shared by two triangles.
+  bool is_interior(std::uint32_t a, std::uint32_t b) const;
+
+  /// Flips every non-constrained edge whose opposite point lies inside the circumcircle (with a
+  /// relative tolerance) until none is left.
+  void make_delaunay();
+
+  /// Inserts `p` if it lies strictly inside a triangle (appending it to the points).
+  bool insert(const glm::dvec2& p);
+
+ private:
+  void relink(int n, int from, int to);
+  double orient_rel(std::uint32_t a, std::uint32_t b, const glm::dvec2& p) const;
+  int locate(const glm::dvec2& p) const;
+  int scan(const glm::dvec2& p) const;
+  void legalize(std::vector<std::pair<int, int>>& stack);
+
+  std::vector<glm::dvec2>& pts_;
+  std::vector<LocalTri> tris_;
+  std::vector<std::array<int, 3>> nbr_;
+  std::size_t last_ = 0;
+};
+
+}  // namespace deepcut::geometry
