@@ -20,7 +20,7 @@ namespace deepcut::drill {
 class PosedOverlay {
  public:
   /// `posed` holds one position per vertex below `first_new`; `unpose` may be empty (posed ==
-  /// bind). Both are referenced, not copied.
+  /// bind). `posed` is referenced, not copied.
   PosedOverlay(const std::vector<glm::vec3>& posed, std::uint32_t first_new, const Unposer& unpose)
       : posed_(posed), unpose_(unpose), first_new_(first_new) {}
 
@@ -58,7 +58,7 @@ class PosedOverlay {
 
  private:
   const std::vector<glm::vec3>& posed_;
-  const Unposer& unpose_;
+  Unposer unpose_;
   std::uint32_t first_new_ = 0;
   std::vector<glm::dvec3> added_;
   // Old vertices moved onto the cylinder: (index, new posed), by index.
