@@ -14,8 +14,10 @@
 #include "deepcut/core/parallel.h"
 #include "deepcut/core/skinning.h"
 #include "geometry/polygon_triangulation.h"
-#include "ops/pieces.h"
-#include "ops/pinches.h"
+#include "ops/common/crossing_table.h"
+#include "ops/common/model_surgery.h"
+#include "ops/common/pinches.h"
+#include "ops/common/posed_overlay.h"
 
 namespace deepcut {
 namespace {
@@ -25,17 +27,13 @@ namespace {
 // so the chunks may follow the thread count.
 constexpr std::size_t kMinGrain = 4096;
 
-std::uint64_t edge_key(VertexId a, VertexId b) {
-  const auto lo = std::min(a.index, b.index), hi = std::max(a.index, b.index);
-  return (std::uint64_t(lo) << 32) | hi;
-}
-
-std::uint64_t directed_key(VertexId a, VertexId b) { return (std::uint64_t(a.index) << 32) | b.index; }
+using detail::directed_key;
+using detail::edge_key;
 
 class Cutter {
  public:
   Cutter(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const Plane& plane, const CutOptions& options)
-      : mesh_(mesh), editor_(mesh), input_posed_(posed), first_new_(mesh.vertex_count()), options_(options) {
+      : mesh_(mesh), editor_(mesh), posed_(posed), options_(options) {
     normal_ = glm::dvec3(plane.normal);
     point_ = glm::dvec3(plane.point);
   }
@@ -45,21 +43,17 @@ class Cutter {
  private:
   struct Split {
     VertexId lo, hi, v;
-    float t;  // parameter from lo to hi
+    float t = 0.0f;  // parameter from lo to hi
   };
   struct Corner {
     VertexId v;
     glm::vec3 bary;
   };
 
-  VertexId split_edge(VertexId a, VertexId b);
+  const Split& split_edge(VertexId a, VertexId b);
   Corner split_corner(const Triangle& t, int ka, int kb);
   void split_crossings(FaceId f);
   void split_face(FaceId f);
-  VertexId merged(VertexId v) const {
-    for (auto it = merged_.find(v.index); it != merged_.end(); it = merged_.find(v.index)) v = it->second;
-    return v;
-  }
   void separate_sides();
   std::vector<std::pair<VertexId, VertexId>> split_pinches(CutResult* result = nullptr);
   void collect_pieces(CutResult& result);
@@ -74,22 +68,15 @@ class Cutter {
   SurfaceMesh& mesh_;
   MeshEditor editor_;
   // Posed positions: the caller's for existing vertices, ours for the ones the cut adds.
-  const glm::vec3& posed(VertexId v) const {
-    return v.index < first_new_ ? input_posed_[v.index] : new_posed_[v.index - first_new_];
-  }
-  const std::vector<glm::vec3>& input_posed_;
-  std::vector<glm::vec3> new_posed_;
-  std::size_t first_new_;
+  detail::PosedOverlay<glm::vec3> posed_;
   CutOptions options_;
   glm::dvec3 normal_, point_;
   // Signed distance to the plane (computed in float from the posed positions, so stored as
   // float) and its snapped sign, per vertex.
   std::vector<float> dist_;
   std::vector<std::int8_t> sign_;
-  std::unordered_map<std::uint64_t, Split> splits_;
-  // Crossings that fell on one bind position (the two long edges of a needle split at the same
-  // parameter): the later one maps to the earlier, so the needle's tip is not a zero-area face.
-  std::unordered_map<std::uint32_t, VertexId> merged_;
+  detail::CrossingTable<Split> splits_;
+  detail::NeedleMerges merges_;
   // Faces with two or more corners on the plane (the only ones that can have rim edges), and
   // the piece of each face slot.
   std::vector<FaceId> rim_faces_;
@@ -112,25 +99,24 @@ int Cutter::face_side(const Triangle& t) const {
   return 1;  // a face lying in the plane goes to the positive side
 }
 
-VertexId Cutter::split_edge(VertexId a, VertexId b) {
-  const auto key = edge_key(a, b);
-  auto it = splits_.find(key);
-  if (it != splits_.end()) return it->second.v;
+const Cutter::Split& Cutter::split_edge(VertexId a, VertexId b) {
+  const auto [s, made] = splits_.try_emplace(a, b);
+  if (!made) return *s;
   const VertexId lo = a < b ? a : b, hi = a < b ? b : a;
   const double dl = dist_[lo.index], dh = dist_[hi.index];
   const float t = static_cast<float>(dl / (dl - dh));
   const VertexId v = editor_.add_vertex_on_edge(lo, hi, t);
-  new_posed_.push_back(glm::mix(posed(lo), posed(hi), t));
+  posed_.add(glm::mix(posed_(lo), posed_(hi), t));
   dist_.push_back(0.0f);
   sign_.push_back(0);
-  splits_.emplace(key, Split{lo, hi, v, t});
+  *s = Split{lo, hi, v, t};
   ++intersections_;
-  return v;
+  return *s;
 }
 
 Cutter::Corner Cutter::split_corner(const Triangle& t, int ka, int kb) {
-  const VertexId v = merged(split_edge(t[ka], t[kb]));
-  const Split& s = splits_.at(edge_key(t[ka], t[kb]));
+  const Split& s = split_edge(t[ka], t[kb]);
+  const VertexId v = merges_.merged(s.v);
   glm::vec3 bary(0.0f);
   const float wa = t[ka] == s.lo ? 1.0f - s.t : s.t;
   bary[ka] = wa;
@@ -156,9 +142,9 @@ void Cutter::split_crossings(FaceId f) {
   for (int k = 0; k < 3; ++k)
     if (s[k] != s[(k + 1) % 3] && s[k] != s[(k + 2) % 3]) lone = k;
   const Triangle copy = t;  // split_edge adds vertices, not faces, but keep no reference across it
-  const VertexId a = merged(split_edge(copy[lone], copy[(lone + 1) % 3]));
-  const VertexId b = merged(split_edge(copy[lone], copy[(lone + 2) % 3]));
-  if (a != b && mesh_.position(a) == mesh_.position(b)) merged_.emplace(std::max(a, b).index, std::min(a, b));
+  const VertexId a = split_edge(copy[lone], copy[(lone + 1) % 3]).v;
+  const VertexId b = split_edge(copy[lone], copy[(lone + 2) % 3]).v;
+  merges_.merge_if_coincident(mesh_, a, b);
 }
 
 void Cutter::split_face(FaceId f) {
@@ -193,8 +179,8 @@ void Cutter::split_face(FaceId f) {
   const Corner m1 = split_corner(t, lone, k1), m2 = split_corner(t, lone, k2);
   emit(corner(lone), m1, m2);
   // The quad (m1, k1, k2, m2): split along its shorter diagonal.
-  const float d1 = glm::length(posed(m1.v) - posed(t[k2]));
-  const float d2 = glm::length(posed(t[k1]) - posed(m2.v));
+  const float d1 = glm::length(posed_(m1.v) - posed_(t[k2]));
+  const float d2 = glm::length(posed_(t[k1]) - posed_(m2.v));
   if (d1 <= d2) {
     emit(m1, corner(k1), corner(k2));
     emit(m1, corner(k2), m2);
@@ -223,7 +209,7 @@ void Cutter::separate_sides() {
   std::sort(shared.begin(), shared.end());  // deterministic vertex numbering
   for (std::uint32_t v : shared) {
     const VertexId c = editor_.split_vertex(VertexId(v));
-    new_posed_.push_back(posed(VertexId(v)));
+    posed_.add(posed_(VertexId(v)));
     dist_.push_back(dist_[v]);
     sign_.push_back(0);
     copy.emplace(v, c);
@@ -264,7 +250,7 @@ std::vector<std::pair<VertexId, VertexId>> Cutter::split_pinches(CutResult* resu
   const auto splits = detail::split_pinched_vertices(editor_, on_plane, rim_candidates_);
   for (const auto& [v, c] : splits.copies) {
     (void)c;
-    new_posed_.push_back(posed(v));
+    posed_.add(posed_(v));
     dist_.push_back(dist_[v.index]);
     sign_.push_back(0);
   }
@@ -430,7 +416,7 @@ void Cutter::cap_piece(std::vector<FaceId>& piece, std::size_t index) {
   const glm::dvec3 w = glm::cross(n, u);
   std::vector<glm::dvec2> pts(verts.size());
   for (std::size_t i = 0; i < verts.size(); ++i) {
-    const glm::dvec3 p = glm::dvec3(posed(verts[i])) - point_;
+    const glm::dvec3 p = glm::dvec3(posed_(verts[i])) - point_;
     pts[i] = {glm::dot(p, u), glm::dot(p, w)};
   }
   // The largest loop is an outer one; its orientation is the cap's.
@@ -540,8 +526,8 @@ void Cutter::collect_pieces(CutResult& result) {
 CutResult Cutter::run() {
   CutResult result;
   const std::size_t nv = mesh_.vertex_count();
-  if (input_posed_.size() != nv)
-    throw Error(ErrorCode::InvalidArgument, "cut: " + std::to_string(input_posed_.size()) + " posed positions for " +
+  if (posed_.input().size() != nv)
+    throw Error(ErrorCode::InvalidArgument, "cut: " + std::to_string(posed_.input().size()) + " posed positions for " +
                                                 std::to_string(nv) + " vertices");
   const double nlen = glm::length(normal_);
   if (!std::isfinite(nlen) || nlen == 0.0) throw Error(ErrorCode::InvalidArgument, "cut: the plane normal is zero or not finite");
@@ -572,7 +558,7 @@ CutResult Cutter::run() {
             dist_[v] = 0.0f;
             continue;
           }
-          const glm::vec3& p = input_posed_[v];
+          const glm::vec3& p = posed_.input()[v];
           part.add(p);
           dist_[v] = glm::dot(p - point, normal);
         }

@@ -16,7 +16,7 @@
 #include "deepcut/core/parallel.h"
 #include "deepcut/core/skinning.h"
 #include "deepcut/core/spatial_index.h"
-#include "ops/pinches.h"
+#include "ops/common/pinches.h"
 
 namespace deepcut {
 namespace {

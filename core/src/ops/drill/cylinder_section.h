@@ -12,16 +12,15 @@
 
 #include "deepcut/core/ops/drill.h"
 #include "deepcut/core/surface_mesh.h"
+#include "ops/common/crossing_table.h"
 
 namespace deepcut::drill {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-inline std::uint64_t edge_key(VertexId a, VertexId b) {
-  const auto lo = std::min(a.index, b.index), hi = std::max(a.index, b.index);
-  return (std::uint64_t(lo) << 32) | hi;
-}
+using detail::directed_key;
+using detail::edge_key;
 
 // The cylinder in double precision, with an orthonormal frame (u, w, d), the snapping tolerance
 // `eps` (absolute) and the number of rulings sampled around the axis.

@@ -23,8 +23,8 @@
 #include "ops/drill/posed_overlay.h"
 #include "ops/drill/rim_insertion.h"
 #include "ops/drill/walls/wall.h"
-#include "ops/pieces.h"
-#include "ops/pinches.h"
+#include "ops/common/model_surgery.h"
+#include "ops/common/pinches.h"
 
 namespace deepcut {
 namespace {
@@ -80,7 +80,7 @@ detail::PinchSplits split_pinches(MeshEditor& editor, drill::PosedOverlay& posed
   auto pinches = detail::split_pinched_vertices(editor, touched, around);
   for (const auto& [v, c] : pinches.copies) {
     (void)c;
-    posed.push(posed(v));
+    posed.add(posed(v));
   }
   return pinches;
 }
@@ -89,7 +89,7 @@ DrillResult run(SurfaceMesh& mesh, const std::vector<glm::vec3>& input_posed, co
                 const DrillOptions& options, const TriangleGrid* index, const Unposer& unpose) {
   const drill::CylinderFrame cyl = drill::CylinderFrame::make(cylinder, options);
   MeshEditor editor(mesh);
-  drill::PosedOverlay posed(input_posed, static_cast<std::uint32_t>(mesh.vertex_count()), unpose);
+  drill::PosedOverlay posed(input_posed, unpose);
   DrillResult result;
   result.first_new_vertex = posed.first_new();
   const std::vector<FaceId> candidates = drill::find_candidates(mesh, cyl, posed, index);
@@ -127,8 +127,8 @@ DrillResult run(SurfaceMesh& mesh, const std::vector<glm::vec3>& input_posed, co
     const auto pinches = split_pinches(editor, posed, candidates, index);
     for (DrillHole& h : result.holes) detail::follow_pinch_splits(mesh, pinches, h.rim, h.closed);
   }
-  result.added_posed.reserve(posed.added_positions().size());
-  for (const auto& p : posed.added_positions()) result.added_posed.push_back(glm::vec3(p));
+  result.added_posed.reserve(posed.added().size());
+  for (const auto& p : posed.added()) result.added_posed.push_back(glm::vec3(p));
   for (const auto& [v, p] : posed.moved()) result.moved.push_back({VertexId(v), glm::vec3(p)});
   result.log = editor.take_log();
   return result;

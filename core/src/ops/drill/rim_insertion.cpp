@@ -11,7 +11,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <deque>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -81,13 +80,9 @@ class RimInserter {
 
  private:
   const EdgeCut& edge(VertexId a, VertexId b);
-  void size_edge_table(std::size_t edges);
   void merge_crossings(FaceId f);
   void allow_steiner(const std::vector<FaceId>& candidates);
-  VertexId merged(VertexId v) const {
-    for (auto it = merged_.find(v.index); it != merged_.end(); it = merged_.find(v.index)) v = it->second;
-    return v;
-  }
+  VertexId merged(VertexId v) const { return merges_.merged(v); }
   void process_face(FaceId f);
   void face_boundary(const Triangle& tri, const glm::dvec3 corner[3]);
   void sample_rim(const Triangle& tri);
@@ -108,18 +103,12 @@ class RimInserter {
   int samples_ = 32;
   std::uint32_t first_new_ = 0;
   std::vector<glm::dvec3> ruling_base_;  // where each sampled ruling starts (s = 0)
-  // Edges met so far: an open-addressing table (at most half full) of edge keys to indices into
-  // edge_cuts_, sized for the candidates' edges up front: no allocation per edge. A deque, so
-  // references to earlier edges stay valid as edges are added.
-  static constexpr std::uint64_t kNoEdge = ~std::uint64_t(0);  // edge_key of no real edge
-  std::vector<std::uint64_t> edge_keys_;
-  std::vector<std::uint32_t> edge_index_;
-  std::deque<EdgeCut> edge_cuts_;
-  int edge_shift_ = 64;
+  // Edges met so far, sized for the candidates' edges up front (no allocation per edge).
+  detail::CrossingTable<EdgeCut> edges_;
   std::unordered_set<std::uint64_t> steiner_edges_;  // edges that may take Steiner points (allow_steiner)
   // Crossings that fell on one bind position (the two long edges of a needle crossed at the same
   // parameter): the later vertex maps to the earlier, so the needle's tip is not a zero-area face.
-  std::unordered_map<std::uint32_t, VertexId> merged_;
+  detail::NeedleMerges merges_;
   std::size_t crossings_ = 0, removed_ = 0, added_ = 0;
   FacePlane face_;  // the triangle being processed
   // process_face's working lists, kept between faces so their memory is reused: the triangle's
@@ -128,36 +117,11 @@ class RimInserter {
   std::vector<std::uint8_t> seg_inside_, used_scratch_;
 };
 
-void RimInserter::size_edge_table(std::size_t edges) {
-  std::size_t size = 16;
-  int shift = 60;
-  while (size < 2 * edges) {
-    size *= 2;
-    --shift;
-  }
-  if (size <= edge_keys_.size()) return;
-  edge_keys_.assign(size, kNoEdge);
-  edge_index_.assign(size, 0);
-  edge_shift_ = shift;
-  for (std::uint32_t i = 0; i < edge_cuts_.size(); ++i) {
-    const std::uint64_t key = edge_key(edge_cuts_[i].lo, edge_cuts_[i].hi);
-    std::size_t slot = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> edge_shift_);
-    while (edge_keys_[slot] != kNoEdge) slot = (slot + 1) & (size - 1);
-    edge_keys_[slot] = key;
-    edge_index_[slot] = i;
-  }
-}
-
 const EdgeCut& RimInserter::edge(VertexId a, VertexId b) {
   const auto key = edge_key(a, b);
-  if (2 * (edge_cuts_.size() + 1) > edge_keys_.size()) size_edge_table(2 * edge_cuts_.size() + 16);
-  std::size_t slot = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> edge_shift_);
-  const std::size_t mask = edge_keys_.size() - 1;
-  while (edge_keys_[slot] != kNoEdge) {
-    if (edge_keys_[slot] == key) return edge_cuts_[edge_index_[slot]];
-    slot = (slot + 1) & mask;
-  }
-  EdgeCut e;
+  const auto [record, made] = edges_.try_emplace(a, b);
+  if (!made) return *record;
+  EdgeCut& e = *record;
   e.lo = a < b ? a : b;
   e.hi = a < b ? b : a;
   const glm::dvec3 p = posed_(e.lo), q = posed_(e.hi);
@@ -214,8 +178,8 @@ const EdgeCut& RimInserter::edge(VertexId a, VertexId b) {
         e.v[i] = editor_.add_vertex_on_edge(e.lo, e.hi, static_cast<float>(cuts[i]));
         // The exact point on the cylinder; the bind vertex uses the same parameter, corrected
         // through its own (blended) skinning when the pose is not the bind pose.
-        posed_.push(glm::mix(p, q, cuts[i]));
-        posed_.place(editor_, e.v[i], posed_.added(e.v[i]));
+        posed_.add(glm::mix(p, q, cuts[i]));
+        posed_.place(editor_, e.v[i], posed_(e.v[i]));
         ++crossings_;
       }
       // The kept parts of a crossed edge get points a rim spacing from each crossing, then 2,
@@ -233,7 +197,7 @@ const EdgeCut& RimInserter::edge(VertexId a, VertexId b) {
           const glm::dvec3 x = glm::mix(p, q, t);
           if (!(cyl_.sd(x) > kSteinerClear * spacing)) continue;
           const VertexId v = editor_.add_vertex_on_edge(e.lo, e.hi, static_cast<float>(t));
-          posed_.push(x);
+          posed_.add(x);
           posed_.place(editor_, v, x);
           e.steiner.emplace_back(t, v);
         }
@@ -241,17 +205,14 @@ const EdgeCut& RimInserter::edge(VertexId a, VertexId b) {
       std::sort(e.steiner.begin(), e.steiner.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
     }
   }
-  edge_keys_[slot] = key;
-  edge_index_[slot] = static_cast<std::uint32_t>(edge_cuts_.size());
-  edge_cuts_.push_back(e);
-  return edge_cuts_.back();
+  return e;
 }
 
 // Skinning is not linear in the blended weights, so a new vertex interpolated in bind space
 VertexId RimInserter::vertex_of(const Triangle& tri, LocalPoint& lp) {
   if (lp.v.valid()) return lp.v;
   lp.v = editor_.add_vertex_in_triangle(tri, glm::vec3(lp.bary));
-  posed_.push(lp.p);
+  posed_.add(lp.p);
   posed_.place(editor_, lp.v, lp.p);
   return lp.v;
 }
@@ -268,10 +229,7 @@ void RimInserter::merge_crossings(FaceId f) {
     const VertexId x = tri[k];
     const EdgeCut ea = edge(x, tri[(k + 1) % 3]), eb = edge(x, tri[(k + 2) % 3]);
     for (int i = 0; i < ea.n; ++i)
-      for (int j = 0; j < eb.n; ++j) {
-        const VertexId a = merged(ea.v[i]), b = merged(eb.v[j]);
-        if (a != b && mesh_.position(a) == mesh_.position(b)) merged_.emplace(std::max(a, b).index, std::min(a, b));
-      }
+      for (int j = 0; j < eb.n; ++j) merges_.merge_if_coincident(mesh_, ea.v[i], eb.v[j]);
   }
 }
 
@@ -409,7 +367,7 @@ void RimInserter::face_boundary(const Triangle& tri, const glm::dvec3 corner[3])
       const VertexId sv = steiner_first ? e.steiner[forward ? si : ns - 1 - si].second : e.v[j];
       LocalPoint x;
       x.v = steiner_first ? sv : merged(sv);
-      x.p = posed_.added(sv);
+      x.p = posed_(sv);
       x.bary = glm::dvec3(0.0);
       x.bary[k] = 1.0 - t;
       x.bary[k1] = t;
@@ -428,7 +386,7 @@ void RimInserter::face_boundary(const Triangle& tri, const glm::dvec3 corner[3])
       const double t = forward ? tl : 1.0 - tl;
       LocalPoint x;
       x.v = sv;
-      x.p = posed_.added(sv);
+      x.p = posed_(sv);
       x.bary = glm::dvec3(0.0);
       x.bary[k] = 1.0 - t;
       x.bary[k1] = t;
@@ -699,7 +657,7 @@ void RimInserter::emit_polygon(FaceId f, const Triangle& tri, std::vector<LocalP
 // Rim edges are found from the topology the edits left: boundary half-edges of the new faces
 // whose ends lie on the cylinder. An edge between two old vertices is an edge of the parent
 RimInsertion RimInserter::run(const std::vector<FaceId>& candidates) {
-  size_edge_table(3 * candidates.size() + 3);  // every edge looked up is a candidate's
+  edges_.reserve(3 * candidates.size() + 3);  // every edge looked up is a candidate's
   allow_steiner(candidates);
   for (FaceId f : candidates) merge_crossings(f);
   for (FaceId f : candidates) process_face(f);

@@ -147,7 +147,7 @@ void snap_shallow_vertices(MeshEditor& editor, const CylinderFrame& cyl, PosedOv
     }
     if (!ok) continue;
     editor.move_vertex(x, moved);
-    posed.move(x.index, target);  // in index order: the corners are sorted
+    posed.move(x, target);  // in index order: the corners are sorted
   }
 }
 }  // namespace deepcut::drill

@@ -12,7 +12,6 @@ namespace {
 
 using RimNext = std::unordered_map<std::uint32_t, std::vector<std::uint32_t>>;  // directed rim edges
 
-std::uint64_t directed(VertexId a, VertexId b) { return (std::uint64_t(a.index) << 32) | b.index; }
 
 // Rim edges are found from the topology the edits left: boundary half-edges of the new faces
 // whose ends lie on the cylinder. An edge between two old vertices is an edge of the parent
@@ -25,9 +24,9 @@ RimNext rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFra
   std::vector<std::uint64_t> added, removed;
   for (const Edit& e : log.edits) {
     if (const auto* fa = std::get_if<FaceAdded>(&e)) {
-      for (int k = 0; k < 3; ++k) added.push_back(directed(fa->vertices[k], fa->vertices[(k + 1) % 3]));
+      for (int k = 0; k < 3; ++k) added.push_back(directed_key(fa->vertices[k], fa->vertices[(k + 1) % 3]));
     } else if (const auto* fr = std::get_if<FaceRemoved>(&e)) {
-      for (int k = 0; k < 3; ++k) removed.push_back(directed(fr->vertices[k], fr->vertices[(k + 1) % 3]));
+      for (int k = 0; k < 3; ++k) removed.push_back(directed_key(fr->vertices[k], fr->vertices[(k + 1) % 3]));
     }
   }
   std::sort(added.begin(), added.end());
@@ -51,13 +50,13 @@ RimNext rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFra
   for (FaceId f : candidates)
     if (!mesh.is_deleted(f)) {
       const Triangle& t = mesh.face(f);
-      for (int k = 0; k < 3; ++k) untouched.push_back(directed(t[k], t[(k + 1) % 3]));
+      for (int k = 0; k < 3; ++k) untouched.push_back(directed_key(t[k], t[(k + 1) % 3]));
     }
   std::sort(untouched.begin(), untouched.end());
   auto consider = [&](VertexId a, VertexId b) {
-    if (!on_rim(a) || !on_rim(b) || contains(added, directed(b, a)) || contains(untouched, directed(b, a))) return;
+    if (!on_rim(a) || !on_rim(b) || contains(added, directed_key(b, a)) || contains(untouched, directed_key(b, a))) return;
     const VertexId oa = base(a), ob = base(b);
-    if (oa.index < posed.first_new() && ob.index < posed.first_new() && !contains(removed, directed(ob, oa))) return;
+    if (oa.index < posed.first_new() && ob.index < posed.first_new() && !contains(removed, directed_key(ob, oa))) return;
     rim_next[a.index].push_back(b.index);
   };
   for (const Edit& e : log.edits) {
@@ -93,7 +92,7 @@ std::vector<Rim> chain_rims(const SurfaceMesh& mesh, const EditLog& log, const C
   // and after the pinch split the rim would jump between the vertex's copies).
   std::unordered_map<std::uint64_t, std::uint32_t> third;  // half-edge a->b of a kept face: its third corner
   auto add_face = [&](const Triangle& t) {
-    for (int k = 0; k < 3; ++k) third[directed(t[k], t[(k + 1) % 3])] = t[(k + 2) % 3].index;
+    for (int k = 0; k < 3; ++k) third[directed_key(t[k], t[(k + 1) % 3])] = t[(k + 2) % 3].index;
   };
   for (const Edit& e : log.edits)
     if (const auto* fa = std::get_if<FaceAdded>(&e))
@@ -108,7 +107,7 @@ std::vector<Rim> chain_rims(const SurfaceMesh& mesh, const EditLog& log, const C
     const auto& next = rim_next[cur];
     std::uint32_t from = prev;  // turn from the face holding prev->cur
     for (std::size_t guard = 0; guard < 256; ++guard) {
-      const auto it = third.find(directed(VertexId(from), VertexId(cur)));
+      const auto it = third.find(directed_key(VertexId(from), VertexId(cur)));
       if (it == third.end()) return -1;
       const std::uint32_t out = it->second;  // cur->out is the next half-edge of that face
       int found = -1;

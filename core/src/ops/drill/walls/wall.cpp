@@ -13,7 +13,6 @@ namespace {
 
 using Shells = std::unordered_map<std::uint32_t, std::vector<std::size_t>>;  // root vertex -> rims
 
-std::uint64_t directed(VertexId a, VertexId b) { return (std::uint64_t(a.index) << 32) | b.index; }
 
 // Vertex groups of the connected surface sheets (union-find over the faces' corners).
 std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t x) {
@@ -49,8 +48,8 @@ std::vector<char> open_shells(const SurfaceMesh& mesh, const std::vector<Rim>& r
   for (const Rim& hole : rims)
     for (std::size_t i = 0; i < hole.vertices.size(); ++i) {
       const VertexId a = hole.vertices[i], b = hole.vertices[(i + 1) % hole.vertices.size()];
-      rim_steps.insert(directed(a, b));
-      rim_steps.insert(directed(b, a));
+      rim_steps.insert(directed_key(a, b));
+      rim_steps.insert(directed_key(b, a));
     }
   const std::vector<Triangle>& faces = mesh.faces();
   const std::size_t nv = mesh.vertex_count();
@@ -88,7 +87,7 @@ std::vector<char> open_shells(const SurfaceMesh& mesh, const std::vector<Rim>& r
     const Triangle& t = faces[f];
     for (int k = 0; k < 3 && !open[root]; ++k) {
       const VertexId a = t[k], b = t[(k + 1) % 3];
-      if (!has_reverse(a, b) && !rim_steps.count(directed(a, b))) open[root] = 1;
+      if (!has_reverse(a, b) && !rim_steps.count(directed_key(a, b))) open[root] = 1;
     }
   }
   return open;

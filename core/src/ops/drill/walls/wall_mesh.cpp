@@ -15,11 +15,10 @@
 namespace deepcut::drill {
 namespace {
 
-std::uint64_t directed(VertexId a, VertexId b) { return (std::uint64_t(a.index) << 32) | b.index; }
 
 VertexId wall_vertex(WallContext& ctx, VertexId a, VertexId b, float t, const glm::dvec3& p) {
   const VertexId v = ctx.editor.add_vertex_on_edge(a, b, t);
-  ctx.posed.push(p);
+  ctx.posed.add(p);
   const Unposer& unpose = ctx.posed.unpose();
   const glm::vec3 bind = unpose ? unpose(ctx.editor.mesh(), v, glm::vec3(p)) : glm::vec3(p);
   ctx.editor.move_vertex(v, bind);
@@ -41,7 +40,7 @@ bool keeps_manifold(const WallShell& shell, const WallContext& ctx, const std::v
   const std::vector<WallPt>& pts = shell.pts;
   std::unordered_set<std::uint64_t> used;
   auto add_face_edges = [&](const Triangle& t) {
-    for (int k = 0; k < 3; ++k) used.insert(directed(t[k], t[(k + 1) % 3]));
+    for (int k = 0; k < 3; ++k) used.insert(directed_key(t[k], t[(k + 1) % 3]));
   };
   for (const Edit& e : ctx.editor.log().edits)
     if (const auto* fa = std::get_if<FaceAdded>(&e))
@@ -53,7 +52,7 @@ bool keeps_manifold(const WallShell& shell, const WallContext& ctx, const std::v
     for (int k = 0; k < 3; ++k) {
       const VertexId a = pts[t[k]].v, b = pts[t[(k + 1) % 3]].v;
       if (!a.valid() || !b.valid()) continue;
-      if (used.count(directed(a, b)) || !mine.insert(directed(a, b)).second) return false;
+      if (used.count(directed_key(a, b)) || !mine.insert(directed_key(a, b)).second) return false;
     }
   return true;
 }

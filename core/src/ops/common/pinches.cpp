@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "ops/pinches.h"
+#include "ops/common/pinches.h"
 
 #include <algorithm>
 #include <numeric>

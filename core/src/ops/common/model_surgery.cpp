@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "ops/pieces.h"
+#include "ops/common/model_surgery.h"
 
 #include <algorithm>
 

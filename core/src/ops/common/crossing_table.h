@@ -1,0 +1,121 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// The crossings of a conforming insertion (cut, tear, drill): what the tool does to each mesh
+// edge it meets, found by the edge, and the needle merges between the vertices made there.
+// Private to core. The operations are described in docs/architecture.md.
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "deepcut/core/surface_mesh.h"
+
+namespace deepcut::detail {
+
+/// Key of the undirected edge {a, b}: the lower index in the high word.
+inline std::uint64_t edge_key(VertexId a, VertexId b) {
+  const auto lo = std::min(a.index, b.index), hi = std::max(a.index, b.index);
+  return (std::uint64_t(lo) << 32) | hi;
+}
+
+/// Key of the directed edge a -> b.
+inline std::uint64_t directed_key(VertexId a, VertexId b) { return (std::uint64_t(a.index) << 32) | b.index; }
+
+/// Open-addressing slots (at most half full) from edge keys to entry numbers. Lookups never
+/// depend on the layout, so growing it changes no result.
+class EdgeSlots {
+ public:
+  /// Room for `edges` keys without growing.
+  void reserve(std::size_t edges);
+  /// Entry number of `key`, or kNone.
+  std::uint32_t find(std::uint64_t key) const;
+  /// Files `key` (not filed yet) as entry `entry`; grows first when half full.
+  void insert(std::uint64_t key, std::uint32_t entry);
+  void clear();
+  static constexpr std::uint32_t kNone = ~std::uint32_t(0);
+
+ private:
+  std::size_t slot_of(std::uint64_t key) const { return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> shift_); }
+  void rehash(std::size_t size, int shift);
+  static constexpr std::uint64_t kNoKey = ~std::uint64_t(0);  // edge_key of no real edge
+  std::vector<std::uint64_t> keys_;
+  std::vector<std::uint32_t> entries_;
+  std::size_t count_ = 0;
+  int shift_ = 64;
+};
+
+/// Edge -> crossing record `T` (what the operation keeps per crossed edge: parameters, the
+/// vertices made there). Records live in insertion order and never move (references stay valid
+/// as edges are added); iteration runs in insertion order. Sized up front with `reserve`.
+template <class T>
+class CrossingTable {
+ public:
+  void reserve(std::size_t edges) { slots_.reserve(edges); }
+  /// The record of edge {a, b}, or nullptr.
+  T* find(VertexId a, VertexId b) { return at_entry(slots_.find(edge_key(a, b))); }
+  const T* find(VertexId a, VertexId b) const {
+    const std::uint32_t e = slots_.find(edge_key(a, b));
+    return e == EdgeSlots::kNone ? nullptr : &records_[e];
+  }
+  /// The record of edge {a, b}, default-made when the edge is new (`second` true: fill it in).
+  std::pair<T*, bool> try_emplace(VertexId a, VertexId b) {
+    const std::uint64_t key = edge_key(a, b);
+    const std::uint32_t e = slots_.find(key);
+    if (e != EdgeSlots::kNone) return {&records_[e], false};
+    slots_.insert(key, static_cast<std::uint32_t>(records_.size()));
+    keys_.push_back(key);
+    records_.emplace_back();
+    return {&records_.back(), true};
+  }
+  std::size_t size() const { return records_.size(); }
+  bool empty() const { return records_.empty(); }
+  /// Edge key of the i-th record (insertion order).
+  std::uint64_t key(std::size_t i) const { return keys_[i]; }
+  T& operator[](std::size_t i) { return records_[i]; }
+  const T& operator[](std::size_t i) const { return records_[i]; }
+  auto begin() { return records_.begin(); }
+  auto end() { return records_.end(); }
+  auto begin() const { return records_.begin(); }
+  auto end() const { return records_.end(); }
+  /// Forgets every edge (the slots keep their room).
+  void clear() {
+    slots_.clear();
+    keys_.clear();
+    records_.clear();
+  }
+
+ private:
+  T* at_entry(std::uint32_t e) { return e == EdgeSlots::kNone ? nullptr : &records_[e]; }
+  EdgeSlots slots_;
+  std::vector<std::uint64_t> keys_;
+  std::deque<T> records_;
+};
+
+/// Crossings that fell on one bind position (the two long edges of a needle crossed at the same
+/// parameter) become one vertex: the later vertex maps to the earlier, so the needle's tip is
+/// not made as a zero-area face. A forest of links to lower vertices; `merged` follows them.
+class NeedleMerges {
+ public:
+  /// The vertex `v` stands for (itself unless merged).
+  VertexId merged(VertexId v) const {
+    for (auto it = to_.find(v.index); it != to_.end(); it = to_.find(v.index)) v = it->second;
+    return v;
+  }
+  /// Links `from` to `to` unless `from` is linked already (the first link stays).
+  void merge(VertexId from, VertexId to) { to_.emplace(from.index, to); }
+  /// The cut's and drill's rule: merged(a) and merged(b), when distinct at one bind position of
+  /// `mesh`, become one (the higher links to the lower). True when they were linked.
+  bool merge_if_coincident(const SurfaceMesh& mesh, VertexId a, VertexId b);
+  bool empty() const { return to_.empty(); }
+  std::size_t size() const { return to_.size(); }
+  void clear() { to_.clear(); }
+
+ private:
+  std::unordered_map<std::uint32_t, VertexId> to_;
+};
+
+}  // namespace deepcut::detail
