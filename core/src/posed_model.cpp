@@ -2,6 +2,8 @@
 #include "deepcut/core/posed_model.h"
 
 #include <algorithm>
+#include <cmath>
+#include <utility>
 
 #include "deepcut/core/parallel.h"
 #include "deepcut/core/skinning.h"
@@ -71,6 +73,24 @@ void reserve_for_operations(Model& model) {
     }
 }
 
+glm::vec3 PosedMesh::unpose(const SurfaceMesh& surface, VertexId v, const glm::vec3& p) const {
+  const SkinBlend blend(surface, joints);  // per call: an operation grows the mesh between calls
+  const glm::mat4 mat = blend.skinned() ? blend.matrix(v.index) : world;
+  const glm::dmat4 inv = glm::inverse(glm::dmat4(mat));
+  const glm::dvec4 b = inv * glm::dvec4(glm::dvec3(p), 1.0);
+  return std::isfinite(b.x) && std::isfinite(b.y) && std::isfinite(b.z) ? glm::vec3(b) : p;
+}
+
+PosedMesh PosedMesh::at_positions(const SurfaceMesh& surface, std::vector<glm::vec3> posed) {
+  PosedMesh inst;
+  inst.posed = posed.empty() ? surface.positions() : std::move(posed);
+  inst.linear.assign(inst.posed.size(), glm::mat3(1.0f));
+  inst.bounds = bounds_of(inst.posed);
+  inst.grid = TriangleGrid::build(surface, inst.posed);
+  inst.no_unpose = true;
+  return inst;
+}
+
 PosedModel PosedModel::build(const Model& model, int animation, float time) {
   PosedModel index;
   index.world_ = world_matrices(model, sample_pose(model, animation, time));
@@ -117,6 +137,8 @@ PosedMesh PosedModel::make_instance(const Model& model, int node, int primitive)
   });
   inst.bounds = bounds_of(inst.posed);
   inst.grid = TriangleGrid::build(mesh, inst.posed);
+  inst.world = world_.at(static_cast<std::size_t>(node));
+  inst.joints = joints_of(model, node);
   return inst;
 }
 

@@ -60,7 +60,7 @@ int run_drill(const std::vector<std::string>& argv) {
   double preprocess_ms = 0.0, ms = 0.0;
   PosedModel index = preprocess(model, op, preprocess_ms);
   const ModelDrillResult r = run_timed(
-      [&] { return drill_model(model, drill.cylinder, drill.options, op.animation, op.time, &index); }, ms);
+      [&] { return drill_model(model, index, drill.cylinder, drill.options, op.animation, op.time); }, ms);
   // A drill that swallows a whole instance is not a hole: refuse it rather than write an empty mesh.
   const auto after = instance_triangles(model);
   for (std::size_t ni = 0; ni < before.size(); ++ni)

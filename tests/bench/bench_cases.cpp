@@ -278,7 +278,8 @@ void bm_drill_model(benchmark::State& state, std::size_t triangles, bool indexed
   options.wall = wall;
   std::size_t touched = 0;
   time_on_session_model(state, triangles, indexed, [&](Model& model, PosedModel* index) {
-    const ModelDrillResult r = drill_model(model, cyl, options, -1, 0.0f, index);
+    const ModelDrillResult r =
+        index ? drill_model(model, *index, cyl, options, -1, 0.0f) : drill_model(model, cyl, options, -1, 0.0f);
     benchmark::DoNotOptimize(r.triangles_added);
     touched = r.triangles_removed;
   });

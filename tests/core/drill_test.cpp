@@ -75,6 +75,26 @@ void expect_asset_drill_hits_and_walls(const Model& model, const Cylinder& cyl, 
 
 }  // namespace
 
+// The posed-mesh overload is the positions-and-grid one: the same edits, bit for bit.
+TEST(DrillTest, drilling_a_posed_mesh_equals_drilling_its_positions_and_grid) {
+  for (const bool wall : {false, true}) {
+    SurfaceMesh a = test::make_tube(24, 12, 1.0f, 4.0f), b = a;
+    DrillOptions options;
+    options.wall = wall;
+    const Cylinder c{{-2.0f, 2.1f, 0.1f}, {2.0f, 1.9f, -0.1f}, 0.4f};
+    const TriangleGrid grid = TriangleGrid::build(a, a.positions());
+    const DrillResult ra = drill_mesh(a, a.positions(), c, options, &grid);
+    const DrillResult rb = drill_mesh(b, PosedMesh::at_positions(b), c, options);
+    ASSERT_EQ(ra.status, OpStatus::Ok);
+    EXPECT_EQ(rb.status, ra.status);
+    EXPECT_EQ(a.positions(), b.positions());
+    EXPECT_EQ(a.faces(), b.faces());
+    EXPECT_EQ(ra.log.size(), rb.log.size());
+    EXPECT_EQ(ra.added_posed, rb.added_posed);
+    EXPECT_EQ(ra.holes.size(), rb.holes.size());
+  }
+}
+
 TEST(DrillTest, small_hole_inside_one_big_triangle_is_round) {
   SurfaceMesh mesh = test::make_grid(1, 1);  // two triangles
   Cylinder c{{0.7f, 0.3f, -1.0f}, {0.7f, 0.3f, 1.0f}, 0.05f};

@@ -1,8 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The drill's wall on its own (core/src/ops/drill/walls/wall.h): rims made by hand, in meshes
 // built in code, closed by build_drill_walls without drilling.
-#include "ops/drill/walls/wall.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,6 +10,7 @@
 
 #include "deepcut/core/mesh_editor.h"
 #include "deepcut/core/surface_mesh.h"
+#include "ops/drill/walls/wall.h"
 
 namespace deepcut {
 namespace {
@@ -113,7 +112,9 @@ std::size_t flagged_faces(const SurfaceMesh& mesh) {
   return n;
 }
 
-double polygon_area(int sides, double radius) { return 0.5 * sides * radius * radius * std::sin(2.0 * kPi / sides); }
+double polygon_area(int sides, double radius) {
+  return 0.5 * sides * radius * radius * std::sin(2.0 * kPi / sides);
+}
 
 TEST(DrillWallTest, two_rims_through_a_washer_get_a_closed_tube_on_the_cylinder) {
   const SurfaceMesh washer = make_washer(false);

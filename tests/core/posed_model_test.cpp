@@ -306,7 +306,7 @@ TEST(PosedModelTest, a_mesh_shared_by_two_instances_is_copied_for_the_drilled_on
   DrillOptions options;
   options.wall = true;
   const Cylinder c{{10.0f, 2.0f, -3.0f}, {10.0f, 2.0f, 3.0f}, 0.3f};
-  ASSERT_EQ(drill_model(model, c, options, -1, 0.0f, &index).status, OpStatus::Ok);
+  ASSERT_EQ(drill_model(model, index, c, options, -1, 0.0f).status, OpStatus::Ok);
   ASSERT_EQ(drill_model(plain, c, options).status, OpStatus::Ok);
   expect_identical(model, plain);
   EXPECT_NE(model.nodes.back().mesh, model.nodes[0].mesh) << "the drilled instance owns a copy";

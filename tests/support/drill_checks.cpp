@@ -53,7 +53,9 @@ double drilled_volume(const SurfaceMesh& mesh, const Cylinder& c, int rings) {
   // Faces whose shadow meets the disk, bucketed on a grid over it.
   const int cells = 32;
   std::vector<std::vector<FaceId>> grid(cells * cells);
-  auto cell_of = [&](double x) { return std::clamp(static_cast<int>((x / ax.r + 1.0) * 0.5 * cells), 0, cells - 1); };
+  auto cell_of = [&](double x) {
+    return std::clamp(static_cast<int>((x / ax.r + 1.0) * 0.5 * cells), 0, cells - 1);
+  };
   mesh.for_each_face([&](FaceId f, const Triangle& t) {
     double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
     for (VertexId v : t) {
@@ -108,14 +110,14 @@ double drilled_volume(const SurfaceMesh& mesh, const Cylinder& c, int rings) {
 double min_angle(const SurfaceMesh& mesh, const Triangle& t) {
   double best = 180.0;
   for (int k = 0; k < 3; ++k) {
-    const glm::dvec3 c(mesh.position(t[k])), a(mesh.position(t[(k + 1) % 3])), b(mesh.position(t[(k + 2) % 3]));
+    const glm::dvec3 c(mesh.position(t[k])), a(mesh.position(t[(k + 1) % 3])),
+        b(mesh.position(t[(k + 2) % 3]));
     const double la = glm::length(a - c), lb = glm::length(b - c);
     if (!(la > 0.0) || !(lb > 0.0)) return 0.0;
     best = std::min(best, std::acos(std::clamp(glm::dot(a - c, b - c) / (la * lb), -1.0, 1.0)) * 180.0 / kPi);
   }
   return best;
 }
-
 
 // All the invariants of one mesh-level drill on bind positions (posed == bind).
 void check_drill_into(Checked& out, const SurfaceMesh& input, const Cylinder& cyl,
@@ -136,8 +138,8 @@ void check_drill_into(Checked& out, const SurfaceMesh& input, const Cylinder& cy
   }
   out.intersected = true;
   char cyl_text[200];
-  std::snprintf(cyl_text, sizeof cyl_text, "cylinder %.9g,%.9g,%.9g,%.9g,%.9g,%.9g r %.9g", cyl.a.x, cyl.a.y, cyl.a.z,
-                cyl.b.x, cyl.b.y, cyl.b.z, cyl.radius);
+  std::snprintf(cyl_text, sizeof cyl_text, "cylinder %.9g,%.9g,%.9g,%.9g,%.9g,%.9g r %.9g", cyl.a.x, cyl.a.y,
+                cyl.a.z, cyl.b.x, cyl.b.y, cyl.b.z, cyl.radius);
   SCOPED_TRACE(cyl_text);
   EXPECT_EQ(r.added_posed.size(), mesh.vertex_count() - input.vertex_count());
   Adjacency adj = before;
@@ -179,10 +181,10 @@ void check_drill_into(Checked& out, const SurfaceMesh& input, const Cylinder& cy
                          << " r)"
                          << " corners " << t[0].index << ":" << ax.rho(mesh.position(t[0])) / ax.r << " "
                          << t[1].index << ":" << ax.rho(mesh.position(t[1])) / ax.r << " " << t[2].index
-                         << ":" << ax.rho(mesh.position(t[2])) / ax.r << " s " << ax.s(mesh.position(t[0])) << " "
-                         << ax.s(mesh.position(t[1])) << " " << ax.s(mesh.position(t[2])) << " of " << ax.len
-                         << " input v " << input.vertex_count()
-                         << " faces " << input.face_slots() << " r " << ax.r;
+                         << ":" << ax.rho(mesh.position(t[2])) / ax.r << " s " << ax.s(mesh.position(t[0]))
+                         << " " << ax.s(mesh.position(t[1])) << " " << ax.s(mesh.position(t[2])) << " of "
+                         << ax.len << " input v " << input.vertex_count() << " faces " << input.face_slots()
+                         << " r " << ax.r;
   });
   // Every new vertex on a boundary lies on the cylinder (within 1% of r) or on an end plane;
   // every boundary edge is new rim or a piece of an old boundary edge (no cracks elsewhere).
@@ -231,12 +233,14 @@ void check_drill_into(Checked& out, const SurfaceMesh& input, const Cylinder& cy
                  for (const Edit& ed : r.log.edits)
                    if (const auto* sp = std::get_if<VertexSplit>(&ed))
                      if (sp->original == e.a || sp->original == e.b || sp->copy == e.a || sp->copy == e.b)
-                       o += " split " + std::to_string(sp->original.index) + "->" + std::to_string(sp->copy.index);
+                       o += " split " + std::to_string(sp->original.index) + "->" +
+                            std::to_string(sp->copy.index);
                  for (const DrillHole& h2 : r.holes)
-                   o += " [hole rim " + std::to_string(h2.rim.size()) + " walled " + std::to_string(h2.walled) +
-                        " closed " + std::to_string(h2.closed) + "]";
+                   o += " [hole rim " + std::to_string(h2.rim.size()) + " walled " +
+                        std::to_string(h2.walled) + " closed " + std::to_string(h2.closed) + "]";
                  int pos = 0;
-                 for (std::size_t j = 0; j < h.rim.size(); ++j) if (h.rim[j] == e.a || h.rim[j] == e.b) pos = int(j);
+                 for (std::size_t j = 0; j < h.rim.size(); ++j)
+                   if (h.rim[j] == e.a || h.rim[j] == e.b) pos = int(j);
                  o += " at " + std::to_string(pos) + " of rim:";
                  for (int j = std::max(0, pos - 3); j < std::min<int>(int(h.rim.size()), pos + 3); ++j)
                    o += " " + std::to_string(h.rim[j].index);
@@ -258,7 +262,8 @@ void check_drill_into(Checked& out, const SurfaceMesh& input, const Cylinder& cy
     for (VertexId v : h.rim) on_end &= std::abs(ax.rho(mesh.position(v)) - ax.r) > tol;
     if (h.closed && std::abs(h.winding) == 1 && !on_end) {
       ++(on_side ? out.round_holes : out.d_holes);
-      EXPECT_GE(h.rim.size(), static_cast<std::size_t>(options.min_rim_edges)) << (on_side ? "round" : "D-shaped");
+      EXPECT_GE(h.rim.size(), static_cast<std::size_t>(options.min_rim_edges))
+          << (on_side ? "round" : "D-shaped");
     }
   }
   if (options.wall && closed) {
@@ -311,7 +316,8 @@ void check_drill_into(Checked& out, const SurfaceMesh& input, const Cylinder& cy
       const glm::vec3 dir = glm::vec3(ax.d) * static_cast<float>(band);
       shrunk.a += dir, shrunk.b -= dir, shrunk.radius -= static_cast<float>(band);
       grown.a -= dir, grown.b += dir, grown.radius += static_cast<float>(band);
-      const double lower = drilled_volume(input, shrunk, 48) * expected / fine, upper = drilled_volume(input, grown, 48);
+      const double lower = drilled_volume(input, shrunk, 48) * expected / fine,
+                   upper = drilled_volume(input, grown, 48);
       EXPECT_GE(removed, lower - slack) << "volume " << input.volume() << " expected " << expected;
       EXPECT_LE(removed, upper + slack) << "volume " << input.volume() << " expected " << expected;
     }

@@ -44,10 +44,10 @@ struct Checked {
 
 /// All the invariants of one mesh-level drill of a copy of `input` on bind positions (posed ==
 /// bind), with gtest assertions; `use_index` drills through a spatial index.
-void check_drill_into(Checked& out, const SurfaceMesh& input, const Cylinder& cyl, const DrillOptions& options,
-                      std::size_t joints, bool use_index);
-Checked check_drill(const SurfaceMesh& input, const Cylinder& cyl, const DrillOptions& options, std::size_t joints,
-                    bool use_index);
+void check_drill_into(Checked& out, const SurfaceMesh& input, const Cylinder& cyl,
+                      const DrillOptions& options, std::size_t joints, bool use_index);
+Checked check_drill(const SurfaceMesh& input, const Cylinder& cyl, const DrillOptions& options,
+                    std::size_t joints, bool use_index);
 /// check_drill on the first primitive of an asset model (the decoded replays of random drills).
 Checked check_asset_drill(const Model& model, const Cylinder& cyl, bool wall, bool use_index);
 

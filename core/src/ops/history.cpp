@@ -187,7 +187,8 @@ OperationReport apply_operation(Model& model, const Operation& operation, PosedM
                                      {"width", r.width}}
                                     .dump();
         } else if constexpr (std::is_same_v<T, DrillOperation>) {
-          const ModelDrillResult r = drill_model(model, p.cylinder, p.options, animation, operation.time, index);
+          const ModelDrillResult r = index ? drill_model(model, *index, p.cylinder, p.options, animation, operation.time)
+                                           : drill_model(model, p.cylinder, p.options, animation, operation.time);
           report.status = r.status;
           report.summary_json = json{{"op", "drill"},
                                      {"status", to_string(r.status)},

@@ -39,6 +39,23 @@ struct PosedMesh {
   BoundingBox bounds;
   /// Grid over the live faces at `posed`.
   TriangleGrid grid;
+  /// The node's world matrix and its skin's joint matrices at the pose (empty when not skinned):
+  /// what `unpose` inverts.
+  glm::mat4 world{1.0f};
+  std::vector<glm::mat4> joints;
+  /// True for a mesh posed at given positions without a pose to invert (`at_positions`): the
+  /// operations then leave new vertices at their interpolated bind positions.
+  bool no_unpose = false;
+
+  /// Bind position of vertex `v` of `surface` (skin weights already set) whose posed position is
+  /// `p`: its blended skinning (or the world matrix) inverted in double precision; `p` itself
+  /// where the inverse is not finite.
+  glm::vec3 unpose(const SurfaceMesh& surface, VertexId v, const glm::vec3& p) const;
+
+  /// `surface` posed at `posed` (its own positions when empty; one per vertex otherwise), with
+  /// bounds and grid, identity linear maps and no unposing: a mesh an operation edits where it
+  /// is drawn. O(vertices + faces).
+  static PosedMesh at_positions(const SurfaceMesh& surface, std::vector<glm::vec3> posed = {});
 };
 
 class PosedModel {

@@ -6,9 +6,8 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <limits>
-
 #include <glm/glm.hpp>
+#include <limits>
 
 #include "deepcut/core/ops/drill.h"
 #include "deepcut/core/surface_mesh.h"

@@ -19,12 +19,12 @@
 #include "deepcut/core/mesh_editor.h"
 #include "deepcut/core/posed_model.h"
 #include "deepcut/core/skinning.h"
+#include "ops/common/model_surgery.h"
+#include "ops/common/pinches.h"
 #include "ops/drill/cylinder_section.h"
 #include "ops/drill/posed_overlay.h"
 #include "ops/drill/rim_insertion.h"
 #include "ops/drill/walls/wall.h"
-#include "ops/common/model_surgery.h"
-#include "ops/common/pinches.h"
 
 namespace deepcut {
 namespace {
@@ -54,11 +54,12 @@ void check_arguments(const Cylinder& c, const DrillOptions& options) {
   // round onto each other or onto one line in float: faces of zero area.
   if (c.radius < min_drill_radius(c, options.min_rim_edges)) {
     char text[240];
-    std::snprintf(text, sizeof text,
-                  "drill: radius %.3g with %d rim edges puts rim points %.3g apart, finer than the precision of "
-                  "positions around the axis (%.3g); the radius must be at least %.3g",
-                  double(c.radius), options.min_rim_edges, 2.0 * c.radius * std::sin(kPi / options.min_rim_edges),
-                  1e-6 * axis_scale(c), double(min_drill_radius(c, options.min_rim_edges)));
+    std::snprintf(
+        text, sizeof text,
+        "drill: radius %.3g with %d rim edges puts rim points %.3g apart, finer than the precision of "
+        "positions around the axis (%.3g); the radius must be at least %.3g",
+        double(c.radius), options.min_rim_edges, 2.0 * c.radius * std::sin(kPi / options.min_rim_edges),
+        1e-6 * axis_scale(c), double(min_drill_radius(c, options.min_rim_edges)));
     throw Error(ErrorCode::InvalidArgument, text);
   }
   if (!std::isfinite(options.relative_tolerance) || options.relative_tolerance < 0.0f ||
@@ -66,16 +67,16 @@ void check_arguments(const Cylinder& c, const DrillOptions& options) {
     throw Error(ErrorCode::InvalidArgument, "drill: relative_tolerance must be between 0 and 0.1");
 }
 
-
 // Splits the vertices where a rim pinches the surface (a vertex joining two fans: one vertex
 // each); the copies' posed positions go to `posed`.
-detail::PinchSplits split_pinches(MeshEditor& editor, drill::PosedOverlay& posed, const std::vector<FaceId>& candidates,
-                                  const TriangleGrid* index) {
+detail::PinchSplits split_pinches(MeshEditor& editor, drill::PosedOverlay& posed,
+                                  const std::vector<FaceId>& candidates, const TriangleGrid* index) {
   const auto touched = detail::edited_vertices(editor.log());
   // With the index, faces are found where their old vertices were filed; the faces around a
   // snapped vertex (filed where it was, and the input's posed positions may be the mesh's own
   // positions) are all candidates.
-  auto around = detail::faces_around(editor.mesh(), editor.log(), touched, posed.first_new(), index, posed.input());
+  auto around =
+      detail::faces_around(editor.mesh(), editor.log(), touched, posed.first_new(), index, posed.input());
   if (index && !posed.moved().empty()) around.insert(around.end(), candidates.begin(), candidates.end());
   auto pinches = detail::split_pinched_vertices(editor, touched, around);
   for (const auto& [v, c] : pinches.copies) {
@@ -106,7 +107,8 @@ DrillResult run(SurfaceMesh& mesh, const std::vector<glm::vec3>& input_posed, co
   // walls after them (a wall can join the fans again), the rims following the copies.
   std::unordered_map<std::uint32_t, std::uint32_t> copy_of;  // pinch-split copy -> original (no wall)
   if (!options.wall)
-    for (const auto& [v, c] : split_pinches(editor, posed, candidates, index).copies) copy_of.emplace(c.index, v.index);
+    for (const auto& [v, c] : split_pinches(editor, posed, candidates, index).copies)
+      copy_of.emplace(c.index, v.index);
   const std::vector<drill::Rim> rims = drill::trace_rims(mesh, editor.log(), cyl, posed, candidates, copy_of);
   for (const drill::Rim& rim : rims) {
     DrillHole hole;
@@ -136,7 +138,6 @@ DrillResult run(SurfaceMesh& mesh, const std::vector<glm::vec3>& input_posed, co
 
 }  // namespace
 
-
 float min_drill_radius(const Cylinder& cylinder, int min_rim_edges) {
   const double spacing = 1e-6 * axis_scale(cylinder);  // the Driller's absolute tolerance
   const double r = spacing / (2.0 * std::sin(kPi / std::max(min_rim_edges, 3)));
@@ -153,27 +154,35 @@ DrillResult drill_mesh(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, c
   return run(mesh, posed, cylinder, options, index, unpose);
 }
 
+DrillResult drill_mesh(SurfaceMesh& mesh, const PosedMesh& posed, const Cylinder& cylinder,
+                       const DrillOptions& options) {
+  const Unposer unpose = [&posed](const SurfaceMesh& m, VertexId v, const glm::vec3& p) {
+    return posed.unpose(m, v, p);
+  };
+  return drill_mesh(mesh, posed.posed, cylinder, options, &posed.grid, posed.no_unpose ? Unposer() : unpose);
+}
+
 ModelDrillResult drill_model(Model& model, const Cylinder& cylinder, const DrillOptions& options,
-                             int animation, float time, PosedModel* index) {
+                             int animation, float time) {
   check_arguments(cylinder, options);
-  const Pose pose = sample_pose(model, animation, time);
-  const auto world = world_matrices(model, pose);
-  if (index) index->prepare(model, animation, time);
+  PosedModel posed = PosedModel::build(model, animation, time);
+  return drill_model(model, posed, cylinder, options, animation, time);
+}
+
+ModelDrillResult drill_model(Model& model, PosedModel& posed, const Cylinder& cylinder,
+                             const DrillOptions& options, int animation, float time) {
+  check_arguments(cylinder, options);
+  posed.prepare(model, animation, time);
   ModelDrillResult result;
   result.status = OpStatus::NoIntersection;
   std::vector<int> mesh_users(model.meshes.size(), 0);
   for (const auto& n : model.nodes)
     if (n.mesh >= 0 && static_cast<std::size_t>(n.mesh) < model.meshes.size()) ++mesh_users[n.mesh];
   int cut_material = -1;
-  std::vector<glm::vec3> own_posed;
   for (std::size_t ni = 0; ni < model.nodes.size(); ++ni) {
     const int mi = model.nodes[ni].mesh;
     if (mi < 0 || static_cast<std::size_t>(mi) >= model.meshes.size()) continue;
     const int node_id = static_cast<int>(ni);
-    std::vector<glm::mat4> joints;
-    if (model.nodes[ni].skin >= 0 && static_cast<std::size_t>(model.nodes[ni].skin) < model.skins.size())
-      joints = joint_matrices(model, model.nodes[ni].skin, world);
-    const glm::mat4 node_world = world.at(ni);
     // The primitives are drilled in place (no copy, no re-extraction: the cost follows the hole);
     // a mesh drawn by several instances is drilled on a copy that this instance then owns.
     const bool shared = mesh_users[mi] > 1;
@@ -183,20 +192,11 @@ ModelDrillResult drill_model(Model& model, const Cylinder& cylinder, const Drill
     bool any = false;
     for (std::size_t pi = 0; pi < target.primitives.size(); ++pi) {
       Primitive& prim = target.primitives[pi];
-      PosedMesh* inst = index ? index->find(node_id, static_cast<int>(pi)) : nullptr;
-      if (!inst) own_posed = posed_positions(model, node_id, prim.mesh, world);
-      const std::vector<glm::vec3>& posed = inst ? inst->posed : own_posed;
-      // Inverse of the vertex's blended skinning (or of the node's world matrix).
-      const Unposer unpose = [&](const SurfaceMesh& m, VertexId v, const glm::vec3& p) {
-        const SkinBlend blend(m, joints);  // per call: the drill grows the mesh between calls
-        const glm::mat4 mat = blend.skinned() ? blend.matrix(v.index) : node_world;
-        const glm::dmat4 inv = glm::inverse(glm::dmat4(mat));
-        const glm::dvec4 b = inv * glm::dvec4(glm::dvec3(p), 1.0);
-        return std::isfinite(b.x) && std::isfinite(b.y) && std::isfinite(b.z) ? glm::vec3(b) : p;
-      };
+      // prepare() made every instance.
+      PosedMesh& inst = *posed.find(node_id, static_cast<int>(pi));
       // Faces flagged before the drill (a mesh made in code) go to the wall too, as new ones do.
       const bool flagged_before = prim.mesh.face_attrs().contains(attr::kCutSurface);
-      DrillResult r = drill_mesh(prim.mesh, posed, cylinder, options, inst ? &inst->grid : nullptr, unpose);
+      DrillResult r = drill_mesh(prim.mesh, inst, cylinder, options);
       if (r.status == OpStatus::NoIntersection) continue;
       any = true;
       result.status = OpStatus::Ok;
@@ -236,14 +236,14 @@ ModelDrillResult drill_model(Model& model, const Cylinder& cylinder, const Drill
         r.log.append(editor.take_log());
       }
       prim.mesh.face_attrs().remove(attr::kCutSurface);
-      if (inst) index->follow(model, node_id, static_cast<int>(pi), prim.mesh, r.log);
+      posed.follow(model, node_id, static_cast<int>(pi), prim.mesh, r.log);
     }
     if (!any) continue;
     // Primitives the cylinder swallowed go; the walls follow the primitives.
     for (std::size_t pi = target.primitives.size(); pi-- > 0;)
       if (target.primitives[pi].mesh.face_count() == 0) {
         target.primitives.erase(target.primitives.begin() + static_cast<std::ptrdiff_t>(pi));
-        if (index) index->erase_primitive(node_id, static_cast<int>(pi));
+        posed.erase_primitive(node_id, static_cast<int>(pi));
       }
     const std::size_t first_wall = target.primitives.size();
     for (auto& w : walls) target.primitives.push_back(std::move(w));
@@ -251,7 +251,7 @@ ModelDrillResult drill_model(Model& model, const Cylinder& cylinder, const Drill
       if (--mesh_users[mi] == 0) model.meshes[mi].primitives.clear();
       model.nodes[ni].mesh = -1;
       model.nodes[ni].skin = -1;
-      if (index) index->erase_node(node_id);
+      posed.erase_node(node_id);
       continue;
     }
     const std::size_t primitives = target.primitives.size();
@@ -259,10 +259,9 @@ ModelDrillResult drill_model(Model& model, const Cylinder& cylinder, const Drill
       --mesh_users[mi];
       model.meshes.push_back(std::move(copy));
       model.nodes[ni].mesh = static_cast<int>(model.meshes.size() - 1);
-      if (index) index->rename_mesh(node_id, model.nodes[ni].mesh);
+      posed.rename_mesh(node_id, model.nodes[ni].mesh);
     }
-    if (index)
-      for (std::size_t pi = first_wall; pi < primitives; ++pi) index->add(model, node_id, static_cast<int>(pi));
+    for (std::size_t pi = first_wall; pi < primitives; ++pi) posed.add(model, node_id, static_cast<int>(pi));
   }
   return result;
 }

@@ -4,10 +4,9 @@
 // and moves, in double precision: ops/common/posed_overlay.h) and the way back to bind space for
 // new vertices. Private to the drill.
 
+#include <glm/glm.hpp>
 #include <utility>
 #include <vector>
-
-#include <glm/glm.hpp>
 
 #include "deepcut/core/mesh_editor.h"
 #include "deepcut/core/ops/drill.h"

@@ -8,6 +8,8 @@
 // on the end planes. The kept parts of the triangle (one boundary run and one rim arc each, or
 // the triangle with an elliptic hole) are triangulated and flipped to Delaunay in the plane;
 // corners get barycentric coordinates of the parent (add_face_from).
+#include "ops/drill/rim_insertion.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -15,7 +17,6 @@
 #include <unordered_set>
 
 #include "ops/drill/planar_kernel.h"
-#include "ops/drill/rim_insertion.h"
 
 namespace deepcut::drill {
 namespace {
@@ -202,7 +203,8 @@ const EdgeCut& RimInserter::edge(VertexId a, VertexId b) {
           e.steiner.emplace_back(t, v);
         }
       }
-      std::sort(e.steiner.begin(), e.steiner.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+      std::sort(e.steiner.begin(), e.steiner.end(),
+                [](const auto& x, const auto& y) { return x.first < y.first; });
     }
   }
   return e;
@@ -247,8 +249,10 @@ void RimInserter::allow_steiner(const std::vector<FaceId>& candidates) {
     for (int k = 0; k < 3; ++k) {
       const glm::dvec3 a = posed_(t[k]), b = posed_(t[(k + 1) % 3]), c = posed_(t[(k + 2) % 3]);
       const double lb = glm::length(b - a), lc = glm::length(c - a);
-      smallest = lb > 0.0 && lc > 0.0 ? std::min(smallest, std::acos(std::clamp(glm::dot(b - a, c - a) / (lb * lc), -1.0, 1.0)))
-                                      : 0.0;
+      smallest =
+          lb > 0.0 && lc > 0.0
+              ? std::min(smallest, std::acos(std::clamp(glm::dot(b - a, c - a) / (lb * lc), -1.0, 1.0)))
+              : 0.0;
     }
     const bool good = smallest >= kSteinerParentAngle;
     for (int k = 0; k < 3; ++k) {
@@ -410,7 +414,7 @@ void RimInserter::consider(const Triangle& tri, const glm::dvec3& x, bool corner
     // A ruling's point just beyond an edge the cylinder only grazes (too shallowly to be cut):
     // the rim bulges over that edge by about the tolerance, and no neighbour takes the point
     // (at a crease the ruling meets its plane beyond the edge too, and no rim crosses an uncut
-    // edge). Dropped, the hole lost a rim edge (SimpleSkin, seed 3 drill 23: 31 of 32); it is
+    // edge). Dropped, the hole would lose a rim edge (31 of 32 around the axis); it is
     // moved inside, a tolerance from the edge, when that moves it and keeps it within half a
     // percent of r (not on holes smaller than the absolute tolerance: the move would round
     // away in float and leave zero-area faces).
@@ -457,7 +461,7 @@ void RimInserter::end_corner(const Triangle& tri, double a_cap, double hh, doubl
   for (int part = 0; part < 2; ++part)
     for (double t = margin; t < hh; t *= 2.0) {
       glm::dvec2 q(a_cap, pc.b0 + sign * (hh - t));  // along the end plane's line
-      if (part == 1) {  // along the arc
+      if (part == 1) {                               // along the arc
         q.x = a_cap + toward * t;
         const double e = pc.parallel ? 0.0 : (q.x - pc.a0) / pc.ra;
         if (std::abs(e) >= 1.0) break;
@@ -516,9 +520,11 @@ void RimInserter::sample_rim(const Triangle& tri) {
     if (!(hh > 0.0)) continue;
     const double spacing = 2.0 * cyl_.r * std::sin(kPi / samples_);
     const int by_spacing = static_cast<int>(std::ceil(2.0 * hh / spacing));
-    const int by_count = std::min(samples_ - arc_rulings + 1, static_cast<int>(std::floor(4.0 * hh / spacing)));
+    const int by_count =
+        std::min(samples_ - arc_rulings + 1, static_cast<int>(std::floor(4.0 * hh / spacing)));
     const int pieces = std::min(std::max(by_spacing, by_count), 4 * samples_);
-    for (int j = 1; j < pieces; ++j) consider(tri, pc.point(a_cap, pc.b0 - hh + 2.0 * hh * j / pieces), false);
+    for (int j = 1; j < pieces; ++j)
+      consider(tri, pc.point(a_cap, pc.b0 - hh + 2.0 * hh * j / pieces), false);
   }
 }
 
@@ -573,7 +579,7 @@ void RimInserter::emit_kept_parts(FaceId f, const Triangle& tri) {
 // are larger than the rim spacing (needles from a far corner to a small hole), kept away from
 // the part's boundary so no edge of the parent triangle is split (its neighbour shares it).
 void RimInserter::refine(FlipTriangulation& ft, std::vector<glm::dvec2>& q, std::vector<LocalPoint>& pts,
-                     const std::vector<std::vector<std::uint32_t>>& loops) {
+                         const std::vector<std::vector<std::uint32_t>>& loops) {
   const double spacing = 2.0 * cyl_.r * std::sin(kPi / samples_);
   const std::size_t boundary = pts.size();
   std::vector<std::pair<std::uint32_t, std::uint32_t>> segments;
@@ -633,7 +639,7 @@ void RimInserter::refine(FlipTriangulation& ft, std::vector<glm::dvec2>& q, std:
 }
 
 void RimInserter::emit_polygon(FaceId f, const Triangle& tri, std::vector<LocalPoint>& pts,
-                           const std::vector<std::vector<std::uint32_t>>& loops) {
+                               const std::vector<std::vector<std::uint32_t>>& loops) {
   std::vector<glm::dvec2> q(pts.size());
   for (std::size_t i = 0; i < pts.size(); ++i) q[i] = pts[i].q;
   std::vector<LocalTri> tris;
@@ -647,7 +653,8 @@ void RimInserter::emit_polygon(FaceId f, const Triangle& tri, std::vector<LocalP
   }
   for (auto& lp : pts) vertex_of(tri, lp);
   for (const auto& t : tris) {
-    if (pts[t[0]].v == pts[t[1]].v || pts[t[1]].v == pts[t[2]].v || pts[t[0]].v == pts[t[2]].v) continue;  // merged tip
+    if (pts[t[0]].v == pts[t[1]].v || pts[t[1]].v == pts[t[2]].v || pts[t[0]].v == pts[t[2]].v)
+      continue;  // merged tip
     editor_.add_face_from({pts[t[0]].v, pts[t[1]].v, pts[t[2]].v}, f,
                           {glm::vec3(pts[t[0]].bary), glm::vec3(pts[t[1]].bary), glm::vec3(pts[t[2]].bary)});
     ++added_;

@@ -9,12 +9,13 @@
 
 namespace deepcut::drill {
 
-std::vector<FaceId> find_candidates(const SurfaceMesh& mesh, const CylinderFrame& cyl, const PosedOverlay& posed,
-                                    const TriangleGrid* index) {
+std::vector<FaceId> find_candidates(const SurfaceMesh& mesh, const CylinderFrame& cyl,
+                                    const PosedOverlay& posed, const TriangleGrid* index) {
   std::vector<FaceId> candidates;
   const double eps = cyl.eps;
   // Far enough to hold every face around a vertex snap_shallow_vertices may move.
-  const double reach = cyl.r + std::max(2.0 * eps, (kSnapBand + 0.01) * 2.0 * cyl.r * std::sin(kPi / cyl.samples));
+  const double reach =
+      cyl.r + std::max(2.0 * eps, (kSnapBand + 0.01) * 2.0 * cyl.r * std::sin(kPi / cyl.samples));
   auto near_axis = [&](const Triangle& t) {
     const glm::dvec3 p0 = posed(t[0]), p1 = posed(t[1]), p2 = posed(t[2]);
     const glm::dvec3 c = (p0 + p1 + p2) / 3.0;
@@ -64,7 +65,8 @@ void snap_shallow_vertices(MeshEditor& editor, const CylinderFrame& cyl, PosedOv
     const VertexId x(corners[i].first);
     const glm::dvec3 p = posed(x);
     const double sv = cyl.s(p), off = cyl.rho(p) - cyl.r;
-    if (sv < spacing || sv > cyl.len - spacing || std::abs(off) > band || std::abs(off) <= 1e-9 * cyl.r) continue;
+    if (sv < spacing || sv > cyl.len - spacing || std::abs(off) > band || std::abs(off) <= 1e-9 * cyl.r)
+      continue;
     // The crossings its edges would get near it (entering from outside, leaving from inside).
     const glm::dvec3 m = cyl.perp(p);
     int near = 0;
@@ -123,9 +125,12 @@ void snap_shallow_vertices(MeshEditor& editor, const CylinderFrame& cyl, PosedOv
     if (st < spacing || st > cyl.len - spacing) continue;
     const glm::vec3 bind = mesh.position(x);
     glm::dvec3 shift = target - p;
-    if (posed.unpose()) shift = glm::dvec3(posed.unpose()(mesh, x, glm::vec3(target))) - glm::dvec3(posed.unpose()(mesh, x, glm::vec3(p)));
+    if (posed.unpose())
+      shift = glm::dvec3(posed.unpose()(mesh, x, glm::vec3(target))) -
+              glm::dvec3(posed.unpose()(mesh, x, glm::vec3(p)));
     const glm::vec3 moved = glm::vec3(glm::dvec3(bind) + shift);
-    if (!(std::isfinite(moved.x) && std::isfinite(moved.y) && std::isfinite(moved.z)) || moved == bind) continue;
+    if (!(std::isfinite(moved.x) && std::isfinite(moved.y) && std::isfinite(moved.z)) || moved == bind)
+      continue;
     bool ok = true;
     for (std::size_t c = i; c < j && ok; ++c) {
       const Triangle& t = mesh.face(FaceId(corners[c].second));
@@ -139,10 +144,13 @@ void snap_shallow_vertices(MeshEditor& editor, const CylinderFrame& cyl, PosedOv
       for (int space = 0; space < 2 && ok; ++space) {
         const glm::dvec3* o = space == 0 ? pp : bp;
         const glm::dvec3* n = space == 0 ? pn : bn;
-        const glm::dvec3 before = glm::cross(o[1] - o[0], o[2] - o[0]), after = glm::cross(n[1] - n[0], n[2] - n[0]);
+        const glm::dvec3 before = glm::cross(o[1] - o[0], o[2] - o[0]),
+                         after = glm::cross(n[1] - n[0], n[2] - n[0]);
         const double longest =
-            std::max({glm::dot(n[1] - n[0], n[1] - n[0]), glm::dot(n[2] - n[1], n[2] - n[1]), glm::dot(n[0] - n[2], n[0] - n[2])});
-        ok = glm::length(after) > 1e-9 * longest && glm::dot(before, after) > 0.5 * glm::length(before) * glm::length(after);
+            std::max({glm::dot(n[1] - n[0], n[1] - n[0]), glm::dot(n[2] - n[1], n[2] - n[1]),
+                      glm::dot(n[0] - n[2], n[0] - n[2])});
+        ok = glm::length(after) > 1e-9 * longest &&
+             glm::dot(before, after) > 0.5 * glm::length(before) * glm::length(after);
       }
     }
     if (!ok) continue;

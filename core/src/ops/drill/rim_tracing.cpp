@@ -12,12 +12,11 @@ namespace {
 
 using RimNext = std::unordered_map<std::uint32_t, std::vector<std::uint32_t>>;  // directed rim edges
 
-
 // Rim edges are found from the topology the edits left: boundary half-edges of the new faces
 // whose ends lie on the cylinder. An edge between two old vertices is an edge of the parent
 // triangle; it is a boundary only if the face across it was removed and not replaced there.
-RimNext rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFrame& cyl, const PosedOverlay& posed,
-                  const std::vector<FaceId>& candidates,
+RimNext rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFrame& cyl,
+                  const PosedOverlay& posed, const std::vector<FaceId>& candidates,
                   const std::unordered_map<std::uint32_t, std::uint32_t>& copy_of) {
   RimNext rim_next;
   // Half-edges of the added and of the removed faces, as sorted lists (only membership matters).
@@ -54,9 +53,13 @@ RimNext rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFra
     }
   std::sort(untouched.begin(), untouched.end());
   auto consider = [&](VertexId a, VertexId b) {
-    if (!on_rim(a) || !on_rim(b) || contains(added, directed_key(b, a)) || contains(untouched, directed_key(b, a))) return;
+    if (!on_rim(a) || !on_rim(b) || contains(added, directed_key(b, a)) ||
+        contains(untouched, directed_key(b, a)))
+      return;
     const VertexId oa = base(a), ob = base(b);
-    if (oa.index < posed.first_new() && ob.index < posed.first_new() && !contains(removed, directed_key(ob, oa))) return;
+    if (oa.index < posed.first_new() && ob.index < posed.first_new() &&
+        !contains(removed, directed_key(ob, oa)))
+      return;
     rim_next[a.index].push_back(b.index);
   };
   for (const Edit& e : log.edits) {
@@ -75,7 +78,8 @@ RimNext rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFra
 // Chains the rim steps into rims: open chains first, then closed loops, each with its winding
 // around the axis.
 std::vector<Rim> chain_rims(const SurfaceMesh& mesh, const EditLog& log, const CylinderFrame& cyl,
-                            const PosedOverlay& posed, const std::vector<FaceId>& candidates, RimNext& rim_next) {
+                            const PosedOverlay& posed, const std::vector<FaceId>& candidates,
+                            RimNext& rim_next) {
   std::vector<Rim> rims;
   std::unordered_map<std::uint32_t, int> indegree;
   for (const auto& [v, next] : rim_next)
@@ -115,7 +119,7 @@ std::vector<Rim> chain_rims(const SurfaceMesh& mesh, const EditLog& log, const C
         if (next[i] == out && (found < 0 || !used[cur][i])) found = static_cast<int>(i);
       if (found >= 0) return found;
       if (out == prev) return -1;  // went all the way round
-      from = out;  // across cur->out to the face holding out->cur
+      from = out;                  // across cur->out to the face holding out->cur
     }
     return -1;
   };

@@ -1,9 +1,8 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 /// @file ops/drill.h
-/// Drill with a finite cylinder (DESIGN section 4, "Drill"). Every surface layer the solid
-/// cylinder (axis A->B, radius r) meets loses the surface inside it; the new rim lies on the
-/// cylinder. The circle is inserted into each crossed triangle in that triangle's own plane
+/// Drill with a finite cylinder. Every surface layer the solid cylinder (axis A->B, radius r)
+/// meets loses the surface inside it; the new rim lies on the cylinder. The circle is inserted into each crossed triangle in that triangle's own plane
 /// (conforming insertion: crossed edges are split once and shared, rim points inside a triangle
 /// are sampled at fixed angles around the axis, and each kept part of the triangle is
 /// re-triangulated), so holes are round however coarse the mesh is, and UVs, normals and
@@ -124,6 +123,13 @@ DrillResult drill_mesh(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, c
                        const DrillOptions& options = {}, const TriangleGrid* index = nullptr,
                        const Unposer& unpose = {});
 
+/// Drills one posed mesh in place: as above, with the posed positions, the grid and the way back
+/// to bind space of `posed` (PosedMesh::unpose; none for PosedMesh::at_positions). Update
+/// `posed` afterwards from `result.log` (PosedModel::follow) or rebuild it.
+/// @pre `posed` describes `mesh` (posed.posed.size() == mesh.vertex_count(), grid built on it).
+DrillResult drill_mesh(SurfaceMesh& mesh, const PosedMesh& posed, const Cylinder& cylinder,
+                       const DrillOptions& options = {});
+
 struct ModelDrillResult {
   OpStatus status = OpStatus::Ok;
   /// Rim vertex count of every hole, over all mesh instances.
@@ -145,12 +151,16 @@ struct ModelDrillResult {
 /// animations are kept, and new wall vertices are placed in bind space by inverting their
 /// blended skinning. Meshes shared by several instances are copied before they change; an
 /// instance the cylinder swallows whole loses its mesh (and skin) reference.
-/// @param index  optional preprocessing (posed_model.h): prepared for this pose (built when it
-///               was made for another), used for the posed positions and the candidate faces,
-///               and updated from the edit logs, so with a warm index the cost grows with the
-///               hole, not the mesh. The result is byte-identical with and without it.
+/// @param posed  the model at this pose (posed_model.h): prepared for it (rebuilt when it was
+///               made for another), used for the posed positions and the candidate faces, and
+///               updated from the edit logs, so with a warm one the cost grows with the hole,
+///               not the mesh.
 /// @throws Error{InvalidArgument} as drill_mesh, or for an animation index out of range.
+ModelDrillResult drill_model(Model& model, PosedModel& posed, const Cylinder& cylinder,
+                             const DrillOptions& options = {}, int animation = -1, float time = 0.0f);
+
+/// drill_model on a posed model built for this pose (PosedModel::build): the same result.
 ModelDrillResult drill_model(Model& model, const Cylinder& cylinder, const DrillOptions& options = {},
-                             int animation = -1, float time = 0.0f, PosedModel* index = nullptr);
+                             int animation = -1, float time = 0.0f);
 
 }  // namespace deepcut

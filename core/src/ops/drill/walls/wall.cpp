@@ -13,7 +13,6 @@ namespace {
 
 using Shells = std::unordered_map<std::uint32_t, std::vector<std::size_t>>;  // root vertex -> rims
 
-
 // Vertex groups of the connected surface sheets (union-find over the faces' corners).
 std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t x) {
   while (parent[x] != x) x = parent[x] = parent[parent[x]];
@@ -21,7 +20,8 @@ std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t x) {
 }
 
 // The rims of each connected shell, by the shell's root vertex in `parent`.
-Shells group_shells(const SurfaceMesh& mesh, const std::vector<Rim>& rims, std::vector<std::uint32_t>& parent) {
+Shells group_shells(const SurfaceMesh& mesh, const std::vector<Rim>& rims,
+                    std::vector<std::uint32_t>& parent) {
   parent.assign(mesh.vertex_count(), 0);
   for (std::uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
   mesh.for_each_face([&](FaceId, const Triangle& t) {
@@ -118,7 +118,7 @@ bool wall_shell(WallContext& ctx, const std::vector<std::size_t>& hole_ids, bool
 
 // Walls close each shell separately: its rims (which never cross each other) bound the part of
 // the cylinder's surface inside it. Rims of different shells (overlapping closed components, as
-// the cactus' arms and trunk) may cross; each shell gets its own wall.
+// a limb modelled into a body) may cross; each shell gets its own wall.
 WallResult build_drill_walls(MeshEditor& editor, const CylinderFrame& cyl, const std::vector<Rim>& rims,
                              PosedOverlay& posed, const std::vector<FaceId>& surface_faces) {
   WallResult result;

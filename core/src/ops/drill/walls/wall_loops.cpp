@@ -151,12 +151,14 @@ bool fold_loops(const std::vector<glm::dvec2>& xy, Loops& loops_to_fold,
           if (a == c || a == d || b == c || b == d) continue;
           const double d1 = orient(xy[a], xy[b], xy[c]), d2 = orient(xy[a], xy[b], xy[d]);
           const double d3 = orient(xy[c], xy[d], xy[a]), d4 = orient(xy[c], xy[d], xy[b]);
-          if (!(((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0)))) continue;
+          if (!(((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0))))
+            continue;
           found = true;
           // Steps i (a->b) and j (c->d); the lobe is b..c (positions i+1..j) or d..a (j+1..i).
           std::size_t first = i, second = j;
           if (j - i > m - (j - i)) std::swap(first, second);
-          const std::uint32_t fa = l[first], fb = l[(first + 1) % m], fc = l[second], fd = l[(second + 1) % m];
+          const std::uint32_t fa = l[first], fb = l[(first + 1) % m], fc = l[second],
+                              fd = l[(second + 1) % m];
           if (m - ((second + m - first) % m) < 3) return false;  // nothing would be left of the loop
           lobes.emplace_back(li, LocalTri{fa, fb, fc});
           lobes.emplace_back(li, LocalTri{fa, fc, fd});

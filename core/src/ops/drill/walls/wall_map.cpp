@@ -56,9 +56,12 @@ bool classify(const CylinderFrame& cy, double tol, const glm::dvec3& p, WallPt& 
   w.theta = cy.theta(p);
   w.where = 0;
   if (rho < cy.r - tol) {
-    if (std::abs(w.s) <= tol) w.where = 1;
-    else if (std::abs(w.s - cy.len) <= tol) w.where = 2;
-    else return false;  // neither on the side nor on an end disk
+    if (std::abs(w.s) <= tol)
+      w.where = 1;
+    else if (std::abs(w.s - cy.len) <= tol)
+      w.where = 2;
+    else
+      return false;  // neither on the side nor on an end disk
   } else if (std::abs(rho - cy.r) > tol || w.s < -tol || w.s > cy.len + tol) {
     return false;
   }
@@ -102,10 +105,13 @@ bool consistent(const std::vector<glm::dvec2>& xy, const Loops& ls, int& c) {
     const auto& l = ls[li];
     const std::size_t i = longest_step(xy, l);
     const std::uint32_t a = l[i], b = l[(i + 1) % l.size()];
-    const int left = winding(xy, ls, side_point(xy, a, b, 1e-6)), right = winding(xy, ls, side_point(xy, a, b, -1e-6));
+    const int left = winding(xy, ls, side_point(xy, a, b, 1e-6)),
+              right = winding(xy, ls, side_point(xy, a, b, -1e-6));
     if (left - right != 1) return false;
-    if (li == 0) c = 1 - left;
-    else if (left + c != 1) return false;
+    if (li == 0)
+      c = 1 - left;
+    else if (left + c != 1)
+      return false;
   }
   return true;
 }

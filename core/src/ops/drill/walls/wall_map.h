@@ -6,9 +6,8 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <vector>
-
 #include <glm/glm.hpp>
+#include <vector>
 
 #include "deepcut/core/surface_mesh.h"
 #include "ops/drill/cylinder_section.h"
@@ -25,9 +24,9 @@ constexpr double kWallSpan = 8.0;
 struct WallPt {
   glm::dvec3 p{0.0};  // posed, on the cylinder's surface
   double theta = 0.0, s = 0.0, rho = 0.0;
-  int where = 0;       // 0 side, 1 end disk at A, 2 end disk at B
-  bool pole = false;   // the B disk's centre when the plane map sends it to the origin
-  VertexId v;          // the vertex (rim), or invalid until a Steiner point is created
+  int where = 0;      // 0 side, 1 end disk at A, 2 end disk at B
+  bool pole = false;  // the B disk's centre when the plane map sends it to the origin
+  VertexId v;         // the vertex (rim), or invalid until a Steiner point is created
 };
 
 // z = exp(l) (cos theta, sin theta), with l = (s - base) / (r kappa) on the side, and the end

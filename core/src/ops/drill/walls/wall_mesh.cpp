@@ -15,7 +15,6 @@
 namespace deepcut::drill {
 namespace {
 
-
 VertexId wall_vertex(WallContext& ctx, VertexId a, VertexId b, float t, const glm::dvec3& p) {
   const VertexId v = ctx.editor.add_vertex_on_edge(a, b, t);
   ctx.posed.add(p);
@@ -115,7 +114,8 @@ bool emit_sheet(WallShell& shell, WallContext& ctx, const std::vector<LocalTri>&
   };
   for (const Edit& e : ctx.editor.log().edits)
     if (const auto* fa = std::get_if<FaceAdded>(&e))
-      if (!mesh.is_deleted(fa->f)) surface_tri[tri_key(fa->vertices[0], fa->vertices[1], fa->vertices[2])] = fa->f;
+      if (!mesh.is_deleted(fa->f))
+        surface_tri[tri_key(fa->vertices[0], fa->vertices[1], fa->vertices[2])] = fa->f;
   for (FaceId f : ctx.surface_faces)
     if (!mesh.is_deleted(f)) surface_tri[tri_key(mesh.face(f)[0], mesh.face(f)[1], mesh.face(f)[2])] = f;
   for (const auto& t : wall_tris) {
@@ -125,10 +125,9 @@ bool emit_sheet(WallShell& shell, WallContext& ctx, const std::vector<LocalTri>&
       ++ctx.removed;
       continue;
     }
-    const int kind = pts[t[0]].where != 0 && pts[t[0]].where == pts[t[1]].where &&
-                             pts[t[1]].where == pts[t[2]].where
-                         ? 1
-                         : 0;
+    const int kind =
+        pts[t[0]].where != 0 && pts[t[0]].where == pts[t[1]].where && pts[t[1]].where == pts[t[2]].where ? 1
+                                                                                                         : 0;
     wall_face(ctx, {pts[t[0]].v, pts[t[1]].v, pts[t[2]].v}, kind);
   }
   return true;
@@ -165,12 +164,12 @@ void finish_wall_attributes(WallContext& ctx) {
       double th[3];
       for (int k = 0; k < 3; ++k) th[k] = ctx.coords.at(t[k].index).theta;
       for (int k = 1; k < 3; ++k) th[k] = th[0] + std::remainder(th[k] - th[0], 2.0 * kPi);
-      for (int k = 0; k < 3; ++k)
-        uv[k] = {th[k] / (2.0 * kPi), ctx.coords.at(t[k].index).s / circumference};
+      for (int k = 0; k < 3; ++k) uv[k] = {th[k] / (2.0 * kPi), ctx.coords.at(t[k].index).s / circumference};
     } else {
       for (int k = 0; k < 3; ++k) {
         const glm::dvec3 q = ctx.cyl.perp(ctx.posed(t[k]));
-        uv[k] = {0.5 + 0.5 * glm::dot(q, ctx.cyl.u) / ctx.cyl.r, 0.5 + 0.5 * glm::dot(q, ctx.cyl.w) / ctx.cyl.r};
+        uv[k] = {0.5 + 0.5 * glm::dot(q, ctx.cyl.u) / ctx.cyl.r,
+                 0.5 + 0.5 * glm::dot(q, ctx.cyl.w) / ctx.cyl.r};
       }
     }
     const glm::dvec3 p0(bind[t[0].index]), p1(bind[t[1].index]), p2(bind[t[2].index]);

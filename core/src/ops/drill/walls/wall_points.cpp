@@ -58,7 +58,6 @@ double skin_change(const SurfaceMesh& mesh, VertexId a, VertexId b) {
   return 0.5 * sum;
 }
 
-
 // The wall of one closed shell is the part of the cylinder's surface (side and both end disks)
 // inside that shell, bounded by the shell's rims. The surface is mapped to one plane:
 // z = exp(l) (cos theta, sin theta), with l = (s - base) / (r kappa) on the side, and the end
@@ -113,7 +112,8 @@ std::vector<WallPt> steiner_candidates(const WallShell& shell, const Loops& loop
   };
   auto bend = [&](double sv) {  // the widest row step the skins on either side allow
     const auto it = after(sv);
-    if (it == features.begin() || it == features.end() || !it->second.valid() || !std::prev(it)->second.valid())
+    if (it == features.begin() || it == features.end() || !it->second.valid() ||
+        !std::prev(it)->second.valid())
       return kInf;
     const double change = skin_change(mesh, std::prev(it)->second, it->second);
     return change > 0.0 ? (it->first - std::prev(it)->first) / std::ceil(change / kWallBend) : kInf;
@@ -131,9 +131,10 @@ std::vector<WallPt> steiner_candidates(const WallShell& shell, const Loops& loop
   if (touches_b) rows.push_back(cy.len);
   for (std::size_t j = 0; j < rows.size(); ++j) {
     const bool end_circle = (touches_a && rows[j] == 0.0) || (touches_b && rows[j] == cy.len);
-    const int n = end_circle ? samples
-                             : std::clamp(static_cast<int>(std::lround(2.0 * kPi * cy.r / ring_spacing(rows[j]))),
-                                          fewest, samples);
+    const int n = end_circle
+                      ? samples
+                      : std::clamp(static_cast<int>(std::lround(2.0 * kPi * cy.r / ring_spacing(rows[j]))),
+                                   fewest, samples);
     for (int k = 0; k < n; ++k) {
       WallPt w;
       w.theta = std::remainder((k + (j % 2 ? 0.5 : 0.0)) * 2.0 * kPi / n, 2.0 * kPi);
@@ -149,7 +150,8 @@ std::vector<WallPt> steiner_candidates(const WallShell& shell, const Loops& loop
     for (int j = 0;; ++j) {
       const double rho = cy.r - (j + 0.5) * ring;
       if (rho < 0.5 * ring) break;
-      const int n = std::clamp(static_cast<int>(std::lround(2.0 * kPi * rho / std::max(h, ring))), 3, samples);
+      const int n =
+          std::clamp(static_cast<int>(std::lround(2.0 * kPi * rho / std::max(h, ring))), 3, samples);
       for (int k = 0; k < n; ++k) {
         WallPt w;
         w.where = end;

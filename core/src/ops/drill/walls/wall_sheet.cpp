@@ -27,7 +27,8 @@ double angle_at(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
 // map's distortion (compressed along the axis on long walls) leaves no needles. Edges with one
 // triangle (the rims) are constraints; `forbidden` says whether a new edge may not be made.
 template <class Forbidden>
-void flip_on_surface(std::vector<LocalTri>& tris, const std::vector<glm::dvec3>& p, const Forbidden& forbidden) {
+void flip_on_surface(std::vector<LocalTri>& tris, const std::vector<glm::dvec3>& p,
+                     const Forbidden& forbidden) {
   auto key = [](std::uint32_t a, std::uint32_t b) { return (std::uint64_t(a) << 32) | b; };
   std::unordered_map<std::uint64_t, std::uint32_t> half;  // directed edge -> triangle
   half.reserve(3 * tris.size());
@@ -69,7 +70,8 @@ void flip_on_surface(std::vector<LocalTri>& tris, const std::vector<glm::dvec3>&
 
 // Maps the sheet's loops over its own extent, bringing the B disk's centre in from infinity when
 // the region holds it: false when the sheet cannot be walled.
-bool map_sheet(WallShell& shell, const Loops& loops, const Segments& segments, bool open_shell, SheetExtent& extent) {
+bool map_sheet(WallShell& shell, const Loops& loops, const Segments& segments, bool open_shell,
+               SheetExtent& extent) {
   const std::vector<WallPt>& pts = shell.pts;
   const std::vector<glm::dvec2>& xy = shell.xy;
   const CylinderFrame& cy = shell.map.cy;
@@ -90,7 +92,7 @@ bool map_sheet(WallShell& shell, const Loops& loops, const Segments& segments, b
   // A shell with a boundary of its own (an open sheet, a torn part) has no inside: its rims'
   // orientation still picks a side, but a region holding an end disk's centre is then a cup out
   // to that end, or the whole cylinder but a small patch where a rim does not go around the
-  // axis (56 of them in one drill of a torn CesiumMan, 131 000 triangles). Such a shell gets
+  // axis (tens of thousands of triangles for a small hole in a torn part). Such a shell gets
   // tubes between its rims only.
   if (open_shell && (a_inside || b_inside)) return false;
   bool touches_a = a_inside, touches_b = b_inside;
@@ -159,7 +161,8 @@ bool nest_loops(const WallShell& shell, const Loops& loops, std::vector<std::siz
         if (!shared) probe = i;
       }
       if (probe == loops[hidx].size()) continue;
-      if (winding(xy, {loops[o]}, xy[loops[hidx][probe]]) != 0 && (owner == loops.size() || area[o] < area[owner]))
+      if (winding(xy, {loops[o]}, xy[loops[hidx][probe]]) != 0 &&
+          (owner == loops.size() || area[o] < area[owner]))
         owner = o;
     }
     if (owner == loops.size()) return false;
@@ -226,7 +229,8 @@ void refine_rim_needles(WallShell& shell, FlipTriangulation& ft, const std::vect
       const glm::dvec2 ab = p1 - p0, ac = p2 - p0;
       const double d = 2.0 * (ab.x * ac.y - ab.y * ac.x);
       const glm::dvec2 centre = p0 + glm::dvec2(ac.y * glm::dot(ab, ab) - ab.y * glm::dot(ac, ac),
-                                               ab.x * glm::dot(ac, ac) - ac.x * glm::dot(ab, ab)) / d;
+                                                ab.x * glm::dot(ac, ac) - ac.x * glm::dot(ab, ab)) /
+                                         d;
       if (!std::isfinite(centre.x) || !std::isfinite(centre.y)) {
         failed.insert(tri_key(t));
         continue;
@@ -264,7 +268,8 @@ bool covers_region(const std::vector<LocalTri>& sheet_tris, const Loops& region)
   for (const auto& l : region)
     for (std::size_t i = 0; i < l.size(); ++i) rim_steps.insert(key(l[i], l[(i + 1) % l.size()]));
   for (const std::uint64_t e : half)
-    if (!half.count(key(static_cast<std::uint32_t>(e), static_cast<std::uint32_t>(e >> 32))) && !rim_steps.count(e))
+    if (!half.count(key(static_cast<std::uint32_t>(e), static_cast<std::uint32_t>(e >> 32))) &&
+        !rim_steps.count(e))
       return false;
   for (const std::uint64_t e : rim_steps)
     if (!half.count(e)) return false;
@@ -274,12 +279,14 @@ bool covers_region(const std::vector<LocalTri>& sheet_tris, const Loops& region)
 // Triangulates the region of outer loop `o` and its holes with the free Steiner candidates
 // (marking those it takes), in the plane and then flipped on the cylinder: false when the
 // triangles do not cover the region exactly.
-bool triangulate_outer(WallShell& shell, const Loops& loops, std::size_t o, const std::vector<std::size_t>& holes,
-                       const std::vector<WallPt>& candidates, std::vector<std::uint8_t>& taken,
-                       const std::unordered_set<std::uint64_t>& surface_edges, std::vector<LocalTri>& sheet_tris) {
+bool triangulate_outer(WallShell& shell, const Loops& loops, std::size_t o,
+                       const std::vector<std::size_t>& holes, const std::vector<WallPt>& candidates,
+                       std::vector<std::uint8_t>& taken,
+                       const std::unordered_set<std::uint64_t>& surface_edges,
+                       std::vector<LocalTri>& sheet_tris) {
   std::vector<WallPt>& pts = shell.pts;
   const std::vector<glm::dvec2>& xy = shell.xy;
-  std::vector<glm::dvec2> local = xy;  // FlipTriangulation appends Steiner points
+  std::vector<glm::dvec2> local = xy;            // FlipTriangulation appends Steiner points
   std::vector<std::uint32_t> global(xy.size());  // local point -> pts (loop points first)
   for (std::uint32_t i = 0; i < xy.size(); ++i) global[i] = i;
   std::vector<std::vector<std::uint32_t>> holes_local;
@@ -360,13 +367,15 @@ bool wall_sheet(WallShell& shell, WallContext& ctx, const Loops& sheet_loops, in
   std::vector<std::size_t> outers;
   std::vector<std::vector<std::size_t>> holes_of;
   if (!nest_loops(shell, loops, outers, holes_of)) return false;
-  const std::vector<WallPt> candidates = steiner_candidates(shell, loops, segments, extent, ctx.editor.mesh());
+  const std::vector<WallPt> candidates =
+      steiner_candidates(shell, loops, segments, extent, ctx.editor.mesh());
   const std::unordered_set<std::uint64_t> surface = forbidden_surface_edges(ctx);
   std::vector<std::uint8_t> taken(candidates.size(), 0);
   std::vector<LocalTri> wall_tris;  // indices into shell.pts
   for (std::size_t o : outers) {
     std::vector<LocalTri> sheet_tris;
-    if (!triangulate_outer(shell, loops, o, holes_of[o], candidates, taken, surface, sheet_tris)) return false;
+    if (!triangulate_outer(shell, loops, o, holes_of[o], candidates, taken, surface, sheet_tris))
+      return false;
     wall_tris.insert(wall_tris.end(), sheet_tris.begin(), sheet_tris.end());
   }
   if (wall_tris.empty()) return false;

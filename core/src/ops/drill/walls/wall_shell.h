@@ -48,9 +48,9 @@ struct WallShell {
   std::vector<glm::dvec2> xy;         // pts in the plane (map_points)
   double s_lo = kInf, s_hi = -kInf;   // extent of the rims along the axis
   Loops rim_loops;
-  std::vector<std::size_t> loop_hole;  // the rim each loop comes from
+  std::vector<std::size_t> loop_hole;                       // the rim each loop comes from
   std::vector<std::pair<std::size_t, LocalTri>> lobe_tris;  // folds: loop, triangle (indices into pts)
-  std::vector<int> sheet;              // per loop: 0 or 1
+  std::vector<int> sheet;                                   // per loop: 0 or 1
 
   void map_points() {
     xy.clear();
@@ -70,7 +70,8 @@ struct WallShell {
 /// folded where they cross themselves, and split into sheets. False when it cannot be walled.
 bool shell_loops(WallShell& shell, const WallContext& ctx);
 /// Short-cuts loops that cross themselves; the lobes cut off go to `lobes` (loop, triangle).
-bool fold_loops(const std::vector<glm::dvec2>& xy, Loops& loops, std::vector<std::pair<std::size_t, LocalTri>>& lobes);
+bool fold_loops(const std::vector<glm::dvec2>& xy, Loops& loops,
+                std::vector<std::pair<std::size_t, LocalTri>>& lobes);
 
 // wall_points.cpp
 using Segments = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
@@ -81,8 +82,7 @@ struct SheetExtent {
 };
 /// Steiner candidates on the cylinder's surface, away from the rims (rows, rings, disk centres).
 std::vector<WallPt> steiner_candidates(const WallShell& shell, const Loops& loops, const Segments& segments,
-                                       const SheetExtent& extent,
-                                       const SurfaceMesh& mesh);
+                                       const SheetExtent& extent, const SurfaceMesh& mesh);
 
 // wall_sheet.cpp
 /// One sheet's region, triangulated and added (nothing is added when it returns false).
