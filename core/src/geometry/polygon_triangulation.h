@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// Triangulation of planar polygons with holes (ear clipping after bridging holes into their
-// outer loop). Private to core: used by cut caps and by the drill's rim faces and walls.
+// Triangulation of planar polygons with holes: holes are bridged (or spliced) into their outer
+// loop, then the weakly simple polygon is ear-clipped, best-shaped ear first. Private to core:
+// used by cut caps and by the drill's rim faces and walls. Two rules tune it (see
+// TriangulationRules); each caller keeps the rule its output was made with.
 
 #include <array>
 #include <cstdint>
@@ -13,29 +15,69 @@
 
 namespace deepcut::geometry {
 
+/// How ears are found. Both clip the best-shaped ear first (largest area over squared longest
+/// edge); an ear has positive area and no other polygon point in its closed triangle (points
+/// repeated by bridges excepted), so points on a diagonal never make T-junctions. When no ear is
+/// left (numerically degenerate input) the most convex corner is cut off, and emitted only if it
+/// has positive area.
+enum class EarSearch {
+  /// Ears wait in a priority queue; a clip re-examines its two neighbours only, and only reflex
+  /// corners are tested as blockers, exactly. Consecutive repeated points are dropped first.
+  /// O(n log n + n r) for r reflex corners.
+  kQueued,
+  /// Every corner is re-examined after each clip against every polygon point, with a tolerance of
+  /// 1e-13 times the ear's squared longest edge (for planes spanning many scales). O(n^3).
+  kExhaustive,
+};
+
+/// How a hole is joined to its outer loop.
+enum class HoleBridge {
+  /// From the hole's rightmost point to the nearest outer point whose segment crosses no edge of
+  /// the outer loop or the hole.
+  kRightmost,
+  /// A hole sharing a point with the outer loop is spliced in there; otherwise the shortest
+  /// outer-hole segment that crosses no edge of the outer loop, the hole, or the holes still to
+  /// be bridged.
+  kNearestPair,
+};
+
+struct TriangulationRules {
+  EarSearch ears = EarSearch::kQueued;
+  HoleBridge holes = HoleBridge::kRightmost;
+};
+
+/// Ear clipping of one counter-clockwise, weakly simple polygon (indices into `pts`; a bridged
+/// hole repeats two points), appending counter-clockwise triangles to `out`.
+void clip_ears(const std::vector<glm::dvec2>& pts, std::vector<std::uint32_t> poly, EarSearch search,
+               std::vector<LocalTri>& out);
+
+/// Joins a clockwise `hole` lying inside the counter-clockwise `outer` into one weakly simple
+/// polygon (the bridge is walked both ways, so its two ends appear twice). `others` are further
+/// holes the bridge must not cross (HoleBridge::kNearestPair only looks at them).
+std::vector<std::uint32_t> bridge_hole(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& outer,
+                                       const std::vector<std::uint32_t>& hole,
+                                       const std::vector<std::vector<std::uint32_t>>& others, HoleBridge rule);
+
+/// Triangulates the counter-clockwise `outer` with clockwise `holes` inside it: holes are bridged
+/// from right to left (by their largest x), then the polygon is clipped. Appends to `out`.
+void triangulate_polygon(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& outer,
+                         std::vector<std::vector<std::uint32_t>> holes, const TriangulationRules& rules,
+                         std::vector<LocalTri>& out);
+
 /// Triangulates the region bounded by `loops` (2D points, each loop a closed polygon given by
 /// indices into `points`). Loops whose signed area has the sign of `outer_sign` (+1: counter-
 /// clockwise) are outer boundaries; the others are holes, assigned to the smallest outer loop
 /// containing them. Output triangles have the orientation of the outer loops and index `points`.
 /// Degenerate input (zero-area loops, self-touching loops) is handled best-effort: no triangle
 /// is emitted twice and the output never references a point outside the loops.
-std::vector<std::array<std::uint32_t, 3>> triangulate_loops(const std::vector<glm::dvec2>& points,
-                                                             const std::vector<std::vector<std::uint32_t>>& loops,
-                                                             int outer_sign);
+std::vector<LocalTri> triangulate_loops(const std::vector<glm::dvec2>& points,
+                                        const std::vector<std::vector<std::uint32_t>>& loops, int outer_sign,
+                                        const TriangulationRules& rules = {});
 
-/// Twice the signed area of a loop (positive when counter-clockwise).
-double signed_area2(const std::vector<glm::dvec2>& points, const std::vector<std::uint32_t>& loop);
-
-/// Ear clipping of one counter-clockwise, weakly simple polygon (indices into `pts`; a bridged
-/// hole repeats two points), appending to `out`. An ear must have positive area and no other
-/// polygon point in its closed triangle (with a tolerance relative to the ear's longest edge), so
-/// points on a diagonal never make T-junctions. Best-shaped ears first, every corner re-examined
-/// after each clip.
+/// clip_ears with EarSearch::kExhaustive.
 void clip_polygon(const std::vector<glm::dvec2>& pts, std::vector<std::uint32_t> poly, std::vector<LocalTri>& out);
 
-/// Joins a clockwise `hole` lying inside the counter-clockwise `outer` into one weakly simple
-/// polygon. A hole sharing a point with `outer` is spliced in there; otherwise the bridge is the
-/// shortest outer-hole segment that crosses no edge of `outer`, `hole` or `others`.
+/// bridge_hole with HoleBridge::kNearestPair.
 std::vector<std::uint32_t> bridge(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& outer,
                                   const std::vector<std::uint32_t>& hole,
                                   const std::vector<std::vector<std::uint32_t>>& others = {});

@@ -1,11 +1,16 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// Planar predicates shared by the triangulators and the operations. Plain double arithmetic
-// (no exact fallback): callers that need tolerances scale them by their own lengths. Private
-// to core.
+// Geometric predicates shared by the triangulators and the operations: planar orientation,
+// circle, crossing and containment tests, and the few distance and angle measures the
+// operations take in 2D or 3D. Plain double arithmetic (no exact fallback): callers that need
+// tolerances scale them by their own lengths. Private to core.
 
+#include <algorithm>
 #include <array>
+#include <cmath>
+#include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -25,6 +30,73 @@ inline double incircle(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec
                cdy = c.y - d.y;
   const double ad = adx * adx + ady * ady, bd = bdx * bdx + bdy * bdy, cd = cdx * cdx + cdy * cdy;
   return adx * (bdy * cd - bd * cdy) - ady * (bdx * cd - bd * cdx) + ad * (bdx * cdy - bdy * cdx);
+}
+
+/// True when the segments a-b and c-d cross at one point interior to both: each segment has the
+/// ends of the other strictly on opposite sides. Touching, collinear overlap and shared ends are
+/// not crossings.
+inline bool segments_cross(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c, const glm::dvec2& d) {
+  const double d1 = orient(a, b, c), d2 = orient(a, b, d), d3 = orient(c, d, a), d4 = orient(c, d, b);
+  return ((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0));
+}
+
+/// Twice the signed area of a closed loop of indices into `points` (> 0 when counter-clockwise).
+inline double signed_area2(const std::vector<glm::dvec2>& points, const std::vector<std::uint32_t>& loop) {
+  double a = 0.0;
+  for (std::size_t i = 0; i < loop.size(); ++i) {
+    const auto& p = points[loop[i]];
+    const auto& q = points[loop[(i + 1) % loop.size()]];
+    a += p.x * q.y - q.x * p.y;
+  }
+  return a;
+}
+
+/// Even-odd test of `p` against a closed loop of indices into `pts` (a ray towards +x). Points
+/// on the boundary fall either way.
+inline bool point_in_loop(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& loop,
+                          const glm::dvec2& p) {
+  bool inside = false;
+  for (std::size_t i = 0, j = loop.size() - 1; i < loop.size(); j = i++) {
+    const auto& a = pts[loop[i]];
+    const auto& b = pts[loop[j]];
+    if ((a.y > p.y) != (b.y > p.y) && p.x < (b.x - a.x) * (p.y - a.y) / (b.y - a.y) + a.x) inside = !inside;
+  }
+  return inside;
+}
+
+/// Winding number of closed loops (indices into `xy`) around `p`: +1 for each counter-clockwise
+/// loop around it, -1 for each clockwise one. A point on the boundary gets the number of one side
+/// or the other.
+inline int winding(const std::vector<glm::dvec2>& xy, const std::vector<std::vector<std::uint32_t>>& loops,
+                   const glm::dvec2& p) {
+  int w = 0;
+  for (const auto& l : loops)
+    for (std::size_t i = 0; i < l.size(); ++i) {
+      const glm::dvec2 &a = xy[l[i]], &b = xy[l[(i + 1) % l.size()]];
+      if (a.y <= p.y) {
+        if (b.y > p.y && orient(a, b, p) > 0.0) ++w;
+      } else if (b.y <= p.y && orient(a, b, p) < 0.0) {
+        --w;
+      }
+    }
+  return w;
+}
+
+/// Squared distance from `p` to the segment a-b (2D or 3D); a zero-length segment is its point.
+template <glm::length_t L>
+double segment_distance2(const glm::vec<L, double>& p, const glm::vec<L, double>& a, const glm::vec<L, double>& b) {
+  const glm::vec<L, double> e = b - a;
+  const double t = std::clamp(glm::dot(p - a, e) / std::max(glm::dot(e, e), 1e-300), 0.0, 1.0);
+  const glm::vec<L, double> d = a + t * e - p;
+  return glm::dot(d, d);
+}
+
+/// Angle at `c` in the triangle (a, b, c), in radians; pi when a or b coincides with c.
+inline double angle_at(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+  const glm::dvec3 u = a - c, v = b - c;
+  const double lu = glm::length(u), lv = glm::length(v);
+  if (!(lu > 0.0) || !(lv > 0.0)) return 3.14159265358979323846;
+  return std::acos(std::clamp(glm::dot(u, v) / (lu * lv), -1.0, 1.0));
 }
 
 }  // namespace deepcut::geometry

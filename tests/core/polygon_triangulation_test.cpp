@@ -1,0 +1,300 @@
+// SPDX-License-Identifier: MIT
+#include "geometry/polygon_triangulation.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <set>
+
+#include "planar_checks.h"
+
+namespace deepcut::geometry {
+namespace {
+
+using test::check_tiling;
+using test::Loop;
+using P = glm::dvec2;
+constexpr double kTau = 6.283185307179586;
+
+// The two rule sets in use: cut caps (defaults) and the drill.
+const TriangulationRules kCap{};
+const TriangulationRules kDrill{EarSearch::kExhaustive, HoleBridge::kNearestPair};
+
+class PolygonTriangulation : public ::testing::TestWithParam<TriangulationRules> {};
+
+// Appends points, returns their loop.
+Loop add_loop(std::vector<P>& pts, const std::vector<P>& ring) {
+  Loop l;
+  for (const P& p : ring) {
+    l.push_back(static_cast<std::uint32_t>(pts.size()));
+    pts.push_back(p);
+  }
+  return l;
+}
+
+std::vector<P> square(P lo, P hi, bool ccw) {
+  std::vector<P> r = {lo, P(hi.x, lo.y), hi, P(lo.x, hi.y)};
+  if (!ccw) std::reverse(r.begin(), r.end());
+  return r;
+}
+
+std::vector<P> regular(P c, double radius, int n, bool ccw) {
+  std::vector<P> r;
+  for (int i = 0; i < n; ++i) {
+    const double a = kTau * (ccw ? i : -i) / n;
+    r.push_back(c + radius * P(std::cos(a), std::sin(a)));
+  }
+  return r;
+}
+
+std::size_t total_size(const std::vector<Loop>& loops) {
+  std::size_t n = 0;
+  for (const Loop& l : loops) n += l.size();
+  return n;
+}
+
+TEST_P(PolygonTriangulation, ConvexPolygon) {
+  std::vector<P> pts;
+  const std::vector<Loop> loops = {add_loop(pts, regular(P(0, 0), 1.0, 12, true))};
+  const auto tris = triangulate_loops(pts, loops, 1, GetParam());
+  EXPECT_EQ(check_tiling(pts, loops, tris, 1), "");
+  EXPECT_EQ(tris.size(), 10u);
+}
+
+TEST_P(PolygonTriangulation, CollinearRunsMakeNoSliverOrTJunction) {
+  // A 6 x 3 rectangle with every integer point of its boundary: long collinear runs.
+  std::vector<P> ring;
+  for (int x = 0; x < 6; ++x) ring.push_back(P(x, 0));
+  for (int y = 0; y < 3; ++y) ring.push_back(P(6, y));
+  for (int x = 6; x > 0; --x) ring.push_back(P(x, 3));
+  for (int y = 3; y > 0; --y) ring.push_back(P(0, y));
+  std::vector<P> pts;
+  const std::vector<Loop> loops = {add_loop(pts, ring)};
+  const auto tris = triangulate_loops(pts, loops, 1, GetParam());
+  EXPECT_EQ(check_tiling(pts, loops, tris, 1), "");  // includes: every triangle has positive area
+  EXPECT_EQ(tris.size(), ring.size() - 2);
+}
+
+TEST_P(PolygonTriangulation, ClockwiseInputGivesClockwiseTriangles) {
+  std::vector<P> pts;
+  const std::vector<Loop> loops = {add_loop(pts, square(P(0, 0), P(4, 4), false)),
+                                   add_loop(pts, square(P(1, 1), P(2, 2), true))};
+  const auto tris = triangulate_loops(pts, loops, -1, GetParam());
+  EXPECT_EQ(check_tiling(pts, loops, tris, -1), "");
+  EXPECT_EQ(tris.size(), total_size(loops) + 2 * 1 - 2);
+}
+
+TEST_P(PolygonTriangulation, HolesCountAndArea) {
+  // n points and h holes: n + 2h - 2 triangles.
+  std::vector<P> pts;
+  std::vector<Loop> loops = {add_loop(pts, regular(P(0, 0), 10.0, 40, true))};
+  loops.push_back(add_loop(pts, square(P(-5, -1), P(-3, 1), false)));
+  loops.push_back(add_loop(pts, regular(P(2, 3), 1.5, 9, false)));
+  loops.push_back(add_loop(pts, regular(P(2, -4), 1.0, 5, false)));
+  loops.push_back(add_loop(pts, square(P(5, -1), P(6, 1), false)));
+  const auto tris = triangulate_loops(pts, loops, 1, GetParam());
+  EXPECT_EQ(check_tiling(pts, loops, tris, 1), "");
+  EXPECT_EQ(tris.size(), total_size(loops) + 2 * 4 - 2);
+}
+
+// Any tiling of a region by its loop points has F = 2V - B - 2 chi triangles, whichever
+// diagonals it picks: V points, B loop edges, and chi = 1 - h for h holes (holes that touch at a
+// point are still apart: the point belongs to the region). Apart from each other and from the
+// outer loop, V = B = n and F = n + 2h - 2; each touching point takes one from V, two from F.
+std::size_t euler_count(std::size_t points, std::size_t loop_edges, std::size_t holes) {
+  return 2 * points + 2 * holes - loop_edges - 2;
+}
+
+TEST_P(PolygonTriangulation, TwoHolesTouchingEachOther) {
+  std::vector<P> pts;
+  const Loop outer = add_loop(pts, square(P(0, 0), P(12, 12), true));
+  const Loop a = add_loop(pts, {P(3, 4), P(3, 8), P(6, 6)});      // clockwise
+  const Loop b = {a[2], add_loop(pts, {P(9, 8)})[0], add_loop(pts, {P(9, 4)})[0]};  // (6, 6) shared
+  ASSERT_LT(signed_area2(pts, a), 0.0);
+  ASSERT_LT(signed_area2(pts, b), 0.0);
+  const std::vector<Loop> loops = {outer, a, b};
+  const auto tris = triangulate_loops(pts, loops, 1, GetParam());
+  EXPECT_EQ(check_tiling(pts, loops, tris, 1), "");
+  EXPECT_EQ(tris.size(), euler_count(9, 10, 2));
+}
+
+TEST_P(PolygonTriangulation, ZeroAreaAndShortLoopsGiveNothing) {
+  std::vector<P> pts;
+  const Loop line = add_loop(pts, {P(0, 0), P(1, 1), P(2, 2), P(3, 3)});
+  const Loop back_and_forth = {line[0], line[3], line[2]};
+  const Loop two = add_loop(pts, {P(5, 5), P(6, 5)});
+  EXPECT_TRUE(triangulate_loops(pts, {line}, 1, GetParam()).empty());
+  EXPECT_TRUE(triangulate_loops(pts, {back_and_forth}, 1, GetParam()).empty());
+  EXPECT_TRUE(triangulate_loops(pts, {two}, 1, GetParam()).empty());
+  EXPECT_TRUE(triangulate_loops(pts, {}, 1, GetParam()).empty());
+  // A loop of the wrong orientation with no outer loop around it is a hole of nothing.
+  const Loop cw = add_loop(pts, square(P(10, 10), P(11, 11), false));
+  EXPECT_TRUE(triangulate_loops(pts, {cw}, 1, GetParam()).empty());
+}
+
+TEST_P(PolygonTriangulation, RepeatedPoints) {
+  std::vector<P> pts;
+  const Loop ring = add_loop(pts, regular(P(0, 0), 3.0, 8, true));
+  Loop doubled;
+  for (std::uint32_t v : ring) {
+    doubled.push_back(v);
+    if (v % 3 == 0) doubled.push_back(v);  // some points listed twice in a row
+  }
+  doubled.push_back(ring[0]);  // and the loop closed explicitly
+  const auto tris = triangulate_loops(pts, {doubled}, 1, GetParam());
+  EXPECT_EQ(check_tiling(pts, {ring}, tris, 1), "");
+  std::set<LocalTri> unique(tris.begin(), tris.end());
+  EXPECT_EQ(unique.size(), tris.size());
+  if (GetParam().ears == EarSearch::kQueued) {
+    EXPECT_EQ(tris.size(), ring.size() - 2);  // the repeats are dropped first
+  }
+}
+
+TEST_P(PolygonTriangulation, NeedleStrip) {
+  // A strip 50 long and 1e-6 wide, with points along both long sides: every triangle is a needle.
+  std::vector<P> ring;
+  for (int i = 0; i <= 50; ++i) ring.push_back(P(i, 0));
+  for (int i = 50; i >= 0; --i) ring.push_back(P(i + 0.5, 1e-6));
+  std::vector<P> pts;
+  const std::vector<Loop> loops = {add_loop(pts, ring)};
+  const auto tris = triangulate_loops(pts, loops, 1, GetParam());
+  EXPECT_EQ(check_tiling(pts, loops, tris, 1), "");
+  EXPECT_EQ(tris.size(), ring.size() - 2);
+}
+
+TEST_P(PolygonTriangulation, NestedIslandInAHole) {
+  std::vector<P> pts;
+  const std::vector<Loop> loops = {add_loop(pts, square(P(0, 0), P(10, 10), true)),
+                                   add_loop(pts, square(P(2, 2), P(8, 8), false)),
+                                   add_loop(pts, square(P(4, 4), P(6, 6), true)),
+                                   add_loop(pts, square(P(20, 0), P(21, 1), true))};
+  const auto tris = triangulate_loops(pts, loops, 1, GetParam());
+  EXPECT_EQ(check_tiling(pts, loops, tris, 1), "");
+  EXPECT_EQ(tris.size(), (8u + 2 - 2) + 2 + 2);  // the frame, the island, the far square
+}
+
+TEST_P(PolygonTriangulation, RandomStarsWithAHole) {
+  std::mt19937 rng(2024);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int trial = 0; trial < 400; ++trial) {
+    // A star around the origin: radii in [0.6, 1], angles jittered within their sector, so
+    // every edge stays farther than 0.42 from the origin and a hole within 0.4 of it fits.
+    const int n = 8 + static_cast<int>(u(rng) * 40);
+    std::vector<P> ring;
+    for (int i = 0; i < n; ++i) {
+      const double a = kTau * (i + 0.9 * u(rng)) / n, r = 0.6 + 0.4 * u(rng);
+      ring.push_back(r * P(std::cos(a), std::sin(a)));
+    }
+    std::vector<P> pts;
+    std::vector<Loop> loops = {add_loop(pts, ring)};
+    const int holes = trial % 3 == 0 ? 0 : 1;
+    if (holes) {
+      const double a = kTau * u(rng), r = 0.3 * u(rng);
+      std::vector<P> hole = regular(r * P(std::cos(a), std::sin(a)), 0.02 + 0.07 * u(rng), 3 + trial % 12, false);
+      loops.push_back(add_loop(pts, hole));
+    }
+    const double squash = trial % 5 == 0 ? 1e-5 : 1.0;  // some become needles
+    const int sign = trial % 2 == 0 ? 1 : -1;           // mirrored: the outer loop is clockwise
+    for (auto& p : pts) p = P(sign * p.x, squash * p.y);
+    const auto tris = triangulate_loops(pts, loops, sign, GetParam());
+    EXPECT_EQ(check_tiling(pts, loops, tris, sign), "") << "trial " << trial;
+    EXPECT_EQ(tris.size(), total_size(loops) + 2 * holes - 2) << "trial " << trial;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Rules, PolygonTriangulation, ::testing::Values(kCap, kDrill),
+                         [](const ::testing::TestParamInfo<TriangulationRules>& rules) {
+                           return rules.param.ears == EarSearch::kQueued ? std::string("CapRules")
+                                                                         : std::string("DrillRules");
+                         });
+
+// The drill's rules splice a hole that touches the outer loop; the cap rules bridge it from its
+// rightmost point and are not held to this.
+TEST(PolygonTriangulationParts, HoleTouchingOuterLoopAtAVertex) {
+  std::vector<P> pts;
+  const Loop outer = add_loop(pts, {P(0, 0), P(5, 0), P(10, 0), P(10, 10), P(0, 10)});
+  Loop hole = add_loop(pts, {P(4, 3), P(6, 3)});
+  hole.push_back(outer[1]);  // clockwise: (4, 3), (6, 3), (5, 0), touching the outer loop
+  ASSERT_LT(signed_area2(pts, hole), 0.0);
+  const std::vector<Loop> loops = {outer, hole};
+  const auto tris = triangulate_loops(pts, loops, 1, kDrill);
+  EXPECT_EQ(check_tiling(pts, loops, tris, 1), "");
+  EXPECT_EQ(tris.size(), euler_count(7, 8, 1));  // 6, not the 8 of a hole apart from the outer loop
+}
+
+TEST(PolygonTriangulationParts, BridgeJoinsOnceAroundTheHole) {
+  std::vector<P> pts;
+  const Loop outer = add_loop(pts, square(P(0, 0), P(10, 10), true));
+  const Loop hole = add_loop(pts, regular(P(5, 5), 2.0, 7, false));
+  const Loop other = add_loop(pts, square(P(8, 1), P(9, 9), false));
+  for (HoleBridge rule : {HoleBridge::kRightmost, HoleBridge::kNearestPair}) {
+    const Loop joined = bridge_hole(pts, outer, hole, {other}, rule);
+    EXPECT_EQ(joined.size(), outer.size() + hole.size() + 2);
+    std::multiset<std::uint32_t> ids(joined.begin(), joined.end());
+    for (std::uint32_t v : outer) EXPECT_GE(ids.count(v), 1u);
+    for (std::uint32_t v : hole) EXPECT_GE(ids.count(v), 1u);
+    // The bridge's two ends appear twice, joined by the bridge walked both ways.
+    std::vector<std::uint32_t> twice;
+    for (std::uint32_t v : std::set<std::uint32_t>(joined.begin(), joined.end()))
+      if (ids.count(v) == 2) twice.push_back(v);
+    ASSERT_EQ(twice.size(), 2u);
+    // The bridge crosses no edge of the loops it must avoid.
+    for (const Loop* l : {&outer, &hole})
+      for (std::size_t i = 0; i < l->size(); ++i)
+        EXPECT_FALSE(segments_cross(pts[twice[0]], pts[twice[1]], pts[(*l)[i]], pts[(*l)[(i + 1) % l->size()]]));
+    if (rule == HoleBridge::kNearestPair) {
+      for (std::size_t i = 0; i < other.size(); ++i)
+        EXPECT_FALSE(segments_cross(pts[twice[0]], pts[twice[1]], pts[other[i]], pts[other[(i + 1) % other.size()]]));
+    }
+  }
+}
+
+TEST(PolygonTriangulationParts, BridgeSplicesATouchingHole) {
+  std::vector<P> pts;
+  const Loop outer = add_loop(pts, square(P(0, 0), P(10, 10), true));
+  const Loop hole = {add_loop(pts, {P(3, 2)})[0], outer[0], add_loop(pts, {P(2, 3)})[0]};
+  ASSERT_LT(signed_area2(pts, hole), 0.0);
+  const Loop spliced = bridge(pts, outer, hole);
+  EXPECT_EQ(spliced.size(), outer.size() + hole.size());
+  std::vector<LocalTri> tris;
+  clip_polygon(pts, spliced, tris);
+  EXPECT_EQ(check_tiling(pts, {outer, hole}, tris, 1), "");
+  EXPECT_EQ(tris.size(), spliced.size() - 2);
+}
+
+TEST(PolygonTriangulationParts, ClipEarsOnAComb) {
+  // A comb with 10 teeth, as both ear searches see it.
+  std::vector<P> ring = {P(0, 0), P(20, 0)};
+  for (int t = 9; t >= 0; --t) {
+    ring.push_back(P(2 * t + 2, 5));
+    ring.push_back(P(2 * t + 1, 5));
+    ring.push_back(P(2 * t + 1, 1));
+    if (t > 0) ring.push_back(P(2 * t, 1));
+  }
+  ring.push_back(P(0, 1));
+  std::vector<P> pts;
+  const Loop poly = add_loop(pts, ring);
+  ASSERT_GT(signed_area2(pts, poly), 0.0);
+  for (EarSearch search : {EarSearch::kQueued, EarSearch::kExhaustive}) {
+    std::vector<LocalTri> tris;
+    clip_ears(pts, poly, search, tris);
+    EXPECT_EQ(check_tiling(pts, {poly}, tris, 1), "");
+    EXPECT_EQ(tris.size(), ring.size() - 2);
+  }
+}
+
+TEST(PolygonTriangulationParts, TriangulateOneOuterLoopAndOneHole) {
+  std::vector<P> pts;
+  const std::vector<Loop> loops = {add_loop(pts, regular(P(0, 0), 5.0, 16, true)),
+                                   add_loop(pts, regular(P(0.5, 0), 1.0, 6, false))};
+  const auto tris = triangulate(pts, loops);
+  EXPECT_EQ(check_tiling(pts, loops, tris, 1), "");
+  EXPECT_EQ(tris.size(), 16u + 6u);
+  const auto alone = triangulate(pts, {loops[0]});
+  EXPECT_EQ(check_tiling(pts, {loops[0]}, alone, 1), "");
+}
+
+}  // namespace
+}  // namespace deepcut::geometry

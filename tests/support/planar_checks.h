@@ -1,0 +1,70 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// Invariants of a planar triangulation of polygons with holes, shared by the tests of
+// core/src/geometry (header only: the checks need the private geometry headers).
+
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "geometry/predicates.h"
+
+namespace deepcut::test {
+
+using Loop = std::vector<std::uint32_t>;
+
+/// Twice the area the loops bound, outer loops counted positive when `sign` is their orientation
+/// (+1: counter-clockwise) and holes (the opposite orientation) negative.
+inline double region_area2(const std::vector<glm::dvec2>& pts, const std::vector<Loop>& loops, int sign) {
+  double a = 0.0;
+  for (const Loop& l : loops) a += sign * geometry::signed_area2(pts, l);
+  return a;
+}
+
+/// Empty when `tris` tiles the region bounded by `loops` (outer loops oriented by `sign`, holes
+/// the other way): every triangle has the loops' orientation and positive area, no directed edge
+/// is used twice, every loop edge is a triangle edge (so no T-junction on the boundary), every
+/// other edge is shared by two triangles, and the areas agree to `area_tol` (relative). With
+/// `new_points`, triangles may use points that are on no loop (inserted Steiner points).
+inline std::string check_tiling(const std::vector<glm::dvec2>& pts, const std::vector<Loop>& loops,
+                                const std::vector<geometry::LocalTri>& tris, int sign, bool new_points = false,
+                                double area_tol = 1e-9) {
+  std::ostringstream err;
+  std::set<std::uint32_t> on_loops;
+  std::set<std::pair<std::uint32_t, std::uint32_t>> boundary;
+  for (const Loop& l : loops)
+    for (std::size_t i = 0; i < l.size(); ++i) {
+      on_loops.insert(l[i]);
+      const std::uint32_t a = l[i], b = l[(i + 1) % l.size()];
+      if (a != b) boundary.insert({a, b});
+    }
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> used;
+  double area = 0.0;
+  for (std::size_t t = 0; t < tris.size(); ++t) {
+    const auto& tri = tris[t];
+    for (std::uint32_t v : tri)
+      if (v >= pts.size() || (!new_points && !on_loops.count(v))) err << "triangle " << t << " uses point " << v << "; ";
+    if (!err.str().empty()) return err.str();
+    const double o = sign * geometry::orient(pts[tri[0]], pts[tri[1]], pts[tri[2]]);
+    if (!(o > 0.0)) err << "triangle " << t << " has area " << o << "; ";
+    area += o;
+    for (int k = 0; k < 3; ++k) ++used[{tri[k], tri[(k + 1) % 3]}];
+  }
+  for (const auto& [e, n] : used) {
+    if (n > 1) err << "edge " << e.first << "-" << e.second << " used " << n << " times; ";
+    if (!boundary.count(e) && !used.count({e.second, e.first}))
+      err << "edge " << e.first << "-" << e.second << " is on no loop and has one triangle; ";
+  }
+  for (const auto& e : boundary)
+    if (!used.count(e)) err << "loop edge " << e.first << "-" << e.second << " is no triangle edge; ";
+  const double want = region_area2(pts, loops, sign);
+  if (std::abs(area - want) > area_tol * std::abs(want)) err << "area " << area << " != " << want << "; ";
+  return err.str();
+}
+
+}  // namespace deepcut::test
