@@ -12,13 +12,17 @@
 
 namespace deepcut::drill {
 
+using geometry::angle_at;
 using geometry::bridge;
 using geometry::clip_polygon;
 using geometry::FlipTriangulation;
 using geometry::LocalTri;
 using geometry::orient;
+using geometry::segment_distance2;
+using geometry::segments_cross;
 using geometry::signed_area2;
 using geometry::triangulate;
+using geometry::winding;
 
 /// `x` wrapped to [0, 2 pi).
 inline double wrap_2pi(double x) {

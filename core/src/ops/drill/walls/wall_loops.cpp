@@ -88,9 +88,7 @@ bool split_sheets(WallShell& shell) {
       const auto [a, b] = all_segments[i];
       const auto [c, d] = all_segments[j];
       if (a == c || a == d || b == c || b == d) continue;
-      const double d1 = orient(xy[a], xy[b], xy[c]), d2 = orient(xy[a], xy[b], xy[d]);
-      const double d3 = orient(xy[c], xy[d], xy[a]), d4 = orient(xy[c], xy[d], xy[b]);
-      if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0))) {
+      if (segments_cross(xy[a], xy[b], xy[c], xy[d])) {
         if (seg_loop[i] == seg_loop[j]) return false;  // a loop crossing itself
         crossing[seg_loop[i]].push_back(seg_loop[j]);
         crossing[seg_loop[j]].push_back(seg_loop[i]);
@@ -149,10 +147,7 @@ bool fold_loops(const std::vector<glm::dvec2>& xy, Loops& loops_to_fold,
           if ((j + 1) % m == i) continue;
           const std::uint32_t a = l[i], b = l[(i + 1) % m], c = l[j], d = l[(j + 1) % m];
           if (a == c || a == d || b == c || b == d) continue;
-          const double d1 = orient(xy[a], xy[b], xy[c]), d2 = orient(xy[a], xy[b], xy[d]);
-          const double d3 = orient(xy[c], xy[d], xy[a]), d4 = orient(xy[c], xy[d], xy[b]);
-          if (!(((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0))))
-            continue;
+          if (!segments_cross(xy[a], xy[b], xy[c], xy[d])) continue;
           found = true;
           // Steps i (a->b) and j (c->d); the lobe is b..c (positions i+1..j) or d..a (j+1..i).
           std::size_t first = i, second = j;

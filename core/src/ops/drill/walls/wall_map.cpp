@@ -68,20 +68,6 @@ bool classify(const CylinderFrame& cy, double tol, const glm::dvec3& p, WallPt& 
   return true;
 }
 
-int winding(const std::vector<glm::dvec2>& xy, const Loops& loops, const glm::dvec2& p) {
-  int w = 0;
-  for (const auto& l : loops)
-    for (std::size_t i = 0; i < l.size(); ++i) {
-      const glm::dvec2 &a = xy[l[i]], &b = xy[l[(i + 1) % l.size()]];
-      if (a.y <= p.y) {
-        if (b.y > p.y && orient(a, b, p) > 0.0) ++w;
-      } else if (b.y <= p.y && orient(a, b, p) < 0.0) {
-        --w;
-      }
-    }
-  return w;
-}
-
 glm::dvec2 side_point(const std::vector<glm::dvec2>& xy, std::uint32_t a, std::uint32_t b, double offset) {
   const glm::dvec2 e = xy[b] - xy[a];
   return 0.5 * (xy[a] + xy[b]) + offset * glm::dvec2(-e.y, e.x);

@@ -51,8 +51,6 @@ struct WallMap {
 /// (within `tol`).
 bool classify(const CylinderFrame& cy, double tol, const glm::dvec3& p, WallPt& w);
 
-/// Winding number of closed loops (indices into `xy`) around `p`.
-int winding(const std::vector<glm::dvec2>& xy, const Loops& loops, const glm::dvec2& p);
 /// A point beside the step a->b: `offset` times its length to the left (negative: right).
 glm::dvec2 side_point(const std::vector<glm::dvec2>& xy, std::uint32_t a, std::uint32_t b, double offset);
 /// The longest step of a loop (its index).

@@ -22,13 +22,6 @@ constexpr double kWallBend = 0.125;
 constexpr double kWallRows = 256.0;
 constexpr double kWallRings = 24.0;
 
-double segment_distance2(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b) {
-  const glm::dvec3 e = b - a;
-  const double t = std::clamp(glm::dot(p - a, e) / std::max(glm::dot(e, e), 1e-300), 0.0, 1.0);
-  const glm::dvec3 d = a + t * e - p;
-  return glm::dot(d, d);
-}
-
 // How far apart two vertices' skins are: half the L1 distance of their joint weights (0 for the
 // same influences, 1 for disjoint ones; 0 without a skin).
 double skin_change(const SurfaceMesh& mesh, VertexId a, VertexId b) {

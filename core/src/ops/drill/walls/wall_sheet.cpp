@@ -14,14 +14,6 @@ namespace {
 
 constexpr double kWallNeedle = 6.0 * kPi / 180.0;  // wall triangles at a rim refined below this angle
 
-// Angle at `c` in the triangle (a, b, c), in 3D.
-double angle_at(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
-  const glm::dvec3 u = a - c, v = b - c;
-  const double lu = glm::length(u), lv = glm::length(v);
-  if (!(lu > 0.0) || !(lv > 0.0)) return kPi;
-  return std::acos(std::clamp(glm::dot(u, v) / (lu * lv), -1.0, 1.0));
-}
-
 // Lawson flips on a curved surface (the cylinder): an interior edge whose opposite angles sum
 // to more than pi is flipped when the two new triangles keep the orientation, so the plane
 // map's distortion (compressed along the axis on long walls) leaves no needles. Edges with one
@@ -116,12 +108,8 @@ bool map_sheet(WallShell& shell, const Loops& loops, const Segments& segments, b
         if (winding(xy, loops, z) + c != 0) continue;
         const double e2 = glm::dot(xy[b] - xy[a], xy[b] - xy[a]);
         bool clear = true;
-        for (const auto& [u, v] : segments) {
-          const glm::dvec2 e = xy[v] - xy[u];
-          const double t = std::clamp(glm::dot(z - xy[u], e) / std::max(glm::dot(e, e), 1e-300), 0.0, 1.0);
-          const glm::dvec2 q = xy[u] + t * e - z;
-          if (glm::dot(q, q) < 0.25 * offset * offset * e2) clear = false;
-        }
+        for (const auto& [u, v] : segments)
+          if (segment_distance2(z, xy[u], xy[v]) < 0.25 * offset * offset * e2) clear = false;
         if (!clear) continue;
         shell.map.z0 = z;
         found = true;
