@@ -3,8 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <utility>
 
+#include "deepcut/core/errors.h"
 #include "deepcut/core/parallel.h"
 #include "deepcut/core/skinning.h"
 
@@ -82,6 +84,9 @@ glm::vec3 PosedMesh::unpose(const SurfaceMesh& surface, VertexId v, const glm::v
 }
 
 PosedMesh PosedMesh::at_positions(const SurfaceMesh& surface, std::vector<glm::vec3> posed) {
+  if (!posed.empty() && posed.size() != surface.vertex_count())
+    throw Error(ErrorCode::InvalidArgument, std::to_string(posed.size()) + " posed positions for " +
+                                                std::to_string(surface.vertex_count()) + " vertices");
   PosedMesh inst;
   inst.posed = posed.empty() ? surface.positions() : std::move(posed);
   inst.linear.assign(inst.posed.size(), glm::mat3(1.0f));

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -75,31 +77,11 @@ void expect_asset_drill_hits_and_walls(const Model& model, const Cylinder& cyl, 
 
 }  // namespace
 
-// The posed-mesh overload is the positions-and-grid one: the same edits, bit for bit.
-TEST(DrillTest, drilling_a_posed_mesh_equals_drilling_its_positions_and_grid) {
-  for (const bool wall : {false, true}) {
-    SurfaceMesh a = test::make_tube(24, 12, 1.0f, 4.0f), b = a;
-    DrillOptions options;
-    options.wall = wall;
-    const Cylinder c{{-2.0f, 2.1f, 0.1f}, {2.0f, 1.9f, -0.1f}, 0.4f};
-    const TriangleGrid grid = TriangleGrid::build(a, a.positions());
-    const DrillResult ra = drill_mesh(a, a.positions(), c, options, &grid);
-    const DrillResult rb = drill_mesh(b, PosedMesh::at_positions(b), c, options);
-    ASSERT_EQ(ra.status, OpStatus::Ok);
-    EXPECT_EQ(rb.status, ra.status);
-    EXPECT_EQ(a.positions(), b.positions());
-    EXPECT_EQ(a.faces(), b.faces());
-    EXPECT_EQ(ra.log.size(), rb.log.size());
-    EXPECT_EQ(ra.added_posed, rb.added_posed);
-    EXPECT_EQ(ra.holes.size(), rb.holes.size());
-  }
-}
-
 TEST(DrillTest, small_hole_inside_one_big_triangle_is_round) {
   SurfaceMesh mesh = test::make_grid(1, 1);  // two triangles
   Cylinder c{{0.7f, 0.3f, -1.0f}, {0.7f, 0.3f, 1.0f}, 0.05f};
   check_drill(mesh, c, {}, 2, false);
-  const DrillResult r = drill_mesh(mesh, mesh.positions(), c);
+  const DrillResult r = drill_mesh(mesh, PosedMesh::at_positions(mesh), c);
   ASSERT_EQ(r.status, OpStatus::Ok);
   ASSERT_EQ(r.holes.size(), 1u);
   EXPECT_TRUE(r.holes[0].closed);
@@ -122,7 +104,7 @@ TEST(DrillTest, hole_across_edges_and_seam_splits_each_edge_once) {
   }
   SurfaceMesh mesh = grid;
   const Cylinder slanted{{0.4f, 0.45f, -1}, {0.6f, 0.5f, 1}, 0.2f};
-  const DrillResult r = drill_mesh(mesh, mesh.positions(), slanted);
+  const DrillResult r = drill_mesh(mesh, PosedMesh::at_positions(mesh), slanted);
   // Vertices on edges: one per crossing (on the cylinder), and the Steiner points graded away
   // from the crossings on the kept parts (well outside it).
   const Axis ax(slanted);
@@ -138,19 +120,19 @@ TEST(DrillTest, hole_across_edges_and_seam_splits_each_edge_once) {
 TEST(DrillTest, rejects_bad_cylinders_and_misses_leave_the_mesh_untouched) {
   const SurfaceMesh tube = test::make_tube(16, 4);
   SurfaceMesh mesh = tube;
-  EXPECT_THROW(drill_mesh(mesh, mesh.positions(), Cylinder{{0, 1, -2}, {0, 1, 2}, 0.0f}), Error);
-  EXPECT_THROW(drill_mesh(mesh, mesh.positions(), Cylinder{{0, 1, -2}, {0, 1, 2}, -0.1f}), Error);
-  EXPECT_THROW(drill_mesh(mesh, mesh.positions(), Cylinder{{0, 1, 2}, {0, 1, 2}, 0.1f}), Error);
-  EXPECT_THROW(drill_mesh(mesh, mesh.positions(), Cylinder{{0, NAN, -2}, {0, 1, 2}, 0.1f}), Error);
-  EXPECT_THROW(drill_mesh(mesh, mesh.positions(), Cylinder{{0, 1, -2}, {0, 1, 2}, NAN}), Error);
+  EXPECT_THROW(drill_mesh(mesh, PosedMesh::at_positions(mesh), Cylinder{{0, 1, -2}, {0, 1, 2}, 0.0f}), Error);
+  EXPECT_THROW(drill_mesh(mesh, PosedMesh::at_positions(mesh), Cylinder{{0, 1, -2}, {0, 1, 2}, -0.1f}), Error);
+  EXPECT_THROW(drill_mesh(mesh, PosedMesh::at_positions(mesh), Cylinder{{0, 1, 2}, {0, 1, 2}, 0.1f}), Error);
+  EXPECT_THROW(drill_mesh(mesh, PosedMesh::at_positions(mesh), Cylinder{{0, NAN, -2}, {0, 1, 2}, 0.1f}), Error);
+  EXPECT_THROW(drill_mesh(mesh, PosedMesh::at_positions(mesh), Cylinder{{0, 1, -2}, {0, 1, 2}, NAN}), Error);
   DrillOptions few;
   few.min_rim_edges = 2;
-  EXPECT_THROW(drill_mesh(mesh, mesh.positions(), Cylinder{{0, 1, -2}, {0, 1, 2}, 0.1f}, few), Error);
-  EXPECT_THROW(drill_mesh(mesh, std::vector<glm::vec3>(3), Cylinder{{0, 1, -2}, {0, 1, 2}, 0.1f}), Error);
+  EXPECT_THROW(drill_mesh(mesh, PosedMesh::at_positions(mesh), Cylinder{{0, 1, -2}, {0, 1, 2}, 0.1f}, few), Error);
+  EXPECT_THROW(drill_mesh(mesh, PosedMesh::at_positions(mesh, std::vector<glm::vec3>(3)), Cylinder{{0, 1, -2}, {0, 1, 2}, 0.1f}), Error);
   for (const Cylinder& c : {Cylinder{{5, 1, -2}, {5, 1, 2}, 0.5f}, Cylinder{{0, 1, -5}, {0, 1, -3}, 0.5f},
                             Cylinder{{0, 1, -0.5f}, {0, 1, 0.5f}, 0.2f}}) {  // the last lies inside
     SurfaceMesh m = tube;
-    const DrillResult r = drill_mesh(m, m.positions(), c);
+    const DrillResult r = drill_mesh(m, PosedMesh::at_positions(m), c);
     EXPECT_EQ(r.status, OpStatus::NoIntersection);
     EXPECT_TRUE(r.log.empty());
     EXPECT_EQ(m.faces(), tube.faces());
@@ -216,7 +198,7 @@ TEST(DrillTest, an_open_shell_gets_tubes_between_its_rims_but_no_cup) {
   options.wall = true;
   // An open sheet: one rim around the axis, nothing to join it to.
   SurfaceMesh sheet = test::make_grid(8, 8);
-  const DrillResult cup = drill_mesh(sheet, sheet.positions(), Cylinder{{0.47f, 0.52f, -1}, {0.47f, 0.52f, 1}, 0.1f}, options);
+  const DrillResult cup = drill_mesh(sheet, PosedMesh::at_positions(sheet), Cylinder{{0.47f, 0.52f, -1}, {0.47f, 0.52f, 1}, 0.1f}, options);
   ASSERT_EQ(cup.status, OpStatus::Ok);
   ASSERT_EQ(cup.holes.size(), 1u);
   EXPECT_FALSE(cup.holes[0].walled);
@@ -231,7 +213,7 @@ TEST(DrillTest, an_open_shell_gets_tubes_between_its_rims_but_no_cup) {
   const Adjacency before = Adjacency::build(torn);
   ASSERT_EQ(before.boundary_edges().size(), 3u);
   SurfaceMesh mesh = torn;
-  const DrillResult tube = drill_mesh(mesh, mesh.positions(), Cylinder{{0, 1, -3}, {0, 1, 3}, 0.3f}, options);
+  const DrillResult tube = drill_mesh(mesh, PosedMesh::at_positions(mesh), Cylinder{{0, 1, -3}, {0, 1, 3}, 0.3f}, options);
   ASSERT_EQ(tube.holes.size(), 2u);
   for (const DrillHole& h : tube.holes) EXPECT_TRUE(h.walled);
   EXPECT_GT(tube.wall_triangles, 0u);
@@ -258,7 +240,7 @@ TEST(DrillTest, a_rim_crossing_itself_where_the_surface_does_is_walled) {
     DrillOptions options;
     options.wall = true;
     options.min_rim_edges = rim_edges;
-    const DrillResult r = drill_mesh(mesh, mesh.positions(), c, options);
+    const DrillResult r = drill_mesh(mesh, PosedMesh::at_positions(mesh), c, options);
     ASSERT_EQ(r.status, OpStatus::Ok);
     ASSERT_FALSE(r.holes.empty());
     for (const DrillHole& h : r.holes) EXPECT_TRUE(h.walled);
@@ -286,7 +268,7 @@ TEST(DrillTest, blind_hole_and_start_inside_get_a_disk) {
   EXPECT_TRUE(k.all_walled);
   EXPECT_EQ(k.round_holes, 1u);
   SurfaceMesh mesh = tube;
-  const DrillResult r = drill_mesh(mesh, mesh.positions(), blind, options);
+  const DrillResult r = drill_mesh(mesh, PosedMesh::at_positions(mesh), blind, options);
   ASSERT_EQ(r.holes.size(), 1u);
   for (VertexId v : r.holes[0].rim)
     EXPECT_LT(mesh.position(v).z, -0.9f) << "only the wall before B is drilled";
@@ -308,7 +290,7 @@ TEST(DrillTest, coarse_fox_gets_a_round_hole_with_uvs_inside_the_islands_it_cros
     const Checked k = check_drill(input, c, {}, joints, false);
     EXPECT_GE(k.round_holes, 1u);
     SurfaceMesh mesh = input;
-    const DrillResult r = drill_mesh(mesh, mesh.positions(), c);
+    const DrillResult r = drill_mesh(mesh, PosedMesh::at_positions(mesh), c);
     ASSERT_EQ(r.status, OpStatus::Ok);
     for (const DrillHole& h : r.holes) {
       if (h.closed && std::abs(h.winding) == 1) {
@@ -360,7 +342,7 @@ TEST(DrillTest, overlapping_holes_and_a_cut_rim_merge_into_one_boundary) {
   SurfaceMesh mesh = grid;
   Adjacency adj = Adjacency::build(mesh);
   for (const Cylinder& c : {first, second}) {
-    const DrillResult r = drill_mesh(mesh, mesh.positions(), c);
+    const DrillResult r = drill_mesh(mesh, PosedMesh::at_positions(mesh), c);
     ASSERT_EQ(r.status, OpStatus::Ok);
     adj.apply(r.log);
   }
@@ -387,7 +369,7 @@ TEST(DrillTest, overlapping_holes_and_a_cut_rim_merge_into_one_boundary) {
   SurfaceMesh cut = grid;
   Adjacency cadj = Adjacency::build(cut);
   cadj.apply(cut_mesh(cut, cut.positions(), Plane{{0.5f, 0, 0}, {1, 0.1f, 0}}).log);
-  const DrillResult r = drill_mesh(cut, cut.positions(), first);
+  const DrillResult r = drill_mesh(cut, PosedMesh::at_positions(cut), first);
   ASSERT_EQ(r.status, OpStatus::Ok);
   cadj.apply(r.log);
   test::expect_adjacency_matches_rebuild(cadj, cut);
@@ -407,7 +389,7 @@ TEST(DrillTest, overlapping_holes_and_a_cut_rim_merge_into_one_boundary) {
   tadj.apply(tr.log);
   ASSERT_EQ(boundary_components(tadj), 2u) << "the border and the slit";
   const Cylinder across{{0.5f, 0.5f, -1}, {0.5f, 0.5f, 1}, 0.1f};
-  const DrillResult tdr = drill_mesh(torn, torn.positions(), across);
+  const DrillResult tdr = drill_mesh(torn, PosedMesh::at_positions(torn), across);
   ASSERT_EQ(tdr.status, OpStatus::Ok);
   tadj.apply(tdr.log);
   test::expect_adjacency_matches_rebuild(tadj, torn);
@@ -439,7 +421,7 @@ TEST(DrillTest, walled_holes_that_overlap_merge_and_stay_closed) {
     if (::testing::Test::HasFatalFailure()) return;
     ASSERT_TRUE(k.intersected);
     EXPECT_TRUE(k.all_walled);
-    drill_mesh(mesh, mesh.positions(), c, options);
+    drill_mesh(mesh, PosedMesh::at_positions(mesh), c, options);
   }
   const EdgeCensus c = census(mesh);
   EXPECT_EQ(c.boundary, 0u);
@@ -488,7 +470,7 @@ TEST(DrillTest, posed_drill_puts_rims_and_walls_on_the_cylinder_in_that_pose) {
   for (const auto& p : wall_posed) EXPECT_NEAR(ax.rho(p), ax.r, 0.01 * ax.r);
   // The same axis in the bind pose would miss the bent part: the pose matters.
   SurfaceMesh bind = test::make_skinned_tube_model().meshes[0].primitives[0].mesh;
-  EXPECT_EQ(drill_mesh(bind, bind.positions(), c).status, OpStatus::NoIntersection);
+  EXPECT_EQ(drill_mesh(bind, PosedMesh::at_positions(bind), c).status, OpStatus::NoIntersection);
 }
 
 TEST(DrillTest, a_cylinder_that_swallows_an_instance_leaves_no_empty_mesh) {
@@ -586,7 +568,7 @@ TEST(DrillTest, incremental_adjacency_follows_a_random_sequence) {
       c.radius *= 0.5f;
       DrillOptions options;
       options.wall = i % 3 == 0;
-      const DrillResult r = drill_mesh(mesh, posed, c, options, &grid);
+      const DrillResult r = drill_mesh(mesh, PosedMesh::at_positions(mesh, posed), c, options);
       // Vertices snapped onto the cylinder move (posed == bind here), then new ones join.
       for (const auto& m : r.moved) {
         EXPECT_LE(glm::length(m.posed - mesh.position(m.v)), 1e-5f * (1.0f + glm::length(m.posed)));
@@ -631,13 +613,12 @@ TEST(DrillTest, rim_through_a_saddle_vertex_leaves_no_pinched_vertex) {
                                 mesh.add_vertex({0, -1, -1})};
       for (int k = 0; k < 4; ++k) mesh.add_face(v, ring[k], ring[(k + 1) % 4]);
       const std::vector<glm::vec3> posed = mesh.positions();
-      const TriangleGrid grid = TriangleGrid::build(mesh, posed);
       Adjacency adj = Adjacency::build(mesh);
       DrillOptions options;
       options.wall = wall;
       // Axis along x at height 0.6, radius 0.6: the cylinder's side touches z = 0 along the x axis.
-      const DrillResult r = drill_mesh(mesh, posed, Cylinder{{-2, 0, 0.6f}, {2, 0, 0.6f}, 0.6f}, options,
-                                       indexed ? &grid : nullptr);
+      const DrillResult r =
+          drill_mesh(mesh, PosedMesh::at_positions(mesh, posed), Cylinder{{-2, 0, 0.6f}, {2, 0, 0.6f}, 0.6f}, options);
       ASSERT_EQ(r.status, OpStatus::Ok);
       adj.apply(r.log);
       test::expect_adjacency_matches_rebuild(adj, mesh);
@@ -723,7 +704,8 @@ TEST(DrillTest, a_hole_inside_a_needle_makes_no_zero_area_face) {
     // x = 0.3, where both edges' crossings round to y = 1.
     DrillOptions options;
     options.wall = wall;
-    const DrillResult r = drill_mesh(mesh, posed, Cylinder{{0.2f, 1, -1}, {0.2f, 1, 1}, 0.1f}, options);
+    const DrillResult r =
+        drill_mesh(mesh, PosedMesh::at_positions(mesh, posed), Cylinder{{0.2f, 1, -1}, {0.2f, 1, 1}, 0.1f}, options);
     ASSERT_EQ(r.status, OpStatus::Ok);
     adj.apply(r.log);
     test::expect_adjacency_matches_rebuild(adj, mesh);
@@ -751,11 +733,10 @@ TEST(DrillTest, a_rim_across_a_needle_makes_no_zero_area_face) {
     SCOPED_TRACE(indexed ? "indexed" : "scan");
     SurfaceMesh mesh = test::make_needle_fan();  // X (0,1,0); far corners at x = 1
     const std::vector<glm::vec3> posed = mesh.positions();
-    const TriangleGrid grid = TriangleGrid::build(mesh, posed);
     Adjacency adj = Adjacency::build(mesh);
     // Axis along z through (1.3, 1): the circle of radius 0.9 crosses the needle at x = 0.4.
     const DrillResult r =
-        drill_mesh(mesh, posed, Cylinder{{1.3f, 1, -1}, {1.3f, 1, 1}, 0.9f}, {}, indexed ? &grid : nullptr);
+        drill_mesh(mesh, PosedMesh::at_positions(mesh, posed), Cylinder{{1.3f, 1, -1}, {1.3f, 1, 1}, 0.9f});
     ASSERT_EQ(r.status, OpStatus::Ok);
     adj.apply(r.log);
     test::expect_adjacency_matches_rebuild(adj, mesh);
@@ -795,10 +776,9 @@ TEST(DrillTest, an_old_boundary_edge_at_a_split_vertex_is_not_rim) {
     const auto old_boundary = before.boundary_edges();
     ASSERT_TRUE(std::binary_search(old_boundary.begin(), old_boundary.end(), make_edge(v, w)));
     const std::vector<glm::vec3> posed = mesh.positions();
-    const TriangleGrid grid = TriangleGrid::build(mesh, posed);
     const std::uint32_t old_count = static_cast<std::uint32_t>(mesh.vertex_count());
     const DrillResult r =
-        drill_mesh(mesh, posed, Cylinder{{-2, 0, 0.6f}, {2, 0, 0.6f}, 0.6f}, {}, indexed ? &grid : nullptr);
+        drill_mesh(mesh, PosedMesh::at_positions(mesh, posed), Cylinder{{-2, 0, 0.6f}, {2, 0, 0.6f}, 0.6f});
     ASSERT_EQ(r.status, OpStatus::Ok);
     test::expect_valid(mesh);
     std::map<std::uint32_t, std::uint32_t> original;
@@ -862,9 +842,10 @@ TEST(DrillTest, a_vertex_just_inside_the_cylinder_becomes_a_rim_vertex) {
     c.a = glm::vec3(0.5f, 0.5f, -1.0f) + 0.99f * r * toward + offset;
     c.b = glm::vec3(0.5f, 0.5f, 1.0f) + 0.99f * r * toward + offset;
     c.radius = r;
-    const Unposer unpose = [&](const SurfaceMesh&, VertexId, const glm::vec3& p) { return p - offset; };
-    const TriangleGrid grid = TriangleGrid::build(mesh, posed);
-    const DrillResult res = drill_mesh(mesh, posed, c, DrillOptions{}, indexed ? &grid : nullptr, unpose);
+    PosedMesh at = PosedMesh::at_positions(mesh, posed);
+    at.world = glm::translate(glm::mat4(1.0f), offset);  // new vertices go back by -offset
+    at.no_unpose = false;
+    const DrillResult res = drill_mesh(mesh, at, c, DrillOptions{});
     ASSERT_EQ(res.status, OpStatus::Ok);
     // No needle there: the faces with a corner within a rim spacing of where the vertex was keep
     // at least 10 degrees (without the snap: two crossings a hair apart, faces under 1.5).
@@ -917,7 +898,7 @@ TEST(DrillTest, a_border_vertex_just_inside_the_cylinder_stays) {
   // leave the circle within 1% of r of X (half a rim spacing is 0.02).
   const glm::vec3 toward(std::cos(1.75f * static_cast<float>(kPi)), std::sin(1.75f * static_cast<float>(kPi)), 0.0f);
   Cylinder c{glm::vec3(0.0f, 0.0f, -1.0f) + 0.99f * r * toward, glm::vec3(0.0f, 0.0f, 1.0f) + 0.99f * r * toward, r};
-  const DrillResult res = drill_mesh(mesh, mesh.positions(), c);
+  const DrillResult res = drill_mesh(mesh, PosedMesh::at_positions(mesh), c);
   ASSERT_EQ(res.status, OpStatus::Ok);
   for (const auto& m : res.moved) {
     EXPECT_NE(m.v, x) << "the border vertex was slid";
@@ -951,13 +932,13 @@ TEST(DrillTest, a_rim_finer_than_float_precision_is_refused) {
   for (const float radius : {3.1e-7f, 1e-6f, 2e-6f}) {
     c.radius = radius;
     SurfaceMesh copy = mesh;
-    EXPECT_THROW(drill_mesh(copy, copy.positions(), c, options), Error) << "radius " << radius;
+    EXPECT_THROW(drill_mesh(copy, PosedMesh::at_positions(copy), c, options), Error) << "radius " << radius;
     EXPECT_EQ(copy.faces(), mesh.faces());
   }
   const double scale = glm::length(glm::dvec3(c.a)) + glm::length(glm::dvec3(c.b)) + 2e-5;
   c.radius = static_cast<float>(2.0 * 1e-6 * scale / (2.0 * std::sin(kPi / 48)));
   SurfaceMesh copy = mesh;
-  const DrillResult r = drill_mesh(copy, copy.positions(), c, options);
+  const DrillResult r = drill_mesh(copy, PosedMesh::at_positions(copy), c, options);
   ASSERT_EQ(r.status, OpStatus::Ok);
   for (const Edit& e : r.log.edits)
     if (const auto* fa = std::get_if<FaceAdded>(&e)) {
@@ -981,7 +962,7 @@ TEST(DrillTest, holes_in_a_coarse_quad_leave_few_needles) {
     const float x = along(rng), r = radius(rng), y = i % 2 ? 1.0f - x : x;  // on either diagonal
     const std::size_t faces = mesh.face_slots(), vertices = mesh.vertex_count();
     const Cylinder c{{x, y, -1}, {x, y, 1}, r};
-    const DrillResult d = drill_mesh(mesh, mesh.positions(), c);
+    const DrillResult d = drill_mesh(mesh, PosedMesh::at_positions(mesh), c);
     ASSERT_EQ(d.status, OpStatus::Ok);
     test::expect_valid(mesh, 2);
     mesh.for_each_face([&](FaceId f, const Triangle& t) {

@@ -86,7 +86,7 @@ Walled wall(SurfaceMesh mesh, const Cylinder& cylinder, std::vector<drill::Rim> 
   DrillOptions options;
   options.min_rim_edges = kSides;
   const drill::CylinderFrame cyl = drill::CylinderFrame::make(cylinder, options);
-  drill::PosedOverlay overlay(posed, Unposer{});
+  drill::PosedOverlay overlay(posed, drill::Unposer{});
   MeshEditor editor(mesh);
   out.result = drill::build_drill_walls(editor, cyl, rims, overlay, faces);
   out.mesh = std::move(mesh);

@@ -102,7 +102,7 @@ void run_sequence(SurfaceMesh& mesh, unsigned seed, int steps, SequenceCounts& c
         c.radius = 0.02f * size;
         DrillOptions options;
         options.wall = step % 2 == 0;
-        DrillResult r = drill_mesh(mesh, posed, c, options);
+        DrillResult r = drill_mesh(mesh, PosedMesh::at_positions(mesh, posed), c, options);
         status = r.status;
         log = std::move(r.log);
         ++counts.drills;

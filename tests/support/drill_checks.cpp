@@ -121,16 +121,14 @@ double min_angle(const SurfaceMesh& mesh, const Triangle& t) {
 
 // All the invariants of one mesh-level drill on bind positions (posed == bind).
 void check_drill_into(Checked& out, const SurfaceMesh& input, const Cylinder& cyl,
-                      const DrillOptions& options, std::size_t joints, bool use_index) {
+                      const DrillOptions& options, std::size_t joints, [[maybe_unused]] bool use_index) {
   SurfaceMesh mesh = input;
   const Adjacency before = Adjacency::build(input);
   const bool closed = before.boundary_edges().empty() && before.nonmanifold_edges().empty();
   const Axis ax(cyl);
   const double tol = 2.0 * options.relative_tolerance * cyl.radius +
                      1e-5 * (glm::length(cyl.a) + glm::length(cyl.b) + ax.len);
-  TriangleGrid grid;
-  if (use_index) grid = TriangleGrid::build(mesh, mesh.positions());
-  const DrillResult r = drill_mesh(mesh, mesh.positions(), cyl, options, use_index ? &grid : nullptr);
+  const DrillResult r = drill_mesh(mesh, PosedMesh::at_positions(mesh), cyl, options);
   if (r.status == OpStatus::NoIntersection) {
     EXPECT_TRUE(r.log.empty());
     EXPECT_EQ(mesh.faces(), input.faces());

@@ -43,7 +43,8 @@ struct Checked {
 };
 
 /// All the invariants of one mesh-level drill of a copy of `input` on bind positions (posed ==
-/// bind), with gtest assertions; `use_index` drills through a spatial index.
+/// bind), with gtest assertions. `use_index` is ignored: every drill goes through the posed
+/// mesh's grid (PosedMesh::at_positions).
 void check_drill_into(Checked& out, const SurfaceMesh& input, const Cylinder& cyl,
                       const DrillOptions& options, std::size_t joints, bool use_index);
 Checked check_drill(const SurfaceMesh& input, const Cylinder& cyl, const DrillOptions& options,

@@ -55,6 +55,7 @@ struct PosedMesh {
   /// `surface` posed at `posed` (its own positions when empty; one per vertex otherwise), with
   /// bounds and grid, identity linear maps and no unposing: a mesh an operation edits where it
   /// is drawn. O(vertices + faces).
+  /// @throws Error{InvalidArgument} when `posed` is not empty and not one per vertex.
   static PosedMesh at_positions(const SurfaceMesh& surface, std::vector<glm::vec3> posed = {});
 };
 

@@ -70,14 +70,14 @@ void check_arguments(const Cylinder& c, const DrillOptions& options) {
 // Splits the vertices where a rim pinches the surface (a vertex joining two fans: one vertex
 // each); the copies' posed positions go to `posed`.
 detail::PinchSplits split_pinches(MeshEditor& editor, drill::PosedOverlay& posed,
-                                  const std::vector<FaceId>& candidates, const TriangleGrid* index) {
+                                  const std::vector<FaceId>& candidates, const TriangleGrid& index) {
   const auto touched = detail::edited_vertices(editor.log());
-  // With the index, faces are found where their old vertices were filed; the faces around a
-  // snapped vertex (filed where it was, and the input's posed positions may be the mesh's own
-  // positions) are all candidates.
+  // Faces are found where their old vertices were filed in the grid; the faces around a snapped
+  // vertex (filed where it was, and the input's posed positions may be the mesh's own positions)
+  // are all candidates.
   auto around =
-      detail::faces_around(editor.mesh(), editor.log(), touched, posed.first_new(), index, posed.input());
-  if (index && !posed.moved().empty()) around.insert(around.end(), candidates.begin(), candidates.end());
+      detail::faces_around(editor.mesh(), editor.log(), touched, posed.first_new(), &index, posed.input());
+  if (!posed.moved().empty()) around.insert(around.end(), candidates.begin(), candidates.end());
   auto pinches = detail::split_pinched_vertices(editor, touched, around);
   for (const auto& [v, c] : pinches.copies) {
     (void)c;
@@ -87,7 +87,7 @@ detail::PinchSplits split_pinches(MeshEditor& editor, drill::PosedOverlay& posed
 }
 
 DrillResult run(SurfaceMesh& mesh, const std::vector<glm::vec3>& input_posed, const Cylinder& cylinder,
-                const DrillOptions& options, const TriangleGrid* index, const Unposer& unpose) {
+                const DrillOptions& options, const TriangleGrid& index, const drill::Unposer& unpose) {
   const drill::CylinderFrame cyl = drill::CylinderFrame::make(cylinder, options);
   MeshEditor editor(mesh);
   drill::PosedOverlay posed(input_posed, unpose);
@@ -144,22 +144,17 @@ float min_drill_radius(const Cylinder& cylinder, int min_rim_edges) {
   return std::nextafter(static_cast<float>(r), std::numeric_limits<float>::infinity());
 }
 
-DrillResult drill_mesh(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const Cylinder& cylinder,
-                       const DrillOptions& options, const TriangleGrid* index, const Unposer& unpose) {
-  check_arguments(cylinder, options);
-  if (posed.size() != mesh.vertex_count())
-    throw Error(ErrorCode::InvalidArgument, "drill: " + std::to_string(posed.size()) +
-                                                " posed positions for " +
-                                                std::to_string(mesh.vertex_count()) + " vertices");
-  return run(mesh, posed, cylinder, options, index, unpose);
-}
-
 DrillResult drill_mesh(SurfaceMesh& mesh, const PosedMesh& posed, const Cylinder& cylinder,
                        const DrillOptions& options) {
-  const Unposer unpose = [&posed](const SurfaceMesh& m, VertexId v, const glm::vec3& p) {
+  check_arguments(cylinder, options);
+  if (posed.posed.size() != mesh.vertex_count())
+    throw Error(ErrorCode::InvalidArgument, "drill: " + std::to_string(posed.posed.size()) +
+                                                " posed positions for " +
+                                                std::to_string(mesh.vertex_count()) + " vertices");
+  const drill::Unposer unpose = [&posed](const SurfaceMesh& m, VertexId v, const glm::vec3& p) {
     return posed.unpose(m, v, p);
   };
-  return drill_mesh(mesh, posed.posed, cylinder, options, &posed.grid, posed.no_unpose ? Unposer() : unpose);
+  return run(mesh, posed.posed, cylinder, options, posed.grid, posed.no_unpose ? drill::Unposer() : unpose);
 }
 
 ModelDrillResult drill_model(Model& model, const Cylinder& cylinder, const DrillOptions& options,

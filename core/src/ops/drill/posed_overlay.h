@@ -4,6 +4,7 @@
 // and moves, in double precision: ops/common/posed_overlay.h) and the way back to bind space for
 // new vertices. Private to the drill.
 
+#include <functional>
 #include <glm/glm.hpp>
 #include <utility>
 #include <vector>
@@ -13,6 +14,9 @@
 #include "ops/common/posed_overlay.h"
 
 namespace deepcut::drill {
+
+/// Maps the posed position of a new vertex back to bind space (its skin weights already set).
+using Unposer = std::function<glm::vec3(const SurfaceMesh& mesh, VertexId v, const glm::vec3& posed)>;
 
 class PosedOverlay : public detail::PosedOverlay<glm::dvec3> {
  public:

@@ -38,9 +38,9 @@ struct RimInsertion {
 };
 
 /// Faces near the cylinder (far enough to hold every face around a vertex
-/// snap_shallow_vertices may move), in processing order: from `index` when given, else a scan.
+/// snap_shallow_vertices may move), in processing order, found in the grid over the posed mesh.
 std::vector<FaceId> find_candidates(const SurfaceMesh& mesh, const CylinderFrame& cyl,
-                                    const PosedOverlay& posed, const TriangleGrid* index);
+                                    const PosedOverlay& posed, const TriangleGrid& index);
 
 /// Slides old vertices lying a hair from the cylinder's side onto it (VertexMoved edits; their
 /// new posed positions go to `posed`).

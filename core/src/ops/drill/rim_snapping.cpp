@@ -10,7 +10,7 @@
 namespace deepcut::drill {
 
 std::vector<FaceId> find_candidates(const SurfaceMesh& mesh, const CylinderFrame& cyl,
-                                    const PosedOverlay& posed, const TriangleGrid* index) {
+                                    const PosedOverlay& posed, const TriangleGrid& index) {
   std::vector<FaceId> candidates;
   const double eps = cyl.eps;
   // Far enough to hold every face around a vertex snap_shallow_vertices may move.
@@ -25,16 +25,10 @@ std::vector<FaceId> find_candidates(const SurfaceMesh& mesh, const CylinderFrame
     const glm::dvec3 closest = cyl.a + sv * cyl.d;
     return glm::length(c - closest) <= reach + rad;
   };
-  if (index) {
-    for (FaceId f : index->query_capsule(glm::vec3(cyl.a), glm::vec3(cyl.a + cyl.len * cyl.d),
-                                         static_cast<float>(reach)))
-      if (f.index < mesh.face_slots() && !mesh.is_deleted(f) && near_axis(mesh.face(f)))
-        candidates.push_back(f);
-  } else {
-    mesh.for_each_face([&](FaceId f, const Triangle& t) {
-      if (near_axis(t)) candidates.push_back(f);
-    });
-  }
+  for (FaceId f :
+       index.query_capsule(glm::vec3(cyl.a), glm::vec3(cyl.a + cyl.len * cyl.d), static_cast<float>(reach)))
+    if (f.index < mesh.face_slots() && !mesh.is_deleted(f) && near_axis(mesh.face(f)))
+      candidates.push_back(f);
   return candidates;
 }
 

@@ -9,7 +9,6 @@
 /// colours are interpolated in each triangle's own parameterisation. Predicates run on the posed
 /// positions; the edits are applied to the bind-space mesh (as for Cut).
 
-#include <functional>
 #include <vector>
 
 #include "deepcut/core/edit_log.h"
@@ -80,10 +79,6 @@ struct DrillResult {
   EditLog log;
 };
 
-/// Maps the posed position of a new wall vertex back to bind space. The vertex's skin weights
-/// (blended from the rims) are already set when it is called.
-using Unposer = std::function<glm::vec3(const SurfaceMesh& mesh, VertexId v, const glm::vec3& posed)>;
-
 /// The smallest radius drill_mesh and drill_model accept for these axis end points and rim
 /// edges: rim points must lie farther apart than the drill's absolute tolerance (1e-6 of the
 /// axis' coordinates, a few float steps), or their float positions round onto one point or line.
@@ -91,15 +86,14 @@ float min_drill_radius(const Cylinder& cylinder, int min_rim_edges);
 
 /// Drills one mesh in place.
 /// @param mesh      triangle mesh, edited through MeshEditor.
-/// @param posed     one world position per vertex of `mesh` (pass `mesh.positions()` for the
-///                  bind pose).
+/// @param posed     `mesh` posed (posed_model.h): its world positions, the grid over them (the
+///                  cost grows with the hole, not the mesh), and the way back to bind space for
+///                  new vertices (PosedMesh::unpose; none for PosedMesh::at_positions, the bind
+///                  pose or positions given as they are). Update it afterwards from
+///                  `result.log` (PosedModel::follow), or rebuild it.
 /// @param cylinder  axis end points and radius, world space.
 /// @param options   see DrillOptions (defaults: 32 rim edges, no wall, tolerance 2e-3 r).
-/// @param index     optional grid over `posed` (TriangleGrid::build(mesh, posed)); with it the
-///                  cost grows with the hole, not the mesh. Update it afterwards with
-///                  `index.apply(result.log, posed_with_added)`.
-/// @param unpose    places new wall vertices in bind space; empty means posed == bind.
-/// @pre posed.size() == mesh.vertex_count(); `index`, when given, was built on `posed`.
+/// @pre posed.posed.size() == mesh.vertex_count(), and its grid was built on those positions.
 /// @throws Error{InvalidArgument} for a radius <= 0 or under min_drill_radius, A == B, non-finite
 ///         input, fewer than 3 rim edges, a negative tolerance or a size mismatch.
 /// @returns NoIntersection (mesh untouched, log empty) when no surface lies inside the cylinder.
@@ -119,14 +113,6 @@ float min_drill_radius(const Cylinder& cylinder, int min_rim_edges);
 ///       (`DrillHole::walled`), nor do the rims of a sheet whose wall cannot be triangulated
 ///       exactly (rare: two rims touching at a vertex on the cylinder); those stay open, never
 ///       walled with a crack. Non-manifold edges are split like any other.
-DrillResult drill_mesh(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const Cylinder& cylinder,
-                       const DrillOptions& options = {}, const TriangleGrid* index = nullptr,
-                       const Unposer& unpose = {});
-
-/// Drills one posed mesh in place: as above, with the posed positions, the grid and the way back
-/// to bind space of `posed` (PosedMesh::unpose; none for PosedMesh::at_positions). Update
-/// `posed` afterwards from `result.log` (PosedModel::follow) or rebuild it.
-/// @pre `posed` describes `mesh` (posed.posed.size() == mesh.vertex_count(), grid built on it).
 DrillResult drill_mesh(SurfaceMesh& mesh, const PosedMesh& posed, const Cylinder& cylinder,
                        const DrillOptions& options = {});
 
