@@ -69,7 +69,7 @@ int run_operation(const OperationCommand& command, const std::vector<std::string
         },
         preprocess_ms);
   const OperationResult result =
-      run_timed([&] { return apply_operation(model, op, posed ? &*posed : nullptr); }, ms);
+      run_timed([&] { return posed ? apply_operation(model, op, *posed) : apply_operation(model, op); }, ms);
   json report = operation_report(model, op, result);
   if (posed) report["preprocess_ms"] = preprocess_ms;
   if (report.contains("wall_note") && !args.flag("--json"))

@@ -20,7 +20,7 @@ double ms_since(std::chrono::steady_clock::time_point start) {
 void run_entry(Model& model, OperationEntry& entry, PosedModel* posed) {
   entry.error.clear();
   try {
-    entry.status = apply_operation(model, entry.operation, posed).status;
+    entry.status = (posed ? apply_operation(model, entry.operation, *posed) : apply_operation(model, entry.operation)).status;
   } catch (const Error& e) {
     entry.status = OpStatus::Ok;
     entry.error = e.what();
@@ -86,7 +86,7 @@ Applied Session::apply(const Operation& op) {
   // leaves both as they were; a failure leaves it for a rebuild).
   PosedModel* posed = posed_for(current_);
   Applied applied;
-  applied.result = apply_operation(*result, op, posed);
+  applied.result = apply_operation(*result, op, *posed);
   applied.ms = ms_since(start);
   if (applied.result.status != OpStatus::Ok) {
     posed_state_ = current_;
@@ -118,7 +118,7 @@ std::vector<Applied> Session::apply_history(const History& history, const std::s
     PosedModel* posed = posed_for(state);
     Applied applied;
     try {
-      applied.result = apply_operation(*next, history.operations[i], posed);
+      applied.result = apply_operation(*next, history.operations[i], *posed);
     } catch (const Error& e) {
       throw Error(e.code(), source + ": operation " + std::to_string(i) + ": " + e.what());
     }

@@ -2,7 +2,11 @@
 #include "deepcut/core/posed_model.h"
 
 #include <algorithm>
+#include <cmath>
+#include <string>
+#include <utility>
 
+#include "deepcut/core/errors.h"
 #include "deepcut/core/parallel.h"
 #include "deepcut/core/skinning.h"
 
@@ -71,6 +75,26 @@ void reserve_for_operations(Model& model) {
     }
 }
 
+glm::vec3 PosedMesh::unpose(const SurfaceMesh& surface, VertexId v, const glm::vec3& p) const {
+  const SkinBlend blend(surface, joints);  // per call: an operation grows the mesh between calls
+  const glm::mat4 mat = blend.skinned() ? blend.matrix(v.index) : world;
+  const glm::dmat4 inv = glm::inverse(glm::dmat4(mat));
+  const glm::dvec4 b = inv * glm::dvec4(glm::dvec3(p), 1.0);
+  return std::isfinite(b.x) && std::isfinite(b.y) && std::isfinite(b.z) ? glm::vec3(b) : p;
+}
+
+PosedMesh PosedMesh::at_positions(const SurfaceMesh& surface, std::vector<glm::vec3> posed) {
+  if (!posed.empty() && posed.size() != surface.vertex_count())
+    throw Error(ErrorCode::InvalidArgument, std::to_string(posed.size()) + " posed positions for " +
+                                                std::to_string(surface.vertex_count()) + " vertices");
+  PosedMesh inst;
+  inst.posed = posed.empty() ? surface.positions() : std::move(posed);
+  inst.bounds = bounds_of(inst.posed);
+  inst.grid = TriangleGrid::build(surface, inst.posed);
+  inst.no_unpose = true;
+  return inst;
+}
+
 PosedModel PosedModel::build(const Model& model, int animation, float time) {
   PosedModel index;
   index.world_ = world_matrices(model, sample_pose(model, animation, time));
@@ -119,6 +143,8 @@ PosedMesh PosedModel::make_instance(const Model& model, int node, int primitive)
   });
   inst.bounds = bounds_of(inst.posed);
   inst.grid = TriangleGrid::build(mesh, inst.posed);
+  inst.world = world_.at(static_cast<std::size_t>(node));
+  inst.joints = joints_of(model, node);
   return inst;
 }
 
@@ -166,14 +192,6 @@ const PosedMesh* PosedModel::find(int node, int primitive) const {
 
 void PosedModel::follow(const Model&, int node, int primitive, const SurfaceMesh& mesh, const EditLog& log) {
   if (PosedMesh* inst = find(node, primitive)) inst->follow(mesh, log);
-}
-
-PosedMesh PosedMesh::at_rest(const SurfaceMesh& surface) {
-  PosedMesh inst;
-  inst.posed = surface.positions();
-  inst.bounds = bounds_of(inst.posed);
-  inst.grid = TriangleGrid::build(surface, inst.posed);
-  return inst;
 }
 
 void PosedMesh::follow(const SurfaceMesh& surface, const EditLog& log) {

@@ -161,12 +161,16 @@ void bm_drill_ours(benchmark::State& state, std::size_t triangles, float radius 
   const Input& in = input(triangles);
   const TriangleGrid& grid = grid_for(triangles);
   const Cylinder cyl = drill_cylinder(in, radius);
+  PosedMesh posed;  // the input at bind pose, with its prebuilt grid
+  posed.posed = in.mesh.positions();
+  posed.grid = grid;
+  posed.no_unpose = true;
   std::size_t touched = 0;
   for (auto _ : state) {
     state.PauseTiming();
     auto [mesh, adjacency] = session_copy(in);
     state.ResumeTiming();
-    DrillResult r = drill_mesh(mesh, mesh.positions(), cyl, {}, &grid);
+    DrillResult r = drill_mesh(mesh, posed, cyl, {});
     adjacency.apply(r.log);
     benchmark::DoNotOptimize(r.log.size());
     touched = r.triangles_removed;
@@ -283,7 +287,8 @@ void bm_drill_model(benchmark::State& state, std::size_t triangles, bool indexed
   options.wall = wall;
   std::size_t touched = 0;
   time_on_session_model(state, triangles, indexed, [&](Model& model, PosedModel* index) {
-    const ModelDrillResult r = drill_model(model, cyl, options, -1, 0.0f, index);
+    const ModelDrillResult r =
+        index ? drill_model(model, *index, cyl, options, -1, 0.0f) : drill_model(model, cyl, options, -1, 0.0f);
     benchmark::DoNotOptimize(r.triangles_added);
     touched = r.triangles_removed;
   });

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -19,6 +21,7 @@
 #include "deepcut/core/skinning.h"
 #include "deepcut/core/spatial_index.h"
 #include "deepcut/core/validate.h"
+#include "drill_checks.h"
 #include "fixtures.h"
 #include "tools.h"
 
@@ -27,97 +30,14 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-struct Axis {
-  glm::dvec3 a, d;
-  double len, r;
-  explicit Axis(const Cylinder& c)
-      : a(c.a), len(glm::length(glm::dvec3(c.b) - glm::dvec3(c.a))), r(c.radius) {
-    d = (glm::dvec3(c.b) - a) / len;
-  }
-  double s(const glm::vec3& p) const { return glm::dot(glm::dvec3(p) - a, d); }
-  double rho(const glm::vec3& p) const {
-    const glm::dvec3 q = glm::dvec3(p) - a;
-    return glm::length(q - glm::dot(q, d) * d);
-  }
-};
-
-struct EdgeCensus {
-  std::size_t boundary = 0, inconsistent = 0;
-};
-EdgeCensus census(const SurfaceMesh& mesh) {
-  std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
-  mesh.for_each_face([&](FaceId, const Triangle& t) {
-    for (int k = 0; k < 3; ++k) ++directed[{t[k].index, t[(k + 1) % 3].index}];
-  });
-  EdgeCensus c;
-  for (const auto& [e, n] : directed) {
-    if (n > 1) ++c.inconsistent;
-    if (!directed.count({e.second, e.first})) ++c.boundary;
-  }
-  return c;
-}
-
-// Signed volume of the solid inside the finite cylinder, integrated along lines parallel to the
-// axis (winding number of each point, so overlapping closed components count like the signed
-// volume of the mesh does): `rings` x 4 `rings` lines over the disk, the midpoint rule.
-double drilled_volume(const SurfaceMesh& mesh, const Cylinder& c, int rings) {
-  const Axis ax(c);
-  const glm::dvec3 helper = std::abs(ax.d.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
-  const glm::dvec3 u = glm::normalize(glm::cross(helper, ax.d)), w = glm::cross(ax.d, u);
-  const int sectors = 4 * rings;
-  // Faces whose shadow meets the disk, bucketed on a grid over it.
-  const int cells = 32;
-  std::vector<std::vector<FaceId>> grid(cells * cells);
-  auto cell_of = [&](double x) { return std::clamp(static_cast<int>((x / ax.r + 1.0) * 0.5 * cells), 0, cells - 1); };
-  mesh.for_each_face([&](FaceId f, const Triangle& t) {
-    double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
-    for (VertexId v : t) {
-      const glm::dvec3 q = glm::dvec3(mesh.position(v)) - ax.a;
-      const double x[2] = {glm::dot(q, u), glm::dot(q, w)};
-      for (int k = 0; k < 2; ++k) lo[k] = std::min(lo[k], x[k]), hi[k] = std::max(hi[k], x[k]);
-    }
-    if (lo[0] > ax.r || lo[1] > ax.r || hi[0] < -ax.r || hi[1] < -ax.r) return;
-    for (int i = cell_of(lo[0]); i <= cell_of(hi[0]); ++i)
-      for (int j = cell_of(lo[1]); j <= cell_of(hi[1]); ++j) grid[i * cells + j].push_back(f);
-  });
-  double volume = 0.0;
-  for (int i = 0; i < rings; ++i) {
-    const double r0 = ax.r * i / rings, r1 = ax.r * (i + 1) / rings, rm = 0.5 * (r0 + r1);
-    const double cell = 0.5 * (r1 * r1 - r0 * r0) * 2.0 * kPi / sectors;
-    for (int j = 0; j < sectors; ++j) {
-      const double th = 2.0 * kPi * (j + 0.5) / sectors;
-      const double x = rm * std::cos(th), y = rm * std::sin(th);
-      const glm::dvec3 o = ax.a + x * u + y * w;
-      std::vector<std::pair<double, int>> hits;  // s, winding change
-      for (FaceId f : grid[cell_of(x) * cells + cell_of(y)]) {
-        const Triangle& t = mesh.face(f);
-        const glm::dvec3 p0(mesh.position(t[0])), p1(mesh.position(t[1])), p2(mesh.position(t[2]));
-        const glm::dvec3 e1 = p1 - p0, e2 = p2 - p0, pv = glm::cross(ax.d, e2);
-        const double det = glm::dot(e1, pv);
-        if (std::abs(det) < 1e-300) continue;
-        const glm::dvec3 tv = o - p0;
-        const double bu = glm::dot(tv, pv) / det;
-        if (bu < 0.0 || bu > 1.0) continue;
-        const glm::dvec3 qv = glm::cross(tv, e1);
-        const double bv = glm::dot(ax.d, qv) / det;
-        if (bv < 0.0 || bu + bv > 1.0) continue;
-        const double sv = glm::dot(e2, qv) / det;
-        hits.emplace_back(sv, glm::dot(glm::cross(e1, e2), ax.d) < 0.0 ? 1 : -1);
-      }
-      std::sort(hits.begin(), hits.end());
-      int winding = 0;
-      double prev = -1e300;
-      for (const auto& [sv, change] : hits) {
-        const double lo = std::max(prev, 0.0), hi = std::min(sv, ax.len);
-        if (hi > lo) volume += winding * (hi - lo) * cell;
-        winding += change;
-        prev = sv;
-      }
-      if (prev < ax.len) volume += winding * (ax.len - std::max(prev, 0.0)) * cell;
-    }
-  }
-  return volume;
-}
+using test::Axis;
+using test::census;
+using test::check_asset_drill;
+using test::check_drill;
+using test::Checked;
+using test::drilled_volume;
+using test::EdgeCensus;
+using test::min_angle;
 
 // An axis through a random point of the box; with `finite`, A and B at random distances from
 // that point (often inside the model: blind holes, holes starting inside, notches at the ends).
@@ -137,243 +57,6 @@ Cylinder random_through_drill(const BoundingBox& box, std::mt19937& rng, bool fi
   c.b = p + dir * size * (finite ? 0.05f + 0.6f * u01(rng) : 1.0f);
   c.radius = size * (0.01f + 0.14f * u01(rng));
   return c;
-}
-
-// Smallest angle of a triangle, degrees.
-double min_angle(const SurfaceMesh& mesh, const Triangle& t) {
-  double best = 180.0;
-  for (int k = 0; k < 3; ++k) {
-    const glm::dvec3 c(mesh.position(t[k])), a(mesh.position(t[(k + 1) % 3])), b(mesh.position(t[(k + 2) % 3]));
-    const double la = glm::length(a - c), lb = glm::length(b - c);
-    if (!(la > 0.0) || !(lb > 0.0)) return 0.0;
-    best = std::min(best, std::acos(std::clamp(glm::dot(a - c, b - c) / (la * lb), -1.0, 1.0)) * 180.0 / kPi);
-  }
-  return best;
-}
-
-struct Checked {
-  // New triangles, and those under 5 degrees: surface ones whose parent was not itself thin
-  // (under 10 degrees), and wall ones.
-  std::size_t surface = 0, surface_thin = 0, wall = 0, wall_thin = 0, degenerate = 0;
-  bool intersected = false;
-  bool all_walled = false;
-  std::size_t round_holes = 0, d_holes = 0;  // holes the axis crosses: on the side, across an end plane
-};
-
-// All the invariants of one mesh-level drill on bind positions (posed == bind).
-void check_drill_into(Checked& out, const SurfaceMesh& input, const Cylinder& cyl,
-                      const DrillOptions& options, std::size_t joints, bool use_index) {
-  SurfaceMesh mesh = input;
-  const Adjacency before = Adjacency::build(input);
-  const bool closed = before.boundary_edges().empty() && before.nonmanifold_edges().empty();
-  const Axis ax(cyl);
-  const double tol = 2.0 * options.relative_tolerance * cyl.radius +
-                     1e-5 * (glm::length(cyl.a) + glm::length(cyl.b) + ax.len);
-  TriangleGrid grid;
-  if (use_index) grid = TriangleGrid::build(mesh, mesh.positions());
-  const DrillResult r = drill_mesh(mesh, mesh.positions(), cyl, options, use_index ? &grid : nullptr);
-  if (r.status == OpStatus::NoIntersection) {
-    EXPECT_TRUE(r.log.empty());
-    EXPECT_EQ(mesh.faces(), input.faces());
-    return;
-  }
-  out.intersected = true;
-  char cyl_text[200];
-  std::snprintf(cyl_text, sizeof cyl_text, "cylinder %.9g,%.9g,%.9g,%.9g,%.9g,%.9g r %.9g", cyl.a.x, cyl.a.y, cyl.a.z,
-                cyl.b.x, cyl.b.y, cyl.b.z, cyl.radius);
-  SCOPED_TRACE(cyl_text);
-  EXPECT_EQ(r.added_posed.size(), mesh.vertex_count() - input.vertex_count());
-  Adjacency adj = before;
-  adj.apply(r.log);
-  test::expect_adjacency_matches_rebuild(adj, mesh);
-  test::expect_valid(mesh, joints);
-  const auto* wall_flag = mesh.face_attrs().find<std::uint8_t>(attr::kCutSurface);
-  auto is_wall = [&](FaceId f) {
-    return wall_flag && (*wall_flag)[f.index] && f.index >= input.face_slots();
-  };
-  for (const Edit& e : r.log.edits) {
-    const auto* fa = std::get_if<FaceAdded>(&e);
-    if (!fa || mesh.is_deleted(fa->f)) continue;
-    const double angle = min_angle(mesh, mesh.face(fa->f));
-    out.degenerate += angle < 1e-3;
-    if (is_wall(fa->f)) {
-      ++out.wall;
-      out.wall_thin += angle < 5.0;
-    } else if (!fa->parent.valid() || fa->parent.index >= input.face_slots() ||  // re-added in this drill
-               min_angle(input, input.face(fa->parent)) >= 10.0) {
-      ++out.surface;
-      out.surface_thin += angle < 5.0;
-    }
-  }
-  // No surface left inside the open cylinder (the rim polygon's chords may cut 1% of r inside,
-  // on the side as at the end planes, where a chord joins a side point to an end-plane point).
-  const double end_margin = tol + 0.01 * ax.r;
-  mesh.for_each_face([&](FaceId f, const Triangle& t) {
-    if (is_wall(f)) return;
-    const glm::vec3 c = (mesh.position(t[0]) + mesh.position(t[1]) + mesh.position(t[2])) / 3.0f;
-    const double s = ax.s(c);
-    bool inside = ax.rho(c) < 0.99 * ax.r && s > end_margin && s < ax.len - end_margin;
-    // A triangle whose corners all lie on or outside the cylinder spans a rim chord: on a layer
-    // the axis grazes, its centroid can sit a little deeper (2%).
-    bool corners_out = true;
-    for (VertexId v : t) corners_out &= ax.rho(mesh.position(v)) >= ax.r - tol;
-    if (corners_out) inside = ax.rho(c) < 0.98 * ax.r && s > end_margin && s < ax.len - end_margin;
-    ASSERT_FALSE(inside) << "face " << f.index << " centroid inside the cylinder (rho " << ax.rho(c) / ax.r
-                         << " r)"
-                         << " corners " << t[0].index << ":" << ax.rho(mesh.position(t[0])) / ax.r << " "
-                         << t[1].index << ":" << ax.rho(mesh.position(t[1])) / ax.r << " " << t[2].index
-                         << ":" << ax.rho(mesh.position(t[2])) / ax.r << " s " << ax.s(mesh.position(t[0])) << " "
-                         << ax.s(mesh.position(t[1])) << " " << ax.s(mesh.position(t[2])) << " of " << ax.len
-                         << " input v " << input.vertex_count()
-                         << " faces " << input.face_slots() << " r " << ax.r;
-  });
-  // Every new vertex on a boundary lies on the cylinder (within 1% of r) or on an end plane;
-  // every boundary edge is new rim or a piece of an old boundary edge (no cracks elsewhere).
-  std::vector<std::array<std::uint32_t, 2>> origin(mesh.vertex_count());
-  for (std::uint32_t v = 0; v < input.vertex_count(); ++v) origin[v] = {v, v};
-  for (const Edit& e : r.log.edits)
-    if (const auto* a = std::get_if<VertexAdded>(&e))
-      origin[a->v.index] = {a->from[0].index, a->from[2].valid() ? kInvalidIndex : a->from[1].index};
-  const auto old_boundary = before.boundary_edges();
-  auto on_cylinder = [&](VertexId v) {
-    const glm::vec3& p = mesh.position(v);
-    const double s = ax.s(p);
-    return std::abs(ax.rho(p) - ax.r) <= 0.01 * ax.r || std::abs(s) <= tol || std::abs(s - ax.len) <= tol;
-  };
-  for (const Edge& e : adj.boundary_edges()) {
-    for (VertexId v : {e.a, e.b})
-      if (v.index >= input.vertex_count()) {
-        ASSERT_TRUE(on_cylinder(v)) << "new boundary vertex off the cylinder: rho "
-                                    << ax.rho(mesh.position(v)) / ax.r;
-      }
-    if (on_cylinder(e.a) && on_cylinder(e.b)) continue;
-    std::vector<std::uint32_t> ends = {origin[e.a.index][0], origin[e.a.index][1], origin[e.b.index][0],
-                                       origin[e.b.index][1]};
-    std::sort(ends.begin(), ends.end());
-    ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
-    ASSERT_TRUE(ends.size() == 2 && std::binary_search(old_boundary.begin(), old_boundary.end(),
-                                                       make_edge(VertexId(ends[0]), VertexId(ends[1]))))
-        << "boundary edge (" << e.a.index << "," << e.b.index << ") is neither rim nor old boundary; rho/r "
-        << ax.rho(mesh.position(e.a)) / ax.r << " " << ax.rho(mesh.position(e.b)) / ax.r << " s "
-        << ax.s(mesh.position(e.a)) << " " << ax.s(mesh.position(e.b)) << " len " << ax.len
-        << " input vertices " << input.vertex_count();
-  }
-  // Holes the axis goes through are round; their rims are boundary edges (or walled).
-  const auto boundary = adj.boundary_edges();
-  out.all_walled = true;
-  for (const DrillHole& h : r.holes) {
-    out.all_walled &= h.walled;
-    for (std::size_t i = 0; i + 1 < h.rim.size() + (h.closed ? 1 : 0); ++i) {
-      const Edge e = make_edge(h.rim[i], h.rim[(i + 1) % h.rim.size()]);
-      if (!h.walled) {
-        ASSERT_TRUE(std::binary_search(boundary.begin(), boundary.end(), e))
-            << "rim edge is not a boundary edge: " << e.a.index << "-" << e.b.index << " faces "
-            << adj.edge_faces(e.a, e.b).size() << " hole closed " << h.closed << " rim " << h.rim.size()
-            << " holes " << r.holes.size() << " first new " << r.first_new_vertex << [&] {
-                 std::string o;
-                 for (const Edit& ed : r.log.edits)
-                   if (const auto* sp = std::get_if<VertexSplit>(&ed))
-                     if (sp->original == e.a || sp->original == e.b || sp->copy == e.a || sp->copy == e.b)
-                       o += " split " + std::to_string(sp->original.index) + "->" + std::to_string(sp->copy.index);
-                 for (const DrillHole& h2 : r.holes)
-                   o += " [hole rim " + std::to_string(h2.rim.size()) + " walled " + std::to_string(h2.walled) +
-                        " closed " + std::to_string(h2.closed) + "]";
-                 int pos = 0;
-                 for (std::size_t j = 0; j < h.rim.size(); ++j) if (h.rim[j] == e.a || h.rim[j] == e.b) pos = int(j);
-                 o += " at " + std::to_string(pos) + " of rim:";
-                 for (int j = std::max(0, pos - 3); j < std::min<int>(int(h.rim.size()), pos + 3); ++j)
-                   o += " " + std::to_string(h.rim[j].index);
-                 return o;
-               }();
-      }
-    }
-    // A hole the axis goes through whose rim stays on the cylinder's side is round; one that
-    // reaches an end plane is D-shaped (the layer crosses the end disk), its side arc sampled
-    // at the same angles and its straight part at the same spacing.
-    bool on_side = true;
-    for (VertexId v : h.rim) {
-      const double sv = ax.s(mesh.position(v));
-      on_side &= sv > tol && sv < ax.len - tol;
-    }
-    // A rim wholly on an end plane (a part the plane severs inside the cylinder) is the part's
-    // cross-section, sampled at the rim spacing.
-    bool on_end = true;
-    for (VertexId v : h.rim) on_end &= std::abs(ax.rho(mesh.position(v)) - ax.r) > tol;
-    if (h.closed && std::abs(h.winding) == 1 && !on_end) {
-      ++(on_side ? out.round_holes : out.d_holes);
-      EXPECT_GE(h.rim.size(), static_cast<std::size_t>(options.min_rim_edges)) << (on_side ? "round" : "D-shaped");
-    }
-  }
-  if (options.wall && closed) {
-    EXPECT_TRUE(out.all_walled) << "every rim of a closed input gets its wall";
-    const EdgeCensus c = census(mesh);
-    EXPECT_EQ(c.boundary, 0u) << "walled drill of closed input is closed";
-    EXPECT_EQ(c.inconsistent, 0u) << "walled drill is consistently oriented";
-    // The wall is inscribed in the cylinder with min_rim_edges vertices around: an N-gon prism.
-    const double n = options.min_rim_edges;
-    // The reference is a quadrature: its own error (fine vs coarse) widens the 2% where the
-    // drilled volume is a thin shaving that the lines barely resolve.
-    const double fine = drilled_volume(input, cyl, 48), coarse = drilled_volume(input, cyl, 24);
-    // The wall's side is inscribed in the cylinder (vertices min_rim_edges to the turn): its
-    // chords leave r pi^2 / (3 n^2) of volume per unit of side area (exact for a full prism).
-    // Snapping moves the cut surface by at most twice the tolerance: that much of the wall's
-    // area in volume is the drill's own allowance (it shows only on shavings).
-    // Wall triangles wider (across the axis) than the ruling spacing, as across a narrow
-    // notch, cut deeper chords: their sagitta L^2 / 8r bounds the rest.
-    double side_area = 0.0, wall_area = 0.0, corner = 0.0, chord = 2.0 * kPi * ax.r / n;
-    mesh.for_each_face([&](FaceId f, const Triangle& t) {
-      if (!is_wall(f)) return;
-      const glm::dvec3 p0(mesh.position(t[0])), p1(mesh.position(t[1])), p2(mesh.position(t[2]));
-      const glm::dvec3 nrm = glm::cross(p1 - p0, p2 - p0);
-      for (const glm::dvec3& e : {p1 - p0, p2 - p1, p0 - p2})
-        chord = std::max(chord, glm::length(e - glm::dot(e, ax.d) * ax.d));
-      wall_area += 0.5 * glm::length(nrm);
-      // A wall triangle from an end disk to the side cuts the cylinder's rim edge: at most its
-      // area times half its longest edge.
-      bool on_end = false, on_side = false;
-      for (VertexId v : t) {
-        const double sv = ax.s(mesh.position(v)), rho = ax.rho(mesh.position(v));
-        on_end |= (std::abs(sv) <= tol || std::abs(sv - ax.len) <= tol) && rho < ax.r - tol;
-        on_side |= std::abs(rho - ax.r) <= tol && sv > tol && sv < ax.len - tol;
-      }
-      if (on_end && on_side)
-        corner += 0.25 * glm::length(nrm) *
-                  std::max({glm::length(p1 - p0), glm::length(p2 - p1), glm::length(p0 - p2)});
-      if (glm::length(nrm) > 0.0 && std::abs(glm::dot(nrm, ax.d)) < 0.5 * glm::length(nrm))
-        side_area += 0.5 * glm::length(nrm);
-    });
-    const double expected = fine - side_area * ax.r * kPi * kPi / (3.0 * n * n);
-    const double removed = input.volume() - mesh.volume();
-    const double sagitta = side_area * (chord * chord - std::pow(2.0 * kPi * ax.r / n, 2.0)) / (8.0 * ax.r);
-    const double slack = 0.02 * std::abs(expected) + 2.0 * std::abs(fine - coarse) + sagitta + corner;
-    if (std::abs(removed - expected) > slack) {
-      // Surface within the snapping tolerance of the cylinder may stay (a graze shallower than
-      // the tolerance is not cut) or go: between the cylinder shrunk and grown by it.
-      const double band = 2.0 * (options.relative_tolerance * cyl.radius + 1e-6 * ax.len);
-      Cylinder shrunk = cyl, grown = cyl;
-      const glm::vec3 dir = glm::vec3(ax.d) * static_cast<float>(band);
-      shrunk.a += dir, shrunk.b -= dir, shrunk.radius -= static_cast<float>(band);
-      grown.a -= dir, grown.b += dir, grown.radius += static_cast<float>(band);
-      const double lower = drilled_volume(input, shrunk, 48) * expected / fine, upper = drilled_volume(input, grown, 48);
-      EXPECT_GE(removed, lower - slack) << "volume " << input.volume() << " expected " << expected;
-      EXPECT_LE(removed, upper + slack) << "volume " << input.volume() << " expected " << expected;
-    }
-  }
-}
-
-Checked check_drill(const SurfaceMesh& input, const Cylinder& cyl, const DrillOptions& options,
-                    std::size_t joints, bool use_index) {
-  Checked out;
-  check_drill_into(out, input, cyl, options, joints, use_index);
-  return out;
-}
-
-/// check_drill on the first primitive of an asset model (the decoded replays of random drills).
-Checked check_asset_drill(const Model& model, const Cylinder& cyl, bool wall, bool use_index) {
-  DrillOptions options;
-  options.wall = wall;
-  return check_drill(model.meshes[0].primitives[0].mesh, cyl, options,
-                     model.skins.empty() ? 0 : model.skins[0].joints.size(), use_index);
 }
 
 /// Without and with a wall (and, if `also_indexed`, through the spatial index as well): the drill
@@ -398,7 +81,7 @@ TEST(DrillTest, small_hole_inside_one_big_triangle_is_round) {
   SurfaceMesh mesh = test::make_grid(1, 1);  // two triangles
   Cylinder c{{0.7f, 0.3f, -1.0f}, {0.7f, 0.3f, 1.0f}, 0.05f};
   check_drill(mesh, c, {}, 2, false);
-  const DrillResult r = drill_mesh(mesh, mesh.positions(), c);
+  const DrillResult r = drill_mesh(mesh, PosedMesh::at_positions(mesh), c);
   ASSERT_EQ(r.status, OpStatus::Ok);
   ASSERT_EQ(r.holes.size(), 1u);
   EXPECT_TRUE(r.holes[0].closed);
@@ -421,7 +104,7 @@ TEST(DrillTest, hole_across_edges_and_seam_splits_each_edge_once) {
   }
   SurfaceMesh mesh = grid;
   const Cylinder slanted{{0.4f, 0.45f, -1}, {0.6f, 0.5f, 1}, 0.2f};
-  const DrillResult r = drill_mesh(mesh, mesh.positions(), slanted);
+  const DrillResult r = drill_mesh(mesh, PosedMesh::at_positions(mesh), slanted);
   // Vertices on edges: one per crossing (on the cylinder), and the Steiner points graded away
   // from the crossings on the kept parts (well outside it).
   const Axis ax(slanted);
@@ -437,19 +120,19 @@ TEST(DrillTest, hole_across_edges_and_seam_splits_each_edge_once) {
 TEST(DrillTest, rejects_bad_cylinders_and_misses_leave_the_mesh_untouched) {
   const SurfaceMesh tube = test::make_tube(16, 4);
   SurfaceMesh mesh = tube;
-  EXPECT_THROW(drill_mesh(mesh, mesh.positions(), Cylinder{{0, 1, -2}, {0, 1, 2}, 0.0f}), Error);
-  EXPECT_THROW(drill_mesh(mesh, mesh.positions(), Cylinder{{0, 1, -2}, {0, 1, 2}, -0.1f}), Error);
-  EXPECT_THROW(drill_mesh(mesh, mesh.positions(), Cylinder{{0, 1, 2}, {0, 1, 2}, 0.1f}), Error);
-  EXPECT_THROW(drill_mesh(mesh, mesh.positions(), Cylinder{{0, NAN, -2}, {0, 1, 2}, 0.1f}), Error);
-  EXPECT_THROW(drill_mesh(mesh, mesh.positions(), Cylinder{{0, 1, -2}, {0, 1, 2}, NAN}), Error);
+  EXPECT_THROW(drill_mesh(mesh, PosedMesh::at_positions(mesh), Cylinder{{0, 1, -2}, {0, 1, 2}, 0.0f}), Error);
+  EXPECT_THROW(drill_mesh(mesh, PosedMesh::at_positions(mesh), Cylinder{{0, 1, -2}, {0, 1, 2}, -0.1f}), Error);
+  EXPECT_THROW(drill_mesh(mesh, PosedMesh::at_positions(mesh), Cylinder{{0, 1, 2}, {0, 1, 2}, 0.1f}), Error);
+  EXPECT_THROW(drill_mesh(mesh, PosedMesh::at_positions(mesh), Cylinder{{0, NAN, -2}, {0, 1, 2}, 0.1f}), Error);
+  EXPECT_THROW(drill_mesh(mesh, PosedMesh::at_positions(mesh), Cylinder{{0, 1, -2}, {0, 1, 2}, NAN}), Error);
   DrillOptions few;
   few.min_rim_edges = 2;
-  EXPECT_THROW(drill_mesh(mesh, mesh.positions(), Cylinder{{0, 1, -2}, {0, 1, 2}, 0.1f}, few), Error);
-  EXPECT_THROW(drill_mesh(mesh, std::vector<glm::vec3>(3), Cylinder{{0, 1, -2}, {0, 1, 2}, 0.1f}), Error);
+  EXPECT_THROW(drill_mesh(mesh, PosedMesh::at_positions(mesh), Cylinder{{0, 1, -2}, {0, 1, 2}, 0.1f}, few), Error);
+  EXPECT_THROW(drill_mesh(mesh, PosedMesh::at_positions(mesh, std::vector<glm::vec3>(3)), Cylinder{{0, 1, -2}, {0, 1, 2}, 0.1f}), Error);
   for (const Cylinder& c : {Cylinder{{5, 1, -2}, {5, 1, 2}, 0.5f}, Cylinder{{0, 1, -5}, {0, 1, -3}, 0.5f},
                             Cylinder{{0, 1, -0.5f}, {0, 1, 0.5f}, 0.2f}}) {  // the last lies inside
     SurfaceMesh m = tube;
-    const DrillResult r = drill_mesh(m, m.positions(), c);
+    const DrillResult r = drill_mesh(m, PosedMesh::at_positions(m), c);
     EXPECT_EQ(r.status, OpStatus::NoIntersection);
     EXPECT_TRUE(r.log.empty());
     EXPECT_EQ(m.faces(), tube.faces());
@@ -515,7 +198,7 @@ TEST(DrillTest, an_open_shell_gets_tubes_between_its_rims_but_no_cup) {
   options.wall = true;
   // An open sheet: one rim around the axis, nothing to join it to.
   SurfaceMesh sheet = test::make_grid(8, 8);
-  const DrillResult cup = drill_mesh(sheet, sheet.positions(), Cylinder{{0.47f, 0.52f, -1}, {0.47f, 0.52f, 1}, 0.1f}, options);
+  const DrillResult cup = drill_mesh(sheet, PosedMesh::at_positions(sheet), Cylinder{{0.47f, 0.52f, -1}, {0.47f, 0.52f, 1}, 0.1f}, options);
   ASSERT_EQ(cup.status, OpStatus::Ok);
   ASSERT_EQ(cup.holes.size(), 1u);
   EXPECT_FALSE(cup.holes[0].walled);
@@ -530,7 +213,7 @@ TEST(DrillTest, an_open_shell_gets_tubes_between_its_rims_but_no_cup) {
   const Adjacency before = Adjacency::build(torn);
   ASSERT_EQ(before.boundary_edges().size(), 3u);
   SurfaceMesh mesh = torn;
-  const DrillResult tube = drill_mesh(mesh, mesh.positions(), Cylinder{{0, 1, -3}, {0, 1, 3}, 0.3f}, options);
+  const DrillResult tube = drill_mesh(mesh, PosedMesh::at_positions(mesh), Cylinder{{0, 1, -3}, {0, 1, 3}, 0.3f}, options);
   ASSERT_EQ(tube.holes.size(), 2u);
   for (const DrillHole& h : tube.holes) EXPECT_TRUE(h.walled);
   EXPECT_GT(tube.wall_triangles, 0u);
@@ -557,7 +240,7 @@ TEST(DrillTest, a_rim_crossing_itself_where_the_surface_does_is_walled) {
     DrillOptions options;
     options.wall = true;
     options.min_rim_edges = rim_edges;
-    const DrillResult r = drill_mesh(mesh, mesh.positions(), c, options);
+    const DrillResult r = drill_mesh(mesh, PosedMesh::at_positions(mesh), c, options);
     ASSERT_EQ(r.status, OpStatus::Ok);
     ASSERT_FALSE(r.holes.empty());
     for (const DrillHole& h : r.holes) EXPECT_TRUE(h.walled);
@@ -585,7 +268,7 @@ TEST(DrillTest, blind_hole_and_start_inside_get_a_disk) {
   EXPECT_TRUE(k.all_walled);
   EXPECT_EQ(k.round_holes, 1u);
   SurfaceMesh mesh = tube;
-  const DrillResult r = drill_mesh(mesh, mesh.positions(), blind, options);
+  const DrillResult r = drill_mesh(mesh, PosedMesh::at_positions(mesh), blind, options);
   ASSERT_EQ(r.holes.size(), 1u);
   for (VertexId v : r.holes[0].rim)
     EXPECT_LT(mesh.position(v).z, -0.9f) << "only the wall before B is drilled";
@@ -607,7 +290,7 @@ TEST(DrillTest, coarse_fox_gets_a_round_hole_with_uvs_inside_the_islands_it_cros
     const Checked k = check_drill(input, c, {}, joints, false);
     EXPECT_GE(k.round_holes, 1u);
     SurfaceMesh mesh = input;
-    const DrillResult r = drill_mesh(mesh, mesh.positions(), c);
+    const DrillResult r = drill_mesh(mesh, PosedMesh::at_positions(mesh), c);
     ASSERT_EQ(r.status, OpStatus::Ok);
     for (const DrillHole& h : r.holes) {
       if (h.closed && std::abs(h.winding) == 1) {
@@ -659,7 +342,7 @@ TEST(DrillTest, overlapping_holes_and_a_cut_rim_merge_into_one_boundary) {
   SurfaceMesh mesh = grid;
   Adjacency adj = Adjacency::build(mesh);
   for (const Cylinder& c : {first, second}) {
-    const DrillResult r = drill_mesh(mesh, mesh.positions(), c);
+    const DrillResult r = drill_mesh(mesh, PosedMesh::at_positions(mesh), c);
     ASSERT_EQ(r.status, OpStatus::Ok);
     adj.apply(r.log);
   }
@@ -686,7 +369,7 @@ TEST(DrillTest, overlapping_holes_and_a_cut_rim_merge_into_one_boundary) {
   SurfaceMesh cut = grid;
   Adjacency cadj = Adjacency::build(cut);
   cadj.apply(cut_mesh(cut, cut.positions(), Plane{{0.5f, 0, 0}, {1, 0.1f, 0}}).log);
-  const DrillResult r = drill_mesh(cut, cut.positions(), first);
+  const DrillResult r = drill_mesh(cut, PosedMesh::at_positions(cut), first);
   ASSERT_EQ(r.status, OpStatus::Ok);
   cadj.apply(r.log);
   test::expect_adjacency_matches_rebuild(cadj, cut);
@@ -700,14 +383,14 @@ TEST(DrillTest, overlapping_holes_and_a_cut_rim_merge_into_one_boundary) {
   Adjacency tadj = Adjacency::build(torn);
   TearOptions topt;
   topt.width = 0.02f;
-  PosedMesh torn_posed = PosedMesh::at_rest(torn);
+  PosedMesh torn_posed = PosedMesh::at_positions(torn);
   const TearResult tr = tear_mesh(torn, torn_posed, Blade{{0.3f, 0.5f, 1}, {0.3f, 0.5f, -1}},
                                   Blade{{0.7f, 0.5f, 1}, {0.7f, 0.5f, -1}}, topt);
   ASSERT_EQ(tr.status, OpStatus::Ok);
   tadj.apply(tr.log);
   ASSERT_EQ(boundary_components(tadj), 2u) << "the border and the slit";
   const Cylinder across{{0.5f, 0.5f, -1}, {0.5f, 0.5f, 1}, 0.1f};
-  const DrillResult tdr = drill_mesh(torn, torn.positions(), across);
+  const DrillResult tdr = drill_mesh(torn, PosedMesh::at_positions(torn), across);
   ASSERT_EQ(tdr.status, OpStatus::Ok);
   tadj.apply(tdr.log);
   test::expect_adjacency_matches_rebuild(tadj, torn);
@@ -739,7 +422,7 @@ TEST(DrillTest, walled_holes_that_overlap_merge_and_stay_closed) {
     if (::testing::Test::HasFatalFailure()) return;
     ASSERT_TRUE(k.intersected);
     EXPECT_TRUE(k.all_walled);
-    drill_mesh(mesh, mesh.positions(), c, options);
+    drill_mesh(mesh, PosedMesh::at_positions(mesh), c, options);
   }
   const EdgeCensus c = census(mesh);
   EXPECT_EQ(c.boundary, 0u);
@@ -788,7 +471,7 @@ TEST(DrillTest, posed_drill_puts_rims_and_walls_on_the_cylinder_in_that_pose) {
   for (const auto& p : wall_posed) EXPECT_NEAR(ax.rho(p), ax.r, 0.01 * ax.r);
   // The same axis in the bind pose would miss the bent part: the pose matters.
   SurfaceMesh bind = test::make_skinned_tube_model().meshes[0].primitives[0].mesh;
-  EXPECT_EQ(drill_mesh(bind, bind.positions(), c).status, OpStatus::NoIntersection);
+  EXPECT_EQ(drill_mesh(bind, PosedMesh::at_positions(bind), c).status, OpStatus::NoIntersection);
 }
 
 TEST(DrillTest, a_cylinder_that_swallows_an_instance_leaves_no_empty_mesh) {
@@ -886,7 +569,7 @@ TEST(DrillTest, incremental_adjacency_follows_a_random_sequence) {
       c.radius *= 0.5f;
       DrillOptions options;
       options.wall = i % 3 == 0;
-      const DrillResult r = drill_mesh(mesh, posed, c, options, &grid);
+      const DrillResult r = drill_mesh(mesh, PosedMesh::at_positions(mesh, posed), c, options);
       // Vertices snapped onto the cylinder move (posed == bind here), then new ones join.
       for (const auto& m : r.moved) {
         EXPECT_LE(glm::length(m.posed - mesh.position(m.v)), 1e-5f * (1.0f + glm::length(m.posed)));
@@ -931,13 +614,12 @@ TEST(DrillTest, rim_through_a_saddle_vertex_leaves_no_pinched_vertex) {
                                 mesh.add_vertex({0, -1, -1})};
       for (int k = 0; k < 4; ++k) mesh.add_face(v, ring[k], ring[(k + 1) % 4]);
       const std::vector<glm::vec3> posed = mesh.positions();
-      const TriangleGrid grid = TriangleGrid::build(mesh, posed);
       Adjacency adj = Adjacency::build(mesh);
       DrillOptions options;
       options.wall = wall;
       // Axis along x at height 0.6, radius 0.6: the cylinder's side touches z = 0 along the x axis.
-      const DrillResult r = drill_mesh(mesh, posed, Cylinder{{-2, 0, 0.6f}, {2, 0, 0.6f}, 0.6f}, options,
-                                       indexed ? &grid : nullptr);
+      const DrillResult r =
+          drill_mesh(mesh, PosedMesh::at_positions(mesh, posed), Cylinder{{-2, 0, 0.6f}, {2, 0, 0.6f}, 0.6f}, options);
       ASSERT_EQ(r.status, OpStatus::Ok);
       adj.apply(r.log);
       test::expect_adjacency_matches_rebuild(adj, mesh);
@@ -1023,7 +705,8 @@ TEST(DrillTest, a_hole_inside_a_needle_makes_no_zero_area_face) {
     // x = 0.3, where both edges' crossings round to y = 1.
     DrillOptions options;
     options.wall = wall;
-    const DrillResult r = drill_mesh(mesh, posed, Cylinder{{0.2f, 1, -1}, {0.2f, 1, 1}, 0.1f}, options);
+    const DrillResult r =
+        drill_mesh(mesh, PosedMesh::at_positions(mesh, posed), Cylinder{{0.2f, 1, -1}, {0.2f, 1, 1}, 0.1f}, options);
     ASSERT_EQ(r.status, OpStatus::Ok);
     adj.apply(r.log);
     test::expect_adjacency_matches_rebuild(adj, mesh);
@@ -1051,11 +734,10 @@ TEST(DrillTest, a_rim_across_a_needle_makes_no_zero_area_face) {
     SCOPED_TRACE(indexed ? "indexed" : "scan");
     SurfaceMesh mesh = test::make_needle_fan();  // X (0,1,0); far corners at x = 1
     const std::vector<glm::vec3> posed = mesh.positions();
-    const TriangleGrid grid = TriangleGrid::build(mesh, posed);
     Adjacency adj = Adjacency::build(mesh);
     // Axis along z through (1.3, 1): the circle of radius 0.9 crosses the needle at x = 0.4.
     const DrillResult r =
-        drill_mesh(mesh, posed, Cylinder{{1.3f, 1, -1}, {1.3f, 1, 1}, 0.9f}, {}, indexed ? &grid : nullptr);
+        drill_mesh(mesh, PosedMesh::at_positions(mesh, posed), Cylinder{{1.3f, 1, -1}, {1.3f, 1, 1}, 0.9f});
     ASSERT_EQ(r.status, OpStatus::Ok);
     adj.apply(r.log);
     test::expect_adjacency_matches_rebuild(adj, mesh);
@@ -1095,10 +777,9 @@ TEST(DrillTest, an_old_boundary_edge_at_a_split_vertex_is_not_rim) {
     const auto old_boundary = before.boundary_edges();
     ASSERT_TRUE(std::binary_search(old_boundary.begin(), old_boundary.end(), make_edge(v, w)));
     const std::vector<glm::vec3> posed = mesh.positions();
-    const TriangleGrid grid = TriangleGrid::build(mesh, posed);
     const std::uint32_t old_count = static_cast<std::uint32_t>(mesh.vertex_count());
     const DrillResult r =
-        drill_mesh(mesh, posed, Cylinder{{-2, 0, 0.6f}, {2, 0, 0.6f}, 0.6f}, {}, indexed ? &grid : nullptr);
+        drill_mesh(mesh, PosedMesh::at_positions(mesh, posed), Cylinder{{-2, 0, 0.6f}, {2, 0, 0.6f}, 0.6f});
     ASSERT_EQ(r.status, OpStatus::Ok);
     test::expect_valid(mesh);
     std::map<std::uint32_t, std::uint32_t> original;
@@ -1162,9 +843,10 @@ TEST(DrillTest, a_vertex_just_inside_the_cylinder_becomes_a_rim_vertex) {
     c.a = glm::vec3(0.5f, 0.5f, -1.0f) + 0.99f * r * toward + offset;
     c.b = glm::vec3(0.5f, 0.5f, 1.0f) + 0.99f * r * toward + offset;
     c.radius = r;
-    const Unposer unpose = [&](const SurfaceMesh&, VertexId, const glm::vec3& p) { return p - offset; };
-    const TriangleGrid grid = TriangleGrid::build(mesh, posed);
-    const DrillResult res = drill_mesh(mesh, posed, c, DrillOptions{}, indexed ? &grid : nullptr, unpose);
+    PosedMesh at = PosedMesh::at_positions(mesh, posed);
+    at.world = glm::translate(glm::mat4(1.0f), offset);  // new vertices go back by -offset
+    at.no_unpose = false;
+    const DrillResult res = drill_mesh(mesh, at, c, DrillOptions{});
     ASSERT_EQ(res.status, OpStatus::Ok);
     // No needle there: the faces with a corner within a rim spacing of where the vertex was keep
     // at least 10 degrees (without the snap: two crossings a hair apart, faces under 1.5).
@@ -1217,7 +899,7 @@ TEST(DrillTest, a_border_vertex_just_inside_the_cylinder_stays) {
   // leave the circle within 1% of r of X (half a rim spacing is 0.02).
   const glm::vec3 toward(std::cos(1.75f * static_cast<float>(kPi)), std::sin(1.75f * static_cast<float>(kPi)), 0.0f);
   Cylinder c{glm::vec3(0.0f, 0.0f, -1.0f) + 0.99f * r * toward, glm::vec3(0.0f, 0.0f, 1.0f) + 0.99f * r * toward, r};
-  const DrillResult res = drill_mesh(mesh, mesh.positions(), c);
+  const DrillResult res = drill_mesh(mesh, PosedMesh::at_positions(mesh), c);
   ASSERT_EQ(res.status, OpStatus::Ok);
   for (const auto& m : res.moved) {
     EXPECT_NE(m.v, x) << "the border vertex was slid";
@@ -1251,13 +933,13 @@ TEST(DrillTest, a_rim_finer_than_float_precision_is_refused) {
   for (const float radius : {3.1e-7f, 1e-6f, 2e-6f}) {
     c.radius = radius;
     SurfaceMesh copy = mesh;
-    EXPECT_THROW(drill_mesh(copy, copy.positions(), c, options), Error) << "radius " << radius;
+    EXPECT_THROW(drill_mesh(copy, PosedMesh::at_positions(copy), c, options), Error) << "radius " << radius;
     EXPECT_EQ(copy.faces(), mesh.faces());
   }
   const double scale = glm::length(glm::dvec3(c.a)) + glm::length(glm::dvec3(c.b)) + 2e-5;
   c.radius = static_cast<float>(2.0 * 1e-6 * scale / (2.0 * std::sin(kPi / 48)));
   SurfaceMesh copy = mesh;
-  const DrillResult r = drill_mesh(copy, copy.positions(), c, options);
+  const DrillResult r = drill_mesh(copy, PosedMesh::at_positions(copy), c, options);
   ASSERT_EQ(r.status, OpStatus::Ok);
   for (const Edit& e : r.log.edits)
     if (const auto* fa = std::get_if<FaceAdded>(&e)) {
@@ -1281,7 +963,7 @@ TEST(DrillTest, holes_in_a_coarse_quad_leave_few_needles) {
     const float x = along(rng), r = radius(rng), y = i % 2 ? 1.0f - x : x;  // on either diagonal
     const std::size_t faces = mesh.face_slots(), vertices = mesh.vertex_count();
     const Cylinder c{{x, y, -1}, {x, y, 1}, r};
-    const DrillResult d = drill_mesh(mesh, mesh.positions(), c);
+    const DrillResult d = drill_mesh(mesh, PosedMesh::at_positions(mesh), c);
     ASSERT_EQ(d.status, OpStatus::Ok);
     test::expect_valid(mesh, 2);
     mesh.for_each_face([&](FaceId f, const Triangle& t) {

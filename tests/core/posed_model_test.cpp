@@ -231,7 +231,7 @@ void check_random_sequence(const Model& model, int steps, unsigned seed) {
     // A miss, ten sizes away (its radius stays above what float positions resolve out there,
     // min_drill_radius, or the drill refuses it instead of missing).
     if (step % 7 == 6) op.params = maker.make(p + 10.0f * size * n, n, 0.1f * size);
-    const OperationResult a = apply_operation(cached, op, &index);
+    const OperationResult a = apply_operation(cached, op, index);
     const OperationResult b = apply_operation(plain, op);
     ASSERT_EQ(a.status, b.status);
     ASSERT_EQ(a.result.index(), b.result.index());
@@ -319,7 +319,7 @@ TEST(PosedModelTest, a_mesh_shared_by_two_instances_is_copied_for_the_drilled_on
   DrillOptions options;
   options.wall = true;
   const Cylinder c{{10.0f, 2.0f, -3.0f}, {10.0f, 2.0f, 3.0f}, 0.3f};
-  ASSERT_EQ(drill_model(model, c, options, -1, 0.0f, &index).status, OpStatus::Ok);
+  ASSERT_EQ(drill_model(model, index, c, options, -1, 0.0f).status, OpStatus::Ok);
   ASSERT_EQ(drill_model(plain, c, options).status, OpStatus::Ok);
   expect_identical(model, plain);
   EXPECT_NE(model.nodes.back().mesh, model.nodes[0].mesh) << "the drilled instance owns a copy";
@@ -334,17 +334,17 @@ TEST(PosedModelTest, another_pose_rebuilds_and_a_cut_invalidates) {
   const float t = model.animations[0].duration();
   Operation drill{DrillOperation{Cylinder{{0.0f, 2.0f, -3.0f}, {0.0f, 2.0f, 3.0f}, 0.3f}, {}}, 0, t};
   Model plain = model;
-  ASSERT_EQ(apply_operation(model, drill, &index).status, OpStatus::Ok);
+  ASSERT_EQ(apply_operation(model, drill, index).status, OpStatus::Ok);
   ASSERT_EQ(apply_operation(plain, drill).status, OpStatus::Ok);
   expect_identical(model, plain);
   EXPECT_TRUE(index.matches(0, t)) << "prepared for the operation's pose";
   std::mt19937 rng(6);
   expect_index_matches_rebuild(index, model, rng);
   Operation cut{CutOperation{Plane{{0.0f, 1.0f, 0.0f}, {0.0f, 1.0f, 0.0f}}, {}}, 0, t};
-  ASSERT_EQ(apply_operation(model, cut, &index).status, OpStatus::Ok);
+  ASSERT_EQ(apply_operation(model, cut, index).status, OpStatus::Ok);
   EXPECT_FALSE(index.valid());
   ASSERT_EQ(apply_operation(plain, cut).status, OpStatus::Ok);
-  ASSERT_EQ(apply_operation(model, drill, &index).status, apply_operation(plain, drill).status);
+  ASSERT_EQ(apply_operation(model, drill, index).status, apply_operation(plain, drill).status);
   expect_identical(model, plain);
   expect_index_matches_rebuild(index, model, rng);
 }

@@ -395,24 +395,24 @@ class Sequence {
       return r.status == OpStatus::Ok;
     }
     const auto& drill = std::get<DrillOperation>(op_.params);
-    const Unposer unpose = [&part](const SurfaceMesh& m, VertexId v, const glm::vec3& p) {
-      const SkinBlend blend(m, part.joints);
-      const glm::dmat4 inv = glm::inverse(glm::dmat4(blend.skinned() ? blend.matrix(v.index) : part.node_world));
-      const glm::dvec4 b = inv * glm::dvec4(glm::dvec3(p), 1.0);
-      return std::isfinite(b.x) && std::isfinite(b.y) && std::isfinite(b.z) ? glm::vec3(b) : p;
-    };
-    // Half of the drills go through the spatial index (kept across steps in the same pose).
+    // Half of the drills go through the spatial index kept across steps in the same pose, the
+    // others through a fresh one; new vertices go back to bind space through the part's skinning.
     const bool use_index = chance(0.5f);
     if (use_index && !part.grid_current) {
       part.grid = TriangleGrid::build(mesh, part.posed);
       part.grid_current = true;
     }
+    PosedMesh posed;
+    posed.posed = part.posed;
+    posed.grid = use_index ? part.grid : TriangleGrid::build(mesh, part.posed);
+    posed.world = part.node_world;
+    posed.joints = part.joints;
     // A speck of a part gets a radius finer than float positions resolve there: refused.
     if (drill.cylinder.radius < min_drill_radius(drill.cylinder, drill.options.min_rim_edges)) {
-      EXPECT_THROW(drill_mesh(mesh, part.posed, drill.cylinder, drill.options, nullptr, unpose), Error) << context();
+      EXPECT_THROW(drill_mesh(mesh, posed, drill.cylinder, drill.options), Error) << context();
       return false;
     }
-    DrillResult r = drill_mesh(mesh, part.posed, drill.cylinder, drill.options, use_index ? &part.grid : nullptr, unpose);
+    DrillResult r = drill_mesh(mesh, posed, drill.cylinder, drill.options);
     log = std::move(r.log);
     return r.status == OpStatus::Ok;
   }

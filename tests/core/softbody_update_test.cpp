@@ -435,7 +435,7 @@ TEST(SoftbodyUpdateTest, after_a_tear_no_particle_holds_both_lips) {
   Adjacency adjacency = Adjacency::build(mesh);
   // A slit 4 units long down the +x wall of the tube.
   const Blade start{{2.0f, 1.0f, 0.05f}, {0.5f, 1.0f, 0.05f}}, end{{2.0f, 5.0f, 0.05f}, {0.5f, 5.0f, 0.05f}};
-  PosedMesh posed = PosedMesh::at_rest(mesh);
+  PosedMesh posed = PosedMesh::at_positions(mesh);
   const TearResult tear = tear_mesh(mesh, posed, start, end);
   ASSERT_EQ(tear.status, OpStatus::Ok);
   ASSERT_EQ(tear.slits, 1u);
@@ -451,7 +451,7 @@ TEST(SoftbodyUpdateTest, after_a_tear_no_particle_holds_both_lips) {
 
   // A second stroke continuing the slit, then a cut through it: the updates chain.
   const Blade start2{{2.0f, 0.4f, 0.3f}, {0.5f, 0.4f, 0.3f}}, end2{{2.0f, 1.2f, 0.05f}, {0.5f, 1.2f, 0.05f}};
-  PosedMesh posed2 = PosedMesh::at_rest(mesh);
+  PosedMesh posed2 = PosedMesh::at_positions(mesh);
   const TearResult tear2 = tear_mesh(mesh, posed2, start2, end2);
   ASSERT_EQ(tear2.status, OpStatus::Ok);
   adjacency.apply(tear2.log);
@@ -473,7 +473,7 @@ TEST(SoftbodyUpdateTest, after_a_tear_on_the_cactus_the_lips_separate) {
   // Down the front of the trunk (its surface crosses x = 0 at z ~0.74; the tip stays short of
   // the arms' roots inside the trunk, so this is one slit).
   const Blade start{{0.0f, 2.5f, 2.0f}, {0.0f, 2.5f, 0.65f}}, end{{0.0f, 6.5f, 2.0f}, {0.0f, 6.5f, 0.65f}};
-  PosedMesh posed = PosedMesh::at_rest(mesh);
+  PosedMesh posed = PosedMesh::at_positions(mesh);
   const TearResult tear = tear_mesh(mesh, posed, start, end);
   ASSERT_EQ(tear.status, OpStatus::Ok);
   ASSERT_EQ(tear.slits, 1u);

@@ -24,7 +24,7 @@ using Tri3 = std::array<glm::vec3, 3>;
 
 // tear_mesh on a mesh on its own, at rest.
 TearResult tear_at_rest(SurfaceMesh& mesh, const Blade& start, const Blade& end, const TearOptions& options = {}) {
-  PosedMesh posed = PosedMesh::at_rest(mesh);
+  PosedMesh posed = PosedMesh::at_positions(mesh);
   return tear_mesh(mesh, posed, start, end, options);
 }
 
@@ -386,7 +386,7 @@ TEST(TearTest, degenerate_blades_are_rejected_and_misses_leave_the_mesh_untouche
   EXPECT_EQ(code(along, along2), static_cast<int>(ErrorCode::InvalidArgument)) << "blade moving along itself";
   const Blade nan{{NAN, 0.5f, 1.0f}, {0.5f, 0.5f, -1.0f}};
   EXPECT_EQ(code(nan, b), static_cast<int>(ErrorCode::InvalidArgument));
-  PosedMesh three = PosedMesh::at_rest(mesh);
+  PosedMesh three = PosedMesh::at_positions(mesh);
   three.posed.resize(3);
   EXPECT_THROW(tear_mesh(mesh, three, a, b), Error);
   EXPECT_EQ(mesh.faces(), input.faces());
@@ -633,7 +633,7 @@ TEST(TearTest, chained_close_merges_in_a_speck_of_tiny_faces_make_no_duplicate_f
   BoundingBox model;  // the whole model's bounds set the tolerance (2.1e-5 here)
   model.add(glm::vec3(0.0f));
   model.add(glm::vec3(0.0f, 2.15f, 0.0f));
-  PosedMesh posed = PosedMesh::at_rest(mesh);
+  PosedMesh posed = PosedMesh::at_positions(mesh);
   posed.bounds = model;
   const TearResult r = tear_mesh(mesh, posed, start, end, options);
   ASSERT_EQ(r.status, OpStatus::Ok);
@@ -800,7 +800,7 @@ void expect_followed_posed_mesh_gives_the_same_tears(const SurfaceMesh& input,
                                                      const std::vector<std::pair<Blade, Blade>>& strokes,
                                                      const TearOptions& options) {
   SurfaceMesh fresh = input, followed = input;
-  PosedMesh posed = PosedMesh::at_rest(followed);
+  PosedMesh posed = PosedMesh::at_positions(followed);
   for (std::size_t i = 0; i < strokes.size(); ++i) {
     SCOPED_TRACE("stroke " + std::to_string(i));
     const TearResult a = tear_at_rest(fresh, strokes[i].first, strokes[i].second, options);

@@ -87,7 +87,7 @@ void run_sequence(SurfaceMesh& mesh, unsigned seed, int steps, SequenceCounts& c
         const glm::vec3 depth = n * (0.03f * size);
         const Blade start{p - along + depth, p - along - depth};
         const Blade end{p + along + depth, p + along - depth};
-        PosedMesh at_rest = PosedMesh::at_rest(mesh);
+        PosedMesh at_rest = PosedMesh::at_positions(mesh);
         TearResult r = tear_mesh(mesh, at_rest, start, end);
         status = r.status;
         log = std::move(r.log);
@@ -103,7 +103,7 @@ void run_sequence(SurfaceMesh& mesh, unsigned seed, int steps, SequenceCounts& c
         c.radius = 0.02f * size;
         DrillOptions options;
         options.wall = step % 2 == 0;
-        DrillResult r = drill_mesh(mesh, posed, c, options);
+        DrillResult r = drill_mesh(mesh, PosedMesh::at_positions(mesh, posed), c, options);
         status = r.status;
         log = std::move(r.log);
         ++counts.drills;

@@ -48,7 +48,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const Cylinder c = cylinder();
     const DrillOptions o = options();
     DrillResult r;
-    if (!fuzz::run("drill", [&] { r = drill_mesh(mesh, posed, c, o, indexed ? &grid : nullptr); })) continue;
+    PosedMesh at = PosedMesh::at_positions(mesh, posed);
+    if (indexed) at.grid = grid;
+    if (!fuzz::run("drill", [&] { r = drill_mesh(mesh, at, c, o); })) continue;
     for (const auto& m : r.moved) posed[m.v.index] = m.posed;
     posed.insert(posed.end(), r.added_posed.begin(), r.added_posed.end());
     if (posed.size() != mesh.vertex_count()) fuzz::finding("drill", "added_posed does not cover the new vertices");

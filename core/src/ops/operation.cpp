@@ -201,11 +201,11 @@ std::vector<std::size_t> instance_triangles(const Model& model) {
 // drill_model, refusing a drill that swallows a whole instance when the options say so: such a
 // drill is not a hole, and the node would be left without a mesh.
 ModelDrillResult drill_instances(Model& model, const DrillOperation& drill, int animation, float time,
-                                 PosedModel* posed) {
+                                 PosedModel& posed) {
   if (!drill.options.refuse_swallowed_instances)
-    return drill_model(model, drill.cylinder, drill.options, animation, time, posed);
+    return drill_model(model, posed, drill.cylinder, drill.options, animation, time);
   const auto before = instance_triangles(model);
-  ModelDrillResult result = drill_model(model, drill.cylinder, drill.options, animation, time, posed);
+  ModelDrillResult result = drill_model(model, posed, drill.cylinder, drill.options, animation, time);
   const auto after = instance_triangles(model);
   for (std::size_t ni = 0; ni < before.size(); ++ni)
     if (before[ni] > 0 && after[ni] == 0)
@@ -218,11 +218,12 @@ ModelDrillResult drill_instances(Model& model, const DrillOperation& drill, int 
 
 }  // namespace
 
-OperationResult apply_operation(Model& model, const Operation& operation, PosedModel& posed) {
-  return apply_operation(model, operation, &posed);
+OperationResult apply_operation(Model& model, const Operation& operation) {
+  PosedModel posed;
+  return apply_operation(model, operation, posed);
 }
 
-OperationResult apply_operation(Model& model, const Operation& operation, PosedModel* posed) {
+OperationResult apply_operation(Model& model, const Operation& operation, PosedModel& posed) {
   OperationResult out;
   const int animation = operation.animation >= 0 && model.animations.empty() ? -1 : operation.animation;
   std::visit(
@@ -231,12 +232,11 @@ OperationResult apply_operation(Model& model, const Operation& operation, PosedM
         if constexpr (std::is_same_v<T, CutOperation>) {
           const ModelCutResult r = cut_model(model, p.plane, p.options, animation, operation.time);
           // The cut rebuilds meshes and adds nodes: the next operation poses the model anew.
-          if (posed && r.status == OpStatus::Ok) posed->invalidate();
+          if (r.status == OpStatus::Ok) posed.invalidate();
           out.status = r.status;
           out.result = r;
         } else if constexpr (std::is_same_v<T, TearOperation>) {
-          const ModelTearResult r = posed ? tear_model(model, *posed, p.start, p.end, p.options, animation, operation.time)
-                                          : tear_model(model, p.start, p.end, p.options, animation, operation.time);
+          const ModelTearResult r = tear_model(model, posed, p.start, p.end, p.options, animation, operation.time);
           out.status = r.status;
           out.result = r;
         } else if constexpr (std::is_same_v<T, DrillOperation>) {

@@ -40,15 +40,24 @@ struct PosedMesh {
   BoundingBox bounds;
   /// Grid over the live faces at `posed`.
   TriangleGrid grid;
-  /// How the vertices are posed, so that `follow` poses added and moved ones as a fresh build
-  /// would: the joint matrices of the node's skin at the pose (empty: not skinned) and the node's
-  /// world matrix.
-  std::vector<glm::mat4> joints;
+  /// The node's world matrix and its skin's joint matrices at the pose (empty when not skinned):
+  /// what `unpose` inverts, and how `follow` poses added and moved vertices as a fresh build would.
   glm::mat4 world{1.0f};
+  std::vector<glm::mat4> joints;
+  /// True for a mesh posed at given positions without a pose to invert (`at_positions`): the
+  /// operations then leave new vertices at their interpolated bind positions.
+  bool no_unpose = false;
 
-  /// `surface` on its own at rest (world = bind space): `posed` holds its positions, `linear` is
-  /// empty (the identity for every vertex), the grid indexes its faces. O(vertices + faces).
-  static PosedMesh at_rest(const SurfaceMesh& surface);
+  /// Bind position of vertex `v` of `surface` (skin weights already set) whose posed position is
+  /// `p`: its blended skinning (or the world matrix) inverted in double precision; `p` itself
+  /// where the inverse is not finite.
+  glm::vec3 unpose(const SurfaceMesh& surface, VertexId v, const glm::vec3& p) const;
+
+  /// `surface` posed at `posed` (its own positions, i.e. at rest, when empty; one per vertex
+  /// otherwise), with bounds and grid, `linear` empty (the identity for every vertex) and no
+  /// unposing: a mesh an operation edits where it is drawn. O(vertices + faces).
+  /// @throws Error{InvalidArgument} when `posed` is not empty and not one per vertex.
+  static PosedMesh at_positions(const SurfaceMesh& surface, std::vector<glm::vec3> posed = {});
 
   /// Follows `log`, made on `surface` (the mesh this poses): positions (and linear maps, unless
   /// `linear` is empty) of added, split and moved vertices, the bounds, and the grid (removed

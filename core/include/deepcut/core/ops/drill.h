@@ -1,16 +1,14 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 /// @file ops/drill.h
-/// Drill with a finite cylinder (DESIGN section 4, "Drill"). Every surface layer the solid
-/// cylinder (axis A->B, radius r) meets loses the surface inside it; the new rim lies on the
-/// cylinder. The circle is inserted into each crossed triangle in that triangle's own plane
+/// Drill with a finite cylinder. Every surface layer the solid cylinder (axis A->B, radius r)
+/// meets loses the surface inside it; the new rim lies on the cylinder. The circle is inserted into each crossed triangle in that triangle's own plane
 /// (conforming insertion: crossed edges are split once and shared, rim points inside a triangle
 /// are sampled at fixed angles around the axis, and each kept part of the triangle is
 /// re-triangulated), so holes are round however coarse the mesh is, and UVs, normals and
 /// colours are interpolated in each triangle's own parameterisation. Predicates run on the posed
 /// positions; the edits are applied to the bind-space mesh (as for Cut).
 
-#include <functional>
 #include <vector>
 
 #include "deepcut/core/edit_log.h"
@@ -85,10 +83,6 @@ struct DrillResult {
   EditLog log;
 };
 
-/// Maps the posed position of a new wall vertex back to bind space. The vertex's skin weights
-/// (blended from the rims) are already set when it is called.
-using Unposer = std::function<glm::vec3(const SurfaceMesh& mesh, VertexId v, const glm::vec3& posed)>;
-
 /// The smallest radius drill_mesh and drill_model accept for these axis end points and rim
 /// edges: rim points must lie farther apart than the drill's absolute tolerance (1e-6 of the
 /// axis' coordinates, a few float steps), or their float positions round onto one point or line.
@@ -96,15 +90,14 @@ float min_drill_radius(const Cylinder& cylinder, int min_rim_edges);
 
 /// Drills one mesh in place.
 /// @param mesh      triangle mesh, edited through MeshEditor.
-/// @param posed     one world position per vertex of `mesh` (pass `mesh.positions()` for the
-///                  bind pose).
+/// @param posed     `mesh` posed (posed_model.h): its world positions, the grid over them (the
+///                  cost grows with the hole, not the mesh), and the way back to bind space for
+///                  new vertices (PosedMesh::unpose; none for PosedMesh::at_positions, the bind
+///                  pose or positions given as they are). Update it afterwards from
+///                  `result.log` (PosedModel::follow), or rebuild it.
 /// @param cylinder  axis end points and radius, world space.
 /// @param options   see DrillOptions (defaults: 32 rim edges, no wall, tolerance 2e-3 r).
-/// @param index     optional grid over `posed` (TriangleGrid::build(mesh, posed)); with it the
-///                  cost grows with the hole, not the mesh. Update it afterwards with
-///                  `index.apply(result.log, posed_with_added)`.
-/// @param unpose    places new wall vertices in bind space; empty means posed == bind.
-/// @pre posed.size() == mesh.vertex_count(); `index`, when given, was built on `posed`.
+/// @pre posed.posed.size() == mesh.vertex_count(), and its grid was built on those positions.
 /// @throws Error{InvalidArgument} for a radius <= 0 or under min_drill_radius, A == B, non-finite
 ///         input, fewer than 3 rim edges, a negative tolerance or a size mismatch.
 /// @returns NoIntersection (mesh untouched, log empty) when no surface lies inside the cylinder.
@@ -124,9 +117,8 @@ float min_drill_radius(const Cylinder& cylinder, int min_rim_edges);
 ///       (`DrillHole::walled`), nor do the rims of a sheet whose wall cannot be triangulated
 ///       exactly (rare: two rims touching at a vertex on the cylinder); those stay open, never
 ///       walled with a crack. Non-manifold edges are split like any other.
-DrillResult drill_mesh(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const Cylinder& cylinder,
-                       const DrillOptions& options = {}, const TriangleGrid* index = nullptr,
-                       const Unposer& unpose = {});
+DrillResult drill_mesh(SurfaceMesh& mesh, const PosedMesh& posed, const Cylinder& cylinder,
+                       const DrillOptions& options = {});
 
 struct ModelDrillResult {
   OpStatus status = OpStatus::Ok;
@@ -149,12 +141,16 @@ struct ModelDrillResult {
 /// animations are kept, and new wall vertices are placed in bind space by inverting their
 /// blended skinning. Meshes shared by several instances are copied before they change; an
 /// instance the cylinder swallows whole loses its mesh (and skin) reference.
-/// @param index  optional preprocessing (posed_model.h): prepared for this pose (built when it
-///               was made for another), used for the posed positions and the candidate faces,
-///               and updated from the edit logs, so with a warm index the cost grows with the
-///               hole, not the mesh. The result is byte-identical with and without it.
+/// @param posed  the model at this pose (posed_model.h): prepared for it (rebuilt when it was
+///               made for another), used for the posed positions and the candidate faces, and
+///               updated from the edit logs, so with a warm one the cost grows with the hole,
+///               not the mesh.
 /// @throws Error{InvalidArgument} as drill_mesh, or for an animation index out of range.
+ModelDrillResult drill_model(Model& model, PosedModel& posed, const Cylinder& cylinder,
+                             const DrillOptions& options = {}, int animation = -1, float time = 0.0f);
+
+/// drill_model on a posed model built for this pose (PosedModel::build): the same result.
 ModelDrillResult drill_model(Model& model, const Cylinder& cylinder, const DrillOptions& options = {},
-                             int animation = -1, float time = 0.0f, PosedModel* index = nullptr);
+                             int animation = -1, float time = 0.0f);
 
 }  // namespace deepcut

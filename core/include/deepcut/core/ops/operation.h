@@ -84,16 +84,15 @@ void check_operation(const Operation& operation, const ParameterName& name = {})
 /// Applies one operation to the model and records it in the model's history when it changed
 /// the model (status Ok).
 /// @param posed  the model at a pose (posed_model.h), used and updated by drills and tears
-///               (rebuilt when it was made for another pose), invalidated by a cut. The result
-///               is byte-identical with and without it.
+///               (rebuilt when it was made for another pose or invalid), invalidated by a cut.
 /// @throws Error{InvalidArgument} for bad parameters (the operation's own checks), and for a
 ///         drill that removes every triangle of an instance while its
 ///         DrillOptions::refuse_swallowed_instances is set (the default). After an exception the
 ///         model may be partly changed and `posed` no longer describes it: apply to a copy, and
 ///         invalidate `posed`.
 OperationResult apply_operation(Model& model, const Operation& operation, PosedModel& posed);
-/// The same, with `posed` optional (nullptr: the operation poses the model itself).
-OperationResult apply_operation(Model& model, const Operation& operation, PosedModel* posed = nullptr);
+/// Convenience: apply_operation with a posed model built for the call (the same result).
+OperationResult apply_operation(Model& model, const Operation& operation);
 
 /// The history recorded in the model's root extras (empty if none).
 History model_history(const Model& model);

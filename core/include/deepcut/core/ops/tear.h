@@ -82,7 +82,7 @@ struct TearResult {
 ///                     pushed apart along the quad's world normal, mapped to bind space through
 ///                     their inverse, so the posed result shows the opening; empty: identity),
 ///                     bounds (the model size for the tolerance) and grid (the candidate faces,
-///                     so the cost follows the tear, not the mesh). PosedMesh::at_rest(mesh) for a
+///                     so the cost follows the tear, not the mesh). PosedMesh::at_positions(mesh) for a
 ///                     mesh on its own. On success it follows the tear's log (PosedMesh::follow),
 ///                     so it describes the torn mesh for the next operation.
 /// @param start, end   the blade's two poses (world space).

@@ -1,0 +1,70 @@
+// SPDX-License-Identifier: MIT
+#include "ops/drill/cylinder_section.h"
+
+#include <cmath>
+
+namespace deepcut::drill {
+
+CylinderFrame CylinderFrame::make(const Cylinder& cylinder, const DrillOptions& options) {
+  CylinderFrame cyl;
+  cyl.a = glm::dvec3(cylinder.a);
+  const glm::dvec3 b(cylinder.b);
+  cyl.len = glm::length(b - cyl.a);
+  cyl.d = (b - cyl.a) / cyl.len;
+  cyl.r = cylinder.radius;
+  const glm::dvec3 helper = std::abs(cyl.d.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+  cyl.u = glm::normalize(glm::cross(helper, cyl.d));
+  cyl.w = glm::cross(cyl.d, cyl.u);
+  const double scale = glm::length(cyl.a) + glm::length(b) + cyl.len;
+  cyl.eps = std::max(double(options.relative_tolerance) * cyl.r, 1e-6 * scale);
+  cyl.samples = options.min_rim_edges;
+  return cyl;
+}
+
+PlaneCut plane_cut(const CylinderFrame& cyl, const glm::dvec3 p[3]) {
+  PlaneCut pc;
+  glm::dvec3 n = glm::cross(p[1] - p[0], p[2] - p[0]);
+  const double nl = glm::length(n);
+  if (!(nl > 0.0)) return pc;
+  n /= nl;
+  pc.o = p[0];
+  pc.n = n;
+  pc.dn = glm::dot(cyl.d, n);
+  const glm::dvec3 proj = cyl.d - pc.dn * n;
+  pc.c1 = glm::length(proj);
+  pc.e1 = pc.c1 > 1e-12 ? proj / pc.c1 : glm::normalize(cyl.u - glm::dot(cyl.u, n) * n);
+  if (pc.c1 <= 1e-12) pc.c1 = 0.0;
+  pc.e2 = glm::cross(n, pc.e1);
+  pc.so = cyl.s(pc.o);
+  pc.parallel = std::abs(pc.dn) < 1e-9;
+  if (!pc.parallel) {
+    const glm::dvec3 centre = cyl.a + cyl.d * (glm::dot(pc.o - cyl.a, n) / pc.dn);
+    const glm::dvec2 c = pc.coords(centre);
+    pc.a0 = c.x;
+    pc.b0 = c.y;
+    pc.ra = cyl.r / std::abs(pc.dn);
+    pc.rb = cyl.r;
+  } else {
+    const glm::dvec3 m = cyl.perp(pc.o);
+    const double me2 = glm::dot(m, pc.e2);
+    const double h2 = cyl.r * cyl.r - (glm::dot(m, m) - me2 * me2);
+    if (!(h2 > 0.0)) return pc;
+    pc.b0 = -me2;
+    pc.rb = std::sqrt(h2);
+  }
+  if (pc.c1 > 0.0) {
+    pc.alo = -pc.so / pc.c1;
+    pc.ahi = (cyl.len - pc.so) / pc.c1;
+  } else if (!(pc.so > 0.0 && pc.so < cyl.len)) {
+    return pc;
+  }
+  const double lo = pc.parallel ? pc.alo : std::max(pc.a0 - pc.ra, pc.alo);
+  const double hi = pc.parallel ? pc.ahi : std::min(pc.a0 + pc.ra, pc.ahi);
+  if (!(hi > lo) || !std::isfinite(lo) || !std::isfinite(hi)) return pc;
+  pc.ac = 0.5 * (lo + hi);
+  pc.ha = 0.5 * (hi - lo);
+  pc.empty = false;
+  return pc;
+}
+
+}  // namespace deepcut::drill

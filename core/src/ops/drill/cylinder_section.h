@@ -1,0 +1,71 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// The drill's cylinder in double precision (an orthonormal frame, its tolerances) and the region
+// it cuts from one triangle's plane. Private to the drill (core/src/ops/drill/); the algorithm is
+// described in core/include/deepcut/core/ops/drill.h.
+
+#include <algorithm>
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <limits>
+
+#include "deepcut/core/ops/drill.h"
+#include "deepcut/core/surface_mesh.h"
+#include "ops/common/crossing_table.h"
+
+namespace deepcut::drill {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+using detail::directed_key;
+using detail::edge_key;
+
+// The cylinder in double precision, with an orthonormal frame (u, w, d), the snapping tolerance
+// `eps` (absolute) and the number of rulings sampled around the axis.
+struct CylinderFrame {
+  glm::dvec3 a, d, u, w;
+  double len = 0.0, r = 0.0;
+  double eps = 0.0;
+  int samples = 32;
+
+  /// The frame of `cylinder` with the tolerance and sampling of `options`.
+  static CylinderFrame make(const Cylinder& cylinder, const DrillOptions& options);
+
+  double s(const glm::dvec3& p) const { return glm::dot(p - a, d); }
+  glm::dvec3 perp(const glm::dvec3& p) const {
+    const glm::dvec3 q = p - a;
+    return q - glm::dot(q, d) * d;
+  }
+  double rho(const glm::dvec3& p) const { return glm::length(perp(p)); }
+  double theta(const glm::dvec3& p) const {
+    const glm::dvec3 q = perp(p);
+    return std::atan2(glm::dot(q, w), glm::dot(q, u));
+  }
+  // Signed distance-like function: negative inside, 1-Lipschitz, <= the true distance outside.
+  double sd(const glm::dvec3& p) const {
+    const double sv = s(p);
+    return std::max({rho(p) - r, -sv, sv - len});
+  }
+  glm::dvec3 ruling(double th) const { return std::cos(th) * u + std::sin(th) * w; }
+  glm::dvec3 at(double th, double sv) const { return a + r * ruling(th) + sv * d; }
+};
+
+// The region the solid cylinder cuts from one triangle's plane, in plane coordinates (a, b):
+// an ellipse (semi-axes ra along e1, rb along e2) clipped to alo <= a <= ahi by the end planes.
+struct PlaneCut {
+  glm::dvec3 o, n, e1, e2;
+  double dn = 0.0;  // d . n
+  bool parallel = false, empty = true;
+  double a0 = 0.0, b0 = 0.0, ra = kInf, rb = 0.0, c1 = 0.0, so = 0.0;
+  double alo = -kInf, ahi = kInf, ac = 0.0, ha = 1.0;
+
+  glm::dvec2 coords(const glm::dvec3& x) const { return {glm::dot(x - o, e1), glm::dot(x - o, e2)}; }
+  glm::dvec3 point(double av, double bv) const { return o + av * e1 + bv * e2; }
+  double phi(const glm::dvec2& q) const { return std::atan2((q.y - b0) / rb, (q.x - ac) / ha); }
+};
+
+/// The cut of the triangle `p` (posed corners) by the solid cylinder, in the triangle's plane.
+PlaneCut plane_cut(const CylinderFrame& cyl, const glm::dvec3 p[3]);
+
+}  // namespace deepcut::drill

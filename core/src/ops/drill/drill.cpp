@@ -1,0 +1,264 @@
+// SPDX-License-Identifier: MIT
+// Drill (core/include/deepcut/core/ops/drill.h): the stages of drilling one mesh, and the model
+// loop.
+//
+// 1. Candidate faces come from the spatial index (or a bounding-sphere scan); old vertices a hair
+//    from the cylinder's side are slid onto it (rim_insertion.h).
+// 2. The rim is inserted into each crossed triangle in its own plane (rim_insertion.cpp).
+// 3. Rims are traced from the edits (rim_tracing.cpp); with `wall`, each connected shell gets the
+//    part of the cylinder's surface (side and end disks) inside it (walls/wall.h).
+#include "deepcut/core/ops/drill.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+#include <unordered_map>
+
+#include "deepcut/core/mesh_editor.h"
+#include "deepcut/core/posed_model.h"
+#include "deepcut/core/skinning.h"
+#include "ops/common/model_surgery.h"
+#include "ops/common/pinches.h"
+#include "ops/drill/cylinder_section.h"
+#include "ops/drill/posed_overlay.h"
+#include "ops/drill/rim_insertion.h"
+#include "ops/drill/walls/wall.h"
+
+namespace deepcut {
+namespace {
+
+using drill::kPi;
+
+double axis_scale(const Cylinder& c) {
+  const glm::dvec3 a(c.a), b(c.b);
+  return glm::length(a) + glm::length(b) + glm::length(b - a);
+}
+
+void check_arguments(const Cylinder& c, const DrillOptions& options) {
+  auto finite = [](const glm::vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+  };
+  if (!finite(c.a) || !finite(c.b))
+    throw Error(ErrorCode::InvalidArgument, "drill: the axis end points are not finite");
+  if (!std::isfinite(c.radius) || !(c.radius > 0.0f))
+    throw Error(ErrorCode::InvalidArgument, "drill: the radius must be a positive number");
+  const double len = glm::length(glm::dvec3(c.b) - glm::dvec3(c.a));
+  const double scale = glm::length(glm::dvec3(c.a)) + glm::length(glm::dvec3(c.b));
+  if (!(len > 1e-7 * scale) || len == 0.0)
+    throw Error(ErrorCode::InvalidArgument, "drill: the axis end points A and B coincide");
+  if (options.min_rim_edges < 3 || options.min_rim_edges > 4096)
+    throw Error(ErrorCode::InvalidArgument, "drill: min_rim_edges must be between 3 and 4096");
+  // Rim points closer than the absolute tolerance (a few float steps of the coordinates there)
+  // round onto each other or onto one line in float: faces of zero area.
+  if (c.radius < min_drill_radius(c, options.min_rim_edges)) {
+    char text[240];
+    std::snprintf(
+        text, sizeof text,
+        "drill: radius %.3g with %d rim edges puts rim points %.3g apart, finer than the precision of "
+        "positions around the axis (%.3g); the radius must be at least %.3g",
+        double(c.radius), options.min_rim_edges, 2.0 * c.radius * std::sin(kPi / options.min_rim_edges),
+        1e-6 * axis_scale(c), double(min_drill_radius(c, options.min_rim_edges)));
+    throw Error(ErrorCode::InvalidArgument, text);
+  }
+  if (!std::isfinite(options.relative_tolerance) || options.relative_tolerance < 0.0f ||
+      options.relative_tolerance > 0.1f)
+    throw Error(ErrorCode::InvalidArgument, "drill: relative_tolerance must be between 0 and 0.1");
+}
+
+// Splits the vertices where a rim pinches the surface (a vertex joining two fans: one vertex
+// each); the copies' posed positions go to `posed`.
+detail::PinchSplits split_pinches(MeshEditor& editor, drill::PosedOverlay& posed,
+                                  const std::vector<FaceId>& candidates, const TriangleGrid& index) {
+  const auto touched = detail::edited_vertices(editor.log());
+  // Faces are found where their old vertices were filed in the grid; the faces around a snapped
+  // vertex (filed where it was, and the input's posed positions may be the mesh's own positions)
+  // are all candidates.
+  auto around =
+      detail::faces_around(editor.mesh(), editor.log(), touched, posed.first_new(), &index, posed.input());
+  if (!posed.moved().empty()) around.insert(around.end(), candidates.begin(), candidates.end());
+  auto pinches = detail::split_pinched_vertices(editor, touched, around);
+  for (const auto& [v, c] : pinches.copies) {
+    (void)c;
+    posed.add(posed(v));
+  }
+  return pinches;
+}
+
+DrillResult run(SurfaceMesh& mesh, const std::vector<glm::vec3>& input_posed, const Cylinder& cylinder,
+                const DrillOptions& options, const TriangleGrid& index, const drill::Unposer& unpose) {
+  const drill::CylinderFrame cyl = drill::CylinderFrame::make(cylinder, options);
+  MeshEditor editor(mesh);
+  drill::PosedOverlay posed(input_posed, unpose);
+  DrillResult result;
+  result.first_new_vertex = posed.first_new();
+  const std::vector<FaceId> candidates = drill::find_candidates(mesh, cyl, posed, index);
+  drill::snap_shallow_vertices(editor, cyl, posed, candidates);
+  const drill::RimInsertion inserted = drill::insert_rim(editor, cyl, posed, candidates);
+  if (editor.log().size() == posed.moved().size()) {  // nothing cut: the snaps go back, the log stays empty
+    for (const Edit& e : editor.log().edits)
+      if (const auto* mv = std::get_if<VertexMoved>(&e)) mesh.positions()[mv->v.index] = mv->from;
+    result.status = OpStatus::NoIntersection;
+    return result;
+  }
+  // A rim through a vertex snapped onto the cylinder can leave it joining two fans: one vertex
+  // each. Without walls before the rims are traced, so each rim runs through its own copy; with
+  // walls after them (a wall can join the fans again), the rims following the copies.
+  std::unordered_map<std::uint32_t, std::uint32_t> copy_of;  // pinch-split copy -> original (no wall)
+  if (!options.wall)
+    for (const auto& [v, c] : split_pinches(editor, posed, candidates, index).copies)
+      copy_of.emplace(c.index, v.index);
+  const std::vector<drill::Rim> rims = drill::trace_rims(mesh, editor.log(), cyl, posed, candidates, copy_of);
+  for (const drill::Rim& rim : rims) {
+    DrillHole hole;
+    hole.rim = rim.vertices;
+    hole.closed = rim.closed;
+    hole.winding = rim.winding;
+    result.holes.push_back(std::move(hole));
+  }
+  result.intersection_points = inserted.crossings;
+  result.triangles_removed = inserted.removed;
+  result.triangles_added = inserted.added;
+  if (options.wall) {
+    const drill::WallResult walls = drill::build_drill_walls(editor, cyl, rims, posed, candidates);
+    for (std::size_t h = 0; h < walls.walled.size(); ++h) result.holes[h].walled = walls.walled[h] != 0;
+    result.wall_triangles = walls.wall_triangles;
+    result.triangles_removed += walls.triangles_removed;
+    result.triangles_added += walls.wall_triangles;
+    const auto pinches = split_pinches(editor, posed, candidates, index);
+    for (DrillHole& h : result.holes) detail::follow_pinch_splits(mesh, pinches, h.rim, h.closed);
+  }
+  result.added_posed.reserve(posed.added().size());
+  for (const auto& p : posed.added()) result.added_posed.push_back(glm::vec3(p));
+  for (const auto& [v, p] : posed.moved()) result.moved.push_back({VertexId(v), glm::vec3(p)});
+  result.log = editor.take_log();
+  return result;
+}
+
+}  // namespace
+
+float min_drill_radius(const Cylinder& cylinder, int min_rim_edges) {
+  const double spacing = 1e-6 * axis_scale(cylinder);  // the Driller's absolute tolerance
+  const double r = spacing / (2.0 * std::sin(kPi / std::max(min_rim_edges, 3)));
+  return std::nextafter(static_cast<float>(r), std::numeric_limits<float>::infinity());
+}
+
+DrillResult drill_mesh(SurfaceMesh& mesh, const PosedMesh& posed, const Cylinder& cylinder,
+                       const DrillOptions& options) {
+  check_arguments(cylinder, options);
+  if (posed.posed.size() != mesh.vertex_count())
+    throw Error(ErrorCode::InvalidArgument, "drill: " + std::to_string(posed.posed.size()) +
+                                                " posed positions for " +
+                                                std::to_string(mesh.vertex_count()) + " vertices");
+  const drill::Unposer unpose = [&posed](const SurfaceMesh& m, VertexId v, const glm::vec3& p) {
+    return posed.unpose(m, v, p);
+  };
+  return run(mesh, posed.posed, cylinder, options, posed.grid, posed.no_unpose ? drill::Unposer() : unpose);
+}
+
+ModelDrillResult drill_model(Model& model, const Cylinder& cylinder, const DrillOptions& options,
+                             int animation, float time) {
+  check_arguments(cylinder, options);
+  PosedModel posed = PosedModel::build(model, animation, time);
+  return drill_model(model, posed, cylinder, options, animation, time);
+}
+
+ModelDrillResult drill_model(Model& model, PosedModel& posed, const Cylinder& cylinder,
+                             const DrillOptions& options, int animation, float time) {
+  check_arguments(cylinder, options);
+  posed.prepare(model, animation, time);
+  ModelDrillResult result;
+  result.status = OpStatus::NoIntersection;
+  std::vector<int> mesh_users(model.meshes.size(), 0);
+  for (const auto& n : model.nodes)
+    if (n.mesh >= 0 && static_cast<std::size_t>(n.mesh) < model.meshes.size()) ++mesh_users[n.mesh];
+  int cut_material = -1;
+  for (std::size_t ni = 0; ni < model.nodes.size(); ++ni) {
+    const int mi = model.nodes[ni].mesh;
+    if (mi < 0 || static_cast<std::size_t>(mi) >= model.meshes.size()) continue;
+    const int node_id = static_cast<int>(ni);
+    // The primitives are drilled in place (no copy, no re-extraction: the cost follows the hole);
+    // a mesh drawn by several instances is drilled on a copy that this instance then owns.
+    const bool shared = mesh_users[mi] > 1;
+    Mesh copy;
+    Mesh& target = shared ? (copy = model.meshes[mi], copy) : model.meshes[mi];
+    std::vector<Primitive> walls;
+    bool any = false;
+    for (std::size_t pi = 0; pi < target.primitives.size(); ++pi) {
+      Primitive& prim = target.primitives[pi];
+      // prepare() made every instance.
+      PosedMesh& inst = *posed.find(node_id, static_cast<int>(pi));
+      // Faces flagged before the drill (a mesh made in code) go to the wall too, as new ones do.
+      const bool flagged_before = prim.mesh.face_attrs().contains(attr::kCutSurface);
+      DrillResult r = drill_mesh(prim.mesh, inst, cylinder, options);
+      if (r.status == OpStatus::NoIntersection) continue;
+      any = true;
+      result.status = OpStatus::Ok;
+      result.intersection_points += r.intersection_points;
+      result.triangles_removed += r.triangles_removed;
+      result.triangles_added += r.triangles_added;
+      result.wall_triangles += r.wall_triangles;
+      for (const auto& h : r.holes) {
+        result.rim_vertices.push_back(h.rim.size());
+        result.unwalled_holes += options.wall && !h.walled;
+      }
+      // Wall faces move to a primitive of their own (the "Cut surface" material): gathered from
+      // the log, extracted at the wall's cost, and removed from the body through the editor.
+      std::vector<FaceId> wall;
+      if (const auto* flag = prim.mesh.face_attrs().find<std::uint8_t>(attr::kCutSurface)) {
+        if (flagged_before) {
+          prim.mesh.for_each_face([&](FaceId f, const Triangle&) {
+            if ((*flag)[f.index]) wall.push_back(f);
+          });
+        } else {
+          for (const Edit& e : r.log.edits)
+            if (const auto* a = std::get_if<FaceAdded>(&e))
+              if (!prim.mesh.is_deleted(a->f) && (*flag)[a->f.index]) wall.push_back(a->f);
+          std::sort(wall.begin(), wall.end());
+        }
+      }
+      if (!wall.empty()) {
+        Primitive w;
+        w.mesh = detail::extract(prim.mesh, wall);
+        w.mesh.face_attrs().remove(attr::kCutSurface);
+        if (cut_material < 0) cut_material = detail::cut_surface_material(model);
+        w.material = cut_material;
+        w.extras_json = prim.extras_json;
+        walls.push_back(std::move(w));
+        MeshEditor editor(prim.mesh);
+        for (FaceId f : wall) editor.remove_face(f);
+        r.log.append(editor.take_log());
+      }
+      prim.mesh.face_attrs().remove(attr::kCutSurface);
+      posed.follow(model, node_id, static_cast<int>(pi), prim.mesh, r.log);
+    }
+    if (!any) continue;
+    // Primitives the cylinder swallowed go; the walls follow the primitives.
+    for (std::size_t pi = target.primitives.size(); pi-- > 0;)
+      if (target.primitives[pi].mesh.face_count() == 0) {
+        target.primitives.erase(target.primitives.begin() + static_cast<std::ptrdiff_t>(pi));
+        posed.erase_primitive(node_id, static_cast<int>(pi));
+      }
+    const std::size_t first_wall = target.primitives.size();
+    for (auto& w : walls) target.primitives.push_back(std::move(w));
+    if (target.primitives.empty()) {  // the cylinder swallowed the whole instance: it draws nothing now
+      if (--mesh_users[mi] == 0) model.meshes[mi].primitives.clear();
+      model.nodes[ni].mesh = -1;
+      model.nodes[ni].skin = -1;
+      posed.erase_node(node_id);
+      continue;
+    }
+    const std::size_t primitives = target.primitives.size();
+    if (shared) {
+      --mesh_users[mi];
+      model.meshes.push_back(std::move(copy));
+      model.nodes[ni].mesh = static_cast<int>(model.meshes.size() - 1);
+      posed.rename_mesh(node_id, model.nodes[ni].mesh);
+    }
+    for (std::size_t pi = first_wall; pi < primitives; ++pi) posed.add(model, node_id, static_cast<int>(pi));
+  }
+  return result;
+}
+
+}  // namespace deepcut

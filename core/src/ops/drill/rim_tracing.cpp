@@ -1,0 +1,178 @@
+// SPDX-License-Identifier: MIT
+// The rims the rim insertion left, traced from the topology of its edits.
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+#include <vector>
+
+#include "ops/drill/rim_insertion.h"
+
+namespace deepcut::drill {
+namespace {
+
+using RimNext = std::unordered_map<std::uint32_t, std::vector<std::uint32_t>>;  // directed rim edges
+
+// Rim edges are found from the topology the edits left: boundary half-edges of the new faces
+// whose ends lie on the cylinder. An edge between two old vertices is an edge of the parent
+// triangle; it is a boundary only if the face across it was removed and not replaced there.
+RimNext rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFrame& cyl,
+                  const PosedOverlay& posed, const std::vector<FaceId>& candidates,
+                  const std::unordered_map<std::uint32_t, std::uint32_t>& copy_of) {
+  RimNext rim_next;
+  // Half-edges of the added and of the removed faces, as sorted lists (only membership matters).
+  std::vector<std::uint64_t> added, removed;
+  for (const Edit& e : log.edits) {
+    if (const auto* fa = std::get_if<FaceAdded>(&e)) {
+      for (int k = 0; k < 3; ++k) added.push_back(directed_key(fa->vertices[k], fa->vertices[(k + 1) % 3]));
+    } else if (const auto* fr = std::get_if<FaceRemoved>(&e)) {
+      for (int k = 0; k < 3; ++k) removed.push_back(directed_key(fr->vertices[k], fr->vertices[(k + 1) % 3]));
+    }
+  }
+  std::sort(added.begin(), added.end());
+  std::sort(removed.begin(), removed.end());
+  auto contains = [](const std::vector<std::uint64_t>& list, std::uint64_t key) {
+    return std::binary_search(list.begin(), list.end(), key);
+  };
+  // A copy the pinch split made of an old vertex is new, but the faces moved onto it keep their
+  // old edges: both are judged by the original (an old boundary edge at a split vertex is not rim).
+  auto base = [&](VertexId v) {
+    const auto it = copy_of.find(v.index);
+    return it == copy_of.end() ? v : VertexId(it->second);
+  };
+  auto on_rim = [&](VertexId v) {
+    v = base(v);
+    return v.index >= posed.first_new() || std::abs(cyl.sd(posed(v))) <= 2.0 * cyl.eps;
+  };
+  // Faces the drill left alone can border the hole too: an old edge that lies on the cylinder
+  // (within the tolerance) between a removed face and an untouched one.
+  std::vector<std::uint64_t> untouched;
+  for (FaceId f : candidates)
+    if (!mesh.is_deleted(f)) {
+      const Triangle& t = mesh.face(f);
+      for (int k = 0; k < 3; ++k) untouched.push_back(directed_key(t[k], t[(k + 1) % 3]));
+    }
+  std::sort(untouched.begin(), untouched.end());
+  auto consider = [&](VertexId a, VertexId b) {
+    if (!on_rim(a) || !on_rim(b) || contains(added, directed_key(b, a)) ||
+        contains(untouched, directed_key(b, a)))
+      return;
+    const VertexId oa = base(a), ob = base(b);
+    if (oa.index < posed.first_new() && ob.index < posed.first_new() &&
+        !contains(removed, directed_key(ob, oa)))
+      return;
+    rim_next[a.index].push_back(b.index);
+  };
+  for (const Edit& e : log.edits) {
+    const auto* fa = std::get_if<FaceAdded>(&e);
+    if (!fa || mesh.is_deleted(fa->f)) continue;
+    for (int k = 0; k < 3; ++k) consider(fa->vertices[k], fa->vertices[(k + 1) % 3]);
+  }
+  for (FaceId f : candidates)
+    if (!mesh.is_deleted(f)) {
+      const Triangle t = mesh.face(f);
+      for (int k = 0; k < 3; ++k) consider(t[k], t[(k + 1) % 3]);
+    }
+  return rim_next;
+}
+
+// Chains the rim steps into rims: open chains first, then closed loops, each with its winding
+// around the axis.
+std::vector<Rim> chain_rims(const SurfaceMesh& mesh, const EditLog& log, const CylinderFrame& cyl,
+                            const PosedOverlay& posed, const std::vector<FaceId>& candidates,
+                            RimNext& rim_next) {
+  std::vector<Rim> rims;
+  std::unordered_map<std::uint32_t, int> indegree;
+  for (const auto& [v, next] : rim_next)
+    for (auto w : next) ++indegree[w];
+  std::vector<std::uint32_t> starts;
+  for (const auto& [v, next] : rim_next) starts.push_back(v);
+  std::sort(starts.begin(), starts.end());
+  // Open chains first (from vertices nothing leads to), then closed loops.
+  std::stable_partition(starts.begin(), starts.end(), [&](std::uint32_t v) { return indegree[v] == 0; });
+  // Where several rims meet at one vertex (a vertex on the cylinder whose surface the hole pinches,
+  // or two holes touching there), each incoming rim edge continues with the outgoing one of its
+  // own fan: turning around the vertex through the kept faces from the incoming edge's face to
+  // the next boundary edge. Pairing them otherwise crosses the rims there (they cannot be walled,
+  // and after the pinch split the rim would jump between the vertex's copies).
+  std::unordered_map<std::uint64_t, std::uint32_t> third;  // half-edge a->b of a kept face: its third corner
+  auto add_face = [&](const Triangle& t) {
+    for (int k = 0; k < 3; ++k) third[directed_key(t[k], t[(k + 1) % 3])] = t[(k + 2) % 3].index;
+  };
+  for (const Edit& e : log.edits)
+    if (const auto* fa = std::get_if<FaceAdded>(&e))
+      if (!mesh.is_deleted(fa->f)) add_face(mesh.face(fa->f));
+  for (FaceId f : candidates)
+    if (!mesh.is_deleted(f)) add_face(mesh.face(f));
+  std::unordered_map<std::uint32_t, std::vector<char>> used;  // per outgoing rim edge
+  for (const auto& [v, next] : rim_next) used[v].assign(next.size(), 0);
+  // The outgoing rim edge of `cur` in the fan of prev->cur (used or not; -1 when the faces
+  // around do not say).
+  auto fan_next = [&](std::uint32_t prev, std::uint32_t cur) -> int {
+    const auto& next = rim_next[cur];
+    std::uint32_t from = prev;  // turn from the face holding prev->cur
+    for (std::size_t guard = 0; guard < 256; ++guard) {
+      const auto it = third.find(directed_key(VertexId(from), VertexId(cur)));
+      if (it == third.end()) return -1;
+      const std::uint32_t out = it->second;  // cur->out is the next half-edge of that face
+      int found = -1;
+      for (std::size_t i = 0; i < next.size(); ++i)
+        if (next[i] == out && (found < 0 || !used[cur][i])) found = static_cast<int>(i);
+      if (found >= 0) return found;
+      if (out == prev) return -1;  // went all the way round
+      from = out;                  // across cur->out to the face holding out->cur
+    }
+    return -1;
+  };
+  for (std::uint32_t s : starts) {
+    for (std::size_t first = 0; first < rim_next[s].size(); ++first) {
+      if (used[s][first]) continue;
+      used[s][first] = 1;
+      Rim hole;
+      hole.vertices.push_back(VertexId(s));
+      std::uint32_t prev = s, cur = rim_next[s][first];
+      hole.closed = false;
+      while (true) {
+        const auto it = rim_next.find(cur);
+        const int fan = it == rim_next.end() ? -1 : fan_next(prev, cur);
+        if (cur == s && (fan < 0 || fan == static_cast<int>(first))) {  // back through the start's own fan
+          hole.closed = true;
+          break;
+        }
+        hole.vertices.push_back(VertexId(cur));
+        if (it == rim_next.end()) break;
+        int i = fan >= 0 && !used[cur][static_cast<std::size_t>(fan)] ? fan : -1;
+        for (std::size_t j = 0; j < it->second.size() && i < 0; ++j)
+          if (!used[cur][j]) i = static_cast<int>(j);
+        if (i < 0) break;
+        used[cur][static_cast<std::size_t>(i)] = 1;
+        prev = cur;
+        cur = it->second[static_cast<std::size_t>(i)];
+      }
+      if (hole.closed) {
+        double turn = 0.0;
+        for (std::size_t i = 0; i < hole.vertices.size(); ++i) {
+          const double a = cyl.theta(posed(hole.vertices[i])),
+                       b = cyl.theta(posed(hole.vertices[(i + 1) % hole.vertices.size()]));
+          double dth = b - a;
+          while (dth > kPi) dth -= 2.0 * kPi;
+          while (dth < -kPi) dth += 2.0 * kPi;
+          turn += dth;
+        }
+        hole.winding = static_cast<int>(std::lround(turn / (2.0 * kPi)));
+      }
+      rims.push_back(std::move(hole));
+    }
+  }
+  return rims;
+}
+
+}  // namespace
+
+std::vector<Rim> trace_rims(const SurfaceMesh& mesh, const EditLog& log, const CylinderFrame& cyl,
+                            const PosedOverlay& posed, const std::vector<FaceId>& candidates,
+                            const std::unordered_map<std::uint32_t, std::uint32_t>& copy_of) {
+  RimNext rim_next = rim_steps(mesh, log, cyl, posed, candidates, copy_of);
+  return chain_rims(mesh, log, cyl, posed, candidates, rim_next);
+}
+
+}  // namespace deepcut::drill
