@@ -72,15 +72,15 @@ TEST(SceneTest, pieces_follow_the_pose_and_skeleton_links_joints) {
   const SceneInstance& piece = scene.pieces[0];
   EXPECT_EQ(piece.node, 0);
   EXPECT_EQ(piece.skin, 0);
-  ASSERT_EQ(piece.posed.size(), piece.surface->vertex_count());
-  for (std::size_t v = 0; v < piece.posed.size(); ++v)
-    EXPECT_LT(glm::distance(piece.posed[v], piece.surface->positions()[v]), 1e-5f);
+  ASSERT_EQ(piece.posed().size(), piece.surface->vertex_count());
+  for (std::size_t v = 0; v < piece.posed().size(); ++v)
+    EXPECT_LT(glm::distance(piece.posed()[v], piece.surface->positions()[v]), 1e-5f);
   EXPECT_GT(scene.size, 4.0f);
 
   pose_scene(scene, 0, 1.0f);  // joint1 rotated by 60 degrees: the top of the tube moves
   float moved = 0.0f;
-  for (std::size_t v = 0; v < piece.posed.size(); ++v)
-    moved = std::max(moved, glm::distance(scene.pieces[0].posed[v], piece.surface->positions()[v]));
+  for (std::size_t v = 0; v < piece.posed().size(); ++v)
+    moved = std::max(moved, glm::distance(scene.pieces[0].posed()[v], piece.surface->positions()[v]));
   EXPECT_GT(moved, 0.5f);
   EXPECT_THROW(pose_scene(scene, 3, 0.0f), Error);
 
@@ -167,8 +167,8 @@ TEST(WeightsInspectorTest, flags_vertices_whose_weights_do_not_sum_to_one) {
                                     [](const OverlayPoints& p) { return p.color == palette::kFlagged; });
   ASSERT_NE(flagged, overlay.points.end());
   ASSERT_EQ(flagged->positions.size(), 2u);
-  EXPECT_EQ(flagged->positions[0], scene.pieces[0].posed[5]) << "markers sit on the posed vertex";
-  EXPECT_EQ(flagged->positions[1], scene.pieces[0].posed[9]);
+  EXPECT_EQ(flagged->positions[0], scene.pieces[0].posed()[5]) << "markers sit on the posed vertex";
+  EXPECT_EQ(flagged->positions[1], scene.pieces[0].posed()[9]);
 }
 
 TEST(AdjacencyInspectorTest, draws_boundary_and_seam_edges_and_counts_components) {
@@ -256,10 +256,10 @@ TEST(AdjacencyInspectorTest, overlay_follows_the_pose) {
       if (p.color == palette::kPicked) return p.positions.at(0);
     return glm::vec3(-1e9f);
   };
-  EXPECT_EQ(picked_marker(), scene.pieces[0].posed[top]);
+  EXPECT_EQ(picked_marker(), scene.pieces[0].posed()[top]);
   pose_scene(scene, 0, 1.0f);
   inspector->set_scene(scene, SceneChange::Pose);
-  EXPECT_EQ(picked_marker(), scene.pieces[0].posed[top]);
+  EXPECT_EQ(picked_marker(), scene.pieces[0].posed()[top]);
   EXPECT_GT(glm::distance(picked_marker(), positions[top]), 0.5f);
   EXPECT_TRUE(contains(inspector->summary(), "Vertex " + std::to_string(top)))
       << "a pose change keeps the pick";
@@ -272,7 +272,7 @@ TEST(ClustersInspectorTest, colours_vertices_by_particle_and_reclusters_with_rho
   inspector->set_scene(scene, SceneChange::Model);
   inspector->set_option("rho", "0.5");
   const SurfaceMesh& mesh = *scene.pieces[0].surface;
-  const Clusters reference = Clusters::build(mesh, scene.pieces[0].posed, ClusterOptions{0.5f});
+  const Clusters reference = Clusters::build(mesh, scene.pieces[0].posed(), ClusterOptions{0.5f});
   const std::size_t particles = reference.particle_count();
   ASSERT_GT(particles, 4u);
   EXPECT_TRUE(contains(inspector->summary(), std::to_string(particles) + " particles at rho 0.5"));
@@ -299,7 +299,7 @@ TEST(ClustersInspectorTest, colours_vertices_by_particle_and_reclusters_with_rho
   pose_scene(scene, 0, 1.0f);
   inspector->set_scene(scene, SceneChange::Pose);
   const auto posed_centres = sphere_set().centers;
-  EXPECT_EQ(posed_centres, posed_particle_centres(reference, scene.pieces[0].posed));
+  EXPECT_EQ(posed_centres, posed_particle_centres(reference, scene.pieces[0].posed()));
   EXPECT_NE(posed_centres, rest_centres);
 
   inspector->set_option("rho", "1.5");
