@@ -9,6 +9,7 @@
 #include "deepcut/core/adjacency.h"
 #include "deepcut/core/attributes.h"
 #include "deepcut/core/errors.h"
+#include "deepcut/core/skinning.h"
 #include "deepcut/core/softbody/clustering.h"
 #include "deepcut/core/softbody/simulation.h"
 #include "deepcut/plugins/colors.h"
@@ -63,6 +64,41 @@ TEST(InspectorRegistryTest, builtin_list_has_every_inspector_and_rejects_unknown
   InspectorRegistry copy = registry;
   EXPECT_THROW(copy.add(*registry.find("weights")), Error);
   EXPECT_THROW(copy.add({"", "x", registry.find("weights")->create}), Error);
+}
+
+TEST(SceneTest, the_scene_pose_is_a_posed_model_equal_to_a_fresh_build_at_every_time) {
+  const auto model = tube_model();
+  Scene scene = make_scene(model, 0, 0.0f);
+  ASSERT_TRUE(scene.posed);
+  for (float t : {0.25f, 1.0f, 0.5f}) {
+    pose_scene(scene, 0, t);
+    const PosedModel fresh = PosedModel::build(*model, 0, t);
+    ASSERT_EQ(scene.posed->size(), fresh.size());
+    EXPECT_EQ(scene.world, fresh.world());
+    for (const SceneInstance& piece : scene.pieces) {
+      const PosedMesh* want = fresh.find(piece.node, piece.primitive);
+      ASSERT_NE(want, nullptr);
+      EXPECT_EQ(piece.pose, scene.posed->find(piece.node, piece.primitive)) << "the instance views the posed model";
+      EXPECT_EQ(piece.posed(), want->posed) << "bit for bit, t " << t;
+      EXPECT_EQ(piece.pose->linear, want->linear);
+      EXPECT_EQ(piece.pose->bounds.min, want->bounds.min);
+      EXPECT_EQ(piece.pose->bounds.max, want->bounds.max);
+      EXPECT_TRUE(piece.pose->gridless) << "drawing a pose builds no grid";
+      EXPECT_EQ(piece.posed_normals, posed_normals(*model, piece.node, *piece.surface, fresh.world()));
+    }
+  }
+  // A copy shares the posed model until one of them is posed: then it poses one of its own.
+  Scene copy = scene;
+  pose_scene(copy, 0, 0.0f);
+  EXPECT_NE(copy.posed, scene.posed);
+  EXPECT_EQ(scene.posed->time(), 0.5f);
+  EXPECT_EQ(copy.pieces[0].posed(), PosedModel::build(*model, 0, 0.0f).find(0, 0)->posed);
+  // The operations' prepare gives a gridless posed model its grids at the same pose.
+  PosedModel operations = *scene.posed;
+  operations.prepare(*model, 0, 0.5f);
+  const PosedMesh* inst = operations.find(0, 0);
+  EXPECT_FALSE(inst->gridless);
+  EXPECT_EQ(inst->grid.face_count(), model->meshes[0].primitives[0].mesh.face_count());
 }
 
 TEST(SceneTest, pieces_follow_the_pose_and_skeleton_links_joints) {
