@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 /// @file softbody/simulation.h
-/// Soft-body deformation layered on skinning (DESIGN section 4, "Soft body"). Each particle of a
+/// Soft-body deformation layered on skinning. Each particle of a
 /// `Clusters` is a damped spring pulling its displacement back to zero (or to a drag goal);
 /// vertices follow the weighted displacement of their particles.
 ///
@@ -14,6 +14,7 @@
 ///
 /// Integration is the exact solution of the damped spring over the time step (a 2x2 matrix
 /// exponential computed once per step), so any step size is stable and free of NaN.
+/// With clusters that follow the operations: docs/library.md, "Soft body".
 
 #include <cstddef>
 #include <vector>
