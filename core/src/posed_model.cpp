@@ -189,9 +189,9 @@ void PosedModel::add(const Model& model, int node, int primitive) {
   instances_[{node, primitive}] = make_instance(model, node, primitive);
 }
 
-void PosedModel::prepare(const Model& model, int animation, float time) {
+void PosedModel::prepare(const Model& model, int animation, float time, PoseDetail detail) {
   if (!matches(animation, time) || world_.size() != model.nodes.size() || joints_.size() != model.skins.size()) {
-    *this = build(model, animation, time);
+    *this = build(model, animation, time, detail);
     return;
   }
   for (auto it = instances_.begin(); it != instances_.end();) {
@@ -199,21 +199,23 @@ void PosedModel::prepare(const Model& model, int animation, float time) {
     const PosedMesh& inst = it->second;
     if (!mesh) {
       it = instances_.erase(it);
-    } else if (inst.mesh != model.nodes[static_cast<std::size_t>(inst.node)].mesh ||
-               inst.posed.size() != mesh->vertex_count() || inst.grid.face_count() != mesh->face_count() ||
-               inst.gridless) {
-      it->second = make_instance(model, inst.node, inst.primitive);
-      ++it;
-    } else {
-      ++it;
+      continue;
     }
+    // A gridless instance can only tell a changed mesh by its vertex count.
+    const bool grid_stale =
+        inst.gridless ? detail == PoseDetail::Full : inst.grid.face_count() != mesh->face_count();
+    if (inst.mesh != model.nodes[static_cast<std::size_t>(inst.node)].mesh ||
+        inst.posed.size() != mesh->vertex_count() || grid_stale)
+      it->second = make_instance(model, inst.node, inst.primitive, detail);
+    ++it;
   }
   for (std::size_t ni = 0; ni < model.nodes.size(); ++ni) {
     const int mi = model.nodes[ni].mesh;
     if (mi < 0 || static_cast<std::size_t>(mi) >= model.meshes.size()) continue;
     for (std::size_t p = 0; p < model.meshes[static_cast<std::size_t>(mi)].primitives.size(); ++p)
       if (!instances_.count({static_cast<int>(ni), static_cast<int>(p)}))
-        add(model, static_cast<int>(ni), static_cast<int>(p));
+        instances_[{static_cast<int>(ni), static_cast<int>(p)}] =
+            make_instance(model, static_cast<int>(ni), static_cast<int>(p), detail);
   }
 }
 
@@ -260,8 +262,9 @@ void PosedMesh::follow(const SurfaceMesh& surface, const EditLog& log) {
     inst.bounds.add(inst.posed[v]);
   }
   if (remeasure) inst.bounds = bounds_of(inst.posed);
-  // The grid files the faces around moved vertices again itself (TriangleGrid::apply).
-  inst.grid.apply(log, inst.posed);
+  // The grid files the faces around moved vertices again itself (TriangleGrid::apply); a
+  // gridless mesh stays gridless (`prepare` builds its grid when an operation needs one).
+  if (!inst.gridless) inst.grid.apply(log, inst.posed);
 }
 
 void PosedModel::erase_primitive(int node, int primitive) {

@@ -108,9 +108,11 @@ class PosedModel {
   /// pose (or invalidated); otherwise only instances whose mesh no longer fits (another mesh
   /// index, another vertex or face-slot count: the model was changed without the index) are
   /// rebuilt. The operations call this first.
+  /// With PoseDetail::Positions (what a cut needs) instances without grids are kept and new
+  /// ones are built without; with Full every instance gets its grid.
   /// @pre when the index was built for this pose, every change to `model` since went through
   ///      `follow` (or was made by an operation given the index).
-  void prepare(const Model& model, int animation, float time);
+  void prepare(const Model& model, int animation, float time, PoseDetail detail = PoseDetail::Full);
 
   /// The instance (node, primitive), or nullptr.
   PosedMesh* find(int node, int primitive);

@@ -661,8 +661,9 @@ void install_pieces(detail::InstanceEdit& inst, std::vector<Mesh> piece_meshes, 
 
 ModelCutResult cut_model(Model& model, PosedModel& posed, const Plane& plane, const CutOptions& options, int animation,
                          float time) {
-  const auto world = world_matrices(model, sample_pose(model, animation, time));
-  posed.prepare(model, animation, time);
+  // The cut classifies every vertex of the instances it visits: it needs positions, not grids.
+  posed.prepare(model, animation, time, PoseDetail::Positions);
+  const std::vector<glm::mat4> world = posed.world();
   ModelCutResult result;
   result.status = OpStatus::NoIntersection;
   int cut_material = -1;
