@@ -13,8 +13,10 @@
 namespace deepcut::geometry {
 namespace {
 
+using test::add_loop;
 using test::check_tiling;
 using test::Loop;
+using test::triangulate_exhaustive;
 using P = glm::dvec2;
 constexpr double kTau = 6.283185307179586;
 
@@ -23,16 +25,6 @@ const TriangulationRules kCap{};
 const TriangulationRules kDrill{EarSearch::kExhaustive, HoleBridge::kNearestPair};
 
 class PolygonTriangulation : public ::testing::TestWithParam<TriangulationRules> {};
-
-// Appends points, returns their loop.
-Loop add_loop(std::vector<P>& pts, const std::vector<P>& ring) {
-  Loop l;
-  for (const P& p : ring) {
-    l.push_back(static_cast<std::uint32_t>(pts.size()));
-    pts.push_back(p);
-  }
-  return l;
-}
 
 std::vector<P> square(P lo, P hi, bool ccw) {
   std::vector<P> r = {lo, P(hi.x, lo.y), hi, P(lo.x, hi.y)};
@@ -256,10 +248,10 @@ TEST(PolygonTriangulationParts, BridgeSplicesATouchingHole) {
   const Loop outer = add_loop(pts, square(P(0, 0), P(10, 10), true));
   const Loop hole = {add_loop(pts, {P(3, 2)})[0], outer[0], add_loop(pts, {P(2, 3)})[0]};
   ASSERT_LT(signed_area2(pts, hole), 0.0);
-  const Loop spliced = bridge(pts, outer, hole);
+  const Loop spliced = bridge_hole(pts, outer, hole, {}, HoleBridge::kNearestPair);
   EXPECT_EQ(spliced.size(), outer.size() + hole.size());
   std::vector<LocalTri> tris;
-  clip_polygon(pts, spliced, tris);
+  clip_ears(pts, spliced, EarSearch::kExhaustive, tris);
   EXPECT_EQ(check_tiling(pts, {outer, hole}, tris, 1), "");
   EXPECT_EQ(tris.size(), spliced.size() - 2);
 }
@@ -289,10 +281,10 @@ TEST(PolygonTriangulationParts, TriangulateOneOuterLoopAndOneHole) {
   std::vector<P> pts;
   const std::vector<Loop> loops = {add_loop(pts, regular(P(0, 0), 5.0, 16, true)),
                                    add_loop(pts, regular(P(0.5, 0), 1.0, 6, false))};
-  const auto tris = triangulate(pts, loops);
+  const auto tris = triangulate_exhaustive(pts, loops);
   EXPECT_EQ(check_tiling(pts, loops, tris, 1), "");
   EXPECT_EQ(tris.size(), 16u + 6u);
-  const auto alone = triangulate(pts, {loops[0]});
+  const auto alone = triangulate_exhaustive(pts, {loops[0]});
   EXPECT_EQ(check_tiling(pts, {loops[0]}, alone, 1), "");
 }
 

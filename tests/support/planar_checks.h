@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// Invariants of a planar triangulation of polygons with holes, shared by the tests of
-// core/src/geometry (header only: the checks need the private geometry headers).
+// Invariants of a planar triangulation of polygons with holes, and the loops and triangulations
+// they are checked on, shared by the tests of core/src/geometry (header only: the checks need the
+// private geometry headers).
 
 #include <cmath>
 #include <cstdint>
@@ -12,11 +13,32 @@
 #include <utility>
 #include <vector>
 
+#include "geometry/polygon_triangulation.h"
 #include "geometry/predicates.h"
 
 namespace deepcut::test {
 
 using Loop = std::vector<std::uint32_t>;
+
+/// Appends the points of `ring` to `pts`; returns their loop.
+inline Loop add_loop(std::vector<glm::dvec2>& pts, const std::vector<glm::dvec2>& ring) {
+  Loop l;
+  for (const glm::dvec2& p : ring) {
+    l.push_back(static_cast<std::uint32_t>(pts.size()));
+    pts.push_back(p);
+  }
+  return l;
+}
+
+/// The outer loop loops[0] with the holes after it, triangulated with the drill's rules
+/// (kRimTriangulation in core/src/ops/drill/rim_insertion.h).
+inline std::vector<geometry::LocalTri> triangulate_exhaustive(const std::vector<glm::dvec2>& pts,
+                                                              const std::vector<Loop>& loops) {
+  std::vector<geometry::LocalTri> out;
+  geometry::triangulate_polygon(pts, loops[0], {loops.begin() + 1, loops.end()},
+                                {geometry::EarSearch::kExhaustive, geometry::HoleBridge::kNearestPair}, out);
+  return out;
+}
 
 /// Twice the area the loops bound, outer loops counted positive when `sign` is their orientation
 /// (+1: counter-clockwise) and holes (the opposite orientation) negative.
