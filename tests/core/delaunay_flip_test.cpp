@@ -17,6 +17,7 @@ namespace {
 using test::add_loop;
 using test::check_tiling;
 using test::Loop;
+using test::random_star;
 using test::triangulate_exhaustive;
 using P = glm::dvec2;
 constexpr double kTau = 6.283185307179586;
@@ -181,12 +182,8 @@ TEST(DelaunayFlip, RandomStarsAfterFlipsAndInsertions) {
   for (int trial = 0; trial < 100; ++trial) {
     // Radii in [0.5, 1], angles jittered within 12 or more sectors: every edge stays farther than
     // 0.44 from the origin.
-    const int n = 12 + static_cast<int>(u(rng) * 30);
-    std::vector<P> ring;
-    for (int i = 0; i < n; ++i) {
-      const double a = kTau * (i + 0.9 * u(rng)) / n, r = 0.5 + 0.5 * u(rng);
-      ring.push_back(r * P(std::cos(a), std::sin(a)));
-    }
+    const std::vector<P> ring = random_star(rng, u, 12, 30, 0.5, 0.5);
+    const int n = static_cast<int>(ring.size());
     std::vector<P> pts;
     const Loop loop = add_loop(pts, ring);
     FlipTriangulation ft(pts, triangulate_exhaustive(pts, {loop}));

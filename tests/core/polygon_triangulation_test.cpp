@@ -16,6 +16,7 @@ namespace {
 using test::add_loop;
 using test::check_tiling;
 using test::Loop;
+using test::random_star;
 using test::triangulate_exhaustive;
 using P = glm::dvec2;
 constexpr double kTau = 6.283185307179586;
@@ -173,12 +174,7 @@ TEST_P(PolygonTriangulation, RandomStarsWithAHole) {
   for (int trial = 0; trial < 400; ++trial) {
     // A star around the origin: radii in [0.6, 1], angles jittered within their sector, so
     // every edge stays farther than 0.42 from the origin and a hole within 0.4 of it fits.
-    const int n = 8 + static_cast<int>(u(rng) * 40);
-    std::vector<P> ring;
-    for (int i = 0; i < n; ++i) {
-      const double a = kTau * (i + 0.9 * u(rng)) / n, r = 0.6 + 0.4 * u(rng);
-      ring.push_back(r * P(std::cos(a), std::sin(a)));
-    }
+    const std::vector<P> ring = random_star(rng, u, 8, 40, 0.6, 0.4);
     std::vector<P> pts;
     std::vector<Loop> loops = {add_loop(pts, ring)};
     const int holes = trial % 3 == 0 ? 0 : 1;

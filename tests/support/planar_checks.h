@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <random>
 #include <set>
 #include <sstream>
 #include <string>
@@ -28,6 +29,20 @@ inline Loop add_loop(std::vector<glm::dvec2>& pts, const std::vector<glm::dvec2>
     pts.push_back(p);
   }
   return l;
+}
+
+/// A star around the origin with `min_corners` + [0, `extra_corners`) corners, radii in
+/// [r_min, r_min + r_span], angles jittered within their sectors (draws from `u` on `rng`: the
+/// count, then an angle and a radius per corner).
+inline std::vector<glm::dvec2> random_star(std::mt19937& rng, std::uniform_real_distribution<double>& u,
+                                           int min_corners, int extra_corners, double r_min, double r_span) {
+  const int n = min_corners + static_cast<int>(u(rng) * extra_corners);
+  std::vector<glm::dvec2> ring;
+  for (int i = 0; i < n; ++i) {
+    const double a = 2.0 * geometry::kPi * (i + 0.9 * u(rng)) / n, r = r_min + r_span * u(rng);
+    ring.push_back(r * glm::dvec2(std::cos(a), std::sin(a)));
+  }
+  return ring;
 }
 
 /// The outer loop loops[0] with the holes after it, triangulated with the drill's rules
