@@ -16,6 +16,7 @@ namespace {
 
 using test::add_loop;
 using test::check_tiling;
+using test::comb_with_ten_teeth;
 using test::Loop;
 using test::random_star;
 using test::triangulate_exhaustive;
@@ -92,14 +93,7 @@ TEST(DelaunayFlip, InsertedPointsInAConvexHullGiveTheDelaunayTriangulation) {
 
 TEST(DelaunayFlip, ConstrainedEdgesAreKept) {
   // A comb: the Delaunay flips may not cut across its teeth.
-  std::vector<P> ring = {P(0, 0), P(20, 0)};
-  for (int t = 9; t >= 0; --t) {
-    ring.push_back(P(2 * t + 2, 5));
-    ring.push_back(P(2 * t + 1, 5));
-    ring.push_back(P(2 * t + 1, 1));
-    if (t > 0) ring.push_back(P(2 * t, 1));
-  }
-  ring.push_back(P(0, 1));
+  const std::vector<P> ring = comb_with_ten_teeth();
   std::vector<P> pts;
   const Loop comb = add_loop(pts, ring);
   std::vector<LocalTri> tris;

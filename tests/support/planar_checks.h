@@ -31,6 +31,21 @@ inline Loop add_loop(std::vector<glm::dvec2>& pts, const std::vector<glm::dvec2>
   return l;
 }
 
+/// A counter-clockwise comb 20 wide and 5 high with ten teeth (one unit wide, four deep) along
+/// its top: many reflex corners and ears.
+inline std::vector<glm::dvec2> comb_with_ten_teeth() {
+  using P = glm::dvec2;
+  std::vector<P> ring = {P(0, 0), P(20, 0)};
+  for (int t = 9; t >= 0; --t) {
+    ring.push_back(P(2 * t + 2, 5));
+    ring.push_back(P(2 * t + 1, 5));
+    ring.push_back(P(2 * t + 1, 1));
+    if (t > 0) ring.push_back(P(2 * t, 1));
+  }
+  ring.push_back(P(0, 1));
+  return ring;
+}
+
 /// A star around the origin with `min_corners` + [0, `extra_corners`) corners, radii in
 /// [r_min, r_min + r_span], angles jittered within their sectors (draws from `u` on `rng`: the
 /// count, then an angle and a radius per corner).
