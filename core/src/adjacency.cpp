@@ -6,6 +6,7 @@
 #include <type_traits>
 
 #include "deepcut/core/parallel.h"
+#include "union_find.h"
 
 namespace deepcut {
 namespace {
@@ -20,14 +21,6 @@ template <class T>
 void erase_sorted(std::vector<T>& list, T value) {
   auto it = std::lower_bound(list.begin(), list.end(), value);
   if (it != list.end() && *it == value) list.erase(it);
-}
-
-std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t x) {
-  while (parent[x] != x) {
-    parent[x] = parent[parent[x]];
-    x = parent[x];
-  }
-  return x;
 }
 
 }  // namespace
@@ -243,7 +236,7 @@ std::vector<std::uint32_t> Adjacency::vertex_components(std::size_t* count) cons
   for (const auto& t : face_vertices_) {
     if (!t[0].valid()) continue;
     for (int k = 1; k < 3; ++k) {
-      const auto r0 = find_root(parent, t[0].index), rk = find_root(parent, t[k].index);
+      const auto r0 = detail::find_root(parent, t[0].index), rk = detail::find_root(parent, t[k].index);
       if (r0 != rk) parent[std::max(r0, rk)] = std::min(r0, rk);
     }
   }
@@ -251,7 +244,7 @@ std::vector<std::uint32_t> Adjacency::vertex_components(std::size_t* count) cons
   std::uint32_t next = 0;
   for (std::uint32_t v = 0; v < n; ++v) {
     if (vertex_faces_[v].empty()) continue;
-    const auto r = find_root(parent, v);
+    const auto r = detail::find_root(parent, v);
     if (root_label[r] == kInvalidIndex) root_label[r] = next++;
     label[v] = root_label[r];
   }

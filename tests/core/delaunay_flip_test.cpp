@@ -14,19 +14,14 @@
 namespace deepcut::geometry {
 namespace {
 
+using test::add_loop;
 using test::check_tiling;
+using test::comb_with_ten_teeth;
 using test::Loop;
+using test::random_star;
+using test::triangulate_exhaustive;
 using P = glm::dvec2;
 constexpr double kTau = 6.283185307179586;
-
-Loop add_loop(std::vector<P>& pts, const std::vector<P>& ring) {
-  Loop l;
-  for (const P& p : ring) {
-    l.push_back(static_cast<std::uint32_t>(pts.size()));
-    pts.push_back(p);
-  }
-  return l;
-}
 
 // incircle scaled to be dimensionless: > tol means clearly inside the circumcircle.
 double incircle_rel(const P& a, const P& b, const P& c, const P& d) {
@@ -78,7 +73,7 @@ TEST(DelaunayFlip, FlipsTheLongDiagonalOfAKite) {
 TEST(DelaunayFlip, InsertedPointsInAConvexHullGiveTheDelaunayTriangulation) {
   std::vector<P> pts;
   const Loop square = add_loop(pts, {P(0, 0), P(1, 0), P(1, 1), P(0, 1)});
-  FlipTriangulation ft(pts, triangulate(pts, {square}));
+  FlipTriangulation ft(pts, triangulate_exhaustive(pts, {square}));
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(0.01, 0.99);
   const int inserted = 200;
@@ -98,18 +93,11 @@ TEST(DelaunayFlip, InsertedPointsInAConvexHullGiveTheDelaunayTriangulation) {
 
 TEST(DelaunayFlip, ConstrainedEdgesAreKept) {
   // A comb: the Delaunay flips may not cut across its teeth.
-  std::vector<P> ring = {P(0, 0), P(20, 0)};
-  for (int t = 9; t >= 0; --t) {
-    ring.push_back(P(2 * t + 2, 5));
-    ring.push_back(P(2 * t + 1, 5));
-    ring.push_back(P(2 * t + 1, 1));
-    if (t > 0) ring.push_back(P(2 * t, 1));
-  }
-  ring.push_back(P(0, 1));
+  const std::vector<P> ring = comb_with_ten_teeth();
   std::vector<P> pts;
   const Loop comb = add_loop(pts, ring);
   std::vector<LocalTri> tris;
-  clip_polygon(pts, comb, tris);
+  clip_ears(pts, comb, EarSearch::kExhaustive, tris);
   FlipTriangulation ft(pts, tris);
   ft.make_delaunay();
   EXPECT_EQ(check_tiling(pts, {comb}, ft.triangles(), 1), "");  // every loop edge still there
@@ -124,7 +112,7 @@ TEST(DelaunayFlip, PolygonWithAHole) {
   for (int i = 0; i < 24; ++i) outer.push_back(10.0 * P(std::cos(kTau * i / 24), std::sin(kTau * i / 24)));
   for (int i = 0; i < 7; ++i) hole.push_back(P(2, 1) + 3.0 * P(std::cos(-kTau * i / 7), std::sin(-kTau * i / 7)));
   const std::vector<Loop> loops = {add_loop(pts, outer), add_loop(pts, hole)};
-  FlipTriangulation ft(pts, triangulate(pts, loops));
+  FlipTriangulation ft(pts, triangulate_exhaustive(pts, loops));
   ft.make_delaunay();
   EXPECT_EQ(check_tiling(pts, loops, ft.triangles(), 1), "");
   EXPECT_EQ(ft.triangles().size(), 24u + 7u + 2u - 2u);
@@ -162,7 +150,7 @@ TEST(DelaunayFlip, CocircularPointsTerminate) {
   std::vector<P> ring;
   for (int i = 0; i < 16; ++i) ring.push_back(P(std::cos(kTau * i / 16), std::sin(kTau * i / 16)));
   const Loop loop = add_loop(pts, ring);
-  FlipTriangulation ft(pts, triangulate(pts, {loop}));
+  FlipTriangulation ft(pts, triangulate_exhaustive(pts, {loop}));
   ft.make_delaunay();
   EXPECT_EQ(check_tiling(pts, {loop}, ft.triangles(), 1), "");
   EXPECT_EQ(ft.triangles().size(), 14u);
@@ -175,7 +163,7 @@ TEST(DelaunayFlip, NeedleStripStaysValid) {
   for (int i = 30; i >= 0; --i) ring.push_back(P(i + 0.5, 1e-6));
   std::vector<P> pts;
   const Loop strip = add_loop(pts, ring);
-  FlipTriangulation ft(pts, triangulate(pts, {strip}));
+  FlipTriangulation ft(pts, triangulate_exhaustive(pts, {strip}));
   ft.make_delaunay();
   EXPECT_EQ(check_tiling(pts, {strip}, ft.triangles(), 1), "");
   EXPECT_EQ(ft.triangles().size(), ring.size() - 2);
@@ -188,15 +176,11 @@ TEST(DelaunayFlip, RandomStarsAfterFlipsAndInsertions) {
   for (int trial = 0; trial < 100; ++trial) {
     // Radii in [0.5, 1], angles jittered within 12 or more sectors: every edge stays farther than
     // 0.44 from the origin.
-    const int n = 12 + static_cast<int>(u(rng) * 30);
-    std::vector<P> ring;
-    for (int i = 0; i < n; ++i) {
-      const double a = kTau * (i + 0.9 * u(rng)) / n, r = 0.5 + 0.5 * u(rng);
-      ring.push_back(r * P(std::cos(a), std::sin(a)));
-    }
+    const std::vector<P> ring = random_star(rng, u, 12, 30, 0.5, 0.5);
+    const int n = static_cast<int>(ring.size());
     std::vector<P> pts;
     const Loop loop = add_loop(pts, ring);
-    FlipTriangulation ft(pts, triangulate(pts, {loop}));
+    FlipTriangulation ft(pts, triangulate_exhaustive(pts, {loop}));
     ft.make_delaunay();
     EXPECT_EQ(check_tiling(pts, {loop}, ft.triangles(), 1), "") << "trial " << trial;
     EXPECT_EQ(check_locally_delaunay(pts, ft.triangles()), "") << "trial " << trial;

@@ -13,8 +13,12 @@
 namespace deepcut::geometry {
 namespace {
 
+using test::add_loop;
 using test::check_tiling;
+using test::comb_with_ten_teeth;
 using test::Loop;
+using test::random_star;
+using test::triangulate_exhaustive;
 using P = glm::dvec2;
 constexpr double kTau = 6.283185307179586;
 
@@ -23,16 +27,6 @@ const TriangulationRules kCap{};
 const TriangulationRules kDrill{EarSearch::kExhaustive, HoleBridge::kNearestPair};
 
 class PolygonTriangulation : public ::testing::TestWithParam<TriangulationRules> {};
-
-// Appends points, returns their loop.
-Loop add_loop(std::vector<P>& pts, const std::vector<P>& ring) {
-  Loop l;
-  for (const P& p : ring) {
-    l.push_back(static_cast<std::uint32_t>(pts.size()));
-    pts.push_back(p);
-  }
-  return l;
-}
 
 std::vector<P> square(P lo, P hi, bool ccw) {
   std::vector<P> r = {lo, P(hi.x, lo.y), hi, P(lo.x, hi.y)};
@@ -181,12 +175,7 @@ TEST_P(PolygonTriangulation, RandomStarsWithAHole) {
   for (int trial = 0; trial < 400; ++trial) {
     // A star around the origin: radii in [0.6, 1], angles jittered within their sector, so
     // every edge stays farther than 0.42 from the origin and a hole within 0.4 of it fits.
-    const int n = 8 + static_cast<int>(u(rng) * 40);
-    std::vector<P> ring;
-    for (int i = 0; i < n; ++i) {
-      const double a = kTau * (i + 0.9 * u(rng)) / n, r = 0.6 + 0.4 * u(rng);
-      ring.push_back(r * P(std::cos(a), std::sin(a)));
-    }
+    const std::vector<P> ring = random_star(rng, u, 8, 40, 0.6, 0.4);
     std::vector<P> pts;
     std::vector<Loop> loops = {add_loop(pts, ring)};
     const int holes = trial % 3 == 0 ? 0 : 1;
@@ -256,24 +245,17 @@ TEST(PolygonTriangulationParts, BridgeSplicesATouchingHole) {
   const Loop outer = add_loop(pts, square(P(0, 0), P(10, 10), true));
   const Loop hole = {add_loop(pts, {P(3, 2)})[0], outer[0], add_loop(pts, {P(2, 3)})[0]};
   ASSERT_LT(signed_area2(pts, hole), 0.0);
-  const Loop spliced = bridge(pts, outer, hole);
+  const Loop spliced = bridge_hole(pts, outer, hole, {}, HoleBridge::kNearestPair);
   EXPECT_EQ(spliced.size(), outer.size() + hole.size());
   std::vector<LocalTri> tris;
-  clip_polygon(pts, spliced, tris);
+  clip_ears(pts, spliced, EarSearch::kExhaustive, tris);
   EXPECT_EQ(check_tiling(pts, {outer, hole}, tris, 1), "");
   EXPECT_EQ(tris.size(), spliced.size() - 2);
 }
 
 TEST(PolygonTriangulationParts, ClipEarsOnAComb) {
   // A comb with 10 teeth, as both ear searches see it.
-  std::vector<P> ring = {P(0, 0), P(20, 0)};
-  for (int t = 9; t >= 0; --t) {
-    ring.push_back(P(2 * t + 2, 5));
-    ring.push_back(P(2 * t + 1, 5));
-    ring.push_back(P(2 * t + 1, 1));
-    if (t > 0) ring.push_back(P(2 * t, 1));
-  }
-  ring.push_back(P(0, 1));
+  const std::vector<P> ring = comb_with_ten_teeth();
   std::vector<P> pts;
   const Loop poly = add_loop(pts, ring);
   ASSERT_GT(signed_area2(pts, poly), 0.0);
@@ -289,10 +271,10 @@ TEST(PolygonTriangulationParts, TriangulateOneOuterLoopAndOneHole) {
   std::vector<P> pts;
   const std::vector<Loop> loops = {add_loop(pts, regular(P(0, 0), 5.0, 16, true)),
                                    add_loop(pts, regular(P(0.5, 0), 1.0, 6, false))};
-  const auto tris = triangulate(pts, loops);
+  const auto tris = triangulate_exhaustive(pts, loops);
   EXPECT_EQ(check_tiling(pts, loops, tris, 1), "");
   EXPECT_EQ(tris.size(), 16u + 6u);
-  const auto alone = triangulate(pts, {loops[0]});
+  const auto alone = triangulate_exhaustive(pts, {loops[0]});
   EXPECT_EQ(check_tiling(pts, {loops[0]}, alone, 1), "");
 }
 

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // libFuzzer target: drill_mesh with fuzzed cylinders (axis ends, radius), min_rim_edges, wall and
-// tolerance, 1-3 drills in a row on RiggedSimple (with and without the spatial index); drill_model
-// posed at a fuzzed time now and then. Invariants after each: see fuzz_ops.h.
+// tolerance, 1-3 drills in a row on RiggedSimple (the spatial index followed through the logs, or
+// built afresh for each drill); drill_model posed at a fuzzed time now and then. Invariants after each: see
+// fuzz_ops.h.
 #include "deepcut/core/ops/drill.h"
 #include "deepcut/core/spatial_index.h"
 #include "fuzz_ops.h"

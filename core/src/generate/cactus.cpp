@@ -19,11 +19,11 @@
 #include <vector>
 
 #include "deepcut/core/errors.h"
+#include "geometry/predicates.h"
 
 namespace deepcut {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 /// Triangle count of the paper's cactus; resolution scales with sqrt(target / this).
 constexpr double kReferenceTriangles = 25300.0;
 /// Guard against 32-bit index overflow (and absurd memory use).
@@ -47,7 +47,7 @@ struct Spine {
   double bend_radius = 0.0;  ///< 0: no bend (then second_dir must equal first_dir)
   double second_length = 0.0;
 
-  double bend_length() const { return bend_radius * kPi * 0.5; }
+  double bend_length() const { return bend_radius * geometry::kPi * 0.5; }
   double length() const { return first_length + bend_length() + second_length; }
 
   /// Point `p` and unit tangent `t` at arc length `s`.
@@ -78,7 +78,7 @@ class QuarterEllipse {
   QuarterEllipse(double axial, double radial) : axial_(axial), radial_(radial), arc_(kSteps + 1, 0.0) {
     glm::dvec2 prev(axial_, 0.0);
     for (int i = 1; i <= kSteps; ++i) {
-      const double beta = 0.5 * kPi * i / kSteps;
+      const double beta = 0.5 * geometry::kPi * i / kSteps;
       const glm::dvec2 cur(axial_ * std::cos(beta), radial_ * std::sin(beta));
       arc_[i] = arc_[i - 1] + glm::length(cur - prev);
       prev = cur;
@@ -90,11 +90,11 @@ class QuarterEllipse {
   /// Angle from the pole at which the arc length from the pole is `arc` (clamped).
   double angle_at(double arc) const {
     if (arc <= 0.0) return 0.0;
-    if (arc >= length()) return 0.5 * kPi;
+    if (arc >= length()) return 0.5 * geometry::kPi;
     const auto it = std::upper_bound(arc_.begin(), arc_.end(), arc);
     const auto i = static_cast<int>(it - arc_.begin());  // arc_[i-1] <= arc < arc_[i]
     const double t = (arc - arc_[i - 1]) / (arc_[i] - arc_[i - 1]);
-    return 0.5 * kPi * (i - 1 + t) / kSteps;
+    return 0.5 * geometry::kPi * (i - 1 + t) / kSteps;
   }
 
   double axial() const { return axial_; }
@@ -279,7 +279,7 @@ void sweep_limb(const LimbSpec& spec, int rings, Builder& b) {
   // Unit-circle directions and radius factors, one per column.
   std::vector<double> cos_t(seg), sin_t(seg), factor(seg);
   for (int j = 0; j < seg; ++j) {
-    const double theta = 2.0 * kPi * j / seg;
+    const double theta = 2.0 * geometry::kPi * j / seg;
     cos_t[j] = std::cos(theta);
     sin_t[j] = std::sin(theta);
     factor[j] = j % spec.segments_per_rib == 0 ? 1.0 - kRibAmplitude : rib_factor(spec.ribs, theta);
@@ -403,7 +403,8 @@ AnimationSampler sway_sampler(float seconds, const glm::vec3& axis, float amplit
     const float time = seconds * static_cast<float>(i) / static_cast<float>(intervals);
     sampler.input.push_back(i == intervals ? seconds : time);
     const int key = i == intervals ? 0 : i;  // the last key repeats the first: a seamless loop
-    const double angle = amplitude * std::sin(2.0 * kPi * key / intervals - static_cast<double>(phase));
+    const double angle =
+        amplitude * std::sin(2.0 * geometry::kPi * key / intervals - static_cast<double>(phase));
     const glm::quat q = glm::angleAxis(static_cast<float>(angle), glm::normalize(axis));
     sampler.output.insert(sampler.output.end(), {q.x, q.y, q.z, q.w});
   }
@@ -539,7 +540,7 @@ SurfaceMesh cactus_mesh(const std::vector<LimbSpec>& limbs, std::size_t target_t
   std::vector<double> estimate(limbs.size());
   double estimated_triangles = 0.0;
   for (std::size_t i = 0; i < limbs.size(); ++i) {
-    const double spacing = 2.0 * kPi * limbs[i].radius / limbs[i].segments();
+    const double spacing = 2.0 * geometry::kPi * limbs[i].radius / limbs[i].segments();
     estimate[i] = limbs[i].meridian().length() / spacing;
     estimated_triangles += 2.0 * limbs[i].segments() * estimate[i];
   }
@@ -593,7 +594,7 @@ Animation sway_animation(const std::vector<LimbSpec>& limbs, std::size_t joint_c
   const glm::dvec3& up = kUp;
   Animation sway;
   sway.name = "Sway";
-  const float deg = static_cast<float>(kPi / 180.0);
+  const float deg = static_cast<float>(geometry::kPi / 180.0);
   for (std::size_t j = 0; j < joint_count; ++j) {
     glm::vec3 axis(0.0f, 0.0f, 1.0f);  // the trunk sways side to side
     float amplitude = 1.2f * deg, phase = 0.35f * static_cast<float>(j);

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 // Constrained Delaunay triangulation by Lawson flips, with point insertion. Private to core:
-// used by the drill's rim faces and walls.
+// used by the drill's rim faces and walls. Unlike FaceRefinement (core/src/ops/common/) it
+// flips after each insertion to stay Delaunay and takes only points strictly inside a triangle.
 
 #include <array>
 #include <cstddef>

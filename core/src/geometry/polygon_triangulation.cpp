@@ -296,20 +296,4 @@ std::vector<LocalTri> triangulate_loops(const std::vector<glm::dvec2>& points,
   return out;
 }
 
-void clip_polygon(const std::vector<glm::dvec2>& pts, std::vector<std::uint32_t> poly, std::vector<LocalTri>& out) {
-  clip_ears(pts, std::move(poly), EarSearch::kExhaustive, out);
-}
-
-std::vector<std::uint32_t> bridge(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& outer,
-                                  const std::vector<std::uint32_t>& hole,
-                                  const std::vector<std::vector<std::uint32_t>>& others) {
-  return bridge_hole(pts, outer, hole, others, HoleBridge::kNearestPair);
-}
-
-std::vector<LocalTri> triangulate(const std::vector<glm::dvec2>& pts, const std::vector<std::vector<std::uint32_t>>& loops) {
-  std::vector<LocalTri> out;
-  clip_ears(pts, loops.size() > 1 ? bridge(pts, loops[0], loops[1]) : loops[0], EarSearch::kExhaustive, out);
-  return out;
-}
-
 }  // namespace deepcut::geometry

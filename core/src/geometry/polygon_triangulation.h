@@ -74,20 +74,4 @@ std::vector<LocalTri> triangulate_loops(const std::vector<glm::dvec2>& points,
                                         const std::vector<std::vector<std::uint32_t>>& loops, int outer_sign,
                                         const TriangulationRules& rules = {});
 
-/// clip_ears with EarSearch::kExhaustive.
-void clip_polygon(const std::vector<glm::dvec2>& pts, std::vector<std::uint32_t> poly, std::vector<LocalTri>& out);
-
-/// bridge_hole with HoleBridge::kNearestPair.
-std::vector<std::uint32_t> bridge(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& outer,
-                                  const std::vector<std::uint32_t>& hole,
-                                  const std::vector<std::vector<std::uint32_t>>& others = {});
-
-/// Triangulates a counter-clockwise outer loop `loops[0]` with at most one clockwise hole
-/// `loops[1]` inside it (bridge, then clip_polygon).
-std::vector<LocalTri> triangulate(const std::vector<glm::dvec2>& pts, const std::vector<std::vector<std::uint32_t>>& loops);
-
 }  // namespace deepcut::geometry
-
-namespace deepcut::detail {
-using geometry::signed_area2;  // the name drill.cpp's walls call
-}  // namespace deepcut::detail

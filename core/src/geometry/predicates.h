@@ -16,8 +16,17 @@
 
 namespace deepcut::geometry {
 
+constexpr double kPi = 3.14159265358979323846;
+
 /// A triangle of indices into a point list.
 using LocalTri = std::array<std::uint32_t, 3>;
+
+/// The corners of `t` in increasing order: one key for every rotation and reflection of a
+/// triangle (for sets and maps of triangles).
+inline LocalTri sorted_corners(LocalTri t) {
+  std::sort(t.begin(), t.end());
+  return t;
+}
 
 /// Twice the signed area of the triangle a, b, c: > 0 when counter-clockwise.
 inline double orient(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c) {
@@ -30,6 +39,21 @@ inline double incircle(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec
                cdy = c.y - d.y;
   const double ad = adx * adx + ady * ady, bd = bdx * bdx + bdy * bdy, cd = cdx * cdx + cdy * cdy;
   return adx * (bdy * cd - bd * cdy) - ady * (bdx * cd - bd * cdx) + ad * (bdx * cdy - bdy * cdx);
+}
+
+/// Centre of the circle through a, b and c; not finite when they are collinear.
+inline glm::dvec2 circumcentre(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c) {
+  const glm::dvec2 ab = b - a, ac = c - a;
+  const double d = 2.0 * (ab.x * ac.y - ab.y * ac.x);
+  return a + glm::dvec2(ac.y * glm::dot(ab, ab) - ab.y * glm::dot(ac, ac),
+                        ab.x * glm::dot(ac, ac) - ac.x * glm::dot(ab, ab)) /
+                 d;
+}
+
+/// `x` wrapped to [0, 2 pi).
+inline double wrap_2pi(double x) {
+  x = std::fmod(x, 2.0 * kPi);
+  return x < 0.0 ? x + 2.0 * kPi : x;
 }
 
 /// True when the segments a-b and c-d cross at one point interior to both: each segment has the
@@ -95,7 +119,7 @@ double segment_distance2(const glm::vec<L, double>& p, const glm::vec<L, double>
 inline double angle_at(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
   const glm::dvec3 u = a - c, v = b - c;
   const double lu = glm::length(u), lv = glm::length(v);
-  if (!(lu > 0.0) || !(lv > 0.0)) return 3.14159265358979323846;
+  if (!(lu > 0.0) || !(lv > 0.0)) return kPi;
   return std::acos(std::clamp(glm::dot(u, v) / (lu * lv), -1.0, 1.0));
 }
 

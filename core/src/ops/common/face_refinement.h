@@ -3,6 +3,8 @@
 // Face refinement along inserted points: one mesh triangle split at points given by their
 // barycentric coordinates in it, one at a time. Private to core, part of the insertion layer the
 // operations share (ops/common/); the tear re-triangulates each face its slit crosses with it.
+// Unlike geometry::FlipTriangulation::insert it never flips (the slit's chord must stay the edges
+// its points were inserted along) and it takes points on edges and corners.
 
 #include <array>
 #include <vector>

@@ -11,11 +11,11 @@
 
 #include "deepcut/core/ops/drill.h"
 #include "deepcut/core/surface_mesh.h"
+#include "geometry/predicates.h"
 #include "ops/common/crossing_table.h"
 
 namespace deepcut::drill {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 using detail::directed_key;

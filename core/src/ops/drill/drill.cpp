@@ -2,7 +2,7 @@
 // Drill (core/include/deepcut/core/ops/drill.h): the stages of drilling one mesh, and drill_model
 // on the one instance loop of the model operations (ops/common/model_surgery.h).
 //
-// 1. Candidate faces come from the spatial index (or a bounding-sphere scan); old vertices a hair
+// 1. Candidate faces come from the posed mesh's spatial index; old vertices a hair
 //    from the cylinder's side are slid onto it (rim_insertion.h).
 // 2. The rim is inserted into each crossed triangle in its own plane (rim_insertion.cpp).
 // 3. Rims are traced from the edits (rim_tracing.cpp); with `wall`, each connected shell gets the
@@ -29,7 +29,7 @@
 namespace deepcut {
 namespace {
 
-using drill::kPi;
+using geometry::kPi;
 
 double axis_scale(const Cylinder& c) {
   const glm::dvec3 a(c.a), b(c.b);
@@ -191,7 +191,7 @@ bool drill_primitive(detail::InstanceEdit& inst, int pi, const Cylinder& cylinde
 }  // namespace
 
 float min_drill_radius(const Cylinder& cylinder, int min_rim_edges) {
-  const double spacing = 1e-6 * axis_scale(cylinder);  // the Driller's absolute tolerance
+  const double spacing = 1e-6 * axis_scale(cylinder);  // the floor of CylinderFrame::eps
   const double r = spacing / (2.0 * std::sin(kPi / std::max(min_rim_edges, 3)));
   return std::nextafter(static_cast<float>(r), std::numeric_limits<float>::infinity());
 }

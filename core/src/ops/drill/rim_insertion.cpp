@@ -13,17 +13,20 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <set>
 #include <unordered_map>
 #include <unordered_set>
 
-#include "ops/drill/planar_kernel.h"
+#include "geometry/delaunay_flip.h"
+#include "geometry/polygon_triangulation.h"
+#include "geometry/predicates.h"
 
 namespace deepcut::drill {
 namespace {
 
 // Steiner points on crossed edges (see edge()) lie at least this many rim spacings outside.
 constexpr double kSteinerClear = 0.3;
-constexpr double kSteinerParentAngle = 10.0 * kPi / 180.0;
+constexpr double kSteinerParentAngle = 10.0 * geometry::kPi / 180.0;
 
 // What the solid cylinder does to one mesh edge, from `lo` to `hi` (lo < hi).
 struct EdgeCut {
@@ -56,7 +59,9 @@ struct FacePlane {
   double height[3] = {0.0, 0.0, 0.0};  // distance of a plane point from edge k = bary[k] * height[k]
 
   glm::dvec3 bary_of(const glm::dvec2& q) const {
-    return glm::dvec3(orient(q, tq[1], tq[2]), orient(tq[0], q, tq[2]), orient(tq[0], tq[1], q)) / area2;
+    return glm::dvec3(geometry::orient(q, tq[1], tq[2]), geometry::orient(tq[0], q, tq[2]),
+                      geometry::orient(tq[0], tq[1], q)) /
+           area2;
   }
   // Distance of a plane point inside the triangle from its nearest edge (negative outside).
   double clearance(const glm::dvec2& q) const {
@@ -71,10 +76,10 @@ class RimInserter {
       : mesh_(editor.mesh()), editor_(editor), posed_(posed), cyl_(cyl) {
     eps_ = cyl_.eps;
     samples_ = cyl_.samples;
-    sep_ = 0.3 * 2.0 * cyl_.r * std::sin(kPi / samples_);
+    sep_ = 0.3 * 2.0 * cyl_.r * std::sin(geometry::kPi / samples_);
     first_new_ = posed_.first_new();
     for (int k = 0; k < samples_; ++k)
-      ruling_base_.push_back(cyl_.a + cyl_.r * cyl_.ruling(2.0 * kPi * k / samples_));
+      ruling_base_.push_back(cyl_.a + cyl_.r * cyl_.ruling(2.0 * geometry::kPi * k / samples_));
   }
 
   RimInsertion run(const std::vector<FaceId>& candidates);
@@ -93,7 +98,7 @@ class RimInserter {
   void emit_polygon(FaceId f, const Triangle& tri, std::vector<LocalPoint>& pts,
                     const std::vector<std::vector<std::uint32_t>>& loops);
   VertexId vertex_of(const Triangle& tri, LocalPoint& lp);
-  void refine(FlipTriangulation& ft, std::vector<glm::dvec2>& q, std::vector<LocalPoint>& pts,
+  void refine(geometry::FlipTriangulation& ft, std::vector<glm::dvec2>& q, std::vector<LocalPoint>& pts,
               const std::vector<std::vector<std::uint32_t>>& loops);
 
   SurfaceMesh& mesh_;
@@ -189,7 +194,7 @@ const EdgeCut& RimInserter::edge(VertexId a, VertexId b) {
       // the rim with boundary points at its scale instead of fanning a far corner to close rim
       // points or leaving rim points near a long edge (needles the in-plane refinement cannot
       // mend: its points would fall outside the parent). Only points well outside the cylinder.
-      const double spacing = 2.0 * cyl_.r * std::sin(kPi / samples_);
+      const double spacing = 2.0 * cyl_.r * std::sin(geometry::kPi / samples_);
       for (int i = 0; i < n && steiner_edges_.count(key); ++i) {
         const double dir = e.inside[i + 1] ? -1.0 : 1.0;  // toward the kept part
         const double room = (dir > 0.0 ? 1.0 - cuts[i] : cuts[i]) * len;
@@ -296,7 +301,7 @@ void RimInserter::process_face(FaceId f) {
   }
   glm::dvec2 tq[3];
   for (int k = 0; k < 3; ++k) tq[k] = pc.coords(corner[k]);
-  const double area2 = orient(tq[0], tq[1], tq[2]);
+  const double area2 = geometry::orient(tq[0], tq[1], tq[2]);
   if (!(area2 > 0.0)) {
     if (any_inside) {
       editor_.remove_face(f);
@@ -518,7 +523,7 @@ void RimInserter::sample_rim(const Triangle& tri) {
   // min_rim_edges edges when the axis crosses the layer (its arc is then at least half a turn).
   for (const auto& [a_cap, hh] : chords) {
     if (!(hh > 0.0)) continue;
-    const double spacing = 2.0 * cyl_.r * std::sin(kPi / samples_);
+    const double spacing = 2.0 * cyl_.r * std::sin(geometry::kPi / samples_);
     const int by_spacing = static_cast<int>(std::ceil(2.0 * hh / spacing));
     const int by_count =
         std::min(samples_ - arc_rulings + 1, static_cast<int>(std::floor(4.0 * hh / spacing)));
@@ -557,11 +562,11 @@ void RimInserter::emit_kept_parts(FaceId f, const Triangle& tri) {
       poly.push_back(pts[k]);
       if (k == j) break;
     }
-    const double phi_end = pts[k].phi, span = wrap_2pi(phi_end - pts[j].phi);
+    const double phi_end = pts[k].phi, span = geometry::wrap_2pi(phi_end - pts[j].phi);
     std::vector<std::pair<double, std::size_t>> arc;
     for (std::size_t i = 0; i < rim.size(); ++i) {
       if (used[i]) continue;
-      const double delta = wrap_2pi(phi_end - rim[i].phi);
+      const double delta = geometry::wrap_2pi(phi_end - rim[i].phi);
       if (delta > 0.0 && delta < span) arc.emplace_back(delta, i);
     }
     std::sort(arc.begin(), arc.end());
@@ -578,55 +583,43 @@ void RimInserter::emit_kept_parts(FaceId f, const Triangle& tri) {
 // Chew-style refinement of one kept part: points at the circumcentres of skinny triangles that
 // are larger than the rim spacing (needles from a far corner to a small hole), kept away from
 // the part's boundary so no edge of the parent triangle is split (its neighbour shares it).
-void RimInserter::refine(FlipTriangulation& ft, std::vector<glm::dvec2>& q, std::vector<LocalPoint>& pts,
-                         const std::vector<std::vector<std::uint32_t>>& loops) {
-  const double spacing = 2.0 * cyl_.r * std::sin(kPi / samples_);
+void RimInserter::refine(geometry::FlipTriangulation& ft, std::vector<glm::dvec2>& q,
+                         std::vector<LocalPoint>& pts, const std::vector<std::vector<std::uint32_t>>& loops) {
+  const double spacing = 2.0 * cyl_.r * std::sin(geometry::kPi / samples_);
   const std::size_t boundary = pts.size();
   std::vector<std::pair<std::uint32_t, std::uint32_t>> segments;
   for (const auto& l : loops)
     for (std::size_t i = 0; i < l.size(); ++i) segments.emplace_back(l[i], l[(i + 1) % l.size()]);
-  std::unordered_set<std::uint64_t> failed;
-  auto tri_key = [](const LocalTri& t) {
-    std::array<std::uint32_t, 3> s = {t[0], t[1], t[2]};
-    std::sort(s.begin(), s.end());
-    return (std::uint64_t(s[0]) << 42) ^ (std::uint64_t(s[1]) << 21) ^ s[2];
-  };
+  std::set<geometry::LocalTri> failed;  // by sorted_corners
   const std::size_t budget = 4 * boundary + 8;
   for (std::size_t added = 0; added < budget;) {
-    const LocalTri* worst = nullptr;
+    const geometry::LocalTri* worst = nullptr;
     double worst_ratio = 0.684;  // shortest edge / circumradius = 2 sin(min angle): 20 degrees
     for (const auto& t : ft.triangles()) {
       const glm::dvec2 &a = q[t[0]], &b = q[t[1]], &c = q[t[2]];
       const double la = glm::length(b - c), lb = glm::length(c - a), lc = glm::length(a - b);
-      const double area2 = std::abs(orient(a, b, c));
+      const double area2 = std::abs(geometry::orient(a, b, c));
       if (!(area2 > 0.0) || std::max({la, lb, lc}) < 2.0 * spacing) continue;
       const double circumradius = la * lb * lc / (2.0 * area2);
       const double ratio = std::min({la, lb, lc}) / circumradius;
-      if (ratio < worst_ratio && !failed.count(tri_key(t))) {
+      if (ratio < worst_ratio && !failed.count(geometry::sorted_corners(t))) {
         worst_ratio = ratio;
         worst = &t;
       }
     }
     if (!worst) return;
-    const LocalTri t = *worst;
-    const glm::dvec2 &a = q[t[0]], &b = q[t[1]], &c = q[t[2]];
-    const glm::dvec2 ab = b - a, ac = c - a;
-    const double d = 2.0 * (ab.x * ac.y - ab.y * ac.x);
-    const glm::dvec2 centre = a + glm::dvec2(ac.y * glm::dot(ab, ab) - ab.y * glm::dot(ac, ac),
-                                             ab.x * glm::dot(ac, ac) - ac.x * glm::dot(ab, ab)) /
-                                      d;
+    const geometry::LocalTri t = *worst;
+    const glm::dvec2 centre = geometry::circumcentre(q[t[0]], q[t[1]], q[t[2]]);
     bool ok = std::isfinite(centre.x) && std::isfinite(centre.y);
     const glm::dvec3 bary = ok ? face_.bary_of(centre) : glm::dvec3(-1.0);
     ok = ok && bary.x > 1e-6 && bary.y > 1e-6 && bary.z > 1e-6;
     for (std::size_t i = 0; i < boundary && ok; ++i) ok = glm::length(q[i] - centre) > 0.5 * spacing;
     for (const auto& [u, v] : segments) {
       if (!ok) break;
-      const glm::dvec2 e = q[v] - q[u];
-      const double tt = std::clamp(glm::dot(centre - q[u], e) / std::max(glm::dot(e, e), 1e-300), 0.0, 1.0);
-      ok = glm::length(q[u] + tt * e - centre) > 0.35 * spacing;
+      ok = std::sqrt(geometry::segment_distance2(centre, q[u], q[v])) > 0.35 * spacing;
     }
     if (!ok || !ft.insert(centre)) {
-      failed.insert(tri_key(t));
+      failed.insert(geometry::sorted_corners(t));
       continue;
     }
     LocalPoint lp;
@@ -642,11 +635,13 @@ void RimInserter::emit_polygon(FaceId f, const Triangle& tri, std::vector<LocalP
                                const std::vector<std::vector<std::uint32_t>>& loops) {
   std::vector<glm::dvec2> q(pts.size());
   for (std::size_t i = 0; i < pts.size(); ++i) q[i] = pts[i].q;
-  std::vector<LocalTri> tris;
+  std::vector<geometry::LocalTri> tris;
   if (loops.size() == 1 && loops[0].size() == 3) {
     tris.push_back({loops[0][0], loops[0][1], loops[0][2]});
   } else {
-    FlipTriangulation ft(q, triangulate(q, loops));
+    std::vector<geometry::LocalTri> clipped;
+    geometry::triangulate_polygon(q, loops[0], {loops.begin() + 1, loops.end()}, kRimTriangulation, clipped);
+    geometry::FlipTriangulation ft(q, std::move(clipped));
     ft.make_delaunay();
     refine(ft, q, pts, loops);
     tris = ft.triangles();

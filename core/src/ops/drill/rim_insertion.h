@@ -11,6 +11,7 @@
 
 #include "deepcut/core/mesh_editor.h"
 #include "deepcut/core/spatial_index.h"
+#include "geometry/polygon_triangulation.h"
 #include "ops/drill/cylinder_section.h"
 #include "ops/drill/posed_overlay.h"
 
@@ -20,6 +21,11 @@ namespace deepcut::drill {
 // their edges within kSnapClose rim spacings, are slid onto it (snap_shallow_vertices).
 constexpr double kSnapBand = 0.1;
 constexpr double kSnapClose = 0.5;
+
+// How the rim faces and the wall sheets are triangulated before their Delaunay flips: every
+// corner re-examined after each clip, holes joined by their shortest bridge.
+constexpr geometry::TriangulationRules kRimTriangulation = {geometry::EarSearch::kExhaustive,
+                                                            geometry::HoleBridge::kNearestPair};
 
 /// One rim: a chain of new boundary edges around a hole (DrillHole without the wall's answer).
 struct Rim {

@@ -15,7 +15,7 @@ std::vector<FaceId> find_candidates(const SurfaceMesh& mesh, const CylinderFrame
   const double eps = cyl.eps;
   // Far enough to hold every face around a vertex snap_shallow_vertices may move.
   const double reach =
-      cyl.r + std::max(2.0 * eps, (kSnapBand + 0.01) * 2.0 * cyl.r * std::sin(kPi / cyl.samples));
+      cyl.r + std::max(2.0 * eps, (kSnapBand + 0.01) * 2.0 * cyl.r * std::sin(geometry::kPi / cyl.samples));
   auto near_axis = [&](const Triangle& t) {
     const glm::dvec3 p0 = posed(t[0]), p1 = posed(t[1]), p2 = posed(t[2]);
     const glm::dvec3 c = (p0 + p1 + p2) / 3.0;
@@ -46,7 +46,7 @@ void snap_shallow_vertices(MeshEditor& editor, const CylinderFrame& cyl, PosedOv
   const int samples = cyl.samples;
   std::vector<VertexId> ring;
   std::array<std::vector<VertexId>, 2> border;  // edges ahead of / behind a vertex in its faces
-  const double spacing = 2.0 * cyl.r * std::sin(kPi / samples);
+  const double spacing = 2.0 * cyl.r * std::sin(geometry::kPi / samples);
   const double band = kSnapBand * spacing, close = kSnapClose * spacing;
   // Every face around a vertex within the band of the side is a candidate (the reach covers it).
   std::vector<std::pair<std::uint32_t, std::uint32_t>> corners;  // (old vertex, candidate face)

@@ -154,11 +154,11 @@ std::vector<Rim> chain_rims(const SurfaceMesh& mesh, const EditLog& log, const C
           const double a = cyl.theta(posed(hole.vertices[i])),
                        b = cyl.theta(posed(hole.vertices[(i + 1) % hole.vertices.size()]));
           double dth = b - a;
-          while (dth > kPi) dth -= 2.0 * kPi;
-          while (dth < -kPi) dth += 2.0 * kPi;
+          while (dth > geometry::kPi) dth -= 2.0 * geometry::kPi;
+          while (dth < -geometry::kPi) dth += 2.0 * geometry::kPi;
           turn += dth;
         }
-        hole.winding = static_cast<int>(std::lround(turn / (2.0 * kPi)));
+        hole.winding = static_cast<int>(std::lround(turn / (2.0 * geometry::kPi)));
       }
       rims.push_back(std::move(hole));
     }

@@ -10,12 +10,11 @@
 #include <optional>
 #include <queue>
 
+#include "geometry/predicates.h"
 #include "ops/tear/stages.h"
 
 namespace deepcut::detail::tear {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // The torn edges as a graph: neighbours of each chain vertex (sorted), the chain vertices sorted.
 struct Chains {
@@ -306,7 +305,7 @@ Map<std::uint32_t, std::size_t> plan_moves(const TearContext& ctx, Lips& lips, c
     if (tp.comp_has_end[c] && length > 0.0) {
       auto it = tp.to_end.find(lip.of);
       const double d = it == tp.to_end.end() ? 0.5 * length : std::min(it->second, 0.5 * length);
-      taper = std::sin(kPi * d / length);
+      taper = std::sin(geometry::kPi * d / length);
     }
     const std::optional<glm::dvec3> move = lip_move(ctx, lip, chains, lips, ln, facets, taper, width);
     if (!move) continue;

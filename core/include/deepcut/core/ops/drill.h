@@ -72,8 +72,8 @@ struct DrillResult {
   /// Old vertices the drill moved onto the cylinder, with their new posed positions (a vertex
   /// lying within a tenth of the rim spacing of the cylinder, whose edges would be crossed a
   /// hair from it, becomes a rim vertex itself instead of leaving needles; its bind position
-  /// moves through its own skinning, logged as VertexMoved). Callers set these in their posed
-  /// positions before `index.apply(result.log, posed)`.
+  /// moves through its own skinning, logged as VertexMoved). Callers keeping their own posed
+  /// positions set these in them before they follow the log (PosedMesh::follow does both).
   struct Moved {
     VertexId v;
     glm::vec3 posed{0.0f};

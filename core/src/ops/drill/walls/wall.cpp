@@ -7,33 +7,29 @@
 #include <unordered_set>
 
 #include "ops/drill/walls/wall_shell.h"
+#include "union_find.h"
 
 namespace deepcut::drill {
 namespace {
 
 using Shells = std::unordered_map<std::uint32_t, std::vector<std::size_t>>;  // root vertex -> rims
 
-// Vertex groups of the connected surface sheets (union-find over the faces' corners).
-std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t x) {
-  while (parent[x] != x) x = parent[x] = parent[parent[x]];
-  return x;
-}
-
-// The rims of each connected shell, by the shell's root vertex in `parent`.
+// The rims of each connected shell, by the shell's root vertex in `parent` (union-find over the
+// faces' corners).
 Shells group_shells(const SurfaceMesh& mesh, const std::vector<Rim>& rims,
                     std::vector<std::uint32_t>& parent) {
   parent.assign(mesh.vertex_count(), 0);
   for (std::uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
   mesh.for_each_face([&](FaceId, const Triangle& t) {
-    const std::uint32_t a = find_root(parent, t[0].index);
+    const std::uint32_t a = detail::find_root(parent, t[0].index);
     for (int k = 1; k < 3; ++k) {
-      const std::uint32_t b = find_root(parent, t[k].index);
+      const std::uint32_t b = detail::find_root(parent, t[k].index);
       if (a != b) parent[b] = a;
     }
   });
   Shells shells;
   for (std::size_t h = 0; h < rims.size(); ++h)
-    shells[find_root(parent, rims[h].vertices[0].index)].push_back(h);
+    shells[detail::find_root(parent, rims[h].vertices[0].index)].push_back(h);
   return shells;
 }
 
@@ -59,7 +55,7 @@ std::vector<char> open_shells(const SurfaceMesh& mesh, const std::vector<Rim>& r
   std::vector<std::uint32_t> shell_of(faces.size(), kNoShell);
   std::vector<std::uint32_t> first(nv + 1, 0);
   mesh.for_each_face([&](FaceId f, const Triangle& t) {
-    const std::uint32_t root = find_root(parent, t[0].index);
+    const std::uint32_t root = detail::find_root(parent, t[0].index);
     if (!drilled[root]) return;
     shell_of[f.index] = root;
     for (VertexId v : t) ++first[v.index + 1];

@@ -88,7 +88,7 @@ bool split_sheets(WallShell& shell) {
       const auto [a, b] = all_segments[i];
       const auto [c, d] = all_segments[j];
       if (a == c || a == d || b == c || b == d) continue;
-      if (segments_cross(xy[a], xy[b], xy[c], xy[d])) {
+      if (geometry::segments_cross(xy[a], xy[b], xy[c], xy[d])) {
         if (seg_loop[i] == seg_loop[j]) return false;  // a loop crossing itself
         crossing[seg_loop[i]].push_back(seg_loop[j]);
         crossing[seg_loop[j]].push_back(seg_loop[i]);
@@ -114,7 +114,8 @@ bool split_sheets(WallShell& shell) {
   for (std::size_t li = 0; li < rim_loops.size(); ++li)
     if (sheet[li] < 0) free_loops.push_back(li);
   std::sort(free_loops.begin(), free_loops.end(), [&](std::size_t x, std::size_t y) {
-    return std::abs(signed_area2(xy, rim_loops[x])) > std::abs(signed_area2(xy, rim_loops[y]));
+    return std::abs(geometry::signed_area2(xy, rim_loops[x])) >
+           std::abs(geometry::signed_area2(xy, rim_loops[y]));
   });
   for (std::size_t li : free_loops) {
     int c = 0;
@@ -136,7 +137,7 @@ bool split_sheets(WallShell& shell) {
 // The wall maps the loops again per sheet (over its own extent), where a fold can show that
 // the first map did not: each map is folded.
 bool fold_loops(const std::vector<glm::dvec2>& xy, Loops& loops_to_fold,
-                std::vector<std::pair<std::size_t, LocalTri>>& lobes) {
+                std::vector<std::pair<std::size_t, geometry::LocalTri>>& lobes) {
   for (int fold_round = 0; fold_round < 8; ++fold_round) {
     bool found = false;
     for (std::size_t li = 0; li < loops_to_fold.size() && !found; ++li) {
@@ -147,7 +148,7 @@ bool fold_loops(const std::vector<glm::dvec2>& xy, Loops& loops_to_fold,
           if ((j + 1) % m == i) continue;
           const std::uint32_t a = l[i], b = l[(i + 1) % m], c = l[j], d = l[(j + 1) % m];
           if (a == c || a == d || b == c || b == d) continue;
-          if (!segments_cross(xy[a], xy[b], xy[c], xy[d])) continue;
+          if (!geometry::segments_cross(xy[a], xy[b], xy[c], xy[d])) continue;
           found = true;
           // Steps i (a->b) and j (c->d); the lobe is b..c (positions i+1..j) or d..a (j+1..i).
           std::size_t first = i, second = j;
@@ -155,10 +156,10 @@ bool fold_loops(const std::vector<glm::dvec2>& xy, Loops& loops_to_fold,
           const std::uint32_t fa = l[first], fb = l[(first + 1) % m], fc = l[second],
                               fd = l[(second + 1) % m];
           if (m - ((second + m - first) % m) < 3) return false;  // nothing would be left of the loop
-          lobes.emplace_back(li, LocalTri{fa, fb, fc});
-          lobes.emplace_back(li, LocalTri{fa, fc, fd});
+          lobes.emplace_back(li, geometry::LocalTri{fa, fb, fc});
+          lobes.emplace_back(li, geometry::LocalTri{fa, fc, fd});
           for (std::size_t k = (first + 1) % m; (k + 1) % m != second; k = (k + 1) % m)
-            lobes.emplace_back(li, LocalTri{fb, l[(k + 1) % m], l[(k + 2) % m]});
+            lobes.emplace_back(li, geometry::LocalTri{fb, l[(k + 1) % m], l[(k + 2) % m]});
           std::vector<std::uint32_t> kept;
           for (std::size_t k = (second + 1) % m;; k = (k + 1) % m) {
             kept.push_back(l[k]);

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "ops/drill/planar_kernel.h"
+#include "geometry/predicates.h"
 
 namespace deepcut::drill {
 
@@ -91,8 +91,8 @@ bool consistent(const std::vector<glm::dvec2>& xy, const Loops& ls, int& c) {
     const auto& l = ls[li];
     const std::size_t i = longest_step(xy, l);
     const std::uint32_t a = l[i], b = l[(i + 1) % l.size()];
-    const int left = winding(xy, ls, side_point(xy, a, b, 1e-6)),
-              right = winding(xy, ls, side_point(xy, a, b, -1e-6));
+    const int left = geometry::winding(xy, ls, side_point(xy, a, b, 1e-6)),
+              right = geometry::winding(xy, ls, side_point(xy, a, b, -1e-6));
     if (left - right != 1) return false;
     if (li == 0)
       c = 1 - left;

@@ -34,7 +34,8 @@ FaceId wall_face(WallContext& ctx, const Triangle& t, int kind) {
 // A wall face may use an edge between two existing vertices only against the one face that
 // borders it (a rim edge): anything else (a diagonal along a kept surface edge, an edge an
 // earlier sheet used) would make the edge non-manifold, so the sheet is left open instead.
-bool keeps_manifold(const WallShell& shell, const WallContext& ctx, const std::vector<LocalTri>& wall_tris) {
+bool keeps_manifold(const WallShell& shell, const WallContext& ctx,
+                    const std::vector<geometry::LocalTri>& wall_tris) {
   const SurfaceMesh& mesh = ctx.editor.mesh();
   const std::vector<WallPt>& pts = shell.pts;
   std::unordered_set<std::uint64_t> used;
@@ -97,7 +98,7 @@ void create_vertices(WallShell& shell, WallContext& ctx) {
 
 }  // namespace
 
-bool emit_sheet(WallShell& shell, WallContext& ctx, const std::vector<LocalTri>& wall_tris) {
+bool emit_sheet(WallShell& shell, WallContext& ctx, const std::vector<geometry::LocalTri>& wall_tris) {
   if (!keeps_manifold(shell, ctx, wall_tris)) return false;
   create_vertices(shell, ctx);
   SurfaceMesh& mesh = ctx.editor.mesh();
@@ -108,9 +109,7 @@ bool emit_sheet(WallShell& shell, WallContext& ctx, const std::vector<LocalTri>&
   // pass 2^21, and the drill would then remove an unrelated face.
   std::map<std::array<std::uint32_t, 3>, FaceId> surface_tri;
   auto tri_key = [](VertexId x, VertexId y, VertexId z) {
-    std::array<std::uint32_t, 3> k = {x.index, y.index, z.index};
-    std::sort(k.begin(), k.end());
-    return k;
+    return geometry::sorted_corners({x.index, y.index, z.index});
   };
   for (const Edit& e : ctx.editor.log().edits)
     if (const auto* fa = std::get_if<FaceAdded>(&e))
@@ -155,7 +154,7 @@ void finish_wall_attributes(WallContext& ctx) {
                                     glm::dvec3(bind[t[2].index] - bind[t[0].index]));
     for (auto v : t) tube_normal[v.index] += n;
   }
-  const double circumference = 2.0 * kPi * ctx.cyl.r;
+  const double circumference = 2.0 * geometry::kPi * ctx.cyl.r;
   for (const auto& [f, kind] : ctx.faces) {
     (*flag)[f.index] = 1;
     const Triangle t = mesh.face(f);
@@ -163,8 +162,9 @@ void finish_wall_attributes(WallContext& ctx) {
     if (kind == 0) {
       double th[3];
       for (int k = 0; k < 3; ++k) th[k] = ctx.coords.at(t[k].index).theta;
-      for (int k = 1; k < 3; ++k) th[k] = th[0] + std::remainder(th[k] - th[0], 2.0 * kPi);
-      for (int k = 0; k < 3; ++k) uv[k] = {th[k] / (2.0 * kPi), ctx.coords.at(t[k].index).s / circumference};
+      for (int k = 1; k < 3; ++k) th[k] = th[0] + std::remainder(th[k] - th[0], 2.0 * geometry::kPi);
+      for (int k = 0; k < 3; ++k)
+        uv[k] = {th[k] / (2.0 * geometry::kPi), ctx.coords.at(t[k].index).s / circumference};
     } else {
       for (int k = 0; k < 3; ++k) {
         const glm::dvec3 q = ctx.cyl.perp(ctx.posed(t[k]));

@@ -67,10 +67,10 @@ std::vector<WallPt> steiner_candidates(const WallShell& shell, const Loops& loop
   const bool touches_a = extent.touches_a, touches_b = extent.touches_b, mobius = shell.map.mobius;
   const double lo = extent.lo, hi = extent.hi;
   // Steiner candidates on the cylinder's surface, away from the rims.
-  const double h = 2.0 * kPi * cy.r / samples, row = 0.866 * h;
+  const double h = 2.0 * geometry::kPi * cy.r / samples, row = 0.866 * h;
   auto near_boundary = [&](const glm::dvec3& p) {
     for (const auto& [u, v] : segments)
-      if (segment_distance2(p, pts[u].p, pts[v].p) < 0.2 * h * h) return true;
+      if (geometry::segment_distance2(p, pts[u].p, pts[v].p) < 0.2 * h * h) return true;
     return false;
   };
   std::vector<WallPt> candidates;
@@ -112,7 +112,7 @@ std::vector<WallPt> steiner_candidates(const WallShell& shell, const Loops& loop
     return change > 0.0 ? (it->first - std::prev(it)->first) / std::ceil(change / kWallBend) : kInf;
   };
   const int fewest = std::min(samples, kWallSides);
-  const double widest_ring = 2.0 * kPi * cy.r / fewest;
+  const double widest_ring = 2.0 * geometry::kPi * cy.r / fewest;
   auto ring_spacing = [&](double sv) { return std::clamp(0.2 * gap(sv), h, widest_ring); };
   std::vector<double> rows;
   if (touches_a) rows.push_back(0.0);
@@ -124,13 +124,14 @@ std::vector<WallPt> steiner_candidates(const WallShell& shell, const Loops& loop
   if (touches_b) rows.push_back(cy.len);
   for (std::size_t j = 0; j < rows.size(); ++j) {
     const bool end_circle = (touches_a && rows[j] == 0.0) || (touches_b && rows[j] == cy.len);
-    const int n = end_circle
-                      ? samples
-                      : std::clamp(static_cast<int>(std::lround(2.0 * kPi * cy.r / ring_spacing(rows[j]))),
-                                   fewest, samples);
+    const int n =
+        end_circle
+            ? samples
+            : std::clamp(static_cast<int>(std::lround(2.0 * geometry::kPi * cy.r / ring_spacing(rows[j]))),
+                         fewest, samples);
     for (int k = 0; k < n; ++k) {
       WallPt w;
-      w.theta = std::remainder((k + (j % 2 ? 0.5 : 0.0)) * 2.0 * kPi / n, 2.0 * kPi);
+      w.theta = std::remainder((k + (j % 2 ? 0.5 : 0.0)) * 2.0 * geometry::kPi / n, 2.0 * geometry::kPi);
       w.s = rows[j];
       w.rho = cy.r;
       consider(w);
@@ -143,12 +144,12 @@ std::vector<WallPt> steiner_candidates(const WallShell& shell, const Loops& loop
     for (int j = 0;; ++j) {
       const double rho = cy.r - (j + 0.5) * ring;
       if (rho < 0.5 * ring) break;
-      const int n =
-          std::clamp(static_cast<int>(std::lround(2.0 * kPi * rho / std::max(h, ring))), 3, samples);
+      const int n = std::clamp(static_cast<int>(std::lround(2.0 * geometry::kPi * rho / std::max(h, ring))),
+                               3, samples);
       for (int k = 0; k < n; ++k) {
         WallPt w;
         w.where = end;
-        w.theta = std::remainder(2.0 * kPi * (k + 0.5 * (j % 2)) / n, 2.0 * kPi);
+        w.theta = std::remainder(2.0 * geometry::kPi * (k + 0.5 * (j % 2)) / n, 2.0 * geometry::kPi);
         w.s = end == 1 ? 0.0 : cy.len;
         w.rho = rho;
         consider(w);

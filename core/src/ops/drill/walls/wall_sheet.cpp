@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <set>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -12,14 +13,15 @@
 namespace deepcut::drill {
 namespace {
 
-constexpr double kWallNeedle = 6.0 * kPi / 180.0;  // wall triangles at a rim refined below this angle
+constexpr double kWallNeedle =
+    6.0 * geometry::kPi / 180.0;  // wall triangles at a rim refined below this angle
 
 // Lawson flips on a curved surface (the cylinder): an interior edge whose opposite angles sum
 // to more than pi is flipped when the two new triangles keep the orientation, so the plane
 // map's distortion (compressed along the axis on long walls) leaves no needles. Edges with one
 // triangle (the rims) are constraints; `forbidden` says whether a new edge may not be made.
 template <class Forbidden>
-void flip_on_surface(std::vector<LocalTri>& tris, const std::vector<glm::dvec3>& p,
+void flip_on_surface(std::vector<geometry::LocalTri>& tris, const std::vector<glm::dvec3>& p,
                      const Forbidden& forbidden) {
   auto key = [](std::uint32_t a, std::uint32_t b) { return (std::uint64_t(a) << 32) | b; };
   std::unordered_map<std::uint64_t, std::uint32_t> half;  // directed edge -> triangle
@@ -43,10 +45,12 @@ void flip_on_surface(std::vector<LocalTri>& tris, const std::vector<glm::dvec3>&
       if (tris[t2][k] != a && tris[t2][k] != b) d = tris[t2][k];
     }
     if (c == d || half.count(key(c, d)) || half.count(key(d, c)) || forbidden(c, d)) continue;
-    if (angle_at(p[a], p[b], p[c]) + angle_at(p[a], p[b], p[d]) <= kPi + 1e-9) continue;
+    if (geometry::angle_at(p[a], p[b], p[c]) + geometry::angle_at(p[a], p[b], p[d]) <= geometry::kPi + 1e-9)
+      continue;
     // On a curved surface both diagonals of a quad can fail the test: flip only to one that
     // passes it, or the two would be flipped back and forth until the guard.
-    if (angle_at(p[c], p[d], p[a]) + angle_at(p[c], p[d], p[b]) >= kPi - 1e-9) continue;
+    if (geometry::angle_at(p[c], p[d], p[a]) + geometry::angle_at(p[c], p[d], p[b]) >= geometry::kPi - 1e-9)
+      continue;
     const glm::dvec3 n_old = glm::cross(p[b] - p[a], p[c] - p[a]) + glm::cross(p[a] - p[b], p[d] - p[b]);
     const glm::dvec3 n1 = glm::cross(p[d] - p[a], p[c] - p[a]), n2 = glm::cross(p[b] - p[d], p[c] - p[d]);
     if (glm::dot(n1, n_old) <= 0.0 || glm::dot(n2, n_old) <= 0.0) continue;
@@ -79,7 +83,7 @@ bool map_sheet(WallShell& shell, const Loops& loops, const Segments& segments, b
   int c = 0;
   if (!consistent(xy, loops, c)) return false;
   // Which end disks the region reaches; then the final map over that extent.
-  const bool a_inside = winding(xy, loops, glm::dvec2(0.0)) + c == 1;
+  const bool a_inside = geometry::winding(xy, loops, glm::dvec2(0.0)) + c == 1;
   const bool b_inside = c == 1;
   // A shell with a boundary of its own (an open sheet, a torn part) has no inside: its rims'
   // orientation still picks a side, but a region holding an end disk's centre is then a cup out
@@ -105,11 +109,11 @@ bool map_sheet(WallShell& shell, const Loops& loops, const Segments& segments, b
       const std::uint32_t a = l[i], b = l[(i + 1) % l.size()];
       for (double offset : {-0.3, -0.1, -0.03, -0.01}) {
         const glm::dvec2 z = side_point(xy, a, b, offset);
-        if (winding(xy, loops, z) + c != 0) continue;
+        if (geometry::winding(xy, loops, z) + c != 0) continue;
         const double e2 = glm::dot(xy[b] - xy[a], xy[b] - xy[a]);
         bool clear = true;
         for (const auto& [u, v] : segments)
-          if (segment_distance2(z, xy[u], xy[v]) < 0.25 * offset * offset * e2) clear = false;
+          if (geometry::segment_distance2(z, xy[u], xy[v]) < 0.25 * offset * offset * e2) clear = false;
         if (!clear) continue;
         shell.map.z0 = z;
         found = true;
@@ -131,7 +135,7 @@ bool nest_loops(const WallShell& shell, const Loops& loops, std::vector<std::siz
   std::vector<double> area(loops.size());
 
   for (std::size_t i = 0; i < loops.size(); ++i) {
-    area[i] = signed_area2(xy, loops[i]);
+    area[i] = geometry::signed_area2(xy, loops[i]);
     if (area[i] > 0.0) outers.push_back(i);
   }
   holes_of.assign(loops.size(), {});
@@ -149,7 +153,7 @@ bool nest_loops(const WallShell& shell, const Loops& loops, std::vector<std::siz
         if (!shared) probe = i;
       }
       if (probe == loops[hidx].size()) continue;
-      if (winding(xy, {loops[o]}, xy[loops[hidx][probe]]) != 0 &&
+      if (geometry::winding(xy, {loops[o]}, xy[loops[hidx][probe]]) != 0 &&
           (owner == loops.size() || area[o] < area[owner]))
         owner = o;
     }
@@ -181,59 +185,51 @@ std::unordered_set<std::uint64_t> forbidden_surface_edges(const WallContext& ctx
 // repeated, the points grade down towards the short step. In passes, worst first, skipping a
 // triangle whose circumcircle holds a point this pass added (it is gone), with a budget of
 // points per rim point: the cost follows the needles.
-void refine_rim_needles(WallShell& shell, FlipTriangulation& ft, const std::vector<glm::dvec2>& local,
-                        std::vector<std::uint32_t>& global, const Loops& region, std::size_t loop_points) {
+void refine_rim_needles(WallShell& shell, geometry::FlipTriangulation& ft,
+                        const std::vector<glm::dvec2>& local, std::vector<std::uint32_t>& global,
+                        const Loops& region, std::size_t loop_points) {
   std::vector<WallPt>& pts = shell.pts;
   const std::vector<glm::dvec2>& xy = shell.xy;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> steps;
   for (const auto& l : region)
     for (std::size_t i = 0; i < l.size(); ++i) steps.emplace_back(l[i], l[(i + 1) % l.size()]);
-  auto min_angle = [&](const LocalTri& t) {
+  auto min_angle = [&](const geometry::LocalTri& t) {
     const glm::dvec3 &p0 = pts[global[t[0]]].p, &p1 = pts[global[t[1]]].p, &p2 = pts[global[t[2]]].p;
-    return std::min({angle_at(p1, p2, p0), angle_at(p2, p0, p1), angle_at(p0, p1, p2)});
+    return std::min(
+        {geometry::angle_at(p1, p2, p0), geometry::angle_at(p2, p0, p1), geometry::angle_at(p0, p1, p2)});
   };
-  std::unordered_set<std::uint64_t> failed;
-  auto tri_key = [](const LocalTri& t) {
-    std::array<std::uint32_t, 3> k = {t[0], t[1], t[2]};
-    std::sort(k.begin(), k.end());
-    return (std::uint64_t(k[0]) << 42) ^ (std::uint64_t(k[1]) << 21) ^ k[2];
-  };
+  std::set<geometry::LocalTri> failed;  // by sorted_corners
   std::size_t budget = 2 * loop_points + 16;
   for (int pass = 0; pass < 12 && budget > 0; ++pass) {
-    std::vector<std::pair<double, LocalTri>> skinny;
+    std::vector<std::pair<double, geometry::LocalTri>> skinny;
     for (const auto& t : ft.triangles()) {
       // At the rims only: elsewhere the plane map's compression (kappa) leaves triangles the
       // flips on the cylinder below make well shaped.
       if (t[0] >= loop_points && t[1] >= loop_points && t[2] >= loop_points) continue;
       const double angle = min_angle(t);
-      if (angle < kWallNeedle && !failed.count(tri_key(t))) skinny.emplace_back(angle, t);
+      if (angle < kWallNeedle && !failed.count(geometry::sorted_corners(t))) skinny.emplace_back(angle, t);
     }
     if (skinny.empty()) break;
     std::sort(skinny.begin(), skinny.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
     std::vector<glm::dvec2> added_now;
     for (const auto& [angle, t] : skinny) {
       if (budget == 0) break;
-      const glm::dvec2 &p0 = local[t[0]], &p1 = local[t[1]], &p2 = local[t[2]];
-      const glm::dvec2 ab = p1 - p0, ac = p2 - p0;
-      const double d = 2.0 * (ab.x * ac.y - ab.y * ac.x);
-      const glm::dvec2 centre = p0 + glm::dvec2(ac.y * glm::dot(ab, ab) - ab.y * glm::dot(ac, ac),
-                                                ab.x * glm::dot(ac, ac) - ac.x * glm::dot(ab, ab)) /
-                                         d;
+      const glm::dvec2 centre = geometry::circumcentre(local[t[0]], local[t[1]], local[t[2]]);
       if (!std::isfinite(centre.x) || !std::isfinite(centre.y)) {
-        failed.insert(tri_key(t));
+        failed.insert(geometry::sorted_corners(t));
         continue;
       }
-      const double radius = glm::length(p0 - centre);
+      const double radius = glm::length(local[t[0]] - centre);
       bool stale = false;
       for (const glm::dvec2& q : added_now) stale |= glm::length(q - centre) < radius;
       if (stale) continue;
-      failed.insert(tri_key(t));
+      failed.insert(geometry::sorted_corners(t));
       bool ok = true;
       for (std::size_t i = 0; i < steps.size() && ok; ++i) {
         const glm::dvec2 &u = local[steps[i].first], &v = local[steps[i].second];
         ok = glm::length(centre - 0.5 * (u + v)) > 0.525 * glm::length(v - u);
       }
-      if (!ok || winding(xy, region, centre) != 1 || !ft.insert(centre)) continue;
+      if (!ok || geometry::winding(xy, region, centre) != 1 || !ft.insert(centre)) continue;
       added_now.push_back(centre);
       global.push_back(static_cast<std::uint32_t>(pts.size()));
       pts.push_back(shell.map.from_plane(centre));
@@ -247,7 +243,7 @@ void refine_rim_needles(WallShell& shell, FlipTriangulation& ft, const std::vect
 // once each way. Ear clipping can find no proper ear where rims run a hair apart in the plane
 // map and leave a gap: the sheet is then left open and its holes reported unwalled rather than
 // walled with a crack.
-bool covers_region(const std::vector<LocalTri>& sheet_tris, const Loops& region) {
+bool covers_region(const std::vector<geometry::LocalTri>& sheet_tris, const Loops& region) {
   auto key = [](std::uint32_t a, std::uint32_t b) { return (std::uint64_t(a) << 32) | b; };
   std::unordered_set<std::uint64_t> half, rim_steps;
   for (const auto& t : sheet_tris)
@@ -271,7 +267,7 @@ bool triangulate_outer(WallShell& shell, const Loops& loops, std::size_t o,
                        const std::vector<std::size_t>& holes, const std::vector<WallPt>& candidates,
                        std::vector<std::uint8_t>& taken,
                        const std::unordered_set<std::uint64_t>& surface_edges,
-                       std::vector<LocalTri>& sheet_tris) {
+                       std::vector<geometry::LocalTri>& sheet_tris) {
   std::vector<WallPt>& pts = shell.pts;
   const std::vector<glm::dvec2>& xy = shell.xy;
   std::vector<glm::dvec2> local = xy;            // FlipTriangulation appends Steiner points
@@ -279,28 +275,16 @@ bool triangulate_outer(WallShell& shell, const Loops& loops, std::size_t o,
   for (std::uint32_t i = 0; i < xy.size(); ++i) global[i] = i;
   std::vector<std::vector<std::uint32_t>> holes_local;
   for (std::size_t hidx : holes) holes_local.push_back(loops[hidx]);
-  std::sort(holes_local.begin(), holes_local.end(), [&](const auto& a, const auto& b) {
-    double ma = -kInf, mb = -kInf;
-    for (auto i : a) ma = std::max(ma, local[i].x);
-    for (auto i : b) mb = std::max(mb, local[i].x);
-    return ma > mb;
-  });
-  std::vector<std::uint32_t> poly = loops[o];
-  for (std::size_t k = 0; k < holes_local.size(); ++k) {
-    std::vector<std::vector<std::uint32_t>> others(holes_local.begin() + static_cast<std::ptrdiff_t>(k) + 1,
-                                                   holes_local.end());
-    poly = bridge(local, poly, holes_local[k], others);
-  }
-  std::vector<LocalTri> tris;
-  clip_polygon(local, poly, tris);
+  std::vector<geometry::LocalTri> tris;
+  geometry::triangulate_polygon(local, loops[o], std::move(holes_local), kRimTriangulation, tris);
   std::vector<std::vector<std::uint32_t>> region = {loops[o]};
   for (std::size_t hidx : holes) region.push_back(loops[hidx]);
-  FlipTriangulation ft(local, std::move(tris));
+  geometry::FlipTriangulation ft(local, std::move(tris));
   ft.make_delaunay();
   for (std::size_t i = 0; i < candidates.size(); ++i) {
     if (taken[i]) continue;
     const glm::dvec2 z = candidates[i].pole ? glm::dvec2(0.0) : shell.map.to_plane(candidates[i]);
-    if (!std::isfinite(z.x) || !std::isfinite(z.y) || winding(xy, region, z) != 1) continue;
+    if (!std::isfinite(z.x) || !std::isfinite(z.y) || geometry::winding(xy, region, z) != 1) continue;
     if (!ft.insert(z)) continue;
     taken[i] = 1;
     global.push_back(static_cast<std::uint32_t>(pts.size()));
@@ -350,7 +334,7 @@ bool wall_sheet(WallShell& shell, WallContext& ctx, const Loops& sheet_loops, in
     for (std::size_t i = 0; i < l.size(); ++i) segments.emplace_back(l[i], l[(i + 1) % l.size()]);
   SheetExtent extent;
   if (!map_sheet(shell, loops, segments, open_shell, extent)) return false;
-  std::vector<std::pair<std::size_t, LocalTri>> sheet_lobes;
+  std::vector<std::pair<std::size_t, geometry::LocalTri>> sheet_lobes;
   if (!fold_loops(shell.xy, loops, sheet_lobes)) return false;
   std::vector<std::size_t> outers;
   std::vector<std::vector<std::size_t>> holes_of;
@@ -359,9 +343,9 @@ bool wall_sheet(WallShell& shell, WallContext& ctx, const Loops& sheet_loops, in
       steiner_candidates(shell, loops, segments, extent, ctx.editor.mesh());
   const std::unordered_set<std::uint64_t> surface = forbidden_surface_edges(ctx);
   std::vector<std::uint8_t> taken(candidates.size(), 0);
-  std::vector<LocalTri> wall_tris;  // indices into shell.pts
+  std::vector<geometry::LocalTri> wall_tris;  // indices into shell.pts
   for (std::size_t o : outers) {
-    std::vector<LocalTri> sheet_tris;
+    std::vector<geometry::LocalTri> sheet_tris;
     if (!triangulate_outer(shell, loops, o, holes_of[o], candidates, taken, surface, sheet_tris))
       return false;
     wall_tris.insert(wall_tris.end(), sheet_tris.begin(), sheet_tris.end());

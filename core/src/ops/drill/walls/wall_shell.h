@@ -12,7 +12,9 @@
 #include <vector>
 
 #include "deepcut/core/mesh_editor.h"
-#include "ops/drill/planar_kernel.h"
+#include "geometry/delaunay_flip.h"
+#include "geometry/polygon_triangulation.h"
+#include "geometry/predicates.h"
 #include "ops/drill/posed_overlay.h"
 #include "ops/drill/rim_insertion.h"
 #include "ops/drill/walls/wall_map.h"
@@ -49,7 +51,8 @@ struct WallShell {
   double s_lo = kInf, s_hi = -kInf;   // extent of the rims along the axis
   Loops rim_loops;
   std::vector<std::size_t> loop_hole;                       // the rim each loop comes from
-  std::vector<std::pair<std::size_t, LocalTri>> lobe_tris;  // folds: loop, triangle (indices into pts)
+  std::vector<std::pair<std::size_t, geometry::LocalTri>>
+      lobe_tris;                                            // folds: loop, triangle (indices into pts)
   std::vector<int> sheet;                                   // per loop: 0 or 1
 
   void map_points() {
@@ -71,7 +74,7 @@ struct WallShell {
 bool shell_loops(WallShell& shell, const WallContext& ctx);
 /// Short-cuts loops that cross themselves; the lobes cut off go to `lobes` (loop, triangle).
 bool fold_loops(const std::vector<glm::dvec2>& xy, Loops& loops,
-                std::vector<std::pair<std::size_t, LocalTri>>& lobes);
+                std::vector<std::pair<std::size_t, geometry::LocalTri>>& lobes);
 
 // wall_points.cpp
 using Segments = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
@@ -91,7 +94,7 @@ bool wall_sheet(WallShell& shell, WallContext& ctx, const Loops& sheet_loops, in
 // wall_mesh.cpp
 /// Adds the sheet's triangles (indices into shell.pts) as faces, creating the Steiner vertices;
 /// false (nothing added) when a face would make an edge non-manifold.
-bool emit_sheet(WallShell& shell, WallContext& ctx, const std::vector<LocalTri>& wall_tris);
+bool emit_sheet(WallShell& shell, WallContext& ctx, const std::vector<geometry::LocalTri>& wall_tris);
 /// Texture coordinates, normals, tangents and colours of the wall faces, and their flag.
 void finish_wall_attributes(WallContext& ctx);
 
