@@ -119,8 +119,8 @@ void InspectorHost::draw_colors() {
   if (!scene_) return;
   sync();
   plugins::Inspector* active = inspector();
-  for (std::size_t i = 0; i < scene_->pieces.size(); ++i)
-    view_->set_piece_colors(i, active ? active->piece_colors(i) : plugins::PieceColors{});
+  for (std::size_t i = 0; i < scene_->instances.size(); ++i)
+    view_->set_instance_colors(i, active ? active->instance_colors(i) : plugins::InstanceColors{});
   view_->set_color_bar(active ? active->color_bar() : std::nullopt);
 }
 

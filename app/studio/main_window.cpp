@@ -355,9 +355,9 @@ void MainWindow::show_current() {
   emit model_changed();
 }
 
-const PosedModel* MainWindow::operation_index() const { return session().posed_model(); }
+const PosedModel* MainWindow::posed_model() const { return session().posed_model(); }
 const plugins::Scene* MainWindow::scene() const { return scene_host_->scene(); }
-void MainWindow::refresh_operation_index() { scene_host_->refresh_posed_model(); }
+void MainWindow::refresh_posed_model() { scene_host_->refresh_posed_model(); }
 
 bool MainWindow::export_file(const QString& path) {
   if (!session().current()) {

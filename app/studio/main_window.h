@@ -148,10 +148,10 @@ class MainWindow : public QMainWindow {
   /// nullptr. Built when a model is opened, kept up to date by every drill and tear the studio
   /// applies, and rebuilt shortly after the pose stops changing or the state changes otherwise
   /// (undo, redo, an edit, a cut), or at the next operation, whichever comes first.
-  const PosedModel* operation_index() const;
+  const PosedModel* posed_model() const;
   /// Brings the preprocessing up to date for the current model and pose now (what the studio
   /// does once the pose stays put for a moment).
-  void refresh_operation_index();
+  void refresh_posed_model();
 
  signals:
   void model_changed();

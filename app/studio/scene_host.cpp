@@ -156,8 +156,11 @@ void SceneHost::pick(const plugins::Pick& pick) {
     emit note(QString("Joint %1 (Inspect > Skin weights shows its weights)")
                   .arg(QString::fromStdString(plugins::node_label(*scene_->model, pick.joint_node))),
               8000);
-  else if (pick.piece < scene_->pieces.size())
-    emit note(QString("Piece %1, vertex %2, face %3").arg(pick.piece).arg(pick.vertex.index).arg(pick.face.index),
+  else if (pick.instance < scene_->instances.size())
+    emit note(QString("Instance %1, vertex %2, face %3")
+                  .arg(pick.instance)
+                  .arg(pick.vertex.index)
+                  .arg(pick.face.index),
               8000);
 }
 

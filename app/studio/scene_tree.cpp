@@ -82,15 +82,15 @@ void SceneTree::set_scene(const plugins::Scene& scene) {
   }
   meshes->setExpanded(true);
 
-  QTreeWidgetItem* pieces = add(nullptr, "Pieces", QString("%1 drawn").arg(scene.pieces.size()));
-  for (std::size_t i = 0; i < scene.pieces.size(); ++i) {
-    const plugins::SceneInstance& piece = scene.pieces[i];
-    add(pieces, QString("piece %1: %2").arg(i).arg(label(piece.node)),
+  QTreeWidgetItem* instances = add(nullptr, "Instances", QString("%1 drawn").arg(scene.instances.size()));
+  for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+    const plugins::SceneInstance& instance = scene.instances[i];
+    add(instances, QString("instance %1: %2").arg(i).arg(label(instance.node)),
         QString("mesh %1 / primitive %2, %3 triangles%4")
-            .arg(piece.mesh)
-            .arg(piece.primitive)
-            .arg(piece.surface->face_count())
-            .arg(piece.skin >= 0 ? QString(", skinned (skin %1)").arg(piece.skin) : QString()));
+            .arg(instance.mesh)
+            .arg(instance.primitive)
+            .arg(instance.surface->face_count())
+            .arg(instance.skin >= 0 ? QString(", skinned (skin %1)").arg(instance.skin) : QString()));
   }
 
   QTreeWidgetItem* skins = add(nullptr, "Skins", QString("%1").arg(model.skins.size()));

@@ -96,7 +96,7 @@ class ClickStyle : public vtkInteractorStyleTrackballCamera {
 };
 vtkStandardNewMacro(ClickStyle);
 
-struct PieceActor {
+struct InstanceActor {
   vtkSmartPointer<vtkPolyData> poly;
   vtkSmartPointer<vtkPolyDataMapper> mapper;
   vtkSmartPointer<vtkActor> actor;
@@ -126,7 +126,7 @@ struct SceneView::Impl {
   vtkSmartPointer<vtkProp> color_bar;
   vtkSmartPointer<vtkActor> normals;
   std::map<Layer, OverlayProps> overlays;
-  std::vector<PieceActor> pieces;
+  std::vector<InstanceActor> instances;
   std::map<int, vtkSmartPointer<vtkTexture>> textures;  // by image index
   const plugins::Scene* scene = nullptr;
   DisplayMode mode = DisplayMode::Shaded;
@@ -137,8 +137,8 @@ struct SceneView::Impl {
   vtkNew<vtkCallbackCommand> clipping;
   std::function<bool(const PointerEvent&)> pointer_handler;
 
-  void apply_look(PieceActor& piece) const;
-  void apply_display_mode(PieceActor& piece) const;
+  void apply_look(InstanceActor& instance) const;
+  void apply_display_mode(InstanceActor& instance) const;
   void rebuild_normals();
   glm::dvec2 to_display(const glm::vec3& p) const;
   bool pick_display(int x, int y);
@@ -148,19 +148,19 @@ struct SceneView::Impl {
   void display_ray(int x, int y, PointerEvent& event) const;
 };
 
-void SceneView::Impl::apply_look(PieceActor& piece) const {
-  vtkProperty* property = piece.actor->GetProperty();
-  const glm::vec4 c = piece.look.base_color;
+void SceneView::Impl::apply_look(InstanceActor& instance) const {
+  vtkProperty* property = instance.actor->GetProperty();
+  const glm::vec4 c = instance.look.base_color;
   property->SetColor(c.r, c.g, c.b);
-  property->SetOpacity(piece.look.blend ? c.a : 1.0);
-  piece.mapper->ScalarVisibilityOff();
-  piece.actor->SetTexture(piece.texture);
+  property->SetOpacity(instance.look.blend ? c.a : 1.0);
+  instance.mapper->ScalarVisibilityOff();
+  instance.actor->SetTexture(instance.texture);
   // Rough, non-metallic materials get a dull highlight; shiny ones a sharper one.
-  property->SetSpecular(0.05 + 0.3 * (1.0 - piece.look.roughness));
+  property->SetSpecular(0.05 + 0.3 * (1.0 - instance.look.roughness));
 }
 
-void SceneView::Impl::apply_display_mode(PieceActor& piece) const {
-  vtkProperty* property = piece.actor->GetProperty();
+void SceneView::Impl::apply_display_mode(InstanceActor& instance) const {
+  vtkProperty* property = instance.actor->GetProperty();
   property->SetRepresentation(mode == DisplayMode::Wireframe ? VTK_WIREFRAME : VTK_SURFACE);
   property->SetEdgeVisibility(mode == DisplayMode::ShadedEdges);
   property->SetEdgeColor(0.08, 0.09, 0.1);
@@ -176,7 +176,8 @@ void SceneView::Impl::rebuild_normals() {
   points->SetDataTypeToFloat();
   vtkNew<vtkCellArray> lines;
   std::size_t total = 0;
-  for (const PieceActor& piece : pieces) total += static_cast<std::size_t>(piece.poly->GetNumberOfPoints());
+  for (const InstanceActor& instance : instances)
+    total += static_cast<std::size_t>(instance.poly->GetNumberOfPoints());
   // Big meshes: draw every k-th normal so the view stays readable and responsive.
   const std::size_t stride = std::max<std::size_t>(1, total / 60000);
   auto add_line = [&](const double p[3], const double d[3]) {
@@ -186,12 +187,12 @@ void SceneView::Impl::rebuild_normals() {
     const vtkIdType ids[2] = {a, b};
     lines->InsertNextCell(2, ids);
   };
-  for (const PieceActor& piece : pieces) {
-    vtkDataArray* n = piece.poly->GetPointData()->GetNormals();
+  for (const InstanceActor& instance : instances) {
+    vtkDataArray* n = instance.poly->GetPointData()->GetNormals();
     if (n) {
-      for (vtkIdType i = 0; i < piece.poly->GetNumberOfPoints(); i += static_cast<vtkIdType>(stride)) {
+      for (vtkIdType i = 0; i < instance.poly->GetNumberOfPoints(); i += static_cast<vtkIdType>(stride)) {
         double p[3], d[3];
-        piece.poly->GetPoint(i, p);
+        instance.poly->GetPoint(i, p);
         n->GetTuple(i, d);
         add_line(p, d);
       }
@@ -199,16 +200,16 @@ void SceneView::Impl::rebuild_normals() {
     }
     // No normals in the file: show the face normals (what the renderer shades with) at the
     // face centres.
-    vtkCellArray* polys = piece.poly->GetPolys();
+    vtkCellArray* polys = instance.poly->GetPolys();
     vtkIdType npts = 0;
     const vtkIdType* ids = nullptr;
     vtkIdType cell = 0;
     for (polys->InitTraversal(); polys->GetNextCell(npts, ids); ++cell) {
       if (npts != 3 || cell % static_cast<vtkIdType>(stride) != 0) continue;
       double a[3], b[3], c[3];
-      piece.poly->GetPoint(ids[0], a);
-      piece.poly->GetPoint(ids[1], b);
-      piece.poly->GetPoint(ids[2], c);
+      instance.poly->GetPoint(ids[0], a);
+      instance.poly->GetPoint(ids[1], b);
+      instance.poly->GetPoint(ids[2], c);
       const glm::dvec3 pa(a[0], a[1], a[2]), pb(b[0], b[1], b[2]), pc(c[0], c[1], c[2]);
       const glm::dvec3 cross = glm::cross(pb - pa, pc - pa);
       if (glm::length(cross) <= 0.0) continue;
@@ -266,10 +267,10 @@ bool SceneView::Impl::pick_display(int x, int y) {
 bool SceneView::Impl::pick_model(int x, int y, plugins::Pick& pick) {
   if (!picker->Pick(x, y, 0.0, renderer) || picker->GetCellId() < 0) return false;
   vtkActor* actor = picker->GetActor();
-  const auto it =
-      std::find_if(pieces.begin(), pieces.end(), [&](const PieceActor& p) { return p.actor.Get() == actor; });
-  if (it == pieces.end()) return false;
-  pick.piece = static_cast<std::size_t>(it - pieces.begin());
+  const auto it = std::find_if(instances.begin(), instances.end(),
+                               [&](const InstanceActor& p) { return p.actor.Get() == actor; });
+  if (it == instances.end()) return false;
+  pick.instance = static_cast<std::size_t>(it - instances.begin());
   vtkPolyData* poly = it->poly;
   auto* face_ids = vtkIdTypeArray::SafeDownCast(poly->GetCellData()->GetArray("face_id"));
   auto* vertex_ids = vtkIdTypeArray::SafeDownCast(poly->GetPointData()->GetArray("vertex_id"));
@@ -425,59 +426,59 @@ SceneView::~SceneView() {
 std::vector<std::string> SceneView::set_scene(const plugins::Scene& scene) {
   Impl& d = *impl_;
   std::vector<std::string> notes;
-  for (PieceActor& piece : d.pieces) d.renderer->RemoveActor(piece.actor);
-  d.pieces.clear();
+  for (InstanceActor& instance : d.instances) d.renderer->RemoveActor(instance.actor);
+  d.instances.clear();
   d.textures.clear();
   d.picker->InitializePickList();
   d.scene = &scene;
   const Model& model = *scene.model;
-  for (const plugins::SceneInstance& sp : scene.pieces) {
-    PieceActor piece;
+  for (const plugins::SceneInstance& sp : scene.instances) {
+    InstanceActor instance;
     PolyDataOptions options;
     options.positions = &sp.posed();
-    piece.poly = to_poly_data(*sp.surface, options);
-    if (!sp.posed_normals.empty()) update_poly_data_points(piece.poly, sp.posed(), &sp.posed_normals);
-    piece.mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
-    piece.mapper->SetInputData(piece.poly);
-    piece.mapper->SetColorModeToDirectScalars();
-    piece.actor = vtkSmartPointer<vtkActor>::New();
-    piece.actor->SetMapper(piece.mapper);
+    instance.poly = to_poly_data(*sp.surface, options);
+    if (!sp.posed_normals.empty()) update_poly_data_points(instance.poly, sp.posed(), &sp.posed_normals);
+    instance.mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
+    instance.mapper->SetInputData(instance.poly);
+    instance.mapper->SetColorModeToDirectScalars();
+    instance.actor = vtkSmartPointer<vtkActor>::New();
+    instance.actor->SetMapper(instance.mapper);
     const int material = model.meshes[static_cast<std::size_t>(sp.mesh)]
                              .primitives[static_cast<std::size_t>(sp.primitive)]
                              .material;
-    piece.look = material_look(model, material);
-    if (piece.look.base_color_image >= 0) {
-      if (piece.look.texcoord != 0) {
-        notes.push_back("material '" + piece.look.name + "': base colour texture uses TEXCOORD_" +
-                        std::to_string(piece.look.texcoord) + "; shown without it");
-      } else if (!piece.poly->GetPointData()->GetTCoords()) {
-        notes.push_back("material '" + piece.look.name +
+    instance.look = material_look(model, material);
+    if (instance.look.base_color_image >= 0) {
+      if (instance.look.texcoord != 0) {
+        notes.push_back("material '" + instance.look.name + "': base colour texture uses TEXCOORD_" +
+                        std::to_string(instance.look.texcoord) + "; shown without it");
+      } else if (!instance.poly->GetPointData()->GetTCoords()) {
+        notes.push_back("material '" + instance.look.name +
                         "' has a texture but the mesh has no UVs; shown without it");
       } else {
-        auto cached = d.textures.find(piece.look.base_color_image);
+        auto cached = d.textures.find(instance.look.base_color_image);
         if (cached == d.textures.end()) {
           vtkSmartPointer<vtkTexture> texture;
           try {
-            texture = make_texture(model.images[static_cast<std::size_t>(piece.look.base_color_image)]);
+            texture = make_texture(model.images[static_cast<std::size_t>(instance.look.base_color_image)]);
           } catch (const Error& e) {
             notes.push_back(e.what());
           }
-          cached = d.textures.emplace(piece.look.base_color_image, texture).first;
+          cached = d.textures.emplace(instance.look.base_color_image, texture).first;
         }
-        piece.texture = cached->second;
+        instance.texture = cached->second;
       }
     }
-    vtkProperty* property = piece.actor->GetProperty();
+    vtkProperty* property = instance.actor->GetProperty();
     property->SetInterpolationToPhong();
     property->SetAmbient(0.12);
     property->SetDiffuse(0.88);
     property->SetSpecularPower(24.0);
     property->BackfaceCullingOff();
-    d.apply_look(piece);
-    d.apply_display_mode(piece);
-    d.renderer->AddActor(piece.actor);
-    d.picker->AddPickList(piece.actor);
-    d.pieces.push_back(std::move(piece));
+    d.apply_look(instance);
+    d.apply_display_mode(instance);
+    d.renderer->AddActor(instance.actor);
+    d.picker->AddPickList(instance.actor);
+    d.instances.push_back(std::move(instance));
   }
   d.rebuild_normals();
   return notes;
@@ -486,25 +487,25 @@ std::vector<std::string> SceneView::set_scene(const plugins::Scene& scene) {
 void SceneView::update_pose() {
   Impl& d = *impl_;
   if (!d.scene) return;
-  for (std::size_t i = 0; i < d.pieces.size() && i < d.scene->pieces.size(); ++i) {
-    const plugins::SceneInstance& sp = d.scene->pieces[i];
-    update_poly_data_points(d.pieces[i].poly, sp.posed(),
+  for (std::size_t i = 0; i < d.instances.size() && i < d.scene->instances.size(); ++i) {
+    const plugins::SceneInstance& sp = d.scene->instances[i];
+    update_poly_data_points(d.instances[i].poly, sp.posed(),
                             sp.posed_normals.empty() ? nullptr : &sp.posed_normals);
   }
   d.rebuild_normals();
 }
 
-void SceneView::set_piece_positions(std::size_t piece, const std::vector<glm::vec3>& positions) {
+void SceneView::set_instance_positions(std::size_t instance, const std::vector<glm::vec3>& positions) {
   Impl& d = *impl_;
-  if (piece >= d.pieces.size()) return;
-  update_poly_data_points(d.pieces[piece].poly, positions, nullptr);
+  if (instance >= d.instances.size()) return;
+  update_poly_data_points(d.instances[instance].poly, positions, nullptr);
 }
 
-std::vector<glm::vec3> SceneView::piece_positions(std::size_t piece) const {
+std::vector<glm::vec3> SceneView::instance_positions(std::size_t instance) const {
   const Impl& d = *impl_;
-  if (piece >= d.pieces.size() || !d.scene || piece >= d.scene->pieces.size()) return {};
-  std::vector<glm::vec3> out = d.scene->pieces[piece].posed();
-  vtkPolyData* poly = d.pieces[piece].poly;
+  if (instance >= d.instances.size() || !d.scene || instance >= d.scene->instances.size()) return {};
+  std::vector<glm::vec3> out = d.scene->instances[instance].posed();
+  vtkPolyData* poly = d.instances[instance].poly;
   auto* vertex_ids = vtkIdTypeArray::SafeDownCast(poly->GetPointData()->GetArray("vertex_id"));
   if (!vertex_ids) return out;
   for (vtkIdType i = 0; i < poly->GetNumberOfPoints(); ++i) {
@@ -516,11 +517,11 @@ std::vector<glm::vec3> SceneView::piece_positions(std::size_t piece) const {
   return out;
 }
 
-void SceneView::set_piece_colors(std::size_t piece, const plugins::PieceColors& colors) {
+void SceneView::set_instance_colors(std::size_t instance, const plugins::InstanceColors& colors) {
   Impl& d = *impl_;
-  if (piece >= d.pieces.size()) return;
-  PieceActor& p = d.pieces[piece];
-  using Kind = plugins::PieceColors::Kind;
+  if (instance >= d.instances.size()) return;
+  InstanceActor& p = d.instances[instance];
+  using Kind = plugins::InstanceColors::Kind;
   if (colors.kind == Kind::None) {
     clear_colors(p.poly);
     d.apply_look(p);
@@ -568,7 +569,7 @@ void SceneView::set_bone_handles(std::vector<BoneHandle> handles) { impl_->bones
 
 void SceneView::set_display_mode(DisplayMode mode) {
   impl_->mode = mode;
-  for (PieceActor& piece : impl_->pieces) impl_->apply_display_mode(piece);
+  for (InstanceActor& instance : impl_->instances) impl_->apply_display_mode(instance);
 }
 
 DisplayMode SceneView::display_mode() const { return impl_->mode; }
@@ -585,8 +586,8 @@ void SceneView::reset_camera() {
   vtkCamera* camera = d.renderer->GetActiveCamera();
   BoundingBox box;
   if (d.scene)
-    for (const plugins::SceneInstance& piece : d.scene->pieces)
-      for (const glm::vec3& p : piece.posed()) box.add(p);
+    for (const plugins::SceneInstance& instance : d.scene->instances)
+      for (const glm::vec3& p : instance.posed()) box.add(p);
   if (box.empty()) {
     d.renderer->ResetCamera();
     return;

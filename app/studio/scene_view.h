@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// The 3D view of the studio: a QVTKOpenGLNativeWidget showing every piece of the scene posed,
+// The 3D view of the studio: a QVTKOpenGLNativeWidget showing every instance of the scene posed,
 // with its material (base colour and texture) or an inspector's colours, overlays (skeleton,
 // normals, the inspector's markers and edges), a colour bar and a caption. VTK stays inside
 // scene_view.cpp; this header is cheap to include.
@@ -50,15 +50,15 @@ class SceneView : public QWidget {
   std::vector<std::string> set_scene(const plugins::Scene& scene);
   /// Moves every actor (and the normals, when shown) to the scene's current pose.
   void update_pose();
-  /// Draws piece `piece` at `positions` (world, one per vertex slot of its mesh) instead of its
+  /// Draws instance `instance` at `positions` (world, one per vertex slot of its mesh) instead of its
   /// posed positions, until the next `update_pose` or `set_scene`.
-  void set_piece_positions(std::size_t piece, const std::vector<glm::vec3>& positions);
-  /// The world positions piece `piece` is drawn at, one per vertex slot (slots that are not
-  /// drawn keep the posed position). Empty for an unknown piece.
-  std::vector<glm::vec3> piece_positions(std::size_t piece) const;
+  void set_instance_positions(std::size_t instance, const std::vector<glm::vec3>& positions);
+  /// The world positions instance `instance` is drawn at, one per vertex slot (slots that are not
+  /// drawn keep the posed position). Empty for an unknown instance.
+  std::vector<glm::vec3> instance_positions(std::size_t instance) const;
 
-  /// Colours piece `piece` (Kind::None restores its material look).
-  void set_piece_colors(std::size_t piece, const plugins::PieceColors& colors);
+  /// Colours instance `instance` (Kind::None restores its material look).
+  void set_instance_colors(std::size_t instance, const plugins::InstanceColors& colors);
   /// Layers of overlays, replaced independently.
   enum class Layer { Skeleton, Inspector, Tool };
   void set_overlay(Layer layer, const Overlay& overlay);
@@ -94,12 +94,12 @@ class SceneView : public QWidget {
   void set_tool_widget(vtkAbstractWidget* widget);
 
   /// The model's surface point under widget coordinates `position` (logical pixels, origin top
-  /// left), without reporting a pick; nullopt when no piece is there.
+  /// left), without reporting a pick; nullopt when no instance is there.
   std::optional<glm::vec3> surface_point_at(const QPoint& position);
   /// Widget coordinates of the mouse cursor when it is over the view, else nullopt.
   std::optional<QPoint> cursor_position() const;
 
-  /// Called when the user clicks (press and release without dragging) on a piece or a bone.
+  /// Called when the user clicks (press and release without dragging) on an instance or a bone.
   void set_pick_handler(std::function<void(const plugins::Pick&)> handler);
   /// Called on a left press (with what is under the cursor), and, when it returned true for the
   /// press, on every move and on the release; the camera does not move during such a drag.

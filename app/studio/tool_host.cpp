@@ -149,7 +149,8 @@ void ToolHost::set_banner(const QString& text, const QString& apply_text) {
 }
 
 void ToolHost::note_pick(const plugins::Pick& pick) {
-  if (scene_ && pick.joint_node < 0 && pick.piece < scene_->pieces.size()) last_surface_click_ = pick.position;
+  if (scene_ && pick.joint_node < 0 && pick.instance < scene_->instances.size())
+    last_surface_click_ = pick.position;
 }
 
 bool ToolHost::on_pointer(const PointerEvent& event) {
@@ -197,28 +198,29 @@ void ToolHost::show_displacement() {
   plugins::Tool* active = tool();
   std::vector<glm::vec3> positions;
   bool displaced = false;
-  for (std::size_t i = 0; i < scene_->pieces.size(); ++i)
+  for (std::size_t i = 0; i < scene_->instances.size(); ++i)
     if (active && active->displaced_positions(*scene_, i, positions)) {
-      view_->set_piece_positions(i, positions);
+      view_->set_instance_positions(i, positions);
       displaced = true;
     }
   // Settled (or another tool): draw the posed model again, once.
   if (!displaced && displaced_)
-    for (std::size_t i = 0; i < scene_->pieces.size(); ++i) view_->set_piece_positions(i, scene_->pieces[i].posed());
+    for (std::size_t i = 0; i < scene_->instances.size(); ++i)
+      view_->set_instance_positions(i, scene_->instances[i].posed());
   displaced_ = displaced;
 }
 
 void ToolHost::lend_grids(const std::shared_ptr<const Model>& model, const PosedModel* posed) {
   if (!scene_) return;
-  for (plugins::SceneInstance& piece : scene_->pieces) piece.grid = nullptr;
+  for (plugins::SceneInstance& instance : scene_->instances) instance.grid = nullptr;
   if (!posed || scene_->model != model || !posed->matches(scene_->animation, scene_->time)) return;
-  for (plugins::SceneInstance& piece : scene_->pieces) {
-    const PosedMesh* mesh = posed->find(piece.node, piece.primitive);
+  for (plugins::SceneInstance& instance : scene_->instances) {
+    const PosedMesh* mesh = posed->find(instance.node, instance.primitive);
     // The grid is filed at the posed model's positions: lend it only where they are the
     // scene's, bit for bit (both pose with the same skinning; this guards the assumption).
-    if (mesh && mesh->mesh == piece.mesh && mesh->posed.size() == piece.posed().size() &&
-        std::equal(mesh->posed.begin(), mesh->posed.end(), piece.posed().begin()))
-      piece.grid = &mesh->grid;
+    if (mesh && mesh->mesh == instance.mesh && mesh->posed.size() == instance.posed().size() &&
+        std::equal(mesh->posed.begin(), mesh->posed.end(), instance.posed().begin()))
+      instance.grid = &mesh->grid;
   }
 }
 

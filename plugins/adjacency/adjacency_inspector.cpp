@@ -21,7 +21,7 @@
 namespace deepcut::plugins {
 namespace {
 
-struct PieceTopology {
+struct InstanceTopology {
   Adjacency adjacency;
   std::vector<Edge> boundary, nonmanifold, seams;
   std::vector<std::uint32_t> component;  // per vertex
@@ -36,7 +36,7 @@ class AdjacencyInspector final : public Inspector {
 
   QWidget* create_panel(QWidget* parent) override;
   void set_scene(const Scene& scene, SceneChange change) override;
-  PieceColors piece_colors(std::size_t piece) const override;
+  InstanceColors instance_colors(std::size_t instance) const override;
   Overlay overlay() const override;
   std::vector<std::string> summary() const override;
   std::optional<Focus> focus() const override;
@@ -44,18 +44,18 @@ class AdjacencyInspector final : public Inspector {
   void set_option(const std::string& name, const std::string& value) override;
 
  private:
-  bool has_pick() const { return scene_ && picked_piece_ < topology_.size(); }
-  std::size_t total(std::vector<Edge> PieceTopology::*edges) const {
+  bool has_pick() const { return scene_ && picked_instance_ < topology_.size(); }
+  std::size_t total(std::vector<Edge> InstanceTopology::*edges) const {
     std::size_t n = 0;
-    for (const PieceTopology& t : topology_) n += (t.*edges).size();
+    for (const InstanceTopology& t : topology_) n += (t.*edges).size();
     return n;
   }
   void refresh_panel();
 
   const Scene* scene_ = nullptr;
-  std::vector<PieceTopology> topology_;
+  std::vector<InstanceTopology> topology_;
   std::size_t component_total_ = 0, edge_total_ = 0;
-  std::size_t picked_piece_ = Pick::kNoPiece;
+  std::size_t picked_instance_ = Pick::kNoInstance;
   VertexId picked_vertex_;
   bool show_boundary_ = true, show_nonmanifold_ = true, show_seams_ = true, tint_components_ = true;
 
@@ -68,13 +68,13 @@ void AdjacencyInspector::set_scene(const Scene& scene, SceneChange change) {
   if (change == SceneChange::Pose) return;
   topology_.clear();
   component_total_ = edge_total_ = 0;
-  picked_piece_ = Pick::kNoPiece;
-  for (const SceneInstance& piece : scene.pieces) {
-    PieceTopology t;
-    t.adjacency = Adjacency::build(*piece.surface);
+  picked_instance_ = Pick::kNoInstance;
+  for (const SceneInstance& instance : scene.instances) {
+    InstanceTopology t;
+    t.adjacency = Adjacency::build(*instance.surface);
     t.boundary = t.adjacency.boundary_edges();
     t.nonmanifold = t.adjacency.nonmanifold_edges();
-    t.seams = t.adjacency.seam_edges(*piece.surface);
+    t.seams = t.adjacency.seam_edges(*instance.surface);
     t.component = t.adjacency.vertex_components(&t.components);
     for (std::uint32_t c : t.component) t.vertices += c != kInvalidIndex;
     component_total_ += t.components;
@@ -84,23 +84,23 @@ void AdjacencyInspector::set_scene(const Scene& scene, SceneChange change) {
   refresh_panel();
 }
 
-PieceColors AdjacencyInspector::piece_colors(std::size_t piece) const {
-  PieceColors out;
-  if (!scene_ || piece >= topology_.size()) return out;
-  const SurfaceMesh& mesh = *scene_->pieces[piece].surface;
-  const PieceTopology& t = topology_[piece];
-  out.kind = PieceColors::Kind::PerFace;
+InstanceColors AdjacencyInspector::instance_colors(std::size_t instance) const {
+  InstanceColors out;
+  if (!scene_ || instance >= topology_.size()) return out;
+  const SurfaceMesh& mesh = *scene_->instances[instance].surface;
+  const InstanceTopology& t = topology_[instance];
+  out.kind = InstanceColors::Kind::PerFace;
   out.colors.assign(mesh.face_slots(), to_rgb8(palette::kNeutral));
-  // Offset the component numbering per piece so pieces differ too.
+  // Offset the component numbering per instance so instances differ too.
   std::size_t offset = 0;
-  for (std::size_t i = 0; i < piece; ++i) offset += topology_[i].components;
+  for (std::size_t i = 0; i < instance; ++i) offset += topology_[i].components;
   if (tint_components_)
     mesh.for_each_face([&](FaceId f, const Triangle& tri) {
       const std::uint32_t c = t.component[tri[0].index];
       // Start three hues in, away from the orange of the one-ring highlight.
       out.colors[f.index] = to_rgb8(pastel(category_color(offset + c + 3), 0.5f));
     });
-  if (has_pick() && picked_piece_ == piece)
+  if (has_pick() && picked_instance_ == instance)
     for (FaceId f : t.adjacency.vertex_faces(picked_vertex_))
       out.colors[f.index] = to_rgb8(palette::kHighlight);
   return out;
@@ -109,22 +109,22 @@ PieceColors AdjacencyInspector::piece_colors(std::size_t piece) const {
 Overlay AdjacencyInspector::overlay() const {
   Overlay overlay;
   if (!scene_) return overlay;
-  auto add_edges = [&](std::vector<Edge> PieceTopology::*edges, const glm::vec3& color, float width) {
+  auto add_edges = [&](std::vector<Edge> InstanceTopology::*edges, const glm::vec3& color, float width) {
     OverlayLines lines;
     lines.color = color;
     lines.width_px = width;
     for (std::size_t i = 0; i < topology_.size(); ++i)
       for (const Edge& e : topology_[i].*edges) {
-        lines.endpoints.push_back(scene_->pieces[i].posed()[e.a.index]);
-        lines.endpoints.push_back(scene_->pieces[i].posed()[e.b.index]);
+        lines.endpoints.push_back(scene_->instances[i].posed()[e.a.index]);
+        lines.endpoints.push_back(scene_->instances[i].posed()[e.b.index]);
       }
     if (!lines.endpoints.empty()) overlay.lines.push_back(std::move(lines));
   };
-  if (show_seams_) add_edges(&PieceTopology::seams, palette::kSeam, 2.0f);
-  if (show_boundary_) add_edges(&PieceTopology::boundary, palette::kBoundary, 3.0f);
-  if (show_nonmanifold_) add_edges(&PieceTopology::nonmanifold, palette::kNonManifold, 4.0f);
+  if (show_seams_) add_edges(&InstanceTopology::seams, palette::kSeam, 2.0f);
+  if (show_boundary_) add_edges(&InstanceTopology::boundary, palette::kBoundary, 3.0f);
+  if (show_nonmanifold_) add_edges(&InstanceTopology::nonmanifold, palette::kNonManifold, 4.0f);
   if (has_pick()) {
-    const auto& posed = scene_->pieces[picked_piece_].posed();
+    const auto& posed = scene_->instances[picked_instance_].posed();
     const glm::vec3 center = posed[picked_vertex_.index];
     OverlayLines spokes;
     spokes.color = palette::kHighlight;
@@ -134,7 +134,7 @@ Overlay AdjacencyInspector::overlay() const {
     ring.color = glm::vec3(1.0f, 0.9f, 0.2f);
     ring.size_px = 10.0f;
     ring.on_top = true;
-    for (VertexId n : topology_[picked_piece_].adjacency.vertex_neighbors(picked_vertex_)) {
+    for (VertexId n : topology_[picked_instance_].adjacency.vertex_neighbors(picked_vertex_)) {
       spokes.endpoints.push_back(center);
       spokes.endpoints.push_back(posed[n.index]);
       ring.positions.push_back(posed[n.index]);
@@ -157,17 +157,17 @@ std::vector<std::string> AdjacencyInspector::summary() const {
   std::size_t vertices = 0, faces = 0;
   for (std::size_t i = 0; i < topology_.size(); ++i) {
     vertices += topology_[i].vertices;
-    faces += scene_->pieces[i].surface->face_count();
+    faces += scene_->instances[i].surface->face_count();
   }
   std::ostringstream a, b;
   a << vertices << " vertices, " << edge_total_ << " edges, " << faces << " faces; " << component_total_
     << (component_total_ == 1 ? " component" : " components");
-  b << total(&PieceTopology::boundary) << " boundary, " << total(&PieceTopology::nonmanifold)
-    << " non-manifold, " << total(&PieceTopology::seams) << " seam edges";
+  b << total(&InstanceTopology::boundary) << " boundary, " << total(&InstanceTopology::nonmanifold)
+    << " non-manifold, " << total(&InstanceTopology::seams) << " seam edges";
   lines.push_back(a.str());
   lines.push_back(b.str());
   if (has_pick()) {
-    const Adjacency& adj = topology_[picked_piece_].adjacency;
+    const Adjacency& adj = topology_[picked_instance_].adjacency;
     const auto neighbours = adj.vertex_neighbors(picked_vertex_);
     std::size_t open = 0;
     for (VertexId n : neighbours) open += adj.edge_faces(picked_vertex_, n).size() != 2;
@@ -182,19 +182,19 @@ std::vector<std::string> AdjacencyInspector::summary() const {
 
 std::optional<Focus> AdjacencyInspector::focus() const {
   if (!has_pick()) return std::nullopt;
-  const auto& posed = scene_->pieces[picked_piece_].posed();
+  const auto& posed = scene_->instances[picked_instance_].posed();
   const glm::vec3 center = posed[picked_vertex_.index];
   float reach = 0.0f;
-  for (VertexId n : topology_[picked_piece_].adjacency.vertex_neighbors(picked_vertex_))
+  for (VertexId n : topology_[picked_instance_].adjacency.vertex_neighbors(picked_vertex_))
     reach = std::max(reach, glm::distance(center, posed[n.index]));
   return Focus{center, reach > 0.0f ? 7.0f * reach : 0.05f * scene_->size};
 }
 
 bool AdjacencyInspector::pick(const Pick& pick) {
-  if (!scene_ || pick.piece >= topology_.size() || !pick.vertex.valid() ||
-      pick.vertex.index >= topology_[pick.piece].adjacency.vertex_count())
+  if (!scene_ || pick.instance >= topology_.size() || !pick.vertex.valid() ||
+      pick.vertex.index >= topology_[pick.instance].adjacency.vertex_count())
     return false;
-  picked_piece_ = pick.piece;
+  picked_instance_ = pick.instance;
   picked_vertex_ = pick.vertex;
   refresh_panel();
   return true;
@@ -216,7 +216,7 @@ void AdjacencyInspector::set_option(const std::string& name, const std::string& 
         topology_[0].adjacency.vertex_faces(VertexId(static_cast<std::uint32_t>(index))).empty())
       throw Error(ErrorCode::InvalidArgument,
                   "adjacency: vertex " + value + " is not a vertex of the first mesh");
-    picked_piece_ = 0;
+    picked_instance_ = 0;
     picked_vertex_ = VertexId(static_cast<std::uint32_t>(index));
     refresh_panel();
     return;
@@ -279,17 +279,17 @@ void AdjacencyInspector::refresh_panel() {
   for (std::size_t i = 0; i < lines.size() && i < 2; ++i) text += QString::fromStdString(lines[i]) + "\n";
   if (scene_ && topology_.size() > 1) {
     for (std::size_t i = 0; i < topology_.size(); ++i)
-      text += QString("  piece %1 (%2): %3 components\n")
+      text += QString("  instance %1 (%2): %3 components\n")
                   .arg(i)
-                  .arg(QString::fromStdString(node_label(*scene_->model, scene_->pieces[i].node)))
+                  .arg(QString::fromStdString(node_label(*scene_->model, scene_->instances[i].node)))
                   .arg(topology_[i].components);
   }
   counts_->setText(text.trimmed());
   {
     const QSignalBlocker a(boundary_box_.data()), b(nonmanifold_box_.data()), c(seam_box_.data());
-    boundary_box_->setText(QString("Boundary edges (%1)").arg(total(&PieceTopology::boundary)));
-    nonmanifold_box_->setText(QString("Non-manifold edges (%1)").arg(total(&PieceTopology::nonmanifold)));
-    seam_box_->setText(QString("Seam edges, UV / normal (%1)").arg(total(&PieceTopology::seams)));
+    boundary_box_->setText(QString("Boundary edges (%1)").arg(total(&InstanceTopology::boundary)));
+    nonmanifold_box_->setText(QString("Non-manifold edges (%1)").arg(total(&InstanceTopology::nonmanifold)));
+    seam_box_->setText(QString("Seam edges, UV / normal (%1)").arg(total(&InstanceTopology::seams)));
   }
   picked_label_->setText(lines.size() > 2 ? QString::fromStdString(lines[2]) : QString("No vertex picked."));
 }

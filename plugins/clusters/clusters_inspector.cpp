@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Particle clusters inspector: the soft-body particles (core/softbody/clustering.h) of every
-// piece. Vertices are coloured by the particle that holds them most strongly, particle centres
+// instance. Vertices are coloured by the particle that holds them most strongly, particle centres
 // and their radius spheres follow the pose, and the rho slider re-clusters live.
 #include <QCheckBox>
 #include <QDoubleSpinBox>
@@ -30,10 +30,10 @@ constexpr int kSliderSteps = 400;
 constexpr float kMinRhoFraction = 0.01f, kMaxRhoFraction = 0.25f;  // of the model size
 constexpr float kDefaultRhoFraction = 0.07f;
 
-struct PieceClusters {
+struct InstanceClusters {
   Clusters clusters;
   std::vector<glm::vec3> rest;  // rest-pose world positions (what rho is measured in)
-  std::uint32_t first_id = 0;   // particle numbering across pieces (for colours)
+  std::uint32_t first_id = 0;   // particle numbering across instances (for colours)
 };
 
 class ClustersInspector final : public Inspector {
@@ -43,7 +43,7 @@ class ClustersInspector final : public Inspector {
 
   QWidget* create_panel(QWidget* parent) override;
   void set_scene(const Scene& scene, SceneChange change) override;
-  PieceColors piece_colors(std::size_t piece) const override;
+  InstanceColors instance_colors(std::size_t instance) const override;
   Overlay overlay() const override;
   std::vector<std::string> summary() const override;
   std::optional<Focus> focus() const override;
@@ -55,14 +55,14 @@ class ClustersInspector final : public Inspector {
   void refresh_panel();
   float slider_to_rho(int value) const;
   int rho_to_slider(float rho) const;
-  std::uint32_t dominant_particle(std::size_t piece, VertexId v) const;
+  std::uint32_t dominant_particle(std::size_t instance, VertexId v) const;
 
   const Scene* scene_ = nullptr;
   float rho_ = 0.0f;  // 0: not chosen yet (a default relative to the model is used)
-  std::vector<PieceClusters> pieces_;
+  std::vector<InstanceClusters> instances_;
   double cluster_ms_ = 0.0;
   bool show_spheres_ = true;
-  std::size_t picked_piece_ = Pick::kNoPiece;
+  std::size_t picked_instance_ = Pick::kNoInstance;
   std::uint32_t picked_particle_ = kInvalidIndex;
 
   QPointer<QSlider> slider_;
@@ -87,12 +87,12 @@ void ClustersInspector::set_scene(const Scene& scene, SceneChange change) {
   scene_ = &scene;
   if (change == SceneChange::Pose) return;
   if (rho_ <= 0.0f || rho_ > scene.size) rho_ = kDefaultRhoFraction * scene.size;
-  picked_piece_ = Pick::kNoPiece;
+  picked_instance_ = Pick::kNoInstance;
   recluster();
 }
 
 void ClustersInspector::recluster() {
-  pieces_.clear();
+  instances_.clear();
   if (!scene_) return;
   QElapsedTimer clock;
   clock.start();
@@ -101,22 +101,23 @@ void ClustersInspector::recluster() {
   std::uint32_t next_id = 0;
   ClusterOptions options;
   options.radius = rho_;
-  for (const SceneInstance& piece : scene_->pieces) {
-    PieceClusters pc;
-    pc.rest = rest.find(piece.node, piece.primitive)->posed;
-    pc.clusters = Clusters::build(*piece.surface, pc.rest, options);
+  for (const SceneInstance& instance : scene_->instances) {
+    InstanceClusters pc;
+    pc.rest = rest.find(instance.node, instance.primitive)->posed;
+    pc.clusters = Clusters::build(*instance.surface, pc.rest, options);
     pc.first_id = next_id;
     next_id += static_cast<std::uint32_t>(pc.clusters.particle_slots());
-    pieces_.push_back(std::move(pc));
+    instances_.push_back(std::move(pc));
   }
   cluster_ms_ = static_cast<double>(clock.nsecsElapsed()) / 1e6;
-  if (picked_piece_ < pieces_.size() && picked_particle_ >= pieces_[picked_piece_].clusters.particle_slots())
-    picked_piece_ = Pick::kNoPiece;
+  if (picked_instance_ < instances_.size() &&
+      picked_particle_ >= instances_[picked_instance_].clusters.particle_slots())
+    picked_instance_ = Pick::kNoInstance;
   refresh_panel();
 }
 
-std::uint32_t ClustersInspector::dominant_particle(std::size_t piece, VertexId v) const {
-  const Clusters& c = pieces_[piece].clusters;
+std::uint32_t ClustersInspector::dominant_particle(std::size_t instance, VertexId v) const {
+  const Clusters& c = instances_[instance].clusters;
   if (v.index >= c.vertex_count()) return kInvalidIndex;
   std::uint32_t best = kInvalidIndex;
   float weight = -1.0f;
@@ -128,17 +129,17 @@ std::uint32_t ClustersInspector::dominant_particle(std::size_t piece, VertexId v
   return best;
 }
 
-PieceColors ClustersInspector::piece_colors(std::size_t piece) const {
-  PieceColors out;
-  if (!scene_ || piece >= pieces_.size()) return out;
-  const SurfaceMesh& mesh = *scene_->pieces[piece].surface;
-  out.kind = PieceColors::Kind::PerVertex;
+InstanceColors ClustersInspector::instance_colors(std::size_t instance) const {
+  InstanceColors out;
+  if (!scene_ || instance >= instances_.size()) return out;
+  const SurfaceMesh& mesh = *scene_->instances[instance].surface;
+  out.kind = InstanceColors::Kind::PerVertex;
   out.colors.assign(mesh.vertex_count(), to_rgb8(palette::kNeutral));
   for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) {
-    const std::uint32_t p = dominant_particle(piece, VertexId(v));
+    const std::uint32_t p = dominant_particle(instance, VertexId(v));
     if (p == kInvalidIndex) continue;
-    glm::vec3 c = category_color(pieces_[piece].first_id + p);
-    if (picked_piece_ == piece && picked_particle_ != kInvalidIndex && p != picked_particle_)
+    glm::vec3 c = category_color(instances_[instance].first_id + p);
+    if (picked_instance_ == instance && picked_particle_ != kInvalidIndex && p != picked_particle_)
       c = pastel(c, 0.6f);
     out.colors[v] = to_rgb8(c);
   }
@@ -154,22 +155,22 @@ Overlay ClustersInspector::overlay() const {
   centres.on_top = true;
   OverlaySpheres spheres;
   spheres.opacity = 0.12f;
-  for (std::size_t i = 0; i < pieces_.size(); ++i) {
-    const Clusters& c = pieces_[i].clusters;
-    const std::vector<glm::vec3> posed = posed_particle_centres(c, scene_->pieces[i].posed());
+  for (std::size_t i = 0; i < instances_.size(); ++i) {
+    const Clusters& c = instances_[i].clusters;
+    const std::vector<glm::vec3> posed = posed_particle_centres(c, scene_->instances[i].posed());
     for (std::uint32_t p = 0; p < c.particle_slots(); ++p) {
       if (c.members(p).empty()) continue;
       centres.positions.push_back(posed[p]);
       spheres.centers.push_back(posed[p]);
       spheres.radii.push_back(c.radius());
-      spheres.colors.push_back(category_color(pieces_[i].first_id + p));
+      spheres.colors.push_back(category_color(instances_[i].first_id + p));
     }
   }
   overlay.points.push_back(std::move(centres));
   if (show_spheres_) overlay.spheres.push_back(std::move(spheres));
-  if (picked_piece_ < pieces_.size() && picked_particle_ != kInvalidIndex) {
-    const Clusters& c = pieces_[picked_piece_].clusters;
-    const auto& posed = scene_->pieces[picked_piece_].posed();
+  if (picked_instance_ < instances_.size() && picked_particle_ != kInvalidIndex) {
+    const Clusters& c = instances_[picked_instance_].clusters;
+    const auto& posed = scene_->instances[picked_instance_].posed();
     OverlayPoints members;
     members.color = palette::kPicked;
     members.size_px = 6.0f;
@@ -190,8 +191,8 @@ std::vector<std::string> ClustersInspector::summary() const {
   if (!scene_) return lines;
   std::size_t particles = 0, min_members = 0, max_members = 0, memberships = 0, covered = 0, uncovered = 0;
   bool first = true;
-  for (std::size_t i = 0; i < pieces_.size(); ++i) {
-    const ClusterStats s = cluster_stats(pieces_[i].clusters, *scene_->pieces[i].surface);
+  for (std::size_t i = 0; i < instances_.size(); ++i) {
+    const ClusterStats s = cluster_stats(instances_[i].clusters, *scene_->instances[i].surface);
     if (s.particles == 0) continue;
     min_members = first ? s.min_vertices : std::min(min_members, s.min_vertices);
     max_members = std::max(max_members, s.max_vertices);
@@ -212,25 +213,26 @@ std::vector<std::string> ClustersInspector::summary() const {
     << (uncovered ? ", " + std::to_string(uncovered) + " not covered" : std::string());
   lines.push_back(a.str());
   lines.push_back(b.str());
-  if (picked_piece_ < pieces_.size() && picked_particle_ != kInvalidIndex)
+  if (picked_instance_ < instances_.size() && picked_particle_ != kInvalidIndex)
     lines.push_back("Particle " + std::to_string(picked_particle_) + ": " +
-                    std::to_string(pieces_[picked_piece_].clusters.members(picked_particle_).size()) +
+                    std::to_string(instances_[picked_instance_].clusters.members(picked_particle_).size()) +
                     " vertices");
   return lines;
 }
 
 std::optional<Focus> ClustersInspector::focus() const {
-  if (!scene_ || picked_piece_ >= pieces_.size() || picked_particle_ == kInvalidIndex) return std::nullopt;
-  const Clusters& c = pieces_[picked_piece_].clusters;
-  return Focus{posed_particle_centres(c, scene_->pieces[picked_piece_].posed())[picked_particle_],
+  if (!scene_ || picked_instance_ >= instances_.size() || picked_particle_ == kInvalidIndex)
+    return std::nullopt;
+  const Clusters& c = instances_[picked_instance_].clusters;
+  return Focus{posed_particle_centres(c, scene_->instances[picked_instance_].posed())[picked_particle_],
                2.0f * c.radius()};
 }
 
 bool ClustersInspector::pick(const Pick& pick) {
-  if (!scene_ || pick.piece >= pieces_.size() || !pick.vertex.valid()) return false;
-  const std::uint32_t p = dominant_particle(pick.piece, pick.vertex);
+  if (!scene_ || pick.instance >= instances_.size() || !pick.vertex.valid()) return false;
+  const std::uint32_t p = dominant_particle(pick.instance, pick.vertex);
   if (p == kInvalidIndex) return false;
-  picked_piece_ = pick.piece;
+  picked_instance_ = pick.instance;
   picked_particle_ = p;
   refresh_panel();
   return true;

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
-// Pieces inspector: what a cut made. Every drawn piece (mesh instance x primitive: the sides and
-// connected components of cuts) gets its own colour; faces an operation created (cut caps, drill
-// walls: f:cut_surface) are drawn darker, so caps and walls stand out from the old surface.
+// Pieces inspector: what a cut made. Every drawn instance (node x primitive; a cut's pieces, its
+// sides and connected components, are instances of their own) gets its own colour; faces an
+// operation created (cut caps, drill walls: f:cut_surface) are drawn darker, so caps and walls
+// stand out from the old surface.
 #include <QLabel>
 #include <QPointer>
 #include <QVBoxLayout>
@@ -26,8 +27,8 @@ class PiecesInspector final : public Inspector {
     auto* panel = new QWidget(parent);
     auto* layout = new QVBoxLayout(panel);
     auto* hint = new QLabel(
-        "Each piece in its own colour (a cut's sides and components are separate pieces); surface an "
-        "operation created (caps, drill walls) is drawn darker.",
+        "Each drawn instance in its own colour (a cut's pieces, its sides and components, are separate "
+        "instances); surface an operation created (caps, drill walls) is drawn darker.",
         panel);
     hint->setWordWrap(true);
     layout->addWidget(hint);
@@ -46,12 +47,12 @@ class PiecesInspector final : public Inspector {
     if (change == SceneChange::Model) refresh_panel();
   }
 
-  PieceColors piece_colors(std::size_t piece) const override {
-    PieceColors out;
-    if (!scene_ || piece >= scene_->pieces.size()) return out;
-    const SurfaceMesh& mesh = *scene_->pieces[piece].surface;
-    const glm::vec3 base = category_color(piece);
-    out.kind = PieceColors::Kind::PerFace;
+  InstanceColors instance_colors(std::size_t instance) const override {
+    InstanceColors out;
+    if (!scene_ || instance >= scene_->instances.size()) return out;
+    const SurfaceMesh& mesh = *scene_->instances[instance].surface;
+    const glm::vec3 base = category_color(instance);
+    out.kind = InstanceColors::Kind::PerFace;
     out.colors.assign(mesh.face_slots(), to_rgb8(base));
     if (const auto* created = mesh.face_attrs().find<std::uint8_t>(attr::kCutSurface)) {
       const glm::u8vec3 dark = to_rgb8(kCreatedShade * base);
@@ -66,7 +67,8 @@ class PiecesInspector final : public Inspector {
   std::vector<std::string> summary() const override {
     if (!scene_) return {};
     const SceneCounts counts = scene_counts(*scene_);
-    return {std::to_string(scene_->pieces.size()) + (scene_->pieces.size() == 1 ? " piece, " : " pieces, ") +
+    return {std::to_string(scene_->instances.size()) +
+            (scene_->instances.size() == 1 ? " instance, " : " instances, ") +
             std::to_string(counts.triangles) + " triangles"};
   }
 
@@ -78,20 +80,20 @@ class PiecesInspector final : public Inspector {
       return;
     }
     QString text;
-    for (std::size_t i = 0; i < scene_->pieces.size(); ++i) {
-      const SceneInstance& piece = scene_->pieces[i];
+    for (std::size_t i = 0; i < scene_->instances.size(); ++i) {
+      const SceneInstance& instance = scene_->instances[i];
       const glm::u8vec3 c = to_rgb8(category_color(i));
       std::size_t created = 0;
-      if (const auto* flags = piece.surface->face_attrs().find<std::uint8_t>(attr::kCutSurface))
-        piece.surface->for_each_face([&](FaceId f, const Triangle&) {
+      if (const auto* flags = instance.surface->face_attrs().find<std::uint8_t>(attr::kCutSurface))
+        instance.surface->for_each_face([&](FaceId f, const Triangle&) {
           if (f.index < flags->size() && (*flags)[f.index] != 0) ++created;
         });
       text += QString("<span style='color:rgb(%1,%2,%3)'>&#9632;</span> %4: %5 triangles%6<br>")
                   .arg(c.r)
                   .arg(c.g)
                   .arg(c.b)
-                  .arg(QString::fromStdString(node_label(*scene_->model, piece.node)).toHtmlEscaped())
-                  .arg(piece.surface->face_count())
+                  .arg(QString::fromStdString(node_label(*scene_->model, instance.node)).toHtmlEscaped())
+                  .arg(instance.surface->face_count())
                   .arg(created ? QString(" (%1 made by operations)").arg(created) : QString());
     }
     list_->setText(text);

@@ -32,8 +32,8 @@ constexpr float kDefaultReachFraction = 0.12f;   // radius of influence, of the 
 constexpr float kRestFraction = 1e-5f;           // displacements below this (of the size) are at rest
 constexpr float kClickSpeedFraction = 0.5f;      // a click pushes at half the model size per second
 
-/// The soft body of one scene piece.
-struct PieceBody {
+/// The soft body of one scene instance.
+struct InstanceBody {
   Clusters clusters;
   SoftBodyState state;
 };
@@ -139,9 +139,9 @@ class PokeTool final : public Tool {
   }
 
   bool press(const Scene& scene, const Pick& pick, const ToolPointer& pointer) override {
-    if (pick.piece == Pick::kNoPiece || pick.piece >= scene.pieces.size()) return false;
+    if (pick.instance == Pick::kNoInstance || pick.instance >= scene.instances.size()) return false;
     ensure(scene);
-    if (bodies_.size() != scene.pieces.size()) return false;  // clustering failed (reported)
+    if (bodies_.size() != scene.instances.size()) return false;  // clustering failed (reported)
     grab_ = target_ = pick.position;
     normal_ = glm::length(pointer.view_direction) > 0.0f ? glm::normalize(pointer.view_direction)
                                                          : glm::vec3(0.0f, 0.0f, -1.0f);
@@ -172,13 +172,13 @@ class PokeTool final : public Tool {
     if (!dragging_) return;
     dragging_ = false;
     moving_ = true;
-    for (PieceBody& body : bodies_) release_drag(body.state);
-    if (!moved_ && bodies_.size() == scene.pieces.size()) {
+    for (InstanceBody& body : bodies_) release_drag(body.state);
+    if (!moved_ && bodies_.size() == scene.instances.size()) {
       // A click: push the surface into the view.
       const glm::vec3 impulse = normal_ * (kClickSpeedFraction * scene.size * options_.mass);
       grabbed_ = 0;
       for (std::size_t i = 0; i < bodies_.size(); ++i)
-        grabbed_ += poke(bodies_[i].state, bodies_[i].clusters, scene.pieces[i].posed(), grab_, impulse,
+        grabbed_ += poke(bodies_[i].state, bodies_[i].clusters, scene.instances[i].posed(), grab_, impulse,
                          reach_value_, options_);
     }
     show_status();
@@ -189,7 +189,7 @@ class PokeTool final : public Tool {
     if (bodies_.empty() || model_ != scene.model || (!dragging_ && !moving_)) return false;
     const float rest = kRestFraction * scene.size;
     float largest = 0.0f;
-    for (PieceBody& body : bodies_) {
+    for (InstanceBody& body : bodies_) {
       step_soft_body(body.state, dt, options_);
       for (std::size_t p = 0; p < body.state.displacement.size(); ++p) {
         largest = std::max(largest, glm::length(body.state.displacement[p]));
@@ -199,28 +199,29 @@ class PokeTool final : public Tool {
     }
     if (!dragging_ && largest < rest) {
       // Settled: back to exactly the skinned pose.
-      for (PieceBody& body : bodies_) body.state = make_soft_body(body.clusters);
+      for (InstanceBody& body : bodies_) body.state = make_soft_body(body.clusters);
       moving_ = false;
       show_status();
     }
     return dragging_ || moving_;
   }
 
-  bool displaced_positions(const Scene& scene, std::size_t piece, std::vector<glm::vec3>& out) const override {
-    if ((!dragging_ && !moving_) || model_ != scene.model || piece >= bodies_.size() ||
-        piece >= scene.pieces.size())
+  bool displaced_positions(const Scene& scene, std::size_t instance,
+                           std::vector<glm::vec3>& out) const override {
+    if ((!dragging_ && !moving_) || model_ != scene.model || instance >= bodies_.size() ||
+        instance >= scene.instances.size())
       return false;
-    const PieceBody& body = bodies_[piece];
-    if (body.clusters.vertex_count() != scene.pieces[piece].posed().size()) return false;
-    deformed_positions(body.state, body.clusters, scene.pieces[piece].posed(), out);
+    const InstanceBody& body = bodies_[instance];
+    if (body.clusters.vertex_count() != scene.instances[instance].posed().size()) return false;
+    deformed_positions(body.state, body.clusters, scene.instances[instance].posed(), out);
     return true;
   }
 
  private:
-  /// Clusters every piece of the scene's model with the current rho, unless that is done.
+  /// Clusters every instance of the scene's model with the current rho, unless that is done.
   /// (A cache over the scene: whoever sees the scene first builds it, the preview included.)
   void ensure(const Scene& scene) const {
-    if (model_ == scene.model && bodies_.size() == scene.pieces.size()) return;
+    if (model_ == scene.model && bodies_.size() == scene.instances.size()) return;
     bodies_.clear();
     dragging_ = moving_ = false;
     model_ = scene.model;
@@ -233,11 +234,11 @@ class PokeTool final : public Tool {
       const PosedModel rest = PosedModel::build(model, -1, 0.0f, PoseDetail::Positions);
       ClusterOptions options;
       options.radius = rho_value_;
-      for (const SceneInstance& piece : scene.pieces) {
-        PieceBody body;
+      for (const SceneInstance& instance : scene.instances) {
+        InstanceBody body;
         // Rest-pose world positions: rho is measured in the units the user sees.
         body.clusters =
-            Clusters::build(*piece.surface, rest.find(piece.node, piece.primitive)->posed, options);
+            Clusters::build(*instance.surface, rest.find(instance.node, instance.primitive)->posed, options);
         body.state = make_soft_body(body.clusters);
         bodies_.push_back(std::move(body));
       }
@@ -249,11 +250,12 @@ class PokeTool final : public Tool {
     show_status();
   }
 
-  /// Pulls the particles within reach of the grab point towards the cursor, on every piece.
+  /// Pulls the particles within reach of the grab point towards the cursor, on every instance.
   void pull(const Scene& scene) {
     grabbed_ = 0;
-    for (std::size_t i = 0; i < bodies_.size() && i < scene.pieces.size(); ++i)
-      grabbed_ += drag(bodies_[i].state, bodies_[i].clusters, scene.pieces[i].posed(), grab_, target_, reach_value_);
+    for (std::size_t i = 0; i < bodies_.size() && i < scene.instances.size(); ++i)
+      grabbed_ += drag(bodies_[i].state, bodies_[i].clusters, scene.instances[i].posed(), grab_, target_,
+                       reach_value_);
   }
 
   void show() {
@@ -273,7 +275,7 @@ class PokeTool final : public Tool {
       return;
     }
     std::size_t particles = 0;
-    for (const PieceBody& body : bodies_) particles += body.clusters.particle_count();
+    for (const InstanceBody& body : bodies_) particles += body.clusters.particle_count();
     QString text = QString("%1 particles (rho %2), clustered in %3 ms")
                        .arg(particles)
                        .arg(static_cast<double>(rho_value_), 0, 'g', 3)
@@ -287,7 +289,7 @@ class PokeTool final : public Tool {
   float rho_value_ = 0.0f, reach_value_ = 0.0f;  // world units; 0 until placed on a model
   // The soft body of the scene's model (a cache: see ensure()).
   mutable std::shared_ptr<const Model> model_;
-  mutable std::vector<PieceBody> bodies_;
+  mutable std::vector<InstanceBody> bodies_;
   mutable double cluster_ms_ = 0.0;
   mutable std::string error_;
   mutable bool dragging_ = false, moving_ = false;

@@ -59,20 +59,20 @@ Scene make_scene(std::shared_ptr<const Model> model, int animation, float time, 
   Scene scene;
   scene.model = std::move(model);
   const Model& m = *scene.model;
-  std::vector<int> instances;
+  std::vector<int> mesh_nodes;
   std::vector<char> seen(m.nodes.size(), 0);
-  for (int root : m.root_nodes()) collect_instances(m, root, instances, seen);
-  for (int node : instances) {
+  for (int root : m.root_nodes()) collect_instances(m, root, mesh_nodes, seen);
+  for (int node : mesh_nodes) {
     const Node& n = m.nodes[static_cast<std::size_t>(node)];
     const Mesh& mesh = m.meshes[static_cast<std::size_t>(n.mesh)];
     for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
-      SceneInstance piece;
-      piece.node = node;
-      piece.mesh = n.mesh;
-      piece.primitive = static_cast<int>(p);
-      piece.skin = n.skin >= 0 && n.skin < static_cast<int>(m.skins.size()) ? n.skin : -1;
-      piece.surface = &mesh.primitives[p].mesh;
-      scene.pieces.push_back(std::move(piece));
+      SceneInstance instance;
+      instance.node = node;
+      instance.mesh = n.mesh;
+      instance.primitive = static_cast<int>(p);
+      instance.skin = n.skin >= 0 && n.skin < static_cast<int>(m.skins.size()) ? n.skin : -1;
+      instance.surface = &mesh.primitives[p].mesh;
+      scene.instances.push_back(std::move(instance));
     }
   }
   const BoundingBox rest = world_bounds(m, rest_pose(m));
@@ -92,12 +92,12 @@ void pose_scene(Scene& scene, int animation, float time, bool with_normals) {
   scene.animation = animation;
   scene.time = time;
   scene.world = scene.posed->world();
-  for (SceneInstance& piece : scene.pieces) {
-    piece.pose = scene.posed->find(piece.node, piece.primitive);
+  for (SceneInstance& instance : scene.instances) {
+    instance.pose = scene.posed->find(instance.node, instance.primitive);
     if (with_normals)
-      piece.posed_normals = corner_normals(*piece.surface, *piece.pose);
+      instance.posed_normals = corner_normals(*instance.surface, *instance.pose);
     else
-      piece.posed_normals.clear();
+      instance.posed_normals.clear();
   }
 }
 
@@ -157,8 +157,8 @@ Overlay skeleton_overlay(const Scene& scene) {
 
 SceneCounts scene_counts(const Scene& scene) {
   SceneCounts counts;
-  for (const SceneInstance& piece : scene.pieces) {
-    const SurfaceMesh& mesh = *piece.surface;
+  for (const SceneInstance& instance : scene.instances) {
+    const SurfaceMesh& mesh = *instance.surface;
     counts.triangles += mesh.face_count();
     std::vector<char> used(mesh.vertex_count(), 0);
     mesh.for_each_face([&](FaceId, const Triangle& t) {

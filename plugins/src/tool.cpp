@@ -41,23 +41,23 @@ bool triangle_plane_segment(const glm::vec3& p0, const glm::vec3& p1, const glm:
   return true;
 }
 
-// Calls `fn` on the posed triangles of every piece that `candidates(grid)` returns when the
-// piece has a grid (faces in id order, as the scan visits them), else on every live triangle.
+// Calls `fn` on the posed triangles of every instance that `candidates(grid)` returns when the
+// instance has a grid (faces in id order, as the scan visits them), else on every live triangle.
 template <class Query, class F>
 void for_each_posed_triangle(const Scene& scene, Query&& candidates, F&& fn) {
-  for (const SceneInstance& piece : scene.pieces) {
-    if (!piece.surface || piece.posed().size() < piece.surface->vertex_count()) continue;
-    const SurfaceMesh& mesh = *piece.surface;
-    if (piece.grid) {
-      for (FaceId f : candidates(*piece.grid)) {
+  for (const SceneInstance& instance : scene.instances) {
+    if (!instance.surface || instance.posed().size() < instance.surface->vertex_count()) continue;
+    const SurfaceMesh& mesh = *instance.surface;
+    if (instance.grid) {
+      for (FaceId f : candidates(*instance.grid)) {
         if (f.index >= mesh.face_slots() || mesh.is_deleted(f)) continue;
         const Triangle& t = mesh.face(f);
-        fn(piece.posed()[t[0].index], piece.posed()[t[1].index], piece.posed()[t[2].index]);
+        fn(instance.posed()[t[0].index], instance.posed()[t[1].index], instance.posed()[t[2].index]);
       }
       continue;
     }
     mesh.for_each_face([&](FaceId, const Triangle& t) {
-      fn(piece.posed()[t[0].index], piece.posed()[t[1].index], piece.posed()[t[2].index]);
+      fn(instance.posed()[t[0].index], instance.posed()[t[1].index], instance.posed()[t[2].index]);
     });
   }
 }
@@ -116,11 +116,11 @@ std::vector<glm::vec3> triangle_contour(const Scene& scene, const std::array<glm
 
 BoundingBox scene_bounds(const Scene& scene) {
   BoundingBox box;
-  for (const SceneInstance& piece : scene.pieces) {
-    if (!piece.surface) continue;
-    piece.surface->for_each_face([&](FaceId, const Triangle& t) {
+  for (const SceneInstance& instance : scene.instances) {
+    if (!instance.surface) continue;
+    instance.surface->for_each_face([&](FaceId, const Triangle& t) {
       for (VertexId v : t)
-        if (v.index < piece.posed().size()) box.add(piece.posed()[v.index]);
+        if (v.index < instance.posed().size()) box.add(instance.posed()[v.index]);
     });
   }
   return box;

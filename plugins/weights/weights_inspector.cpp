@@ -41,7 +41,7 @@ class WeightsInspector final : public Inspector {
 
   QWidget* create_panel(QWidget* parent) override;
   void set_scene(const Scene& scene, SceneChange change) override;
-  PieceColors piece_colors(std::size_t piece) const override;
+  InstanceColors instance_colors(std::size_t instance) const override;
   Overlay overlay() const override;
   std::optional<ColorBar> color_bar() const override;
   std::optional<Focus> focus() const override;
@@ -50,8 +50,8 @@ class WeightsInspector final : public Inspector {
   void set_option(const std::string& name, const std::string& value) override;
 
  private:
-  VertexWeights weights_of(std::size_t piece, VertexId v) const;
-  float weight_of(std::size_t piece, VertexId v, int joint) const;
+  VertexWeights weights_of(std::size_t instance, VertexId v) const;
+  float weight_of(std::size_t instance, VertexId v, int joint) const;
   void select_joint(int joint);
   void set_mode(Mode mode);
   void refresh_panel();
@@ -63,10 +63,10 @@ class WeightsInspector final : public Inspector {
   std::vector<int> joints_;  // joint nodes, skin order
   int joint_ = -1;           // selected joint node
   Mode mode_ = Mode::JointWeight;
-  std::vector<std::vector<VertexId>> unnormalised_;  // per piece
+  std::vector<std::vector<VertexId>> unnormalised_;  // per instance
   std::size_t influenced_ = 0;                       // vertices with weight > 0 for joint_
   float max_weight_ = 0.0f;
-  std::size_t picked_piece_ = Pick::kNoPiece;
+  std::size_t picked_instance_ = Pick::kNoInstance;
   VertexId picked_vertex_;
   bool tree_stale_ = true;  // the joint list changed since the panel last showed it
 
@@ -75,9 +75,9 @@ class WeightsInspector final : public Inspector {
   QPointer<QRadioButton> joint_mode_, dominant_mode_;
 };
 
-VertexWeights WeightsInspector::weights_of(std::size_t piece, VertexId v) const {
+VertexWeights WeightsInspector::weights_of(std::size_t instance, VertexId v) const {
   VertexWeights out;
-  const SceneInstance& p = scene_->pieces[piece];
+  const SceneInstance& p = scene_->instances[instance];
   if (p.skin < 0) return out;
   const auto& joints = scene_->model->skins[static_cast<std::size_t>(p.skin)].joints;
   const AttributeSet& va = p.surface->vertex_attrs();
@@ -96,8 +96,8 @@ VertexWeights WeightsInspector::weights_of(std::size_t piece, VertexId v) const 
   return out;
 }
 
-float WeightsInspector::weight_of(std::size_t piece, VertexId v, int joint) const {
-  const VertexWeights w = weights_of(piece, v);
+float WeightsInspector::weight_of(std::size_t instance, VertexId v, int joint) const {
+  const VertexWeights w = weights_of(instance, v);
   const auto it = w.find(joint);
   return it == w.end() ? 0.0f : it->second;
 }
@@ -108,17 +108,17 @@ void WeightsInspector::set_scene(const Scene& scene, SceneChange change) {
   joints_ = joint_nodes(*scene.model);
   tree_stale_ = true;
   if (std::find(joints_.begin(), joints_.end(), joint_) == joints_.end()) joint_ = -1;
-  picked_piece_ = Pick::kNoPiece;
-  unnormalised_.assign(scene.pieces.size(), {});
+  picked_instance_ = Pick::kNoInstance;
+  unnormalised_.assign(scene.instances.size(), {});
   std::map<int, std::size_t> influence;  // vertices influenced per joint, to choose a default
-  for (std::size_t i = 0; i < scene.pieces.size(); ++i) {
-    const SceneInstance& piece = scene.pieces[i];
-    if (piece.skin < 0) continue;
-    const auto* w0 = piece.surface->vertex_attrs().find<glm::vec4>(attr::kWeights0);
+  for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+    const SceneInstance& instance = scene.instances[i];
+    if (instance.skin < 0) continue;
+    const auto* w0 = instance.surface->vertex_attrs().find<glm::vec4>(attr::kWeights0);
     if (!w0) continue;
-    const auto* w1 = piece.surface->vertex_attrs().find<glm::vec4>(attr::kWeights1);
-    std::vector<char> used(piece.surface->vertex_count(), 0);
-    piece.surface->for_each_face([&](FaceId, const Triangle& t) {
+    const auto* w1 = instance.surface->vertex_attrs().find<glm::vec4>(attr::kWeights1);
+    std::vector<char> used(instance.surface->vertex_count(), 0);
+    instance.surface->for_each_face([&](FaceId, const Triangle& t) {
       for (VertexId v : t) used[v.index] = 1;
     });
     for (std::uint32_t v = 0; v < used.size(); ++v) {
@@ -151,8 +151,8 @@ void WeightsInspector::select_joint(int joint) {
   influenced_ = 0;
   max_weight_ = 0.0f;
   if (scene_ && joint_ >= 0) {
-    for (std::size_t i = 0; i < scene_->pieces.size(); ++i) {
-      const SurfaceMesh& mesh = *scene_->pieces[i].surface;
+    for (std::size_t i = 0; i < scene_->instances.size(); ++i) {
+      const SurfaceMesh& mesh = *scene_->instances[i].surface;
       std::vector<char> used(mesh.vertex_count(), 0);
       mesh.for_each_face([&](FaceId, const Triangle& t) {
         for (VertexId v : t) used[v.index] = 1;
@@ -173,17 +173,17 @@ void WeightsInspector::set_mode(Mode mode) {
   refresh_panel();
 }
 
-PieceColors WeightsInspector::piece_colors(std::size_t piece) const {
-  PieceColors out;
-  if (!scene_ || piece >= scene_->pieces.size()) return out;
-  const SceneInstance& p = scene_->pieces[piece];
-  out.kind = PieceColors::Kind::PerVertex;
+InstanceColors WeightsInspector::instance_colors(std::size_t instance) const {
+  InstanceColors out;
+  if (!scene_ || instance >= scene_->instances.size()) return out;
+  const SceneInstance& p = scene_->instances[instance];
+  out.kind = InstanceColors::Kind::PerVertex;
   out.colors.assign(p.surface->vertex_count(), to_rgb8(palette::kUnskinned));
   if (p.skin < 0 || !p.surface->vertex_attrs().contains(attr::kWeights0)) return out;
   std::map<int, std::size_t> joint_index;
   for (std::size_t i = 0; i < joints_.size(); ++i) joint_index[joints_[i]] = i;
   for (std::uint32_t v = 0; v < out.colors.size(); ++v) {
-    const VertexWeights w = weights_of(piece, VertexId(v));
+    const VertexWeights w = weights_of(instance, VertexId(v));
     if (mode_ == Mode::JointWeight) {
       const auto it = w.find(joint_);
       out.colors[v] = to_rgb8(weight_color(it == w.end() ? 0.0f : it->second));
@@ -224,11 +224,11 @@ Overlay WeightsInspector::overlay() const {
   flagged.size_px = 9.0f;
   flagged.on_top = true;
   for (std::size_t i = 0; i < unnormalised_.size(); ++i)
-    for (VertexId v : unnormalised_[i]) flagged.positions.push_back(scene_->pieces[i].posed()[v.index]);
+    for (VertexId v : unnormalised_[i]) flagged.positions.push_back(scene_->instances[i].posed()[v.index]);
   if (!flagged.positions.empty()) overlay.points.push_back(std::move(flagged));
-  if (picked_piece_ < scene_->pieces.size()) {
+  if (picked_instance_ < scene_->instances.size()) {
     OverlayPoints picked;
-    picked.positions = {scene_->pieces[picked_piece_].posed()[picked_vertex_.index]};
+    picked.positions = {scene_->instances[picked_instance_].posed()[picked_vertex_.index]};
     picked.color = palette::kPicked;
     picked.size_px = 12.0f;
     picked.on_top = true;
@@ -284,10 +284,10 @@ bool WeightsInspector::pick(const Pick& pick) {
     select_joint(pick.joint_node);
     return true;
   }
-  if (pick.piece >= scene_->pieces.size() || !pick.vertex.valid() ||
-      pick.vertex.index >= scene_->pieces[pick.piece].surface->vertex_count())
+  if (pick.instance >= scene_->instances.size() || !pick.vertex.valid() ||
+      pick.vertex.index >= scene_->instances[pick.instance].surface->vertex_count())
     return false;
-  picked_piece_ = pick.piece;
+  picked_instance_ = pick.instance;
   picked_vertex_ = pick.vertex;
   refresh_panel();
   return true;
@@ -442,9 +442,9 @@ void WeightsInspector::refresh_panel() {
   flags_->setText(lines.size() > 1 ? QString::fromStdString(lines[1]) : QString());
   flags_->setStyleSheet(lines.size() > 1 && lines[1].rfind("All", 0) != 0 ? "color: #ff40d0;" : "");
 
-  if (scene_ && picked_piece_ < scene_->pieces.size()) {
+  if (scene_ && picked_instance_ < scene_->instances.size()) {
     QString text = QString("Vertex %1:").arg(picked_vertex_.index);
-    const VertexWeights w = weights_of(picked_piece_, picked_vertex_);
+    const VertexWeights w = weights_of(picked_instance_, picked_vertex_);
     float sum = 0.0f;
     for (const auto& [joint, weight] : w) {
       text += QString(" %1 %2").arg(QString::fromStdString(joint_name(joint))).arg(weight, 0, 'f', 3);

@@ -75,7 +75,7 @@ TEST(SceneTest, the_scene_pose_is_a_posed_model_equal_to_a_fresh_build_at_every_
     const PosedModel fresh = PosedModel::build(*model, 0, t);
     ASSERT_EQ(scene.posed->size(), fresh.size());
     EXPECT_EQ(scene.world, fresh.world());
-    for (const SceneInstance& piece : scene.pieces) {
+    for (const SceneInstance& piece : scene.instances) {
       const PosedMesh* want = fresh.find(piece.node, piece.primitive);
       ASSERT_NE(want, nullptr);
       EXPECT_EQ(piece.pose, scene.posed->find(piece.node, piece.primitive)) << "the instance views the posed model";
@@ -92,7 +92,7 @@ TEST(SceneTest, the_scene_pose_is_a_posed_model_equal_to_a_fresh_build_at_every_
   pose_scene(copy, 0, 0.0f);
   EXPECT_NE(copy.posed, scene.posed);
   EXPECT_EQ(scene.posed->time(), 0.5f);
-  EXPECT_EQ(copy.pieces[0].posed(), PosedModel::build(*model, 0, 0.0f).find(0, 0)->posed);
+  EXPECT_EQ(copy.instances[0].posed(), PosedModel::build(*model, 0, 0.0f).find(0, 0)->posed);
   // The operations' prepare gives a gridless posed model its grids at the same pose.
   PosedModel operations = *scene.posed;
   operations.prepare(*model, 0, 0.5f);
@@ -104,8 +104,8 @@ TEST(SceneTest, the_scene_pose_is_a_posed_model_equal_to_a_fresh_build_at_every_
 TEST(SceneTest, pieces_follow_the_pose_and_skeleton_links_joints) {
   const auto model = tube_model();
   Scene scene = make_scene(model, -1, 0.0f);
-  ASSERT_EQ(scene.pieces.size(), 1u);
-  const SceneInstance& piece = scene.pieces[0];
+  ASSERT_EQ(scene.instances.size(), 1u);
+  const SceneInstance& piece = scene.instances[0];
   EXPECT_EQ(piece.node, 0);
   EXPECT_EQ(piece.skin, 0);
   ASSERT_EQ(piece.posed().size(), piece.surface->vertex_count());
@@ -116,7 +116,7 @@ TEST(SceneTest, pieces_follow_the_pose_and_skeleton_links_joints) {
   pose_scene(scene, 0, 1.0f);  // joint1 rotated by 60 degrees: the top of the tube moves
   float moved = 0.0f;
   for (std::size_t v = 0; v < piece.posed().size(); ++v)
-    moved = std::max(moved, glm::distance(scene.pieces[0].posed()[v], piece.surface->positions()[v]));
+    moved = std::max(moved, glm::distance(scene.instances[0].posed()[v], piece.surface->positions()[v]));
   EXPECT_GT(moved, 0.5f);
   EXPECT_THROW(pose_scene(scene, 3, 0.0f), Error);
 
@@ -138,10 +138,10 @@ TEST(WeightsInspectorTest, heat_map_of_a_joint_runs_from_blue_to_red) {
   inspector->set_option("joint", "joint1");
   EXPECT_TRUE(contains(inspector->summary(), "joint1"));
   EXPECT_TRUE(contains(inspector->summary(), "All weights normalised"));
-  const PieceColors colors = inspector->piece_colors(0);
-  ASSERT_EQ(colors.kind, PieceColors::Kind::PerVertex);
-  ASSERT_EQ(colors.colors.size(), scene.pieces[0].surface->vertex_count());
-  const auto& positions = scene.pieces[0].surface->positions();
+  const InstanceColors colors = inspector->instance_colors(0);
+  ASSERT_EQ(colors.kind, InstanceColors::Kind::PerVertex);
+  ASSERT_EQ(colors.colors.size(), scene.instances[0].surface->vertex_count());
+  const auto& positions = scene.instances[0].surface->positions();
   for (std::size_t v = 0; v < positions.size(); ++v) {
     // joint1's weight is y / 4 on this tube.
     EXPECT_EQ(colors.colors[v], to_rgb8(weight_color(positions[v].y / 4.0f))) << "vertex " << v;
@@ -173,8 +173,8 @@ TEST(WeightsInspectorTest, dominant_joint_colours_by_largest_weight_and_bone_pic
   inspector->set_scene(scene, SceneChange::Model);
   inspector->set_option("mode", "dominant");
   EXPECT_FALSE(inspector->color_bar().has_value());
-  const PieceColors colors = inspector->piece_colors(0);
-  const auto& positions = scene.pieces[0].surface->positions();
+  const InstanceColors colors = inspector->instance_colors(0);
+  const auto& positions = scene.instances[0].surface->positions();
   for (std::size_t v = 0; v < positions.size(); ++v) {
     if (std::abs(positions[v].y - 2.0f) < 1e-3f) continue;  // a tie at mid height
     const std::size_t joint = positions[v].y < 2.0f ? 0 : 1;
@@ -203,8 +203,8 @@ TEST(WeightsInspectorTest, flags_vertices_whose_weights_do_not_sum_to_one) {
                                     [](const OverlayPoints& p) { return p.color == palette::kFlagged; });
   ASSERT_NE(flagged, overlay.points.end());
   ASSERT_EQ(flagged->positions.size(), 2u);
-  EXPECT_EQ(flagged->positions[0], scene.pieces[0].posed()[5]) << "markers sit on the posed vertex";
-  EXPECT_EQ(flagged->positions[1], scene.pieces[0].posed()[9]);
+  EXPECT_EQ(flagged->positions[0], scene.instances[0].posed()[5]) << "markers sit on the posed vertex";
+  EXPECT_EQ(flagged->positions[1], scene.instances[0].posed()[9]);
 }
 
 TEST(AdjacencyInspectorTest, draws_boundary_and_seam_edges_and_counts_components) {
@@ -212,9 +212,9 @@ TEST(AdjacencyInspectorTest, draws_boundary_and_seam_edges_and_counts_components
   const Scene scene = make_scene(model, -1, 0.0f);
   auto inspector = builtin_inspectors().create("adjacency");
   inspector->set_scene(scene, SceneChange::Model);
-  const Adjacency adjacency = Adjacency::build(*scene.pieces[0].surface);
+  const Adjacency adjacency = Adjacency::build(*scene.instances[0].surface);
   const auto boundary = adjacency.boundary_edges().size(),
-             seams = adjacency.seam_edges(*scene.pieces[0].surface).size();
+             seams = adjacency.seam_edges(*scene.instances[0].surface).size();
   ASSERT_GT(boundary, 0u);
   ASSERT_GT(seams, 0u);
   const Overlay overlay = inspector->overlay();
@@ -228,9 +228,9 @@ TEST(AdjacencyInspectorTest, draws_boundary_and_seam_edges_and_counts_components
   EXPECT_EQ(lines_of(palette::kNonManifold), 0u);
   EXPECT_TRUE(contains(inspector->summary(), "1 component"));
   EXPECT_TRUE(contains(inspector->summary(), std::to_string(boundary) + " boundary"));
-  const PieceColors colors = inspector->piece_colors(0);
-  ASSERT_EQ(colors.kind, PieceColors::Kind::PerFace);
-  EXPECT_EQ(colors.colors.size(), scene.pieces[0].surface->face_slots());
+  const InstanceColors colors = inspector->instance_colors(0);
+  ASSERT_EQ(colors.kind, InstanceColors::Kind::PerFace);
+  EXPECT_EQ(colors.colors.size(), scene.instances[0].surface->face_slots());
 }
 
 TEST(AdjacencyInspectorTest, picked_vertex_highlights_its_one_ring) {
@@ -238,20 +238,20 @@ TEST(AdjacencyInspectorTest, picked_vertex_highlights_its_one_ring) {
   const Scene scene = make_scene(model, -1, 0.0f);
   auto inspector = builtin_inspectors().create("adjacency");
   inspector->set_scene(scene, SceneChange::Model);
-  const SurfaceMesh& mesh = *scene.pieces[0].surface;
+  const SurfaceMesh& mesh = *scene.instances[0].surface;
   const Adjacency adjacency = Adjacency::build(mesh);
   // An interior vertex: (1, 1) of the 5 x 5 grid of vertices.
   VertexId interior;
   for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v)
     if (glm::distance(mesh.positions()[v], glm::vec3(0.25f, 0.25f, 0.0f)) < 1e-5f) interior = VertexId(v);
   ASSERT_TRUE(interior.valid());
-  const PieceColors before = inspector->piece_colors(0);
+  const InstanceColors before = inspector->instance_colors(0);
   Pick pick;
-  pick.piece = 0;
+  pick.instance = 0;
   pick.vertex = interior;
   pick.face = adjacency.vertex_faces(interior).front();
   ASSERT_TRUE(inspector->pick(pick));
-  const PieceColors after = inspector->piece_colors(0);
+  const InstanceColors after = inspector->instance_colors(0);
   const auto ring = adjacency.vertex_faces(interior);
   std::size_t highlighted = 0;
   for (std::uint32_t f = 0; f < after.colors.size(); ++f) {
@@ -282,7 +282,7 @@ TEST(AdjacencyInspectorTest, overlay_follows_the_pose) {
   auto inspector = builtin_inspectors().create("adjacency");
   inspector->set_scene(scene, SceneChange::Model);
   // A vertex at the top of the tube, which the animation moves.
-  const auto& positions = scene.pieces[0].surface->positions();
+  const auto& positions = scene.instances[0].surface->positions();
   const auto top = static_cast<std::uint32_t>(
       std::max_element(positions.begin(), positions.end(), [](auto& a, auto& b) { return a.y < b.y; }) -
       positions.begin());
@@ -292,10 +292,10 @@ TEST(AdjacencyInspectorTest, overlay_follows_the_pose) {
       if (p.color == palette::kPicked) return p.positions.at(0);
     return glm::vec3(-1e9f);
   };
-  EXPECT_EQ(picked_marker(), scene.pieces[0].posed()[top]);
+  EXPECT_EQ(picked_marker(), scene.instances[0].posed()[top]);
   pose_scene(scene, 0, 1.0f);
   inspector->set_scene(scene, SceneChange::Pose);
-  EXPECT_EQ(picked_marker(), scene.pieces[0].posed()[top]);
+  EXPECT_EQ(picked_marker(), scene.instances[0].posed()[top]);
   EXPECT_GT(glm::distance(picked_marker(), positions[top]), 0.5f);
   EXPECT_TRUE(contains(inspector->summary(), "Vertex " + std::to_string(top)))
       << "a pose change keeps the pick";
@@ -307,14 +307,14 @@ TEST(ClustersInspectorTest, colours_vertices_by_particle_and_reclusters_with_rho
   auto inspector = builtin_inspectors().create("clusters");
   inspector->set_scene(scene, SceneChange::Model);
   inspector->set_option("rho", "0.5");
-  const SurfaceMesh& mesh = *scene.pieces[0].surface;
-  const Clusters reference = Clusters::build(mesh, scene.pieces[0].posed(), ClusterOptions{0.5f});
+  const SurfaceMesh& mesh = *scene.instances[0].surface;
+  const Clusters reference = Clusters::build(mesh, scene.instances[0].posed(), ClusterOptions{0.5f});
   const std::size_t particles = reference.particle_count();
   ASSERT_GT(particles, 4u);
   EXPECT_TRUE(contains(inspector->summary(), std::to_string(particles) + " particles at rho 0.5"));
   // Every vertex is coloured by the particle holding it most strongly.
-  const PieceColors colors = inspector->piece_colors(0);
-  ASSERT_EQ(colors.kind, PieceColors::Kind::PerVertex);
+  const InstanceColors colors = inspector->instance_colors(0);
+  ASSERT_EQ(colors.kind, InstanceColors::Kind::PerVertex);
   for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) {
     std::uint32_t best = kInvalidIndex;
     float weight = -1.0f;
@@ -335,7 +335,7 @@ TEST(ClustersInspectorTest, colours_vertices_by_particle_and_reclusters_with_rho
   pose_scene(scene, 0, 1.0f);
   inspector->set_scene(scene, SceneChange::Pose);
   const auto posed_centres = sphere_set().centers;
-  EXPECT_EQ(posed_centres, posed_particle_centres(reference, scene.pieces[0].posed()));
+  EXPECT_EQ(posed_centres, posed_particle_centres(reference, scene.instances[0].posed()));
   EXPECT_NE(posed_centres, rest_centres);
 
   inspector->set_option("rho", "1.5");
@@ -344,7 +344,7 @@ TEST(ClustersInspectorTest, colours_vertices_by_particle_and_reclusters_with_rho
   EXPECT_THROW(inspector->set_option("rho", "big"), Error);
 
   Pick pick;
-  pick.piece = 0;
+  pick.instance = 0;
   pick.vertex = VertexId(3);
   EXPECT_FALSE(inspector->focus().has_value());
   ASSERT_TRUE(inspector->pick(pick));

@@ -39,20 +39,20 @@ using deepcut::test::studio::shown_window;
 
 namespace {
 
-/// Largest distance between what the view draws for piece 0 and the skinned pose of the scene.
+/// Largest distance between what the view draws for instance 0 and the skinned pose of the scene.
 float drawn_offset(MainWindow& window) {
-  const std::vector<glm::vec3> drawn = window.view()->piece_positions(0);
-  const std::vector<glm::vec3>& posed = window.scene()->pieces[0].posed();
+  const std::vector<glm::vec3> drawn = window.view()->instance_positions(0);
+  const std::vector<glm::vec3>& posed = window.scene()->instances[0].posed();
   float largest = 0.0f;
   for (std::size_t v = 0; v < drawn.size() && v < posed.size(); ++v)
     largest = std::max(largest, glm::length(drawn[v] - posed[v]));
   return largest;
 }
 
-/// The posed vertex of piece 0 nearest the camera (on the surface facing it).
+/// The posed vertex of instance 0 nearest the camera (on the surface facing it).
 glm::vec3 front_point(MainWindow& window) {
   const glm::vec3 towards_camera = -window.view()->view_direction();
-  const std::vector<glm::vec3>& posed = window.scene()->pieces[0].posed();
+  const std::vector<glm::vec3>& posed = window.scene()->instances[0].posed();
   return *std::max_element(posed.begin(), posed.end(), [&](const glm::vec3& a, const glm::vec3& b) {
     return glm::dot(a, towards_camera) < glm::dot(b, towards_camera);
   });
@@ -102,7 +102,7 @@ class StudioSessionTest : public QObject {
     QVERIFY(window);
     QVERIFY(window->open_file(kCactus));
     const auto model = window->model();
-    const std::size_t faces = window->scene()->pieces[0].surface->face_count();
+    const std::size_t faces = window->scene()->instances[0].surface->face_count();
     window->set_tool("poke");
     QVERIFY(!window->tool()->makes_operation());
     QVERIFY(!window->findChild<QPushButton*>("apply_button")->isEnabled());
@@ -123,7 +123,7 @@ class StudioSessionTest : public QObject {
     // The poke never changes the model or its history.
     QCOMPARE(window->model(), model);
     QCOMPARE(window->history()->count(), 0);
-    QCOMPARE(window->scene()->pieces[0].surface->face_count(), faces);
+    QCOMPARE(window->scene()->instances[0].surface->face_count(), faces);
     QVERIFY(window->operations().empty());
     QVERIFY(!window->apply_tool());
 

@@ -87,7 +87,7 @@ class StudioGuiTest : public QObject {
     QVERIFY(window);
     QVERIFY(window->open_file(kCactus));
     QVERIFY(window->model());
-    QCOMPARE(window->scene()->pieces.size(), std::size_t(1));
+    QCOMPARE(window->scene()->instances.size(), std::size_t(1));
     const deepcut::ModelStats stats = deepcut::compute_stats(*window->model());
     QString status;
     for (QLabel* label : window->statusBar()->findChildren<QLabel*>()) status += label->text() + " | ";
@@ -108,7 +108,7 @@ class StudioGuiTest : public QObject {
     QVERIFY(window);
     for (const std::string& path : deepcut::test::asset_models()) {
       QVERIFY2(window->open_file(QString::fromStdString(path)), qPrintable(window->last_error()));
-      QVERIFY(!window->scene()->pieces.empty());
+      QVERIFY(!window->scene()->instances.empty());
       QCOMPARE(window->model_path(), QString::fromStdString(path));
       for (const auto& info : deepcut::plugins::builtin_inspectors().list()) {
         window->set_inspector(info.id);
@@ -216,13 +216,13 @@ class StudioGuiTest : public QObject {
     QVERIFY(window->open_file(kCactus));
     window->set_inspector("weights");
     window->set_inspector_option("joint", "trunk_5");
-    const auto rest = window->scene()->pieces[0].posed();
+    const auto rest = window->scene()->instances[0].posed();
     auto* slider = window->findChild<QSlider*>("timeline_slider");
     QVERIFY(slider);
     slider->setValue(slider->maximum() / 4);  // a quarter of the 4 s sway
     QVERIFY(std::abs(window->scene()->time - 1.0f) < 0.01f);
     QVERIFY(std::abs(window->findChild<QDoubleSpinBox*>("timeline_time")->value() - 1.0) < 0.01);
-    const auto posed = window->scene()->pieces[0].posed();
+    const auto posed = window->scene()->instances[0].posed();
     float moved = 0.0f;
     for (std::size_t v = 0; v < posed.size(); ++v) moved = std::max(moved, glm::distance(posed[v], rest[v]));
     QVERIFY2(moved > 0.05f, "the sway moves the cactus");
@@ -244,7 +244,7 @@ class StudioGuiTest : public QObject {
     QCOMPARE(window->scene()->animation, -1);
     const auto bind = deepcut::plugins::make_scene(window->model(), -1, 0.0f);
     for (std::size_t v = 0; v < rest.size(); ++v)
-      QVERIFY(glm::distance(window->scene()->pieces[0].posed()[v], bind.pieces[0].posed()[v]) < 1e-5f);
+      QVERIFY(glm::distance(window->scene()->instances[0].posed()[v], bind.instances[0].posed()[v]) < 1e-5f);
     clips->setCurrentIndex(1);
     QCOMPARE(window->scene()->animation, 0);
     window->timeline()->play();
@@ -259,7 +259,7 @@ class StudioGuiTest : public QObject {
     QVERIFY(window->open_file(kCactus));
     window->set_inspector("adjacency");
     // The front-most vertex at mid height of the trunk.
-    const auto& posed = window->scene()->pieces[0].posed();
+    const auto& posed = window->scene()->instances[0].posed();
     std::size_t best = 0;
     for (std::size_t v = 0; v < posed.size(); ++v)
       if (std::abs(posed[v].y - 3.0f) < 0.3f && std::abs(posed[v].x) < 0.3f && posed[v].z > posed[best].z)
@@ -284,7 +284,7 @@ class StudioGuiTest : public QObject {
     QVERIFY(window);
     QVERIFY(window->open_file(kCactus));
     const auto original = window->model();
-    const std::size_t triangles = window->scene()->pieces[0].surface->face_count();
+    const std::size_t triangles = window->scene()->instances[0].surface->face_count();
     auto edited = std::make_shared<deepcut::Model>(*original);
     {
       deepcut::MeshEditor editor(edited->meshes[0].primitives[0].mesh);
@@ -292,15 +292,15 @@ class StudioGuiTest : public QObject {
       editor.remove_face(deepcut::FaceId(1));
     }
     window->apply_operation("Remove two faces", edited, 0.5);
-    QCOMPARE(window->scene()->pieces[0].surface->face_count(), triangles - 2);
+    QCOMPARE(window->scene()->instances[0].surface->face_count(), triangles - 2);
     QVERIFY(window->undo_action()->isEnabled());
     QVERIFY(window->last_operation().startsWith("Remove two faces"));
     window->undo_action()->trigger();
     QCOMPARE(window->model(), original);
-    QCOMPARE(window->scene()->pieces[0].surface->face_count(), triangles);
+    QCOMPARE(window->scene()->instances[0].surface->face_count(), triangles);
     QVERIFY(window->redo_action()->isEnabled());
     window->redo_action()->trigger();
-    QCOMPARE(window->scene()->pieces[0].surface->face_count(), triangles - 2);
+    QCOMPARE(window->scene()->instances[0].surface->face_count(), triangles - 2);
     QCOMPARE(window->history()->count(), 1);
     // A new file starts a new history.
     QVERIFY(window->open_file(kCactus));
@@ -335,7 +335,7 @@ class StudioGuiTest : public QObject {
     QCOMPARE(window->model_path(), spot);
     QCOMPARE(window->model()->skins.size(), std::size_t(1));
     QCOMPARE(window->model()->skins[0].joints.size(), std::size_t(1));
-    QVERIFY(!window->scene()->pieces.empty());
+    QVERIFY(!window->scene()->instances.empty());
     QMimeData text;
     text.setUrls({QUrl::fromLocalFile(DEEPCUT_ASSETS_DIR "/README.md")});
     QDragEnterEvent refused(centre, Qt::CopyAction, &text, Qt::LeftButton, Qt::NoModifier);

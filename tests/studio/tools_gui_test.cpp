@@ -220,9 +220,9 @@ class StudioToolsTest : public QObject {
     auto window = shown_window();
     QVERIFY(window);
     QVERIFY(window->open_file(kCactus));
-    QVERIFY(window->operation_index() != nullptr);
+    QVERIFY(window->posed_model() != nullptr);
     auto expect_fresh = [&](const char* when) {
-      const deepcut::PosedModel* index = window->operation_index();
+      const deepcut::PosedModel* index = window->posed_model();
       QVERIFY2(index != nullptr, when);
       const deepcut::PosedModel fresh = deepcut::PosedModel::build(*window->model(), index->animation(), index->time());
       QVERIFY2(index->size() == fresh.size(), when);
@@ -234,12 +234,14 @@ class StudioToolsTest : public QObject {
         QVERIFY2(got->grid.face_count() == want.grid.face_count(), when);
       }
     };
-    // The previews visit the index's grid cells and draw exactly what a scan of every face draws.
+    // The previews visit the posed model's grid cells and draw exactly what a scan of every face draws.
     auto expect_same_previews = [&](const char* when) {
       const deepcut::plugins::Scene& scene = *window->scene();
-      QVERIFY2(std::any_of(scene.pieces.begin(), scene.pieces.end(), [](const auto& p) { return p.grid != nullptr; }), when);
+      QVERIFY2(std::any_of(scene.instances.begin(), scene.instances.end(),
+                           [](const auto& p) { return p.grid != nullptr; }),
+               when);
       deepcut::plugins::Scene scan = scene;
-      for (auto& piece : scan.pieces) piece.grid = nullptr;
+      for (auto& piece : scan.instances) piece.grid = nullptr;
       for (const char* id : {"cut", "tear", "drill"}) {
         window->set_tool(id);
         const deepcut::Overlay with_grid = window->tool()->preview(scene), without = window->tool()->preview(scan);
@@ -264,14 +266,14 @@ class StudioToolsTest : public QObject {
     expect_same_previews("after a drill and a tear");
     if (QTest::currentTestFailed()) return;
     window->undo_action()->trigger();
-    QVERIFY(window->operation_index() == nullptr);  // it described the undone state
-    window->refresh_operation_index();
+    QVERIFY(window->posed_model() == nullptr);  // it described the undone state
+    window->refresh_posed_model();
     expect_fresh("after undo");
     if (QTest::currentTestFailed()) return;
     if (!window->model()->animations.empty()) {
       window->timeline()->set_time(1.5f);
-      window->refresh_operation_index();
-      QVERIFY(window->operation_index()->time() == window->scene()->time);
+      window->refresh_posed_model();
+      QVERIFY(window->posed_model()->time() == window->scene()->time);
       expect_fresh("after a new pose");
       if (QTest::currentTestFailed()) return;
       expect_same_previews("after a new pose");
@@ -282,17 +284,17 @@ class StudioToolsTest : public QObject {
     }
   }
 
-  // A cut drops the operations' index (its pieces are new meshes); the studio rebuilds it once
+  // A cut drops the operations' posed model (its pieces are new meshes); the studio rebuilds it once
   // idle, so the previews and the next drill or tear do not pay for a whole build themselves.
   void a_cut_leaves_the_operation_index_to_an_idle_rebuild() {
     auto window = shown_window();
     QVERIFY(window);
     QVERIFY(window->open_file(kCactus));
-    QVERIFY(window->operation_index() != nullptr);
+    QVERIFY(window->posed_model() != nullptr);
     window->set_tool("cut");
     QVERIFY2(window->apply_tool(), qPrintable(window->last_error()));
-    QTRY_VERIFY_WITH_TIMEOUT(window->operation_index() != nullptr, 20000);
-    const deepcut::PosedModel* index = window->operation_index();
+    QTRY_VERIFY_WITH_TIMEOUT(window->posed_model() != nullptr, 20000);
+    const deepcut::PosedModel* index = window->posed_model();
     const deepcut::PosedModel fresh = deepcut::PosedModel::build(*window->model(), index->animation(), index->time());
     QCOMPARE(index->size(), fresh.size());
     for (const auto& [key, want] : fresh.instances()) {

@@ -2,7 +2,7 @@
 #pragma once
 /// @file inspector.h
 /// The interface of an inspector plugin. An inspector looks at the scene (model + pose) and
-/// answers with data: colours for each piece's surface, an overlay, an optional colour bar and a
+/// answers with data: colours for each instance's surface, an overlay, an optional colour bar and a
 /// few summary lines. It owns a Qt panel with its controls. It never touches VTK objects, so it
 /// can be tested without a display. Each inspector lives in its own folder under `plugins/`.
 
@@ -21,12 +21,12 @@ class QWidget;
 
 namespace deepcut::plugins {
 
-/// How a piece's surface is coloured.
-struct PieceColors {
+/// How an instance's surface is coloured.
+struct InstanceColors {
   enum class Kind {
     None,       ///< the model's own look (material, texture)
-    PerVertex,  ///< `colors` has one entry per vertex slot of the piece's mesh
-    PerFace     ///< `colors` has one entry per face slot of the piece's mesh
+    PerVertex,  ///< `colors` has one entry per vertex slot of the instance's mesh
+    PerFace     ///< `colors` has one entry per face slot of the instance's mesh
   };
   Kind kind = Kind::None;
   std::vector<glm::u8vec3> colors;
@@ -34,8 +34,8 @@ struct PieceColors {
 
 /// What the user clicked in the view.
 struct Pick {
-  static constexpr std::size_t kNoPiece = static_cast<std::size_t>(-1);
-  std::size_t piece = kNoPiece;  ///< index into Scene::pieces, or kNoPiece when a bone was hit
+  static constexpr std::size_t kNoInstance = static_cast<std::size_t>(-1);
+  std::size_t instance = kNoInstance;  ///< index into Scene::instances, or kNoInstance when a bone was hit
   FaceId face;                   ///< the face under the cursor
   VertexId vertex;               ///< the vertex of that face nearest to the clicked point
   glm::vec3 position{0.0f};      ///< the clicked world position
@@ -71,8 +71,8 @@ class Inspector {
   /// until the next call (or until the inspector is destroyed).
   virtual void set_scene(const Scene& scene, SceneChange change) = 0;
 
-  /// Colours for piece `piece` of the current scene.
-  virtual PieceColors piece_colors(std::size_t piece) const = 0;
+  /// Colours for instance `instance` of the current scene.
+  virtual InstanceColors instance_colors(std::size_t instance) const = 0;
   /// What to draw over the model for the current scene and state.
   virtual Overlay overlay() const = 0;
   /// A colour bar to show beside the view, if the colours encode a continuous value.

@@ -28,7 +28,7 @@ struct SceneInstance {
   /// World positions for the current pose, one per vertex (the posed model's).
   const std::vector<glm::vec3>& posed() const { return pose->posed; }
   std::vector<glm::vec3> posed_normals;  ///< world normals, one per corner (empty without normals)
-  /// A grid over the live faces at `posed` (the studio's operation index, attached while it
+  /// A grid over the live faces at `posed` (the studio's operations' posed model, attached while it
   /// matches this pose and model), or nullptr: the tools' previews then test every face.
   const TriangleGrid* grid = nullptr;
 };
@@ -38,7 +38,7 @@ struct Scene {
   /// The model at the current pose (PoseDetail::Positions: no grids); shared by copies of the
   /// scene, so posing a copy poses a posed model of its own.
   std::shared_ptr<PosedModel> posed;
-  std::vector<SceneInstance> pieces;  ///< the drawn instances (indexed as `Pick::piece`)
+  std::vector<SceneInstance> instances;  ///< the drawn instances (indexed as `Pick::instance`)
   std::vector<glm::mat4> world;  ///< world matrix of every node for the current pose (the posed model's)
   int animation = -1;            ///< -1: rest pose
   float time = 0.0f;             ///< seconds
