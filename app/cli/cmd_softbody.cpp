@@ -13,7 +13,6 @@
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/posed_model.h"
 #include "deepcut/plugins/formats.h"
-#include "deepcut/core/skinning.h"
 #include "deepcut/core/softbody/clustering.h"
 #include "deepcut/core/softbody/simulation.h"
 
@@ -155,7 +154,7 @@ int run_cluster(const std::vector<std::string>& argv) {
   if (!args.has("--radius") && !args.has("--particles"))
     throw UsageError("cluster needs --radius RHO (rest-pose model units) or --particles N");
   const Model model = plugins::read_model(path);
-  const PosedModel rest = PosedModel::build(model, -1, 0.0f);
+  const PosedModel rest = PosedModel::build(model, -1, 0.0f, PoseDetail::Positions);
   const auto inst = instances(model, rest);
   const ClusterChoice choice = choose_clusters(args, inst, "--radius", 0);
   const Clustered c = cluster_all(inst, choice.options);
@@ -224,7 +223,7 @@ int run_softbody(const std::vector<std::string>& argv) {
   if (!animate && !args.has("--time")) animation = -1;
   const auto t_start = static_cast<float>(args.number("--time", 0.0));
 
-  const PosedModel rest = PosedModel::build(model, -1, 0.0f);
+  const PosedModel rest = PosedModel::build(model, -1, 0.0f, PoseDetail::Positions);
   const auto inst = instances(model, rest);
   const ClusterChoice choice = choose_clusters(args, inst, "--rho", 224);
   Clustered c = cluster_all(inst, choice.options);
@@ -232,11 +231,11 @@ int run_softbody(const std::vector<std::string>& argv) {
   if (!(poke_radius > 0.0f)) throw UsageError("--radius must be positive");
 
   // Posed positions of every instance at time t (the rest pose when not animating).
+  PosedModel at_time;
   auto pose_at = [&](float t) {
-    const Pose pose = animation < 0 ? rest_pose(model) : sample_pose(model, animation, t);
-    const auto world = world_matrices(model, pose);
+    at_time.repose(model, animation, t);
     std::vector<std::vector<glm::vec3>> out;
-    for (const auto& i : inst) out.push_back(posed_positions(model, i.rest->node, *i.mesh, world));
+    for (const auto& i : inst) out.push_back(at_time.find(i.rest->node, i.rest->primitive)->posed);
     return out;
   };
   auto posed = pose_at(t_start);

@@ -434,9 +434,9 @@ std::vector<std::string> SceneView::set_scene(const plugins::Scene& scene) {
   for (const plugins::SceneInstance& sp : scene.pieces) {
     PieceActor piece;
     PolyDataOptions options;
-    options.positions = &sp.posed;
+    options.positions = &sp.posed();
     piece.poly = to_poly_data(*sp.surface, options);
-    if (!sp.posed_normals.empty()) update_poly_data_points(piece.poly, sp.posed, &sp.posed_normals);
+    if (!sp.posed_normals.empty()) update_poly_data_points(piece.poly, sp.posed(), &sp.posed_normals);
     piece.mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
     piece.mapper->SetInputData(piece.poly);
     piece.mapper->SetColorModeToDirectScalars();
@@ -488,7 +488,7 @@ void SceneView::update_pose() {
   if (!d.scene) return;
   for (std::size_t i = 0; i < d.pieces.size() && i < d.scene->pieces.size(); ++i) {
     const plugins::SceneInstance& sp = d.scene->pieces[i];
-    update_poly_data_points(d.pieces[i].poly, sp.posed,
+    update_poly_data_points(d.pieces[i].poly, sp.posed(),
                             sp.posed_normals.empty() ? nullptr : &sp.posed_normals);
   }
   d.rebuild_normals();
@@ -503,7 +503,7 @@ void SceneView::set_piece_positions(std::size_t piece, const std::vector<glm::ve
 std::vector<glm::vec3> SceneView::piece_positions(std::size_t piece) const {
   const Impl& d = *impl_;
   if (piece >= d.pieces.size() || !d.scene || piece >= d.scene->pieces.size()) return {};
-  std::vector<glm::vec3> out = d.scene->pieces[piece].posed;
+  std::vector<glm::vec3> out = d.scene->pieces[piece].posed();
   vtkPolyData* poly = d.pieces[piece].poly;
   auto* vertex_ids = vtkIdTypeArray::SafeDownCast(poly->GetPointData()->GetArray("vertex_id"));
   if (!vertex_ids) return out;
@@ -586,7 +586,7 @@ void SceneView::reset_camera() {
   BoundingBox box;
   if (d.scene)
     for (const plugins::SceneInstance& piece : d.scene->pieces)
-      for (const glm::vec3& p : piece.posed) box.add(p);
+      for (const glm::vec3& p : piece.posed()) box.add(p);
   if (box.empty()) {
     d.renderer->ResetCamera();
     return;

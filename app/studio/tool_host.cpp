@@ -204,7 +204,7 @@ void ToolHost::show_displacement() {
     }
   // Settled (or another tool): draw the posed model again, once.
   if (!displaced && displaced_)
-    for (std::size_t i = 0; i < scene_->pieces.size(); ++i) view_->set_piece_positions(i, scene_->pieces[i].posed);
+    for (std::size_t i = 0; i < scene_->pieces.size(); ++i) view_->set_piece_positions(i, scene_->pieces[i].posed());
   displaced_ = displaced;
 }
 
@@ -216,8 +216,8 @@ void ToolHost::lend_grids(const std::shared_ptr<const Model>& model, const Posed
     const PosedMesh* mesh = posed->find(piece.node, piece.primitive);
     // The grid is filed at the posed model's positions: lend it only where they are the
     // scene's, bit for bit (both pose with the same skinning; this guards the assumption).
-    if (mesh && mesh->mesh == piece.mesh && mesh->posed.size() == piece.posed.size() &&
-        std::equal(mesh->posed.begin(), mesh->posed.end(), piece.posed.begin()))
+    if (mesh && mesh->mesh == piece.mesh && mesh->posed.size() == piece.posed().size() &&
+        std::equal(mesh->posed.begin(), mesh->posed.end(), piece.posed().begin()))
       piece.grid = &mesh->grid;
   }
 }

@@ -95,22 +95,55 @@ PosedMesh PosedMesh::at_positions(const SurfaceMesh& surface, std::vector<glm::v
   return inst;
 }
 
-PosedModel PosedModel::build(const Model& model, int animation, float time) {
-  PosedModel index;
-  index.world_ = world_matrices(model, sample_pose(model, animation, time));
-  index.joints_.resize(model.skins.size());
+void PosedModel::set_pose(const Model& model, int animation, float time) {
+  world_ = world_matrices(model, sample_pose(model, animation, time));
+  joints_.resize(model.skins.size());
   for (std::size_t s = 0; s < model.skins.size(); ++s)
-    index.joints_[s] = joint_matrices(model, static_cast<int>(s), index.world_);
-  index.animation_ = animation;
-  index.time_ = time;
-  index.valid_ = true;
+    joints_[s] = joint_matrices(model, static_cast<int>(s), world_);
+  animation_ = animation;
+  time_ = time;
+  valid_ = true;
+}
+
+std::size_t PosedModel::instance_count(const Model& model) {
+  std::size_t count = 0;
+  for (const Node& n : model.nodes)
+    if (n.mesh >= 0 && static_cast<std::size_t>(n.mesh) < model.meshes.size())
+      count += model.meshes[static_cast<std::size_t>(n.mesh)].primitives.size();
+  return count;
+}
+
+PosedModel PosedModel::build(const Model& model, int animation, float time, PoseDetail detail) {
+  PosedModel index;
+  index.set_pose(model, animation, time);
   for (std::size_t ni = 0; ni < model.nodes.size(); ++ni) {
     const int mi = model.nodes[ni].mesh;
     if (mi < 0 || static_cast<std::size_t>(mi) >= model.meshes.size()) continue;
     for (std::size_t p = 0; p < model.meshes[static_cast<std::size_t>(mi)].primitives.size(); ++p)
-      index.add(model, static_cast<int>(ni), static_cast<int>(p));
+      index.instances_[{static_cast<int>(ni), static_cast<int>(p)}] =
+          index.make_instance(model, static_cast<int>(ni), static_cast<int>(p), detail);
   }
   return index;
+}
+
+void PosedModel::repose(const Model& model, int animation, float time) {
+  bool same = valid_ && world_.size() == model.nodes.size() && joints_.size() == model.skins.size() &&
+              instances_.size() == instance_count(model);
+  for (auto it = instances_.begin(); same && it != instances_.end(); ++it) {
+    const PosedMesh& inst = it->second;
+    same = instance_mesh(model, inst.node, inst.primitive) &&
+           inst.mesh == model.nodes[static_cast<std::size_t>(inst.node)].mesh;
+  }
+  if (!same) {
+    *this = build(model, animation, time, PoseDetail::Positions);
+    return;
+  }
+  set_pose(model, animation, time);
+  for (auto& [key, inst] : instances_) {
+    inst.joints = joints_of(model, inst.node);
+    inst.world = world_.at(static_cast<std::size_t>(inst.node));
+    pose_instance(*instance_mesh(model, inst.node, inst.primitive), inst, PoseDetail::Positions);
+  }
 }
 
 void PosedModel::invalidate() { *this = PosedModel(); }
@@ -122,7 +155,7 @@ const std::vector<glm::mat4>& PosedModel::joints_of(const Model& model, int node
   return joints_[static_cast<std::size_t>(skin)];
 }
 
-PosedMesh PosedModel::make_instance(const Model& model, int node, int primitive) const {
+PosedMesh PosedModel::make_instance(const Model& model, int node, int primitive, PoseDetail detail) const {
   const SurfaceMesh& mesh = *instance_mesh(model, node, primitive);
   PosedMesh inst;
   inst.node = node;
@@ -133,19 +166,22 @@ PosedMesh PosedModel::make_instance(const Model& model, int node, int primitive)
   const std::size_t room = mesh.vertex_count() + mesh.vertex_count() / 8 + 1024;
   inst.posed.reserve(room);
   inst.linear.reserve(room);
-  inst.posed.resize(mesh.vertex_count());
-  inst.linear.resize(mesh.vertex_count());
   inst.joints = joints_of(model, node);
   inst.world = world_.at(static_cast<std::size_t>(node));
+  pose_instance(mesh, inst, detail);
+  return inst;
+}
+
+void PosedModel::pose_instance(const SurfaceMesh& mesh, PosedMesh& inst, PoseDetail detail) const {
+  inst.posed.resize(mesh.vertex_count());
+  inst.linear.resize(mesh.vertex_count());
   const VertexPoser pose(mesh, inst.joints, inst.world);
   parallel_for(mesh.vertex_count(), kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t v = b; v < e; ++v) pose(v, inst);
   });
   inst.bounds = bounds_of(inst.posed);
-  inst.grid = TriangleGrid::build(mesh, inst.posed);
-  inst.world = world_.at(static_cast<std::size_t>(node));
-  inst.joints = joints_of(model, node);
-  return inst;
+  inst.gridless = detail == PoseDetail::Positions;
+  inst.grid = inst.gridless ? TriangleGrid() : TriangleGrid::build(mesh, inst.posed);
 }
 
 void PosedModel::add(const Model& model, int node, int primitive) {
@@ -164,7 +200,8 @@ void PosedModel::prepare(const Model& model, int animation, float time) {
     if (!mesh) {
       it = instances_.erase(it);
     } else if (inst.mesh != model.nodes[static_cast<std::size_t>(inst.node)].mesh ||
-               inst.posed.size() != mesh->vertex_count() || inst.grid.face_count() != mesh->face_count()) {
+               inst.posed.size() != mesh->vertex_count() || inst.grid.face_count() != mesh->face_count() ||
+               inst.gridless) {
       it->second = make_instance(model, inst.node, inst.primitive);
       ++it;
     } else {

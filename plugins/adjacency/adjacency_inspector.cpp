@@ -115,8 +115,8 @@ Overlay AdjacencyInspector::overlay() const {
     lines.width_px = width;
     for (std::size_t i = 0; i < topology_.size(); ++i)
       for (const Edge& e : topology_[i].*edges) {
-        lines.endpoints.push_back(scene_->pieces[i].posed[e.a.index]);
-        lines.endpoints.push_back(scene_->pieces[i].posed[e.b.index]);
+        lines.endpoints.push_back(scene_->pieces[i].posed()[e.a.index]);
+        lines.endpoints.push_back(scene_->pieces[i].posed()[e.b.index]);
       }
     if (!lines.endpoints.empty()) overlay.lines.push_back(std::move(lines));
   };
@@ -124,7 +124,7 @@ Overlay AdjacencyInspector::overlay() const {
   if (show_boundary_) add_edges(&PieceTopology::boundary, palette::kBoundary, 3.0f);
   if (show_nonmanifold_) add_edges(&PieceTopology::nonmanifold, palette::kNonManifold, 4.0f);
   if (has_pick()) {
-    const auto& posed = scene_->pieces[picked_piece_].posed;
+    const auto& posed = scene_->pieces[picked_piece_].posed();
     const glm::vec3 center = posed[picked_vertex_.index];
     OverlayLines spokes;
     spokes.color = palette::kHighlight;
@@ -182,7 +182,7 @@ std::vector<std::string> AdjacencyInspector::summary() const {
 
 std::optional<Focus> AdjacencyInspector::focus() const {
   if (!has_pick()) return std::nullopt;
-  const auto& posed = scene_->pieces[picked_piece_].posed;
+  const auto& posed = scene_->pieces[picked_piece_].posed();
   const glm::vec3 center = posed[picked_vertex_.index];
   float reach = 0.0f;
   for (VertexId n : topology_[picked_piece_].adjacency.vertex_neighbors(picked_vertex_))

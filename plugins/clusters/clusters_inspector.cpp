@@ -17,7 +17,7 @@
 #include <sstream>
 
 #include "deepcut/core/errors.h"
-#include "deepcut/core/skinning.h"
+#include "deepcut/core/posed_model.h"
 #include "deepcut/core/softbody/clustering.h"
 #include "deepcut/core/softbody/simulation.h"
 #include "deepcut/plugins/colors.h"
@@ -97,13 +97,13 @@ void ClustersInspector::recluster() {
   QElapsedTimer clock;
   clock.start();
   const Model& model = *scene_->model;
-  const std::vector<glm::mat4> rest_world = world_matrices(model, rest_pose(model));
+  const PosedModel rest = PosedModel::build(model, -1, 0.0f, PoseDetail::Positions);
   std::uint32_t next_id = 0;
   ClusterOptions options;
   options.radius = rho_;
   for (const SceneInstance& piece : scene_->pieces) {
     PieceClusters pc;
-    pc.rest = posed_positions(model, piece.node, *piece.surface, rest_world);
+    pc.rest = rest.find(piece.node, piece.primitive)->posed;
     pc.clusters = Clusters::build(*piece.surface, pc.rest, options);
     pc.first_id = next_id;
     next_id += static_cast<std::uint32_t>(pc.clusters.particle_slots());
@@ -156,7 +156,7 @@ Overlay ClustersInspector::overlay() const {
   spheres.opacity = 0.12f;
   for (std::size_t i = 0; i < pieces_.size(); ++i) {
     const Clusters& c = pieces_[i].clusters;
-    const std::vector<glm::vec3> posed = posed_particle_centres(c, scene_->pieces[i].posed);
+    const std::vector<glm::vec3> posed = posed_particle_centres(c, scene_->pieces[i].posed());
     for (std::uint32_t p = 0; p < c.particle_slots(); ++p) {
       if (c.members(p).empty()) continue;
       centres.positions.push_back(posed[p]);
@@ -169,7 +169,7 @@ Overlay ClustersInspector::overlay() const {
   if (show_spheres_) overlay.spheres.push_back(std::move(spheres));
   if (picked_piece_ < pieces_.size() && picked_particle_ != kInvalidIndex) {
     const Clusters& c = pieces_[picked_piece_].clusters;
-    const auto& posed = scene_->pieces[picked_piece_].posed;
+    const auto& posed = scene_->pieces[picked_piece_].posed();
     OverlayPoints members;
     members.color = palette::kPicked;
     members.size_px = 6.0f;
@@ -222,7 +222,7 @@ std::vector<std::string> ClustersInspector::summary() const {
 std::optional<Focus> ClustersInspector::focus() const {
   if (!scene_ || picked_piece_ >= pieces_.size() || picked_particle_ == kInvalidIndex) return std::nullopt;
   const Clusters& c = pieces_[picked_piece_].clusters;
-  return Focus{posed_particle_centres(c, scene_->pieces[picked_piece_].posed)[picked_particle_],
+  return Focus{posed_particle_centres(c, scene_->pieces[picked_piece_].posed())[picked_particle_],
                2.0f * c.radius()};
 }
 

@@ -18,7 +18,7 @@
 #include <memory>
 
 #include "deepcut/core/errors.h"
-#include "deepcut/core/skinning.h"
+#include "deepcut/core/posed_model.h"
 #include "deepcut/core/softbody/clustering.h"
 #include "deepcut/core/softbody/simulation.h"
 #include "deepcut/plugins/tool.h"
@@ -178,7 +178,7 @@ class PokeTool final : public Tool {
       const glm::vec3 impulse = normal_ * (kClickSpeedFraction * scene.size * options_.mass);
       grabbed_ = 0;
       for (std::size_t i = 0; i < bodies_.size(); ++i)
-        grabbed_ += poke(bodies_[i].state, bodies_[i].clusters, scene.pieces[i].posed, grab_, impulse,
+        grabbed_ += poke(bodies_[i].state, bodies_[i].clusters, scene.pieces[i].posed(), grab_, impulse,
                          reach_value_, options_);
     }
     show_status();
@@ -211,8 +211,8 @@ class PokeTool final : public Tool {
         piece >= scene.pieces.size())
       return false;
     const PieceBody& body = bodies_[piece];
-    if (body.clusters.vertex_count() != scene.pieces[piece].posed.size()) return false;
-    deformed_positions(body.state, body.clusters, scene.pieces[piece].posed, out);
+    if (body.clusters.vertex_count() != scene.pieces[piece].posed().size()) return false;
+    deformed_positions(body.state, body.clusters, scene.pieces[piece].posed(), out);
     return true;
   }
 
@@ -230,14 +230,14 @@ class PokeTool final : public Tool {
     clock.start();
     try {
       const Model& model = *model_;
-      const std::vector<glm::mat4> rest_world = world_matrices(model, rest_pose(model));
+      const PosedModel rest = PosedModel::build(model, -1, 0.0f, PoseDetail::Positions);
       ClusterOptions options;
       options.radius = rho_value_;
       for (const SceneInstance& piece : scene.pieces) {
         PieceBody body;
         // Rest-pose world positions: rho is measured in the units the user sees.
         body.clusters =
-            Clusters::build(*piece.surface, posed_positions(model, piece.node, *piece.surface, rest_world), options);
+            Clusters::build(*piece.surface, rest.find(piece.node, piece.primitive)->posed, options);
         body.state = make_soft_body(body.clusters);
         bodies_.push_back(std::move(body));
       }
@@ -253,7 +253,7 @@ class PokeTool final : public Tool {
   void pull(const Scene& scene) {
     grabbed_ = 0;
     for (std::size_t i = 0; i < bodies_.size() && i < scene.pieces.size(); ++i)
-      grabbed_ += drag(bodies_[i].state, bodies_[i].clusters, scene.pieces[i].posed, grab_, target_, reach_value_);
+      grabbed_ += drag(bodies_[i].state, bodies_[i].clusters, scene.pieces[i].posed(), grab_, target_, reach_value_);
   }
 
   void show() {

@@ -5,6 +5,7 @@
 #include <unordered_set>
 
 #include "deepcut/core/errors.h"
+#include "deepcut/core/parallel.h"
 #include "deepcut/core/skinning.h"
 #include "deepcut/plugins/colors.h"
 
@@ -20,12 +21,35 @@ void collect_instances(const Model& model, int node, std::vector<int>& out, std:
   for (int child : n.children) collect_instances(model, child, out, seen);
 }
 
-Pose pose_for(const Model& model, int animation, float time) {
+void check_animation(const Model& model, int animation) {
   if (animation >= static_cast<int>(model.animations.size()))
     throw Error(ErrorCode::InvalidArgument, "pose: animation " + std::to_string(animation) +
                                                 " does not exist (the model has " +
                                                 std::to_string(model.animations.size()) + ")");
-  return animation < 0 ? rest_pose(model) : sample_pose(model, animation, time);
+}
+
+// World corner normals of `mesh` posed as `pose`: each corner's normal through the inverse
+// transpose of its vertex's bind-to-world linear map, renormalised. Empty without normals.
+std::vector<glm::vec3> corner_normals(const SurfaceMesh& mesh, const PosedMesh& pose) {
+  const auto* normals = mesh.corner_attrs().find<glm::vec3>(attr::kNormal);
+  if (!normals) return {};
+  std::vector<glm::mat3> normal_maps(pose.linear.size());
+  parallel_for(normal_maps.size(), 16384, [&](std::size_t b, std::size_t e) {
+    for (std::size_t v = b; v < e; ++v) normal_maps[v] = glm::transpose(glm::inverse(pose.linear[v]));
+  });
+  std::vector<glm::vec3> out(normals->size());
+  parallel_for(mesh.face_slots(), 16384, [&](std::size_t b, std::size_t e) {
+    for (std::size_t f = b; f < e; ++f) {
+      const auto& t = mesh.face(FaceId(static_cast<std::uint32_t>(f)));
+      for (int k = 0; k < 3; ++k) {
+        const auto c = 3 * f + static_cast<std::size_t>(k);
+        const glm::vec3 n = normal_maps[t[k].index] * (*normals)[c];
+        const float len = glm::length(n);
+        out[c] = len > 0.0f ? n / len : n;
+      }
+    }
+  });
+  return out;
 }
 
 }  // namespace
@@ -59,14 +83,19 @@ Scene make_scene(std::shared_ptr<const Model> model, int animation, float time, 
 
 void pose_scene(Scene& scene, int animation, float time, bool with_normals) {
   const Model& m = *scene.model;
-  const Pose pose = pose_for(m, animation, time);
+  check_animation(m, animation);
+  // A copy of the scene shares the posed model: pose one of its own.
+  if (scene.posed && scene.posed.use_count() == 1)
+    scene.posed->repose(m, animation, time);
+  else
+    scene.posed = std::make_shared<PosedModel>(PosedModel::build(m, animation, time, PoseDetail::Positions));
   scene.animation = animation;
   scene.time = time;
-  scene.world = world_matrices(m, pose);
+  scene.world = scene.posed->world();
   for (SceneInstance& piece : scene.pieces) {
-    piece.posed = posed_positions(m, piece.node, *piece.surface, scene.world);
+    piece.pose = scene.posed->find(piece.node, piece.primitive);
     if (with_normals)
-      piece.posed_normals = posed_normals(m, piece.node, *piece.surface, scene.world);
+      piece.posed_normals = corner_normals(*piece.surface, *piece.pose);
     else
       piece.posed_normals.clear();
   }

@@ -46,18 +46,18 @@ bool triangle_plane_segment(const glm::vec3& p0, const glm::vec3& p1, const glm:
 template <class Query, class F>
 void for_each_posed_triangle(const Scene& scene, Query&& candidates, F&& fn) {
   for (const SceneInstance& piece : scene.pieces) {
-    if (!piece.surface || piece.posed.size() < piece.surface->vertex_count()) continue;
+    if (!piece.surface || piece.posed().size() < piece.surface->vertex_count()) continue;
     const SurfaceMesh& mesh = *piece.surface;
     if (piece.grid) {
       for (FaceId f : candidates(*piece.grid)) {
         if (f.index >= mesh.face_slots() || mesh.is_deleted(f)) continue;
         const Triangle& t = mesh.face(f);
-        fn(piece.posed[t[0].index], piece.posed[t[1].index], piece.posed[t[2].index]);
+        fn(piece.posed()[t[0].index], piece.posed()[t[1].index], piece.posed()[t[2].index]);
       }
       continue;
     }
     mesh.for_each_face([&](FaceId, const Triangle& t) {
-      fn(piece.posed[t[0].index], piece.posed[t[1].index], piece.posed[t[2].index]);
+      fn(piece.posed()[t[0].index], piece.posed()[t[1].index], piece.posed()[t[2].index]);
     });
   }
 }
@@ -120,7 +120,7 @@ BoundingBox scene_bounds(const Scene& scene) {
     if (!piece.surface) continue;
     piece.surface->for_each_face([&](FaceId, const Triangle& t) {
       for (VertexId v : t)
-        if (v.index < piece.posed.size()) box.add(piece.posed[v.index]);
+        if (v.index < piece.posed().size()) box.add(piece.posed()[v.index]);
     });
   }
   return box;

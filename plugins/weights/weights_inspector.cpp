@@ -224,11 +224,11 @@ Overlay WeightsInspector::overlay() const {
   flagged.size_px = 9.0f;
   flagged.on_top = true;
   for (std::size_t i = 0; i < unnormalised_.size(); ++i)
-    for (VertexId v : unnormalised_[i]) flagged.positions.push_back(scene_->pieces[i].posed[v.index]);
+    for (VertexId v : unnormalised_[i]) flagged.positions.push_back(scene_->pieces[i].posed()[v.index]);
   if (!flagged.positions.empty()) overlay.points.push_back(std::move(flagged));
   if (picked_piece_ < scene_->pieces.size()) {
     OverlayPoints picked;
-    picked.positions = {scene_->pieces[picked_piece_].posed[picked_vertex_.index]};
+    picked.positions = {scene_->pieces[picked_piece_].posed()[picked_vertex_.index]};
     picked.color = palette::kPicked;
     picked.size_px = 12.0f;
     picked.on_top = true;

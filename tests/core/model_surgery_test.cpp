@@ -159,6 +159,56 @@ TEST(ModelSurgery, DroppedInstancesDrawNothingAndTheLastUserEmptiesTheMesh) {
   expect_posed_matches_rebuild(posed, model);
 }
 
+TEST(ModelSurgery, PrimitivesAddedAfterErasesAreIndexedWhereTheyLand) {
+  Model model = make_scene();
+  PosedModel posed = PosedModel::build(model, -1, 0.0f);
+  for_each_instance(model, posed, [&](InstanceEdit& inst) {
+    if (inst.node() == 1) return false;
+    // Erased from the back, as the drill erases swallowed primitives, then two walls appended.
+    for (int p = static_cast<int>(inst.edit().primitives.size()); p-- > 0;) inst.erase_primitive(p);
+    for (int k = 1; k <= 2; ++k) {
+      Primitive wall;
+      wall.mesh = test::make_tube(4 + k, 1);
+      inst.add_primitive(std::move(wall));
+    }
+    return true;
+  });
+  ASSERT_EQ(model.meshes.size(), 3u);
+  EXPECT_EQ(model.nodes[2].mesh, 2);  // the shared mesh's edited copy
+  for (int node : {2, 3}) {
+    const Mesh& mesh = model.meshes[static_cast<std::size_t>(model.nodes[static_cast<std::size_t>(node)].mesh)];
+    ASSERT_EQ(mesh.primitives.size(), 2u);
+    for (int p = 0; p < 2; ++p) {
+      ASSERT_NE(posed.find(node, p), nullptr);
+      EXPECT_EQ(posed.find(node, p)->posed.size(), mesh.primitives[static_cast<std::size_t>(p)].mesh.vertex_count());
+    }
+  }
+  EXPECT_EQ(model.meshes[0].primitives.size(), 1u);  // node 1 still draws the original
+  expect_posed_matches_rebuild(posed, model);
+}
+
+TEST(ModelSurgery, AnInstanceLeftWithoutPrimitivesIsDroppedWithItsSkin) {
+  Model model = make_scene();
+  PosedModel posed = PosedModel::build(model, -1, 0.0f);
+  model.nodes[2].skin = 0;  // read by nobody here: the drop clears it
+  model.nodes[3].skin = 0;
+  for_each_instance(model, posed, [&](InstanceEdit& inst) {
+    if (inst.node() == 1) return false;
+    for (int p = static_cast<int>(inst.edit().primitives.size()); p-- > 0;) inst.erase_primitive(p);
+    if (inst.edit().primitives.empty()) inst.drop();
+    return true;
+  });
+  EXPECT_EQ(model.meshes.size(), 2u);  // the shared mesh's copy was not kept
+  for (int node : {2, 3}) {
+    EXPECT_EQ(model.nodes[static_cast<std::size_t>(node)].mesh, -1);
+    EXPECT_EQ(model.nodes[static_cast<std::size_t>(node)].skin, -1);
+    EXPECT_EQ(posed.find(node, 0), nullptr);
+  }
+  EXPECT_EQ(model.meshes[0].primitives.size(), 1u);  // node 1 still draws it
+  EXPECT_TRUE(model.meshes[1].primitives.empty());
+  expect_posed_matches_rebuild(posed, model);
+}
+
 TEST(ModelSurgery, PiecesReplaceTheMeshAndAddNodesBesideTheInstance) {
   Model model = make_scene();
   model.nodes.push_back(model.nodes[1]);  // a node already named "a_piece1" would clash

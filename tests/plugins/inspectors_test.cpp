@@ -9,6 +9,7 @@
 #include "deepcut/core/adjacency.h"
 #include "deepcut/core/attributes.h"
 #include "deepcut/core/errors.h"
+#include "deepcut/core/skinning.h"
 #include "deepcut/core/softbody/clustering.h"
 #include "deepcut/core/softbody/simulation.h"
 #include "deepcut/plugins/colors.h"
@@ -65,6 +66,41 @@ TEST(InspectorRegistryTest, builtin_list_has_every_inspector_and_rejects_unknown
   EXPECT_THROW(copy.add({"", "x", registry.find("weights")->create}), Error);
 }
 
+TEST(SceneTest, the_scene_pose_is_a_posed_model_equal_to_a_fresh_build_at_every_time) {
+  const auto model = tube_model();
+  Scene scene = make_scene(model, 0, 0.0f);
+  ASSERT_TRUE(scene.posed);
+  for (float t : {0.25f, 1.0f, 0.5f}) {
+    pose_scene(scene, 0, t);
+    const PosedModel fresh = PosedModel::build(*model, 0, t);
+    ASSERT_EQ(scene.posed->size(), fresh.size());
+    EXPECT_EQ(scene.world, fresh.world());
+    for (const SceneInstance& piece : scene.pieces) {
+      const PosedMesh* want = fresh.find(piece.node, piece.primitive);
+      ASSERT_NE(want, nullptr);
+      EXPECT_EQ(piece.pose, scene.posed->find(piece.node, piece.primitive)) << "the instance views the posed model";
+      EXPECT_EQ(piece.posed(), want->posed) << "bit for bit, t " << t;
+      EXPECT_EQ(piece.pose->linear, want->linear);
+      EXPECT_EQ(piece.pose->bounds.min, want->bounds.min);
+      EXPECT_EQ(piece.pose->bounds.max, want->bounds.max);
+      EXPECT_TRUE(piece.pose->gridless) << "drawing a pose builds no grid";
+      EXPECT_EQ(piece.posed_normals, posed_normals(*model, piece.node, *piece.surface, fresh.world()));
+    }
+  }
+  // A copy shares the posed model until one of them is posed: then it poses one of its own.
+  Scene copy = scene;
+  pose_scene(copy, 0, 0.0f);
+  EXPECT_NE(copy.posed, scene.posed);
+  EXPECT_EQ(scene.posed->time(), 0.5f);
+  EXPECT_EQ(copy.pieces[0].posed(), PosedModel::build(*model, 0, 0.0f).find(0, 0)->posed);
+  // The operations' prepare gives a gridless posed model its grids at the same pose.
+  PosedModel operations = *scene.posed;
+  operations.prepare(*model, 0, 0.5f);
+  const PosedMesh* inst = operations.find(0, 0);
+  EXPECT_FALSE(inst->gridless);
+  EXPECT_EQ(inst->grid.face_count(), model->meshes[0].primitives[0].mesh.face_count());
+}
+
 TEST(SceneTest, pieces_follow_the_pose_and_skeleton_links_joints) {
   const auto model = tube_model();
   Scene scene = make_scene(model, -1, 0.0f);
@@ -72,15 +108,15 @@ TEST(SceneTest, pieces_follow_the_pose_and_skeleton_links_joints) {
   const SceneInstance& piece = scene.pieces[0];
   EXPECT_EQ(piece.node, 0);
   EXPECT_EQ(piece.skin, 0);
-  ASSERT_EQ(piece.posed.size(), piece.surface->vertex_count());
-  for (std::size_t v = 0; v < piece.posed.size(); ++v)
-    EXPECT_LT(glm::distance(piece.posed[v], piece.surface->positions()[v]), 1e-5f);
+  ASSERT_EQ(piece.posed().size(), piece.surface->vertex_count());
+  for (std::size_t v = 0; v < piece.posed().size(); ++v)
+    EXPECT_LT(glm::distance(piece.posed()[v], piece.surface->positions()[v]), 1e-5f);
   EXPECT_GT(scene.size, 4.0f);
 
   pose_scene(scene, 0, 1.0f);  // joint1 rotated by 60 degrees: the top of the tube moves
   float moved = 0.0f;
-  for (std::size_t v = 0; v < piece.posed.size(); ++v)
-    moved = std::max(moved, glm::distance(scene.pieces[0].posed[v], piece.surface->positions()[v]));
+  for (std::size_t v = 0; v < piece.posed().size(); ++v)
+    moved = std::max(moved, glm::distance(scene.pieces[0].posed()[v], piece.surface->positions()[v]));
   EXPECT_GT(moved, 0.5f);
   EXPECT_THROW(pose_scene(scene, 3, 0.0f), Error);
 
@@ -167,8 +203,8 @@ TEST(WeightsInspectorTest, flags_vertices_whose_weights_do_not_sum_to_one) {
                                     [](const OverlayPoints& p) { return p.color == palette::kFlagged; });
   ASSERT_NE(flagged, overlay.points.end());
   ASSERT_EQ(flagged->positions.size(), 2u);
-  EXPECT_EQ(flagged->positions[0], scene.pieces[0].posed[5]) << "markers sit on the posed vertex";
-  EXPECT_EQ(flagged->positions[1], scene.pieces[0].posed[9]);
+  EXPECT_EQ(flagged->positions[0], scene.pieces[0].posed()[5]) << "markers sit on the posed vertex";
+  EXPECT_EQ(flagged->positions[1], scene.pieces[0].posed()[9]);
 }
 
 TEST(AdjacencyInspectorTest, draws_boundary_and_seam_edges_and_counts_components) {
@@ -256,10 +292,10 @@ TEST(AdjacencyInspectorTest, overlay_follows_the_pose) {
       if (p.color == palette::kPicked) return p.positions.at(0);
     return glm::vec3(-1e9f);
   };
-  EXPECT_EQ(picked_marker(), scene.pieces[0].posed[top]);
+  EXPECT_EQ(picked_marker(), scene.pieces[0].posed()[top]);
   pose_scene(scene, 0, 1.0f);
   inspector->set_scene(scene, SceneChange::Pose);
-  EXPECT_EQ(picked_marker(), scene.pieces[0].posed[top]);
+  EXPECT_EQ(picked_marker(), scene.pieces[0].posed()[top]);
   EXPECT_GT(glm::distance(picked_marker(), positions[top]), 0.5f);
   EXPECT_TRUE(contains(inspector->summary(), "Vertex " + std::to_string(top)))
       << "a pose change keeps the pick";
@@ -272,7 +308,7 @@ TEST(ClustersInspectorTest, colours_vertices_by_particle_and_reclusters_with_rho
   inspector->set_scene(scene, SceneChange::Model);
   inspector->set_option("rho", "0.5");
   const SurfaceMesh& mesh = *scene.pieces[0].surface;
-  const Clusters reference = Clusters::build(mesh, scene.pieces[0].posed, ClusterOptions{0.5f});
+  const Clusters reference = Clusters::build(mesh, scene.pieces[0].posed(), ClusterOptions{0.5f});
   const std::size_t particles = reference.particle_count();
   ASSERT_GT(particles, 4u);
   EXPECT_TRUE(contains(inspector->summary(), std::to_string(particles) + " particles at rho 0.5"));
@@ -299,7 +335,7 @@ TEST(ClustersInspectorTest, colours_vertices_by_particle_and_reclusters_with_rho
   pose_scene(scene, 0, 1.0f);
   inspector->set_scene(scene, SceneChange::Pose);
   const auto posed_centres = sphere_set().centers;
-  EXPECT_EQ(posed_centres, posed_particle_centres(reference, scene.pieces[0].posed));
+  EXPECT_EQ(posed_centres, posed_particle_centres(reference, scene.pieces[0].posed()));
   EXPECT_NE(posed_centres, rest_centres);
 
   inspector->set_option("rho", "1.5");

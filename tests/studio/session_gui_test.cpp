@@ -42,7 +42,7 @@ namespace {
 /// Largest distance between what the view draws for piece 0 and the skinned pose of the scene.
 float drawn_offset(MainWindow& window) {
   const std::vector<glm::vec3> drawn = window.view()->piece_positions(0);
-  const std::vector<glm::vec3>& posed = window.scene()->pieces[0].posed;
+  const std::vector<glm::vec3>& posed = window.scene()->pieces[0].posed();
   float largest = 0.0f;
   for (std::size_t v = 0; v < drawn.size() && v < posed.size(); ++v)
     largest = std::max(largest, glm::length(drawn[v] - posed[v]));
@@ -52,7 +52,7 @@ float drawn_offset(MainWindow& window) {
 /// The posed vertex of piece 0 nearest the camera (on the surface facing it).
 glm::vec3 front_point(MainWindow& window) {
   const glm::vec3 towards_camera = -window.view()->view_direction();
-  const std::vector<glm::vec3>& posed = window.scene()->pieces[0].posed;
+  const std::vector<glm::vec3>& posed = window.scene()->pieces[0].posed();
   return *std::max_element(posed.begin(), posed.end(), [&](const glm::vec3& a, const glm::vec3& b) {
     return glm::dot(a, towards_camera) < glm::dot(b, towards_camera);
   });

@@ -216,13 +216,13 @@ class StudioGuiTest : public QObject {
     QVERIFY(window->open_file(kCactus));
     window->set_inspector("weights");
     window->set_inspector_option("joint", "trunk_5");
-    const auto rest = window->scene()->pieces[0].posed;
+    const auto rest = window->scene()->pieces[0].posed();
     auto* slider = window->findChild<QSlider*>("timeline_slider");
     QVERIFY(slider);
     slider->setValue(slider->maximum() / 4);  // a quarter of the 4 s sway
     QVERIFY(std::abs(window->scene()->time - 1.0f) < 0.01f);
     QVERIFY(std::abs(window->findChild<QDoubleSpinBox*>("timeline_time")->value() - 1.0) < 0.01);
-    const auto posed = window->scene()->pieces[0].posed;
+    const auto posed = window->scene()->pieces[0].posed();
     float moved = 0.0f;
     for (std::size_t v = 0; v < posed.size(); ++v) moved = std::max(moved, glm::distance(posed[v], rest[v]));
     QVERIFY2(moved > 0.05f, "the sway moves the cactus");
@@ -244,7 +244,7 @@ class StudioGuiTest : public QObject {
     QCOMPARE(window->scene()->animation, -1);
     const auto bind = deepcut::plugins::make_scene(window->model(), -1, 0.0f);
     for (std::size_t v = 0; v < rest.size(); ++v)
-      QVERIFY(glm::distance(window->scene()->pieces[0].posed[v], bind.pieces[0].posed[v]) < 1e-5f);
+      QVERIFY(glm::distance(window->scene()->pieces[0].posed()[v], bind.pieces[0].posed()[v]) < 1e-5f);
     clips->setCurrentIndex(1);
     QCOMPARE(window->scene()->animation, 0);
     window->timeline()->play();
@@ -259,7 +259,7 @@ class StudioGuiTest : public QObject {
     QVERIFY(window->open_file(kCactus));
     window->set_inspector("adjacency");
     // The front-most vertex at mid height of the trunk.
-    const auto& posed = window->scene()->pieces[0].posed;
+    const auto& posed = window->scene()->pieces[0].posed();
     std::size_t best = 0;
     for (std::size_t v = 0; v < posed.size(); ++v)
       if (std::abs(posed[v].y - 3.0f) < 0.3f && std::abs(posed[v].x) < 0.3f && posed[v].z > posed[best].z)

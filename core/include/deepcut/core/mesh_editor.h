@@ -5,10 +5,10 @@
 /// (vertex, corner, face) and appends one record to the edit log, so the log cannot drift out of
 /// sync with the mesh (geometry-central's MutationManager, kept as data).
 ///
-/// Skin weights of new vertices follow DESIGN section 3: the union of the sources' joints, the
-/// weights interpolated, the largest four per set kept (eight with JOINTS_1/WEIGHTS_1),
-/// renormalised to sum 1, unused slots joint 0 with weight 0. Corner normals are renormalised,
-/// tangents keep a unit xyz and the handedness of the dominant source.
+/// Skin weights of new vertices follow one rule (docs/library.md, "New vertices"): the union of
+/// the sources' joints, the weights interpolated, the largest four per set kept (eight with
+/// JOINTS_1/WEIGHTS_1), renormalised to sum 1, unused slots joint 0 with weight 0. Corner
+/// normals are renormalised, tangents keep a unit xyz and the handedness of the dominant source.
 
 #include <array>
 

@@ -47,6 +47,9 @@ struct PosedMesh {
   /// True for a mesh posed at given positions without a pose to invert (`at_positions`): the
   /// operations then leave new vertices at their interpolated bind positions.
   bool no_unpose = false;
+  /// True for a mesh posed without a grid (PoseDetail::Positions): `grid` is empty, and
+  /// `PosedModel::prepare` builds the instance again before an operation uses it.
+  bool gridless = false;
 
   /// Bind position of vertex `v` of `surface` (skin weights already set) whose posed position is
   /// `p`: its blended skinning (or the world matrix) inverted in double precision; `p` itself
@@ -65,14 +68,32 @@ struct PosedMesh {
   void follow(const SurfaceMesh& surface, const EditLog& log);
 };
 
+/// How much of each PosedMesh a build makes.
+enum class PoseDetail {
+  Full,       ///< positions, linear maps, bounds and grids: what the operations use
+  Positions,  ///< positions, linear maps and bounds, no grids (`PosedMesh::gridless`): what
+              ///< drawing a pose uses, cheap enough for every frame of a playback
+};
+
 class PosedModel {
  public:
   PosedModel() = default;
 
   /// Indexes every mesh instance of `model` posed at `time` of `animation` (-1: rest pose).
-  /// O(vertices + faces), in parallel.
+  /// O(vertices + faces), in parallel (O(vertices) for PoseDetail::Positions).
   /// @throws Error{InvalidArgument} for an animation index out of range.
-  static PosedModel build(const Model& model, int animation, float time);
+  static PosedModel build(const Model& model, int animation, float time,
+                          PoseDetail detail = PoseDetail::Full);
+
+  /// Poses the same instances of `model` at `time` of `animation` with PoseDetail::Positions,
+  /// reusing their arrays: positions, linear maps and bounds equal a fresh build's bit for bit;
+  /// grids are dropped (`prepare` builds them again when an operation needs them). Builds from
+  /// scratch when `model` no longer has the indexed instances. O(vertices), in parallel.
+  /// @throws Error{InvalidArgument} for an animation index out of range.
+  void repose(const Model& model, int animation, float time);
+
+  /// Every node's world matrix at the pose (empty before a build).
+  const std::vector<glm::mat4>& world() const { return world_; }
 
   /// True once built (and not invalidated).
   bool valid() const { return valid_; }
@@ -114,7 +135,11 @@ class PosedModel {
   void rename_mesh(int node, int mesh);
 
  private:
-  PosedMesh make_instance(const Model& model, int node, int primitive) const;
+  PosedMesh make_instance(const Model& model, int node, int primitive,
+                          PoseDetail detail = PoseDetail::Full) const;
+  void pose_instance(const SurfaceMesh& mesh, PosedMesh& inst, PoseDetail detail) const;
+  void set_pose(const Model& model, int animation, float time);
+  static std::size_t instance_count(const Model& model);
   const std::vector<glm::mat4>& joints_of(const Model& model, int node) const;
 
   bool valid_ = false;

@@ -43,12 +43,16 @@ class InstanceEdit {
   PosedModel& posed_model();
   Model& model();
 
-  /// Removes primitive `primitive` of edit(); the posed model follows.
+  /// Removes primitive `primitive` of edit(); the posed model follows (later primitives move down
+  /// one).
   void erase_primitive(int primitive);
-  /// Appends `primitive` to edit(); the posed model indexes it once the callback returns.
+  /// Appends `primitive` to edit(); the posed model indexes it at that index once the callback
+  /// returns true (so erase before adding, as the drill erases swallowed primitives before adding
+  /// its walls).
   void add_primitive(Primitive primitive);
-  /// The node draws nothing any more (its mesh is emptied when no other node draws it); the
-  /// callback's edits to edit() are dropped.
+  /// The node draws nothing any more: no mesh, no skin, no posed instances (its mesh is emptied
+  /// when no other node draws it); the callback's edits to a shared mesh's copy are dropped. Used
+  /// when an operation leaves the node's mesh without primitives.
   void drop();
   /// The node draws `mesh` instead (in place of its old mesh when no other node draws that). Its
   /// posed instances are dropped: the next PosedModel::prepare indexes the new mesh.

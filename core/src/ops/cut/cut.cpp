@@ -51,7 +51,6 @@ class Cutter {
 
   CutResult run();
   /// Posed positions of the vertices the cut added, by id from the input's vertex count.
-  const std::vector<glm::vec3>& added_posed() const { return posed_.added(); }
 
  private:
   struct Split {
@@ -528,8 +527,7 @@ void check_cut_plane(const Plane& plane) {
 CutResult cut_mesh(SurfaceMesh& mesh, PosedMesh& posed, const Plane& plane, const CutOptions& options) {
   Cutter cutter(mesh, posed.posed, plane, options);
   CutResult result = cutter.run();
-  const std::vector<glm::vec3>& added = cutter.added_posed();
-  posed.posed.insert(posed.posed.end(), added.begin(), added.end());
+  posed.follow(mesh, result.log);
   return result;
 }
 

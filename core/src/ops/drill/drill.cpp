@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Drill (core/include/deepcut/core/ops/drill.h): the stages of drilling one mesh, and the model
-// loop.
+// Drill (core/include/deepcut/core/ops/drill.h): the stages of drilling one mesh, and drill_model
+// on the one instance loop of the model operations (ops/common/model_surgery.h).
 //
 // 1. Candidate faces come from the spatial index (or a bounding-sphere scan); old vertices a hair
 //    from the cylinder's side are slid onto it (rim_insertion.h).
@@ -144,6 +144,58 @@ DrillResult run(SurfaceMesh& mesh, const std::vector<glm::vec3>& input_posed, co
   return result;
 }
 
+// Drills primitive `pi` of the instance's mesh (InstanceEdit::edit) in place, adds its counts to
+// `result`, and moves its wall faces to a primitive of their own appended to `walls` (the "Cut
+// surface" material, added to the model on first use into `cut_material`); the posed instance
+// follows. Returns false when the cylinder misses it.
+bool drill_primitive(detail::InstanceEdit& inst, int pi, const Cylinder& cylinder, const DrillOptions& options,
+                     int& cut_material, ModelDrillResult& result, std::vector<Primitive>& walls) {
+  Primitive& prim = inst.edit().primitives[static_cast<std::size_t>(pi)];
+  // Faces flagged before the drill (a mesh made in code) go to the wall too, as new ones do.
+  const bool flagged_before = prim.mesh.face_attrs().contains(attr::kCutSurface);
+  DrillResult r = drill_mesh(prim.mesh, *inst.posed(pi), cylinder, options);  // prepare() made every instance
+  if (r.status == OpStatus::NoIntersection) return false;
+  result.status = OpStatus::Ok;
+  result.intersection_points += r.intersection_points;
+  result.triangles_removed += r.triangles_removed;
+  result.triangles_added += r.triangles_added;
+  result.wall_triangles += r.wall_triangles;
+  for (const auto& h : r.holes) {
+    result.rim_vertices.push_back(h.rim.size());
+    result.unwalled_holes += options.wall && !h.walled;
+  }
+  // Wall faces move to a primitive of their own: gathered from the log, extracted at the wall's
+  // cost, and removed from the body through the editor.
+  std::vector<FaceId> wall;
+  if (const auto* flag = prim.mesh.face_attrs().find<std::uint8_t>(attr::kCutSurface)) {
+    if (flagged_before) {
+      prim.mesh.for_each_face([&](FaceId f, const Triangle&) {
+        if ((*flag)[f.index]) wall.push_back(f);
+      });
+    } else {
+      for (const Edit& e : r.log.edits)
+        if (const auto* a = std::get_if<FaceAdded>(&e))
+          if (!prim.mesh.is_deleted(a->f) && (*flag)[a->f.index]) wall.push_back(a->f);
+      std::sort(wall.begin(), wall.end());
+    }
+  }
+  if (!wall.empty()) {
+    Primitive w;
+    w.mesh = detail::extract(prim.mesh, wall);
+    w.mesh.face_attrs().remove(attr::kCutSurface);
+    if (cut_material < 0) cut_material = detail::cut_surface_material(inst.model());
+    w.material = cut_material;
+    w.extras_json = prim.extras_json;
+    walls.push_back(std::move(w));
+    MeshEditor editor(prim.mesh);
+    for (FaceId f : wall) editor.remove_face(f);
+    r.log.append(editor.take_log());
+  }
+  prim.mesh.face_attrs().remove(attr::kCutSurface);
+  inst.posed_model().follow(inst.model(), inst.node(), pi, prim.mesh, r.log);
+  return true;
+}
+
 }  // namespace
 
 float min_drill_radius(const Cylinder& cylinder, int min_rim_edges) {
@@ -178,94 +230,23 @@ ModelDrillResult drill_model(Model& model, PosedModel& posed, const Cylinder& cy
   posed.prepare(model, animation, time);
   ModelDrillResult result;
   result.status = OpStatus::NoIntersection;
-  std::vector<int> mesh_users(model.meshes.size(), 0);
-  for (const auto& n : model.nodes)
-    if (n.mesh >= 0 && static_cast<std::size_t>(n.mesh) < model.meshes.size()) ++mesh_users[n.mesh];
   int cut_material = -1;
-  for (std::size_t ni = 0; ni < model.nodes.size(); ++ni) {
-    const int mi = model.nodes[ni].mesh;
-    if (mi < 0 || static_cast<std::size_t>(mi) >= model.meshes.size()) continue;
-    const int node_id = static_cast<int>(ni);
+  detail::for_each_instance(model, posed, [&](detail::InstanceEdit& inst) {
     // The primitives are drilled in place (no copy, no re-extraction: the cost follows the hole);
     // a mesh drawn by several instances is drilled on a copy that this instance then owns.
-    const bool shared = mesh_users[mi] > 1;
-    Mesh copy;
-    Mesh& target = shared ? (copy = model.meshes[mi], copy) : model.meshes[mi];
+    Mesh& target = inst.edit();
     std::vector<Primitive> walls;
     bool any = false;
-    for (std::size_t pi = 0; pi < target.primitives.size(); ++pi) {
-      Primitive& prim = target.primitives[pi];
-      // prepare() made every instance.
-      PosedMesh& inst = *posed.find(node_id, static_cast<int>(pi));
-      // Faces flagged before the drill (a mesh made in code) go to the wall too, as new ones do.
-      const bool flagged_before = prim.mesh.face_attrs().contains(attr::kCutSurface);
-      DrillResult r = drill_mesh(prim.mesh, inst, cylinder, options);
-      if (r.status == OpStatus::NoIntersection) continue;
-      any = true;
-      result.status = OpStatus::Ok;
-      result.intersection_points += r.intersection_points;
-      result.triangles_removed += r.triangles_removed;
-      result.triangles_added += r.triangles_added;
-      result.wall_triangles += r.wall_triangles;
-      for (const auto& h : r.holes) {
-        result.rim_vertices.push_back(h.rim.size());
-        result.unwalled_holes += options.wall && !h.walled;
-      }
-      // Wall faces move to a primitive of their own (the "Cut surface" material): gathered from
-      // the log, extracted at the wall's cost, and removed from the body through the editor.
-      std::vector<FaceId> wall;
-      if (const auto* flag = prim.mesh.face_attrs().find<std::uint8_t>(attr::kCutSurface)) {
-        if (flagged_before) {
-          prim.mesh.for_each_face([&](FaceId f, const Triangle&) {
-            if ((*flag)[f.index]) wall.push_back(f);
-          });
-        } else {
-          for (const Edit& e : r.log.edits)
-            if (const auto* a = std::get_if<FaceAdded>(&e))
-              if (!prim.mesh.is_deleted(a->f) && (*flag)[a->f.index]) wall.push_back(a->f);
-          std::sort(wall.begin(), wall.end());
-        }
-      }
-      if (!wall.empty()) {
-        Primitive w;
-        w.mesh = detail::extract(prim.mesh, wall);
-        w.mesh.face_attrs().remove(attr::kCutSurface);
-        if (cut_material < 0) cut_material = detail::cut_surface_material(model);
-        w.material = cut_material;
-        w.extras_json = prim.extras_json;
-        walls.push_back(std::move(w));
-        MeshEditor editor(prim.mesh);
-        for (FaceId f : wall) editor.remove_face(f);
-        r.log.append(editor.take_log());
-      }
-      prim.mesh.face_attrs().remove(attr::kCutSurface);
-      posed.follow(model, node_id, static_cast<int>(pi), prim.mesh, r.log);
-    }
-    if (!any) continue;
+    for (std::size_t pi = 0; pi < target.primitives.size(); ++pi)
+      any |= drill_primitive(inst, static_cast<int>(pi), cylinder, options, cut_material, result, walls);
+    if (!any) return false;
     // Primitives the cylinder swallowed go; the walls follow the primitives.
     for (std::size_t pi = target.primitives.size(); pi-- > 0;)
-      if (target.primitives[pi].mesh.face_count() == 0) {
-        target.primitives.erase(target.primitives.begin() + static_cast<std::ptrdiff_t>(pi));
-        posed.erase_primitive(node_id, static_cast<int>(pi));
-      }
-    const std::size_t first_wall = target.primitives.size();
-    for (auto& w : walls) target.primitives.push_back(std::move(w));
-    if (target.primitives.empty()) {  // the cylinder swallowed the whole instance: it draws nothing now
-      if (--mesh_users[mi] == 0) model.meshes[mi].primitives.clear();
-      model.nodes[ni].mesh = -1;
-      model.nodes[ni].skin = -1;
-      posed.erase_node(node_id);
-      continue;
-    }
-    const std::size_t primitives = target.primitives.size();
-    if (shared) {
-      --mesh_users[mi];
-      model.meshes.push_back(std::move(copy));
-      model.nodes[ni].mesh = static_cast<int>(model.meshes.size() - 1);
-      posed.rename_mesh(node_id, model.nodes[ni].mesh);
-    }
-    for (std::size_t pi = first_wall; pi < primitives; ++pi) posed.add(model, node_id, static_cast<int>(pi));
-  }
+      if (target.primitives[pi].mesh.face_count() == 0) inst.erase_primitive(static_cast<int>(pi));
+    for (auto& w : walls) inst.add_primitive(std::move(w));
+    if (target.primitives.empty()) inst.drop();  // the cylinder swallowed the whole instance
+    return true;
+  });
   return result;
 }
 

@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 /// @file scene.h
-/// What the studio shows, as data shared by the view and the inspectors: the model, one instance
-/// per drawn primitive (mesh instance x primitive) with its posed world positions, and the
-/// skeleton. No VTK and no Qt here.
+/// What the studio shows, as data shared by the view and the inspectors: the model, its pose (a
+/// PosedModel, core/include/deepcut/core/posed_model.h, built without grids), one instance per
+/// drawn primitive (mesh instance x primitive) viewing that pose's PosedMesh and adding the posed
+/// corner normals, and the skeleton. No VTK and no Qt here.
 
 #include <memory>
 #include <string>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "deepcut/core/model.h"
+#include "deepcut/core/posed_model.h"
 #include "deepcut/core/spatial_index.h"
 #include "deepcut/widgets/overlay.h"
 
@@ -21,7 +23,10 @@ struct SceneInstance {
   int node = -1, mesh = -1, primitive = -1;
   int skin = -1;  ///< the node's skin, or -1 for a rigid instance
   const SurfaceMesh* surface = nullptr;
-  std::vector<glm::vec3> posed;          ///< world positions for the current pose, one per vertex
+  /// This instance in the scene's posed model (`Scene::posed`).
+  const PosedMesh* pose = nullptr;
+  /// World positions for the current pose, one per vertex (the posed model's).
+  const std::vector<glm::vec3>& posed() const { return pose->posed; }
   std::vector<glm::vec3> posed_normals;  ///< world normals, one per corner (empty without normals)
   /// A grid over the live faces at `posed` (the studio's operation index, attached while it
   /// matches this pose and model), or nullptr: the tools' previews then test every face.
@@ -30,8 +35,11 @@ struct SceneInstance {
 
 struct Scene {
   std::shared_ptr<const Model> model;
+  /// The model at the current pose (PoseDetail::Positions: no grids); shared by copies of the
+  /// scene, so posing a copy poses a posed model of its own.
+  std::shared_ptr<PosedModel> posed;
   std::vector<SceneInstance> pieces;  ///< the drawn instances (indexed as `Pick::piece`)
-  std::vector<glm::mat4> world;  ///< world matrix of every node for the current pose
+  std::vector<glm::mat4> world;  ///< world matrix of every node for the current pose (the posed model's)
   int animation = -1;            ///< -1: rest pose
   float time = 0.0f;             ///< seconds
   float size = 1.0f;             ///< diagonal of the rest-pose world bounds (1 when empty)
@@ -43,7 +51,8 @@ struct Scene {
 /// @throws Error{InvalidArgument} if `model` is null or `animation` is out of range.
 Scene make_scene(std::shared_ptr<const Model> model, int animation, float time, bool with_normals = true);
 
-/// Re-poses `scene` in place (positions, normals, world matrices).
+/// Re-poses `scene` in place (positions, normals, world matrices): PosedModel::repose on its
+/// posed model, O(vertices) in parallel, without grids.
 /// @throws Error{InvalidArgument} if `animation` is out of range.
 void pose_scene(Scene& scene, int animation, float time, bool with_normals = true);
 

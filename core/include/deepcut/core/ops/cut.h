@@ -54,10 +54,9 @@ void check_cut_plane(const Plane& plane);
 /// plane was placed against). The sides end up topologically separate (rim vertices are split),
 /// so pieces are connected components of the result.
 /// @param mesh     triangle mesh, edited through MeshEditor.
-/// @param posed    the mesh at the pose; only `posed.posed` is read. On return `posed.posed` also
-///                 holds the posed position of every vertex the cut added (edge points where the
-///                 plane crossed, side copies where their originals are); `linear`, `bounds` and
-///                 `grid` are left describing the input (the model-level cut re-poses its pieces).
+/// @param posed    the mesh at the pose (the cut reads `posed.posed`). On return it follows the
+///                 cut's log (PosedMesh::follow): the vertices the cut added (edge points where the
+///                 plane crossed, side copies) posed as a fresh build would, bounds and grid updated.
 /// @param plane    point and normal (world space); the normal need not be unit.
 /// @param options  see CutOptions (defaults: both sides, no cap, tolerance 1e-5 of model size).
 /// @pre posed.posed.size() == mesh.vertex_count().
