@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <chrono>
 #include <new>
+#include <optional>
+#include <variant>
 
 #include "deepcut/core/errors.h"
 
@@ -14,13 +16,22 @@ double ms_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-/// Applies `entry` to `model` as `deepcut apply` would, noting whether it applied. `posed` (the
-/// posed model describing `model`, or nullptr) follows the operation; after a failure it is
-/// invalidated, so the next operation rebuilds it.
+/// Applies `entry` to `model` as `deepcut apply` would, noting whether it applied. An entry that
+/// fails leaves `model` as it was, so a re-run goes on from what `deepcut apply` makes of the
+/// entries that applied. `posed` (the posed model describing `model`, or nullptr) follows the
+/// operation; after a failure it is invalidated, so the next operation rebuilds it.
 void run_entry(Model& model, OperationEntry& entry, PosedModel* posed) {
   entry.error.clear();
+  // A drill refuses to swallow an instance only once it has drilled (apply_operation): it runs on
+  // a copy (O(model)), kept when it applies. Cuts and tears refuse before they change anything.
+  std::optional<Model> copy;
+  if (const auto* drill = std::get_if<DrillOperation>(&entry.operation.params);
+      drill && drill->options.refuse_swallowed_instances)
+    copy.emplace(model);
+  Model& target = copy ? *copy : model;
   try {
-    entry.status = (posed ? apply_operation(model, entry.operation, *posed) : apply_operation(model, entry.operation)).status;
+    entry.status = (posed ? apply_operation(target, entry.operation, *posed) : apply_operation(target, entry.operation)).status;
+    if (copy) model = std::move(*copy);
   } catch (const Error& e) {
     entry.status = OpStatus::Ok;
     entry.error = e.what();

@@ -394,5 +394,73 @@ TEST(SessionTest, a_session_writes_what_deepcut_apply_writes_and_refuses_a_swall
   EXPECT_NE(refused.err.find(": operation 0: " + message + "\n"), std::string::npos) << refused.err;
 }
 
+/// A drill around the model's axis (vertical, wider than the model) from `from_y` to above the
+/// top: it removes every triangle above `from_y`.
+Operation top_drill(const BoundingBox& box, float from_y) {
+  const glm::vec3 c = 0.5f * (box.min + box.max);
+  DrillOperation drill;
+  drill.cylinder = {{c.x, from_y, c.z}, {c.x, box.max.y + box.diagonal(), c.z}, 2.0f * box.diagonal()};
+  return Operation{drill, -1, 0.0f};
+}
+
+/// A horizontal cut at `y`, both sides kept (the part above becomes its own instance).
+Operation level_cut(float y) {
+  CutOperation cut;
+  cut.plane = {{0.0f, y, 0.0f}, {0.0f, 1.0f, 0.0f}};
+  return Operation{cut, -1, 0.0f};
+}
+
+TEST(SessionTest, a_rerun_skips_a_drill_that_now_swallows_an_instance_and_leaves_no_trace_of_it) {
+  Session session;
+  session.open(load_cactus());
+  const BoundingBox box = rest_bounds(*session.current());
+  const float height = box.max.y - box.min.y;
+  // A cut low down, a drill taking the top off the upper piece, a cut across.
+  const Operation drill = top_drill(box, box.min.y + 0.75f * height);
+  CutOperation across;
+  across.plane = {0.5f * (box.min + box.max), {1.0f, 0.0f, 0.0f}};
+  const Operation last{across, -1, 0.0f};
+  ASSERT_EQ(session.apply(level_cut(box.min.y + 0.6f * height)).result.status, OpStatus::Ok);
+  ASSERT_EQ(session.apply(drill).result.status, OpStatus::Ok);
+  ASSERT_EQ(session.apply(last).result.status, OpStatus::Ok);
+
+  // The cut moved above the drill's lower end: the upper piece lies wholly inside the drill.
+  const Operation higher = level_cut(box.min.y + 0.85f * height);
+  ASSERT_TRUE(session.begin_edit(0));
+  const EditOutcome outcome = session.finish_edit(higher);
+  ASSERT_TRUE(outcome.edited.applied()) << outcome.edited.error;
+  EXPECT_EQ(outcome.skipped, 1u);
+  const std::vector<OperationEntry> entries = session.operations();
+  ASSERT_EQ(entries.size(), 3u);
+  EXPECT_TRUE(entries[0].applied());
+  EXPECT_FALSE(entries[1].applied());
+  EXPECT_NE(entries[1].error.find("removes every triangle of node"), std::string::npos) << entries[1].error;
+  EXPECT_TRUE(entries[2].applied()) << entries[2].error;
+
+  // What apply_operation (and so `deepcut apply`) makes of the operations that applied.
+  Model want = *load_cactus();
+  ASSERT_EQ(apply_operation(want, higher).status, OpStatus::Ok);
+  ASSERT_EQ(apply_operation(want, last).status, OpStatus::Ok);
+  EXPECT_TRUE(bytes(*session.current()) == bytes(want)) << "the skipped drill left changes behind";
+  EXPECT_TRUE(applied_bytes(History{{higher, last}}) == bytes(want));
+
+  // Applied directly, or in a history (either undo mode), the drill changes nothing.
+  const auto before = session.current();
+  const std::string before_bytes = bytes(*before);
+  const std::size_t steps = session.undo_count();
+  EXPECT_THROW(session.apply(drill), Error);
+  EXPECT_EQ(session.current(), before);
+  EXPECT_EQ(session.undo_count(), steps);
+  EXPECT_THROW(session.apply_history(History{{drill}}, "h.json"), Error);
+  EXPECT_EQ(session.current(), before);
+  EXPECT_EQ(session.undo_count(), steps);
+  EXPECT_TRUE(bytes(*session.current()) == before_bytes);
+  Session single(Session::Undo::None);
+  single.open(before);
+  EXPECT_THROW(single.apply_history(History{{last, drill}}, "h.json"), Error);
+  EXPECT_EQ(single.current(), before);
+  EXPECT_TRUE(bytes(*before) == before_bytes);
+}
+
 }  // namespace
 }  // namespace deepcut::session

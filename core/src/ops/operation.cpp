@@ -167,21 +167,12 @@ const char* operation_name(const Operation& operation) {
 }
 
 void check_operation(const Operation& operation, const ParameterName& name) {
-  const auto named = [&](const char* key) { return name ? name(key) : std::string(key); };
   if (const auto* cut = std::get_if<CutOperation>(&operation.params)) {
-    if (glm::length(cut->plane.normal) == 0.0f) throw Error(ErrorCode::InvalidArgument, "cut: the plane normal is zero");
+    check_cut_plane(cut->plane);
   } else if (const auto* tear = std::get_if<TearOperation>(&operation.params)) {
     swept_quad_triangles(tear->start, tear->end);  // throws for a degenerate blade or sweep
   } else if (const auto* drill = std::get_if<DrillOperation>(&operation.params)) {
-    const int edges = drill->options.min_rim_edges;
-    if (edges < DrillOptions::kMinRimEdgesMin || edges > DrillOptions::kMinRimEdgesMax)
-      throw Error(ErrorCode::InvalidArgument, "drill: " + named("min_rim_edges") + " must be between " +
-                                                  std::to_string(DrillOptions::kMinRimEdgesMin) + " and " +
-                                                  std::to_string(DrillOptions::kMinRimEdgesMax));
-    if (!(drill->cylinder.radius > 0.0f))
-      throw Error(ErrorCode::InvalidArgument, "drill: " + named("radius") + " must be positive");
-    if (drill->cylinder.a == drill->cylinder.b)
-      throw Error(ErrorCode::InvalidArgument, "drill: the axis end points A and B coincide");
+    check_drill_arguments(drill->cylinder, drill->options, name);
   }
 }
 
@@ -212,7 +203,7 @@ ModelDrillResult drill_instances(Model& model, const DrillOperation& drill, int 
       throw Error(ErrorCode::InvalidArgument,
                   "the cylinder removes every triangle of node " + std::to_string(ni) +
                       (model.nodes[ni].name.empty() ? std::string() : " '" + model.nodes[ni].name + "'") + " (" +
-                      std::to_string(before[ni]) + " triangles); use a smaller --radius");
+                      std::to_string(before[ni]) + " triangles); use a smaller radius");
   return result;
 }
 

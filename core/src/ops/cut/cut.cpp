@@ -373,10 +373,7 @@ void Cutter::check_arguments() const {
   if (posed_.input().size() != nv)
     throw Error(ErrorCode::InvalidArgument, "cut: " + std::to_string(posed_.input().size()) + " posed positions for " +
                                                 std::to_string(nv) + " vertices");
-  const double nlen = glm::length(normal_);
-  if (!std::isfinite(nlen) || nlen == 0.0) throw Error(ErrorCode::InvalidArgument, "cut: the plane normal is zero or not finite");
-  if (!std::isfinite(point_.x) || !std::isfinite(point_.y) || !std::isfinite(point_.z))
-    throw Error(ErrorCode::InvalidArgument, "cut: the plane point is not finite");
+  check_cut_plane({glm::vec3(point_), glm::vec3(normal_)});
 }
 
 // Classifies every vertex once: distances and the model size in one pass over the vertices
@@ -518,6 +515,14 @@ CutResult Cutter::run() {
 }
 
 }  // namespace
+
+void check_cut_plane(const Plane& plane) {
+  const double nlen = glm::length(glm::dvec3(plane.normal));
+  if (nlen == 0.0) throw Error(ErrorCode::InvalidArgument, "cut: the plane normal is zero");
+  if (!std::isfinite(nlen)) throw Error(ErrorCode::InvalidArgument, "cut: the plane normal is not finite");
+  if (!std::isfinite(plane.point.x) || !std::isfinite(plane.point.y) || !std::isfinite(plane.point.z))
+    throw Error(ErrorCode::InvalidArgument, "cut: the plane point is not finite");
+}
 
 CutResult cut_mesh(SurfaceMesh& mesh, PosedMesh& posed, const Plane& plane, const CutOptions& options) {
   Cutter cutter(mesh, posed.posed, plane, options);

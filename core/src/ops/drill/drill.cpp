@@ -36,20 +36,24 @@ double axis_scale(const Cylinder& c) {
   return glm::length(a) + glm::length(b) + glm::length(b - a);
 }
 
-void check_arguments(const Cylinder& c, const DrillOptions& options) {
+}  // namespace
+
+void check_drill_arguments(const Cylinder& c, const DrillOptions& options, const ParameterName& name) {
   auto finite = [](const glm::vec3& v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
   };
   if (!finite(c.a) || !finite(c.b))
     throw Error(ErrorCode::InvalidArgument, "drill: the axis end points are not finite");
   if (!std::isfinite(c.radius) || !(c.radius > 0.0f))
-    throw Error(ErrorCode::InvalidArgument, "drill: the radius must be a positive number");
+    throw Error(ErrorCode::InvalidArgument, "drill: " + parameter_name(name, "radius") + " must be positive");
   const double len = glm::length(glm::dvec3(c.b) - glm::dvec3(c.a));
   const double scale = glm::length(glm::dvec3(c.a)) + glm::length(glm::dvec3(c.b));
   if (!(len > 1e-7 * scale) || len == 0.0)
     throw Error(ErrorCode::InvalidArgument, "drill: the axis end points A and B coincide");
-  if (options.min_rim_edges < 3 || options.min_rim_edges > 4096)
-    throw Error(ErrorCode::InvalidArgument, "drill: min_rim_edges must be between 3 and 4096");
+  if (options.min_rim_edges < DrillOptions::kMinRimEdgesMin || options.min_rim_edges > DrillOptions::kMinRimEdgesMax)
+    throw Error(ErrorCode::InvalidArgument, "drill: " + parameter_name(name, "min_rim_edges") + " must be between " +
+                                                std::to_string(DrillOptions::kMinRimEdgesMin) + " and " +
+                                                std::to_string(DrillOptions::kMinRimEdgesMax));
   // Rim points closer than the absolute tolerance (a few float steps of the coordinates there)
   // round onto each other or onto one line in float: faces of zero area.
   if (c.radius < min_drill_radius(c, options.min_rim_edges)) {
@@ -66,6 +70,10 @@ void check_arguments(const Cylinder& c, const DrillOptions& options) {
       options.relative_tolerance > 0.1f)
     throw Error(ErrorCode::InvalidArgument, "drill: relative_tolerance must be between 0 and 0.1");
 }
+
+namespace {
+
+void check_arguments(const Cylinder& c, const DrillOptions& options) { check_drill_arguments(c, options); }
 
 // Splits the vertices where a rim pinches the surface (a vertex joining two fans: one vertex
 // each); the copies' posed positions go to `posed`.

@@ -44,6 +44,12 @@ struct CutResult {
   EditLog log;
 };
 
+/// The cut's argument check, which cut_mesh makes first, for front ends that refuse a cut before
+/// they read a model (check_operation).
+/// @throws Error{InvalidArgument}: "cut: the plane normal is zero", "cut: the plane normal is not
+///         finite" or "cut: the plane point is not finite".
+void check_cut_plane(const Plane& plane);
+
 /// Cuts one mesh in place. `posed.posed` gives the world position of every vertex (the pose the
 /// plane was placed against). The sides end up topologically separate (rim vertices are split),
 /// so pieces are connected components of the result.

@@ -15,6 +15,7 @@
 #include "deepcut/core/model.h"
 #include "deepcut/core/posed_model.h"
 #include "deepcut/core/ops/op_status.h"
+#include "deepcut/core/ops/parameter_name.h"
 #include "deepcut/core/spatial_index.h"
 #include "deepcut/core/surface_mesh.h"
 
@@ -87,6 +88,16 @@ struct DrillResult {
 /// edges: rim points must lie farther apart than the drill's absolute tolerance (1e-6 of the
 /// axis' coordinates, a few float steps), or their float positions round onto one point or line.
 float min_drill_radius(const Cylinder& cylinder, int min_rim_edges);
+
+/// The drill's argument checks, which drill_mesh and drill_model make first, for front ends
+/// that refuse a drill before they read a model (check_operation). `name` names the parameters
+/// in the messages (default: the history keys, "radius").
+/// @throws Error{InvalidArgument}: non-finite axis end points, "drill: radius must be positive",
+///         "drill: the axis end points A and B coincide" (closer than 1e-7 of their
+///         coordinates), "drill: min_rim_edges must be between 3 and 4096"
+///         (DrillOptions::kMinRimEdgesMin/Max), a radius under min_drill_radius, or a
+///         relative_tolerance outside [0, 0.1].
+void check_drill_arguments(const Cylinder& cylinder, const DrillOptions& options, const ParameterName& name = {});
 
 /// Drills one mesh in place.
 /// @param mesh      triangle mesh, edited through MeshEditor.

@@ -8,7 +8,6 @@
 /// and that exports carry in the root `extras` under "deepcut_history" (format: docs/cli.md,
 /// "History files").
 
-#include <functional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -16,6 +15,7 @@
 #include "deepcut/core/model.h"
 #include "deepcut/core/ops/cut.h"
 #include "deepcut/core/ops/drill.h"
+#include "deepcut/core/ops/parameter_name.h"
 #include "deepcut/core/ops/tear.h"
 
 namespace deepcut {
@@ -67,18 +67,12 @@ History parse_history(const std::string& json_text);
 /// The JSON text of a history (the inverse of parse_history).
 std::string history_to_json(const History& history);
 
-/// How a message names an operation's parameter, given its history key ("radius"): the key
-/// itself by default; the command line passes its flags ("--radius").
-using ParameterName = std::function<std::string(const std::string& key)>;
-
 /// The checks of an operation's parameters that need no model, for front ends that refuse an
-/// operation before they read one (`deepcut cut|tear|drill`). The operations make these checks
-/// themselves too (apply_operation's messages are theirs); the ranges are the operations' own
-/// (DrillOptions::kMinRimEdgesMin and kMinRimEdgesMax).
-/// @throws Error{InvalidArgument} naming the operation: "drill: radius must be positive",
-///         "drill: min_rim_edges must be between 3 and 4096", "drill: the axis end points A and
-///         B coincide", "cut: the plane normal is zero", or a degenerate blade
-///         (swept_quad_triangles).
+/// operation before they read one (`deepcut cut|tear|drill`): the operation's own checks
+/// (check_cut_plane, the tear's blade checks, check_drill_arguments), which apply_operation
+/// makes too, so the rules and messages are the same; `name` names the parameters in them (the
+/// command line passes its flags, "--radius").
+/// @throws Error{InvalidArgument} naming the operation ("drill: radius must be positive").
 void check_operation(const Operation& operation, const ParameterName& name = {});
 
 /// Applies one operation to the model and records it in the model's history when it changed
@@ -87,9 +81,10 @@ void check_operation(const Operation& operation, const ParameterName& name = {})
 ///               (rebuilt when it was made for another pose or invalid), invalidated by a cut.
 /// @throws Error{InvalidArgument} for bad parameters (the operation's own checks), and for a
 ///         drill that removes every triangle of an instance while its
-///         DrillOptions::refuse_swallowed_instances is set (the default). After an exception the
-///         model may be partly changed and `posed` no longer describes it: apply to a copy, and
-///         invalidate `posed`.
+///         DrillOptions::refuse_swallowed_instances is set (the default; message "... use a
+///         smaller radius"). Cuts and tears refuse before they change anything, but that drill
+///         is refused once it has drilled: after an exception the model may be partly changed
+///         and `posed` no longer describes it, so apply to a copy and invalidate `posed`.
 OperationResult apply_operation(Model& model, const Operation& operation, PosedModel& posed);
 /// Convenience: apply_operation with a posed model built for the call (the same result).
 OperationResult apply_operation(Model& model, const Operation& operation);
