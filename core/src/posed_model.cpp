@@ -182,6 +182,7 @@ void PosedModel::pose_instance(const SurfaceMesh& mesh, PosedMesh& inst, PoseDet
   inst.bounds = bounds_of(inst.posed);
   inst.gridless = detail == PoseDetail::Positions;
   inst.grid = inst.gridless ? TriangleGrid() : TriangleGrid::build(mesh, inst.posed);
+  if (!inst.gridless) inst.grid.reserve(mesh.face_slots() + mesh.face_slots() / 8 + 2048, inst.posed.capacity());
 }
 
 void PosedModel::add(const Model& model, int node, int primitive) {

@@ -150,6 +150,12 @@ void TriangleGrid::file(FaceId f, const Triangle& t, const std::vector<glm::vec3
       for (int x = lo.x; x <= hi.x; ++x) added_[cell_index(x, y, z)].push_back(f.index);
 }
 
+void TriangleGrid::reserve(std::size_t faces, std::size_t vertices) {
+  alive_.reserve(faces);
+  tris_.reserve(faces);
+  placed_.reserve(vertices);
+}
+
 void TriangleGrid::apply(const EditLog& log, const std::vector<glm::vec3>& points) {
   if (empty()) return;
   std::vector<VertexId> moved;

@@ -222,7 +222,9 @@ void bm_tear(benchmark::State& state, std::size_t triangles) {
   for (auto _ : state) {
     state.PauseTiming();
     auto [mesh, adjacency] = session_copy(in);
-    PosedMesh posed = at_rest;
+    PosedMesh posed = at_rest;  // a copy keeps no spare room: give it the session's (PosedModel)
+    posed.posed.reserve(mesh.vertex_count() + mesh.vertex_count() / 8 + 1024);
+    posed.grid.reserve(mesh.face_slots() + mesh.face_slots() / 8 + 2048, posed.posed.capacity());
     state.ResumeTiming();
     TearResult r = tear_mesh(mesh, posed, start, end);
     adjacency.apply(r.log);

@@ -28,6 +28,10 @@ class TriangleGrid {
   static TriangleGrid build(const SurfaceMesh& mesh, const std::vector<glm::vec3>& points,
                             float cell_size = 0.0f);
 
+  /// Room for `faces` face slots and `vertices` vertex slots in all (as SurfaceMesh::reserve), so
+  /// following the first edits files new faces without reallocating the grid's arrays.
+  void reserve(std::size_t faces, std::size_t vertices);
+
   /// Follows an edit log: removed faces leave, added faces join at `points` (which must cover
   /// every vertex the added faces use), and the faces around a moved vertex (VertexMoved: a
   /// drill's snapped vertex, a tear's lips) join the cells of their new place too. `points` holds
