@@ -6,6 +6,9 @@
 namespace deepcut {
 
 std::string attr::uv_name(int set) { return "c:uv" + std::to_string(set); }
+std::string attr::morph_position_name(int target) { return "v:morph" + std::to_string(target) + ":position"; }
+std::string attr::morph_normal_name(int target) { return "c:morph" + std::to_string(target) + ":normal"; }
+std::string attr::morph_tangent_name(int target) { return "c:morph" + std::to_string(target) + ":tangent"; }
 
 AttributeSet::AttributeSet(const AttributeSet& other) : size_(other.size_) {
   for (const auto& [name, array] : other.arrays_) arrays_.emplace(name, array->clone());

@@ -37,6 +37,17 @@ inline constexpr const char* kColor0 = "c:color0";      ///< glm::vec4 per corne
 /// glm::vec2 per corner, glTF TEXCOORD_n; `uv_name(0)` is "c:uv0".
 std::string uv_name(int set);
 inline constexpr const char* kUv0 = "c:uv0";
+/// Morph target `target` (glTF `targets[target]`): the POSITION delta of every vertex,
+/// glm::vec3, "v:morph<target>:position". A primitive with targets has this array for every
+/// target (zeros where the file gave no POSITION), so `MeshEditor` gives each new vertex deltas by
+/// the same blend as its position.
+std::string morph_position_name(int target);
+/// NORMAL delta of target `target` per corner, glm::vec3, "c:morph<target>:normal" (only when
+/// the file had one).
+std::string morph_normal_name(int target);
+/// TANGENT delta (xyz) of target `target` per corner, glm::vec3, "c:morph<target>:tangent" (only
+/// when the file had one).
+std::string morph_tangent_name(int target);
 /// std::uint8_t per face: 1 for surface an operation created (cut caps, drill walls), which
 /// gets its own material slot ("cut surface") on export.
 inline constexpr const char* kCutSurface = "f:cut_surface";

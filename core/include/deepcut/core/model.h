@@ -24,6 +24,8 @@ struct Node {
   int mesh = -1;
   int skin = -1;
   int camera = -1;
+  /// glTF `node.weights`: morph weights overriding its mesh's `weights` (empty when absent).
+  std::vector<float> weights;
   std::string extras_json;      ///< the node's `extras`, verbatim ("" when absent)
   std::string extensions_json;  ///< the node's `extensions`, verbatim ("" when absent)
 
@@ -76,7 +78,14 @@ struct Primitive {
 struct Mesh {
   std::string name;
   std::vector<Primitive> primitives;
-  std::string extras_json;
+  std::string extras_json;  ///< verbatim; holds `targetNames` when the file named its targets
+  /// Default morph weight of each target (glTF `mesh.weights`, zeros when absent): one entry per
+  /// morph target, so its size is the mesh's target count (every primitive carries that many).
+  std::vector<float> weights;
+  /// `extras.targetNames` when present and of the right length (read-only convenience for UIs;
+  /// the file's text stays in `extras_json`).
+  std::vector<std::string> target_names;
+  std::size_t target_count() const { return weights.size(); }
 };
 
 /// A glTF image: its encoded bytes (PNG, JPEG, ...), whatever the file stored it as.

@@ -14,6 +14,9 @@ struct Pose {
   std::vector<glm::vec3> translation;
   std::vector<glm::quat> rotation;
   std::vector<glm::vec3> scale;
+  /// Morph weights per node: `node.weights`, else its mesh's `weights`, overridden by animation
+  /// channels on `weights` (empty for nodes that draw no morphing mesh).
+  std::vector<std::vector<float>> weights;
 };
 
 /// The nodes' own TRS: the rest pose.
