@@ -34,10 +34,74 @@ std::string output_path(const Args& args, const char* command) {
   return args.value("-o");
 }
 
+PositionalSpec model_argument() {
+  return {"MODEL", "the model to read: a rigged .glb/.gltf, or a static .obj/.ply/.stl/.off mesh (loaded "
+                   "unrigged: one root joint)"};
+}
+
 }  // namespace
 
+const CommandSpec& info_command() {
+  static const CommandSpec spec = with_synopsis(
+      {"info",
+       {model_argument()},
+       "counts, edges, bounding box and problems of a model",
+       "Reads MODEL as every command does (the weld included) and prints its nodes, meshes, primitives, "
+       "vertices (glTF and welded), triangles, skins, joints, animations (names and durations in seconds), "
+       "materials, textures, images, boundary, non-manifold and seam edges, connected components, the "
+       "bounding box at the rest pose (world space, model units) and the problems found (what import "
+       "dropped or repaired). It writes nothing.",
+       {json_option("the same counts, plus load_ms,")},
+       "deepcut info assets/cactus.glb --json",
+       {}});
+  return spec;
+}
+
+const CommandSpec& convert_command() {
+  static const CommandSpec spec = with_synopsis(
+      {"convert",
+       {model_argument()},
+       "import, weld and export (.gltf <-> .glb)",
+       "Reads MODEL, welds the vertices glTF duplicated at UV seams and hard normals into one vertex (the "
+       "seams stay in the per-corner attributes) and writes OUT as .glb or .gltf by its extension: it "
+       "converts between the two, and turns a static mesh into a rigged glTF. Skins, animations, "
+       "materials, textures and extensions are carried through; `deepcut info MODEL` lists what import "
+       "drops or repairs.",
+       [] {
+         std::vector<OptionSpec> o = output_options();
+         o.push_back(json_option("input, output, triangles, welded_vertices, read_ms and write_ms"));
+         return o;
+       }(),
+       "deepcut convert assets/models/CesiumMan/CesiumMan.glb -o CesiumMan.gltf",
+       {}});
+  return spec;
+}
+
+const CommandSpec& make_cactus_command() {
+  const CactusOptions defaults{};
+  static const CommandSpec spec = with_synopsis(
+      {"make-cactus",
+       {},
+       "write the project's rigged test cactus",
+       "Generates the ribbed cactus the tests and benchmarks use (a trunk and two arms, each a closed "
+       "surface on its own joint chain, with smooth skin weights and a looping sway animation) and writes "
+       "it to OUT. The same options give the same file; assets/cactus.glb is its output with the defaults.",
+       [&] {
+         std::vector<OptionSpec> o = output_options();
+         o.push_back({"--triangles", "N", "about how many triangles (a whole number, 1000 to 200000000)",
+                      std::to_string(defaults.target_triangles), false, false});
+         o.push_back({"--height", "H", "overall height, ground to the top of the trunk, in model units",
+                      number_text(defaults.height), false, false});
+         o.push_back(json_option("output, triangles, welded_vertices, joints and ms"));
+         return o;
+       }(),
+       "deepcut make-cactus -o cactus-1m.glb --triangles 1000000",
+       {}});
+  return spec;
+}
+
 int run_info(const std::vector<std::string>& argv) {
-  const Args args(argv, {"--json"}, {});
+  const Args args(argv, info_command());
   const std::string path = single_model(args, "info");
   const auto t0 = Clock::now();
   const Model model = plugins::read_model(path);
@@ -100,7 +164,7 @@ int run_info(const std::vector<std::string>& argv) {
 }
 
 int run_convert(const std::vector<std::string>& argv) {
-  const Args args(argv, {"--json"}, {"-o"});
+  const Args args(argv, convert_command());
   const std::string in = single_model(args, "convert");
   const std::string out = output_path(args, "convert");
   const auto t0 = Clock::now();
@@ -122,7 +186,7 @@ int run_convert(const std::vector<std::string>& argv) {
 }
 
 int run_make_cactus(const std::vector<std::string>& argv) {
-  const Args args(argv, {"--json"}, {"-o", "--triangles", "--height"});
+  const Args args(argv, make_cactus_command());
   if (!args.positionals().empty()) throw UsageError("make-cactus takes no MODEL, only -o OUT");
   const std::string out = output_path(args, "make-cactus");
   CactusOptions options;
