@@ -133,6 +133,17 @@ std::vector<char> on_boundary(const SurfaceMesh& mesh) {
   return out;
 }
 
+// True when every live corner of `mesh` has a zero NORMAL delta for target 0 (caps and walls keep
+// their own normals whatever the weights).
+bool zero_normal_deltas(const SurfaceMesh& mesh) {
+  const auto& dn = mesh.corner_attrs().get<glm::vec3>(attr::morph_normal_name(0));
+  bool zero = true;
+  mesh.for_each_face([&](FaceId f, const Triangle&) {
+    for (int k = 0; k < 3; ++k) zero &= dn[SurfaceMesh::corner(f, k)] == glm::vec3(0.0f);
+  });
+  return zero;
+}
+
 // The largest distance, at pose `key`, from a vertex of `part` (a cap or wall primitive drawn by
 // node `part_node`) to the nearest vertex of `body` (drawn by `body_node`) over the vertices of
 // `part` that lie on `body`'s surface at the pose the operation was made in (`partners`: for each
@@ -302,6 +313,7 @@ TEST(MorphPoseTest, drill_at_a_morphed_pose_is_on_the_surface_and_its_walls_stay
     const SurfaceMesh& wall = model.meshes[0].primitives[1].mesh;
     EXPECT_EQ(morph_target_count(surface), 2);
     EXPECT_EQ(morph_target_count(wall), 2);
+    EXPECT_TRUE(zero_normal_deltas(wall));
     // New surface vertices on the posed input surface; those on the holes' rims on the cylinder.
     const auto& now = posed.find(kTube, 0)->posed;
     const glm::dvec3 axis = glm::normalize(glm::dvec3(cyl.b - cyl.a));
@@ -375,6 +387,7 @@ TEST(MorphPoseTest, cut_at_a_morphed_pose_keeps_targets_channels_and_attached_ca
         EXPECT_EQ(morph_target_count(prim.mesh), 2);
         EXPECT_NE(prim.mesh.corner_attrs().find<glm::vec3>(attr::morph_normal_name(0)), nullptr);
       }
+      EXPECT_TRUE(zero_normal_deltas(cap));
       // Every vertex of the piece on the posed input surface; the cap's on the plane.
       const auto& body_posed = posed.find(node, 0)->posed;
       const auto& cap_posed = posed.find(node, 1)->posed;
