@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 // glTF import: nodes, skins, animations, images and the objects carried through untouched.
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <utility>
@@ -80,7 +81,10 @@ void Reader::read_nodes() {
     n.camera = check(g.camera, gltf_.cameras.size(), "camera");
     n.extras_json = dump_member(r, "extras");
     n.extensions_json = dump_member(r, "extensions");
-    if (!g.weights.empty()) note("node '" + g.name + "': morph target weights dropped (morph targets are not supported)");
+    if (!g.weights.empty())
+      problem("morph-weights-dropped", 1, {"node's morph target weights dropped (morph targets are not supported)",
+                                           "nodes' morph target weights dropped (morph targets are not supported)"},
+              "node '" + g.name + "'");
     model_.nodes.push_back(std::move(n));
   }
   // Cycles or a node with two parents would make the hierarchy ill-defined.
@@ -138,8 +142,12 @@ void Reader::read_skins() {
     } else {
       s.had_inverse_bind_matrices = false;
       s.inverse_bind_matrices.assign(s.joints.size(), glm::mat4(1.0f));
-      note("skin " + std::to_string(i) + " has no inverseBindMatrices: identity matrices used (written explicitly on export)");
+      problem("skin-no-inverse-bind-matrices", 1,
+              {"skin has no inverseBindMatrices (identity matrices used, written explicitly on export)",
+               "skins have no inverseBindMatrices (identity matrices used, written explicitly on export)"},
+              "skin " + std::to_string(i));
     }
+    repair_skin(i, s);
     model_.skins.push_back(std::move(s));
   }
 }
@@ -163,7 +171,9 @@ void Reader::read_animations() {
       else if (ch.target_path == "rotation") out.path = AnimationPath::Rotation;
       else if (ch.target_path == "scale") out.path = AnimationPath::Scale;
       else if (ch.target_path == "weights") {
-        note("animation '" + g.name + "': morph weight channel dropped (morph targets are not supported)");
+        problem("morph-channels-dropped", 1, {"morph weight channel dropped (morph targets are not supported)",
+                                              "morph weight channels dropped (morph targets are not supported)"},
+                "animation '" + g.name + "'");
         continue;
       } else fail("animation " + std::to_string(a) + " channel " + std::to_string(c) + ": unknown path '" + ch.target_path + "'");
       if (sampler_map[ch.sampler] < 0) {
@@ -213,8 +223,9 @@ void Reader::read_animations() {
           }
         }
         if (fixed)
-          note("animation " + std::to_string(a) + " channel " + std::to_string(c) + ": " + std::to_string(fixed) +
-               " rotations were not unit quaternions (normalised)");
+          problem("rotations-normalised", fixed,
+                  {"rotation was not a unit quaternion (normalised)", "rotations were not unit quaternions (normalised)"},
+                  "animation " + std::to_string(a) + " channel " + std::to_string(c));
       }
       anim.channels.push_back(out);
     }
@@ -273,7 +284,133 @@ void Reader::read_passthrough() {
       if (e.is_string()) out.push_back(e.get<std::string>());
   }
   model_.extras_json = dump_member(raw_, "extras");
+  model_.extensions_json = dump_member(raw_, "extensions");
   model_.asset_copyright = raw_["asset"].value("copyright", "");
+  model_.asset_extras_json = dump_member(raw_["asset"], "extras");
+}
+
+}  // namespace deepcut::gltf_detail
+
+namespace deepcut::gltf_detail {
+namespace {
+
+// Inverse bind matrices whose last row is this close to (0, 0, 0, 1) are float noise of an
+// affine matrix and are snapped to it (the validator's ACCESSOR_INVALID_IBM wants it exact);
+// farther off, the matrix is not an inverse bind matrix glTF allows and the file is refused.
+constexpr float kIbmLastRowTolerance = 1e-3f;
+
+// Two inverse bind matrices equal up to float noise relative to their largest entry.
+bool same_matrix(const glm::mat4& a, const glm::mat4& b) {
+  float scale = 1.0f, diff = 0.0f;
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r) {
+      scale = std::max({scale, std::abs(a[c][r]), std::abs(b[c][r])});
+      diff = std::max(diff, std::abs(a[c][r] - b[c][r]));
+    }
+  return diff <= 1e-5f * scale;
+}
+
+}  // namespace
+
+// Makes a skin validator-clean: inverse bind matrices get an exact affine last row, and a joint
+// listed twice is listed once (the influences naming a later listing are remapped to the first
+// in read_influences, through skin_joint_remap_).
+void Reader::repair_skin(std::size_t index, Skin& skin) {
+  const std::string place = "skin " + std::to_string(index);
+  std::size_t snapped = 0;
+  for (std::size_t j = 0; j < skin.inverse_bind_matrices.size() && skin.had_inverse_bind_matrices; ++j) {
+    glm::mat4& m = skin.inverse_bind_matrices[j];
+    if (m[0][3] == 0.0f && m[1][3] == 0.0f && m[2][3] == 0.0f && m[3][3] == 1.0f) continue;
+    const float off = std::max({std::abs(m[0][3]), std::abs(m[1][3]), std::abs(m[2][3]), std::abs(m[3][3] - 1.0f)});
+    if (!(off <= kIbmLastRowTolerance))
+      fail(place + ": inverse bind matrix " + std::to_string(j) + " is not affine (its last row is " +
+           std::to_string(m[0][3]) + ", " + std::to_string(m[1][3]) + ", " + std::to_string(m[2][3]) + ", " +
+           std::to_string(m[3][3]) + "; glTF requires 0, 0, 0, 1)");
+    m[0][3] = m[1][3] = m[2][3] = 0.0f;
+    m[3][3] = 1.0f;
+    ++snapped;
+  }
+  if (snapped)
+    problem("ibm-snapped", snapped,
+            {"inverse bind matrix was not exactly affine (last row snapped to 0, 0, 0, 1)",
+             "inverse bind matrices were not exactly affine (last row snapped to 0, 0, 0, 1)"},
+            place);
+
+  std::vector<std::uint32_t> remap(skin.joints.size());
+  std::vector<int> joints;
+  std::vector<glm::mat4> matrices;
+  std::size_t merged = 0, differing = 0;
+  for (std::size_t j = 0; j < skin.joints.size(); ++j) {
+    const auto first = std::find(joints.begin(), joints.end(), skin.joints[j]);
+    if (first == joints.end()) {
+      remap[j] = static_cast<std::uint32_t>(joints.size());
+      joints.push_back(skin.joints[j]);
+      matrices.push_back(skin.inverse_bind_matrices[j]);
+      continue;
+    }
+    remap[j] = static_cast<std::uint32_t>(first - joints.begin());
+    ++merged;
+    differing += !same_matrix(matrices[remap[j]], skin.inverse_bind_matrices[j]);
+  }
+  if (skin_joint_remap_.size() <= index) skin_joint_remap_.resize(index + 1);
+  if (merged == 0) return;
+  skin.joints = std::move(joints);
+  skin.inverse_bind_matrices = std::move(matrices);
+  skin_joint_remap_[index] = std::move(remap);
+  problem("skin-duplicate-joints", merged,
+          {"joint listed twice in its skin merged (JOINTS remapped to its first listing)",
+           "joints listed twice in their skin merged (JOINTS remapped to their first listing)"},
+          place);
+  if (differing)
+    problem("skin-duplicate-joints-differing-ibm", differing,
+            {"merged duplicate joint had another inverse bind matrix (the first listing's is used)",
+             "merged duplicate joints had other inverse bind matrices (the first listing's are used)"},
+            place);
+}
+
+// Extensions and extras on objects that are not carried through (the encoding extensions, whose
+// data is decoded, excepted): each named once, with how often it was dropped.
+void Reader::note_dropped_extensions() {
+  auto encoding = [](const std::string& name) {
+    return name == "KHR_draco_mesh_compression" || name == "EXT_meshopt_compression" || name == "KHR_mesh_quantization";
+  };
+  auto check = [&](const json& o, const std::string& where, bool extras_kept) {
+    if (!o.is_object()) return;
+    if (o.contains("extensions") && o["extensions"].is_object())
+      for (const auto& item : o["extensions"].items())
+        if (!encoding(item.key()))
+          problem("extension-dropped", 1,
+                  {"extension dropped (not carried through on that object)", "extensions dropped (not carried through on those objects)"},
+                  item.key());
+    if (!extras_kept && o.contains("extras"))
+      problem("extras-dropped", 1, {"object's extras dropped (not carried through)", "objects' extras dropped (not carried through)"},
+              where);
+  };
+  auto each = [&](const char* key, const char* what, bool extras_kept) {
+    if (!raw_.contains(key) || !raw_[key].is_array()) return;
+    for (std::size_t i = 0; i < raw_[key].size(); ++i) check(raw_[key][i], std::string(what) + " " + std::to_string(i), extras_kept);
+  };
+  check(raw_["asset"], "asset", true);
+  each("meshes", "mesh", true);
+  each("skins", "skin", false);
+  each("animations", "animation", false);
+  each("scenes", "scene", false);
+  each("images", "image", false);
+  each("accessors", "accessor", false);
+  each("bufferViews", "bufferView", false);
+  each("buffers", "buffer", false);
+  if (raw_.contains("meshes") && raw_["meshes"].is_array())
+    for (std::size_t m = 0; m < raw_["meshes"].size(); ++m)
+      if (raw_["meshes"][m].is_object() && raw_["meshes"][m].contains("primitives") && raw_["meshes"][m]["primitives"].is_array())
+        for (const auto& p : raw_["meshes"][m]["primitives"]) check(p, "", true);
+  if (raw_.contains("animations") && raw_["animations"].is_array())
+    for (std::size_t a = 0; a < raw_["animations"].size(); ++a)
+      for (const char* key : {"channels", "samplers"})
+        if (raw_["animations"][a].is_object() && raw_["animations"][a].contains(key) && raw_["animations"][a][key].is_array())
+          for (const auto& c : raw_["animations"][a][key]) {
+            check(c, "animation " + std::to_string(a) + " " + (key[0] == 'c' ? "channel" : "sampler"), false);
+            if (c.is_object() && c.contains("target")) check(c["target"], "animation " + std::to_string(a) + " channel target", false);
+          }
 }
 
 }  // namespace deepcut::gltf_detail
