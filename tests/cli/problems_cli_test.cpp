@@ -134,6 +134,8 @@ TEST_F(ProblemsCliTest, what_the_file_carries_survives_convert_or_is_named) {
   EXPECT_EQ(back["meshes"][0]["extras"], source["meshes"][0]["extras"]);
   EXPECT_EQ(back["materials"][0]["extras"], source["materials"][0]["extras"]);
   EXPECT_EQ(back["extensions"], source["extensions"]);
+  // The extension dropped everywhere is no longer declared used; the kept one is.
+  EXPECT_EQ(back["extensionsUsed"], json({"EXT_deepcut_root_test"}));
   // The mesh's extension and the skin's extras are not carried through: each is named.
   const json problems = json::parse(r.out).at("problems");
   const auto find = [&](const char* kind) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <set>
 #include <utility>
 
 #include "io/gltf_reader.h"
@@ -299,6 +300,19 @@ namespace {
 // farther off, the matrix is not an inverse bind matrix glTF allows and the file is refused.
 constexpr float kIbmLastRowTolerance = 1e-3f;
 
+// Adds the name of every extension used anywhere inside `o` to `names`.
+void collect_extension_names(const json& o, std::set<std::string>& names) {
+  if (o.is_array()) {
+    for (const auto& item : o) collect_extension_names(item, names);
+  } else if (o.is_object()) {
+    for (const auto& item : o.items()) {
+      if (item.key() == "extensions" && item.value().is_object())
+        for (const auto& e : item.value().items()) names.insert(e.key());
+      collect_extension_names(item.value(), names);
+    }
+  }
+}
+
 // Two inverse bind matrices equal up to float noise relative to their largest entry.
 bool same_matrix(const glm::mat4& a, const glm::mat4& b) {
   float scale = 1.0f, diff = 0.0f;
@@ -374,14 +388,17 @@ void Reader::note_dropped_extensions() {
   auto encoding = [](const std::string& name) {
     return name == "KHR_draco_mesh_compression" || name == "EXT_meshopt_compression" || name == "KHR_mesh_quantization";
   };
+  std::set<std::string> dropped;
   auto check = [&](const json& o, const std::string& where, bool extras_kept) {
     if (!o.is_object()) return;
     if (o.contains("extensions") && o["extensions"].is_object())
       for (const auto& item : o["extensions"].items())
-        if (!encoding(item.key()))
+        if (!encoding(item.key())) {
+          dropped.insert(item.key());
           problem("extension-dropped", 1,
                   {"extension dropped (not carried through on that object)", "extensions dropped (not carried through on those objects)"},
                   item.key());
+        }
     if (!extras_kept && o.contains("extras"))
       problem("extras-dropped", 1, {"object's extras dropped (not carried through)", "objects' extras dropped (not carried through)"},
               where);
@@ -411,6 +428,15 @@ void Reader::note_dropped_extensions() {
             check(c, "animation " + std::to_string(a) + " " + (key[0] == 'c' ? "channel" : "sampler"), false);
             if (c.is_object() && c.contains("target")) check(c["target"], "animation " + std::to_string(a) + " channel target", false);
           }
+  // An extension dropped everywhere no longer belongs in extensionsUsed / extensionsRequired.
+  std::set<std::string> carried;
+  for (const char* key : {"nodes", "materials", "textures", "samplers", "cameras"})
+    if (raw_.contains(key)) collect_extension_names(raw_[key], carried);
+  if (raw_.contains("extensions") && raw_["extensions"].is_object())
+    for (const auto& item : raw_["extensions"].items()) carried.insert(item.key());
+  auto gone = [&](const std::string& e) { return dropped.count(e) && !carried.count(e); };
+  for (auto* list : {&model_.extensions_used, &model_.extensions_required})
+    list->erase(std::remove_if(list->begin(), list->end(), gone), list->end());
 }
 
 }  // namespace deepcut::gltf_detail
