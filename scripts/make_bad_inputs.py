@@ -638,6 +638,21 @@ def _(name):
     return {name: g.gltf_bytes()}
 
 
+@case("skin_joint_listed_twice_other_ibm.gltf",
+      "the skin lists node 1 twice, the second time with its inverse bind matrix moved by 0.5 in y; vertices 0-4 use it")
+def _(name):
+    g = simple_skin()
+    m = g.read(4)
+    moved = m[0][:13] + (m[0][13] + 0.5,) + m[0][14:]
+    g.doc["skins"][0]["joints"].append(g.doc["skins"][0]["joints"][0])
+    g.doc["skins"][0]["inverseBindMatrices"] = g.add_accessor([m[0], m[1], moved], FLOAT, "MAT4")
+    j = g.read(2)
+    for v in range(5):
+        j[v] = tuple(2 if x == 0 else x for x in j[v])
+    g.write(2, j)
+    return {name: g.gltf_bytes()}
+
+
 @case("joints_repeated_in_vertex.gltf", "vertices 2 and 3 name joint 1 in two slots, each with weight 0.25, plus joint 0 with 0.5")
 def _(name):
     g = simple_skin()

@@ -326,9 +326,8 @@ bool same_matrix(const glm::mat4& a, const glm::mat4& b) {
 
 }  // namespace
 
-// Makes a skin validator-clean: inverse bind matrices get an exact affine last row, and a joint
-// listed twice is listed once (the influences naming a later listing are remapped to the first
-// in read_influences, through skin_joint_remap_).
+// Makes a skin validator-clean: inverse bind matrices get an exact affine last row, and no joint
+// is listed twice (merge_duplicate_joints).
 void Reader::repair_skin(std::size_t index, Skin& skin) {
   const std::string place = "skin " + std::to_string(index);
   std::size_t snapped = 0;
@@ -350,24 +349,46 @@ void Reader::repair_skin(std::size_t index, Skin& skin) {
              "inverse bind matrices were not exactly affine (last row snapped to 0, 0, 0, 1)"},
             place);
 
+  merge_duplicate_joints(index, skin);
+}
+
+// A joint listed twice in a skin (the validator's DUPLICATE_ELEMENTS) is listed once: influences
+// naming a later listing are remapped to the first (read_influences, through skin_joint_remap_).
+// A later listing with another inverse bind matrix cannot be merged without moving its vertices:
+// it becomes a new child node of the joint with the identity transform (so it poses exactly like
+// the joint), and the skin lists that node instead.
+void Reader::merge_duplicate_joints(std::size_t index, Skin& skin) {
+  const std::string place = "skin " + std::to_string(index);
   std::vector<std::uint32_t> remap(skin.joints.size());
   std::vector<int> joints;
   std::vector<glm::mat4> matrices;
-  std::size_t merged = 0, differing = 0;
+  std::size_t merged = 0, stand_ins = 0;
   for (std::size_t j = 0; j < skin.joints.size(); ++j) {
-    const auto first = std::find(joints.begin(), joints.end(), skin.joints[j]);
-    if (first == joints.end()) {
-      remap[j] = static_cast<std::uint32_t>(joints.size());
-      joints.push_back(skin.joints[j]);
-      matrices.push_back(skin.inverse_bind_matrices[j]);
+    const int node = skin.joints[j];
+    const auto first = std::find(joints.begin(), joints.end(), node);
+    const bool same = first != joints.end() && same_matrix(matrices[std::size_t(first - joints.begin())],
+                                                           skin.inverse_bind_matrices[j]);
+    if (same) {
+      remap[j] = static_cast<std::uint32_t>(first - joints.begin());
+      ++merged;
       continue;
     }
-    remap[j] = static_cast<std::uint32_t>(first - joints.begin());
-    ++merged;
-    differing += !same_matrix(matrices[remap[j]], skin.inverse_bind_matrices[j]);
+    remap[j] = static_cast<std::uint32_t>(joints.size());
+    matrices.push_back(skin.inverse_bind_matrices[j]);
+    if (first == joints.end()) {
+      joints.push_back(node);
+      continue;
+    }
+    Node stand_in;
+    stand_in.name = model_.nodes[std::size_t(node)].name + " (listed again in skin " + std::to_string(index) + ")";
+    const int added = static_cast<int>(model_.nodes.size());
+    model_.nodes[std::size_t(node)].children.push_back(added);
+    model_.nodes.push_back(std::move(stand_in));
+    joints.push_back(added);
+    ++stand_ins;
   }
   if (skin_joint_remap_.size() <= index) skin_joint_remap_.resize(index + 1);
-  if (merged == 0) return;
+  if (merged + stand_ins == 0) return;
   skin.joints = std::move(joints);
   skin.inverse_bind_matrices = std::move(matrices);
   skin_joint_remap_[index] = std::move(remap);
@@ -375,11 +396,12 @@ void Reader::repair_skin(std::size_t index, Skin& skin) {
           {"joint listed twice in its skin merged (JOINTS remapped to its first listing)",
            "joints listed twice in their skin merged (JOINTS remapped to their first listing)"},
           place);
-  if (differing)
-    problem("skin-duplicate-joints-differing-ibm", differing,
-            {"merged duplicate joint had another inverse bind matrix (the first listing's is used)",
-             "merged duplicate joints had other inverse bind matrices (the first listing's are used)"},
-            place);
+  problem("skin-duplicate-joints-stand-in", stand_ins,
+          {"joint listed twice in its skin with another inverse bind matrix now lists a new child node of the "
+           "joint (identity transform, so it poses the same)",
+           "joints listed twice in their skin with other inverse bind matrices now list new child nodes of the "
+           "joints (identity transform, so they pose the same)"},
+          place);
 }
 
 // Extensions and extras on objects that are not carried through (the encoding extensions, whose

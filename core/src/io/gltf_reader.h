@@ -75,6 +75,7 @@ class Reader {
   void read_images();
   void read_passthrough();
   void repair_skin(std::size_t index, Skin& skin);
+  void merge_duplicate_joints(std::size_t index, Skin& skin);
   void note_dropped_extensions();
 
   // gltf_read_mesh.cpp
