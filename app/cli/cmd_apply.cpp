@@ -58,6 +58,8 @@ int run_apply(const std::vector<std::string>& argv) {
     throw Error(e.code(), history_path + ": " + e.what());
   }
   Model model = plugins::read_model(args.positionals()[0]);
+  print_problems(std::cerr, args.positionals()[0], model.import_problems);
+  const json problems = problems_report(model.import_problems);
   reserve_for_operations(model);
   // A session without undo steps: one copy of the model that every operation edits, and one
   // posed model (built by the first drill or tear, rebuilt when an operation's pose differs or
@@ -76,7 +78,7 @@ int run_apply(const std::vector<std::string>& argv) {
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   write_gltf(*session.current(), args.value("-o"));
   if (args.flag("--json")) {
-    std::cout << json{{"operations", reports}, {"ms", ms}}.dump(2) << "\n";
+    std::cout << json{{"operations", reports}, {"problems", problems}, {"ms", ms}}.dump(2) << "\n";
   } else {
     std::cerr << "deepcut: applied " << count_of(history.operations.size(), "operation", "operations") << " -> "
               << args.value("-o") << "\n";

@@ -10,6 +10,7 @@
 
 #include "commands.h"
 #include "args.h"
+#include "operation_report.h"
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/posed_model.h"
 #include "deepcut/plugins/formats.h"
@@ -182,6 +183,7 @@ int run_cluster(const std::vector<std::string>& argv) {
   if (!args.has("--radius") && !args.has("--particles"))
     throw UsageError("cluster needs --radius RHO (rest-pose model units) or --particles N");
   const Model model = plugins::read_model(path);
+  print_problems(std::cerr, path, model.import_problems);
   const PosedModel rest = PosedModel::build(model, -1, 0.0f, PoseDetail::Positions);
   const auto inst = instances(model, rest);
   const ClusterChoice choice = choose_clusters(args, inst, "--radius", 0);
@@ -199,6 +201,7 @@ int run_cluster(const std::vector<std::string>& argv) {
                 {"memberships", s.memberships},
                 {"covered_vertices", s.covered_vertices},
                 {"uncovered_vertices", s.uncovered_vertices},
+                {"problems", problems_report(model.import_problems)},
                 {"ms", c.ms}};
     if (choice.searched) {
       out["target_particles"] = choice.target;
@@ -283,6 +286,7 @@ int run_softbody(const std::vector<std::string>& argv) {
   sim.mass = static_cast<float>(args.number("--mass", sim.mass));
 
   const Model model = plugins::read_model(path);
+  print_problems(std::cerr, path, model.import_problems);
   int animation = animation_option(args, model.animations.size());
   const bool animate = args.flag("--animate");
   if (animate && model.animations.empty()) throw UsageError("--animate: the model has no animation");
@@ -374,6 +378,7 @@ int run_softbody(const std::vector<std::string>& argv) {
                       {"peak_frame", peak_frame},
                       {"final", max_disp.back()},
                       {"final_relative", size > 0.0f ? max_disp.back() / size : 0.0},
+                      {"problems", problems_report(model.import_problems)},
                       {"step_ms", step_ms / frames}}
                      .dump(2)
               << "\n";

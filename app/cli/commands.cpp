@@ -13,6 +13,7 @@
 #include "deepcut/plugins/formats.h"
 #include "deepcut/core/validate.h"
 #include "args.h"
+#include "operation_report.h"
 
 namespace deepcut::cli {
 namespace {
@@ -154,12 +155,14 @@ int run_info(const std::vector<std::string>& argv) {
   const Model model = plugins::read_model(path);
   const double load_ms = ms_since(t0);
   const ModelStats s = compute_stats(model);
-  auto problems = find_problems(model);
+  // What reading repaired or dropped, then the checks of every primitive: info's report is the
+  // list, so it prints no stderr lines of its own.
+  auto problems = model_problems(model);
   // A file with nothing to draw is a problem for every command that edits meshes.
   const bool reported = std::any_of(problems.begin(), problems.end(),
-                                    [](const std::string& p) { return p.find("no triangles") != std::string::npos; });
-  if (s.meshes == 0) problems.push_back("the scene has no mesh");
-  else if (s.triangles == 0 && !reported) problems.push_back("the mesh has no triangles");
+                                    [](const ImportProblem& p) { return p.kind == "no-triangles"; });
+  if (s.meshes == 0) problems.push_back({"no-mesh", "the scene has no mesh", 1, {}});
+  else if (s.triangles == 0 && !reported) problems.push_back({"no-triangles", "the mesh has no triangles", 1, {}});
   json anims = json::array();
   for (const auto& a : model.animations) anims.push_back({{"name", a.name}, {"duration", a.duration()}});
   std::size_t merged = 0;
@@ -189,7 +192,7 @@ int run_info(const std::vector<std::string>& argv) {
                 {"seam_edges", s.seam_edges},
                 {"components", s.components},
                 {"bbox", {{"min", {lo.x, lo.y, lo.z}}, {"max", {hi.x, hi.y, hi.z}}}},
-                {"problems", problems},
+                {"problems", problems_report(problems)},
                 {"load_ms", load_ms}};
     std::cout << out.dump(2) << "\n";
     return 0;
@@ -209,7 +212,7 @@ int run_info(const std::vector<std::string>& argv) {
             << "  bbox (rest pose) [" << lo.x << ", " << lo.y << ", " << lo.z << "] - [" << hi.x << ", " << hi.y << ", "
             << hi.z << "]\n"
             << "  problems: " << (problems.empty() ? "none" : std::to_string(problems.size())) << "\n";
-  for (const auto& p : problems) std::cout << "    - " << p << "\n";
+  for (const auto& p : problems) std::cout << "    - " << p.message << "\n";
   return 0;
 }
 
@@ -220,13 +223,14 @@ int run_convert(const std::vector<std::string>& argv) {
   const auto t0 = Clock::now();
   const Model model = plugins::read_model(in);
   const double read_ms = ms_since(t0);
+  print_problems(std::cerr, in, model.import_problems);
   const auto t1 = Clock::now();
   write_gltf(model, out);
   const double write_ms = ms_since(t1);
   if (args.flag("--json")) {
     const ModelStats s = compute_stats(model);
     std::cout << json{{"input", in}, {"output", out}, {"triangles", s.triangles}, {"welded_vertices", s.welded_vertices},
-                      {"read_ms", read_ms}, {"write_ms", write_ms}}
+                      {"problems", problems_report(model.import_problems)}, {"read_ms", read_ms}, {"write_ms", write_ms}}
                      .dump(2)
               << "\n";
   } else {

@@ -53,6 +53,7 @@ int run_operation(const OperationCommand& command, const std::vector<std::string
   check_operation(op, flag_of);  // before the model is read
 
   Model model = plugins::read_model(args.positionals()[0]);
+  print_problems(std::cerr, args.positionals()[0], model.import_problems);
   op.animation = pose_animation(args, model);
   op.time = static_cast<float>(args.number("--time", 0.0));
   // Tears and drills first pose the model (timed apart, as in the paper's Table 1); a cut poses
