@@ -75,6 +75,13 @@ long long Args::integer(const std::string& name, long long fallback) const {
   return v;
 }
 
+ExportOptions export_options(const Args& args) {
+  ExportOptions options;
+  if (args.has("--compress") && !parse_compression(args.value("--compress"), &options.compression))
+    throw UsageError("--compress '" + args.value("--compress") + "': use none, draco or meshopt");
+  return options;
+}
+
 std::string count_of(std::size_t n, const std::string& singular, const std::string& plural) {
   return std::to_string(n) + " " + (n == 1 ? singular : plural);
 }

@@ -49,6 +49,9 @@ std::string usage() {
   }
   out += "\nMODEL is a rigged .glb/.gltf, or a static .obj/.ply/.stl/.off mesh (loaded unrigged: one root\n"
          "joint, so every export is a rigged glTF)\n";
+  out += "\nconvert, make-cactus, apply and the operation commands take --compress draco|meshopt: the\n"
+         "output's meshes Draco compressed (KHR_draco_mesh_compression, quantised) or meshopt compressed\n"
+         "(EXT_meshopt_compression, lossless); default none\n";
   out += "\nexit codes: 0 ok, 2 bad input or usage, 1 internal error\n";
   return out;
 }

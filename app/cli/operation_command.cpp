@@ -43,13 +43,14 @@ const OperationCommand* find_operation_command(const std::string& name) {
 int run_operation(const OperationCommand& command, const std::vector<std::string>& argv) {
   std::set<std::string> flags = command.flags, options = command.options;
   flags.insert("--json");
-  options.insert({"-o", "--time", "--animation"});
+  options.insert({"-o", "--time", "--animation", "--compress"});
   const Args args(argv, flags, options);
   const std::string& name = command.name;
   if (args.positionals().size() != 1) throw UsageError(name + " needs exactly one MODEL");
   if (!args.has("-o")) throw UsageError(name + " needs -o OUT (.glb or .gltf)");
   for (const auto& [option, value] : command.required)
     if (!args.has(option)) throw UsageError(name + " needs " + option + " " + value);
+  const ExportOptions export_opts = export_options(args);
   Operation op;
   op.params = command.parse(args);
   check_operation(op, flag_of);  // before the model is read
@@ -74,7 +75,7 @@ int run_operation(const OperationCommand& command, const std::vector<std::string
   if (posed) report["preprocess_ms"] = preprocess_ms;
   if (report.contains("wall_note") && !args.flag("--json"))
     std::cerr << "deepcut: " << report["wall_note"].get<std::string>() << "\n";
-  write_gltf(model, args.value("-o"));
+  write_gltf(model, args.value("-o"), export_opts);
   if (args.flag("--json")) {
     report["ms"] = ms;
     std::cout << report.dump(2) << "\n";
