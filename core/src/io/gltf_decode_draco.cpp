@@ -59,6 +59,19 @@ bool copy_attribute(const draco::PointAttribute& att, std::size_t points, int co
   }
 }
 
+// The mesh's triangles as `isize`-byte indices (little endian) into `out`: 0, or 1 + the first
+// index that is past the points or does not fit in `isize` bytes.
+std::uint64_t copy_indices(const draco::Mesh& mesh, int isize, std::vector<unsigned char>& out) {
+  const std::uint64_t limit = isize == 1 ? 0xFFu : isize == 2 ? 0xFFFFu : 0xFFFFFFFFu;
+  for (std::uint32_t f = 0; f < mesh.num_faces(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t index = mesh.face(draco::FaceIndex(f))[k].value();
+      if (index >= mesh.num_points() || index > limit) return std::uint64_t(index) + 1;
+      std::memcpy(out.data() + (3 * std::size_t(f) + std::size_t(k)) * std::size_t(isize), &index, std::size_t(isize));
+    }
+  return 0;
+}
+
 }  // namespace
 
 void Reader::decode_draco_primitives() {
@@ -129,14 +142,8 @@ void Reader::decode_draco_primitive(const json& raw_prim, tinygltf::Primitive& p
       fail(where + ": indices have componentType " + std::to_string(component_type));
     spend_decode_budget(3 * faces * std::size_t(isize), where);
     std::vector<unsigned char> bytes(3 * faces * std::size_t(isize));
-    const std::uint64_t limit = isize == 1 ? 0xFFu : isize == 2 ? 0xFFFFu : 0xFFFFFFFFu;
-    for (std::size_t f = 0; f < faces; ++f)
-      for (int k = 0; k < 3; ++k) {
-        const std::uint32_t index = mesh.face(draco::FaceIndex(static_cast<std::uint32_t>(f)))[k].value();
-        if (index >= points || index > limit)
-          fail(where + ": Draco index " + std::to_string(index) + " is past the " + std::to_string(points) + " vertices");
-        std::memcpy(bytes.data() + (3 * f + std::size_t(k)) * std::size_t(isize), &index, std::size_t(isize));  // little endian
-      }
+    const std::uint64_t bad = copy_indices(mesh, isize, bytes);
+    if (bad != 0) fail(where + ": Draco index " + std::to_string(bad - 1) + " is past the " + std::to_string(points) + " vertices");
     tinygltf::Accessor acc;
     acc.componentType = component_type;
     acc.type = TINYGLTF_TYPE_SCALAR;

@@ -32,6 +32,51 @@ struct MeshoptView {
   std::string mode, filter = "NONE";
 };
 
+// The parameters of `ext` (a bufferView's extension object), checked against the spec's rules,
+// each one a precondition of the library; `fail` throws.
+template <class Fail>
+MeshoptView parse_meshopt(const json& ext, const std::string& what, Fail&& fail) {
+  MeshoptView m;
+  auto number = [&](const char* key, bool required, std::size_t fallback) -> std::size_t {
+    if (!ext.contains(key)) {
+      if (required) fail(what + ": '" + key + "' is missing");
+      return fallback;
+    }
+    const json& n = ext[key];
+    if (!n.is_number_unsigned() || n.get<std::uint64_t>() > std::numeric_limits<std::uint32_t>::max())
+      fail(what + ": '" + key + "' is not a whole number below 2^32");
+    return static_cast<std::size_t>(n.get<std::uint64_t>());
+  };
+  auto text = [&](const char* key, const std::string& fallback) {
+    if (!ext.contains(key)) return fallback;
+    if (!ext[key].is_string()) fail(what + ": '" + key + "' is not a string");
+    return ext[key].get<std::string>();
+  };
+  m.buffer = number("buffer", true, 0);
+  m.offset = number("byteOffset", false, 0);
+  m.length = number("byteLength", true, 0);
+  m.stride = number("byteStride", true, 0);
+  m.count = number("count", true, 0);
+  m.mode = text("mode", "");
+  m.filter = text("filter", "NONE");
+
+  // The spec's rules.
+  if (m.mode != "ATTRIBUTES" && m.mode != "TRIANGLES" && m.mode != "INDICES")
+    fail(what + ": mode '" + m.mode + "' is not ATTRIBUTES, TRIANGLES or INDICES");
+  if (m.mode == "ATTRIBUTES" && (m.stride == 0 || m.stride % 4 != 0 || m.stride > 256))
+    fail(what + ": byteStride " + std::to_string(m.stride) + " must be a multiple of 4 up to 256 for ATTRIBUTES");
+  if (m.mode != "ATTRIBUTES" && m.stride != 2 && m.stride != 4)
+    fail(what + ": byteStride " + std::to_string(m.stride) + " must be 2 or 4 for " + m.mode);
+  if (m.mode == "TRIANGLES" && m.count % 3 != 0) fail(what + ": count " + std::to_string(m.count) + " is not a multiple of 3");
+  if (m.filter != "NONE" && m.mode != "ATTRIBUTES") fail(what + ": filter " + m.filter + " needs mode ATTRIBUTES");
+  if (m.filter == "OCTAHEDRAL" && m.stride != 4 && m.stride != 8)
+    fail(what + ": filter OCTAHEDRAL needs byteStride 4 or 8, not " + std::to_string(m.stride));
+  if (m.filter == "QUATERNION" && m.stride != 8) fail(what + ": filter QUATERNION needs byteStride 8, not " + std::to_string(m.stride));
+  if (m.filter != "NONE" && m.filter != "OCTAHEDRAL" && m.filter != "QUATERNION" && m.filter != "EXPONENTIAL")
+    fail(what + ": unknown filter '" + m.filter + "'");
+  return m;
+}
+
 }  // namespace
 
 bool stub_for_tinygltf(const json& doc, bool glb, std::string* json_text) {
@@ -109,44 +154,7 @@ void Reader::decode_meshopt_views() {
     if (!ext) continue;
     const std::string what = "bufferView " + std::to_string(v) + " (" + kMeshopt + ")";
     if (!ext->is_object()) fail(what + ": the extension is not an object");
-    MeshoptView m;
-    auto number = [&](const char* key, bool required, std::size_t fallback) -> std::size_t {
-      if (!ext->contains(key)) {
-        if (required) fail(what + ": '" + key + "' is missing");
-        return fallback;
-      }
-      const json& n = (*ext)[key];
-      if (!n.is_number_unsigned() || n.get<std::uint64_t>() > std::numeric_limits<std::uint32_t>::max())
-        fail(what + ": '" + key + "' is not a whole number below 2^32");
-      return static_cast<std::size_t>(n.get<std::uint64_t>());
-    };
-    auto text = [&](const char* key, const std::string& fallback) {
-      if (!ext->contains(key)) return fallback;
-      if (!(*ext)[key].is_string()) fail(what + ": '" + key + "' is not a string");
-      return (*ext)[key].get<std::string>();
-    };
-    m.buffer = number("buffer", true, 0);
-    m.offset = number("byteOffset", false, 0);
-    m.length = number("byteLength", true, 0);
-    m.stride = number("byteStride", true, 0);
-    m.count = number("count", true, 0);
-    m.mode = text("mode", "");
-    m.filter = text("filter", "NONE");
-
-    // The spec's rules, each one a precondition of the library.
-    if (m.mode != "ATTRIBUTES" && m.mode != "TRIANGLES" && m.mode != "INDICES")
-      fail(what + ": mode '" + m.mode + "' is not ATTRIBUTES, TRIANGLES or INDICES");
-    if (m.mode == "ATTRIBUTES" && (m.stride == 0 || m.stride % 4 != 0 || m.stride > 256))
-      fail(what + ": byteStride " + std::to_string(m.stride) + " must be a multiple of 4 up to 256 for ATTRIBUTES");
-    if (m.mode != "ATTRIBUTES" && m.stride != 2 && m.stride != 4)
-      fail(what + ": byteStride " + std::to_string(m.stride) + " must be 2 or 4 for " + m.mode);
-    if (m.mode == "TRIANGLES" && m.count % 3 != 0) fail(what + ": count " + std::to_string(m.count) + " is not a multiple of 3");
-    if (m.filter != "NONE" && m.mode != "ATTRIBUTES") fail(what + ": filter " + m.filter + " needs mode ATTRIBUTES");
-    if (m.filter == "OCTAHEDRAL" && m.stride != 4 && m.stride != 8)
-      fail(what + ": filter OCTAHEDRAL needs byteStride 4 or 8, not " + std::to_string(m.stride));
-    if (m.filter == "QUATERNION" && m.stride != 8) fail(what + ": filter QUATERNION needs byteStride 8, not " + std::to_string(m.stride));
-    if (m.filter != "NONE" && m.filter != "OCTAHEDRAL" && m.filter != "QUATERNION" && m.filter != "EXPONENTIAL")
-      fail(what + ": unknown filter '" + m.filter + "'");
+    const MeshoptView m = parse_meshopt(*ext, what, [&](const std::string& msg) { fail(msg); });
     if (m.count > kMaxCount) fail(what + ": count " + std::to_string(m.count) + " is implausibly large");
     const std::size_t decoded = m.count * m.stride;  // <= 2^28 * 256
     const auto& parent = gltf_.bufferViews[v];
