@@ -17,6 +17,7 @@
 #include "deepcut/core/posed_model.h"
 #include "deepcut/core/validate.h"
 #include "fixtures.h"
+#include "gltf_morph_fixtures.h"
 #include "tools.h"
 
 namespace deepcut {
@@ -204,6 +205,72 @@ TEST(CompressedGltf, compression_names_parse) {
   EXPECT_TRUE(parse_compression("none", &c));
   EXPECT_EQ(c, Compression::None);
   EXPECT_FALSE(parse_compression("zip", &c));
+}
+
+// Morph targets stay plain accessors beside a Draco primitive (which keeps the vertex order for
+// them) and go through meshopt like any view: every target, weight, name and weight channel reads
+// back, the deltas exactly, on the test's own quad and on a real morph model.
+void expect_same_targets(const Model& want, const Model& got, float tolerance) {
+  ASSERT_EQ(want.meshes.size(), got.meshes.size());
+  for (std::size_t m = 0; m < want.meshes.size(); ++m) {
+    EXPECT_EQ(want.meshes[m].weights, got.meshes[m].weights);
+    EXPECT_EQ(want.meshes[m].target_names, got.meshes[m].target_names);
+    for (std::size_t p = 0; p < want.meshes[m].primitives.size(); ++p) {
+      const SurfaceMesh& wm = want.meshes[m].primitives[p].mesh;
+      const SurfaceMesh& gm = got.meshes[m].primitives[p].mesh;
+      for (std::size_t t = 0; t < want.meshes[m].target_count(); ++t) {
+        const auto* wd = wm.vertex_attrs().find<glm::vec3>(attr::morph_position_name(static_cast<int>(t)));
+        const auto* gd = gm.vertex_attrs().find<glm::vec3>(attr::morph_position_name(static_cast<int>(t)));
+        ASSERT_TRUE(wd && gd) << "target " << t;
+        std::size_t unmatched = 0;
+        for (std::uint32_t v = 0; v < gm.vertex_count(); ++v) {
+          bool found = false;
+          for (std::uint32_t w = 0; w < wm.vertex_count() && !found; ++w)
+            found = glm::length(wm.position(VertexId(w)) - gm.position(VertexId(v))) <= tolerance && (*wd)[w] == (*gd)[v];
+          unmatched += !found;
+        }
+        EXPECT_EQ(unmatched, 0u) << "vertices of target " << t << " whose delta is not a source vertex's";
+      }
+    }
+  }
+  std::size_t want_channels = 0, got_channels = 0;
+  for (const auto& a : want.animations)
+    for (const auto& c : a.channels) want_channels += c.path == AnimationPath::Weights;
+  for (const auto& a : got.animations)
+    for (const auto& c : a.channels) got_channels += c.path == AnimationPath::Weights;
+  EXPECT_EQ(want_channels, got_channels);
+}
+
+void round_trip_targets(const Model& model, const std::string& stem) {
+  const std::string dir = test::temp_dir("compress-morph");
+  const float size = model_size(model);
+  for (const auto& [compression, name] : {std::pair{Compression::Draco, "draco"}, std::pair{Compression::Meshopt, "meshopt"}}) {
+    SCOPED_TRACE(name);
+    const std::string out = dir + "/" + stem + "-" + name + ".glb";
+    ExportOptions options;
+    options.compression = compression;
+    write_gltf(model, out, options);
+    const auto v = test::validate_gltf(out);
+    EXPECT_EQ(v.exit_code, 0) << v.out << v.err;
+    const Model back = read_gltf(out);
+    expect_same_targets(model, back, compression == Compression::Draco ? 2e-4f * size : 0.0f);
+  }
+  fs::remove_all(dir);
+}
+
+TEST(CompressedGltf, morph_targets_survive_draco_and_meshopt) {
+  round_trip_targets(read_gltf_memory(morph_test::tiny_quad().glb(), "tiny.glb"), "tiny");
+}
+
+TEST(CompressedGltf, a_real_morph_model_survives_draco_and_meshopt) {
+  std::string path;
+  for (const std::string& p : {asset("models/AnimatedMorphSphere/AnimatedMorphSphere.gltf"),
+                               std::string(DEEPCUT_SHARED_MODELS_DIR) + "/open/AnimatedMorphSphere/AnimatedMorphSphere.gltf"})
+    if (path.empty() && fs::is_regular_file(p)) path = p;
+  if (path.empty()) GTEST_SKIP() << "AnimatedMorphSphere is neither in assets/ nor in the shared models";
+  const Model model = read_gltf(path);
+  ASSERT_GT(model.meshes.at(0).target_count(), 0u);
+  round_trip_targets(model, "sphere");
 }
 
 }  // namespace
