@@ -153,30 +153,36 @@ void Reader::decode_draco_primitive(const json& raw_prim, tinygltf::Primitive& p
   }
 
   for (const auto& [name, id] : ext["attributes"].items()) {
-    const std::string what = where + " attribute " + name;
     auto it = prim.attributes.find(name);
-    if (it == prim.attributes.end()) fail(what + ": the primitive has no such attribute");
-    if (!id.is_number_integer()) fail(what + ": its Draco id is not a number");
-    const auto uid = id.get<std::int64_t>();
-    const draco::PointAttribute* att =
-        uid >= 0 && uid <= std::numeric_limits<std::uint32_t>::max() ? mesh.GetAttributeByUniqueId(static_cast<std::uint32_t>(uid)) : nullptr;
-    if (!att) fail(what + ": the Draco data has no attribute with id " + std::to_string(uid));
-    if (it->second < 0 || static_cast<std::size_t>(it->second) >= gltf_.accessors.size())
-      fail(what + ": accessor " + std::to_string(it->second) + " does not exist");
-    tinygltf::Accessor acc = gltf_.accessors[it->second];
-    const int comps = type_components(acc.type), csize = component_size(acc.componentType);
-    if (comps == 0 || csize == 0) fail(what + ": accessor " + std::to_string(it->second) + " has an unusable type");
-    if (acc.count != points)
-      fail(what + ": Draco decodes " + std::to_string(points) + " vertices, accessor " + std::to_string(it->second) + " says " +
-           std::to_string(acc.count));
-    if (att->num_components() != comps)
-      fail(what + ": Draco stores " + std::to_string(int(att->num_components())) + " components, the accessor " + std::to_string(comps));
-    const std::size_t bytes_needed = points * std::size_t(comps) * std::size_t(csize);
-    spend_decode_budget(bytes_needed, what);
-    std::vector<unsigned char> bytes(bytes_needed);
-    if (!copy_attribute(*att, points, comps, acc.componentType, bytes)) fail(what + ": the Draco values could not be read");
-    it->second = add_decoded_accessor(acc, std::move(bytes));
+    if (it == prim.attributes.end()) fail(where + " attribute " + name + ": the primitive has no such attribute");
+    it->second = decode_draco_attribute(mesh, id, it->second, where + " attribute " + name);
   }
+}
+
+// Attribute `id` of `mesh` as a new accessor like `accessor` (its type, component type and
+// normalisation) over a new view; fails unless the counts and components agree.
+int Reader::decode_draco_attribute(const draco::Mesh& mesh, const json& id, int accessor, const std::string& what) {
+  const std::size_t points = mesh.num_points();
+  if (!id.is_number_integer()) fail(what + ": its Draco id is not a number");
+  const auto uid = id.get<std::int64_t>();
+  const draco::PointAttribute* att =
+      uid >= 0 && uid <= std::numeric_limits<std::uint32_t>::max() ? mesh.GetAttributeByUniqueId(static_cast<std::uint32_t>(uid)) : nullptr;
+  if (!att) fail(what + ": the Draco data has no attribute with id " + std::to_string(uid));
+  if (accessor < 0 || static_cast<std::size_t>(accessor) >= gltf_.accessors.size())
+    fail(what + ": accessor " + std::to_string(accessor) + " does not exist");
+  tinygltf::Accessor acc = gltf_.accessors[accessor];
+  const int comps = type_components(acc.type), csize = component_size(acc.componentType);
+  if (comps == 0 || csize == 0) fail(what + ": accessor " + std::to_string(accessor) + " has an unusable type");
+  if (acc.count != points)
+    fail(what + ": Draco decodes " + std::to_string(points) + " vertices, accessor " + std::to_string(accessor) + " says " +
+         std::to_string(acc.count));
+  if (att->num_components() != comps)
+    fail(what + ": Draco stores " + std::to_string(int(att->num_components())) + " components, the accessor " + std::to_string(comps));
+  const std::size_t bytes_needed = points * std::size_t(comps) * std::size_t(csize);
+  spend_decode_budget(bytes_needed, what);
+  std::vector<unsigned char> bytes(bytes_needed);
+  if (!copy_attribute(*att, points, comps, acc.componentType, bytes)) fail(what + ": the Draco values could not be read");
+  return add_decoded_accessor(acc, std::move(bytes));
 }
 
 int Reader::add_decoded_accessor(tinygltf::Accessor acc, std::vector<unsigned char> bytes) {

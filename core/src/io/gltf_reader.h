@@ -16,6 +16,10 @@
 #include "deepcut/core/errors.h"
 #include "deepcut/core/io/gltf.h"
 
+namespace draco {
+class Mesh;
+}
+
 namespace deepcut::gltf_detail {
 
 // Keeps messages to one readable line: control characters become spaces and any run of more
@@ -91,6 +95,7 @@ class Reader {
   void decode_meshopt_views();
   void decode_draco_primitives();
   void decode_draco_primitive(const nlohmann::json& raw_prim, tinygltf::Primitive& prim, const std::string& where);
+  int decode_draco_attribute(const draco::Mesh& mesh, const nlohmann::json& id, int accessor, const std::string& what);
   int add_decoded_accessor(tinygltf::Accessor acc, std::vector<unsigned char> bytes);  // over a new view
   void spend_decode_budget(std::size_t bytes, const std::string& what);
   int add_decoded_buffer(std::vector<unsigned char> bytes);  // a new buffer's index
