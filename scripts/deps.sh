@@ -21,6 +21,7 @@ readonly GLTF_VALIDATOR_VERSION="2.0.0-dev.3.10"
 readonly APT_PACKAGES=(
   build-essential cmake ninja-build pkg-config git
   libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev
+  libdraco-dev libmeshoptimizer-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3
   libvtk9-dev libvtk9-qt-dev qtbase5-dev

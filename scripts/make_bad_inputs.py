@@ -815,6 +815,124 @@ def _(name):
     return {name: dumps(doc), "escape_target.bin": bytes(g.buffers[0])}
 
 
+# ---- compressed (KHR_draco_mesh_compression, EXT_meshopt_compression) ----------------------------
+# Derived from assets/models/compressed/. The Draco cases keep only what CesiumMan's mesh needs
+# (no image, texture, material or animation), so each file is small.
+def compressed_glb(file):
+    g = Gltf.load_glb(os.path.join(ASSETS, "models", "compressed", file))
+    return g.doc, bytes(g.buffers[0])
+
+
+def draco_cesium_man():
+    """CesiumMan-draco.glb without images, materials and animations, its buffer repacked."""
+    doc, data = compressed_glb("CesiumMan-draco.glb")
+    for key in ("animations", "images", "textures", "samplers", "materials"):
+        doc.pop(key, None)
+    prim = doc["meshes"][0]["primitives"][0]
+    prim.pop("material", None)
+    refs = [a for a in doc["accessors"] if "bufferView" in a] + [prim["extensions"]["KHR_draco_mesh_compression"]]
+    views, packed, renumber = [], bytearray(), {}
+    for r in refs:
+        old = r["bufferView"]
+        if old not in renumber:
+            v = doc["bufferViews"][old]
+            renumber[old] = len(views)
+            packed += b"\0" * ((4 - len(packed) % 4) % 4)
+            views.append({"buffer": 0, "byteOffset": len(packed), "byteLength": v["byteLength"]})
+            packed += data[v.get("byteOffset", 0) : v.get("byteOffset", 0) + v["byteLength"]]
+        r["bufferView"] = renumber[old]
+    doc["bufferViews"] = views
+    doc["buffers"] = [{"byteLength": len(packed)}]
+    return doc, bytes(packed)
+
+
+def draco_case(edit):
+    def build(name):
+        doc, data = draco_cesium_man()
+        edit(doc, doc["meshes"][0]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"])
+        return {name: make_glb(dumps(doc), data)}
+
+    return build
+
+
+def meshopt_case(edit):
+    """Fox-meshopt.glb with `edit(doc, views)` applied; its bufferView 1 is JOINTS_0 (ATTRIBUTES,
+    stride 4, 1728), 3 the QUATERNION rotations (stride 8), 4 the EXPONENTIAL translations."""
+
+    def build(name):
+        doc, data = compressed_glb("Fox-meshopt.glb")
+        edit(doc, [v.get("extensions", {}).get("EXT_meshopt_compression") for v in doc["bufferViews"]])
+        return {name: make_glb(dumps(doc), data)}
+
+    return build
+
+
+def _cut_draco(doc, ext):
+    doc["bufferViews"][ext["bufferView"]]["byteLength"] = 1000
+
+
+def _draco_points_to_animation(doc, ext):
+    ext["bufferView"] = doc["accessors"][6]["bufferView"]
+
+
+def _draco_count(doc, ext):
+    doc["accessors"][doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"]]["count"] = 3000
+
+
+def _draco_missing_id(doc, ext):
+    ext["attributes"]["POSITION"] = 9
+
+
+case("draco_truncated.glb", "CesiumMan-draco with its Draco bufferView cut to its first 1000 bytes")(
+    draco_case(_cut_draco))
+case("draco_not_draco.glb", "the Draco extension points at animation key times, which are not Draco data")(
+    draco_case(_draco_points_to_animation))
+case("draco_count_mismatch.glb", "POSITION claims 3000 vertices; the Draco data decodes 3572")(draco_case(_draco_count))
+case("draco_attribute_id_missing.glb", "the extension maps POSITION to Draco attribute 9, which the data does not have")(
+    draco_case(_draco_missing_id))
+
+
+def _meshopt_count_overflow(doc, views):
+    views[1]["count"] = 4294967295
+
+
+def _meshopt_bad_filter(doc, views):
+    views[4]["filter"] = "OCTAHEDRAL"
+
+
+def _meshopt_unknown_filter(doc, views):
+    views[4]["filter"] = "ZIGZAG"
+
+
+def _meshopt_stride(doc, views):
+    views[1]["byteStride"] = 8
+
+
+def _meshopt_truncated(doc, views):
+    views[6]["byteLength"] = 100
+
+
+def _meshopt_past_buffer(doc, views):
+    views[6]["byteOffset"] = 1 << 30
+
+
+def _meshopt_bad_mode(doc, views):
+    views[1]["mode"] = "LINES"
+
+
+case("meshopt_count_overflow.glb", "a meshopt view claims 2^32 - 1 elements (count x byteStride overflows 32 bits)")(
+    meshopt_case(_meshopt_count_overflow))
+case("meshopt_bad_filter.glb", "filter OCTAHEDRAL on a 12-byte stride (it needs 4 or 8)")(meshopt_case(_meshopt_bad_filter))
+case("meshopt_unknown_filter.glb", "filter 'ZIGZAG', which the extension does not define")(
+    meshopt_case(_meshopt_unknown_filter))
+case("meshopt_stride_mismatch.glb", "byteStride 8 in the extension of a bufferView of 1728 4-byte elements")(
+    meshopt_case(_meshopt_stride))
+case("meshopt_truncated.glb", "the compressed data of a meshopt view cut to 100 bytes")(meshopt_case(_meshopt_truncated))
+case("meshopt_past_buffer.glb", "a meshopt view's compressed bytes start 1 GiB into a 57 KiB buffer")(
+    meshopt_case(_meshopt_past_buffer))
+case("meshopt_bad_mode.glb", "a meshopt view with mode 'LINES'")(meshopt_case(_meshopt_bad_mode))
+
+
 # ---- fuzz seeds ----------------------------------------------------------------------------------
 SEEDS = []  # (name, builder)
 # ---- static meshes (OBJ, PLY, STL, OFF: plugins/static_formats) ----------------------------------

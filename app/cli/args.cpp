@@ -90,7 +90,12 @@ OptionSpec json_option(const std::string& what) {
 std::vector<OptionSpec> output_options() {
   return {{"-o", "OUT", "the model to write: .glb (binary glTF) or .gltf (text glTF, buffers embedded); "
                         "written to a temporary file and renamed, so nothing is written on failure",
-           "", true, false}};
+           "", true, false},
+          {"--compress", "draco|meshopt",
+           "compress the written meshes: draco (KHR_draco_mesh_compression: smallest, positions, normals and "
+           "texture coordinates quantised) or meshopt (EXT_meshopt_compression: lossless); a reader must "
+           "decode the extension",
+           "none (plain glTF)", false, false}};
 }
 
 std::vector<OptionSpec> pose_options() {
@@ -138,6 +143,13 @@ long long Args::integer(const std::string& name, long long fallback) const {
   }
   if (used == 0 || used != text.size()) throw UsageError(name + ": '" + text + "' is not a whole number");
   return v;
+}
+
+ExportOptions export_options(const Args& args) {
+  ExportOptions options;
+  if (args.has("--compress") && !parse_compression(args.value("--compress"), &options.compression))
+    throw UsageError("--compress '" + args.value("--compress") + "': use none, draco or meshopt");
+  return options;
 }
 
 std::string count_of(std::size_t n, const std::string& singular, const std::string& plural) {

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "deepcut/core/io/gltf.h"
+
 namespace deepcut {
 struct Model;
 }
@@ -91,6 +93,10 @@ class Args {
   std::set<std::string> flags_;
   std::map<std::string, std::string> values_;
 };
+
+/// The option every writing command takes, `--compress none|draco|meshopt` (default none), as
+/// the export options of its output. @throws UsageError for another value.
+ExportOptions export_options(const Args& args);
 
 /// "1 piece", "3 pieces": `n` followed by the noun in the right number.
 std::string count_of(std::size_t n, const std::string& singular, const std::string& plural);

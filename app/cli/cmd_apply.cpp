@@ -46,6 +46,7 @@ int run_apply(const std::vector<std::string>& argv) {
   const Args args(argv, apply_command());
   if (args.positionals().size() != 2) throw UsageError("apply needs MODEL and HISTORY.json");
   if (!args.has("-o")) throw UsageError("apply needs -o OUT (.glb or .gltf)");
+  const ExportOptions export_opts = export_options(args);
   const std::string history_path = args.positionals()[1];
   std::ifstream in(history_path);
   if (!in) throw Error(ErrorCode::Io, history_path + ": cannot open history file");
@@ -76,7 +77,7 @@ int run_apply(const std::vector<std::string>& argv) {
     reports.push_back(std::move(report));
   });
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  write_gltf(*session.current(), args.value("-o"));
+  write_gltf(*session.current(), args.value("-o"), export_opts);
   if (args.flag("--json")) {
     std::cout << json{{"operations", reports}, {"problems", problems}, {"ms", ms}}.dump(2) << "\n";
   } else {

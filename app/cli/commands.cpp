@@ -220,12 +220,13 @@ int run_convert(const std::vector<std::string>& argv) {
   const Args args(argv, convert_command());
   const std::string in = single_model(args, "convert");
   const std::string out = output_path(args, "convert");
+  const ExportOptions export_opts = export_options(args);
   const auto t0 = Clock::now();
   const Model model = plugins::read_model(in);
   const double read_ms = ms_since(t0);
   print_problems(std::cerr, in, model.import_problems);
   const auto t1 = Clock::now();
-  write_gltf(model, out);
+  write_gltf(model, out, export_opts);
   const double write_ms = ms_since(t1);
   if (args.flag("--json")) {
     const ModelStats s = compute_stats(model);
@@ -243,6 +244,7 @@ int run_make_cactus(const std::vector<std::string>& argv) {
   const Args args(argv, make_cactus_command());
   if (!args.positionals().empty()) throw UsageError("make-cactus takes no MODEL, only -o OUT");
   const std::string out = output_path(args, "make-cactus");
+  const ExportOptions export_opts = export_options(args);
   CactusOptions options;
   const long long tris = args.integer("--triangles", static_cast<long long>(options.target_triangles));
   if (tris < 1000 || tris > 200000000)
@@ -252,7 +254,7 @@ int run_make_cactus(const std::vector<std::string>& argv) {
   const auto t0 = Clock::now();
   const Model model = make_cactus(options);
   const double make_ms = ms_since(t0);
-  write_gltf(model, out);
+  write_gltf(model, out, export_opts);
   const ModelStats s = compute_stats(model);
   if (args.flag("--json")) {
     std::cout << json{{"output", out}, {"triangles", s.triangles}, {"welded_vertices", s.welded_vertices},

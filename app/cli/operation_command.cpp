@@ -48,6 +48,7 @@ int run_operation(const OperationCommand& command, const std::vector<std::string
   for (const OptionSpec& option : command.options)
     if (option.required && option.name != "-o" && !args.has(option.name))
       throw UsageError(name + " needs " + option.name + " " + option.value);
+  const ExportOptions export_opts = export_options(args);
   Operation op;
   op.params = command.parse(args);
   check_operation(op, flag_of);  // before the model is read
@@ -73,7 +74,7 @@ int run_operation(const OperationCommand& command, const std::vector<std::string
   if (posed) report["preprocess_ms"] = preprocess_ms;
   if (report.contains("wall_note") && !args.flag("--json"))
     std::cerr << "deepcut: " << report["wall_note"].get<std::string>() << "\n";
-  write_gltf(model, args.value("-o"));
+  write_gltf(model, args.value("-o"), export_opts);
   if (args.flag("--json")) {
     report["ms"] = ms;
     std::cout << report.dump(2) << "\n";

@@ -2,6 +2,7 @@
 #include "main_window.h"
 
 #include <QAction>
+#include <QComboBox>
 #include <QActionGroup>
 #include <QApplication>
 #include <QCloseEvent>
@@ -12,6 +13,7 @@
 #include <QElapsedTimer>
 #include <QFileDialog>
 #include <QFileInfo>
+#include <QGridLayout>
 #include <QLabel>
 #include <QMenuBar>
 #include <QMessageBox>
@@ -285,15 +287,34 @@ void MainWindow::choose_open() {
 void MainWindow::choose_export() {
   if (!session().current()) return report_error("export: no model is open");
   const QString glb = "glTF binary (*.glb)", gltf = "glTF JSON, embedded buffers (*.gltf)";
-  QString filter = glb;
-  QString path = QFileDialog::getSaveFileName(this, "Export model", suggested_export_path(), glb + ";;" + gltf, &filter);
-  if (path.isEmpty()) return;
-  if (!is_model_file(path)) path += filter == gltf ? ".gltf" : ".glb";
+  // Qt's own dialog (not the platform's), so it has room for the compression choice.
+  QFileDialog dialog(this, "Export model", suggested_export_path(), glb + ";;" + gltf);
+  dialog.setAcceptMode(QFileDialog::AcceptSave);
+  dialog.setOption(QFileDialog::DontUseNativeDialog);
+  auto* compression = new QComboBox(&dialog);
+  compression->setObjectName("compression");
+  compression->addItem("none", static_cast<int>(Compression::None));
+  compression->addItem("Draco", static_cast<int>(Compression::Draco));
+  compression->addItem("meshopt", static_cast<int>(Compression::Meshopt));
+  compression->setCurrentIndex(compression->findData(static_cast<int>(export_compression_)));
+  compression->setToolTip(
+      "none: plain glTF, readable everywhere.\nDraco (KHR_draco_mesh_compression): smallest meshes; positions, "
+      "normals and texture coordinates quantised.\nmeshopt (EXT_meshopt_compression): lossless.\nA compressed "
+      "file needs a reader that decodes its extension.");
+  if (auto* grid = qobject_cast<QGridLayout*>(dialog.layout())) {
+    const int row = grid->rowCount();
+    grid->addWidget(new QLabel("Compression:", &dialog), row, 0);
+    grid->addWidget(compression, row, 1);
+  }
+  if (dialog.exec() != QDialog::Accepted || dialog.selectedFiles().isEmpty()) return;
+  QString path = dialog.selectedFiles().front();
+  if (!is_model_file(path)) path += dialog.selectedNameFilter() == gltf ? ".gltf" : ".glb";
+  export_compression_ = static_cast<Compression>(compression->currentData().toInt());
   const QString question = problems_->export_question();
   if (!question.isEmpty() &&
       QMessageBox::question(this, "Export " + QFileInfo(path).fileName(), question) != QMessageBox::Yes)
     return;
-  export_file(path);
+  export_file(path, export_compression_);
 }
 
 QString MainWindow::suggested_export_path() const {
@@ -375,7 +396,7 @@ const PosedModel* MainWindow::posed_model() const { return session().posed_model
 const plugins::Scene* MainWindow::scene() const { return scene_host_->scene(); }
 void MainWindow::refresh_posed_model() { scene_host_->refresh_posed_model(); }
 
-bool MainWindow::export_file(const QString& path) {
+bool MainWindow::export_file(const QString& path, Compression compression) {
   if (!session().current()) {
     report_error("export: no model is open");
     return false;
@@ -383,7 +404,9 @@ bool MainWindow::export_file(const QString& path) {
   QElapsedTimer clock;
   clock.start();
   try {
-    write_gltf(*session().current(), path.toStdString());
+    ExportOptions options;
+    options.compression = compression;
+    write_gltf(*session().current(), path.toStdString(), options);
   } catch (const Error& e) {
     report_error(QString::fromStdString(e.what()));
     return false;

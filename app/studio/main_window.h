@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "deepcut/core/io/gltf.h"
 #include "deepcut/core/model.h"
 #include "deepcut/core/posed_model.h"
 #include "deepcut/plugins/inspector.h"
@@ -61,8 +62,9 @@ class MainWindow : public QMainWindow {
   /// @throws Error from read_gltf (Io, InvalidInput).
   void load_file(const QString& path);
   /// Writes the current model state with `write_gltf` (.glb or .gltf by extension), exactly as
-  /// `deepcut convert` would write it. @returns true on success; errors are reported like open_file's.
-  bool export_file(const QString& path);
+  /// `deepcut convert` would write it, compressed as `deepcut convert --compress` would.
+  /// @returns true on success; errors are reported like open_file's.
+  bool export_file(const QString& path, Compression compression = Compression::None);
   /// What the Export dialog offers: `<model>-export.glb` in the model's folder (`model.glb` in
   /// the working folder when nothing was opened from a file), numbered `-export-2`, `-export-3`...
   /// past files that exist, so accepting the dialog never overwrites the input or an earlier
@@ -184,6 +186,7 @@ class MainWindow : public QMainWindow {
 
   MainWindowOptions options_;
   QString path_, last_error_, last_operation_;
+  Compression export_compression_ = Compression::None;  // the Export dialog's last choice
 
   SceneView* view_ = nullptr;
   SceneTree* tree_ = nullptr;

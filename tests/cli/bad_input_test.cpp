@@ -143,6 +143,18 @@ const Expectation kCatalogue[] = {
     {"uri_missing_file.gltf", kRefused, "missing.bin"},
     {"escape/uri_to_parent_folder.gltf", kRefused,
      "'../escape_target.bin' points outside the model's folder"},
+    // compressed: KHR_draco_mesh_compression, EXT_meshopt_compression
+    {"draco_truncated.glb", kRefused, "the Draco data could not be decoded"},
+    {"draco_not_draco.glb", kRefused, "not Draco data"},
+    {"draco_count_mismatch.glb", kRefused, "Draco decodes 3572 vertices, accessor 3 says 3000"},
+    {"draco_attribute_id_missing.glb", kRefused, "the Draco data has no attribute with id 9"},
+    {"meshopt_count_overflow.glb", kRefused, "count 4294967295 is implausibly large"},
+    {"meshopt_bad_filter.glb", kRefused, "filter OCTAHEDRAL needs byteStride 4 or 8, not 12"},
+    {"meshopt_unknown_filter.glb", kRefused, "unknown filter 'ZIGZAG'"},
+    {"meshopt_stride_mismatch.glb", kRefused, "count 1728 x byteStride 8 = 13824 bytes, but the bufferView is 6912 bytes long"},
+    {"meshopt_truncated.glb", kRefused, "the ATTRIBUTES data could not be decoded"},
+    {"meshopt_past_buffer.glb", kRefused, "run past the end of buffer 0"},
+    {"meshopt_bad_mode.glb", kRefused, "mode 'LINES' is not ATTRIBUTES, TRIANGLES or INDICES"},
     // static meshes (plugins/static_formats)
     {"static/control_cube.off", kHandled, "6 polygons split into triangle fans", "polygons-triangulated", true},
     {"static/control_cube_ascii.stl", kHandled, ""},

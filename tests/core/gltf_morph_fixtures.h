@@ -16,15 +16,20 @@ namespace deepcut::morph_test {
 
 using nlohmann::json;
 
-inline bool has_note(const Model& model, const std::string& part) {
-  for (const auto& n : model.import_notes)
-    if (n.find(part) != std::string::npos) return true;
+// True when reading reported a problem of `kind` whose message or one of whose places contains `part`.
+inline bool has_note(const Model& model, const std::string& kind, const std::string& part) {
+  for (const auto& p : model.import_problems) {
+    if (p.kind != kind) continue;
+    if (p.message.find(part) != std::string::npos) return true;
+    for (const auto& place : p.places)
+      if (place.find(part) != std::string::npos) return true;
+  }
   return false;
 }
 
 inline std::string notes_of(const Model& model) {
   std::string out;
-  for (const auto& n : model.import_notes) out += n + "\n";
+  for (const auto& p : model.import_problems) out += p.message + " [" + p.kind + "]\n";
   return out;
 }
 

@@ -298,6 +298,9 @@ const AssetPlan kPlans[] = {
     {"assets/models/RiggedSimple/RiggedSimple.gltf", "riggedsimple", 35, 6},
     {"assets/models/SimpleSkin/SimpleSkin.gltf", "simpleskin", 25, 5},
     {"assets/models/spot/spot.obj", "spot", 40, 6},
+    // Compressed inputs (appended: the seeds of the plans above stay as they were).
+    {"assets/models/compressed/CesiumMan-draco.glb", "cesiumman-draco", 12, 2},
+    {"assets/models/compressed/Fox-meshopt.glb", "fox-meshopt", 12, 2},
 };
 
 // Command lines the CLI must refuse (exit 2), and one that names a missing model.
@@ -322,6 +325,7 @@ std::vector<CorpusOp> malformed() {
        "{\"operations\":[{\"op\":\"cut\",\"plane\":[0,5,0,0,1,0],\"keep\":\"sideways\"}]}"},
       {"apply " + c + " hist/bad-16.json -o out/bad-16.glb --json", "{\"operations\":[{\"op\":\"drill\",\"axis\":[0,5,-3,0,5,3],\"radius\":0}]}"},
       {"apply " + c + " hist/bad-17.json -o out/bad-17.glb --json", "not json"},
+      {"convert " + f + " -o out/bad-18.glb --compress zip --json", ""},
   };
   std::vector<CorpusOp> out;
   for (std::size_t i = 0; i < lines.size(); ++i) {

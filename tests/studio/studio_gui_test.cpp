@@ -9,6 +9,7 @@
 #include <QComboBox>
 #include <QDoubleSpinBox>
 #include <QFile>
+#include <QFileDialog>
 #include <QFileInfo>
 #include <QLabel>
 #include <QMessageBox>
@@ -22,6 +23,8 @@
 #include <QUndoStack>
 #include <QUrl>
 #include <QtTest/QtTest>
+#include <algorithm>
+#include <cctype>
 #include <functional>
 #include <map>
 
@@ -368,6 +371,43 @@ class StudioGuiTest : public QObject {
     }
     QVERIFY(!window->export_file(QString::fromStdString(dir + "/model.obj")));
     QVERIFY(!window->last_error().isEmpty());
+  }
+
+  // The Export dialog's Compression choice writes what `deepcut convert --compress` writes.
+  void export_dialog_compresses_like_the_command_line() {
+    auto window = shown_window();
+    QVERIFY(window);
+    QVERIFY(window->open_file(kCactus));
+    const std::string dir = deepcut::test::temp_dir("studio-export-compressed");
+    QAction* export_action = nullptr;
+    for (QAction* a : window->findChildren<QAction*>())
+      if (a->text().startsWith("&Export")) export_action = a;
+    QVERIFY(export_action);
+    for (const std::string codec : {"meshopt", "Draco"}) {
+      const std::string studio = dir + "/studio-" + codec + ".glb", cli = dir + "/cli-" + codec + ".glb";
+      bool chose = false;
+      QTimer::singleShot(0, [&] {
+        auto* dialog = qobject_cast<QFileDialog*>(QApplication::activeModalWidget());
+        if (!dialog) return;
+        auto* combo = dialog->findChild<QComboBox*>("compression");
+        const int index = combo ? combo->findText(QString::fromStdString(codec)) : -1;
+        if (index < 0) return dialog->reject();
+        combo->setCurrentIndex(index);
+        dialog->selectFile(QString::fromStdString(studio));
+        chose = true;
+        static_cast<QDialog*>(dialog)->accept();  // QFileDialog::accept, through the public slot
+      });
+      export_action->trigger();
+      QVERIFY2(chose, "the Export dialog has no Compression choice");
+      std::string lower = codec;
+      std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+      const auto run = deepcut::test::run_cli("convert " + deepcut::test::quote(kCactus.toStdString()) + " -o " +
+                                              deepcut::test::quote(cli) + " --compress " + lower);
+      QVERIFY2(run.exit_code == 0, run.err.c_str());
+      QVERIFY2(read_bytes(studio) == read_bytes(cli), (codec + ": studio export differs from deepcut convert").c_str());
+      const auto validation = deepcut::test::validate_gltf(studio);
+      QVERIFY2(validation.exit_code == 0, (validation.out + validation.err).c_str());
+    }
   }
 
   void export_never_overwrites_the_input_unless_asked() {

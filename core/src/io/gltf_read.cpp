@@ -226,17 +226,16 @@ void Reader::parse_container() {
   if (!raw_.contains("asset") || !raw_["asset"].is_object()) fail("invalid glTF: 'asset' is missing");
   const std::string version = raw_["asset"].value("version", "");
   if (version.rfind("2.", 0) != 0) fail("glTF version '" + version + "' is not supported (need 2.x)");
-  for (const char* ext : {"KHR_draco_mesh_compression", "EXT_meshopt_compression"})
-    if (raw_.contains("extensionsRequired") && raw_["extensionsRequired"].is_array())
-      for (const auto& e : raw_["extensionsRequired"])
-        if (e.is_string() && e.get<std::string>() == ext) fail(std::string("requires ") + ext + ", which is not supported");
   for (const char* key : {"accessors", "animations", "buffers", "bufferViews", "cameras", "images", "materials", "meshes",
                           "nodes", "samplers", "scenes", "skins", "textures", "extensionsUsed", "extensionsRequired"})
     if (raw_.contains(key) && !raw_[key].is_array()) fail(std::string("invalid glTF: '") + key + "' is not an array");
   check_uris();
 
+  std::vector<unsigned char> patched;  // the .glb with what tinygltf refuses stubbed
+  if (stub_for_tinygltf(raw_, glb, &json_text) && glb) patched = glb_with_json(bytes, json_text);
   if (glb) {
-    ok = loader.LoadBinaryFromMemory(&gltf_, &err, &warn, bytes.data(), static_cast<unsigned>(bytes.size()), base_dir);
+    const auto& in = patched.empty() ? bytes : patched;
+    ok = loader.LoadBinaryFromMemory(&gltf_, &err, &warn, in.data(), static_cast<unsigned>(in.size()), base_dir);
   } else {
     ok = loader.LoadASCIIFromString(&gltf_, &err, &warn, json_text.data(), static_cast<unsigned>(json_text.size()),
                                     base_dir);
@@ -453,6 +452,8 @@ std::vector<std::uint32_t> Reader::read_uints(int accessor, const char* what, in
 
 Model Reader::read() {
   parse_container();
+  decode_meshopt_views();
+  decode_draco_primitives();
   read_nodes();
   read_skins();
   read_animations();

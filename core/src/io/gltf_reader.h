@@ -17,6 +17,10 @@
 #include "deepcut/core/io/gltf.h"
 #include "io/import_problems.h"
 
+namespace draco {
+class Mesh;
+}
+
 namespace deepcut::gltf_detail {
 
 // Keeps messages to one readable line: control characters become spaces and any run of more
@@ -25,6 +29,16 @@ std::string one_line(const std::string& text);
 
 // `o[key]` as JSON text, or "" when `o` is not an object or lacks `key`.
 std::string dump_member(const nlohmann::json& o, const char* key);
+
+// gltf_decode_meshopt.cpp. What tinygltf (built without Draco) refuses in a compressed file: a
+// buffer that only stands in for EXT_meshopt_compression data (a `fallback` buffer without a URI)
+// has no bytes, and a KHR_draco_mesh_compression primitive's indices accessor has no bufferView.
+// When `doc` has either, sets `*json_text` to the JSON that tinygltf is given instead (each such
+// buffer a 3-byte data URI, each such primitive without `indices`) and returns true. The decoders
+// never read a stand-in and take the indices from the file's own JSON (Reader::raw_).
+bool stub_for_tinygltf(const nlohmann::json& doc, bool glb, std::string* json_text);
+// The .glb `glb` with its JSON chunk replaced by `json_text` (its BIN chunk kept as it is).
+std::vector<unsigned char> glb_with_json(const std::vector<unsigned char>& glb, std::string json_text);
 
 // A primitive's skin influences per glTF vertex: `sets` sets of four (JOINTS_n / WEIGHTS_n),
 // sanitised (finite non-negative weights summing to 1, joints inside the skin).
@@ -78,6 +92,17 @@ class Reader {
   std::vector<T> decode(int accessor, const char* what, int* components_out, Convert convert);
   const unsigned char* view_bytes(int view, std::size_t offset, std::size_t stride, std::size_t elem,
                                   std::size_t count, const std::string& what);
+
+  // gltf_decode_meshopt.cpp, gltf_decode_draco.cpp: compressed data decoded, before anything is
+  // read, into plain buffer views (and, for Draco, new accessors), so the rest of the reader sees
+  // an uncompressed file. Every decoded byte is charged to decode_left_.
+  void decode_meshopt_views();
+  void decode_draco_primitives();
+  void decode_draco_primitive(const nlohmann::json& raw_prim, tinygltf::Primitive& prim, const std::string& where);
+  int decode_draco_attribute(const draco::Mesh& mesh, const nlohmann::json& id, int accessor, const std::string& what);
+  int add_decoded_accessor(tinygltf::Accessor acc, std::vector<unsigned char> bytes);  // over a new view
+  void spend_decode_budget(std::size_t bytes, const std::string& what);
+  int add_decoded_buffer(std::vector<unsigned char> bytes);  // a new buffer's index
 
   // gltf_read_scene.cpp
   void read_nodes();

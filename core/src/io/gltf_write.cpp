@@ -11,6 +11,7 @@
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/mesh_editor.h"
 #include "io/gltf_common.h"
+#include "io/gltf_write_compress.h"
 
 namespace deepcut {
 namespace {
@@ -507,6 +508,7 @@ std::vector<unsigned char> Writer::write(bool glb) {
     if (!glb) buffer["uri"] = "data:application/octet-stream;base64," + base64_encode(bin_.data(), bin_.size());
     doc_["buffers"] = json::array({buffer});
   }
+  compress_document(doc_, bin_, options_.compression, glb);
   if (!glb) {
     const std::string text = options_.pretty ? doc_.dump(2) : doc_.dump();
     return std::vector<unsigned char>(text.begin(), text.end());
@@ -544,6 +546,8 @@ void write_gltf(const Model& model, const std::string& path, const ExportOptions
     bytes = Writer(model, options).write(glb);
   } catch (const json::exception& e) {
     throw Error(ErrorCode::InvariantViolated, path + ": could not encode the model (" + e.what() + ")");
+  } catch (const Error& e) {  // a codec of compress_document
+    throw Error(e.code(), path + ": " + e.what());
   }
   write_file_atomic(path, bytes);
 }

@@ -31,10 +31,24 @@ Model read_gltf(const std::string& path, const ImportOptions& options = {});
 Model read_gltf_memory(const std::vector<unsigned char>& bytes, const std::string& name,
                        const ImportOptions& options = {});
 
+/// How `write_gltf` stores mesh data. Compressed files require the extension of their codec
+/// (`extensionsRequired`), so only readers that decode it can open them.
+enum class Compression {
+  None,     ///< plain accessors (the default)
+  Draco,    ///< KHR_draco_mesh_compression: triangles and vertex attributes, quantised
+            ///< (positions 14 bits, normals 10, texture coordinates 12; skin weights and
+            ///< colours lossless); morph targets stay plain accessors in the decoded vertex order
+  Meshopt,  ///< EXT_meshopt_compression: every vertex, index and animation buffer view, lossless
+};
+
+/// "none", "draco", "meshopt" -> the Compression; false for anything else.
+bool parse_compression(const std::string& name, Compression* out);
+
 struct ExportOptions {
   /// Pretty-print the JSON of .gltf files (default on; .glb JSON is always compact).
   bool pretty = true;
   std::string generator = "DeepCut Studio";
+  Compression compression = Compression::None;
 };
 
 /// Writes `model` as .glb or .gltf (by extension; a .gltf embeds its buffer as a data URI).
