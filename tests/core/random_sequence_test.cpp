@@ -12,6 +12,7 @@
 //       --gtest_filter='*<Model>*'
 // DEEPCUT_SEQUENCE_STEPS also makes longer runs (the default is 500 steps per model).
 
+#include <cctype>
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -645,7 +646,12 @@ TEST_P(RandomSequenceTest, random_cut_tear_drill_sequence_keeps_every_invariant)
 }
 
 INSTANTIATE_TEST_SUITE_P(Assets, RandomSequenceTest, ::testing::ValuesIn(model_names()),
-                         [](const ::testing::TestParamInfo<std::string>& param) { return param.param; });
+                         [](const ::testing::TestParamInfo<std::string>& param) {
+                           std::string name = param.param;  // gtest names take letters, digits and '_'
+                           for (char& c : name)
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           return name;
+                         });
 
 // Replays of other seeds that found a defect, up to the step that showed it (seconds each).
 // Fox seed 5 step 225: a tear around a spike's tip (a three-face cone whose every edge the slit
