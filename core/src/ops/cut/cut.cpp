@@ -3,7 +3,8 @@
 //   1. classify_vertices: signed distance to the plane and snapped side of every vertex, at its
 //      posed position;
 //   2. split_crossed_faces: each crossed edge split once (ops/common/crossing_table.h, with the
-//      needle merges), each crossed face made again from up to three triangles;
+//      needle merges) at the posed point where the plane crosses it, unposed to bind space
+//      (ops/common/placement.h), each crossed face made again from up to three triangles;
 //   3. separate_or_drop_side: rim vertices both sides use get a copy for the positive side, or
 //      the dropped side's faces go;
 //   4. pinch repair (ops/common/pinches.h), then the pieces: live faces by side (and component);
@@ -28,6 +29,7 @@
 #include "ops/common/crossing_table.h"
 #include "ops/common/model_surgery.h"
 #include "ops/common/pinches.h"
+#include "ops/common/placement.h"
 #include "ops/common/posed_overlay.h"
 #include "ops/cut/caps.h"
 
@@ -43,14 +45,14 @@ using detail::edge_key;
 
 class Cutter {
  public:
-  Cutter(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const Plane& plane, const CutOptions& options)
-      : mesh_(mesh), editor_(mesh), posed_(posed), options_(options) {
+  Cutter(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const Plane& plane, const CutOptions& options,
+         detail::Placement placement = {})
+      : mesh_(mesh), editor_(mesh), posed_(posed), placement_(placement), options_(options) {
     normal_ = glm::dvec3(plane.normal);
     point_ = glm::dvec3(plane.point);
   }
 
   CutResult run();
-  /// Posed positions of the vertices the cut added, by id from the input's vertex count.
 
  private:
   struct Split {
@@ -82,6 +84,8 @@ class Cutter {
   MeshEditor editor_;
   // Posed positions: the caller's for existing vertices, ours for the ones the cut adds.
   detail::PosedOverlay<glm::vec3> posed_;
+  // Bind positions of the rim vertices: their posed crossing points unposed.
+  detail::Placement placement_;
   CutOptions options_;
   glm::dvec3 normal_, point_;
   // Signed distance to the plane (computed in float from the posed positions, so stored as
@@ -108,7 +112,9 @@ const Cutter::Split& Cutter::split_edge(VertexId a, VertexId b) {
   const double dl = dist_[lo.index], dh = dist_[hi.index];
   const float t = static_cast<float>(dl / (dl - dh));
   const VertexId v = editor_.add_vertex_on_edge(lo, hi, t);
-  posed_.add(glm::mix(posed_(lo), posed_(hi), t));
+  const glm::vec3 at = glm::mix(posed_(lo), posed_(hi), t);
+  posed_.add(at);
+  placement_.place(editor_, v, at);
   dist_.push_back(0.0f);
   sign_.push_back(0);
   *s = Split{lo, hi, v, t};
@@ -525,7 +531,7 @@ void check_cut_plane(const Plane& plane) {
 }
 
 CutResult cut_mesh(SurfaceMesh& mesh, PosedMesh& posed, const Plane& plane, const CutOptions& options) {
-  Cutter cutter(mesh, posed.posed, plane, options);
+  Cutter cutter(mesh, posed.posed, plane, options, detail::Placement(posed, mesh));
   CutResult result = cutter.run();
   posed.follow(mesh, result.log);
   return result;
@@ -554,10 +560,10 @@ void add_piece_primitives(const SurfaceMesh& piece, int material, int cut_materi
   add(cap, cut_material);
 }
 
-// New rim vertices get bind positions interpolated along their edges and blended weights;
-// skinning is not linear in those, so in a pose their posed position can sit a little off the
-// plane. Move each rim vertex in bind space by the amount that puts it back on the plane in the
-// pose the cut was made in, so a second cut with the same plane finds nothing left to cut.
+// Rim vertices lie on the plane in the pose the cut was made in up to float rounding (new ones
+// are their posed crossing points unposed), and input vertices within the tolerance of the plane
+// count as on it. Move each rim vertex in bind space by the amount that puts it on the plane in
+// that pose, so a second cut with the same plane finds nothing left to cut.
 void snap_rim_to_plane(const Model& model, int node, const std::vector<glm::mat4>& world, const Plane& plane,
                        const CutResult& result, SurfaceMesh& mesh) {
   if (result.rim_vertices.empty()) return;
@@ -601,6 +607,7 @@ InstanceCut cut_instance(detail::InstanceEdit& inst, const std::vector<glm::mat4
     PosedMesh* posed = inst.posed(static_cast<int>(p));
     if (!posed) {
       own.posed = posed_positions(inst.model(), inst.node(), copy, world);
+      own.no_unpose = true;  // positions only: rim vertices interpolated, then snapped below
       posed = &own;
     }
     out.results.push_back(cut_mesh(copy, *posed, plane, options));
