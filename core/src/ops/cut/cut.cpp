@@ -563,21 +563,33 @@ void add_piece_primitives(const SurfaceMesh& piece, int material, int cut_materi
 // Rim vertices lie on the plane in the pose the cut was made in up to float rounding (new ones
 // are their posed crossing points unposed), and input vertices within the tolerance of the plane
 // count as on it. Move each rim vertex in bind space by the amount that puts it on the plane in
-// that pose, so a second cut with the same plane finds nothing left to cut.
-void snap_rim_to_plane(const Model& model, int node, const std::vector<glm::mat4>& world, const Plane& plane,
-                       const CutResult& result, SurfaceMesh& mesh) {
-  if (result.rim_vertices.empty()) return;
+// that pose (`posed`: the instance after the cut), so a second cut with the same plane finds
+// nothing left to cut. A bind move maps through the vertex's linear map alone (a morph offset
+// stays as it is).
+void snap_rim_to_plane(const PosedMesh& posed, const Plane& plane, const CutResult& result, SurfaceMesh& mesh) {
   const glm::vec3 n = glm::normalize(plane.normal);
-  const auto skin = vertex_skin_matrices(model, node, mesh, world);
   auto& bind = mesh.positions();
   for (VertexId v : result.rim_vertices) {
-    const glm::mat4& m = skin[v.index];
-    const float off = glm::dot(glm::vec3(m * glm::vec4(bind[v.index], 1.0f)) - plane.point, n);
+    const float off = glm::dot(posed.posed[v.index] - plane.point, n);
     if (off == 0.0f) continue;
-    const glm::mat3 linear(m);
+    const glm::mat3 linear = posed.linear.empty() ? glm::mat3(1.0f) : posed.linear[v.index];
     if (std::abs(glm::determinant(linear)) < 1e-12f) continue;
     bind[v.index] -= off * (glm::inverse(linear) * n);
   }
+}
+
+// The instance (node, primitive mesh `mesh`) posed on its own, as PosedModel poses it without a
+// grid: for an instance the posed model does not index.
+PosedMesh pose_alone(const Model& model, int node, const SurfaceMesh& mesh, const std::vector<glm::mat4>& world) {
+  PosedMesh out;
+  out.world = world[static_cast<std::size_t>(node)];
+  const int skin = model.nodes[static_cast<std::size_t>(node)].skin;
+  if (skin >= 0 && static_cast<std::size_t>(skin) < model.skins.size()) out.joints = joint_matrices(model, skin, world);
+  out.posed = posed_positions(model, node, mesh, world);
+  for (const glm::mat4& m : vertex_skin_matrices(model, node, mesh, world)) out.linear.emplace_back(m);
+  for (const glm::vec3& p : out.posed) out.bounds.add(p);
+  out.gridless = true;
+  return out;
 }
 
 // Side an untouched primitive lies on (it may be on the side that is dropped).
@@ -606,13 +618,12 @@ InstanceCut cut_instance(detail::InstanceEdit& inst, const std::vector<glm::mat4
     PosedMesh own;
     PosedMesh* posed = inst.posed(static_cast<int>(p));
     if (!posed) {
-      own.posed = posed_positions(inst.model(), inst.node(), copy, world);
-      own.no_unpose = true;  // positions only: rim vertices interpolated, then snapped below
+      own = pose_alone(inst.model(), inst.node(), copy, world);
       posed = &own;
     }
     out.results.push_back(cut_mesh(copy, *posed, plane, options));
     CutResult& r = out.results.back();
-    if (r.status == OpStatus::Ok) snap_rim_to_plane(inst.model(), inst.node(), world, plane, r, copy);
+    if (r.status == OpStatus::Ok) snap_rim_to_plane(*posed, plane, r, copy);
     if (r.status == OpStatus::NoIntersection) r.piece_sides = {side_of(copy, posed->posed, plane)};
     out.any |= r.status == OpStatus::Ok;
     out.prims.push_back(std::move(copy));
