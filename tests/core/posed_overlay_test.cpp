@@ -1,9 +1,14 @@
 // SPDX-License-Identifier: MIT
 // The posed overlay the conforming insertions share (ops/common): input, added and moved
-// vertices, in the precision the operation computes in.
+// vertices, in the precision the operation computes in; and the placement that puts new
+// vertices at their posed points in bind space.
 #include "ops/common/posed_overlay.h"
 
 #include <gtest/gtest.h>
+
+#include "deepcut/core/skinning.h"
+#include "fixtures.h"
+#include "ops/common/placement.h"
 
 namespace deepcut::detail {
 namespace {
@@ -55,6 +60,56 @@ TEST(PosedOverlay, DoublePrecisionKeepsAddedPointsExactly) {
   posed.add(p);
   EXPECT_EQ(posed(VertexId(3)), p);
   EXPECT_EQ(posed(VertexId(1)), glm::dvec3(1.0, 0.0, 0.0));
+}
+
+// The skinned tube bent 60 degrees (t = 1 of its clip) and a vertex made between two vertices
+// of different weights: where its blended skin poses its interpolated bind position, and where
+// it should be.
+struct BentTube {
+  Model model = test::make_skinned_tube_model();
+  PosedModel posed;
+  SurfaceMesh mesh;
+  explicit BentTube(int animation)
+      : posed(PosedModel::build(model, animation, 1.0f)), mesh(model.meshes[0].primitives[0].mesh) {}
+  const PosedMesh& inst() const { return *posed.find(0, 0); }
+  glm::vec3 pose_of(VertexId v) const {
+    return glm::vec3(SkinBlend(mesh, inst().joints).matrix(v.index) * glm::vec4(mesh.position(v), 1.0f));
+  }
+};
+
+TEST(Placement, ANewVertexOfABentSkinPosesAtItsTarget) {
+  BentTube tube(0);
+  MeshEditor editor(tube.mesh);
+  const detail::Placement placement(tube.inst(), tube.mesh);
+  ASSERT_TRUE(placement.unposes());
+  const VertexId a(2 * 16 + 3), b(7 * 16 + 5);
+  const VertexId v = editor.add_vertex_on_edge(a, b, 0.3f);
+  const glm::vec3 target = glm::mix(tube.inst().posed[a.index], tube.inst().posed[b.index], 0.3f);
+  EXPECT_GT(glm::length(tube.pose_of(v) - target), 1e-2f)
+      << "interpolated in bind space, it poses beside the target";
+  placement.place(editor, v, target);
+  EXPECT_LT(glm::length(tube.pose_of(v) - target), 1e-5f);
+  EXPECT_EQ(glm::length(editor.mesh().position(v) - placement.bind_position(tube.mesh, v, target, {})), 0.0f);
+}
+
+TEST(Placement, AtRestTheInterpolatedBindPositionIsKeptBitForBit) {
+  BentTube tube(-1);
+  MeshEditor editor(tube.mesh);
+  const detail::Placement placement(tube.inst(), tube.mesh);
+  const VertexId a(2 * 16 + 3), b(7 * 16 + 5);
+  const VertexId v = editor.add_vertex_on_edge(a, b, 0.3f);
+  const glm::vec3 interpolated = tube.mesh.position(v);
+  placement.place(editor, v, glm::mix(tube.inst().posed[a.index], tube.inst().posed[b.index], 0.3f));
+  EXPECT_EQ(tube.mesh.position(v), interpolated);
+  EXPECT_EQ(editor.log().size(), 1u) << "no VertexMoved";
+}
+
+TEST(Placement, AMeshPosedAtGivenPositionsIsNotUnposed) {
+  SurfaceMesh mesh = test::make_grid(3, 3);
+  const PosedMesh at = PosedMesh::at_positions(mesh);
+  const detail::Placement placement(at, mesh);
+  EXPECT_FALSE(placement.unposes());
+  EXPECT_EQ(placement.bind_position(mesh, VertexId(0), {5, 5, 5}, {1, 2, 3}), glm::vec3(1, 2, 3));
 }
 
 }  // namespace

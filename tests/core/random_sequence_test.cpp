@@ -165,6 +165,31 @@ BoundingBox face_box(const Triangle& t, const std::vector<glm::vec3>& points) {
   return b;
 }
 
+// Half-edges of `mesh` at `posed` that cross the interior of one of the triangles `quad`: both
+// ends further than `margin` off its plane on opposite sides, the crossing point further than
+// `margin` inside. A tear leaves none across its swept quad at the pose it was made in.
+std::size_t edges_across(const SurfaceMesh& mesh, const std::vector<glm::vec3>& posed,
+                         const std::vector<std::array<glm::vec3, 3>>& quad, double margin) {
+  std::size_t n = 0;
+  for (const auto& tri : quad) {
+    const glm::dvec3 a(tri[0]), b(tri[1]), c(tri[2]);
+    const glm::dvec3 nn = glm::normalize(glm::cross(b - a, c - a));
+    const glm::dvec3 e[3] = {glm::normalize(b - a), glm::normalize(c - b), glm::normalize(a - c)}, o[3] = {a, b, c};
+    mesh.for_each_face([&](FaceId, const Triangle& t) {
+      for (int k = 0; k < 3; ++k) {
+        const glm::dvec3 p(posed[t[k].index]), q(posed[t[(k + 1) % 3].index]);
+        const double dp = glm::dot(p - a, nn), dq = glm::dot(q - a, nn);
+        if (!((dp > margin && dq < -margin) || (dp < -margin && dq > margin))) continue;
+        const glm::dvec3 x = p + (dp / (dp - dq)) * (q - p);
+        bool in = true;
+        for (int j = 0; j < 3; ++j) in &= glm::dot(glm::cross(e[j], x - o[j]), nn) > margin;
+        n += in;
+      }
+    });
+  }
+  return n;
+}
+
 class Sequence {
  public:
   Sequence(std::string path, std::uint64_t seed, int steps)
@@ -379,7 +404,15 @@ class Sequence {
   bool apply(Part& part, EditLog& log) {
     SurfaceMesh& mesh = part.mesh(model_);
     if (const auto* cut = std::get_if<CutOperation>(&op_.params)) {
-      CutResult r = cut_mesh(mesh, part.posed, cut->plane, cut->options);
+      // Posed as cut_model poses it (without a grid: the cut reads positions), so new rim
+      // vertices go back to bind space through the part's skinning.
+      PosedMesh posed;
+      posed.posed = part.posed;
+      for (const glm::vec3& p : part.posed) posed.bounds.add(p);
+      posed.joints = part.joints;
+      posed.world = part.node_world;
+      posed.gridless = true;
+      CutResult r = cut_mesh(mesh, posed, cut->plane, cut->options);
       log = std::move(r.log);
       return r.status == OpStatus::Ok;
     }
@@ -554,6 +587,15 @@ class Sequence {
     }
     // The spatial index, where it is kept: every live face near the tool is found.
     part.posed = posed_positions(model_, part.node, mesh, world_);
+    // A tear leaves no edge across its swept quad, at the pose it was made in.
+    if (const auto* tear = std::get_if<TearOperation>(&op_.params)) {
+      BoundingBox box;
+      for (const glm::vec3& p : part.posed) box.add(p);
+      const double size = box.diagonal();
+      const std::size_t across = edges_across(mesh, part.posed, swept_quad_triangles(tear->start, tear->end),
+                                              2.0 * double(tear->options.relative_tolerance) * size + 1e-6 * size);
+      ASSERT_EQ(across, 0u) << where << across << " half-edges cross the swept quad at the tear's pose";
+    }
     if (part.grid_current) {
       part.grid.apply(log, part.posed);
       ASSERT_EQ(part.grid.face_count(), mesh.face_count()) << where << "spatial index face count";

@@ -674,6 +674,61 @@ TEST(TearTest, random_sweeps_on_every_asset_keep_all_invariants) {
   }
 }
 
+// The random sweeps again, each at a random moment of the first clip (the rest pose when the
+// model does not animate), through the instance as the posed model holds it: at that pose no
+// mesh edge crosses the swept quad, and the new boundary runs along it.
+TEST(TearTest, random_posed_sweeps_on_every_asset_leave_no_edge_across_the_quad) {
+  const unsigned seed = 20261126;
+  for (const auto& path : test::asset_models()) {
+    SCOPED_TRACE(path + " (seed " + std::to_string(seed) + ")");
+    const Model model = read_gltf(path);
+    const std::size_t joints = model.skins.empty() ? 0 : model.skins[0].joints.size();
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+    std::size_t torn = 0;
+    for (int i = 0; i < 40; ++i) {
+      SCOPED_TRACE("sweep " + std::to_string(i));
+      const int animation = model.animations.empty() ? -1 : 0;
+      const float time = animation < 0 ? 0.0f : u01(rng) * model.animations[0].duration();
+      const PosedModel posed_model = PosedModel::build(model, animation, time);
+      for (const auto& [key, inst] : posed_model.instances()) {
+        const SurfaceMesh& source = model.meshes[inst.mesh].primitives[inst.primitive].mesh;
+        SurfaceMesh at_pose = source;
+        at_pose.positions() = inst.posed;
+        const auto [start, end] = random_sweep(at_pose, rng, i % 2 == 1);
+        SurfaceMesh mesh = source;
+        PosedMesh posed = inst;
+        TearOptions options;
+        if (i % 3 == 0) options.width = 0.0f;
+        const TearResult r = tear_mesh(mesh, posed, start, end, options);
+        if (r.status != OpStatus::Ok) continue;
+        ++torn;
+        test::expect_valid(mesh, joints);
+        const double size = inst.bounds.diagonal(), tol = options.relative_tolerance * size;
+        const auto quad = swept_quad_triangles(start, end);
+        std::size_t crossing = 0;
+        mesh.for_each_face([&](FaceId, const Triangle& t) {
+          for (int k = 0; k < 3; ++k)
+            crossing += crosses_quad(posed.posed[t[k].index], posed.posed[t[(k + 1) % 3].index], quad,
+                                     2.0 * tol + 1e-6 * size);
+        });
+        EXPECT_EQ(crossing, 0u) << "half-edges crossing the swept quad at t = " << time;
+        const Adjacency before = Adjacency::build(source);
+        std::set<std::uint32_t> old_boundary;
+        for (const Edge& e : before.boundary_edges()) old_boundary.insert({e.a.index, e.b.index});
+        for (const auto& loop : boundary_loops(mesh))
+          for (std::uint32_t v : loop) {
+            if (old_boundary.count(v)) continue;
+            ASSERT_LE(quad_distance(posed.posed[v], quad), 0.5 * r.width + 4.0 * tol + 1e-6 * size)
+                << "boundary vertex " << v << " is not on the slit at t = " << time;
+          }
+        if (::testing::Test::HasFatalFailure()) return;
+      }
+    }
+    EXPECT_GT(torn, 20u) << "most sweeps through a surface point tear it";
+  }
+}
+
 TEST(TearTest, random_tear_sequences_keep_incremental_adjacency_equal_to_a_rebuild) {
   const unsigned seed = 77;
   for (const auto& path : test::asset_models()) {

@@ -3,7 +3,8 @@
 //   1. classify_vertices: signed distance to the plane and snapped side of every vertex, at its
 //      posed position;
 //   2. split_crossed_faces: each crossed edge split once (ops/common/crossing_table.h, with the
-//      needle merges), each crossed face made again from up to three triangles;
+//      needle merges) at the posed point where the plane crosses it, unposed to bind space
+//      (ops/common/placement.h), each crossed face made again from up to three triangles;
 //   3. separate_or_drop_side: rim vertices both sides use get a copy for the positive side, or
 //      the dropped side's faces go;
 //   4. pinch repair (ops/common/pinches.h), then the pieces: live faces by side (and component);
@@ -22,13 +23,13 @@
 #include <unordered_set>
 
 #include "deepcut/core/mesh_editor.h"
-#include "deepcut/core/morph.h"
 #include "deepcut/core/parallel.h"
 #include "deepcut/core/posed_model.h"
 #include "deepcut/core/skinning.h"
 #include "ops/common/crossing_table.h"
 #include "ops/common/model_surgery.h"
 #include "ops/common/pinches.h"
+#include "ops/common/placement.h"
 #include "ops/common/posed_overlay.h"
 #include "ops/cut/caps.h"
 
@@ -44,14 +45,14 @@ using detail::edge_key;
 
 class Cutter {
  public:
-  Cutter(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const Plane& plane, const CutOptions& options)
-      : mesh_(mesh), editor_(mesh), posed_(posed), options_(options) {
+  Cutter(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const Plane& plane, const CutOptions& options,
+         detail::Placement placement = {})
+      : mesh_(mesh), editor_(mesh), posed_(posed), placement_(placement), options_(options) {
     normal_ = glm::dvec3(plane.normal);
     point_ = glm::dvec3(plane.point);
   }
 
   CutResult run();
-  /// Posed positions of the vertices the cut added, by id from the input's vertex count.
 
  private:
   struct Split {
@@ -83,6 +84,8 @@ class Cutter {
   MeshEditor editor_;
   // Posed positions: the caller's for existing vertices, ours for the ones the cut adds.
   detail::PosedOverlay<glm::vec3> posed_;
+  // Bind positions of the rim vertices: their posed crossing points unposed.
+  detail::Placement placement_;
   CutOptions options_;
   glm::dvec3 normal_, point_;
   // Signed distance to the plane (computed in float from the posed positions, so stored as
@@ -109,7 +112,9 @@ const Cutter::Split& Cutter::split_edge(VertexId a, VertexId b) {
   const double dl = dist_[lo.index], dh = dist_[hi.index];
   const float t = static_cast<float>(dl / (dl - dh));
   const VertexId v = editor_.add_vertex_on_edge(lo, hi, t);
-  posed_.add(glm::mix(posed_(lo), posed_(hi), t));
+  const glm::vec3 at = glm::mix(posed_(lo), posed_(hi), t);
+  posed_.add(at);
+  placement_.place(editor_, v, at);
   dist_.push_back(0.0f);
   sign_.push_back(0);
   *s = Split{lo, hi, v, t};
@@ -526,7 +531,7 @@ void check_cut_plane(const Plane& plane) {
 }
 
 CutResult cut_mesh(SurfaceMesh& mesh, PosedMesh& posed, const Plane& plane, const CutOptions& options) {
-  Cutter cutter(mesh, posed.posed, plane, options);
+  Cutter cutter(mesh, posed.posed, plane, options, detail::Placement(posed, mesh));
   CutResult result = cutter.run();
   posed.follow(mesh, result.log);
   return result;
@@ -555,26 +560,38 @@ void add_piece_primitives(const SurfaceMesh& piece, int material, int cut_materi
   add(cap, cut_material);
 }
 
-// New rim vertices get bind positions interpolated along their edges and blended weights;
-// skinning is not linear in those, so in a pose their posed position can sit a little off the
-// plane. Move each rim vertex in bind space by the amount that puts it back on the plane in the
-// pose the cut was made in, so a second cut with the same plane finds nothing left to cut.
-void snap_rim_to_plane(const Model& model, int node, const std::vector<glm::mat4>& world, const Plane& plane,
-                       const CutResult& result, SurfaceMesh& mesh, const std::vector<float>& weights) {
-  if (result.rim_vertices.empty()) return;
+// Rim vertices lie on the plane in the pose the cut was made in up to float rounding (new ones
+// are their posed crossing points unposed), and input vertices within the tolerance of the plane
+// count as on it. Move each rim vertex in bind space by the amount that puts it on the plane in
+// that pose (`posed`: the instance after the cut), so a second cut with the same plane finds
+// nothing left to cut. A bind move maps through the vertex's linear map alone (a morph offset
+// stays as it is).
+void snap_rim_to_plane(const PosedMesh& posed, const Plane& plane, const CutResult& result, SurfaceMesh& mesh) {
   const glm::vec3 n = glm::normalize(plane.normal);
-  const auto skin = vertex_skin_matrices(model, node, mesh, world);
-  const MorphBlend morph(mesh, weights);
   auto& bind = mesh.positions();
   for (VertexId v : result.rim_vertices) {
-    const glm::mat4& m = skin[v.index];
-    const glm::vec3 posed(m * glm::vec4(morph.position(v.index, bind[v.index]), 1.0f));
-    const float off = glm::dot(posed - plane.point, n);
+    const float off = glm::dot(posed.posed[v.index] - plane.point, n);
     if (off == 0.0f) continue;
-    const glm::mat3 linear(m);
+    const glm::mat3 linear = posed.linear.empty() ? glm::mat3(1.0f) : posed.linear[v.index];
     if (std::abs(glm::determinant(linear)) < 1e-12f) continue;
     bind[v.index] -= off * (glm::inverse(linear) * n);
   }
+}
+
+// The instance (node, primitive mesh `mesh`) posed on its own, as PosedModel poses it without a
+// grid: for an instance the posed model does not index.
+PosedMesh pose_alone(const Model& model, int node, const SurfaceMesh& mesh, const std::vector<glm::mat4>& world,
+                     const std::vector<float>& weights) {
+  PosedMesh out;
+  out.world = world[static_cast<std::size_t>(node)];
+  const int skin = model.nodes[static_cast<std::size_t>(node)].skin;
+  if (skin >= 0 && static_cast<std::size_t>(skin) < model.skins.size()) out.joints = joint_matrices(model, skin, world);
+  out.weights = weights;
+  out.posed = posed_positions(model, node, mesh, world, weights);
+  for (const glm::mat4& m : vertex_skin_matrices(model, node, mesh, world)) out.linear.emplace_back(m);
+  for (const glm::vec3& p : out.posed) out.bounds.add(p);
+  out.gridless = true;
+  return out;
 }
 
 // Side an untouched primitive lies on (it may be on the side that is dropped).
@@ -603,14 +620,12 @@ InstanceCut cut_instance(detail::InstanceEdit& inst, const std::vector<glm::mat4
     PosedMesh own;
     PosedMesh* posed = inst.posed(static_cast<int>(p));
     if (!posed) {
-      own.posed =
-          posed_positions(inst.model(), inst.node(), copy, world, inst.posed_model().weights(inst.node()));
+      own = pose_alone(inst.model(), inst.node(), copy, world, inst.posed_model().weights(inst.node()));
       posed = &own;
     }
     out.results.push_back(cut_mesh(copy, *posed, plane, options));
     CutResult& r = out.results.back();
-    if (r.status == OpStatus::Ok) snap_rim_to_plane(inst.model(), inst.node(), world, plane, r, copy,
-                                                     inst.posed_model().weights(inst.node()));
+    if (r.status == OpStatus::Ok) snap_rim_to_plane(*posed, plane, r, copy);
     if (r.status == OpStatus::NoIntersection) r.piece_sides = {side_of(copy, posed->posed, plane)};
     out.any |= r.status == OpStatus::Ok;
     out.prims.push_back(std::move(copy));

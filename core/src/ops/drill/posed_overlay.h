@@ -11,12 +11,13 @@
 
 #include "deepcut/core/mesh_editor.h"
 #include "deepcut/core/ops/drill.h"
+#include "ops/common/placement.h"
 #include "ops/common/posed_overlay.h"
 
 namespace deepcut::drill {
 
-/// Maps the posed position of a new vertex back to bind space (its skin weights already set).
-using Unposer = std::function<glm::vec3(const SurfaceMesh& mesh, VertexId v, const glm::vec3& posed)>;
+/// Maps the posed position of a new vertex back to bind space (ops/common/placement.h).
+using Unposer = detail::Unposer;
 
 class PosedOverlay : public detail::PosedOverlay<glm::dvec3> {
  public:

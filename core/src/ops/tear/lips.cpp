@@ -221,9 +221,7 @@ Lips split_lips(TearContext& ctx, const Chains& chains, Wedges& wedges) {
       VertexId id(v);
       if (w > 0) {
         id = ctx.editor.split_vertex(VertexId(v));
-        const VertexId src[1] = {VertexId(v)};
-        const double one[1] = {1.0};
-        ctx.pose.add(id, glm::dvec3(ctx.pose.posed(v)), src, one, 1);
+        ctx.pose.add_copy(id, VertexId(v));
         out.tear_vertices.push_back(id);
         out.split_from.insert(id.index);
         for (FaceId f : ws[w]) replace[f.index].emplace_back(v, id);
@@ -389,9 +387,13 @@ void keep_face_areas(const TearContext& ctx, const Lips& lips, const Map<std::ui
   moving.assign(lips.lips.size(), false);
   for (std::size_t i = 0; i < lips.lips.size(); ++i) {
     if (glm::length(lips.lips[i].move) == 0.0) continue;
-    const glm::mat3 m = ctx.pose.linear(lips.lips[i].v);
+    const VertexId v = lips.lips[i].v;
+    const glm::mat3 m = ctx.pose.linear(v);
     if (std::abs(glm::determinant(m)) < 1e-12f) continue;
-    target[i] = ctx.mesh.position(lips.lips[i].v) + glm::inverse(m) * glm::vec3(lips.lips[i].move);
+    // Posed, the lip moves by exactly its move: its moved posed point unposed.
+    const glm::vec3 guess = ctx.mesh.position(v) + glm::inverse(m) * glm::vec3(lips.lips[i].move);
+    const glm::vec3 to = glm::vec3(glm::dvec3(ctx.pose.posed(v.index)) + lips.lips[i].move);
+    target[i] = ctx.pose.placement().bind_position(ctx.mesh, v, to, guess);
     moving[i] = true;
   }
   auto has_area = [](const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
@@ -475,7 +477,8 @@ void split_lone_edges(TearContext& ctx, Slits& slits) {
     const VertexId m = ctx.editor.add_vertex_on_edge(a, b, 0.5f);
     const VertexId src[2] = {a, b};
     const double w[2] = {0.5, 0.5};
-    ctx.pose.add(m, 0.5 * (glm::dvec3(ctx.pose.posed(a.index)) + glm::dvec3(ctx.pose.posed(b.index))), src, w, 2);
+    const glm::dvec3 at = 0.5 * (glm::dvec3(ctx.pose.posed(a.index)) + glm::dvec3(ctx.pose.posed(b.index)));
+    ctx.pose.add(ctx.editor, m, at, src, w, 2);
     for (FaceId f : faces_of[key]) {
       const Triangle t = ctx.mesh.face(f);
       int k = 0;

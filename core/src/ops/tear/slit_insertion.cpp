@@ -287,7 +287,7 @@ SlitVertices add_slit_vertices(FacetScan& scan, TearContext& ctx, Chords& chords
     c.v = ctx.editor.add_vertex_on_edge(c.lo, c.hi, static_cast<float>(c.t));
     const VertexId src[2] = {c.lo, c.hi};
     const double w[2] = {1.0 - c.t, c.t};
-    ctx.pose.add(c.v, c.p, src, w, 2);
+    ctx.pose.add(ctx.editor, c.v, c.p, src, w, 2);
     ++slits.intersections;
   }
   for (const auto& [key, ze] : chords.zero_edges)
@@ -304,8 +304,8 @@ SlitVertices add_slit_vertices(FacetScan& scan, TearContext& ctx, Chords& chords
       const VertexId v = ctx.editor.add_vertex_on_edge(ze.lo, ze.hi, static_cast<float>(s));
       const VertexId src[2] = {ze.lo, ze.hi};
       const double w[2] = {1.0 - s, s};
-      ctx.pose.add(v, glm::mix(glm::dvec3(ctx.pose.posed(ze.lo.index)), glm::dvec3(ctx.pose.posed(ze.hi.index)), s),
-                   src, w, 2);
+      const glm::dvec3 at = glm::mix(glm::dvec3(ctx.pose.posed(ze.lo.index)), glm::dvec3(ctx.pose.posed(ze.hi.index)), s);
+      ctx.pose.add(ctx.editor, v, at, src, w, 2);
       ze.points.emplace_back(s, v);
     }
   }
@@ -314,7 +314,7 @@ SlitVertices add_slit_vertices(FacetScan& scan, TearContext& ctx, Chords& chords
       const glm::dvec3 bary = glm::mix(plan.a.bary, plan.b.bary, s);
       const VertexId v = ctx.editor.add_vertex_in_triangle(plan.t, glm::vec3(bary));
       const double w[3] = {bary.x, bary.y, bary.z};
-      ctx.pose.add(v, glm::mix(plan.a.p, plan.b.p, s), plan.t.data(), w, 3);
+      ctx.pose.add(ctx.editor, v, glm::mix(plan.a.p, plan.b.p, s), plan.t.data(), w, 3);
       plan.interior_ids.push_back(v);
     }
   }

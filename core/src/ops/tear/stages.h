@@ -13,6 +13,7 @@
 #include "deepcut/core/mesh_editor.h"
 #include "deepcut/core/posed_model.h"
 #include "ops/common/crossing_table.h"
+#include "ops/common/placement.h"
 #include "ops/common/posed_overlay.h"
 #include "ops/tear/sweep.h"
 
@@ -30,12 +31,13 @@ inline VertexId key_lo(std::uint64_t key) { return VertexId(static_cast<std::uin
 inline VertexId key_hi(std::uint64_t key) { return VertexId(static_cast<std::uint32_t>(key & 0xffffffffu)); }
 
 /// Posed positions and bind-to-world linear maps during one tear: the PosedMesh's for the
-/// vertices it holds, the tear's own for the vertices it adds (interpolated where they are made,
-/// so the predicates see the surface the blade was placed against).
+/// vertices it holds, the tear's own for the vertices it adds (where they are made, so the
+/// predicates see the surface the blade was placed against), and the placement that puts each
+/// new or moved vertex at its posed point (ops/common/placement.h).
 class TearPose {
  public:
-  TearPose(const PosedMesh& input, std::pmr::memory_resource* arena)
-      : posed_(input.posed), input_linear_(input.linear), new_linear_(arena) {}
+  TearPose(const PosedMesh& input, const SurfaceMesh& mesh, std::pmr::memory_resource* arena)
+      : posed_(input.posed), input_linear_(input.linear), new_linear_(arena), placement_(input, mesh) {}
 
   glm::vec3 posed(std::uint32_t v) const { return posed_(v); }
   /// The linear map of `v`: the input's, or the blend made for a new vertex (identity when the
@@ -46,21 +48,29 @@ class TearPose {
     auto it = new_linear_.find(v.index);
     return it == new_linear_.end() ? glm::mat3(1.0f) : it->second;
   }
-  /// Records new vertex `v` at posed position `p`, its linear map blended from `src` with
-  /// weights `w` (n of each).
-  void add(VertexId v, const glm::dvec3& p, const VertexId* src, const double* w, int n) {
+  /// Records new vertex `v`, just made by `editor` from `src` with weights `w` (n of each), at
+  /// posed position `p`: its linear map blended likewise, its bind position `p` unposed.
+  void add(MeshEditor& editor, VertexId v, const glm::dvec3& p, const VertexId* src, const double* w, int n) {
     posed_.set_added(v, glm::vec3(p));
     if (!input_linear_.empty()) {
       glm::mat3 m(0.0f);
       for (int i = 0; i < n; ++i) m += float(w[i]) * linear(src[i]);
       new_linear_[v.index] = m;
     }
+    placement_.place(editor, v, glm::vec3(p));
   }
+  /// Records `copy`, a copy of `v` (MeshEditor::split_vertex): the same posed position and map.
+  void add_copy(VertexId copy, VertexId v) {
+    posed_.set_added(copy, posed_(v.index));
+    if (!input_linear_.empty()) new_linear_[copy.index] = linear(v);
+  }
+  const Placement& placement() const { return placement_; }
 
  private:
   PosedOverlay<glm::vec3> posed_;
   const std::vector<glm::mat3>& input_linear_;
   Map<std::uint32_t, glm::mat3> new_linear_;
+  Placement placement_;
 };
 
 /// What every stage works on: the mesh and its editor, the posed positions, the grid over the

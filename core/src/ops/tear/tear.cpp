@@ -75,7 +75,7 @@ TearResult tear_mesh(SurfaceMesh& mesh, PosedMesh& posed, const Blade& start, co
   const std::vector<SweepFacet> facets = stage::make_sweep(start, end);
   const float width = resolved_tear_width(start, end, options);
   result.width = width;
-  stage::TearPose pose(posed, &arena);
+  stage::TearPose pose(posed, mesh, &arena);
   const double tol = double(options.relative_tolerance) * double(posed.bounds.diagonal());
   stage::TearContext ctx{mesh, editor, pose, posed.grid, first_new_face, tol, &arena};
   stage::Slits slits(&arena);

@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 /// @file ops/cut.h
-/// Cut by an infinite plane. Predicates run on the posed positions (what the designer sees); the
-/// resulting edge parameters are applied to the bind-space mesh, so the cut lands where it was
-/// placed and the pieces still animate. The stages are laid out in docs/architecture.md.
+/// Cut by an infinite plane. Predicates run on the posed positions (what the designer sees); each
+/// new rim vertex is the posed point where the plane crosses an edge, unposed through its own
+/// blended skin (PosedMesh::unpose), so the cut lands exactly where it was placed and the pieces
+/// still animate. The stages are laid out in docs/architecture.md.
 
 #include <vector>
 

@@ -10,7 +10,9 @@
 /// any) boundary joins it, so strokes in a row give one slit.
 ///
 /// Like Cut, predicates run on the posed positions (what the designer sees) and the resulting edge
-/// parameters and barycentric coordinates are applied to the bind-space attributes.
+/// parameters and barycentric coordinates are applied to the bind-space attributes; each new
+/// vertex's bind position is its posed point on the quad unposed through its own blended skin
+/// (PosedMesh::unpose), and each lip moves, posed, by its opening along the quad's normal.
 
 #include <array>
 #include <vector>
@@ -78,9 +80,10 @@ struct TearResult {
 /// Tears one mesh in place.
 /// @param mesh         triangle mesh, edited through MeshEditor.
 /// @param posed        the mesh at the pose the blade was placed against (posed_model.h): its
-///                     posed positions (the predicates' geometry), linear skin maps (the lips are
-///                     pushed apart along the quad's world normal, mapped to bind space through
-///                     their inverse, so the posed result shows the opening; empty: identity),
+///                     posed positions (the predicates' geometry), linear skin maps and joint and
+///                     world matrices (new vertices and the lips' moves go back to bind space
+///                     through them, so the posed result is the slit and its opening exactly;
+///                     `linear` empty: identity),
 ///                     bounds (the model size for the tolerance) and grid (the candidate faces,
 ///                     so the cost follows the tear, not the mesh). PosedMesh::at_positions(mesh) for a
 ///                     mesh on its own. On success it follows the tear's log (PosedMesh::follow),
