@@ -40,7 +40,7 @@ std::vector<glm::vec3> posed(const Model& model, float t) {
   for (std::size_t n = 0; n < model.nodes.size(); ++n) {
     if (model.nodes[n].mesh < 0) continue;
     for (const auto& prim : model.meshes[model.nodes[n].mesh].primitives) {
-      const auto p = posed_positions(model, static_cast<int>(n), prim.mesh, world);
+      const auto p = posed_positions(model, static_cast<int>(n), prim.mesh, world, pose.weights[n]);
       out.insert(out.end(), p.begin(), p.end());
     }
   }
@@ -159,7 +159,7 @@ TEST_F(CliTest, info_reports_problems_in_a_dirty_file) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json j = json::parse(r.out);
   ASSERT_FALSE(j["problems"].empty());
-  EXPECT_NE(j["problems"][0].get<std::string>().find("no node draws it with a skin"), std::string::npos);
+  EXPECT_NE(j["problems"][0]["message"].get<std::string>().find("no node draws it with a skin"), std::string::npos);
 }
 
 TEST_F(CliTest, malformed_input_gives_exit_2_and_one_line) {

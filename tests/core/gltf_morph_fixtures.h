@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 // Morph-target test inputs built in code: a tiny .glb (`Tiny`) that each test can spoil before
-// packing it, and the import-note helpers the morph tests share.
+// packing it, and the import-problem helpers the morph tests share.
 
 #include <algorithm>
 #include <cstdint>
@@ -16,15 +16,17 @@ namespace deepcut::morph_test {
 
 using nlohmann::json;
 
-inline bool has_note(const Model& model, const std::string& part) {
-  for (const auto& n : model.import_notes)
-    if (n.find(part) != std::string::npos) return true;
+// True when the import problem of `kind` says `part` (in its message: count, phrase and places).
+inline bool has_problem(const Model& model, const std::string& kind, const std::string& part) {
+  for (const auto& p : model.import_problems)
+    if (p.kind == kind && p.message.find(part) != std::string::npos) return true;
   return false;
 }
 
-inline std::string notes_of(const Model& model) {
+// Every import problem, one "kind: message" line each (for failure messages).
+inline std::string problems_of(const Model& model) {
   std::string out;
-  for (const auto& n : model.import_notes) out += n + "\n";
+  for (const auto& p : model.import_problems) out += p.kind + ": " + p.message + "\n";
   return out;
 }
 

@@ -15,6 +15,7 @@
 
 #include "deepcut/core/errors.h"
 #include "deepcut/core/io/gltf.h"
+#include "io/import_problems.h"
 
 namespace deepcut::gltf_detail {
 
@@ -52,11 +53,6 @@ struct MorphTarget {
 // is face t): `attr::morph_position_name(i)` per vertex, the normal and tangent deltas per corner.
 void add_morph_targets(SurfaceMesh& mesh, const std::vector<std::uint32_t>& tris, const std::vector<MorphTarget>& targets);
 
-// A phrase that follows a count, in the singular and the plural.
-struct MorphCounted {
-  std::string one, many;
-};
-
 class Reader {
  public:
   /// Reads the file at `path`, or `*memory` (then `path` only names it and no file is read).
@@ -68,7 +64,10 @@ class Reader {
   [[noreturn]] void fail(const std::string& what) const {
     throw Error(ErrorCode::InvalidInput, path_ + ": " + one_line(what));
   }
-  void note(const std::string& what) { model_.import_notes.push_back(what); }
+  // Records `count` things of `kind` repaired or dropped at `place` (see io_detail::add_problem).
+  void problem(const std::string& kind, std::size_t count, const io_detail::Counted& what, const std::string& place = "") {
+    io_detail::add_problem(model_.import_problems, kind, count, what, place);
+  }
 
   // gltf_read.cpp
   void parse_container();
@@ -86,6 +85,9 @@ class Reader {
   void read_animations();
   void read_images();
   void read_passthrough();
+  void repair_skin(std::size_t index, Skin& skin);
+  void merge_duplicate_joints(std::size_t index, Skin& skin);
+  void note_dropped_extensions();
 
   // gltf_read_mesh.cpp
   void read_meshes();
@@ -100,8 +102,6 @@ class Reader {
   std::vector<MorphTarget> read_targets(const tinygltf::Primitive& p, const std::string& where, std::size_t nv,
                                         std::size_t corners, std::size_t count);
   void read_mesh_weights(Mesh& mesh, std::size_t m, const std::string& where, std::size_t count);
-  // Notes `count` morph things repaired or dropped at `place`: "<count> <phrase>: <place>".
-  void morph_note(std::size_t count, const MorphCounted& what, const std::string& place);
   bool fit_weights_sampler(AnimationSampler& s, int output_type, std::size_t animation, std::size_t channel);
   void resolve_morph_weights();
   void charge_decode(std::size_t bytes, const std::string& what);
@@ -110,6 +110,10 @@ class Reader {
   ImportOptions options_;
   const std::vector<unsigned char>* memory_ = nullptr;
   std::size_t decode_left_ = 0;  // bytes that accessors may still decode to (see kDecodeBaseBytes)
+  // Per skin: the joint each file joint index becomes once duplicate joints are merged (empty
+  // when the skin had none); `joint_remap_` points at the one of the mesh being read.
+  std::vector<std::vector<std::uint32_t>> skin_joint_remap_;
+  const std::vector<std::uint32_t>* joint_remap_ = nullptr;
   tinygltf::Model gltf_;
   nlohmann::json raw_;
   Model model_;
