@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 // Morph-target test inputs built in code: a tiny .glb (`Tiny`) that each test can spoil before
-// packing it, and the import-problem helpers the morph tests share.
+// packing it, and the import-note helpers the morph tests share.
 
 #include <algorithm>
 #include <cstdint>
@@ -16,17 +16,20 @@ namespace deepcut::morph_test {
 
 using nlohmann::json;
 
-// True when the import problem of `kind` says `part` (in its message: count, phrase and places).
-inline bool has_problem(const Model& model, const std::string& kind, const std::string& part) {
-  for (const auto& p : model.import_problems)
-    if (p.kind == kind && p.message.find(part) != std::string::npos) return true;
+// True when reading reported a problem of `kind` whose message or one of whose places contains `part`.
+inline bool has_note(const Model& model, const std::string& kind, const std::string& part) {
+  for (const auto& p : model.import_problems) {
+    if (p.kind != kind) continue;
+    if (p.message.find(part) != std::string::npos) return true;
+    for (const auto& place : p.places)
+      if (place.find(part) != std::string::npos) return true;
+  }
   return false;
 }
 
-// Every import problem, one "kind: message" line each (for failure messages).
-inline std::string problems_of(const Model& model) {
+inline std::string notes_of(const Model& model) {
   std::string out;
-  for (const auto& p : model.import_problems) out += p.kind + ": " + p.message + "\n";
+  for (const auto& p : model.import_problems) out += p.message + " [" + p.kind + "]\n";
   return out;
 }
 

@@ -27,7 +27,6 @@ namespace {
 
 using nlohmann::json;
 namespace fs = std::filesystem;
-using morph_test::problems_of;
 using morph_test::Tiny;
 
 const std::string kAssets = DEEPCUT_ASSETS_DIR;
@@ -226,7 +225,7 @@ TEST(GltfMorphTest, sample_models_read_the_files_deltas_exactly) {
     EXPECT_EQ(std::size_t(s.components), mesh.target_count());
     EXPECT_EQ(s.input.size(), doc["accessors"][sampler["input"].get<std::size_t>()]["count"].get<std::size_t>());
     EXPECT_EQ(s.output.size(), doc["accessors"][sampler["output"].get<std::size_t>()]["count"].get<std::size_t>());
-    EXPECT_TRUE(model.import_problems.empty()) << problems_of(model);
+    EXPECT_TRUE(model.import_problems.empty()) << morph_test::notes_of(model);
   }
 }
 
