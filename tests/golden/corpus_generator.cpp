@@ -301,6 +301,10 @@ const AssetPlan kPlans[] = {
     // Compressed inputs (appended: the seeds of the plans above stay as they were).
     {"assets/models/compressed/CesiumMan-draco.glb", "cesiumman-draco", 12, 2},
     {"assets/models/compressed/Fox-meshopt.glb", "fox-meshopt", 12, 2},
+    // Morph-target inputs (appended: the seeds of the plans above stay as they were).
+    {"assets/models/AnimatedMorphCube/AnimatedMorphCube.gltf", "animatedmorphcube", 12, 2},
+    {"assets/models/AnimatedMorphSphere/AnimatedMorphSphere.gltf", "animatedmorphsphere", 12, 2},
+    {"assets/models/SimpleMorph/SimpleMorph.gltf", "simplemorph", 12, 2},
 };
 
 // Command lines the CLI must refuse (exit 2), and one that names a missing model.

@@ -17,7 +17,10 @@ struct ImportOptions {
 
 /// Reads a .gltf or .glb file. Triangle primitives (also strips and fans, converted) become welded
 /// `SurfaceMesh`es; skins without inverseBindMatrices get identity matrices; weights are
-/// normalised (repairs are listed in `Model::import_notes`).
+/// normalised. Morph targets become `attr::morph_*` attributes (position deltas per vertex, normal
+/// and tangent deltas per corner), `Mesh::weights` has one weight per target, and node weights and
+/// weight channels that do not fit their mesh's targets are fitted or dropped (repairs are listed
+/// in `Model::import_problems`).
 /// @throws Error{Io} when the file cannot be read, Error{InvalidInput} when it is malformed
 ///         (the message starts with the file name and says what is wrong).
 Model read_gltf(const std::string& path, const ImportOptions& options = {});
@@ -53,8 +56,10 @@ struct ExportOptions {
 
 /// Writes `model` as .glb or .gltf (by extension; a .gltf embeds its buffer as a data URI).
 /// Corners are un-welded into glTF vertices; weights normalised, zero-weight joints set to 0,
-/// POSITION min/max written. Written to a temporary file in the same folder, then renamed,
-/// so a failure never leaves a partial file.
+/// POSITION min/max written. A mesh writes as many morph targets as `Mesh::weights` says and all
+/// its primitives carry; a weight channel or node weights whose node no longer draws such a mesh
+/// are left out, so the file stays valid glTF. Written to a temporary file in the same folder,
+/// then renamed, so a failure never leaves a partial file.
 /// @throws Error{InvalidArgument} for an unknown extension, Error{Io} when writing fails.
 void write_gltf(const Model& model, const std::string& path, const ExportOptions& options = {});
 
