@@ -1,0 +1,174 @@
+// SPDX-License-Identifier: MIT
+// three.js, a second real client, poses what deepcut writes as the project does: every asset,
+// its round trips, cuts, tears and drills made at a pose, and a replayed history, at two moments
+// of the first clip (the rest pose without one), vertex for vertex within 1e-5 of the model size
+// (see tests/support/three_client.h). Skipped when node or three.js is not installed.
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "deepcut/core/io/gltf.h"
+#include "deepcut/core/skinning.h"
+#include "fixtures.h"
+#include "three_client.h"
+#include "tools.h"
+
+namespace deepcut {
+namespace {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+std::string numbers(std::initializer_list<glm::vec3> points) {
+  std::ostringstream s;
+  s.precision(7);
+  const char* sep = "";
+  for (const glm::vec3& p : points) {
+    s << sep << p.x << "," << p.y << "," << p.z;
+    sep = ",";
+  }
+  return s.str();
+}
+
+// The pose the operations are made at: 0.37 of the first clip, or the rest pose.
+struct EditPose {
+  int animation = -1;
+  float time = 0.0f;
+  std::string args() const {
+    return animation < 0 ? std::string() : " --animation 0 --time " + std::to_string(time);
+  }
+};
+
+EditPose edit_pose(const Model& model) {
+  if (model.animations.empty()) return {};
+  return {0, 0.37f * model.animations[0].duration()};
+}
+
+class ThreeClientTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const std::string why = test::three_unavailable();
+    if (!why.empty()) GTEST_SKIP() << why;
+    dir_ = test::temp_dir("three");
+  }
+  void TearDown() override {
+    if (!dir_.empty()) fs::remove_all(dir_);
+  }
+
+  // Runs deepcut ARGS writing `out` (in the test's folder); returns its path.
+  std::string write(const std::string& out, const std::string& args) {
+    const std::string path = dir_ + "/" + out;
+    const auto r = test::run_cli(args + " -o " + test::quote(path) + " --json");
+    EXPECT_EQ(r.exit_code, 0) << args << "\n" << r.err;
+    if (r.exit_code == 0) {
+      EXPECT_EQ(json::parse(r.out).value("status", "ok"), "ok") << args << "\n" << r.out;
+    }
+    return path;
+  }
+
+  // Cut, tear and drill of `path` at its edit pose, aimed at the posed model.
+  void edit_at_a_pose(const std::string& path, std::vector<std::string>& out) {
+    const Model model = read_gltf(path);
+    const EditPose at = edit_pose(model);
+    const Pose pose = at.animation < 0 ? rest_pose(model) : sample_pose(model, 0, at.time);
+    const BoundingBox box = world_bounds(model, pose);
+    const glm::vec3 c = 0.5f * (box.min + box.max);
+    const float s = box.diagonal();
+    const std::string stem = fs::path(path).stem().string(), in = test::quote(path);
+    out.push_back(write(stem + "-cut.glb", "cut " + in + " --plane " + numbers({c, {0.3f, 1.0f, 0.2f}}) + " --cap" + at.args()));
+    out.push_back(write(stem + "-drill.gltf", "drill " + in + " --axis " +
+                                                  numbers({c + glm::vec3(0, 0, -s), c + glm::vec3(0, 0, s)}) +
+                                                  " --radius " + std::to_string(0.05f * s) + " --wall" + at.args()));
+    // A blade across the posed surface at the vertex nearest the middle, along its normal.
+    const auto world = world_matrices(model, pose);
+    glm::vec3 p = c, n(0, 0, 1);
+    float best = 1e30f;
+    for (std::size_t node = 0; node < model.nodes.size(); ++node) {
+      if (model.nodes[node].mesh < 0) continue;
+      for (const auto& prim : model.meshes[std::size_t(model.nodes[node].mesh)].primitives) {
+        const auto posed = posed_positions(model, int(node), prim.mesh, world);
+        const auto normals = posed_normals(model, int(node), prim.mesh, world);
+        for (std::size_t f = 0; f < prim.mesh.face_slots() && !normals.empty(); ++f)
+          for (int k = 0; k < 3; ++k) {
+            const glm::vec3 q = posed[prim.mesh.faces()[f][std::size_t(k)].index];
+            if (glm::length(q - c) < best) best = glm::length(q - c), p = q, n = normals[3 * f + std::size_t(k)];
+          }
+      }
+    }
+    const glm::vec3 t = glm::normalize(glm::cross(n, std::abs(n.y) < 0.9f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0)));
+    const float h = 0.05f * s;
+    out.push_back(write(stem + "-tear.glb", "tear " + in + " --blade-start " + numbers({p + h * n - h * t, p - h * n - h * t}) +
+                                                " --blade-end " + numbers({p + h * n + h * t, p - h * n + h * t}) +
+                                                " --width " + std::to_string(0.01f * s) + at.args()));
+  }
+
+  // three.js and the project pose every file alike at two moments of its first clip. The first
+  // `inputs` files are inputs rather than exports (see ThreePoseRequest::unit_rotations).
+  void expect_three_agrees(const std::vector<std::string>& files, std::size_t inputs = 0) {
+    std::vector<test::ThreePoseRequest> requests;
+    for (const auto& f : files) requests.push_back(test::two_times_of_first_clip(f, requests.size() < inputs));
+    const auto results = test::compare_with_three(requests);
+    ASSERT_EQ(results.size(), files.size());
+    for (const auto& r : results) {
+      SCOPED_TRACE(r.file);
+      EXPECT_GT(r.corners, 0u) << "nothing was compared";
+      for (const auto& p : r.problems) ADD_FAILURE() << p;
+    }
+  }
+
+  std::string dir_;
+};
+
+}  // namespace
+
+TEST_F(ThreeClientTest, every_asset_and_its_round_trips_pose_alike) {
+  std::vector<std::string> files = test::asset_models();
+  ASSERT_GE(files.size(), 6u);
+  for (const auto& path : test::asset_models())
+    for (const char* ext : {".glb", ".gltf"})
+      files.push_back(write(fs::path(path).stem().string() + ext, "convert " + test::quote(path)));
+  expect_three_agrees(files, test::asset_models().size());
+}
+
+TEST_F(ThreeClientTest, cuts_tears_and_drills_at_a_pose_and_a_replayed_history_pose_alike) {
+  std::vector<std::string> files;
+  for (const auto& path : test::asset_models()) edit_at_a_pose(path, files);
+  const std::string cactus = std::string(DEEPCUT_ASSETS_DIR) + "/cactus.glb";
+  const std::string history = dir_ + "/history.json";
+  std::ofstream(history) << R"({"operations": [
+    {"op": "cut", "plane": [0, 6, 0, 0, 1, 0.1], "keep": "both", "cap": true, "time": 1.5},
+    {"op": "drill", "axis": [-3, 4, 0, 3, 4, 0], "radius": 0.3, "wall": true, "time": 2.5},
+    {"op": "cut", "plane": [0.5, 0, 0, 1, 0, 0], "keep": "negative", "cap": false, "animation": -1}
+  ]})";
+  files.push_back(write("history.glb", "apply " + test::quote(cactus) + " " + test::quote(history)));
+  expect_three_agrees(files);
+}
+
+// The shared sample models in DEEPCUT_SHARED_MODELS_DIR/open (a folder outside the project,
+// named in the environment to run this), each as read and after `convert`.
+TEST_F(ThreeClientTest, the_shared_open_models_and_their_round_trips_pose_alike) {
+  const char* env = std::getenv("DEEPCUT_SHARED_MODELS_DIR");
+  if (!env || !*env) GTEST_SKIP() << "DEEPCUT_SHARED_MODELS_DIR is not set";
+  const fs::path open = fs::path(env) / "open";
+  if (!fs::exists(open)) GTEST_SKIP() << open << " does not exist";
+  std::vector<std::string> files;
+  for (const auto& entry : fs::recursive_directory_iterator(open)) {
+    const auto ext = entry.path().extension().string();
+    if (!entry.is_regular_file() || (ext != ".glb" && ext != ".gltf")) continue;
+    if (entry.path().parent_path().filename() == "compressed") continue;
+    files.push_back(entry.path().string());
+  }
+  std::sort(files.begin(), files.end());
+  const std::size_t originals = files.size();
+  for (std::size_t i = 0; i < originals; ++i)
+    files.push_back(write(fs::path(files[i]).stem().string() + "-convert.glb", "convert " + test::quote(files[i])));
+  expect_three_agrees(files, originals);
+}
+
+}  // namespace deepcut
