@@ -4,12 +4,14 @@
 // of the first clip (the rest pose without one), vertex for vertex within 1e-5 of the model size
 // (see tests/support/three_client.h). Skipped when node or three.js is not installed.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -48,6 +50,43 @@ struct EditPose {
 EditPose edit_pose(const Model& model) {
   if (model.animations.empty()) return {};
   return {0, 0.37f * model.animations[0].duration()};
+}
+
+// A tube along +y skinned to a chain of eight joints with eight influences on every vertex
+// (JOINTS_1/WEIGHTS_1), the chain bending in a clip: three.js skins with four influences, and
+// pose_three.mjs must add the other four.
+Model make_eight_influence_model() {
+  Model model = test::make_skinned_tube_model();
+  model.nodes.resize(3);  // the tube, the root joint, the scene root
+  model.skins[0].joints = {1};
+  model.skins[0].inverse_bind_matrices = {glm::mat4(1.0f)};
+  model.animations[0].channels.clear();
+  int parent = 1;
+  for (int j = 1; j < 8; ++j) {
+    Node joint;
+    joint.name = "joint" + std::to_string(j);
+    joint.translation = {0.0f, 0.5f, 0.0f};
+    model.nodes[std::size_t(parent)].children = {int(model.nodes.size())};
+    parent = int(model.nodes.size());
+    model.nodes.push_back(joint);
+    model.skins[0].joints.push_back(parent);
+    model.skins[0].inverse_bind_matrices.push_back(glm::translate(glm::mat4(1.0f), glm::vec3(0, -0.5f * float(j), 0)));
+    model.animations[0].channels.push_back({0, parent, AnimationPath::Rotation});
+  }
+  SurfaceMesh& mesh = model.meshes[0].primitives[0].mesh;
+  auto& j0 = mesh.vertex_attrs().get<glm::u16vec4>(attr::kJoints0);
+  auto& w0 = mesh.vertex_attrs().get<glm::vec4>(attr::kWeights0);
+  auto& j1 = mesh.vertex_attrs().add<glm::u16vec4>(attr::kJoints1);
+  auto& w1 = mesh.vertex_attrs().add<glm::vec4>(attr::kWeights1);
+  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+    float w[8], sum = 0.0f;
+    for (int j = 0; j < 8; ++j) sum += w[j] = 1.0f / (1.0f + std::abs(mesh.positions()[v].y - 0.5f * float(j)));
+    j0[v] = {0, 1, 2, 3};
+    j1[v] = {4, 5, 6, 7};
+    w0[v] = glm::vec4(w[0], w[1], w[2], w[3]) / sum;
+    w1[v] = glm::vec4(w[4], w[5], w[6], w[7]) / sum;
+  }
+  return model;
 }
 
 class ThreeClientTest : public ::testing::Test {
@@ -169,6 +208,16 @@ TEST_F(ThreeClientTest, the_shared_open_models_and_their_round_trips_pose_alike)
   for (std::size_t i = 0; i < originals; ++i)
     files.push_back(write(fs::path(files[i]).stem().string() + "-convert.glb", "convert " + test::quote(files[i])));
   expect_three_agrees(files, originals);
+}
+
+TEST_F(ThreeClientTest, eight_influences_per_vertex_pose_alike) {
+  const std::string path = dir_ + "/eight.glb";
+  write_gltf(make_eight_influence_model(), path);
+  const Model back = read_gltf(path);
+  ASSERT_NE(back.meshes[0].primitives[0].mesh.vertex_attrs().find<glm::vec4>(attr::kWeights1), nullptr)
+      << "the export keeps the second set of influences";
+  EXPECT_EQ(test::validate_gltf(path).exit_code, 0);
+  expect_three_agrees({path});
 }
 
 }  // namespace deepcut
