@@ -15,6 +15,7 @@
 
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/posed_model.h"
+#include "deepcut/core/skinning.h"
 #include "tools.h"
 
 namespace deepcut::test {
@@ -65,10 +66,15 @@ struct PoseContext {
   const Model& model;
   const json& entry;  // the file's entry of pose_three's output
   const PosedModel& posed;
+  const Pose& pose;  // the same pose: its morph weights name what was blended when they differ
   float time = 0.0f;
   double size = 0.0;  // the project's posed bounds diagonal at `time`
   double tolerance = 0.0;
 };
+
+std::vector<float> weights_of(const Pose& pose, int node) {
+  return static_cast<std::size_t>(node) < pose.weights.size() ? pose.weights[std::size_t(node)] : std::vector<float>{};
+}
 
 // Compares instance `i` of three's entry at pose `pose`; returns its largest corner distance.
 double compare_instance(const PoseContext& c, std::size_t i, const json& pose, ThreeComparison& out) {
@@ -108,7 +114,8 @@ double compare_instance(const PoseContext& c, std::size_t i, const json& pose, T
                            std::to_string(worst / c.size) + " of the model size apart (three.js " +
                            vec({positions[3 * g], positions[3 * g + 1], positions[3 * g + 2]}) + ", project " +
                            vec(glm::dvec3(pm->posed[mesh.faces()[worst_corner / 3][worst_corner % 3].index])) +
-                           "; three.js weights " + pose["weights"][i].dump() + ")");
+                           "; morph weights: three.js " + pose["weights"][i].dump() + ", project " +
+                           json(weights_of(c.pose, node)).dump() + ")");
   }
   return worst;
 }
@@ -123,7 +130,8 @@ void compare_pose(const Model& model, const json& entry, const json& pose, int a
   for (const Instance& inst : wanted)
     if (const PosedMesh* pm = posed.find(inst.first, inst.second)) bounds.add(pm->bounds);
   const double size = bounds.diagonal();
-  const PoseContext c{model, entry, posed, time, size, size * double(tolerance)};
+  const Pose sampled = animation < 0 ? rest_pose(model) : sample_pose(model, animation, time);
+  const PoseContext c{model, entry, posed, sampled, time, size, size * double(tolerance)};
 
   std::set<Instance> drawn;
   double worst = 0.0;
