@@ -89,6 +89,17 @@ Model make_eight_influence_model() {
   return model;
 }
 
+// Every node that draws morph targets has a non-zero weight at `pose` (edits are made at an
+// expression, not at the base shape).
+void expect_morphs_at_non_zero_weights(const Model& model, const Pose& pose) {
+  for (std::size_t node = 0; node < model.nodes.size(); ++node) {
+    const int mesh = model.nodes[node].mesh;
+    if (mesh < 0 || model.meshes[std::size_t(mesh)].target_count() == 0) continue;
+    const auto& w = pose.weights[node];
+    EXPECT_TRUE(std::any_of(w.begin(), w.end(), [](float x) { return x != 0.0f; })) << "node " << node;
+  }
+}
+
 class ThreeClientTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -116,6 +127,7 @@ class ThreeClientTest : public ::testing::Test {
     const Model model = read_gltf(path);
     const EditPose at = edit_pose(model);
     const Pose pose = at.animation < 0 ? rest_pose(model) : sample_pose(model, 0, at.time);
+    if (at.animation >= 0) expect_morphs_at_non_zero_weights(model, pose);
     const BoundingBox box = world_bounds(model, pose);
     const glm::vec3 c = 0.5f * (box.min + box.max);
     const float s = box.diagonal();
