@@ -222,6 +222,18 @@ TEST_F(ThreeClientTest, the_shared_open_models_and_their_round_trips_pose_alike)
   expect_three_agrees(files, originals);
 }
 
+TEST_F(ThreeClientTest, a_skinned_and_morphing_rig_and_its_edits_at_a_morphed_pose_pose_alike) {
+  const std::string path = dir_ + "/morph-tube.glb";
+  write_gltf(test::make_morph_tube_model(), path);
+  const Model back = read_gltf(path);
+  ASSERT_EQ(back.meshes.at(0).target_count(), 2u) << "the export keeps the morph targets";
+  ASSERT_FALSE(back.animations.empty());
+  EXPECT_EQ(test::validate_gltf(path).exit_code, 0);
+  std::vector<std::string> files = {path};
+  edit_at_a_pose(path, files);
+  expect_three_agrees(files);
+}
+
 TEST_F(ThreeClientTest, eight_influences_per_vertex_pose_alike) {
   const std::string path = dir_ + "/eight.glb";
   write_gltf(make_eight_influence_model(), path);
