@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "deepcut/core/io/gltf.h"
+#include "deepcut/core/posed_model.h"
 #include "deepcut/core/skinning.h"
 #include "fixtures.h"
 #include "three_client.h"
@@ -136,23 +137,22 @@ class ThreeClientTest : public ::testing::Test {
     out.push_back(write(stem + "-drill.gltf", "drill " + in + " --axis " +
                                                   numbers({c + glm::vec3(0, 0, -s), c + glm::vec3(0, 0, s)}) +
                                                   " --radius " + std::to_string(0.05f * s) + " --wall" + at.args()));
-    // A blade across the posed surface at the vertex nearest the middle, along its normal.
-    const auto world = world_matrices(model, pose);
+    // A blade across the posed surface through the triangle centroid nearest the middle, along
+    // the triangle's normal, swept along a skew direction (not along the model's axes, so not in
+    // the plane of a box's side).
+    const PosedModel posed = PosedModel::build(model, at.animation, at.time, PoseDetail::Positions);
     glm::vec3 p = c, n(0, 0, 1);
     float best = 1e30f;
-    for (std::size_t node = 0; node < model.nodes.size(); ++node) {
-      if (model.nodes[node].mesh < 0) continue;
-      for (const auto& prim : model.meshes[std::size_t(model.nodes[node].mesh)].primitives) {
-        const auto posed = posed_positions(model, int(node), prim.mesh, world);
-        const auto normals = posed_normals(model, int(node), prim.mesh, world);
-        for (std::size_t f = 0; f < prim.mesh.face_slots() && !normals.empty(); ++f)
-          for (int k = 0; k < 3; ++k) {
-            const glm::vec3 q = posed[prim.mesh.faces()[f][std::size_t(k)].index];
-            if (glm::length(q - c) < best) best = glm::length(q - c), p = q, n = normals[3 * f + std::size_t(k)];
-          }
+    for (const auto& [key, inst] : posed.instances()) {
+      const SurfaceMesh& mesh = model.meshes[std::size_t(inst.mesh)].primitives[std::size_t(key.second)].mesh;
+      for (const Triangle& t : mesh.faces()) {
+        const glm::vec3 a = inst.posed[t[0].index], b = inst.posed[t[1].index], d = inst.posed[t[2].index];
+        const glm::vec3 q = (a + b + d) / 3.0f, normal = glm::cross(b - a, d - a);
+        if (glm::length(normal) > 0.0f && glm::length(q - c) < best) best = glm::length(q - c), p = q, n = glm::normalize(normal);
       }
     }
-    const glm::vec3 t = glm::normalize(glm::cross(n, std::abs(n.y) < 0.9f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0)));
+    const glm::vec3 skew_a = glm::normalize(glm::vec3(0.83f, 0.31f, 0.47f)), skew_b = glm::normalize(glm::vec3(-0.31f, 0.47f, 0.83f));
+    const glm::vec3 t = glm::normalize(glm::cross(n, std::abs(glm::dot(n, skew_a)) < 0.7f ? skew_a : skew_b));
     const float h = 0.05f * s;
     out.push_back(write(stem + "-tear.glb", "tear " + in + " --blade-start " + numbers({p + h * n - h * t, p - h * n - h * t}) +
                                                 " --blade-end " + numbers({p + h * n + h * t, p - h * n + h * t}) +
