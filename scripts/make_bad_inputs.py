@@ -598,6 +598,93 @@ def _(name):
     return {name: g.gltf_bytes()}
 
 
+@case("weights_sum_098.gltf", "every vertex's weights sum to 0.98 (inside the old 1e-3 slack, outside the validator's)")
+def _(name):
+    g = simple_skin()
+    g.write(3, [(0.98 * a, 0.98 * b, 0.98 * c, 0.98 * d) for (a, b, c, d) in g.read(3)])
+    return {name: g.gltf_bytes()}
+
+
+@case("skin_ibm_last_row_noise.gltf", "both inverse bind matrices end in 1.0000001 and one has 1e-8 in its last row")
+def _(name):
+    g = simple_skin()
+    m = [list(x) for x in g.read(4)]
+    for x in m:
+        x[15] = 1.0000001
+    m[1][3] = 1e-8
+    g.write(4, [tuple(x) for x in m])
+    return {name: g.gltf_bytes()}
+
+
+@case("skin_ibm_not_affine.gltf", "inverse bind matrix 1 has 0.5 in its last row (projective, not an inverse bind matrix)")
+def _(name):
+    g = simple_skin()
+    m = [list(x) for x in g.read(4)]
+    m[1][7] = 0.5
+    g.write(4, [tuple(x) for x in m])
+    return {name: g.gltf_bytes()}
+
+
+@case("skin_joint_listed_twice.gltf", "the skin lists node 1 twice (joints 0 and 2, same inverse bind matrix); vertices 0-4 use joint 2")
+def _(name):
+    g = simple_skin()
+    m = g.read(4)
+    g.doc["skins"][0]["joints"].append(g.doc["skins"][0]["joints"][0])
+    g.doc["skins"][0]["inverseBindMatrices"] = g.add_accessor([m[0], m[1], m[0]], FLOAT, "MAT4")
+    j = g.read(2)
+    for v in range(5):
+        j[v] = tuple(2 if x == 0 else x for x in j[v])
+    g.write(2, j)
+    return {name: g.gltf_bytes()}
+
+
+@case("skin_joint_listed_twice_other_ibm.gltf",
+      "the skin lists node 1 twice, the second time with its inverse bind matrix moved by 0.5 in y; vertices 0-4 use it")
+def _(name):
+    g = simple_skin()
+    m = g.read(4)
+    moved = m[0][:13] + (m[0][13] + 0.5,) + m[0][14:]
+    g.doc["skins"][0]["joints"].append(g.doc["skins"][0]["joints"][0])
+    g.doc["skins"][0]["inverseBindMatrices"] = g.add_accessor([m[0], m[1], moved], FLOAT, "MAT4")
+    j = g.read(2)
+    for v in range(5):
+        j[v] = tuple(2 if x == 0 else x for x in j[v])
+    g.write(2, j)
+    return {name: g.gltf_bytes()}
+
+
+@case("joints_repeated_in_vertex.gltf", "vertices 2 and 3 name joint 1 in two slots, each with weight 0.25, plus joint 0 with 0.5")
+def _(name):
+    g = simple_skin()
+    j, w = g.read(2), g.read(3)
+    for v in (2, 3):
+        j[v] = (0, 1, 1, 0)
+        w[v] = (0.5, 0.25, 0.25, 0.0)
+    g.write(2, j)
+    g.write(3, w)
+    return {name: g.gltf_bytes()}
+
+
+@case("extras_and_extensions.gltf",
+      "asset.extras (CC-BY attribution), copyright, node, mesh and material extras, a root extension (kept), "
+      "an unknown mesh extension and skin extras (both dropped, so named)")
+def _(name):
+    def edit(d):
+        d["asset"]["copyright"] = "2024 A. Modeller"
+        d["asset"]["extras"] = {"title": "Skin", "author": "A. Modeller", "license": "CC-BY-4.0",
+                                "source": "https://example.org/skin"}
+        d["nodes"][0]["extras"] = {"role": "body"}
+        d["meshes"][0]["extras"] = {"lod": 0}
+        d["materials"] = [{"name": "skin", "extras": {"shader": "toon"}}]
+        d["meshes"][0]["primitives"][0]["material"] = 0
+        d["extensionsUsed"] = ["EXT_deepcut_root_test", "EXT_deepcut_mesh_test"]
+        d["extensions"] = {"EXT_deepcut_root_test": {"note": "kept"}}
+        d["meshes"][0]["extensions"] = {"EXT_deepcut_mesh_test": {"note": "dropped"}}
+        d["skins"][0]["extras"] = {"rig": "v2"}
+
+    return edit_json(edit)(name)
+
+
 @case("skin_without_inverse_bind_matrices.gltf", "the skin omits inverseBindMatrices (identity by the spec)")
 def _(name):
     return edit_json(lambda d: d["skins"][0].pop("inverseBindMatrices"))(name)

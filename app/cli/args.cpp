@@ -38,6 +38,71 @@ Args::Args(const std::vector<std::string>& argv, const std::set<std::string>& fl
   }
 }
 
+namespace {
+std::set<std::string> names_of(const CommandSpec& spec, bool with_value) {
+  std::set<std::string> out;
+  for (const OptionSpec& o : spec.options)
+    if (o.value.empty() != with_value) out.insert(o.name);
+  return out;
+}
+}  // namespace
+
+Args::Args(const std::vector<std::string>& argv, const CommandSpec& spec)
+    : Args(argv, names_of(spec, false), names_of(spec, true)) {}
+
+CommandSpec with_synopsis(CommandSpec spec) {
+  constexpr std::size_t kWidth = 100;  // wrap before this column, continuations indented by four
+  std::vector<std::string> tokens = {spec.name};
+  for (const PositionalSpec& p : spec.positionals) tokens.push_back(p.name);
+  std::string group;
+  for (std::size_t i = 0; i < spec.options.size(); ++i) {
+    const OptionSpec& o = spec.options[i];
+    const std::string text = o.value.empty() ? o.name : o.name + " " + o.value;
+    group += (group.empty() ? "" : " | ") + text;
+    if (o.or_next && i + 1 < spec.options.size()) continue;
+    const bool required = o.required || (i > 0 && spec.options[i - 1].or_next && spec.options[i - 1].required);
+    const bool alternatives = group.find(" | ") != std::string::npos;
+    tokens.push_back(required ? (alternatives ? "(" + group + ")" : group) : "[" + group + "]");
+    group.clear();
+  }
+  std::string out, line;
+  for (const std::string& t : tokens) {
+    if (!line.empty() && line.size() + 1 + t.size() > kWidth) {
+      out += line + "\n";
+      line = "   ";
+    }
+    line += (line.empty() ? "" : " ") + t;
+  }
+  spec.synopsis = out + line;
+  return spec;
+}
+
+std::string number_text(double v) {
+  std::ostringstream out;
+  out << v;
+  return out.str();
+}
+
+OptionSpec json_option(const std::string& what) {
+  return {"--json", "", "print " + what + " as JSON on stdout instead of the text report", "", false, false};
+}
+
+std::vector<OptionSpec> output_options() {
+  return {{"-o", "OUT", "the model to write: .glb (binary glTF) or .gltf (text glTF, buffers embedded); "
+                        "written to a temporary file and renamed, so nothing is written on failure",
+           "", true, false}};
+}
+
+std::vector<OptionSpec> pose_options() {
+  return {{"--time", "T",
+           "seconds into the animation: the model is posed at this time, and every world-space argument "
+           "refers to that pose (the edit still lands in bind space, so the result animates)",
+           "the rest pose", false, false},
+          {"--animation", "I",
+           "index of the animation --time plays (0 is the first; -1 is the rest pose)",
+           "0, or -1 when the model has no animation", false, false}};
+}
+
 std::string Args::value(const std::string& name, const std::string& fallback) const {
   auto it = values_.find(name);
   return it == values_.end() ? fallback : it->second;

@@ -12,8 +12,25 @@
 
 namespace deepcut::cli {
 
+const CommandSpec& bench_command() {
+  static const CommandSpec spec = with_synopsis(
+      {"bench",
+       {},
+       "the benchmark suite, with VTK peers measured in the same run",
+       "Runs deepcut_bench, built beside deepcut (it needs VTK and Google Benchmark: scripts/build.sh): "
+       "the operations and the soft body on generated cactus models, with VTK's filters as peers measured "
+       "in the same run (docs/BENCHMARKS.md). It takes no MODEL: it generates its own inputs.",
+       {{"--quick", "", "skip the cases of about 1M triangles", "", false, false},
+        {"--benchmark_filter", "REGEX", "run only the benchmarks whose name matches REGEX (Google Benchmark's "
+                                        "filter)", "every benchmark", false, false},
+        json_option("the results")},
+       "deepcut bench --quick",
+       {}});
+  return spec;
+}
+
 int run_bench(const std::vector<std::string>& argv) {
-  const Args args(argv, {"--json", "--quick"}, {"--benchmark_filter"});
+  const Args args(argv, bench_command());
   if (!args.positionals().empty()) throw UsageError("bench takes no MODEL: it generates its own inputs");
   std::error_code ec;
   const auto self = std::filesystem::read_symlink("/proc/self/exe", ec);

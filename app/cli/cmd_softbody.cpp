@@ -10,6 +10,7 @@
 
 #include "commands.h"
 #include "args.h"
+#include "operation_report.h"
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/posed_model.h"
 #include "deepcut/plugins/formats.h"
@@ -146,14 +147,43 @@ glm::vec3 poke_impulse(const Args& args, const std::vector<Instance>& inst, cons
   return impulse;
 }
 
+OptionSpec cover_option() {
+  return {"--cover", "F",
+          "seeds are placed until every vertex lies within F * RHO of a seed, in (0, 1]: below 1 the particles "
+          "overlap, so the weights blend smoothly",
+          number_text(ClusterOptions().cover_fraction), false, false};
+}
+
 }  // namespace
 
+const CommandSpec& cluster_command() {
+  static const CommandSpec spec = with_synopsis(
+      {"cluster",
+       {{"MODEL", "the model to cluster: a rigged .glb/.gltf, or a static .obj/.ply/.stl/.off mesh"}},
+       "soft-body particles of radius RHO (rest pose): counts, timing",
+       "Groups the vertices into soft-body particles at the rest pose: seeds by farthest-point sampling "
+       "(see --cover), each particle holds the vertices within RHO of its seed (a vertex may be in several, "
+       "weighted (1 - (d/RHO)^2)^2, normalised), and a particle whose ball reaches two separate surface "
+       "sheets is split into its connected parts. Prints the particle count, vertices per particle and "
+       "the clustering time; writes nothing.",
+       {{"--radius", "RHO", "particle radius in model units (rest pose); give it or --particles", "", true, true},
+        {"--particles", "N", "search the radius that gives about N particles", "", false, false},
+        cover_option(),
+        json_option("radius, cover_fraction, primitives, particles, min_vertices, mean_vertices, "
+                    "max_vertices, memberships, covered_vertices, uncovered_vertices and ms (with "
+                    "--particles also target_particles and search_ms)")},
+       "deepcut cluster assets/cactus.glb --particles 224",
+       {}});
+  return spec;
+}
+
 int run_cluster(const std::vector<std::string>& argv) {
-  const Args args(argv, {"--json"}, {"--radius", "--particles", "--cover"});
+  const Args args(argv, cluster_command());
   const std::string path = model_path(args, "cluster");
   if (!args.has("--radius") && !args.has("--particles"))
     throw UsageError("cluster needs --radius RHO (rest-pose model units) or --particles N");
   const Model model = plugins::read_model(path);
+  print_problems(std::cerr, path, model.import_problems);
   const PosedModel rest = PosedModel::build(model, -1, 0.0f, PoseDetail::Positions);
   const auto inst = instances(model, rest);
   const ClusterChoice choice = choose_clusters(args, inst, "--radius", 0);
@@ -171,6 +201,7 @@ int run_cluster(const std::vector<std::string>& argv) {
                 {"memberships", s.memberships},
                 {"covered_vertices", s.covered_vertices},
                 {"uncovered_vertices", s.uncovered_vertices},
+                {"problems", problems_report(model.import_problems)},
                 {"ms", c.ms}};
     if (choice.searched) {
       out["target_particles"] = choice.target;
@@ -195,10 +226,50 @@ int run_cluster(const std::vector<std::string>& argv) {
   return 0;
 }
 
+const CommandSpec& softbody_command() {
+  const SoftBodyOptions sim{};
+  static const CommandSpec spec = with_synopsis(
+      {"softbody",
+       {{"MODEL", "the model to poke: a rigged .glb/.gltf, or a static .obj/.ply/.stl/.off mesh"}},
+       "poke the soft body, step N frames, report max displacement",
+       "The headless poke demo: clusters the model into particles (--rho or --particles), pokes the "
+       "particles whose centre lies within --radius of the point with an impulse, steps --frames frames of "
+       "--dt seconds and prints the largest vertex displacement per frame: it rises, then decays to about "
+       "0 (each particle is a damped spring, integrated exactly, so any step is stable). Writes nothing.",
+       {{"--poke", "X,Y,Z", "the point poked, world space at the pose of --time (the rest pose without --time)",
+         "", true, false},
+        {"--radius", "R", "particles whose centre lies within R model units of the point are pushed",
+         "1.5 * RHO", false, false},
+        {"--impulse", "IX,IY,IZ", "the impulse given to each poked particle (mass times velocity, model units)",
+         "", false, true},
+        {"--speed", "S",
+         "the default impulse's speed, in model sizes (bounding-box diagonals) per second, into the surface "
+         "(against the normal of the faces near the point)",
+         "0.5", false, false},
+        {"--frames", "N", "frames to step (1 to 100000)", "60", false, false},
+        {"--dt", "DT", "seconds per frame, in (0, 1]", "1/30", false, false},
+        {"--rho", "RHO", "particle radius in model units (rest pose)", "", false, true},
+        {"--particles", "N", "search the particle radius that gives about N particles", "224", false, false},
+        cover_option(),
+        {"--stiffness", "K", "spring stiffness of every particle (force per model unit of displacement)",
+         number_text(sim.stiffness), false, false},
+        {"--damping", "C", "damping of every particle (force per unit velocity; the default is critical for "
+                           "the default stiffness and mass)",
+         number_text(sim.damping), false, false},
+        {"--mass", "M", "mass of every particle", number_text(sim.mass), false, false},
+        pose_options()[0],
+        pose_options()[1],
+        {"--animate", "", "play the animation while stepping, from --time: the displacement is added to the "
+                          "skinned positions of the current pose", "", false, false},
+        json_option("max_displacement (one per frame), peak, peak_frame, final, final_relative, particles, "
+                    "particles_reached and step_ms")},
+       "deepcut softbody assets/cactus.glb --poke 0.6,5,0 --frames 90 --json",
+       {}});
+  return spec;
+}
+
 int run_softbody(const std::vector<std::string>& argv) {
-  const Args args(argv, {"--json", "--animate"},
-                  {"--poke", "--radius", "--impulse", "--speed", "--frames", "--dt", "--rho", "--particles",
-                   "--cover", "--stiffness", "--damping", "--mass", "--time", "--animation"});
+  const Args args(argv, softbody_command());
   const std::string path = model_path(args, "softbody");
   if (!args.has("--poke"))
     throw UsageError("softbody needs --poke X,Y,Z (world space of the pose at --time)");
@@ -215,6 +286,7 @@ int run_softbody(const std::vector<std::string>& argv) {
   sim.mass = static_cast<float>(args.number("--mass", sim.mass));
 
   const Model model = plugins::read_model(path);
+  print_problems(std::cerr, path, model.import_problems);
   int animation = animation_option(args, model.animations.size());
   const bool animate = args.flag("--animate");
   if (animate && model.animations.empty()) throw UsageError("--animate: the model has no animation");
@@ -306,6 +378,7 @@ int run_softbody(const std::vector<std::string>& argv) {
                       {"peak_frame", peak_frame},
                       {"final", max_disp.back()},
                       {"final_relative", size > 0.0f ? max_disp.back() / size : 0.0},
+                      {"problems", problems_report(model.import_problems)},
                       {"step_ms", step_ms / frames}}
                      .dump(2)
               << "\n";

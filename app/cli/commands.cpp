@@ -13,6 +13,7 @@
 #include "deepcut/plugins/formats.h"
 #include "deepcut/core/validate.h"
 #include "args.h"
+#include "operation_report.h"
 
 namespace deepcut::cli {
 namespace {
@@ -32,6 +33,11 @@ std::string single_model(const Args& args, const char* command) {
 std::string output_path(const Args& args, const char* command) {
   if (!args.has("-o")) throw UsageError(std::string(command) + " needs -o OUT (.glb or .gltf)");
   return args.value("-o");
+}
+
+PositionalSpec model_argument() {
+  return {"MODEL", "the model to read: a rigged .glb/.gltf, or a static .obj/.ply/.stl/.off mesh (loaded "
+                   "unrigged: one root joint)"};
 }
 
 const char* interpolation_name(Interpolation i) {
@@ -83,19 +89,80 @@ void print_morphs(const Model& model) {
 
 }  // namespace
 
+const CommandSpec& info_command() {
+  static const CommandSpec spec = with_synopsis(
+      {"info",
+       {model_argument()},
+       "counts, edges, bounding box and problems of a model",
+       "Reads MODEL as every command does (the weld included) and prints its nodes, meshes, primitives, "
+       "vertices (glTF and welded), triangles, skins, joints, animations (names and durations in seconds), "
+       "materials, textures, images, boundary, non-manifold and seam edges, connected components, the "
+       "bounding box at the rest pose (world space, model units) and the problems found (what import "
+       "dropped or repaired). It writes nothing.",
+       {json_option("the same counts, plus load_ms,")},
+       "deepcut info assets/cactus.glb --json",
+       {}});
+  return spec;
+}
+
+const CommandSpec& convert_command() {
+  static const CommandSpec spec = with_synopsis(
+      {"convert",
+       {model_argument()},
+       "import, weld and export (.gltf <-> .glb)",
+       "Reads MODEL, welds the vertices glTF duplicated at UV seams and hard normals into one vertex (the "
+       "seams stay in the per-corner attributes) and writes OUT as .glb or .gltf by its extension: it "
+       "converts between the two, and turns a static mesh into a rigged glTF. Skins, animations, "
+       "materials, textures and extensions are carried through; `deepcut info MODEL` lists what import "
+       "drops or repairs.",
+       [] {
+         std::vector<OptionSpec> o = output_options();
+         o.push_back(json_option("input, output, triangles, welded_vertices, read_ms and write_ms"));
+         return o;
+       }(),
+       "deepcut convert assets/models/CesiumMan/CesiumMan.glb -o CesiumMan.gltf",
+       {}});
+  return spec;
+}
+
+const CommandSpec& make_cactus_command() {
+  const CactusOptions defaults{};
+  static const CommandSpec spec = with_synopsis(
+      {"make-cactus",
+       {},
+       "write the project's rigged test cactus",
+       "Generates the ribbed cactus the tests and benchmarks use (a trunk and two arms, each a closed "
+       "surface on its own joint chain, with smooth skin weights and a looping sway animation) and writes "
+       "it to OUT. The same options give the same file; assets/cactus.glb is its output with the defaults.",
+       [&] {
+         std::vector<OptionSpec> o = output_options();
+         o.push_back({"--triangles", "N", "about how many triangles (a whole number, 1000 to 200000000)",
+                      std::to_string(defaults.target_triangles), false, false});
+         o.push_back({"--height", "H", "overall height, ground to the top of the trunk, in model units",
+                      number_text(defaults.height), false, false});
+         o.push_back(json_option("output, triangles, welded_vertices, joints and ms"));
+         return o;
+       }(),
+       "deepcut make-cactus -o cactus-1m.glb --triangles 1000000",
+       {}});
+  return spec;
+}
+
 int run_info(const std::vector<std::string>& argv) {
-  const Args args(argv, {"--json"}, {});
+  const Args args(argv, info_command());
   const std::string path = single_model(args, "info");
   const auto t0 = Clock::now();
   const Model model = plugins::read_model(path);
   const double load_ms = ms_since(t0);
   const ModelStats s = compute_stats(model);
-  auto problems = find_problems(model);
+  // What reading repaired or dropped, then the checks of every primitive: info's report is the
+  // list, so it prints no stderr lines of its own.
+  auto problems = model_problems(model);
   // A file with nothing to draw is a problem for every command that edits meshes.
   const bool reported = std::any_of(problems.begin(), problems.end(),
-                                    [](const std::string& p) { return p.find("no triangles") != std::string::npos; });
-  if (s.meshes == 0) problems.push_back("the scene has no mesh");
-  else if (s.triangles == 0 && !reported) problems.push_back("the mesh has no triangles");
+                                    [](const ImportProblem& p) { return p.kind == "no-triangles"; });
+  if (s.meshes == 0) problems.push_back({"no-mesh", "the scene has no mesh", 1, {}});
+  else if (s.triangles == 0 && !reported) problems.push_back({"no-triangles", "the mesh has no triangles", 1, {}});
   json anims = json::array();
   for (const auto& a : model.animations) anims.push_back({{"name", a.name}, {"duration", a.duration()}});
   std::size_t merged = 0;
@@ -125,7 +192,7 @@ int run_info(const std::vector<std::string>& argv) {
                 {"seam_edges", s.seam_edges},
                 {"components", s.components},
                 {"bbox", {{"min", {lo.x, lo.y, lo.z}}, {"max", {hi.x, hi.y, hi.z}}}},
-                {"problems", problems},
+                {"problems", problems_report(problems)},
                 {"load_ms", load_ms}};
     std::cout << out.dump(2) << "\n";
     return 0;
@@ -145,24 +212,25 @@ int run_info(const std::vector<std::string>& argv) {
             << "  bbox (rest pose) [" << lo.x << ", " << lo.y << ", " << lo.z << "] - [" << hi.x << ", " << hi.y << ", "
             << hi.z << "]\n"
             << "  problems: " << (problems.empty() ? "none" : std::to_string(problems.size())) << "\n";
-  for (const auto& p : problems) std::cout << "    - " << p << "\n";
+  for (const auto& p : problems) std::cout << "    - " << p.message << "\n";
   return 0;
 }
 
 int run_convert(const std::vector<std::string>& argv) {
-  const Args args(argv, {"--json"}, {"-o"});
+  const Args args(argv, convert_command());
   const std::string in = single_model(args, "convert");
   const std::string out = output_path(args, "convert");
   const auto t0 = Clock::now();
   const Model model = plugins::read_model(in);
   const double read_ms = ms_since(t0);
+  print_problems(std::cerr, in, model.import_problems);
   const auto t1 = Clock::now();
   write_gltf(model, out);
   const double write_ms = ms_since(t1);
   if (args.flag("--json")) {
     const ModelStats s = compute_stats(model);
     std::cout << json{{"input", in}, {"output", out}, {"triangles", s.triangles}, {"welded_vertices", s.welded_vertices},
-                      {"read_ms", read_ms}, {"write_ms", write_ms}}
+                      {"problems", problems_report(model.import_problems)}, {"read_ms", read_ms}, {"write_ms", write_ms}}
                      .dump(2)
               << "\n";
   } else {
@@ -172,7 +240,7 @@ int run_convert(const std::vector<std::string>& argv) {
 }
 
 int run_make_cactus(const std::vector<std::string>& argv) {
-  const Args args(argv, {"--json"}, {"-o", "--triangles", "--height"});
+  const Args args(argv, make_cactus_command());
   if (!args.positionals().empty()) throw UsageError("make-cactus takes no MODEL, only -o OUT");
   const std::string out = output_path(args, "make-cactus");
   CactusOptions options;

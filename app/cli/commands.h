@@ -7,7 +7,18 @@
 #include <string>
 #include <vector>
 
+#include "args.h"
+
 namespace deepcut::cli {
+
+// Each command's arguments and help (help.h renders them), next to its code.
+const CommandSpec& info_command();
+const CommandSpec& convert_command();
+const CommandSpec& make_cactus_command();
+const CommandSpec& apply_command();
+const CommandSpec& bench_command();
+const CommandSpec& cluster_command();
+const CommandSpec& softbody_command();
 
 int run_info(const std::vector<std::string>& args);
 int run_convert(const std::vector<std::string>& args);

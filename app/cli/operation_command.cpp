@@ -41,20 +41,19 @@ const OperationCommand* find_operation_command(const std::string& name) {
 }
 
 int run_operation(const OperationCommand& command, const std::vector<std::string>& argv) {
-  std::set<std::string> flags = command.flags, options = command.options;
-  flags.insert("--json");
-  options.insert({"-o", "--time", "--animation"});
-  const Args args(argv, flags, options);
+  const Args args(argv, command);
   const std::string& name = command.name;
   if (args.positionals().size() != 1) throw UsageError(name + " needs exactly one MODEL");
   if (!args.has("-o")) throw UsageError(name + " needs -o OUT (.glb or .gltf)");
-  for (const auto& [option, value] : command.required)
-    if (!args.has(option)) throw UsageError(name + " needs " + option + " " + value);
+  for (const OptionSpec& option : command.options)
+    if (option.required && option.name != "-o" && !args.has(option.name))
+      throw UsageError(name + " needs " + option.name + " " + option.value);
   Operation op;
   op.params = command.parse(args);
   check_operation(op, flag_of);  // before the model is read
 
   Model model = plugins::read_model(args.positionals()[0]);
+  print_problems(std::cerr, args.positionals()[0], model.import_problems);
   op.animation = pose_animation(args, model);
   op.time = static_cast<float>(args.number("--time", 0.0));
   // Tears and drills first pose the model (timed apart, as in the paper's Table 1); a cut poses

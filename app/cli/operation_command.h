@@ -17,14 +17,10 @@
 
 namespace deepcut::cli {
 
-struct OperationCommand {
-  std::string name;      ///< the sub-command, which is the operation's history name ("drill")
-  std::string synopsis;  ///< its usage after "deepcut ", lines joined by '\n' (continuations indented)
-  std::string summary;   ///< one line: what it does
-  std::set<std::string> flags;    ///< its flags without a value ("--wall"), besides --json
-  std::set<std::string> options;  ///< its options with a value ("--radius"), besides -o, --time, --animation
-  /// Options the command needs, in the order it asks for them: {"--radius", "R"}.
-  std::vector<std::pair<std::string, std::string>> required;
+/// An operation command: its arguments and help (every option it accepts, -o, --time,
+/// --animation and --json included; `name` is the operation's history name, "drill"), and how
+/// it reads them.
+struct OperationCommand : CommandSpec {
   /// The operation's parameters from the arguments. @throws UsageError for a malformed value.
   std::function<OperationParams(const Args&)> parse;
 };

@@ -67,7 +67,25 @@ json operation_report(const Model& model, const Operation& operation, const Oper
   if (const auto* drill = std::get_if<ModelDrillResult>(&result.result))
     report = drill_report(std::get<DrillOperation>(operation.params), *drill);
   report["status"] = to_string(result.status);
+  report["problems"] = problems_report(model.import_problems);
   return report;
+}
+
+json problems_report(const std::vector<ImportProblem>& problems) {
+  json out = json::array();
+  for (const auto& p : problems)
+    out.push_back({{"kind", p.kind}, {"message", p.message}, {"count", p.count}, {"places", p.places}});
+  return out;
+}
+
+void print_problems(std::ostream& out, const std::string& file, const std::vector<ImportProblem>& problems) {
+  // A file name or message with a control character (a newline) must not break the one-line rule.
+  auto one_line = [](std::string text) {
+    for (char& c : text)
+      if (static_cast<unsigned char>(c) < 0x20 || c == 0x7F) c = ' ';
+    return text;
+  };
+  for (const auto& p : problems) out << "deepcut: " << one_line(file) << ": " << one_line(p.message) << " [" << p.kind << "]\n";
 }
 
 std::string operation_summary(const OperationResult& result) {

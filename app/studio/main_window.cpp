@@ -31,6 +31,7 @@
 #include "deepcut/plugins/inspector_registry.h"
 #include "inspector_host.h"
 #include "operations_host.h"
+#include "problems_panel.h"
 #include "recent_files.h"
 #include "scene_host.h"
 #include "scene_tree.h"
@@ -123,6 +124,9 @@ void MainWindow::build_docks() {
   };
   tree_ = new SceneTree(this);
   QDockWidget* scene_dock = dock("Scene", "scene_dock", tree_, Qt::LeftDockWidgetArea);
+  problems_ = new ProblemsPanel(this);
+  problems_dock_ = dock("Problems", "problems_dock", problems_, Qt::BottomDockWidgetArea);
+  problems_dock_->hide();
   connect(tree_, &SceneTree::joint_selected, this, [this](int joint) {
     if (!plugins::builtin_inspectors().find("weights")) return;
     set_inspector("weights");
@@ -285,6 +289,10 @@ void MainWindow::choose_export() {
   QString path = QFileDialog::getSaveFileName(this, "Export model", suggested_export_path(), glb + ";;" + gltf, &filter);
   if (path.isEmpty()) return;
   if (!is_model_file(path)) path += filter == gltf ? ".gltf" : ".glb";
+  const QString question = problems_->export_question();
+  if (!question.isEmpty() &&
+      QMessageBox::question(this, "Export " + QFileInfo(path).fileName(), question) != QMessageBox::Yes)
+    return;
   export_file(path);
 }
 
@@ -345,7 +353,13 @@ void MainWindow::load_file(const QString& path) {
   last_error_.clear();
   note_operation("Open " + QFileInfo(path).fileName(), ms_since(clock));
   operations_->refresh_list();
-  if (!notes.empty()) statusBar()->showMessage(QString::fromStdString(notes.front()), 15000);
+  // What reading repaired or dropped: the Problems panel lists it, the status bar points at it.
+  problems_->set_problems(QFileInfo(path).fileName(), model->import_problems);
+  problems_dock_->setVisible(!problems_->lines().isEmpty());
+  QStringList status;
+  if (!notes.empty()) status << QString::fromStdString(notes.front());
+  if (!problems_->summary().isEmpty()) status << problems_->summary();
+  if (!status.isEmpty()) statusBar()->showMessage(status.join("; "), 15000);
   emit model_changed();
 }
 
@@ -354,6 +368,8 @@ void MainWindow::show_current() {
   operations_->refresh_list();
   emit model_changed();
 }
+
+bool MainWindow::problems_shown() const { return problems_dock_ && problems_dock_->isVisibleTo(this); }
 
 const PosedModel* MainWindow::posed_model() const { return session().posed_model(); }
 const plugins::Scene* MainWindow::scene() const { return scene_host_->scene(); }

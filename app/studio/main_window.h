@@ -21,6 +21,7 @@
 #include "session.h"
 
 class QAction;
+class QDockWidget;
 class QActionGroup;
 class QLabel;
 class QListWidget;
@@ -30,6 +31,7 @@ namespace deepcut::studio {
 
 class InspectorHost;
 class OperationsHost;
+class ProblemsPanel;
 class SceneHost;
 class SceneTree;
 class SceneView;
@@ -137,6 +139,10 @@ class MainWindow : public QMainWindow {
   SceneView* view() const { return view_; }
   Timeline* timeline() const { return timeline_; }
   SceneTree* scene_tree() const { return tree_; }
+  /// The Problems panel (what reading the open model repaired or dropped).
+  ProblemsPanel* problems_panel() const { return problems_; }
+  /// Whether the Problems panel is shown (it is when the opened model had problems).
+  bool problems_shown() const;
   QUndoStack* history() const;
   QAction* undo_action() const { return undo_; }
   QAction* redo_action() const { return redo_; }
@@ -181,6 +187,8 @@ class MainWindow : public QMainWindow {
 
   SceneView* view_ = nullptr;
   SceneTree* tree_ = nullptr;
+  ProblemsPanel* problems_ = nullptr;
+  QDockWidget* problems_dock_ = nullptr;
   Timeline* timeline_ = nullptr;
   ToolHost* tools_ = nullptr;
   InspectorHost* inspectors_ = nullptr;

@@ -7,8 +7,7 @@
 
 namespace deepcut {
 bool normalize_influences(std::uint16_t* joints, float* weights, int slots) {
-  // Merge duplicate joints, then keep the largest `slots` (they already are `slots`), sort by
-  // weight so the strongest comes first, renormalise.
+  // Merge duplicate joints into their first slot, then renormalise; the slots keep their order.
   for (int i = 0; i < slots; ++i) {
     if (!std::isfinite(weights[i]) || weights[i] < 0.0f) weights[i] = 0.0f;
     for (int j = 0; j < i; ++j)
@@ -59,48 +58,59 @@ EditLog MeshEditor::take_log() {
   return out;
 }
 
-void MeshEditor::fix_skin_weights(VertexId v, const VertexId* src, const float* w, int count) {
-  const int nsets = skin_sets_;
-  if (nsets == 0) return;
-  // Union of the sources' joints with interpolated weights.
+void blend_influences(const std::uint16_t* joints, const float* weights, const float* w, int count, int slots,
+                       std::uint16_t* out_joints, float* out_weights) {
+  if (count < 1 || count > kMaxBlendSources || (slots != 4 && slots != kMaxInfluences))
+    throw Error(ErrorCode::InvalidArgument, "blend_influences: " + std::to_string(count) + " sources of " +
+                                                std::to_string(slots) + " slots (1 to 3 sources of 4 or 8)");
+  // Merged by joint, in the order joints first appear (sources in order, slots in order).
   struct Influence {
     std::uint16_t joint;
     float weight;
   };
-  Influence acc[24];
+  Influence acc[kMaxBlendSources * kMaxInfluences];
   int n = 0;
   for (int s = 0; s < count; ++s) {
-    if (w[s] <= 0.0f) continue;
-    for (int k = 0; k < nsets; ++k) {
-      const auto& j4 = (*joints_[k])[src[s].index];
-      const auto& w4 = (*weights_[k])[src[s].index];
-      for (int c = 0; c < 4; ++c) {
-        if (w4[c] <= 0.0f) continue;
-        int found = -1;
-        for (int i = 0; i < n; ++i)
-          if (acc[i].joint == j4[c]) found = i;
-        if (found < 0) {
-          acc[n] = {j4[c], 0.0f};
-          found = n++;
-        }
-        acc[found].weight += w4[c] * w[s];
-      }
+    if (!(w[s] > 0.0f)) continue;
+    for (int c = 0; c < slots; ++c) {
+      const std::uint16_t joint = joints[s * slots + c];
+      const float weight = weights[s * slots + c];
+      if (!(weight > 0.0f)) continue;
+      int found = 0;
+      while (found < n && acc[found].joint != joint) ++found;
+      if (found == n) acc[n++] = {joint, 0.0f};
+      acc[found].weight += weight * w[s];
     }
   }
+  // Largest first; a stable sort keeps ties in order of first appearance.
   std::stable_sort(acc, acc + n, [](const Influence& a, const Influence& b) { return a.weight > b.weight; });
-  const int slots = 4 * nsets;
-  std::uint16_t joints[8] = {};
-  float weights[8] = {};
-  for (int i = 0; i < std::min(n, slots); ++i) {
-    joints[i] = acc[i].joint;
-    weights[i] = acc[i].weight;
+  for (int i = 0; i < slots; ++i) {
+    out_joints[i] = i < n ? acc[i].joint : 0;
+    out_weights[i] = i < n ? acc[i].weight : 0.0f;
   }
-  if (n == 0) joints[0] = (*joints_[0])[src[0].index][0];
-  normalize_influences(joints, weights, slots);
+  if (n == 0) out_joints[0] = joints[0];  // no weight anywhere: follow the first source's first joint
+  normalize_influences(out_joints, out_weights, slots);
+}
+
+void MeshEditor::fix_skin_weights(VertexId v, const VertexId* src, const float* w, int count) {
+  const int nsets = skin_sets_;
+  if (nsets == 0) return;
+  const int slots = 4 * nsets;
+  std::uint16_t joints[kMaxBlendSources * kMaxInfluences] = {};
+  float weights[kMaxBlendSources * kMaxInfluences] = {};
+  for (int s = 0; s < count; ++s)
+    for (int k = 0; k < nsets; ++k)
+      for (int c = 0; c < 4; ++c) {
+        joints[s * slots + 4 * k + c] = (*joints_[k])[src[s].index][c];
+        weights[s * slots + 4 * k + c] = (*weights_[k])[src[s].index][c];
+      }
+  std::uint16_t out_joints[kMaxInfluences] = {};
+  float out_weights[kMaxInfluences] = {};
+  blend_influences(joints, weights, w, count, slots, out_joints, out_weights);
   for (int k = 0; k < nsets; ++k)
     for (int c = 0; c < 4; ++c) {
-      (*joints_[k])[v.index][c] = joints[4 * k + c];
-      (*weights_[k])[v.index][c] = weights[4 * k + c];
+      (*joints_[k])[v.index][c] = out_joints[4 * k + c];
+      (*weights_[k])[v.index][c] = out_weights[4 * k + c];
     }
 }
 

@@ -11,6 +11,7 @@
 
 #include "deepcut/core/adjacency.h"
 #include "deepcut/core/skinning.h"
+#include "io/import_problems.h"
 
 namespace deepcut {
 namespace {
@@ -130,60 +131,92 @@ ModelStats compute_stats(const Model& model) {
   return s;
 }
 
-std::vector<std::string> find_problems(const Model& model) {
-  std::vector<std::string> out = model.import_notes;
+namespace {
+
+// Weights not summing to 1 and influences naming a joint past the skin, in one primitive.
+struct SkinCounts {
+  std::size_t unnormalised = 0, out_of_range = 0;
+};
+
+SkinCounts count_skin_problems(const SurfaceMesh& mesh, int joint_count) {
+  SkinCounts out;
+  const auto& va = mesh.vertex_attrs();
+  const auto* j0 = va.find<glm::u16vec4>(attr::kJoints0);
+  const auto* w0 = va.find<glm::vec4>(attr::kWeights0);
+  const auto* j1 = va.find<glm::u16vec4>(attr::kJoints1);
+  const auto* w1 = va.find<glm::vec4>(attr::kWeights1);
+  if (!j0 || !w0) return out;
+  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+    double sum = 0.0;
+    auto check = [&](const glm::u16vec4& j, const glm::vec4& w) {
+      for (int c = 0; c < 4; ++c) {
+        sum += w[c];
+        if (w[c] > 0.0f && joint_count >= 0 && j[c] >= joint_count) ++out.out_of_range;
+      }
+    };
+    check((*j0)[v], (*w0)[v]);
+    if (j1 && w1) check((*j1)[v], (*w1)[v]);
+    if (std::abs(sum - 1.0) > 1e-3) ++out.unnormalised;
+  }
+  return out;
+}
+
+// The checks of one primitive, added to `out` at `place`.
+void check_primitive(const SurfaceMesh& mesh, int joint_count, const std::string& place, std::vector<ImportProblem>& out) {
+  using io_detail::add_problem;
+  std::size_t degenerate = 0, nonfinite = 0;
+  const auto& pos = mesh.positions();
+  for (const auto& q : pos)
+    if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z)) ++nonfinite;
+  mesh.for_each_face([&](FaceId, const Triangle& t) {
+    const glm::dvec3 a(pos[t[0].index]), b(pos[t[1].index]), c(pos[t[2].index]);
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2] || glm::length(glm::cross(b - a, c - a)) == 0.0) ++degenerate;
+  });
+  if (mesh.face_count() == 0)
+    add_problem(out, "no-triangles", 1,
+                {"primitive has no triangles (left out on export)", "primitives have no triangles (left out on export)"}, place);
+  const auto adj = Adjacency::build(mesh);
+  const std::size_t inverted = count_inverted_normal_faces(mesh);
+  const SkinCounts skin = count_skin_problems(mesh, joint_count);
+  add_problem(out, "nonmanifold-edges", adj.nonmanifold_edges().size(),
+              {"non-manifold edge (more than two triangles)", "non-manifold edges (more than two triangles)"}, place);
+  add_problem(out, "nonmanifold-vertices", count_nonmanifold_vertices(mesh, adj),
+              {"non-manifold vertex (surfaces that touch only at a vertex)",
+               "non-manifold vertices (surfaces that touch only at a vertex)"},
+              place);
+  add_problem(out, "duplicate-triangles", count_duplicate_faces(mesh),
+              {"duplicate triangle (same three vertices)", "duplicate triangles (same three vertices)"}, place);
+  add_problem(out, "inverted-normals", inverted,
+              {"triangle has normals pointing against its winding (inverted normals)",
+               "triangles have normals pointing against their winding (inverted normals)"},
+              inverted ? place + " (" + std::to_string(inverted) + " of " + std::to_string(mesh.face_count()) + ")" : place);
+  add_problem(out, "degenerate-triangles", degenerate, {"degenerate triangle", "degenerate triangles"}, place);
+  add_problem(out, "nonfinite-positions", nonfinite, {"position is not finite", "positions are not finite"}, place);
+  add_problem(out, "weights-unnormalised", skin.unnormalised,
+              {"vertex has weights not summing to 1", "vertices have weights not summing to 1"}, place);
+  add_problem(out, "joints-out-of-range", skin.out_of_range,
+              {"influence names a joint past the skin", "influences name a joint past the skin"}, place);
+  if (mesh.vertex_attrs().find<glm::u16vec4>(attr::kJoints0) && joint_count < 0)
+    add_problem(out, "skin-weights-without-skin", 1,
+                {"primitive has skin weights but no node draws it with a skin",
+                 "primitives have skin weights but no node draws them with a skin"},
+                place);
+}
+
+}  // namespace
+
+std::vector<ImportProblem> model_problems(const Model& model) {
+  std::vector<ImportProblem> out = model.import_problems;
   const auto joint_counts = mesh_joint_counts(model);
   for (std::size_t m = 0; m < model.meshes.size(); ++m)
-    for (std::size_t p = 0; p < model.meshes[m].primitives.size(); ++p) {
-      const auto& mesh = model.meshes[m].primitives[p].mesh;
-      std::size_t degenerate = 0, nonfinite = 0, unnormalised = 0, out_of_range = 0;
-      const auto& pos = mesh.positions();
-      for (const auto& q : pos)
-        if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z)) ++nonfinite;
-      mesh.for_each_face([&](FaceId, const Triangle& t) {
-        const glm::dvec3 a(pos[t[0].index]), b(pos[t[1].index]), c(pos[t[2].index]);
-        if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2] || glm::length(glm::cross(b - a, c - a)) == 0.0) ++degenerate;
-      });
-      const auto& va = mesh.vertex_attrs();
-      const auto* j0 = va.find<glm::u16vec4>(attr::kJoints0);
-      const auto* w0 = va.find<glm::vec4>(attr::kWeights0);
-      const auto* j1 = va.find<glm::u16vec4>(attr::kJoints1);
-      const auto* w1 = va.find<glm::vec4>(attr::kWeights1);
-      if (j0 && w0)
-        for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
-          double sum = 0.0;
-          auto check = [&](const glm::u16vec4& j, const glm::vec4& w) {
-            for (int c = 0; c < 4; ++c) {
-              sum += w[c];
-              if (w[c] > 0.0f && joint_counts[m] >= 0 && j[c] >= joint_counts[m]) ++out_of_range;
-            }
-          };
-          check((*j0)[v], (*w0)[v]);
-          if (j1 && w1) check((*j1)[v], (*w1)[v]);
-          if (std::abs(sum - 1.0) > 1e-3) ++unnormalised;
-        }
-      const std::string w = where(model, m, p);
-      if (mesh.face_count() == 0) out.push_back(w + ": has no triangles (left out on export)");
-      const auto adj = Adjacency::build(mesh);
-      const std::size_t nonmanifold_edges = adj.nonmanifold_edges().size();
-      const std::size_t nonmanifold_vertices = count_nonmanifold_vertices(mesh, adj);
-      const std::size_t duplicates = count_duplicate_faces(mesh);
-      const std::size_t inverted = count_inverted_normal_faces(mesh);
-      if (nonmanifold_edges)
-        out.push_back(w + ": " + std::to_string(nonmanifold_edges) + " non-manifold edges (more than two triangles)");
-      if (nonmanifold_vertices)
-        out.push_back(w + ": " + std::to_string(nonmanifold_vertices) +
-                      " non-manifold vertices (surfaces that touch only at a vertex)");
-      if (duplicates) out.push_back(w + ": " + std::to_string(duplicates) + " duplicate triangles (same three vertices)");
-      if (inverted)
-        out.push_back(w + ": " + std::to_string(inverted) + " of " + std::to_string(mesh.face_count()) +
-                      " triangles have normals pointing against their winding (inverted normals)");
-      if (degenerate) out.push_back(w + ": " + std::to_string(degenerate) + " degenerate triangles");
-      if (nonfinite) out.push_back(w + ": " + std::to_string(nonfinite) + " positions are not finite");
-      if (unnormalised) out.push_back(w + ": " + std::to_string(unnormalised) + " vertices have weights not summing to 1");
-      if (out_of_range) out.push_back(w + ": " + std::to_string(out_of_range) + " influences name a joint past the skin");
-      if (j0 && w0 && joint_counts[m] < 0) out.push_back(w + ": has skin weights but no node draws it with a skin");
-    }
+    for (std::size_t p = 0; p < model.meshes[m].primitives.size(); ++p)
+      check_primitive(model.meshes[m].primitives[p].mesh, joint_counts[m], where(model, m, p), out);
+  return out;
+}
+
+std::vector<std::string> find_problems(const Model& model) {
+  std::vector<std::string> out;
+  for (const auto& p : model_problems(model)) out.push_back(p.message);
   return out;
 }
 

@@ -164,7 +164,7 @@ StaticMesh OffParser::parse() {
     if (corners > 3) ++polygons;
     for (std::size_t c = 1; c + 1 < corners; ++c) mesh.triangles.push_back({ids[0], ids[c], ids[c + 1]});
   }
-  if (polygons) mesh.notes.push_back(std::to_string(polygons) + (polygons == 1 ? " polygon" : " polygons") + " split into triangle fans");
+  if (polygons) mesh.problems.push_back({"polygons-triangulated", std::to_string(polygons) + (polygons == 1 ? " polygon" : " polygons") + " split into triangle fans", polygons, {}});
   return mesh;
 }
 

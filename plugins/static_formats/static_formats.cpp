@@ -471,7 +471,7 @@ StaticMesh to_static_mesh(vtkPolyData* data, const std::string& path) {
     }
   }
   const vtkIdType skipped = data->GetNumberOfVerts() + data->GetNumberOfLines();
-  if (skipped > 0) out.notes.push_back(std::to_string(skipped) + " point and line cells skipped (only faces are kept)");
+  if (skipped > 0) out.problems.push_back({"cells-skipped", std::to_string(skipped) + " point and line cells skipped (only faces are kept)", std::size_t(skipped), {}});
 
   bool only_triangles = data->GetNumberOfStrips() == 0;
   if (vtkCellArray* polys = data->GetPolys(); only_triangles && polys)
@@ -489,8 +489,7 @@ StaticMesh to_static_mesh(vtkPolyData* data, const std::string& path) {
     triangulate->PassLinesOff();
     triangulate->Update();
     tris = triangulate->GetOutput();
-    out.notes.push_back(std::to_string(data->GetNumberOfPolys() + data->GetNumberOfStrips()) +
-                        " polygons and strips triangulated into " + std::to_string(tris->GetNumberOfPolys()) + " triangles");
+    out.problems.push_back({"polygons-triangulated", std::to_string(data->GetNumberOfPolys() + data->GetNumberOfStrips()) + " polygons and strips triangulated into " + std::to_string(tris->GetNumberOfPolys()) + " triangles", std::size_t(data->GetNumberOfPolys() + data->GetNumberOfStrips()), {}});
   }
 
   if (vtkPoints* points = tris->GetPoints()) {
@@ -555,7 +554,7 @@ StaticMesh read_with(Reader* reader, const std::string& path) {
   if (!messages.errors().empty()) fail(path, messages.errors().front());
   if (!ok) fail(path, "the reader failed (the file is malformed)");
   StaticMesh mesh = to_static_mesh(reader->GetOutput(), path);
-  if (!messages.warnings().empty()) mesh.notes.push_back("reader: " + messages.warnings().front());
+  if (!messages.warnings().empty()) mesh.problems.push_back({"reader-warning", "reader: " + messages.warnings().front(), messages.warnings().size(), {}});
   return mesh;
 }
 

@@ -3,7 +3,9 @@
 // command line as a user runs it, under a memory limit and a timeout. The table says, per file,
 // what `deepcut info` and `deepcut convert` must do: refuse it (exit 2, exactly one stderr line
 // naming the file and the problem, nothing written) or handle it (exit 0, the problem listed in
-// `info --json` "problems", an export that passes the Khronos validator and reads back).
+// `info --json` "problems" under its kind, every repair or loss of reading also on convert's
+// stderr (one line per kind, naming the file) and in its `--json` "problems", an export that
+// passes the Khronos validator and reads back).
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
@@ -34,6 +36,10 @@ struct Expectation {
   // Refused: words the one stderr line must contain. Handled: words one of the "problems" must
   // contain ("" means the file is clean: no problems at all).
   const char* words;
+  // Handled: the problem's kind, and whether reading repaired or dropped it (then every command
+  // names it on stderr) rather than `info` finding it in the mesh.
+  const char* kind = "";
+  bool read_repair = false;
 };
 
 constexpr Outcome kRefused = Outcome::Refused;
@@ -82,28 +88,48 @@ const Expectation kCatalogue[] = {
     {"triangles_10m_sparse_claim.gltf", kRefused, "claims far more data than it holds"},
     {"primitive_lines.gltf", kRefused, "only triangle primitives are supported"},
     {"primitive_no_position.gltf", kRefused, "has no POSITION attribute"},
-    {"attribute_bad_texcoord_name.gltf", kHandled, "attribute TEXCOORD_x dropped"},
+    {"attribute_bad_texcoord_name.gltf", kHandled, "1 attribute dropped (not a valid glTF attribute name): TEXCOORD_x",
+     "attribute-invalid-name-dropped", true},
     // geometry
     {"position_nan.gltf", kRefused, "POSITION 3 is not finite"},
     {"position_inf.gltf", kRefused, "POSITION 7 is not finite"},
-    {"zero_vertex_mesh.gltf", kHandled, "has no triangles (left out on export)"},
-    {"triangles_zero_area.gltf", kHandled, "2 degenerate triangles"},
-    {"triangles_duplicate.gltf", kHandled, "2 duplicate triangles"},
-    {"nonmanifold_vertex.gltf", kHandled, "1 non-manifold vertices"},
-    {"edge_with_three_faces.gltf", kHandled, "1 non-manifold edges"},
-    {"normals_inverted.gltf", kHandled, "188 of 188 triangles have normals pointing against their winding"},
+    {"zero_vertex_mesh.gltf", kHandled, "has no triangles (left out on export)", "no-triangles"},
+    {"triangles_zero_area.gltf", kHandled, "2 degenerate triangles", "degenerate-triangles"},
+    {"triangles_duplicate.gltf", kHandled, "2 duplicate triangles", "duplicate-triangles"},
+    {"nonmanifold_vertex.gltf", kHandled, "1 non-manifold vertex", "nonmanifold-vertices"},
+    {"edge_with_three_faces.gltf", kHandled, "1 non-manifold edge", "nonmanifold-edges"},
+    {"normals_inverted.gltf", kHandled,
+     "188 triangles have normals pointing against their winding (inverted normals): mesh 0 'Cylinder' primitive 0 "
+     "(188 of 188)",
+     "inverted-normals"},
     // skins and animation
-    {"weights_sum_zero.gltf", kHandled, "4 vertices had no weight"},
-    {"weights_sum_seven.gltf", kHandled, "10 vertices had weights not summing to 1 (normalised)"},
-    {"weights_negative_nan.gltf", kHandled, "2 weights were negative or NaN (set to 0)"},
-    {"joint_past_skin.gltf", kHandled, "4 influences named a joint past the skin (dropped)"},
-    {"skin_without_inverse_bind_matrices.gltf", kHandled, "no inverseBindMatrices: identity matrices used"},
+    {"weights_sum_zero.gltf", kHandled, "4 vertices had no weight", "weights-zero", true},
+    {"weights_sum_seven.gltf", kHandled, "10 vertices had weights not summing to 1 (normalised)", "weights-normalised", true},
+    {"weights_sum_098.gltf", kHandled, "10 vertices had weights not summing to 1 (normalised)", "weights-normalised", true},
+    {"weights_negative_nan.gltf", kHandled, "2 weights were negative or NaN (set to 0)", "weights-invalid", true},
+    {"joint_past_skin.gltf", kHandled, "4 influences named a joint past the skin (dropped)", "joints-past-skin", true},
+    {"joints_repeated_in_vertex.gltf", kHandled, "2 influences named a joint their vertex already had (weights summed)",
+     "influences-duplicate-joint", true},
+    {"skin_without_inverse_bind_matrices.gltf", kHandled, "1 skin has no inverseBindMatrices (identity matrices used",
+     "skin-no-inverse-bind-matrices", true},
+    {"skin_ibm_last_row_noise.gltf", kHandled,
+     "2 inverse bind matrices were not exactly affine (last row snapped to 0, 0, 0, 1): skin 0", "ibm-snapped", true},
+    {"skin_ibm_not_affine.gltf", kRefused, "skin 0: inverse bind matrix 1 is not affine"},
+    {"skin_joint_listed_twice.gltf", kHandled,
+     "1 joint listed twice in its skin merged (JOINTS remapped to its first listing): skin 0", "skin-duplicate-joints", true},
+    {"skin_joint_listed_twice_other_ibm.gltf", kHandled,
+     "1 joint listed twice in its skin with another inverse bind matrix now lists a new child node of the joint",
+     "skin-duplicate-joints-stand-in", true},
     {"skin_too_few_inverse_bind_matrices.gltf", kRefused, "fewer inverseBindMatrices than joints"},
     {"skin_inverse_bind_matrix_nan.gltf", kRefused, "inverse bind matrix 1 is not finite"},
     {"skin_joint_missing_node.gltf", kRefused, "joint node 40, which does not exist"},
     {"node_cycle.gltf", kRefused, "cycle"},
     {"animation_times_decreasing.gltf", kRefused, "key times are not increasing"},
-    {"animation_quaternion_not_unit.gltf", kHandled, "12 rotations were not unit quaternions (normalised)"},
+    {"animation_quaternion_not_unit.gltf", kHandled, "12 rotations were not unit quaternions (normalised)",
+     "rotations-normalised", true},
+    // what the file carries
+    {"extras_and_extensions.gltf", kHandled, "1 extension dropped (not carried through on that object): EXT_deepcut_mesh_test",
+     "extension-dropped", true},
     // images
     {"control_textured.gltf", kHandled, ""},
     {"image_huge_claim.gltf", kRefused, "claims 1000000 x 1000000 pixels, over the 32768-pixel limit"},
@@ -118,14 +144,14 @@ const Expectation kCatalogue[] = {
     {"escape/uri_to_parent_folder.gltf", kRefused,
      "'../escape_target.bin' points outside the model's folder"},
     // static meshes (plugins/static_formats)
-    {"static/control_cube.off", kHandled, "6 polygons split into triangle fans"},
+    {"static/control_cube.off", kHandled, "6 polygons split into triangle fans", "polygons-triangulated", true},
     {"static/control_cube_ascii.stl", kHandled, ""},
     {"static/obj_empty.obj", kRefused, "file is empty"},
     {"static/obj_truncated.obj", kRefused, "no faces (only 2204 points)"},
     {"static/obj_index_out_of_range.obj", kRefused, "line 14: '99' is not one of the 8 vertices defined before it"},
     {"static/obj_nan.obj", kRefused, "line 2: 'nan' is not a finite number"},
     {"static/obj_binary_garbage.obj", kRefused, "Line longer than"},
-    {"static/obj_unreferenced_vertices.obj", kHandled, "3 unreferenced vertices dropped"},
+    {"static/obj_unreferenced_vertices.obj", kHandled, "3 unreferenced vertices dropped", "unreferenced-vertices-dropped", true},
     {"static/obj_uv_index_out_of_range.obj", kRefused, "line 187: '5454' is not one of the 71 texture coordinates"},
     {"static/off_truncated.off", kRefused, "truncated: the header claims 6 faces, the file holds 4"},
     {"static/off_huge_counts.off", kRefused, "the header claims 100000000 vertices; the file is only 38 bytes"},
@@ -175,6 +201,24 @@ std::string case_name(const ::testing::TestParamInfo<Expectation>& info) {
   return name;
 }
 
+// `convert --json` names each repair or loss of reading twice: one stderr line per kind
+// ("deepcut: FILE: MESSAGE [KIND]") and one entry of "problems"; a read repair the table expects
+// is among them, and a clean file has none.
+void expect_read_problems_reported(const test::RunResult& convert, const std::string& path, const Expectation& e) {
+  const json problems = json::parse(convert.out).at("problems");
+  EXPECT_EQ(line_count(convert.err), problems.size()) << convert.err << problems.dump();
+  for (const auto& p : problems) {
+    const std::string line = "deepcut: " + path + ": " + p.at("message").get<std::string>() + " [" +
+                             p.at("kind").get<std::string>() + "]\n";
+    EXPECT_NE(convert.err.find(line), std::string::npos) << "missing stderr line " << line << convert.err;
+  }
+  const bool listed = std::any_of(problems.begin(), problems.end(), [&](const json& p) { return p.at("kind") == e.kind; });
+  EXPECT_EQ(listed, e.read_repair) << e.kind << " on convert: " << problems.dump();
+  if (std::string(e.words).empty()) {
+    EXPECT_TRUE(problems.empty()) << problems.dump();
+  }
+}
+
 class BadInputTest : public ::testing::TestWithParam<Expectation> {
  protected:
   void SetUp() override { dir_ = test::temp_dir("bad"); }
@@ -198,7 +242,7 @@ TEST_P(BadInputTest, info_and_convert_refuse_or_handle_it) {
   const std::string name = fs::path(e.file).filename().string();
   const std::string out = dir_ + "/out.glb";
   const auto info = run_limited("info --json " + test::quote(path));
-  const auto convert = run_limited("convert " + test::quote(path) + " -o " + test::quote(out));
+  const auto convert = run_limited("convert --json " + test::quote(path) + " -o " + test::quote(out));
 
   if (e.outcome == Outcome::Refused) {
     for (const auto* r : {&info, &convert}) {
@@ -216,16 +260,17 @@ TEST_P(BadInputTest, info_and_convert_refuse_or_handle_it) {
   ASSERT_EQ(info.exit_code, 0) << info.err;
   EXPECT_TRUE(info.err.empty()) << info.err;
   const json j = json::parse(info.out);
-  const auto problems = j.at("problems").get<std::vector<std::string>>();
+  const json& problems = j.at("problems");
   if (std::string(e.words).empty()) {
-    EXPECT_TRUE(problems.empty()) << j["problems"].dump();
+    EXPECT_TRUE(problems.empty()) << problems.dump();
   } else {
-    EXPECT_TRUE(std::any_of(problems.begin(), problems.end(),
-                            [&](const std::string& p) { return p.find(e.words) != std::string::npos; }))
-        << "problems should mention '" << e.words << "': " << j["problems"].dump();
+    EXPECT_TRUE(std::any_of(problems.begin(), problems.end(), [&](const json& p) {
+      return p.at("kind") == e.kind && p.at("message").get<std::string>().find(e.words) != std::string::npos;
+    })) << "problems should hold " << e.kind << " saying '" << e.words << "': " << problems.dump();
   }
 
   ASSERT_EQ(convert.exit_code, 0) << convert.err;
+  expect_read_problems_reported(convert, path, e);
   const auto v = test::validate_gltf(out);
   EXPECT_EQ(v.exit_code, 0) << v.out << v.err;
   const Model back = read_gltf(out);

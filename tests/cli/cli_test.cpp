@@ -159,7 +159,7 @@ TEST_F(CliTest, info_reports_problems_in_a_dirty_file) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json j = json::parse(r.out);
   ASSERT_FALSE(j["problems"].empty());
-  EXPECT_NE(j["problems"][0].get<std::string>().find("no node draws it with a skin"), std::string::npos);
+  EXPECT_NE(j["problems"][0]["message"].get<std::string>().find("no node draws it with a skin"), std::string::npos);
 }
 
 TEST_F(CliTest, malformed_input_gives_exit_2_and_one_line) {

@@ -115,7 +115,7 @@ TEST_F(UserReportsTest, info_lists_a_scene_without_mesh_as_a_problem) {
   const auto r = test::run_cli("info " + test::quote(path) + " --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json problems = json::parse(r.out)["problems"];
-  EXPECT_NE(std::find(problems.begin(), problems.end(), "the scene has no mesh"), problems.end()) << problems;
+  EXPECT_TRUE(std::any_of(problems.begin(), problems.end(), [](const json& p) { return p["message"] == "the scene has no mesh"; })) << problems;
 }
 
 TEST_F(UserReportsTest, help_after_a_command_prints_that_commands_usage) {

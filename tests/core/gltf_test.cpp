@@ -179,7 +179,7 @@ TEST(GltfTest, strides_normalised_ints_sparse_and_skin_without_inverse_bind_matr
   EXPECT_FLOAT_EQ(w[0].x, 0.5f);  // 100/255 + 100/255 normalised to 0.5 + 0.5
   EXPECT_FLOAT_EQ(w[0].y, 0.5f);
   bool noted = false;
-  for (const auto& n : model.import_notes) noted |= n.find("not summing to 1") != std::string::npos;
+  for (const auto& p : model.import_problems) noted |= p.message.find("not summing to 1") != std::string::npos;
   EXPECT_TRUE(noted);
   ASSERT_EQ(model.materials.size(), 1u);
   EXPECT_NE(model.materials[0].json.find("emissiveStrength"), std::string::npos);

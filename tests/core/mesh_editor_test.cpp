@@ -3,6 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <random>
+#include <vector>
+
 #include "fixtures.h"
 
 namespace deepcut {
@@ -33,6 +37,86 @@ float weight_of(const SurfaceMesh& mesh, VertexId v, int joint) {
   return sum;
 }
 
+
+// Influences of vertex v over every set the mesh carries, slot order.
+std::vector<std::pair<int, float>> influences_of(const SurfaceMesh& mesh, VertexId v) {
+  std::vector<std::pair<int, float>> out;
+  const char* names[2][2] = {{attr::kJoints0, attr::kWeights0}, {attr::kJoints1, attr::kWeights1}};
+  for (const auto& pair : names) {
+    const auto* j = mesh.vertex_attrs().find<glm::u16vec4>(pair[0]);
+    const auto* w = mesh.vertex_attrs().find<glm::vec4>(pair[1]);
+    if (!j || !w) break;
+    for (int c = 0; c < 4; ++c) out.emplace_back((*j)[v.index][c], (*w)[v.index][c]);
+  }
+  return out;
+}
+
+// A triangle whose three vertices carry `sets` sets of influences (joints, weights per vertex,
+// 4 * sets each).
+SurfaceMesh skinned_triangle(int sets, const std::array<std::vector<int>, 3>& joints,
+                             const std::array<std::vector<float>, 3>& weights) {
+  SurfaceMesh mesh;
+  const char* names[2][2] = {{attr::kJoints0, attr::kWeights0}, {attr::kJoints1, attr::kWeights1}};
+  const glm::vec3 p[3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  for (int i = 0; i < 3; ++i) mesh.add_vertex(p[i]);
+  for (int k = 0; k < sets; ++k) {
+    auto& j = mesh.vertex_attrs().add<glm::u16vec4>(names[k][0]);
+    auto& w = mesh.vertex_attrs().add<glm::vec4>(names[k][1]);
+    for (std::size_t i = 0; i < 3; ++i)
+      for (int c = 0; c < 4; ++c) {
+        const std::size_t slot = std::size_t(4 * k + c);
+        j[i][c] = slot < joints[i].size() ? static_cast<std::uint16_t>(joints[i][slot]) : 0;
+        w[i][c] = slot < weights[i].size() ? weights[i][slot] : 0.0f;
+      }
+  }
+  mesh.add_face(VertexId(0), VertexId(1), VertexId(2));
+  return mesh;
+}
+
+// The rule, computed apart from the editor: the sources' weighted influences merged by joint,
+// sorted largest first (first appearance breaks ties), the largest `slots` kept, renormalised.
+std::vector<std::pair<int, double>> expected_blend(const SurfaceMesh& mesh, const std::vector<VertexId>& src,
+                                                   const std::vector<float>& w, std::size_t slots) {
+  std::vector<std::pair<int, double>> merged;
+  for (std::size_t s = 0; s < src.size(); ++s)
+    for (const auto& [joint, weight] : influences_of(mesh, src[s])) {
+      if (weight <= 0.0f || w[s] <= 0.0f) continue;
+      auto it = std::find_if(merged.begin(), merged.end(), [&](const auto& m) { return m.first == joint; });
+      if (it == merged.end()) it = merged.insert(merged.end(), {joint, 0.0});
+      it->second += double(weight) * double(w[s]);
+    }
+  std::stable_sort(merged.begin(), merged.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+  if (merged.size() > slots) merged.resize(slots);
+  double sum = 0.0;
+  for (const auto& m : merged) sum += m.second;
+  for (auto& m : merged) m.second /= sum;
+  return merged;
+}
+
+// The invariants every new vertex's influences keep: at most `slots`, each set present before
+// and no other, largest first, summing to 1, zero slots on joint 0, and equal to the rule.
+void expect_influence_rule(const SurfaceMesh& mesh, VertexId v, const std::vector<VertexId>& src,
+                           const std::vector<float>& w, std::size_t slots) {
+  const auto got = influences_of(mesh, v);
+  ASSERT_EQ(got.size(), slots) << "the primitive's sets, no more";
+  double sum = 0.0;
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    sum += got[i].second;
+    if (i > 0) {
+      EXPECT_GE(got[i - 1].second, got[i].second) << "largest first, slot " << i;
+    }
+    if (got[i].second == 0.0f) {
+      EXPECT_EQ(got[i].first, 0) << "unused slot " << i;
+    }
+  }
+  EXPECT_NEAR(sum, 1.0, 1e-6);
+  const auto want = expected_blend(mesh, src, w, slots);
+  for (std::size_t i = 0; i < want.size(); ++i) {
+    EXPECT_EQ(got[i].first, want[i].first) << "slot " << i;
+    EXPECT_NEAR(got[i].second, want[i].second, 1e-6) << "slot " << i;
+  }
+  for (std::size_t i = want.size(); i < got.size(); ++i) EXPECT_EQ(got[i].second, 0.0f) << "slot " << i;
+}
 }  // namespace
 
 TEST(MeshEditorTest, edge_split_blends_union_of_joints) {
@@ -65,6 +149,104 @@ TEST(MeshEditorTest, more_than_four_influences_keep_the_largest_four_renormalise
   EXPECT_EQ(weight_of(mesh, v, 3), 0.0f);
   EXPECT_EQ(weight_of(mesh, v, 6), 0.0f);
   test::expect_valid(mesh, 7);
+}
+
+TEST(MeshEditorTest, a_four_influence_primitive_never_gets_a_fifth) {
+  // Two parents with four disjoint joints each: the split sees eight and keeps four.
+  SurfaceMesh mesh = skinned_triangle(1, {std::vector<int>{1, 2, 3, 4}, {5, 6, 7, 8}, {9, 10, 11, 12}},
+                                      {std::vector<float>{0.4f, 0.3f, 0.2f, 0.1f}, {0.35f, 0.3f, 0.25f, 0.1f},
+                                       {0.7f, 0.1f, 0.1f, 0.1f}});
+  MeshEditor editor(mesh);
+  const VertexId e = editor.add_vertex_on_edge(VertexId(0), VertexId(1), 0.4f);
+  EXPECT_EQ(mesh.vertex_attrs().find<glm::u16vec4>(attr::kJoints1), nullptr);
+  expect_influence_rule(mesh, e, {VertexId(0), VertexId(1)}, {0.6f, 0.4f}, 4);
+  // Twelve joints from a point inside the triangle, and a split of a split.
+  const VertexId f = editor.add_vertex_in_triangle(mesh.face(FaceId(0)), glm::vec3(0.3f, 0.3f, 0.4f));
+  expect_influence_rule(mesh, f, {VertexId(0), VertexId(1), VertexId(2)}, {0.3f, 0.3f, 0.4f}, 4);
+  const VertexId g = editor.add_vertex_on_edge(e, f, 0.5f);
+  expect_influence_rule(mesh, g, {e, f}, {0.5f, 0.5f}, 4);
+  test::expect_valid(mesh, 13);
+}
+
+TEST(MeshEditorTest, an_eight_influence_primitive_keeps_up_to_eight) {
+  SurfaceMesh mesh = skinned_triangle(2, {std::vector<int>{1, 2, 3, 4, 5, 6}, {7, 8, 9, 10, 11, 12, 13, 14}, {1, 7}},
+                                      {std::vector<float>{0.3f, 0.2f, 0.2f, 0.1f, 0.1f, 0.1f},
+                                       {0.2f, 0.2f, 0.1f, 0.1f, 0.1f, 0.1f, 0.1f, 0.1f}, {0.5f, 0.5f}});
+  MeshEditor editor(mesh);
+  const VertexId e = editor.add_vertex_on_edge(VertexId(0), VertexId(1), 0.5f);  // 14 joints, 8 kept
+  expect_influence_rule(mesh, e, {VertexId(0), VertexId(1)}, {0.5f, 0.5f}, 8);
+  int used = 0;
+  for (const auto& [joint, weight] : influences_of(mesh, e)) used += weight > 0.0f;
+  EXPECT_EQ(used, 8);
+  const VertexId f = editor.add_vertex_on_edge(VertexId(0), VertexId(2), 0.25f);  // 1 merged: 7 joints, all kept
+  expect_influence_rule(mesh, f, {VertexId(0), VertexId(2)}, {0.75f, 0.25f}, 8);
+  used = 0;
+  for (const auto& [joint, weight] : influences_of(mesh, f)) used += weight > 0.0f;
+  EXPECT_EQ(used, 7);
+  test::expect_valid(mesh, 15);
+}
+
+TEST(MeshEditorTest, influence_ties_keep_the_joints_that_appear_first) {
+  // Eight equal blended weights for four slots: the first source's joints, in slot order,
+  // whichever way round the edge is split.
+  SurfaceMesh mesh = skinned_triangle(1, {std::vector<int>{4, 3, 2, 1}, {8, 7, 6, 5}, {1, 0, 0, 0}},
+                                      {std::vector<float>{0.25f, 0.25f, 0.25f, 0.25f}, {0.25f, 0.25f, 0.25f, 0.25f},
+                                       {1, 0, 0, 0}});
+  MeshEditor editor(mesh);
+  const VertexId ab = editor.add_vertex_on_edge(VertexId(0), VertexId(1), 0.5f);
+  const VertexId ba = editor.add_vertex_on_edge(VertexId(1), VertexId(0), 0.5f);
+  const auto first = influences_of(mesh, ab), second = influences_of(mesh, ba);
+  for (int c = 0; c < 4; ++c) {
+    EXPECT_EQ(first[std::size_t(c)].first, 4 - c);
+    EXPECT_EQ(second[std::size_t(c)].first, 8 - c);
+    EXPECT_FLOAT_EQ(first[std::size_t(c)].second, 0.25f);
+  }
+  expect_influence_rule(mesh, ab, {VertexId(0), VertexId(1)}, {0.5f, 0.5f}, 4);
+}
+
+TEST(MeshEditorTest, random_splits_follow_the_influence_rule) {
+  std::mt19937 rng(18);
+  std::uniform_int_distribution<int> joint(0, 9);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (int trial = 0; trial < 200; ++trial) {
+    const int sets = 1 + trial % 2;
+    std::array<std::vector<int>, 3> joints;
+    std::array<std::vector<float>, 3> weights;
+    for (std::size_t i = 0; i < 3; ++i) {
+      float sum = 0.0f;
+      for (int c = 0; c < 4 * sets; ++c) {
+        joints[i].push_back(joint(rng));  // repeats on purpose: merged by joint
+        weights[i].push_back(unit(rng) < 0.3f ? 0.0f : unit(rng));
+        sum += weights[i].back();
+      }
+      if (sum == 0.0f) weights[i][0] = sum = 1.0f;
+      for (float& w : weights[i]) w /= sum;
+    }
+    SurfaceMesh mesh = skinned_triangle(sets, joints, weights);
+    MeshEditor editor(mesh);
+    const std::size_t slots = std::size_t(4 * sets);
+    const float t = unit(rng);
+    const VertexId e = editor.add_vertex_on_edge(VertexId(0), VertexId(1), t);
+    expect_influence_rule(mesh, e, {VertexId(0), VertexId(1)}, {1.0f - t, t}, slots);
+    glm::vec3 bary(unit(rng) + 0.01f, unit(rng) + 0.01f, unit(rng) + 0.01f);
+    bary /= bary.x + bary.y + bary.z;
+    const VertexId f = editor.add_vertex_in_triangle(mesh.face(FaceId(0)), bary);
+    expect_influence_rule(mesh, f, {VertexId(0), VertexId(1), VertexId(2)}, {bary.x, bary.y, bary.z}, slots);
+    if (HasFailure()) break;
+  }
+}
+
+TEST(MeshEditorTest, blend_influences_refuses_counts_it_has_no_room_for) {
+  const std::uint16_t joints[4 * kMaxInfluences] = {};
+  const float weights[4 * kMaxInfluences] = {1.0f};
+  const float w[4] = {1, 0, 0, 0};
+  std::uint16_t out_joints[kMaxInfluences];
+  float out_weights[kMaxInfluences];
+  EXPECT_THROW(blend_influences(joints, weights, w, 4, 4, out_joints, out_weights), Error);
+  EXPECT_THROW(blend_influences(joints, weights, w, 1, 12, out_joints, out_weights), Error);
+  EXPECT_THROW(blend_influences(joints, weights, w, 0, 4, out_joints, out_weights), Error);
+  blend_influences(joints, weights, w, 1, 4, out_joints, out_weights);
+  EXPECT_EQ(out_weights[0], 1.0f);
 }
 
 TEST(MeshEditorTest, face_split_interpolates_corner_uvs_in_the_parent_and_keeps_seams) {

@@ -258,7 +258,7 @@ TEST_F(StaticFormatsTest, unreferenced_points_and_repeated_corners_are_dropped_a
   EXPECT_EQ(model.meshes[0].primitives[0].mesh.vertex_count(), 3u);
   EXPECT_EQ(model.meshes[0].primitives[0].mesh.face_count(), 1u);
   std::string notes;
-  for (const auto& n : model.import_notes) notes += n + "\n";
+  for (const auto& p : model.import_problems) notes += p.message + "\n";
   EXPECT_NE(notes.find("1 face repeats a vertex"), std::string::npos) << notes;
   EXPECT_NE(notes.find("2 unreferenced vertices dropped"), std::string::npos) << notes;
 }

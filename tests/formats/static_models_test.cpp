@@ -139,7 +139,7 @@ TEST(StaticModelsTest, every_static_model_loads_unrigged_and_exports_validator_c
     std::printf("%s: %zu vertices (%zu in the file), %zu triangles, %zu boundary edges, %zu non-manifold edges, "
                 "%zu components, %zu notes\n",
                 path.c_str(), stats.welded_vertices, stats.gltf_vertices, stats.triangles, stats.boundary_edges,
-                stats.nonmanifold_edges, stats.components, model.import_notes.size());
+                stats.nonmanifold_edges, stats.components, model.import_problems.size());
     const std::string out = dir + "/" + model.meshes[0].name + ".glb";
     write_gltf(model, out);
     const auto v = test::validate_gltf(out);

@@ -458,6 +458,7 @@ Model Reader::read() {
   read_animations();
   read_images();
   read_passthrough();
+  note_dropped_extensions();
   read_meshes();
   resolve_morph_weights();
   return std::move(model_);

@@ -86,9 +86,15 @@ Primitive Reader::read_primitive(const tinygltf::Primitive& p, const std::string
   const WeldReport welded = weld(out.mesh, {options_.weld ? WeldKey::PositionAndSkin : WeldKey::None});
   out.welded_merged = welded.merged;
   if (welded.kept_apart)
-    note(where + ": " + std::to_string(welded.kept_apart) + " vertices share a position with different skin weights" +
-         (morphs.empty() ? "" : " or morph deltas") + " (kept apart)");
-  if (welded.dropped) note(where + ": " + std::to_string(welded.dropped) + " unreferenced vertices dropped");
+    problem("weld-kept-apart", welded.kept_apart,
+            {morphs.empty() ? "vertex shares a position with different skin weights (kept apart)"
+                            : "vertex shares a position with different skin weights or morph deltas (kept apart)",
+             morphs.empty() ? "vertices share a position with different skin weights (kept apart)"
+                            : "vertices share a position with different skin weights or morph deltas (kept apart)"},
+            where);
+  if (welded.dropped)
+    problem("unreferenced-vertices-dropped", welded.dropped, {"unreferenced vertex dropped", "unreferenced vertices dropped"},
+            where);
   return out;
 }
 
@@ -125,10 +131,14 @@ std::vector<std::uint32_t> Reader::read_triangles(const tinygltf::Primitive& p, 
       if (i % 2 == 0) tris.insert(tris.end(), {idx[i - 2], idx[i - 1], idx[i]});
       else tris.insert(tris.end(), {idx[i - 1], idx[i - 2], idx[i]});
     }
-    note(where + ": triangle strip converted to triangles");
+    problem("triangle-strips-converted", 1,
+            {"primitive was a triangle strip (converted to triangles)", "primitives were triangle strips (converted to triangles)"},
+            where);
   } else if (p.mode == TINYGLTF_MODE_TRIANGLE_FAN) {
     for (std::size_t i = 2; i < idx.size(); ++i) tris.insert(tris.end(), {idx[0], idx[i - 1], idx[i]});
-    note(where + ": triangle fan converted to triangles");
+    problem("triangle-fans-converted", 1,
+            {"primitive was a triangle fan (converted to triangles)", "primitives were triangle fans (converted to triangles)"},
+            where);
   } else {
     if (idx.size() % 3 != 0) fail(where + ": index count " + std::to_string(idx.size()) + " is not a multiple of 3");
     tris = std::move(idx);
@@ -156,7 +166,12 @@ Influences Reader::read_influences(const tinygltf::Primitive& p, const std::stri
     sets.push_back(std::move(d));
   }
   const int slots = 4 * static_cast<int>(sets.size());
-  std::size_t renormalised = 0, out_of_range = 0, zero = 0, bad_weights = 0;
+  // Joint indices as the file numbers them, and how they are numbered once duplicate joints of
+  // the skin are merged (read_skins).
+  const std::uint32_t file_joints = joint_remap_ && !joint_remap_->empty() ? static_cast<std::uint32_t>(joint_remap_->size())
+                                    : joint_count >= 0                     ? static_cast<std::uint32_t>(joint_count)
+                                                                           : 0u;
+  std::size_t renormalised = 0, out_of_range = 0, zero = 0, bad_weights = 0, duplicates = 0;
   Influences skin;
   skin.sets = sets.size();
   skin.joints.resize(sets.size() * nv);
@@ -164,7 +179,11 @@ Influences Reader::read_influences(const tinygltf::Primitive& p, const std::stri
   for (std::size_t v = 0; v < nv && slots > 0; ++v) {
     std::uint16_t jj[8] = {};
     float ww[8] = {};
-    double sum = 0.0;
+    std::uint32_t raw[8] = {};
+    // The validator's test (ACCESSOR_WEIGHTS_NON_NORMALIZED): the positive weights, summed in
+    // float, lie within 2e-7 per weight of 1. (It leaves a repeated joint's weight out of the
+    // sum; here it counts, since merging the repeats adds it to the first.)
+    float sum = 0.0f, tolerance = 0.0f;
     for (int k = 0; k < slots; ++k) {
       const auto& d = sets[std::size_t(k / 4)];
       std::uint32_t joint = d.joints[4 * v + std::size_t(k % 4)];
@@ -173,29 +192,51 @@ Influences Reader::read_influences(const tinygltf::Primitive& p, const std::stri
         ++bad_weights;
         weight = 0.0f;
       }
-      if (joint_count >= 0 && joint >= static_cast<std::uint32_t>(joint_count)) {
+      if (joint_count >= 0 && joint >= file_joints) {
         // Dropped, and the slot points at joint 0: a vertex left with no weight is bound to its
         // first slot's joint, which must exist.
         out_of_range += weight > 0.0f;
         weight = 0.0f;
         joint = 0;
       }
+      raw[k] = joint;
+      bool repeated = false;
+      for (int i = 0; i < k && weight > 0.0f; ++i) repeated = repeated || (raw[i] == joint && ww[i] > 0.0f);
+      duplicates += repeated;
+      if (weight > 0.0f) {
+        sum += weight;
+        tolerance += 2e-7f;
+      }
+      if (joint_remap_ && joint < joint_remap_->size()) joint = (*joint_remap_)[joint];
       if (joint > 65535u) joint = 0;
       jj[k] = static_cast<std::uint16_t>(joint);
       ww[k] = weight;
-      sum += weight;
     }
-    if (std::abs(sum - 1.0) > 1e-3) ++renormalised;
+    if (sum > 0.0f && std::abs(sum - 1.0f) > tolerance) ++renormalised;
     if (!normalize_influences(jj, ww, slots)) ++zero;
     for (std::size_t s = 0; s < sets.size(); ++s) {
       skin.joints[s * nv + v] = glm::u16vec4(jj[4 * s], jj[4 * s + 1], jj[4 * s + 2], jj[4 * s + 3]);
       skin.weights[s * nv + v] = glm::vec4(ww[4 * s], ww[4 * s + 1], ww[4 * s + 2], ww[4 * s + 3]);
     }
   }
-  if (bad_weights) note(where + ": " + std::to_string(bad_weights) + " weights were negative or NaN (set to 0)");
-  if (renormalised) note(where + ": " + std::to_string(renormalised) + " vertices had weights not summing to 1 (normalised)");
-  if (out_of_range) note(where + ": " + std::to_string(out_of_range) + " influences named a joint past the skin (dropped)");
-  if (zero) note(where + ": " + std::to_string(zero) + " vertices had no weight (bound to their first joint)");
+  if (bad_weights)
+    problem("weights-invalid", bad_weights,
+            {"weight was negative or NaN (set to 0)", "weights were negative or NaN (set to 0)"}, where);
+  if (renormalised)
+    problem("weights-normalised", renormalised,
+            {"vertex had weights not summing to 1 (normalised)", "vertices had weights not summing to 1 (normalised)"}, where);
+  if (out_of_range)
+    problem("joints-past-skin", out_of_range,
+            {"influence named a joint past the skin (dropped)", "influences named a joint past the skin (dropped)"},
+            where);
+  if (duplicates)
+    problem("influences-duplicate-joint", duplicates,
+            {"influence named a joint its vertex already had (weights summed)",
+             "influences named a joint their vertex already had (weights summed)"},
+            where);
+  if (zero)
+    problem("weights-zero", zero,
+            {"vertex had no weight (bound to its first joint)", "vertices had no weight (bound to their first joint)"}, where);
   return skin;
 }
 
@@ -205,7 +246,9 @@ std::vector<CornerSource> Reader::read_corner_sources(const tinygltf::Primitive&
   for (const auto& [name, accessor] : p.attributes) {
     if (name == "POSITION" || name.rfind("JOINTS_", 0) == 0 || name.rfind("WEIGHTS_", 0) == 0) {
       if ((name.rfind("JOINTS_", 0) == 0 || name.rfind("WEIGHTS_", 0) == 0) && name.back() > '1')
-        note(where + ": " + name + " dropped (at most 8 influences are kept)");
+        problem("influence-sets-dropped", 1,
+                {"influence set dropped (at most 8 influences are kept)", "influence sets dropped (at most 8 influences are kept)"},
+                name + " (" + where + ")");
       continue;
     }
     CornerSource cs;
@@ -215,14 +258,17 @@ std::vector<CornerSource> Reader::read_corner_sources(const tinygltf::Primitive&
     else if (name.rfind("TEXCOORD_", 0) == 0) {
       const std::string set = name.substr(9);
       if (set.empty() || set.size() > 2 || !std::all_of(set.begin(), set.end(), [](unsigned char c) { return std::isdigit(c); })) {
-        note(where + ": attribute " + name + " dropped (not a valid glTF attribute name)");
+        problem("attribute-invalid-name-dropped", 1,
+                {"attribute dropped (not a valid glTF attribute name)", "attributes dropped (not valid glTF attribute names)"},
+                name + " (" + where + ")");
         continue;
       }
       cs.name = attr::uv_name(std::stoi(set));
       cs.comps = 2;
     }
     else {
-      note(where + ": attribute " + name + " dropped (not supported)");
+      problem("attribute-dropped", 1, {"attribute dropped (not supported)", "attributes dropped (not supported)"},
+              name + " (" + where + ")");
       continue;
     }
     cs.data = read_floats(accessor, name.c_str(), &cs.data_comps);
@@ -236,9 +282,12 @@ std::vector<CornerSource> Reader::read_corner_sources(const tinygltf::Primitive&
 
 void Reader::read_meshes() {
   // The skin a mesh is drawn with decides the valid joint range of its influences.
-  std::vector<int> mesh_joints(gltf_.meshes.size(), -1);
+  std::vector<int> mesh_joints(gltf_.meshes.size(), -1), mesh_skin(gltf_.meshes.size(), -1);
   for (const auto& n : model_.nodes)
-    if (n.mesh >= 0 && n.skin >= 0) mesh_joints[n.mesh] = static_cast<int>(model_.skins[n.skin].joints.size());
+    if (n.mesh >= 0 && n.skin >= 0) {
+      mesh_joints[n.mesh] = static_cast<int>(model_.skins[n.skin].joints.size());
+      mesh_skin[n.mesh] = n.skin;
+    }
   for (std::size_t m = 0; m < gltf_.meshes.size(); ++m) {
     const auto& g = gltf_.meshes[m];
     Mesh mesh;
@@ -250,7 +299,9 @@ void Reader::read_meshes() {
     read_mesh_weights(mesh, m, mesh_where, targets);
     for (std::size_t p = 0; p < g.primitives.size(); ++p) {
       const std::string where = mesh_where + " primitive " + std::to_string(p);
+      joint_remap_ = mesh_skin[m] >= 0 ? &skin_joint_remap_[std::size_t(mesh_skin[m])] : nullptr;
       Primitive prim = read_primitive(g.primitives[p], where, mesh_joints[m], targets);
+      joint_remap_ = nullptr;
       if (r.contains("primitives") && p < r["primitives"].size()) prim.extras_json = dump_member(r["primitives"][p], "extras");
       mesh.primitives.push_back(std::move(prim));
     }

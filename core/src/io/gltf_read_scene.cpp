@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 // glTF import: nodes, skins, animations, images and the objects carried through untouched.
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <set>
 #include <utility>
 
 #include "io/gltf_reader.h"
@@ -142,8 +144,12 @@ void Reader::read_skins() {
     } else {
       s.had_inverse_bind_matrices = false;
       s.inverse_bind_matrices.assign(s.joints.size(), glm::mat4(1.0f));
-      note("skin " + std::to_string(i) + " has no inverseBindMatrices: identity matrices used (written explicitly on export)");
+      problem("skin-no-inverse-bind-matrices", 1,
+              {"skin has no inverseBindMatrices (identity matrices used, written explicitly on export)",
+               "skins have no inverseBindMatrices (identity matrices used, written explicitly on export)"},
+              "skin " + std::to_string(i));
     }
+    repair_skin(i, s);
     model_.skins.push_back(std::move(s));
   }
 }
@@ -222,8 +228,9 @@ void Reader::read_animations() {
           }
         }
         if (fixed)
-          note("animation " + std::to_string(a) + " channel " + std::to_string(c) + ": " + std::to_string(fixed) +
-               " rotations were not unit quaternions (normalised)");
+          problem("rotations-normalised", fixed,
+                  {"rotation was not a unit quaternion (normalised)", "rotations were not unit quaternions (normalised)"},
+                  "animation " + std::to_string(a) + " channel " + std::to_string(c));
       }
       anim.channels.push_back(out);
     }
@@ -282,7 +289,180 @@ void Reader::read_passthrough() {
       if (e.is_string()) out.push_back(e.get<std::string>());
   }
   model_.extras_json = dump_member(raw_, "extras");
+  model_.extensions_json = dump_member(raw_, "extensions");
   model_.asset_copyright = raw_["asset"].value("copyright", "");
+  model_.asset_extras_json = dump_member(raw_["asset"], "extras");
+}
+
+}  // namespace deepcut::gltf_detail
+
+namespace deepcut::gltf_detail {
+namespace {
+
+// Inverse bind matrices whose last row is this close to (0, 0, 0, 1) are float noise of an
+// affine matrix and are snapped to it (the validator's ACCESSOR_INVALID_IBM wants it exact);
+// farther off, the matrix is not an inverse bind matrix glTF allows and the file is refused.
+constexpr float kIbmLastRowTolerance = 1e-3f;
+
+// Adds the name of every extension used anywhere inside `o` to `names`.
+void collect_extension_names(const json& o, std::set<std::string>& names) {
+  if (o.is_array()) {
+    for (const auto& item : o) collect_extension_names(item, names);
+  } else if (o.is_object()) {
+    for (const auto& item : o.items()) {
+      if (item.key() == "extensions" && item.value().is_object())
+        for (const auto& e : item.value().items()) names.insert(e.key());
+      collect_extension_names(item.value(), names);
+    }
+  }
+}
+
+// Two inverse bind matrices equal up to float noise relative to their largest entry.
+bool same_matrix(const glm::mat4& a, const glm::mat4& b) {
+  float scale = 1.0f, diff = 0.0f;
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r) {
+      scale = std::max({scale, std::abs(a[c][r]), std::abs(b[c][r])});
+      diff = std::max(diff, std::abs(a[c][r] - b[c][r]));
+    }
+  return diff <= 1e-5f * scale;
+}
+
+}  // namespace
+
+// Makes a skin validator-clean: inverse bind matrices get an exact affine last row, and no joint
+// is listed twice (merge_duplicate_joints).
+void Reader::repair_skin(std::size_t index, Skin& skin) {
+  const std::string place = "skin " + std::to_string(index);
+  std::size_t snapped = 0;
+  for (std::size_t j = 0; j < skin.inverse_bind_matrices.size() && skin.had_inverse_bind_matrices; ++j) {
+    glm::mat4& m = skin.inverse_bind_matrices[j];
+    if (m[0][3] == 0.0f && m[1][3] == 0.0f && m[2][3] == 0.0f && m[3][3] == 1.0f) continue;
+    const float off = std::max({std::abs(m[0][3]), std::abs(m[1][3]), std::abs(m[2][3]), std::abs(m[3][3] - 1.0f)});
+    if (!(off <= kIbmLastRowTolerance))
+      fail(place + ": inverse bind matrix " + std::to_string(j) + " is not affine (its last row is " +
+           std::to_string(m[0][3]) + ", " + std::to_string(m[1][3]) + ", " + std::to_string(m[2][3]) + ", " +
+           std::to_string(m[3][3]) + "; glTF requires 0, 0, 0, 1)");
+    m[0][3] = m[1][3] = m[2][3] = 0.0f;
+    m[3][3] = 1.0f;
+    ++snapped;
+  }
+  if (snapped)
+    problem("ibm-snapped", snapped,
+            {"inverse bind matrix was not exactly affine (last row snapped to 0, 0, 0, 1)",
+             "inverse bind matrices were not exactly affine (last row snapped to 0, 0, 0, 1)"},
+            place);
+
+  merge_duplicate_joints(index, skin);
+}
+
+// A joint listed twice in a skin (the validator's DUPLICATE_ELEMENTS) is listed once: influences
+// naming a later listing are remapped to the first (read_influences, through skin_joint_remap_).
+// A later listing with another inverse bind matrix cannot be merged without moving its vertices:
+// it becomes a new child node of the joint with the identity transform (so it poses exactly like
+// the joint), and the skin lists that node instead.
+void Reader::merge_duplicate_joints(std::size_t index, Skin& skin) {
+  const std::string place = "skin " + std::to_string(index);
+  std::vector<std::uint32_t> remap(skin.joints.size());
+  std::vector<int> joints;
+  std::vector<glm::mat4> matrices;
+  std::size_t merged = 0, stand_ins = 0;
+  for (std::size_t j = 0; j < skin.joints.size(); ++j) {
+    const int node = skin.joints[j];
+    const auto first = std::find(joints.begin(), joints.end(), node);
+    const bool same = first != joints.end() && same_matrix(matrices[std::size_t(first - joints.begin())],
+                                                           skin.inverse_bind_matrices[j]);
+    if (same) {
+      remap[j] = static_cast<std::uint32_t>(first - joints.begin());
+      ++merged;
+      continue;
+    }
+    remap[j] = static_cast<std::uint32_t>(joints.size());
+    matrices.push_back(skin.inverse_bind_matrices[j]);
+    if (first == joints.end()) {
+      joints.push_back(node);
+      continue;
+    }
+    Node stand_in;
+    stand_in.name = model_.nodes[std::size_t(node)].name + " (listed again in skin " + std::to_string(index) + ")";
+    const int added = static_cast<int>(model_.nodes.size());
+    model_.nodes[std::size_t(node)].children.push_back(added);
+    model_.nodes.push_back(std::move(stand_in));
+    joints.push_back(added);
+    ++stand_ins;
+  }
+  if (skin_joint_remap_.size() <= index) skin_joint_remap_.resize(index + 1);
+  if (merged + stand_ins == 0) return;
+  skin.joints = std::move(joints);
+  skin.inverse_bind_matrices = std::move(matrices);
+  skin_joint_remap_[index] = std::move(remap);
+  problem("skin-duplicate-joints", merged,
+          {"joint listed twice in its skin merged (JOINTS remapped to its first listing)",
+           "joints listed twice in their skin merged (JOINTS remapped to their first listing)"},
+          place);
+  problem("skin-duplicate-joints-stand-in", stand_ins,
+          {"joint listed twice in its skin with another inverse bind matrix now lists a new child node of the "
+           "joint (identity transform, so it poses the same)",
+           "joints listed twice in their skin with other inverse bind matrices now list new child nodes of the "
+           "joints (identity transform, so they pose the same)"},
+          place);
+}
+
+// Extensions and extras on objects that are not carried through (the encoding extensions, whose
+// data is decoded, excepted): each named once, with how often it was dropped.
+void Reader::note_dropped_extensions() {
+  auto encoding = [](const std::string& name) {
+    return name == "KHR_draco_mesh_compression" || name == "EXT_meshopt_compression" || name == "KHR_mesh_quantization";
+  };
+  std::set<std::string> dropped;
+  auto check = [&](const json& o, const std::string& where, bool extras_kept) {
+    if (!o.is_object()) return;
+    if (o.contains("extensions") && o["extensions"].is_object())
+      for (const auto& item : o["extensions"].items())
+        if (!encoding(item.key())) {
+          dropped.insert(item.key());
+          problem("extension-dropped", 1,
+                  {"extension dropped (not carried through on that object)", "extensions dropped (not carried through on those objects)"},
+                  item.key());
+        }
+    if (!extras_kept && o.contains("extras"))
+      problem("extras-dropped", 1, {"object's extras dropped (not carried through)", "objects' extras dropped (not carried through)"},
+              where);
+  };
+  auto each = [&](const char* key, const char* what, bool extras_kept) {
+    if (!raw_.contains(key) || !raw_[key].is_array()) return;
+    for (std::size_t i = 0; i < raw_[key].size(); ++i) check(raw_[key][i], std::string(what) + " " + std::to_string(i), extras_kept);
+  };
+  check(raw_["asset"], "asset", true);
+  each("meshes", "mesh", true);
+  each("skins", "skin", false);
+  each("animations", "animation", false);
+  each("scenes", "scene", false);
+  each("images", "image", false);
+  each("accessors", "accessor", false);
+  each("bufferViews", "bufferView", false);
+  each("buffers", "buffer", false);
+  if (raw_.contains("meshes") && raw_["meshes"].is_array())
+    for (std::size_t m = 0; m < raw_["meshes"].size(); ++m)
+      if (raw_["meshes"][m].is_object() && raw_["meshes"][m].contains("primitives") && raw_["meshes"][m]["primitives"].is_array())
+        for (const auto& p : raw_["meshes"][m]["primitives"]) check(p, "", true);
+  if (raw_.contains("animations") && raw_["animations"].is_array())
+    for (std::size_t a = 0; a < raw_["animations"].size(); ++a)
+      for (const char* key : {"channels", "samplers"})
+        if (raw_["animations"][a].is_object() && raw_["animations"][a].contains(key) && raw_["animations"][a][key].is_array())
+          for (const auto& c : raw_["animations"][a][key]) {
+            check(c, "animation " + std::to_string(a) + " " + (key[0] == 'c' ? "channel" : "sampler"), false);
+            if (c.is_object() && c.contains("target")) check(c["target"], "animation " + std::to_string(a) + " channel target", false);
+          }
+  // An extension dropped everywhere no longer belongs in extensionsUsed / extensionsRequired.
+  std::set<std::string> carried;
+  for (const char* key : {"nodes", "materials", "textures", "samplers", "cameras"})
+    if (raw_.contains(key)) collect_extension_names(raw_[key], carried);
+  if (raw_.contains("extensions") && raw_["extensions"].is_object())
+    for (const auto& item : raw_["extensions"].items()) carried.insert(item.key());
+  auto gone = [&](const std::string& e) { return dropped.count(e) && !carried.count(e); };
+  for (auto* list : {&model_.extensions_used, &model_.extensions_required})
+    list->erase(std::remove_if(list->begin(), list->end(), gone), list->end());
 }
 
 }  // namespace deepcut::gltf_detail

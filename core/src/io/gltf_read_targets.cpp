@@ -80,8 +80,10 @@ std::size_t Reader::mesh_target_count(std::size_t m, const std::string& where) {
     hi = std::max(hi, p.targets.size());
   }
   if (lo != hi)
-    note(where + ": its primitives have " + std::to_string(lo) + " to " + std::to_string(hi) + " morph targets (the first " +
-         std::to_string(lo) + " kept, the others dropped)");
+    problem("morph-targets-dropped", hi - lo,
+            {"morph target past the count every primitive of its mesh has dropped",
+             "morph targets past the count every primitive of their mesh has dropped"},
+            where + " (" + std::to_string(lo) + " kept)");
   return lo;
 }
 
@@ -119,9 +121,15 @@ std::vector<MorphTarget> Reader::read_targets(const tinygltf::Primitive& p, cons
     if (out[t].position.empty()) out[t].position.assign(3 * nv, 0.0f);
   }
   if (without_base)
-    note(where + ": " + std::to_string(without_base) +
-         " morph NORMAL/TANGENT deltas dropped (the primitive has no such attribute to morph)");
-  if (other) note(where + ": " + std::to_string(other) + " morph target attributes other than POSITION, NORMAL, TANGENT dropped");
+    problem("morph-deltas-dropped", without_base,
+            {"morph NORMAL/TANGENT delta dropped (the primitive has no such attribute to morph)",
+             "morph NORMAL/TANGENT deltas dropped (the primitive has no such attribute to morph)"},
+            where);
+  if (other)
+    problem("morph-attributes-dropped", other,
+            {"morph target attribute other than POSITION, NORMAL, TANGENT dropped",
+             "morph target attributes other than POSITION, NORMAL, TANGENT dropped"},
+            where);
   return out;
 }
 
@@ -132,8 +140,10 @@ void Reader::read_mesh_weights(Mesh& mesh, std::size_t m, const std::string& whe
   for (const double w : g.weights)
     if (!std::isfinite(static_cast<float>(w))) fail(where + ": a morph weight is not finite (a value overflows a 32-bit float)");
   if (!g.weights.empty() && g.weights.size() != count)
-    note(where + ": " + std::to_string(g.weights.size()) + " morph weights for " + std::to_string(count) + " targets (" +
-         (g.weights.size() > count ? "extra ones dropped)" : "missing ones set to 0)"));
+    problem("mesh-weights-resized", 1,
+            {"mesh's morph weights fitted to its target count (extra ones dropped, missing ones 0)",
+             "meshes' morph weights fitted to their target count (extra ones dropped, missing ones 0)"},
+            where + " (" + std::to_string(g.weights.size()) + " for " + std::to_string(count) + ")");
   mesh.weights.assign(count, 0.0f);
   for (std::size_t t = 0; t < count && t < g.weights.size(); ++t) mesh.weights[t] = static_cast<float>(g.weights[t]);
 
@@ -147,12 +157,16 @@ void Reader::read_mesh_weights(Mesh& mesh, std::size_t m, const std::string& whe
     names.erase(names.begin() + static_cast<std::ptrdiff_t>(count), names.end());
     if (count == 0) extras.erase("targetNames");
     mesh.extras_json = extras.dump();
-    note(where + ": extras.targetNames cut to the " + std::to_string(count) + " targets kept");
+    problem("target-names-cut", 1,
+            {"mesh's extras.targetNames cut to the targets kept", "meshes' extras.targetNames cut to the targets kept"},
+            where);
   }
   if (!extras.contains("targetNames") || names.size() != count) {
     if (extras.contains("targetNames"))
-      note(where + ": extras.targetNames has " + std::to_string(names.size()) + " names for " + std::to_string(count) +
-           " morph targets (not used as their names)");
+      problem("target-names-unused", 1,
+              {"mesh's extras.targetNames does not name each target (kept, not used as names)",
+               "meshes' extras.targetNames do not name each target (kept, not used as names)"},
+              where + " (" + std::to_string(names.size()) + " names, " + std::to_string(count) + " targets)");
     return;
   }
   std::vector<std::string> out;
@@ -169,13 +183,18 @@ void Reader::read_mesh_weights(Mesh& mesh, std::size_t m, const std::string& whe
 bool Reader::fit_weights_sampler(AnimationSampler& s, int output_type, std::size_t animation, std::size_t channel) {
   const std::string where = "animation " + std::to_string(animation) + " channel " + std::to_string(channel);
   if (output_type != TINYGLTF_TYPE_SCALAR) {
-    note(where + ": morph weights are not SCALAR (channel dropped)");
+    problem("morph-channels-not-scalar", 1,
+            {"morph weight channel dropped (its outputs are not SCALAR)",
+             "morph weight channels dropped (their outputs are not SCALAR)"},
+            where);
     return false;
   }
   const std::size_t keys = s.input.size() * (s.interpolation == Interpolation::CubicSpline ? 3 : 1);
   if (keys == 0 || s.output.size() % keys != 0) {
-    note(where + ": " + std::to_string(s.output.size()) + " morph weights for " + std::to_string(s.input.size()) +
-         " key times (not a whole number per key; channel dropped)");
+    problem("morph-channels-bad-count", 1,
+            {"morph weight channel dropped (not a whole number of weights per key)",
+             "morph weight channels dropped (not a whole number of weights per key)"},
+            where + " (" + std::to_string(s.output.size()) + " weights, " + std::to_string(s.input.size()) + " keys)");
     return false;
   }
   s.components = static_cast<int>(s.output.size() / keys);
@@ -194,9 +213,11 @@ void Reader::resolve_morph_weights() {
     Node& n = model_.nodes[i];
     const std::size_t count = targets_of(static_cast<int>(i));
     if (n.weights.empty() || n.weights.size() == count) continue;
-    note(node_label(model_, static_cast<int>(i)) + ": " + std::to_string(n.weights.size()) + " morph weights for " +
-         std::to_string(count) + " targets of its mesh (" +
-         (count == 0 ? "dropped)" : n.weights.size() > count ? "extra ones dropped)" : "missing ones set to 0)"));
+    problem("node-weights-resized", 1,
+            {"node's morph weights fitted to its mesh's target count (extra ones dropped, missing ones 0)",
+             "nodes' morph weights fitted to their mesh's target count (extra ones dropped, missing ones 0)"},
+            node_label(model_, static_cast<int>(i)) + " (" + std::to_string(n.weights.size()) + " for " +
+                std::to_string(count) + ")");
     n.weights.resize(count, 0.0f);
   }
   for (std::size_t a = 0; a < model_.animations.size(); ++a) {
@@ -219,8 +240,11 @@ void Reader::resolve_morph_weights() {
         kept.push_back(ch);
         driven.push_back(ch.node);
       } else {
-        note("animation " + std::to_string(a) + (anim.name.empty() ? "" : " '" + anim.name + "'") + ": the morph weight channel of " +
-             node_label(model_, ch.node) + " dropped (" + why + ")");
+        problem("morph-channels-dropped", 1,
+                {"morph weight channel dropped (it does not fit its node's mesh)",
+                 "morph weight channels dropped (they do not fit their nodes' meshes)"},
+                "animation " + std::to_string(a) + (anim.name.empty() ? "" : " '" + anim.name + "'") + " " +
+                    node_label(model_, ch.node) + " (" + why + ")");
       }
     }
     anim.channels = std::move(kept);

@@ -15,6 +15,7 @@
 
 #include "deepcut/core/errors.h"
 #include "deepcut/core/io/gltf.h"
+#include "io/import_problems.h"
 
 namespace deepcut::gltf_detail {
 
@@ -63,7 +64,10 @@ class Reader {
   [[noreturn]] void fail(const std::string& what) const {
     throw Error(ErrorCode::InvalidInput, path_ + ": " + one_line(what));
   }
-  void note(const std::string& what) { model_.import_notes.push_back(what); }
+  // Records `count` things of `kind` repaired or dropped at `place` (see io_detail::add_problem).
+  void problem(const std::string& kind, std::size_t count, const io_detail::Counted& what, const std::string& place = "") {
+    io_detail::add_problem(model_.import_problems, kind, count, what, place);
+  }
 
   // gltf_read.cpp
   void parse_container();
@@ -81,6 +85,9 @@ class Reader {
   void read_animations();
   void read_images();
   void read_passthrough();
+  void repair_skin(std::size_t index, Skin& skin);
+  void merge_duplicate_joints(std::size_t index, Skin& skin);
+  void note_dropped_extensions();
 
   // gltf_read_mesh.cpp
   void read_meshes();
@@ -103,6 +110,10 @@ class Reader {
   ImportOptions options_;
   const std::vector<unsigned char>* memory_ = nullptr;
   std::size_t decode_left_ = 0;  // bytes that accessors may still decode to (see kDecodeBaseBytes)
+  // Per skin: the joint each file joint index becomes once duplicate joints are merged (empty
+  // when the skin had none); `joint_remap_` points at the one of the mesh being read.
+  std::vector<std::vector<std::uint32_t>> skin_joint_remap_;
+  const std::vector<std::uint32_t>* joint_remap_ = nullptr;
   tinygltf::Model gltf_;
   nlohmann::json raw_;
   Model model_;

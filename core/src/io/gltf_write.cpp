@@ -472,6 +472,7 @@ void Writer::write_images() {
 std::vector<unsigned char> Writer::write(bool glb) {
   json asset = {{"version", "2.0"}, {"generator", options_.generator}};
   if (!model_.asset_copyright.empty()) asset["copyright"] = model_.asset_copyright;
+  if (!model_.asset_extras_json.empty()) asset["extras"] = parse_or(model_.asset_extras_json, json::object());
   doc_["asset"] = asset;
   write_meshes();
   write_nodes();
@@ -498,6 +499,7 @@ std::vector<unsigned char> Writer::write(bool glb) {
   for (const auto& e : model_.extensions_required)
     if (keep_extension(e)) doc_["extensionsRequired"].push_back(e);
   if (!model_.extras_json.empty()) doc_["extras"] = parse_or(model_.extras_json, json::object());
+  if (!model_.extensions_json.empty()) doc_["extensions"] = parse_or(model_.extensions_json, json::object());
 
   while (bin_.size() % 4) bin_.push_back(0);
   if (!bin_.empty()) {

@@ -6,6 +6,7 @@
 #include "deepcut/core/attributes.h"
 #include "deepcut/core/errors.h"
 #include "deepcut/core/weld.h"
+#include "io/import_problems.h"
 
 namespace deepcut {
 namespace {
@@ -69,8 +70,10 @@ Model make_static_model(const StaticMesh& in, const std::string& name, const std
   check_size(in.colors.size(), "colour");
 
   Model model;
-  model.import_notes = in.notes;
-  const auto note = [&](const std::string& what) { model.import_notes.push_back(what); };
+  model.import_problems = in.problems;
+  const auto problem = [&](const char* kind, std::size_t count, const io_detail::Counted& what) {
+    io_detail::add_problem(model.import_problems, kind, count, what);
+  };
 
   // The mesh as the file stores it (one vertex per point, -0 coordinates read as +0; per-point
   // attributes on the corners, so seams survive), welded by position: triangles that then repeat
@@ -83,15 +86,21 @@ Model make_static_model(const StaticMesh& in, const std::string& name, const std
   const WeldReport welded = weld(mesh, {WeldKey::Position, /*drop_repeating_faces=*/true});
   if (mesh.face_count() == 0) fail("every face repeats a vertex (nothing to draw)");
   if (welded.faces_dropped)
-    note(plural(welded.faces_dropped, "face repeats a vertex", "faces repeat a vertex") + " (dropped)");
-  if (welded.dropped) note(plural(welded.dropped, "unreferenced vertex", "unreferenced vertices") + " dropped");
+    problem("faces-repeating-a-vertex-dropped", welded.faces_dropped,
+            {"face repeats a vertex (dropped)", "faces repeat a vertex (dropped)"});
+  if (welded.dropped)
+    problem("unreferenced-vertices-dropped", welded.dropped, {"unreferenced vertex dropped", "unreferenced vertices dropped"});
   prim.welded_merged = welded.merged;
   const std::size_t nv = mesh.vertex_count();
   mesh.vertex_attrs().add<glm::u16vec4>(attr::kJoints0, glm::u16vec4(0)).resize(nv);
   mesh.vertex_attrs().add<glm::vec4>(attr::kWeights0, glm::vec4(1.0f, 0.0f, 0.0f, 0.0f)).resize(nv);
 
-  if (!in.uvs.empty() && !uvs_ok) note("texture coordinates dropped (some are not finite)");
-  if (!in.colors.empty() && !colors_ok) note("vertex colours dropped (some are not finite)");
+  if (!in.uvs.empty() && !uvs_ok)
+    problem("uvs-dropped", in.uvs.size(),
+            {"texture coordinate dropped (some are not finite)", "texture coordinates dropped (some are not finite)"});
+  if (!in.colors.empty() && !colors_ok)
+    problem("colours-dropped", in.colors.size(),
+            {"vertex colour dropped (some are not finite)", "vertex colours dropped (some are not finite)"});
   if (!in.normals.empty()) {
     // A zero or non-finite normal takes its face's normal (the file gave no usable direction).
     auto& normals = mesh.corner_attrs().get<glm::vec3>(attr::kNormal);
@@ -113,7 +122,10 @@ Model make_static_model(const StaticMesh& in, const std::string& name, const std
         ++replaced;
       }
     }
-    if (replaced) note(plural(replaced, "normal was", "normals were") + " zero or not finite (replaced by the face normal)");
+    if (replaced)
+      problem("normals-replaced", replaced,
+              {"normal was zero or not finite (replaced by the face normal)",
+               "normals were zero or not finite (replaced by the face normal)"});
   }
 
   Mesh out_mesh;

@@ -5,10 +5,9 @@
 /// (vertex, corner, face) and appends one record to the edit log, so the log cannot drift out of
 /// sync with the mesh (geometry-central's MutationManager, kept as data).
 ///
-/// Skin weights of new vertices follow one rule (docs/library.md, "New vertices"): the union of
-/// the sources' joints, the weights interpolated, the largest four per set kept (eight with
-/// JOINTS_1/WEIGHTS_1), renormalised to sum 1, unused slots joint 0 with weight 0. Corner
-/// normals are renormalised, tangents keep a unit xyz and the handedness of the dominant source.
+/// Skin weights of new vertices follow one rule, blend_influences (docs/library.md, "New
+/// vertices"). Corner normals are renormalised, tangents keep a unit xyz and the handedness of
+/// the dominant source.
 
 #include <array>
 
@@ -61,8 +60,31 @@ class MeshEditor {
   AttributeArray<glm::vec4>* tangents_ = nullptr;
 };
 
-/// Applies the skin-weight rule to one vertex's raw influences: keeps the `slots` largest,
-/// renormalises to sum 1, zero-weight slots get joint 0. Used by the editor and the importer.
+/// Most influences a vertex carries: four per JOINTS_n/WEIGHTS_n set, two sets.
+inline constexpr int kMaxInfluences = 8;
+/// Most sources a new vertex blends (a point in a triangle).
+inline constexpr int kMaxBlendSources = 3;
+
+/// The influence rule of every new vertex (cut rims, caps, tear lips, drill rims and walls,
+/// refinements), in this one place: a new vertex keeps at most as many influences as its
+/// primitive carries (`slots`: 4 with JOINTS_0 only, 8 with JOINTS_1 too). The sources'
+/// influences are scaled by the sources' weights and merged by joint, then the largest `slots`
+/// are kept, largest first (ties in the order the joints first appear: sources in order, slots
+/// in order), renormalised to sum 1; unused slots get joint 0 and weight 0. A vertex whose
+/// sources have no weight follows the first source's first joint with weight 1.
+/// @param joints, weights  the sources' influences, `slots` per source (source s at s * slots).
+/// @param w                the sources' weights (barycentric or edge parameters), `count` of them.
+/// @param count            1 to kMaxBlendSources.  @param slots  4 or 8.
+/// @param out_joints, out_weights  `slots` results.
+/// @throws Error{InvalidArgument} for a count or slots outside those ranges.
+void blend_influences(const std::uint16_t* joints, const float* weights, const float* w, int count, int slots,
+                      std::uint16_t* out_joints, float* out_weights);
+
+/// One vertex's influences made valid in place: negative or non-finite weights become 0,
+/// a joint named twice is merged into its first slot, the weights are renormalised to sum 1
+/// (left as they are when they already do, within 2e-7), zero-weight slots get joint 0. The
+/// slots keep their order. Used by the editor (after blend_influences), the importer and the
+/// exporter.
 /// @param joints  `slots` joint indices.  @param weights  `slots` weights (modified in place).
 /// @returns false if the weights summed to 0 (or were not finite): then the first slot's joint
 ///          gets weight 1, so the vertex follows that joint.

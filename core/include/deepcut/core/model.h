@@ -102,6 +102,21 @@ struct PassthroughObject {
   std::string json;
 };
 
+/// One kind of loss or repair the importer made, aggregated over the file: every command that
+/// reads a model names each kind once (stderr, `--json` "problems", the studio's Problems panel).
+struct ImportProblem {
+  /// Stable key for scripts and tests ("weights-normalised", "skin-duplicate-joints", ...).
+  std::string kind;
+  /// One line for people, with the count and where it happened.
+  std::string message;
+  /// How many things it concerns (vertices, influences, matrices, primitives, ...), summed over
+  /// the places it happened.
+  std::size_t count = 0;
+  /// Where it happened ("mesh 0 'Body' primitive 1", "skin 0"), in file order; empty for the
+  /// whole file.
+  std::vector<std::string> places;
+};
+
 struct Model {
   std::vector<Node> nodes;
   std::vector<std::vector<int>> scenes;  ///< root nodes per scene
@@ -116,10 +131,12 @@ struct Model {
   std::vector<PassthroughObject> cameras;
   std::vector<std::string> extensions_used;
   std::vector<std::string> extensions_required;
-  std::string extras_json;  ///< root `extras` (the operation history lives here)
+  std::string extras_json;      ///< root `extras` (the operation history lives here)
+  std::string extensions_json;  ///< root `extensions`, verbatim ("" when absent)
   std::string asset_copyright;
-  /// Things the importer noticed and repaired or dropped (one line each, for `info`).
-  std::vector<std::string> import_notes;
+  std::string asset_extras_json;  ///< `asset.extras`, verbatim (licence attribution lives here)
+  /// What the importer repaired or dropped, one entry per kind (file order of first occurrence).
+  std::vector<ImportProblem> import_problems;
 
   /// Roots of the default scene (all parentless nodes when the file had no scene).
   std::vector<int> root_nodes() const;

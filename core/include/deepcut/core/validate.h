@@ -23,10 +23,15 @@ struct ModelStats {
 
 ModelStats compute_stats(const Model& model);
 
-/// Problems found in a loaded model, one line each: weights not normalised, joint index out of
-/// range, degenerate and duplicate triangles, non-manifold edges and vertices, normals pointing
-/// against the winding, primitives without triangles, non-finite values; plus what the importer
-/// repaired. @note O(faces) per primitive (it builds the adjacency).
+/// Problems of a loaded model, one entry per kind (what `deepcut info` lists): what the importer
+/// repaired or dropped (`Model::import_problems`), then the checks of every primitive (weights
+/// not normalised, joint index out of range, degenerate and duplicate triangles, non-manifold
+/// edges and vertices, normals pointing against the winding, primitives without triangles,
+/// non-finite values), each kind summed over the primitives.
+/// @note O(faces) per primitive (it builds the adjacency).
+std::vector<ImportProblem> model_problems(const Model& model);
+
+/// The messages of `model_problems`, one line each.
 std::vector<std::string> find_problems(const Model& model);
 
 /// Checks a mesh's internal consistency (indices in range, attribute sizes, finite positions,

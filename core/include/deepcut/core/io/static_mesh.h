@@ -24,9 +24,9 @@ struct StaticMesh {
   std::vector<glm::vec3> normals;  ///< per point, any length (normalised on import)
   std::vector<glm::vec2> uvs;      ///< per point
   std::vector<glm::vec4> colors;   ///< per point, RGBA in [0, 1]
-  /// What the reader noticed and repaired or dropped (polygons triangulated, lines skipped, ...),
-  /// one line each without the file name; they become `Model::import_notes`.
-  std::vector<std::string> notes;
+  /// What the reader repaired or dropped (polygons triangulated, lines skipped, ...), one entry
+  /// per kind, messages without the file name; they start `Model::import_problems`.
+  std::vector<ImportProblem> problems;
 };
 
 /// Builds an unrigged model from `mesh`: node 0 holds the mesh (named `name`) skinned to node 1,
@@ -34,8 +34,8 @@ struct StaticMesh {
 /// 1 on joint 0. Points with equal positions are welded into one vertex, the per-point
 /// attributes becoming corner attributes (`attr::kNormal`, `attr::kUv0`, `attr::kColor0`), so
 /// seams survive; unreferenced points and triangles that repeat a vertex are dropped, normals
-/// are normalised, and attributes with non-finite values are dropped (each noted in
-/// `Model::import_notes`).
+/// are normalised, and attributes with non-finite values are dropped (each listed in
+/// `Model::import_problems`).
 /// @param file  names the input in messages (the path the user gave).
 /// @throws Error{InvalidInput} `"FILE: ..."` when there are no triangles, a position is not
 ///         finite, an index is past the points, or an attribute array has the wrong length.
