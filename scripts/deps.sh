@@ -6,16 +6,20 @@
 #
 #   bash scripts/deps.sh [--no-validator]
 #
-#   --no-validator  skip the Khronos glTF validator (npm) and the Node.js packages it needs.
+#   --no-validator  skip the Khronos glTF validator and three.js (npm) and the Node.js packages
+#                   they need.
 #
-# Debian packages come from apt (sudo is used only when not root). The glTF validator comes
-# from the npm registry, pinned, into build/tools/node_modules/gltf-validator.
+# Debian packages come from apt (sudo is used only when not root). The glTF validator and
+# three.js (the second glTF client the tests pose exports with, scripts/pose_three.mjs) come
+# from the npm registry, pinned, into build/tools/node_modules/{gltf-validator,three}.
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd -P)"
 
 # Pinned: bump deliberately (check `npm view gltf-validator version`) and re-run the tests.
 readonly GLTF_VALIDATOR_VERSION="2.0.0-dev.3.10"
+# Pinned likewise (`npm view three version`).
+readonly THREE_VERSION="0.187.0"
 
 # Build toolchain, libraries, test frameworks, and a virtual display for the GUI tests.
 readonly APT_PACKAGES=(
@@ -27,7 +31,7 @@ readonly APT_PACKAGES=(
   libvtk9-dev libvtk9-qt-dev qtbase5-dev
   xvfb xauth libgl1-mesa-dri fonts-dejavu-core
 )
-# Only needed to run the glTF validator.
+# Only needed to run the glTF validator and three.js.
 readonly NODE_PACKAGES=(nodejs npm)
 
 log() { echo "[deepcut] $*" >&2; }
@@ -37,7 +41,7 @@ die() {
 }
 
 usage() {
-  sed -n '4,12s/^# \{0,1\}//p' "${BASH_SOURCE[0]}" >&2
+  sed -n '4,14s/^# \{0,1\}//p' "${BASH_SOURCE[0]}" >&2
 }
 
 with_validator=1
@@ -96,9 +100,9 @@ else
     apt-get install -y --no-install-recommends "${missing[@]}" >&2
 fi
 
-# ---- glTF validator (npm) ---------------------------------------------------------------------
+# ---- glTF validator and three.js (npm) -------------------------------------------------------
 if [[ $with_validator -eq 0 ]]; then
-  log "deps: --no-validator: skipping gltf-validator"
+  log "deps: --no-validator: skipping gltf-validator and three"
   exit 0
 fi
 
@@ -106,18 +110,23 @@ command -v node >/dev/null 2>&1 || die "deps: 'node' not found after installing 
 command -v npm >/dev/null 2>&1 || die "deps: 'npm' not found after installing npm"
 
 tools_dir="$ROOT/build/tools"
-validator_dir="$tools_dir/node_modules/gltf-validator"
-installed_version=""
-if [[ -f "$validator_dir/package.json" ]]; then
-  installed_version="$(node -p 'require(process.argv[1]).version' "$validator_dir/package.json" 2>/dev/null || true)"
-fi
 
-if [[ "$installed_version" == "$GLTF_VALIDATOR_VERSION" ]]; then
-  log "deps: gltf-validator $GLTF_VALIDATOR_VERSION present in build/tools"
-else
-  log "deps: installing gltf-validator@$GLTF_VALIDATOR_VERSION into build/tools${installed_version:+ (replacing $installed_version)}"
+# Installs npm package $1 at version $2 into build/tools unless that version is there.
+npm_package() {
+  local name="$1" version="$2" dir="$tools_dir/node_modules/$1" installed=""
+  if [[ -f "$dir/package.json" ]]; then
+    installed="$(node -p 'require(process.argv[1]).version' "$dir/package.json" 2>/dev/null || true)"
+  fi
+  if [[ "$installed" == "$version" ]]; then
+    log "deps: $name $version present in build/tools"
+    return
+  fi
+  log "deps: installing $name@$version into build/tools${installed:+ (replacing $installed)}"
   mkdir -p "$tools_dir"
   # npm's own output goes to stderr so callers' stdout stays clean.
-  npm install --prefix "$tools_dir" --no-audit --no-fund "gltf-validator@$GLTF_VALIDATOR_VERSION" >&2
-  [[ -f "$validator_dir/package.json" ]] || die "deps: npm did not install gltf-validator into $validator_dir"
-fi
+  npm install --prefix "$tools_dir" --no-audit --no-fund "$name@$version" >&2
+  [[ -f "$dir/package.json" ]] || die "deps: npm did not install $name into $dir"
+}
+
+npm_package gltf-validator "$GLTF_VALIDATOR_VERSION"
+npm_package three "$THREE_VERSION"
