@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "deepcut/core/errors.h"
+#include "deepcut/core/morph.h"
 #include "deepcut/core/parallel.h"
 #include "deepcut/core/skinning.h"
 
@@ -37,21 +38,27 @@ bool on_boundary(const BoundingBox& box, const glm::vec3& p) {
   return false;
 }
 
-// Poses vertex slots the same way posed_positions and the tear's frames do: the vertex's
-// blended joint matrix when the instance is skinned, the node's world matrix otherwise.
+// Poses vertex slots the same way posed_positions and the tear's frames do: the bind position
+// morphed at the instance's weights, then the vertex's blended joint matrix when the instance is
+// skinned, the node's world matrix otherwise.
 class VertexPoser {
  public:
-  VertexPoser(const SurfaceMesh& mesh, const std::vector<glm::mat4>& joints, const glm::mat4& rigid)
-      : p_(mesh.positions()), blend_(mesh, joints), skinned_(blend_.skinned()), rigid_(rigid) {}
+  explicit VertexPoser(const SurfaceMesh& mesh, const PosedMesh& inst)
+      : p_(mesh.positions()),
+        blend_(mesh, inst.joints),
+        morph_(mesh, inst.weights),
+        skinned_(blend_.skinned()),
+        rigid_(inst.world) {}
   void operator()(std::size_t v, PosedMesh& inst, bool with_linear = true) const {
     const glm::mat4 m = skinned_ ? blend_.matrix(v) : rigid_;
-    inst.posed[v] = glm::vec3(m * glm::vec4(p_[v], 1.0f));
+    inst.posed[v] = glm::vec3(m * glm::vec4(morph_.position(v, p_[v]), 1.0f));
     if (with_linear) inst.linear[v] = glm::mat3(m);
   }
 
  private:
   const std::vector<glm::vec3>& p_;
   SkinBlend blend_;
+  MorphBlend morph_;
   bool skinned_;
   glm::mat4 rigid_;
 };
@@ -80,7 +87,33 @@ glm::vec3 PosedMesh::unpose(const SurfaceMesh& surface, VertexId v, const glm::v
   const glm::mat4 mat = blend.skinned() ? blend.matrix(v.index) : world;
   const glm::dmat4 inv = glm::inverse(glm::dmat4(mat));
   const glm::dvec4 b = inv * glm::dvec4(glm::dvec3(p), 1.0);
-  return std::isfinite(b.x) && std::isfinite(b.y) && std::isfinite(b.z) ? glm::vec3(b) : p;
+  if (!(std::isfinite(b.x) && std::isfinite(b.y) && std::isfinite(b.z))) return p;
+  const MorphBlend morph(surface, weights);  // the vertex's own deltas, blended by MeshEditor
+  return glm::vec3(glm::dvec3(b) - glm::dvec3(morph.offset(v.index)));
+}
+
+std::vector<glm::vec3> PosedMesh::corner_normals(const SurfaceMesh& surface) const {
+  const auto* normals = surface.corner_attrs().find<glm::vec3>(attr::kNormal);
+  if (!normals) return {};
+  std::vector<glm::mat3> normal_maps(linear.size());
+  parallel_for(normal_maps.size(), kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t v = b; v < e; ++v) normal_maps[v] = glm::transpose(glm::inverse(linear[v]));
+  });
+  const MorphBlend morph(surface, weights);
+  std::vector<glm::vec3> out(normals->size());
+  parallel_for(surface.face_slots(), kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t f = b; f < e; ++f) {
+      const auto& t = surface.face(FaceId(static_cast<std::uint32_t>(f)));
+      for (int k = 0; k < 3; ++k) {
+        const auto c = 3 * f + static_cast<std::size_t>(k);
+        const glm::vec3 m = morph.normal(c, (*normals)[c]);
+        const glm::vec3 n = normal_maps.empty() ? m : normal_maps[t[k].index] * m;
+        const float len = glm::length(n);
+        out[c] = len > 0.0f ? n / len : n;
+      }
+    }
+  });
+  return out;
 }
 
 PosedMesh PosedMesh::at_positions(const SurfaceMesh& surface, std::vector<glm::vec3> posed) {
@@ -95,14 +128,26 @@ PosedMesh PosedMesh::at_positions(const SurfaceMesh& surface, std::vector<glm::v
   return inst;
 }
 
-void PosedModel::set_pose(const Model& model, int animation, float time) {
-  world_ = world_matrices(model, sample_pose(model, animation, time));
+void PosedModel::set_pose(const Model& model, const PoseKey& key) {
+  Pose pose = sample_pose(model, key);
+  world_ = world_matrices(model, pose);
+  weights_ = std::move(pose.weights);
   joints_.resize(model.skins.size());
   for (std::size_t s = 0; s < model.skins.size(); ++s)
     joints_[s] = joint_matrices(model, static_cast<int>(s), world_);
-  animation_ = animation;
-  time_ = time;
+  key_ = key;
   valid_ = true;
+}
+
+const std::vector<float>& PosedModel::weights(int node) const {
+  static const std::vector<float> kNone;
+  if (node < 0 || static_cast<std::size_t>(node) >= weights_.size()) return kNone;
+  return weights_[static_cast<std::size_t>(node)];
+}
+
+void PosedModel::add_piece_node(int source, int piece) {
+  const auto it = key_.weights.find(source);
+  if (it != key_.weights.end()) key_.weights[piece] = it->second;
 }
 
 std::size_t PosedModel::instance_count(const Model& model) {
@@ -114,8 +159,12 @@ std::size_t PosedModel::instance_count(const Model& model) {
 }
 
 PosedModel PosedModel::build(const Model& model, int animation, float time, PoseDetail detail) {
+  return build(model, PoseKey(animation, time), detail);
+}
+
+PosedModel PosedModel::build(const Model& model, const PoseKey& key, PoseDetail detail) {
   PosedModel index;
-  index.set_pose(model, animation, time);
+  index.set_pose(model, key);
   for (std::size_t ni = 0; ni < model.nodes.size(); ++ni) {
     const int mi = model.nodes[ni].mesh;
     if (mi < 0 || static_cast<std::size_t>(mi) >= model.meshes.size()) continue;
@@ -126,7 +175,9 @@ PosedModel PosedModel::build(const Model& model, int animation, float time, Pose
   return index;
 }
 
-void PosedModel::repose(const Model& model, int animation, float time) {
+void PosedModel::repose(const Model& model, int animation, float time) { repose(model, PoseKey(animation, time)); }
+
+void PosedModel::repose(const Model& model, const PoseKey& key) {
   bool same = valid_ && world_.size() == model.nodes.size() && joints_.size() == model.skins.size() &&
               instances_.size() == instance_count(model);
   for (auto it = instances_.begin(); same && it != instances_.end(); ++it) {
@@ -135,13 +186,15 @@ void PosedModel::repose(const Model& model, int animation, float time) {
            inst.mesh == model.nodes[static_cast<std::size_t>(inst.node)].mesh;
   }
   if (!same) {
-    *this = build(model, animation, time, PoseDetail::Positions);
+    *this = build(model, key, PoseDetail::Positions);
     return;
   }
-  set_pose(model, animation, time);
-  for (auto& [key, inst] : instances_) {
+  set_pose(model, key);
+  for (auto& entry : instances_) {
+    PosedMesh& inst = entry.second;
     inst.joints = joints_of(model, inst.node);
     inst.world = world_.at(static_cast<std::size_t>(inst.node));
+    inst.weights = weights(inst.node);
     pose_instance(*instance_mesh(model, inst.node, inst.primitive), inst, PoseDetail::Positions);
   }
 }
@@ -168,6 +221,7 @@ PosedMesh PosedModel::make_instance(const Model& model, int node, int primitive,
   inst.linear.reserve(room);
   inst.joints = joints_of(model, node);
   inst.world = world_.at(static_cast<std::size_t>(node));
+  inst.weights = weights(node);
   pose_instance(mesh, inst, detail);
   return inst;
 }
@@ -175,7 +229,7 @@ PosedMesh PosedModel::make_instance(const Model& model, int node, int primitive,
 void PosedModel::pose_instance(const SurfaceMesh& mesh, PosedMesh& inst, PoseDetail detail) const {
   inst.posed.resize(mesh.vertex_count());
   inst.linear.resize(mesh.vertex_count());
-  const VertexPoser pose(mesh, inst.joints, inst.world);
+  const VertexPoser pose(mesh, inst);
   parallel_for(mesh.vertex_count(), kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t v = b; v < e; ++v) pose(v, inst);
   });
@@ -191,8 +245,12 @@ void PosedModel::add(const Model& model, int node, int primitive) {
 }
 
 void PosedModel::prepare(const Model& model, int animation, float time, PoseDetail detail) {
-  if (!matches(animation, time) || world_.size() != model.nodes.size() || joints_.size() != model.skins.size()) {
-    *this = build(model, animation, time, detail);
+  prepare(model, PoseKey(animation, time, key_.weights), detail);
+}
+
+void PosedModel::prepare(const Model& model, const PoseKey& key, PoseDetail detail) {
+  if (!matches(key) || world_.size() != model.nodes.size() || joints_.size() != model.skins.size()) {
+    *this = build(model, key, detail);
     return;
   }
   for (auto it = instances_.begin(); it != instances_.end();) {
@@ -250,7 +308,7 @@ void PosedMesh::follow(const SurfaceMesh& surface, const EditLog& log) {
   // their final bind position and skin weights exactly as a fresh build would.
   inst.posed.resize(surface.vertex_count());
   if (with_linear) inst.linear.resize(surface.vertex_count());
-  const VertexPoser pose(surface, inst.joints, inst.world);
+  const VertexPoser pose(surface, inst);
   for (std::size_t v = old_count; v < surface.vertex_count(); ++v) {
     pose(v, inst, with_linear);
     inst.bounds.add(inst.posed[v]);

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "deepcut/core/errors.h"
+#include "deepcut/core/morph.h"
 #include "deepcut/core/parallel.h"
 
 namespace deepcut {
@@ -74,6 +75,33 @@ glm::vec<N, float> sample(const AnimationSampler& sm, float t, bool is_rotation)
   return out;
 }
 
+// Every one of the `n` components of a weights channel at time t (the glTF stride is the target
+// count); `out` keeps its values when the sampler holds too few.
+void sample_weights(const AnimationSampler& sm, float t, std::vector<float>& out) {
+  const std::size_t n = out.size(), keys = sm.input.size();
+  const bool cubic = sm.interpolation == Interpolation::CubicSpline;
+  if (n == 0 || keys == 0 || sm.output.size() < keys * (cubic ? 3 : 1) * n) return;
+  auto at = [&](std::size_t k, std::size_t c, std::size_t part) {
+    return cubic ? sm.output[(3 * k + part) * n + c] : sm.output[k * n + c];
+  };
+  std::size_t i;
+  float s, dt;
+  find_key(sm.input, t, i, s, dt);
+  if (keys == 1 || sm.interpolation == Interpolation::Step) {
+    const std::size_t k = (keys > 1 && s >= 1.0f) ? i + 1 : i;
+    for (std::size_t c = 0; c < n; ++c) out[c] = at(k, c, 1);
+    return;
+  }
+  if (!cubic) {
+    for (std::size_t c = 0; c < n; ++c) out[c] = at(i, c, 1) + s * (at(i + 1, c, 1) - at(i, c, 1));
+    return;
+  }
+  const float s2 = s * s, s3 = s2 * s;
+  const float h00 = 2 * s3 - 3 * s2 + 1, h10 = s3 - 2 * s2 + s, h01 = -2 * s3 + 3 * s2, h11 = s3 - s2;
+  for (std::size_t c = 0; c < n; ++c)
+    out[c] = h00 * at(i, c, 1) + h10 * dt * at(i, c, 2) + h01 * at(i + 1, c, 1) + h11 * dt * at(i + 1, c, 0);
+}
+
 }  // namespace
 
 Pose rest_pose(const Model& model) {
@@ -87,6 +115,8 @@ Pose rest_pose(const Model& model) {
     pose.rotation[i] = model.nodes[i].rotation;
     pose.scale[i] = model.nodes[i].scale;
   }
+  pose.weights.resize(n);
+  for (std::size_t i = 0; i < n; ++i) pose.weights[i] = default_morph_weights(model, static_cast<int>(i));
   return pose;
 }
 
@@ -115,8 +145,19 @@ Pose sample_pose(const Model& model, int animation, float time) {
         break;
       }
       case AnimationPath::Weights:
-        break;  // morph target weights: no morph targets are kept
+        sample_weights(sm, time, pose.weights[ch.node]);  // empty for a node without targets
+        break;
     }
+  }
+  return pose;
+}
+
+Pose sample_pose(const Model& model, const PoseKey& key) {
+  Pose pose = sample_pose(model, key.animation, key.time);
+  for (const auto& [node, given] : key.weights) {
+    if (node < 0 || static_cast<std::size_t>(node) >= pose.weights.size()) continue;
+    std::vector<float>& w = pose.weights[static_cast<std::size_t>(node)];
+    std::copy_n(given.begin(), std::min(given.size(), w.size()), w.begin());
   }
   return pose;
 }
@@ -189,7 +230,12 @@ std::vector<glm::mat4> vertex_matrices(const Model& model, int node, const Surfa
 
 std::vector<glm::vec3> posed_positions(const Model& model, int node, const SurfaceMesh& mesh,
                                        const std::vector<glm::mat4>& world) {
-  const auto& p = mesh.positions();
+  return posed_positions(model, node, mesh, world, default_morph_weights(model, node));
+}
+
+std::vector<glm::vec3> posed_positions(const Model& model, int node, const SurfaceMesh& mesh,
+                                       const std::vector<glm::mat4>& world, const std::vector<float>& weights) {
+  const std::vector<glm::vec3> p = morphed_positions(mesh, weights);
   std::vector<glm::vec3> out(p.size());
   const auto skin = vertex_matrices(model, node, mesh, world);
   const glm::mat4& rigid = world.at(static_cast<std::size_t>(node));
@@ -205,8 +251,14 @@ std::vector<glm::vec3> posed_positions(const Model& model, int node, const Surfa
 
 std::vector<glm::vec3> posed_normals(const Model& model, int node, const SurfaceMesh& mesh,
                                      const std::vector<glm::mat4>& world) {
+  return posed_normals(model, node, mesh, world, default_morph_weights(model, node));
+}
+
+std::vector<glm::vec3> posed_normals(const Model& model, int node, const SurfaceMesh& mesh,
+                                     const std::vector<glm::mat4>& world, const std::vector<float>& weights) {
   const auto* normals = mesh.corner_attrs().find<glm::vec3>(attr::kNormal);
   if (!normals) return {};
+  const MorphBlend morph(mesh, weights);
   const auto skin = vertex_matrices(model, node, mesh, world);
   std::vector<glm::vec3> out(normals->size());
   const glm::mat3 rigid = glm::transpose(glm::inverse(glm::mat3(world.at(static_cast<std::size_t>(node)))));
@@ -216,7 +268,7 @@ std::vector<glm::vec3> posed_normals(const Model& model, int node, const Surface
       for (int k = 0; k < 3; ++k) {
         const auto c = 3 * f + static_cast<std::size_t>(k);
         const glm::mat3 nm = skin.empty() ? rigid : glm::transpose(glm::inverse(glm::mat3(skin[t[k].index])));
-        const glm::vec3 n = nm * (*normals)[c];
+        const glm::vec3 n = nm * morph.normal(c, (*normals)[c]);
         const float len = glm::length(n);
         out[c] = len > 0.0f ? n / len : n;
       }
@@ -234,12 +286,14 @@ std::vector<glm::mat4> vertex_skin_matrices(const Model& model, int node, const 
 
 BoundingBox world_bounds(const Model& model, const Pose& pose) {
   const auto world = world_matrices(model, pose);
+  const std::vector<float> none;
   BoundingBox box;
   for (std::size_t i = 0; i < model.nodes.size(); ++i) {
     const int m = model.nodes[i].mesh;
     if (m < 0 || static_cast<std::size_t>(m) >= model.meshes.size()) continue;
     for (const auto& prim : model.meshes[m].primitives) {
-      const auto posed = posed_positions(model, static_cast<int>(i), prim.mesh, world);
+      const auto& weights = i < pose.weights.size() ? pose.weights[i] : none;
+      const auto posed = posed_positions(model, static_cast<int>(i), prim.mesh, world, weights);
       prim.mesh.for_each_face([&](FaceId, const Triangle& t) {
         for (auto v : t) box.add(posed[v.index]);
       });

@@ -5,7 +5,6 @@
 #include <unordered_set>
 
 #include "deepcut/core/errors.h"
-#include "deepcut/core/parallel.h"
 #include "deepcut/core/skinning.h"
 #include "deepcut/plugins/colors.h"
 
@@ -26,30 +25,6 @@ void check_animation(const Model& model, int animation) {
     throw Error(ErrorCode::InvalidArgument, "pose: animation " + std::to_string(animation) +
                                                 " does not exist (the model has " +
                                                 std::to_string(model.animations.size()) + ")");
-}
-
-// World corner normals of `mesh` posed as `pose`: each corner's normal through the inverse
-// transpose of its vertex's bind-to-world linear map, renormalised. Empty without normals.
-std::vector<glm::vec3> corner_normals(const SurfaceMesh& mesh, const PosedMesh& pose) {
-  const auto* normals = mesh.corner_attrs().find<glm::vec3>(attr::kNormal);
-  if (!normals) return {};
-  std::vector<glm::mat3> normal_maps(pose.linear.size());
-  parallel_for(normal_maps.size(), 16384, [&](std::size_t b, std::size_t e) {
-    for (std::size_t v = b; v < e; ++v) normal_maps[v] = glm::transpose(glm::inverse(pose.linear[v]));
-  });
-  std::vector<glm::vec3> out(normals->size());
-  parallel_for(mesh.face_slots(), 16384, [&](std::size_t b, std::size_t e) {
-    for (std::size_t f = b; f < e; ++f) {
-      const auto& t = mesh.face(FaceId(static_cast<std::uint32_t>(f)));
-      for (int k = 0; k < 3; ++k) {
-        const auto c = 3 * f + static_cast<std::size_t>(k);
-        const glm::vec3 n = normal_maps[t[k].index] * (*normals)[c];
-        const float len = glm::length(n);
-        out[c] = len > 0.0f ? n / len : n;
-      }
-    }
-  });
-  return out;
 }
 
 }  // namespace
@@ -95,7 +70,7 @@ void pose_scene(Scene& scene, int animation, float time, bool with_normals) {
   for (SceneInstance& instance : scene.instances) {
     instance.pose = scene.posed->find(instance.node, instance.primitive);
     if (with_normals)
-      instance.posed_normals = corner_normals(*instance.surface, *instance.pose);
+      instance.posed_normals = instance.pose->corner_normals(*instance.surface);
     else
       instance.posed_normals.clear();
   }

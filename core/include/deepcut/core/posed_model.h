@@ -2,7 +2,8 @@
 #pragma once
 /// @file posed_model.h
 /// The model at one pose. For every mesh instance (node x primitive) of a model posed at one
-/// animation time: the posed world position and the bind-to-world linear map of every vertex,
+/// animation time (a `PoseKey`: animation, time and morph weights set by hand; morph targets are
+/// applied before skinning, morph.h): the posed world position and the bind-to-world linear map of every vertex,
 /// the exact bounds of those positions, and a `TriangleGrid` over the faces at them. Built once
 /// per model state and pose (when the studio loads or poses the model, in the CLI before the
 /// operation), handed to the operations, and updated from each operation's edit log, so an
@@ -17,6 +18,7 @@
 
 #include "deepcut/core/edit_log.h"
 #include "deepcut/core/model.h"
+#include "deepcut/core/skinning.h"
 #include "deepcut/core/spatial_index.h"
 
 namespace deepcut {
@@ -44,6 +46,10 @@ struct PosedMesh {
   /// what `unpose` inverts, and how `follow` poses added and moved vertices as a fresh build would.
   glm::mat4 world{1.0f};
   std::vector<glm::mat4> joints;
+  /// The node's morph weights at the pose (`Pose::weights[node]`: one per target, empty when its
+  /// mesh has none): posing adds their deltas to the bind positions before skinning, `unpose`
+  /// subtracts them.
+  std::vector<float> weights;
   /// True for a mesh posed at given positions without a pose to invert (`at_positions`): the
   /// operations then leave new vertices at their interpolated bind positions.
   bool no_unpose = false;
@@ -51,10 +57,17 @@ struct PosedMesh {
   /// `PosedModel::prepare` builds the instance again before an operation uses it.
   bool gridless = false;
 
-  /// Bind position of vertex `v` of `surface` (skin weights already set) whose posed position is
-  /// `p`: its blended skinning (or the world matrix) inverted in double precision; `p` itself
-  /// where the inverse is not finite.
+  /// Bind position of vertex `v` of `surface` (skin weights and morph deltas already set, as
+  /// MeshEditor sets them for new vertices) whose posed position is `p`: its blended skinning (or
+  /// the world matrix) inverted in double precision, minus its own morph offset at `weights`
+  /// (M(v)^-1 p - sum_i w_i delta_i(v)), so posing it again gives `p`; `p` itself where the
+  /// inverse is not finite.
   glm::vec3 unpose(const SurfaceMesh& surface, VertexId v, const glm::vec3& p) const;
+
+  /// World corner normals of `surface` (the mesh this poses) at this pose: each corner's normal
+  /// plus its morph normal deltas at `weights`, through the inverse transpose of its vertex's
+  /// `linear` map (the identity when `linear` is empty), renormalised. Empty without normals.
+  std::vector<glm::vec3> corner_normals(const SurfaceMesh& surface) const;
 
   /// `surface` posed at `posed` (its own positions, i.e. at rest, when empty; one per vertex
   /// otherwise), with bounds and grid, `linear` empty (the identity for every vertex) and no
@@ -75,43 +88,66 @@ enum class PoseDetail {
               ///< drawing a pose uses, cheap enough for every frame of a playback
 };
 
+/// The posed model's pose is a `PoseKey` (skinning.h): an animation, a time and morph weights set
+/// by hand per node. A front end that lets a designer set an expression (the studio's morph
+/// weights panel) builds, reposes and prepares with the key; the (animation, time) forms are the
+/// key without weights set by hand, except `prepare`, which the operations call with their
+/// recorded animation and time: it keeps the weights set by hand, so an operation is made at the
+/// expression shown.
 class PosedModel {
  public:
   PosedModel() = default;
 
-  /// Indexes every mesh instance of `model` posed at `time` of `animation` (-1: rest pose).
-  /// O(vertices + faces), in parallel (O(vertices) for PoseDetail::Positions).
+  /// Indexes every mesh instance of `model` posed at `key` (animation -1: rest pose; morph
+  /// weights sampled, then those set by hand). O(vertices + faces), in parallel (O(vertices) for
+  /// PoseDetail::Positions).
   /// @throws Error{InvalidArgument} for an animation index out of range.
+  static PosedModel build(const Model& model, const PoseKey& key, PoseDetail detail = PoseDetail::Full);
+  /// build(model, PoseKey(animation, time), detail): no weights set by hand.
   static PosedModel build(const Model& model, int animation, float time,
                           PoseDetail detail = PoseDetail::Full);
 
-  /// Poses the same instances of `model` at `time` of `animation` with PoseDetail::Positions,
-  /// reusing their arrays: positions, linear maps and bounds equal a fresh build's bit for bit;
-  /// grids are dropped (`prepare` builds them again when an operation needs them). Builds from
-  /// scratch when `model` no longer has the indexed instances. O(vertices), in parallel.
+  /// Poses the same instances of `model` at `key` with PoseDetail::Positions, reusing their
+  /// arrays: positions, linear maps and bounds equal a fresh build's bit for bit; grids are
+  /// dropped (`prepare` builds them again when an operation needs them). Builds from scratch when
+  /// `model` no longer has the indexed instances. O(vertices), in parallel.
   /// @throws Error{InvalidArgument} for an animation index out of range.
+  void repose(const Model& model, const PoseKey& key);
+  /// repose(model, PoseKey(animation, time)): no weights set by hand.
   void repose(const Model& model, int animation, float time);
 
   /// Every node's world matrix at the pose (empty before a build).
   const std::vector<glm::mat4>& world() const { return world_; }
+  /// Node `node`'s morph weights at the pose (`Pose::weights`: defaults, then the animation, then
+  /// the weights set by hand; empty for a node without morph targets or out of range).
+  const std::vector<float>& weights(int node) const;
 
   /// True once built (and not invalidated).
   bool valid() const { return valid_; }
-  /// True when built for this pose (`animation` -1 and an out-of-range time both as given).
-  bool matches(int animation, float time) const { return valid_ && animation == animation_ && time == time_; }
-  int animation() const { return animation_; }
-  float time() const { return time_; }
+  /// True when built for exactly this pose, weights set by hand included.
+  bool matches(const PoseKey& key) const { return valid_ && key == key_; }
+  /// True when built for this animation and time (`animation` -1 and an out-of-range time both as
+  /// given), whatever weights were set by hand.
+  bool matches(int animation, float time) const {
+    return valid_ && animation == key_.animation && time == key_.time;
+  }
+  /// The pose: animation, time and the weights set by hand.
+  const PoseKey& key() const { return key_; }
+  int animation() const { return key_.animation; }
+  float time() const { return key_.time; }
   /// Forgets everything (the next `prepare` rebuilds).
   void invalidate();
 
-  /// Makes the index describe `model` at this pose: rebuilds it when it was made for another
-  /// pose (or invalidated); otherwise only instances whose mesh no longer fits (another mesh
-  /// index, another vertex or face-slot count: the model was changed without the index) are
-  /// rebuilt. The operations call this first.
+  /// Makes the index describe `model` at `key`: rebuilds it when it was made for another pose
+  /// (or invalidated); otherwise only instances whose mesh no longer fits (another mesh index,
+  /// another vertex or face-slot count: the model was changed without the index) are rebuilt.
   /// With PoseDetail::Positions (what a cut needs) instances without grids are kept and new
   /// ones are built without; with Full every instance gets its grid.
   /// @pre when the index was built for this pose, every change to `model` since went through
   ///      `follow` (or was made by an operation given the index).
+  void prepare(const Model& model, const PoseKey& key, PoseDetail detail = PoseDetail::Full);
+  /// The operations' form, called first by each: prepare(model, PoseKey(animation, time,
+  /// key().weights), detail): the weights set by hand stay.
   void prepare(const Model& model, int animation, float time, PoseDetail detail = PoseDetail::Full);
 
   /// The instance (node, primitive), or nullptr.
@@ -135,19 +171,22 @@ class PosedModel {
   void erase_node(int node);
   /// Node `node` now draws mesh `mesh` (a copy of the one it drew: same vertices and faces).
   void rename_mesh(int node, int mesh);
+  /// Node `piece` is a new piece of node `source` (a cut's piece node): it gets the weights set by
+  /// hand for `source`, so the next build poses it at the same expression.
+  void add_piece_node(int source, int piece);
 
  private:
   PosedMesh make_instance(const Model& model, int node, int primitive,
                           PoseDetail detail = PoseDetail::Full) const;
   void pose_instance(const SurfaceMesh& mesh, PosedMesh& inst, PoseDetail detail) const;
-  void set_pose(const Model& model, int animation, float time);
+  void set_pose(const Model& model, const PoseKey& key);
   static std::size_t instance_count(const Model& model);
   const std::vector<glm::mat4>& joints_of(const Model& model, int node) const;
 
   bool valid_ = false;
-  int animation_ = -1;
-  float time_ = 0.0f;
+  PoseKey key_;
   std::vector<glm::mat4> world_;               // every node's world matrix at the pose
+  std::vector<std::vector<float>> weights_;    // every node's morph weights at the pose
   std::vector<std::vector<glm::mat4>> joints_;  // joint matrices of every skin at the pose
   std::map<std::pair<int, int>, PosedMesh> instances_;
 };

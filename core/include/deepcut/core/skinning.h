@@ -2,7 +2,10 @@
 #pragma once
 /// @file skinning.h
 /// Animation sampling and linear blend skinning: posed positions and normals for any time.
+/// Morph targets (morph.h) are applied to the bind positions and normals before skinning.
 
+#include <map>
+#include <utility>
 #include <vector>
 
 #include "deepcut/core/model.h"
@@ -19,12 +22,36 @@ struct Pose {
   std::vector<std::vector<float>> weights;
 };
 
-/// The nodes' own TRS: the rest pose.
+/// Which pose of a model: an animation and a time (`animation` -1: the rest pose), plus morph
+/// weights set by hand for some nodes (a designer's expression, from the studio's morph weights
+/// panel), which replace what the node's defaults and the animation give those nodes.
+struct PoseKey {
+  int animation = -1;
+  float time = 0.0f;
+  /// Node index -> its weights, one per morph target of its mesh: entry i replaces the sampled
+  /// weight of target i (a shorter list leaves the later targets as sampled; entries past the
+  /// targets and nodes without morph targets are ignored).
+  std::map<int, std::vector<float>> weights;
+
+  PoseKey() = default;
+  PoseKey(int animation_, float time_, std::map<int, std::vector<float>> weights_ = {})
+      : animation(animation_), time(time_), weights(std::move(weights_)) {}
+  friend bool operator==(const PoseKey& a, const PoseKey& b) {
+    return a.animation == b.animation && a.time == b.time && a.weights == b.weights;
+  }
+  friend bool operator!=(const PoseKey& a, const PoseKey& b) { return !(a == b); }
+};
+
+/// The nodes' own TRS and default morph weights (default_morph_weights): the rest pose.
 Pose rest_pose(const Model& model);
 /// Rest pose with animation `animation` sampled at `time` (clamped to its key range);
-/// `animation < 0` gives the rest pose. Step, linear (slerp for rotations) and cubic spline.
+/// `animation < 0` gives the rest pose. Step, linear (slerp for rotations) and cubic spline;
+/// channels on `weights` give every target of the node's mesh (N components per key).
 /// @throws Error{InvalidArgument} if `animation` is out of range.
 Pose sample_pose(const Model& model, int animation, float time);
+/// sample_pose(model, key.animation, key.time) with `key.weights` replacing the sampled weights.
+/// @throws Error{InvalidArgument} if `key.animation` is out of range.
+Pose sample_pose(const Model& model, const PoseKey& key);
 
 /// World matrix of every node for `pose`.
 std::vector<glm::mat4> world_matrices(const Model& model, const Pose& pose);
@@ -70,23 +97,32 @@ class SkinBlend {
   const AttributeArray<glm::vec4>* w1_;
 };
 
-/// World-space positions of the vertices of `mesh`, drawn by node `node` (mesh instance):
-/// linear blend skinning when the node has a skin (the node's own transform is ignored, as
-/// glTF requires), the node's world matrix otherwise.
+/// World-space positions of the vertices of `mesh`, drawn by node `node` (mesh instance), morphed
+/// with `weights` (one per target: `Pose::weights[node]`), then linear blend skinning when the node
+/// has a skin (the node's own transform is ignored, as glTF requires), the node's world matrix
+/// otherwise.
+std::vector<glm::vec3> posed_positions(const Model& model, int node, const SurfaceMesh& mesh,
+                                       const std::vector<glm::mat4>& world, const std::vector<float>& weights);
+/// posed_positions at the node's default morph weights (default_morph_weights: the rest pose's):
+/// for a pose whose animation drives weights, pass `Pose::weights[node]` instead.
 std::vector<glm::vec3> posed_positions(const Model& model, int node, const SurfaceMesh& mesh,
                                        const std::vector<glm::mat4>& world);
-/// The matrix that takes each vertex of `mesh`, drawn by node `node`, from bind space to world
-/// space: the weighted sum of its joint matrices when the node has a skin, the node's world
-/// matrix otherwise. One per vertex.
+/// The matrix that takes each vertex of `mesh`, drawn by node `node`, from (morphed) bind space
+/// to world space: the weighted sum of its joint matrices when the node has a skin, the node's
+/// world matrix otherwise. One per vertex. It applies to the morphed bind position
+/// (MorphBlend::position), not the stored one, when the pose has morph weights.
 std::vector<glm::mat4> vertex_skin_matrices(const Model& model, int node, const SurfaceMesh& mesh,
                                             const std::vector<glm::mat4>& world);
 
-/// World-space corner normals (one per corner), skinned like the positions and renormalised.
-/// Empty if the mesh has no normals.
+/// World-space corner normals (one per corner), morphed with `weights`, skinned like the
+/// positions and renormalised. Empty if the mesh has no normals.
+std::vector<glm::vec3> posed_normals(const Model& model, int node, const SurfaceMesh& mesh,
+                                     const std::vector<glm::mat4>& world, const std::vector<float>& weights);
+/// posed_normals at the node's default morph weights (default_morph_weights).
 std::vector<glm::vec3> posed_normals(const Model& model, int node, const SurfaceMesh& mesh,
                                      const std::vector<glm::mat4>& world);
 
-/// Bounding box of every mesh instance in world space for `pose`.
+/// Bounding box of every mesh instance in world space for `pose` (its morph weights included).
 BoundingBox world_bounds(const Model& model, const Pose& pose);
 
 }  // namespace deepcut
