@@ -35,6 +35,7 @@
 #include "scene_host.h"
 #include "scene_tree.h"
 #include "scene_view.h"
+#include "morph_panel.h"
 #include "timeline.h"
 #include "tool_host.h"
 
@@ -98,6 +99,7 @@ MainWindow::MainWindow(const MainWindowOptions& options, QWidget* parent)
   connect(scene_host_, &SceneHost::overlays_changed, this, &MainWindow::refresh_status);
   connect(scene_host_, &SceneHost::note, statusBar(), &QStatusBar::showMessage);
   connect(timeline_, &Timeline::pose_changed, scene_host_, &SceneHost::pose);
+  scene_host_->set_morph_panel(morph_panel_);
   build_menus();
 
   for (QLabel** label : {&operation_label_, &time_label_, &counts_label_}) {
@@ -137,6 +139,8 @@ void MainWindow::build_docks() {
   inspector_dock->setMinimumWidth(300);
   QDockWidget* tool_dock = dock("Tool", "tool_dock", tools_->create_panel(this), Qt::RightDockWidgetArea);
   splitDockWidget(inspector_dock, tool_dock, Qt::Vertical);
+  morph_panel_ = new MorphPanel(this);
+  splitDockWidget(tool_dock, dock("Morph weights", "morph_dock", morph_panel_, Qt::RightDockWidgetArea), Qt::Vertical);
   timeline_ = new Timeline(this);
   dock("Time line", "timeline_dock", timeline_, Qt::BottomDockWidgetArea);
   resizeDocks({scene_dock, inspector_dock}, {300, 330}, Qt::Horizontal);

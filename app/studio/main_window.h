@@ -34,6 +34,7 @@ class SceneHost;
 class SceneTree;
 class SceneView;
 class Timeline;
+class MorphPanel;
 class ToolHost;
 enum class DisplayMode;
 
@@ -182,6 +183,7 @@ class MainWindow : public QMainWindow {
   SceneView* view_ = nullptr;
   SceneTree* tree_ = nullptr;
   Timeline* timeline_ = nullptr;
+  MorphPanel* morph_panel_ = nullptr;
   ToolHost* tools_ = nullptr;
   InspectorHost* inspectors_ = nullptr;
   OperationsHost* operations_ = nullptr;
