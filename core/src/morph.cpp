@@ -30,6 +30,16 @@ MorphBlend::MorphBlend(const SurfaceMesh& mesh, const std::vector<float>& weight
   }
 }
 
+std::vector<AttributeArray<glm::vec3>*> corner_morph_deltas(SurfaceMesh& mesh) {
+  std::vector<AttributeArray<glm::vec3>*> out;
+  const int targets = morph_target_count(mesh);
+  for (int i = 0; i < targets; ++i) {
+    if (auto* n = mesh.corner_attrs().find<glm::vec3>(attr::morph_normal_name(i))) out.push_back(n);
+    if (auto* t = mesh.corner_attrs().find<glm::vec3>(attr::morph_tangent_name(i))) out.push_back(t);
+  }
+  return out;
+}
+
 std::vector<glm::vec3> morphed_positions(const SurfaceMesh& mesh, const std::vector<float>& weights) {
   const MorphBlend blend(mesh, weights);
   std::vector<glm::vec3> out = mesh.positions();

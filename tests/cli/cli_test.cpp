@@ -40,7 +40,7 @@ std::vector<glm::vec3> posed(const Model& model, float t) {
   for (std::size_t n = 0; n < model.nodes.size(); ++n) {
     if (model.nodes[n].mesh < 0) continue;
     for (const auto& prim : model.meshes[model.nodes[n].mesh].primitives) {
-      const auto p = posed_positions(model, static_cast<int>(n), prim.mesh, world);
+      const auto p = posed_positions(model, static_cast<int>(n), prim.mesh, world, pose.weights[n]);
       out.insert(out.end(), p.begin(), p.end());
     }
   }

@@ -88,12 +88,13 @@ std::vector<FaceId> meeting(const std::vector<FaceId>& answer, const SurfaceMesh
 // (those of the brute-force answer) wherever the query lands.
 void expect_index_matches_rebuild(const PosedModel& index, const Model& model, std::mt19937& rng) {
   ASSERT_TRUE(index.valid());
-  const PosedModel fresh = PosedModel::build(model, index.animation(), index.time());
+  const PosedModel fresh = PosedModel::build(model, index.key());
   ASSERT_EQ(index.size(), fresh.size());
   for (const auto& [key, want] : fresh.instances()) {
     const PosedMesh* got = index.find(key.first, key.second);
     ASSERT_NE(got, nullptr) << "node " << key.first << " primitive " << key.second;
     EXPECT_EQ(got->mesh, want.mesh);
+    EXPECT_EQ(got->weights, want.weights);
     ASSERT_EQ(got->posed.size(), want.posed.size());
     for (std::size_t v = 0; v < want.posed.size(); ++v) {
       ASSERT_EQ(got->posed[v], want.posed[v]) << "posed position of vertex " << v;
@@ -253,6 +254,10 @@ void check_random_sequence(const Model& model, int steps, unsigned seed) {
 
 TEST(PosedModelTest, skinned_tube_random_drills_and_tears_match_a_rebuild_and_the_uncached_path) {
   check_random_sequence(test::make_skinned_tube_model(), 40, 1);
+}
+
+TEST(PosedModelTest, morphing_tube_random_drills_and_tears_match_a_rebuild_and_the_uncached_path) {
+  check_random_sequence(test::make_morph_tube_model(), 30, 11);
 }
 
 TEST(PosedModelTest, animated_cactus_random_drills_and_tears_match_a_rebuild_and_the_uncached_path) {

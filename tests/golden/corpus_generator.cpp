@@ -80,7 +80,7 @@ PosedSurface posed_surface(const Model& model, const PoseChoice& pose) {
   for (std::size_t n = 0; n < model.nodes.size(); ++n) {
     if (model.nodes[n].mesh < 0) continue;
     for (const auto& prim : model.meshes[model.nodes[n].mesh].primitives) {
-      const auto q = posed_positions(model, static_cast<int>(n), prim.mesh, world);
+      const auto q = posed_positions(model, static_cast<int>(n), prim.mesh, world, p.weights[n]);
       prim.mesh.for_each_face([&](FaceId, const Triangle& t) {
         s.triangles.push_back({q[t[0].index], q[t[1].index], q[t[2].index]});
         for (const VertexId v : t) lo = glm::min(lo, q[v.index]), hi = glm::max(hi, q[v.index]);

@@ -125,6 +125,43 @@ Model make_skinned_tube_model() {
   return model;
 }
 
+Model make_morph_tube_model() {
+  Model model = make_skinned_tube_model();
+  SurfaceMesh& mesh = model.meshes[0].primitives[0].mesh;
+  auto& va = mesh.vertex_attrs();
+  auto& swell = va.add<glm::vec3>(attr::morph_position_name(0));
+  auto& lean = va.add<glm::vec3>(attr::morph_position_name(1));
+  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+    const glm::vec3 p = mesh.positions()[v];
+    swell[v] = 0.6f * std::sin(float(M_PI) * p.y / 4.0f) * glm::vec3(p.x, 0.0f, p.z);
+    lean[v] = {0.4f * (p.y / 4.0f) * (p.y / 4.0f), 0.0f, 0.0f};
+  }
+  auto& normals = mesh.corner_attrs().add<glm::vec3>(attr::kNormal);
+  auto& swell_normals = mesh.corner_attrs().add<glm::vec3>(attr::morph_normal_name(0));
+  mesh.for_each_face([&](FaceId f, const Triangle& t) {
+    for (int k = 0; k < 3; ++k) {
+      const glm::vec3 p = mesh.positions()[t[k].index];
+      const glm::vec3 radial(p.x, 0.0f, p.z);
+      const bool cap_centre = glm::length(radial) < 1e-6f;
+      const glm::vec3 face_n = glm::normalize(glm::cross(mesh.positions()[t[1].index] - mesh.positions()[t[0].index],
+                                                         mesh.positions()[t[2].index] - mesh.positions()[t[0].index]));
+      const bool cap_face = std::abs(face_n.y) > 0.9f;
+      normals[SurfaceMesh::corner(f, k)] = cap_face || cap_centre ? face_n : glm::normalize(radial);
+      swell_normals[SurfaceMesh::corner(f, k)] = {0.0f, 0.25f, 0.0f};
+    }
+  });
+  model.meshes[0].weights = {0.1f, 0.2f};
+  model.meshes[0].target_names = {"swell", "lean"};
+  AnimationSampler w;
+  w.input = {0.0f, 1.0f, 2.0f};
+  w.output = {0.5f, 0.8f, 1.0f, 0.0f, 0.0f, 1.0f};
+  w.components = 2;
+  Animation& anim = model.animations[0];
+  anim.samplers.push_back(w);
+  anim.channels.push_back({static_cast<int>(anim.samplers.size() - 1), 0, AnimationPath::Weights});
+  return model;
+}
+
 std::vector<VertexId> pinched_vertices(const SurfaceMesh& mesh) {
   // Per vertex, its faces and a union-find over them joined by the other corner they share.
   std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> around(mesh.vertex_count());  // (other, face)

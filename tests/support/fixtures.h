@@ -28,6 +28,14 @@ SurfaceMesh make_needle_fan();
 /// A model with one skinned tube along +y and a two-joint chain with a rotation animation.
 Model make_skinned_tube_model();
 
+/// make_skinned_tube_model with corner normals and two morph targets, so skinning and morphing
+/// act together: target 0 "swell" widens the middle of the tube (radial POSITION deltas, and a
+/// NORMAL delta (0, 0.25, 0) on every corner), target 1 "lean" pushes it along +x, more the higher
+/// the vertex. Mesh weights (0.1, 0.2). Animation 0 bends the tip joint (identity at t = 0 and 2,
+/// 60 degrees at t = 1) and drives the weights linearly: (0.5, 0.8) at t = 0, (1, 0) at t = 1,
+/// (0, 1) at t = 2.
+Model make_morph_tube_model();
+
 /// Checks mesh consistency and weights (gtest failures, not exceptions).
 void expect_valid(const SurfaceMesh& mesh, std::size_t joint_count = 0);
 

@@ -61,6 +61,12 @@ class MorphBlend {
   std::vector<Target> targets_;
 };
 
+/// Every per-corner delta array of `mesh` (NORMAL and TANGENT deltas of every target): what a new
+/// face without a parent (a cut's cap, a drill's wall) sets to zero at its corners, so its flat or
+/// tube normals stay its own whatever the weights (its vertices' POSITION deltas, blended from the
+/// rims like their skin weights, keep it attached to the rims).
+std::vector<AttributeArray<glm::vec3>*> corner_morph_deltas(SurfaceMesh& mesh);
+
 /// Morphed bind positions of every vertex slot of `mesh` at `weights` (its positions when no
 /// target is active).
 std::vector<glm::vec3> morphed_positions(const SurfaceMesh& mesh, const std::vector<float>& weights);

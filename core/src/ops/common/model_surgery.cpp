@@ -62,6 +62,43 @@ std::string unique_node_name(const Model& model, const std::string& wanted) {
     if (!taken(wanted + "_" + std::to_string(i))) return wanted + "_" + std::to_string(i);
 }
 
+namespace {
+
+// A mesh made from `source`'s primitives (a cut's piece) keeps its morph targets' defaults and
+// names: the primitives carry the targets' deltas as vertex attributes already.
+void inherit_morph_targets(const Mesh& source, Mesh& mesh) {
+  if (mesh.weights.empty()) mesh.weights = source.weights;
+  if (mesh.target_names.empty()) mesh.target_names = source.target_names;
+}
+
+// Every channel animating the morph weights of node `from` also animates node `to` (same
+// sampler), so a piece plays the expression its source node plays.
+void copy_weight_channels(Model& model, int from, int to) {
+  for (Animation& anim : model.animations) {
+    const std::size_t count = anim.channels.size();
+    for (std::size_t c = 0; c < count; ++c)
+      if (anim.channels[c].node == from && anim.channels[c].path == AnimationPath::Weights) {
+        AnimationChannel copy = anim.channels[c];
+        copy.node = to;
+        anim.channels.push_back(copy);
+      }
+  }
+}
+
+// Node `node` no longer draws a mesh: weights on it (node.weights, weight channels) would
+// describe targets it does not have, which glTF forbids.
+void drop_weights(Model& model, int node) {
+  model.nodes[static_cast<std::size_t>(node)].weights.clear();
+  for (Animation& anim : model.animations)
+    anim.channels.erase(std::remove_if(anim.channels.begin(), anim.channels.end(),
+                                       [&](const AnimationChannel& ch) {
+                                         return ch.node == node && ch.path == AnimationPath::Weights;
+                                       }),
+                        anim.channels.end());
+}
+
+}  // namespace
+
 bool InstanceEdit::shared() const { return surgery_.users(mesh_) > 1; }
 
 const Mesh& InstanceEdit::source() const { return surgery_.model_.meshes[static_cast<std::size_t>(mesh_)]; }
@@ -97,6 +134,7 @@ void InstanceEdit::drop() { dropped_ = true; }
 
 void InstanceEdit::replace_mesh(Mesh mesh) {
   Model& model = surgery_.model_;
+  inherit_morph_targets(source(), mesh);
   auto& users = surgery_.users_;
   int target = mesh_;
   if (users[static_cast<std::size_t>(mesh_)] == 1) {
@@ -113,9 +151,10 @@ void InstanceEdit::replace_mesh(Mesh mesh) {
 
 int InstanceEdit::add_piece_node(Mesh mesh, const std::string& name) {
   Model& model = surgery_.model_;
+  inherit_morph_targets(source(), mesh);
   model.meshes.push_back(std::move(mesh));
   surgery_.users_.push_back(1);
-  Node node = model.nodes[static_cast<std::size_t>(node_)];
+  Node node = model.nodes[static_cast<std::size_t>(node_)];  // its morph weights included
   node.children.clear();
   node.camera = -1;
   node.name = unique_node_name(model, name);
@@ -129,6 +168,8 @@ int InstanceEdit::add_piece_node(Mesh mesh, const std::string& name) {
     for (auto& roots : model.scenes)
       if (std::find(roots.begin(), roots.end(), node_) != roots.end()) roots.push_back(index);
   }
+  copy_weight_channels(model, node_, index);
+  surgery_.posed_.add_piece_node(node_, index);
   return index;
 }
 
@@ -174,6 +215,7 @@ void ModelSurgery::drop_instance(int node) {
     model_.meshes[static_cast<std::size_t>(n.mesh)].primitives.clear();
   n.mesh = -1;
   n.skin = -1;
+  drop_weights(model_, node);
   posed_.erase_node(node);
 }
 

@@ -50,16 +50,21 @@ class InstanceEdit {
   /// returns true (so erase before adding, as the drill erases swallowed primitives before adding
   /// its walls).
   void add_primitive(Primitive primitive);
-  /// The node draws nothing any more: no mesh, no skin, no posed instances (its mesh is emptied
-  /// when no other node draws it); the callback's edits to a shared mesh's copy are dropped. Used
-  /// when an operation leaves the node's mesh without primitives.
+  /// The node draws nothing any more: no mesh, no skin, no morph weights or weight channels, no
+  /// posed instances (its mesh is emptied when no other node draws it); the callback's edits to a
+  /// shared mesh's copy are dropped. Used when an operation leaves the node's mesh without
+  /// primitives.
   void drop();
   /// The node draws `mesh` instead (in place of its old mesh when no other node draws that). Its
-  /// posed instances are dropped: the next PosedModel::prepare indexes the new mesh.
+  /// posed instances are dropped: the next PosedModel::prepare indexes the new mesh. `mesh`
+  /// keeps the source's morph weights and target names when it names none.
   void replace_mesh(Mesh mesh);
-  /// A new node beside this one (same parent, transform and skin; no children, no camera) named
-  /// unique_node_name(`name`), drawing `mesh` (appended to the model). Returns its index. Adding
-  /// nodes makes the next PosedModel::prepare rebuild.
+  /// A new node beside this one (same parent, transform, skin and morph weights; no children, no
+  /// camera) named unique_node_name(`name`), drawing `mesh` (appended to the model; it keeps the
+  /// source's morph weights and target names when it names none). Every animation channel on
+  /// this node's morph weights also drives the new node's, and the posed model gives it this
+  /// node's weights set by hand. Returns its index. Adding nodes makes the next
+  /// PosedModel::prepare rebuild.
   int add_piece_node(Mesh mesh, const std::string& name);
 
  private:

@@ -6,6 +6,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "deepcut/core/morph.h"
 #include "ops/common/crossing_table.h"
 #include "geometry/polygon_triangulation.h"
 
@@ -155,6 +156,7 @@ void add_cap_faces(MeshEditor& editor, const CapInput& in, const RimLoops& rim,
   auto* normals = ca.find<glm::vec3>(attr::kNormal);
   auto* tangents = ca.find<glm::vec4>(attr::kTangent);
   auto* colors = ca.find<glm::vec4>(attr::kColor0);
+  const auto morph_deltas = corner_morph_deltas(mesh);
   double extent = 0.0;
   for (const auto& p : pts) extent = std::max({extent, std::abs(p.x), std::abs(p.y)});
   if (extent <= 0.0) extent = 1.0;
@@ -175,6 +177,7 @@ void add_cap_faces(MeshEditor& editor, const CapInput& in, const RimLoops& rim,
       if (normals) (*normals)[c] = fn;
       if (tangents) (*tangents)[c] = glm::vec4(glm::vec3(u), 1.0f);
       if (colors) (*colors)[c] = glm::vec4(1.0f);
+      for (auto* d : morph_deltas) (*d)[c] = glm::vec3(0.0f);
     }
   }
 }

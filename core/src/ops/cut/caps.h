@@ -28,7 +28,9 @@ std::vector<std::pair<VertexId, VertexId>> rim_halfedges(const SurfaceMesh& mesh
                                                          const std::vector<FaceId>& skip = {});
 
 /// Caps the piece whose faces are `piece`: traces its rim into loops and adds cap faces (flagged
-/// attr::kCutSurface, corner attributes set) to `piece`. Faces of the piece lying in the plane
+/// attr::kCutSurface, corner attributes set, corner morph deltas zero) to `piece`. A cap uses only
+/// rim vertices, so it shares their morph targets' POSITION deltas and stays on the rim whatever
+/// the weights. Faces of the piece lying in the plane
 /// are replaced by the cap when the rim closes without them; open rims are not capped.
 void cap_piece(MeshEditor& editor, const CapInput& in, std::vector<FaceId>& piece);
 

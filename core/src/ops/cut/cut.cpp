@@ -22,6 +22,7 @@
 #include <unordered_set>
 
 #include "deepcut/core/mesh_editor.h"
+#include "deepcut/core/morph.h"
 #include "deepcut/core/parallel.h"
 #include "deepcut/core/posed_model.h"
 #include "deepcut/core/skinning.h"
@@ -559,14 +560,16 @@ void add_piece_primitives(const SurfaceMesh& piece, int material, int cut_materi
 // plane. Move each rim vertex in bind space by the amount that puts it back on the plane in the
 // pose the cut was made in, so a second cut with the same plane finds nothing left to cut.
 void snap_rim_to_plane(const Model& model, int node, const std::vector<glm::mat4>& world, const Plane& plane,
-                       const CutResult& result, SurfaceMesh& mesh) {
+                       const CutResult& result, SurfaceMesh& mesh, const std::vector<float>& weights) {
   if (result.rim_vertices.empty()) return;
   const glm::vec3 n = glm::normalize(plane.normal);
   const auto skin = vertex_skin_matrices(model, node, mesh, world);
+  const MorphBlend morph(mesh, weights);
   auto& bind = mesh.positions();
   for (VertexId v : result.rim_vertices) {
     const glm::mat4& m = skin[v.index];
-    const float off = glm::dot(glm::vec3(m * glm::vec4(bind[v.index], 1.0f)) - plane.point, n);
+    const glm::vec3 posed(m * glm::vec4(morph.position(v.index, bind[v.index]), 1.0f));
+    const float off = glm::dot(posed - plane.point, n);
     if (off == 0.0f) continue;
     const glm::mat3 linear(m);
     if (std::abs(glm::determinant(linear)) < 1e-12f) continue;
@@ -600,12 +603,14 @@ InstanceCut cut_instance(detail::InstanceEdit& inst, const std::vector<glm::mat4
     PosedMesh own;
     PosedMesh* posed = inst.posed(static_cast<int>(p));
     if (!posed) {
-      own.posed = posed_positions(inst.model(), inst.node(), copy, world);
+      own.posed =
+          posed_positions(inst.model(), inst.node(), copy, world, inst.posed_model().weights(inst.node()));
       posed = &own;
     }
     out.results.push_back(cut_mesh(copy, *posed, plane, options));
     CutResult& r = out.results.back();
-    if (r.status == OpStatus::Ok) snap_rim_to_plane(inst.model(), inst.node(), world, plane, r, copy);
+    if (r.status == OpStatus::Ok) snap_rim_to_plane(inst.model(), inst.node(), world, plane, r, copy,
+                                                     inst.posed_model().weights(inst.node()));
     if (r.status == OpStatus::NoIntersection) r.piece_sides = {side_of(copy, posed->posed, plane)};
     out.any |= r.status == OpStatus::Ok;
     out.prims.push_back(std::move(copy));

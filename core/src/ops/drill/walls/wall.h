@@ -26,8 +26,10 @@ struct WallResult {
 };
 
 /// Walls the shells of `rims` in `editor`'s mesh. New wall vertices get posed positions in
-/// `posed` (and bind positions through its unposer); wall faces get UVs, normals, tangents and
-/// colours.
+/// `posed` (and bind positions through its unposer, which subtracts their morph offset); their
+/// attributes, skin weights and morph POSITION deltas are blended from the two nearest rim
+/// vertices, so a wall meets its rims (sharing their vertices) whatever the morph weights. Wall
+/// faces get UVs, normals, tangents and colours, and zero corner morph deltas.
 /// @param cyl            the drill's cylinder (its tolerance says what lies on it).
 /// @param rims           rims of holes in the mesh, in boundary order with the kept surface on the
 ///                       left of each step; only closed ones are walled.

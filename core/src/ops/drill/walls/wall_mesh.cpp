@@ -9,6 +9,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "deepcut/core/morph.h"
 #include "ops/drill/walls/wall.h"
 #include "ops/drill/walls/wall_shell.h"
 
@@ -141,6 +142,7 @@ void finish_wall_attributes(WallContext& ctx) {
   auto* normals = ca.find<glm::vec3>(attr::kNormal);
   auto* tangents = ca.find<glm::vec4>(attr::kTangent);
   auto* colors = ca.find<glm::vec4>(attr::kColor0);
+  const auto morph_deltas = corner_morph_deltas(mesh);
   std::vector<AttributeArray<glm::vec2>*> uvs;
   for (int set = 0; set < 8; ++set)
     if (auto* uv = ca.find<glm::vec2>(attr::uv_name(set))) uvs.push_back(uv);
@@ -195,6 +197,7 @@ void finish_wall_attributes(WallContext& ctx) {
       }
       if (tangents) (*tangents)[c] = glm::vec4(glm::vec3(tangent), 1.0f);
       if (colors) (*colors)[c] = glm::vec4(1.0f);
+      for (auto* d : morph_deltas) (*d)[c] = glm::vec3(0.0f);
     }
   }
 }
