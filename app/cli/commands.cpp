@@ -34,6 +34,53 @@ std::string output_path(const Args& args, const char* command) {
   return args.value("-o");
 }
 
+const char* interpolation_name(Interpolation i) {
+  return i == Interpolation::Step ? "step" : i == Interpolation::CubicSpline ? "cubic spline" : "linear";
+}
+
+// Each mesh with morph targets: its target count, names and default weights.
+json morph_targets_json(const Model& model) {
+  json out = json::array();
+  for (std::size_t m = 0; m < model.meshes.size(); ++m) {
+    const Mesh& mesh = model.meshes[m];
+    if (mesh.target_count() == 0) continue;
+    out.push_back({{"mesh", m}, {"name", mesh.name}, {"targets", mesh.target_count()}, {"names", mesh.target_names},
+                   {"weights", mesh.weights}});
+  }
+  return out;
+}
+
+// Each animation channel on morph weights: the node it drives, its targets, keys, interpolation.
+json weight_channels_json(const Model& model) {
+  json out = json::array();
+  for (std::size_t a = 0; a < model.animations.size(); ++a)
+    for (const auto& ch : model.animations[a].channels) {
+      if (ch.path != AnimationPath::Weights) continue;
+      const AnimationSampler& s = model.animations[a].samplers[std::size_t(ch.sampler)];
+      out.push_back({{"animation", a}, {"animation_name", model.animations[a].name}, {"node", ch.node},
+                     {"node_name", model.nodes[std::size_t(ch.node)].name}, {"targets", s.components},
+                     {"keys", s.input.size()}, {"interpolation", interpolation_name(s.interpolation)}});
+    }
+  return out;
+}
+
+// The text form of the two lists above (nothing for a model without morph targets).
+void print_morphs(const Model& model) {
+  for (const auto& m : morph_targets_json(model)) {
+    std::cout << "\n  morph targets: mesh " << m["mesh"] << " '" << m["name"].get<std::string>() << "' " << m["targets"];
+    if (!m["names"].empty()) {
+      std::cout << " (";
+      for (std::size_t i = 0; i < m["names"].size(); ++i) std::cout << (i ? ", " : "") << m["names"][i].get<std::string>();
+      std::cout << ")";
+    }
+    std::cout << ", weights " << m["weights"].dump();
+  }
+  for (const auto& c : weight_channels_json(model))
+    std::cout << "\n  weight channel: '" << c["animation_name"].get<std::string>() << "' -> node " << c["node"] << " '"
+              << c["node_name"].get<std::string>() << "' (" << c["targets"] << " targets, " << c["keys"] << " keys, "
+              << c["interpolation"].get<std::string>() << ")";
+}
+
 }  // namespace
 
 int run_info(const std::vector<std::string>& argv) {
@@ -68,6 +115,8 @@ int run_info(const std::vector<std::string>& argv) {
                 {"joints", s.joints},
                 {"animations", s.animations},
                 {"animation_clips", anims},
+                {"morph_targets", morph_targets_json(model)},
+                {"weight_channels", weight_channels_json(model)},
                 {"materials", s.materials},
                 {"textures", s.textures},
                 {"images", s.images},
@@ -90,6 +139,7 @@ int run_info(const std::vector<std::string>& argv) {
             << "  animations " << s.animations;
   for (const auto& a : model.animations)
     std::cout << "\n    '" << a.name << "' " << std::setprecision(4) << a.duration() << " s";
+  print_morphs(model);
   std::cout << "\n  edges: boundary " << s.boundary_edges << ", non-manifold " << s.nonmanifold_edges << ", seam "
             << s.seam_edges << "; components " << s.components << "\n"
             << "  bbox (rest pose) [" << lo.x << ", " << lo.y << ", " << lo.z << "] - [" << hi.x << ", " << hi.y << ", "

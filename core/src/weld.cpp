@@ -10,17 +10,20 @@ namespace deepcut {
 namespace {
 
 constexpr std::size_t kGrain = 16384;
+// Every attr::morph_position_name starts so.
+constexpr const char* kMorphPrefix = "v:morph";
 
 // The vertex attributes as raw arrays (no virtual call per vertex): positions compare by value
 // (+0 == -0) and hash with -0 folded into +0; every other attribute compares and hashes raw.
 class VertexBytes {
  public:
-  // With `with_attributes` false only the positions count (WeldKey::Position).
+  // With `with_attributes` false only the positions and the morph position deltas count
+  // (WeldKey::Position): a vertex is where it is in every morph target.
   VertexBytes(const SurfaceMesh& mesh, bool with_attributes) : positions_(mesh.positions().data()) {
     const auto& va = mesh.vertex_attrs();
-    if (va.size() == 0 || !with_attributes) return;
+    if (va.size() == 0) return;
     for (const auto& name : va.names()) {
-      if (name == attr::kPosition) continue;
+      if (name == attr::kPosition || (!with_attributes && name.rfind(kMorphPrefix, 0) != 0)) continue;
       const AttributeArrayBase* a = va.base(name);
       arrays_.push_back({static_cast<const unsigned char*>(a->element_data(0)), a->element_bytes()});
     }

@@ -459,6 +459,7 @@ Model Reader::read() {
   read_images();
   read_passthrough();
   read_meshes();
+  resolve_morph_weights();
   return std::move(model_);
 }
 

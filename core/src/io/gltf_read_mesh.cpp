@@ -61,7 +61,7 @@ SurfaceMesh file_mesh(const std::vector<float>& pos, const std::vector<std::uint
 
 }  // namespace
 
-Primitive Reader::read_primitive(const tinygltf::Primitive& p, const std::string& where, int joint_count) {
+Primitive Reader::read_primitive(const tinygltf::Primitive& p, const std::string& where, int joint_count, std::size_t targets) {
   Primitive out;
   out.material = p.material;
   if (p.material >= 0 && static_cast<std::size_t>(p.material) >= gltf_.materials.size())
@@ -78,14 +78,16 @@ Primitive Reader::read_primitive(const tinygltf::Primitive& p, const std::string
   const std::vector<std::uint32_t> tris = read_triangles(p, where, nv);
   const Influences skin = read_influences(p, where, nv, joint_count);
   const std::vector<CornerSource> corner_sources = read_corner_sources(p, where, nv);
-  if (!p.targets.empty()) note(where + ": " + std::to_string(p.targets.size()) + " morph targets dropped (not supported)");
+  const std::vector<MorphTarget> morphs = read_targets(p, where, nv, tris.size(), targets);
 
-  // Weld: one topological vertex per distinct (position, skin); numbered by first use.
+  // Weld: one topological vertex per distinct (position, skin, morph deltas); numbered by first use.
   out.mesh = file_mesh(pos, tris, skin, corner_sources);
+  add_morph_targets(out.mesh, tris, morphs);
   const WeldReport welded = weld(out.mesh, {options_.weld ? WeldKey::PositionAndSkin : WeldKey::None});
   out.welded_merged = welded.merged;
   if (welded.kept_apart)
-    note(where + ": " + std::to_string(welded.kept_apart) + " vertices share a position with different skin weights (kept apart)");
+    note(where + ": " + std::to_string(welded.kept_apart) + " vertices share a position with different skin weights" +
+         (morphs.empty() ? "" : " or morph deltas") + " (kept apart)");
   if (welded.dropped) note(where + ": " + std::to_string(welded.dropped) + " unreferenced vertices dropped");
   return out;
 }
@@ -243,10 +245,12 @@ void Reader::read_meshes() {
     mesh.name = g.name;
     const json& r = raw_.contains("meshes") && m < raw_["meshes"].size() ? raw_["meshes"][m] : json::object();
     mesh.extras_json = dump_member(r, "extras");
+    const std::string mesh_where = "mesh " + std::to_string(m) + (g.name.empty() ? "" : " '" + g.name + "'");
+    const std::size_t targets = mesh_target_count(m, mesh_where);
+    read_mesh_weights(mesh, m, mesh_where, targets);
     for (std::size_t p = 0; p < g.primitives.size(); ++p) {
-      const std::string where = "mesh " + std::to_string(m) + (g.name.empty() ? "" : " '" + g.name + "'") + " primitive " +
-                                std::to_string(p);
-      Primitive prim = read_primitive(g.primitives[p], where, mesh_joints[m]);
+      const std::string where = mesh_where + " primitive " + std::to_string(p);
+      Primitive prim = read_primitive(g.primitives[p], where, mesh_joints[m], targets);
       if (r.contains("primitives") && p < r["primitives"].size()) prim.extras_json = dump_member(r["primitives"][p], "extras");
       mesh.primitives.push_back(std::move(prim));
     }

@@ -80,7 +80,11 @@ void Reader::read_nodes() {
     n.camera = check(g.camera, gltf_.cameras.size(), "camera");
     n.extras_json = dump_member(r, "extras");
     n.extensions_json = dump_member(r, "extensions");
-    if (!g.weights.empty()) note("node '" + g.name + "': morph target weights dropped (morph targets are not supported)");
+    for (const double w : g.weights) {
+      if (!std::isfinite(static_cast<float>(w)))
+        fail("node " + std::to_string(i) + ": a morph weight is not finite (a value overflows a 32-bit float)");
+      n.weights.push_back(static_cast<float>(w));
+    }
     model_.nodes.push_back(std::move(n));
   }
   // Cycles or a node with two parents would make the hierarchy ill-defined.
@@ -162,10 +166,8 @@ void Reader::read_animations() {
       if (ch.target_path == "translation") out.path = AnimationPath::Translation;
       else if (ch.target_path == "rotation") out.path = AnimationPath::Rotation;
       else if (ch.target_path == "scale") out.path = AnimationPath::Scale;
-      else if (ch.target_path == "weights") {
-        note("animation '" + g.name + "': morph weight channel dropped (morph targets are not supported)");
-        continue;
-      } else fail("animation " + std::to_string(a) + " channel " + std::to_string(c) + ": unknown path '" + ch.target_path + "'");
+      else if (ch.target_path == "weights") out.path = AnimationPath::Weights;
+      else fail("animation " + std::to_string(a) + " channel " + std::to_string(c) + ": unknown path '" + ch.target_path + "'");
       if (sampler_map[ch.sampler] < 0) {
         const auto& gs = g.samplers[ch.sampler];
         AnimationSampler s;
@@ -182,14 +184,21 @@ void Reader::read_animations() {
         else if (gs.interpolation == "CUBICSPLINE") s.interpolation = Interpolation::CubicSpline;
         else s.interpolation = Interpolation::Linear;
         const std::size_t per_key = s.interpolation == Interpolation::CubicSpline ? 3 : 1;
-        if (s.output.size() != s.input.size() * per_key * std::size_t(out_comps))
+        if (out.path == AnimationPath::Weights) {
+          if (!fit_weights_sampler(s, gltf_.accessors[gs.output].type, a, c)) continue;
+        } else if (s.output.size() != s.input.size() * per_key * std::size_t(out_comps)) {
           fail("animation " + std::to_string(a) + ": sampler output count does not match its input count");
+        }
         for (const float v : s.output)
           if (!std::isfinite(v)) fail("animation " + std::to_string(a) + ": a sampler output value is not finite (NaN or Inf)");
         sampler_map[ch.sampler] = static_cast<int>(anim.samplers.size());
         anim.samplers.push_back(std::move(s));
       }
       out.sampler = sampler_map[ch.sampler];
+      if (out.path == AnimationPath::Weights) {  // checked against the node's mesh in resolve_morph_weights
+        anim.channels.push_back(out);
+        continue;
+      }
       const int need = out.path == AnimationPath::Rotation ? 4 : 3;
       if (anim.samplers[out.sampler].components != need)
         fail("animation " + std::to_string(a) + " channel " + std::to_string(c) + ": output has the wrong type for " + ch.target_path);

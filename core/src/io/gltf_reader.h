@@ -3,7 +3,8 @@
 // The glTF reader (private to core): tinygltf parses the container, buffers and images; the
 // Reader decodes accessors with bounds checks and reads one glTF section per method. Its methods
 // live in gltf_read.cpp (sandbox, container, accessors), gltf_read_scene.cpp (nodes, skins,
-// animations, images, objects carried through) and gltf_read_mesh.cpp (meshes and primitives).
+// animations, images, objects carried through), gltf_read_mesh.cpp (meshes and primitives) and
+// gltf_read_targets.cpp (morph targets, their weights and the animation channels that drive them).
 
 #include <cstdint>
 #include <string>
@@ -41,6 +42,16 @@ struct CornerSource {
   int data_comps;    // components in the file (COLOR_0 may have 3)
 };
 
+// One morph target of a primitive, per glTF vertex: 3 floats each (POSITION zeros when the file
+// gave none; NORMAL and TANGENT empty when it gave none or the primitive has no base attribute).
+struct MorphTarget {
+  std::vector<float> position, normal, tangent;
+};
+
+// Adds the targets to the primitive as the file stores it (glTF vertex v is vertex v, triangle t
+// is face t): `attr::morph_position_name(i)` per vertex, the normal and tangent deltas per corner.
+void add_morph_targets(SurfaceMesh& mesh, const std::vector<std::uint32_t>& tris, const std::vector<MorphTarget>& targets);
+
 class Reader {
  public:
   /// Reads the file at `path`, or `*memory` (then `path` only names it and no file is read).
@@ -73,11 +84,20 @@ class Reader {
 
   // gltf_read_mesh.cpp
   void read_meshes();
-  Primitive read_primitive(const tinygltf::Primitive& p, const std::string& where, int joint_count);
+  Primitive read_primitive(const tinygltf::Primitive& p, const std::string& where, int joint_count, std::size_t targets);
   std::vector<float> read_positions(const tinygltf::Primitive& p, const std::string& where);
   std::vector<std::uint32_t> read_triangles(const tinygltf::Primitive& p, const std::string& where, std::size_t nv);
   Influences read_influences(const tinygltf::Primitive& p, const std::string& where, std::size_t nv, int joint_count);
   std::vector<CornerSource> read_corner_sources(const tinygltf::Primitive& p, const std::string& where, std::size_t nv);
+
+  // gltf_read_targets.cpp
+  std::size_t mesh_target_count(std::size_t m, const std::string& where);
+  std::vector<MorphTarget> read_targets(const tinygltf::Primitive& p, const std::string& where, std::size_t nv,
+                                        std::size_t corners, std::size_t count);
+  void read_mesh_weights(Mesh& mesh, std::size_t m, const std::string& where, std::size_t count);
+  bool fit_weights_sampler(AnimationSampler& s, int output_type, std::size_t animation, std::size_t channel);
+  void resolve_morph_weights();
+  void charge_decode(std::size_t bytes, const std::string& what);
 
   std::string path_;
   ImportOptions options_;

@@ -13,13 +13,16 @@
 namespace deepcut {
 
 /// What two vertices must share to become one. Positions compare by value (+0 and -0 are equal);
-/// every other vertex attribute compares bitwise.
+/// every other vertex attribute compares bitwise. Morph position deltas
+/// (`attr::morph_position_name`) are part of every key but `None`: two vertices that one morph
+/// target moves apart are two vertices. Per-corner data (normals, their morph deltas) never is.
 enum class WeldKey {
-  /// Position and every other vertex attribute (a glTF primitive's joints and weights): vertices
-  /// at one position with different skin weights are kept apart (counted in `kept_apart`).
+  /// Position and every other vertex attribute (a glTF primitive's joints, weights and morph
+  /// position deltas): vertices at one position with different skin weights or deltas are kept
+  /// apart (counted in `kept_apart`).
   PositionAndSkin,
-  /// Position only (formats without skins): the merged vertex keeps the other vertex
-  /// attributes of its first user.
+  /// Position and morph position deltas (formats without skins): the merged vertex keeps the
+  /// other vertex attributes of its first user.
   Position,
   /// No two vertices merge: unreferenced vertices are dropped and the rest renumbered.
   None,
@@ -34,7 +37,7 @@ struct WeldOptions {
 
 struct WeldReport {
   std::size_t merged = 0;      ///< vertices merged into another (kept) vertex
-  std::size_t kept_apart = 0;  ///< vertices sharing a position with another but not its skin weights
+  std::size_t kept_apart = 0;  ///< vertices sharing a position with another but not its skin weights or morph deltas
   std::size_t dropped = 0;     ///< vertices no kept face used, directly or through a merge
   std::size_t faces_dropped = 0;  ///< faces that repeated a vertex (with `drop_repeating_faces`)
 };
