@@ -134,13 +134,14 @@ void MainWindow::build_docks() {
   });
   QDockWidget* history_dock = dock("History", "history_dock", operations_->create_panel(this), Qt::LeftDockWidgetArea);
   splitDockWidget(scene_dock, history_dock, Qt::Vertical);
-  resizeDocks({scene_dock, history_dock}, {480, 300}, Qt::Vertical);
   QDockWidget* inspector_dock = dock("Inspector", "inspector_dock", inspectors_->create_panel(this), Qt::RightDockWidgetArea);
   inspector_dock->setMinimumWidth(300);
   QDockWidget* tool_dock = dock("Tool", "tool_dock", tools_->create_panel(this), Qt::RightDockWidgetArea);
   splitDockWidget(inspector_dock, tool_dock, Qt::Vertical);
   morph_panel_ = new MorphPanel(this);
-  splitDockWidget(tool_dock, dock("Morph weights", "morph_dock", morph_panel_, Qt::RightDockWidgetArea), Qt::Vertical);
+  QDockWidget* morph_dock = dock("Morph weights", "morph_dock", morph_panel_, Qt::LeftDockWidgetArea);
+  splitDockWidget(history_dock, morph_dock, Qt::Vertical);
+  resizeDocks({scene_dock, history_dock, morph_dock}, {330, 250, 200}, Qt::Vertical);
   timeline_ = new Timeline(this);
   dock("Time line", "timeline_dock", timeline_, Qt::BottomDockWidgetArea);
   resizeDocks({scene_dock, inspector_dock}, {300, 330}, Qt::Horizontal);

@@ -19,6 +19,8 @@ namespace {
 /// [kMin, kMax] (glTF allows weights outside 0..1: they extrapolate a target).
 constexpr int kSteps = 1000;
 constexpr double kMin = -2.0, kMax = 2.0;
+/// Tallest the panel insists on being (pixels): about six targets; longer lists scroll.
+constexpr int kMaxMinimumHeight = 220;
 
 int slider_position(float weight) {
   return static_cast<int>(std::lround(std::clamp(static_cast<double>(weight), 0.0, 1.0) * kSteps));
@@ -35,14 +37,14 @@ QString target_label(const Mesh& mesh, std::size_t target) {
 MorphPanel::MorphPanel(QWidget* parent) : QWidget(parent) {
   auto* outer = new QVBoxLayout(this);
   outer->setContentsMargins(0, 0, 0, 0);
-  auto* scroll = new QScrollArea(this);
-  scroll->setWidgetResizable(true);
-  scroll->setFrameShape(QFrame::NoFrame);
-  outer->addWidget(scroll);
-  body_ = new QWidget(scroll);
+  scroll_ = new QScrollArea(this);
+  scroll_->setWidgetResizable(true);
+  scroll_->setFrameShape(QFrame::NoFrame);
+  outer->addWidget(scroll_);
+  body_ = new QWidget(scroll_);
   layout_ = new QVBoxLayout(body_);
   layout_->setContentsMargins(4, 4, 4, 4);
-  scroll->setWidget(body_);
+  scroll_->setWidget(body_);
   rebuild();
 }
 
@@ -102,6 +104,9 @@ void MorphPanel::rebuild() {
     groups_.push_back(std::move(group));
   }
   layout_->addStretch(1);
+  // The dock asks for room for its groups (a few rows at least; more scroll).
+  layout_->activate();
+  scroll_->setMinimumHeight(std::min(layout_->minimumSize().height(), kMaxMinimumHeight));
 }
 
 QWidget* MorphPanel::make_group(const Group& group, std::vector<Row>& rows, QCheckBox*& follow) {

@@ -17,6 +17,7 @@
 
 class QCheckBox;
 class QDoubleSpinBox;
+class QScrollArea;
 class QSlider;
 class QVBoxLayout;
 
@@ -66,6 +67,7 @@ class MorphPanel : public QWidget {
   std::vector<float> shown_weights(int node, std::size_t count) const;
 
   const plugins::Scene* scene_ = nullptr;
+  QScrollArea* scroll_ = nullptr;
   QWidget* body_ = nullptr;  // rebuilt with the list of nodes
   QVBoxLayout* layout_ = nullptr;
   std::vector<Group> groups_;

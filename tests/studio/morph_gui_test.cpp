@@ -5,9 +5,10 @@
 //  - dragging a slider sets that node's weights by hand: the drawn positions move by exactly the
 //    weight change times the target's deltas (through the node's transform), the time line no
 //    longer changes them, and "From animation" gives them back to the clip;
-//  - a cut whose plane lies above the cube at rest misses, and hits once a slider has stretched the
-//    cube through it: every piece lies on one side of the plane at the weights set by hand, the
-//    rim on it; the history records the weights, and `deepcut apply` of it makes the same bytes;
+//  - with target 0 set to 1 by hand (the cube squashed), a cut through the lower half of the cube
+//    at rest misses; one through the squashed cube hits: every piece lies on one side of the
+//    plane at the weights set by hand, the rim on it (and off it at the animation's weights); the
+//    history records the weights, and `deepcut apply` of it makes the same bytes;
 //  - a model without targets gets one line saying so.
 #include <QVTKOpenGLNativeWidget.h>
 
@@ -122,36 +123,43 @@ class StudioMorphTest : public QObject {
     auto* panel = window->findChild<MorphPanel*>();
     QVERIFY(panel);
     window->timeline()->set_time(0.0f);
-    panel->set_weight(node, 0, 0.0f);
+    // Target 0 squashes the cube: its bottom (local y = -0.01) rises to y = 0.0089.
+    panel->set_weight(node, 0, 1.0f);
     panel->set_weight(node, 1, 0.0f);
-    // A plane across the cube's local y axis, above the cube at rest (local y <= 0.01), below
-    // where target 0 stretches it at weight 1.
+    const std::map<int, std::vector<float>> hand = {{node, {1.0f, 0.0f}}};
+    QCOMPARE(panel->overrides(), hand);
     const glm::mat4 world = window->scene()->world[static_cast<std::size_t>(node)];
-    const glm::vec3 point(world * glm::vec4(0.0f, 0.012f, 0.0f, 1.0f));
     const glm::vec3 normal = glm::normalize(glm::transpose(glm::inverse(glm::mat3(world))) * glm::vec3(0, 1, 0));
     window->set_tool("cut");
-    deepcut::CutOperation cut = std::get<deepcut::CutOperation>(window->tool()->parameters());
-    cut.plane = {point, normal};
-    cut.options.keep = deepcut::CutKeep::Both;
-    cut.options.cap = false;
-    cut.options.split_components = false;
-    window->tool()->set_parameters(cut);
-    QVERIFY2(!window->apply_tool(), "the plane misses the cube at rest");
-    panel->set_weight(node, 0, 1.0f);
+    auto cut_at = [&](float local_y) {
+      deepcut::CutOperation cut = std::get<deepcut::CutOperation>(window->tool()->parameters());
+      cut.plane = {glm::vec3(world * glm::vec4(0.0f, local_y, 0.0f, 1.0f)), normal};
+      cut.options.keep = deepcut::CutKeep::Both;
+      cut.options.cap = false;
+      cut.options.split_components = false;
+      window->tool()->set_parameters(cut);
+      return cut.plane.point;
+    };
+    // Across the cube at rest, below the squashed cube: the cut misses.
+    cut_at(-0.005f);
+    QVERIFY2(!window->apply_tool(), "the plane misses the squashed cube");
+    const glm::vec3 point = cut_at(0.0095f);
     QVERIFY2(window->apply_tool(), qPrintable(window->last_error()));
     const auto entries = window->operations();
     QCOMPARE(entries.size(), std::size_t(1));
-    const std::map<int, std::vector<float>> hand = {{node, {1.0f, 0.0f}}};
     QCOMPARE(entries[0].operation.weights, hand);
 
     // Drawn at the weights set by hand (the pieces keep them): each piece lies on one side of
-    // the plane, and the rim is on it.
+    // the plane, and the rim is on it; at the animation's weights the rim is off the plane.
     const auto* scene = window->scene();
     QVERIFY(scene->instances.size() >= 2);
     const float eps = 1e-5f * scene->size;
+    const deepcut::PosedModel by_animation = deepcut::PosedModel::build(*scene->model, deepcut::PoseKey(0, 0.0f));
     std::size_t on_plane = 0;
+    float off_by_animation = 0.0f;
     for (const auto& instance : scene->instances) {
       QCOMPARE(scene->posed->weights(instance.node), hand.at(node));
+      const auto& other = by_animation.find(instance.node, instance.primitive)->posed;
       float lo = 0.0f, hi = 0.0f;
       std::vector<char> seen(instance.posed().size(), 0);
       instance.surface->for_each_face([&](deepcut::FaceId, const deepcut::Triangle& t) {
@@ -161,12 +169,15 @@ class StudioMorphTest : public QObject {
           const float d = glm::dot(instance.posed()[t[k].index] - point, normal);
           lo = std::min(lo, d);
           hi = std::max(hi, d);
-          if (std::abs(d) <= eps) ++on_plane;
+          if (std::abs(d) > eps) continue;
+          ++on_plane;
+          off_by_animation = std::max(off_by_animation, std::abs(glm::dot(other[t[k].index] - point, normal)));
         }
       });
       QVERIFY2(lo >= -eps || hi <= eps, qPrintable(QString("a piece straddles the plane (%1 .. %2)").arg(lo).arg(hi)));
     }
     QVERIFY2(on_plane >= 3, "the rim lies on the plane at the weights set by hand");
+    QVERIFY2(off_by_animation > 1e-3f * scene->size, "the rim is where the weights set by hand put it");
 
     // The history replays exactly on the command line.
     const std::string dir = deepcut::test::temp_dir("studio-morph-cut");
