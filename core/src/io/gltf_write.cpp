@@ -30,6 +30,14 @@ json parse_or(const std::string& text, json fallback) {
   return json::parse(text, nullptr, /*allow_exceptions=*/false);
 }
 
+// The glTF vertices of a mesh: one per distinct (vertex, exported corner attributes), numbered
+// in order of first use by the corners.
+struct GltfVertices {
+  std::vector<std::uint32_t> vertex;   // glTF vertex -> mesh vertex
+  std::vector<std::uint32_t> corner;   // glTF vertex -> a corner it came from
+  std::vector<std::uint32_t> indices;  // corner -> glTF vertex
+};
+
 class Writer {
  public:
   Writer(const Model& model, const ExportOptions& options) : model_(model), options_(options) {}
@@ -41,13 +49,16 @@ class Writer {
   int add_accessor(const std::vector<T>& data, int components, int component_type, const char* type, int target,
                    bool minmax = false);
   void write_meshes();
-  void write_primitive(const Primitive& prim, json& out);
+  void write_primitive(const Primitive& prim, std::size_t targets, json& out);
+  json write_targets(const SurfaceMesh& mesh, const GltfVertices& vertices, std::size_t targets,
+                     const std::vector<std::string>& morph_corners);
   void write_influences(const SurfaceMesh& mesh, const std::vector<std::uint32_t>& out_vertex, json& attributes);
   void write_corner_attribute(const SurfaceMesh& mesh, const std::string& name, const AttributeArrayBase& corner_array,
                               const std::vector<std::uint32_t>& out_corner, json& attributes);
   void write_skins();
   void write_animations();
   void write_nodes();
+  bool drives_written_targets(int node, int components) const;
   void write_images();
 
   const Model& model_;
@@ -55,6 +66,7 @@ class Writer {
   json doc_ = json::object();
   std::vector<unsigned char> bin_;
   std::vector<int> mesh_map_;  // model mesh -> glTF mesh (-1 when dropped)
+  std::vector<std::size_t> mesh_targets_;  // model mesh -> morph targets written (0 when dropped)
 };
 
 int Writer::add_view(const void* data, std::size_t bytes, int target) {
@@ -88,14 +100,6 @@ int Writer::add_accessor(const std::vector<T>& data, int components, int compone
   doc_["accessors"].push_back(acc);
   return static_cast<int>(doc_["accessors"].size() - 1);
 }
-
-// The glTF vertices of a mesh: one per distinct (vertex, exported corner attributes), numbered
-// in order of first use by the corners.
-struct GltfVertices {
-  std::vector<std::uint32_t> vertex;   // glTF vertex -> mesh vertex
-  std::vector<std::uint32_t> corner;   // glTF vertex -> a corner it came from
-  std::vector<std::uint32_t> indices;  // corner -> glTF vertex
-};
 
 // Un-welds `mesh` (no deleted faces) by the corner attributes in `arrays`.
 GltfVertices unweld(const SurfaceMesh& mesh, const std::vector<const AttributeArrayBase*>& arrays) {
@@ -139,6 +143,27 @@ GltfVertices unweld(const SurfaceMesh& mesh, const std::vector<const AttributeAr
   return out;
 }
 
+// How many morph targets `mesh` carries: the consecutive `attr::morph_position_name(i)` from 0.
+std::size_t morph_targets(const SurfaceMesh& mesh) {
+  std::size_t n = 0;
+  while (mesh.vertex_attrs().find<glm::vec3>(attr::morph_position_name(static_cast<int>(n)))) ++n;
+  return n;
+}
+
+// The per-corner morph deltas of the first `targets` targets that the written primitive can carry
+// (glTF wants the base NORMAL / TANGENT beside a NORMAL / TANGENT delta): they split glTF vertices
+// as normals do.
+std::vector<std::string> morph_corner_names(const SurfaceMesh& mesh, std::size_t targets) {
+  std::vector<std::string> out;
+  const auto& ca = mesh.corner_attrs();
+  for (std::size_t t = 0; t < targets; ++t) {
+    const int i = static_cast<int>(t);
+    if (ca.contains(attr::kNormal) && ca.find<glm::vec3>(attr::morph_normal_name(i))) out.push_back(attr::morph_normal_name(i));
+    if (ca.contains(attr::kTangent) && ca.find<glm::vec3>(attr::morph_tangent_name(i))) out.push_back(attr::morph_tangent_name(i));
+  }
+  return out;
+}
+
 // glTF attribute name for one of our attribute names ("" if it is not exported).
 std::string gltf_name(const std::string& name) {
   if (name == attr::kNormal) return "NORMAL";
@@ -148,7 +173,7 @@ std::string gltf_name(const std::string& name) {
   return "";
 }
 
-void Writer::write_primitive(const Primitive& prim, json& out) {
+void Writer::write_primitive(const Primitive& prim, std::size_t targets, json& out) {
   const SurfaceMesh* src = &prim.mesh;
   SurfaceMesh compacted;
   if (prim.mesh.face_count() != prim.mesh.face_slots()) {
@@ -165,6 +190,8 @@ void Writer::write_primitive(const Primitive& prim, json& out) {
       arrays.push_back(ca.base(n));
       exported.push_back(n);
     }
+  const std::vector<std::string> morph_corners = morph_corner_names(mesh, targets);
+  for (const auto& n : morph_corners) arrays.push_back(ca.base(n));
   const GltfVertices vertices = unweld(mesh, arrays);
   const std::size_t n = vertices.vertex.size();
   json attributes = json::object();
@@ -177,8 +204,9 @@ void Writer::write_primitive(const Primitive& prim, json& out) {
     attributes["POSITION"] = add_accessor(pos, 3, kFloat, "VEC3", kArrayBuffer, true);
   }
   write_influences(mesh, vertices.vertex, attributes);
-  for (std::size_t a = 0; a < arrays.size(); ++a) write_corner_attribute(mesh, exported[a], *arrays[a], vertices.corner, attributes);
+  for (std::size_t a = 0; a < exported.size(); ++a) write_corner_attribute(mesh, exported[a], *arrays[a], vertices.corner, attributes);
   out["attributes"] = attributes;
+  if (targets > 0) out["targets"] = write_targets(mesh, vertices, targets, morph_corners);
   const auto& indices = vertices.indices;
   if (n <= 65535) {
     std::vector<std::uint16_t> idx16(indices.begin(), indices.end());
@@ -189,6 +217,36 @@ void Writer::write_primitive(const Primitive& prim, json& out) {
   out["mode"] = 4;
   if (prim.material >= 0 && static_cast<std::size_t>(prim.material) < model_.materials.size()) out["material"] = prim.material;
   if (!prim.extras_json.empty()) out["extras"] = parse_or(prim.extras_json, json::object());
+}
+
+// The primitive's `targets`: each target's POSITION deltas per glTF vertex (with the min/max glTF
+// requires), and its NORMAL / TANGENT deltas where `morph_corners` names them. A delta that is not
+// finite is written as 0.
+json Writer::write_targets(const SurfaceMesh& mesh, const GltfVertices& vertices, std::size_t targets,
+                           const std::vector<std::string>& morph_corners) {
+  const std::size_t n = vertices.vertex.size();
+  auto write = [&](const std::vector<glm::vec3>& d, const std::vector<std::uint32_t>& from, bool minmax) {
+    std::vector<float> out(3 * n);
+    for (std::size_t i = 0; i < n; ++i)
+      for (int c = 0; c < 3; ++c) {
+        const float v = d[from[i]][c];
+        out[3 * i + std::size_t(c)] = std::isfinite(v) ? v : 0.0f;
+      }
+    return add_accessor(out, 3, kFloat, "VEC3", kArrayBuffer, minmax);
+  };
+  json out = json::array();
+  for (std::size_t t = 0; t < targets; ++t) {
+    const int i = static_cast<int>(t);
+    json target = {{"POSITION", write(mesh.vertex_attrs().get<glm::vec3>(attr::morph_position_name(i)).data(), vertices.vertex, true)}};
+    const std::string normal = attr::morph_normal_name(i), tangent = attr::morph_tangent_name(i);
+    const auto has = [&](const std::string& name) {
+      return std::find(morph_corners.begin(), morph_corners.end(), name) != morph_corners.end();
+    };
+    if (has(normal)) target["NORMAL"] = write(mesh.corner_attrs().get<glm::vec3>(normal).data(), vertices.corner, false);
+    if (has(tangent)) target["TANGENT"] = write(mesh.corner_attrs().get<glm::vec3>(tangent).data(), vertices.corner, false);
+    out.push_back(target);
+  }
+  return out;
 }
 
 // Skin influences of each glTF vertex, renormalised; zero-weight slots name joint 0.
@@ -279,19 +337,26 @@ void Writer::write_corner_attribute(const SurfaceMesh& mesh, const std::string& 
 
 void Writer::write_meshes() {
   mesh_map_.assign(model_.meshes.size(), -1);
+  mesh_targets_.assign(model_.meshes.size(), 0);
   for (std::size_t m = 0; m < model_.meshes.size(); ++m) {
     const auto& mesh = model_.meshes[m];
     json out = json::object();
     if (!mesh.name.empty()) out["name"] = mesh.name;
+    // glTF wants as many targets in every primitive: the ones all written primitives carry.
+    std::size_t targets = mesh.target_count();
+    for (const auto& prim : mesh.primitives)
+      if (prim.mesh.face_count() > 0) targets = std::min(targets, morph_targets(prim.mesh));
     for (const auto& prim : mesh.primitives) {
       if (prim.mesh.face_count() == 0) continue;  // glTF has no empty primitives
       json p = json::object();
-      write_primitive(prim, p);
+      write_primitive(prim, targets, p);
       out["primitives"].push_back(p);
     }
     if (!out.contains("primitives")) continue;  // every primitive was empty: drop the mesh
+    if (targets > 0) out["weights"] = std::vector<float>(mesh.weights.begin(), mesh.weights.begin() + std::ptrdiff_t(targets));
     if (!mesh.extras_json.empty()) out["extras"] = parse_or(mesh.extras_json, json::object());
     mesh_map_[m] = static_cast<int>(doc_["meshes"].size());
+    mesh_targets_[m] = targets;
     doc_["meshes"].push_back(out);
   }
 }
@@ -315,13 +380,16 @@ void Writer::write_animations() {
   for (const auto& a : model_.animations) {
     json out = json::object();
     if (!a.name.empty()) out["name"] = a.name;
-    std::vector<int> used(a.samplers.size(), -1);
+    // A sampler is written once per kind of channel using it (weights are SCALAR, the rest vectors).
+    std::vector<int> used(a.samplers.size(), -1), used_weights(a.samplers.size(), -1);
     for (const auto& ch : a.channels) {
-      if (ch.path == AnimationPath::Weights || ch.sampler < 0 || static_cast<std::size_t>(ch.sampler) >= a.samplers.size())
-        continue;
+      if (ch.sampler < 0 || static_cast<std::size_t>(ch.sampler) >= a.samplers.size()) continue;
       const auto& s = a.samplers[ch.sampler];
       if (s.input.empty()) continue;
-      if (used[ch.sampler] < 0) {
+      const bool weights = ch.path == AnimationPath::Weights;
+      if (weights && !drives_written_targets(ch.node, s.components)) continue;
+      std::vector<int>& slot = weights ? used_weights : used;
+      if (slot[ch.sampler] < 0) {
         std::vector<float> output = s.output;
         if (ch.path == AnimationPath::Rotation && s.interpolation != Interpolation::CubicSpline)
           for (std::size_t k = 0; k + 3 < output.size(); k += 4) {
@@ -331,21 +399,31 @@ void Writer::write_animations() {
             else if (!unit_enough(len)) q /= len;
             for (int c = 0; c < 4; ++c) output[k + std::size_t(c)] = q[c];
           }
-        const char* type = s.components == 4 ? "VEC4" : s.components == 3 ? "VEC3" : "SCALAR";
+        const int comps = !weights && (s.components == 4 || s.components == 3) ? s.components : 1;
+        const char* type = comps == 4 ? "VEC4" : comps == 3 ? "VEC3" : "SCALAR";
         json sampler = {{"input", add_accessor(s.input, 1, kFloat, "SCALAR", 0, true)},
-                        {"output", add_accessor(output, s.components == 4 || s.components == 3 ? s.components : 1, kFloat, type, 0)},
+                        {"output", add_accessor(output, comps, kFloat, type, 0)},
                         {"interpolation", s.interpolation == Interpolation::Step          ? "STEP"
                                           : s.interpolation == Interpolation::CubicSpline ? "CUBICSPLINE"
                                                                                           : "LINEAR"}};
-        used[ch.sampler] = static_cast<int>(out["samplers"].size());
+        slot[ch.sampler] = static_cast<int>(out["samplers"].size());
         out["samplers"].push_back(sampler);
       }
       static const char* paths[] = {"translation", "rotation", "scale", "weights"};
-      out["channels"].push_back({{"sampler", used[ch.sampler]}, {"target", {{"node", ch.node}, {"path", paths[int(ch.path)]}}}});
+      out["channels"].push_back({{"sampler", slot[ch.sampler]}, {"target", {{"node", ch.node}, {"path", paths[int(ch.path)]}}}});
     }
     if (!out.contains("channels")) continue;
     doc_["animations"].push_back(out);
   }
+}
+
+// True when `node` draws a written mesh with `components` morph targets: only then may a channel
+// drive its weights (a mesh an operation emptied, or that lost its targets, takes its channels along).
+bool Writer::drives_written_targets(int node, int components) const {
+  if (node < 0 || static_cast<std::size_t>(node) >= model_.nodes.size()) return false;
+  const int mesh = model_.nodes[std::size_t(node)].mesh;
+  if (mesh < 0 || static_cast<std::size_t>(mesh) >= mesh_map_.size() || mesh_map_[std::size_t(mesh)] < 0) return false;
+  return components > 0 && mesh_targets_[std::size_t(mesh)] == static_cast<std::size_t>(components);
 }
 
 void Writer::write_nodes() {
@@ -368,6 +446,13 @@ void Writer::write_nodes() {
     if (mesh >= 0) {
       out["mesh"] = mesh;
       if (n.skin >= 0) out["skin"] = n.skin;
+      // One weight per written target (missing ones 0): glTF wants the counts equal.
+      const std::size_t targets = mesh_targets_[std::size_t(n.mesh)];
+      if (!n.weights.empty() && targets > 0) {
+        std::vector<float> w(targets, 0.0f);
+        std::copy_n(n.weights.begin(), std::min(targets, n.weights.size()), w.begin());
+        out["weights"] = w;
+      }
     }
     if (n.camera >= 0) out["camera"] = n.camera;
     if (!n.extras_json.empty()) out["extras"] = parse_or(n.extras_json, json::object());
