@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -69,6 +71,12 @@ TEST(CactusTest, sway_loops_and_moves_the_model) {
 }
 
 namespace {
+bool same_bytes(const std::string& a, const std::string& b) {
+  std::ifstream fa(a, std::ios::binary), fb(b, std::ios::binary);
+  const std::string sa((std::istreambuf_iterator<char>(fa)), {}), sb((std::istreambuf_iterator<char>(fb)), {});
+  return !sa.empty() && sa == sb;
+}
+
 // The trunk is the component holding the highest vertex; the arms are the other two.
 std::vector<bool> trunk_vertices(const SurfaceMesh& mesh) {
   const std::vector<std::uint32_t> component = Adjacency::build(mesh).vertex_components();
@@ -176,6 +184,17 @@ TEST(CactusTest, bundled_asset_is_what_the_generator_makes) {
   EXPECT_NEAR(a.volume(), b.volume(), 1e-4 * std::abs(b.volume()));
   const auto v = test::validate_gltf(std::string(DEEPCUT_ASSETS_DIR) + "/cactus.glb");
   EXPECT_EQ(v.exit_code, 0) << v.out << v.err;
+  // Byte for byte: `deepcut make-cactus -o assets/cactus.glb` writes what the generator makes.
+  const std::string written = test::temp_dir("cactus-asset") + "/cactus.glb";
+  write_gltf(fresh, written);
+  EXPECT_TRUE(same_bytes(written, std::string(DEEPCUT_ASSETS_DIR) + "/cactus.glb"))
+      << "assets/cactus.glb is stale: regenerate it with deepcut make-cactus -o assets/cactus.glb";
+  // The blend shapes and their channel survive the file.
+  EXPECT_EQ(bundled.meshes[0].target_names, fresh.meshes[0].target_names);
+  EXPECT_EQ(bundled.meshes[0].weights, fresh.meshes[0].weights);
+  std::size_t weight_channels = 0;
+  for (const AnimationChannel& c : bundled.animations.at(0).channels) weight_channels += c.path == AnimationPath::Weights;
+  EXPECT_EQ(weight_channels, 1u);
 }
 
 }  // namespace deepcut
