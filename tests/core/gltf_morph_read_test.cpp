@@ -146,10 +146,10 @@ TEST(GltfMorphReadTest, weights_that_do_not_fit_the_targets_are_dropped_or_resiz
     morph_test::add_weights_channel(t, {0, 1}, {0, 1}, 1);
     morph_test::add_weights_channel(t, {0, 1}, {0, 0, 1, 1}, 0);
     const Model model = read_gltf_memory(t.glb(), "channels.glb");
-    EXPECT_TRUE(has_note(model, "not a whole number per key; channel dropped")) << notes_of(model);
-    EXPECT_TRUE(has_note(model, "dropped (3 weights per key for 2 morph targets)")) << notes_of(model);
-    EXPECT_TRUE(has_note(model, "node 1 'empty' dropped (its mesh has no morph targets)")) << notes_of(model);
-    EXPECT_TRUE(has_note(model, "dropped (another channel drives the same weights)")) << notes_of(model);
+    EXPECT_TRUE(has_note(model, "morph weight channel dropped: animation 0 channel 1 (5 weights for 2 key times, not a whole number per key)")) << notes_of(model);
+    EXPECT_TRUE(has_note(model, "on node 0 'quad' (3 weights per key for 2 morph targets)")) << notes_of(model);
+    EXPECT_TRUE(has_note(model, "on node 1 'empty' (its mesh has no morph targets)")) << notes_of(model);
+    EXPECT_TRUE(has_note(model, "(another channel drives the same weights)")) << notes_of(model);
     ASSERT_EQ(model.animations[0].channels.size(), 1u);
     EXPECT_EQ(model.animations[0].samplers.size(), 1u) << "the samplers of dropped channels go too";
     EXPECT_EQ(model.animations[0].samplers[0].interpolation, Interpolation::CubicSpline);
@@ -163,9 +163,9 @@ TEST(GltfMorphReadTest, weights_that_do_not_fit_the_targets_are_dropped_or_resiz
     EXPECT_EQ(model.meshes[0].weights, (std::vector<float>{0.5f, 0.5f}));
     EXPECT_EQ(model.nodes[0].weights, (std::vector<float>{1.0f, 0.0f}));
     EXPECT_FALSE(model.meshes[0].primitives[0].mesh.corner_attrs().contains(attr::morph_normal_name(1)));
-    EXPECT_TRUE(has_note(model, "3 morph weights for 2 targets (extra ones dropped)")) << notes_of(model);
-    EXPECT_TRUE(has_note(model, "1 morph weights for 2 targets of its mesh (missing ones set to 0)")) << notes_of(model);
-    EXPECT_TRUE(has_note(model, "morph NORMAL/TANGENT deltas dropped")) << notes_of(model);
+    EXPECT_TRUE(has_note(model, "1 mesh's morph weights resized to its target count: mesh 0 (3 weights for 2 targets)")) << notes_of(model);
+    EXPECT_TRUE(has_note(model, "1 node's morph weights resized to its mesh's target count: node 0 'quad' (1 weights for 2 targets)")) << notes_of(model);
+    EXPECT_TRUE(has_note(model, "1 morph NORMAL/TANGENT delta dropped (the primitive has no such attribute to morph): mesh 0 primitive 0")) << notes_of(model);
   }
   {  // two primitives with 2 and 1 targets: the first target is kept, and its name
     Tiny t = tiny_quad();
@@ -177,8 +177,8 @@ TEST(GltfMorphReadTest, weights_that_do_not_fit_the_targets_are_dropped_or_resiz
     EXPECT_EQ(model.meshes[0].target_names, (std::vector<std::string>{"lift"}));
     EXPECT_NE(model.meshes[0].extras_json.find("\"author\""), std::string::npos);
     EXPECT_EQ(model.nodes[0].weights, (std::vector<float>{1.0f}));
-    EXPECT_TRUE(has_note(model, "its primitives have 1 to 2 morph targets (the first 1 kept")) << notes_of(model);
-    EXPECT_TRUE(has_note(model, "extras.targetNames cut to the 1 targets kept")) << notes_of(model);
+    EXPECT_TRUE(has_note(model, "1 morph target dropped (the mesh's primitives must all have it): mesh 0 (1 to 2 per primitive, the first 1 kept)")) << notes_of(model);
+    EXPECT_TRUE(has_note(model, "1 mesh's extras.targetNames cut to the targets kept: mesh 0")) << notes_of(model);
     for (const auto& a : model.animations) EXPECT_TRUE(a.channels.empty()) << "2 weights per key no longer fit";
   }
   {  // a mesh without targets but with weights and target names
@@ -188,7 +188,7 @@ TEST(GltfMorphReadTest, weights_that_do_not_fit_the_targets_are_dropped_or_resiz
     const Model model = read_gltf_memory(t.glb(), "untargeted.glb");
     EXPECT_EQ(model.meshes[0].target_count(), 0u);
     EXPECT_TRUE(model.nodes[0].weights.empty());
-    EXPECT_TRUE(has_note(model, "2 morph weights for 0 targets (extra ones dropped)")) << notes_of(model);
+    EXPECT_TRUE(has_note(model, "mesh's morph weights resized to its target count: mesh 0 (2 weights for 0 targets)")) << notes_of(model);
   }
 }
 

@@ -298,6 +298,10 @@ const AssetPlan kPlans[] = {
     {"assets/models/RiggedSimple/RiggedSimple.gltf", "riggedsimple", 35, 6},
     {"assets/models/SimpleSkin/SimpleSkin.gltf", "simpleskin", 25, 5},
     {"assets/models/spot/spot.obj", "spot", 40, 6},
+    // Morph-target inputs (appended: the seeds of the plans above stay as they were).
+    {"assets/models/AnimatedMorphCube/AnimatedMorphCube.gltf", "animatedmorphcube", 12, 2},
+    {"assets/models/AnimatedMorphSphere/AnimatedMorphSphere.gltf", "animatedmorphsphere", 12, 2},
+    {"assets/models/SimpleMorph/SimpleMorph.gltf", "simplemorph", 12, 2},
 };
 
 // Command lines the CLI must refuse (exit 2), and one that names a missing model.

@@ -25,6 +25,8 @@ std::string node_label(const Model& model, int node) {
   return "node " + std::to_string(node) + (name.empty() ? "" : " '" + name + "'");
 }
 
+const MorphCounted kChannelDropped = {"morph weight channel dropped", "morph weight channels dropped"};
+
 // Keeps the samplers some channel uses, renumbered in order.
 void drop_unused_samplers(Animation& anim) {
   std::vector<int> renumber(anim.samplers.size(), -1);
@@ -63,6 +65,10 @@ void add_morph_targets(SurfaceMesh& mesh, const std::vector<std::uint32_t>& tris
   }
 }
 
+void Reader::morph_note(std::size_t count, const MorphCounted& what, const std::string& place) {
+  if (count > 0) note(std::to_string(count) + " " + (count == 1 ? what.one : what.many) + (place.empty() ? "" : ": " + place));
+}
+
 void Reader::charge_decode(std::size_t bytes, const std::string& what) {
   if (bytes > decode_left_)
     fail(what + ": its arrays would take the model past the decoding limit; the file claims far more data than it holds");
@@ -80,8 +86,10 @@ std::size_t Reader::mesh_target_count(std::size_t m, const std::string& where) {
     hi = std::max(hi, p.targets.size());
   }
   if (lo != hi)
-    note(where + ": its primitives have " + std::to_string(lo) + " to " + std::to_string(hi) + " morph targets (the first " +
-         std::to_string(lo) + " kept, the others dropped)");
+    morph_note(hi - lo, {"morph target dropped (the mesh's primitives must all have it)",
+                         "morph targets dropped (the mesh's primitives must all have them)"},
+               where + " (" + std::to_string(lo) + " to " + std::to_string(hi) + " per primitive, the first " + std::to_string(lo) +
+                   " kept)");
   return lo;
 }
 
@@ -118,10 +126,12 @@ std::vector<MorphTarget> Reader::read_targets(const tinygltf::Primitive& p, cons
     }
     if (out[t].position.empty()) out[t].position.assign(3 * nv, 0.0f);
   }
-  if (without_base)
-    note(where + ": " + std::to_string(without_base) +
-         " morph NORMAL/TANGENT deltas dropped (the primitive has no such attribute to morph)");
-  if (other) note(where + ": " + std::to_string(other) + " morph target attributes other than POSITION, NORMAL, TANGENT dropped");
+  morph_note(without_base, {"morph NORMAL/TANGENT delta dropped (the primitive has no such attribute to morph)",
+                            "morph NORMAL/TANGENT deltas dropped (the primitive has no such attribute to morph)"},
+             where);
+  morph_note(other, {"morph target attribute other than POSITION, NORMAL, TANGENT dropped",
+                     "morph target attributes other than POSITION, NORMAL, TANGENT dropped"},
+             where);
   return out;
 }
 
@@ -132,8 +142,8 @@ void Reader::read_mesh_weights(Mesh& mesh, std::size_t m, const std::string& whe
   for (const double w : g.weights)
     if (!std::isfinite(static_cast<float>(w))) fail(where + ": a morph weight is not finite (a value overflows a 32-bit float)");
   if (!g.weights.empty() && g.weights.size() != count)
-    note(where + ": " + std::to_string(g.weights.size()) + " morph weights for " + std::to_string(count) + " targets (" +
-         (g.weights.size() > count ? "extra ones dropped)" : "missing ones set to 0)"));
+    morph_note(1, {"mesh's morph weights resized to its target count", "meshes' morph weights resized to their target counts"},
+               where + " (" + std::to_string(g.weights.size()) + " weights for " + std::to_string(count) + " targets)");
   mesh.weights.assign(count, 0.0f);
   for (std::size_t t = 0; t < count && t < g.weights.size(); ++t) mesh.weights[t] = static_cast<float>(g.weights[t]);
 
@@ -147,12 +157,13 @@ void Reader::read_mesh_weights(Mesh& mesh, std::size_t m, const std::string& whe
     names.erase(names.begin() + static_cast<std::ptrdiff_t>(count), names.end());
     if (count == 0) extras.erase("targetNames");
     mesh.extras_json = extras.dump();
-    note(where + ": extras.targetNames cut to the " + std::to_string(count) + " targets kept");
+    morph_note(1, {"mesh's extras.targetNames cut to the targets kept", "meshes' extras.targetNames cut to the targets kept"}, where);
   }
   if (!extras.contains("targetNames") || names.size() != count) {
     if (extras.contains("targetNames"))
-      note(where + ": extras.targetNames has " + std::to_string(names.size()) + " names for " + std::to_string(count) +
-           " morph targets (not used as their names)");
+      morph_note(1, {"mesh's extras.targetNames does not name its targets (kept as it is)",
+                     "meshes' extras.targetNames do not name their targets (kept as they are)"},
+                 where + " (" + std::to_string(names.size()) + " names for " + std::to_string(count) + " targets)");
     return;
   }
   std::vector<std::string> out;
@@ -169,13 +180,14 @@ void Reader::read_mesh_weights(Mesh& mesh, std::size_t m, const std::string& whe
 bool Reader::fit_weights_sampler(AnimationSampler& s, int output_type, std::size_t animation, std::size_t channel) {
   const std::string where = "animation " + std::to_string(animation) + " channel " + std::to_string(channel);
   if (output_type != TINYGLTF_TYPE_SCALAR) {
-    note(where + ": morph weights are not SCALAR (channel dropped)");
+    morph_note(1, kChannelDropped, where + " (its weights are not SCALAR)");
     return false;
   }
   const std::size_t keys = s.input.size() * (s.interpolation == Interpolation::CubicSpline ? 3 : 1);
   if (keys == 0 || s.output.size() % keys != 0) {
-    note(where + ": " + std::to_string(s.output.size()) + " morph weights for " + std::to_string(s.input.size()) +
-         " key times (not a whole number per key; channel dropped)");
+    morph_note(1, kChannelDropped,
+               where + " (" + std::to_string(s.output.size()) + " weights for " + std::to_string(s.input.size()) +
+                   " key times, not a whole number per key)");
     return false;
   }
   s.components = static_cast<int>(s.output.size() / keys);
@@ -194,9 +206,9 @@ void Reader::resolve_morph_weights() {
     Node& n = model_.nodes[i];
     const std::size_t count = targets_of(static_cast<int>(i));
     if (n.weights.empty() || n.weights.size() == count) continue;
-    note(node_label(model_, static_cast<int>(i)) + ": " + std::to_string(n.weights.size()) + " morph weights for " +
-         std::to_string(count) + " targets of its mesh (" +
-         (count == 0 ? "dropped)" : n.weights.size() > count ? "extra ones dropped)" : "missing ones set to 0)"));
+    morph_note(1, {"node's morph weights resized to its mesh's target count", "nodes' morph weights resized to their meshes' target counts"},
+               node_label(model_, static_cast<int>(i)) + " (" + std::to_string(n.weights.size()) + " weights for " +
+                   std::to_string(count) + " targets)");
     n.weights.resize(count, 0.0f);
   }
   for (std::size_t a = 0; a < model_.animations.size(); ++a) {
@@ -219,8 +231,9 @@ void Reader::resolve_morph_weights() {
         kept.push_back(ch);
         driven.push_back(ch.node);
       } else {
-        note("animation " + std::to_string(a) + (anim.name.empty() ? "" : " '" + anim.name + "'") + ": the morph weight channel of " +
-             node_label(model_, ch.node) + " dropped (" + why + ")");
+        morph_note(1, kChannelDropped,
+                   "animation " + std::to_string(a) + (anim.name.empty() ? "" : " '" + anim.name + "'") + " on " +
+                       node_label(model_, ch.node) + " (" + why + ")");
       }
     }
     anim.channels = std::move(kept);

@@ -52,6 +52,11 @@ struct MorphTarget {
 // is face t): `attr::morph_position_name(i)` per vertex, the normal and tangent deltas per corner.
 void add_morph_targets(SurfaceMesh& mesh, const std::vector<std::uint32_t>& tris, const std::vector<MorphTarget>& targets);
 
+// A phrase that follows a count, in the singular and the plural.
+struct MorphCounted {
+  std::string one, many;
+};
+
 class Reader {
  public:
   /// Reads the file at `path`, or `*memory` (then `path` only names it and no file is read).
@@ -95,6 +100,8 @@ class Reader {
   std::vector<MorphTarget> read_targets(const tinygltf::Primitive& p, const std::string& where, std::size_t nv,
                                         std::size_t corners, std::size_t count);
   void read_mesh_weights(Mesh& mesh, std::size_t m, const std::string& where, std::size_t count);
+  // Notes `count` morph things repaired or dropped at `place`: "<count> <phrase>: <place>".
+  void morph_note(std::size_t count, const MorphCounted& what, const std::string& place);
   bool fit_weights_sampler(AnimationSampler& s, int output_type, std::size_t animation, std::size_t channel);
   void resolve_morph_weights();
   void charge_decode(std::size_t bytes, const std::string& what);
