@@ -11,16 +11,19 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <string>
 #include <vector>
 
+#include "deepcut/core/io/gltf.h"
 #include "deepcut/core/ops/cut.h"
 #include "deepcut/core/ops/drill.h"
 #include "deepcut/core/ops/tear.h"
 #include "deepcut/core/posed_model.h"
 #include "deepcut/core/skinning.h"
 #include "fixtures.h"
+#include "tools.h"
 
 namespace deepcut {
 namespace {
@@ -491,6 +494,44 @@ TEST(MorphPoseTest, a_dropped_node_loses_its_weights_and_a_reposed_model_equals_
     EXPECT_GE(model.nodes[static_cast<std::size_t>(c.node)].mesh, 0);
   }
   EXPECT_EQ(channels, 1u) << "the kept piece's";
+}
+
+TEST(MorphPoseTest, cut_and_drilled_pieces_at_a_morphed_pose_survive_the_file) {
+  // Cut with caps and drill with walls at a morphed pose, write, read back: every piece keeps its
+  // targets and weight channel, the file is valid glTF, and the re-read model poses as the edited
+  // one does while the morph plays.
+  Model model = test::make_morph_tube_model();
+  PosedModel posed = PosedModel::build(model, 0, 0.0f);
+  CutOptions cut;
+  cut.cap = true;
+  ASSERT_EQ(cut_model(model, posed, {{0.0f, 2.3f, 0.0f}, {0.0f, 1.0f, 0.0f}}, cut, 0, 0.0f).status, OpStatus::Ok);
+  DrillOptions drill;
+  drill.wall = true;
+  const Cylinder cyl{{0.1f, 1.0f, -2.0f}, {0.1f, 1.0f, 2.0f}, 0.2f};
+  ASSERT_EQ(drill_model(model, posed, cyl, drill, 0, 0.5f).status, OpStatus::Ok);
+  const std::string dir = test::temp_dir("morph-pose");
+  const std::string path = dir + "/pieces.glb";
+  write_gltf(model, path);
+  const test::RunResult validated = test::validate_gltf(path);
+  EXPECT_EQ(validated.exit_code, 0) << validated.out << validated.err;
+  const Model back = read_gltf(path);
+  std::size_t pieces = 0;
+  for (std::size_t n = 0; n < back.nodes.size(); ++n) {
+    if (back.nodes[n].mesh < 0) continue;
+    ++pieces;
+    EXPECT_EQ(back.meshes[static_cast<std::size_t>(back.nodes[n].mesh)].target_count(), 2u) << "node " << n;
+    bool channel = false;
+    for (const AnimationChannel& ch : back.animations.at(0).channels)
+      channel |= ch.node == static_cast<int>(n) && ch.path == AnimationPath::Weights;
+    EXPECT_TRUE(channel) << "node " << n;
+  }
+  EXPECT_EQ(pieces, 2u);
+  for (const PoseKey& key : {PoseKey(0, 0.3f), PoseKey(0, 1.0f), PoseKey(0, 1.8f)}) {
+    const BoundingBox a = world_bounds(model, sample_pose(model, key));
+    const BoundingBox b = world_bounds(back, sample_pose(back, key));
+    EXPECT_LE(glm::length(a.min - b.min) + glm::length(a.max - b.max), 1e-5f * a.diagonal()) << "time " << key.time;
+  }
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace deepcut
