@@ -218,9 +218,13 @@ const PosedModel* Session::posed_model() const {
 }
 
 bool Session::refresh_posed_model(int animation, float time) {
+  return refresh_posed_model(PoseKey(animation, time));
+}
+
+bool Session::refresh_posed_model(const PoseKey& key) {
   if (!current_) return false;
   try {
-    posed_for(current_)->prepare(*current_, animation, time);
+    posed_for(current_)->prepare(*current_, key);
     posed_state_ = current_;
     return true;
   } catch (const Error&) {

@@ -123,6 +123,9 @@ class Session {
   /// Brings the posed model up to date for the current state at this pose. An error leaves
   /// none (the next operation builds it and reports what is wrong). @returns true when done.
   bool refresh_posed_model(int animation, float time);
+  /// The same at a pose with morph weights set by hand (the studio's morph weights panel); the
+  /// operations then run at those weights when they carry them (Operation::weights).
+  bool refresh_posed_model(const PoseKey& key);
   /// Called before the posed model changes or is replaced (pointers into it, such as grids lent
   /// to a drawn scene, must be dropped).
   void set_posed_model_listener(std::function<void()> before_change) { before_change_ = std::move(before_change); }

@@ -38,6 +38,7 @@
 #include "scene_host.h"
 #include "scene_tree.h"
 #include "scene_view.h"
+#include "morph_panel.h"
 #include "timeline.h"
 #include "tool_host.h"
 
@@ -101,6 +102,7 @@ MainWindow::MainWindow(const MainWindowOptions& options, QWidget* parent)
   connect(scene_host_, &SceneHost::overlays_changed, this, &MainWindow::refresh_status);
   connect(scene_host_, &SceneHost::note, statusBar(), &QStatusBar::showMessage);
   connect(timeline_, &Timeline::pose_changed, scene_host_, &SceneHost::pose);
+  scene_host_->set_morph_panel(morph_panel_);
   build_menus();
 
   for (QLabel** label : {&operation_label_, &time_label_, &counts_label_}) {
@@ -138,11 +140,14 @@ void MainWindow::build_docks() {
   });
   QDockWidget* history_dock = dock("History", "history_dock", operations_->create_panel(this), Qt::LeftDockWidgetArea);
   splitDockWidget(scene_dock, history_dock, Qt::Vertical);
-  resizeDocks({scene_dock, history_dock}, {480, 300}, Qt::Vertical);
   QDockWidget* inspector_dock = dock("Inspector", "inspector_dock", inspectors_->create_panel(this), Qt::RightDockWidgetArea);
   inspector_dock->setMinimumWidth(300);
   QDockWidget* tool_dock = dock("Tool", "tool_dock", tools_->create_panel(this), Qt::RightDockWidgetArea);
   splitDockWidget(inspector_dock, tool_dock, Qt::Vertical);
+  morph_panel_ = new MorphPanel(this);
+  QDockWidget* morph_dock = dock("Morph weights", "morph_dock", morph_panel_, Qt::LeftDockWidgetArea);
+  splitDockWidget(history_dock, morph_dock, Qt::Vertical);
+  resizeDocks({scene_dock, history_dock, morph_dock}, {330, 250, 200}, Qt::Vertical);
   timeline_ = new Timeline(this);
   dock("Time line", "timeline_dock", timeline_, Qt::BottomDockWidgetArea);
   resizeDocks({scene_dock, inspector_dock}, {300, 330}, Qt::Horizontal);

@@ -37,6 +37,7 @@ class SceneHost;
 class SceneTree;
 class SceneView;
 class Timeline;
+class MorphPanel;
 class ToolHost;
 enum class DisplayMode;
 
@@ -193,6 +194,7 @@ class MainWindow : public QMainWindow {
   ProblemsPanel* problems_ = nullptr;
   QDockWidget* problems_dock_ = nullptr;
   Timeline* timeline_ = nullptr;
+  MorphPanel* morph_panel_ = nullptr;
   ToolHost* tools_ = nullptr;
   InspectorHost* inspectors_ = nullptr;
   OperationsHost* operations_ = nullptr;

@@ -26,6 +26,7 @@ Operation tool_operation(const ToolHost& tools) {
   op.params = tools.tool()->parameters();
   op.animation = tools.scene()->animation;
   op.time = tools.scene()->time;
+  op.weights = tools.scene()->weights;  // the morph weights set by hand, as drawn
   return op;
 }
 
@@ -164,6 +165,7 @@ bool OperationsHost::apply_edit() {
   op.params = placed.params;
   op.animation = placed.animation;
   op.time = placed.time;
+  op.weights = placed.weights;
   session::EditOutcome outcome;
   try {
     outcome = session_.finish_edit(op);

@@ -4,6 +4,7 @@
 #include <QTimer>
 
 #include "inspector_host.h"
+#include "morph_panel.h"
 #include "scene_tree.h"
 #include "scene_view.h"
 #include "timeline.h"
@@ -41,8 +42,12 @@ std::vector<std::string> SceneHost::show_opened(plugins::Scene scene, const QStr
   }
   *scene_ = std::move(scene);
   title_ = title;
+  if (morph_) {  // a new model: its weights follow the animation
+    morph_->set_scene(nullptr);
+    morph_->set_scene(scene_.get());
+  }
   // The operations' posed model, once per model (and pose): every drill and tear updates it.
-  session_.refresh_posed_model(scene_->animation, scene_->time);
+  session_.refresh_posed_model(PoseKey(scene_->animation, scene_->time, scene_->weights));
   posed_timer_->stop();
   std::vector<std::string> notes = present();
   refresh_inspector();
@@ -66,7 +71,15 @@ void SceneHost::show_current() {
   const std::shared_ptr<const Model>& model = session_.current();
   int animation = timeline_->animation();
   if (animation >= static_cast<int>(model->animations.size())) animation = model->animations.empty() ? -1 : 0;
-  *scene_ = plugins::make_scene(model, animation, timeline_->time());
+  *scene_ = plugins::make_scene(model, PoseKey(animation, timeline_->time(), scene_->weights));
+  if (morph_) {
+    morph_->set_scene(scene_.get());  // drops weights set for nodes that no longer morph alike
+    if (morph_->overrides() != scene_->weights) {
+      scene_->weights = morph_->overrides();
+      plugins::pose_scene(*scene_, scene_->animation, scene_->time);
+    }
+    morph_->show_pose();
+  }
   present();
   tools_->refresh_preview();
   refresh_inspector();
@@ -80,6 +93,7 @@ void SceneHost::pose(int animation, float time) {
   posed_timer_->start();                 // the operations' posed model follows once the pose stays put
   tools_->lend_grids(nullptr, nullptr);  // its grids are filed at the previous pose
   plugins::pose_scene(*scene_, animation, time);
+  if (morph_) morph_->show_pose();
   view_->update_pose();
   tools_->scene_redrawn();
   tools_->show_displacement();
@@ -92,9 +106,19 @@ void SceneHost::pose(int animation, float time) {
 
 void SceneHost::refresh_posed_model() {
   if (!session_.current() || !scene_) return;
-  if (!session_.refresh_posed_model(scene_->animation, scene_->time)) return;
+  if (!session_.refresh_posed_model(PoseKey(scene_->animation, scene_->time, scene_->weights))) return;
   lend_grids();
   tools_->refresh_preview();
+}
+
+void SceneHost::set_morph_panel(MorphPanel* panel) {
+  morph_ = panel;
+  morph_->set_scene(scene_.get());
+  connect(morph_, &MorphPanel::weights_changed, this, [this] {
+    if (!scene_) return;
+    scene_->weights = morph_->overrides();
+    pose(scene_->animation, scene_->time);
+  });
 }
 
 void SceneHost::lend_grids() { tools_->lend_grids(session_.current(), session_.posed_model()); }

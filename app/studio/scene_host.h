@@ -22,6 +22,7 @@ class QTimer;
 namespace deepcut::studio {
 
 class InspectorHost;
+class MorphPanel;
 class SceneTree;
 class SceneView;
 class Timeline;
@@ -42,8 +43,12 @@ class SceneHost : public QObject {
   std::vector<std::string> show_opened(plugins::Scene scene, const QString& title);
   /// Shows the session's current state at the time line's pose (after an undo step or an edit).
   void show_current();
-  /// Poses the scene at `time` of `animation` (the time line moved).
+  /// Poses the scene at `time` of `animation` (the time line moved), at the morph weights set by
+  /// hand.
   void pose(int animation, float time);
+  /// Shows the morph weights in `panel` and poses the scene (and the operations) at the weights
+  /// set there by hand.
+  void set_morph_panel(MorphPanel* panel);
 
   /// Brings the session's posed model up to date for the shown state and pose now (else done
   /// once the pose stays put for a moment), and lends the scene its grids.
@@ -78,6 +83,7 @@ class SceneHost : public QObject {
   Timeline* timeline_;
   ToolHost* tools_;
   InspectorHost* inspectors_;
+  MorphPanel* morph_ = nullptr;
   session::Session& session_;
   std::unique_ptr<plugins::Scene> scene_;  // created once, then kept at one address
   QTimer* posed_timer_ = nullptr;          // rebuilds the posed model once the pose or state settles

@@ -213,7 +213,7 @@ void ToolHost::show_displacement() {
 void ToolHost::lend_grids(const std::shared_ptr<const Model>& model, const PosedModel* posed) {
   if (!scene_) return;
   for (plugins::SceneInstance& instance : scene_->instances) instance.grid = nullptr;
-  if (!posed || scene_->model != model || !posed->matches(scene_->animation, scene_->time)) return;
+  if (!posed || scene_->model != model || !posed->matches(PoseKey(scene_->animation, scene_->time, scene_->weights))) return;
   for (plugins::SceneInstance& instance : scene_->instances) {
     const PosedMesh* mesh = posed->find(instance.node, instance.primitive);
     // The grid is filed at the posed model's positions: lend it only where they are the

@@ -30,6 +30,10 @@ void check_animation(const Model& model, int animation) {
 }  // namespace
 
 Scene make_scene(std::shared_ptr<const Model> model, int animation, float time, bool with_normals) {
+  return make_scene(std::move(model), PoseKey(animation, time), with_normals);
+}
+
+Scene make_scene(std::shared_ptr<const Model> model, const PoseKey& key, bool with_normals) {
   if (!model) throw Error(ErrorCode::InvalidArgument, "make_scene: no model");
   Scene scene;
   scene.model = std::move(model);
@@ -52,7 +56,8 @@ Scene make_scene(std::shared_ptr<const Model> model, int animation, float time, 
   }
   const BoundingBox rest = world_bounds(m, rest_pose(m));
   scene.size = rest.empty() || rest.diagonal() <= 0.0f ? 1.0f : rest.diagonal();
-  pose_scene(scene, animation, time, with_normals);
+  scene.weights = key.weights;
+  pose_scene(scene, key.animation, key.time, with_normals);
   return scene;
 }
 
@@ -60,10 +65,11 @@ void pose_scene(Scene& scene, int animation, float time, bool with_normals) {
   const Model& m = *scene.model;
   check_animation(m, animation);
   // A copy of the scene shares the posed model: pose one of its own.
+  const PoseKey key(animation, time, scene.weights);
   if (scene.posed && scene.posed.use_count() == 1)
-    scene.posed->repose(m, animation, time);
+    scene.posed->repose(m, key);
   else
-    scene.posed = std::make_shared<PosedModel>(PosedModel::build(m, animation, time, PoseDetail::Positions));
+    scene.posed = std::make_shared<PosedModel>(PosedModel::build(m, key, PoseDetail::Positions));
   scene.animation = animation;
   scene.time = time;
   scene.world = scene.posed->world();

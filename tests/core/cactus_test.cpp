@@ -1,11 +1,17 @@
 // SPDX-License-Identifier: MIT
 #include "deepcut/core/generate/cactus.h"
 
+#include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "deepcut/core/adjacency.h"
+#include "deepcut/core/attributes.h"
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/skinning.h"
 #include "deepcut/core/validate.h"
@@ -64,6 +70,100 @@ TEST(CactusTest, sway_loops_and_moves_the_model) {
   EXPECT_LT(bind_gap, 1e-5f * size) << "the rest pose is the bind pose";
 }
 
+namespace {
+bool same_bytes(const std::string& a, const std::string& b) {
+  std::ifstream fa(a, std::ios::binary), fb(b, std::ios::binary);
+  const std::string sa((std::istreambuf_iterator<char>(fa)), {}), sb((std::istreambuf_iterator<char>(fb)), {});
+  return !sa.empty() && sa == sb;
+}
+
+// The trunk is the component holding the highest vertex; the arms are the other two.
+std::vector<bool> trunk_vertices(const SurfaceMesh& mesh) {
+  const std::vector<std::uint32_t> component = Adjacency::build(mesh).vertex_components();
+  const auto& p = mesh.positions();
+  std::size_t top = 0;
+  for (std::size_t v = 1; v < p.size(); ++v)
+    if (p[v].y > p[top].y) top = v;
+  std::vector<bool> trunk(p.size());
+  for (std::size_t v = 0; v < p.size(); ++v) trunk[v] = component[v] == component[top];
+  return trunk;
+}
+}  // namespace
+
+TEST(CactusTest, blend_shapes_lift_the_arms_and_swell_a_bloom_on_top) {
+  const Model model = make_cactus();
+  const Mesh& m = model.meshes[0];
+  const SurfaceMesh& mesh = m.primitives[0].mesh;
+  ASSERT_EQ(m.target_count(), 2u);
+  EXPECT_EQ(m.weights, std::vector<float>(2, 0.0f));
+  EXPECT_EQ(m.target_names, (std::vector<std::string>{"arms_lift", "bloom"}));
+  EXPECT_EQ(m.extras_json, R"({"targetNames":["arms_lift","bloom"]})");
+  const std::vector<bool> trunk = trunk_vertices(mesh);
+  const float size = mesh.bounds().diagonal();
+  const auto& lift = mesh.vertex_attrs().get<glm::vec3>(attr::morph_position_name(0)).data();
+  const auto& bloom = mesh.vertex_attrs().get<glm::vec3>(attr::morph_position_name(1)).data();
+  ASSERT_EQ(lift.size(), mesh.vertex_count());
+  ASSERT_EQ(bloom.size(), mesh.vertex_count());
+  float arm_lift = 0.0f, lowest_bloom = size;
+  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+    ASSERT_TRUE(std::isfinite(lift[v].x) && std::isfinite(lift[v].y) && std::isfinite(lift[v].z));
+    ASSERT_TRUE(std::isfinite(bloom[v].x) && std::isfinite(bloom[v].y) && std::isfinite(bloom[v].z));
+    if (trunk[v]) {
+      EXPECT_EQ(lift[v], glm::vec3(0.0f)) << "the arms' shape moves no trunk vertex (" << v << ")";
+    } else {
+      EXPECT_EQ(bloom[v], glm::vec3(0.0f)) << "the bloom moves no arm vertex (" << v << ")";
+      EXPECT_GE(lift[v].y, 0.0f) << "arms rise";
+      arm_lift = std::max(arm_lift, lift[v].y);
+    }
+    if (bloom[v] != glm::vec3(0.0f)) lowest_bloom = std::min(lowest_bloom, mesh.positions()[v].y);
+  }
+  EXPECT_GT(arm_lift, 0.02f * size) << "the arms visibly rise";
+  EXPECT_GT(lowest_bloom, 0.8f * mesh.bounds().max.y) << "the bloom is on top";
+  // Normal deltas per corner: the rest normal plus the delta is the unit normal of the fully
+  // morphed surface.
+  for (int t = 0; t < 2; ++t) {
+    const auto& dn = mesh.corner_attrs().get<glm::vec3>(attr::morph_normal_name(t)).data();
+    const auto& n = mesh.corner_attrs().get<glm::vec3>(attr::kNormal).data();
+    ASSERT_EQ(dn.size(), n.size());
+    for (std::size_t c = 0; c < n.size(); ++c) ASSERT_NEAR(glm::length(n[c] + dn[c]), 1.0f, 1e-3f) << "corner " << c;
+  }
+}
+
+TEST(CactusTest, clip_plays_the_blend_shapes_in_a_loop) {
+  const Model model = make_cactus();
+  const Animation& clip = model.animations[0];
+  int mesh_node = -1;
+  for (std::size_t n = 0; n < model.nodes.size(); ++n)
+    if (model.nodes[n].mesh == 0) mesh_node = static_cast<int>(n);
+  const AnimationChannel* channel = nullptr;
+  for (const AnimationChannel& c : clip.channels)
+    if (c.path == AnimationPath::Weights) {
+      EXPECT_EQ(channel, nullptr) << "one weight channel";
+      channel = &c;
+    }
+  ASSERT_NE(channel, nullptr);
+  EXPECT_EQ(channel->node, mesh_node);
+  const AnimationSampler& s = clip.samplers[static_cast<std::size_t>(channel->sampler)];
+  EXPECT_EQ(s.components, 2);
+  EXPECT_EQ(s.interpolation, Interpolation::Linear);
+  ASSERT_GE(s.input.size(), 3u);
+  EXPECT_EQ(s.input.front(), 0.0f);
+  EXPECT_EQ(s.input.back(), clip.duration()) << "keyed over the whole clip";
+  ASSERT_EQ(s.output.size(), 2 * s.input.size());
+  float peak[2] = {0.0f, 0.0f};
+  for (std::size_t k = 0; k < s.output.size(); ++k) {
+    EXPECT_GE(s.output[k], 0.0f);
+    EXPECT_LE(s.output[k], 1.0f);
+    peak[k % 2] = std::max(peak[k % 2], s.output[k]);
+  }
+  EXPECT_GT(peak[0], 0.99f);
+  EXPECT_GT(peak[1], 0.99f);
+  for (int t = 0; t < 2; ++t) {
+    EXPECT_EQ(s.output[std::size_t(t)], 0.0f) << "the clip starts at rest";
+    EXPECT_EQ(s.output[s.output.size() - 2 + std::size_t(t)], s.output[std::size_t(t)]) << "the loop is seamless";
+  }
+}
+
 TEST(CactusTest, size_parameter_scales_the_triangle_count) {
   CactusOptions options;
   options.target_triangles = 100000;
@@ -84,6 +184,17 @@ TEST(CactusTest, bundled_asset_is_what_the_generator_makes) {
   EXPECT_NEAR(a.volume(), b.volume(), 1e-4 * std::abs(b.volume()));
   const auto v = test::validate_gltf(std::string(DEEPCUT_ASSETS_DIR) + "/cactus.glb");
   EXPECT_EQ(v.exit_code, 0) << v.out << v.err;
+  // Byte for byte: `deepcut make-cactus -o assets/cactus.glb` writes what the generator makes.
+  const std::string written = test::temp_dir("cactus-asset") + "/cactus.glb";
+  write_gltf(fresh, written);
+  EXPECT_TRUE(same_bytes(written, std::string(DEEPCUT_ASSETS_DIR) + "/cactus.glb"))
+      << "assets/cactus.glb is stale: regenerate it with deepcut make-cactus -o assets/cactus.glb";
+  // The blend shapes and their channel survive the file.
+  EXPECT_EQ(bundled.meshes[0].target_names, fresh.meshes[0].target_names);
+  EXPECT_EQ(bundled.meshes[0].weights, fresh.meshes[0].weights);
+  std::size_t weight_channels = 0;
+  for (const AnimationChannel& c : bundled.animations.at(0).channels) weight_channels += c.path == AnimationPath::Weights;
+  EXPECT_EQ(weight_channels, 1u);
 }
 
 }  // namespace deepcut

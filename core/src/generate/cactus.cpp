@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "deepcut/core/errors.h"
+#include "generate/cactus_morph.h"
 #include "geometry/predicates.h"
 
 namespace deepcut {
@@ -244,6 +245,8 @@ struct Builder {
   std::vector<std::uint32_t> slots;  ///< per corner: index into `normals`
   std::vector<glm::vec3> normals;    ///< per normal slot (accumulated, then normalised)
   std::vector<std::uint8_t> fixed;   ///< per normal slot: 1 if analytic (poles), not accumulated
+  cactus_morph::VertexOrigin origin;  ///< per vertex: limb and spine coordinate (for the targets)
+  std::uint8_t limb = 0;              ///< the limb being swept
 
   void add_triangle(std::uint32_t a, std::uint32_t b, std::uint32_t c, const glm::vec2& ua,
                     const glm::vec2& ub, const glm::vec2& uc, std::uint32_t sa, std::uint32_t sb,
@@ -317,6 +320,8 @@ void sweep_limb(const LimbSpec& spec, int rings, Builder& b) {
     normalized_weights(spec.rig.influences(s), j, w);
     b.joints.insert(b.joints.end(), static_cast<std::size_t>(count), j);
     b.weights.insert(b.weights.end(), static_cast<std::size_t>(count), w);
+    b.origin.limb.insert(b.origin.limb.end(), static_cast<std::size_t>(count), b.limb);
+    b.origin.spine_s.insert(b.origin.spine_s.end(), static_cast<std::size_t>(count), static_cast<float>(s));
   };
   glm::dvec3 p, t0, t1;
   spec.spine.eval(-spec.start_cap, p, t0);
@@ -533,8 +538,22 @@ Skeleton cactus_skeleton(std::vector<LimbSpec>& limbs, double h) {
   return skeleton;
 }
 
-// The swept surface with its skin weights, UVs and area-weighted corner normals.
-SurfaceMesh cactus_mesh(const std::vector<LimbSpec>& limbs, std::size_t target_triangles) {
+// Where the blend shapes act: the trunk's top dome, and each arm from the trunk to its bend's end.
+cactus_morph::Shape morph_shape(const std::vector<LimbSpec>& limbs, double h) {
+  cactus_morph::Shape shape;
+  shape.height = h;
+  shape.dome_height = limbs[0].end_cap;
+  shape.dome_base_y = limbs[0].spine.origin.y + limbs[0].spine.length();
+  for (std::size_t a = 0; a < 2; ++a) {
+    const Spine& spine = limbs[1 + a].spine;
+    shape.arms[a].start_s = limbs[1 + a].rig.start_s;
+    shape.arms[a].full_s = spine.first_length + spine.bend_length();
+  }
+  return shape;
+}
+
+// The swept surface with its skin weights, UVs, area-weighted corner normals and blend shapes.
+SurfaceMesh cactus_mesh(const std::vector<LimbSpec>& limbs, double h, std::size_t target_triangles) {
   // Rings are spaced like the columns (square-ish quads), then all ring counts are scaled
   // together so that the total, 2 * sum(segments * rings), meets the target.
   std::vector<double> estimate(limbs.size());
@@ -563,7 +582,10 @@ SurfaceMesh cactus_mesh(const std::vector<LimbSpec>& limbs, std::size_t target_t
   b.slots.reserve(3 * triangles);
   b.normals.reserve(normal_slots);
   b.fixed.reserve(normal_slots);
-  for (std::size_t i = 0; i < limbs.size(); ++i) sweep_limb(limbs[i], rings[i], b);
+  for (std::size_t i = 0; i < limbs.size(); ++i) {
+    b.limb = static_cast<std::uint8_t>(i);
+    sweep_limb(limbs[i], rings[i], b);
+  }
 
   // Area-weighted corner normals: each face adds its (unnormalised) normal to its corners' slots.
   const std::vector<glm::vec3>& pos = b.mesh.positions();
@@ -586,6 +608,7 @@ SurfaceMesh cactus_mesh(const std::vector<LimbSpec>& limbs, std::size_t target_t
   mesh.corner_attrs().add<glm::vec2>(attr::kUv0).data() = std::move(b.uvs);
   auto& corner_normals = mesh.corner_attrs().add<glm::vec3>(attr::kNormal).data();
   for (std::size_t c = 0; c < corner_normals.size(); ++c) corner_normals[c] = b.normals[b.slots[c]];
+  cactus_morph::add_targets(mesh, b.origin, morph_shape(limbs, h), {b.slots, b.normals.size()});
   return mesh;
 }
 
@@ -623,7 +646,7 @@ Model make_cactus(const CactusOptions& options) {
   const double scale = std::sqrt(static_cast<double>(options.target_triangles) / kReferenceTriangles);
   std::vector<LimbSpec> limbs = cactus_limbs(h, scale);
   const Skeleton skeleton = cactus_skeleton(limbs, h);
-  SurfaceMesh mesh = cactus_mesh(limbs, options.target_triangles);
+  SurfaceMesh mesh = cactus_mesh(limbs, h, options.target_triangles);
   const auto& joint_pos = skeleton.position;
   const auto& joint_parent = skeleton.parent;
   const auto& joint_name = skeleton.name;
@@ -653,6 +676,14 @@ Model make_cactus(const CactusOptions& options) {
   model.skins.push_back(std::move(skin));
 
   model.animations.push_back(sway_animation(limbs, joint_pos.size(), joint_node0, options.animation_seconds));
+  // The blend shapes play in the same clip, on the mesh's node (sampler after the joints').
+  Animation& clip = model.animations.back();
+  clip.samplers.push_back(cactus_morph::weight_sampler(options.animation_seconds, kKeysPerSecond));
+  AnimationChannel weights;
+  weights.sampler = static_cast<int>(clip.samplers.size()) - 1;
+  weights.node = 1;
+  weights.path = AnimationPath::Weights;
+  clip.channels.push_back(weights);
 
   model.materials.push_back(
       {"CactusGreen",
@@ -661,6 +692,7 @@ Model make_cactus(const CactusOptions& options) {
 
   Mesh cactus_mesh;
   cactus_mesh.name = "Cactus";
+  cactus_morph::describe_targets(cactus_mesh);
   Primitive primitive;
   primitive.mesh = std::move(mesh);
   primitive.material = 0;

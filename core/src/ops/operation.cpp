@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include <nlohmann/json.hpp>
 
@@ -61,6 +62,32 @@ json to_json(const Operation& op) {
       op.params);
   out["time"] = op.time;
   out["animation"] = op.animation;
+  if (!op.weights.empty()) {
+    json weights = json::object();
+    for (const auto& [node, w] : op.weights) weights[std::to_string(node)] = w;
+    out["weights"] = weights;
+  }
+  return out;
+}
+
+// "weights": {"NODE": [w0, w1, ...], ...}, the morph weights set by hand per node.
+std::map<int, std::vector<float>> parse_weights(const json& o, std::size_t index) {
+  std::map<int, std::vector<float>> out;
+  if (!o.contains("weights")) return out;
+  const json& w = o["weights"];
+  const char* shape = "'weights' must map node indices to lists of numbers";
+  if (!w.is_object()) fail(index, shape);
+  for (const auto& item : w.items()) {
+    const std::string& key = item.key();
+    if (key.empty() || key.size() > 9 || !std::all_of(key.begin(), key.end(), [](char c) { return c >= '0' && c <= '9'; }))
+      fail(index, shape);
+    if (!item.value().is_array()) fail(index, shape);
+    std::vector<float>& weights = out[std::stoi(key)];
+    for (const auto& v : item.value()) {
+      if (!v.is_number() || !std::isfinite(v.get<double>())) fail(index, "'weights' holds a non-number");
+      weights.push_back(v.get<float>());
+    }
+  }
   return out;
 }
 
@@ -73,7 +100,7 @@ bool flag(const json& o, const char* key, std::size_t index) {
 
 // Members an operation of kind `kind` may have; anything else is a typo the user should hear of.
 void reject_unknown_keys(const json& o, const std::string& kind, std::size_t index) {
-  std::vector<std::string> allowed = {"op", "time", "animation"};
+  std::vector<std::string> allowed = {"op", "time", "animation", "weights"};
   if (kind == "cut") allowed.insert(allowed.end(), {"plane", "keep", "cap", "components"});
   if (kind == "tear") allowed.insert(allowed.end(), {"blade_start", "blade_end", "width"});
   if (kind == "drill") allowed.insert(allowed.end(), {"axis", "radius", "min_rim_edges", "wall"});
@@ -99,6 +126,7 @@ Operation from_json(const json& o, std::size_t index) {
       fail(index, "'animation' must be an animation index, or -1 for the rest pose");
     op.animation = o["animation"].get<int>();
   }
+  op.weights = parse_weights(o, index);
   if (kind == "cut") {
     CutOperation c;
     const auto p = numbers(o, "plane", 6, index);
@@ -217,11 +245,16 @@ OperationResult apply_operation(Model& model, const Operation& operation) {
 OperationResult apply_operation(Model& model, const Operation& operation, PosedModel& posed) {
   OperationResult out;
   const int animation = operation.animation >= 0 && model.animations.empty() ? -1 : operation.animation;
+  // The pose includes the morph weights set by hand: the operations' own `prepare` keeps them.
+  const PoseKey key(animation, operation.time, operation.weights);
+  if (posed.key().weights != operation.weights) posed.prepare(model, key, PoseDetail::Positions);
   std::visit(
       [&](const auto& p) {
         using T = std::decay_t<decltype(p)>;
         if constexpr (std::is_same_v<T, CutOperation>) {
-          const ModelCutResult r = cut_model(model, p.plane, p.options, animation, operation.time);
+          PosedModel cut_posed;  // the cut rebuilds meshes: it poses the model on its own
+          if (!operation.weights.empty()) cut_posed.prepare(model, key, PoseDetail::Positions);
+          const ModelCutResult r = cut_model(model, cut_posed, p.plane, p.options, animation, operation.time);
           // The cut rebuilds meshes and adds nodes: the next operation poses the model anew.
           if (r.status == OpStatus::Ok) posed.invalidate();
           out.status = r.status;

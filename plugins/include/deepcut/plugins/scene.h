@@ -6,6 +6,7 @@
 /// drawn primitive (mesh instance x primitive) viewing that pose's PosedMesh and adding the posed
 /// corner normals, and the skeleton. No VTK and no Qt here.
 
+#include <map>
 #include <memory>
 #include <string>
 #include <utility>
@@ -13,6 +14,7 @@
 
 #include "deepcut/core/model.h"
 #include "deepcut/core/posed_model.h"
+#include "deepcut/core/skinning.h"
 #include "deepcut/core/spatial_index.h"
 #include "deepcut/widgets/overlay.h"
 
@@ -42,6 +44,9 @@ struct Scene {
   std::vector<glm::mat4> world;  ///< world matrix of every node for the current pose (the posed model's)
   int animation = -1;            ///< -1: rest pose
   float time = 0.0f;             ///< seconds
+  /// Morph weights set by hand per node (PoseKey::weights), replacing the animation's for those
+  /// nodes: the pose is PoseKey(animation, time, weights). Kept when the scene is posed again.
+  std::map<int, std::vector<float>> weights;
   float size = 1.0f;             ///< diagonal of the rest-pose world bounds (1 when empty)
 };
 
@@ -50,9 +55,11 @@ struct Scene {
 /// @param with_normals  also compute posed corner normals (the view needs them; default on).
 /// @throws Error{InvalidArgument} if `model` is null or `animation` is out of range.
 Scene make_scene(std::shared_ptr<const Model> model, int animation, float time, bool with_normals = true);
+/// The same at `key`: its animation and time, and its weights set by hand (`Scene::weights`).
+Scene make_scene(std::shared_ptr<const Model> model, const PoseKey& key, bool with_normals = true);
 
-/// Re-poses `scene` in place (positions, normals, world matrices): PosedModel::repose on its
-/// posed model, O(vertices) in parallel, without grids.
+/// Re-poses `scene` in place (positions, normals, world matrices) at `time` of `animation` and the
+/// scene's `weights`: PosedModel::repose on its posed model, O(vertices) in parallel, without grids.
 /// @throws Error{InvalidArgument} if `animation` is out of range.
 void pose_scene(Scene& scene, int animation, float time, bool with_normals = true);
 

@@ -8,6 +8,7 @@
 /// and that exports carry in the root `extras` under "deepcut_history" (format: docs/cli.md,
 /// "History files").
 
+#include <map>
 #include <string>
 #include <variant>
 #include <vector>
@@ -45,6 +46,10 @@ struct Operation {
   /// absent "animation" means 0, the model's first animation (the rest pose when it has none).
   int animation = -1;
   float time = 0.0f;  ///< seconds into that animation
+  /// Morph weights set by hand per node (PoseKey::weights: the studio's morph weights panel),
+  /// replacing what the animation gives those nodes; empty: the animation's. History files hold
+  /// them as "weights": {"NODE": [w0, w1, ...]}.
+  std::map<int, std::vector<float>> weights;
 };
 
 struct History {
