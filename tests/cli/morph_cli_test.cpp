@@ -43,7 +43,7 @@ TEST(MorphCliTest, info_lists_targets_and_weight_channels) {
       << text.out;
 
   // A model without targets lists none (and its text shows no morph line).
-  const auto plain = test::run_cli("info --json " + test::quote(std::string(DEEPCUT_ASSETS_DIR) + "/cactus.glb"));
+  const auto plain = test::run_cli("info --json " + test::quote(std::string(DEEPCUT_ASSETS_DIR) + "/models/Fox/Fox.glb"));
   ASSERT_EQ(plain.exit_code, 0) << plain.err;
   EXPECT_TRUE(json::parse(plain.out)["morph_targets"].empty());
   EXPECT_TRUE(json::parse(plain.out)["weight_channels"].empty());
