@@ -607,6 +607,29 @@ TEST(TearTest, twisted_blade_folds_the_quad_and_still_gives_one_slit) {
   EXPECT_EQ(c.new_loops, 1);
 }
 
+// A small twisted blade folds its quad along a crease that crosses one big triangle of a box
+// face: the crease vertex's wedges hold that triangle's far corners, one of them on the positive
+// side of one facet's plane and the negative side of the other's, and nearer (counting the
+// distance beyond the triangles) to the facet that puts it on the wrong side. Its lip must still
+// open away from the quad, so that no edge of the opened mesh crosses the quad.
+TEST(TearTest, a_folded_quad_creasing_inside_a_big_face_opens_each_lip_on_its_own_side) {
+  SurfaceMesh mesh;
+  for (const glm::vec3& p : {glm::vec3(1, -1, 1), glm::vec3(1, 1, 1), glm::vec3(-1, 1, 1), glm::vec3(-1, -1, 1),
+                             glm::vec3(1, -1, -1), glm::vec3(-1, -1, -1), glm::vec3(-1, 1, -1), glm::vec3(1, 1, -1)})
+    mesh.add_vertex(p);
+  const std::array<std::uint32_t, 3> faces[] = {{0, 1, 2}, {3, 0, 2}, {4, 5, 6}, {7, 4, 6}, {5, 3, 2}, {6, 5, 2},
+                                                {4, 0, 3}, {5, 4, 3}, {7, 1, 0}, {4, 7, 0}, {1, 7, 6}, {2, 1, 6}};
+  for (const auto& f : faces) mesh.add_face(VertexId(f[0]), VertexId(f[1]), VertexId(f[2]));
+  // The blade crosses the face x = 1 (through its triangle (7, 1, 0)), turning as it moves.
+  const Blade start{{1.10994242f, 0.892425422f, -0.315780798f}, {1.11621544f, 0.724157551f, -0.0619761879f}};
+  const Blade end{{0.883784052f, 0.792075694f, -0.376411201f}, {0.938921608f, 0.550922193f, -0.198717602f}};
+  ASSERT_EQ(swept_quad_triangles(start, end).size(), 2u);
+  Adjacency adj = Adjacency::build(mesh);
+  const TearCheck c = check_tear(mesh, start, end, TearOptions{}, 0, &adj);
+  ASSERT_EQ(c.result.status, OpStatus::Ok);
+  EXPECT_GT(c.result.opening, 0.0f);
+}
+
 // Found by the random sequences (SimpleSkin seed 11 step 177 at aa5d4fd): a tear 1e-5 wide through
 // a speck of tiny faces (a few tolerances across) of a model about 2 units tall. Each of its nine
 // crossings lay within the tolerance of the next one in a face the slit crossed, so the close

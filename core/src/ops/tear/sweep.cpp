@@ -177,6 +177,17 @@ bool in_intervals(const std::vector<Interval>& ivs, double s) {
 }
 
 double nearest_side(const std::vector<SweepFacet>& facets, const std::vector<std::size_t>& which, const glm::dvec3& p) {
+  if (which.size() == 2) {
+    // Two facets of a folded quad: where their planes disagree the fold decides, not the nearer
+    // facet. The positive side of the fold is the intersection of the planes' positive sides when
+    // each facet stands on the other's positive side (the fold is convex there), else their union.
+    const SweepFacet &f0 = facets[which[0]], &f1 = facets[which[1]];
+    const double d0 = glm::dot(p - f0.origin, f0.normal), d1 = glm::dot(p - f1.origin, f1.normal);
+    if ((d0 > 0.0 && d1 < 0.0) || (d0 < 0.0 && d1 > 0.0)) {
+      const double lean = glm::dot(f1.origin - f0.origin, f0.normal);
+      if (lean != 0.0) return lean > 0.0 ? std::min(d0, d1) : std::max(d0, d1);
+    }
+  }
   double best = 1e300, side = 0.0;
   for (std::size_t i : which) {
     const SweepFacet& pc = facets[i];

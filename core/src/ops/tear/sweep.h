@@ -56,8 +56,10 @@ std::vector<Interval> clip_segment(const SweepFacet& facet, const HValues& ha, c
 /// True when `s` lies in one of `ivs`.
 bool in_intervals(const std::vector<Interval>& ivs, double s);
 
-/// Signed distance of `p` to the plane of the nearest of the facets `which` (nearest by the
-/// distance to the facet's triangles): on which side of a folded quad `p` lies.
+/// On which side of the tear surface `p` lies, as a signed distance: to the plane of the nearest
+/// of the facets `which` (nearest by the distance to the facet's triangles), except where the two
+/// facets of a folded quad put `p` on opposite sides of their planes: there the fold decides
+/// (beyond a facet's triangle the nearer facet can be the wrong one).
 double nearest_side(const std::vector<SweepFacet>& facets, const std::vector<std::size_t>& which, const glm::dvec3& p);
 
 }  // namespace deepcut::detail::tear
