@@ -91,8 +91,8 @@ std::vector<OptionSpec> output_options() {
   return {{"-o", "OUT", "the model to write: .glb (binary glTF) or .gltf (text glTF, buffers embedded); "
                         "written to a temporary file and renamed, so nothing is written on failure",
            "", true, false},
-          {"--compress", "draco|meshopt",
-           "compress the written meshes: draco (KHR_draco_mesh_compression: smallest, positions, normals and "
+          {"--compress", "none|draco|meshopt",
+           "compress the written meshes: none (plain glTF), draco (KHR_draco_mesh_compression: smallest, positions, normals and "
            "texture coordinates quantised) or meshopt (EXT_meshopt_compression: lossless); a reader must "
            "decode the extension",
            "none (plain glTF)", false, false}};
