@@ -119,7 +119,7 @@ void Reader::decode_draco_primitive(const json& raw_prim, tinygltf::Primitive& p
          " triangles, implausibly many");
 
   // Indices: the accessor's own component type when it has one, else 32-bit. tinygltf was given
-  // the primitive without them (stub_for_tinygltf).
+  // the primitive without them (stand_in_for_tinygltf).
   if (raw_prim.contains("indices")) {
     if (!raw_prim["indices"].is_number_integer() || raw_prim["indices"].get<std::int64_t>() < 0 ||
         raw_prim["indices"].get<std::int64_t>() > std::numeric_limits<int>::max())

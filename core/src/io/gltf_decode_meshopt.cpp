@@ -79,8 +79,8 @@ MeshoptView parse_meshopt(const json& ext, const std::string& what, Fail&& fail)
 
 }  // namespace
 
-bool stub_for_tinygltf(const json& doc, bool glb, std::string* json_text) {
-  json stubbed;
+bool stand_in_for_tinygltf(const json& doc, bool glb, std::string* json_text) {
+  json patched_doc;
   bool changed = false;
   if (doc.contains("meshes") && doc["meshes"].is_array())
     for (std::size_t m = 0; m < doc["meshes"].size(); ++m) {
@@ -91,9 +91,9 @@ bool stub_for_tinygltf(const json& doc, bool glb, std::string* json_text) {
         if (!prim.is_object() || !prim.contains("indices") || !prim.contains("extensions") || !prim["extensions"].is_object() ||
             !prim["extensions"].contains("KHR_draco_mesh_compression"))
           continue;
-        if (!changed) stubbed = doc;
+        if (!changed) patched_doc = doc;
         changed = true;
-        stubbed["meshes"][m]["primitives"][p].erase("indices");
+        patched_doc["meshes"][m]["primitives"][p].erase("indices");
       }
     }
   const json empty = json::array();
@@ -103,12 +103,12 @@ bool stub_for_tinygltf(const json& doc, bool glb, std::string* json_text) {
     if (!ext || !ext->is_object() || !ext->contains("fallback") || !(*ext)["fallback"].is_boolean() ||
         !(*ext)["fallback"].get<bool>() || buffers[b].contains("uri") || (glb && b == 0))
       continue;
-    if (!changed) stubbed = doc;
+    if (!changed) patched_doc = doc;
     changed = true;
-    stubbed["buffers"][b]["uri"] = "data:application/octet-stream;base64,AAAA";
-    stubbed["buffers"][b]["byteLength"] = 3;
+    patched_doc["buffers"][b]["uri"] = "data:application/octet-stream;base64,AAAA";
+    patched_doc["buffers"][b]["byteLength"] = 3;
   }
-  if (changed) *json_text = stubbed.dump();
+  if (changed) *json_text = patched_doc.dump();
   return changed;
 }
 

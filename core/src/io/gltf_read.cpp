@@ -231,8 +231,8 @@ void Reader::parse_container() {
     if (raw_.contains(key) && !raw_[key].is_array()) fail(std::string("invalid glTF: '") + key + "' is not an array");
   check_uris();
 
-  std::vector<unsigned char> patched;  // the .glb with what tinygltf refuses stubbed
-  if (stub_for_tinygltf(raw_, glb, &json_text) && glb) patched = glb_with_json(bytes, json_text);
+  std::vector<unsigned char> patched;  // the .glb with stand-ins for what tinygltf refuses
+  if (stand_in_for_tinygltf(raw_, glb, &json_text) && glb) patched = glb_with_json(bytes, json_text);
   if (glb) {
     const auto& in = patched.empty() ? bytes : patched;
     ok = loader.LoadBinaryFromMemory(&gltf_, &err, &warn, in.data(), static_cast<unsigned>(in.size()), base_dir);

@@ -36,7 +36,7 @@ std::string dump_member(const nlohmann::json& o, const char* key);
 // When `doc` has either, sets `*json_text` to the JSON that tinygltf is given instead (each such
 // buffer a 3-byte data URI, each such primitive without `indices`) and returns true. The decoders
 // never read a stand-in and take the indices from the file's own JSON (Reader::raw_).
-bool stub_for_tinygltf(const nlohmann::json& doc, bool glb, std::string* json_text);
+bool stand_in_for_tinygltf(const nlohmann::json& doc, bool glb, std::string* json_text);
 // The .glb `glb` with its JSON chunk replaced by `json_text` (its BIN chunk kept as it is).
 std::vector<unsigned char> glb_with_json(const std::vector<unsigned char>& glb, std::string json_text);
 
