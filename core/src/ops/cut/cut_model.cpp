@@ -1,0 +1,201 @@
+// SPDX-License-Identifier: MIT
+// The model-level cut: every instance of a model cut at a pose, each side a piece node.
+#include "deepcut/core/ops/cut.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "deepcut/core/posed_model.h"
+#include "deepcut/core/skinning.h"
+#include "ops/common/model_surgery.h"
+
+namespace deepcut {
+
+namespace {
+
+// Splits a piece's faces into the original-material part and the cut-surface part.
+void add_piece_primitives(const SurfaceMesh& piece, int material, int cut_material, Mesh& out) {
+  const auto* flag = piece.face_attrs().find<std::uint8_t>(attr::kCutSurface);
+  std::vector<FaceId> body, cap;
+  piece.for_each_face([&](FaceId f, const Triangle&) { (flag && (*flag)[f.index] ? cap : body).push_back(f); });
+  auto add = [&](const std::vector<FaceId>& faces, int mat) {
+    if (faces.empty()) return;
+    Primitive p;
+    p.mesh = faces.size() == piece.face_count() ? piece : detail::extract(piece, faces);
+    p.mesh.face_attrs().remove(attr::kCutSurface);
+    p.material = mat;
+    out.primitives.push_back(std::move(p));
+  };
+  add(body, material);
+  add(cap, cut_material);
+}
+
+// Rim vertices lie on the plane in the pose the cut was made in up to float rounding (new ones
+// are their posed crossing points unposed), and input vertices within the tolerance of the plane
+// count as on it. Move each rim vertex in bind space by the amount that puts it on the plane in
+// that pose (`posed`: the instance after the cut), so a second cut with the same plane finds
+// nothing left to cut. A bind move maps through the vertex's linear map alone (a morph offset
+// stays as it is).
+void snap_rim_to_plane(const PosedMesh& posed, const Plane& plane, const CutResult& result, SurfaceMesh& mesh) {
+  const glm::vec3 n = glm::normalize(plane.normal);
+  auto& bind = mesh.positions();
+  for (VertexId v : result.rim_vertices) {
+    const float off = glm::dot(posed.posed[v.index] - plane.point, n);
+    if (off == 0.0f) continue;
+    const glm::mat3 linear = posed.linear.empty() ? glm::mat3(1.0f) : posed.linear[v.index];
+    if (std::abs(glm::determinant(linear)) < 1e-12f) continue;
+    bind[v.index] -= off * (glm::inverse(linear) * n);
+  }
+}
+
+// The instance (node, primitive mesh `mesh`) posed on its own, as PosedModel poses it without a
+// grid: for an instance the posed model does not index.
+PosedMesh pose_alone(const Model& model, int node, const SurfaceMesh& mesh, const std::vector<glm::mat4>& world,
+                     const std::vector<float>& weights) {
+  PosedMesh out;
+  out.world = world[static_cast<std::size_t>(node)];
+  const int skin = model.nodes[static_cast<std::size_t>(node)].skin;
+  if (skin >= 0 && static_cast<std::size_t>(skin) < model.skins.size()) out.joints = joint_matrices(model, skin, world);
+  out.weights = weights;
+  out.posed = posed_positions(model, node, mesh, world, weights);
+  for (const glm::mat4& m : vertex_skin_matrices(model, node, mesh, world)) out.linear.emplace_back(m);
+  for (const glm::vec3& p : out.posed) out.bounds.add(p);
+  out.gridless = true;
+  return out;
+}
+
+// Side an untouched primitive lies on (it may be on the side that is dropped).
+int side_of(const SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const Plane& plane) {
+  double d = 0.0;
+  mesh.for_each_face([&](FaceId, const Triangle& t) {
+    for (auto v : t) d += glm::dot(glm::dvec3(posed[v.index]) - glm::dvec3(plane.point), glm::dvec3(plane.normal));
+  });
+  return d >= 0.0 ? 1 : -1;
+}
+
+// The cut of one instance's primitives, each on a copy (the mesh may be shared by other
+// instances, and a miss must leave it untouched).
+struct InstanceCut {
+  std::vector<SurfaceMesh> prims;
+  std::vector<CutResult> results;
+  bool any = false;
+};
+
+InstanceCut cut_instance(detail::InstanceEdit& inst, const std::vector<glm::mat4>& world, const Plane& plane,
+                         const CutOptions& options) {
+  InstanceCut out;
+  const auto& prims = inst.source().primitives;
+  for (std::size_t p = 0; p < prims.size(); ++p) {
+    SurfaceMesh copy = prims[p].mesh;
+    PosedMesh own;
+    PosedMesh* posed = inst.posed(static_cast<int>(p));
+    if (!posed) {
+      own = pose_alone(inst.model(), inst.node(), copy, world, inst.posed_model().weights(inst.node()));
+      posed = &own;
+    }
+    out.results.push_back(cut_mesh(copy, *posed, plane, options));
+    CutResult& r = out.results.back();
+    if (r.status == OpStatus::Ok) snap_rim_to_plane(*posed, plane, r, copy);
+    if (r.status == OpStatus::NoIntersection) r.piece_sides = {side_of(copy, posed->posed, plane)};
+    out.any |= r.status == OpStatus::Ok;
+    out.prims.push_back(std::move(copy));
+  }
+  return out;
+}
+
+// Groups each primitive's pieces into output meshes: without split_components piece k of every
+// primitive (0 positive, 1 negative) shares a mesh; with it, every piece is its own.
+std::vector<Mesh> group_pieces(const Mesh& source, const InstanceCut& cut, const CutOptions& options, int cut_material,
+                               ModelCutResult& result) {
+  std::vector<Mesh> piece_meshes;
+  for (std::size_t p = 0; p < cut.prims.size(); ++p) {
+    const CutResult& r = cut.results[p];
+    result.intersection_points += r.intersection_points;
+    result.rim_vertices += r.rim_vertices.size();
+    std::vector<std::vector<FaceId>> pieces = r.pieces;
+    if (r.status == OpStatus::NoIntersection) {
+      const int side = r.piece_sides[0];
+      if ((options.keep == CutKeep::Positive && side < 0) || (options.keep == CutKeep::Negative && side > 0)) continue;
+      std::vector<FaceId> all;
+      cut.prims[p].for_each_face([&](FaceId f, const Triangle&) { all.push_back(f); });
+      pieces = {all};
+    }
+    for (std::size_t k = 0; k < pieces.size(); ++k) {
+      const int side = r.piece_sides[k];
+      const std::size_t slot = options.split_components ? piece_meshes.size() : (side > 0 ? 0 : 1);
+      if (slot >= piece_meshes.size()) piece_meshes.resize(slot + 1);
+      add_piece_primitives(detail::extract(cut.prims[p], pieces[k]), source.primitives[p].material, cut_material,
+                           piece_meshes[slot]);
+    }
+  }
+  piece_meshes.erase(std::remove_if(piece_meshes.begin(), piece_meshes.end(), [](const Mesh& m) { return m.primitives.empty(); }),
+                     piece_meshes.end());
+  return piece_meshes;
+}
+
+// The instance draws the first piece; every other piece becomes a node beside it.
+void install_pieces(detail::InstanceEdit& inst, std::vector<Mesh> piece_meshes, ModelCutResult& result) {
+  // Copies: replacing the mesh below overwrites the source.
+  const std::string source_name = inst.source().name, source_extras = inst.source().extras_json;
+  const std::string& node_name = inst.model().nodes[static_cast<std::size_t>(inst.node())].name;
+  const std::string base = node_name.empty() ? source_name : node_name;
+  for (std::size_t k = 0; k < piece_meshes.size(); ++k) {
+    Mesh& m = piece_meshes[k];
+    m.name = (source_name.empty() ? base : source_name) + "_piece" + std::to_string(k);
+    m.extras_json = source_extras;
+    if (k == 0) {
+      inst.replace_mesh(std::move(m));
+      result.piece_nodes.push_back(inst.node());
+    } else {
+      result.piece_nodes.push_back(inst.add_piece_node(std::move(m), base + "_piece" + std::to_string(k)));
+    }
+  }
+}
+
+}  // namespace
+
+ModelCutResult cut_model(Model& model, PosedModel& posed, const Plane& plane, const CutOptions& options, int animation,
+                         float time) {
+  // The cut classifies every vertex of the instances it visits: it needs positions, not grids.
+  posed.prepare(model, animation, time, PoseDetail::Positions);
+  const std::vector<glm::mat4> world = posed.world();
+  ModelCutResult result;
+  result.status = OpStatus::NoIntersection;
+  int cut_material = -1;
+  std::vector<std::pair<int, int>> missed;  // instance node, side it lies on
+  detail::ModelSurgery surgery(model, posed);
+  surgery.for_each_instance([&](detail::InstanceEdit& inst) {
+    const InstanceCut cut = cut_instance(inst, world, plane, options);
+    if (!cut.any) {
+      int votes = 0;
+      for (const auto& r : cut.results) votes += r.piece_sides.empty() ? 0 : r.piece_sides[0];
+      missed.emplace_back(inst.node(), votes >= 0 ? 1 : -1);
+      return false;
+    }
+    result.status = OpStatus::Ok;
+    if (options.cap && cut_material < 0) cut_material = detail::cut_surface_material(model);
+    std::vector<Mesh> piece_meshes = group_pieces(inst.source(), cut, options, cut_material, result);
+    if (piece_meshes.empty()) {
+      posed.erase_node(inst.node());  // its posed primitives grew with the cut: indexed anew
+      return false;
+    }
+    install_pieces(inst, std::move(piece_meshes), result);
+    return true;
+  });
+  // Whole instances on the dropped side go too (only when something was cut: a plane that
+  // misses everything leaves the model unchanged).
+  if (result.status == OpStatus::Ok && options.keep != CutKeep::Both) {
+    const int drop = options.keep == CutKeep::Positive ? -1 : 1;
+    for (const auto& [node, side] : missed)
+      if (side == drop) surgery.drop_instance(node);
+  }
+  return result;
+}
+
+ModelCutResult cut_model(Model& model, const Plane& plane, const CutOptions& options, int animation, float time) {
+  PosedModel posed;
+  return cut_model(model, posed, plane, options, animation, time);
+}
+
+}  // namespace deepcut
