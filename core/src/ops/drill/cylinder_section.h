@@ -28,6 +28,7 @@ struct CylinderFrame {
   double len = 0.0, r = 0.0;
   double eps = 0.0;
   int samples = 32;
+  double spacing = 0.0;  // between rim samples: 2 r sin(pi / samples)
 
   /// The frame of `cylinder` with the tolerance and sampling of `options`.
   static CylinderFrame make(const Cylinder& cylinder, const DrillOptions& options);

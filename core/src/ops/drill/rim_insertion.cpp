@@ -87,7 +87,7 @@ class RimInserter {
   void merge_crossings(FaceId f);
   void allow_steiner(const std::vector<FaceId>& candidates);
   bool deep(const Triangle& t) const {
-    return cyl_.deep_inside(posed_(t[0])) && cyl_.deep_inside(posed_(t[1])) && cyl_.deep_inside(posed_(t[2]));
+    return deep_vertex(cyl_, posed_, t[0]) && deep_vertex(cyl_, posed_, t[1]) && deep_vertex(cyl_, posed_, t[2]);
   }
   VertexId merged(VertexId v) const { return merges_.merged(v); }
   void process_face(FaceId f);

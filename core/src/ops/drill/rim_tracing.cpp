@@ -19,29 +19,35 @@ RimNext rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFra
                   const PosedOverlay& posed, const std::vector<FaceId>& candidates,
                   const std::unordered_map<std::uint32_t, std::uint32_t>& copy_of) {
   RimNext rim_next;
-  // Half-edges of the added and of the removed faces, as sorted lists (only membership matters).
-  std::vector<std::uint64_t> added, removed;
-  for (const Edit& e : log.edits) {
-    if (const auto* fa = std::get_if<FaceAdded>(&e)) {
-      for (int k = 0; k < 3; ++k) added.push_back(directed_key(fa->vertices[k], fa->vertices[(k + 1) % 3]));
-    } else if (const auto* fr = std::get_if<FaceRemoved>(&e)) {
-      for (int k = 0; k < 3; ++k) removed.push_back(directed_key(fr->vertices[k], fr->vertices[(k + 1) % 3]));
-    }
-  }
-  std::sort(added.begin(), added.end());
-  std::sort(removed.begin(), removed.end());
-  auto contains = [](const std::vector<std::uint64_t>& list, std::uint64_t key) {
-    return std::binary_search(list.begin(), list.end(), key);
-  };
   // A copy the pinch split made of an old vertex is new, but the faces moved onto it keep their
   // old edges: both are judged by the original (an old boundary edge at a split vertex is not rim).
   auto base = [&](VertexId v) {
     const auto it = copy_of.find(v.index);
     return it == copy_of.end() ? v : VertexId(it->second);
   };
+  auto old_on_rim = [&](VertexId v) {
+    return v.index < posed.first_new() && std::abs(cyl.sd(posed_of(cyl, posed, v))) <= 2.0 * cyl.eps;
+  };
   auto on_rim = [&](VertexId v) {
     v = base(v);
-    return v.index >= posed.first_new() || std::abs(cyl.sd(posed(v))) <= 2.0 * cyl.eps;
+    return v.index >= posed.first_new() || old_on_rim(v);
+  };
+  // Half-edges of the added and of the removed faces, as sorted lists (only membership matters;
+  // removed ones are only asked about between two old vertices on the rim).
+  std::vector<std::uint64_t> added, removed;
+  for (const Edit& e : log.edits) {
+    if (const auto* fa = std::get_if<FaceAdded>(&e)) {
+      for (int k = 0; k < 3; ++k) added.push_back(directed_key(fa->vertices[k], fa->vertices[(k + 1) % 3]));
+    } else if (const auto* fr = std::get_if<FaceRemoved>(&e)) {
+      const bool rim[3] = {old_on_rim(fr->vertices[0]), old_on_rim(fr->vertices[1]), old_on_rim(fr->vertices[2])};
+      for (int k = 0; k < 3; ++k)
+        if (rim[k] && rim[(k + 1) % 3]) removed.push_back(directed_key(fr->vertices[k], fr->vertices[(k + 1) % 3]));
+    }
+  }
+  std::sort(added.begin(), added.end());
+  std::sort(removed.begin(), removed.end());
+  auto contains = [](const std::vector<std::uint64_t>& list, std::uint64_t key) {
+    return std::binary_search(list.begin(), list.end(), key);
   };
   // Faces the drill left alone can border the hole too: an old edge that lies on the cylinder
   // (within the tolerance) between a removed face and an untouched one.
