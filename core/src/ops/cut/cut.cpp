@@ -50,6 +50,9 @@ inline std::uint8_t side_code(const std::int8_t* sign, const Triangle& t) {
   return s < 0 ? 2 : 1;
 }
 
+void follow_moved_faces(const std::vector<std::pair<FaceId, FaceId>>& moved, FaceId first_new,
+                        std::vector<FaceId>& piece);
+
 class Cutter {
  public:
   Cutter(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const Plane& plane, const CutOptions& options,
@@ -267,12 +270,17 @@ void Cutter::separate_sides() {
 // on-plane vertex is a rim candidate or a cap face. With `result`, its pieces follow the faces
 // moved onto copies.
 std::vector<std::pair<VertexId, VertexId>> Cutter::split_pinches(CutResult* result) {
-  std::vector<VertexId> on_plane;
+  std::vector<VertexId> on_plane;  // each once
+  std::vector<std::uint8_t> listed(mesh_.vertex_count(), 0);
   for (FaceId f : rim_candidates_) {
     if (mesh_.is_deleted(f)) continue;
     for (const VertexId v : mesh_.face(f))
-      if (sign_[v.index] == 0) on_plane.push_back(v);
+      if (sign_[v.index] == 0 && !listed[v.index]) {
+        listed[v.index] = 1;
+        on_plane.push_back(v);
+      }
   }
+  std::sort(on_plane.begin(), on_plane.end());
   const std::size_t before = mesh_.face_slots();
   const auto splits = detail::split_pinched_vertices(editor_, on_plane, rim_candidates_);
   for (const auto& [v, c] : splits.copies) {
@@ -285,15 +293,36 @@ std::vector<std::pair<VertexId, VertexId>> Cutter::split_pinches(CutResult* resu
   if (!result || splits.replaced.empty()) return splits.copies;
   std::vector<std::pair<FaceId, FaceId>> moved = splits.replaced;  // each old face once
   std::sort(moved.begin(), moved.end());
-  for (auto& piece : result->pieces) {
+  for (auto& piece : result->pieces) follow_moved_faces(moved, FaceId(static_cast<std::uint32_t>(before)), piece);
+  return splits.copies;
+}
+
+// `piece` with each face moved (old, new: sorted by old) replaced by its new face, sorted. The new
+// faces are all at or above `first_new`; a piece sorted and below it keeps its order, so only the
+// new faces are sorted, after it.
+void follow_moved_faces(const std::vector<std::pair<FaceId, FaceId>>& moved, FaceId first_new,
+                        std::vector<FaceId>& piece) {
+  const bool below = std::is_sorted(piece.begin(), piece.end()) && (piece.empty() || piece.back() < first_new);
+  if (!below) {
     for (FaceId& f : piece) {
       const auto it = std::lower_bound(moved.begin(), moved.end(), std::make_pair(f, FaceId()),
                                        [](const auto& x, const auto& y) { return x.first < y.first; });
       if (it != moved.end() && it->first == f) f = it->second;
     }
     std::sort(piece.begin(), piece.end());
+    return;
   }
-  return splits.copies;
+  std::vector<FaceId> added;
+  for (const auto& [f, g] : moved) {
+    const auto it = std::lower_bound(piece.begin(), piece.end(), f);
+    if (it == piece.end() || *it != f) continue;
+    added.push_back(g);
+    *it = FaceId();  // invalid: dropped below
+  }
+  if (added.empty()) return;
+  piece.erase(std::remove(piece.begin(), piece.end(), FaceId()), piece.end());
+  std::sort(added.begin(), added.end());
+  piece.insert(piece.end(), added.begin(), added.end());
 }
 
 // The rim faces of each piece (faces with two or more corners on the plane: the only ones that
