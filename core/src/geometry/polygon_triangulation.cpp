@@ -34,6 +34,7 @@ class EarClipper {
     reflex_.assign(n, 0);
     version_.assign(n, 0);
     remaining_ = n;
+    if (search_ == EarSearch::kQueued) make_grid();
   }
 
   void run(std::vector<LocalTri>& out) {
@@ -72,8 +73,66 @@ class EarClipper {
 
   void update_reflex(std::size_t i) {
     const bool r = corner(i) <= 0.0;
-    if (r && !reflex_[i]) reflex_list_.push_back(i);
+    if (r && !reflex_[i]) {
+      reflex_list_.push_back(i);
+      if (!cell_head_.empty()) {
+        const std::size_t c = cell_y(at(i).y) * grid_x_ + cell_x(at(i).x);
+        cell_link_.push_back({static_cast<std::uint32_t>(i), cell_head_[c]});
+        cell_head_[c] = static_cast<std::uint32_t>(cell_link_.size() - 1);
+      }
+    }
     reflex_[i] = r;
+  }
+
+  // A uniform grid over the points (about one cell per corner) filing every corner that became
+  // reflex, so an ear test looks at the reflex corners near the ear only. A cell index is a
+  // non-decreasing function of the coordinate, so every point of a closed triangle lies in the
+  // cells of its bounding box; the scan takes one cell more on each side.
+  void make_grid() {
+    const std::size_t n = poly_.size();
+    if (n < 64) return;
+    glm::dvec2 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    for (std::uint32_t p : poly_) {
+      lo = glm::min(lo, pts_[p]);
+      hi = glm::max(hi, pts_[p]);
+    }
+    const auto side = static_cast<std::size_t>(std::sqrt(double(n)));
+    grid_x_ = grid_y_ = side;
+    origin_xy_ = lo;
+    const glm::dvec2 extent = hi - lo;
+    inv_cell_.x = extent.x > 0.0 && std::isfinite(extent.x) ? double(side) / extent.x : 0.0;
+    inv_cell_.y = extent.y > 0.0 && std::isfinite(extent.y) ? double(side) / extent.y : 0.0;
+    cell_head_.assign(grid_x_ * grid_y_, kNoLink);
+  }
+  static std::size_t clamp_cell(double c, std::size_t cells) {
+    if (!(c > 0.0)) return 0;  // NaN too
+    return c >= double(cells - 1) ? cells - 1 : static_cast<std::size_t>(c);
+  }
+  std::size_t cell_x(double x) const { return clamp_cell((x - origin_xy_.x) * inv_cell_.x, grid_x_); }
+  std::size_t cell_y(double y) const { return clamp_cell((y - origin_xy_.y) * inv_cell_.y, grid_y_); }
+
+  // True when some live reflex corner q (`blocks(q)`) lies in the ear (a, b, c): through the grid
+  // where its cells are fewer than the reflex corners, else through the list. Same answer.
+  template <class Blocks>
+  bool reflex_blocker(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c, Blocks&& blocks) const {
+    if (!cell_head_.empty()) {
+      const std::size_t x0 = cell_x(std::min({a.x, b.x, c.x})), x1 = cell_x(std::max({a.x, b.x, c.x}));
+      const std::size_t y0 = cell_y(std::min({a.y, b.y, c.y})), y1 = cell_y(std::max({a.y, b.y, c.y}));
+      const std::size_t xa = x0 > 0 ? x0 - 1 : 0, xb = std::min(x1 + 1, grid_x_ - 1);
+      const std::size_t ya = y0 > 0 ? y0 - 1 : 0, yb = std::min(y1 + 1, grid_y_ - 1);
+      if ((xb - xa + 1) * (yb - ya + 1) < reflex_list_.size()) {
+        for (std::size_t y = ya; y <= yb; ++y)
+          for (std::size_t x = xa; x <= xb; ++x)
+            for (std::uint32_t k = cell_head_[y * grid_x_ + x]; k != kNoLink; k = cell_link_[k].second) {
+              const std::size_t q = cell_link_[k].first;
+              if (alive_[q] && reflex_[q] && blocks(q)) return true;
+            }
+        return false;
+      }
+    }
+    for (std::size_t q : reflex_list_)
+      if (alive_[q] && reflex_[q] && blocks(q)) return true;
+    return false;
   }
 
   // Positive area beyond the tolerance and no other polygon point in the closed triangle.
@@ -90,9 +149,7 @@ class EarClipper {
     };
     if (search_ == EarSearch::kQueued) {
       // Only a reflex corner can lie inside an ear of a weakly simple polygon.
-      for (std::size_t q : reflex_list_)
-        if (alive_[q] && reflex_[q] && blocks(q)) return false;
-      return true;
+      return !reflex_blocker(a, b, c, blocks);
     }
     std::size_t q = origin_;
     for (std::size_t k = 0; k < remaining_; ++k, q = next_[q])
@@ -166,6 +223,13 @@ class EarClipper {
   std::vector<char> alive_, reflex_;
   std::vector<std::uint32_t> version_;
   std::vector<std::size_t> reflex_list_;
+  // The grid of reflex corners (kQueued, 64 corners and more): per cell the latest filing, each
+  // filing (corner, the cell's previous filing).
+  static constexpr std::uint32_t kNoLink = ~std::uint32_t(0);
+  std::vector<std::uint32_t> cell_head_;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> cell_link_;
+  std::size_t grid_x_ = 0, grid_y_ = 0;
+  glm::dvec2 origin_xy_{0.0}, inv_cell_{0.0};
   std::priority_queue<Entry> ears_;
   std::size_t remaining_ = 0;
   std::size_t origin_ = 0;

@@ -72,13 +72,29 @@ PinchSplits split_pinched_vertices(MeshEditor& editor, const std::vector<VertexI
   std::vector<FaceId> faces = incident;
   std::sort(faces.begin(), faces.end());
   faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
-  std::vector<std::vector<FaceId>> around(sorted.size());
+  // One flat list: candidate s's faces are around[first[s], first[s + 1]).
+  std::vector<std::uint32_t> corner_slot;  // per live face of `faces`, its corners' slots
+  corner_slot.reserve(3 * faces.size());
+  std::vector<std::uint32_t> first(sorted.size() + 1, 0);
   for (const FaceId f : faces) {
     if (f.index >= mesh.face_slots() || mesh.is_deleted(f)) continue;
     const Triangle& t = mesh.face(f);
-    for (const VertexId v : t) {
-      const std::size_t s = slot(v);
-      if (s < sorted.size() && (around[s].empty() || around[s].back() != f)) around[s].push_back(f);
+    for (int k = 0; k < 3; ++k) {
+      auto s = static_cast<std::uint32_t>(slot(t[k]));
+      if (s < sorted.size() && ((k > 0 && t[0] == t[k]) || (k > 1 && t[1] == t[k]))) s = kInvalidIndex;  // once a face
+      corner_slot.push_back(s);
+      if (s < sorted.size()) ++first[s + 1];
+    }
+  }
+  for (std::size_t s = 0; s < sorted.size(); ++s) first[s + 1] += first[s];
+  std::vector<FaceId> around(first.back());
+  {
+    std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
+    std::size_t c = 0;
+    for (const FaceId f : faces) {
+      if (f.index >= mesh.face_slots() || mesh.is_deleted(f)) continue;
+      for (int k = 0; k < 3; ++k, ++c)
+        if (corner_slot[c] < sorted.size()) around[fill[corner_slot[c]]++] = f;
     }
   }
   const glm::vec3 e[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
@@ -86,18 +102,20 @@ PinchSplits split_pinched_vertices(MeshEditor& editor, const std::vector<VertexI
   std::vector<std::pair<std::uint32_t, std::uint32_t>> by_other;  // (other vertex, face slot in fs)
   for (std::size_t s = 0; s < sorted.size(); ++s) {
     const VertexId v = sorted[s];
-    const std::vector<FaceId>& fs = around[s];
-    if (fs.size() < 2) continue;
+    const FaceId* fs_begin = around.data() + first[s];
+    const std::size_t fs_size = first[s + 1] - first[s];
+    if (fs_size < 2) continue;
+    auto fs = [&](std::size_t i) { return fs_begin[i]; };
     // Fans: faces joined through an edge (v, u), i.e. sharing a second vertex u.
-    parent.resize(fs.size());
+    parent.resize(fs_size);
     std::iota(parent.begin(), parent.end(), 0u);
     auto root = [&](std::uint32_t x) {
       while (parent[x] != x) x = parent[x] = parent[parent[x]];
       return x;
     };
     by_other.clear();
-    for (std::uint32_t i = 0; i < fs.size(); ++i)
-      for (const VertexId u : mesh.face(fs[i]))
+    for (std::uint32_t i = 0; i < fs_size; ++i)
+      for (const VertexId u : mesh.face(fs(i)))
         if (u != v) by_other.emplace_back(u.index, i);
     std::sort(by_other.begin(), by_other.end());
     for (std::size_t i = 1; i < by_other.size(); ++i)
@@ -107,8 +125,8 @@ PinchSplits split_pinched_vertices(MeshEditor& editor, const std::vector<VertexI
       }
     // fs is in id order, so fan roots are each fan's lowest face; fan 0 keeps v.
     const std::size_t before = out.replaced.size();
-    fan_copy.assign(fs.size(), kInvalidIndex);
-    for (std::uint32_t i = 0; i < fs.size(); ++i) {
+    fan_copy.assign(fs_size, kInvalidIndex);
+    for (std::uint32_t i = 0; i < fs_size; ++i) {
       const std::uint32_t r = root(i);
       if (r == 0) continue;
       if (fan_copy[r] == kInvalidIndex) {
@@ -116,7 +134,7 @@ PinchSplits split_pinched_vertices(MeshEditor& editor, const std::vector<VertexI
         fan_copy[r] = c.index;
         out.copies.emplace_back(v, c);
       }
-      const FaceId f = fs[i];
+      const FaceId f = fs(i);
       Triangle t = mesh.face(f);
       for (VertexId& w : t)
         if (w == v) w = VertexId(fan_copy[r]);
@@ -127,17 +145,18 @@ PinchSplits split_pinched_vertices(MeshEditor& editor, const std::vector<VertexI
       for (const VertexId w : t) {
         const std::size_t o = slot(w);
         if (o <= s || o >= sorted.size()) continue;
-        auto& list = around[o];
-        const auto it = std::lower_bound(list.begin(), list.end(), f);
-        if (it != list.end() && *it == f) {
-          list.erase(it);
-          list.push_back(g);  // g is the newest face: the list stays in id order
+        FaceId* const list = around.data() + first[o];
+        FaceId* const end = around.data() + first[o + 1];
+        FaceId* const it = std::lower_bound(list, end, f);
+        if (it != end && *it == f) {
+          std::copy(it + 1, end, it);
+          end[-1] = g;  // g is the newest face: the list stays in id order
         }
       }
     }
     if (out.replaced.size() == before) continue;
-    for (std::uint32_t i = 0; i < fs.size(); ++i)
-      if (root(i) == 0) out.around.push_back(fs[i]);
+    for (std::uint32_t i = 0; i < fs_size; ++i)
+      if (root(i) == 0) out.around.push_back(fs(i));
     for (std::size_t r = before; r < out.replaced.size(); ++r) out.around.push_back(out.replaced[r].second);
   }
   return out;

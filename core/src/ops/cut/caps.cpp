@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <unordered_map>
 #include <unordered_set>
 
 #include "deepcut/core/morph.h"
@@ -24,55 +23,74 @@ struct RimLoops {
 };
 
 // Follows the rim halfedges backwards (the cap runs along the piece's rim edges in the opposite
-// direction) into closed loops; returns false if some rim chain is open.
+// direction) into closed loops; returns false if some rim chain is open. Each rim edge is used by
+// one rim face, so every reversed halfedge b -> a is listed once: a flat list sorted by b (ties
+// in halfedge order) with a used flag per entry.
 bool trace_loops(const std::vector<std::pair<VertexId, VertexId>>& halfedges, RimLoops& out) {
   out.loops.clear();
   out.verts.clear();
-  std::unordered_map<std::uint32_t, std::uint32_t> local;
-  auto local_index = [&](VertexId v) {
-    auto [it, inserted] = local.emplace(v.index, static_cast<std::uint32_t>(out.verts.size()));
-    if (inserted) out.verts.push_back(v);
-    return it->second;
+  struct Step {
+    std::uint32_t from, order, to;
+  };
+  std::vector<Step> steps;
+  steps.reserve(halfedges.size());
+  for (const auto& [a, b] : halfedges) steps.push_back({b.index, static_cast<std::uint32_t>(steps.size()), a.index});
+  std::sort(steps.begin(), steps.end(),
+            [](const Step& x, const Step& y) { return x.from != y.from ? x.from < y.from : x.order < y.order; });
+  std::vector<char> used(steps.size(), 0);
+  // The steps leaving v: [first, last) of `steps`.
+  auto leaving = [&](std::uint32_t v) {
+    const auto lo = std::lower_bound(steps.begin(), steps.end(), v, [](const Step& x, std::uint32_t k) { return x.from < k; });
+    auto hi = lo;
+    while (hi != steps.end() && hi->from == v) ++hi;
+    return std::make_pair(static_cast<std::size_t>(lo - steps.begin()), static_cast<std::size_t>(hi - steps.begin()));
+  };
+  // Local index of each rim vertex, by first appearance in a kept loop.
+  std::vector<std::uint32_t> ids;
+  ids.reserve(2 * halfedges.size());
+  for (const auto& [a, b] : halfedges) {
+    ids.push_back(a.index);
+    ids.push_back(b.index);
+  }
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  std::vector<std::uint32_t> local(ids.size(), kInvalidIndex);
+  auto local_index = [&](std::uint32_t v) {
+    std::uint32_t& l = local[static_cast<std::size_t>(std::lower_bound(ids.begin(), ids.end(), v) - ids.begin())];
+    if (l == kInvalidIndex) {
+      l = static_cast<std::uint32_t>(out.verts.size());
+      out.verts.push_back(VertexId(v));
+    }
+    return l;
   };
   bool all_closed = true;
-  std::unordered_map<std::uint32_t, std::vector<VertexId>> next;
-  std::unordered_set<std::uint64_t> unused;
-  for (const auto& [a, b] : halfedges) {
-    next[b.index].push_back(a);
-    unused.insert(directed_key(b, a));
-  }
-  std::vector<std::uint32_t> starts;
-  for (const auto& [v, list] : next) starts.push_back(v);
-  std::sort(starts.begin(), starts.end());
-  for (std::uint32_t s : starts) {
-    for (VertexId first_next : next[s]) {
-      if (!unused.count(directed_key(VertexId(s), first_next))) continue;
-      std::vector<VertexId> loop = {VertexId(s)};
-      VertexId cur = VertexId(s), nxt = first_next;
-      bool closed = false;
-      while (true) {
-        unused.erase(directed_key(cur, nxt));
-        if (nxt == VertexId(s)) {
-          closed = true;
-          break;
-        }
-        loop.push_back(nxt);
-        cur = nxt;
-        VertexId pick;
-        for (VertexId cand : next[cur.index])
-          if (unused.count(directed_key(cur, cand))) {
-            pick = cand;
-            break;
-          }
-        if (!pick.valid()) break;  // an open rim chain (open input): not capped
-        nxt = pick;
+  std::vector<std::uint32_t> loop;
+  for (std::size_t first = 0; first < steps.size(); ++first) {
+    if (used[first]) continue;
+    const std::uint32_t s = steps[first].from;
+    loop.assign(1, s);
+    std::size_t step = first;
+    bool closed = false;
+    while (true) {
+      used[step] = 1;
+      const std::uint32_t nxt = steps[step].to;
+      if (nxt == s) {
+        closed = true;
+        break;
       }
-      all_closed = all_closed && closed;
-      if (closed && loop.size() >= 3) {
-        std::vector<std::uint32_t> l;
-        for (VertexId v : loop) l.push_back(local_index(v));
-        out.loops.push_back(std::move(l));
-      }
+      loop.push_back(nxt);
+      const auto [lo, hi] = leaving(nxt);
+      step = hi;
+      for (std::size_t k = lo; k < hi && step == hi; ++k)
+        if (!used[k]) step = k;
+      if (step == hi) break;  // an open rim chain (open input): not capped
+    }
+    all_closed = all_closed && closed;
+    if (closed && loop.size() >= 3) {
+      std::vector<std::uint32_t> l;
+      l.reserve(loop.size());
+      for (std::uint32_t v : loop) l.push_back(local_index(v));
+      out.loops.push_back(std::move(l));
     }
   }
   return all_closed;
@@ -161,6 +179,7 @@ void add_cap_faces(MeshEditor& editor, const CapInput& in, const RimLoops& rim,
   for (const auto& p : pts) extent = std::max({extent, std::abs(p.x), std::abs(p.y)});
   if (extent <= 0.0) extent = 1.0;
   const auto& bind = mesh.positions();
+  piece.reserve(piece.size() + tris.size());
   for (const auto& tri : tris) {
     const Triangle t = {verts[tri[0]], verts[tri[1]], verts[tri[2]]};
     if (repeats_flat(t)) continue;  // that surface is there already
@@ -190,20 +209,25 @@ std::vector<std::pair<VertexId, VertexId>> rim_halfedges(const SurfaceMesh& mesh
   // counting within the rim faces is exact.
   const auto& sign = *in.sign;
   auto skipped = [&](FaceId f) { return std::binary_search(skip.begin(), skip.end(), f); };
-  std::unordered_map<std::uint64_t, int> count;
+  std::vector<std::uint64_t> keys;  // one per on-plane edge use: an edge used once is a rim edge
   for (FaceId f : in.rim_faces) {
     if (skipped(f)) continue;
     const auto& t = mesh.face(f);
     for (int k = 0; k < 3; ++k)
-      if (sign[t[k].index] == 0 && sign[t[(k + 1) % 3].index] == 0) ++count[edge_key(t[k], t[(k + 1) % 3])];
+      if (sign[t[k].index] == 0 && sign[t[(k + 1) % 3].index] == 0) keys.push_back(edge_key(t[k], t[(k + 1) % 3]));
   }
+  std::sort(keys.begin(), keys.end());
+  auto used_once = [&](std::uint64_t key) {
+    const auto it = std::lower_bound(keys.begin(), keys.end(), key);
+    return it + 1 == keys.end() || it[1] != key;
+  };
   std::vector<std::pair<VertexId, VertexId>> out;
   for (FaceId f : in.rim_faces) {
     if (skipped(f)) continue;
     const auto& t = mesh.face(f);
     for (int k = 0; k < 3; ++k) {
       const VertexId a = t[k], b = t[(k + 1) % 3];
-      if (sign[a.index] == 0 && sign[b.index] == 0 && count[edge_key(a, b)] == 1) out.emplace_back(a, b);
+      if (sign[a.index] == 0 && sign[b.index] == 0 && used_once(edge_key(a, b))) out.emplace_back(a, b);
     }
   }
   return out;

@@ -20,7 +20,6 @@
 #include <numeric>
 #include <string>
 #include <unordered_map>
-#include <unordered_set>
 
 #include "deepcut/core/mesh_editor.h"
 #include "deepcut/core/parallel.h"
@@ -42,6 +41,17 @@ namespace {
 constexpr std::size_t kMinGrain = 4096;
 
 using detail::edge_key;
+
+// Side of a face as Cutter::face_side gives it (its first corner off the plane; a face lying in
+// the plane is positive), coded 1 positive, 2 negative.
+inline std::uint8_t side_code(const std::int8_t* sign, const Triangle& t) {
+  const int s0 = sign[t[0].index], s1 = sign[t[1].index], s2 = sign[t[2].index];
+  const int s = s0 != 0 ? s0 : (s1 != 0 ? s1 : s2);
+  return s < 0 ? 2 : 1;
+}
+
+void follow_moved_faces(const std::vector<std::pair<FaceId, FaceId>>& moved, FaceId first_new,
+                        std::vector<FaceId>& piece);
 
 class Cutter {
  public:
@@ -78,7 +88,7 @@ class Cutter {
   bool classify_vertices();
   void split_crossed_faces();
   void separate_or_drop_side();
-  void cap_pieces(CutResult& result, std::unordered_set<std::uint32_t>& rim);
+  void cap_pieces(CutResult& result, std::vector<VertexId>& rim);
 
   SurfaceMesh& mesh_;
   MeshEditor editor_;
@@ -200,39 +210,51 @@ void Cutter::split_face(FaceId f) {
 
 // Rim vertices used by both sides get a copy for the positive side, so the sides come apart.
 void Cutter::separate_sides() {
-  std::unordered_map<std::uint32_t, std::uint8_t> touches;  // bit 1: positive face, bit 2: negative
+  // Per vertex: bit 1 a positive face uses it, bit 2 a negative one (flat, by vertex id).
+  std::vector<std::uint8_t> touches(mesh_.vertex_count(), 0);
+  std::vector<std::uint32_t> touched;
   std::vector<FaceId> rim_faces;
+  rim_faces.reserve(rim_candidates_.size());
+  const std::int8_t* sign = sign_.data();
   for (FaceId f : rim_candidates_) {
     if (mesh_.is_deleted(f)) continue;
     const Triangle& t = mesh_.face(f);
     rim_faces.push_back(f);
-    const std::uint8_t bit = face_side(t) > 0 ? 1 : 2;
+    const std::uint8_t bit = side_code(sign, t);
     for (auto v : t)
-      if (sign_[v.index] == 0) touches[v.index] |= bit;
+      if (sign[v.index] == 0) {
+        if (touches[v.index] == 0) touched.push_back(v.index);
+        touches[v.index] |= bit;
+      }
   }
-  std::unordered_map<std::uint32_t, VertexId> copy;
   std::vector<std::uint32_t> shared;
-  for (const auto& [v, bits] : touches)
-    if (bits == 3) shared.push_back(v);
+  for (std::uint32_t v : touched)
+    if (touches[v] == 3) shared.push_back(v);
+  if (shared.empty()) return;
   std::sort(shared.begin(), shared.end());  // deterministic vertex numbering
+  std::vector<VertexId> copy;
+  copy.reserve(shared.size());
   for (std::uint32_t v : shared) {
-    const VertexId c = editor_.split_vertex(VertexId(v));
+    copy.push_back(editor_.split_vertex(VertexId(v)));
     posed_.add(posed_(VertexId(v)));
     dist_.push_back(dist_[v]);
     sign_.push_back(0);
-    copy.emplace(v, c);
   }
-  if (copy.empty()) return;
+  sign = sign_.data();
+  auto copy_of = [&](VertexId v) {
+    if (v.index >= touches.size() || touches[v.index] != 3) return VertexId();
+    return copy[static_cast<std::size_t>(std::lower_bound(shared.begin(), shared.end(), v.index) - shared.begin())];
+  };
   const glm::vec3 e[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   for (FaceId f : rim_faces) {
     const Triangle t = mesh_.face(f);
-    if (face_side(t) < 0) continue;
+    if (side_code(sign, t) == 2) continue;
     Triangle moved = t;
     bool changed = false;
     for (auto& v : moved) {
-      auto it = copy.find(v.index);
-      if (it != copy.end()) {
-        v = it->second;
+      const VertexId c = copy_of(v);
+      if (c.valid()) {
+        v = c;
         changed = true;
       }
     }
@@ -248,12 +270,17 @@ void Cutter::separate_sides() {
 // on-plane vertex is a rim candidate or a cap face. With `result`, its pieces follow the faces
 // moved onto copies.
 std::vector<std::pair<VertexId, VertexId>> Cutter::split_pinches(CutResult* result) {
-  std::vector<VertexId> on_plane;
+  std::vector<VertexId> on_plane;  // each once
+  std::vector<std::uint8_t> listed(mesh_.vertex_count(), 0);
   for (FaceId f : rim_candidates_) {
     if (mesh_.is_deleted(f)) continue;
     for (const VertexId v : mesh_.face(f))
-      if (sign_[v.index] == 0) on_plane.push_back(v);
+      if (sign_[v.index] == 0 && !listed[v.index]) {
+        listed[v.index] = 1;
+        on_plane.push_back(v);
+      }
   }
+  std::sort(on_plane.begin(), on_plane.end());
   const std::size_t before = mesh_.face_slots();
   const auto splits = detail::split_pinched_vertices(editor_, on_plane, rim_candidates_);
   for (const auto& [v, c] : splits.copies) {
@@ -264,16 +291,38 @@ std::vector<std::pair<VertexId, VertexId>> Cutter::split_pinches(CutResult* resu
   }
   for (auto i = static_cast<std::uint32_t>(before); i < mesh_.face_slots(); ++i) rim_candidates_.push_back(FaceId(i));
   if (!result || splits.replaced.empty()) return splits.copies;
-  std::unordered_map<std::uint32_t, FaceId> moved;
-  for (const auto& [f, g] : splits.replaced) moved.emplace(f.index, g);
-  for (auto& piece : result->pieces) {
+  std::vector<std::pair<FaceId, FaceId>> moved = splits.replaced;  // each old face once
+  std::sort(moved.begin(), moved.end());
+  for (auto& piece : result->pieces) follow_moved_faces(moved, FaceId(static_cast<std::uint32_t>(before)), piece);
+  return splits.copies;
+}
+
+// `piece` with each face moved (old, new: sorted by old) replaced by its new face, sorted. The new
+// faces are all at or above `first_new`; a piece sorted and below it keeps its order, so only the
+// new faces are sorted, after it.
+void follow_moved_faces(const std::vector<std::pair<FaceId, FaceId>>& moved, FaceId first_new,
+                        std::vector<FaceId>& piece) {
+  const bool below = std::is_sorted(piece.begin(), piece.end()) && (piece.empty() || piece.back() < first_new);
+  if (!below) {
     for (FaceId& f : piece) {
-      const auto it = moved.find(f.index);
-      if (it != moved.end()) f = it->second;
+      const auto it = std::lower_bound(moved.begin(), moved.end(), std::make_pair(f, FaceId()),
+                                       [](const auto& x, const auto& y) { return x.first < y.first; });
+      if (it != moved.end() && it->first == f) f = it->second;
     }
     std::sort(piece.begin(), piece.end());
+    return;
   }
-  return splits.copies;
+  std::vector<FaceId> added;
+  for (const auto& [f, g] : moved) {
+    const auto it = std::lower_bound(piece.begin(), piece.end(), f);
+    if (it == piece.end() || *it != f) continue;
+    added.push_back(g);
+    *it = FaceId();  // invalid: dropped below
+  }
+  if (added.empty()) return;
+  piece.erase(std::remove(piece.begin(), piece.end(), FaceId()), piece.end());
+  std::sort(added.begin(), added.end());
+  piece.insert(piece.end(), added.begin(), added.end());
 }
 
 // The rim faces of each piece (faces with two or more corners on the plane: the only ones that
@@ -309,23 +358,33 @@ std::vector<detail::CapInput> Cutter::rim_of_pieces(const CutResult& result) con
 }
 
 void Cutter::collect_pieces(CutResult& result) {
-  // Live faces by side, in id order: chunks listed in parallel, joined in chunk order.
+  // Live faces by side, in id order: chunks listed in parallel, joined in chunk order. A first
+  // pass notes each face's side (0: deleted) and counts, so the lists are allocated once.
   struct Lists {
     std::vector<FaceId> side[2];  // positive, negative
   };
   const std::size_t slots = mesh_.face_slots();
   const std::size_t grain = grain_per_thread(slots, kMinGrain);
   std::vector<Lists> parts((slots + grain - 1) / grain);
+  std::vector<std::uint8_t> side_of(slots);
+  const std::int8_t* sign = sign_.data();
+  const Triangle* faces = mesh_.faces().data();
   parallel_for(slots, grain, [&](std::size_t b, std::size_t e) {
     Lists& out = parts[b / grain];
-    std::size_t n[2] = {0, 0};
-    for (auto i = static_cast<std::uint32_t>(b); i < e; ++i)
-      if (!mesh_.is_deleted(FaceId(i))) ++n[face_side(mesh_.face(FaceId(i))) > 0 ? 0 : 1];
-    out.side[0].reserve(n[0]);
-    out.side[1].reserve(n[1]);
-    for (auto i = static_cast<std::uint32_t>(b); i < e; ++i) {
-      const FaceId f(i);
-      if (!mesh_.is_deleted(f)) out.side[face_side(mesh_.face(f)) > 0 ? 0 : 1].push_back(f);
+    std::size_t n[3] = {0, 0, 0};
+    for (std::size_t i = b; i < e; ++i) {
+      const std::uint8_t code = mesh_.is_deleted(FaceId(static_cast<std::uint32_t>(i))) ? 0 : side_code(sign, faces[i]);
+      side_of[i] = code;
+      ++n[code];
+    }
+    out.side[0].resize(n[1]);
+    out.side[1].resize(n[2]);
+    FaceId sink;  // deleted faces land here, branch-free
+    FaceId* next[3] = {&sink, out.side[0].data(), out.side[1].data()};
+    for (std::size_t i = b; i < e; ++i) {
+      const std::uint8_t code = side_of[i];
+      *next[code] = FaceId(static_cast<std::uint32_t>(i));
+      next[code] += code != 0;
     }
   });
   std::vector<FaceId> side_faces[2];
@@ -482,20 +541,25 @@ void Cutter::separate_or_drop_side() {
   }
 }
 
-// Rim vertices (on the plane, bounding a piece) into `rim`; with caps, each piece capped.
-void Cutter::cap_pieces(CutResult& result, std::unordered_set<std::uint32_t>& rim) {
+// Rim vertices (on the plane, bounding a piece) into `rim`, sorted and unique; with caps, each
+// piece capped.
+void Cutter::cap_pieces(CutResult& result, std::vector<VertexId>& rim) {
   const std::vector<detail::CapInput> rims = rim_of_pieces(result);
   for (const detail::CapInput& in : rims)
     for (const auto& [a, b] : detail::rim_halfedges(mesh_, in)) {
-      rim.insert(a.index);
-      rim.insert(b.index);
+      rim.push_back(a);
+      rim.push_back(b);
     }
+  std::sort(rim.begin(), rim.end());
+  rim.erase(std::unique(rim.begin(), rim.end()), rim.end());
   if (!options_.cap) return;
   const auto first_cap_face = static_cast<std::uint32_t>(mesh_.face_slots());
   for (std::size_t p = 0; p < result.pieces.size(); ++p) detail::cap_piece(editor_, rims[p], result.pieces[p]);
   for (auto i = first_cap_face; i < mesh_.face_slots(); ++i) rim_candidates_.push_back(FaceId(i));
+  const std::size_t before = rim.size();
   for (const auto& [v, c] : split_pinches(&result))
-    if (rim.count(v.index)) rim.insert(c.index);
+    if (std::binary_search(rim.begin(), rim.begin() + static_cast<std::ptrdiff_t>(before), v)) rim.push_back(c);
+  std::sort(rim.begin(), rim.end());
 }
 
 CutResult Cutter::run() {
@@ -510,11 +574,7 @@ CutResult Cutter::run() {
   separate_or_drop_side();
   split_pinches();
   collect_pieces(result);
-  std::unordered_set<std::uint32_t> rim;
-  cap_pieces(result, rim);
-  result.rim_vertices.reserve(rim.size());
-  for (auto v : rim) result.rim_vertices.push_back(VertexId(v));
-  std::sort(result.rim_vertices.begin(), result.rim_vertices.end());
+  cap_pieces(result, result.rim_vertices);
   result.intersection_points = intersections_;
   result.log = editor_.take_log();
   return result;
