@@ -44,7 +44,7 @@ struct LocalPoint {
   glm::dvec3 p;         // posed
   glm::dvec3 bary;      // w.r.t. the parent triangle's corners
   glm::dvec2 q;         // in the triangle's plane frame
-  double phi = 0.0;     // angle around the ellipse centre (normalised frame)
+  double phi = 0.0;     // rim samples: angle around the ellipse centre (normalised frame)
   bool on_rim = false;  // lies on the cylinder's boundary
 };
 
@@ -84,23 +84,25 @@ class RimInserter {
 
  private:
   const EdgeCut& edge(VertexId a, VertexId b);
-  void merge_crossings(FaceId f);
+  void merge_crossings(std::size_t c, FaceId f);
   void allow_steiner(const std::vector<FaceId>& candidates);
   bool deep(const Triangle& t) const {
     return deep_vertex(cyl_, posed_, t[0]) && deep_vertex(cyl_, posed_, t[1]) && deep_vertex(cyl_, posed_, t[2]);
   }
   VertexId merged(VertexId v) const { return merges_.merged(v); }
-  void process_face(FaceId f);
+  void process_face(std::size_t c, FaceId f);
   void face_boundary(const Triangle& tri, const glm::dvec3 corner[3]);
-  void sample_rim(const Triangle& tri);
-  void consider(const Triangle& tri, const glm::dvec3& x, bool corner_point);
-  void end_corner(const Triangle& tri, double a_cap, double hh, double sign);
+  void sample_rim();
+  void consider(const glm::dvec3& x, bool corner_point);
+  void end_corner(double a_cap, double hh, double sign);
   void emit_kept_parts(FaceId f, const Triangle& tri);
   void emit_polygon(FaceId f, const Triangle& tri, std::vector<LocalPoint>& pts,
-                    const std::vector<std::vector<std::uint32_t>>& loops);
+                    const std::vector<std::uint32_t>& outer, const std::vector<std::vector<std::uint32_t>>& holes);
+  void emit_faces(FaceId f, const Triangle& tri, std::vector<LocalPoint>& pts,
+                  const std::vector<geometry::LocalTri>& tris);
   VertexId vertex_of(const Triangle& tri, LocalPoint& lp);
   void refine(geometry::FlipTriangulation& ft, std::vector<glm::dvec2>& q, std::vector<LocalPoint>& pts,
-              const std::vector<std::vector<std::uint32_t>>& loops);
+              const std::vector<std::uint32_t>& outer, const std::vector<std::vector<std::uint32_t>>& holes);
 
   SurfaceMesh& mesh_;
   MeshEditor& editor_;
@@ -116,6 +118,10 @@ class RimInserter {
   // Per candidate: all three corners deep inside (CylinderFrame::deep_inside), so the face goes
   // whole and none of its edges is crossed: it is removed without looking at its edges.
   std::vector<std::uint8_t> deep_;
+  // Per candidate: its edges' records (edge k from corner k to corner k + 1), looked up once by
+  // merge_crossings and read again by process_face (CrossingTable records never move).
+  std::vector<std::array<const EdgeCut*, 3>> face_edges_;
+  const std::array<const EdgeCut*, 3>* cur_edges_ = nullptr;  // the face being processed
   // Crossings that fell on one bind position (the two long edges of a needle crossed at the same
   // parameter): the later vertex maps to the earlier, so the needle's tip is not a zero-area face.
   detail::NeedleMerges merges_;
@@ -125,6 +131,12 @@ class RimInserter {
   // boundary (corners and crossings in order, with the state of each segment) and its rim samples.
   std::vector<LocalPoint> pts_, rim_, all_scratch_, poly_scratch_;
   std::vector<std::uint8_t> seg_inside_, used_scratch_;
+  // emit_kept_parts' and emit_polygon's working lists, reused the same way.
+  std::vector<std::pair<double, std::size_t>> arc_scratch_;
+  std::vector<std::uint32_t> loop_scratch_;
+  const std::vector<std::vector<std::uint32_t>> no_holes_;
+  std::vector<glm::dvec2> q_scratch_;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> segments_scratch_;
 };
 
 const EdgeCut& RimInserter::edge(VertexId a, VertexId b) {
@@ -234,13 +246,13 @@ VertexId RimInserter::vertex_of(const Triangle& tri, LocalPoint& lp) {
 // crossings of the two edges rounded to one bind position: they become one vertex, and the
 // needle's tip, or the kept part at its far end when the circle crosses each edge twice (a
 // triangle with two corners at one point), is not made. Same rule as the cut and the tear.
-void RimInserter::merge_crossings(FaceId f) {
+void RimInserter::merge_crossings(std::size_t c, FaceId f) {
   const Triangle tri = mesh_.face(f);
-  for (int k = 0; k < 3; ++k) edge(tri[k], tri[(k + 1) % 3]);
+  std::array<const EdgeCut*, 3>& es = face_edges_[c];
+  for (int k = 0; k < 3; ++k) es[k] = &edge(tri[k], tri[(k + 1) % 3]);  // records never move
   for (int k = 0; k < 3; ++k) {
-    const VertexId x = tri[k];
-    const EdgeCut& ea = edge(x, tri[(k + 1) % 3]);
-    const EdgeCut& eb = edge(x, tri[(k + 2) % 3]);  // records never move (CrossingTable)
+    const EdgeCut& ea = *es[k];            // corner k to corner k + 1
+    const EdgeCut& eb = *es[(k + 2) % 3];  // corner k + 2 to corner k
     for (int i = 0; i < ea.n; ++i)
       for (int j = 0; j < eb.n; ++j) merges_.merge_if_coincident(mesh_, ea.v[i], eb.v[j]);
   }
@@ -265,8 +277,9 @@ void RimInserter::allow_steiner(const std::vector<FaceId>& candidates) {
     if (deep_[c]) continue;
     const Triangle& t = mesh_.face(candidates[c]);
     double smallest = kInf;
+    const glm::dvec3 corner[3] = {posed_(t[0]), posed_(t[1]), posed_(t[2])};
     for (int k = 0; k < 3; ++k) {
-      const glm::dvec3 a = posed_(t[k]), b = posed_(t[(k + 1) % 3]), c3 = posed_(t[(k + 2) % 3]);
+      const glm::dvec3 &a = corner[k], &b = corner[(k + 1) % 3], &c3 = corner[(k + 2) % 3];
       const double lb = glm::length(b - a), lc = glm::length(c3 - a);
       smallest =
           lb > 0.0 && lc > 0.0
@@ -292,8 +305,9 @@ void RimInserter::allow_steiner(const std::vector<FaceId>& candidates) {
   }
 }
 
-void RimInserter::process_face(FaceId f) {
+void RimInserter::process_face(std::size_t c, FaceId f) {
   const Triangle tri = mesh_.face(f);
+  cur_edges_ = &face_edges_[c];
   const glm::dvec3 corner[3] = {posed_(tri[0]), posed_(tri[1]), posed_(tri[2])};
   face_boundary(tri, corner);
   std::vector<LocalPoint>& pts = pts_;
@@ -338,14 +352,11 @@ void RimInserter::process_face(FaceId f) {
     const glm::dvec3 cb = face_.bary_of({pc.ac, pc.b0});
     if (cb.x <= 0.0 || cb.y <= 0.0 || cb.z <= 0.0) return;
   }
-  for (auto& lp : pts) {
-    lp.q = pc.coords(lp.p);
-    lp.phi = pc.phi(lp.q);
-  }
+  for (auto& lp : pts) lp.q = pc.coords(lp.p);
   // Distance of a plane point from each edge is its barycentric coordinate times the height.
   for (int k = 0; k < 3; ++k)
     face_.height[k] = area2 / std::max(glm::length(tq[(k + 2) % 3] - tq[(k + 1) % 3]), 1e-300);
-  sample_rim(tri);
+  sample_rim();
   std::vector<LocalPoint>& rim = rim_;
   if (!any_inside) {
     if (rim.size() < 3) return;
@@ -360,7 +371,7 @@ void RimInserter::process_face(FaceId f) {
     }
     editor_.remove_face(f);
     ++removed_;
-    emit_polygon(f, tri, all, {outer, hole});
+    emit_polygon(f, tri, all, outer, {hole});
     return;
   }
   emit_kept_parts(f, tri);
@@ -375,7 +386,7 @@ void RimInserter::face_boundary(const Triangle& tri, const glm::dvec3 corner[3])
   seg_inside.clear();
   for (int k = 0; k < 3; ++k) {
     const int k1 = (k + 1) % 3;
-    const EdgeCut& e = edge(tri[k], tri[k1]);
+    const EdgeCut& e = *(*cur_edges_)[k];
     LocalPoint c;
     c.v = tri[k];
     c.p = corner[k];
@@ -428,7 +439,7 @@ void RimInserter::face_boundary(const Triangle& tri, const glm::dvec3 corner[3])
 
 // A rim sample at `x` (a ruling's point in the triangle's plane, or a corner of the rim on an
 // end plane) joins rim_ unless it falls outside the triangle or next to a boundary or rim point.
-void RimInserter::consider(const Triangle& tri, const glm::dvec3& x, bool corner_point) {
+void RimInserter::consider(const glm::dvec3& x, bool corner_point) {
   LocalPoint lp;
   lp.p = x;
   lp.q = face_.pc.coords(x);
@@ -447,7 +458,7 @@ void RimInserter::consider(const Triangle& tri, const glm::dvec3& x, bool corner
     if (corner_point || lows > 1) return;
     const int k1 = (low + 1) % 3, k2 = (low + 2) % 3;
     const double shift = eps_ - lp.bary[low] * face_.height[low], bound = 0.005 * cyl_.r;
-    if (shift > bound || edge(tri[k1], tri[k2]).n != 0) return;
+    if (shift > bound || (*cur_edges_)[k1]->n != 0) return;
     const glm::dvec2 along = glm::normalize(face_.tq[k2] - face_.tq[k1]);
     lp.q += shift * glm::dvec2(-along.y, along.x);  // inside is on the left
     lp.bary = face_.bary_of(lp.q);
@@ -475,12 +486,12 @@ void RimInserter::consider(const Triangle& tri, const glm::dvec3& x, bool corner
 // be cut, or cuts off the corner alone) still bends the rim inside: the rim then gets the
 // first points of both parts 2 tolerances inside, or the chord between the two parts'
 // crossings cuts the corner off (kept surface up to a few % of r inside the cylinder).
-void RimInserter::end_corner(const Triangle& tri, double a_cap, double hh, double sign) {
+void RimInserter::end_corner(double a_cap, double hh, double sign) {
   const PlaneCut& pc = face_.pc;
   const glm::dvec2 qc(a_cap, pc.b0 + sign * hh);
   const double out = -face_.clearance(qc);
   if (out <= 0.0 || out > sep_) {
-    consider(tri, pc.point(qc.x, qc.y), true);
+    consider(pc.point(qc.x, qc.y), true);
     return;
   }
   const double margin = 2.0 * eps_, toward = pc.ac > a_cap ? 1.0 : -1.0;
@@ -494,7 +505,7 @@ void RimInserter::end_corner(const Triangle& tri, double a_cap, double hh, doubl
         q.y = pc.b0 + sign * pc.rb * std::sqrt(1.0 - e * e);
       }
       if (face_.clearance(q) >= margin) {
-        consider(tri, pc.point(q.x, q.y), true);
+        consider(pc.point(q.x, q.y), true);
         break;
       }
     }
@@ -502,7 +513,7 @@ void RimInserter::end_corner(const Triangle& tri, double a_cap, double hh, doubl
 
 // Rim samples (rim_): the fixed rulings' points in this plane, and the ellipse's end-plane
 // corners.
-void RimInserter::sample_rim(const Triangle& tri) {
+void RimInserter::sample_rim() {
   const PlaneCut& pc = face_.pc;
   rim_.clear();
   std::array<std::pair<double, double>, 2> chords{};  // (a, half length) on each end plane
@@ -515,7 +526,7 @@ void RimInserter::sample_rim(const Triangle& tri) {
       else if (std::abs(a_cap - pc.a0) < pc.ra)
         hh = pc.rb * std::sqrt(1.0 - std::pow((a_cap - pc.a0) / pc.ra, 2.0));
       if (hh > 0.0)
-        for (const double sign : {1.0, -1.0}) end_corner(tri, a_cap, hh, sign);
+        for (const double sign : {1.0, -1.0}) end_corner(a_cap, hh, sign);
       chords[s_cap > 0.0 ? 1 : 0] = {a_cap, hh};
     }
   }
@@ -527,7 +538,7 @@ void RimInserter::sample_rim(const Triangle& tri) {
       const double sv = glm::dot(pc.o - base, pc.n) / pc.dn;
       if (sv < 0.0 || sv > cyl_.len) continue;
       ++arc_rulings;
-      consider(tri, base + sv * cyl_.d, false);
+      consider(base + sv * cyl_.d, false);
     }
   }
   const bool arc_sampled = rim_.size() > before_rulings;
@@ -537,7 +548,7 @@ void RimInserter::sample_rim(const Triangle& tri) {
   // along the straight part, a hole of zero area (a slit no wall can close).
   if (!pc.parallel && !arc_sampled && (chords[0].second > 0.0) != (chords[1].second > 0.0)) {
     const double a_cap = chords[0].second > 0.0 ? chords[0].first : chords[1].first;
-    consider(tri, pc.point(a_cap < pc.ac ? pc.a0 + pc.ra : pc.a0 - pc.ra, pc.b0), false);
+    consider(pc.point(a_cap < pc.ac ? pc.a0 + pc.ra : pc.a0 - pc.ra, pc.b0), false);
   }
   // A layer that crosses an end disk gets a D-shaped rim: its straight part on the end plane is
   // sampled at the rim spacing, and densely enough (down to half of it) that the whole D has
@@ -550,7 +561,7 @@ void RimInserter::sample_rim(const Triangle& tri) {
         std::min(samples_ - arc_rulings + 1, static_cast<int>(std::floor(4.0 * hh / spacing)));
     const int pieces = std::min(std::max(by_spacing, by_count), 4 * samples_);
     for (int j = 1; j < pieces; ++j)
-      consider(tri, pc.point(a_cap, pc.b0 - hh + 2.0 * hh * j / pieces), false);
+      consider(pc.point(a_cap, pc.b0 - hh + 2.0 * hh * j / pieces), false);
   }
 }
 
@@ -583,8 +594,10 @@ void RimInserter::emit_kept_parts(FaceId f, const Triangle& tri) {
       poly.push_back(pts[k]);
       if (k == j) break;
     }
-    const double phi_end = pts[k].phi, span = geometry::wrap_2pi(phi_end - pts[j].phi);
-    std::vector<std::pair<double, std::size_t>> arc;
+    const double phi_end = face_.pc.phi(pts[k].q);
+    const double span = geometry::wrap_2pi(phi_end - face_.pc.phi(pts[j].q));
+    std::vector<std::pair<double, std::size_t>>& arc = arc_scratch_;
+    arc.clear();
     for (std::size_t i = 0; i < rim.size(); ++i) {
       if (used[i]) continue;
       const double delta = geometry::wrap_2pi(phi_end - rim[i].phi);
@@ -595,9 +608,10 @@ void RimInserter::emit_kept_parts(FaceId f, const Triangle& tri) {
       used[i] = 1;
       poly.push_back(rim[i]);
     }
-    std::vector<std::uint32_t> loop(poly.size());
+    std::vector<std::uint32_t>& loop = loop_scratch_;
+    loop.resize(poly.size());
     for (std::size_t i = 0; i < poly.size(); ++i) loop[i] = static_cast<std::uint32_t>(i);
-    emit_polygon(f, tri, poly, {loop});
+    emit_polygon(f, tri, poly, loop, no_holes_);
   }
 }
 
@@ -605,12 +619,17 @@ void RimInserter::emit_kept_parts(FaceId f, const Triangle& tri) {
 // are larger than the rim spacing (needles from a far corner to a small hole), kept away from
 // the part's boundary so no edge of the parent triangle is split (its neighbour shares it).
 void RimInserter::refine(geometry::FlipTriangulation& ft, std::vector<glm::dvec2>& q,
-                         std::vector<LocalPoint>& pts, const std::vector<std::vector<std::uint32_t>>& loops) {
+                         std::vector<LocalPoint>& pts, const std::vector<std::uint32_t>& outer,
+                         const std::vector<std::vector<std::uint32_t>>& holes) {
   const double spacing = 2.0 * cyl_.r * std::sin(geometry::kPi / samples_);
   const std::size_t boundary = pts.size();
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> segments;
-  for (const auto& l : loops)
+  std::vector<std::pair<std::uint32_t, std::uint32_t>>& segments = segments_scratch_;
+  segments.clear();
+  const auto add_segments = [&segments](const std::vector<std::uint32_t>& l) {
     for (std::size_t i = 0; i < l.size(); ++i) segments.emplace_back(l[i], l[(i + 1) % l.size()]);
+  };
+  add_segments(outer);
+  for (const auto& l : holes) add_segments(l);
   std::set<geometry::LocalTri> failed;  // by sorted_corners
   const std::size_t budget = 4 * boundary + 8;
   for (std::size_t added = 0; added < budget;) {
@@ -652,21 +671,30 @@ void RimInserter::refine(geometry::FlipTriangulation& ft, std::vector<glm::dvec2
   }
 }
 
+// A kept part that is a triangle is emitted as it is; any other is triangulated, flipped to
+// Delaunay and refined in the plane.
 void RimInserter::emit_polygon(FaceId f, const Triangle& tri, std::vector<LocalPoint>& pts,
-                               const std::vector<std::vector<std::uint32_t>>& loops) {
-  std::vector<glm::dvec2> q(pts.size());
-  for (std::size_t i = 0; i < pts.size(); ++i) q[i] = pts[i].q;
-  std::vector<geometry::LocalTri> tris;
-  if (loops.size() == 1 && loops[0].size() == 3) {
-    tris.push_back({loops[0][0], loops[0][1], loops[0][2]});
-  } else {
-    std::vector<geometry::LocalTri> clipped;
-    geometry::triangulate_polygon(q, loops[0], {loops.begin() + 1, loops.end()}, kRimTriangulation, clipped);
-    geometry::FlipTriangulation ft(q, std::move(clipped));
-    ft.make_delaunay();
-    refine(ft, q, pts, loops);
-    tris = ft.triangles();
+                               const std::vector<std::uint32_t>& outer,
+                               const std::vector<std::vector<std::uint32_t>>& holes) {
+  if (holes.empty() && outer.size() == 3) {
+    emit_faces(f, tri, pts, {{outer[0], outer[1], outer[2]}});
+    return;
   }
+  std::vector<glm::dvec2>& q = q_scratch_;
+  q.resize(pts.size());
+  for (std::size_t i = 0; i < pts.size(); ++i) q[i] = pts[i].q;
+  std::vector<geometry::LocalTri> clipped;
+  geometry::triangulate_polygon(q, outer, holes, kRimTriangulation, clipped);
+  geometry::FlipTriangulation ft(q, std::move(clipped));
+  ft.make_delaunay();
+  refine(ft, q, pts, outer, holes);
+  emit_faces(f, tri, pts, ft.triangles());
+}
+
+// New vertices for the part's points that have none (in order), then its faces, but a merged
+// tip's.
+void RimInserter::emit_faces(FaceId f, const Triangle& tri, std::vector<LocalPoint>& pts,
+                             const std::vector<geometry::LocalTri>& tris) {
   for (auto& lp : pts) vertex_of(tri, lp);
   for (const auto& t : tris) {
     if (pts[t[0]].v == pts[t[1]].v || pts[t[1]].v == pts[t[2]].v || pts[t[0]].v == pts[t[2]].v)
@@ -687,12 +715,13 @@ RimInsertion RimInserter::run(const std::vector<FaceId>& candidates) {
     shallow += !deep_[c];
   }
   edges_.reserve(3 * shallow + 3);  // every edge looked up is a shallow candidate's
+  face_edges_.resize(candidates.size());
   allow_steiner(candidates);
   for (std::size_t c = 0; c < candidates.size(); ++c)
-    if (!deep_[c]) merge_crossings(candidates[c]);
+    if (!deep_[c]) merge_crossings(c, candidates[c]);
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     if (!deep_[c]) {
-      process_face(candidates[c]);
+      process_face(c, candidates[c]);
       continue;
     }
     editor_.remove_face(candidates[c]);  // what process_face does with a face inside
