@@ -114,6 +114,22 @@ TriangleGrid TriangleGrid::build(const SurfaceMesh& mesh, const std::vector<glm:
   return grid;
 }
 
+std::uint64_t TriangleGrid::layout_hash() const {
+  std::uint64_t h = 1469598103934665603ull;
+  auto add = [&h](const void* data, std::size_t bytes) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < bytes; ++i) h = (h ^ p[i]) * 1099511628211ull;
+  };
+  add(&bounds_, sizeof(bounds_));
+  add(&cell_, sizeof(cell_));
+  add(&dims_, sizeof(dims_));
+  add(start_.data(), start_.size() * sizeof(std::uint32_t));
+  add(faces_.data(), faces_.size() * sizeof(std::uint32_t));
+  add(alive_.data(), alive_.size());
+  add(&live_, sizeof(live_));
+  return h;
+}
+
 glm::ivec3 TriangleGrid::cell_of(const glm::vec3& p) const {
   const glm::vec3 q = (p - origin_) / cell_;
   glm::ivec3 c;

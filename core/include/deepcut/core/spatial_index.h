@@ -62,6 +62,9 @@ class TriangleGrid {
   /// Number of live faces indexed.
   std::size_t face_count() const { return live_; }
   bool empty() const { return start_.empty(); }
+  /// A hash of the built layout (cells, their face lists, live flags): equal for equal grids.
+  /// Tests and the scaling program use it to check that the thread count changes nothing.
+  std::uint64_t layout_hash() const;
 
  private:
   void insert(FaceId f, const Triangle& t, const std::vector<glm::vec3>& points);
