@@ -2,6 +2,8 @@
 #include "deepcut/core/spatial_index.h"
 
 #include <algorithm>
+#include <atomic>
+#include <memory>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -21,6 +23,37 @@ struct Extent {
 };
 
 }  // namespace
+
+// The packed cell lists, in parallel: cell sizes counted with atomic increments, a prefix sum,
+// faces scattered with atomic cursors, then each cell's list sorted, so every cell lists its faces
+// in increasing order (what a serial fill in face order gives) whatever the thread count.
+template <class CellsOf>
+void TriangleGrid::fill_cells(std::size_t slots, CellsOf&& cells_of) {
+  const std::size_t cells = static_cast<std::size_t>(dims_.x) * dims_.y * dims_.z;
+  std::unique_ptr<std::atomic<std::uint32_t>[]> cursor(new std::atomic<std::uint32_t>[cells]);
+  parallel_for(cells, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t c = b; c < e; ++c) cursor[c].store(0, std::memory_order_relaxed);
+  });
+  parallel_for(slots, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t f = b; f < e; ++f)
+      cells_of(f, [&](std::size_t c) { cursor[c].fetch_add(1, std::memory_order_relaxed); });
+  });
+  start_.assign(cells + 1, 0);
+  for (std::size_t c = 0; c < cells; ++c) {
+    start_[c + 1] = start_[c] + cursor[c].load(std::memory_order_relaxed);
+    cursor[c].store(start_[c], std::memory_order_relaxed);
+  }
+  faces_.resize(start_[cells]);
+  parallel_for(slots, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t f = b; f < e; ++f)
+      cells_of(f, [&](std::size_t c) {
+        faces_[cursor[c].fetch_add(1, std::memory_order_relaxed)] = static_cast<std::uint32_t>(f);
+      });
+  });
+  parallel_for(cells, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t c = b; c < e; ++c) std::sort(faces_.begin() + start_[c], faces_.begin() + start_[c + 1]);
+  });
+}
 
 TriangleGrid TriangleGrid::build(const SurfaceMesh& mesh, const std::vector<glm::vec3>& points,
                                  float cell_size) {
@@ -75,7 +108,6 @@ TriangleGrid TriangleGrid::build(const SurfaceMesh& mesh, const std::vector<glm:
   grid.cell_ = cell;
   grid.origin_ = grid.bounds_.min;
   grid.dims_ = glm::max(glm::ivec3(glm::ceil(size / cell)), glm::ivec3(1));
-  const std::size_t cells = static_cast<std::size_t>(grid.dims_.x) * grid.dims_.y * grid.dims_.z;
 
   // Cell range of every live face (parallel), then a counting sort into the packed lists.
   struct Range {
@@ -92,26 +124,33 @@ TriangleGrid TriangleGrid::build(const SurfaceMesh& mesh, const std::vector<glm:
       range[f] = {grid.cell_of(box.min), grid.cell_of(box.max)};
     }
   });
-  grid.start_.assign(cells + 1, 0);
-  for (std::size_t f = 0; f < slots; ++f) {
+  grid.fill_cells(slots, [&](std::size_t f, auto&& visit) {
     const Range& r = range[f];
     for (int z = r.lo.z; z <= r.hi.z; ++z)
       for (int y = r.lo.y; y <= r.hi.y; ++y)
-        for (int x = r.lo.x; x <= r.hi.x; ++x) ++grid.start_[grid.cell_index(x, y, z) + 1];
-  }
-  for (std::size_t c = 0; c < cells; ++c) grid.start_[c + 1] += grid.start_[c];
-  grid.faces_.resize(grid.start_[cells]);
-  std::vector<std::uint32_t> next(grid.start_.begin(), grid.start_.end() - 1);
-  for (std::size_t f = 0; f < slots; ++f) {
-    const Range& r = range[f];
-    if (r.hi.x < r.lo.x) continue;
-    grid.alive_[f] = 1;
-    for (int z = r.lo.z; z <= r.hi.z; ++z)
-      for (int y = r.lo.y; y <= r.hi.y; ++y)
-        for (int x = r.lo.x; x <= r.hi.x; ++x) grid.faces_[next[grid.cell_index(x, y, z)]++] = static_cast<std::uint32_t>(f);
-  }
+        for (int x = r.lo.x; x <= r.hi.x; ++x) visit(grid.cell_index(x, y, z));
+  });
+  parallel_for(slots, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t f = b; f < e; ++f) grid.alive_[f] = range[f].hi.x >= range[f].lo.x ? 1 : 0;
+  });
   grid.live_ = faces;
   return grid;
+}
+
+std::uint64_t TriangleGrid::layout_hash() const {
+  std::uint64_t h = 1469598103934665603ull;
+  auto add = [&h](const void* data, std::size_t bytes) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < bytes; ++i) h = (h ^ p[i]) * 1099511628211ull;
+  };
+  add(&bounds_, sizeof(bounds_));
+  add(&cell_, sizeof(cell_));
+  add(&dims_, sizeof(dims_));
+  add(start_.data(), start_.size() * sizeof(std::uint32_t));
+  add(faces_.data(), faces_.size() * sizeof(std::uint32_t));
+  add(alive_.data(), alive_.size());
+  add(&live_, sizeof(live_));
+  return h;
 }
 
 glm::ivec3 TriangleGrid::cell_of(const glm::vec3& p) const {

@@ -1,10 +1,13 @@
 // SPDX-License-Identifier: MIT
 #include "deepcut/core/weld.h"
 
+#include <atomic>
 #include <cstring>
+#include <memory>
 #include <vector>
 
 #include "deepcut/core/parallel.h"
+#include "first_of_class.h"
 
 namespace deepcut {
 namespace {
@@ -76,51 +79,37 @@ class VertexBytes {
   std::vector<Raw> arrays_;
 };
 
-// Open addressing over new-vertex ids, keyed by a 64-bit hash; equality decides.
-class VertexTable {
- public:
-  explicit VertexTable(std::size_t expected) {
-    std::size_t n = 16;
-    while (n < 2 * expected) n *= 2;
-    slots_.assign(n, kInvalidIndex);
-    mask_ = n - 1;
-  }
-  // The id stored under `h` for which `same(id)` holds, or kInvalidIndex after storing `id`.
-  template <class Same>
-  std::uint32_t find_or_insert(std::uint64_t h, std::uint32_t id, const std::vector<std::uint64_t>& hashes, Same&& same) {
-    for (std::size_t i = h & mask_;; i = (i + 1) & mask_) {
-      const std::uint32_t s = slots_[i];
-      if (s == kInvalidIndex) {
-        slots_[i] = id;
-        return kInvalidIndex;
-      }
-      if (hashes[s] == h && same(s)) return s;
-    }
-  }
-
- private:
-  std::vector<std::uint32_t> slots_;
-  std::size_t mask_ = 0;
-};
-
 // The live faces, and the vertices in order of first use by them.
 struct FaceUse {
   std::vector<std::uint32_t> faces;      // live face slots, in order
   std::vector<std::uint32_t> first_use;  // vertices, in order of first use by `faces`
 };
 
+// In parallel: each vertex's first corner (an atomic minimum over the corners using it), then
+// the corners that are their vertex's first, in order.
 FaceUse first_uses(const SurfaceMesh& mesh) {
   FaceUse use;
-  use.first_use.reserve(mesh.vertex_count());
-  use.faces.reserve(mesh.face_count());
-  std::vector<std::uint8_t> used(mesh.vertex_count(), 0);
-  mesh.for_each_face([&](FaceId f, const Triangle& t) {
-    use.faces.push_back(f.index);
-    for (VertexId v : t)
-      if (!used[v.index]) {
-        used[v.index] = 1;
-        use.first_use.push_back(v.index);
+  const auto& tris = mesh.faces();
+  use.faces = detail::ordered_indices(tris.size(), [&](std::size_t f) { return !mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f))); });
+  const std::size_t corners = 3 * use.faces.size();
+  std::unique_ptr<std::atomic<std::uint32_t>[]> first(new std::atomic<std::uint32_t>[mesh.vertex_count()]);
+  parallel_for(mesh.vertex_count(), kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t v = b; v < e; ++v) first[v].store(kInvalidIndex, std::memory_order_relaxed);
+  });
+  auto vertex_of = [&](std::size_t c) { return tris[use.faces[c / 3]][static_cast<int>(c % 3)].index; };
+  parallel_for(corners, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t c = b; c < e; ++c) {
+      std::atomic<std::uint32_t>& slot = first[vertex_of(c)];
+      std::uint32_t s = slot.load(std::memory_order_relaxed);
+      while (c < s && !slot.compare_exchange_weak(s, static_cast<std::uint32_t>(c), std::memory_order_relaxed)) {
       }
+    }
+  });
+  use.first_use = detail::ordered_indices(corners, [&](std::size_t c) {
+    return first[vertex_of(c)].load(std::memory_order_relaxed) == c;
+  });
+  parallel_for(use.first_use.size(), kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) use.first_use[i] = vertex_of(use.first_use[i]);
   });
   return use;
 }
@@ -132,70 +121,59 @@ struct Classes {
   std::size_t kept_apart = 0;
 };
 
+// Representatives that share a position with an earlier one: all of them less the positions.
+std::size_t count_kept_apart(const VertexBytes& bytes, const std::vector<std::uint32_t>& keep) {
+  std::vector<std::uint64_t> hash(keep.size());
+  parallel_for(keep.size(), kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) hash[i] = bytes.position_hash(keep[i]);
+  });
+  const std::vector<std::uint32_t> first =
+      detail::first_of_class(hash, [&](std::uint32_t a, std::uint32_t b) { return bytes.same_position(keep[a], keep[b]); });
+  const std::size_t positions = parallel_reduce(
+      keep.size(), kGrain, std::size_t(0),
+      [&](std::size_t b, std::size_t e) {
+        std::size_t n = 0;
+        for (std::size_t i = b; i < e; ++i) n += first[i] == i;
+        return n;
+      },
+      [](std::size_t a, std::size_t b) { return a + b; });
+  return keep.size() - positions;
+}
+
 // Keying every used vertex, in first-use order, so the first user of a class is its
-// representative (its bytes, e.g. the sign of a zero coordinate, are the ones kept).
+// representative (its bytes, e.g. the sign of a zero coordinate, are the ones kept). The classes
+// are found in parallel (first_of_class) and numbered in first-use order.
 Classes classify(const VertexBytes& bytes, const std::vector<std::uint32_t>& first_use, std::size_t nv, WeldKey key) {
   Classes out;
   out.to_new.assign(nv, kInvalidIndex);
   const std::size_t nu = first_use.size();
   if (key == WeldKey::None) {
     out.keep = first_use;
-    for (std::size_t i = 0; i < nu; ++i) out.to_new[first_use[i]] = static_cast<std::uint32_t>(i);
+    parallel_for(nu, kGrain, [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i < e; ++i) out.to_new[first_use[i]] = static_cast<std::uint32_t>(i);
+    });
     return out;
   }
-  // Hashes in parallel; then the merge, in order.
-  std::vector<std::uint64_t> hash(nu), position_hash(nu);
+  std::vector<std::uint64_t> hash(nu);
   parallel_for(nu, kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i) {
-      position_hash[i] = bytes.position_hash(first_use[i]);
-      hash[i] = bytes.hash(first_use[i], position_hash[i]);
+    for (std::size_t i = b; i < e; ++i) hash[i] = bytes.hash(first_use[i], bytes.position_hash(first_use[i]));
+  });
+  const std::vector<std::uint32_t> first =
+      detail::first_of_class(hash, [&](std::uint32_t a, std::uint32_t b) { return bytes.equal(first_use[a], first_use[b]); });
+  const std::vector<std::uint32_t> reps = detail::ordered_indices(nu, [&](std::size_t i) { return first[i] == i; });
+  std::vector<std::uint32_t> id(nu, kInvalidIndex);
+  out.keep.resize(reps.size());
+  parallel_for(reps.size(), kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t k = b; k < e; ++k) {
+      id[reps[k]] = static_cast<std::uint32_t>(k);
+      out.keep[k] = first_use[reps[k]];
     }
   });
-  const bool count_apart = key == WeldKey::PositionAndSkin;
-  auto& keep = out.keep;
-  std::vector<std::uint64_t> keep_hash, keep_position_hash;
-  keep.reserve(nu);
-  keep_hash.reserve(nu);
-  keep_position_hash.reserve(nu);
-  VertexTable classes(nu), positions(count_apart ? nu : 0);
-  for (std::size_t i = 0; i < nu; ++i) {
-    const std::uint32_t v = first_use[i];
-    const auto id = static_cast<std::uint32_t>(keep.size());
-    keep_hash.push_back(hash[i]);
-    const std::uint32_t same =
-        classes.find_or_insert(hash[i], id, keep_hash, [&](std::uint32_t s) { return bytes.equal(keep[s], v); });
-    if (same != kInvalidIndex) {
-      keep_hash.pop_back();
-      out.to_new[v] = same;
-      continue;
-    }
-    out.to_new[v] = id;
-    keep.push_back(v);
-    if (!count_apart) continue;
-    keep_position_hash.push_back(position_hash[i]);
-    const std::uint32_t at = positions.find_or_insert(position_hash[i], id, keep_position_hash, [&](std::uint32_t s) {
-      return bytes.same_position(keep[s], v);
-    });
-    if (at != kInvalidIndex) ++out.kept_apart;
-  }
+  parallel_for(nu, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) out.to_new[first_use[i]] = id[first[i]];
+  });
+  if (key == WeldKey::PositionAndSkin) out.kept_apart = count_kept_apart(bytes, out.keep);
   return out;
-}
-
-// Representatives that share a position (each counted once per earlier one at its position).
-std::size_t count_kept_apart(const VertexBytes& bytes, const std::vector<std::uint32_t>& keep) {
-  std::size_t apart = 0;
-  std::vector<std::uint64_t> keep_position_hash;
-  keep_position_hash.reserve(keep.size());
-  VertexTable positions(keep.size());
-  for (std::size_t i = 0; i < keep.size(); ++i) {
-    const std::uint32_t v = keep[i];
-    keep_position_hash.push_back(bytes.position_hash(v));
-    const std::uint32_t at = positions.find_or_insert(
-        keep_position_hash.back(), static_cast<std::uint32_t>(i), keep_position_hash,
-        [&](std::uint32_t s) { return bytes.same_position(keep[s], v); });
-    apart += at != kInvalidIndex;
-  }
-  return apart;
 }
 
 // Drops the faces of `use.faces` whose corners fall on one welded vertex and renumbers the

@@ -89,15 +89,17 @@ std::vector<unsigned char> read_file(const std::string& path, std::size_t max_by
 namespace {
 
 // Writes all of `bytes` to `fd` and flushes it to disk; returns errno on failure, 0 on success.
-int write_all_and_sync(int fd, const std::vector<unsigned char>& bytes) {
-  std::size_t done = 0;
-  while (done < bytes.size()) {
-    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      return errno;
+int write_all_and_sync(int fd, const std::vector<ByteSpan>& parts) {
+  for (const ByteSpan& part : parts) {
+    std::size_t done = 0;
+    while (done < part.size) {
+      const ssize_t n = ::write(fd, part.data + done, part.size - done);
+      if (n < 0) {
+        if (errno == EINTR) continue;
+        return errno;
+      }
+      done += static_cast<std::size_t>(n);
     }
-    done += static_cast<std::size_t>(n);
   }
   return ::fsync(fd) != 0 ? errno : 0;
 }
@@ -105,6 +107,10 @@ int write_all_and_sync(int fd, const std::vector<unsigned char>& bytes) {
 }  // namespace
 
 void write_file_atomic(const std::string& path, const std::vector<unsigned char>& bytes) {
+  write_file_atomic(path, std::vector<ByteSpan>{{bytes.data(), bytes.size()}});
+}
+
+void write_file_atomic(const std::string& path, const std::vector<ByteSpan>& bytes) {
   namespace fs = std::filesystem;
   const fs::path target(path);
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");

@@ -25,6 +25,13 @@ std::vector<unsigned char> read_file(const std::string& path, std::size_t max_by
 // where the file system allows, so a killed writer leaves no temporary behind either; elsewhere a
 // writer killed mid-write leaves a hidden `.<name>.tmp<number>` beside the target.
 void write_file_atomic(const std::string& path, const std::vector<unsigned char>& bytes);
+// The same with the file's bytes given as consecutive parts (a .glb's header and JSON, then its
+// binary buffer), written without joining them first.
+struct ByteSpan {
+  const unsigned char* data;
+  std::size_t size;
+};
+void write_file_atomic(const std::string& path, const std::vector<ByteSpan>& parts);
 
 // "file.glb" -> true (case-insensitive extension test).
 bool has_extension(const std::string& path, const char* ext);

@@ -8,6 +8,9 @@
 #include <cstring>
 #include <limits>
 #include <filesystem>
+#include <type_traits>
+
+#include "deepcut/core/parallel.h"
 
 #include "io/gltf_common.h"
 #include "io/gltf_reader.h"
@@ -29,6 +32,8 @@ constexpr int kMaxJsonDepth = 512;
 // accessor reused by thousands of primitives cannot make a tiny file allocate gigabytes.
 constexpr std::size_t kDecodeBaseBytes = std::size_t(64) << 20;
 constexpr std::size_t kDecodePerInputByte = 32;
+// Elements per parallel chunk when decoding an accessor.
+constexpr std::size_t kDecodeGrain = 32768;
 
 // ---- file system callbacks: external URIs must stay inside the model's folder ---------------
 
@@ -393,7 +398,21 @@ std::vector<T> Reader::decode(int index, const char* what_c, int* components_out
       for (int c = 0; c < comps; ++c) out[d * comps + c] = convert(p + std::size_t(c) * csize, acc.componentType, acc.normalized);
     }
   };
-  if (base) load(base, stride, acc.count, [](std::size_t i) { return i; });
+  if (base) {
+    // Elements that are the decoded type already (floats to floats, 32-bit indices) are copied
+    // as they are; the rest converted. In parallel chunks, each writing its own elements.
+    const bool raw = (std::is_same<T, float>::value && acc.componentType == kFloat) ||
+                     (std::is_same<T, std::uint32_t>::value && acc.componentType == kUnsignedInt);
+    parallel_for(acc.count, kDecodeGrain, [&](std::size_t b, std::size_t e) {
+      if (raw && stride == elem) {
+        std::memcpy(out.data() + b * comps, base + b * stride, (e - b) * elem);
+      } else if (raw) {
+        for (std::size_t i = b; i < e; ++i) std::memcpy(out.data() + i * comps, base + i * stride, elem);
+      } else {
+        load(base + b * stride, stride, e - b, [b](std::size_t i) { return b + i; });
+      }
+    });
+  }
   if (sp.isSparse) {
     std::vector<std::size_t> targets(n);
     for (std::size_t i = 0; i < n; ++i) {

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "deepcut/core/mesh_editor.h"
+#include "deepcut/core/parallel.h"
 #include "deepcut/core/weld.h"
 #include "io/gltf_common.h"
 #include "io/gltf_reader.h"
@@ -16,46 +17,76 @@ namespace {
 
 using nlohmann::json;
 
+constexpr std::size_t kGrain = 32768;
+
+// Calls fn(i) for every i in [0, n) in parallel chunks; each call writes only element i's output.
+template <class Fn>
+void each(std::size_t n, Fn&& fn) {
+  parallel_for(n, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) fn(i);
+  });
+}
+
+// The smallest i in [0, n) where bad(i) holds, or n (in parallel; the answer is the same).
+template <class Bad>
+std::size_t first_bad(std::size_t n, Bad&& bad) {
+  return parallel_reduce(
+      n, kGrain, n,
+      [&](std::size_t b, std::size_t e) {
+        for (std::size_t i = b; i < e; ++i)
+          if (bad(i)) return i;
+        return n;
+      },
+      [](std::size_t a, std::size_t b) { return std::min(a, b); });
+}
+
 // The primitive as the file stores it: glTF vertex v is vertex v (-0 coordinates read as +0),
-// triangle t is face t, and the corner attributes come from each corner's glTF vertex.
+// triangle t is face t, and the corner attributes come from each corner's glTF vertex. The arrays
+// are filled in parallel and handed to the mesh whole.
 SurfaceMesh file_mesh(const std::vector<float>& pos, const std::vector<std::uint32_t>& tris, const Influences& skin,
                       const std::vector<CornerSource>& corner_sources) {
   SurfaceMesh mesh;
-  const std::size_t nv = pos.size() / 3;
-  mesh.reserve(nv, tris.size() / 3);
-  mesh.vertex_attrs().resize(nv);
-  auto& positions = mesh.positions();
-  for (std::size_t v = 0; v < nv; ++v)
+  const std::size_t nv = pos.size() / 3, nf = tris.size() / 3, nc = tris.size();
+  AttributeSet vattrs = std::move(mesh.vertex_attrs()), fattrs, cattrs;
+  vattrs.resize(nv);
+  fattrs.resize(nf);
+  cattrs.resize(nc);
+  auto& positions = vattrs.get<glm::vec3>(attr::kPosition);
+  each(nv, [&](std::size_t v) {
     positions[v] = glm::vec3(pos[3 * v] + 0.0f, pos[3 * v + 1] + 0.0f, pos[3 * v + 2] + 0.0f);  // -0 == +0
-  for (std::size_t i = 0; i < tris.size(); i += 3) mesh.add_face(VertexId(tris[i]), VertexId(tris[i + 1]), VertexId(tris[i + 2]));
+  });
+  std::vector<Triangle> faces(nf);
+  each(nf, [&](std::size_t f) { faces[f] = {VertexId(tris[3 * f]), VertexId(tris[3 * f + 1]), VertexId(tris[3 * f + 2])}; });
 
   const char* jn[2] = {attr::kJoints0, attr::kJoints1};
   const char* wn[2] = {attr::kWeights0, attr::kWeights1};
   for (std::size_t s = 0; s < skin.sets; ++s) {
-    auto& ja = mesh.vertex_attrs().add<glm::u16vec4>(jn[s]);
-    auto& wa = mesh.vertex_attrs().add<glm::vec4>(wn[s]);
-    std::copy_n(skin.joints.begin() + std::ptrdiff_t(s * nv), nv, ja.data().begin());
-    std::copy_n(skin.weights.begin() + std::ptrdiff_t(s * nv), nv, wa.data().begin());
+    auto& ja = vattrs.add<glm::u16vec4>(jn[s]);
+    auto& wa = vattrs.add<glm::vec4>(wn[s]);
+    each(nv, [&](std::size_t v) {
+      ja[v] = skin.joints[s * nv + v];
+      wa[v] = skin.weights[s * nv + v];
+    });
   }
-  const std::size_t nc = tris.size();
   for (const auto& cs : corner_sources) {
     if (cs.comps == 2) {
-      auto& a = mesh.corner_attrs().add<glm::vec2>(cs.name);
-      for (std::size_t c = 0; c < nc; ++c) a[c] = glm::vec2(cs.data[2 * tris[c]], cs.data[2 * tris[c] + 1]);
+      auto& a = cattrs.add<glm::vec2>(cs.name);
+      each(nc, [&](std::size_t c) { a[c] = glm::vec2(cs.data[2 * tris[c]], cs.data[2 * tris[c] + 1]); });
     } else if (cs.comps == 3) {
-      auto& a = mesh.corner_attrs().add<glm::vec3>(cs.name);
-      for (std::size_t c = 0; c < nc; ++c) {
+      auto& a = cattrs.add<glm::vec3>(cs.name);
+      each(nc, [&](std::size_t c) {
         const float* d = &cs.data[3 * tris[c]];
         a[c] = glm::vec3(d[0], d[1], d[2]);
-      }
+      });
     } else {
-      auto& a = mesh.corner_attrs().add<glm::vec4>(cs.name, glm::vec4(1.0f));
-      for (std::size_t c = 0; c < nc; ++c) {
+      auto& a = cattrs.add<glm::vec4>(cs.name, glm::vec4(1.0f));
+      each(nc, [&](std::size_t c) {
         const float* d = &cs.data[std::size_t(cs.data_comps) * tris[c]];
         a[c] = glm::vec4(d[0], d[1], d[2], cs.data_comps == 4 ? d[3] : 1.0f);
-      }
+      });
     }
   }
+  mesh.assign(std::move(faces), std::move(vattrs), std::move(fattrs), std::move(cattrs));
   return mesh;
 }
 
@@ -104,8 +135,8 @@ std::vector<float> Reader::read_positions(const tinygltf::Primitive& p, const st
   int comps = 0;
   const auto pos = read_floats(pos_it->second, "POSITION", &comps);
   if (comps != 3) fail(where + ": POSITION is not VEC3");
-  for (std::size_t i = 0; i < pos.size(); ++i)
-    if (!std::isfinite(pos[i])) fail(where + ": POSITION " + std::to_string(i / 3) + " is not finite (NaN or Inf)");
+  const std::size_t bad = first_bad(pos.size(), [&](std::size_t i) { return !std::isfinite(pos[i]); });
+  if (bad < pos.size()) fail(where + ": POSITION " + std::to_string(bad / 3) + " is not finite (NaN or Inf)");
   return pos;
 }
 
@@ -117,10 +148,10 @@ std::vector<std::uint32_t> Reader::read_triangles(const tinygltf::Primitive& p, 
     idx = read_uints(p.indices, "indices", &ic);
     if (ic != 1) fail(where + ": indices are not SCALAR");
     if (gltf_.accessors[p.indices].componentType == kFloat) fail(where + ": indices must be integers");
-    for (std::size_t i = 0; i < idx.size(); ++i)
-      if (idx[i] >= nv)
-        fail(where + ": index " + std::to_string(idx[i]) + " (position " + std::to_string(i) + ") is past the " +
-             std::to_string(nv) + " vertices");
+    const std::size_t i = first_bad(idx.size(), [&](std::size_t k) { return idx[k] >= nv; });
+    if (i < idx.size())
+      fail(where + ": index " + std::to_string(idx[i]) + " (position " + std::to_string(i) + ") is past the " +
+           std::to_string(nv) + " vertices");
   } else {
     idx.resize(nv);
     for (std::size_t i = 0; i < nv; ++i) idx[i] = static_cast<std::uint32_t>(i);
@@ -171,12 +202,15 @@ Influences Reader::read_influences(const tinygltf::Primitive& p, const std::stri
   const std::uint32_t file_joints = joint_remap_ && !joint_remap_->empty() ? static_cast<std::uint32_t>(joint_remap_->size())
                                     : joint_count >= 0                     ? static_cast<std::uint32_t>(joint_count)
                                                                            : 0u;
-  std::size_t renormalised = 0, out_of_range = 0, zero = 0, bad_weights = 0, duplicates = 0;
+  struct Repairs {
+    std::size_t renormalised = 0, out_of_range = 0, zero = 0, bad_weights = 0, duplicates = 0;
+  };
   Influences skin;
   skin.sets = sets.size();
   skin.joints.resize(sets.size() * nv);
   skin.weights.resize(sets.size() * nv);
-  for (std::size_t v = 0; v < nv && slots > 0; ++v) {
+  // One vertex's influences, sanitised into `skin`; its repairs counted into `r`.
+  auto sanitise = [&](std::size_t v, Repairs& r) {
     std::uint16_t jj[8] = {};
     float ww[8] = {};
     std::uint32_t raw[8] = {};
@@ -189,20 +223,20 @@ Influences Reader::read_influences(const tinygltf::Primitive& p, const std::stri
       std::uint32_t joint = d.joints[4 * v + std::size_t(k % 4)];
       float weight = d.weights[4 * v + std::size_t(k % 4)];
       if (!std::isfinite(weight) || weight < 0.0f) {
-        ++bad_weights;
+        ++r.bad_weights;
         weight = 0.0f;
       }
       if (joint_count >= 0 && joint >= file_joints) {
         // Dropped, and the slot points at joint 0: a vertex left with no weight is bound to its
         // first slot's joint, which must exist.
-        out_of_range += weight > 0.0f;
+        r.out_of_range += weight > 0.0f;
         weight = 0.0f;
         joint = 0;
       }
       raw[k] = joint;
       bool repeated = false;
       for (int i = 0; i < k && weight > 0.0f; ++i) repeated = repeated || (raw[i] == joint && ww[i] > 0.0f);
-      duplicates += repeated;
+      r.duplicates += repeated;
       if (weight > 0.0f) {
         sum += weight;
         tolerance += 2e-7f;
@@ -212,13 +246,30 @@ Influences Reader::read_influences(const tinygltf::Primitive& p, const std::stri
       jj[k] = static_cast<std::uint16_t>(joint);
       ww[k] = weight;
     }
-    if (sum > 0.0f && std::abs(sum - 1.0f) > tolerance) ++renormalised;
-    if (!normalize_influences(jj, ww, slots)) ++zero;
+    if (sum > 0.0f && std::abs(sum - 1.0f) > tolerance) ++r.renormalised;
+    if (!normalize_influences(jj, ww, slots)) ++r.zero;
     for (std::size_t s = 0; s < sets.size(); ++s) {
       skin.joints[s * nv + v] = glm::u16vec4(jj[4 * s], jj[4 * s + 1], jj[4 * s + 2], jj[4 * s + 3]);
       skin.weights[s * nv + v] = glm::vec4(ww[4 * s], ww[4 * s + 1], ww[4 * s + 2], ww[4 * s + 3]);
     }
-  }
+  };
+  const Repairs repairs = parallel_reduce(
+      slots > 0 ? nv : 0, kGrain, Repairs(),
+      [&](std::size_t b, std::size_t e) {
+        Repairs r;
+        for (std::size_t v = b; v < e; ++v) sanitise(v, r);
+        return r;
+      },
+      [](Repairs a, const Repairs& b) {
+        a.renormalised += b.renormalised;
+        a.out_of_range += b.out_of_range;
+        a.zero += b.zero;
+        a.bad_weights += b.bad_weights;
+        a.duplicates += b.duplicates;
+        return a;
+      });
+  const std::size_t renormalised = repairs.renormalised, out_of_range = repairs.out_of_range, zero = repairs.zero,
+                    bad_weights = repairs.bad_weights, duplicates = repairs.duplicates;
   if (bad_weights)
     problem("weights-invalid", bad_weights,
             {"weight was negative or NaN (set to 0)", "weights were negative or NaN (set to 0)"}, where);

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 
+#include "deepcut/core/parallel.h"
 #include "io/gltf_reader.h"
 
 namespace deepcut::gltf_detail {
@@ -19,6 +20,7 @@ using nlohmann::json;
 // What one target costs besides its data (the attribute arrays' bookkeeping, the weld's work per
 // vertex): charged against the decoding limit, so a small file cannot list millions of targets.
 constexpr std::size_t kTargetOverheadBytes = 4096;
+constexpr std::size_t kGrain = 32768;  // elements per parallel chunk
 
 std::string node_label(const Model& model, int node) {
   const std::string& name = model.nodes[std::size_t(node)].name;
@@ -47,17 +49,21 @@ void add_morph_targets(SurfaceMesh& mesh, const std::vector<std::uint32_t>& tris
   auto per_corner = [&](const std::string& name, const std::vector<float>& d) {
     if (d.empty()) return;
     auto& a = mesh.corner_attrs().add<glm::vec3>(name);
-    for (std::size_t c = 0; c < tris.size(); ++c) {
-      const float* p = &d[3 * std::size_t(tris[c])];
-      a[c] = glm::vec3(p[0], p[1], p[2]);
-    }
+    parallel_for(tris.size(), kGrain, [&](std::size_t b, std::size_t e) {
+      for (std::size_t c = b; c < e; ++c) {
+        const float* p = &d[3 * std::size_t(tris[c])];
+        a[c] = glm::vec3(p[0], p[1], p[2]);
+      }
+    });
   };
   for (std::size_t t = 0; t < targets.size(); ++t) {
     const int i = static_cast<int>(t);
     auto& pos = mesh.vertex_attrs().add<glm::vec3>(attr::morph_position_name(i));
     const std::vector<float>& d = targets[t].position;
-    for (std::size_t v = 0; v < nv; ++v)  // -0 reads as +0, as positions do, so the weld sees equal deltas
-      pos[v] = glm::vec3(d[3 * v] + 0.0f, d[3 * v + 1] + 0.0f, d[3 * v + 2] + 0.0f);
+    parallel_for(nv, kGrain, [&](std::size_t b, std::size_t e) {
+      for (std::size_t v = b; v < e; ++v)  // -0 reads as +0, as positions do, so the weld sees equal deltas
+        pos[v] = glm::vec3(d[3 * v] + 0.0f, d[3 * v + 1] + 0.0f, d[3 * v + 2] + 0.0f);
+    });
     per_corner(attr::morph_normal_name(i), targets[t].normal);
     per_corner(attr::morph_tangent_name(i), targets[t].tangent);
   }

@@ -4,12 +4,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <unordered_map>
 
 #include <nlohmann/json.hpp>
 
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/mesh_editor.h"
+#include "deepcut/core/parallel.h"
+#include "first_of_class.h"
 #include "io/gltf_common.h"
 #include "io/gltf_write_compress.h"
 
@@ -25,6 +26,16 @@ constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963;
 // again would move its last bit, so exporting an imported export would not give the same bytes.
 // (The validator accepts lengths within 5e-4 of 1; a division lands within 1e-7.)
 bool unit_enough(float length) { return std::abs(length - 1.0f) <= 1e-6f; }
+
+constexpr std::size_t kGrain = 16384;
+
+// Calls fn(i) for every i in [0, n) in parallel chunks; each call writes only element i's output.
+template <class Fn>
+void each(std::size_t n, Fn&& fn) {
+  parallel_for(n, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) fn(i);
+  });
+}
 
 json parse_or(const std::string& text, json fallback) {
   if (text.empty()) return fallback;
@@ -42,7 +53,10 @@ struct GltfVertices {
 class Writer {
  public:
   Writer(const Model& model, const ExportOptions& options) : model_(model), options_(options) {}
+  // The file: for a .glb its header, JSON and BIN chunk header, then `bin()`; for a .gltf the
+  // whole text (`bin()` is then not part of the file).
   std::vector<unsigned char> write(bool glb);
+  const std::vector<unsigned char>& bin() const { return bin_; }
 
  private:
   int add_view(const void* data, std::size_t bytes, int target);
@@ -61,6 +75,7 @@ class Writer {
   void write_nodes();
   bool drives_written_targets(int node, int components) const;
   void write_images();
+  std::size_t bin_bound() const;
 
   const Model& model_;
   ExportOptions options_;
@@ -89,58 +104,85 @@ int Writer::add_accessor(const std::vector<T>& data, int components, int compone
               {"count", count},
               {"type", type}};
   if (minmax && count > 0) {
-    std::vector<T> lo(data.begin(), data.begin() + components), hi = lo;
-    for (std::size_t i = 0; i < count; ++i)
-      for (int c = 0; c < components; ++c) {
-        lo[c] = std::min(lo[c], data[i * components + c]);
-        hi[c] = std::max(hi[c], data[i * components + c]);
-      }
-    acc["min"] = lo;
-    acc["max"] = hi;
+    using Range = std::pair<std::vector<T>, std::vector<T>>;
+    const std::vector<T> first(data.begin(), data.begin() + components);
+    const Range range = parallel_reduce(
+        count, kGrain, Range(first, first),
+        [&](std::size_t b, std::size_t e) {
+          Range r(first, first);
+          for (std::size_t i = b; i < e; ++i)
+            for (int c = 0; c < components; ++c) {
+              r.first[c] = std::min(r.first[c], data[i * components + c]);
+              r.second[c] = std::max(r.second[c], data[i * components + c]);
+            }
+          return r;
+        },
+        [&](Range sum, const Range& r) {
+          for (int c = 0; c < components; ++c) {
+            sum.first[c] = std::min(sum.first[c], r.first[c]);
+            sum.second[c] = std::max(sum.second[c], r.second[c]);
+          }
+          return sum;
+        });
+    acc["min"] = range.first;
+    acc["max"] = range.second;
   }
   doc_["accessors"].push_back(acc);
   return static_cast<int>(doc_["accessors"].size() - 1);
 }
 
-// Un-welds `mesh` (no deleted faces) by the corner attributes in `arrays`.
+// Un-welds `mesh` (no deleted faces) by the corner attributes in `arrays`: a glTF vertex per
+// class of corners sharing a vertex and those attributes, numbered by first corner (the classes
+// are found in parallel; the numbering does not depend on the thread count).
 GltfVertices unweld(const SurfaceMesh& mesh, const std::vector<const AttributeArrayBase*>& arrays) {
-  auto corner_hash = [&](std::size_t c, std::uint32_t v) {
-    std::uint64_t h = 1469598103934665603ull ^ v;
-    for (const auto* a : arrays) {
-      const auto* b = static_cast<const unsigned char*>(a->element_data(c));
-      for (std::size_t i = 0; i < a->element_bytes(); ++i) h = (h ^ b[i]) * 1099511628211ull;
-    }
-    return h;
+  struct Raw {
+    const unsigned char* data;
+    std::size_t bytes;
   };
-  auto corners_equal = [&](std::size_t c0, std::size_t c1) {
-    for (const auto* a : arrays)
-      if (std::memcmp(a->element_data(c0), a->element_data(c1), a->element_bytes()) != 0) return false;
-    return true;
-  };
-  std::unordered_multimap<std::uint64_t, std::uint32_t> seen;
-  GltfVertices out;
-  auto& out_vertex = out.vertex;
-  auto& out_corner = out.corner;
-  auto& indices = out.indices;
-  indices.reserve(mesh.face_slots() * 3);
-  for (std::uint32_t f = 0; f < mesh.face_slots(); ++f) {
-    const auto& t = mesh.face(FaceId(f));
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t c = 3 * f + static_cast<std::uint32_t>(k), v = t[k].index;
-      const auto h = corner_hash(c, v);
-      std::uint32_t id = kInvalidIndex;
-      auto range = seen.equal_range(h);
-      for (auto it = range.first; it != range.second && id == kInvalidIndex; ++it)
-        if (out_vertex[it->second] == v && corners_equal(out_corner[it->second], c)) id = it->second;
-      if (id == kInvalidIndex) {
-        id = static_cast<std::uint32_t>(out_vertex.size());
-        out_vertex.push_back(v);
-        out_corner.push_back(c);
-        seen.emplace(h, id);
+  std::vector<Raw> raw;
+  for (const auto* a : arrays)
+    if (a->size() > 0) raw.push_back({static_cast<const unsigned char*>(a->element_data(0)), a->element_bytes()});
+  const auto& tris = mesh.faces();
+  const std::size_t corners = 3 * tris.size();
+  auto vertex_of = [&](std::size_t c) { return tris[c / 3][static_cast<int>(c % 3)].index; };
+  std::vector<std::uint64_t> hash(corners);
+  parallel_for(corners, detail::kClassGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t c = b; c < e; ++c) {
+      std::uint64_t h = (0x243f6a8885a308d3ull ^ vertex_of(c)) * 0x9e3779b97f4a7c15ull;
+      for (const Raw& a : raw) {
+        const unsigned char* p = a.data + c * a.bytes;
+        std::size_t i = 0;
+        for (; i + 4 <= a.bytes; i += 4) {
+          std::uint32_t w;
+          std::memcpy(&w, p + i, 4);
+          h = (h ^ w) * 0x9e3779b97f4a7c15ull;
+        }
+        for (; i < a.bytes; ++i) h = (h ^ p[i]) * 0x9e3779b97f4a7c15ull;
       }
-      indices.push_back(id);
+      hash[c] = h ^ (h >> 29);
     }
-  }
+  });
+  const std::vector<std::uint32_t> first = detail::first_of_class(hash, [&](std::uint32_t c0, std::uint32_t c1) {
+    if (vertex_of(c0) != vertex_of(c1)) return false;
+    for (const Raw& a : raw)
+      if (std::memcmp(a.data + c0 * a.bytes, a.data + c1 * a.bytes, a.bytes) != 0) return false;
+    return true;
+  });
+  GltfVertices out;
+  out.corner = detail::ordered_indices(corners, [&](std::size_t c) { return first[c] == c; });
+  const std::size_t n = out.corner.size();
+  out.vertex.resize(n);
+  std::vector<std::uint32_t> id(corners, kInvalidIndex);
+  parallel_for(n, detail::kClassGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t k = b; k < e; ++k) {
+      out.vertex[k] = vertex_of(out.corner[k]);
+      id[out.corner[k]] = static_cast<std::uint32_t>(k);
+    }
+  });
+  out.indices.resize(corners);
+  parallel_for(corners, detail::kClassGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t c = b; c < e; ++c) out.indices[c] = id[first[c]];
+  });
   return out;
 }
 
@@ -198,10 +240,10 @@ void Writer::write_primitive(const Primitive& prim, std::size_t targets, json& o
   json attributes = json::object();
   {
     std::vector<float> pos(3 * n);
-    for (std::size_t i = 0; i < n; ++i) {
+    each(n, [&](std::size_t i) {
       const auto& p = mesh.positions()[vertices.vertex[i]];
       for (int c = 0; c < 3; ++c) pos[3 * i + std::size_t(c)] = p[c];
-    }
+    });
     attributes["POSITION"] = add_accessor(pos, 3, kFloat, "VEC3", kArrayBuffer, true);
   }
   write_influences(mesh, vertices.vertex, attributes);
@@ -210,7 +252,8 @@ void Writer::write_primitive(const Primitive& prim, std::size_t targets, json& o
   if (targets > 0) out["targets"] = write_targets(mesh, vertices, targets, morph_corners);
   const auto& indices = vertices.indices;
   if (n <= 65535) {
-    std::vector<std::uint16_t> idx16(indices.begin(), indices.end());
+    std::vector<std::uint16_t> idx16(indices.size());
+    each(indices.size(), [&](std::size_t i) { idx16[i] = static_cast<std::uint16_t>(indices[i]); });
     out["indices"] = add_accessor(idx16, 1, kUnsignedShort, "SCALAR", kElementArrayBuffer);
   } else {
     out["indices"] = add_accessor(indices, 1, kUnsignedInt, "SCALAR", kElementArrayBuffer);
@@ -228,11 +271,12 @@ json Writer::write_targets(const SurfaceMesh& mesh, const GltfVertices& vertices
   const std::size_t n = vertices.vertex.size();
   auto write = [&](const std::vector<glm::vec3>& d, const std::vector<std::uint32_t>& from, bool minmax) {
     std::vector<float> out(3 * n);
-    for (std::size_t i = 0; i < n; ++i)
+    each(n, [&](std::size_t i) {
       for (int c = 0; c < 3; ++c) {
         const float v = d[from[i]][c];
         out[3 * i + std::size_t(c)] = std::isfinite(v) ? v : 0.0f;
       }
+    });
     return add_accessor(out, 3, kFloat, "VEC3", kArrayBuffer, minmax);
   };
   json out = json::array();
@@ -261,13 +305,19 @@ void Writer::write_influences(const SurfaceMesh& mesh, const std::vector<std::ui
   if (sets > 0) {
     std::vector<std::vector<std::uint16_t>> joints(std::size_t(sets), std::vector<std::uint16_t>(4 * n));
     std::vector<std::vector<float>> weights(std::size_t(sets), std::vector<float>(4 * n));
-    for (std::size_t i = 0; i < n; ++i) {
+    const glm::u16vec4* in_joints[2] = {};
+    const glm::vec4* in_weights[2] = {};
+    for (int s = 0; s < sets; ++s) {
+      in_joints[s] = va.get<glm::u16vec4>(jn[s]).data().data();
+      in_weights[s] = va.get<glm::vec4>(wn[s]).data().data();
+    }
+    each(n, [&](std::size_t i) {
       std::uint16_t jj[8] = {};
       float ww[8] = {};
       for (int s = 0; s < sets; ++s)
         for (int c = 0; c < 4; ++c) {
-          jj[4 * s + c] = va.get<glm::u16vec4>(jn[s])[out_vertex[i]][c];
-          ww[4 * s + c] = va.get<glm::vec4>(wn[s])[out_vertex[i]][c];
+          jj[4 * s + c] = in_joints[s][out_vertex[i]][c];
+          ww[4 * s + c] = in_weights[s][out_vertex[i]][c];
         }
       normalize_influences(jj, ww, 4 * sets);
       for (int s = 0; s < sets; ++s)
@@ -275,7 +325,7 @@ void Writer::write_influences(const SurfaceMesh& mesh, const std::vector<std::ui
           joints[std::size_t(s)][4 * i + std::size_t(c)] = jj[4 * s + c];
           weights[std::size_t(s)][4 * i + std::size_t(c)] = ww[4 * s + c];
         }
-    }
+    });
     for (int s = 0; s < sets; ++s) {
       attributes["JOINTS_" + std::to_string(s)] = add_accessor(joints[std::size_t(s)], 4, kUnsignedShort, "VEC4", kArrayBuffer);
       attributes["WEIGHTS_" + std::to_string(s)] = add_accessor(weights[std::size_t(s)], 4, kFloat, "VEC4", kArrayBuffer);
@@ -292,17 +342,18 @@ void Writer::write_corner_attribute(const SurfaceMesh& mesh, const std::string& 
   if (array->type() == typeid(glm::vec2)) {
     const auto& d = static_cast<const AttributeArray<glm::vec2>*>(array)->data();
     std::vector<float> out_data(2 * n);
-    for (std::size_t i = 0; i < n; ++i) {
+    each(n, [&](std::size_t i) {
       out_data[2 * i] = d[out_corner[i]].x;
       out_data[2 * i + 1] = d[out_corner[i]].y;
-    }
+    });
     attributes[gname] = add_accessor(out_data, 2, kFloat, "VEC2", kArrayBuffer);
   } else if (array->type() == typeid(glm::vec3)) {
     const auto& d = static_cast<const AttributeArray<glm::vec3>*>(array)->data();
     std::vector<float> out_data(3 * n);
-    for (std::size_t i = 0; i < n; ++i) {
+    const bool normal = gname == "NORMAL";
+    each(n, [&](std::size_t i) {
       glm::vec3 v = d[out_corner[i]];
-      if (gname == "NORMAL") {
+      if (normal) {
         const float len = glm::length(v);
         if (len > 1e-12f && std::isfinite(len)) {
           if (!unit_enough(len)) v /= len;
@@ -314,24 +365,25 @@ void Writer::write_corner_attribute(const SurfaceMesh& mesh, const std::string& 
         }
       }
       for (int c = 0; c < 3; ++c) out_data[3 * i + std::size_t(c)] = v[c];
-    }
+    });
     attributes[gname] = add_accessor(out_data, 3, kFloat, "VEC3", kArrayBuffer);
   } else if (array->type() == typeid(glm::vec4)) {
     const auto& d = static_cast<const AttributeArray<glm::vec4>*>(array)->data();
     std::vector<float> out_data(4 * n);
-    for (std::size_t i = 0; i < n; ++i) {
+    const bool tangent = gname == "TANGENT", colour = gname == "COLOR_0";
+    each(n, [&](std::size_t i) {
       glm::vec4 v = d[out_corner[i]];
-      if (gname == "TANGENT") {
+      if (tangent) {
         glm::vec3 xyz(v);
         const float len = glm::length(xyz);
         if (!(len > 1e-12f && std::isfinite(len))) xyz = glm::vec3(1.0f, 0.0f, 0.0f);
         else if (!unit_enough(len)) xyz /= len;
         v = glm::vec4(xyz, v.w < 0.0f ? -1.0f : 1.0f);
-      } else if (gname == "COLOR_0") {
+      } else if (colour) {
         v = glm::clamp(v, glm::vec4(0.0f), glm::vec4(1.0f));
       }
       for (int c = 0; c < 4; ++c) out_data[4 * i + std::size_t(c)] = v[c];
-    }
+    });
     attributes[gname] = add_accessor(out_data, 4, kFloat, "VEC4", kArrayBuffer);
   }
 }
@@ -470,11 +522,30 @@ void Writer::write_images() {
   }
 }
 
+// At least the binary buffer's size (pages reserved past what is written are never touched), so
+// it grows without copying what it holds.
+std::size_t Writer::bin_bound() const {
+  std::size_t bytes = 1024;
+  for (const auto& mesh : model_.meshes)
+    for (const auto& prim : mesh.primitives) {
+      std::size_t per_corner = sizeof(std::uint32_t) + 16;  // index, alignment
+      for (const auto* set : {&prim.mesh.vertex_attrs(), &prim.mesh.corner_attrs()})
+        for (const auto& name : set->names()) per_corner += set->base(name)->element_bytes();
+      bytes += 3 * prim.mesh.face_slots() * per_corner + 256;
+    }
+  for (const auto& s : model_.skins) bytes += 64 * s.joints.size() + 4;
+  for (const auto& a : model_.animations)
+    for (const auto& sm : a.samplers) bytes += 4 * (sm.input.size() + sm.output.size()) + 8;
+  for (const auto& img : model_.images) bytes += img.data.size() + 4;
+  return bytes;
+}
+
 std::vector<unsigned char> Writer::write(bool glb) {
   json asset = {{"version", "2.0"}, {"generator", options_.generator}};
   if (!model_.asset_copyright.empty()) asset["copyright"] = model_.asset_copyright;
   if (!model_.asset_extras_json.empty()) asset["extras"] = parse_or(model_.asset_extras_json, json::object());
   doc_["asset"] = asset;
+  bin_.reserve(bin_bound());
   write_meshes();
   write_nodes();
   write_skins();
@@ -517,7 +588,7 @@ std::vector<unsigned char> Writer::write(bool glb) {
   while (text.size() % 4) text += ' ';
   const std::uint32_t total = static_cast<std::uint32_t>(12 + 8 + text.size() + (bin_.empty() ? 0 : 8 + bin_.size()));
   std::vector<unsigned char> out;
-  out.reserve(total);
+  out.reserve(total - (bin_.empty() ? 0 : bin_.size()));
   auto put32 = [&](std::uint32_t v) {
     for (int i = 0; i < 4; ++i) out.push_back(static_cast<unsigned char>(v >> (8 * i)));
   };
@@ -530,7 +601,6 @@ std::vector<unsigned char> Writer::write(bool glb) {
   if (!bin_.empty()) {
     put32(static_cast<std::uint32_t>(bin_.size()));
     put32(0x004E4942u);  // "BIN\0"
-    out.insert(out.end(), bin_.begin(), bin_.end());
   }
   return out;
 }
@@ -542,14 +612,17 @@ void write_gltf(const Model& model, const std::string& path, const ExportOptions
   if (!glb && !has_extension(path, ".gltf"))
     throw Error(ErrorCode::InvalidArgument, path + ": unknown output format (use .glb or .gltf)");
   std::vector<unsigned char> bytes;
+  Writer writer(model, options);
   try {
-    bytes = Writer(model, options).write(glb);
+    bytes = writer.write(glb);
   } catch (const json::exception& e) {
     throw Error(ErrorCode::InvariantViolated, path + ": could not encode the model (" + e.what() + ")");
   } catch (const Error& e) {  // a codec of compress_document
     throw Error(e.code(), path + ": " + e.what());
   }
-  write_file_atomic(path, bytes);
+  std::vector<ByteSpan> parts{{bytes.data(), bytes.size()}};
+  if (glb && !writer.bin().empty()) parts.push_back({writer.bin().data(), writer.bin().size()});
+  write_file_atomic(path, parts);
 }
 
 }  // namespace deepcut

@@ -62,9 +62,15 @@ class TriangleGrid {
   /// Number of live faces indexed.
   std::size_t face_count() const { return live_; }
   bool empty() const { return start_.empty(); }
+  /// A hash of the built layout (cells, their face lists, live flags): equal for equal grids.
+  /// Tests and the scaling program use it to check that the thread count changes nothing.
+  std::uint64_t layout_hash() const;
 
  private:
   void insert(FaceId f, const Triangle& t, const std::vector<glm::vec3>& points);
+  // Fills start_ and faces_ from cells_of(face, visit), which visits each cell a face goes to.
+  template <class CellsOf>
+  void fill_cells(std::size_t slots, CellsOf&& cells_of);
   void file(FaceId f, const Triangle& t, const std::vector<glm::vec3>& points);
   glm::ivec3 cell_of(const glm::vec3& p) const;
   std::size_t cell_index(int x, int y, int z) const {
