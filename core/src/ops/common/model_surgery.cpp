@@ -2,8 +2,12 @@
 #include "ops/common/model_surgery.h"
 
 #include <algorithm>
+#include <atomic>
+#include <memory>
 #include <string>
 #include <utility>
+
+#include "deepcut/core/parallel.h"
 
 namespace deepcut::detail {
 
@@ -40,6 +44,141 @@ SurfaceMesh extract(const SurfaceMesh& mesh, const std::vector<FaceId>& faces) {
   SurfaceMesh out;
   out.assign(std::move(tris), mesh.vertex_attrs().subset(keep_vertices), mesh.face_attrs().subset(keep_faces),
              mesh.corner_attrs().subset(keep_corners));
+  return out;
+}
+
+namespace {
+
+constexpr std::size_t kGrain = 65536;
+constexpr std::uint32_t kNoList = kInvalidIndex;
+
+// Live faces of `faces`, increasing, each once: the faces extract() keeps.
+std::vector<std::uint32_t> live_increasing(const SurfaceMesh& mesh, const std::vector<FaceId>& faces) {
+  std::vector<std::uint32_t> out;
+  out.reserve(faces.size());
+  bool increasing = true;
+  for (FaceId f : faces) {
+    if (mesh.is_deleted(f)) continue;
+    if (!out.empty() && f.index <= out.back()) increasing = false;
+    out.push_back(f.index);
+  }
+  if (!increasing) {
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+  }
+  return out;
+}
+
+// The list using each vertex (kNoList: none). False when a vertex is used by two lists: every
+// list marks its vertices (plain stores, any order), then checks it still owns them all.
+bool vertex_owners(const SurfaceMesh& mesh, const std::vector<std::vector<std::uint32_t>>& faces,
+                   std::vector<std::uint32_t>& owner) {
+  const std::size_t nv = mesh.vertex_count();
+  std::unique_ptr<std::atomic<std::uint32_t>[]> marks(new std::atomic<std::uint32_t>[nv]);
+  parallel_for(nv, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t v = b; v < e; ++v) marks[v].store(kNoList, std::memory_order_relaxed);
+  });
+  auto each_corner = [&](auto&& fn) {
+    for (std::size_t s = 0; s < faces.size(); ++s)
+      parallel_for(faces[s].size(), kGrain, [&](std::size_t b, std::size_t e) {
+        for (std::size_t i = b; i < e; ++i)
+          for (VertexId v : mesh.face(FaceId(faces[s][i]))) fn(static_cast<std::uint32_t>(s), v.index);
+      });
+  };
+  each_corner([&](std::uint32_t s, std::uint32_t v) { marks[v].store(s, std::memory_order_relaxed); });
+  std::atomic<bool> shared{false};
+  each_corner([&](std::uint32_t s, std::uint32_t v) {
+    if (marks[v].load(std::memory_order_relaxed) != s) shared.store(true, std::memory_order_relaxed);
+  });
+  if (shared.load()) return false;
+  owner.resize(nv);
+  parallel_for(nv, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t v = b; v < e; ++v) owner[v] = marks[v].load(std::memory_order_relaxed);
+  });
+  return true;
+}
+
+// Each list's vertices, increasing, and every vertex's index in its list: chunks count per list,
+// then fill from their running offsets (the same numbers whatever the chunks).
+void number_vertices(const std::vector<std::uint32_t>& owner, std::size_t lists,
+                     std::vector<std::vector<std::uint32_t>>& keep, std::vector<std::uint32_t>& rank) {
+  const std::size_t nv = owner.size();
+  const std::size_t grain = grain_per_thread(nv, kGrain);
+  const std::size_t chunks = std::max<std::size_t>(1, (nv + grain - 1) / grain);
+  std::vector<std::uint32_t> start(chunks * lists, 0);
+  parallel_for(nv, grain, [&](std::size_t b, std::size_t e) {
+    std::uint32_t* count = &start[b / grain * lists];
+    for (std::size_t v = b; v < e; ++v)
+      if (owner[v] != kNoList) ++count[owner[v]];
+  });
+  keep.assign(lists, {});
+  for (std::size_t s = 0; s < lists; ++s) {
+    std::uint32_t total = 0;
+    for (std::size_t c = 0; c < chunks; ++c) {
+      const std::uint32_t count = start[c * lists + s];
+      start[c * lists + s] = total;
+      total += count;
+    }
+    keep[s].resize(total);
+  }
+  rank.resize(nv);
+  parallel_for(nv, grain, [&](std::size_t b, std::size_t e) {
+    std::uint32_t* next = &start[b / grain * lists];
+    for (std::size_t v = b; v < e; ++v) {
+      const std::uint32_t s = owner[v];
+      if (s == kNoList) continue;
+      rank[v] = next[s]++;
+      keep[s][rank[v]] = static_cast<std::uint32_t>(v);
+    }
+  });
+}
+
+}  // namespace
+
+std::vector<SurfaceMesh> extract_disjoint(const SurfaceMesh& mesh, const std::vector<std::vector<FaceId>>& lists) {
+  const std::size_t n = lists.size();
+  std::vector<std::vector<std::uint32_t>> faces(n);
+  std::vector<SurfaceMesh> out(n);
+  std::vector<std::function<void()>> tasks;
+  for (std::size_t s = 0; s < n; ++s) tasks.emplace_back([&, s] { faces[s] = live_increasing(mesh, lists[s]); });
+  parallel_invoke(tasks);
+  tasks.clear();
+  std::vector<std::uint32_t> owner;
+  if (n >= kNoList || !vertex_owners(mesh, faces, owner)) {
+    for (std::size_t s = 0; s < n; ++s) tasks.emplace_back([&, s] { out[s] = extract(mesh, lists[s]); });
+    parallel_invoke(tasks);
+    return out;
+  }
+  std::vector<std::vector<std::uint32_t>> vertices, corners(n);
+  std::vector<std::uint32_t> rank;
+  number_vertices(owner, n, vertices, rank);
+  std::vector<std::vector<Triangle>> tris(n);
+  for (std::size_t s = 0; s < n; ++s) {
+    const std::vector<std::uint32_t>& fs = faces[s];
+    tris[s].resize(fs.size());
+    corners[s].resize(3 * fs.size());
+    parallel_for(fs.size(), kGrain, [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i < e; ++i) {
+        const Triangle& t = mesh.face(FaceId(fs[i]));
+        for (int k = 0; k < 3; ++k) {
+          tris[s][i][k] = VertexId(rank[t[k].index]);
+          corners[s][3 * i + k] = 3 * fs[i] + static_cast<std::uint32_t>(k);
+        }
+      }
+    });
+  }
+  // Every attribute set of every piece is its own task (the corners', the largest, first): each
+  // element is copied once.
+  std::vector<AttributeSet> sets(3 * n);
+  for (std::size_t s = 0; s < n; ++s)
+    tasks.emplace_back([&, s] { sets[3 * s + 2] = mesh.corner_attrs().subset(corners[s]); });
+  for (std::size_t s = 0; s < n; ++s) {
+    tasks.emplace_back([&, s] { sets[3 * s] = mesh.vertex_attrs().subset(vertices[s]); });
+    tasks.emplace_back([&, s] { sets[3 * s + 1] = mesh.face_attrs().subset(faces[s]); });
+  }
+  parallel_invoke(tasks);
+  for (std::size_t s = 0; s < n; ++s)
+    out[s].assign(std::move(tris[s]), std::move(sets[3 * s]), std::move(sets[3 * s + 1]), std::move(sets[3 * s + 2]));
   return out;
 }
 
