@@ -23,6 +23,11 @@ SurfaceMesh extract(const SurfaceMesh& mesh, const std::vector<FaceId>& faces);
 /// Lists that share vertices are extracted one by one (in parallel).
 std::vector<SurfaceMesh> extract_disjoint(const SurfaceMesh& mesh, const std::vector<std::vector<FaceId>>& lists);
 
+/// `extract_disjoint(mesh, lists)`, taking `mesh` apart (it is left empty when the lists use
+/// disjoint vertices, as it was otherwise): the largest piece keeps the mesh's arrays, compacted
+/// in place once the other pieces are copied out, so no memory is allocated for it.
+std::vector<SurfaceMesh> split_disjoint(SurfaceMesh&& mesh, const std::vector<std::vector<FaceId>>& lists);
+
 /// Index of the model's "Cut surface" material (cut caps, drill walls), added on first use.
 int cut_surface_material(Model& model);
 

@@ -87,20 +87,22 @@ InstanceCut cut_instance(detail::InstanceEdit& inst, const std::vector<glm::mat4
 }
 
 // Each piece of a cut primitive as primitives: its original-material faces and its cut-surface
-// faces (caps), each extracted straight from the cut mesh (extract_disjoint: every element
-// copied once, the pieces in parallel), without the cut-surface flag.
-std::vector<std::vector<Primitive>> piece_primitives(const SurfaceMesh& mesh, const std::vector<std::vector<FaceId>>& pieces,
+// faces (caps), each extracted straight from the cut mesh, without the cut-surface flag. The cut
+// mesh is taken apart (split_disjoint): the largest piece keeps its arrays, the others are
+// copied out of it, in parallel.
+std::vector<std::vector<Primitive>> piece_primitives(SurfaceMesh&& mesh, const std::vector<std::vector<FaceId>>& pieces,
                                                      int material, int cut_material) {
   const auto* flag = mesh.face_attrs().find<std::uint8_t>(attr::kCutSurface);
+  const bool flagged = flag != nullptr;
   std::vector<std::vector<FaceId>> body, cap;
-  if (flag) {
+  if (flagged) {
     body.resize(pieces.size());
     cap.resize(pieces.size());
     for (std::size_t k = 0; k < pieces.size(); ++k)
       for (FaceId f : pieces[k]) ((*flag)[f.index] ? cap[k] : body[k]).push_back(f);
   }
-  std::vector<SurfaceMesh> body_meshes = detail::extract_disjoint(mesh, flag ? body : pieces);
-  std::vector<SurfaceMesh> cap_meshes = flag ? detail::extract_disjoint(mesh, cap) : std::vector<SurfaceMesh>();
+  std::vector<SurfaceMesh> cap_meshes = flagged ? detail::extract_disjoint(mesh, cap) : std::vector<SurfaceMesh>();
+  std::vector<SurfaceMesh> body_meshes = detail::split_disjoint(std::move(mesh), flagged ? body : pieces);
   std::vector<std::vector<Primitive>> out(pieces.size());
   auto add = [&](SurfaceMesh& m, int mat, std::vector<Primitive>& to) {
     if (m.face_count() == 0) return;
@@ -112,19 +114,19 @@ std::vector<std::vector<Primitive>> piece_primitives(const SurfaceMesh& mesh, co
   };
   for (std::size_t k = 0; k < pieces.size(); ++k) {
     add(body_meshes[k], material, out[k]);
-    if (flag) add(cap_meshes[k], cut_material, out[k]);
+    if (flagged) add(cap_meshes[k], cut_material, out[k]);
   }
   return out;
 }
 
 // Groups each primitive's pieces into output meshes: without split_components piece k of every
 // primitive (0 positive, 1 negative) shares a mesh; with it, every piece is its own.
-std::vector<Mesh> group_pieces(const Mesh& edited, const InstanceCut& cut, const CutOptions& options,
+std::vector<Mesh> group_pieces(Mesh& edited, const InstanceCut& cut, const CutOptions& options,
                                int cut_material, ModelCutResult& result) {
   std::vector<Mesh> piece_meshes;
   for (std::size_t p = 0; p < cut.results.size(); ++p) {
     const CutResult& r = cut.results[p];
-    const SurfaceMesh& mesh = edited.primitives[p].mesh;
+    SurfaceMesh& mesh = edited.primitives[p].mesh;  // taken apart into its pieces
     result.intersection_points += r.intersection_points;
     result.rim_vertices += r.rim_vertices.size();
     std::vector<std::vector<FaceId>> whole;
@@ -136,7 +138,7 @@ std::vector<Mesh> group_pieces(const Mesh& edited, const InstanceCut& cut, const
     }
     const auto& pieces = r.status == OpStatus::NoIntersection ? whole : r.pieces;
     std::vector<std::vector<Primitive>> prims =
-        piece_primitives(mesh, pieces, edited.primitives[p].material, cut_material);
+        piece_primitives(std::move(mesh), pieces, edited.primitives[p].material, cut_material);
     for (std::size_t k = 0; k < pieces.size(); ++k) {
       const int side = r.piece_sides[k];
       const std::size_t slot = options.split_components ? piece_meshes.size() : (side > 0 ? 0 : 1);
