@@ -242,93 +242,6 @@ void bm_tear(benchmark::State& state, std::size_t triangles) {
   set_triangles(state, in.mesh);
 }
 
-// The model-level API as the studio and `deepcut apply` call it: the whole skinned cactus Model,
-// with and without its PosedModel (built before the timed region, as a session builds it when
-// the model is loaded or posed). Each iteration starts from a fresh copy of the model (with the
-// session's room to grow) and a fresh index, outside the timed region.
-const Model& cactus_model(std::size_t triangles) {
-  static std::map<std::size_t, Model> models;
-  auto it = models.find(triangles);
-  if (it == models.end()) {
-    CactusOptions options;
-    options.target_triangles = triangles;
-    it = models.emplace(triangles, make_cactus(options)).first;
-  }
-  return it->second;
-}
-
-Model session_model(std::size_t triangles) {
-  Model model = cactus_model(triangles);
-  reserve_for_operations(model);
-  return model;
-}
-
-// Times `operation(model, index)` (index: the warm PosedModel, or nullptr) on a fresh session
-// copy of the cactus each iteration; the copy, the index build and the clean-up are not timed.
-template <class Operation>
-void time_on_session_model(benchmark::State& state, std::size_t triangles, bool indexed, Operation&& operation) {
-  for (auto _ : state) {
-    state.PauseTiming();
-    Model model = session_model(triangles);
-    PosedModel index;
-    if (indexed) index = PosedModel::build(model, -1, 0.0f);
-    state.ResumeTiming();
-    operation(model, indexed ? &index : nullptr);
-    state.PauseTiming();
-    model = Model();
-    index = PosedModel();
-    state.ResumeTiming();
-  }
-}
-
-// The small hole of drill_small (radius 0.62% of the size) through the trunk, without or with
-// a wall.
-void bm_drill_model(benchmark::State& state, std::size_t triangles, bool indexed, bool wall = false) {
-  const Cylinder cyl = drill_cylinder(input(triangles), 0.0062f);
-  DrillOptions options;
-  options.wall = wall;
-  std::size_t touched = 0;
-  time_on_session_model(state, triangles, indexed, [&](Model& model, PosedModel* index) {
-    const ModelDrillResult r =
-        index ? drill_model(model, *index, cyl, options, -1, 0.0f) : drill_model(model, cyl, options, -1, 0.0f);
-    benchmark::DoNotOptimize(r.triangles_added);
-    touched = r.triangles_removed;
-  });
-  state.counters["touched"] = static_cast<double>(touched);
-  set_triangles(state, input(triangles).mesh);
-}
-
-// The scalpel stroke of `tear` through the model-level API.
-void bm_tear_model(benchmark::State& state, std::size_t triangles, bool indexed) {
-  const Input& in = input(triangles);
-  const BoundingBox box = in.mesh.bounds();
-  const glm::vec3 c = 0.5f * (box.min + box.max);
-  const float h = box.max.y - box.min.y;
-  const Blade start{{c.x - 0.08f * h, box.min.y + 0.33f * h, box.max.z + 0.5f}, {c.x - 0.08f * h, box.min.y + 0.33f * h, c.z}};
-  const Blade end{{c.x + 0.08f * h, box.min.y + 0.35f * h, box.max.z + 0.5f}, {c.x + 0.08f * h, box.min.y + 0.35f * h, c.z}};
-  std::size_t points = 0;
-  time_on_session_model(state, triangles, indexed, [&](Model& model, PosedModel* index) {
-    const ModelTearResult r = index ? tear_model(model, *index, start, end, {}, -1, 0.0f) : tear_model(model, start, end, {}, -1, 0.0f);
-    benchmark::DoNotOptimize(r.slits);
-    points = r.intersection_points;
-  });
-  state.counters["intersection_points"] = static_cast<double>(points);
-  set_triangles(state, in.mesh);
-}
-
-// The preprocessing itself: posing every vertex and building the grid (once per load or pose).
-void bm_model_index(benchmark::State& state, std::size_t triangles) {
-  const Model& model = cactus_model(triangles);
-  for (auto _ : state) {
-    PosedModel index = PosedModel::build(model, 0, 1.0f);
-    benchmark::DoNotOptimize(index.size());
-    state.PauseTiming();
-    index = PosedModel();
-    state.ResumeTiming();
-  }
-  set_triangles(state, input(triangles).mesh);
-}
-
 float radius_for(const Input& in, std::size_t particles) {
   static std::map<std::pair<const Input*, std::size_t>, float> cache;
   auto [it, inserted] = cache.emplace(std::make_pair(&in, particles), 0.0f);
@@ -460,14 +373,8 @@ void register_cases(bool with_1m) {
     reg("drill/vtkClipPolyData+vtkCylinder/" + s, [n](benchmark::State& st) { bm_drill_vtk(st, n); });
     // The locality target: a hole touching at most 1000 triangles of the 1M model (926).
     if (n >= 500000) reg("drill_small/ours/" + s, [n](benchmark::State& st) { bm_drill_ours(st, n, 0.0062f); });
-    // Model level: "ours" keeps a warm PosedModel, the peer is the same call without one.
-    reg("drill_model_small/ours/" + s, [n](benchmark::State& st) { bm_drill_model(st, n, true); });
-    reg("drill_model_small/uncached/" + s, [n](benchmark::State& st) { bm_drill_model(st, n, false); });
-    reg("drill_model_wall/ours/" + s, [n](benchmark::State& st) { bm_drill_model(st, n, true, true); });
-    reg("drill_model_wall/uncached/" + s, [n](benchmark::State& st) { bm_drill_model(st, n, false, true); });
-    reg("tear_model/ours/" + s, [n](benchmark::State& st) { bm_tear_model(st, n, true); });
-    reg("tear_model/uncached/" + s, [n](benchmark::State& st) { bm_tear_model(st, n, false); });
-    reg("model_index/ours/" + s, [n](benchmark::State& st) { bm_model_index(st, n); });
+    // Model level, through apply_operation (model_cases.cpp).
+    register_model_cases(n, s, iterations_hint);
     reg("cluster/ours/" + s, [n](benchmark::State& st) { bm_cluster(st, n); });
     reg("softbody_step_224/ours/" + s, [n](benchmark::State& st) { bm_softbody_step(st, n, 224); });
     reg("softbody_step_863/ours/" + s, [n](benchmark::State& st) { bm_softbody_step(st, n, 863); });

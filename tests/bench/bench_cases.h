@@ -17,6 +17,10 @@ struct Quoted {
 /// Registers every case; `with_1m` adds the ~1M-triangle variants.
 void register_cases(bool with_1m);
 
+/// Registers the model-level cases (model_cases.cpp) for the cactus of `triangles` triangles,
+/// named "<case>/<impl>/<size>", each run `iterations` times per repetition.
+void register_model_cases(std::size_t triangles, const std::string& size, int iterations);
+
 /// The paper's Table 1 / Table 2 figures the cases are compared with.
 std::vector<Quoted> quoted_figures();
 

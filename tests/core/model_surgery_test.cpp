@@ -6,7 +6,17 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "deepcut/core/generate/cactus.h"
+#include "deepcut/core/io/gltf.h"
 #include "deepcut/core/mesh_editor.h"
+#include "deepcut/core/ops/operation.h"
+#include "deepcut/core/parallel.h"
 #include "fixtures.h"
 
 namespace deepcut::detail {
@@ -254,6 +264,92 @@ TEST(ModelSurgery, ExtractKeepsOnlyTheGivenFacesAndTheirVertices) {
   for (std::uint32_t f = 0; f < 2; ++f)
     for (int k = 0; k < 3; ++k)
       EXPECT_EQ(part.position(part.face(FaceId(f))[k]), mesh.position(mesh.face(FaceId(f))[k]));
+}
+
+// Every byte of two meshes: faces, deleted marks and every attribute of every element kind.
+void expect_same_bytes(const SurfaceMesh& a, const SurfaceMesh& b) {
+  ASSERT_EQ(a.faces(), b.faces());
+  ASSERT_EQ(a.face_count(), b.face_count());
+  const std::pair<const AttributeSet*, const AttributeSet*> sets[] = {
+      {&a.vertex_attrs(), &b.vertex_attrs()}, {&a.face_attrs(), &b.face_attrs()}, {&a.corner_attrs(), &b.corner_attrs()}};
+  for (const auto& [x, y] : sets) {
+    ASSERT_EQ(x->names(), y->names());
+    ASSERT_EQ(x->size(), y->size());
+    for (const std::string& name : x->names()) {
+      const AttributeArrayBase* u = x->base(name);
+      const AttributeArrayBase* v = y->base(name);
+      ASSERT_EQ(u->element_bytes(), v->element_bytes()) << name;
+      for (std::size_t i = 0; i < u->size(); ++i)
+        ASSERT_EQ(std::memcmp(u->element_data(i), v->element_data(i), u->element_bytes()), 0) << name << " " << i;
+    }
+  }
+}
+
+TEST(ModelSurgery, ExtractDisjointGivesWhatExtractGivesForEveryList) {
+  // A grid large enough for several parallel chunks, a face deleted, lists out of order.
+  SurfaceMesh mesh = test::make_grid(420, 200);
+  auto& flag = mesh.face_attrs().add<std::uint8_t>(attr::kCutSurface);
+  for (std::uint32_t f = 0; f < mesh.face_slots(); f += 7) flag[f] = 1;
+  mesh.mark_deleted(FaceId(5));
+  std::vector<std::vector<FaceId>> left(1), right(1);
+  mesh.for_each_face([&](FaceId f, const Triangle& t) {
+    const float x = mesh.position(t[0]).x + mesh.position(t[1]).x + mesh.position(t[2]).x;
+    (x < 1.2f ? left[0] : right[0]).push_back(f);
+  });
+  left[0].push_back(FaceId(5));
+  std::reverse(right[0].begin(), right[0].end());
+  // The two halves share the vertices along the middle: extracted one by one.
+  const std::vector<std::vector<FaceId>> shared = {left[0], right[0]};
+  // Every third row alone: no vertex in two lists.
+  std::vector<std::vector<FaceId>> rows(2);
+  mesh.for_each_face([&](FaceId f, const Triangle&) {
+    const std::uint32_t row = f.index / (2 * 420);
+    if (row % 3 == 0) rows[row % 2].push_back(f);
+  });
+  rows.emplace_back();  // an empty list gives an empty mesh
+  for (const auto& lists : {shared, rows}) {
+    const std::vector<SurfaceMesh> out = extract_disjoint(mesh, lists);
+    ASSERT_EQ(out.size(), lists.size());
+    for (std::size_t i = 0; i < lists.size(); ++i) expect_same_bytes(out[i], extract(mesh, lists[i]));
+  }
+}
+
+std::vector<char> file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+TEST(ModelSurgery, AModelCutWritesTheSameBytesWhateverTheThreadCount) {
+  // Big enough for several parallel chunks in posing, classification and piece extraction.
+  CactusOptions cactus;
+  cactus.target_triangles = 160000;
+  const Model input = make_cactus(cactus);
+  const BoundingBox box = input.meshes[0].primitives[0].mesh.bounds();
+  const std::string dir = std::filesystem::temp_directory_path().string();
+  const std::size_t saved = thread_count();
+  for (bool cap : {false, true}) {
+    Operation op;
+    CutOperation cut;
+    cut.plane = {0.5f * (box.min + box.max), glm::vec3(0.1f, 1.0f, 0.05f)};
+    cut.options.cap = cap;
+    cut.options.split_components = cap;
+    op.params = cut;
+    op.animation = 0;
+    op.time = 0.7f;
+    std::vector<std::vector<char>> written;
+    for (std::size_t threads : {1u, 2u, 5u}) {
+      set_thread_count(threads);
+      Model model = input;
+      ASSERT_EQ(apply_operation(model, op).status, OpStatus::Ok);
+      const std::string path = dir + "/deepcut_model_cut_threads_" + std::to_string(threads) + ".glb";
+      write_gltf(model, path);
+      written.push_back(file_bytes(path));
+      std::remove(path.c_str());
+    }
+    set_thread_count(saved);
+    ASSERT_FALSE(written[0].empty());
+    for (std::size_t i = 1; i < written.size(); ++i) EXPECT_TRUE(written[i] == written[0]) << "cap " << cap << ", run " << i;
+  }
 }
 
 TEST(ModelSurgery, CutSurfaceMaterialIsAddedOnce) {

@@ -252,10 +252,14 @@ OperationResult apply_operation(Model& model, const Operation& operation, PosedM
       [&](const auto& p) {
         using T = std::decay_t<decltype(p)>;
         if constexpr (std::is_same_v<T, CutOperation>) {
-          PosedModel cut_posed;  // the cut rebuilds meshes: it poses the model on its own
-          if (!operation.weights.empty()) cut_posed.prepare(model, key, PoseDetail::Positions);
+          // A warm posed model at the operation's pose (the studio's, `deepcut apply`'s) is used as
+          // it is: the cut reads its positions and poses nothing again. One at another pose is left
+          // as it was, and the cut poses the model on its own (positions only).
+          PosedModel own;
+          PosedModel& cut_posed = posed.matches(key) ? posed : own;
+          if (&cut_posed == &own && !operation.weights.empty()) own.prepare(model, key, PoseDetail::Positions);
           const ModelCutResult r = cut_model(model, cut_posed, p.plane, p.options, animation, operation.time);
-          // The cut rebuilds meshes and adds nodes: the next operation poses the model anew.
+          // The cut replaces meshes and adds nodes: the next operation poses the model anew.
           if (r.status == OpStatus::Ok) posed.invalidate();
           out.status = r.status;
           out.result = r;

@@ -77,6 +77,9 @@ class AttributeArrayBase {
   virtual void copy(std::size_t dst, std::size_t src) = 0;
   /// Keeps only the elements listed, in that order (`keep[i]` becomes element `i`).
   virtual void gather(const std::vector<std::uint32_t>& keep) = 0;
+  /// `gather(keep)` for a `keep` that increases, made in place: no allocation, the capacity stays
+  /// (a cut's largest piece keeps its mesh's arrays).
+  virtual void gather_in_place(const std::vector<std::uint32_t>& keep) = 0;
   /// A copy with the same capacity (room reserved for growth is kept).
   virtual std::unique_ptr<AttributeArrayBase> clone() const = 0;
   /// A copy holding only the elements listed, in that order (`keep[i]` becomes element `i`):
@@ -117,6 +120,10 @@ class AttributeArray final : public AttributeArrayBase {
       for (std::size_t i = b; i < e; ++i) out[i] = data_[keep[i]];
     });
     data_.swap(out);
+  }
+  void gather_in_place(const std::vector<std::uint32_t>& keep) override {
+    for (std::size_t i = 0; i < keep.size(); ++i) data_[i] = data_[keep[i]];  // keep[i] >= i
+    data_.resize(keep.size());
   }
   std::unique_ptr<AttributeArrayBase> clone() const override {
     // Keeps the room to grow (SurfaceMesh::reserve), so a copy of a session's model edits

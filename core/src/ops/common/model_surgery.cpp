@@ -2,8 +2,12 @@
 #include "ops/common/model_surgery.h"
 
 #include <algorithm>
+#include <atomic>
+#include <memory>
 #include <string>
 #include <utility>
+
+#include "deepcut/core/parallel.h"
 
 namespace deepcut::detail {
 
@@ -41,6 +45,194 @@ SurfaceMesh extract(const SurfaceMesh& mesh, const std::vector<FaceId>& faces) {
   out.assign(std::move(tris), mesh.vertex_attrs().subset(keep_vertices), mesh.face_attrs().subset(keep_faces),
              mesh.corner_attrs().subset(keep_corners));
   return out;
+}
+
+namespace {
+
+constexpr std::size_t kGrain = 65536;
+constexpr std::uint32_t kNoList = kInvalidIndex;
+
+// Live faces of `faces`, increasing, each once: the faces extract() keeps.
+std::vector<std::uint32_t> live_increasing(const SurfaceMesh& mesh, const std::vector<FaceId>& faces) {
+  std::vector<std::uint32_t> out;
+  out.reserve(faces.size());
+  bool increasing = true;
+  for (FaceId f : faces) {
+    if (mesh.is_deleted(f)) continue;
+    if (!out.empty() && f.index <= out.back()) increasing = false;
+    out.push_back(f.index);
+  }
+  if (!increasing) {
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+  }
+  return out;
+}
+
+using Marks = std::unique_ptr<std::atomic<std::uint32_t>[]>;
+
+// The list using each vertex (kNoList: none), marked by its faces (plain stores, any order): a
+// vertex two lists use keeps one of them, which the other's check in number_faces then finds.
+Marks mark_vertices(const SurfaceMesh& mesh, const std::vector<std::vector<std::uint32_t>>& faces) {
+  const std::size_t nv = mesh.vertex_count();
+  Marks marks(new std::atomic<std::uint32_t>[nv]);
+  parallel_for(nv, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t v = b; v < e; ++v) marks[v].store(kNoList, std::memory_order_relaxed);
+  });
+  for (std::size_t s = 0; s < faces.size(); ++s)
+    parallel_for(faces[s].size(), kGrain, [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i < e; ++i)
+        for (VertexId v : mesh.face(FaceId(faces[s][i])))
+          marks[v.index].store(static_cast<std::uint32_t>(s), std::memory_order_relaxed);
+    });
+  return marks;
+}
+
+// Each list's vertices, increasing, and every vertex's index in its list: chunks count per list,
+// then fill from their running offsets (the same numbers whatever the chunks).
+void number_vertices(const Marks& owner, std::size_t nv, std::size_t lists, std::vector<std::vector<std::uint32_t>>& keep,
+                     std::vector<std::uint32_t>& rank) {
+  const std::size_t grain = grain_per_thread(nv, kGrain);
+  const std::size_t chunks = std::max<std::size_t>(1, (nv + grain - 1) / grain);
+  std::vector<std::uint32_t> start(chunks * lists, 0);
+  auto list_of = [&](std::size_t v) { return owner[v].load(std::memory_order_relaxed); };
+  parallel_for(nv, grain, [&](std::size_t b, std::size_t e) {
+    std::uint32_t* count = &start[b / grain * lists];
+    for (std::size_t v = b; v < e; ++v)
+      if (list_of(v) != kNoList) ++count[list_of(v)];
+  });
+  keep.assign(lists, {});
+  for (std::size_t s = 0; s < lists; ++s) {
+    std::uint32_t total = 0;
+    for (std::size_t c = 0; c < chunks; ++c) {
+      const std::uint32_t count = start[c * lists + s];
+      start[c * lists + s] = total;
+      total += count;
+    }
+    keep[s].resize(total);
+  }
+  rank.resize(nv);
+  parallel_for(nv, grain, [&](std::size_t b, std::size_t e) {
+    std::uint32_t* next = &start[b / grain * lists];
+    for (std::size_t v = b; v < e; ++v) {
+      const std::uint32_t s = list_of(v);
+      if (s == kNoList) continue;
+      rank[v] = next[s]++;
+      keep[s][rank[v]] = static_cast<std::uint32_t>(v);
+    }
+  });
+}
+
+// What the pieces keep of the mesh: per list its faces, vertices and corners (increasing) and
+// its triangles renumbered.
+struct Numbering {
+  std::vector<std::vector<std::uint32_t>> faces, vertices, corners;
+  std::vector<std::vector<Triangle>> tris;
+};
+
+// The triangles of list `s` renumbered and its corners (3f + k). False when one of its vertices
+// is marked for another list (the lists share vertices).
+bool number_faces(const SurfaceMesh& mesh, std::uint32_t s, const Marks& owner, const std::vector<std::uint32_t>& rank,
+                  Numbering& out) {
+  const std::vector<std::uint32_t>& fs = out.faces[s];
+  std::vector<Triangle>& tris = out.tris[s];
+  std::vector<std::uint32_t>& corners = out.corners[s];
+  tris.resize(fs.size());
+  corners.resize(3 * fs.size());
+  std::atomic<bool> shared{false};
+  parallel_for(fs.size(), kGrain, [&](std::size_t b, std::size_t e) {
+    bool mine = true;
+    for (std::size_t i = b; i < e; ++i) {
+      const Triangle& t = mesh.face(FaceId(fs[i]));
+      for (int k = 0; k < 3; ++k) {
+        mine &= owner[t[k].index].load(std::memory_order_relaxed) == s;
+        tris[i][k] = VertexId(rank[t[k].index]);
+        corners[3 * i + k] = 3 * fs[i] + static_cast<std::uint32_t>(k);
+      }
+    }
+    if (!mine) shared.store(true, std::memory_order_relaxed);
+  });
+  return !shared.load();
+}
+
+// False when the lists share vertices.
+bool number_pieces(const SurfaceMesh& mesh, const std::vector<std::vector<FaceId>>& lists, Numbering& out) {
+  const std::size_t n = lists.size();
+  if (n >= kNoList) return false;
+  out.faces.resize(n);
+  out.corners.resize(n);
+  out.tris.resize(n);
+  std::vector<std::function<void()>> tasks;
+  for (std::size_t s = 0; s < n; ++s) tasks.emplace_back([&, s] { out.faces[s] = live_increasing(mesh, lists[s]); });
+  parallel_invoke(tasks);
+  const Marks owner = mark_vertices(mesh, out.faces);
+  std::vector<std::uint32_t> rank;
+  number_vertices(owner, mesh.vertex_count(), n, out.vertices, rank);
+  bool disjoint = true;
+  for (std::size_t s = 0; s < n; ++s) disjoint &= number_faces(mesh, static_cast<std::uint32_t>(s), owner, rank, out);
+  return disjoint;
+}
+
+// Piece `big` of `mesh`: every array of the mesh compacted in place (one task each), no
+// allocation but its triangles; `mesh` is left empty.
+SurfaceMesh take_piece(SurfaceMesh& mesh, Numbering& num, std::size_t big) {
+  std::vector<std::function<void()>> tasks;
+  const std::pair<AttributeSet*, const std::vector<std::uint32_t>*> kinds[] = {
+      {&mesh.corner_attrs(), &num.corners[big]}, {&mesh.vertex_attrs(), &num.vertices[big]},
+      {&mesh.face_attrs(), &num.faces[big]}};
+  for (const auto& [set, keep] : kinds)
+    for (const std::string& name : set->names())
+      tasks.emplace_back([array = set->base(name), keep = keep] { array->gather_in_place(*keep); });
+  parallel_invoke(tasks);
+  for (const auto& [set, keep] : kinds) set->resize(keep->size());
+  mesh.assign(std::move(num.tris[big]), std::move(mesh.vertex_attrs()), std::move(mesh.face_attrs()),
+              std::move(mesh.corner_attrs()));
+  return std::move(mesh);
+}
+
+// The pieces `lists` of `mesh`; with `owned` (`mesh` itself, to take apart) the largest (most
+// faces) keeps the mesh's arrays, compacted in place once the others are copied out.
+std::vector<SurfaceMesh> make_pieces(const SurfaceMesh& mesh, const std::vector<std::vector<FaceId>>& lists,
+                                     SurfaceMesh* owned) {
+  const std::size_t n = lists.size();
+  std::vector<SurfaceMesh> out(n);
+  std::vector<std::function<void()>> tasks;
+  Numbering num;
+  if (!number_pieces(mesh, lists, num)) {
+    for (std::size_t s = 0; s < n; ++s) tasks.emplace_back([&, s] { out[s] = extract(mesh, lists[s]); });
+    parallel_invoke(tasks);
+    return out;
+  }
+  std::size_t big = n;
+  if (owned)
+    for (std::size_t s = 0; s < n; ++s)
+      if (!num.faces[s].empty() && (big == n || num.faces[s].size() > num.faces[big].size())) big = s;
+  // Every attribute set of every other piece is its own task (the corners', the largest, first):
+  // each element is copied once.
+  std::vector<AttributeSet> sets(3 * n);
+  for (std::size_t s = 0; s < n; ++s)
+    if (s != big) tasks.emplace_back([&, s] { sets[3 * s + 2] = mesh.corner_attrs().subset(num.corners[s]); });
+  for (std::size_t s = 0; s < n; ++s) {
+    if (s == big) continue;
+    tasks.emplace_back([&, s] { sets[3 * s] = mesh.vertex_attrs().subset(num.vertices[s]); });
+    tasks.emplace_back([&, s] { sets[3 * s + 1] = mesh.face_attrs().subset(num.faces[s]); });
+  }
+  parallel_invoke(tasks);
+  for (std::size_t s = 0; s < n; ++s)
+    if (s != big)
+      out[s].assign(std::move(num.tris[s]), std::move(sets[3 * s]), std::move(sets[3 * s + 1]), std::move(sets[3 * s + 2]));
+  if (big < n) out[big] = take_piece(*owned, num, big);
+  return out;
+}
+
+}  // namespace
+
+std::vector<SurfaceMesh> extract_disjoint(const SurfaceMesh& mesh, const std::vector<std::vector<FaceId>>& lists) {
+  return make_pieces(mesh, lists, nullptr);
+}
+
+std::vector<SurfaceMesh> split_disjoint(SurfaceMesh&& mesh, const std::vector<std::vector<FaceId>>& lists) {
+  return make_pieces(mesh, lists, &mesh);
 }
 
 int cut_surface_material(Model& model) {

@@ -17,6 +17,17 @@ namespace deepcut::detail {
 /// A copy of `mesh` holding only `faces` (unused vertices dropped, attributes following).
 SurfaceMesh extract(const SurfaceMesh& mesh, const std::vector<FaceId>& faces);
 
+/// `extract(mesh, lists[i])` for every list, bit for bit. When no vertex is used by two lists (a
+/// cut's sides, its components) every element is copied once, straight into its piece, in one
+/// parallel pass: vertices and faces numbered by a running count per list, no sorting, no search.
+/// Lists that share vertices are extracted one by one (in parallel).
+std::vector<SurfaceMesh> extract_disjoint(const SurfaceMesh& mesh, const std::vector<std::vector<FaceId>>& lists);
+
+/// `extract_disjoint(mesh, lists)`, taking `mesh` apart (it is left empty when the lists use
+/// disjoint vertices, as it was otherwise): the largest piece keeps the mesh's arrays, compacted
+/// in place once the other pieces are copied out, so no memory is allocated for it.
+std::vector<SurfaceMesh> split_disjoint(SurfaceMesh&& mesh, const std::vector<std::vector<FaceId>>& lists);
+
 /// Index of the model's "Cut surface" material (cut caps, drill walls), added on first use.
 int cut_surface_material(Model& model);
 

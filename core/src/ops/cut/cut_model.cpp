@@ -14,23 +14,6 @@ namespace deepcut {
 
 namespace {
 
-// Splits a piece's faces into the original-material part and the cut-surface part.
-void add_piece_primitives(const SurfaceMesh& piece, int material, int cut_material, Mesh& out) {
-  const auto* flag = piece.face_attrs().find<std::uint8_t>(attr::kCutSurface);
-  std::vector<FaceId> body, cap;
-  piece.for_each_face([&](FaceId f, const Triangle&) { (flag && (*flag)[f.index] ? cap : body).push_back(f); });
-  auto add = [&](const std::vector<FaceId>& faces, int mat) {
-    if (faces.empty()) return;
-    Primitive p;
-    p.mesh = faces.size() == piece.face_count() ? piece : detail::extract(piece, faces);
-    p.mesh.face_attrs().remove(attr::kCutSurface);
-    p.material = mat;
-    out.primitives.push_back(std::move(p));
-  };
-  add(body, material);
-  add(cap, cut_material);
-}
-
 // Rim vertices lie on the plane in the pose the cut was made in up to float rounding (new ones
 // are their posed crossing points unposed), and input vertices within the tolerance of the plane
 // count as on it. Move each rim vertex in bind space by the amount that puts it on the plane in
@@ -74,10 +57,10 @@ int side_of(const SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const 
   return d >= 0.0 ? 1 : -1;
 }
 
-// The cut of one instance's primitives, each on a copy (the mesh may be shared by other
-// instances, and a miss must leave it untouched).
+// The cut of one instance's primitives, made in place on the node's mesh (InstanceEdit::edit: a
+// copy only when other nodes draw it too). A primitive the plane misses is left untouched
+// (cut_mesh changes nothing then), so an instance missed everywhere needs no undoing.
 struct InstanceCut {
-  std::vector<SurfaceMesh> prims;
   std::vector<CutResult> results;
   bool any = false;
 };
@@ -85,48 +68,82 @@ struct InstanceCut {
 InstanceCut cut_instance(detail::InstanceEdit& inst, const std::vector<glm::mat4>& world, const Plane& plane,
                          const CutOptions& options) {
   InstanceCut out;
-  const auto& prims = inst.source().primitives;
+  auto& prims = inst.edit().primitives;
   for (std::size_t p = 0; p < prims.size(); ++p) {
-    SurfaceMesh copy = prims[p].mesh;
+    SurfaceMesh& mesh = prims[p].mesh;
     PosedMesh own;
     PosedMesh* posed = inst.posed(static_cast<int>(p));
     if (!posed) {
-      own = pose_alone(inst.model(), inst.node(), copy, world, inst.posed_model().weights(inst.node()));
+      own = pose_alone(inst.model(), inst.node(), mesh, world, inst.posed_model().weights(inst.node()));
       posed = &own;
     }
-    out.results.push_back(cut_mesh(copy, *posed, plane, options));
+    out.results.push_back(cut_mesh(mesh, *posed, plane, options));
     CutResult& r = out.results.back();
-    if (r.status == OpStatus::Ok) snap_rim_to_plane(*posed, plane, r, copy);
-    if (r.status == OpStatus::NoIntersection) r.piece_sides = {side_of(copy, posed->posed, plane)};
+    if (r.status == OpStatus::Ok) snap_rim_to_plane(*posed, plane, r, mesh);
+    if (r.status == OpStatus::NoIntersection) r.piece_sides = {side_of(mesh, posed->posed, plane)};
     out.any |= r.status == OpStatus::Ok;
-    out.prims.push_back(std::move(copy));
+  }
+  return out;
+}
+
+// Each piece of a cut primitive as primitives: its original-material faces and its cut-surface
+// faces (caps), each extracted straight from the cut mesh, without the cut-surface flag. The cut
+// mesh is taken apart (split_disjoint): the largest piece keeps its arrays, the others are
+// copied out of it, in parallel.
+std::vector<std::vector<Primitive>> piece_primitives(SurfaceMesh&& mesh, const std::vector<std::vector<FaceId>>& pieces,
+                                                     int material, int cut_material) {
+  const auto* flag = mesh.face_attrs().find<std::uint8_t>(attr::kCutSurface);
+  const bool flagged = flag != nullptr;
+  std::vector<std::vector<FaceId>> body, cap;
+  if (flagged) {
+    body.resize(pieces.size());
+    cap.resize(pieces.size());
+    for (std::size_t k = 0; k < pieces.size(); ++k)
+      for (FaceId f : pieces[k]) ((*flag)[f.index] ? cap[k] : body[k]).push_back(f);
+  }
+  std::vector<SurfaceMesh> cap_meshes = flagged ? detail::extract_disjoint(mesh, cap) : std::vector<SurfaceMesh>();
+  std::vector<SurfaceMesh> body_meshes = detail::split_disjoint(std::move(mesh), flagged ? body : pieces);
+  std::vector<std::vector<Primitive>> out(pieces.size());
+  auto add = [&](SurfaceMesh& m, int mat, std::vector<Primitive>& to) {
+    if (m.face_count() == 0) return;
+    Primitive prim;
+    prim.mesh = std::move(m);
+    prim.mesh.face_attrs().remove(attr::kCutSurface);
+    prim.material = mat;
+    to.push_back(std::move(prim));
+  };
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    add(body_meshes[k], material, out[k]);
+    if (flagged) add(cap_meshes[k], cut_material, out[k]);
   }
   return out;
 }
 
 // Groups each primitive's pieces into output meshes: without split_components piece k of every
 // primitive (0 positive, 1 negative) shares a mesh; with it, every piece is its own.
-std::vector<Mesh> group_pieces(const Mesh& source, const InstanceCut& cut, const CutOptions& options, int cut_material,
-                               ModelCutResult& result) {
+std::vector<Mesh> group_pieces(Mesh& edited, const InstanceCut& cut, const CutOptions& options,
+                               int cut_material, ModelCutResult& result) {
   std::vector<Mesh> piece_meshes;
-  for (std::size_t p = 0; p < cut.prims.size(); ++p) {
+  for (std::size_t p = 0; p < cut.results.size(); ++p) {
     const CutResult& r = cut.results[p];
+    SurfaceMesh& mesh = edited.primitives[p].mesh;  // taken apart into its pieces
     result.intersection_points += r.intersection_points;
     result.rim_vertices += r.rim_vertices.size();
-    std::vector<std::vector<FaceId>> pieces = r.pieces;
+    std::vector<std::vector<FaceId>> whole;
     if (r.status == OpStatus::NoIntersection) {
       const int side = r.piece_sides[0];
       if ((options.keep == CutKeep::Positive && side < 0) || (options.keep == CutKeep::Negative && side > 0)) continue;
-      std::vector<FaceId> all;
-      cut.prims[p].for_each_face([&](FaceId f, const Triangle&) { all.push_back(f); });
-      pieces = {all};
+      whole.emplace_back();
+      mesh.for_each_face([&](FaceId f, const Triangle&) { whole[0].push_back(f); });
     }
+    const auto& pieces = r.status == OpStatus::NoIntersection ? whole : r.pieces;
+    std::vector<std::vector<Primitive>> prims =
+        piece_primitives(std::move(mesh), pieces, edited.primitives[p].material, cut_material);
     for (std::size_t k = 0; k < pieces.size(); ++k) {
       const int side = r.piece_sides[k];
       const std::size_t slot = options.split_components ? piece_meshes.size() : (side > 0 ? 0 : 1);
       if (slot >= piece_meshes.size()) piece_meshes.resize(slot + 1);
-      add_piece_primitives(detail::extract(cut.prims[p], pieces[k]), source.primitives[p].material, cut_material,
-                           piece_meshes[slot]);
+      for (Primitive& prim : prims[k]) piece_meshes[slot].primitives.push_back(std::move(prim));
     }
   }
   piece_meshes.erase(std::remove_if(piece_meshes.begin(), piece_meshes.end(), [](const Mesh& m) { return m.primitives.empty(); }),
@@ -175,7 +192,7 @@ ModelCutResult cut_model(Model& model, PosedModel& posed, const Plane& plane, co
     }
     result.status = OpStatus::Ok;
     if (options.cap && cut_material < 0) cut_material = detail::cut_surface_material(model);
-    std::vector<Mesh> piece_meshes = group_pieces(inst.source(), cut, options, cut_material, result);
+    std::vector<Mesh> piece_meshes = group_pieces(inst.edit(), cut, options, cut_material, result);
     if (piece_meshes.empty()) {
       posed.erase_node(inst.node());  // its posed primitives grew with the cut: indexed anew
       return false;
