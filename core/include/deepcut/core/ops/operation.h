@@ -83,7 +83,9 @@ void check_operation(const Operation& operation, const ParameterName& name = {})
 /// Applies one operation to the model and records it in the model's history when it changed
 /// the model (status Ok).
 /// @param posed  the model at a pose (posed_model.h), used and updated by drills and tears
-///               (rebuilt when it was made for another pose or invalid), invalidated by a cut.
+///               (rebuilt when it was made for another pose or invalid); a cut reads it when it
+///               was made for the operation's pose (else poses the model on its own and leaves it
+///               as it was) and invalidates it when it changed the model.
 /// @throws Error{InvalidArgument} for bad parameters (the operation's own checks), and for a
 ///         drill that removes every triangle of an instance while its
 ///         DrillOptions::refuse_swallowed_instances is set (the default; message "... use a
