@@ -63,12 +63,16 @@ ModelChange structure() {
 
 }  // namespace
 
-void Session::open(std::shared_ptr<const Model> model) {
+void Session::open(std::shared_ptr<const Model> model, bool take_over) {
   if (before_change_) before_change_();
   editing_ = {};
   steps_.clear();
   done_ = 0;
-  live_ = model ? own(std::move(model)) : nullptr;
+  if (take_over) {
+    live_ = std::const_pointer_cast<Model>(std::move(model));
+  } else {
+    live_ = model ? own(std::move(model)) : nullptr;
+  }
   current_ = live_;
   opened_operations_ = live_ ? model_history(*live_).operations.size() : 0;
   posed_.reset();

@@ -69,10 +69,11 @@ class Session {
 
   /// Starts anew from `model` (as opened: edited histories re-run from it). Clears the undo
   /// stack, the operations list and the posed model. The session edits its own model: it takes
-  /// `model` over when the caller hands it the only reference, else copies it. Callers reserve
-  /// room first (`reserve_for_operations`), so the first operations do not reallocate.
-  /// The whole model changed (structure) for whoever draws it.
-  void open(std::shared_ptr<const Model> model);
+  /// `model` over when the caller hands it the only reference or `take_over` is set (the studio:
+  /// its scene draws that very model, which then changes with every step), else copies it.
+  /// Callers reserve room first (`reserve_for_operations`), so the first operations do not
+  /// reallocate. The whole model changed (structure) for whoever draws it.
+  void open(std::shared_ptr<const Model> model, bool take_over = false);
 
   /// The current state (null before `open`): the live model, edited in place by every
   /// operation, undo and redo (the pointer stays the same; what it points to changes). While
