@@ -47,7 +47,7 @@ QListWidget* OperationsHost::operations_list() const { return panel_->operations
 
 void OperationsHost::open(std::shared_ptr<const Model> model) {
   undo_stack_->clear();
-  session_.open(std::move(model));
+  session_.open(std::move(model), /*take_over=*/true);  // the scene draws the session's live model
 }
 
 void OperationsHost::push_step(const QString& label) {

@@ -39,7 +39,8 @@ class OperationsHost : public QObject {
   QWidget* create_panel(QWidget* parent);
   QListWidget* operations_list() const;
 
-  /// Starts anew from `model` (no undo steps, no operations).
+  /// Starts anew from `model` (no undo steps, no operations). The session takes it over and edits
+  /// it in place: whoever holds it (the scene) sees every step.
   void open(std::shared_ptr<const Model> model);
   /// See MainWindow::apply_tool (the caller clears its last error on success).
   bool apply_tool();
