@@ -8,6 +8,7 @@
 #include <string>
 
 #include "deepcut/core/errors.h"
+#include "deepcut/core/parallel.h"
 #include "softbody/clustering_detail.h"
 #include "softbody/point_grid.h"
 
@@ -500,6 +501,61 @@ std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& parti
 // ------------------------------------------------------------------------------------------------
 // Build.
 
+// Every vertex of `ids` belongs to each particle whose seed lies within rho of it. Rows are built
+// per vertex from a grid over the seeds (count, prefix sum, fill), member lists per particle as
+// the sorted ball around its seed; both test the same float distance, so they agree, and every
+// write is to a disjoint range: the result does not depend on the thread count.
+void Clusters::build_memberships(const std::vector<glm::vec3>& rest, const std::vector<std::uint32_t>& ids,
+                                 const clustering_detail::PointGrid& vertex_grid) {
+  const float rho = radius_, rho2 = rho * rho;
+  // Cells are searched a little wider than rho so that no point within rho (in float) is missed;
+  // the exact test below decides.
+  const float reach = rho * (1.0f + 1e-4f);
+  const auto particles = static_cast<std::uint32_t>(seeds_.size());
+  std::vector<std::uint32_t> all(particles);
+  for (std::uint32_t p = 0; p < particles; ++p) all[p] = p;
+  const PointGrid seed_grid(seeds_, all, rho);
+  constexpr std::size_t kGrain = 2048;
+  std::vector<std::uint32_t> start(ids.size() + 1, 0);
+  parallel_for(ids.size(), kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      const glm::vec3 pv = rest[ids[i]];
+      std::uint32_t count = 0;
+      seed_grid.for_each_near(pv, reach, [&](std::uint32_t p) { count += distance2(pv, seeds_[p]) <= rho2; });
+      start[i + 1] = count;
+    }
+  });
+  for (std::size_t i = 0; i < ids.size(); ++i) start[i + 1] += start[i];
+  pool_.resize(start.back());
+  parallel_for(ids.size(), kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      const std::uint32_t v = ids[i];
+      const glm::vec3 pv = rest[v];
+      Influence* out = pool_.data() + start[i];
+      std::uint32_t n = 0;
+      seed_grid.for_each_near(pv, reach, [&](std::uint32_t p) {
+        const float d2 = distance2(pv, seeds_[p]);
+        if (d2 <= rho2) out[n++] = Influence{p, falloff(d2, rho2)};
+      });
+      std::sort(out, out + n, [](const Influence& a, const Influence& x) { return a.particle < x.particle; });
+      rows_[v] = Row{start[i], n, n};
+      renormalise(v);
+    }
+  });
+  members_.assign(particles, {});
+  parallel_for(particles, 64, [&](std::size_t b, std::size_t e) {
+    for (std::size_t p = b; p < e; ++p) {
+      const glm::vec3 ps = seeds_[p];
+      auto& m = members_[p];
+      vertex_grid.for_each_near(ps, reach, [&](std::uint32_t v) {
+        if (distance2(rest[v], ps) <= rho2) m.push_back(v);
+      });
+      std::sort(m.begin(), m.end());
+    }
+  });
+}
+
+
 Clusters Clusters::build(const SurfaceMesh& mesh, const ClusterOptions& options) {
   return build(mesh, mesh.positions(), options);
 }
@@ -530,51 +586,15 @@ Clusters Clusters::build(const SurfaceMesh& mesh, const std::vector<glm::vec3>& 
     }
   if (ids.empty()) return c;
 
-  const float rho = options.radius, rho2 = rho * rho;
+  const float rho = options.radius;
   const PointGrid grid(rest, ids, rho);
   const std::vector<std::uint32_t> seeds =
       farthest_point_seeds(rest, ids, grid, rho * options.cover_fraction);
 
-  // Particle-major memberships, then vertex-major rows (counting sort; rows sorted by particle).
-  std::vector<std::uint32_t> pm_start{0}, pm_vertex;
-  std::vector<float> pm_weight;
-  pm_vertex.reserve(ids.size() * 4);
-  pm_weight.reserve(ids.size() * 4);
-  std::vector<std::uint32_t> count(n, 0);
-  for (std::uint32_t s : seeds) {
-    const glm::vec3 ps = rest[s];
-    grid.for_each_near(ps, rho, [&](std::uint32_t v) {
-      const float d2 = distance2(rest[v], ps);
-      if (d2 <= rho2) {
-        pm_vertex.push_back(v);
-        pm_weight.push_back(falloff(d2, rho2));
-        ++count[v];
-      }
-    });
-    pm_start.push_back(static_cast<std::uint32_t>(pm_vertex.size()));
-  }
-  c.pool_.resize(pm_vertex.size());
-  std::uint32_t offset = 0;
-  for (std::uint32_t v = 0; v < n; ++v) {
-    c.rows_[v] = Row{offset, 0, count[v]};
-    offset += count[v];
-  }
   const auto particles = static_cast<std::uint32_t>(seeds.size());
-  c.seeds_.reserve(particles);
-  c.members_.resize(particles);
-  for (std::uint32_t p = 0; p < particles; ++p) {
-    c.seeds_.push_back(rest[seeds[p]]);
-    c.members_[p].reserve(pm_start[p + 1] - pm_start[p]);
-    for (std::uint32_t i = pm_start[p]; i < pm_start[p + 1]; ++i) {
-      Row& r = c.rows_[pm_vertex[i]];
-      c.pool_[r.begin + r.size++] = Influence{p, pm_weight[i]};
-    }
-  }
-  // Member lists from the rows, visited in vertex order, come out sorted.
-  for (std::uint32_t v : ids) {
-    c.renormalise(v);
-    for (const Influence& in : c.influences(VertexId(v))) c.members_[in.particle].push_back(v);
-  }
+  c.seeds_.resize(particles);
+  for (std::uint32_t p = 0; p < particles; ++p) c.seeds_[p] = rest[seeds[p]];
+  c.build_memberships(rest, ids, grid);
   c.centres_ = c.seeds_;
 
   std::vector<std::uint32_t> all(particles);
@@ -582,7 +602,9 @@ Clusters Clusters::build(const SurfaceMesh& mesh, const std::vector<glm::vec3>& 
   std::vector<ClusterUpdate::NewParticle> created;
   c.split_disconnected(
       all, [&](auto&& fn) { mesh.for_each_face([&](FaceId, const Triangle& t) { fn(t); }); }, created);
-  for (std::uint32_t p = 0; p < c.seeds_.size(); ++p) c.recompute_centre(p, rest);
+  parallel_for(c.seeds_.size(), 256, [&](std::size_t b, std::size_t e) {
+    for (std::size_t p = b; p < e; ++p) c.recompute_centre(static_cast<std::uint32_t>(p), rest);
+  });
   return c;
 }
 
