@@ -2,6 +2,7 @@
 #include "deepcut/core/softbody/clustering.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -152,6 +153,38 @@ void blend_influences(const VertexAdded& e, const Clusters& clusters, std::vecto
     }
   }
 }
+
+// A union-find over [0, n) whose unions may run on several threads at once. The smaller root
+// always wins, so a set's root is its smallest element whatever the order of the unions: the same
+// roots as a serial union-find linking the larger root under the smaller.
+class ConcurrentUnionFind {
+ public:
+  explicit ConcurrentUnionFind(std::size_t n) : up_(n) {}
+  void make_set(std::uint32_t x) { up_[x].store(x, std::memory_order_relaxed); }
+  std::uint32_t find(std::uint32_t x) {
+    for (;;) {
+      std::uint32_t up = up_[x].load(std::memory_order_relaxed);
+      if (up == x) return x;
+      const std::uint32_t top = up_[up].load(std::memory_order_relaxed);
+      // Path halving: `top` is an ancestor of x too, whatever other threads did meanwhile.
+      if (top != up) up_[x].compare_exchange_weak(up, top, std::memory_order_relaxed);
+      x = top;
+    }
+  }
+  void unite(std::uint32_t x, std::uint32_t y) {
+    for (;;) {
+      x = find(x);
+      y = find(y);
+      if (x == y) return;
+      if (x < y) std::swap(x, y);
+      std::uint32_t expected = x;  // link the larger root under the smaller
+      if (up_[x].compare_exchange_strong(expected, y, std::memory_order_relaxed)) return;
+    }
+  }
+
+ private:
+  std::vector<std::atomic<std::uint32_t>> up_;
+};
 
 // The connected parts of one particle's members: the largest (the first in root order on ties)
 // and the others, each sorted by vertex.
@@ -376,20 +409,15 @@ std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& parti
   std::vector<std::uint8_t> in_set(seeds_.size(), 0);
   for (std::uint32_t p : particles) in_set[p] = 1;
 
-  // Union-find over the pool entries (one per vertex-in-particle) of the listed particles.
-  std::vector<std::uint32_t> uf(pool_.size());
-  for (std::uint32_t p : particles)
-    for (std::uint32_t v : members_[p]) {
-      const std::uint32_t e = entry_of(v, p);
-      uf[e] = e;
-    }
-  auto find = [&](std::uint32_t x) {
-    while (uf[x] != x) {
-      uf[x] = uf[uf[x]];
-      x = uf[x];
-    }
-    return x;
-  };
+  // Union-find over the pool entries (one per vertex-in-particle) of the listed particles. The
+  // smaller root always wins, so each part's root is its smallest entry whatever the order of
+  // the unions: `for_each_face` may call its function from several threads at once.
+  ConcurrentUnionFind uf(pool_.size());
+  parallel_for(particles.size(), 64, [&](std::size_t b, std::size_t e) {
+    for (std::size_t k = b; k < e; ++k)
+      for (std::uint32_t v : members_[particles[k]]) uf.make_set(entry_of(v, particles[k]));
+  });
+  auto find = [&](std::uint32_t x) { return uf.find(x); };
   for_each_face([&](const Triangle& t) {
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t a = t[k].index, b = t[(k + 1) % 3].index;
@@ -406,10 +434,7 @@ std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& parti
         } else if (pb < pa) {
           ++j;
         } else {
-          if (in_set[pa]) {
-            const std::uint32_t x = find(i), y = find(j);
-            if (x != y) uf[std::max(x, y)] = std::min(x, y);
-          }
+          if (in_set[pa]) uf.unite(i, j);
           ++i;
           ++j;
         }
@@ -422,31 +447,42 @@ std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& parti
     std::uint32_t particle;
     std::vector<std::uint32_t> vertices;  // sorted
   };
+  // Each particle's parts in parallel (disjoint members and pool entries), gathered in order.
+  std::vector<Parts> split(particles.size());
+  std::vector<std::uint8_t> is_split(particles.size(), 0);
+  parallel_for(particles.size(), 64, [&](std::size_t b, std::size_t e) {
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> by_root;  // (root, vertex)
+    for (std::size_t k = b; k < e; ++k) {
+      const std::uint32_t p = particles[k];
+      const auto& m = members_[p];
+      if (m.size() < 2) continue;
+      by_root.clear();
+      bool single = true;
+      std::uint32_t first_root = kInvalidIndex;
+      for (std::uint32_t v : m) {
+        const std::uint32_t r = find(entry_of(v, p));
+        if (first_root == kInvalidIndex) first_root = r;
+        single = single && r == first_root;
+        by_root.emplace_back(r, v);
+      }
+      if (single) continue;
+      is_split[k] = 1;
+      split[k] = parts_by_root(by_root);
+    }
+  });
   std::vector<Minor> minors;
   std::vector<std::uint8_t> minor_entry;  // by pool entry, allocated on the first split
   std::size_t split_count = 0;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> by_root;  // (root, vertex)
-  for (std::uint32_t p : particles) {
-    const auto& m = members_[p];
-    if (m.size() < 2) continue;
-    by_root.clear();
-    bool single = true;
-    std::uint32_t first_root = kInvalidIndex;
-    for (std::uint32_t v : m) {
-      const std::uint32_t r = find(entry_of(v, p));
-      if (first_root == kInvalidIndex) first_root = r;
-      single = single && r == first_root;
-      by_root.emplace_back(r, v);
-    }
-    if (single) continue;
+  for (std::size_t k = 0; k < particles.size(); ++k) {
+    if (!is_split[k]) continue;
+    const std::uint32_t p = particles[k];
     ++split_count;
-    Parts parts = parts_by_root(by_root);
     if (minor_entry.empty()) minor_entry.assign(pool_.size(), 0);
-    for (auto& vertices : parts.minors) {
+    for (auto& vertices : split[k].minors) {
       for (std::uint32_t v : vertices) minor_entry[entry_of(v, p)] = 1;
       minors.push_back({p, std::move(vertices)});
     }
-    members_[p] = std::move(parts.main);
+    members_[p] = std::move(split[k].main);
   }
   if (minors.empty()) return split_count;
 
@@ -600,8 +636,16 @@ Clusters Clusters::build(const SurfaceMesh& mesh, const std::vector<glm::vec3>& 
   std::vector<std::uint32_t> all(particles);
   for (std::uint32_t p = 0; p < particles; ++p) all[p] = p;
   std::vector<ClusterUpdate::NewParticle> created;
-  c.split_disconnected(
-      all, [&](auto&& fn) { mesh.for_each_face([&](FaceId, const Triangle& t) { fn(t); }); }, created);
+  // The faces are walked in parallel (split_disconnected's unions do not depend on their order).
+  auto for_each_face = [&](auto&& fn) {
+    parallel_for(mesh.face_slots(), 8192, [&](std::size_t b, std::size_t e) {
+      for (std::size_t f = b; f < e; ++f) {
+        const FaceId id(static_cast<std::uint32_t>(f));
+        if (!mesh.is_deleted(id)) fn(mesh.face(id));
+      }
+    });
+  };
+  c.split_disconnected(all, for_each_face, created);
   parallel_for(c.seeds_.size(), 256, [&](std::size_t b, std::size_t e) {
     for (std::size_t p = b; p < e; ++p) c.recompute_centre(static_cast<std::uint32_t>(p), rest);
   });
