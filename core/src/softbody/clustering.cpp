@@ -2,7 +2,6 @@
 #include "deepcut/core/softbody/clustering.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -47,6 +46,7 @@ std::vector<std::uint32_t> farthest_point_seeds(const std::vector<glm::vec3>& re
   while (leaves < grid.cell_count()) leaves *= 2;
   std::vector<Item> tree(2 * leaves);
   std::vector<float> dist2(rest.size(), std::numeric_limits<float>::infinity());
+  // A cell's farthest point after the seed at `ps` (each cell writes only its own points).
   auto rescan = [&](std::size_t cell, const glm::vec3& ps) {
     Item top;
     for (const std::uint32_t* it = grid.cell_begin(cell); it != grid.cell_end(cell); ++it) {
@@ -54,6 +54,9 @@ std::vector<std::uint32_t> farthest_point_seeds(const std::vector<glm::vec3>& re
       dist2[*it] = d2;
       if (better({d2, *it}, top)) top = {d2, *it};
     }
+    return top;
+  };
+  auto update = [&](std::size_t cell, const Item& top) {
     std::size_t node = leaves + cell;
     tree[node] = top;
     for (node /= 2; node >= 1; node /= 2) {
@@ -64,13 +67,28 @@ std::vector<std::uint32_t> farthest_point_seeds(const std::vector<glm::vec3>& re
       tree[node] = up;
     }
   };
+  // Cells rescanned in parallel when a seed reaches many (the first seed reaches them all), then
+  // the max tree updated serially in cell order: the same tree whatever the thread count.
+  constexpr std::size_t kParallelCells = 4096;
+  std::vector<std::size_t> cells;
+  std::vector<Item> tops;
   const float cover2 = cover * cover;
   std::uint32_t seed = first;
   float reach = std::numeric_limits<float>::infinity();
   for (;;) {
     seeds.push_back(seed);
     const glm::vec3 ps = rest[seed];
-    grid.for_each_cell_near(ps, reach, [&](std::size_t cell) { rescan(cell, ps); });
+    cells.clear();
+    grid.for_each_cell_near(ps, reach, [&](std::size_t cell) { cells.push_back(cell); });
+    if (cells.size() < kParallelCells) {
+      for (std::size_t cell : cells) update(cell, rescan(cell, ps));
+    } else {
+      tops.resize(cells.size());
+      parallel_for(cells.size(), 256, [&](std::size_t b, std::size_t e) {
+        for (std::size_t k = b; k < e; ++k) tops[k] = rescan(cells[k], ps);
+      });
+      for (std::size_t k = 0; k < cells.size(); ++k) update(cells[k], tops[k]);
+    }
     const Item top = tree[1];
     if (top.v == kInvalidIndex || top.d2 <= cover2) break;
     seed = top.v;
@@ -153,38 +171,6 @@ void blend_influences(const VertexAdded& e, const Clusters& clusters, std::vecto
     }
   }
 }
-
-// A union-find over [0, n) whose unions may run on several threads at once. The smaller root
-// always wins, so a set's root is its smallest element whatever the order of the unions: the same
-// roots as a serial union-find linking the larger root under the smaller.
-class ConcurrentUnionFind {
- public:
-  explicit ConcurrentUnionFind(std::size_t n) : up_(n) {}
-  void make_set(std::uint32_t x) { up_[x].store(x, std::memory_order_relaxed); }
-  std::uint32_t find(std::uint32_t x) {
-    for (;;) {
-      std::uint32_t up = up_[x].load(std::memory_order_relaxed);
-      if (up == x) return x;
-      const std::uint32_t top = up_[up].load(std::memory_order_relaxed);
-      // Path halving: `top` is an ancestor of x too, whatever other threads did meanwhile.
-      if (top != up) up_[x].compare_exchange_weak(up, top, std::memory_order_relaxed);
-      x = top;
-    }
-  }
-  void unite(std::uint32_t x, std::uint32_t y) {
-    for (;;) {
-      x = find(x);
-      y = find(y);
-      if (x == y) return;
-      if (x < y) std::swap(x, y);
-      std::uint32_t expected = x;  // link the larger root under the smaller
-      if (up_[x].compare_exchange_strong(expected, y, std::memory_order_relaxed)) return;
-    }
-  }
-
- private:
-  std::vector<std::atomic<std::uint32_t>> up_;
-};
 
 // The connected parts of one particle's members: the largest (the first in root order on ties)
 // and the others, each sorted by vertex.
