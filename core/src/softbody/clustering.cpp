@@ -8,6 +8,7 @@
 #include <string>
 
 #include "deepcut/core/errors.h"
+#include "deepcut/core/parallel.h"
 #include "softbody/clustering_detail.h"
 #include "softbody/point_grid.h"
 
@@ -45,6 +46,7 @@ std::vector<std::uint32_t> farthest_point_seeds(const std::vector<glm::vec3>& re
   while (leaves < grid.cell_count()) leaves *= 2;
   std::vector<Item> tree(2 * leaves);
   std::vector<float> dist2(rest.size(), std::numeric_limits<float>::infinity());
+  // A cell's farthest point after the seed at `ps` (each cell writes only its own points).
   auto rescan = [&](std::size_t cell, const glm::vec3& ps) {
     Item top;
     for (const std::uint32_t* it = grid.cell_begin(cell); it != grid.cell_end(cell); ++it) {
@@ -52,6 +54,9 @@ std::vector<std::uint32_t> farthest_point_seeds(const std::vector<glm::vec3>& re
       dist2[*it] = d2;
       if (better({d2, *it}, top)) top = {d2, *it};
     }
+    return top;
+  };
+  auto update = [&](std::size_t cell, const Item& top) {
     std::size_t node = leaves + cell;
     tree[node] = top;
     for (node /= 2; node >= 1; node /= 2) {
@@ -62,13 +67,28 @@ std::vector<std::uint32_t> farthest_point_seeds(const std::vector<glm::vec3>& re
       tree[node] = up;
     }
   };
+  // Cells rescanned in parallel when a seed reaches many (the first seed reaches them all), then
+  // the max tree updated serially in cell order: the same tree whatever the thread count.
+  constexpr std::size_t kParallelCells = 4096;
+  std::vector<std::size_t> cells;
+  std::vector<Item> tops;
   const float cover2 = cover * cover;
   std::uint32_t seed = first;
   float reach = std::numeric_limits<float>::infinity();
   for (;;) {
     seeds.push_back(seed);
     const glm::vec3 ps = rest[seed];
-    grid.for_each_cell_near(ps, reach, [&](std::size_t cell) { rescan(cell, ps); });
+    cells.clear();
+    grid.for_each_cell_near(ps, reach, [&](std::size_t cell) { cells.push_back(cell); });
+    if (cells.size() < kParallelCells) {
+      for (std::size_t cell : cells) update(cell, rescan(cell, ps));
+    } else {
+      tops.resize(cells.size());
+      parallel_for(cells.size(), 256, [&](std::size_t b, std::size_t e) {
+        for (std::size_t k = b; k < e; ++k) tops[k] = rescan(cells[k], ps);
+      });
+      for (std::size_t k = 0; k < cells.size(); ++k) update(cells[k], tops[k]);
+    }
     const Item top = tree[1];
     if (top.v == kInvalidIndex || top.d2 <= cover2) break;
     seed = top.v;
@@ -375,20 +395,15 @@ std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& parti
   std::vector<std::uint8_t> in_set(seeds_.size(), 0);
   for (std::uint32_t p : particles) in_set[p] = 1;
 
-  // Union-find over the pool entries (one per vertex-in-particle) of the listed particles.
-  std::vector<std::uint32_t> uf(pool_.size());
-  for (std::uint32_t p : particles)
-    for (std::uint32_t v : members_[p]) {
-      const std::uint32_t e = entry_of(v, p);
-      uf[e] = e;
-    }
-  auto find = [&](std::uint32_t x) {
-    while (uf[x] != x) {
-      uf[x] = uf[uf[x]];
-      x = uf[x];
-    }
-    return x;
-  };
+  // Union-find over the pool entries (one per vertex-in-particle) of the listed particles. The
+  // smaller root always wins, so each part's root is its smallest entry whatever the order of
+  // the unions: `for_each_face` may call its function from several threads at once.
+  ConcurrentUnionFind uf(pool_.size());
+  parallel_for(particles.size(), 64, [&](std::size_t b, std::size_t e) {
+    for (std::size_t k = b; k < e; ++k)
+      for (std::uint32_t v : members_[particles[k]]) uf.make_set(entry_of(v, particles[k]));
+  });
+  auto find = [&](std::uint32_t x) { return uf.find(x); };
   for_each_face([&](const Triangle& t) {
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t a = t[k].index, b = t[(k + 1) % 3].index;
@@ -405,10 +420,7 @@ std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& parti
         } else if (pb < pa) {
           ++j;
         } else {
-          if (in_set[pa]) {
-            const std::uint32_t x = find(i), y = find(j);
-            if (x != y) uf[std::max(x, y)] = std::min(x, y);
-          }
+          if (in_set[pa]) uf.unite(i, j);
           ++i;
           ++j;
         }
@@ -421,31 +433,42 @@ std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& parti
     std::uint32_t particle;
     std::vector<std::uint32_t> vertices;  // sorted
   };
+  // Each particle's parts in parallel (disjoint members and pool entries), gathered in order.
+  std::vector<Parts> split(particles.size());
+  std::vector<std::uint8_t> is_split(particles.size(), 0);
+  parallel_for(particles.size(), 64, [&](std::size_t b, std::size_t e) {
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> by_root;  // (root, vertex)
+    for (std::size_t k = b; k < e; ++k) {
+      const std::uint32_t p = particles[k];
+      const auto& m = members_[p];
+      if (m.size() < 2) continue;
+      by_root.clear();
+      bool single = true;
+      std::uint32_t first_root = kInvalidIndex;
+      for (std::uint32_t v : m) {
+        const std::uint32_t r = find(entry_of(v, p));
+        if (first_root == kInvalidIndex) first_root = r;
+        single = single && r == first_root;
+        by_root.emplace_back(r, v);
+      }
+      if (single) continue;
+      is_split[k] = 1;
+      split[k] = parts_by_root(by_root);
+    }
+  });
   std::vector<Minor> minors;
   std::vector<std::uint8_t> minor_entry;  // by pool entry, allocated on the first split
   std::size_t split_count = 0;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> by_root;  // (root, vertex)
-  for (std::uint32_t p : particles) {
-    const auto& m = members_[p];
-    if (m.size() < 2) continue;
-    by_root.clear();
-    bool single = true;
-    std::uint32_t first_root = kInvalidIndex;
-    for (std::uint32_t v : m) {
-      const std::uint32_t r = find(entry_of(v, p));
-      if (first_root == kInvalidIndex) first_root = r;
-      single = single && r == first_root;
-      by_root.emplace_back(r, v);
-    }
-    if (single) continue;
+  for (std::size_t k = 0; k < particles.size(); ++k) {
+    if (!is_split[k]) continue;
+    const std::uint32_t p = particles[k];
     ++split_count;
-    Parts parts = parts_by_root(by_root);
     if (minor_entry.empty()) minor_entry.assign(pool_.size(), 0);
-    for (auto& vertices : parts.minors) {
+    for (auto& vertices : split[k].minors) {
       for (std::uint32_t v : vertices) minor_entry[entry_of(v, p)] = 1;
       minors.push_back({p, std::move(vertices)});
     }
-    members_[p] = std::move(parts.main);
+    members_[p] = std::move(split[k].main);
   }
   if (minors.empty()) return split_count;
 
@@ -500,6 +523,61 @@ std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& parti
 // ------------------------------------------------------------------------------------------------
 // Build.
 
+// Every vertex of `ids` belongs to each particle whose seed lies within rho of it. Rows are built
+// per vertex from a grid over the seeds (count, prefix sum, fill), member lists per particle as
+// the sorted ball around its seed; both test the same float distance, so they agree, and every
+// write is to a disjoint range: the result does not depend on the thread count.
+void Clusters::build_memberships(const std::vector<glm::vec3>& rest, const std::vector<std::uint32_t>& ids,
+                                 const clustering_detail::PointGrid& vertex_grid) {
+  const float rho = radius_, rho2 = rho * rho;
+  // Cells are searched a little wider than rho so that no point within rho (in float) is missed;
+  // the exact test below decides.
+  const float reach = rho * (1.0f + 1e-4f);
+  const auto particles = static_cast<std::uint32_t>(seeds_.size());
+  std::vector<std::uint32_t> all(particles);
+  for (std::uint32_t p = 0; p < particles; ++p) all[p] = p;
+  const PointGrid seed_grid(seeds_, all, rho);
+  constexpr std::size_t kGrain = 2048;
+  std::vector<std::uint32_t> start(ids.size() + 1, 0);
+  parallel_for(ids.size(), kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      const glm::vec3 pv = rest[ids[i]];
+      std::uint32_t count = 0;
+      seed_grid.for_each_near(pv, reach, [&](std::uint32_t p) { count += distance2(pv, seeds_[p]) <= rho2; });
+      start[i + 1] = count;
+    }
+  });
+  for (std::size_t i = 0; i < ids.size(); ++i) start[i + 1] += start[i];
+  pool_.resize(start.back());
+  parallel_for(ids.size(), kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      const std::uint32_t v = ids[i];
+      const glm::vec3 pv = rest[v];
+      Influence* out = pool_.data() + start[i];
+      std::uint32_t n = 0;
+      seed_grid.for_each_near(pv, reach, [&](std::uint32_t p) {
+        const float d2 = distance2(pv, seeds_[p]);
+        if (d2 <= rho2) out[n++] = Influence{p, falloff(d2, rho2)};
+      });
+      std::sort(out, out + n, [](const Influence& a, const Influence& x) { return a.particle < x.particle; });
+      rows_[v] = Row{start[i], n, n};
+      renormalise(v);
+    }
+  });
+  members_.assign(particles, {});
+  parallel_for(particles, 64, [&](std::size_t b, std::size_t e) {
+    for (std::size_t p = b; p < e; ++p) {
+      const glm::vec3 ps = seeds_[p];
+      auto& m = members_[p];
+      vertex_grid.for_each_near(ps, reach, [&](std::uint32_t v) {
+        if (distance2(rest[v], ps) <= rho2) m.push_back(v);
+      });
+      std::sort(m.begin(), m.end());
+    }
+  });
+}
+
+
 Clusters Clusters::build(const SurfaceMesh& mesh, const ClusterOptions& options) {
   return build(mesh, mesh.positions(), options);
 }
@@ -530,59 +608,33 @@ Clusters Clusters::build(const SurfaceMesh& mesh, const std::vector<glm::vec3>& 
     }
   if (ids.empty()) return c;
 
-  const float rho = options.radius, rho2 = rho * rho;
+  const float rho = options.radius;
   const PointGrid grid(rest, ids, rho);
   const std::vector<std::uint32_t> seeds =
       farthest_point_seeds(rest, ids, grid, rho * options.cover_fraction);
 
-  // Particle-major memberships, then vertex-major rows (counting sort; rows sorted by particle).
-  std::vector<std::uint32_t> pm_start{0}, pm_vertex;
-  std::vector<float> pm_weight;
-  pm_vertex.reserve(ids.size() * 4);
-  pm_weight.reserve(ids.size() * 4);
-  std::vector<std::uint32_t> count(n, 0);
-  for (std::uint32_t s : seeds) {
-    const glm::vec3 ps = rest[s];
-    grid.for_each_near(ps, rho, [&](std::uint32_t v) {
-      const float d2 = distance2(rest[v], ps);
-      if (d2 <= rho2) {
-        pm_vertex.push_back(v);
-        pm_weight.push_back(falloff(d2, rho2));
-        ++count[v];
-      }
-    });
-    pm_start.push_back(static_cast<std::uint32_t>(pm_vertex.size()));
-  }
-  c.pool_.resize(pm_vertex.size());
-  std::uint32_t offset = 0;
-  for (std::uint32_t v = 0; v < n; ++v) {
-    c.rows_[v] = Row{offset, 0, count[v]};
-    offset += count[v];
-  }
   const auto particles = static_cast<std::uint32_t>(seeds.size());
-  c.seeds_.reserve(particles);
-  c.members_.resize(particles);
-  for (std::uint32_t p = 0; p < particles; ++p) {
-    c.seeds_.push_back(rest[seeds[p]]);
-    c.members_[p].reserve(pm_start[p + 1] - pm_start[p]);
-    for (std::uint32_t i = pm_start[p]; i < pm_start[p + 1]; ++i) {
-      Row& r = c.rows_[pm_vertex[i]];
-      c.pool_[r.begin + r.size++] = Influence{p, pm_weight[i]};
-    }
-  }
-  // Member lists from the rows, visited in vertex order, come out sorted.
-  for (std::uint32_t v : ids) {
-    c.renormalise(v);
-    for (const Influence& in : c.influences(VertexId(v))) c.members_[in.particle].push_back(v);
-  }
+  c.seeds_.resize(particles);
+  for (std::uint32_t p = 0; p < particles; ++p) c.seeds_[p] = rest[seeds[p]];
+  c.build_memberships(rest, ids, grid);
   c.centres_ = c.seeds_;
 
   std::vector<std::uint32_t> all(particles);
   for (std::uint32_t p = 0; p < particles; ++p) all[p] = p;
   std::vector<ClusterUpdate::NewParticle> created;
-  c.split_disconnected(
-      all, [&](auto&& fn) { mesh.for_each_face([&](FaceId, const Triangle& t) { fn(t); }); }, created);
-  for (std::uint32_t p = 0; p < c.seeds_.size(); ++p) c.recompute_centre(p, rest);
+  // The faces are walked in parallel (split_disconnected's unions do not depend on their order).
+  auto for_each_face = [&](auto&& fn) {
+    parallel_for(mesh.face_slots(), 8192, [&](std::size_t b, std::size_t e) {
+      for (std::size_t f = b; f < e; ++f) {
+        const FaceId id(static_cast<std::uint32_t>(f));
+        if (!mesh.is_deleted(id)) fn(mesh.face(id));
+      }
+    });
+  };
+  c.split_disconnected(all, for_each_face, created);
+  parallel_for(c.seeds_.size(), 256, [&](std::size_t b, std::size_t e) {
+    for (std::size_t p = b; p < e; ++p) c.recompute_centre(static_cast<std::uint32_t>(p), rest);
+  });
   return c;
 }
 

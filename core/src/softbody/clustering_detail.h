@@ -1,10 +1,13 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 // Constants and small helpers of the soft-body clustering (private to core): shared by
-// clustering.cpp (build, apply) and clustering_report.cpp (stats, checks, radius search).
+// clustering.cpp (build, apply) and clustering_report.cpp (stats, checks, radius search); the
+// union-find of the split into connected parts.
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -42,5 +45,37 @@ inline void check_rest(const SurfaceMesh& mesh, const std::vector<glm::vec3>& re
                                                 " rest positions for a mesh of " +
                                                 std::to_string(mesh.vertex_count()) + " vertices");
 }
+
+// A union-find over [0, n) whose unions may run on several threads at once. The smaller root
+// always wins, so a set's root is its smallest element whatever the order of the unions: the same
+// roots as a serial union-find linking the larger root under the smaller.
+class ConcurrentUnionFind {
+ public:
+  explicit ConcurrentUnionFind(std::size_t n) : up_(n) {}
+  void make_set(std::uint32_t x) { up_[x].store(x, std::memory_order_relaxed); }
+  std::uint32_t find(std::uint32_t x) {
+    for (;;) {
+      std::uint32_t up = up_[x].load(std::memory_order_relaxed);
+      if (up == x) return x;
+      const std::uint32_t top = up_[up].load(std::memory_order_relaxed);
+      // Path halving: `top` is an ancestor of x too, whatever other threads did meanwhile.
+      if (top != up) up_[x].compare_exchange_weak(up, top, std::memory_order_relaxed);
+      x = top;
+    }
+  }
+  void unite(std::uint32_t x, std::uint32_t y) {
+    for (;;) {
+      x = find(x);
+      y = find(y);
+      if (x == y) return;
+      if (x < y) std::swap(x, y);
+      std::uint32_t expected = x;  // link the larger root under the smaller
+      if (up_[x].compare_exchange_strong(expected, y, std::memory_order_relaxed)) return;
+    }
+  }
+
+ private:
+  std::vector<std::atomic<std::uint32_t>> up_;
+};
 
 }  // namespace deepcut::clustering_detail
