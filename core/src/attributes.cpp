@@ -49,6 +49,16 @@ void AttributeSet::set_blend3(std::size_t dst, std::size_t src, const float* w) 
   for (auto& entry : arrays_) entry.second->set_blend3(dst, src, w);
 }
 
+void AttributeSet::push_blend3(std::size_t src, const float* w) {
+  for (auto& entry : arrays_) entry.second->push_blend3(src, w);
+  size_ += 3;
+}
+
+void AttributeSet::push_copy(std::size_t src) {
+  for (auto& entry : arrays_) entry.second->push_copy(src);
+  ++size_;
+}
+
 void AttributeSet::copy(std::size_t dst, std::size_t src) {
   for (auto& entry : arrays_) entry.second->copy(dst, src);
 }

@@ -172,12 +172,10 @@ void MeshEditor::move_vertex(VertexId v, const glm::vec3& p) {
 
 FaceId MeshEditor::add_face_from(const Triangle& vertices, FaceId parent,
                                  const std::array<glm::vec3, 3>& corner_bary) {
-  const FaceId f = mesh_.add_face(vertices[0], vertices[1], vertices[2]);
-  mesh_.face_attrs().copy(f.index, parent.index);
-  // All three corners of every corner attribute in one call per attribute.
   const float w[9] = {corner_bary[0].x, corner_bary[0].y, corner_bary[0].z, corner_bary[1].x, corner_bary[1].y,
                       corner_bary[1].z, corner_bary[2].x, corner_bary[2].y, corner_bary[2].z};
-  mesh_.corner_attrs().set_blend3(SurfaceMesh::corner(f, 0), SurfaceMesh::corner(parent, 0), w);
+  // Every face and corner attribute appended once, already blended (no default fill first).
+  const FaceId f = mesh_.add_face_from(vertices[0], vertices[1], vertices[2], parent, w);
   if (normals_ || tangents_)
     for (int k = 0; k < 3; ++k) fix_corner_directions(f, k, parent, {w[3 * k], w[3 * k + 1], w[3 * k + 2]});
   log_.edits.push_back(FaceAdded{f, parent, vertices});

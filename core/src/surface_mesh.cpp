@@ -140,16 +140,30 @@ VertexId SurfaceMesh::add_vertex(const glm::vec3& p) {
   return VertexId(static_cast<std::uint32_t>(n));
 }
 
-FaceId SurfaceMesh::add_face(VertexId a, VertexId b, VertexId c) {
-  const auto nv = vertex_count();
+namespace {
+void check_face_vertices(VertexId a, VertexId b, VertexId c, std::size_t nv) {
   if (a.index >= nv || b.index >= nv || c.index >= nv)
     throw Error(ErrorCode::InvalidArgument, "add_face: vertex index out of range (" + std::to_string(a.index) + "," +
                                                 std::to_string(b.index) + "," + std::to_string(c.index) + " of " +
                                                 std::to_string(nv) + " vertices)");
+}
+}  // namespace
+
+FaceId SurfaceMesh::add_face(VertexId a, VertexId b, VertexId c) {
+  check_face_vertices(a, b, c, vertex_count());
   faces_.push_back({a, b, c});
   deleted_.push_back(0);
   fattrs_.push_default(1);
   cattrs_.push_default(3);
+  return FaceId(static_cast<std::uint32_t>(faces_.size() - 1));
+}
+
+FaceId SurfaceMesh::add_face_from(VertexId a, VertexId b, VertexId c, FaceId parent, const float* w) {
+  check_face_vertices(a, b, c, vertex_count());
+  faces_.push_back({a, b, c});
+  deleted_.push_back(0);
+  fattrs_.push_copy(parent.index);
+  cattrs_.push_blend3(corner(parent, 0), w);
   return FaceId(static_cast<std::uint32_t>(faces_.size() - 1));
 }
 

@@ -74,6 +74,11 @@ class AttributeArrayBase {
   /// The same values as three `set_blend` calls, in one call (the editor's per-face path).
   /// @pre the two ranges do not overlap.
   virtual void set_blend3(std::size_t dst, std::size_t src, const float* w) = 0;
+  /// Appends three elements: what `push_default(3)` then `set_blend3(old size, src, w)` leaves,
+  /// writing each element once (the editor's path for a face made from a parent face).
+  virtual void push_blend3(std::size_t src, const float* w) = 0;
+  /// Appends a copy of element `src`: what `push_default(1)` then `copy(old size, src)` leaves.
+  virtual void push_copy(std::size_t src) = 0;
   /// Copies element `src` over element `dst`.
   virtual void copy(std::size_t dst, std::size_t src) = 0;
   /// Keeps only the elements listed, in that order (`keep[i]` becomes element `i`).
@@ -121,6 +126,17 @@ class AttributeArray final : public AttributeArrayBase {
     const std::uint32_t s[3] = {static_cast<std::uint32_t>(src), static_cast<std::uint32_t>(src + 1),
                                 static_cast<std::uint32_t>(src + 2)};
     for (int k = 0; k < 3; ++k) data_[dst + k] = blend(s, w + 3 * k, 3);
+  }
+  void push_blend3(std::size_t src, const float* w) override {
+    const std::uint32_t s[3] = {static_cast<std::uint32_t>(src), static_cast<std::uint32_t>(src + 1),
+                                static_cast<std::uint32_t>(src + 2)};
+    // Blended before appending: growing the vector may move the sources.
+    const T out[3] = {blend(s, w, 3), blend(s, w + 3, 3), blend(s, w + 6, 3)};
+    data_.insert(data_.end(), out, out + 3);
+  }
+  void push_copy(std::size_t src) override {
+    const T value = data_[src];
+    data_.push_back(value);
   }
   void copy(std::size_t dst, std::size_t src) override { data_[dst] = data_[src]; }
   void gather(const std::vector<std::uint32_t>& keep) override {
@@ -219,6 +235,10 @@ class AttributeSet {
   void set_blend(std::size_t dst, const std::uint32_t* src, const float* w, int count);
   /// `set_blend3` on every array: three consecutive elements blended from three others.
   void set_blend3(std::size_t dst, std::size_t src, const float* w);
+  /// `push_blend3` on every array: three elements appended, blended from `src .. src + 2`.
+  void push_blend3(std::size_t src, const float* w);
+  /// `push_copy` on every array: a copy of element `src` appended.
+  void push_copy(std::size_t src);
   /// Copies element `src` over element `dst` in every array.
   void copy(std::size_t dst, std::size_t src);
   void gather(const std::vector<std::uint32_t>& keep);

@@ -58,6 +58,11 @@ class SurfaceMesh {
   /// Appends a triangle; corner and face attributes get their default values.
   /// @throws Error{InvalidArgument} if an index is out of range.
   FaceId add_face(VertexId a, VertexId b, VertexId c);
+  /// Appends a triangle made from face `parent`: its face attributes copy the parent's, and
+  /// corner `k`'s attributes blend the parent's three corners with weights `w[3k .. 3k + 2]`.
+  /// The same result as `add_face` then `copy`/`set_blend3`, each attribute written once.
+  /// @throws Error{InvalidArgument} if an index is out of range.
+  FaceId add_face_from(VertexId a, VertexId b, VertexId c, FaceId parent, const float* w);
   /// Reserves room in every array (vertex, face and corner attributes included), so edits that
   /// grow the mesh up to these sizes never reallocate: interactive sessions call it once with
   /// some headroom after loading, which keeps the first operation from paying for the growth.
