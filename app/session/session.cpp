@@ -61,6 +61,13 @@ void Session::open(std::shared_ptr<const Model> model) {
   posed_state_.reset();
 }
 
+void Session::open(std::shared_ptr<const Model> model, std::unique_ptr<PosedModel> posed) {
+  open(std::move(model));
+  if (!posed || !current_) return;
+  posed_ = std::move(posed);
+  posed_state_ = current_;
+}
+
 void Session::push(std::shared_ptr<const Model> after) {
   editing_ = {};
   steps_.resize(done_);  // a new step drops the undone ones
@@ -187,29 +194,40 @@ void Session::cancel_edit() {
   editing_ = {};
 }
 
-EditOutcome Session::finish_edit(const Operation& op) {
+EditOutcome Session::finish_edit(const Operation& op) { return commit_edit(prepare_edit(op)); }
+
+EditRun Session::prepare_edit(const Operation& op, const RerunObserver& observer) const {
   const auto start = std::chrono::steady_clock::now();
   const auto index = static_cast<std::size_t>(editing_.index);
-  std::vector<OperationEntry> entries = editing_.entries;
-  EditOutcome outcome;
-  entries[index].operation = op;
+  EditRun run;
+  run.entries = editing_.entries;
+  run.entries[index].operation = op;
   auto result = std::make_shared<Model>(*current_);  // the state before the edited operation
-  PosedModel* posed = posed_for(current_);
-  run_entry(*result, entries[index], posed);
-  outcome.edited = entries[index];
-  if (!outcome.edited.applied()) return outcome;
-  for (std::size_t i = index + 1; i < entries.size(); ++i) {
-    run_entry(*result, entries[i], posed);
-    if (!entries[i].applied()) ++outcome.skipped;
+  run.posed = std::make_unique<PosedModel>();       // the first operation builds it at its pose
+  if (observer) observer(index, run.entries.size());
+  run_entry(*result, run.entries[index], run.posed.get());
+  run.outcome.edited = run.entries[index];
+  if (run.outcome.edited.applied()) {
+    for (std::size_t i = index + 1; i < run.entries.size(); ++i) {
+      if (observer) observer(i, run.entries.size());
+      run_entry(*result, run.entries[i], run.posed.get());
+      if (!run.entries[i].applied()) ++run.outcome.skipped;
+    }
+    run.result = std::move(result);
   }
-  const std::shared_ptr<const Model> before = editing_.current;
-  std::shared_ptr<const Model> after = result;
-  posed_state_ = after;
-  reruns_.emplace_back(after, std::move(entries));
-  current_ = before;
-  push(std::move(after));  // ends the edit
-  outcome.ms = ms_since(start);
-  return outcome;
+  run.outcome.ms = ms_since(start);
+  return run;
+}
+
+EditOutcome Session::commit_edit(EditRun run) {
+  if (!run.result) return run.outcome;  // the edit goes on
+  if (before_change_) before_change_();
+  posed_ = std::move(run.posed);
+  posed_state_ = run.result;
+  reruns_.emplace_back(run.result, std::move(run.entries));
+  current_ = editing_.current;
+  push(run.result);  // ends the edit
+  return run.outcome;
 }
 
 const PosedModel* Session::posed_model() const {

@@ -49,6 +49,15 @@ struct EditOutcome {
   double ms = 0.0;
 };
 
+/// What `Session::prepare_edit` made: the state after the edited operation and the later ones,
+/// not yet current (`Session::commit_edit` makes it so).
+struct EditRun {
+  EditOutcome outcome;
+  std::shared_ptr<const Model> result;  ///< null when the edited operation did not apply
+  std::vector<OperationEntry> entries;  ///< the operations as they ran
+  std::unique_ptr<PosedModel> posed;    ///< describes `result`
+};
+
 class Session {
  public:
   /// Whether `apply_history` keeps one undoable state per operation (the studio) or runs the
@@ -61,6 +70,9 @@ class Session {
   /// stack, the operations list and the posed model. Callers reserve room first
   /// (`reserve_for_operations`), so every snapshot copied from it keeps that room.
   void open(std::shared_ptr<const Model> model);
+  /// As `open`, with `posed` (built elsewhere for `model`, e.g. off the studio's UI thread;
+  /// nullptr: none) as the posed model.
+  void open(std::shared_ptr<const Model> model, std::unique_ptr<PosedModel> posed);
 
   /// The current state (null before `open`).
   const std::shared_ptr<const Model>& current() const { return current_; }
@@ -103,6 +115,16 @@ class Session {
   /// is skipped and marked) as one undo step. When `op` itself misses or fails nothing changes
   /// and the edit goes on. @pre editing() >= 0.
   EditOutcome finish_edit(const Operation& op);
+  /// Called before operation `index` of `count` is re-run; it may throw to stop the run (then
+  /// nothing changes).
+  using RerunObserver = std::function<void(std::size_t index, std::size_t count)>;
+  /// The work of `finish_edit` (re-running the edited operation and the later ones on a copy)
+  /// without changing the session: it only reads it, so the studio runs it on a worker thread
+  /// while nothing else changes the session, with its own posed model. @pre editing() >= 0.
+  EditRun prepare_edit(const Operation& op, const RerunObserver& observer = {}) const;
+  /// Makes `run` current as `finish_edit` does (nothing changes when its edited operation did
+  /// not apply). @pre `run` came from `prepare_edit` and the session has not changed since.
+  EditOutcome commit_edit(EditRun run);
 
   // --- undo / redo ------------------------------------------------------------------------------
   /// Number of undo steps, and how many of them are done (the current state is after step

@@ -6,6 +6,7 @@
 #include <QUndoStack>
 #include <new>
 
+#include "background_task.h"
 #include "deepcut/core/errors.h"
 #include "history_panel.h"
 #include "tool_host.h"
@@ -45,9 +46,9 @@ QWidget* OperationsHost::create_panel(QWidget* parent) {
 
 QListWidget* OperationsHost::operations_list() const { return panel_->operations_list(); }
 
-void OperationsHost::open(std::shared_ptr<const Model> model) {
+void OperationsHost::open(std::shared_ptr<const Model> model, std::unique_ptr<PosedModel> posed) {
   undo_stack_->clear();
-  session_.open(std::move(model));
+  session_.open(std::move(model), std::move(posed));
 }
 
 void OperationsHost::push_step(const QString& label) {
@@ -166,21 +167,54 @@ bool OperationsHost::apply_edit() {
   op.animation = placed.animation;
   op.time = placed.time;
   op.weights = placed.weights;
-  session::EditOutcome outcome;
-  try {
-    outcome = session_.finish_edit(op);
-  } catch (const std::bad_alloc&) {
-    emit failed(QString::fromStdString(title) + ": out of memory");
-    return false;
+  edit_applied_ = false;
+  if (!task_) {
+    try {
+      return take_edit(session_.prepare_edit(op), title, index);
+    } catch (const std::bad_alloc&) {
+      emit failed(QString::fromStdString(title) + ": out of memory");
+      return false;
+    }
   }
+  // Off the UI thread: the session is only read (edits are disabled while the task runs), the
+  // new state becomes current in the Deliver; Cancel leaves the edit as it was.
+  BackgroundTask::Job job = [this, op, title, index](TaskProgress& progress) -> BackgroundTask::Deliver {
+    auto run = std::make_shared<session::EditRun>(session_.prepare_edit(op, [&](std::size_t i, std::size_t count) {
+      progress.stage(QString("operation %1 of %2").arg(i + 1).arg(count));
+    }));
+    progress.stage("Drawing");
+    return [this, run, title, index] { take_edit(std::move(*run), title, index); };
+  };
+  return task_->start(
+      QString("Re-running from operation %1").arg(index + 1), static_cast<int>(session_.operations().size()) - index + 1,
+      std::move(job),
+      [this, title](std::exception_ptr error) {
+        try {
+          std::rethrow_exception(error);
+        } catch (const std::bad_alloc&) {
+          emit failed(QString::fromStdString(title) + ": out of memory");
+        } catch (const std::exception& e) {
+          emit failed(QString::fromStdString(title + ": internal error: " + e.what()));
+        }
+      },
+      [this] {
+        emit note("Re-run cancelled: the history is unchanged", 5000);
+      });
+}
+
+bool OperationsHost::take_edit(session::EditRun run, const std::string& title, int index) {
+  const session::EditOutcome outcome = session_.commit_edit(std::move(run));
   if (!outcome.edited.error.empty()) {
+    emit state_kept();
     emit failed(QString::fromStdString(title + ": " + outcome.edited.error));
     return false;
   }
   if (outcome.edited.status != OpStatus::Ok) {
+    emit state_kept();
     emit failed(QString::fromStdString(title) + ": the edited operation misses the model (nothing changed)");
     return false;
   }
+  edit_applied_ = true;
   const QString label = QString("Edit %1: %2").arg(index + 1).arg(operation_label(outcome.edited.operation));
   push_step(label);
   emit done(label, outcome.ms);

@@ -22,6 +22,7 @@ class QWidget;
 
 namespace deepcut::studio {
 
+class BackgroundTask;
 class HistoryPanel;
 class ToolHost;
 
@@ -40,9 +41,15 @@ class OperationsHost : public QObject {
   QListWidget* operations_list() const;
 
   /// Starts anew from `model` (no undo steps, no operations).
-  void open(std::shared_ptr<const Model> model);
-  /// See MainWindow::apply_tool (the caller clears its last error on success).
+  void open(std::shared_ptr<const Model> model, std::unique_ptr<PosedModel> posed = nullptr);
+  /// Re-runs of an edited history go through `task` (off the UI thread, with progress and
+  /// Cancel); without one they run at once.
+  void set_task(BackgroundTask* task) { task_ = task; }
+  /// See MainWindow::apply_tool (the caller clears its last error on success). While editing,
+  /// the re-run starts off the UI thread: true means it started, and `edit_applied()` says, once
+  /// the task has ended, whether it made the new state.
   bool apply_tool();
+  bool edit_applied() const { return edit_applied_; }
   /// See MainWindow::apply_history. @throws Error naming `source` and the operation.
   void apply_history(const History& history, const std::string& source);
   /// `state` becomes current as one undo step named `label`.
@@ -73,6 +80,9 @@ class OperationsHost : public QObject {
   void push_step(const QString& label);
   /// Re-runs the edited operation with the tool's parameters and every later one.
   bool apply_edit();
+  /// Reports what a re-run made (on the UI thread) and makes it current. @returns true when
+  /// the edited operation applied.
+  bool take_edit(session::EditRun run, const std::string& title, int index);
   /// Reports what `run` throws (an operation's defect included) as `title: ...`.
   template <class Run>
   bool reporting(const std::string& title, Run&& run);
@@ -81,6 +91,8 @@ class OperationsHost : public QObject {
   session::Session session_;
   QUndoStack* undo_stack_ = nullptr;
   HistoryPanel* panel_ = nullptr;
+  BackgroundTask* task_ = nullptr;
+  bool edit_applied_ = false;
 };
 
 }  // namespace deepcut::studio

@@ -34,7 +34,8 @@ SceneHost::SceneHost(SceneView* view, SceneTree* tree, Timeline* timeline, ToolH
 
 SceneHost::~SceneHost() = default;
 
-std::vector<std::string> SceneHost::show_opened(plugins::Scene scene, const QString& title) {
+std::vector<std::string> SceneHost::show_opened(plugins::Scene scene, const QString& title,
+                                               std::shared_ptr<const SceneView::Prepared> prepared) {
   if (!scene_) {
     scene_ = std::make_unique<plugins::Scene>();
     tools_->set_scene(scene_.get());
@@ -49,7 +50,7 @@ std::vector<std::string> SceneHost::show_opened(plugins::Scene scene, const QStr
   // The operations' posed model, once per model (and pose): every drill and tear updates it.
   session_.refresh_posed_model(PoseKey(scene_->animation, scene_->time, scene_->weights));
   posed_timer_->stop();
-  std::vector<std::string> notes = present();
+  std::vector<std::string> notes = present(std::move(prepared));
   refresh_inspector();
   view_->reset_camera();
   tools_->forget_pick();
@@ -58,9 +59,9 @@ std::vector<std::string> SceneHost::show_opened(plugins::Scene scene, const QStr
   return notes;
 }
 
-std::vector<std::string> SceneHost::present() {
+std::vector<std::string> SceneHost::present(std::shared_ptr<const SceneView::Prepared> prepared) {
   lend_grids();
-  std::vector<std::string> notes = view_->set_scene(*scene_);
+  std::vector<std::string> notes = view_->set_scene(*scene_, std::move(prepared));
   tools_->scene_redrawn();
   tree_->set_scene(*scene_);
   inspectors_->mark_stale(plugins::SceneChange::Model);

@@ -15,6 +15,7 @@
 
 #include "deepcut/plugins/inspector.h"
 #include "deepcut/plugins/scene.h"
+#include "scene_view.h"
 #include "session.h"
 
 class QTimer;
@@ -24,7 +25,6 @@ namespace deepcut::studio {
 class InspectorHost;
 class MorphPanel;
 class SceneTree;
-class SceneView;
 class Timeline;
 class ToolHost;
 
@@ -39,8 +39,10 @@ class SceneHost : public QObject {
   /// The drawn scene (null before the first model).
   const plugins::Scene* scene() const { return scene_.get(); }
   /// Shows `scene`, the session's newly opened state, named `title` in the caption; the camera
-  /// frames it. @returns the view's notes on what it cannot draw.
-  std::vector<std::string> show_opened(plugins::Scene scene, const QString& title);
+  /// frames it; `prepared` (SceneView::prepare of `scene`, or null) is its VTK data. @returns
+  /// the view's notes on what it cannot draw.
+  std::vector<std::string> show_opened(plugins::Scene scene, const QString& title,
+                                       std::shared_ptr<const SceneView::Prepared> prepared = nullptr);
   /// Shows the session's current state at the time line's pose (after an undo step or an edit).
   void show_current();
   /// Poses the scene at `time` of `animation` (the time line moved), at the morph weights set by
@@ -76,7 +78,7 @@ class SceneHost : public QObject {
 
  private:
   /// Hands the scene to the view, the tree and the hosts. @returns the view's notes.
-  std::vector<std::string> present();
+  std::vector<std::string> present(std::shared_ptr<const SceneView::Prepared> prepared = nullptr);
 
   SceneView* view_;
   SceneTree* tree_;

@@ -113,6 +113,10 @@ double distance_to_segment(const glm::dvec2& p, const glm::dvec2& a, const glm::
 
 }  // namespace
 
+struct SceneView::Prepared {
+  std::vector<vtkSmartPointer<vtkPolyData>> polys;  // one per scene instance
+};
+
 struct SceneView::Impl {
   QVTKOpenGLNativeWidget* widget = nullptr;
   vtkNew<vtkGenericOpenGLRenderWindow> window;
@@ -136,6 +140,7 @@ struct SceneView::Impl {
   vtkSmartPointer<vtkAbstractWidget> tool_widget;
   vtkNew<vtkCallbackCommand> clipping;
   std::function<bool(const PointerEvent&)> pointer_handler;
+  bool hold_renders = false, render_due = false;
 
   void apply_look(InstanceActor& instance) const;
   void apply_display_mode(InstanceActor& instance) const;
@@ -423,8 +428,27 @@ SceneView::~SceneView() {
   if (impl_->tool_widget) impl_->tool_widget->Off();
 }
 
-std::vector<std::string> SceneView::set_scene(const plugins::Scene& scene) {
+namespace {
+
+vtkSmartPointer<vtkPolyData> instance_poly_data(const plugins::SceneInstance& sp) {
+  PolyDataOptions options;
+  options.positions = &sp.posed();
+  vtkSmartPointer<vtkPolyData> poly = to_poly_data(*sp.surface, options);
+  if (!sp.posed_normals.empty()) update_poly_data_points(poly, sp.posed(), &sp.posed_normals);
+  return poly;
+}
+
+}  // namespace
+
+std::shared_ptr<const SceneView::Prepared> SceneView::prepare(const plugins::Scene& scene) {
+  auto prepared = std::make_shared<Prepared>();
+  for (const plugins::SceneInstance& sp : scene.instances) prepared->polys.push_back(instance_poly_data(sp));
+  return prepared;
+}
+
+std::vector<std::string> SceneView::set_scene(const plugins::Scene& scene, std::shared_ptr<const Prepared> prepared) {
   Impl& d = *impl_;
+  if (prepared && prepared->polys.size() != scene.instances.size()) prepared = nullptr;
   std::vector<std::string> notes;
   for (InstanceActor& instance : d.instances) d.renderer->RemoveActor(instance.actor);
   d.instances.clear();
@@ -434,10 +458,7 @@ std::vector<std::string> SceneView::set_scene(const plugins::Scene& scene) {
   const Model& model = *scene.model;
   for (const plugins::SceneInstance& sp : scene.instances) {
     InstanceActor instance;
-    PolyDataOptions options;
-    options.positions = &sp.posed();
-    instance.poly = to_poly_data(*sp.surface, options);
-    if (!sp.posed_normals.empty()) update_poly_data_points(instance.poly, sp.posed(), &sp.posed_normals);
+    instance.poly = prepared ? prepared->polys[d.instances.size()] : instance_poly_data(sp);
     instance.mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
     instance.mapper->SetInputData(instance.poly);
     instance.mapper->SetColorModeToDirectScalars();
@@ -672,8 +693,19 @@ void SceneView::frame(const glm::vec3& center, float radius) {
 }
 
 void SceneView::render() {
+  if (impl_->hold_renders) {
+    impl_->render_due = true;
+    return;
+  }
   impl_->window->Render();
   impl_->widget->update();
+}
+
+void SceneView::hold_renders(bool hold) {
+  impl_->hold_renders = hold;
+  if (hold || !impl_->render_due) return;
+  impl_->render_due = false;
+  render();
 }
 
 QImage SceneView::grab_view() {

@@ -44,10 +44,22 @@ class SceneView : public QWidget {
   explicit SceneView(QWidget* parent = nullptr);
   ~SceneView() override;
 
-  /// Builds the actors of a new scene (decodes textures). The scene must outlive the next call.
+  /// The VTK data of a scene's instances (points, normals, cells, texture coordinates): what
+  /// drawing a new scene costs besides the frame. Made by `prepare` on any thread (a worker
+  /// opening a model), taken by `set_scene`.
+  struct Prepared;
+  /// Builds the VTK data of every instance of `scene` at its pose. Touches no view: safe off
+  /// the UI thread while `scene` does not change.
+  static std::shared_ptr<const Prepared> prepare(const plugins::Scene& scene);
+
+  /// Builds the actors of a new scene (decodes textures), from `prepared` (made by `prepare`
+  /// of this scene) when given. The scene must outlive the next call.
   /// @returns notes about what could not be shown as the file asks (e.g. an image that does not
   ///          decode), one line each.
-  std::vector<std::string> set_scene(const plugins::Scene& scene);
+  std::vector<std::string> set_scene(const plugins::Scene& scene, std::shared_ptr<const Prepared> prepared = nullptr);
+  /// While held, `render` only notes that a frame is due; releasing the hold draws it once
+  /// (a swap-in whose steps each ask for a frame draws one).
+  void hold_renders(bool hold);
   /// Moves every actor (and the normals, when shown) to the scene's current pose.
   void update_pose();
   /// Draws instance `instance` at `positions` (world, one per vertex slot of its mesh) instead of its
