@@ -127,8 +127,9 @@ class StudioAsyncTest : public QObject {
     QVERIFY(window);
     settle(200);
     QStringList stages;
-    connect(window->task(), &BackgroundTask::stage_changed, this, [&](const QString& s) { stages << s; });
     QElapsedTimer clock;
+    connect(window->task(), &BackgroundTask::stage_changed, this,
+            [&](const QString& s) { stages << QString("%1 at %2 ms").arg(s).arg(clock.elapsed()); });
     clock.start();
     double longest = 0.0, longest_besides_frame = 0.0;
     MainWindow::OpenTiming t;
@@ -155,8 +156,8 @@ class StudioAsyncTest : public QObject {
     QCOMPARE(window->model_path(), path);
     QVERIFY(window->scene());
     QVERIFY(window->posed_model());  // the operations' posed model came from the worker too
-    QVERIFY(stages.contains("Reading"));
-    QVERIFY(stages.contains("Drawing"));
+    QVERIFY(stages.value(0).startsWith("Reading"));
+    QVERIFY(stages.filter("Drawing").size() == 1);
     // Drawing a frame blocks the UI thread for what the renderer takes (QVTKOpenGLNativeWidget
     // draws on it): the first frame costs what any redraw costs. Everything else the open does
     // leaves the event loop free.
