@@ -135,7 +135,11 @@ MainWindow::MainWindow(const MainWindowOptions& options, QWidget* parent)
   restoreState(settings.value("window_state").toByteArray());
 }
 
-MainWindow::~MainWindow() = default;
+MainWindow::~MainWindow() {
+  // First: a running job may read the session (a re-run), which the hosts destroyed below own.
+  // The task cancels it and waits for the worker; nothing is delivered.
+  delete task_;
+}
 
 void MainWindow::build_docks() {
   auto dock = [this](const QString& title, const char* name, QWidget* widget, Qt::DockWidgetArea area) {
