@@ -18,6 +18,7 @@ CylinderFrame CylinderFrame::make(const Cylinder& cylinder, const DrillOptions& 
   const double scale = glm::length(cyl.a) + glm::length(b) + cyl.len;
   cyl.eps = std::max(double(options.relative_tolerance) * cyl.r, 1e-6 * scale);
   cyl.samples = options.min_rim_edges;
+  cyl.spacing = 2.0 * cyl.r * std::sin(geometry::kPi / cyl.samples);
   return cyl;
 }
 

@@ -28,6 +28,7 @@ struct CylinderFrame {
   double len = 0.0, r = 0.0;
   double eps = 0.0;
   int samples = 32;
+  double spacing = 0.0;  // between rim samples: 2 r sin(pi / samples)
 
   /// The frame of `cylinder` with the tolerance and sampling of `options`.
   static CylinderFrame make(const Cylinder& cylinder, const DrillOptions& options);
@@ -47,6 +48,10 @@ struct CylinderFrame {
     const double sv = s(p);
     return std::max({rho(p) - r, -sv, sv - len});
   }
+  // Well inside the solid (beyond twice the tolerance): no edge between two such points is
+  // crossed or grazed (the solid is convex), and a face with three such corners is removed
+  // whole, leaving its corners without faces.
+  bool deep_inside(const glm::dvec3& p) const { return sd(p) < -2.0 * eps; }
   glm::dvec3 ruling(double th) const { return std::cos(th) * u + std::sin(th) * w; }
   glm::dvec3 at(double th, double sv) const { return a + r * ruling(th) + sv * d; }
 };

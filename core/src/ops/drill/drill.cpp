@@ -75,11 +75,34 @@ namespace {
 
 void check_arguments(const Cylinder& c, const DrillOptions& options) { check_drill_arguments(c, options); }
 
+// The vertices the edits used or freed (detail::edited_vertices), less the old ones deep inside
+// the cylinder: every face around those was removed or lost that corner, so they have no fans.
+std::vector<VertexId> pinch_candidates(const EditLog& log, const drill::CylinderFrame& cyl,
+                                       const drill::PosedOverlay& posed) {
+  std::vector<VertexId> out;
+  auto add = [&](VertexId v) {
+    if (v.index >= posed.first_new() || !drill::deep_vertex(cyl, posed, v)) out.push_back(v);
+  };
+  for (const Edit& e : log.edits) {
+    if (const auto* a = std::get_if<FaceAdded>(&e)) {
+      for (const VertexId v : a->vertices) add(v);
+    } else if (const auto* r = std::get_if<FaceRemoved>(&e)) {
+      for (const VertexId v : r->vertices) add(v);
+    } else if (const auto* s = std::get_if<VertexSplit>(&e)) {
+      add(s->original);
+      add(s->copy);
+    }
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
 // Splits the vertices where a rim pinches the surface (a vertex joining two fans: one vertex
 // each); the copies' posed positions go to `posed`.
-detail::PinchSplits split_pinches(MeshEditor& editor, drill::PosedOverlay& posed,
+detail::PinchSplits split_pinches(MeshEditor& editor, const drill::CylinderFrame& cyl, drill::PosedOverlay& posed,
                                   const std::vector<FaceId>& candidates, const TriangleGrid& index) {
-  const auto touched = detail::edited_vertices(editor.log());
+  const auto touched = pinch_candidates(editor.log(), cyl, posed);
   // Faces are found where their old vertices were filed in the grid; the faces around a snapped
   // vertex (filed where it was, and the input's posed positions may be the mesh's own positions)
   // are all candidates.
@@ -115,7 +138,7 @@ DrillResult run(SurfaceMesh& mesh, const std::vector<glm::vec3>& input_posed, co
   // walls after them (a wall can join the fans again), the rims following the copies.
   std::unordered_map<std::uint32_t, std::uint32_t> copy_of;  // pinch-split copy -> original (no wall)
   if (!options.wall)
-    for (const auto& [v, c] : split_pinches(editor, posed, candidates, index).copies)
+    for (const auto& [v, c] : split_pinches(editor, cyl, posed, candidates, index).copies)
       copy_of.emplace(c.index, v.index);
   const std::vector<drill::Rim> rims = drill::trace_rims(mesh, editor.log(), cyl, posed, candidates, copy_of);
   for (const drill::Rim& rim : rims) {
@@ -134,7 +157,7 @@ DrillResult run(SurfaceMesh& mesh, const std::vector<glm::vec3>& input_posed, co
     result.wall_triangles = walls.wall_triangles;
     result.triangles_removed += walls.triangles_removed;
     result.triangles_added += walls.wall_triangles;
-    const auto pinches = split_pinches(editor, posed, candidates, index);
+    const auto pinches = split_pinches(editor, cyl, posed, candidates, index);
     for (DrillHole& h : result.holes) detail::follow_pinch_splits(mesh, pinches, h.rim, h.closed);
   }
   result.added_posed.reserve(posed.added().size());

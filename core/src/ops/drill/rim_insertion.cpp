@@ -14,8 +14,6 @@
 #include <array>
 #include <cmath>
 #include <set>
-#include <unordered_map>
-#include <unordered_set>
 
 #include "geometry/delaunay_flip.h"
 #include "geometry/polygon_triangulation.h"
@@ -88,6 +86,9 @@ class RimInserter {
   const EdgeCut& edge(VertexId a, VertexId b);
   void merge_crossings(FaceId f);
   void allow_steiner(const std::vector<FaceId>& candidates);
+  bool deep(const Triangle& t) const {
+    return deep_vertex(cyl_, posed_, t[0]) && deep_vertex(cyl_, posed_, t[1]) && deep_vertex(cyl_, posed_, t[2]);
+  }
   VertexId merged(VertexId v) const { return merges_.merged(v); }
   void process_face(FaceId f);
   void face_boundary(const Triangle& tri, const glm::dvec3 corner[3]);
@@ -111,7 +112,10 @@ class RimInserter {
   std::vector<glm::dvec3> ruling_base_;  // where each sampled ruling starts (s = 0)
   // Edges met so far, sized for the candidates' edges up front (no allocation per edge).
   detail::CrossingTable<EdgeCut> edges_;
-  std::unordered_set<std::uint64_t> steiner_edges_;  // edges that may take Steiner points (allow_steiner)
+  std::vector<std::uint64_t> steiner_edges_;  // edge keys that may take Steiner points, sorted (allow_steiner)
+  // Per candidate: all three corners deep inside (CylinderFrame::deep_inside), so the face goes
+  // whole and none of its edges is crossed: it is removed without looking at its edges.
+  std::vector<std::uint8_t> deep_;
   // Crossings that fell on one bind position (the two long edges of a needle crossed at the same
   // parameter): the later vertex maps to the earlier, so the needle's tip is not a zero-area face.
   detail::NeedleMerges merges_;
@@ -195,7 +199,8 @@ const EdgeCut& RimInserter::edge(VertexId a, VertexId b) {
       // points or leaving rim points near a long edge (needles the in-plane refinement cannot
       // mend: its points would fall outside the parent). Only points well outside the cylinder.
       const double spacing = 2.0 * cyl_.r * std::sin(geometry::kPi / samples_);
-      for (int i = 0; i < n && steiner_edges_.count(key); ++i) {
+      const bool steiner = std::binary_search(steiner_edges_.begin(), steiner_edges_.end(), key);
+      for (int i = 0; i < n && steiner; ++i) {
         const double dir = e.inside[i + 1] ? -1.0 : 1.0;  // toward the kept part
         const double room = (dir > 0.0 ? 1.0 - cuts[i] : cuts[i]) * len;
         for (double step = spacing; step + spacing <= room; step *= 2.0) {
@@ -234,7 +239,8 @@ void RimInserter::merge_crossings(FaceId f) {
   for (int k = 0; k < 3; ++k) edge(tri[k], tri[(k + 1) % 3]);
   for (int k = 0; k < 3; ++k) {
     const VertexId x = tri[k];
-    const EdgeCut ea = edge(x, tri[(k + 1) % 3]), eb = edge(x, tri[(k + 2) % 3]);
+    const EdgeCut& ea = edge(x, tri[(k + 1) % 3]);
+    const EdgeCut& eb = edge(x, tri[(k + 2) % 3]);  // records never move (CrossingTable)
     for (int i = 0; i < ea.n; ++i)
       for (int j = 0; j < eb.n; ++j) merges_.merge_if_coincident(mesh_, ea.v[i], eb.v[j]);
   }
@@ -246,29 +252,44 @@ void RimInserter::merge_crossings(FaceId f) {
 // edges, whose points at one parameter would round to one bind position (zero-area faces).
 void RimInserter::allow_steiner(const std::vector<FaceId>& candidates) {
   steiner_edges_.clear();
-  std::unordered_map<std::uint64_t, int> sides;  // +1 per half-edge lo -> hi, +16 per hi -> lo
-  std::unordered_set<std::uint64_t> bad;
-  for (FaceId f : candidates) {
-    const Triangle& t = mesh_.face(f);
+  // The candidates' half-edges by edge: weight 1 for lo -> hi, 16 for hi -> lo, and whether the
+  // face is of bad shape. Faces deep inside hold no crossed edge, the only ones asked about.
+  struct HalfEdge {
+    std::uint64_t key;
+    std::uint8_t weight, bad;
+    bool operator<(const HalfEdge& o) const { return key < o.key; }
+  };
+  std::vector<HalfEdge> halves;
+  halves.reserve(3 * candidates.size());
+  for (std::size_t c = 0; c < candidates.size(); ++c) {
+    if (deep_[c]) continue;
+    const Triangle& t = mesh_.face(candidates[c]);
     double smallest = kInf;
     for (int k = 0; k < 3; ++k) {
-      const glm::dvec3 a = posed_(t[k]), b = posed_(t[(k + 1) % 3]), c = posed_(t[(k + 2) % 3]);
-      const double lb = glm::length(b - a), lc = glm::length(c - a);
+      const glm::dvec3 a = posed_(t[k]), b = posed_(t[(k + 1) % 3]), c3 = posed_(t[(k + 2) % 3]);
+      const double lb = glm::length(b - a), lc = glm::length(c3 - a);
       smallest =
           lb > 0.0 && lc > 0.0
-              ? std::min(smallest, std::acos(std::clamp(glm::dot(b - a, c - a) / (lb * lc), -1.0, 1.0)))
+              ? std::min(smallest, std::acos(std::clamp(glm::dot(b - a, c3 - a) / (lb * lc), -1.0, 1.0)))
               : 0.0;
     }
-    const bool good = smallest >= kSteinerParentAngle;
+    const std::uint8_t bad = smallest >= kSteinerParentAngle ? 0 : 1;
     for (int k = 0; k < 3; ++k) {
       const VertexId a = t[k], b = t[(k + 1) % 3];
-      const std::uint64_t key = edge_key(a, b);
-      sides[key] += a < b ? 1 : 16;
-      if (!good) bad.insert(key);
+      halves.push_back({edge_key(a, b), static_cast<std::uint8_t>(a < b ? 1 : 16), bad});
     }
   }
-  for (const auto& [key, count] : sides)
-    if (count == 17 && !bad.count(key)) steiner_edges_.insert(key);
+  std::sort(halves.begin(), halves.end());
+  // One face on each side (1 + 16), neither of bad shape.
+  for (std::size_t i = 0, j = 0; i < halves.size(); i = j) {
+    int count = 0;
+    bool bad = false;
+    for (j = i; j < halves.size() && halves[j].key == halves[i].key; ++j) {
+      count += halves[j].weight;
+      bad |= halves[j].bad != 0;
+    }
+    if (count == 17 && !bad) steiner_edges_.push_back(halves[i].key);
+  }
 }
 
 void RimInserter::process_face(FaceId f) {
@@ -659,10 +680,24 @@ void RimInserter::emit_polygon(FaceId f, const Triangle& tri, std::vector<LocalP
 // Rim edges are found from the topology the edits left: boundary half-edges of the new faces
 // whose ends lie on the cylinder. An edge between two old vertices is an edge of the parent
 RimInsertion RimInserter::run(const std::vector<FaceId>& candidates) {
-  edges_.reserve(3 * candidates.size() + 3);  // every edge looked up is a candidate's
+  deep_.resize(candidates.size());
+  std::size_t shallow = 0;
+  for (std::size_t c = 0; c < candidates.size(); ++c) {
+    deep_[c] = deep(mesh_.face(candidates[c])) ? 1 : 0;
+    shallow += !deep_[c];
+  }
+  edges_.reserve(3 * shallow + 3);  // every edge looked up is a shallow candidate's
   allow_steiner(candidates);
-  for (FaceId f : candidates) merge_crossings(f);
-  for (FaceId f : candidates) process_face(f);
+  for (std::size_t c = 0; c < candidates.size(); ++c)
+    if (!deep_[c]) merge_crossings(candidates[c]);
+  for (std::size_t c = 0; c < candidates.size(); ++c) {
+    if (!deep_[c]) {
+      process_face(candidates[c]);
+      continue;
+    }
+    editor_.remove_face(candidates[c]);  // what process_face does with a face inside
+    ++removed_;
+  }
   RimInsertion out;
   out.crossings = crossings_;
   out.removed = removed_;

@@ -4,6 +4,7 @@
 // drill_mesh before the walls; core/include/deepcut/core/ops/drill.h describes the algorithm).
 // Private to the drill.
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <unordered_map>
@@ -26,6 +27,22 @@ constexpr double kSnapClose = 0.5;
 // corner re-examined after each clip, holes joined by their shortest bridge.
 constexpr geometry::TriangulationRules kRimTriangulation = {geometry::EarSearch::kExhaustive,
                                                             geometry::HoleBridge::kNearestPair};
+
+/// Posed position of `v`: an input vertex farther from the cylinder's side than the snapping
+/// band (snap_shallow_vertices never moves it) is read from the input without searching the
+/// moved ones.
+inline glm::dvec3 posed_of(const CylinderFrame& cyl, const PosedOverlay& posed, VertexId v) {
+  if (v.index < posed.first_new()) {
+    const glm::dvec3 p(posed.input()[v.index]);
+    if (std::abs(cyl.rho(p) - cyl.r) > 2.0 * kSnapBand * cyl.spacing) return p;
+  }
+  return posed(v);
+}
+
+/// True when vertex `v` lies deep inside the cylinder (CylinderFrame::deep_inside).
+inline bool deep_vertex(const CylinderFrame& cyl, const PosedOverlay& posed, VertexId v) {
+  return cyl.deep_inside(posed_of(cyl, posed, v));
+}
 
 /// One rim: a chain of new boundary edges around a hole (DrillHole without the wall's answer).
 struct Rim {

@@ -48,19 +48,23 @@ void snap_shallow_vertices(MeshEditor& editor, const CylinderFrame& cyl, PosedOv
   std::array<std::vector<VertexId>, 2> border;  // edges ahead of / behind a vertex in its faces
   const double spacing = 2.0 * cyl.r * std::sin(geometry::kPi / samples);
   const double band = kSnapBand * spacing, close = kSnapClose * spacing;
+  // Within the band of the side and between the ends (a vertex moves only in its own turn, so
+  // this is its position when its turn comes).
+  auto in_band = [&](const glm::dvec3& p) {
+    const double sv = cyl.s(p), off = cyl.rho(p) - cyl.r;
+    return !(sv < spacing || sv > cyl.len - spacing || std::abs(off) > band || std::abs(off) <= 1e-9 * cyl.r);
+  };
   // Every face around a vertex within the band of the side is a candidate (the reach covers it).
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> corners;  // (old vertex, candidate face)
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> corners;  // (old vertex in the band, candidate face)
   for (FaceId f : candidates)
     for (VertexId v : mesh.face(f))
-      if (v.index < posed.first_new()) corners.emplace_back(v.index, f.index);
+      if (v.index < posed.first_new() && in_band(posed(v))) corners.emplace_back(v.index, f.index);
   std::sort(corners.begin(), corners.end());
   for (std::size_t i = 0, j = 0; i < corners.size(); i = j) {
     while (j < corners.size() && corners[j].first == corners[i].first) ++j;
     const VertexId x(corners[i].first);
     const glm::dvec3 p = posed(x);
-    const double sv = cyl.s(p), off = cyl.rho(p) - cyl.r;
-    if (sv < spacing || sv > cyl.len - spacing || std::abs(off) > band || std::abs(off) <= 1e-9 * cyl.r)
-      continue;
+    const double off = cyl.rho(p) - cyl.r;
     // The crossings its edges would get near it (entering from outside, leaving from inside).
     const glm::dvec3 m = cyl.perp(p);
     int near = 0;

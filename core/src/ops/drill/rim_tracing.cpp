@@ -2,6 +2,7 @@
 // The rims the rim insertion left, traced from the topology of its edits.
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <unordered_map>
 #include <vector>
 
@@ -10,38 +11,46 @@
 namespace deepcut::drill {
 namespace {
 
-using RimNext = std::unordered_map<std::uint32_t, std::vector<std::uint32_t>>;  // directed rim edges
+// Directed rim edges (from, to): made in discovery order, then grouped by `from` (a stable sort,
+// so each vertex's outgoing edges keep that order).
+using RimSteps = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
 
 // Rim edges are found from the topology the edits left: boundary half-edges of the new faces
 // whose ends lie on the cylinder. An edge between two old vertices is an edge of the parent
 // triangle; it is a boundary only if the face across it was removed and not replaced there.
-RimNext rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFrame& cyl,
+RimSteps rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFrame& cyl,
                   const PosedOverlay& posed, const std::vector<FaceId>& candidates,
                   const std::unordered_map<std::uint32_t, std::uint32_t>& copy_of) {
-  RimNext rim_next;
-  // Half-edges of the added and of the removed faces, as sorted lists (only membership matters).
-  std::vector<std::uint64_t> added, removed;
-  for (const Edit& e : log.edits) {
-    if (const auto* fa = std::get_if<FaceAdded>(&e)) {
-      for (int k = 0; k < 3; ++k) added.push_back(directed_key(fa->vertices[k], fa->vertices[(k + 1) % 3]));
-    } else if (const auto* fr = std::get_if<FaceRemoved>(&e)) {
-      for (int k = 0; k < 3; ++k) removed.push_back(directed_key(fr->vertices[k], fr->vertices[(k + 1) % 3]));
-    }
-  }
-  std::sort(added.begin(), added.end());
-  std::sort(removed.begin(), removed.end());
-  auto contains = [](const std::vector<std::uint64_t>& list, std::uint64_t key) {
-    return std::binary_search(list.begin(), list.end(), key);
-  };
+  RimSteps rim_next;
   // A copy the pinch split made of an old vertex is new, but the faces moved onto it keep their
   // old edges: both are judged by the original (an old boundary edge at a split vertex is not rim).
   auto base = [&](VertexId v) {
     const auto it = copy_of.find(v.index);
     return it == copy_of.end() ? v : VertexId(it->second);
   };
+  auto old_on_rim = [&](VertexId v) {
+    return v.index < posed.first_new() && std::abs(cyl.sd(posed_of(cyl, posed, v))) <= 2.0 * cyl.eps;
+  };
   auto on_rim = [&](VertexId v) {
     v = base(v);
-    return v.index >= posed.first_new() || std::abs(cyl.sd(posed(v))) <= 2.0 * cyl.eps;
+    return v.index >= posed.first_new() || old_on_rim(v);
+  };
+  // Half-edges of the added and of the removed faces, as sorted lists (only membership matters;
+  // removed ones are only asked about between two old vertices on the rim).
+  std::vector<std::uint64_t> added, removed;
+  for (const Edit& e : log.edits) {
+    if (const auto* fa = std::get_if<FaceAdded>(&e)) {
+      for (int k = 0; k < 3; ++k) added.push_back(directed_key(fa->vertices[k], fa->vertices[(k + 1) % 3]));
+    } else if (const auto* fr = std::get_if<FaceRemoved>(&e)) {
+      const bool rim[3] = {old_on_rim(fr->vertices[0]), old_on_rim(fr->vertices[1]), old_on_rim(fr->vertices[2])};
+      for (int k = 0; k < 3; ++k)
+        if (rim[k] && rim[(k + 1) % 3]) removed.push_back(directed_key(fr->vertices[k], fr->vertices[(k + 1) % 3]));
+    }
+  }
+  std::sort(added.begin(), added.end());
+  std::sort(removed.begin(), removed.end());
+  auto contains = [](const std::vector<std::uint64_t>& list, std::uint64_t key) {
+    return std::binary_search(list.begin(), list.end(), key);
   };
   // Faces the drill left alone can border the hole too: an old edge that lies on the cylinder
   // (within the tolerance) between a removed face and an untouched one.
@@ -60,7 +69,7 @@ RimNext rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFra
     if (oa.index < posed.first_new() && ob.index < posed.first_new() &&
         !contains(removed, directed_key(ob, oa)))
       return;
-    rim_next[a.index].push_back(b.index);
+    rim_next.emplace_back(a.index, b.index);
   };
   for (const Edit& e : log.edits) {
     const auto* fa = std::get_if<FaceAdded>(&e);
@@ -72,51 +81,82 @@ RimNext rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFra
       const Triangle t = mesh.face(f);
       for (int k = 0; k < 3; ++k) consider(t[k], t[(k + 1) % 3]);
     }
+  std::stable_sort(rim_next.begin(), rim_next.end(),
+                   [](const auto& x, const auto& y) { return x.first < y.first; });
   return rim_next;
+}
+
+// Turns of a closed rim around the axis.
+int winding(const CylinderFrame& cyl, const PosedOverlay& posed, const std::vector<VertexId>& rim) {
+  double turn = 0.0;
+  for (std::size_t i = 0; i < rim.size(); ++i) {
+    const double a = cyl.theta(posed(rim[i])), b = cyl.theta(posed(rim[(i + 1) % rim.size()]));
+    double dth = b - a;
+    while (dth > geometry::kPi) dth -= 2.0 * geometry::kPi;
+    while (dth < -geometry::kPi) dth += 2.0 * geometry::kPi;
+    turn += dth;
+  }
+  return static_cast<int>(std::lround(turn / (2.0 * geometry::kPi)));
 }
 
 // Chains the rim steps into rims: open chains first, then closed loops, each with its winding
 // around the axis.
 std::vector<Rim> chain_rims(const SurfaceMesh& mesh, const EditLog& log, const CylinderFrame& cyl,
                             const PosedOverlay& posed, const std::vector<FaceId>& candidates,
-                            RimNext& rim_next) {
+                            const RimSteps& rim_next) {
   std::vector<Rim> rims;
-  std::unordered_map<std::uint32_t, int> indegree;
-  for (const auto& [v, next] : rim_next)
-    for (auto w : next) ++indegree[w];
+  // The outgoing rim edges of v: [first, last) in rim_next (empty when none).
+  auto outgoing = [&](std::uint32_t v) {
+    const auto lo = std::lower_bound(rim_next.begin(), rim_next.end(), v,
+                                     [](const auto& x, std::uint32_t key) { return x.first < key; });
+    auto hi = lo;
+    while (hi != rim_next.end() && hi->first == v) ++hi;
+    return std::pair<std::size_t, std::size_t>(lo - rim_next.begin(), hi - rim_next.begin());
+  };
+  std::vector<std::uint32_t> targets;  // every rim edge's end, sorted: the in-degrees
+  targets.reserve(rim_next.size());
+  for (const auto& step : rim_next) targets.push_back(step.second);
+  std::sort(targets.begin(), targets.end());
   std::vector<std::uint32_t> starts;
-  for (const auto& [v, next] : rim_next) starts.push_back(v);
-  std::sort(starts.begin(), starts.end());
+  for (const auto& step : rim_next)
+    if (starts.empty() || starts.back() != step.first) starts.push_back(step.first);
   // Open chains first (from vertices nothing leads to), then closed loops.
-  std::stable_partition(starts.begin(), starts.end(), [&](std::uint32_t v) { return indegree[v] == 0; });
+  std::stable_partition(starts.begin(), starts.end(), [&](std::uint32_t v) {
+    return !std::binary_search(targets.begin(), targets.end(), v);
+  });
   // Where several rims meet at one vertex (a vertex on the cylinder whose surface the hole pinches,
   // or two holes touching there), each incoming rim edge continues with the outgoing one of its
   // own fan: turning around the vertex through the kept faces from the incoming edge's face to
   // the next boundary edge. Pairing them otherwise crosses the rims there (they cannot be walled,
   // and after the pinch split the rim would jump between the vertex's copies).
-  std::unordered_map<std::uint64_t, std::uint32_t> third;  // half-edge a->b of a kept face: its third corner
+  // Half-edge a->b of a kept face: its third corner (the last face filed wins), grouped by key.
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> third;
   auto add_face = [&](const Triangle& t) {
-    for (int k = 0; k < 3; ++k) third[directed_key(t[k], t[(k + 1) % 3])] = t[(k + 2) % 3].index;
+    for (int k = 0; k < 3; ++k) third.emplace_back(directed_key(t[k], t[(k + 1) % 3]), t[(k + 2) % 3].index);
   };
   for (const Edit& e : log.edits)
     if (const auto* fa = std::get_if<FaceAdded>(&e))
       if (!mesh.is_deleted(fa->f)) add_face(mesh.face(fa->f));
   for (FaceId f : candidates)
     if (!mesh.is_deleted(f)) add_face(mesh.face(f));
-  std::unordered_map<std::uint32_t, std::vector<char>> used;  // per outgoing rim edge
-  for (const auto& [v, next] : rim_next) used[v].assign(next.size(), 0);
+  std::stable_sort(third.begin(), third.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  auto third_of = [&](std::uint64_t key) -> const std::uint32_t* {
+    const auto it = std::upper_bound(third.begin(), third.end(), key,
+                                     [](std::uint64_t k, const auto& x) { return k < x.first; });
+    return it == third.begin() || std::prev(it)->first != key ? nullptr : &std::prev(it)->second;
+  };
+  std::vector<char> used(rim_next.size(), 0);  // per outgoing rim edge
   // The outgoing rim edge of `cur` in the fan of prev->cur (used or not; -1 when the faces
-  // around do not say).
-  auto fan_next = [&](std::uint32_t prev, std::uint32_t cur) -> int {
-    const auto& next = rim_next[cur];
+  // around do not say), as an index into rim_next.
+  auto fan_next = [&](std::uint32_t prev, std::uint32_t cur, std::pair<std::size_t, std::size_t> next) -> long {
     std::uint32_t from = prev;  // turn from the face holding prev->cur
     for (std::size_t guard = 0; guard < 256; ++guard) {
-      const auto it = third.find(directed_key(VertexId(from), VertexId(cur)));
-      if (it == third.end()) return -1;
-      const std::uint32_t out = it->second;  // cur->out is the next half-edge of that face
-      int found = -1;
-      for (std::size_t i = 0; i < next.size(); ++i)
-        if (next[i] == out && (found < 0 || !used[cur][i])) found = static_cast<int>(i);
+      const std::uint32_t* out_of = third_of(directed_key(VertexId(from), VertexId(cur)));
+      if (!out_of) return -1;
+      const std::uint32_t out = *out_of;  // cur->out is the next half-edge of that face
+      long found = -1;
+      for (std::size_t i = next.first; i < next.second; ++i)
+        if (rim_next[i].second == out && (found < 0 || !used[i])) found = static_cast<long>(i);
       if (found >= 0) return found;
       if (out == prev) return -1;  // went all the way round
       from = out;                  // across cur->out to the face holding out->cur
@@ -124,42 +164,33 @@ std::vector<Rim> chain_rims(const SurfaceMesh& mesh, const EditLog& log, const C
     return -1;
   };
   for (std::uint32_t s : starts) {
-    for (std::size_t first = 0; first < rim_next[s].size(); ++first) {
-      if (used[s][first]) continue;
-      used[s][first] = 1;
+    const auto from_start = outgoing(s);
+    for (std::size_t first = from_start.first; first < from_start.second; ++first) {
+      if (used[first]) continue;
+      used[first] = 1;
       Rim hole;
       hole.vertices.push_back(VertexId(s));
-      std::uint32_t prev = s, cur = rim_next[s][first];
+      std::uint32_t prev = s, cur = rim_next[first].second;
       hole.closed = false;
       while (true) {
-        const auto it = rim_next.find(cur);
-        const int fan = it == rim_next.end() ? -1 : fan_next(prev, cur);
-        if (cur == s && (fan < 0 || fan == static_cast<int>(first))) {  // back through the start's own fan
+        const auto next = outgoing(cur);
+        const bool any = next.first < next.second;
+        const long fan = any ? fan_next(prev, cur, next) : -1;
+        if (cur == s && (fan < 0 || fan == static_cast<long>(first))) {  // back through the start's own fan
           hole.closed = true;
           break;
         }
         hole.vertices.push_back(VertexId(cur));
-        if (it == rim_next.end()) break;
-        int i = fan >= 0 && !used[cur][static_cast<std::size_t>(fan)] ? fan : -1;
-        for (std::size_t j = 0; j < it->second.size() && i < 0; ++j)
-          if (!used[cur][j]) i = static_cast<int>(j);
+        if (!any) break;
+        long i = fan >= 0 && !used[static_cast<std::size_t>(fan)] ? fan : -1;
+        for (std::size_t j = next.first; j < next.second && i < 0; ++j)
+          if (!used[j]) i = static_cast<long>(j);
         if (i < 0) break;
-        used[cur][static_cast<std::size_t>(i)] = 1;
+        used[static_cast<std::size_t>(i)] = 1;
         prev = cur;
-        cur = it->second[static_cast<std::size_t>(i)];
+        cur = rim_next[static_cast<std::size_t>(i)].second;
       }
-      if (hole.closed) {
-        double turn = 0.0;
-        for (std::size_t i = 0; i < hole.vertices.size(); ++i) {
-          const double a = cyl.theta(posed(hole.vertices[i])),
-                       b = cyl.theta(posed(hole.vertices[(i + 1) % hole.vertices.size()]));
-          double dth = b - a;
-          while (dth > geometry::kPi) dth -= 2.0 * geometry::kPi;
-          while (dth < -geometry::kPi) dth += 2.0 * geometry::kPi;
-          turn += dth;
-        }
-        hole.winding = static_cast<int>(std::lround(turn / (2.0 * geometry::kPi)));
-      }
+      if (hole.closed) hole.winding = winding(cyl, posed, hole.vertices);
       rims.push_back(std::move(hole));
     }
   }
@@ -171,7 +202,7 @@ std::vector<Rim> chain_rims(const SurfaceMesh& mesh, const EditLog& log, const C
 std::vector<Rim> trace_rims(const SurfaceMesh& mesh, const EditLog& log, const CylinderFrame& cyl,
                             const PosedOverlay& posed, const std::vector<FaceId>& candidates,
                             const std::unordered_map<std::uint32_t, std::uint32_t>& copy_of) {
-  RimNext rim_next = rim_steps(mesh, log, cyl, posed, candidates, copy_of);
+  const RimSteps rim_next = rim_steps(mesh, log, cyl, posed, candidates, copy_of);
   return chain_rims(mesh, log, cyl, posed, candidates, rim_next);
 }
 
