@@ -88,6 +88,21 @@ void SceneHost::show_current() {
   if (!session_.posed_model()) posed_timer_->start();
 }
 
+void SceneHost::show_step(const ModelChange& change) {
+  if (!scene_ || !session_.current() || !plugins::follow_scene(*scene_, session_.current(), change)) {
+    if (scene_) show_current();
+    return;
+  }
+  view_->update_scene(change);
+  lend_grids();
+  tools_->scene_redrawn();
+  tree_->set_scene(*scene_);
+  inspectors_->mark_stale(plugins::SceneChange::Model);
+  tools_->refresh_preview();
+  refresh_inspector();
+  if (!session_.posed_model()) posed_timer_->start();
+}
+
 void SceneHost::pose(int animation, float time) {
   if (!scene_) return;
   posed_timer_->start();                 // the operations' posed model follows once the pose stays put

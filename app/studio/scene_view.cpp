@@ -41,6 +41,7 @@
 #include "deepcut/widgets/overlay_props.h"
 #include "deepcut/widgets/poly_data_bridge.h"
 #include "deepcut/widgets/texture.h"
+#include "deepcut/widgets/view_poly_data.h"
 
 namespace deepcut::studio {
 namespace {
@@ -97,7 +98,8 @@ class ClickStyle : public vtkInteractorStyleTrackballCamera {
 vtkStandardNewMacro(ClickStyle);
 
 struct InstanceActor {
-  vtkSmartPointer<vtkPolyData> poly;
+  std::shared_ptr<ViewPolyData> data;  // follows the instance's mesh step by step
+  vtkSmartPointer<vtkPolyData> poly;   // data's
   vtkSmartPointer<vtkPolyDataMapper> mapper;
   vtkSmartPointer<vtkActor> actor;
   vtkSmartPointer<vtkTexture> texture;  // the material's base colour texture, or null
@@ -434,10 +436,8 @@ std::vector<std::string> SceneView::set_scene(const plugins::Scene& scene) {
   const Model& model = *scene.model;
   for (const plugins::SceneInstance& sp : scene.instances) {
     InstanceActor instance;
-    PolyDataOptions options;
-    options.positions = &sp.posed();
-    instance.poly = to_poly_data(*sp.surface, options);
-    if (!sp.posed_normals.empty()) update_poly_data_points(instance.poly, sp.posed(), &sp.posed_normals);
+    instance.data = std::make_shared<ViewPolyData>(*sp.surface, sp.posed(), &sp.posed_normals);
+    instance.poly = instance.data->poly();
     instance.mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
     instance.mapper->SetInputData(instance.poly);
     instance.mapper->SetColorModeToDirectScalars();
@@ -489,16 +489,31 @@ void SceneView::update_pose() {
   if (!d.scene) return;
   for (std::size_t i = 0; i < d.instances.size() && i < d.scene->instances.size(); ++i) {
     const plugins::SceneInstance& sp = d.scene->instances[i];
-    update_poly_data_points(d.instances[i].poly, sp.posed(),
-                            sp.posed_normals.empty() ? nullptr : &sp.posed_normals);
+    d.instances[i].data->set_positions(sp.posed(), &sp.posed_normals);
   }
   d.rebuild_normals();
+}
+
+void SceneView::update_scene(const ModelChange& change) {
+  Impl& d = *impl_;
+  if (!d.scene) return;
+  for (const PrimitiveChange& edit : change.primitives)
+    for (std::size_t i = 0; i < d.instances.size() && i < d.scene->instances.size(); ++i) {
+      const plugins::SceneInstance& sp = d.scene->instances[i];
+      if (sp.mesh == edit.mesh && sp.primitive == edit.primitive)
+        d.instances[i].data->update(*sp.surface, sp.posed(), &sp.posed_normals, edit);
+    }
+  if (d.show_normals) d.rebuild_normals();
+}
+
+vtkPolyData* SceneView::instance_poly_data(std::size_t instance) const {
+  return instance < impl_->instances.size() ? impl_->instances[instance].poly.Get() : nullptr;
 }
 
 void SceneView::set_instance_positions(std::size_t instance, const std::vector<glm::vec3>& positions) {
   Impl& d = *impl_;
   if (instance >= d.instances.size()) return;
-  update_poly_data_points(d.instances[instance].poly, positions, nullptr);
+  d.instances[instance].data->set_positions(positions, nullptr);
 }
 
 std::vector<glm::vec3> SceneView::instance_positions(std::size_t instance) const {

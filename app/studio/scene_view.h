@@ -18,6 +18,7 @@
 #include "deepcut/widgets/overlay.h"
 
 class vtkAbstractWidget;
+class vtkPolyData;
 
 namespace deepcut::studio {
 
@@ -50,6 +51,13 @@ class SceneView : public QWidget {
   std::vector<std::string> set_scene(const plugins::Scene& scene);
   /// Moves every actor (and the normals, when shown) to the scene's current pose.
   void update_pose();
+  /// Follows one step on the shown scene, already followed (`plugins::follow_scene`): only the
+  /// points and cells `change` touched are rewritten (ViewPolyData::update). O(change).
+  /// @pre not structural: a structural change is shown with `set_scene`.
+  void update_scene(const ModelChange& change);
+  /// The drawn data of instance `instance` (nullptr for an unknown one): what tests and the
+  /// studio benchmark compare with a fresh build.
+  vtkPolyData* instance_poly_data(std::size_t instance) const;
   /// Draws instance `instance` at `positions` (world, one per vertex slot of its mesh) instead of its
   /// posed positions, until the next `update_pose` or `set_scene`.
   void set_instance_positions(std::size_t instance, const std::vector<glm::vec3>& positions);

@@ -18,6 +18,7 @@
 
 #include "deepcut/core/edit_log.h"
 #include "deepcut/core/model.h"
+#include "deepcut/core/model_change.h"
 #include "deepcut/core/skinning.h"
 #include "deepcut/core/spatial_index.h"
 
@@ -68,6 +69,14 @@ struct PosedMesh {
   /// plus its morph normal deltas at `weights`, through the inverse transpose of its vertex's
   /// `linear` map (the identity when `linear` is empty), renormalised. Empty without normals.
   std::vector<glm::vec3> corner_normals(const SurfaceMesh& surface) const;
+  /// Brings `normals` (this pose's `corner_normals` of `surface` before a step) up to date after
+  /// the step `change` (PrimitiveChange of this mesh, `follow` already called with it): one per
+  /// corner of every face slot now, recomputed by the same kernel for new faces, listed faces
+  /// and the faces around `relinked` (vertices whose linear map the step changed, increasing).
+  /// Untouched corners are kept. O(change), plus one pass over the faces when `relinked` is not
+  /// empty. Leaves `normals` empty when the mesh has no normals.
+  void follow_corner_normals(const SurfaceMesh& surface, const PrimitiveChange& change,
+                             const std::vector<VertexId>& relinked, std::vector<glm::vec3>& normals) const;
 
   /// `surface` posed at `posed` (its own positions, i.e. at rest, when empty; one per vertex
   /// otherwise), with bounds and grid, `linear` empty (the identity for every vertex) and no
@@ -79,6 +88,13 @@ struct PosedMesh {
   /// `linear` is empty) of added, split and moved vertices, the bounds, and the grid (removed
   /// faces leave, added faces join, faces around moved vertices are filed again). O(edits).
   void follow(const SurfaceMesh& surface, const EditLog& log);
+  /// Follows one step (an operation, its undo or redo) on `surface` as `change` describes it:
+  /// vertex slots past the new count leave, new and listed vertices are posed as a fresh build
+  /// poses them, the bounds follow. A grid cannot follow a change without the edit log: it is
+  /// dropped (`gridless`; `PosedModel::prepare` builds it when an operation needs it).
+  /// O(change). @returns the listed vertices whose linear map changed (their corner normals
+  /// change: `follow_corner_normals`).
+  std::vector<VertexId> follow(const SurfaceMesh& surface, const PrimitiveChange& change);
 };
 
 /// How much of each PosedMesh a build makes.
