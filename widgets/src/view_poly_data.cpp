@@ -196,12 +196,13 @@ void ViewPolyData::resize(const SurfaceMesh& mesh) {
   if (auto* a = named<vtkIdTypeArray>(pd, "corner_id")) set_count(a, points);
   if (auto* a = vtkFloatArray::SafeDownCast(pd->GetTCoords())) set_count(a, points);
   if (auto* a = vtkFloatArray::SafeDownCast(pd->GetNormals())) set_count(a, points);
-  const std::size_t old_cells = static_cast<std::size_t>(poly_->GetPolys()->GetNumberOfCells());
-  set_count(named<vtkIdTypeArray>(poly_->GetCellData(), "face_id"), slots);
+  vtkIdTypeArray* face_ids = named<vtkIdTypeArray>(poly_->GetCellData(), "face_id");
+  const auto old_cells = static_cast<std::size_t>(face_ids->GetNumberOfTuples());
+  set_count(face_ids, slots);
   set_count(poly_->GetPolys()->GetOffsetsArray64(), slots + 1);
   set_count(poly_->GetPolys()->GetConnectivityArray64(), 3 * slots);
   // Every cell is a triangle: offsets and face ids of new cells are their slots.
-  vtkIdType* face_id = named<vtkIdTypeArray>(poly_->GetCellData(), "face_id")->GetPointer(0);
+  vtkIdType* face_id = face_ids->GetPointer(0);
   vtkTypeInt64* offsets = poly_->GetPolys()->GetOffsetsArray64()->GetPointer(0);
   const std::size_t from = std::min(old_cells, slots);
   parallel_for(slots - from, kGrain, [&](std::size_t b, std::size_t e) {
