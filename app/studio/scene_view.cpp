@@ -138,6 +138,7 @@ struct SceneView::Impl {
   vtkSmartPointer<vtkAbstractWidget> tool_widget;
   vtkNew<vtkCallbackCommand> clipping;
   std::function<bool(const PointerEvent&)> pointer_handler;
+  std::function<void()> render_listener;
 
   void apply_look(InstanceActor& instance) const;
   void apply_display_mode(InstanceActor& instance) const;
@@ -686,7 +687,10 @@ void SceneView::frame(const glm::vec3& center, float radius) {
   impl_->renderer->ResetCameraClippingRange();
 }
 
+void SceneView::set_render_listener(std::function<void()> listener) { impl_->render_listener = std::move(listener); }
+
 void SceneView::render() {
+  if (impl_->render_listener) impl_->render_listener();
   impl_->window->Render();
   impl_->widget->update();
 }

@@ -89,6 +89,9 @@ class SceneView : public QWidget {
   glm::vec3 view_direction() const;
   /// Renders now.
   void render();
+  /// Called at the start of every `render` (nullptr: none): the studio benchmark times the work
+  /// between an action and the render call with it.
+  void set_render_listener(std::function<void()> listener);
   /// The rendered view as an image (renders first).
   QImage grab_view();
 
