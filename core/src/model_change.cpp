@@ -109,10 +109,10 @@ std::vector<std::uint32_t> listed(const std::vector<std::uint8_t>& changed) {
 
 }  // namespace
 
-bool same_structure(const Model& a, const Model& b) {
+bool same_structure(const Model& a, const Model& b, bool images) {
   return same_all(a.nodes, b.nodes) && a.scenes == b.scenes && a.default_scene == b.default_scene &&
          same_all(a.skins, b.skins) && same_all(a.animations, b.animations) && same_all(a.meshes, b.meshes) &&
-         same_all(a.images, b.images) && same_all(a.materials, b.materials) && same_all(a.textures, b.textures) &&
+         (!images || same_all(a.images, b.images)) && same_all(a.materials, b.materials) && same_all(a.textures, b.textures) &&
          same_all(a.samplers, b.samplers) && same_all(a.cameras, b.cameras) &&
          a.extensions_used == b.extensions_used && a.extensions_required == b.extensions_required &&
          a.extensions_json == b.extensions_json && a.asset_copyright == b.asset_copyright &&

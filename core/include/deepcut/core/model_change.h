@@ -58,7 +58,8 @@ bool diff_meshes(const SurfaceMesh& before, const SurfaceMesh& after, PrimitiveC
 
 /// True when the models are equal in everything but their primitives' element data (vertices,
 /// faces, attribute values) and the root `extras_json`: the parts `diff_models` calls structure.
-/// Compares attribute names and types, not values. O(everything but the element data).
-bool same_structure(const Model& a, const Model& b);
+/// Compares attribute names and types, not values; images only when `images`.
+/// O(everything but the element data).
+bool same_structure(const Model& a, const Model& b, bool images = true);
 
 }  // namespace deepcut

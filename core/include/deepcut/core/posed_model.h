@@ -178,6 +178,12 @@ class PosedModel {
   /// Follows `log`, made on the mesh of instance (node, primitive) (now `mesh`): PosedMesh::follow
   /// on that instance (an operation given the instance itself, such as tear_mesh, has done so).
   void follow(const Model& model, int node, int primitive, const SurfaceMesh& mesh, const EditLog& log);
+  /// Follows a step's change to `model` (an undo or redo, now made; the index described the model
+  /// before it): every instance of an edited primitive poses its new and rewritten vertices,
+  /// drops the vertices and faces the step cut off, and files its faces again as the change says
+  /// (posed_model_change.cpp). O(change), plus O(vertices) for bounds when the mesh shrank.
+  /// A structural change invalidates the index (the next `prepare` rebuilds it).
+  void follow(const Model& model, const ModelChange& change);
   /// (Re)indexes instance (node, primitive) of `model` from scratch (a new primitive, such as a
   /// drill's wall). O(its vertices + faces).
   void add(const Model& model, int node, int primitive);
