@@ -390,7 +390,7 @@ void MainWindow::load_file(const QString& path) {
 }
 
 void MainWindow::show_current() {
-  scene_host_->show_current();
+  scene_host_->show_step(operations_->take_change());
   operations_->refresh_list();
   emit model_changed();
 }

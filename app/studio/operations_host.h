@@ -50,6 +50,9 @@ class OperationsHost : public QObject {
   /// See MainWindow::edit_operation.
   bool edit_operation(int index);
   void cancel_edit();
+  /// What the last step shown changed (an operation, undo or redo: what `state_changed` was
+  /// emitted for), then forgotten: structure (show everything again) when no step says.
+  ModelChange take_change();
   /// Lists the session's operations (and the edit in progress) in the History panel and the
   /// tool panel's banner.
   void refresh_list();
@@ -69,8 +72,9 @@ class OperationsHost : public QObject {
   void state_kept();
 
  private:
-  /// Pushes the session's newest step on the undo stack, named `label`.
-  void push_step(const QString& label);
+  /// Pushes the session's newest step on the undo stack, named `label`; `change` is what it
+  /// changed.
+  void push_step(const QString& label, const ModelChange& change);
   /// Re-runs the edited operation with the tool's parameters and every later one.
   bool apply_edit();
   /// Reports what `run` throws (an operation's defect included) as `title: ...`.
@@ -79,6 +83,7 @@ class OperationsHost : public QObject {
 
   ToolHost* tools_;
   session::Session session_;
+  ModelChange last_change_{true, {}};  // see take_change
   QUndoStack* undo_stack_ = nullptr;
   HistoryPanel* panel_ = nullptr;
 };

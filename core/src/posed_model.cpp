@@ -380,37 +380,6 @@ void PosedMesh::follow(const SurfaceMesh& surface, const EditLog& log) {
   if (!inst.gridless) inst.grid.apply(log, inst.posed);
 }
 
-std::vector<VertexId> PosedMesh::follow(const SurfaceMesh& surface, const PrimitiveChange& change) {
-  PosedMesh& inst = *this;
-  const std::size_t old_count = inst.posed.size(), count = surface.vertex_count();
-  const bool with_linear = inst.linear.size() == old_count;  // else empty: the identity
-  bool remeasure = false;
-  for (std::size_t v = count; v < old_count; ++v) remeasure = remeasure || on_boundary(inst.bounds, inst.posed[v]);
-  inst.posed.resize(count);
-  if (with_linear) inst.linear.resize(count);
-  const VertexPoser pose(surface, inst);
-  std::vector<VertexId> relinked;
-  for (VertexId v : change.vertices) {
-    if (v.index >= std::min(old_count, count)) continue;
-    const glm::vec3 before = inst.posed[v.index];
-    const glm::mat3 linear_before = with_linear ? inst.linear[v.index] : glm::mat3(1.0f);
-    pose(v.index, inst, with_linear);
-    if (with_linear && inst.linear[v.index] != linear_before) relinked.push_back(v);
-    if (on_boundary(inst.bounds, before)) remeasure = true;
-    inst.bounds.add(inst.posed[v.index]);
-  }
-  for (std::size_t v = old_count; v < count; ++v) {
-    pose(v, inst, with_linear);
-    inst.bounds.add(inst.posed[v]);
-  }
-  if (remeasure) inst.bounds = bounds_of(inst.posed);
-  if (!inst.gridless) {
-    inst.grid = TriangleGrid();
-    inst.gridless = true;
-  }
-  return relinked;
-}
-
 void PosedModel::erase_primitive(int node, int primitive) {
   instances_.erase({node, primitive});
   std::vector<PosedMesh> later;

@@ -112,19 +112,37 @@ bool follow_scene(Scene& scene, std::shared_ptr<const Model> model, const ModelC
   // A copy of the scene shares the posed model: follow one of its own.
   if (scene.posed.use_count() > 1) scene.posed = std::make_shared<PosedModel>(*scene.posed);
   scene.model = std::move(model);
+  // The linear maps of the listed vertices before the step: where one changes (new skin
+  // weights), the corner normals around the vertex change too.
+  std::vector<std::vector<std::pair<VertexId, glm::mat3>>> linear_before(scene.instances.size());
+  for (const PrimitiveChange& edit : change.primitives)
+    for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+      const SceneInstance& instance = scene.instances[i];
+      if (instance.mesh != edit.mesh || instance.primitive != edit.primitive) continue;
+      const std::vector<glm::mat3>& linear = instance.pose->linear;
+      for (VertexId v : edit.vertices)
+        if (v.index < linear.size()) linear_before[i].emplace_back(v, linear[v.index]);
+    }
+  scene.posed->follow(m, change);
+  if (!scene.posed->valid()) {  // it could not follow: pose afresh
+    pose_scene(scene, scene.animation, scene.time, with_normals);
+    return true;
+  }
   for (SceneInstance& instance : scene.instances) {
     instance.surface = primitive_mesh(m, instance.mesh, instance.primitive);
     instance.pose = scene.posed->find(instance.node, instance.primitive);
   }
   for (const PrimitiveChange& edit : change.primitives)
-    for (SceneInstance& instance : scene.instances) {
+    for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+      SceneInstance& instance = scene.instances[i];
       if (instance.mesh != edit.mesh || instance.primitive != edit.primitive) continue;
-      PosedMesh& pose = *scene.posed->find(instance.node, instance.primitive);
-      const std::vector<VertexId> relinked = pose.follow(*instance.surface, edit);
+      std::vector<VertexId> relinked;
+      for (const auto& [v, before] : linear_before[i])
+        if (v.index < instance.pose->linear.size() && instance.pose->linear[v.index] != before) relinked.push_back(v);
       if (with_normals && instance.posed_normals.size() != 3 * edit.faces_before)
-        instance.posed_normals = pose.corner_normals(*instance.surface);  // none to follow
+        instance.posed_normals = instance.pose->corner_normals(*instance.surface);  // none to follow
       else if (with_normals)
-        pose.follow_corner_normals(*instance.surface, edit, relinked, instance.posed_normals);
+        instance.pose->follow_corner_normals(*instance.surface, edit, relinked, instance.posed_normals);
       else
         instance.posed_normals.clear();
     }

@@ -70,9 +70,9 @@ struct PosedMesh {
   /// `linear` map (the identity when `linear` is empty), renormalised. Empty without normals.
   std::vector<glm::vec3> corner_normals(const SurfaceMesh& surface) const;
   /// Brings `normals` (this pose's `corner_normals` of `surface` before a step) up to date after
-  /// the step `change` (PrimitiveChange of this mesh, `follow` already called with it): one per
-  /// corner of every face slot now, recomputed by the same kernel for new faces, listed faces
-  /// and the faces around `relinked` (vertices whose linear map the step changed, increasing).
+  /// the step `change` (PrimitiveChange of this mesh, this posed mesh already following it): one
+  /// per corner of every face slot now, recomputed by the same kernel for new faces, listed faces
+  /// and the faces around `relinked` (vertices whose linear map the step changed).
   /// Untouched corners are kept. O(change), plus one pass over the faces when `relinked` is not
   /// empty. Leaves `normals` empty when the mesh has no normals.
   void follow_corner_normals(const SurfaceMesh& surface, const PrimitiveChange& change,
@@ -88,13 +88,6 @@ struct PosedMesh {
   /// `linear` is empty) of added, split and moved vertices, the bounds, and the grid (removed
   /// faces leave, added faces join, faces around moved vertices are filed again). O(edits).
   void follow(const SurfaceMesh& surface, const EditLog& log);
-  /// Follows one step (an operation, its undo or redo) on `surface` as `change` describes it:
-  /// vertex slots past the new count leave, new and listed vertices are posed as a fresh build
-  /// poses them, the bounds follow. A grid cannot follow a change without the edit log: it is
-  /// dropped (`gridless`; `PosedModel::prepare` builds it when an operation needs it).
-  /// O(change). @returns the listed vertices whose linear map changed (their corner normals
-  /// change: `follow_corner_normals`).
-  std::vector<VertexId> follow(const SurfaceMesh& surface, const PrimitiveChange& change);
 };
 
 /// How much of each PosedMesh a build makes.
