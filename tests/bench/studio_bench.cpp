@@ -7,6 +7,8 @@
 //   inspector update): from Apply to the render call, and to the frame drawn;
 // - the undo and the redo of each, likewise;
 // - an unchanged re-render beside them (the floor a frame costs on this renderer);
+// - the same steps with the scene built again after each (DEEPCUT_VIEW_REBUILD=1, rows
+//   "..._rebuild"): the reference the incremental view is measured against, in the same run;
 // - resident memory after N small drills (growth per operation).
 //   deepcut_studio_bench [--json] [--quick] [--ops N]
 // --quick: the 25K cactus only. Medians of three repetitions for each timed step.
@@ -203,9 +205,15 @@ json run_size(std::size_t target, int ops, const QString& dir) {
   for (int i = 0; i < 3; ++i) unchanged.push_back(timer.time([&] { window.view()->render(); }));
   out["unchanged_render"] = step_json(unchanged);
   Placer place(window);
-  out["drill"] = time_operation(window, timer, [&] { return place.drill(); });
-  out["tear"] = time_operation(window, timer, [&] { return place.tear(); });
-  out["cut"] = time_operation(window, timer, [&] { return place.cut(); });
+  for (const bool rebuild : {false, true}) {
+    // The reference: the scene and its VTK data built again after every step.
+    setenv("DEEPCUT_VIEW_REBUILD", rebuild ? "1" : "0", 1);
+    const std::string suffix = rebuild ? "_rebuild" : "";
+    out["drill" + suffix] = time_operation(window, timer, [&] { return place.drill(); });
+    out["tear" + suffix] = time_operation(window, timer, [&] { return place.tear(); });
+    out["cut" + suffix] = time_operation(window, timer, [&] { return place.cut(); });
+  }
+  setenv("DEEPCUT_VIEW_REBUILD", "0", 1);
   const double before = resident_mib();
   for (int i = 0; i < ops; ++i) apply(window, place.drill());  // a miss changes nothing
   const double after = resident_mib();
@@ -217,16 +225,16 @@ json run_size(std::size_t target, int ops, const QString& dir) {
 }
 
 void print_table(const json& results) {
-  std::printf("%-10s %-8s %14s %12s\n", "triangles", "step", "to render ms", "to frame ms");
+  std::printf("%-10s %-20s %14s %12s\n", "triangles", "step", "to render ms", "to frame ms");
   for (const json& r : results) {
     const std::string tri = std::to_string(r["triangles"].get<std::size_t>());
     auto row = [&](const std::string& name, const json& s) {
-      std::printf("%-10s %-8s %14.1f %12.1f\n", tri.c_str(), name.c_str(), s["to_render_call_ms"].get<double>(),
+      std::printf("%-10s %-20s %14.1f %12.1f\n", tri.c_str(), name.c_str(), s["to_render_call_ms"].get<double>(),
                   s["to_frame_ms"].get<double>());
     };
     row("open", r["open"]);
     row("render", r["unchanged_render"]);
-    for (const char* kind : {"drill", "tear", "cut"})
+    for (const char* kind : {"drill", "tear", "cut", "drill_rebuild", "tear_rebuild", "cut_rebuild"})
       for (const char* step : {"apply", "undo", "redo"}) row(std::string(kind) + "." + step, r[kind][step]);
     const json& m = r["memory"];
     std::printf("%-10s memory: %.1f MiB resident, %.1f MiB after %d small drills (%.1f KiB per operation)\n",
