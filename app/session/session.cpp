@@ -5,9 +5,12 @@
 #include <chrono>
 #include <new>
 #include <optional>
+#include <string>
+#include <utility>
 #include <variant>
 
 #include "deepcut/core/errors.h"
+#include "deepcut/core/model_undo.h"
 
 namespace deepcut::session {
 namespace {
@@ -17,33 +20,45 @@ double ms_since(std::chrono::steady_clock::time_point start) {
 }
 
 /// Applies `entry` to `model` as `deepcut apply` would, noting whether it applied. An entry that
-/// fails leaves `model` as it was, so a re-run goes on from what `deepcut apply` makes of the
-/// entries that applied. `posed` (the posed model describing `model`, or nullptr) follows the
-/// operation; after a failure it is invalidated, so the next operation rebuilds it.
+/// fails leaves `model` as it was (its edits are recorded and taken back), so a re-run goes on
+/// from what `deepcut apply` makes of the entries that applied. `posed` (the posed model
+/// describing `model`, or nullptr) follows the operation; after a failure it is invalidated, so
+/// the next operation rebuilds it.
 void run_entry(Model& model, OperationEntry& entry, PosedModel* posed) {
   entry.error.clear();
-  // A drill refuses to swallow an instance only once it has drilled (apply_operation): it runs on
-  // a copy (O(model)), kept when it applies. Cuts and tears refuse before they change anything.
-  std::optional<Model> copy;
-  if (const auto* drill = std::get_if<DrillOperation>(&entry.operation.params);
-      drill && drill->options.refuse_swallowed_instances)
-    copy.emplace(model);
-  Model& target = copy ? *copy : model;
-  try {
-    entry.status = (posed ? apply_operation(target, entry.operation, *posed) : apply_operation(target, entry.operation)).status;
-    if (copy) model = std::move(*copy);
-  } catch (const Error& e) {
+  // A drill refuses to swallow an instance only once it has drilled (apply_operation): what it
+  // did is taken back from the record. Cuts and tears refuse before they change anything.
+  ModelRecorder recorder(model);
+  auto fail = [&](std::string message) {
+    recorder.finish().undo(model);
     entry.status = OpStatus::Ok;
-    entry.error = e.what();
+    entry.error = std::move(message);
     if (posed) posed->invalidate();
+  };
+  try {
+    entry.status = (posed ? apply_operation(model, entry.operation, *posed) : apply_operation(model, entry.operation)).status;
+    recorder.finish();
+  } catch (const Error& e) {
+    fail(e.what());
   } catch (const std::bad_alloc&) {
     if (posed) posed->invalidate();
     throw;  // the caller reports it
   } catch (const std::exception& e) {  // a defect in an operation: reported, never a crash
-    entry.status = OpStatus::Ok;
-    entry.error = std::string("internal error: ") + e.what();
-    if (posed) posed->invalidate();
+    fail(std::string("internal error: ") + e.what());
   }
+}
+
+/// The model behind `model`: taken over when the caller handed the only reference (nobody else
+/// sees it change), else a copy.
+std::shared_ptr<Model> own(std::shared_ptr<const Model> model) {
+  if (model.use_count() == 1) return std::const_pointer_cast<Model>(std::move(model));
+  return std::make_shared<Model>(*model);
+}
+
+ModelChange structure() {
+  ModelChange change;
+  change.structure = true;
+  return change;
 }
 
 }  // namespace
@@ -53,144 +68,208 @@ void Session::open(std::shared_ptr<const Model> model) {
   editing_ = {};
   steps_.clear();
   done_ = 0;
-  reruns_.clear();
-  original_ = model;
-  current_ = std::move(model);
-  opened_operations_ = current_ ? model_history(*current_).operations.size() : 0;
+  live_ = model ? own(std::move(model)) : nullptr;
+  current_ = live_;
+  opened_operations_ = live_ ? model_history(*live_).operations.size() : 0;
   posed_.reset();
-  posed_state_.reset();
+  posed_state_ = nullptr;
 }
 
-void Session::open(std::shared_ptr<const Model> model, std::unique_ptr<PosedModel> posed) {
-  open(std::move(model));
-  if (!posed || !current_) return;
+void Session::open(std::shared_ptr<Model> model, std::unique_ptr<PosedModel> posed) {
+  // Taken over, never copied: whoever else holds `model` (the scene built from it) draws the
+  // live model from now on.
+  open(std::shared_ptr<const Model>());
+  live_ = std::move(model);
+  current_ = live_;
+  opened_operations_ = live_ ? model_history(*live_).operations.size() : 0;
+  if (!posed || !live_) return;
   posed_ = std::move(posed);
-  posed_state_ = current_;
+  posed_state_ = live_.get();
 }
 
-void Session::push(std::shared_ptr<const Model> after) {
-  editing_ = {};
+void Session::push(ModelStep record, std::optional<std::vector<OperationEntry>> entries) {
   steps_.resize(done_);  // a new step drops the undone ones
-  steps_.push_back({current_, after});
+  if (!record.exact()) steps_.clear();  // it cannot be taken back: nothing before it can either
+  steps_.push_back({std::move(record), std::move(entries)});
   done_ = steps_.size();
-  current_ = std::move(after);
-  // Forget the lists of states no step holds any more.
-  reruns_.erase(std::remove_if(reruns_.begin(), reruns_.end(), [](const auto& r) { return r.first.expired(); }),
-                reruns_.end());
 }
 
-void Session::commit(std::shared_ptr<const Model> state) {
-  if (!current_ || !state) return;
-  push(std::move(state));
+ModelChange Session::commit(std::shared_ptr<const Model> state) {
+  if (!live_ || !state) return {};
+  cancel_edit();
+  if (before_change_) before_change_();
+  std::shared_ptr<Model> owned = own(std::move(state));
+  push(ModelStep::replace(*live_, std::move(*owned)), std::nullopt);
+  posed_state_ = nullptr;
+  return structure();
 }
 
-void Session::undo() {
-  if (!can_undo()) return;
-  editing_ = {};
-  current_ = steps_[--done_].before;
+ModelChange Session::undo() {
+  if (!can_undo()) return {};
+  const bool was_editing = editing_.index >= 0;
+  cancel_edit();
+  if (before_change_) before_change_();
+  ModelChange change = steps_[--done_].record.undo(*live_);
+  follow(change);
+  return was_editing ? structure() : change;
 }
 
-void Session::redo() {
-  if (!can_redo()) return;
-  editing_ = {};
-  current_ = steps_[done_++].after;
+ModelChange Session::redo() {
+  if (!can_redo()) return {};
+  const bool was_editing = editing_.index >= 0;
+  cancel_edit();
+  if (before_change_) before_change_();
+  ModelChange change = steps_[done_++].record.redo(*live_);
+  follow(change);
+  return was_editing ? structure() : change;
+}
+
+std::size_t Session::undo_bytes() const {
+  std::size_t out = 0;
+  for (const Step& step : steps_) {
+    out += sizeof(Step) + step.record.bytes();
+    if (step.entries) out += step.entries->capacity() * sizeof(OperationEntry);
+  }
+  return out;
+}
+
+void Session::follow(const ModelChange& change) {
+  if (!posed_ || posed_state_ != live_.get()) return;
+  if (change.structure) {
+    posed_state_ = nullptr;  // rebuilt when asked for
+  } else if (!change.empty()) {
+    posed_->follow(*live_, change);
+  }
 }
 
 Applied Session::apply(const Operation& op) {
-  if (!current_) throw Error(ErrorCode::InvalidArgument, "apply: no model is open");
+  if (!live_) throw Error(ErrorCode::InvalidArgument, "apply: no model is open");
+  cancel_edit();
   const auto start = std::chrono::steady_clock::now();
-  auto result = std::make_shared<Model>(*current_);
-  // The operation follows and updates the posed model, which then describes `result` (a miss
-  // leaves both as they were; a failure leaves it for a rebuild).
-  PosedModel* posed = posed_for(current_);
+  // The operation follows and updates the posed model, which then describes the live model
+  // again (a miss leaves both as they were; a failure leaves it for a rebuild).
+  PosedModel* posed = posed_for(live_.get());
   Applied applied;
-  applied.result = apply_operation(*result, op, *posed);
-  applied.ms = ms_since(start);
+  ModelRecorder recorder(*live_);
+  try {
+    applied.result = apply_operation(*live_, op, *posed);
+  } catch (...) {
+    recorder.finish().undo(*live_);  // what a refused drill did is taken back
+    throw;
+  }
+  ModelStep record = recorder.finish();
   if (applied.result.status != OpStatus::Ok) {
-    posed_state_ = current_;
+    if (!record.change().empty()) record.undo(*live_);  // a miss changes nothing
+    posed_state_ = live_.get();
+    applied.ms = ms_since(start);
     return applied;
   }
-  posed_state_ = result;
+  posed_state_ = live_.get();
+  applied.change = record.change();
   // A state made by an edit keeps its skipped operations listed after a new one.
-  if (const auto* entries = rerun_entries(current_.get())) {
-    std::vector<OperationEntry> next = *entries;
-    next.push_back({op, OpStatus::Ok, {}});
-    reruns_.emplace_back(result, std::move(next));
+  std::optional<std::vector<OperationEntry>> entries;
+  if (const auto* listed = rerun_entries()) {
+    entries = *listed;
+    entries->push_back({op, OpStatus::Ok, {}});
   }
-  push(std::move(result));
+  push(std::move(record), std::move(entries));
+  applied.ms = ms_since(start);
   return applied;
 }
 
 std::vector<Applied> Session::apply_history(const History& history, const std::string& source,
                                            const AppliedObserver& observer) {
-  if (!current_) throw Error(ErrorCode::InvalidArgument, source + ": no model is open");
+  if (!live_) throw Error(ErrorCode::InvalidArgument, source + ": no model is open");
+  cancel_edit();
   std::vector<Applied> out;
-  std::vector<std::shared_ptr<const Model>> states;  // after each operation that applied
-  std::shared_ptr<Model> working;                    // Undo::None: the one copy every operation edits
-  std::shared_ptr<const Model> state = current_;
+  std::vector<ModelStep> records;  // one per operation that applied (Undo::None: one in all)
+  std::optional<ModelRecorder> recorder;
+  auto take_back = [&] {  // a bad operation leaves the session as it was
+    if (recorder) recorder->finish().undo(*live_);
+    for (std::size_t i = records.size(); i-- > 0;) records[i].undo(*live_);
+    posed_state_ = nullptr;
+  };
+  if (undo_mode_ == Undo::None) recorder.emplace(*live_);
   for (std::size_t i = 0; i < history.operations.size(); ++i) {
     const auto start = std::chrono::steady_clock::now();
-    std::shared_ptr<Model> next = working;
-    if (!next) next = std::make_shared<Model>(*state);
-    if (undo_mode_ == Undo::None) working = next;
-    PosedModel* posed = posed_for(state);
+    PosedModel* posed = posed_for(live_.get());
+    if (undo_mode_ == Undo::PerOperation) recorder.emplace(*live_);
     Applied applied;
     try {
-      applied.result = apply_operation(*next, history.operations[i], *posed);
+      applied.result = apply_operation(*live_, history.operations[i], *posed);
     } catch (const Error& e) {
+      take_back();
       throw Error(e.code(), source + ": operation " + std::to_string(i) + ": " + e.what());
+    } catch (...) {
+      take_back();
+      throw;
+    }
+    posed_state_ = live_.get();
+    if (undo_mode_ == Undo::PerOperation) {
+      ModelStep record = recorder->finish();
+      recorder.reset();
+      if (applied.result.status == OpStatus::Ok) {
+        applied.change = record.change();
+        records.push_back(std::move(record));
+      }
     }
     applied.ms = ms_since(start);
-    if (observer) observer(i, *next, applied);
+    if (observer) observer(i, *live_, applied);
     out.push_back(std::move(applied));
-    if (out.back().result.status != OpStatus::Ok) {
-      posed_state_ = state;
-      continue;
-    }
-    posed_state_ = next;
-    state = next;
-    if (undo_mode_ == Undo::PerOperation) states.push_back(state);
   }
-  if (undo_mode_ == Undo::None && state != current_) states.push_back(state);
-  for (auto& after : states) push(std::move(after));
+  if (recorder) {
+    ModelStep record = recorder->finish();
+    if (!record.change().empty()) records.push_back(std::move(record));
+  }
+  for (auto& record : records) push(std::move(record), std::nullopt);
   return out;
 }
 
-const std::vector<OperationEntry>* Session::rerun_entries(const Model* model) const {
-  for (const auto& [state, entries] : reruns_)
-    if (const auto alive = state.lock(); alive && alive.get() == model) return &entries;
-  return nullptr;
+const std::vector<OperationEntry>* Session::rerun_entries() const {
+  if (done_ == 0 || !steps_[done_ - 1].entries) return nullptr;
+  return &*steps_[done_ - 1].entries;
 }
 
 std::vector<OperationEntry> Session::operations() const {
   if (editing_.index >= 0) return editing_.entries;
-  if (!current_) return {};
-  if (const auto* entries = rerun_entries(current_.get())) return *entries;
+  if (!live_) return {};
+  if (const auto* entries = rerun_entries()) return *entries;
   std::vector<OperationEntry> out;
-  const History history = model_history(*current_);
+  const History history = model_history(*live_);
   for (std::size_t i = opened_operations_; i < history.operations.size(); ++i)
     out.push_back({history.operations[i], OpStatus::Ok, {}});
+  return out;
+}
+
+Model Session::opened_copy() {
+  const std::size_t done = done_;
+  if (before_change_) before_change_();
+  for (std::size_t i = done; i-- > 0;) steps_[i].record.undo(*live_);
+  Model out = *live_;
+  for (std::size_t i = 0; i < done; ++i) steps_[i].record.redo(*live_);
   return out;
 }
 
 bool Session::begin_edit(int index) {
   if (editing_.index >= 0) cancel_edit();
   const std::vector<OperationEntry> entries = operations();
-  if (!current_ || !original_ || index < 0 || index >= static_cast<int>(entries.size())) return false;
+  if (!live_ || index < 0 || index >= static_cast<int>(entries.size())) return false;
   // The state before the operation: the opened model and the operations before it, re-run.
-  auto base = std::make_shared<Model>(*original_);
+  auto base = std::make_shared<Model>(opened_copy());
   std::vector<OperationEntry> replayed = entries;
-  PosedModel* posed = index < 1 ? nullptr : posed_for(original_);
+  PosedModel* posed = index < 1 ? nullptr : posed_for(nullptr);
   for (int i = 0; i < index; ++i) run_entry(*base, replayed[static_cast<std::size_t>(i)], posed);
-  if (posed) posed_state_ = std::shared_ptr<const Model>(base);
-  editing_ = {index, current_, entries};
+  if (posed) posed_state_ = base.get();
+  editing_ = {index, base, entries};
   current_ = std::move(base);
   return true;
 }
 
 void Session::cancel_edit() {
   if (editing_.index < 0) return;
-  current_ = editing_.current;
+  if (before_change_) before_change_();
+  if (posed_state_ == editing_.base.get()) posed_state_ = nullptr;
+  current_ = live_;
   editing_ = {};
 }
 
@@ -202,8 +281,11 @@ EditRun Session::prepare_edit(const Operation& op, const RerunObserver& observer
   EditRun run;
   run.entries = editing_.entries;
   run.entries[index].operation = op;
-  auto result = std::make_shared<Model>(*current_);  // the state before the edited operation
-  run.posed = std::make_unique<PosedModel>();       // the first operation builds it at its pose
+  // The edit's base is only read (the studio shows it meanwhile, and Cancel keeps the edit as
+  // it was): the re-run edits a copy of it, with a posed model of its own (the first operation
+  // builds it at its pose), and commit_edit moves the result into the live model.
+  auto result = std::make_shared<Model>(*editing_.base);
+  run.posed = std::make_unique<PosedModel>();
   if (observer) observer(index, run.entries.size());
   run_entry(*result, run.entries[index], run.posed.get());
   run.outcome.edited = run.entries[index];
@@ -214,6 +296,7 @@ EditRun Session::prepare_edit(const Operation& op, const RerunObserver& observer
       if (!run.entries[i].applied()) ++run.outcome.skipped;
     }
     run.result = std::move(result);
+    run.outcome.change = structure();
   }
   run.outcome.ms = ms_since(start);
   return run;
@@ -221,17 +304,17 @@ EditRun Session::prepare_edit(const Operation& op, const RerunObserver& observer
 
 EditOutcome Session::commit_edit(EditRun run) {
   if (!run.result) return run.outcome;  // the edit goes on
+  cancel_edit();
   if (before_change_) before_change_();
-  posed_ = std::move(run.posed);
-  posed_state_ = run.result;
-  reruns_.emplace_back(run.result, std::move(run.entries));
-  current_ = editing_.current;
-  push(run.result);  // ends the edit
+  // One step: the re-run replaces the model (the step holds the state it replaced, by move).
+  push(ModelStep::replace(*live_, std::move(*run.result)), std::move(run.entries));
+  posed_ = std::move(run.posed);  // it described the result, now moved into the live model
+  posed_state_ = posed_ ? live_.get() : nullptr;
   return run.outcome;
 }
 
 const PosedModel* Session::posed_model() const {
-  if (!posed_ || !current_ || posed_state_.lock() != current_ || !posed_->valid()) return nullptr;
+  if (!posed_ || !current_ || posed_state_ != current_.get() || !posed_->valid()) return nullptr;
   return posed_.get();
 }
 
@@ -242,23 +325,23 @@ bool Session::refresh_posed_model(int animation, float time) {
 bool Session::refresh_posed_model(const PoseKey& key) {
   if (!current_) return false;
   try {
-    posed_for(current_)->prepare(*current_, key);
-    posed_state_ = current_;
+    posed_for(current_.get())->prepare(*current_, key);
+    posed_state_ = current_.get();
     return true;
   } catch (const Error&) {
-    posed_state_.reset();  // the next operation builds it (and reports what is wrong)
+    posed_state_ = nullptr;  // the next operation builds it (and reports what is wrong)
   } catch (const std::bad_alloc&) {
     posed_.reset();
-    posed_state_.reset();
+    posed_state_ = nullptr;
   }
   return false;
 }
 
-PosedModel* Session::posed_for(const std::shared_ptr<const Model>& state) {
+PosedModel* Session::posed_for(const Model* state) {
   if (before_change_) before_change_();
   if (!posed_) posed_ = std::make_unique<PosedModel>();
-  if (posed_state_.lock() != state) posed_->invalidate();  // the next operation builds it at its pose
-  posed_state_.reset();  // it may change: it describes no state until the caller says so
+  if (posed_state_ != state || !state) posed_->invalidate();  // the next operation builds it at its pose
+  posed_state_ = nullptr;  // it may change: it describes no state until the caller says so
   return posed_.get();
 }
 

@@ -8,18 +8,24 @@
 /// a history through one. No Qt and no VTK here. See docs/studio.md (History panel, undo) and
 /// docs/cli.md ("History files").
 ///
-/// Model states are immutable snapshots (`std::shared_ptr<const Model>`): an operation copies the
-/// current state, edits the copy and makes it current, so undo and redo give back the very
-/// states they left, byte for byte.
+/// The session owns ONE live model, edited in place: an operation edits it, and its undo step
+/// (model_undo.h) keeps only what the operation touched (old values of the elements it rewrote,
+/// the primitives it replaced, the small parts when they changed), so memory per local operation
+/// follows the edit, not the mesh. Undo and redo turn the live model back and forth, byte for
+/// byte. Each step says what it changed (`ModelChange`), so the studio's scene and the posed
+/// model follow in O(change).
 
 #include <cstddef>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "deepcut/core/model.h"
+#include "deepcut/core/model_change.h"
+#include "deepcut/core/model_undo.h"
 #include "deepcut/core/ops/operation.h"
 #include "deepcut/core/posed_model.h"
 
@@ -34,9 +40,11 @@ struct OperationEntry {
   bool applied() const { return status == OpStatus::Ok && error.empty(); }
 };
 
-/// What `Session::apply` did: the operation's result and how long it took.
+/// What `Session::apply` did: the operation's result, what it changed in the model (empty for a
+/// miss) and how long it took (the undo record included).
 struct Applied {
   OperationResult result;
+  ModelChange change;
   double ms = 0.0;
 };
 
@@ -46,6 +54,8 @@ struct EditOutcome {
   OperationEntry edited;
   /// Later operations that no longer apply (or failed) and were skipped.
   std::size_t skipped = 0;
+  /// What the current state changed by (structure: the re-run replaces the model).
+  ModelChange change;
   double ms = 0.0;
 };
 
@@ -53,7 +63,7 @@ struct EditOutcome {
 /// not yet current (`Session::commit_edit` makes it so).
 struct EditRun {
   EditOutcome outcome;
-  std::shared_ptr<const Model> result;  ///< null when the edited operation did not apply
+  std::shared_ptr<Model> result;        ///< null when the edited operation did not apply
   std::vector<OperationEntry> entries;  ///< the operations as they ran
   std::unique_ptr<PosedModel> posed;    ///< describes `result`
 };
@@ -67,17 +77,22 @@ class Session {
   explicit Session(Undo undo = Undo::PerOperation) : undo_mode_(undo) {}
 
   /// Starts anew from `model` (as opened: edited histories re-run from it). Clears the undo
-  /// stack, the operations list and the posed model. Callers reserve room first
-  /// (`reserve_for_operations`), so every snapshot copied from it keeps that room.
+  /// stack, the operations list and the posed model. The session edits its own model: it takes
+  /// `model` over when the caller hands it the only reference, else copies it. Callers reserve
+  /// room first (`reserve_for_operations`), so the first operations do not reallocate.
+  /// The whole model changed (structure) for whoever draws it.
   void open(std::shared_ptr<const Model> model);
-  /// As `open`, with `posed` (built elsewhere for `model`, e.g. off the studio's UI thread;
-  /// nullptr: none) as the posed model.
-  void open(std::shared_ptr<const Model> model, std::unique_ptr<PosedModel> posed);
+  /// As `open`, but `model` is taken over even when others hold it (the studio's scene built
+  /// from it off the UI thread: it then draws the live model, and no O(mesh) copy is made on
+  /// the UI thread), with `posed` (built elsewhere for `model`; nullptr: none) as the posed
+  /// model. Whoever holds `model` sees it change with every operation, undo and redo.
+  void open(std::shared_ptr<Model> model, std::unique_ptr<PosedModel> posed);
 
-  /// The current state (null before `open`).
+  /// The current state (null before `open`): the live model, edited in place by every
+  /// operation, undo and redo (the pointer stays the same; what it points to changes). While
+  /// editing a past operation, the state before it (a model of its own). Copy or serialise it
+  /// to keep a state.
   const std::shared_ptr<const Model>& current() const { return current_; }
-  /// The state as opened.
-  const std::shared_ptr<const Model>& original() const { return original_; }
 
   // --- operations -------------------------------------------------------------------------------
   /// Applies `op` to a copy of the current state. Ok: the copy becomes current (one undo step);
@@ -93,8 +108,10 @@ class Session {
   /// @throws Error naming `source` and the operation index when one is invalid.
   std::vector<Applied> apply_history(const History& history, const std::string& source,
                                      const AppliedObserver& observer = {});
-  /// Makes `state` current as one undo step (a change made outside the operations).
-  void commit(std::shared_ptr<const Model> state);
+  /// Makes `state` current as one undo step (a change made outside the operations; taken over
+  /// when the caller hands the only reference, else copied). The step holds the model it
+  /// replaced. @returns the change: structure.
+  ModelChange commit(std::shared_ptr<const Model> state);
 
   /// The operations of the current state since the model was opened: what `deepcut apply` of
   /// them on the opened model reproduces (while editing, the list being edited).
@@ -102,14 +119,15 @@ class Session {
 
   // --- editing a past operation -----------------------------------------------------------------
   /// Starts editing operation `index` of `operations()`: the current state becomes the opened
-  /// model with the operations before it re-run (not an undo step). Ends an edit in progress
-  /// first. @returns false for a bad index (nothing changes).
+  /// model with the operations before it re-run (not an undo step; a model of its own, so the
+  /// whole model changed for whoever draws it). Ends an edit in progress first.
+  /// @returns false for a bad index (nothing changes).
   bool begin_edit(int index);
   /// The operation being edited, or -1.
   int editing() const { return editing_.index; }
   /// The operation being edited as it was before the edit. @pre editing() >= 0.
   const OperationEntry& edited_entry() const { return editing_.entries[static_cast<std::size_t>(editing_.index)]; }
-  /// Leaves editing: the state before `begin_edit` is current again.
+  /// Leaves editing: the state before `begin_edit` is current again (the whole model changed).
   void cancel_edit();
   /// Re-runs the edited operation as `op` and then every later one (each that no longer applies
   /// is skipped and marked) as one undo step. When `op` itself misses or fails nothing changes
@@ -118,12 +136,14 @@ class Session {
   /// Called before operation `index` of `count` is re-run; it may throw to stop the run (then
   /// nothing changes).
   using RerunObserver = std::function<void(std::size_t index, std::size_t count)>;
-  /// The work of `finish_edit` (re-running the edited operation and the later ones on a copy)
-  /// without changing the session: it only reads it, so the studio runs it on a worker thread
-  /// while nothing else changes the session, with its own posed model. @pre editing() >= 0.
+  /// The work of `finish_edit` (re-running the edited operation and the later ones on a copy
+  /// of the edit's base, with a posed model of its own) without changing the session: it only
+  /// reads it (never the live model), so the studio runs it on a worker thread while nothing
+  /// else changes the session. O(mesh) for the copy, plus the operations. @pre editing() >= 0.
   EditRun prepare_edit(const Operation& op, const RerunObserver& observer = {}) const;
-  /// Makes `run` current as `finish_edit` does (nothing changes when its edited operation did
-  /// not apply). @pre `run` came from `prepare_edit` and the session has not changed since.
+  /// Makes `run` current as `finish_edit` does: one step that replaces the live model by move
+  /// (no copy, so cheap on the UI thread); nothing changes when its edited operation did not
+  /// apply. @pre `run` came from `prepare_edit` and the session has not changed since.
   EditOutcome commit_edit(EditRun run);
 
   // --- undo / redo ------------------------------------------------------------------------------
@@ -133,14 +153,18 @@ class Session {
   std::size_t undo_index() const { return done_; }
   bool can_undo() const { return done_ > 0; }
   bool can_redo() const { return done_ < steps_.size(); }
-  /// Back to the state before the last done step (drops an edit in progress).
-  void undo();
-  /// Forward to the state after the next step (drops an edit in progress).
-  void redo();
+  /// Back to the state before the last done step (drops an edit in progress: then the change is
+  /// structure, the state shown before was the edit's). @returns what changed (empty: nothing).
+  ModelChange undo();
+  /// Forward to the state after the next step (drops an edit in progress). @returns what changed.
+  ModelChange redo();
+  /// Bytes the undo stack holds (what the steps keep of the states not current).
+  std::size_t undo_bytes() const;
 
   // --- the posed model --------------------------------------------------------------------------
   /// The posed model when it describes the current state, else nullptr. Operations keep it up to
-  /// date; `refresh_posed_model` rebuilds it after undo, redo, a cut or a new pose.
+  /// date, and it follows a local undo or redo (PosedModel::follow); `refresh_posed_model`
+  /// rebuilds it after a cut, a structural undo or redo, or a new pose.
   const PosedModel* posed_model() const;
   /// Brings the posed model up to date for the current state at this pose. An error leaves
   /// none (the next operation builds it and reports what is wrong). @returns true when done.
@@ -154,33 +178,38 @@ class Session {
 
  private:
   struct Step {
-    std::shared_ptr<const Model> before, after;
+    ModelStep record;
+    /// The operation list of the state after the step when an edit made it (skipped entries
+    /// included) or a later step followed such a state; else the model's history gives it.
+    std::optional<std::vector<OperationEntry>> entries;
   };
   struct Editing {
     int index = -1;
-    std::shared_ptr<const Model> current;  // the state to return to
-    std::vector<OperationEntry> entries;   // its operations
+    std::shared_ptr<Model> base;          // the state before the edited operation
+    std::vector<OperationEntry> entries;  // the operations of the live model
   };
 
-  void push(std::shared_ptr<const Model> after);
+  void push(ModelStep record, std::optional<std::vector<OperationEntry>> entries);
+  /// The operation list recorded for the live model by an edit, if any.
+  const std::vector<OperationEntry>* rerun_entries() const;
   /// The posed model, made to follow `state` (kept when it describes it, else emptied: the
   /// next operation builds it at its pose). It describes no state until the caller says so.
-  PosedModel* posed_for(const std::shared_ptr<const Model>& state);
-  /// The re-run list recorded for `model` by an edit, if any.
-  const std::vector<OperationEntry>* rerun_entries(const Model* model) const;
+  PosedModel* posed_for(const Model* state);
+  /// The posed model follows a step's change to the live model (or is left for a rebuild).
+  void follow(const ModelChange& change);
+  /// A copy of the model as opened (every done step undone on the live model, copied, redone).
+  Model opened_copy();
 
   Undo undo_mode_;
-  std::shared_ptr<const Model> current_, original_;
-  std::size_t opened_operations_ = 0;  // operations already in the opened model's history
+  std::shared_ptr<Model> live_;
+  std::shared_ptr<const Model> current_;  // live_, or the edit's base while editing
+  std::size_t opened_operations_ = 0;     // operations already in the opened model's history
   std::vector<Step> steps_;
   std::size_t done_ = 0;
-  // Operation lists of states made by an edit (skipped entries included), by state.
-  std::vector<std::pair<std::weak_ptr<const Model>, std::vector<OperationEntry>>> reruns_;
   Editing editing_;
-  // The posed model and the state it describes (operations run on a copy of the current state:
-  // the posed model follows them and then describes the copy).
+  // The posed model and the model object it describes as that model is now (nullptr: none).
   std::unique_ptr<PosedModel> posed_;
-  std::weak_ptr<const Model> posed_state_;
+  const Model* posed_state_ = nullptr;
   std::function<void()> before_change_;
 };
 

@@ -434,9 +434,9 @@ BackgroundTask::Job MainWindow::open_job(const QString& path, std::shared_ptr<QE
     progress.stage("Reading");
     Model loaded = plugins::read_model(path.toStdString());
     progress.stage("Preparing");
-    reserve_for_operations(loaded);  // room to grow, kept by every snapshot copied from it
+    reserve_for_operations(loaded);  // room to grow: the first operations do not reallocate
     auto opened = std::make_shared<OpenedModel>();
-    opened->model = std::make_shared<const Model>(std::move(loaded));
+    opened->model = std::make_shared<Model>(std::move(loaded));
     progress.stage("Posing");
     const int animation = opened->model->animations.empty() ? -1 : 0;
     opened->scene = plugins::make_scene(opened->model, animation, 0.0f);
@@ -463,7 +463,7 @@ void MainWindow::show_opened(const QString& path, OpenedModel opened, const QEla
   view_->hold_renders(true);
   path_ = path;
   open_done_ = true;
-  operations_->open(model, std::move(opened.posed));
+  operations_->open(opened.model, std::move(opened.posed));  // the scene draws the live model
   timeline_->set_animations(clips);
   const std::vector<std::string> notes =
       scene_host_->show_opened(std::move(opened.scene), QFileInfo(path).fileName(), std::move(opened.drawn));
@@ -499,7 +499,7 @@ void MainWindow::draw_first_frame() {
 }
 
 void MainWindow::show_current() {
-  scene_host_->show_current();
+  scene_host_->show_step(operations_->take_change());
   operations_->refresh_list();
   emit model_changed();
 }

@@ -46,19 +46,28 @@ QWidget* OperationsHost::create_panel(QWidget* parent) {
 
 QListWidget* OperationsHost::operations_list() const { return panel_->operations_list(); }
 
-void OperationsHost::open(std::shared_ptr<const Model> model, std::unique_ptr<PosedModel> posed) {
+void OperationsHost::open(std::shared_ptr<Model> model, std::unique_ptr<PosedModel> posed) {
   undo_stack_->clear();
   session_.open(std::move(model), std::move(posed));
 }
 
-void OperationsHost::push_step(const QString& label) {
-  undo_stack_->push(new SessionStepCommand(session_, label, [this] { emit state_changed(); }));
+void OperationsHost::push_step(const QString& label, const ModelChange& change) {
+  undo_stack_->push(new SessionStepCommand(session_, label, change, [this](const ModelChange& c) {
+    last_change_ = c;
+    emit state_changed();
+  }));
+}
+
+ModelChange OperationsHost::take_change() {
+  ModelChange change = std::move(last_change_);
+  last_change_ = ModelChange();
+  last_change_.structure = true;
+  return change;
 }
 
 void OperationsHost::commit(const QString& label, std::shared_ptr<const Model> state, double ms) {
   if (!session_.current() || !state) return;
-  session_.commit(std::move(state));
-  push_step(label);
+  push_step(label, session_.commit(std::move(state)));
   emit done(label, ms);
 }
 
@@ -96,16 +105,19 @@ bool OperationsHost::apply_tool() {
     emit failed(QString::fromStdString(tool->title()) + ": the tool misses the model (nothing changed)");
     return false;
   }
-  push_step(operation_label(op));
+  push_step(operation_label(op), applied.change);
   emit done(operation_label(op), applied.ms);
   return true;
 }
 
 void OperationsHost::apply_history(const History& history, const std::string& source) {
   const std::vector<session::Applied> applied = session_.apply_history(history, source);
+  ModelChange structure;
+  structure.structure = true;
   for (std::size_t i = 0; i < applied.size(); ++i)
     if (applied[i].result.status == OpStatus::Ok) {
-      push_step(operation_label(history.operations[i]));
+      // Every operation ran before the first step is shown: one step alone says what changed.
+      push_step(operation_label(history.operations[i]), applied.size() == 1 ? applied[i].change : structure);
       emit done(operation_label(history.operations[i]), applied[i].ms);
     }
 }
@@ -216,7 +228,7 @@ bool OperationsHost::take_edit(session::EditRun run, const std::string& title, i
   }
   edit_applied_ = true;
   const QString label = QString("Edit %1: %2").arg(index + 1).arg(operation_label(outcome.edited.operation));
-  push_step(label);
+  push_step(label, outcome.change);
   emit done(label, outcome.ms);
   operations_list()->setCurrentRow(index);
   const std::size_t skipped = outcome.skipped;

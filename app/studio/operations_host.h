@@ -40,8 +40,9 @@ class OperationsHost : public QObject {
   QWidget* create_panel(QWidget* parent);
   QListWidget* operations_list() const;
 
-  /// Starts anew from `model` (no undo steps, no operations).
-  void open(std::shared_ptr<const Model> model, std::unique_ptr<PosedModel> posed = nullptr);
+  /// Starts anew from `model` (no undo steps, no operations), taken over by the session
+  /// (Session::open with a posed model: no copy), with `posed` built for it (or nullptr).
+  void open(std::shared_ptr<Model> model, std::unique_ptr<PosedModel> posed);
   /// Re-runs of an edited history go through `task` (off the UI thread, with progress and
   /// Cancel); without one they run at once.
   void set_task(BackgroundTask* task) { task_ = task; }
@@ -57,6 +58,9 @@ class OperationsHost : public QObject {
   /// See MainWindow::edit_operation.
   bool edit_operation(int index);
   void cancel_edit();
+  /// What the last step shown changed (an operation, undo or redo: what `state_changed` was
+  /// emitted for), then forgotten: structure (show everything again) when no step says.
+  ModelChange take_change();
   /// Lists the session's operations (and the edit in progress) in the History panel and the
   /// tool panel's banner.
   void refresh_list();
@@ -76,8 +80,9 @@ class OperationsHost : public QObject {
   void state_kept();
 
  private:
-  /// Pushes the session's newest step on the undo stack, named `label`.
-  void push_step(const QString& label);
+  /// Pushes the session's newest step on the undo stack, named `label`; `change` is what it
+  /// changed.
+  void push_step(const QString& label, const ModelChange& change);
   /// Re-runs the edited operation with the tool's parameters and every later one.
   bool apply_edit();
   /// Reports what a re-run made (on the UI thread) and makes it current. @returns true when
@@ -89,6 +94,7 @@ class OperationsHost : public QObject {
 
   ToolHost* tools_;
   session::Session session_;
+  ModelChange last_change_{true, {}};  // see take_change
   QUndoStack* undo_stack_ = nullptr;
   HistoryPanel* panel_ = nullptr;
   BackgroundTask* task_ = nullptr;

@@ -2,6 +2,8 @@
 #include "scene_host.h"
 
 #include <QTimer>
+#include <cstdlib>
+#include <cstring>
 
 #include "inspector_host.h"
 #include "morph_panel.h"
@@ -42,6 +44,10 @@ std::vector<std::string> SceneHost::show_opened(plugins::Scene scene, const QStr
     inspectors_->set_scene(scene_.get());
   }
   *scene_ = std::move(scene);
+  // The session edits a model of its own (a copy of the one the scene was built from, when the
+  // scene holds it too): the scene draws that one, as a step that changed nothing.
+  if (session_.current() && session_.current() != scene_->model)
+    plugins::follow_scene(*scene_, session_.current(), ModelChange{});
   title_ = title;
   if (morph_) {  // a new model: its weights follow the animation
     morph_->set_scene(nullptr);
@@ -86,6 +92,24 @@ void SceneHost::show_current() {
   refresh_inspector();
   // Undo, redo or an edit: the posed model describes another state; a cut dropped it (its
   // pieces are new meshes). Rebuild it when idle.
+  if (!session_.posed_model()) posed_timer_->start();
+}
+
+void SceneHost::show_step(const ModelChange& change) {
+  // DEEPCUT_VIEW_REBUILD=1: every step builds the scene again (the studio benchmark's reference).
+  const char* rebuild = std::getenv("DEEPCUT_VIEW_REBUILD");
+  const bool follow = !(rebuild && std::strcmp(rebuild, "1") == 0);
+  if (!scene_ || !session_.current() || !follow || !plugins::follow_scene(*scene_, session_.current(), change)) {
+    if (scene_) show_current();
+    return;
+  }
+  view_->update_scene(change);
+  lend_grids();
+  tools_->scene_redrawn();
+  tree_->set_scene(*scene_);
+  inspectors_->mark_stale(plugins::SceneChange::Model);
+  tools_->refresh_preview();
+  refresh_inspector();
   if (!session_.posed_model()) posed_timer_->start();
 }
 

@@ -45,6 +45,12 @@ class SceneHost : public QObject {
                                        std::shared_ptr<const SceneView::Prepared> prepared = nullptr);
   /// Shows the session's current state at the time line's pose (after an undo step or an edit).
   void show_current();
+  /// Shows the session's current state after one step from the shown state (an operation, its
+  /// undo or redo) that `change` describes: the scene, its VTK data, the tree and the inspectors
+  /// follow it in O(change); a structural change (or one that does not start at the shown
+  /// state) is shown as `show_current` does, and so is every step while the environment
+  /// variable DEEPCUT_VIEW_REBUILD is 1 (the studio benchmark's reference).
+  void show_step(const ModelChange& change);
   /// Poses the scene at `time` of `animation` (the time line moved), at the morph weights set by
   /// hand.
   void pose(int animation, float time);

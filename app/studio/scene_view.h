@@ -18,6 +18,7 @@
 #include "deepcut/widgets/overlay.h"
 
 class vtkAbstractWidget;
+class vtkPolyData;
 
 namespace deepcut::studio {
 
@@ -44,8 +45,9 @@ class SceneView : public QWidget {
   explicit SceneView(QWidget* parent = nullptr);
   ~SceneView() override;
 
-  /// The VTK data of a scene's instances (points, normals, cells, texture coordinates): what
-  /// drawing a new scene costs besides the frame. Made by `prepare` on any thread (a worker
+  /// The VTK data of a scene's instances (ViewPolyData, laid out by slot: the full build
+  /// `set_scene` makes without it, which then follows each step): what drawing a new scene
+  /// costs besides the frame. Made by `prepare` on any thread (a worker
   /// opening a model), taken by `set_scene`.
   struct Prepared;
   /// Builds the VTK data of every instance of `scene` at its pose. Touches no view: safe off
@@ -62,6 +64,13 @@ class SceneView : public QWidget {
   void hold_renders(bool hold);
   /// Moves every actor (and the normals, when shown) to the scene's current pose.
   void update_pose();
+  /// Follows one step on the shown scene, already followed (`plugins::follow_scene`): only the
+  /// points and cells `change` touched are rewritten (ViewPolyData::update). O(change).
+  /// @pre not structural: a structural change is shown with `set_scene`.
+  void update_scene(const ModelChange& change);
+  /// The drawn data of instance `instance` (nullptr for an unknown one): what tests and the
+  /// studio benchmark compare with a fresh build.
+  vtkPolyData* instance_poly_data(std::size_t instance) const;
   /// Draws instance `instance` at `positions` (world, one per vertex slot of its mesh) instead of its
   /// posed positions, until the next `update_pose` or `set_scene`.
   void set_instance_positions(std::size_t instance, const std::vector<glm::vec3>& positions);
@@ -93,6 +102,9 @@ class SceneView : public QWidget {
   glm::vec3 view_direction() const;
   /// Renders now.
   void render();
+  /// Called at the start of every `render` (nullptr: none): the studio benchmark times the work
+  /// between an action and the render call with it.
+  void set_render_listener(std::function<void()> listener);
   /// The rendered view as an image (renders first).
   QImage grab_view();
 

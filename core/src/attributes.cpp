@@ -65,6 +65,43 @@ AttributeSet AttributeSet::subset(const std::vector<std::uint32_t>& keep) const 
   return out;
 }
 
+void AttributeSet::append_from(const AttributeSet& other, std::size_t begin, std::size_t end) {
+  for (auto& [name, array] : arrays_) {
+    const AttributeArrayBase* from = other.base(name);
+    if (!from) throw Error(ErrorCode::InvalidArgument, "append_from: no attribute '" + name + "'");
+    array->append_from(*from, begin, end);
+  }
+  size_ += end - begin;
+}
+
+void AttributeSet::swap_elements(AttributeSet& other, std::size_t i, std::size_t j) {
+  for (auto& [name, array] : other.arrays_) {
+    auto it = arrays_.find(name);
+    if (it == arrays_.end()) throw Error(ErrorCode::InvalidArgument, "swap_elements: no attribute '" + name + "'");
+    array->swap_element(j, *it->second, i);
+  }
+}
+
+std::unique_ptr<AttributeArrayBase> AttributeSet::take(const std::string& name) {
+  auto it = arrays_.find(name);
+  if (it == arrays_.end()) return nullptr;
+  std::unique_ptr<AttributeArrayBase> out = std::move(it->second);
+  arrays_.erase(it);
+  return out;
+}
+
+void AttributeSet::put(const std::string& name, std::unique_ptr<AttributeArrayBase> array) {
+  if (!array || arrays_.count(name) || array->size() != size_)
+    throw Error(ErrorCode::InvalidArgument, "put: attribute '" + name + "' exists or has another size");
+  arrays_.emplace(name, std::move(array));
+}
+
+std::size_t AttributeSet::capacity_bytes() const {
+  std::size_t out = 0;
+  for (const auto& entry : arrays_) out += entry.second->capacity_bytes();
+  return out;
+}
+
 std::vector<std::string> AttributeSet::names() const {
   std::vector<std::string> out;
   out.reserve(arrays_.size());

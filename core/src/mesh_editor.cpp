@@ -164,6 +164,7 @@ VertexId MeshEditor::split_vertex(VertexId v) {
 }
 
 void MeshEditor::move_vertex(VertexId v, const glm::vec3& p) {
+  mesh_.writing_vertex(v);
   auto& pos = mesh_.positions()[v.index];
   log_.edits.push_back(VertexMoved{v, pos, p});
   pos = p;

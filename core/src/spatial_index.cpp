@@ -198,6 +198,15 @@ void TriangleGrid::apply(const EditLog& log, const std::vector<glm::vec3>& point
   for (const VertexId v : moved) placed_[v.index] = points[v.index];
 }
 
+void TriangleGrid::truncate(std::size_t faces, std::size_t vertices) {
+  for (std::size_t f = faces; f < alive_.size(); ++f)
+    if (alive_[f]) {
+      alive_[f] = 0;
+      --live_;
+    }
+  if (placed_.size() > vertices) placed_.resize(vertices);
+}
+
 void TriangleGrid::sort_unique(std::vector<FaceId>& v) {
   std::sort(v.begin(), v.end());
   v.erase(std::unique(v.begin(), v.end()), v.end());

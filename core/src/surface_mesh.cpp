@@ -2,6 +2,7 @@
 #include "deepcut/core/surface_mesh.h"
 
 #include <string>
+#include <utility>
 
 namespace deepcut {
 
@@ -38,7 +39,10 @@ SurfaceMesh::SurfaceMesh(SurfaceMesh&& other) noexcept
       vattrs_(std::move(other.vattrs_)),
       fattrs_(std::move(other.fattrs_)),
       cattrs_(std::move(other.cattrs_)),
-      positions_(other.positions_) {
+      positions_(other.positions_),
+      observer_(other.observer_),
+      observer_id_(other.observer_id_) {
+  other.observer_ = nullptr;
   other.deleted_count_ = 0;
   other.vattrs_ = AttributeSet();
   other.fattrs_ = AttributeSet();
@@ -48,6 +52,10 @@ SurfaceMesh::SurfaceMesh(SurfaceMesh&& other) noexcept
 
 SurfaceMesh& SurfaceMesh::operator=(SurfaceMesh&& other) noexcept {
   if (this != &other) {
+    if (observer_) release();
+    observer_ = other.observer_;
+    observer_id_ = other.observer_id_;
+    other.observer_ = nullptr;
     faces_ = std::move(other.faces_);
     deleted_ = std::move(other.deleted_);
     deleted_count_ = other.deleted_count_;
@@ -64,6 +72,65 @@ SurfaceMesh& SurfaceMesh::operator=(SurfaceMesh&& other) noexcept {
     other.positions_ = &other.vattrs_.add<glm::vec3>(attr::kPosition);
   }
   return *this;
+}
+
+SurfaceMesh::~SurfaceMesh() {
+  if (observer_) release();
+}
+
+void SurfaceMesh::release() {
+  MeshObserver* observer = observer_;
+  observer_ = nullptr;
+  observer->released(observer_id_, std::move(*this));
+}
+
+std::size_t MeshTail::bytes() const {
+  return faces.capacity() * sizeof(Triangle) + deleted.capacity() + vertex_attrs.capacity_bytes() +
+         face_attrs.capacity_bytes() + corner_attrs.capacity_bytes();
+}
+
+MeshTail SurfaceMesh::take_tail(std::size_t vertices, std::size_t faces) {
+  MeshTail tail;
+  std::vector<std::uint32_t> vs, fs, cs;
+  for (std::size_t v = vertices; v < vertex_count(); ++v) vs.push_back(static_cast<std::uint32_t>(v));
+  for (std::size_t f = faces; f < face_slots(); ++f) {
+    fs.push_back(static_cast<std::uint32_t>(f));
+    for (std::uint32_t k = 0; k < 3; ++k) cs.push_back(static_cast<std::uint32_t>(3 * f + k));
+  }
+  tail.faces.assign(faces_.begin() + static_cast<std::ptrdiff_t>(faces), faces_.end());
+  tail.deleted.assign(deleted_.begin() + static_cast<std::ptrdiff_t>(faces), deleted_.end());
+  tail.vertex_attrs = vattrs_.subset(vs);
+  tail.face_attrs = fattrs_.subset(fs);
+  tail.corner_attrs = cattrs_.subset(cs);
+  for (std::uint8_t d : tail.deleted) deleted_count_ -= d != 0;
+  faces_.resize(faces);
+  deleted_.resize(faces);
+  vattrs_.resize(vertices);
+  fattrs_.resize(faces);
+  cattrs_.resize(3 * faces);
+  return tail;
+}
+
+void SurfaceMesh::append_tail(const MeshTail& tail) {
+  vattrs_.append_from(tail.vertex_attrs, 0, tail.vertex_attrs.size());
+  fattrs_.append_from(tail.face_attrs, 0, tail.face_attrs.size());
+  cattrs_.append_from(tail.corner_attrs, 0, tail.corner_attrs.size());
+  faces_.insert(faces_.end(), tail.faces.begin(), tail.faces.end());
+  deleted_.insert(deleted_.end(), tail.deleted.begin(), tail.deleted.end());
+  for (std::uint8_t d : tail.deleted) deleted_count_ += d != 0;
+}
+
+void SurfaceMesh::swap_face(FaceId f, Triangle& corners, std::uint8_t& deleted) {
+  std::swap(faces_[f.index], corners);
+  const bool was = deleted_[f.index] != 0;
+  deleted_[f.index] = deleted ? 1 : 0;
+  deleted = was ? 1 : 0;
+  deleted_count_ = deleted_count_ - (was ? 1 : 0) + (deleted_[f.index] ? 1 : 0);
+}
+
+std::size_t SurfaceMesh::capacity_bytes() const {
+  return faces_.capacity() * sizeof(Triangle) + deleted_.capacity() + vattrs_.capacity_bytes() +
+         fattrs_.capacity_bytes() + cattrs_.capacity_bytes();
 }
 
 VertexId SurfaceMesh::add_vertex(const glm::vec3& p) {
@@ -96,6 +163,7 @@ void SurfaceMesh::reserve(std::size_t vertices, std::size_t faces) {
 
 void SurfaceMesh::mark_deleted(FaceId f) {
   if (!deleted_[f.index]) {
+    if (observer_) observer_->face_writing(observer_id_, *this, f);
     deleted_[f.index] = 1;
     ++deleted_count_;
   }
@@ -110,6 +178,7 @@ void SurfaceMesh::assign(std::vector<Triangle> faces, AttributeSet vertex_attrs,
   for (const auto& t : faces)
     for (auto v : t)
       if (v.index >= vertex_attrs.size()) throw Error(ErrorCode::InvalidArgument, "SurfaceMesh::assign: vertex index out of range");
+  if (observer_) release();
   faces_ = std::move(faces);
   deleted_.assign(faces_.size(), 0);
   deleted_count_ = 0;
@@ -120,6 +189,11 @@ void SurfaceMesh::assign(std::vector<Triangle> faces, AttributeSet vertex_attrs,
 }
 
 std::vector<std::uint32_t> SurfaceMesh::compact() {
+  if (observer_) {
+    MeshObserver* observer = observer_;
+    observer_ = nullptr;
+    observer->released(observer_id_, SurfaceMesh(*this));
+  }
   std::vector<std::uint32_t> vmap(vertex_count(), kInvalidIndex);
   std::vector<std::uint32_t> keep_faces, keep_corners;
   keep_faces.reserve(face_count());

@@ -146,20 +146,17 @@ TEST(SessionTest, apply_makes_one_undo_step_and_undo_redo_give_back_the_states) 
   const Operation cut = ops.cut();
   const Applied applied = session.apply(cut);
   ASSERT_EQ(applied.result.status, OpStatus::Ok);
-  EXPECT_NE(session.current(), opened);
+  EXPECT_TRUE(applied.change.structure);  // a cut makes piece nodes
   EXPECT_EQ(session.undo_count(), 1u);
   ASSERT_EQ(session.operations().size(), 1u);
-  const auto after = session.current();
-  const std::string after_bytes = bytes(*after);
+  const std::string after_bytes = bytes(*session.current());  // the live model changes: keep its bytes
   EXPECT_NE(after_bytes, opened_bytes);
 
-  session.undo();
-  EXPECT_EQ(session.current(), opened);
+  EXPECT_TRUE(session.undo().structure);
   EXPECT_EQ(bytes(*session.current()), opened_bytes);
   EXPECT_TRUE(session.operations().empty());
   EXPECT_FALSE(session.can_undo());
-  session.redo();
-  EXPECT_EQ(session.current(), after);
+  EXPECT_TRUE(session.redo().structure);
   EXPECT_EQ(bytes(*session.current()), after_bytes);
   EXPECT_FALSE(session.can_redo());
 
@@ -173,14 +170,16 @@ TEST(SessionTest, apply_makes_one_undo_step_and_undo_redo_give_back_the_states) 
 TEST(SessionTest, a_miss_or_a_bad_operation_changes_nothing) {
   Session session;
   session.open(load_cactus());
-  const auto opened = session.current();
+  const std::string opened = bytes(*session.current());
   ASSERT_TRUE(session.refresh_posed_model(-1, 0.0f));
   CutOperation far;
   far.plane.point = glm::vec3(0.0f, 1000.0f, 0.0f);
   Operation miss;
   miss.params = far;
-  EXPECT_EQ(session.apply(miss).result.status, OpStatus::NoIntersection);
-  EXPECT_EQ(session.current(), opened);
+  const Applied missed = session.apply(miss);
+  EXPECT_EQ(missed.result.status, OpStatus::NoIntersection);
+  EXPECT_TRUE(missed.change.empty());
+  EXPECT_EQ(bytes(*session.current()), opened);
   EXPECT_EQ(session.undo_count(), 0u);
   EXPECT_NE(session.posed_model(), nullptr);  // a miss keeps it
 
@@ -189,7 +188,7 @@ TEST(SessionTest, a_miss_or_a_bad_operation_changes_nothing) {
   Operation invalid;
   invalid.params = bad;
   EXPECT_THROW(session.apply(invalid), Error);
-  EXPECT_EQ(session.current(), opened);
+  EXPECT_EQ(bytes(*session.current()), opened);
   EXPECT_EQ(session.undo_count(), 0u);
   expect_posed_model_fresh(session, -1, 0.0f, "after a failed operation");
 }
@@ -219,14 +218,14 @@ TEST(SessionTest, apply_history_equals_applying_one_by_one_and_a_bad_one_changes
   DrillOperation broken;
   broken.cylinder.radius = 0.0f;
   bad.operations.insert(bad.operations.begin() + 2, Operation{broken, -1, 0.0f});
-  const auto before = session.current();
+  const std::string before = bytes(*session.current());
   try {
     session.apply_history(bad, "bad.json");
     FAIL() << "a bad operation must throw";
   } catch (const Error& e) {
     EXPECT_EQ(std::string(e.what()).rfind("bad.json: operation 2: ", 0), 0u) << e.what();
   }
-  EXPECT_EQ(session.current(), before);
+  EXPECT_EQ(bytes(*session.current()), before);
   EXPECT_EQ(session.undo_count(), ok);
 }
 
@@ -240,8 +239,7 @@ TEST(SessionTest, editing_an_operation_reruns_the_later_ones_as_one_undo_step) {
   ASSERT_EQ(session.apply(cut).result.status, OpStatus::Ok);
   ASSERT_EQ(session.apply(ops.tear()).result.status, OpStatus::Ok);
   ASSERT_EQ(session.apply(ops.drill()).result.status, OpStatus::Ok);
-  const auto before_edit = session.current();
-  const std::string before_bytes = bytes(*before_edit);
+  const std::string before_bytes = bytes(*session.current());
 
   // Editing shows the state before the operation; cancelling changes nothing.
   ASSERT_FALSE(session.begin_edit(3));
@@ -250,7 +248,7 @@ TEST(SessionTest, editing_an_operation_reruns_the_later_ones_as_one_undo_step) {
   EXPECT_EQ(session.undo_count(), 3u);
   session.cancel_edit();
   EXPECT_EQ(session.editing(), -1);
-  EXPECT_EQ(session.current(), before_edit);
+  EXPECT_EQ(bytes(*session.current()), before_bytes);
 
   ASSERT_TRUE(session.begin_edit(0));
   EXPECT_EQ(bytes(*session.current()), opened_bytes);
@@ -271,7 +269,6 @@ TEST(SessionTest, editing_an_operation_reruns_the_later_ones_as_one_undo_step) {
   expect_posed_model_fresh(session, -1, 0.0f, "after the re-run");
 
   session.undo();
-  EXPECT_EQ(session.current(), before_edit);
   EXPECT_EQ(bytes(*session.current()), before_bytes);
   session.redo();
   EXPECT_EQ(bytes(*session.current()), edited_bytes);
@@ -291,7 +288,7 @@ TEST(SessionTest, an_edit_that_makes_a_later_operation_miss_marks_it_and_undo_br
   std::get<DrillOperation>(drill.params).cylinder.b.y = std::get<DrillOperation>(drill.params).cylinder.a.y;
   ASSERT_EQ(session.apply(cut).result.status, OpStatus::Ok);
   ASSERT_EQ(session.apply(drill).result.status, OpStatus::Ok);
-  const auto drilled = session.current();
+  const std::string drilled = bytes(*session.current());
 
   ASSERT_TRUE(session.begin_edit(0));
   Operation edited = session.edited_entry().operation;
@@ -307,7 +304,7 @@ TEST(SessionTest, an_edit_that_makes_a_later_operation_miss_marks_it_and_undo_br
   EXPECT_EQ(entries[1].status, OpStatus::NoIntersection);
   EXPECT_EQ(applied_bytes(history_of(entries)), bytes(*session.current()));
   session.undo();
-  EXPECT_EQ(session.current(), drilled);
+  EXPECT_EQ(bytes(*session.current()), drilled);
   EXPECT_TRUE(session.operations()[1].applied());
 }
 
@@ -334,7 +331,9 @@ TEST(SessionTest, thirty_mixed_operations_undone_and_redone_all_the_way_are_byte
   for (std::size_t i = states.size() - 1; i-- > 0;) {
     session.undo();
     ASSERT_EQ(bytes(*session.current()), states[i]) << "undo to state " << i;
-    EXPECT_EQ(session.posed_model(), nullptr) << "it describes a later state";
+    // A local undo leaves the posed model following (as a fresh build); a structural one, none.
+    if (const PosedModel* posed = session.posed_model())
+      expect_posed_model_fresh(session, posed->animation(), posed->time(), "undo to state " + std::to_string(i));
   }
   expect_posed_model_fresh(session, 0, 0.5f, "after undo all");
   for (std::size_t i = 1; i < states.size(); ++i) {
@@ -371,7 +370,7 @@ TEST(SessionTest, a_session_writes_what_deepcut_apply_writes_and_refuses_a_swall
   session.open(load_cactus());
   DrillOperation swallow;
   swallow.cylinder = {{0.0f, -10.0f, 0.0f}, {0.0f, 20.0f, 0.0f}, 100.0f};
-  const auto before = session.current();
+  const std::string before = bytes(*session.current());
   const std::size_t steps = session.undo_count();
   std::string message;
   try {
@@ -382,7 +381,7 @@ TEST(SessionTest, a_session_writes_what_deepcut_apply_writes_and_refuses_a_swall
     message = e.what();
   }
   EXPECT_NE(message.find("removes every triangle of node"), std::string::npos) << message;
-  EXPECT_EQ(session.current(), before);
+  EXPECT_TRUE(bytes(*session.current()) == before);
   EXPECT_EQ(session.undo_count(), steps);
   {
     std::ofstream out(dir + "/swallow.json");
@@ -445,20 +444,20 @@ TEST(SessionTest, a_rerun_skips_a_drill_that_now_swallows_an_instance_and_leaves
   EXPECT_TRUE(applied_bytes(History{{higher, last}}) == bytes(want));
 
   // Applied directly, or in a history (either undo mode), the drill changes nothing.
-  const auto before = session.current();
+  const auto before = std::make_shared<const Model>(*session.current());  // a copy: the live model changes
   const std::string before_bytes = bytes(*before);
   const std::size_t steps = session.undo_count();
   EXPECT_THROW(session.apply(drill), Error);
-  EXPECT_EQ(session.current(), before);
+  EXPECT_TRUE(bytes(*session.current()) == before_bytes);
   EXPECT_EQ(session.undo_count(), steps);
   EXPECT_THROW(session.apply_history(History{{drill}}, "h.json"), Error);
-  EXPECT_EQ(session.current(), before);
+  EXPECT_TRUE(bytes(*session.current()) == before_bytes);
   EXPECT_EQ(session.undo_count(), steps);
   EXPECT_TRUE(bytes(*session.current()) == before_bytes);
   Session single(Session::Undo::None);
   single.open(before);
   EXPECT_THROW(single.apply_history(History{{last, drill}}, "h.json"), Error);
-  EXPECT_EQ(single.current(), before);
+  EXPECT_TRUE(bytes(*single.current()) == before_bytes);
   EXPECT_TRUE(bytes(*before) == before_bytes);
 }
 

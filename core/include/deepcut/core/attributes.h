@@ -12,6 +12,7 @@
 #include <string>
 #include <type_traits>
 #include <typeindex>
+#include <utility>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -82,6 +83,14 @@ class AttributeArrayBase {
   /// A copy holding only the elements listed, in that order (`keep[i]` becomes element `i`):
   /// `clone()` then `gather(keep)` without copying the whole array first.
   virtual std::unique_ptr<AttributeArrayBase> clone_subset(const std::vector<std::uint32_t>& keep) const = 0;
+  /// Appends elements `begin .. end - 1` of `other`, an array of the same type.
+  /// @throws Error{InvalidArgument} for another type.
+  virtual void append_from(const AttributeArrayBase& other, std::size_t begin, std::size_t end) = 0;
+  /// Swaps element `i` with element `j` of `other`, an array of the same type (undo records).
+  /// @throws Error{InvalidArgument} for another type.
+  virtual void swap_element(std::size_t i, AttributeArrayBase& other, std::size_t j) = 0;
+  /// Bytes held, room reserved included.
+  virtual std::size_t capacity_bytes() const = 0;
   virtual std::type_index type() const = 0;
   /// Bytes of one element and a pointer to element `i` (for hashing and exact comparison).
   virtual std::size_t element_bytes() const = 0;
@@ -132,6 +141,15 @@ class AttributeArray final : public AttributeArrayBase {
     for (std::uint32_t i : keep) out->data_.push_back(data_[i]);
     return out;
   }
+  void append_from(const AttributeArrayBase& other, std::size_t begin, std::size_t end) override {
+    const auto& src = same_type(other).data_;
+    data_.insert(data_.end(), src.begin() + static_cast<std::ptrdiff_t>(begin),
+                 src.begin() + static_cast<std::ptrdiff_t>(end));
+  }
+  void swap_element(std::size_t i, AttributeArrayBase& other, std::size_t j) override {
+    std::swap(data_[i], const_cast<AttributeArray&>(same_type(other)).data_[j]);
+  }
+  std::size_t capacity_bytes() const override { return data_.capacity() * sizeof(T); }
   std::type_index type() const override { return typeid(T); }
   std::size_t element_bytes() const override { return sizeof(T); }
   const void* element_data(std::size_t i) const override { return &data_[i]; }
@@ -143,6 +161,10 @@ class AttributeArray final : public AttributeArrayBase {
   const T& default_value() const { return default_; }
 
  private:
+  static const AttributeArray& same_type(const AttributeArrayBase& other) {
+    if (other.type() != typeid(T)) throw Error(ErrorCode::InvalidArgument, "attribute arrays of different types");
+    return static_cast<const AttributeArray&>(other);
+  }
   T blend(const std::uint32_t* src, const float* w, int count) const {
     if constexpr (std::is_floating_point_v<T> || std::is_floating_point_v<typename GlmScalar<T>::type>) {
       T out = T(0);
@@ -196,6 +218,20 @@ class AttributeSet {
   /// A set with the same attributes holding only the elements listed, in that order: what a
   /// copy followed by `gather(keep)` gives, at the cost of `keep` rather than of the whole set.
   AttributeSet subset(const std::vector<std::uint32_t>& keep) const;
+  /// Appends elements `begin .. end - 1` of the same-named arrays of `other` (which may hold
+  /// more) to every array. @throws Error{InvalidArgument} when one is missing there or of
+  /// another type.
+  void append_from(const AttributeSet& other, std::size_t begin, std::size_t end);
+  /// Swaps element `i` of every array of `other` with element `j` of the array of that name here
+  /// (undo records keep old values so). @throws Error{InvalidArgument} when one is missing here.
+  void swap_elements(AttributeSet& other, std::size_t i, std::size_t j);
+  /// Removes array `name` and hands it over (nullptr when absent).
+  std::unique_ptr<AttributeArrayBase> take(const std::string& name);
+  /// Puts back an array taken by `take`. @throws Error{InvalidArgument} when `name` exists or
+  /// the array's size is not the set's.
+  void put(const std::string& name, std::unique_ptr<AttributeArrayBase> array);
+  /// Bytes held by all arrays, room reserved included.
+  std::size_t capacity_bytes() const;
 
   /// Adds an attribute. @throws Error{InvalidArgument} if `name` exists.
   template <class T>

@@ -14,6 +14,9 @@
 
 namespace deepcut {
 
+struct Model;
+class SurfaceMesh;
+
 /// One primitive edited in place (mesh `mesh`, primitive `primitive`, at the same indices before
 /// and after the step).
 struct PrimitiveChange {
@@ -37,5 +40,26 @@ struct ModelChange {
   std::vector<PrimitiveChange> primitives;
   bool empty() const { return !structure && primitives.empty(); }
 };
+
+/// What turning `before` into `after` changed, found by comparing them: the reference every
+/// recorded change (operations, undo, redo) is checked against in tests. O(mesh).
+/// `structure` is set when anything but the primitives' element data and the root `extras_json`
+/// (where the operation history lives) differs: nodes, scenes, skins, animations, meshes and
+/// their primitives (count, material, extras), materials, textures, images, samplers, cameras,
+/// the root extensions and asset, or the names and types of a primitive's attributes. Otherwise
+/// `primitives` lists, per primitive, the sizes before and the existing elements whose bytes
+/// differ; the root `extras_json` is not reported (it is no part of what is drawn).
+ModelChange diff_models(const Model& before, const Model& after);
+
+/// What turning mesh `before` into `after` changed (PrimitiveChange's sizes and element lists,
+/// `mesh` and `primitive` left -1). @returns false when their attribute names or types differ
+/// (nothing then describes the change element by element).
+bool diff_meshes(const SurfaceMesh& before, const SurfaceMesh& after, PrimitiveChange& out);
+
+/// True when the models are equal in everything but their primitives' element data (vertices,
+/// faces, attribute values) and the root `extras_json`: the parts `diff_models` calls structure.
+/// Compares attribute names and types, not values; images only when `images`.
+/// O(everything but the element data).
+bool same_structure(const Model& a, const Model& b, bool images = true);
 
 }  // namespace deepcut

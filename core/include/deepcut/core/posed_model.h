@@ -18,6 +18,7 @@
 
 #include "deepcut/core/edit_log.h"
 #include "deepcut/core/model.h"
+#include "deepcut/core/model_change.h"
 #include "deepcut/core/skinning.h"
 #include "deepcut/core/spatial_index.h"
 
@@ -68,6 +69,14 @@ struct PosedMesh {
   /// plus its morph normal deltas at `weights`, through the inverse transpose of its vertex's
   /// `linear` map (the identity when `linear` is empty), renormalised. Empty without normals.
   std::vector<glm::vec3> corner_normals(const SurfaceMesh& surface) const;
+  /// Brings `normals` (this pose's `corner_normals` of `surface` before a step) up to date after
+  /// the step `change` (PrimitiveChange of this mesh, this posed mesh already following it): one
+  /// per corner of every face slot now, recomputed by the same kernel for new faces, listed faces
+  /// and the faces around `relinked` (vertices whose linear map the step changed).
+  /// Untouched corners are kept. O(change), plus one pass over the faces when `relinked` is not
+  /// empty. Leaves `normals` empty when the mesh has no normals.
+  void follow_corner_normals(const SurfaceMesh& surface, const PrimitiveChange& change,
+                             const std::vector<VertexId>& relinked, std::vector<glm::vec3>& normals) const;
 
   /// `surface` posed at `posed` (its own positions, i.e. at rest, when empty; one per vertex
   /// otherwise), with bounds and grid, `linear` empty (the identity for every vertex) and no
@@ -162,6 +171,12 @@ class PosedModel {
   /// Follows `log`, made on the mesh of instance (node, primitive) (now `mesh`): PosedMesh::follow
   /// on that instance (an operation given the instance itself, such as tear_mesh, has done so).
   void follow(const Model& model, int node, int primitive, const SurfaceMesh& mesh, const EditLog& log);
+  /// Follows a step's change to `model` (an undo or redo, now made; the index described the model
+  /// before it): every instance of an edited primitive poses its new and rewritten vertices,
+  /// drops the vertices and faces the step cut off, and files its faces again as the change says
+  /// (posed_model_change.cpp). O(change), plus O(vertices) for bounds when the mesh shrank.
+  /// A structural change invalidates the index (the next `prepare` rebuilds it).
+  void follow(const Model& model, const ModelChange& change);
   /// (Re)indexes instance (node, primitive) of `model` from scratch (a new primitive, such as a
   /// drill's wall). O(its vertices + faces).
   void add(const Model& model, int node, int primitive);

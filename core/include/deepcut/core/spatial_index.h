@@ -39,6 +39,11 @@ class TriangleGrid {
   /// each vertex, so it finds a moved vertex's faces where they were filed. O(edits).
   void apply(const EditLog& log, const std::vector<glm::vec3>& points);
 
+  /// Follows a mesh cut back to `faces` face slots and `vertices` vertex slots (an undo): the
+  /// faces from `faces` on leave, and vertices from `vertices` on are forgotten, so slots made
+  /// again later are filed where they are then. O(slots cut).
+  void truncate(std::size_t faces, std::size_t vertices);
+
   /// Live faces in the cells `box` overlaps (a superset of the faces whose bounding box overlaps
   /// it), sorted by id.
   std::vector<FaceId> query_box(const BoundingBox& box) const;

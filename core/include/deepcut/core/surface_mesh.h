@@ -16,6 +16,28 @@
 namespace deepcut {
 
 using Triangle = std::array<VertexId, 3>;
+class SurfaceMesh;
+
+/// Watches a mesh while an operation edits it in place, so the step can be undone from what it
+/// touched (model_undo.h records steps so): told before an existing vertex or face is written,
+/// and handed the mesh's content before it is overwritten (assigned, `assign`, `compact`) or
+/// destroyed. `id` is what the watcher gave the mesh. Copies of a watched mesh are not watched;
+/// a moved mesh takes its watcher along.
+class MeshObserver {
+ public:
+  virtual ~MeshObserver() = default;
+  virtual void vertex_writing(std::uint32_t id, const SurfaceMesh& mesh, VertexId v) = 0;
+  virtual void face_writing(std::uint32_t id, const SurfaceMesh& mesh, FaceId f) = 0;
+  virtual void released(std::uint32_t id, SurfaceMesh&& content) noexcept = 0;
+};
+
+/// Elements cut off the end of a mesh (`SurfaceMesh::take_tail`), to be appended again.
+struct MeshTail {
+  std::vector<Triangle> faces;  ///< still naming the mesh's vertices
+  std::vector<std::uint8_t> deleted;
+  AttributeSet vertex_attrs, face_attrs, corner_attrs;
+  std::size_t bytes() const;
+};
 
 class SurfaceMesh {
  public:
@@ -67,7 +89,10 @@ class SurfaceMesh {
   }
 
   // --- low-level edits: only MeshEditor (which logs them) and builders call these -----------
-  void set_face(FaceId f, const Triangle& t) { faces_[f.index] = t; }
+  void set_face(FaceId f, const Triangle& t) {
+    if (observer_) observer_->face_writing(observer_id_, *this, f);
+    faces_[f.index] = t;
+  }
   void mark_deleted(FaceId f);
   /// Replaces the whole mesh (wholesale builders such as weld). `vertex_attrs` must hold
   /// attr::kPosition; sizes must agree (vertices, faces, 3 x faces). Deleted marks are cleared.
@@ -76,6 +101,30 @@ class SurfaceMesh {
   /// Drops deleted faces and unreferenced vertices; attributes follow.
   /// @returns the old-to-new vertex map (kInvalidIndex for dropped vertices).
   std::vector<std::uint32_t> compact();
+
+  // --- undo (model_undo.h) --------------------------------------------------------------------
+  /// Watches the mesh (nullptr: no more). Code that writes an existing vertex's attributes
+  /// other than through MeshEditor calls `writing_vertex` first; face writes here tell it.
+  void watch(MeshObserver* observer, std::uint32_t id) {
+    observer_ = observer;
+    observer_id_ = id;
+  }
+  MeshObserver* observer() const { return observer_; }
+  std::uint32_t observer_id() const { return observer_id_; }
+  /// Tells the watcher (if any) that vertex `v`'s attributes are about to be written.
+  void writing_vertex(VertexId v) const {
+    if (observer_) observer_->vertex_writing(observer_id_, *this, v);
+  }
+  /// Cuts the vertices from `vertices` on and the face slots from `faces` on off the mesh (the
+  /// faces kept must not use the vertices cut) and hands them over; capacity stays.
+  MeshTail take_tail(std::size_t vertices, std::size_t faces);
+  /// Appends a tail taken by `take_tail` (same attributes). @throws Error{InvalidArgument}
+  /// when its attributes differ.
+  void append_tail(const MeshTail& tail);
+  /// Swaps face `f`'s corners and deleted mark with `corners` and `deleted` (undo records).
+  void swap_face(FaceId f, Triangle& corners, std::uint8_t& deleted);
+  /// Bytes held by every array, room reserved included.
+  std::size_t capacity_bytes() const;
 
   // --- geometry ----------------------------------------------------------------------------
   BoundingBox bounds() const;
@@ -90,13 +139,17 @@ class SurfaceMesh {
   std::size_t deleted_count_ = 0;
   AttributeSet vattrs_, fattrs_, cattrs_;
   AttributeArray<glm::vec3>* positions_ = nullptr;
+  MeshObserver* observer_ = nullptr;
+  std::uint32_t observer_id_ = 0;
+  /// Hands the content to the watcher (the mesh is left empty and unwatched).
+  void release();
 
  public:
   SurfaceMesh(const SurfaceMesh& other);
   SurfaceMesh& operator=(const SurfaceMesh& other);
   SurfaceMesh(SurfaceMesh&& other) noexcept;
   SurfaceMesh& operator=(SurfaceMesh&& other) noexcept;
-  ~SurfaceMesh() = default;
+  ~SurfaceMesh();
 };
 
 }  // namespace deepcut

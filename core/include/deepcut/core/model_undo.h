@@ -1,0 +1,86 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file model_undo.h
+/// Undo and redo of steps made on one model edited in place, holding what each step touched
+/// instead of a copy of the model: a session's memory per local operation follows the edit, not
+/// the mesh.
+///
+/// A `ModelRecorder` watches the model while an operation edits it (MeshObserver: MeshEditor
+/// and SurfaceMesh tell it before an existing vertex or face is written, and hand it a primitive's
+/// content before it is overwritten or destroyed). `finish` turns what it saw into a `ModelStep`:
+/// - per primitive edited in place: its sizes before and after, the old values of the existing
+///   vertices and faces the step rewrote (moved vertices, deleted marks), attributes it added or
+///   removed; the elements it appended stay in the model (the step holds them while undone);
+/// - a primitive the step replaced or removed (a cut's source, a swallowed primitive) kept by
+///   move, and the model's small parts (nodes, meshes list, skins, animations, materials, ...)
+///   before and after, when anything but the primitives' element data changed (`structure`);
+/// - the root extras (the history) as the text that differs.
+/// Undo and redo give back the model byte for byte. Images are never copied: operations leave
+/// them alone (a step that changes them is not exact).
+///
+/// Operations append vertices and faces and mark faces deleted; they never compact a primitive
+/// or rewrite an existing element behind the observer's back (writes go through MeshEditor, or
+/// call SurfaceMesh::writing_vertex first). An operation may add attributes and remove the ones it
+/// adds; of the attributes present before, it may remove only `f:cut_surface` (saved when the
+/// recording begins).
+
+#include <cstddef>
+#include <memory>
+
+#include "deepcut/core/model.h"
+#include "deepcut/core/model_change.h"
+
+namespace deepcut {
+
+/// One undoable step. Move-only; the step made last is undone first (each works on the state
+/// the previous left).
+class ModelStep {
+ public:
+  ModelStep();
+  ~ModelStep();
+  ModelStep(ModelStep&&) noexcept;
+  ModelStep& operator=(ModelStep&&) noexcept;
+
+  /// Makes `state` the model as one step (a change made outside the operations): the step holds
+  /// the model it replaced (by move, no copy).
+  static ModelStep replace(Model& model, Model state);
+
+  /// Turns `model` (the state right after the step) back into the state before it.
+  /// @returns what that changed.
+  ModelChange undo(Model& model);
+  /// Turns `model` (the state right before the step) into the state after it again.
+  ModelChange redo(Model& model);
+
+  /// What the step changed when it was made.
+  const ModelChange& change() const;
+  /// False when the recorder saw an edit it cannot take back (an attribute removed that was not
+  /// saved, a primitive lost outside the model, images changed): undo would not be exact.
+  bool exact() const;
+  /// Bytes the step holds now (what it keeps of the state not current).
+  std::size_t bytes() const;
+
+ private:
+  friend class ModelRecorder;
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Watches a model while it is edited in place (see the file comment). Only one recorder at a
+/// time per model; the model must outlive it, and no primitive mesh of it may leave the model
+/// for a place that outlives the recording.
+class ModelRecorder {
+ public:
+  explicit ModelRecorder(Model& model);
+  ~ModelRecorder();
+  ModelRecorder(const ModelRecorder&) = delete;
+  ModelRecorder& operator=(const ModelRecorder&) = delete;
+
+  /// The step the edits since the recorder was made form; the model is no longer watched.
+  ModelStep finish();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace deepcut

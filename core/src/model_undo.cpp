@@ -1,0 +1,406 @@
+// SPDX-License-Identifier: MIT
+// Undo records of steps made on a model edited in place: the recorder that watches an operation
+// and the step it makes (model_undo.h).
+#include "deepcut/core/model_undo.h"
+
+#include <algorithm>
+#include <array>
+#include <cstring>
+#include <optional>
+#include <unordered_set>
+#include <utility>
+
+#include "model_undo_parts.h"
+
+namespace deepcut {
+
+using undo::HeldArray;
+using undo::MeshDelta;
+using undo::Place;
+
+namespace {
+
+SurfaceMesh& mesh_at(Model& model, Place p) {
+  return model.meshes[static_cast<std::size_t>(p.mesh)].primitives[static_cast<std::size_t>(p.primitive)].mesh;
+}
+
+/// True when element `i` of some array of `old` differs from element `j` of the same-named
+/// array of `now` (`group` consecutive elements each: 3 for corners).
+bool differs(const AttributeSet& old, std::size_t i, const AttributeSet& now, std::size_t j, std::size_t group = 1) {
+  for (const std::string& name : old.names()) {
+    const AttributeArrayBase* a = old.base(name);
+    const AttributeArrayBase* b = now.base(name);
+    if (!b) return true;
+    if (std::memcmp(a->element_data(i * group), b->element_data(j * group), a->element_bytes() * group) != 0)
+      return true;
+  }
+  return false;
+}
+
+bool contains(const std::vector<std::string>& names, const std::string& name) {
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+/// A ModelChange entry for `delta` at `place`, with the sizes before undo (after the step) or
+/// before redo (before the step).
+PrimitiveChange change_of(const MeshDelta& delta, Place place, bool undoing) {
+  PrimitiveChange c;
+  c.mesh = place.mesh;
+  c.primitive = place.primitive;
+  c.vertices_before = undoing ? delta.v1 : delta.v0;
+  c.faces_before = undoing ? delta.f1 : delta.f0;
+  for (std::uint32_t v : delta.vertices) c.vertices.push_back(VertexId(v));
+  for (std::uint32_t f : delta.faces) c.faces.push_back(FaceId(f));
+  return c;
+}
+
+}  // namespace
+
+// --- the step ---------------------------------------------------------------------------------
+
+struct ModelStep::Impl {
+  struct Edited {
+    std::uint32_t id = 0;
+    Place before, after;  // `after` invalid: the step released the primitive
+    MeshDelta delta;
+  };
+  bool whole = false;  // replace(): `other` is the model not current
+  Model other;
+  bool structure = false, exact = true;
+  std::vector<Edited> edited;  // in the order of their places before
+  undo::TextDelta extras;      // local steps: the root extras (the history)
+  // Structure: every watched primitive's place before and after (invalid: released), the
+  // released ones' content while done, the primitives the step made (places after) and their
+  // content while undone, and the small parts before and after.
+  std::vector<Place> before_all, after_all;
+  std::vector<std::optional<SurfaceMesh>> kept;
+  std::vector<Place> fresh;
+  std::vector<SurfaceMesh> fresh_meshes;
+  Model shell_before, shell_after;
+  ModelChange change;
+
+  ModelChange local(Model& model, bool undoing);
+  void undo_structure(Model& model);
+  void redo_structure(Model& model);
+};
+
+ModelStep::ModelStep() : impl_(std::make_unique<Impl>()) {}
+ModelStep::~ModelStep() = default;
+ModelStep::ModelStep(ModelStep&&) noexcept = default;
+ModelStep& ModelStep::operator=(ModelStep&&) noexcept = default;
+
+ModelStep ModelStep::replace(Model& model, Model state) {
+  ModelStep step;
+  step.impl_->whole = true;
+  step.impl_->structure = true;
+  step.impl_->change.structure = true;
+  step.impl_->other = std::move(model);
+  model = std::move(state);
+  return step;
+}
+
+const ModelChange& ModelStep::change() const { return impl_->change; }
+bool ModelStep::exact() const { return impl_->exact; }
+
+ModelChange ModelStep::Impl::local(Model& model, bool undoing) {
+  ModelChange out;
+  for (Edited& e : edited) {
+    SurfaceMesh& mesh = mesh_at(model, e.before);
+    if (undoing) {
+      e.delta.undo(mesh);
+    } else {
+      e.delta.redo(mesh);
+    }
+    out.primitives.push_back(change_of(e.delta, e.before, undoing));
+  }
+  if (undoing) {
+    extras.undo(model.extras_json);
+  } else {
+    extras.redo(model.extras_json);
+  }
+  return out;
+}
+
+void ModelStep::Impl::undo_structure(Model& model) {
+  std::vector<std::optional<SurfaceMesh>> held(before_all.size());
+  for (std::size_t id = 0; id < held.size(); ++id) {
+    if (after_all[id].valid()) {
+      held[id].emplace(std::move(mesh_at(model, after_all[id])));
+    } else if (kept[id]) {
+      held[id] = std::move(kept[id]);
+      kept[id].reset();
+    }
+  }
+  for (Place p : fresh) fresh_meshes.push_back(std::move(mesh_at(model, p)));
+  for (Edited& e : edited)
+    if (held[e.id]) e.delta.undo(*held[e.id]);
+  undo::restore_shell(model, shell_before);
+  for (std::size_t id = 0; id < held.size(); ++id)
+    if (held[id]) mesh_at(model, before_all[id]) = std::move(*held[id]);
+}
+
+void ModelStep::Impl::redo_structure(Model& model) {
+  std::vector<std::optional<SurfaceMesh>> held(before_all.size());
+  for (std::size_t id = 0; id < held.size(); ++id) held[id].emplace(std::move(mesh_at(model, before_all[id])));
+  for (Edited& e : edited) e.delta.redo(*held[e.id]);
+  undo::restore_shell(model, shell_after);
+  for (std::size_t id = 0; id < held.size(); ++id) {
+    if (after_all[id].valid()) {
+      mesh_at(model, after_all[id]) = std::move(*held[id]);
+    } else {
+      kept[id] = std::move(held[id]);
+    }
+  }
+  for (std::size_t k = 0; k < fresh.size(); ++k) mesh_at(model, fresh[k]) = std::move(fresh_meshes[k]);
+  fresh_meshes.clear();
+}
+
+ModelChange ModelStep::undo(Model& model) {
+  if (impl_->whole) {
+    std::swap(model, impl_->other);
+    return impl_->change;
+  }
+  if (!impl_->structure) return impl_->local(model, true);
+  impl_->undo_structure(model);
+  return impl_->change;
+}
+
+ModelChange ModelStep::redo(Model& model) {
+  if (impl_->whole) {
+    std::swap(model, impl_->other);
+    return impl_->change;
+  }
+  if (!impl_->structure) return impl_->local(model, false);
+  impl_->redo_structure(model);
+  return impl_->change;
+}
+
+std::size_t ModelStep::bytes() const {
+  const Impl& s = *impl_;
+  std::size_t out = sizeof(Impl) + s.extras.bytes();
+  if (s.whole) {
+    for (const Mesh& m : s.other.meshes)
+      for (const Primitive& p : m.primitives) out += p.mesh.capacity_bytes();
+    out += undo::shell_bytes(s.other);
+  }
+  for (const auto& e : s.edited) out += e.delta.bytes();
+  for (const auto& k : s.kept)
+    if (k) out += k->capacity_bytes();
+  for (const auto& m : s.fresh_meshes) out += m.capacity_bytes();
+  if (s.structure && !s.whole) out += undo::shell_bytes(s.shell_before) + undo::shell_bytes(s.shell_after);
+  out += (s.before_all.capacity() + s.after_all.capacity() + s.fresh.capacity()) * sizeof(Place);
+  return out;
+}
+
+// --- the recorder -----------------------------------------------------------------------------
+
+namespace {
+
+/// What the recorder knows of one primitive it watches.
+struct Watched {
+  Place before;
+  std::size_t v0 = 0, f0 = 0;
+  std::array<std::vector<std::string>, 3> names;  // attribute names when the recording began
+  std::unordered_set<std::uint32_t> seen_v, seen_f;
+  std::vector<std::uint32_t> order_v, order_f;  // existing elements written, first write first
+  std::array<AttributeSet, 3> old;              // their values before (start names; 3 per face for corners)
+  std::vector<Triangle> old_corners;
+  std::vector<std::uint8_t> old_deleted;
+  std::vector<HeldArray> saved;  // attributes an operation may remove, as they were
+  std::optional<SurfaceMesh> released;
+};
+
+}  // namespace
+
+struct ModelRecorder::Impl final : MeshObserver {
+  Model& model;
+  Model shell;
+  std::vector<Watched> watched;
+  std::vector<std::pair<const void*, std::size_t>> images;
+  bool exact = true;
+
+  explicit Impl(Model& m);
+  void unwatch_all();
+  void vertex_writing(std::uint32_t id, const SurfaceMesh& mesh, VertexId v) override;
+  void face_writing(std::uint32_t id, const SurfaceMesh& mesh, FaceId f) override;
+  void released(std::uint32_t id, SurfaceMesh&& content) noexcept override;
+  MeshDelta delta_of(Watched& w, const SurfaceMesh& now);
+  void keep_changed_vertices(Watched& w, const SurfaceMesh& now, MeshDelta& d);
+  void keep_changed_faces(Watched& w, const SurfaceMesh& now, MeshDelta& d);
+};
+
+ModelRecorder::Impl::Impl(Model& m) : model(m), shell(undo::shell_of(m)) {
+  for (const Image& image : m.images) images.emplace_back(image.data.data(), image.data.size());
+  for (std::size_t mi = 0; mi < m.meshes.size(); ++mi)
+    for (std::size_t pi = 0; pi < m.meshes[mi].primitives.size(); ++pi) {
+      SurfaceMesh& mesh = m.meshes[mi].primitives[pi].mesh;
+      Watched w;
+      w.before = {static_cast<int>(mi), static_cast<int>(pi)};
+      w.v0 = mesh.vertex_count();
+      w.f0 = mesh.face_slots();
+      for (int kind = 0; kind < 3; ++kind) {
+        w.names[static_cast<std::size_t>(kind)] = undo::attrs(mesh, kind).names();
+        w.old[static_cast<std::size_t>(kind)] = undo::attrs(mesh, kind).subset({});
+      }
+      if (const AttributeArrayBase* flag = mesh.face_attrs().base(attr::kCutSurface))
+        w.saved.push_back({1, attr::kCutSurface, flag->clone()});
+      mesh.watch(this, static_cast<std::uint32_t>(watched.size()));
+      watched.push_back(std::move(w));
+    }
+}
+
+void ModelRecorder::Impl::unwatch_all() {
+  for (Mesh& m : model.meshes)
+    for (Primitive& p : m.primitives)
+      if (p.mesh.observer() == this) p.mesh.watch(nullptr, 0);
+}
+
+void ModelRecorder::Impl::vertex_writing(std::uint32_t id, const SurfaceMesh& mesh, VertexId v) {
+  Watched& w = watched[id];
+  if (v.index >= w.v0 || !w.seen_v.insert(v.index).second) return;
+  w.order_v.push_back(v.index);
+  try {
+    w.old[0].append_from(mesh.vertex_attrs(), v.index, v.index + 1);
+  } catch (const Error&) {
+    exact = false;  // an attribute it had is gone: the old value cannot be kept
+  }
+}
+
+void ModelRecorder::Impl::face_writing(std::uint32_t id, const SurfaceMesh& mesh, FaceId f) {
+  Watched& w = watched[id];
+  if (f.index >= w.f0 || !w.seen_f.insert(f.index).second) return;
+  w.order_f.push_back(f.index);
+  w.old_corners.push_back(mesh.face(f));
+  w.old_deleted.push_back(mesh.is_deleted(f) ? 1 : 0);
+  try {
+    w.old[1].append_from(mesh.face_attrs(), f.index, f.index + 1);
+    w.old[2].append_from(mesh.corner_attrs(), 3 * std::size_t(f.index), 3 * std::size_t(f.index) + 3);
+  } catch (const Error&) {
+    exact = false;
+  }
+}
+
+void ModelRecorder::Impl::released(std::uint32_t id, SurfaceMesh&& content) noexcept {
+  watched[id].released.emplace(std::move(content));
+}
+
+void ModelRecorder::Impl::keep_changed_vertices(Watched& w, const SurfaceMesh& now, MeshDelta& d) {
+  std::vector<std::uint32_t> keep;  // indices into order_v
+  for (std::uint32_t i = 0; i < w.order_v.size(); ++i)
+    if (differs(w.old[0], i, now.vertex_attrs(), w.order_v[i])) keep.push_back(i);
+  std::sort(keep.begin(), keep.end(), [&](std::uint32_t a, std::uint32_t b) { return w.order_v[a] < w.order_v[b]; });
+  for (std::uint32_t i : keep) d.vertices.push_back(w.order_v[i]);
+  d.vertex_values = w.old[0].subset(keep);
+}
+
+void ModelRecorder::Impl::keep_changed_faces(Watched& w, const SurfaceMesh& now, MeshDelta& d) {
+  std::vector<std::uint32_t> keep, keep3;
+  for (std::uint32_t i = 0; i < w.order_f.size(); ++i) {
+    const FaceId f(w.order_f[i]);
+    if (w.old_corners[i] != now.face(f) || (w.old_deleted[i] != 0) != now.is_deleted(f) ||
+        differs(w.old[1], i, now.face_attrs(), f.index) || differs(w.old[2], i, now.corner_attrs(), f.index, 3))
+      keep.push_back(i);
+  }
+  std::sort(keep.begin(), keep.end(), [&](std::uint32_t a, std::uint32_t b) { return w.order_f[a] < w.order_f[b]; });
+  for (std::uint32_t i : keep) {
+    d.faces.push_back(w.order_f[i]);
+    d.corners.push_back(w.old_corners[i]);
+    d.deleted.push_back(w.old_deleted[i]);
+    for (std::uint32_t k = 0; k < 3; ++k) keep3.push_back(3 * i + k);
+  }
+  d.face_values = w.old[1].subset(keep);
+  d.corner_values = w.old[2].subset(keep3);
+}
+
+MeshDelta ModelRecorder::Impl::delta_of(Watched& w, const SurfaceMesh& now) {
+  MeshDelta d;
+  d.v0 = w.v0;
+  d.f0 = w.f0;
+  d.v1 = now.vertex_count();
+  d.f1 = now.face_slots();
+  if (d.v1 < d.v0 || d.f1 < d.f0) exact = false;  // shrunk in place: not an edit this records
+  for (int kind = 0; kind < 3; ++kind) {
+    const auto k = static_cast<std::size_t>(kind);
+    const std::vector<std::string> names = undo::attrs(now, kind).names();
+    for (const std::string& n : names)
+      if (!contains(w.names[k], n)) d.added.push_back({kind, n, nullptr});
+    for (const std::string& n : w.names[k]) {
+      if (contains(names, n)) continue;
+      w.old[k].take(n);  // the old values keep the attributes both states have
+      auto saved = std::find_if(w.saved.begin(), w.saved.end(),
+                                [&](const HeldArray& h) { return h.kind == kind && h.name == n; });
+      if (saved == w.saved.end()) {
+        exact = false;
+        continue;
+      }
+      d.removed.push_back(std::move(*saved));
+      w.saved.erase(saved);
+    }
+  }
+  keep_changed_vertices(w, now, d);
+  keep_changed_faces(w, now, d);
+  return d;
+}
+
+ModelRecorder::ModelRecorder(Model& model) : impl_(std::make_unique<Impl>(model)) {}
+
+ModelRecorder::~ModelRecorder() {
+  if (impl_) impl_->unwatch_all();
+}
+
+ModelStep ModelRecorder::finish() {
+  Impl& r = *impl_;
+  ModelStep step;
+  ModelStep::Impl& s = *step.impl_;
+  const std::size_t n = r.watched.size();
+  std::vector<Place> after(n);
+  std::vector<Place> fresh;
+  for (std::size_t mi = 0; mi < r.model.meshes.size(); ++mi)
+    for (std::size_t pi = 0; pi < r.model.meshes[mi].primitives.size(); ++pi) {
+      SurfaceMesh& mesh = r.model.meshes[mi].primitives[pi].mesh;
+      const Place place{static_cast<int>(mi), static_cast<int>(pi)};
+      if (mesh.observer() == &r) {
+        after[mesh.observer_id()] = place;
+        mesh.watch(nullptr, 0);
+      } else {
+        fresh.push_back(place);
+      }
+    }
+  bool local = fresh.empty();
+  for (std::uint32_t id = 0; id < n; ++id) {
+    Watched& w = r.watched[id];
+    local = local && after[id] == w.before;
+    SurfaceMesh* now = after[id].valid() ? &mesh_at(r.model, after[id]) : w.released ? &*w.released : nullptr;
+    if (!now) {
+      r.exact = false;  // it left the model for somewhere the recorder cannot see
+      continue;
+    }
+    MeshDelta d = r.delta_of(w, *now);
+    if (!d.empty()) s.edited.push_back({id, w.before, after[id], std::move(d)});
+  }
+  std::vector<std::pair<const void*, std::size_t>> images;
+  for (const Image& image : r.model.images) images.emplace_back(image.data.data(), image.data.size());
+  if (images != r.images) r.exact = false;
+  local = local && same_structure(r.shell, r.model, false);
+  s.exact = r.exact;
+  if (local) {
+    s.extras = undo::TextDelta::make(r.shell.extras_json, r.model.extras_json);
+    for (const auto& e : s.edited) s.change.primitives.push_back(change_of(e.delta, e.before, false));
+    return step;
+  }
+  s.structure = true;
+  s.change.structure = true;
+  s.before_all.resize(n);
+  s.kept.resize(n);
+  for (std::uint32_t id = 0; id < n; ++id) {
+    s.before_all[id] = r.watched[id].before;
+    if (!after[id].valid()) s.kept[id] = std::move(r.watched[id].released);
+  }
+  s.after_all = std::move(after);
+  s.fresh = std::move(fresh);
+  s.shell_before = std::move(r.shell);
+  s.shell_after = undo::shell_of(r.model);
+  return step;
+}
+
+}  // namespace deepcut

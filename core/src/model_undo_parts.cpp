@@ -1,0 +1,134 @@
+// SPDX-License-Identifier: MIT
+// The parts of an undo record: one primitive's in-place edit, the model's small parts, the text
+// of the root extras that changed.
+#include "model_undo_parts.h"
+
+#include <algorithm>
+
+namespace deepcut::undo {
+
+AttributeSet& attrs(SurfaceMesh& mesh, int kind) {
+  return kind == 0 ? mesh.vertex_attrs() : kind == 1 ? mesh.face_attrs() : mesh.corner_attrs();
+}
+
+const AttributeSet& attrs(const SurfaceMesh& mesh, int kind) {
+  return kind == 0 ? mesh.vertex_attrs() : kind == 1 ? mesh.face_attrs() : mesh.corner_attrs();
+}
+
+void MeshDelta::swap_existing(SurfaceMesh& mesh) {
+  for (std::size_t i = 0; i < vertices.size(); ++i) mesh.vertex_attrs().swap_elements(vertex_values, vertices[i], i);
+  for (std::size_t i = 0; i < faces.size(); ++i) {
+    const std::uint32_t f = faces[i];
+    mesh.swap_face(FaceId(f), corners[i], deleted[i]);
+    mesh.face_attrs().swap_elements(face_values, f, i);
+    for (std::size_t k = 0; k < 3; ++k) mesh.corner_attrs().swap_elements(corner_values, 3 * f + k, 3 * i + k);
+  }
+}
+
+void MeshDelta::undo(SurfaceMesh& mesh) {
+  swap_existing(mesh);
+  for (HeldArray& a : added) a.array = attrs(mesh, a.kind).take(a.name);
+  tail = mesh.take_tail(v0, f0);
+  for (HeldArray& r : removed) attrs(mesh, r.kind).put(r.name, std::move(r.array));
+}
+
+void MeshDelta::redo(SurfaceMesh& mesh) {
+  for (HeldArray& r : removed) r.array = attrs(mesh, r.kind).take(r.name);
+  if (tail) mesh.append_tail(*tail);
+  tail.reset();
+  for (HeldArray& a : added) attrs(mesh, a.kind).put(a.name, std::move(a.array));
+  swap_existing(mesh);
+}
+
+std::size_t MeshDelta::bytes() const {
+  std::size_t out = sizeof(MeshDelta) + (vertices.capacity() + faces.capacity()) * sizeof(std::uint32_t) +
+                    corners.capacity() * sizeof(Triangle) + deleted.capacity() + vertex_values.capacity_bytes() +
+                    face_values.capacity_bytes() + corner_values.capacity_bytes();
+  if (tail) out += tail->bytes();
+  for (const HeldArray& a : added)
+    if (a.array) out += a.array->capacity_bytes();
+  for (const HeldArray& r : removed)
+    if (r.array) out += r.array->capacity_bytes();
+  return out;
+}
+
+Model shell_of(const Model& model) {
+  Model shell;
+  shell.nodes = model.nodes;
+  shell.scenes = model.scenes;
+  shell.default_scene = model.default_scene;
+  shell.skins = model.skins;
+  shell.animations = model.animations;
+  shell.meshes.reserve(model.meshes.size());
+  for (const Mesh& m : model.meshes) {
+    Mesh copy;
+    copy.name = m.name;
+    copy.extras_json = m.extras_json;
+    copy.weights = m.weights;
+    copy.target_names = m.target_names;
+    copy.primitives.reserve(m.primitives.size());
+    for (const Primitive& p : m.primitives) {
+      Primitive q;
+      q.material = p.material;
+      q.extras_json = p.extras_json;
+      q.gltf_vertices = p.gltf_vertices;
+      q.welded_merged = p.welded_merged;
+      q.mesh.assign({}, p.mesh.vertex_attrs().subset({}), p.mesh.face_attrs().subset({}),
+                    p.mesh.corner_attrs().subset({}));
+      copy.primitives.push_back(std::move(q));
+    }
+    shell.meshes.push_back(std::move(copy));
+  }
+  shell.materials = model.materials;
+  shell.textures = model.textures;
+  shell.samplers = model.samplers;
+  shell.cameras = model.cameras;
+  shell.extensions_used = model.extensions_used;
+  shell.extensions_required = model.extensions_required;
+  shell.extras_json = model.extras_json;
+  shell.extensions_json = model.extensions_json;
+  shell.asset_copyright = model.asset_copyright;
+  shell.asset_extras_json = model.asset_extras_json;
+  shell.import_problems = model.import_problems;
+  return shell;
+}
+
+void restore_shell(Model& model, const Model& shell) {
+  std::vector<Image> images = std::move(model.images);
+  model = shell;
+  model.images = std::move(images);
+}
+
+std::size_t shell_bytes(const Model& shell) {
+  std::size_t out = sizeof(Model) + shell.extras_json.capacity();
+  for (const Node& n : shell.nodes)
+    out += sizeof(Node) + n.name.capacity() + n.children.capacity() * sizeof(int) + n.weights.capacity() * 4 +
+           n.extras_json.capacity() + n.extensions_json.capacity();
+  for (const Skin& s : shell.skins)
+    out += sizeof(Skin) + s.joints.capacity() * sizeof(int) + s.inverse_bind_matrices.capacity() * sizeof(glm::mat4);
+  for (const Animation& a : shell.animations) {
+    out += sizeof(Animation) + a.channels.capacity() * sizeof(AnimationChannel);
+    for (const AnimationSampler& s : a.samplers)
+      out += sizeof(AnimationSampler) + (s.input.capacity() + s.output.capacity()) * sizeof(float);
+  }
+  for (const Mesh& m : shell.meshes) out += sizeof(Mesh) + m.extras_json.capacity() + m.primitives.size() * 512;
+  for (const auto* list : {&shell.materials, &shell.textures, &shell.samplers, &shell.cameras})
+    for (const PassthroughObject& o : *list) out += sizeof(PassthroughObject) + o.name.capacity() + o.json.capacity();
+  return out;
+}
+
+TextDelta TextDelta::make(const std::string& before, const std::string& after) {
+  TextDelta d;
+  const std::size_t n = std::min(before.size(), after.size());
+  while (d.head < n && before[d.head] == after[d.head]) ++d.head;
+  while (d.tail < n - d.head && before[before.size() - 1 - d.tail] == after[after.size() - 1 - d.tail]) ++d.tail;
+  d.before = before.substr(d.head, before.size() - d.head - d.tail);
+  d.after = after.substr(d.head, after.size() - d.head - d.tail);
+  return d;
+}
+
+void TextDelta::undo(std::string& text) const { text.replace(head, after.size(), before); }
+
+void TextDelta::redo(std::string& text) const { text.replace(head, before.size(), after); }
+
+}  // namespace deepcut::undo

@@ -1,0 +1,237 @@
+// SPDX-License-Identifier: MIT
+// Undo by edit record: for seeded sequences of drills, tears and cuts through a Session, the
+// change every step reports (apply, undo, redo) equals diff_models of copies taken before and
+// after it, undo and redo give back those copies byte for byte, the posed model follows local
+// undos and redos as a fresh build would, and the bytes the undo stack holds for a small drill on
+// a big generated mesh follow the edit, not the model.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "deepcut/core/generate/cactus.h"
+#include "deepcut/core/io/gltf.h"
+#include "deepcut/core/model_change.h"
+#include "deepcut/core/posed_model.h"
+#include "session.h"
+
+namespace deepcut::session {
+namespace {
+
+/// The model's bytes: every primitive's arrays (room reserved included).
+std::size_t model_bytes(const Model& model) {
+  std::size_t out = 0;
+  for (const Mesh& m : model.meshes)
+    for (const Primitive& p : m.primitives) out += p.mesh.capacity_bytes();
+  return out;
+}
+
+/// Every element of both models, byte for byte (faces, deleted marks, attribute arrays), and the
+/// small parts.
+void expect_same(const Model& a, const Model& b, const std::string& when) {
+  ASSERT_TRUE(same_structure(a, b)) << when;
+  EXPECT_EQ(a.extras_json, b.extras_json) << when;
+  const ModelChange d = diff_models(a, b);
+  EXPECT_TRUE(d.empty()) << when << ": " << d.primitives.size() << " primitives differ";
+}
+
+void expect_change(const ModelChange& got, const ModelChange& want, const std::string& when) {
+  ASSERT_EQ(got.structure, want.structure) << when;
+  if (want.structure) return;
+  ASSERT_EQ(got.primitives.size(), want.primitives.size()) << when;
+  for (std::size_t i = 0; i < want.primitives.size(); ++i) {
+    const PrimitiveChange &g = got.primitives[i], &w = want.primitives[i];
+    EXPECT_EQ(g.mesh, w.mesh) << when;
+    EXPECT_EQ(g.primitive, w.primitive) << when;
+    EXPECT_EQ(g.vertices_before, w.vertices_before) << when;
+    EXPECT_EQ(g.faces_before, w.faces_before) << when;
+    EXPECT_TRUE(g.vertices == w.vertices) << when << ": " << g.vertices.size() << " vertices vs " << w.vertices.size();
+    EXPECT_TRUE(g.faces == w.faces) << when << ": " << g.faces.size() << " faces vs " << w.faces.size();
+  }
+}
+
+/// The posed model, when the session has one, equals a fresh build at its pose.
+void expect_posed_fresh(const Session& session, const std::string& when) {
+  const PosedModel* posed = session.posed_model();
+  if (!posed) return;
+  const PosedModel fresh = PosedModel::build(*session.current(), posed->key());
+  ASSERT_EQ(posed->size(), fresh.size()) << when;
+  for (const auto& [key, want] : fresh.instances()) {
+    const PosedMesh* got = posed->find(key.first, key.second);
+    ASSERT_NE(got, nullptr) << when;
+    EXPECT_TRUE(got->posed == want.posed) << when;
+    EXPECT_TRUE(got->linear == want.linear) << when;
+    EXPECT_TRUE(got->bounds.min == want.bounds.min && got->bounds.max == want.bounds.max) << when;
+    EXPECT_EQ(got->grid.face_count(), want.grid.face_count()) << when;
+    EXPECT_TRUE(got->grid.query_box(want.bounds) == want.grid.query_box(want.bounds)) << when;
+  }
+}
+
+/// Seeded operations around the middle of `box` (a linear congruential sequence).
+class Operations {
+ public:
+  Operations(const BoundingBox& box, std::uint32_t seed) : box_(box), state_(seed) {}
+  float next() {
+    state_ = state_ * 1664525u + 1013904223u;
+    return static_cast<float>(state_ >> 8) / static_cast<float>(1u << 24);
+  }
+  glm::vec3 centre() const { return 0.5f * (box_.min + box_.max); }
+  float size() const { return box_.diagonal(); }
+  Operation drill(float radius) {
+    const glm::vec3 c = centre() + glm::vec3((next() - 0.5f) * 0.1f * size(), (next() - 0.5f) * 0.6f * size(), 0.0f);
+    DrillOperation d;
+    d.cylinder = {c - glm::vec3(0.0f, 0.0f, size()), c + glm::vec3(0.0f, 0.0f, size()), radius * size()};
+    d.options.wall = next() < 0.3f;
+    return Operation{d, -1, 0.0f};
+  }
+  Operation tear() {
+    const glm::vec3 d(0.0f, 0.0f, -1.0f), up(0.0f, 1.0f, 0.0f);
+    const glm::vec3 c = centre() + glm::vec3((next() - 0.5f) * 0.2f * size(), (next() - 0.5f) * 0.4f * size(), 0.0f);
+    const float depth = 0.5f * (box_.max.z - box_.min.z), height = 0.1f * (box_.max.y - box_.min.y);
+    TearOperation t;
+    t.start = {c - 1.5f * depth * d + height * up, c + height * up};
+    t.end = {c - 1.5f * depth * d - height * up, c - height * up};
+    return Operation{t, -1, 0.0f};
+  }
+  Operation cut() {
+    CutOperation cut;
+    cut.plane.point = centre() + glm::vec3(0.0f, (next() - 0.5f) * 0.6f * size(), 0.0f);
+    cut.plane.normal = glm::vec3(next() - 0.5f, 1.0f, next() - 0.5f);
+    return Operation{cut, -1, 0.0f};
+  }
+  Operation any() {
+    const float r = next();
+    return r < 0.45f ? drill(0.01f + 0.02f * next()) : r < 0.85f ? tear() : cut();
+  }
+
+ private:
+  BoundingBox box_;
+  std::uint32_t state_;
+};
+
+BoundingBox rest_bounds(const Model& model) {
+  BoundingBox box;
+  const PosedModel rest = PosedModel::build(model, -1, 0.0f);
+  for (const auto& [key, mesh] : rest.instances()) box.add(mesh.bounds);
+  return box;
+}
+
+std::shared_ptr<const Model> cactus(std::size_t triangles) {
+  CactusOptions options;
+  options.target_triangles = triangles;
+  Model model = make_cactus(options);
+  reserve_for_operations(model);
+  return std::make_shared<const Model>(std::move(model));
+}
+
+TEST(UndoRecordTest, every_step_reports_what_diff_models_finds_and_undo_redo_are_exact) {
+  for (const std::uint32_t seed : {1u, 2u, 3u}) {
+    Session session;
+    session.open(cactus(20000));
+    ASSERT_TRUE(session.refresh_posed_model(-1, 0.0f));
+    Operations ops(rest_bounds(*session.current()), seed);
+    std::vector<Model> states = {*session.current()};  // copies, after each step
+    for (int i = 0; i < 12; ++i) {
+      const std::string when = "seed " + std::to_string(seed) + " operation " + std::to_string(i);
+      const Applied applied = session.apply(ops.any());
+      if (applied.result.status != OpStatus::Ok) {
+        EXPECT_TRUE(applied.change.empty()) << when;
+        continue;
+      }
+      expect_change(applied.change, diff_models(states.back(), *session.current()), when);
+      std::printf("%s: %s, %zu primitives, posed model %s\n", when.c_str(), applied.change.structure ? "structure" : "local",
+                  applied.change.primitives.size(), session.posed_model() ? "kept" : "none");
+      states.push_back(*session.current());
+      expect_posed_fresh(session, when);
+    }
+    ASSERT_GE(states.size(), 6u);
+    for (std::size_t i = states.size() - 1; i-- > 0;) {
+      const std::string when = "seed " + std::to_string(seed) + " undo to " + std::to_string(i);
+      const ModelChange change = session.undo();
+      std::printf("%s: %s, posed model %s\n", when.c_str(), change.structure ? "structure" : "local",
+                  session.posed_model() ? "followed" : "none");
+      expect_change(change, diff_models(states[i + 1], states[i]), when);
+      expect_same(*session.current(), states[i], when);
+      expect_posed_fresh(session, when);
+    }
+    for (std::size_t i = 1; i < states.size(); ++i) {
+      const std::string when = "seed " + std::to_string(seed) + " redo to " + std::to_string(i);
+      const ModelChange change = session.redo();
+      expect_change(change, diff_models(states[i - 1], states[i]), when);
+      expect_same(*session.current(), states[i], when);
+      expect_posed_fresh(session, when);
+    }
+    // Half undone, a new operation on the followed posed model drops the rest.
+    for (std::size_t i = 0; i < states.size() / 2; ++i) session.undo();
+    const Applied applied = session.apply(ops.drill(0.02f));
+    if (applied.result.status == OpStatus::Ok) expect_posed_fresh(session, "after undo then drill");
+    EXPECT_FALSE(session.can_redo());
+  }
+}
+
+TEST(UndoRecordTest, a_small_drill_on_a_big_mesh_holds_bytes_of_the_edit_not_of_the_model) {
+  Session session;
+  session.open(cactus(400000));
+  const std::size_t model = model_bytes(*session.current());
+  Operations ops(rest_bounds(*session.current()), 11);
+  std::size_t held = session.undo_bytes();
+  int drills = 0;
+  for (int i = 0; i < 10; ++i) {
+    Operation op = ops.drill(0.004f);
+    std::get<DrillOperation>(op.params).options.wall = false;
+    if (session.apply(op).result.status != OpStatus::Ok) continue;
+    ++drills;
+    const std::size_t now = session.undo_bytes();
+    std::printf("drill %d: the undo stack grew by %zu bytes (model %zu bytes)\n", i, now - held, model);
+    // Each step holds what it touched: far below the model (a copy would be 100%).
+    EXPECT_LT(now - held, model / 100) << "drill " << i << ": " << (now - held) << " bytes of " << model;
+    EXPECT_LT(now - held, std::size_t(1) << 20) << "drill " << i;
+    held = now;
+  }
+  EXPECT_GE(drills, 5);
+  const Model copy = *session.current();
+  while (session.can_undo()) session.undo();
+  while (session.can_redo()) session.redo();
+  expect_same(*session.current(), copy, "after undo and redo all");
+}
+
+TEST(UndoRecordTest, a_tear_on_a_shared_mesh_and_a_walled_drill_are_structure_and_exact) {
+  // Two nodes drawing one mesh: a tear copies it for the instance it tears.
+  Model model = *cactus(20000);
+  Node twin = model.nodes[0];
+  for (Node& n : model.nodes)
+    if (n.mesh >= 0) twin = n;
+  twin.children.clear();
+  twin.name = "twin";
+  twin.translation += glm::vec3(100.0f, 0.0f, 0.0f);
+  model.nodes.push_back(twin);
+  model.scenes[0].push_back(static_cast<int>(model.nodes.size() - 1));
+  Session session;
+  session.open(std::make_shared<const Model>(model));
+  Operations ops(rest_bounds(model), 5);
+  int structural = 0;
+  std::vector<Model> states = {*session.current()};
+  for (int i = 0; i < 6; ++i) {
+    Operation op = i % 2 ? ops.tear() : ops.drill(0.02f);
+    if (i % 2 == 0) std::get<DrillOperation>(op.params).options.wall = true;
+    const Applied applied = session.apply(op);
+    if (applied.result.status != OpStatus::Ok) continue;
+    structural += applied.change.structure;
+    expect_change(applied.change, diff_models(states.back(), *session.current()), "operation " + std::to_string(i));
+    states.push_back(*session.current());
+  }
+  EXPECT_GE(structural, 1);
+  for (std::size_t i = states.size() - 1; i-- > 0;) {
+    session.undo();
+    expect_same(*session.current(), states[i], "undo to " + std::to_string(i));
+  }
+  for (std::size_t i = 1; i < states.size(); ++i) {
+    session.redo();
+    expect_same(*session.current(), states[i], "redo to " + std::to_string(i));
+  }
+}
+
+}  // namespace
+}  // namespace deepcut::session
