@@ -43,6 +43,15 @@ inline std::unique_ptr<MainWindow> shown_window(bool error_dialogs = false) {
   return window;
 }
 
+/// The glTF bytes of the window's model now, written as a temporary NAME.glb without going
+/// through the studio (no export noted): the session edits its model in place, so a state is
+/// kept by its bytes, not by holding the model.
+inline std::string model_bytes(MainWindow& window, const std::string& name) {
+  const std::string path = temp_dir("studio-states") + "/" + name + ".glb";
+  write_gltf(*window.model(), path);
+  return read_bytes(path);
+}
+
 /// Exports the window's model to DIR/NAME.glb. @returns the file's bytes ("" if the export failed).
 inline std::string export_bytes(MainWindow& window, const std::string& dir, const std::string& name) {
   const std::string path = dir + "/" + name + ".glb";
