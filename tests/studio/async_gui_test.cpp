@@ -33,6 +33,7 @@ namespace {
 
 using deepcut::studio::BackgroundTask;
 using deepcut::studio::MainWindow;
+using deepcut::test::studio::model_bytes;
 using deepcut::test::studio::read_bytes;
 
 /// A generated cactus of about 1M triangles (written once per run).
@@ -174,6 +175,7 @@ class StudioAsyncTest : public QObject {
     window->set_tool("drill");
     QVERIFY(window->apply_tool());
     const std::shared_ptr<const deepcut::Model> model = window->model();
+    const std::string bytes = model_bytes(*window, "open-cancelled-before");  // the model is edited in place
     const auto* scene = window->scene();
     const auto* scene_model = scene->model.get();
     const int undo_count = window->history()->count();
@@ -184,6 +186,7 @@ class StudioAsyncTest : public QObject {
     QVERIFY(!window->open_file(path));
     QVERIFY(!window->task()->busy());
     QCOMPARE(window->model(), model);
+    QVERIFY(model_bytes(*window, "open-cancelled-after") == bytes);
     QCOMPARE(window->scene(), scene);
     QCOMPARE(window->scene()->model.get(), scene_model);
     QCOMPARE(window->history()->count(), undo_count);
@@ -226,8 +229,10 @@ class StudioAsyncTest : public QObject {
     QVERIFY2(window->apply_tool(), qPrintable(window->last_error()));
     window->set_tool("cut");
     QVERIFY2(window->apply_tool(), qPrintable(window->last_error()));
+    const std::string live_bytes = model_bytes(*window, "rerun-live");
     QVERIFY(window->edit_operation(0));
     const std::shared_ptr<const deepcut::Model> before = window->model();
+    const std::string base_bytes = model_bytes(*window, "rerun-base");  // the edit's base, shown
     const int steps = window->history()->count();
 
     // Cancelled at the first stage: still editing operation 1, nothing else changed.
@@ -242,6 +247,7 @@ class StudioAsyncTest : public QObject {
     QVERIFY2(stages.value(0).startsWith("operation 1 of 2"), qPrintable(stages.join(", ")));
     QCOMPARE(window->editing_operation(), 0);
     QCOMPARE(window->model(), before);
+    QVERIFY(model_bytes(*window, "rerun-base-kept") == base_bytes);  // the worker edited a copy
     QCOMPARE(window->history()->count(), steps);
     QCOMPARE(window->operations().size(), std::size_t(2));
 
@@ -250,6 +256,13 @@ class StudioAsyncTest : public QObject {
     QCOMPARE(window->editing_operation(), -1);
     QCOMPARE(window->history()->count(), steps + 1);
     QVERIFY(window->model() != before);
+    const std::string rerun_bytes = model_bytes(*window, "rerun-result");
+    // The re-run is one step on the live model: undo gives back the state before the edit,
+    // redo the re-run's, byte for byte.
+    window->undo_action()->trigger();
+    QVERIFY(model_bytes(*window, "rerun-undone") == live_bytes);
+    window->redo_action()->trigger();
+    QVERIFY(model_bytes(*window, "rerun-redone") == rerun_bytes);
   }
 
   void an_export_is_complete_or_absent_never_partial() {
