@@ -63,25 +63,24 @@ ModelChange structure() {
 
 }  // namespace
 
-void Session::open(std::shared_ptr<const Model> model) {
+void Session::open(std::shared_ptr<const Model> model, bool take_over) {
   if (before_change_) before_change_();
   editing_ = {};
   steps_.clear();
   done_ = 0;
-  live_ = model ? own(std::move(model)) : nullptr;
+  if (take_over) {
+    live_ = std::const_pointer_cast<Model>(std::move(model));
+  } else {
+    live_ = model ? own(std::move(model)) : nullptr;
+  }
   current_ = live_;
   opened_operations_ = live_ ? model_history(*live_).operations.size() : 0;
   posed_.reset();
   posed_state_ = nullptr;
 }
 
-void Session::open(std::shared_ptr<Model> model, std::unique_ptr<PosedModel> posed) {
-  // Taken over, never copied: whoever else holds `model` (the scene built from it) draws the
-  // live model from now on.
-  open(std::shared_ptr<const Model>());
-  live_ = std::move(model);
-  current_ = live_;
-  opened_operations_ = live_ ? model_history(*live_).operations.size() : 0;
+void Session::open(std::shared_ptr<const Model> model, std::unique_ptr<PosedModel> posed) {
+  open(std::move(model), /*take_over=*/true);
   if (!posed || !live_) return;
   posed_ = std::move(posed);
   posed_state_ = live_.get();

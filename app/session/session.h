@@ -78,15 +78,15 @@ class Session {
 
   /// Starts anew from `model` (as opened: edited histories re-run from it). Clears the undo
   /// stack, the operations list and the posed model. The session edits its own model: it takes
-  /// `model` over when the caller hands it the only reference, else copies it. Callers reserve
-  /// room first (`reserve_for_operations`), so the first operations do not reallocate.
-  /// The whole model changed (structure) for whoever draws it.
-  void open(std::shared_ptr<const Model> model);
-  /// As `open`, but `model` is taken over even when others hold it (the studio's scene built
-  /// from it off the UI thread: it then draws the live model, and no O(mesh) copy is made on
-  /// the UI thread), with `posed` (built elsewhere for `model`; nullptr: none) as the posed
-  /// model. Whoever holds `model` sees it change with every operation, undo and redo.
-  void open(std::shared_ptr<Model> model, std::unique_ptr<PosedModel> posed);
+  /// `model` over when the caller hands it the only reference or `take_over` is set (the studio:
+  /// its scene draws that very model, which then changes with every step), else copies it.
+  /// Callers reserve room first (`reserve_for_operations`), so the first operations do not
+  /// reallocate. The whole model changed (structure) for whoever draws it.
+  void open(std::shared_ptr<const Model> model, bool take_over = false);
+  /// As `open(model, true)` (taken over: the studio's scene built from it off the UI thread
+  /// draws the live model, and no O(mesh) copy is made on the UI thread), with `posed` (built
+  /// elsewhere for `model`; nullptr: none) as the posed model.
+  void open(std::shared_ptr<const Model> model, std::unique_ptr<PosedModel> posed);
 
   /// The current state (null before `open`): the live model, edited in place by every
   /// operation, undo and redo (the pointer stays the same; what it points to changes). While

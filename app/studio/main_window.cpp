@@ -436,7 +436,7 @@ BackgroundTask::Job MainWindow::open_job(const QString& path, std::shared_ptr<QE
     progress.stage("Preparing");
     reserve_for_operations(loaded);  // room to grow: the first operations do not reallocate
     auto opened = std::make_shared<OpenedModel>();
-    opened->model = std::make_shared<Model>(std::move(loaded));
+    opened->model = std::make_shared<const Model>(std::move(loaded));
     progress.stage("Posing");
     const int animation = opened->model->animations.empty() ? -1 : 0;
     opened->scene = plugins::make_scene(opened->model, animation, 0.0f);

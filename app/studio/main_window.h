@@ -214,7 +214,7 @@ class MainWindow : public QMainWindow {
   void choose_export();
   /// What opening a file makes off the UI thread before anything visible changes.
   struct OpenedModel {
-    std::shared_ptr<Model> model;  // the session takes it over: the scene draws the live model
+    std::shared_ptr<const Model> model;  // the session takes it over: the scene draws the live model
     plugins::Scene scene;
     std::unique_ptr<PosedModel> posed;  // the operations' posed model at the scene's pose
     std::shared_ptr<const SceneView::Prepared> drawn;  // the scene's VTK data

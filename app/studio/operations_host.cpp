@@ -46,9 +46,9 @@ QWidget* OperationsHost::create_panel(QWidget* parent) {
 
 QListWidget* OperationsHost::operations_list() const { return panel_->operations_list(); }
 
-void OperationsHost::open(std::shared_ptr<Model> model, std::unique_ptr<PosedModel> posed) {
+void OperationsHost::open(std::shared_ptr<const Model> model, std::unique_ptr<PosedModel> posed) {
   undo_stack_->clear();
-  session_.open(std::move(model), std::move(posed));
+  session_.open(std::move(model), std::move(posed));  // taken over: the scene draws the session's live model
 }
 
 void OperationsHost::push_step(const QString& label, const ModelChange& change) {

@@ -40,9 +40,10 @@ class OperationsHost : public QObject {
   QWidget* create_panel(QWidget* parent);
   QListWidget* operations_list() const;
 
-  /// Starts anew from `model` (no undo steps, no operations), taken over by the session
-  /// (Session::open with a posed model: no copy), with `posed` built for it (or nullptr).
-  void open(std::shared_ptr<Model> model, std::unique_ptr<PosedModel> posed);
+  /// Starts anew from `model` (no undo steps, no operations), with `posed` built for it (or
+  /// nullptr). The session takes it over and edits it in place: whoever holds it (the scene)
+  /// sees every step.
+  void open(std::shared_ptr<const Model> model, std::unique_ptr<PosedModel> posed = nullptr);
   /// Re-runs of an edited history go through `task` (off the UI thread, with progress and
   /// Cancel); without one they run at once.
   void set_task(BackgroundTask* task) { task_ = task; }
