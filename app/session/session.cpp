@@ -79,6 +79,13 @@ void Session::open(std::shared_ptr<const Model> model, bool take_over) {
   posed_state_ = nullptr;
 }
 
+void Session::open(std::shared_ptr<const Model> model, std::unique_ptr<PosedModel> posed) {
+  open(std::move(model), /*take_over=*/true);
+  if (!posed || !live_) return;
+  posed_ = std::move(posed);
+  posed_state_ = live_.get();
+}
+
 void Session::push(ModelStep record, std::optional<std::vector<OperationEntry>> entries) {
   steps_.resize(done_);  // a new step drops the undone ones
   if (!record.exact()) steps_.clear();  // it cannot be taken back: nothing before it can either
@@ -265,31 +272,44 @@ void Session::cancel_edit() {
   editing_ = {};
 }
 
-EditOutcome Session::finish_edit(const Operation& op) {
+EditOutcome Session::finish_edit(const Operation& op) { return commit_edit(prepare_edit(op)); }
+
+EditRun Session::prepare_edit(const Operation& op, const RerunObserver& observer) const {
   const auto start = std::chrono::steady_clock::now();
   const auto index = static_cast<std::size_t>(editing_.index);
-  std::vector<OperationEntry> entries = editing_.entries;
-  EditOutcome outcome;
-  entries[index].operation = op;
-  Model& base = *editing_.base;  // the state before the edited operation
-  PosedModel* posed = posed_for(&base);
-  run_entry(base, entries[index], posed);
-  if (posed) posed_state_ = &base;
-  outcome.edited = entries[index];
-  if (!outcome.edited.applied()) return outcome;  // `base` is as it was: the edit goes on
-  for (std::size_t i = index + 1; i < entries.size(); ++i) {
-    run_entry(base, entries[i], posed);
-    if (!entries[i].applied()) ++outcome.skipped;
+  EditRun run;
+  run.entries = editing_.entries;
+  run.entries[index].operation = op;
+  // The edit's base is only read (the studio shows it meanwhile, and Cancel keeps the edit as
+  // it was): the re-run edits a copy of it, with a posed model of its own (the first operation
+  // builds it at its pose), and commit_edit moves the result into the live model.
+  auto result = std::make_shared<Model>(*editing_.base);
+  run.posed = std::make_unique<PosedModel>();
+  if (observer) observer(index, run.entries.size());
+  run_entry(*result, run.entries[index], run.posed.get());
+  run.outcome.edited = run.entries[index];
+  if (run.outcome.edited.applied()) {
+    for (std::size_t i = index + 1; i < run.entries.size(); ++i) {
+      if (observer) observer(i, run.entries.size());
+      run_entry(*result, run.entries[i], run.posed.get());
+      if (!run.entries[i].applied()) ++run.outcome.skipped;
+    }
+    run.result = std::move(result);
+    run.outcome.change = structure();
   }
-  const bool posed_on_base = posed_state_ == &base;
-  std::shared_ptr<Model> result = std::move(editing_.base);
+  run.outcome.ms = ms_since(start);
+  return run;
+}
+
+EditOutcome Session::commit_edit(EditRun run) {
+  if (!run.result) return run.outcome;  // the edit goes on
   cancel_edit();
-  // One step: the re-run replaces the model (the step holds the state it replaced).
-  push(ModelStep::replace(*live_, std::move(*result)), std::move(entries));
-  posed_state_ = posed_on_base ? live_.get() : nullptr;
-  outcome.change = structure();
-  outcome.ms = ms_since(start);
-  return outcome;
+  if (before_change_) before_change_();
+  // One step: the re-run replaces the model (the step holds the state it replaced, by move).
+  push(ModelStep::replace(*live_, std::move(*run.result)), std::move(run.entries));
+  posed_ = std::move(run.posed);  // it described the result, now moved into the live model
+  posed_state_ = posed_ ? live_.get() : nullptr;
+  return run.outcome;
 }
 
 const PosedModel* Session::posed_model() const {

@@ -59,6 +59,15 @@ struct EditOutcome {
   double ms = 0.0;
 };
 
+/// What `Session::prepare_edit` made: the state after the edited operation and the later ones,
+/// not yet current (`Session::commit_edit` makes it so).
+struct EditRun {
+  EditOutcome outcome;
+  std::shared_ptr<Model> result;        ///< null when the edited operation did not apply
+  std::vector<OperationEntry> entries;  ///< the operations as they ran
+  std::unique_ptr<PosedModel> posed;    ///< describes `result`
+};
+
 class Session {
  public:
   /// Whether `apply_history` keeps one undoable state per operation (the studio) or runs the
@@ -74,6 +83,10 @@ class Session {
   /// Callers reserve room first (`reserve_for_operations`), so the first operations do not
   /// reallocate. The whole model changed (structure) for whoever draws it.
   void open(std::shared_ptr<const Model> model, bool take_over = false);
+  /// As `open(model, true)` (taken over: the studio's scene built from it off the UI thread
+  /// draws the live model, and no O(mesh) copy is made on the UI thread), with `posed` (built
+  /// elsewhere for `model`; nullptr: none) as the posed model.
+  void open(std::shared_ptr<const Model> model, std::unique_ptr<PosedModel> posed);
 
   /// The current state (null before `open`): the live model, edited in place by every
   /// operation, undo and redo (the pointer stays the same; what it points to changes). While
@@ -120,6 +133,18 @@ class Session {
   /// is skipped and marked) as one undo step. When `op` itself misses or fails nothing changes
   /// and the edit goes on. @pre editing() >= 0.
   EditOutcome finish_edit(const Operation& op);
+  /// Called before operation `index` of `count` is re-run; it may throw to stop the run (then
+  /// nothing changes).
+  using RerunObserver = std::function<void(std::size_t index, std::size_t count)>;
+  /// The work of `finish_edit` (re-running the edited operation and the later ones on a copy
+  /// of the edit's base, with a posed model of its own) without changing the session: it only
+  /// reads it (never the live model), so the studio runs it on a worker thread while nothing
+  /// else changes the session. O(mesh) for the copy, plus the operations. @pre editing() >= 0.
+  EditRun prepare_edit(const Operation& op, const RerunObserver& observer = {}) const;
+  /// Makes `run` current as `finish_edit` does: one step that replaces the live model by move
+  /// (no copy, so cheap on the UI thread); nothing changes when its edited operation did not
+  /// apply. @pre `run` came from `prepare_edit` and the session has not changed since.
+  EditOutcome commit_edit(EditRun run);
 
   // --- undo / redo ------------------------------------------------------------------------------
   /// Number of undo steps, and how many of them are done (the current state is after step

@@ -24,6 +24,10 @@ InspectorHost::InspectorHost(SceneView* view, QObject* parent) : QObject(parent)
 
 InspectorHost::~InspectorHost() = default;
 
+void InspectorHost::set_background_runner(const plugins::Inspector::Runner& runner) {
+  for (const auto& inspector : inspectors_) inspector->set_background_runner(runner);
+}
+
 QWidget* InspectorHost::create_panel(QWidget* parent) {
   auto* panel = new QWidget(parent);
   auto* layout = new QVBoxLayout(panel);

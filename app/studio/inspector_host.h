@@ -38,6 +38,9 @@ class InspectorHost : public QObject {
   /// "Shaded (materials)" and one checkable entry per inspector (Ctrl+0, Ctrl+1, ...).
   void add_menu_actions(QMenu* menu);
 
+  /// Gives every inspector `runner` for its long work (re-clustering): the window's
+  /// BackgroundTask.
+  void set_background_runner(const plugins::Inspector::Runner& runner);
   /// The scene the inspectors look at (the window's, kept at one address), or nullptr.
   void set_scene(const plugins::Scene* scene) { scene_ = scene; }
 

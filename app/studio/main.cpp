@@ -206,6 +206,7 @@ int main(int argc, char** argv) {
         QMessageBox::critical(&window, "DeepCut Studio", e.what());
       }
     }
+    if (!window.isVisible()) return 0;  // closed while the model was opening (the open was cancelled)
     return QApplication::exec();
   } catch (const Error& e) {
     std::cerr << "deepcut-studio: " << e.what() << "\n";

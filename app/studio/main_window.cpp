@@ -11,19 +11,25 @@
 #include <QDragEnterEvent>
 #include <QDropEvent>
 #include <QElapsedTimer>
+#include <QFile>
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QGridLayout>
 #include <QLabel>
+#include <QListWidget>
 #include <QMenuBar>
 #include <QMessageBox>
 #include <QMimeData>
 #include <QSettings>
 #include <QStatusBar>
 #include <QStyle>
+#include <QTimer>
 #include <QToolBar>
 #include <QUndoStack>
 #include <QUrl>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <new>
 
 #include "deepcut/core/errors.h"
@@ -110,13 +116,30 @@ MainWindow::MainWindow(const MainWindowOptions& options, QWidget* parent)
     statusBar()->addPermanentWidget(*label);
   }
   operation_label_->setObjectName("status_operation");
+  task_ = new BackgroundTask(statusBar(), this);
+  operations_->set_task(task_);
+  connect(task_, &BackgroundTask::busy_changed, this, [this](bool busy) { set_editing_enabled(!busy); });
+  inspectors_->set_background_runner([this](const std::string& title, plugins::Inspector::Work work,
+                                            std::function<void()> cancelled) {
+    return task_->start(
+        QString::fromStdString(title), 2,
+        [work = std::move(work)](TaskProgress& progress) -> BackgroundTask::Deliver {
+          return work([&progress](const std::string& stage) { progress.stage(QString::fromStdString(stage)); });
+        },
+        [this, title](std::exception_ptr error) { report_exception(error, QString::fromStdString(title)); },
+        std::move(cancelled));
+  });
   refresh_status();
 
   QSettings settings;
   restoreState(settings.value("window_state").toByteArray());
 }
 
-MainWindow::~MainWindow() = default;
+MainWindow::~MainWindow() {
+  // First: a running job may read the session (a re-run), which the hosts destroyed below own.
+  // The task cancels it and waits for the worker; nothing is delivered.
+  delete task_;
+}
 
 void MainWindow::build_docks() {
   auto dock = [this](const QString& title, const char* name, QWidget* widget, Qt::DockWidgetArea area) {
@@ -160,12 +183,14 @@ void MainWindow::build_menus() {
   QAction* open = file->addAction(s->standardIcon(QStyle::SP_DialogOpenButton), "&Open...", this,
                                   &MainWindow::choose_open);
   open->setShortcut(QKeySequence::Open);
-  new RecentFiles(file->addMenu("Open &Recent"), [this](const QString& path) { open_file(path); }, this);
+  QMenu* recent = file->addMenu("Open &Recent");
+  new RecentFiles(recent, [this](const QString& path) { begin_open(path); }, this);
   file->addSeparator();
   QAction* export_action = file->addAction(s->standardIcon(QStyle::SP_DialogSaveButton),
                                            "&Export .glb / .gltf...", this, &MainWindow::choose_export);
   export_action->setShortcut(QKeySequence("Ctrl+E"));
   file->addSeparator();
+  edit_actions_ << open << recent->menuAction() << export_action;
   QAction* quit = file->addAction("&Quit", this, &QWidget::close);
   quit->setShortcut(QKeySequence::Quit);
   build_edit_menu();
@@ -213,6 +238,17 @@ void MainWindow::build_edit_menu() {
   edit->addSeparator();
   QAction* cancel_edit_action = edit->addAction("&Cancel operation edit", this, &MainWindow::cancel_edit);
   cancel_edit_action->setShortcut(QKeySequence(Qt::Key_Escape));
+  edit_actions_ << undo_ << redo_ << cancel_edit_action;
+}
+
+void MainWindow::set_editing_enabled(bool enabled) {
+  for (QAction* action : edit_actions_) action->setEnabled(enabled);
+  if (enabled) {  // the undo stack's own rule
+    undo_->setEnabled(history()->canUndo());
+    redo_->setEnabled(history()->canRedo());
+  }
+  operations_list()->parentWidget()->setEnabled(enabled);  // the History panel: edit, re-run, undo view
+  setAcceptDrops(enabled);
 }
 
 QAction* MainWindow::build_view_menu() {
@@ -286,7 +322,7 @@ QStringList MainWindow::recent_files() const { return RecentFiles::list(); }
 void MainWindow::choose_open() {
   const QString dir = path_.isEmpty() ? QString() : QFileInfo(path_).absolutePath();
   const QString path = QFileDialog::getOpenFileName(this, "Open model", dir, open_filters());
-  if (!path.isEmpty()) open_file(path);
+  if (!path.isEmpty()) begin_open(path);
 }
 
 void MainWindow::choose_export() {
@@ -319,7 +355,7 @@ void MainWindow::choose_export() {
   if (!question.isEmpty() &&
       QMessageBox::question(this, "Export " + QFileInfo(path).fileName(), question) != QMessageBox::Yes)
     return;
-  export_file(path, export_compression_);
+  begin_export(path, export_compression_);
 }
 
 QString MainWindow::suggested_export_path() const {
@@ -344,40 +380,96 @@ void MainWindow::note_operation(const QString& label, double ms) {
 }
 
 bool MainWindow::open_file(const QString& path) {
+  if (!begin_open(path)) return false;
+  task_->wait();
+  draw_first_frame();
+  return open_done_;
+}
+
+bool MainWindow::begin_open(const QString& path) {
+  if (task_->busy()) {
+    report_error(QFileInfo(path).fileName() + ": not opened, " + task_->text() + " is still running");
+    return false;
+  }
+  open_done_ = false;
+  auto clock = std::make_shared<QElapsedTimer>();
+  clock->start();
+  const QString name = QFileInfo(path).fileName();
+  return task_->start(
+      "Opening " + name, 6, open_job(path, clock),
+      [this, name](std::exception_ptr error) {
+        view_->hold_renders(false);  // a swap-in that failed half-way still draws
+        report_exception(error, name);
+      },
+      [this, name] {
+        statusBar()->showMessage("Opening " + name + " cancelled: nothing changed", 8000);
+      });
+}
+
+void MainWindow::report_exception(std::exception_ptr error, const QString& file) {
   try {
-    load_file(path);
-    return true;
+    std::rethrow_exception(error);
   } catch (const Error& e) {
     report_error(QString::fromStdString(e.what()));
   } catch (const std::bad_alloc&) {
-    report_error(QFileInfo(path).fileName() + ": out of memory");
+    report_error(file + ": out of memory");
   } catch (const std::exception& e) {
-    report_error(QFileInfo(path).fileName() + ": internal error: " + e.what());
+    report_error(file + ": internal error: " + e.what());
   }
-  return false;
 }
 
 void MainWindow::load_file(const QString& path) {
   QElapsedTimer clock;
   clock.start();
-  Model loaded = plugins::read_model(path.toStdString());
-  reserve_for_operations(loaded);  // room to grow, kept by every snapshot copied from it
-  auto model = std::make_shared<const Model>(std::move(loaded));
-  // Build the new scene before touching the current state, so a failure keeps the old model.
-  const int animation = model->animations.empty() ? -1 : 0;
-  plugins::Scene scene = plugins::make_scene(model, animation, 0.0f);
+  auto shared_clock = std::make_shared<QElapsedTimer>(clock);
+  TaskProgress progress;  // on this thread: no Cancel
+  open_job(path, shared_clock)(progress)();
+  draw_first_frame();
+}
+
+BackgroundTask::Job MainWindow::open_job(const QString& path, std::shared_ptr<QElapsedTimer> clock) {
+  // Off the UI thread: everything that does not touch the window or the session. The window
+  // changes only in the Deliver, so a failure or Cancel keeps the old model.
+  return [this, path, clock](TaskProgress& progress) -> BackgroundTask::Deliver {
+    progress.stage("Reading");
+    Model loaded = plugins::read_model(path.toStdString());
+    progress.stage("Preparing");
+    reserve_for_operations(loaded);  // room to grow: the first operations do not reallocate
+    auto opened = std::make_shared<OpenedModel>();
+    opened->model = std::make_shared<const Model>(std::move(loaded));
+    progress.stage("Posing");
+    const int animation = opened->model->animations.empty() ? -1 : 0;
+    opened->scene = plugins::make_scene(opened->model, animation, 0.0f);
+    progress.stage("Indexing");
+    const plugins::Scene& scene = opened->scene;
+    opened->posed = std::make_unique<PosedModel>(
+        PosedModel::build(*opened->model, PoseKey(scene.animation, scene.time, scene.weights)));
+    progress.stage("Building the view");
+    opened->drawn = SceneView::prepare(opened->scene);
+    progress.stage("Drawing");
+    return [this, path, clock, opened] { show_opened(path, std::move(*opened), *clock); };
+  };
+}
+
+void MainWindow::show_opened(const QString& path, OpenedModel opened, const QElapsedTimer& clock) {
+  open_timing_ = {};
+  open_timing_.delivered_ms = ms_since(clock);
+  const std::shared_ptr<const Model> model = opened.model;
   std::vector<std::pair<QString, float>> clips;
   for (const Animation& a : model->animations)
     clips.emplace_back(QString::fromStdString(a.name), a.duration());
 
+  // The swap-in: every step below may ask for a frame; the view draws one, at the end.
+  view_->hold_renders(true);
   path_ = path;
-  operations_->open(model);
+  open_done_ = true;
+  operations_->open(opened.model, std::move(opened.posed));  // the scene draws the live model
   timeline_->set_animations(clips);
-  const std::vector<std::string> notes = scene_host_->show_opened(std::move(scene), QFileInfo(path).fileName());
+  const std::vector<std::string> notes =
+      scene_host_->show_opened(std::move(opened.scene), QFileInfo(path).fileName(), std::move(opened.drawn));
   RecentFiles::remember(path);
   setWindowTitle(QFileInfo(path).fileName() + " - DeepCut Studio");
   last_error_.clear();
-  note_operation("Open " + QFileInfo(path).fileName(), ms_since(clock));
   operations_->refresh_list();
   // What reading repaired or dropped: the Problems panel lists it, the status bar points at it.
   problems_->set_problems(QFileInfo(path).fileName(), model->import_problems);
@@ -386,11 +478,28 @@ void MainWindow::load_file(const QString& path) {
   if (!notes.empty()) status << QString::fromStdString(notes.front());
   if (!problems_->summary().isEmpty()) status << problems_->summary();
   if (!status.isEmpty()) statusBar()->showMessage(status.join("; "), 15000);
+  open_timing_.swap_ms = ms_since(clock) - open_timing_.delivered_ms;
   emit model_changed();
+  // The first frame in the next turn of the event loop: what is queued runs between the two.
+  open_clock_ = clock;
+  first_frame_pending_ = true;
+  QTimer::singleShot(0, this, &MainWindow::draw_first_frame);
+}
+
+void MainWindow::draw_first_frame() {
+  if (!first_frame_pending_) return;
+  first_frame_pending_ = false;
+  open_timing_.frame_begin = std::chrono::steady_clock::now();
+  view_->hold_renders(false);
+  open_timing_.frame_end = std::chrono::steady_clock::now();
+  open_timing_.first_frame_ms =
+      std::chrono::duration<double, std::milli>(open_timing_.frame_end - open_timing_.frame_begin).count();
+  open_timing_.total_ms = ms_since(open_clock_);
+  note_operation("Open " + QFileInfo(path_).fileName(), open_timing_.total_ms);
 }
 
 void MainWindow::show_current() {
-  scene_host_->show_current();
+  scene_host_->show_step(operations_->take_change());
   operations_->refresh_list();
   emit model_changed();
 }
@@ -402,26 +511,68 @@ const plugins::Scene* MainWindow::scene() const { return scene_host_->scene(); }
 void MainWindow::refresh_posed_model() { scene_host_->refresh_posed_model(); }
 
 bool MainWindow::export_file(const QString& path, Compression compression) {
+  if (!begin_export(path, compression)) return false;
+  task_->wait();
+  return export_done_;
+}
+
+bool MainWindow::begin_export(const QString& path, Compression compression) {
+  export_done_ = false;
   if (!session().current()) {
     report_error("export: no model is open");
     return false;
   }
-  QElapsedTimer clock;
-  clock.start();
-  try {
-    ExportOptions options;
-    options.compression = compression;
-    write_gltf(*session().current(), path.toStdString(), options);
-  } catch (const Error& e) {
-    report_error(QString::fromStdString(e.what()));
-    return false;
-  } catch (const std::exception& e) {
-    report_error(QFileInfo(path).fileName() + ": internal error: " + e.what());
+  if (task_->busy()) {
+    report_error(QFileInfo(path).fileName() + ": not exported, " + task_->text() + " is still running");
     return false;
   }
+  // The worker writes the current state while edits are disabled (busy_changed), so the state
+  // it reads cannot change under it and no copy is needed. It writes a hidden temporary file
+  // beside the target; the Deliver renames it into place, Cancel or an error removes it: the
+  // target is complete or untouched, never partial.
+  const std::shared_ptr<const Model> state = session().current();
+  const QFileInfo target(path);
+  const QString temp = target.absoluteDir().absoluteFilePath(
+      "." + target.completeBaseName() + ".exporting-" + QString::number(QCoreApplication::applicationPid()) + "." +
+      target.suffix());
+  auto clock = std::make_shared<QElapsedTimer>();
+  clock->start();
+  const QString name = target.fileName();
+  BackgroundTask::Job job = [this, state, path, temp, compression, clock](TaskProgress& progress) -> BackgroundTask::Deliver {
+    progress.stage("Writing");
+    ExportOptions options;
+    options.compression = compression;
+    try {
+      write_gltf(*state, temp.toStdString(), options);
+    } catch (const Error& e) {  // name the target, not the temporary file
+      QString message = QString::fromStdString(e.what());
+      message.replace(temp, path);
+      throw Error(e.code(), message.toStdString());
+    }
+    progress.stage("Finishing");
+    return [this, path, temp, clock] { finish_export(path, temp, *clock); };
+  };
+  return task_->start(
+      "Exporting " + name, 2, std::move(job),
+      [this, name, temp](std::exception_ptr error) {
+        QFile::remove(temp);
+        report_exception(error, name);
+      },
+      [this, name, temp] {
+        QFile::remove(temp);
+        statusBar()->showMessage("Export of " + name + " cancelled: no file written", 8000);
+      });
+}
+
+void MainWindow::finish_export(const QString& path, const QString& temp, const QElapsedTimer& clock) {
+  if (std::rename(QFile::encodeName(temp).constData(), QFile::encodeName(path).constData()) != 0) {
+    QFile::remove(temp);
+    report_error(QFileInfo(path).fileName() + ": cannot write the file (" + QString::fromLocal8Bit(std::strerror(errno)) + ")");
+    return;
+  }
+  export_done_ = true;
   note_operation("Export " + QFileInfo(path).fileName(), ms_since(clock));
   statusBar()->showMessage("Exported " + path, 8000);
-  return true;
 }
 
 void MainWindow::set_tool(const std::string& id) { tools_->set_tool(id); }
@@ -429,19 +580,41 @@ plugins::Tool* MainWindow::tool() const { return tools_->tool(); }
 std::string MainWindow::tool_id() const { return tools_->tool_id(); }
 
 bool MainWindow::apply_tool() {
-  const bool applied = operations_->apply_tool();
+  if (task_->busy()) {
+    report_error("apply: " + task_->text() + " is still running");
+    return false;
+  }
+  const bool editing = session().editing() >= 0;
+  bool applied = operations_->apply_tool();
+  if (applied && editing) {  // the re-run runs off the UI thread; the event loop goes on
+    task_->wait();
+    applied = operations_->edit_applied();
+  }
   if (applied) last_error_.clear();
   return applied;
 }
 
-void MainWindow::apply_history(const History& history, const std::string& source) { operations_->apply_history(history, source); }
+void MainWindow::apply_history(const History& history, const std::string& source) {
+  if (task_->busy())
+    throw Error(ErrorCode::InvalidArgument, source + ": not applied, " + task_->text().toStdString() + " is still running");
+  operations_->apply_history(history, source);
+}
 
 void MainWindow::apply_operation(const QString& label, std::shared_ptr<const Model> result, double ms) {
   operations_->commit(label, std::move(result), ms);
 }
 
-bool MainWindow::edit_operation(int index) { return operations_->edit_operation(index); }
-void MainWindow::cancel_edit() { operations_->cancel_edit(); }
+bool MainWindow::edit_operation(int index) {
+  if (task_->busy()) {
+    report_error("edit: " + task_->text() + " is still running");
+    return false;
+  }
+  return operations_->edit_operation(index);
+}
+
+void MainWindow::cancel_edit() {
+  if (!task_->busy()) operations_->cancel_edit();
+}
 int MainWindow::editing_operation() const { return session().editing(); }
 std::vector<MainWindow::OperationEntry> MainWindow::operations() const { return session().operations(); }
 QListWidget* MainWindow::operations_list() const { return operations_->operations_list(); }
@@ -525,11 +698,12 @@ void MainWindow::dropEvent(QDropEvent* event) {
   const QString path = mime->urls().first().toLocalFile();
   if (!is_openable_file(path)) return;
   event->acceptProposedAction();
-  open_file(path);
+  begin_open(path);
 }
 
 void MainWindow::closeEvent(QCloseEvent* event) {
   timeline_->pause();
+  task_->cancel();  // a running job stops at its next stage; its result is dropped
   QSettings().setValue("window_state", saveState());
   event->accept();
 }

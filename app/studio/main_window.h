@@ -5,9 +5,12 @@
 // are the Session's (app/session/session.h), applied and edited through operations_host.h; the
 // drawn scene is scene_host.h's; tools and inspectors live in tool_host.h and inspector_host.h.
 
+#include <QList>
+#include <QElapsedTimer>
 #include <QMainWindow>
 #include <QString>
 #include <QStringList>
+#include <chrono>
 #include <memory>
 #include <optional>
 #include <string>
@@ -19,6 +22,8 @@
 #include "deepcut/plugins/inspector.h"
 #include "deepcut/plugins/scene.h"
 #include "deepcut/plugins/tool.h"
+#include "background_task.h"
+#include "scene_view.h"
 #include "session.h"
 
 class QAction;
@@ -58,14 +63,36 @@ class MainWindow : public QMainWindow {
   /// Reads `path` and shows it (the history starts anew). On failure the current model stays,
   /// the one-line message is shown (dialog) and kept in `last_error()`.
   /// @returns true when the model was opened.
+  /// Reading, welding, posing and indexing run off the UI thread (background_task.h) while
+  /// this waits, processing events; Cancel leaves everything as it was (returns false).
   bool open_file(const QString& path);
+  /// Starts opening `path` off the UI thread and returns at once (what File > Open, a drop and
+  /// a recent file do); the model is shown when it is ready, errors are reported like
+  /// open_file's. @returns false (reported) while another task runs.
+  bool begin_open(const QString& path);
   /// Like `open_file` but lets the error propagate instead of reporting it.
   /// @throws Error from read_gltf (Io, InvalidInput).
   void load_file(const QString& path);
   /// Writes the current model state with `write_gltf` (.glb or .gltf by extension), exactly as
   /// `deepcut convert` would write it, compressed as `deepcut convert --compress` would.
   /// @returns true on success; errors are reported like open_file's.
+  /// Writes off the UI thread (edits are disabled meanwhile) while this waits, processing
+  /// events; the file appears complete when it succeeds, else (error, Cancel) stays as it was.
   bool export_file(const QString& path, Compression compression = Compression::None);
+  /// Starts the export and returns at once (the Export dialog). @returns false (reported)
+  /// when nothing is open or another task runs.
+  bool begin_export(const QString& path, Compression compression = Compression::None);
+  /// The long work running off the UI thread (open, export, re-run, re-cluster) and its
+  /// progress bar and Cancel in the status bar.
+  BackgroundTask* task() const { return task_; }
+  /// Where the last open's time went (ms from the click): until the worker's result arrived,
+  /// swapping it in on the UI thread, drawing the first frame, and the whole (open to first frame).
+  /// `frame_begin` and `frame_end` (steady clock) bound the first frame's drawing.
+  struct OpenTiming {
+    double delivered_ms = 0.0, swap_ms = 0.0, first_frame_ms = 0.0, total_ms = 0.0;
+    std::chrono::steady_clock::time_point frame_begin, frame_end;
+  };
+  OpenTiming last_open_timing() const { return open_timing_; }
   /// What the Export dialog offers: `<model>-export.glb` in the model's folder (`model.glb` in
   /// the working folder when nothing was opened from a file), numbered `-export-2`, `-export-3`...
   /// past files that exist, so accepting the dialog never overwrites the input or an earlier
@@ -90,8 +117,9 @@ class MainWindow : public QMainWindow {
   void apply_history(const History& history, const std::string& source);
   /// Applies the active tool's parameters at the current pose (animation and time) through
   /// `deepcut::apply_operation`, undoably; the history entry names type, parameters and time.
-  /// Errors and a tool that misses the model are reported like open_file's.
-  /// @returns true when the model changed.
+  /// Errors and a tool that misses the model are reported like open_file's. While editing a
+  /// past operation the re-run runs off the UI thread (progress, Cancel) while this waits,
+  /// processing events. @returns true when the model changed.
   bool apply_tool();
 
   /// One operation made since the model was opened, as it last ran (session.h).
@@ -184,6 +212,23 @@ class MainWindow : public QMainWindow {
   void refresh_status();
   void choose_open();
   void choose_export();
+  /// What opening a file makes off the UI thread before anything visible changes.
+  struct OpenedModel {
+    std::shared_ptr<const Model> model;  // the session takes it over: the scene draws the live model
+    plugins::Scene scene;
+    std::unique_ptr<PosedModel> posed;  // the operations' posed model at the scene's pose
+    std::shared_ptr<const SceneView::Prepared> drawn;  // the scene's VTK data
+  };
+  BackgroundTask::Job open_job(const QString& path, std::shared_ptr<QElapsedTimer> clock);
+  /// Swaps the opened model in and draws its first frame (UI thread).
+  void show_opened(const QString& path, OpenedModel opened, const QElapsedTimer& clock);
+  /// Draws the opened model's first frame (held during the swap-in) unless it was drawn.
+  void draw_first_frame();
+  void finish_export(const QString& path, const QString& temp, const QElapsedTimer& clock);
+  /// Reports what a job threw, as open_file does (`file` names the file when the error does not).
+  void report_exception(std::exception_ptr error, const QString& file);
+  /// Disables (busy) or enables again what would edit the session while a task reads it.
+  void set_editing_enabled(bool enabled);
 
   MainWindowOptions options_;
   QString path_, last_error_, last_operation_;
@@ -207,6 +252,12 @@ class MainWindow : public QMainWindow {
   QLabel* counts_label_ = nullptr;
   QLabel* time_label_ = nullptr;
   QLabel* operation_label_ = nullptr;
+  BackgroundTask* task_ = nullptr;
+  QList<QAction*> edit_actions_;  // disabled while a task runs
+  bool open_done_ = false, export_done_ = false;  // the last open / export succeeded
+  OpenTiming open_timing_;
+  QElapsedTimer open_clock_;  // since the last open started
+  bool first_frame_pending_ = false;
 };
 
 }  // namespace deepcut::studio

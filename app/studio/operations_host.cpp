@@ -6,6 +6,7 @@
 #include <QUndoStack>
 #include <new>
 
+#include "background_task.h"
 #include "deepcut/core/errors.h"
 #include "history_panel.h"
 #include "tool_host.h"
@@ -45,19 +46,28 @@ QWidget* OperationsHost::create_panel(QWidget* parent) {
 
 QListWidget* OperationsHost::operations_list() const { return panel_->operations_list(); }
 
-void OperationsHost::open(std::shared_ptr<const Model> model) {
+void OperationsHost::open(std::shared_ptr<const Model> model, std::unique_ptr<PosedModel> posed) {
   undo_stack_->clear();
-  session_.open(std::move(model), /*take_over=*/true);  // the scene draws the session's live model
+  session_.open(std::move(model), std::move(posed));  // taken over: the scene draws the session's live model
 }
 
-void OperationsHost::push_step(const QString& label) {
-  undo_stack_->push(new SessionStepCommand(session_, label, [this] { emit state_changed(); }));
+void OperationsHost::push_step(const QString& label, const ModelChange& change) {
+  undo_stack_->push(new SessionStepCommand(session_, label, change, [this](const ModelChange& c) {
+    last_change_ = c;
+    emit state_changed();
+  }));
+}
+
+ModelChange OperationsHost::take_change() {
+  ModelChange change = std::move(last_change_);
+  last_change_ = ModelChange();
+  last_change_.structure = true;
+  return change;
 }
 
 void OperationsHost::commit(const QString& label, std::shared_ptr<const Model> state, double ms) {
   if (!session_.current() || !state) return;
-  session_.commit(std::move(state));
-  push_step(label);
+  push_step(label, session_.commit(std::move(state)));
   emit done(label, ms);
 }
 
@@ -95,16 +105,19 @@ bool OperationsHost::apply_tool() {
     emit failed(QString::fromStdString(tool->title()) + ": the tool misses the model (nothing changed)");
     return false;
   }
-  push_step(operation_label(op));
+  push_step(operation_label(op), applied.change);
   emit done(operation_label(op), applied.ms);
   return true;
 }
 
 void OperationsHost::apply_history(const History& history, const std::string& source) {
   const std::vector<session::Applied> applied = session_.apply_history(history, source);
+  ModelChange structure;
+  structure.structure = true;
   for (std::size_t i = 0; i < applied.size(); ++i)
     if (applied[i].result.status == OpStatus::Ok) {
-      push_step(operation_label(history.operations[i]));
+      // Every operation ran before the first step is shown: one step alone says what changed.
+      push_step(operation_label(history.operations[i]), applied.size() == 1 ? applied[i].change : structure);
       emit done(operation_label(history.operations[i]), applied[i].ms);
     }
 }
@@ -166,23 +179,56 @@ bool OperationsHost::apply_edit() {
   op.animation = placed.animation;
   op.time = placed.time;
   op.weights = placed.weights;
-  session::EditOutcome outcome;
-  try {
-    outcome = session_.finish_edit(op);
-  } catch (const std::bad_alloc&) {
-    emit failed(QString::fromStdString(title) + ": out of memory");
-    return false;
+  edit_applied_ = false;
+  if (!task_) {
+    try {
+      return take_edit(session_.prepare_edit(op), title, index);
+    } catch (const std::bad_alloc&) {
+      emit failed(QString::fromStdString(title) + ": out of memory");
+      return false;
+    }
   }
+  // Off the UI thread: the session is only read (edits are disabled while the task runs), the
+  // new state becomes current in the Deliver; Cancel leaves the edit as it was.
+  BackgroundTask::Job job = [this, op, title, index](TaskProgress& progress) -> BackgroundTask::Deliver {
+    auto run = std::make_shared<session::EditRun>(session_.prepare_edit(op, [&](std::size_t i, std::size_t count) {
+      progress.stage(QString("operation %1 of %2").arg(i + 1).arg(count));
+    }));
+    progress.stage("Drawing");
+    return [this, run, title, index] { take_edit(std::move(*run), title, index); };
+  };
+  return task_->start(
+      QString("Re-running from operation %1").arg(index + 1), static_cast<int>(session_.operations().size()) - index + 1,
+      std::move(job),
+      [this, title](std::exception_ptr error) {
+        try {
+          std::rethrow_exception(error);
+        } catch (const std::bad_alloc&) {
+          emit failed(QString::fromStdString(title) + ": out of memory");
+        } catch (const std::exception& e) {
+          emit failed(QString::fromStdString(title + ": internal error: " + e.what()));
+        }
+      },
+      [this] {
+        emit note("Re-run cancelled: the history is unchanged", 5000);
+      });
+}
+
+bool OperationsHost::take_edit(session::EditRun run, const std::string& title, int index) {
+  const session::EditOutcome outcome = session_.commit_edit(std::move(run));
   if (!outcome.edited.error.empty()) {
+    emit state_kept();
     emit failed(QString::fromStdString(title + ": " + outcome.edited.error));
     return false;
   }
   if (outcome.edited.status != OpStatus::Ok) {
+    emit state_kept();
     emit failed(QString::fromStdString(title) + ": the edited operation misses the model (nothing changed)");
     return false;
   }
+  edit_applied_ = true;
   const QString label = QString("Edit %1: %2").arg(index + 1).arg(operation_label(outcome.edited.operation));
-  push_step(label);
+  push_step(label, outcome.change);
   emit done(label, outcome.ms);
   operations_list()->setCurrentRow(index);
   const std::size_t skipped = outcome.skipped;

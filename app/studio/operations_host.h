@@ -22,6 +22,7 @@ class QWidget;
 
 namespace deepcut::studio {
 
+class BackgroundTask;
 class HistoryPanel;
 class ToolHost;
 
@@ -39,11 +40,18 @@ class OperationsHost : public QObject {
   QWidget* create_panel(QWidget* parent);
   QListWidget* operations_list() const;
 
-  /// Starts anew from `model` (no undo steps, no operations). The session takes it over and edits
-  /// it in place: whoever holds it (the scene) sees every step.
-  void open(std::shared_ptr<const Model> model);
-  /// See MainWindow::apply_tool (the caller clears its last error on success).
+  /// Starts anew from `model` (no undo steps, no operations), with `posed` built for it (or
+  /// nullptr). The session takes it over and edits it in place: whoever holds it (the scene)
+  /// sees every step.
+  void open(std::shared_ptr<const Model> model, std::unique_ptr<PosedModel> posed = nullptr);
+  /// Re-runs of an edited history go through `task` (off the UI thread, with progress and
+  /// Cancel); without one they run at once.
+  void set_task(BackgroundTask* task) { task_ = task; }
+  /// See MainWindow::apply_tool (the caller clears its last error on success). While editing,
+  /// the re-run starts off the UI thread: true means it started, and `edit_applied()` says, once
+  /// the task has ended, whether it made the new state.
   bool apply_tool();
+  bool edit_applied() const { return edit_applied_; }
   /// See MainWindow::apply_history. @throws Error naming `source` and the operation.
   void apply_history(const History& history, const std::string& source);
   /// `state` becomes current as one undo step named `label`.
@@ -51,6 +59,9 @@ class OperationsHost : public QObject {
   /// See MainWindow::edit_operation.
   bool edit_operation(int index);
   void cancel_edit();
+  /// What the last step shown changed (an operation, undo or redo: what `state_changed` was
+  /// emitted for), then forgotten: structure (show everything again) when no step says.
+  ModelChange take_change();
   /// Lists the session's operations (and the edit in progress) in the History panel and the
   /// tool panel's banner.
   void refresh_list();
@@ -70,18 +81,25 @@ class OperationsHost : public QObject {
   void state_kept();
 
  private:
-  /// Pushes the session's newest step on the undo stack, named `label`.
-  void push_step(const QString& label);
+  /// Pushes the session's newest step on the undo stack, named `label`; `change` is what it
+  /// changed.
+  void push_step(const QString& label, const ModelChange& change);
   /// Re-runs the edited operation with the tool's parameters and every later one.
   bool apply_edit();
+  /// Reports what a re-run made (on the UI thread) and makes it current. @returns true when
+  /// the edited operation applied.
+  bool take_edit(session::EditRun run, const std::string& title, int index);
   /// Reports what `run` throws (an operation's defect included) as `title: ...`.
   template <class Run>
   bool reporting(const std::string& title, Run&& run);
 
   ToolHost* tools_;
   session::Session session_;
+  ModelChange last_change_{true, {}};  // see take_change
   QUndoStack* undo_stack_ = nullptr;
   HistoryPanel* panel_ = nullptr;
+  BackgroundTask* task_ = nullptr;
+  bool edit_applied_ = false;
 };
 
 }  // namespace deepcut::studio

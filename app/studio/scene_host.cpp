@@ -2,6 +2,8 @@
 #include "scene_host.h"
 
 #include <QTimer>
+#include <cstdlib>
+#include <cstring>
 
 #include "inspector_host.h"
 #include "morph_panel.h"
@@ -34,13 +36,18 @@ SceneHost::SceneHost(SceneView* view, SceneTree* tree, Timeline* timeline, ToolH
 
 SceneHost::~SceneHost() = default;
 
-std::vector<std::string> SceneHost::show_opened(plugins::Scene scene, const QString& title) {
+std::vector<std::string> SceneHost::show_opened(plugins::Scene scene, const QString& title,
+                                               std::shared_ptr<const SceneView::Prepared> prepared) {
   if (!scene_) {
     scene_ = std::make_unique<plugins::Scene>();
     tools_->set_scene(scene_.get());
     inspectors_->set_scene(scene_.get());
   }
   *scene_ = std::move(scene);
+  // The session edits a model of its own (a copy of the one the scene was built from, when the
+  // scene holds it too): the scene draws that one, as a step that changed nothing.
+  if (session_.current() && session_.current() != scene_->model)
+    plugins::follow_scene(*scene_, session_.current(), ModelChange{});
   title_ = title;
   if (morph_) {  // a new model: its weights follow the animation
     morph_->set_scene(nullptr);
@@ -49,7 +56,7 @@ std::vector<std::string> SceneHost::show_opened(plugins::Scene scene, const QStr
   // The operations' posed model, once per model (and pose): every drill and tear updates it.
   session_.refresh_posed_model(PoseKey(scene_->animation, scene_->time, scene_->weights));
   posed_timer_->stop();
-  std::vector<std::string> notes = present();
+  std::vector<std::string> notes = present(std::move(prepared));
   refresh_inspector();
   view_->reset_camera();
   tools_->forget_pick();
@@ -58,9 +65,9 @@ std::vector<std::string> SceneHost::show_opened(plugins::Scene scene, const QStr
   return notes;
 }
 
-std::vector<std::string> SceneHost::present() {
+std::vector<std::string> SceneHost::present(std::shared_ptr<const SceneView::Prepared> prepared) {
   lend_grids();
-  std::vector<std::string> notes = view_->set_scene(*scene_);
+  std::vector<std::string> notes = view_->set_scene(*scene_, std::move(prepared));
   tools_->scene_redrawn();
   tree_->set_scene(*scene_);
   inspectors_->mark_stale(plugins::SceneChange::Model);
@@ -85,6 +92,24 @@ void SceneHost::show_current() {
   refresh_inspector();
   // Undo, redo or an edit: the posed model describes another state; a cut dropped it (its
   // pieces are new meshes). Rebuild it when idle.
+  if (!session_.posed_model()) posed_timer_->start();
+}
+
+void SceneHost::show_step(const ModelChange& change) {
+  // DEEPCUT_VIEW_REBUILD=1: every step builds the scene again (the studio benchmark's reference).
+  const char* rebuild = std::getenv("DEEPCUT_VIEW_REBUILD");
+  const bool follow = !(rebuild && std::strcmp(rebuild, "1") == 0);
+  if (!scene_ || !session_.current() || !follow || !plugins::follow_scene(*scene_, session_.current(), change)) {
+    if (scene_) show_current();
+    return;
+  }
+  view_->update_scene(change);
+  lend_grids();
+  tools_->scene_redrawn();
+  tree_->set_scene(*scene_);
+  inspectors_->mark_stale(plugins::SceneChange::Model);
+  tools_->refresh_preview();
+  refresh_inspector();
   if (!session_.posed_model()) posed_timer_->start();
 }
 

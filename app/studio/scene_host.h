@@ -15,6 +15,7 @@
 
 #include "deepcut/plugins/inspector.h"
 #include "deepcut/plugins/scene.h"
+#include "scene_view.h"
 #include "session.h"
 
 class QTimer;
@@ -24,7 +25,6 @@ namespace deepcut::studio {
 class InspectorHost;
 class MorphPanel;
 class SceneTree;
-class SceneView;
 class Timeline;
 class ToolHost;
 
@@ -39,10 +39,18 @@ class SceneHost : public QObject {
   /// The drawn scene (null before the first model).
   const plugins::Scene* scene() const { return scene_.get(); }
   /// Shows `scene`, the session's newly opened state, named `title` in the caption; the camera
-  /// frames it. @returns the view's notes on what it cannot draw.
-  std::vector<std::string> show_opened(plugins::Scene scene, const QString& title);
+  /// frames it; `prepared` (SceneView::prepare of `scene`, or null) is its VTK data. @returns
+  /// the view's notes on what it cannot draw.
+  std::vector<std::string> show_opened(plugins::Scene scene, const QString& title,
+                                       std::shared_ptr<const SceneView::Prepared> prepared = nullptr);
   /// Shows the session's current state at the time line's pose (after an undo step or an edit).
   void show_current();
+  /// Shows the session's current state after one step from the shown state (an operation, its
+  /// undo or redo) that `change` describes: the scene, its VTK data, the tree and the inspectors
+  /// follow it in O(change); a structural change (or one that does not start at the shown
+  /// state) is shown as `show_current` does, and so is every step while the environment
+  /// variable DEEPCUT_VIEW_REBUILD is 1 (the studio benchmark's reference).
+  void show_step(const ModelChange& change);
   /// Poses the scene at `time` of `animation` (the time line moved), at the morph weights set by
   /// hand.
   void pose(int animation, float time);
@@ -76,7 +84,7 @@ class SceneHost : public QObject {
 
  private:
   /// Hands the scene to the view, the tree and the hosts. @returns the view's notes.
-  std::vector<std::string> present();
+  std::vector<std::string> present(std::shared_ptr<const SceneView::Prepared> prepared = nullptr);
 
   SceneView* view_;
   SceneTree* tree_;

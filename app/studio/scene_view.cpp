@@ -41,6 +41,7 @@
 #include "deepcut/widgets/overlay_props.h"
 #include "deepcut/widgets/poly_data_bridge.h"
 #include "deepcut/widgets/texture.h"
+#include "deepcut/widgets/view_poly_data.h"
 
 namespace deepcut::studio {
 namespace {
@@ -97,7 +98,8 @@ class ClickStyle : public vtkInteractorStyleTrackballCamera {
 vtkStandardNewMacro(ClickStyle);
 
 struct InstanceActor {
-  vtkSmartPointer<vtkPolyData> poly;
+  std::shared_ptr<ViewPolyData> data;  // follows the instance's mesh step by step
+  vtkSmartPointer<vtkPolyData> poly;   // data's
   vtkSmartPointer<vtkPolyDataMapper> mapper;
   vtkSmartPointer<vtkActor> actor;
   vtkSmartPointer<vtkTexture> texture;  // the material's base colour texture, or null
@@ -112,6 +114,11 @@ double distance_to_segment(const glm::dvec2& p, const glm::dvec2& a, const glm::
 }
 
 }  // namespace
+
+struct SceneView::Prepared {
+  // One per scene instance: the view's own data (set_scene takes it, then it follows the steps).
+  std::vector<std::shared_ptr<ViewPolyData>> data;
+};
 
 struct SceneView::Impl {
   QVTKOpenGLNativeWidget* widget = nullptr;
@@ -136,6 +143,8 @@ struct SceneView::Impl {
   vtkSmartPointer<vtkAbstractWidget> tool_widget;
   vtkNew<vtkCallbackCommand> clipping;
   std::function<bool(const PointerEvent&)> pointer_handler;
+  std::function<void()> render_listener;
+  bool hold_renders = false, render_due = false;
 
   void apply_look(InstanceActor& instance) const;
   void apply_display_mode(InstanceActor& instance) const;
@@ -423,8 +432,24 @@ SceneView::~SceneView() {
   if (impl_->tool_widget) impl_->tool_widget->Off();
 }
 
-std::vector<std::string> SceneView::set_scene(const plugins::Scene& scene) {
+namespace {
+
+/// The full build of an instance's drawn data (the one conversion, on whichever thread).
+std::shared_ptr<ViewPolyData> instance_view_data(const plugins::SceneInstance& sp) {
+  return std::make_shared<ViewPolyData>(*sp.surface, sp.posed(), &sp.posed_normals);
+}
+
+}  // namespace
+
+std::shared_ptr<const SceneView::Prepared> SceneView::prepare(const plugins::Scene& scene) {
+  auto prepared = std::make_shared<Prepared>();
+  for (const plugins::SceneInstance& sp : scene.instances) prepared->data.push_back(instance_view_data(sp));
+  return prepared;
+}
+
+std::vector<std::string> SceneView::set_scene(const plugins::Scene& scene, std::shared_ptr<const Prepared> prepared) {
   Impl& d = *impl_;
+  if (prepared && prepared->data.size() != scene.instances.size()) prepared = nullptr;
   std::vector<std::string> notes;
   for (InstanceActor& instance : d.instances) d.renderer->RemoveActor(instance.actor);
   d.instances.clear();
@@ -434,10 +459,8 @@ std::vector<std::string> SceneView::set_scene(const plugins::Scene& scene) {
   const Model& model = *scene.model;
   for (const plugins::SceneInstance& sp : scene.instances) {
     InstanceActor instance;
-    PolyDataOptions options;
-    options.positions = &sp.posed();
-    instance.poly = to_poly_data(*sp.surface, options);
-    if (!sp.posed_normals.empty()) update_poly_data_points(instance.poly, sp.posed(), &sp.posed_normals);
+    instance.data = prepared ? prepared->data[d.instances.size()] : instance_view_data(sp);
+    instance.poly = instance.data->poly();
     instance.mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
     instance.mapper->SetInputData(instance.poly);
     instance.mapper->SetColorModeToDirectScalars();
@@ -489,16 +512,31 @@ void SceneView::update_pose() {
   if (!d.scene) return;
   for (std::size_t i = 0; i < d.instances.size() && i < d.scene->instances.size(); ++i) {
     const plugins::SceneInstance& sp = d.scene->instances[i];
-    update_poly_data_points(d.instances[i].poly, sp.posed(),
-                            sp.posed_normals.empty() ? nullptr : &sp.posed_normals);
+    d.instances[i].data->set_positions(sp.posed(), &sp.posed_normals);
   }
   d.rebuild_normals();
+}
+
+void SceneView::update_scene(const ModelChange& change) {
+  Impl& d = *impl_;
+  if (!d.scene) return;
+  for (const PrimitiveChange& edit : change.primitives)
+    for (std::size_t i = 0; i < d.instances.size() && i < d.scene->instances.size(); ++i) {
+      const plugins::SceneInstance& sp = d.scene->instances[i];
+      if (sp.mesh == edit.mesh && sp.primitive == edit.primitive)
+        d.instances[i].data->update(*sp.surface, sp.posed(), &sp.posed_normals, edit);
+    }
+  if (d.show_normals) d.rebuild_normals();
+}
+
+vtkPolyData* SceneView::instance_poly_data(std::size_t instance) const {
+  return instance < impl_->instances.size() ? impl_->instances[instance].poly.Get() : nullptr;
 }
 
 void SceneView::set_instance_positions(std::size_t instance, const std::vector<glm::vec3>& positions) {
   Impl& d = *impl_;
   if (instance >= d.instances.size()) return;
-  update_poly_data_points(d.instances[instance].poly, positions, nullptr);
+  d.instances[instance].data->set_positions(positions, nullptr);
 }
 
 std::vector<glm::vec3> SceneView::instance_positions(std::size_t instance) const {
@@ -671,9 +709,23 @@ void SceneView::frame(const glm::vec3& center, float radius) {
   impl_->renderer->ResetCameraClippingRange();
 }
 
+void SceneView::set_render_listener(std::function<void()> listener) { impl_->render_listener = std::move(listener); }
+
 void SceneView::render() {
+  if (impl_->hold_renders) {  // the listener hears the render call that draws
+    impl_->render_due = true;
+    return;
+  }
+  if (impl_->render_listener) impl_->render_listener();
   impl_->window->Render();
   impl_->widget->update();
+}
+
+void SceneView::hold_renders(bool hold) {
+  impl_->hold_renders = hold;
+  if (hold || !impl_->render_due) return;
+  impl_->render_due = false;
+  render();
 }
 
 QImage SceneView::grab_view() {

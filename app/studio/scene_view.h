@@ -18,6 +18,7 @@
 #include "deepcut/widgets/overlay.h"
 
 class vtkAbstractWidget;
+class vtkPolyData;
 
 namespace deepcut::studio {
 
@@ -44,12 +45,32 @@ class SceneView : public QWidget {
   explicit SceneView(QWidget* parent = nullptr);
   ~SceneView() override;
 
-  /// Builds the actors of a new scene (decodes textures). The scene must outlive the next call.
+  /// The VTK data of a scene's instances (ViewPolyData, laid out by slot: the full build
+  /// `set_scene` makes without it, which then follows each step): what drawing a new scene
+  /// costs besides the frame. Made by `prepare` on any thread (a worker
+  /// opening a model), taken by `set_scene`.
+  struct Prepared;
+  /// Builds the VTK data of every instance of `scene` at its pose. Touches no view: safe off
+  /// the UI thread while `scene` does not change.
+  static std::shared_ptr<const Prepared> prepare(const plugins::Scene& scene);
+
+  /// Builds the actors of a new scene (decodes textures), from `prepared` (made by `prepare`
+  /// of this scene) when given. The scene must outlive the next call.
   /// @returns notes about what could not be shown as the file asks (e.g. an image that does not
   ///          decode), one line each.
-  std::vector<std::string> set_scene(const plugins::Scene& scene);
+  std::vector<std::string> set_scene(const plugins::Scene& scene, std::shared_ptr<const Prepared> prepared = nullptr);
+  /// While held, `render` only notes that a frame is due; releasing the hold draws it once
+  /// (a swap-in whose steps each ask for a frame draws one).
+  void hold_renders(bool hold);
   /// Moves every actor (and the normals, when shown) to the scene's current pose.
   void update_pose();
+  /// Follows one step on the shown scene, already followed (`plugins::follow_scene`): only the
+  /// points and cells `change` touched are rewritten (ViewPolyData::update). O(change).
+  /// @pre not structural: a structural change is shown with `set_scene`.
+  void update_scene(const ModelChange& change);
+  /// The drawn data of instance `instance` (nullptr for an unknown one): what tests and the
+  /// studio benchmark compare with a fresh build.
+  vtkPolyData* instance_poly_data(std::size_t instance) const;
   /// Draws instance `instance` at `positions` (world, one per vertex slot of its mesh) instead of its
   /// posed positions, until the next `update_pose` or `set_scene`.
   void set_instance_positions(std::size_t instance, const std::vector<glm::vec3>& positions);
@@ -81,6 +102,9 @@ class SceneView : public QWidget {
   glm::vec3 view_direction() const;
   /// Renders now.
   void render();
+  /// Called at the start of every `render` (nullptr: none): the studio benchmark times the work
+  /// between an action and the render call with it.
+  void set_render_listener(std::function<void()> listener);
   /// The rendered view as an image (renders first).
   QImage grab_view();
 

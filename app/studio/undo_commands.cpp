@@ -4,14 +4,14 @@
 namespace deepcut::studio {
 
 void SessionStepCommand::undo() {
-  session_.undo();
-  show_();
+  show_(session_.undo());
 }
 
 void SessionStepCommand::redo() {
-  if (pushed_) session_.redo();
+  if (pushed_) return show_(session_.redo());
   pushed_ = true;
-  show_();
+  show_(made_);
+  made_ = ModelChange();
 }
 
 }  // namespace deepcut::studio

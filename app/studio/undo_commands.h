@@ -12,18 +12,21 @@
 
 namespace deepcut::studio {
 
-/// The step the session has just made (its state is current when this is pushed): undo and
-/// redo move the session's stack, then `show` draws the session's current state.
+/// The step the session has just made (its state is current when this is pushed; `made` is
+/// what it changed): undo and redo move the session's stack, then `show` draws the session's
+/// current state, told what the move changed.
 class SessionStepCommand : public QUndoCommand {
  public:
-  SessionStepCommand(session::Session& session, const QString& label, std::function<void()> show)
-      : QUndoCommand(label), session_(session), show_(std::move(show)) {}
+  SessionStepCommand(session::Session& session, const QString& label, ModelChange made,
+                     std::function<void(const ModelChange&)> show)
+      : QUndoCommand(label), session_(session), made_(std::move(made)), show_(std::move(show)) {}
   void undo() override;
   void redo() override;
 
  private:
   session::Session& session_;
-  std::function<void()> show_;
+  ModelChange made_;  // shown by the first redo, then dropped
+  std::function<void(const ModelChange&)> show_;
   bool pushed_ = false;  // the first redo (QUndoStack::push) finds the step already made
 };
 

@@ -92,12 +92,30 @@ glm::vec3 PosedMesh::unpose(const SurfaceMesh& surface, VertexId v, const glm::v
   return glm::vec3(glm::dvec3(b) - glm::dvec3(morph.offset(v.index)));
 }
 
+namespace {
+
+// The normal map of a vertex's linear bind-to-world map: its inverse transpose.
+glm::mat3 normal_map(const glm::mat3& linear) { return glm::transpose(glm::inverse(linear)); }
+
+// World normal of corner `c` (of a face whose corner k is vertex `v`): its normal plus its morph
+// deltas, through the vertex's normal map (`map` null: the identity), renormalised. The one
+// kernel of every posed corner normal, whole mesh or followed.
+glm::vec3 posed_corner_normal(const MorphBlend& morph, const AttributeArray<glm::vec3>& normals, std::size_t c,
+                              const glm::mat3* map) {
+  const glm::vec3 m = morph.normal(c, normals[c]);
+  const glm::vec3 n = map ? *map * m : m;
+  const float len = glm::length(n);
+  return len > 0.0f ? n / len : n;
+}
+
+}  // namespace
+
 std::vector<glm::vec3> PosedMesh::corner_normals(const SurfaceMesh& surface) const {
   const auto* normals = surface.corner_attrs().find<glm::vec3>(attr::kNormal);
   if (!normals) return {};
   std::vector<glm::mat3> normal_maps(linear.size());
   parallel_for(normal_maps.size(), kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t v = b; v < e; ++v) normal_maps[v] = glm::transpose(glm::inverse(linear[v]));
+    for (std::size_t v = b; v < e; ++v) normal_maps[v] = normal_map(linear[v]);
   });
   const MorphBlend morph(surface, weights);
   std::vector<glm::vec3> out(normals->size());
@@ -106,14 +124,50 @@ std::vector<glm::vec3> PosedMesh::corner_normals(const SurfaceMesh& surface) con
       const auto& t = surface.face(FaceId(static_cast<std::uint32_t>(f)));
       for (int k = 0; k < 3; ++k) {
         const auto c = 3 * f + static_cast<std::size_t>(k);
-        const glm::vec3 m = morph.normal(c, (*normals)[c]);
-        const glm::vec3 n = normal_maps.empty() ? m : normal_maps[t[k].index] * m;
-        const float len = glm::length(n);
-        out[c] = len > 0.0f ? n / len : n;
+        out[c] = posed_corner_normal(morph, *normals, c, normal_maps.empty() ? nullptr : &normal_maps[t[k].index]);
       }
     }
   });
   return out;
+}
+
+void PosedMesh::follow_corner_normals(const SurfaceMesh& surface, const PrimitiveChange& change,
+                                      const std::vector<VertexId>& relinked, std::vector<glm::vec3>& out) const {
+  const auto* normals = surface.corner_attrs().find<glm::vec3>(attr::kNormal);
+  if (!normals) {
+    out.clear();
+    return;
+  }
+  const std::size_t slots = surface.face_slots();
+  const std::size_t kept = std::min(change.faces_before, slots);
+  std::vector<std::uint32_t> faces;  // existing faces to recompute, then the new ones
+  for (FaceId f : change.faces)
+    if (f.index < kept) faces.push_back(f.index);
+  if (!relinked.empty() && !linear.empty()) {
+    std::vector<char> moved(surface.vertex_count(), 0);
+    for (VertexId v : relinked)
+      if (v.index < moved.size()) moved[v.index] = 1;
+    for (std::uint32_t f = 0; f < kept; ++f) {
+      const auto& t = surface.face(FaceId(f));
+      if (moved[t[0].index] || moved[t[1].index] || moved[t[2].index]) faces.push_back(f);
+    }
+    std::sort(faces.begin(), faces.end());
+    faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  }
+  for (std::size_t f = kept; f < slots; ++f) faces.push_back(static_cast<std::uint32_t>(f));
+  out.resize(3 * slots);
+  const MorphBlend morph(surface, weights);
+  parallel_for(faces.size(), 4096, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      const std::size_t f = faces[i];
+      const auto& t = surface.face(FaceId(static_cast<std::uint32_t>(f)));
+      for (int k = 0; k < 3; ++k) {
+        const std::size_t c = 3 * f + static_cast<std::size_t>(k);
+        const glm::mat3 map = linear.empty() ? glm::mat3(1.0f) : normal_map(linear[t[k].index]);
+        out[c] = posed_corner_normal(morph, *normals, c, linear.empty() ? nullptr : &map);
+      }
+    }
+  });
 }
 
 PosedMesh PosedMesh::at_positions(const SurfaceMesh& surface, std::vector<glm::vec3> posed) {

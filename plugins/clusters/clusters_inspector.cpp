@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 // Particle clusters inspector: the soft-body particles (core/softbody/clustering.h) of every
 // instance. Vertices are coloured by the particle that holds them most strongly, particle centres
-// and their radius spheres follow the pose, and the rho slider re-clusters live.
+// and their radius spheres follow the pose, and the rho slider re-clusters live (in the studio off
+// the UI thread: a 1M-triangle model takes a second or more; the clusters shown change only when
+// the new ones are ready, and Cancel keeps them).
 #include <QCheckBox>
 #include <QDoubleSpinBox>
 #include <QElapsedTimer>
@@ -14,7 +16,9 @@
 #include <QVBoxLayout>
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <sstream>
+#include <string>
 
 #include "deepcut/core/errors.h"
 #include "deepcut/core/posed_model.h"
@@ -36,6 +40,32 @@ struct InstanceClusters {
   std::uint32_t first_id = 0;   // particle numbering across instances (for colours)
 };
 
+/// One drawn instance as clustering reads it: its mesh (owned by the scene's model) and where
+/// its rest pose is.
+struct ClusterInput {
+  int node = -1, primitive = -1;
+  const SurfaceMesh* surface = nullptr;
+};
+
+/// The particles of every instance of `model` at radius `rho`, numbered across instances.
+/// Reads `model` only: safe off the UI thread while nothing edits it.
+std::vector<InstanceClusters> cluster_instances(const Model& model, const std::vector<ClusterInput>& inputs, float rho) {
+  const PosedModel rest = PosedModel::build(model, -1, 0.0f, PoseDetail::Positions);
+  std::vector<InstanceClusters> out;
+  std::uint32_t next_id = 0;
+  ClusterOptions options;
+  options.radius = rho;
+  for (const ClusterInput& input : inputs) {
+    InstanceClusters pc;
+    pc.rest = rest.find(input.node, input.primitive)->posed;
+    pc.clusters = Clusters::build(*input.surface, pc.rest, options);
+    pc.first_id = next_id;
+    next_id += static_cast<std::uint32_t>(pc.clusters.particle_slots());
+    out.push_back(std::move(pc));
+  }
+  return out;
+}
+
 class ClustersInspector final : public Inspector {
  public:
   std::string id() const override { return "clusters"; }
@@ -52,6 +82,12 @@ class ClustersInspector final : public Inspector {
 
  private:
   void recluster();
+  /// Re-clusters at `rho` through the studio's background runner (the panel's controls).
+  void recluster_in_background(float rho);
+  /// The scene's instances as clustering reads them.
+  std::vector<ClusterInput> inputs() const;
+  /// Shows the clusters just made (`ms` to make them).
+  void take_clusters(double ms);
   void refresh_panel();
   float slider_to_rho(int value) const;
   int rho_to_slider(float rho) const;
@@ -91,29 +127,56 @@ void ClustersInspector::set_scene(const Scene& scene, SceneChange change) {
   recluster();
 }
 
+std::vector<ClusterInput> ClustersInspector::inputs() const {
+  std::vector<ClusterInput> out;
+  for (const SceneInstance& instance : scene_->instances) out.push_back({instance.node, instance.primitive, instance.surface});
+  return out;
+}
+
 void ClustersInspector::recluster() {
   instances_.clear();
   if (!scene_) return;
   QElapsedTimer clock;
   clock.start();
-  const Model& model = *scene_->model;
-  const PosedModel rest = PosedModel::build(model, -1, 0.0f, PoseDetail::Positions);
-  std::uint32_t next_id = 0;
-  ClusterOptions options;
-  options.radius = rho_;
-  for (const SceneInstance& instance : scene_->instances) {
-    InstanceClusters pc;
-    pc.rest = rest.find(instance.node, instance.primitive)->posed;
-    pc.clusters = Clusters::build(*instance.surface, pc.rest, options);
-    pc.first_id = next_id;
-    next_id += static_cast<std::uint32_t>(pc.clusters.particle_slots());
-    instances_.push_back(std::move(pc));
-  }
-  cluster_ms_ = static_cast<double>(clock.nsecsElapsed()) / 1e6;
+  instances_ = cluster_instances(*scene_->model, inputs(), rho_);
+  take_clusters(static_cast<double>(clock.nsecsElapsed()) / 1e6);
+}
+
+void ClustersInspector::take_clusters(double ms) {
+  cluster_ms_ = ms;
   if (picked_instance_ < instances_.size() &&
       picked_particle_ >= instances_[picked_instance_].clusters.particle_slots())
     picked_instance_ = Pick::kNoInstance;
   refresh_panel();
+}
+
+void ClustersInspector::recluster_in_background(float rho) {
+  if (!scene_) return;
+  // The new clusters replace the shown ones when ready; until then (and after Cancel, or when
+  // another task runs) rho and the colours stay as they are.
+  std::shared_ptr<const Model> model = scene_->model;
+  const std::vector<ClusterInput> in = inputs();
+  std::ostringstream title;
+  title << "Re-clustering at rho " << rho;
+  const bool started = run_in_background(
+      title.str(),
+      [this, model, in, rho](const std::function<void(const std::string&)>& stage) -> std::function<void()> {
+        stage("Clustering");
+        QElapsedTimer clock;
+        clock.start();
+        auto made = std::make_shared<std::vector<InstanceClusters>>(cluster_instances(*model, in, rho));
+        const double ms = static_cast<double>(clock.nsecsElapsed()) / 1e6;
+        stage("Colouring");
+        return [this, model, made, rho, ms] {
+          if (!scene_ || scene_->model != model) return;  // the scene changed meanwhile
+          rho_ = rho;
+          instances_ = std::move(*made);
+          take_clusters(ms);
+          notify_changed();
+        };
+      },
+      [this] { refresh_panel(); });
+  if (!started) refresh_panel();
 }
 
 std::uint32_t ClustersInspector::dominant_particle(std::size_t instance, VertexId v) const {
@@ -293,16 +356,10 @@ QWidget* ClustersInspector::create_panel(QWidget* parent) {
   layout->addWidget(picked_label_);
   layout->addStretch(1);
 
-  QObject::connect(slider_, &QSlider::valueChanged, panel, [this](int value) {
-    rho_ = slider_to_rho(value);
-    recluster();
-    notify_changed();
-  });
+  QObject::connect(slider_, &QSlider::valueChanged, panel,
+                   [this](int value) { recluster_in_background(slider_to_rho(value)); });
   QObject::connect(spin_, QOverload<double>::of(&QDoubleSpinBox::valueChanged), panel, [this](double value) {
-    if (value <= 0.0) return;
-    rho_ = static_cast<float>(value);
-    recluster();
-    notify_changed();
+    if (value > 0.0) recluster_in_background(static_cast<float>(value));
   });
   QObject::connect(spheres_box_, &QCheckBox::toggled, panel, [this](bool on) {
     show_spheres_ = on;

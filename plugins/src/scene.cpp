@@ -82,6 +82,73 @@ void pose_scene(Scene& scene, int animation, float time, bool with_normals) {
   }
 }
 
+namespace {
+
+const SurfaceMesh* primitive_mesh(const Model& model, int mesh, int primitive) {
+  if (mesh < 0 || static_cast<std::size_t>(mesh) >= model.meshes.size()) return nullptr;
+  const auto& prims = model.meshes[static_cast<std::size_t>(mesh)].primitives;
+  if (primitive < 0 || static_cast<std::size_t>(primitive) >= prims.size()) return nullptr;
+  return &prims[static_cast<std::size_t>(primitive)].mesh;
+}
+
+}  // namespace
+
+bool follow_scene(Scene& scene, std::shared_ptr<const Model> model, const ModelChange& change, bool with_normals) {
+  if (change.structure || !model || !scene.model || !scene.posed) return false;
+  const Model& m = *model;
+  if (m.nodes.size() != scene.model->nodes.size()) return false;
+  for (const SceneInstance& instance : scene.instances)
+    if (!primitive_mesh(m, instance.mesh, instance.primitive) ||
+        m.nodes[static_cast<std::size_t>(instance.node)].mesh != instance.mesh ||
+        !scene.posed->find(instance.node, instance.primitive))
+      return false;
+  // The scene must show the state before the step.
+  for (const PrimitiveChange& edit : change.primitives)
+    for (const SceneInstance& instance : scene.instances)
+      if (instance.mesh == edit.mesh && instance.primitive == edit.primitive &&
+          (instance.pose->posed.size() != edit.vertices_before ||
+           (!instance.posed_normals.empty() && instance.posed_normals.size() != 3 * edit.faces_before)))
+        return false;
+  // A copy of the scene shares the posed model: follow one of its own.
+  if (scene.posed.use_count() > 1) scene.posed = std::make_shared<PosedModel>(*scene.posed);
+  scene.model = std::move(model);
+  // The linear maps of the listed vertices before the step: where one changes (new skin
+  // weights), the corner normals around the vertex change too.
+  std::vector<std::vector<std::pair<VertexId, glm::mat3>>> linear_before(scene.instances.size());
+  for (const PrimitiveChange& edit : change.primitives)
+    for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+      const SceneInstance& instance = scene.instances[i];
+      if (instance.mesh != edit.mesh || instance.primitive != edit.primitive) continue;
+      const std::vector<glm::mat3>& linear = instance.pose->linear;
+      for (VertexId v : edit.vertices)
+        if (v.index < linear.size()) linear_before[i].emplace_back(v, linear[v.index]);
+    }
+  scene.posed->follow(m, change);
+  if (!scene.posed->valid()) {  // it could not follow: pose afresh
+    pose_scene(scene, scene.animation, scene.time, with_normals);
+    return true;
+  }
+  for (SceneInstance& instance : scene.instances) {
+    instance.surface = primitive_mesh(m, instance.mesh, instance.primitive);
+    instance.pose = scene.posed->find(instance.node, instance.primitive);
+  }
+  for (const PrimitiveChange& edit : change.primitives)
+    for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+      SceneInstance& instance = scene.instances[i];
+      if (instance.mesh != edit.mesh || instance.primitive != edit.primitive) continue;
+      std::vector<VertexId> relinked;
+      for (const auto& [v, before] : linear_before[i])
+        if (v.index < instance.pose->linear.size() && instance.pose->linear[v.index] != before) relinked.push_back(v);
+      if (with_normals && instance.posed_normals.size() != 3 * edit.faces_before)
+        instance.posed_normals = instance.pose->corner_normals(*instance.surface);  // none to follow
+      else if (with_normals)
+        instance.pose->follow_corner_normals(*instance.surface, edit, relinked, instance.posed_normals);
+      else
+        instance.posed_normals.clear();
+    }
+  return true;
+}
+
 std::vector<int> joint_nodes(const Model& model) {
   std::vector<int> out;
   std::unordered_set<int> seen;

@@ -196,6 +196,7 @@ class StudioGuiTest : public QObject {
         QVERIFY(slider);
         const std::string before = window->inspector()->summary()[0];
         slider->setValue(slider->maximum());
+        window->task()->wait();  // re-clustering runs off the UI thread
         const std::string after = window->inspector()->summary()[0];
         QVERIFY2(std::stoul(after) < std::stoul(before), (before + " -> " + after).c_str());
         QVERIFY(window->view()->grab_view() != image);
@@ -326,6 +327,7 @@ class StudioGuiTest : public QObject {
     QVERIFY(enter.isAccepted());
     QDropEvent drop(centre, Qt::CopyAction, &data, Qt::LeftButton, Qt::NoModifier);
     QApplication::sendEvent(window.get(), &drop);
+    window->task()->wait();  // the drop opens the file off the UI thread
     QCOMPARE(window->model_path(), fox);
     QCOMPARE(window->model()->animations.size(), std::size_t(3));
     // A static mesh (format plugin) drops in as an unrigged model: one skin with one joint.
@@ -337,6 +339,7 @@ class StudioGuiTest : public QObject {
     QVERIFY(enter_obj.isAccepted());
     QDropEvent drop_obj(centre, Qt::CopyAction, &obj, Qt::LeftButton, Qt::NoModifier);
     QApplication::sendEvent(window.get(), &drop_obj);
+    window->task()->wait();
     QCOMPARE(window->model_path(), spot);
     QCOMPARE(window->model()->skins.size(), std::size_t(1));
     QCOMPARE(window->model()->skins[0].joints.size(), std::size_t(1));
@@ -400,6 +403,7 @@ class StudioGuiTest : public QObject {
         static_cast<QDialog*>(dialog)->accept();  // QFileDialog::accept, through the public slot
       });
       export_action->trigger();
+      window->task()->wait();  // the export runs off the UI thread
       QVERIFY2(chose, "the Export dialog has no Compression choice");
       std::string lower = codec;
       std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return char(std::tolower(c)); });

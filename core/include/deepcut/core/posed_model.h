@@ -69,6 +69,14 @@ struct PosedMesh {
   /// plus its morph normal deltas at `weights`, through the inverse transpose of its vertex's
   /// `linear` map (the identity when `linear` is empty), renormalised. Empty without normals.
   std::vector<glm::vec3> corner_normals(const SurfaceMesh& surface) const;
+  /// Brings `normals` (this pose's `corner_normals` of `surface` before a step) up to date after
+  /// the step `change` (PrimitiveChange of this mesh, this posed mesh already following it): one
+  /// per corner of every face slot now, recomputed by the same kernel for new faces, listed faces
+  /// and the faces around `relinked` (vertices whose linear map the step changed).
+  /// Untouched corners are kept. O(change), plus one pass over the faces when `relinked` is not
+  /// empty. Leaves `normals` empty when the mesh has no normals.
+  void follow_corner_normals(const SurfaceMesh& surface, const PrimitiveChange& change,
+                             const std::vector<VertexId>& relinked, std::vector<glm::vec3>& normals) const;
 
   /// `surface` posed at `posed` (its own positions, i.e. at rest, when empty; one per vertex
   /// otherwise), with bounds and grid, `linear` empty (the identity for every vertex) and no

@@ -96,13 +96,31 @@ class Inspector {
   /// Called whenever the inspector's state changes through its panel, so the view can redraw.
   void set_changed_callback(std::function<void()> callback) { changed_ = std::move(callback); }
 
+  /// Long work an inspector hands to the studio: run on a worker thread with `stage` (names
+  /// the stage starting; throws once the user cancelled, so the work unwinds), it returns what
+  /// to do with its result on the UI thread (not run when cancelled).
+  using Work = std::function<std::function<void()>(const std::function<void(const std::string&)>& stage)>;
+  /// Runs `title`'s work (the studio: off the UI thread, with a progress bar and Cancel, edits
+  /// disabled meanwhile); `cancelled` runs on the UI thread when the user cancelled it.
+  /// @returns false when it did not start (another one runs).
+  using Runner = std::function<bool(const std::string& title, Work work, std::function<void()> cancelled)>;
+  /// Where `run_in_background` sends work; without one (headless use) it runs at once.
+  void set_background_runner(Runner runner) { runner_ = std::move(runner); }
+
  protected:
   void notify_changed() const {
     if (changed_) changed_();
   }
+  /// Runs `work` through the runner (see Runner), or at once on this thread without one.
+  bool run_in_background(const std::string& title, Work work, std::function<void()> cancelled = {}) const {
+    if (runner_) return runner_(title, std::move(work), std::move(cancelled));
+    work([](const std::string&) {})();
+    return true;
+  }
 
  private:
   std::function<void()> changed_;
+  Runner runner_;
 };
 
 }  // namespace deepcut::plugins

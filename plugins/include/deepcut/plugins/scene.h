@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "deepcut/core/model.h"
+#include "deepcut/core/model_change.h"
 #include "deepcut/core/posed_model.h"
 #include "deepcut/core/skinning.h"
 #include "deepcut/core/spatial_index.h"
@@ -62,6 +63,16 @@ Scene make_scene(std::shared_ptr<const Model> model, const PoseKey& key, bool wi
 /// scene's `weights`: PosedModel::repose on its posed model, O(vertices) in parallel, without grids.
 /// @throws Error{InvalidArgument} if `animation` is out of range.
 void pose_scene(Scene& scene, int animation, float time, bool with_normals = true);
+
+/// Makes `scene` show `model`, the state one step (an operation, its undo or redo) made from the
+/// scene's model, as `change` describes the step: the posed meshes of the edited primitives
+/// follow it (PosedMesh::follow) and their corner normals are recomputed only where it touched
+/// them (PosedMesh::follow_corner_normals), so the scene equals `make_scene` of `model` at the
+/// same pose in O(change). `size` stays the scene's (the rest bounds are not measured again).
+/// @returns false, changing nothing, when the change is structural (or the scene has none of
+///          the instances it names as they were): the caller builds the scene again.
+bool follow_scene(Scene& scene, std::shared_ptr<const Model> model, const ModelChange& change,
+                  bool with_normals = true);
 
 /// Every joint node of every skin, each once, in skin order.
 std::vector<int> joint_nodes(const Model& model);

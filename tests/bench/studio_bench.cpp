@@ -1,0 +1,278 @@
+// SPDX-License-Identifier: MIT
+// deepcut_studio_bench: what a studio user waits for, on the generated cactus (about 25K and 1M
+// triangles), measured through the main window as the user drives it (needs a display: run it
+// under xvfb-run, or through `deepcut bench --studio`):
+// - open: the glTF file opened to the first render call, and to the first frame drawn;
+// - a small drill, a tear and a cut applied (operation, undo record, scene, VTK data and
+//   inspector update): from Apply to the render call, and to the frame drawn;
+// - the undo and the redo of each, likewise;
+// - an unchanged re-render beside them (the floor a frame costs on this renderer);
+// - the same steps with the scene built again after each (DEEPCUT_VIEW_REBUILD=1, rows
+//   "..._rebuild"): the reference the incremental view is measured against, in the same run;
+// - resident memory after N small drills (growth per operation).
+//   deepcut_studio_bench [--json] [--quick] [--ops N]
+// --quick: the 25K cactus only. Medians of three repetitions for each timed step.
+#include <QAction>
+#include <QApplication>
+#include <QUndoStack>
+#include <QDir>
+#include <QTemporaryDir>
+#include <QtTest/QtTest>
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "deepcut/core/generate/cactus.h"
+#include "deepcut/core/io/gltf.h"
+#include "deepcut/core/ops/operation.h"
+#include "main_window.h"
+#include "scene_view.h"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using deepcut::studio::MainWindow;
+using nlohmann::json;
+
+double ms_since(Clock::time_point t0, Clock::time_point t1) {
+  return std::chrono::duration<double, std::milli>(t1 - t0).count();
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+/// Resident memory of this process, in MiB (/proc/self/statm).
+double resident_mib() {
+  std::ifstream in("/proc/self/statm");
+  long pages = 0, resident = 0;
+  in >> pages >> resident;
+  return static_cast<double>(resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0);
+}
+
+/// Times one action in the window: to the first render call it makes, and to its return (the
+/// frame drawn).
+struct Timed {
+  double to_render = 0.0, to_frame = 0.0;
+};
+
+class Timer {
+ public:
+  explicit Timer(MainWindow& window) : window_(window) {
+    window_.view()->set_render_listener([this] {
+      if (!rendered_) first_render_ = Clock::now();
+      rendered_ = true;
+    });
+  }
+  ~Timer() { window_.view()->set_render_listener(nullptr); }
+  template <class Action>
+  Timed time(Action&& action) {
+    rendered_ = false;
+    const auto t0 = Clock::now();
+    action();
+    const auto t1 = Clock::now();
+    return {ms_since(t0, rendered_ ? first_render_ : t1), ms_since(t0, t1)};
+  }
+
+ private:
+  MainWindow& window_;
+  bool rendered_ = false;
+  Clock::time_point first_render_;
+};
+
+/// Operations around the cactus' middle, at the window's pose: small drills (no wall), tears
+/// and cuts, each a little apart from the last (a linear congruential sequence).
+class Placer {
+ public:
+  explicit Placer(const MainWindow& window) : window_(window) {
+    box_ = window.model()->meshes.front().primitives.front().mesh.bounds();
+  }
+  deepcut::Operation drill() {
+    const glm::vec3 at = centre() + glm::vec3(0.0f, (next() - 0.5f) * 0.5f * size(), 0.0f);
+    deepcut::DrillOperation drill;
+    drill.cylinder.a = at - glm::vec3(0.0f, 0.0f, size());
+    drill.cylinder.b = at + glm::vec3(0.0f, 0.0f, size());
+    drill.cylinder.radius = 0.01f * size();
+    return posed(drill);
+  }
+  deepcut::Operation tear() {
+    const glm::vec3 at = centre() + glm::vec3((next() - 0.5f) * 0.2f * size(), (next() - 0.5f) * 0.4f * size(), 0.0f);
+    const float depth = 0.5f * (box_.max.z - box_.min.z), height = 0.5f * (box_.max.y - box_.min.y);
+    const glm::vec3 up(0.0f, 1.0f, 0.0f), handle = at + 1.5f * depth * glm::vec3(0.0f, 0.0f, 1.0f);
+    deepcut::TearOperation tear;
+    tear.start = {handle + 0.3f * height * up, at + 0.3f * height * up};
+    tear.end = {handle - 0.3f * height * up, at - 0.3f * height * up};
+    return posed(tear);
+  }
+  deepcut::Operation cut() {
+    deepcut::CutOperation cut;
+    cut.plane.point = centre() + glm::vec3(0.0f, (next() - 0.5f) * 0.3f * size(), 0.0f);
+    cut.plane.normal = glm::vec3(0.1f * (next() - 0.5f), 1.0f, 0.05f);
+    return posed(cut);
+  }
+
+ private:
+  float next() {
+    state_ = state_ * 1664525u + 1013904223u;
+    return static_cast<float>(state_ >> 8) / static_cast<float>(1u << 24);
+  }
+  glm::vec3 centre() const { return 0.5f * (box_.min + box_.max); }
+  float size() const { return box_.diagonal(); }
+  deepcut::Operation posed(deepcut::OperationParams params) const {
+    deepcut::Operation op;
+    op.params = std::move(params);
+    op.animation = window_.scene()->animation;
+    op.time = window_.scene()->time;
+    return op;
+  }
+  const MainWindow& window_;
+  deepcut::BoundingBox box_;
+  std::uint32_t state_ = 11u;
+};
+
+/// Applies `op` as one undo step. @returns false when it missed (nothing changed).
+bool apply(MainWindow& window, const deepcut::Operation& op) {
+  deepcut::History history;
+  history.operations.push_back(op);
+  const int steps = window.history()->count();
+  window.apply_history(history, "bench");
+  return window.history()->count() > steps;
+}
+
+json step_json(const std::vector<Timed>& runs) {
+  std::vector<double> render, frame;
+  for (const Timed& t : runs) {
+    render.push_back(t.to_render);
+    frame.push_back(t.to_frame);
+  }
+  return {{"to_render_call_ms", median(render)}, {"to_frame_ms", median(frame)}};
+}
+
+/// One operation kind: apply, undo and redo three times each (undone again after each redo).
+json time_operation(MainWindow& window, Timer& timer, const std::function<deepcut::Operation()>& make) {
+  std::vector<Timed> applied, undone, redone;
+  for (int rep = 0, misses = 0; rep < 3;) {
+    const deepcut::Operation op = make();
+    bool hit = false;
+    const Timed t = timer.time([&] { hit = apply(window, op); });
+    if (!hit) {  // placed where the tool misses: placed again, untimed
+      if (++misses > 20) throw std::runtime_error("the operations keep missing the model");
+      continue;
+    }
+    ++rep;
+    applied.push_back(t);
+    undone.push_back(timer.time([&] { window.undo_action()->trigger(); }));
+    redone.push_back(timer.time([&] { window.redo_action()->trigger(); }));
+    window.undo_action()->trigger();
+  }
+  return {{"apply", step_json(applied)}, {"undo", step_json(undone)}, {"redo", step_json(redone)}};
+}
+
+json run_size(std::size_t target, int ops, const QString& dir) {
+  deepcut::CactusOptions options;
+  options.target_triangles = target;
+  const QString path = dir + QString("/cactus_%1.glb").arg(target);
+  std::size_t triangles = 0;
+  {
+    const deepcut::Model model = deepcut::make_cactus(options);
+    for (const auto& mesh : model.meshes)
+      for (const auto& prim : mesh.primitives) triangles += prim.mesh.face_count();
+    deepcut::write_gltf(model, path.toStdString());
+  }
+  deepcut::studio::MainWindowOptions window_options;
+  window_options.error_dialogs = false;  // an error ends the run, never waits on a dialog
+  MainWindow window(window_options);
+  window.resize(1280, 800);
+  window.show();
+  if (!QTest::qWaitForWindowExposed(&window)) throw std::runtime_error("the window is never exposed");
+  Timer timer(window);
+  const Timed open = timer.time([&] { window.open_file(path); });
+  if (!window.scene()) throw std::runtime_error("could not open " + path.toStdString());
+  json out = {{"triangles", triangles}, {"open", step_json({open})}};
+  std::vector<Timed> unchanged;
+  for (int i = 0; i < 3; ++i) unchanged.push_back(timer.time([&] { window.view()->render(); }));
+  out["unchanged_render"] = step_json(unchanged);
+  Placer place(window);
+  for (const bool rebuild : {false, true}) {
+    // The reference: the scene and its VTK data built again after every step.
+    setenv("DEEPCUT_VIEW_REBUILD", rebuild ? "1" : "0", 1);
+    const std::string suffix = rebuild ? "_rebuild" : "";
+    out["drill" + suffix] = time_operation(window, timer, [&] { return place.drill(); });
+    out["tear" + suffix] = time_operation(window, timer, [&] { return place.tear(); });
+    out["cut" + suffix] = time_operation(window, timer, [&] { return place.cut(); });
+  }
+  setenv("DEEPCUT_VIEW_REBUILD", "0", 1);
+  const double before = resident_mib();
+  for (int i = 0; i < ops; ++i) apply(window, place.drill());  // a miss changes nothing
+  const double after = resident_mib();
+  out["memory"] = {{"operations", ops},
+                   {"resident_before_mib", before},
+                   {"resident_after_mib", after},
+                   {"growth_per_operation_kib", ops > 0 ? (after - before) * 1024.0 / ops : 0.0}};
+  return out;
+}
+
+void print_table(const json& results) {
+  std::printf("%-10s %-20s %14s %12s\n", "triangles", "step", "to render ms", "to frame ms");
+  for (const json& r : results) {
+    const std::string tri = std::to_string(r["triangles"].get<std::size_t>());
+    auto row = [&](const std::string& name, const json& s) {
+      std::printf("%-10s %-20s %14.1f %12.1f\n", tri.c_str(), name.c_str(), s["to_render_call_ms"].get<double>(),
+                  s["to_frame_ms"].get<double>());
+    };
+    row("open", r["open"]);
+    row("render", r["unchanged_render"]);
+    for (const char* kind : {"drill", "tear", "cut", "drill_rebuild", "tear_rebuild", "cut_rebuild"})
+      for (const char* step : {"apply", "undo", "redo"}) row(std::string(kind) + "." + step, r[kind][step]);
+    const json& m = r["memory"];
+    std::printf("%-10s memory: %.1f MiB resident, %.1f MiB after %d small drills (%.1f KiB per operation)\n",
+                tri.c_str(), m["resident_before_mib"].get<double>(), m["resident_after_mib"].get<double>(),
+                m["operations"].get<int>(), m["growth_per_operation_kib"].get<double>());
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  bool as_json = false, quick = false;
+  int ops = 100;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--json") == 0) {
+      as_json = true;
+    } else if (std::strcmp(argv[i], "--quick") == 0) {
+      quick = true;
+    } else if (std::strcmp(argv[i], "--ops") == 0 && i + 1 < argc) {
+      ops = std::max(0, std::atoi(argv[++i]));
+    } else {
+      std::cerr << "deepcut_studio_bench: unknown argument '" << argv[i] << "' (--json, --quick, --ops N)\n";
+      return 2;
+    }
+  }
+  QApplication app(argc, argv);
+  QTemporaryDir dir;
+  try {
+    json results = json::array();
+    results.push_back(run_size(25300, ops, dir.path()));
+    if (!quick) results.push_back(run_size(1000000, ops, dir.path()));
+    if (as_json)
+      std::cout << results.dump(2) << "\n";
+    else
+      print_table(results);
+  } catch (const std::exception& e) {
+    std::cerr << "deepcut_studio_bench: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

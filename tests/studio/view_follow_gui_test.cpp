@@ -1,0 +1,184 @@
+// SPDX-License-Identifier: MIT
+// GUI test (QTest under xvfb-run) of the incremental view: after each of a series of seeded
+// tears and drills, then each undo and each redo, the scene followed in O(change) from what the
+// session says the step changed
+// (plugins::follow_scene) and the view's VTK data updated from the same change
+// (SceneView::update_scene) equal a full build of the new state (make_scene and a fresh
+// ViewPolyData): posed positions and corner normals bit for bit, and per drawn cell its points'
+// positions, normals, texture coordinates, vertex ids, face id and colours.
+
+#include <QtTest/QtTest>
+#include <memory>
+#include <string>
+
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+
+#include "deepcut/core/io/gltf.h"
+#include "deepcut/core/ops/operation.h"
+#include "deepcut/core/posed_model.h"
+#include "deepcut/plugins/scene.h"
+#include "deepcut/widgets/poly_data_bridge.h"
+#include "deepcut/widgets/view_poly_data.h"
+#include "scene_view.h"
+#include "session.h"
+
+using namespace deepcut;
+
+namespace {
+
+// Seeded tears and small drills (no wall: both are local steps) around the model's middle.
+class LocalOperations {
+ public:
+  LocalOperations(const BoundingBox& box, int animation, float time) : box_(box), animation_(animation), time_(time) {}
+  Operation next_operation(int i) {
+    const glm::vec3 c = 0.5f * (box_.min + box_.max);
+    const float size = box_.diagonal();
+    Operation op;
+    op.animation = animation_;
+    op.time = time_;
+    if (i % 2 == 0) {
+      const glm::vec3 at = c + glm::vec3((next() - 0.5f) * 0.2f * size, (next() - 0.5f) * 0.4f * size, 0.0f);
+      const float depth = 0.5f * (box_.max.z - box_.min.z), height = 0.5f * (box_.max.y - box_.min.y);
+      const glm::vec3 up(0.0f, 1.0f, 0.0f), handle = at + 1.5f * depth * glm::vec3(0.0f, 0.0f, 1.0f);
+      TearOperation tear;
+      tear.start = {handle + 0.2f * height * up, at + 0.2f * height * up};
+      tear.end = {handle - 0.2f * height * up, at - 0.2f * height * up};
+      op.params = tear;
+    } else {
+      const glm::vec3 at = c + glm::vec3(0.0f, (next() - 0.5f) * 0.5f * size, 0.0f);
+      DrillOperation drill;
+      drill.cylinder.a = at - glm::vec3(0.0f, 0.0f, size);
+      drill.cylinder.b = at + glm::vec3(0.0f, 0.0f, size);
+      drill.cylinder.radius = (0.01f + 0.02f * next()) * size;
+      op.params = drill;
+    }
+    return op;
+  }
+
+ private:
+  float next() {
+    state_ = state_ * 1664525u + 1013904223u;
+    return static_cast<float>(state_ >> 8) / static_cast<float>(1u << 24);
+  }
+  BoundingBox box_;
+  int animation_;
+  float time_;
+  std::uint32_t state_ = 7u;
+};
+
+bool same_tuple(vtkDataArray* a, vtkIdType i, vtkDataArray* b, vtkIdType j) {
+  if (!a || !b) return !a && !b;
+  if (a->GetNumberOfComponents() != b->GetNumberOfComponents()) return false;
+  for (int k = 0; k < a->GetNumberOfComponents(); ++k)
+    if (a->GetComponent(i, k) != b->GetComponent(j, k)) return false;
+  return true;
+}
+
+// Cell by cell, what `followed` draws equals what `fresh` draws. @returns "" or what differs.
+std::string compare_drawn(vtkPolyData* followed, vtkPolyData* fresh) {
+  if (followed->GetNumberOfCells() != fresh->GetNumberOfCells()) return "cell counts differ";
+  vtkIdType na = 0, nb = 0;
+  const vtkIdType *a = nullptr, *b = nullptr;
+  vtkPointData *pa = followed->GetPointData(), *pb = fresh->GetPointData();
+  for (vtkIdType cell = 0; cell < fresh->GetNumberOfCells(); ++cell) {
+    followed->GetPolys()->GetCellAtId(cell, na, a);
+    fresh->GetPolys()->GetCellAtId(cell, nb, b);
+    if (na != 3 || nb != 3) return "cell " + std::to_string(cell) + " is not a triangle";
+    const bool degenerate = b[0] == b[1] && b[1] == b[2];
+    if ((a[0] == a[1] && a[1] == a[2]) != degenerate) return "cell " + std::to_string(cell) + " drawn differently";
+    if (!same_tuple(followed->GetCellData()->GetArray("face_id"), cell, fresh->GetCellData()->GetArray("face_id"), cell) ||
+        !same_tuple(followed->GetCellData()->GetArray("colors"), cell, fresh->GetCellData()->GetArray("colors"), cell))
+      return "cell " + std::to_string(cell) + ": face id or colour differs";
+    if (degenerate) continue;
+    for (int k = 0; k < 3; ++k) {
+      double p[3], q[3];
+      followed->GetPoint(a[k], p);
+      fresh->GetPoint(b[k], q);
+      if (p[0] != q[0] || p[1] != q[1] || p[2] != q[2]) return "cell " + std::to_string(cell) + ": a position differs";
+      for (const char* name : {"vertex_id", "normal", "uv0", "colors"})
+        if (!same_tuple(pa->GetArray(name), a[k], pb->GetArray(name), b[k]))
+          return "cell " + std::to_string(cell) + ": '" + name + "' differs";
+    }
+  }
+  return "";
+}
+
+}  // namespace
+
+class ViewFollowGuiTest : public QObject {
+  Q_OBJECT
+
+ private slots:
+  void local_steps_undo_and_redo_follow_like_a_full_build() {
+    auto opened = std::make_shared<Model>(read_gltf(DEEPCUT_ASSETS_DIR "/cactus.glb"));
+    reserve_for_operations(*opened);
+    const int animation = opened->animations.empty() ? -1 : 0;
+    const float time = animation < 0 ? 0.0f : 0.4f * opened->animations.front().duration();
+    session::Session session;
+    session.open(opened);
+    studio::SceneView view;
+    view.resize(640, 480);
+    view.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&view));
+    plugins::Scene scene = plugins::make_scene(session.current(), animation, time);
+    view.set_scene(scene);
+    view.render();
+    int followed = 0;
+    // `change`: what the session says the step changed (as the studio is told).
+    auto check_step = [&](const ModelChange& change, const std::string& what) {
+      if (plugins::follow_scene(scene, session.current(), change)) {
+        view.update_scene(change);
+        ++followed;
+      } else {
+        scene = plugins::make_scene(session.current(), animation, time);
+        view.set_scene(scene);
+      }
+      view.render();
+      const plugins::Scene fresh = plugins::make_scene(session.current(), animation, time);
+      QCOMPARE(scene.instances.size(), fresh.instances.size());
+      for (std::size_t i = 0; i < fresh.instances.size(); ++i) {
+        const plugins::SceneInstance &s = scene.instances[i], &f = fresh.instances[i];
+        QVERIFY2(s.posed() == f.posed(), (what + ": posed positions differ").c_str());
+        QVERIFY2(s.posed_normals == f.posed_normals, (what + ": posed corner normals differ").c_str());
+        QVERIFY2(s.pose->bounds.min == f.pose->bounds.min && s.pose->bounds.max == f.pose->bounds.max,
+                 (what + ": posed bounds differ").c_str());
+        // Colours follow the elements: the inspectors colour after every step.
+        std::vector<glm::u8vec3> colors(f.surface->vertex_count());
+        for (std::size_t v = 0; v < colors.size(); ++v) colors[v] = glm::u8vec3(v % 251, v % 13, v % 7);
+        plugins::InstanceColors paint;
+        paint.kind = plugins::InstanceColors::Kind::PerVertex;
+        paint.colors = colors;
+        view.set_instance_colors(i, paint);
+        ViewPolyData built(*f.surface, f.posed(), &f.posed_normals);
+        set_vertex_colors(built.poly(), colors);
+        const std::string diff = compare_drawn(view.instance_poly_data(i), built.poly());
+        QVERIFY2(diff.empty(), (what + ", instance " + std::to_string(i) + ": " + diff).c_str());
+      }
+    };
+    const PosedModel rest = PosedModel::build(*opened, -1, 0.0f);
+    BoundingBox box;
+    for (const auto& entry : rest.instances()) box.add(entry.second.bounds);
+    LocalOperations operations(box, animation, time);
+    const int steps = 8;
+    for (int i = 0; i < steps; ++i) {
+      check_step(session.apply(operations.next_operation(i)).change, "operation " + std::to_string(i));
+      if (QTest::currentTestFailed()) return;
+    }
+    while (session.can_undo()) {
+      check_step(session.undo(), "undo");
+      if (QTest::currentTestFailed()) return;
+    }
+    while (session.can_redo()) {
+      check_step(session.redo(), "redo");
+      if (QTest::currentTestFailed()) return;
+    }
+    QVERIFY2(followed >= steps, "most steps are local: the view followed them");
+  }
+};
+
+QTEST_MAIN(ViewFollowGuiTest)
+#include "view_follow_gui_test.moc"
