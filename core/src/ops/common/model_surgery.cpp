@@ -232,7 +232,9 @@ std::vector<SurfaceMesh> extract_disjoint(const SurfaceMesh& mesh, const std::ve
 }
 
 std::vector<SurfaceMesh> split_disjoint(SurfaceMesh&& mesh, const std::vector<std::vector<FaceId>>& lists) {
-  return make_pieces(mesh, lists, &mesh);
+  // A watched mesh (an undo record follows it) is not taken apart: compacting its arrays in place
+  // would destroy the content the record gets back when the mesh is replaced.
+  return make_pieces(mesh, lists, mesh.observer() ? nullptr : &mesh);
 }
 
 int cut_surface_material(Model& model) {

@@ -25,7 +25,8 @@ std::vector<SurfaceMesh> extract_disjoint(const SurfaceMesh& mesh, const std::ve
 
 /// `extract_disjoint(mesh, lists)`, taking `mesh` apart (it is left empty when the lists use
 /// disjoint vertices, as it was otherwise): the largest piece keeps the mesh's arrays, compacted
-/// in place once the other pieces are copied out, so no memory is allocated for it.
+/// in place once the other pieces are copied out, so no memory is allocated for it. A watched
+/// mesh (SurfaceMesh::watch) is left whole, every piece copied out of it.
 std::vector<SurfaceMesh> split_disjoint(SurfaceMesh&& mesh, const std::vector<std::vector<FaceId>>& lists);
 
 /// Index of the model's "Cut surface" material (cut caps, drill walls), added on first use.

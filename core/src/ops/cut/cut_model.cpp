@@ -71,6 +71,9 @@ InstanceCut cut_instance(detail::InstanceEdit& inst, const std::vector<glm::mat4
   auto& prims = inst.edit().primitives;
   for (std::size_t p = 0; p < prims.size(); ++p) {
     SurfaceMesh& mesh = prims[p].mesh;
+    // A watched mesh (the session's undo record follows it) is cut as a copy: assigning the copy
+    // hands the record the content as it was, which undo puts back whole.
+    if (mesh.observer()) mesh = SurfaceMesh(mesh);
     PosedMesh own;
     PosedMesh* posed = inst.posed(static_cast<int>(p));
     if (!posed) {
