@@ -108,6 +108,8 @@ void bm_cut_ours(benchmark::State& state, std::size_t triangles, bool cap) {
   set_triangles(state, in.mesh);
 }
 
+}  // namespace
+
 vtkNew<vtkPlane> vtk_plane(const Plane& p) {
   vtkNew<vtkPlane> plane;
   plane->SetOrigin(p.point.x, p.point.y, p.point.z);
@@ -115,6 +117,8 @@ vtkNew<vtkPlane> vtk_plane(const Plane& p) {
   plane->SetNormal(n.x, n.y, n.z);
   return plane;
 }
+
+namespace {
 
 void bm_cut_vtk(benchmark::State& state, std::size_t triangles) {
   const Input& in = input(triangles);

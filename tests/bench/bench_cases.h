@@ -6,6 +6,11 @@
 #include <string>
 #include <vector>
 
+#include <vtkNew.h>
+#include <vtkPlane.h>
+
+#include "deepcut/core/types.h"
+
 namespace deepcut::bench {
 
 struct Quoted {
@@ -20,6 +25,9 @@ void register_cases(bool with_1m);
 /// Registers the model-level cases (model_cases.cpp) for the cactus of `triangles` triangles,
 /// named "<case>/<impl>/<size>", each run `iterations` times per repetition.
 void register_model_cases(std::size_t triangles, const std::string& size, int iterations);
+
+/// The VTK plane of `p` (unit normal): the peers' clip function for the cut cases.
+vtkNew<vtkPlane> vtk_plane(const Plane& p);
 
 /// The paper's Table 1 / Table 2 figures the cases are compared with.
 std::vector<Quoted> quoted_figures();

@@ -127,14 +127,6 @@ void bm_apply(benchmark::State& state, std::size_t triangles, const Operation& o
   set_triangles(state, in);
 }
 
-vtkNew<vtkPlane> vtk_plane(const Plane& p) {
-  vtkNew<vtkPlane> plane;
-  plane->SetOrigin(p.point.x, p.point.y, p.point.z);
-  const glm::vec3 n = glm::normalize(p.normal);
-  plane->SetNormal(n.x, n.y, n.z);
-  return plane;
-}
-
 // Runs `clip` (input and clip function set) once per iteration.
 void time_clip(benchmark::State& state, vtkClipPolyData* clip, const ModelInput& in) {
   for (auto _ : state) {
