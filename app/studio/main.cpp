@@ -189,6 +189,9 @@ int main(int argc, char** argv) {
     deepcut::studio::MainWindowOptions window_options;
     window_options.error_dialogs = options.screenshot.empty();
     MainWindow window(window_options);
+    // A screenshot is one frame meant to be looked at: smooth edges unless told otherwise.
+    const std::string anti_aliasing = options.anti_aliasing.empty() && !options.screenshot.empty() ? "on" : options.anti_aliasing;
+    if (!anti_aliasing.empty()) window.set_anti_aliasing(*deepcut::studio::parse_anti_aliasing(anti_aliasing), false);
     if (!options.screenshot.empty()) return screenshot(window, options);
 
     window.show();

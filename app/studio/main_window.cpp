@@ -289,10 +289,46 @@ QAction* MainWindow::build_view_menu() {
   normals_action_->setCheckable(true);
   normals_action_->setShortcut(QKeySequence("N"));
   connect(normals_action_, &QAction::toggled, this, &MainWindow::set_normals_visible);
+  build_anti_aliasing_menu(view);
   view->addSeparator();
   QMenu* panels = view->addMenu("&Panels");
   for (QDockWidget* dock : findChildren<QDockWidget*>()) panels->addAction(dock->toggleViewAction());
   return reset;
+}
+
+void MainWindow::build_anti_aliasing_menu(QMenu* view) {
+  QMenu* menu = view->addMenu("&Anti-aliasing");
+  const std::string& renderer = gl_renderer_name();
+  const bool software = is_software_renderer(renderer);
+  const QString automatic = QString("&Automatic (%1: %2)")
+                                .arg(software ? "off" : "multisampling",
+                                     renderer.empty() ? QString("renderer unknown") : QString::fromStdString(renderer));
+  const std::pair<QString, AntiAliasing> modes[] = {{automatic, AntiAliasing::Automatic},
+                                                    {QString("&Multisampling (up to %1x)").arg(kMultisamples), AntiAliasing::On},
+                                                    {"O&ff", AntiAliasing::Off}};
+  anti_aliasing_group_ = new QActionGroup(this);
+  for (const auto& [text, mode] : modes) {
+    QAction* action = menu->addAction(text);
+    action->setCheckable(true);
+    action->setData(static_cast<int>(mode));
+    anti_aliasing_group_->addAction(action);
+    connect(action, &QAction::triggered, this, [this, m = mode] { set_anti_aliasing(m); });
+  }
+  menu->setToolTipsVisible(true);
+  menu->setToolTip("Multisampling smooths edges; on a software renderer it makes every frame several times slower");
+  const auto saved = parse_anti_aliasing(QSettings().value("view/anti_aliasing").toString().toStdString());
+  set_anti_aliasing(saved.value_or(AntiAliasing::Automatic), false);
+}
+
+void MainWindow::set_anti_aliasing(AntiAliasing mode, bool remember) {
+  anti_aliasing_ = mode;
+  for (QAction* action : anti_aliasing_group_->actions())
+    action->setChecked(action->data().toInt() == static_cast<int>(mode));
+  if (remember) QSettings().setValue("view/anti_aliasing", anti_aliasing_name(mode));
+  const int samples = multisamples_for(mode, is_software_renderer(gl_renderer_name()));
+  if (samples == view_->multisamples()) return;
+  view_->set_multisamples(samples);
+  view_->render();
 }
 
 void MainWindow::build_toolbars(QAction* open, QAction* export_action, QAction* reset) {

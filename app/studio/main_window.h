@@ -22,6 +22,7 @@
 #include "deepcut/plugins/inspector.h"
 #include "deepcut/plugins/scene.h"
 #include "deepcut/plugins/tool.h"
+#include "anti_aliasing.h"
 #include "background_task.h"
 #include "scene_view.h"
 #include "session.h"
@@ -151,6 +152,10 @@ class MainWindow : public QMainWindow {
   void set_pose(int animation, float time);
 
   void set_display_mode(DisplayMode mode);
+  /// Chooses the view's anti-aliasing (anti_aliasing.h) and draws a frame; `remember` keeps the
+  /// choice for the next sessions (the View menu does; `--anti-aliasing` does not).
+  void set_anti_aliasing(AntiAliasing mode, bool remember = true);
+  AntiAliasing anti_aliasing() const { return anti_aliasing_; }
   /// Zooms the view to the active inspector's selection (picked vertex, chosen joint).
   /// @returns false when there is nothing selected.
   bool frame_selected();
@@ -204,6 +209,7 @@ class MainWindow : public QMainWindow {
   void build_edit_menu();
   /// @returns Reset camera (the tool bar shows it).
   QAction* build_view_menu();
+  void build_anti_aliasing_menu(QMenu* view);
   void build_toolbars(QAction* open, QAction* export_action, QAction* reset);
   void report_error(const QString& message);
   void note_operation(const QString& label, double ms);
@@ -249,6 +255,8 @@ class MainWindow : public QMainWindow {
   QAction* skeleton_action_ = nullptr;
   QAction* normals_action_ = nullptr;
   QActionGroup* display_group_ = nullptr;
+  QActionGroup* anti_aliasing_group_ = nullptr;
+  AntiAliasing anti_aliasing_ = AntiAliasing::Automatic;
   QLabel* counts_label_ = nullptr;
   QLabel* time_label_ = nullptr;
   QLabel* operation_label_ = nullptr;

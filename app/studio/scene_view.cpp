@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "scene_view.h"
 
+#include "anti_aliasing.h"
+
 #include <QVTKOpenGLNativeWidget.h>
 #include <vtkAbstractWidget.h>
 #include <vtkActor.h>
@@ -349,8 +351,9 @@ SceneView::SceneView(QWidget* parent) : QWidget(parent), impl_(std::make_unique<
   d.renderer->GradientBackgroundOn();
   d.renderer->SetBackground(0.13, 0.14, 0.16);
   d.renderer->SetBackground2(0.34, 0.37, 0.42);
-  // Smooth edges by multisampling (FXAA does not combine with the overlay layer).
-  d.window->SetMultiSamples(8);
+  // Smooth edges by multisampling (FXAA does not combine with the overlay layer), where a
+  // graphics card draws (anti_aliasing.h); the main window applies the user's choice.
+  d.window->SetMultiSamples(multisamples_for(AntiAliasing::Automatic, is_software_renderer(gl_renderer_name())));
   vtkNew<vtkLightKit> lights;
   lights->SetKeyLightIntensity(0.9);
   lights->AddLightsToRenderer(d.renderer);
@@ -710,6 +713,10 @@ void SceneView::frame(const glm::vec3& center, float radius) {
 }
 
 void SceneView::set_render_listener(std::function<void()> listener) { impl_->render_listener = std::move(listener); }
+
+void SceneView::set_multisamples(int samples) { impl_->window->SetMultiSamples(samples); }
+
+int SceneView::multisamples() const { return impl_->window->GetMultiSamples(); }
 
 void SceneView::render() {
   if (impl_->hold_renders) {  // the listener hears the render call that draws

@@ -102,6 +102,9 @@ class SceneView : public QWidget {
   glm::vec3 view_direction() const;
   /// Renders now.
   void render();
+  /// Samples per pixel for anti-aliasing (0: none), from the next frame on.
+  void set_multisamples(int samples);
+  int multisamples() const;
   /// Called at the start of every `render` (nullptr: none): the studio benchmark times the work
   /// between an action and the render call with it.
   void set_render_listener(std::function<void()> listener);

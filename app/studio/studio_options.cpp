@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "studio_options.h"
 
+#include "anti_aliasing.h"
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -24,6 +26,9 @@ const char* studio_usage() {
          "  --look-at X,Y,Z,R        point the camera at the sphere of radius R around X,Y,Z (world)\n"
          "  --view shaded|wireframe|edges\n"
          "  --normals                show normals\n"
+         "  --anti-aliasing auto|on|off\n"
+         "                           multisampling of the view (default: the View menu's choice;\n"
+         "                           auto turns it off on a software renderer; screenshots: on)\n"
          "  --frame                  zoom to the inspector's selection (picked vertex, joint)\n"
          "  --no-skeleton            hide the skeleton\n"
          "  --size WxH               window size (default 1440x900)\n"
@@ -91,6 +96,10 @@ StudioOptions parse_studio_options(const std::vector<std::string>& args) {
       o.view = take();
       if (o.view != "shaded" && o.view != "wireframe" && o.view != "edges")
         throw UsageError("--view must be shaded, wireframe or edges, not '" + o.view + "'");
+    } else if (arg == "--anti-aliasing") {
+      o.anti_aliasing = take();
+      if (!parse_anti_aliasing(o.anti_aliasing))
+        throw UsageError("--anti-aliasing must be auto, on or off, not '" + o.anti_aliasing + "'");
     } else if (arg == "--normals") {
       o.normals = true;
     } else if (arg == "--frame") {

@@ -28,6 +28,7 @@ struct StudioOptions {
   std::optional<float> time;       ///< --time T, seconds
   std::string view = "shaded";     ///< --view shaded|wireframe|edges
   bool normals = false;            ///< --normals
+  std::string anti_aliasing;       ///< --anti-aliasing auto|on|off; empty: the saved choice (screenshots: on)
   bool frame = false;              ///< --frame: zoom to the inspector's selection
   bool skeleton = true;            ///< --no-skeleton turns it off
   int width = 1440, height = 900;  ///< --size WxH (screenshots)

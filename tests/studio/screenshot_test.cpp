@@ -219,7 +219,7 @@ class ScreenshotTest : public QObject {
     for (const std::string& args :
          {std::string("--inspect nope"), std::string("--joint nobody"), std::string("--time soon"),
           std::string("--vertex 99999999"), std::string("--frobnicate"), std::string("--frame"),
-          std::string("--inspect clusters --frame")}) {
+          std::string("--inspect clusters --frame"), std::string("--anti-aliasing sometimes")}) {
       const RunResult r = run_studio("--screenshot " + quote(out) + " " + args);
       QVERIFY2(r.exit_code == 2, (args + ": exit " + std::to_string(r.exit_code)).c_str());
       QVERIFY2(std::count(r.err.begin(), r.err.end(), '\n') == 1, (args + ": " + r.err).c_str());

@@ -441,6 +441,46 @@ class StudioGuiTest : public QObject {
     QVERIFY(read_bytes(input.toStdString()) == read_bytes(first.toStdString()));
   }
 
+  void anti_aliasing_follows_the_renderer_and_the_menu() {
+    using deepcut::studio::AntiAliasing;
+    using deepcut::studio::is_software_renderer;
+    QVERIFY(is_software_renderer("llvmpipe (LLVM 15.0.6, 256 bits)"));
+    QVERIFY(is_software_renderer("Software Rasterizer"));
+    QVERIFY(!is_software_renderer("NVIDIA GeForce RTX 3060/PCIe/SSE2"));
+    QVERIFY(!is_software_renderer("Mesa Intel(R) UHD Graphics 620 (KBL GT2)"));
+    QVERIFY(!is_software_renderer("AMD Radeon RX 6800 XT (navi21, LLVM 15.0.6, DRM 3.49, 6.1.0)"));
+    const std::string renderer = deepcut::studio::gl_renderer_name();
+    QVERIFY2(!renderer.empty(), "the offscreen probe names the renderer");
+    const bool automatic = !is_software_renderer(renderer);
+    auto window = shown_window();
+    QVERIFY(window);
+    QVERIFY(window->open_file(kCactus));
+    QCOMPARE(window->anti_aliasing(), AntiAliasing::Automatic);
+    QCOMPARE(window->view()->multisamples() > 0, automatic);
+    struct Choice {
+      QString text;
+      bool multisampled;
+      QString saved;
+    };
+    std::map<bool, QImage> frames;
+    for (const Choice& choice : {Choice{"Multisampling", true, "on"}, Choice{"Off", false, "off"},
+                                 Choice{"Automatic", automatic, "auto"}}) {
+      bool found = false;
+      for (QAction* action : window->findChildren<QAction*>())
+        if (action->text().remove('&').startsWith(choice.text)) {
+          action->trigger();
+          found = true;
+        }
+      QVERIFY2(found, qPrintable(choice.text));
+      QCOMPARE(window->view()->multisamples() > 0, choice.multisampled);
+      QCOMPARE(QSettings().value("view/anti_aliasing").toString(), choice.saved);
+      const QImage frame = window->view()->grab_view();
+      QVERIFY2(count_pixels(frame, cactus_green) > 1000, qPrintable(choice.text + ": the model is drawn"));
+      frames[choice.multisampled] = frame;
+    }
+    QVERIFY2(frames[true] != frames[false], "multisampling smooths the edges");
+  }
+
   void menus_offer_what_a_blender_or_paraview_user_expects() {
     auto window = shown_window();
     QVERIFY(window);
