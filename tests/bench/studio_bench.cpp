@@ -6,7 +6,8 @@
 // - a small drill, a tear and a cut applied (operation, undo record, scene, VTK data and
 //   inspector update): from Apply to the render call, and to the frame drawn;
 // - the undo and the redo of each, likewise;
-// - an unchanged re-render beside them (the floor a frame costs on this renderer);
+// - an unchanged re-render beside them (the floor a frame costs on this renderer), also
+//   multisampled (View > Anti-aliasing > Multisampling);
 // - the same steps with the scene built again after each (DEEPCUT_VIEW_REBUILD=1, rows
 //   "..._rebuild"): the reference the incremental view is measured against, in the same run;
 // - resident memory after N small drills (growth per operation).
@@ -204,6 +205,14 @@ json run_size(std::size_t target, int ops, const QString& dir) {
   std::vector<Timed> unchanged;
   for (int i = 0; i < 3; ++i) unchanged.push_back(timer.time([&] { window.view()->render(); }));
   out["unchanged_render"] = step_json(unchanged);
+  // The same frame multisampled (what View > Anti-aliasing > Multisampling costs here; the
+  // studio's automatic choice turns it off on a software renderer).
+  window.set_anti_aliasing(deepcut::studio::AntiAliasing::On, false);
+  window.view()->render();  // the multisampled framebuffer is made on this frame: not timed
+  std::vector<Timed> multisampled;
+  for (int i = 0; i < 3; ++i) multisampled.push_back(timer.time([&] { window.view()->render(); }));
+  out["unchanged_render_multisampled"] = step_json(multisampled);
+  window.set_anti_aliasing(deepcut::studio::AntiAliasing::Automatic, false);
   Placer place(window);
   for (const bool rebuild : {false, true}) {
     // The reference: the scene and its VTK data built again after every step.
@@ -234,6 +243,7 @@ void print_table(const json& results) {
     };
     row("open", r["open"]);
     row("render", r["unchanged_render"]);
+    row("render.multisampled", r["unchanged_render_multisampled"]);
     for (const char* kind : {"drill", "tear", "cut", "drill_rebuild", "tear_rebuild", "cut_rebuild"})
       for (const char* step : {"apply", "undo", "redo"}) row(std::string(kind) + "." + step, r[kind][step]);
     const json& m = r["memory"];
