@@ -247,6 +247,8 @@ std::vector<Pass> make_passes(Fixture& fx) {
   passes.push_back({"cut_model",
                     [&fx] {
                       fx.scratch_model = fx.welded;
+                      // As `deepcut apply` and the studio hold a model: room reserved to grow.
+                      reserve_for_operations(fx.scratch_model);
                       fx.posed = PosedModel::build(fx.scratch_model, -1, 0.0f, PoseDetail::Positions);
                     },
                     [&fx] {

@@ -314,6 +314,41 @@ TEST(ModelSurgery, ExtractDisjointGivesWhatExtractGivesForEveryList) {
   }
 }
 
+TEST(ModelSurgery, SplitDisjointGivesWhatExtractGivesWhicheverPieceKeepsTheArrays) {
+  // Big enough for several copy chunks per stretch. Lists of whole row bands (one band leading,
+  // so most of its elements stay put, another far behind) and of rows far apart and close
+  // together (short reaches, copied in order); a face deleted, lists out of order.
+  SurfaceMesh mesh = test::make_grid(420, 200);
+  auto& flag = mesh.face_attrs().add<std::uint8_t>(attr::kCutSurface);
+  for (std::uint32_t f = 0; f < mesh.face_slots(); f += 7) flag[f] = 1;
+  mesh.mark_deleted(FaceId(5));
+  const std::uint32_t row_faces = 2 * 420;
+  auto rows = [&](auto wanted) {
+    std::vector<FaceId> out;
+    mesh.for_each_face([&](FaceId f, const Triangle&) {
+      if (wanted(f.index / row_faces)) out.push_back(f);
+    });
+    return out;
+  };
+  std::vector<FaceId> top = rows([](std::uint32_t r) { return r >= 61; });
+  std::reverse(top.begin(), top.end());
+  const std::vector<std::vector<std::vector<FaceId>>> cases = {
+      {rows([](std::uint32_t r) { return r < 60; }), top},
+      {rows([](std::uint32_t r) { return r < 150; }), rows([](std::uint32_t r) { return r > 151; })},
+      {rows([](std::uint32_t r) { return r % 3 == 0; }), rows([](std::uint32_t r) { return r % 3 == 2 && r > 100; }), {}},
+  };
+  const std::size_t saved = thread_count();
+  for (std::size_t threads : {1u, 3u})
+    for (const auto& lists : cases) {
+      set_thread_count(threads);
+      SurfaceMesh taken = mesh;
+      const std::vector<SurfaceMesh> out = split_disjoint(std::move(taken), lists);
+      set_thread_count(saved);
+      ASSERT_EQ(out.size(), lists.size());
+      for (std::size_t i = 0; i < lists.size(); ++i) expect_same_bytes(out[i], extract(mesh, lists[i]));
+    }
+}
+
 std::vector<char> file_bytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstring>
 #include <memory>
 #include <string>
 #include <utility>
@@ -123,22 +124,20 @@ void number_vertices(const Marks& owner, std::size_t nv, std::size_t lists, std:
   });
 }
 
-// What the pieces keep of the mesh: per list its faces, vertices and corners (increasing) and
-// its triangles renumbered.
+// What the pieces keep of the mesh: per list its faces and vertices (increasing; a face's
+// corners follow it) and its triangles renumbered.
 struct Numbering {
-  std::vector<std::vector<std::uint32_t>> faces, vertices, corners;
+  std::vector<std::vector<std::uint32_t>> faces, vertices;
   std::vector<std::vector<Triangle>> tris;
 };
 
-// The triangles of list `s` renumbered and its corners (3f + k). False when one of its vertices
-// is marked for another list (the lists share vertices).
+// The triangles of list `s` renumbered. False when one of its vertices is marked for another
+// list (the lists share vertices).
 bool number_faces(const SurfaceMesh& mesh, std::uint32_t s, const Marks& owner, const std::vector<std::uint32_t>& rank,
                   Numbering& out) {
   const std::vector<std::uint32_t>& fs = out.faces[s];
   std::vector<Triangle>& tris = out.tris[s];
-  std::vector<std::uint32_t>& corners = out.corners[s];
   tris.resize(fs.size());
-  corners.resize(3 * fs.size());
   std::atomic<bool> shared{false};
   parallel_for(fs.size(), kGrain, [&](std::size_t b, std::size_t e) {
     bool mine = true;
@@ -147,7 +146,6 @@ bool number_faces(const SurfaceMesh& mesh, std::uint32_t s, const Marks& owner, 
       for (int k = 0; k < 3; ++k) {
         mine &= owner[t[k].index].load(std::memory_order_relaxed) == s;
         tris[i][k] = VertexId(rank[t[k].index]);
-        corners[3 * i + k] = 3 * fs[i] + static_cast<std::uint32_t>(k);
       }
     }
     if (!mine) shared.store(true, std::memory_order_relaxed);
@@ -160,7 +158,6 @@ bool number_pieces(const SurfaceMesh& mesh, const std::vector<std::vector<FaceId
   const std::size_t n = lists.size();
   if (n >= kNoList) return false;
   out.faces.resize(n);
-  out.corners.resize(n);
   out.tris.resize(n);
   std::vector<std::function<void()>> tasks;
   for (std::size_t s = 0; s < n; ++s) tasks.emplace_back([&, s] { out.faces[s] = live_increasing(mesh, lists[s]); });
@@ -173,21 +170,201 @@ bool number_pieces(const SurfaceMesh& mesh, const std::vector<std::vector<FaceId
   return disjoint;
 }
 
-// Piece `big` of `mesh`: every array of the mesh compacted in place (one task each), no
-// allocation but its triangles; `mesh` is left empty.
+// --- the pieces' arrays ------------------------------------------------------------------------
+// Filled by byte copies of groups of elements: a vertex's or a face's element, or a face's three
+// corners (side by side). The copies are cut into chunks spread over the pool across every array
+// at once, so one large array is not one task.
+
+constexpr std::size_t kCopyGrain = 16384;  // groups per copy job
+
+const AttributeSet& set_of(const SurfaceMesh& mesh, int kind) {
+  return kind == 0 ? mesh.vertex_attrs() : kind == 1 ? mesh.face_attrs() : mesh.corner_attrs();
+}
+AttributeSet& set_of(SurfaceMesh& mesh, int kind) {
+  return kind == 0 ? mesh.vertex_attrs() : kind == 1 ? mesh.face_attrs() : mesh.corner_attrs();
+}
+// The list that picks a set's elements (faces pick their corners too) and its group size.
+const std::vector<std::uint32_t>& list_of(const Numbering& num, std::size_t s, int kind) {
+  return kind == 0 ? num.vertices[s] : num.faces[s];
+}
+std::size_t group_of(int kind) { return kind == 2 ? 3 : 1; }
+
+// An array's storage as bytes (contiguous: AttributeArray holds a std::vector). The arrays
+// written are the surgery's own: a piece's new arrays, or those of the mesh it takes apart.
+const unsigned char* bytes_of(const AttributeArrayBase& array) {
+  return array.size() == 0 ? nullptr : static_cast<const unsigned char*>(array.element_data(0));
+}
+unsigned char* bytes_of(AttributeArrayBase& array) {
+  return const_cast<unsigned char*>(bytes_of(static_cast<const AttributeArrayBase&>(array)));
+}
+
+// Groups `begin .. end - 1` of `dst` get groups keep[begin .. end - 1] of `src` (groups of
+// `width` bytes). In place (dst == src) keep[i] > i, so a group never overlaps its source.
+struct GroupCopy {
+  unsigned char* dst;
+  const unsigned char* src;
+  std::size_t width;
+  const std::uint32_t* keep;
+  std::size_t begin, end;
+};
+
+template <std::size_t W>
+void copy_fixed(const GroupCopy& c) {
+  for (std::size_t i = c.begin; i < c.end; ++i) std::memcpy(c.dst + i * W, c.src + std::size_t{c.keep[i]} * W, W);
+}
+
+void copy_groups(const GroupCopy& c) {
+  switch (c.width) {
+    case 1: return copy_fixed<1>(c);
+    case 2: return copy_fixed<2>(c);
+    case 4: return copy_fixed<4>(c);
+    case 8: return copy_fixed<8>(c);
+    case 12: return copy_fixed<12>(c);
+    case 16: return copy_fixed<16>(c);
+    case 24: return copy_fixed<24>(c);
+    case 36: return copy_fixed<36>(c);
+    case 48: return copy_fixed<48>(c);
+    default:
+      for (std::size_t i = c.begin; i < c.end; ++i)
+        std::memcpy(c.dst + i * c.width, c.src + std::size_t{c.keep[i]} * c.width, c.width);
+  }
+}
+
+// `copy` over groups [begin, end), as jobs of kCopyGrain groups appended to `jobs`.
+void add_chunks(GroupCopy copy, std::size_t begin, std::size_t end, std::vector<GroupCopy>& jobs) {
+  for (std::size_t b = begin; b < end; b += kCopyGrain) {
+    copy.begin = b;
+    copy.end = std::min(end, b + kCopyGrain);
+    jobs.push_back(copy);
+  }
+}
+
+// The jobs over the pool (they write disjoint bytes, so the result is the same in any order).
+void run_copies(const std::vector<GroupCopy>& jobs) {
+  run_chunks(jobs.size(), [&](std::size_t i) { copy_groups(jobs[i]); });
+}
+
+// Length of the leading run of an increasing `keep` that stays put (keep[i] == i): keep[i] - i
+// never decreases, so the run is found by bisection.
+std::size_t staying_put(const std::vector<std::uint32_t>& keep) {
+  std::size_t lo = 0, hi = keep.size();
+  while (lo < hi) {
+    const std::size_t mid = lo + (hi - lo) / 2;
+    if (keep[mid] == mid) lo = mid + 1;
+    else hi = mid;
+  }
+  return lo;
+}
+
+// A stretch of the in-place gather by an increasing `keep` (so keep[i] >= i).
+struct Step {
+  std::size_t begin, end;
+  bool parallel;  // copied by chunks at once; else by one job, in order
+};
+
+// The stretches of the in-place gather by `keep`, in the order they run. Every group a stretch
+// starting at i reads lies at or beyond keep[i], so a stretch no longer than keep[i] - i reads
+// nothing it writes and its chunks may run at once; shorter reaches are copied in order. The
+// leading run that stays put is not copied.
+std::vector<Step> in_place_steps(const std::vector<std::uint32_t>& keep) {
+  std::vector<Step> out;
+  for (std::size_t i = staying_put(keep); i < keep.size();) {
+    const std::size_t reach = keep[i] - i;
+    const bool parallel = reach >= 2 * kCopyGrain;
+    const std::size_t end = std::min(keep.size(), i + (parallel ? reach : 2 * kCopyGrain));
+    out.push_back({i, end, parallel});
+    i = end;
+  }
+  return out;
+}
+
+// Piece `big` of `mesh`: every array of the mesh compacted in place (stretch by stretch, each
+// over every array at once), no allocation but its triangles; `mesh` is left empty.
 SurfaceMesh take_piece(SurfaceMesh& mesh, Numbering& num, std::size_t big) {
-  std::vector<std::function<void()>> tasks;
-  const std::pair<AttributeSet*, const std::vector<std::uint32_t>*> kinds[] = {
-      {&mesh.corner_attrs(), &num.corners[big]}, {&mesh.vertex_attrs(), &num.vertices[big]},
-      {&mesh.face_attrs(), &num.faces[big]}};
-  for (const auto& [set, keep] : kinds)
-    for (const std::string& name : set->names())
-      tasks.emplace_back([array = set->base(name), keep = keep] { array->gather_in_place(*keep); });
-  parallel_invoke(tasks);
-  for (const auto& [set, keep] : kinds) set->resize(keep->size());
+  const std::vector<Step> steps[2] = {in_place_steps(num.vertices[big]), in_place_steps(num.faces[big])};
+  const std::size_t rounds = std::max(steps[0].size(), steps[1].size());
+  for (std::size_t r = 0; r < rounds; ++r) {
+    std::vector<GroupCopy> jobs;
+    for (int kind = 0; kind < 3; ++kind) {
+      const std::vector<Step>& list = steps[kind == 0 ? 0 : 1];
+      if (r >= list.size()) continue;
+      const Step& step = list[r];
+      AttributeSet& set = set_of(mesh, kind);
+      for (const std::string& name : set.names()) {
+        AttributeArrayBase& array = *set.base(name);
+        const GroupCopy copy{bytes_of(array), bytes_of(array), array.element_bytes() * group_of(kind),
+                             list_of(num, big, kind).data(), step.begin, step.end};
+        if (step.parallel) add_chunks(copy, step.begin, step.end, jobs);
+        else jobs.push_back(copy);
+      }
+    }
+    run_copies(jobs);
+  }
+  for (int kind = 0; kind < 3; ++kind) set_of(mesh, kind).resize(list_of(num, big, kind).size() * group_of(kind));
   mesh.assign(std::move(num.tris[big]), std::move(mesh.vertex_attrs()), std::move(mesh.face_attrs()),
               std::move(mesh.corner_attrs()));
   return std::move(mesh);
+}
+
+// Bytes of a vertex's and of a face's attributes (its corners' included).
+std::pair<std::size_t, std::size_t> element_bytes(const SurfaceMesh& mesh) {
+  std::size_t vertex = 0, face = 0;
+  for (int kind = 0; kind < 3; ++kind)
+    for (const std::string& name : set_of(mesh, kind).names())
+      (kind == 0 ? vertex : face) += set_of(mesh, kind).base(name)->element_bytes() * group_of(kind);
+  return {vertex, face};
+}
+
+// The piece that keeps the mesh's arrays: the one that saves the most copying. A piece copied out
+// costs about twice its bytes (new memory is touched, then written); the one compacted in place
+// costs the bytes it moves, those past its leading run that stays put (in_place_steps). So the
+// piece with the most bytes plus bytes in place, the first of equals; none without faces.
+std::size_t in_place_piece(const SurfaceMesh& mesh, const Numbering& num) {
+  const auto [vertex_bytes, face_bytes] = element_bytes(mesh);
+  const std::size_t n = num.faces.size();
+  std::size_t best = n, best_gain = 0;
+  for (std::size_t s = 0; s < n; ++s) {
+    if (num.faces[s].empty()) continue;
+    const std::size_t gain = vertex_bytes * (num.vertices[s].size() + staying_put(num.vertices[s])) +
+                             face_bytes * (num.faces[s].size() + staying_put(num.faces[s]));
+    if (best == n || gain > best_gain) {
+      best = s;
+      best_gain = gain;
+    }
+  }
+  return best;
+}
+
+// The attribute sets of every piece but `big` (3 per piece: vertices, faces, corners), copied
+// out of `mesh`: each array allocated and sized by its own task (the new memory is touched in
+// parallel), then filled by chunks over every array at once.
+std::vector<AttributeSet> copy_out(const SurfaceMesh& mesh, const Numbering& num, std::size_t big) {
+  const std::size_t n = num.faces.size();
+  std::vector<AttributeSet> sets(3 * n);
+  std::vector<std::function<void()>> tasks;
+  for (std::size_t s = 0; s < n; ++s)
+    for (int kind = 0; kind < 3 && s != big; ++kind) {
+      AttributeSet& set = sets[3 * s + static_cast<std::size_t>(kind)];
+      set = set_of(mesh, kind).subset({});
+      const std::size_t size = list_of(num, s, kind).size() * group_of(kind);
+      for (const std::string& name : set.names())
+        tasks.emplace_back([array = set.base(name), size] { array->resize(size); });
+    }
+  parallel_invoke(tasks);
+  std::vector<GroupCopy> jobs;
+  for (std::size_t s = 0; s < n; ++s)
+    for (int kind = 0; kind < 3 && s != big; ++kind) {
+      AttributeSet& set = sets[3 * s + static_cast<std::size_t>(kind)];
+      const std::vector<std::uint32_t>& keep = list_of(num, s, kind);
+      set.resize(keep.size() * group_of(kind));  // the set's own count (its arrays have it)
+      for (const std::string& name : set.names()) {
+        const AttributeArrayBase& from = *set_of(mesh, kind).base(name);
+        add_chunks({bytes_of(*set.base(name)), bytes_of(from), from.element_bytes() * group_of(kind), keep.data(), 0, 0},
+                   0, keep.size(), jobs);
+      }
+    }
+  run_copies(jobs);
+  return sets;
 }
 
 // The pieces `lists` of `mesh`; with `owned` (`mesh` itself, to take apart) the largest (most
@@ -196,28 +373,15 @@ std::vector<SurfaceMesh> make_pieces(const SurfaceMesh& mesh, const std::vector<
                                      SurfaceMesh* owned) {
   const std::size_t n = lists.size();
   std::vector<SurfaceMesh> out(n);
-  std::vector<std::function<void()>> tasks;
   Numbering num;
   if (!number_pieces(mesh, lists, num)) {
+    std::vector<std::function<void()>> tasks;
     for (std::size_t s = 0; s < n; ++s) tasks.emplace_back([&, s] { out[s] = extract(mesh, lists[s]); });
     parallel_invoke(tasks);
     return out;
   }
-  std::size_t big = n;
-  if (owned)
-    for (std::size_t s = 0; s < n; ++s)
-      if (!num.faces[s].empty() && (big == n || num.faces[s].size() > num.faces[big].size())) big = s;
-  // Every attribute set of every other piece is its own task (the corners', the largest, first):
-  // each element is copied once.
-  std::vector<AttributeSet> sets(3 * n);
-  for (std::size_t s = 0; s < n; ++s)
-    if (s != big) tasks.emplace_back([&, s] { sets[3 * s + 2] = mesh.corner_attrs().subset(num.corners[s]); });
-  for (std::size_t s = 0; s < n; ++s) {
-    if (s == big) continue;
-    tasks.emplace_back([&, s] { sets[3 * s] = mesh.vertex_attrs().subset(num.vertices[s]); });
-    tasks.emplace_back([&, s] { sets[3 * s + 1] = mesh.face_attrs().subset(num.faces[s]); });
-  }
-  parallel_invoke(tasks);
+  const std::size_t big = owned ? in_place_piece(mesh, num) : n;
+  std::vector<AttributeSet> sets = copy_out(mesh, num, big);
   for (std::size_t s = 0; s < n; ++s)
     if (s != big)
       out[s].assign(std::move(num.tris[s]), std::move(sets[3 * s]), std::move(sets[3 * s + 1]), std::move(sets[3 * s + 2]));

@@ -24,9 +24,12 @@ SurfaceMesh extract(const SurfaceMesh& mesh, const std::vector<FaceId>& faces);
 std::vector<SurfaceMesh> extract_disjoint(const SurfaceMesh& mesh, const std::vector<std::vector<FaceId>>& lists);
 
 /// `extract_disjoint(mesh, lists)`, taking `mesh` apart (it is left empty when the lists use
-/// disjoint vertices, as it was otherwise): the largest piece keeps the mesh's arrays, compacted
-/// in place once the other pieces are copied out, so no memory is allocated for it. A watched
-/// mesh (SurfaceMesh::watch) is left whole, every piece copied out of it.
+/// disjoint vertices, as it was otherwise): one piece keeps the mesh's arrays, compacted in place
+/// once the other pieces are copied out, so no memory is allocated for it. That piece is the one
+/// that saves the most copying: the largest, unless a smaller one has more of its elements where
+/// they already are (a leading run of the mesh's vertices and faces, as a cut of a mesh stored in
+/// spatial order leaves its lower side). Copies and compaction run in chunks over every array at
+/// once. A watched mesh (SurfaceMesh::watch) is left whole, every piece copied out of it.
 std::vector<SurfaceMesh> split_disjoint(SurfaceMesh&& mesh, const std::vector<std::vector<FaceId>>& lists);
 
 /// Index of the model's "Cut surface" material (cut caps, drill walls), added on first use.
