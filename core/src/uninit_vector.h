@@ -1,10 +1,14 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// A std::vector whose new elements are left uninitialised (private to core). For the large arrays
-// of import and export that are written whole right after they are sized: a zero fill first would
-// touch every page on the calling thread (a serial pass of page faults and writes), while the
-// parallel loop that fills them touches each page on the thread that writes it. Only for types
-// without invariants (numbers, glm vectors).
+// Large arrays for the whole-mesh passes of import and export (private to core).
+// - UninitVector: a std::vector whose new elements are left uninitialised, for arrays written
+//   whole right after they are sized: a zero fill first would touch every page on the calling
+//   thread (a serial pass of page faults and writes), while the parallel loop that fills them
+//   touches each page on the thread that writes it. Only for types without invariants (numbers,
+//   glm vectors).
+// - resize_prefaulted: for the arrays that must be std::vectors (a mesh's attributes and faces),
+//   whose growth value-initialises every element on the calling thread: their memory is reserved
+//   and its pages faulted in over the pool first, so the serial fill writes to present pages.
 
 #include <memory>
 #include <type_traits>
@@ -36,5 +40,17 @@ struct UninitAllocator : std::allocator<T> {
 
 template <class T>
 using UninitVector = std::vector<T, UninitAllocator<T>>;
+
+/// Asks the kernel to fault in the pages of [data, data + bytes) for writing, in parallel parts
+/// (MADV_POPULATE_WRITE; nothing happens where the kernel does not offer it). Changes no byte.
+void prefault(void* data, std::size_t bytes);
+
+/// Grows the empty `v` to `n` copies of `value`, its pages faulted in over the pool first.
+template <class T, class A>
+void resize_prefaulted(std::vector<T, A>& v, std::size_t n, const T& value = T()) {
+  v.reserve(n);
+  prefault(v.data(), n * sizeof(T));
+  v.resize(n, value);
+}
 
 }  // namespace deepcut::detail

@@ -14,6 +14,7 @@
 
 #include "io/gltf_common.h"
 #include "io/gltf_reader.h"
+#include "uninit_vector.h"
 
 namespace deepcut::gltf_detail {
 namespace {
@@ -454,7 +455,8 @@ std::vector<T> Reader::decode(int index, const char* what_c, int* components_out
     vbase = view_bytes(sp.values.bufferView, std::size_t(sp.values.byteOffset), elem, elem, n, what + " sparse values");
   }
 
-  std::vector<T> out(acc.count * std::size_t(comps), T(0));
+  std::vector<T> out;
+  detail::resize_prefaulted(out, acc.count * std::size_t(comps), T(0));
   auto load = [&](const unsigned char* from, std::size_t step, std::size_t count, auto&& dst_index) {
     for (std::size_t i = 0; i < count; ++i) {
       const unsigned char* p = from + i * step;
