@@ -10,6 +10,7 @@
 //   whose growth value-initialises every element on the calling thread: their memory is reserved
 //   and its pages faulted in over the pool first, so the serial fill writes to present pages.
 
+#include <algorithm>
 #include <memory>
 #include <type_traits>
 #include <utility>
@@ -45,10 +46,11 @@ using UninitVector = std::vector<T, UninitAllocator<T>>;
 /// (MADV_POPULATE_WRITE; nothing happens where the kernel does not offer it). Changes no byte.
 void prefault(void* data, std::size_t bytes);
 
-/// Grows the empty `v` to `n` copies of `value`, its pages faulted in over the pool first.
+/// Grows the empty `v` to `n` copies of `value`, its pages faulted in over the pool first; its
+/// capacity is at least `capacity` (the pages past `n` are left untouched).
 template <class T, class A>
-void resize_prefaulted(std::vector<T, A>& v, std::size_t n, const T& value = T()) {
-  v.reserve(n);
+void resize_prefaulted(std::vector<T, A>& v, std::size_t n, const T& value = T(), std::size_t capacity = 0) {
+  v.reserve(std::max(n, capacity));
   prefault(v.data(), n * sizeof(T));
   v.resize(n, value);
 }

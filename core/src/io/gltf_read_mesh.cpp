@@ -44,7 +44,7 @@ std::size_t first_bad(std::size_t n, Bad&& bad) {
 // The primitive as the file stores it: glTF vertex v is vertex v (-0 coordinates read as +0),
 // triangle t is face t, and the corner attributes come from each corner's glTF vertex. The arrays
 // are added to empty sets, sized with their pages faulted in over the pool (resize_prefaulted),
-// filled in parallel and handed to the mesh whole.
+// filled in parallel and handed to the mesh whole; the per-corner ones with room (corner_room).
 SurfaceMesh file_mesh(const std::vector<float>& pos, const std::vector<std::uint32_t>& tris, const Influences& skin,
                       const std::vector<CornerSource>& corner_sources) {
   SurfaceMesh mesh;
@@ -74,18 +74,18 @@ SurfaceMesh file_mesh(const std::vector<float>& pos, const std::vector<std::uint
   for (const auto& cs : corner_sources) {
     if (cs.comps == 2) {
       auto& a = cattrs.add<glm::vec2>(cs.name);
-      detail::resize_prefaulted(a.data(), nc);
+      detail::resize_prefaulted(a.data(), nc, glm::vec2(0.0f), corner_room(nf));
       each(nc, [&](std::size_t c) { a[c] = glm::vec2(cs.data[2 * tris[c]], cs.data[2 * tris[c] + 1]); });
     } else if (cs.comps == 3) {
       auto& a = cattrs.add<glm::vec3>(cs.name);
-      detail::resize_prefaulted(a.data(), nc);
+      detail::resize_prefaulted(a.data(), nc, glm::vec3(0.0f), corner_room(nf));
       each(nc, [&](std::size_t c) {
         const float* d = &cs.data[3 * tris[c]];
         a[c] = glm::vec3(d[0], d[1], d[2]);
       });
     } else {
       auto& a = cattrs.add<glm::vec4>(cs.name, glm::vec4(1.0f));
-      detail::resize_prefaulted(a.data(), nc, glm::vec4(1.0f));
+      detail::resize_prefaulted(a.data(), nc, glm::vec4(1.0f), corner_room(nf));
       each(nc, [&](std::size_t c) {
         const float* d = &cs.data[std::size_t(cs.data_comps) * tris[c]];
         a[c] = glm::vec4(d[0], d[1], d[2], cs.data_comps == 4 ? d[3] : 1.0f);

@@ -48,10 +48,11 @@ void drop_unused_samplers(Animation& anim) {
 
 void add_morph_targets(SurfaceMesh& mesh, const std::vector<std::uint32_t>& tris, const std::vector<MorphTarget>& targets) {
   const std::size_t nv = mesh.vertex_count();
-  // Each array built apart, its pages faulted in over the pool (resize_prefaulted), then put in.
-  auto add = [](AttributeSet& set, const std::string& name, std::size_t n, auto&& fill) {
+  // Each array built apart, its pages faulted in over the pool (resize_prefaulted), then put in;
+  // the per-corner ones with room (corner_room).
+  auto add = [](AttributeSet& set, const std::string& name, std::size_t n, std::size_t capacity, auto&& fill) {
     auto array = std::make_unique<AttributeArray<glm::vec3>>();
-    detail::resize_prefaulted(array->data(), n);
+    detail::resize_prefaulted(array->data(), n, glm::vec3(0.0f), capacity);
     glm::vec3* out = array->data().data();
     parallel_for(n, kGrain, [&](std::size_t b, std::size_t e) {
       for (std::size_t i = b; i < e; ++i) out[i] = fill(i);
@@ -60,7 +61,7 @@ void add_morph_targets(SurfaceMesh& mesh, const std::vector<std::uint32_t>& tris
   };
   auto per_corner = [&](const std::string& name, const std::vector<float>& d) {
     if (d.empty()) return;
-    add(mesh.corner_attrs(), name, tris.size(), [&](std::size_t c) {
+    add(mesh.corner_attrs(), name, tris.size(), corner_room(tris.size() / 3), [&](std::size_t c) {
       const float* p = &d[3 * std::size_t(tris[c])];
       return glm::vec3(p[0], p[1], p[2]);
     });
@@ -69,7 +70,7 @@ void add_morph_targets(SurfaceMesh& mesh, const std::vector<std::uint32_t>& tris
     const int i = static_cast<int>(t);
     const std::vector<float>& d = targets[t].position;
     // -0 reads as +0, as positions do, so the weld sees equal deltas
-    add(mesh.vertex_attrs(), attr::morph_position_name(i), nv,
+    add(mesh.vertex_attrs(), attr::morph_position_name(i), nv, nv,
         [&](std::size_t v) { return glm::vec3(d[3 * v] + 0.0f, d[3 * v + 1] + 0.0f, d[3 * v + 2] + 0.0f); });
     per_corner(attr::morph_normal_name(i), targets[t].normal);
     per_corner(attr::morph_tangent_name(i), targets[t].tangent);

@@ -66,6 +66,11 @@ struct MorphTarget {
   std::vector<float> position, normal, tangent;
 };
 
+// The capacity the reader gives a primitive's per-corner arrays (`faces` triangles): the room to
+// grow that reserve_for_operations (posed_model.h) gives them, which every front end that edits
+// asks for right after reading, so that call finds the room there and copies none of them.
+inline std::size_t corner_room(std::size_t faces) { return 3 * (faces + faces / 8 + 2048); }
+
 // Adds the targets to the primitive as the file stores it (glTF vertex v is vertex v, triangle t
 // is face t): `attr::morph_position_name(i)` per vertex, the normal and tangent deltas per corner.
 void add_morph_targets(SurfaceMesh& mesh, const std::vector<std::uint32_t>& tris, const std::vector<MorphTarget>& targets);
