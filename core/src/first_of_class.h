@@ -9,7 +9,12 @@
 //    item of its class.
 //  - `ordered_indices`: the indices i in [0, n) where pred(i) holds, in increasing order
 //    (counts per chunk, a prefix sum, then each chunk writes its own range).
+//  - `group_by_key` and `first_of_class_in_groups`: the same answer as `first_of_class` for
+//    items that can only be equal when they share a small integer key (the writer's corners,
+//    which share their vertex): each key's items are compared among themselves, so the work
+//    stays local to a few items instead of probing a table the size of all of them.
 
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -17,6 +22,7 @@
 
 #include "deepcut/core/parallel.h"
 #include "deepcut/core/types.h"
+#include "uninit_vector.h"
 
 namespace deepcut::detail {
 
@@ -80,6 +86,84 @@ std::vector<std::uint32_t> ordered_indices(std::size_t n, Pred&& pred) {
       if (pred(i)) out[at++] = static_cast<std::uint32_t>(i);
   });
   return out;
+}
+
+/// Items grouped by key: the items of key k are items[start[k] .. start[k + 1]), increasing.
+struct Groups {
+  std::vector<std::uint32_t> start;  // keys + 1 offsets
+  UninitVector<std::uint32_t> items;
+};
+
+/// Groups the items [0, n) by `key_of(i)` (< `keys`). Each thread takes a range of keys and
+/// scans all items for those with a key in its range (counting, then placing them), so every
+/// group comes out in increasing order without atomics or sorting, whatever the thread count.
+template <class KeyOf>
+Groups group_by_key(std::size_t n, std::size_t keys, KeyOf&& key_of) {
+  Groups g;
+  g.start.assign(keys + 1, 0);
+  g.items.resize(n);
+  const std::size_t grain = grain_per_thread(keys, kClassGrain);
+  parallel_for(keys, grain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t k = key_of(i);
+      if (k >= b && k < e) ++g.start[k + 1];
+    }
+  });
+  for (std::size_t k = 0; k < keys; ++k) g.start[k + 1] += g.start[k];
+  parallel_for(keys, grain, [&](std::size_t b, std::size_t e) {
+    std::vector<std::uint32_t> at(g.start.begin() + std::ptrdiff_t(b), g.start.begin() + std::ptrdiff_t(e));
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t k = key_of(i);
+      if (k >= b && k < e) g.items[at[k - b]++] = static_cast<std::uint32_t>(i);
+    }
+  });
+  return g;
+}
+
+/// As `first_of_class` for the `n` items of `groups`, when items of different groups are never
+/// equal: `same(a, b)` compares two items of one group, `hash(i)` (equal for equal items) sorts
+/// the larger groups so that only items of equal hash are compared.
+template <class Hash, class Same>
+UninitVector<std::uint32_t> first_of_class_in_groups(const Groups& groups, std::size_t n, Hash&& hash, Same&& same) {
+  constexpr std::size_t kSmallGroup = 16;
+  UninitVector<std::uint32_t> first(n);
+  const std::size_t keys = groups.start.empty() ? 0 : groups.start.size() - 1;
+  parallel_for(keys, kClassGrain, [&](std::size_t b, std::size_t e) {
+    std::vector<std::uint32_t> leaders;  // the first item of each class met so far, increasing
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed;
+    // Items in increasing order: each joins the first leader equal to it, or leads a new class.
+    auto assign = [&](auto begin, auto end, auto item_of) {
+      leaders.clear();
+      for (auto it = begin; it != end; ++it) {
+        const std::uint32_t i = item_of(*it);
+        std::uint32_t lead = i;
+        for (const std::uint32_t l : leaders)
+          if (same(l, i)) {
+            lead = l;
+            break;
+          }
+        if (lead == i) leaders.push_back(i);
+        first[i] = lead;
+      }
+    };
+    for (std::size_t k = b; k < e; ++k) {
+      const auto begin = groups.items.begin() + groups.start[k], end = groups.items.begin() + groups.start[k + 1];
+      if (std::size_t(end - begin) <= kSmallGroup) {
+        assign(begin, end, [](std::uint32_t i) { return i; });
+        continue;
+      }
+      keyed.clear();
+      for (auto it = begin; it != end; ++it) keyed.emplace_back(hash(*it), *it);
+      std::sort(keyed.begin(), keyed.end());
+      for (auto run = keyed.begin(); run != keyed.end();) {
+        auto next = run;
+        while (next != keyed.end() && next->first == run->first) ++next;
+        assign(run, next, [](const std::pair<std::uint64_t, std::uint32_t>& p) { return p.second; });
+        run = next;
+      }
+    }
+  });
+  return first;
 }
 
 }  // namespace deepcut::detail

@@ -4,13 +4,17 @@
 #include <algorithm>
 #include <atomic>
 #include <condition_variable>
+#include <cstdint>
 #include <cstdlib>
 #include <exception>
 #include <memory>
 #include <mutex>
 #include <thread>
 
+#include <sys/mman.h>
 #include <unistd.h>
+
+#include "uninit_vector.h"
 
 namespace deepcut {
 namespace {
@@ -186,4 +190,23 @@ void parallel_invoke(const std::vector<std::function<void()>>& tasks) {
   detail::run_chunks(tasks.size(), [&](std::size_t i) { tasks[i](); });
 }
 
+namespace detail {
+
+void prefault(void* data, std::size_t bytes) {
+#ifdef MADV_POPULATE_WRITE
+  constexpr std::size_t kPart = std::size_t(2) << 20;
+  const auto page = static_cast<std::uintptr_t>(::sysconf(_SC_PAGESIZE));
+  const auto begin = (reinterpret_cast<std::uintptr_t>(data) + page - 1) / page * page;
+  const auto end = (reinterpret_cast<std::uintptr_t>(data) + bytes) / page * page;
+  if (end <= begin || end - begin < kPart) return;  // a few pages: faulting them costs less
+  parallel_for(end - begin, kPart, [&](std::size_t b, std::size_t e) {
+    ::madvise(reinterpret_cast<void*>(begin + b), e - b, MADV_POPULATE_WRITE);  // a refusal only costs speed
+  });
+#else
+  (void)data;
+  (void)bytes;
+#endif
+}
+
+}  // namespace detail
 }  // namespace deepcut

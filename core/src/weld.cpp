@@ -180,13 +180,29 @@ Classes classify(const VertexBytes& bytes, const std::vector<std::uint32_t>& fir
 // welded vertices by first use in the faces left; vertices only dropped faces used go.
 // @returns the number of faces dropped.
 std::size_t drop_repeating_faces(const std::vector<Triangle>& in_faces, FaceUse& use, Classes& classes) {
+  auto repeats = [&](std::uint32_t f) {
+    const Triangle& t = in_faces[f];
+    const std::uint32_t w[3] = {classes.to_new[t[0].index], classes.to_new[t[1].index], classes.to_new[t[2].index]};
+    return w[0] == w[1] || w[1] == w[2] || w[0] == w[2];
+  };
+  // Usually none repeats (checked in parallel): the classes are then already numbered by first
+  // use in the faces (classify numbers them by their first user) and nothing changes.
+  const int any = parallel_reduce(
+      use.faces.size(), kGrain, 0,
+      [&](std::size_t b, std::size_t e) {
+        for (std::size_t i = b; i < e; ++i)
+          if (repeats(use.faces[i])) return 1;
+        return 0;
+      },
+      [](int a, int b) { return a | b; });
+  if (!any) return 0;
   std::vector<std::uint32_t> faces;
   faces.reserve(use.faces.size());
   std::vector<std::uint32_t> renumber(classes.keep.size(), kInvalidIndex), keep;
   for (const std::uint32_t f : use.faces) {
+    if (repeats(f)) continue;
     const Triangle& t = in_faces[f];
     const std::uint32_t w[3] = {classes.to_new[t[0].index], classes.to_new[t[1].index], classes.to_new[t[2].index]};
-    if (w[0] == w[1] || w[1] == w[2] || w[0] == w[2]) continue;
     faces.push_back(f);
     for (const std::uint32_t c : w)
       if (renumber[c] == kInvalidIndex) {

@@ -2,17 +2,18 @@
 #include "io/gltf_common.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <random>
 
 #include <fcntl.h>
 #include <unistd.h>
 
 #include "deepcut/core/errors.h"
+#include "deepcut/core/parallel.h"
 
 namespace deepcut::gltf_detail {
 
@@ -66,23 +67,64 @@ std::string base64_encode(const unsigned char* data, std::size_t size) {
   return out;
 }
 
-std::vector<unsigned char> read_file(const std::string& path, std::size_t max_bytes) {
+namespace {
+
+// An open regular file and its size, checked as read_file promises.
+struct OpenFile {
+  int fd = -1;
+  std::size_t size = 0;
+  ~OpenFile() {
+    if (fd >= 0) ::close(fd);
+  }
+};
+
+void open_checked(const std::string& path, std::size_t max_bytes, OpenFile& file) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw Error(ErrorCode::Io, path + ": no such file");
   if (std::filesystem::is_directory(path, ec)) throw Error(ErrorCode::Io, path + ": is a directory, not a model file");
   // A FIFO or device would block or never end: only regular files (or symlinks to them) are read.
   if (!std::filesystem::is_regular_file(path, ec)) throw Error(ErrorCode::Io, path + ": is not a regular file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(ErrorCode::Io, path + ": cannot open (" + std::strerror(errno) + ")");
-  in.seekg(0, std::ios::end);
-  const auto size = static_cast<std::size_t>(in.tellg());
-  if (size > max_bytes)
-    throw Error(ErrorCode::InvalidInput, path + ": file is " + std::to_string(size >> 20) + " MiB, over the " +
+  file.fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (file.fd < 0) throw Error(ErrorCode::Io, path + ": cannot open (" + std::strerror(errno) + ")");
+  const off_t end = ::lseek(file.fd, 0, SEEK_END);
+  if (end < 0) throw Error(ErrorCode::Io, path + ": read failed");
+  file.size = static_cast<std::size_t>(end);
+  if (file.size > max_bytes)
+    throw Error(ErrorCode::InvalidInput, path + ": file is " + std::to_string(file.size >> 20) + " MiB, over the " +
                                              std::to_string(max_bytes >> 20) + " MiB limit");
-  in.seekg(0);
-  std::vector<unsigned char> bytes(size);
-  if (size && !in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(size)))
-    throw Error(ErrorCode::Io, path + ": read failed");
+}
+
+// Reads bytes [begin, end) of the file into `out + begin`; false when the file ends early or fails.
+bool read_range(int fd, unsigned char* out, std::size_t begin, std::size_t end) {
+  while (begin < end) {
+    const ssize_t n = ::pread(fd, out + begin, end - begin, static_cast<off_t>(begin));
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    begin += static_cast<std::size_t>(n);
+  }
+  return true;
+}
+
+}  // namespace
+
+std::vector<unsigned char> read_file(const std::string& path, std::size_t max_bytes) {
+  OpenFile file;
+  open_checked(path, max_bytes, file);
+  std::vector<unsigned char> bytes(file.size);
+  if (!read_range(file.fd, bytes.data(), 0, file.size)) throw Error(ErrorCode::Io, path + ": read failed");
+  return bytes;
+}
+
+detail::UninitVector<unsigned char> read_file_parallel(const std::string& path, std::size_t max_bytes) {
+  constexpr std::size_t kPart = std::size_t(4) << 20;
+  OpenFile file;
+  open_checked(path, max_bytes, file);
+  detail::UninitVector<unsigned char> bytes(file.size);
+  std::atomic<bool> failed{false};
+  parallel_for(file.size, kPart, [&](std::size_t b, std::size_t e) {
+    if (!read_range(file.fd, bytes.data(), b, e)) failed = true;
+  });
+  if (failed) throw Error(ErrorCode::Io, path + ": read failed");
   return bytes;
 }
 

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "uninit_vector.h"
+
 namespace deepcut::gltf_detail {
 
 // glTF component types.
@@ -17,8 +19,12 @@ int component_size(int component_type);        // bytes; 0 if unknown
 
 std::string base64_encode(const unsigned char* data, std::size_t size);
 
-// Reads a whole file; throws Error{Io} naming the file when it cannot.
+// Reads a whole file; throws Error{Io} naming the file when it cannot (Error{InvalidInput} when
+// it is over `max_bytes`).
 std::vector<unsigned char> read_file(const std::string& path, std::size_t max_bytes);
+// The same into a buffer that is not zero-filled first, read in parallel parts (each thread
+// copies, and takes the page faults of, its own part): for the model file itself.
+detail::UninitVector<unsigned char> read_file_parallel(const std::string& path, std::size_t max_bytes);
 
 // Writes `bytes` to a temporary file beside `path`, flushes it and renames it over `path`.
 // Throws Error{Io}; never leaves a partial file at `path`. The temporary is unnamed (O_TMPFILE)

@@ -79,8 +79,8 @@ MeshoptView parse_meshopt(const json& ext, const std::string& what, Fail&& fail)
 
 }  // namespace
 
-bool stand_in_for_tinygltf(const json& doc, bool glb, std::string* json_text) {
-  json patched_doc;
+bool stand_in_for_tinygltf(const json& doc, bool glb, json* patched) {
+  json& patched_doc = *patched;
   bool changed = false;
   if (doc.contains("meshes") && doc["meshes"].is_array())
     for (std::size_t m = 0; m < doc["meshes"].size(); ++m) {
@@ -108,18 +108,17 @@ bool stand_in_for_tinygltf(const json& doc, bool glb, std::string* json_text) {
     patched_doc["buffers"][b]["uri"] = "data:application/octet-stream;base64,AAAA";
     patched_doc["buffers"][b]["byteLength"] = 3;
   }
-  if (changed) *json_text = patched_doc.dump();
   return changed;
 }
 
-std::vector<unsigned char> glb_with_json(const std::vector<unsigned char>& glb, std::string json_text) {
+std::vector<unsigned char> glb_with_json(const unsigned char* glb, std::size_t size, std::string json_text, bool bin_stand_in) {
   // The container was checked by parse_container: header, JSON chunk, optional BIN chunk.
   std::uint32_t header[5];
-  std::memcpy(header, glb.data(), 20);
+  std::memcpy(header, glb, 20);
   const std::size_t rest = 20 + ((std::size_t(header[3]) + 3) & ~std::size_t(3));
-  const std::size_t end = std::min<std::size_t>(header[2], glb.size());
+  const std::size_t end = std::min<std::size_t>(header[2], size);
   while (json_text.size() % 4) json_text += ' ';
-  std::vector<unsigned char> out(glb.begin(), glb.begin() + 12);
+  std::vector<unsigned char> out(glb, glb + 12);
   auto put32 = [&](std::size_t at, std::size_t v) {
     for (int i = 0; i < 4; ++i) out[at + std::size_t(i)] = static_cast<unsigned char>(v >> (8 * i));
   };
@@ -127,7 +126,12 @@ std::vector<unsigned char> glb_with_json(const std::vector<unsigned char>& glb, 
   put32(12, json_text.size());
   put32(16, 0x4E4F534Au);
   out.insert(out.end(), json_text.begin(), json_text.end());
-  if (rest < end) out.insert(out.end(), glb.begin() + static_cast<std::ptrdiff_t>(rest), glb.begin() + static_cast<std::ptrdiff_t>(end));
+  if (bin_stand_in) {
+    const unsigned char chunk[12] = {4, 0, 0, 0, 'B', 'I', 'N', 0, 0, 0, 0, 0};
+    out.insert(out.end(), chunk, chunk + 12);
+  } else if (rest < end) {
+    out.insert(out.end(), glb + rest, glb + end);
+  }
   put32(8, out.size());
   return out;
 }
@@ -165,14 +169,14 @@ void Reader::decode_meshopt_views() {
       fail(what + ": byteStride " + std::to_string(m.stride) + " differs from the bufferView's " +
            std::to_string(parent.byteStride));
     if (m.buffer >= gltf_.buffers.size()) fail(what + ": buffer " + std::to_string(m.buffer) + " does not exist");
-    const auto& source = gltf_.buffers[m.buffer].data;
-    if (m.offset > source.size() || m.length > source.size() - m.offset)
+    const ByteSpan source = buffer_bytes(m.buffer);
+    if (m.offset > source.size || m.length > source.size - m.offset)
       fail(what + ": its " + std::to_string(m.length) + " compressed bytes at offset " + std::to_string(m.offset) +
-           " run past the end of buffer " + std::to_string(m.buffer) + " (" + std::to_string(source.size()) + " bytes)");
+           " run past the end of buffer " + std::to_string(m.buffer) + " (" + std::to_string(source.size) + " bytes)");
     spend_decode_budget(decoded, what);
 
     std::vector<unsigned char> out(decoded);
-    const unsigned char* in = source.data() + m.offset;
+    const unsigned char* in = source.data + m.offset;
     int rc = 0;
     if (m.count == 0) rc = 0;
     else if (m.mode == "ATTRIBUTES") rc = meshopt_decodeVertexBuffer(out.data(), m.count, m.stride, in, m.length);

@@ -14,6 +14,7 @@
 
 #include "io/gltf_common.h"
 #include "io/gltf_reader.h"
+#include "uninit_vector.h"
 
 namespace deepcut::gltf_detail {
 namespace {
@@ -175,12 +176,47 @@ std::string dump_member(const json& o, const char* key) {
 
 // ---- the reader: container and accessors -----------------------------------------------------
 
+// The .glb's BIN chunk, when tinygltf 2.7 would accept the container as it is (JSON chunk
+// ending on a 4-byte boundary, a BIN chunk of at least 4 bytes, a multiple of 4, inside the file,
+// of type BIN); {nullptr, 0} otherwise. Only then is tinygltf given a stand-in for it.
+ByteSpan glb_bin_chunk(const unsigned char* bytes, std::size_t size) {
+  std::uint32_t header[5];
+  std::memcpy(header, bytes, 20);
+  const std::size_t json_end = 20 + std::size_t(header[3]), length = std::min<std::size_t>(header[2], size);
+  if (json_end % 4 != 0 || json_end + 12 > length) return {nullptr, 0};
+  std::uint32_t chunk[2];
+  std::memcpy(chunk, bytes + json_end, 8);
+  if (chunk[0] < 4 || chunk[0] % 4 != 0 || json_end + chunk[0] > length || chunk[1] != 0x004E4942u) return {nullptr, 0};
+  return {bytes + json_end + 8, chunk[0]};
+}
+
+// The buffers tinygltf reads from the BIN chunk (no URI) in `doc`, the document it is given, when
+// each declares a plain byteLength that fits in `bin_size` bytes; empty otherwise (tinygltf then
+// reads the chunk itself and reports what is wrong in its words).
+std::vector<std::size_t> buffers_in_bin(const json& doc, std::size_t bin_size) {
+  std::vector<std::size_t> out;
+  if (!doc.contains("buffers") || !doc["buffers"].is_array()) return out;
+  const json& buffers = doc["buffers"];
+  for (std::size_t b = 0; b < buffers.size(); ++b) {
+    const json& o = buffers[b];
+    if (!o.is_object()) return {};
+    if (o.contains("uri")) {
+      if (!o["uri"].is_string() || o["uri"].get_ref<const std::string&>().empty()) return {};
+      continue;
+    }
+    if (!o.contains("byteLength") || !o["byteLength"].is_number_unsigned() || o["byteLength"].get<std::uint64_t>() > bin_size)
+      return {};
+    out.push_back(b);
+  }
+  return out;
+}
+
 void Reader::parse_container() {
-  std::vector<unsigned char> file_bytes;
-  if (!memory_) file_bytes = read_file(path_, kMaxFileBytes);
-  const std::vector<unsigned char>& bytes = memory_ ? *memory_ : file_bytes;
-  if (bytes.empty()) fail("file is empty");
-  if (bytes.size() > kMaxFileBytes) fail("input is over the " + std::to_string(kMaxFileBytes >> 20) + " MiB limit");
+  if (!memory_) file_ = read_file_parallel(path_, kMaxFileBytes);
+  const unsigned char* bytes = memory_ ? memory_->data() : file_.data();
+  const std::size_t size = memory_ ? memory_->size() : file_.size();
+  if (size == 0) fail("file is empty");
+  if (size > kMaxFileBytes) fail("input is over the " + std::to_string(kMaxFileBytes >> 20) + " MiB limit");
   FsContext ctx;
   ctx.allow_files = memory_ == nullptr;
   std::error_code ec;
@@ -195,29 +231,64 @@ void Reader::parse_container() {
   bool ok = false;
   std::string json_text;
 
-  const bool glb = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+  const bool glb = size >= 4 && std::memcmp(bytes, "glTF", 4) == 0;
   if (glb) {
     // Check the container ourselves so a broken file gets a precise message.
-    if (bytes.size() < 20) fail("truncated .glb (" + std::to_string(bytes.size()) + " bytes, header needs 20)");
+    if (size < 20) fail("truncated .glb (" + std::to_string(size) + " bytes, header needs 20)");
     std::uint32_t header[5];
-    std::memcpy(header, bytes.data(), 20);
+    std::memcpy(header, bytes, 20);
     if (header[1] != 2) fail(".glb version " + std::to_string(header[1]) + " is not supported (need 2)");
-    if (header[2] > bytes.size())
-      fail("truncated .glb: header says " + std::to_string(header[2]) + " bytes, file has " + std::to_string(bytes.size()));
+    if (header[2] > size)
+      fail("truncated .glb: header says " + std::to_string(header[2]) + " bytes, file has " + std::to_string(size));
     if (header[4] != 0x4E4F534Au) fail(".glb first chunk is not JSON");
     if (std::size_t(header[3]) + 20 > header[2]) fail(".glb JSON chunk length runs past the end of the file");
-    json_text.assign(reinterpret_cast<const char*>(bytes.data()) + 20, header[3]);
+    json_text.assign(reinterpret_cast<const char*>(bytes) + 20, header[3]);
     const std::size_t bin_start = 20 + ((std::size_t(header[3]) + 3) & ~std::size_t(3));
     if (bin_start + 8 <= header[2]) {
       std::uint32_t chunk[2];
-      std::memcpy(chunk, bytes.data() + bin_start, 8);
+      std::memcpy(chunk, bytes + bin_start, 8);
       if (bin_start + 8 + std::size_t(chunk[0]) > header[2]) fail(".glb BIN chunk length runs past the end of the file");
     }
   } else if (has_extension(path_, ".glb")) {
     fail("not a .glb file: it does not start with the magic 'glTF'");
   } else {
-    json_text.assign(bytes.begin(), bytes.end());
+    json_text.assign(reinterpret_cast<const char*>(bytes), size);
   }
+  parse_json(json_text);
+
+  // What tinygltf is given: stand-ins for what it refuses (stand_in_for_tinygltf) and, in a .glb,
+  // 1-byte stand-ins for the buffers in the BIN chunk, which it would otherwise copy whole; their
+  // bytes are read where they lie (glb_bin_).
+  json patched;
+  bool changed = stand_in_for_tinygltf(raw_, glb, &patched);
+  const ByteSpan bin = glb ? glb_bin_chunk(bytes, size) : ByteSpan{nullptr, 0};
+  const std::vector<std::size_t> in_bin = bin.data ? buffers_in_bin(changed ? patched : raw_, bin.size) : std::vector<std::size_t>();
+  if (!in_bin.empty()) {
+    if (!changed) patched = raw_;
+    changed = true;
+    for (const std::size_t b : in_bin) patched["buffers"][b]["byteLength"] = 1;
+  }
+  if (changed) json_text = patched.dump();
+  if (glb) {
+    std::vector<unsigned char> stand_in;
+    if (changed) stand_in = glb_with_json(bytes, size, json_text, !in_bin.empty());
+    ok = changed ? loader.LoadBinaryFromMemory(&gltf_, &err, &warn, stand_in.data(), static_cast<unsigned>(stand_in.size()), base_dir)
+                 : loader.LoadBinaryFromMemory(&gltf_, &err, &warn, bytes, static_cast<unsigned>(size), base_dir);
+  } else {
+    ok = loader.LoadASCIIFromString(&gltf_, &err, &warn, json_text.data(), static_cast<unsigned>(json_text.size()),
+                                    base_dir);
+  }
+  check_tinygltf_errors(ok, err, ctx.error);
+  glb_bin_.assign(gltf_.buffers.size(), ByteSpan{nullptr, 0});
+  for (const std::size_t b : in_bin) glb_bin_[b] = {bin.data, raw_["buffers"][b]["byteLength"].get<std::size_t>()};
+  std::size_t input_bytes = size;
+  for (std::size_t b = 0; b < gltf_.buffers.size(); ++b) input_bytes += buffer_bytes(b).size;
+  for (const auto& i : gltf_.images) input_bytes += i.image.size();
+  decode_left_ = kDecodeBaseBytes + kDecodePerInputByte * input_bytes;
+}
+
+// The JSON parsed into raw_ and its top level checked, before tinygltf sees it.
+void Reader::parse_json(const std::string& json_text) {
   if (json_nests_deeper_than(json_text, kMaxJsonDepth))
     fail("JSON nests arrays or objects more than " + std::to_string(kMaxJsonDepth) + " levels deep");
   try {
@@ -235,18 +306,11 @@ void Reader::parse_container() {
                           "nodes", "samplers", "scenes", "skins", "textures", "extensionsUsed", "extensionsRequired"})
     if (raw_.contains(key) && !raw_[key].is_array()) fail(std::string("invalid glTF: '") + key + "' is not an array");
   check_uris();
+}
 
-  std::vector<unsigned char> patched;  // the .glb with stand-ins for what tinygltf refuses
-  if (stand_in_for_tinygltf(raw_, glb, &json_text) && glb) patched = glb_with_json(bytes, json_text);
-  if (glb) {
-    const auto& in = patched.empty() ? bytes : patched;
-    ok = loader.LoadBinaryFromMemory(&gltf_, &err, &warn, in.data(), static_cast<unsigned>(in.size()), base_dir);
-  } else {
-    ok = loader.LoadASCIIFromString(&gltf_, &err, &warn, json_text.data(), static_cast<unsigned>(json_text.size()),
-                                    base_dir);
-  }
-  // tinygltf 2.7 reports a skin without inverseBindMatrices as an error although the spec makes
-  // them optional; it still parses the skin (with -1), so that message alone is not a failure.
+// tinygltf 2.7 reports a skin without inverseBindMatrices as an error although the spec makes
+// them optional; it still parses the skin (with -1), so that message alone is not a failure.
+void Reader::check_tinygltf_errors(bool ok, const std::string& err, const std::string& fs_error) const {
   std::string real_errors;
   std::size_t start = 0;
   while (start < err.size()) {
@@ -257,12 +321,13 @@ void Reader::parse_container() {
       real_errors += (real_errors.empty() ? "" : "; ") + line;
     start = end + 1;
   }
-  if (!ctx.error.empty()) fail(ctx.error);
+  if (!fs_error.empty()) fail(fs_error);
   if (!ok || !real_errors.empty()) fail(real_errors.empty() ? "tinygltf could not parse the file" : real_errors);
-  std::size_t input_bytes = bytes.size();
-  for (const auto& b : gltf_.buffers) input_bytes += b.data.size();
-  for (const auto& i : gltf_.images) input_bytes += i.image.size();
-  decode_left_ = kDecodeBaseBytes + kDecodePerInputByte * input_bytes;
+}
+
+ByteSpan Reader::buffer_bytes(std::size_t b) const {
+  if (b < glb_bin_.size() && glb_bin_[b].data) return glb_bin_[b];
+  return {gltf_.buffers[b].data.data(), gltf_.buffers[b].data.size()};
 }
 
 // External URIs are checked before tinygltf resolves them: only relative paths that stay inside
@@ -318,8 +383,8 @@ const unsigned char* Reader::view_bytes(int view, std::size_t offset, std::size_
   const auto& bv = gltf_.bufferViews[view];
   if (bv.buffer < 0 || static_cast<std::size_t>(bv.buffer) >= gltf_.buffers.size())
     fail(what + ": buffer " + std::to_string(bv.buffer) + " does not exist");
-  const auto& buf = gltf_.buffers[bv.buffer].data;
-  if (bv.byteOffset > buf.size() || bv.byteLength > buf.size() - bv.byteOffset)
+  const ByteSpan buf = buffer_bytes(std::size_t(bv.buffer));
+  if (bv.byteOffset > buf.size || bv.byteLength > buf.size - bv.byteOffset)
     fail(what + ": bufferView " + std::to_string(view) + " runs past the end of its buffer");
   if (count > 0) {
     const std::size_t size = bv.byteLength;
@@ -330,7 +395,7 @@ const unsigned char* Reader::view_bytes(int view, std::size_t offset, std::size_
            std::to_string(offset) + " run past the end of bufferView " + std::to_string(view) + " (" +
            std::to_string(size) + " bytes)");
   }
-  return buf.data() + bv.byteOffset + (count > 0 ? offset : 0);
+  return buf.data + bv.byteOffset + (count > 0 ? offset : 0);
 }
 
 template <class T, class Convert>
@@ -390,7 +455,8 @@ std::vector<T> Reader::decode(int index, const char* what_c, int* components_out
     vbase = view_bytes(sp.values.bufferView, std::size_t(sp.values.byteOffset), elem, elem, n, what + " sparse values");
   }
 
-  std::vector<T> out(acc.count * std::size_t(comps), T(0));
+  std::vector<T> out;
+  detail::resize_prefaulted(out, acc.count * std::size_t(comps), T(0));
   auto load = [&](const unsigned char* from, std::size_t step, std::size_t count, auto&& dst_index) {
     for (std::size_t i = 0; i < count; ++i) {
       const unsigned char* p = from + i * step;

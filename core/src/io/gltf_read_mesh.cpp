@@ -11,6 +11,7 @@
 #include "deepcut/core/weld.h"
 #include "io/gltf_common.h"
 #include "io/gltf_reader.h"
+#include "uninit_vector.h"
 
 namespace deepcut::gltf_detail {
 namespace {
@@ -42,20 +43,20 @@ std::size_t first_bad(std::size_t n, Bad&& bad) {
 
 // The primitive as the file stores it: glTF vertex v is vertex v (-0 coordinates read as +0),
 // triangle t is face t, and the corner attributes come from each corner's glTF vertex. The arrays
-// are filled in parallel and handed to the mesh whole.
+// are added to empty sets, sized with their pages faulted in over the pool (resize_prefaulted),
+// filled in parallel and handed to the mesh whole; the per-corner ones with room (corner_room).
 SurfaceMesh file_mesh(const std::vector<float>& pos, const std::vector<std::uint32_t>& tris, const Influences& skin,
                       const std::vector<CornerSource>& corner_sources) {
   SurfaceMesh mesh;
   const std::size_t nv = pos.size() / 3, nf = tris.size() / 3, nc = tris.size();
   AttributeSet vattrs = std::move(mesh.vertex_attrs()), fattrs, cattrs;
-  vattrs.resize(nv);
-  fattrs.resize(nf);
-  cattrs.resize(nc);
   auto& positions = vattrs.get<glm::vec3>(attr::kPosition);
+  detail::resize_prefaulted(positions.data(), nv);
   each(nv, [&](std::size_t v) {
     positions[v] = glm::vec3(pos[3 * v] + 0.0f, pos[3 * v + 1] + 0.0f, pos[3 * v + 2] + 0.0f);  // -0 == +0
   });
-  std::vector<Triangle> faces(nf);
+  std::vector<Triangle> faces;
+  detail::resize_prefaulted(faces, nf);
   each(nf, [&](std::size_t f) { faces[f] = {VertexId(tris[3 * f]), VertexId(tris[3 * f + 1]), VertexId(tris[3 * f + 2])}; });
 
   const char* jn[2] = {attr::kJoints0, attr::kJoints1};
@@ -63,6 +64,8 @@ SurfaceMesh file_mesh(const std::vector<float>& pos, const std::vector<std::uint
   for (std::size_t s = 0; s < skin.sets; ++s) {
     auto& ja = vattrs.add<glm::u16vec4>(jn[s]);
     auto& wa = vattrs.add<glm::vec4>(wn[s]);
+    detail::resize_prefaulted(ja.data(), nv);
+    detail::resize_prefaulted(wa.data(), nv);
     each(nv, [&](std::size_t v) {
       ja[v] = skin.joints[s * nv + v];
       wa[v] = skin.weights[s * nv + v];
@@ -71,21 +74,27 @@ SurfaceMesh file_mesh(const std::vector<float>& pos, const std::vector<std::uint
   for (const auto& cs : corner_sources) {
     if (cs.comps == 2) {
       auto& a = cattrs.add<glm::vec2>(cs.name);
+      detail::resize_prefaulted(a.data(), nc, glm::vec2(0.0f), corner_room(nf));
       each(nc, [&](std::size_t c) { a[c] = glm::vec2(cs.data[2 * tris[c]], cs.data[2 * tris[c] + 1]); });
     } else if (cs.comps == 3) {
       auto& a = cattrs.add<glm::vec3>(cs.name);
+      detail::resize_prefaulted(a.data(), nc, glm::vec3(0.0f), corner_room(nf));
       each(nc, [&](std::size_t c) {
         const float* d = &cs.data[3 * tris[c]];
         a[c] = glm::vec3(d[0], d[1], d[2]);
       });
     } else {
       auto& a = cattrs.add<glm::vec4>(cs.name, glm::vec4(1.0f));
+      detail::resize_prefaulted(a.data(), nc, glm::vec4(1.0f), corner_room(nf));
       each(nc, [&](std::size_t c) {
         const float* d = &cs.data[std::size_t(cs.data_comps) * tris[c]];
         a[c] = glm::vec4(d[0], d[1], d[2], cs.data_comps == 4 ? d[3] : 1.0f);
       });
     }
   }
+  vattrs.resize(nv);  // every array has its size already: this sets the sets' sizes
+  fattrs.resize(nf);
+  cattrs.resize(nc);
   mesh.assign(std::move(faces), std::move(vattrs), std::move(fattrs), std::move(cattrs));
   return mesh;
 }
@@ -207,8 +216,8 @@ Influences Reader::read_influences(const tinygltf::Primitive& p, const std::stri
   };
   Influences skin;
   skin.sets = sets.size();
-  skin.joints.resize(sets.size() * nv);
-  skin.weights.resize(sets.size() * nv);
+  detail::resize_prefaulted(skin.joints, sets.size() * nv);
+  detail::resize_prefaulted(skin.weights, sets.size() * nv);
   // One vertex's influences, sanitised into `skin`; its repairs counted into `r`.
   auto sanitise = [&](std::size_t v, Repairs& r) {
     std::uint16_t jj[8] = {};

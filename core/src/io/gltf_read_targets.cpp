@@ -8,9 +8,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 #include "deepcut/core/parallel.h"
 #include "io/gltf_reader.h"
+#include "uninit_vector.h"
 
 namespace deepcut::gltf_detail {
 namespace {
@@ -46,24 +48,30 @@ void drop_unused_samplers(Animation& anim) {
 
 void add_morph_targets(SurfaceMesh& mesh, const std::vector<std::uint32_t>& tris, const std::vector<MorphTarget>& targets) {
   const std::size_t nv = mesh.vertex_count();
+  // Each array built apart, its pages faulted in over the pool (resize_prefaulted), then put in;
+  // the per-corner ones with room (corner_room).
+  auto add = [](AttributeSet& set, const std::string& name, std::size_t n, std::size_t capacity, auto&& fill) {
+    auto array = std::make_unique<AttributeArray<glm::vec3>>();
+    detail::resize_prefaulted(array->data(), n, glm::vec3(0.0f), capacity);
+    glm::vec3* out = array->data().data();
+    parallel_for(n, kGrain, [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i < e; ++i) out[i] = fill(i);
+    });
+    set.put(name, std::move(array));
+  };
   auto per_corner = [&](const std::string& name, const std::vector<float>& d) {
     if (d.empty()) return;
-    auto& a = mesh.corner_attrs().add<glm::vec3>(name);
-    parallel_for(tris.size(), kGrain, [&](std::size_t b, std::size_t e) {
-      for (std::size_t c = b; c < e; ++c) {
-        const float* p = &d[3 * std::size_t(tris[c])];
-        a[c] = glm::vec3(p[0], p[1], p[2]);
-      }
+    add(mesh.corner_attrs(), name, tris.size(), corner_room(tris.size() / 3), [&](std::size_t c) {
+      const float* p = &d[3 * std::size_t(tris[c])];
+      return glm::vec3(p[0], p[1], p[2]);
     });
   };
   for (std::size_t t = 0; t < targets.size(); ++t) {
     const int i = static_cast<int>(t);
-    auto& pos = mesh.vertex_attrs().add<glm::vec3>(attr::morph_position_name(i));
     const std::vector<float>& d = targets[t].position;
-    parallel_for(nv, kGrain, [&](std::size_t b, std::size_t e) {
-      for (std::size_t v = b; v < e; ++v)  // -0 reads as +0, as positions do, so the weld sees equal deltas
-        pos[v] = glm::vec3(d[3 * v] + 0.0f, d[3 * v + 1] + 0.0f, d[3 * v + 2] + 0.0f);
-    });
+    // -0 reads as +0, as positions do, so the weld sees equal deltas
+    add(mesh.vertex_attrs(), attr::morph_position_name(i), nv, nv,
+        [&](std::size_t v) { return glm::vec3(d[3 * v] + 0.0f, d[3 * v + 1] + 0.0f, d[3 * v + 2] + 0.0f); });
     per_corner(attr::morph_normal_name(i), targets[t].normal);
     per_corner(attr::morph_tangent_name(i), targets[t].tangent);
   }

@@ -15,6 +15,7 @@
 
 #include "deepcut/core/errors.h"
 #include "deepcut/core/io/gltf.h"
+#include "io/gltf_common.h"
 #include "io/import_problems.h"
 
 namespace draco {
@@ -33,12 +34,14 @@ std::string dump_member(const nlohmann::json& o, const char* key);
 // gltf_decode_meshopt.cpp. What tinygltf (built without Draco) refuses in a compressed file: a
 // buffer that only stands in for EXT_meshopt_compression data (a `fallback` buffer without a URI)
 // has no bytes, and a KHR_draco_mesh_compression primitive's indices accessor has no bufferView.
-// When `doc` has either, sets `*json_text` to the JSON that tinygltf is given instead (each such
+// When `doc` has either, sets `*patched` to the document that tinygltf is given instead (each such
 // buffer a 3-byte data URI, each such primitive without `indices`) and returns true. The decoders
 // never read a stand-in and take the indices from the file's own JSON (Reader::raw_).
-bool stand_in_for_tinygltf(const nlohmann::json& doc, bool glb, std::string* json_text);
-// The .glb `glb` with its JSON chunk replaced by `json_text` (its BIN chunk kept as it is).
-std::vector<unsigned char> glb_with_json(const std::vector<unsigned char>& glb, std::string json_text);
+bool stand_in_for_tinygltf(const nlohmann::json& doc, bool glb, nlohmann::json* patched);
+// The .glb `glb` (`size` bytes) with its JSON chunk replaced by `json_text` and its BIN chunk kept
+// as it is, or with `bin_stand_in` replaced by a 4-byte one (see Reader::glb_bin_).
+std::vector<unsigned char> glb_with_json(const unsigned char* glb, std::size_t size, std::string json_text,
+                                         bool bin_stand_in);
 
 // A primitive's skin influences per glTF vertex: `sets` sets of four (JOINTS_n / WEIGHTS_n),
 // sanitised (finite non-negative weights summing to 1, joints inside the skin).
@@ -63,6 +66,11 @@ struct MorphTarget {
   std::vector<float> position, normal, tangent;
 };
 
+// The capacity the reader gives a primitive's per-corner arrays (`faces` triangles): the room to
+// grow that reserve_for_operations (posed_model.h) gives them, which every front end that edits
+// asks for right after reading, so that call finds the room there and copies none of them.
+inline std::size_t corner_room(std::size_t faces) { return 3 * (faces + faces / 8 + 2048); }
+
 // Adds the targets to the primitive as the file stores it (glTF vertex v is vertex v, triangle t
 // is face t): `attr::morph_position_name(i)` per vertex, the normal and tangent deltas per corner.
 void add_morph_targets(SurfaceMesh& mesh, const std::vector<std::uint32_t>& tris, const std::vector<MorphTarget>& targets);
@@ -85,6 +93,8 @@ class Reader {
 
   // gltf_read.cpp
   void parse_container();
+  void parse_json(const std::string& json_text);
+  void check_tinygltf_errors(bool ok, const std::string& err, const std::string& fs_error) const;
   void check_uris() const;
   std::vector<float> read_floats(int accessor, const char* what, int* components_out = nullptr);
   std::vector<std::uint32_t> read_uints(int accessor, const char* what, int* components_out = nullptr);
@@ -92,6 +102,8 @@ class Reader {
   std::vector<T> decode(int accessor, const char* what, int* components_out, Convert convert);
   const unsigned char* view_bytes(int view, std::size_t offset, std::size_t stride, std::size_t elem,
                                   std::size_t count, const std::string& what);
+  // Buffer `b`'s bytes: in the .glb's BIN chunk (glb_bin_) or as tinygltf loaded them.
+  ByteSpan buffer_bytes(std::size_t b) const;
 
   // gltf_decode_meshopt.cpp, gltf_decode_draco.cpp: compressed data decoded, before anything is
   // read, into plain buffer views (and, for Draco, new accessors), so the rest of the reader sees
@@ -134,6 +146,10 @@ class Reader {
   std::string path_;
   ImportOptions options_;
   const std::vector<unsigned char>* memory_ = nullptr;
+  detail::UninitVector<unsigned char> file_;  // the model file's bytes (empty when read from memory)
+  // Per buffer: its bytes in the .glb's BIN chunk (in file_ or *memory_), for the buffers that
+  // tinygltf was given a 1-byte stand-in for, so it did not copy the chunk; {nullptr, 0} elsewhere.
+  std::vector<ByteSpan> glb_bin_;
   std::size_t decode_left_ = 0;  // bytes that accessors may still decode to (see kDecodeBaseBytes)
   // Per skin: the joint each file joint index becomes once duplicate joints are merged (empty
   // when the skin had none); `joint_remap_` points at the one of the mesh being read.

@@ -56,13 +56,24 @@ class Writer {
   // The file: for a .glb its header, JSON and BIN chunk header, then `bin()`; for a .gltf the
   // whole text (`bin()` is then not part of the file).
   std::vector<unsigned char> write(bool glb);
-  const std::vector<unsigned char>& bin() const { return bin_; }
+  const detail::UninitVector<unsigned char>& bin() const { return bin_; }
 
  private:
-  int add_view(const void* data, std::size_t bytes, int target);
+  int add_view(std::size_t bytes, int target, std::size_t* at);
+  // An accessor of `count` elements of `components` T's over a new view, the view's bytes not yet
+  // written: the caller fills `data<T>(*at)` (straight into the binary buffer, no copy).
+  template <class T>
+  int add_accessor(std::size_t count, int components, int component_type, const char* type, int target, std::size_t* at);
   template <class T>
   int add_accessor(const std::vector<T>& data, int components, int component_type, const char* type, int target,
                    bool minmax = false);
+  template <class T>
+  T* data(std::size_t at) {
+    return reinterpret_cast<T*>(bin_.data() + at);
+  }
+  // Gives the accessor the per-component min / max glTF wants (of its data, once written).
+  template <class T>
+  void add_min_max(int accessor, std::size_t at, std::size_t count, int components);
   void write_meshes();
   void write_primitive(const Primitive& prim, std::size_t targets, json& out);
   json write_targets(const SurfaceMesh& mesh, const GltfVertices& vertices, std::size_t targets,
@@ -80,60 +91,76 @@ class Writer {
   const Model& model_;
   ExportOptions options_;
   json doc_ = json::object();
-  std::vector<unsigned char> bin_;
+  detail::UninitVector<unsigned char> bin_;
   std::vector<int> mesh_map_;  // model mesh -> glTF mesh (-1 when dropped)
   std::vector<std::size_t> mesh_targets_;  // model mesh -> morph targets written (0 when dropped)
 };
 
-int Writer::add_view(const void* data, std::size_t bytes, int target) {
+int Writer::add_view(std::size_t bytes, int target, std::size_t* at) {
   while (bin_.size() % 4) bin_.push_back(0);
+  *at = bin_.size();
   json view = {{"buffer", 0}, {"byteOffset", bin_.size()}, {"byteLength", bytes}};
   if (target) view["target"] = target;
-  const auto* p = static_cast<const unsigned char*>(data);
-  bin_.insert(bin_.end(), p, p + bytes);
+  bin_.resize(bin_.size() + bytes);
   doc_["bufferViews"].push_back(view);
   return static_cast<int>(doc_["bufferViews"].size() - 1);
+}
+
+template <class T>
+int Writer::add_accessor(std::size_t count, int components, int component_type, const char* type, int target,
+                         std::size_t* at) {
+  json acc = {{"bufferView", add_view(count * std::size_t(components) * sizeof(T), target, at)},
+              {"componentType", component_type},
+              {"count", count},
+              {"type", type}};
+  doc_["accessors"].push_back(acc);
+  return static_cast<int>(doc_["accessors"].size() - 1);
 }
 
 template <class T>
 int Writer::add_accessor(const std::vector<T>& data, int components, int component_type, const char* type, int target,
                          bool minmax) {
   const std::size_t count = data.size() / std::size_t(components);
-  json acc = {{"bufferView", add_view(data.data(), data.size() * sizeof(T), target)},
-              {"componentType", component_type},
-              {"count", count},
-              {"type", type}};
-  if (minmax && count > 0) {
-    using Range = std::pair<std::vector<T>, std::vector<T>>;
-    const std::vector<T> first(data.begin(), data.begin() + components);
-    const Range range = parallel_reduce(
-        count, kGrain, Range(first, first),
-        [&](std::size_t b, std::size_t e) {
-          Range r(first, first);
-          for (std::size_t i = b; i < e; ++i)
-            for (int c = 0; c < components; ++c) {
-              r.first[c] = std::min(r.first[c], data[i * components + c]);
-              r.second[c] = std::max(r.second[c], data[i * components + c]);
-            }
-          return r;
-        },
-        [&](Range sum, const Range& r) {
+  std::size_t at = 0;
+  const int accessor = add_accessor<T>(count, components, component_type, type, target, &at);
+  if (!data.empty()) std::memcpy(bin_.data() + at, data.data(), data.size() * sizeof(T));
+  if (minmax) add_min_max<T>(accessor, at, count, components);
+  return accessor;
+}
+
+template <class T>
+void Writer::add_min_max(int accessor, std::size_t at, std::size_t count, int components) {
+  if (count == 0) return;
+  const T* values = data<T>(at);
+  using Range = std::pair<std::vector<T>, std::vector<T>>;
+  const std::vector<T> first(values, values + components);
+  const Range range = parallel_reduce(
+      count, kGrain, Range(first, first),
+      [&](std::size_t b, std::size_t e) {
+        Range r(first, first);
+        for (std::size_t i = b; i < e; ++i)
           for (int c = 0; c < components; ++c) {
-            sum.first[c] = std::min(sum.first[c], r.first[c]);
-            sum.second[c] = std::max(sum.second[c], r.second[c]);
+            r.first[c] = std::min(r.first[c], values[i * components + c]);
+            r.second[c] = std::max(r.second[c], values[i * components + c]);
           }
-          return sum;
-        });
-    acc["min"] = range.first;
-    acc["max"] = range.second;
-  }
-  doc_["accessors"].push_back(acc);
-  return static_cast<int>(doc_["accessors"].size() - 1);
+        return r;
+      },
+      [&](Range sum, const Range& r) {
+        for (int c = 0; c < components; ++c) {
+          sum.first[c] = std::min(sum.first[c], r.first[c]);
+          sum.second[c] = std::max(sum.second[c], r.second[c]);
+        }
+        return sum;
+      });
+  json& acc = doc_["accessors"][std::size_t(accessor)];
+  acc["min"] = range.first;
+  acc["max"] = range.second;
 }
 
 // Un-welds `mesh` (no deleted faces) by the corner attributes in `arrays`: a glTF vertex per
-// class of corners sharing a vertex and those attributes, numbered by first corner (the classes
-// are found in parallel; the numbering does not depend on the thread count).
+// class of corners sharing a vertex and those attributes, numbered by first corner. Only corners
+// of one vertex can share a glTF vertex, so each vertex's corners are compared among themselves
+// (in parallel over the vertices; the numbering does not depend on the thread count).
 GltfVertices unweld(const SurfaceMesh& mesh, const std::vector<const AttributeArrayBase*>& arrays) {
   struct Raw {
     const unsigned char* data;
@@ -145,29 +172,27 @@ GltfVertices unweld(const SurfaceMesh& mesh, const std::vector<const AttributeAr
   const auto& tris = mesh.faces();
   const std::size_t corners = 3 * tris.size();
   auto vertex_of = [&](std::size_t c) { return tris[c / 3][static_cast<int>(c % 3)].index; };
-  std::vector<std::uint64_t> hash(corners);
-  parallel_for(corners, detail::kClassGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t c = b; c < e; ++c) {
-      std::uint64_t h = (0x243f6a8885a308d3ull ^ vertex_of(c)) * 0x9e3779b97f4a7c15ull;
-      for (const Raw& a : raw) {
-        const unsigned char* p = a.data + c * a.bytes;
-        std::size_t i = 0;
-        for (; i + 4 <= a.bytes; i += 4) {
-          std::uint32_t w;
-          std::memcpy(&w, p + i, 4);
-          h = (h ^ w) * 0x9e3779b97f4a7c15ull;
-        }
-        for (; i < a.bytes; ++i) h = (h ^ p[i]) * 0x9e3779b97f4a7c15ull;
+  auto hash = [&](std::uint32_t c) {
+    std::uint64_t h = 0x243f6a8885a308d3ull;
+    for (const Raw& a : raw) {
+      const unsigned char* p = a.data + std::size_t(c) * a.bytes;
+      std::size_t i = 0;
+      for (; i + 4 <= a.bytes; i += 4) {
+        std::uint32_t w;
+        std::memcpy(&w, p + i, 4);
+        h = (h ^ w) * 0x9e3779b97f4a7c15ull;
       }
-      hash[c] = h ^ (h >> 29);
+      for (; i < a.bytes; ++i) h = (h ^ p[i]) * 0x9e3779b97f4a7c15ull;
     }
-  });
-  const std::vector<std::uint32_t> first = detail::first_of_class(hash, [&](std::uint32_t c0, std::uint32_t c1) {
-    if (vertex_of(c0) != vertex_of(c1)) return false;
-    for (const Raw& a : raw)
-      if (std::memcmp(a.data + c0 * a.bytes, a.data + c1 * a.bytes, a.bytes) != 0) return false;
-    return true;
-  });
+    return h ^ (h >> 29);
+  };
+  const detail::Groups by_vertex = detail::group_by_key(corners, mesh.vertex_count(), vertex_of);
+  const auto first =
+      detail::first_of_class_in_groups(by_vertex, corners, hash, [&](std::uint32_t c0, std::uint32_t c1) {
+        for (const Raw& a : raw)
+          if (std::memcmp(a.data + c0 * a.bytes, a.data + c1 * a.bytes, a.bytes) != 0) return false;
+        return true;
+      });
   GltfVertices out;
   out.corner = detail::ordered_indices(corners, [&](std::size_t c) { return first[c] == c; });
   const std::size_t n = out.corner.size();
@@ -239,12 +264,15 @@ void Writer::write_primitive(const Primitive& prim, std::size_t targets, json& o
   const std::size_t n = vertices.vertex.size();
   json attributes = json::object();
   {
-    std::vector<float> pos(3 * n);
+    std::size_t at = 0;
+    const int accessor = add_accessor<float>(n, 3, kFloat, "VEC3", kArrayBuffer, &at);
+    float* pos = data<float>(at);
     each(n, [&](std::size_t i) {
       const auto& p = mesh.positions()[vertices.vertex[i]];
       for (int c = 0; c < 3; ++c) pos[3 * i + std::size_t(c)] = p[c];
     });
-    attributes["POSITION"] = add_accessor(pos, 3, kFloat, "VEC3", kArrayBuffer, true);
+    add_min_max<float>(accessor, at, n, 3);
+    attributes["POSITION"] = accessor;
   }
   write_influences(mesh, vertices.vertex, attributes);
   for (std::size_t a = 0; a < exported.size(); ++a) write_corner_attribute(mesh, exported[a], *arrays[a], vertices.corner, attributes);
@@ -252,9 +280,10 @@ void Writer::write_primitive(const Primitive& prim, std::size_t targets, json& o
   if (targets > 0) out["targets"] = write_targets(mesh, vertices, targets, morph_corners);
   const auto& indices = vertices.indices;
   if (n <= 65535) {
-    std::vector<std::uint16_t> idx16(indices.size());
+    std::size_t at = 0;
+    out["indices"] = add_accessor<std::uint16_t>(indices.size(), 1, kUnsignedShort, "SCALAR", kElementArrayBuffer, &at);
+    std::uint16_t* idx16 = data<std::uint16_t>(at);
     each(indices.size(), [&](std::size_t i) { idx16[i] = static_cast<std::uint16_t>(indices[i]); });
-    out["indices"] = add_accessor(idx16, 1, kUnsignedShort, "SCALAR", kElementArrayBuffer);
   } else {
     out["indices"] = add_accessor(indices, 1, kUnsignedInt, "SCALAR", kElementArrayBuffer);
   }
@@ -270,14 +299,17 @@ json Writer::write_targets(const SurfaceMesh& mesh, const GltfVertices& vertices
                            const std::vector<std::string>& morph_corners) {
   const std::size_t n = vertices.vertex.size();
   auto write = [&](const std::vector<glm::vec3>& d, const std::vector<std::uint32_t>& from, bool minmax) {
-    std::vector<float> out(3 * n);
+    std::size_t at = 0;
+    const int accessor = add_accessor<float>(n, 3, kFloat, "VEC3", kArrayBuffer, &at);
+    float* out = data<float>(at);
     each(n, [&](std::size_t i) {
       for (int c = 0; c < 3; ++c) {
         const float v = d[from[i]][c];
         out[3 * i + std::size_t(c)] = std::isfinite(v) ? v : 0.0f;
       }
     });
-    return add_accessor(out, 3, kFloat, "VEC3", kArrayBuffer, minmax);
+    if (minmax) add_min_max<float>(accessor, at, n, 3);
+    return accessor;
   };
   json out = json::array();
   for (std::size_t t = 0; t < targets; ++t) {
@@ -303,8 +335,18 @@ void Writer::write_influences(const SurfaceMesh& mesh, const std::vector<std::ui
   int sets = 0;
   while (sets < 2 && va.find<glm::u16vec4>(jn[sets]) && va.find<glm::vec4>(wn[sets])) ++sets;
   if (sets > 0) {
-    std::vector<std::vector<std::uint16_t>> joints(std::size_t(sets), std::vector<std::uint16_t>(4 * n));
-    std::vector<std::vector<float>> weights(std::size_t(sets), std::vector<float>(4 * n));
+    // The accessors in the file's order (JOINTS_0, WEIGHTS_0, JOINTS_1, ...), then one pass fills them.
+    std::size_t joints_at[2] = {}, weights_at[2] = {};
+    for (int s = 0; s < sets; ++s) {
+      attributes["JOINTS_" + std::to_string(s)] = add_accessor<std::uint16_t>(n, 4, kUnsignedShort, "VEC4", kArrayBuffer, &joints_at[s]);
+      attributes["WEIGHTS_" + std::to_string(s)] = add_accessor<float>(n, 4, kFloat, "VEC4", kArrayBuffer, &weights_at[s]);
+    }
+    std::uint16_t* joints[2] = {};
+    float* weights[2] = {};
+    for (int s = 0; s < sets; ++s) {
+      joints[s] = data<std::uint16_t>(joints_at[s]);
+      weights[s] = data<float>(weights_at[s]);
+    }
     const glm::u16vec4* in_joints[2] = {};
     const glm::vec4* in_weights[2] = {};
     for (int s = 0; s < sets; ++s) {
@@ -322,14 +364,10 @@ void Writer::write_influences(const SurfaceMesh& mesh, const std::vector<std::ui
       normalize_influences(jj, ww, 4 * sets);
       for (int s = 0; s < sets; ++s)
         for (int c = 0; c < 4; ++c) {
-          joints[std::size_t(s)][4 * i + std::size_t(c)] = jj[4 * s + c];
-          weights[std::size_t(s)][4 * i + std::size_t(c)] = ww[4 * s + c];
+          joints[s][4 * i + std::size_t(c)] = jj[4 * s + c];
+          weights[s][4 * i + std::size_t(c)] = ww[4 * s + c];
         }
     });
-    for (int s = 0; s < sets; ++s) {
-      attributes["JOINTS_" + std::to_string(s)] = add_accessor(joints[std::size_t(s)], 4, kUnsignedShort, "VEC4", kArrayBuffer);
-      attributes["WEIGHTS_" + std::to_string(s)] = add_accessor(weights[std::size_t(s)], 4, kFloat, "VEC4", kArrayBuffer);
-    }
   }
 }
 
@@ -341,15 +379,18 @@ void Writer::write_corner_attribute(const SurfaceMesh& mesh, const std::string& 
   const std::string gname = gltf_name(name);
   if (array->type() == typeid(glm::vec2)) {
     const auto& d = static_cast<const AttributeArray<glm::vec2>*>(array)->data();
-    std::vector<float> out_data(2 * n);
+    std::size_t at = 0;
+    attributes[gname] = add_accessor<float>(n, 2, kFloat, "VEC2", kArrayBuffer, &at);
+    float* out_data = data<float>(at);
     each(n, [&](std::size_t i) {
       out_data[2 * i] = d[out_corner[i]].x;
       out_data[2 * i + 1] = d[out_corner[i]].y;
     });
-    attributes[gname] = add_accessor(out_data, 2, kFloat, "VEC2", kArrayBuffer);
   } else if (array->type() == typeid(glm::vec3)) {
     const auto& d = static_cast<const AttributeArray<glm::vec3>*>(array)->data();
-    std::vector<float> out_data(3 * n);
+    std::size_t at = 0;
+    attributes[gname] = add_accessor<float>(n, 3, kFloat, "VEC3", kArrayBuffer, &at);
+    float* out_data = data<float>(at);
     const bool normal = gname == "NORMAL";
     each(n, [&](std::size_t i) {
       glm::vec3 v = d[out_corner[i]];
@@ -366,10 +407,11 @@ void Writer::write_corner_attribute(const SurfaceMesh& mesh, const std::string& 
       }
       for (int c = 0; c < 3; ++c) out_data[3 * i + std::size_t(c)] = v[c];
     });
-    attributes[gname] = add_accessor(out_data, 3, kFloat, "VEC3", kArrayBuffer);
   } else if (array->type() == typeid(glm::vec4)) {
     const auto& d = static_cast<const AttributeArray<glm::vec4>*>(array)->data();
-    std::vector<float> out_data(4 * n);
+    std::size_t at = 0;
+    attributes[gname] = add_accessor<float>(n, 4, kFloat, "VEC4", kArrayBuffer, &at);
+    float* out_data = data<float>(at);
     const bool tangent = gname == "TANGENT", colour = gname == "COLOR_0";
     each(n, [&](std::size_t i) {
       glm::vec4 v = d[out_corner[i]];
@@ -384,7 +426,6 @@ void Writer::write_corner_attribute(const SurfaceMesh& mesh, const std::string& 
       }
       for (int c = 0; c < 4; ++c) out_data[4 * i + std::size_t(c)] = v[c];
     });
-    attributes[gname] = add_accessor(out_data, 4, kFloat, "VEC4", kArrayBuffer);
   }
 }
 
@@ -516,7 +557,9 @@ void Writer::write_nodes() {
 
 void Writer::write_images() {
   for (const auto& img : model_.images) {
-    json out = {{"bufferView", add_view(img.data.data(), img.data.size(), 0)}, {"mimeType", img.mime_type}};
+    std::size_t at = 0;
+    json out = {{"bufferView", add_view(img.data.size(), 0, &at)}, {"mimeType", img.mime_type}};
+    if (!img.data.empty()) std::memcpy(bin_.data() + at, img.data.data(), img.data.size());
     if (!img.name.empty()) out["name"] = img.name;
     doc_["images"].push_back(out);
   }

@@ -313,7 +313,7 @@ void add_extension(json& doc, const char* name) {
 }
 
 // Lays the views out again: plain bytes and payloads in buffer 0, meshopt views in the fallback.
-void join(Doc& d, std::vector<unsigned char>& bin, bool glb) {
+void join(Doc& d, detail::UninitVector<unsigned char>& bin, bool glb) {
   json& doc = d.doc;
   bin.clear();
   std::size_t fallback = 0;
@@ -344,7 +344,7 @@ void join(Doc& d, std::vector<unsigned char>& bin, bool glb) {
 
 }  // namespace
 
-void compress_document(json& doc, std::vector<unsigned char>& bin, Compression compression, bool glb) {
+void compress_document(json& doc, detail::UninitVector<unsigned char>& bin, Compression compression, bool glb) {
   if (compression == Compression::None || !doc.contains("bufferViews") || !doc.contains("accessors")) return;
   Doc d{doc, {}};
   for (const auto& v : doc["bufferViews"]) {

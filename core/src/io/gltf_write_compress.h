@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "deepcut/core/io/gltf.h"
+#include "uninit_vector.h"
 
 namespace deepcut::gltf_detail {
 
@@ -24,6 +25,6 @@ namespace deepcut::gltf_detail {
 // (TRIANGLES); lossless.
 // @throws Error{InvariantViolated} when a codec fails or cannot keep a primitive's morph targets
 //         (write_gltf puts the file's name in front).
-void compress_document(nlohmann::json& doc, std::vector<unsigned char>& bin, Compression compression, bool glb);
+void compress_document(nlohmann::json& doc, detail::UninitVector<unsigned char>& bin, Compression compression, bool glb);
 
 }  // namespace deepcut::gltf_detail
