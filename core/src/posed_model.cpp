@@ -8,6 +8,7 @@
 
 #include "deepcut/core/errors.h"
 #include "deepcut/core/morph.h"
+#include "deepcut/core/operation_room.h"
 #include "deepcut/core/parallel.h"
 #include "deepcut/core/skinning.h"
 
@@ -78,7 +79,7 @@ void reserve_for_operations(Model& model) {
   for (Mesh& mesh : model.meshes)
     for (Primitive& prim : mesh.primitives) {
       SurfaceMesh& m = prim.mesh;
-      m.reserve(m.vertex_count() + m.vertex_count() / 8 + 1024, m.face_slots() + m.face_slots() / 8 + 2048);
+      m.reserve(operation_vertex_room(m.vertex_count()), operation_face_room(m.face_slots()));
     }
 }
 
@@ -290,7 +291,7 @@ void PosedModel::pose_instance(const SurfaceMesh& mesh, PosedMesh& inst, PoseDet
   inst.bounds = bounds_of(inst.posed);
   inst.gridless = detail == PoseDetail::Positions;
   inst.grid = inst.gridless ? TriangleGrid() : TriangleGrid::build(mesh, inst.posed);
-  if (!inst.gridless) inst.grid.reserve(mesh.face_slots() + mesh.face_slots() / 8 + 2048, inst.posed.capacity());
+  if (!inst.gridless) inst.grid.reserve(operation_face_room(mesh.face_slots()), inst.posed.capacity());
 }
 
 void PosedModel::add(const Model& model, int node, int primitive) {

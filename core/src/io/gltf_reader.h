@@ -15,6 +15,7 @@
 
 #include "deepcut/core/errors.h"
 #include "deepcut/core/io/gltf.h"
+#include "deepcut/core/operation_room.h"
 #include "io/gltf_common.h"
 #include "io/import_problems.h"
 
@@ -67,9 +68,9 @@ struct MorphTarget {
 };
 
 // The capacity the reader gives a primitive's per-corner arrays (`faces` triangles): the room to
-// grow that reserve_for_operations (posed_model.h) gives them, which every front end that edits
+// grow that reserve_for_operations (posed_model.h, operation_room.h) gives them, which every front end that edits
 // asks for right after reading, so that call finds the room there and copies none of them.
-inline std::size_t corner_room(std::size_t faces) { return 3 * (faces + faces / 8 + 2048); }
+inline std::size_t corner_room(std::size_t faces) { return 3 * operation_face_room(faces); }
 
 // Adds the targets to the primitive as the file stores it (glTF vertex v is vertex v, triangle t
 // is face t): `attr::morph_position_name(i)` per vertex, the normal and tangent deltas per corner.
