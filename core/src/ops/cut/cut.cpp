@@ -79,7 +79,8 @@ class Cutter {
   void split_crossings(FaceId f);
   void split_face(FaceId f);
   void separate_sides();
-  std::vector<std::pair<VertexId, VertexId>> split_pinches(CutResult* result = nullptr);
+  std::vector<std::pair<VertexId, VertexId>> split_pinches(CutResult* result = nullptr, bool skip_crossings = false);
+  bool single_fan(std::uint32_t v) const;
   void collect_pieces(CutResult& result);
   std::vector<detail::CapInput> rim_of_pieces(const CutResult& result) const;
   int face_side(const Triangle& t) const;
@@ -107,7 +108,22 @@ class Cutter {
   // Faces that may touch the plane: untouched ones with a corner on it, and every new face.
   std::vector<FaceId> rim_candidates_;
   std::size_t intersections_ = 0;
+  // The crossing vertices split_edge made, [first, end), and the positive side's copies of
+  // them separate_sides made, [first, end): without needle merges each of them has one fan of
+  // faces per side (single_fan).
+  std::uint32_t crossings_[2] = {0, 0};
+  std::uint32_t crossing_copies_[2] = {0, 0};
 };
+
+// True when vertex `v` is known to join its faces in one fan: a crossing vertex (or its copy)
+// while no needle merged two crossings. Each face split_face makes around a crossing m on side
+// s holds the piece (m, e) of the crossed edge whose end e is on side s, or shares an edge at m
+// with a face that does; so each side's faces around m are joined through (m, e), and the
+// copy takes all of the positive side's. The pinch split leaves such vertices alone.
+bool Cutter::single_fan(std::uint32_t v) const {
+  if (!merges_.empty()) return false;
+  return (v >= crossings_[0] && v < crossings_[1]) || (v >= crossing_copies_[0] && v < crossing_copies_[1]);
+}
 
 int Cutter::face_side(const Triangle& t) const {
   for (auto v : t)
@@ -240,6 +256,13 @@ void Cutter::separate_sides() {
     dist_.push_back(dist_[v]);
     sign_.push_back(0);
   }
+  // shared is sorted and the crossings are the newest vertices: their copies come last.
+  const auto first_of_crossing =
+      static_cast<std::size_t>(std::lower_bound(shared.begin(), shared.end(), crossings_[0]) - shared.begin());
+  if (first_of_crossing < copy.size()) {
+    crossing_copies_[0] = copy[first_of_crossing].index;
+    crossing_copies_[1] = copy.back().index + 1;
+  }
   sign = sign_.data();
   auto copy_of = [&](VertexId v) {
     if (v.index >= touches.size() || touches[v.index] != 3) return VertexId();
@@ -269,20 +292,27 @@ void Cutter::separate_sides() {
 // a cap over a rim that touches itself can too: each fan gets its own vertex. Every face using an
 // on-plane vertex is a rim candidate or a cap face. With `result`, its pieces follow the faces
 // moved onto copies.
-std::vector<std::pair<VertexId, VertexId>> Cutter::split_pinches(CutResult* result) {
+std::vector<std::pair<VertexId, VertexId>> Cutter::split_pinches(CutResult* result, bool skip_crossings) {
   std::vector<VertexId> on_plane;  // each once
+  std::vector<FaceId> incident;    // the live rim candidates using one of them
   std::vector<std::uint8_t> listed(mesh_.vertex_count(), 0);
   for (FaceId f : rim_candidates_) {
     if (mesh_.is_deleted(f)) continue;
-    for (const VertexId v : mesh_.face(f))
-      if (sign_[v.index] == 0 && !listed[v.index]) {
+    bool uses = false;
+    for (const VertexId v : mesh_.face(f)) {
+      if (sign_[v.index] != 0 || (skip_crossings && single_fan(v.index))) continue;
+      uses = true;
+      if (!listed[v.index]) {
         listed[v.index] = 1;
         on_plane.push_back(v);
       }
+    }
+    if (uses) incident.push_back(f);
   }
+  if (on_plane.empty()) return {};
   std::sort(on_plane.begin(), on_plane.end());
   const std::size_t before = mesh_.face_slots();
-  const auto splits = detail::split_pinched_vertices(editor_, on_plane, rim_candidates_);
+  const auto splits = detail::split_pinched_vertices(editor_, on_plane, incident);
   for (const auto& [v, c] : splits.copies) {
     (void)c;
     posed_.add(posed_(v));
@@ -517,8 +547,10 @@ void Cutter::split_crossed_faces() {
         out.touching.push_back(f);
     }
   });
+  crossings_[0] = static_cast<std::uint32_t>(mesh_.vertex_count());
   for (const Found& part : found)
     for (FaceId f : part.crossed) split_crossings(f);
+  crossings_[1] = static_cast<std::uint32_t>(mesh_.vertex_count());
   for (const Found& part : found) {
     for (FaceId f : part.crossed) split_face(f);
     rim_candidates_.insert(rim_candidates_.end(), part.touching.begin(), part.touching.end());
@@ -572,7 +604,7 @@ CutResult Cutter::run() {
   }
   split_crossed_faces();
   separate_or_drop_side();
-  split_pinches();
+  split_pinches(nullptr, true);
   collect_pieces(result);
   cap_pieces(result, result.rim_vertices);
   result.intersection_points = intersections_;
