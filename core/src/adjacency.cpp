@@ -13,6 +13,10 @@ namespace {
 
 template <class T>
 void insert_sorted(std::vector<T>& list, T value) {
+  if (list.empty() || list.back() < value) {  // the common case: a new face, the newest id
+    list.push_back(value);
+    return;
+  }
   auto it = std::lower_bound(list.begin(), list.end(), value);
   if (it == list.end() || *it != value) list.insert(it, value);
 }
@@ -118,6 +122,21 @@ Adjacency Adjacency::build(const SurfaceMesh& mesh) {
 }
 
 void Adjacency::apply(const EditLog& log) {
+  // Sized once for the vertices and face slots the log names, so the edits below never grow
+  // the outer arrays one element at a time.
+  std::uint32_t vertices = 0, faces = 0;
+  for (const Edit& edit : log.edits) {
+    if (const auto* a = std::get_if<FaceAdded>(&edit)) {
+      faces = std::max(faces, a->f.index + 1);
+      for (VertexId v : a->vertices) vertices = std::max(vertices, v.index + 1);
+    } else if (const auto* v = std::get_if<VertexAdded>(&edit)) {
+      vertices = std::max(vertices, v->v.index + 1);
+    } else if (const auto* s = std::get_if<VertexSplit>(&edit)) {
+      vertices = std::max(vertices, s->copy.index + 1);
+    }
+  }
+  if (vertices > 0) ensure_vertex(VertexId(vertices - 1));
+  if (faces > face_vertices_.size()) face_vertices_.resize(faces, Triangle{});
   for (const Edit& edit : log.edits) {
     std::visit(
         [this](const auto& e) {

@@ -14,6 +14,7 @@
 #include "deepcut/core/ops/cut.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <memory>
@@ -50,8 +51,28 @@ inline std::uint8_t side_code(const std::int8_t* sign, const Triangle& t) {
   return s < 0 ? 2 : 1;
 }
 
+// Kind of a face by the signs of its corners, each coded in two bits (sign & 3: 0 on the plane,
+// 1 positive, 3 negative) at 16 (s0 & 3) + 4 (s1 & 3) + (s2 & 3): 0 positive and 1 negative
+// with no corner on the plane, 2 touching it (a corner on it, not crossed), 3 crossed.
+constexpr std::array<std::uint8_t, 64> face_kinds() {
+  std::array<std::uint8_t, 64> kinds{};
+  for (int i = 0; i < 64; ++i) {
+    const int code[3] = {i >> 4, (i >> 2) & 3, i & 3};
+    bool pos = false, neg = false, zero = false;
+    for (int c : code) {
+      pos = pos || c == 1;
+      neg = neg || c == 3;
+      zero = zero || c == 0;
+    }
+    kinds[static_cast<std::size_t>(i)] = pos && neg ? 3 : (zero ? 2 : (pos ? 0 : 1));
+  }
+  return kinds;
+}
+constexpr std::array<std::uint8_t, 64> kFaceKind = face_kinds();
+
 void follow_moved_faces(const std::vector<std::pair<FaceId, FaceId>>& moved, FaceId first_new,
                         std::vector<FaceId>& piece);
+void merge_sorted(std::vector<FaceId>& list, const std::vector<FaceId>& more);
 
 class Cutter {
  public:
@@ -82,6 +103,7 @@ class Cutter {
   std::vector<std::pair<VertexId, VertexId>> split_pinches(CutResult* result = nullptr, bool skip_crossings = false);
   bool single_fan(std::uint32_t v) const;
   void collect_pieces(CutResult& result);
+  void live_rim_by_side(std::vector<FaceId> (&out)[2]) const;
   std::vector<detail::CapInput> rim_of_pieces(const CutResult& result) const;
   int face_side(const Triangle& t) const;
   // Stages of run().
@@ -107,6 +129,9 @@ class Cutter {
   detail::NeedleMerges merges_;
   // Faces that may touch the plane: untouched ones with a corner on it, and every new face.
   std::vector<FaceId> rim_candidates_;
+  // The input's faces with no corner on the plane, by side (positive, negative), in id order:
+  // no edit of the cut touches them (but dropping a side).
+  std::vector<FaceId> clean_[2];
   std::size_t intersections_ = 0;
   // The crossing vertices split_edge made, [first, end), and the positive side's copies of
   // them separate_sides made, [first, end): without needle merges each of them has one fan of
@@ -388,47 +413,14 @@ std::vector<detail::CapInput> Cutter::rim_of_pieces(const CutResult& result) con
 }
 
 void Cutter::collect_pieces(CutResult& result) {
-  // Live faces by side, in id order: chunks listed in parallel, joined in chunk order. A first
-  // pass notes each face's side (0: deleted) and counts, so the lists are allocated once.
-  struct Lists {
-    std::vector<FaceId> side[2];  // positive, negative
-  };
-  const std::size_t slots = mesh_.face_slots();
-  const std::size_t grain = grain_per_thread(slots, kMinGrain);
-  std::vector<Lists> parts((slots + grain - 1) / grain);
-  std::vector<std::uint8_t> side_of(slots);
-  const std::int8_t* sign = sign_.data();
-  const Triangle* faces = mesh_.faces().data();
-  parallel_for(slots, grain, [&](std::size_t b, std::size_t e) {
-    Lists& out = parts[b / grain];
-    std::size_t n[3] = {0, 0, 0};
-    for (std::size_t i = b; i < e; ++i) {
-      const std::uint8_t code = mesh_.is_deleted(FaceId(static_cast<std::uint32_t>(i))) ? 0 : side_code(sign, faces[i]);
-      side_of[i] = code;
-      ++n[code];
-    }
-    out.side[0].resize(n[1]);
-    out.side[1].resize(n[2]);
-    FaceId sink;  // deleted faces land here, branch-free
-    FaceId* next[3] = {&sink, out.side[0].data(), out.side[1].data()};
-    for (std::size_t i = b; i < e; ++i) {
-      const std::uint8_t code = side_of[i];
-      *next[code] = FaceId(static_cast<std::uint32_t>(i));
-      next[code] += code != 0;
-    }
-  });
+  // Live faces by side, in id order: the untouched ones off the plane (listed by the scan, no
+  // edit removes them) merged with the live rim candidates (ascending: the scan's touching
+  // faces, then every face the cut made).
   std::vector<FaceId> side_faces[2];
-  for (int s = 0; s < 2; ++s) {
-    if (parts.size() == 1) {
-      side_faces[s] = std::move(parts[0].side[s]);
-      continue;
-    }
-    std::size_t n = 0;
-    for (const Lists& l : parts) n += l.side[s].size();
-    side_faces[s].reserve(n);
-    for (const Lists& l : parts) side_faces[s].insert(side_faces[s].end(), l.side[s].begin(), l.side[s].end());
-  }
-  parts.clear();
+  for (int s = 0; s < 2; ++s) side_faces[s] = std::move(clean_[s]);
+  std::vector<FaceId> rim[2];
+  live_rim_by_side(rim);
+  for (int s = 0; s < 2; ++s) merge_sorted(side_faces[s], rim[s]);
   for (int s = 0; s < 2; ++s) {
     if (side_faces[s].empty()) continue;
     const int side = s == 0 ? 1 : -1;
@@ -478,10 +470,16 @@ bool Cutter::classify_vertices() {
   const std::size_t nv = mesh_.vertex_count();
   // Vertices a face slot uses (threads may mark one vertex together: relaxed atomic bytes).
   std::unique_ptr<std::atomic<std::uint8_t>[]> used_flags(new std::atomic<std::uint8_t>[nv]());
-  const auto& all_faces = mesh_.faces();
-  parallel_for(all_faces.size(), grain_per_thread(all_faces.size(), kMinGrain), [&](std::size_t b, std::size_t e) {
-    for (std::size_t f = b; f < e; ++f)
-      for (VertexId v : all_faces[f]) used_flags[v.index].store(1, std::memory_order_relaxed);
+  const std::size_t nf = mesh_.face_slots();
+  parallel_for(nf, grain_per_thread(nf, kMinGrain), [&](std::size_t b, std::size_t e) {
+    const Triangle* faces = mesh_.faces().data();
+    std::atomic<std::uint8_t>* flags = used_flags.get();
+    for (std::size_t f = b; f < e; ++f) {
+      const Triangle& t = faces[f];
+      flags[t[0].index].store(1, std::memory_order_relaxed);
+      flags[t[1].index].store(1, std::memory_order_relaxed);
+      flags[t[2].index].store(1, std::memory_order_relaxed);
+    }
   });
   auto used = [&](std::size_t v) { return used_flags[v].load(std::memory_order_relaxed) != 0; };
   const glm::vec3 point(point_), normal(normal_);
@@ -508,45 +506,88 @@ bool Cutter::classify_vertices() {
         return acc;
       });
   const double tol = double(options_.relative_tolerance) * double(box.diagonal());
+  // An unused vertex has distance 0, which snaps to 0 whenever the tolerance is not negative:
+  // then the loop need not look at the flags.
+  const bool check_used = !(tol >= 0.0);
   const int sides = parallel_reduce(
       nv, vgrain, 0,
       [&](std::size_t b, std::size_t e) {
-        int bits = 0;
+        const float* dist = dist_.data();
+        std::int8_t* sign = sign_.data();
+        const double hi = tol, lo = -tol;
+        const bool all = !check_used;
+        int pos = 0, neg = 0;
         for (std::size_t v = b; v < e; ++v) {
-          const double d = dist_[v];
-          const std::int8_t sg = !used(v) ? 0 : (d > tol ? 1 : (d < -tol ? -1 : 0));
-          sign_[v] = sg;
-          bits |= sg > 0 ? 1 : (sg < 0 ? 2 : 0);
+          const double d = dist[v];
+          const int above = d > hi, below = d < lo;
+          const int keep = all || used(v);
+          sign[v] = static_cast<std::int8_t>(keep * (above - below));
+          pos |= keep & above;
+          neg |= keep & below;
         }
-        return bits;
+        return pos | (neg << 1);
       },
       [](int acc, int bits) { return acc | bits; });
   return sides == 3;
 }
 
 void Cutter::split_crossed_faces() {
-  // Faces the plane crosses (split below) and untouched faces with a corner on the plane (rim
-  // candidates), found in parallel chunks and handled in id order.
+  // One pass over the faces, in parallel chunks joined in id order: the faces the plane crosses
+  // (split below), the untouched faces with a corner on the plane (rim candidates) and the
+  // untouched faces off it by side (the bulk of the pieces: no edit changes them).
   const auto first_new_face = static_cast<std::uint32_t>(mesh_.face_slots());
   struct Found {
-    std::vector<FaceId> crossed, touching;
+    std::vector<FaceId> crossed, touching, clean[2];
   };
   const std::size_t fgrain = grain_per_thread(first_new_face, kMinGrain);
   std::vector<Found> found((first_new_face + fgrain - 1) / fgrain);
+  const std::int8_t* sign = sign_.data();
+  const Triangle* faces = mesh_.faces().data();
+  // Without deleted faces (a mesh as loaded or compacted) the loop need not look for them.
+  const bool any_deleted = mesh_.face_count() != mesh_.face_slots();
   parallel_for(first_new_face, fgrain, [&](std::size_t b, std::size_t e) {
     Found& out = found[b / fgrain];
+    // Both side lists get every face written at their end and keep it when it is theirs
+    // (branch-free); they are cut to size after.
+    out.clean[0].resize(e - b);
+    out.clean[1].resize(e - b);
+    // Locals, not captures: the stores below could alias a capture, which would be read again
+    // at every face.
+    FaceId* pos = out.clean[0].data();
+    FaceId* neg = out.clean[1].data();
+    const Triangle* tri = faces;
+    const std::int8_t* sg = sign;
+    const bool check_deleted = any_deleted;
     for (auto i = static_cast<std::uint32_t>(b); i < e; ++i) {
       const FaceId f(i);
-      if (mesh_.is_deleted(f)) continue;
-      const auto& t = mesh_.face(f);
-      const int s0 = sign_[t[0].index], s1 = sign_[t[1].index], s2 = sign_[t[2].index];
-      const bool crossed = (s0 > 0 || s1 > 0 || s2 > 0) && (s0 < 0 || s1 < 0 || s2 < 0);
-      if (crossed)
-        out.crossed.push_back(f);
-      else if (s0 == 0 || s1 == 0 || s2 == 0)
-        out.touching.push_back(f);
+      const Triangle& t = tri[i];
+      const int c = kFaceKind[static_cast<std::size_t>(((sg[t[0].index] & 3) << 4) | ((sg[t[1].index] & 3) << 2) |
+                                                       (sg[t[2].index] & 3))];
+      if (c >= 2 || (check_deleted && mesh_.is_deleted(f))) {
+        if (!mesh_.is_deleted(f)) (c == 3 ? out.crossed : out.touching).push_back(f);
+        continue;
+      }
+      *pos = f;
+      *neg = f;
+      pos += c == 0;
+      neg += c == 1;
     }
+    out.clean[0].resize(static_cast<std::size_t>(pos - out.clean[0].data()));
+    out.clean[1].resize(static_cast<std::size_t>(neg - out.clean[1].data()));
   });
+  for (int side = 0; side < 2; ++side) {
+    if (found.size() == 1) {
+      clean_[side] = std::move(found[0].clean[side]);
+      continue;
+    }
+    std::size_t n = 0;
+    for (const Found& part : found) n += part.clean[side].size();
+    clean_[side].reserve(n);
+    for (Found& part : found) {
+      clean_[side].insert(clean_[side].end(), part.clean[side].begin(), part.clean[side].end());
+      std::vector<FaceId>().swap(part.clean[side]);
+    }
+  }
   crossings_[0] = static_cast<std::uint32_t>(mesh_.vertex_count());
   for (const Found& part : found)
     for (FaceId f : part.crossed) split_crossings(f);
@@ -564,13 +605,30 @@ void Cutter::separate_or_drop_side() {
     separate_sides();
     for (auto i = before; i < mesh_.face_slots(); ++i) rim_candidates_.push_back(FaceId(i));
   } else {
-    const int drop = options_.keep == CutKeep::Positive ? -1 : 1;
-    std::vector<FaceId> doomed;
-    mesh_.for_each_face([&](FaceId f, const Triangle& t) {
-      if (face_side(t) == drop) doomed.push_back(f);
-    });
+    // Every live face of the dropped side, in id order.
+    const int drop = options_.keep == CutKeep::Positive ? 1 : 0;
+    std::vector<FaceId> rim[2];
+    live_rim_by_side(rim);
+    std::vector<FaceId> doomed = std::move(clean_[drop]);
+    clean_[drop].clear();
+    merge_sorted(doomed, rim[drop]);
     for (FaceId f : doomed) editor_.remove_face(f);
   }
+}
+
+// The live rim candidates by side (positive, negative), in id order.
+void Cutter::live_rim_by_side(std::vector<FaceId> (&out)[2]) const {
+  const std::int8_t* sign = sign_.data();
+  for (FaceId f : rim_candidates_)
+    if (!mesh_.is_deleted(f)) out[side_code(sign, mesh_.face(f)) - 1].push_back(f);
+}
+
+// `list` and `more` (both ascending) merged into `list`.
+void merge_sorted(std::vector<FaceId>& list, const std::vector<FaceId>& more) {
+  const auto mid = static_cast<std::ptrdiff_t>(list.size());
+  list.insert(list.end(), more.begin(), more.end());
+  if (mid > 0 && !more.empty() && more.front() < list[static_cast<std::size_t>(mid - 1)])
+    std::inplace_merge(list.begin(), list.begin() + mid, list.end());
 }
 
 // Rim vertices (on the plane, bounding a piece) into `rim`, sorted and unique; with caps, each
