@@ -547,14 +547,12 @@ void Cutter::split_crossed_faces() {
   const bool any_deleted = mesh_.face_count() != mesh_.face_slots();
   parallel_for(first_new_face, fgrain, [&](std::size_t b, std::size_t e) {
     Found& out = found[b / fgrain];
-    // Both side lists get every face written at their end and keep it when it is theirs
-    // (branch-free); they are cut to size after.
-    out.clean[0].resize(e - b);
-    out.clean[1].resize(e - b);
+    out.clean[0].reserve(e - b);
+    out.clean[1].reserve(e - b);
     // Locals, not captures: the stores below could alias a capture, which would be read again
     // at every face.
-    FaceId* pos = out.clean[0].data();
-    FaceId* neg = out.clean[1].data();
+    std::vector<FaceId>& pos = out.clean[0];
+    std::vector<FaceId>& neg = out.clean[1];
     const Triangle* tri = faces;
     const std::int8_t* sg = sign;
     const bool check_deleted = any_deleted;
@@ -567,13 +565,8 @@ void Cutter::split_crossed_faces() {
         if (!mesh_.is_deleted(f)) (c == 3 ? out.crossed : out.touching).push_back(f);
         continue;
       }
-      *pos = f;
-      *neg = f;
-      pos += c == 0;
-      neg += c == 1;
+      (c == 0 ? pos : neg).push_back(f);  // sides come in runs: the branch is well predicted
     }
-    out.clean[0].resize(static_cast<std::size_t>(pos - out.clean[0].data()));
-    out.clean[1].resize(static_cast<std::size_t>(neg - out.clean[1].data()));
   });
   for (int side = 0; side < 2; ++side) {
     if (found.size() == 1) {
@@ -588,6 +581,9 @@ void Cutter::split_crossed_faces() {
       std::vector<FaceId>().swap(part.clean[side]);
     }
   }
+  std::size_t crossed = 0;
+  for (const Found& part : found) crossed += part.crossed.size();
+  splits_.reserve(2 * crossed);  // about one new crossed edge per crossed face, two at most
   crossings_[0] = static_cast<std::uint32_t>(mesh_.vertex_count());
   for (const Found& part : found)
     for (FaceId f : part.crossed) split_crossings(f);
