@@ -14,7 +14,6 @@
 #include "deepcut/core/ops/cut.h"
 
 #include <algorithm>
-#include <array>
 #include <atomic>
 #include <cmath>
 #include <memory>
@@ -51,24 +50,6 @@ inline std::uint8_t side_code(const std::int8_t* sign, const Triangle& t) {
   return s < 0 ? 2 : 1;
 }
 
-// Kind of a face by the signs of its corners, each coded in two bits (sign & 3: 0 on the plane,
-// 1 positive, 3 negative) at 16 (s0 & 3) + 4 (s1 & 3) + (s2 & 3): 0 positive and 1 negative
-// with no corner on the plane, 2 touching it (a corner on it, not crossed), 3 crossed.
-constexpr std::array<std::uint8_t, 64> face_kinds() {
-  std::array<std::uint8_t, 64> kinds{};
-  for (int i = 0; i < 64; ++i) {
-    const int code[3] = {i >> 4, (i >> 2) & 3, i & 3};
-    bool pos = false, neg = false, zero = false;
-    for (int c : code) {
-      pos = pos || c == 1;
-      neg = neg || c == 3;
-      zero = zero || c == 0;
-    }
-    kinds[static_cast<std::size_t>(i)] = pos && neg ? 3 : (zero ? 2 : (pos ? 0 : 1));
-  }
-  return kinds;
-}
-constexpr std::array<std::uint8_t, 64> kFaceKind = face_kinds();
 
 void follow_moved_faces(const std::vector<std::pair<FaceId, FaceId>>& moved, FaceId first_new,
                         std::vector<FaceId>& piece);
@@ -125,6 +106,9 @@ class Cutter {
   // float) and its snapped sign, per vertex.
   std::vector<float> dist_;
   std::vector<std::int8_t> sign_;
+  // The same per input vertex as a bit (1 positive, 2 negative, 4 on the plane), so a face's
+  // corners or together into its kind (split_crossed_faces).
+  std::vector<std::uint8_t> side_bits_;
   detail::CrossingTable<Split> splits_;
   detail::NeedleMerges merges_;
   // Faces that may touch the plane: untouched ones with a corner on it, and every new face.
@@ -485,6 +469,7 @@ bool Cutter::classify_vertices() {
   const glm::vec3 point(point_), normal(normal_);
   dist_.resize(nv);
   sign_.resize(nv);
+  side_bits_.resize(nv);
   const std::size_t vgrain = grain_per_thread(nv, kMinGrain);
   const BoundingBox box = parallel_reduce(
       nv, vgrain, BoundingBox(),
@@ -514,16 +499,17 @@ bool Cutter::classify_vertices() {
       [&](std::size_t b, std::size_t e) {
         const float* dist = dist_.data();
         std::int8_t* sign = sign_.data();
+        std::uint8_t* bits = side_bits_.data();
         const double hi = tol, lo = -tol;
         const bool all = !check_used;
         int pos = 0, neg = 0;
         for (std::size_t v = b; v < e; ++v) {
           const double d = dist[v];
-          const int above = d > hi, below = d < lo;
-          const int keep = all || used(v);
-          sign[v] = static_cast<std::int8_t>(keep * (above - below));
-          pos |= keep & above;
-          neg |= keep & below;
+          const int above = (all || used(v)) && d > hi, below = (all || used(v)) && d < lo;
+          sign[v] = static_cast<std::int8_t>(above - below);
+          bits[v] = static_cast<std::uint8_t>(above | (below << 1) | ((1 - above - below) << 2));
+          pos |= above;
+          neg |= below;
         }
         return pos | (neg << 1);
       },
@@ -541,7 +527,7 @@ void Cutter::split_crossed_faces() {
   };
   const std::size_t fgrain = grain_per_thread(first_new_face, kMinGrain);
   std::vector<Found> found((first_new_face + fgrain - 1) / fgrain);
-  const std::int8_t* sign = sign_.data();
+  const std::uint8_t* bits = side_bits_.data();
   const Triangle* faces = mesh_.faces().data();
   // Without deleted faces (a mesh as loaded or compacted) the loop need not look for them.
   const bool any_deleted = mesh_.face_count() != mesh_.face_slots();
@@ -554,18 +540,18 @@ void Cutter::split_crossed_faces() {
     std::vector<FaceId>& pos = out.clean[0];
     std::vector<FaceId>& neg = out.clean[1];
     const Triangle* tri = faces;
-    const std::int8_t* sg = sign;
+    const std::uint8_t* vb = bits;
     const bool check_deleted = any_deleted;
     for (auto i = static_cast<std::uint32_t>(b); i < e; ++i) {
       const FaceId f(i);
       const Triangle& t = tri[i];
-      const int c = kFaceKind[static_cast<std::size_t>(((sg[t[0].index] & 3) << 4) | ((sg[t[1].index] & 3) << 2) |
-                                                       (sg[t[2].index] & 3))];
-      if (c >= 2 || (check_deleted && mesh_.is_deleted(f))) {
-        if (!mesh_.is_deleted(f)) (c == 3 ? out.crossed : out.touching).push_back(f);
+      // 1 or 2: every corner on that side; with bit 4, a corner on the plane; 3 (or 7): crossed.
+      const unsigned c = vb[t[0].index] | vb[t[1].index] | vb[t[2].index];
+      if (c > 2 || (check_deleted && mesh_.is_deleted(f))) {
+        if (!mesh_.is_deleted(f)) ((c & 3) == 3 ? out.crossed : out.touching).push_back(f);
         continue;
       }
-      (c == 0 ? pos : neg).push_back(f);  // sides come in runs: the branch is well predicted
+      (c == 1 ? pos : neg).push_back(f);  // sides come in runs: the branch is well predicted
     }
   });
   for (int side = 0; side < 2; ++side) {
