@@ -252,11 +252,16 @@ void Cutter::separate_sides() {
         touches[v.index] |= bit;
       }
   }
+  // In id order (deterministic vertex numbering): the input's vertices sorted, then the cut's
+  // (the newest ids) as they come.
   std::vector<std::uint32_t> shared;
+  const std::uint32_t first_new = posed_.first_new();
   for (std::uint32_t v : touched)
+    if (touches[v] == 3 && v < first_new) shared.push_back(v);
+  std::sort(shared.begin(), shared.end());
+  for (std::uint32_t v = first_new; v < touches.size(); ++v)
     if (touches[v] == 3) shared.push_back(v);
   if (shared.empty()) return;
-  std::sort(shared.begin(), shared.end());  // deterministic vertex numbering
   std::vector<VertexId> copy;
   copy.reserve(shared.size());
   for (std::uint32_t v : shared) {
@@ -570,6 +575,9 @@ void Cutter::split_crossed_faces() {
   std::size_t crossed = 0;
   for (const Found& part : found) crossed += part.crossed.size();
   splits_.reserve(2 * crossed);  // about one new crossed edge per crossed face, two at most
+  // Per crossed face about: a crossing, its removal, three faces, and separating the sides a
+  // copy and two faces moved (a removal and an addition each).
+  editor_.reserve_log(10 * crossed);
   crossings_[0] = static_cast<std::uint32_t>(mesh_.vertex_count());
   for (const Found& part : found)
     for (FaceId f : part.crossed) split_crossings(f);
@@ -617,13 +625,21 @@ void merge_sorted(std::vector<FaceId>& list, const std::vector<FaceId>& more) {
 // piece capped.
 void Cutter::cap_pieces(CutResult& result, std::vector<VertexId>& rim) {
   const std::vector<detail::CapInput> rims = rim_of_pieces(result);
+  // The input's rim vertices sorted, then the cut's (the newest ids) by a flag each.
+  const std::uint32_t first_new = posed_.first_new();
+  std::vector<std::uint8_t> on_rim(mesh_.vertex_count() - first_new, 0);
   for (const detail::CapInput& in : rims)
-    for (const auto& [a, b] : detail::rim_halfedges(mesh_, in)) {
-      rim.push_back(a);
-      rim.push_back(b);
-    }
+    for (const auto& [a, b] : detail::rim_halfedges(mesh_, in))
+      for (const VertexId v : {a, b}) {
+        if (v.index >= first_new)
+          on_rim[v.index - first_new] = 1;
+        else
+          rim.push_back(v);
+      }
   std::sort(rim.begin(), rim.end());
   rim.erase(std::unique(rim.begin(), rim.end()), rim.end());
+  for (std::size_t i = 0; i < on_rim.size(); ++i)
+    if (on_rim[i]) rim.push_back(VertexId(first_new + static_cast<std::uint32_t>(i)));
   if (!options_.cap) return;
   const auto first_cap_face = static_cast<std::uint32_t>(mesh_.face_slots());
   for (std::size_t p = 0; p < result.pieces.size(); ++p) detail::cap_piece(editor_, rims[p], result.pieces[p]);
