@@ -81,8 +81,16 @@ class Cutter {
   void split_crossings(FaceId f);
   void split_face(FaceId f);
   void separate_sides();
-  std::vector<std::pair<VertexId, VertexId>> split_pinches(CutResult* result = nullptr, bool skip_crossings = false);
+  // A flag per vertex of [first, first + flags.size()).
+  struct VertexFlags {
+    std::uint32_t first = 0;
+    std::vector<std::uint8_t> flags;
+    bool operator()(std::uint32_t v) const { return v >= first && v - first < flags.size() && flags[v - first]; }
+  };
+  template <class OneFan>
+  std::vector<std::pair<VertexId, VertexId>> split_pinches(CutResult* result, const OneFan& one_fan);
   bool single_fan(std::uint32_t v) const;
+  VertexFlags capped_single_fans(std::uint32_t first_cap_face, const std::vector<std::pair<VertexId, VertexId>>& rim) const;
   void collect_pieces(CutResult& result);
   void live_rim_by_side(std::vector<FaceId> (&out)[2]) const;
   std::vector<detail::CapInput> rim_of_pieces(const CutResult& result) const;
@@ -306,7 +314,8 @@ void Cutter::separate_sides() {
 // a cap over a rim that touches itself can too: each fan gets its own vertex. Every face using an
 // on-plane vertex is a rim candidate or a cap face. With `result`, its pieces follow the faces
 // moved onto copies.
-std::vector<std::pair<VertexId, VertexId>> Cutter::split_pinches(CutResult* result, bool skip_crossings) {
+template <class OneFan>
+std::vector<std::pair<VertexId, VertexId>> Cutter::split_pinches(CutResult* result, const OneFan& one_fan) {
   std::vector<VertexId> on_plane;  // each once
   std::vector<FaceId> incident;    // the live rim candidates using one of them
   std::vector<std::uint8_t> listed(mesh_.vertex_count(), 0);
@@ -314,7 +323,7 @@ std::vector<std::pair<VertexId, VertexId>> Cutter::split_pinches(CutResult* resu
     if (mesh_.is_deleted(f)) continue;
     bool uses = false;
     for (const VertexId v : mesh_.face(f)) {
-      if (sign_[v.index] != 0 || (skip_crossings && single_fan(v.index))) continue;
+      if (sign_[v.index] != 0 || one_fan(v.index)) continue;
       uses = true;
       if (!listed[v.index]) {
         listed[v.index] = 1;
@@ -339,6 +348,86 @@ std::vector<std::pair<VertexId, VertexId>> Cutter::split_pinches(CutResult* resu
   std::sort(moved.begin(), moved.end());
   for (auto& piece : result->pieces) follow_moved_faces(moved, FaceId(static_cast<std::uint32_t>(before)), piece);
   return splits.copies;
+}
+
+// Flags over the rim vertices [first, first + size): 1 where the vertex's faces are still one fan
+// with the caps added. Every cap face there reaches, through cap faces sharing an edge there, a
+// cap face along one of the piece's rim edges (`rim`: its halfedges), which is an edge of the
+// vertex's one fan of piece faces (the first pinch split left one; no face of it was removed).
+Cutter::VertexFlags Cutter::capped_single_fans(std::uint32_t first_cap_face,
+                                               const std::vector<std::pair<VertexId, VertexId>>& rim) const {
+  VertexFlags out;
+  const auto end_face = static_cast<std::uint32_t>(mesh_.face_slots());
+  std::uint32_t lo = kInvalidIndex, hi = 0;
+  for (auto f = first_cap_face; f < end_face; ++f)
+    for (const VertexId v : mesh_.face(FaceId(f))) {
+      lo = std::min(lo, v.index);
+      hi = std::max(hi, v.index);
+    }
+  if (lo > hi) return out;
+  // Cap corners (the face's other two vertices) and rim neighbours, by vertex: counting sorts
+  // over [lo, hi].
+  const std::size_t n = hi - lo + 1;
+  std::vector<std::uint32_t> first(n + 1, 0), rim_first(n + 1, 0);
+  for (auto f = first_cap_face; f < end_face; ++f)
+    for (const VertexId v : mesh_.face(FaceId(f))) ++first[v.index - lo + 1];
+  auto in_range = [&](VertexId v) { return v.index >= lo && v.index <= hi; };
+  for (const auto& [a, b] : rim) {
+    if (in_range(a)) ++rim_first[a.index - lo + 1];
+    if (in_range(b)) ++rim_first[b.index - lo + 1];
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    first[i + 1] += first[i];
+    rim_first[i + 1] += rim_first[i];
+  }
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> others(first[n]);
+  std::vector<std::uint32_t> rim_next(rim_first[n]);
+  {
+    std::vector<std::uint32_t> fill(first.begin(), first.end() - 1), rim_fill(rim_first.begin(), rim_first.end() - 1);
+    for (auto f = first_cap_face; f < end_face; ++f) {
+      const Triangle& t = mesh_.face(FaceId(f));
+      if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) return out;  // a degenerate cap: no shortcut
+      for (int k = 0; k < 3; ++k) others[fill[t[k].index - lo]++] = {t[(k + 1) % 3].index, t[(k + 2) % 3].index};
+    }
+    for (const auto& [a, b] : rim) {
+      if (in_range(a)) rim_next[rim_fill[a.index - lo]++] = b.index;
+      if (in_range(b)) rim_next[rim_fill[b.index - lo]++] = a.index;
+    }
+  }
+  out.first = lo;
+  out.flags.assign(n, 0);
+  constexpr std::uint32_t kMaxFan = 32;  // more cap faces at one vertex: left to the pinch split
+  std::uint32_t parent[kMaxFan];
+  bool anchored[kMaxFan];
+  for (std::size_t v = 0; v < n; ++v) {
+    const std::uint32_t m = first[v + 1] - first[v];
+    if (m == 0 || m > kMaxFan) continue;
+    const auto* c = others.data() + first[v];
+    const std::uint32_t* nb = rim_next.data() + rim_first[v];
+    const std::uint32_t nbs = rim_first[v + 1] - rim_first[v];
+    auto along_rim = [&](std::uint32_t x) { return std::find(nb, nb + nbs, x) != nb + nbs; };
+    auto root = [&](std::uint32_t x) {
+      while (parent[x] != x) x = parent[x];
+      return x;
+    };
+    for (std::uint32_t i = 0; i < m; ++i) {
+      parent[i] = i;
+      anchored[i] = along_rim(c[i].first) || along_rim(c[i].second);
+    }
+    for (std::uint32_t i = 0; i < m; ++i)
+      for (std::uint32_t j = i + 1; j < m; ++j)
+        if (c[i].first == c[j].first || c[i].first == c[j].second || c[i].second == c[j].first ||
+            c[i].second == c[j].second) {
+          const std::uint32_t ri = root(i), rj = root(j);
+          if (ri == rj) continue;
+          parent[std::max(ri, rj)] = std::min(ri, rj);
+          anchored[std::min(ri, rj)] = anchored[ri] || anchored[rj];
+        }
+    bool all = true;
+    for (std::uint32_t i = 0; i < m && all; ++i) all = anchored[root(i)];
+    out.flags[v] = all ? 1 : 0;
+  }
+  return out;
 }
 
 // `piece` with each face moved (old, new: sorted by old) replaced by its new face, sorted. The new
@@ -628,24 +717,33 @@ void Cutter::cap_pieces(CutResult& result, std::vector<VertexId>& rim) {
   // The input's rim vertices sorted, then the cut's (the newest ids) by a flag each.
   const std::uint32_t first_new = posed_.first_new();
   std::vector<std::uint8_t> on_rim(mesh_.vertex_count() - first_new, 0);
+  std::vector<std::pair<VertexId, VertexId>> rim_edges;
   for (const detail::CapInput& in : rims)
-    for (const auto& [a, b] : detail::rim_halfedges(mesh_, in))
+    for (const auto& [a, b] : detail::rim_halfedges(mesh_, in)) {
+      rim_edges.emplace_back(a, b);
       for (const VertexId v : {a, b}) {
         if (v.index >= first_new)
           on_rim[v.index - first_new] = 1;
         else
           rim.push_back(v);
       }
+    }
   std::sort(rim.begin(), rim.end());
   rim.erase(std::unique(rim.begin(), rim.end()), rim.end());
   for (std::size_t i = 0; i < on_rim.size(); ++i)
     if (on_rim[i]) rim.push_back(VertexId(first_new + static_cast<std::uint32_t>(i)));
   if (!options_.cap) return;
   const auto first_cap_face = static_cast<std::uint32_t>(mesh_.face_slots());
+  const std::size_t live_before = mesh_.face_count();
   for (std::size_t p = 0; p < result.pieces.size(); ++p) detail::cap_piece(editor_, rims[p], result.pieces[p]);
   for (auto i = first_cap_face; i < mesh_.face_slots(); ++i) rim_candidates_.push_back(FaceId(i));
+  // With a face of a piece removed (a flat one the cap replaced) its fans may have come apart:
+  // then every rim vertex is looked at.
+  VertexFlags one_fan;
+  if (mesh_.face_count() - live_before == mesh_.face_slots() - first_cap_face)
+    one_fan = capped_single_fans(first_cap_face, rim_edges);
   const std::size_t before = rim.size();
-  for (const auto& [v, c] : split_pinches(&result))
+  for (const auto& [v, c] : split_pinches(&result, one_fan))
     if (std::binary_search(rim.begin(), rim.begin() + static_cast<std::ptrdiff_t>(before), v)) rim.push_back(c);
   std::sort(rim.begin(), rim.end());
 }
@@ -660,7 +758,7 @@ CutResult Cutter::run() {
   }
   split_crossed_faces();
   separate_or_drop_side();
-  split_pinches(nullptr, true);
+  split_pinches(nullptr, [this](std::uint32_t v) { return single_fan(v); });
   collect_pieces(result);
   cap_pieces(result, result.rim_vertices);
   result.intersection_points = intersections_;
