@@ -358,20 +358,19 @@ Cutter::VertexFlags Cutter::capped_single_fans(std::uint32_t first_cap_face,
                                                const std::vector<std::pair<VertexId, VertexId>>& rim) const {
   VertexFlags out;
   const auto end_face = static_cast<std::uint32_t>(mesh_.face_slots());
-  std::uint32_t lo = kInvalidIndex, hi = 0;
-  for (auto f = first_cap_face; f < end_face; ++f)
-    for (const VertexId v : mesh_.face(FaceId(f))) {
-      lo = std::min(lo, v.index);
-      hi = std::max(hi, v.index);
-    }
-  if (lo > hi) return out;
+  // Only the vertices the cut made, [lo, hi] (the input's on the rim are few: the pinch split
+  // looks at them), so the arrays below follow the edit, not the mesh.
+  const std::uint32_t lo = posed_.first_new();
+  if (mesh_.vertex_count() <= lo) return out;
+  const auto hi = static_cast<std::uint32_t>(mesh_.vertex_count() - 1);
   // Cap corners (the face's other two vertices) and rim neighbours, by vertex: counting sorts
   // over [lo, hi].
   const std::size_t n = hi - lo + 1;
   std::vector<std::uint32_t> first(n + 1, 0), rim_first(n + 1, 0);
-  for (auto f = first_cap_face; f < end_face; ++f)
-    for (const VertexId v : mesh_.face(FaceId(f))) ++first[v.index - lo + 1];
   auto in_range = [&](VertexId v) { return v.index >= lo && v.index <= hi; };
+  for (auto f = first_cap_face; f < end_face; ++f)
+    for (const VertexId v : mesh_.face(FaceId(f)))
+      if (in_range(v)) ++first[v.index - lo + 1];
   for (const auto& [a, b] : rim) {
     if (in_range(a)) ++rim_first[a.index - lo + 1];
     if (in_range(b)) ++rim_first[b.index - lo + 1];
@@ -387,7 +386,8 @@ Cutter::VertexFlags Cutter::capped_single_fans(std::uint32_t first_cap_face,
     for (auto f = first_cap_face; f < end_face; ++f) {
       const Triangle& t = mesh_.face(FaceId(f));
       if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) return out;  // a degenerate cap: no shortcut
-      for (int k = 0; k < 3; ++k) others[fill[t[k].index - lo]++] = {t[(k + 1) % 3].index, t[(k + 2) % 3].index};
+      for (int k = 0; k < 3; ++k)
+        if (in_range(t[k])) others[fill[t[k].index - lo]++] = {t[(k + 1) % 3].index, t[(k + 2) % 3].index};
     }
     for (const auto& [a, b] : rim) {
       if (in_range(a)) rim_next[rim_fill[a.index - lo]++] = b.index;
@@ -648,14 +648,19 @@ void Cutter::split_crossed_faces() {
       (c == 1 ? pos : neg).push_back(f);  // sides come in runs: the branch is well predicted
     }
   });
+  // Room for the faces the cut makes and the caps (a few per crossed or touching face), which
+  // join the pieces later: growing a list of most of the mesh would copy it.
+  std::size_t rim_faces = 0;
+  for (const Found& part : found) rim_faces += part.crossed.size() + part.touching.size();
   for (int side = 0; side < 2; ++side) {
     if (found.size() == 1) {
       clean_[side] = std::move(found[0].clean[side]);
+      clean_[side].reserve(clean_[side].size() + 8 * rim_faces + 64);
       continue;
     }
     std::size_t n = 0;
     for (const Found& part : found) n += part.clean[side].size();
-    clean_[side].reserve(n);
+    clean_[side].reserve(n + 8 * rim_faces + 64);
     for (Found& part : found) {
       clean_[side].insert(clean_[side].end(), part.clean[side].begin(), part.clean[side].end());
       std::vector<FaceId>().swap(part.clean[side]);
