@@ -42,13 +42,10 @@ void Adjacency::ensure_vertex(VertexId v) {
   for (std::size_t i = first; i < vertex_faces_.size(); ++i) vertex_faces_[i].reserve(kNewListRoom);
 }
 
+// `apply` has sized both arrays for the log's vertices and faces.
 void Adjacency::add_face(FaceId f, const Triangle& t) {
-  if (f.index >= face_vertices_.size()) face_vertices_.resize(f.index + 1, Triangle{});
   face_vertices_[f.index] = t;
-  for (int k = 0; k < 3; ++k) {
-    ensure_vertex(t[k]);
-    insert_sorted(vertex_faces_[t[k].index], f);
-  }
+  for (int k = 0; k < 3; ++k) insert_sorted(vertex_faces_[t[k].index], f);
 }
 
 void Adjacency::remove_face(FaceId f, const Triangle& t) {
@@ -141,11 +138,7 @@ void Adjacency::apply(const EditLog& log) {
     std::visit(
         [this](const auto& e) {
           using T = std::decay_t<decltype(e)>;
-          if constexpr (std::is_same_v<T, VertexAdded>) {
-            ensure_vertex(e.v);
-          } else if constexpr (std::is_same_v<T, VertexSplit>) {
-            ensure_vertex(e.copy);
-          } else if constexpr (std::is_same_v<T, FaceAdded>) {
+          if constexpr (std::is_same_v<T, FaceAdded>) {
             add_face(e.f, e.vertices);
           } else if constexpr (std::is_same_v<T, FaceRemoved>) {
             remove_face(e.f, e.vertices);
