@@ -13,6 +13,10 @@ namespace {
 
 template <class T>
 void insert_sorted(std::vector<T>& list, T value) {
+  if (list.empty() || list.back() < value) {  // the common case: a new face, the newest id
+    list.push_back(value);
+    return;
+  }
   auto it = std::lower_bound(list.begin(), list.end(), value);
   if (it == list.end() || *it != value) list.insert(it, value);
 }
@@ -38,13 +42,10 @@ void Adjacency::ensure_vertex(VertexId v) {
   for (std::size_t i = first; i < vertex_faces_.size(); ++i) vertex_faces_[i].reserve(kNewListRoom);
 }
 
+// `apply` has sized both arrays for the log's vertices and faces.
 void Adjacency::add_face(FaceId f, const Triangle& t) {
-  if (f.index >= face_vertices_.size()) face_vertices_.resize(f.index + 1, Triangle{});
   face_vertices_[f.index] = t;
-  for (int k = 0; k < 3; ++k) {
-    ensure_vertex(t[k]);
-    insert_sorted(vertex_faces_[t[k].index], f);
-  }
+  for (int k = 0; k < 3; ++k) insert_sorted(vertex_faces_[t[k].index], f);
 }
 
 void Adjacency::remove_face(FaceId f, const Triangle& t) {
@@ -118,15 +119,26 @@ Adjacency Adjacency::build(const SurfaceMesh& mesh) {
 }
 
 void Adjacency::apply(const EditLog& log) {
+  // Sized once for the vertices and face slots the log names, so the edits below never grow
+  // the outer arrays one element at a time.
+  std::uint32_t vertices = 0, faces = 0;
+  for (const Edit& edit : log.edits) {
+    if (const auto* a = std::get_if<FaceAdded>(&edit)) {
+      faces = std::max(faces, a->f.index + 1);
+      for (VertexId v : a->vertices) vertices = std::max(vertices, v.index + 1);
+    } else if (const auto* v = std::get_if<VertexAdded>(&edit)) {
+      vertices = std::max(vertices, v->v.index + 1);
+    } else if (const auto* s = std::get_if<VertexSplit>(&edit)) {
+      vertices = std::max(vertices, s->copy.index + 1);
+    }
+  }
+  if (vertices > 0) ensure_vertex(VertexId(vertices - 1));
+  if (faces > face_vertices_.size()) face_vertices_.resize(faces, Triangle{});
   for (const Edit& edit : log.edits) {
     std::visit(
         [this](const auto& e) {
           using T = std::decay_t<decltype(e)>;
-          if constexpr (std::is_same_v<T, VertexAdded>) {
-            ensure_vertex(e.v);
-          } else if constexpr (std::is_same_v<T, VertexSplit>) {
-            ensure_vertex(e.copy);
-          } else if constexpr (std::is_same_v<T, FaceAdded>) {
+          if constexpr (std::is_same_v<T, FaceAdded>) {
             add_face(e.f, e.vertices);
           } else if constexpr (std::is_same_v<T, FaceRemoved>) {
             remove_face(e.f, e.vertices);

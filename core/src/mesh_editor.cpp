@@ -82,8 +82,14 @@ void blend_influences(const std::uint16_t* joints, const float* weights, const f
       acc[found].weight += weight * w[s];
     }
   }
-  // Largest first; a stable sort keeps ties in order of first appearance.
-  std::stable_sort(acc, acc + n, [](const Influence& a, const Influence& b) { return a.weight > b.weight; });
+  // Largest first; a stable sort keeps ties in order of first appearance (an insertion sort:
+  // a few entries, and std::stable_sort would allocate a buffer for them).
+  for (int i = 1; i < n; ++i) {
+    const Influence x = acc[i];
+    int j = i;
+    for (; j > 0 && acc[j - 1].weight < x.weight; --j) acc[j] = acc[j - 1];
+    acc[j] = x;
+  }
   for (int i = 0; i < slots; ++i) {
     out_joints[i] = i < n ? acc[i].joint : 0;
     out_weights[i] = i < n ? acc[i].weight : 0.0f;

@@ -44,6 +44,8 @@ class MeshEditor {
 
   SurfaceMesh& mesh() { return mesh_; }
   const EditLog& log() const { return log_; }
+  /// Room for `edits` more log entries, so an operation that knows its size grows the log once.
+  void reserve_log(std::size_t edits) { log_.edits.reserve(log_.edits.size() + edits); }
   EditLog take_log();
 
  private:

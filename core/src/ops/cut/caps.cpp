@@ -206,31 +206,33 @@ void add_cap_faces(MeshEditor& editor, const CapInput& in, const RimLoops& rim,
 std::vector<std::pair<VertexId, VertexId>> rim_halfedges(const SurfaceMesh& mesh, const CapInput& in,
                                                          const std::vector<FaceId>& skip) {
   // An edge with both ends on the plane belongs only to faces with two corners on it, so
-  // counting within the rim faces is exact.
+  // counting within the rim faces is exact. The on-plane halfedges in face order, and their
+  // edge keys with their places sorted: a key listed once is a rim edge.
   const auto& sign = *in.sign;
-  auto skipped = [&](FaceId f) { return std::binary_search(skip.begin(), skip.end(), f); };
-  std::vector<std::uint64_t> keys;  // one per on-plane edge use: an edge used once is a rim edge
+  std::vector<std::pair<VertexId, VertexId>> halfedges;
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keys;
+  halfedges.reserve(2 * in.rim_faces.size());
+  keys.reserve(2 * in.rim_faces.size());
   for (FaceId f : in.rim_faces) {
-    if (skipped(f)) continue;
-    const auto& t = mesh.face(f);
-    for (int k = 0; k < 3; ++k)
-      if (sign[t[k].index] == 0 && sign[t[(k + 1) % 3].index] == 0) keys.push_back(edge_key(t[k], t[(k + 1) % 3]));
-  }
-  std::sort(keys.begin(), keys.end());
-  auto used_once = [&](std::uint64_t key) {
-    const auto it = std::lower_bound(keys.begin(), keys.end(), key);
-    return it + 1 == keys.end() || it[1] != key;
-  };
-  std::vector<std::pair<VertexId, VertexId>> out;
-  for (FaceId f : in.rim_faces) {
-    if (skipped(f)) continue;
+    if (!skip.empty() && std::binary_search(skip.begin(), skip.end(), f)) continue;
     const auto& t = mesh.face(f);
     for (int k = 0; k < 3; ++k) {
       const VertexId a = t[k], b = t[(k + 1) % 3];
-      if (sign[a.index] == 0 && sign[b.index] == 0 && used_once(edge_key(a, b))) out.emplace_back(a, b);
+      if (sign[a.index] != 0 || sign[b.index] != 0) continue;
+      keys.emplace_back(edge_key(a, b), static_cast<std::uint32_t>(halfedges.size()));
+      halfedges.emplace_back(a, b);
     }
   }
-  return out;
+  std::sort(keys.begin(), keys.end());
+  std::vector<std::uint8_t> once(keys.size(), 0);
+  for (std::size_t i = 0; i < keys.size(); ++i)
+    once[keys[i].second] = (i == 0 || keys[i - 1].first != keys[i].first) &&
+                           (i + 1 == keys.size() || keys[i + 1].first != keys[i].first);
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < halfedges.size(); ++i)
+    if (once[i]) halfedges[n++] = halfedges[i];
+  halfedges.resize(n);
+  return halfedges;
 }
 
 void cap_piece(MeshEditor& editor, const CapInput& in, std::vector<FaceId>& piece) {

@@ -50,8 +50,10 @@ inline std::uint8_t side_code(const std::int8_t* sign, const Triangle& t) {
   return s < 0 ? 2 : 1;
 }
 
+
 void follow_moved_faces(const std::vector<std::pair<FaceId, FaceId>>& moved, FaceId first_new,
                         std::vector<FaceId>& piece);
+void merge_sorted(std::vector<FaceId>& list, const std::vector<FaceId>& more);
 
 class Cutter {
  public:
@@ -79,8 +81,18 @@ class Cutter {
   void split_crossings(FaceId f);
   void split_face(FaceId f);
   void separate_sides();
-  std::vector<std::pair<VertexId, VertexId>> split_pinches(CutResult* result = nullptr);
+  // A flag per vertex of [first, first + flags.size()).
+  struct VertexFlags {
+    std::uint32_t first = 0;
+    std::vector<std::uint8_t> flags;
+    bool operator()(std::uint32_t v) const { return v >= first && v - first < flags.size() && flags[v - first]; }
+  };
+  template <class OneFan>
+  std::vector<std::pair<VertexId, VertexId>> split_pinches(CutResult* result, const OneFan& one_fan);
+  bool single_fan(std::uint32_t v) const;
+  VertexFlags capped_single_fans(std::uint32_t first_cap_face, const std::vector<std::pair<VertexId, VertexId>>& rim) const;
   void collect_pieces(CutResult& result);
+  void live_rim_by_side(std::vector<FaceId> (&out)[2]) const;
   std::vector<detail::CapInput> rim_of_pieces(const CutResult& result) const;
   int face_side(const Triangle& t) const;
   // Stages of run().
@@ -102,12 +114,33 @@ class Cutter {
   // float) and its snapped sign, per vertex.
   std::vector<float> dist_;
   std::vector<std::int8_t> sign_;
+  // The same per input vertex as a bit (1 positive, 2 negative, 4 on the plane), so a face's
+  // corners or together into its kind (split_crossed_faces).
+  std::vector<std::uint8_t> side_bits_;
   detail::CrossingTable<Split> splits_;
   detail::NeedleMerges merges_;
   // Faces that may touch the plane: untouched ones with a corner on it, and every new face.
   std::vector<FaceId> rim_candidates_;
+  // The input's faces with no corner on the plane, by side (positive, negative), in id order:
+  // no edit of the cut touches them (but dropping a side).
+  std::vector<FaceId> clean_[2];
   std::size_t intersections_ = 0;
+  // The crossing vertices split_edge made, [first, end), and the positive side's copies of
+  // them separate_sides made, [first, end): without needle merges each of them has one fan of
+  // faces per side (single_fan).
+  std::uint32_t crossings_[2] = {0, 0};
+  std::uint32_t crossing_copies_[2] = {0, 0};
 };
+
+// True when vertex `v` is known to join its faces in one fan: a crossing vertex (or its copy)
+// while no needle merged two crossings. Each face split_face makes around a crossing m on side
+// s holds the piece (m, e) of the crossed edge whose end e is on side s, or shares an edge at m
+// with a face that does; so each side's faces around m are joined through (m, e), and the
+// copy takes all of the positive side's. The pinch split leaves such vertices alone.
+bool Cutter::single_fan(std::uint32_t v) const {
+  if (!merges_.empty()) return false;
+  return (v >= crossings_[0] && v < crossings_[1]) || (v >= crossing_copies_[0] && v < crossing_copies_[1]);
+}
 
 int Cutter::face_side(const Triangle& t) const {
   for (auto v : t)
@@ -227,11 +260,16 @@ void Cutter::separate_sides() {
         touches[v.index] |= bit;
       }
   }
+  // In id order (deterministic vertex numbering): the input's vertices sorted, then the cut's
+  // (the newest ids) as they come.
   std::vector<std::uint32_t> shared;
+  const std::uint32_t first_new = posed_.first_new();
   for (std::uint32_t v : touched)
+    if (touches[v] == 3 && v < first_new) shared.push_back(v);
+  std::sort(shared.begin(), shared.end());
+  for (std::uint32_t v = first_new; v < touches.size(); ++v)
     if (touches[v] == 3) shared.push_back(v);
   if (shared.empty()) return;
-  std::sort(shared.begin(), shared.end());  // deterministic vertex numbering
   std::vector<VertexId> copy;
   copy.reserve(shared.size());
   for (std::uint32_t v : shared) {
@@ -239,6 +277,13 @@ void Cutter::separate_sides() {
     posed_.add(posed_(VertexId(v)));
     dist_.push_back(dist_[v]);
     sign_.push_back(0);
+  }
+  // shared is sorted and the crossings are the newest vertices: their copies come last.
+  const auto first_of_crossing =
+      static_cast<std::size_t>(std::lower_bound(shared.begin(), shared.end(), crossings_[0]) - shared.begin());
+  if (first_of_crossing < copy.size()) {
+    crossing_copies_[0] = copy[first_of_crossing].index;
+    crossing_copies_[1] = copy.back().index + 1;
   }
   sign = sign_.data();
   auto copy_of = [&](VertexId v) {
@@ -269,20 +314,28 @@ void Cutter::separate_sides() {
 // a cap over a rim that touches itself can too: each fan gets its own vertex. Every face using an
 // on-plane vertex is a rim candidate or a cap face. With `result`, its pieces follow the faces
 // moved onto copies.
-std::vector<std::pair<VertexId, VertexId>> Cutter::split_pinches(CutResult* result) {
+template <class OneFan>
+std::vector<std::pair<VertexId, VertexId>> Cutter::split_pinches(CutResult* result, const OneFan& one_fan) {
   std::vector<VertexId> on_plane;  // each once
+  std::vector<FaceId> incident;    // the live rim candidates using one of them
   std::vector<std::uint8_t> listed(mesh_.vertex_count(), 0);
   for (FaceId f : rim_candidates_) {
     if (mesh_.is_deleted(f)) continue;
-    for (const VertexId v : mesh_.face(f))
-      if (sign_[v.index] == 0 && !listed[v.index]) {
+    bool uses = false;
+    for (const VertexId v : mesh_.face(f)) {
+      if (sign_[v.index] != 0 || one_fan(v.index)) continue;
+      uses = true;
+      if (!listed[v.index]) {
         listed[v.index] = 1;
         on_plane.push_back(v);
       }
+    }
+    if (uses) incident.push_back(f);
   }
+  if (on_plane.empty()) return {};
   std::sort(on_plane.begin(), on_plane.end());
   const std::size_t before = mesh_.face_slots();
-  const auto splits = detail::split_pinched_vertices(editor_, on_plane, rim_candidates_);
+  const auto splits = detail::split_pinched_vertices(editor_, on_plane, incident);
   for (const auto& [v, c] : splits.copies) {
     (void)c;
     posed_.add(posed_(v));
@@ -295,6 +348,86 @@ std::vector<std::pair<VertexId, VertexId>> Cutter::split_pinches(CutResult* resu
   std::sort(moved.begin(), moved.end());
   for (auto& piece : result->pieces) follow_moved_faces(moved, FaceId(static_cast<std::uint32_t>(before)), piece);
   return splits.copies;
+}
+
+// Flags over the rim vertices [first, first + size): 1 where the vertex's faces are still one fan
+// with the caps added. Every cap face there reaches, through cap faces sharing an edge there, a
+// cap face along one of the piece's rim edges (`rim`: its halfedges), which is an edge of the
+// vertex's one fan of piece faces (the first pinch split left one; no face of it was removed).
+Cutter::VertexFlags Cutter::capped_single_fans(std::uint32_t first_cap_face,
+                                               const std::vector<std::pair<VertexId, VertexId>>& rim) const {
+  VertexFlags out;
+  const auto end_face = static_cast<std::uint32_t>(mesh_.face_slots());
+  // Only the vertices the cut made, [lo, hi] (the input's on the rim are few: the pinch split
+  // looks at them), so the arrays below follow the edit, not the mesh.
+  const std::uint32_t lo = posed_.first_new();
+  if (mesh_.vertex_count() <= lo) return out;
+  const auto hi = static_cast<std::uint32_t>(mesh_.vertex_count() - 1);
+  // Cap corners (the face's other two vertices) and rim neighbours, by vertex: counting sorts
+  // over [lo, hi].
+  const std::size_t n = hi - lo + 1;
+  std::vector<std::uint32_t> first(n + 1, 0), rim_first(n + 1, 0);
+  auto in_range = [&](VertexId v) { return v.index >= lo && v.index <= hi; };
+  for (auto f = first_cap_face; f < end_face; ++f)
+    for (const VertexId v : mesh_.face(FaceId(f)))
+      if (in_range(v)) ++first[v.index - lo + 1];
+  for (const auto& [a, b] : rim) {
+    if (in_range(a)) ++rim_first[a.index - lo + 1];
+    if (in_range(b)) ++rim_first[b.index - lo + 1];
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    first[i + 1] += first[i];
+    rim_first[i + 1] += rim_first[i];
+  }
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> others(first[n]);
+  std::vector<std::uint32_t> rim_next(rim_first[n]);
+  {
+    std::vector<std::uint32_t> fill(first.begin(), first.end() - 1), rim_fill(rim_first.begin(), rim_first.end() - 1);
+    for (auto f = first_cap_face; f < end_face; ++f) {
+      const Triangle& t = mesh_.face(FaceId(f));
+      if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) return out;  // a degenerate cap: no shortcut
+      for (int k = 0; k < 3; ++k)
+        if (in_range(t[k])) others[fill[t[k].index - lo]++] = {t[(k + 1) % 3].index, t[(k + 2) % 3].index};
+    }
+    for (const auto& [a, b] : rim) {
+      if (in_range(a)) rim_next[rim_fill[a.index - lo]++] = b.index;
+      if (in_range(b)) rim_next[rim_fill[b.index - lo]++] = a.index;
+    }
+  }
+  out.first = lo;
+  out.flags.assign(n, 0);
+  constexpr std::uint32_t kMaxFan = 32;  // more cap faces at one vertex: left to the pinch split
+  std::uint32_t parent[kMaxFan];
+  bool anchored[kMaxFan];
+  for (std::size_t v = 0; v < n; ++v) {
+    const std::uint32_t m = first[v + 1] - first[v];
+    if (m == 0 || m > kMaxFan) continue;
+    const auto* c = others.data() + first[v];
+    const std::uint32_t* nb = rim_next.data() + rim_first[v];
+    const std::uint32_t nbs = rim_first[v + 1] - rim_first[v];
+    auto along_rim = [&](std::uint32_t x) { return std::find(nb, nb + nbs, x) != nb + nbs; };
+    auto root = [&](std::uint32_t x) {
+      while (parent[x] != x) x = parent[x];
+      return x;
+    };
+    for (std::uint32_t i = 0; i < m; ++i) {
+      parent[i] = i;
+      anchored[i] = along_rim(c[i].first) || along_rim(c[i].second);
+    }
+    for (std::uint32_t i = 0; i < m; ++i)
+      for (std::uint32_t j = i + 1; j < m; ++j)
+        if (c[i].first == c[j].first || c[i].first == c[j].second || c[i].second == c[j].first ||
+            c[i].second == c[j].second) {
+          const std::uint32_t ri = root(i), rj = root(j);
+          if (ri == rj) continue;
+          parent[std::max(ri, rj)] = std::min(ri, rj);
+          anchored[std::min(ri, rj)] = anchored[ri] || anchored[rj];
+        }
+    bool all = true;
+    for (std::uint32_t i = 0; i < m && all; ++i) all = anchored[root(i)];
+    out.flags[v] = all ? 1 : 0;
+  }
+  return out;
 }
 
 // `piece` with each face moved (old, new: sorted by old) replaced by its new face, sorted. The new
@@ -358,47 +491,14 @@ std::vector<detail::CapInput> Cutter::rim_of_pieces(const CutResult& result) con
 }
 
 void Cutter::collect_pieces(CutResult& result) {
-  // Live faces by side, in id order: chunks listed in parallel, joined in chunk order. A first
-  // pass notes each face's side (0: deleted) and counts, so the lists are allocated once.
-  struct Lists {
-    std::vector<FaceId> side[2];  // positive, negative
-  };
-  const std::size_t slots = mesh_.face_slots();
-  const std::size_t grain = grain_per_thread(slots, kMinGrain);
-  std::vector<Lists> parts((slots + grain - 1) / grain);
-  std::vector<std::uint8_t> side_of(slots);
-  const std::int8_t* sign = sign_.data();
-  const Triangle* faces = mesh_.faces().data();
-  parallel_for(slots, grain, [&](std::size_t b, std::size_t e) {
-    Lists& out = parts[b / grain];
-    std::size_t n[3] = {0, 0, 0};
-    for (std::size_t i = b; i < e; ++i) {
-      const std::uint8_t code = mesh_.is_deleted(FaceId(static_cast<std::uint32_t>(i))) ? 0 : side_code(sign, faces[i]);
-      side_of[i] = code;
-      ++n[code];
-    }
-    out.side[0].resize(n[1]);
-    out.side[1].resize(n[2]);
-    FaceId sink;  // deleted faces land here, branch-free
-    FaceId* next[3] = {&sink, out.side[0].data(), out.side[1].data()};
-    for (std::size_t i = b; i < e; ++i) {
-      const std::uint8_t code = side_of[i];
-      *next[code] = FaceId(static_cast<std::uint32_t>(i));
-      next[code] += code != 0;
-    }
-  });
+  // Live faces by side, in id order: the untouched ones off the plane (listed by the scan, no
+  // edit removes them) merged with the live rim candidates (ascending: the scan's touching
+  // faces, then every face the cut made).
   std::vector<FaceId> side_faces[2];
-  for (int s = 0; s < 2; ++s) {
-    if (parts.size() == 1) {
-      side_faces[s] = std::move(parts[0].side[s]);
-      continue;
-    }
-    std::size_t n = 0;
-    for (const Lists& l : parts) n += l.side[s].size();
-    side_faces[s].reserve(n);
-    for (const Lists& l : parts) side_faces[s].insert(side_faces[s].end(), l.side[s].begin(), l.side[s].end());
-  }
-  parts.clear();
+  for (int s = 0; s < 2; ++s) side_faces[s] = std::move(clean_[s]);
+  std::vector<FaceId> rim[2];
+  live_rim_by_side(rim);
+  for (int s = 0; s < 2; ++s) merge_sorted(side_faces[s], rim[s]);
   for (int s = 0; s < 2; ++s) {
     if (side_faces[s].empty()) continue;
     const int side = s == 0 ? 1 : -1;
@@ -448,15 +548,22 @@ bool Cutter::classify_vertices() {
   const std::size_t nv = mesh_.vertex_count();
   // Vertices a face slot uses (threads may mark one vertex together: relaxed atomic bytes).
   std::unique_ptr<std::atomic<std::uint8_t>[]> used_flags(new std::atomic<std::uint8_t>[nv]());
-  const auto& all_faces = mesh_.faces();
-  parallel_for(all_faces.size(), grain_per_thread(all_faces.size(), kMinGrain), [&](std::size_t b, std::size_t e) {
-    for (std::size_t f = b; f < e; ++f)
-      for (VertexId v : all_faces[f]) used_flags[v.index].store(1, std::memory_order_relaxed);
+  const std::size_t nf = mesh_.face_slots();
+  parallel_for(nf, grain_per_thread(nf, kMinGrain), [&](std::size_t b, std::size_t e) {
+    const Triangle* faces = mesh_.faces().data();
+    std::atomic<std::uint8_t>* flags = used_flags.get();
+    for (std::size_t f = b; f < e; ++f) {
+      const Triangle& t = faces[f];
+      flags[t[0].index].store(1, std::memory_order_relaxed);
+      flags[t[1].index].store(1, std::memory_order_relaxed);
+      flags[t[2].index].store(1, std::memory_order_relaxed);
+    }
   });
   auto used = [&](std::size_t v) { return used_flags[v].load(std::memory_order_relaxed) != 0; };
   const glm::vec3 point(point_), normal(normal_);
   dist_.resize(nv);
   sign_.resize(nv);
+  side_bits_.resize(nv);
   const std::size_t vgrain = grain_per_thread(nv, kMinGrain);
   const BoundingBox box = parallel_reduce(
       nv, vgrain, BoundingBox(),
@@ -478,47 +585,97 @@ bool Cutter::classify_vertices() {
         return acc;
       });
   const double tol = double(options_.relative_tolerance) * double(box.diagonal());
+  // An unused vertex has distance 0, which snaps to 0 whenever the tolerance is not negative:
+  // then the loop need not look at the flags.
+  const bool check_used = !(tol >= 0.0);
   const int sides = parallel_reduce(
       nv, vgrain, 0,
       [&](std::size_t b, std::size_t e) {
-        int bits = 0;
+        const float* dist = dist_.data();
+        std::int8_t* sign = sign_.data();
+        std::uint8_t* bits = side_bits_.data();
+        const double hi = tol, lo = -tol;
+        const bool all = !check_used;
+        int pos = 0, neg = 0;
         for (std::size_t v = b; v < e; ++v) {
-          const double d = dist_[v];
-          const std::int8_t sg = !used(v) ? 0 : (d > tol ? 1 : (d < -tol ? -1 : 0));
-          sign_[v] = sg;
-          bits |= sg > 0 ? 1 : (sg < 0 ? 2 : 0);
+          const double d = dist[v];
+          const int above = (all || used(v)) && d > hi, below = (all || used(v)) && d < lo;
+          sign[v] = static_cast<std::int8_t>(above - below);
+          bits[v] = static_cast<std::uint8_t>(above | (below << 1) | ((1 - above - below) << 2));
+          pos |= above;
+          neg |= below;
         }
-        return bits;
+        return pos | (neg << 1);
       },
       [](int acc, int bits) { return acc | bits; });
   return sides == 3;
 }
 
 void Cutter::split_crossed_faces() {
-  // Faces the plane crosses (split below) and untouched faces with a corner on the plane (rim
-  // candidates), found in parallel chunks and handled in id order.
+  // One pass over the faces, in parallel chunks joined in id order: the faces the plane crosses
+  // (split below), the untouched faces with a corner on the plane (rim candidates) and the
+  // untouched faces off it by side (the bulk of the pieces: no edit changes them).
   const auto first_new_face = static_cast<std::uint32_t>(mesh_.face_slots());
   struct Found {
-    std::vector<FaceId> crossed, touching;
+    std::vector<FaceId> crossed, touching, clean[2];
   };
   const std::size_t fgrain = grain_per_thread(first_new_face, kMinGrain);
   std::vector<Found> found((first_new_face + fgrain - 1) / fgrain);
+  const std::uint8_t* bits = side_bits_.data();
+  const Triangle* faces = mesh_.faces().data();
+  // Without deleted faces (a mesh as loaded or compacted) the loop need not look for them.
+  const bool any_deleted = mesh_.face_count() != mesh_.face_slots();
   parallel_for(first_new_face, fgrain, [&](std::size_t b, std::size_t e) {
     Found& out = found[b / fgrain];
+    out.clean[0].reserve(e - b);
+    out.clean[1].reserve(e - b);
+    // Locals, not captures: the stores below could alias a capture, which would be read again
+    // at every face.
+    std::vector<FaceId>& pos = out.clean[0];
+    std::vector<FaceId>& neg = out.clean[1];
+    const Triangle* tri = faces;
+    const std::uint8_t* vb = bits;
+    const bool check_deleted = any_deleted;
     for (auto i = static_cast<std::uint32_t>(b); i < e; ++i) {
       const FaceId f(i);
-      if (mesh_.is_deleted(f)) continue;
-      const auto& t = mesh_.face(f);
-      const int s0 = sign_[t[0].index], s1 = sign_[t[1].index], s2 = sign_[t[2].index];
-      const bool crossed = (s0 > 0 || s1 > 0 || s2 > 0) && (s0 < 0 || s1 < 0 || s2 < 0);
-      if (crossed)
-        out.crossed.push_back(f);
-      else if (s0 == 0 || s1 == 0 || s2 == 0)
-        out.touching.push_back(f);
+      const Triangle& t = tri[i];
+      // 1 or 2: every corner on that side; with bit 4, a corner on the plane; 3 (or 7): crossed.
+      const unsigned c = vb[t[0].index] | vb[t[1].index] | vb[t[2].index];
+      if (c > 2 || (check_deleted && mesh_.is_deleted(f))) {
+        if (!mesh_.is_deleted(f)) ((c & 3) == 3 ? out.crossed : out.touching).push_back(f);
+        continue;
+      }
+      (c == 1 ? pos : neg).push_back(f);  // sides come in runs: the branch is well predicted
     }
   });
+  // Room for the faces the cut makes and the caps (a few per crossed or touching face), which
+  // join the pieces later: growing a list of most of the mesh would copy it.
+  std::size_t rim_faces = 0;
+  for (const Found& part : found) rim_faces += part.crossed.size() + part.touching.size();
+  for (int side = 0; side < 2; ++side) {
+    if (found.size() == 1) {
+      clean_[side] = std::move(found[0].clean[side]);
+      clean_[side].reserve(clean_[side].size() + 8 * rim_faces + 64);
+      continue;
+    }
+    std::size_t n = 0;
+    for (const Found& part : found) n += part.clean[side].size();
+    clean_[side].reserve(n + 8 * rim_faces + 64);
+    for (Found& part : found) {
+      clean_[side].insert(clean_[side].end(), part.clean[side].begin(), part.clean[side].end());
+      std::vector<FaceId>().swap(part.clean[side]);
+    }
+  }
+  std::size_t crossed = 0;
+  for (const Found& part : found) crossed += part.crossed.size();
+  splits_.reserve(2 * crossed);  // about one new crossed edge per crossed face, two at most
+  // Per crossed face about: a crossing, its removal, three faces, and separating the sides a
+  // copy and two faces moved (a removal and an addition each).
+  editor_.reserve_log(10 * crossed);
+  crossings_[0] = static_cast<std::uint32_t>(mesh_.vertex_count());
   for (const Found& part : found)
     for (FaceId f : part.crossed) split_crossings(f);
+  crossings_[1] = static_cast<std::uint32_t>(mesh_.vertex_count());
   for (const Found& part : found) {
     for (FaceId f : part.crossed) split_face(f);
     rim_candidates_.insert(rim_candidates_.end(), part.touching.begin(), part.touching.end());
@@ -532,32 +689,66 @@ void Cutter::separate_or_drop_side() {
     separate_sides();
     for (auto i = before; i < mesh_.face_slots(); ++i) rim_candidates_.push_back(FaceId(i));
   } else {
-    const int drop = options_.keep == CutKeep::Positive ? -1 : 1;
-    std::vector<FaceId> doomed;
-    mesh_.for_each_face([&](FaceId f, const Triangle& t) {
-      if (face_side(t) == drop) doomed.push_back(f);
-    });
+    // Every live face of the dropped side, in id order.
+    const int drop = options_.keep == CutKeep::Positive ? 1 : 0;
+    std::vector<FaceId> rim[2];
+    live_rim_by_side(rim);
+    std::vector<FaceId> doomed = std::move(clean_[drop]);
+    clean_[drop].clear();
+    merge_sorted(doomed, rim[drop]);
     for (FaceId f : doomed) editor_.remove_face(f);
   }
+}
+
+// The live rim candidates by side (positive, negative), in id order.
+void Cutter::live_rim_by_side(std::vector<FaceId> (&out)[2]) const {
+  const std::int8_t* sign = sign_.data();
+  for (FaceId f : rim_candidates_)
+    if (!mesh_.is_deleted(f)) out[side_code(sign, mesh_.face(f)) - 1].push_back(f);
+}
+
+// `list` and `more` (both ascending) merged into `list`.
+void merge_sorted(std::vector<FaceId>& list, const std::vector<FaceId>& more) {
+  const auto mid = static_cast<std::ptrdiff_t>(list.size());
+  list.insert(list.end(), more.begin(), more.end());
+  if (mid > 0 && !more.empty() && more.front() < list[static_cast<std::size_t>(mid - 1)])
+    std::inplace_merge(list.begin(), list.begin() + mid, list.end());
 }
 
 // Rim vertices (on the plane, bounding a piece) into `rim`, sorted and unique; with caps, each
 // piece capped.
 void Cutter::cap_pieces(CutResult& result, std::vector<VertexId>& rim) {
   const std::vector<detail::CapInput> rims = rim_of_pieces(result);
+  // The input's rim vertices sorted, then the cut's (the newest ids) by a flag each.
+  const std::uint32_t first_new = posed_.first_new();
+  std::vector<std::uint8_t> on_rim(mesh_.vertex_count() - first_new, 0);
+  std::vector<std::pair<VertexId, VertexId>> rim_edges;
   for (const detail::CapInput& in : rims)
     for (const auto& [a, b] : detail::rim_halfedges(mesh_, in)) {
-      rim.push_back(a);
-      rim.push_back(b);
+      rim_edges.emplace_back(a, b);
+      for (const VertexId v : {a, b}) {
+        if (v.index >= first_new)
+          on_rim[v.index - first_new] = 1;
+        else
+          rim.push_back(v);
+      }
     }
   std::sort(rim.begin(), rim.end());
   rim.erase(std::unique(rim.begin(), rim.end()), rim.end());
+  for (std::size_t i = 0; i < on_rim.size(); ++i)
+    if (on_rim[i]) rim.push_back(VertexId(first_new + static_cast<std::uint32_t>(i)));
   if (!options_.cap) return;
   const auto first_cap_face = static_cast<std::uint32_t>(mesh_.face_slots());
+  const std::size_t live_before = mesh_.face_count();
   for (std::size_t p = 0; p < result.pieces.size(); ++p) detail::cap_piece(editor_, rims[p], result.pieces[p]);
   for (auto i = first_cap_face; i < mesh_.face_slots(); ++i) rim_candidates_.push_back(FaceId(i));
+  // With a face of a piece removed (a flat one the cap replaced) its fans may have come apart:
+  // then every rim vertex is looked at.
+  VertexFlags one_fan;
+  if (mesh_.face_count() - live_before == mesh_.face_slots() - first_cap_face)
+    one_fan = capped_single_fans(first_cap_face, rim_edges);
   const std::size_t before = rim.size();
-  for (const auto& [v, c] : split_pinches(&result))
+  for (const auto& [v, c] : split_pinches(&result, one_fan))
     if (std::binary_search(rim.begin(), rim.begin() + static_cast<std::ptrdiff_t>(before), v)) rim.push_back(c);
   std::sort(rim.begin(), rim.end());
 }
@@ -572,7 +763,7 @@ CutResult Cutter::run() {
   }
   split_crossed_faces();
   separate_or_drop_side();
-  split_pinches();
+  split_pinches(nullptr, [this](std::uint32_t v) { return single_fan(v); });
   collect_pieces(result);
   cap_pieces(result, result.rim_vertices);
   result.intersection_points = intersections_;
