@@ -52,6 +52,7 @@ struct LocalPoint {
 // barycentric coordinates and distances from the edges of plane points.
 struct FacePlane {
   PlaneCut pc;
+  glm::dvec3 corner[3];  // posed
   glm::dvec2 tq[3];
   double area2 = 1.0;
   double height[3] = {0.0, 0.0, 0.0};  // distance of a plane point from edge k = bary[k] * height[k]
@@ -345,7 +346,7 @@ void RimInserter::process_face(std::size_t c, FaceId f) {
     return;
   }
   face_.pc = pc;
-  for (int k = 0; k < 3; ++k) face_.tq[k] = tq[k];
+  for (int k = 0; k < 3; ++k) face_.tq[k] = tq[k], face_.corner[k] = corner[k];
   face_.area2 = area2;
   if (!any_inside) {
     // Only a hole wholly inside the triangle can be left: its centre must lie inside.
@@ -533,12 +534,14 @@ void RimInserter::sample_rim() {
   int arc_rulings = 0;  // rulings whose point in this plane lies between the end planes
   const std::size_t before_rulings = rim_.size();
   if (!pc.parallel) {
+    // consider() keeps only points inside the triangle or within half a percent of r of it.
+    const RulingWindow window = ruling_window(cyl_, face_.corner, 0.02 * cyl_.r + 2.0 * eps_);
     for (int k = 0; k < samples_; ++k) {
       const glm::dvec3& base = ruling_base_[static_cast<std::size_t>(k)];
       const double sv = glm::dot(pc.o - base, pc.n) / pc.dn;
       if (sv < 0.0 || sv > cyl_.len) continue;
       ++arc_rulings;
-      consider(base + sv * cyl_.d, false);
+      if (window.contains(k, samples_)) consider(base + sv * cyl_.d, false);
     }
   }
   const bool arc_sampled = rim_.size() > before_rulings;
