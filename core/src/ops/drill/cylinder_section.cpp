@@ -68,10 +68,15 @@ PlaneCut plane_cut(const CylinderFrame& cyl, const glm::dvec3 p[3]) {
   return pc;
 }
 
-RulingWindow ruling_window(const CylinderFrame& cyl, const glm::dvec3 p[3], double reach) {
+double ruling_reach_angle(const CylinderFrame& cyl, double reach) {
+  if (!(reach >= 0.0 && reach < 0.5 * cyl.r)) return -1.0;
+  return std::asin(reach / (cyl.r - reach)) + 1e-9;
+}
+
+RulingWindow ruling_window(const CylinderFrame& cyl, const glm::dvec3 p[3], double reach_angle) {
   const int n = cyl.samples;
   const RulingWindow all{0, n};
-  if (!(reach >= 0.0 && reach < 0.5 * cyl.r)) return all;
+  if (!(reach_angle >= 0.0)) return all;
   double angle[3];
   for (int k = 0; k < 3; ++k) {
     const glm::dvec3 q = cyl.perp(p[k]);
@@ -84,7 +89,7 @@ RulingWindow ruling_window(const CylinderFrame& cyl, const glm::dvec3 p[3], doub
     lo = std::min(lo, d);
     hi = std::max(hi, d);
   }
-  const double margin = std::asin(reach / (cyl.r - reach)) + 1e-9;
+  const double margin = reach_angle;
   if (!(hi - lo + 2.0 * margin < geometry::kPi)) return all;  // round the axis (or not finite)
   const double step = 2.0 * geometry::kPi / n;
   const double first = std::ceil((angle[0] + lo - margin) / step);
