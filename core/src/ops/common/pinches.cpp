@@ -42,7 +42,7 @@ std::vector<FaceId> faces_around(const SurfaceMesh& mesh, const EditLog& log, co
                                  std::uint32_t first_new_vertex, const TriangleGrid* index,
                                  const std::vector<glm::vec3>& input_posed) {
   if (!index) return faces_using(mesh, vertices);
-  VertexSlots& wanted = VertexSlots::scratch(0);
+  VertexSlots& wanted = VertexSlots::scratch();
   wanted.reset(mesh.vertex_count());
   for (const VertexId v : vertices)
     if (v.index < mesh.vertex_count()) wanted.set(v.index, 0);
@@ -76,7 +76,7 @@ PinchSplits split_pinched_vertices(MeshEditor& editor, const std::vector<VertexI
   if (!std::is_sorted(sorted.begin(), sorted.end())) std::sort(sorted.begin(), sorted.end());
   sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
   // Candidate -> its position in `sorted` (the copies split_vertex makes are none).
-  VertexSlots& slots = VertexSlots::scratch(1);
+  VertexSlots& slots = VertexSlots::scratch();
   slots.reset(mesh.vertex_count());
   for (std::size_t s = 0; s < sorted.size(); ++s)
     if (sorted[s].index < mesh.vertex_count()) slots.set(sorted[s].index, static_cast<std::uint32_t>(s));

@@ -34,10 +34,11 @@ class VertexSlots {
   }
   bool has(std::uint32_t v) const { return get(v) != kNone; }
 
-  /// This thread's scratch map number `which` (callers that nest use different numbers).
-  static VertexSlots& scratch(int which) {
-    thread_local VertexSlots maps[2];
-    return maps[which];
+  /// This thread's scratch map: one user at a time (each resets it and is done with it before
+  /// the next starts; none of them nests another).
+  static VertexSlots& scratch() {
+    thread_local VertexSlots map;
+    return map;
   }
 
  private:

@@ -81,7 +81,7 @@ void check_arguments(const Cylinder& c, const DrillOptions& options) { check_dri
 std::vector<VertexId> pinch_candidates(const EditLog& log, const drill::CylinderFrame& cyl,
                                        const drill::PosedOverlay& posed) {
   std::vector<VertexId> out;
-  detail::VertexSlots& seen = detail::VertexSlots::scratch(0);  // each vertex judged once
+  detail::VertexSlots& seen = detail::VertexSlots::scratch();  // each vertex judged once
   seen.reset(posed.first_new());
   auto add = [&](VertexId v) {
     if (v.index < posed.first_new()) {

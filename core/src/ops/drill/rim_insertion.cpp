@@ -733,7 +733,7 @@ bool RimInserter::deep(const Triangle& t, detail::VertexSlots& judged) const {
 RimInsertion RimInserter::run(const std::vector<FaceId>& candidates) {
   deep_.resize(candidates.size());
   std::size_t shallow = 0;
-  detail::VertexSlots& judged = detail::VertexSlots::scratch(0);
+  detail::VertexSlots& judged = detail::VertexSlots::scratch();
   judged.reset(mesh_.vertex_count());
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     deep_[c] = deep(mesh_.face(candidates[c]), judged) ? 1 : 0;

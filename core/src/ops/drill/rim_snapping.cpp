@@ -57,7 +57,7 @@ void snap_shallow_vertices(MeshEditor& editor, const CylinderFrame& cyl, PosedOv
   };
   // Every face around a vertex within the band of the side is a candidate (the reach covers it).
   std::vector<std::pair<std::uint32_t, std::uint32_t>> corners;  // (old vertex in the band, candidate face)
-  detail::VertexSlots& banded = detail::VertexSlots::scratch(0);  // each vertex judged once: 1 in the band
+  detail::VertexSlots& banded = detail::VertexSlots::scratch();  // each vertex judged once: 1 in the band
   banded.reset(posed.first_new());
   for (FaceId f : candidates)
     for (VertexId v : mesh.face(f)) {

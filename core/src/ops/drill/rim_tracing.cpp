@@ -31,7 +31,7 @@ RimSteps rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFr
     return it == copy_of.end() ? v : VertexId(it->second);
   };
   // Each old vertex is judged once (1 on the rim, 0 not).
-  detail::VertexSlots& judged = detail::VertexSlots::scratch(0);
+  detail::VertexSlots& judged = detail::VertexSlots::scratch();
   judged.reset(posed.first_new());
   auto old_on_rim = [&](VertexId v) {
     if (v.index >= posed.first_new()) return false;
@@ -100,8 +100,11 @@ RimSteps rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFr
 // Turns of a closed rim around the axis.
 int winding(const CylinderFrame& cyl, const PosedOverlay& posed, const std::vector<VertexId>& rim) {
   double turn = 0.0;
+  const double first = rim.empty() ? 0.0 : cyl.theta(posed(rim[0]));
+  double b = first;
   for (std::size_t i = 0; i < rim.size(); ++i) {
-    const double a = cyl.theta(posed(rim[i])), b = cyl.theta(posed(rim[(i + 1) % rim.size()]));
+    const double a = b;  // each vertex's angle computed once
+    b = i + 1 < rim.size() ? cyl.theta(posed(rim[i + 1])) : first;
     double dth = b - a;
     while (dth > geometry::kPi) dth -= 2.0 * geometry::kPi;
     while (dth < -geometry::kPi) dth += 2.0 * geometry::kPi;
@@ -142,7 +145,7 @@ std::vector<Rim> chain_rims(const SurfaceMesh& mesh, const EditLog& log, const C
   // and after the pinch split the rim would jump between the vertex's copies).
   // Half-edge a->b of a kept face: its third corner (the last face filed wins), grouped by key.
   // Only half-edges into a vertex with outgoing rim edges are asked about (fan_next's `cur`).
-  detail::VertexSlots& on_rim = detail::VertexSlots::scratch(0);
+  detail::VertexSlots& on_rim = detail::VertexSlots::scratch();
   on_rim.reset(mesh.vertex_count());
   for (const std::uint32_t v : starts) on_rim.set(v, 0);
   std::vector<std::pair<std::uint64_t, std::uint32_t>> third;
