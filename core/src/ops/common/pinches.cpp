@@ -5,6 +5,8 @@
 #include <numeric>
 #include <unordered_map>
 
+#include "ops/common/vertex_slots.h"
+
 namespace deepcut::detail {
 
 std::vector<VertexId> edited_vertices(const EditLog& log) {
@@ -40,17 +42,26 @@ std::vector<FaceId> faces_around(const SurfaceMesh& mesh, const EditLog& log, co
                                  std::uint32_t first_new_vertex, const TriangleGrid* index,
                                  const std::vector<glm::vec3>& input_posed) {
   if (!index) return faces_using(mesh, vertices);
+  VertexSlots& wanted = VertexSlots::scratch();
+  wanted.reset(mesh.vertex_count());
+  for (const VertexId v : vertices)
+    if (v.index < mesh.vertex_count()) wanted.set(v.index, 0);
+  // Only live faces using one of `vertices` are kept (the grid's cells hold many more).
   std::vector<FaceId> out;
+  auto keep = [&](FaceId f) {
+    if (f.index >= mesh.face_slots() || mesh.is_deleted(f)) return;
+    const Triangle& t = mesh.face(f);
+    if (wanted.has(t[0].index) || wanted.has(t[1].index) || wanted.has(t[2].index)) out.push_back(f);
+  };
   for (const Edit& e : log.edits)
-    if (const auto* a = std::get_if<FaceAdded>(&e)) out.push_back(a->f);
+    if (const auto* a = std::get_if<FaceAdded>(&e)) keep(a->f);
   // Every face using an old vertex v had v's position inside its box when the grid was built:
   // the faces filed in the cells of those positions (each cell visited once).
   std::vector<glm::vec3> points;
   points.reserve(vertices.size());
   for (const VertexId v : vertices)
     if (v.index < first_new_vertex && v.index < input_posed.size()) points.push_back(input_posed[v.index]);
-  const auto found = index->query_points(points);
-  out.insert(out.end(), found.begin(), found.end());
+  for (const FaceId f : index->query_points(points)) keep(f);
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
@@ -62,15 +73,20 @@ PinchSplits split_pinched_vertices(MeshEditor& editor, const std::vector<VertexI
   if (candidates.empty()) return out;
   SurfaceMesh& mesh = editor.mesh();
   std::vector<VertexId> sorted = candidates;
-  std::sort(sorted.begin(), sorted.end());
+  if (!std::is_sorted(sorted.begin(), sorted.end())) std::sort(sorted.begin(), sorted.end());
   sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
+  // Candidate -> its position in `sorted` (the copies split_vertex makes are none).
+  VertexSlots& slots = VertexSlots::scratch();
+  slots.reset(mesh.vertex_count());
+  for (std::size_t s = 0; s < sorted.size(); ++s)
+    if (sorted[s].index < mesh.vertex_count()) slots.set(sorted[s].index, static_cast<std::uint32_t>(s));
   auto slot = [&](VertexId v) {
-    const auto it = std::lower_bound(sorted.begin(), sorted.end(), v);
-    return it != sorted.end() && *it == v ? static_cast<std::size_t>(it - sorted.begin()) : sorted.size();
+    const std::uint32_t s = slots.get(v.index);
+    return s == VertexSlots::kNone ? sorted.size() : static_cast<std::size_t>(s);
   };
   // Live faces around each candidate, in id order (a face may be listed twice in `incident`).
   std::vector<FaceId> faces = incident;
-  std::sort(faces.begin(), faces.end());
+  if (!std::is_sorted(faces.begin(), faces.end())) std::sort(faces.begin(), faces.end());
   faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
   // One flat list: candidate s's faces are around[first[s], first[s + 1]).
   std::vector<std::uint32_t> corner_slot;  // per live face of `faces`, its corners' slots

@@ -68,4 +68,35 @@ PlaneCut plane_cut(const CylinderFrame& cyl, const glm::dvec3 p[3]) {
   return pc;
 }
 
+double ruling_reach_angle(const CylinderFrame& cyl, double reach) {
+  if (!(reach >= 0.0 && reach < 0.5 * cyl.r)) return -1.0;
+  return std::asin(reach / (cyl.r - reach)) + 1e-9;
+}
+
+RulingWindow ruling_window(const CylinderFrame& cyl, const glm::dvec3 p[3], double reach_angle) {
+  const int n = cyl.samples;
+  const RulingWindow all{0, n};
+  if (!(reach_angle >= 0.0)) return all;
+  double angle[3];
+  for (int k = 0; k < 3; ++k) {
+    const glm::dvec3 q = cyl.perp(p[k]);
+    angle[k] = std::atan2(glm::dot(q, cyl.w), glm::dot(q, cyl.u));
+  }
+  // The shadow's angles from corner 0's, each within half a turn of it.
+  double lo = 0.0, hi = 0.0;
+  for (int k = 1; k < 3; ++k) {
+    const double d = std::remainder(angle[k] - angle[0], 2.0 * geometry::kPi);
+    lo = std::min(lo, d);
+    hi = std::max(hi, d);
+  }
+  const double margin = reach_angle;
+  if (!(hi - lo + 2.0 * margin < geometry::kPi)) return all;  // round the axis (or not finite)
+  const double step = 2.0 * geometry::kPi / n;
+  const double first = std::ceil((angle[0] + lo - margin) / step);
+  const double last = std::floor((angle[0] + hi + margin) / step);
+  if (last < first) return {0, 0};
+  const int f = static_cast<int>(first);
+  return {(f % n + n) % n, static_cast<int>(last - first) + 1};
+}
+
 }  // namespace deepcut::drill

@@ -73,4 +73,21 @@ struct PlaneCut {
 /// The cut of the triangle `p` (posed corners) by the solid cylinder, in the triangle's plane.
 PlaneCut plane_cut(const CylinderFrame& cyl, const glm::dvec3 p[3]);
 
+/// Sampled rulings (cyl.samples equal angles around the axis, ruling k at 2 pi k / samples) by
+/// index: `count` of them from `first` on, modulo samples.
+struct RulingWindow {
+  int first = 0, count = 0;  // 0 <= first < samples, 0 <= count <= samples
+};
+
+/// How far around the axis, beyond a triangle's shadow on the axis's normal plane, a point of
+/// the cylinder's side within `reach` of the triangle can lie: asin(reach / (r - reach)), or a
+/// negative value when `reach` is not small against r (every ruling can then reach it).
+double ruling_reach_angle(const CylinderFrame& cyl, double reach);
+
+/// The rulings that can pass within `reach` of the triangle `p` (posed corners), given
+/// `reach_angle` = ruling_reach_angle(cyl, reach): those within that angle of the triangle's
+/// shadow, or all of them when the shadow comes round the axis, so the rim sampling tests only
+/// the rulings that can give it a point.
+RulingWindow ruling_window(const CylinderFrame& cyl, const glm::dvec3 p[3], double reach_angle);
+
 }  // namespace deepcut::drill

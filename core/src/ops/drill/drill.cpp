@@ -21,6 +21,7 @@
 #include "deepcut/core/skinning.h"
 #include "ops/common/model_surgery.h"
 #include "ops/common/pinches.h"
+#include "ops/common/vertex_slots.h"
 #include "ops/drill/cylinder_section.h"
 #include "ops/drill/posed_overlay.h"
 #include "ops/drill/rim_insertion.h"
@@ -80,8 +81,15 @@ void check_arguments(const Cylinder& c, const DrillOptions& options) { check_dri
 std::vector<VertexId> pinch_candidates(const EditLog& log, const drill::CylinderFrame& cyl,
                                        const drill::PosedOverlay& posed) {
   std::vector<VertexId> out;
+  detail::VertexSlots& seen = detail::VertexSlots::scratch();  // each vertex judged once
+  seen.reset(posed.first_new());
   auto add = [&](VertexId v) {
-    if (v.index >= posed.first_new() || !drill::deep_vertex(cyl, posed, v)) out.push_back(v);
+    if (v.index < posed.first_new()) {
+      if (seen.has(v.index)) return;
+      seen.set(v.index, 0);
+      if (drill::deep_vertex(cyl, posed, v)) return;
+    }
+    out.push_back(v);
   };
   for (const Edit& e : log.edits) {
     if (const auto* a = std::get_if<FaceAdded>(&e)) {

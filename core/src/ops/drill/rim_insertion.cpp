@@ -18,6 +18,7 @@
 #include "geometry/delaunay_flip.h"
 #include "geometry/polygon_triangulation.h"
 #include "geometry/predicates.h"
+#include "ops/common/vertex_slots.h"
 
 namespace deepcut::drill {
 namespace {
@@ -52,6 +53,7 @@ struct LocalPoint {
 // barycentric coordinates and distances from the edges of plane points.
 struct FacePlane {
   PlaneCut pc;
+  glm::dvec3 corner[3];  // posed
   glm::dvec2 tq[3];
   double area2 = 1.0;
   double height[3] = {0.0, 0.0, 0.0};  // distance of a plane point from edge k = bary[k] * height[k]
@@ -75,6 +77,8 @@ class RimInserter {
     eps_ = cyl_.eps;
     samples_ = cyl_.samples;
     sep_ = 0.3 * 2.0 * cyl_.r * std::sin(geometry::kPi / samples_);
+    // consider() keeps only points inside a triangle or within half a percent of r of it.
+    ruling_reach_ = ruling_reach_angle(cyl_, 0.02 * cyl_.r + 2.0 * eps_);
     first_new_ = posed_.first_new();
     for (int k = 0; k < samples_; ++k)
       ruling_base_.push_back(cyl_.a + cyl_.r * cyl_.ruling(2.0 * geometry::kPi * k / samples_));
@@ -86,9 +90,7 @@ class RimInserter {
   const EdgeCut& edge(VertexId a, VertexId b);
   void merge_crossings(std::size_t c, FaceId f);
   void allow_steiner(const std::vector<FaceId>& candidates);
-  bool deep(const Triangle& t) const {
-    return deep_vertex(cyl_, posed_, t[0]) && deep_vertex(cyl_, posed_, t[1]) && deep_vertex(cyl_, posed_, t[2]);
-  }
+  bool deep(const Triangle& t, detail::VertexSlots& judged) const;
   VertexId merged(VertexId v) const { return merges_.merged(v); }
   void process_face(std::size_t c, FaceId f);
   void face_boundary(const Triangle& tri, const glm::dvec3 corner[3]);
@@ -108,7 +110,7 @@ class RimInserter {
   MeshEditor& editor_;
   PosedOverlay& posed_;
   const CylinderFrame& cyl_;
-  double eps_ = 0.0, sep_ = 0.0;
+  double eps_ = 0.0, sep_ = 0.0, ruling_reach_ = -1.0;
   int samples_ = 32;
   std::uint32_t first_new_ = 0;
   std::vector<glm::dvec3> ruling_base_;  // where each sampled ruling starts (s = 0)
@@ -345,7 +347,7 @@ void RimInserter::process_face(std::size_t c, FaceId f) {
     return;
   }
   face_.pc = pc;
-  for (int k = 0; k < 3; ++k) face_.tq[k] = tq[k];
+  for (int k = 0; k < 3; ++k) face_.tq[k] = tq[k], face_.corner[k] = corner[k];
   face_.area2 = area2;
   if (!any_inside) {
     // Only a hole wholly inside the triangle can be left: its centre must lie inside.
@@ -533,12 +535,23 @@ void RimInserter::sample_rim() {
   int arc_rulings = 0;  // rulings whose point in this plane lies between the end planes
   const std::size_t before_rulings = rim_.size();
   if (!pc.parallel) {
+    // Rulings in increasing order (an earlier point wins over a later one too close to it); only
+    // those in the window, unless a chord needs the count of all of them.
+    const RulingWindow w = ruling_window(cyl_, face_.corner, ruling_reach_);
+    const bool count_all = chords[0].second > 0.0 || chords[1].second > 0.0;
+    const int wrapped = std::max(0, w.first + w.count - samples_);  // the window's part from 0
     for (int k = 0; k < samples_; ++k) {
+      const bool in_window = k < wrapped || (k >= w.first && k < w.first + w.count);
+      if (!in_window && !count_all) {
+        if (k >= wrapped && k < w.first) k = w.first - 1;  // on to the window's main part
+        else if (k >= w.first + w.count) break;
+        continue;
+      }
       const glm::dvec3& base = ruling_base_[static_cast<std::size_t>(k)];
       const double sv = glm::dot(pc.o - base, pc.n) / pc.dn;
       if (sv < 0.0 || sv > cyl_.len) continue;
       ++arc_rulings;
-      consider(base + sv * cyl_.d, false);
+      if (in_window) consider(base + sv * cyl_.d, false);
     }
   }
   const bool arc_sampled = rim_.size() > before_rulings;
@@ -707,11 +720,23 @@ void RimInserter::emit_faces(FaceId f, const Triangle& tri, std::vector<LocalPoi
 
 // Rim edges are found from the topology the edits left: boundary half-edges of the new faces
 // whose ends lie on the cylinder. An edge between two old vertices is an edge of the parent
+// All three corners deep inside; `judged` keeps each vertex's answer (1 deep, 0 not).
+bool RimInserter::deep(const Triangle& t, detail::VertexSlots& judged) const {
+  for (const VertexId v : t) {
+    std::uint32_t j = judged.get(v.index);
+    if (j == detail::VertexSlots::kNone) judged.set(v.index, j = deep_vertex(cyl_, posed_, v) ? 1 : 0);
+    if (j == 0) return false;
+  }
+  return true;
+}
+
 RimInsertion RimInserter::run(const std::vector<FaceId>& candidates) {
   deep_.resize(candidates.size());
   std::size_t shallow = 0;
+  detail::VertexSlots& judged = detail::VertexSlots::scratch();
+  judged.reset(mesh_.vertex_count());
   for (std::size_t c = 0; c < candidates.size(); ++c) {
-    deep_[c] = deep(mesh_.face(candidates[c])) ? 1 : 0;
+    deep_[c] = deep(mesh_.face(candidates[c]), judged) ? 1 : 0;
     shallow += !deep_[c];
   }
   edges_.reserve(3 * shallow + 3);  // every edge looked up is a shallow candidate's

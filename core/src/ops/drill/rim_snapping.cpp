@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 
+#include "ops/common/vertex_slots.h"
 #include "ops/drill/rim_insertion.h"
 
 namespace deepcut::drill {
@@ -56,9 +57,15 @@ void snap_shallow_vertices(MeshEditor& editor, const CylinderFrame& cyl, PosedOv
   };
   // Every face around a vertex within the band of the side is a candidate (the reach covers it).
   std::vector<std::pair<std::uint32_t, std::uint32_t>> corners;  // (old vertex in the band, candidate face)
+  detail::VertexSlots& banded = detail::VertexSlots::scratch();  // each vertex judged once: 1 in the band
+  banded.reset(posed.first_new());
   for (FaceId f : candidates)
-    for (VertexId v : mesh.face(f))
-      if (v.index < posed.first_new() && in_band(posed(v))) corners.emplace_back(v.index, f.index);
+    for (VertexId v : mesh.face(f)) {
+      if (v.index >= posed.first_new()) continue;
+      std::uint32_t b = banded.get(v.index);
+      if (b == detail::VertexSlots::kNone) banded.set(v.index, b = in_band(posed(v)) ? 1 : 0);
+      if (b == 1) corners.emplace_back(v.index, f.index);
+    }
   std::sort(corners.begin(), corners.end());
   for (std::size_t i = 0, j = 0; i < corners.size(); i = j) {
     while (j < corners.size() && corners[j].first == corners[i].first) ++j;

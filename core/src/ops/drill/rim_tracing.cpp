@@ -6,6 +6,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "ops/common/vertex_slots.h"
 #include "ops/drill/rim_insertion.h"
 
 namespace deepcut::drill {
@@ -25,11 +26,21 @@ RimSteps rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFr
   // A copy the pinch split made of an old vertex is new, but the faces moved onto it keep their
   // old edges: both are judged by the original (an old boundary edge at a split vertex is not rim).
   auto base = [&](VertexId v) {
+    if (copy_of.empty()) return v;
     const auto it = copy_of.find(v.index);
     return it == copy_of.end() ? v : VertexId(it->second);
   };
+  // Each old vertex is judged once (1 on the rim, 0 not).
+  detail::VertexSlots& judged = detail::VertexSlots::scratch();
+  judged.reset(posed.first_new());
   auto old_on_rim = [&](VertexId v) {
-    return v.index < posed.first_new() && std::abs(cyl.sd(posed_of(cyl, posed, v))) <= 2.0 * cyl.eps;
+    if (v.index >= posed.first_new()) return false;
+    std::uint32_t j = judged.get(v.index);
+    if (j == detail::VertexSlots::kNone) {
+      j = std::abs(cyl.sd(posed_of(cyl, posed, v))) <= 2.0 * cyl.eps ? 1 : 0;
+      judged.set(v.index, j);
+    }
+    return j == 1;
   };
   auto on_rim = [&](VertexId v) {
     v = base(v);
@@ -89,8 +100,11 @@ RimSteps rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFr
 // Turns of a closed rim around the axis.
 int winding(const CylinderFrame& cyl, const PosedOverlay& posed, const std::vector<VertexId>& rim) {
   double turn = 0.0;
+  const double first = rim.empty() ? 0.0 : cyl.theta(posed(rim[0]));
+  double b = first;
   for (std::size_t i = 0; i < rim.size(); ++i) {
-    const double a = cyl.theta(posed(rim[i])), b = cyl.theta(posed(rim[(i + 1) % rim.size()]));
+    const double a = b;  // each vertex's angle computed once
+    b = i + 1 < rim.size() ? cyl.theta(posed(rim[i + 1])) : first;
     double dth = b - a;
     while (dth > geometry::kPi) dth -= 2.0 * geometry::kPi;
     while (dth < -geometry::kPi) dth += 2.0 * geometry::kPi;
@@ -130,9 +144,15 @@ std::vector<Rim> chain_rims(const SurfaceMesh& mesh, const EditLog& log, const C
   // the next boundary edge. Pairing them otherwise crosses the rims there (they cannot be walled,
   // and after the pinch split the rim would jump between the vertex's copies).
   // Half-edge a->b of a kept face: its third corner (the last face filed wins), grouped by key.
+  // Only half-edges into a vertex with outgoing rim edges are asked about (fan_next's `cur`).
+  detail::VertexSlots& on_rim = detail::VertexSlots::scratch();
+  on_rim.reset(mesh.vertex_count());
+  for (const std::uint32_t v : starts) on_rim.set(v, 0);
   std::vector<std::pair<std::uint64_t, std::uint32_t>> third;
   auto add_face = [&](const Triangle& t) {
-    for (int k = 0; k < 3; ++k) third.emplace_back(directed_key(t[k], t[(k + 1) % 3]), t[(k + 2) % 3].index);
+    for (int k = 0; k < 3; ++k)
+      if (on_rim.has(t[(k + 1) % 3].index))
+        third.emplace_back(directed_key(t[k], t[(k + 1) % 3]), t[(k + 2) % 3].index);
   };
   for (const Edit& e : log.edits)
     if (const auto* fa = std::get_if<FaceAdded>(&e))
