@@ -2,7 +2,7 @@
 #pragma once
 // Constants and small helpers of the soft-body clustering (private to core): shared by
 // clustering.cpp (build, apply) and clustering_report.cpp (stats, checks, radius search); the
-// union-find of the split into connected parts.
+// union-find of the split into connected parts; the seed sampling (clustering_seeds.cpp).
 
 #include <algorithm>
 #include <atomic>
@@ -45,6 +45,16 @@ inline void check_rest(const SurfaceMesh& mesh, const std::vector<glm::vec3>& re
                                                 " rest positions for a mesh of " +
                                                 std::to_string(mesh.vertex_count()) + " vertices");
 }
+
+class PointGrid;
+
+/// Farthest-point sampling of the points `ids` (ascending) of `grid` until every point lies
+/// within `cover` of a seed. The first seed is the point farthest from the bounding-box centre;
+/// each next one the point farthest from the seeds so far; ties go to the smaller index. The
+/// seeds do not depend on the thread count.
+std::vector<std::uint32_t> farthest_point_seeds(const std::vector<glm::vec3>& rest,
+                                                const std::vector<std::uint32_t>& ids, const PointGrid& grid,
+                                                float cover);
 
 // A union-find over [0, n) whose unions may run on several threads at once. The smaller root
 // always wins, so a set's root is its smallest element whatever the order of the unions: the same
