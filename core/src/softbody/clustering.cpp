@@ -376,10 +376,6 @@ std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& parti
   // smaller root always wins, so each part's root is its smallest entry whatever the order of
   // the unions: `for_each_face` may call its function from several threads at once.
   ConcurrentUnionFind uf(pool_.size());
-  parallel_for(particles.size(), 8, [&](std::size_t b, std::size_t e) {
-    for (std::size_t k = b; k < e; ++k)
-      for (std::uint32_t v : members_[particles[k]]) uf.make_set(entry_of(v, particles[k]));
-  });
   auto find = [&](std::uint32_t x) { return uf.find(x); };
   for_each_face([&](const Triangle& t) {
     for (int k = 0; k < 3; ++k) {

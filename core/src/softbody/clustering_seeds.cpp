@@ -5,8 +5,8 @@
 // A max tree over the grid cells (each leaf: the farthest point of its cell) gives the next seed.
 // Per seed, only the cells its ball reaches are considered, and of those only the cells where a
 // point could get closer: a cell whose farthest point is nearer than the cell's bounding box is
-// to the seed cannot change, so it is skipped unscanned. The cells left are rescanned in
-// parallel when they hold enough points. Every cell's rescan reads and writes only its own
+// to the seed cannot change, so it is skipped unscanned. The cells are tested and rescanned in
+// parallel when there are enough of them. Every cell's rescan reads and writes only its own
 // points, and the tree is the max tree of its leaves whatever the order of the updates, so the
 // seeds do not depend on the thread count, nor on the skipping (a skipped cell's leaf would not
 // have changed).
@@ -54,6 +54,7 @@ class FarthestPointSampler {
     std::vector<std::uint32_t> seeds;
     std::vector<std::size_t> cells;
     std::vector<Item> tops;
+    std::vector<std::uint8_t> rescanned;
     const float cover2 = cover * cover;
     std::uint32_t seed = first;
     float reach = std::numeric_limits<float>::infinity();
@@ -61,21 +62,18 @@ class FarthestPointSampler {
       seeds.push_back(seed);
       const glm::vec3 ps = rest_[seed];
       cells.clear();
-      std::size_t points = 0;
-      grid_.for_each_cell_near(ps, reach, [&](std::size_t cell) {
-        if (unchanged(cell, ps)) return;
-        cells.push_back(cell);
-        points += grid_.slot_begin(cell + 1) - grid_.slot_begin(cell);
-      });
+      grid_.for_each_cell_near(ps, reach, [&](std::size_t cell) { cells.push_back(cell); });
       tops.resize(cells.size());
-      // A few cells per chunk keeps the threads busy though cells differ in size.
-      const std::size_t grain = points < kParallelPoints
-                                    ? cells.size()
-                                    : std::max<std::size_t>(1, cells.size() / (8 * thread_count()));
+      rescanned.assign(cells.size(), 0);
+      // Early seeds reach every cell: the test and the rescan of each cell run in parallel, a
+      // few cells per chunk so that the threads stay busy though cells differ in size.
+      const std::size_t grain = std::max(kMinCellsPerChunk, cells.size() / (8 * thread_count()));
       parallel_for(cells.size(), grain, [&](std::size_t b, std::size_t e) {
-        for (std::size_t k = b; k < e; ++k) tops[k] = rescan(cells[k], ps);
+        for (std::size_t k = b; k < e; ++k)
+          if (!unchanged(cells[k], ps)) tops[k] = rescan(cells[k], ps), rescanned[k] = 1;
       });
-      for (std::size_t k = 0; k < cells.size(); ++k) update(cells[k], tops[k]);
+      for (std::size_t k = 0; k < cells.size(); ++k)
+        if (rescanned[k]) update(cells[k], tops[k]);
       const Item top = tree_[1];
       if (top.v == kInvalidIndex || top.d2 <= cover2) break;
       seed = top.v;
@@ -89,8 +87,8 @@ class FarthestPointSampler {
     float d2 = -1.0f;
     std::uint32_t v = kInvalidIndex;
   };
-  // Below this many points to rescan, a seed's cells are rescanned on the calling thread.
-  static constexpr std::size_t kParallelPoints = 1 << 15;
+  // Fewer cells than this near a seed are tested and rescanned on the calling thread.
+  static constexpr std::size_t kMinCellsPerChunk = 8;
 
   // Farther first; among equals the smaller vertex index.
   static bool better(const Item& a, const Item& b) { return a.d2 > b.d2 || (a.d2 == b.d2 && a.v < b.v); }
