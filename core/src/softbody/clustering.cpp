@@ -2,8 +2,10 @@
 #include "deepcut/core/softbody/clustering.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -17,84 +19,59 @@ namespace {
 
 using namespace clustering_detail;
 
-/// Farthest-point sampling until every point lies within `cover` of a seed. The first seed is
-/// the point farthest from the bounding-box centre; ties go to the smaller index. A new seed only
-/// lowers the distances of points closer to it than the current maximum, which the grid finds.
-/// A max tree over the grid cells (each leaf: the farthest point of its cell) gives the next
-/// seed; only the cells a seed's ball reaches are rescanned.
-std::vector<std::uint32_t> farthest_point_seeds(const std::vector<glm::vec3>& rest,
-                                                const std::vector<std::uint32_t>& ids, const PointGrid& grid,
-                                                float cover) {
-  std::vector<std::uint32_t> seeds;
-  if (ids.empty()) return seeds;
-  BoundingBox box;
-  for (std::uint32_t v : ids) box.add(rest[v]);
-  const glm::vec3 centre = 0.5f * (box.min + box.max);
-  std::uint32_t first = ids[0];
-  float best = -1.0f;
-  for (std::uint32_t v : ids) {
-    const float d = distance2(rest[v], centre);
-    if (d > best) best = d, first = v;
-  }
-  struct Item {
-    float d2 = -1.0f;
-    std::uint32_t v = kInvalidIndex;
-  };
-  // Farther first; among equals the smaller vertex index.
-  auto better = [](const Item& a, const Item& b) { return a.d2 > b.d2 || (a.d2 == b.d2 && a.v < b.v); };
-  std::size_t leaves = 1;
-  while (leaves < grid.cell_count()) leaves *= 2;
-  std::vector<Item> tree(2 * leaves);
-  std::vector<float> dist2(rest.size(), std::numeric_limits<float>::infinity());
-  // A cell's farthest point after the seed at `ps` (each cell writes only its own points).
-  auto rescan = [&](std::size_t cell, const glm::vec3& ps) {
-    Item top;
-    for (const std::uint32_t* it = grid.cell_begin(cell); it != grid.cell_end(cell); ++it) {
-      const float d2 = std::min(dist2[*it], distance2(rest[*it], ps));
-      dist2[*it] = d2;
-      if (better({d2, *it}, top)) top = {d2, *it};
+// The live faces around each vertex. Counted in parallel with atomic increments: a count does
+// not depend on their order.
+std::vector<std::uint32_t> count_face_refs(const SurfaceMesh& mesh) {
+  const std::size_t n = mesh.vertex_count();
+  constexpr std::size_t kGrain = 1 << 15;
+  std::unique_ptr<std::atomic<std::uint32_t>[]> refs(new std::atomic<std::uint32_t>[n]);
+  parallel_for(n, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t v = b; v < e; ++v) refs[v].store(0, std::memory_order_relaxed);
+  });
+  parallel_for(mesh.face_slots(), kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t f = b; f < e; ++f) {
+      const FaceId id(static_cast<std::uint32_t>(f));
+      if (mesh.is_deleted(id)) continue;
+      for (const VertexId v : mesh.face(id)) refs[v.index].fetch_add(1, std::memory_order_relaxed);
     }
-    return top;
+  });
+  std::vector<std::uint32_t> out(n);
+  parallel_for(n, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t v = b; v < e; ++v) out[v] = refs[v].load(std::memory_order_relaxed);
+  });
+  return out;
+}
+
+// The vertices with a live face, ascending (chunks joined in order). Throws for the smallest one
+// with a non-finite rest position.
+std::vector<std::uint32_t> live_vertices(const std::vector<std::uint32_t>& face_refs,
+                                         const std::vector<glm::vec3>& rest) {
+  struct Part {
+    std::vector<std::uint32_t> ids;
+    std::uint32_t bad = kInvalidIndex;  // the first vertex with a non-finite position
   };
-  auto update = [&](std::size_t cell, const Item& top) {
-    std::size_t node = leaves + cell;
-    tree[node] = top;
-    for (node /= 2; node >= 1; node /= 2) {
-      const Item& a = tree[2 * node];
-      const Item& b = tree[2 * node + 1];
-      const Item up = better(b, a) ? b : a;
-      if (tree[node].d2 == up.d2 && tree[node].v == up.v) break;
-      tree[node] = up;
-    }
-  };
-  // Cells rescanned in parallel when a seed reaches many (the first seed reaches them all), then
-  // the max tree updated serially in cell order: the same tree whatever the thread count.
-  constexpr std::size_t kParallelCells = 4096;
-  std::vector<std::size_t> cells;
-  std::vector<Item> tops;
-  const float cover2 = cover * cover;
-  std::uint32_t seed = first;
-  float reach = std::numeric_limits<float>::infinity();
-  for (;;) {
-    seeds.push_back(seed);
-    const glm::vec3 ps = rest[seed];
-    cells.clear();
-    grid.for_each_cell_near(ps, reach, [&](std::size_t cell) { cells.push_back(cell); });
-    if (cells.size() < kParallelCells) {
-      for (std::size_t cell : cells) update(cell, rescan(cell, ps));
-    } else {
-      tops.resize(cells.size());
-      parallel_for(cells.size(), 256, [&](std::size_t b, std::size_t e) {
-        for (std::size_t k = b; k < e; ++k) tops[k] = rescan(cells[k], ps);
+  Part all = parallel_reduce(
+      face_refs.size(), 1 << 15, Part{},
+      [&](std::size_t b, std::size_t e) {
+        Part part;
+        for (auto v = static_cast<std::uint32_t>(b); v < e; ++v) {
+          if (!face_refs[v]) continue;
+          const glm::vec3& p = rest[v];
+          if (part.bad == kInvalidIndex && !(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)))
+            part.bad = v;
+          part.ids.push_back(v);
+        }
+        return part;
+      },
+      [](Part a, Part b) {
+        if (a.bad == kInvalidIndex) a.bad = b.bad;
+        a.ids.insert(a.ids.end(), b.ids.begin(), b.ids.end());
+        return a;
       });
-      for (std::size_t k = 0; k < cells.size(); ++k) update(cells[k], tops[k]);
-    }
-    const Item top = tree[1];
-    if (top.v == kInvalidIndex || top.d2 <= cover2) break;
-    seed = top.v;
-    reach = std::sqrt(top.d2);
-  }
-  return seeds;
+  if (all.bad != kInvalidIndex)
+    throw Error(ErrorCode::InvalidInput,
+                "cluster: vertex " + std::to_string(all.bad) + " has a non-finite position");
+  return std::move(all.ids);
 }
 
 // Checks that `log` fits `mesh` before `apply` changes anything: every vertex and face it names
@@ -399,10 +376,6 @@ std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& parti
   // smaller root always wins, so each part's root is its smallest entry whatever the order of
   // the unions: `for_each_face` may call its function from several threads at once.
   ConcurrentUnionFind uf(pool_.size());
-  parallel_for(particles.size(), 64, [&](std::size_t b, std::size_t e) {
-    for (std::size_t k = b; k < e; ++k)
-      for (std::uint32_t v : members_[particles[k]]) uf.make_set(entry_of(v, particles[k]));
-  });
   auto find = [&](std::uint32_t x) { return uf.find(x); };
   for_each_face([&](const Triangle& t) {
     for (int k = 0; k < 3; ++k) {
@@ -436,7 +409,7 @@ std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& parti
   // Each particle's parts in parallel (disjoint members and pool entries), gathered in order.
   std::vector<Parts> split(particles.size());
   std::vector<std::uint8_t> is_split(particles.size(), 0);
-  parallel_for(particles.size(), 64, [&](std::size_t b, std::size_t e) {
+  parallel_for(particles.size(), 4, [&](std::size_t b, std::size_t e) {
     std::vector<std::pair<std::uint32_t, std::uint32_t>> by_root;  // (root, vertex)
     for (std::size_t k = b; k < e; ++k) {
       const std::uint32_t p = particles[k];
@@ -565,7 +538,8 @@ void Clusters::build_memberships(const std::vector<glm::vec3>& rest, const std::
     }
   });
   members_.assign(particles, {});
-  parallel_for(particles, 64, [&](std::size_t b, std::size_t e) {
+  // Two particles per chunk: a build has only hundreds of particles, each of thousands of members.
+  parallel_for(particles, 2, [&](std::size_t b, std::size_t e) {
     for (std::size_t p = b; p < e; ++p) {
       const glm::vec3 ps = seeds_[p];
       auto& m = members_[p];
@@ -593,19 +567,8 @@ Clusters Clusters::build(const SurfaceMesh& mesh, const std::vector<glm::vec3>& 
   c.radius_ = options.radius;
   const std::size_t n = mesh.vertex_count();
   c.rows_.assign(n, Row{});
-  c.face_refs_.assign(n, 0);
-  mesh.for_each_face([&](FaceId, const Triangle& t) {
-    for (int k = 0; k < 3; ++k) ++c.face_refs_[t[k].index];
-  });
-  std::vector<std::uint32_t> ids;
-  for (std::uint32_t v = 0; v < n; ++v)
-    if (c.face_refs_[v]) {
-      const glm::vec3& p = rest[v];
-      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-        throw Error(ErrorCode::InvalidInput,
-                    "cluster: vertex " + std::to_string(v) + " has a non-finite position");
-      ids.push_back(v);
-    }
+  c.face_refs_ = count_face_refs(mesh);
+  const std::vector<std::uint32_t> ids = live_vertices(c.face_refs_, rest);
   if (ids.empty()) return c;
 
   const float rho = options.radius;
@@ -632,7 +595,7 @@ Clusters Clusters::build(const SurfaceMesh& mesh, const std::vector<glm::vec3>& 
     });
   };
   c.split_disconnected(all, for_each_face, created);
-  parallel_for(c.seeds_.size(), 256, [&](std::size_t b, std::size_t e) {
+  parallel_for(c.seeds_.size(), 8, [&](std::size_t b, std::size_t e) {
     for (std::size_t p = b; p < e; ++p) c.recompute_centre(static_cast<std::uint32_t>(p), rest);
   });
   return c;

@@ -2,16 +2,18 @@
 #pragma once
 // Constants and small helpers of the soft-body clustering (private to core): shared by
 // clustering.cpp (build, apply) and clustering_report.cpp (stats, checks, radius search); the
-// union-find of the split into connected parts.
+// union-find of the split into connected parts; the seed sampling (clustering_seeds.cpp).
 
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "deepcut/core/errors.h"
+#include "deepcut/core/parallel.h"
 #include "deepcut/core/surface_mesh.h"
 
 namespace deepcut::clustering_detail {
@@ -46,13 +48,27 @@ inline void check_rest(const SurfaceMesh& mesh, const std::vector<glm::vec3>& re
                                                 std::to_string(mesh.vertex_count()) + " vertices");
 }
 
-// A union-find over [0, n) whose unions may run on several threads at once. The smaller root
-// always wins, so a set's root is its smallest element whatever the order of the unions: the same
-// roots as a serial union-find linking the larger root under the smaller.
+class PointGrid;
+
+/// Farthest-point sampling of the points `ids` (ascending) of `grid` until every point lies
+/// within `cover` of a seed. The first seed is the point farthest from the bounding-box centre;
+/// each next one the point farthest from the seeds so far; ties go to the smaller index. The
+/// seeds do not depend on the thread count.
+std::vector<std::uint32_t> farthest_point_seeds(const std::vector<glm::vec3>& rest,
+                                                const std::vector<std::uint32_t>& ids, const PointGrid& grid,
+                                                float cover);
+
+// A union-find over [0, n), every element a set of its own at first (set up in parallel), whose
+// unions may run on several threads at once. The smaller root always wins, so a set's root is its
+// smallest element whatever the order of the unions: the same roots as a serial union-find
+// linking the larger root under the smaller.
 class ConcurrentUnionFind {
  public:
-  explicit ConcurrentUnionFind(std::size_t n) : up_(n) {}
-  void make_set(std::uint32_t x) { up_[x].store(x, std::memory_order_relaxed); }
+  explicit ConcurrentUnionFind(std::size_t n) : up_(new std::atomic<std::uint32_t>[n]) {
+    parallel_for(n, 1 << 16, [&](std::size_t b, std::size_t e) {
+      for (std::size_t x = b; x < e; ++x) up_[x].store(static_cast<std::uint32_t>(x), std::memory_order_relaxed);
+    });
+  }
   std::uint32_t find(std::uint32_t x) {
     for (;;) {
       std::uint32_t up = up_[x].load(std::memory_order_relaxed);
@@ -75,7 +91,7 @@ class ConcurrentUnionFind {
   }
 
  private:
-  std::vector<std::atomic<std::uint32_t>> up_;
+  std::unique_ptr<std::atomic<std::uint32_t>[]> up_;
 };
 
 }  // namespace deepcut::clustering_detail

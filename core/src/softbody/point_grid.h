@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "deepcut/core/parallel.h"
 #include "deepcut/core/surface_mesh.h"
 
 namespace deepcut::clustering_detail {
@@ -17,7 +18,20 @@ class PointGrid {
  public:
   PointGrid(const std::vector<glm::vec3>& pos, const std::vector<std::uint32_t>& ids, float cell)
       : pos_(pos) {
-    for (std::uint32_t v : ids) box_.add(pos[v]);
+    // The box and each point's cell in parallel (min / max and disjoint writes: the same grid
+    // whatever the thread count); the counting sort serially.
+    constexpr std::size_t kGrain = 1 << 15;
+    box_ = parallel_reduce(
+        ids.size(), kGrain, BoundingBox{},
+        [&](std::size_t b, std::size_t e) {
+          BoundingBox part;
+          for (std::size_t i = b; i < e; ++i) part.add(pos[ids[i]]);
+          return part;
+        },
+        [](BoundingBox a, const BoundingBox& b) {
+          a.add(b);
+          return a;
+        });
     const glm::vec3 ext = box_.empty() ? glm::vec3(0.0f) : box_.max - box_.min;
     // Cap the cell count (a tiny cell relative to the model would make a huge grid).
     const double max_cells = std::max(4096.0, 2.0 * double(ids.size()));
@@ -30,15 +44,24 @@ class PointGrid {
     }
     for (int k = 0; k < 3; ++k) dims_[k] = static_cast<int>(std::floor(double(ext[k]) / h_)) + 1;
     const std::size_t cells = std::size_t(dims_[0]) * dims_[1] * dims_[2];
+    std::vector<std::size_t> cell_of_id(ids.size());
+    parallel_for(ids.size(), kGrain, [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i < e; ++i) cell_of_id[i] = cell_of(pos[ids[i]]);
+    });
     start_.assign(cells + 1, 0);
-    for (std::uint32_t v : ids) ++start_[cell_of(pos[v]) + 1];
+    for (std::size_t c : cell_of_id) ++start_[c + 1];
     for (std::size_t c = 0; c < cells; ++c) start_[c + 1] += start_[c];
     items_.resize(ids.size());
     std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
-    for (std::uint32_t v : ids) items_[fill[cell_of(pos[v])]++] = v;
+    for (std::size_t i = 0; i < ids.size(); ++i) items_[fill[cell_of_id[i]]++] = ids[i];
   }
 
   std::size_t cell_count() const { return start_.size() - 1; }
+  /// The points, cell after cell; cell `c` holds slots [slot_begin(c), slot_begin(c + 1)).
+  const std::vector<std::uint32_t>& items() const { return items_; }
+  std::size_t slot_begin(std::size_t c) const { return start_[c]; }
+  /// The bounding box of the points.
+  const BoundingBox& bounds() const { return box_; }
   /// The points of cell `c`.
   const std::uint32_t* cell_begin(std::size_t c) const { return items_.data() + start_[c]; }
   const std::uint32_t* cell_end(std::size_t c) const { return items_.data() + start_[c + 1]; }
