@@ -104,7 +104,13 @@ struct InstanceActor {
   vtkSmartPointer<vtkActor> actor;
   vtkSmartPointer<vtkTexture> texture;  // the material's base colour texture, or null
   MaterialLook look;
+  bool displaced = false;  // drawn at positions set by hand (set_instance_positions)
 };
+
+/// The full build of an instance's drawn data (the one conversion, on whichever thread).
+std::shared_ptr<ViewPolyData> instance_view_data(const plugins::SceneInstance& sp) {
+  return std::make_shared<ViewPolyData>(*sp.surface, sp.posed(), &sp.posed_normals);
+}
 
 double distance_to_segment(const glm::dvec2& p, const glm::dvec2& a, const glm::dvec2& b) {
   const glm::dvec2 ab = b - a;
@@ -134,6 +140,8 @@ struct SceneView::Impl {
   vtkSmartPointer<vtkActor> normals;
   std::map<Layer, OverlayProps> overlays;
   std::vector<InstanceActor> instances;
+  // The drawn data of the instances the last structural step removed, by the scene's stash keys.
+  std::map<std::pair<std::uint64_t, int>, std::shared_ptr<ViewPolyData>> stash;
   std::map<int, vtkSmartPointer<vtkTexture>> textures;  // by image index
   const plugins::Scene* scene = nullptr;
   DisplayMode mode = DisplayMode::Shaded;
@@ -146,6 +154,10 @@ struct SceneView::Impl {
   std::function<void()> render_listener;
   bool hold_renders = false, render_due = false;
 
+  /// Adds the actor of scene instance `sp` drawing `data`.
+  void add_actor(const plugins::SceneInstance& sp, std::shared_ptr<ViewPolyData> data, std::vector<std::string>& notes);
+  /// update_scene of a structural step (the scene followed it: Scene::origins, Scene::departed).
+  void follow_structure();
   void apply_look(InstanceActor& instance) const;
   void apply_display_mode(InstanceActor& instance) const;
   void rebuild_normals();
@@ -432,14 +444,54 @@ SceneView::~SceneView() {
   if (impl_->tool_widget) impl_->tool_widget->Off();
 }
 
-namespace {
-
-/// The full build of an instance's drawn data (the one conversion, on whichever thread).
-std::shared_ptr<ViewPolyData> instance_view_data(const plugins::SceneInstance& sp) {
-  return std::make_shared<ViewPolyData>(*sp.surface, sp.posed(), &sp.posed_normals);
+void SceneView::Impl::add_actor(const plugins::SceneInstance& sp, std::shared_ptr<ViewPolyData> data,
+                               std::vector<std::string>& notes) {
+  const Model& model = *scene->model;
+  InstanceActor instance;
+  instance.data = std::move(data);
+  instance.poly = instance.data->poly();
+  instance.mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
+  instance.mapper->SetInputData(instance.poly);
+  instance.mapper->SetColorModeToDirectScalars();
+  instance.actor = vtkSmartPointer<vtkActor>::New();
+  instance.actor->SetMapper(instance.mapper);
+  const int material = model.meshes[static_cast<std::size_t>(sp.mesh)]
+                           .primitives[static_cast<std::size_t>(sp.primitive)]
+                           .material;
+  instance.look = material_look(model, material);
+  if (instance.look.base_color_image >= 0) {
+    if (instance.look.texcoord != 0) {
+      notes.push_back("material '" + instance.look.name + "': base colour texture uses TEXCOORD_" +
+                      std::to_string(instance.look.texcoord) + "; shown without it");
+    } else if (!instance.poly->GetPointData()->GetTCoords()) {
+      notes.push_back("material '" + instance.look.name +
+                      "' has a texture but the mesh has no UVs; shown without it");
+    } else {
+      auto cached = textures.find(instance.look.base_color_image);
+      if (cached == textures.end()) {
+        vtkSmartPointer<vtkTexture> texture;
+        try {
+          texture = make_texture(model.images[static_cast<std::size_t>(instance.look.base_color_image)]);
+        } catch (const Error& e) {
+          notes.push_back(e.what());
+        }
+        cached = textures.emplace(instance.look.base_color_image, texture).first;
+      }
+      instance.texture = cached->second;
+    }
+  }
+  vtkProperty* property = instance.actor->GetProperty();
+  property->SetInterpolationToPhong();
+  property->SetAmbient(0.12);
+  property->SetDiffuse(0.88);
+  property->SetSpecularPower(24.0);
+  property->BackfaceCullingOff();
+  apply_look(instance);
+  apply_display_mode(instance);
+  renderer->AddActor(instance.actor);
+  picker->AddPickList(instance.actor);
+  instances.push_back(std::move(instance));
 }
-
-}  // namespace
 
 std::shared_ptr<const SceneView::Prepared> SceneView::prepare(const plugins::Scene& scene) {
   auto prepared = std::make_shared<Prepared>();
@@ -454,55 +506,11 @@ std::vector<std::string> SceneView::set_scene(const plugins::Scene& scene, std::
   for (InstanceActor& instance : d.instances) d.renderer->RemoveActor(instance.actor);
   d.instances.clear();
   d.textures.clear();
+  d.stash.clear();
   d.picker->InitializePickList();
   d.scene = &scene;
-  const Model& model = *scene.model;
-  for (const plugins::SceneInstance& sp : scene.instances) {
-    InstanceActor instance;
-    instance.data = prepared ? prepared->data[d.instances.size()] : instance_view_data(sp);
-    instance.poly = instance.data->poly();
-    instance.mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
-    instance.mapper->SetInputData(instance.poly);
-    instance.mapper->SetColorModeToDirectScalars();
-    instance.actor = vtkSmartPointer<vtkActor>::New();
-    instance.actor->SetMapper(instance.mapper);
-    const int material = model.meshes[static_cast<std::size_t>(sp.mesh)]
-                             .primitives[static_cast<std::size_t>(sp.primitive)]
-                             .material;
-    instance.look = material_look(model, material);
-    if (instance.look.base_color_image >= 0) {
-      if (instance.look.texcoord != 0) {
-        notes.push_back("material '" + instance.look.name + "': base colour texture uses TEXCOORD_" +
-                        std::to_string(instance.look.texcoord) + "; shown without it");
-      } else if (!instance.poly->GetPointData()->GetTCoords()) {
-        notes.push_back("material '" + instance.look.name +
-                        "' has a texture but the mesh has no UVs; shown without it");
-      } else {
-        auto cached = d.textures.find(instance.look.base_color_image);
-        if (cached == d.textures.end()) {
-          vtkSmartPointer<vtkTexture> texture;
-          try {
-            texture = make_texture(model.images[static_cast<std::size_t>(instance.look.base_color_image)]);
-          } catch (const Error& e) {
-            notes.push_back(e.what());
-          }
-          cached = d.textures.emplace(instance.look.base_color_image, texture).first;
-        }
-        instance.texture = cached->second;
-      }
-    }
-    vtkProperty* property = instance.actor->GetProperty();
-    property->SetInterpolationToPhong();
-    property->SetAmbient(0.12);
-    property->SetDiffuse(0.88);
-    property->SetSpecularPower(24.0);
-    property->BackfaceCullingOff();
-    d.apply_look(instance);
-    d.apply_display_mode(instance);
-    d.renderer->AddActor(instance.actor);
-    d.picker->AddPickList(instance.actor);
-    d.instances.push_back(std::move(instance));
-  }
+  for (const plugins::SceneInstance& sp : scene.instances)
+    d.add_actor(sp, prepared ? prepared->data[d.instances.size()] : instance_view_data(sp), notes);
   d.rebuild_normals();
   return notes;
 }
@@ -513,13 +521,16 @@ void SceneView::update_pose() {
   for (std::size_t i = 0; i < d.instances.size() && i < d.scene->instances.size(); ++i) {
     const plugins::SceneInstance& sp = d.scene->instances[i];
     d.instances[i].data->set_positions(sp.posed(), &sp.posed_normals);
+    d.instances[i].displaced = false;
   }
+  d.stash.clear();  // drawn at the pose before
   d.rebuild_normals();
 }
 
 void SceneView::update_scene(const ModelChange& change) {
   Impl& d = *impl_;
   if (!d.scene) return;
+  if (change.structure) return d.follow_structure();
   for (const PrimitiveChange& edit : change.primitives)
     for (std::size_t i = 0; i < d.instances.size() && i < d.scene->instances.size(); ++i) {
       const plugins::SceneInstance& sp = d.scene->instances[i];
@@ -527,6 +538,36 @@ void SceneView::update_scene(const ModelChange& change) {
         d.instances[i].data->update(*sp.surface, sp.posed(), &sp.posed_normals, edit);
     }
   if (d.show_normals) d.rebuild_normals();
+}
+
+void SceneView::Impl::follow_structure() {
+  std::vector<InstanceActor> old;
+  old.swap(instances);
+  for (InstanceActor& instance : old) renderer->RemoveActor(instance.actor);
+  picker->InitializePickList();
+  decltype(stash) back;
+  back.swap(stash);
+  std::vector<std::string> notes;
+  using Kind = plugins::InstanceOrigin::Kind;
+  for (std::size_t i = 0; i < scene->instances.size(); ++i) {
+    const plugins::SceneInstance& sp = scene->instances[i];
+    const plugins::InstanceOrigin origin = i < scene->origins.size() ? scene->origins[i] : plugins::InstanceOrigin();
+    std::shared_ptr<ViewPolyData> data;
+    if (origin.kind == Kind::Kept && origin.instance < old.size() && old[origin.instance].data) {
+      InstanceActor& from = old[origin.instance];  // displaced positions go back to the pose
+      if (from.displaced) from.data->set_positions(sp.posed(), nullptr);
+      data = std::move(from.data);
+    } else if (const auto it = back.find(origin.key); origin.kind == Kind::Stashed && it != back.end()) {
+      data = std::move(it->second);
+    }
+    // (A guard: data of another state than the scene's.)
+    if (data && static_cast<std::size_t>(data->poly()->GetNumberOfCells()) != sp.surface->face_slots()) data = nullptr;
+    if (data) clear_colors(data->poly());  // the inspectors colour again
+    add_actor(sp, data ? std::move(data) : instance_view_data(sp), notes);
+  }
+  for (const auto& [j, key] : scene->departed)  // (displaced data is not kept: built again)
+    if (j < old.size() && old[j].data && !old[j].displaced) stash[key] = std::move(old[j].data);
+  rebuild_normals();
 }
 
 vtkPolyData* SceneView::instance_poly_data(std::size_t instance) const {
@@ -537,6 +578,7 @@ void SceneView::set_instance_positions(std::size_t instance, const std::vector<g
   Impl& d = *impl_;
   if (instance >= d.instances.size()) return;
   d.instances[instance].data->set_positions(positions, nullptr);
+  d.instances[instance].displaced = true;
 }
 
 std::vector<glm::vec3> SceneView::instance_positions(std::size_t instance) const {
