@@ -14,7 +14,6 @@
 #include <vtkCornerAnnotation.h>
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkIdTypeArray.h>
-#include <vtkInteractorStyleTrackballCamera.h>
 #include <vtkLightKit.h>
 #include <vtkMath.h>
 #include <vtkNew.h>
@@ -42,60 +41,10 @@
 #include "deepcut/widgets/poly_data_bridge.h"
 #include "deepcut/widgets/texture.h"
 #include "deepcut/widgets/view_poly_data.h"
+#include "click_style.h"
 
 namespace deepcut::studio {
 namespace {
-
-/// Trackball camera (left rotate, middle pan, wheel/right zoom) that reports clicks and leaves
-/// the keyboard to the studio's menus (VTK's own keys would quit or restyle behind its back).
-class ClickStyle : public vtkInteractorStyleTrackballCamera {
- public:
-  static ClickStyle* New();
-  vtkTypeMacro(ClickStyle, vtkInteractorStyleTrackballCamera)
-
-      void OnChar() override {}
-  void OnLeftButtonDown() override {
-    GetInteractor()->GetEventPosition(press_);
-    if (on_press && on_press(press_[0], press_[1])) {
-      dragging_ = true;  // a tool took the drag: the camera stays
-      return;
-    }
-    Superclass::OnLeftButtonDown();
-  }
-  void OnMouseMove() override {
-    if (dragging_) {
-      int p[2];
-      GetInteractor()->GetEventPosition(p);
-      if (on_drag) on_drag(p[0], p[1], false);
-      return;
-    }
-    Superclass::OnMouseMove();
-  }
-  void OnLeftButtonUp() override {
-    if (dragging_) {
-      dragging_ = false;
-      int p[2];
-      GetInteractor()->GetEventPosition(p);
-      if (on_drag) on_drag(p[0], p[1], true);
-      return;
-    }
-    Superclass::OnLeftButtonUp();
-    int p[2];
-    GetInteractor()->GetEventPosition(p);
-    if (on_click && std::abs(p[0] - press_[0]) <= 3 && std::abs(p[1] - press_[1]) <= 3) on_click(p[0], p[1]);
-  }
-
-  std::function<void(int, int)> on_click;
-  /// A left press at display (x, y): true when a tool takes the drag.
-  std::function<bool(int, int)> on_press;
-  /// The taken drag moved (`released` false) or ended (true) at display (x, y).
-  std::function<void(int, int, bool released)> on_drag;
-
- private:
-  int press_[2] = {0, 0};
-  bool dragging_ = false;
-};
-vtkStandardNewMacro(ClickStyle);
 
 struct InstanceActor {
   std::shared_ptr<ViewPolyData> data;  // follows the instance's mesh step by step
@@ -545,10 +494,12 @@ void SceneView::Impl::follow_structure() {
   old.swap(instances);
   for (InstanceActor& instance : old) renderer->RemoveActor(instance.actor);
   picker->InitializePickList();
-  decltype(stash) back;
-  back.swap(stash);
-  std::vector<std::string> notes;
+  decltype(stash) back;  // only what comes back (the rest goes before anything is built)
   using Kind = plugins::InstanceOrigin::Kind;
+  for (const plugins::InstanceOrigin& origin : scene->origins)
+    if (const auto it = stash.find(origin.key); origin.kind == Kind::Stashed && it != stash.end()) back.insert(*it);
+  stash.clear();
+  std::vector<std::string> notes;
   for (std::size_t i = 0; i < scene->instances.size(); ++i) {
     const plugins::SceneInstance& sp = scene->instances[i];
     const plugins::InstanceOrigin origin = i < scene->origins.size() ? scene->origins[i] : plugins::InstanceOrigin();

@@ -4,6 +4,7 @@
 // mapped structural step keeps the instances of the contents it kept or brought back.
 #include <algorithm>
 #include <map>
+#include <set>
 
 #include "deepcut/core/posed_model.h"
 
@@ -59,7 +60,13 @@ void PosedModel::follow(const Model& model, const ModelChange& change, PoseDetai
   std::map<Place, Place> kept_from;  // place now -> place before
   for (const PrimitiveKept& k : change.kept) kept_from[{k.mesh, k.primitive}] = {k.mesh_before, k.primitive_before};
   std::map<Place, std::uint64_t> arrived;
-  for (const PrimitiveContent& a : change.arrived) arrived[{a.mesh, a.primitive}] = a.tag;
+  std::set<std::uint64_t> tags;
+  for (const PrimitiveContent& a : change.arrived) {
+    arrived[{a.mesh, a.primitive}] = a.tag;
+    tags.insert(a.tag);
+  }
+  // What the stash holds for none of the arrivals goes first (before anything is built).
+  for (auto it = back.begin(); it != back.end();) it = tags.count(it->first.first) ? std::next(it) : back.erase(it);
   // Posed as a build would pose `place` for `node` (the sizes: a guard against a follower that
   // did not show the state before the step).
   auto posed_alike = [&](const PosedMesh& inst, int node, const Place& place) {

@@ -2,6 +2,7 @@
 #include "deepcut/plugins/scene.h"
 
 #include <algorithm>
+#include <set>
 #include <unordered_set>
 
 #include "deepcut/core/errors.h"
@@ -113,10 +114,17 @@ void follow_structure(Scene& scene, std::shared_ptr<const Model> model, const Mo
   std::vector<SceneInstance> old = std::move(scene.instances);
   std::map<const glm::vec3*, std::size_t> old_data;  // posed positions' buffer -> instance before
   for (std::size_t i = 0; i < old.size(); ++i) old_data[old[i].pose->posed.data()] = i;
+  // Only what an arrival may take back (the posed model drops the rest before building, so
+  // the buffers listed here stay alive while it builds).
+  std::set<std::uint64_t> arriving;
+  for (const PrimitiveContent& a : change.arrived) arriving.insert(a.tag);
   std::map<const glm::vec3*, std::pair<std::uint64_t, int>> stashed;
-  for (const auto& [key, inst] : scene.stash->posed) stashed[inst.posed.data()] = key;
+  for (const auto& [key, inst] : scene.stash->posed)
+    if (arriving.count(key.first)) stashed[inst.posed.data()] = key;
   auto normals_back = std::move(scene.stash->normals);
   scene.stash->normals.clear();
+  for (auto it = normals_back.begin(); it != normals_back.end();)
+    it = arriving.count(it->first.first) ? std::next(it) : normals_back.erase(it);
   scene.model = std::move(model);
   const Model& m = *scene.model;
   scene.posed->follow(m, change, PoseDetail::Positions, &scene.stash->posed);
@@ -156,7 +164,7 @@ void follow_structure(Scene& scene, std::shared_ptr<const Model> model, const Mo
 bool follow_scene(Scene& scene, std::shared_ptr<const Model> model, const ModelChange& change, bool with_normals) {
   if (!model || !scene.model || !scene.posed) return false;
   if (change.structure) {
-    if (!change.mapped) return false;
+    if (!change.mapped || !scene.posed->valid()) return false;
     follow_structure(scene, std::move(model), change, with_normals);
     return true;
   }

@@ -148,9 +148,10 @@ class Placer {
 bool apply(MainWindow& window, const deepcut::Operation& op) {
   deepcut::History history;
   history.operations.push_back(op);
-  const int steps = window.history()->count();
+  // The stack's index (not its count: a step pushed after an undo replaces the undone one).
+  const int index = window.history()->index();
   window.apply_history(history, "bench");
-  return window.history()->count() > steps;
+  return window.history()->index() > index;
 }
 
 json step_json(const std::vector<Timed>& runs) {
