@@ -79,20 +79,26 @@ void SceneHost::show_current() {
   int animation = timeline_->animation();
   if (animation >= static_cast<int>(model->animations.size())) animation = model->animations.empty() ? -1 : 0;
   *scene_ = plugins::make_scene(model, PoseKey(animation, timeline_->time(), scene_->weights));
-  if (morph_) {
-    morph_->set_scene(scene_.get());  // drops weights set for nodes that no longer morph alike
-    if (morph_->overrides() != scene_->weights) {
-      scene_->weights = morph_->overrides();
-      plugins::pose_scene(*scene_, scene_->animation, scene_->time);
-    }
-    morph_->show_pose();
-  }
+  sync_morph_panel();
   present();
   tools_->refresh_preview();
   refresh_inspector();
   // Undo, redo or an edit: the posed model describes another state; a cut dropped it (its
   // pieces are new meshes). Rebuild it when idle.
   if (!session_.posed_model()) posed_timer_->start();
+}
+
+bool SceneHost::sync_morph_panel() {
+  if (!morph_) return false;
+  morph_->set_scene(scene_.get());  // drops weights set for nodes that no longer morph alike
+  bool posed = false;
+  if (morph_->overrides() != scene_->weights) {
+    scene_->weights = morph_->overrides();
+    plugins::pose_scene(*scene_, scene_->animation, scene_->time);
+    posed = true;
+  }
+  morph_->show_pose();
+  return posed;
 }
 
 void SceneHost::show_step(const ModelChange& change) {
@@ -104,6 +110,9 @@ void SceneHost::show_step(const ModelChange& change) {
     return;
   }
   view_->update_scene(change);
+  // A structural step may add or drop nodes that morph: the panel follows (re-posing the
+  // scene when the weights set by hand change).
+  if (change.structure && sync_morph_panel()) view_->update_pose();
   lend_grids();
   tools_->scene_redrawn();
   tree_->set_scene(*scene_);

@@ -47,8 +47,9 @@ class SceneHost : public QObject {
   void show_current();
   /// Shows the session's current state after one step from the shown state (an operation, its
   /// undo or redo) that `change` describes: the scene, its VTK data, the tree and the inspectors
-  /// follow it in O(change); a structural change (or one that does not start at the shown
-  /// state) is shown as `show_current` does, and so is every step while the environment
+  /// follow it in O(change) (a mapped structural step, such as a cut and its undo and redo: in
+  /// O(what it made), keeping what it kept); an unmapped structural change (or one that does not
+  /// start at the shown state) is shown as `show_current` does, and so is every step while the environment
   /// variable DEEPCUT_VIEW_REBUILD is 1 (the studio benchmark's reference).
   void show_step(const ModelChange& change);
   /// Poses the scene at `time` of `animation` (the time line moved), at the morph weights set by
@@ -83,6 +84,9 @@ class SceneHost : public QObject {
   void note(const QString& text, int timeout_ms);
 
  private:
+  /// Shows the scene's morph weights in the panel, dropping weights set by hand for nodes that no
+  /// longer morph alike. @returns true when that re-posed the scene.
+  bool sync_morph_panel();
   /// Hands the scene to the view, the tree and the hosts. @returns the view's notes.
   std::vector<std::string> present(std::shared_ptr<const SceneView::Prepared> prepared = nullptr);
 

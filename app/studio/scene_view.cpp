@@ -16,7 +16,6 @@
 #include <vtkCornerAnnotation.h>
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkIdTypeArray.h>
-#include <vtkInteractorStyleTrackballCamera.h>
 #include <vtkLightKit.h>
 #include <vtkMath.h>
 #include <vtkNew.h>
@@ -44,60 +43,10 @@
 #include "deepcut/widgets/poly_data_bridge.h"
 #include "deepcut/widgets/texture.h"
 #include "deepcut/widgets/view_poly_data.h"
+#include "click_style.h"
 
 namespace deepcut::studio {
 namespace {
-
-/// Trackball camera (left rotate, middle pan, wheel/right zoom) that reports clicks and leaves
-/// the keyboard to the studio's menus (VTK's own keys would quit or restyle behind its back).
-class ClickStyle : public vtkInteractorStyleTrackballCamera {
- public:
-  static ClickStyle* New();
-  vtkTypeMacro(ClickStyle, vtkInteractorStyleTrackballCamera)
-
-      void OnChar() override {}
-  void OnLeftButtonDown() override {
-    GetInteractor()->GetEventPosition(press_);
-    if (on_press && on_press(press_[0], press_[1])) {
-      dragging_ = true;  // a tool took the drag: the camera stays
-      return;
-    }
-    Superclass::OnLeftButtonDown();
-  }
-  void OnMouseMove() override {
-    if (dragging_) {
-      int p[2];
-      GetInteractor()->GetEventPosition(p);
-      if (on_drag) on_drag(p[0], p[1], false);
-      return;
-    }
-    Superclass::OnMouseMove();
-  }
-  void OnLeftButtonUp() override {
-    if (dragging_) {
-      dragging_ = false;
-      int p[2];
-      GetInteractor()->GetEventPosition(p);
-      if (on_drag) on_drag(p[0], p[1], true);
-      return;
-    }
-    Superclass::OnLeftButtonUp();
-    int p[2];
-    GetInteractor()->GetEventPosition(p);
-    if (on_click && std::abs(p[0] - press_[0]) <= 3 && std::abs(p[1] - press_[1]) <= 3) on_click(p[0], p[1]);
-  }
-
-  std::function<void(int, int)> on_click;
-  /// A left press at display (x, y): true when a tool takes the drag.
-  std::function<bool(int, int)> on_press;
-  /// The taken drag moved (`released` false) or ended (true) at display (x, y).
-  std::function<void(int, int, bool released)> on_drag;
-
- private:
-  int press_[2] = {0, 0};
-  bool dragging_ = false;
-};
-vtkStandardNewMacro(ClickStyle);
 
 struct InstanceActor {
   std::shared_ptr<ViewPolyData> data;  // follows the instance's mesh step by step
@@ -106,7 +55,13 @@ struct InstanceActor {
   vtkSmartPointer<vtkActor> actor;
   vtkSmartPointer<vtkTexture> texture;  // the material's base colour texture, or null
   MaterialLook look;
+  bool displaced = false;  // drawn at positions set by hand (set_instance_positions)
 };
+
+/// The full build of an instance's drawn data (the one conversion, on whichever thread).
+std::shared_ptr<ViewPolyData> instance_view_data(const plugins::SceneInstance& sp) {
+  return std::make_shared<ViewPolyData>(*sp.surface, sp.posed(), &sp.posed_normals);
+}
 
 double distance_to_segment(const glm::dvec2& p, const glm::dvec2& a, const glm::dvec2& b) {
   const glm::dvec2 ab = b - a;
@@ -136,6 +91,8 @@ struct SceneView::Impl {
   vtkSmartPointer<vtkActor> normals;
   std::map<Layer, OverlayProps> overlays;
   std::vector<InstanceActor> instances;
+  // The drawn data of the instances the last structural step removed, by the scene's stash keys.
+  std::map<std::pair<std::uint64_t, int>, std::shared_ptr<ViewPolyData>> stash;
   std::map<int, vtkSmartPointer<vtkTexture>> textures;  // by image index
   const plugins::Scene* scene = nullptr;
   DisplayMode mode = DisplayMode::Shaded;
@@ -148,6 +105,10 @@ struct SceneView::Impl {
   std::function<void()> render_listener;
   bool hold_renders = false, render_due = false;
 
+  /// Adds the actor of scene instance `sp` drawing `data`.
+  void add_actor(const plugins::SceneInstance& sp, std::shared_ptr<ViewPolyData> data, std::vector<std::string>& notes);
+  /// update_scene of a structural step (the scene followed it: Scene::origins, Scene::departed).
+  void follow_structure();
   void apply_look(InstanceActor& instance) const;
   void apply_display_mode(InstanceActor& instance) const;
   void rebuild_normals();
@@ -435,14 +396,54 @@ SceneView::~SceneView() {
   if (impl_->tool_widget) impl_->tool_widget->Off();
 }
 
-namespace {
-
-/// The full build of an instance's drawn data (the one conversion, on whichever thread).
-std::shared_ptr<ViewPolyData> instance_view_data(const plugins::SceneInstance& sp) {
-  return std::make_shared<ViewPolyData>(*sp.surface, sp.posed(), &sp.posed_normals);
+void SceneView::Impl::add_actor(const plugins::SceneInstance& sp, std::shared_ptr<ViewPolyData> data,
+                               std::vector<std::string>& notes) {
+  const Model& model = *scene->model;
+  InstanceActor instance;
+  instance.data = std::move(data);
+  instance.poly = instance.data->poly();
+  instance.mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
+  instance.mapper->SetInputData(instance.poly);
+  instance.mapper->SetColorModeToDirectScalars();
+  instance.actor = vtkSmartPointer<vtkActor>::New();
+  instance.actor->SetMapper(instance.mapper);
+  const int material = model.meshes[static_cast<std::size_t>(sp.mesh)]
+                           .primitives[static_cast<std::size_t>(sp.primitive)]
+                           .material;
+  instance.look = material_look(model, material);
+  if (instance.look.base_color_image >= 0) {
+    if (instance.look.texcoord != 0) {
+      notes.push_back("material '" + instance.look.name + "': base colour texture uses TEXCOORD_" +
+                      std::to_string(instance.look.texcoord) + "; shown without it");
+    } else if (!instance.poly->GetPointData()->GetTCoords()) {
+      notes.push_back("material '" + instance.look.name +
+                      "' has a texture but the mesh has no UVs; shown without it");
+    } else {
+      auto cached = textures.find(instance.look.base_color_image);
+      if (cached == textures.end()) {
+        vtkSmartPointer<vtkTexture> texture;
+        try {
+          texture = make_texture(model.images[static_cast<std::size_t>(instance.look.base_color_image)]);
+        } catch (const Error& e) {
+          notes.push_back(e.what());
+        }
+        cached = textures.emplace(instance.look.base_color_image, texture).first;
+      }
+      instance.texture = cached->second;
+    }
+  }
+  vtkProperty* property = instance.actor->GetProperty();
+  property->SetInterpolationToPhong();
+  property->SetAmbient(0.12);
+  property->SetDiffuse(0.88);
+  property->SetSpecularPower(24.0);
+  property->BackfaceCullingOff();
+  apply_look(instance);
+  apply_display_mode(instance);
+  renderer->AddActor(instance.actor);
+  picker->AddPickList(instance.actor);
+  instances.push_back(std::move(instance));
 }
-
-}  // namespace
 
 std::shared_ptr<const SceneView::Prepared> SceneView::prepare(const plugins::Scene& scene) {
   auto prepared = std::make_shared<Prepared>();
@@ -457,55 +458,11 @@ std::vector<std::string> SceneView::set_scene(const plugins::Scene& scene, std::
   for (InstanceActor& instance : d.instances) d.renderer->RemoveActor(instance.actor);
   d.instances.clear();
   d.textures.clear();
+  d.stash.clear();
   d.picker->InitializePickList();
   d.scene = &scene;
-  const Model& model = *scene.model;
-  for (const plugins::SceneInstance& sp : scene.instances) {
-    InstanceActor instance;
-    instance.data = prepared ? prepared->data[d.instances.size()] : instance_view_data(sp);
-    instance.poly = instance.data->poly();
-    instance.mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
-    instance.mapper->SetInputData(instance.poly);
-    instance.mapper->SetColorModeToDirectScalars();
-    instance.actor = vtkSmartPointer<vtkActor>::New();
-    instance.actor->SetMapper(instance.mapper);
-    const int material = model.meshes[static_cast<std::size_t>(sp.mesh)]
-                             .primitives[static_cast<std::size_t>(sp.primitive)]
-                             .material;
-    instance.look = material_look(model, material);
-    if (instance.look.base_color_image >= 0) {
-      if (instance.look.texcoord != 0) {
-        notes.push_back("material '" + instance.look.name + "': base colour texture uses TEXCOORD_" +
-                        std::to_string(instance.look.texcoord) + "; shown without it");
-      } else if (!instance.poly->GetPointData()->GetTCoords()) {
-        notes.push_back("material '" + instance.look.name +
-                        "' has a texture but the mesh has no UVs; shown without it");
-      } else {
-        auto cached = d.textures.find(instance.look.base_color_image);
-        if (cached == d.textures.end()) {
-          vtkSmartPointer<vtkTexture> texture;
-          try {
-            texture = make_texture(model.images[static_cast<std::size_t>(instance.look.base_color_image)]);
-          } catch (const Error& e) {
-            notes.push_back(e.what());
-          }
-          cached = d.textures.emplace(instance.look.base_color_image, texture).first;
-        }
-        instance.texture = cached->second;
-      }
-    }
-    vtkProperty* property = instance.actor->GetProperty();
-    property->SetInterpolationToPhong();
-    property->SetAmbient(0.12);
-    property->SetDiffuse(0.88);
-    property->SetSpecularPower(24.0);
-    property->BackfaceCullingOff();
-    d.apply_look(instance);
-    d.apply_display_mode(instance);
-    d.renderer->AddActor(instance.actor);
-    d.picker->AddPickList(instance.actor);
-    d.instances.push_back(std::move(instance));
-  }
+  for (const plugins::SceneInstance& sp : scene.instances)
+    d.add_actor(sp, prepared ? prepared->data[d.instances.size()] : instance_view_data(sp), notes);
   d.rebuild_normals();
   return notes;
 }
@@ -516,13 +473,16 @@ void SceneView::update_pose() {
   for (std::size_t i = 0; i < d.instances.size() && i < d.scene->instances.size(); ++i) {
     const plugins::SceneInstance& sp = d.scene->instances[i];
     d.instances[i].data->set_positions(sp.posed(), &sp.posed_normals);
+    d.instances[i].displaced = false;
   }
+  d.stash.clear();  // drawn at the pose before
   d.rebuild_normals();
 }
 
 void SceneView::update_scene(const ModelChange& change) {
   Impl& d = *impl_;
   if (!d.scene) return;
+  if (change.structure) return d.follow_structure();
   for (const PrimitiveChange& edit : change.primitives)
     for (std::size_t i = 0; i < d.instances.size() && i < d.scene->instances.size(); ++i) {
       const plugins::SceneInstance& sp = d.scene->instances[i];
@@ -530,6 +490,38 @@ void SceneView::update_scene(const ModelChange& change) {
         d.instances[i].data->update(*sp.surface, sp.posed(), &sp.posed_normals, edit);
     }
   if (d.show_normals) d.rebuild_normals();
+}
+
+void SceneView::Impl::follow_structure() {
+  std::vector<InstanceActor> old;
+  old.swap(instances);
+  for (InstanceActor& instance : old) renderer->RemoveActor(instance.actor);
+  picker->InitializePickList();
+  decltype(stash) back;  // only what comes back (the rest goes before anything is built)
+  using Kind = plugins::InstanceOrigin::Kind;
+  for (const plugins::InstanceOrigin& origin : scene->origins)
+    if (const auto it = stash.find(origin.key); origin.kind == Kind::Stashed && it != stash.end()) back.insert(*it);
+  stash.clear();
+  std::vector<std::string> notes;
+  for (std::size_t i = 0; i < scene->instances.size(); ++i) {
+    const plugins::SceneInstance& sp = scene->instances[i];
+    const plugins::InstanceOrigin origin = i < scene->origins.size() ? scene->origins[i] : plugins::InstanceOrigin();
+    std::shared_ptr<ViewPolyData> data;
+    if (origin.kind == Kind::Kept && origin.instance < old.size() && old[origin.instance].data) {
+      InstanceActor& from = old[origin.instance];  // displaced positions go back to the pose
+      if (from.displaced) from.data->set_positions(sp.posed(), nullptr);
+      data = std::move(from.data);
+    } else if (const auto it = back.find(origin.key); origin.kind == Kind::Stashed && it != back.end()) {
+      data = std::move(it->second);
+    }
+    // (A guard: data of another state than the scene's.)
+    if (data && static_cast<std::size_t>(data->poly()->GetNumberOfCells()) != sp.surface->face_slots()) data = nullptr;
+    if (data) clear_colors(data->poly());  // the inspectors colour again
+    add_actor(sp, data ? std::move(data) : instance_view_data(sp), notes);
+  }
+  for (const auto& [j, key] : scene->departed)  // (displaced data is not kept: built again)
+    if (j < old.size() && old[j].data && !old[j].displaced) stash[key] = std::move(old[j].data);
+  rebuild_normals();
 }
 
 vtkPolyData* SceneView::instance_poly_data(std::size_t instance) const {
@@ -540,6 +532,7 @@ void SceneView::set_instance_positions(std::size_t instance, const std::vector<g
   Impl& d = *impl_;
   if (instance >= d.instances.size()) return;
   d.instances[instance].data->set_positions(positions, nullptr);
+  d.instances[instance].displaced = true;
 }
 
 std::vector<glm::vec3> SceneView::instance_positions(std::size_t instance) const {

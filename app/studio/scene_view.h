@@ -65,8 +65,11 @@ class SceneView : public QWidget {
   /// Moves every actor (and the normals, when shown) to the scene's current pose.
   void update_pose();
   /// Follows one step on the shown scene, already followed (`plugins::follow_scene`): only the
-  /// points and cells `change` touched are rewritten (ViewPolyData::update). O(change).
-  /// @pre not structural: a structural change is shown with `set_scene`.
+  /// points and cells `change` touched are rewritten (ViewPolyData::update). O(change). A mapped
+  /// structural step lists the actors again: an instance the scene kept or took back from its
+  /// stash (Scene::origins) keeps its drawn data, every other is built; the data of instances
+  /// that left (Scene::departed) is kept until the next structural step (or pose), for an undo or
+  /// redo that brings them back. @pre an unmapped structural change is shown with `set_scene`.
   void update_scene(const ModelChange& change);
   /// The drawn data of instance `instance` (nullptr for an unknown one): what tests and the
   /// studio benchmark compare with a fresh build.

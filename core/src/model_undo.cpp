@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cstring>
 #include <optional>
 #include <unordered_set>
@@ -77,7 +78,12 @@ struct ModelStep::Impl {
   std::vector<Place> fresh;
   std::vector<SurfaceMesh> fresh_meshes;
   Model shell_before, shell_after;
-  ModelChange change;
+  ModelChange change;       // what the step made (and what redo makes)
+  ModelChange undo_change;  // what undo makes
+  std::uint64_t serial = 0;  // names the step in content tags
+
+  /// Says in `change` and `undo_change` where the primitives' contents went (ModelChange::mapped).
+  void map_structure();
 
   ModelChange local(Model& model, bool undoing);
   void undo_structure(Model& model);
@@ -121,6 +127,35 @@ ModelChange ModelStep::Impl::local(Model& model, bool undoing) {
   return out;
 }
 
+void ModelStep::Impl::map_structure() {
+  static std::atomic<std::uint64_t> steps{0};
+  serial = ++steps;
+  // Tags: the step, which state (0 before, 1 after, 2 made by the step) and the primitive.
+  auto tag = [&](std::uint64_t state, std::size_t i) { return (serial << 24) | (state << 22) | i; };
+  std::vector<char> changed(before_all.size(), 0);
+  for (const Edited& e : edited) changed[e.id] = 1;
+  ModelChange &made = change, &undone = undo_change;
+  made.mapped = undone.mapped = true;
+  undone.structure = true;
+  for (std::size_t id = 0; id < before_all.size(); ++id) {
+    const Place b = before_all[id], a = after_all[id];
+    if (a.valid() && !changed[id]) {
+      made.kept.push_back({a.mesh, a.primitive, b.mesh, b.primitive});
+      undone.kept.push_back({b.mesh, b.primitive, a.mesh, a.primitive});
+      continue;
+    }
+    made.left.push_back({b.mesh, b.primitive, tag(0, id)});
+    undone.arrived.push_back({b.mesh, b.primitive, tag(0, id)});
+    if (!a.valid()) continue;
+    made.arrived.push_back({a.mesh, a.primitive, tag(1, id)});
+    undone.left.push_back({a.mesh, a.primitive, tag(1, id)});
+  }
+  for (std::size_t k = 0; k < fresh.size(); ++k) {
+    made.arrived.push_back({fresh[k].mesh, fresh[k].primitive, tag(2, k)});
+    undone.left.push_back({fresh[k].mesh, fresh[k].primitive, tag(2, k)});
+  }
+}
+
 void ModelStep::Impl::undo_structure(Model& model) {
   std::vector<std::optional<SurfaceMesh>> held(before_all.size());
   for (std::size_t id = 0; id < held.size(); ++id) {
@@ -162,7 +197,7 @@ ModelChange ModelStep::undo(Model& model) {
   }
   if (!impl_->structure) return impl_->local(model, true);
   impl_->undo_structure(model);
-  return impl_->change;
+  return impl_->undo_change;
 }
 
 ModelChange ModelStep::redo(Model& model) {
@@ -400,6 +435,7 @@ ModelStep ModelRecorder::finish() {
   s.fresh = std::move(fresh);
   s.shell_before = std::move(r.shell);
   s.shell_after = undo::shell_of(r.model);
+  s.map_structure();
   return step;
 }
 

@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: MIT
 // The posed model following an undo or a redo (PosedModel::follow with a ModelChange): the
-// change said as an edit log each instance follows, after cutting off what the step removed.
+// change said as an edit log each instance follows, after cutting off what the step removed; a
+// mapped structural step keeps the instances of the contents it kept or brought back.
 #include <algorithm>
+#include <map>
+#include <set>
 
 #include "deepcut/core/posed_model.h"
 
@@ -39,7 +42,80 @@ void cut_back(PosedMesh& inst, const SurfaceMesh& mesh) {
   for (const glm::vec3& p : inst.posed) inst.bounds.add(p);
 }
 
+using Place = std::pair<int, int>;  // (mesh, primitive)
+
 }  // namespace
+
+void PosedModel::follow(const Model& model, const ModelChange& change, PoseDetail detail, PoseStash* stash) {
+  if (!change.structure || !change.mapped || !valid_) {
+    if (stash) stash->clear();
+    follow(model, change);
+    return;
+  }
+  std::map<std::pair<int, int>, PosedMesh> old = std::move(instances_);  // by (node, primitive)
+  instances_.clear();
+  PoseStash back;
+  if (stash) back.swap(*stash);
+  set_pose(model, key_);
+  std::map<Place, Place> kept_from;  // place now -> place before
+  for (const PrimitiveKept& k : change.kept) kept_from[{k.mesh, k.primitive}] = {k.mesh_before, k.primitive_before};
+  std::map<Place, std::uint64_t> arrived;
+  std::set<std::uint64_t> tags;
+  for (const PrimitiveContent& a : change.arrived) {
+    arrived[{a.mesh, a.primitive}] = a.tag;
+    tags.insert(a.tag);
+  }
+  // What the stash holds for none of the arrivals goes first (before anything is built).
+  for (auto it = back.begin(); it != back.end();) it = tags.count(it->first.first) ? std::next(it) : back.erase(it);
+  // Posed as a build would pose `place` for `node` (the sizes: a guard against a follower that
+  // did not show the state before the step).
+  auto posed_alike = [&](const PosedMesh& inst, int node, const Place& place) {
+    const SurfaceMesh& mesh =
+        model.meshes[static_cast<std::size_t>(place.first)].primitives[static_cast<std::size_t>(place.second)].mesh;
+    return inst.posed.size() == mesh.vertex_count() && inst.world == world_[static_cast<std::size_t>(node)] &&
+           inst.joints == joints_of(model, node) && inst.weights == weights(node) &&
+           !(detail == PoseDetail::Full && inst.gridless);
+  };
+  // The instance of content `place` drew before (kept) or that `stash` holds, if posed alike.
+  auto reuse = [&](int node, const Place& place, PosedMesh& out) {
+    const auto k = kept_from.find(place);
+    if (k != kept_from.end()) {
+      const auto it = old.find({node, k->second.second});
+      if (it == old.end() || it->second.mesh != k->second.first || !posed_alike(it->second, node, place)) return false;
+      out = std::move(it->second);
+      old.erase(it);
+      return true;
+    }
+    const auto a = arrived.find(place);
+    if (a == arrived.end()) return false;
+    const auto it = back.find({a->second, node});
+    if (it == back.end() || !posed_alike(it->second, node, place)) return false;
+    out = std::move(it->second);
+    back.erase(it);
+    return true;
+  };
+  for (std::size_t ni = 0; ni < model.nodes.size(); ++ni) {
+    const int mi = model.nodes[ni].mesh;
+    if (mi < 0 || static_cast<std::size_t>(mi) >= model.meshes.size()) continue;
+    const int node = static_cast<int>(ni);
+    for (std::size_t p = 0; p < model.meshes[static_cast<std::size_t>(mi)].primitives.size(); ++p) {
+      const int prim = static_cast<int>(p);
+      PosedMesh inst;
+      if (reuse(node, {mi, prim}, inst)) {
+        inst.mesh = mi;
+        inst.primitive = prim;
+      } else {
+        inst = make_instance(model, node, prim, detail);
+      }
+      instances_[{node, prim}] = std::move(inst);
+    }
+  }
+  if (!stash) return;
+  for (const PrimitiveContent& l : change.left)
+    for (auto& [key, inst] : old)
+      if (inst.mesh == l.mesh && inst.primitive == l.primitive && !inst.posed.empty())
+        (*stash)[{l.tag, inst.node}] = std::move(inst);
+}
 
 void PosedModel::follow(const Model& model, const ModelChange& change) {
   if (!valid_ || change.empty()) return;

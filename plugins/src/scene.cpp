@@ -2,6 +2,7 @@
 #include "deepcut/plugins/scene.h"
 
 #include <algorithm>
+#include <set>
 #include <unordered_set>
 
 #include "deepcut/core/errors.h"
@@ -27,17 +28,10 @@ void check_animation(const Model& model, int animation) {
                                                 std::to_string(model.animations.size()) + ")");
 }
 
-}  // namespace
-
-Scene make_scene(std::shared_ptr<const Model> model, int animation, float time, bool with_normals) {
-  return make_scene(std::move(model), PoseKey(animation, time), with_normals);
-}
-
-Scene make_scene(std::shared_ptr<const Model> model, const PoseKey& key, bool with_normals) {
-  if (!model) throw Error(ErrorCode::InvalidArgument, "make_scene: no model");
-  Scene scene;
-  scene.model = std::move(model);
-  const Model& m = *scene.model;
+/// One instance per triangle primitive of every mesh instance reachable from the default scene's
+/// roots, in node order (not posed).
+std::vector<SceneInstance> list_instances(const Model& m) {
+  std::vector<SceneInstance> out;
   std::vector<int> mesh_nodes;
   std::vector<char> seen(m.nodes.size(), 0);
   for (int root : m.root_nodes()) collect_instances(m, root, mesh_nodes, seen);
@@ -51,9 +45,24 @@ Scene make_scene(std::shared_ptr<const Model> model, const PoseKey& key, bool wi
       instance.primitive = static_cast<int>(p);
       instance.skin = n.skin >= 0 && n.skin < static_cast<int>(m.skins.size()) ? n.skin : -1;
       instance.surface = &mesh.primitives[p].mesh;
-      scene.instances.push_back(std::move(instance));
+      out.push_back(std::move(instance));
     }
   }
+  return out;
+}
+
+}  // namespace
+
+Scene make_scene(std::shared_ptr<const Model> model, int animation, float time, bool with_normals) {
+  return make_scene(std::move(model), PoseKey(animation, time), with_normals);
+}
+
+Scene make_scene(std::shared_ptr<const Model> model, const PoseKey& key, bool with_normals) {
+  if (!model) throw Error(ErrorCode::InvalidArgument, "make_scene: no model");
+  Scene scene;
+  scene.model = std::move(model);
+  const Model& m = *scene.model;
+  scene.instances = list_instances(m);
   const BoundingBox rest = world_bounds(m, rest_pose(m));
   scene.size = rest.empty() || rest.diagonal() <= 0.0f ? 1.0f : rest.diagonal();
   scene.weights = key.weights;
@@ -93,8 +102,72 @@ const SurfaceMesh* primitive_mesh(const Model& model, int mesh, int primitive) {
 
 }  // namespace
 
+namespace {
+
+/// follow_scene of a mapped structural step. Whether the posed model kept an instance shows in
+/// its positions' buffer: a kept or stashed PosedMesh is moved, buffers and all, while every
+/// instance built meanwhile gets buffers of its own (the old ones are alive until it returns).
+void follow_structure(Scene& scene, std::shared_ptr<const Model> model, const ModelChange& change,
+                      bool with_normals) {
+  if (scene.posed.use_count() > 1) scene.posed = std::make_shared<PosedModel>(*scene.posed);
+  if (!scene.stash || scene.stash.use_count() > 1) scene.stash = std::make_shared<SceneStash>();
+  std::vector<SceneInstance> old = std::move(scene.instances);
+  std::map<const glm::vec3*, std::size_t> old_data;  // posed positions' buffer -> instance before
+  for (std::size_t i = 0; i < old.size(); ++i) old_data[old[i].pose->posed.data()] = i;
+  // Only what an arrival may take back (the posed model drops the rest before building, so
+  // the buffers listed here stay alive while it builds).
+  std::set<std::uint64_t> arriving;
+  for (const PrimitiveContent& a : change.arrived) arriving.insert(a.tag);
+  std::map<const glm::vec3*, std::pair<std::uint64_t, int>> stashed;
+  for (const auto& [key, inst] : scene.stash->posed)
+    if (arriving.count(key.first)) stashed[inst.posed.data()] = key;
+  auto normals_back = std::move(scene.stash->normals);
+  scene.stash->normals.clear();
+  for (auto it = normals_back.begin(); it != normals_back.end();)
+    it = arriving.count(it->first.first) ? std::next(it) : normals_back.erase(it);
+  scene.model = std::move(model);
+  const Model& m = *scene.model;
+  scene.posed->follow(m, change, PoseDetail::Positions, &scene.stash->posed);
+  scene.world = scene.posed->world();
+  scene.instances = list_instances(m);
+  scene.origins.assign(scene.instances.size(), InstanceOrigin());
+  for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+    SceneInstance& instance = scene.instances[i];
+    instance.pose = scene.posed->find(instance.node, instance.primitive);
+    InstanceOrigin& origin = scene.origins[i];
+    const glm::vec3* data = instance.pose->posed.data();
+    if (const auto k = old_data.find(data); k != old_data.end()) {
+      origin.kind = InstanceOrigin::Kind::Kept;
+      origin.instance = k->second;
+      instance.posed_normals = std::move(old[k->second].posed_normals);
+    } else if (const auto s = stashed.find(data); s != stashed.end()) {
+      origin.kind = InstanceOrigin::Kind::Stashed;
+      origin.key = s->second;
+      const auto n = normals_back.find(s->second);
+      if (n != normals_back.end()) instance.posed_normals = std::move(n->second);
+    }
+    const bool normals_fit = instance.posed_normals.size() == 3 * instance.surface->face_slots();
+    if (origin.kind == InstanceOrigin::Kind::Built || (with_normals && !normals_fit))
+      instance.posed_normals = with_normals ? instance.pose->corner_normals(*instance.surface) : std::vector<glm::vec3>();
+  }
+  // The instances whose posed mesh went into the stash, with their normals.
+  scene.departed.clear();
+  for (const auto& [key, inst] : scene.stash->posed)
+    if (const auto k = old_data.find(inst.posed.data()); k != old_data.end()) {
+      scene.departed.emplace_back(k->second, key);
+      scene.stash->normals[key] = std::move(old[k->second].posed_normals);
+    }
+}
+
+}  // namespace
+
 bool follow_scene(Scene& scene, std::shared_ptr<const Model> model, const ModelChange& change, bool with_normals) {
-  if (change.structure || !model || !scene.model || !scene.posed) return false;
+  if (!model || !scene.model || !scene.posed) return false;
+  if (change.structure) {
+    if (!change.mapped || !scene.posed->valid()) return false;
+    follow_structure(scene, std::move(model), change, with_normals);
+    return true;
+  }
   const Model& m = *model;
   if (m.nodes.size() != scene.model->nodes.size()) return false;
   for (const SceneInstance& instance : scene.instances)
@@ -111,6 +184,8 @@ bool follow_scene(Scene& scene, std::shared_ptr<const Model> model, const ModelC
         return false;
   // A copy of the scene shares the posed model: follow one of its own.
   if (scene.posed.use_count() > 1) scene.posed = std::make_shared<PosedModel>(*scene.posed);
+  scene.origins.clear();
+  scene.departed.clear();
   scene.model = std::move(model);
   // The linear maps of the listed vertices before the step: where one changes (new skin
   // weights), the corner normals around the vertex change too.

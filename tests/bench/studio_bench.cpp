@@ -11,8 +11,10 @@
 // - the same steps with the scene built again after each (DEEPCUT_VIEW_REBUILD=1, rows
 //   "..._rebuild"): the reference the incremental view is measured against, in the same run;
 // - resident memory after N small drills (growth per operation).
-//   deepcut_studio_bench [--json] [--quick] [--ops N]
-// --quick: the 25K cactus only. Medians of three repetitions for each timed step.
+//   deepcut_studio_bench [--json] [--quick] [--size N] [--no-rebuild] [--ops N]
+// --quick: the 25K cactus only; --size N: only the cactus of about N triangles (a profile of one
+// size); --no-rebuild: without the "..._rebuild" rows. Medians of three repetitions for each
+// timed step.
 #include <QAction>
 #include <QApplication>
 #include <QUndoStack>
@@ -147,9 +149,10 @@ class Placer {
 bool apply(MainWindow& window, const deepcut::Operation& op) {
   deepcut::History history;
   history.operations.push_back(op);
-  const int steps = window.history()->count();
+  // The stack's index (not its count: a step pushed after an undo replaces the undone one).
+  const int index = window.history()->index();
   window.apply_history(history, "bench");
-  return window.history()->count() > steps;
+  return window.history()->index() > index;
 }
 
 json step_json(const std::vector<Timed>& runs) {
@@ -181,7 +184,7 @@ json time_operation(MainWindow& window, Timer& timer, const std::function<deepcu
   return {{"apply", step_json(applied)}, {"undo", step_json(undone)}, {"redo", step_json(redone)}};
 }
 
-json run_size(std::size_t target, int ops, const QString& dir) {
+json run_size(std::size_t target, int ops, bool rebuilds, const QString& dir) {
   deepcut::CactusOptions options;
   options.target_triangles = target;
   const QString path = dir + QString("/cactus_%1.glb").arg(target);
@@ -215,6 +218,7 @@ json run_size(std::size_t target, int ops, const QString& dir) {
   window.set_anti_aliasing(deepcut::studio::AntiAliasing::Automatic, false);
   Placer place(window);
   for (const bool rebuild : {false, true}) {
+    if (rebuild && !rebuilds) break;
     // The reference: the scene and its VTK data built again after every step.
     setenv("DEEPCUT_VIEW_REBUILD", rebuild ? "1" : "0", 1);
     const std::string suffix = rebuild ? "_rebuild" : "";
@@ -245,7 +249,8 @@ void print_table(const json& results) {
     row("render", r["unchanged_render"]);
     row("render.multisampled", r["unchanged_render_multisampled"]);
     for (const char* kind : {"drill", "tear", "cut", "drill_rebuild", "tear_rebuild", "cut_rebuild"})
-      for (const char* step : {"apply", "undo", "redo"}) row(std::string(kind) + "." + step, r[kind][step]);
+      if (r.contains(kind))
+        for (const char* step : {"apply", "undo", "redo"}) row(std::string(kind) + "." + step, r[kind][step]);
     const json& m = r["memory"];
     std::printf("%-10s memory: %.1f MiB resident, %.1f MiB after %d small drills (%.1f KiB per operation)\n",
                 tri.c_str(), m["resident_before_mib"].get<double>(), m["resident_after_mib"].get<double>(),
@@ -256,17 +261,22 @@ void print_table(const json& results) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool as_json = false, quick = false;
+  bool as_json = false, quick = false, rebuilds = true;
   int ops = 100;
+  std::size_t size = 0;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--json") == 0) {
       as_json = true;
     } else if (std::strcmp(argv[i], "--quick") == 0) {
       quick = true;
+    } else if (std::strcmp(argv[i], "--no-rebuild") == 0) {
+      rebuilds = false;
+    } else if (std::strcmp(argv[i], "--size") == 0 && i + 1 < argc) {
+      size = static_cast<std::size_t>(std::max(1000L, std::atol(argv[++i])));
     } else if (std::strcmp(argv[i], "--ops") == 0 && i + 1 < argc) {
       ops = std::max(0, std::atoi(argv[++i]));
     } else {
-      std::cerr << "deepcut_studio_bench: unknown argument '" << argv[i] << "' (--json, --quick, --ops N)\n";
+      std::cerr << "deepcut_studio_bench: unknown argument '" << argv[i] << "' (--json, --quick, --size N, --no-rebuild, --ops N)\n";
       return 2;
     }
   }
@@ -274,8 +284,12 @@ int main(int argc, char** argv) {
   QTemporaryDir dir;
   try {
     json results = json::array();
-    results.push_back(run_size(25300, ops, dir.path()));
-    if (!quick) results.push_back(run_size(1000000, ops, dir.path()));
+    if (size > 0) {
+      results.push_back(run_size(size, ops, rebuilds, dir.path()));
+    } else {
+      results.push_back(run_size(25300, ops, rebuilds, dir.path()));
+      if (!quick) results.push_back(run_size(1000000, ops, rebuilds, dir.path()));
+    }
     if (as_json)
       std::cout << results.dump(2) << "\n";
     else

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,56 @@ void expect_change(const ModelChange& got, const ModelChange& want, const std::s
     EXPECT_TRUE(g.vertices == w.vertices) << when << ": " << g.vertices.size() << " vertices vs " << w.vertices.size();
     EXPECT_TRUE(g.faces == w.faces) << when << ": " << g.faces.size() << " faces vs " << w.faces.size();
   }
+}
+
+bool same_mesh(const SurfaceMesh& a, const SurfaceMesh& b) {
+  PrimitiveChange d;
+  return diff_meshes(a, b, d) && d.vertices.empty() && d.faces.empty() && d.vertices_before == b.vertex_count() &&
+         d.faces_before == b.face_slots();
+}
+
+const SurfaceMesh& mesh_at(const Model& model, int mesh, int primitive) {
+  return model.meshes.at(static_cast<std::size_t>(mesh)).primitives.at(static_cast<std::size_t>(primitive)).mesh;
+}
+
+/// A mapped structural change says truly what became of the primitives from `before` to `after`:
+/// every primitive after is kept (the same content as at its place before) or arrived, every one
+/// before is kept or left, and a content arriving with a tag seen leave earlier (`contents`) is
+/// that content, byte for byte.
+void expect_mapping(const ModelChange& got, const Model& before, const Model& after,
+                    std::map<std::uint64_t, SurfaceMesh>& contents, const std::string& when) {
+  if (!got.structure) return;
+  ASSERT_TRUE(got.mapped) << when;
+  std::map<std::pair<int, int>, int> now, then;  // places counted
+  for (const PrimitiveKept& k : got.kept) {
+    ++now[{k.mesh, k.primitive}];
+    ++then[{k.mesh_before, k.primitive_before}];
+    EXPECT_TRUE(same_mesh(mesh_at(before, k.mesh_before, k.primitive_before), mesh_at(after, k.mesh, k.primitive))) << when;
+  }
+  for (const PrimitiveContent& l : got.left) {
+    ++then[{l.mesh, l.primitive}];
+    contents[l.tag] = mesh_at(before, l.mesh, l.primitive);
+  }
+  for (const PrimitiveContent& a : got.arrived) {
+    ++now[{a.mesh, a.primitive}];
+    const auto it = contents.find(a.tag);
+    if (it != contents.end()) {
+      EXPECT_TRUE(same_mesh(it->second, mesh_at(after, a.mesh, a.primitive))) << when;
+    }
+    contents[a.tag] = mesh_at(after, a.mesh, a.primitive);
+  }
+  auto expect_each_once = [&](const Model& model, const std::map<std::pair<int, int>, int>& counted) {
+    std::size_t count = 0;
+    for (std::size_t mi = 0; mi < model.meshes.size(); ++mi)
+      for (std::size_t pi = 0; pi < model.meshes[mi].primitives.size(); ++pi) {
+        ++count;
+        const auto it = counted.find({static_cast<int>(mi), static_cast<int>(pi)});
+        EXPECT_TRUE(it != counted.end() && it->second == 1) << when << ": primitive " << mi << "/" << pi;
+      }
+    EXPECT_EQ(counted.size(), count) << when;
+  };
+  expect_each_once(before, then);
+  expect_each_once(after, now);
 }
 
 /// The posed model, when the session has one, equals a fresh build at its pose.
@@ -133,6 +184,8 @@ TEST(UndoRecordTest, every_step_reports_what_diff_models_finds_and_undo_redo_are
     ASSERT_TRUE(session.refresh_posed_model(-1, 0.0f));
     Operations ops(rest_bounds(*session.current()), seed);
     std::vector<Model> states = {*session.current()};  // copies, after each step
+    std::map<std::uint64_t, SurfaceMesh> contents;      // by tag, as they left or arrived
+    int mapped = 0;
     for (int i = 0; i < 12; ++i) {
       const std::string when = "seed " + std::to_string(seed) + " operation " + std::to_string(i);
       const Applied applied = session.apply(ops.any());
@@ -141,14 +194,18 @@ TEST(UndoRecordTest, every_step_reports_what_diff_models_finds_and_undo_redo_are
         continue;
       }
       expect_change(applied.change, diff_models(states.back(), *session.current()), when);
+      expect_mapping(applied.change, states.back(), *session.current(), contents, when);
+      mapped += applied.change.mapped;
       states.push_back(*session.current());
       expect_posed_fresh(session, when);
     }
+    EXPECT_GE(mapped, 1) << "seed " << seed << ": cuts are mapped structural steps";
     ASSERT_GE(states.size(), 6u);
     for (std::size_t i = states.size() - 1; i-- > 0;) {
       const std::string when = "seed " + std::to_string(seed) + " undo to " + std::to_string(i);
       const ModelChange change = session.undo();
       expect_change(change, diff_models(states[i + 1], states[i]), when);
+      expect_mapping(change, states[i + 1], states[i], contents, when);
       expect_same(*session.current(), states[i], when);
       expect_posed_fresh(session, when);
     }
@@ -156,6 +213,7 @@ TEST(UndoRecordTest, every_step_reports_what_diff_models_finds_and_undo_redo_are
       const std::string when = "seed " + std::to_string(seed) + " redo to " + std::to_string(i);
       const ModelChange change = session.redo();
       expect_change(change, diff_models(states[i - 1], states[i]), when);
+      expect_mapping(change, states[i - 1], states[i], contents, when);
       expect_same(*session.current(), states[i], when);
       expect_posed_fresh(session, when);
     }

@@ -8,6 +8,7 @@
 /// (when it shrank, as an undo does); everything not listed is unchanged, byte for byte.
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "deepcut/core/types.h"
@@ -31,6 +32,22 @@ struct PrimitiveChange {
   std::vector<FaceId> faces;
 };
 
+/// A primitive's content (its mesh: element data and attributes) in a structural step: its place
+/// and a tag naming that very content, byte for byte. Equal tags, equal content: a follower that
+/// kept what it drew of a content when it left the model (tag of the state before a step) draws
+/// it again when it comes back with the same tag (an undo or redo of that step restores it byte
+/// for byte).
+struct PrimitiveContent {
+  int mesh = -1, primitive = -1;
+  std::uint64_t tag = 0;
+};
+
+/// A primitive whose content a structural step left as it was, perhaps at another place.
+struct PrimitiveKept {
+  int mesh = -1, primitive = -1;                ///< its place after the step
+  int mesh_before = -1, primitive_before = -1;  ///< its place before
+};
+
 struct ModelChange {
   /// Anything beyond in-place primitive edits changed: nodes, meshes or primitives were added,
   /// removed or replaced (a cut makes piece nodes; a drill's wall adds a primitive), or the step
@@ -38,6 +55,14 @@ struct ModelChange {
   bool structure = false;
   /// The primitives edited in place (none when nothing changed), in (mesh, primitive) order.
   std::vector<PrimitiveChange> primitives;
+  /// A structural step that says what became of the primitives (`mapped`): every primitive after
+  /// the step is either `kept` (its content unchanged) or `arrived` (a content new to the model,
+  /// tagged); every primitive before it whose content is not kept `left` (tagged). The nodes and
+  /// the other small parts may have changed in any way (followers compare what they use of them).
+  /// Not mapped: followers rebuild everything.
+  bool mapped = false;
+  std::vector<PrimitiveKept> kept;
+  std::vector<PrimitiveContent> left, arrived;
   bool empty() const { return !structure && primitives.empty(); }
 };
 

@@ -16,7 +16,9 @@
 ///   before and after, when anything but the primitives' element data changed (`structure`);
 /// - the root extras (the history) as the text that differs.
 /// Undo and redo give back the model byte for byte. Images are never copied: operations leave
-/// them alone (a step that changes them is not exact).
+/// them alone (a step that changes them is not exact). A structural step says where each
+/// primitive's content went (ModelChange::mapped: kept, left or arrived, tagged), made, undone
+/// and redone, so followers keep what they drew of the contents it kept or brings back.
 ///
 /// Operations append vertices and faces and mark faces deleted; they never compact a primitive
 /// or rewrite an existing element behind the observer's back (writes go through MeshEditor, or

@@ -12,6 +12,7 @@
 /// the same faces).
 
 #include <cstddef>
+#include <cstdint>
 #include <map>
 #include <utility>
 #include <vector>
@@ -89,6 +90,10 @@ struct PosedMesh {
   /// faces leave, added faces join, faces around moved vertices are filed again). O(edits).
   void follow(const SurfaceMesh& surface, const EditLog& log);
 };
+
+/// Posed instances a follower keeps of contents that left the model in a structural step, by
+/// (content tag, node) (ModelChange::left): taken back when an undo or redo brings them back.
+using PoseStash = std::map<std::pair<std::uint64_t, int>, PosedMesh>;
 
 /// How much of each PosedMesh a build makes.
 enum class PoseDetail {
@@ -177,6 +182,14 @@ class PosedModel {
   /// (posed_model_change.cpp). O(change), plus O(vertices) for bounds when the mesh shrank.
   /// A structural change invalidates the index (the next `prepare` rebuilds it).
   void follow(const Model& model, const ModelChange& change);
+  /// The same, following a mapped structural step (ModelChange::mapped) too: the pose is taken
+  /// again for the model's nodes (O(nodes + skins)); an instance whose content the step kept (at
+  /// its new place) or that comes back from `stash` is kept when its node is posed as before
+  /// (world matrix, joint matrices, morph weights), every other is built with `detail`; the
+  /// instances of contents that left go into `stash` (what it held before is dropped; null: they
+  /// are dropped). A kept instance keeps its arrays (the same buffers). An unmapped structural
+  /// change invalidates the index.
+  void follow(const Model& model, const ModelChange& change, PoseDetail detail, PoseStash* stash);
   /// (Re)indexes instance (node, primitive) of `model` from scratch (a new primitive, such as a
   /// drill's wall). O(its vertices + faces).
   void add(const Model& model, int node, int primitive);

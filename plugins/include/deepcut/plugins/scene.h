@@ -36,6 +36,24 @@ struct SceneInstance {
   const TriangleGrid* grid = nullptr;
 };
 
+/// What a scene keeps of the instances whose content left the model in the last structural step
+/// (`follow_scene`), by (content tag, node), until the next structural step (local steps between
+/// leave it): taken back when an undo or redo brings the content back (ModelChange::arrived), so
+/// it is not posed again.
+struct SceneStash {
+  PoseStash posed;
+  std::map<std::pair<std::uint64_t, int>, std::vector<glm::vec3>> normals;  ///< SceneInstance::posed_normals
+};
+
+/// Where an instance's posed data came from in the last `follow_scene` of a structural step (the
+/// view takes its drawn data from the same place).
+struct InstanceOrigin {
+  enum class Kind { Built, Kept, Stashed };
+  Kind kind = Kind::Built;
+  std::size_t instance = 0;           ///< Kept: its index in the scene before the step
+  std::pair<std::uint64_t, int> key;  ///< Stashed: its key in the stash
+};
+
 struct Scene {
   std::shared_ptr<const Model> model;
   /// The model at the current pose (PoseDetail::Positions: no grids); shared by copies of the
@@ -49,6 +67,12 @@ struct Scene {
   /// nodes: the pose is PoseKey(animation, time, weights). Kept when the scene is posed again.
   std::map<int, std::vector<float>> weights;
   float size = 1.0f;             ///< diagonal of the rest-pose world bounds (1 when empty)
+  /// Kept of the instances the last structural step removed (see SceneStash); null: nothing.
+  std::shared_ptr<SceneStash> stash;
+  /// Set by `follow_scene` for a mapped structural step (else empty): where each instance's posed
+  /// data came from, and the instances before the step whose content left, with their stash keys.
+  std::vector<InstanceOrigin> origins;
+  std::vector<std::pair<std::size_t, std::pair<std::uint64_t, int>>> departed;
 };
 
 /// Builds the scene of `model` posed by `animation` at `time`: one instance per triangle primitive
@@ -69,8 +93,13 @@ void pose_scene(Scene& scene, int animation, float time, bool with_normals = tru
 /// follow it (PosedMesh::follow) and their corner normals are recomputed only where it touched
 /// them (PosedMesh::follow_corner_normals), so the scene equals `make_scene` of `model` at the
 /// same pose in O(change). `size` stays the scene's (the rest bounds are not measured again).
-/// @returns false, changing nothing, when the change is structural (or the scene has none of
-///          the instances it names as they were): the caller builds the scene again.
+/// A mapped structural step (ModelChange::mapped: a cut, its undo or redo) is followed too: the
+/// instances are listed again; those whose content the step kept, or that come back from the
+/// scene's stash, keep their posed mesh and corner normals when their node is posed as before;
+/// the others are posed afresh; those that left go into the stash (`origins` and `departed` say
+/// which went where). O(nodes + what the step made).
+/// @returns false, changing nothing, when the change is structural and not mapped (or the scene
+///          has none of the instances it names as they were): the caller builds the scene again.
 bool follow_scene(Scene& scene, std::shared_ptr<const Model> model, const ModelChange& change,
                   bool with_normals = true);
 
