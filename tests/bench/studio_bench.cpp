@@ -217,6 +217,15 @@ json run_size(std::size_t target, int ops, bool rebuilds, const QString& dir) {
   out["unchanged_render_multisampled"] = step_json(multisampled);
   window.set_anti_aliasing(deepcut::studio::AntiAliasing::Automatic, false);
   Placer place(window);
+  // Memory first, on the model as opened: the cut steps below set aside what an undo or redo
+  // brings back (the replaced primitive's scene data), and freeing that later would hide growth.
+  const double before = resident_mib();
+  for (int i = 0; i < ops; ++i) apply(window, place.drill());  // a miss changes nothing
+  const double after = resident_mib();
+  out["memory"] = {{"operations", ops},
+                   {"resident_before_mib", before},
+                   {"resident_after_mib", after},
+                   {"growth_per_operation_kib", ops > 0 ? (after - before) * 1024.0 / ops : 0.0}};
   for (const bool rebuild : {false, true}) {
     if (rebuild && !rebuilds) break;
     // The reference: the scene and its VTK data built again after every step.
@@ -227,13 +236,6 @@ json run_size(std::size_t target, int ops, bool rebuilds, const QString& dir) {
     out["cut" + suffix] = time_operation(window, timer, [&] { return place.cut(); });
   }
   setenv("DEEPCUT_VIEW_REBUILD", "0", 1);
-  const double before = resident_mib();
-  for (int i = 0; i < ops; ++i) apply(window, place.drill());  // a miss changes nothing
-  const double after = resident_mib();
-  out["memory"] = {{"operations", ops},
-                   {"resident_before_mib", before},
-                   {"resident_after_mib", after},
-                   {"growth_per_operation_kib", ops > 0 ? (after - before) * 1024.0 / ops : 0.0}};
   return out;
 }
 
