@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "deepcut/core/parallel.h"
+#include "byte_rows.h"
 #include "first_of_class.h"
 
 namespace deepcut {
@@ -27,56 +28,25 @@ class VertexBytes {
     if (va.size() == 0) return;
     for (const auto& name : va.names()) {
       if (name == attr::kPosition || (!with_attributes && name.rfind(kMorphPrefix, 0) != 0)) continue;
-      const AttributeArrayBase* a = va.base(name);
-      arrays_.push_back({static_cast<const unsigned char*>(a->element_data(0)), a->element_bytes()});
+      rows_.add(*va.base(name));
     }
   }
 
   // The full hash, continued from the position's.
-  std::uint64_t hash(std::uint32_t v, std::uint64_t seed) const {
-    std::uint64_t h = seed;
-    for (const auto& a : arrays_) {
-      const unsigned char* p = a.data + std::size_t(v) * a.bytes;
-      std::size_t i = 0;
-      for (; i + 4 <= a.bytes; i += 4) {
-        std::uint32_t word;
-        std::memcpy(&word, p + i, 4);
-        h = mix(h, word);
-      }
-      for (; i < a.bytes; ++i) h = mix(h, p[i]);
-    }
-    return finish(h);
-  }
+  std::uint64_t hash(std::uint32_t v, std::uint64_t seed) const { return detail::ByteRows::finish(rows_.hash(v, seed)); }
   std::uint64_t position_hash(std::uint32_t v) const {
     const glm::vec3 p = positions_[v] + glm::vec3(0.0f);  // -0 + 0 = +0
     std::uint32_t w[3];
     std::memcpy(w, &p, sizeof(w));
-    return mix(mix(mix(0x243f6a8885a308d3ull, w[0]), w[1]), w[2]);
+    using detail::ByteRows;
+    return ByteRows::mix(ByteRows::mix(ByteRows::mix(ByteRows::kSeed, w[0]), w[1]), w[2]);
   }
   bool same_position(std::uint32_t u, std::uint32_t v) const { return positions_[u] == positions_[v]; }
-  bool equal(std::uint32_t u, std::uint32_t v) const {
-    if (!same_position(u, v)) return false;
-    for (const auto& a : arrays_)
-      if (std::memcmp(a.data + std::size_t(u) * a.bytes, a.data + std::size_t(v) * a.bytes, a.bytes) != 0) return false;
-    return true;
-  }
+  bool equal(std::uint32_t u, std::uint32_t v) const { return same_position(u, v) && rows_.equal(u, v); }
 
  private:
-  static std::uint64_t mix(std::uint64_t h, std::uint32_t word) {
-    return (h ^ word) * 0x9e3779b97f4a7c15ull;
-  }
-  static std::uint64_t finish(std::uint64_t h) {
-    h ^= h >> 29;
-    h *= 0xbf58476d1ce4e5b9ull;
-    return h ^ (h >> 32);
-  }
-
-  struct Raw {
-    const unsigned char* data;
-    std::size_t bytes;
-  };
   const glm::vec3* positions_;
-  std::vector<Raw> arrays_;
+  detail::ByteRows rows_;
 };
 
 // The live faces, and the vertices in order of first use by them.

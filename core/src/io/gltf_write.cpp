@@ -10,6 +10,7 @@
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/mesh_editor.h"
 #include "deepcut/core/parallel.h"
+#include "byte_rows.h"
 #include "first_of_class.h"
 #include "io/gltf_common.h"
 #include "io/gltf_write_compress.h"
@@ -162,37 +163,15 @@ void Writer::add_min_max(int accessor, std::size_t at, std::size_t count, int co
 // of one vertex can share a glTF vertex, so each vertex's corners are compared among themselves
 // (in parallel over the vertices; the numbering does not depend on the thread count).
 GltfVertices unweld(const SurfaceMesh& mesh, const std::vector<const AttributeArrayBase*>& arrays) {
-  struct Raw {
-    const unsigned char* data;
-    std::size_t bytes;
-  };
-  std::vector<Raw> raw;
-  for (const auto* a : arrays)
-    if (a->size() > 0) raw.push_back({static_cast<const unsigned char*>(a->element_data(0)), a->element_bytes()});
+  detail::ByteRows rows;
+  for (const auto* a : arrays) rows.add(*a);
   const auto& tris = mesh.faces();
   const std::size_t corners = 3 * tris.size();
   auto vertex_of = [&](std::size_t c) { return tris[c / 3][static_cast<int>(c % 3)].index; };
-  auto hash = [&](std::uint32_t c) {
-    std::uint64_t h = 0x243f6a8885a308d3ull;
-    for (const Raw& a : raw) {
-      const unsigned char* p = a.data + std::size_t(c) * a.bytes;
-      std::size_t i = 0;
-      for (; i + 4 <= a.bytes; i += 4) {
-        std::uint32_t w;
-        std::memcpy(&w, p + i, 4);
-        h = (h ^ w) * 0x9e3779b97f4a7c15ull;
-      }
-      for (; i < a.bytes; ++i) h = (h ^ p[i]) * 0x9e3779b97f4a7c15ull;
-    }
-    return h ^ (h >> 29);
-  };
   const detail::Groups by_vertex = detail::group_by_key(corners, mesh.vertex_count(), vertex_of);
-  const auto first =
-      detail::first_of_class_in_groups(by_vertex, corners, hash, [&](std::uint32_t c0, std::uint32_t c1) {
-        for (const Raw& a : raw)
-          if (std::memcmp(a.data + c0 * a.bytes, a.data + c1 * a.bytes, a.bytes) != 0) return false;
-        return true;
-      });
+  const auto first = detail::first_of_class_in_groups(
+      by_vertex, corners, [&](std::uint32_t c) { return detail::ByteRows::finish(rows.hash(c)); },
+      [&](std::uint32_t c0, std::uint32_t c1) { return rows.equal(c0, c1); });
   GltfVertices out;
   out.corner = detail::ordered_indices(corners, [&](std::size_t c) { return first[c] == c; });
   const std::size_t n = out.corner.size();
