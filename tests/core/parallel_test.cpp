@@ -12,18 +12,12 @@
 
 #include <gtest/gtest.h>
 
+#include "thread_count.h"
+
 namespace deepcut {
 namespace {
 
-// Restores the pool size a test changed.
-class ThreadCountGuard {
- public:
-  explicit ThreadCountGuard(std::size_t n) : saved_(thread_count()) { set_thread_count(n); }
-  ~ThreadCountGuard() { set_thread_count(saved_); }
-
- private:
-  std::size_t saved_;
-};
+using ThreadCountGuard = test::ThreadCount;  // restores the pool size a test changed
 
 // A float sum whose value depends on the order of the additions.
 float chunked_sum(const std::vector<float>& v, std::size_t grain) {

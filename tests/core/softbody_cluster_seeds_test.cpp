@@ -4,6 +4,8 @@
 // exactly the seeds, in the same order, that scanning every point for every seed picks.
 #include <gtest/gtest.h>
 
+#include "thread_count.h"
+
 #include <cmath>
 #include <limits>
 #include <string>
@@ -16,14 +18,7 @@
 namespace deepcut {
 namespace {
 
-class ThreadCount {
- public:
-  explicit ThreadCount(std::size_t n) : saved_(thread_count()) { set_thread_count(n); }
-  ~ThreadCount() { set_thread_count(saved_); }
-
- private:
-  std::size_t saved_;
-};
+using test::ThreadCount;
 
 float dist2(const glm::vec3& a, const glm::vec3& b) {
   const glm::vec3 d = a - b;

@@ -4,6 +4,8 @@
 // threads on a cactus large enough to span many parallel chunks.
 #include <gtest/gtest.h>
 
+#include "thread_count.h"
+
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -21,14 +23,7 @@
 namespace deepcut {
 namespace {
 
-class ThreadCount {
- public:
-  explicit ThreadCount(std::size_t n) : saved_(thread_count()) { set_thread_count(n); }
-  ~ThreadCount() { set_thread_count(saved_); }
-
- private:
-  std::size_t saved_;
-};
+using test::ThreadCount;
 
 std::vector<unsigned char> file_bytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
