@@ -118,6 +118,14 @@ vtkNew<vtkPlane> vtk_plane(const Plane& p) {
   return plane;
 }
 
+vtkNew<vtkCylinder> vtk_cylinder(const Cylinder& cyl) {
+  vtkNew<vtkCylinder> cylinder;  // along y by default: rotate to the drill axis (z)
+  cylinder->SetCenter(cyl.a.x, cyl.a.y, 0.0);
+  cylinder->SetRadius(cyl.radius);
+  cylinder->SetAxis(0.0, 0.0, 1.0);
+  return cylinder;
+}
+
 namespace {
 
 void bm_cut_vtk(benchmark::State& state, std::size_t triangles) {
@@ -191,11 +199,7 @@ void bm_drill_ours(benchmark::State& state, std::size_t triangles, float radius 
 // blends the weights by the skin rule (it interpolates them linearly).
 void bm_drill_vtk(benchmark::State& state, std::size_t triangles) {
   const Input& in = input(triangles);
-  const Cylinder cyl = drill_cylinder(in);
-  vtkNew<vtkCylinder> cylinder;  // along y by default: rotate to the drill axis (z)
-  cylinder->SetCenter(cyl.a.x, cyl.a.y, 0.0);
-  cylinder->SetRadius(cyl.radius);
-  cylinder->SetAxis(0.0, 0.0, 1.0);
+  auto cylinder = vtk_cylinder(drill_cylinder(in));
   vtkNew<vtkClipPolyData> clip;
   clip->SetInputData(in.poly);
   clip->SetClipFunction(cylinder);

@@ -7,8 +7,10 @@
 #include <vector>
 
 #include <vtkNew.h>
+#include <vtkCylinder.h>
 #include <vtkPlane.h>
 
+#include "deepcut/core/ops/drill.h"
 #include "deepcut/core/types.h"
 
 namespace deepcut::bench {
@@ -28,6 +30,9 @@ void register_model_cases(std::size_t triangles, const std::string& size, int it
 
 /// The VTK plane of `p` (unit normal): the peers' clip function for the cut cases.
 vtkNew<vtkPlane> vtk_plane(const Plane& p);
+/// The infinite VTK cylinder around the drill axis of `cyl` (taken along z, as every drill case
+/// aims): the peers' clip function for the drill cases (no depth bound, no round rim).
+vtkNew<vtkCylinder> vtk_cylinder(const Cylinder& cyl);
 
 /// The paper's Table 1 / Table 2 figures the cases are compared with.
 std::vector<Quoted> quoted_figures();

@@ -151,11 +151,7 @@ void bm_cut_vtk(benchmark::State& state, std::size_t triangles) {
 // The peer clips with an infinite cylinder (no depth bound, no round rim, linear weights).
 void bm_drill_vtk(benchmark::State& state, std::size_t triangles, float radius) {
   const ModelInput& in = model_input(triangles);
-  const Cylinder cyl = drill_cylinder(in, radius);
-  vtkNew<vtkCylinder> cylinder;
-  cylinder->SetCenter(cyl.a.x, cyl.a.y, 0.0);
-  cylinder->SetRadius(cyl.radius);
-  cylinder->SetAxis(0.0, 0.0, 1.0);
+  auto cylinder = vtk_cylinder(drill_cylinder(in, radius));
   vtkNew<vtkClipPolyData> clip;
   clip->SetInputData(in.poly);
   clip->SetClipFunction(cylinder);
