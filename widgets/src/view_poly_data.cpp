@@ -163,7 +163,14 @@ ViewPolyData::ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>
   resize(mesh);
   const std::size_t slots = mesh.face_slots();
   if (corners_) {
-    link_all(mesh);
+    first_.assign(mesh.vertex_count(), kInvalidIndex);
+    next_.assign(3 * slots, kInvalidIndex);
+    prev_.assign(3 * slots, kInvalidIndex);
+    corner_vertex_.assign(3 * slots, kInvalidIndex);
+    // Linking is sequential (lists cross chunks); writing the points is parallel.
+    for (std::size_t c = 3 * slots; c-- > 0;)
+      if (!mesh.is_deleted(FaceId(static_cast<std::uint32_t>(c / 3))))
+        link(static_cast<std::uint32_t>(c), mesh.faces()[c / 3][static_cast<int>(c % 3)].index);
     const Writer w(poly_, mesh, positions, corner_normals);
     parallel_for(3 * slots, kGrain, [&](std::size_t b, std::size_t e) {
       for (std::size_t c = b; c < e; ++c) w.corner(c);
@@ -213,26 +220,6 @@ void ViewPolyData::link(std::uint32_t c, std::uint32_t v) {
   next_[c] = first_[v];
   if (first_[v] != kInvalidIndex) prev_[first_[v]] = c;
   first_[v] = c;
-}
-
-void ViewPolyData::link_all(const SurfaceMesh& mesh) {
-  const std::size_t corners = 3 * mesh.face_slots(), vertices = mesh.vertex_count();
-  first_.assign(vertices, kInvalidIndex);
-  next_.assign(corners, kInvalidIndex);
-  prev_.assign(corners, kInvalidIndex);
-  corner_vertex_.assign(corners, kInvalidIndex);
-  // Each task links the corners of one range of vertices, scanning every corner from the last
-  // (so each list runs in increasing corner order): the lists, and what each task writes, do
-  // not depend on the ranges, so the result is the same whatever the thread count.
-  const std::size_t tasks = std::min(thread_count(), corners / kGrain + 1);
-  parallel_for(tasks, 1, [&](std::size_t t, std::size_t) {
-    const std::size_t lo = vertices * t / tasks, hi = vertices * (t + 1) / tasks;
-    for (std::size_t c = corners; c-- > 0;) {
-      const std::uint32_t v = mesh.faces()[c / 3][static_cast<int>(c % 3)].index;
-      if (v >= lo && v < hi && !mesh.is_deleted(FaceId(static_cast<std::uint32_t>(c / 3))))
-        link(static_cast<std::uint32_t>(c), v);
-    }
-  });
 }
 
 void ViewPolyData::unlink(std::uint32_t c) {

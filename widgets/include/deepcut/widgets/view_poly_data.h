@@ -53,8 +53,6 @@ class ViewPolyData {
   struct Writer;
   void resize(const SurfaceMesh& mesh);
   void link(std::uint32_t c, std::uint32_t v);
-  /// Links every corner of a live face of `mesh` (the whole build), in parallel by vertex ranges.
-  void link_all(const SurfaceMesh& mesh);
   void unlink(std::uint32_t c);
   void modified();
 
