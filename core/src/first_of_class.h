@@ -29,12 +29,16 @@ namespace deepcut::detail {
 
 constexpr std::size_t kClassGrain = 16384;
 
+/// Index arrays written whole by a parallel loop right after they are sized: left uninitialised
+/// (UninitVector), since a std::vector would first be filled on one thread.
+using Indices = UninitVector<std::uint32_t>;
+
 /// `hash[i]` must be equal for equal items; `same(a, b)` says whether items a and b are equal.
 /// @returns first[i] = the smallest j with same(i, j) (first[i] == i for the first of a class).
-template <class Same>
-std::vector<std::uint32_t> first_of_class(const std::vector<std::uint64_t>& hash, Same&& same) {
+template <class Hashes, class Same>
+Indices first_of_class(const Hashes& hash, Same&& same) {
   const std::size_t n = hash.size();
-  std::vector<std::uint32_t> first(n);
+  Indices first(n);
   if (n == 0) return first;
   std::size_t size = 16;
   while (size < 2 * n) size *= 2;
@@ -46,7 +50,7 @@ std::vector<std::uint32_t> first_of_class(const std::vector<std::uint64_t>& hash
   });
   // Claims a slot for item i's class: the first slot of its probe sequence that is empty or
   // holds an equal item. Slots before it hold other classes for good (a slot never empties).
-  std::vector<std::uint32_t> where(n);
+  Indices where(n);
   parallel_for(n, kClassGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) {
       const auto item = static_cast<std::uint32_t>(i);
@@ -71,7 +75,7 @@ std::vector<std::uint32_t> first_of_class(const std::vector<std::uint64_t>& hash
 
 /// The indices i in [0, n) with pred(i), in increasing order.
 template <class Pred>
-std::vector<std::uint32_t> ordered_indices(std::size_t n, Pred&& pred) {
+Indices ordered_indices(std::size_t n, Pred&& pred) {
   const std::size_t chunks = (n + kClassGrain - 1) / kClassGrain;
   std::vector<std::size_t> start(chunks + 1, 0);
   parallel_for(n, kClassGrain, [&](std::size_t b, std::size_t e) {
@@ -80,7 +84,7 @@ std::vector<std::uint32_t> ordered_indices(std::size_t n, Pred&& pred) {
     start[b / kClassGrain + 1] = count;
   });
   for (std::size_t c = 0; c < chunks; ++c) start[c + 1] += start[c];
-  std::vector<std::uint32_t> out(start[chunks]);
+  Indices out(start[chunks]);
   parallel_for(n, kClassGrain, [&](std::size_t b, std::size_t e) {
     std::size_t at = start[b / kClassGrain];
     for (std::size_t i = b; i < e; ++i)

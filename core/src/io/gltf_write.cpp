@@ -45,13 +45,11 @@ json parse_or(const std::string& text, json fallback) {
 
 // The glTF vertices of a mesh: one per distinct (vertex, exported corner attributes), numbered
 // in order of first use by the corners.
-// Index arrays written whole by a parallel loop right after they are sized (UninitVector: no
-// serial fill first).
-using Indices = detail::UninitVector<std::uint32_t>;
+using detail::Indices;
 
 struct GltfVertices {
   Indices vertex;                      // glTF vertex -> mesh vertex
-  std::vector<std::uint32_t> corner;   // glTF vertex -> a corner it came from
+  Indices corner;                      // glTF vertex -> a corner it came from
   Indices indices;                     // corner -> glTF vertex
 };
 
@@ -85,7 +83,7 @@ class Writer {
                      const std::vector<std::string>& morph_corners);
   void write_influences(const SurfaceMesh& mesh, const Indices& out_vertex, json& attributes);
   void write_corner_attribute(const SurfaceMesh& mesh, const std::string& name, const AttributeArrayBase& corner_array,
-                              const std::vector<std::uint32_t>& out_corner, json& attributes);
+                              const Indices& out_corner, json& attributes);
   void write_skins();
   void write_animations();
   void write_nodes();
@@ -357,7 +355,7 @@ void Writer::write_influences(const SurfaceMesh& mesh, const Indices& out_vertex
 
 // One exported corner attribute, per glTF vertex (normals and tangents made unit, colours clamped).
 void Writer::write_corner_attribute(const SurfaceMesh& mesh, const std::string& name, const AttributeArrayBase& corner_array,
-                                    const std::vector<std::uint32_t>& out_corner, json& attributes) {
+                                    const Indices& out_corner, json& attributes) {
   const std::size_t n = out_corner.size();
   const auto* array = &corner_array;
   const std::string gname = gltf_name(name);
