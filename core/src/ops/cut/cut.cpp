@@ -561,6 +561,10 @@ bool Cutter::classify_vertices() {
   });
   auto used = [&](std::size_t v) { return used_flags[v].load(std::memory_order_relaxed) != 0; };
   const glm::vec3 point(point_), normal(normal_);
+  // Room for the vertices the cut adds (crossings, their copies: a few per crossed face, far
+  // fewer than the mesh's), so appending them in split_edge does not copy the arrays.
+  dist_.reserve(nv + nv / 16 + 256);
+  sign_.reserve(nv + nv / 16 + 256);
   dist_.resize(nv);
   sign_.resize(nv);
   side_bits_.resize(nv);
@@ -569,14 +573,20 @@ bool Cutter::classify_vertices() {
       nv, vgrain, BoundingBox(),
       [&](std::size_t b, std::size_t e) {
         BoundingBox part;
+        // Locals, not captures: the stores to `dist` could alias a capture, which would be read
+        // again at every vertex.
+        const std::atomic<std::uint8_t>* flags = used_flags.get();
+        const glm::vec3* pos = posed_.input().data();
+        float* dist = dist_.data();
+        const glm::vec3 o = point, n = normal;
         for (std::size_t v = b; v < e; ++v) {
-          if (!used(v)) {
-            dist_[v] = 0.0f;
+          if (flags[v].load(std::memory_order_relaxed) == 0) {
+            dist[v] = 0.0f;
             continue;
           }
-          const glm::vec3& p = posed_.input()[v];
+          const glm::vec3 p = pos[v];
           part.add(p);
-          dist_[v] = glm::dot(p - point, normal);
+          dist[v] = glm::dot(p - o, n);
         }
         return part;
       },
@@ -627,12 +637,14 @@ void Cutter::split_crossed_faces() {
   const bool any_deleted = mesh_.face_count() != mesh_.face_slots();
   parallel_for(first_new_face, fgrain, [&](std::size_t b, std::size_t e) {
     Found& out = found[b / fgrain];
-    out.clean[0].reserve(e - b);
-    out.clean[1].reserve(e - b);
+    // Sized for every face of the chunk and written through pointers (no capacity check per
+    // face), then cut to what was written.
+    out.clean[0].resize(e - b);
+    out.clean[1].resize(e - b);
     // Locals, not captures: the stores below could alias a capture, which would be read again
     // at every face.
-    std::vector<FaceId>& pos = out.clean[0];
-    std::vector<FaceId>& neg = out.clean[1];
+    FaceId* pos = out.clean[0].data();
+    FaceId* neg = out.clean[1].data();
     const Triangle* tri = faces;
     const std::uint8_t* vb = bits;
     const bool check_deleted = any_deleted;
@@ -645,8 +657,14 @@ void Cutter::split_crossed_faces() {
         if (!mesh_.is_deleted(f)) ((c & 3) == 3 ? out.crossed : out.touching).push_back(f);
         continue;
       }
-      (c == 1 ? pos : neg).push_back(f);  // sides come in runs: the branch is well predicted
+      // Sides come in runs: the branch is well predicted.
+      if (c == 1)
+        *pos++ = f;
+      else
+        *neg++ = f;
     }
+    out.clean[0].resize(static_cast<std::size_t>(pos - out.clean[0].data()));
+    out.clean[1].resize(static_cast<std::size_t>(neg - out.clean[1].data()));
   });
   // Room for the faces the cut makes and the caps (a few per crossed or touching face), which
   // join the pieces later: growing a list of most of the mesh would copy it.
