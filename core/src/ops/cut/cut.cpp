@@ -51,6 +51,25 @@ inline std::uint8_t side_code(const std::int8_t* sign, const Triangle& t) {
 }
 
 
+// A face's corners' side bits (Cutter::side_bits_) or'ed: 1 or 2, every corner on that side;
+// with bit 4, a corner on the plane; 3 (or 7), crossed.
+inline unsigned corner_bits(const Triangle& t, const std::uint8_t* bits) {
+  return bits[t[0].index] | bits[t[1].index] | bits[t[2].index];
+}
+
+// The first face from `i` on (below `end`) whose corner bits are not `c` (or, with
+// kCheckDeleted, that is deleted): the end of a run of faces on one side.
+template <bool kCheckDeleted>
+std::uint32_t run_end(const SurfaceMesh& mesh, const std::uint8_t* bits, std::uint32_t i, std::uint32_t end,
+                      unsigned c) {
+  const Triangle* faces = mesh.faces().data();
+  for (; i < end; ++i) {
+    if (corner_bits(faces[i], bits) != c) break;
+    if (kCheckDeleted && mesh.is_deleted(FaceId(i))) break;
+  }
+  return i;
+}
+
 void follow_moved_faces(const std::vector<std::pair<FaceId, FaceId>>& moved, FaceId first_new,
                         std::vector<FaceId>& piece);
 void merge_sorted(std::vector<FaceId>& list, const std::vector<FaceId>& more);
@@ -637,34 +656,32 @@ void Cutter::split_crossed_faces() {
   const bool any_deleted = mesh_.face_count() != mesh_.face_slots();
   parallel_for(first_new_face, fgrain, [&](std::size_t b, std::size_t e) {
     Found& out = found[b / fgrain];
-    // Sized for every face of the chunk and written through pointers (no capacity check per
-    // face), then cut to what was written.
-    out.clean[0].resize(e - b);
-    out.clean[1].resize(e - b);
-    // Locals, not captures: the stores below could alias a capture, which would be read again
-    // at every face.
-    FaceId* pos = out.clean[0].data();
-    FaceId* neg = out.clean[1].data();
-    const Triangle* tri = faces;
-    const std::uint8_t* vb = bits;
-    const bool check_deleted = any_deleted;
-    for (auto i = static_cast<std::uint32_t>(b); i < e; ++i) {
+    out.clean[0].reserve(e - b);
+    out.clean[1].reserve(e - b);
+    // Faces off the plane come in runs of one side (neighbours in id order are neighbours on the
+    // surface): each run is found by a tight scan and appended to its side's list whole.
+    for (auto i = static_cast<std::uint32_t>(b); i < e;) {
       const FaceId f(i);
-      const Triangle& t = tri[i];
-      // 1 or 2: every corner on that side; with bit 4, a corner on the plane; 3 (or 7): crossed.
-      const unsigned c = vb[t[0].index] | vb[t[1].index] | vb[t[2].index];
-      if (c > 2 || (check_deleted && mesh_.is_deleted(f))) {
-        if (!mesh_.is_deleted(f)) ((c & 3) == 3 ? out.crossed : out.touching).push_back(f);
+      const unsigned c = corner_bits(faces[i], bits);
+      if (any_deleted && mesh_.is_deleted(f)) {
+        ++i;
         continue;
       }
-      // Sides come in runs: the branch is well predicted.
-      if (c == 1)
-        *pos++ = f;
-      else
-        *neg++ = f;
+      if (c > 2) {
+        ((c & 3) == 3 ? out.crossed : out.touching).push_back(f);
+        ++i;
+        continue;
+      }
+      const auto stop = static_cast<std::uint32_t>(e);
+      const std::uint32_t end = any_deleted ? run_end<true>(mesh_, bits, i + 1, stop, c)
+                                            : run_end<false>(mesh_, bits, i + 1, stop, c);
+      std::vector<FaceId>& list = out.clean[c - 1];
+      const std::size_t at = list.size();
+      list.resize(at + (end - i));
+      FaceId* dst = list.data() + at;
+      for (std::uint32_t k = 0; k < end - i; ++k) dst[k] = FaceId(i + k);
+      i = end;
     }
-    out.clean[0].resize(static_cast<std::size_t>(pos - out.clean[0].data()));
-    out.clean[1].resize(static_cast<std::size_t>(neg - out.clean[1].data()));
   });
   // Room for the faces the cut makes and the caps (a few per crossed or touching face), which
   // join the pieces later: growing a list of most of the mesh would copy it.
