@@ -31,6 +31,7 @@
 #include "ops/common/placement.h"
 #include "ops/common/posed_overlay.h"
 #include "ops/cut/caps.h"
+#include "ops/cut/face_lists.h"
 
 namespace deepcut {
 namespace {
@@ -51,28 +52,10 @@ inline std::uint8_t side_code(const std::int8_t* sign, const Triangle& t) {
 }
 
 
-// A face's corners' side bits (Cutter::side_bits_) or'ed: 1 or 2, every corner on that side;
-// with bit 4, a corner on the plane; 3 (or 7), crossed.
-inline unsigned corner_bits(const Triangle& t, const std::uint8_t* bits) {
-  return bits[t[0].index] | bits[t[1].index] | bits[t[2].index];
-}
-
-// The first face from `i` on (below `end`) whose corner bits are not `c` (or, with
-// kCheckDeleted, that is deleted): the end of a run of faces on one side.
-template <bool kCheckDeleted>
-std::uint32_t run_end(const SurfaceMesh& mesh, const std::uint8_t* bits, std::uint32_t i, std::uint32_t end,
-                      unsigned c) {
-  const Triangle* faces = mesh.faces().data();
-  for (; i < end; ++i) {
-    if (corner_bits(faces[i], bits) != c) break;
-    if (kCheckDeleted && mesh.is_deleted(FaceId(i))) break;
-  }
-  return i;
-}
-
-void follow_moved_faces(const std::vector<std::pair<FaceId, FaceId>>& moved, FaceId first_new,
-                        std::vector<FaceId>& piece);
-void merge_sorted(std::vector<FaceId>& list, const std::vector<FaceId>& more);
+using detail::corner_bits;
+using detail::follow_moved_faces;
+using detail::merge_sorted;
+using detail::run_end;
 
 class Cutter {
  public:
@@ -449,34 +432,6 @@ Cutter::VertexFlags Cutter::capped_single_fans(std::uint32_t first_cap_face,
   return out;
 }
 
-// `piece` with each face moved (old, new: sorted by old) replaced by its new face, sorted. The new
-// faces are all at or above `first_new`; a piece sorted and below it keeps its order, so only the
-// new faces are sorted, after it.
-void follow_moved_faces(const std::vector<std::pair<FaceId, FaceId>>& moved, FaceId first_new,
-                        std::vector<FaceId>& piece) {
-  const bool below = std::is_sorted(piece.begin(), piece.end()) && (piece.empty() || piece.back() < first_new);
-  if (!below) {
-    for (FaceId& f : piece) {
-      const auto it = std::lower_bound(moved.begin(), moved.end(), std::make_pair(f, FaceId()),
-                                       [](const auto& x, const auto& y) { return x.first < y.first; });
-      if (it != moved.end() && it->first == f) f = it->second;
-    }
-    std::sort(piece.begin(), piece.end());
-    return;
-  }
-  std::vector<FaceId> added;
-  for (const auto& [f, g] : moved) {
-    const auto it = std::lower_bound(piece.begin(), piece.end(), f);
-    if (it == piece.end() || *it != f) continue;
-    added.push_back(g);
-    *it = FaceId();  // invalid: dropped below
-  }
-  if (added.empty()) return;
-  piece.erase(std::remove(piece.begin(), piece.end(), FaceId()), piece.end());
-  std::sort(added.begin(), added.end());
-  piece.insert(piece.end(), added.begin(), added.end());
-}
-
 // The rim faces of each piece (faces with two or more corners on the plane: the only ones that
 // can have rim edges), in face order, as the caps take them.
 std::vector<detail::CapInput> Cutter::rim_of_pieces(const CutResult& result) const {
@@ -740,14 +695,6 @@ void Cutter::live_rim_by_side(std::vector<FaceId> (&out)[2]) const {
   const std::int8_t* sign = sign_.data();
   for (FaceId f : rim_candidates_)
     if (!mesh_.is_deleted(f)) out[side_code(sign, mesh_.face(f)) - 1].push_back(f);
-}
-
-// `list` and `more` (both ascending) merged into `list`.
-void merge_sorted(std::vector<FaceId>& list, const std::vector<FaceId>& more) {
-  const auto mid = static_cast<std::ptrdiff_t>(list.size());
-  list.insert(list.end(), more.begin(), more.end());
-  if (mid > 0 && !more.empty() && more.front() < list[static_cast<std::size_t>(mid - 1)])
-    std::inplace_merge(list.begin(), list.begin() + mid, list.end());
 }
 
 // Rim vertices (on the plane, bounding a piece) into `rim`, sorted and unique; with caps, each
