@@ -546,22 +546,30 @@ bool Cutter::classify_vertices() {
   const BoundingBox box = parallel_reduce(
       nv, vgrain, BoundingBox(),
       [&](std::size_t b, std::size_t e) {
-        BoundingBox part;
         // Locals, not captures: the stores to `dist` could alias a capture, which would be read
-        // again at every vertex.
+        // again at every vertex. The box in six scalars, each kept as BoundingBox::add keeps it.
         const std::atomic<std::uint8_t>* flags = used_flags.get();
         const glm::vec3* pos = posed_.input().data();
         float* dist = dist_.data();
         const glm::vec3 o = point, n = normal;
+        BoundingBox part;
+        float lx = part.min.x, ly = part.min.y, lz = part.min.z, hx = part.max.x, hy = part.max.y, hz = part.max.z;
         for (std::size_t v = b; v < e; ++v) {
           if (flags[v].load(std::memory_order_relaxed) == 0) {
             dist[v] = 0.0f;
             continue;
           }
           const glm::vec3 p = pos[v];
-          part.add(p);
+          lx = p.x < lx ? p.x : lx;
+          ly = p.y < ly ? p.y : ly;
+          lz = p.z < lz ? p.z : lz;
+          hx = hx < p.x ? p.x : hx;
+          hy = hy < p.y ? p.y : hy;
+          hz = hz < p.z ? p.z : hz;
           dist[v] = glm::dot(p - o, n);
         }
+        part.min = glm::vec3(lx, ly, lz);
+        part.max = glm::vec3(hx, hy, hz);
         return part;
       },
       [](BoundingBox acc, const BoundingBox& part) {
