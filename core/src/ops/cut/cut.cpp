@@ -32,6 +32,7 @@
 #include "ops/common/posed_overlay.h"
 #include "ops/cut/caps.h"
 #include "ops/cut/face_lists.h"
+#include "uninit_vector.h"
 
 namespace deepcut {
 namespace {
@@ -113,12 +114,13 @@ class Cutter {
   CutOptions options_;
   glm::dvec3 normal_, point_;
   // Signed distance to the plane (computed in float from the posed positions, so stored as
-  // float) and its snapped sign, per vertex.
-  std::vector<float> dist_;
+  // float) and its snapped sign, per vertex. The distances (and the bits below) are left
+  // unfilled when sized: classify_vertices writes every element.
+  detail::UninitVector<float> dist_;
   std::vector<std::int8_t> sign_;
   // The same per input vertex as a bit (1 positive, 2 negative, 4 on the plane), so a face's
   // corners or together into its kind (split_crossed_faces).
-  std::vector<std::uint8_t> side_bits_;
+  detail::UninitVector<std::uint8_t> side_bits_;
   detail::CrossingTable<Split> splits_;
   detail::NeedleMerges merges_;
   // Faces that may touch the plane: untouched ones with a corner on it, and every new face.
