@@ -22,8 +22,7 @@ std::vector<VertexId> edited_vertices(const EditLog& log) {
       out.push_back(s->copy);
     }
   }
-  std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end()), out.end());
+  sort_unique_ids(out);
   return out;
 }
 
