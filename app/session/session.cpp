@@ -369,6 +369,16 @@ bool Session::refresh_posed_model(const PoseKey& key) {
   return false;
 }
 
+bool Session::adopt_posed_model(std::unique_ptr<PosedModel> posed, const Model* built_for) {
+  if (!posed || !posed->valid() || !live_ || built_for != live_.get() || current_ != live_ || !steps_.empty() ||
+      editing_.index >= 0 || posed_model())
+    return false;
+  if (before_change_) before_change_();
+  posed_ = std::move(posed);
+  posed_state_ = live_.get();
+  return true;
+}
+
 PosedModel* Session::posed_for(const Model* state) {
   if (before_change_) before_change_();
   if (!posed_) posed_ = std::make_unique<PosedModel>();

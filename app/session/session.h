@@ -175,6 +175,11 @@ class Session {
   /// The same at a pose with morph weights set by hand (the studio's morph weights panel); the
   /// operations then run at those weights when they carry them (Operation::weights).
   bool refresh_posed_model(const PoseKey& key);
+  /// Takes `posed`, built elsewhere for `built_for` at its pose (a front end builds it off its
+  /// UI thread once a model it opened is drawn), as the posed model when `built_for` is the
+  /// current state as opened (no step since, not editing) and the session has none describing
+  /// it. @returns whether it was taken (else `posed` is dropped).
+  bool adopt_posed_model(std::unique_ptr<PosedModel> posed, const Model* built_for);
   /// Called before the posed model changes or is replaced (pointers into it, such as grids lent
   /// to a drawn scene, must be dropped).
   void set_posed_model_listener(std::function<void()> before_change) { before_change_ = std::move(before_change); }

@@ -121,6 +121,7 @@ MainWindow::MainWindow(const MainWindowOptions& options, QWidget* parent)
   connect(task_, &BackgroundTask::busy_changed, this, [this](bool busy) { set_editing_enabled(!busy); });
   inspectors_->set_background_runner([this](const std::string& title, plugins::Inspector::Work work,
                                             std::function<void()> cancelled) {
+    finish_indexing();
     return task_->start(
         QString::fromStdString(title), 2,
         [work = std::move(work)](TaskProgress& progress) -> BackgroundTask::Deliver {
@@ -419,10 +420,12 @@ bool MainWindow::open_file(const QString& path) {
   if (!begin_open(path)) return false;
   task_->wait();
   draw_first_frame();
+  task_->wait();  // the operations' posed model, built after the first frame
   return open_done_;
 }
 
 bool MainWindow::begin_open(const QString& path) {
+  finish_indexing();
   if (task_->busy()) {
     report_error(QFileInfo(path).fileName() + ": not opened, " + task_->text() + " is still running");
     return false;
@@ -432,7 +435,7 @@ bool MainWindow::begin_open(const QString& path) {
   clock->start();
   const QString name = QFileInfo(path).fileName();
   return task_->start(
-      "Opening " + name, 6, open_job(path, clock),
+      "Opening " + name, 5, open_job(path, clock),
       [this, name](std::exception_ptr error) {
         view_->hold_renders(false);  // a swap-in that failed half-way still draws
         report_exception(error, name);
@@ -460,7 +463,8 @@ void MainWindow::load_file(const QString& path) {
   auto shared_clock = std::make_shared<QElapsedTimer>(clock);
   TaskProgress progress;  // on this thread: no Cancel
   open_job(path, shared_clock)(progress)();
-  draw_first_frame();
+  first_frame_pending_ = false;
+  draw_frame_and_index(false);
 }
 
 BackgroundTask::Job MainWindow::open_job(const QString& path, std::shared_ptr<QElapsedTimer> clock) {
@@ -476,10 +480,6 @@ BackgroundTask::Job MainWindow::open_job(const QString& path, std::shared_ptr<QE
     progress.stage("Posing");
     const int animation = opened->model->animations.empty() ? -1 : 0;
     opened->scene = plugins::make_scene(opened->model, animation, 0.0f);
-    progress.stage("Indexing");
-    const plugins::Scene& scene = opened->scene;
-    opened->posed = std::make_unique<PosedModel>(
-        PosedModel::build(*opened->model, PoseKey(scene.animation, scene.time, scene.weights)));
     progress.stage("Building the view");
     opened->drawn = SceneView::prepare(opened->scene);
     progress.stage("Drawing");
@@ -499,7 +499,7 @@ void MainWindow::show_opened(const QString& path, OpenedModel opened, const QEla
   view_->hold_renders(true);
   path_ = path;
   open_done_ = true;
-  operations_->open(opened.model, std::move(opened.posed));  // the scene draws the live model
+  operations_->open(opened.model, nullptr);  // the scene draws the live model; posed after the first frame
   timeline_->set_animations(clips);
   const std::vector<std::string> notes =
       scene_host_->show_opened(std::move(opened.scene), QFileInfo(path).fileName(), std::move(opened.drawn));
@@ -525,6 +525,10 @@ void MainWindow::show_opened(const QString& path, OpenedModel opened, const QEla
 void MainWindow::draw_first_frame() {
   if (!first_frame_pending_) return;
   first_frame_pending_ = false;
+  draw_frame_and_index(true);
+}
+
+void MainWindow::draw_frame_and_index(bool in_background) {
   open_timing_.frame_begin = std::chrono::steady_clock::now();
   view_->hold_renders(false);
   open_timing_.frame_end = std::chrono::steady_clock::now();
@@ -532,6 +536,40 @@ void MainWindow::draw_first_frame() {
       std::chrono::duration<double, std::milli>(open_timing_.frame_end - open_timing_.frame_begin).count();
   open_timing_.total_ms = ms_since(open_clock_);
   note_operation("Open " + QFileInfo(path_).fileName(), open_timing_.total_ms);
+  // Then the operations' posed model (positions again, with the grids the tools search), off
+  // the UI thread while edits wait for it: an operation never finds a half-built one.
+  const std::shared_ptr<const Model> model = session().current();
+  if (!model || !scene()) return;
+  BackgroundTask::Job job = index_job(model, scene_host_->pose_key());
+  if (!in_background) {
+    TaskProgress progress;
+    job(progress)();
+    return;
+  }
+  const QString name = QFileInfo(path_).fileName();
+  indexing_ = task_->start(
+      "Indexing " + name, 1, std::move(job),
+      [this, name](std::exception_ptr error) {
+        indexing_ = false;
+        report_exception(error, name);
+      },
+      [this] { indexing_ = false; });  // the first operation builds it
+}
+
+void MainWindow::finish_indexing() {
+  if (indexing_) task_->wait();
+}
+
+BackgroundTask::Job MainWindow::index_job(std::shared_ptr<const Model> model, const PoseKey& key) {
+  return [this, model, key](TaskProgress& progress) -> BackgroundTask::Deliver {
+    progress.stage("Indexing");
+    auto posed = std::make_shared<std::unique_ptr<PosedModel>>(
+        std::make_unique<PosedModel>(PosedModel::build(*model, key, PoseDetail::Full)));
+    return [this, model, posed] {
+      indexing_ = false;
+      scene_host_->adopt_posed_model(std::move(*posed), model.get());
+    };
+  };
 }
 
 void MainWindow::show_current() {
@@ -553,6 +591,7 @@ bool MainWindow::export_file(const QString& path, Compression compression) {
 }
 
 bool MainWindow::begin_export(const QString& path, Compression compression) {
+  finish_indexing();
   export_done_ = false;
   if (!session().current()) {
     report_error("export: no model is open");
@@ -616,6 +655,7 @@ plugins::Tool* MainWindow::tool() const { return tools_->tool(); }
 std::string MainWindow::tool_id() const { return tools_->tool_id(); }
 
 bool MainWindow::apply_tool() {
+  finish_indexing();
   if (task_->busy()) {
     report_error("apply: " + task_->text() + " is still running");
     return false;
@@ -631,6 +671,7 @@ bool MainWindow::apply_tool() {
 }
 
 void MainWindow::apply_history(const History& history, const std::string& source) {
+  finish_indexing();
   if (task_->busy())
     throw Error(ErrorCode::InvalidArgument, source + ": not applied, " + task_->text().toStdString() + " is still running");
   operations_->apply_history(history, source);
@@ -641,6 +682,7 @@ void MainWindow::apply_operation(const QString& label, std::shared_ptr<const Mod
 }
 
 bool MainWindow::edit_operation(int index) {
+  finish_indexing();
   if (task_->busy()) {
     report_error("edit: " + task_->text() + " is still running");
     return false;

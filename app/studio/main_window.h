@@ -64,8 +64,10 @@ class MainWindow : public QMainWindow {
   /// Reads `path` and shows it (the history starts anew). On failure the current model stays,
   /// the one-line message is shown (dialog) and kept in `last_error()`.
   /// @returns true when the model was opened.
-  /// Reading, welding, posing and indexing run off the UI thread (background_task.h) while
-  /// this waits, processing events; Cancel leaves everything as it was (returns false).
+  /// Reading, welding, posing and the view's data are made off the UI thread (background_task.h)
+  /// while this waits, processing events; Cancel leaves everything as it was (returns false).
+  /// After the first frame the operations' posed model (grids included) is built off the UI
+  /// thread too ("Indexing"); this returns once it is.
   bool open_file(const QString& path);
   /// Starts opening `path` off the UI thread and returns at once (what File > Open, a drop and
   /// a recent file do); the model is shown when it is ready, errors are reported like
@@ -222,7 +224,6 @@ class MainWindow : public QMainWindow {
   struct OpenedModel {
     std::shared_ptr<const Model> model;  // the session takes it over: the scene draws the live model
     plugins::Scene scene;
-    std::unique_ptr<PosedModel> posed;  // the operations' posed model at the scene's pose
     std::shared_ptr<const SceneView::Prepared> drawn;  // the scene's VTK data
   };
   BackgroundTask::Job open_job(const QString& path, std::shared_ptr<QElapsedTimer> clock);
@@ -230,6 +231,16 @@ class MainWindow : public QMainWindow {
   void show_opened(const QString& path, OpenedModel opened, const QElapsedTimer& clock);
   /// Draws the opened model's first frame (held during the swap-in) unless it was drawn.
   void draw_first_frame();
+  /// Draws the first frame, then builds the operations' posed model (index_job) on the worker
+  /// (`in_background`) or here.
+  void draw_frame_and_index(bool in_background);
+  /// Builds the posed model of `model` (the state just opened) at `key` with its grids, for the
+  /// session to adopt (SceneHost::adopt_posed_model).
+  BackgroundTask::Job index_job(std::shared_ptr<const Model> model, const PoseKey& key);
+  /// Waits for index_job when it runs: what is asked right after an open (opening another file,
+  /// applying an operation or a history, editing a past one, exporting, a background inspector
+  /// job) waits for the posed model, a moment, instead of being refused as while other tasks run.
+  void finish_indexing();
   void finish_export(const QString& path, const QString& temp, const QElapsedTimer& clock);
   /// Reports what a job threw, as open_file does (`file` names the file when the error does not).
   void report_exception(std::exception_ptr error, const QString& file);
@@ -266,6 +277,7 @@ class MainWindow : public QMainWindow {
   OpenTiming open_timing_;
   QElapsedTimer open_clock_;  // since the last open started
   bool first_frame_pending_ = false;
+  bool indexing_ = false;  // index_job runs
 };
 
 }  // namespace deepcut::studio

@@ -53,8 +53,8 @@ std::vector<std::string> SceneHost::show_opened(plugins::Scene scene, const QStr
     morph_->set_scene(nullptr);
     morph_->set_scene(scene_.get());
   }
-  // The operations' posed model, once per model (and pose): every drill and tear updates it.
-  session_.refresh_posed_model(PoseKey(scene_->animation, scene_->time, scene_->weights));
+  // The operations' posed model comes after the first frame (adopt_posed_model); an operation
+  // made before builds it.
   posed_timer_->stop();
   std::vector<std::string> notes = present(std::move(prepared));
   refresh_inspector();
@@ -63,6 +63,15 @@ std::vector<std::string> SceneHost::show_opened(plugins::Scene scene, const QStr
   tools_->place_on_new_scene();
   view_->render();
   return notes;
+}
+
+PoseKey SceneHost::pose_key() const { return PoseKey(scene_->animation, scene_->time, scene_->weights); }
+
+void SceneHost::adopt_posed_model(std::unique_ptr<PosedModel> posed, const Model* built_for) {
+  if (!scene_ || !posed || !posed->matches(pose_key())) return;  // posed again meanwhile: the timer rebuilds
+  if (!session_.adopt_posed_model(std::move(posed), built_for)) return;
+  lend_grids();
+  tools_->refresh_preview();
 }
 
 std::vector<std::string> SceneHost::present(std::shared_ptr<const SceneView::Prepared> prepared) {

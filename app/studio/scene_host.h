@@ -43,6 +43,13 @@ class SceneHost : public QObject {
   /// the view's notes on what it cannot draw.
   std::vector<std::string> show_opened(plugins::Scene scene, const QString& title,
                                        std::shared_ptr<const SceneView::Prepared> prepared = nullptr);
+  /// The pose the scene is drawn at (animation, time, morph weights set by hand). @pre scene().
+  PoseKey pose_key() const;
+  /// The operations' posed model of the state just opened, built off the UI thread after its
+  /// first frame (show_opened leaves the session without one: building it, grids included,
+  /// would delay that frame): the session takes it when it describes the current state
+  /// (`built_for`, no step since) at the scene's pose, and the tools get its grids.
+  void adopt_posed_model(std::unique_ptr<PosedModel> posed, const Model* built_for);
   /// Shows the session's current state at the time line's pose (after an undo step or an edit).
   void show_current();
   /// Shows the session's current state after one step from the shown state (an operation, its

@@ -2,6 +2,7 @@
 #include "deepcut/plugins/scene.h"
 
 #include <algorithm>
+#include <future>
 #include <set>
 #include <unordered_set>
 
@@ -63,10 +64,13 @@ Scene make_scene(std::shared_ptr<const Model> model, const PoseKey& key, bool wi
   scene.model = std::move(model);
   const Model& m = *scene.model;
   scene.instances = list_instances(m);
-  const BoundingBox rest = world_bounds(m, rest_pose(m));
-  scene.size = rest.empty() || rest.diagonal() <= 0.0f ? 1.0f : rest.diagonal();
+  // The rest bounds (one serial pass over the mesh) beside the pose (parallel): both only read
+  // the model. The future is waited for on every path, a throwing pose included.
+  std::future<BoundingBox> rest = std::async(std::launch::async, [&m] { return world_bounds(m, rest_pose(m)); });
   scene.weights = key.weights;
   pose_scene(scene, key.animation, key.time, with_normals);
+  const BoundingBox box = rest.get();
+  scene.size = box.empty() || box.diagonal() <= 0.0f ? 1.0f : box.diagonal();
   return scene;
 }
 

@@ -2,7 +2,8 @@
 // deepcut_studio_bench: what a studio user waits for, on the generated cactus (about 25K and 1M
 // triangles), measured through the main window as the user drives it (needs a display: run it
 // under xvfb-run, or through `deepcut bench --studio`):
-// - open: the glTF file opened to the first render call, and to the first frame drawn;
+// - open: the glTF file opened to the first render call, and to the first frame drawn (then
+//   the operations' posed model is built off the UI thread: "operations ready");
 // - a small drill, a tear and a cut applied (operation, undo record, scene, VTK data and
 //   inspector update): from Apply to the render call, and to the frame drawn;
 // - the undo and the redo of each, likewise;
@@ -11,9 +12,10 @@
 // - the same steps with the scene built again after each (DEEPCUT_VIEW_REBUILD=1, rows
 //   "..._rebuild"): the reference the incremental view is measured against, in the same run;
 // - resident memory after N small drills (growth per operation).
-//   deepcut_studio_bench [--json] [--quick] [--size N] [--no-rebuild] [--ops N]
+//   deepcut_studio_bench [--json] [--quick] [--size N] [--no-rebuild] [--ops N] [--open-only]
 // --quick: the 25K cactus only; --size N: only the cactus of about N triangles (a profile of one
-// size); --no-rebuild: without the "..._rebuild" rows. Medians of three repetitions for each
+// size); --no-rebuild: without the "..._rebuild" rows; --open-only: the open and the unchanged
+// re-renders only (a profile of the open). Medians of three repetitions for each
 // timed step.
 #include <QAction>
 #include <QApplication>
@@ -69,6 +71,7 @@ double resident_mib() {
 /// frame drawn).
 struct Timed {
   double to_render = 0.0, to_frame = 0.0;
+  Clock::time_point start;
 };
 
 class Timer {
@@ -86,7 +89,7 @@ class Timer {
     const auto t0 = Clock::now();
     action();
     const auto t1 = Clock::now();
-    return {ms_since(t0, rendered_ ? first_render_ : t1), ms_since(t0, t1)};
+    return {ms_since(t0, rendered_ ? first_render_ : t1), ms_since(t0, t1), t0};
   }
 
  private:
@@ -184,7 +187,7 @@ json time_operation(MainWindow& window, Timer& timer, const std::function<deepcu
   return {{"apply", step_json(applied)}, {"undo", step_json(undone)}, {"redo", step_json(redone)}};
 }
 
-json run_size(std::size_t target, int ops, bool rebuilds, const QString& dir) {
+json run_size(std::size_t target, int ops, bool rebuilds, bool open_only, const QString& dir) {
   deepcut::CactusOptions options;
   options.target_triangles = target;
   const QString path = dir + QString("/cactus_%1.glb").arg(target);
@@ -202,9 +205,20 @@ json run_size(std::size_t target, int ops, bool rebuilds, const QString& dir) {
   window.show();
   if (!QTest::qWaitForWindowExposed(&window)) throw std::runtime_error("the window is never exposed");
   Timer timer(window);
-  const Timed open = timer.time([&] { window.open_file(path); });
+  Timed open = timer.time([&] { window.open_file(path); });
   if (!window.scene()) throw std::runtime_error("could not open " + path.toStdString());
+  // open_file returns once the operations' posed model is built too, after the first frame:
+  // the frame is when the first frame ended.
+  const MainWindow::OpenTiming parts = window.last_open_timing();
+  const double ready = open.to_frame;
+  open.to_frame = ms_since(open.start, parts.frame_end);
   json out = {{"triangles", triangles}, {"open", step_json({open})}};
+  out["open"]["operations_ready_ms"] = ready;
+  // Where the open's time went: the worker's result delivered, the swap-in on the UI thread,
+  // the first frame.
+  out["open"]["delivered_ms"] = parts.delivered_ms;
+  out["open"]["swap_in_ms"] = parts.swap_ms;
+  out["open"]["first_frame_ms"] = parts.first_frame_ms;
   std::vector<Timed> unchanged;
   for (int i = 0; i < 3; ++i) unchanged.push_back(timer.time([&] { window.view()->render(); }));
   out["unchanged_render"] = step_json(unchanged);
@@ -216,6 +230,7 @@ json run_size(std::size_t target, int ops, bool rebuilds, const QString& dir) {
   for (int i = 0; i < 3; ++i) multisampled.push_back(timer.time([&] { window.view()->render(); }));
   out["unchanged_render_multisampled"] = step_json(multisampled);
   window.set_anti_aliasing(deepcut::studio::AntiAliasing::Automatic, false);
+  if (open_only) return out;
   Placer place(window);
   // Memory first, on the model as opened: the cut steps below set aside what an undo or redo
   // brings back (the replaced primitive's scene data), and freeing that later would hide growth.
@@ -248,11 +263,16 @@ void print_table(const json& results) {
                   s["to_frame_ms"].get<double>());
     };
     row("open", r["open"]);
+    std::printf("%-10s open: result delivered %.1f ms, swap-in %.1f ms, first frame %.1f ms; operations ready "
+                "(posed model and grids) %.1f ms\n",
+                tri.c_str(), r["open"]["delivered_ms"].get<double>(), r["open"]["swap_in_ms"].get<double>(),
+                r["open"]["first_frame_ms"].get<double>(), r["open"]["operations_ready_ms"].get<double>());
     row("render", r["unchanged_render"]);
     row("render.multisampled", r["unchanged_render_multisampled"]);
     for (const char* kind : {"drill", "tear", "cut", "drill_rebuild", "tear_rebuild", "cut_rebuild"})
       if (r.contains(kind))
         for (const char* step : {"apply", "undo", "redo"}) row(std::string(kind) + "." + step, r[kind][step]);
+    if (!r.contains("memory")) continue;
     const json& m = r["memory"];
     std::printf("%-10s memory: %.1f MiB resident, %.1f MiB after %d small drills (%.1f KiB per operation)\n",
                 tri.c_str(), m["resident_before_mib"].get<double>(), m["resident_after_mib"].get<double>(),
@@ -263,7 +283,7 @@ void print_table(const json& results) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool as_json = false, quick = false, rebuilds = true;
+  bool as_json = false, quick = false, rebuilds = true, open_only = false;
   int ops = 100;
   std::size_t size = 0;
   for (int i = 1; i < argc; ++i) {
@@ -273,12 +293,14 @@ int main(int argc, char** argv) {
       quick = true;
     } else if (std::strcmp(argv[i], "--no-rebuild") == 0) {
       rebuilds = false;
+    } else if (std::strcmp(argv[i], "--open-only") == 0) {
+      open_only = true;
     } else if (std::strcmp(argv[i], "--size") == 0 && i + 1 < argc) {
       size = static_cast<std::size_t>(std::max(1000L, std::atol(argv[++i])));
     } else if (std::strcmp(argv[i], "--ops") == 0 && i + 1 < argc) {
       ops = std::max(0, std::atoi(argv[++i]));
     } else {
-      std::cerr << "deepcut_studio_bench: unknown argument '" << argv[i] << "' (--json, --quick, --size N, --no-rebuild, --ops N)\n";
+      std::cerr << "deepcut_studio_bench: unknown argument '" << argv[i] << "' (--json, --quick, --size N, --no-rebuild, --ops N, --open-only)\n";
       return 2;
     }
   }
@@ -287,10 +309,10 @@ int main(int argc, char** argv) {
   try {
     json results = json::array();
     if (size > 0) {
-      results.push_back(run_size(size, ops, rebuilds, dir.path()));
+      results.push_back(run_size(size, ops, rebuilds, open_only, dir.path()));
     } else {
-      results.push_back(run_size(25300, ops, rebuilds, dir.path()));
-      if (!quick) results.push_back(run_size(1000000, ops, rebuilds, dir.path()));
+      results.push_back(run_size(25300, ops, rebuilds, open_only, dir.path()));
+      if (!quick) results.push_back(run_size(1000000, ops, rebuilds, open_only, dir.path()));
     }
     if (as_json)
       std::cout << results.dump(2) << "\n";

@@ -139,6 +139,7 @@ class StudioAsyncTest : public QObject {
       QVERIFY2(window->begin_open(path), qPrintable(window->last_error()));
       window->task()->wait();
       settle(300);  // the first frame is shown
+      window->task()->wait();  // the operations' posed model, built after the first frame
       t = window->last_open_timing();
       longest = pinger.longest_ms();
       longest_besides_frame = pinger.longest_busy_ms(t.frame_begin, t.frame_end);
@@ -165,6 +166,31 @@ class StudioAsyncTest : public QObject {
     QVERIFY(Pinger::measures());
     QVERIFY2(longest_besides_frame < 100.0,
              qPrintable(QString("the event loop stalled %1 ms while opening").arg(longest_besides_frame)));
+  }
+
+  void an_operation_right_after_the_first_frame_waits_for_the_posed_model() {
+    // The posed model (grids included) is built off the UI thread after the first frame: a drill
+    // asked for at once waits for it, and makes what it makes once the open has fully finished.
+    const QString path = million_cactus();
+    auto reference = deepcut::test::studio::shown_window();
+    QVERIFY(reference);
+    QVERIFY(reference->open_file(path));
+    QVERIFY(reference->posed_model());
+    reference->set_tool("drill");
+    QVERIFY2(reference->apply_tool(), qPrintable(reference->last_error()));
+    const std::string expected = model_bytes(*reference, "right-after-open-reference");
+    reference.reset();
+
+    auto window = deepcut::test::studio::shown_window();
+    QVERIFY(window);
+    QVERIFY2(window->begin_open(path), qPrintable(window->last_error()));
+    window->task()->wait();                                      // delivered; the frame is queued
+    QTRY_VERIFY(window->last_open_timing().total_ms > 0.0);      // drawn: the indexing starts
+    window->set_tool("drill");
+    QVERIFY2(window->apply_tool(), qPrintable(window->last_error()));
+    QCOMPARE(window->history()->count(), 1);
+    QVERIFY(window->posed_model());
+    QVERIFY(model_bytes(*window, "right-after-open") == expected);
   }
 
   void cancelling_an_open_leaves_the_studio_as_it_was() {
