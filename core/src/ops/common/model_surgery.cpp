@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "deepcut/core/parallel.h"
+#include "uninit_vector.h"
 
 namespace deepcut::detail {
 
@@ -72,20 +73,30 @@ std::vector<std::uint32_t> live_increasing(const SurfaceMesh& mesh, const std::v
 
 using Marks = std::unique_ptr<std::atomic<std::uint32_t>[]>;
 
-// The list using each vertex (kNoList: none), marked by its faces (plain stores, any order): a
-// vertex two lists use keeps one of them, which the other's check in number_faces then finds.
-Marks mark_vertices(const SurfaceMesh& mesh, const std::vector<std::vector<std::uint32_t>>& faces) {
+// The list using each vertex (kNoList: none), marked by its faces, list after list (plain
+// stores, any order within a list). A vertex marked for an earlier list when a later one reaches
+// it is used by both: `shared` is set then (exactly when the lists share a vertex).
+Marks mark_vertices(const SurfaceMesh& mesh, const std::vector<std::vector<std::uint32_t>>& faces, bool& shared) {
   const std::size_t nv = mesh.vertex_count();
   Marks marks(new std::atomic<std::uint32_t>[nv]);
   parallel_for(nv, kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t v = b; v < e; ++v) marks[v].store(kNoList, std::memory_order_relaxed);
   });
-  for (std::size_t s = 0; s < faces.size(); ++s)
+  std::atomic<bool> clash{false};
+  for (std::size_t s = 0; s < faces.size(); ++s) {
+    const auto list = static_cast<std::uint32_t>(s);
     parallel_for(faces[s].size(), kGrain, [&](std::size_t b, std::size_t e) {
+      bool seen = false;
       for (std::size_t i = b; i < e; ++i)
-        for (VertexId v : mesh.face(FaceId(faces[s][i])))
-          marks[v.index].store(static_cast<std::uint32_t>(s), std::memory_order_relaxed);
+        for (VertexId v : mesh.face(FaceId(faces[s][i]))) {
+          const std::uint32_t was = marks[v.index].load(std::memory_order_relaxed);
+          seen |= was != kNoList && was != list;
+          marks[v.index].store(list, std::memory_order_relaxed);
+        }
+      if (seen) clash.store(true, std::memory_order_relaxed);
     });
+  }
+  shared = clash.load();
   return marks;
 }
 
@@ -131,26 +142,16 @@ struct Numbering {
   std::vector<std::vector<Triangle>> tris;
 };
 
-// The triangles of list `s` renumbered. False when one of its vertices is marked for another
-// list (the lists share vertices).
-bool number_faces(const SurfaceMesh& mesh, std::uint32_t s, const Marks& owner, const std::vector<std::uint32_t>& rank,
-                  Numbering& out) {
+// The triangles of list `s` renumbered (the lists use disjoint vertices), into out.tris[s] (sized).
+void number_faces(const SurfaceMesh& mesh, std::size_t s, const std::vector<std::uint32_t>& rank, Numbering& out) {
   const std::vector<std::uint32_t>& fs = out.faces[s];
   std::vector<Triangle>& tris = out.tris[s];
-  tris.resize(fs.size());
-  std::atomic<bool> shared{false};
   parallel_for(fs.size(), kGrain, [&](std::size_t b, std::size_t e) {
-    bool mine = true;
     for (std::size_t i = b; i < e; ++i) {
       const Triangle& t = mesh.face(FaceId(fs[i]));
-      for (int k = 0; k < 3; ++k) {
-        mine &= owner[t[k].index].load(std::memory_order_relaxed) == s;
-        tris[i][k] = VertexId(rank[t[k].index]);
-      }
+      for (int k = 0; k < 3; ++k) tris[i][k] = VertexId(rank[t[k].index]);
     }
-    if (!mine) shared.store(true, std::memory_order_relaxed);
   });
-  return !shared.load();
 }
 
 // False when the lists share vertices.
@@ -162,12 +163,16 @@ bool number_pieces(const SurfaceMesh& mesh, const std::vector<std::vector<FaceId
   std::vector<std::function<void()>> tasks;
   for (std::size_t s = 0; s < n; ++s) tasks.emplace_back([&, s] { out.faces[s] = live_increasing(mesh, lists[s]); });
   parallel_invoke(tasks);
-  const Marks owner = mark_vertices(mesh, out.faces);
+  bool shared = false;
+  const Marks owner = mark_vertices(mesh, out.faces, shared);
+  if (shared) return false;
   std::vector<std::uint32_t> rank;
   number_vertices(owner, mesh.vertex_count(), n, out.vertices, rank);
-  bool disjoint = true;
-  for (std::size_t s = 0; s < n; ++s) disjoint &= number_faces(mesh, static_cast<std::uint32_t>(s), owner, rank, out);
-  return disjoint;
+  tasks.clear();  // the lists' triangles sized at once (new memory, each list's on its own thread)
+  for (std::size_t s = 0; s < n; ++s) tasks.emplace_back([&, s] { resize_huge(out.tris[s], out.faces[s].size()); });
+  parallel_invoke(tasks);
+  for (std::size_t s = 0; s < n; ++s) number_faces(mesh, s, rank, out);
+  return true;
 }
 
 // --- the pieces' arrays ------------------------------------------------------------------------
@@ -335,35 +340,78 @@ std::size_t in_place_piece(const SurfaceMesh& mesh, const Numbering& num) {
   return best;
 }
 
+// The empty `array` sized to `n` elements, in memory asked to come as huge pages.
+void resize_huge(AttributeArrayBase& array, std::size_t n) {
+  if (n == 0) return;
+  array.reserve(n);
+  array.resize(1);
+  advise_huge_pages(bytes_of(array), n * array.element_bytes());
+  array.resize(n);
+}
+
+// The empty `to` (of `from`'s type T) given the groups of G elements of `from` that `keep`
+// lists, in one pass over new memory: reserved (huge pages asked for), then appended to, so no
+// element is value-initialised first (a second pass over the memory). False when `from` is not
+// of type T.
+template <class T, std::size_t G>
+bool gather_into(const AttributeArrayBase& from, AttributeArrayBase& to, const std::vector<std::uint32_t>& keep) {
+  if (from.type() != typeid(T)) return false;
+  const T* src = static_cast<const AttributeArray<T>&>(from).data().data();
+  std::vector<T>& out = static_cast<AttributeArray<T>&>(to).data();
+  out.reserve(keep.size() * G);
+  advise_huge_pages(out.data(), keep.size() * G * sizeof(T));
+  for (std::uint32_t k : keep)
+    for (std::size_t g = 0; g < G; ++g) out.push_back(src[std::size_t{k} * G + g]);
+  return true;
+}
+
+// gather_into for the attribute types the library makes; false for any other type.
+template <std::size_t G>
+bool gather_typed(const AttributeArrayBase& from, AttributeArrayBase& to, const std::vector<std::uint32_t>& keep) {
+  return gather_into<glm::vec3, G>(from, to, keep) || gather_into<glm::vec2, G>(from, to, keep) ||
+         gather_into<glm::vec4, G>(from, to, keep) || gather_into<glm::u16vec4, G>(from, to, keep) ||
+         gather_into<std::uint8_t, G>(from, to, keep) || gather_into<float, G>(from, to, keep);
+}
+
+// One array of a piece copied out: where from, where to, which groups.
+struct ArrayCopy {
+  const AttributeArrayBase* from;
+  AttributeArrayBase* to;
+  const std::vector<std::uint32_t>* keep;
+  std::size_t group;
+  bool typed = true;  // filled by gather_typed; else sized here and copied by chunks afterwards
+};
+
 // The attribute sets of every piece but `big` (3 per piece: vertices, faces, corners), copied
-// out of `mesh`: each array allocated and sized by its own task (the new memory is touched in
-// parallel), then filled by chunks over every array at once.
+// out of `mesh`: each array filled by its own task (gather_typed, largest first), an array of
+// another type sized by its task and filled by chunks over the pool afterwards.
 std::vector<AttributeSet> copy_out(const SurfaceMesh& mesh, const Numbering& num, std::size_t big) {
   const std::size_t n = num.faces.size();
   std::vector<AttributeSet> sets(3 * n);
-  std::vector<std::function<void()>> tasks;
+  std::vector<ArrayCopy> copies;
   for (std::size_t s = 0; s < n; ++s)
     for (int kind = 0; kind < 3 && s != big; ++kind) {
       AttributeSet& set = sets[3 * s + static_cast<std::size_t>(kind)];
       set = set_of(mesh, kind).subset({});
-      const std::size_t size = list_of(num, s, kind).size() * group_of(kind);
       for (const std::string& name : set.names())
-        tasks.emplace_back([array = set.base(name), size] { array->resize(size); });
+        copies.push_back({set_of(mesh, kind).base(name), set.base(name), &list_of(num, s, kind), group_of(kind)});
     }
-  parallel_invoke(tasks);
+  auto bytes = [](const ArrayCopy& c) { return c.keep->size() * c.group * c.from->element_bytes(); };
+  std::stable_sort(copies.begin(), copies.end(), [&](const ArrayCopy& a, const ArrayCopy& b) { return bytes(a) > bytes(b); });
+  run_chunks(copies.size(), [&](std::size_t i) {
+    ArrayCopy& c = copies[i];
+    c.typed = c.group == 3 ? gather_typed<3>(*c.from, *c.to, *c.keep) : gather_typed<1>(*c.from, *c.to, *c.keep);
+    if (!c.typed) resize_huge(*c.to, c.keep->size() * c.group);
+  });
   std::vector<GroupCopy> jobs;
-  for (std::size_t s = 0; s < n; ++s)
-    for (int kind = 0; kind < 3 && s != big; ++kind) {
-      AttributeSet& set = sets[3 * s + static_cast<std::size_t>(kind)];
-      const std::vector<std::uint32_t>& keep = list_of(num, s, kind);
-      set.resize(keep.size() * group_of(kind));  // the set's own count (its arrays have it)
-      for (const std::string& name : set.names()) {
-        const AttributeArrayBase& from = *set_of(mesh, kind).base(name);
-        add_chunks({bytes_of(*set.base(name)), bytes_of(from), from.element_bytes() * group_of(kind), keep.data(), 0, 0},
-                   0, keep.size(), jobs);
-      }
-    }
+  for (const ArrayCopy& c : copies)
+    if (!c.typed)
+      add_chunks({bytes_of(*c.to), bytes_of(*c.from), c.from->element_bytes() * c.group, c.keep->data(), 0, 0}, 0,
+                 c.keep->size(), jobs);
   run_copies(jobs);
+  for (std::size_t s = 0; s < n; ++s)
+    for (int kind = 0; kind < 3 && s != big; ++kind)  // the sets' own counts (their arrays have them)
+      sets[3 * s + static_cast<std::size_t>(kind)].resize(list_of(num, s, kind).size() * group_of(kind));
   return sets;
 }
 
