@@ -139,22 +139,24 @@ void number_vertices(const Marks& owner, std::size_t nv, std::size_t lists, std:
 // corners follow it) and its triangles renumbered.
 struct Numbering {
   std::vector<std::vector<std::uint32_t>> faces, vertices;
+  std::vector<std::uint32_t> rank;  // each used vertex's index in its list
   std::vector<std::vector<Triangle>> tris;
 };
 
-// The triangles of list `s` renumbered (the lists use disjoint vertices), into out.tris[s] (sized).
-void number_faces(const SurfaceMesh& mesh, std::size_t s, const std::vector<std::uint32_t>& rank, Numbering& out) {
-  const std::vector<std::uint32_t>& fs = out.faces[s];
-  std::vector<Triangle>& tris = out.tris[s];
-  parallel_for(fs.size(), kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i) {
-      const Triangle& t = mesh.face(FaceId(fs[i]));
-      for (int k = 0; k < 3; ++k) tris[i][k] = VertexId(rank[t[k].index]);
-    }
-  });
+// The triangles `fs` renumbered by `rank` (the lists use disjoint vertices), written once into new
+// memory: reserved (huge pages asked for), then appended to, no value-initialisation first.
+void number_faces(const SurfaceMesh& mesh, const std::vector<std::uint32_t>& fs, const std::vector<std::uint32_t>& rank,
+                  std::vector<Triangle>& tris) {
+  tris.reserve(fs.size());
+  advise_huge_pages(tris.data(), fs.size() * sizeof(Triangle));
+  for (std::uint32_t f : fs) {
+    const Triangle& t = mesh.face(FaceId(f));
+    tris.push_back({VertexId(rank[t[0].index]), VertexId(rank[t[1].index]), VertexId(rank[t[2].index])});
+  }
 }
 
-// False when the lists share vertices.
+// Every list's faces and vertices numbered (out.tris is filled by fill_pieces). False when the
+// lists share vertices.
 bool number_pieces(const SurfaceMesh& mesh, const std::vector<std::vector<FaceId>>& lists, Numbering& out) {
   const std::size_t n = lists.size();
   if (n >= kNoList) return false;
@@ -166,12 +168,7 @@ bool number_pieces(const SurfaceMesh& mesh, const std::vector<std::vector<FaceId
   bool shared = false;
   const Marks owner = mark_vertices(mesh, out.faces, shared);
   if (shared) return false;
-  std::vector<std::uint32_t> rank;
-  number_vertices(owner, mesh.vertex_count(), n, out.vertices, rank);
-  tasks.clear();  // the lists' triangles sized at once (new memory, each list's on its own thread)
-  for (std::size_t s = 0; s < n; ++s) tasks.emplace_back([&, s] { resize_huge(out.tris[s], out.faces[s].size()); });
-  parallel_invoke(tasks);
-  for (std::size_t s = 0; s < n; ++s) number_faces(mesh, s, rank, out);
+  number_vertices(owner, mesh.vertex_count(), n, out.vertices, out.rank);
   return true;
 }
 
@@ -383,9 +380,10 @@ struct ArrayCopy {
 };
 
 // The attribute sets of every piece but `big` (3 per piece: vertices, faces, corners), copied
-// out of `mesh`: each array filled by its own task (gather_typed, largest first), an array of
-// another type sized by its task and filled by chunks over the pool afterwards.
-std::vector<AttributeSet> copy_out(const SurfaceMesh& mesh, const Numbering& num, std::size_t big) {
+// out of `mesh`, and every piece's triangles (number_faces): each array filled by its own task
+// (gather_typed, number_faces; largest first), an array of another type sized by its task and
+// filled by chunks over the pool afterwards.
+std::vector<AttributeSet> fill_pieces(const SurfaceMesh& mesh, Numbering& num, std::size_t big) {
   const std::size_t n = num.faces.size();
   std::vector<AttributeSet> sets(3 * n);
   std::vector<ArrayCopy> copies;
@@ -396,13 +394,16 @@ std::vector<AttributeSet> copy_out(const SurfaceMesh& mesh, const Numbering& num
       for (const std::string& name : set.names())
         copies.push_back({set_of(mesh, kind).base(name), set.base(name), &list_of(num, s, kind), group_of(kind)});
     }
-  auto bytes = [](const ArrayCopy& c) { return c.keep->size() * c.group * c.from->element_bytes(); };
-  std::stable_sort(copies.begin(), copies.end(), [&](const ArrayCopy& a, const ArrayCopy& b) { return bytes(a) > bytes(b); });
-  run_chunks(copies.size(), [&](std::size_t i) {
-    ArrayCopy& c = copies[i];
-    c.typed = c.group == 3 ? gather_typed<3>(*c.from, *c.to, *c.keep) : gather_typed<1>(*c.from, *c.to, *c.keep);
-    if (!c.typed) resize_huge(*c.to, c.keep->size() * c.group);
-  });
+  std::vector<std::pair<std::size_t, std::function<void()>>> tasks;  // bytes written, task
+  for (ArrayCopy& c : copies)
+    tasks.emplace_back(c.keep->size() * c.group * c.from->element_bytes(), [&c] {
+      c.typed = c.group == 3 ? gather_typed<3>(*c.from, *c.to, *c.keep) : gather_typed<1>(*c.from, *c.to, *c.keep);
+      if (!c.typed) resize_huge(*c.to, c.keep->size() * c.group);
+    });
+  for (std::size_t s = 0; s < n; ++s)
+    tasks.emplace_back(num.faces[s].size() * sizeof(Triangle), [&, s] { number_faces(mesh, num.faces[s], num.rank, num.tris[s]); });
+  std::stable_sort(tasks.begin(), tasks.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  run_chunks(tasks.size(), [&](std::size_t i) { tasks[i].second(); });
   std::vector<GroupCopy> jobs;
   for (const ArrayCopy& c : copies)
     if (!c.typed)
@@ -429,7 +430,7 @@ std::vector<SurfaceMesh> make_pieces(const SurfaceMesh& mesh, const std::vector<
     return out;
   }
   const std::size_t big = owned ? in_place_piece(mesh, num) : n;
-  std::vector<AttributeSet> sets = copy_out(mesh, num, big);
+  std::vector<AttributeSet> sets = fill_pieces(mesh, num, big);
   for (std::size_t s = 0; s < n; ++s)
     if (s != big)
       out[s].assign(std::move(num.tris[s]), std::move(sets[3 * s]), std::move(sets[3 * s + 1]), std::move(sets[3 * s + 2]));
