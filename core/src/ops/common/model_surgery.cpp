@@ -173,9 +173,10 @@ bool number_pieces(const SurfaceMesh& mesh, const std::vector<std::vector<FaceId
 }
 
 // --- the pieces' arrays ------------------------------------------------------------------------
-// Filled by byte copies of groups of elements: a vertex's or a face's element, or a face's three
-// corners (side by side). The copies are cut into chunks spread over the pool across every array
-// at once, so one large array is not one task.
+// Groups of elements are copied: a vertex's or a face's element, or a face's three corners (side
+// by side). A piece copied out is new memory: each of its arrays is written once, by one task
+// (fill_pieces). The in-place compaction, and arrays of types without a typed copy, run as byte
+// copies cut into chunks spread over the pool across every array at once.
 
 constexpr std::size_t kCopyGrain = 16384;  // groups per copy job
 
