@@ -77,6 +77,7 @@ void Session::open(std::shared_ptr<const Model> model, bool take_over) {
   opened_operations_ = live_ ? model_history(*live_).operations.size() : 0;
   posed_.reset();
   posed_state_ = nullptr;
+  stash_.clear();
 }
 
 void Session::open(std::shared_ptr<const Model> model, std::unique_ptr<PosedModel> posed) {
@@ -100,6 +101,7 @@ ModelChange Session::commit(std::shared_ptr<const Model> state) {
   std::shared_ptr<Model> owned = own(std::move(state));
   push(ModelStep::replace(*live_, std::move(*owned)), std::nullopt);
   posed_state_ = nullptr;
+  stash_.clear();
   return structure();
 }
 
@@ -133,12 +135,39 @@ std::size_t Session::undo_bytes() const {
 }
 
 void Session::follow(const ModelChange& change) {
-  if (!posed_ || posed_state_ != live_.get()) return;
+  if (!posed_ || posed_state_ != live_.get() || !posed_->valid()) {
+    stash_.clear();
+    return;
+  }
   if (change.structure) {
-    posed_state_ = nullptr;  // rebuilt when asked for
+    follow_structure(change);
   } else if (!change.empty()) {
     posed_->follow(*live_, change);
   }
+}
+
+void Session::follow_structure(const ModelChange& change) {
+  bool stashed = change.mapped && stash_key_ == posed_->key();
+  for (const PrimitiveContent& a : change.arrived)
+    for (std::size_t n = 0; n < live_->nodes.size() && stashed; ++n)
+      if (live_->nodes[n].mesh == a.mesh && !stash_.count({a.tag, static_cast<int>(n)})) stashed = false;
+  if (stashed) {
+    posed_->follow(*live_, change, PoseDetail::Full, &stash_);  // O(nodes): nothing is built
+    stash_key_ = posed_->key();
+    return;
+  }
+  // The instances of what left are kept for the undo or redo that brings it back; the posed
+  // model (describing the state before the step) is rebuilt when asked for.
+  PoseStash left;
+  if (change.mapped)
+    for (const PrimitiveContent& l : change.left)
+      for (const auto& [key, inst] : posed_->instances())
+        if (inst.mesh == l.mesh && inst.primitive == l.primitive && !inst.posed.empty())
+          left[{l.tag, key.first}] = std::move(*posed_->find(key.first, key.second));
+  stash_ = std::move(left);
+  stash_key_ = posed_->key();
+  posed_->invalidate();
+  posed_state_ = nullptr;
 }
 
 Applied Session::apply(const Operation& op) {
@@ -164,6 +193,7 @@ Applied Session::apply(const Operation& op) {
     return applied;
   }
   posed_state_ = live_.get();
+  stash_.clear();  // the steps undone, whose contents it kept, are dropped
   applied.change = record.change();
   // A state made by an edit keeps its skipped operations listed after a new one.
   std::optional<std::vector<OperationEntry>> entries;
@@ -220,6 +250,7 @@ std::vector<Applied> Session::apply_history(const History& history, const std::s
     ModelStep record = recorder->finish();
     if (!record.change().empty()) records.push_back(std::move(record));
   }
+  if (!records.empty()) stash_.clear();
   for (auto& record : records) push(std::move(record), std::nullopt);
   return out;
 }
@@ -308,6 +339,7 @@ EditOutcome Session::commit_edit(EditRun run) {
   // One step: the re-run replaces the model (the step holds the state it replaced, by move).
   push(ModelStep::replace(*live_, std::move(*run.result)), std::move(run.entries));
   posed_ = std::move(run.posed);  // it described the result, now moved into the live model
+  stash_.clear();
   posed_state_ = posed_ ? live_.get() : nullptr;
   return run.outcome;
 }
@@ -323,6 +355,7 @@ bool Session::refresh_posed_model(int animation, float time) {
 
 bool Session::refresh_posed_model(const PoseKey& key) {
   if (!current_) return false;
+  if (key != stash_key_) stash_.clear();  // posed at another pose
   try {
     posed_for(current_.get())->prepare(*current_, key);
     posed_state_ = current_.get();

@@ -163,8 +163,11 @@ class Session {
 
   // --- the posed model --------------------------------------------------------------------------
   /// The posed model when it describes the current state, else nullptr. Operations keep it up to
-  /// date, and it follows a local undo or redo (PosedModel::follow); `refresh_posed_model`
-  /// rebuilds it after a cut, a structural undo or redo, or a new pose.
+  /// date, and it follows a local undo or redo (PosedModel::follow), and a structural undo or
+  /// redo (a cut's) whose contents come back as they left in an earlier undo or redo (the
+  /// session keeps the posed instances of what a structural step removed: PoseStash), in
+  /// O(nodes). `refresh_posed_model` rebuilds it after a cut, a structural undo or redo that
+  /// brings back a content not kept so, or a new pose.
   const PosedModel* posed_model() const;
   /// Brings the posed model up to date for the current state at this pose. An error leaves
   /// none (the next operation builds it and reports what is wrong). @returns true when done.
@@ -197,6 +200,10 @@ class Session {
   PosedModel* posed_for(const Model* state);
   /// The posed model follows a step's change to the live model (or is left for a rebuild).
   void follow(const ModelChange& change);
+  /// The posed model follows a mapped structural undo or redo when every content it brings
+  /// back is in `stash_`; otherwise the instances of what left go into `stash_` and the posed
+  /// model is left for a rebuild.
+  void follow_structure(const ModelChange& change);
   /// A copy of the model as opened (every done step undone on the live model, copied, redone).
   Model opened_copy();
 
@@ -210,6 +217,10 @@ class Session {
   // The posed model and the model object it describes as that model is now (nullptr: none).
   std::unique_ptr<PosedModel> posed_;
   const Model* posed_state_ = nullptr;
+  // The posed instances (at posed_'s pose) of the contents the last structural undo or redo
+  // removed, by (content tag, node): taken back when an undo or redo brings them back.
+  PoseStash stash_;
+  PoseKey stash_key_;  // the pose stash_ was made at
   std::function<void()> before_change_;
 };
 

@@ -18,6 +18,7 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "deepcut/core/parallel.h"
@@ -28,12 +29,16 @@ namespace deepcut::detail {
 
 constexpr std::size_t kClassGrain = 16384;
 
+/// Index arrays written whole by a parallel loop right after they are sized: left uninitialised
+/// (UninitVector), since a std::vector would first be filled on one thread.
+using Indices = UninitVector<std::uint32_t>;
+
 /// `hash[i]` must be equal for equal items; `same(a, b)` says whether items a and b are equal.
 /// @returns first[i] = the smallest j with same(i, j) (first[i] == i for the first of a class).
-template <class Same>
-std::vector<std::uint32_t> first_of_class(const std::vector<std::uint64_t>& hash, Same&& same) {
+template <class Hashes, class Same>
+Indices first_of_class(const Hashes& hash, Same&& same) {
   const std::size_t n = hash.size();
-  std::vector<std::uint32_t> first(n);
+  Indices first(n);
   if (n == 0) return first;
   std::size_t size = 16;
   while (size < 2 * n) size *= 2;
@@ -45,7 +50,7 @@ std::vector<std::uint32_t> first_of_class(const std::vector<std::uint64_t>& hash
   });
   // Claims a slot for item i's class: the first slot of its probe sequence that is empty or
   // holds an equal item. Slots before it hold other classes for good (a slot never empties).
-  std::vector<std::uint32_t> where(n);
+  Indices where(n);
   parallel_for(n, kClassGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) {
       const auto item = static_cast<std::uint32_t>(i);
@@ -70,7 +75,7 @@ std::vector<std::uint32_t> first_of_class(const std::vector<std::uint64_t>& hash
 
 /// The indices i in [0, n) with pred(i), in increasing order.
 template <class Pred>
-std::vector<std::uint32_t> ordered_indices(std::size_t n, Pred&& pred) {
+Indices ordered_indices(std::size_t n, Pred&& pred) {
   const std::size_t chunks = (n + kClassGrain - 1) / kClassGrain;
   std::vector<std::size_t> start(chunks + 1, 0);
   parallel_for(n, kClassGrain, [&](std::size_t b, std::size_t e) {
@@ -79,7 +84,7 @@ std::vector<std::uint32_t> ordered_indices(std::size_t n, Pred&& pred) {
     start[b / kClassGrain + 1] = count;
   });
   for (std::size_t c = 0; c < chunks; ++c) start[c + 1] += start[c];
-  std::vector<std::uint32_t> out(start[chunks]);
+  Indices out(start[chunks]);
   parallel_for(n, kClassGrain, [&](std::size_t b, std::size_t e) {
     std::size_t at = start[b / kClassGrain];
     for (std::size_t i = b; i < e; ++i)
@@ -90,31 +95,60 @@ std::vector<std::uint32_t> ordered_indices(std::size_t n, Pred&& pred) {
 
 /// Items grouped by key: the items of key k are items[start[k] .. start[k + 1]), increasing.
 struct Groups {
-  std::vector<std::uint32_t> start;  // keys + 1 offsets
+  UninitVector<std::uint32_t> start;  // keys + 1 offsets
   UninitVector<std::uint32_t> items;
 };
 
-/// Groups the items [0, n) by `key_of(i)` (< `keys`). Each thread takes a range of keys and
-/// scans all items for those with a key in its range (counting, then placing them), so every
-/// group comes out in increasing order without atomics or sorting, whatever the thread count.
+/// Groups the items [0, n) by `key_of(i)` (< `keys`), a stable counting sort in parallel passes
+/// over fixed cuts (item chunks of 4 * kClassGrain, 256 ranges of keys; neither depends on the
+/// thread count): each chunk counts its items per range of keys, a prefix sum over (range, chunk)
+/// gives each chunk its place in each range, the chunks scatter their items there, and each range
+/// then sorts its own items by key. Every group comes out in increasing order.
 template <class KeyOf>
 Groups group_by_key(std::size_t n, std::size_t keys, KeyOf&& key_of) {
+  constexpr std::size_t kRanges = 256, kGrain = 4 * kClassGrain;
   Groups g;
-  g.start.assign(keys + 1, 0);
+  g.start.resize(keys + 1);
   g.items.resize(n);
-  const std::size_t grain = grain_per_thread(keys, kClassGrain);
-  parallel_for(keys, grain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::size_t k = key_of(i);
-      if (k >= b && k < e) ++g.start[k + 1];
+  g.start[keys] = static_cast<std::uint32_t>(n);
+  if (keys == 0) return g;
+  const std::size_t per_range = (keys + kRanges - 1) / kRanges, ranges = (keys + per_range - 1) / per_range;
+  const std::size_t chunks = (n + kGrain - 1) / kGrain;
+  std::vector<std::uint32_t> place(chunks * ranges, 0);  // per (chunk, range): a count, then where it writes
+  UninitVector<std::uint32_t> key(n), by_range(n);
+  parallel_for(n, kGrain, [&](std::size_t b, std::size_t e) {
+    std::uint32_t* count = &place[b / kGrain * ranges];
+    for (std::size_t i = b; i < e; ++i) {
+      key[i] = static_cast<std::uint32_t>(key_of(i));
+      ++count[key[i] / per_range];
     }
   });
-  for (std::size_t k = 0; k < keys; ++k) g.start[k + 1] += g.start[k];
-  parallel_for(keys, grain, [&](std::size_t b, std::size_t e) {
-    std::vector<std::uint32_t> at(g.start.begin() + std::ptrdiff_t(b), g.start.begin() + std::ptrdiff_t(e));
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::size_t k = key_of(i);
-      if (k >= b && k < e) g.items[at[k - b]++] = static_cast<std::uint32_t>(i);
+  std::vector<std::uint32_t> range_start(ranges + 1, 0);
+  std::uint32_t at = 0;
+  for (std::size_t r = 0; r < ranges; ++r) {
+    range_start[r] = at;
+    for (std::size_t c = 0; c < chunks; ++c) at += std::exchange(place[c * ranges + r], at);
+  }
+  range_start[ranges] = at;
+  parallel_for(n, kGrain, [&](std::size_t b, std::size_t e) {
+    std::uint32_t* to = &place[b / kGrain * ranges];
+    for (std::size_t i = b; i < e; ++i) by_range[to[key[i] / per_range]++] = static_cast<std::uint32_t>(i);
+  });
+  parallel_for(ranges, 1, [&](std::size_t r0, std::size_t r1) {
+    std::vector<std::uint32_t> next;
+    for (std::size_t r = r0; r < r1; ++r) {
+      const std::size_t k0 = r * per_range, k1 = std::min(keys, k0 + per_range);
+      next.assign(k1 - k0, 0);
+      for (std::uint32_t j = range_start[r]; j < range_start[r + 1]; ++j) ++next[key[by_range[j]] - k0];
+      std::uint32_t pos = range_start[r];
+      for (std::size_t k = k0; k < k1; ++k) {
+        g.start[k] = pos;
+        pos += std::exchange(next[k - k0], pos);
+      }
+      for (std::uint32_t j = range_start[r]; j < range_start[r + 1]; ++j) {
+        const std::uint32_t i = by_range[j];
+        g.items[next[key[i] - k0]++] = i;
+      }
     }
   });
   return g;

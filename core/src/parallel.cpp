@@ -192,6 +192,19 @@ void parallel_invoke(const std::vector<std::function<void()>>& tasks) {
 
 namespace detail {
 
+void advise_huge_pages(void* data, std::size_t bytes) {
+#ifdef MADV_HUGEPAGE
+  constexpr std::uintptr_t kHuge = std::uintptr_t(2) << 20;
+  if (bytes < kMinHugeBytes) return;
+  const auto begin = (reinterpret_cast<std::uintptr_t>(data) + kHuge - 1) / kHuge * kHuge;
+  const auto end = (reinterpret_cast<std::uintptr_t>(data) + bytes) / kHuge * kHuge;
+  if (end > begin) ::madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);  // a refusal only costs speed
+#else
+  (void)data;
+  (void)bytes;
+#endif
+}
+
 void prefault(void* data, std::size_t bytes) {
 #ifdef MADV_POPULATE_WRITE
   constexpr std::size_t kPart = std::size_t(2) << 20;
@@ -199,6 +212,7 @@ void prefault(void* data, std::size_t bytes) {
   const auto begin = (reinterpret_cast<std::uintptr_t>(data) + page - 1) / page * page;
   const auto end = (reinterpret_cast<std::uintptr_t>(data) + bytes) / page * page;
   if (end <= begin || end - begin < kPart) return;  // a few pages: faulting them costs less
+  advise_huge_pages(data, bytes);
   parallel_for(end - begin, kPart, [&](std::size_t b, std::size_t e) {
     ::madvise(reinterpret_cast<void*>(begin + b), e - b, MADV_POPULATE_WRITE);  // a refusal only costs speed
   });

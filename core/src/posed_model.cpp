@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <string>
 #include <utility>
 
@@ -11,6 +12,7 @@
 #include "deepcut/core/operation_room.h"
 #include "deepcut/core/parallel.h"
 #include "deepcut/core/skinning.h"
+#include "uninit_vector.h"
 
 namespace deepcut {
 
@@ -270,10 +272,14 @@ PosedMesh PosedModel::make_instance(const Model& model, int node, int primitive,
   inst.mesh = model.nodes[static_cast<std::size_t>(node)].mesh;
   inst.primitive = primitive;
   // Room to grow (as interactive sessions reserve the meshes), so following the first
-  // operations never reallocates the whole arrays.
-  const std::size_t room = mesh.vertex_count() + mesh.vertex_count() / 8 + 1024;
+  // operations never reallocates the whole arrays. Sized here: their pages faulted in over the
+  // pool, then the two arrays' value-fills (serial within each std::vector) run side by side.
+  const std::size_t n = mesh.vertex_count(), room = n + n / 8 + 1024;
   inst.posed.reserve(room);
   inst.linear.reserve(room);
+  detail::prefault(inst.posed.data(), n * sizeof(glm::vec3));
+  detail::prefault(inst.linear.data(), n * sizeof(glm::mat3));
+  parallel_invoke({[&] { inst.posed.resize(n); }, [&] { inst.linear.resize(n); }});
   inst.joints = joints_of(model, node);
   inst.world = world_.at(static_cast<std::size_t>(node));
   inst.weights = weights(node);

@@ -21,6 +21,16 @@
 
 namespace deepcut::detail {
 
+/// Arrays of at least this many bytes are advised onto huge pages.
+constexpr std::size_t kMinHugeBytes = std::size_t(8) << 20;
+
+/// Asks the kernel to back the whole 2 MiB pages inside [data, data + bytes) with huge pages
+/// (MADV_HUGEPAGE; nothing happens for arrays under kMinHugeBytes or where the kernel does not
+/// offer it). A large array filled once then costs one page fault (and one page-table entry)
+/// per 2 MiB instead of per 4 KiB: the faults, the kernel's own serial part of filling an array
+/// over the pool, otherwise take about a third of a whole-mesh pass's time. Changes no byte.
+void advise_huge_pages(void* data, std::size_t bytes);
+
 template <class T>
 struct UninitAllocator : std::allocator<T> {
   template <class U>
@@ -40,13 +50,20 @@ struct UninitAllocator : std::allocator<T> {
   void construct(U* p, Args&&... args) {
     ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
   }
+  // A large array is backed by huge pages where the kernel offers them (advise_huge_pages).
+  T* allocate(std::size_t n) {
+    T* p = std::allocator<T>::allocate(n);
+    advise_huge_pages(p, n * sizeof(T));
+    return p;
+  }
 };
 
 template <class T>
 using UninitVector = std::vector<T, UninitAllocator<T>>;
 
 /// Asks the kernel to fault in the pages of [data, data + bytes) for writing, in parallel parts
-/// (MADV_POPULATE_WRITE; nothing happens where the kernel does not offer it). Changes no byte.
+/// (MADV_POPULATE_WRITE, huge pages advised first; nothing happens where the kernel does not
+/// offer it). Changes no byte.
 void prefault(void* data, std::size_t bytes);
 
 /// Asks the kernel to back the whole 2 MiB-aligned blocks of [data, data + bytes) with huge pages

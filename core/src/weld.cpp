@@ -51,8 +51,8 @@ class VertexBytes {
 
 // The live faces, and the vertices in order of first use by them.
 struct FaceUse {
-  std::vector<std::uint32_t> faces;      // live face slots, in order
-  std::vector<std::uint32_t> first_use;  // vertices, in order of first use by `faces`
+  detail::Indices faces;      // live face slots, in order
+  detail::Indices first_use;  // vertices, in order of first use by `faces`
 };
 
 // In parallel: each vertex's first corner (an atomic minimum over the corners using it), then
@@ -86,18 +86,18 @@ FaceUse first_uses(const SurfaceMesh& mesh) {
 
 // The welded vertices: old vertex -> new vertex, and new vertex -> its representative.
 struct Classes {
-  std::vector<std::uint32_t> to_new;  // kInvalidIndex for a vertex no face uses
+  detail::Indices to_new;             // kInvalidIndex for a vertex no face uses
   std::vector<std::uint32_t> keep;    // new vertex -> old representative (its first user)
   std::size_t kept_apart = 0;
 };
 
 // Representatives that share a position with an earlier one: all of them less the positions.
 std::size_t count_kept_apart(const VertexBytes& bytes, const std::vector<std::uint32_t>& keep) {
-  std::vector<std::uint64_t> hash(keep.size());
+  detail::UninitVector<std::uint64_t> hash(keep.size());
   parallel_for(keep.size(), kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) hash[i] = bytes.position_hash(keep[i]);
   });
-  const std::vector<std::uint32_t> first =
+  const detail::Indices first =
       detail::first_of_class(hash, [&](std::uint32_t a, std::uint32_t b) { return bytes.same_position(keep[a], keep[b]); });
   const std::size_t positions = parallel_reduce(
       keep.size(), kGrain, std::size_t(0),
@@ -113,25 +113,26 @@ std::size_t count_kept_apart(const VertexBytes& bytes, const std::vector<std::ui
 // Keying every used vertex, in first-use order, so the first user of a class is its
 // representative (its bytes, e.g. the sign of a zero coordinate, are the ones kept). The classes
 // are found in parallel (first_of_class) and numbered in first-use order.
-Classes classify(const VertexBytes& bytes, const std::vector<std::uint32_t>& first_use, std::size_t nv, WeldKey key) {
+Classes classify(const VertexBytes& bytes, const detail::Indices& first_use, std::size_t nv, WeldKey key) {
   Classes out;
-  out.to_new.assign(nv, kInvalidIndex);
+  out.to_new.resize(nv);
+  parallel_for(nv, kGrain, [&](std::size_t b, std::size_t e) { std::fill(out.to_new.begin() + b, out.to_new.begin() + e, kInvalidIndex); });
   const std::size_t nu = first_use.size();
   if (key == WeldKey::None) {
-    out.keep = first_use;
+    out.keep.assign(first_use.begin(), first_use.end());
     parallel_for(nu, kGrain, [&](std::size_t b, std::size_t e) {
       for (std::size_t i = b; i < e; ++i) out.to_new[first_use[i]] = static_cast<std::uint32_t>(i);
     });
     return out;
   }
-  std::vector<std::uint64_t> hash(nu);
+  detail::UninitVector<std::uint64_t> hash(nu);
   parallel_for(nu, kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) hash[i] = bytes.hash(first_use[i], bytes.position_hash(first_use[i]));
   });
-  const std::vector<std::uint32_t> first =
+  const detail::Indices first =
       detail::first_of_class(hash, [&](std::uint32_t a, std::uint32_t b) { return bytes.equal(first_use[a], first_use[b]); });
-  const std::vector<std::uint32_t> reps = detail::ordered_indices(nu, [&](std::size_t i) { return first[i] == i; });
-  std::vector<std::uint32_t> id(nu, kInvalidIndex);
+  const detail::Indices reps = detail::ordered_indices(nu, [&](std::size_t i) { return first[i] == i; });
+  detail::Indices id(nu);  // read only at each class's first item, which the loop below sets
   out.keep.resize(reps.size());
   parallel_for(reps.size(), kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t k = b; k < e; ++k) {
@@ -166,7 +167,7 @@ std::size_t drop_repeating_faces(const std::vector<Triangle>& in_faces, FaceUse&
       },
       [](int a, int b) { return a | b; });
   if (!any) return 0;
-  std::vector<std::uint32_t> faces;
+  detail::Indices faces;
   faces.reserve(use.faces.size());
   std::vector<std::uint32_t> renumber(classes.keep.size(), kInvalidIndex), keep;
   for (const std::uint32_t f : use.faces) {
@@ -189,10 +190,11 @@ std::size_t drop_repeating_faces(const std::vector<Triangle>& in_faces, FaceUse&
 }
 
 // The mesh rebuilt from the kept faces, their corners and the representatives' vertex attributes.
-void rebuild(SurfaceMesh& mesh, const std::vector<std::uint32_t>& kept_faces, const Classes& classes) {
+void rebuild(SurfaceMesh& mesh, const detail::Indices& kept_faces, const Classes& classes) {
   const auto& in_faces = mesh.faces();
   const auto& to_new = classes.to_new;
-  std::vector<Triangle> faces(kept_faces.size());
+  std::vector<Triangle> faces;
+  detail::resize_prefaulted(faces, kept_faces.size());
   parallel_for(faces.size(), kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) {
       const Triangle& t = in_faces[kept_faces[i]];
@@ -208,7 +210,7 @@ void rebuild(SurfaceMesh& mesh, const std::vector<std::uint32_t>& kept_faces, co
     std::vector<std::uint32_t> corners(3 * kept_faces.size());
     for (std::size_t i = 0; i < kept_faces.size(); ++i)
       for (std::uint32_t k = 0; k < 3; ++k) corners[3 * i + k] = 3 * kept_faces[i] + k;
-    fattrs.gather(kept_faces);
+    fattrs.gather(std::vector<std::uint32_t>(kept_faces.begin(), kept_faces.end()));
     cattrs.gather(corners);
   }
   mesh.assign(std::move(faces), std::move(vattrs), std::move(fattrs), std::move(cattrs));

@@ -10,6 +10,13 @@
 // table with the speed-up against one thread and the same as JSON, and checks that every thread
 // count produced the same bytes (a hash of each pass's output).
 //
+// The JSON also gives each cell's CPU time (`cpu_ms`, the whole process) and the calling thread's
+// (`main_cpu_ms`), medians like `ms`, and from them `serial_ms`: with T threads, a pass whose
+// serial part S runs on the calling thread and whose parallel part P is shared evenly has
+// main = S + P / T and cpu = S + P, so S = (T * main - cpu) / (T - 1). Amdahl's law then bounds
+// the speed-up at 1 / (s + (1 - s) / T) for the serial fraction s; these hold on a busy machine,
+// where wall times do not.
+//
 // Links deepcut_core only (no VTK, Qt or Google Benchmark), so it can be linked statically
 // (-DDEEPCUT_STATIC_SCALING=ON).
 
@@ -19,6 +26,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <functional>
 #include <iostream>
 #include <map>
@@ -192,7 +200,14 @@ struct Pass {
 struct Cell {
   double ms = 0.0;
   std::uint64_t hash = 0;
+  double cpu_ms = 0.0, main_cpu_ms = 0.0;  // the process's and the calling thread's CPU time
 };
+
+double cpu_ms(clockid_t clock) {
+  timespec ts{};
+  clock_gettime(clock, &ts);
+  return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) / 1e6;
+}
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -327,16 +342,19 @@ int main(int argc, char** argv) {
       set_thread_count(t);
       for (auto& pass : passes) {
         if (!wanted(opt, pass.name)) continue;
-        std::vector<double> times;
+        std::vector<double> times, cpu, main_cpu;
         std::uint64_t hash = 0;
         for (int r = 0; r < std::max(opt.runs, 1); ++r) {
           pass.prepare();
+          const double p0 = cpu_ms(CLOCK_PROCESS_CPUTIME_ID), m0 = cpu_ms(CLOCK_THREAD_CPUTIME_ID);
           const auto t0 = Clock::now();
           pass.run();
           times.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+          cpu.push_back(cpu_ms(CLOCK_PROCESS_CPUTIME_ID) - p0);
+          main_cpu.push_back(cpu_ms(CLOCK_THREAD_CPUTIME_ID) - m0);
           hash = pass.digest();
         }
-        cells[pass.name].push_back({median(times), hash});
+        cells[pass.name].push_back({median(times), hash, median(cpu), median(main_cpu)});
       }
     }
     std::remove(fx.glb.c_str());
@@ -359,9 +377,13 @@ int main(int argc, char** argv) {
       json << (first_json ? "\n" : ",\n") << "    {\"triangles\": " << triangles << ", \"pass\": \"" << pass.name
            << "\", \"identical\": " << (same ? "true" : "false") << ", \"by_threads\": [";
       first_json = false;
-      for (std::size_t i = 0; i < row.size(); ++i)
+      for (std::size_t i = 0; i < row.size(); ++i) {
+        const double t = double(opt.threads[i]);
+        const double serial = t > 1 ? std::max(0.0, (t * row[i].main_cpu_ms - row[i].cpu_ms) / (t - 1)) : row[i].cpu_ms;
         json << (i ? ", " : "") << "{\"threads\": " << opt.threads[i] << ", \"ms\": " << fmt(row[i].ms, 3)
-             << ", \"speedup\": " << fmt(row.front().ms / row[i].ms, 3) << "}";
+             << ", \"speedup\": " << fmt(row.front().ms / row[i].ms, 3) << ", \"cpu_ms\": " << fmt(row[i].cpu_ms, 3)
+             << ", \"main_cpu_ms\": " << fmt(row[i].main_cpu_ms, 3) << ", \"serial_ms\": " << fmt(serial, 3) << "}";
+      }
       json << "]}";
     }
   }

@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include "first_of_class.h"
 #include "thread_count.h"
 
 namespace deepcut {
@@ -135,6 +136,35 @@ TEST(Parallel, InvokeRunsEveryTask) {
   for (int i = 0; i < 5; ++i) tasks.push_back([&done, i] { done[i] = i + 1; });
   parallel_invoke(tasks);
   EXPECT_EQ(done, (std::vector<int>{1, 2, 3, 4, 5}));
+}
+
+// group_by_key is a stable counting sort: every key's items in increasing order, whatever the
+// thread count, for key counts below, at and past its 256 ranges and items past one chunk.
+TEST(Parallel, GroupByKeyIsAStableCountingSortForAnyThreadCount) {
+  for (const std::size_t keys : {std::size_t(1), std::size_t(5), std::size_t(256), std::size_t(70001)}) {
+    for (const std::size_t n : {std::size_t(0), std::size_t(7), std::size_t(300000)}) {
+      std::vector<std::uint32_t> key(n);
+      std::uint64_t state = 12345 + keys + n;
+      for (auto& k : key) {
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        k = static_cast<std::uint32_t>((state >> 33) % keys);
+      }
+      std::vector<std::uint32_t> expected(n);
+      std::iota(expected.begin(), expected.end(), 0u);
+      std::stable_sort(expected.begin(), expected.end(), [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
+      for (const std::size_t threads : {1, 2, 3, 8}) {
+        ThreadCountGuard guard(threads);
+        const detail::Groups g = detail::group_by_key(n, keys, [&](std::size_t i) { return key[i]; });
+        ASSERT_EQ(g.start.size(), keys + 1);
+        EXPECT_TRUE(std::equal(g.items.begin(), g.items.end(), expected.begin(), expected.end())) << keys << " " << n;
+        for (std::size_t k = 0; k < keys; ++k) {
+          ASSERT_LE(g.start[k], g.start[k + 1]);
+          for (std::uint32_t j = g.start[k]; j < g.start[k + 1]; ++j) ASSERT_EQ(key[g.items[j]], k);
+        }
+        EXPECT_EQ(g.start[keys], n);
+      }
+    }
+  }
 }
 
 TEST(Parallel, ThreadCountIsAtLeastOne) {

@@ -339,8 +339,40 @@ TEST(SessionTest, thirty_mixed_operations_undone_and_redone_all_the_way_are_byte
   for (std::size_t i = 1; i < states.size(); ++i) {
     session.redo();
     ASSERT_EQ(bytes(*session.current()), states[i]) << "redo to state " << i;
+    if (const PosedModel* posed = session.posed_model())
+      expect_posed_model_fresh(session, posed->animation(), posed->time(), "redo to state " + std::to_string(i));
   }
   EXPECT_EQ(applied_bytes(history_of(session.operations())), states.back());
+}
+
+TEST(SessionTest, a_cut_undone_and_redone_again_keeps_the_posed_model_following_without_a_rebuild) {
+  Session session;
+  session.open(load_cactus());
+  ASSERT_TRUE(session.refresh_posed_model(-1, 0.0f));
+  Operations ops(*session.current(), 7);
+  Operation cut = ops.cut();
+  cut.animation = -1;
+  cut.time = 0.0f;
+  ASSERT_EQ(session.apply(cut).result.status, OpStatus::Ok);
+  ASSERT_TRUE(session.refresh_posed_model(-1, 0.0f));  // the cut's pieces are new meshes
+  // The first undo brings back a content the session never stashed: rebuilt when asked for.
+  ASSERT_TRUE(session.undo().mapped);
+  expect_posed_model_fresh(session, -1, 0.0f, "first undo");
+  // From then on each side comes back as it left: the posed model follows, equal to a build.
+  for (int i = 0; i < 2; ++i) {
+    const std::string when = "cycle " + std::to_string(i);
+    ASSERT_TRUE(session.redo().mapped);
+    ASSERT_NE(session.posed_model(), nullptr) << when << ": redo";
+    expect_posed_model_fresh(session, -1, 0.0f, when + ": redo");
+    ASSERT_TRUE(session.undo().mapped);
+    ASSERT_NE(session.posed_model(), nullptr) << when << ": undo";
+    expect_posed_model_fresh(session, -1, 0.0f, when + ": undo");
+  }
+  // A refresh at the same pose keeps what was stashed: the redo after it still follows.
+  ASSERT_TRUE(session.refresh_posed_model(-1, 0.0f));
+  ASSERT_TRUE(session.redo().mapped);
+  ASSERT_NE(session.posed_model(), nullptr) << "redo after a refresh at the same pose";
+  expect_posed_model_fresh(session, -1, 0.0f, "redo after a refresh at the same pose");
 }
 
 TEST(SessionTest, a_session_writes_what_deepcut_apply_writes_and_refuses_a_swallowing_drill_alike) {

@@ -399,7 +399,7 @@ const unsigned char* Reader::view_bytes(int view, std::size_t offset, std::size_
 }
 
 template <class T, class Convert>
-std::vector<T> Reader::decode(int index, const char* what_c, int* components_out, Convert convert) {
+detail::UninitVector<T> Reader::decode(int index, const char* what_c, int* components_out, Convert convert) {
   const std::string what = std::string(what_c) + " (accessor " + std::to_string(index) + ")";
   if (index < 0 || static_cast<std::size_t>(index) >= gltf_.accessors.size())
     fail(std::string(what_c) + ": accessor " + std::to_string(index) + " does not exist");
@@ -455,8 +455,10 @@ std::vector<T> Reader::decode(int index, const char* what_c, int* components_out
     vbase = view_bytes(sp.values.bufferView, std::size_t(sp.values.byteOffset), elem, elem, n, what + " sparse values");
   }
 
-  std::vector<T> out;
-  detail::resize_prefaulted(out, acc.count * std::size_t(comps), T(0));
+  // Backed by a bufferView, every element is written below; otherwise they are zeros.
+  detail::UninitVector<T> out;
+  if (base) out.resize(acc.count * std::size_t(comps));
+  else out.resize(acc.count * std::size_t(comps), T(0));
   auto load = [&](const unsigned char* from, std::size_t step, std::size_t count, auto&& dst_index) {
     for (std::size_t i = 0; i < count; ++i) {
       const unsigned char* p = from + i * step;
@@ -527,11 +529,11 @@ std::uint32_t to_uint(const unsigned char* p, int type, bool) {
 
 }  // namespace
 
-std::vector<float> Reader::read_floats(int accessor, const char* what, int* components_out) {
+Floats Reader::read_floats(int accessor, const char* what, int* components_out) {
   return decode<float>(accessor, what, components_out, &to_float);
 }
 
-std::vector<std::uint32_t> Reader::read_uints(int accessor, const char* what, int* components_out) {
+Uints Reader::read_uints(int accessor, const char* what, int* components_out) {
   return decode<std::uint32_t>(accessor, what, components_out, &to_uint);
 }
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <functional>
 
 #include "deepcut/core/mesh_editor.h"
 #include "deepcut/core/parallel.h"
@@ -28,70 +29,69 @@ void each(std::size_t n, Fn&& fn) {
   });
 }
 
-// The smallest i in [0, n) where bad(i) holds, or n (in parallel; the answer is the same).
-template <class Bad>
-std::size_t first_bad(std::size_t n, Bad&& bad) {
-  return parallel_reduce(
-      n, kGrain, n,
-      [&](std::size_t b, std::size_t e) {
-        for (std::size_t i = b; i < e; ++i)
-          if (bad(i)) return i;
-        return n;
-      },
-      [](std::size_t a, std::size_t b) { return std::min(a, b); });
-}
-
 // The primitive as the file stores it: glTF vertex v is vertex v (-0 coordinates read as +0),
 // triangle t is face t, and the corner attributes come from each corner's glTF vertex. The arrays
-// are added to empty sets, sized with their pages faulted in over the pool (resize_prefaulted),
-// filled in parallel and handed to the mesh whole; the per-corner ones with room (corner_room).
-SurfaceMesh file_mesh(const std::vector<float>& pos, const std::vector<std::uint32_t>& tris, const Influences& skin,
+// are added to empty sets and sized all at once, one per thread of the pool (a std::vector's
+// growth fills it on one thread: the arrays' fills overlap instead of adding up; resize_prefaulted),
+// then filled in parallel and handed to the mesh whole; the per-corner ones with room (corner_room).
+SurfaceMesh file_mesh(const Floats& pos, const Uints& tris, const Influences& skin,
                       const std::vector<CornerSource>& corner_sources) {
   SurfaceMesh mesh;
   const std::size_t nv = pos.size() / 3, nf = tris.size() / 3, nc = tris.size();
   AttributeSet vattrs = std::move(mesh.vertex_attrs()), fattrs, cattrs;
+  std::vector<std::function<void()>> sizing, filling;
   auto& positions = vattrs.get<glm::vec3>(attr::kPosition);
-  detail::resize_prefaulted(positions.data(), nv);
-  each(nv, [&](std::size_t v) {
-    positions[v] = glm::vec3(pos[3 * v] + 0.0f, pos[3 * v + 1] + 0.0f, pos[3 * v + 2] + 0.0f);  // -0 == +0
+  sizing.push_back([&] { detail::resize_prefaulted(positions.data(), nv); });
+  filling.push_back([&] {
+    each(nv, [&](std::size_t v) {
+      positions[v] = glm::vec3(pos[3 * v] + 0.0f, pos[3 * v + 1] + 0.0f, pos[3 * v + 2] + 0.0f);  // -0 == +0
+    });
   });
   std::vector<Triangle> faces;
-  detail::resize_prefaulted(faces, nf);
-  each(nf, [&](std::size_t f) { faces[f] = {VertexId(tris[3 * f]), VertexId(tris[3 * f + 1]), VertexId(tris[3 * f + 2])}; });
+  sizing.push_back([&] { detail::resize_prefaulted(faces, nf); });
+  filling.push_back([&] {
+    each(nf, [&](std::size_t f) { faces[f] = {VertexId(tris[3 * f]), VertexId(tris[3 * f + 1]), VertexId(tris[3 * f + 2])}; });
+  });
 
   const char* jn[2] = {attr::kJoints0, attr::kJoints1};
   const char* wn[2] = {attr::kWeights0, attr::kWeights1};
   for (std::size_t s = 0; s < skin.sets; ++s) {
-    auto& ja = vattrs.add<glm::u16vec4>(jn[s]);
-    auto& wa = vattrs.add<glm::vec4>(wn[s]);
-    detail::resize_prefaulted(ja.data(), nv);
-    detail::resize_prefaulted(wa.data(), nv);
-    each(nv, [&](std::size_t v) {
-      ja[v] = skin.joints[s * nv + v];
-      wa[v] = skin.weights[s * nv + v];
+    auto* ja = &vattrs.add<glm::u16vec4>(jn[s]);
+    auto* wa = &vattrs.add<glm::vec4>(wn[s]);
+    sizing.push_back([ja, nv] { detail::resize_prefaulted(ja->data(), nv); });
+    sizing.push_back([wa, nv] { detail::resize_prefaulted(wa->data(), nv); });
+    filling.push_back([ja, wa, s, nv, &skin] {
+      each(nv, [&](std::size_t v) {
+        (*ja)[v] = skin.joints[s * nv + v];
+        (*wa)[v] = skin.weights[s * nv + v];
+      });
     });
   }
-  for (const auto& cs : corner_sources) {
-    if (cs.comps == 2) {
-      auto& a = cattrs.add<glm::vec2>(cs.name);
-      detail::resize_prefaulted(a.data(), nc, glm::vec2(0.0f), corner_room(nf));
-      each(nc, [&](std::size_t c) { a[c] = glm::vec2(cs.data[2 * tris[c]], cs.data[2 * tris[c] + 1]); });
-    } else if (cs.comps == 3) {
-      auto& a = cattrs.add<glm::vec3>(cs.name);
-      detail::resize_prefaulted(a.data(), nc, glm::vec3(0.0f), corner_room(nf));
-      each(nc, [&](std::size_t c) {
-        const float* d = &cs.data[3 * tris[c]];
-        a[c] = glm::vec3(d[0], d[1], d[2]);
+  // Array `a` sized with `value` and room, then filled with fill(c) for every corner c.
+  auto corner_array = [&](auto* a, auto value, auto fill) {
+    sizing.push_back([a, value, nc, nf] { detail::resize_prefaulted(a->data(), nc, value, corner_room(nf)); });
+    filling.push_back([a, fill, nc] { each(nc, [&](std::size_t c) { (*a)[c] = fill(c); }); });
+  };
+  for (const auto& source : corner_sources) {
+    const CornerSource* cs = &source;
+    const std::uint32_t* t = tris.data();
+    if (cs->comps == 2) {
+      corner_array(&cattrs.add<glm::vec2>(cs->name), glm::vec2(0.0f),
+                   [cs, t](std::size_t c) { return glm::vec2(cs->data[2 * t[c]], cs->data[2 * t[c] + 1]); });
+    } else if (cs->comps == 3) {
+      corner_array(&cattrs.add<glm::vec3>(cs->name), glm::vec3(0.0f), [cs, t](std::size_t c) {
+        const float* d = &cs->data[3 * t[c]];
+        return glm::vec3(d[0], d[1], d[2]);
       });
     } else {
-      auto& a = cattrs.add<glm::vec4>(cs.name, glm::vec4(1.0f));
-      detail::resize_prefaulted(a.data(), nc, glm::vec4(1.0f), corner_room(nf));
-      each(nc, [&](std::size_t c) {
-        const float* d = &cs.data[std::size_t(cs.data_comps) * tris[c]];
-        a[c] = glm::vec4(d[0], d[1], d[2], cs.data_comps == 4 ? d[3] : 1.0f);
+      corner_array(&cattrs.add<glm::vec4>(cs->name, glm::vec4(1.0f)), glm::vec4(1.0f), [cs, t](std::size_t c) {
+        const float* d = &cs->data[std::size_t(cs->data_comps) * t[c]];
+        return glm::vec4(d[0], d[1], d[2], cs->data_comps == 4 ? d[3] : 1.0f);
       });
     }
   }
+  parallel_invoke(sizing);
+  for (const auto& fill : filling) fill();
   vattrs.resize(nv);  // every array has its size already: this sets the sets' sizes
   fattrs.resize(nf);
   cattrs.resize(nc);
@@ -112,10 +112,10 @@ Primitive Reader::read_primitive(const tinygltf::Primitive& p, const std::string
     fail(where + " has mode " + (p.mode >= 0 && p.mode < 4 ? names[p.mode] : std::to_string(p.mode)) +
          "; only triangle primitives are supported");
   }
-  const std::vector<float> pos = read_positions(p, where);
+  const Floats pos = read_positions(p, where);
   const std::size_t nv = pos.size() / 3;
   out.gltf_vertices = nv;
-  const std::vector<std::uint32_t> tris = read_triangles(p, where, nv);
+  const Uints tris = read_triangles(p, where, nv);
   const Influences skin = read_influences(p, where, nv, joint_count);
   const std::vector<CornerSource> corner_sources = read_corner_sources(p, where, nv);
   const std::vector<MorphTarget> morphs = read_targets(p, where, nv, tris.size(), targets);
@@ -138,7 +138,7 @@ Primitive Reader::read_primitive(const tinygltf::Primitive& p, const std::string
   return out;
 }
 
-std::vector<float> Reader::read_positions(const tinygltf::Primitive& p, const std::string& where) {
+Floats Reader::read_positions(const tinygltf::Primitive& p, const std::string& where) {
   auto pos_it = p.attributes.find("POSITION");
   if (pos_it == p.attributes.end()) fail(where + " has no POSITION attribute");
   int comps = 0;
@@ -150,8 +150,8 @@ std::vector<float> Reader::read_positions(const tinygltf::Primitive& p, const st
 }
 
 // Triangles as glTF vertex indices (strips and fans converted).
-std::vector<std::uint32_t> Reader::read_triangles(const tinygltf::Primitive& p, const std::string& where, std::size_t nv) {
-  std::vector<std::uint32_t> idx;
+Uints Reader::read_triangles(const tinygltf::Primitive& p, const std::string& where, std::size_t nv) {
+  Uints idx;
   if (p.indices >= 0) {
     int ic = 0;
     idx = read_uints(p.indices, "indices", &ic);
@@ -165,7 +165,7 @@ std::vector<std::uint32_t> Reader::read_triangles(const tinygltf::Primitive& p, 
     idx.resize(nv);
     for (std::size_t i = 0; i < nv; ++i) idx[i] = static_cast<std::uint32_t>(i);
   }
-  std::vector<std::uint32_t> tris;
+  Uints tris;
   if (p.mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
     for (std::size_t i = 2; i < idx.size(); ++i) {
       if (i % 2 == 0) tris.insert(tris.end(), {idx[i - 2], idx[i - 1], idx[i]});
@@ -189,8 +189,8 @@ std::vector<std::uint32_t> Reader::read_triangles(const tinygltf::Primitive& p, 
 // Up to two sets of four influences per vertex, sanitised; every repair is noted.
 Influences Reader::read_influences(const tinygltf::Primitive& p, const std::string& where, std::size_t nv, int joint_count) {
   struct SkinSetData {
-    std::vector<std::uint32_t> joints;
-    std::vector<float> weights;
+    Uints joints;
+    Floats weights;
   };
   std::vector<SkinSetData> sets;
   for (int s = 0; s < 2; ++s) {
@@ -216,8 +216,8 @@ Influences Reader::read_influences(const tinygltf::Primitive& p, const std::stri
   };
   Influences skin;
   skin.sets = sets.size();
-  detail::resize_prefaulted(skin.joints, sets.size() * nv);
-  detail::resize_prefaulted(skin.weights, sets.size() * nv);
+  skin.joints.resize(sets.size() * nv);  // every element written below
+  skin.weights.resize(sets.size() * nv);
   // One vertex's influences, sanitised into `skin`; its repairs counted into `r`.
   auto sanitise = [&](std::size_t v, Repairs& r) {
     std::uint16_t jj[8] = {};

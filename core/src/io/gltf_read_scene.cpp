@@ -178,8 +178,10 @@ void Reader::read_animations() {
         const auto& gs = g.samplers[ch.sampler];
         AnimationSampler s;
         int in_comps = 0, out_comps = 0;
-        s.input = read_floats(gs.input, "animation sampler input", &in_comps);
-        s.output = read_floats(gs.output, "animation sampler output", &out_comps);
+        const Floats input = read_floats(gs.input, "animation sampler input", &in_comps);
+        const Floats output = read_floats(gs.output, "animation sampler output", &out_comps);
+        s.input.assign(input.begin(), input.end());
+        s.output.assign(output.begin(), output.end());
         if (in_comps != 1) fail("animation " + std::to_string(a) + ": sampler input is not SCALAR");
         for (std::size_t k = 0; k < s.input.size(); ++k) {
           if (!std::isfinite(s.input[k])) fail("animation " + std::to_string(a) + ": key time is not finite");

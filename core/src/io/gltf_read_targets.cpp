@@ -7,6 +7,7 @@
 // a writer can export as valid glTF.
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <memory>
 
@@ -46,34 +47,49 @@ void drop_unused_samplers(Animation& anim) {
 
 }  // namespace
 
-void add_morph_targets(SurfaceMesh& mesh, const std::vector<std::uint32_t>& tris, const std::vector<MorphTarget>& targets) {
-  const std::size_t nv = mesh.vertex_count();
-  // Each array built apart, its pages faulted in over the pool (resize_prefaulted), then put in;
-  // the per-corner ones with room (corner_room).
-  auto add = [](AttributeSet& set, const std::string& name, std::size_t n, std::size_t capacity, auto&& fill) {
-    auto array = std::make_unique<AttributeArray<glm::vec3>>();
-    detail::resize_prefaulted(array->data(), n, glm::vec3(0.0f), capacity);
-    glm::vec3* out = array->data().data();
-    parallel_for(n, kGrain, [&](std::size_t b, std::size_t e) {
-      for (std::size_t i = b; i < e; ++i) out[i] = fill(i);
-    });
-    set.put(name, std::move(array));
+void add_morph_targets(SurfaceMesh& mesh, const Uints& tris, const std::vector<MorphTarget>& targets) {
+  const std::size_t nv = mesh.vertex_count(), nc = tris.size();
+  // Each array built apart: all sized at once, one per thread of the pool (their fills overlap;
+  // resize_prefaulted), then filled in parallel and put in; the per-corner ones with room
+  // (corner_room). A POSITION delta is per vertex, a NORMAL or TANGENT delta per corner.
+  struct Built {
+    bool per_corner;
+    std::string name;
+    const Floats* deltas;
+    std::unique_ptr<AttributeArray<glm::vec3>> array;
   };
-  auto per_corner = [&](const std::string& name, const std::vector<float>& d) {
-    if (d.empty()) return;
-    add(mesh.corner_attrs(), name, tris.size(), corner_room(tris.size() / 3), [&](std::size_t c) {
-      const float* p = &d[3 * std::size_t(tris[c])];
-      return glm::vec3(p[0], p[1], p[2]);
-    });
-  };
+  std::vector<Built> built;
   for (std::size_t t = 0; t < targets.size(); ++t) {
     const int i = static_cast<int>(t);
-    const std::vector<float>& d = targets[t].position;
-    // -0 reads as +0, as positions do, so the weld sees equal deltas
-    add(mesh.vertex_attrs(), attr::morph_position_name(i), nv, nv,
-        [&](std::size_t v) { return glm::vec3(d[3 * v] + 0.0f, d[3 * v + 1] + 0.0f, d[3 * v + 2] + 0.0f); });
-    per_corner(attr::morph_normal_name(i), targets[t].normal);
-    per_corner(attr::morph_tangent_name(i), targets[t].tangent);
+    built.push_back({false, attr::morph_position_name(i), &targets[t].position, nullptr});
+    if (!targets[t].normal.empty()) built.push_back({true, attr::morph_normal_name(i), &targets[t].normal, nullptr});
+    if (!targets[t].tangent.empty()) built.push_back({true, attr::morph_tangent_name(i), &targets[t].tangent, nullptr});
+  }
+  std::vector<std::function<void()>> sizing;
+  for (Built& b : built)
+    sizing.push_back([&b, nv, nc] {
+      b.array = std::make_unique<AttributeArray<glm::vec3>>();
+      detail::resize_prefaulted(b.array->data(), b.per_corner ? nc : nv, glm::vec3(0.0f), b.per_corner ? corner_room(nc / 3) : nv);
+    });
+  parallel_invoke(sizing);
+  for (Built& b : built) {
+    glm::vec3* out = b.array->data().data();
+    const Floats& d = *b.deltas;
+    if (b.per_corner) {
+      parallel_for(nc, kGrain, [&](std::size_t lo, std::size_t hi) {
+        for (std::size_t c = lo; c < hi; ++c) {
+          const float* p = &d[3 * std::size_t(tris[c])];
+          out[c] = glm::vec3(p[0], p[1], p[2]);
+        }
+      });
+      mesh.corner_attrs().put(b.name, std::move(b.array));
+    } else {
+      // -0 reads as +0, as positions do, so the weld sees equal deltas
+      parallel_for(nv, kGrain, [&](std::size_t lo, std::size_t hi) {
+        for (std::size_t v = lo; v < hi; ++v) out[v] = glm::vec3(d[3 * v] + 0.0f, d[3 * v + 1] + 0.0f, d[3 * v + 2] + 0.0f);
+      });
+      mesh.vertex_attrs().put(b.name, std::move(b.array));
+    }
   }
 }
 
@@ -110,7 +126,7 @@ std::vector<MorphTarget> Reader::read_targets(const tinygltf::Primitive& p, cons
     const std::string target = "morph target " + std::to_string(t);
     charge_decode(kTargetOverheadBytes + nv * sizeof(glm::vec3), where + ": " + target);
     for (const auto& [name, accessor] : p.targets[t]) {
-      std::vector<float>* into = name == "POSITION" ? &out[t].position
+      Floats* into = name == "POSITION" ? &out[t].position
                                  : name == "NORMAL"  ? &out[t].normal
                                  : name == "TANGENT" ? &out[t].tangent
                                                      : nullptr;
@@ -128,8 +144,9 @@ std::vector<MorphTarget> Reader::read_targets(const tinygltf::Primitive& p, cons
       if (comps != 3) fail(where + ": " + what + " is not VEC3");
       if (into->size() != 3 * nv)
         fail(where + ": " + what + " has " + std::to_string(into->size() / 3) + " elements, POSITION has " + std::to_string(nv));
-      for (std::size_t i = 0; i < into->size(); ++i)
-        if (!std::isfinite((*into)[i])) fail(where + ": " + what + " delta " + std::to_string(i / 3) + " is not finite (NaN or Inf)");
+      const Floats& deltas = *into;
+      const std::size_t bad = first_bad(deltas.size(), [&](std::size_t i) { return !std::isfinite(deltas[i]); });
+      if (bad < deltas.size()) fail(where + ": " + what + " delta " + std::to_string(bad / 3) + " is not finite (NaN or Inf)");
       if (name != "POSITION") charge_decode(corners * sizeof(glm::vec3), where + ": " + what);
     }
     if (out[t].position.empty()) out[t].position.assign(3 * nv, 0.0f);

@@ -6,6 +6,7 @@
 // animations, images, objects carried through), gltf_read_mesh.cpp (meshes and primitives) and
 // gltf_read_targets.cpp (morph targets, their weights and the animation channels that drive them).
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -16,14 +17,37 @@
 #include "deepcut/core/errors.h"
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/operation_room.h"
+#include "deepcut/core/parallel.h"
 #include "io/gltf_common.h"
 #include "io/import_problems.h"
+#include "uninit_vector.h"
 
 namespace draco {
 class Mesh;
 }
 
 namespace deepcut::gltf_detail {
+
+// Decoded accessors: arrays whose new elements are left uninitialised (UninitVector), since the
+// decode writes every element in parallel chunks; a std::vector would first be filled on one
+// thread, a serial pass over the largest arrays of an import.
+using Floats = detail::UninitVector<float>;
+using Uints = detail::UninitVector<std::uint32_t>;
+
+// The smallest i in [0, n) where bad(i) holds, or n (in parallel chunks; the answer is the same
+// whatever the thread count).
+template <class Bad>
+std::size_t first_bad(std::size_t n, Bad&& bad) {
+  constexpr std::size_t kGrain = 32768;
+  return parallel_reduce(
+      n, kGrain, n,
+      [&](std::size_t b, std::size_t e) {
+        for (std::size_t i = b; i < e; ++i)
+          if (bad(i)) return i;
+        return n;
+      },
+      [](std::size_t a, std::size_t b) { return std::min(a, b); });
+}
 
 // Keeps messages to one readable line: control characters become spaces and any run of more
 // than 100 characters without a space (a data URI quoted by tinygltf) is cut short.
@@ -48,8 +72,8 @@ std::vector<unsigned char> glb_with_json(const unsigned char* glb, std::size_t s
 // sanitised (finite non-negative weights summing to 1, joints inside the skin).
 struct Influences {
   std::size_t sets = 0;
-  std::vector<glm::u16vec4> joints;  // set s of glTF vertex v at s * vertex_count + v
-  std::vector<glm::vec4> weights;
+  detail::UninitVector<glm::u16vec4> joints;  // set s of glTF vertex v at s * vertex_count + v
+  detail::UninitVector<glm::vec4> weights;
 };
 
 // A per-vertex glTF attribute (NORMAL, TANGENT, COLOR_0, TEXCOORD_n) that becomes a corner
@@ -57,14 +81,14 @@ struct Influences {
 struct CornerSource {
   std::string name;  // the attr:: name
   int comps;         // stored components (2, 3 or 4)
-  std::vector<float> data;
+  Floats data;
   int data_comps;    // components in the file (COLOR_0 may have 3)
 };
 
 // One morph target of a primitive, per glTF vertex: 3 floats each (POSITION zeros when the file
 // gave none; NORMAL and TANGENT empty when it gave none or the primitive has no base attribute).
 struct MorphTarget {
-  std::vector<float> position, normal, tangent;
+  Floats position, normal, tangent;
 };
 
 // The capacity the reader gives a primitive's per-corner arrays (`faces` triangles): the room to
@@ -74,7 +98,7 @@ inline std::size_t corner_room(std::size_t faces) { return 3 * operation_face_ro
 
 // Adds the targets to the primitive as the file stores it (glTF vertex v is vertex v, triangle t
 // is face t): `attr::morph_position_name(i)` per vertex, the normal and tangent deltas per corner.
-void add_morph_targets(SurfaceMesh& mesh, const std::vector<std::uint32_t>& tris, const std::vector<MorphTarget>& targets);
+void add_morph_targets(SurfaceMesh& mesh, const Uints& tris, const std::vector<MorphTarget>& targets);
 
 class Reader {
  public:
@@ -97,10 +121,10 @@ class Reader {
   void parse_json(const std::string& json_text);
   void check_tinygltf_errors(bool ok, const std::string& err, const std::string& fs_error) const;
   void check_uris() const;
-  std::vector<float> read_floats(int accessor, const char* what, int* components_out = nullptr);
-  std::vector<std::uint32_t> read_uints(int accessor, const char* what, int* components_out = nullptr);
+  Floats read_floats(int accessor, const char* what, int* components_out = nullptr);
+  Uints read_uints(int accessor, const char* what, int* components_out = nullptr);
   template <class T, class Convert>
-  std::vector<T> decode(int accessor, const char* what, int* components_out, Convert convert);
+  detail::UninitVector<T> decode(int accessor, const char* what, int* components_out, Convert convert);
   const unsigned char* view_bytes(int view, std::size_t offset, std::size_t stride, std::size_t elem,
                                   std::size_t count, const std::string& what);
   // Buffer `b`'s bytes: in the .glb's BIN chunk (glb_bin_) or as tinygltf loaded them.
@@ -130,8 +154,8 @@ class Reader {
   // gltf_read_mesh.cpp
   void read_meshes();
   Primitive read_primitive(const tinygltf::Primitive& p, const std::string& where, int joint_count, std::size_t targets);
-  std::vector<float> read_positions(const tinygltf::Primitive& p, const std::string& where);
-  std::vector<std::uint32_t> read_triangles(const tinygltf::Primitive& p, const std::string& where, std::size_t nv);
+  Floats read_positions(const tinygltf::Primitive& p, const std::string& where);
+  Uints read_triangles(const tinygltf::Primitive& p, const std::string& where, std::size_t nv);
   Influences read_influences(const tinygltf::Primitive& p, const std::string& where, std::size_t nv, int joint_count);
   std::vector<CornerSource> read_corner_sources(const tinygltf::Primitive& p, const std::string& where, std::size_t nv);
 

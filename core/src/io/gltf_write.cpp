@@ -45,10 +45,12 @@ json parse_or(const std::string& text, json fallback) {
 
 // The glTF vertices of a mesh: one per distinct (vertex, exported corner attributes), numbered
 // in order of first use by the corners.
+using detail::Indices;
+
 struct GltfVertices {
-  std::vector<std::uint32_t> vertex;   // glTF vertex -> mesh vertex
-  std::vector<std::uint32_t> corner;   // glTF vertex -> a corner it came from
-  std::vector<std::uint32_t> indices;  // corner -> glTF vertex
+  Indices vertex;                      // glTF vertex -> mesh vertex
+  Indices corner;                      // glTF vertex -> a corner it came from
+  Indices indices;                     // corner -> glTF vertex
 };
 
 class Writer {
@@ -65,8 +67,8 @@ class Writer {
   // written: the caller fills `data<T>(*at)` (straight into the binary buffer, no copy).
   template <class T>
   int add_accessor(std::size_t count, int components, int component_type, const char* type, int target, std::size_t* at);
-  template <class T>
-  int add_accessor(const std::vector<T>& data, int components, int component_type, const char* type, int target,
+  template <class T, class A>
+  int add_accessor(const std::vector<T, A>& data, int components, int component_type, const char* type, int target,
                    bool minmax = false);
   template <class T>
   T* data(std::size_t at) {
@@ -79,9 +81,9 @@ class Writer {
   void write_primitive(const Primitive& prim, std::size_t targets, json& out);
   json write_targets(const SurfaceMesh& mesh, const GltfVertices& vertices, std::size_t targets,
                      const std::vector<std::string>& morph_corners);
-  void write_influences(const SurfaceMesh& mesh, const std::vector<std::uint32_t>& out_vertex, json& attributes);
+  void write_influences(const SurfaceMesh& mesh, const Indices& out_vertex, json& attributes);
   void write_corner_attribute(const SurfaceMesh& mesh, const std::string& name, const AttributeArrayBase& corner_array,
-                              const std::vector<std::uint32_t>& out_corner, json& attributes);
+                              const Indices& out_corner, json& attributes);
   void write_skins();
   void write_animations();
   void write_nodes();
@@ -118,13 +120,14 @@ int Writer::add_accessor(std::size_t count, int components, int component_type, 
   return static_cast<int>(doc_["accessors"].size() - 1);
 }
 
-template <class T>
-int Writer::add_accessor(const std::vector<T>& data, int components, int component_type, const char* type, int target,
+template <class T, class A>
+int Writer::add_accessor(const std::vector<T, A>& data, int components, int component_type, const char* type, int target,
                          bool minmax) {
   const std::size_t count = data.size() / std::size_t(components);
   std::size_t at = 0;
   const int accessor = add_accessor<T>(count, components, component_type, type, target, &at);
-  if (!data.empty()) std::memcpy(bin_.data() + at, data.data(), data.size() * sizeof(T));
+  T* out = reinterpret_cast<T*>(bin_.data() + at);
+  parallel_for(data.size(), kGrain, [&](std::size_t b, std::size_t e) { std::memcpy(out + b, data.data() + b, (e - b) * sizeof(T)); });
   if (minmax) add_min_max<T>(accessor, at, count, components);
   return accessor;
 }
@@ -176,7 +179,7 @@ GltfVertices unweld(const SurfaceMesh& mesh, const std::vector<const AttributeAr
   out.corner = detail::ordered_indices(corners, [&](std::size_t c) { return first[c] == c; });
   const std::size_t n = out.corner.size();
   out.vertex.resize(n);
-  std::vector<std::uint32_t> id(corners, kInvalidIndex);
+  Indices id(corners);  // read only at the first corner of each class, which the loop below sets
   parallel_for(n, detail::kClassGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t k = b; k < e; ++k) {
       out.vertex[k] = vertex_of(out.corner[k]);
@@ -277,7 +280,7 @@ void Writer::write_primitive(const Primitive& prim, std::size_t targets, json& o
 json Writer::write_targets(const SurfaceMesh& mesh, const GltfVertices& vertices, std::size_t targets,
                            const std::vector<std::string>& morph_corners) {
   const std::size_t n = vertices.vertex.size();
-  auto write = [&](const std::vector<glm::vec3>& d, const std::vector<std::uint32_t>& from, bool minmax) {
+  auto write = [&](const std::vector<glm::vec3>& d, const auto& from, bool minmax) {
     std::size_t at = 0;
     const int accessor = add_accessor<float>(n, 3, kFloat, "VEC3", kArrayBuffer, &at);
     float* out = data<float>(at);
@@ -306,7 +309,7 @@ json Writer::write_targets(const SurfaceMesh& mesh, const GltfVertices& vertices
 }
 
 // Skin influences of each glTF vertex, renormalised; zero-weight slots name joint 0.
-void Writer::write_influences(const SurfaceMesh& mesh, const std::vector<std::uint32_t>& out_vertex, json& attributes) {
+void Writer::write_influences(const SurfaceMesh& mesh, const Indices& out_vertex, json& attributes) {
   const std::size_t n = out_vertex.size();
   const auto& va = mesh.vertex_attrs();
   const char* jn[2] = {attr::kJoints0, attr::kJoints1};
@@ -352,7 +355,7 @@ void Writer::write_influences(const SurfaceMesh& mesh, const std::vector<std::ui
 
 // One exported corner attribute, per glTF vertex (normals and tangents made unit, colours clamped).
 void Writer::write_corner_attribute(const SurfaceMesh& mesh, const std::string& name, const AttributeArrayBase& corner_array,
-                                    const std::vector<std::uint32_t>& out_corner, json& attributes) {
+                                    const Indices& out_corner, json& attributes) {
   const std::size_t n = out_corner.size();
   const auto* array = &corner_array;
   const std::string gname = gltf_name(name);

@@ -28,6 +28,7 @@ void snap_rim_to_plane(const PosedMesh& posed, const Plane& plane, const CutResu
     if (off == 0.0f) continue;
     const glm::mat3 linear = posed.linear.empty() ? glm::mat3(1.0f) : posed.linear[v.index];
     if (std::abs(glm::determinant(linear)) < 1e-12f) continue;
+    mesh.writing_vertex(v);  // an input vertex on the plane: an undo record keeps its old value
     bind[v.index] -= off * (glm::inverse(linear) * n);
   }
 }
@@ -70,10 +71,11 @@ InstanceCut cut_instance(detail::InstanceEdit& inst, const std::vector<glm::mat4
   InstanceCut out;
   auto& prims = inst.edit().primitives;
   for (std::size_t p = 0; p < prims.size(); ++p) {
+    // A watched mesh (the session's undo record follows it) is cut in place like any other: the
+    // record keeps the old values of what the cut rewrites, split_disjoint copies every piece out
+    // of it instead of taking it apart, and replacing the mesh hands it to the record, whose undo
+    // takes the cut back on it (O(cut), not a copy of the whole primitive first).
     SurfaceMesh& mesh = prims[p].mesh;
-    // A watched mesh (the session's undo record follows it) is cut as a copy: assigning the copy
-    // hands the record the content as it was, which undo puts back whole.
-    if (mesh.observer()) mesh = SurfaceMesh(mesh);
     PosedMesh own;
     PosedMesh* posed = inst.posed(static_cast<int>(p));
     if (!posed) {
@@ -92,7 +94,7 @@ InstanceCut cut_instance(detail::InstanceEdit& inst, const std::vector<glm::mat4
 // Each piece of a cut primitive as primitives: its original-material faces and its cut-surface
 // faces (caps), each extracted straight from the cut mesh, without the cut-surface flag. The cut
 // mesh is taken apart (split_disjoint): the largest piece keeps its arrays, the others are
-// copied out of it, in parallel.
+// copied out of it, in parallel (a watched mesh is left whole, every piece copied out).
 std::vector<std::vector<Primitive>> piece_primitives(SurfaceMesh&& mesh, const std::vector<std::vector<FaceId>>& pieces,
                                                      int material, int cut_material) {
   const auto* flag = mesh.face_attrs().find<std::uint8_t>(attr::kCutSurface);
