@@ -9,9 +9,6 @@
 // - resize_prefaulted: for the arrays that must be std::vectors (a mesh's attributes and faces),
 //   whose growth value-initialises every element on the calling thread: their memory is reserved
 //   and its pages faulted in over the pool first, so the serial fill writes to present pages.
-// - advise_huge_pages: for large arrays allocated and written whole at once (the pieces a cut
-//   copies out): memory not touched yet is asked to come as 2 MiB pages, one page fault (and one
-//   kernel charge) where 512 small ones would be taken, the bulk of the cost of new memory.
 
 #include <algorithm>
 #include <memory>
@@ -65,20 +62,6 @@ using UninitVector = std::vector<T, UninitAllocator<T>>;
 /// (MADV_POPULATE_WRITE, huge pages advised first; nothing happens where the kernel does not
 /// offer it). Changes no byte.
 void prefault(void* data, std::size_t bytes);
-
-/// Asks the kernel to back the whole 2 MiB-aligned blocks of [data, data + bytes) with huge pages
-/// (MADV_HUGEPAGE; nothing happens where the kernel does not offer it). Only pages not touched yet
-/// benefit. Changes no byte.
-void advise_huge_pages(void* data, std::size_t bytes);
-
-/// Grows the empty `v` to `n` value-initialised elements, its memory asked to come as huge pages
-/// (advise_huge_pages) before it is first touched.
-template <class T, class A>
-void resize_huge(std::vector<T, A>& v, std::size_t n) {
-  v.reserve(n);
-  advise_huge_pages(v.data(), n * sizeof(T));
-  v.resize(n);
-}
 
 /// Grows the empty `v` to `n` copies of `value`, its pages faulted in over the pool first; its
 /// capacity is at least `capacity` (the pages past `n` are left untouched).
