@@ -9,6 +9,7 @@
 #include <string>
 
 #include "deepcut/core/parallel.h"
+#include "sorted_ids.h"
 
 namespace deepcut {
 
@@ -246,10 +247,7 @@ void TriangleGrid::truncate(std::size_t faces, std::size_t vertices) {
   if (placed_.size() > vertices) placed_.resize(vertices);
 }
 
-void TriangleGrid::sort_unique(std::vector<FaceId>& v) {
-  std::sort(v.begin(), v.end());
-  v.erase(std::unique(v.begin(), v.end()), v.end());
-}
+void TriangleGrid::sort_unique(std::vector<FaceId>& v) { detail::sort_unique_ids(v); }
 
 void TriangleGrid::collect_cell(std::size_t c, std::vector<FaceId>& out) const {
   for (std::uint32_t i = start_[c]; i < start_[c + 1]; ++i)

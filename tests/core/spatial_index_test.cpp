@@ -8,6 +8,7 @@
 
 #include "deepcut/core/mesh_editor.h"
 #include "fixtures.h"
+#include "sorted_ids.h"
 
 namespace deepcut {
 namespace {
@@ -187,5 +188,26 @@ TEST(SpatialIndexTest, slab_query_contains_every_face_near_the_plane_and_far_fac
   const auto hit = grid.query_slab(far, glm::vec3(10.2f, 1.2f, 0.0f), glm::vec3(0.0f, 0.0f, 1.0f), 0.01f);
   EXPECT_TRUE(std::find(hit.begin(), hit.end(), FaceId(static_cast<std::uint32_t>(mesh.face_slots() - 1))) != hit.end());
 }
+
+// The grid queries' sort (sorted_ids.h): the list std::sort and std::unique give, for ids in a
+// narrow range (the bitmap) and spread wide (the sort), one call after another on one thread
+// (the bitmap must be left cleared), with repeats and without.
+TEST(SpatialIndexTest, sort_unique_ids_matches_sort_and_unique) {
+  std::mt19937 rng(20261126);
+  for (int round = 0; round < 200; ++round) {
+    const std::uint32_t base = std::uniform_int_distribution<std::uint32_t>(0, 1u << 20)(rng);
+    const std::uint32_t span = round % 3 == 0 ? (1u << 22) : 1 + static_cast<std::uint32_t>(round) * 37;
+    const std::size_t n = static_cast<std::size_t>(round % 5 == 0 ? 20 : 50 + 13 * round);
+    std::uniform_int_distribution<std::uint32_t> pick(base, base + span - 1);
+    std::vector<FaceId> ids;
+    for (std::size_t i = 0; i < n; ++i) ids.push_back(FaceId(pick(rng)));
+    std::vector<FaceId> want = ids;
+    std::sort(want.begin(), want.end());
+    want.erase(std::unique(want.begin(), want.end()), want.end());
+    detail::sort_unique_ids(ids);
+    ASSERT_EQ(ids, want) << "round " << round;
+  }
+}
+
 
 }  // namespace deepcut

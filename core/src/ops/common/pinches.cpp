@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "ops/common/vertex_slots.h"
+#include "sorted_ids.h"
 
 namespace deepcut::detail {
 
@@ -21,8 +22,7 @@ std::vector<VertexId> edited_vertices(const EditLog& log) {
       out.push_back(s->copy);
     }
   }
-  std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end()), out.end());
+  sort_unique_ids(out);
   return out;
 }
 
@@ -62,8 +62,7 @@ std::vector<FaceId> faces_around(const SurfaceMesh& mesh, const EditLog& log, co
   for (const VertexId v : vertices)
     if (v.index < first_new_vertex && v.index < input_posed.size()) points.push_back(input_posed[v.index]);
   for (const FaceId f : index->query_points(points)) keep(f);
-  std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end()), out.end());
+  sort_unique_ids(out);
   return out;
 }
 
@@ -86,8 +85,10 @@ PinchSplits split_pinched_vertices(MeshEditor& editor, const std::vector<VertexI
   };
   // Live faces around each candidate, in id order (a face may be listed twice in `incident`).
   std::vector<FaceId> faces = incident;
-  if (!std::is_sorted(faces.begin(), faces.end())) std::sort(faces.begin(), faces.end());
-  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  if (std::is_sorted(faces.begin(), faces.end()))
+    faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  else
+    sort_unique_ids(faces);
   // One flat list: candidate s's faces are around[first[s], first[s + 1]).
   std::vector<std::uint32_t> corner_slot;  // per live face of `faces`, its corners' slots
   corner_slot.reserve(3 * faces.size());

@@ -31,6 +31,8 @@
 #include "ops/common/placement.h"
 #include "ops/common/posed_overlay.h"
 #include "ops/cut/caps.h"
+#include "ops/cut/face_lists.h"
+#include "uninit_vector.h"
 
 namespace deepcut {
 namespace {
@@ -51,9 +53,10 @@ inline std::uint8_t side_code(const std::int8_t* sign, const Triangle& t) {
 }
 
 
-void follow_moved_faces(const std::vector<std::pair<FaceId, FaceId>>& moved, FaceId first_new,
-                        std::vector<FaceId>& piece);
-void merge_sorted(std::vector<FaceId>& list, const std::vector<FaceId>& more);
+using detail::corner_bits;
+using detail::follow_moved_faces;
+using detail::merge_sorted;
+using detail::run_end;
 
 class Cutter {
  public:
@@ -111,12 +114,13 @@ class Cutter {
   CutOptions options_;
   glm::dvec3 normal_, point_;
   // Signed distance to the plane (computed in float from the posed positions, so stored as
-  // float) and its snapped sign, per vertex.
-  std::vector<float> dist_;
+  // float) and its snapped sign, per vertex. The distances (and the bits below) are left
+  // unfilled when sized: classify_vertices writes every element.
+  detail::UninitVector<float> dist_;
   std::vector<std::int8_t> sign_;
   // The same per input vertex as a bit (1 positive, 2 negative, 4 on the plane), so a face's
   // corners or together into its kind (split_crossed_faces).
-  std::vector<std::uint8_t> side_bits_;
+  detail::UninitVector<std::uint8_t> side_bits_;
   detail::CrossingTable<Split> splits_;
   detail::NeedleMerges merges_;
   // Faces that may touch the plane: untouched ones with a corner on it, and every new face.
@@ -430,34 +434,6 @@ Cutter::VertexFlags Cutter::capped_single_fans(std::uint32_t first_cap_face,
   return out;
 }
 
-// `piece` with each face moved (old, new: sorted by old) replaced by its new face, sorted. The new
-// faces are all at or above `first_new`; a piece sorted and below it keeps its order, so only the
-// new faces are sorted, after it.
-void follow_moved_faces(const std::vector<std::pair<FaceId, FaceId>>& moved, FaceId first_new,
-                        std::vector<FaceId>& piece) {
-  const bool below = std::is_sorted(piece.begin(), piece.end()) && (piece.empty() || piece.back() < first_new);
-  if (!below) {
-    for (FaceId& f : piece) {
-      const auto it = std::lower_bound(moved.begin(), moved.end(), std::make_pair(f, FaceId()),
-                                       [](const auto& x, const auto& y) { return x.first < y.first; });
-      if (it != moved.end() && it->first == f) f = it->second;
-    }
-    std::sort(piece.begin(), piece.end());
-    return;
-  }
-  std::vector<FaceId> added;
-  for (const auto& [f, g] : moved) {
-    const auto it = std::lower_bound(piece.begin(), piece.end(), f);
-    if (it == piece.end() || *it != f) continue;
-    added.push_back(g);
-    *it = FaceId();  // invalid: dropped below
-  }
-  if (added.empty()) return;
-  piece.erase(std::remove(piece.begin(), piece.end(), FaceId()), piece.end());
-  std::sort(added.begin(), added.end());
-  piece.insert(piece.end(), added.begin(), added.end());
-}
-
 // The rim faces of each piece (faces with two or more corners on the plane: the only ones that
 // can have rim edges), in face order, as the caps take them.
 std::vector<detail::CapInput> Cutter::rim_of_pieces(const CutResult& result) const {
@@ -561,6 +537,10 @@ bool Cutter::classify_vertices() {
   });
   auto used = [&](std::size_t v) { return used_flags[v].load(std::memory_order_relaxed) != 0; };
   const glm::vec3 point(point_), normal(normal_);
+  // Room for the vertices the cut adds (crossings, their copies: a few per crossed face, far
+  // fewer than the mesh's), so appending them in split_edge does not copy the arrays.
+  dist_.reserve(nv + nv / 16 + 256);
+  sign_.reserve(nv + nv / 16 + 256);
   dist_.resize(nv);
   sign_.resize(nv);
   side_bits_.resize(nv);
@@ -568,16 +548,30 @@ bool Cutter::classify_vertices() {
   const BoundingBox box = parallel_reduce(
       nv, vgrain, BoundingBox(),
       [&](std::size_t b, std::size_t e) {
+        // Locals, not captures: the stores to `dist` could alias a capture, which would be read
+        // again at every vertex. The box in six scalars, each kept as BoundingBox::add keeps it.
+        const std::atomic<std::uint8_t>* flags = used_flags.get();
+        const glm::vec3* pos = posed_.input().data();
+        float* dist = dist_.data();
+        const glm::vec3 o = point, n = normal;
         BoundingBox part;
+        float lx = part.min.x, ly = part.min.y, lz = part.min.z, hx = part.max.x, hy = part.max.y, hz = part.max.z;
         for (std::size_t v = b; v < e; ++v) {
-          if (!used(v)) {
-            dist_[v] = 0.0f;
+          if (flags[v].load(std::memory_order_relaxed) == 0) {
+            dist[v] = 0.0f;
             continue;
           }
-          const glm::vec3& p = posed_.input()[v];
-          part.add(p);
-          dist_[v] = glm::dot(p - point, normal);
+          const glm::vec3 p = pos[v];
+          lx = p.x < lx ? p.x : lx;
+          ly = p.y < ly ? p.y : ly;
+          lz = p.z < lz ? p.z : lz;
+          hx = hx < p.x ? p.x : hx;
+          hy = hy < p.y ? p.y : hy;
+          hz = hz < p.z ? p.z : hz;
+          dist[v] = glm::dot(p - o, n);
         }
+        part.min = glm::vec3(lx, ly, lz);
+        part.max = glm::vec3(hx, hy, hz);
         return part;
       },
       [](BoundingBox acc, const BoundingBox& part) {
@@ -629,23 +623,29 @@ void Cutter::split_crossed_faces() {
     Found& out = found[b / fgrain];
     out.clean[0].reserve(e - b);
     out.clean[1].reserve(e - b);
-    // Locals, not captures: the stores below could alias a capture, which would be read again
-    // at every face.
-    std::vector<FaceId>& pos = out.clean[0];
-    std::vector<FaceId>& neg = out.clean[1];
-    const Triangle* tri = faces;
-    const std::uint8_t* vb = bits;
-    const bool check_deleted = any_deleted;
-    for (auto i = static_cast<std::uint32_t>(b); i < e; ++i) {
+    // Faces off the plane come in runs of one side (neighbours in id order are neighbours on the
+    // surface): each run is found by a tight scan and appended to its side's list whole.
+    for (auto i = static_cast<std::uint32_t>(b); i < e;) {
       const FaceId f(i);
-      const Triangle& t = tri[i];
-      // 1 or 2: every corner on that side; with bit 4, a corner on the plane; 3 (or 7): crossed.
-      const unsigned c = vb[t[0].index] | vb[t[1].index] | vb[t[2].index];
-      if (c > 2 || (check_deleted && mesh_.is_deleted(f))) {
-        if (!mesh_.is_deleted(f)) ((c & 3) == 3 ? out.crossed : out.touching).push_back(f);
+      const unsigned c = corner_bits(faces[i], bits);
+      if (any_deleted && mesh_.is_deleted(f)) {
+        ++i;
         continue;
       }
-      (c == 1 ? pos : neg).push_back(f);  // sides come in runs: the branch is well predicted
+      if (c > 2) {
+        ((c & 3) == 3 ? out.crossed : out.touching).push_back(f);
+        ++i;
+        continue;
+      }
+      const auto stop = static_cast<std::uint32_t>(e);
+      const std::uint32_t end = any_deleted ? run_end<true>(mesh_, bits, i + 1, stop, c)
+                                            : run_end<false>(mesh_, bits, i + 1, stop, c);
+      std::vector<FaceId>& list = out.clean[c - 1];
+      const std::size_t at = list.size();
+      list.resize(at + (end - i));
+      FaceId* dst = list.data() + at;
+      for (std::uint32_t k = 0; k < end - i; ++k) dst[k] = FaceId(i + k);
+      i = end;
     }
   });
   // Room for the faces the cut makes and the caps (a few per crossed or touching face), which
@@ -705,14 +705,6 @@ void Cutter::live_rim_by_side(std::vector<FaceId> (&out)[2]) const {
   const std::int8_t* sign = sign_.data();
   for (FaceId f : rim_candidates_)
     if (!mesh_.is_deleted(f)) out[side_code(sign, mesh_.face(f)) - 1].push_back(f);
-}
-
-// `list` and `more` (both ascending) merged into `list`.
-void merge_sorted(std::vector<FaceId>& list, const std::vector<FaceId>& more) {
-  const auto mid = static_cast<std::ptrdiff_t>(list.size());
-  list.insert(list.end(), more.begin(), more.end());
-  if (mid > 0 && !more.empty() && more.front() < list[static_cast<std::size_t>(mid - 1)])
-    std::inplace_merge(list.begin(), list.begin() + mid, list.end());
 }
 
 // Rim vertices (on the plane, bounding a piece) into `rim`, sorted and unique; with caps, each

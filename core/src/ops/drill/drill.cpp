@@ -26,6 +26,7 @@
 #include "ops/drill/posed_overlay.h"
 #include "ops/drill/rim_insertion.h"
 #include "ops/drill/walls/wall.h"
+#include "sorted_ids.h"
 
 namespace deepcut {
 namespace {
@@ -101,8 +102,7 @@ std::vector<VertexId> pinch_candidates(const EditLog& log, const drill::Cylinder
       add(s->copy);
     }
   }
-  std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end()), out.end());
+  detail::sort_unique_ids(out);
   return out;
 }
 

@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: MIT
+#include "ops/cut/face_lists.h"
+
+#include <algorithm>
+
+namespace deepcut::detail {
+
+void follow_moved_faces(const std::vector<std::pair<FaceId, FaceId>>& moved, FaceId first_new,
+                        std::vector<FaceId>& piece) {
+  const bool below = std::is_sorted(piece.begin(), piece.end()) && (piece.empty() || piece.back() < first_new);
+  if (!below) {
+    for (FaceId& f : piece) {
+      const auto it = std::lower_bound(moved.begin(), moved.end(), std::make_pair(f, FaceId()),
+                                       [](const auto& x, const auto& y) { return x.first < y.first; });
+      if (it != moved.end() && it->first == f) f = it->second;
+    }
+    std::sort(piece.begin(), piece.end());
+    return;
+  }
+  std::vector<FaceId> added;
+  for (const auto& [f, g] : moved) {
+    const auto it = std::lower_bound(piece.begin(), piece.end(), f);
+    if (it == piece.end() || *it != f) continue;
+    added.push_back(g);
+    *it = FaceId();  // invalid: dropped below
+  }
+  if (added.empty()) return;
+  piece.erase(std::remove(piece.begin(), piece.end(), FaceId()), piece.end());
+  std::sort(added.begin(), added.end());
+  piece.insert(piece.end(), added.begin(), added.end());
+}
+
+void merge_sorted(std::vector<FaceId>& list, const std::vector<FaceId>& more) {
+  const auto mid = static_cast<std::ptrdiff_t>(list.size());
+  list.insert(list.end(), more.begin(), more.end());
+  if (mid > 0 && !more.empty() && more.front() < list[static_cast<std::size_t>(mid - 1)])
+    std::inplace_merge(list.begin(), list.begin() + mid, list.end());
+}
+
+}  // namespace deepcut::detail
