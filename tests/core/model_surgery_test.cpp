@@ -321,6 +321,11 @@ TEST(ModelSurgery, SplitDisjointGivesWhatExtractGivesWhicheverPieceKeepsTheArray
   SurfaceMesh mesh = test::make_grid(420, 200);
   auto& flag = mesh.face_attrs().add<std::uint8_t>(attr::kCutSurface);
   for (std::uint32_t f = 0; f < mesh.face_slots(); f += 7) flag[f] = 1;
+  // Arrays of types the copy has no typed path for (copied by chunks), with distinct values.
+  auto& ids = mesh.vertex_attrs().add<std::uint32_t>("v:test_id");
+  for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) ids[v] = 7u * v + 1u;
+  auto& tags = mesh.corner_attrs().add<glm::uvec2>("c:test_tag");
+  for (std::uint32_t c = 0; c < 3 * mesh.face_slots(); ++c) tags[c] = glm::uvec2(c, 3u * c + 2u);
   mesh.mark_deleted(FaceId(5));
   const std::uint32_t row_faces = 2 * 420;
   auto rows = [&](auto wanted) {

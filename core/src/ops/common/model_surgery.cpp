@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "deepcut/core/parallel.h"
+#include "uninit_vector.h"
 
 namespace deepcut::detail {
 
@@ -72,20 +73,30 @@ std::vector<std::uint32_t> live_increasing(const SurfaceMesh& mesh, const std::v
 
 using Marks = std::unique_ptr<std::atomic<std::uint32_t>[]>;
 
-// The list using each vertex (kNoList: none), marked by its faces (plain stores, any order): a
-// vertex two lists use keeps one of them, which the other's check in number_faces then finds.
-Marks mark_vertices(const SurfaceMesh& mesh, const std::vector<std::vector<std::uint32_t>>& faces) {
+// The list using each vertex (kNoList: none), marked by its faces, list after list (plain
+// stores, any order within a list). A vertex marked for an earlier list when a later one reaches
+// it is used by both: `shared` is set then (exactly when the lists share a vertex).
+Marks mark_vertices(const SurfaceMesh& mesh, const std::vector<std::vector<std::uint32_t>>& faces, bool& shared) {
   const std::size_t nv = mesh.vertex_count();
   Marks marks(new std::atomic<std::uint32_t>[nv]);
   parallel_for(nv, kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t v = b; v < e; ++v) marks[v].store(kNoList, std::memory_order_relaxed);
   });
-  for (std::size_t s = 0; s < faces.size(); ++s)
+  std::atomic<bool> clash{false};
+  for (std::size_t s = 0; s < faces.size(); ++s) {
+    const auto list = static_cast<std::uint32_t>(s);
     parallel_for(faces[s].size(), kGrain, [&](std::size_t b, std::size_t e) {
+      bool seen = false;
       for (std::size_t i = b; i < e; ++i)
-        for (VertexId v : mesh.face(FaceId(faces[s][i])))
-          marks[v.index].store(static_cast<std::uint32_t>(s), std::memory_order_relaxed);
+        for (VertexId v : mesh.face(FaceId(faces[s][i]))) {
+          const std::uint32_t was = marks[v.index].load(std::memory_order_relaxed);
+          seen |= was != kNoList && was != list;
+          marks[v.index].store(list, std::memory_order_relaxed);
+        }
+      if (seen) clash.store(true, std::memory_order_relaxed);
     });
+  }
+  shared = clash.load();
   return marks;
 }
 
@@ -128,32 +139,24 @@ void number_vertices(const Marks& owner, std::size_t nv, std::size_t lists, std:
 // corners follow it) and its triangles renumbered.
 struct Numbering {
   std::vector<std::vector<std::uint32_t>> faces, vertices;
+  std::vector<std::uint32_t> rank;  // each used vertex's index in its list
   std::vector<std::vector<Triangle>> tris;
 };
 
-// The triangles of list `s` renumbered. False when one of its vertices is marked for another
-// list (the lists share vertices).
-bool number_faces(const SurfaceMesh& mesh, std::uint32_t s, const Marks& owner, const std::vector<std::uint32_t>& rank,
-                  Numbering& out) {
-  const std::vector<std::uint32_t>& fs = out.faces[s];
-  std::vector<Triangle>& tris = out.tris[s];
-  tris.resize(fs.size());
-  std::atomic<bool> shared{false};
-  parallel_for(fs.size(), kGrain, [&](std::size_t b, std::size_t e) {
-    bool mine = true;
-    for (std::size_t i = b; i < e; ++i) {
-      const Triangle& t = mesh.face(FaceId(fs[i]));
-      for (int k = 0; k < 3; ++k) {
-        mine &= owner[t[k].index].load(std::memory_order_relaxed) == s;
-        tris[i][k] = VertexId(rank[t[k].index]);
-      }
-    }
-    if (!mine) shared.store(true, std::memory_order_relaxed);
-  });
-  return !shared.load();
+// The triangles `fs` renumbered by `rank` (the lists use disjoint vertices), written once into new
+// memory: reserved (huge pages asked for), then appended to, no value-initialisation first.
+void number_faces(const SurfaceMesh& mesh, const std::vector<std::uint32_t>& fs, const std::vector<std::uint32_t>& rank,
+                  std::vector<Triangle>& tris) {
+  tris.reserve(fs.size());
+  advise_huge_pages(tris.data(), fs.size() * sizeof(Triangle));
+  for (std::uint32_t f : fs) {
+    const Triangle& t = mesh.face(FaceId(f));
+    tris.push_back({VertexId(rank[t[0].index]), VertexId(rank[t[1].index]), VertexId(rank[t[2].index])});
+  }
 }
 
-// False when the lists share vertices.
+// Every list's faces and vertices numbered (out.tris is filled by fill_pieces). False when the
+// lists share vertices.
 bool number_pieces(const SurfaceMesh& mesh, const std::vector<std::vector<FaceId>>& lists, Numbering& out) {
   const std::size_t n = lists.size();
   if (n >= kNoList) return false;
@@ -162,18 +165,18 @@ bool number_pieces(const SurfaceMesh& mesh, const std::vector<std::vector<FaceId
   std::vector<std::function<void()>> tasks;
   for (std::size_t s = 0; s < n; ++s) tasks.emplace_back([&, s] { out.faces[s] = live_increasing(mesh, lists[s]); });
   parallel_invoke(tasks);
-  const Marks owner = mark_vertices(mesh, out.faces);
-  std::vector<std::uint32_t> rank;
-  number_vertices(owner, mesh.vertex_count(), n, out.vertices, rank);
-  bool disjoint = true;
-  for (std::size_t s = 0; s < n; ++s) disjoint &= number_faces(mesh, static_cast<std::uint32_t>(s), owner, rank, out);
-  return disjoint;
+  bool shared = false;
+  const Marks owner = mark_vertices(mesh, out.faces, shared);
+  if (shared) return false;
+  number_vertices(owner, mesh.vertex_count(), n, out.vertices, out.rank);
+  return true;
 }
 
 // --- the pieces' arrays ------------------------------------------------------------------------
-// Filled by byte copies of groups of elements: a vertex's or a face's element, or a face's three
-// corners (side by side). The copies are cut into chunks spread over the pool across every array
-// at once, so one large array is not one task.
+// Groups of elements are copied: a vertex's or a face's element, or a face's three corners (side
+// by side). A piece copied out is new memory: each of its arrays is written once, by one task
+// (fill_pieces). The in-place compaction, and arrays of types without a typed copy, run as byte
+// copies cut into chunks spread over the pool across every array at once.
 
 constexpr std::size_t kCopyGrain = 16384;  // groups per copy job
 
@@ -335,35 +338,82 @@ std::size_t in_place_piece(const SurfaceMesh& mesh, const Numbering& num) {
   return best;
 }
 
+// The empty `array` sized to `n` elements, in memory asked to come as huge pages.
+void resize_huge(AttributeArrayBase& array, std::size_t n) {
+  if (n == 0) return;
+  array.reserve(n);
+  array.resize(1);
+  advise_huge_pages(bytes_of(array), n * array.element_bytes());
+  array.resize(n);
+}
+
+// The empty `to` (of `from`'s type T) given the groups of G elements of `from` that `keep`
+// lists, in one pass over new memory: reserved (huge pages asked for), then appended to, so no
+// element is value-initialised first (a second pass over the memory). False when `from` is not
+// of type T.
+template <class T, std::size_t G>
+bool gather_into(const AttributeArrayBase& from, AttributeArrayBase& to, const std::vector<std::uint32_t>& keep) {
+  if (from.type() != typeid(T)) return false;
+  const T* src = static_cast<const AttributeArray<T>&>(from).data().data();
+  std::vector<T>& out = static_cast<AttributeArray<T>&>(to).data();
+  out.reserve(keep.size() * G);
+  advise_huge_pages(out.data(), keep.size() * G * sizeof(T));
+  for (std::uint32_t k : keep)
+    for (std::size_t g = 0; g < G; ++g) out.push_back(src[std::size_t{k} * G + g]);
+  return true;
+}
+
+// gather_into for the attribute types the library makes; false for any other type.
+template <std::size_t G>
+bool gather_typed(const AttributeArrayBase& from, AttributeArrayBase& to, const std::vector<std::uint32_t>& keep) {
+  return gather_into<glm::vec3, G>(from, to, keep) || gather_into<glm::vec2, G>(from, to, keep) ||
+         gather_into<glm::vec4, G>(from, to, keep) || gather_into<glm::u16vec4, G>(from, to, keep) ||
+         gather_into<std::uint8_t, G>(from, to, keep) || gather_into<float, G>(from, to, keep);
+}
+
+// One array of a piece copied out: where from, where to, which groups.
+struct ArrayCopy {
+  const AttributeArrayBase* from;
+  AttributeArrayBase* to;
+  const std::vector<std::uint32_t>* keep;
+  std::size_t group;
+  bool typed = true;  // filled by gather_typed; else sized here and copied by chunks afterwards
+};
+
 // The attribute sets of every piece but `big` (3 per piece: vertices, faces, corners), copied
-// out of `mesh`: each array allocated and sized by its own task (the new memory is touched in
-// parallel), then filled by chunks over every array at once.
-std::vector<AttributeSet> copy_out(const SurfaceMesh& mesh, const Numbering& num, std::size_t big) {
+// out of `mesh`, and every piece's triangles (number_faces): each array filled by its own task
+// (gather_typed, number_faces; largest first), an array of another type sized by its task and
+// filled by chunks over the pool afterwards.
+std::vector<AttributeSet> fill_pieces(const SurfaceMesh& mesh, Numbering& num, std::size_t big) {
   const std::size_t n = num.faces.size();
   std::vector<AttributeSet> sets(3 * n);
-  std::vector<std::function<void()>> tasks;
+  std::vector<ArrayCopy> copies;
   for (std::size_t s = 0; s < n; ++s)
     for (int kind = 0; kind < 3 && s != big; ++kind) {
       AttributeSet& set = sets[3 * s + static_cast<std::size_t>(kind)];
       set = set_of(mesh, kind).subset({});
-      const std::size_t size = list_of(num, s, kind).size() * group_of(kind);
       for (const std::string& name : set.names())
-        tasks.emplace_back([array = set.base(name), size] { array->resize(size); });
+        copies.push_back({set_of(mesh, kind).base(name), set.base(name), &list_of(num, s, kind), group_of(kind)});
     }
-  parallel_invoke(tasks);
-  std::vector<GroupCopy> jobs;
+  std::vector<std::pair<std::size_t, std::function<void()>>> tasks;  // bytes written, task
+  for (ArrayCopy& c : copies)
+    tasks.emplace_back(c.keep->size() * c.group * c.from->element_bytes(), [&c] {
+      c.typed = c.group == 3 ? gather_typed<3>(*c.from, *c.to, *c.keep) : gather_typed<1>(*c.from, *c.to, *c.keep);
+      if (!c.typed) resize_huge(*c.to, c.keep->size() * c.group);
+    });
   for (std::size_t s = 0; s < n; ++s)
-    for (int kind = 0; kind < 3 && s != big; ++kind) {
-      AttributeSet& set = sets[3 * s + static_cast<std::size_t>(kind)];
-      const std::vector<std::uint32_t>& keep = list_of(num, s, kind);
-      set.resize(keep.size() * group_of(kind));  // the set's own count (its arrays have it)
-      for (const std::string& name : set.names()) {
-        const AttributeArrayBase& from = *set_of(mesh, kind).base(name);
-        add_chunks({bytes_of(*set.base(name)), bytes_of(from), from.element_bytes() * group_of(kind), keep.data(), 0, 0},
-                   0, keep.size(), jobs);
-      }
-    }
+    tasks.emplace_back(num.faces[s].size() * sizeof(Triangle), [&, s] { number_faces(mesh, num.faces[s], num.rank, num.tris[s]); });
+  std::stable_sort(tasks.begin(), tasks.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  run_chunks(tasks.size(), [&](std::size_t i) { tasks[i].second(); });
+  std::vector<GroupCopy> jobs;
+  for (const ArrayCopy& c : copies)
+    if (!c.typed)
+      add_chunks({bytes_of(*c.to), bytes_of(*c.from), c.from->element_bytes() * c.group, c.keep->data(), 0, 0}, 0,
+                 c.keep->size(), jobs);
   run_copies(jobs);
+  for (std::size_t s = 0; s < n; ++s)
+    for (int kind = 0; kind < 3 && s != big; ++kind)  // the sets' own counts (their arrays have them)
+      sets[3 * s + static_cast<std::size_t>(kind)].resize(list_of(num, s, kind).size() * group_of(kind));
   return sets;
 }
 
@@ -381,7 +431,7 @@ std::vector<SurfaceMesh> make_pieces(const SurfaceMesh& mesh, const std::vector<
     return out;
   }
   const std::size_t big = owned ? in_place_piece(mesh, num) : n;
-  std::vector<AttributeSet> sets = copy_out(mesh, num, big);
+  std::vector<AttributeSet> sets = fill_pieces(mesh, num, big);
   for (std::size_t s = 0; s < n; ++s)
     if (s != big)
       out[s].assign(std::move(num.tris[s]), std::move(sets[3 * s]), std::move(sets[3 * s + 1]), std::move(sets[3 * s + 2]));
