@@ -64,7 +64,7 @@ ModelChange structure() {
 }  // namespace
 
 void Session::open(std::shared_ptr<const Model> model, bool take_over) {
-  if (before_change_) before_change_();
+  changing();
   editing_ = {};
   steps_.clear();
   done_ = 0;
@@ -88,6 +88,7 @@ void Session::open(std::shared_ptr<const Model> model, std::unique_ptr<PosedMode
 }
 
 void Session::push(ModelStep record, std::optional<std::vector<OperationEntry>> entries) {
+  ++version_;
   steps_.resize(done_);  // a new step drops the undone ones
   if (!record.exact()) steps_.clear();  // it cannot be taken back: nothing before it can either
   steps_.push_back({std::move(record), std::move(entries)});
@@ -97,7 +98,7 @@ void Session::push(ModelStep record, std::optional<std::vector<OperationEntry>> 
 ModelChange Session::commit(std::shared_ptr<const Model> state) {
   if (!live_ || !state) return {};
   cancel_edit();
-  if (before_change_) before_change_();
+  changing();
   std::shared_ptr<Model> owned = own(std::move(state));
   push(ModelStep::replace(*live_, std::move(*owned)), std::nullopt);
   posed_state_ = nullptr;
@@ -109,7 +110,7 @@ ModelChange Session::undo() {
   if (!can_undo()) return {};
   const bool was_editing = editing_.index >= 0;
   cancel_edit();
-  if (before_change_) before_change_();
+  changing();
   ModelChange change = steps_[--done_].record.undo(*live_);
   follow(change);
   return was_editing ? structure() : change;
@@ -119,7 +120,7 @@ ModelChange Session::redo() {
   if (!can_redo()) return {};
   const bool was_editing = editing_.index >= 0;
   cancel_edit();
-  if (before_change_) before_change_();
+  changing();
   ModelChange change = steps_[done_++].record.redo(*live_);
   follow(change);
   return was_editing ? structure() : change;
@@ -273,7 +274,7 @@ std::vector<OperationEntry> Session::operations() const {
 
 Model Session::opened_copy() {
   const std::size_t done = done_;
-  if (before_change_) before_change_();
+  changing();
   for (std::size_t i = done; i-- > 0;) steps_[i].record.undo(*live_);
   Model out = *live_;
   for (std::size_t i = 0; i < done; ++i) steps_[i].record.redo(*live_);
@@ -297,7 +298,7 @@ bool Session::begin_edit(int index) {
 
 void Session::cancel_edit() {
   if (editing_.index < 0) return;
-  if (before_change_) before_change_();
+  changing();
   if (posed_state_ == editing_.base.get()) posed_state_ = nullptr;
   current_ = live_;
   editing_ = {};
@@ -335,7 +336,7 @@ EditRun Session::prepare_edit(const Operation& op, const RerunObserver& observer
 EditOutcome Session::commit_edit(EditRun run) {
   if (!run.result) return run.outcome;  // the edit goes on
   cancel_edit();
-  if (before_change_) before_change_();
+  changing();
   // One step: the re-run replaces the model (the step holds the state it replaced, by move).
   push(ModelStep::replace(*live_, std::move(*run.result)), std::move(run.entries));
   posed_ = std::move(run.posed);  // it described the result, now moved into the live model
@@ -369,18 +370,25 @@ bool Session::refresh_posed_model(const PoseKey& key) {
   return false;
 }
 
-bool Session::adopt_posed_model(std::unique_ptr<PosedModel> posed, const Model* built_for) {
-  if (!posed || !posed->valid() || !live_ || built_for != live_.get() || current_ != live_ || !steps_.empty() ||
-      editing_.index >= 0 || posed_model())
+bool Session::adopt_posed_model(std::unique_ptr<PosedModel> posed, const Model* built_for,
+                                std::uint64_t version) {
+  if (!posed || !posed->valid() || !live_ || built_for != live_.get() || current_ != live_ || version != version_ ||
+      editing_.index >= 0)
     return false;
   if (before_change_) before_change_();
+  if (posed->key() != stash_key_) stash_.clear();  // posed at another pose
   posed_ = std::move(posed);
   posed_state_ = live_.get();
   return true;
 }
 
-PosedModel* Session::posed_for(const Model* state) {
+void Session::changing() {
+  ++version_;
   if (before_change_) before_change_();
+}
+
+PosedModel* Session::posed_for(const Model* state) {
+  changing();
   if (!posed_) posed_ = std::make_unique<PosedModel>();
   if (posed_state_ != state || !state) posed_->invalidate();  // the next operation builds it at its pose
   posed_state_ = nullptr;  // it may change: it describes no state until the caller says so

@@ -17,6 +17,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -175,11 +176,15 @@ class Session {
   /// The same at a pose with morph weights set by hand (the studio's morph weights panel); the
   /// operations then run at those weights when they carry them (Operation::weights).
   bool refresh_posed_model(const PoseKey& key);
-  /// Takes `posed`, built elsewhere for `built_for` at its pose (a front end builds it off its
-  /// UI thread once a model it opened is drawn), as the posed model when `built_for` is the
-  /// current state as opened (no step since, not editing) and the session has none describing
-  /// it. @returns whether it was taken (else `posed` is dropped).
-  bool adopt_posed_model(std::unique_ptr<PosedModel> posed, const Model* built_for);
+  /// Counts the changes to the state (steps, undo, redo, edits, opens) and to the posed model:
+  /// a posed model built elsewhere from the state at one count describes it while the count stays.
+  std::uint64_t state_version() const { return version_; }
+  /// Takes `posed`, built elsewhere (a front end builds it off its UI thread: once a model it
+  /// opened is drawn, after a structural step, after the pose settles) for `built_for` at
+  /// `state_version()` `version`, as the posed model when `built_for` is still the live state
+  /// unchanged (the same count, not editing). @returns whether it was taken (else `posed` is
+  /// dropped). The caller keeps the state unchanged while it is read.
+  bool adopt_posed_model(std::unique_ptr<PosedModel> posed, const Model* built_for, std::uint64_t version);
   /// Called before the posed model changes or is replaced (pointers into it, such as grids lent
   /// to a drawn scene, must be dropped).
   void set_posed_model_listener(std::function<void()> before_change) { before_change_ = std::move(before_change); }
@@ -203,6 +208,8 @@ class Session {
   /// The posed model, made to follow `state` (kept when it describes it, else emptied: the
   /// next operation builds it at its pose). It describes no state until the caller says so.
   PosedModel* posed_for(const Model* state);
+  /// Before the state or the posed model changes: counts it, tells the listener.
+  void changing();
   /// The posed model follows a step's change to the live model (or is left for a rebuild).
   void follow(const ModelChange& change);
   /// The posed model follows a mapped structural undo or redo when every content it brings
@@ -226,6 +233,7 @@ class Session {
   // removed, by (content tag, node): taken back when an undo or redo brings them back.
   PoseStash stash_;
   PoseKey stash_key_;  // the pose stash_ was made at
+  std::uint64_t version_ = 0;  // state_version()
   std::function<void()> before_change_;
 };
 

@@ -109,6 +109,10 @@ MainWindow::MainWindow(const MainWindowOptions& options, QWidget* parent)
   connect(scene_host_, &SceneHost::note, statusBar(), &QStatusBar::showMessage);
   connect(timeline_, &Timeline::pose_changed, scene_host_, &SceneHost::pose);
   scene_host_->set_morph_panel(morph_panel_);
+  // After a step or a pose change the operations' posed model is rebuilt off the UI thread, and
+  // an undo or redo (which edits the model it reads) waits for it.
+  scene_host_->set_posed_builder([this] { return start_indexing(); });
+  operations_->set_before_step([this] { finish_indexing(); });
   build_menus();
 
   for (QLabel** label : {&operation_label_, &time_label_, &counts_label_}) {
@@ -538,22 +542,28 @@ void MainWindow::draw_frame_and_index(bool in_background) {
   note_operation("Open " + QFileInfo(path_).fileName(), open_timing_.total_ms);
   // Then the operations' posed model (positions again, with the grids the tools search), off
   // the UI thread while edits wait for it: an operation never finds a half-built one.
-  const std::shared_ptr<const Model> model = session().current();
-  if (!model || !scene()) return;
-  BackgroundTask::Job job = index_job(model, scene_host_->pose_key());
   if (!in_background) {
+    if (!session().current() || !scene()) return;
     TaskProgress progress;
-    job(progress)();
+    index_job(session().current(), scene_host_->pose_key())(progress)();
     return;
   }
+  start_indexing();
+}
+
+bool MainWindow::start_indexing() {
+  const std::shared_ptr<const Model> model = session().current();
+  if (!model || !scene()) return true;  // nothing to index
+  if (task_->busy()) return false;
   const QString name = QFileInfo(path_).fileName();
   indexing_ = task_->start(
-      "Indexing " + name, 1, std::move(job),
+      "Indexing " + name, 1, index_job(model, scene_host_->pose_key()),
       [this, name](std::exception_ptr error) {
         indexing_ = false;
         report_exception(error, name);
       },
       [this] { indexing_ = false; });  // the first operation builds it
+  return indexing_;
 }
 
 void MainWindow::finish_indexing() {
@@ -561,13 +571,14 @@ void MainWindow::finish_indexing() {
 }
 
 BackgroundTask::Job MainWindow::index_job(std::shared_ptr<const Model> model, const PoseKey& key) {
-  return [this, model, key](TaskProgress& progress) -> BackgroundTask::Deliver {
+  const std::uint64_t version = session().state_version();
+  return [this, model, key, version](TaskProgress& progress) -> BackgroundTask::Deliver {
     progress.stage("Indexing");
     auto posed = std::make_shared<std::unique_ptr<PosedModel>>(
         std::make_unique<PosedModel>(PosedModel::build(*model, key, PoseDetail::Full)));
-    return [this, model, posed] {
+    return [this, model, posed, version] {
       indexing_ = false;
-      scene_host_->adopt_posed_model(std::move(*posed), model.get());
+      scene_host_->adopt_posed_model(std::move(*posed), model.get(), version);
     };
   };
 }

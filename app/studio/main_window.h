@@ -234,8 +234,12 @@ class MainWindow : public QMainWindow {
   /// Draws the first frame, then builds the operations' posed model (index_job) on the worker
   /// (`in_background`) or here.
   void draw_frame_and_index(bool in_background);
-  /// Builds the posed model of `model` (the state just opened) at `key` with its grids, for the
-  /// session to adopt (SceneHost::adopt_posed_model).
+  /// Starts index_job of the current state at the scene's pose on the worker. @returns false
+  /// when another task runs (nothing started), true otherwise.
+  bool start_indexing();
+  /// Builds the posed model of `model` (the current state: just opened, after a structural step
+  /// or at a new pose) at `key` with its grids, for the session to adopt
+  /// (SceneHost::adopt_posed_model) while the state stays as it was.
   BackgroundTask::Job index_job(std::shared_ptr<const Model> model, const PoseKey& key);
   /// Waits for index_job when it runs: what is asked right after an open (opening another file,
   /// applying an operation or a history, editing a past one, exporting, a background inspector

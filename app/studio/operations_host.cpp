@@ -52,10 +52,12 @@ void OperationsHost::open(std::shared_ptr<const Model> model, std::unique_ptr<Po
 }
 
 void OperationsHost::push_step(const QString& label, const ModelChange& change) {
-  undo_stack_->push(new SessionStepCommand(session_, label, change, [this](const ModelChange& c) {
+  auto* command = new SessionStepCommand(session_, label, change, [this](const ModelChange& c) {
     last_change_ = c;
     emit state_changed();
-  }));
+  });
+  command->set_before_step(before_step_);
+  undo_stack_->push(command);
 }
 
 ModelChange OperationsHost::take_change() {

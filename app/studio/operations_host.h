@@ -9,6 +9,7 @@
 
 #include <QObject>
 #include <QString>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -47,6 +48,9 @@ class OperationsHost : public QObject {
   /// Re-runs of an edited history go through `task` (off the UI thread, with progress and
   /// Cancel); without one they run at once.
   void set_task(BackgroundTask* task) { task_ = task; }
+  /// Runs before each undo or redo moves the session (the studio waits there for a worker that
+  /// reads the model).
+  void set_before_step(std::function<void()> settle) { before_step_ = std::move(settle); }
   /// See MainWindow::apply_tool (the caller clears its last error on success). While editing,
   /// the re-run starts off the UI thread: true means it started, and `edit_applied()` says, once
   /// the task has ended, whether it made the new state.
@@ -99,6 +103,7 @@ class OperationsHost : public QObject {
   QUndoStack* undo_stack_ = nullptr;
   HistoryPanel* panel_ = nullptr;
   BackgroundTask* task_ = nullptr;
+  std::function<void()> before_step_;  // set_before_step
   bool edit_applied_ = false;
 };
 

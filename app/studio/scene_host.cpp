@@ -30,7 +30,7 @@ SceneHost::SceneHost(SceneView* view, SceneTree* tree, Timeline* timeline, ToolH
   posed_timer_->setInterval(300);
   connect(posed_timer_, &QTimer::timeout, this, [this] {
     if (timeline_->playing()) return;  // playing: re-posing every frame; the next stop rebuilds
-    refresh_posed_model();
+    rebuild_posed_model();
   });
 }
 
@@ -67,9 +67,9 @@ std::vector<std::string> SceneHost::show_opened(plugins::Scene scene, const QStr
 
 PoseKey SceneHost::pose_key() const { return PoseKey(scene_->animation, scene_->time, scene_->weights); }
 
-void SceneHost::adopt_posed_model(std::unique_ptr<PosedModel> posed, const Model* built_for) {
+void SceneHost::adopt_posed_model(std::unique_ptr<PosedModel> posed, const Model* built_for, std::uint64_t version) {
   if (!scene_ || !posed || !posed->matches(pose_key())) return;  // posed again meanwhile: the timer rebuilds
-  if (!session_.adopt_posed_model(std::move(posed), built_for)) return;
+  if (!session_.adopt_posed_model(std::move(posed), built_for, version)) return;
   lend_grids();
   tools_->refresh_preview();
 }
@@ -145,6 +145,14 @@ void SceneHost::pose(int animation, float time) {
   tools_->refresh_preview();
   refresh_overlays();
   view_->render();
+}
+
+void SceneHost::rebuild_posed_model() {
+  if (!posed_builder_) return refresh_posed_model();
+  if (!session_.current() || !scene_) return;
+  const PosedModel* posed = session_.posed_model();
+  if (posed && posed->matches(pose_key())) return;  // it followed the step
+  if (!posed_builder_()) posed_timer_->start();      // another task runs: ask again once idle
 }
 
 void SceneHost::refresh_posed_model() {

@@ -9,6 +9,8 @@
 
 #include <QObject>
 #include <QString>
+#include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -49,7 +51,11 @@ class SceneHost : public QObject {
   /// first frame (show_opened leaves the session without one: building it, grids included,
   /// would delay that frame): the session takes it when it describes the current state
   /// (`built_for`, no step since) at the scene's pose, and the tools get its grids.
-  void adopt_posed_model(std::unique_ptr<PosedModel> posed, const Model* built_for);
+  void adopt_posed_model(std::unique_ptr<PosedModel> posed, const Model* built_for, std::uint64_t version);
+  /// How the operations' posed model is rebuilt once a step or the pose settles: `start` begins
+  /// building it off the UI thread (handed back through adopt_posed_model) and returns whether
+  /// it could start now (else the scene asks again later). Without one it is rebuilt in place.
+  void set_posed_builder(std::function<bool()> start) { posed_builder_ = std::move(start); }
   /// Shows the session's current state at the time line's pose (after an undo step or an edit).
   void show_current();
   /// Shows the session's current state after one step from the shown state (an operation, its
@@ -69,6 +75,9 @@ class SceneHost : public QObject {
   /// Brings the session's posed model up to date for the shown state and pose now (else done
   /// once the pose stays put for a moment), and lends the scene its grids.
   void refresh_posed_model();
+  /// What the idle timer runs: nothing when the posed model already describes the shown state
+  /// and pose, else the posed builder (set_posed_builder), else refresh_posed_model.
+  void rebuild_posed_model();
   /// Lends the scene the posed model's grids when it describes the shown state and pose.
   void lend_grids();
 
@@ -105,6 +114,7 @@ class SceneHost : public QObject {
   MorphPanel* morph_ = nullptr;
   session::Session& session_;
   std::unique_ptr<plugins::Scene> scene_;  // created once, then kept at one address
+  std::function<bool()> posed_builder_;   // set_posed_builder
   QTimer* posed_timer_ = nullptr;          // rebuilds the posed model once the pose or state settles
   QString title_;
   bool show_skeleton_ = true;

@@ -4,11 +4,15 @@
 namespace deepcut::studio {
 
 void SessionStepCommand::undo() {
+  if (before_step_) before_step_();
   show_(session_.undo());
 }
 
 void SessionStepCommand::redo() {
-  if (pushed_) return show_(session_.redo());
+  if (pushed_) {
+    if (before_step_) before_step_();
+    return show_(session_.redo());
+  }
   pushed_ = true;
   show_(made_);
   made_ = ModelChange();

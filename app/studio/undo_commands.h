@@ -20,6 +20,9 @@ class SessionStepCommand : public QUndoCommand {
   SessionStepCommand(session::Session& session, const QString& label, ModelChange made,
                      std::function<void(const ModelChange&)> show)
       : QUndoCommand(label), session_(session), made_(std::move(made)), show_(std::move(show)) {}
+  /// Runs before each undo and redo moves the session (not before the first redo: the step is
+  /// already made).
+  void set_before_step(std::function<void()> settle) { before_step_ = std::move(settle); }
   void undo() override;
   void redo() override;
 
@@ -27,6 +30,7 @@ class SessionStepCommand : public QUndoCommand {
   session::Session& session_;
   ModelChange made_;  // shown by the first redo, then dropped
   std::function<void(const ModelChange&)> show_;
+  std::function<void()> before_step_;
   bool pushed_ = false;  // the first redo (QUndoStack::push) finds the step already made
 };
 

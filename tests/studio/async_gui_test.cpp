@@ -111,6 +111,20 @@ class Pinger {
   std::vector<Gap> gaps_;
 };
 
+/// The operations' posed model describes the studio's model at its pose as a fresh build does.
+void expect_as_built(MainWindow& window) {
+  const deepcut::PosedModel* posed = window.posed_model();
+  QVERIFY(posed != nullptr);
+  const deepcut::PosedModel fresh = deepcut::PosedModel::build(*window.model(), posed->key(), deepcut::PoseDetail::Full);
+  QCOMPARE(posed->size(), fresh.size());
+  for (const auto& [key, want] : fresh.instances()) {
+    const deepcut::PosedMesh* got = posed->find(key.first, key.second);
+    QVERIFY(got != nullptr);
+    QVERIFY(got->posed == want.posed);
+    QVERIFY(got->grid.face_count() == want.grid.face_count());
+  }
+}
+
 /// Processes events for `ms` milliseconds (the first frame's paint events included).
 void settle(int ms) {
   QElapsedTimer clock;
@@ -191,6 +205,29 @@ class StudioAsyncTest : public QObject {
     QCOMPARE(window->history()->count(), 1);
     QVERIFY(window->posed_model());
     QVERIFY(model_bytes(*window, "right-after-open") == expected);
+  }
+
+  void after_a_cut_the_posed_model_is_built_again_off_the_ui_thread() {
+    // A cut's pieces are new meshes: once the studio is idle the operations' posed model is built
+    // again on the worker ("Indexing"), not on the UI thread, and matches a fresh build; an undo
+    // asked for meanwhile waits for the worker (it edits the model the worker reads) and is exact.
+    auto window = deepcut::test::studio::shown_window();
+    QVERIFY(window);
+    QVERIFY(window->open_file(deepcut::test::studio::kCactus));
+    const std::string opened = model_bytes(*window, "indexing-opened");
+    QStringList stages;
+    connect(window->task(), &BackgroundTask::stage_changed, window->task(), [&](const QString& s) { stages << s; });
+    window->set_tool("cut");
+    QVERIFY2(window->apply_tool(), qPrintable(window->last_error()));
+    QTRY_VERIFY(stages.contains("Indexing"));
+    window->history()->undo();
+    QVERIFY(model_bytes(*window, "indexing-undone") == opened);
+    QTRY_VERIFY(window->posed_model() != nullptr && !window->task()->busy());
+    QCOMPARE(stages.count("Indexing"), 2);  // after the cut, after its undo
+    expect_as_built(*window);
+    window->history()->redo();
+    QTRY_VERIFY(window->posed_model() != nullptr && !window->task()->busy());
+    expect_as_built(*window);
   }
 
   void cancelling_an_open_leaves_the_studio_as_it_was() {
