@@ -70,8 +70,9 @@ PoseKey SceneHost::pose_key() const { return PoseKey(scene_->animation, scene_->
 void SceneHost::adopt_posed_model(std::unique_ptr<PosedModel> posed, const Model* built_for, std::uint64_t version) {
   if (!scene_ || !posed || !posed->matches(pose_key())) return;  // posed again meanwhile: the timer rebuilds
   if (!session_.adopt_posed_model(std::move(posed), built_for, version)) return;
+  // The previews follow the grids from the next pointer move: with them or by a scan of every
+  // posed triangle they draw the same lines, so the one shown stays (redrawing it costs a frame).
   lend_grids();
-  tools_->refresh_preview();
 }
 
 std::vector<std::string> SceneHost::present(std::shared_ptr<const SceneView::Prepared> prepared) {
