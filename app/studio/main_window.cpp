@@ -689,6 +689,7 @@ void MainWindow::apply_history(const History& history, const std::string& source
 }
 
 void MainWindow::apply_operation(const QString& label, std::shared_ptr<const Model> result, double ms) {
+  finish_indexing();  // the commit moves the model the worker may be reading
   operations_->commit(label, std::move(result), ms);
 }
 

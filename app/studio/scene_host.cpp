@@ -149,7 +149,9 @@ void SceneHost::pose(int animation, float time) {
 }
 
 void SceneHost::rebuild_posed_model() {
-  if (!posed_builder_) return refresh_posed_model();
+  // While a past operation is edited the posed model describes the edit's base, which the
+  // session keeps apart from the live model: it is brought up to date in place.
+  if (!posed_builder_ || session_.editing() >= 0) return refresh_posed_model();
   if (!session_.current() || !scene_) return;
   const PosedModel* posed = session_.posed_model();
   if (posed && posed->matches(pose_key())) return;  // it followed the step
