@@ -27,6 +27,7 @@
 #include "deepcut/core/generate/cactus.h"
 #include "deepcut/core/io/gltf.h"
 #include "main_window.h"
+#include "posed_checks.h"
 #include "studio_test_support.h"
 
 namespace {
@@ -115,14 +116,8 @@ class Pinger {
 void expect_as_built(MainWindow& window) {
   const deepcut::PosedModel* posed = window.posed_model();
   QVERIFY(posed != nullptr);
-  const deepcut::PosedModel fresh = deepcut::PosedModel::build(*window.model(), posed->key(), deepcut::PoseDetail::Full);
-  QCOMPARE(posed->size(), fresh.size());
-  for (const auto& [key, want] : fresh.instances()) {
-    const deepcut::PosedMesh* got = posed->find(key.first, key.second);
-    QVERIFY(got != nullptr);
-    QVERIFY(got->posed == want.posed);
-    QVERIFY(got->grid.face_count() == want.grid.face_count());
-  }
+  const std::string difference = deepcut::test::difference_from_fresh_build(*posed, *window.model());
+  QVERIFY2(difference.empty(), difference.c_str());
 }
 
 /// Processes events for `ms` milliseconds (the first frame's paint events included).
