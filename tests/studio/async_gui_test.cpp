@@ -2,7 +2,8 @@
 // GUI test of the studio's long work off the UI thread (background_task.h, QTest under
 // xvfb-run): while a generated 1M-triangle cactus opens, a 10 ms timer pings the event loop and
 // the longest gap between pings stays under 100 ms, and the model opens; Cancel during an open
-// leaves the studio exactly as it was; an export is complete or absent, never partial.
+// leaves the studio exactly as it was; an export is complete or absent, never partial; the
+// shader warm-up an open starts shows nothing.
 #include <QVTKOpenGLNativeWidget.h>
 
 #include <QAction>
@@ -131,6 +132,23 @@ class StudioAsyncTest : public QObject {
   Q_OBJECT
 
  private slots:
+  void the_shader_warm_up_shows_nothing() {
+    // An open compiles the view's shaders while the file is read, by drawing a stand-in
+    // triangle over the whole view in frames that are never shown: until the model's first
+    // frame the view keeps showing what it showed.
+    auto window = deepcut::test::studio::shown_window();
+    QVERIFY(window);
+    settle(200);
+    auto* widget = window->view()->findChild<QVTKOpenGLNativeWidget*>("vtk_view");
+    QVERIFY(widget);
+    const QImage before = widget->grabFramebuffer();
+    window->view()->warm_up();  // a variant per turn of the event loop
+    settle(300);
+    widget->update();  // a repaint shows what the widget holds
+    settle(100);
+    QVERIFY(widget->grabFramebuffer() == before);
+  }
+
   void opening_a_million_triangles_never_stalls_the_event_loop() {
     const QString path = million_cactus();
     auto window = deepcut::test::studio::shown_window();
