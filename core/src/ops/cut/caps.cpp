@@ -134,7 +134,8 @@ std::vector<Triangle> choose_loops(MeshEditor& editor, const CapInput& in, std::
   if (flat_faces.empty() || !trace_loops(rim_halfedges(mesh, in, flat_faces), rim)) {
     for (FaceId f : flat_faces) kept_flat.push_back(mesh.face(f));
     flat_faces.clear();
-    trace_loops(rim_halfedges(mesh, in), rim);
+    const auto found = in.rim ? std::vector<std::pair<VertexId, VertexId>>() : rim_halfedges(mesh, in);
+    trace_loops(in.rim ? *in.rim : found, rim);
     // A rim loop that runs along a kept flat face (two of its corners on the loop) would be
     // capped over or beside that face, and cap triangles would share its edges (non-manifold
     // edges on open pieces). The surface there is partly in the plane already, and a cap of the
@@ -182,10 +183,12 @@ void add_cap_faces(MeshEditor& editor, const CapInput& in, const RimLoops& rim,
     pts[i] = {glm::dot(p, u), glm::dot(p, w)};
   }
   // The largest loop is an outer one; its orientation is the cap's.
-  std::size_t largest = 0;
-  for (std::size_t i = 1; i < loops.size(); ++i)
-    if (std::abs(geometry::signed_area2(pts, loops[i])) > std::abs(geometry::signed_area2(pts, loops[largest]))) largest = i;
-  const int outer_sign = geometry::signed_area2(pts, loops[largest]) >= 0 ? 1 : -1;
+  double largest_area = geometry::signed_area2(pts, loops[0]);
+  for (std::size_t i = 1; i < loops.size(); ++i) {
+    const double area = geometry::signed_area2(pts, loops[i]);
+    if (std::abs(area) > std::abs(largest_area)) largest_area = area;
+  }
+  const int outer_sign = largest_area >= 0 ? 1 : -1;
   const auto tris = geometry::triangulate_loops(pts, loops, outer_sign);
 
   SurfaceMesh& mesh = editor.mesh();
