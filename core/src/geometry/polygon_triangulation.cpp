@@ -443,6 +443,9 @@ std::vector<LocalTri> triangulate_loops(const std::vector<glm::dvec2>& points,
     if (owner != loops.size()) holes_of[owner].push_back(loops[h]);
   }
   std::vector<LocalTri> out;
+  std::size_t corners = 0;  // a polygon of n corners (holes bridged in) makes n - 2 triangles at most
+  for (const auto& loop : loops) corners += loop.size() + 2;
+  out.reserve(corners);
   for (std::size_t o : outers) triangulate_polygon(pts, loops[o], std::move(holes_of[o]), rules, out);
   // Mirroring reversed orientation once, so `out` already has the outer loops' orientation.
   return out;
