@@ -39,6 +39,10 @@ class EarClipper {
     version_.assign(n, 0);
     remaining_ = n;
     if (search_ == EarSearch::kQueued) make_grid();
+    if (search_ == EarSearch::kExhaustive) {
+      ear_state_.assign(n, kUnknown);
+      ear_quality_.resize(n);
+    }
   }
 
   void run(std::vector<LocalTri>& out) {
@@ -223,21 +227,22 @@ class EarClipper {
     return false;
   }
 
-  // kExhaustive: positive area beyond the tolerance and no other polygon point in the closed
-  // triangle.
-  bool is_ear(std::size_t i) const {
+  // kExhaustive: kEar for an ear (positive area beyond the tolerance and no other polygon point
+  // in the closed triangle), else kFlat, or the first live corner met in its closed triangle.
+  std::uint32_t find_blocker(std::size_t i) const {
     const std::uint32_t ia = poly_[prev_[i]], ib = poly_[i], ic = poly_[next_[i]];
     const glm::dvec2 &a = pts_[ia], &b = pts_[ib], &c = pts_[ic];
     const double tiny = 1e-13 * longest(i);
-    if (corner(i) <= tiny) return false;
+    if (corner(i) <= tiny) return kFlat;
     std::size_t q = origin_;
     for (std::size_t k = 0; k < remaining_; ++k, q = next_[q]) {
       const std::uint32_t iq = poly_[q];
       if (iq == ia || iq == ib || iq == ic) continue;  // the same point (bridges repeat points)
       const glm::dvec2& p = pts_[iq];
-      if (orient(a, b, p) >= -tiny && orient(b, c, p) >= -tiny && orient(c, a, p) >= -tiny) return false;
+      if (orient(a, b, p) >= -tiny && orient(b, c, p) >= -tiny && orient(c, a, p) >= -tiny)
+        return static_cast<std::uint32_t>(q);
     }
-    return true;
+    return kEar;
   }
 
   // The best queued ear still valid, or n.
@@ -250,14 +255,22 @@ class EarClipper {
     return poly_.size();
   }
 
-  // The best ear among all corners (the first one in input order on ties), or n.
-  std::size_t scan_ears() const {
+  // kExhaustive: the best ear among all corners (the first one in input order on ties), or n. A
+  // corner's triangle changes only when a neighbour is clipped (which forgets what is known of
+  // it), and corners only leave: an ear stays one, and a blocked corner stays blocked while its
+  // blocker lives. So a corner is looked at again only then.
+  std::size_t scan_ears() {
     std::size_t best = poly_.size();
     double best_quality = -1.0;
     std::size_t i = origin_;
     for (std::size_t k = 0; k < remaining_; ++k, i = next_[i]) {
-      if (!is_ear(i)) continue;
-      const double q = quality(i);
+      std::uint32_t& state = ear_state_[i];
+      if (state == kUnknown || (state < kFlat && !alive_[state])) {
+        state = find_blocker(i);
+        if (state == kEar) ear_quality_[i] = quality(i);
+      }
+      if (state != kEar) continue;
+      const double q = ear_quality_[i];
       if (q > best_quality) {
         best_quality = q;
         best = i;
@@ -287,6 +300,7 @@ class EarClipper {
     prev_[c] = a;
     --remaining_;
     if (search_ == EarSearch::kExhaustive) {
+      ear_state_[a] = ear_state_[c] = kUnknown;
       if (origin_ == i) origin_ = c;
       update_reflex(a);
       update_reflex(c);
@@ -320,6 +334,11 @@ class EarClipper {
   std::size_t grid_x_ = 0, grid_y_ = 0;
   glm::dvec2 origin_xy_{0.0}, inv_cell_{0.0};
   std::priority_queue<Entry> ears_;
+  // kExhaustive: what is known of each corner's ear (find_blocker, or kUnknown), and the quality
+  // of each known ear.
+  static constexpr std::uint32_t kUnknown = ~std::uint32_t(0), kEar = kUnknown - 1, kFlat = kUnknown - 2;
+  std::vector<std::uint32_t> ear_state_;
+  std::vector<double> ear_quality_;
   std::size_t remaining_ = 0;
   std::size_t origin_ = 0;
 };
