@@ -192,6 +192,11 @@ void SurfaceMesh::assign(std::vector<Triangle> faces, AttributeSet vertex_attrs,
   for (const auto& t : faces)
     for (auto v : t)
       if (v.index >= vertex_attrs.size()) throw Error(ErrorCode::InvalidArgument, "SurfaceMesh::assign: vertex index out of range");
+  assign_trusted(std::move(faces), std::move(vertex_attrs), std::move(face_attrs), std::move(corner_attrs));
+}
+
+void SurfaceMesh::assign_trusted(std::vector<Triangle> faces, AttributeSet vertex_attrs, AttributeSet face_attrs,
+                                 AttributeSet corner_attrs) {
   if (observer_) release();
   faces_ = std::move(faces);
   deleted_.assign(faces_.size(), 0);

@@ -15,6 +15,7 @@
 #include "deepcut/core/generate/cactus.h"
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/mesh_editor.h"
+#include "deepcut/core/ops/cut.h"
 #include "deepcut/core/ops/operation.h"
 #include "deepcut/core/parallel.h"
 #include "fixtures.h"
@@ -315,7 +316,7 @@ TEST(ModelSurgery, SplitDisjointGivesWhatExtractGivesWhicheverPieceKeepsTheArray
   SurfaceMesh mesh = test::make_grid(420, 200);
   auto& flag = mesh.face_attrs().add<std::uint8_t>(attr::kCutSurface);
   for (std::uint32_t f = 0; f < mesh.face_slots(); f += 7) flag[f] = 1;
-  // Arrays of types the copy has no typed path for (copied by chunks), with distinct values.
+  // Arrays of types the library does not make itself, with distinct values.
   auto& ids = mesh.vertex_attrs().add<std::uint32_t>("v:test_id");
   for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) ids[v] = 7u * v + 1u;
   auto& tags = mesh.corner_attrs().add<glm::uvec2>("c:test_tag");
@@ -346,6 +347,47 @@ TEST(ModelSurgery, SplitDisjointGivesWhatExtractGivesWhicheverPieceKeepsTheArray
       ASSERT_EQ(out.size(), lists.size());
       for (std::size_t i = 0; i < lists.size(); ++i) expect_same_bytes(out[i], extract(mesh, lists[i]));
     }
+}
+
+TEST(ModelSurgery, ACutsVertexSidesSplitItsMeshAsItsPiecesFacesDo) {
+  // The cut's vertex sides agree with the faces of its pieces (a vertex no piece uses: 0, or the
+  // side the cut dropped), and the pieces split by them are the pieces split by their faces.
+  CactusOptions cactus;
+  cactus.target_triangles = 60000;
+  const SurfaceMesh input = make_cactus(cactus).meshes[0].primitives[0].mesh;
+  const BoundingBox box = input.bounds();
+  const Plane plane{0.5f * (box.min + box.max), glm::vec3(0.1f, 1.0f, 0.05f)};
+  for (CutKeep keep : {CutKeep::Both, CutKeep::Positive, CutKeep::Negative}) {
+    SurfaceMesh mesh = input;
+    CutOptions options;
+    options.keep = keep;
+    const CutResult r = cut_mesh(mesh, mesh.positions(), plane, options);
+    ASSERT_EQ(r.status, OpStatus::Ok);
+    ASSERT_EQ(r.vertex_sides.size(), mesh.vertex_count());
+    std::vector<int> side_of(mesh.vertex_count(), 0);
+    for (std::size_t p = 0; p < r.pieces.size(); ++p)
+      for (FaceId f : r.pieces[p])
+        for (VertexId v : mesh.face(f)) side_of[v.index] = r.piece_sides[p];
+    const int dropped = keep == CutKeep::Positive ? -1 : keep == CutKeep::Negative ? 1 : 0;
+    for (std::size_t v = 0; v < side_of.size(); ++v) {
+      const bool dropped_side = side_of[v] == 0 && r.vertex_sides[v] == dropped;
+      EXPECT_TRUE(dropped_side || r.vertex_sides[v] == side_of[v]) << v;
+    }
+    const PieceSides sides{&r.piece_sides, &r.vertex_sides};
+    SurfaceMesh a = mesh, b = mesh;
+    const std::vector<SurfaceMesh> by_sides = split_disjoint(std::move(a), r.pieces, sides);
+    const std::vector<SurfaceMesh> by_faces = split_disjoint(std::move(b), r.pieces);
+    ASSERT_EQ(by_sides.size(), by_faces.size());
+    for (std::size_t i = 0; i < by_sides.size(); ++i) expect_same_bytes(by_sides[i], by_faces[i]);
+  }
+  // Not handed out for caps, or for a mesh with deleted faces (a vertex only they use has a sign).
+  SurfaceMesh mesh = input;
+  CutOptions capped;
+  capped.cap = true;
+  EXPECT_TRUE(cut_mesh(mesh, mesh.positions(), plane, capped).vertex_sides.empty());
+  mesh = input;
+  mesh.mark_deleted(FaceId(0));
+  EXPECT_TRUE(cut_mesh(mesh, mesh.positions(), plane).vertex_sides.empty());
 }
 
 std::vector<char> file_bytes(const std::string& path) {

@@ -91,6 +91,15 @@ class AttributeArrayBase {
   /// A copy holding only the elements listed, in that order (`keep[i]` becomes element `i`):
   /// `clone()` then `gather(keep)` without copying the whole array first.
   virtual std::unique_ptr<AttributeArrayBase> clone_subset(const std::vector<std::uint32_t>& keep) const = 0;
+  /// Appends to `to`, an array of the same type, the groups of `group` consecutive elements that
+  /// `keep` lists (group `k` is elements `group * k .. group * k + group - 1`), each element
+  /// written once: room for exactly them is reserved, handed to `on_reserved` (nullptr: nothing;
+  /// the mesh surgery asks for huge pages there), then appended to run by run (consecutive groups
+  /// in one copy), with no value-initialisation pass. `to` is empty (its reserved room is what
+  /// `on_reserved` gets). The kernel of `clone_subset` and of a mesh's pieces copied out.
+  /// @throws Error{InvalidArgument} for another type.
+  virtual void gather_groups(AttributeArrayBase& to, const std::vector<std::uint32_t>& keep, std::size_t group,
+                             void (*on_reserved)(void* data, std::size_t bytes)) const = 0;
   /// Appends elements `begin .. end - 1` of `other`, an array of the same type.
   /// @throws Error{InvalidArgument} for another type.
   virtual void append_from(const AttributeArrayBase& other, std::size_t begin, std::size_t end) = 0;
@@ -160,9 +169,22 @@ class AttributeArray final : public AttributeArrayBase {
   }
   std::unique_ptr<AttributeArrayBase> clone_subset(const std::vector<std::uint32_t>& keep) const override {
     auto out = std::make_unique<AttributeArray<T>>(default_);
-    out->data_.reserve(keep.size());
-    for (std::uint32_t i : keep) out->data_.push_back(data_[i]);
+    gather_groups(*out, keep, 1, nullptr);
     return out;
+  }
+  void gather_groups(AttributeArrayBase& to, const std::vector<std::uint32_t>& keep, std::size_t group,
+                     void (*on_reserved)(void* data, std::size_t bytes)) const override {
+    std::vector<T>& out = const_cast<AttributeArray&>(same_type(to)).data_;
+    out.reserve(out.size() + keep.size() * group);
+    if (on_reserved) on_reserved(out.data() + out.size(), keep.size() * group * sizeof(T));
+    const T* src = data_.data();
+    for (std::size_t i = 0; i < keep.size();) {
+      std::size_t j = i + 1;
+      while (j < keep.size() && keep[j] == keep[j - 1] + 1) ++j;
+      if (j - i == 1 && group == 1) out.push_back(src[keep[i]]);  // a lone element: no range copy
+      else out.insert(out.end(), src + std::size_t{keep[i]} * group, src + (std::size_t{keep[j - 1]} + 1) * group);
+      i = j;
+    }
   }
   void append_from(const AttributeArrayBase& other, std::size_t begin, std::size_t end) override {
     const auto& src = same_type(other).data_;

@@ -103,6 +103,11 @@ class SurfaceMesh {
   /// attr::kPosition; sizes must agree (vertices, faces, 3 x faces). Deleted marks are cleared.
   /// @throws Error{InvalidArgument} on a size mismatch or a face index out of range.
   void assign(std::vector<Triangle> faces, AttributeSet vertex_attrs, AttributeSet face_attrs, AttributeSet corner_attrs);
+  /// `assign` for arrays the caller built itself and knows to be consistent (a mesh's pieces made
+  /// by the mesh surgery): the pass over every face index that `assign` checks is skipped.
+  /// @pre `vertex_attrs` holds attr::kPosition, the sizes agree and every face index is in range.
+  void assign_trusted(std::vector<Triangle> faces, AttributeSet vertex_attrs, AttributeSet face_attrs,
+                      AttributeSet corner_attrs);
   /// Drops deleted faces and unreferenced vertices; attributes follow.
   /// @returns the old-to-new vertex map (kInvalidIndex for dropped vertices).
   std::vector<std::uint32_t> compact();

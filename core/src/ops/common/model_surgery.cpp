@@ -100,14 +100,15 @@ Marks mark_vertices(const SurfaceMesh& mesh, const std::vector<std::vector<std::
   return marks;
 }
 
-// Each list's vertices, increasing, and every vertex's index in its list: chunks count per list,
-// then fill from their running offsets (the same numbers whatever the chunks).
-void number_vertices(const Marks& owner, std::size_t nv, std::size_t lists, std::vector<std::vector<std::uint32_t>>& keep,
+// Each list's vertices, increasing, and every vertex's index in its list (`list_of(v)`: the list
+// using vertex v, kNoList for none): chunks count per list, then fill from their running offsets
+// (the same numbers whatever the chunks).
+template <class ListOf>
+void number_vertices(const ListOf& list_of, std::size_t nv, std::size_t lists, std::vector<std::vector<std::uint32_t>>& keep,
                      std::vector<std::uint32_t>& rank) {
   const std::size_t grain = grain_per_thread(nv, kGrain);
   const std::size_t chunks = std::max<std::size_t>(1, (nv + grain - 1) / grain);
   std::vector<std::uint32_t> start(chunks * lists, 0);
-  auto list_of = [&](std::size_t v) { return owner[v].load(std::memory_order_relaxed); };
   parallel_for(nv, grain, [&](std::size_t b, std::size_t e) {
     std::uint32_t* count = &start[b / grain * lists];
     for (std::size_t v = b; v < e; ++v)
@@ -155,9 +156,11 @@ void number_faces(const SurfaceMesh& mesh, const std::vector<std::uint32_t>& fs,
   }
 }
 
-// Every list's faces and vertices numbered (out.tris is filled by fill_pieces). False when the
+// Every list's faces and vertices numbered (out.tris is filled by fill_pieces). The list using
+// each vertex is read from `sides` when given, else marked by the lists' faces. False when the
 // lists share vertices.
-bool number_pieces(const SurfaceMesh& mesh, const std::vector<std::vector<FaceId>>& lists, Numbering& out) {
+bool number_pieces(const SurfaceMesh& mesh, const std::vector<std::vector<FaceId>>& lists, const PieceSides* sides,
+                   Numbering& out) {
   const std::size_t n = lists.size();
   if (n >= kNoList) return false;
   out.faces.resize(n);
@@ -165,17 +168,25 @@ bool number_pieces(const SurfaceMesh& mesh, const std::vector<std::vector<FaceId
   std::vector<std::function<void()>> tasks;
   for (std::size_t s = 0; s < n; ++s) tasks.emplace_back([&, s] { out.faces[s] = live_increasing(mesh, lists[s]); });
   parallel_invoke(tasks);
+  const std::size_t nv = mesh.vertex_count();
+  if (sides) {
+    std::uint32_t list_of_side[3] = {kNoList, kNoList, kNoList};  // side -1, 0, +1
+    for (std::size_t s = 0; s < n; ++s) list_of_side[(*sides->list_sides)[s] > 0 ? 2 : 0] = static_cast<std::uint32_t>(s);
+    const std::int8_t* side = sides->vertex_sides->data();
+    number_vertices([&](std::size_t v) { return list_of_side[side[v] + 1]; }, nv, n, out.vertices, out.rank);
+    return true;
+  }
   bool shared = false;
   const Marks owner = mark_vertices(mesh, out.faces, shared);
   if (shared) return false;
-  number_vertices(owner, mesh.vertex_count(), n, out.vertices, out.rank);
+  number_vertices([&](std::size_t v) { return owner[v].load(std::memory_order_relaxed); }, nv, n, out.vertices, out.rank);
   return true;
 }
 
 // --- the pieces' arrays ------------------------------------------------------------------------
 // Groups of elements are copied: a vertex's or a face's element, or a face's three corners (side
 // by side). A piece copied out is new memory: each of its arrays is written once, by one task
-// (fill_pieces). The in-place compaction, and arrays of types without a typed copy, run as byte
+// (fill_pieces, through AttributeArrayBase::gather_groups). The in-place compaction runs as byte
 // copies cut into chunks spread over the pool across every array at once.
 
 constexpr std::size_t kCopyGrain = 16384;  // groups per copy job
@@ -211,9 +222,18 @@ struct GroupCopy {
   std::size_t begin, end;
 };
 
+// Run by run: consecutive groups (keep[i + 1] == keep[i] + 1, as the pieces of a mesh stored in
+// spatial order come) in one memmove, which in place (dst < src) gives what copying group by
+// group in order gives; a lone group by a copy of fixed width.
 template <std::size_t W>
 void copy_fixed(const GroupCopy& c) {
-  for (std::size_t i = c.begin; i < c.end; ++i) std::memcpy(c.dst + i * W, c.src + std::size_t{c.keep[i]} * W, W);
+  for (std::size_t i = c.begin; i < c.end;) {
+    std::size_t j = i + 1;
+    while (j < c.end && c.keep[j] == c.keep[j - 1] + 1) ++j;
+    if (j - i == 1) std::memcpy(c.dst + i * W, c.src + std::size_t{c.keep[i]} * W, W);
+    else std::memmove(c.dst + i * W, c.src + std::size_t{c.keep[i]} * W, (j - i) * W);
+    i = j;
+  }
 }
 
 void copy_groups(const GroupCopy& c) {
@@ -304,8 +324,8 @@ SurfaceMesh take_piece(SurfaceMesh& mesh, Numbering& num, std::size_t big) {
     run_copies(jobs);
   }
   for (int kind = 0; kind < 3; ++kind) set_of(mesh, kind).resize(list_of(num, big, kind).size() * group_of(kind));
-  mesh.assign(std::move(num.tris[big]), std::move(mesh.vertex_attrs()), std::move(mesh.face_attrs()),
-              std::move(mesh.corner_attrs()));
+  mesh.assign_trusted(std::move(num.tris[big]), std::move(mesh.vertex_attrs()), std::move(mesh.face_attrs()),
+                      std::move(mesh.corner_attrs()));
   return std::move(mesh);
 }
 
@@ -338,38 +358,9 @@ std::size_t in_place_piece(const SurfaceMesh& mesh, const Numbering& num) {
   return best;
 }
 
-// The empty `array` sized to `n` elements, in memory asked to come as huge pages.
-void resize_huge(AttributeArrayBase& array, std::size_t n) {
-  if (n == 0) return;
-  array.reserve(n);
-  array.resize(1);
-  advise_huge_pages(bytes_of(array), n * array.element_bytes());
-  array.resize(n);
-}
-
-// The empty `to` (of `from`'s type T) given the groups of G elements of `from` that `keep`
-// lists, in one pass over new memory: reserved (huge pages asked for), then appended to, so no
-// element is value-initialised first (a second pass over the memory). False when `from` is not
-// of type T.
-template <class T, std::size_t G>
-bool gather_into(const AttributeArrayBase& from, AttributeArrayBase& to, const std::vector<std::uint32_t>& keep) {
-  if (from.type() != typeid(T)) return false;
-  const T* src = static_cast<const AttributeArray<T>&>(from).data().data();
-  std::vector<T>& out = static_cast<AttributeArray<T>&>(to).data();
-  out.reserve(keep.size() * G);
-  advise_huge_pages(out.data(), keep.size() * G * sizeof(T));
-  for (std::uint32_t k : keep)
-    for (std::size_t g = 0; g < G; ++g) out.push_back(src[std::size_t{k} * G + g]);
-  return true;
-}
-
-// gather_into for the attribute types the library makes; false for any other type.
-template <std::size_t G>
-bool gather_typed(const AttributeArrayBase& from, AttributeArrayBase& to, const std::vector<std::uint32_t>& keep) {
-  return gather_into<glm::vec3, G>(from, to, keep) || gather_into<glm::vec2, G>(from, to, keep) ||
-         gather_into<glm::vec4, G>(from, to, keep) || gather_into<glm::u16vec4, G>(from, to, keep) ||
-         gather_into<std::uint8_t, G>(from, to, keep) || gather_into<float, G>(from, to, keep);
-}
+// New memory a piece's array is written into once (AttributeArrayBase::gather_groups): asked to
+// come as huge pages.
+void fresh_memory(void* data, std::size_t bytes) { advise_huge_pages(data, bytes); }
 
 // One array of a piece copied out: where from, where to, which groups.
 struct ArrayCopy {
@@ -377,13 +368,11 @@ struct ArrayCopy {
   AttributeArrayBase* to;
   const std::vector<std::uint32_t>* keep;
   std::size_t group;
-  bool typed = true;  // filled by gather_typed; else sized here and copied by chunks afterwards
 };
 
 // The attribute sets of every piece but `big` (3 per piece: vertices, faces, corners), copied
 // out of `mesh`, and every piece's triangles (number_faces): each array filled by its own task
-// (gather_typed, number_faces; largest first), an array of another type sized by its task and
-// filled by chunks over the pool afterwards.
+// (gather_groups, number_faces; largest first).
 std::vector<AttributeSet> fill_pieces(const SurfaceMesh& mesh, Numbering& num, std::size_t big) {
   const std::size_t n = num.faces.size();
   std::vector<AttributeSet> sets(3 * n);
@@ -397,20 +386,12 @@ std::vector<AttributeSet> fill_pieces(const SurfaceMesh& mesh, Numbering& num, s
     }
   std::vector<std::pair<std::size_t, std::function<void()>>> tasks;  // bytes written, task
   for (ArrayCopy& c : copies)
-    tasks.emplace_back(c.keep->size() * c.group * c.from->element_bytes(), [&c] {
-      c.typed = c.group == 3 ? gather_typed<3>(*c.from, *c.to, *c.keep) : gather_typed<1>(*c.from, *c.to, *c.keep);
-      if (!c.typed) resize_huge(*c.to, c.keep->size() * c.group);
-    });
+    tasks.emplace_back(c.keep->size() * c.group * c.from->element_bytes(),
+                       [&c] { c.from->gather_groups(*c.to, *c.keep, c.group, fresh_memory); });
   for (std::size_t s = 0; s < n; ++s)
     tasks.emplace_back(num.faces[s].size() * sizeof(Triangle), [&, s] { number_faces(mesh, num.faces[s], num.rank, num.tris[s]); });
   std::stable_sort(tasks.begin(), tasks.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
   run_chunks(tasks.size(), [&](std::size_t i) { tasks[i].second(); });
-  std::vector<GroupCopy> jobs;
-  for (const ArrayCopy& c : copies)
-    if (!c.typed)
-      add_chunks({bytes_of(*c.to), bytes_of(*c.from), c.from->element_bytes() * c.group, c.keep->data(), 0, 0}, 0,
-                 c.keep->size(), jobs);
-  run_copies(jobs);
   for (std::size_t s = 0; s < n; ++s)
     for (int kind = 0; kind < 3 && s != big; ++kind)  // the sets' own counts (their arrays have them)
       sets[3 * s + static_cast<std::size_t>(kind)].resize(list_of(num, s, kind).size() * group_of(kind));
@@ -420,11 +401,11 @@ std::vector<AttributeSet> fill_pieces(const SurfaceMesh& mesh, Numbering& num, s
 // The pieces `lists` of `mesh`; with `owned` (`mesh` itself, to take apart) the largest (most
 // faces) keeps the mesh's arrays, compacted in place once the others are copied out.
 std::vector<SurfaceMesh> make_pieces(const SurfaceMesh& mesh, const std::vector<std::vector<FaceId>>& lists,
-                                     SurfaceMesh* owned) {
+                                     SurfaceMesh* owned, const PieceSides* sides = nullptr) {
   const std::size_t n = lists.size();
   std::vector<SurfaceMesh> out(n);
   Numbering num;
-  if (!number_pieces(mesh, lists, num)) {
+  if (!number_pieces(mesh, lists, sides, num)) {
     std::vector<std::function<void()>> tasks;
     for (std::size_t s = 0; s < n; ++s) tasks.emplace_back([&, s] { out[s] = extract(mesh, lists[s]); });
     parallel_invoke(tasks);
@@ -434,7 +415,8 @@ std::vector<SurfaceMesh> make_pieces(const SurfaceMesh& mesh, const std::vector<
   std::vector<AttributeSet> sets = fill_pieces(mesh, num, big);
   for (std::size_t s = 0; s < n; ++s)
     if (s != big)
-      out[s].assign(std::move(num.tris[s]), std::move(sets[3 * s]), std::move(sets[3 * s + 1]), std::move(sets[3 * s + 2]));
+      out[s].assign_trusted(std::move(num.tris[s]), std::move(sets[3 * s]), std::move(sets[3 * s + 1]),
+                            std::move(sets[3 * s + 2]));
   if (big < n) out[big] = take_piece(*owned, num, big);
   return out;
 }
@@ -449,6 +431,15 @@ std::vector<SurfaceMesh> split_disjoint(SurfaceMesh&& mesh, const std::vector<st
   // A watched mesh (an undo record follows it) is not taken apart: compacting its arrays in place
   // would destroy the content the record gets back when the mesh is replaced.
   return make_pieces(mesh, lists, mesh.observer() ? nullptr : &mesh);
+}
+
+std::vector<SurfaceMesh> split_disjoint(SurfaceMesh&& mesh, const std::vector<std::vector<FaceId>>& lists,
+                                        const PieceSides& sides) {
+  const std::vector<int>* list_sides = sides.list_sides;
+  const bool usable = sides.vertex_sides && list_sides && sides.vertex_sides->size() == mesh.vertex_count() &&
+                      list_sides->size() == lists.size() && lists.size() <= 2 &&
+                      (lists.size() < 2 || (*list_sides)[0] != (*list_sides)[1]);
+  return make_pieces(mesh, lists, mesh.observer() ? nullptr : &mesh, usable ? &sides : nullptr);
 }
 
 int cut_surface_material(Model& model) {

@@ -5,6 +5,7 @@
 // primitives added and removed, piece nodes added, instances dropped, with the PosedModel kept in
 // step. Private to core. The data flow is described in docs/architecture.md.
 
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -33,6 +34,19 @@ std::vector<SurfaceMesh> extract_disjoint(const SurfaceMesh& mesh, const std::ve
 /// over every array at once. A watched mesh (SurfaceMesh::watch) is left whole, every piece
 /// copied out of it.
 std::vector<SurfaceMesh> split_disjoint(SurfaceMesh&& mesh, const std::vector<std::vector<FaceId>>& lists);
+
+/// The side of each of a cut's pieces and of each vertex (CutResult::piece_sides, vertex_sides).
+struct PieceSides {
+  const std::vector<int>* list_sides = nullptr;             ///< +1 or -1 per list, each side once
+  const std::vector<std::int8_t>* vertex_sides = nullptr;  ///< per vertex; a side no list has: none
+};
+
+/// `split_disjoint(mesh, lists)` for lists that are a cut's pieces by side: list `i` holds every
+/// live face of side `(*sides.list_sides)[i]` and the faces using vertex `v` lie on side
+/// `(*sides.vertex_sides)[v]`, so each vertex's piece is read there instead of marked by a pass
+/// over the lists' faces (sides of the wrong sizes: `split_disjoint(mesh, lists)`).
+std::vector<SurfaceMesh> split_disjoint(SurfaceMesh&& mesh, const std::vector<std::vector<FaceId>>& lists,
+                                        const PieceSides& sides);
 
 /// Index of the model's "Cut surface" material (cut caps, drill walls), added on first use.
 int cut_surface_material(Model& model);

@@ -52,6 +52,16 @@ inline std::uint8_t side_code(const std::int8_t* sign, const Triangle& t) {
   return s < 0 ? 2 : 1;
 }
 
+// CutResult::vertex_sides from the cut's signs: a vertex on the plane gets the side of the live
+// faces using it (rim candidates all, on one side each once the sides are apart).
+std::vector<std::int8_t> vertex_sides(const SurfaceMesh& mesh, std::vector<std::int8_t>&& sign,
+                                      const std::vector<FaceId>& rim) {
+  sign.resize(mesh.vertex_count(), 0);
+  for (FaceId f : rim)
+    for (const VertexId v : mesh.face(f))
+      if (!mesh.is_deleted(f) && sign[v.index] == 0) sign[v.index] = side_code(sign.data(), mesh.face(f)) == 1 ? 1 : -1;
+  return std::move(sign);
+}
 
 using detail::corner_bits;
 using detail::follow_moved_faces;
@@ -751,6 +761,7 @@ CutResult Cutter::run() {
   CutResult result;
   check_arguments();
   normal_ /= glm::length(normal_);
+  const bool had_deleted = mesh_.face_count() != mesh_.face_slots();  // their vertices get a sign too
   if (!classify_vertices()) {
     result.status = OpStatus::NoIntersection;
     return result;
@@ -760,6 +771,8 @@ CutResult Cutter::run() {
   split_pinches(nullptr, [this](std::uint32_t v) { return single_fan(v); });
   collect_pieces(result);
   cap_pieces(result, result.rim_vertices);
+  if (!options_.cap && !options_.split_components && merges_.empty() && !had_deleted)
+    result.vertex_sides = vertex_sides(mesh_, std::move(sign_), rim_candidates_);
   result.intersection_points = intersections_;
   result.log = editor_.take_log();
   return result;

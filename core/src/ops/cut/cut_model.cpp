@@ -94,9 +94,11 @@ InstanceCut cut_instance(detail::InstanceEdit& inst, const std::vector<glm::mat4
 // Each piece of a cut primitive as primitives: its original-material faces and its cut-surface
 // faces (caps), each extracted straight from the cut mesh, without the cut-surface flag. The cut
 // mesh is taken apart (split_disjoint): the largest piece keeps its arrays, the others are
-// copied out of it, in parallel (a watched mesh is left whole, every piece copied out).
+// copied out of it, in parallel (a watched mesh is left whole, every piece copied out). `sides`
+// (the cut's sides of the pieces and vertices, or nullptr) spares the surgery finding each
+// vertex's piece.
 std::vector<std::vector<Primitive>> piece_primitives(SurfaceMesh&& mesh, const std::vector<std::vector<FaceId>>& pieces,
-                                                     int material, int cut_material) {
+                                                     const detail::PieceSides* sides, int material, int cut_material) {
   const auto* flag = mesh.face_attrs().find<std::uint8_t>(attr::kCutSurface);
   const bool flagged = flag != nullptr;
   std::vector<std::vector<FaceId>> body, cap;
@@ -107,7 +109,8 @@ std::vector<std::vector<Primitive>> piece_primitives(SurfaceMesh&& mesh, const s
       for (FaceId f : pieces[k]) ((*flag)[f.index] ? cap[k] : body[k]).push_back(f);
   }
   std::vector<SurfaceMesh> cap_meshes = flagged ? detail::extract_disjoint(mesh, cap) : std::vector<SurfaceMesh>();
-  std::vector<SurfaceMesh> body_meshes = detail::split_disjoint(std::move(mesh), flagged ? body : pieces);
+  std::vector<SurfaceMesh> body_meshes = flagged || !sides ? detail::split_disjoint(std::move(mesh), flagged ? body : pieces)
+                                                            : detail::split_disjoint(std::move(mesh), pieces, *sides);
   std::vector<std::vector<Primitive>> out(pieces.size());
   auto add = [&](SurfaceMesh& m, int mat, std::vector<Primitive>& to) {
     if (m.face_count() == 0) return;
@@ -142,8 +145,10 @@ std::vector<Mesh> group_pieces(Mesh& edited, const InstanceCut& cut, const CutOp
       mesh.for_each_face([&](FaceId f, const Triangle&) { whole[0].push_back(f); });
     }
     const auto& pieces = r.status == OpStatus::NoIntersection ? whole : r.pieces;
+    const detail::PieceSides sides{&r.piece_sides, &r.vertex_sides};
+    const bool by_side = r.status == OpStatus::Ok && !r.vertex_sides.empty();
     std::vector<std::vector<Primitive>> prims =
-        piece_primitives(std::move(mesh), pieces, edited.primitives[p].material, cut_material);
+        piece_primitives(std::move(mesh), pieces, by_side ? &sides : nullptr, edited.primitives[p].material, cut_material);
     for (std::size_t k = 0; k < pieces.size(); ++k) {
       const int side = r.piece_sides[k];
       const std::size_t slot = options.split_components ? piece_meshes.size() : (side > 0 ? 0 : 1);

@@ -6,6 +6,7 @@
 /// blended skin (PosedMesh::unpose), so the cut lands exactly where it was placed and the pieces
 /// still animate. The stages are laid out in docs/architecture.md.
 
+#include <cstdint>
 #include <vector>
 
 #include "deepcut/core/edit_log.h"
@@ -41,6 +42,12 @@ struct CutResult {
   std::vector<std::vector<FaceId>> pieces;
   /// Side of each piece: +1 where the normal points, -1 behind the plane.
   std::vector<int> piece_sides;
+  /// Side of every vertex where the pieces are the sides (no caps, no components): that of the
+  /// live faces using it (+1 or -1, as piece_sides), 0 where no live face does (a vertex of a
+  /// side the cut dropped keeps that side: no piece has it). Empty otherwise, for a mesh with
+  /// deleted faces, and for the rare cut that merged a needle's two crossings. What the mesh
+  /// surgery splits the pieces by, without a pass over their faces.
+  std::vector<std::int8_t> vertex_sides;
   /// Every change, in order (vertex splits separate the two sides topologically).
   EditLog log;
 };
