@@ -13,7 +13,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <set>
 
 #include "geometry/delaunay_flip.h"
 #include "geometry/polygon_triangulation.h"
@@ -139,6 +138,8 @@ class RimInserter {
   const std::vector<std::vector<std::uint32_t>> no_holes_;
   std::vector<glm::dvec2> q_scratch_;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> segments_scratch_;
+  std::vector<geometry::LocalTri> clipped_scratch_, failed_scratch_;
+  geometry::FlipTriangulation flips_;
 };
 
 const EdgeCut& RimInserter::edge(VertexId a, VertexId b) {
@@ -643,7 +644,11 @@ void RimInserter::refine(geometry::FlipTriangulation& ft, std::vector<glm::dvec2
   };
   add_segments(outer);
   for (const auto& l : holes) add_segments(l);
-  std::set<geometry::LocalTri> failed;  // by sorted_corners
+  std::vector<geometry::LocalTri>& failed = failed_scratch_;  // by sorted_corners
+  failed.clear();
+  auto has_failed = [&failed](const geometry::LocalTri& t) {
+    return std::find(failed.begin(), failed.end(), t) != failed.end();
+  };
   const std::size_t budget = 4 * boundary + 8;
   for (std::size_t added = 0; added < budget;) {
     const geometry::LocalTri* worst = nullptr;
@@ -655,7 +660,7 @@ void RimInserter::refine(geometry::FlipTriangulation& ft, std::vector<glm::dvec2
       if (!(area2 > 0.0) || std::max({la, lb, lc}) < 2.0 * spacing) continue;
       const double circumradius = la * lb * lc / (2.0 * area2);
       const double ratio = std::min({la, lb, lc}) / circumradius;
-      if (ratio < worst_ratio && !failed.count(geometry::sorted_corners(t))) {
+      if (ratio < worst_ratio && !has_failed(geometry::sorted_corners(t))) {
         worst_ratio = ratio;
         worst = &t;
       }
@@ -672,7 +677,7 @@ void RimInserter::refine(geometry::FlipTriangulation& ft, std::vector<glm::dvec2
       ok = std::sqrt(geometry::segment_distance2(centre, q[u], q[v])) > 0.35 * spacing;
     }
     if (!ok || !ft.insert(centre)) {
-      failed.insert(geometry::sorted_corners(t));
+      if (!has_failed(geometry::sorted_corners(t))) failed.push_back(geometry::sorted_corners(t));
       continue;
     }
     LocalPoint lp;
@@ -696,9 +701,11 @@ void RimInserter::emit_polygon(FaceId f, const Triangle& tri, std::vector<LocalP
   std::vector<glm::dvec2>& q = q_scratch_;
   q.resize(pts.size());
   for (std::size_t i = 0; i < pts.size(); ++i) q[i] = pts[i].q;
-  std::vector<geometry::LocalTri> clipped;
+  std::vector<geometry::LocalTri>& clipped = clipped_scratch_;
+  clipped.clear();
   geometry::triangulate_polygon(q, outer, holes, kRimTriangulation, clipped);
-  geometry::FlipTriangulation ft(q, std::move(clipped));
+  geometry::FlipTriangulation& ft = flips_;
+  ft.reset(q, clipped);
   ft.make_delaunay();
   refine(ft, q, pts, outer, holes);
   emit_faces(f, tri, pts, ft.triangles());
