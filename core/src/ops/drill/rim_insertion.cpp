@@ -25,7 +25,7 @@ namespace {
 // Steiner points on crossed edges (see edge()) lie at least this many rim spacings outside.
 constexpr double kSteinerClear = 0.3;
 constexpr double kSteinerParentAngle = 10.0 * geometry::kPi / 180.0;
-// Candidates planned per parallel chunk (a few dozen crossed faces are worth a thread).
+// Fewest candidates planned per parallel chunk (a few dozen crossed faces are worth a thread).
 constexpr std::size_t kPlanGrain = 24;
 
 // Runs the insertion: crossings and needle merges first (in candidate order, each edge split
@@ -212,20 +212,26 @@ void RimInserter::allow_steiner(const std::vector<FaceId>& candidates) {
   };
   std::vector<HalfEdge> halves;
   halves.reserve(3 * candidates.size());
+  const double cos_parent = std::cos(kSteinerParentAngle);
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     if (deep_[c]) continue;
     const Triangle& t = mesh_.face(candidates[c]);
-    double smallest = kInf;
+    // Bad: a corner of zero length or an angle under kSteinerParentAngle. The angle's acos is
+    // taken only where its cosine lies within 1e-9 of the bound's (acos is far more accurate
+    // than that margin, so the answer is acos's everywhere).
+    std::uint8_t bad = 0;
     const glm::dvec3 corner[3] = {posed_(t[0]), posed_(t[1]), posed_(t[2])};
     for (int k = 0; k < 3; ++k) {
       const glm::dvec3 &a = corner[k], &b = corner[(k + 1) % 3], &c3 = corner[(k + 2) % 3];
       const double lb = glm::length(b - a), lc = glm::length(c3 - a);
-      smallest =
-          lb > 0.0 && lc > 0.0
-              ? std::min(smallest, std::acos(std::clamp(glm::dot(b - a, c3 - a) / (lb * lc), -1.0, 1.0)))
-              : 0.0;
+      if (!(lb > 0.0 && lc > 0.0)) {
+        bad = 1;
+        continue;
+      }
+      const double cosine = std::clamp(glm::dot(b - a, c3 - a) / (lb * lc), -1.0, 1.0);
+      if (cosine < cos_parent - 1e-9) continue;
+      if (cosine > cos_parent + 1e-9 || std::acos(cosine) < kSteinerParentAngle) bad = 1;
     }
-    const std::uint8_t bad = smallest >= kSteinerParentAngle ? 0 : 1;
     for (int k = 0; k < 3; ++k) {
       const VertexId a = t[k], b = t[(k + 1) % 3];
       halves.push_back({edge_key(a, b), static_cast<std::uint8_t>(a < b ? 1 : 16), bad});
@@ -284,7 +290,9 @@ void RimInserter::plan_faces(const std::vector<FaceId>& candidates) {
     shared.ruling_base.push_back(cyl_.a + cyl_.r * cyl_.ruling(2.0 * geometry::kPi * k / samples_));
   const std::size_t n = candidates.size();
   plans_.assign(n, FacePlan());
-  const std::size_t grain = kPlanGrain;
+  // About four chunks per thread (each chunk's lists grow from empty); where chunks start
+  // changes only where plans are stored.
+  const std::size_t grain = std::max(kPlanGrain, (n + 4 * thread_count() - 1) / (4 * thread_count()));
   chunks_.resize((n + grain - 1) / grain);
   parallel_for(n, grain, [&](std::size_t begin, std::size_t end) {
     const auto chunk = static_cast<std::uint32_t>(begin / grain);
