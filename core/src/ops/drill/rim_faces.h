@@ -85,6 +85,19 @@ struct PlanChunk {
   std::vector<LocalPoint> pts;
   std::vector<geometry::LocalTri> tris;
   std::vector<PolygonPlan> polys;
+
+  /// `count` empty chunks: this thread's, reused from drill to drill (their lists keep their
+  /// memory).
+  static std::vector<PlanChunk>& reused(std::size_t count) {
+    thread_local std::vector<PlanChunk> chunks;
+    if (chunks.size() < count) chunks.resize(count);
+    for (std::size_t i = 0; i < count; ++i) {
+      chunks[i].pts.clear();
+      chunks[i].tris.clear();
+      chunks[i].polys.clear();
+    }
+    return chunks;
+  }
 };
 
 // What to do with one candidate: remove it, then add kept parts [first_poly, first_poly +

@@ -72,9 +72,10 @@ class RimInserter {
   // Crossings that fell on one bind position (the two long edges of a needle crossed at the same
   // parameter): the later vertex maps to the earlier, so the needle's tip is not a zero-area face.
   detail::NeedleMerges merges_;
-  // Per candidate its plan (deep ones have none), and the chunks' points and triangles.
+  // Per candidate its plan (deep ones have none), and the chunks' points and triangles (the
+  // calling thread's PlanChunk::reused lists).
   std::vector<FacePlan> plans_;
-  std::vector<PlanChunk> chunks_;
+  std::vector<PlanChunk>* chunks_ = nullptr;
   std::size_t crossings_ = 0, removed_ = 0, added_ = 0;
 };
 
@@ -293,10 +294,10 @@ void RimInserter::plan_faces(const std::vector<FaceId>& candidates) {
   // About four chunks per thread (each chunk's lists grow from empty); where chunks start
   // changes only where plans are stored.
   const std::size_t grain = std::max(kPlanGrain, (n + 4 * thread_count() - 1) / (4 * thread_count()));
-  chunks_.resize((n + grain - 1) / grain);
+  chunks_ = &PlanChunk::reused((n + grain - 1) / grain);
   parallel_for(n, grain, [&](std::size_t begin, std::size_t end) {
     const auto chunk = static_cast<std::uint32_t>(begin / grain);
-    FacePlanner planner(shared, chunks_[chunk], chunk);
+    FacePlanner planner(shared, (*chunks_)[chunk], chunk);
     for (std::size_t c = begin; c < end; ++c)
       if (!deep_[c]) planner.plan(c, candidates[c], plans_[c]);
   });
@@ -310,7 +311,7 @@ void RimInserter::apply_plan(FaceId f, const FacePlan& plan) {
   }
   if (plan.polys == 0) return;
   const Triangle tri = mesh_.face(f);
-  PlanChunk& chunk = chunks_[plan.chunk];
+  PlanChunk& chunk = (*chunks_)[plan.chunk];
   for (std::uint32_t i = plan.first_poly; i < plan.first_poly + plan.polys; ++i) {
     const PolygonPlan& poly = chunk.polys[i];
     emit_faces(f, tri, chunk.pts.data() + poly.first_pt, poly.pts, chunk.tris.data() + poly.first_tri, poly.tris);
