@@ -46,45 +46,39 @@ RimSteps rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFr
     v = base(v);
     return v.index >= posed.first_new() || old_on_rim(v);
   };
-  // Half-edges of the added faces and of the candidates left alone, as hash sets, and of the
-  // removed faces as a sorted list (only membership matters; removed ones are only asked about
-  // between two old vertices on the rim).
-  std::size_t added_faces = 0;
-  for (const Edit& e : log.edits) added_faces += std::holds_alternative<FaceAdded>(e);
-  detail::EdgeSlots added, untouched;
-  added.reserve(3 * added_faces);
-  untouched.reserve(3 * candidates.size());
-  auto file = [](detail::EdgeSlots& set, std::uint64_t key) {
-    if (set.find(key) == detail::EdgeSlots::kNone) set.insert(key, 0);
-  };
-  std::vector<std::uint64_t> removed;
+  // Half-edges of the added and of the removed faces, as sorted lists (only membership matters;
+  // removed ones are only asked about between two old vertices on the rim).
+  std::vector<std::uint64_t> added, removed;
   for (const Edit& e : log.edits) {
     if (const auto* fa = std::get_if<FaceAdded>(&e)) {
-      for (int k = 0; k < 3; ++k) file(added, directed_key(fa->vertices[k], fa->vertices[(k + 1) % 3]));
+      for (int k = 0; k < 3; ++k) added.push_back(directed_key(fa->vertices[k], fa->vertices[(k + 1) % 3]));
     } else if (const auto* fr = std::get_if<FaceRemoved>(&e)) {
       const bool rim[3] = {old_on_rim(fr->vertices[0]), old_on_rim(fr->vertices[1]), old_on_rim(fr->vertices[2])};
       for (int k = 0; k < 3; ++k)
         if (rim[k] && rim[(k + 1) % 3]) removed.push_back(directed_key(fr->vertices[k], fr->vertices[(k + 1) % 3]));
     }
   }
+  std::sort(added.begin(), added.end());
   std::sort(removed.begin(), removed.end());
-  auto contains = [](const detail::EdgeSlots& set, std::uint64_t key) {
-    return set.find(key) != detail::EdgeSlots::kNone;
+  auto contains = [](const std::vector<std::uint64_t>& list, std::uint64_t key) {
+    return std::binary_search(list.begin(), list.end(), key);
   };
   // Faces the drill left alone can border the hole too: an old edge that lies on the cylinder
   // (within the tolerance) between a removed face and an untouched one.
+  std::vector<std::uint64_t> untouched;
   for (FaceId f : candidates)
     if (!mesh.is_deleted(f)) {
       const Triangle& t = mesh.face(f);
-      for (int k = 0; k < 3; ++k) file(untouched, directed_key(t[k], t[(k + 1) % 3]));
+      for (int k = 0; k < 3; ++k) untouched.push_back(directed_key(t[k], t[(k + 1) % 3]));
     }
+  std::sort(untouched.begin(), untouched.end());
   auto consider = [&](VertexId a, VertexId b) {
     if (!on_rim(a) || !on_rim(b) || contains(added, directed_key(b, a)) ||
         contains(untouched, directed_key(b, a)))
       return;
     const VertexId oa = base(a), ob = base(b);
     if (oa.index < posed.first_new() && ob.index < posed.first_new() &&
-        !std::binary_search(removed.begin(), removed.end(), directed_key(ob, oa)))
+        !contains(removed, directed_key(ob, oa)))
       return;
     rim_next.emplace_back(a.index, b.index);
   };
@@ -156,7 +150,7 @@ std::vector<Rim> chain_rims(const SurfaceMesh& mesh, const EditLog& log, const C
   for (const std::uint32_t v : starts) on_rim.set(v, 0);
   detail::EdgeSlots third_slots;  // half-edge -> index into third
   std::vector<std::uint32_t> third;
-  third_slots.reserve(rim_next.size() * 8 + 16);
+  third_slots.reserve(4 * rim_next.size() + 16);
   auto add_face = [&](const Triangle& t) {
     for (int k = 0; k < 3; ++k)
       if (on_rim.has(t[(k + 1) % 3].index)) {
