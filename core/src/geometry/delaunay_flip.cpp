@@ -8,23 +8,41 @@
 namespace deepcut::geometry {
 
 FlipTriangulation::FlipTriangulation(std::vector<glm::dvec2>& pts, std::vector<LocalTri> tris)
-    : pts_(pts), tris_(std::move(tris)) {
+    : pts_(&pts), tris_(std::move(tris)) {
   nbr_.assign(tris_.size(), {-1, -1, -1});
-  // Half-edges sorted by key (a flat table: a polygon has a few dozen); where a half-edge
-  // repeats, the last triangle listing it is the one found, as a map overwritten in order gives.
-  auto key = [](std::uint32_t a, std::uint32_t b) { return (std::uint64_t(a) << 32) | b; };
-  std::vector<std::pair<std::uint64_t, int>> half;
-  half.reserve(3 * tris_.size());
+  link_neighbours();
+}
+
+void FlipTriangulation::reset(std::vector<glm::dvec2>& pts, const std::vector<LocalTri>& tris) {
+  pts_ = &pts;
+  tris_.assign(tris.begin(), tris.end());
+  nbr_.assign(tris_.size(), {-1, -1, -1});
+  last_ = 0;
+  link_neighbours();
+}
+
+// Each half-edge a->b finds the triangle holding b->a; where b->a repeats, the last triangle
+// listing it is the one found (as a map overwritten in triangle order gives). The half-edges are
+// grouped by start point with a counting sort, which keeps each group in triangle order.
+void FlipTriangulation::link_neighbours() {
+  std::size_t points = 0;
+  for (const LocalTri& t : tris_) points = std::max<std::size_t>(points, std::max({t[0], t[1], t[2]}) + std::size_t(1));
+  first_out_.assign(points + 1, 0);
+  for (const LocalTri& t : tris_)
+    for (int k = 0; k < 3; ++k) ++first_out_[t[k] + 1];
+  for (std::size_t p = 0; p < points; ++p) first_out_[p + 1] += first_out_[p];
+  out_.resize(3 * tris_.size());
   for (std::size_t i = 0; i < tris_.size(); ++i)
-    for (int k = 0; k < 3; ++k) half.emplace_back(key(tris_[i][k], tris_[i][(k + 1) % 3]), static_cast<int>(i));
-  std::stable_sort(half.begin(), half.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    for (int k = 0; k < 3; ++k) out_[first_out_[tris_[i][k]]++] = {tris_[i][(k + 1) % 3], static_cast<int>(i)};
+  for (std::size_t p = points; p > 0; --p) first_out_[p] = first_out_[p - 1];  // back to group starts
+  first_out_[0] = 0;
   for (std::size_t i = 0; i < tris_.size(); ++i)
     for (int k = 0; k < 3; ++k) {
-      const std::uint64_t want = key(tris_[i][(k + 1) % 3], tris_[i][k]);
-      auto it = std::upper_bound(half.begin(), half.end(), want,
-                                 [](std::uint64_t v, const auto& x) { return v < x.first; });
-      if (it == half.begin() || std::prev(it)->first != want) continue;
-      if (std::prev(it)->second != static_cast<int>(i)) nbr_[i][k] = std::prev(it)->second;
+      const std::uint32_t a = tris_[i][k], b = tris_[i][(k + 1) % 3];
+      int found = -1;
+      for (std::uint32_t h = first_out_[b]; h < first_out_[b + 1]; ++h)
+        if (out_[h].first == a) found = out_[h].second;
+      if (found >= 0 && found != static_cast<int>(i)) nbr_[i][k] = found;
     }
 }
 
@@ -36,17 +54,17 @@ bool FlipTriangulation::is_interior(std::uint32_t a, std::uint32_t b) const {
 }
 
 void FlipTriangulation::make_delaunay() {
-  std::vector<std::pair<int, int>> stack;
+  stack_.clear();
   for (std::size_t i = 0; i < tris_.size(); ++i)
-    for (int k = 0; k < 3; ++k) stack.emplace_back(static_cast<int>(i), k);
-  legalize(stack);
+    for (int k = 0; k < 3; ++k) stack_.emplace_back(static_cast<int>(i), k);
+  legalize();
 }
 
 bool FlipTriangulation::insert(const glm::dvec2& p) {
   const int t = locate(p);
   if (t < 0) return false;
-  const auto id = static_cast<std::uint32_t>(pts_.size());
-  pts_.push_back(p);
+  const auto id = static_cast<std::uint32_t>(pts_->size());
+  pts_->push_back(p);
   const LocalTri old = tris_[t];
   const auto n = nbr_[t];
   const int t1 = static_cast<int>(tris_.size()), t2 = t1 + 1;
@@ -58,8 +76,8 @@ bool FlipTriangulation::insert(const glm::dvec2& p) {
   nbr_.push_back({n[2], t, t1});
   relink(n[1], t, t1);
   relink(n[2], t, t2);
-  std::vector<std::pair<int, int>> stack = {{t, 0}, {t1, 0}, {t2, 0}};
-  legalize(stack);
+  stack_.assign({{t, 0}, {t1, 0}, {t2, 0}});
+  legalize();
   last_ = static_cast<std::size_t>(t);
   return true;
 }
@@ -71,7 +89,8 @@ void FlipTriangulation::relink(int n, int from, int to) {
 }
 
 double FlipTriangulation::orient_rel(std::uint32_t a, std::uint32_t b, const glm::dvec2& p) const {
-  const glm::dvec2 e = pts_[b] - pts_[a], f = p - pts_[a];
+  const std::vector<glm::dvec2>& pts = *pts_;
+  const glm::dvec2 e = pts[b] - pts[a], f = p - pts[a];
   const double scale = std::max(glm::dot(e, e), glm::dot(f, f));
   const double o = e.x * f.y - e.y * f.x;
   return std::abs(o) <= 1e-12 * scale ? 0.0 : o;
@@ -101,7 +120,9 @@ int FlipTriangulation::scan(const glm::dvec2& p) const {
   return -1;
 }
 
-void FlipTriangulation::legalize(std::vector<std::pair<int, int>>& stack) {
+void FlipTriangulation::legalize() {
+  std::vector<std::pair<int, int>>& stack = stack_;
+  const std::vector<glm::dvec2>& pts = *pts_;
   std::size_t guard = 64 * (tris_.size() + 16) * (tris_.size() + 16);
   while (!stack.empty() && guard-- > 0) {
     const auto [t, k] = stack.back();
@@ -115,7 +136,7 @@ void FlipTriangulation::legalize(std::vector<std::pair<int, int>>& stack) {
     if (j < 0) continue;
     const std::uint32_t d = tris_[u][(j + 2) % 3];
     if (d == c) continue;
-    const glm::dvec2 &pa = pts_[a], &pb = pts_[b], &pc = pts_[c], &pd = pts_[d];
+    const glm::dvec2 &pa = pts[a], &pb = pts[b], &pc = pts[c], &pd = pts[d];
     double scale = 0.0;
     for (const auto* q : {&pa, &pb, &pc}) scale = std::max(scale, glm::dot(*q - pd, *q - pd));
     if (incircle(pa, pb, pc, pd) <= 1e-10 * scale * scale) continue;

@@ -5,10 +5,17 @@
 #include <array>
 #include <cmath>
 
+#include "deepcut/core/parallel.h"
 #include "ops/common/vertex_slots.h"
 #include "ops/drill/rim_insertion.h"
 
 namespace deepcut::drill {
+namespace {
+
+// Fewest faces of the grid's answer judged per parallel chunk.
+constexpr std::size_t kMinCandidateGrain = 512;
+
+}  // namespace
 
 std::vector<FaceId> find_candidates(const SurfaceMesh& mesh, const CylinderFrame& cyl,
                                     const PosedOverlay& posed, const TriangleGrid& index) {
@@ -26,10 +33,18 @@ std::vector<FaceId> find_candidates(const SurfaceMesh& mesh, const CylinderFrame
     const glm::dvec3 closest = cyl.a + sv * cyl.d;
     return glm::length(c - closest) <= reach + rad;
   };
-  for (FaceId f :
-       index.query_capsule(glm::vec3(cyl.a), glm::vec3(cyl.a + cyl.len * cyl.d), static_cast<float>(reach)))
-    if (f.index < mesh.face_slots() && !mesh.is_deleted(f) && near_axis(mesh.face(f)))
-      candidates.push_back(f);
+  const std::vector<FaceId> near =
+      index.query_capsule(glm::vec3(cyl.a), glm::vec3(cyl.a + cyl.len * cyl.d), static_cast<float>(reach));
+  // Each face judged on its own (in parallel chunks), then kept in the grid's order.
+  std::vector<std::uint8_t> keep(near.size(), 0);
+  parallel_for(near.size(), grain_per_thread(near.size(), kMinCandidateGrain), [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      const FaceId f = near[i];
+      keep[i] = f.index < mesh.face_slots() && !mesh.is_deleted(f) && near_axis(mesh.face(f));
+    }
+  });
+  for (std::size_t i = 0; i < near.size(); ++i)
+    if (keep[i]) candidates.push_back(near[i]);
   return candidates;
 }
 

@@ -2,10 +2,10 @@
 // The rims the rim insertion left, traced from the topology of its edits.
 #include <algorithm>
 #include <cmath>
-#include <iterator>
 #include <unordered_map>
 #include <vector>
 
+#include "ops/common/crossing_table.h"
 #include "ops/common/vertex_slots.h"
 #include "ops/drill/rim_insertion.h"
 
@@ -143,27 +143,35 @@ std::vector<Rim> chain_rims(const SurfaceMesh& mesh, const EditLog& log, const C
   // own fan: turning around the vertex through the kept faces from the incoming edge's face to
   // the next boundary edge. Pairing them otherwise crosses the rims there (they cannot be walled,
   // and after the pinch split the rim would jump between the vertex's copies).
-  // Half-edge a->b of a kept face: its third corner (the last face filed wins), grouped by key.
+  // Half-edge a->b of a kept face: its third corner (the last face filed wins), in a hash map.
   // Only half-edges into a vertex with outgoing rim edges are asked about (fan_next's `cur`).
   detail::VertexSlots& on_rim = detail::VertexSlots::scratch();
   on_rim.reset(mesh.vertex_count());
   for (const std::uint32_t v : starts) on_rim.set(v, 0);
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> third;
+  detail::EdgeSlots third_slots;  // half-edge -> index into third
+  std::vector<std::uint32_t> third;
+  third_slots.reserve(4 * rim_next.size() + 16);
   auto add_face = [&](const Triangle& t) {
     for (int k = 0; k < 3; ++k)
-      if (on_rim.has(t[(k + 1) % 3].index))
-        third.emplace_back(directed_key(t[k], t[(k + 1) % 3]), t[(k + 2) % 3].index);
+      if (on_rim.has(t[(k + 1) % 3].index)) {
+        const std::uint64_t key = directed_key(t[k], t[(k + 1) % 3]);
+        const std::uint32_t at = third_slots.find(key);
+        if (at != detail::EdgeSlots::kNone) {
+          third[at] = t[(k + 2) % 3].index;
+          continue;
+        }
+        third_slots.insert(key, static_cast<std::uint32_t>(third.size()));
+        third.push_back(t[(k + 2) % 3].index);
+      }
   };
   for (const Edit& e : log.edits)
     if (const auto* fa = std::get_if<FaceAdded>(&e))
       if (!mesh.is_deleted(fa->f)) add_face(mesh.face(fa->f));
   for (FaceId f : candidates)
     if (!mesh.is_deleted(f)) add_face(mesh.face(f));
-  std::stable_sort(third.begin(), third.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
   auto third_of = [&](std::uint64_t key) -> const std::uint32_t* {
-    const auto it = std::upper_bound(third.begin(), third.end(), key,
-                                     [](std::uint64_t k, const auto& x) { return k < x.first; });
-    return it == third.begin() || std::prev(it)->first != key ? nullptr : &std::prev(it)->second;
+    const std::uint32_t at = third_slots.find(key);
+    return at == detail::EdgeSlots::kNone ? nullptr : &third[at];
   };
   std::vector<char> used(rim_next.size(), 0);  // per outgoing rim edge
   // The outgoing rim edge of `cur` in the fan of prev->cur (used or not; -1 when the faces

@@ -1,0 +1,420 @@
+// SPDX-License-Identifier: MIT
+// Planning one crossed triangle of the rim insertion (rim_faces.h): its boundary with the
+// crossings, the rim sampled where the fixed rulings meet its plane, and its kept parts
+// triangulated, flipped to Delaunay and refined in that plane.
+#include "ops/drill/rim_faces.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "geometry/predicates.h"
+#include "ops/drill/rim_insertion.h"
+
+namespace deepcut::drill {
+
+void FacePlanner::plan(std::size_t c, FaceId f, FacePlan& plan) {
+  plan_ = &plan;
+  plan.chunk = chunk_;
+  plan.first_poly = static_cast<std::uint32_t>(out_.polys.size());
+  const Triangle tri = s_.mesh.face(f);
+  cur_edges_ = &s_.face_edges[c];
+  const glm::dvec3 corner[3] = {s_.posed(tri[0]), s_.posed(tri[1]), s_.posed(tri[2])};
+  face_boundary(tri, corner);
+  std::vector<LocalPoint>& pts = w_.pts;
+  const std::vector<std::uint8_t>& seg_inside = w_.seg_inside;
+  const std::size_t m = pts.size();
+  bool any_inside = false, all_inside = true;
+  for (auto s : seg_inside) {
+    any_inside |= s != 0;
+    all_inside &= s != 0;
+  }
+  for (std::size_t i = 0; i < m; ++i)
+    if (seg_inside[i] || seg_inside[(i + m - 1) % m] || std::abs(s_.cyl.sd(pts[i].p)) <= s_.eps)
+      pts[i].on_rim = true;
+  if (all_inside) {
+    plan_->remove = 1;
+    return;
+  }
+  const PlaneCut pc = plane_cut(s_.cyl, corner);
+  if (pc.empty) {
+    if (any_inside) plan_->remove = 1;  // a degenerate triangle or a plane the cylinder only touches
+    return;
+  }
+  glm::dvec2 tq[3];
+  for (int k = 0; k < 3; ++k) tq[k] = pc.coords(corner[k]);
+  const double area2 = geometry::orient(tq[0], tq[1], tq[2]);
+  if (!(area2 > 0.0)) {
+    if (any_inside) plan_->remove = 1;
+    return;
+  }
+  face_.pc = pc;
+  for (int k = 0; k < 3; ++k) face_.tq[k] = tq[k], face_.corner[k] = corner[k];
+  face_.area2 = area2;
+  if (!any_inside) {
+    // Only a hole wholly inside the triangle can be left: its centre must lie inside.
+    const glm::dvec3 cb = face_.bary_of({pc.ac, pc.b0});
+    if (cb.x <= 0.0 || cb.y <= 0.0 || cb.z <= 0.0) return;
+  }
+  for (auto& lp : pts) lp.q = pc.coords(lp.p);
+  // Distance of a plane point from each edge is its barycentric coordinate times the height.
+  for (int k = 0; k < 3; ++k)
+    face_.height[k] = area2 / std::max(glm::length(tq[(k + 2) % 3] - tq[(k + 1) % 3]), 1e-300);
+  sample_rim();
+  std::vector<LocalPoint>& rim = w_.rim;
+  if (!any_inside) {
+    if (rim.size() < 3) return;
+    // Triangle with an elliptic hole: the hole runs clockwise (decreasing phi).
+    std::sort(rim.begin(), rim.end(), [](const LocalPoint& x, const LocalPoint& y) { return x.phi > y.phi; });
+    std::vector<LocalPoint>& all = w_.all;
+    all.assign(pts.begin(), pts.begin() + 3);
+    std::vector<std::uint32_t> outer = {0, 1, 2}, hole;
+    for (auto& lp : rim) {
+      hole.push_back(static_cast<std::uint32_t>(all.size()));
+      all.push_back(lp);
+    }
+    plan_->remove = 1;
+    add_polygon(all, outer, {hole});
+    return;
+  }
+  kept_parts();
+}
+
+// The triangle's boundary: corners, crossings and Steiner points in order (w_.pts), with the
+// state of each segment (w_.seg_inside).
+void FacePlanner::face_boundary(const Triangle& tri, const glm::dvec3 corner[3]) {
+  std::vector<LocalPoint>& pts = w_.pts;
+  std::vector<std::uint8_t>& seg_inside = w_.seg_inside;
+  pts.clear();
+  seg_inside.clear();
+  for (int k = 0; k < 3; ++k) {
+    const int k1 = (k + 1) % 3;
+    const EdgeCut& e = *(*cur_edges_)[k];
+    LocalPoint c;
+    c.v = tri[k];
+    c.p = corner[k];
+    c.bary = glm::dvec3(0.0);
+    c.bary[k] = 1.0;
+    pts.push_back(c);
+    const bool forward = tri[k] == e.lo;
+    seg_inside.push_back(e.inside[forward ? 0 : e.n]);
+    // Crossings and Steiner points in order from corner k to corner k1 (parameters from lo).
+    std::size_t si = 0;
+    const std::size_t ns = e.steiner.size();
+    for (int i = 0; i < e.n;) {
+      const int j = forward ? i : e.n - 1 - i;
+      const double tc = e.t[j];
+      const bool steiner_first =
+          si < ns && (forward ? e.steiner[si].first < tc : e.steiner[ns - 1 - si].first > tc);
+      const double tl = steiner_first ? e.steiner[forward ? si : ns - 1 - si].first : tc;
+      const double t = forward ? tl : 1.0 - tl;  // from corner k to corner k1
+      const VertexId sv = steiner_first ? e.steiner[forward ? si : ns - 1 - si].second : e.v[j];
+      LocalPoint x;
+      x.v = steiner_first ? sv : s_.merges.merged(sv);
+      x.p = s_.posed(sv);
+      x.bary = glm::dvec3(0.0);
+      x.bary[k] = 1.0 - t;
+      x.bary[k1] = t;
+      x.on_rim = !steiner_first;
+      pts.push_back(x);
+      if (steiner_first) {
+        seg_inside.push_back(seg_inside.back());
+        ++si;
+      } else {
+        seg_inside.push_back(e.inside[forward ? i + 1 : e.n - 1 - i]);
+        ++i;
+      }
+    }
+    for (; si < ns; ++si) {
+      const auto& [tl, sv] = e.steiner[forward ? si : ns - 1 - si];
+      const double t = forward ? tl : 1.0 - tl;
+      LocalPoint x;
+      x.v = sv;
+      x.p = s_.posed(sv);
+      x.bary = glm::dvec3(0.0);
+      x.bary[k] = 1.0 - t;
+      x.bary[k1] = t;
+      pts.push_back(x);
+      seg_inside.push_back(seg_inside.back());
+    }
+  }
+}
+
+// A rim sample at `x` (a ruling's point in the triangle's plane, or a corner of the rim on an
+// end plane) joins w_.rim unless it falls outside the triangle or next to a boundary or rim point.
+void FacePlanner::consider(const glm::dvec3& x, bool corner_point) {
+  LocalPoint lp;
+  lp.p = x;
+  lp.q = face_.pc.coords(x);
+  lp.bary = face_.bary_of(lp.q);
+  int low = -1, lows = 0;
+  for (int k = 0; k < 3; ++k)
+    if (lp.bary[k] < 1e-7) low = k, ++lows;
+  if (lows > 0) {
+    // A ruling's point just beyond an edge the cylinder only grazes (too shallowly to be cut):
+    // the rim bulges over that edge by about the tolerance, and no neighbour takes the point
+    // (at a crease the ruling meets its plane beyond the edge too, and no rim crosses an uncut
+    // edge). Dropped, the hole would lose a rim edge (31 of 32 around the axis); it is
+    // moved inside, a tolerance from the edge, when that moves it and keeps it within half a
+    // percent of r (not on holes smaller than the absolute tolerance: the move would round
+    // away in float and leave zero-area faces).
+    if (corner_point || lows > 1) return;
+    const int k1 = (low + 1) % 3, k2 = (low + 2) % 3;
+    const double shift = s_.eps - lp.bary[low] * face_.height[low], bound = 0.005 * s_.cyl.r;
+    if (shift > bound || (*cur_edges_)[k1]->n != 0) return;
+    const glm::dvec2 along = glm::normalize(face_.tq[k2] - face_.tq[k1]);
+    lp.q += shift * glm::dvec2(-along.y, along.x);  // inside is on the left
+    lp.bary = face_.bary_of(lp.q);
+    lp.p = face_.pc.point(lp.q.x, lp.q.y);
+    for (int k = 0; k < 3; ++k)
+      if (lp.bary[k] < 1e-7) return;
+    if (std::abs(s_.cyl.sd(lp.p)) > bound) return;
+  }
+  // An end-plane corner gives way only to a rim point a hair away: without it the chord from
+  // the end-plane part to the side part of a D-shaped rim cuts the corner off, as deep as
+  // the gap (a triangle of kept surface with its centroid inside the cylinder).
+  const double gap = corner_point ? 2.0 * s_.eps : s_.sep;
+  for (const auto& b : w_.pts)
+    if (b.on_rim && glm::length(b.p - lp.p) < gap) return;
+  if (!corner_point)
+    for (const auto& other : w_.rim)
+      if (glm::length(other.p - lp.p) < s_.sep) return;
+  lp.phi = face_.pc.phi(lp.q);
+  lp.on_rim = true;
+  w_.rim.push_back(lp);
+}
+
+// The corner where the rim's straight part (on an end plane) meets its arc. One lying just
+// outside the triangle (within a rim spacing: an edge grazes the hole there, too shallowly to
+// be cut, or cuts off the corner alone) still bends the rim inside: the rim then gets the
+// first points of both parts 2 tolerances inside, or the chord between the two parts'
+// crossings cuts the corner off (kept surface up to a few % of r inside the cylinder).
+void FacePlanner::end_corner(double a_cap, double hh, double sign) {
+  const PlaneCut& pc = face_.pc;
+  const glm::dvec2 qc(a_cap, pc.b0 + sign * hh);
+  const double out = -face_.clearance(qc);
+  if (out <= 0.0 || out > s_.sep) {
+    consider(pc.point(qc.x, qc.y), true);
+    return;
+  }
+  const double margin = 2.0 * s_.eps, toward = pc.ac > a_cap ? 1.0 : -1.0;
+  for (int part = 0; part < 2; ++part)
+    for (double t = margin; t < hh; t *= 2.0) {
+      glm::dvec2 q(a_cap, pc.b0 + sign * (hh - t));  // along the end plane's line
+      if (part == 1) {                               // along the arc
+        q.x = a_cap + toward * t;
+        const double e = pc.parallel ? 0.0 : (q.x - pc.a0) / pc.ra;
+        if (std::abs(e) >= 1.0) break;
+        q.y = pc.b0 + sign * pc.rb * std::sqrt(1.0 - e * e);
+      }
+      if (face_.clearance(q) >= margin) {
+        consider(pc.point(q.x, q.y), true);
+        break;
+      }
+    }
+}
+
+// Rim samples (w_.rim): the fixed rulings' points in this plane, and the ellipse's end-plane
+// corners.
+void FacePlanner::sample_rim() {
+  const PlaneCut& pc = face_.pc;
+  w_.rim.clear();
+  std::array<std::pair<double, double>, 2> chords{};  // (a, half length) on each end plane
+  if (pc.c1 > 0.0) {  // end-plane corners first, so rulings next to them give way
+    for (double s_cap : {0.0, s_.cyl.len}) {
+      const double a_cap = (s_cap - pc.so) / pc.c1;
+      double hh = 0.0;
+      if (pc.parallel)
+        hh = pc.rb;
+      else if (std::abs(a_cap - pc.a0) < pc.ra)
+        hh = pc.rb * std::sqrt(1.0 - std::pow((a_cap - pc.a0) / pc.ra, 2.0));
+      if (hh > 0.0)
+        for (const double sign : {1.0, -1.0}) end_corner(a_cap, hh, sign);
+      chords[s_cap > 0.0 ? 1 : 0] = {a_cap, hh};
+    }
+  }
+  int arc_rulings = 0;  // rulings whose point in this plane lies between the end planes
+  const std::size_t before_rulings = w_.rim.size();
+  if (!pc.parallel) {
+    // Rulings in increasing order (an earlier point wins over a later one too close to it); only
+    // those in the window, unless a chord needs the count of all of them.
+    const RulingWindow w = ruling_window(s_.cyl, face_.corner, s_.ruling_reach);
+    const bool count_all = chords[0].second > 0.0 || chords[1].second > 0.0;
+    const int wrapped = std::max(0, w.first + w.count - s_.samples);  // the window's part from 0
+    for (int k = 0; k < s_.samples; ++k) {
+      const bool in_window = k < wrapped || (k >= w.first && k < w.first + w.count);
+      if (!in_window && !count_all) {
+        if (k >= wrapped && k < w.first) k = w.first - 1;  // on to the window's main part
+        else if (k >= w.first + w.count) break;
+        continue;
+      }
+      const glm::dvec3& base = s_.ruling_base[static_cast<std::size_t>(k)];
+      const double sv = glm::dot(pc.o - base, pc.n) / pc.dn;
+      if (sv < 0.0 || sv > s_.cyl.len) continue;
+      ++arc_rulings;
+      if (in_window) consider(base + sv * s_.cyl.d, false);
+    }
+  }
+  const bool arc_sampled = w_.rim.size() > before_rulings;
+  // A layer that only clips the cylinder's rim edge (one end plane, no ruling point kept between
+  // the end planes here) cuts a thin lens: without a point on its arc (the ellipse's apex, taken before
+  // the straight part's points, which give way to it) the chord between the corners would run
+  // along the straight part, a hole of zero area (a slit no wall can close).
+  if (!pc.parallel && !arc_sampled && (chords[0].second > 0.0) != (chords[1].second > 0.0)) {
+    const double a_cap = chords[0].second > 0.0 ? chords[0].first : chords[1].first;
+    consider(pc.point(a_cap < pc.ac ? pc.a0 + pc.ra : pc.a0 - pc.ra, pc.b0), false);
+  }
+  // A layer that crosses an end disk gets a D-shaped rim: its straight part on the end plane is
+  // sampled at the rim spacing, and densely enough (down to half of it) that the whole D has
+  // min_rim_edges edges when the axis crosses the layer (its arc is then at least half a turn).
+  for (const auto& [a_cap, hh] : chords) {
+    if (!(hh > 0.0)) continue;
+    const double spacing = 2.0 * s_.cyl.r * std::sin(geometry::kPi / s_.samples);
+    const int by_spacing = static_cast<int>(std::ceil(2.0 * hh / spacing));
+    const int by_count =
+        std::min(s_.samples - arc_rulings + 1, static_cast<int>(std::floor(4.0 * hh / spacing)));
+    const int pieces = std::min(std::max(by_spacing, by_count), 4 * s_.samples);
+    for (int j = 1; j < pieces; ++j)
+      consider(pc.point(a_cap, pc.b0 - hh + 2.0 * hh * j / pieces), false);
+  }
+}
+
+// Runs of outside segments; each closes with the rim arc from its end back to its start.
+void FacePlanner::kept_parts() {
+  const std::vector<LocalPoint>& pts = w_.pts;
+  const std::vector<std::uint8_t>& seg_inside = w_.seg_inside;
+  const std::vector<LocalPoint>& rim = w_.rim;
+  const std::size_t m = pts.size();
+  std::size_t start = m;
+  for (std::size_t i = 0; i < m; ++i)
+    if (seg_inside[(i + m - 1) % m] && !seg_inside[i]) {
+      start = i;
+      break;
+    }
+  plan_->remove = 1;
+  if (start == m) return;
+  std::vector<std::uint8_t>& used = w_.used;
+  used.assign(rim.size(), 0);
+  for (std::size_t step = 0; step < m; ++step) {
+    const std::size_t j = (start + step) % m;
+    if (!(seg_inside[(j + m - 1) % m] && !seg_inside[j])) continue;
+    std::vector<LocalPoint>& poly = w_.poly;
+    poly.clear();
+    std::size_t k = j;
+    poly.push_back(pts[k]);
+    while (!seg_inside[k]) {
+      k = (k + 1) % m;
+      poly.push_back(pts[k]);
+      if (k == j) break;
+    }
+    const double phi_end = face_.pc.phi(pts[k].q);
+    const double span = geometry::wrap_2pi(phi_end - face_.pc.phi(pts[j].q));
+    std::vector<std::pair<double, std::size_t>>& arc = w_.arc;
+    arc.clear();
+    for (std::size_t i = 0; i < rim.size(); ++i) {
+      if (used[i]) continue;
+      const double delta = geometry::wrap_2pi(phi_end - rim[i].phi);
+      if (delta > 0.0 && delta < span) arc.emplace_back(delta, i);
+    }
+    std::sort(arc.begin(), arc.end());
+    for (const auto& [delta, i] : arc) {
+      used[i] = 1;
+      poly.push_back(rim[i]);
+    }
+    std::vector<std::uint32_t>& loop = w_.loop;
+    loop.resize(poly.size());
+    for (std::size_t i = 0; i < poly.size(); ++i) loop[i] = static_cast<std::uint32_t>(i);
+    add_polygon(poly, loop, no_holes_);
+  }
+}
+
+// Chew-style refinement of one kept part: points at the circumcentres of skinny triangles that
+// are larger than the rim spacing (needles from a far corner to a small hole), kept away from
+// the part's boundary so no edge of the parent triangle is split (its neighbour shares it).
+void FacePlanner::refine(geometry::FlipTriangulation& ft, std::vector<glm::dvec2>& q,
+                         std::vector<LocalPoint>& pts, const std::vector<std::uint32_t>& outer,
+                         const std::vector<std::vector<std::uint32_t>>& holes) {
+  const double spacing = 2.0 * s_.cyl.r * std::sin(geometry::kPi / s_.samples);
+  const std::size_t boundary = pts.size();
+  std::vector<std::pair<std::uint32_t, std::uint32_t>>& segments = w_.segments;
+  segments.clear();
+  const auto add_segments = [&segments](const std::vector<std::uint32_t>& l) {
+    for (std::size_t i = 0; i < l.size(); ++i) segments.emplace_back(l[i], l[(i + 1) % l.size()]);
+  };
+  add_segments(outer);
+  for (const auto& l : holes) add_segments(l);
+  std::vector<geometry::LocalTri>& failed = w_.failed;  // by sorted_corners
+  failed.clear();
+  auto has_failed = [&failed](const geometry::LocalTri& t) {
+    return std::find(failed.begin(), failed.end(), t) != failed.end();
+  };
+  const std::size_t budget = 4 * boundary + 8;
+  for (std::size_t added = 0; added < budget;) {
+    const geometry::LocalTri* worst = nullptr;
+    double worst_ratio = 0.684;  // shortest edge / circumradius = 2 sin(min angle): 20 degrees
+    for (const auto& t : ft.triangles()) {
+      const glm::dvec2 &a = q[t[0]], &b = q[t[1]], &c = q[t[2]];
+      const double la = glm::length(b - c), lb = glm::length(c - a), lc = glm::length(a - b);
+      const double area2 = std::abs(geometry::orient(a, b, c));
+      if (!(area2 > 0.0) || std::max({la, lb, lc}) < 2.0 * spacing) continue;
+      const double circumradius = la * lb * lc / (2.0 * area2);
+      const double ratio = std::min({la, lb, lc}) / circumradius;
+      if (ratio < worst_ratio && !has_failed(geometry::sorted_corners(t))) {
+        worst_ratio = ratio;
+        worst = &t;
+      }
+    }
+    if (!worst) return;
+    const geometry::LocalTri t = *worst;
+    const glm::dvec2 centre = geometry::circumcentre(q[t[0]], q[t[1]], q[t[2]]);
+    bool ok = std::isfinite(centre.x) && std::isfinite(centre.y);
+    const glm::dvec3 bary = ok ? face_.bary_of(centre) : glm::dvec3(-1.0);
+    ok = ok && bary.x > 1e-6 && bary.y > 1e-6 && bary.z > 1e-6;
+    for (std::size_t i = 0; i < boundary && ok; ++i) ok = glm::length(q[i] - centre) > 0.5 * spacing;
+    for (const auto& [u, v] : segments) {
+      if (!ok) break;
+      ok = std::sqrt(geometry::segment_distance2(centre, q[u], q[v])) > 0.35 * spacing;
+    }
+    if (!ok || !ft.insert(centre)) {
+      if (!has_failed(geometry::sorted_corners(t))) failed.push_back(geometry::sorted_corners(t));
+      continue;
+    }
+    LocalPoint lp;
+    lp.q = centre;
+    lp.p = face_.pc.point(centre.x, centre.y);
+    lp.bary = bary;
+    pts.push_back(lp);
+    ++added;
+  }
+}
+
+// A kept part that is a triangle is added as it is; any other is triangulated, flipped to
+// Delaunay and refined in the plane. Its points (with the refinement's) and triangles go to the
+// chunk's lists.
+void FacePlanner::add_polygon(std::vector<LocalPoint>& pts, const std::vector<std::uint32_t>& outer,
+                              const std::vector<std::vector<std::uint32_t>>& holes) {
+  PolygonPlan poly;
+  poly.first_tri = static_cast<std::uint32_t>(out_.tris.size());
+  if (holes.empty() && outer.size() == 3) {
+    out_.tris.push_back({outer[0], outer[1], outer[2]});
+  } else {
+    std::vector<glm::dvec2>& q = w_.q;
+    q.resize(pts.size());
+    for (std::size_t i = 0; i < pts.size(); ++i) q[i] = pts[i].q;
+    std::vector<geometry::LocalTri>& clipped = w_.clipped;
+    clipped.clear();
+    geometry::triangulate_polygon(q, outer, holes, kRimTriangulation, clipped);
+    geometry::FlipTriangulation& ft = w_.flips;
+    ft.reset(q, clipped);
+    ft.make_delaunay();
+    refine(ft, q, pts, outer, holes);
+    out_.tris.insert(out_.tris.end(), ft.triangles().begin(), ft.triangles().end());
+  }
+  poly.tris = static_cast<std::uint32_t>(out_.tris.size()) - poly.first_tri;
+  poly.first_pt = static_cast<std::uint32_t>(out_.pts.size());
+  poly.pts = static_cast<std::uint32_t>(pts.size());
+  out_.pts.insert(out_.pts.end(), pts.begin(), pts.end());
+  out_.polys.push_back(poly);
+  ++plan_->polys;
+}
+
+}  // namespace deepcut::drill

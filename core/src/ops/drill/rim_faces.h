@@ -1,0 +1,159 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// The rim insertion's work on one crossed triangle, in its own plane (rim_insertion.cpp runs it):
+// the kept parts of the triangle are found and triangulated without touching the mesh, and what
+// to do is written down as a plan (remove the triangle, add these kept parts). The plans of all
+// candidates are made in parallel (each reads only the crossings made before) and carried out in
+// candidate order, so the edits are the same whatever the thread count. Private to the drill.
+
+#include <array>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "geometry/delaunay_flip.h"
+#include "geometry/polygon_triangulation.h"
+#include "ops/common/crossing_table.h"
+#include "ops/drill/cylinder_section.h"
+#include "ops/drill/posed_overlay.h"
+
+namespace deepcut::drill {
+
+// What the solid cylinder does to one mesh edge, from `lo` to `hi` (lo < hi).
+struct EdgeCut {
+  VertexId lo, hi;
+  int n = 0;                           // kept crossings
+  double t[2] = {0.0, 0.0};            // their parameters, increasing
+  VertexId v[2];                       // their vertices
+  std::uint8_t inside[3] = {0, 0, 0};  // sub-segments between 0, t[0..n-1], 1
+  // Points on the kept parts of a crossed edge, graded away from the crossings (see
+  // RimInserter::edge): parameters, increasing, and their vertices.
+  std::vector<std::pair<double, VertexId>> steiner;
+};
+
+// A point on the boundary of a triangle's kept region, or on its rim.
+struct LocalPoint {
+  VertexId v;           // invalid until a rim sample is created
+  glm::dvec3 p;         // posed
+  glm::dvec3 bary;      // w.r.t. the parent triangle's corners
+  glm::dvec2 q;         // in the triangle's plane frame
+  double phi = 0.0;     // rim samples: angle around the ellipse centre (normalised frame)
+  bool on_rim = false;  // lies on the cylinder's boundary
+};
+
+// The triangle being processed, in its plane: the cylinder's cut there, the corners, and
+// barycentric coordinates and distances from the edges of plane points.
+struct FacePlane {
+  PlaneCut pc;
+  glm::dvec3 corner[3];  // posed
+  glm::dvec2 tq[3];
+  double area2 = 1.0;
+  double height[3] = {0.0, 0.0, 0.0};  // distance of a plane point from edge k = bary[k] * height[k]
+
+  glm::dvec3 bary_of(const glm::dvec2& q) const {
+    return glm::dvec3(geometry::orient(q, tq[1], tq[2]), geometry::orient(tq[0], q, tq[2]),
+                      geometry::orient(tq[0], tq[1], q)) /
+           area2;
+  }
+  // Distance of a plane point inside the triangle from its nearest edge (negative outside).
+  double clearance(const glm::dvec2& q) const {
+    const glm::dvec3 b = bary_of(q);
+    return std::min({b.x * height[0], b.y * height[1], b.z * height[2]});
+  }
+};
+
+// What every face's planning reads (made before planning starts, unchanged while it runs).
+struct RimShared {
+  const SurfaceMesh& mesh;
+  const PosedOverlay& posed;
+  const CylinderFrame& cyl;
+  const detail::NeedleMerges& merges;
+  // Per candidate: its edges' records (edge k from corner k to corner k + 1).
+  const std::vector<std::array<const EdgeCut*, 3>>& face_edges;
+  double eps = 0.0, sep = 0.0, ruling_reach = -1.0;
+  int samples = 32;
+  std::vector<glm::dvec3> ruling_base;  // where each sampled ruling starts (s = 0)
+};
+
+// One kept part to add: points [first_pt, first_pt + pts) and triangles of a PlanChunk.
+struct PolygonPlan {
+  std::uint32_t first_pt = 0, pts = 0, first_tri = 0, tris = 0;
+};
+
+// The plans of a run of candidates: their kept parts' points and triangles.
+struct PlanChunk {
+  std::vector<LocalPoint> pts;
+  std::vector<geometry::LocalTri> tris;
+  std::vector<PolygonPlan> polys;
+
+  /// `count` empty chunks: this thread's, reused from drill to drill (their lists keep their
+  /// memory).
+  static std::vector<PlanChunk>& reused(std::size_t count) {
+    thread_local std::vector<PlanChunk> chunks;
+    if (chunks.size() < count) chunks.resize(count);
+    for (std::size_t i = 0; i < count; ++i) {
+      chunks[i].pts.clear();
+      chunks[i].tris.clear();
+      chunks[i].polys.clear();
+    }
+    return chunks;
+  }
+};
+
+// What to do with one candidate: remove it, then add kept parts [first_poly, first_poly +
+// polys) of chunk `chunk`.
+struct FacePlan {
+  std::uint8_t remove = 0;
+  std::uint32_t chunk = 0, first_poly = 0, polys = 0;
+};
+
+// Working lists of the planning, reused from face to face and from call to call (one set per
+// thread).
+struct PlanScratch {
+  std::vector<LocalPoint> pts, rim, all, poly;
+  std::vector<std::uint8_t> seg_inside, used;
+  std::vector<std::pair<double, std::size_t>> arc;
+  std::vector<std::uint32_t> loop, hole;
+  std::vector<glm::dvec2> q;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> segments;
+  std::vector<geometry::LocalTri> clipped, failed;
+  geometry::FlipTriangulation flips;
+
+  /// This thread's lists.
+  static PlanScratch& local() {
+    thread_local PlanScratch scratch;
+    return scratch;
+  }
+};
+
+/// Plans candidates of one chunk into `out` (see the file comment).
+class FacePlanner {
+ public:
+  FacePlanner(const RimShared& shared, PlanChunk& out, std::uint32_t chunk)
+      : s_(shared), out_(out), chunk_(chunk), w_(PlanScratch::local()) {}
+
+  /// The plan for candidate `c` (face `f`, not deep inside).
+  void plan(std::size_t c, FaceId f, FacePlan& plan);
+
+ private:
+  void face_boundary(const Triangle& tri, const glm::dvec3 corner[3]);
+  void sample_rim();
+  void consider(const glm::dvec3& x, bool corner_point);
+  void end_corner(double a_cap, double hh, double sign);
+  void kept_parts();
+  void add_polygon(std::vector<LocalPoint>& pts, const std::vector<std::uint32_t>& outer,
+                   const std::vector<std::vector<std::uint32_t>>& holes);
+  void refine(geometry::FlipTriangulation& ft, std::vector<glm::dvec2>& q, std::vector<LocalPoint>& pts,
+              const std::vector<std::uint32_t>& outer, const std::vector<std::vector<std::uint32_t>>& holes);
+
+  const RimShared& s_;
+  PlanChunk& out_;
+  std::uint32_t chunk_;
+  PlanScratch& w_;
+  FacePlan* plan_ = nullptr;                                  // the candidate being planned
+  const std::array<const EdgeCut*, 3>* cur_edges_ = nullptr;  // its edges' records
+  FacePlane face_;
+  const std::vector<std::vector<std::uint32_t>> no_holes_;
+};
+
+}  // namespace deepcut::drill
