@@ -53,8 +53,7 @@ namespace {
 
 /// An export target: the exporter writes glTF only.
 bool is_model_file(const QString& path) {
-  const QString suffix = QFileInfo(path).suffix().toLower();
-  return suffix == "glb" || suffix == "gltf";
+  return QStringList{"glb", "gltf"}.contains(QFileInfo(path).suffix().toLower());
 }
 
 /// A file some format plugin opens (.glb, .gltf, .obj, .ply, .stl, .off, ...).
@@ -437,6 +436,7 @@ bool MainWindow::begin_open(const QString& path) {
   open_done_ = false;
   auto clock = std::make_shared<QElapsedTimer>();
   clock->start();
+  view_->warm_up();  // the shaders compile while the worker reads (the UI thread waits then)
   const QString name = QFileInfo(path).fileName();
   return task_->start(
       "Opening " + name, 5, open_job(path, clock),
@@ -462,11 +462,10 @@ void MainWindow::report_exception(std::exception_ptr error, const QString& file)
 }
 
 void MainWindow::load_file(const QString& path) {
-  QElapsedTimer clock;
-  clock.start();
-  auto shared_clock = std::make_shared<QElapsedTimer>(clock);
+  auto clock = std::make_shared<QElapsedTimer>();
+  clock->start();
   TaskProgress progress;  // on this thread: no Cancel
-  open_job(path, shared_clock)(progress)();
+  open_job(path, clock)(progress)();
   first_frame_pending_ = false;
   draw_frame_and_index(false);
 }

@@ -14,6 +14,7 @@
 #include <vtkCellData.h>
 #include <vtkCellPicker.h>
 #include <vtkCornerAnnotation.h>
+#include <vtkFloatArray.h>
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkIdTypeArray.h>
 #include <vtkLightKit.h>
@@ -32,9 +33,11 @@
 #include <vtkTexture.h>
 
 #include <QCursor>
+#include <QTimer>
 #include <QVBoxLayout>
 #include <algorithm>
 #include <cmath>
+#include <ctime>
 #include <map>
 
 #include "deepcut/core/errors.h"
@@ -44,6 +47,7 @@
 #include "deepcut/widgets/texture.h"
 #include "deepcut/widgets/view_poly_data.h"
 #include "click_style.h"
+#include "instance_data.h"
 
 namespace deepcut::studio {
 namespace {
@@ -58,9 +62,11 @@ struct InstanceActor {
   bool displaced = false;  // drawn at positions set by hand (set_instance_positions)
 };
 
-/// The full build of an instance's drawn data (the one conversion, on whichever thread).
-std::shared_ptr<ViewPolyData> instance_view_data(const plugins::SceneInstance& sp) {
-  return std::make_shared<ViewPolyData>(*sp.surface, sp.posed(), &sp.posed_normals);
+/// CPU time of the calling thread, in ms.
+double thread_cpu_ms() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) / 1e6;
 }
 
 double distance_to_segment(const glm::dvec2& p, const glm::dvec2& a, const glm::dvec2& b) {
@@ -104,11 +110,19 @@ struct SceneView::Impl {
   std::function<bool(const PointerEvent&)> pointer_handler;
   std::function<void()> render_listener;
   bool hold_renders = false, render_due = false;
+  double last_render_cpu_ms = 0.0;
+  int frames_drawn = 0;
+
+  int warmed = 0;  // how many of warm_up_next's variants were drawn
 
   /// Adds the actor of scene instance `sp` drawing `data`.
   void add_actor(const plugins::SceneInstance& sp, std::shared_ptr<ViewPolyData> data, std::vector<std::string>& notes);
   /// update_scene of a structural step (the scene followed it: Scene::origins, Scene::departed).
   void follow_structure();
+  /// The look and display mode every instance's actor gets.
+  void set_up(InstanceActor& instance) const;
+  /// Draws the next shader variant of SceneView::warm_up. @returns whether one remains.
+  bool warm_up_next();
   void apply_look(InstanceActor& instance) const;
   void apply_display_mode(InstanceActor& instance) const;
   void rebuild_normals();
@@ -119,6 +133,46 @@ struct SceneView::Impl {
   /// The ray through display (x, y), world space.
   void display_ray(int x, int y, PointerEvent& event) const;
 };
+
+void SceneView::Impl::set_up(InstanceActor& instance) const {
+  vtkProperty* property = instance.actor->GetProperty();
+  property->SetInterpolationToPhong();
+  property->SetAmbient(0.12);
+  property->SetDiffuse(0.88);
+  property->SetSpecularPower(24.0);
+  property->BackfaceCullingOff();
+  apply_look(instance);
+  apply_display_mode(instance);
+}
+
+bool SceneView::Impl::warm_up_next() {
+  if (warmed >= 2 || !window->GetReadyForRendering()) return false;
+  const bool textured = warmed++ == 1;
+  InstanceActor warm;
+  warm.poly = stand_in_triangle(renderer->GetActiveCamera(), textured);
+  if (textured) warm.texture = stand_in_texture();
+  warm.mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
+  warm.mapper->SetInputData(warm.poly);
+  warm.mapper->SetColorModeToDirectScalars();
+  warm.actor = vtkSmartPointer<vtkActor>::New();
+  warm.actor->SetMapper(warm.mapper);
+  warm.actor->UseBoundsOff();  // leaves the clipping range to the scene
+  set_up(warm);
+  // Alone in the frame (drawing the scene's actors is not the point), and the frame never
+  // shown: without a buffer swap the widget keeps showing the last one.
+  std::vector<vtkActor*> hidden;
+  for (const InstanceActor& instance : instances)
+    if (instance.actor->GetVisibility()) hidden.push_back(instance.actor);
+  if (normals && normals->GetVisibility()) hidden.push_back(normals);
+  for (vtkActor* actor : hidden) actor->VisibilityOff();
+  renderer->AddActor(warm.actor);
+  window->SwapBuffersOff();
+  window->Render();
+  window->SwapBuffersOn();
+  renderer->RemoveActor(warm.actor);
+  for (vtkActor* actor : hidden) actor->VisibilityOn();
+  return warmed < 2;
+}
 
 void SceneView::Impl::apply_look(InstanceActor& instance) const {
   vtkProperty* property = instance.actor->GetProperty();
@@ -143,56 +197,9 @@ void SceneView::Impl::rebuild_normals() {
   if (normals) renderer->RemoveActor(normals);
   normals = nullptr;
   if (!show_normals || !scene) return;
-  const float length = 0.015f * scene->size;
-  vtkNew<vtkPoints> points;
-  points->SetDataTypeToFloat();
-  vtkNew<vtkCellArray> lines;
-  std::size_t total = 0;
-  for (const InstanceActor& instance : instances)
-    total += static_cast<std::size_t>(instance.poly->GetNumberOfPoints());
-  // Big meshes: draw every k-th normal so the view stays readable and responsive.
-  const std::size_t stride = std::max<std::size_t>(1, total / 60000);
-  auto add_line = [&](const double p[3], const double d[3]) {
-    const vtkIdType a = points->InsertNextPoint(p);
-    const vtkIdType b =
-        points->InsertNextPoint(p[0] + length * d[0], p[1] + length * d[1], p[2] + length * d[2]);
-    const vtkIdType ids[2] = {a, b};
-    lines->InsertNextCell(2, ids);
-  };
-  for (const InstanceActor& instance : instances) {
-    vtkDataArray* n = instance.poly->GetPointData()->GetNormals();
-    if (n) {
-      for (vtkIdType i = 0; i < instance.poly->GetNumberOfPoints(); i += static_cast<vtkIdType>(stride)) {
-        double p[3], d[3];
-        instance.poly->GetPoint(i, p);
-        n->GetTuple(i, d);
-        add_line(p, d);
-      }
-      continue;
-    }
-    // No normals in the file: show the face normals (what the renderer shades with) at the
-    // face centres.
-    vtkCellArray* polys = instance.poly->GetPolys();
-    vtkIdType npts = 0;
-    const vtkIdType* ids = nullptr;
-    vtkIdType cell = 0;
-    for (polys->InitTraversal(); polys->GetNextCell(npts, ids); ++cell) {
-      if (npts != 3 || cell % static_cast<vtkIdType>(stride) != 0) continue;
-      double a[3], b[3], c[3];
-      instance.poly->GetPoint(ids[0], a);
-      instance.poly->GetPoint(ids[1], b);
-      instance.poly->GetPoint(ids[2], c);
-      const glm::dvec3 pa(a[0], a[1], a[2]), pb(b[0], b[1], b[2]), pc(c[0], c[1], c[2]);
-      const glm::dvec3 cross = glm::cross(pb - pa, pc - pa);
-      if (glm::length(cross) <= 0.0) continue;
-      const glm::dvec3 centre = (pa + pb + pc) / 3.0, normal = glm::normalize(cross);
-      const double p[3] = {centre.x, centre.y, centre.z}, d[3] = {normal.x, normal.y, normal.z};
-      add_line(p, d);
-    }
-  }
-  vtkNew<vtkPolyData> poly;
-  poly->SetPoints(points);
-  poly->SetLines(lines);
+  std::vector<vtkPolyData*> polys;
+  for (const InstanceActor& instance : instances) polys.push_back(instance.poly);
+  const vtkSmartPointer<vtkPolyData> poly = normal_lines(polys, 0.015f * scene->size);
   vtkNew<vtkPolyDataMapper> mapper;
   mapper->SetInputData(poly);
   normals = vtkSmartPointer<vtkActor>::New();
@@ -407,15 +414,12 @@ void SceneView::Impl::add_actor(const plugins::SceneInstance& sp, std::shared_pt
   instance.mapper->SetColorModeToDirectScalars();
   instance.actor = vtkSmartPointer<vtkActor>::New();
   instance.actor->SetMapper(instance.mapper);
-  const int material = model.meshes[static_cast<std::size_t>(sp.mesh)]
-                           .primitives[static_cast<std::size_t>(sp.primitive)]
-                           .material;
-  instance.look = material_look(model, material);
+  instance.look = instance_look(*scene, sp);
   if (instance.look.base_color_image >= 0) {
     if (instance.look.texcoord != 0) {
       notes.push_back("material '" + instance.look.name + "': base colour texture uses TEXCOORD_" +
                       std::to_string(instance.look.texcoord) + "; shown without it");
-    } else if (!instance.poly->GetPointData()->GetTCoords()) {
+    } else if (!instance.poly->GetPointData()->GetArray("uv0")) {
       notes.push_back("material '" + instance.look.name +
                       "' has a texture but the mesh has no UVs; shown without it");
     } else {
@@ -432,14 +436,8 @@ void SceneView::Impl::add_actor(const plugins::SceneInstance& sp, std::shared_pt
       instance.texture = cached->second;
     }
   }
-  vtkProperty* property = instance.actor->GetProperty();
-  property->SetInterpolationToPhong();
-  property->SetAmbient(0.12);
-  property->SetDiffuse(0.88);
-  property->SetSpecularPower(24.0);
-  property->BackfaceCullingOff();
-  apply_look(instance);
-  apply_display_mode(instance);
+  use_texture_coords(instance.poly, instance.texture != nullptr);
+  set_up(instance);
   renderer->AddActor(instance.actor);
   picker->AddPickList(instance.actor);
   instances.push_back(std::move(instance));
@@ -447,7 +445,10 @@ void SceneView::Impl::add_actor(const plugins::SceneInstance& sp, std::shared_pt
 
 std::shared_ptr<const SceneView::Prepared> SceneView::prepare(const plugins::Scene& scene) {
   auto prepared = std::make_shared<Prepared>();
-  for (const plugins::SceneInstance& sp : scene.instances) prepared->data.push_back(instance_view_data(sp));
+  for (const plugins::SceneInstance& sp : scene.instances) {
+    prepared->data.push_back(instance_view_data(scene, sp));
+    compute_draw_caches(prepared->data.back()->poly());  // off the UI thread
+  }
   return prepared;
 }
 
@@ -462,7 +463,7 @@ std::vector<std::string> SceneView::set_scene(const plugins::Scene& scene, std::
   d.picker->InitializePickList();
   d.scene = &scene;
   for (const plugins::SceneInstance& sp : scene.instances)
-    d.add_actor(sp, prepared ? prepared->data[d.instances.size()] : instance_view_data(sp), notes);
+    d.add_actor(sp, prepared ? prepared->data[d.instances.size()] : instance_view_data(scene, sp), notes);
   d.rebuild_normals();
   return notes;
 }
@@ -517,7 +518,7 @@ void SceneView::Impl::follow_structure() {
     // (A guard: data of another state than the scene's.)
     if (data && static_cast<std::size_t>(data->poly()->GetNumberOfCells()) != sp.surface->face_slots()) data = nullptr;
     if (data) clear_colors(data->poly());  // the inspectors colour again
-    add_actor(sp, data ? std::move(data) : instance_view_data(sp), notes);
+    add_actor(sp, data ? std::move(data) : instance_view_data(*scene, sp), notes);
   }
   for (const auto& [j, key] : scene->departed)  // (displaced data is not kept: built again)
     if (j < old.size() && old[j].data && !old[j].displaced) stash[key] = std::move(old[j].data);
@@ -717,9 +718,21 @@ void SceneView::render() {
     return;
   }
   if (impl_->render_listener) impl_->render_listener();
+  const double cpu = thread_cpu_ms();
   impl_->window->Render();
+  impl_->last_render_cpu_ms = thread_cpu_ms() - cpu;
+  ++impl_->frames_drawn;
   impl_->widget->update();
 }
+
+void SceneView::warm_up() {
+  QTimer::singleShot(0, this, [this] {
+    if (impl_->warm_up_next()) warm_up();
+  });
+}
+
+double SceneView::last_render_cpu_ms() const { return impl_->last_render_cpu_ms; }
+int SceneView::frames_drawn() const { return impl_->frames_drawn; }
 
 void SceneView::hold_renders(bool hold) {
   impl_->hold_renders = hold;

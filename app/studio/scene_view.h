@@ -105,12 +105,25 @@ class SceneView : public QWidget {
   glm::vec3 view_direction() const;
   /// Renders now.
   void render();
+  /// Compiles what a model's first frame draws with: the shaders of an untextured and of a
+  /// textured surface, set up as a scene instance's, each by drawing one small triangle alone in
+  /// a frame that is never shown, one per turn of the event loop from the next on (the caller
+  /// returns at once). Once per view; what is left waits for a view that can draw. The studio
+  /// asks for it while a worker reads a file (the UI thread is idle then): the first frame of
+  /// the open then costs about what a later frame costs.
+  void warm_up();
   /// Samples per pixel for anti-aliasing (0: none), from the next frame on.
   void set_multisamples(int samples);
   int multisamples() const;
   /// Called at the start of every `render` (nullptr: none): the studio benchmark times the work
   /// between an action and the render call with it.
   void set_render_listener(std::function<void()> listener);
+  /// CPU time the UI thread spent in the last frame's drawing, in ms (the renderer's own
+  /// threads not counted): what the studio benchmark reports beside wall times on a loaded
+  /// machine.
+  double last_render_cpu_ms() const;
+  /// How many frames `render` drew so far.
+  int frames_drawn() const;
   /// The rendered view as an image (renders first).
   QImage grab_view();
 

@@ -12,6 +12,8 @@
 // - the same steps with the scene built again after each (DEEPCUT_VIEW_REBUILD=1, rows
 //   "..._rebuild"): the reference the incremental view is measured against, in the same run;
 // - resident memory after N small drills (growth per operation).
+// Beside the wall times: the UI thread's CPU time in the first frame and in an unchanged one
+// ("frame_ui_cpu_ms"; the renderer's own threads not counted), steadier on a loaded machine.
 //   deepcut_studio_bench [--json] [--quick] [--size N] [--no-rebuild] [--ops N] [--open-only]
 //                        [--only drill|tear|cut]
 // --quick: the 25K cactus only; --size N: only the cactus of about N triangles (a profile of one
@@ -74,6 +76,7 @@ double resident_mib() {
 struct Timed {
   double to_render = 0.0, to_frame = 0.0;
   Clock::time_point start;
+  double frame_cpu = 0.0;  // the UI thread's CPU time in the last frame drawn (SceneView)
 };
 
 class Timer {
@@ -91,7 +94,8 @@ class Timer {
     const auto t0 = Clock::now();
     action();
     const auto t1 = Clock::now();
-    return {ms_since(t0, rendered_ ? first_render_ : t1), ms_since(t0, t1), t0};
+    return {ms_since(t0, rendered_ ? first_render_ : t1), ms_since(t0, t1), t0,
+            rendered_ ? window_.view()->last_render_cpu_ms() : 0.0};
   }
 
  private:
@@ -161,12 +165,15 @@ bool apply(MainWindow& window, const deepcut::Operation& op) {
 }
 
 json step_json(const std::vector<Timed>& runs) {
-  std::vector<double> render, frame;
+  std::vector<double> render, frame, cpu;
   for (const Timed& t : runs) {
     render.push_back(t.to_render);
     frame.push_back(t.to_frame);
+    cpu.push_back(t.frame_cpu);
   }
-  return {{"to_render_call_ms", median(render)}, {"to_frame_ms", median(frame)}};
+  return {{"to_render_call_ms", median(render)},
+          {"to_frame_ms", median(frame)},
+          {"frame_ui_cpu_ms", median(cpu)}};
 }
 
 /// One operation kind: apply, undo and redo three times each (undone again after each redo).
@@ -208,7 +215,12 @@ json run_size(std::size_t target, int ops, bool rebuilds, bool open_only, const 
   window.show();
   if (!QTest::qWaitForWindowExposed(&window)) throw std::runtime_error("the window is never exposed");
   Timer timer(window);
+  const int frames_before = window.view()->frames_drawn();
   Timed open = timer.time([&] { window.open_file(path); });
+  // The first frame's CPU time (open_file returns after the operations' posed model, which
+  // draws no frame).
+  if (window.view()->frames_drawn() != frames_before + 1)
+    throw std::runtime_error("the open drew more than one frame");
   if (!window.scene()) throw std::runtime_error("could not open " + path.toStdString());
   // open_file returns once the operations' posed model is built too, after the first frame:
   // the frame is when the first frame ended.
@@ -269,11 +281,14 @@ void print_table(const json& results) {
                   s["to_frame_ms"].get<double>());
     };
     row("open", r["open"]);
-    std::printf("%-10s open: result delivered %.1f ms, swap-in %.1f ms, first frame %.1f ms; operations ready "
-                "(posed model and grids) %.1f ms\n",
+    std::printf("%-10s open: result delivered %.1f ms, swap-in %.1f ms, first frame %.1f ms (UI thread CPU "
+                "%.1f ms); operations ready (posed model and grids) %.1f ms\n",
                 tri.c_str(), r["open"]["delivered_ms"].get<double>(), r["open"]["swap_in_ms"].get<double>(),
-                r["open"]["first_frame_ms"].get<double>(), r["open"]["operations_ready_ms"].get<double>());
+                r["open"]["first_frame_ms"].get<double>(), r["open"]["frame_ui_cpu_ms"].get<double>(),
+                r["open"]["operations_ready_ms"].get<double>());
     row("render", r["unchanged_render"]);
+    std::printf("%-10s render: UI thread CPU %.1f ms\n", tri.c_str(),
+                r["unchanged_render"]["frame_ui_cpu_ms"].get<double>());
     row("render.multisampled", r["unchanged_render_multisampled"]);
     for (const char* kind : {"drill", "tear", "cut", "drill_rebuild", "tear_rebuild", "cut_rebuild"})
       if (r.contains(kind))

@@ -18,6 +18,7 @@
 #include "deepcut/core/ops/operation.h"
 #include "deepcut/core/parallel.h"
 #include "fixtures.h"
+#include "posed_checks.h"
 
 namespace deepcut::detail {
 namespace {
@@ -51,14 +52,7 @@ Model make_scene() {
 
 void expect_posed_matches_rebuild(PosedModel& posed, const Model& model) {
   posed.prepare(model, -1, 0.0f);
-  const PosedModel fresh = PosedModel::build(model, -1, 0.0f);
-  ASSERT_EQ(posed.size(), fresh.size());
-  for (const auto& [key, inst] : fresh.instances()) {
-    const PosedMesh* mine = posed.find(key.first, key.second);
-    ASSERT_NE(mine, nullptr) << key.first << "," << key.second;
-    EXPECT_EQ(mine->mesh, inst.mesh);
-    EXPECT_EQ(mine->posed, inst.posed);
-  }
+  EXPECT_EQ(test::difference_from_fresh_build(posed, model), "");
 }
 
 TEST(ModelSurgery, VisitsEveryNodeDrawingAMeshWithItsPosedPrimitives) {

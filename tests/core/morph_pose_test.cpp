@@ -23,6 +23,7 @@
 #include "deepcut/core/posed_model.h"
 #include "deepcut/core/skinning.h"
 #include "fixtures.h"
+#include "posed_checks.h"
 #include "tools.h"
 
 namespace deepcut {
@@ -343,13 +344,7 @@ TEST(MorphPoseTest, drill_at_a_morphed_pose_is_on_the_surface_and_its_walls_stay
     for (const PoseKey& key : playing_poses())
       EXPECT_EQ(largest_gap(model, key, kTube, wall, kTube, surface, partners), 0.0) << "time " << key.time;
     // The followed posed model equals a fresh build at the same pose, morphs included.
-    const PosedModel fresh = PosedModel::build(model, posed.key());
-    for (const auto& [k, want] : fresh.instances()) {
-      const PosedMesh& got = *posed.find(k.first, k.second);
-      ASSERT_EQ(got.posed.size(), want.posed.size());
-      for (std::size_t v = 0; v < want.posed.size(); ++v) ASSERT_EQ(got.posed[v], want.posed[v]) << v;
-      EXPECT_EQ(got.weights, want.weights);
-    }
+    EXPECT_EQ(test::difference_from_fresh_build(posed, model), "");
   }
 }
 

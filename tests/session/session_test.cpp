@@ -18,6 +18,7 @@
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/posed_model.h"
 #include "tools.h"
+#include "posed_checks.h"
 
 namespace deepcut::session {
 namespace {
@@ -110,17 +111,7 @@ void expect_posed_model_fresh(Session& session, int animation, float time, const
   }
   const PosedModel* posed = session.posed_model();
   ASSERT_NE(posed, nullptr) << when;
-  const PosedModel fresh = PosedModel::build(*session.current(), posed->animation(), posed->time());
-  ASSERT_EQ(posed->size(), fresh.size()) << when;
-  for (const auto& [key, want] : fresh.instances()) {
-    const PosedMesh* got = posed->find(key.first, key.second);
-    ASSERT_NE(got, nullptr) << when;
-    EXPECT_EQ(got->mesh, want.mesh) << when;
-    EXPECT_TRUE(got->posed == want.posed) << when;
-    EXPECT_TRUE(got->linear == want.linear) << when;
-    EXPECT_TRUE(got->bounds.min == want.bounds.min && got->bounds.max == want.bounds.max) << when;
-    EXPECT_EQ(got->grid.face_count(), want.grid.face_count()) << when;
-  }
+  EXPECT_EQ(test::difference_from_fresh_build(*posed, *session.current()), "") << when;
 }
 
 History history_of(const std::vector<OperationEntry>& entries) {

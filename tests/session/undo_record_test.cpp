@@ -17,6 +17,7 @@
 #include "deepcut/core/model_change.h"
 #include "deepcut/core/posed_model.h"
 #include "session.h"
+#include "posed_checks.h"
 
 namespace deepcut::session {
 namespace {
@@ -107,17 +108,7 @@ void expect_mapping(const ModelChange& got, const Model& before, const Model& af
 void expect_posed_fresh(const Session& session, const std::string& when) {
   const PosedModel* posed = session.posed_model();
   if (!posed) return;
-  const PosedModel fresh = PosedModel::build(*session.current(), posed->key());
-  ASSERT_EQ(posed->size(), fresh.size()) << when;
-  for (const auto& [key, want] : fresh.instances()) {
-    const PosedMesh* got = posed->find(key.first, key.second);
-    ASSERT_NE(got, nullptr) << when;
-    EXPECT_TRUE(got->posed == want.posed) << when;
-    EXPECT_TRUE(got->linear == want.linear) << when;
-    EXPECT_TRUE(got->bounds.min == want.bounds.min && got->bounds.max == want.bounds.max) << when;
-    EXPECT_EQ(got->grid.face_count(), want.grid.face_count()) << when;
-    EXPECT_TRUE(got->grid.query_box(want.bounds) == want.grid.query_box(want.bounds)) << when;
-  }
+  EXPECT_EQ(test::difference_from_fresh_build(*posed, *session.current()), "") << when;
 }
 
 /// Seeded operations around the middle of `box` (a linear congruential sequence).

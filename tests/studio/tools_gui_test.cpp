@@ -19,6 +19,7 @@
 #include "deepcut/core/ops/operation.h"
 #include "deepcut/plugins/tool.h"
 #include "main_window.h"
+#include "posed_checks.h"
 #include "scene_view.h"
 #include "timeline.h"
 #include "studio_test_support.h"
@@ -225,15 +226,8 @@ class StudioToolsTest : public QObject {
     auto expect_fresh = [&](const char* when) {
       const deepcut::PosedModel* index = window->posed_model();
       QVERIFY2(index != nullptr, when);
-      const deepcut::PosedModel fresh = deepcut::PosedModel::build(*window->model(), index->animation(), index->time());
-      QVERIFY2(index->size() == fresh.size(), when);
-      for (const auto& [key, want] : fresh.instances()) {
-        const deepcut::PosedMesh* got = index->find(key.first, key.second);
-        QVERIFY2(got != nullptr, when);
-        QVERIFY2(got->posed == want.posed, when);
-        QVERIFY2(got->bounds.min == want.bounds.min && got->bounds.max == want.bounds.max, when);
-        QVERIFY2(got->grid.face_count() == want.grid.face_count(), when);
-      }
+      const std::string difference = deepcut::test::difference_from_fresh_build(*index, *window->model());
+      QVERIFY2(difference.empty(), (std::string(when) + ": " + difference).c_str());
     };
     // The previews visit the posed model's grid cells and draw exactly what a scan of every face draws.
     auto expect_same_previews = [&](const char* when) {
@@ -300,13 +294,8 @@ class StudioToolsTest : public QObject {
     QVERIFY2(window->apply_tool(), qPrintable(window->last_error()));
     QTRY_VERIFY_WITH_TIMEOUT(window->posed_model() != nullptr, 20000);
     const deepcut::PosedModel* index = window->posed_model();
-    const deepcut::PosedModel fresh = deepcut::PosedModel::build(*window->model(), index->animation(), index->time());
-    QCOMPARE(index->size(), fresh.size());
-    for (const auto& [key, want] : fresh.instances()) {
-      const deepcut::PosedMesh* got = index->find(key.first, key.second);
-      QVERIFY(got != nullptr);
-      QVERIFY(got->posed == want.posed);
-    }
+    const std::string difference = deepcut::test::difference_from_fresh_build(*index, *window->model());
+    QVERIFY2(difference.empty(), difference.c_str());
   }
 
   void a_tool_that_misses_reports_and_keeps_the_model() {

@@ -49,7 +49,7 @@ Raw raw(vtkPolyData* poly) {
   vtkPointData* pd = poly->GetPointData();
   r.points = vtkFloatArray::SafeDownCast(poly->GetPoints()->GetData())->GetPointer(0);
   if (auto* a = vtkFloatArray::SafeDownCast(pd->GetNormals())) r.normals = a->GetPointer(0);
-  if (auto* a = vtkFloatArray::SafeDownCast(pd->GetTCoords())) r.uv = a->GetPointer(0);
+  if (auto* a = named<vtkFloatArray>(pd, "uv0")) r.uv = a->GetPointer(0);  // active or not
   r.vertex_id = named<vtkIdTypeArray>(pd, "vertex_id")->GetPointer(0);
   r.face_id = named<vtkIdTypeArray>(poly->GetCellData(), "face_id")->GetPointer(0);
   r.offsets = poly->GetPolys()->GetOffsetsArray64()->GetPointer(0);
@@ -182,7 +182,7 @@ void ViewPolyData::resize(const SurfaceMesh& mesh) {
   vtkPointData* pd = poly_->GetPointData();
   set_count(vtkFloatArray::SafeDownCast(poly_->GetPoints()->GetData()), points);
   set_count(named<vtkIdTypeArray>(pd, "vertex_id"), points);
-  if (auto* a = vtkFloatArray::SafeDownCast(pd->GetTCoords())) set_count(a, points);
+  if (auto* a = named<vtkFloatArray>(pd, "uv0")) set_count(a, points);
   if (auto* a = vtkFloatArray::SafeDownCast(pd->GetNormals())) set_count(a, points);
   vtkIdTypeArray* face_ids = named<vtkIdTypeArray>(poly_->GetCellData(), "face_id");
   const auto old_cells = static_cast<std::size_t>(face_ids->GetNumberOfTuples());

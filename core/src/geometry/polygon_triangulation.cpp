@@ -23,27 +23,41 @@ class EarClipper {
       poly_.erase(std::unique(poly_.begin(), poly_.end()), poly_.end());
       while (poly_.size() > 1 && poly_.front() == poly_.back()) poly_.pop_back();
     }
-    const std::size_t n = poly_.size();
+    const auto n = static_cast<std::uint32_t>(poly_.size());
     prev_.resize(n);
     next_.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      prev_[i] = (i + n - 1) % n;
-      next_[i] = (i + 1) % n;
+    for (std::uint32_t i = 0; i < n; ++i) {
+      prev_[i] = i - 1;
+      next_[i] = i + 1;
+    }
+    if (n > 0) {
+      prev_[0] = n - 1;
+      next_[n - 1] = 0;
     }
     alive_.assign(n, 1);
     reflex_.assign(n, 0);
     version_.assign(n, 0);
     remaining_ = n;
     if (search_ == EarSearch::kQueued) make_grid();
+    if (search_ == EarSearch::kExhaustive) {
+      ear_state_.assign(n, kUnknown);
+      ear_quality_.resize(n);
+    }
   }
 
   void run(std::vector<LocalTri>& out) {
     const std::size_t n = poly_.size();
     if (n < 3) return;
-    for (std::size_t i = 0; i < n; ++i) update_reflex(i);
-    if (search_ == EarSearch::kQueued)
+    std::vector<double> corners(n);
+    for (std::size_t i = 0; i < n; ++i) corners[i] = update_reflex(i);
+    if (search_ == EarSearch::kQueued) {
+      file_grid();
+      std::vector<Entry> room;
+      room.reserve(3 * n);  // every corner once, then at most two per clip
+      ears_ = std::priority_queue<Entry>(std::less<Entry>(), std::move(room));
       for (std::size_t i = 0; i < n; ++i)
-        if (is_ear(i)) ears_.push({quality(i), i, version_[i]});
+        queue_if_ear(i, corners[i]);
+    }
     while (remaining_ > 3) {
       std::size_t i = search_ == EarSearch::kQueued ? pop_ear() : scan_ears();
       bool emit = true;
@@ -55,11 +69,25 @@ class EarClipper {
   }
 
  private:
+  // A queued ear; the same comparison (quality only) keeps the same order among equals.
   struct Entry {
     double quality;
-    std::size_t i;
+    std::uint32_t i;
     std::uint32_t version;
     bool operator<(const Entry& o) const { return quality < o.quality; }
+  };
+  // A filed reflex corner with its point, so a blocker test reads one record.
+  struct Filed {
+    glm::dvec2 p;
+    std::uint32_t corner, point;
+  };
+  // A corner filed after the grid was laid out (numerically degenerate input), with its cell.
+  struct Cell {
+    std::uint32_t x, y;
+  };
+  struct LateFiled {
+    Filed f;
+    Cell cell;
   };
 
   const glm::dvec2& at(std::size_t i) const { return pts_[poly_[i]]; }
@@ -70,24 +98,35 @@ class EarClipper {
     return std::max({glm::dot(b - a, b - a), glm::dot(c - b, c - b), glm::dot(a - c, a - c)});
   }
   double quality(std::size_t i) const { return corner(i) / std::max(longest(i), 1e-300); }
+  // kQueued: queues corner i (its corner() `turn`, its quality) when it is an ear: positive area
+  // and no other polygon point in the closed triangle (only a reflex corner can lie inside an ear
+  // of a weakly simple polygon).
+  void queue_if_ear(std::size_t i, double turn) {
+    if (turn <= 0.0 || reflex_blocker(i)) return;
+    ears_.push({turn / std::max(longest(i), 1e-300), static_cast<std::uint32_t>(i), version_[i]});
+  }
+  Filed filing(std::size_t i) const { return {at(i), static_cast<std::uint32_t>(i), poly_[i]}; }
 
-  void update_reflex(std::size_t i) {
-    const bool r = corner(i) <= 0.0;
-    if (r && !reflex_[i]) {
-      reflex_list_.push_back(i);
-      if (!cell_head_.empty()) {
-        const std::size_t c = cell_y(at(i).y) * grid_x_ + cell_x(at(i).x);
-        cell_link_.push_back({static_cast<std::uint32_t>(i), cell_head_[c]});
-        cell_head_[c] = static_cast<std::uint32_t>(cell_link_.size() - 1);
-      }
+  // Whether corner i is reflex (returns its corner()); one that became reflex is filed (kQueued):
+  // in the list, and once the grid is laid out, in its late filings. A dead corner is never
+  // reflex. A filing whose corner is no longer reflex is stale (were the corner reflex again, it
+  // would be filed again): the scans drop those.
+  double update_reflex(std::size_t i) {
+    const double turn = corner(i);
+    const bool r = turn <= 0.0;
+    if (r && !reflex_[i] && search_ == EarSearch::kQueued) {
+      ++filings_;
+      reflex_list_.push_back(filing(i));
+      if (grid_filed_ && grid_x_ > 0) late_.push_back({filing(i), cell_[i]});
     }
     reflex_[i] = r;
+    return turn;
   }
 
-  // A uniform grid over the points (about one cell per corner) filing every corner that became
-  // reflex, so an ear test looks at the reflex corners near the ear only. A cell index is a
-  // non-decreasing function of the coordinate, so every point of a closed triangle lies in the
-  // cells of its bounding box; the scan takes one cell more on each side.
+  // A uniform grid over the points (about one cell per corner) of the reflex corners, so an ear
+  // test looks at the reflex corners near the ear only. A cell index is a non-decreasing
+  // function of the coordinate, so every point of a closed triangle lies in the cells of its
+  // bounding box; the scan takes one cell more on each side.
   void make_grid() {
     const std::size_t n = poly_.size();
     if (n < 64) return;
@@ -102,7 +141,9 @@ class EarClipper {
     const glm::dvec2 extent = hi - lo;
     inv_cell_.x = extent.x > 0.0 && std::isfinite(extent.x) ? double(side) / extent.x : 0.0;
     inv_cell_.y = extent.y > 0.0 && std::isfinite(extent.y) ? double(side) / extent.y : 0.0;
-    cell_head_.assign(grid_x_ * grid_y_, kNoLink);
+    cell_.resize(n);
+    for (std::size_t i = 0; i < n; ++i)
+      cell_[i] = {static_cast<std::uint32_t>(cell_x(at(i).x)), static_cast<std::uint32_t>(cell_y(at(i).y))};
   }
   static std::size_t clamp_cell(double c, std::size_t cells) {
     if (!(c > 0.0)) return 0;  // NaN too
@@ -111,50 +152,97 @@ class EarClipper {
   std::size_t cell_x(double x) const { return clamp_cell((x - origin_xy_.x) * inv_cell_.x, grid_x_); }
   std::size_t cell_y(double y) const { return clamp_cell((y - origin_xy_.y) * inv_cell_.y, grid_y_); }
 
-  // True when some live reflex corner q (`blocks(q)`) lies in the ear (a, b, c): through the grid
-  // where its cells are fewer than the reflex corners, else through the list. Same answer.
-  template <class Blocks>
-  bool reflex_blocker(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c, Blocks&& blocks) const {
-    if (!cell_head_.empty()) {
-      const std::size_t x0 = cell_x(std::min({a.x, b.x, c.x})), x1 = cell_x(std::max({a.x, b.x, c.x}));
-      const std::size_t y0 = cell_y(std::min({a.y, b.y, c.y})), y1 = cell_y(std::max({a.y, b.y, c.y}));
+  // Lays the reflex corners filed so far out by cell (row-major, so the cells of one row of a box
+  // are one run); later filings go to `late_`.
+  void file_grid() {
+    grid_filed_ = true;
+    if (grid_x_ == 0) return;
+    std::vector<std::uint32_t> cell(reflex_list_.size());
+    cell_start_.assign(grid_x_ * grid_y_ + 1, 0);
+    for (std::size_t k = 0; k < reflex_list_.size(); ++k) {
+      const Cell xy = cell_[reflex_list_[k].corner];
+      cell[k] = static_cast<std::uint32_t>(xy.y * grid_x_ + xy.x);
+      ++cell_start_[cell[k] + 1];
+    }
+    for (std::size_t c = 1; c < cell_start_.size(); ++c) cell_start_[c] += cell_start_[c - 1];
+    filed_.resize(reflex_list_.size());
+    std::vector<std::uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
+    for (std::size_t k = 0; k < reflex_list_.size(); ++k) filed_[fill[cell[k]]++] = reflex_list_[k];
+  }
+
+  // True when some live reflex corner other than the ear's points lies in the closed ear of
+  // corner i: through the grid where its cells are fewer than the filings, else through the list.
+  // The ear's cell box is the box of its corners' cells (a cell index is a non-decreasing function
+  // of the coordinate; a point that is not a number makes every test false anyway).
+  bool reflex_blocker(std::size_t i) {
+    const std::size_t pa = prev_[i], pc = next_[i];
+    const std::uint32_t ia = poly_[pa], ib = poly_[i], ic = poly_[pc];
+    const glm::dvec2 &a = pts_[ia], &b = pts_[ib], &c = pts_[ic];
+    // orient(c, a, p) >= 0 && orient(a, b, p) >= 0 && orient(b, c, p) >= 0, the edges' terms taken
+    // out of the loop (the same operations in the same order: the same values). The diagonal c-a
+    // first: the other two sides are polygon edges, with most of the polygon on their inner side.
+    const glm::dvec2 ab = b - a, bc = c - b, ca = a - c;
+    auto blocks = [&](const Filed& f) {
+      const glm::dvec2 p = f.p;
+      return ca.x * (p.y - c.y) - ca.y * (p.x - c.x) >= 0.0 && ab.x * (p.y - a.y) - ab.y * (p.x - a.x) >= 0.0 &&
+             bc.x * (p.y - b.y) - bc.y * (p.x - b.x) >= 0.0 &&
+             f.point != ia && f.point != ib && f.point != ic;  // not the same point (bridges repeat points)
+    };
+    if (grid_x_ > 0) {
+      const Cell u = cell_[pa], v = cell_[i], w = cell_[pc];
+      const std::size_t x0 = std::min({u.x, v.x, w.x}), x1 = std::max({u.x, v.x, w.x});
+      const std::size_t y0 = std::min({u.y, v.y, w.y}), y1 = std::max({u.y, v.y, w.y});
       const std::size_t xa = x0 > 0 ? x0 - 1 : 0, xb = std::min(x1 + 1, grid_x_ - 1);
       const std::size_t ya = y0 > 0 ? y0 - 1 : 0, yb = std::min(y1 + 1, grid_y_ - 1);
-      if ((xb - xa + 1) * (yb - ya + 1) < reflex_list_.size()) {
-        for (std::size_t y = ya; y <= yb; ++y)
-          for (std::size_t x = xa; x <= xb; ++x)
-            for (std::uint32_t k = cell_head_[y * grid_x_ + x]; k != kNoLink; k = cell_link_[k].second) {
-              const std::size_t q = cell_link_[k].first;
-              if (alive_[q] && reflex_[q] && blocks(q)) return true;
-            }
-        return false;
+      if ((xb - xa + 1) * (yb - ya + 1) < filings_) {
+        for (std::size_t y = ya; y <= yb; ++y) {
+          const Filed* f = filed_.data() + cell_start_[y * grid_x_ + xa];
+          const Filed* end = filed_.data() + cell_start_[y * grid_x_ + xb + 1];
+          for (; f != end; ++f)
+            if (reflex_[f->corner] && blocks(*f)) return true;
+        }
+        auto in_box = [&](const LateFiled& l) {
+          return l.cell.x >= xa && l.cell.x <= xb && l.cell.y >= ya && l.cell.y <= yb && blocks(l.f);
+        };
+        return live_filing(late_, [](const LateFiled& l) { return l.f.corner; }, in_box);
       }
     }
-    for (std::size_t q : reflex_list_)
-      if (alive_[q] && reflex_[q] && blocks(q)) return true;
+    return live_filing(reflex_list_, [](const Filed& f) { return f.corner; }, blocks);
+  }
+
+  // Whether `test` holds for a filing in `v` whose corner is still reflex; stale filings met on
+  // the way are dropped (the order of `v` does not matter).
+  template <class Filing, class CornerOf, class Test>
+  bool live_filing(std::vector<Filing>& v, CornerOf&& corner_of, Test&& test) const {
+    for (std::size_t k = 0; k < v.size();) {
+      if (!reflex_[corner_of(v[k])]) {
+        v[k] = v.back();
+        v.pop_back();
+      } else if (test(v[k])) {
+        return true;
+      } else {
+        ++k;
+      }
+    }
     return false;
   }
 
-  // Positive area beyond the tolerance and no other polygon point in the closed triangle.
-  bool is_ear(std::size_t i) const {
+  // kExhaustive: kEar for an ear (positive area beyond the tolerance and no other polygon point
+  // in the closed triangle), else kFlat, or the first live corner met in its closed triangle.
+  std::uint32_t find_blocker(std::size_t i) const {
     const std::uint32_t ia = poly_[prev_[i]], ib = poly_[i], ic = poly_[next_[i]];
     const glm::dvec2 &a = pts_[ia], &b = pts_[ib], &c = pts_[ic];
-    const double tiny = search_ == EarSearch::kExhaustive ? 1e-13 * longest(i) : 0.0;
-    if (corner(i) <= tiny) return false;
-    auto blocks = [&](std::size_t q) {
-      const std::uint32_t iq = poly_[q];
-      if (iq == ia || iq == ib || iq == ic) return false;  // the same point (bridges repeat points)
-      const glm::dvec2& p = pts_[iq];
-      return orient(a, b, p) >= -tiny && orient(b, c, p) >= -tiny && orient(c, a, p) >= -tiny;
-    };
-    if (search_ == EarSearch::kQueued) {
-      // Only a reflex corner can lie inside an ear of a weakly simple polygon.
-      return !reflex_blocker(a, b, c, blocks);
-    }
+    const double tiny = 1e-13 * longest(i);
+    if (corner(i) <= tiny) return kFlat;
     std::size_t q = origin_;
-    for (std::size_t k = 0; k < remaining_; ++k, q = next_[q])
-      if (blocks(q)) return false;
-    return true;
+    for (std::size_t k = 0; k < remaining_; ++k, q = next_[q]) {
+      const std::uint32_t iq = poly_[q];
+      if (iq == ia || iq == ib || iq == ic) continue;  // the same point (bridges repeat points)
+      const glm::dvec2& p = pts_[iq];
+      if (orient(a, b, p) >= -tiny && orient(b, c, p) >= -tiny && orient(c, a, p) >= -tiny)
+        return static_cast<std::uint32_t>(q);
+    }
+    return kEar;
   }
 
   // The best queued ear still valid, or n.
@@ -167,14 +255,22 @@ class EarClipper {
     return poly_.size();
   }
 
-  // The best ear among all corners (the first one in input order on ties), or n.
-  std::size_t scan_ears() const {
+  // kExhaustive: the best ear among all corners (the first one in input order on ties), or n. A
+  // corner's triangle changes only when a neighbour is clipped (which forgets what is known of
+  // it), and corners only leave: an ear stays one, and a blocked corner stays blocked while its
+  // blocker lives. So a corner is looked at again only then.
+  std::size_t scan_ears() {
     std::size_t best = poly_.size();
     double best_quality = -1.0;
     std::size_t i = origin_;
     for (std::size_t k = 0; k < remaining_; ++k, i = next_[i]) {
-      if (!is_ear(i)) continue;
-      const double q = quality(i);
+      std::uint32_t& state = ear_state_[i];
+      if (state == kUnknown || (state < kFlat && !alive_[state])) {
+        state = find_blocker(i);
+        if (state == kEar) ear_quality_[i] = quality(i);
+      }
+      if (state != kEar) continue;
+      const double q = ear_quality_[i];
       if (q > best_quality) {
         best_quality = q;
         best = i;
@@ -196,45 +292,56 @@ class EarClipper {
   }
 
   void clip(std::size_t i, bool emit, std::vector<LocalTri>& out) {
-    const std::size_t a = prev_[i], c = next_[i];
+    const std::uint32_t a = prev_[i], c = next_[i];
     if (emit) out.push_back({poly_[a], poly_[i], poly_[c]});
     alive_[i] = 0;
+    reflex_[i] = 0;
     next_[a] = c;
     prev_[c] = a;
     --remaining_;
     if (search_ == EarSearch::kExhaustive) {
+      ear_state_[a] = ear_state_[c] = kUnknown;
       if (origin_ == i) origin_ = c;
       update_reflex(a);
       update_reflex(c);
       return;
     }
     origin_ = a;
-    for (std::size_t j : {a, c}) {
+    for (std::uint32_t j : {a, c}) {
       ++version_[j];
-      update_reflex(j);
-      if (is_ear(j)) ears_.push({quality(j), j, version_[j]});
+      queue_if_ear(j, update_reflex(j));
     }
   }
 
   const std::vector<glm::dvec2>& pts_;
   std::vector<std::uint32_t> poly_;
   EarSearch search_;
-  std::vector<std::size_t> prev_, next_;
+  std::vector<std::uint32_t> prev_, next_;
   std::vector<char> alive_, reflex_;
   std::vector<std::uint32_t> version_;
-  std::vector<std::size_t> reflex_list_;
-  // The grid of reflex corners (kQueued, 64 corners and more): per cell the latest filing, each
-  // filing (corner, the cell's previous filing).
-  static constexpr std::uint32_t kNoLink = ~std::uint32_t(0);
-  std::vector<std::uint32_t> cell_head_;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> cell_link_;
+  // The filings of corners that became reflex (kQueued), less stale ones dropped by scans, and
+  // how many filings there were: the threshold between the grid and the list.
+  std::vector<Filed> reflex_list_;
+  std::size_t filings_ = 0;
+  // The grid (kQueued, 64 corners and more): the filings up to the first ear test by cell
+  // (cell c holds filed_[cell_start_[c], cell_start_[c + 1]), stale ones too), the later ones in
+  // late_.
+  std::vector<std::uint32_t> cell_start_;
+  std::vector<Filed> filed_;
+  std::vector<LateFiled> late_;
+  std::vector<Cell> cell_;  // the cell of every corner
+  bool grid_filed_ = false;
   std::size_t grid_x_ = 0, grid_y_ = 0;
   glm::dvec2 origin_xy_{0.0}, inv_cell_{0.0};
   std::priority_queue<Entry> ears_;
+  // kExhaustive: what is known of each corner's ear (find_blocker, or kUnknown), and the quality
+  // of each known ear.
+  static constexpr std::uint32_t kUnknown = ~std::uint32_t(0), kEar = kUnknown - 1, kFlat = kUnknown - 2;
+  std::vector<std::uint32_t> ear_state_;
+  std::vector<double> ear_quality_;
   std::size_t remaining_ = 0;
   std::size_t origin_ = 0;
 };
-
 // The (outer, hole) position pairs a bridge may join, in the order they are tried.
 std::vector<std::pair<std::size_t, std::size_t>> bridge_candidates(const std::vector<glm::dvec2>& pts,
                                                                    const std::vector<std::uint32_t>& outer,
@@ -355,6 +462,9 @@ std::vector<LocalTri> triangulate_loops(const std::vector<glm::dvec2>& points,
     if (owner != loops.size()) holes_of[owner].push_back(loops[h]);
   }
   std::vector<LocalTri> out;
+  std::size_t corners = 0;  // a polygon of n corners (holes bridged in) makes n - 2 triangles at most
+  for (const auto& loop : loops) corners += loop.size() + 2;
+  out.reserve(corners);
   for (std::size_t o : outers) triangulate_polygon(pts, loops[o], std::move(holes_of[o]), rules, out);
   // Mirroring reversed orientation once, so `out` already has the outer loops' orientation.
   return out;

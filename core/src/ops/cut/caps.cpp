@@ -2,6 +2,7 @@
 #include "ops/cut/caps.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <unordered_set>
 
@@ -22,77 +23,98 @@ struct RimLoops {
   std::vector<VertexId> verts;
 };
 
+// Sorts keys (vertex << 32 | halfedge) as numbers when the halfedges are listed in increasing
+// order: stably by vertex, least significant byte first over the bytes in which the vertices
+// differ from the smallest one.
+void sort_by_vertex(std::vector<std::uint64_t>& keys, std::vector<std::uint64_t>& scratch) {
+  if (keys.size() < 2) return;
+  std::uint32_t lo = kInvalidIndex, hi = 0;
+  for (const std::uint64_t k : keys) {
+    lo = std::min(lo, static_cast<std::uint32_t>(k >> 32));
+    hi = std::max(hi, static_cast<std::uint32_t>(k >> 32));
+  }
+  scratch.resize(keys.size());
+  for (int shift = 0; shift < 32 && ((hi - lo) >> shift) != 0; shift += 8) {
+    auto digit = [&](std::uint64_t k) { return ((static_cast<std::uint32_t>(k >> 32) - lo) >> shift) & 0xffu; };
+    std::array<std::uint32_t, 257> count{};
+    for (const std::uint64_t k : keys) ++count[digit(k) + 1];
+    for (std::size_t b = 0; b < 256; ++b) count[b + 1] += count[b];
+    for (const std::uint64_t k : keys) scratch[count[digit(k)]++] = k;
+    keys.swap(scratch);
+  }
+}
+
 // Follows the rim halfedges backwards (the cap runs along the piece's rim edges in the opposite
 // direction) into closed loops; returns false if some rim chain is open. Each rim edge is used by
-// one rim face, so every reversed halfedge b -> a is listed once: a flat list sorted by b (ties
-// in halfedge order) with a used flag per entry.
+// one rim face, so every reversed halfedge b -> a is listed once. The steps are grouped by the
+// vertex they leave (groups in increasing vertex order, steps in halfedge order); loops start at
+// each unused step in that order, and a walk takes the first unused step of its vertex. So the
+// used steps of a group are always its first ones: a cursor per group is its next unused step.
 bool trace_loops(const std::vector<std::pair<VertexId, VertexId>>& halfedges, RimLoops& out) {
   out.loops.clear();
   out.verts.clear();
-  struct Step {
-    std::uint32_t from, order, to;
-  };
-  std::vector<Step> steps;
-  steps.reserve(halfedges.size());
-  for (const auto& [a, b] : halfedges) steps.push_back({b.index, static_cast<std::uint32_t>(steps.size()), a.index});
-  std::sort(steps.begin(), steps.end(),
-            [](const Step& x, const Step& y) { return x.from != y.from ? x.from < y.from : x.order < y.order; });
-  std::vector<char> used(steps.size(), 0);
-  // The steps leaving v: [first, last) of `steps`.
-  auto leaving = [&](std::uint32_t v) {
-    const auto lo = std::lower_bound(steps.begin(), steps.end(), v, [](const Step& x, std::uint32_t k) { return x.from < k; });
-    auto hi = lo;
-    while (hi != steps.end() && hi->from == v) ++hi;
-    return std::make_pair(static_cast<std::size_t>(lo - steps.begin()), static_cast<std::size_t>(hi - steps.begin()));
-  };
-  // Local index of each rim vertex, by first appearance in a kept loop.
-  std::vector<std::uint32_t> ids;
-  ids.reserve(2 * halfedges.size());
-  for (const auto& [a, b] : halfedges) {
-    ids.push_back(a.index);
-    ids.push_back(b.index);
+  const std::size_t m = halfedges.size();
+  // The steps sorted by the vertex they leave (ties in halfedge order): (vertex, halfedge) as
+  // one key; and the vertices they reach, sorted the same way.
+  std::vector<std::uint64_t> leaves(m), reaches(m), scratch;
+  for (std::size_t k = 0; k < m; ++k) {
+    leaves[k] = (std::uint64_t(halfedges[k].second.index) << 32) | k;
+    reaches[k] = (std::uint64_t(halfedges[k].first.index) << 32) | k;
   }
-  std::sort(ids.begin(), ids.end());
-  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
-  std::vector<std::uint32_t> local(ids.size(), kInvalidIndex);
-  auto local_index = [&](std::uint32_t v) {
-    std::uint32_t& l = local[static_cast<std::size_t>(std::lower_bound(ids.begin(), ids.end(), v) - ids.begin())];
-    if (l == kInvalidIndex) {
-      l = static_cast<std::uint32_t>(out.verts.size());
-      out.verts.push_back(VertexId(v));
+  sort_by_vertex(leaves, scratch);
+  sort_by_vertex(reaches, scratch);
+  // Group r: the steps leaving vertex from[r], which are steps [start[r], start[r + 1]).
+  std::vector<std::uint32_t> from, start;
+  from.reserve(m);
+  start.reserve(m + 1);
+  for (std::size_t p = 0; p < m; ++p)
+    if (p == 0 || (leaves[p] >> 32) != (leaves[p - 1] >> 32)) {
+      from.push_back(static_cast<std::uint32_t>(leaves[p] >> 32));
+      start.push_back(static_cast<std::uint32_t>(p));
     }
-    return l;
-  };
+  const auto groups = static_cast<std::uint32_t>(from.size());
+  start.push_back(static_cast<std::uint32_t>(m));
+  // The group each halfedge's step reaches (kInvalidIndex: a vertex no step leaves), merged from
+  // the two sorted lists; then by step.
+  std::vector<std::uint32_t> reached(m), to(m);
+  for (std::size_t p = 0, r = 0; p < m; ++p) {
+    const auto v = static_cast<std::uint32_t>(reaches[p] >> 32);
+    while (r < groups && from[r] < v) ++r;
+    reached[reaches[p] & 0xffffffffu] = r < groups && from[r] == v ? static_cast<std::uint32_t>(r) : kInvalidIndex;
+  }
+  for (std::size_t p = 0; p < m; ++p) to[p] = reached[leaves[p] & 0xffffffffu];
+  std::vector<std::uint32_t> cursor(start.begin(), start.end() - 1);
+  // Local index of each rim vertex (by group), by first appearance in a kept loop.
+  std::vector<std::uint32_t> local(groups, kInvalidIndex);
   bool all_closed = true;
-  std::vector<std::uint32_t> loop;
-  for (std::size_t first = 0; first < steps.size(); ++first) {
-    if (used[first]) continue;
-    const std::uint32_t s = steps[first].from;
-    loop.assign(1, s);
-    std::size_t step = first;
-    bool closed = false;
-    while (true) {
-      used[step] = 1;
-      const std::uint32_t nxt = steps[step].to;
-      if (nxt == s) {
-        closed = true;
-        break;
+  std::vector<std::uint32_t> loop;  // groups
+  for (std::uint32_t first = 0; first < groups; ++first)
+    while (cursor[first] < start[first + 1]) {
+      loop.assign(1, first);
+      std::uint32_t r = first;
+      bool closed = false;
+      while (true) {
+        r = to[cursor[r]++];
+        if (r == first) {
+          closed = true;
+          break;
+        }
+        if (r == kInvalidIndex || cursor[r] == start[r + 1]) break;  // an open rim chain (open input): not capped
+        loop.push_back(r);
       }
-      loop.push_back(nxt);
-      const auto [lo, hi] = leaving(nxt);
-      step = hi;
-      for (std::size_t k = lo; k < hi && step == hi; ++k)
-        if (!used[k]) step = k;
-      if (step == hi) break;  // an open rim chain (open input): not capped
-    }
-    all_closed = all_closed && closed;
-    if (closed && loop.size() >= 3) {
+      all_closed = all_closed && closed;
+      if (!closed || loop.size() < 3) continue;
       std::vector<std::uint32_t> l;
       l.reserve(loop.size());
-      for (std::uint32_t v : loop) l.push_back(local_index(v));
+      for (std::uint32_t g : loop) {
+        if (local[g] == kInvalidIndex) {
+          local[g] = static_cast<std::uint32_t>(out.verts.size());
+          out.verts.push_back(VertexId(from[g]));
+        }
+        l.push_back(local[g]);
+      }
       out.loops.push_back(std::move(l));
     }
-  }
   return all_closed;
 }
 
@@ -112,7 +134,8 @@ std::vector<Triangle> choose_loops(MeshEditor& editor, const CapInput& in, std::
   if (flat_faces.empty() || !trace_loops(rim_halfedges(mesh, in, flat_faces), rim)) {
     for (FaceId f : flat_faces) kept_flat.push_back(mesh.face(f));
     flat_faces.clear();
-    trace_loops(rim_halfedges(mesh, in), rim);
+    const auto found = in.rim ? std::vector<std::pair<VertexId, VertexId>>() : rim_halfedges(mesh, in);
+    trace_loops(in.rim ? *in.rim : found, rim);
     // A rim loop that runs along a kept flat face (two of its corners on the loop) would be
     // capped over or beside that face, and cap triangles would share its edges (non-manifold
     // edges on open pieces). The surface there is partly in the plane already, and a cap of the
@@ -160,10 +183,12 @@ void add_cap_faces(MeshEditor& editor, const CapInput& in, const RimLoops& rim,
     pts[i] = {glm::dot(p, u), glm::dot(p, w)};
   }
   // The largest loop is an outer one; its orientation is the cap's.
-  std::size_t largest = 0;
-  for (std::size_t i = 1; i < loops.size(); ++i)
-    if (std::abs(geometry::signed_area2(pts, loops[i])) > std::abs(geometry::signed_area2(pts, loops[largest]))) largest = i;
-  const int outer_sign = geometry::signed_area2(pts, loops[largest]) >= 0 ? 1 : -1;
+  double largest_area = geometry::signed_area2(pts, loops[0]);
+  for (std::size_t i = 1; i < loops.size(); ++i) {
+    const double area = geometry::signed_area2(pts, loops[i]);
+    if (std::abs(area) > std::abs(largest_area)) largest_area = area;
+  }
+  const int outer_sign = largest_area >= 0 ? 1 : -1;
   const auto tris = geometry::triangulate_loops(pts, loops, outer_sign);
 
   SurfaceMesh& mesh = editor.mesh();
@@ -182,7 +207,7 @@ void add_cap_faces(MeshEditor& editor, const CapInput& in, const RimLoops& rim,
   piece.reserve(piece.size() + tris.size());
   for (const auto& tri : tris) {
     const Triangle t = {verts[tri[0]], verts[tri[1]], verts[tri[2]]};
-    if (repeats_flat(t)) continue;  // that surface is there already
+    if (!kept_flat.empty() && repeats_flat(t)) continue;  // that surface is there already
     const FaceId f = editor.add_face(t);
     piece.push_back(f);
     (*cap_flag)[f.index] = 1;
@@ -206,28 +231,41 @@ void add_cap_faces(MeshEditor& editor, const CapInput& in, const RimLoops& rim,
 std::vector<std::pair<VertexId, VertexId>> rim_halfedges(const SurfaceMesh& mesh, const CapInput& in,
                                                          const std::vector<FaceId>& skip) {
   // An edge with both ends on the plane belongs only to faces with two corners on it, so
-  // counting within the rim faces is exact. The on-plane halfedges in face order, and their
-  // edge keys with their places sorted: a key listed once is a rim edge.
+  // counting within the rim faces is exact. The on-plane halfedges in face order, and keys
+  // (lower end, halfedge) sorted: the halfedges of one edge share a run of lower ends.
   const auto& sign = *in.sign;
   std::vector<std::pair<VertexId, VertexId>> halfedges;
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> keys;
-  halfedges.reserve(2 * in.rim_faces.size());
-  keys.reserve(2 * in.rim_faces.size());
+  std::vector<std::uint64_t> keys, scratch;
+  // Most rim faces have one edge on the plane: room for one each to start with.
+  halfedges.reserve(in.rim_faces.size() + 8);
+  keys.reserve(in.rim_faces.size() + 8);
   for (FaceId f : in.rim_faces) {
     if (!skip.empty() && std::binary_search(skip.begin(), skip.end(), f)) continue;
     const auto& t = mesh.face(f);
+    const bool on[3] = {sign[t[0].index] == 0, sign[t[1].index] == 0, sign[t[2].index] == 0};
     for (int k = 0; k < 3; ++k) {
-      const VertexId a = t[k], b = t[(k + 1) % 3];
-      if (sign[a.index] != 0 || sign[b.index] != 0) continue;
-      keys.emplace_back(edge_key(a, b), static_cast<std::uint32_t>(halfedges.size()));
-      halfedges.emplace_back(a, b);
+      const int k1 = k == 2 ? 0 : k + 1;
+      if (!on[k] || !on[k1]) continue;
+      keys.push_back((std::uint64_t(std::min(t[k].index, t[k1].index)) << 32) | halfedges.size());
+      halfedges.emplace_back(t[k], t[k1]);
     }
   }
-  std::sort(keys.begin(), keys.end());
-  std::vector<std::uint8_t> once(keys.size(), 0);
-  for (std::size_t i = 0; i < keys.size(); ++i)
-    once[keys[i].second] = (i == 0 || keys[i - 1].first != keys[i].first) &&
-                           (i + 1 == keys.size() || keys[i + 1].first != keys[i].first);
+  sort_by_vertex(keys, scratch);
+  auto upper = [&](std::uint64_t key) {
+    const auto& [a, b] = halfedges[key & 0xffffffffu];
+    return std::max(a.index, b.index);
+  };
+  std::vector<std::uint8_t> once(halfedges.size(), 1);
+  for (std::size_t p = 0, q = 0; p < keys.size(); p = q) {
+    while (q < keys.size() && (keys[q] >> 32) == (keys[p] >> 32)) ++q;
+    // keys[p, q): one lower end; the same upper end is the same edge.
+    if (q - p > 16)
+      std::sort(keys.begin() + static_cast<std::ptrdiff_t>(p), keys.begin() + static_cast<std::ptrdiff_t>(q),
+                [&](std::uint64_t x, std::uint64_t y) { return upper(x) < upper(y); });
+    for (std::size_t i = p; i < q; ++i)
+      for (std::size_t j = i + 1; j < q && (q - p <= 16 || j == i + 1); ++j)
+        if (upper(keys[i]) == upper(keys[j])) once[keys[i] & 0xffffffffu] = once[keys[j] & 0xffffffffu] = 0;
+  }
   std::size_t n = 0;
   for (std::size_t i = 0; i < halfedges.size(); ++i)
     if (once[i]) halfedges[n++] = halfedges[i];

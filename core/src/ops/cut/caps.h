@@ -4,6 +4,7 @@
 // loops and closed with triangles in the plane. Private to the cut (ops/cut/cut.cpp).
 
 #include <cstdint>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -20,6 +21,8 @@ struct CapInput {
   const std::vector<std::int8_t>* sign = nullptr;
   /// The piece's faces with two or more corners on the plane (the only ones with rim edges).
   std::vector<FaceId> rim_faces;
+  /// rim_halfedges(mesh, *this) where the caller has it already (cap_piece finds it otherwise).
+  std::optional<std::vector<std::pair<VertexId, VertexId>>> rim;
 };
 
 /// On-plane edges used by exactly one of `in.rim_faces`, as that face's halfedges (a -> b), in

@@ -710,13 +710,14 @@ void Cutter::live_rim_by_side(std::vector<FaceId> (&out)[2]) const {
 // Rim vertices (on the plane, bounding a piece) into `rim`, sorted and unique; with caps, each
 // piece capped.
 void Cutter::cap_pieces(CutResult& result, std::vector<VertexId>& rim) {
-  const std::vector<detail::CapInput> rims = rim_of_pieces(result);
+  std::vector<detail::CapInput> rims = rim_of_pieces(result);
   // The input's rim vertices sorted, then the cut's (the newest ids) by a flag each.
   const std::uint32_t first_new = posed_.first_new();
   std::vector<std::uint8_t> on_rim(mesh_.vertex_count() - first_new, 0);
   std::vector<std::pair<VertexId, VertexId>> rim_edges;
-  for (const detail::CapInput& in : rims)
-    for (const auto& [a, b] : detail::rim_halfedges(mesh_, in)) {
+  for (detail::CapInput& in : rims) {
+    in.rim = detail::rim_halfedges(mesh_, in);  // the cap takes it too
+    for (const auto& [a, b] : *in.rim) {
       rim_edges.emplace_back(a, b);
       for (const VertexId v : {a, b}) {
         if (v.index >= first_new)
@@ -725,6 +726,7 @@ void Cutter::cap_pieces(CutResult& result, std::vector<VertexId>& rim) {
           rim.push_back(v);
       }
     }
+  }
   std::sort(rim.begin(), rim.end());
   rim.erase(std::unique(rim.begin(), rim.end()), rim.end());
   for (std::size_t i = 0; i < on_rim.size(); ++i)

@@ -10,9 +10,11 @@
 ///   split wherever corners differ, as a renderer needs); without them, one point per vertex
 ///   slot. Points are appended and truncated with the mesh.
 /// Arrays (as `to_poly_data` names them, so picking and colouring read either): point data
-/// "vertex_id", "uv0" (texture coordinates), "normal" (the posed corner normals, else the
-/// mesh's); cell data "face_id". (No "corner_id": in the corner layout point i is corner i.)
-/// Arrays are filled through their raw storage, in parallel, without per-element virtual calls.
+/// "vertex_id", "uv0" (texture coordinates, made the active ones; kept up to date by name, so
+/// a viewer may unset them while no texture reads them), "normal" (the posed corner normals,
+/// else the mesh's); cell data "face_id". (No "corner_id": in the corner layout point i is
+/// corner i.) Arrays are filled through their raw storage, in parallel, without per-element
+/// virtual calls.
 
 #include <cstdint>
 #include <vector>

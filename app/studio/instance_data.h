@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// The VTK data the studio's view draws a scene instance with, built on any thread (a worker
+// opening a model, or the UI thread following a step), its normals overlay, and the stand-in triangle the
+// view compiles its shaders with before a model arrives (scene_view.cpp). VTK stays in the .cpp files that
+// include this.
+
+#include <vtkSmartPointer.h>
+
+#include <memory>
+#include <vector>
+
+#include "deepcut/plugins/scene.h"
+#include "deepcut/widgets/material_look.h"
+#include "deepcut/widgets/view_poly_data.h"
+
+class vtkCamera;
+class vtkPolyData;
+class vtkTexture;
+
+namespace deepcut::studio {
+
+/// The material look of scene instance `sp`.
+MaterialLook instance_look(const plugins::Scene& scene, const plugins::SceneInstance& sp);
+
+/// Makes the "uv0" array the active texture coordinates of `poly` (`use`) or none. The mapper
+/// uploads and interpolates active coordinates even when no texture reads them: a quarter of
+/// the corner layout's vertex data. Marks the data modified only when the choice changes.
+void use_texture_coords(vtkPolyData* poly, bool use);
+
+/// The full build of an instance's drawn data (the one conversion, on whichever thread), with
+/// texture coordinates active when its material's texture reads them (the view makes the final
+/// choice: a texture may not decode).
+std::shared_ptr<ViewPolyData> instance_view_data(const plugins::Scene& scene,
+                                                 const plugins::SceneInstance& sp);
+
+/// Computes what drawing `poly` the first time would otherwise compute on the UI thread, cached
+/// by VTK until the data changes: the bounds of its cells (the camera's clipping range) and the
+/// range of each coordinate (whether the vertex buffer needs a shift and scale).
+void compute_draw_caches(vtkPolyData* poly);
+
+/// The normals overlay of the drawn data `drawn`: a line of `length` along each point's normal
+/// from the point, or where the data has none, along each face normal from the face centre
+/// (what the renderer shades with); every k-th only on big meshes (about 60,000 lines at most),
+/// so the view stays readable and responsive.
+vtkSmartPointer<vtkPolyData> normal_lines(const std::vector<vtkPolyData*>& drawn, float length);
+
+/// One triangle over the whole view of `camera` at its focal point, with normals (and texture
+/// coordinates when `textured`): the vertex layout of an instance's data. Drawing it compiles
+/// what an instance's first frame needs (the renderer also compiles separate code for tiles a
+/// triangle covers whole).
+vtkSmartPointer<vtkPolyData> stand_in_triangle(vtkCamera* camera, bool textured);
+/// A one-pixel texture made as a material's is (make_texture).
+vtkSmartPointer<vtkTexture> stand_in_texture();
+
+}  // namespace deepcut::studio
