@@ -4,9 +4,12 @@
 #include <QElapsedTimer>
 #include <QListWidget>
 #include <QUndoStack>
+#include <memory>
 #include <new>
+#include <variant>
 
 #include "background_task.h"
+#include "deepcut/plugins/scene.h"
 #include "deepcut/core/errors.h"
 #include "history_panel.h"
 #include "tool_host.h"
@@ -32,6 +35,16 @@ Operation tool_operation(const ToolHost& tools) {
 }
 
 }  // namespace
+
+void OperationsHost::lend_scene_pose(const Operation& op) {
+  const plugins::Scene* scene = tools_->scene();
+  if (!std::holds_alternative<CutOperation>(op.params) || session_.posed_model() || session_.editing() >= 0 ||
+      !scene || !scene->posed || scene->model != session_.current() ||
+      !scene->posed->matches(PoseKey(op.animation, op.time, op.weights)))
+    return;
+  session_.adopt_posed_model(std::make_unique<PosedModel>(scene->posed->positions_copy()), session_.current().get(),
+                             session_.state_version());
+}
 
 OperationsHost::OperationsHost(ToolHost* tools, QObject* parent) : QObject(parent), tools_(tools) {
   undo_stack_ = new QUndoStack(this);
@@ -100,6 +113,7 @@ bool OperationsHost::apply_tool() {
   }
   if (session_.editing() >= 0) return apply_edit();
   const Operation op = tool_operation(*tools_);
+  lend_scene_pose(op);
   session::Applied applied;
   if (!reporting(tool->title(), [&] { applied = session_.apply(op); })) return false;
   if (applied.result.status != OpStatus::Ok) {
@@ -113,6 +127,7 @@ bool OperationsHost::apply_tool() {
 }
 
 void OperationsHost::apply_history(const History& history, const std::string& source) {
+  if (!history.operations.empty()) lend_scene_pose(history.operations.front());
   const std::vector<session::Applied> applied = session_.apply_history(history, source);
   ModelChange structure;
   structure.structure = true;

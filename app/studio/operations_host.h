@@ -88,6 +88,11 @@ class OperationsHost : public QObject {
   /// Pushes the session's newest step on the undo stack, named `label`; `change` is what it
   /// changed.
   void push_step(const QString& label, const ModelChange& change);
+  /// Before `op` is applied: a cut needs the model posed, not its grids. When the session has no
+  /// posed model (a cut, its undo or redo left none and the idle rebuild has not run yet), it is
+  /// lent a copy of the scene's (PosedModel::positions_copy), which describes the live model at
+  /// the shown pose (the scene follows every step), instead of the cut posing the model again.
+  void lend_scene_pose(const Operation& op);
   /// Re-runs the edited operation with the tool's parameters and every later one.
   bool apply_edit();
   /// Reports what a re-run made (on the UI thread) and makes it current. @returns true when

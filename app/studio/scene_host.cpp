@@ -13,6 +13,18 @@
 #include "tool_host.h"
 
 namespace deepcut::studio {
+namespace {
+
+/// `posed` when every instance has its grid, else nullptr (one lent to a cut has none:
+/// OperationsHost::lend_scene_pose).
+const PosedModel* with_grids(const PosedModel* posed) {
+  if (!posed) return nullptr;
+  for (const auto& entry : posed->instances())
+    if (entry.second.gridless) return nullptr;
+  return posed;
+}
+
+}  // namespace
 
 SceneHost::SceneHost(SceneView* view, SceneTree* tree, Timeline* timeline, ToolHost* tools,
                      InspectorHost* inspectors, session::Session& session, QObject* parent)
@@ -153,7 +165,7 @@ void SceneHost::rebuild_posed_model() {
   // session keeps apart from the live model: it is brought up to date in place.
   if (!posed_builder_ || session_.editing() >= 0) return refresh_posed_model();
   if (!session_.current() || !scene_) return;
-  const PosedModel* posed = session_.posed_model();
+  const PosedModel* posed = with_grids(session_.posed_model());
   if (posed && posed->matches(pose_key())) return;  // it followed the step
   if (!posed_builder_()) posed_timer_->start();      // another task runs: ask again once idle
 }
@@ -161,8 +173,9 @@ void SceneHost::rebuild_posed_model() {
 void SceneHost::refresh_posed_model() {
   if (!session_.current() || !scene_) return;
   if (!session_.refresh_posed_model(PoseKey(scene_->animation, scene_->time, scene_->weights))) return;
+  // As adopt_posed_model: the previews follow the grids from the next pointer move (they draw
+  // the same lines with or without them), so the one shown stays.
   lend_grids();
-  tools_->refresh_preview();
 }
 
 void SceneHost::set_morph_panel(MorphPanel* panel) {
@@ -175,7 +188,12 @@ void SceneHost::set_morph_panel(MorphPanel* panel) {
   });
 }
 
-void SceneHost::lend_grids() { tools_->lend_grids(session_.current(), session_.posed_model()); }
+void SceneHost::lend_grids() {
+  const PosedModel* posed = session_.posed_model();
+  // One without grids (lent to a cut that missed) is built again with them once idle.
+  if (posed && !with_grids(posed)) posed_timer_->start();
+  tools_->lend_grids(session_.current(), with_grids(posed));
+}
 
 void SceneHost::refresh_inspector() {
   if (!scene_) return;

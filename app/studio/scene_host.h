@@ -78,7 +78,8 @@ class SceneHost : public QObject {
   /// What the idle timer runs: nothing when the posed model already describes the shown state
   /// and pose, else the posed builder (set_posed_builder), else refresh_posed_model.
   void rebuild_posed_model();
-  /// Lends the scene the posed model's grids when it describes the shown state and pose.
+  /// Lends the scene the posed model's grids when it describes the shown state and pose and has
+  /// them (one lent to a cut has none: it is built again once idle).
   void lend_grids();
 
   /// Redraws the active inspector's colours and every overlay.

@@ -116,12 +116,15 @@ glm::vec3 posed_corner_normal(const MorphBlend& morph, const AttributeArray<glm:
 std::vector<glm::vec3> PosedMesh::corner_normals(const SurfaceMesh& surface) const {
   const auto* normals = surface.corner_attrs().find<glm::vec3>(attr::kNormal);
   if (!normals) return {};
-  std::vector<glm::mat3> normal_maps(linear.size());
+  // The maps are written whole by the parallel loop (no serial zero fill first); the result's
+  // pages are faulted in over the pool before its fill.
+  detail::UninitVector<glm::mat3> normal_maps(linear.size());
   parallel_for(normal_maps.size(), kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t v = b; v < e; ++v) normal_maps[v] = normal_map(linear[v]);
   });
   const MorphBlend morph(surface, weights);
-  std::vector<glm::vec3> out(normals->size());
+  std::vector<glm::vec3> out;
+  detail::resize_prefaulted(out, normals->size(), glm::vec3(0.0f));
   parallel_for(surface.face_slots(), kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t f = b; f < e; ++f) {
       const auto& t = surface.face(FaceId(static_cast<std::uint32_t>(f)));
@@ -258,6 +261,37 @@ void PosedModel::repose(const Model& model, const PoseKey& key) {
 
 void PosedModel::invalidate() { *this = PosedModel(); }
 
+PosedModel PosedModel::positions_copy() const {
+  PosedModel out;
+  out.valid_ = valid_;
+  out.key_ = key_;
+  out.world_ = world_;
+  out.weights_ = weights_;
+  out.joints_ = joints_;
+  for (const auto& [key, inst] : instances_) {
+    PosedMesh& copy = out.instances_[key];
+    copy.node = inst.node;
+    copy.mesh = inst.mesh;
+    copy.primitive = inst.primitive;
+    copy.bounds = inst.bounds;
+    copy.world = inst.world;
+    copy.joints = inst.joints;
+    copy.weights = inst.weights;
+    copy.no_unpose = inst.no_unpose;
+    copy.gridless = true;
+    // As make_instance sizes them: with room, the pages faulted in over the pool, then each
+    // array copied on its own thread.
+    const std::size_t room = operation_vertex_room(inst.posed.size());
+    copy.posed.reserve(room);
+    copy.linear.reserve(room);
+    detail::prefault(copy.posed.data(), inst.posed.size() * sizeof(glm::vec3));
+    detail::prefault(copy.linear.data(), inst.linear.size() * sizeof(glm::mat3));
+    parallel_invoke({[&] { copy.posed.assign(inst.posed.begin(), inst.posed.end()); },
+                     [&] { copy.linear.assign(inst.linear.begin(), inst.linear.end()); }});
+  }
+  return out;
+}
+
 const std::vector<glm::mat4>& PosedModel::joints_of(const Model& model, int node) const {
   static const std::vector<glm::mat4> kNone;
   const int skin = model.nodes.at(static_cast<std::size_t>(node)).skin;
@@ -272,14 +306,11 @@ PosedMesh PosedModel::make_instance(const Model& model, int node, int primitive,
   inst.mesh = model.nodes[static_cast<std::size_t>(node)].mesh;
   inst.primitive = primitive;
   // Room to grow (as interactive sessions reserve the meshes), so following the first
-  // operations never reallocates the whole arrays. Sized here: their pages faulted in over the
-  // pool, then the two arrays' value-fills (serial within each std::vector) run side by side.
-  const std::size_t n = mesh.vertex_count(), room = n + n / 8 + 1024;
-  inst.posed.reserve(room);
-  inst.linear.reserve(room);
-  detail::prefault(inst.posed.data(), n * sizeof(glm::vec3));
-  detail::prefault(inst.linear.data(), n * sizeof(glm::mat3));
-  parallel_invoke({[&] { inst.posed.resize(n); }, [&] { inst.linear.resize(n); }});
+  // operations never reallocates the whole arrays; the two arrays' value-fills (serial within
+  // each std::vector) run side by side.
+  const std::size_t n = mesh.vertex_count(), room = operation_vertex_room(n);
+  parallel_invoke({[&] { detail::resize_prefaulted(inst.posed, n, glm::vec3(0.0f), room); },
+                   [&] { detail::resize_prefaulted(inst.linear, n, glm::mat3(1.0f), room); }});
   inst.joints = joints_of(model, node);
   inst.world = world_.at(static_cast<std::size_t>(node));
   inst.weights = weights(node);

@@ -294,9 +294,20 @@ BoundingBox world_bounds(const Model& model, const Pose& pose) {
     for (const auto& prim : model.meshes[m].primitives) {
       const auto& weights = i < pose.weights.size() ? pose.weights[i] : none;
       const auto posed = posed_positions(model, static_cast<int>(i), prim.mesh, world, weights);
-      prim.mesh.for_each_face([&](FaceId, const Triangle& t) {
-        for (auto v : t) box.add(posed[v.index]);
-      });
+      // The live faces' corners, reduced over the pool (min and max are exact in any order).
+      box.add(parallel_reduce(
+          prim.mesh.face_slots(), 65536, BoundingBox(),
+          [&](std::size_t b, std::size_t e) {
+            BoundingBox part;
+            for (std::size_t f = b; f < e; ++f)
+              if (!prim.mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f))))
+                for (auto v : prim.mesh.face(FaceId(static_cast<std::uint32_t>(f)))) part.add(posed[v.index]);
+            return part;
+          },
+          [](BoundingBox acc, const BoundingBox& part) {
+            acc.add(part);
+            return acc;
+          }));
     }
   }
   return box;

@@ -2,7 +2,6 @@
 #include "deepcut/plugins/scene.h"
 
 #include <algorithm>
-#include <future>
 #include <set>
 #include <unordered_set>
 
@@ -64,12 +63,9 @@ Scene make_scene(std::shared_ptr<const Model> model, const PoseKey& key, bool wi
   scene.model = std::move(model);
   const Model& m = *scene.model;
   scene.instances = list_instances(m);
-  // The rest bounds (one serial pass over the mesh) beside the pose (parallel): both only read
-  // the model. The future is waited for on every path, a throwing pose included.
-  std::future<BoundingBox> rest = std::async(std::launch::async, [&m] { return world_bounds(m, rest_pose(m)); });
   scene.weights = key.weights;
   pose_scene(scene, key.animation, key.time, with_normals);
-  const BoundingBox box = rest.get();
+  const BoundingBox box = world_bounds(m, rest_pose(m));  // over the pool, as the pose
   scene.size = box.empty() || box.diagonal() <= 0.0f ? 1.0f : box.diagonal();
   return scene;
 }

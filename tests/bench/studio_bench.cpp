@@ -15,10 +15,12 @@
 // Beside the wall times: the UI thread's CPU time in the first frame and in an unchanged one
 // ("frame_ui_cpu_ms"; the renderer's own threads not counted), steadier on a loaded machine.
 //   deepcut_studio_bench [--json] [--quick] [--size N] [--no-rebuild] [--ops N] [--open-only]
+//                        [--only drill|tear|cut]
 // --quick: the 25K cactus only; --size N: only the cactus of about N triangles (a profile of one
 // size); --no-rebuild: without the "..._rebuild" rows; --open-only: the open and the unchanged
-// re-renders only (a profile of the open). Medians of three repetitions for each
-// timed step.
+// re-renders only (a profile of the open); --only KIND: of the operations, only that kind's
+// apply, undo and redo (a profile of one operation; `--ops 0` skips the memory run too).
+// Medians of three repetitions for each timed step.
 #include <QAction>
 #include <QApplication>
 #include <QUndoStack>
@@ -194,7 +196,8 @@ json time_operation(MainWindow& window, Timer& timer, const std::function<deepcu
   return {{"apply", step_json(applied)}, {"undo", step_json(undone)}, {"redo", step_json(redone)}};
 }
 
-json run_size(std::size_t target, int ops, bool rebuilds, bool open_only, const QString& dir) {
+json run_size(std::size_t target, int ops, bool rebuilds, bool open_only, const std::string& only,
+              const QString& dir) {
   deepcut::CactusOptions options;
   options.target_triangles = target;
   const QString path = dir + QString("/cactus_%1.glb").arg(target);
@@ -258,9 +261,12 @@ json run_size(std::size_t target, int ops, bool rebuilds, bool open_only, const 
     // The reference: the scene and its VTK data built again after every step.
     setenv("DEEPCUT_VIEW_REBUILD", rebuild ? "1" : "0", 1);
     const std::string suffix = rebuild ? "_rebuild" : "";
-    out["drill" + suffix] = time_operation(window, timer, [&] { return place.drill(); });
-    out["tear" + suffix] = time_operation(window, timer, [&] { return place.tear(); });
-    out["cut" + suffix] = time_operation(window, timer, [&] { return place.cut(); });
+    if (only.empty() || only == "drill")
+      out["drill" + suffix] = time_operation(window, timer, [&] { return place.drill(); });
+    if (only.empty() || only == "tear")
+      out["tear" + suffix] = time_operation(window, timer, [&] { return place.tear(); });
+    if (only.empty() || only == "cut")
+      out["cut" + suffix] = time_operation(window, timer, [&] { return place.cut(); });
   }
   setenv("DEEPCUT_VIEW_REBUILD", "0", 1);
   return out;
@@ -301,6 +307,7 @@ int main(int argc, char** argv) {
   bool as_json = false, quick = false, rebuilds = true, open_only = false;
   int ops = 100;
   std::size_t size = 0;
+  std::string only;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--json") == 0) {
       as_json = true;
@@ -314,8 +321,13 @@ int main(int argc, char** argv) {
       size = static_cast<std::size_t>(std::max(1000L, std::atol(argv[++i])));
     } else if (std::strcmp(argv[i], "--ops") == 0 && i + 1 < argc) {
       ops = std::max(0, std::atoi(argv[++i]));
+    } else if (std::strcmp(argv[i], "--only") == 0 && i + 1 < argc &&
+               (std::strcmp(argv[i + 1], "drill") == 0 || std::strcmp(argv[i + 1], "tear") == 0 ||
+                std::strcmp(argv[i + 1], "cut") == 0)) {
+      only = argv[++i];
     } else {
-      std::cerr << "deepcut_studio_bench: unknown argument '" << argv[i] << "' (--json, --quick, --size N, --no-rebuild, --ops N, --open-only)\n";
+      std::cerr << "deepcut_studio_bench: unknown argument '" << argv[i]
+                << "' (--json, --quick, --size N, --no-rebuild, --ops N, --open-only, --only drill|tear|cut)\n";
       return 2;
     }
   }
@@ -324,10 +336,10 @@ int main(int argc, char** argv) {
   try {
     json results = json::array();
     if (size > 0) {
-      results.push_back(run_size(size, ops, rebuilds, open_only, dir.path()));
+      results.push_back(run_size(size, ops, rebuilds, open_only, only, dir.path()));
     } else {
-      results.push_back(run_size(25300, ops, rebuilds, open_only, dir.path()));
-      if (!quick) results.push_back(run_size(1000000, ops, rebuilds, open_only, dir.path()));
+      results.push_back(run_size(25300, ops, rebuilds, open_only, only, dir.path()));
+      if (!quick) results.push_back(run_size(1000000, ops, rebuilds, open_only, only, dir.path()));
     }
     if (as_json)
       std::cout << results.dump(2) << "\n";

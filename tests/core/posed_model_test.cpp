@@ -388,4 +388,39 @@ TEST(PosedModelTest, a_small_drill_leaves_the_body_in_place_and_extracts_only_th
   test::expect_valid(wall, 2);
 }
 
+TEST(PosedModelTest, a_positions_copy_equals_a_positions_build_and_a_cut_given_it_matches_one_posing_itself) {
+  Model model = make_cactus({});
+  reserve_for_operations(model);
+  const float t = 0.5f;
+  const PosedModel full = PosedModel::build(model, 0, t);
+  const PosedModel copy = full.positions_copy();
+  const PosedModel fresh = PosedModel::build(model, 0, t, PoseDetail::Positions);
+  ASSERT_TRUE(copy.matches(0, t));
+  ASSERT_EQ(copy.size(), fresh.size());
+  for (const auto& [key, inst] : fresh.instances()) {
+    const PosedMesh* c = copy.find(key.first, key.second);
+    ASSERT_NE(c, nullptr);
+    EXPECT_TRUE(c->gridless);
+    EXPECT_EQ(c->grid.face_count(), 0u);
+    EXPECT_EQ(c->mesh, inst.mesh);
+    EXPECT_EQ(c->posed, inst.posed);
+    EXPECT_EQ(c->linear, inst.linear);
+    EXPECT_EQ(c->bounds.min, inst.bounds.min);
+    EXPECT_EQ(c->bounds.max, inst.bounds.max);
+    EXPECT_GT(c->posed.capacity(), c->posed.size()) << "room to follow an operation";
+  }
+  // A cut given the copy makes the model a cut posing the model itself makes.
+  Operation cut{CutOperation{Plane{model.meshes[0].primitives[0].mesh.bounds().min +
+                                       0.5f * (model.meshes[0].primitives[0].mesh.bounds().max -
+                                               model.meshes[0].primitives[0].mesh.bounds().min),
+                                   {0.05f, 1.0f, 0.02f}},
+                             {}},
+                0, t};
+  Model plain = model;
+  PosedModel lent = copy;
+  ASSERT_EQ(apply_operation(model, cut, lent).status, OpStatus::Ok);
+  ASSERT_EQ(apply_operation(plain, cut).status, OpStatus::Ok);
+  expect_identical(model, plain);
+}
+
 }  // namespace deepcut

@@ -39,7 +39,6 @@ struct Raw {
   float* normals = nullptr;
   float* uv = nullptr;
   vtkIdType* vertex_id = nullptr;
-  vtkIdType* corner_id = nullptr;
   vtkIdType* face_id = nullptr;
   vtkTypeInt64* offsets = nullptr;
   vtkTypeInt64* connectivity = nullptr;
@@ -52,7 +51,6 @@ Raw raw(vtkPolyData* poly) {
   if (auto* a = vtkFloatArray::SafeDownCast(pd->GetNormals())) r.normals = a->GetPointer(0);
   if (auto* a = named<vtkFloatArray>(pd, "uv0")) r.uv = a->GetPointer(0);  // active or not
   r.vertex_id = named<vtkIdTypeArray>(pd, "vertex_id")->GetPointer(0);
-  if (auto* a = named<vtkIdTypeArray>(pd, "corner_id")) r.corner_id = a->GetPointer(0);
   r.face_id = named<vtkIdTypeArray>(poly->GetCellData(), "face_id")->GetPointer(0);
   r.offsets = poly->GetPolys()->GetOffsetsArray64()->GetPointer(0);
   r.connectivity = poly->GetPolys()->GetConnectivityArray64()->GetPointer(0);
@@ -90,7 +88,6 @@ struct ViewPolyData::Writer {
     const glm::vec3& p = positions[v];
     std::copy(&p.x, &p.x + 3, r.points + 3 * c);
     r.vertex_id[c] = v;
-    r.corner_id[c] = static_cast<vtkIdType>(c);
     r.connectivity[c] = static_cast<vtkTypeInt64>(deleted ? 3 * f.index : c);
     if (r.uv && uv) {
       r.uv[2 * c] = uv[c].x;
@@ -135,11 +132,6 @@ ViewPolyData::ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>
   vtkNew<vtkIdTypeArray> vertex_ids;
   vertex_ids->SetName("vertex_id");
   poly_->GetPointData()->AddArray(vertex_ids);
-  if (corners_) {
-    vtkNew<vtkIdTypeArray> corner_ids;
-    corner_ids->SetName("corner_id");
-    poly_->GetPointData()->AddArray(corner_ids);
-  }
   if (corners_ && uv) {
     vtkNew<vtkFloatArray> a;
     a->SetName("uv0");
@@ -167,10 +159,7 @@ ViewPolyData::ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>
     next_.assign(3 * slots, kInvalidIndex);
     prev_.assign(3 * slots, kInvalidIndex);
     corner_vertex_.assign(3 * slots, kInvalidIndex);
-    // Linking is sequential (lists cross chunks); writing the points is parallel.
-    for (std::size_t c = 3 * slots; c-- > 0;)
-      if (!mesh.is_deleted(FaceId(static_cast<std::uint32_t>(c / 3))))
-        link(static_cast<std::uint32_t>(c), mesh.faces()[c / 3][static_cast<int>(c % 3)].index);
+    link_all(mesh);
     const Writer w(poly_, mesh, positions, corner_normals);
     parallel_for(3 * slots, kGrain, [&](std::size_t b, std::size_t e) {
       for (std::size_t c = b; c < e; ++c) w.corner(c);
@@ -193,7 +182,6 @@ void ViewPolyData::resize(const SurfaceMesh& mesh) {
   vtkPointData* pd = poly_->GetPointData();
   set_count(vtkFloatArray::SafeDownCast(poly_->GetPoints()->GetData()), points);
   set_count(named<vtkIdTypeArray>(pd, "vertex_id"), points);
-  if (auto* a = named<vtkIdTypeArray>(pd, "corner_id")) set_count(a, points);
   if (auto* a = named<vtkFloatArray>(pd, "uv0")) set_count(a, points);
   if (auto* a = vtkFloatArray::SafeDownCast(pd->GetNormals())) set_count(a, points);
   vtkIdTypeArray* face_ids = named<vtkIdTypeArray>(poly_->GetCellData(), "face_id");
@@ -212,6 +200,25 @@ void ViewPolyData::resize(const SurfaceMesh& mesh) {
     }
   });
   offsets[slots] = static_cast<vtkTypeInt64>(3 * slots);
+}
+
+void ViewPolyData::link_all(const SurfaceMesh& mesh) {
+  // A list crosses any chunk of corners, so the work is cut by vertices: each range scans every
+  // corner (from the last: `link` pushes to the front) and links those of its own vertices. The
+  // lists are the same for any number of ranges; all writes of a range are to its vertices'
+  // slots and their corners.
+  const std::size_t corners = 3 * mesh.face_slots(), vertices = mesh.vertex_count();
+  const std::size_t ranges = std::min<std::size_t>(thread_count(), 8);
+  parallel_for(ranges, 1, [&](std::size_t b, std::size_t e) {
+    for (std::size_t r = b; r < e; ++r) {
+      const std::size_t lo = vertices * r / ranges, hi = vertices * (r + 1) / ranges;
+      for (std::size_t c = corners; c-- > 0;) {
+        const std::uint32_t v = mesh.faces()[c / 3][static_cast<int>(c % 3)].index;
+        if (v >= lo && v < hi && !mesh.is_deleted(FaceId(static_cast<std::uint32_t>(c / 3))))
+          link(static_cast<std::uint32_t>(c), v);
+      }
+    }
+  });
 }
 
 void ViewPolyData::link(std::uint32_t c, std::uint32_t v) {

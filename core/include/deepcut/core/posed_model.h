@@ -130,6 +130,12 @@ class PosedModel {
   /// repose(model, PoseKey(animation, time)): no weights set by hand.
   void repose(const Model& model, int animation, float time);
 
+  /// A copy without grids (every instance `gridless`, as a PoseDetail::Positions build makes
+  /// it), its arrays with the room a build gives them: a front end that keeps such a posed model
+  /// of the model it draws up to date (the studio's scene) lends it to an operation that needs no
+  /// grid (a cut) instead of posing the model again. O(vertices), copies only.
+  PosedModel positions_copy() const;
+
   /// Every node's world matrix at the pose (empty before a build).
   const std::vector<glm::mat4>& world() const { return world_; }
   /// Node `node`'s morph weights at the pose (`Pose::weights`: defaults, then the animation, then

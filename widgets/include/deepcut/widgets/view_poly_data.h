@@ -10,10 +10,11 @@
 ///   split wherever corners differ, as a renderer needs); without them, one point per vertex
 ///   slot. Points are appended and truncated with the mesh.
 /// Arrays (as `to_poly_data` names them, so picking and colouring read either): point data
-/// "vertex_id", "corner_id" (corner layout), "uv0" (texture coordinates, made the active ones;
-/// kept up to date by name, so a viewer may unset them while no texture reads them), "normal"
-/// (the posed corner normals, else the mesh's); cell data "face_id". Arrays are filled through
-/// their raw storage, in parallel, without per-element virtual calls.
+/// "vertex_id", "uv0" (texture coordinates, made the active ones; kept up to date by name, so
+/// a viewer may unset them while no texture reads them), "normal" (the posed corner normals,
+/// else the mesh's); cell data "face_id". (No "corner_id": in the corner layout point i is
+/// corner i.) Arrays are filled through their raw storage, in parallel, without per-element
+/// virtual calls.
 
 #include <cstdint>
 #include <vector>
@@ -53,6 +54,8 @@ class ViewPolyData {
  private:
   struct Writer;
   void resize(const SurfaceMesh& mesh);
+  /// Links every corner of a live face to its vertex (the lists of a new mesh), over the pool.
+  void link_all(const SurfaceMesh& mesh);
   void link(std::uint32_t c, std::uint32_t v);
   void unlink(std::uint32_t c);
   void modified();
