@@ -194,11 +194,59 @@ FaceId MeshEditor::add_face(const Triangle& vertices) {
   return f;
 }
 
-void MeshEditor::remove_face(FaceId f) {
-  if (f.index >= mesh_.face_slots() || mesh_.is_deleted(f))
+namespace {
+void check_live(const SurfaceMesh& mesh, FaceId f) {
+  if (f.index >= mesh.face_slots() || mesh.is_deleted(f))
     throw Error(ErrorCode::InvalidArgument, "remove_face: face " + std::to_string(f.index) + " is not a live face");
+}
+}  // namespace
+
+void MeshEditor::remove_face(FaceId f) {
+  check_live(mesh_, f);
   mesh_.mark_deleted(f);
   log_.edits.push_back(FaceRemoved{f, mesh_.face(f)});
+}
+
+void FaceBatch::add_from(const Triangle& vertices, FaceId parent, const std::array<glm::vec3, 3>& corner_bary) {
+  faces_.push_back(vertices);
+  parents_.push_back(parent.index);
+  for (const glm::vec3& b : corner_bary) weights_.insert(weights_.end(), {b.x, b.y, b.z});
+}
+
+void FaceBatch::reserve(std::size_t faces, std::size_t removals) {
+  faces_.reserve(faces);
+  parents_.reserve(faces);
+  weights_.reserve(9 * faces);
+  removals_.reserve(removals);
+}
+
+void MeshEditor::apply(FaceBatch& batch) {
+  for (const auto& removal : batch.removals_) check_live(mesh_, removal.first);
+  const std::size_t n = batch.faces_.size();
+  // The new faces first (their vertices checked before any change), then the log in the
+  // batch's order: removing a face neither reads nor writes the faces added after it.
+  const FaceId first = mesh_.add_faces_from(batch.faces_.data(), batch.parents_.data(), batch.weights_.data(), n);
+  if (normals_ || tangents_)
+    for (std::size_t i = 0; i < n; ++i) {
+      const float* w = batch.weights_.data() + 9 * i;
+      for (int k = 0; k < 3; ++k)
+        fix_corner_directions(FaceId(first.index + static_cast<std::uint32_t>(i)), k, FaceId(batch.parents_[i]),
+                              {w[3 * k], w[3 * k + 1], w[3 * k + 2]});
+    }
+  std::size_t r = 0;
+  auto removals_before = [&](std::size_t i) {
+    for (; r < batch.removals_.size() && batch.removals_[r].second <= i; ++r) remove_face(batch.removals_[r].first);
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    removals_before(i);
+    const FaceId f(first.index + static_cast<std::uint32_t>(i));
+    log_.edits.push_back(FaceAdded{f, FaceId(batch.parents_[i]), batch.faces_[i]});
+  }
+  removals_before(n);
+  batch.faces_.clear();
+  batch.parents_.clear();
+  batch.weights_.clear();
+  batch.removals_.clear();
 }
 
 }  // namespace deepcut

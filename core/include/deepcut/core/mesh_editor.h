@@ -10,11 +10,36 @@
 /// the dominant source.
 
 #include <array>
+#include <utility>
+#include <vector>
 
 #include "deepcut/core/edit_log.h"
 #include "deepcut/core/surface_mesh.h"
 
 namespace deepcut {
+
+/// Face edits to make in one go (MeshEditor::apply): removals and faces made from parents, kept
+/// in the order given. An operation that replaces many faces (a cut's crossed faces) queues them
+/// here, so each attribute array blends all the new corners in one call instead of one call per
+/// face and array.
+class FaceBatch {
+ public:
+  /// Queues `remove_face(f)`. @pre `f` is a live face before the batch, queued once.
+  void remove(FaceId f) { removals_.emplace_back(f, static_cast<std::uint32_t>(faces_.size())); }
+  /// Queues `add_face_from(vertices, parent, corner_bary)`.
+  void add_from(const Triangle& vertices, FaceId parent, const std::array<glm::vec3, 3>& corner_bary);
+  /// Room for `faces` additions and `removals` removals.
+  void reserve(std::size_t faces, std::size_t removals);
+  bool empty() const { return faces_.empty() && removals_.empty(); }
+
+ private:
+  friend class MeshEditor;
+  std::vector<Triangle> faces_;
+  std::vector<std::uint32_t> parents_;
+  std::vector<float> weights_;  // nine per face: corner k's barycentric weights at 3k
+  // Each removal, with the number of faces queued before it.
+  std::vector<std::pair<FaceId, std::uint32_t>> removals_;
+};
 
 /// @note The editor looks up the skin, normal and tangent attributes once, when it is made: add
 ///       such attributes before making the editor (other attributes may come and go).
@@ -41,6 +66,10 @@ class MeshEditor {
   FaceId add_face(const Triangle& vertices);
   /// Marks `f` deleted. @throws Error{InvalidArgument} if it is already deleted.
   void remove_face(FaceId f);
+  /// Makes the queued edits of `batch` and empties it: the same mesh and the same log as its
+  /// remove_face and add_face_from calls made one after another, in its order.
+  /// @throws Error{InvalidArgument} (before any change) as those calls would.
+  void apply(FaceBatch& batch);
 
   SurfaceMesh& mesh() { return mesh_; }
   const EditLog& log() const { return log_; }
