@@ -243,8 +243,9 @@ void Cutter::split_face(FaceId f, FaceBatch& batch) {
 
 // Rim vertices used by both sides get a copy for the positive side, so the sides come apart.
 void Cutter::separate_sides() {
-  // Per vertex: bit 1 a positive face uses it, bit 2 a negative one (flat, by vertex id).
-  std::vector<std::uint8_t> touches(mesh_.vertex_count(), 0);
+  // Per vertex (flat, by vertex id): bit 1 a positive face uses it, bit 2 a negative one; above
+  // them, for a vertex both use, 1 + its place in `shared`.
+  std::vector<std::uint32_t> touches(mesh_.vertex_count(), 0);
   std::vector<std::uint32_t> touched;
   std::vector<FaceId> rim_faces;
   rim_faces.reserve(rim_candidates_.size());
@@ -270,10 +271,10 @@ void Cutter::separate_sides() {
   for (std::uint32_t v = first_new; v < touches.size(); ++v)
     if (touches[v] == 3) shared.push_back(v);
   if (shared.empty()) return;
-  std::vector<VertexId> copy;
-  copy.reserve(shared.size());
-  for (std::uint32_t v : shared) {
-    copy.push_back(editor_.split_vertex(VertexId(v)));
+  const VertexId first_copy = editor_.split_vertices(shared.data(), shared.size());
+  for (std::size_t i = 0; i < shared.size(); ++i) {
+    const std::uint32_t v = shared[i];
+    touches[v] |= static_cast<std::uint32_t>(i + 1) << 2;
     posed_.add(posed_(VertexId(v)));
     dist_.push_back(dist_[v]);
     sign_.push_back(0);
@@ -281,15 +282,11 @@ void Cutter::separate_sides() {
   // shared is sorted and the crossings are the newest vertices: their copies come last.
   const auto first_of_crossing =
       static_cast<std::size_t>(std::lower_bound(shared.begin(), shared.end(), crossings_[0]) - shared.begin());
-  if (first_of_crossing < copy.size()) {
-    crossing_copies_[0] = copy[first_of_crossing].index;
-    crossing_copies_[1] = copy.back().index + 1;
+  if (first_of_crossing < shared.size()) {
+    crossing_copies_[0] = first_copy.index + static_cast<std::uint32_t>(first_of_crossing);
+    crossing_copies_[1] = first_copy.index + static_cast<std::uint32_t>(shared.size());
   }
   sign = sign_.data();
-  auto copy_of = [&](VertexId v) {
-    if (v.index >= touches.size() || touches[v.index] != 3) return VertexId();
-    return copy[static_cast<std::size_t>(std::lower_bound(shared.begin(), shared.end(), v.index) - shared.begin())];
-  };
   const glm::vec3 e[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   FaceBatch batch;
   batch.reserve(rim_faces.size(), rim_faces.size());
@@ -299,9 +296,9 @@ void Cutter::separate_sides() {
     Triangle moved = t;
     bool changed = false;
     for (auto& v : moved) {
-      const VertexId c = copy_of(v);
-      if (c.valid()) {
-        v = c;
+      const std::uint32_t slot = touches[v.index] >> 2;  // the rim faces use no copy: in range
+      if (slot != 0) {
+        v = VertexId(first_copy.index + slot - 1);
         changed = true;
       }
     }
