@@ -11,20 +11,29 @@
 namespace deepcut {
 namespace {
 
+// The lists are a vertex's faces: a handful of ids, so the elements after an insertion or a
+// removal are moved one by one (no call out to memmove).
 template <class T>
 void insert_sorted(std::vector<T>& list, T value) {
   if (list.empty() || list.back() < value) {  // the common case: a new face, the newest id
     list.push_back(value);
     return;
   }
-  auto it = std::lower_bound(list.begin(), list.end(), value);
-  if (it == list.end() || *it != value) list.insert(it, value);
+  const auto at = static_cast<std::size_t>(std::lower_bound(list.begin(), list.end(), value) - list.begin());
+  if (list[at] == value) return;
+  list.push_back(value);
+  T* p = list.data();
+  for (std::size_t i = list.size() - 1; i > at; --i) p[i] = p[i - 1];
+  p[at] = value;
 }
 
 template <class T>
 void erase_sorted(std::vector<T>& list, T value) {
-  auto it = std::lower_bound(list.begin(), list.end(), value);
-  if (it != list.end() && *it == value) list.erase(it);
+  const auto at = static_cast<std::size_t>(std::lower_bound(list.begin(), list.end(), value) - list.begin());
+  if (at == list.size() || list[at] != value) return;
+  T* p = list.data();
+  for (std::size_t i = at + 1; i < list.size(); ++i) p[i - 1] = p[i];
+  list.pop_back();
 }
 
 }  // namespace

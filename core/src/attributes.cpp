@@ -12,6 +12,12 @@ std::string attr::morph_tangent_name(int target) { return "c:morph" + std::to_st
 
 AttributeSet::AttributeSet(const AttributeSet& other) : size_(other.size_) {
   for (const auto& [name, array] : other.arrays_) arrays_.emplace(name, array->clone());
+  relist();
+}
+
+void AttributeSet::relist() {
+  list_.clear();
+  for (const auto& entry : arrays_) list_.push_back(entry.second.get());
 }
 
 AttributeSet& AttributeSet::operator=(const AttributeSet& other) {
@@ -23,54 +29,70 @@ AttributeSet& AttributeSet::operator=(const AttributeSet& other) {
 }
 
 void AttributeSet::resize(std::size_t n) {
-  for (auto& entry : arrays_) entry.second->resize(n);
+  for (AttributeArrayBase* array : list_) array->resize(n);
   size_ = n;
 }
 
 void AttributeSet::reserve(std::size_t n) {
-  for (auto& entry : arrays_) entry.second->reserve(n);
+  for (AttributeArrayBase* array : list_) array->reserve(n);
 }
 
 void AttributeSet::push_default(std::size_t count) {
-  for (auto& entry : arrays_) entry.second->push_default(count);
+  for (AttributeArrayBase* array : list_) array->push_default(count);
   size_ += count;
 }
 
 void AttributeSet::push_blend(const std::uint32_t* src, const float* w, int count) {
-  for (auto& entry : arrays_) entry.second->push_blend(src, w, count);
+  for (AttributeArrayBase* array : list_) array->push_blend(src, w, count);
   ++size_;
 }
 
 void AttributeSet::set_blend(std::size_t dst, const std::uint32_t* src, const float* w, int count) {
-  for (auto& entry : arrays_) entry.second->set_blend(dst, src, w, count);
+  for (AttributeArrayBase* array : list_) array->set_blend(dst, src, w, count);
 }
 
 void AttributeSet::set_blend3(std::size_t dst, std::size_t src, const float* w) {
-  for (auto& entry : arrays_) entry.second->set_blend3(dst, src, w);
+  for (AttributeArrayBase* array : list_) array->set_blend3(dst, src, w);
 }
 
 void AttributeSet::push_blend3(std::size_t src, const float* w) {
-  for (auto& entry : arrays_) entry.second->push_blend3(src, w);
+  for (AttributeArrayBase* array : list_) array->push_blend3(src, w);
   size_ += 3;
 }
 
 void AttributeSet::push_copy(std::size_t src) {
-  for (auto& entry : arrays_) entry.second->push_copy(src);
+  for (AttributeArrayBase* array : list_) array->push_copy(src);
   ++size_;
 }
 
+void AttributeSet::push_blend3_batch(const std::uint32_t* triples, const float* w, std::size_t count) {
+  for (AttributeArrayBase* array : list_) array->push_blend3_batch(triples, w, count);
+  size_ += 3 * count;
+}
+
+void AttributeSet::push_blend_batch(const std::uint32_t* src, const float* w, int sources, std::size_t count) {
+  for (AttributeArrayBase* array : list_) array->push_blend_batch(src, w, sources, count);
+  size_ += count;
+}
+
+void AttributeSet::push_copy_batch(const std::uint32_t* src, std::size_t count) {
+  for (AttributeArrayBase* array : list_) array->push_copy_batch(src, count);
+  size_ += count;
+}
+
 void AttributeSet::copy(std::size_t dst, std::size_t src) {
-  for (auto& entry : arrays_) entry.second->copy(dst, src);
+  for (AttributeArrayBase* array : list_) array->copy(dst, src);
 }
 
 void AttributeSet::gather(const std::vector<std::uint32_t>& keep) {
-  for (auto& entry : arrays_) entry.second->gather(keep);
+  for (AttributeArrayBase* array : list_) array->gather(keep);
   size_ = keep.size();
 }
 
 AttributeSet AttributeSet::subset(const std::vector<std::uint32_t>& keep) const {
   AttributeSet out;
   for (const auto& [name, array] : arrays_) out.arrays_.emplace(name, array->clone_subset(keep));
+  out.relist();
   out.size_ = keep.size();
   return out;
 }
@@ -97,6 +119,7 @@ std::unique_ptr<AttributeArrayBase> AttributeSet::take(const std::string& name) 
   if (it == arrays_.end()) return nullptr;
   std::unique_ptr<AttributeArrayBase> out = std::move(it->second);
   arrays_.erase(it);
+  relist();
   return out;
 }
 
@@ -104,6 +127,7 @@ void AttributeSet::put(const std::string& name, std::unique_ptr<AttributeArrayBa
   if (!array || arrays_.count(name) || array->size() != size_)
     throw Error(ErrorCode::InvalidArgument, "put: attribute '" + name + "' exists or has another size");
   arrays_.emplace(name, std::move(array));
+  relist();
 }
 
 std::size_t AttributeSet::capacity_bytes() const {

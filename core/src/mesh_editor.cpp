@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 namespace deepcut {
 bool normalize_influences(std::uint16_t* joints, float* weights, int slots) {
@@ -120,22 +121,30 @@ void MeshEditor::fix_skin_weights(VertexId v, const VertexId* src, const float* 
     }
 }
 
-void MeshEditor::fix_corner_directions(FaceId f, int k, FaceId parent, const std::array<float, 3>& w) {
-  const auto c = SurfaceMesh::corner(f, k);
-  if (auto* n = normals_) {
-    const float len = glm::length((*n)[c]);
-    if (len > 0.0f) (*n)[c] /= len;
+void MeshEditor::fix_corner_directions(FaceId first, std::size_t count, const std::uint32_t* parents,
+                                       const float* w) {
+  const std::size_t begin = SurfaceMesh::corner(first, 0), end = begin + 3 * count;
+  if (auto* normals = normals_) {
+    glm::vec3* n = normals->data().data();
+    for (std::size_t c = begin; c < end; ++c) {
+      const float len = glm::length(n[c]);
+      if (len > 0.0f) n[c] /= len;
+    }
   }
-  if (auto* t = tangents_) {
-    glm::vec3 xyz((*t)[c]);
-    const float len = glm::length(xyz);
-    if (len > 0.0f) xyz /= len;
-    // Handedness of the dominant source corner, never a blend of +1 and -1.
-    int best = 0;
-    for (int i = 1; i < 3; ++i)
-      if (w[i] > w[best]) best = i;
-    const float handedness = (*t)[SurfaceMesh::corner(parent, best)].w;
-    (*t)[c] = glm::vec4(xyz, handedness < 0.0f ? -1.0f : 1.0f);
+  if (auto* tangents = tangents_) {
+    glm::vec4* t = tangents->data().data();
+    for (std::size_t c = begin; c < end; ++c) {
+      glm::vec3 xyz(t[c]);
+      const float len = glm::length(xyz);
+      if (len > 0.0f) xyz /= len;
+      // Handedness of the dominant source corner, never a blend of +1 and -1.
+      const float* cw = w + 3 * (c - begin);
+      int best = 0;
+      for (int i = 1; i < 3; ++i)
+        if (cw[i] > cw[best]) best = i;
+      const float handedness = t[SurfaceMesh::corner(FaceId(parents[(c - begin) / 3]), best)].w;
+      t[c] = glm::vec4(xyz, handedness < 0.0f ? -1.0f : 1.0f);
+    }
   }
 }
 
@@ -160,13 +169,24 @@ VertexId MeshEditor::add_vertex_in_triangle(const Triangle& tri, const glm::vec3
   return v;
 }
 
-VertexId MeshEditor::split_vertex(VertexId v) {
-  const std::uint32_t src[1] = {v.index};
-  const float w[1] = {1.0f};
-  mesh_.vertex_attrs().push_blend(src, w, 1);
-  const VertexId copy(static_cast<std::uint32_t>(mesh_.vertex_count() - 1));
-  log_.edits.push_back(VertexSplit{v, copy});
-  return copy;
+VertexId MeshEditor::split_vertex(VertexId v) { return split_vertices(&v.index, 1); }
+
+VertexId MeshEditor::split_vertices(const std::uint32_t* vertices, std::size_t count) {
+  const std::size_t nv = mesh_.vertex_count();
+  for (std::size_t i = 0; i < count; ++i)
+    if (vertices[i] >= nv)
+      throw Error(ErrorCode::InvalidArgument, "split_vertex: vertex " + std::to_string(vertices[i]) + " of " +
+                                                  std::to_string(nv) + " vertices");
+  // Each copy is the blend of its original alone (weight 1), in runs of up to kRun.
+  constexpr std::size_t kRun = 64;
+  float ones[kRun];
+  std::fill(ones, ones + kRun, 1.0f);
+  for (std::size_t i = 0; i < count; i += kRun)
+    mesh_.vertex_attrs().push_blend_batch(vertices + i, ones, 1, std::min(kRun, count - i));
+  const VertexId first(static_cast<std::uint32_t>(nv));
+  for (std::size_t i = 0; i < count; ++i)
+    log_.edits.push_back(VertexSplit{VertexId(vertices[i]), VertexId(first.index + static_cast<std::uint32_t>(i))});
+  return first;
 }
 
 void MeshEditor::move_vertex(VertexId v, const glm::vec3& p) {
@@ -182,8 +202,7 @@ FaceId MeshEditor::add_face_from(const Triangle& vertices, FaceId parent,
                       corner_bary[1].z, corner_bary[2].x, corner_bary[2].y, corner_bary[2].z};
   // Every face and corner attribute appended once, already blended (no default fill first).
   const FaceId f = mesh_.add_face_from(vertices[0], vertices[1], vertices[2], parent, w);
-  if (normals_ || tangents_)
-    for (int k = 0; k < 3; ++k) fix_corner_directions(f, k, parent, {w[3 * k], w[3 * k + 1], w[3 * k + 2]});
+  fix_corner_directions(f, 1, &parent.index, w);
   log_.edits.push_back(FaceAdded{f, parent, vertices});
   return f;
 }
@@ -194,11 +213,46 @@ FaceId MeshEditor::add_face(const Triangle& vertices) {
   return f;
 }
 
-void MeshEditor::remove_face(FaceId f) {
-  if (f.index >= mesh_.face_slots() || mesh_.is_deleted(f))
+namespace {
+void check_live(const SurfaceMesh& mesh, FaceId f) {
+  if (f.index >= mesh.face_slots() || mesh.is_deleted(f))
     throw Error(ErrorCode::InvalidArgument, "remove_face: face " + std::to_string(f.index) + " is not a live face");
+}
+}  // namespace
+
+void MeshEditor::remove_face(FaceId f) {
+  check_live(mesh_, f);
   mesh_.mark_deleted(f);
   log_.edits.push_back(FaceRemoved{f, mesh_.face(f)});
+}
+
+void FaceBatch::reserve(std::size_t faces, std::size_t removals) {
+  faces_.reserve(faces);
+  parents_.reserve(faces);
+  if (weights_.size() < 9 * faces) weights_.resize(9 * faces);
+  removals_.reserve(removals);
+}
+
+void MeshEditor::apply(FaceBatch& batch) {
+  for (const auto& removal : batch.removals_) check_live(mesh_, removal.first);
+  const std::size_t n = batch.faces_.size();
+  // The new faces first (their vertices checked before any change), then the log in the
+  // batch's order: removing a face neither reads nor writes the faces added after it.
+  const FaceId first = mesh_.add_faces_from(batch.faces_.data(), batch.parents_.data(), batch.weights_.data(), n);
+  fix_corner_directions(first, n, batch.parents_.data(), batch.weights_.data());
+  std::size_t r = 0;
+  auto removals_before = [&](std::size_t i) {
+    for (; r < batch.removals_.size() && batch.removals_[r].second <= i; ++r) remove_face(batch.removals_[r].first);
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    removals_before(i);
+    const FaceId f(first.index + static_cast<std::uint32_t>(i));
+    log_.edits.push_back(FaceAdded{f, FaceId(batch.parents_[i]), batch.faces_[i]});
+  }
+  removals_before(n);
+  batch.faces_.clear();
+  batch.parents_.clear();
+  batch.removals_.clear();
 }
 
 }  // namespace deepcut

@@ -167,6 +167,18 @@ FaceId SurfaceMesh::add_face_from(VertexId a, VertexId b, VertexId c, FaceId par
   return FaceId(static_cast<std::uint32_t>(faces_.size() - 1));
 }
 
+FaceId SurfaceMesh::add_faces_from(const Triangle* faces, const std::uint32_t* parents, const float* w,
+                                   std::size_t count) {
+  const std::size_t nv = vertex_count();
+  for (std::size_t i = 0; i < count; ++i) check_face_vertices(faces[i][0], faces[i][1], faces[i][2], nv);
+  const FaceId first(static_cast<std::uint32_t>(faces_.size()));
+  faces_.insert(faces_.end(), faces, faces + count);
+  deleted_.resize(deleted_.size() + count, 0);
+  fattrs_.push_copy_batch(parents, count);
+  cattrs_.push_blend3_batch(parents, w, count);
+  return first;
+}
+
 void SurfaceMesh::reserve(std::size_t vertices, std::size_t faces) {
   vattrs_.reserve(vertices);
   fattrs_.reserve(faces);

@@ -3,6 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstring>
+#include <string>
+
 namespace deepcut {
 
 TEST(AttributesTest, arrays_grow_together_and_blend_by_type) {
@@ -96,6 +100,44 @@ TEST(AttributesTest, gather_groups_appends_the_listed_groups_run_by_run) {
   EXPECT_EQ(*static_cast<const float*>(subset->element_data(3)), 7.0f);
   AttributeArray<int> other;
   EXPECT_THROW(from.gather_groups(other, keep, 1, nullptr), Error);
+}
+
+TEST(AttributesTest, batches_equal_the_single_calls_in_turn) {
+  // One call per array for many new elements must leave exactly what the calls one element at a
+  // time leave: the same blends (negative zero and NaN included), the same integer choices.
+  AttributeSet batch, single;
+  for (AttributeSet* set : {&batch, &single}) {
+    auto& v = set->add<glm::vec3>("c:v");
+    auto& j = set->add<glm::u16vec4>("c:ids");
+    auto& f = set->add<float>("c:f");
+    set->resize(9);
+    for (std::uint32_t i = 0; i < 9; ++i) {
+      v[i] = {0.1f * float(i) - 0.35f, -0.0f, i == 4 ? std::nanf("") : 1.0f / float(i + 3)};
+      j[i] = glm::u16vec4(std::uint16_t(i + 1));
+      f[i] = i % 2 ? -0.0f : 2.5f * float(i);
+    }
+  }
+  const std::uint32_t triples[3] = {2, 0, 1};
+  const float w[27] = {0.2f, 0.3f, 0.5f, 1.0f, 0.0f, 0.0f, 0.1f, 0.7f, 0.2f, 0.0f, 0.0f, 1.0f, 0.5f, 0.5f, 0.0f,
+                       0.3f, 0.3f, 0.4f, 1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 0.0f, 1.0f};
+  batch.push_blend3_batch(triples, w, 3);
+  for (int i = 0; i < 3; ++i) single.push_blend3(3 * std::size_t(triples[i]), w + 9 * i);
+  const std::uint32_t src[6] = {1, 4, 7, 7, 0, 3};
+  batch.push_blend_batch(src, w, 2, 3);
+  for (int i = 0; i < 3; ++i) single.push_blend(src + 2 * i, w + 2 * i, 2);
+  batch.push_blend_batch(src, w + 3, 1, 6);
+  for (int i = 0; i < 6; ++i) single.push_blend(src + i, w + 3 + i, 1);
+  batch.push_copy_batch(src, 6);
+  for (std::uint32_t s : src) single.push_copy(s);
+  ASSERT_EQ(batch.size(), 9u + 9u + 3u + 6u + 6u);
+  ASSERT_EQ(single.size(), batch.size());
+  for (const std::string& name : batch.names()) {
+    const AttributeArrayBase& a = *batch.base(name);
+    const AttributeArrayBase& b = *single.base(name);
+    ASSERT_EQ(a.size(), batch.size()) << name;
+    for (std::size_t i = 0; i < a.size(); ++i)
+      EXPECT_EQ(std::memcmp(a.element_data(i), b.element_data(i), a.element_bytes()), 0) << name << " " << i;
+  }
 }
 
 }  // namespace deepcut

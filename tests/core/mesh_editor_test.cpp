@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <random>
+#include <string>
+#include <variant>
 #include <vector>
 
 #include "fixtures.h"
@@ -268,6 +270,78 @@ TEST(MeshEditorTest, face_split_interpolates_corner_uvs_in_the_parent_and_keeps_
   EXPECT_NEAR(glm::length(n[SurfaceMesh::corner(f, 2)]), 1.0f, 1e-6f);
   EXPECT_EQ(editor.log().size(), 3u);
   EXPECT_THROW(editor.remove_face(parent), Error);
+}
+
+namespace {
+
+// Bytes of every face slot, deletion flag and attribute of `mesh`, for exact comparison.
+std::vector<unsigned char> mesh_bytes(const SurfaceMesh& mesh) {
+  std::vector<unsigned char> out;
+  auto put = [&](const void* p, std::size_t n) {
+    const auto* b = static_cast<const unsigned char*>(p);
+    out.insert(out.end(), b, b + n);
+  };
+  put(mesh.faces().data(), mesh.faces().size() * sizeof(Triangle));
+  for (std::uint32_t f = 0; f < mesh.face_slots(); ++f) out.push_back(mesh.is_deleted(FaceId(f)) ? 1 : 0);
+  for (const AttributeSet* set : {&mesh.vertex_attrs(), &mesh.face_attrs(), &mesh.corner_attrs()})
+    for (const std::string& name : set->names()) {
+      const AttributeArrayBase& a = *set->base(name);
+      for (std::size_t i = 0; i < a.size(); ++i) put(a.element_data(i), a.element_bytes());
+    }
+  return out;
+}
+
+}  // namespace
+
+TEST(MeshEditorTest, a_face_batch_equals_its_calls_one_after_another) {
+  // The same mesh and the same log, in the same order, as removing and adding face by face.
+  SurfaceMesh start = test::make_grid(3, 2);
+  start.corner_attrs().add<glm::vec4>(attr::kTangent, glm::vec4(1.0f, 0.0f, 0.0f, -1.0f));
+  start.face_attrs().add<std::uint8_t>(attr::kCutSurface);
+  start.face_attrs().get<std::uint8_t>(attr::kCutSurface)[3] = 1;
+  start.corner_attrs().get<glm::vec3>(attr::kNormal)[4] = glm::vec3(-0.0f, 2.0f, 0.0f);
+  SurfaceMesh one = start, batched = start;
+  MeshEditor by_call(one), by_batch(batched);
+  FaceBatch batch;
+  const std::array<glm::vec3, 3> halves = {glm::vec3(1, 0, 0), glm::vec3(0, 0.5f, 0.5f), glm::vec3(0, 0, 1)};
+  const std::array<glm::vec3, 3> same = {glm::vec3(1, 0, 0), glm::vec3(0, 1, 0), glm::vec3(0, 0, 1)};
+  for (std::uint32_t f : {1u, 4u, 3u}) {
+    const Triangle t = start.face(FaceId(f));
+    by_call.remove_face(FaceId(f));
+    batch.remove(FaceId(f));
+    for (const Triangle& made : {Triangle{t[0], t[1], t[2]}, Triangle{t[2], t[0], t[1]}}) {
+      by_call.add_face_from(made, FaceId(f), f == 3 ? same : halves);
+      batch.add_from(made, FaceId(f), f == 3 ? same : halves);
+    }
+  }
+  batch.remove(FaceId(0));
+  by_call.remove_face(FaceId(0));
+  by_batch.apply(batch);
+  EXPECT_TRUE(batch.empty());
+  EXPECT_EQ(mesh_bytes(batched), mesh_bytes(one));
+  ASSERT_EQ(by_batch.log().size(), by_call.log().size());
+  for (std::size_t i = 0; i < by_call.log().size(); ++i) {
+    const Edit& a = by_batch.log().edits[i];
+    const Edit& b = by_call.log().edits[i];
+    ASSERT_EQ(a.index(), b.index()) << i;
+    if (const auto* x = std::get_if<FaceAdded>(&a)) {
+      const auto& y = std::get<FaceAdded>(b);
+      EXPECT_TRUE(x->f == y.f && x->parent == y.parent && x->vertices == y.vertices) << i;
+    } else {
+      const auto& x2 = std::get<FaceRemoved>(a);
+      const auto& y2 = std::get<FaceRemoved>(b);
+      EXPECT_TRUE(x2.f == y2.f && x2.vertices == y2.vertices) << i;
+    }
+  }
+  // A vertex out of range or a face not live: refused before any change.
+  const std::vector<unsigned char> before = mesh_bytes(batched);
+  batch.remove(FaceId(5));
+  batch.add_from({VertexId(0), VertexId(1), VertexId(999)}, FaceId(5), same);
+  EXPECT_THROW(by_batch.apply(batch), Error);
+  FaceBatch dead;
+  dead.remove(FaceId(1));
+  EXPECT_THROW(by_batch.apply(dead), Error);
+  EXPECT_EQ(mesh_bytes(batched), before);
 }
 
 TEST(MeshEditorTest, normalize_influences_handles_zero_nan_and_duplicates) {

@@ -79,6 +79,16 @@ class AttributeArrayBase {
   virtual void push_blend3(std::size_t src, const float* w) = 0;
   /// Appends a copy of element `src`: what `push_default(1)` then `copy(old size, src)` leaves.
   virtual void push_copy(std::size_t src) = 0;
+  /// Batches of the appends above, one call per array for many new elements (an edit's new
+  /// faces or vertices: no per-element dispatch). Each leaves exactly what the single calls,
+  /// made for i = 0 .. count - 1 in turn, would:
+  /// `push_blend3(3 * triples[i], w + 9 * i)` (three elements per i: a new face's corners from
+  /// its parent's, where `triples` are the parents);
+  virtual void push_blend3_batch(const std::uint32_t* triples, const float* w, std::size_t count) = 0;
+  /// `push_blend(src + sources * i, w + sources * i, sources)` (1 <= sources <= 3);
+  virtual void push_blend_batch(const std::uint32_t* src, const float* w, int sources, std::size_t count) = 0;
+  /// `push_copy(src[i])`.
+  virtual void push_copy_batch(const std::uint32_t* src, std::size_t count) = 0;
   /// Copies element `src` over element `dst`.
   virtual void copy(std::size_t dst, std::size_t src) = 0;
   /// Keeps only the elements listed, in that order (`keep[i]` becomes element `i`).
@@ -132,20 +142,38 @@ class AttributeArray final : public AttributeArrayBase {
     data_[dst] = blend(src, w, count);
   }
   void set_blend3(std::size_t dst, std::size_t src, const float* w) override {
-    const std::uint32_t s[3] = {static_cast<std::uint32_t>(src), static_cast<std::uint32_t>(src + 1),
-                                static_cast<std::uint32_t>(src + 2)};
-    for (int k = 0; k < 3; ++k) data_[dst + k] = blend(s, w + 3 * k, 3);
+    for (int k = 0; k < 3; ++k) data_[dst + k] = blend3(&data_[src], w + 3 * k);
   }
   void push_blend3(std::size_t src, const float* w) override {
-    const std::uint32_t s[3] = {static_cast<std::uint32_t>(src), static_cast<std::uint32_t>(src + 1),
-                                static_cast<std::uint32_t>(src + 2)};
     // Blended before appending: growing the vector may move the sources.
-    const T out[3] = {blend(s, w, 3), blend(s, w + 3, 3), blend(s, w + 6, 3)};
+    const T* s = &data_[src];
+    const T out[3] = {blend3(s, w), blend3(s, w + 3), blend3(s, w + 6)};
     data_.insert(data_.end(), out, out + 3);
   }
   void push_copy(std::size_t src) override {
     const T value = data_[src];
     data_.push_back(value);
+  }
+  void push_blend3_batch(const std::uint32_t* triples, const float* w, std::size_t count) override {
+    const std::size_t at = data_.size();
+    data_.resize(at + 3 * count);  // grown first: the sources are read where they then lie
+    T* out = data_.data() + at;
+    for (std::size_t i = 0; i < count; ++i, out += 3, w += 9) {
+      const T* s = data_.data() + 3 * std::size_t(triples[i]);
+      out[0] = blend3(s, w);
+      out[1] = blend3(s, w + 3);
+      out[2] = blend3(s, w + 6);
+    }
+  }
+  void push_blend_batch(const std::uint32_t* src, const float* w, int sources, std::size_t count) override {
+    const std::size_t at = data_.size();
+    data_.resize(at + count);
+    for (std::size_t i = 0; i < count; ++i, src += sources, w += sources) data_[at + i] = blend(src, w, sources);
+  }
+  void push_copy_batch(const std::uint32_t* src, std::size_t count) override {
+    const std::size_t at = data_.size();
+    data_.resize(at + count);
+    for (std::size_t i = 0; i < count; ++i) data_[at + i] = data_[src[i]];
   }
   void copy(std::size_t dst, std::size_t src) override { data_[dst] = data_[src]; }
   void gather(const std::vector<std::uint32_t>& keep) override {
@@ -206,12 +234,22 @@ class AttributeArray final : public AttributeArrayBase {
   const T& default_value() const { return default_; }
 
  private:
+  template <class U, class = void>
+  struct GlmScalar {
+    using type = U;
+  };
+  template <class U>
+  struct GlmScalar<U, std::void_t<typename U::value_type>> {
+    using type = typename U::value_type;
+  };
+
   static const AttributeArray& same_type(const AttributeArrayBase& other) {
     if (other.type() != typeid(T)) throw Error(ErrorCode::InvalidArgument, "attribute arrays of different types");
     return static_cast<const AttributeArray&>(other);
   }
+  static constexpr bool kBlends = std::is_floating_point_v<T> || std::is_floating_point_v<typename GlmScalar<T>::type>;
   T blend(const std::uint32_t* src, const float* w, int count) const {
-    if constexpr (std::is_floating_point_v<T> || std::is_floating_point_v<typename GlmScalar<T>::type>) {
+    if constexpr (kBlends) {
       T out = T(0);
       for (int i = 0; i < count; ++i) out += data_[src[i]] * w[i];
       return out;
@@ -222,15 +260,22 @@ class AttributeArray final : public AttributeArrayBase {
       return data_[src[best]];
     }
   }
+  // `blend` of the three consecutive elements at `s` (the same operations in the same order).
+  static T blend3(const T* s, const float* w) {
+    if constexpr (kBlends) {
+      T out = T(0);
+      out += s[0] * w[0];
+      out += s[1] * w[1];
+      out += s[2] * w[2];
+      return out;
+    } else {
+      int best = 0;
+      for (int i = 1; i < 3; ++i)
+        if (w[i] > w[best]) best = i;
+      return s[best];
+    }
+  }
 
-  template <class U, class = void>
-  struct GlmScalar {
-    using type = U;
-  };
-  template <class U>
-  struct GlmScalar<U, std::void_t<typename U::value_type>> {
-    using type = typename U::value_type;
-  };
 
   std::vector<T> data_;
   T default_;
@@ -261,6 +306,10 @@ class AttributeSet {
   void push_blend3(std::size_t src, const float* w);
   /// `push_copy` on every array: a copy of element `src` appended.
   void push_copy(std::size_t src);
+  /// The batches of AttributeArrayBase on every array (one call per array for the whole batch).
+  void push_blend3_batch(const std::uint32_t* triples, const float* w, std::size_t count);
+  void push_blend_batch(const std::uint32_t* src, const float* w, int sources, std::size_t count);
+  void push_copy_batch(const std::uint32_t* src, std::size_t count);
   /// Copies element `src` over element `dst` in every array.
   void copy(std::size_t dst, std::size_t src);
   void gather(const std::vector<std::uint32_t>& keep);
@@ -290,6 +339,7 @@ class AttributeSet {
     array->resize(size_);
     auto& ref = *array;
     arrays_.emplace(name, std::move(array));
+    relist();
     return ref;
   }
   /// @returns the attribute, or nullptr when absent. @throws Error{MissingAttribute} on a type mismatch.
@@ -316,7 +366,10 @@ class AttributeSet {
     return const_cast<AttributeSet*>(this)->get<T>(name);
   }
   bool contains(const std::string& name) const { return arrays_.count(name) != 0; }
-  void remove(const std::string& name) { arrays_.erase(name); }
+  void remove(const std::string& name) {
+    arrays_.erase(name);
+    relist();
+  }
   std::vector<std::string> names() const;
   const AttributeArrayBase* base(const std::string& name) const;
   AttributeArrayBase* base(const std::string& name);
@@ -325,7 +378,12 @@ class AttributeSet {
   bool elements_equal(std::size_t i, std::size_t j) const;
 
  private:
+  // `list_` from `arrays_`, after every change of which arrays there are.
+  void relist();
+
   std::map<std::string, std::unique_ptr<AttributeArrayBase>> arrays_;
+  // The arrays in name order, as a flat list: the per-element calls go through it, not the map.
+  std::vector<AttributeArrayBase*> list_;
   std::size_t size_ = 0;
 };
 

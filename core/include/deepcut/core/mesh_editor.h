@@ -10,11 +10,47 @@
 /// the dominant source.
 
 #include <array>
+#include <utility>
+#include <vector>
 
 #include "deepcut/core/edit_log.h"
 #include "deepcut/core/surface_mesh.h"
 
 namespace deepcut {
+
+/// Face edits to make in one go (MeshEditor::apply): removals and faces made from parents, kept
+/// in the order given. An operation that replaces many faces (a cut's crossed faces) queues them
+/// here, so each attribute array blends all the new corners in one call instead of one call per
+/// face and array.
+class FaceBatch {
+ public:
+  /// Queues `remove_face(f)`. @pre `f` is a live face before the batch, queued once.
+  void remove(FaceId f) { removals_.emplace_back(f, static_cast<std::uint32_t>(faces_.size())); }
+  /// Queues `add_face_from(vertices, parent, corner_bary)`.
+  void add_from(const Triangle& vertices, FaceId parent, const std::array<glm::vec3, 3>& corner_bary) {
+    const std::size_t at = 9 * faces_.size();
+    faces_.push_back(vertices);
+    parents_.push_back(parent.index);
+    if (weights_.size() < at + 9) weights_.resize(2 * at + 9);  // grown by doubling, not per face
+    float* w = weights_.data() + at;
+    for (int k = 0; k < 3; ++k) {
+      w[3 * k] = corner_bary[k].x;
+      w[3 * k + 1] = corner_bary[k].y;
+      w[3 * k + 2] = corner_bary[k].z;
+    }
+  }
+  /// Room for `faces` additions and `removals` removals.
+  void reserve(std::size_t faces, std::size_t removals);
+  bool empty() const { return faces_.empty() && removals_.empty(); }
+
+ private:
+  friend class MeshEditor;
+  std::vector<Triangle> faces_;
+  std::vector<std::uint32_t> parents_;
+  std::vector<float> weights_;  // nine per face (at least): corner k's barycentric weights at 3k
+  // Each removal, with the number of faces queued before it.
+  std::vector<std::pair<FaceId, std::uint32_t>> removals_;
+};
 
 /// @note The editor looks up the skin, normal and tangent attributes once, when it is made: add
 ///       such attributes before making the editor (other attributes may come and go).
@@ -28,6 +64,10 @@ class MeshEditor {
   VertexId add_vertex_in_triangle(const Triangle& tri, const glm::vec3& bary);
   /// Duplicate of `v` (same position and attributes), e.g. one side of a tear.
   VertexId split_vertex(VertexId v);
+  /// `split_vertex(VertexId(vertices[i]))` for i = 0 .. count - 1 in turn (each attribute array
+  /// written in one call): the copy of vertices[i] is the returned vertex + i.
+  /// @throws Error{InvalidArgument} (before any change) for a vertex out of range.
+  VertexId split_vertices(const std::uint32_t* vertices, std::size_t count);
   /// Moves `v` to `p` (bind space).
   void move_vertex(VertexId v, const glm::vec3& p);
 
@@ -41,6 +81,10 @@ class MeshEditor {
   FaceId add_face(const Triangle& vertices);
   /// Marks `f` deleted. @throws Error{InvalidArgument} if it is already deleted.
   void remove_face(FaceId f);
+  /// Makes the queued edits of `batch` and empties it: the same mesh and the same log as its
+  /// remove_face and add_face_from calls made one after another, in its order.
+  /// @throws Error{InvalidArgument} (before any change) as those calls would.
+  void apply(FaceBatch& batch);
 
   SurfaceMesh& mesh() { return mesh_; }
   const EditLog& log() const { return log_; }
@@ -50,7 +94,9 @@ class MeshEditor {
 
  private:
   void fix_skin_weights(VertexId v, const VertexId* src, const float* w, int count);
-  void fix_corner_directions(FaceId f, int k, FaceId parent, const std::array<float, 3>& w);
+  // Corner normals and tangents of the faces [first, first + count) made from `parents` with
+  // corner weights `w` (nine per face).
+  void fix_corner_directions(FaceId first, std::size_t count, const std::uint32_t* parents, const float* w);
 
   SurfaceMesh& mesh_;
   EditLog log_;

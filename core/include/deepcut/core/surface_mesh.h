@@ -63,6 +63,11 @@ class SurfaceMesh {
   /// The same result as `add_face` then `copy`/`set_blend3`, each attribute written once.
   /// @throws Error{InvalidArgument} if an index is out of range.
   FaceId add_face_from(VertexId a, VertexId b, VertexId c, FaceId parent, const float* w);
+  /// `add_face_from(faces[i][0], faces[i][1], faces[i][2], FaceId(parents[i]), w + 9 * i)` for
+  /// i = 0 .. count - 1 in turn, each attribute array written in one call for all of them.
+  /// @returns the first new face. @throws Error{InvalidArgument} (before any change) if an index
+  ///          is out of range.
+  FaceId add_faces_from(const Triangle* faces, const std::uint32_t* parents, const float* w, std::size_t count);
   /// Reserves room in every array (vertex, face and corner attributes included), so edits that
   /// grow the mesh up to these sizes never reallocate: interactive sessions call it once with
   /// some headroom after loading, which keeps the first operation from paying for the growth.

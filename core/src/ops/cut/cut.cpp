@@ -14,9 +14,7 @@
 #include "deepcut/core/ops/cut.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <memory>
 #include <numeric>
 #include <string>
 #include <unordered_map>
@@ -31,15 +29,15 @@
 #include "ops/common/placement.h"
 #include "ops/common/posed_overlay.h"
 #include "ops/cut/caps.h"
+#include "ops/cut/classify.h"
 #include "ops/cut/face_lists.h"
 #include "uninit_vector.h"
 
 namespace deepcut {
 namespace {
 
-// Smallest parallel chunk: below it, waking another thread costs more than it saves. Every
-// parallel pass of the cut is exact (min / max, flags, disjoint writes, lists joined in order),
-// so the chunks may follow the thread count.
+// Smallest parallel chunk: below it, waking another thread costs more than it saves. The face
+// scan is exact (lists joined in order), so the chunks may follow the thread count.
 constexpr std::size_t kMinGrain = 4096;
 
 using detail::edge_key;
@@ -92,7 +90,7 @@ class Cutter {
   const Split& split_edge(VertexId a, VertexId b);
   Corner split_corner(const Triangle& t, int ka, int kb);
   void split_crossings(FaceId f);
-  void split_face(FaceId f);
+  void split_face(FaceId f, FaceBatch& batch);
   void separate_sides();
   // A flag per vertex of [first, first + flags.size()).
   struct VertexFlags {
@@ -123,13 +121,10 @@ class Cutter {
   detail::Placement placement_;
   CutOptions options_;
   glm::dvec3 normal_, point_;
-  // Signed distance to the plane (computed in float from the posed positions, so stored as
-  // float) and its snapped sign, per vertex. The distances (and the bits below) are left
-  // unfilled when sized: classify_vertices writes every element.
+  // Signed distance to the plane and snapped sign per vertex (detail::VertexSides; the cut
+  // appends its new vertices), and the side bits of the input's vertices (split_crossed_faces).
   detail::UninitVector<float> dist_;
   std::vector<std::int8_t> sign_;
-  // The same per input vertex as a bit (1 positive, 2 negative, 4 on the plane), so a face's
-  // corners or together into its kind (split_crossed_faces).
   detail::UninitVector<std::uint8_t> side_bits_;
   detail::CrossingTable<Split> splits_;
   detail::NeedleMerges merges_;
@@ -212,7 +207,8 @@ void Cutter::split_crossings(FaceId f) {
   merges_.merge_if_coincident(mesh_, a, b);
 }
 
-void Cutter::split_face(FaceId f) {
+// Queues the removal of a face the plane crosses and the up to three faces replacing it.
+void Cutter::split_face(FaceId f, FaceBatch& batch) {
   const Triangle t = mesh_.face(f);
   const std::int8_t s[3] = {sign_[t[0].index], sign_[t[1].index], sign_[t[2].index]};
   const bool pos = s[0] > 0 || s[1] > 0 || s[2] > 0, neg = s[0] < 0 || s[1] < 0 || s[2] < 0;
@@ -224,9 +220,9 @@ void Cutter::split_face(FaceId f) {
   };
   auto emit = [&](const Corner& a, const Corner& b, const Corner& c) {
     if (a.v == b.v || b.v == c.v || a.v == c.v) return;  // the tip of a needle whose crossings merged
-    editor_.add_face_from({a.v, b.v, c.v}, f, {a.bary, b.bary, c.bary});
+    batch.add_from({a.v, b.v, c.v}, f, {a.bary, b.bary, c.bary});
   };
-  editor_.remove_face(f);
+  batch.remove(f);
   int zero = -1;
   for (int k = 0; k < 3; ++k)
     if (s[k] == 0) zero = k;
@@ -257,8 +253,9 @@ void Cutter::split_face(FaceId f) {
 
 // Rim vertices used by both sides get a copy for the positive side, so the sides come apart.
 void Cutter::separate_sides() {
-  // Per vertex: bit 1 a positive face uses it, bit 2 a negative one (flat, by vertex id).
-  std::vector<std::uint8_t> touches(mesh_.vertex_count(), 0);
+  // Per vertex (flat, by vertex id): bit 1 a positive face uses it, bit 2 a negative one; above
+  // them, for a vertex both use, 1 + its place in `shared`.
+  std::vector<std::uint32_t> touches(mesh_.vertex_count(), 0);
   std::vector<std::uint32_t> touched;
   std::vector<FaceId> rim_faces;
   rim_faces.reserve(rim_candidates_.size());
@@ -284,10 +281,10 @@ void Cutter::separate_sides() {
   for (std::uint32_t v = first_new; v < touches.size(); ++v)
     if (touches[v] == 3) shared.push_back(v);
   if (shared.empty()) return;
-  std::vector<VertexId> copy;
-  copy.reserve(shared.size());
-  for (std::uint32_t v : shared) {
-    copy.push_back(editor_.split_vertex(VertexId(v)));
+  const VertexId first_copy = editor_.split_vertices(shared.data(), shared.size());
+  for (std::size_t i = 0; i < shared.size(); ++i) {
+    const std::uint32_t v = shared[i];
+    touches[v] |= static_cast<std::uint32_t>(i + 1) << 2;
     posed_.add(posed_(VertexId(v)));
     dist_.push_back(dist_[v]);
     sign_.push_back(0);
@@ -295,32 +292,31 @@ void Cutter::separate_sides() {
   // shared is sorted and the crossings are the newest vertices: their copies come last.
   const auto first_of_crossing =
       static_cast<std::size_t>(std::lower_bound(shared.begin(), shared.end(), crossings_[0]) - shared.begin());
-  if (first_of_crossing < copy.size()) {
-    crossing_copies_[0] = copy[first_of_crossing].index;
-    crossing_copies_[1] = copy.back().index + 1;
+  if (first_of_crossing < shared.size()) {
+    crossing_copies_[0] = first_copy.index + static_cast<std::uint32_t>(first_of_crossing);
+    crossing_copies_[1] = first_copy.index + static_cast<std::uint32_t>(shared.size());
   }
   sign = sign_.data();
-  auto copy_of = [&](VertexId v) {
-    if (v.index >= touches.size() || touches[v.index] != 3) return VertexId();
-    return copy[static_cast<std::size_t>(std::lower_bound(shared.begin(), shared.end(), v.index) - shared.begin())];
-  };
   const glm::vec3 e[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  FaceBatch batch;
+  batch.reserve(rim_faces.size(), rim_faces.size());
   for (FaceId f : rim_faces) {
     const Triangle t = mesh_.face(f);
     if (side_code(sign, t) == 2) continue;
     Triangle moved = t;
     bool changed = false;
     for (auto& v : moved) {
-      const VertexId c = copy_of(v);
-      if (c.valid()) {
-        v = c;
+      const std::uint32_t slot = touches[v.index] >> 2;  // the rim faces use no copy: in range
+      if (slot != 0) {
+        v = VertexId(first_copy.index + slot - 1);
         changed = true;
       }
     }
     if (!changed) continue;
-    editor_.remove_face(f);
-    editor_.add_face_from(moved, f, {e[0], e[1], e[2]});
+    batch.remove(f);
+    batch.add_from(moved, f, {e[0], e[1], e[2]});
   }
+  editor_.apply(batch);
 }
 
 // A rim through a vertex on the plane (a saddle, or a fold touching the plane within the
@@ -527,92 +523,17 @@ void Cutter::check_arguments() const {
   check_cut_plane({glm::vec3(point_), glm::vec3(normal_)});
 }
 
-// Classifies every vertex once: distances and the model size in one pass over the vertices
-// (vertices no face uses count for neither), in parallel chunks. False when every vertex lies
-// on one side.
+// Classifies every vertex once (ops/cut/classify.h). False when every vertex lies on one side.
 bool Cutter::classify_vertices() {
   const std::size_t nv = mesh_.vertex_count();
-  // Vertices a face slot uses (threads may mark one vertex together: relaxed atomic bytes).
-  std::unique_ptr<std::atomic<std::uint8_t>[]> used_flags(new std::atomic<std::uint8_t>[nv]());
-  const std::size_t nf = mesh_.face_slots();
-  parallel_for(nf, grain_per_thread(nf, kMinGrain), [&](std::size_t b, std::size_t e) {
-    const Triangle* faces = mesh_.faces().data();
-    std::atomic<std::uint8_t>* flags = used_flags.get();
-    for (std::size_t f = b; f < e; ++f) {
-      const Triangle& t = faces[f];
-      flags[t[0].index].store(1, std::memory_order_relaxed);
-      flags[t[1].index].store(1, std::memory_order_relaxed);
-      flags[t[2].index].store(1, std::memory_order_relaxed);
-    }
-  });
-  auto used = [&](std::size_t v) { return used_flags[v].load(std::memory_order_relaxed) != 0; };
-  const glm::vec3 point(point_), normal(normal_);
   // Room for the vertices the cut adds (crossings, their copies: a few per crossed face, far
   // fewer than the mesh's), so appending them in split_edge does not copy the arrays.
-  dist_.reserve(nv + nv / 16 + 256);
-  sign_.reserve(nv + nv / 16 + 256);
-  dist_.resize(nv);
-  sign_.resize(nv);
-  side_bits_.resize(nv);
-  const std::size_t vgrain = grain_per_thread(nv, kMinGrain);
-  const BoundingBox box = parallel_reduce(
-      nv, vgrain, BoundingBox(),
-      [&](std::size_t b, std::size_t e) {
-        // Locals, not captures: the stores to `dist` could alias a capture, which would be read
-        // again at every vertex. The box in six scalars, each kept as BoundingBox::add keeps it.
-        const std::atomic<std::uint8_t>* flags = used_flags.get();
-        const glm::vec3* pos = posed_.input().data();
-        float* dist = dist_.data();
-        const glm::vec3 o = point, n = normal;
-        BoundingBox part;
-        float lx = part.min.x, ly = part.min.y, lz = part.min.z, hx = part.max.x, hy = part.max.y, hz = part.max.z;
-        for (std::size_t v = b; v < e; ++v) {
-          if (flags[v].load(std::memory_order_relaxed) == 0) {
-            dist[v] = 0.0f;
-            continue;
-          }
-          const glm::vec3 p = pos[v];
-          lx = p.x < lx ? p.x : lx;
-          ly = p.y < ly ? p.y : ly;
-          lz = p.z < lz ? p.z : lz;
-          hx = hx < p.x ? p.x : hx;
-          hy = hy < p.y ? p.y : hy;
-          hz = hz < p.z ? p.z : hz;
-          dist[v] = glm::dot(p - o, n);
-        }
-        part.min = glm::vec3(lx, ly, lz);
-        part.max = glm::vec3(hx, hy, hz);
-        return part;
-      },
-      [](BoundingBox acc, const BoundingBox& part) {
-        acc.add(part);
-        return acc;
-      });
-  const double tol = double(options_.relative_tolerance) * double(box.diagonal());
-  // An unused vertex has distance 0, which snaps to 0 whenever the tolerance is not negative:
-  // then the loop need not look at the flags.
-  const bool check_used = !(tol >= 0.0);
-  const int sides = parallel_reduce(
-      nv, vgrain, 0,
-      [&](std::size_t b, std::size_t e) {
-        const float* dist = dist_.data();
-        std::int8_t* sign = sign_.data();
-        std::uint8_t* bits = side_bits_.data();
-        const double hi = tol, lo = -tol;
-        const bool all = !check_used;
-        int pos = 0, neg = 0;
-        for (std::size_t v = b; v < e; ++v) {
-          const double d = dist[v];
-          const int above = (all || used(v)) && d > hi, below = (all || used(v)) && d < lo;
-          sign[v] = static_cast<std::int8_t>(above - below);
-          bits[v] = static_cast<std::uint8_t>(above | (below << 1) | ((1 - above - below) << 2));
-          pos |= above;
-          neg |= below;
-        }
-        return pos | (neg << 1);
-      },
-      [](int acc, int bits) { return acc | bits; });
-  return sides == 3;
+  detail::VertexSides sides = detail::classify_vertices(mesh_, posed_.input(), glm::vec3(point_), glm::vec3(normal_),
+                                                        options_.relative_tolerance, nv + nv / 16 + 256);
+  dist_ = std::move(sides.dist);
+  sign_ = std::move(sides.sign);
+  side_bits_ = std::move(sides.bits);
+  return sides.both_sides;
 }
 
 void Cutter::split_crossed_faces() {
@@ -686,10 +607,13 @@ void Cutter::split_crossed_faces() {
   for (const Found& part : found)
     for (FaceId f : part.crossed) split_crossings(f);
   crossings_[1] = static_cast<std::uint32_t>(mesh_.vertex_count());
+  FaceBatch batch;
+  batch.reserve(3 * crossed, crossed);
   for (const Found& part : found) {
-    for (FaceId f : part.crossed) split_face(f);
+    for (FaceId f : part.crossed) split_face(f, batch);
     rim_candidates_.insert(rim_candidates_.end(), part.touching.begin(), part.touching.end());
   }
+  editor_.apply(batch);
   for (auto i = first_new_face; i < mesh_.face_slots(); ++i) rim_candidates_.push_back(FaceId(i));
 }
 

@@ -1,0 +1,222 @@
+// SPDX-License-Identifier: MIT
+// The cut's vertex classification (ops/cut/classify.h), in three passes over parallel chunks:
+// which vertices a face uses (a pass over the faces), their distances and posed bounds (the
+// bounds give the tolerance), then their snapped sides. Every pass is exact (flags, min / max,
+// disjoint writes), so the chunks may follow the thread count.
+#include "ops/cut/classify.h"
+
+#include <atomic>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <type_traits>
+
+#include "deepcut/core/parallel.h"
+
+namespace deepcut::detail {
+namespace {
+
+// Smallest parallel chunk: below it, waking another thread costs more than it saves.
+constexpr std::size_t kMinGrain = 4096;
+
+// A flag per vertex: some face slot uses it (threads may mark one vertex together: relaxed
+// atomic bytes).
+using UsedFlags = std::unique_ptr<std::atomic<std::uint8_t>[]>;
+
+UsedFlags mark_used(const SurfaceMesh& mesh) {
+  UsedFlags used(new std::atomic<std::uint8_t>[mesh.vertex_count()]());
+  const std::size_t nf = mesh.face_slots();
+  parallel_for(nf, grain_per_thread(nf, kMinGrain), [&](std::size_t b, std::size_t e) {
+    const Triangle* faces = mesh.faces().data();
+    std::atomic<std::uint8_t>* flags = used.get();
+    for (std::size_t f = b; f < e; ++f) {
+      const Triangle& t = faces[f];
+      flags[t[0].index].store(1, std::memory_order_relaxed);
+      flags[t[1].index].store(1, std::memory_order_relaxed);
+      flags[t[2].index].store(1, std::memory_order_relaxed);
+    }
+  });
+  return used;
+}
+
+// What the vertex passes read and write.
+struct Pass {
+  const std::atomic<std::uint8_t>* used;
+  const glm::vec3* posed;
+  float* dist;
+  glm::vec3 point, normal;
+};
+
+struct Measure {
+  BoundingBox box;  // posed bounds of the vertices in use
+  bool unused = false;
+};
+
+// Four floats as one value (GCC / Clang vector extensions: SSE on x86, plain code where there is
+// no vector unit); operators act lane by lane.
+using Four = float __attribute__((vector_size(16)));
+
+Four four(float x) { return Four{x, x, x, x}; }
+
+// `measure` of every vertex in use, four at a time from `b` while four remain: each lane does
+// exactly the scalar loop's operations; the bounds' lanes are folded into the six scalars at the
+// end (min / max in another order can change only the sign of a zero bound, which the diagonal
+// does not see). Returns where it stopped.
+std::size_t measure_fours(const Pass& in, std::size_t b, std::size_t e, std::uint8_t& all, float& lx, float& ly,
+                          float& lz, float& hx, float& hy, float& hz) {
+  const std::atomic<std::uint8_t>* used = in.used;
+  const float* pos = &in.posed[0].x;  // x, y, z of each vertex in a row
+  float* dist = in.dist;
+  const Four ox = four(in.point.x), oy = four(in.point.y), oz = four(in.point.z);
+  const Four nx = four(in.normal.x), ny = four(in.normal.y), nz = four(in.normal.z);
+  Four minx = four(lx), miny = four(ly), minz = four(lz), maxx = four(hx), maxy = four(hy), maxz = four(hz);
+  std::size_t v = b;
+  for (; v + 4 <= e; v += 4) {
+    all &= used[v].load(std::memory_order_relaxed) & used[v + 1].load(std::memory_order_relaxed) &
+           used[v + 2].load(std::memory_order_relaxed) & used[v + 3].load(std::memory_order_relaxed);
+    Four p0, p1, p2;  // x0 y0 z0 x1 | y1 z1 x2 y2 | z2 x3 y3 z3
+    std::memcpy(&p0, pos + 3 * v, sizeof(Four));
+    std::memcpy(&p1, pos + 3 * v + 4, sizeof(Four));
+    std::memcpy(&p2, pos + 3 * v + 8, sizeof(Four));
+    const Four x = __builtin_shufflevector(__builtin_shufflevector(p0, p1, 0, 3, 6, 0), p2, 0, 1, 2, 5);
+    const Four y = __builtin_shufflevector(__builtin_shufflevector(p0, p1, 1, 4, 7, 0), p2, 0, 1, 2, 6);
+    const Four z = __builtin_shufflevector(__builtin_shufflevector(p0, p1, 2, 5, 0, 0), p2, 0, 1, 4, 7);
+    minx = x < minx ? x : minx;
+    miny = y < miny ? y : miny;
+    minz = z < minz ? z : minz;
+    maxx = maxx < x ? x : maxx;
+    maxy = maxy < y ? y : maxy;
+    maxz = maxz < z ? z : maxz;
+    const Four d = ((x - ox) * nx + (y - oy) * ny) + (z - oz) * nz;  // glm::dot's order
+    std::memcpy(dist + v, &d, sizeof(Four));
+  }
+  for (int k = 0; k < 4; ++k) {
+    lx = minx[k] < lx ? minx[k] : lx;
+    ly = miny[k] < ly ? miny[k] : ly;
+    lz = minz[k] < lz ? minz[k] : lz;
+    hx = hx < maxx[k] ? maxx[k] : hx;
+    hy = hy < maxy[k] ? maxy[k] : hy;
+    hz = hz < maxz[k] ? maxz[k] : hz;
+  }
+  return v;
+}
+
+// Distances of the vertices [b, e) and their posed bounds. kSkipUnused: vertices not in use get
+// distance 0 and stay out of the bounds. Otherwise every vertex counts, and `unused` tells
+// whether one was not in use (then the pass runs again skipping them: rare, vertices a face
+// lost stay in the mesh).
+template <bool kSkipUnused>
+Measure measure(const Pass& in, std::size_t b, std::size_t e) {
+  // Locals, not members: the stores to `dist` could alias them, which would then be read again
+  // at every vertex. The box in six scalars, each kept as BoundingBox::add keeps it.
+  const std::atomic<std::uint8_t>* used = in.used;
+  const glm::vec3* pos = in.posed;
+  float* dist = in.dist;
+  const glm::vec3 o = in.point, n = in.normal;
+  BoundingBox part;
+  float lx = part.min.x, ly = part.min.y, lz = part.min.z, hx = part.max.x, hy = part.max.y, hz = part.max.z;
+  std::uint8_t all = 1;
+  std::size_t v = b;
+  if constexpr (!kSkipUnused) v = measure_fours(in, b, e, all, lx, ly, lz, hx, hy, hz);
+  for (; v < e; ++v) {
+    const std::uint8_t u = used[v].load(std::memory_order_relaxed);
+    if constexpr (kSkipUnused) {
+      if (u == 0) {
+        dist[v] = 0.0f;
+        continue;
+      }
+    } else {
+      all &= u;
+    }
+    const glm::vec3 p = pos[v];
+    lx = p.x < lx ? p.x : lx;
+    ly = p.y < ly ? p.y : ly;
+    lz = p.z < lz ? p.z : lz;
+    hx = hx < p.x ? p.x : hx;
+    hy = hy < p.y ? p.y : hy;
+    hz = hz < p.z ? p.z : hz;
+    dist[v] = glm::dot(p - o, n);
+  }
+  part.min = glm::vec3(lx, ly, lz);
+  part.max = glm::vec3(hx, hy, hz);
+  return {part, all == 0};
+}
+
+// The largest float not above `x`: for a float d, d > x exactly when d > float_at_or_below(x)
+// (and d < -x exactly when d < -float_at_or_below(x)), so the snapping compares in float.
+float float_at_or_below(double x) {
+  constexpr float kMax = std::numeric_limits<float>::max();
+  if (x >= double(kMax)) return std::isinf(x) ? static_cast<float>(x) : kMax;
+  if (x < -double(kMax)) return -std::numeric_limits<float>::infinity();
+  float f = static_cast<float>(x);
+  if (static_cast<double>(f) > x) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+  return f;
+}
+
+// Sides of the vertices [b, e) from their distances: above `hi`, below `lo`, else on the plane.
+// kCheckUsed: vertices not in use are on the plane (needed only when the tolerance is negative:
+// otherwise their distance 0 snaps there). Bit 1 of the result: some vertex above; bit 2: below.
+template <bool kCheckUsed>
+int snap(const Pass& in, float hi, float lo, std::int8_t* sign, std::uint8_t* bits, std::size_t b, std::size_t e) {
+  const float* dist = in.dist;
+  const std::atomic<std::uint8_t>* used = in.used;
+  int pos = 0, neg = 0;
+  for (std::size_t v = b; v < e; ++v) {
+    const float d = dist[v];
+    int above = d > hi, below = d < lo;
+    if constexpr (kCheckUsed) {
+      const int u = used[v].load(std::memory_order_relaxed) != 0;
+      above &= u;
+      below &= u;
+    }
+    sign[v] = static_cast<std::int8_t>(above - below);
+    bits[v] = static_cast<std::uint8_t>(above | (below << 1) | ((1 - above - below) << 2));
+    pos |= above;
+    neg |= below;
+  }
+  return pos | (neg << 1);
+}
+
+}  // namespace
+
+VertexSides classify_vertices(const SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const glm::vec3& point,
+                              const glm::vec3& normal, float relative_tolerance, std::size_t room) {
+  const std::size_t nv = mesh.vertex_count();
+  const UsedFlags used = mark_used(mesh);
+  VertexSides out;
+  out.dist.reserve(room);
+  out.sign.reserve(room);
+  out.dist.resize(nv);
+  out.sign.resize(nv);
+  out.bits.resize(nv);
+  const Pass in{used.get(), posed.data(), out.dist.data(), point, normal};
+  const std::size_t grain = grain_per_thread(nv, kMinGrain);
+  auto measure_all = [&](auto skip_unused) {
+    return parallel_reduce(
+        nv, grain, Measure(),
+        [&](std::size_t b, std::size_t e) { return measure<decltype(skip_unused)::value>(in, b, e); },
+        [](Measure acc, const Measure& part) {
+          acc.box.add(part.box);
+          acc.unused |= part.unused;
+          return acc;
+        });
+  };
+  Measure m = measure_all(std::false_type());
+  if (m.unused) m = measure_all(std::true_type());
+  const double tol = double(relative_tolerance) * double(m.box.diagonal());
+  const float hi = float_at_or_below(tol), lo = -hi;
+  const bool check_used = m.unused && !(tol >= 0.0);
+  std::int8_t* sign = out.sign.data();
+  std::uint8_t* bits = out.bits.data();
+  const int sides = parallel_reduce(
+      nv, grain, 0,
+      [&](std::size_t b, std::size_t e) {
+        return check_used ? snap<true>(in, hi, lo, sign, bits, b, e) : snap<false>(in, hi, lo, sign, bits, b, e);
+      },
+      [](int acc, int part) { return acc | part; });
+  out.both_sides = sides == 3;
+  return out;
+}
+
+}  // namespace deepcut::detail
