@@ -53,11 +53,13 @@ struct Measure {
   bool unused = false;
 };
 
-// Four floats as one value (GCC / Clang vector extensions: SSE on x86, plain code where there is
-// no vector unit); operators act lane by lane.
+#if defined(__clang__) || (defined(__GNUC__) && __GNUC__ >= 12)
+// Four floats as one value (GCC >= 12 / Clang vector extensions: SSE on x86, plain code where
+// there is no vector unit); operators act lane by lane.
 using Four = float __attribute__((vector_size(16)));
 
 Four four(float x) { return Four{x, x, x, x}; }
+#endif
 
 // `measure` of every vertex in use, four at a time from `b` while four remain: each lane does
 // exactly the scalar loop's operations; the bounds' lanes are folded into the six scalars at the
@@ -65,8 +67,10 @@ Four four(float x) { return Four{x, x, x, x}; }
 // does not see). Returns where it stopped.
 std::size_t measure_fours(const Pass& in, std::size_t b, std::size_t e, std::uint8_t& all, float& lx, float& ly,
                           float& lz, float& hx, float& hy, float& hz) {
+#if defined(__clang__) || (defined(__GNUC__) && __GNUC__ >= 12)
+  static_assert(sizeof(glm::vec3) == 3 * sizeof(float), "positions are packed x, y, z rows");
   const std::atomic<std::uint8_t>* used = in.used;
-  const float* pos = &in.posed[0].x;  // x, y, z of each vertex in a row
+  const float* pos = reinterpret_cast<const float*>(in.posed);  // x, y, z of each vertex in a row
   float* dist = in.dist;
   const Four ox = four(in.point.x), oy = four(in.point.y), oz = four(in.point.z);
   const Four nx = four(in.normal.x), ny = four(in.normal.y), nz = four(in.normal.z);
@@ -100,6 +104,11 @@ std::size_t measure_fours(const Pass& in, std::size_t b, std::size_t e, std::uin
     hz = hz < maxz[k] ? maxz[k] : hz;
   }
   return v;
+#else
+  // Compilers without these vector operations leave every vertex to the scalar loop.
+  (void)in, (void)e, (void)all, (void)lx, (void)ly, (void)lz, (void)hx, (void)hy, (void)hz;
+  return b;
+#endif
 }
 
 // Distances of the vertices [b, e) and their posed bounds. kSkipUnused: vertices not in use get

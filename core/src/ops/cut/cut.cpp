@@ -51,7 +51,9 @@ inline std::uint8_t side_code(const std::int8_t* sign, const Triangle& t) {
 }
 
 // CutResult::vertex_sides from the cut's signs: a vertex on the plane gets the side of the live
-// faces using it (rim candidates all, on one side each once the sides are apart).
+// faces using it (rim candidates all, on one side each once the sides are apart). Writing a
+// vertex's sign while later faces read it is safe for that reason: `separate_sides` has already
+// given each on-plane vertex one side, so every face using it answers the same, before or after the write.
 std::vector<std::int8_t> vertex_sides(const SurfaceMesh& mesh, std::vector<std::int8_t>&& sign,
                                       const std::vector<FaceId>& rim) {
   sign.resize(mesh.vertex_count(), 0);

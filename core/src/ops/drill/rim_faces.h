@@ -113,7 +113,7 @@ struct PlanScratch {
   std::vector<LocalPoint> pts, rim, all, poly;
   std::vector<std::uint8_t> seg_inside, used;
   std::vector<std::pair<double, std::size_t>> arc;
-  std::vector<std::uint32_t> loop, hole;
+  std::vector<std::uint32_t> loop;
   std::vector<glm::dvec2> q;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> segments;
   std::vector<geometry::LocalTri> clipped, failed;
