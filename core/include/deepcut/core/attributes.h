@@ -202,7 +202,7 @@ class AttributeArray final : public AttributeArrayBase {
   }
   void gather_groups(AttributeArrayBase& to, const std::vector<std::uint32_t>& keep, std::size_t group,
                      void (*on_reserved)(void* data, std::size_t bytes)) const override {
-    std::vector<T>& out = const_cast<AttributeArray&>(same_type(to)).data_;
+    std::vector<T>& out = same_type(to).data_;
     out.reserve(out.size() + keep.size() * group);
     if (on_reserved) on_reserved(out.data() + out.size(), keep.size() * group * sizeof(T));
     const T* src = data_.data();
@@ -220,7 +220,7 @@ class AttributeArray final : public AttributeArrayBase {
                  src.begin() + static_cast<std::ptrdiff_t>(end));
   }
   void swap_element(std::size_t i, AttributeArrayBase& other, std::size_t j) override {
-    std::swap(data_[i], const_cast<AttributeArray&>(same_type(other)).data_[j]);
+    std::swap(data_[i], same_type(other).data_[j]);
   }
   std::size_t capacity_bytes() const override { return data_.capacity() * sizeof(T); }
   std::type_index type() const override { return typeid(T); }
@@ -247,33 +247,31 @@ class AttributeArray final : public AttributeArrayBase {
     if (other.type() != typeid(T)) throw Error(ErrorCode::InvalidArgument, "attribute arrays of different types");
     return static_cast<const AttributeArray&>(other);
   }
+  static AttributeArray& same_type(AttributeArrayBase& other) {
+    return const_cast<AttributeArray&>(same_type(static_cast<const AttributeArrayBase&>(other)));
+  }
   static constexpr bool kBlends = std::is_floating_point_v<T> || std::is_floating_point_v<typename GlmScalar<T>::type>;
-  T blend(const std::uint32_t* src, const float* w, int count) const {
+  // The one blend rule, over the `count` elements `at(0) .. at(count - 1)`: floating types mix
+  // by the weights, others take the element of the largest weight.
+  template <class At>
+  static T mix(At at, const float* w, int count) {
     if constexpr (kBlends) {
       T out = T(0);
-      for (int i = 0; i < count; ++i) out += data_[src[i]] * w[i];
+      for (int i = 0; i < count; ++i) out += at(i) * w[i];
       return out;
     } else {
       int best = 0;
       for (int i = 1; i < count; ++i)
         if (w[i] > w[best]) best = i;
-      return data_[src[best]];
+      return at(best);
     }
   }
-  // `blend` of the three consecutive elements at `s` (the same operations in the same order).
+  T blend(const std::uint32_t* src, const float* w, int count) const {
+    return mix([&](int i) -> const T& { return data_[src[i]]; }, w, count);
+  }
+  // `blend` of the three consecutive elements at `s`.
   static T blend3(const T* s, const float* w) {
-    if constexpr (kBlends) {
-      T out = T(0);
-      out += s[0] * w[0];
-      out += s[1] * w[1];
-      out += s[2] * w[2];
-      return out;
-    } else {
-      int best = 0;
-      for (int i = 1; i < 3; ++i)
-        if (w[i] > w[best]) best = i;
-      return s[best];
-    }
+    return mix([s](int i) -> const T& { return s[i]; }, w, 3);
   }
 
 
