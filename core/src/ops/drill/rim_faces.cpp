@@ -150,13 +150,13 @@ void FacePlanner::consider(const glm::dvec3& x, bool corner_point) {
   for (int k = 0; k < 3; ++k)
     if (lp.bary[k] < 1e-7) low = k, ++lows;
   if (lows > 0) {
-    // A ruling's point just beyond an edge the cylinder only grazes (too shallowly to be cut):
-    // the rim bulges over that edge by about the tolerance, and no neighbour takes the point
-    // (at a crease the ruling meets its plane beyond the edge too, and no rim crosses an uncut
-    // edge). Dropped, the hole would lose a rim edge (31 of 32 around the axis); it is
-    // moved inside, a tolerance from the edge, when that moves it and keeps it within half a
-    // percent of r (not on holes smaller than the absolute tolerance: the move would round
-    // away in float and leave zero-area faces).
+    // A ruling's point just beyond an edge the cylinder only grazes (too shallowly to be cut)
+    // belongs to no face: the rim bulges over that edge by about the tolerance, and the face
+    // across it does not take the point either (at a crease the ruling meets that plane beyond
+    // the edge too, and no rim crosses an uncut edge). So that every ruling keeps its rim point,
+    // it moves inside, a tolerance from the edge, when the move keeps it within half a percent
+    // of r. On holes smaller than the absolute tolerance the move would round away in float
+    // (zero-area faces): there the point is left out.
     if (corner_point || lows > 1) return;
     const int k1 = (low + 1) % 3, k2 = (low + 2) % 3;
     const double shift = s_.eps - lp.bary[low] * face_.height[low], bound = 0.005 * s_.cyl.r;
@@ -169,9 +169,9 @@ void FacePlanner::consider(const glm::dvec3& x, bool corner_point) {
       if (lp.bary[k] < 1e-7) return;
     if (std::abs(s_.cyl.sd(lp.p)) > bound) return;
   }
-  // An end-plane corner gives way only to a rim point a hair away: without it the chord from
-  // the end-plane part to the side part of a D-shaped rim cuts the corner off, as deep as
-  // the gap (a triangle of kept surface with its centroid inside the cylinder).
+  // An end-plane corner gives way only to a rim point a hair away (two tolerances), not a rim
+  // spacing: it is where a D-shaped rim's straight part meets its arc, and the chord that would
+  // replace it leaves kept surface inside the cylinder, as deep as the gap.
   const double gap = corner_point ? 2.0 * s_.eps : s_.sep;
   for (const auto& b : w_.pts)
     if (b.on_rim && glm::length(b.p - lp.p) < gap) return;
@@ -183,11 +183,11 @@ void FacePlanner::consider(const glm::dvec3& x, bool corner_point) {
   w_.rim.push_back(lp);
 }
 
-// The corner where the rim's straight part (on an end plane) meets its arc. One lying just
-// outside the triangle (within a rim spacing: an edge grazes the hole there, too shallowly to
-// be cut, or cuts off the corner alone) still bends the rim inside: the rim then gets the
-// first points of both parts 2 tolerances inside, or the chord between the two parts'
-// crossings cuts the corner off (kept surface up to a few % of r inside the cylinder).
+// The corner where the rim's straight part (on an end plane) meets its arc. A corner inside the
+// triangle is a rim sample. One just outside it (within a rim spacing: an edge grazes the hole
+// there, too shallowly to be cut, or cuts the corner off alone) still bends the rim inside the
+// triangle: the first points of both parts two tolerances inside stand for it, so the chord
+// between the two parts' crossings does not leave kept surface inside the cylinder.
 void FacePlanner::end_corner(double a_cap, double hh, double sign) {
   const PlaneCut& pc = face_.pc;
   const glm::dvec2 qc(a_cap, pc.b0 + sign * hh);
@@ -256,9 +256,9 @@ void FacePlanner::sample_rim() {
   }
   const bool arc_sampled = w_.rim.size() > before_rulings;
   // A layer that only clips the cylinder's rim edge (one end plane, no ruling point kept between
-  // the end planes here) cuts a thin lens: without a point on its arc (the ellipse's apex, taken before
-  // the straight part's points, which give way to it) the chord between the corners would run
-  // along the straight part, a hole of zero area (a slit no wall can close).
+  // the end planes here) cuts a thin lens. Its arc gets one point, the ellipse's apex (taken
+  // before the straight part's points, which give way to it), so the lens has an area: with the
+  // corners alone its arc would be the chord along the straight part, a slit no wall can close.
   if (!pc.parallel && !arc_sampled && (chords[0].second > 0.0) != (chords[1].second > 0.0)) {
     const double a_cap = chords[0].second > 0.0 ? chords[0].first : chords[1].first;
     consider(pc.point(a_cap < pc.ac ? pc.a0 + pc.ra : pc.a0 - pc.ra, pc.b0), false);

@@ -86,17 +86,30 @@ struct PlanChunk {
   std::vector<geometry::LocalTri> tris;
   std::vector<PolygonPlan> polys;
 
-  /// `count` empty chunks: this thread's, reused from drill to drill (their lists keep their
-  /// memory).
+  /// `count` empty chunks: this thread's, reused from drill to drill, so a drill like the last
+  /// one plans without allocating. The chunks beyond `count` go, and a list whose memory grew far
+  /// beyond what the last drill put in it (a big drill followed by small ones) gives it back.
   static std::vector<PlanChunk>& reused(std::size_t count) {
     thread_local std::vector<PlanChunk> chunks;
-    if (chunks.size() < count) chunks.resize(count);
-    for (std::size_t i = 0; i < count; ++i) {
-      chunks[i].pts.clear();
-      chunks[i].tris.clear();
-      chunks[i].polys.clear();
+    chunks.resize(count);
+    for (PlanChunk& c : chunks) {
+      restart(c.pts);
+      restart(c.tris);
+      restart(c.polys);
     }
     return chunks;
+  }
+
+ private:
+  /// Empties `list`, releasing its memory when it holds more than kKeptBytes and four times
+  /// what it holds now (the last drill's use).
+  template <class T>
+  static void restart(std::vector<T>& list) {
+    constexpr std::size_t kKeptBytes = std::size_t(1) << 18;
+    if (list.capacity() * sizeof(T) > kKeptBytes && list.capacity() > 4 * list.size())
+      std::vector<T>().swap(list);
+    else
+      list.clear();
   }
 };
 
@@ -108,7 +121,8 @@ struct FacePlan {
 };
 
 // Working lists of the planning, reused from face to face and from call to call (one set per
-// thread).
+// thread). They hold one face's plan at a time, so their size follows the largest face planned,
+// not the drill's size.
 struct PlanScratch {
   std::vector<LocalPoint> pts, rim, all, poly;
   std::vector<std::uint8_t> seg_inside, used;

@@ -172,7 +172,8 @@ const EdgeCut& RimInserter::edge(VertexId a, VertexId b) {
   return e;
 }
 
-// Skinning is not linear in the blended weights, so a new vertex interpolated in bind space
+// The vertex of a kept part's point: made inside triangle `tri` at its barycentric coordinates
+// (and placed at its posed position, PosedOverlay::place) the first time it is asked for.
 VertexId RimInserter::vertex_of(const Triangle& tri, LocalPoint& lp) {
   if (lp.v.valid()) return lp.v;
   lp.v = editor_.add_vertex_in_triangle(tri, glm::vec3(lp.bary));
