@@ -66,6 +66,88 @@ std::vector<FaceId> faces_around(const SurfaceMesh& mesh, const EditLog& log, co
   return out;
 }
 
+namespace {
+
+// Fans around one vertex wider than this are found by sorting their faces' other corners; up to
+// it, by comparing every pair of faces (fewer steps for the usual handful).
+constexpr std::size_t kPairwiseFans = 16;
+
+// The fans of the faces `fs` around `v` (faces joined through an edge (v, u), i.e. sharing a
+// second vertex u) as a union-find forest in `parent`. The higher root always links under the
+// lower, so each fan's root is its lowest index whatever order the unions come in. True when
+// there are two fans or more.
+bool find_fans(const SurfaceMesh& mesh, VertexId v, const FaceId* fs, std::size_t size,
+               std::vector<std::uint32_t>& parent, std::vector<std::pair<std::uint32_t, std::uint32_t>>& by_other) {
+  parent.resize(size);
+  std::iota(parent.begin(), parent.end(), 0u);
+  auto root = [&](std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  auto unite = [&](std::uint32_t i, std::uint32_t j) {
+    const auto a = root(i), b = root(j);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  };
+  by_other.clear();
+  for (std::uint32_t i = 0; i < size; ++i)
+    for (const VertexId u : mesh.face(fs[i]))
+      if (u != v) by_other.emplace_back(u.index, i);
+  if (size <= kPairwiseFans && by_other.size() == 2 * size) {  // each face: two other corners
+    for (std::uint32_t i = 1; i < size; ++i) {
+      const std::uint32_t a0 = by_other[2 * i].first, a1 = by_other[2 * i + 1].first;
+      for (std::uint32_t j = 0; j < i; ++j) {
+        const std::uint32_t b0 = by_other[2 * j].first, b1 = by_other[2 * j + 1].first;
+        if (a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1) unite(i, j);
+      }
+    }
+  } else {
+    std::sort(by_other.begin(), by_other.end());
+    for (std::size_t i = 1; i < by_other.size(); ++i)
+      if (by_other[i].first == by_other[i - 1].first) unite(by_other[i].second, by_other[i - 1].second);
+  }
+  bool several = false;
+  for (std::uint32_t i = 0; i < size; ++i) several |= root(i) != 0;
+  return several;
+}
+
+// The live faces of `incident` (a face may be listed twice) grouped by the candidates among their
+// corners (`slot` of a corner: its candidate, `count` for none), each group in id order: candidate
+// s's faces are [first[s], first[s + 1]) of the list returned.
+template <class Slot>
+std::vector<FaceId> faces_by_candidate(const SurfaceMesh& mesh, const std::vector<FaceId>& incident,
+                                       std::size_t count, const Slot& slot, std::vector<std::uint32_t>& first) {
+  std::vector<FaceId> faces = incident;
+  if (std::is_sorted(faces.begin(), faces.end()))
+    faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  else
+    sort_unique_ids(faces);
+  std::vector<std::uint32_t> corner_slot;  // per live face of `faces`, its corners' slots
+  corner_slot.reserve(3 * faces.size());
+  first.assign(count + 1, 0);
+  for (const FaceId f : faces) {
+    if (f.index >= mesh.face_slots() || mesh.is_deleted(f)) continue;
+    const Triangle& t = mesh.face(f);
+    for (int k = 0; k < 3; ++k) {
+      auto s = static_cast<std::uint32_t>(slot(t[k]));
+      if (s < count && ((k > 0 && t[0] == t[k]) || (k > 1 && t[1] == t[k]))) s = kInvalidIndex;  // once a face
+      corner_slot.push_back(s);
+      if (s < count) ++first[s + 1];
+    }
+  }
+  for (std::size_t s = 0; s < count; ++s) first[s + 1] += first[s];
+  std::vector<FaceId> around(first.back());
+  std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
+  std::size_t c = 0;
+  for (const FaceId f : faces) {
+    if (f.index >= mesh.face_slots() || mesh.is_deleted(f)) continue;
+    for (int k = 0; k < 3; ++k, ++c)
+      if (corner_slot[c] < count) around[fill[corner_slot[c]]++] = f;
+  }
+  return around;
+}
+
+}  // namespace
+
 PinchSplits split_pinched_vertices(MeshEditor& editor, const std::vector<VertexId>& candidates,
                                    const std::vector<FaceId>& incident) {
   PinchSplits out;
@@ -83,37 +165,9 @@ PinchSplits split_pinched_vertices(MeshEditor& editor, const std::vector<VertexI
     const std::uint32_t s = slots.get(v.index);
     return s == VertexSlots::kNone ? sorted.size() : static_cast<std::size_t>(s);
   };
-  // Live faces around each candidate, in id order (a face may be listed twice in `incident`).
-  std::vector<FaceId> faces = incident;
-  if (std::is_sorted(faces.begin(), faces.end()))
-    faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
-  else
-    sort_unique_ids(faces);
-  // One flat list: candidate s's faces are around[first[s], first[s + 1]).
-  std::vector<std::uint32_t> corner_slot;  // per live face of `faces`, its corners' slots
-  corner_slot.reserve(3 * faces.size());
-  std::vector<std::uint32_t> first(sorted.size() + 1, 0);
-  for (const FaceId f : faces) {
-    if (f.index >= mesh.face_slots() || mesh.is_deleted(f)) continue;
-    const Triangle& t = mesh.face(f);
-    for (int k = 0; k < 3; ++k) {
-      auto s = static_cast<std::uint32_t>(slot(t[k]));
-      if (s < sorted.size() && ((k > 0 && t[0] == t[k]) || (k > 1 && t[1] == t[k]))) s = kInvalidIndex;  // once a face
-      corner_slot.push_back(s);
-      if (s < sorted.size()) ++first[s + 1];
-    }
-  }
-  for (std::size_t s = 0; s < sorted.size(); ++s) first[s + 1] += first[s];
-  std::vector<FaceId> around(first.back());
-  {
-    std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
-    std::size_t c = 0;
-    for (const FaceId f : faces) {
-      if (f.index >= mesh.face_slots() || mesh.is_deleted(f)) continue;
-      for (int k = 0; k < 3; ++k, ++c)
-        if (corner_slot[c] < sorted.size()) around[fill[corner_slot[c]]++] = f;
-    }
-  }
+  // Live faces around each candidate, in id order: candidate s's are around[first[s], first[s + 1]).
+  std::vector<std::uint32_t> first;
+  std::vector<FaceId> around = faces_by_candidate(mesh, incident, sorted.size(), slot, first);
   const glm::vec3 e[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   std::vector<std::uint32_t> parent, fan_copy;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> by_other;  // (other vertex, face slot in fs)
@@ -121,25 +175,12 @@ PinchSplits split_pinched_vertices(MeshEditor& editor, const std::vector<VertexI
     const VertexId v = sorted[s];
     const FaceId* fs_begin = around.data() + first[s];
     const std::size_t fs_size = first[s + 1] - first[s];
-    if (fs_size < 2) continue;
+    if (fs_size < 2 || !find_fans(mesh, v, fs_begin, fs_size, parent, by_other)) continue;
     auto fs = [&](std::size_t i) { return fs_begin[i]; };
-    // Fans: faces joined through an edge (v, u), i.e. sharing a second vertex u.
-    parent.resize(fs_size);
-    std::iota(parent.begin(), parent.end(), 0u);
     auto root = [&](std::uint32_t x) {
-      while (parent[x] != x) x = parent[x] = parent[parent[x]];
+      while (parent[x] != x) x = parent[x];
       return x;
     };
-    by_other.clear();
-    for (std::uint32_t i = 0; i < fs_size; ++i)
-      for (const VertexId u : mesh.face(fs(i)))
-        if (u != v) by_other.emplace_back(u.index, i);
-    std::sort(by_other.begin(), by_other.end());
-    for (std::size_t i = 1; i < by_other.size(); ++i)
-      if (by_other[i].first == by_other[i - 1].first) {
-        const auto a = root(by_other[i].second), b = root(by_other[i - 1].second);
-        if (a != b) parent[std::max(a, b)] = std::min(a, b);
-      }
     // fs is in id order, so fan roots are each fan's lowest face; fan 0 keeps v.
     const std::size_t before = out.replaced.size();
     fan_copy.assign(fs_size, kInvalidIndex);
@@ -171,7 +212,6 @@ PinchSplits split_pinched_vertices(MeshEditor& editor, const std::vector<VertexI
         }
       }
     }
-    if (out.replaced.size() == before) continue;
     for (std::uint32_t i = 0; i < fs_size; ++i)
       if (root(i) == 0) out.around.push_back(fs(i));
     for (std::size_t r = before; r < out.replaced.size(); ++r) out.around.push_back(out.replaced[r].second);

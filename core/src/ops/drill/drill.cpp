@@ -79,17 +79,15 @@ void check_arguments(const Cylinder& c, const DrillOptions& options) { check_dri
 
 // The vertices the edits used or freed (detail::edited_vertices), less the old ones deep inside
 // the cylinder: every face around those was removed or lost that corner, so they have no fans.
-std::vector<VertexId> pinch_candidates(const EditLog& log, const drill::CylinderFrame& cyl,
+std::vector<VertexId> pinch_candidates(const SurfaceMesh& mesh, const EditLog& log, const drill::CylinderFrame& cyl,
                                        const drill::PosedOverlay& posed) {
   std::vector<VertexId> out;
-  detail::VertexSlots& seen = detail::VertexSlots::scratch();  // each vertex judged once
-  seen.reset(posed.first_new());
+  detail::VertexSlots& seen = detail::VertexSlots::scratch();  // each vertex listed or judged once
+  seen.reset(mesh.vertex_count());
   auto add = [&](VertexId v) {
-    if (v.index < posed.first_new()) {
-      if (seen.has(v.index)) return;
-      seen.set(v.index, 0);
-      if (drill::deep_vertex(cyl, posed, v)) return;
-    }
+    if (v.index >= mesh.vertex_count() || seen.has(v.index)) return;
+    seen.set(v.index, 0);
+    if (v.index < posed.first_new() && drill::deep_vertex(cyl, posed, v)) return;
     out.push_back(v);
   };
   for (const Edit& e : log.edits) {
@@ -110,13 +108,30 @@ std::vector<VertexId> pinch_candidates(const EditLog& log, const drill::Cylinder
 // each); the copies' posed positions go to `posed`.
 detail::PinchSplits split_pinches(MeshEditor& editor, const drill::CylinderFrame& cyl, drill::PosedOverlay& posed,
                                   const std::vector<FaceId>& candidates, const TriangleGrid& index) {
-  const auto touched = pinch_candidates(editor.log(), cyl, posed);
-  // Faces are found where their old vertices were filed in the grid; the faces around a snapped
-  // vertex (filed where it was, and the input's posed positions may be the mesh's own positions)
-  // are all candidates.
+  const auto touched = pinch_candidates(editor.mesh(), editor.log(), cyl, posed);
+  // Faces are found where their old vertices were filed in the grid; the live faces around a
+  // snapped vertex (filed where it was, and the input's posed positions may be the mesh's own
+  // positions) are candidates, merged in (the list stays in id order).
   auto around =
       detail::faces_around(editor.mesh(), editor.log(), touched, posed.first_new(), &index, posed.input());
-  if (!posed.moved().empty()) around.insert(around.end(), candidates.begin(), candidates.end());
+  if (!posed.moved().empty()) {
+    const auto& moved = posed.moved();
+    auto is_moved = [&moved](VertexId v) {
+      const auto it = std::lower_bound(moved.begin(), moved.end(), v.index,
+                                       [](const auto& m, std::uint32_t i) { return m.first < i; });
+      return it != moved.end() && it->first == v.index;
+    };
+    std::vector<FaceId> snapped;
+    for (const FaceId f : candidates)
+      if (!editor.mesh().is_deleted(f)) {
+        const Triangle& t = editor.mesh().face(f);
+        if (is_moved(t[0]) || is_moved(t[1]) || is_moved(t[2])) snapped.push_back(f);
+      }
+    std::sort(snapped.begin(), snapped.end());
+    const auto middle = static_cast<std::ptrdiff_t>(around.size());
+    around.insert(around.end(), snapped.begin(), snapped.end());
+    std::inplace_merge(around.begin(), around.begin() + middle, around.end());
+  }
   auto pinches = detail::split_pinched_vertices(editor, touched, around);
   for (const auto& [v, c] : pinches.copies) {
     (void)c;
