@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The drill plans its crossed faces in parallel chunks (core/src/ops/drill/rim_faces.h) and
-// makes the edits in candidate order: the result is the same whatever the thread count.
+// makes the edits in candidate order: the result is the same whatever the thread count, and
+// whatever was drilled before on the same threads (their planning lists are reused, and given
+// back after a big drill).
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -8,6 +10,7 @@
 #include "deepcut/core/generate/cactus.h"
 #include "deepcut/core/ops/drill.h"
 #include "deepcut/core/posed_model.h"
+#include "fixtures.h"
 #include "thread_count.h"
 
 namespace deepcut {
@@ -20,13 +23,26 @@ struct Drilled {
   DrillResult result;
 };
 
-Drilled drill_with(std::size_t threads, const SurfaceMesh& input, const Cylinder& cyl, bool wall) {
+Drilled drill_with(std::size_t threads, const SurfaceMesh& input, const Cylinder& cyl, bool wall,
+                   int rim_edges = 32) {
   ThreadCount guard(threads);
   Drilled d{input, {}};
   DrillOptions options;
   options.wall = wall;
+  options.min_rim_edges = rim_edges;
   d.result = drill_mesh(d.mesh, PosedMesh::at_positions(input), cyl, options);
   return d;
+}
+
+void expect_same(const Drilled& a, const Drilled& b) {
+  EXPECT_EQ(a.mesh.faces(), b.mesh.faces());
+  EXPECT_EQ(a.mesh.positions(), b.mesh.positions());
+  EXPECT_EQ(a.result.log.size(), b.result.log.size());
+  EXPECT_EQ(a.result.added_posed, b.result.added_posed);
+  ASSERT_EQ(a.result.holes.size(), b.result.holes.size());
+  for (std::size_t h = 0; h < b.result.holes.size(); ++h) EXPECT_EQ(a.result.holes[h].rim, b.result.holes[h].rim);
+  EXPECT_EQ(a.result.triangles_added, b.result.triangles_added);
+  EXPECT_EQ(a.result.wall_triangles, b.result.wall_triangles);
 }
 
 TEST(DrillThreadsTest, the_result_does_not_depend_on_the_thread_count) {
@@ -46,17 +62,26 @@ TEST(DrillThreadsTest, the_result_does_not_depend_on_the_thread_count) {
       for (const std::size_t threads : {2u, 3u, 8u}) {
         const Drilled many = drill_with(threads, input, cyl, wall);
         SCOPED_TRACE(testing::Message() << threads << " threads, radius " << radius << ", wall " << wall);
-        EXPECT_EQ(many.mesh.faces(), one.mesh.faces());
-        EXPECT_EQ(many.mesh.positions(), one.mesh.positions());
-        EXPECT_EQ(many.result.log.size(), one.result.log.size());
-        EXPECT_EQ(many.result.added_posed, one.result.added_posed);
-        ASSERT_EQ(many.result.holes.size(), one.result.holes.size());
-        for (std::size_t h = 0; h < one.result.holes.size(); ++h)
-          EXPECT_EQ(many.result.holes[h].rim, one.result.holes[h].rim);
-        EXPECT_EQ(many.result.triangles_added, one.result.triangles_added);
-        EXPECT_EQ(many.result.wall_triangles, one.result.wall_triangles);
+        expect_same(many, one);
       }
     }
+}
+
+// A small drill, then a big one (a fine rim across hundreds of faces: the planning lists grow),
+// then the small one twice (the first finds the big lists, the second has them given back): the
+// small drill's result is the same each time.
+TEST(DrillThreadsTest, the_result_does_not_depend_on_earlier_drills) {
+  const SurfaceMesh input = test::make_grid(240, 240);
+  const Cylinder small{{0.3f, 0.3f, -1.0f}, {0.3f, 0.3f, 1.0f}, 0.02f};
+  const Cylinder big{{0.5f, 0.5f, -1.0f}, {0.5f, 0.5f, 1.0f}, 0.45f};
+  for (const std::size_t threads : {1u, 3u}) {
+    SCOPED_TRACE(testing::Message() << threads << " threads");
+    const Drilled first = drill_with(threads, input, small, false);
+    ASSERT_EQ(first.result.status, OpStatus::Ok);
+    const Drilled after_big = drill_with(threads, input, big, false, 1024);
+    ASSERT_GT(after_big.result.intersection_points, 500u);
+    for (int again = 0; again < 2; ++again) expect_same(drill_with(threads, input, small, false), first);
+  }
 }
 
 }  // namespace

@@ -105,7 +105,7 @@ struct PlanChunk {
   /// what it holds now (the last drill's use).
   template <class T>
   static void restart(std::vector<T>& list) {
-    constexpr std::size_t kKeptBytes = std::size_t(1) << 18;
+    constexpr std::size_t kKeptBytes = std::size_t(1) << 16;
     if (list.capacity() * sizeof(T) > kKeptBytes && list.capacity() > 4 * list.size())
       std::vector<T>().swap(list);
     else
