@@ -358,6 +358,11 @@ def _(name):
     return {name: bytes(rng.randrange(256) for _ in range(4096))}
 
 
+@case("not_a_model.txt", "a text file, no model: neither a known extension nor glTF inside")
+def _(name):
+    return {name: b"# Shopping list\n\n- bread\n- milk\n"}
+
+
 @case("json_wrong_types.gltf", "'accessors' is an object and a count is a string")
 def _(name):
     def edit(d):

@@ -110,4 +110,9 @@ int animation_option(const Args& args, std::size_t count);
 /// pose) when no `--time` is given. @throws UsageError for an index past the model's animations.
 int pose_animation(const Args& args, const Model& model);
 
+/// Adds to `model.import_problems` what the pose options cannot do on this model: `--time` on a
+/// model without animation poses nothing (the rest pose is used), which the user should read on
+/// stderr and in `--json` problems rather than guess from the result.
+void note_pose_problems(const Args& args, Model& model);
+
 }  // namespace deepcut::cli

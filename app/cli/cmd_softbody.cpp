@@ -285,7 +285,8 @@ int run_softbody(const std::vector<std::string>& argv) {
   sim.damping = static_cast<float>(args.number("--damping", sim.damping));
   sim.mass = static_cast<float>(args.number("--mass", sim.mass));
 
-  const Model model = plugins::read_model(path);
+  Model model = plugins::read_model(path);
+  note_pose_problems(args, model);
   print_problems(std::cerr, path, model.import_problems);
   int animation = animation_option(args, model.animations.size());
   const bool animate = args.flag("--animate");

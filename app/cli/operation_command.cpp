@@ -54,6 +54,7 @@ int run_operation(const OperationCommand& command, const std::vector<std::string
   check_operation(op, flag_of);  // before the model is read
 
   Model model = plugins::read_model(args.positionals()[0]);
+  note_pose_problems(args, model);
   print_problems(std::cerr, args.positionals()[0], model.import_problems);
   op.animation = pose_animation(args, model);
   op.time = static_cast<float>(args.number("--time", 0.0));

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include <algorithm>
 #include <cctype>
+#include <fstream>
 #include <iterator>
 
 #include "deepcut/core/errors.h"
@@ -8,6 +9,22 @@
 #include "deepcut/plugins/formats.h"
 
 namespace deepcut::plugins {
+namespace {
+
+/// True when the file at `path` opens and its first bytes are neither the .glb magic nor the
+/// start of a JSON object (after white space or a UTF-8 byte order mark): no glTF at all.
+bool surely_not_gltf(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char head[64] = {};
+  if (!in.read(head, sizeof head) && in.gcount() == 0) return false;  // missing or empty: the reader says so
+  const std::string text(head, static_cast<std::size_t>(in.gcount()));
+  if (text.compare(0, 4, "glTF") == 0) return false;
+  std::size_t i = text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;
+  while (i < text.size() && std::isspace(static_cast<unsigned char>(text[i]))) ++i;
+  return i < text.size() && text[i] != '{';
+}
+
+}  // namespace
 
 Model read_model(const std::string& path) {
   const FormatRegistry& formats = builtin_formats();
@@ -24,6 +41,9 @@ Model read_model(const std::string& path) {
       throw Error(ErrorCode::InvalidInput, path + ": this build of DeepCut cannot read ." + ext + " files (it reads " +
                                                extensions(formats) + ")");
   }
+  if (surely_not_gltf(path))
+    throw Error(ErrorCode::InvalidInput, path + ": not a model file (this build reads " + extensions(formats) +
+                                             "; glTF also by its content, and this file holds no glTF)");
   return read_gltf(path);
 }
 

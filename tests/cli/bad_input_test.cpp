@@ -66,6 +66,7 @@ const Expectation kCatalogue[] = {
     {"json_deep_nesting.gltf", kRefused, "more than 512 levels deep"},
     {"json_random_bytes.gltf", kRefused, "invalid JSON"},
     {"json_wrong_types.gltf", kRefused, "'accessors' is not an array"},
+    {"not_a_model.txt", kRefused, "not a model file (this build reads"},
     // accessors, buffer views, buffers
     {"accessor_missing.gltf", kRefused, "accessor out of bounds"},
     {"accessor_past_buffer_view.gltf", kRefused,
@@ -300,7 +301,7 @@ TEST(BadInputCatalogue, every_file_has_an_expectation_and_every_expectation_a_fi
     if (!entry.is_regular_file()) continue;
     const std::string rel = fs::relative(entry.path(), kBadDir).generic_string();
     const std::string ext = entry.path().extension().string();
-    for (const char* model : {".gltf", ".glb", ".obj", ".ply", ".stl", ".off"})
+    for (const char* model : {".gltf", ".glb", ".obj", ".ply", ".stl", ".off", ".txt"})
       if (ext == model) found.insert(rel);
   }
   for (const auto& f : found) EXPECT_TRUE(listed.count(f)) << f << " has no row in kCatalogue";

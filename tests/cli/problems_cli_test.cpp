@@ -99,6 +99,31 @@ TEST_F(ProblemsCliTest, a_clean_file_prints_no_problem_lines) {
   }
 }
 
+TEST_F(ProblemsCliTest, time_on_a_model_without_animation_names_the_rest_pose) {
+  // spot is a static mesh: --time can pose nothing, and the user hears so once on stderr and in
+  // --json problems; the same command without --time reports nothing.
+  const std::string spot = std::string(DEEPCUT_ASSETS_DIR) + "/models/spot/spot.obj";
+  const std::vector<Command> commands = {
+      {"cut", "-o " + test::quote(dir_ + "/cut.glb") + " --plane 0,0.1,0,0,1,0"},
+      {"drill", "-o " + test::quote(dir_ + "/drill.glb") + " --axis -1,0.1,0.2,1,0.1,0.2 --radius 0.05"},
+      {"softbody", "--poke 0,0.3,0.3 --radius 0.5 --frames 2"}};
+  for (const auto& c : commands) {
+    for (const bool timed : {false, true}) {
+      const auto r = test::run_cli(c.name + " " + test::quote(spot) + " " + c.args + (timed ? " --time 1.5" : "") + " --json");
+      ASSERT_EQ(r.exit_code, 0) << c.name << ": " << r.err;
+      const json problems = json::parse(r.out).at("problems");
+      if (!timed) {
+        EXPECT_TRUE(problems.empty()) << c.name << ": " << problems.dump();
+        continue;
+      }
+      ASSERT_EQ(problems.size(), 1u) << c.name << ": " << problems.dump();
+      EXPECT_EQ(problems[0].at("kind"), "time-without-animation");
+      EXPECT_EQ(occurrences(r.err, "deepcut: " + spot + ": --time 1.5: the model has no animation, so the rest pose is used [time-without-animation]\n"), 1u)
+          << c.name << ": " << r.err;
+    }
+  }
+}
+
 TEST_F(ProblemsCliTest, one_line_per_kind_sums_the_places) {
   // The repair in two meshes (both drawing the same weights): one line, the counts added, both
   // places named.

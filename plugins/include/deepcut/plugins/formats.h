@@ -45,7 +45,9 @@ const FormatRegistry& builtin_formats();
 /// read as glTF, which recognises .glb and .gltf by their content (and refuses anything else).
 /// @throws Error as the reader does; Error{InvalidInput} naming the file and the extensions this
 ///         build reads when the extension is a well-known mesh format no built-in reader takes
-///         (.obj in a build without the static formats plugin), rather than a glTF parse error.
+///         (.obj in a build without the static formats plugin), or when a file of another
+///         extension starts with neither the .glb magic nor a JSON object ("not a model
+///         file"), rather than a glTF parse error.
 Model read_model(const std::string& path);
 
 }  // namespace deepcut::plugins
