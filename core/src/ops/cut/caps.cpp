@@ -24,9 +24,11 @@ struct RimLoops {
 };
 
 // Sorts keys (vertex << 32 | halfedge) as numbers when the halfedges are listed in increasing
-// order: stably by vertex, least significant byte first over the bytes in which the vertices
-// differ from the smallest one.
-void sort_by_vertex(std::vector<std::uint64_t>& keys, std::vector<std::uint64_t>& scratch) {
+// order: stably by vertex. When the vertices span few ids (a cut's rim vertices are its newest
+// ones) one counting pass over that span does it; otherwise least significant byte first over
+// the bytes in which the vertices differ from the smallest one.
+void sort_by_vertex(std::vector<std::uint64_t>& keys, std::vector<std::uint64_t>& scratch,
+                    std::vector<std::uint32_t>& count) {
   if (keys.size() < 2) return;
   std::uint32_t lo = kInvalidIndex, hi = 0;
   for (const std::uint64_t k : keys) {
@@ -34,14 +36,19 @@ void sort_by_vertex(std::vector<std::uint64_t>& keys, std::vector<std::uint64_t>
     hi = std::max(hi, static_cast<std::uint32_t>(k >> 32));
   }
   scratch.resize(keys.size());
-  for (int shift = 0; shift < 32 && ((hi - lo) >> shift) != 0; shift += 8) {
-    auto digit = [&](std::uint64_t k) { return ((static_cast<std::uint32_t>(k >> 32) - lo) >> shift) & 0xffu; };
-    std::array<std::uint32_t, 257> count{};
-    for (const std::uint64_t k : keys) ++count[digit(k) + 1];
-    for (std::size_t b = 0; b < 256; ++b) count[b + 1] += count[b];
-    for (const std::uint64_t k : keys) scratch[count[digit(k)]++] = k;
+  auto pass = [&](std::uint32_t buckets, auto&& bucket) {
+    count.assign(std::size_t(buckets) + 1, 0);
+    for (const std::uint64_t k : keys) ++count[bucket(k) + 1];
+    for (std::size_t b = 0; b < buckets; ++b) count[b + 1] += count[b];
+    for (const std::uint64_t k : keys) scratch[count[bucket(k)]++] = k;
     keys.swap(scratch);
+  };
+  if (hi - lo < 4 * keys.size() + 256) {
+    pass(hi - lo + 1, [lo](std::uint64_t k) { return static_cast<std::uint32_t>(k >> 32) - lo; });
+    return;
   }
+  for (int shift = 0; shift < 32 && ((hi - lo) >> shift) != 0; shift += 8)
+    pass(256, [lo, shift](std::uint64_t k) { return ((static_cast<std::uint32_t>(k >> 32) - lo) >> shift) & 0xffu; });
 }
 
 // Follows the rim halfedges backwards (the cap runs along the piece's rim edges in the opposite
@@ -57,12 +64,13 @@ bool trace_loops(const std::vector<std::pair<VertexId, VertexId>>& halfedges, Ri
   // The steps sorted by the vertex they leave (ties in halfedge order): (vertex, halfedge) as
   // one key; and the vertices they reach, sorted the same way.
   std::vector<std::uint64_t> leaves(m), reaches(m), scratch;
+  std::vector<std::uint32_t> count;
   for (std::size_t k = 0; k < m; ++k) {
     leaves[k] = (std::uint64_t(halfedges[k].second.index) << 32) | k;
     reaches[k] = (std::uint64_t(halfedges[k].first.index) << 32) | k;
   }
-  sort_by_vertex(leaves, scratch);
-  sort_by_vertex(reaches, scratch);
+  sort_by_vertex(leaves, scratch, count);
+  sort_by_vertex(reaches, scratch, count);
   // Group r: the steps leaving vertex from[r], which are steps [start[r], start[r + 1]).
   std::vector<std::uint32_t> from, start;
   from.reserve(m);
@@ -236,6 +244,7 @@ std::vector<std::pair<VertexId, VertexId>> rim_halfedges(const SurfaceMesh& mesh
   const auto& sign = *in.sign;
   std::vector<std::pair<VertexId, VertexId>> halfedges;
   std::vector<std::uint64_t> keys, scratch;
+  std::vector<std::uint32_t> count;
   // Most rim faces have one edge on the plane: room for one each to start with.
   halfedges.reserve(in.rim_faces.size() + 8);
   keys.reserve(in.rim_faces.size() + 8);
@@ -250,7 +259,7 @@ std::vector<std::pair<VertexId, VertexId>> rim_halfedges(const SurfaceMesh& mesh
       halfedges.emplace_back(t[k], t[k1]);
     }
   }
-  sort_by_vertex(keys, scratch);
+  sort_by_vertex(keys, scratch, count);
   auto upper = [&](std::uint64_t key) {
     const auto& [a, b] = halfedges[key & 0xffffffffu];
     return std::max(a.index, b.index);
