@@ -24,8 +24,6 @@ class EarClipper {
       while (poly_.size() > 1 && poly_.front() == poly_.back()) poly_.pop_back();
     }
     const auto n = static_cast<std::uint32_t>(poly_.size());
-    ring_.resize(n);
-    for (std::uint32_t i = 0; i < n; ++i) ring_[i] = pts_[poly_[i]];
     prev_.resize(n);
     next_.resize(n);
     for (std::uint32_t i = 0; i < n; ++i) {
@@ -92,7 +90,7 @@ class EarClipper {
     Cell cell;
   };
 
-  const glm::dvec2& at(std::size_t i) const { return ring_[i]; }
+  const glm::dvec2& at(std::size_t i) const { return pts_[poly_[i]]; }
   double corner_at(std::size_t a, std::size_t b, std::size_t c) const { return orient(at(a), at(b), at(c)); }
   double corner(std::size_t i) const { return corner_at(prev_[i], i, next_[i]); }
   double longest(std::size_t i) const {
@@ -133,9 +131,9 @@ class EarClipper {
     const std::size_t n = poly_.size();
     if (n < 64) return;
     glm::dvec2 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
-    for (const glm::dvec2& p : ring_) {
-      lo = glm::min(lo, p);
-      hi = glm::max(hi, p);
+    for (std::uint32_t p : poly_) {
+      lo = glm::min(lo, pts_[p]);
+      hi = glm::max(hi, pts_[p]);
     }
     const auto side = static_cast<std::size_t>(std::sqrt(double(n)));
     grid_x_ = grid_y_ = side;
@@ -179,16 +177,16 @@ class EarClipper {
   bool reflex_blocker(std::size_t i) {
     const std::size_t pa = prev_[i], pc = next_[i];
     const std::uint32_t ia = poly_[pa], ib = poly_[i], ic = poly_[pc];
-    const glm::dvec2 &a = ring_[pa], &b = ring_[i], &c = ring_[pc];
+    const glm::dvec2 &a = pts_[ia], &b = pts_[ib], &c = pts_[ic];
     // orient(c, a, p) >= 0 && orient(a, b, p) >= 0 && orient(b, c, p) >= 0, the edges' terms taken
     // out of the loop (the same operations in the same order: the same values). The diagonal c-a
     // first: the other two sides are polygon edges, with most of the polygon on their inner side.
     // The ear's own neighbours (often reflex themselves) are its points a and c: skipped before
     // the arithmetic.
     const glm::dvec2 ab = b - a, bc = c - b, ca = a - c;
-    const auto ca_corner = static_cast<std::uint32_t>(pa), cc_corner = static_cast<std::uint32_t>(pc);
+    const auto prev_corner = static_cast<std::uint32_t>(pa), next_corner = static_cast<std::uint32_t>(pc);
     auto blocks = [&](const Filed& f) {
-      if (f.corner == ca_corner || f.corner == cc_corner) return false;
+      if (f.corner == prev_corner || f.corner == next_corner) return false;
       const glm::dvec2 p = f.p;
       return ca.x * (p.y - c.y) - ca.y * (p.x - c.x) >= 0.0 && ab.x * (p.y - a.y) - ab.y * (p.x - a.x) >= 0.0 &&
              bc.x * (p.y - b.y) - bc.y * (p.x - b.x) >= 0.0 &&
@@ -321,7 +319,6 @@ class EarClipper {
 
   const std::vector<glm::dvec2>& pts_;
   std::vector<std::uint32_t> poly_;
-  std::vector<glm::dvec2> ring_;  // pts_[poly_[i]]: each corner's point
   EarSearch search_;
   std::vector<std::uint32_t> prev_, next_;
   std::vector<char> alive_, reflex_;
