@@ -181,8 +181,12 @@ class EarClipper {
     // orient(c, a, p) >= 0 && orient(a, b, p) >= 0 && orient(b, c, p) >= 0, the edges' terms taken
     // out of the loop (the same operations in the same order: the same values). The diagonal c-a
     // first: the other two sides are polygon edges, with most of the polygon on their inner side.
+    // The ear's own neighbours (often reflex themselves) are its points a and c: skipped before
+    // the arithmetic.
     const glm::dvec2 ab = b - a, bc = c - b, ca = a - c;
+    const auto prev_corner = static_cast<std::uint32_t>(pa), next_corner = static_cast<std::uint32_t>(pc);
     auto blocks = [&](const Filed& f) {
+      if (f.corner == prev_corner || f.corner == next_corner) return false;
       const glm::dvec2 p = f.p;
       return ca.x * (p.y - c.y) - ca.y * (p.x - c.x) >= 0.0 && ab.x * (p.y - a.y) - ab.y * (p.x - a.x) >= 0.0 &&
              bc.x * (p.y - b.y) - bc.y * (p.x - b.x) >= 0.0 &&

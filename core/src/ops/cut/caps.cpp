@@ -24,9 +24,11 @@ struct RimLoops {
 };
 
 // Sorts keys (vertex << 32 | halfedge) as numbers when the halfedges are listed in increasing
-// order: stably by vertex, least significant byte first over the bytes in which the vertices
-// differ from the smallest one.
-void sort_by_vertex(std::vector<std::uint64_t>& keys, std::vector<std::uint64_t>& scratch) {
+// order: stably by vertex. When the vertices span few ids (a cut's rim vertices are its newest
+// ones) one counting pass over that span does it; otherwise least significant byte first over
+// the bytes in which the vertices differ from the smallest one.
+void sort_by_vertex(std::vector<std::uint64_t>& keys, std::vector<std::uint64_t>& scratch,
+                    std::vector<std::uint32_t>& count) {
   if (keys.size() < 2) return;
   std::uint32_t lo = kInvalidIndex, hi = 0;
   for (const std::uint64_t k : keys) {
@@ -34,14 +36,19 @@ void sort_by_vertex(std::vector<std::uint64_t>& keys, std::vector<std::uint64_t>
     hi = std::max(hi, static_cast<std::uint32_t>(k >> 32));
   }
   scratch.resize(keys.size());
-  for (int shift = 0; shift < 32 && ((hi - lo) >> shift) != 0; shift += 8) {
-    auto digit = [&](std::uint64_t k) { return ((static_cast<std::uint32_t>(k >> 32) - lo) >> shift) & 0xffu; };
-    std::array<std::uint32_t, 257> count{};
-    for (const std::uint64_t k : keys) ++count[digit(k) + 1];
-    for (std::size_t b = 0; b < 256; ++b) count[b + 1] += count[b];
-    for (const std::uint64_t k : keys) scratch[count[digit(k)]++] = k;
+  auto pass = [&](std::uint32_t buckets, auto&& bucket) {
+    count.assign(std::size_t(buckets) + 1, 0);
+    for (const std::uint64_t k : keys) ++count[bucket(k) + 1];
+    for (std::size_t b = 0; b < buckets; ++b) count[b + 1] += count[b];
+    for (const std::uint64_t k : keys) scratch[count[bucket(k)]++] = k;
     keys.swap(scratch);
+  };
+  if (hi - lo < 4 * keys.size() + 256) {
+    pass(hi - lo + 1, [lo](std::uint64_t k) { return static_cast<std::uint32_t>(k >> 32) - lo; });
+    return;
   }
+  for (int shift = 0; shift < 32 && ((hi - lo) >> shift) != 0; shift += 8)
+    pass(256, [lo, shift](std::uint64_t k) { return ((static_cast<std::uint32_t>(k >> 32) - lo) >> shift) & 0xffu; });
 }
 
 // Follows the rim halfedges backwards (the cap runs along the piece's rim edges in the opposite
@@ -57,12 +64,13 @@ bool trace_loops(const std::vector<std::pair<VertexId, VertexId>>& halfedges, Ri
   // The steps sorted by the vertex they leave (ties in halfedge order): (vertex, halfedge) as
   // one key; and the vertices they reach, sorted the same way.
   std::vector<std::uint64_t> leaves(m), reaches(m), scratch;
+  std::vector<std::uint32_t> count;
   for (std::size_t k = 0; k < m; ++k) {
     leaves[k] = (std::uint64_t(halfedges[k].second.index) << 32) | k;
     reaches[k] = (std::uint64_t(halfedges[k].first.index) << 32) | k;
   }
-  sort_by_vertex(leaves, scratch);
-  sort_by_vertex(reaches, scratch);
+  sort_by_vertex(leaves, scratch, count);
+  sort_by_vertex(reaches, scratch, count);
   // Group r: the steps leaving vertex from[r], which are steps [start[r], start[r + 1]).
   std::vector<std::uint32_t> from, start;
   from.reserve(m);
@@ -160,6 +168,47 @@ std::vector<Triangle> choose_loops(MeshEditor& editor, const CapInput& in, std::
   return kept_flat;
 }
 
+// The attributes of the cap faces [first, first + made.size()), face k made from tris[made[k]]
+// (its corners' points in the plane's frame `pts`, first axis `u`): the cut-surface flag, a
+// planar UV over the cap's extent, the face normal (the plane's, oriented as the cap, for a
+// degenerate face), the tangent u, white, and zero morph deltas.
+void set_cap_attributes(SurfaceMesh& mesh, AttributeArray<std::uint8_t>& cap_flag, const CapInput& in,
+                        const std::vector<glm::dvec2>& pts, const std::vector<geometry::LocalTri>& tris,
+                        const std::vector<std::uint32_t>& made, std::uint32_t first, int outer_sign,
+                        const glm::dvec3& u) {
+  const std::size_t count = made.size();
+  std::fill_n(cap_flag.data().begin() + first, count, std::uint8_t(1));
+  auto& ca = mesh.corner_attrs();
+  const std::size_t c0 = 3 * std::size_t(first), corners = 3 * count;
+  if (auto* uv = ca.find<glm::vec2>(attr::kUv0)) {
+    double extent = 0.0;
+    for (const auto& p : pts) extent = std::max({extent, std::abs(p.x), std::abs(p.y)});
+    if (extent <= 0.0) extent = 1.0;
+    glm::vec2* out = uv->data().data() + c0;
+    for (std::size_t k = 0; k < count; ++k)
+      for (int j = 0; j < 3; ++j) {
+        const glm::dvec2 p = pts[tris[made[k]][j]];
+        out[3 * k + j] = glm::vec2(0.5 + 0.5 * p.x / extent, 0.5 + 0.5 * p.y / extent);
+      }
+  }
+  if (auto* normals = ca.find<glm::vec3>(attr::kNormal)) {
+    const auto& bind = mesh.positions();
+    glm::vec3* out = normals->data().data() + c0;
+    for (std::size_t k = 0; k < count; ++k) {
+      const Triangle& t = mesh.face(FaceId(first + static_cast<std::uint32_t>(k)));
+      glm::vec3 fn = glm::cross(bind[t[1].index] - bind[t[0].index], bind[t[2].index] - bind[t[0].index]);
+      const float len = glm::length(fn);
+      fn = len > 0.0f ? fn / len : glm::vec3(float(outer_sign) * glm::vec3(in.normal));
+      out[3 * k] = out[3 * k + 1] = out[3 * k + 2] = fn;
+    }
+  }
+  if (auto* tangents = ca.find<glm::vec4>(attr::kTangent))
+    std::fill_n(tangents->data().begin() + c0, corners, glm::vec4(glm::vec3(u), 1.0f));
+  if (auto* colors = ca.find<glm::vec4>(attr::kColor0))
+    std::fill_n(colors->data().begin() + c0, corners, glm::vec4(1.0f));
+  for (auto* d : corner_morph_deltas(mesh)) std::fill_n(d->data().begin() + c0, corners, glm::vec3(0.0f));
+}
+
 // Triangulates the loops in the plane's 2D frame and adds the cap faces with their attributes.
 void add_cap_faces(MeshEditor& editor, const CapInput& in, const RimLoops& rim,
                    const std::vector<Triangle>& kept_flat, std::vector<FaceId>& piece) {
@@ -191,39 +240,22 @@ void add_cap_faces(MeshEditor& editor, const CapInput& in, const RimLoops& rim,
   const int outer_sign = largest_area >= 0 ? 1 : -1;
   const auto tris = geometry::triangulate_loops(pts, loops, outer_sign);
 
+  // The faces (consecutive slots), then each attribute in one pass over them.
   SurfaceMesh& mesh = editor.mesh();
-  auto& ca = mesh.corner_attrs();
   auto* cap_flag = mesh.face_attrs().find<std::uint8_t>(attr::kCutSurface);
   if (!cap_flag) cap_flag = &mesh.face_attrs().add<std::uint8_t>(attr::kCutSurface);
-  auto* uv = ca.find<glm::vec2>(attr::kUv0);
-  auto* normals = ca.find<glm::vec3>(attr::kNormal);
-  auto* tangents = ca.find<glm::vec4>(attr::kTangent);
-  auto* colors = ca.find<glm::vec4>(attr::kColor0);
-  const auto morph_deltas = corner_morph_deltas(mesh);
-  double extent = 0.0;
-  for (const auto& p : pts) extent = std::max({extent, std::abs(p.x), std::abs(p.y)});
-  if (extent <= 0.0) extent = 1.0;
-  const auto& bind = mesh.positions();
+  const auto first = static_cast<std::uint32_t>(mesh.face_slots());
+  std::vector<std::uint32_t> made;  // the triangle of each face made, in order
+  made.reserve(tris.size());
   piece.reserve(piece.size() + tris.size());
-  for (const auto& tri : tris) {
+  for (std::size_t i = 0; i < tris.size(); ++i) {
+    const auto& tri = tris[i];
     const Triangle t = {verts[tri[0]], verts[tri[1]], verts[tri[2]]};
     if (!kept_flat.empty() && repeats_flat(t)) continue;  // that surface is there already
-    const FaceId f = editor.add_face(t);
-    piece.push_back(f);
-    (*cap_flag)[f.index] = 1;
-    glm::vec3 fn = glm::cross(bind[t[1].index] - bind[t[0].index], bind[t[2].index] - bind[t[0].index]);
-    const float len = glm::length(fn);
-    fn = len > 0.0f ? fn / len : glm::vec3(float(outer_sign) * glm::vec3(n));
-    for (int k = 0; k < 3; ++k) {
-      const auto c = SurfaceMesh::corner(f, k);
-      const glm::dvec2 p = pts[tri[k]];
-      if (uv) (*uv)[c] = glm::vec2(0.5 + 0.5 * p.x / extent, 0.5 + 0.5 * p.y / extent);
-      if (normals) (*normals)[c] = fn;
-      if (tangents) (*tangents)[c] = glm::vec4(glm::vec3(u), 1.0f);
-      if (colors) (*colors)[c] = glm::vec4(1.0f);
-      for (auto* d : morph_deltas) (*d)[c] = glm::vec3(0.0f);
-    }
+    piece.push_back(editor.add_face(t));
+    made.push_back(static_cast<std::uint32_t>(i));
   }
+  set_cap_attributes(mesh, *cap_flag, in, pts, tris, made, first, outer_sign, u);
 }
 
 }  // namespace
@@ -236,6 +268,7 @@ std::vector<std::pair<VertexId, VertexId>> rim_halfedges(const SurfaceMesh& mesh
   const auto& sign = *in.sign;
   std::vector<std::pair<VertexId, VertexId>> halfedges;
   std::vector<std::uint64_t> keys, scratch;
+  std::vector<std::uint32_t> count;
   // Most rim faces have one edge on the plane: room for one each to start with.
   halfedges.reserve(in.rim_faces.size() + 8);
   keys.reserve(in.rim_faces.size() + 8);
@@ -250,7 +283,7 @@ std::vector<std::pair<VertexId, VertexId>> rim_halfedges(const SurfaceMesh& mesh
       halfedges.emplace_back(t[k], t[k1]);
     }
   }
-  sort_by_vertex(keys, scratch);
+  sort_by_vertex(keys, scratch, count);
   auto upper = [&](std::uint64_t key) {
     const auto& [a, b] = halfedges[key & 0xffffffffu];
     return std::max(a.index, b.index);
