@@ -172,13 +172,11 @@ int pose_animation(const Args& args, const Model& model) {
   return args.has("--time") ? animation : -1;
 }
 
-void note_pose_problems(const Args& args, Model& model) {
-  if (!args.has("--time") || !model.animations.empty()) return;
-  model.import_problems.push_back({"time-without-animation",
-                                   "--time " + args.value("--time") +
-                                       ": the model has no animation, so the rest pose is used",
-                                   1,
-                                   {}});
+std::vector<ImportProblem> pose_problems(const Args& args, const Model& model) {
+  if (!args.has("--time") || !model.animations.empty()) return {};
+  const std::string what =
+      "--time " + args.value("--time") + ": the model has no animation, so the rest pose is used";
+  return {{"time-without-animation", what, 1, {}}};
 }
 
 std::vector<double> Args::vector(const std::string& name, std::size_t count) const {

@@ -110,9 +110,10 @@ int animation_option(const Args& args, std::size_t count);
 /// pose) when no `--time` is given. @throws UsageError for an index past the model's animations.
 int pose_animation(const Args& args, const Model& model);
 
-/// Adds to `model.import_problems` what the pose options cannot do on this model: `--time` on a
-/// model without animation poses nothing (the rest pose is used), which the user should read on
-/// stderr and in `--json` problems rather than guess from the result.
-void note_pose_problems(const Args& args, Model& model);
+/// What the pose options cannot do on `model`, to report beside what reading it repaired (stderr
+/// and `--json` problems): `--time` on a model without animation poses nothing, the rest pose is
+/// used, and the user should read so rather than guess it from the result. Call it after the
+/// options are checked (`pose_animation`), so a bad option is refused first.
+std::vector<ImportProblem> pose_problems(const Args& args, const Model& model);
 
 }  // namespace deepcut::cli

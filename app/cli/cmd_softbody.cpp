@@ -285,8 +285,7 @@ int run_softbody(const std::vector<std::string>& argv) {
   sim.damping = static_cast<float>(args.number("--damping", sim.damping));
   sim.mass = static_cast<float>(args.number("--mass", sim.mass));
 
-  Model model = plugins::read_model(path);
-  note_pose_problems(args, model);
+  const Model model = plugins::read_model(path);
   print_problems(std::cerr, path, model.import_problems);
   int animation = animation_option(args, model.animations.size());
   const bool animate = args.flag("--animate");
@@ -295,6 +294,10 @@ int run_softbody(const std::vector<std::string>& argv) {
     throw UsageError("--animate needs an animation to play; --animation -1 is the rest pose");
   if (!animate && !args.has("--time")) animation = -1;
   const auto t_start = static_cast<float>(args.number("--time", 0.0));
+  const std::vector<ImportProblem> pose = pose_problems(args, model);
+  print_problems(std::cerr, path, pose);
+  std::vector<ImportProblem> problems = model.import_problems;
+  problems.insert(problems.end(), pose.begin(), pose.end());
 
   const PosedModel rest = PosedModel::build(model, -1, 0.0f, PoseDetail::Positions);
   const auto inst = instances(model, rest);
@@ -379,7 +382,7 @@ int run_softbody(const std::vector<std::string>& argv) {
                       {"peak_frame", peak_frame},
                       {"final", max_disp.back()},
                       {"final_relative", size > 0.0f ? max_disp.back() / size : 0.0},
-                      {"problems", problems_report(model.import_problems)},
+                      {"problems", problems_report(problems)},
                       {"step_ms", step_ms / frames}}
                      .dump(2)
               << "\n";

@@ -54,10 +54,11 @@ int run_operation(const OperationCommand& command, const std::vector<std::string
   check_operation(op, flag_of);  // before the model is read
 
   Model model = plugins::read_model(args.positionals()[0]);
-  note_pose_problems(args, model);
-  print_problems(std::cerr, args.positionals()[0], model.import_problems);
   op.animation = pose_animation(args, model);
   op.time = static_cast<float>(args.number("--time", 0.0));
+  const std::vector<ImportProblem> run_problems = pose_problems(args, model);
+  print_problems(std::cerr, args.positionals()[0], model.import_problems);
+  print_problems(std::cerr, args.positionals()[0], run_problems);
   // Tears and drills first pose the model (timed apart, as in the paper's Table 1); a cut poses
   // only the instances its plane reaches.
   double preprocess_ms = 0.0, ms = 0.0;
@@ -71,7 +72,7 @@ int run_operation(const OperationCommand& command, const std::vector<std::string
         preprocess_ms);
   const OperationResult result =
       run_timed([&] { return posed ? apply_operation(model, op, *posed) : apply_operation(model, op); }, ms);
-  json report = operation_report(model, op, result);
+  json report = operation_report(model, op, result, run_problems);
   if (posed) report["preprocess_ms"] = preprocess_ms;
   if (report.contains("wall_note") && !args.flag("--json"))
     std::cerr << "deepcut: " << report["wall_note"].get<std::string>() << "\n";

@@ -60,7 +60,8 @@ json drill_report(const DrillOperation& drill, const ModelDrillResult& r) {
 
 }  // namespace
 
-json operation_report(const Model& model, const Operation& operation, const OperationResult& result) {
+json operation_report(const Model& model, const Operation& operation, const OperationResult& result,
+                      const std::vector<ImportProblem>& run_problems) {
   json report;
   if (const auto* cut = std::get_if<ModelCutResult>(&result.result)) report = cut_report(model, *cut);
   if (const auto* tear = std::get_if<ModelTearResult>(&result.result)) report = tear_report(*tear);
@@ -68,6 +69,7 @@ json operation_report(const Model& model, const Operation& operation, const Oper
     report = drill_report(std::get<DrillOperation>(operation.params), *drill);
   report["status"] = to_string(result.status);
   report["problems"] = problems_report(model.import_problems);
+  for (const json& p : problems_report(run_problems)) report["problems"].push_back(p);
   return report;
 }
 

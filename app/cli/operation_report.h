@@ -16,7 +16,8 @@
 namespace deepcut::cli {
 
 /// The report of `operation`, applied with `result`: "status", "problems" (`problems_report` of
-/// what reading the model repaired or dropped) and, by kind,
+/// what reading the model repaired or dropped, then `run_problems`: what the command's options
+/// could not do on it) and, by kind,
 ///   cut:   "pieces" (per piece node: "node", "vertices", "triangles"), "intersection_points",
 ///          "rim_vertices";
 ///   tear:  "tear_vertices", "intersection_points", "slits", "width", "opening";
@@ -24,7 +25,8 @@ namespace deepcut::cli {
 ///          "triangles_added", "wall_triangles", "unwalled_holes", and "wall_note" when a wall was
 ///          asked for and some holes got none.
 /// @param model  the model after the operation (the cut's pieces are counted in it)
-nlohmann::json operation_report(const Model& model, const Operation& operation, const OperationResult& result);
+nlohmann::json operation_report(const Model& model, const Operation& operation, const OperationResult& result,
+                                const std::vector<ImportProblem>& run_problems = {});
 
 /// The "problems" key of every command's `--json` report: what reading the model repaired or
 /// dropped, one object per kind: "kind" (a stable key), "message" (the line printed on stderr),

@@ -41,9 +41,11 @@ Model read_model(const std::string& path) {
       throw Error(ErrorCode::InvalidInput, path + ": this build of DeepCut cannot read ." + ext + " files (it reads " +
                                                extensions(formats) + ")");
   }
-  if (surely_not_gltf(path))
-    throw Error(ErrorCode::InvalidInput, path + ": not a model file (this build reads " + extensions(formats) +
+  if (surely_not_gltf(path)) {
+    const std::string reads = extensions(formats);
+    throw Error(ErrorCode::InvalidInput, path + ": not a model file (this build reads " + reads +
                                              "; glTF also by its content, and this file holds no glTF)");
+  }
   return read_gltf(path);
 }
 

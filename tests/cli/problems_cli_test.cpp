@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "deepcut/core/io/gltf.h"
+#include "fixtures.h"
 #include "tools.h"
 
 namespace deepcut {
@@ -100,16 +102,29 @@ TEST_F(ProblemsCliTest, a_clean_file_prints_no_problem_lines) {
 }
 
 TEST_F(ProblemsCliTest, time_on_a_model_without_animation_names_the_rest_pose) {
-  // spot is a static mesh: --time can pose nothing, and the user hears so once on stderr and in
-  // --json problems; the same command without --time reports nothing.
-  const std::string spot = std::string(DEEPCUT_ASSETS_DIR) + "/models/spot/spot.obj";
+  // A static tube (no skin, no animation; a glTF, so every build reads it): --time can pose
+  // nothing, and the user hears so once on stderr and in --json problems; the same command
+  // without --time reports nothing, and a bad --animation is refused before any problem line.
+  Model tube;
+  tube.meshes.push_back({"tube", {}, ""});
+  tube.meshes[0].primitives.emplace_back();
+  tube.meshes[0].primitives[0].mesh = test::make_tube(16, 8, 0.5f, 4.0f);
+  Node node;
+  node.name = "tube";
+  node.mesh = 0;
+  tube.nodes = {node};
+  tube.scenes = {{0}};
+  const std::string file = dir_ + "/tube.glb";
+  write_gltf(tube, file);
   const std::vector<Command> commands = {
-      {"cut", "-o " + test::quote(dir_ + "/cut.glb") + " --plane 0,0.1,0,0,1,0"},
-      {"drill", "-o " + test::quote(dir_ + "/drill.glb") + " --axis -1,0.1,0.2,1,0.1,0.2 --radius 0.05"},
-      {"softbody", "--poke 0,0.3,0.3 --radius 0.5 --frames 2"}};
+      {"cut", "-o " + test::quote(dir_ + "/cut.glb") + " --plane 0,2,0,0,1,0"},
+      {"drill", "-o " + test::quote(dir_ + "/drill.glb") + " --axis -1,2,0,1,2,0 --radius 0.1"},
+      {"softbody", "--poke 0,2,0.5 --radius 0.5 --frames 2"}};
   for (const auto& c : commands) {
     for (const bool timed : {false, true}) {
-      const auto r = test::run_cli(c.name + " " + test::quote(spot) + " " + c.args + (timed ? " --time 1.5" : "") + " --json");
+      const std::string command =
+          c.name + " " + test::quote(file) + " " + c.args + (timed ? " --time 1.5" : "");
+      const auto r = test::run_cli(command + " --json");
       ASSERT_EQ(r.exit_code, 0) << c.name << ": " << r.err;
       const json problems = json::parse(r.out).at("problems");
       if (!timed) {
@@ -118,8 +133,13 @@ TEST_F(ProblemsCliTest, time_on_a_model_without_animation_names_the_rest_pose) {
       }
       ASSERT_EQ(problems.size(), 1u) << c.name << ": " << problems.dump();
       EXPECT_EQ(problems[0].at("kind"), "time-without-animation");
-      EXPECT_EQ(occurrences(r.err, "deepcut: " + spot + ": --time 1.5: the model has no animation, so the rest pose is used [time-without-animation]\n"), 1u)
-          << c.name << ": " << r.err;
+      const std::string line = "deepcut: " + file +
+                               ": --time 1.5: the model has no animation, so the rest pose is used"
+                               " [time-without-animation]\n";
+      EXPECT_EQ(occurrences(r.err, line), 1u) << c.name << ": " << r.err;
+      const auto refused = test::run_cli(command + " --animation 2");
+      EXPECT_EQ(refused.exit_code, 2) << c.name;
+      EXPECT_EQ(occurrences(refused.err, "\n"), 1u) << c.name << ": " << refused.err;
     }
   }
 }
