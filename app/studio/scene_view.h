@@ -119,8 +119,9 @@ class SceneView : public QWidget {
   /// between an action and the render call with it.
   void set_render_listener(std::function<void()> listener);
   /// CPU time the UI thread spent in the last frame's drawing, in ms (the renderer's own
-  /// threads not counted): what the studio benchmark reports beside wall times on a loaded
-  /// machine.
+  /// threads not counted where the platform has a thread CPU clock; else the process's CPU
+  /// time). Public because the studio benchmark, which drives the real main window, reports it
+  /// beside wall times on a loaded machine; the studio itself does not read it.
   double last_render_cpu_ms() const;
   /// How many frames `render` drew so far.
   int frames_drawn() const;

@@ -5,8 +5,8 @@
 // session says the step changed
 // (plugins::follow_scene) and the view's VTK data updated from the same change
 // (SceneView::update_scene) equal a full build of the new state (make_scene and a fresh
-// ViewPolyData): posed positions and corner normals bit for bit, and per drawn cell its points'
-// positions, normals, texture coordinates, vertex ids, face id and colours.
+// ViewPolyData): posed positions and corner normals bit for bit, as many points, and per drawn
+// cell its points' positions, normals, texture coordinates, vertex ids, face id and colours.
 
 #include <QtTest/QtTest>
 #include <memory>
@@ -90,6 +90,8 @@ bool same_tuple(vtkDataArray* a, vtkIdType i, vtkDataArray* b, vtkIdType j) {
 // Cell by cell, what `followed` draws equals what `fresh` draws. @returns "" or what differs.
 std::string compare_drawn(vtkPolyData* followed, vtkPolyData* fresh) {
   if (followed->GetNumberOfCells() != fresh->GetNumberOfCells()) return "cell counts differ";
+  // Corners share points as a full build shares them: none left unused, none split apart.
+  if (followed->GetNumberOfPoints() != fresh->GetNumberOfPoints()) return "point counts differ";
   vtkIdType na = 0, nb = 0;
   const vtkIdType *a = nullptr, *b = nullptr;
   vtkPointData *pa = followed->GetPointData(), *pb = fresh->GetPointData();

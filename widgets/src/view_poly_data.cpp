@@ -11,7 +11,10 @@
 #include <vtkTypeInt64Array.h>
 
 #include <algorithm>
+#include <cstring>
+#include <functional>
 
+#include "deepcut/core/morph.h"
 #include "deepcut/core/parallel.h"
 
 namespace deepcut {
@@ -61,6 +64,14 @@ std::uint32_t safe_vertex(const SurfaceMesh& mesh, VertexId v) {
   return v.index < mesh.vertex_count() ? v.index : 0u;
 }
 
+// A point no corner draws (what a deleted face's cell names when no other point is left).
+void clear_point(const Raw& r, std::size_t p) {
+  std::fill(r.points + 3 * p, r.points + 3 * p + 3, 0.0f);
+  r.vertex_id[p] = 0;
+  if (r.uv) std::fill(r.uv + 2 * p, r.uv + 2 * p + 2, 0.0f);
+  if (r.normals) std::fill(r.normals + 3 * p, r.normals + 3 * p + 3, 0.0f);
+}
+
 }  // namespace
 
 // Writes elements of one state of the mesh into the arrays: the one kernel of the whole build
@@ -71,32 +82,45 @@ struct ViewPolyData::Writer {
   const std::vector<glm::vec3>& positions;
   const glm::vec3* normals = nullptr;  // posed corner normals, else the mesh's (or none)
   const glm::vec2* uv = nullptr;
+  // What else decides a corner's normal in some pose: the mesh's normals (when posed ones are
+  // drawn) and the morph normal deltas.
+  std::vector<const glm::vec3*> normal_sources;
 
   Writer(vtkPolyData* poly, const SurfaceMesh& m, const std::vector<glm::vec3>& p, const std::vector<glm::vec3>* n)
       : r(raw(poly)), mesh(m), positions(p) {
-    if (const auto* a = m.corner_attrs().find<glm::vec2>(attr::kUv0)) uv = a->data().data();
-    if (n && !n->empty())
+    const auto& ca = m.corner_attrs();
+    if (const auto* a = ca.find<glm::vec2>(attr::kUv0)) uv = a->data().data();
+    const auto* own = ca.find<glm::vec3>(attr::kNormal);
+    if (n && !n->empty()) {
       normals = n->data();
-    else if (const auto* a = m.corner_attrs().find<glm::vec3>(attr::kNormal))
-      normals = a->data().data();
+      if (own) normal_sources.push_back(own->data().data());
+    } else if (own) {
+      normals = own->data().data();
+    }
+    for (int t = 0, targets = morph_target_count(m); t < targets; ++t)
+      if (const auto* a = ca.find<glm::vec3>(attr::morph_normal_name(t))) normal_sources.push_back(a->data().data());
   }
 
-  void corner(std::size_t c) const {
-    const FaceId f(static_cast<std::uint32_t>(c / 3));
-    const bool deleted = mesh.is_deleted(f);
-    const std::uint32_t v = safe_vertex(mesh, mesh.face(f)[static_cast<int>(c % 3)]);
-    const glm::vec3& p = positions[v];
-    std::copy(&p.x, &p.x + 3, r.points + 3 * c);
-    r.vertex_id[c] = v;
-    r.connectivity[c] = static_cast<vtkTypeInt64>(deleted ? 3 * f.index : c);
+  void refresh(vtkPolyData* poly) { r = raw(poly); }
+
+  // Corners `a` and `b` (of one vertex) draw alike in every pose: bit for bit.
+  bool alike(std::size_t a, std::size_t b) const {
+    auto same3 = [&](const glm::vec3* x) { return std::memcmp(&x[a], &x[b], sizeof(glm::vec3)) == 0; };
+    if (normals && !same3(normals)) return false;
+    if (uv && std::memcmp(&uv[a], &uv[b], sizeof(glm::vec2)) != 0) return false;
+    return std::all_of(normal_sources.begin(), normal_sources.end(), same3);
+  }
+
+  // Point `p` draws vertex `v` as corner `c` does.
+  void point(std::size_t p, std::uint32_t v, std::size_t c) const {
+    const glm::vec3& x = positions[v];
+    std::copy(&x.x, &x.x + 3, r.points + 3 * p);
+    r.vertex_id[p] = v;
     if (r.uv && uv) {
-      r.uv[2 * c] = uv[c].x;
-      r.uv[2 * c + 1] = uv[c].y;
+      r.uv[2 * p] = uv[c].x;
+      r.uv[2 * p + 1] = uv[c].y;
     }
-    if (r.normals && normals) {
-      const glm::vec3 n = deleted ? glm::vec3(0.0f) : normals[c];
-      std::copy(&n.x, &n.x + 3, r.normals + 3 * c);
-    }
+    if (r.normals && normals) std::copy(&normals[c].x, &normals[c].x + 3, r.normals + 3 * p);
   }
 
   void vertex_cell(std::size_t f) const {
@@ -113,9 +137,25 @@ struct ViewPolyData::Writer {
   }
 };
 
-namespace {
-
-}  // namespace
+// The points one vertex's corners use so far, each with a corner it draws like (a few: a vertex
+// whose corners draw more ways than that gets a point for each further corner, which draws the
+// same).
+struct ViewPolyData::Candidates {
+  static constexpr int kMax = 32;
+  std::uint32_t point[kMax], corner[kMax];
+  int n = 0;
+  void add(std::uint32_t p, std::uint32_t c) {
+    for (int i = 0; i < n; ++i)
+      if (point[i] == p) return;
+    if (n < kMax) point[n] = p, corner[n++] = c;
+  }
+  // A point corner `c` draws like, or kInvalidIndex.
+  std::uint32_t find(const Writer& w, std::uint32_t c) const {
+    for (int i = 0; i < n; ++i)
+      if (w.alike(corner[i], c)) return point[i];
+    return kInvalidIndex;
+  }
+};
 
 ViewPolyData::ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
                            const std::vector<glm::vec3>* corner_normals) {
@@ -154,18 +194,15 @@ ViewPolyData::ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>
 
   resize(mesh);
   const std::size_t slots = mesh.face_slots();
+  Writer w(poly_, mesh, positions, corner_normals);
   if (corners_) {
     first_.assign(mesh.vertex_count(), kInvalidIndex);
     next_.assign(3 * slots, kInvalidIndex);
     prev_.assign(3 * slots, kInvalidIndex);
     corner_vertex_.assign(3 * slots, kInvalidIndex);
     link_all(mesh);
-    const Writer w(poly_, mesh, positions, corner_normals);
-    parallel_for(3 * slots, kGrain, [&](std::size_t b, std::size_t e) {
-      for (std::size_t c = b; c < e; ++c) w.corner(c);
-    });
+    build_corner_points(w, mesh.vertex_count());
   } else {
-    const Writer w(poly_, mesh, positions, corner_normals);
     parallel_for(slots, kGrain, [&](std::size_t b, std::size_t e) {
       for (std::size_t f = b; f < e; ++f) w.vertex_cell(f);
     });
@@ -176,14 +213,66 @@ ViewPolyData::ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>
   modified();
 }
 
+void ViewPolyData::build_corner_points(const Writer& writer, std::size_t vertices) {
+  // Two passes over each vertex's corners: the first numbers its points from 0 (into the
+  // corners' connectivity), the second adds the vertex's first point and writes the points.
+  // A deleted face's cell is (0, 0, 0).
+  const SurfaceMesh& mesh = writer.mesh;
+  vtkTypeInt64* conn = writer.r.connectivity;
+  parallel_for(mesh.face_slots(), kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t f = b; f < e; ++f)
+      std::fill(conn + 3 * f, conn + 3 * f + 3, mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f))) ? 0 : -1);
+  });
+  std::vector<std::uint32_t> first_point(vertices + 1, 0);
+  parallel_for(vertices, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t v = b; v < e; ++v) {
+      Candidates seen;
+      std::uint32_t count = 0;
+      for (std::uint32_t c = first_[v]; c != kInvalidIndex; c = next_[c]) {
+        std::uint32_t p = seen.find(writer, c);
+        if (p == kInvalidIndex) seen.add(p = count++, c);
+        conn[c] = p;
+      }
+      first_point[v + 1] = count;
+    }
+  });
+  for (std::size_t v = 0; v < vertices; ++v) first_point[v + 1] += first_point[v];
+  const std::size_t points = first_point[vertices];
+  set_point_count(std::max<std::size_t>(points, 1));  // a deleted face's cell needs point 0
+  uses_.assign(std::max<std::size_t>(points, 1), 0);
+  point_corner_.assign(uses_.size(), kInvalidIndex);
+  Writer w = writer;
+  w.refresh(poly_);
+  if (points == 0) clear_point(w.r, 0);
+  parallel_for(vertices, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t v = b; v < e; ++v) {
+      std::uint32_t written = 0;
+      for (std::uint32_t c = first_[v]; c != kInvalidIndex; c = next_[c]) {
+        const auto local = static_cast<std::uint32_t>(conn[c]);
+        const std::uint32_t p = first_point[v] + local;
+        w.r.connectivity[c] = p;
+        ++uses_[p];
+        if (local == written) {
+          w.point(p, static_cast<std::uint32_t>(v), c);
+          point_corner_[p] = c;
+          ++written;
+        }
+      }
+    }
+  });
+}
+
+void ViewPolyData::set_point_count(std::size_t n) {
+  vtkPointData* pd = poly_->GetPointData();
+  set_count(vtkFloatArray::SafeDownCast(poly_->GetPoints()->GetData()), n);
+  set_count(named<vtkIdTypeArray>(pd, "vertex_id"), n);
+  if (auto* a = named<vtkFloatArray>(pd, "uv0")) set_count(a, n);
+  if (auto* a = vtkFloatArray::SafeDownCast(pd->GetNormals())) set_count(a, n);
+}
+
 void ViewPolyData::resize(const SurfaceMesh& mesh) {
   const std::size_t slots = mesh.face_slots();
-  const std::size_t points = corners_ ? 3 * slots : mesh.vertex_count();
-  vtkPointData* pd = poly_->GetPointData();
-  set_count(vtkFloatArray::SafeDownCast(poly_->GetPoints()->GetData()), points);
-  set_count(named<vtkIdTypeArray>(pd, "vertex_id"), points);
-  if (auto* a = named<vtkFloatArray>(pd, "uv0")) set_count(a, points);
-  if (auto* a = vtkFloatArray::SafeDownCast(pd->GetNormals())) set_count(a, points);
+  if (!corners_) set_point_count(mesh.vertex_count());
   vtkIdTypeArray* face_ids = named<vtkIdTypeArray>(poly_->GetCellData(), "face_id");
   const auto old_cells = static_cast<std::size_t>(face_ids->GetNumberOfTuples());
   set_count(face_ids, slots);
@@ -242,40 +331,15 @@ void ViewPolyData::unlink(std::uint32_t c) {
 
 void ViewPolyData::update(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
                           const std::vector<glm::vec3>* corner_normals, const PrimitiveChange& change) {
-  const std::size_t slots = mesh.face_slots(), vertices = mesh.vertex_count();
-  const std::size_t kept_faces = std::min(change.faces_before, slots);
-  const std::size_t kept_vertices = std::min(change.vertices_before, vertices);
   const vtkIdType old_points = poly_->GetNumberOfPoints(), old_cells = poly_->GetNumberOfCells();
   if (corners_) {
-    // Corners of faces that are gone or rewritten leave their vertices' lists first.
-    for (std::size_t c = 3 * kept_faces; c < corner_vertex_.size(); ++c) unlink(static_cast<std::uint32_t>(c));
-    for (FaceId f : change.faces)
-      if (f.index < kept_faces)
-        for (std::uint32_t c = 3 * f.index; c < 3 * f.index + 3; ++c) unlink(c);
-    first_.resize(vertices, kInvalidIndex);
-    next_.resize(3 * slots, kInvalidIndex);
-    prev_.resize(3 * slots, kInvalidIndex);
-    corner_vertex_.resize(3 * slots, kInvalidIndex);
-  }
-  resize(mesh);
-  const Writer w(poly_, mesh, positions, corner_normals);
-  if (corners_) {
-    auto rewrite_face = [&](std::size_t f) {
-      const bool live = !mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)));
-      for (std::size_t c = 3 * f; c < 3 * f + 3; ++c) {
-        if (live) link(static_cast<std::uint32_t>(c), mesh.faces()[f][static_cast<int>(c % 3)].index);
-        w.corner(c);
-      }
-    };
-    for (FaceId f : change.faces)
-      if (f.index < kept_faces) rewrite_face(f.index);
-    for (std::size_t f = kept_faces; f < slots; ++f) rewrite_face(f);
-    // A listed vertex moved (or its linear map, hence its corners' normals, changed).
-    for (VertexId v : change.vertices)
-      if (v.index < kept_vertices)
-        for (std::uint32_t c = first_[v.index]; c != kInvalidIndex; c = next_[c])
-          w.corner(c);
+    update_corner_points(mesh, positions, corner_normals, change);
   } else {
+    const std::size_t slots = mesh.face_slots(), vertices = mesh.vertex_count();
+    const std::size_t kept_faces = std::min(change.faces_before, slots);
+    const std::size_t kept_vertices = std::min(change.vertices_before, vertices);
+    resize(mesh);
+    const Writer w(poly_, mesh, positions, corner_normals);
     for (FaceId f : change.faces)
       if (f.index < kept_faces) w.vertex_cell(f.index);
     for (std::size_t f = kept_faces; f < slots; ++f) w.vertex_cell(f);
@@ -292,6 +356,137 @@ void ViewPolyData::update(const SurfaceMesh& mesh, const std::vector<glm::vec3>&
   modified();
 }
 
+void ViewPolyData::update_corner_points(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
+                                        const std::vector<glm::vec3>* corner_normals,
+                                        const PrimitiveChange& change) {
+  const std::size_t slots = mesh.face_slots(), vertices = mesh.vertex_count();
+  const std::size_t kept_faces = std::min(change.faces_before, slots);
+  const std::size_t kept_vertices = std::min(change.vertices_before, vertices);
+  // 1. Corners of faces that are gone or rewritten, and of listed vertices, leave their points
+  // (and the first ones their vertices' lists); the vertices they leave or join are regrouped.
+  std::vector<std::uint32_t> dead, regroup;
+  auto leave = [&](std::uint32_t c) {
+    if (corner_vertex_[c] == kInvalidIndex) return;
+    regroup.push_back(corner_vertex_[c]);
+    release(c, dead);
+    unlink(c);
+  };
+  for (std::size_t c = 3 * kept_faces; c < corner_vertex_.size(); ++c) leave(static_cast<std::uint32_t>(c));
+  for (FaceId f : change.faces)
+    if (f.index < kept_faces)
+      for (std::uint32_t c = 3 * f.index; c < 3 * f.index + 3; ++c) leave(c);
+  for (VertexId v : change.vertices)
+    if (v.index < kept_vertices) {
+      regroup.push_back(v.index);
+      for (std::uint32_t c = first_[v.index]; c != kInvalidIndex; c = next_[c]) release(c, dead);
+    }
+  first_.resize(vertices, kInvalidIndex);
+  next_.resize(3 * slots, kInvalidIndex);
+  prev_.resize(3 * slots, kInvalidIndex);
+  corner_vertex_.resize(3 * slots, kInvalidIndex);
+  resize(mesh);
+  // 2. Listed and new faces: live ones link their corners (without a point yet), deleted ones
+  // draw nothing.
+  vtkTypeInt64* conn = poly_->GetPolys()->GetConnectivityArray64()->GetPointer(0);
+  auto relink = [&](std::size_t f) {
+    const bool live = !mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)));
+    for (std::size_t c = 3 * f; c < 3 * f + 3; ++c) {
+      conn[c] = live ? -1 : 0;
+      if (!live) continue;
+      const std::uint32_t v = mesh.faces()[f][static_cast<int>(c % 3)].index;
+      link(static_cast<std::uint32_t>(c), v);
+      regroup.push_back(v);
+    }
+  };
+  for (FaceId f : change.faces)
+    if (f.index < kept_faces) relink(f.index);
+  for (std::size_t f = kept_faces; f < slots; ++f) relink(f);
+  // 3. Regroup (room first for a new point per waiting corner), then close the gaps.
+  std::sort(regroup.begin(), regroup.end());
+  regroup.erase(std::unique(regroup.begin(), regroup.end()), regroup.end());
+  std::size_t waiting = 0;
+  for (std::uint32_t v : regroup)
+    if (v < vertices)
+      for (std::uint32_t c = first_[v]; c != kInvalidIndex; c = next_[c]) waiting += conn[c] < 0;
+  const std::size_t points = uses_.size();
+  set_point_count(points + waiting);
+  Writer w(poly_, mesh, positions, corner_normals);
+  for (std::uint32_t v : regroup)
+    if (v < vertices) assign_points(w, v, dead);
+  set_point_count(uses_.size());
+  compact(dead);
+}
+
+// A corner of vertex `v` keeps its point or, waiting (connectivity -1), takes one that draws
+// alike: first the vertex's points in use, then new ones.
+void ViewPolyData::assign_points(const Writer& w, std::uint32_t v, std::vector<std::uint32_t>& dead) {
+  vtkTypeInt64* conn = w.r.connectivity;
+  Candidates seen;
+  for (std::uint32_t c = first_[v]; c != kInvalidIndex; c = next_[c])
+    if (conn[c] >= 0) {
+      const auto p = static_cast<std::uint32_t>(conn[c]);
+      if (point_corner_[p] == kInvalidIndex) point_corner_[p] = c;  // its corner left
+      seen.add(p, point_corner_[p]);
+    }
+  for (std::uint32_t c = first_[v]; c != kInvalidIndex; c = next_[c]) {
+    if (conn[c] >= 0) continue;
+    std::uint32_t p = seen.find(w, c);
+    if (p == kInvalidIndex) {
+      if (!dead.empty()) {
+        p = dead.back();
+        dead.pop_back();
+      } else {
+        p = static_cast<std::uint32_t>(uses_.size());
+        uses_.push_back(0);
+        point_corner_.push_back(kInvalidIndex);
+      }
+      w.point(p, v, c);
+      point_corner_[p] = c;
+      seen.add(p, c);
+    }
+    conn[c] = p;
+    ++uses_[p];
+  }
+}
+
+void ViewPolyData::release(std::uint32_t c, std::vector<std::uint32_t>& dead) {
+  vtkTypeInt64* conn = poly_->GetPolys()->GetConnectivityArray64()->GetPointer(0);
+  if (conn[c] < 0) return;  // already left
+  const auto p = static_cast<std::uint32_t>(conn[c]);
+  conn[c] = -1;
+  if (point_corner_[p] == c) point_corner_[p] = kInvalidIndex;
+  if (--uses_[p] == 0) dead.push_back(p);
+}
+
+void ViewPolyData::compact(std::vector<std::uint32_t>& dead) {
+  // From the highest: the last point is then in use (or the dead one itself). Its corners are
+  // found through its vertex's list and follow it.
+  std::sort(dead.begin(), dead.end(), std::greater<>());
+  vtkPointData* pd = poly_->GetPointData();
+  vtkDataArray* points = poly_->GetPoints()->GetData();
+  vtkTypeInt64* conn = poly_->GetPolys()->GetConnectivityArray64()->GetPointer(0);
+  std::size_t count = uses_.size();
+  for (std::uint32_t p : dead) {
+    if (count == 1) break;  // a deleted face's cell needs point 0
+    const auto last = static_cast<std::uint32_t>(--count);
+    if (p != last) {
+      points->SetTuple(p, last, points);
+      for (int i = 0; i < pd->GetNumberOfArrays(); ++i)
+        if (vtkAbstractArray* a = pd->GetAbstractArray(i)) a->SetTuple(p, last, a);
+      const auto v = static_cast<std::uint32_t>(pd->GetArray("vertex_id")->GetTuple1(p));
+      for (std::uint32_t c = first_[v]; c != kInvalidIndex; c = next_[c])
+        if (conn[c] == last) conn[c] = p;
+      uses_[p] = uses_[last];
+      point_corner_[p] = point_corner_[last];
+    }
+  }
+  uses_.resize(count);
+  point_corner_.resize(count);
+  dead.clear();
+  set_point_count(count);
+  if (uses_[0] == 0) clear_point(raw(poly_), 0);
+}
+
 void ViewPolyData::set_positions(const std::vector<glm::vec3>& positions,
                                  const std::vector<glm::vec3>* corner_normals) {
   const Raw r = raw(poly_);
@@ -299,11 +494,11 @@ void ViewPolyData::set_positions(const std::vector<glm::vec3>& positions,
   const bool with_normals = r.normals && corner_normals && !corner_normals->empty();
   parallel_for(n, kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) {
-      const glm::vec3& p = positions[static_cast<std::size_t>(r.vertex_id[i])];
-      std::copy(&p.x, &p.x + 3, r.points + 3 * i);
-      // Corners of deleted faces keep a zero normal (as written).
-      const bool drawn = !corners_ || corner_vertex_[i] != kInvalidIndex;
-      if (with_normals && drawn) std::copy(&(*corner_normals)[i].x, &(*corner_normals)[i].x + 3, r.normals + 3 * i);
+      const auto v = static_cast<std::size_t>(r.vertex_id[i]);
+      if (v < positions.size()) std::copy(&positions[v].x, &positions[v].x + 3, r.points + 3 * i);
+      // (a point no corner uses keeps its normal)
+      const std::uint32_t c = corners_ ? point_corner_[i] : kInvalidIndex;
+      if (with_normals && c != kInvalidIndex) std::copy(&(*corner_normals)[c].x, &(*corner_normals)[c].x + 3, r.normals + 3 * i);
     }
   });
   modified();

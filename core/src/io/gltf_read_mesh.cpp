@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <functional>
 
 #include "deepcut/core/mesh_editor.h"
 #include "deepcut/core/parallel.h"
@@ -21,77 +20,51 @@ using nlohmann::json;
 
 constexpr std::size_t kGrain = 32768;
 
-// Calls fn(i) for every i in [0, n) in parallel chunks; each call writes only element i's output.
-template <class Fn>
-void each(std::size_t n, Fn&& fn) {
-  parallel_for(n, kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i) fn(i);
-  });
-}
-
 // The primitive as the file stores it: glTF vertex v is vertex v (-0 coordinates read as +0),
 // triangle t is face t, and the corner attributes come from each corner's glTF vertex. The arrays
-// are added to empty sets and sized all at once, one per thread of the pool (a std::vector's
-// growth fills it on one thread: the arrays' fills overlap instead of adding up; resize_prefaulted),
-// then filled in parallel and handed to the mesh whole; the per-corner ones with room (corner_room).
+// are added to empty sets, built at once (ArrayBuild) and handed to the mesh whole; the per-corner
+// ones with room (corner_room).
 SurfaceMesh file_mesh(const Floats& pos, const Uints& tris, const Influences& skin,
                       const std::vector<CornerSource>& corner_sources) {
   SurfaceMesh mesh;
   const std::size_t nv = pos.size() / 3, nf = tris.size() / 3, nc = tris.size();
   AttributeSet vattrs = std::move(mesh.vertex_attrs()), fattrs, cattrs;
-  std::vector<std::function<void()>> sizing, filling;
-  auto& positions = vattrs.get<glm::vec3>(attr::kPosition);
-  sizing.push_back([&] { detail::resize_prefaulted(positions.data(), nv); });
-  filling.push_back([&] {
-    each(nv, [&](std::size_t v) {
-      positions[v] = glm::vec3(pos[3 * v] + 0.0f, pos[3 * v + 1] + 0.0f, pos[3 * v + 2] + 0.0f);  // -0 == +0
-    });
+  ArrayBuild build;
+  const float* p = pos.data();
+  const std::uint32_t* t = tris.data();
+  build.add(&vattrs.get<glm::vec3>(attr::kPosition).data(), nv, 0, [p](std::size_t v) {
+    return glm::vec3(p[3 * v] + 0.0f, p[3 * v + 1] + 0.0f, p[3 * v + 2] + 0.0f);  // -0 == +0
   });
   std::vector<Triangle> faces;
-  sizing.push_back([&] { detail::resize_prefaulted(faces, nf); });
-  filling.push_back([&] {
-    each(nf, [&](std::size_t f) { faces[f] = {VertexId(tris[3 * f]), VertexId(tris[3 * f + 1]), VertexId(tris[3 * f + 2])}; });
+  build.add(&faces, nf, 0, [t](std::size_t f) {
+    return Triangle{VertexId(t[3 * f]), VertexId(t[3 * f + 1]), VertexId(t[3 * f + 2])};
   });
-
   const char* jn[2] = {attr::kJoints0, attr::kJoints1};
   const char* wn[2] = {attr::kWeights0, attr::kWeights1};
   for (std::size_t s = 0; s < skin.sets; ++s) {
-    auto* ja = &vattrs.add<glm::u16vec4>(jn[s]);
-    auto* wa = &vattrs.add<glm::vec4>(wn[s]);
-    sizing.push_back([ja, nv] { detail::resize_prefaulted(ja->data(), nv); });
-    sizing.push_back([wa, nv] { detail::resize_prefaulted(wa->data(), nv); });
-    filling.push_back([ja, wa, s, nv, &skin] {
-      each(nv, [&](std::size_t v) {
-        (*ja)[v] = skin.joints[s * nv + v];
-        (*wa)[v] = skin.weights[s * nv + v];
-      });
-    });
+    const glm::u16vec4* joints = skin.joints.data() + s * nv;
+    const glm::vec4* weights = skin.weights.data() + s * nv;
+    build.add(&vattrs.add<glm::u16vec4>(jn[s]).data(), nv, 0, [joints](std::size_t v) { return joints[v]; });
+    build.add(&vattrs.add<glm::vec4>(wn[s]).data(), nv, 0, [weights](std::size_t v) { return weights[v]; });
   }
-  // Array `a` sized with `value` and room, then filled with fill(c) for every corner c.
-  auto corner_array = [&](auto* a, auto value, auto fill) {
-    sizing.push_back([a, value, nc, nf] { detail::resize_prefaulted(a->data(), nc, value, corner_room(nf)); });
-    filling.push_back([a, fill, nc] { each(nc, [&](std::size_t c) { (*a)[c] = fill(c); }); });
-  };
   for (const auto& source : corner_sources) {
-    const CornerSource* cs = &source;
-    const std::uint32_t* t = tris.data();
-    if (cs->comps == 2) {
-      corner_array(&cattrs.add<glm::vec2>(cs->name), glm::vec2(0.0f),
-                   [cs, t](std::size_t c) { return glm::vec2(cs->data[2 * t[c]], cs->data[2 * t[c] + 1]); });
-    } else if (cs->comps == 3) {
-      corner_array(&cattrs.add<glm::vec3>(cs->name), glm::vec3(0.0f), [cs, t](std::size_t c) {
-        const float* d = &cs->data[3 * t[c]];
-        return glm::vec3(d[0], d[1], d[2]);
+    const float* d = source.data.data();
+    if (source.comps == 2) {
+      build.add(&cattrs.add<glm::vec2>(source.name).data(), nc, corner_room(nf),
+                [d, t](std::size_t c) { return glm::vec2(d[2 * t[c]], d[2 * t[c] + 1]); });
+    } else if (source.comps == 3) {
+      build.add(&cattrs.add<glm::vec3>(source.name).data(), nc, corner_room(nf), [d, t](std::size_t c) {
+        return glm::vec3(d[3 * t[c]], d[3 * t[c] + 1], d[3 * t[c] + 2]);
       });
     } else {
-      corner_array(&cattrs.add<glm::vec4>(cs->name, glm::vec4(1.0f)), glm::vec4(1.0f), [cs, t](std::size_t c) {
-        const float* d = &cs->data[std::size_t(cs->data_comps) * t[c]];
-        return glm::vec4(d[0], d[1], d[2], cs->data_comps == 4 ? d[3] : 1.0f);
+      const auto k = static_cast<std::size_t>(source.data_comps);
+      build.add(&cattrs.add<glm::vec4>(source.name, glm::vec4(1.0f)).data(), nc, corner_room(nf), [d, t, k](std::size_t c) {
+        const float* x = &d[k * t[c]];
+        return glm::vec4(x[0], x[1], x[2], k == 4 ? x[3] : 1.0f);
       });
     }
   }
-  parallel_invoke(sizing);
-  for (const auto& fill : filling) fill();
+  build.run();
   vattrs.resize(nv);  // every array has its size already: this sets the sets' sizes
   fattrs.resize(nf);
   cattrs.resize(nc);

@@ -7,7 +7,6 @@
 // a writer can export as valid glTF.
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <limits>
 #include <memory>
 
@@ -23,7 +22,6 @@ using nlohmann::json;
 // What one target costs besides its data (the attribute arrays' bookkeeping, the weld's work per
 // vertex): charged against the decoding limit, so a small file cannot list millions of targets.
 constexpr std::size_t kTargetOverheadBytes = 4096;
-constexpr std::size_t kGrain = 32768;  // elements per parallel chunk
 
 std::string node_label(const Model& model, int node) {
   const std::string& name = model.nodes[std::size_t(node)].name;
@@ -49,48 +47,37 @@ void drop_unused_samplers(Animation& anim) {
 
 void add_morph_targets(SurfaceMesh& mesh, const Uints& tris, const std::vector<MorphTarget>& targets) {
   const std::size_t nv = mesh.vertex_count(), nc = tris.size();
-  // Each array built apart: all sized at once, one per thread of the pool (their fills overlap;
-  // resize_prefaulted), then filled in parallel and put in; the per-corner ones with room
+  // Each array built apart (ArrayBuild), then put in; the per-corner ones with room
   // (corner_room). A POSITION delta is per vertex, a NORMAL or TANGENT delta per corner.
   struct Built {
     bool per_corner;
     std::string name;
-    const Floats* deltas;
     std::unique_ptr<AttributeArray<glm::vec3>> array;
   };
   std::vector<Built> built;
-  for (std::size_t t = 0; t < targets.size(); ++t) {
-    const int i = static_cast<int>(t);
-    built.push_back({false, attr::morph_position_name(i), &targets[t].position, nullptr});
-    if (!targets[t].normal.empty()) built.push_back({true, attr::morph_normal_name(i), &targets[t].normal, nullptr});
-    if (!targets[t].tangent.empty()) built.push_back({true, attr::morph_tangent_name(i), &targets[t].tangent, nullptr});
+  ArrayBuild build;
+  const std::uint32_t* t = tris.data();
+  auto add = [&](bool per_corner, std::string name, const Floats& deltas) {
+    built.push_back({per_corner, std::move(name), std::make_unique<AttributeArray<glm::vec3>>()});
+    const float* d = deltas.data();
+    if (per_corner)
+      build.add(&built.back().array->data(), nc, corner_room(nc / 3), [d, t](std::size_t c) {
+        return glm::vec3(d[3 * std::size_t(t[c])], d[3 * std::size_t(t[c]) + 1], d[3 * std::size_t(t[c]) + 2]);
+      });
+    else  // -0 reads as +0, as positions do, so the weld sees equal deltas
+      build.add(&built.back().array->data(), nv, nv, [d](std::size_t v) {
+        return glm::vec3(d[3 * v] + 0.0f, d[3 * v + 1] + 0.0f, d[3 * v + 2] + 0.0f);
+      });
+  };
+  for (std::size_t i = 0; i < targets.size(); ++i) {
+    const int n = static_cast<int>(i);
+    add(false, attr::morph_position_name(n), targets[i].position);
+    if (!targets[i].normal.empty()) add(true, attr::morph_normal_name(n), targets[i].normal);
+    if (!targets[i].tangent.empty()) add(true, attr::morph_tangent_name(n), targets[i].tangent);
   }
-  std::vector<std::function<void()>> sizing;
+  build.run();
   for (Built& b : built)
-    sizing.push_back([&b, nv, nc] {
-      b.array = std::make_unique<AttributeArray<glm::vec3>>();
-      detail::resize_prefaulted(b.array->data(), b.per_corner ? nc : nv, glm::vec3(0.0f), b.per_corner ? corner_room(nc / 3) : nv);
-    });
-  parallel_invoke(sizing);
-  for (Built& b : built) {
-    glm::vec3* out = b.array->data().data();
-    const Floats& d = *b.deltas;
-    if (b.per_corner) {
-      parallel_for(nc, kGrain, [&](std::size_t lo, std::size_t hi) {
-        for (std::size_t c = lo; c < hi; ++c) {
-          const float* p = &d[3 * std::size_t(tris[c])];
-          out[c] = glm::vec3(p[0], p[1], p[2]);
-        }
-      });
-      mesh.corner_attrs().put(b.name, std::move(b.array));
-    } else {
-      // -0 reads as +0, as positions do, so the weld sees equal deltas
-      parallel_for(nv, kGrain, [&](std::size_t lo, std::size_t hi) {
-        for (std::size_t v = lo; v < hi; ++v) out[v] = glm::vec3(d[3 * v] + 0.0f, d[3 * v + 1] + 0.0f, d[3 * v + 2] + 0.0f);
-      });
-      mesh.vertex_attrs().put(b.name, std::move(b.array));
-    }
-  }
+    (b.per_corner ? mesh.corner_attrs() : mesh.vertex_attrs()).put(b.name, std::move(b.array));
 }
 
 void Reader::charge_decode(std::size_t bytes, const std::string& what) {

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -95,6 +96,33 @@ struct MorphTarget {
 // grow that reserve_for_operations (posed_model.h, operation_room.h) gives them, which every front end that edits
 // asks for right after reading, so that call finds the room there and copies none of them.
 inline std::size_t corner_room(std::size_t faces) { return 3 * operation_face_room(faces); }
+
+// Arrays of one primitive built apart and all at once: every array is sized first, one per thread
+// of the pool (resize_prefaulted: their page faults and fills overlap instead of adding up), then
+// each is filled in parallel chunks. The one way the reader builds a mesh's and its morph
+// targets' arrays (file_mesh, add_morph_targets).
+class ArrayBuild {
+ public:
+  // Grows the empty `*a` to `n` elements (capacity at least `capacity`), a[i] = fill(i) for each.
+  // `a` and what `fill` reads must live until `run` returns.
+  template <class T, class Fill>
+  void add(std::vector<T>* a, std::size_t n, std::size_t capacity, Fill fill) {
+    sizing_.push_back([a, n, capacity] { detail::resize_prefaulted(*a, n, T(), capacity); });
+    filling_.push_back([a, n, fill] {
+      parallel_for(n, kGrain, [&](std::size_t b, std::size_t e) {
+        for (std::size_t i = b; i < e; ++i) (*a)[i] = fill(i);
+      });
+    });
+  }
+  void run() const {
+    parallel_invoke(sizing_);
+    for (const auto& fill : filling_) fill();
+  }
+
+ private:
+  static constexpr std::size_t kGrain = 32768;
+  std::vector<std::function<void()>> sizing_, filling_;
+};
 
 // Adds the targets to the primitive as the file stores it (glTF vertex v is vertex v, triangle t
 // is face t): `attr::morph_position_name(i)` per vertex, the normal and tangent deltas per corner.

@@ -6,14 +6,16 @@
 /// instead of converting the whole mesh again:
 /// - cell i is face slot i, always a triangle; a deleted face is a degenerate cell (all three
 ///   ids the same point), which draws nothing and is never picked, so cell ids never shift;
-/// - with corner normals or UVs the points are the corners (point 3f + k is corner k of face f:
-///   split wherever corners differ, as a renderer needs); without them, one point per vertex
-///   slot. Points are appended and truncated with the mesh.
+/// - with corner normals or UVs, a point per vertex and way of drawing its corners: corners of
+///   one vertex share a point while they draw alike (same normal, texture coordinates and morph
+///   normal deltas, bit for bit), and split where they differ, as a renderer needs. A mesh
+///   with smooth normals and few seams uploads and shades about a point per vertex, not three
+///   per face. Without corner normals or UVs, one point per vertex slot, appended and truncated
+///   with the mesh.
 /// Arrays (as `to_poly_data` names them, so picking and colouring read either): point data
 /// "vertex_id", "uv0" (texture coordinates, made the active ones; kept up to date by name, so
 /// a viewer may unset them while no texture reads them), "normal" (the posed corner normals,
-/// else the mesh's); cell data "face_id". (No "corner_id": in the corner layout point i is
-/// corner i.) Arrays are filled through their raw storage, in parallel, without per-element
+/// else the mesh's); cell data "face_id". Arrays are filled through their raw storage, in parallel, without per-element
 /// virtual calls.
 
 #include <cstdint>
@@ -31,18 +33,24 @@ class ViewPolyData {
  public:
   /// Converts `mesh` drawn at `positions` (one per vertex slot) with `corner_normals` (one per
   /// corner, e.g. the posed ones; null or empty: the mesh's own normals, if any).
-  /// O(vertices + faces), in parallel.
+  /// O(vertices + faces), in parallel; the points are the same whatever the thread count.
+  /// @pre (here, in `update` and `set_positions`) corner normals are what posing makes of the
+  ///      corner's normal, its morph normal deltas and its vertex: corners that share a point
+  ///      get equal normals in every pose.
   ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
                const std::vector<glm::vec3>* corner_normals = nullptr);
 
   vtkPolyData* poly() const { return poly_; }
-  /// True when points are corners (the mesh has corner normals or UVs).
+  /// True when points stand for corners (the mesh has corner normals or UVs), shared by the
+  /// corners of a vertex that draw alike.
   bool corner_points() const { return corners_; }
 
   /// Follows one step on the mesh: `mesh`, `positions` and `corner_normals` are the state after
   /// it, `change` what it changed (sizes before it, listed vertices and faces). Rewrites the
   /// listed and new elements (and the corner points of listed vertices), truncates what is gone,
-  /// marks what it wrote modified. Colours set on the data are dropped when the point or cell
+  /// marks what it wrote modified. The corners of every vertex a listed or new face uses, and of
+  /// every listed vertex, are grouped into points again; a point no corner uses any more takes
+  /// the place of the last point (point ids are not stable across steps). Colours set on the data are dropped when the point or cell
   /// count changes (the caller colours again). O(change).
   void update(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
               const std::vector<glm::vec3>* corner_normals, const PrimitiveChange& change);
@@ -53,7 +61,23 @@ class ViewPolyData {
 
  private:
   struct Writer;
+  struct Candidates;
+  /// Sets the cell count (new cells' offsets and face ids) and, without corner points, the
+  /// point count.
   void resize(const SurfaceMesh& mesh);
+  void set_point_count(std::size_t n);
+  /// Corner layout of a new mesh: groups every vertex's corners into points, in parallel.
+  void build_corner_points(const Writer& w, std::size_t vertices);
+  /// Gives every corner of vertex `v` that has none (connectivity -1) a point: one of the
+  /// vertex's points that draws alike, else a new one (a dead point, else appended).
+  void assign_points(const Writer& w, std::uint32_t v, std::vector<std::uint32_t>& dead);
+  /// Corner `c` leaves its point; a point left unused joins `dead`.
+  void release(std::uint32_t c, std::vector<std::uint32_t>& dead);
+  /// Removes the dead points: each takes the place of the last point.
+  void compact(std::vector<std::uint32_t>& dead);
+  /// Regroups the corners listed by `update` (corner layout).
+  void update_corner_points(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
+                            const std::vector<glm::vec3>* corner_normals, const PrimitiveChange& change);
   /// Links every corner of a live face to its vertex (the lists of a new mesh), over the pool.
   void link_all(const SurfaceMesh& mesh);
   void link(std::uint32_t c, std::uint32_t v);
@@ -64,8 +88,12 @@ class ViewPolyData {
   vtkSmartPointer<vtkPolyData> poly_;
   // Corner layout: the corners of each vertex slot, as a doubly linked list through the corners
   // (kInvalidIndex ends it), and the vertex each corner is linked to (kInvalidIndex: a corner
-  // of a deleted face, linked to none): moving a vertex rewrites exactly its corners' points.
+  // of a deleted face, linked to none): moving a vertex rewrites exactly its corners' points,
+  // and its points are found from its corners.
   std::vector<std::uint32_t> first_, next_, prev_, corner_vertex_;
+  // Per point: how many corners use it, and one of them (what it draws like; kInvalidIndex for
+  // a point no corner uses). A corner's point is its connectivity entry.
+  std::vector<std::uint32_t> uses_, point_corner_;
 };
 
 }  // namespace deepcut
