@@ -124,7 +124,8 @@ class Cutter {
   CutOptions options_;
   glm::dvec3 normal_, point_;
   // Signed distance to the plane and snapped sign per vertex (detail::VertexSides; the cut
-  // appends its new vertices), and the side bits of the input's vertices (split_crossed_faces).
+  // appends its new vertices), and the side bits of the input's vertices (split_crossed_faces;
+  // separate_sides then keeps its own bits above them).
   detail::UninitVector<float> dist_;
   std::vector<std::int8_t> sign_;
   detail::UninitVector<std::uint8_t> side_bits_;
@@ -255,10 +256,14 @@ void Cutter::split_face(FaceId f, FaceBatch& batch) {
 
 // Rim vertices used by both sides get a copy for the positive side, so the sides come apart.
 void Cutter::separate_sides() {
-  // Per vertex (flat, by vertex id): bit 1 a positive face uses it, bit 2 a negative one; above
-  // them, for a vertex both use, 1 + its place in `shared`.
-  std::vector<std::uint32_t> touches(mesh_.vertex_count(), 0);
-  std::vector<std::uint32_t> touched;
+  // Per vertex on the plane: bit 1 a positive face uses it, bit 2 a negative one. The input's
+  // vertices keep them in the scan's side bits (done with: bit 4 marks the vertices on the
+  // plane, these go above it, at 8 and 16), the cut's in `fresh`: no array over the whole mesh
+  // is cleared.
+  const std::uint32_t first_new = posed_.first_new();
+  std::uint8_t* old_bits = side_bits_.data();
+  std::vector<std::uint8_t> fresh(mesh_.vertex_count() - first_new, 0);
+  std::vector<std::uint32_t> touched;  // the input's, each once
   std::vector<FaceId> rim_faces;
   rim_faces.reserve(rim_candidates_.size());
   const std::int8_t* sign = sign_.data();
@@ -267,26 +272,27 @@ void Cutter::separate_sides() {
     const Triangle& t = mesh_.face(f);
     rim_faces.push_back(f);
     const std::uint8_t bit = side_code(sign, t);
-    for (auto v : t)
-      if (sign[v.index] == 0) {
-        if (touches[v.index] == 0) touched.push_back(v.index);
-        touches[v.index] |= bit;
+    for (auto v : t) {
+      if (sign[v.index] != 0) continue;
+      if (v.index >= first_new) {
+        fresh[v.index - first_new] |= bit;
+        continue;
       }
+      if ((old_bits[v.index] & 24) == 0) touched.push_back(v.index);
+      old_bits[v.index] |= static_cast<std::uint8_t>(bit << 3);
+    }
   }
   // In id order (deterministic vertex numbering): the input's vertices sorted, then the cut's
   // (the newest ids) as they come.
   std::vector<std::uint32_t> shared;
-  const std::uint32_t first_new = posed_.first_new();
   for (std::uint32_t v : touched)
-    if (touches[v] == 3 && v < first_new) shared.push_back(v);
+    if ((old_bits[v] & 24) == 24) shared.push_back(v);
   std::sort(shared.begin(), shared.end());
-  for (std::uint32_t v = first_new; v < touches.size(); ++v)
-    if (touches[v] == 3) shared.push_back(v);
+  for (std::size_t i = 0; i < fresh.size(); ++i)
+    if (fresh[i] == 3) shared.push_back(first_new + static_cast<std::uint32_t>(i));
   if (shared.empty()) return;
   const VertexId first_copy = editor_.split_vertices(shared.data(), shared.size());
-  for (std::size_t i = 0; i < shared.size(); ++i) {
-    const std::uint32_t v = shared[i];
-    touches[v] |= static_cast<std::uint32_t>(i + 1) << 2;
+  for (const std::uint32_t v : shared) {
     posed_.add(posed_(VertexId(v)));
     dist_.push_back(dist_[v]);
     sign_.push_back(0);
@@ -298,6 +304,14 @@ void Cutter::separate_sides() {
     crossing_copies_[0] = first_copy.index + static_cast<std::uint32_t>(first_of_crossing);
     crossing_copies_[1] = first_copy.index + static_cast<std::uint32_t>(shared.size());
   }
+  // The copy of a shared vertex (the rim faces use no copy: every vertex is below them).
+  auto is_shared = [&](std::uint32_t v) {
+    return v < first_new ? (old_bits[v] & 24) == 24 : fresh[v - first_new] == 3;
+  };
+  auto copy_of = [&](std::uint32_t v) {
+    const auto at = std::lower_bound(shared.begin(), shared.end(), v) - shared.begin();
+    return VertexId(first_copy.index + static_cast<std::uint32_t>(at));
+  };
   sign = sign_.data();
   const glm::vec3 e[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   FaceBatch batch;
@@ -308,11 +322,9 @@ void Cutter::separate_sides() {
     Triangle moved = t;
     bool changed = false;
     for (auto& v : moved) {
-      const std::uint32_t slot = touches[v.index] >> 2;  // the rim faces use no copy: in range
-      if (slot != 0) {
-        v = VertexId(first_copy.index + slot - 1);
-        changed = true;
-      }
+      if (sign[v.index] != 0 || !is_shared(v.index)) continue;
+      v = copy_of(v.index);
+      changed = true;
     }
     if (!changed) continue;
     batch.remove(f);
@@ -573,11 +585,7 @@ void Cutter::split_crossed_faces() {
       const auto stop = static_cast<std::uint32_t>(e);
       const std::uint32_t end = any_deleted ? run_end<true>(mesh_, bits, i + 1, stop, c)
                                             : run_end<false>(mesh_, bits, i + 1, stop, c);
-      std::vector<FaceId>& list = out.clean[c - 1];
-      const std::size_t at = list.size();
-      list.resize(at + (end - i));
-      FaceId* dst = list.data() + at;
-      for (std::uint32_t k = 0; k < end - i; ++k) dst[k] = FaceId(i + k);
+      detail::append_run(out.clean[c - 1], i, end);
       i = end;
     }
   });
