@@ -258,11 +258,11 @@ void Cutter::split_face(FaceId f, FaceBatch& batch) {
 void Cutter::separate_sides() {
   // Per vertex on the plane: bit 1 a positive face uses it, bit 2 a negative one. The input's
   // vertices keep them in the scan's side bits (done with: bit 4 marks the vertices on the
-  // plane, these go above it, at 8 and 16), the cut's in `fresh`: no array over the whole mesh
-  // is cleared.
+  // plane, these go above it, at 8 and 16), the cut's in `fresh` (above them, for a vertex both
+  // use, 1 + its place in `shared`): no array over the whole mesh is cleared.
   const std::uint32_t first_new = posed_.first_new();
   std::uint8_t* old_bits = side_bits_.data();
-  std::vector<std::uint8_t> fresh(mesh_.vertex_count() - first_new, 0);
+  std::vector<std::uint32_t> fresh(mesh_.vertex_count() - first_new, 0);
   std::vector<std::uint32_t> touched;  // the input's, each once
   std::vector<FaceId> rim_faces;
   rim_faces.reserve(rim_candidates_.size());
@@ -288,8 +288,12 @@ void Cutter::separate_sides() {
   for (std::uint32_t v : touched)
     if ((old_bits[v] & 24) == 24) shared.push_back(v);
   std::sort(shared.begin(), shared.end());
+  const std::size_t old_shared = shared.size();
   for (std::size_t i = 0; i < fresh.size(); ++i)
-    if (fresh[i] == 3) shared.push_back(first_new + static_cast<std::uint32_t>(i));
+    if (fresh[i] == 3) {
+      shared.push_back(first_new + static_cast<std::uint32_t>(i));
+      fresh[i] |= static_cast<std::uint32_t>(shared.size()) << 2;
+    }
   if (shared.empty()) return;
   const VertexId first_copy = editor_.split_vertices(shared.data(), shared.size());
   for (const std::uint32_t v : shared) {
@@ -304,13 +308,13 @@ void Cutter::separate_sides() {
     crossing_copies_[0] = first_copy.index + static_cast<std::uint32_t>(first_of_crossing);
     crossing_copies_[1] = first_copy.index + static_cast<std::uint32_t>(shared.size());
   }
-  // The copy of a shared vertex (the rim faces use no copy: every vertex is below them).
-  auto is_shared = [&](std::uint32_t v) {
-    return v < first_new ? (old_bits[v] & 24) == 24 : fresh[v - first_new] == 3;
-  };
-  auto copy_of = [&](std::uint32_t v) {
-    const auto at = std::lower_bound(shared.begin(), shared.end(), v) - shared.begin();
-    return VertexId(first_copy.index + static_cast<std::uint32_t>(at));
+  // The place in `shared` of a vertex on the plane, or none (the rim faces use no copy: every
+  // vertex is below them). The input's shared vertices are few.
+  const auto old_end = shared.begin() + static_cast<std::ptrdiff_t>(old_shared);
+  auto slot_of = [&](std::uint32_t v) -> std::uint32_t {
+    if (v >= first_new) return (fresh[v - first_new] >> 2) - 1;  // not shared: 0 - 1, kInvalidIndex
+    if ((old_bits[v] & 24) != 24) return kInvalidIndex;
+    return static_cast<std::uint32_t>(std::lower_bound(shared.begin(), old_end, v) - shared.begin());
   };
   sign = sign_.data();
   const glm::vec3 e[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
@@ -322,8 +326,10 @@ void Cutter::separate_sides() {
     Triangle moved = t;
     bool changed = false;
     for (auto& v : moved) {
-      if (sign[v.index] != 0 || !is_shared(v.index)) continue;
-      v = copy_of(v.index);
+      if (sign[v.index] != 0) continue;
+      const std::uint32_t slot = slot_of(v.index);
+      if (slot == kInvalidIndex) continue;
+      v = VertexId(first_copy.index + slot);
       changed = true;
     }
     if (!changed) continue;
