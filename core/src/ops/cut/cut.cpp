@@ -372,7 +372,8 @@ std::vector<std::pair<VertexId, VertexId>> Cutter::split_pinches(CutResult* resu
     dist_.push_back(dist_[v.index]);
     sign_.push_back(0);
   }
-  for (auto i = static_cast<std::uint32_t>(before); i < mesh_.face_slots(); ++i) rim_candidates_.push_back(FaceId(i));
+  detail::append_run(rim_candidates_, static_cast<std::uint32_t>(before),
+                     static_cast<std::uint32_t>(mesh_.face_slots()));
   if (!result || splits.replaced.empty()) return splits.copies;
   std::vector<std::pair<FaceId, FaceId>> moved = splits.replaced;  // each old face once
   std::sort(moved.begin(), moved.end());
@@ -616,6 +617,7 @@ void Cutter::split_crossed_faces() {
   std::size_t crossed = 0;
   for (const Found& part : found) crossed += part.crossed.size();
   splits_.reserve(2 * crossed);  // about one new crossed edge per crossed face, two at most
+  rim_candidates_.reserve(8 * rim_faces + 64);  // the touching faces, the faces the cut makes
   // Per crossed face about: a crossing, its removal, three faces, and separating the sides a
   // copy and two faces moved (a removal and an addition each).
   editor_.reserve_log(10 * crossed);
@@ -630,14 +632,14 @@ void Cutter::split_crossed_faces() {
     rim_candidates_.insert(rim_candidates_.end(), part.touching.begin(), part.touching.end());
   }
   editor_.apply(batch);
-  for (auto i = first_new_face; i < mesh_.face_slots(); ++i) rim_candidates_.push_back(FaceId(i));
+  detail::append_run(rim_candidates_, first_new_face, static_cast<std::uint32_t>(mesh_.face_slots()));
 }
 
 void Cutter::separate_or_drop_side() {
   if (options_.keep == CutKeep::Both) {
     const auto before = static_cast<std::uint32_t>(mesh_.face_slots());
     separate_sides();
-    for (auto i = before; i < mesh_.face_slots(); ++i) rim_candidates_.push_back(FaceId(i));
+    detail::append_run(rim_candidates_, before, static_cast<std::uint32_t>(mesh_.face_slots()));
   } else {
     // Every live face of the dropped side, in id order.
     const int drop = options_.keep == CutKeep::Positive ? 1 : 0;
@@ -685,7 +687,7 @@ void Cutter::cap_pieces(CutResult& result, std::vector<VertexId>& rim) {
   const auto first_cap_face = static_cast<std::uint32_t>(mesh_.face_slots());
   const std::size_t live_before = mesh_.face_count();
   for (std::size_t p = 0; p < result.pieces.size(); ++p) detail::cap_piece(editor_, rims[p], result.pieces[p]);
-  for (auto i = first_cap_face; i < mesh_.face_slots(); ++i) rim_candidates_.push_back(FaceId(i));
+  detail::append_run(rim_candidates_, first_cap_face, static_cast<std::uint32_t>(mesh_.face_slots()));
   // With a face of a piece removed (a flat one the cap replaced) its fans may have come apart:
   // then every rim vertex is looked at.
   VertexFlags one_fan;
