@@ -27,12 +27,16 @@ void insert_sorted(std::vector<T>& list, T value) {
   p[at] = value;
 }
 
+// Found by a scan from the front: over a handful of ids it costs less than a binary search, and
+// the elements after it are moved one by one anyway.
 template <class T>
 void erase_sorted(std::vector<T>& list, T value) {
-  const auto at = static_cast<std::size_t>(std::lower_bound(list.begin(), list.end(), value) - list.begin());
-  if (at == list.size() || list[at] != value) return;
   T* p = list.data();
-  for (std::size_t i = at + 1; i < list.size(); ++i) p[i - 1] = p[i];
+  const std::size_t n = list.size();
+  std::size_t at = 0;
+  while (at < n && p[at] < value) ++at;
+  if (at == n || p[at] != value) return;
+  for (std::size_t i = at + 1; i < n; ++i) p[i - 1] = p[i];
   list.pop_back();
 }
 

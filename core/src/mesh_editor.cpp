@@ -214,27 +214,51 @@ FaceId MeshEditor::add_face(const Triangle& vertices) {
 }
 
 namespace {
+[[noreturn]] void throw_not_live(FaceId f) {
+  throw Error(ErrorCode::InvalidArgument, "remove_face: face " + std::to_string(f.index) + " is not a live face");
+}
+
 void check_live(const SurfaceMesh& mesh, FaceId f) {
-  if (f.index >= mesh.face_slots() || mesh.is_deleted(f))
-    throw Error(ErrorCode::InvalidArgument, "remove_face: face " + std::to_string(f.index) + " is not a live face");
+  if (f.index >= mesh.face_slots() || mesh.is_deleted(f)) throw_not_live(f);
+}
+
+// Every removal of a batch names a live face, and none twice (the second removal of a face
+// would find it deleted): checked before the batch changes anything. Removals in ascending
+// order (as operations queue them) need one pass; others are sorted in a copy.
+void check_removals(const SurfaceMesh& mesh, const std::vector<std::pair<FaceId, std::uint32_t>>& removals) {
+  bool ascending = true;
+  for (std::size_t i = 0; i < removals.size(); ++i) {
+    check_live(mesh, removals[i].first);
+    if (i > 0 && !(removals[i - 1].first < removals[i].first)) ascending = false;
+  }
+  if (ascending) return;
+  std::vector<FaceId> ids(removals.size());
+  for (std::size_t i = 0; i < removals.size(); ++i) ids[i] = removals[i].first;
+  std::sort(ids.begin(), ids.end());
+  const auto twice = std::adjacent_find(ids.begin(), ids.end());
+  if (twice != ids.end()) throw_not_live(*twice);
+}
+// Removes live face `f` and logs it.
+void remove_live(SurfaceMesh& mesh, EditLog& log, FaceId f) {
+  mesh.mark_deleted(f);
+  log.edits.push_back(FaceRemoved{f, mesh.face(f)});
 }
 }  // namespace
 
 void MeshEditor::remove_face(FaceId f) {
   check_live(mesh_, f);
-  mesh_.mark_deleted(f);
-  log_.edits.push_back(FaceRemoved{f, mesh_.face(f)});
+  remove_live(mesh_, log_, f);
 }
 
 void FaceBatch::reserve(std::size_t faces, std::size_t removals) {
   faces_.reserve(faces);
   parents_.reserve(faces);
-  if (weights_.size() < 9 * faces) weights_.resize(9 * faces);
+  weights_.reserve(9 * faces);
   removals_.reserve(removals);
 }
 
 void MeshEditor::apply(FaceBatch& batch) {
-  for (const auto& removal : batch.removals_) check_live(mesh_, removal.first);
+  check_removals(mesh_, batch.removals_);
   const std::size_t n = batch.faces_.size();
   // The new faces first (their vertices checked before any change), then the log in the
   // batch's order: removing a face neither reads nor writes the faces added after it.
@@ -242,7 +266,8 @@ void MeshEditor::apply(FaceBatch& batch) {
   fix_corner_directions(first, n, batch.parents_.data(), batch.weights_.data());
   std::size_t r = 0;
   auto removals_before = [&](std::size_t i) {
-    for (; r < batch.removals_.size() && batch.removals_[r].second <= i; ++r) remove_face(batch.removals_[r].first);
+    for (; r < batch.removals_.size() && batch.removals_[r].second <= i; ++r)
+      remove_live(mesh_, log_, batch.removals_[r].first);  // checked above
   };
   for (std::size_t i = 0; i < n; ++i) {
     removals_before(i);
@@ -252,6 +277,7 @@ void MeshEditor::apply(FaceBatch& batch) {
   removals_before(n);
   batch.faces_.clear();
   batch.parents_.clear();
+  batch.weights_.clear();
   batch.removals_.clear();
 }
 

@@ -344,6 +344,25 @@ TEST(MeshEditorTest, a_face_batch_equals_its_calls_one_after_another) {
   EXPECT_EQ(mesh_bytes(batched), before);
 }
 
+TEST(MeshEditorTest, a_face_batch_removing_a_face_twice_changes_nothing) {
+  // The second removal would find the face deleted: the batch is refused before any change,
+  // whether the two removals are next to each other or apart, with faces queued between them.
+  SurfaceMesh mesh = test::make_grid(3, 2);
+  MeshEditor editor(mesh);
+  const std::vector<unsigned char> before = mesh_bytes(mesh);
+  const std::array<glm::vec3, 3> same = {glm::vec3(1, 0, 0), glm::vec3(0, 1, 0), glm::vec3(0, 0, 1)};
+  for (const std::vector<std::uint32_t>& removals : {std::vector<std::uint32_t>{2, 2}, {1, 4, 3, 4, 0}}) {
+    FaceBatch batch;
+    for (std::uint32_t f : removals) {
+      batch.remove(FaceId(f));
+      batch.add_from(mesh.face(FaceId(f)), FaceId(f), same);
+    }
+    EXPECT_THROW(editor.apply(batch), Error);
+    EXPECT_EQ(mesh_bytes(mesh), before);
+    EXPECT_EQ(editor.log().size(), 0u);
+  }
+}
+
 TEST(MeshEditorTest, normalize_influences_handles_zero_nan_and_duplicates) {
   std::uint16_t j[4] = {3, 3, 5, 7};
   float w[4] = {0.2f, 0.2f, std::nanf(""), -1.0f};

@@ -28,16 +28,11 @@ class FaceBatch {
   void remove(FaceId f) { removals_.emplace_back(f, static_cast<std::uint32_t>(faces_.size())); }
   /// Queues `add_face_from(vertices, parent, corner_bary)`.
   void add_from(const Triangle& vertices, FaceId parent, const std::array<glm::vec3, 3>& corner_bary) {
-    const std::size_t at = 9 * faces_.size();
     faces_.push_back(vertices);
     parents_.push_back(parent.index);
-    if (weights_.size() < at + 9) weights_.resize(2 * at + 9);  // grown by doubling, not per face
-    float* w = weights_.data() + at;
-    for (int k = 0; k < 3; ++k) {
-      w[3 * k] = corner_bary[k].x;
-      w[3 * k + 1] = corner_bary[k].y;
-      w[3 * k + 2] = corner_bary[k].z;
-    }
+    const float w[9] = {corner_bary[0].x, corner_bary[0].y, corner_bary[0].z, corner_bary[1].x, corner_bary[1].y,
+                        corner_bary[1].z, corner_bary[2].x, corner_bary[2].y, corner_bary[2].z};
+    weights_.insert(weights_.end(), w, w + 9);  // appended as written: no zero fill first
   }
   /// Room for `faces` additions and `removals` removals.
   void reserve(std::size_t faces, std::size_t removals);
@@ -47,7 +42,7 @@ class FaceBatch {
   friend class MeshEditor;
   std::vector<Triangle> faces_;
   std::vector<std::uint32_t> parents_;
-  std::vector<float> weights_;  // nine per face (at least): corner k's barycentric weights at 3k
+  std::vector<float> weights_;  // nine per face: corner k's barycentric weights at 3k
   // Each removal, with the number of faces queued before it.
   std::vector<std::pair<FaceId, std::uint32_t>> removals_;
 };

@@ -124,7 +124,8 @@ class Cutter {
   CutOptions options_;
   glm::dvec3 normal_, point_;
   // Signed distance to the plane and snapped sign per vertex (detail::VertexSides; the cut
-  // appends its new vertices), and the side bits of the input's vertices (split_crossed_faces).
+  // appends its new vertices), and the side bits of the input's vertices (split_crossed_faces;
+  // separate_sides then keeps its own bits above them).
   detail::UninitVector<float> dist_;
   std::vector<std::int8_t> sign_;
   detail::UninitVector<std::uint8_t> side_bits_;
@@ -255,10 +256,14 @@ void Cutter::split_face(FaceId f, FaceBatch& batch) {
 
 // Rim vertices used by both sides get a copy for the positive side, so the sides come apart.
 void Cutter::separate_sides() {
-  // Per vertex (flat, by vertex id): bit 1 a positive face uses it, bit 2 a negative one; above
-  // them, for a vertex both use, 1 + its place in `shared`.
-  std::vector<std::uint32_t> touches(mesh_.vertex_count(), 0);
-  std::vector<std::uint32_t> touched;
+  // Per vertex on the plane: bit 1 a positive face uses it, bit 2 a negative one. The input's
+  // vertices keep them in the scan's side bits (done with: bit 4 marks the vertices on the
+  // plane, these go above it, at 8 and 16), the cut's in `fresh` (above them, for a vertex both
+  // use, 1 + its place in `shared`): no array over the whole mesh is cleared.
+  const std::uint32_t first_new = posed_.first_new();
+  std::uint8_t* old_bits = side_bits_.data();
+  std::vector<std::uint32_t> fresh(mesh_.vertex_count() - first_new, 0);
+  std::vector<std::uint32_t> touched;  // the input's, each once
   std::vector<FaceId> rim_faces;
   rim_faces.reserve(rim_candidates_.size());
   const std::int8_t* sign = sign_.data();
@@ -267,26 +272,31 @@ void Cutter::separate_sides() {
     const Triangle& t = mesh_.face(f);
     rim_faces.push_back(f);
     const std::uint8_t bit = side_code(sign, t);
-    for (auto v : t)
-      if (sign[v.index] == 0) {
-        if (touches[v.index] == 0) touched.push_back(v.index);
-        touches[v.index] |= bit;
+    for (auto v : t) {
+      if (sign[v.index] != 0) continue;
+      if (v.index >= first_new) {
+        fresh[v.index - first_new] |= bit;
+        continue;
       }
+      if ((old_bits[v.index] & 24) == 0) touched.push_back(v.index);
+      old_bits[v.index] |= static_cast<std::uint8_t>(bit << 3);
+    }
   }
   // In id order (deterministic vertex numbering): the input's vertices sorted, then the cut's
   // (the newest ids) as they come.
   std::vector<std::uint32_t> shared;
-  const std::uint32_t first_new = posed_.first_new();
   for (std::uint32_t v : touched)
-    if (touches[v] == 3 && v < first_new) shared.push_back(v);
+    if ((old_bits[v] & 24) == 24) shared.push_back(v);
   std::sort(shared.begin(), shared.end());
-  for (std::uint32_t v = first_new; v < touches.size(); ++v)
-    if (touches[v] == 3) shared.push_back(v);
+  const std::size_t old_shared = shared.size();
+  for (std::size_t i = 0; i < fresh.size(); ++i)
+    if (fresh[i] == 3) {
+      shared.push_back(first_new + static_cast<std::uint32_t>(i));
+      fresh[i] |= static_cast<std::uint32_t>(shared.size()) << 2;
+    }
   if (shared.empty()) return;
   const VertexId first_copy = editor_.split_vertices(shared.data(), shared.size());
-  for (std::size_t i = 0; i < shared.size(); ++i) {
-    const std::uint32_t v = shared[i];
-    touches[v] |= static_cast<std::uint32_t>(i + 1) << 2;
+  for (const std::uint32_t v : shared) {
     posed_.add(posed_(VertexId(v)));
     dist_.push_back(dist_[v]);
     sign_.push_back(0);
@@ -298,6 +308,14 @@ void Cutter::separate_sides() {
     crossing_copies_[0] = first_copy.index + static_cast<std::uint32_t>(first_of_crossing);
     crossing_copies_[1] = first_copy.index + static_cast<std::uint32_t>(shared.size());
   }
+  // The place in `shared` of a vertex on the plane, or none (the rim faces use no copy: every
+  // vertex is below them). The input's shared vertices are few.
+  const auto old_end = shared.begin() + static_cast<std::ptrdiff_t>(old_shared);
+  auto slot_of = [&](std::uint32_t v) -> std::uint32_t {
+    if (v >= first_new) return (fresh[v - first_new] >> 2) - 1;  // not shared: 0 - 1, kInvalidIndex
+    if ((old_bits[v] & 24) != 24) return kInvalidIndex;
+    return static_cast<std::uint32_t>(std::lower_bound(shared.begin(), old_end, v) - shared.begin());
+  };
   sign = sign_.data();
   const glm::vec3 e[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   FaceBatch batch;
@@ -308,11 +326,11 @@ void Cutter::separate_sides() {
     Triangle moved = t;
     bool changed = false;
     for (auto& v : moved) {
-      const std::uint32_t slot = touches[v.index] >> 2;  // the rim faces use no copy: in range
-      if (slot != 0) {
-        v = VertexId(first_copy.index + slot - 1);
-        changed = true;
-      }
+      if (sign[v.index] != 0) continue;
+      const std::uint32_t slot = slot_of(v.index);
+      if (slot == kInvalidIndex) continue;
+      v = VertexId(first_copy.index + slot);
+      changed = true;
     }
     if (!changed) continue;
     batch.remove(f);
@@ -354,7 +372,8 @@ std::vector<std::pair<VertexId, VertexId>> Cutter::split_pinches(CutResult* resu
     dist_.push_back(dist_[v.index]);
     sign_.push_back(0);
   }
-  for (auto i = static_cast<std::uint32_t>(before); i < mesh_.face_slots(); ++i) rim_candidates_.push_back(FaceId(i));
+  detail::append_run(rim_candidates_, static_cast<std::uint32_t>(before),
+                     static_cast<std::uint32_t>(mesh_.face_slots()));
   if (!result || splits.replaced.empty()) return splits.copies;
   std::vector<std::pair<FaceId, FaceId>> moved = splits.replaced;  // each old face once
   std::sort(moved.begin(), moved.end());
@@ -573,11 +592,7 @@ void Cutter::split_crossed_faces() {
       const auto stop = static_cast<std::uint32_t>(e);
       const std::uint32_t end = any_deleted ? run_end<true>(mesh_, bits, i + 1, stop, c)
                                             : run_end<false>(mesh_, bits, i + 1, stop, c);
-      std::vector<FaceId>& list = out.clean[c - 1];
-      const std::size_t at = list.size();
-      list.resize(at + (end - i));
-      FaceId* dst = list.data() + at;
-      for (std::uint32_t k = 0; k < end - i; ++k) dst[k] = FaceId(i + k);
+      detail::append_run(out.clean[c - 1], i, end);
       i = end;
     }
   });
@@ -602,6 +617,7 @@ void Cutter::split_crossed_faces() {
   std::size_t crossed = 0;
   for (const Found& part : found) crossed += part.crossed.size();
   splits_.reserve(2 * crossed);  // about one new crossed edge per crossed face, two at most
+  rim_candidates_.reserve(8 * rim_faces + 64);  // the touching faces, the faces the cut makes
   // Per crossed face about: a crossing, its removal, three faces, and separating the sides a
   // copy and two faces moved (a removal and an addition each).
   editor_.reserve_log(10 * crossed);
@@ -616,14 +632,14 @@ void Cutter::split_crossed_faces() {
     rim_candidates_.insert(rim_candidates_.end(), part.touching.begin(), part.touching.end());
   }
   editor_.apply(batch);
-  for (auto i = first_new_face; i < mesh_.face_slots(); ++i) rim_candidates_.push_back(FaceId(i));
+  detail::append_run(rim_candidates_, first_new_face, static_cast<std::uint32_t>(mesh_.face_slots()));
 }
 
 void Cutter::separate_or_drop_side() {
   if (options_.keep == CutKeep::Both) {
     const auto before = static_cast<std::uint32_t>(mesh_.face_slots());
     separate_sides();
-    for (auto i = before; i < mesh_.face_slots(); ++i) rim_candidates_.push_back(FaceId(i));
+    detail::append_run(rim_candidates_, before, static_cast<std::uint32_t>(mesh_.face_slots()));
   } else {
     // Every live face of the dropped side, in id order.
     const int drop = options_.keep == CutKeep::Positive ? 1 : 0;
@@ -671,7 +687,7 @@ void Cutter::cap_pieces(CutResult& result, std::vector<VertexId>& rim) {
   const auto first_cap_face = static_cast<std::uint32_t>(mesh_.face_slots());
   const std::size_t live_before = mesh_.face_count();
   for (std::size_t p = 0; p < result.pieces.size(); ++p) detail::cap_piece(editor_, rims[p], result.pieces[p]);
-  for (auto i = first_cap_face; i < mesh_.face_slots(); ++i) rim_candidates_.push_back(FaceId(i));
+  detail::append_run(rim_candidates_, first_cap_face, static_cast<std::uint32_t>(mesh_.face_slots()));
   // With a face of a piece removed (a flat one the cap replaced) its fans may have come apart:
   // then every rim vertex is looked at.
   VertexFlags one_fan;

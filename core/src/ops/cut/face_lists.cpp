@@ -2,8 +2,54 @@
 #include "ops/cut/face_lists.h"
 
 #include <algorithm>
+#include <cstddef>
+#include <iterator>
 
 namespace deepcut::detail {
+namespace {
+
+// Consecutive face ids as a random-access iterator (what vector::insert needs to size the
+// insertion once).
+class IdCounter {
+ public:
+  using iterator_category = std::random_access_iterator_tag;
+  using value_type = FaceId;
+  using difference_type = std::ptrdiff_t;
+  using pointer = const FaceId*;
+  using reference = FaceId;
+  explicit IdCounter(std::uint32_t i) : i_(i) {}
+  FaceId operator*() const { return FaceId(i_); }
+  FaceId operator[](difference_type n) const { return FaceId(i_ + static_cast<std::uint32_t>(n)); }
+  IdCounter& operator++() {
+    ++i_;
+    return *this;
+  }
+  IdCounter operator++(int) { return IdCounter(i_++); }
+  IdCounter& operator--() {
+    --i_;
+    return *this;
+  }
+  IdCounter& operator+=(difference_type n) {
+    i_ += static_cast<std::uint32_t>(n);
+    return *this;
+  }
+  IdCounter operator+(difference_type n) const { return IdCounter(i_ + static_cast<std::uint32_t>(n)); }
+  difference_type operator-(const IdCounter& o) const {
+    return static_cast<difference_type>(i_) - static_cast<difference_type>(o.i_);
+  }
+  bool operator==(const IdCounter& o) const { return i_ == o.i_; }
+  bool operator!=(const IdCounter& o) const { return i_ != o.i_; }
+  bool operator<(const IdCounter& o) const { return i_ < o.i_; }
+
+ private:
+  std::uint32_t i_;
+};
+
+}  // namespace
+
+void append_run(std::vector<FaceId>& list, std::uint32_t i, std::uint32_t end) {
+  list.insert(list.end(), IdCounter(i), IdCounter(end));
+}
 
 void follow_moved_faces(const std::vector<std::pair<FaceId, FaceId>>& moved, FaceId first_new,
                         std::vector<FaceId>& piece) {

@@ -33,6 +33,10 @@ std::uint32_t run_end(const SurfaceMesh& mesh, const std::uint8_t* bits, std::ui
   return i;
 }
 
+/// The face ids [i, end) appended to `list` in one insert: constructed in place, with no zero
+/// fill of the new elements first (a run can be most of the mesh).
+void append_run(std::vector<FaceId>& list, std::uint32_t i, std::uint32_t end);
+
 /// `piece` with each face moved (old, new: sorted by old) replaced by its new face, sorted. The
 /// new faces are all at or above `first_new`; a piece sorted and below it keeps its order, so
 /// only the new faces are sorted, after it.
