@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The drill plans its crossed faces in parallel chunks (core/src/ops/drill/rim_faces.h) and
 // makes the edits in candidate order: the result is the same whatever the thread count, and
-// whatever was drilled before on the same threads (their planning lists are reused, and given
-// back after a big drill).
+// whatever was drilled before on the same threads (their planning lists are reused). A big
+// drill's lists give their memory back when it ends.
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -11,6 +11,7 @@
 #include "deepcut/core/ops/drill.h"
 #include "deepcut/core/posed_model.h"
 #include "fixtures.h"
+#include "ops/drill/rim_faces.h"
 #include "thread_count.h"
 
 namespace deepcut {
@@ -40,7 +41,8 @@ void expect_same(const Drilled& a, const Drilled& b) {
   EXPECT_EQ(a.result.log.size(), b.result.log.size());
   EXPECT_EQ(a.result.added_posed, b.result.added_posed);
   ASSERT_EQ(a.result.holes.size(), b.result.holes.size());
-  for (std::size_t h = 0; h < b.result.holes.size(); ++h) EXPECT_EQ(a.result.holes[h].rim, b.result.holes[h].rim);
+  for (std::size_t h = 0; h < b.result.holes.size(); ++h)
+    EXPECT_EQ(a.result.holes[h].rim, b.result.holes[h].rim);
   EXPECT_EQ(a.result.triangles_added, b.result.triangles_added);
   EXPECT_EQ(a.result.wall_triangles, b.result.wall_triangles);
 }
@@ -67,9 +69,19 @@ TEST(DrillThreadsTest, the_result_does_not_depend_on_the_thread_count) {
     }
 }
 
-// A small drill, then a big one (a fine rim across hundreds of faces: the planning lists grow),
-// then the small one twice (the first finds the big lists, the second has them given back): the
-// small drill's result is the same each time.
+// The calling thread's planning lists: none holds more than kKeptBytes.
+void expect_no_big_plan_lists() {
+  using drill::PlanChunk;
+  for (const PlanChunk& c : PlanChunk::local()) {
+    EXPECT_LE(c.pts.capacity() * sizeof(c.pts[0]), PlanChunk::kKeptBytes);
+    EXPECT_LE(c.tris.capacity() * sizeof(c.tris[0]), PlanChunk::kKeptBytes);
+    EXPECT_LE(c.polys.capacity() * sizeof(c.polys[0]), PlanChunk::kKeptBytes);
+  }
+}
+
+// A small drill, then a big one (a fine rim across hundreds of faces: its planning lists grow past
+// PlanChunk::kKeptBytes, and give their memory back when it ends), then the small one twice: the
+// small drill's result is the same each time, whatever the earlier drills left in the lists.
 TEST(DrillThreadsTest, the_result_does_not_depend_on_earlier_drills) {
   const SurfaceMesh input = test::make_grid(240, 240);
   const Cylinder small{{0.3f, 0.3f, -1.0f}, {0.3f, 0.3f, 1.0f}, 0.02f};
@@ -80,6 +92,7 @@ TEST(DrillThreadsTest, the_result_does_not_depend_on_earlier_drills) {
     ASSERT_EQ(first.result.status, OpStatus::Ok);
     const Drilled after_big = drill_with(threads, input, big, false, 1024);
     ASSERT_GT(after_big.result.intersection_points, 500u);
+    expect_no_big_plan_lists();
     for (int again = 0; again < 2; ++again) expect_same(drill_with(threads, input, small, false), first);
   }
 }
