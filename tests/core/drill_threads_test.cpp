@@ -79,6 +79,36 @@ void expect_no_big_plan_lists() {
   }
 }
 
+// PlanChunk::reused hands out this thread's chunks empty; a list grown past kKeptBytes gives its
+// memory back (at give_back_big, or at the next reuse), a smaller one keeps it.
+TEST(PlanChunkTest, lists_above_the_threshold_give_their_memory_back) {
+  using drill::PlanChunk;
+  const std::size_t big = 2 * PlanChunk::kKeptBytes / sizeof(drill::LocalPoint);
+  {
+    std::vector<PlanChunk>& chunks = PlanChunk::reused(2);
+    ASSERT_EQ(chunks.size(), 2u);
+    EXPECT_EQ(&chunks, &PlanChunk::local());
+    chunks[0].pts.resize(big);
+    chunks[1].pts.resize(8);
+    chunks[1].polys.resize(8);
+    const std::size_t small = chunks[1].pts.capacity();
+    PlanChunk::give_back_big(chunks);
+    EXPECT_LE(chunks[0].pts.capacity() * sizeof(drill::LocalPoint), PlanChunk::kKeptBytes);
+    EXPECT_EQ(chunks[1].pts.capacity(), small);
+    EXPECT_EQ(chunks[1].pts.size(), 8u) << "give_back_big leaves small lists as they are";
+  }
+  PlanChunk::local()[0].pts.resize(big);
+  for (int again = 0; again < 2; ++again) {
+    std::vector<PlanChunk>& chunks = PlanChunk::reused(1);
+    ASSERT_EQ(chunks.size(), 1u);
+    EXPECT_TRUE(chunks[0].pts.empty());
+    EXPECT_TRUE(chunks[0].polys.empty());
+    EXPECT_LE(chunks[0].pts.capacity() * sizeof(drill::LocalPoint), PlanChunk::kKeptBytes);
+    chunks[0].polys.resize(8);
+  }
+  EXPECT_GE(PlanChunk::local()[0].polys.capacity(), 8u) << "a small list keeps its memory";
+}
+
 // A small drill, then a big one (a fine rim across hundreds of faces: its planning lists grow past
 // PlanChunk::kKeptBytes, and give their memory back when it ends), then the small one twice: the
 // small drill's result is the same each time, whatever the earlier drills left in the lists.
