@@ -7,38 +7,26 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <algorithm>
 #include <cmath>
-#include <cstdlib>
-#include <filesystem>
-#include <functional>
 #include <map>
 #include <random>
-#include <set>
+#include <string>
 
 #include "deepcut/core/adjacency.h"
 #include "deepcut/core/io/gltf.h"
-#include "deepcut/core/mesh_editor.h"
-#include "deepcut/core/ops/cut.h"
-#include "deepcut/core/ops/tear.h"
-#include "deepcut/core/skinning.h"
-#include "deepcut/core/spatial_index.h"
-#include "deepcut/core/validate.h"
 #include "drill_checks.h"
 #include "fixtures.h"
+#include "geometry/predicates.h"
 #include "tools.h"
 
 namespace deepcut {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
+using geometry::kPi;
 using test::Axis;
-using test::census;
 using test::check_asset_drill;
-using test::check_drill;
 using test::Checked;
-using test::drilled_volume;
-using test::EdgeCensus;
 using test::min_angle;
 
 /// Without and with a wall (and, if `also_indexed`, through the spatial index as well): the drill
@@ -59,11 +47,10 @@ void expect_asset_drill_hits_and_walls(const Model& model, const Cylinder& cyl, 
 
 }  // namespace
 
-// Found by the random sequences (pinched vertices after drills, e.g. Fox seed 20261986 step 211):
-// a saddle vertex lying on the cylinder's side, its surface rising into the cylinder towards +x
+// A saddle vertex lying on the cylinder's side, its surface rising into the cylinder towards +x
 // and -x and falling away towards +y and -y. The kept surface is two wedges (around +y and -y)
-// that meet only at that vertex; each gets its own vertex, with and without a wall, and with the
-// spatial index.
+// that meet only at that vertex: each gets its own vertex (no pinched vertex, two used vertices
+// at the saddle point), with and without a wall, and with the spatial index.
 TEST(DrillTest, rim_through_a_saddle_vertex_leaves_no_pinched_vertex) {
   for (const bool wall : {false, true})
     for (const bool indexed : {false, true}) {
@@ -93,11 +80,11 @@ TEST(DrillTest, rim_through_a_saddle_vertex_leaves_no_pinched_vertex) {
     }
 }
 
-// Found by random drills with other seeds (DEEPCUT_DRILL_SEED): the corner where a D-shaped
-// rim's straight part (on the end plane at B) meets its arc. It was skipped when a crossing lay
-// within the rim spacing of it (Fox, seed 1 drill 83; cactus, seed 3 drill 35) or when it lay
-// just outside the triangle the rim bends in (cactus, seed 2 drill 15): the chord between the
-// two parts then left kept surface up to 2.5% of r inside the cylinder.
+// Drills whose D-shaped rim has a corner where its straight part (on the end plane at B) meets
+// its arc, within a rim spacing of a crossing or just outside the triangle the rim bends in
+// (random drills of the Fox and the cactus, DEEPCUT_DRILL_SEED 1 to 3). The corner stays a rim
+// point: every check_drill invariant holds (no kept surface inside the cylinder, which a chord
+// between the two parts would leave), with and without a wall.
 TEST(DrillTest, rim_corner_on_an_end_plane_is_kept) {
   const Model cactus = read_gltf(std::string(DEEPCUT_ASSETS_DIR) + "/cactus.glb");
   const Model fox = read_gltf(std::string(DEEPCUT_ASSETS_DIR) + "/models/Fox/Fox.glb");
@@ -115,23 +102,22 @@ TEST(DrillTest, rim_corner_on_an_end_plane_is_kept) {
   }
 }
 
-// Found by random drills (cactus, seed 2 drill 1, with a wall): where two rims meet at one vertex
-// on the cylinder, each incoming rim edge goes on with the outgoing one of its own fan. Paired the
-// other way, the rims crossed there: the shell could not be walled and, after the pinch split,
-// the hole's rim ran along an edge that no longer existed.
+// Two rims meeting at one vertex on the cylinder (a cactus drill): each incoming rim edge goes on
+// with the outgoing one of its own fan, so the rims do not cross there. The drill keeps every
+// check_drill invariant (each rim step is an edge of the mesh after the pinch split) and, with a
+// wall, walls every hole; with and without the spatial index.
 TEST(DrillTest, rims_meeting_at_a_vertex_follow_their_own_fans) {
   const Model cactus = read_gltf(std::string(DEEPCUT_ASSETS_DIR) + "/cactus.glb");
   const Cylinder c{{7.87602472f, 6.90400934f, -5.91235971f}, {-9.16912842f, -1.46460295f, 6.17348909f}, 0.876988471f};
   expect_asset_drill_hits_and_walls(cactus, c, true);
 }
 
-// Found by random drills with other seeds (walled drills of closed input that stayed open):
-// - cactus, seed 4 drill 11: two rims of one shell touching at a vertex on the cylinder; the
-//   hole loop was given to no outer loop, judged at the shared vertex (winding number there is
-//   0 or 1 by rounding).
-// - RiggedSimple, seed 4 drill 15: a layer that only clips the cylinder's end circle cuts a thin
-//   lens; without a point on its arc the rim was the straight part and its chord, a hole of zero
-//   area no wall can close.
+// Walled drills of closed input that close every hole:
+// - cactus: two rims of one shell touch at a vertex on the cylinder; the hole loop still gets
+//   its outer loop, though the winding number at the shared vertex is 0 or 1 by rounding.
+// - RiggedSimple: a layer that only clips the cylinder's end circle cuts a thin lens; its arc
+//   gets a point, so the hole has an area (the straight part and its chord alone would be a
+//   slit no wall can close).
 TEST(DrillTest, walls_close_rims_that_touch_and_thin_lenses_at_an_end) {
   const Model cactus = read_gltf(std::string(DEEPCUT_ASSETS_DIR) + "/cactus.glb");
   const Model simple = read_gltf(std::string(DEEPCUT_ASSETS_DIR) + "/models/RiggedSimple/RiggedSimple.gltf");
@@ -150,11 +136,10 @@ TEST(DrillTest, walls_close_rims_that_touch_and_thin_lenses_at_an_end) {
   }
 }
 
-// Found by the random sequences (RiggedSimple seed 1 step 237, a zero-area face after a walled
-// drill): the circle crosses both long edges of a needle twice. The crossings nearer the far
-// corners (one float step apart) round to one bind position too; they become one vertex, so the
-// kept part at the needle's far end is one triangle, not one plus a face with two corners at one
-// point.
+// A circle inside a needle, crossing both its long edges twice. The crossings nearer the far
+// corners (one float step apart) round to one bind position; they are one vertex, so the kept
+// part at the needle's far end is one triangle and no face has zero area (a face with two
+// corners at one point), with and without a wall.
 TEST(DrillTest, a_hole_inside_a_needle_makes_no_zero_area_face) {
   for (const bool wall : {false, true}) {
     SCOPED_TRACE(wall ? "walled" : "no wall");
@@ -185,10 +170,10 @@ TEST(DrillTest, a_hole_inside_a_needle_makes_no_zero_area_face) {
   }
 }
 
-// Found by the random sequences (zero-area faces after drills): a needle whose two long edges
-// run from X to corners one float step apart. The circle crosses both edges nearer X than the
-// far corners, where both crossings round to one bind position; they become one vertex, and the
-// needle's kept tip (a face with two corners at one point) is not made.
+// A needle whose two long edges run from X to corners one float step apart, its tip kept: the
+// circle crosses both edges nearer X than the far corners, where both crossings round to one
+// bind position. They are one vertex, the needle's tip (a face with two corners at one point)
+// is not made: no face has zero area, and none reaches inside the circle.
 TEST(DrillTest, a_rim_across_a_needle_makes_no_zero_area_face) {
   for (const bool indexed : {false, true}) {
     SCOPED_TRACE(indexed ? "indexed" : "scan");
@@ -266,10 +251,11 @@ TEST(DrillTest, an_old_boundary_edge_at_a_split_vertex_is_not_rim) {
   }
 }
 
-// Found by random drills with other seeds (SimpleSkin, seed 3 drill 23: a round hole with 31 rim
-// edges of 32): an edge the cylinder only grazes (shallower than the tolerance, so not cut) at a
-// crease. A ruling's point lay just beyond that edge in its triangle's plane and, at the crease,
-// beyond it in the neighbour's plane too: no triangle took it. It is moved inside its triangle.
+// A SimpleSkin drill that only grazes an edge at a crease (shallower than the tolerance, so it is
+// not cut): a ruling's point lies just beyond that edge in its triangle's plane and, at the
+// crease, beyond it in the neighbour's plane too. It moves inside its triangle, so the hole is
+// round with all its 32 rim edges (check_drill counts them), with and without a wall and the
+// spatial index.
 TEST(DrillTest, a_ruling_beyond_a_grazed_edge_keeps_its_rim_point) {
   const Model simple = read_gltf(std::string(DEEPCUT_ASSETS_DIR) + "/models/SimpleSkin/SimpleSkin.gltf");
   const Cylinder c{{0.662097514f, 1.06322265f, 0.650242746f}, {0.376118004f, 1.6702919f, -0.334016979f}, 0.201499388f};
@@ -282,11 +268,11 @@ TEST(DrillTest, a_ruling_beyond_a_grazed_edge_keeps_its_rim_point) {
     }
 }
 
-// A vertex lying just inside the cylinder (1% of r, a tenth of the rim spacing) had two edges
-// crossed a hair from it: it went, and the far corners of its faces fanned to the two close
-// crossings (needles; on a needle parent, degenerate triangles). It is now slid onto the
-// cylinder and becomes a rim vertex; its bind position moves through its own skinning (here a
-// translation between bind and posed space), and DrillResult::moved reports the posed one.
+// A vertex lying just inside the cylinder (1% of r, a tenth of the rim spacing), two of its
+// edges crossed a hair from it: it is slid onto the cylinder and becomes a rim vertex, so the far
+// corners of its faces do not fan to two close crossings (needles). Its bind position moves
+// through its own skinning (here a translation between bind and posed space), and
+// DrillResult::moved reports the posed one.
 TEST(DrillTest, a_vertex_just_inside_the_cylinder_becomes_a_rim_vertex) {
   for (const bool indexed : {false, true}) {
     SCOPED_TRACE(indexed ? "indexed" : "scan");
@@ -375,12 +361,11 @@ TEST(DrillTest, a_border_vertex_just_inside_the_cylinder_stays) {
   test::expect_adjacency_matches_rebuild(adj, mesh);
 }
 
-// Found by the random sequences (SimpleSkin seed 4 step 282, a drill without wall): a part cut
-// down to a speck 2e-5 across at coordinates about 1.3 got a drill of radius 3.1e-7 (1% of the
-// speck) with 48 rim edges: rim points 4e-8 apart, a third of a float step there, so the bind
-// positions of a rim's new face rounded onto one line (three distinct corners, zero area). Such
-// a cylinder is refused: its rim spacing must exceed the drill's absolute tolerance (1e-6 of the
-// axis' coordinates); just above that every new face keeps a non-zero area.
+// A speck 2e-5 across at coordinates about 1.3, drilled with 48 rim edges at radii from 1% of
+// the speck (rim points 4e-8 apart, a third of a float step there, where the bind positions of a
+// new face would round onto one line). A cylinder whose rim spacing does not exceed the drill's
+// absolute tolerance (1e-6 of the axis' coordinates) is refused and leaves the mesh as it was;
+// just above that every new face keeps a non-zero area.
 TEST(DrillTest, a_rim_finer_than_float_precision_is_refused) {
   SurfaceMesh mesh = test::make_grid(4, 4);
   const glm::vec3 at(0.743281424f, 1.24779034f, -0.000512723869f);
@@ -412,8 +397,8 @@ TEST(DrillTest, a_rim_finer_than_float_precision_is_refused) {
 
 // A coarse mesh (one quad) with holes across its diagonal, near its corners and its sides: the
 // kept part of each crossed edge gets points graded away from the crossings, so a far corner no
-// longer fans to rim points a spacing apart and rim points do not sit next to a long kept edge.
-// Without them 7% of the new triangles were under 5 degrees (2 263 of 32 212), now 3%.
+// longer fans to rim points a spacing apart and rim points do not sit next to a long kept edge:
+// at most 4% of the new triangles are under 5 degrees (7% without the graded points).
 TEST(DrillTest, holes_in_a_coarse_quad_leave_few_needles) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> along(0.1f, 0.9f), radius(0.02f, 0.08f);
@@ -439,9 +424,9 @@ TEST(DrillTest, holes_in_a_coarse_quad_leave_few_needles) {
         graded += !on && a->v.index >= vertices;
       }
   }
-  EXPECT_GT(graded, crossed) << "the kept parts of crossed edges get points";
-  EXPECT_LE(thin, added * 4 / 100) << "new triangles under 5 degrees";
-  std::printf("under 5 degrees: %zu of %zu new triangles; %zu crossings, %zu graded points\n", thin, added, crossed, graded);
+  EXPECT_GT(graded, crossed) << "the kept parts of crossed edges get points: " << graded << " for " << crossed
+                             << " crossings";
+  EXPECT_LE(thin, added * 4 / 100) << thin << " of " << added << " new triangles under 5 degrees";
 }
 
 }  // namespace deepcut

@@ -25,13 +25,13 @@
 #include "deepcut/core/validate.h"
 #include "drill_checks.h"
 #include "fixtures.h"
+#include "geometry/predicates.h"
 #include "tools.h"
 
 namespace deepcut {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
+using geometry::kPi;
 using test::Axis;
 using test::census;
 using test::check_asset_drill;

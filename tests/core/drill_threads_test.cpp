@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The drill plans its crossed faces in parallel chunks (core/src/ops/drill/rim_faces.h) and
 // makes the edits in candidate order: the result is the same whatever the thread count, and
-// whatever was drilled before on the same threads (their planning lists are reused, and given
-// back after a big drill).
+// whatever was drilled before on the same threads (their planning lists are reused). A big
+// drill's lists give their memory back when it ends.
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -11,6 +11,7 @@
 #include "deepcut/core/ops/drill.h"
 #include "deepcut/core/posed_model.h"
 #include "fixtures.h"
+#include "ops/drill/rim_faces.h"
 #include "thread_count.h"
 
 namespace deepcut {
@@ -40,7 +41,8 @@ void expect_same(const Drilled& a, const Drilled& b) {
   EXPECT_EQ(a.result.log.size(), b.result.log.size());
   EXPECT_EQ(a.result.added_posed, b.result.added_posed);
   ASSERT_EQ(a.result.holes.size(), b.result.holes.size());
-  for (std::size_t h = 0; h < b.result.holes.size(); ++h) EXPECT_EQ(a.result.holes[h].rim, b.result.holes[h].rim);
+  for (std::size_t h = 0; h < b.result.holes.size(); ++h)
+    EXPECT_EQ(a.result.holes[h].rim, b.result.holes[h].rim);
   EXPECT_EQ(a.result.triangles_added, b.result.triangles_added);
   EXPECT_EQ(a.result.wall_triangles, b.result.wall_triangles);
 }
@@ -67,9 +69,49 @@ TEST(DrillThreadsTest, the_result_does_not_depend_on_the_thread_count) {
     }
 }
 
-// A small drill, then a big one (a fine rim across hundreds of faces: the planning lists grow),
-// then the small one twice (the first finds the big lists, the second has them given back): the
-// small drill's result is the same each time.
+// The calling thread's planning lists: none holds more than kKeptBytes.
+void expect_no_big_plan_lists() {
+  using drill::PlanChunk;
+  for (const PlanChunk& c : PlanChunk::local()) {
+    EXPECT_LE(c.pts.capacity() * sizeof(c.pts[0]), PlanChunk::kKeptBytes);
+    EXPECT_LE(c.tris.capacity() * sizeof(c.tris[0]), PlanChunk::kKeptBytes);
+    EXPECT_LE(c.polys.capacity() * sizeof(c.polys[0]), PlanChunk::kKeptBytes);
+  }
+}
+
+// PlanChunk::reused hands out this thread's chunks empty; a list grown past kKeptBytes gives its
+// memory back (at give_back_big, or at the next reuse), a smaller one keeps it.
+TEST(PlanChunkTest, lists_above_the_threshold_give_their_memory_back) {
+  using drill::PlanChunk;
+  const std::size_t big = 2 * PlanChunk::kKeptBytes / sizeof(drill::LocalPoint);
+  {
+    std::vector<PlanChunk>& chunks = PlanChunk::reused(2);
+    ASSERT_EQ(chunks.size(), 2u);
+    EXPECT_EQ(&chunks, &PlanChunk::local());
+    chunks[0].pts.resize(big);
+    chunks[1].pts.resize(8);
+    chunks[1].polys.resize(8);
+    const std::size_t small = chunks[1].pts.capacity();
+    PlanChunk::give_back_big(chunks);
+    EXPECT_LE(chunks[0].pts.capacity() * sizeof(drill::LocalPoint), PlanChunk::kKeptBytes);
+    EXPECT_EQ(chunks[1].pts.capacity(), small);
+    EXPECT_EQ(chunks[1].pts.size(), 8u) << "give_back_big leaves small lists as they are";
+  }
+  PlanChunk::local()[0].pts.resize(big);
+  for (int again = 0; again < 2; ++again) {
+    std::vector<PlanChunk>& chunks = PlanChunk::reused(1);
+    ASSERT_EQ(chunks.size(), 1u);
+    EXPECT_TRUE(chunks[0].pts.empty());
+    EXPECT_TRUE(chunks[0].polys.empty());
+    EXPECT_LE(chunks[0].pts.capacity() * sizeof(drill::LocalPoint), PlanChunk::kKeptBytes);
+    chunks[0].polys.resize(8);
+  }
+  EXPECT_GE(PlanChunk::local()[0].polys.capacity(), 8u) << "a small list keeps its memory";
+}
+
+// A small drill, then a big one (a fine rim across hundreds of faces: its planning lists grow past
+// PlanChunk::kKeptBytes, and give their memory back when it ends), then the small one twice: the
+// small drill's result is the same each time, whatever the earlier drills left in the lists.
 TEST(DrillThreadsTest, the_result_does_not_depend_on_earlier_drills) {
   const SurfaceMesh input = test::make_grid(240, 240);
   const Cylinder small{{0.3f, 0.3f, -1.0f}, {0.3f, 0.3f, 1.0f}, 0.02f};
@@ -80,6 +122,7 @@ TEST(DrillThreadsTest, the_result_does_not_depend_on_earlier_drills) {
     ASSERT_EQ(first.result.status, OpStatus::Ok);
     const Drilled after_big = drill_with(threads, input, big, false, 1024);
     ASSERT_GT(after_big.result.intersection_points, 500u);
+    expect_no_big_plan_lists();
     for (int again = 0; again < 2; ++again) expect_same(drill_with(threads, input, small, false), first);
   }
 }

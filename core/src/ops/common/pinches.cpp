@@ -7,6 +7,7 @@
 
 #include "ops/common/vertex_slots.h"
 #include "sorted_ids.h"
+#include "union_find.h"
 
 namespace deepcut::detail {
 
@@ -77,15 +78,12 @@ constexpr std::size_t kPairwiseFans = 16;
 // lower, so each fan's root is its lowest index whatever order the unions come in. True when
 // there are two fans or more.
 bool find_fans(const SurfaceMesh& mesh, VertexId v, const FaceId* fs, std::size_t size,
-               std::vector<std::uint32_t>& parent, std::vector<std::pair<std::uint32_t, std::uint32_t>>& by_other) {
+               std::vector<std::uint32_t>& parent,
+               std::vector<std::pair<std::uint32_t, std::uint32_t>>& by_other) {
   parent.resize(size);
   std::iota(parent.begin(), parent.end(), 0u);
-  auto root = [&](std::uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
   auto unite = [&](std::uint32_t i, std::uint32_t j) {
-    const auto a = root(i), b = root(j);
+    const auto a = find_root(parent, i), b = find_root(parent, j);
     if (a != b) parent[std::max(a, b)] = std::min(a, b);
   };
   by_other.clear();
@@ -106,7 +104,7 @@ bool find_fans(const SurfaceMesh& mesh, VertexId v, const FaceId* fs, std::size_
       if (by_other[i].first == by_other[i - 1].first) unite(by_other[i].second, by_other[i - 1].second);
   }
   bool several = false;
-  for (std::uint32_t i = 0; i < size; ++i) several |= root(i) != 0;
+  for (std::uint32_t i = 0; i < size; ++i) several |= find_root(parent, i) != 0;
   return several;
 }
 
@@ -115,7 +113,8 @@ bool find_fans(const SurfaceMesh& mesh, VertexId v, const FaceId* fs, std::size_
 // s's faces are [first[s], first[s + 1]) of the list returned.
 template <class Slot>
 std::vector<FaceId> faces_by_candidate(const SurfaceMesh& mesh, const std::vector<FaceId>& incident,
-                                       std::size_t count, const Slot& slot, std::vector<std::uint32_t>& first) {
+                                       std::size_t count, const Slot& slot,
+                                       std::vector<std::uint32_t>& first) {
   std::vector<FaceId> faces = incident;
   if (std::is_sorted(faces.begin(), faces.end()))
     faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
@@ -129,7 +128,8 @@ std::vector<FaceId> faces_by_candidate(const SurfaceMesh& mesh, const std::vecto
     const Triangle& t = mesh.face(f);
     for (int k = 0; k < 3; ++k) {
       auto s = static_cast<std::uint32_t>(slot(t[k]));
-      if (s < count && ((k > 0 && t[0] == t[k]) || (k > 1 && t[1] == t[k]))) s = kInvalidIndex;  // once a face
+      // A face counts once for a candidate it uses at two corners.
+      if (s < count && ((k > 0 && t[0] == t[k]) || (k > 1 && t[1] == t[k]))) s = kInvalidIndex;
       corner_slot.push_back(s);
       if (s < count) ++first[s + 1];
     }
@@ -177,15 +177,11 @@ PinchSplits split_pinched_vertices(MeshEditor& editor, const std::vector<VertexI
     const std::size_t fs_size = first[s + 1] - first[s];
     if (fs_size < 2 || !find_fans(mesh, v, fs_begin, fs_size, parent, by_other)) continue;
     auto fs = [&](std::size_t i) { return fs_begin[i]; };
-    auto root = [&](std::uint32_t x) {
-      while (parent[x] != x) x = parent[x];
-      return x;
-    };
     // fs is in id order, so fan roots are each fan's lowest face; fan 0 keeps v.
     const std::size_t before = out.replaced.size();
     fan_copy.assign(fs_size, kInvalidIndex);
     for (std::uint32_t i = 0; i < fs_size; ++i) {
-      const std::uint32_t r = root(i);
+      const std::uint32_t r = find_root(parent, i);
       if (r == 0) continue;
       if (fan_copy[r] == kInvalidIndex) {
         const VertexId c = editor.split_vertex(v);
@@ -213,7 +209,7 @@ PinchSplits split_pinched_vertices(MeshEditor& editor, const std::vector<VertexI
       }
     }
     for (std::uint32_t i = 0; i < fs_size; ++i)
-      if (root(i) == 0) out.around.push_back(fs(i));
+      if (find_root(parent, i) == 0) out.around.push_back(fs(i));
     for (std::size_t r = before; r < out.replaced.size(); ++r) out.around.push_back(out.replaced[r].second);
   }
   return out;

@@ -48,7 +48,9 @@ void sort_by_vertex(std::vector<std::uint64_t>& keys, std::vector<std::uint64_t>
     return;
   }
   for (int shift = 0; shift < 32 && ((hi - lo) >> shift) != 0; shift += 8)
-    pass(256, [lo, shift](std::uint64_t k) { return ((static_cast<std::uint32_t>(k >> 32) - lo) >> shift) & 0xffu; });
+    pass(256, [lo, shift](std::uint64_t k) {
+      return ((static_cast<std::uint32_t>(k >> 32) - lo) >> shift) & 0xffu;
+    });
 }
 
 // Follows the rim halfedges backwards (the cap runs along the piece's rim edges in the opposite
@@ -168,45 +170,48 @@ std::vector<Triangle> choose_loops(MeshEditor& editor, const CapInput& in, std::
   return kept_flat;
 }
 
-// The attributes of the cap faces [first, first + made.size()), face k made from tris[made[k]]
-// (its corners' points in the plane's frame `pts`, first axis `u`): the cut-surface flag, a
-// planar UV over the cap's extent, the face normal (the plane's, oriented as the cap, for a
-// degenerate face), the tangent u, white, and zero morph deltas.
-void set_cap_attributes(SurfaceMesh& mesh, AttributeArray<std::uint8_t>& cap_flag, const CapInput& in,
-                        const std::vector<glm::dvec2>& pts, const std::vector<geometry::LocalTri>& tris,
-                        const std::vector<std::uint32_t>& made, std::uint32_t first, int outer_sign,
+// The attributes of the cap faces `faces` (faces[k] made from tris[made[k]], its corners'
+// points in the plane's frame `pts`, first axis `u`): the cut-surface flag, a planar UV over the
+// cap's extent, the face normal (`flat_normal`, the plane's oriented as the cap, for a degenerate
+// face), the tangent u, white, and zero morph deltas.
+void set_cap_attributes(SurfaceMesh& mesh, AttributeArray<std::uint8_t>& cap_flag, const FaceId* faces,
+                        const std::vector<std::uint32_t>& made, const std::vector<glm::dvec2>& pts,
+                        const std::vector<geometry::LocalTri>& tris, const glm::vec3& flat_normal,
                         const glm::dvec3& u) {
   const std::size_t count = made.size();
-  std::fill_n(cap_flag.data().begin() + first, count, std::uint8_t(1));
+  for (std::size_t k = 0; k < count; ++k) cap_flag[faces[k].index] = 1;
   auto& ca = mesh.corner_attrs();
-  const std::size_t c0 = 3 * std::size_t(first), corners = 3 * count;
+  // Face k's three corners in a corner attribute's values.
+  auto corners = [&](auto* values, std::size_t k) { return values + 3 * std::size_t(faces[k].index); };
+  auto fill = [&](auto* attribute, const auto& value) {
+    if (!attribute) return;
+    for (std::size_t k = 0; k < count; ++k) std::fill_n(corners(attribute->data().data(), k), 3, value);
+  };
   if (auto* uv = ca.find<glm::vec2>(attr::kUv0)) {
     double extent = 0.0;
     for (const auto& p : pts) extent = std::max({extent, std::abs(p.x), std::abs(p.y)});
     if (extent <= 0.0) extent = 1.0;
-    glm::vec2* out = uv->data().data() + c0;
-    for (std::size_t k = 0; k < count; ++k)
+    for (std::size_t k = 0; k < count; ++k) {
+      glm::vec2* out = corners(uv->data().data(), k);
       for (int j = 0; j < 3; ++j) {
         const glm::dvec2 p = pts[tris[made[k]][j]];
-        out[3 * k + j] = glm::vec2(0.5 + 0.5 * p.x / extent, 0.5 + 0.5 * p.y / extent);
+        out[j] = glm::vec2(0.5 + 0.5 * p.x / extent, 0.5 + 0.5 * p.y / extent);
       }
+    }
   }
   if (auto* normals = ca.find<glm::vec3>(attr::kNormal)) {
     const auto& bind = mesh.positions();
-    glm::vec3* out = normals->data().data() + c0;
     for (std::size_t k = 0; k < count; ++k) {
-      const Triangle& t = mesh.face(FaceId(first + static_cast<std::uint32_t>(k)));
+      const Triangle& t = mesh.face(faces[k]);
       glm::vec3 fn = glm::cross(bind[t[1].index] - bind[t[0].index], bind[t[2].index] - bind[t[0].index]);
       const float len = glm::length(fn);
-      fn = len > 0.0f ? fn / len : glm::vec3(float(outer_sign) * glm::vec3(in.normal));
-      out[3 * k] = out[3 * k + 1] = out[3 * k + 2] = fn;
+      fn = len > 0.0f ? fn / len : flat_normal;
+      std::fill_n(corners(normals->data().data(), k), 3, fn);
     }
   }
-  if (auto* tangents = ca.find<glm::vec4>(attr::kTangent))
-    std::fill_n(tangents->data().begin() + c0, corners, glm::vec4(glm::vec3(u), 1.0f));
-  if (auto* colors = ca.find<glm::vec4>(attr::kColor0))
-    std::fill_n(colors->data().begin() + c0, corners, glm::vec4(1.0f));
-  for (auto* d : corner_morph_deltas(mesh)) std::fill_n(d->data().begin() + c0, corners, glm::vec3(0.0f));
+  fill(ca.find<glm::vec4>(attr::kTangent), glm::vec4(glm::vec3(u), 1.0f));
+  fill(ca.find<glm::vec4>(attr::kColor0), glm::vec4(1.0f));
+  for (auto* d : corner_morph_deltas(mesh)) fill(d, glm::vec3(0.0f));
 }
 
 // Triangulates the loops in the plane's 2D frame and adds the cap faces with their attributes.
@@ -240,11 +245,11 @@ void add_cap_faces(MeshEditor& editor, const CapInput& in, const RimLoops& rim,
   const int outer_sign = largest_area >= 0 ? 1 : -1;
   const auto tris = geometry::triangulate_loops(pts, loops, outer_sign);
 
-  // The faces (consecutive slots), then each attribute in one pass over them.
+  // The faces, then each attribute in one pass over them.
   SurfaceMesh& mesh = editor.mesh();
   auto* cap_flag = mesh.face_attrs().find<std::uint8_t>(attr::kCutSurface);
   if (!cap_flag) cap_flag = &mesh.face_attrs().add<std::uint8_t>(attr::kCutSurface);
-  const auto first = static_cast<std::uint32_t>(mesh.face_slots());
+  const std::size_t first = piece.size();
   std::vector<std::uint32_t> made;  // the triangle of each face made, in order
   made.reserve(tris.size());
   piece.reserve(piece.size() + tris.size());
@@ -255,7 +260,8 @@ void add_cap_faces(MeshEditor& editor, const CapInput& in, const RimLoops& rim,
     piece.push_back(editor.add_face(t));
     made.push_back(static_cast<std::uint32_t>(i));
   }
-  set_cap_attributes(mesh, *cap_flag, in, pts, tris, made, first, outer_sign, u);
+  const glm::vec3 flat_normal = float(outer_sign) * glm::vec3(n);
+  set_cap_attributes(mesh, *cap_flag, piece.data() + first, made, pts, tris, flat_normal, u);
 }
 
 }  // namespace

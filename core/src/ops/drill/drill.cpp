@@ -79,8 +79,8 @@ void check_arguments(const Cylinder& c, const DrillOptions& options) { check_dri
 
 // The vertices the edits used or freed (detail::edited_vertices), less the old ones deep inside
 // the cylinder: every face around those was removed or lost that corner, so they have no fans.
-std::vector<VertexId> pinch_candidates(const SurfaceMesh& mesh, const EditLog& log, const drill::CylinderFrame& cyl,
-                                       const drill::PosedOverlay& posed) {
+std::vector<VertexId> pinch_candidates(const SurfaceMesh& mesh, const EditLog& log,
+                                       const drill::CylinderFrame& cyl, const drill::PosedOverlay& posed) {
   std::vector<VertexId> out;
   detail::VertexSlots& seen = detail::VertexSlots::scratch();  // each vertex listed or judged once
   seen.reset(mesh.vertex_count());
@@ -111,7 +111,12 @@ detail::PinchSplits split_pinches(MeshEditor& editor, const drill::CylinderFrame
   const auto touched = pinch_candidates(editor.mesh(), editor.log(), cyl, posed);
   // Faces are found where their old vertices were filed in the grid; the live faces around a
   // snapped vertex (filed where it was, and the input's posed positions may be the mesh's own
-  // positions) are candidates, merged in (the list stays in id order).
+  // positions) are merged in (the list stays in id order). Those are the live candidates with a
+  // moved corner, which relies on two things:
+  // - only rim_snapping.cpp moves old vertices in `posed` (posed.moved() lists every vertex away
+  //   from where the grid filed it), and it moves only vertices whose faces are all candidates;
+  // - faces are never rewritten in place (an edit removes a face and adds a new one, found through
+  //   the log by faces_around), so a live candidate still has the corners it was a candidate with.
   auto around =
       detail::faces_around(editor.mesh(), editor.log(), touched, posed.first_new(), &index, posed.input());
   if (!posed.moved().empty()) {

@@ -86,30 +86,46 @@ struct PlanChunk {
   std::vector<geometry::LocalTri> tris;
   std::vector<PolygonPlan> polys;
 
-  /// `count` empty chunks: this thread's, reused from drill to drill, so a drill like the last
-  /// one plans without allocating. The chunks beyond `count` go, and a list whose memory grew far
-  /// beyond what the last drill put in it (a big drill followed by small ones) gives it back.
-  static std::vector<PlanChunk>& reused(std::size_t count) {
+  /// A list holding more bytes than this gives its memory back when a drill ends (a big drill's
+  /// memory does not stay with the thread, e.g. the studio's UI thread); smaller ones keep it,
+  /// so the next drill of that size plans without allocating.
+  static constexpr std::size_t kKeptBytes = std::size_t(1) << 16;
+
+  /// This thread's chunks, kept from drill to drill.
+  static std::vector<PlanChunk>& local() {
     thread_local std::vector<PlanChunk> chunks;
+    return chunks;
+  }
+
+  /// `count` empty chunks: this thread's (local()), those beyond `count` gone. A list above
+  /// kKeptBytes (a drill that ended before give_back_big) gives its memory back here.
+  static std::vector<PlanChunk>& reused(std::size_t count) {
+    std::vector<PlanChunk>& chunks = local();
     chunks.resize(count);
     for (PlanChunk& c : chunks) {
-      restart(c.pts);
-      restart(c.tris);
-      restart(c.polys);
+      c.give_back_lists();
+      c.pts.clear();
+      c.tris.clear();
+      c.polys.clear();
     }
     return chunks;
   }
 
+  /// Gives back the memory of every list of `chunks` above kKeptBytes: run when a drill's plans
+  /// are applied.
+  static void give_back_big(std::vector<PlanChunk>& chunks) {
+    for (PlanChunk& c : chunks) c.give_back_lists();
+  }
+
  private:
-  /// Empties `list`, releasing its memory when it holds more than kKeptBytes and four times
-  /// what it holds now (the last drill's use).
+  void give_back_lists() {
+    give_back_if_big(pts);
+    give_back_if_big(tris);
+    give_back_if_big(polys);
+  }
   template <class T>
-  static void restart(std::vector<T>& list) {
-    constexpr std::size_t kKeptBytes = std::size_t(1) << 16;
-    if (list.capacity() * sizeof(T) > kKeptBytes && list.capacity() > 4 * list.size())
-      std::vector<T>().swap(list);
-    else
-      list.clear();
+  static void give_back_if_big(std::vector<T>& list) {
+    if (list.capacity() * sizeof(T) > kKeptBytes) std::vector<T>().swap(list);
   }
 };
 

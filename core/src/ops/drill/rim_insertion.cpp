@@ -342,6 +342,7 @@ RimInsertion RimInserter::run(const std::vector<FaceId>& candidates) {
     editor_.remove_face(candidates[c]);  // what the plan of a face inside says
     ++removed_;
   }
+  PlanChunk::give_back_big(*chunks_);  // a big drill's plans do not stay with the thread
   RimInsertion out;
   out.crossings = crossings_;
   out.removed = removed_;
