@@ -103,8 +103,8 @@ void SceneHost::show_current() {
   *scene_ = plugins::make_scene(model, PoseKey(animation, timeline_->time(), scene_->weights));
   sync_morph_panel();
   present();
-  tools_->refresh_preview();
-  refresh_inspector();
+  tools_->update_preview();
+  refresh_inspector();  // draws the step's one frame
   // Undo, redo or an edit: the posed model describes another state; a cut dropped it (its
   // pieces are new meshes). Rebuild it when idle.
   if (!session_.posed_model()) posed_timer_->start();
@@ -139,8 +139,8 @@ void SceneHost::show_step(const ModelChange& change) {
   tools_->scene_redrawn();
   tree_->set_scene(*scene_);
   inspectors_->mark_stale(plugins::SceneChange::Model);
-  tools_->refresh_preview();
-  refresh_inspector();
+  tools_->update_preview();
+  refresh_inspector();  // draws the step's one frame
   if (!session_.posed_model()) posed_timer_->start();
 }
 
@@ -155,7 +155,7 @@ void SceneHost::pose(int animation, float time) {
   tools_->show_displacement();
   inspectors_->mark_stale(plugins::SceneChange::Pose);
   inspectors_->sync();
-  tools_->refresh_preview();
+  tools_->update_preview();
   refresh_overlays();
   view_->render();
 }

@@ -56,14 +56,16 @@ class SceneHost : public QObject {
   /// building it off the UI thread (handed back through adopt_posed_model) and returns whether
   /// it could start now (else the scene asks again later). Without one it is rebuilt in place.
   void set_posed_builder(std::function<bool()> start) { posed_builder_ = std::move(start); }
-  /// Shows the session's current state at the time line's pose (after an undo step or an edit).
+  /// Shows the session's current state at the time line's pose (after an undo step or an edit),
+  /// in one frame.
   void show_current();
   /// Shows the session's current state after one step from the shown state (an operation, its
   /// undo or redo) that `change` describes: the scene, its VTK data, the tree and the inspectors
   /// follow it in O(change) (a mapped structural step, such as a cut and its undo and redo: in
   /// O(what it made), keeping what it kept); an unmapped structural change (or one that does not
   /// start at the shown state) is shown as `show_current` does, and so is every step while the environment
-  /// variable DEEPCUT_VIEW_REBUILD is 1 (the studio benchmark's reference).
+  /// variable DEEPCUT_VIEW_REBUILD is 1 (the studio benchmark's reference). One step draws one
+  /// frame (the tool's preview, the inspector's colours and the overlays all in it).
   void show_step(const ModelChange& change);
   /// Poses the scene at `time` of `animation` (the time line moved), at the morph weights set by
   /// hand.
