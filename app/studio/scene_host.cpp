@@ -156,8 +156,9 @@ void SceneHost::pose(int animation, float time) {
   inspectors_->mark_stale(plugins::SceneChange::Pose);
   inspectors_->sync();
   tools_->update_preview();
-  refresh_overlays();
+  draw_overlays();
   view_->render();
+  emit overlays_changed();
 }
 
 void SceneHost::rebuild_posed_model() {
@@ -198,12 +199,18 @@ void SceneHost::lend_grids() {
 void SceneHost::refresh_inspector() {
   if (!scene_) return;
   inspectors_->draw_colors();
-  refresh_overlays();
+  draw_overlays();
   view_->render();
+  emit overlays_changed();  // the status bar follows once the frame is asked for
 }
 
 void SceneHost::refresh_overlays() {
   if (!scene_) return;
+  draw_overlays();
+  emit overlays_changed();
+}
+
+void SceneHost::draw_overlays() {
   const Model& model = *scene_->model;
   const bool skeleton = show_skeleton_ && !model.skins.empty();
   view_->set_overlay(SceneView::Layer::Skeleton, skeleton ? plugins::skeleton_overlay(*scene_) : Overlay{});
@@ -222,7 +229,6 @@ void SceneHost::refresh_overlays() {
   if (active)
     for (const std::string& line : active->summary()) caption.push_back(line);
   view_->set_caption(caption);
-  emit overlays_changed();
 }
 
 void SceneHost::set_skeleton_visible(bool visible) {

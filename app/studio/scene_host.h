@@ -106,6 +106,9 @@ class SceneHost : public QObject {
   /// Shows the scene's morph weights in the panel, dropping weights set by hand for nodes that no
   /// longer morph alike. @returns true when that re-posed the scene.
   bool sync_morph_panel();
+  /// Sets the skeleton, the inspector's overlay and the caption (refresh_overlays without the
+  /// signal: a caller drawing a frame signals after asking for it).
+  void draw_overlays();
   /// Hands the scene to the view, the tree and the hosts. @returns the view's notes.
   std::vector<std::string> present(std::shared_ptr<const SceneView::Prepared> prepared = nullptr);
 
