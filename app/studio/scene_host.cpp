@@ -140,7 +140,8 @@ void SceneHost::show_step(const ModelChange& change) {
   tree_->set_scene(*scene_);
   inspectors_->mark_stale(plugins::SceneChange::Model);
   tools_->update_preview();
-  refresh_inspector();  // draws the step's one frame
+  // The step's one frame. A local step leaves nodes and pose alone: the skeleton stays drawn.
+  draw_frame(change.structure);
   if (!session_.posed_model()) posed_timer_->start();
 }
 
@@ -198,8 +199,12 @@ void SceneHost::lend_grids() {
 
 void SceneHost::refresh_inspector() {
   if (!scene_) return;
+  draw_frame(true);
+}
+
+void SceneHost::draw_frame(bool skeleton_changed) {
   inspectors_->draw_colors();
-  draw_overlays();
+  draw_overlays(skeleton_changed);
   view_->render();
   emit overlays_changed();  // the status bar follows once the frame is asked for
 }
@@ -210,18 +215,20 @@ void SceneHost::refresh_overlays() {
   emit overlays_changed();
 }
 
-void SceneHost::draw_overlays() {
+void SceneHost::draw_overlays(bool skeleton_changed) {
   const Model& model = *scene_->model;
   const bool skeleton = show_skeleton_ && !model.skins.empty();
-  view_->set_overlay(SceneView::Layer::Skeleton, skeleton ? plugins::skeleton_overlay(*scene_) : Overlay{});
-  std::vector<BoneHandle> handles;
-  if (skeleton) {
-    auto origin = [&](int node) { return glm::vec3(scene_->world[static_cast<std::size_t>(node)][3]); };
-    for (int j : plugins::joint_nodes(model)) handles.push_back({j, origin(j), origin(j)});
-    for (const auto& [parent, child] : plugins::skeleton_bones(model))
-      handles.push_back({parent, origin(parent), origin(child)});
+  if (skeleton_changed) {
+    view_->set_overlay(SceneView::Layer::Skeleton, skeleton ? plugins::skeleton_overlay(*scene_) : Overlay{});
+    std::vector<BoneHandle> handles;
+    if (skeleton) {
+      auto origin = [&](int node) { return glm::vec3(scene_->world[static_cast<std::size_t>(node)][3]); };
+      for (int j : plugins::joint_nodes(model)) handles.push_back({j, origin(j), origin(j)});
+      for (const auto& [parent, child] : plugins::skeleton_bones(model))
+        handles.push_back({parent, origin(parent), origin(child)});
+    }
+    view_->set_bone_handles(std::move(handles));
   }
-  view_->set_bone_handles(std::move(handles));
   plugins::Inspector* active = inspectors_->inspector();
   view_->set_overlay(SceneView::Layer::Inspector, active ? active->overlay() : Overlay{});
   std::vector<std::string> caption = {title_.toStdString() + "  |  " +

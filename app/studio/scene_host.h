@@ -106,9 +106,13 @@ class SceneHost : public QObject {
   /// Shows the scene's morph weights in the panel, dropping weights set by hand for nodes that no
   /// longer morph alike. @returns true when that re-posed the scene.
   bool sync_morph_panel();
-  /// Sets the skeleton, the inspector's overlay and the caption (refresh_overlays without the
-  /// signal: a caller drawing a frame signals after asking for it).
-  void draw_overlays();
+  /// Sets the skeleton (unless `skeleton_changed` is false: nodes and pose as last drawn), the
+  /// inspector's overlay and the caption (refresh_overlays without the signal: a caller drawing
+  /// a frame signals after asking for it).
+  void draw_overlays(bool skeleton_changed = true);
+  /// The inspector's colours, the overlays, one frame, then the signal: refresh_inspector, and a
+  /// step's frame (a local step keeps the skeleton: `skeleton_changed` false).
+  void draw_frame(bool skeleton_changed);
   /// Hands the scene to the view, the tree and the hosts. @returns the view's notes.
   std::vector<std::string> present(std::shared_ptr<const SceneView::Prepared> prepared = nullptr);
 
