@@ -2,6 +2,7 @@
 #include "scene_host.h"
 
 #include <QTimer>
+#include <algorithm>
 #include <cstdlib>
 #include <cstring>
 
@@ -88,6 +89,7 @@ void SceneHost::adopt_posed_model(std::unique_ptr<PosedModel> posed, const Model
 }
 
 std::vector<std::string> SceneHost::present(std::shared_ptr<const SceneView::Prepared> prepared) {
+  skeleton_drawn_ = false;  // a new scene: its skeleton is drawn anew
   lend_grids();
   std::vector<std::string> notes = view_->set_scene(*scene_, std::move(prepared));
   tools_->scene_redrawn();
@@ -140,8 +142,7 @@ void SceneHost::show_step(const ModelChange& change) {
   tree_->set_scene(*scene_);
   inspectors_->mark_stale(plugins::SceneChange::Model);
   tools_->update_preview();
-  // The step's one frame. A local step leaves nodes and pose alone: the skeleton stays drawn.
-  draw_frame(change.structure);
+  draw_frame();  // the step's one frame
   if (!session_.posed_model()) posed_timer_->start();
 }
 
@@ -199,12 +200,12 @@ void SceneHost::lend_grids() {
 
 void SceneHost::refresh_inspector() {
   if (!scene_) return;
-  draw_frame(true);
+  draw_frame();
 }
 
-void SceneHost::draw_frame(bool skeleton_changed) {
+void SceneHost::draw_frame() {
   inspectors_->draw_colors();
-  draw_overlays(skeleton_changed);
+  draw_overlays();
   view_->render();
   emit overlays_changed();  // the status bar follows once the frame is asked for
 }
@@ -215,18 +216,23 @@ void SceneHost::refresh_overlays() {
   emit overlays_changed();
 }
 
-void SceneHost::draw_overlays(bool skeleton_changed) {
+void SceneHost::draw_overlays() {
   const Model& model = *scene_->model;
   const bool skeleton = show_skeleton_ && !model.skins.empty();
-  if (skeleton_changed) {
+  std::vector<BoneHandle> handles;
+  if (skeleton) {
+    auto origin = [&](int node) { return glm::vec3(scene_->world[static_cast<std::size_t>(node)][3]); };
+    for (int j : plugins::joint_nodes(model)) handles.push_back({j, origin(j), origin(j)});
+    for (const auto& [parent, child] : plugins::skeleton_bones(model))
+      handles.push_back({parent, origin(parent), origin(child)});
+  }
+  // The skeleton overlay draws the joints and bones the handles hold: the same handles, the same
+  // overlay, already drawn (a step that leaves the joints where they were).
+  auto same = [](const BoneHandle& a, const BoneHandle& b) { return a.joint == b.joint && a.head == b.head && a.tail == b.tail; };
+  if (!skeleton_drawn_ || !std::equal(handles.begin(), handles.end(), drawn_bones_.begin(), drawn_bones_.end(), same)) {
     view_->set_overlay(SceneView::Layer::Skeleton, skeleton ? plugins::skeleton_overlay(*scene_) : Overlay{});
-    std::vector<BoneHandle> handles;
-    if (skeleton) {
-      auto origin = [&](int node) { return glm::vec3(scene_->world[static_cast<std::size_t>(node)][3]); };
-      for (int j : plugins::joint_nodes(model)) handles.push_back({j, origin(j), origin(j)});
-      for (const auto& [parent, child] : plugins::skeleton_bones(model))
-        handles.push_back({parent, origin(parent), origin(child)});
-    }
+    drawn_bones_ = handles;
+    skeleton_drawn_ = true;
     view_->set_bone_handles(std::move(handles));
   }
   plugins::Inspector* active = inspectors_->inspector();

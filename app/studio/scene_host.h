@@ -106,13 +106,13 @@ class SceneHost : public QObject {
   /// Shows the scene's morph weights in the panel, dropping weights set by hand for nodes that no
   /// longer morph alike. @returns true when that re-posed the scene.
   bool sync_morph_panel();
-  /// Sets the skeleton (unless `skeleton_changed` is false: nodes and pose as last drawn), the
+  /// Sets the skeleton (unless its joints and bones are where they were last drawn), the
   /// inspector's overlay and the caption (refresh_overlays without the signal: a caller drawing
   /// a frame signals after asking for it).
-  void draw_overlays(bool skeleton_changed = true);
-  /// The inspector's colours, the overlays, one frame, then the signal: refresh_inspector, and a
-  /// step's frame (a local step keeps the skeleton: `skeleton_changed` false).
-  void draw_frame(bool skeleton_changed);
+  void draw_overlays();
+  /// The inspector's colours, the overlays, one frame, then the signal (refresh_inspector, and a
+  /// step's one frame).
+  void draw_frame();
   /// Hands the scene to the view, the tree and the hosts. @returns the view's notes.
   std::vector<std::string> present(std::shared_ptr<const SceneView::Prepared> prepared = nullptr);
 
@@ -128,6 +128,8 @@ class SceneHost : public QObject {
   QTimer* posed_timer_ = nullptr;          // rebuilds the posed model once the pose or state settles
   QString title_;
   bool show_skeleton_ = true;
+  std::vector<BoneHandle> drawn_bones_;  // the skeleton's joints and bones as drawn
+  bool skeleton_drawn_ = false;           // false: a new scene, the skeleton not drawn yet
 };
 
 }  // namespace deepcut::studio
