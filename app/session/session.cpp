@@ -61,6 +61,14 @@ ModelChange structure() {
   return change;
 }
 
+/// The step's change, with the origins of the pieces a cut made (ModelChange::origins): the
+/// followers copy what they drew of the cut instances for everything but the rim.
+ModelChange with_origins(ModelChange change, const OperationResult& result) {
+  if (const auto* cut = std::get_if<ModelCutResult>(&result.result); cut && change.structure && change.mapped)
+    change.origins = cut->origins;
+  return change;
+}
+
 }  // namespace
 
 void Session::open(std::shared_ptr<const Model> model, bool take_over) {
@@ -195,7 +203,7 @@ Applied Session::apply(const Operation& op) {
   }
   posed_state_ = live_.get();
   stash_.clear();  // the steps undone, whose contents it kept, are dropped
-  applied.change = record.change();
+  applied.change = with_origins(record.change(), applied.result);
   // A state made by an edit keeps its skipped operations listed after a new one.
   std::optional<std::vector<OperationEntry>> entries;
   if (const auto* listed = rerun_entries()) {
@@ -239,7 +247,7 @@ std::vector<Applied> Session::apply_history(const History& history, const std::s
       ModelStep record = recorder->finish();
       recorder.reset();
       if (applied.result.status == OpStatus::Ok) {
-        applied.change = record.change();
+        applied.change = with_origins(record.change(), applied.result);
         records.push_back(std::move(record));
       }
     }

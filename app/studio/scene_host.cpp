@@ -2,6 +2,7 @@
 #include "scene_host.h"
 
 #include <QTimer>
+#include <algorithm>
 #include <cstdlib>
 #include <cstring>
 
@@ -88,6 +89,7 @@ void SceneHost::adopt_posed_model(std::unique_ptr<PosedModel> posed, const Model
 }
 
 std::vector<std::string> SceneHost::present(std::shared_ptr<const SceneView::Prepared> prepared) {
+  skeleton_drawn_ = false;  // a new scene: its skeleton is drawn anew
   lend_grids();
   std::vector<std::string> notes = view_->set_scene(*scene_, std::move(prepared));
   tools_->scene_redrawn();
@@ -103,8 +105,8 @@ void SceneHost::show_current() {
   *scene_ = plugins::make_scene(model, PoseKey(animation, timeline_->time(), scene_->weights));
   sync_morph_panel();
   present();
-  tools_->refresh_preview();
-  refresh_inspector();
+  tools_->update_preview();
+  refresh_inspector();  // draws the step's one frame
   // Undo, redo or an edit: the posed model describes another state; a cut dropped it (its
   // pieces are new meshes). Rebuild it when idle.
   if (!session_.posed_model()) posed_timer_->start();
@@ -139,8 +141,8 @@ void SceneHost::show_step(const ModelChange& change) {
   tools_->scene_redrawn();
   tree_->set_scene(*scene_);
   inspectors_->mark_stale(plugins::SceneChange::Model);
-  tools_->refresh_preview();
-  refresh_inspector();
+  tools_->update_preview();
+  draw_frame();  // the step's one frame
   if (!session_.posed_model()) posed_timer_->start();
 }
 
@@ -155,9 +157,10 @@ void SceneHost::pose(int animation, float time) {
   tools_->show_displacement();
   inspectors_->mark_stale(plugins::SceneChange::Pose);
   inspectors_->sync();
-  tools_->refresh_preview();
-  refresh_overlays();
+  tools_->update_preview();
+  draw_overlays();
   view_->render();
+  emit overlays_changed();
 }
 
 void SceneHost::rebuild_posed_model() {
@@ -197,16 +200,25 @@ void SceneHost::lend_grids() {
 
 void SceneHost::refresh_inspector() {
   if (!scene_) return;
+  draw_frame();
+}
+
+void SceneHost::draw_frame() {
   inspectors_->draw_colors();
-  refresh_overlays();
+  draw_overlays();
   view_->render();
+  emit overlays_changed();  // the status bar follows once the frame is asked for
 }
 
 void SceneHost::refresh_overlays() {
   if (!scene_) return;
+  draw_overlays();
+  emit overlays_changed();
+}
+
+void SceneHost::draw_overlays() {
   const Model& model = *scene_->model;
   const bool skeleton = show_skeleton_ && !model.skins.empty();
-  view_->set_overlay(SceneView::Layer::Skeleton, skeleton ? plugins::skeleton_overlay(*scene_) : Overlay{});
   std::vector<BoneHandle> handles;
   if (skeleton) {
     auto origin = [&](int node) { return glm::vec3(scene_->world[static_cast<std::size_t>(node)][3]); };
@@ -214,7 +226,15 @@ void SceneHost::refresh_overlays() {
     for (const auto& [parent, child] : plugins::skeleton_bones(model))
       handles.push_back({parent, origin(parent), origin(child)});
   }
-  view_->set_bone_handles(std::move(handles));
+  // The skeleton overlay draws the joints and bones the handles hold: the same handles, the same
+  // overlay, already drawn (a step that leaves the joints where they were).
+  auto same = [](const BoneHandle& a, const BoneHandle& b) { return a.joint == b.joint && a.head == b.head && a.tail == b.tail; };
+  if (!skeleton_drawn_ || !std::equal(handles.begin(), handles.end(), drawn_bones_.begin(), drawn_bones_.end(), same)) {
+    view_->set_overlay(SceneView::Layer::Skeleton, skeleton ? plugins::skeleton_overlay(*scene_) : Overlay{});
+    drawn_bones_ = handles;
+    skeleton_drawn_ = true;
+    view_->set_bone_handles(std::move(handles));
+  }
   plugins::Inspector* active = inspectors_->inspector();
   view_->set_overlay(SceneView::Layer::Inspector, active ? active->overlay() : Overlay{});
   std::vector<std::string> caption = {title_.toStdString() + "  |  " +
@@ -222,7 +242,6 @@ void SceneHost::refresh_overlays() {
   if (active)
     for (const std::string& line : active->summary()) caption.push_back(line);
   view_->set_caption(caption);
-  emit overlays_changed();
 }
 
 void SceneHost::set_skeleton_visible(bool visible) {

@@ -56,14 +56,16 @@ class SceneHost : public QObject {
   /// building it off the UI thread (handed back through adopt_posed_model) and returns whether
   /// it could start now (else the scene asks again later). Without one it is rebuilt in place.
   void set_posed_builder(std::function<bool()> start) { posed_builder_ = std::move(start); }
-  /// Shows the session's current state at the time line's pose (after an undo step or an edit).
+  /// Shows the session's current state at the time line's pose (after an undo step or an edit),
+  /// in one frame.
   void show_current();
   /// Shows the session's current state after one step from the shown state (an operation, its
   /// undo or redo) that `change` describes: the scene, its VTK data, the tree and the inspectors
   /// follow it in O(change) (a mapped structural step, such as a cut and its undo and redo: in
   /// O(what it made), keeping what it kept); an unmapped structural change (or one that does not
   /// start at the shown state) is shown as `show_current` does, and so is every step while the environment
-  /// variable DEEPCUT_VIEW_REBUILD is 1 (the studio benchmark's reference).
+  /// variable DEEPCUT_VIEW_REBUILD is 1 (the studio benchmark's reference). One step draws one
+  /// frame (the tool's preview, the inspector's colours and the overlays all in it).
   void show_step(const ModelChange& change);
   /// Poses the scene at `time` of `animation` (the time line moved), at the morph weights set by
   /// hand.
@@ -104,6 +106,13 @@ class SceneHost : public QObject {
   /// Shows the scene's morph weights in the panel, dropping weights set by hand for nodes that no
   /// longer morph alike. @returns true when that re-posed the scene.
   bool sync_morph_panel();
+  /// Sets the skeleton (unless its joints and bones are where they were last drawn), the
+  /// inspector's overlay and the caption (refresh_overlays without the signal: a caller drawing
+  /// a frame signals after asking for it).
+  void draw_overlays();
+  /// The inspector's colours, the overlays, one frame, then the signal (refresh_inspector, and a
+  /// step's one frame).
+  void draw_frame();
   /// Hands the scene to the view, the tree and the hosts. @returns the view's notes.
   std::vector<std::string> present(std::shared_ptr<const SceneView::Prepared> prepared = nullptr);
 
@@ -119,6 +128,8 @@ class SceneHost : public QObject {
   QTimer* posed_timer_ = nullptr;          // rebuilds the posed model once the pose or state settles
   QString title_;
   bool show_skeleton_ = true;
+  std::vector<BoneHandle> drawn_bones_;  // the skeleton's joints and bones as drawn
+  bool skeleton_drawn_ = false;           // false: a new scene, the skeleton not drawn yet
 };
 
 }  // namespace deepcut::studio

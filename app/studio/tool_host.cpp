@@ -137,9 +137,13 @@ plugins::Tool* ToolHost::tool() const {
 std::string ToolHost::tool_id() const { return tool() ? tool()->id() : std::string(); }
 
 void ToolHost::refresh_preview() {
+  update_preview();
+  view_->render();
+}
+
+void ToolHost::update_preview() {
   plugins::Tool* active = tool();
   view_->set_overlay(SceneView::Layer::Tool, active && scene_ ? active->preview(*scene_) : Overlay{});
-  view_->render();
 }
 
 void ToolHost::set_banner(const QString& text, const QString& apply_text) {
@@ -213,14 +217,25 @@ void ToolHost::show_displacement() {
 void ToolHost::lend_grids(const std::shared_ptr<const Model>& model, const PosedModel* posed) {
   if (!scene_) return;
   for (plugins::SceneInstance& instance : scene_->instances) instance.grid = nullptr;
-  if (!posed || scene_->model != model || !posed->matches(PoseKey(scene_->animation, scene_->time, scene_->weights))) return;
+  const PoseKey key(scene_->animation, scene_->time, scene_->weights);
+  if (!posed || scene_->model != model || !posed->matches(key)) return;
+  if (same_model_ != model.get() || !(same_key_ == key)) {
+    same_positions_.clear();
+    same_model_ = model.get();
+    same_key_ = key;
+  }
   for (plugins::SceneInstance& instance : scene_->instances) {
     const PosedMesh* mesh = posed->find(instance.node, instance.primitive);
     // The grid is filed at the posed model's positions: lend it only where they are the
     // scene's, bit for bit (both pose with the same skinning; this guards the assumption).
-    if (mesh && mesh->mesh == instance.mesh && mesh->posed.size() == instance.posed().size() &&
-        std::equal(mesh->posed.begin(), mesh->posed.end(), instance.posed().begin()))
-      instance.grid = &mesh->grid;
+    if (!mesh || mesh->mesh != instance.mesh || mesh->posed.size() != instance.posed().size()) continue;
+    const std::pair<const glm::vec3*, const glm::vec3*> arrays(mesh->posed.data(), instance.posed().data());
+    auto& same = same_positions_[{instance.node, instance.primitive}];
+    if (same != arrays) {
+      if (!std::equal(mesh->posed.begin(), mesh->posed.end(), instance.posed().begin())) continue;
+      same = arrays;
+    }
+    instance.grid = &mesh->grid;
   }
 }
 

@@ -9,6 +9,7 @@
 #include <QElapsedTimer>
 #include <QObject>
 #include <QString>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -61,6 +62,9 @@ class ToolHost : public QObject {
 
   /// Draws the active tool's preview.
   void refresh_preview();
+  /// Sets the active tool's preview without drawing a frame: a caller that draws one anyway (a
+  /// step shown, a pose) draws it with the rest, so a step costs one frame, not two.
+  void update_preview();
   /// The scene was drawn anew at its posed positions (a new state or pose).
   void scene_redrawn() { displaced_ = false; }
   /// Draws the pieces where the active tool displaces them (or as posed).
@@ -73,7 +77,10 @@ class ToolHost : public QObject {
   bool on_pointer(const PointerEvent& event);
 
   /// Lends the scene's instances the grids of `posed` where it describes them bit for bit (the
-  /// previews then visit only the cells they cross), or takes them back (nullptr).
+  /// previews then visit only the cells they cross), or takes them back (nullptr). The positions
+  /// are compared in full the first time a pair of arrays (the posed model's, the scene's) is
+  /// lent; after that both follow the same steps, each as a fresh build would, so only their
+  /// sizes are compared: O(instances) on the way from Apply to the frame.
   void lend_grids(const std::shared_ptr<const Model>& model, const PosedModel* posed);
 
   /// Shows `text` above the tool's panel ("" hides it) and names the Apply button.
@@ -97,6 +104,11 @@ class ToolHost : public QObject {
   QTimer* timer_ = nullptr;                            // steps a tool that moves
   QElapsedTimer clock_;                                // since the last step
   bool displaced_ = false;                             // the view shows displaced positions
+  // Per instance (node, primitive): the posed model's and the scene's positions found equal,
+  // for the model and pose they were compared at (another one: compared again).
+  std::map<std::pair<int, int>, std::pair<const glm::vec3*, const glm::vec3*>> same_positions_;
+  const Model* same_model_ = nullptr;
+  PoseKey same_key_;
   QStackedWidget* stack_ = nullptr;
   QLabel* banner_ = nullptr;
   QPushButton* apply_button_ = nullptr;

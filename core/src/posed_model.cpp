@@ -111,6 +111,25 @@ glm::vec3 posed_corner_normal(const MorphBlend& morph, const AttributeArray<glm:
   return len > 0.0f ? n / len : n;
 }
 
+// The world corner normals of faces `faces` of `surface` (corner normals `normals`) posed by
+// `inst`, written into `out` (one per corner slot): the one kernel of every corner normal.
+void corner_normals_of(const PosedMesh& inst, const SurfaceMesh& surface, const AttributeArray<glm::vec3>& normals,
+                       const std::vector<std::uint32_t>& faces, std::vector<glm::vec3>& out) {
+  const std::vector<glm::mat3>& linear = inst.linear;
+  const MorphBlend morph(surface, inst.weights);
+  parallel_for(faces.size(), 4096, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      const std::size_t f = faces[i];
+      const auto& t = surface.face(FaceId(static_cast<std::uint32_t>(f)));
+      for (int k = 0; k < 3; ++k) {
+        const std::size_t c = 3 * f + static_cast<std::size_t>(k);
+        const glm::mat3 map = linear.empty() ? glm::mat3(1.0f) : normal_map(linear[t[k].index]);
+        out[c] = posed_corner_normal(morph, normals, c, linear.empty() ? nullptr : &map);
+      }
+    }
+  });
+}
+
 }  // namespace
 
 std::vector<glm::vec3> PosedMesh::corner_normals(const SurfaceMesh& surface) const {
@@ -162,18 +181,36 @@ void PosedMesh::follow_corner_normals(const SurfaceMesh& surface, const Primitiv
   }
   for (std::size_t f = kept; f < slots; ++f) faces.push_back(static_cast<std::uint32_t>(f));
   out.resize(3 * slots);
-  const MorphBlend morph(surface, weights);
-  parallel_for(faces.size(), 4096, [&](std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i) {
-      const std::size_t f = faces[i];
-      const auto& t = surface.face(FaceId(static_cast<std::uint32_t>(f)));
-      for (int k = 0; k < 3; ++k) {
-        const std::size_t c = 3 * f + static_cast<std::size_t>(k);
-        const glm::mat3 map = linear.empty() ? glm::mat3(1.0f) : normal_map(linear[t[k].index]);
-        out[c] = posed_corner_normal(morph, *normals, c, linear.empty() ? nullptr : &map);
+  corner_normals_of(*this, surface, *normals, faces, out);
+}
+
+
+std::vector<glm::vec3> PosedMesh::corner_normals(const SurfaceMesh& surface, const PrimitiveOrigin& origin,
+                                                 const std::vector<glm::vec3>& source_normals) const {
+  const auto* normals = surface.corner_attrs().find<glm::vec3>(attr::kNormal);
+  if (!normals) return {};
+  const std::size_t slots = surface.face_slots();
+  if (origin.faces.size() != slots) return corner_normals(surface);
+  std::vector<glm::vec3> out;
+  detail::resize_prefaulted(out, normals->size(), glm::vec3(0.0f));
+  // Faces with a source copy its corners (the same corner attributes, vertices with the same
+  // linear maps: the kernel would give the same bits); the others are computed, in order.
+  std::vector<char> computed(slots, 0);
+  parallel_for(slots, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t f = b; f < e; ++f) {
+      const std::size_t s = origin.faces[f];
+      if (s == kInvalidIndex || 3 * s + 2 >= source_normals.size()) {
+        computed[f] = 1;
+        continue;
       }
+      for (std::size_t k = 0; k < 3; ++k) out[3 * f + k] = source_normals[3 * s + k];
     }
   });
+  std::vector<std::uint32_t> faces;
+  for (std::size_t f = 0; f < slots; ++f)
+    if (computed[f]) faces.push_back(static_cast<std::uint32_t>(f));
+  corner_normals_of(*this, surface, *normals, faces, out);
+  return out;
 }
 
 PosedMesh PosedMesh::at_positions(const SurfaceMesh& surface, std::vector<glm::vec3> posed) {
@@ -270,14 +307,7 @@ PosedModel PosedModel::positions_copy() const {
   out.joints_ = joints_;
   for (const auto& [key, inst] : instances_) {
     PosedMesh& copy = out.instances_[key];
-    copy.node = inst.node;
-    copy.mesh = inst.mesh;
-    copy.primitive = inst.primitive;
-    copy.bounds = inst.bounds;
-    copy.world = inst.world;
-    copy.joints = inst.joints;
-    copy.weights = inst.weights;
-    copy.no_unpose = inst.no_unpose;
+    static_cast<PosedMeshHeader&>(copy) = inst;
     copy.gridless = true;
     // As make_instance sizes them: with room, the pages faulted in over the pool, then each
     // array copied on its own thread.
@@ -297,6 +327,39 @@ const std::vector<glm::mat4>& PosedModel::joints_of(const Model& model, int node
   const int skin = model.nodes.at(static_cast<std::size_t>(node)).skin;
   if (skin < 0 || static_cast<std::size_t>(skin) >= joints_.size()) return kNone;
   return joints_[static_cast<std::size_t>(skin)];
+}
+
+PosedMesh PosedModel::derive_instance(const Model& model, int node, int primitive, const PosedMesh& source,
+                                      const PrimitiveOrigin& origin) const {
+  const SurfaceMesh& mesh = *instance_mesh(model, node, primitive);
+  PosedMesh inst;
+  inst.node = node;
+  inst.mesh = model.nodes[static_cast<std::size_t>(node)].mesh;
+  inst.primitive = primitive;
+  inst.joints = joints_of(model, node);
+  inst.world = world_.at(static_cast<std::size_t>(node));
+  inst.weights = weights(node);
+  inst.gridless = true;
+  const std::size_t n = mesh.vertex_count(), room = operation_vertex_room(n);
+  parallel_invoke({[&] { detail::resize_prefaulted(inst.posed, n, glm::vec3(0.0f), room); },
+                   [&] { detail::resize_prefaulted(inst.linear, n, glm::mat3(1.0f), room); }});
+  // A vertex with a source has its attributes, posed alike (same world, joints and weights):
+  // its position and linear map are the source's bits. The others are posed.
+  const bool copy = origin.vertices.size() == n && source.linear.size() == source.posed.size();
+  const VertexPoser pose(mesh, inst);
+  parallel_for(n, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t v = b; v < e; ++v) {
+      const std::uint32_t s = copy ? origin.vertices[v] : kInvalidIndex;
+      if (s < source.posed.size()) {
+        inst.posed[v] = source.posed[s];
+        inst.linear[v] = source.linear[s];
+      } else {
+        pose(v, inst);
+      }
+    }
+  });
+  inst.bounds = bounds_of(inst.posed);
+  return inst;
 }
 
 PosedMesh PosedModel::make_instance(const Model& model, int node, int primitive, PoseDetail detail) const {

@@ -94,6 +94,21 @@ void PosedModel::follow(const Model& model, const ModelChange& change, PoseDetai
     back.erase(it);
     return true;
   };
+  // The instance drawn before of the content a primitive was made out of (ModelChange::origins),
+  // posed as a build would pose that content for `node`: what derive_instance copies from.
+  auto source_of = [&](int node, const Place& place) -> std::pair<const PosedMesh*, const PrimitiveOrigin*> {
+    if (detail != PoseDetail::Positions) return {nullptr, nullptr};
+    for (const auto& o : change.origins) {
+      if (!o || o->node != node || o->mesh != place.first || o->primitive != place.second) continue;
+      const auto it = old.find({o->node_before, o->primitive_before});
+      const PosedMesh* source = it == old.end() ? nullptr : &it->second;
+      if (!source || source->mesh != o->mesh_before || source->world != world_[static_cast<std::size_t>(node)] ||
+          source->joints != joints_of(model, node) || source->weights != weights(node))
+        return {nullptr, nullptr};
+      return {source, o.get()};
+    }
+    return {nullptr, nullptr};
+  };
   for (std::size_t ni = 0; ni < model.nodes.size(); ++ni) {
     const int mi = model.nodes[ni].mesh;
     if (mi < 0 || static_cast<std::size_t>(mi) >= model.meshes.size()) continue;
@@ -104,6 +119,8 @@ void PosedModel::follow(const Model& model, const ModelChange& change, PoseDetai
       if (reuse(node, {mi, prim}, inst)) {
         inst.mesh = mi;
         inst.primitive = prim;
+      } else if (const auto [source, origin] = source_of(node, {mi, prim}); source) {
+        inst = derive_instance(model, node, prim, *source, *origin);
       } else {
         inst = make_instance(model, node, prim, detail);
       }

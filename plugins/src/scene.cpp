@@ -104,6 +104,26 @@ const SurfaceMesh* primitive_mesh(const Model& model, int mesh, int primitive) {
 
 namespace {
 
+/// The corner normals of `instance`, built in a structural step: copied from the normals drawn
+/// before (`old`, posed as `old_poses` say) for the faces a piece has of the instance it was made
+/// out of (ModelChange::origins) when that was posed alike, computed for the others.
+std::vector<glm::vec3> built_normals(const SceneInstance& instance, const ModelChange& change,
+                                     const std::vector<SceneInstance>& old, const std::vector<PosedMeshHeader>& old_poses) {
+  const PosedMesh& pose = *instance.pose;
+  for (const auto& o : change.origins) {
+    if (!o || o->node != instance.node || o->mesh != instance.mesh || o->primitive != instance.primitive) continue;
+    for (std::size_t i = 0; i < old.size(); ++i) {
+      const SceneInstance& before = old[i];
+      const PosedMeshHeader& posed = old_poses[i];
+      if (before.node == o->node_before && before.mesh == o->mesh_before && before.primitive == o->primitive_before &&
+          !before.posed_normals.empty() && posed.world == pose.world && posed.joints == pose.joints &&
+          posed.weights == pose.weights)
+        return pose.corner_normals(*instance.surface, *o, before.posed_normals);
+    }
+  }
+  return pose.corner_normals(*instance.surface);
+}
+
 /// follow_scene of a mapped structural step. Whether the posed model kept an instance shows in
 /// its positions' buffer: a kept or stashed PosedMesh is moved, buffers and all, while every
 /// instance built meanwhile gets buffers of its own (the old ones are alive until it returns).
@@ -113,7 +133,11 @@ void follow_structure(Scene& scene, std::shared_ptr<const Model> model, const Mo
   if (!scene.stash || scene.stash.use_count() > 1) scene.stash = std::make_shared<SceneStash>();
   std::vector<SceneInstance> old = std::move(scene.instances);
   std::map<const glm::vec3*, std::size_t> old_data;  // posed positions' buffer -> instance before
-  for (std::size_t i = 0; i < old.size(); ++i) old_data[old[i].pose->posed.data()] = i;
+  std::vector<PosedMeshHeader> old_poses;  // how each was posed (its posed mesh may go)
+  for (std::size_t i = 0; i < old.size(); ++i) {
+    old_data[old[i].pose->posed.data()] = i;
+    if (!change.origins.empty()) old_poses.push_back(*old[i].pose);
+  }
   // Only what an arrival may take back (the posed model drops the rest before building, so
   // the buffers listed here stay alive while it builds).
   std::set<std::uint64_t> arriving;
@@ -148,7 +172,7 @@ void follow_structure(Scene& scene, std::shared_ptr<const Model> model, const Mo
     }
     const bool normals_fit = instance.posed_normals.size() == 3 * instance.surface->face_slots();
     if (origin.kind == InstanceOrigin::Kind::Built || (with_normals && !normals_fit))
-      instance.posed_normals = with_normals ? instance.pose->corner_normals(*instance.surface) : std::vector<glm::vec3>();
+      instance.posed_normals = with_normals ? built_normals(instance, change, old, old_poses) : std::vector<glm::vec3>();
   }
   // The instances whose posed mesh went into the stash, with their normals.
   scene.departed.clear();

@@ -363,17 +363,17 @@ TEST(ModelSurgery, ACutsVertexSidesSplitItsMeshAsItsPiecesFacesDo) {
     options.keep = keep;
     const CutResult r = cut_mesh(mesh, mesh.positions(), plane, options);
     ASSERT_EQ(r.status, OpStatus::Ok);
-    ASSERT_EQ(r.vertex_sides.size(), mesh.vertex_count());
+    ASSERT_EQ(CutSides::of(r).size(), mesh.vertex_count());
     std::vector<int> side_of(mesh.vertex_count(), 0);
     for (std::size_t p = 0; p < r.pieces.size(); ++p)
       for (FaceId f : r.pieces[p])
         for (VertexId v : mesh.face(f)) side_of[v.index] = r.piece_sides[p];
     const int dropped = keep == CutKeep::Positive ? -1 : keep == CutKeep::Negative ? 1 : 0;
     for (std::size_t v = 0; v < side_of.size(); ++v) {
-      const bool dropped_side = side_of[v] == 0 && r.vertex_sides[v] == dropped;
-      EXPECT_TRUE(dropped_side || r.vertex_sides[v] == side_of[v]) << v;
+      const bool dropped_side = side_of[v] == 0 && CutSides::of(r)[v] == dropped;
+      EXPECT_TRUE(dropped_side || CutSides::of(r)[v] == side_of[v]) << v;
     }
-    const PieceSides sides{&r.piece_sides, &r.vertex_sides};
+    const PieceSides sides{&r.piece_sides, &CutSides::of(r)};
     SurfaceMesh a = mesh, b = mesh;
     const std::vector<SurfaceMesh> by_sides = split_disjoint(std::move(a), r.pieces, sides);
     const std::vector<SurfaceMesh> by_faces = split_disjoint(std::move(b), r.pieces);
@@ -384,10 +384,10 @@ TEST(ModelSurgery, ACutsVertexSidesSplitItsMeshAsItsPiecesFacesDo) {
   SurfaceMesh mesh = input;
   CutOptions capped;
   capped.cap = true;
-  EXPECT_TRUE(cut_mesh(mesh, mesh.positions(), plane, capped).vertex_sides.empty());
+  EXPECT_TRUE(CutSides::of(cut_mesh(mesh, mesh.positions(), plane, capped)).empty());
   mesh = input;
   mesh.mark_deleted(FaceId(0));
-  EXPECT_TRUE(cut_mesh(mesh, mesh.positions(), plane).vertex_sides.empty());
+  EXPECT_TRUE(CutSides::of(cut_mesh(mesh, mesh.positions(), plane)).empty());
 }
 
 std::vector<char> file_bytes(const std::string& path) {

@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <fstream>
+#include <map>
 #include <iterator>
 #include <string>
 #include <vector>
@@ -22,6 +23,12 @@
 
 namespace deepcut::session {
 namespace {
+
+/// The mesh of instance (node, primitive) of `model`.
+const SurfaceMesh* instance_surface(const Model& model, int node, int primitive) {
+  const int mesh = model.nodes.at(static_cast<std::size_t>(node)).mesh;
+  return &model.meshes.at(static_cast<std::size_t>(mesh)).primitives.at(static_cast<std::size_t>(primitive)).mesh;
+}
 
 std::shared_ptr<const Model> load_cactus() {
   Model model = read_gltf(DEEPCUT_ASSETS_DIR "/cactus.glb");
@@ -364,6 +371,42 @@ TEST(SessionTest, a_cut_undone_and_redone_again_keeps_the_posed_model_following_
   ASSERT_TRUE(session.redo().mapped);
   ASSERT_NE(session.posed_model(), nullptr) << "redo after a refresh at the same pose";
   expect_posed_model_fresh(session, -1, 0.0f, "redo after a refresh at the same pose");
+}
+
+TEST(SessionTest, a_cut_hands_its_pieces_origins_and_a_follower_that_copies_by_them_equals_a_fresh_build) {
+  for (const float time : {-1.0f, 0.5f}) {  // rest pose, and skinned at a time of the animation
+    const int animation = time < 0.0f ? -1 : 0;
+    const float at = time < 0.0f ? 0.0f : time;
+    Session session;
+    session.open(load_cactus());
+    // A follower as the studio's scene keeps one: positions without grids, and corner normals.
+    PosedModel follower = PosedModel::build(*session.current(), animation, at, PoseDetail::Positions);
+    std::map<std::pair<int, int>, std::vector<glm::vec3>> normals_before;
+    for (const auto& [key, inst] : follower.instances())
+      normals_before[key] = inst.corner_normals(*instance_surface(*session.current(), key.first, key.second));
+    Operations ops(*session.current(), 7);
+    Operation cut = ops.cut();
+    cut.animation = animation;
+    cut.time = at;
+    const session::Applied applied = session.apply(cut);
+    ASSERT_EQ(applied.result.status, OpStatus::Ok);
+    ASSERT_TRUE(applied.change.mapped);
+    ASSERT_FALSE(applied.change.origins.empty()) << "a cut in a session says where its pieces came from";
+    PoseStash stash;
+    follower.follow(*session.current(), applied.change, PoseDetail::Positions, &stash);
+    EXPECT_EQ(test::difference_from_fresh_build(follower, *session.current()), "") << "time " << time;
+    std::size_t copied = 0;
+    for (const auto& origin : applied.change.origins) {
+      const PosedMesh* inst = follower.find(origin->node, origin->primitive);
+      ASSERT_NE(inst, nullptr);
+      const SurfaceMesh& surface = *instance_surface(*session.current(), origin->node, origin->primitive);
+      const auto before = normals_before.find({origin->node_before, origin->primitive_before});
+      ASSERT_NE(before, normals_before.end());
+      EXPECT_EQ(inst->corner_normals(surface, *origin, before->second), inst->corner_normals(surface));
+      for (std::uint32_t f : origin->faces) copied += f != kInvalidIndex;
+    }
+    EXPECT_GT(copied, 0u) << "the faces away from the rim are copied";
+  }
 }
 
 TEST(SessionTest, a_session_writes_what_deepcut_apply_writes_and_refuses_a_swallowing_drill_alike) {

@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "deepcut/core/types.h"
@@ -42,6 +43,22 @@ struct PrimitiveContent {
   std::uint64_t tag = 0;
 };
 
+/// Where the content of an arrived primitive came from, element by element, when the step made it
+/// out of a primitive before it (a cut's piece out of the primitive it cut): a follower that drew
+/// the source instance copies what it drew of the elements listed here and computes only the
+/// others (the rim), instead of everything. Instance (`node`, `mesh`, `primitive`) after the step
+/// comes from instance (`node_before`, `mesh_before`, `primitive_before`) before it.
+struct PrimitiveOrigin {
+  int node = -1, mesh = -1, primitive = -1;
+  int node_before = -1, mesh_before = -1, primitive_before = -1;
+  /// Per vertex: the source vertex whose attributes it has, byte for byte (kInvalidIndex: a new
+  /// or rewritten vertex).
+  std::vector<std::uint32_t> vertices;
+  /// Per face slot: the source face slot whose corners it has (each corner's vertex mapped by
+  /// `vertices`, its corner attributes byte for byte), or kInvalidIndex.
+  std::vector<std::uint32_t> faces;
+};
+
 /// A primitive whose content a structural step left as it was, perhaps at another place.
 struct PrimitiveKept {
   int mesh = -1, primitive = -1;                ///< its place after the step
@@ -63,6 +80,9 @@ struct ModelChange {
   bool mapped = false;
   std::vector<PrimitiveKept> kept;
   std::vector<PrimitiveContent> left, arrived;
+  /// Of the arrived primitives, where those made out of a primitive before the step came from
+  /// (the step that made them, not its undo or redo: those bring back content a follower kept).
+  std::vector<std::shared_ptr<const PrimitiveOrigin>> origins;
   bool empty() const { return !structure && primitives.empty(); }
 };
 

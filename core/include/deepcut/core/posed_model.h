@@ -30,20 +30,13 @@ namespace deepcut {
 /// attribute arrays, and copies of the model (undo snapshots) keep the room. O(mesh), once.
 void reserve_for_operations(Model& model);
 
-/// One drawn primitive: primitive `primitive` of mesh `mesh`, instanced by node `node`.
-struct PosedMesh {
+/// Everything of a PosedMesh but its per-vertex arrays and its grid: which instance it is and
+/// the pose it is posed at. What a copy without grid (PosedModel::positions_copy) copies as it is.
+struct PosedMeshHeader {
   int node = -1, mesh = -1, primitive = -1;
-  /// World position of every vertex slot of the primitive's mesh at the index's pose.
-  std::vector<glm::vec3> posed;
-  /// Linear part of each vertex's bind-to-world map (the weighted sum of its joint matrices
-  /// when skinned, else the node's world matrix): `tear_mesh` maps its world moves to bind space
-  /// through its inverse.
-  std::vector<glm::mat3> linear;
   /// Bounds of every entry of `posed` (unreferenced vertices included): the model size the
   /// operations' tolerances are relative to.
   BoundingBox bounds;
-  /// Grid over the live faces at `posed`.
-  TriangleGrid grid;
   /// The node's world matrix and its skin's joint matrices at the pose (empty when not skinned):
   /// what `unpose` inverts, and how `follow` poses added and moved vertices as a fresh build would.
   glm::mat4 world{1.0f};
@@ -58,6 +51,18 @@ struct PosedMesh {
   /// True for a mesh posed without a grid (PoseDetail::Positions): `grid` is empty, and
   /// `PosedModel::prepare` builds the instance again before an operation uses it.
   bool gridless = false;
+};
+
+/// One drawn primitive: primitive `primitive` of mesh `mesh`, instanced by node `node`.
+struct PosedMesh : PosedMeshHeader {
+  /// World position of every vertex slot of the primitive's mesh at the index's pose.
+  std::vector<glm::vec3> posed;
+  /// Linear part of each vertex's bind-to-world map (the weighted sum of its joint matrices
+  /// when skinned, else the node's world matrix): `tear_mesh` maps its world moves to bind space
+  /// through its inverse.
+  std::vector<glm::mat3> linear;
+  /// Grid over the live faces at `posed`.
+  TriangleGrid grid;
 
   /// Bind position of vertex `v` of `surface` (skin weights and morph deltas already set, as
   /// MeshEditor sets them for new vertices) whose posed position is `p`: its blended skinning (or
@@ -70,6 +75,12 @@ struct PosedMesh {
   /// plus its morph normal deltas at `weights`, through the inverse transpose of its vertex's
   /// `linear` map (the identity when `linear` is empty), renormalised. Empty without normals.
   std::vector<glm::vec3> corner_normals(const SurfaceMesh& surface) const;
+  /// The same for `surface` made out of a source mesh as `origin` says (this posed mesh derived
+  /// from the source's as PosedModel does, ModelChange::origins): the corners of faces with a
+  /// source face are copied from `source_normals` (this pose's corner normals of the source),
+  /// the others computed. Equal to corner_normals(surface). O(faces) copies, O(rim) computed.
+  std::vector<glm::vec3> corner_normals(const SurfaceMesh& surface, const PrimitiveOrigin& origin,
+                                        const std::vector<glm::vec3>& source_normals) const;
   /// Brings `normals` (this pose's `corner_normals` of `surface` before a step) up to date after
   /// the step `change` (PrimitiveChange of this mesh, this posed mesh already following it): one
   /// per corner of every face slot now, recomputed by the same kernel for new faces, listed faces
@@ -213,6 +224,11 @@ class PosedModel {
   PosedMesh make_instance(const Model& model, int node, int primitive,
                           PoseDetail detail = PoseDetail::Full) const;
   void pose_instance(const SurfaceMesh& mesh, PosedMesh& inst, PoseDetail detail) const;
+  /// Instance (node, primitive) of `model` made out of `source` (the instance before the step) as
+  /// `origin` says: positions and linear maps of vertices with a source copied, the others posed.
+  /// Equal to make_instance(model, node, primitive, Positions).
+  PosedMesh derive_instance(const Model& model, int node, int primitive, const PosedMesh& source,
+                            const PrimitiveOrigin& origin) const;
   void set_pose(const Model& model, const PoseKey& key);
   static std::size_t instance_count(const Model& model);
   const std::vector<glm::mat4>& joints_of(const Model& model, int node) const;

@@ -15,6 +15,10 @@
 
 namespace deepcut {
 
+namespace detail {
+struct TrustedAssign;
+}  // namespace detail
+
 using Triangle = std::array<VertexId, 3>;
 class SurfaceMesh;
 
@@ -108,11 +112,6 @@ class SurfaceMesh {
   /// attr::kPosition; sizes must agree (vertices, faces, 3 x faces). Deleted marks are cleared.
   /// @throws Error{InvalidArgument} on a size mismatch or a face index out of range.
   void assign(std::vector<Triangle> faces, AttributeSet vertex_attrs, AttributeSet face_attrs, AttributeSet corner_attrs);
-  /// `assign` for arrays the caller built itself and knows to be consistent (a mesh's pieces made
-  /// by the mesh surgery): the pass over every face index that `assign` checks is skipped.
-  /// @pre `vertex_attrs` holds attr::kPosition, the sizes agree and every face index is in range.
-  void assign_trusted(std::vector<Triangle> faces, AttributeSet vertex_attrs, AttributeSet face_attrs,
-                      AttributeSet corner_attrs);
   /// Drops deleted faces and unreferenced vertices; attributes follow.
   /// @returns the old-to-new vertex map (kInvalidIndex for dropped vertices).
   std::vector<std::uint32_t> compact();
@@ -149,6 +148,13 @@ class SurfaceMesh {
   double volume(const std::vector<glm::vec3>* positions = nullptr) const;
 
  private:
+  friend struct detail::TrustedAssign;  // private to core: the mesh surgery's pieces
+  /// `assign` for arrays the caller built itself and knows to be consistent (a mesh's pieces made
+  /// by the mesh surgery): the pass over every face index that `assign` checks is skipped.
+  /// @pre `vertex_attrs` holds attr::kPosition, the sizes agree and every face index is in range.
+  void assign_trusted(std::vector<Triangle> faces, AttributeSet vertex_attrs, AttributeSet face_attrs,
+                      AttributeSet corner_attrs);
+
   std::vector<Triangle> faces_;
   std::vector<std::uint8_t> deleted_;
   std::size_t deleted_count_ = 0;

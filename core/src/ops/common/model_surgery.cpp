@@ -324,7 +324,7 @@ SurfaceMesh take_piece(SurfaceMesh& mesh, Numbering& num, std::size_t big) {
     run_copies(jobs);
   }
   for (int kind = 0; kind < 3; ++kind) set_of(mesh, kind).resize(list_of(num, big, kind).size() * group_of(kind));
-  mesh.assign_trusted(std::move(num.tris[big]), std::move(mesh.vertex_attrs()), std::move(mesh.face_attrs()),
+  TrustedAssign::assign(mesh, std::move(num.tris[big]), std::move(mesh.vertex_attrs()), std::move(mesh.face_attrs()),
                       std::move(mesh.corner_attrs()));
   return std::move(mesh);
 }
@@ -401,7 +401,8 @@ std::vector<AttributeSet> fill_pieces(const SurfaceMesh& mesh, Numbering& num, s
 // The pieces `lists` of `mesh`; with `owned` (`mesh` itself, to take apart) the largest (most
 // faces) keeps the mesh's arrays, compacted in place once the others are copied out.
 std::vector<SurfaceMesh> make_pieces(const SurfaceMesh& mesh, const std::vector<std::vector<FaceId>>& lists,
-                                     SurfaceMesh* owned, const PieceSides* sides = nullptr) {
+                                     SurfaceMesh* owned, const PieceSides* sides = nullptr,
+                                     std::vector<PieceElements>* elements = nullptr) {
   const std::size_t n = lists.size();
   std::vector<SurfaceMesh> out(n);
   Numbering num;
@@ -415,9 +416,13 @@ std::vector<SurfaceMesh> make_pieces(const SurfaceMesh& mesh, const std::vector<
   std::vector<AttributeSet> sets = fill_pieces(mesh, num, big);
   for (std::size_t s = 0; s < n; ++s)
     if (s != big)
-      out[s].assign_trusted(std::move(num.tris[s]), std::move(sets[3 * s]), std::move(sets[3 * s + 1]),
+      TrustedAssign::assign(out[s], std::move(num.tris[s]), std::move(sets[3 * s]), std::move(sets[3 * s + 1]),
                             std::move(sets[3 * s + 2]));
   if (big < n) out[big] = take_piece(*owned, num, big);
+  if (elements) {
+    elements->resize(n);
+    for (std::size_t s = 0; s < n; ++s) (*elements)[s] = {std::move(num.vertices[s]), std::move(num.faces[s])};
+  }
   return out;
 }
 
@@ -434,12 +439,12 @@ std::vector<SurfaceMesh> split_disjoint(SurfaceMesh&& mesh, const std::vector<st
 }
 
 std::vector<SurfaceMesh> split_disjoint(SurfaceMesh&& mesh, const std::vector<std::vector<FaceId>>& lists,
-                                        const PieceSides& sides) {
+                                        const PieceSides& sides, std::vector<PieceElements>* elements) {
   const std::vector<int>* list_sides = sides.list_sides;
   const bool usable = sides.vertex_sides && list_sides && sides.vertex_sides->size() == mesh.vertex_count() &&
                       list_sides->size() == lists.size() && lists.size() <= 2 &&
                       (lists.size() < 2 || (*list_sides)[0] != (*list_sides)[1]);
-  return make_pieces(mesh, lists, mesh.observer() ? nullptr : &mesh, usable ? &sides : nullptr);
+  return make_pieces(mesh, lists, mesh.observer() ? nullptr : &mesh, usable ? &sides : nullptr, elements);
 }
 
 int cut_surface_material(Model& model) {

@@ -8,12 +8,28 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "deepcut/core/model.h"
+#include "deepcut/core/ops/cut.h"
 #include "deepcut/core/posed_model.h"
 
 namespace deepcut::detail {
+
+/// Core's access to CutResult's vertex sides (the cut writes them, the surgery splits by them).
+struct CutSides {
+  static std::vector<std::int8_t>& of(CutResult& result) { return result.vertex_sides_; }
+  static const std::vector<std::int8_t>& of(const CutResult& result) { return result.vertex_sides_; }
+};
+
+/// Core's access to SurfaceMesh::assign_trusted (the surgery's pieces: arrays it built itself).
+struct TrustedAssign {
+  static void assign(SurfaceMesh& mesh, std::vector<Triangle> faces, AttributeSet vertex_attrs, AttributeSet face_attrs,
+                     AttributeSet corner_attrs) {
+    mesh.assign_trusted(std::move(faces), std::move(vertex_attrs), std::move(face_attrs), std::move(corner_attrs));
+  }
+};
 
 /// A copy of `mesh` holding only `faces` (unused vertices dropped, attributes following).
 SurfaceMesh extract(const SurfaceMesh& mesh, const std::vector<FaceId>& faces);
@@ -35,6 +51,12 @@ std::vector<SurfaceMesh> extract_disjoint(const SurfaceMesh& mesh, const std::ve
 /// copied out of it.
 std::vector<SurfaceMesh> split_disjoint(SurfaceMesh&& mesh, const std::vector<std::vector<FaceId>>& lists);
 
+/// What a piece split out of a mesh holds of it: piece vertex (face) i is the mesh's vertex (face
+/// slot) `vertices[i]` (`faces[i]`), both increasing.
+struct PieceElements {
+  std::vector<std::uint32_t> vertices, faces;
+};
+
 /// The side of each of a cut's pieces and of each vertex (CutResult::piece_sides, vertex_sides).
 struct PieceSides {
   const std::vector<int>* list_sides = nullptr;             ///< +1 or -1 per list, each side once
@@ -45,8 +67,10 @@ struct PieceSides {
 /// live face of side `(*sides.list_sides)[i]` and the faces using vertex `v` lie on side
 /// `(*sides.vertex_sides)[v]`, so each vertex's piece is read there instead of marked by a pass
 /// over the lists' faces (sides of the wrong sizes: `split_disjoint(mesh, lists)`).
+/// `elements` (when not null) gets what each piece holds of `mesh` (left empty when the lists
+/// share vertices).
 std::vector<SurfaceMesh> split_disjoint(SurfaceMesh&& mesh, const std::vector<std::vector<FaceId>>& lists,
-                                        const PieceSides& sides);
+                                        const PieceSides& sides, std::vector<PieceElements>* elements = nullptr);
 
 /// Index of the model's "Cut surface" material (cut caps, drill walls), added on first use.
 int cut_surface_material(Model& model);

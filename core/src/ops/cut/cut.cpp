@@ -714,7 +714,7 @@ CutResult Cutter::run() {
   collect_pieces(result);
   cap_pieces(result, result.rim_vertices);
   if (!options_.cap && !options_.split_components && merges_.empty() && !had_deleted)
-    result.vertex_sides = vertex_sides(mesh_, std::move(sign_), rim_candidates_);
+    detail::CutSides::of(result) = vertex_sides(mesh_, std::move(sign_), rim_candidates_);
   result.intersection_points = intersections_;
   result.log = editor_.take_log();
   return result;

@@ -4,8 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <string>
+#include <variant>
 
+#include "deepcut/core/parallel.h"
 #include "deepcut/core/posed_model.h"
 #include "deepcut/core/skinning.h"
 #include "ops/common/model_surgery.h"
@@ -63,6 +66,7 @@ int side_of(const SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const 
 // (cut_mesh changes nothing then), so an instance missed everywhere needs no undoing.
 struct InstanceCut {
   std::vector<CutResult> results;
+  std::vector<std::pair<std::size_t, std::size_t>> sizes_before;  // each primitive's vertex and face slot counts
   bool any = false;
 };
 
@@ -82,6 +86,7 @@ InstanceCut cut_instance(detail::InstanceEdit& inst, const std::vector<glm::mat4
       own = pose_alone(inst.model(), inst.node(), mesh, world, inst.posed_model().weights(inst.node()));
       posed = &own;
     }
+    out.sizes_before.emplace_back(mesh.vertex_count(), mesh.face_slots());
     out.results.push_back(cut_mesh(mesh, *posed, plane, options));
     CutResult& r = out.results.back();
     if (r.status == OpStatus::Ok) snap_rim_to_plane(*posed, plane, r, mesh);
@@ -98,7 +103,8 @@ InstanceCut cut_instance(detail::InstanceEdit& inst, const std::vector<glm::mat4
 // (the cut's sides of the pieces and vertices, or nullptr) spares the surgery finding each
 // vertex's piece.
 std::vector<std::vector<Primitive>> piece_primitives(SurfaceMesh&& mesh, const std::vector<std::vector<FaceId>>& pieces,
-                                                     const detail::PieceSides* sides, int material, int cut_material) {
+                                                     const detail::PieceSides* sides, int material, int cut_material,
+                                                     std::vector<detail::PieceElements>* elements) {
   const auto* flag = mesh.face_attrs().find<std::uint8_t>(attr::kCutSurface);
   const bool flagged = flag != nullptr;
   std::vector<std::vector<FaceId>> body, cap;
@@ -109,8 +115,12 @@ std::vector<std::vector<Primitive>> piece_primitives(SurfaceMesh&& mesh, const s
       for (FaceId f : pieces[k]) ((*flag)[f.index] ? cap[k] : body[k]).push_back(f);
   }
   std::vector<SurfaceMesh> cap_meshes = flagged ? detail::extract_disjoint(mesh, cap) : std::vector<SurfaceMesh>();
-  std::vector<SurfaceMesh> body_meshes = flagged || !sides ? detail::split_disjoint(std::move(mesh), flagged ? body : pieces)
-                                                            : detail::split_disjoint(std::move(mesh), pieces, *sides);
+  std::vector<SurfaceMesh> body_meshes = detail::split_disjoint(std::move(mesh), flagged ? body : pieces,
+                                                                sides && !flagged ? *sides : detail::PieceSides{}, elements);
+  // Only the bodies that become primitives (first of their piece) keep their elements.
+  if (elements && elements->size() != pieces.size()) elements->assign(pieces.size(), {});
+  for (std::size_t k = 0; elements && k < pieces.size(); ++k)
+    if (body_meshes[k].face_count() == 0) (*elements)[k] = {};
   std::vector<std::vector<Primitive>> out(pieces.size());
   auto add = [&](SurfaceMesh& m, int mat, std::vector<Primitive>& to) {
     if (m.face_count() == 0) return;
@@ -127,10 +137,68 @@ std::vector<std::vector<Primitive>> piece_primitives(SurfaceMesh&& mesh, const s
   return out;
 }
 
+// The elements of a primitive (`vertices_before` and `faces_before` slots before the cut) that the
+// cut added or rewrote, by its result: the rim's vertices (new, or snapped onto the plane), moved
+// or added vertices, and removed or added face slots.
+struct Rewritten {
+  std::vector<char> vertices, faces;
+};
+
+Rewritten rewritten_by(const CutResult& r, std::pair<std::size_t, std::size_t> before) {
+  Rewritten out{std::vector<char>(before.first, 0), std::vector<char>(before.second, 0)};
+  auto vertex = [&](VertexId v) {
+    if (v.index < out.vertices.size()) out.vertices[v.index] = 1;
+  };
+  auto face = [&](FaceId f) {
+    if (f.index < out.faces.size()) out.faces[f.index] = 1;
+  };
+  for (VertexId v : r.rim_vertices) vertex(v);
+  for (const Edit& e : r.log.edits) {
+    if (const auto* m = std::get_if<VertexMoved>(&e)) vertex(m->v);
+    if (const auto* a = std::get_if<VertexAdded>(&e)) vertex(a->v);
+    if (const auto* s = std::get_if<VertexSplit>(&e)) vertex(s->copy);
+    if (const auto* fa = std::get_if<FaceAdded>(&e)) face(fa->f);
+    if (const auto* fr = std::get_if<FaceRemoved>(&e)) face(fr->f);
+  }
+  return out;
+}
+
+// Where the elements of `piece` (split out of primitive `primitive` as `elements` says) came from
+// before the cut (PrimitiveOrigin): a vertex the cut neither added nor rewrote is the source vertex
+// of the same index; a face slot it neither added nor removed whose corners all have a source
+// vertex, the source face slot of the same index. The places are set once the pieces are
+// installed.
+std::shared_ptr<PrimitiveOrigin> piece_origin(const detail::PieceElements& elements, const SurfaceMesh& piece,
+                                              const Rewritten& rewritten, int primitive) {
+  auto out = std::make_shared<PrimitiveOrigin>();
+  out->primitive_before = primitive;
+  const std::vector<char>&rv = rewritten.vertices, &rf = rewritten.faces;
+  out->vertices.resize(elements.vertices.size());
+  parallel_for(out->vertices.size(), 65536, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      const std::uint32_t v = elements.vertices[i];
+      out->vertices[i] = v < rv.size() && !rv[v] ? v : kInvalidIndex;
+    }
+  });
+  out->faces.resize(elements.faces.size());
+  parallel_for(out->faces.size(), 65536, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      const std::uint32_t f = elements.faces[i];
+      const Triangle& t = piece.face(FaceId(static_cast<std::uint32_t>(i)));
+      const bool kept = f < rf.size() && !rf[f] && out->vertices[t[0].index] != kInvalidIndex &&
+                        out->vertices[t[1].index] != kInvalidIndex && out->vertices[t[2].index] != kInvalidIndex;
+      out->faces[i] = kept ? f : kInvalidIndex;
+    }
+  });
+  return out;
+}
+
 // Groups each primitive's pieces into output meshes: without split_components piece k of every
-// primitive (0 positive, 1 negative) shares a mesh; with it, every piece is its own.
-std::vector<Mesh> group_pieces(Mesh& edited, const InstanceCut& cut, const CutOptions& options,
-                               int cut_material, ModelCutResult& result) {
+// primitive (0 positive, 1 negative) shares a mesh; with it, every piece is its own. `origins`
+// gets, per output mesh and primitive, where a piece's body came from (null for caps, and where
+// the surgery could not say).
+std::vector<Mesh> group_pieces(Mesh& edited, const InstanceCut& cut, const CutOptions& options, int cut_material,
+                               ModelCutResult& result, std::vector<std::vector<std::shared_ptr<PrimitiveOrigin>>>& origins) {
   std::vector<Mesh> piece_meshes;
   for (std::size_t p = 0; p < cut.results.size(); ++p) {
     const CutResult& r = cut.results[p];
@@ -145,24 +213,46 @@ std::vector<Mesh> group_pieces(Mesh& edited, const InstanceCut& cut, const CutOp
       mesh.for_each_face([&](FaceId f, const Triangle&) { whole[0].push_back(f); });
     }
     const auto& pieces = r.status == OpStatus::NoIntersection ? whole : r.pieces;
-    const detail::PieceSides sides{&r.piece_sides, &r.vertex_sides};
-    const bool by_side = r.status == OpStatus::Ok && !r.vertex_sides.empty();
+    const std::vector<std::int8_t>& vertex_sides = detail::CutSides::of(r);
+    const detail::PieceSides sides{&r.piece_sides, &vertex_sides};
+    const bool by_side = r.status == OpStatus::Ok && !vertex_sides.empty();
+    // Origins for a mesh an undo record watches: a front end that follows the steps (the
+    // studio's session) hands them on; a one-off cut (the command line) spares the passes.
+    std::vector<detail::PieceElements> elements;
+    const bool followed = mesh.observer() != nullptr;
     std::vector<std::vector<Primitive>> prims =
-        piece_primitives(std::move(mesh), pieces, by_side ? &sides : nullptr, edited.primitives[p].material, cut_material);
+        piece_primitives(std::move(mesh), pieces, by_side ? &sides : nullptr, edited.primitives[p].material, cut_material,
+                         followed ? &elements : nullptr);
+    if (!followed) elements.assign(pieces.size(), {});
+    const Rewritten rewritten = followed ? rewritten_by(r, cut.sizes_before[p]) : Rewritten();
     for (std::size_t k = 0; k < pieces.size(); ++k) {
       const int side = r.piece_sides[k];
       const std::size_t slot = options.split_components ? piece_meshes.size() : (side > 0 ? 0 : 1);
-      if (slot >= piece_meshes.size()) piece_meshes.resize(slot + 1);
-      for (Primitive& prim : prims[k]) piece_meshes[slot].primitives.push_back(std::move(prim));
+      if (slot >= piece_meshes.size()) {
+        piece_meshes.resize(slot + 1);
+        origins.resize(slot + 1);
+      }
+      for (std::size_t j = 0; j < prims[k].size(); ++j) {
+        const bool body = j == 0 && !elements[k].faces.empty();
+        origins[slot].push_back(body ? piece_origin(elements[k], prims[k][j].mesh, rewritten, static_cast<int>(p)) : nullptr);
+        piece_meshes[slot].primitives.push_back(std::move(prims[k][j]));
+      }
     }
   }
-  piece_meshes.erase(std::remove_if(piece_meshes.begin(), piece_meshes.end(), [](const Mesh& m) { return m.primitives.empty(); }),
-                     piece_meshes.end());
+  for (std::size_t k = piece_meshes.size(); k-- > 0;)
+    if (piece_meshes[k].primitives.empty()) {
+      piece_meshes.erase(piece_meshes.begin() + static_cast<std::ptrdiff_t>(k));
+      origins.erase(origins.begin() + static_cast<std::ptrdiff_t>(k));
+    }
   return piece_meshes;
 }
 
-// The instance draws the first piece; every other piece becomes a node beside it.
-void install_pieces(detail::InstanceEdit& inst, std::vector<Mesh> piece_meshes, ModelCutResult& result) {
+// The instance draws the first piece; every other piece becomes a node beside it. The pieces'
+// origins get their places (but the mesh after the step: once the surgery is done) and go to
+// `made`.
+void install_pieces(detail::InstanceEdit& inst, std::vector<Mesh> piece_meshes,
+                    const std::vector<std::vector<std::shared_ptr<PrimitiveOrigin>>>& origins, ModelCutResult& result,
+                    std::vector<std::shared_ptr<PrimitiveOrigin>>& made) {
   // Copies: replacing the mesh below overwrites the source.
   const std::string source_name = inst.source().name, source_extras = inst.source().extras_json;
   const std::string& node_name = inst.model().nodes[static_cast<std::size_t>(inst.node())].name;
@@ -176,6 +266,15 @@ void install_pieces(detail::InstanceEdit& inst, std::vector<Mesh> piece_meshes, 
       result.piece_nodes.push_back(inst.node());
     } else {
       result.piece_nodes.push_back(inst.add_piece_node(std::move(m), base + "_piece" + std::to_string(k)));
+    }
+    for (std::size_t j = 0; j < origins[k].size(); ++j) {
+      if (!origins[k][j]) continue;
+      PrimitiveOrigin& origin = *origins[k][j];
+      origin.node = result.piece_nodes.back();
+      origin.primitive = static_cast<int>(j);
+      origin.node_before = inst.node();
+      origin.mesh_before = inst.mesh();
+      made.push_back(origins[k][j]);
     }
   }
 }
@@ -191,6 +290,7 @@ ModelCutResult cut_model(Model& model, PosedModel& posed, const Plane& plane, co
   result.status = OpStatus::NoIntersection;
   int cut_material = -1;
   std::vector<std::pair<int, int>> missed;  // instance node, side it lies on
+  std::vector<std::shared_ptr<PrimitiveOrigin>> made;  // the pieces' origins
   detail::ModelSurgery surgery(model, posed);
   surgery.for_each_instance([&](detail::InstanceEdit& inst) {
     const InstanceCut cut = cut_instance(inst, world, plane, options);
@@ -202,12 +302,13 @@ ModelCutResult cut_model(Model& model, PosedModel& posed, const Plane& plane, co
     }
     result.status = OpStatus::Ok;
     if (options.cap && cut_material < 0) cut_material = detail::cut_surface_material(model);
-    std::vector<Mesh> piece_meshes = group_pieces(inst.edit(), cut, options, cut_material, result);
+    std::vector<std::vector<std::shared_ptr<PrimitiveOrigin>>> origins;
+    std::vector<Mesh> piece_meshes = group_pieces(inst.edit(), cut, options, cut_material, result, origins);
     if (piece_meshes.empty()) {
       posed.erase_node(inst.node());  // its posed primitives grew with the cut: indexed anew
       return false;
     }
-    install_pieces(inst, std::move(piece_meshes), result);
+    install_pieces(inst, std::move(piece_meshes), origins, result, made);
     return true;
   });
   // Whole instances on the dropped side go too (only when something was cut: a plane that
@@ -216,6 +317,16 @@ ModelCutResult cut_model(Model& model, PosedModel& posed, const Plane& plane, co
     const int drop = options.keep == CutKeep::Positive ? -1 : 1;
     for (const auto& [node, side] : missed)
       if (side == drop) surgery.drop_instance(node);
+  }
+  // The pieces' meshes, now that the surgery is done (an origin whose node no longer draws the
+  // primitive is dropped).
+  for (const std::shared_ptr<PrimitiveOrigin>& origin : made) {
+    const int mesh = model.nodes[static_cast<std::size_t>(origin->node)].mesh;
+    if (mesh < 0 || static_cast<std::size_t>(mesh) >= model.meshes.size() ||
+        static_cast<std::size_t>(origin->primitive) >= model.meshes[static_cast<std::size_t>(mesh)].primitives.size())
+      continue;
+    origin->mesh = mesh;
+    result.origins.push_back(origin);
   }
   return result;
 }

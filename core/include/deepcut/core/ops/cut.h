@@ -7,6 +7,7 @@
 /// still animate. The stages are laid out in docs/architecture.md.
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "deepcut/core/edit_log.h"
@@ -16,6 +17,10 @@
 #include "deepcut/core/surface_mesh.h"
 
 namespace deepcut {
+
+namespace detail {
+struct CutSides;
+}  // namespace detail
 
 enum class CutKeep { Both, Positive, Negative };
 
@@ -42,14 +47,17 @@ struct CutResult {
   std::vector<std::vector<FaceId>> pieces;
   /// Side of each piece: +1 where the normal points, -1 behind the plane.
   std::vector<int> piece_sides;
+  /// Every change, in order (vertex splits separate the two sides topologically).
+  EditLog log;
+
+ private:
+  friend struct detail::CutSides;  // private to core: the cut writes it, the model surgery reads it
   /// Side of every vertex where the pieces are the sides (no caps, no components): that of the
   /// live faces using it (+1 or -1, as piece_sides), 0 where no live face does (a vertex of a
   /// side the cut dropped keeps that side: no piece has it). Empty otherwise, for a mesh with
   /// deleted faces, and for the rare cut that merged a needle's two crossings. What the mesh
   /// surgery splits the pieces by, without a pass over their faces.
-  std::vector<std::int8_t> vertex_sides;
-  /// Every change, in order (vertex splits separate the two sides topologically).
-  EditLog log;
+  std::vector<std::int8_t> vertex_sides_;
 };
 
 /// The cut's argument check, which cut_mesh makes first, for front ends that refuse a cut before
@@ -86,6 +94,12 @@ struct ModelCutResult {
   std::size_t rim_vertices = 0;
   /// One entry per output piece node: the node index in the cut model.
   std::vector<int> piece_nodes;
+  /// Where each piece primitive's elements came from in the primitive it was cut out of (the
+  /// rim's new and snapped vertices and the faces around them excepted): what a front end hands
+  /// its followers as ModelChange::origins, so they copy what they drew instead of redrawing it.
+  /// Given for the meshes an undo record watches (ModelRecorder: a front end that follows the
+  /// steps); empty for a one-off cut, which spares the passes.
+  std::vector<std::shared_ptr<const PrimitiveOrigin>> origins;
 };
 
 /// Cuts every mesh instance of `model` posed at `time` of `animation` (-1: rest pose). Each
