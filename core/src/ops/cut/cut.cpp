@@ -94,6 +94,8 @@ class Cutter {
   void split_crossings(FaceId f);
   void split_face(FaceId f, FaceBatch& batch);
   void separate_sides();
+  void move_positive_rim(const std::vector<FaceId>& rim_faces, const std::vector<std::uint32_t>& shared,
+                         std::size_t old_shared, const std::vector<std::uint32_t>& fresh, VertexId first_copy);
   // A flag per vertex of [first, first + flags.size()).
   struct VertexFlags {
     std::uint32_t first = 0;
@@ -308,6 +310,16 @@ void Cutter::separate_sides() {
     crossing_copies_[0] = first_copy.index + static_cast<std::uint32_t>(first_of_crossing);
     crossing_copies_[1] = first_copy.index + static_cast<std::uint32_t>(shared.size());
   }
+  move_positive_rim(rim_faces, shared, old_shared, fresh, first_copy);
+}
+
+// Moves the positive side's rim faces onto the copies of their shared vertices (`shared`, the
+// input's first `old_shared` of them sorted; `fresh` and the side bits as separate_sides left
+// them; the copy of shared[i] is first_copy + i).
+void Cutter::move_positive_rim(const std::vector<FaceId>& rim_faces, const std::vector<std::uint32_t>& shared,
+                               std::size_t old_shared, const std::vector<std::uint32_t>& fresh, VertexId first_copy) {
+  const std::uint32_t first_new = posed_.first_new();
+  const std::uint8_t* old_bits = side_bits_.data();
   // The place in `shared` of a vertex on the plane, or none (the rim faces use no copy: every
   // vertex is below them). The input's shared vertices are few.
   const auto old_end = shared.begin() + static_cast<std::ptrdiff_t>(old_shared);
@@ -316,7 +328,7 @@ void Cutter::separate_sides() {
     if ((old_bits[v] & 24) != 24) return kInvalidIndex;
     return static_cast<std::uint32_t>(std::lower_bound(shared.begin(), old_end, v) - shared.begin());
   };
-  sign = sign_.data();
+  const std::int8_t* sign = sign_.data();
   const glm::vec3 e[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   FaceBatch batch;
   batch.reserve(rim_faces.size(), rim_faces.size());
