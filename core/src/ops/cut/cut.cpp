@@ -14,6 +14,7 @@
 #include "deepcut/core/ops/cut.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <numeric>
 #include <string>
@@ -263,6 +264,7 @@ void Cutter::separate_sides() {
   // plane, these go above it, at 8 and 16), the cut's in `fresh` (above them, for a vertex both
   // use, 1 + its place in `shared`): no array over the whole mesh is cleared.
   const std::uint32_t first_new = posed_.first_new();
+  assert(side_bits_.size() == first_new);  // the input's vertices, each with its bits
   std::uint8_t* old_bits = side_bits_.data();
   std::vector<std::uint32_t> fresh(mesh_.vertex_count() - first_new, 0);
   std::vector<std::uint32_t> touched;  // the input's, each once
@@ -323,6 +325,7 @@ void Cutter::move_positive_rim(const std::vector<FaceId>& rim_faces, const std::
   // The place in `shared` of a vertex on the plane, or none (the rim faces use no copy: every
   // vertex is below them). The input's shared vertices are few.
   const auto old_end = shared.begin() + static_cast<std::ptrdiff_t>(old_shared);
+  static_assert(kInvalidIndex == std::uint32_t(0) - 1, "an unshared new vertex's slot, 0 - 1, reads as none");
   auto slot_of = [&](std::uint32_t v) -> std::uint32_t {
     if (v >= first_new) return (fresh[v - first_new] >> 2) - 1;  // not shared: 0 - 1, kInvalidIndex
     if ((old_bits[v] & 24) != 24) return kInvalidIndex;
