@@ -369,6 +369,29 @@ TEST(MeshEditorTest, a_face_batch_removing_a_face_twice_changes_nothing) {
   }
 }
 
+TEST(MeshEditorTest, an_ascending_face_batch_removing_a_dead_or_missing_face_changes_nothing) {
+  // Removals in ascending order take the one-pass check: a face already deleted or past the
+  // last slot is refused there, before any change.
+  SurfaceMesh mesh = test::make_grid(3, 2);
+  MeshEditor editor(mesh);
+  editor.remove_face(FaceId(2));
+  const std::vector<unsigned char> before = mesh_bytes(mesh);
+  const std::size_t logged = editor.log().size();
+  const std::array<glm::vec3, 3> same = {glm::vec3(1, 0, 0), glm::vec3(0, 1, 0), glm::vec3(0, 0, 1)};
+  const auto slots = static_cast<std::uint32_t>(mesh.face_slots());
+  for (const std::vector<std::uint32_t>& removals : {std::vector<std::uint32_t>{1, 2, 3}, {0, 1, slots}}) {
+    FaceBatch batch;
+    for (std::uint32_t f : removals) {
+      batch.remove(FaceId(f));
+      batch.add_from(mesh.face(FaceId(f < slots ? f : 0)), FaceId(f < slots ? f : 0), same);
+    }
+    EXPECT_THROW(editor.apply(batch), Error);
+    EXPECT_EQ(mesh_bytes(mesh), before);
+    EXPECT_EQ(editor.log().size(), logged);
+    EXPECT_FALSE(batch.empty());
+  }
+}
+
 TEST(MeshEditorTest, normalize_influences_handles_zero_nan_and_duplicates) {
   std::uint16_t j[4] = {3, 3, 5, 7};
   float w[4] = {0.2f, 0.2f, std::nanf(""), -1.0f};
