@@ -218,6 +218,11 @@ namespace {
   throw Error(ErrorCode::InvalidArgument, "remove_face: face " + std::to_string(f.index) + " is not a live face");
 }
 
+[[noreturn]] void throw_queued_twice(FaceId f) {
+  throw Error(ErrorCode::InvalidArgument,
+              "apply: face " + std::to_string(f.index) + " is queued for removal twice");
+}
+
 void check_live(const SurfaceMesh& mesh, FaceId f) {
   if (f.index >= mesh.face_slots() || mesh.is_deleted(f)) throw_not_live(f);
 }
@@ -236,7 +241,7 @@ void check_removals(const SurfaceMesh& mesh, const std::vector<std::pair<FaceId,
   for (std::size_t i = 0; i < removals.size(); ++i) ids[i] = removals[i].first;
   std::sort(ids.begin(), ids.end());
   const auto twice = std::adjacent_find(ids.begin(), ids.end());
-  if (twice != ids.end()) throw_not_live(*twice);
+  if (twice != ids.end()) throw_queued_twice(*twice);
 }
 // Removes live face `f` and logs it.
 void remove_live(SurfaceMesh& mesh, EditLog& log, FaceId f) {

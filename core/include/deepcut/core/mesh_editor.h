@@ -78,7 +78,8 @@ class MeshEditor {
   void remove_face(FaceId f);
   /// Makes the queued edits of `batch` and empties it: the same mesh and the same log as its
   /// remove_face and add_face_from calls made one after another, in its order.
-  /// @throws Error{InvalidArgument} (before any change) as those calls would.
+  /// @throws Error{InvalidArgument} (before any change) as those calls would, or for a face
+  ///         queued for removal twice; the batch then keeps its contents.
   void apply(FaceBatch& batch);
 
   SurfaceMesh& mesh() { return mesh_; }

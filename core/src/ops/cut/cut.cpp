@@ -14,6 +14,7 @@
 #include "deepcut/core/ops/cut.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <numeric>
 #include <string>
@@ -94,6 +95,8 @@ class Cutter {
   void split_crossings(FaceId f);
   void split_face(FaceId f, FaceBatch& batch);
   void separate_sides();
+  void move_positive_rim(const std::vector<FaceId>& rim_faces, const std::vector<std::uint32_t>& shared,
+                         std::size_t old_shared, const std::vector<std::uint32_t>& fresh, VertexId first_copy);
   // A flag per vertex of [first, first + flags.size()).
   struct VertexFlags {
     std::uint32_t first = 0;
@@ -261,6 +264,7 @@ void Cutter::separate_sides() {
   // plane, these go above it, at 8 and 16), the cut's in `fresh` (above them, for a vertex both
   // use, 1 + its place in `shared`): no array over the whole mesh is cleared.
   const std::uint32_t first_new = posed_.first_new();
+  assert(side_bits_.size() == first_new);  // the input's vertices, each with its bits
   std::uint8_t* old_bits = side_bits_.data();
   std::vector<std::uint32_t> fresh(mesh_.vertex_count() - first_new, 0);
   std::vector<std::uint32_t> touched;  // the input's, each once
@@ -308,15 +312,26 @@ void Cutter::separate_sides() {
     crossing_copies_[0] = first_copy.index + static_cast<std::uint32_t>(first_of_crossing);
     crossing_copies_[1] = first_copy.index + static_cast<std::uint32_t>(shared.size());
   }
+  move_positive_rim(rim_faces, shared, old_shared, fresh, first_copy);
+}
+
+// Moves the positive side's rim faces onto the copies of their shared vertices (`shared`, the
+// input's first `old_shared` of them sorted; `fresh` and the side bits as separate_sides left
+// them; the copy of shared[i] is first_copy + i).
+void Cutter::move_positive_rim(const std::vector<FaceId>& rim_faces, const std::vector<std::uint32_t>& shared,
+                               std::size_t old_shared, const std::vector<std::uint32_t>& fresh, VertexId first_copy) {
+  const std::uint32_t first_new = posed_.first_new();
+  const std::uint8_t* old_bits = side_bits_.data();
   // The place in `shared` of a vertex on the plane, or none (the rim faces use no copy: every
   // vertex is below them). The input's shared vertices are few.
   const auto old_end = shared.begin() + static_cast<std::ptrdiff_t>(old_shared);
+  static_assert(kInvalidIndex == std::uint32_t(0) - 1, "an unshared new vertex's slot, 0 - 1, reads as none");
   auto slot_of = [&](std::uint32_t v) -> std::uint32_t {
     if (v >= first_new) return (fresh[v - first_new] >> 2) - 1;  // not shared: 0 - 1, kInvalidIndex
     if ((old_bits[v] & 24) != 24) return kInvalidIndex;
     return static_cast<std::uint32_t>(std::lower_bound(shared.begin(), old_end, v) - shared.begin());
   };
-  sign = sign_.data();
+  const std::int8_t* sign = sign_.data();
   const glm::vec3 e[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   FaceBatch batch;
   batch.reserve(rim_faces.size(), rim_faces.size());

@@ -8,8 +8,11 @@
 namespace deepcut::detail {
 namespace {
 
-// Consecutive face ids as a random-access iterator (what vector::insert needs to size the
-// insertion once).
+// Consecutive face ids as a random-access iterator: vector::insert, its one use, then sizes the
+// insertion once and writes each id in place, with no fill first (an input iterator would be
+// inserted one push at a time, a resize would fill first). A proxy iterator, as C++20's
+// iota_view iterator: `reference` is the id itself, not a reference to a stored one, which is
+// all insert reads (*it, ++, it - it); the other random-access operations are complete.
 class IdCounter {
  public:
   using iterator_category = std::random_access_iterator_tag;
@@ -19,27 +22,28 @@ class IdCounter {
   using reference = FaceId;
   explicit IdCounter(std::uint32_t i) : i_(i) {}
   FaceId operator*() const { return FaceId(i_); }
-  FaceId operator[](difference_type n) const { return FaceId(i_ + static_cast<std::uint32_t>(n)); }
-  IdCounter& operator++() {
-    ++i_;
-    return *this;
-  }
+  FaceId operator[](difference_type n) const { return *(*this + n); }
+  IdCounter& operator++() { return *this += 1; }
   IdCounter operator++(int) { return IdCounter(i_++); }
-  IdCounter& operator--() {
-    --i_;
-    return *this;
-  }
+  IdCounter& operator--() { return *this -= 1; }
+  IdCounter operator--(int) { return IdCounter(i_--); }
   IdCounter& operator+=(difference_type n) {
     i_ += static_cast<std::uint32_t>(n);
     return *this;
   }
-  IdCounter operator+(difference_type n) const { return IdCounter(i_ + static_cast<std::uint32_t>(n)); }
+  IdCounter& operator-=(difference_type n) { return *this += -n; }
+  IdCounter operator+(difference_type n) const { return IdCounter(*this) += n; }
+  friend IdCounter operator+(difference_type n, const IdCounter& it) { return it + n; }
+  IdCounter operator-(difference_type n) const { return IdCounter(*this) -= n; }
   difference_type operator-(const IdCounter& o) const {
     return static_cast<difference_type>(i_) - static_cast<difference_type>(o.i_);
   }
   bool operator==(const IdCounter& o) const { return i_ == o.i_; }
   bool operator!=(const IdCounter& o) const { return i_ != o.i_; }
   bool operator<(const IdCounter& o) const { return i_ < o.i_; }
+  bool operator>(const IdCounter& o) const { return o < *this; }
+  bool operator<=(const IdCounter& o) const { return !(o < *this); }
+  bool operator>=(const IdCounter& o) const { return !(*this < o); }
 
  private:
   std::uint32_t i_;
