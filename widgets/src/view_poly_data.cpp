@@ -365,6 +365,9 @@ void ViewPolyData::update_corner_points(const SurfaceMesh& mesh, const std::vect
   // 1. Corners of faces that are gone or rewritten, and of listed vertices, leave their points
   // (and the first ones their vertices' lists); the vertices they leave or join are regrouped.
   std::vector<std::uint32_t> dead, regroup;
+  // Point 0 stays while no face is live (a deleted face's cell names it); unused, it is free
+  // for the first new point again.
+  if (uses_[0] == 0) dead.push_back(0);
   auto leave = [&](std::uint32_t c) {
     if (corner_vertex_[c] == kInvalidIndex) return;
     regroup.push_back(corner_vertex_[c]);
