@@ -202,5 +202,40 @@ TEST(ViewPolyDataTest, uv_seam) {
   f.become(original, "seam restored");
 }
 
+// A fan of 72 faces round vertex 0 whose corners there draw in 36 ways (texture coordinates
+// (i % 36, 0)), each twice: more ways than a vertex's few remembered points.
+SurfaceMesh make_many_ways_fan() {
+  constexpr int kFaces = 72, kWays = 36;
+  SurfaceMesh mesh;
+  const VertexId centre = mesh.add_vertex({0.0f, 0.0f, 0.0f});
+  for (int i = 0; i < kFaces; ++i) {
+    const float a = 6.2831853f * static_cast<float>(i) / kFaces;
+    mesh.add_vertex({std::cos(a), std::sin(a), 0.0f});
+  }
+  auto& uv = mesh.corner_attrs().add<glm::vec2>(attr::kUv0);
+  for (int i = 0; i < kFaces; ++i) {
+    const VertexId a(static_cast<std::uint32_t>(1 + i)), b(static_cast<std::uint32_t>(1 + (i + 1) % kFaces));
+    const FaceId f = mesh.add_face(centre, a, b);
+    uv[SurfaceMesh::corner(f, 0)] = {static_cast<float>(i % kWays), 0.0f};
+    uv[SurfaceMesh::corner(f, 1)] = {0.0f, 1.0f};
+    uv[SurfaceMesh::corner(f, 2)] = {1.0f, 1.0f};
+  }
+  return mesh;
+}
+
+TEST(ViewPolyDataTest, more_ways_than_remembered_on_one_vertex) {
+  Followed f(make_many_ways_fan());
+  const SurfaceMesh original = f.mesh;
+  // New corners at the centre, in another order than a fresh build lists them.
+  f.edit([](MeshEditor& e) {
+    for (std::uint32_t i = 0; i < 8; ++i) e.remove_face(FaceId(i));
+  }, "first faces removed");
+  f.become(original, "first faces restored");
+  f.edit([](MeshEditor& e) {
+    for (std::uint32_t i = 30; i < 72; i += 3) e.remove_face(FaceId(i));
+  }, "every third face removed");
+  f.become(original, "restored");
+}
+
 }  // namespace
 }  // namespace deepcut

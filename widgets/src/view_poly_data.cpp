@@ -137,17 +137,21 @@ struct ViewPolyData::Writer {
   }
 };
 
-// The points one vertex's corners use so far, each with a corner it draws like (a few: a vertex
-// whose corners draw more ways than that gets a point for each further corner, which draws the
-// same).
+// The points one vertex's corners use so far, each with a corner it draws like: a few, found
+// without a scan of the vertex's corners; a vertex whose corners draw in more ways than that
+// (`full`) is searched corner by corner for the rest (`ViewPolyData::alike_point`).
 struct ViewPolyData::Candidates {
   static constexpr int kMax = 32;
   std::uint32_t point[kMax], corner[kMax];
   int n = 0;
+  bool full = false;  // a point was left out
   void add(std::uint32_t p, std::uint32_t c) {
     for (int i = 0; i < n; ++i)
       if (point[i] == p) return;
-    if (n < kMax) point[n] = p, corner[n++] = c;
+    if (n < kMax)
+      point[n] = p, corner[n++] = c;
+    else
+      full = true;
   }
   // A point corner `c` draws like, or kInvalidIndex.
   std::uint32_t find(const Writer& w, std::uint32_t c) const {
@@ -156,6 +160,15 @@ struct ViewPolyData::Candidates {
     return kInvalidIndex;
   }
 };
+
+std::uint32_t ViewPolyData::alike_point(const Writer& w, const Candidates& seen, std::uint32_t v, std::uint32_t c,
+                                        const vtkTypeInt64* conn) const {
+  const std::uint32_t p = seen.find(w, c);
+  if (p != kInvalidIndex || !seen.full) return p;
+  for (std::uint32_t d = first_[v]; d != kInvalidIndex; d = next_[d])
+    if (d != c && conn[d] >= 0 && w.alike(d, c)) return static_cast<std::uint32_t>(conn[d]);
+  return kInvalidIndex;
+}
 
 ViewPolyData::ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
                            const std::vector<glm::vec3>* corner_normals) {
@@ -229,7 +242,7 @@ void ViewPolyData::build_corner_points(const Writer& writer, std::size_t vertice
       Candidates seen;
       std::uint32_t count = 0;
       for (std::uint32_t c = first_[v]; c != kInvalidIndex; c = next_[c]) {
-        std::uint32_t p = seen.find(writer, c);
+        std::uint32_t p = alike_point(writer, seen, static_cast<std::uint32_t>(v), c, conn);
         if (p == kInvalidIndex) seen.add(p = count++, c);
         conn[c] = p;
       }
@@ -433,7 +446,7 @@ void ViewPolyData::assign_points(const Writer& w, std::uint32_t v, std::vector<s
     }
   for (std::uint32_t c = first_[v]; c != kInvalidIndex; c = next_[c]) {
     if (conn[c] >= 0) continue;
-    std::uint32_t p = seen.find(w, c);
+    std::uint32_t p = alike_point(w, seen, v, c, conn);
     if (p == kInvalidIndex) {
       if (!dead.empty()) {
         p = dead.back();

@@ -23,6 +23,7 @@
 
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
+#include <vtkType.h>
 
 #include "deepcut/core/model_change.h"
 #include "deepcut/core/surface_mesh.h"
@@ -70,6 +71,12 @@ class ViewPolyData {
   void build_corner_points(const Writer& w, std::size_t vertices);
   /// Gives every corner of vertex `v` that has none (connectivity -1) a point: one of the
   /// vertex's points that draws alike, else a new one (a dead point, else appended).
+  /// A point (while building: a number among the vertex's points) that a corner of `v` other
+  /// than `c` has (connectivity `conn` >= 0) and that draws like `c`, else kInvalidIndex: from
+  /// `seen`, then, when `seen` is full, from every corner of `v`, so sharing is complete
+  /// whatever the order of the corners.
+  std::uint32_t alike_point(const Writer& w, const Candidates& seen, std::uint32_t v, std::uint32_t c,
+                            const vtkTypeInt64* conn) const;
   void assign_points(const Writer& w, std::uint32_t v, std::vector<std::uint32_t>& dead);
   /// Corner `c` leaves its point; a point left unused joins `dead`.
   void release(std::uint32_t c, std::vector<std::uint32_t>& dead);
