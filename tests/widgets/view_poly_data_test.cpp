@@ -99,6 +99,17 @@ void expect_rebuilt(const ViewPolyData& got, const SurfaceMesh& mesh, const std:
   }
 }
 
+// Colours every point with its vertex id, as a viewer colouring by vertex would.
+void colour_by_vertex(const ViewPolyData& view) {
+  vtkPolyData* poly = view.poly();
+  vtkNew<vtkFloatArray> colors;
+  colors->SetName("colors");
+  colors->SetNumberOfTuples(poly->GetNumberOfPoints());
+  for (vtkIdType p = 0; p < poly->GetNumberOfPoints(); ++p)
+    colors->SetValue(p, static_cast<float>(poly->GetPointData()->GetArray("vertex_id")->GetTuple1(p)));
+  poly->GetPointData()->AddArray(colors);
+}
+
 // A mesh drawn by a ViewPolyData that follows each step made on it.
 struct Followed {
   SurfaceMesh mesh;
@@ -111,6 +122,7 @@ struct Followed {
     PrimitiveChange change;
     ASSERT_TRUE(diff_meshes(mesh, after, change)) << what;
     mesh = after;
+    colour_by_vertex(view);
     view.update(mesh, mesh.positions(), nullptr, change);
     expect_rebuilt(view, mesh, mesh.positions(), nullptr, what);
   }

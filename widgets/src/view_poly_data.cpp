@@ -345,8 +345,9 @@ void ViewPolyData::unlink(std::uint32_t c) {
 void ViewPolyData::update(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
                           const std::vector<glm::vec3>* corner_normals, const PrimitiveChange& change) {
   const vtkIdType old_points = poly_->GetNumberOfPoints(), old_cells = poly_->GetNumberOfCells();
+  bool reassigned = false;  // a point now draws another vertex or corner than before
   if (corners_) {
-    update_corner_points(mesh, positions, corner_normals, change);
+    reassigned = update_corner_points(mesh, positions, corner_normals, change);
   } else {
     const std::size_t slots = mesh.face_slots(), vertices = mesh.vertex_count();
     const std::size_t kept_faces = std::min(change.faces_before, slots);
@@ -360,16 +361,14 @@ void ViewPolyData::update(const SurfaceMesh& mesh, const std::vector<glm::vec3>&
       if (v.index < kept_vertices) w.vertex_point(v.index);
     for (std::size_t v = kept_vertices; v < vertices; ++v) w.vertex_point(v);
   }
-  if (poly_->GetNumberOfPoints() != old_points || poly_->GetNumberOfCells() != old_cells) {
-    poly_->GetPointData()->RemoveArray("colors");
-    poly_->GetCellData()->RemoveArray("colors");
-  }
+  if (reassigned || poly_->GetNumberOfPoints() != old_points) poly_->GetPointData()->RemoveArray("colors");
+  if (poly_->GetNumberOfCells() != old_cells) poly_->GetCellData()->RemoveArray("colors");
   // The cell map (cell types and places, built for picking) no longer fits a new cell count.
   if (poly_->GetNumberOfCells() != old_cells) poly_->DeleteCells();
   modified();
 }
 
-void ViewPolyData::update_corner_points(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
+bool ViewPolyData::update_corner_points(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
                                         const std::vector<glm::vec3>* corner_normals,
                                         const PrimitiveChange& change) {
   const std::size_t slots = mesh.face_slots(), vertices = mesh.vertex_count();
@@ -427,16 +426,19 @@ void ViewPolyData::update_corner_points(const SurfaceMesh& mesh, const std::vect
   const std::size_t points = uses_.size();
   set_point_count(points + waiting);
   Writer w(poly_, mesh, positions, corner_normals);
+  bool wrote = false;
   for (std::uint32_t v : regroup)
-    if (v < vertices) assign_points(w, v, dead);
+    if (v < vertices) wrote |= assign_points(w, v, dead);
   set_point_count(uses_.size());
   compact(dead);
+  return wrote;
 }
 
 // A corner of vertex `v` keeps its point or, waiting (connectivity -1), takes one that draws
 // alike: first the vertex's points in use, then new ones.
-void ViewPolyData::assign_points(const Writer& w, std::uint32_t v, std::vector<std::uint32_t>& dead) {
+bool ViewPolyData::assign_points(const Writer& w, std::uint32_t v, std::vector<std::uint32_t>& dead) {
   vtkTypeInt64* conn = w.r.connectivity;
+  bool wrote = false;
   Candidates seen;
   for (std::uint32_t c = first_[v]; c != kInvalidIndex; c = next_[c])
     if (conn[c] >= 0) {
@@ -459,10 +461,12 @@ void ViewPolyData::assign_points(const Writer& w, std::uint32_t v, std::vector<s
       w.point(p, v, c);
       point_corner_[p] = c;
       seen.add(p, c);
+      wrote = true;
     }
     conn[c] = p;
     ++uses_[p];
   }
+  return wrote;
 }
 
 void ViewPolyData::release(std::uint32_t c, std::vector<std::uint32_t>& dead) {

@@ -69,21 +69,23 @@ class ViewPolyData {
   void set_point_count(std::size_t n);
   /// Corner layout of a new mesh: groups every vertex's corners into points, in parallel.
   void build_corner_points(const Writer& w, std::size_t vertices);
-  /// Gives every corner of vertex `v` that has none (connectivity -1) a point: one of the
-  /// vertex's points that draws alike, else a new one (a dead point, else appended).
   /// A point (while building: a number among the vertex's points) that a corner of `v` other
   /// than `c` has (connectivity `conn` >= 0) and that draws like `c`, else kInvalidIndex: from
   /// `seen`, then, when `seen` is full, from every corner of `v`, so sharing is complete
   /// whatever the order of the corners.
   std::uint32_t alike_point(const Writer& w, const Candidates& seen, std::uint32_t v, std::uint32_t c,
                             const vtkTypeInt64* conn) const;
-  void assign_points(const Writer& w, std::uint32_t v, std::vector<std::uint32_t>& dead);
+  /// Gives every corner of vertex `v` that has none (connectivity -1) a point: one of the
+  /// vertex's points that draws alike, else a new one (a dead point, else appended).
+  /// @returns whether it wrote a point (a new one, or a dead one drawing something else now).
+  bool assign_points(const Writer& w, std::uint32_t v, std::vector<std::uint32_t>& dead);
   /// Corner `c` leaves its point; a point left unused joins `dead`.
   void release(std::uint32_t c, std::vector<std::uint32_t>& dead);
   /// Removes the dead points: each takes the place of the last point.
   void compact(std::vector<std::uint32_t>& dead);
-  /// Regroups the corners listed by `update` (corner layout).
-  void update_corner_points(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
+  /// Regroups the corners listed by `update` (corner layout). @returns whether a point was
+  /// written (reused or appended) for other corners than before.
+  bool update_corner_points(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
                             const std::vector<glm::vec3>* corner_normals, const PrimitiveChange& change);
   /// Links every corner of a live face to its vertex (the lists of a new mesh), over the pool.
   void link_all(const SurfaceMesh& mesh);
