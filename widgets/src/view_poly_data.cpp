@@ -491,6 +491,9 @@ void ViewPolyData::compact(std::vector<std::uint32_t>& dead) {
     const auto last = static_cast<std::uint32_t>(--count);
     if (p != last) {
       points->SetTuple(p, last, points);
+      // Every point array moves with its point, "colors" included: the moved point keeps its
+      // own colour, so none is shown on another point (and `update` drops the colours anyway,
+      // as the count shrinks).
       for (int i = 0; i < pd->GetNumberOfArrays(); ++i)
         if (vtkAbstractArray* a = pd->GetAbstractArray(i)) a->SetTuple(p, last, a);
       const auto v = static_cast<std::uint32_t>(pd->GetArray("vertex_id")->GetTuple1(p));

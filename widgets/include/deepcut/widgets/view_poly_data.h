@@ -50,9 +50,12 @@ class ViewPolyData {
   /// it, `change` what it changed (sizes before it, listed vertices and faces). Rewrites the
   /// listed and new elements (and the corner points of listed vertices), truncates what is gone,
   /// marks what it wrote modified. The corners of every vertex a listed or new face uses, and of
-  /// every listed vertex, are grouped into points again; a point no corner uses any more takes
-  /// the place of the last point (point ids are not stable across steps). Colours set on the data are dropped when the point or cell
-  /// count changes (the caller colours again). O(change).
+  /// every listed vertex, are grouped into points again; each point no corner uses any more is
+  /// filled by the LAST point, which moves into the gap (point ids are not stable across steps).
+  /// Point colours ("colors") set on the data are dropped when a point is written for other
+  /// corners or the point count changes, cell colours when the cell count changes (the caller
+  /// colours again). Cost: the sum over the touched vertices of valence x ways of drawing, plus
+  /// the compaction (per freed point, the valence of the vertex whose last point moves).
   void update(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
               const std::vector<glm::vec3>* corner_normals, const PrimitiveChange& change);
 
