@@ -88,8 +88,10 @@ void expect_rebuilt(const ViewPolyData& got, const SurfaceMesh& mesh, const std:
       w->GetPoint(b, pb);
       for (int i = 0; i < 3; ++i) EXPECT_EQ(pa[i], pb[i]) << "corner " << c;
       EXPECT_EQ(gv->GetTuple1(a), wv->GetTuple1(b)) << "corner " << c;
-      for (int i = 0; gn && i < 3; ++i) EXPECT_EQ(gn->GetComponent(a, i), wn->GetComponent(b, i)) << "corner " << c;
-      for (int i = 0; gt && i < 2; ++i) EXPECT_EQ(gt->GetComponent(a, i), wt->GetComponent(b, i)) << "corner " << c;
+      for (int i = 0; gn && i < 3; ++i)
+        EXPECT_EQ(gn->GetComponent(a, i), wn->GetComponent(b, i)) << "corner " << c;
+      for (int i = 0; gt && i < 2; ++i)
+        EXPECT_EQ(gt->GetComponent(a, i), wt->GetComponent(b, i)) << "corner " << c;
     }
   }
   // Colours the caller set (one per point: its vertex id) are kept only while still true.
@@ -208,8 +210,10 @@ TEST(ViewPolyDataTest, uv_seam) {
   f.edit([&](MeshEditor& e) { for (std::size_t i = 0; i < seam.size(); i += 2) e.remove_face(seam[i]); },
          "half the seam's faces removed");
   f.edit([&](MeshEditor& e) {
-    for (std::uint32_t v = 0; v < e.mesh().vertex_count(); ++v)
-      if (e.mesh().position(VertexId(v)).x == 0.5f) e.move_vertex(VertexId(v), e.mesh().position(VertexId(v)) + 0.1f);
+    for (std::uint32_t v = 0; v < e.mesh().vertex_count(); ++v) {
+      const glm::vec3 p = e.mesh().position(VertexId(v));
+      if (p.x == 0.5f) e.move_vertex(VertexId(v), p + 0.1f);
+    }
   }, "seam vertices moved");
   f.become(original, "seam restored");
 }

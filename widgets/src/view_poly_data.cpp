@@ -60,8 +60,11 @@ Raw raw(vtkPolyData* poly) {
   return r;
 }
 
-std::uint32_t safe_vertex(const SurfaceMesh& mesh, VertexId v) {
-  return v.index < mesh.vertex_count() ? v.index : 0u;
+// Point `p`'s position and, when both are there, normal: what a build, an update and a new
+// pose all write.
+void write_point(const Raw& r, std::size_t p, const glm::vec3& position, const glm::vec3* normal) {
+  std::copy(&position.x, &position.x + 3, r.points + 3 * p);
+  if (r.normals && normal) std::copy(&normal->x, &normal->x + 3, r.normals + 3 * p);
 }
 
 // A point no corner draws (what a deleted face's cell names when no other point is left).
@@ -86,7 +89,8 @@ struct ViewPolyData::Writer {
   // drawn) and the morph normal deltas.
   std::vector<const glm::vec3*> normal_sources;
 
-  Writer(vtkPolyData* poly, const SurfaceMesh& m, const std::vector<glm::vec3>& p, const std::vector<glm::vec3>* n)
+  Writer(vtkPolyData* poly, const SurfaceMesh& m, const std::vector<glm::vec3>& p,
+         const std::vector<glm::vec3>* n)
       : r(raw(poly)), mesh(m), positions(p) {
     const auto& ca = m.corner_attrs();
     if (const auto* a = ca.find<glm::vec2>(attr::kUv0)) uv = a->data().data();
@@ -98,7 +102,8 @@ struct ViewPolyData::Writer {
       normals = own->data().data();
     }
     for (int t = 0, targets = morph_target_count(m); t < targets; ++t)
-      if (const auto* a = ca.find<glm::vec3>(attr::morph_normal_name(t))) normal_sources.push_back(a->data().data());
+      if (const auto* a = ca.find<glm::vec3>(attr::morph_normal_name(t)))
+        normal_sources.push_back(a->data().data());
   }
 
   void refresh(vtkPolyData* poly) { r = raw(poly); }
@@ -113,14 +118,12 @@ struct ViewPolyData::Writer {
 
   // Point `p` draws vertex `v` as corner `c` does.
   void point(std::size_t p, std::uint32_t v, std::size_t c) const {
-    const glm::vec3& x = positions[v];
-    std::copy(&x.x, &x.x + 3, r.points + 3 * p);
+    write_point(r, p, positions[v], normals ? &normals[c] : nullptr);
     r.vertex_id[p] = v;
     if (r.uv && uv) {
       r.uv[2 * p] = uv[c].x;
       r.uv[2 * p + 1] = uv[c].y;
     }
-    if (r.normals && normals) std::copy(&normals[c].x, &normals[c].x + 3, r.normals + 3 * p);
   }
 
   void vertex_cell(std::size_t f) const {
@@ -128,11 +131,11 @@ struct ViewPolyData::Writer {
     const Triangle& t = mesh.face(face);
     const bool deleted = mesh.is_deleted(face);
     for (int k = 0; k < 3; ++k)
-      r.connectivity[3 * f + static_cast<std::size_t>(k)] = safe_vertex(mesh, deleted ? t[0] : t[k]);
+      r.connectivity[3 * f + static_cast<std::size_t>(k)] = deleted ? 0 : t[k].index;
   }
 
   void vertex_point(std::size_t v) const {
-    std::copy(&positions[v].x, &positions[v].x + 3, r.points + 3 * v);
+    write_point(r, v, positions[v], nullptr);
     r.vertex_id[v] = static_cast<vtkIdType>(v);
   }
 };
@@ -161,8 +164,8 @@ struct ViewPolyData::Candidates {
   }
 };
 
-std::uint32_t ViewPolyData::alike_point(const Writer& w, const Candidates& seen, std::uint32_t v, std::uint32_t c,
-                                        const vtkTypeInt64* conn) const {
+std::uint32_t ViewPolyData::alike_point(const Writer& w, const Candidates& seen, std::uint32_t v,
+                                        std::uint32_t c, const vtkTypeInt64* conn) const {
   const std::uint32_t p = seen.find(w, c);
   if (p != kInvalidIndex || !seen.full) return p;
   for (std::uint32_t d = first_[v]; d != kInvalidIndex; d = next_[d])
@@ -233,8 +236,10 @@ void ViewPolyData::build_corner_points(const Writer& writer, std::size_t vertice
   const SurfaceMesh& mesh = writer.mesh;
   vtkTypeInt64* conn = writer.r.connectivity;
   parallel_for(mesh.face_slots(), kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t f = b; f < e; ++f)
-      std::fill(conn + 3 * f, conn + 3 * f + 3, mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f))) ? 0 : -1);
+    for (std::size_t f = b; f < e; ++f) {
+      const bool deleted = mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)));
+      std::fill(conn + 3 * f, conn + 3 * f + 3, deleted ? 0 : -1);
+    }
   });
   std::vector<std::uint32_t> first_point(vertices + 1, 0);
   parallel_for(vertices, kGrain, [&](std::size_t b, std::size_t e) {
@@ -518,10 +523,10 @@ void ViewPolyData::set_positions(const std::vector<glm::vec3>& positions,
   parallel_for(n, kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) {
       const auto v = static_cast<std::size_t>(r.vertex_id[i]);
-      if (v < positions.size()) std::copy(&positions[v].x, &positions[v].x + 3, r.points + 3 * i);
       // (a point no corner uses keeps its normal)
       const std::uint32_t c = corners_ ? point_corner_[i] : kInvalidIndex;
-      if (with_normals && c != kInvalidIndex) std::copy(&(*corner_normals)[c].x, &(*corner_normals)[c].x + 3, r.normals + 3 * i);
+      const glm::vec3* normal = with_normals && c != kInvalidIndex ? &(*corner_normals)[c] : nullptr;
+      if (v < positions.size()) write_point(r, i, positions[v], normal);
     }
   });
   modified();

@@ -15,8 +15,8 @@
 /// Arrays (as `to_poly_data` names them, so picking and colouring read either): point data
 /// "vertex_id", "uv0" (texture coordinates, made the active ones; kept up to date by name, so
 /// a viewer may unset them while no texture reads them), "normal" (the posed corner normals,
-/// else the mesh's); cell data "face_id". Arrays are filled through their raw storage, in parallel, without per-element
-/// virtual calls.
+/// else the mesh's); cell data "face_id". Arrays are filled through their raw storage, in
+/// parallel, without per-element virtual calls.
 
 #include <cstdint>
 #include <vector>
@@ -35,6 +35,8 @@ class ViewPolyData {
   /// Converts `mesh` drawn at `positions` (one per vertex slot) with `corner_normals` (one per
   /// corner, e.g. the posed ones; null or empty: the mesh's own normals, if any).
   /// O(vertices + faces), in parallel; the points are the same whatever the thread count.
+  /// @pre (here and in `update`) every live face of `mesh` names vertices below its
+  ///      vertex_count (a deleted face's cell is (0, 0, 0) whatever it names).
   /// @pre (here, in `update` and `set_positions`) corner normals are what posing makes of the
   ///      corner's normal, its morph normal deltas and its vertex: corners that share a point
   ///      get equal normals in every pose.
@@ -61,7 +63,8 @@ class ViewPolyData {
 
   /// Moves every point to `positions` (one per vertex slot) and, when given and not empty, sets
   /// the normals from `corner_normals` (a new pose). O(points), in parallel.
-  void set_positions(const std::vector<glm::vec3>& positions, const std::vector<glm::vec3>* corner_normals);
+  void set_positions(const std::vector<glm::vec3>& positions,
+                     const std::vector<glm::vec3>* corner_normals);
 
  private:
   struct Writer;
