@@ -38,19 +38,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <ctime>
 #include <map>
-#if defined(_WIN32)
-#ifndef WIN32_LEAN_AND_MEAN
-#define WIN32_LEAN_AND_MEAN
-#endif
-#ifndef NOMINMAX
-#define NOMINMAX
-#endif
-#include <windows.h>  // GetThreadTimes
-#elif defined(__unix__) || defined(__APPLE__)
-#include <unistd.h>  // _POSIX_THREAD_CPUTIME
-#endif
 
 #include "deepcut/core/errors.h"
 #include "deepcut/widgets/material_look.h"
@@ -60,6 +48,7 @@
 #include "deepcut/widgets/view_poly_data.h"
 #include "click_style.h"
 #include "instance_data.h"
+#include "thread_cpu_time.h"
 
 namespace deepcut::studio {
 namespace {
@@ -73,24 +62,6 @@ struct InstanceActor {
   MaterialLook look;
   bool displaced = false;  // drawn at positions set by hand (set_instance_positions)
 };
-
-/// CPU time of the calling thread, in ms: the POSIX thread CPU clock, or on Windows the
-/// thread's kernel and user times; elsewhere the process's CPU time (std::clock), which also
-/// counts the renderer's own threads. (std::chrono has no thread CPU clock.)
-double thread_cpu_ms() {
-#if defined(_WIN32)
-  FILETIME created, exited, kernel, user;
-  if (!GetThreadTimes(GetCurrentThread(), &created, &exited, &kernel, &user)) return 0.0;
-  auto ticks = [](const FILETIME& t) { return (static_cast<std::uint64_t>(t.dwHighDateTime) << 32) | t.dwLowDateTime; };
-  return static_cast<double>(ticks(kernel) + ticks(user)) / 1e4;  // 100 ns ticks
-#elif defined(_POSIX_THREAD_CPUTIME) && _POSIX_THREAD_CPUTIME >= 0
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) / 1e6;
-#else
-  return 1e3 * static_cast<double>(std::clock()) / CLOCKS_PER_SEC;
-#endif
-}
 
 double distance_to_segment(const glm::dvec2& p, const glm::dvec2& a, const glm::dvec2& b) {
   const glm::dvec2 ab = b - a;

@@ -60,8 +60,11 @@ Raw raw(vtkPolyData* poly) {
   return r;
 }
 
-std::uint32_t safe_vertex(const SurfaceMesh& mesh, VertexId v) {
-  return v.index < mesh.vertex_count() ? v.index : 0u;
+// Point `p`'s position and, when both are there, normal: what a build, an update and a new
+// pose all write.
+void write_point(const Raw& r, std::size_t p, const glm::vec3& position, const glm::vec3* normal) {
+  std::copy(&position.x, &position.x + 3, r.points + 3 * p);
+  if (r.normals && normal) std::copy(&normal->x, &normal->x + 3, r.normals + 3 * p);
 }
 
 // A point no corner draws (what a deleted face's cell names when no other point is left).
@@ -86,7 +89,8 @@ struct ViewPolyData::Writer {
   // drawn) and the morph normal deltas.
   std::vector<const glm::vec3*> normal_sources;
 
-  Writer(vtkPolyData* poly, const SurfaceMesh& m, const std::vector<glm::vec3>& p, const std::vector<glm::vec3>* n)
+  Writer(vtkPolyData* poly, const SurfaceMesh& m, const std::vector<glm::vec3>& p,
+         const std::vector<glm::vec3>* n)
       : r(raw(poly)), mesh(m), positions(p) {
     const auto& ca = m.corner_attrs();
     if (const auto* a = ca.find<glm::vec2>(attr::kUv0)) uv = a->data().data();
@@ -98,7 +102,8 @@ struct ViewPolyData::Writer {
       normals = own->data().data();
     }
     for (int t = 0, targets = morph_target_count(m); t < targets; ++t)
-      if (const auto* a = ca.find<glm::vec3>(attr::morph_normal_name(t))) normal_sources.push_back(a->data().data());
+      if (const auto* a = ca.find<glm::vec3>(attr::morph_normal_name(t)))
+        normal_sources.push_back(a->data().data());
   }
 
   void refresh(vtkPolyData* poly) { r = raw(poly); }
@@ -113,14 +118,12 @@ struct ViewPolyData::Writer {
 
   // Point `p` draws vertex `v` as corner `c` does.
   void point(std::size_t p, std::uint32_t v, std::size_t c) const {
-    const glm::vec3& x = positions[v];
-    std::copy(&x.x, &x.x + 3, r.points + 3 * p);
+    write_point(r, p, positions[v], normals ? &normals[c] : nullptr);
     r.vertex_id[p] = v;
     if (r.uv && uv) {
       r.uv[2 * p] = uv[c].x;
       r.uv[2 * p + 1] = uv[c].y;
     }
-    if (r.normals && normals) std::copy(&normals[c].x, &normals[c].x + 3, r.normals + 3 * p);
   }
 
   void vertex_cell(std::size_t f) const {
@@ -128,26 +131,30 @@ struct ViewPolyData::Writer {
     const Triangle& t = mesh.face(face);
     const bool deleted = mesh.is_deleted(face);
     for (int k = 0; k < 3; ++k)
-      r.connectivity[3 * f + static_cast<std::size_t>(k)] = safe_vertex(mesh, deleted ? t[0] : t[k]);
+      r.connectivity[3 * f + static_cast<std::size_t>(k)] = deleted ? 0 : t[k].index;
   }
 
   void vertex_point(std::size_t v) const {
-    std::copy(&positions[v].x, &positions[v].x + 3, r.points + 3 * v);
+    write_point(r, v, positions[v], nullptr);
     r.vertex_id[v] = static_cast<vtkIdType>(v);
   }
 };
 
-// The points one vertex's corners use so far, each with a corner it draws like (a few: a vertex
-// whose corners draw more ways than that gets a point for each further corner, which draws the
-// same).
+// The points one vertex's corners use so far, each with a corner it draws like: a few, found
+// without a scan of the vertex's corners; a vertex whose corners draw in more ways than that
+// (`full`) is searched corner by corner for the rest (`ViewPolyData::alike_point`).
 struct ViewPolyData::Candidates {
   static constexpr int kMax = 32;
   std::uint32_t point[kMax], corner[kMax];
   int n = 0;
+  bool full = false;  // a point was left out
   void add(std::uint32_t p, std::uint32_t c) {
     for (int i = 0; i < n; ++i)
       if (point[i] == p) return;
-    if (n < kMax) point[n] = p, corner[n++] = c;
+    if (n < kMax)
+      point[n] = p, corner[n++] = c;
+    else
+      full = true;
   }
   // A point corner `c` draws like, or kInvalidIndex.
   std::uint32_t find(const Writer& w, std::uint32_t c) const {
@@ -156,6 +163,15 @@ struct ViewPolyData::Candidates {
     return kInvalidIndex;
   }
 };
+
+std::uint32_t ViewPolyData::alike_point(const Writer& w, const Candidates& seen, std::uint32_t v,
+                                        std::uint32_t c, const vtkTypeInt64* conn) const {
+  const std::uint32_t p = seen.find(w, c);
+  if (p != kInvalidIndex || !seen.full) return p;
+  for (std::uint32_t d = first_[v]; d != kInvalidIndex; d = next_[d])
+    if (d != c && conn[d] >= 0 && w.alike(d, c)) return static_cast<std::uint32_t>(conn[d]);
+  return kInvalidIndex;
+}
 
 ViewPolyData::ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
                            const std::vector<glm::vec3>* corner_normals) {
@@ -220,8 +236,10 @@ void ViewPolyData::build_corner_points(const Writer& writer, std::size_t vertice
   const SurfaceMesh& mesh = writer.mesh;
   vtkTypeInt64* conn = writer.r.connectivity;
   parallel_for(mesh.face_slots(), kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t f = b; f < e; ++f)
-      std::fill(conn + 3 * f, conn + 3 * f + 3, mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f))) ? 0 : -1);
+    for (std::size_t f = b; f < e; ++f) {
+      const bool deleted = mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)));
+      std::fill(conn + 3 * f, conn + 3 * f + 3, deleted ? 0 : -1);
+    }
   });
   std::vector<std::uint32_t> first_point(vertices + 1, 0);
   parallel_for(vertices, kGrain, [&](std::size_t b, std::size_t e) {
@@ -229,7 +247,7 @@ void ViewPolyData::build_corner_points(const Writer& writer, std::size_t vertice
       Candidates seen;
       std::uint32_t count = 0;
       for (std::uint32_t c = first_[v]; c != kInvalidIndex; c = next_[c]) {
-        std::uint32_t p = seen.find(writer, c);
+        std::uint32_t p = alike_point(writer, seen, static_cast<std::uint32_t>(v), c, conn);
         if (p == kInvalidIndex) seen.add(p = count++, c);
         conn[c] = p;
       }
@@ -332,8 +350,9 @@ void ViewPolyData::unlink(std::uint32_t c) {
 void ViewPolyData::update(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
                           const std::vector<glm::vec3>* corner_normals, const PrimitiveChange& change) {
   const vtkIdType old_points = poly_->GetNumberOfPoints(), old_cells = poly_->GetNumberOfCells();
+  bool reassigned = false;  // a point now draws another vertex or corner than before
   if (corners_) {
-    update_corner_points(mesh, positions, corner_normals, change);
+    reassigned = update_corner_points(mesh, positions, corner_normals, change);
   } else {
     const std::size_t slots = mesh.face_slots(), vertices = mesh.vertex_count();
     const std::size_t kept_faces = std::min(change.faces_before, slots);
@@ -347,16 +366,14 @@ void ViewPolyData::update(const SurfaceMesh& mesh, const std::vector<glm::vec3>&
       if (v.index < kept_vertices) w.vertex_point(v.index);
     for (std::size_t v = kept_vertices; v < vertices; ++v) w.vertex_point(v);
   }
-  if (poly_->GetNumberOfPoints() != old_points || poly_->GetNumberOfCells() != old_cells) {
-    poly_->GetPointData()->RemoveArray("colors");
-    poly_->GetCellData()->RemoveArray("colors");
-  }
+  if (reassigned || poly_->GetNumberOfPoints() != old_points) poly_->GetPointData()->RemoveArray("colors");
+  if (poly_->GetNumberOfCells() != old_cells) poly_->GetCellData()->RemoveArray("colors");
   // The cell map (cell types and places, built for picking) no longer fits a new cell count.
   if (poly_->GetNumberOfCells() != old_cells) poly_->DeleteCells();
   modified();
 }
 
-void ViewPolyData::update_corner_points(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
+bool ViewPolyData::update_corner_points(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
                                         const std::vector<glm::vec3>* corner_normals,
                                         const PrimitiveChange& change) {
   const std::size_t slots = mesh.face_slots(), vertices = mesh.vertex_count();
@@ -365,6 +382,9 @@ void ViewPolyData::update_corner_points(const SurfaceMesh& mesh, const std::vect
   // 1. Corners of faces that are gone or rewritten, and of listed vertices, leave their points
   // (and the first ones their vertices' lists); the vertices they leave or join are regrouped.
   std::vector<std::uint32_t> dead, regroup;
+  // Point 0 stays while no face is live (a deleted face's cell names it); unused, it is free
+  // for the first new point again.
+  if (uses_[0] == 0) dead.push_back(0);
   auto leave = [&](std::uint32_t c) {
     if (corner_vertex_[c] == kInvalidIndex) return;
     regroup.push_back(corner_vertex_[c]);
@@ -411,16 +431,19 @@ void ViewPolyData::update_corner_points(const SurfaceMesh& mesh, const std::vect
   const std::size_t points = uses_.size();
   set_point_count(points + waiting);
   Writer w(poly_, mesh, positions, corner_normals);
+  bool wrote = false;
   for (std::uint32_t v : regroup)
-    if (v < vertices) assign_points(w, v, dead);
+    if (v < vertices) wrote |= assign_points(w, v, dead);
   set_point_count(uses_.size());
   compact(dead);
+  return wrote;
 }
 
 // A corner of vertex `v` keeps its point or, waiting (connectivity -1), takes one that draws
 // alike: first the vertex's points in use, then new ones.
-void ViewPolyData::assign_points(const Writer& w, std::uint32_t v, std::vector<std::uint32_t>& dead) {
+bool ViewPolyData::assign_points(const Writer& w, std::uint32_t v, std::vector<std::uint32_t>& dead) {
   vtkTypeInt64* conn = w.r.connectivity;
+  bool wrote = false;
   Candidates seen;
   for (std::uint32_t c = first_[v]; c != kInvalidIndex; c = next_[c])
     if (conn[c] >= 0) {
@@ -430,7 +453,7 @@ void ViewPolyData::assign_points(const Writer& w, std::uint32_t v, std::vector<s
     }
   for (std::uint32_t c = first_[v]; c != kInvalidIndex; c = next_[c]) {
     if (conn[c] >= 0) continue;
-    std::uint32_t p = seen.find(w, c);
+    std::uint32_t p = alike_point(w, seen, v, c, conn);
     if (p == kInvalidIndex) {
       if (!dead.empty()) {
         p = dead.back();
@@ -443,10 +466,12 @@ void ViewPolyData::assign_points(const Writer& w, std::uint32_t v, std::vector<s
       w.point(p, v, c);
       point_corner_[p] = c;
       seen.add(p, c);
+      wrote = true;
     }
     conn[c] = p;
     ++uses_[p];
   }
+  return wrote;
 }
 
 void ViewPolyData::release(std::uint32_t c, std::vector<std::uint32_t>& dead) {
@@ -471,6 +496,9 @@ void ViewPolyData::compact(std::vector<std::uint32_t>& dead) {
     const auto last = static_cast<std::uint32_t>(--count);
     if (p != last) {
       points->SetTuple(p, last, points);
+      // Every point array moves with its point, "colors" included: the moved point keeps its
+      // own colour, so none is shown on another point (and `update` drops the colours anyway,
+      // as the count shrinks).
       for (int i = 0; i < pd->GetNumberOfArrays(); ++i)
         if (vtkAbstractArray* a = pd->GetAbstractArray(i)) a->SetTuple(p, last, a);
       const auto v = static_cast<std::uint32_t>(pd->GetArray("vertex_id")->GetTuple1(p));
@@ -495,10 +523,10 @@ void ViewPolyData::set_positions(const std::vector<glm::vec3>& positions,
   parallel_for(n, kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) {
       const auto v = static_cast<std::size_t>(r.vertex_id[i]);
-      if (v < positions.size()) std::copy(&positions[v].x, &positions[v].x + 3, r.points + 3 * i);
       // (a point no corner uses keeps its normal)
       const std::uint32_t c = corners_ ? point_corner_[i] : kInvalidIndex;
-      if (with_normals && c != kInvalidIndex) std::copy(&(*corner_normals)[c].x, &(*corner_normals)[c].x + 3, r.normals + 3 * i);
+      const glm::vec3* normal = with_normals && c != kInvalidIndex ? &(*corner_normals)[c] : nullptr;
+      if (v < positions.size()) write_point(r, i, positions[v], normal);
     }
   });
   modified();

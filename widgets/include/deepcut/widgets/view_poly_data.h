@@ -15,14 +15,15 @@
 /// Arrays (as `to_poly_data` names them, so picking and colouring read either): point data
 /// "vertex_id", "uv0" (texture coordinates, made the active ones; kept up to date by name, so
 /// a viewer may unset them while no texture reads them), "normal" (the posed corner normals,
-/// else the mesh's); cell data "face_id". Arrays are filled through their raw storage, in parallel, without per-element
-/// virtual calls.
+/// else the mesh's); cell data "face_id". Arrays are filled through their raw storage, in
+/// parallel, without per-element virtual calls.
 
 #include <cstdint>
 #include <vector>
 
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
+#include <vtkType.h>
 
 #include "deepcut/core/model_change.h"
 #include "deepcut/core/surface_mesh.h"
@@ -34,6 +35,8 @@ class ViewPolyData {
   /// Converts `mesh` drawn at `positions` (one per vertex slot) with `corner_normals` (one per
   /// corner, e.g. the posed ones; null or empty: the mesh's own normals, if any).
   /// O(vertices + faces), in parallel; the points are the same whatever the thread count.
+  /// @pre (here and in `update`) every live face of `mesh` names vertices below its
+  ///      vertex_count (a deleted face's cell is (0, 0, 0) whatever it names).
   /// @pre (here, in `update` and `set_positions`) corner normals are what posing makes of the
   ///      corner's normal, its morph normal deltas and its vertex: corners that share a point
   ///      get equal normals in every pose.
@@ -49,15 +52,19 @@ class ViewPolyData {
   /// it, `change` what it changed (sizes before it, listed vertices and faces). Rewrites the
   /// listed and new elements (and the corner points of listed vertices), truncates what is gone,
   /// marks what it wrote modified. The corners of every vertex a listed or new face uses, and of
-  /// every listed vertex, are grouped into points again; a point no corner uses any more takes
-  /// the place of the last point (point ids are not stable across steps). Colours set on the data are dropped when the point or cell
-  /// count changes (the caller colours again). O(change).
+  /// every listed vertex, are grouped into points again; each point no corner uses any more is
+  /// filled by the LAST point, which moves into the gap (point ids are not stable across steps).
+  /// Point colours ("colors") set on the data are dropped when a point is written for other
+  /// corners or the point count changes, cell colours when the cell count changes (the caller
+  /// colours again). Cost: the sum over the touched vertices of valence x ways of drawing, plus
+  /// the compaction (per freed point, the valence of the vertex whose last point moves).
   void update(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
               const std::vector<glm::vec3>* corner_normals, const PrimitiveChange& change);
 
   /// Moves every point to `positions` (one per vertex slot) and, when given and not empty, sets
   /// the normals from `corner_normals` (a new pose). O(points), in parallel.
-  void set_positions(const std::vector<glm::vec3>& positions, const std::vector<glm::vec3>* corner_normals);
+  void set_positions(const std::vector<glm::vec3>& positions,
+                     const std::vector<glm::vec3>* corner_normals);
 
  private:
   struct Writer;
@@ -68,15 +75,23 @@ class ViewPolyData {
   void set_point_count(std::size_t n);
   /// Corner layout of a new mesh: groups every vertex's corners into points, in parallel.
   void build_corner_points(const Writer& w, std::size_t vertices);
+  /// A point (while building: a number among the vertex's points) that a corner of `v` other
+  /// than `c` has (connectivity `conn` >= 0) and that draws like `c`, else kInvalidIndex: from
+  /// `seen`, then, when `seen` is full, from every corner of `v`, so sharing is complete
+  /// whatever the order of the corners.
+  std::uint32_t alike_point(const Writer& w, const Candidates& seen, std::uint32_t v, std::uint32_t c,
+                            const vtkTypeInt64* conn) const;
   /// Gives every corner of vertex `v` that has none (connectivity -1) a point: one of the
   /// vertex's points that draws alike, else a new one (a dead point, else appended).
-  void assign_points(const Writer& w, std::uint32_t v, std::vector<std::uint32_t>& dead);
+  /// @returns whether it wrote a point (a new one, or a dead one drawing something else now).
+  bool assign_points(const Writer& w, std::uint32_t v, std::vector<std::uint32_t>& dead);
   /// Corner `c` leaves its point; a point left unused joins `dead`.
   void release(std::uint32_t c, std::vector<std::uint32_t>& dead);
   /// Removes the dead points: each takes the place of the last point.
   void compact(std::vector<std::uint32_t>& dead);
-  /// Regroups the corners listed by `update` (corner layout).
-  void update_corner_points(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
+  /// Regroups the corners listed by `update` (corner layout). @returns whether a point was
+  /// written (reused or appended) for other corners than before.
+  bool update_corner_points(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
                             const std::vector<glm::vec3>* corner_normals, const PrimitiveChange& change);
   /// Links every corner of a live face to its vertex (the lists of a new mesh), over the pool.
   void link_all(const SurfaceMesh& mesh);

@@ -1,0 +1,257 @@
+// SPDX-License-Identifier: MIT
+// ViewPolyData after each step (MeshEditor edits, described by the PrimitiveChange the studio
+// passes: diff_meshes of the mesh before and after) equals a fresh build of the same mesh,
+// positions and normals: as many points, every corner of a live face drawn alike (position,
+// normal, uv, vertex id), face ids per cell, and the corners of a vertex that draw alike
+// sharing one point. Headless: VTK data only, no render window.
+
+#include "deepcut/widgets/view_poly_data.h"
+
+#include <gtest/gtest.h>
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkFloatArray.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkTypeInt64Array.h>
+
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <functional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "deepcut/core/mesh_editor.h"
+#include "deepcut/core/model_change.h"
+#include "fixtures.h"
+
+namespace deepcut {
+namespace {
+
+using Normals = std::vector<glm::vec3>;
+
+// Points a full sharing needs: per vertex, the distinct ways its live corners draw (uv, drawn
+// normal and the mesh's normal, bit for bit); one point when no face is live.
+std::size_t distinct_ways(const SurfaceMesh& mesh, const Normals* posed) {
+  const auto* uv = mesh.corner_attrs().find<glm::vec2>(attr::kUv0);
+  const auto* own = mesh.corner_attrs().find<glm::vec3>(attr::kNormal);
+  std::set<std::array<std::uint32_t, 9>> ways;
+  for (std::uint32_t f = 0; f < mesh.face_slots(); ++f) {
+    if (mesh.is_deleted(FaceId(f))) continue;
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t c = SurfaceMesh::corner(FaceId(f), k);
+      std::array<std::uint32_t, 9> key{};
+      key[0] = mesh.face(FaceId(f))[k].index;
+      if (uv) std::memcpy(&key[1], &(*uv)[c], sizeof(glm::vec2));
+      if (own) std::memcpy(&key[3], &(*own)[c], sizeof(glm::vec3));
+      if (posed && !posed->empty()) std::memcpy(&key[6], &(*posed)[c], sizeof(glm::vec3));
+      ways.insert(key);
+    }
+  }
+  return std::max<std::size_t>(ways.size(), 1);
+}
+
+vtkTypeInt64 point_of(vtkPolyData* poly, std::size_t corner) {
+  return poly->GetPolys()->GetConnectivityArray64()->GetValue(static_cast<vtkIdType>(corner));
+}
+
+// `got` draws what a fresh build of `mesh` at `positions` with `normals` draws.
+void expect_rebuilt(const ViewPolyData& got, const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
+                    const Normals* normals, const std::string& what) {
+  SCOPED_TRACE(what);
+  const ViewPolyData fresh(mesh, positions, normals);
+  vtkPolyData *g = got.poly(), *w = fresh.poly();
+  ASSERT_EQ(g->GetNumberOfPoints(), w->GetNumberOfPoints());
+  EXPECT_EQ(static_cast<std::size_t>(w->GetNumberOfPoints()), distinct_ways(mesh, normals));
+  ASSERT_EQ(g->GetNumberOfCells(), w->GetNumberOfCells());
+  vtkDataArray *gv = g->GetPointData()->GetArray("vertex_id"), *wv = w->GetPointData()->GetArray("vertex_id");
+  vtkDataArray *gn = g->GetPointData()->GetNormals(), *wn = w->GetPointData()->GetNormals();
+  vtkDataArray *gt = g->GetPointData()->GetArray("uv0"), *wt = w->GetPointData()->GetArray("uv0");
+  ASSERT_EQ(gn == nullptr, wn == nullptr);
+  ASSERT_EQ(gt == nullptr, wt == nullptr);
+  vtkDataArray *gf = g->GetCellData()->GetArray("face_id"), *wf = w->GetCellData()->GetArray("face_id");
+  for (std::uint32_t f = 0; f < mesh.face_slots(); ++f) {
+    ASSERT_EQ(gf->GetTuple1(f), wf->GetTuple1(f)) << "face " << f;
+    if (mesh.is_deleted(FaceId(f))) {
+      EXPECT_EQ(point_of(g, 3 * f), point_of(g, 3 * f + 1)) << "deleted face " << f;
+      EXPECT_EQ(point_of(g, 3 * f), point_of(g, 3 * f + 2)) << "deleted face " << f;
+      continue;
+    }
+    for (std::uint32_t c = 3 * f; c < 3 * f + 3; ++c) {
+      const vtkIdType a = point_of(g, c), b = point_of(w, c);
+      ASSERT_TRUE(a >= 0 && a < g->GetNumberOfPoints()) << "corner " << c;
+      double pa[3], pb[3];
+      g->GetPoint(a, pa);
+      w->GetPoint(b, pb);
+      for (int i = 0; i < 3; ++i) EXPECT_EQ(pa[i], pb[i]) << "corner " << c;
+      EXPECT_EQ(gv->GetTuple1(a), wv->GetTuple1(b)) << "corner " << c;
+      for (int i = 0; gn && i < 3; ++i)
+        EXPECT_EQ(gn->GetComponent(a, i), wn->GetComponent(b, i)) << "corner " << c;
+      for (int i = 0; gt && i < 2; ++i)
+        EXPECT_EQ(gt->GetComponent(a, i), wt->GetComponent(b, i)) << "corner " << c;
+    }
+  }
+  // Colours the caller set (one per point: its vertex id) are kept only while still true.
+  if (vtkDataArray* colors = g->GetPointData()->GetArray("colors")) {
+    for (vtkIdType p = 0; p < g->GetNumberOfPoints(); ++p)
+      EXPECT_EQ(colors->GetTuple1(p), gv->GetTuple1(p)) << "colour of point " << p;
+  }
+}
+
+// Colours every point with its vertex id, as a viewer colouring by vertex would.
+void colour_by_vertex(const ViewPolyData& view) {
+  vtkPolyData* poly = view.poly();
+  vtkNew<vtkFloatArray> colors;
+  colors->SetName("colors");
+  colors->SetNumberOfTuples(poly->GetNumberOfPoints());
+  for (vtkIdType p = 0; p < poly->GetNumberOfPoints(); ++p)
+    colors->SetValue(p, static_cast<float>(poly->GetPointData()->GetArray("vertex_id")->GetTuple1(p)));
+  poly->GetPointData()->AddArray(colors);
+}
+
+// A mesh drawn by a ViewPolyData that follows each step made on it.
+struct Followed {
+  SurfaceMesh mesh;
+  ViewPolyData view;
+  explicit Followed(SurfaceMesh m) : mesh(std::move(m)), view(mesh, mesh.positions()) {
+    expect_rebuilt(view, mesh, mesh.positions(), nullptr, "build");
+  }
+  // Turns the mesh into `after` (the studio's step) and checks the view against a rebuild.
+  void become(const SurfaceMesh& after, const std::string& what) {
+    PrimitiveChange change;
+    ASSERT_TRUE(diff_meshes(mesh, after, change)) << what;
+    mesh = after;
+    colour_by_vertex(view);
+    view.update(mesh, mesh.positions(), nullptr, change);
+    expect_rebuilt(view, mesh, mesh.positions(), nullptr, what);
+  }
+  void edit(const std::function<void(MeshEditor&)>& steps, const std::string& what) {
+    SurfaceMesh after = mesh;
+    MeshEditor editor(after);
+    steps(editor);
+    become(after, what);
+  }
+};
+
+std::vector<FaceId> live_faces(const SurfaceMesh& mesh) {
+  std::vector<FaceId> out;
+  for (std::uint32_t f = 0; f < mesh.face_slots(); ++f)
+    if (!mesh.is_deleted(FaceId(f))) out.push_back(FaceId(f));
+  return out;
+}
+
+TEST(ViewPolyDataTest, every_face_deleted_then_restored) {
+  Followed f(test::make_grid(3, 3));
+  const SurfaceMesh original = f.mesh;
+  f.edit([](MeshEditor& e) { for (FaceId face : live_faces(e.mesh())) e.remove_face(face); }, "all deleted");
+  EXPECT_EQ(f.view.poly()->GetNumberOfPoints(), 1);
+  f.become(original, "restored");
+  f.edit([](MeshEditor& e) { e.remove_face(FaceId(0)); }, "one deleted");
+  f.become(original, "restored again");
+}
+
+TEST(ViewPolyDataTest, last_points_only_corner_removed) {
+  Followed f(test::make_grid(2, 2));
+  // A new vertex whose only corner draws the last point, then its face removed.
+  FaceId added;
+  f.edit([&](MeshEditor& e) {
+    const Triangle t = e.mesh().face(FaceId(0));
+    const VertexId v = e.add_vertex_in_triangle(t, {0.2f, 0.3f, 0.5f});
+    added = e.add_face({t[0], t[1], v});
+  }, "vertex added");
+  f.edit([&](MeshEditor& e) { e.remove_face(added); }, "its face removed");
+  // The last vertex with a single corner in a fresh layout: its point is the last.
+  std::vector<int> corners(f.mesh.vertex_count(), 0);
+  for (FaceId face : live_faces(f.mesh))
+    for (int k = 0; k < 3; ++k) ++corners[f.mesh.face(face)[k].index];
+  FaceId lone;
+  for (FaceId face : live_faces(f.mesh))
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t v = f.mesh.face(face)[k].index;
+      if (corners[v] == 1 && (!lone.valid() || v > f.mesh.face(lone)[0].index)) lone = face;
+    }
+  ASSERT_TRUE(lone.valid());
+  f.edit([&](MeshEditor& e) { e.remove_face(lone); }, "lone corner removed");
+}
+
+TEST(ViewPolyDataTest, pose_with_posed_normals) {
+  Followed f(test::make_grid(3, 2));
+  std::vector<glm::vec3> posed = f.mesh.positions();
+  for (glm::vec3& p : posed) p = {p.y * 2.0f, -p.x, p.z + 1.0f};
+  const auto& own = f.mesh.corner_attrs().find<glm::vec3>(attr::kNormal)->data();
+  Normals normals(own.size());
+  for (std::size_t c = 0; c < own.size(); ++c) normals[c] = {own[c].z, 0.0f, -own[c].x};  // a rotation
+  f.view.set_positions(posed, &normals);
+  expect_rebuilt(f.view, f.mesh, posed, &normals, "posed");
+  // A step drawn in the pose.
+  SurfaceMesh after = f.mesh;
+  MeshEditor(after).remove_face(FaceId(3));
+  PrimitiveChange change;
+  ASSERT_TRUE(diff_meshes(f.mesh, after, change));
+  f.mesh = after;
+  f.view.update(f.mesh, posed, &normals, change);
+  expect_rebuilt(f.view, f.mesh, posed, &normals, "posed step");
+}
+
+TEST(ViewPolyDataTest, uv_seam) {
+  Followed f(test::make_grid(4, 2));  // a seam down x = 0.5
+  const SurfaceMesh original = f.mesh;
+  std::vector<FaceId> seam;
+  for (FaceId face : live_faces(f.mesh))
+    for (int k = 0; k < 3; ++k)
+      if (f.mesh.position(f.mesh.face(face)[k]).x == 0.5f) {
+        seam.push_back(face);
+        break;
+      }
+  ASSERT_FALSE(seam.empty());
+  f.edit([&](MeshEditor& e) { for (std::size_t i = 0; i < seam.size(); i += 2) e.remove_face(seam[i]); },
+         "half the seam's faces removed");
+  f.edit([&](MeshEditor& e) {
+    for (std::uint32_t v = 0; v < e.mesh().vertex_count(); ++v) {
+      const glm::vec3 p = e.mesh().position(VertexId(v));
+      if (p.x == 0.5f) e.move_vertex(VertexId(v), p + 0.1f);
+    }
+  }, "seam vertices moved");
+  f.become(original, "seam restored");
+}
+
+// A fan of 72 faces round vertex 0 whose corners there draw in 36 ways (texture coordinates
+// (i % 36, 0)), each twice: more ways than a vertex's few remembered points.
+SurfaceMesh make_many_ways_fan() {
+  constexpr int kFaces = 72, kWays = 36;
+  SurfaceMesh mesh;
+  const VertexId centre = mesh.add_vertex({0.0f, 0.0f, 0.0f});
+  for (int i = 0; i < kFaces; ++i) {
+    const float a = 6.2831853f * static_cast<float>(i) / kFaces;
+    mesh.add_vertex({std::cos(a), std::sin(a), 0.0f});
+  }
+  auto& uv = mesh.corner_attrs().add<glm::vec2>(attr::kUv0);
+  for (int i = 0; i < kFaces; ++i) {
+    const VertexId a(static_cast<std::uint32_t>(1 + i)), b(static_cast<std::uint32_t>(1 + (i + 1) % kFaces));
+    const FaceId f = mesh.add_face(centre, a, b);
+    uv[SurfaceMesh::corner(f, 0)] = {static_cast<float>(i % kWays), 0.0f};
+    uv[SurfaceMesh::corner(f, 1)] = {0.0f, 1.0f};
+    uv[SurfaceMesh::corner(f, 2)] = {1.0f, 1.0f};
+  }
+  return mesh;
+}
+
+TEST(ViewPolyDataTest, more_ways_than_remembered_on_one_vertex) {
+  Followed f(make_many_ways_fan());
+  const SurfaceMesh original = f.mesh;
+  // New corners at the centre, in another order than a fresh build lists them.
+  f.edit([](MeshEditor& e) {
+    for (std::uint32_t i = 0; i < 8; ++i) e.remove_face(FaceId(i));
+  }, "first faces removed");
+  f.become(original, "first faces restored");
+  f.edit([](MeshEditor& e) {
+    for (std::uint32_t i = 30; i < 72; i += 3) e.remove_face(FaceId(i));
+  }, "every third face removed");
+  f.become(original, "restored");
+}
+
+}  // namespace
+}  // namespace deepcut
