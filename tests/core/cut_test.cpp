@@ -456,6 +456,35 @@ TEST(CutTest, a_needle_split_near_its_tip_makes_no_zero_area_face) {
   EXPECT_NEAR(mesh.area(), 0.5, 1e-5) << "the cut keeps the area (two flanking faces of 0.25, the needle's none)";
 }
 
+// A sliver whose crossings round one float step apart (not to one position): the needle X a b,
+// a and b one float step apart in x, is crossed by a tilted plane at 0.3 of its length. The
+// crossings round to x = 1 like X, one float step apart in y: X and both crossings lie on one
+// float line, so the tip triangle (X and the crossings) would have zero area. The crossings are
+// a hair apart and become one vertex, as crossings at one position do.
+TEST(CutTest, a_sliver_whose_crossings_round_one_step_apart_makes_no_zero_area_face) {
+  SurfaceMesh mesh;
+  const float one_up = std::nextafter(1.0f, 2.0f);
+  const VertexId x = mesh.add_vertex({1, 0, 0}), p = mesh.add_vertex({0.5f, 1, 0}), a = mesh.add_vertex({1, 1, 0}),
+                 b = mesh.add_vertex({one_up, 1, 0}), q = mesh.add_vertex({1.5f, 1, 0});
+  mesh.add_face(x, p, a);
+  mesh.add_face(x, a, b);
+  mesh.add_face(x, b, q);
+  Adjacency adj = Adjacency::build(mesh);
+  const CutResult r = cut_mesh(mesh, mesh.positions(), Plane{{1, 0.3f, 0}, {1, 1, 0}});
+  ASSERT_EQ(r.status, OpStatus::Ok);
+  adj.apply(r.log);
+  test::expect_adjacency_matches_rebuild(adj, mesh);
+  test::expect_valid(mesh);
+  std::size_t near_side = 0;
+  mesh.for_each_face([&](FaceId f, const Triangle& t) {
+    const glm::dvec3 u(mesh.position(t[0])), v(mesh.position(t[1])), w(mesh.position(t[2]));
+    EXPECT_GT(glm::length(glm::cross(v - u, w - u)), 0.0) << "face " << f.index << " has zero area";
+    near_side += t[0] == x || t[1] == x || t[2] == x;
+  });
+  EXPECT_EQ(near_side, 2u) << "X keeps its two flanking faces' pieces, not the sliver's tip";
+  EXPECT_TRUE(adj.nonmanifold_edges().empty());
+}
+
 TEST(CutTest, the_result_does_not_depend_on_the_thread_count) {
   // Large enough for several parallel chunks of vertices and faces.
   const SurfaceMesh input = test::make_grid(260, 140);

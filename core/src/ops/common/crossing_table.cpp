@@ -2,6 +2,10 @@
 #include "ops/common/crossing_table.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <glm/geometric.hpp>
 
 namespace deepcut::detail {
 
@@ -59,6 +63,18 @@ bool NeedleMerges::merge_if_coincident(const SurfaceMesh& mesh, VertexId a, Vert
   a = merged(a);
   b = merged(b);
   if (a == b || mesh.position(a) != mesh.position(b)) return false;
+  to_.emplace(std::max(a, b).index, std::min(a, b));
+  return true;
+}
+
+bool NeedleMerges::merge_if_near(const SurfaceMesh& mesh, VertexId a, VertexId b) {
+  a = merged(a);
+  b = merged(b);
+  if (a == b) return false;
+  const glm::vec3 pa = mesh.position(a), pb = mesh.position(b);
+  const float scale = std::max({std::abs(pa.x), std::abs(pa.y), std::abs(pa.z), std::abs(pb.x), std::abs(pb.y),
+                                std::abs(pb.z), std::numeric_limits<float>::min()});
+  if (pa != pb && glm::distance(pa, pb) > 4.0f * std::numeric_limits<float>::epsilon() * scale) return false;
   to_.emplace(std::max(a, b).index, std::min(a, b));
   return true;
 }

@@ -118,6 +118,13 @@ class NeedleMerges {
   /// The cut's and drill's rule: merged(a) and merged(b), when distinct at one bind position of
   /// `mesh`, become one (the higher links to the lower). True when they were linked.
   bool merge_if_coincident(const SurfaceMesh& mesh, VertexId a, VertexId b);
+  /// The cut's rule for the two crossings of one face: as above, and also when their bind
+  /// positions are a few float steps apart (at most 4 float epsilons of their largest coordinate).
+  /// Crossings that close lie on a sliver: the face between them and the lone corner, or the
+  /// needle they would leave behind for a later cut to split, is float noise, and rounds to zero
+  /// area. Crossings of any other face are farther apart (the plane snaps corners within 1e-5 of
+  /// the model size onto it).
+  bool merge_if_near(const SurfaceMesh& mesh, VertexId a, VertexId b);
   bool empty() const { return to_.empty(); }
   std::size_t size() const { return to_.size(); }
   void clear() { to_.clear(); }

@@ -192,8 +192,8 @@ Cutter::Corner Cutter::split_corner(const Triangle& t, int ka, int kb) {
 
 // Adds the crossings of a face the plane crosses, in the order split_face uses them. A face whose
 // lone corner has two long edges to corners a hair apart (a needle: the lips of a narrow tear, a
-// sliver) has its two crossings rounded to one bind position: they become one vertex, and the
-// needle's tip beyond the plane (a zero-area triangle) is not made.
+// sliver) has its two crossings rounded to one bind position or a few float steps apart: they
+// become one vertex, and the needle's tip beyond the plane (a zero-area triangle) is not made.
 void Cutter::split_crossings(FaceId f) {
   const Triangle& t = mesh_.face(f);
   const std::int8_t s[3] = {sign_[t[0].index], sign_[t[1].index], sign_[t[2].index]};
@@ -210,7 +210,7 @@ void Cutter::split_crossings(FaceId f) {
   const Triangle copy = t;  // split_edge adds vertices, not faces, but keep no reference across it
   const VertexId a = split_edge(copy[lone], copy[(lone + 1) % 3]).v;
   const VertexId b = split_edge(copy[lone], copy[(lone + 2) % 3]).v;
-  merges_.merge_if_coincident(mesh_, a, b);
+  merges_.merge_if_near(mesh_, a, b);
 }
 
 // Queues the removal of a face the plane crosses and the up to three faces replacing it.
