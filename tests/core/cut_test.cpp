@@ -130,6 +130,19 @@ void check_cut(const SurfaceMesh& input, const Plane& plane, const CutOptions& o
   }
 }
 
+// Expects every live face of `mesh` to have positive area (in double, from its float positions)
+// and returns how many of them `counted` takes.
+template <typename Counted>
+std::size_t count_faces_of_positive_area(const SurfaceMesh& mesh, Counted counted) {
+  std::size_t n = 0;
+  mesh.for_each_face([&](FaceId f, const Triangle& t) {
+    const glm::dvec3 u(mesh.position(t[0])), v(mesh.position(t[1])), w(mesh.position(t[2]));
+    EXPECT_GT(glm::length(glm::cross(v - u, w - u)), 0.0) << "face " << f.index << " has zero area";
+    n += counted(t);
+  });
+  return n;
+}
+
 }  // namespace
 
 TEST(CutTest, plane_through_grid_vertices_and_along_edges) {
@@ -445,11 +458,8 @@ TEST(CutTest, a_needle_split_near_its_tip_makes_no_zero_area_face) {
   adj.apply(r.log);
   test::expect_adjacency_matches_rebuild(adj, mesh);
   test::expect_valid(mesh);
-  std::size_t near_side = 0;
-  mesh.for_each_face([&](FaceId f, const Triangle& t) {
-    const glm::dvec3 u(mesh.position(t[0])), v(mesh.position(t[1])), w(mesh.position(t[2]));
-    EXPECT_GT(glm::length(glm::cross(v - u, w - u)), 0.0) << "face " << f.index << " has zero area";
-    near_side += std::max({u.x, v.x, w.x}) <= 0.5;
+  const std::size_t near_side = count_faces_of_positive_area(mesh, [&](const Triangle& t) {
+    return std::max({mesh.position(t[0]).x, mesh.position(t[1]).x, mesh.position(t[2]).x}) <= 0.5f;
   });
   EXPECT_EQ(near_side, 2u) << "X keeps two faces, not the needle's zero-area tip";
   EXPECT_TRUE(adj.nonmanifold_edges().empty());
@@ -475,12 +485,8 @@ TEST(CutTest, a_sliver_whose_crossings_round_one_step_apart_makes_no_zero_area_f
   adj.apply(r.log);
   test::expect_adjacency_matches_rebuild(adj, mesh);
   test::expect_valid(mesh);
-  std::size_t near_side = 0;
-  mesh.for_each_face([&](FaceId f, const Triangle& t) {
-    const glm::dvec3 u(mesh.position(t[0])), v(mesh.position(t[1])), w(mesh.position(t[2]));
-    EXPECT_GT(glm::length(glm::cross(v - u, w - u)), 0.0) << "face " << f.index << " has zero area";
-    near_side += t[0] == x || t[1] == x || t[2] == x;
-  });
+  const std::size_t near_side = count_faces_of_positive_area(
+      mesh, [&](const Triangle& t) { return t[0] == x || t[1] == x || t[2] == x; });
   EXPECT_EQ(near_side, 2u) << "X keeps its two flanking faces' pieces, not the sliver's tip";
   EXPECT_TRUE(adj.nonmanifold_edges().empty());
 }
