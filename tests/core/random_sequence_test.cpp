@@ -680,13 +680,11 @@ std::string model_path(const std::string& name) {
 class RandomSequenceTest : public ::testing::TestWithParam<std::string> {};
 
 // Open defects these sequences found on the morph sample models, each named by its replay line
-// (skipped, so the run says so, until the cut's caps handle them; the other models run in full).
+// (skipped, so the run says so, until they are mended; the other models run in full).
 const std::map<std::string, std::string>& open_defects() {
   static const std::map<std::string, std::string> defects = {
       {"SimpleMorph", "open defect: the sequence is slow past its sliver splits (80 steps take over 200 s; the "
                       "zero-area faces at DEEPCUT_SEQUENCE_SEED=20261243 DEEPCUT_SEQUENCE_STEPS=47 and 52 are fixed)"},
-      {"AnimatedMorphCube", "open defect: a capped cut of the cube squashed almost flat by its targets leaves "
-                            "three non-manifold cap edges (DEEPCUT_SEQUENCE_SEED=20261447 DEEPCUT_SEQUENCE_STEPS=482)"},
   };
   return defects;
 }
