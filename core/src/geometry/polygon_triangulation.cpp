@@ -12,13 +12,42 @@
 namespace deepcut::geometry {
 namespace {
 
+// The per-corner lists of one polygon being clipped, kept on each thread from polygon to polygon
+// (the drill clips a few hundred small ones per call: no allocation each). Every list is
+// written for the polygon's corners before it is read, so what an earlier polygon left does
+// not matter; lists grown past kKeptCorners give their memory back when the clip ends.
+struct RingLists {
+  static constexpr std::size_t kKeptCorners = 4096;
+  std::vector<std::uint32_t> prev, next, version, ear_state;
+  std::vector<char> alive, reflex;
+  std::vector<double> ear_quality, corners;
+
+  static RingLists& local() {
+    thread_local RingLists lists;
+    return lists;
+  }
+  void give_back_if_big() {
+    if (prev.capacity() > kKeptCorners) *this = RingLists();
+  }
+};
+
 // One polygon being clipped: a ring of corners over `poly`, linked by prev/next, that loses one
 // corner per clip. The origin is where the fallback scan and the last triangle start: the corner
 // before the last clip (kQueued) or the first remaining corner in input order (kExhaustive).
 class EarClipper {
  public:
   EarClipper(const std::vector<glm::dvec2>& pts, std::vector<std::uint32_t> poly, EarSearch search)
-      : pts_(pts), poly_(std::move(poly)), search_(search) {
+      : pts_(pts),
+        poly_(std::move(poly)),
+        search_(search),
+        lists_(RingLists::local()),
+        prev_(lists_.prev),
+        next_(lists_.next),
+        alive_(lists_.alive),
+        reflex_(lists_.reflex),
+        version_(lists_.version),
+        ear_state_(lists_.ear_state),
+        ear_quality_(lists_.ear_quality) {
     if (search_ == EarSearch::kQueued) {
       poly_.erase(std::unique(poly_.begin(), poly_.end()), poly_.end());
       while (poly_.size() > 1 && poly_.front() == poly_.back()) poly_.pop_back();
@@ -41,14 +70,18 @@ class EarClipper {
     if (search_ == EarSearch::kQueued) make_grid();
     if (search_ == EarSearch::kExhaustive) {
       ear_state_.assign(n, kUnknown);
-      ear_quality_.resize(n);
+      ear_quality_.assign(n, 0.0);
     }
   }
+  EarClipper(const EarClipper&) = delete;
+  EarClipper& operator=(const EarClipper&) = delete;
+  ~EarClipper() { lists_.give_back_if_big(); }
 
   void run(std::vector<LocalTri>& out) {
     const std::size_t n = poly_.size();
     if (n < 3) return;
-    std::vector<double> corners(n);
+    std::vector<double>& corners = lists_.corners;
+    corners.resize(n);
     for (std::size_t i = 0; i < n; ++i) corners[i] = update_reflex(i);
     if (search_ == EarSearch::kQueued) {
       file_grid();
@@ -320,9 +353,12 @@ class EarClipper {
   const std::vector<glm::dvec2>& pts_;
   std::vector<std::uint32_t> poly_;
   EarSearch search_;
-  std::vector<std::uint32_t> prev_, next_;
-  std::vector<char> alive_, reflex_;
-  std::vector<std::uint32_t> version_;
+  RingLists& lists_;
+  std::vector<std::uint32_t>& prev_;
+  std::vector<std::uint32_t>& next_;
+  std::vector<char>& alive_;
+  std::vector<char>& reflex_;
+  std::vector<std::uint32_t>& version_;
   // The filings of corners that became reflex (kQueued), less stale ones dropped by scans, and
   // how many filings there were: the threshold between the grid and the list.
   std::vector<Filed> reflex_list_;
@@ -341,8 +377,8 @@ class EarClipper {
   // kExhaustive: what is known of each corner's ear (find_blocker, or kUnknown), and the quality
   // of each known ear.
   static constexpr std::uint32_t kUnknown = ~std::uint32_t(0), kEar = kUnknown - 1, kFlat = kUnknown - 2;
-  std::vector<std::uint32_t> ear_state_;
-  std::vector<double> ear_quality_;
+  std::vector<std::uint32_t>& ear_state_;
+  std::vector<double>& ear_quality_;
   std::size_t remaining_ = 0;
   std::size_t origin_ = 0;
 };
