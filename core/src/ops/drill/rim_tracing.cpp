@@ -25,8 +25,11 @@ RimSteps rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFr
   RimSteps rim_next;
   // A copy the pinch split made of an old vertex is new, but the faces moved onto it keep their
   // old edges: both are judged by the original (an old boundary edge at a split vertex is not rim).
+  // The copies are the newest vertices: ids below the lowest copy are looked up nowhere.
+  std::uint32_t first_copy = ~std::uint32_t(0);
+  for (const auto& [c, v] : copy_of) first_copy = std::min(first_copy, c);
   auto base = [&](VertexId v) {
-    if (copy_of.empty()) return v;
+    if (v.index < first_copy) return v;
     const auto it = copy_of.find(v.index);
     return it == copy_of.end() ? v : VertexId(it->second);
   };
@@ -46,39 +49,52 @@ RimSteps rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFr
     v = base(v);
     return v.index >= posed.first_new() || old_on_rim(v);
   };
-  // Half-edges of the added and of the removed faces, as sorted lists (only membership matters;
-  // removed ones are only asked about between two old vertices on the rim).
-  std::vector<std::uint64_t> added, removed;
+  // Half-edges of the added faces, of the removed ones and of the untouched candidates, filed in
+  // one table with a bit for each (only membership matters). Only half-edges between two rim
+  // vertices are ever asked about, so only those are filed.
+  constexpr std::uint8_t kAdded = 1, kRemoved = 2, kUntouched = 4;
+  detail::EdgeSlots slots;
+  std::vector<std::uint8_t> kinds;  // per filed half-edge
+  auto file = [&](VertexId a, VertexId b, std::uint8_t kind) {
+    const std::uint64_t key = directed_key(a, b);
+    const std::uint32_t at = slots.find(key);
+    if (at != detail::EdgeSlots::kNone) {
+      kinds[at] |= kind;
+      return;
+    }
+    slots.insert(key, static_cast<std::uint32_t>(kinds.size()));
+    kinds.push_back(kind);
+  };
+  auto filed = [&](std::uint64_t key, std::uint8_t kind) {
+    const std::uint32_t at = slots.find(key);
+    return at != detail::EdgeSlots::kNone && (kinds[at] & kind) != 0;
+  };
+  slots.reserve(64);  // grows with the rim (a few hundred half-edges at most for most holes)
   for (const Edit& e : log.edits) {
     if (const auto* fa = std::get_if<FaceAdded>(&e)) {
-      for (int k = 0; k < 3; ++k) added.push_back(directed_key(fa->vertices[k], fa->vertices[(k + 1) % 3]));
+      const bool rim[3] = {on_rim(fa->vertices[0]), on_rim(fa->vertices[1]), on_rim(fa->vertices[2])};
+      for (int k = 0; k < 3; ++k)
+        if (rim[k] && rim[(k + 1) % 3]) file(fa->vertices[k], fa->vertices[(k + 1) % 3], kAdded);
     } else if (const auto* fr = std::get_if<FaceRemoved>(&e)) {
       const bool rim[3] = {old_on_rim(fr->vertices[0]), old_on_rim(fr->vertices[1]), old_on_rim(fr->vertices[2])};
       for (int k = 0; k < 3; ++k)
-        if (rim[k] && rim[(k + 1) % 3]) removed.push_back(directed_key(fr->vertices[k], fr->vertices[(k + 1) % 3]));
+        if (rim[k] && rim[(k + 1) % 3]) file(fr->vertices[k], fr->vertices[(k + 1) % 3], kRemoved);
     }
   }
-  std::sort(added.begin(), added.end());
-  std::sort(removed.begin(), removed.end());
-  auto contains = [](const std::vector<std::uint64_t>& list, std::uint64_t key) {
-    return std::binary_search(list.begin(), list.end(), key);
-  };
   // Faces the drill left alone can border the hole too: an old edge that lies on the cylinder
   // (within the tolerance) between a removed face and an untouched one.
-  std::vector<std::uint64_t> untouched;
   for (FaceId f : candidates)
     if (!mesh.is_deleted(f)) {
       const Triangle& t = mesh.face(f);
-      for (int k = 0; k < 3; ++k) untouched.push_back(directed_key(t[k], t[(k + 1) % 3]));
+      const bool rim[3] = {on_rim(t[0]), on_rim(t[1]), on_rim(t[2])};
+      for (int k = 0; k < 3; ++k)
+        if (rim[k] && rim[(k + 1) % 3]) file(t[k], t[(k + 1) % 3], kUntouched);
     }
-  std::sort(untouched.begin(), untouched.end());
   auto consider = [&](VertexId a, VertexId b) {
-    if (!on_rim(a) || !on_rim(b) || contains(added, directed_key(b, a)) ||
-        contains(untouched, directed_key(b, a)))
-      return;
+    if (!on_rim(a) || !on_rim(b) || filed(directed_key(b, a), kAdded | kUntouched)) return;
     const VertexId oa = base(a), ob = base(b);
     if (oa.index < posed.first_new() && ob.index < posed.first_new() &&
-        !contains(removed, directed_key(ob, oa)))
+        !filed(directed_key(ob, oa), kRemoved))
       return;
     rim_next.emplace_back(a.index, b.index);
   };
