@@ -12,13 +12,13 @@
 namespace deepcut::geometry {
 namespace {
 
-// The per-corner lists of one polygon being clipped, kept on each thread from polygon to polygon
-// (the drill clips a few hundred small ones per call: no allocation each). Every list is
-// written for the polygon's corners before it is read, so what an earlier polygon left does
-// not matter; lists grown past kKeptCorners give their memory back when the clip ends.
+// The corners and per-corner lists of one polygon being clipped, kept on each thread from polygon
+// to polygon (the drill clips about a hundred small ones per call: no allocation each). Every
+// list is written for the polygon's corners before it is read, so what an earlier polygon left
+// does not matter; lists grown past kKeptCorners give their memory back when the clip ends.
 struct RingLists {
   static constexpr std::size_t kKeptCorners = 4096;
-  std::vector<std::uint32_t> prev, next, version, ear_state;
+  std::vector<std::uint32_t> poly, prev, next, version, ear_state;
   std::vector<char> alive, reflex;
   std::vector<double> ear_quality, corners;
 
@@ -36,11 +36,11 @@ struct RingLists {
 // before the last clip (kQueued) or the first remaining corner in input order (kExhaustive).
 class EarClipper {
  public:
-  EarClipper(const std::vector<glm::dvec2>& pts, std::vector<std::uint32_t> poly, EarSearch search)
+  EarClipper(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& poly, EarSearch search)
       : pts_(pts),
-        poly_(std::move(poly)),
-        search_(search),
         lists_(RingLists::local()),
+        poly_(lists_.poly),
+        search_(search),
         prev_(lists_.prev),
         next_(lists_.next),
         alive_(lists_.alive),
@@ -48,6 +48,7 @@ class EarClipper {
         version_(lists_.version),
         ear_state_(lists_.ear_state),
         ear_quality_(lists_.ear_quality) {
+    poly_.assign(poly.begin(), poly.end());
     if (search_ == EarSearch::kQueued) {
       poly_.erase(std::unique(poly_.begin(), poly_.end()), poly_.end());
       while (poly_.size() > 1 && poly_.front() == poly_.back()) poly_.pop_back();
@@ -351,9 +352,9 @@ class EarClipper {
   }
 
   const std::vector<glm::dvec2>& pts_;
-  std::vector<std::uint32_t> poly_;
-  EarSearch search_;
   RingLists& lists_;
+  std::vector<std::uint32_t>& poly_;
+  EarSearch search_;
   std::vector<std::uint32_t>& prev_;
   std::vector<std::uint32_t>& next_;
   std::vector<char>& alive_;
@@ -426,7 +427,7 @@ std::vector<std::uint32_t> join_at(const std::vector<std::uint32_t>& outer, cons
 
 void clip_ears(const std::vector<glm::dvec2>& pts, std::vector<std::uint32_t> poly, EarSearch search,
                std::vector<LocalTri>& out) {
-  EarClipper(pts, std::move(poly), search).run(out);
+  EarClipper(pts, poly, search).run(out);
 }
 
 std::vector<std::uint32_t> bridge_hole(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& outer,
@@ -462,6 +463,10 @@ std::vector<std::uint32_t> bridge_hole(const std::vector<glm::dvec2>& pts, const
 void triangulate_polygon(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& outer,
                          std::vector<std::vector<std::uint32_t>> holes, const TriangulationRules& rules,
                          std::vector<LocalTri>& out) {
+  if (holes.empty()) {  // clipped as it is (no copy of the loop)
+    EarClipper(pts, outer, rules.ears).run(out);
+    return;
+  }
   // Bridge holes from right to left so earlier bridges do not block later ones.
   auto maxx = [&](const std::vector<std::uint32_t>& l) {
     double m = -std::numeric_limits<double>::max();
@@ -476,7 +481,7 @@ void triangulate_polygon(const std::vector<glm::dvec2>& pts, const std::vector<s
       later.assign(holes.begin() + static_cast<std::ptrdiff_t>(k) + 1, holes.end());
     poly = bridge_hole(pts, poly, holes[k], later, rules.holes);
   }
-  clip_ears(pts, std::move(poly), rules.ears, out);
+  EarClipper(pts, poly, rules.ears).run(out);
 }
 
 std::vector<LocalTri> triangulate_loops(const std::vector<glm::dvec2>& points,

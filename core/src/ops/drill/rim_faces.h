@@ -29,6 +29,11 @@ struct EdgeCut {
   // Points on the kept parts of a crossed edge, graded away from the crossings (see
   // RimInserter::edge): parameters, increasing, and their vertices.
   std::vector<std::pair<double, VertexId>> steiner;
+  // The faces on the edge among the candidates not deep inside (1 for each with lo -> hi, 16 for
+  // each with hi -> lo), whether one of them has a bad shape (RimInserter::allow_steiner), and
+  // whether the edge has been crossed yet (RimInserter::edge).
+  std::uint32_t sides = 0;
+  bool bad_side = false, done = false;
 };
 
 // A point on the boundary of a triangle's kept region, or on its rim.

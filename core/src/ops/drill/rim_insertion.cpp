@@ -62,7 +62,6 @@ class RimInserter {
   std::uint32_t first_new_ = 0;
   // Edges met so far, sized for the candidates' edges up front (no allocation per edge).
   detail::CrossingTable<EdgeCut> edges_;
-  std::vector<std::uint64_t> steiner_edges_;  // edge keys that may take Steiner points, sorted (allow_steiner)
   // Per candidate: all three corners deep inside (CylinderFrame::deep_inside), so the face goes
   // whole and none of its edges is crossed: it is removed without looking at its edges.
   std::vector<std::uint8_t> deep_;
@@ -80,10 +79,9 @@ class RimInserter {
 };
 
 const EdgeCut& RimInserter::edge(VertexId a, VertexId b) {
-  const auto key = edge_key(a, b);
-  const auto [record, made] = edges_.try_emplace(a, b);
-  if (!made) return *record;
-  EdgeCut& e = *record;
+  EdgeCut& e = *edges_.try_emplace(a, b).first;  // made by allow_steiner
+  if (e.done) return e;
+  e.done = true;
   e.lo = a < b ? a : b;
   e.hi = a < b ? b : a;
   const glm::dvec3 p = posed_(e.lo), q = posed_(e.hi);
@@ -150,8 +148,8 @@ const EdgeCut& RimInserter::edge(VertexId a, VertexId b) {
       // the rim with boundary points at its scale instead of fanning a far corner to close rim
       // points or leaving rim points near a long edge (needles the in-plane refinement cannot
       // mend: its points would fall outside the parent). Only points well outside the cylinder.
-      const double spacing = 2.0 * cyl_.r * std::sin(geometry::kPi / samples_);
-      const bool steiner = std::binary_search(steiner_edges_.begin(), steiner_edges_.end(), key);
+      const double spacing = cyl_.spacing;  // 2 r sin(pi / samples)
+      const bool steiner = e.sides == 17 && !e.bad_side;  // one good face on each side (allow_steiner)
       for (int i = 0; i < n && steiner; ++i) {
         const double dir = e.inside[i + 1] ? -1.0 : 1.0;  // toward the kept part
         const double room = (dir > 0.0 ? 1.0 - cuts[i] : cuts[i]) * len;
@@ -204,16 +202,9 @@ void RimInserter::merge_crossings(std::size_t c, FaceId f) {
 // where a point off the cylinder could end up on the hole's boundary, and not on a needle's long
 // edges, whose points at one parameter would round to one bind position (zero-area faces).
 void RimInserter::allow_steiner(const std::vector<FaceId>& candidates) {
-  steiner_edges_.clear();
-  // The candidates' half-edges by edge: weight 1 for lo -> hi, 16 for hi -> lo, and whether the
-  // face is of bad shape. Faces deep inside hold no crossed edge, the only ones asked about.
-  struct HalfEdge {
-    std::uint64_t key;
-    std::uint8_t weight, bad;
-    bool operator<(const HalfEdge& o) const { return key < o.key; }
-  };
-  std::vector<HalfEdge> halves;
-  halves.reserve(3 * candidates.size());
+  // Each candidate's half-edges file its edge's record (made here, in the order edge() asks for
+  // them): weight 1 for lo -> hi, 16 for hi -> lo, and whether the face is of bad shape. Faces
+  // deep inside hold no crossed edge, the only ones asked about.
   const double cos_parent = std::cos(kSteinerParentAngle);
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     if (deep_[c]) continue;
@@ -221,34 +212,25 @@ void RimInserter::allow_steiner(const std::vector<FaceId>& candidates) {
     // Bad: a corner of zero length or an angle under kSteinerParentAngle. The angle's acos is
     // taken only where its cosine lies within 1e-9 of the bound's (acos is far more accurate
     // than that margin, so the answer is acos's everywhere).
-    std::uint8_t bad = 0;
+    bool bad = false;
     const glm::dvec3 corner[3] = {posed_(t[0]), posed_(t[1]), posed_(t[2])};
     for (int k = 0; k < 3; ++k) {
       const glm::dvec3 &a = corner[k], &b = corner[(k + 1) % 3], &c3 = corner[(k + 2) % 3];
       const double lb = glm::length(b - a), lc = glm::length(c3 - a);
       if (!(lb > 0.0 && lc > 0.0)) {
-        bad = 1;
+        bad = true;
         continue;
       }
       const double cosine = std::clamp(glm::dot(b - a, c3 - a) / (lb * lc), -1.0, 1.0);
       if (cosine < cos_parent - 1e-9) continue;
-      if (cosine > cos_parent + 1e-9 || std::acos(cosine) < kSteinerParentAngle) bad = 1;
+      if (cosine > cos_parent + 1e-9 || std::acos(cosine) < kSteinerParentAngle) bad = true;
     }
     for (int k = 0; k < 3; ++k) {
       const VertexId a = t[k], b = t[(k + 1) % 3];
-      halves.push_back({edge_key(a, b), static_cast<std::uint8_t>(a < b ? 1 : 16), bad});
+      EdgeCut& e = *edges_.try_emplace(a, b).first;
+      e.sides += a < b ? 1 : 16;
+      e.bad_side |= bad;
     }
-  }
-  std::sort(halves.begin(), halves.end());
-  // One face on each side (1 + 16), neither of bad shape.
-  for (std::size_t i = 0, j = 0; i < halves.size(); i = j) {
-    int count = 0;
-    bool bad = false;
-    for (j = i; j < halves.size() && halves[j].key == halves[i].key; ++j) {
-      count += halves[j].weight;
-      bad |= halves[j].bad != 0;
-    }
-    if (count == 17 && !bad) steiner_edges_.push_back(halves[i].key);
   }
 }
 
