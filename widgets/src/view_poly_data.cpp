@@ -11,7 +11,9 @@
 #include <vtkTypeInt64Array.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstring>
+#include <memory>
 #include <functional>
 
 #include "deepcut/core/morph.h"
@@ -175,6 +177,41 @@ std::uint32_t ViewPolyData::alike_point(const Writer& w, const Candidates& seen,
 
 ViewPolyData::ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
                            const std::vector<glm::vec3>* corner_normals) {
+  make_arrays(mesh);
+  resize(mesh);
+  const std::size_t slots = mesh.face_slots();
+  Writer w(poly_, mesh, positions, corner_normals);
+  if (corners_) {
+    make_lists(mesh);
+    build_corner_points(w, mesh.vertex_count());
+  } else {
+    parallel_for(slots, kGrain, [&](std::size_t b, std::size_t e) {
+      for (std::size_t f = b; f < e; ++f) w.vertex_cell(f);
+    });
+    parallel_for(mesh.vertex_count(), kGrain, [&](std::size_t b, std::size_t e) {
+      for (std::size_t v = b; v < e; ++v) w.vertex_point(v);
+    });
+  }
+  modified();
+}
+
+ViewPolyData::ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
+                           const std::vector<glm::vec3>* corner_normals, const ViewPolyData& source,
+                           const PrimitiveOrigin& origin) {
+  make_arrays(mesh);
+  resize(mesh);
+  if (corners_) {
+    make_lists(mesh);
+    const Writer w(poly_, mesh, positions, corner_normals);
+    if (copy_corner_points(w, source, origin)) {
+      modified();
+      return;
+    }
+  }
+  *this = ViewPolyData(mesh, positions, corner_normals);
+}
+
+void ViewPolyData::make_arrays(const SurfaceMesh& mesh) {
   const auto& ca = mesh.corner_attrs();
   const auto* uv = ca.find<glm::vec2>(attr::kUv0);
   const auto* normal = ca.find<glm::vec3>(attr::kNormal);
@@ -207,26 +244,105 @@ ViewPolyData::ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>
   vtkNew<vtkTypeInt64Array> offsets, connectivity;
   polys->SetData(offsets, connectivity);
   poly_->SetPolys(polys);
+}
 
-  resize(mesh);
-  const std::size_t slots = mesh.face_slots();
-  Writer w(poly_, mesh, positions, corner_normals);
-  if (corners_) {
-    first_.assign(mesh.vertex_count(), kInvalidIndex);
-    next_.assign(3 * slots, kInvalidIndex);
-    prev_.assign(3 * slots, kInvalidIndex);
-    corner_vertex_.assign(3 * slots, kInvalidIndex);
-    link_all(mesh);
-    build_corner_points(w, mesh.vertex_count());
-  } else {
-    parallel_for(slots, kGrain, [&](std::size_t b, std::size_t e) {
-      for (std::size_t f = b; f < e; ++f) w.vertex_cell(f);
-    });
-    parallel_for(mesh.vertex_count(), kGrain, [&](std::size_t b, std::size_t e) {
-      for (std::size_t v = b; v < e; ++v) w.vertex_point(v);
-    });
+void ViewPolyData::make_lists(const SurfaceMesh& mesh) {
+  const std::size_t corners = 3 * mesh.face_slots();
+  first_.assign(mesh.vertex_count(), kInvalidIndex);
+  next_.assign(corners, kInvalidIndex);
+  prev_.assign(corners, kInvalidIndex);
+  corner_vertex_.assign(corners, kInvalidIndex);
+  link_all(mesh);
+}
+
+bool ViewPolyData::copy_corner_points(const Writer& writer, const ViewPolyData& source, const PrimitiveOrigin& origin) {
+  const SurfaceMesh& mesh = writer.mesh;
+  const std::size_t slots = mesh.face_slots(), vertices = mesh.vertex_count();
+  const auto old_cells = static_cast<std::size_t>(source.poly_->GetNumberOfCells());
+  const std::size_t old_points = source.uses_.size();
+  if (!source.corners_ || origin.faces.size() != slots || origin.vertices.size() != vertices ||
+      old_points != static_cast<std::size_t>(source.poly_->GetNumberOfPoints()))
+    return false;
+  // 1. A live face with a source face: each corner takes the point its source corner has (a
+  // number among the source's points for now) when that point draws the corner's source vertex;
+  // every other corner waits (-1) for step 4. A deleted face's cell is (0, 0, 0).
+  const Raw old = raw(source.poly_);
+  vtkTypeInt64* conn = writer.r.connectivity;
+  std::unique_ptr<std::atomic<std::uint8_t>[]> used(new std::atomic<std::uint8_t>[old_points]);
+  parallel_for(old_points, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t p = b; p < e; ++p) used[p].store(0, std::memory_order_relaxed);
+  });
+  parallel_for(slots, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t f = b; f < e; ++f) {
+      const FaceId face(static_cast<std::uint32_t>(f));
+      const bool deleted = mesh.is_deleted(face);
+      const std::uint32_t from = origin.faces[f];
+      for (std::size_t k = 0; k < 3; ++k) {
+        vtkTypeInt64 p = deleted ? 0 : -1;
+        if (!deleted && from < old_cells) {
+          const vtkTypeInt64 q = old.connectivity[3 * std::size_t(from) + k];
+          const std::uint32_t v = origin.vertices[mesh.face(face)[static_cast<int>(k)].index];
+          if (q >= 0 && static_cast<std::size_t>(q) < old_points && v != kInvalidIndex && old.vertex_id[q] == v) p = q;
+        }
+        conn[3 * f + k] = p;
+        if (p >= 0 && !deleted) used[p].store(1, std::memory_order_relaxed);
+      }
+    }
+  });
+  // 2. The source's points in use, numbered in order.
+  std::vector<std::uint32_t> number(old_points, kInvalidIndex);
+  std::uint32_t kept = 0;
+  for (std::size_t p = 0; p < old_points; ++p)
+    if (used[p].load(std::memory_order_relaxed)) number[p] = kept++;
+  used.reset();
+  std::atomic<std::size_t> waiting{0};
+  parallel_for(slots, kGrain, [&](std::size_t b, std::size_t e) {
+    std::size_t wait = 0;
+    for (std::size_t f = b; f < e; ++f) {
+      if (mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) continue;
+      for (std::size_t c = 3 * f; c < 3 * f + 3; ++c) {
+        if (conn[c] >= 0)
+          conn[c] = number[static_cast<std::size_t>(conn[c])];
+        else
+          ++wait;
+      }
+    }
+    waiting += wait;
+  });
+  number = {};
+  // 3. Each vertex's points in use: counted, and written from their first corner in the
+  // vertex's list (a point is one vertex's: the vertices are the work's ranges).
+  set_point_count(std::max<std::size_t>(kept + waiting, 1));  // room for the waiting corners' points
+  uses_.assign(kept, 0);
+  point_corner_.assign(kept, kInvalidIndex);
+  Writer w = writer;
+  w.refresh(poly_);
+  std::vector<char> waits(vertices, 0);
+  parallel_for(vertices, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t v = b; v < e; ++v)
+      for (std::uint32_t c = first_[v]; c != kInvalidIndex; c = next_[c]) {
+        const vtkTypeInt64 p = w.r.connectivity[c];
+        if (p < 0) {
+          waits[v] = 1;
+          continue;
+        }
+        if (uses_[p]++ == 0) {
+          point_corner_[p] = c;
+          w.point(static_cast<std::size_t>(p), static_cast<std::uint32_t>(v), c);
+        }
+      }
+  });
+  // 4. The waiting corners (the rim's) find a point that draws alike, else get a new one.
+  std::vector<std::uint32_t> dead;
+  for (std::size_t v = 0; v < vertices; ++v)
+    if (waits[v]) assign_points(w, static_cast<std::uint32_t>(v), dead);
+  if (uses_.empty()) {  // a deleted face's cell needs point 0
+    uses_.push_back(0);
+    point_corner_.push_back(kInvalidIndex);
+    clear_point(w.r, 0);
   }
-  modified();
+  set_point_count(uses_.size());
+  return true;
 }
 
 void ViewPolyData::build_corner_points(const Writer& writer, std::size_t vertices) {

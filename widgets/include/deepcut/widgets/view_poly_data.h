@@ -43,6 +43,17 @@ class ViewPolyData {
   ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
                const std::vector<glm::vec3>* corner_normals = nullptr);
 
+  /// The same data as the constructor above (the same points, perhaps numbered otherwise) for a
+  /// mesh a step made out of another (a cut's piece, ModelChange::origins): how the corners of
+  /// the faces that have a source face (`origin`) share points is taken from `source` (this
+  /// class's data drawn for the source mesh as it was before the step, at any pose or positions),
+  /// so only the corners of the other faces (the rim) are compared. Streaming passes over the
+  /// faces and points instead of comparing every vertex's corners. Builds from scratch when
+  /// `source` or `origin` does not fit (no corner points, other sizes).
+  ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
+               const std::vector<glm::vec3>* corner_normals, const ViewPolyData& source,
+               const PrimitiveOrigin& origin);
+
   vtkPolyData* poly() const { return poly_; }
   /// True when points stand for corners (the mesh has corner normals or UVs), shared by the
   /// corners of a vertex that draw alike.
@@ -73,8 +84,15 @@ class ViewPolyData {
   /// point count.
   void resize(const SurfaceMesh& mesh);
   void set_point_count(std::size_t n);
+  /// The empty arrays (no points, no cells) for `mesh`.
+  void make_arrays(const SurfaceMesh& mesh);
+  /// The corner lists of a new mesh (all of its live faces' corners linked).
+  void make_lists(const SurfaceMesh& mesh);
   /// Corner layout of a new mesh: groups every vertex's corners into points, in parallel.
   void build_corner_points(const Writer& w, std::size_t vertices);
+  /// Corner layout of a new mesh made out of `source`'s mesh as `origin` says (see the
+  /// constructor). @returns false, having changed nothing, when they do not fit.
+  bool copy_corner_points(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin);
   /// A point (while building: a number among the vertex's points) that a corner of `v` other
   /// than `c` has (connectivity `conn` >= 0) and that draws like `c`, else kInvalidIndex: from
   /// `seen`, then, when `seen` is full, from every corner of `v`, so sharing is complete
