@@ -150,6 +150,7 @@ void SceneHost::show_step(const ModelChange& change) {
   inspectors_->mark_stale(plugins::SceneChange::Model);
   tools_->update_preview();
   draw_frame();  // the step's one frame
+  if (change.structure) QTimer::singleShot(0, view_, [view = view_] { view->prepare_updates(); });
   if (!session_.posed_model()) posed_timer_->start();
 }
 

@@ -504,6 +504,10 @@ std::shared_ptr<ViewPolyData> SceneView::Impl::built_data(const plugins::SceneIn
   return instance_view_data(*scene, sp);
 }
 
+void SceneView::prepare_updates() {
+  for (InstanceActor& instance : impl_->instances) instance.data->prepare_updates();
+}
+
 void SceneView::Impl::follow_structure(const ModelChange& change) {
   std::vector<InstanceActor> old;
   old.swap(instances);

@@ -166,19 +166,42 @@ struct ViewPolyData::Candidates {
   }
 };
 
-std::uint32_t ViewPolyData::alike_point(const Writer& w, const Candidates& seen, std::uint32_t v,
+// The corners of one vertex: its linked list (from `head` through `next`), or a list of its own.
+struct ViewPolyData::Corners {
+  const std::uint32_t* next = nullptr;
+  std::uint32_t head = kInvalidIndex;
+  const std::uint32_t *begin = nullptr, *end = nullptr;
+  // Calls `fn(c)` for each corner in order until it returns true. @returns whether one did.
+  template <class Fn>
+  bool any(const Fn& fn) const {
+    if (next) {
+      for (std::uint32_t c = head; c != kInvalidIndex; c = next[c])
+        if (fn(c)) return true;
+      return false;
+    }
+    return std::any_of(begin, end, fn);
+  }
+};
+
+ViewPolyData::Corners ViewPolyData::linked(std::uint32_t v) const { return {next_.data(), first_[v]}; }
+
+std::uint32_t ViewPolyData::alike_point(const Writer& w, const Candidates& seen, const Corners& corners,
                                         std::uint32_t c, const vtkTypeInt64* conn) const {
-  const std::uint32_t p = seen.find(w, c);
+  std::uint32_t p = seen.find(w, c);
   if (p != kInvalidIndex || !seen.full) return p;
-  for (std::uint32_t d = first_[v]; d != kInvalidIndex; d = next_[d])
-    if (d != c && conn[d] >= 0 && w.alike(d, c)) return static_cast<std::uint32_t>(conn[d]);
-  return kInvalidIndex;
+  corners.any([&](std::uint32_t d) {
+    if (d == c || conn[d] < 0 || !w.alike(d, c)) return false;
+    p = static_cast<std::uint32_t>(conn[d]);
+    return true;
+  });
+  return p;
 }
 
 ViewPolyData::ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
                            const std::vector<glm::vec3>* corner_normals) {
   make_arrays(mesh);
   resize(mesh);
+  vertices_ = mesh.vertex_count();
   const std::size_t slots = mesh.face_slots();
   Writer w(poly_, mesh, positions, corner_normals);
   if (corners_) {
@@ -200,13 +223,10 @@ ViewPolyData::ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>
                            const PrimitiveOrigin& origin) {
   make_arrays(mesh);
   resize(mesh);
-  if (corners_) {
-    make_lists(mesh);
-    const Writer w(poly_, mesh, positions, corner_normals);
-    if (copy_corner_points(w, source, origin)) {
-      modified();
-      return;
-    }
+  vertices_ = mesh.vertex_count();
+  if (corners_ && copy_corner_points(Writer(poly_, mesh, positions, corner_normals), source, origin)) {
+    modified();
+    return;
   }
   *this = ViewPolyData(mesh, positions, corner_normals);
 }
@@ -247,27 +267,42 @@ void ViewPolyData::make_arrays(const SurfaceMesh& mesh) {
 }
 
 void ViewPolyData::make_lists(const SurfaceMesh& mesh) {
-  const std::size_t corners = 3 * mesh.face_slots();
-  first_.assign(mesh.vertex_count(), kInvalidIndex);
-  next_.assign(corners, kInvalidIndex);
-  prev_.assign(corners, kInvalidIndex);
-  corner_vertex_.assign(corners, kInvalidIndex);
-  link_all(mesh);
+  link_all(3 * mesh.face_slots(), mesh.vertex_count(), [&](std::size_t c) {
+    const auto f = static_cast<std::uint32_t>(c / 3);
+    return mesh.is_deleted(FaceId(f)) ? kInvalidIndex : mesh.faces()[f][static_cast<int>(c % 3)].index;
+  });
 }
 
-bool ViewPolyData::copy_corner_points(const Writer& writer, const ViewPolyData& source, const PrimitiveOrigin& origin) {
-  const SurfaceMesh& mesh = writer.mesh;
-  const std::size_t slots = mesh.face_slots(), vertices = mesh.vertex_count();
-  const auto old_cells = static_cast<std::size_t>(source.poly_->GetNumberOfCells());
-  const std::size_t old_points = source.uses_.size();
-  if (!source.corners_ || origin.faces.size() != slots || origin.vertices.size() != vertices ||
-      old_points != static_cast<std::size_t>(source.poly_->GetNumberOfPoints()))
+bool ViewPolyData::copy_corner_points(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin) {
+  const SurfaceMesh& mesh = w.mesh;
+  if (!source.corners_ || origin.faces.size() != mesh.face_slots() || origin.vertices.size() != mesh.vertex_count() ||
+      source.uses_.size() != static_cast<std::size_t>(source.poly_->GetNumberOfPoints()))
     return false;
-  // 1. A live face with a source face: each corner takes the point its source corner has (a
-  // number among the source's points for now) when that point draws the corner's source vertex;
-  // every other corner waits (-1) for step 4. A deleted face's cell is (0, 0, 0).
+  std::vector<std::uint32_t> waiting;
+  const std::size_t kept = copy_connectivity(w, source, origin, waiting);
+  set_point_count(std::max<std::size_t>(kept + waiting.size(), 1));  // room for the waiting corners' points
+  Writer writer = w;
+  writer.refresh(poly_);
+  write_used_points(writer, kept);
+  assign_waiting(writer, waiting);
+  if (uses_.empty()) {  // a deleted face's cell needs point 0
+    uses_.push_back(0);
+    point_corner_.push_back(kInvalidIndex);
+    clear_point(writer.r, 0);
+  }
+  set_point_count(uses_.size());
+  return true;
+}
+
+std::size_t ViewPolyData::copy_connectivity(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin,
+                                            std::vector<std::uint32_t>& waiting) {
+  const SurfaceMesh& mesh = w.mesh;
+  const std::size_t slots = mesh.face_slots(), old_points = source.uses_.size();
+  const auto old_cells = static_cast<std::size_t>(source.poly_->GetNumberOfCells());
+  // A live face with a source face: each corner takes the point its source corner has (a number
+  // among the source's points for now) when that point draws the corner's source vertex.
   const Raw old = raw(source.poly_);
-  vtkTypeInt64* conn = writer.r.connectivity;
+  vtkTypeInt64* conn = w.r.connectivity;
   std::unique_ptr<std::atomic<std::uint8_t>[]> used(new std::atomic<std::uint8_t>[old_points]);
   parallel_for(old_points, kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t p = b; p < e; ++p) used[p].store(0, std::memory_order_relaxed);
@@ -289,60 +324,97 @@ bool ViewPolyData::copy_corner_points(const Writer& writer, const ViewPolyData& 
       }
     }
   });
-  // 2. The source's points in use, numbered in order.
+  // The source's points in use, numbered in order; the waiting corners listed in order.
   std::vector<std::uint32_t> number(old_points, kInvalidIndex);
   std::uint32_t kept = 0;
   for (std::size_t p = 0; p < old_points; ++p)
     if (used[p].load(std::memory_order_relaxed)) number[p] = kept++;
   used.reset();
-  std::atomic<std::size_t> waiting{0};
-  parallel_for(slots, kGrain, [&](std::size_t b, std::size_t e) {
-    std::size_t wait = 0;
-    for (std::size_t f = b; f < e; ++f) {
-      if (mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) continue;
-      for (std::size_t c = 3 * f; c < 3 * f + 3; ++c) {
-        if (conn[c] >= 0)
-          conn[c] = number[static_cast<std::size_t>(conn[c])];
-        else
-          ++wait;
+  const std::size_t chunks = std::max<std::size_t>(1, (slots + kGrain - 1) / kGrain);
+  std::vector<std::vector<std::uint32_t>> waits(chunks);
+  parallel_for(chunks, 1, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i)
+      for (std::size_t f = i * kGrain; f < std::min(slots, (i + 1) * kGrain); ++f) {
+        if (mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) continue;
+        for (std::size_t c = 3 * f; c < 3 * f + 3; ++c) {
+          if (conn[c] >= 0)
+            conn[c] = number[static_cast<std::size_t>(conn[c])];
+          else
+            waits[i].push_back(static_cast<std::uint32_t>(c));
+        }
+      }
+  });
+  for (const auto& list : waits) waiting.insert(waiting.end(), list.begin(), list.end());
+  return kept;
+}
+
+void ViewPolyData::write_used_points(const Writer& w, std::size_t points) {
+  // A point is one vertex's, but its corners may lie in any chunk of faces: its uses are counted
+  // and its first corner found with atomics, then every point is written from that corner.
+  const SurfaceMesh& mesh = w.mesh;
+  const std::size_t corners = 3 * mesh.face_slots();
+  const vtkTypeInt64* conn = w.r.connectivity;
+  std::unique_ptr<std::atomic<std::uint32_t>[]> uses(new std::atomic<std::uint32_t>[points]);
+  std::unique_ptr<std::atomic<std::uint32_t>[]> first(new std::atomic<std::uint32_t>[points]);
+  parallel_for(points, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t p = b; p < e; ++p) {
+      uses[p].store(0, std::memory_order_relaxed);
+      first[p].store(kInvalidIndex, std::memory_order_relaxed);
+    }
+  });
+  parallel_for(corners, 3 * kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t c = b; c < e; ++c) {
+      if (conn[c] < 0 || mesh.is_deleted(FaceId(static_cast<std::uint32_t>(c / 3)))) continue;
+      const auto p = static_cast<std::size_t>(conn[c]);
+      uses[p].fetch_add(1, std::memory_order_relaxed);
+      std::uint32_t seen = first[p].load(std::memory_order_relaxed);
+      while (c < seen && !first[p].compare_exchange_weak(seen, static_cast<std::uint32_t>(c), std::memory_order_relaxed)) {
       }
     }
-    waiting += wait;
   });
-  number = {};
-  // 3. Each vertex's points in use: counted, and written from their first corner in the
-  // vertex's list (a point is one vertex's: the vertices are the work's ranges).
-  set_point_count(std::max<std::size_t>(kept + waiting, 1));  // room for the waiting corners' points
-  uses_.assign(kept, 0);
-  point_corner_.assign(kept, kInvalidIndex);
-  Writer w = writer;
-  w.refresh(poly_);
-  std::vector<char> waits(vertices, 0);
-  parallel_for(vertices, kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t v = b; v < e; ++v)
-      for (std::uint32_t c = first_[v]; c != kInvalidIndex; c = next_[c]) {
-        const vtkTypeInt64 p = w.r.connectivity[c];
-        if (p < 0) {
-          waits[v] = 1;
-          continue;
-        }
-        if (uses_[p]++ == 0) {
-          point_corner_[p] = c;
-          w.point(static_cast<std::size_t>(p), static_cast<std::uint32_t>(v), c);
-        }
+  uses_.resize(points);
+  point_corner_.resize(points);
+  parallel_for(points, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t p = b; p < e; ++p) {
+      const std::uint32_t c = first[p].load(std::memory_order_relaxed);
+      uses_[p] = uses[p].load(std::memory_order_relaxed);
+      point_corner_[p] = c;
+      w.point(p, mesh.faces()[c / 3][static_cast<int>(c % 3)].index, c);
+    }
+  });
+}
+
+void ViewPolyData::assign_waiting(const Writer& w, const std::vector<std::uint32_t>& waiting) {
+  if (waiting.empty()) return;
+  const SurfaceMesh& mesh = w.mesh;
+  const std::size_t slots = mesh.face_slots();
+  auto vertex_of = [&](std::size_t c) { return mesh.faces()[c / 3][static_cast<int>(c % 3)].index; };
+  std::vector<char> rim(mesh.vertex_count(), 0);
+  for (std::uint32_t c : waiting) rim[vertex_of(c)] = 1;
+  // Every live corner of those vertices, by vertex, in corner order.
+  const std::size_t chunks = (slots + kGrain - 1) / kGrain;
+  std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> found(chunks);
+  parallel_for(chunks, 1, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i)
+      for (std::size_t f = i * kGrain; f < std::min(slots, (i + 1) * kGrain); ++f) {
+        if (mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) continue;
+        for (std::size_t c = 3 * f; c < 3 * f + 3; ++c)
+          if (rim[vertex_of(c)]) found[i].emplace_back(vertex_of(c), static_cast<std::uint32_t>(c));
       }
   });
-  // 4. The waiting corners (the rim's) find a point that draws alike, else get a new one.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> all;
+  for (const auto& list : found) all.insert(all.end(), list.begin(), list.end());
+  std::stable_sort(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<std::uint32_t> corners(all.size());
+  for (std::size_t i = 0; i < all.size(); ++i) corners[i] = all[i].second;
   std::vector<std::uint32_t> dead;
-  for (std::size_t v = 0; v < vertices; ++v)
-    if (waits[v]) assign_points(w, static_cast<std::uint32_t>(v), dead);
-  if (uses_.empty()) {  // a deleted face's cell needs point 0
-    uses_.push_back(0);
-    point_corner_.push_back(kInvalidIndex);
-    clear_point(w.r, 0);
+  for (std::size_t i = 0, j = 0; i < all.size(); i = j) {
+    while (j < all.size() && all[j].first == all[i].first) ++j;
+    Corners list;
+    list.begin = corners.data() + i;
+    list.end = corners.data() + j;
+    assign_points(w, all[i].first, list, dead);
   }
-  set_point_count(uses_.size());
-  return true;
 }
 
 void ViewPolyData::build_corner_points(const Writer& writer, std::size_t vertices) {
@@ -363,7 +435,7 @@ void ViewPolyData::build_corner_points(const Writer& writer, std::size_t vertice
       Candidates seen;
       std::uint32_t count = 0;
       for (std::uint32_t c = first_[v]; c != kInvalidIndex; c = next_[c]) {
-        std::uint32_t p = alike_point(writer, seen, static_cast<std::uint32_t>(v), c, conn);
+        std::uint32_t p = alike_point(writer, seen, linked(static_cast<std::uint32_t>(v)), c, conn);
         if (p == kInvalidIndex) seen.add(p = count++, c);
         conn[c] = p;
       }
@@ -425,23 +497,41 @@ void ViewPolyData::resize(const SurfaceMesh& mesh) {
   offsets[slots] = static_cast<vtkTypeInt64>(3 * slots);
 }
 
-void ViewPolyData::link_all(const SurfaceMesh& mesh) {
+template <class VertexOf>
+void ViewPolyData::link_all(std::size_t corners, std::size_t vertices, const VertexOf& vertex_of) {
+  first_.assign(vertices, kInvalidIndex);
+  next_.assign(corners, kInvalidIndex);
+  prev_.assign(corners, kInvalidIndex);
+  corner_vertex_.assign(corners, kInvalidIndex);
   // A list crosses any chunk of corners, so the work is cut by vertices: each range scans every
   // corner (from the last: `link` pushes to the front) and links those of its own vertices. The
   // lists are the same for any number of ranges; all writes of a range are to its vertices'
   // slots and their corners.
-  const std::size_t corners = 3 * mesh.face_slots(), vertices = mesh.vertex_count();
   const std::size_t ranges = std::min<std::size_t>(thread_count(), 8);
   parallel_for(ranges, 1, [&](std::size_t b, std::size_t e) {
     for (std::size_t r = b; r < e; ++r) {
       const std::size_t lo = vertices * r / ranges, hi = vertices * (r + 1) / ranges;
       for (std::size_t c = corners; c-- > 0;) {
-        const std::uint32_t v = mesh.faces()[c / 3][static_cast<int>(c % 3)].index;
-        if (v >= lo && v < hi && !mesh.is_deleted(FaceId(static_cast<std::uint32_t>(c / 3))))
-          link(static_cast<std::uint32_t>(c), v);
+        const std::uint32_t v = vertex_of(c);
+        if (v != kInvalidIndex && v >= lo && v < hi) link(static_cast<std::uint32_t>(c), v);
       }
     }
   });
+  lists_ = true;
+}
+
+void ViewPolyData::link_cells() {
+  const Raw r = raw(poly_);
+  const std::size_t corners = 3 * static_cast<std::size_t>(poly_->GetNumberOfCells());
+  link_all(corners, vertices_, [&](std::size_t c) {
+    const vtkTypeInt64* cell = r.connectivity + 3 * (c / 3);
+    if (cell[0] == cell[1] && cell[1] == cell[2]) return kInvalidIndex;
+    return static_cast<std::uint32_t>(r.vertex_id[r.connectivity[c]]);
+  });
+}
+
+void ViewPolyData::prepare_updates() {
+  if (corners_ && !lists_) link_cells();
 }
 
 void ViewPolyData::link(std::uint32_t c, std::uint32_t v) {
@@ -465,6 +555,7 @@ void ViewPolyData::unlink(std::uint32_t c) {
 
 void ViewPolyData::update(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
                           const std::vector<glm::vec3>* corner_normals, const PrimitiveChange& change) {
+  prepare_updates();  // (the lists of the state before the step)
   const vtkIdType old_points = poly_->GetNumberOfPoints(), old_cells = poly_->GetNumberOfCells();
   bool reassigned = false;  // a point now draws another vertex or corner than before
   if (corners_) {
@@ -486,6 +577,7 @@ void ViewPolyData::update(const SurfaceMesh& mesh, const std::vector<glm::vec3>&
   if (poly_->GetNumberOfCells() != old_cells) poly_->GetCellData()->RemoveArray("colors");
   // The cell map (cell types and places, built for picking) no longer fits a new cell count.
   if (poly_->GetNumberOfCells() != old_cells) poly_->DeleteCells();
+  vertices_ = mesh.vertex_count();
   modified();
 }
 
@@ -549,7 +641,7 @@ bool ViewPolyData::update_corner_points(const SurfaceMesh& mesh, const std::vect
   Writer w(poly_, mesh, positions, corner_normals);
   bool wrote = false;
   for (std::uint32_t v : regroup)
-    if (v < vertices) wrote |= assign_points(w, v, dead);
+    if (v < vertices) wrote |= assign_points(w, v, linked(v), dead);
   set_point_count(uses_.size());
   compact(dead);
   return wrote;
@@ -557,19 +649,22 @@ bool ViewPolyData::update_corner_points(const SurfaceMesh& mesh, const std::vect
 
 // A corner of vertex `v` keeps its point or, waiting (connectivity -1), takes one that draws
 // alike: first the vertex's points in use, then new ones.
-bool ViewPolyData::assign_points(const Writer& w, std::uint32_t v, std::vector<std::uint32_t>& dead) {
+bool ViewPolyData::assign_points(const Writer& w, std::uint32_t v, const Corners& corners,
+                                 std::vector<std::uint32_t>& dead) {
   vtkTypeInt64* conn = w.r.connectivity;
   bool wrote = false;
   Candidates seen;
-  for (std::uint32_t c = first_[v]; c != kInvalidIndex; c = next_[c])
+  corners.any([&](std::uint32_t c) {
     if (conn[c] >= 0) {
       const auto p = static_cast<std::uint32_t>(conn[c]);
       if (point_corner_[p] == kInvalidIndex) point_corner_[p] = c;  // its corner left
       seen.add(p, point_corner_[p]);
     }
-  for (std::uint32_t c = first_[v]; c != kInvalidIndex; c = next_[c]) {
-    if (conn[c] >= 0) continue;
-    std::uint32_t p = alike_point(w, seen, v, c, conn);
+    return false;
+  });
+  corners.any([&](std::uint32_t c) {
+    if (conn[c] >= 0) return false;
+    std::uint32_t p = alike_point(w, seen, corners, c, conn);
     if (p == kInvalidIndex) {
       if (!dead.empty()) {
         p = dead.back();
@@ -586,7 +681,8 @@ bool ViewPolyData::assign_points(const Writer& w, std::uint32_t v, std::vector<s
     }
     conn[c] = p;
     ++uses_[p];
-  }
+    return false;
+  });
   return wrote;
 }
 
