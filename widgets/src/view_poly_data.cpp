@@ -278,12 +278,12 @@ bool ViewPolyData::copy_corner_points(const Writer& w, const ViewPolyData& sourc
   if (!source.corners_ || origin.faces.size() != mesh.face_slots() || origin.vertices.size() != mesh.vertex_count() ||
       source.uses_.size() != static_cast<std::size_t>(source.poly_->GetNumberOfPoints()))
     return false;
-  std::vector<std::uint32_t> waiting;
-  const std::size_t kept = copy_connectivity(w, source, origin, waiting);
-  set_point_count(std::max<std::size_t>(kept + waiting.size(), 1));  // room for the waiting corners' points
+  std::vector<std::uint32_t> waiting, kept;
+  copy_connectivity(w, source, origin, kept, waiting);
+  set_point_count(std::max<std::size_t>(kept.size() + waiting.size(), 1));  // room for the waiting corners' points
   Writer writer = w;
   writer.refresh(poly_);
-  write_used_points(writer, kept);
+  write_kept_points(writer, source, origin, kept);
   assign_waiting(writer, waiting);
   if (uses_.empty()) {  // a deleted face's cell needs point 0
     uses_.push_back(0);
@@ -294,8 +294,8 @@ bool ViewPolyData::copy_corner_points(const Writer& w, const ViewPolyData& sourc
   return true;
 }
 
-std::size_t ViewPolyData::copy_connectivity(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin,
-                                            std::vector<std::uint32_t>& waiting) {
+void ViewPolyData::copy_connectivity(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin,
+                                     std::vector<std::uint32_t>& kept, std::vector<std::uint32_t>& waiting) {
   const SurfaceMesh& mesh = w.mesh;
   const std::size_t slots = mesh.face_slots(), old_points = source.uses_.size();
   const auto old_cells = static_cast<std::size_t>(source.poly_->GetNumberOfCells());
@@ -326,9 +326,11 @@ std::size_t ViewPolyData::copy_connectivity(const Writer& w, const ViewPolyData&
   });
   // The source's points in use, numbered in order; the waiting corners listed in order.
   std::vector<std::uint32_t> number(old_points, kInvalidIndex);
-  std::uint32_t kept = 0;
   for (std::size_t p = 0; p < old_points; ++p)
-    if (used[p].load(std::memory_order_relaxed)) number[p] = kept++;
+    if (used[p].load(std::memory_order_relaxed)) {
+      number[p] = static_cast<std::uint32_t>(kept.size());
+      kept.push_back(static_cast<std::uint32_t>(p));
+    }
   used.reset();
   const std::size_t chunks = std::max<std::size_t>(1, (slots + kGrain - 1) / kGrain);
   std::vector<std::vector<std::uint32_t>> waits(chunks);
@@ -345,40 +347,56 @@ std::size_t ViewPolyData::copy_connectivity(const Writer& w, const ViewPolyData&
       }
   });
   for (const auto& list : waits) waiting.insert(waiting.end(), list.begin(), list.end());
-  return kept;
 }
 
-void ViewPolyData::write_used_points(const Writer& w, std::size_t points) {
-  // A point is one vertex's, but its corners may lie in any chunk of faces: its uses are counted
-  // and its first corner found with atomics, then every point is written from that corner.
+void ViewPolyData::write_kept_points(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin,
+                                     const std::vector<std::uint32_t>& kept) {
+  // Each point is written from the corner its source point was written from, where that corner's
+  // face is this mesh's too (found through the faces' sources); the others (their source corner
+  // on a face the step removed: around the rim) from their first corner, found by a pass over
+  // the faces. The uses are counted with the lists (prepare_updates).
   const SurfaceMesh& mesh = w.mesh;
-  const std::size_t corners = 3 * mesh.face_slots();
-  const vtkTypeInt64* conn = w.r.connectivity;
-  std::unique_ptr<std::atomic<std::uint32_t>[]> uses(new std::atomic<std::uint32_t>[points]);
-  std::unique_ptr<std::atomic<std::uint32_t>[]> first(new std::atomic<std::uint32_t>[points]);
-  parallel_for(points, kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t p = b; p < e; ++p) {
-      uses[p].store(0, std::memory_order_relaxed);
-      first[p].store(kInvalidIndex, std::memory_order_relaxed);
-    }
+  const std::size_t slots = mesh.face_slots(), points = kept.size();
+  const auto old_cells = static_cast<std::size_t>(source.poly_->GetNumberOfCells());
+  std::vector<std::uint32_t> face_of(old_cells, kInvalidIndex);  // source face slot -> face slot
+  parallel_for(slots, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t f = b; f < e; ++f)
+      if (origin.faces[f] < old_cells) face_of[origin.faces[f]] = static_cast<std::uint32_t>(f);
   });
-  parallel_for(corners, 3 * kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t c = b; c < e; ++c) {
-      if (conn[c] < 0 || mesh.is_deleted(FaceId(static_cast<std::uint32_t>(c / 3)))) continue;
-      const auto p = static_cast<std::size_t>(conn[c]);
-      uses[p].fetch_add(1, std::memory_order_relaxed);
-      std::uint32_t seen = first[p].load(std::memory_order_relaxed);
-      while (c < seen && !first[p].compare_exchange_weak(seen, static_cast<std::uint32_t>(c), std::memory_order_relaxed)) {
-      }
-    }
-  });
-  uses_.resize(points);
+  uses_.assign(points, 0);
   point_corner_.resize(points);
+  const vtkTypeInt64* conn = w.r.connectivity;
+  std::vector<char> orphan(points, 0);
   parallel_for(points, kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t p = b; p < e; ++p) {
-      const std::uint32_t c = first[p].load(std::memory_order_relaxed);
-      uses_[p] = uses[p].load(std::memory_order_relaxed);
-      point_corner_[p] = c;
+      const std::uint32_t from = source.point_corner_[kept[p]];
+      const std::uint32_t f = from == kInvalidIndex ? kInvalidIndex : face_of[from / 3];
+      const std::size_t c = 3 * std::size_t(f) + from % 3;
+      point_corner_[p] = f != kInvalidIndex && conn[c] == static_cast<vtkTypeInt64>(p) ? static_cast<std::uint32_t>(c)
+                                                                                         : kInvalidIndex;
+      if (point_corner_[p] == kInvalidIndex) orphan[p] = 1;
+    }
+  });
+  face_of = {};
+  // The orphans' first corners: their corners gathered chunk by chunk, in order.
+  const std::size_t chunks = (slots + kGrain - 1) / kGrain;
+  std::vector<std::vector<std::uint32_t>> found(chunks);
+  parallel_for(chunks, 1, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i)
+      for (std::size_t f = i * kGrain; f < std::min(slots, (i + 1) * kGrain); ++f) {
+        if (mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) continue;
+        for (std::size_t c = 3 * f; c < 3 * f + 3; ++c)
+          if (conn[c] >= 0 && orphan[static_cast<std::size_t>(conn[c])]) found[i].push_back(static_cast<std::uint32_t>(c));
+      }
+  });
+  for (const auto& list : found)
+    for (std::uint32_t c : list) {
+      const auto p = static_cast<std::size_t>(conn[c]);
+      if (point_corner_[p] == kInvalidIndex) point_corner_[p] = c;
+    }
+  parallel_for(points, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t p = b; p < e; ++p) {
+      const std::uint32_t c = point_corner_[p];
       w.point(p, mesh.faces()[c / 3][static_cast<int>(c % 3)].index, c);
     }
   });
@@ -528,6 +546,10 @@ void ViewPolyData::link_cells() {
     if (cell[0] == cell[1] && cell[1] == cell[2]) return kInvalidIndex;
     return static_cast<std::uint32_t>(r.vertex_id[r.connectivity[c]]);
   });
+  // The uses of every point (a copying build leaves them to be counted here).
+  std::fill(uses_.begin(), uses_.end(), 0);
+  for (std::size_t c = 0; c < corners; ++c)
+    if (corner_vertex_[c] != kInvalidIndex) ++uses_[static_cast<std::size_t>(r.connectivity[c])];
 }
 
 void ViewPolyData::prepare_updates() {

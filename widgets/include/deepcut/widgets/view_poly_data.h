@@ -108,13 +108,14 @@ class ViewPolyData {
   /// constructor). @returns false, having changed nothing, when they do not fit.
   bool copy_corner_points(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin);
   /// Of copy_corner_points: connectivity from the source's points for the corners of faces with
-  /// a source face (the others -1, waiting; a deleted face's 0). @returns the number of points
-  /// kept, and the waiting corners in `waiting`.
-  std::size_t copy_connectivity(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin,
-                                std::vector<std::uint32_t>& waiting);
-  /// Of copy_corner_points: counts the uses of the `points` first points and writes each from its
-  /// first corner.
-  void write_used_points(const Writer& w, std::size_t points);
+  /// a source face (the others -1, waiting; a deleted face's 0): point i is the source's point
+  /// `kept[i]`; the waiting corners in order in `waiting`.
+  void copy_connectivity(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin,
+                         std::vector<std::uint32_t>& kept, std::vector<std::uint32_t>& waiting);
+  /// Of copy_corner_points: writes the points `kept` (see copy_connectivity), each with a corner
+  /// that uses it (their uses are left to prepare_updates).
+  void write_kept_points(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin,
+                         const std::vector<std::uint32_t>& kept);
   /// Of copy_corner_points: points for the `waiting` corners, the vertices' corners gathered by
   /// a pass over the faces (no lists).
   void assign_waiting(const Writer& w, const std::vector<std::uint32_t>& waiting);
