@@ -107,18 +107,14 @@ class ViewPolyData {
   /// Corner layout of a new mesh made out of `source`'s mesh as `origin` says (see the
   /// constructor). @returns false, having changed nothing, when they do not fit.
   bool copy_corner_points(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin);
-  /// Of copy_corner_points: connectivity from the source's points for the corners of faces with
-  /// a source face (the others -1, waiting; a deleted face's 0): point i is the source's point
-  /// `kept[i]`; the waiting corners in order in `waiting`.
-  void copy_connectivity(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin,
-                         std::vector<std::uint32_t>& kept, std::vector<std::uint32_t>& waiting);
-  /// Of copy_corner_points: writes the points `kept` (see copy_connectivity), each with a corner
-  /// that uses it (their uses are left to prepare_updates).
-  void write_kept_points(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin,
-                         const std::vector<std::uint32_t>& kept);
-  /// Of copy_corner_points: points for the `waiting` corners, the vertices' corners gathered by
-  /// a pass over the faces (no lists).
-  void assign_waiting(const Writer& w, const std::vector<std::uint32_t>& waiting);
+  /// The passes of copy_corner_points, over what they know (Copying): connectivity from the
+  /// source's points (in the source's numbers; a corner without one waits, -1), a corner for
+  /// each point, the new numbers (one pass over the corners), points for the waiting corners.
+  struct Copying;
+  void copy_connectivity(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin, Copying& copying);
+  void choose_corners(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin, Copying& copying);
+  void renumber(const Writer& w, Copying& copying);
+  void assign_waiting(const Writer& w, const std::vector<std::uint32_t>& rim_corners);
   /// A point (while building: a number among the vertex's points) that a corner of `v` other
   /// than `c` has (connectivity `conn` >= 0) and that draws like `c`, else kInvalidIndex: from
   /// `seen`, then, when `seen` is full, from every corner of `v`, so sharing is complete
