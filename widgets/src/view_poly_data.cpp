@@ -445,15 +445,12 @@ void ViewPolyData::assign_waiting(const Writer& w, const std::vector<std::uint32
   all.reserve(rim_corners.size());
   for (std::uint32_t c : rim_corners) all.emplace_back(mesh.faces()[c / 3][static_cast<int>(c % 3)].index, c);
   std::stable_sort(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  std::vector<std::uint32_t> corners(all.size());
-  for (std::size_t i = 0; i < all.size(); ++i) corners[i] = all[i].second;
+  std::vector<std::uint32_t> corners;
+  for (const auto& vc : all) corners.push_back(vc.second);
   std::vector<std::uint32_t> dead;
   for (std::size_t i = 0, j = 0; i < all.size(); i = j) {
     while (j < all.size() && all[j].first == all[i].first) ++j;
-    Corners list;
-    list.begin = corners.data() + i;
-    list.end = corners.data() + j;
-    assign_points(w, all[i].first, list, dead);
+    assign_points(w, all[i].first, Corners{nullptr, kInvalidIndex, corners.data() + i, corners.data() + j}, dead);
   }
 }
 
