@@ -44,6 +44,14 @@ std::shared_ptr<ViewPolyData> instance_view_data(const plugins::Scene& scene,
   return data;
 }
 
+std::shared_ptr<ViewPolyData> instance_view_data(const plugins::Scene& scene, const plugins::SceneInstance& sp,
+                                                 const ViewPolyData& source, const PrimitiveOrigin& origin) {
+  auto data = std::make_shared<ViewPolyData>(*sp.surface, sp.posed(), &sp.posed_normals, source, origin);
+  const MaterialLook look = instance_look(scene, sp);
+  use_texture_coords(data->poly(), look.base_color_image >= 0 && look.texcoord == 0);
+  return data;
+}
+
 void compute_draw_caches(vtkPolyData* poly) {
   double bounds[6];
   poly->GetCellsBounds(bounds);

@@ -33,6 +33,10 @@ void use_texture_coords(vtkPolyData* poly, bool use);
 /// choice: a texture may not decode).
 std::shared_ptr<ViewPolyData> instance_view_data(const plugins::Scene& scene,
                                                  const plugins::SceneInstance& sp);
+/// The same for an instance a step made out of another (a cut's piece: `origin`), taking how its
+/// corners share points from `source`, the data drawn for that other instance before the step.
+std::shared_ptr<ViewPolyData> instance_view_data(const plugins::Scene& scene, const plugins::SceneInstance& sp,
+                                                 const ViewPolyData& source, const PrimitiveOrigin& origin);
 
 /// Computes what drawing `poly` the first time would otherwise compute on the UI thread, cached
 /// by VTK until the data changes: the bounds of its cells (the camera's clipping range) and the

@@ -172,6 +172,10 @@ class MainWindow : public QMainWindow {
   QString model_path() const { return path_; }
   QString last_error() const { return last_error_; }
   QString last_operation() const { return last_operation_; }
+  /// How long the last operation took (the session's apply, its undo record included), in ms.
+  double last_operation_ms() const { return last_operation_ms_; }
+  /// The scene's host (the benchmark reads where a step's time went: SceneHost::StepTiming).
+  const SceneHost* scene_host() const { return scene_host_; }
   QStringList recent_files() const;
 
   SceneView* view() const { return view_; }
@@ -253,6 +257,7 @@ class MainWindow : public QMainWindow {
 
   MainWindowOptions options_;
   QString path_, last_error_, last_operation_;
+  double last_operation_ms_ = 0.0;
   Compression export_compression_ = Compression::None;  // the Export dialog's last choice
 
   SceneView* view_ = nullptr;

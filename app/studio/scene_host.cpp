@@ -3,6 +3,7 @@
 
 #include <QTimer>
 #include <algorithm>
+#include <chrono>
 #include <cstdlib>
 #include <cstring>
 
@@ -129,11 +130,17 @@ void SceneHost::show_step(const ModelChange& change) {
   // DEEPCUT_VIEW_REBUILD=1: every step builds the scene again (the studio benchmark's reference).
   const char* rebuild = std::getenv("DEEPCUT_VIEW_REBUILD");
   const bool follow = !(rebuild && std::strcmp(rebuild, "1") == 0);
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
   if (!scene_ || !session_.current() || !follow || !plugins::follow_scene(*scene_, session_.current(), change)) {
+    step_timing_ = {};
     if (scene_) show_current();
     return;
   }
+  const auto t1 = Clock::now();
   view_->update_scene(change);
+  step_timing_.scene_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
+  step_timing_.view_ms = std::chrono::duration<double, std::milli>(Clock::now() - t1).count();
   // A structural step may add or drop nodes that morph: the panel follows (re-posing the
   // scene when the weights set by hand change).
   if (change.structure && sync_morph_panel()) view_->update_pose();
@@ -143,6 +150,7 @@ void SceneHost::show_step(const ModelChange& change) {
   inspectors_->mark_stale(plugins::SceneChange::Model);
   tools_->update_preview();
   draw_frame();  // the step's one frame
+  if (change.structure) QTimer::singleShot(0, view_, [view = view_] { view->prepare_updates(); });
   if (!session_.posed_model()) posed_timer_->start();
 }
 

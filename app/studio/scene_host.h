@@ -67,6 +67,12 @@ class SceneHost : public QObject {
   /// variable DEEPCUT_VIEW_REBUILD is 1 (the studio benchmark's reference). One step draws one
   /// frame (the tool's preview, the inspector's colours and the overlays all in it).
   void show_step(const ModelChange& change);
+  /// Where the last `show_step` that followed its step spent its time before the frame, in ms:
+  /// the scene (posed meshes, corner normals) and the view's VTK data.
+  struct StepTiming {
+    double scene_ms = 0.0, view_ms = 0.0;
+  };
+  StepTiming last_step_timing() const { return step_timing_; }
   /// Poses the scene at `time` of `animation` (the time line moved), at the morph weights set by
   /// hand.
   void pose(int animation, float time);
@@ -129,6 +135,7 @@ class SceneHost : public QObject {
   QString title_;
   bool show_skeleton_ = true;
   std::vector<BoneHandle> drawn_bones_;  // the skeleton's joints and bones as drawn
+  StepTiming step_timing_;
   bool skeleton_drawn_ = false;           // false: a new scene, the skeleton not drawn yet
 };
 

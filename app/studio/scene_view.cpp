@@ -61,6 +61,7 @@ struct InstanceActor {
   vtkSmartPointer<vtkTexture> texture;  // the material's base colour texture, or null
   MaterialLook look;
   bool displaced = false;  // drawn at positions set by hand (set_instance_positions)
+  int node = -1, mesh = -1, primitive = -1;  // the scene instance it draws
 };
 
 double distance_to_segment(const glm::dvec2& p, const glm::dvec2& a, const glm::dvec2& b) {
@@ -112,7 +113,11 @@ struct SceneView::Impl {
   /// Adds the actor of scene instance `sp` drawing `data`.
   void add_actor(const plugins::SceneInstance& sp, std::shared_ptr<ViewPolyData> data, std::vector<std::string>& notes);
   /// update_scene of a structural step (the scene followed it: Scene::origins, Scene::departed).
-  void follow_structure();
+  void follow_structure(const ModelChange& change);
+  /// The data of `sp`, new in a structural step: copied through the step's origins from the data
+  /// drawn for the instance it was made out of (among `old`), else built afresh.
+  std::shared_ptr<ViewPolyData> built_data(const plugins::SceneInstance& sp, const ModelChange& change,
+                                           const std::vector<InstanceActor>& old) const;
   /// The look and display mode every instance's actor gets.
   void set_up(InstanceActor& instance) const;
   /// Draws the next shader variant of SceneView::warm_up. @returns whether one remains.
@@ -402,6 +407,7 @@ void SceneView::Impl::add_actor(const plugins::SceneInstance& sp, std::shared_pt
   const Model& model = *scene->model;
   InstanceActor instance;
   instance.data = std::move(data);
+  instance.node = sp.node, instance.mesh = sp.mesh, instance.primitive = sp.primitive;
   instance.poly = instance.data->poly();
   instance.mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
   instance.mapper->SetInputData(instance.poly);
@@ -477,7 +483,7 @@ void SceneView::update_pose() {
 void SceneView::update_scene(const ModelChange& change) {
   Impl& d = *impl_;
   if (!d.scene) return;
-  if (change.structure) return d.follow_structure();
+  if (change.structure) return d.follow_structure(change);
   for (const PrimitiveChange& edit : change.primitives)
     for (std::size_t i = 0; i < d.instances.size() && i < d.scene->instances.size(); ++i) {
       const plugins::SceneInstance& sp = d.scene->instances[i];
@@ -487,7 +493,22 @@ void SceneView::update_scene(const ModelChange& change) {
   if (d.show_normals) d.rebuild_normals();
 }
 
-void SceneView::Impl::follow_structure() {
+std::shared_ptr<ViewPolyData> SceneView::Impl::built_data(const plugins::SceneInstance& sp, const ModelChange& change,
+                                                         const std::vector<InstanceActor>& old) const {
+  for (const auto& o : change.origins) {
+    if (!o || o->node != sp.node || o->mesh != sp.mesh || o->primitive != sp.primitive) continue;
+    for (const InstanceActor& from : old)
+      if (from.data && from.node == o->node_before && from.mesh == o->mesh_before && from.primitive == o->primitive_before)
+        return instance_view_data(*scene, sp, *from.data, *o);
+  }
+  return instance_view_data(*scene, sp);
+}
+
+void SceneView::prepare_updates() {
+  for (InstanceActor& instance : impl_->instances) instance.data->prepare_updates();
+}
+
+void SceneView::Impl::follow_structure(const ModelChange& change) {
   std::vector<InstanceActor> old;
   old.swap(instances);
   for (InstanceActor& instance : old) renderer->RemoveActor(instance.actor);
@@ -512,7 +533,7 @@ void SceneView::Impl::follow_structure() {
     // (A guard: data of another state than the scene's.)
     if (data && static_cast<std::size_t>(data->poly()->GetNumberOfCells()) != sp.surface->face_slots()) data = nullptr;
     if (data) clear_colors(data->poly());  // the inspectors colour again
-    add_actor(sp, data ? std::move(data) : instance_view_data(*scene, sp), notes);
+    add_actor(sp, data ? std::move(data) : built_data(sp, change, old), notes);
   }
   for (const auto& [j, key] : scene->departed)  // (displaced data is not kept: built again)
     if (j < old.size() && old[j].data && !old[j].displaced) stash[key] = std::move(old[j].data);

@@ -13,7 +13,11 @@
 //   "..._rebuild"): the reference the incremental view is measured against, in the same run;
 // - resident memory after N small drills (growth per operation).
 // Beside the wall times: the UI thread's CPU time in the first frame and in an unchanged one
-// ("frame_ui_cpu_ms"; the renderer's own threads not counted), steadier on a loaded machine.
+// ("frame_ui_cpu_ms"; the renderer's own threads not counted), steadier on a loaded machine; from
+// the action to its render call, the UI thread's CPU time ("to_render_call_ui_cpu_ms") and the
+// whole process's (every thread of the pool, "to_render_call_process_cpu_ms"). An operation's
+// apply also says where its time to the render call went ("phases": the operation with its undo
+// record, the scene following it, the view's VTK data).
 //   deepcut_studio_bench [--json] [--quick] [--size N] [--no-rebuild] [--ops N] [--open-only]
 //                        [--only drill|tear|cut]
 // --quick: the 25K cactus only; --size N: only the cactus of about N triangles (a profile of one
@@ -31,6 +35,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <ctime>
 #include <fstream>
 #include <functional>
 #include <iostream>
@@ -45,7 +50,9 @@
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/ops/operation.h"
 #include "main_window.h"
+#include "scene_host.h"
 #include "scene_view.h"
+#include "thread_cpu_time.h"
 
 namespace {
 
@@ -71,19 +78,30 @@ double resident_mib() {
   return static_cast<double>(resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0);
 }
 
+/// CPU time of the whole process (every thread), in ms.
+double process_cpu_ms() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) / 1e6;
+}
+
 /// Times one action in the window: to the first render call it makes, and to its return (the
 /// frame drawn).
 struct Timed {
   double to_render = 0.0, to_frame = 0.0;
   Clock::time_point start;
   double frame_cpu = 0.0;  // the UI thread's CPU time in the last frame drawn (SceneView)
+  double ui_cpu = 0.0, process_cpu = 0.0;  // CPU time to the render call: the UI thread's, every thread's
 };
 
 class Timer {
  public:
   explicit Timer(MainWindow& window) : window_(window) {
     window_.view()->set_render_listener([this] {
-      if (!rendered_) first_render_ = Clock::now();
+      if (rendered_) return;
+      first_render_ = Clock::now();
+      render_ui_cpu_ = deepcut::studio::thread_cpu_ms();
+      render_process_cpu_ = process_cpu_ms();
       rendered_ = true;
     });
   }
@@ -91,17 +109,27 @@ class Timer {
   template <class Action>
   Timed time(Action&& action) {
     rendered_ = false;
+    const double ui0 = deepcut::studio::thread_cpu_ms(), process0 = process_cpu_ms();
     const auto t0 = Clock::now();
     action();
     const auto t1 = Clock::now();
-    return {ms_since(t0, rendered_ ? first_render_ : t1), ms_since(t0, t1), t0,
-            rendered_ ? window_.view()->last_render_cpu_ms() : 0.0};
+    if (!rendered_) {
+      render_ui_cpu_ = deepcut::studio::thread_cpu_ms();
+      render_process_cpu_ = process_cpu_ms();
+    }
+    return {ms_since(t0, rendered_ ? first_render_ : t1),
+            ms_since(t0, t1),
+            t0,
+            rendered_ ? window_.view()->last_render_cpu_ms() : 0.0,
+            render_ui_cpu_ - ui0,
+            render_process_cpu_ - process0};
   }
 
  private:
   MainWindow& window_;
   bool rendered_ = false;
   Clock::time_point first_render_;
+  double render_ui_cpu_ = 0.0, render_process_cpu_ = 0.0;
 };
 
 /// Operations around the cactus' middle, at the window's pose: small drills (no wall), tears
@@ -165,20 +193,23 @@ bool apply(MainWindow& window, const deepcut::Operation& op) {
 }
 
 json step_json(const std::vector<Timed>& runs) {
-  std::vector<double> render, frame, cpu;
+  std::vector<double> render, frame, cpu, ui, process;
   for (const Timed& t : runs) {
     render.push_back(t.to_render);
     frame.push_back(t.to_frame);
     cpu.push_back(t.frame_cpu);
+    ui.push_back(t.ui_cpu);
+    process.push_back(t.process_cpu);
   }
-  return {{"to_render_call_ms", median(render)},
-          {"to_frame_ms", median(frame)},
-          {"frame_ui_cpu_ms", median(cpu)}};
+  return {{"to_render_call_ms", median(render)}, {"to_frame_ms", median(frame)},
+          {"frame_ui_cpu_ms", median(cpu)},      {"to_render_call_ui_cpu_ms", median(ui)},
+          {"to_render_call_process_cpu_ms", median(process)}};
 }
 
 /// One operation kind: apply, undo and redo three times each (undone again after each redo).
 json time_operation(MainWindow& window, Timer& timer, const std::function<deepcut::Operation()>& make) {
   std::vector<Timed> applied, undone, redone;
+  std::vector<double> operation, scene, view;  // the apply's phases
   for (int rep = 0, misses = 0; rep < 3;) {
     const deepcut::Operation op = make();
     bool hit = false;
@@ -189,11 +220,17 @@ json time_operation(MainWindow& window, Timer& timer, const std::function<deepcu
     }
     ++rep;
     applied.push_back(t);
+    const deepcut::studio::SceneHost::StepTiming step = window.scene_host()->last_step_timing();
+    operation.push_back(window.last_operation_ms());
+    scene.push_back(step.scene_ms);
+    view.push_back(step.view_ms);
     undone.push_back(timer.time([&] { window.undo_action()->trigger(); }));
     redone.push_back(timer.time([&] { window.redo_action()->trigger(); }));
     window.undo_action()->trigger();
   }
-  return {{"apply", step_json(applied)}, {"undo", step_json(undone)}, {"redo", step_json(redone)}};
+  json out = {{"apply", step_json(applied)}, {"undo", step_json(undone)}, {"redo", step_json(redone)}};
+  out["apply"]["phases"] = {{"operation_ms", median(operation)}, {"scene_ms", median(scene)}, {"view_ms", median(view)}};
+  return out;
 }
 
 json run_size(std::size_t target, int ops, bool rebuilds, bool open_only, const std::string& only,
@@ -290,9 +327,16 @@ void print_table(const json& results) {
     std::printf("%-10s render: UI thread CPU %.1f ms\n", tri.c_str(),
                 r["unchanged_render"]["frame_ui_cpu_ms"].get<double>());
     row("render.multisampled", r["unchanged_render_multisampled"]);
-    for (const char* kind : {"drill", "tear", "cut", "drill_rebuild", "tear_rebuild", "cut_rebuild"})
-      if (r.contains(kind))
-        for (const char* step : {"apply", "undo", "redo"}) row(std::string(kind) + "." + step, r[kind][step]);
+    for (const char* kind : {"drill", "tear", "cut", "drill_rebuild", "tear_rebuild", "cut_rebuild"}) {
+      if (!r.contains(kind)) continue;
+      for (const char* step : {"apply", "undo", "redo"}) row(std::string(kind) + "." + step, r[kind][step]);
+      const json& a = r[kind]["apply"];
+      std::printf("%-10s %s.apply to the render call: UI thread CPU %.1f ms, process CPU %.1f ms; operation %.1f ms, "
+                  "scene %.1f ms, view %.1f ms\n",
+                  tri.c_str(), kind, a["to_render_call_ui_cpu_ms"].get<double>(),
+                  a["to_render_call_process_cpu_ms"].get<double>(), a["phases"]["operation_ms"].get<double>(),
+                  a["phases"]["scene_ms"].get<double>(), a["phases"]["view_ms"].get<double>());
+    }
     if (!r.contains("memory")) continue;
     const json& m = r["memory"];
     std::printf("%-10s memory: %.1f MiB resident, %.1f MiB after %d small drills (%.1f KiB per operation)\n",

@@ -11,7 +11,9 @@
 #include <vtkTypeInt64Array.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstring>
+#include <memory>
 #include <functional>
 
 #include "deepcut/core/morph.h"
@@ -164,17 +166,72 @@ struct ViewPolyData::Candidates {
   }
 };
 
-std::uint32_t ViewPolyData::alike_point(const Writer& w, const Candidates& seen, std::uint32_t v,
+// The corners of one vertex: its linked list (from `head` through `next`), or a list of its own.
+struct ViewPolyData::Corners {
+  const std::uint32_t* next = nullptr;
+  std::uint32_t head = kInvalidIndex;
+  const std::uint32_t *begin = nullptr, *end = nullptr;
+  // Calls `fn(c)` for each corner in order until it returns true. @returns whether one did.
+  template <class Fn>
+  bool any(const Fn& fn) const {
+    if (next) {
+      for (std::uint32_t c = head; c != kInvalidIndex; c = next[c])
+        if (fn(c)) return true;
+      return false;
+    }
+    return std::any_of(begin, end, fn);
+  }
+};
+
+ViewPolyData::Corners ViewPolyData::linked(std::uint32_t v) const { return {next_.data(), first_[v]}; }
+
+std::uint32_t ViewPolyData::alike_point(const Writer& w, const Candidates& seen, const Corners& corners,
                                         std::uint32_t c, const vtkTypeInt64* conn) const {
-  const std::uint32_t p = seen.find(w, c);
+  std::uint32_t p = seen.find(w, c);
   if (p != kInvalidIndex || !seen.full) return p;
-  for (std::uint32_t d = first_[v]; d != kInvalidIndex; d = next_[d])
-    if (d != c && conn[d] >= 0 && w.alike(d, c)) return static_cast<std::uint32_t>(conn[d]);
-  return kInvalidIndex;
+  corners.any([&](std::uint32_t d) {
+    if (d == c || conn[d] < 0 || !w.alike(d, c)) return false;
+    p = static_cast<std::uint32_t>(conn[d]);
+    return true;
+  });
+  return p;
 }
 
 ViewPolyData::ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
                            const std::vector<glm::vec3>* corner_normals) {
+  make_arrays(mesh);
+  resize(mesh);
+  vertices_ = mesh.vertex_count();
+  const std::size_t slots = mesh.face_slots();
+  Writer w(poly_, mesh, positions, corner_normals);
+  if (corners_) {
+    make_lists(mesh);
+    build_corner_points(w, mesh.vertex_count());
+  } else {
+    parallel_for(slots, kGrain, [&](std::size_t b, std::size_t e) {
+      for (std::size_t f = b; f < e; ++f) w.vertex_cell(f);
+    });
+    parallel_for(mesh.vertex_count(), kGrain, [&](std::size_t b, std::size_t e) {
+      for (std::size_t v = b; v < e; ++v) w.vertex_point(v);
+    });
+  }
+  modified();
+}
+
+ViewPolyData::ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
+                           const std::vector<glm::vec3>* corner_normals, const ViewPolyData& source,
+                           const PrimitiveOrigin& origin) {
+  make_arrays(mesh);
+  resize(mesh);
+  vertices_ = mesh.vertex_count();
+  if (corners_ && copy_corner_points(Writer(poly_, mesh, positions, corner_normals), source, origin)) {
+    modified();
+    return;
+  }
+  *this = ViewPolyData(mesh, positions, corner_normals);
+}
+
+void ViewPolyData::make_arrays(const SurfaceMesh& mesh) {
   const auto& ca = mesh.corner_attrs();
   const auto* uv = ca.find<glm::vec2>(attr::kUv0);
   const auto* normal = ca.find<glm::vec3>(attr::kNormal);
@@ -207,26 +264,194 @@ ViewPolyData::ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>
   vtkNew<vtkTypeInt64Array> offsets, connectivity;
   polys->SetData(offsets, connectivity);
   poly_->SetPolys(polys);
+}
 
-  resize(mesh);
+void ViewPolyData::make_lists(const SurfaceMesh& mesh) {
+  link_all(3 * mesh.face_slots(), mesh.vertex_count(), [&](std::size_t c) {
+    const auto f = static_cast<std::uint32_t>(c / 3);
+    return mesh.is_deleted(FaceId(f)) ? kInvalidIndex : mesh.faces()[f][static_cast<int>(c % 3)].index;
+  });
+}
+
+// What a copying build knows of a piece's corners between its passes (copy_corner_points).
+struct ViewPolyData::Copying {
+  std::vector<std::uint32_t> kept;     // new point -> the source's point
+  std::vector<std::uint32_t> number;   // the source's point -> new point (kInvalidIndex: unused)
+  std::vector<std::uint32_t> waiting;  // corners without a point, in order
+  std::vector<char> orphan;            // per new point: no corner chosen yet
+  std::vector<char> rim;               // per vertex: some corner of it waits
+  std::vector<std::uint32_t> orphan_corners, rim_corners;  // their corners, in order
+};
+
+namespace {
+
+// Calls `fn(chunk, f)` for every face slot of `mesh` that is live, in chunks of kGrain slots
+// over the pool; `chunks` is set to their number (results kept per chunk join in order).
+template <class Fn>
+void for_live_faces(const SurfaceMesh& mesh, std::size_t& chunks, const Fn& fn) {
   const std::size_t slots = mesh.face_slots();
-  Writer w(poly_, mesh, positions, corner_normals);
-  if (corners_) {
-    first_.assign(mesh.vertex_count(), kInvalidIndex);
-    next_.assign(3 * slots, kInvalidIndex);
-    prev_.assign(3 * slots, kInvalidIndex);
-    corner_vertex_.assign(3 * slots, kInvalidIndex);
-    link_all(mesh);
-    build_corner_points(w, mesh.vertex_count());
-  } else {
-    parallel_for(slots, kGrain, [&](std::size_t b, std::size_t e) {
-      for (std::size_t f = b; f < e; ++f) w.vertex_cell(f);
-    });
-    parallel_for(mesh.vertex_count(), kGrain, [&](std::size_t b, std::size_t e) {
-      for (std::size_t v = b; v < e; ++v) w.vertex_point(v);
-    });
+  chunks = (slots + kGrain - 1) / kGrain;
+  parallel_for(chunks, 1, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i)
+      for (std::size_t f = i * kGrain; f < std::min(slots, (i + 1) * kGrain); ++f)
+        if (!mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) fn(i, f);
+  });
+}
+
+template <class T>
+void join(const std::vector<std::vector<T>>& parts, std::vector<T>& out) {
+  for (const auto& part : parts) out.insert(out.end(), part.begin(), part.end());
+}
+
+}  // namespace
+
+bool ViewPolyData::copy_corner_points(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin) {
+  const SurfaceMesh& mesh = w.mesh;
+  if (!source.corners_ || origin.faces.size() != mesh.face_slots() || origin.vertices.size() != mesh.vertex_count() ||
+      source.uses_.size() != static_cast<std::size_t>(source.poly_->GetNumberOfPoints()))
+    return false;
+  Copying copying;
+  copy_connectivity(w, source, origin, copying);
+  choose_corners(w, source, origin, copying);
+  renumber(w, copying);
+  set_point_count(std::max<std::size_t>(copying.kept.size() + copying.waiting.size(), 1));  // room for the waiting
+  Writer writer = w;
+  writer.refresh(poly_);
+  const std::size_t points = copying.kept.size();
+  parallel_for(points, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t p = b; p < e; ++p) {
+      const std::uint32_t c = point_corner_[p];
+      writer.point(p, mesh.faces()[c / 3][static_cast<int>(c % 3)].index, c);
+    }
+  });
+  assign_waiting(writer, copying.rim_corners);
+  if (uses_.empty()) {  // a deleted face's cell needs point 0
+    uses_.push_back(0);
+    point_corner_.push_back(kInvalidIndex);
+    clear_point(writer.r, 0);
   }
-  modified();
+  set_point_count(uses_.size());
+  return true;
+}
+
+void ViewPolyData::copy_connectivity(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin,
+                                     Copying& copying) {
+  // A live face with a source face: each corner takes the point its source corner has (the
+  // source's number for now) when that point draws the corner's source vertex; the others wait.
+  const SurfaceMesh& mesh = w.mesh;
+  const std::size_t old_points = source.uses_.size();
+  const auto old_cells = static_cast<std::size_t>(source.poly_->GetNumberOfCells());
+  const Raw old = raw(source.poly_);
+  vtkTypeInt64* conn = w.r.connectivity;
+  std::unique_ptr<std::atomic<std::uint8_t>[]> used(new std::atomic<std::uint8_t>[old_points]);
+  parallel_for(old_points, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t p = b; p < e; ++p) used[p].store(0, std::memory_order_relaxed);
+  });
+  parallel_for(mesh.face_slots(), kGrain, [&](std::size_t b, std::size_t e) {  // a deleted face's cell: (0, 0, 0)
+    for (std::size_t f = b; f < e; ++f)
+      if (mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) std::fill(conn + 3 * f, conn + 3 * f + 3, 0);
+  });
+  std::size_t chunks = 0;
+  std::vector<std::vector<std::uint32_t>> waits((mesh.face_slots() + kGrain - 1) / kGrain);
+  for_live_faces(mesh, chunks, [&](std::size_t chunk, std::size_t f) {
+    const std::uint32_t from = origin.faces[f];
+    for (std::size_t k = 0; k < 3; ++k) {
+      vtkTypeInt64 p = -1;
+      if (from < old_cells) {
+        const vtkTypeInt64 q = old.connectivity[3 * std::size_t(from) + k];
+        const std::uint32_t v = origin.vertices[mesh.faces()[f][static_cast<int>(k)].index];
+        if (q >= 0 && static_cast<std::size_t>(q) < old_points && v != kInvalidIndex && old.vertex_id[q] == v) p = q;
+      }
+      conn[3 * f + k] = p;
+      if (p >= 0)
+        used[p].store(1, std::memory_order_relaxed);
+      else
+        waits[chunk].push_back(static_cast<std::uint32_t>(3 * f + k));
+    }
+  });
+  join(waits, copying.waiting);
+  // The source's points in use, numbered in order.
+  copying.number.assign(old_points, kInvalidIndex);
+  for (std::size_t p = 0; p < old_points; ++p)
+    if (used[p].load(std::memory_order_relaxed)) {
+      copying.number[p] = static_cast<std::uint32_t>(copying.kept.size());
+      copying.kept.push_back(static_cast<std::uint32_t>(p));
+    }
+}
+
+void ViewPolyData::choose_corners(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin,
+                                  Copying& copying) {
+  // Each point's corner: the one its source point has, where that corner's face is this mesh's
+  // too (found through the faces' sources) and draws it; the others (their source's corner on a
+  // face the step removed: around the rim) are orphans, given their first corner by `renumber`.
+  // The uses are counted with the lists (prepare_updates).
+  const SurfaceMesh& mesh = w.mesh;
+  const std::size_t slots = mesh.face_slots(), points = copying.kept.size();
+  const auto old_cells = static_cast<std::size_t>(source.poly_->GetNumberOfCells());
+  std::vector<std::uint32_t> face_of(old_cells, kInvalidIndex);  // source face slot -> face slot
+  parallel_for(slots, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t f = b; f < e; ++f)
+      if (origin.faces[f] < old_cells) face_of[origin.faces[f]] = static_cast<std::uint32_t>(f);
+  });
+  uses_.assign(points, 0);
+  point_corner_.resize(points);
+  copying.orphan.assign(points, 0);
+  const vtkTypeInt64* conn = w.r.connectivity;
+  parallel_for(points, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t p = b; p < e; ++p) {
+      const std::uint32_t from = source.point_corner_[copying.kept[p]];
+      const std::uint32_t f = from == kInvalidIndex ? kInvalidIndex : face_of[from / 3];
+      const std::size_t c = 3 * std::size_t(f) + from % 3;
+      const bool found = f != kInvalidIndex && conn[c] == static_cast<vtkTypeInt64>(copying.kept[p]);
+      point_corner_[p] = found ? static_cast<std::uint32_t>(c) : kInvalidIndex;
+      copying.orphan[p] = !found;
+    }
+  });
+  copying.rim.assign(mesh.vertex_count(), 0);
+  for (std::uint32_t c : copying.waiting) copying.rim[mesh.faces()[c / 3][static_cast<int>(c % 3)].index] = 1;
+}
+
+void ViewPolyData::renumber(const Writer& w, Copying& copying) {
+  // One pass: the kept corners take their points' new numbers; the corners of orphan points and
+  // of vertices with waiting corners are gathered, in order.
+  const SurfaceMesh& mesh = w.mesh;
+  vtkTypeInt64* conn = w.r.connectivity;
+  const std::size_t parts = (mesh.face_slots() + kGrain - 1) / kGrain;
+  std::vector<std::vector<std::uint32_t>> orphans(parts), rims(parts);
+  std::size_t chunks = 0;
+  for_live_faces(mesh, chunks, [&](std::size_t chunk, std::size_t f) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::size_t c = 3 * f + k;
+      if (copying.rim[mesh.faces()[f][static_cast<int>(k)].index]) rims[chunk].push_back(static_cast<std::uint32_t>(c));
+      if (conn[c] < 0) continue;
+      const std::uint32_t p = copying.number[static_cast<std::size_t>(conn[c])];
+      conn[c] = p;
+      if (copying.orphan[p]) orphans[chunk].push_back(static_cast<std::uint32_t>(c));
+    }
+  });
+  join(orphans, copying.orphan_corners);
+  join(rims, copying.rim_corners);
+  for (std::uint32_t c : copying.orphan_corners) {
+    const auto p = static_cast<std::size_t>(conn[c]);
+    if (point_corner_[p] == kInvalidIndex) point_corner_[p] = c;
+  }
+}
+
+void ViewPolyData::assign_waiting(const Writer& w, const std::vector<std::uint32_t>& rim_corners) {
+  // The corners of each vertex with waiting corners, by vertex (in corner order), then points
+  // for the waiting ones.
+  const SurfaceMesh& mesh = w.mesh;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> all;  // (vertex, corner)
+  all.reserve(rim_corners.size());
+  for (std::uint32_t c : rim_corners) all.emplace_back(mesh.faces()[c / 3][static_cast<int>(c % 3)].index, c);
+  std::stable_sort(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<std::uint32_t> corners;
+  for (const auto& vc : all) corners.push_back(vc.second);
+  std::vector<std::uint32_t> dead;
+  for (std::size_t i = 0, j = 0; i < all.size(); i = j) {
+    while (j < all.size() && all[j].first == all[i].first) ++j;
+    assign_points(w, all[i].first, Corners{nullptr, kInvalidIndex, corners.data() + i, corners.data() + j}, dead);
+  }
 }
 
 void ViewPolyData::build_corner_points(const Writer& writer, std::size_t vertices) {
@@ -247,7 +472,7 @@ void ViewPolyData::build_corner_points(const Writer& writer, std::size_t vertice
       Candidates seen;
       std::uint32_t count = 0;
       for (std::uint32_t c = first_[v]; c != kInvalidIndex; c = next_[c]) {
-        std::uint32_t p = alike_point(writer, seen, static_cast<std::uint32_t>(v), c, conn);
+        std::uint32_t p = alike_point(writer, seen, linked(static_cast<std::uint32_t>(v)), c, conn);
         if (p == kInvalidIndex) seen.add(p = count++, c);
         conn[c] = p;
       }
@@ -309,23 +534,45 @@ void ViewPolyData::resize(const SurfaceMesh& mesh) {
   offsets[slots] = static_cast<vtkTypeInt64>(3 * slots);
 }
 
-void ViewPolyData::link_all(const SurfaceMesh& mesh) {
+template <class VertexOf>
+void ViewPolyData::link_all(std::size_t corners, std::size_t vertices, const VertexOf& vertex_of) {
+  first_.assign(vertices, kInvalidIndex);
+  next_.assign(corners, kInvalidIndex);
+  prev_.assign(corners, kInvalidIndex);
+  corner_vertex_.assign(corners, kInvalidIndex);
   // A list crosses any chunk of corners, so the work is cut by vertices: each range scans every
   // corner (from the last: `link` pushes to the front) and links those of its own vertices. The
   // lists are the same for any number of ranges; all writes of a range are to its vertices'
   // slots and their corners.
-  const std::size_t corners = 3 * mesh.face_slots(), vertices = mesh.vertex_count();
   const std::size_t ranges = std::min<std::size_t>(thread_count(), 8);
   parallel_for(ranges, 1, [&](std::size_t b, std::size_t e) {
     for (std::size_t r = b; r < e; ++r) {
       const std::size_t lo = vertices * r / ranges, hi = vertices * (r + 1) / ranges;
       for (std::size_t c = corners; c-- > 0;) {
-        const std::uint32_t v = mesh.faces()[c / 3][static_cast<int>(c % 3)].index;
-        if (v >= lo && v < hi && !mesh.is_deleted(FaceId(static_cast<std::uint32_t>(c / 3))))
-          link(static_cast<std::uint32_t>(c), v);
+        const std::uint32_t v = vertex_of(c);
+        if (v != kInvalidIndex && v >= lo && v < hi) link(static_cast<std::uint32_t>(c), v);
       }
     }
   });
+  lists_ = true;
+}
+
+void ViewPolyData::link_cells() {
+  const Raw r = raw(poly_);
+  const std::size_t corners = 3 * static_cast<std::size_t>(poly_->GetNumberOfCells());
+  link_all(corners, vertices_, [&](std::size_t c) {
+    const vtkTypeInt64* cell = r.connectivity + 3 * (c / 3);
+    if (cell[0] == cell[1] && cell[1] == cell[2]) return kInvalidIndex;
+    return static_cast<std::uint32_t>(r.vertex_id[r.connectivity[c]]);
+  });
+  // The uses of every point (a copying build leaves them to be counted here).
+  std::fill(uses_.begin(), uses_.end(), 0);
+  for (std::size_t c = 0; c < corners; ++c)
+    if (corner_vertex_[c] != kInvalidIndex) ++uses_[static_cast<std::size_t>(r.connectivity[c])];
+}
+
+void ViewPolyData::prepare_updates() {
+  if (corners_ && !lists_) link_cells();
 }
 
 void ViewPolyData::link(std::uint32_t c, std::uint32_t v) {
@@ -349,6 +596,7 @@ void ViewPolyData::unlink(std::uint32_t c) {
 
 void ViewPolyData::update(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
                           const std::vector<glm::vec3>* corner_normals, const PrimitiveChange& change) {
+  prepare_updates();  // (the lists of the state before the step)
   const vtkIdType old_points = poly_->GetNumberOfPoints(), old_cells = poly_->GetNumberOfCells();
   bool reassigned = false;  // a point now draws another vertex or corner than before
   if (corners_) {
@@ -370,6 +618,7 @@ void ViewPolyData::update(const SurfaceMesh& mesh, const std::vector<glm::vec3>&
   if (poly_->GetNumberOfCells() != old_cells) poly_->GetCellData()->RemoveArray("colors");
   // The cell map (cell types and places, built for picking) no longer fits a new cell count.
   if (poly_->GetNumberOfCells() != old_cells) poly_->DeleteCells();
+  vertices_ = mesh.vertex_count();
   modified();
 }
 
@@ -433,7 +682,7 @@ bool ViewPolyData::update_corner_points(const SurfaceMesh& mesh, const std::vect
   Writer w(poly_, mesh, positions, corner_normals);
   bool wrote = false;
   for (std::uint32_t v : regroup)
-    if (v < vertices) wrote |= assign_points(w, v, dead);
+    if (v < vertices) wrote |= assign_points(w, v, linked(v), dead);
   set_point_count(uses_.size());
   compact(dead);
   return wrote;
@@ -441,19 +690,22 @@ bool ViewPolyData::update_corner_points(const SurfaceMesh& mesh, const std::vect
 
 // A corner of vertex `v` keeps its point or, waiting (connectivity -1), takes one that draws
 // alike: first the vertex's points in use, then new ones.
-bool ViewPolyData::assign_points(const Writer& w, std::uint32_t v, std::vector<std::uint32_t>& dead) {
+bool ViewPolyData::assign_points(const Writer& w, std::uint32_t v, const Corners& corners,
+                                 std::vector<std::uint32_t>& dead) {
   vtkTypeInt64* conn = w.r.connectivity;
   bool wrote = false;
   Candidates seen;
-  for (std::uint32_t c = first_[v]; c != kInvalidIndex; c = next_[c])
+  corners.any([&](std::uint32_t c) {
     if (conn[c] >= 0) {
       const auto p = static_cast<std::uint32_t>(conn[c]);
       if (point_corner_[p] == kInvalidIndex) point_corner_[p] = c;  // its corner left
       seen.add(p, point_corner_[p]);
     }
-  for (std::uint32_t c = first_[v]; c != kInvalidIndex; c = next_[c]) {
-    if (conn[c] >= 0) continue;
-    std::uint32_t p = alike_point(w, seen, v, c, conn);
+    return false;
+  });
+  corners.any([&](std::uint32_t c) {
+    if (conn[c] >= 0) return false;
+    std::uint32_t p = alike_point(w, seen, corners, c, conn);
     if (p == kInvalidIndex) {
       if (!dead.empty()) {
         p = dead.back();
@@ -470,7 +722,8 @@ bool ViewPolyData::assign_points(const Writer& w, std::uint32_t v, std::vector<s
     }
     conn[c] = p;
     ++uses_[p];
-  }
+    return false;
+  });
   return wrote;
 }
 

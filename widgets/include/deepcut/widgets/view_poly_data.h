@@ -43,6 +43,25 @@ class ViewPolyData {
   ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
                const std::vector<glm::vec3>* corner_normals = nullptr);
 
+  /// The same data as the constructor above (the same points, perhaps numbered otherwise) for a
+  /// mesh a step made out of another (a cut's piece, ModelChange::origins): how the corners of
+  /// the faces that have a source face (`origin`) share points is taken from `source` (this
+  /// class's data drawn for the source mesh as it was before the step, at any pose or positions),
+  /// so only the corners of the other faces (the rim) are compared. Streaming passes over the
+  /// faces and points instead of comparing every vertex's corners; the corner lists `update`
+  /// needs are left for `prepare_updates` (the data is drawn without them). Builds from scratch
+  /// when `source` or `origin` does not fit (no corner points, other sizes).
+  /// @pre the vertices `origin` gives a source are distinct, and `source` draws its mesh with no
+  ///      live face naming one vertex three times (as every constructor and update make it).
+  ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
+               const std::vector<glm::vec3>* corner_normals, const ViewPolyData& source,
+               const PrimitiveOrigin& origin);
+
+  /// Builds what `update` needs that the constructor from a source left out (the corner lists,
+  /// O(corners) over the pool): once, when idle after the first frame (else the next `update`
+  /// does it first). Nothing to do otherwise.
+  void prepare_updates();
+
   vtkPolyData* poly() const { return poly_; }
   /// True when points stand for corners (the mesh has corner normals or UVs), shared by the
   /// corners of a vertex that draw alike.
@@ -69,22 +88,43 @@ class ViewPolyData {
  private:
   struct Writer;
   struct Candidates;
+  struct Corners;
+  /// The corners of vertex `v` in its list.
+  Corners linked(std::uint32_t v) const;
   /// Sets the cell count (new cells' offsets and face ids) and, without corner points, the
   /// point count.
   void resize(const SurfaceMesh& mesh);
   void set_point_count(std::size_t n);
+  /// The empty arrays (no points, no cells) for `mesh`.
+  void make_arrays(const SurfaceMesh& mesh);
+  /// The corner lists of a new mesh (all of its live faces' corners linked).
+  void make_lists(const SurfaceMesh& mesh);
+  /// The corner lists from the drawn cells (a live cell's corners, linked to their points'
+  /// vertices; a deleted face's cell names one point three times).
+  void link_cells();
   /// Corner layout of a new mesh: groups every vertex's corners into points, in parallel.
   void build_corner_points(const Writer& w, std::size_t vertices);
+  /// Corner layout of a new mesh made out of `source`'s mesh as `origin` says (see the
+  /// constructor). @returns false, having changed nothing, when they do not fit.
+  bool copy_corner_points(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin);
+  /// The passes of copy_corner_points, over what they know (Copying): connectivity from the
+  /// source's points (in the source's numbers; a corner without one waits, -1), a corner for
+  /// each point, the new numbers (one pass over the corners), points for the waiting corners.
+  struct Copying;
+  void copy_connectivity(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin, Copying& copying);
+  void choose_corners(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin, Copying& copying);
+  void renumber(const Writer& w, Copying& copying);
+  void assign_waiting(const Writer& w, const std::vector<std::uint32_t>& rim_corners);
   /// A point (while building: a number among the vertex's points) that a corner of `v` other
   /// than `c` has (connectivity `conn` >= 0) and that draws like `c`, else kInvalidIndex: from
   /// `seen`, then, when `seen` is full, from every corner of `v`, so sharing is complete
   /// whatever the order of the corners.
-  std::uint32_t alike_point(const Writer& w, const Candidates& seen, std::uint32_t v, std::uint32_t c,
+  std::uint32_t alike_point(const Writer& w, const Candidates& seen, const Corners& corners, std::uint32_t c,
                             const vtkTypeInt64* conn) const;
   /// Gives every corner of vertex `v` that has none (connectivity -1) a point: one of the
   /// vertex's points that draws alike, else a new one (a dead point, else appended).
   /// @returns whether it wrote a point (a new one, or a dead one drawing something else now).
-  bool assign_points(const Writer& w, std::uint32_t v, std::vector<std::uint32_t>& dead);
+  bool assign_points(const Writer& w, std::uint32_t v, const Corners& corners, std::vector<std::uint32_t>& dead);
   /// Corner `c` leaves its point; a point left unused joins `dead`.
   void release(std::uint32_t c, std::vector<std::uint32_t>& dead);
   /// Removes the dead points: each takes the place of the last point.
@@ -93,13 +133,17 @@ class ViewPolyData {
   /// written (reused or appended) for other corners than before.
   bool update_corner_points(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
                             const std::vector<glm::vec3>* corner_normals, const PrimitiveChange& change);
-  /// Links every corner of a live face to its vertex (the lists of a new mesh), over the pool.
-  void link_all(const SurfaceMesh& mesh);
+  /// Links every corner `c` to `vertex_of(c)` (kInvalidIndex: none, a deleted face's), over the
+  /// pool: the lists of a new state with `vertices` vertex slots.
+  template <class VertexOf>
+  void link_all(std::size_t corners, std::size_t vertices, const VertexOf& vertex_of);
   void link(std::uint32_t c, std::uint32_t v);
   void unlink(std::uint32_t c);
   void modified();
 
   bool corners_ = false;
+  bool lists_ = false;        // the corner lists below are built (corner layout)
+  std::size_t vertices_ = 0;  // vertex slots of the mesh drawn
   vtkSmartPointer<vtkPolyData> poly_;
   // Corner layout: the corners of each vertex slot, as a doubly linked list through the corners
   // (kInvalidIndex ends it), and the vertex each corner is linked to (kInvalidIndex: a corner
