@@ -115,7 +115,7 @@ Floats Reader::read_positions(const tinygltf::Primitive& p, const std::string& w
   auto pos_it = p.attributes.find("POSITION");
   if (pos_it == p.attributes.end()) fail(where + " has no POSITION attribute");
   int comps = 0;
-  const auto pos = read_floats(pos_it->second, "POSITION", &comps);
+  auto pos = read_floats(pos_it->second, "POSITION", &comps);
   if (comps != 3) fail(where + ": POSITION is not VEC3");
   const std::size_t bad = first_bad(pos.size(), [&](std::size_t i) { return !std::isfinite(pos[i]); });
   if (bad < pos.size()) fail(where + ": POSITION " + std::to_string(bad / 3) + " is not finite (NaN or Inf)");
@@ -135,10 +135,11 @@ Uints Reader::read_triangles(const tinygltf::Primitive& p, const std::string& wh
       fail(where + ": index " + std::to_string(idx[i]) + " (position " + std::to_string(i) + ") is past the " +
            std::to_string(nv) + " vertices");
   } else {
-    idx.resize(nv);
-    for (std::size_t i = 0; i < nv; ++i) idx[i] = static_cast<std::uint32_t>(i);
+    detail::UninitVector<std::uint32_t> all(nv);
+    for (std::size_t i = 0; i < nv; ++i) all[i] = static_cast<std::uint32_t>(i);
+    idx = Uints(std::move(all));
   }
-  Uints tris;
+  detail::UninitVector<std::uint32_t> tris;
   if (p.mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
     for (std::size_t i = 2; i < idx.size(); ++i) {
       if (i % 2 == 0) tris.insert(tris.end(), {idx[i - 2], idx[i - 1], idx[i]});
@@ -154,9 +155,9 @@ Uints Reader::read_triangles(const tinygltf::Primitive& p, const std::string& wh
             where);
   } else {
     if (idx.size() % 3 != 0) fail(where + ": index count " + std::to_string(idx.size()) + " is not a multiple of 3");
-    tris = std::move(idx);
+    return idx;
   }
-  return tris;
+  return Uints(std::move(tris));
 }
 
 // Up to two sets of four influences per vertex, sanitised; every repair is noted.

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -29,11 +30,43 @@ class Mesh;
 
 namespace deepcut::gltf_detail {
 
-// Decoded accessors: arrays whose new elements are left uninitialised (UninitVector), since the
-// decode writes every element in parallel chunks; a std::vector would first be filled on one
-// thread, a serial pass over the largest arrays of an import.
-using Floats = detail::UninitVector<float>;
-using Uints = detail::UninitVector<std::uint32_t>;
+// A decoded accessor, read only. Elements the file stores as the decoded type already (tightly
+// packed, aligned, not sparse: most floats and 32-bit indices) are read where the file holds
+// them, without a copy (the reader keeps those bytes until it returns); the rest are decoded
+// into an array of its own, left uninitialised (UninitVector) since the decode writes every
+// element in parallel chunks. Move-only: a copy would point into the original's array.
+template <class T>
+class Decoded {
+ public:
+  Decoded() = default;
+  Decoded(detail::UninitVector<T> own) : own_(std::move(own)), data_(own_.data()), size_(own_.size()) {}
+  Decoded(const T* in_file, std::size_t size) : data_(in_file), size_(size) {}
+  Decoded(Decoded&& o) noexcept { *this = std::move(o); }
+  Decoded& operator=(Decoded&& o) noexcept {
+    own_ = std::move(o.own_);  // the array keeps its address
+    data_ = std::exchange(o.data_, nullptr);
+    size_ = std::exchange(o.size_, 0);
+    return *this;
+  }
+  Decoded(const Decoded&) = delete;
+  Decoded& operator=(const Decoded&) = delete;
+
+  const T* data() const { return data_; }
+  std::size_t size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  const T& operator[](std::size_t i) const { return data_[i]; }
+  const T* begin() const { return data_; }
+  const T* end() const { return data_ + size_; }
+  /// `n` copies of `value`, in an array of its own.
+  void assign(std::size_t n, const T& value) { *this = Decoded(detail::UninitVector<T>(n, value)); }
+
+ private:
+  detail::UninitVector<T> own_;
+  const T* data_ = nullptr;
+  std::size_t size_ = 0;
+};
+using Floats = Decoded<float>;
+using Uints = Decoded<std::uint32_t>;
 
 // The smallest i in [0, n) where bad(i) holds, or n (in parallel chunks; the answer is the same
 // whatever the thread count).
@@ -152,7 +185,7 @@ class Reader {
   Floats read_floats(int accessor, const char* what, int* components_out = nullptr);
   Uints read_uints(int accessor, const char* what, int* components_out = nullptr);
   template <class T, class Convert>
-  detail::UninitVector<T> decode(int accessor, const char* what, int* components_out, Convert convert);
+  Decoded<T> decode(int accessor, const char* what, int* components_out, Convert convert);
   const unsigned char* view_bytes(int view, std::size_t offset, std::size_t stride, std::size_t elem,
                                   std::size_t count, const std::string& what);
   // Buffer `b`'s bytes: in the .glb's BIN chunk (glb_bin_) or as tinygltf loaded them.
