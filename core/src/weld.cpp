@@ -3,9 +3,12 @@
 
 #include <atomic>
 #include <cstring>
+#include <functional>
 #include <memory>
+#include <string>
 #include <vector>
 
+#include "deepcut/core/operation_room.h"
 #include "deepcut/core/parallel.h"
 #include "byte_rows.h"
 #include "first_of_class.h"
@@ -245,12 +248,33 @@ std::size_t drop_repeating_faces(const std::vector<Triangle>& in_faces, FaceUse&
   return dropped;
 }
 
+// The representatives' vertex attributes (`keep`), one array per thread of the pool, each
+// appended run by run (gather_groups: never value-initialised) into memory with the room that
+// operations get (operation_room.h), so reserving that room after the import copies nothing.
+AttributeSet gather_vertices(const AttributeSet& in, const std::vector<std::uint32_t>& keep) {
+  const std::vector<std::string> names = in.names();
+  std::vector<std::unique_ptr<AttributeArrayBase>> arrays(names.size());
+  std::vector<std::function<void()>> tasks;
+  for (std::size_t i = 0; i < names.size(); ++i)
+    tasks.push_back([&, i] {
+      const AttributeArrayBase& from = *in.base(names[i]);
+      arrays[i] = from.clone_subset({});  // empty, of the same type and default
+      arrays[i]->reserve(operation_vertex_room(keep.size()));
+      from.gather_groups(*arrays[i], keep, 1, &detail::prefault);
+    });
+  parallel_invoke(tasks);
+  AttributeSet out;
+  out.resize(keep.size());
+  for (std::size_t i = 0; i < names.size(); ++i) out.put(names[i], std::move(arrays[i]));
+  return out;
+}
+
 // The mesh rebuilt from the kept faces, their corners and the representatives' vertex attributes.
 void rebuild(SurfaceMesh& mesh, const detail::Indices& kept_faces, const Classes& classes) {
   const auto& in_faces = mesh.faces();
   const auto& to_new = classes.to_new;
   std::vector<Triangle> faces;
-  detail::resize_prefaulted(faces, kept_faces.size());
+  detail::resize_prefaulted(faces, kept_faces.size(), Triangle(), operation_face_room(kept_faces.size()));
   parallel_for(faces.size(), kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) {
       const Triangle& t = in_faces[kept_faces[i]];
@@ -259,9 +283,8 @@ void rebuild(SurfaceMesh& mesh, const detail::Indices& kept_faces, const Classes
   });
   // The attribute sets leave the mesh (no copy) and come back gathered.
   const bool faces_deleted = kept_faces.size() != in_faces.size();
-  AttributeSet vattrs = std::move(mesh.vertex_attrs()), fattrs = std::move(mesh.face_attrs()),
+  AttributeSet vattrs = gather_vertices(mesh.vertex_attrs(), classes.keep), fattrs = std::move(mesh.face_attrs()),
                cattrs = std::move(mesh.corner_attrs());
-  vattrs.gather(classes.keep);
   if (faces_deleted) {
     std::vector<std::uint32_t> corners(3 * kept_faces.size());
     for (std::size_t i = 0; i < kept_faces.size(); ++i)
