@@ -192,6 +192,15 @@ Influences Reader::read_influences(const tinygltf::Primitive& p, const std::stri
   skin.sets = sets.size();
   skin.joints.resize(sets.size() * nv);  // every element written below
   skin.weights.resize(sets.size() * nv);
+  // The sets' arrays and the joint remap as plain pointers, read in the loop below.
+  const std::uint32_t* set_joints[2] = {};
+  const float* set_weights[2] = {};
+  for (std::size_t s = 0; s < sets.size(); ++s) {
+    set_joints[s] = sets[s].joints.data();
+    set_weights[s] = sets[s].weights.data();
+  }
+  const std::uint32_t* remap = joint_remap_ ? joint_remap_->data() : nullptr;
+  const std::size_t remap_size = joint_remap_ ? joint_remap_->size() : 0;
   // One vertex's influences, sanitised into `skin`; its repairs counted into `r`.
   auto sanitise = [&](std::size_t v, Repairs& r) {
     std::uint16_t jj[8] = {};
@@ -202,9 +211,8 @@ Influences Reader::read_influences(const tinygltf::Primitive& p, const std::stri
     // sum; here it counts, since merging the repeats adds it to the first.)
     float sum = 0.0f, tolerance = 0.0f;
     for (int k = 0; k < slots; ++k) {
-      const auto& d = sets[std::size_t(k / 4)];
-      std::uint32_t joint = d.joints[4 * v + std::size_t(k % 4)];
-      float weight = d.weights[4 * v + std::size_t(k % 4)];
+      std::uint32_t joint = set_joints[k / 4][4 * v + std::size_t(k % 4)];
+      float weight = set_weights[k / 4][4 * v + std::size_t(k % 4)];
       if (!std::isfinite(weight) || weight < 0.0f) {
         ++r.bad_weights;
         weight = 0.0f;
@@ -224,7 +232,7 @@ Influences Reader::read_influences(const tinygltf::Primitive& p, const std::stri
         sum += weight;
         tolerance += 2e-7f;
       }
-      if (joint_remap_ && joint < joint_remap_->size()) joint = (*joint_remap_)[joint];
+      if (joint < remap_size) joint = remap[joint];
       if (joint > 65535u) joint = 0;
       jj[k] = static_cast<std::uint16_t>(joint);
       ww[k] = weight;
