@@ -3,9 +3,12 @@
 
 #include <atomic>
 #include <cstring>
+#include <functional>
 #include <memory>
+#include <string>
 #include <vector>
 
+#include "deepcut/core/operation_room.h"
 #include "deepcut/core/parallel.h"
 #include "byte_rows.h"
 #include "first_of_class.h"
@@ -56,30 +59,49 @@ struct FaceUse {
 };
 
 // In parallel: each vertex's first corner (an atomic minimum over the corners using it), then
-// the corners that are their vertex's first, in order.
+// the vertices whose first corner each face holds, face by face: counted per chunk of faces, a
+// prefix sum, then each chunk writes its own range.
 FaceUse first_uses(const SurfaceMesh& mesh) {
   FaceUse use;
   const auto& tris = mesh.faces();
   use.faces = detail::ordered_indices(tris.size(), [&](std::size_t f) { return !mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f))); });
-  const std::size_t corners = 3 * use.faces.size();
+  const std::size_t nf = use.faces.size();
   std::unique_ptr<std::atomic<std::uint32_t>[]> first(new std::atomic<std::uint32_t>[mesh.vertex_count()]);
   parallel_for(mesh.vertex_count(), kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t v = b; v < e; ++v) first[v].store(kInvalidIndex, std::memory_order_relaxed);
   });
-  auto vertex_of = [&](std::size_t c) { return tris[use.faces[c / 3]][static_cast<int>(c % 3)].index; };
-  parallel_for(corners, kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t c = b; c < e; ++c) {
-      std::atomic<std::uint32_t>& slot = first[vertex_of(c)];
-      std::uint32_t s = slot.load(std::memory_order_relaxed);
-      while (c < s && !slot.compare_exchange_weak(s, static_cast<std::uint32_t>(c), std::memory_order_relaxed)) {
+  parallel_for(nf, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      const Triangle& t = tris[use.faces[i]];
+      for (std::uint32_t k = 0; k < 3; ++k) {
+        const auto c = static_cast<std::uint32_t>(3 * i + k);
+        std::atomic<std::uint32_t>& slot = first[t[k].index];
+        std::uint32_t s = slot.load(std::memory_order_relaxed);
+        while (c < s && !slot.compare_exchange_weak(s, c, std::memory_order_relaxed)) {
+        }
       }
     }
   });
-  use.first_use = detail::ordered_indices(corners, [&](std::size_t c) {
-    return first[vertex_of(c)].load(std::memory_order_relaxed) == c;
+  // Calls emit(v) for each corner of faces [b, e) that is its vertex v's first, in order.
+  auto firsts = [&](std::size_t b, std::size_t e, auto&& emit) {
+    for (std::size_t i = b; i < e; ++i) {
+      const Triangle& t = tris[use.faces[i]];
+      for (std::uint32_t k = 0; k < 3; ++k)
+        if (first[t[k].index].load(std::memory_order_relaxed) == 3 * i + k) emit(t[k].index);
+    }
+  };
+  const std::size_t chunks = (nf + kGrain - 1) / kGrain;
+  std::vector<std::size_t> start(chunks + 1, 0);
+  parallel_for(nf, kGrain, [&](std::size_t b, std::size_t e) {
+    std::size_t n = 0;
+    firsts(b, e, [&n](std::uint32_t) { ++n; });
+    start[b / kGrain + 1] = n;
   });
-  parallel_for(use.first_use.size(), kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i) use.first_use[i] = vertex_of(use.first_use[i]);
+  for (std::size_t c = 0; c < chunks; ++c) start[c + 1] += start[c];
+  use.first_use.resize(start[chunks]);
+  parallel_for(nf, kGrain, [&](std::size_t b, std::size_t e) {
+    std::uint32_t* out = use.first_use.data() + start[b / kGrain];
+    firsts(b, e, [&out](std::uint32_t v) { *out++ = v; });
   });
   return use;
 }
@@ -91,6 +113,55 @@ struct Classes {
   std::size_t kept_apart = 0;
 };
 
+// The classes of the used vertices (in first-use order) by `hash` and `same`.
+template <class Hash, class Same>
+detail::Indices classes_of(const detail::Indices& first_use, Hash&& hash_of, Same&& same) {
+  detail::UninitVector<std::uint64_t> hash(first_use.size());
+  parallel_for(first_use.size(), kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) hash[i] = hash_of(first_use[i]);
+  });
+  return detail::first_of_class(hash, [&](std::uint32_t a, std::uint32_t b) { return same(first_use[a], first_use[b]); });
+}
+
+// How many items lead their class (first[i] == i).
+std::size_t count_leaders(const detail::Indices& first) {
+  return parallel_reduce(
+      first.size(), kGrain, std::size_t(0),
+      [&](std::size_t b, std::size_t e) {
+        std::size_t n = 0;
+        for (std::size_t i = b; i < e; ++i) n += first[i] == i;
+        return n;
+      },
+      [](std::size_t a, std::size_t b) { return a + b; });
+}
+
+// For every used vertex (in first-use order), the first one with its whole key. Vertices are
+// grouped by position first: nearly always the vertices at one position share the rest of
+// their key too, so the position classes are the classes, which one pass over the few merged
+// vertices confirms (no hash of the rest of the key, and no vertex is kept apart). Otherwise
+// they are grouped again by the whole key. `*kept_apart` gets the classes less the positions.
+detail::Indices first_of_key(const VertexBytes& bytes, const detail::Indices& first_use, std::size_t* kept_apart) {
+  const std::size_t nu = first_use.size();
+  const detail::Indices by_position = classes_of(
+      first_use, [&](std::uint32_t v) { return detail::ByteRows::finish(bytes.position_hash(v)); },
+      [&](std::uint32_t u, std::uint32_t v) { return bytes.same_position(u, v); });
+  const int split = parallel_reduce(
+      nu, kGrain, 0,
+      [&](std::size_t b, std::size_t e) {
+        for (std::size_t i = b; i < e; ++i)
+          if (by_position[i] != i && !bytes.equal(first_use[i], first_use[by_position[i]])) return 1;
+        return 0;
+      },
+      [](int a, int b) { return a | b; });
+  *kept_apart = 0;
+  if (!split) return by_position;
+  detail::Indices first = classes_of(
+      first_use, [&](std::uint32_t v) { return bytes.hash(v, bytes.position_hash(v)); },
+      [&](std::uint32_t u, std::uint32_t v) { return bytes.equal(u, v); });
+  *kept_apart = count_leaders(first) - count_leaders(by_position);
+  return first;
+}
+
 // Representatives that share a position with an earlier one: all of them less the positions.
 std::size_t count_kept_apart(const VertexBytes& bytes, const std::vector<std::uint32_t>& keep) {
   detail::UninitVector<std::uint64_t> hash(keep.size());
@@ -99,20 +170,12 @@ std::size_t count_kept_apart(const VertexBytes& bytes, const std::vector<std::ui
   });
   const detail::Indices first =
       detail::first_of_class(hash, [&](std::uint32_t a, std::uint32_t b) { return bytes.same_position(keep[a], keep[b]); });
-  const std::size_t positions = parallel_reduce(
-      keep.size(), kGrain, std::size_t(0),
-      [&](std::size_t b, std::size_t e) {
-        std::size_t n = 0;
-        for (std::size_t i = b; i < e; ++i) n += first[i] == i;
-        return n;
-      },
-      [](std::size_t a, std::size_t b) { return a + b; });
-  return keep.size() - positions;
+  return keep.size() - count_leaders(first);
 }
 
 // Keying every used vertex, in first-use order, so the first user of a class is its
 // representative (its bytes, e.g. the sign of a zero coordinate, are the ones kept). The classes
-// are found in parallel (first_of_class) and numbered in first-use order.
+// are found in parallel (first_of_key) and numbered in first-use order.
 Classes classify(const VertexBytes& bytes, const detail::Indices& first_use, std::size_t nv, WeldKey key) {
   Classes out;
   out.to_new.resize(nv);
@@ -125,12 +188,8 @@ Classes classify(const VertexBytes& bytes, const detail::Indices& first_use, std
     });
     return out;
   }
-  detail::UninitVector<std::uint64_t> hash(nu);
-  parallel_for(nu, kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i) hash[i] = bytes.hash(first_use[i], bytes.position_hash(first_use[i]));
-  });
-  const detail::Indices first =
-      detail::first_of_class(hash, [&](std::uint32_t a, std::uint32_t b) { return bytes.equal(first_use[a], first_use[b]); });
+  std::size_t kept_apart = 0;
+  const detail::Indices first = first_of_key(bytes, first_use, &kept_apart);
   const detail::Indices reps = detail::ordered_indices(nu, [&](std::size_t i) { return first[i] == i; });
   detail::Indices id(nu);  // read only at each class's first item, which the loop below sets
   out.keep.resize(reps.size());
@@ -143,7 +202,7 @@ Classes classify(const VertexBytes& bytes, const detail::Indices& first_use, std
   parallel_for(nu, kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) out.to_new[first_use[i]] = id[first[i]];
   });
-  if (key == WeldKey::PositionAndSkin) out.kept_apart = count_kept_apart(bytes, out.keep);
+  if (key == WeldKey::PositionAndSkin) out.kept_apart = kept_apart;
   return out;
 }
 
@@ -189,12 +248,33 @@ std::size_t drop_repeating_faces(const std::vector<Triangle>& in_faces, FaceUse&
   return dropped;
 }
 
+// The representatives' vertex attributes (`keep`), one array per thread of the pool, each
+// appended run by run (gather_groups: never value-initialised) into memory with the room that
+// operations get (operation_room.h), so reserving that room after the import copies nothing.
+AttributeSet gather_vertices(const AttributeSet& in, const std::vector<std::uint32_t>& keep) {
+  const std::vector<std::string> names = in.names();
+  std::vector<std::unique_ptr<AttributeArrayBase>> arrays(names.size());
+  std::vector<std::function<void()>> tasks;
+  for (std::size_t i = 0; i < names.size(); ++i)
+    tasks.push_back([&, i] {
+      const AttributeArrayBase& from = *in.base(names[i]);
+      arrays[i] = from.clone_subset({});  // empty, of the same type and default
+      arrays[i]->reserve(operation_vertex_room(keep.size()));
+      from.gather_groups(*arrays[i], keep, 1, &detail::prefault);
+    });
+  parallel_invoke(tasks);
+  AttributeSet out;
+  out.resize(keep.size());
+  for (std::size_t i = 0; i < names.size(); ++i) out.put(names[i], std::move(arrays[i]));
+  return out;
+}
+
 // The mesh rebuilt from the kept faces, their corners and the representatives' vertex attributes.
 void rebuild(SurfaceMesh& mesh, const detail::Indices& kept_faces, const Classes& classes) {
   const auto& in_faces = mesh.faces();
   const auto& to_new = classes.to_new;
   std::vector<Triangle> faces;
-  detail::resize_prefaulted(faces, kept_faces.size());
+  detail::resize_prefaulted(faces, kept_faces.size(), Triangle(), operation_face_room(kept_faces.size()));
   parallel_for(faces.size(), kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) {
       const Triangle& t = in_faces[kept_faces[i]];
@@ -203,9 +283,8 @@ void rebuild(SurfaceMesh& mesh, const detail::Indices& kept_faces, const Classes
   });
   // The attribute sets leave the mesh (no copy) and come back gathered.
   const bool faces_deleted = kept_faces.size() != in_faces.size();
-  AttributeSet vattrs = std::move(mesh.vertex_attrs()), fattrs = std::move(mesh.face_attrs()),
+  AttributeSet vattrs = gather_vertices(mesh.vertex_attrs(), classes.keep), fattrs = std::move(mesh.face_attrs()),
                cattrs = std::move(mesh.corner_attrs());
-  vattrs.gather(classes.keep);
   if (faces_deleted) {
     std::vector<std::uint32_t> corners(3 * kept_faces.size());
     for (std::size_t i = 0; i < kept_faces.size(); ++i)

@@ -3,6 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <set>
+
 #include "deepcut/core/adjacency.h"
 #include "deepcut/core/parallel.h"
 #include "fixtures.h"
@@ -89,6 +92,43 @@ TEST(WeldTest, the_result_does_not_depend_on_the_thread_count) {
   }
   EXPECT_EQ(welded[0].vertex_count(), 161u * 121u);
   EXPECT_EQ(reports[0].merged, split.vertex_count() - 161u * 121u);
+}
+
+// Vertices at one position with different weights, spread over many parallel chunks: the weld
+// finds the same classes and counts the same vertices kept apart whatever the thread count, and
+// the count is the classes less the positions.
+TEST(WeldTest, vertices_kept_apart_are_the_same_whatever_the_thread_count) {
+  SurfaceMesh split = unweld(test::make_grid(160, 120));
+  auto& w = split.vertex_attrs().get<glm::vec4>(attr::kWeights0);
+  for (std::uint32_t v = 0; v < split.vertex_count(); v += 7) w[v] = {0.25f, 0.75f, 0.0f, 0.0f};
+  std::set<std::array<float, 3>> positions;
+  std::set<std::array<float, 7>> classes;
+  for (std::uint32_t v = 0; v < split.vertex_count(); ++v) {
+    const glm::vec3 p = split.positions()[v];
+    positions.insert({p.x, p.y, p.z});
+    classes.insert({p.x, p.y, p.z, w[v].x, w[v].y, w[v].z, w[v].w});
+  }
+  ASSERT_GT(classes.size(), positions.size());
+  std::vector<SurfaceMesh> welded;
+  std::vector<WeldReport> reports;
+  const std::size_t saved = thread_count();
+  for (std::size_t threads : {1u, 2u, 3u}) {
+    set_thread_count(threads);
+    SurfaceMesh mesh = split;
+    reports.push_back(weld(mesh));
+    welded.push_back(std::move(mesh));
+  }
+  set_thread_count(saved);
+  EXPECT_EQ(welded[0].vertex_count(), classes.size());
+  EXPECT_EQ(reports[0].kept_apart, classes.size() - positions.size());
+  for (std::size_t i = 1; i < welded.size(); ++i) {
+    EXPECT_EQ(welded[i].faces(), welded[0].faces());
+    EXPECT_EQ(welded[i].positions(), welded[0].positions());
+    EXPECT_EQ(welded[i].vertex_attrs().get<glm::vec4>(attr::kWeights0).data(),
+              welded[0].vertex_attrs().get<glm::vec4>(attr::kWeights0).data());
+    EXPECT_EQ(reports[i].merged, reports[0].merged);
+    EXPECT_EQ(reports[i].kept_apart, reports[0].kept_apart);
+  }
 }
 
 }  // namespace deepcut

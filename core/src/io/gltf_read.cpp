@@ -399,7 +399,7 @@ const unsigned char* Reader::view_bytes(int view, std::size_t offset, std::size_
 }
 
 template <class T, class Convert>
-detail::UninitVector<T> Reader::decode(int index, const char* what_c, int* components_out, Convert convert) {
+Decoded<T> Reader::decode(int index, const char* what_c, int* components_out, Convert convert) {
   const std::string what = std::string(what_c) + " (accessor " + std::to_string(index) + ")";
   if (index < 0 || static_cast<std::size_t>(index) >= gltf_.accessors.size())
     fail(std::string(what_c) + ": accessor " + std::to_string(index) + " does not exist");
@@ -455,6 +455,12 @@ detail::UninitVector<T> Reader::decode(int index, const char* what_c, int* compo
     vbase = view_bytes(sp.values.bufferView, std::size_t(sp.values.byteOffset), elem, elem, n, what + " sparse values");
   }
 
+  // Elements that are the decoded type already (floats to floats, 32-bit indices) are taken as
+  // they are: where the file holds them when packed and aligned, else copied; the rest converted.
+  const bool raw = (std::is_same<T, float>::value && acc.componentType == kFloat) ||
+                   (std::is_same<T, std::uint32_t>::value && acc.componentType == kUnsignedInt);
+  if (base && raw && stride == elem && !sp.isSparse && reinterpret_cast<std::uintptr_t>(base) % alignof(T) == 0)
+    return Decoded<T>(reinterpret_cast<const T*>(base), acc.count * std::size_t(comps));
   // Backed by a bufferView, every element is written below; otherwise they are zeros.
   detail::UninitVector<T> out;
   if (base) out.resize(acc.count * std::size_t(comps));
@@ -467,10 +473,7 @@ detail::UninitVector<T> Reader::decode(int index, const char* what_c, int* compo
     }
   };
   if (base) {
-    // Elements that are the decoded type already (floats to floats, 32-bit indices) are copied
-    // as they are; the rest converted. In parallel chunks, each writing its own elements.
-    const bool raw = (std::is_same<T, float>::value && acc.componentType == kFloat) ||
-                     (std::is_same<T, std::uint32_t>::value && acc.componentType == kUnsignedInt);
+    // In parallel chunks, each writing its own elements.
     parallel_for(acc.count, kDecodeGrain, [&](std::size_t b, std::size_t e) {
       if (raw && stride == elem) {
         std::memcpy(out.data() + b * comps, base + b * stride, (e - b) * elem);
@@ -529,12 +532,15 @@ std::uint32_t to_uint(const unsigned char* p, int type, bool) {
 
 }  // namespace
 
+// The converters go in as lambdas, not function pointers, so the decode loop inlines them.
 Floats Reader::read_floats(int accessor, const char* what, int* components_out) {
-  return decode<float>(accessor, what, components_out, &to_float);
+  return decode<float>(accessor, what, components_out,
+                       [](const unsigned char* p, int type, bool normalized) { return to_float(p, type, normalized); });
 }
 
 Uints Reader::read_uints(int accessor, const char* what, int* components_out) {
-  return decode<std::uint32_t>(accessor, what, components_out, &to_uint);
+  return decode<std::uint32_t>(accessor, what, components_out,
+                               [](const unsigned char* p, int type, bool normalized) { return to_uint(p, type, normalized); });
 }
 
 Model Reader::read() {

@@ -115,7 +115,7 @@ Floats Reader::read_positions(const tinygltf::Primitive& p, const std::string& w
   auto pos_it = p.attributes.find("POSITION");
   if (pos_it == p.attributes.end()) fail(where + " has no POSITION attribute");
   int comps = 0;
-  const auto pos = read_floats(pos_it->second, "POSITION", &comps);
+  auto pos = read_floats(pos_it->second, "POSITION", &comps);
   if (comps != 3) fail(where + ": POSITION is not VEC3");
   const std::size_t bad = first_bad(pos.size(), [&](std::size_t i) { return !std::isfinite(pos[i]); });
   if (bad < pos.size()) fail(where + ": POSITION " + std::to_string(bad / 3) + " is not finite (NaN or Inf)");
@@ -135,10 +135,11 @@ Uints Reader::read_triangles(const tinygltf::Primitive& p, const std::string& wh
       fail(where + ": index " + std::to_string(idx[i]) + " (position " + std::to_string(i) + ") is past the " +
            std::to_string(nv) + " vertices");
   } else {
-    idx.resize(nv);
-    for (std::size_t i = 0; i < nv; ++i) idx[i] = static_cast<std::uint32_t>(i);
+    detail::UninitVector<std::uint32_t> all(nv);
+    for (std::size_t i = 0; i < nv; ++i) all[i] = static_cast<std::uint32_t>(i);
+    idx = Uints(std::move(all));
   }
-  Uints tris;
+  detail::UninitVector<std::uint32_t> tris;
   if (p.mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
     for (std::size_t i = 2; i < idx.size(); ++i) {
       if (i % 2 == 0) tris.insert(tris.end(), {idx[i - 2], idx[i - 1], idx[i]});
@@ -154,9 +155,9 @@ Uints Reader::read_triangles(const tinygltf::Primitive& p, const std::string& wh
             where);
   } else {
     if (idx.size() % 3 != 0) fail(where + ": index count " + std::to_string(idx.size()) + " is not a multiple of 3");
-    tris = std::move(idx);
+    return idx;
   }
-  return tris;
+  return Uints(std::move(tris));
 }
 
 // Up to two sets of four influences per vertex, sanitised; every repair is noted.
@@ -191,6 +192,15 @@ Influences Reader::read_influences(const tinygltf::Primitive& p, const std::stri
   skin.sets = sets.size();
   skin.joints.resize(sets.size() * nv);  // every element written below
   skin.weights.resize(sets.size() * nv);
+  // The sets' arrays and the joint remap as plain pointers, read in the loop below.
+  const std::uint32_t* set_joints[2] = {};
+  const float* set_weights[2] = {};
+  for (std::size_t s = 0; s < sets.size(); ++s) {
+    set_joints[s] = sets[s].joints.data();
+    set_weights[s] = sets[s].weights.data();
+  }
+  const std::uint32_t* remap = joint_remap_ ? joint_remap_->data() : nullptr;
+  const std::size_t remap_size = joint_remap_ ? joint_remap_->size() : 0;
   // One vertex's influences, sanitised into `skin`; its repairs counted into `r`.
   auto sanitise = [&](std::size_t v, Repairs& r) {
     std::uint16_t jj[8] = {};
@@ -201,9 +211,8 @@ Influences Reader::read_influences(const tinygltf::Primitive& p, const std::stri
     // sum; here it counts, since merging the repeats adds it to the first.)
     float sum = 0.0f, tolerance = 0.0f;
     for (int k = 0; k < slots; ++k) {
-      const auto& d = sets[std::size_t(k / 4)];
-      std::uint32_t joint = d.joints[4 * v + std::size_t(k % 4)];
-      float weight = d.weights[4 * v + std::size_t(k % 4)];
+      std::uint32_t joint = set_joints[k / 4][4 * v + std::size_t(k % 4)];
+      float weight = set_weights[k / 4][4 * v + std::size_t(k % 4)];
       if (!std::isfinite(weight) || weight < 0.0f) {
         ++r.bad_weights;
         weight = 0.0f;
@@ -223,7 +232,7 @@ Influences Reader::read_influences(const tinygltf::Primitive& p, const std::stri
         sum += weight;
         tolerance += 2e-7f;
       }
-      if (joint_remap_ && joint < joint_remap_->size()) joint = (*joint_remap_)[joint];
+      if (joint < remap_size) joint = remap[joint];
       if (joint > 65535u) joint = 0;
       jj[k] = static_cast<std::uint16_t>(joint);
       ww[k] = weight;

@@ -7,9 +7,12 @@
 // gltf_read_targets.cpp (morph targets, their weights and the animation channels that drive them).
 
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
+#include <iterator>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -29,11 +32,43 @@ class Mesh;
 
 namespace deepcut::gltf_detail {
 
-// Decoded accessors: arrays whose new elements are left uninitialised (UninitVector), since the
-// decode writes every element in parallel chunks; a std::vector would first be filled on one
-// thread, a serial pass over the largest arrays of an import.
-using Floats = detail::UninitVector<float>;
-using Uints = detail::UninitVector<std::uint32_t>;
+// A decoded accessor, read only. Elements the file stores as the decoded type already (tightly
+// packed, aligned, not sparse: most floats and 32-bit indices) are read where the file holds
+// them, without a copy (the reader keeps those bytes until it returns); the rest are decoded
+// into an array of its own, left uninitialised (UninitVector) since the decode writes every
+// element in parallel chunks. Move-only: a copy would point into the original's array.
+template <class T>
+class Decoded {
+ public:
+  Decoded() = default;
+  Decoded(detail::UninitVector<T> own) : own_(std::move(own)), data_(own_.data()), size_(own_.size()) {}
+  Decoded(const T* in_file, std::size_t size) : data_(in_file), size_(size) {}
+  Decoded(Decoded&& o) noexcept { *this = std::move(o); }
+  Decoded& operator=(Decoded&& o) noexcept {
+    own_ = std::move(o.own_);  // the array keeps its address
+    data_ = std::exchange(o.data_, nullptr);
+    size_ = std::exchange(o.size_, 0);
+    return *this;
+  }
+  Decoded(const Decoded&) = delete;
+  Decoded& operator=(const Decoded&) = delete;
+
+  const T* data() const { return data_; }
+  std::size_t size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  const T& operator[](std::size_t i) const { return data_[i]; }
+  const T* begin() const { return data_; }
+  const T* end() const { return data_ + size_; }
+  /// `n` copies of `value`, in an array of its own.
+  void assign(std::size_t n, const T& value) { *this = Decoded(detail::UninitVector<T>(n, value)); }
+
+ private:
+  detail::UninitVector<T> own_;
+  const T* data_ = nullptr;
+  std::size_t size_ = 0;
+};
+using Floats = Decoded<float>;
+using Uints = Decoded<std::uint32_t>;
 
 // The smallest i in [0, n) where bad(i) holds, or n (in parallel chunks; the answer is the same
 // whatever the thread count).
@@ -97,31 +132,72 @@ struct MorphTarget {
 // asks for right after reading, so that call finds the room there and copies none of them.
 inline std::size_t corner_room(std::size_t faces) { return 3 * operation_face_room(faces); }
 
-// Arrays of one primitive built apart and all at once: every array is sized first, one per thread
-// of the pool (resize_prefaulted: their page faults and fills overlap instead of adding up), then
-// each is filled in parallel chunks. The one way the reader builds a mesh's and its morph
-// targets' arrays (file_mesh, add_morph_targets).
+// The values fill(0), fill(1), ... as an iterator range, so that a std::vector appends them
+// (insert at the end) writing each element once: growing it with resize would value-initialise
+// every element first, a second pass over memory the fill then overwrites. Only what
+// std::vector::insert uses (distance, advance, *, ++, ==) is meant to be called.
+template <class T, class Fill>
+class Generated {
+ public:
+  using iterator_category = std::random_access_iterator_tag;
+  using value_type = T;
+  using difference_type = std::ptrdiff_t;
+  using pointer = const T*;
+  using reference = T;
+  Generated(const Fill* fill, std::size_t i) : fill_(fill), i_(i) {}
+  T operator*() const { return (*fill_)(i_); }
+  Generated& operator++() {
+    ++i_;
+    return *this;
+  }
+  Generated operator++(int) { return Generated(fill_, i_++); }
+  Generated& operator--() {
+    --i_;
+    return *this;
+  }
+  difference_type operator-(const Generated& o) const { return difference_type(i_) - difference_type(o.i_); }
+  Generated& operator+=(difference_type n) {
+    i_ = std::size_t(difference_type(i_) + n);
+    return *this;
+  }
+  bool operator==(const Generated& o) const { return i_ == o.i_; }
+  bool operator!=(const Generated& o) const { return i_ != o.i_; }
+
+ private:
+  const Fill* fill_;
+  std::size_t i_;
+};
+
+// Arrays of one primitive built apart and all at once, one array per thread of the pool: its
+// room reserved, its pages faulted in (prefault), then its elements appended from `fill` in one
+// pass (Generated). The one way the reader builds a mesh's and its morph targets' arrays
+// (file_mesh, add_morph_targets).
 class ArrayBuild {
  public:
   // Grows the empty `*a` to `n` elements (capacity at least `capacity`), a[i] = fill(i) for each.
   // `a` and what `fill` reads must live until `run` returns.
   template <class T, class Fill>
   void add(std::vector<T>* a, std::size_t n, std::size_t capacity, Fill fill) {
-    sizing_.push_back([a, n, capacity] { detail::resize_prefaulted(*a, n, T(), capacity); });
-    filling_.push_back([a, n, fill] {
-      parallel_for(n, kGrain, [&](std::size_t b, std::size_t e) {
-        for (std::size_t i = b; i < e; ++i) (*a)[i] = fill(i);
-      });
-    });
+    tasks_.push_back({n * sizeof(T), [a, n, capacity, fill] {
+                        a->reserve(std::max(n, capacity));
+                        detail::prefault(a->data(), n * sizeof(T));
+                        a->insert(a->end(), Generated<T, Fill>(&fill, 0), Generated<T, Fill>(&fill, n));
+                      }});
   }
-  void run() const {
-    parallel_invoke(sizing_);
-    for (const auto& fill : filling_) fill();
+  // The largest arrays start first, so the threads finish close together.
+  void run() {
+    std::stable_sort(tasks_.begin(), tasks_.end(), [](const Task& a, const Task& b) { return a.bytes > b.bytes; });
+    std::vector<std::function<void()>> tasks;
+    for (Task& t : tasks_) tasks.push_back(std::move(t.build));
+    parallel_invoke(tasks);
   }
 
  private:
-  static constexpr std::size_t kGrain = 32768;
-  std::vector<std::function<void()>> sizing_, filling_;
+  struct Task {
+    std::size_t bytes;
+    std::function<void()> build;
+  };
+  std::vector<Task> tasks_;
 };
 
 // Adds the targets to the primitive as the file stores it (glTF vertex v is vertex v, triangle t
@@ -152,7 +228,7 @@ class Reader {
   Floats read_floats(int accessor, const char* what, int* components_out = nullptr);
   Uints read_uints(int accessor, const char* what, int* components_out = nullptr);
   template <class T, class Convert>
-  detail::UninitVector<T> decode(int accessor, const char* what, int* components_out, Convert convert);
+  Decoded<T> decode(int accessor, const char* what, int* components_out, Convert convert);
   const unsigned char* view_bytes(int view, std::size_t offset, std::size_t stride, std::size_t elem,
                                   std::size_t count, const std::string& what);
   // Buffer `b`'s bytes: in the .glb's BIN chunk (glb_bin_) or as tinygltf loaded them.

@@ -46,6 +46,8 @@ struct WeldReport {
 /// first use by the kept faces, and each keeps the attributes of its first user (that is, its
 /// first user in the faces before any was dropped); unreferenced vertices are dropped; deleted
 /// faces are removed.
+/// The rebuilt vertex arrays and faces have the room to grow that operations get
+/// (operation_room.h), so `reserve_for_operations` after an import copies none of them.
 /// @note This rebuilds the mesh wholesale (an import step), so it records no edit log: build
 ///       `Adjacency` after it. O(#vertices + #faces) expected.
 WeldReport weld(SurfaceMesh& mesh, const WeldOptions& options = {});
