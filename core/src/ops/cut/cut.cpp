@@ -16,12 +16,12 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <memory>
 #include <numeric>
 #include <string>
 #include <unordered_map>
 
 #include "deepcut/core/mesh_editor.h"
-#include "deepcut/core/parallel.h"
 #include "deepcut/core/posed_model.h"
 #include "deepcut/core/skinning.h"
 #include "ops/common/crossing_table.h"
@@ -36,10 +36,6 @@
 
 namespace deepcut {
 namespace {
-
-// Smallest parallel chunk: below it, waking another thread costs more than it saves. The face
-// scan is exact (lists joined in order), so the chunks may follow the thread count.
-constexpr std::size_t kMinGrain = 4096;
 
 using detail::edge_key;
 
@@ -64,10 +60,8 @@ std::vector<std::int8_t> vertex_sides(const SurfaceMesh& mesh, std::vector<std::
   return std::move(sign);
 }
 
-using detail::corner_bits;
 using detail::follow_moved_faces;
 using detail::merge_sorted;
-using detail::run_end;
 
 class Cutter {
  public:
@@ -113,7 +107,8 @@ class Cutter {
   int face_side(const Triangle& t) const;
   // Stages of run().
   void check_arguments() const;
-  bool classify_vertices();
+  void classify_vertices(const detail::UsedFlag* used);
+  bool classify_and_scan();
   void split_crossed_faces();
   void separate_or_drop_side();
   void cap_pieces(CutResult& result, std::vector<VertexId>& rim);
@@ -132,10 +127,13 @@ class Cutter {
   detail::UninitVector<float> dist_;
   std::vector<std::int8_t> sign_;
   detail::UninitVector<std::uint8_t> side_bits_;
+  bool both_sides_ = false;  // some vertex lies on each side
   detail::CrossingTable<Split> splits_;
   detail::NeedleMerges merges_;
   // Faces that may touch the plane: untouched ones with a corner on it, and every new face.
   std::vector<FaceId> rim_candidates_;
+  // The input's faces by kind, in chunks (detail::scan_faces), until split_crossed_faces.
+  std::vector<detail::ScannedFaces> found_;
   // The input's faces with no corner on the plane, by side (positive, negative), in id order:
   // no edit of the cut touches them (but dropping a side).
   std::vector<FaceId> clean_[2];
@@ -559,95 +557,81 @@ void Cutter::check_arguments() const {
   check_cut_plane({glm::vec3(point_), glm::vec3(normal_)});
 }
 
-// Classifies every vertex once (ops/cut/classify.h). False when every vertex lies on one side.
-bool Cutter::classify_vertices() {
+// Classifies every vertex (ops/cut/classify.h): the vertices `used` flags count, or all.
+void Cutter::classify_vertices(const detail::UsedFlag* used) {
   const std::size_t nv = mesh_.vertex_count();
   // Room for the vertices the cut adds (crossings, their copies: a few per crossed face, far
   // fewer than the mesh's), so appending them in split_edge does not copy the arrays.
   detail::VertexSides sides = detail::classify_vertices(mesh_, posed_.input(), glm::vec3(point_), glm::vec3(normal_),
-                                                        options_.relative_tolerance, nv + nv / 16 + 256);
+                                                        options_.relative_tolerance, nv + nv / 16 + 256, used);
   dist_ = std::move(sides.dist);
   sign_ = std::move(sides.sign);
   side_bits_ = std::move(sides.bits);
-  return sides.both_sides;
+  both_sides_ = sides.both_sides;
 }
 
+// Classifies every vertex and scans the faces (found_): the faces the plane crosses, the
+// untouched faces with a corner on the plane (rim candidates) and the untouched faces off it by
+// side (the bulk of the pieces: no edit changes them). False when every vertex lies on one side.
+// A vertex no face uses counts for neither side: the classification first takes every vertex
+// as used, and the scan, one pass over the faces, checks it (a mesh as loaded or compacted uses
+// every vertex); else both are made again knowing the unused ones.
+bool Cutter::classify_and_scan() {
+  const std::size_t nv = mesh_.vertex_count();
+  std::unique_ptr<detail::UsedFlag[]> used(new detail::UsedFlag[nv]());
+  classify_vertices(nullptr);
+  if (both_sides_)
+    found_ = detail::scan_faces(mesh_, side_bits_.data(), used.get());
+  else
+    detail::flag_used(mesh_, used.get());
+  if (detail::all_flagged(used.get(), nv)) return both_sides_;
+  classify_vertices(used.get());
+  if (!both_sides_) return false;
+  found_ = detail::scan_faces(mesh_, side_bits_.data(), nullptr);
+  return true;
+}
+
+// Splits the faces the scan found crossed, and files the scan's other faces.
 void Cutter::split_crossed_faces() {
-  // One pass over the faces, in parallel chunks joined in id order: the faces the plane crosses
-  // (split below), the untouched faces with a corner on the plane (rim candidates) and the
-  // untouched faces off it by side (the bulk of the pieces: no edit changes them).
   const auto first_new_face = static_cast<std::uint32_t>(mesh_.face_slots());
-  struct Found {
-    std::vector<FaceId> crossed, touching, clean[2];
-  };
-  const std::size_t fgrain = grain_per_thread(first_new_face, kMinGrain);
-  std::vector<Found> found((first_new_face + fgrain - 1) / fgrain);
-  const std::uint8_t* bits = side_bits_.data();
-  const Triangle* faces = mesh_.faces().data();
-  // Without deleted faces (a mesh as loaded or compacted) the loop need not look for them.
-  const bool any_deleted = mesh_.face_count() != mesh_.face_slots();
-  parallel_for(first_new_face, fgrain, [&](std::size_t b, std::size_t e) {
-    Found& out = found[b / fgrain];
-    out.clean[0].reserve(e - b);
-    out.clean[1].reserve(e - b);
-    // Faces off the plane come in runs of one side (neighbours in id order are neighbours on the
-    // surface): each run is found by a tight scan and appended to its side's list whole.
-    for (auto i = static_cast<std::uint32_t>(b); i < e;) {
-      const FaceId f(i);
-      const unsigned c = corner_bits(faces[i], bits);
-      if (any_deleted && mesh_.is_deleted(f)) {
-        ++i;
-        continue;
-      }
-      if (c > 2) {
-        ((c & 3) == 3 ? out.crossed : out.touching).push_back(f);
-        ++i;
-        continue;
-      }
-      const auto stop = static_cast<std::uint32_t>(e);
-      const std::uint32_t end = any_deleted ? run_end<true>(mesh_, bits, i + 1, stop, c)
-                                            : run_end<false>(mesh_, bits, i + 1, stop, c);
-      detail::append_run(out.clean[c - 1], i, end);
-      i = end;
-    }
-  });
   // Room for the faces the cut makes and the caps (a few per crossed or touching face), which
   // join the pieces later: growing a list of most of the mesh would copy it.
   std::size_t rim_faces = 0;
-  for (const Found& part : found) rim_faces += part.crossed.size() + part.touching.size();
+  for (const detail::ScannedFaces& part : found_) rim_faces += part.crossed.size() + part.touching.size();
   for (int side = 0; side < 2; ++side) {
-    if (found.size() == 1) {
-      clean_[side] = std::move(found[0].clean[side]);
+    if (found_.size() == 1) {
+      clean_[side] = std::move(found_[0].clean[side]);
       clean_[side].reserve(clean_[side].size() + 8 * rim_faces + 64);
       continue;
     }
     std::size_t n = 0;
-    for (const Found& part : found) n += part.clean[side].size();
+    for (const detail::ScannedFaces& part : found_) n += part.clean[side].size();
     clean_[side].reserve(n + 8 * rim_faces + 64);
-    for (Found& part : found) {
+    for (detail::ScannedFaces& part : found_) {
       clean_[side].insert(clean_[side].end(), part.clean[side].begin(), part.clean[side].end());
       std::vector<FaceId>().swap(part.clean[side]);
     }
   }
   std::size_t crossed = 0;
-  for (const Found& part : found) crossed += part.crossed.size();
+  for (const detail::ScannedFaces& part : found_) crossed += part.crossed.size();
   splits_.reserve(2 * crossed);  // about one new crossed edge per crossed face, two at most
   rim_candidates_.reserve(8 * rim_faces + 64);  // the touching faces, the faces the cut makes
   // Per crossed face about: a crossing, its removal, three faces, and separating the sides a
   // copy and two faces moved (a removal and an addition each).
   editor_.reserve_log(10 * crossed);
   crossings_[0] = static_cast<std::uint32_t>(mesh_.vertex_count());
-  for (const Found& part : found)
+  for (const detail::ScannedFaces& part : found_)
     for (FaceId f : part.crossed) split_crossings(f);
   crossings_[1] = static_cast<std::uint32_t>(mesh_.vertex_count());
   FaceBatch batch;
   batch.reserve(3 * crossed, crossed);
-  for (const Found& part : found) {
+  for (const detail::ScannedFaces& part : found_) {
     for (FaceId f : part.crossed) split_face(f, batch);
     rim_candidates_.insert(rim_candidates_.end(), part.touching.begin(), part.touching.end());
   }
   editor_.apply(batch);
   detail::append_run(rim_candidates_, first_new_face, static_cast<std::uint32_t>(mesh_.face_slots()));
+  std::vector<detail::ScannedFaces>().swap(found_);
 }
 
 void Cutter::separate_or_drop_side() {
@@ -719,7 +703,7 @@ CutResult Cutter::run() {
   check_arguments();
   normal_ /= glm::length(normal_);
   const bool had_deleted = mesh_.face_count() != mesh_.face_slots();  // their vertices get a sign too
-  if (!classify_vertices()) {
+  if (!classify_and_scan()) {
     result.status = OpStatus::NoIntersection;
     return result;
   }
