@@ -148,25 +148,53 @@ void MeshEditor::fix_corner_directions(FaceId first, std::size_t count, const st
   }
 }
 
+VertexId MeshEditor::add_blended(const std::uint32_t* src, const float* w, int sources, std::size_t count) {
+  const std::size_t nv = mesh_.vertex_count();
+  for (std::size_t i = 0; i < count; ++i)
+    for (int k = 0; k < sources; ++k)
+      if (src[sources * i + k] >= nv + i)
+        throw Error(ErrorCode::InvalidArgument, "add_vertex: source " + std::to_string(src[sources * i + k]) +
+                                                    " is not a vertex yet (" + std::to_string(nv + i) + " vertices)");
+  mesh_.vertex_attrs().push_blend_batch(src, w, sources, count);
+  const VertexId first(static_cast<std::uint32_t>(nv));
+  for (std::size_t i = 0; i < count; ++i) {
+    const VertexId v(first.index + static_cast<std::uint32_t>(i));
+    VertexAdded added{v, {VertexId(), VertexId(), VertexId()}, {0.0f, 0.0f, 0.0f}};
+    for (int k = 0; k < sources; ++k) {
+      added.from[k] = VertexId(src[sources * i + k]);
+      added.weight[k] = w[sources * i + k];
+    }
+    fix_skin_weights(v, added.from.data(), w + sources * i, sources);
+    log_.edits.push_back(added);
+  }
+  return first;
+}
+
 VertexId MeshEditor::add_vertex_on_edge(VertexId a, VertexId b, float t) {
-  const std::uint32_t src[2] = {a.index, b.index};
-  const float w[2] = {1.0f - t, t};
-  mesh_.vertex_attrs().push_blend(src, w, 2);
-  const VertexId v(static_cast<std::uint32_t>(mesh_.vertex_count() - 1));
-  const VertexId vs[2] = {a, b};
-  fix_skin_weights(v, vs, w, 2);
-  log_.edits.push_back(VertexAdded{v, {a, b, VertexId()}, {w[0], w[1], 0.0f}});
-  return v;
+  const std::uint32_t ends[2] = {a.index, b.index};
+  return add_vertices_on_edges(ends, &t, 1);
+}
+
+VertexId MeshEditor::add_vertices_on_edges(const std::uint32_t* ends, const float* t, std::size_t count) {
+  // In runs of up to kRun: the weights (1 - t, t) of a run on the stack.
+  constexpr std::size_t kRun = 64;
+  float w[2 * kRun];
+  const VertexId first(static_cast<std::uint32_t>(mesh_.vertex_count()));
+  for (std::size_t i = 0; i < count; i += kRun) {
+    const std::size_t n = std::min(kRun, count - i);
+    for (std::size_t k = 0; k < n; ++k) {
+      w[2 * k] = 1.0f - t[i + k];
+      w[2 * k + 1] = t[i + k];
+    }
+    add_blended(ends + 2 * i, w, 2, n);
+  }
+  return first;
 }
 
 VertexId MeshEditor::add_vertex_in_triangle(const Triangle& tri, const glm::vec3& bary) {
   const std::uint32_t src[3] = {tri[0].index, tri[1].index, tri[2].index};
   const float w[3] = {bary.x, bary.y, bary.z};
-  mesh_.vertex_attrs().push_blend(src, w, 3);
-  const VertexId v(static_cast<std::uint32_t>(mesh_.vertex_count() - 1));
-  fix_skin_weights(v, tri.data(), w, 3);
-  log_.edits.push_back(VertexAdded{v, tri, {w[0], w[1], w[2]}});
-  return v;
+  return add_blended(src, w, 3, 1);
 }
 
 VertexId MeshEditor::split_vertex(VertexId v) { return split_vertices(&v.index, 1); }
