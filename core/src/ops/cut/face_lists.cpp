@@ -70,13 +70,17 @@ std::uint32_t run_end(const SurfaceMesh& mesh, const std::uint8_t* bits, UsedFla
                       std::uint32_t end, unsigned c) {
   const Triangle* faces = mesh.faces().data();
   if constexpr (!kCheckDeleted) {
-    auto other = [&](std::uint32_t k) {  // nonzero when face k is not of the run
-      const Triangle t = faces[k];
+    auto other = [&](const Triangle& t) {  // nonzero when face t is not of the run
       if constexpr (kFlag) flag_corners(used, t[0], t[1], t[2]);
       return corner_bits(t, bits) ^ c;
     };
-    for (; i + 4 <= end; i += 4)
-      if ((other(i) | other(i + 1) | other(i + 2) | other(i + 3)) != 0) break;
+    const Triangle* at = faces + i;
+    const Triangle* const stop = faces + (end - i) / 4 * 4 + i;
+    for (; at != stop; at += 4) {
+      const Triangle t0 = at[0], t1 = at[1], t2 = at[2], t3 = at[3];
+      if ((other(t0) | other(t1) | other(t2) | other(t3)) != 0) break;
+    }
+    i = static_cast<std::uint32_t>(at - faces);
   }
   for (; i < end; ++i) {
     const Triangle t = faces[i];
