@@ -77,9 +77,12 @@ std::size_t measure_fours(const Pass& in, std::size_t b, std::size_t e, float& l
     std::memcpy(&p0, pos + 3 * v, sizeof(Four));
     std::memcpy(&p1, pos + 3 * v + 4, sizeof(Four));
     std::memcpy(&p2, pos + 3 * v + 8, sizeof(Four));
-    const Four x = __builtin_shufflevector(__builtin_shufflevector(p0, p1, 0, 3, 6, 0), p2, 0, 1, 2, 5);
-    const Four y = __builtin_shufflevector(__builtin_shufflevector(p0, p1, 1, 4, 7, 0), p2, 0, 1, 2, 6);
-    const Four z = __builtin_shufflevector(__builtin_shufflevector(p0, p1, 2, 5, 0, 0), p2, 0, 1, 4, 7);
+    // Five shuffles, each two lanes of its first operand then two of its second (one SSE shufps).
+    const Four xy = __builtin_shufflevector(p1, p2, 2, 3, 5, 6);  // x2 y2 x3 y3
+    const Four yz = __builtin_shufflevector(p0, p1, 1, 2, 4, 5);  // y0 z0 y1 z1
+    const Four x = __builtin_shufflevector(p0, xy, 0, 3, 4, 6);
+    const Four y = __builtin_shufflevector(yz, xy, 0, 2, 5, 7);
+    const Four z = __builtin_shufflevector(yz, p2, 1, 3, 4, 7);
     minx = x < minx ? x : minx;
     miny = y < miny ? y : miny;
     minz = z < minz ? z : minz;
