@@ -7,7 +7,13 @@
 #include <vector>
 
 namespace deepcut {
-bool normalize_influences(std::uint16_t* joints, float* weights, int slots) {
+namespace {
+
+// normalize_influences over kSlots slots (a constant, so the loops unroll for the editor's 4 and
+// 8), or over `runtime_slots` when kSlots is 0.
+template <int kSlots>
+bool normalize_slots(std::uint16_t* joints, float* weights, int runtime_slots) {
+  const int slots = kSlots != 0 ? kSlots : runtime_slots;
   // Merge duplicate joints into their first slot, then renormalise; the slots keep their order.
   for (int i = 0; i < slots; ++i) {
     if (!std::isfinite(weights[i]) || weights[i] < 0.0f) weights[i] = 0.0f;
@@ -38,6 +44,14 @@ bool normalize_influences(std::uint16_t* joints, float* weights, int slots) {
   return true;
 }
 
+}  // namespace
+
+bool normalize_influences(std::uint16_t* joints, float* weights, int slots) {
+  if (slots == 4) return normalize_slots<4>(joints, weights, slots);
+  if (slots == kMaxInfluences) return normalize_slots<kMaxInfluences>(joints, weights, slots);
+  return normalize_slots<0>(joints, weights, slots);
+}
+
 MeshEditor::MeshEditor(SurfaceMesh& mesh) : mesh_(mesh) {
   auto& va = mesh_.vertex_attrs();
   const char* names[2][2] = {{attr::kJoints0, attr::kWeights0}, {attr::kJoints1, attr::kWeights1}};
@@ -59,11 +73,13 @@ EditLog MeshEditor::take_log() {
   return out;
 }
 
-void blend_influences(const std::uint16_t* joints, const float* weights, const float* w, int count, int slots,
-                       std::uint16_t* out_joints, float* out_weights) {
-  if (count < 1 || count > kMaxBlendSources || (slots != 4 && slots != kMaxInfluences))
-    throw Error(ErrorCode::InvalidArgument, "blend_influences: " + std::to_string(count) + " sources of " +
-                                                std::to_string(slots) + " slots (1 to 3 sources of 4 or 8)");
+namespace {
+
+// blend_influences over kSlots slots (4 or 8), its arguments checked.
+template <int kSlots>
+void blend_slots(const std::uint16_t* joints, const float* weights, const float* w, int count,
+                 std::uint16_t* out_joints, float* out_weights) {
+  constexpr int slots = kSlots;
   // Merged by joint, in the order joints first appear (sources in order, slots in order).
   struct Influence {
     std::uint16_t joint;
@@ -96,29 +112,57 @@ void blend_influences(const std::uint16_t* joints, const float* weights, const f
     out_weights[i] = i < n ? acc[i].weight : 0.0f;
   }
   if (n == 0) out_joints[0] = joints[0];  // no weight anywhere: follow the first source's first joint
-  normalize_influences(out_joints, out_weights, slots);
+  normalize_slots<kSlots>(out_joints, out_weights, kSlots);
+}
+
+// MeshEditor::fix_skin_weights with kSets JOINTS_n / WEIGHTS_n sets.
+template <int kSets>
+void fix_skin(AttributeArray<glm::u16vec4>* const* joint_sets, AttributeArray<glm::vec4>* const* weight_sets, VertexId v,
+              const VertexId* src, const float* w, int count) {
+  constexpr int slots = 4 * kSets;
+  std::uint16_t joints[kMaxBlendSources * slots];
+  float weights[kMaxBlendSources * slots];
+  for (int s = 0; s < count; ++s)
+    for (int k = 0; k < kSets; ++k) {
+      const glm::u16vec4 j = (*joint_sets[k])[src[s].index];
+      const glm::vec4 x = (*weight_sets[k])[src[s].index];
+      for (int c = 0; c < 4; ++c) {
+        joints[s * slots + 4 * k + c] = j[c];
+        weights[s * slots + 4 * k + c] = x[c];
+      }
+    }
+  std::uint16_t out_joints[slots];
+  float out_weights[slots];
+  blend_slots<slots>(joints, weights, w, count, out_joints, out_weights);
+  for (int k = 0; k < kSets; ++k) {
+    (*joint_sets[k])[v.index] = glm::u16vec4(out_joints[4 * k], out_joints[4 * k + 1], out_joints[4 * k + 2],
+                                             out_joints[4 * k + 3]);
+    (*weight_sets[k])[v.index] = glm::vec4(out_weights[4 * k], out_weights[4 * k + 1], out_weights[4 * k + 2],
+                                           out_weights[4 * k + 3]);
+  }
+}
+
+}  // namespace
+
+void blend_influences(const std::uint16_t* joints, const float* weights, const float* w, int count, int slots,
+                      std::uint16_t* out_joints, float* out_weights) {
+  if (count < 1 || count > kMaxBlendSources || (slots != 4 && slots != kMaxInfluences))
+    throw Error(ErrorCode::InvalidArgument, "blend_influences: " + std::to_string(count) + " sources of " +
+                                                std::to_string(slots) + " slots (1 to 3 sources of 4 or 8)");
+  if (slots == 4)
+    blend_slots<4>(joints, weights, w, count, out_joints, out_weights);
+  else
+    blend_slots<kMaxInfluences>(joints, weights, w, count, out_joints, out_weights);
 }
 
 void MeshEditor::fix_skin_weights(VertexId v, const VertexId* src, const float* w, int count) {
-  const int nsets = skin_sets_;
-  if (nsets == 0) return;
-  const int slots = 4 * nsets;
-  std::uint16_t joints[kMaxBlendSources * kMaxInfluences] = {};
-  float weights[kMaxBlendSources * kMaxInfluences] = {};
-  for (int s = 0; s < count; ++s)
-    for (int k = 0; k < nsets; ++k)
-      for (int c = 0; c < 4; ++c) {
-        joints[s * slots + 4 * k + c] = (*joints_[k])[src[s].index][c];
-        weights[s * slots + 4 * k + c] = (*weights_[k])[src[s].index][c];
-      }
-  std::uint16_t out_joints[kMaxInfluences] = {};
-  float out_weights[kMaxInfluences] = {};
-  blend_influences(joints, weights, w, count, slots, out_joints, out_weights);
-  for (int k = 0; k < nsets; ++k)
-    for (int c = 0; c < 4; ++c) {
-      (*joints_[k])[v.index][c] = out_joints[4 * k + c];
-      (*weights_[k])[v.index][c] = out_weights[4 * k + c];
-    }
+  if (skin_sets_ == 0) return;
+  if (count < 1 || count > kMaxBlendSources)
+    throw Error(ErrorCode::InvalidArgument, "fix_skin_weights: " + std::to_string(count) + " sources (1 to 3)");
+  if (skin_sets_ == 1)
+    fix_skin<1>(joints_, weights_, v, src, w, count);
+  else if (skin_sets_ == 2)
+    fix_skin<2>(joints_, weights_, v, src, w, count);
 }
 
 void MeshEditor::fix_corner_directions(FaceId first, std::size_t count, const std::uint32_t* parents,
@@ -148,25 +192,53 @@ void MeshEditor::fix_corner_directions(FaceId first, std::size_t count, const st
   }
 }
 
+VertexId MeshEditor::add_blended(const std::uint32_t* src, const float* w, int sources, std::size_t count) {
+  const std::size_t nv = mesh_.vertex_count();
+  for (std::size_t i = 0; i < count; ++i)
+    for (int k = 0; k < sources; ++k)
+      if (src[sources * i + k] >= nv + i)
+        throw Error(ErrorCode::InvalidArgument, "add_vertex: source " + std::to_string(src[sources * i + k]) +
+                                                    " is not a vertex yet (" + std::to_string(nv + i) + " vertices)");
+  mesh_.vertex_attrs().push_blend_batch(src, w, sources, count);
+  const VertexId first(static_cast<std::uint32_t>(nv));
+  for (std::size_t i = 0; i < count; ++i) {
+    const VertexId v(first.index + static_cast<std::uint32_t>(i));
+    VertexAdded added{v, {VertexId(), VertexId(), VertexId()}, {0.0f, 0.0f, 0.0f}};
+    for (int k = 0; k < sources; ++k) {
+      added.from[k] = VertexId(src[sources * i + k]);
+      added.weight[k] = w[sources * i + k];
+    }
+    fix_skin_weights(v, added.from.data(), w + sources * i, sources);
+    log_.edits.push_back(added);
+  }
+  return first;
+}
+
 VertexId MeshEditor::add_vertex_on_edge(VertexId a, VertexId b, float t) {
-  const std::uint32_t src[2] = {a.index, b.index};
-  const float w[2] = {1.0f - t, t};
-  mesh_.vertex_attrs().push_blend(src, w, 2);
-  const VertexId v(static_cast<std::uint32_t>(mesh_.vertex_count() - 1));
-  const VertexId vs[2] = {a, b};
-  fix_skin_weights(v, vs, w, 2);
-  log_.edits.push_back(VertexAdded{v, {a, b, VertexId()}, {w[0], w[1], 0.0f}});
-  return v;
+  const std::uint32_t ends[2] = {a.index, b.index};
+  return add_vertices_on_edges(ends, &t, 1);
+}
+
+VertexId MeshEditor::add_vertices_on_edges(const std::uint32_t* ends, const float* t, std::size_t count) {
+  // In runs of up to kRun: the weights (1 - t, t) of a run on the stack.
+  constexpr std::size_t kRun = 64;
+  float w[2 * kRun];
+  const VertexId first(static_cast<std::uint32_t>(mesh_.vertex_count()));
+  for (std::size_t i = 0; i < count; i += kRun) {
+    const std::size_t n = std::min(kRun, count - i);
+    for (std::size_t k = 0; k < n; ++k) {
+      w[2 * k] = 1.0f - t[i + k];
+      w[2 * k + 1] = t[i + k];
+    }
+    add_blended(ends + 2 * i, w, 2, n);
+  }
+  return first;
 }
 
 VertexId MeshEditor::add_vertex_in_triangle(const Triangle& tri, const glm::vec3& bary) {
   const std::uint32_t src[3] = {tri[0].index, tri[1].index, tri[2].index};
   const float w[3] = {bary.x, bary.y, bary.z};
-  mesh_.vertex_attrs().push_blend(src, w, 3);
-  const VertexId v(static_cast<std::uint32_t>(mesh_.vertex_count() - 1));
-  fix_skin_weights(v, tri.data(), w, 3);
-  log_.edits.push_back(VertexAdded{v, tri, {w[0], w[1], w[2]}});
-  return v;
+  return add_blended(src, w, 3, 1);
 }
 
 VertexId MeshEditor::split_vertex(VertexId v) { return split_vertices(&v.index, 1); }

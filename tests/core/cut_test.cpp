@@ -521,4 +521,40 @@ TEST(CutTest, the_result_does_not_depend_on_the_thread_count) {
   EXPECT_EQ(results[0].pieces[0].size() + results[0].pieces[1].size(), meshes[0].face_count());
 }
 
+// A vertex no face uses counts for neither side. Far off, it would widen the tolerance (the
+// model size) until the plane took in the whole grid; on the other side of the plane, it would
+// make a grid lying on one side look crossed.
+TEST(CutTest, a_vertex_no_face_uses_changes_nothing) {
+  const SurfaceMesh grid = test::make_grid(8, 8);
+  const auto n = static_cast<std::uint32_t>(grid.vertex_count());
+  // The cut of the grid with the stray vertex n, its ids shifted past n, is the grid's cut.
+  auto shifted = [n](VertexId v) { return v.index < n ? v : VertexId(v.index + 1); };
+  for (bool split : {false, true}) {
+    SCOPED_TRACE(split);
+    CutOptions options;
+    options.split_components = split;
+    const Plane plane{{0.53f, 0.5f, 0.0f}, {1.0f, 0.21f, 0.0f}};
+    SurfaceMesh plain = grid, stray = grid;
+    stray.add_vertex({1e5f, -1e5f, 3e4f});
+    const CutResult a = cut_mesh(plain, plain.positions(), plane, options);
+    const CutResult b = cut_mesh(stray, stray.positions(), plane, options);
+    ASSERT_EQ(a.status, OpStatus::Ok);
+    ASSERT_EQ(b.status, OpStatus::Ok);
+    ASSERT_EQ(plain.face_slots(), stray.face_slots());
+    for (std::size_t f = 0; f < plain.face_slots(); ++f) {
+      const Triangle& t = plain.faces()[f];
+      EXPECT_EQ((Triangle{shifted(t[0]), shifted(t[1]), shifted(t[2])}), stray.faces()[f]);
+      EXPECT_EQ(plain.is_deleted(FaceId(std::uint32_t(f))), stray.is_deleted(FaceId(std::uint32_t(f))));
+    }
+    EXPECT_EQ(a.pieces, b.pieces);
+    ASSERT_EQ(a.rim_vertices.size(), b.rim_vertices.size());
+    for (std::size_t i = 0; i < a.rim_vertices.size(); ++i) EXPECT_EQ(shifted(a.rim_vertices[i]), b.rim_vertices[i]);
+  }
+  // The grid (z = 0) wholly behind the plane z = 0.5, the stray vertex in front of it.
+  SurfaceMesh stray = grid;
+  stray.add_vertex({0.5f, 0.5f, 2.0f});
+  EXPECT_EQ(cut_mesh(stray, stray.positions(), Plane{{0, 0, 0.5f}, {0, 0, 1}}).status, OpStatus::NoIntersection);
+  EXPECT_EQ(stray.face_slots(), grid.face_slots());
+}
+
 }  // namespace deepcut

@@ -9,6 +9,7 @@
 #include <variant>
 #include <vector>
 
+#include "deepcut/core/adjacency.h"
 #include "fixtures.h"
 
 namespace deepcut {
@@ -342,6 +343,61 @@ TEST(MeshEditorTest, a_face_batch_equals_its_calls_one_after_another) {
   dead.remove(FaceId(1));
   EXPECT_THROW(by_batch.apply(dead), Error);
   EXPECT_EQ(mesh_bytes(batched), before);
+}
+
+TEST(MeshEditorTest, a_vertex_batch_equals_its_calls_one_after_another) {
+  // The same mesh and the same log as adding vertex by vertex: more vertices than one run, some
+  // on edges to vertices the batch made before them; then faces on them, and the adjacency
+  // following the log matches a rebuild.
+  const SurfaceMesh start = test::make_grid(6, 5);
+  const auto nv = static_cast<std::uint32_t>(start.vertex_count());
+  std::mt19937 rng(7);
+  std::vector<std::uint32_t> ends;
+  std::vector<float> t;
+  for (std::uint32_t i = 0; i < 150; ++i) {
+    const std::uint32_t a = rng() % (nv + i), b = (a + 1 + rng() % (nv + i - 1)) % (nv + i);
+    ends.insert(ends.end(), {a, b});
+    t.push_back(std::uniform_real_distribution<float>(0.0f, 1.0f)(rng));
+  }
+  t[3] = 0.0f;  // a copy of its first end
+  SurfaceMesh one = start, batched = start;
+  MeshEditor by_call(one), by_batch(batched);
+  for (std::size_t i = 0; i < t.size(); ++i)
+    by_call.add_vertex_on_edge(VertexId(ends[2 * i]), VertexId(ends[2 * i + 1]), t[i]);
+  EXPECT_EQ(by_batch.add_vertices_on_edges(ends.data(), t.data(), t.size()), VertexId(nv));
+  EXPECT_EQ(mesh_bytes(batched), mesh_bytes(one));
+  ASSERT_EQ(by_batch.log().size(), by_call.log().size());
+  for (std::size_t i = 0; i < by_call.log().size(); ++i) {
+    const auto& x = std::get<VertexAdded>(by_batch.log().edits[i]);
+    const auto& y = std::get<VertexAdded>(by_call.log().edits[i]);
+    EXPECT_TRUE(x.v == y.v && x.from == y.from && x.weight == y.weight) << i;
+  }
+  // Each of the first faces split at a new vertex on its edge (0, 1).
+  Adjacency adjacency = Adjacency::build(start);
+  FaceBatch faces;
+  for (std::uint32_t f = 0; f < 6; ++f) {
+    const Triangle c = start.face(FaceId(f));
+    const std::uint32_t ab[2] = {c[0].index, c[1].index};
+    const float half = 0.5f;
+    const VertexId m = by_batch.add_vertices_on_edges(ab, &half, 1);
+    const std::array<glm::vec3, 3> corners = {glm::vec3(1, 0, 0), glm::vec3(0, 1, 0), glm::vec3(0, 0, 1)};
+    faces.remove(FaceId(f));
+    faces.add_from({c[0], m, c[2]}, FaceId(f), corners);
+    faces.add_from({m, c[1], c[2]}, FaceId(f), corners);
+  }
+  by_batch.apply(faces);
+  adjacency.apply(by_batch.log());
+  test::expect_adjacency_matches_rebuild(adjacency, batched);
+  // An end that is not a vertex yet (here: the batch's own first vertex, named by itself) is
+  // refused before any change.
+  const std::vector<unsigned char> before = mesh_bytes(batched);
+  const std::size_t logged = by_batch.log().size();
+  const auto next = static_cast<std::uint32_t>(batched.vertex_count());
+  const std::uint32_t bad[4] = {0, 1, 2, next + 1};
+  const float ts[2] = {0.5f, 0.5f};
+  EXPECT_THROW(by_batch.add_vertices_on_edges(bad, ts, 2), Error);
+  EXPECT_EQ(mesh_bytes(batched), before);
+  EXPECT_EQ(by_batch.log().size(), logged);
 }
 
 TEST(MeshEditorTest, a_face_batch_removing_a_face_twice_changes_nothing) {

@@ -55,6 +55,11 @@ class MeshEditor {
 
   /// New vertex at parameter `t` on the segment a->b (t = 0 gives a copy of a's attributes).
   VertexId add_vertex_on_edge(VertexId a, VertexId b, float t);
+  /// `add_vertex_on_edge(VertexId(ends[2 * i]), VertexId(ends[2 * i + 1]), t[i])` for i = 0 ..
+  /// count - 1 in turn (each attribute array grown once per run of vertices and written in one
+  /// loop): vertex i is the returned vertex + i. An end may be a vertex made earlier in the batch.
+  /// @throws Error{InvalidArgument} (before any change) for an end that is not a vertex yet.
+  VertexId add_vertices_on_edges(const std::uint32_t* ends, const float* t, std::size_t count);
   /// New vertex at barycentric coordinates `bary` of the triangle (a, b, c).
   VertexId add_vertex_in_triangle(const Triangle& tri, const glm::vec3& bary);
   /// Duplicate of `v` (same position and attributes), e.g. one side of a tear.
@@ -89,6 +94,9 @@ class MeshEditor {
   EditLog take_log();
 
  private:
+  // `count` new vertices, vertex i the blend of `sources` vertices src[sources * i + k] with
+  // weights w[sources * i + k] (1 <= sources <= kMaxBlendSources), logged as VertexAdded.
+  VertexId add_blended(const std::uint32_t* src, const float* w, int sources, std::size_t count);
   void fix_skin_weights(VertexId v, const VertexId* src, const float* w, int count);
   // Corner normals and tangents of the faces [first, first + count) made from `parents` with
   // corner weights `w` (nine per face).

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
-// The cut's vertex classification (ops/cut/classify.h), in three passes over parallel chunks:
-// which vertices a face uses (a pass over the faces), their distances and posed bounds (the
-// bounds give the tolerance), then their snapped sides. Every pass is exact (flags, min / max,
-// disjoint writes), so the chunks may follow the thread count.
+// The cut's vertex classification (ops/cut/classify.h), in two passes over parallel chunks: the
+// vertices' distances and posed bounds (the bounds give the tolerance), then their snapped
+// sides; and the face pass that flags the vertices in use, for a cut that did not flag them in
+// its face scan. Every pass is exact (flags, min / max, disjoint writes), so the chunks may
+// follow the thread count.
 #include "ops/cut/classify.h"
 
 #include <atomic>
@@ -20,29 +21,26 @@ namespace {
 // Smallest parallel chunk: below it, waking another thread costs more than it saves.
 constexpr std::size_t kMinGrain = 4096;
 
-// A flag per vertex: some face slot uses it (threads may mark one vertex together: relaxed
-// atomic bytes).
-using UsedFlags = std::unique_ptr<std::atomic<std::uint8_t>[]>;
+}  // namespace
 
-UsedFlags mark_used(const SurfaceMesh& mesh) {
-  UsedFlags used(new std::atomic<std::uint8_t>[mesh.vertex_count()]());
+void flag_used(const SurfaceMesh& mesh, UsedFlag* used) {
   const std::size_t nf = mesh.face_slots();
   parallel_for(nf, grain_per_thread(nf, kMinGrain), [&](std::size_t b, std::size_t e) {
     const Triangle* faces = mesh.faces().data();
-    std::atomic<std::uint8_t>* flags = used.get();
     for (std::size_t f = b; f < e; ++f) {
       const Triangle& t = faces[f];
-      flags[t[0].index].store(1, std::memory_order_relaxed);
-      flags[t[1].index].store(1, std::memory_order_relaxed);
-      flags[t[2].index].store(1, std::memory_order_relaxed);
+      used[t[0].index].store(1, std::memory_order_relaxed);
+      used[t[1].index].store(1, std::memory_order_relaxed);
+      used[t[2].index].store(1, std::memory_order_relaxed);
     }
   });
-  return used;
 }
+
+namespace {
 
 // What the vertex passes read and write.
 struct Pass {
-  const std::atomic<std::uint8_t>* used;
+  const UsedFlag* used;  // nullptr: every vertex is used
   const glm::vec3* posed;
   float* dist;
   glm::vec3 point, normal;
@@ -50,7 +48,6 @@ struct Pass {
 
 struct Measure {
   BoundingBox box;  // posed bounds of the vertices in use
-  bool unused = false;
 };
 
 #if defined(__clang__) || (defined(__GNUC__) && __GNUC__ >= 12)
@@ -61,15 +58,14 @@ using Four = float __attribute__((vector_size(16)));
 Four four(float x) { return Four{x, x, x, x}; }
 #endif
 
-// `measure` of every vertex in use, four at a time from `b` while four remain: each lane does
+// `measure` of every vertex (all in use), four at a time from `b` while four remain: each lane does
 // exactly the scalar loop's operations; the bounds' lanes are folded into the six scalars at the
 // end (min / max in another order can change only the sign of a zero bound, which the diagonal
 // does not see). Returns where it stopped.
-std::size_t measure_fours(const Pass& in, std::size_t b, std::size_t e, std::uint8_t& all, float& lx, float& ly,
-                          float& lz, float& hx, float& hy, float& hz) {
+std::size_t measure_fours(const Pass& in, std::size_t b, std::size_t e, float& lx, float& ly, float& lz, float& hx,
+                          float& hy, float& hz) {
 #if defined(__clang__) || (defined(__GNUC__) && __GNUC__ >= 12)
   static_assert(sizeof(glm::vec3) == 3 * sizeof(float), "positions are packed x, y, z rows");
-  const std::atomic<std::uint8_t>* used = in.used;
   const float* pos = reinterpret_cast<const float*>(in.posed);  // x, y, z of each vertex in a row
   float* dist = in.dist;
   const Four ox = four(in.point.x), oy = four(in.point.y), oz = four(in.point.z);
@@ -77,15 +73,16 @@ std::size_t measure_fours(const Pass& in, std::size_t b, std::size_t e, std::uin
   Four minx = four(lx), miny = four(ly), minz = four(lz), maxx = four(hx), maxy = four(hy), maxz = four(hz);
   std::size_t v = b;
   for (; v + 4 <= e; v += 4) {
-    all &= used[v].load(std::memory_order_relaxed) & used[v + 1].load(std::memory_order_relaxed) &
-           used[v + 2].load(std::memory_order_relaxed) & used[v + 3].load(std::memory_order_relaxed);
     Four p0, p1, p2;  // x0 y0 z0 x1 | y1 z1 x2 y2 | z2 x3 y3 z3
     std::memcpy(&p0, pos + 3 * v, sizeof(Four));
     std::memcpy(&p1, pos + 3 * v + 4, sizeof(Four));
     std::memcpy(&p2, pos + 3 * v + 8, sizeof(Four));
-    const Four x = __builtin_shufflevector(__builtin_shufflevector(p0, p1, 0, 3, 6, 0), p2, 0, 1, 2, 5);
-    const Four y = __builtin_shufflevector(__builtin_shufflevector(p0, p1, 1, 4, 7, 0), p2, 0, 1, 2, 6);
-    const Four z = __builtin_shufflevector(__builtin_shufflevector(p0, p1, 2, 5, 0, 0), p2, 0, 1, 4, 7);
+    // Five shuffles, each two lanes of its first operand then two of its second (one SSE shufps).
+    const Four xy = __builtin_shufflevector(p1, p2, 2, 3, 5, 6);  // x2 y2 x3 y3
+    const Four yz = __builtin_shufflevector(p0, p1, 1, 2, 4, 5);  // y0 z0 y1 z1
+    const Four x = __builtin_shufflevector(p0, xy, 0, 3, 4, 6);
+    const Four y = __builtin_shufflevector(yz, xy, 0, 2, 5, 7);
+    const Four z = __builtin_shufflevector(yz, p2, 1, 3, 4, 7);
     minx = x < minx ? x : minx;
     miny = y < miny ? y : miny;
     minz = z < minz ? z : minz;
@@ -106,37 +103,31 @@ std::size_t measure_fours(const Pass& in, std::size_t b, std::size_t e, std::uin
   return v;
 #else
   // Compilers without these vector operations leave every vertex to the scalar loop.
-  (void)in, (void)e, (void)all, (void)lx, (void)ly, (void)lz, (void)hx, (void)hy, (void)hz;
+  (void)in, (void)e, (void)lx, (void)ly, (void)lz, (void)hx, (void)hy, (void)hz;
   return b;
 #endif
 }
 
-// Distances of the vertices [b, e) and their posed bounds. kSkipUnused: vertices not in use get
-// distance 0 and stay out of the bounds. Otherwise every vertex counts, and `unused` tells
-// whether one was not in use (then the pass runs again skipping them: rare, vertices a face
-// lost stay in the mesh).
+// Distances of the vertices [b, e) and their posed bounds. kSkipUnused: vertices `in.used` does
+// not flag get distance 0 and stay out of the bounds. Otherwise every vertex is in use.
 template <bool kSkipUnused>
 Measure measure(const Pass& in, std::size_t b, std::size_t e) {
   // Locals, not members: the stores to `dist` could alias them, which would then be read again
   // at every vertex. The box in six scalars, each kept as BoundingBox::add keeps it.
-  const std::atomic<std::uint8_t>* used = in.used;
+  const UsedFlag* used = in.used;
   const glm::vec3* pos = in.posed;
   float* dist = in.dist;
   const glm::vec3 o = in.point, n = in.normal;
   BoundingBox part;
   float lx = part.min.x, ly = part.min.y, lz = part.min.z, hx = part.max.x, hy = part.max.y, hz = part.max.z;
-  std::uint8_t all = 1;
   std::size_t v = b;
-  if constexpr (!kSkipUnused) v = measure_fours(in, b, e, all, lx, ly, lz, hx, hy, hz);
+  if constexpr (!kSkipUnused) v = measure_fours(in, b, e, lx, ly, lz, hx, hy, hz);
   for (; v < e; ++v) {
-    const std::uint8_t u = used[v].load(std::memory_order_relaxed);
     if constexpr (kSkipUnused) {
-      if (u == 0) {
+      if (used[v].load(std::memory_order_relaxed) == 0) {
         dist[v] = 0.0f;
         continue;
       }
-    } else {
-      all &= u;
     }
     const glm::vec3 p = pos[v];
     lx = p.x < lx ? p.x : lx;
@@ -149,7 +140,7 @@ Measure measure(const Pass& in, std::size_t b, std::size_t e) {
   }
   part.min = glm::vec3(lx, ly, lz);
   part.max = glm::vec3(hx, hy, hz);
-  return {part, all == 0};
+  return {part};
 }
 
 // The largest float not above `x`: for a float d, d > x exactly when d > float_at_or_below(x)
@@ -169,7 +160,7 @@ float float_at_or_below(double x) {
 template <bool kCheckUsed>
 int snap(const Pass& in, float hi, float lo, std::int8_t* sign, std::uint8_t* bits, std::size_t b, std::size_t e) {
   const float* dist = in.dist;
-  const std::atomic<std::uint8_t>* used = in.used;
+  const UsedFlag* used = in.used;
   int pos = 0, neg = 0;
   for (std::size_t v = b; v < e; ++v) {
     const float d = dist[v];
@@ -190,16 +181,16 @@ int snap(const Pass& in, float hi, float lo, std::int8_t* sign, std::uint8_t* bi
 }  // namespace
 
 VertexSides classify_vertices(const SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const glm::vec3& point,
-                              const glm::vec3& normal, float relative_tolerance, std::size_t room) {
+                              const glm::vec3& normal, float relative_tolerance, std::size_t room,
+                              const UsedFlag* used) {
   const std::size_t nv = mesh.vertex_count();
-  const UsedFlags used = mark_used(mesh);
   VertexSides out;
   out.dist.reserve(room);
   out.sign.reserve(room);
   out.dist.resize(nv);
   out.sign.resize(nv);
   out.bits.resize(nv);
-  const Pass in{used.get(), posed.data(), out.dist.data(), point, normal};
+  const Pass in{used, posed.data(), out.dist.data(), point, normal};
   const std::size_t grain = grain_per_thread(nv, kMinGrain);
   auto measure_all = [&](auto skip_unused) {
     return parallel_reduce(
@@ -207,15 +198,13 @@ VertexSides classify_vertices(const SurfaceMesh& mesh, const std::vector<glm::ve
         [&](std::size_t b, std::size_t e) { return measure<decltype(skip_unused)::value>(in, b, e); },
         [](Measure acc, const Measure& part) {
           acc.box.add(part.box);
-          acc.unused |= part.unused;
           return acc;
         });
   };
-  Measure m = measure_all(std::false_type());
-  if (m.unused) m = measure_all(std::true_type());
+  const Measure m = used ? measure_all(std::true_type()) : measure_all(std::false_type());
   const double tol = double(relative_tolerance) * double(m.box.diagonal());
   const float hi = float_at_or_below(tol), lo = -hi;
-  const bool check_used = m.unused && !(tol >= 0.0);
+  const bool check_used = used && !(tol >= 0.0);
   std::int8_t* sign = out.sign.data();
   std::uint8_t* bits = out.bits.data();
   const int sides = parallel_reduce(

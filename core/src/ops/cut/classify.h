@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "deepcut/core/surface_mesh.h"
+#include "ops/cut/face_lists.h"
 #include "uninit_vector.h"
 
 namespace deepcut::detail {
@@ -28,9 +29,15 @@ struct VertexSides {
 
 /// Classifies every vertex of `mesh` at `posed` against the plane through `point` with unit
 /// `normal`. The tolerance is `relative_tolerance` times the diagonal of the used vertices' posed
-/// bounds. `dist` and `sign` get room for `room` vertices (the cut appends its new ones). Runs in
-/// parallel chunks; the result does not depend on the thread count.
+/// bounds: `used` flags them (a flag per vertex), or is nullptr when every vertex is used (the
+/// cut's first guess, which its face scan then checks). `dist` and `sign` get room for `room`
+/// vertices (the cut appends its new ones). Runs in parallel chunks; the result does not depend
+/// on the thread count.
 VertexSides classify_vertices(const SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const glm::vec3& point,
-                              const glm::vec3& normal, float relative_tolerance, std::size_t room);
+                              const glm::vec3& normal, float relative_tolerance, std::size_t room,
+                              const UsedFlag* used);
+
+/// Flags in `used` (zeroed, a flag per vertex) the corners of every face slot of `mesh`.
+void flag_used(const SurfaceMesh& mesh, UsedFlag* used);
 
 }  // namespace deepcut::detail

@@ -16,12 +16,12 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <memory>
 #include <numeric>
 #include <string>
 #include <unordered_map>
 
 #include "deepcut/core/mesh_editor.h"
-#include "deepcut/core/parallel.h"
 #include "deepcut/core/posed_model.h"
 #include "deepcut/core/skinning.h"
 #include "ops/common/crossing_table.h"
@@ -36,10 +36,6 @@
 
 namespace deepcut {
 namespace {
-
-// Smallest parallel chunk: below it, waking another thread costs more than it saves. The face
-// scan is exact (lists joined in order), so the chunks may follow the thread count.
-constexpr std::size_t kMinGrain = 4096;
 
 using detail::edge_key;
 
@@ -64,10 +60,8 @@ std::vector<std::int8_t> vertex_sides(const SurfaceMesh& mesh, std::vector<std::
   return std::move(sign);
 }
 
-using detail::corner_bits;
 using detail::follow_moved_faces;
 using detail::merge_sorted;
-using detail::run_end;
 
 class Cutter {
  public:
@@ -91,9 +85,10 @@ class Cutter {
   };
 
   const Split& split_edge(VertexId a, VertexId b);
-  Corner split_corner(const Triangle& t, int ka, int kb);
+  void make_crossings();
+  Corner split_corner(const Triangle& t, int ka, int kb, const Split& s) const;
   void split_crossings(FaceId f);
-  void split_face(FaceId f, FaceBatch& batch);
+  void split_face(FaceId f, FaceBatch& batch, const Split* const* crossings);
   void separate_sides();
   void move_positive_rim(const std::vector<FaceId>& rim_faces, const std::vector<std::uint32_t>& shared,
                          std::size_t old_shared, const std::vector<std::uint32_t>& fresh, VertexId first_copy);
@@ -113,7 +108,8 @@ class Cutter {
   int face_side(const Triangle& t) const;
   // Stages of run().
   void check_arguments() const;
-  bool classify_vertices();
+  void classify_vertices(const detail::UsedFlag* used);
+  bool classify_and_scan();
   void split_crossed_faces();
   void separate_or_drop_side();
   void cap_pieces(CutResult& result, std::vector<VertexId>& rim);
@@ -132,14 +128,23 @@ class Cutter {
   detail::UninitVector<float> dist_;
   std::vector<std::int8_t> sign_;
   detail::UninitVector<std::uint8_t> side_bits_;
+  bool both_sides_ = false;  // some vertex lies on each side
   detail::CrossingTable<Split> splits_;
   detail::NeedleMerges merges_;
   // Faces that may touch the plane: untouched ones with a corner on it, and every new face.
   std::vector<FaceId> rim_candidates_;
+  // The input's faces by kind, in chunks (detail::scan_faces), until split_crossed_faces.
+  std::vector<detail::ScannedFaces> found_;
   // The input's faces with no corner on the plane, by side (positive, negative), in id order:
   // no edit of the cut touches them (but dropping a side).
   std::vector<FaceId> clean_[2];
   std::size_t intersections_ = 0;
+  // The two crossings of each crossed face with a lone corner, in face order: needle merge
+  // candidates (split_crossings), looked at once the crossings are made.
+  std::vector<std::pair<VertexId, VertexId>> merge_candidates_;
+  // The crossings of each crossed face, two a face in face order (the second null where the
+  // plane runs through a corner), as split_face uses them: found once, by split_crossings.
+  std::vector<const Split*> face_crossings_;
   // The crossing vertices split_edge made, [first, end), and the positive side's copies of
   // them separate_sides made, [first, end): without needle merges each of them has one fan of
   // faces per side (single_fan).
@@ -163,25 +168,44 @@ int Cutter::face_side(const Triangle& t) const {
   return 1;  // a face lying in the plane goes to the positive side
 }
 
+// The crossing of edge {a, b}: on the first call for the edge, its record with the id of the
+// vertex make_crossings makes there (the crossings' vertices come in the order of their edges'
+// first calls).
 const Cutter::Split& Cutter::split_edge(VertexId a, VertexId b) {
   const auto [s, made] = splits_.try_emplace(a, b);
   if (!made) return *s;
   const VertexId lo = a < b ? a : b, hi = a < b ? b : a;
   const double dl = dist_[lo.index], dh = dist_[hi.index];
   const float t = static_cast<float>(dl / (dl - dh));
-  const VertexId v = editor_.add_vertex_on_edge(lo, hi, t);
-  const glm::vec3 at = glm::mix(posed_(lo), posed_(hi), t);
-  posed_.add(at);
-  placement_.place(editor_, v, at);
-  dist_.push_back(0.0f);
-  sign_.push_back(0);
-  *s = Split{lo, hi, v, t};
-  ++intersections_;
+  *s = Split{lo, hi, VertexId(crossings_[0] + static_cast<std::uint32_t>(splits_.size() - 1)), t};
   return *s;
 }
 
-Cutter::Corner Cutter::split_corner(const Triangle& t, int ka, int kb) {
-  const Split& s = split_edge(t[ka], t[kb]);
+// Makes the vertices of the crossings split_crossings found, in one editor batch, each placed
+// at its posed crossing point; then merges the needles' crossings that came out near.
+void Cutter::make_crossings() {
+  const std::size_t n = splits_.size();
+  std::vector<std::uint32_t> ends(2 * n);
+  std::vector<float> t(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    ends[2 * i] = splits_[i].lo.index;
+    ends[2 * i + 1] = splits_[i].hi.index;
+    t[i] = splits_[i].t;
+  }
+  editor_.add_vertices_on_edges(ends.data(), t.data(), n);
+  for (const Split& s : splits_) {
+    const glm::vec3 at = glm::mix(posed_(s.lo), posed_(s.hi), s.t);
+    posed_.add(at);
+    placement_.place(editor_, s.v, at);
+    dist_.push_back(0.0f);
+    sign_.push_back(0);
+  }
+  intersections_ += n;
+  for (const auto& [a, b] : merge_candidates_) merges_.merge_if_near(mesh_, a, b);
+}
+
+// The corner split_face makes on the side (ka, kb) of face `t` at its crossing `s`.
+Cutter::Corner Cutter::split_corner(const Triangle& t, int ka, int kb, const Split& s) const {
   const VertexId v = merges_.merged(s.v);
   glm::vec3 bary(0.0f);
   const float wa = t[ka] == s.lo ? 1.0f - s.t : s.t;
@@ -190,7 +214,7 @@ Cutter::Corner Cutter::split_corner(const Triangle& t, int ka, int kb) {
   return {v, bary};
 }
 
-// Adds the crossings of a face the plane crosses, in the order split_face uses them. A face whose
+// Finds the crossings of a face the plane crosses, in the order split_face uses them. A face whose
 // lone corner has two long edges to corners a hair apart (a needle: the lips of a narrow tear, a
 // sliver) has its two crossings rounded to one bind position or a few float steps apart: they
 // become one vertex, and the needle's tip beyond the plane (a zero-area triangle) is not made.
@@ -198,23 +222,27 @@ void Cutter::split_crossings(FaceId f) {
   const Triangle& t = mesh_.face(f);
   const std::int8_t s[3] = {sign_[t[0].index], sign_[t[1].index], sign_[t[2].index]};
   const bool pos = s[0] > 0 || s[1] > 0 || s[2] > 0, neg = s[0] < 0 || s[1] < 0 || s[2] < 0;
-  if (!pos || !neg) return;
+  if (!pos || !neg) {
+    face_crossings_.insert(face_crossings_.end(), 2, nullptr);
+    return;
+  }
   for (int k = 0; k < 3; ++k)
     if (s[k] == 0) {
-      split_edge(t[(k + 1) % 3], t[(k + 2) % 3]);
+      face_crossings_.insert(face_crossings_.end(), {&split_edge(t[(k + 1) % 3], t[(k + 2) % 3]), nullptr});
       return;
     }
   int lone = 0;
   for (int k = 0; k < 3; ++k)
     if (s[k] != s[(k + 1) % 3] && s[k] != s[(k + 2) % 3]) lone = k;
-  const Triangle copy = t;  // split_edge adds vertices, not faces, but keep no reference across it
-  const VertexId a = split_edge(copy[lone], copy[(lone + 1) % 3]).v;
-  const VertexId b = split_edge(copy[lone], copy[(lone + 2) % 3]).v;
-  merges_.merge_if_near(mesh_, a, b);
+  const Split& a = split_edge(t[lone], t[(lone + 1) % 3]);
+  const Split& b = split_edge(t[lone], t[(lone + 2) % 3]);
+  face_crossings_.insert(face_crossings_.end(), {&a, &b});
+  merge_candidates_.emplace_back(a.v, b.v);
 }
 
-// Queues the removal of a face the plane crosses and the up to three faces replacing it.
-void Cutter::split_face(FaceId f, FaceBatch& batch) {
+// Queues the removal of a face the plane crosses and the up to three faces replacing it
+// (`crossings`: its two in face_crossings_).
+void Cutter::split_face(FaceId f, FaceBatch& batch, const Split* const* crossings) {
   const Triangle t = mesh_.face(f);
   const std::int8_t s[3] = {sign_[t[0].index], sign_[t[1].index], sign_[t[2].index]};
   const bool pos = s[0] > 0 || s[1] > 0 || s[2] > 0, neg = s[0] < 0 || s[1] < 0 || s[2] < 0;
@@ -234,7 +262,7 @@ void Cutter::split_face(FaceId f, FaceBatch& batch) {
     if (s[k] == 0) zero = k;
   if (zero >= 0) {  // the plane runs through one corner and the opposite edge
     const int k1 = (zero + 1) % 3, k2 = (zero + 2) % 3;
-    const Corner m = split_corner(t, k1, k2);
+    const Corner m = split_corner(t, k1, k2, *crossings[0]);
     emit(corner(zero), corner(k1), m);
     emit(corner(zero), m, corner(k2));
     return;
@@ -243,7 +271,7 @@ void Cutter::split_face(FaceId f, FaceBatch& batch) {
   for (int k = 0; k < 3; ++k)
     if (s[k] != s[(k + 1) % 3] && s[k] != s[(k + 2) % 3]) lone = k;
   const int k1 = (lone + 1) % 3, k2 = (lone + 2) % 3;
-  const Corner m1 = split_corner(t, lone, k1), m2 = split_corner(t, lone, k2);
+  const Corner m1 = split_corner(t, lone, k1, *crossings[0]), m2 = split_corner(t, lone, k2, *crossings[1]);
   emit(corner(lone), m1, m2);
   // The quad (m1, k1, k2, m2): split along its shorter diagonal.
   const float d1 = glm::length(posed_(m1.v) - posed_(t[k2]));
@@ -559,95 +587,85 @@ void Cutter::check_arguments() const {
   check_cut_plane({glm::vec3(point_), glm::vec3(normal_)});
 }
 
-// Classifies every vertex once (ops/cut/classify.h). False when every vertex lies on one side.
-bool Cutter::classify_vertices() {
+// Classifies every vertex (ops/cut/classify.h): the vertices `used` flags count, or all.
+void Cutter::classify_vertices(const detail::UsedFlag* used) {
   const std::size_t nv = mesh_.vertex_count();
   // Room for the vertices the cut adds (crossings, their copies: a few per crossed face, far
-  // fewer than the mesh's), so appending them in split_edge does not copy the arrays.
+  // fewer than the mesh's), so appending them in make_crossings does not copy the arrays.
   detail::VertexSides sides = detail::classify_vertices(mesh_, posed_.input(), glm::vec3(point_), glm::vec3(normal_),
-                                                        options_.relative_tolerance, nv + nv / 16 + 256);
+                                                        options_.relative_tolerance, nv + nv / 16 + 256, used);
   dist_ = std::move(sides.dist);
   sign_ = std::move(sides.sign);
   side_bits_ = std::move(sides.bits);
-  return sides.both_sides;
+  both_sides_ = sides.both_sides;
 }
 
+// Classifies every vertex and scans the faces (found_): the faces the plane crosses, the
+// untouched faces with a corner on the plane (rim candidates) and the untouched faces off it by
+// side (the bulk of the pieces: no edit changes them). False when every vertex lies on one side.
+// A vertex no face uses counts for neither side: the classification first takes every vertex
+// as used, and the scan, one pass over the faces, checks it (a mesh as loaded or compacted uses
+// every vertex); else both are made again knowing the unused ones.
+bool Cutter::classify_and_scan() {
+  const std::size_t nv = mesh_.vertex_count();
+  std::unique_ptr<detail::UsedFlag[]> used(new detail::UsedFlag[nv]());
+  classify_vertices(nullptr);
+  if (both_sides_)
+    found_ = detail::scan_faces(mesh_, side_bits_.data(), used.get());
+  else
+    detail::flag_used(mesh_, used.get());
+  if (detail::all_flagged(used.get(), nv)) return both_sides_;
+  classify_vertices(used.get());
+  if (!both_sides_) return false;
+  found_ = detail::scan_faces(mesh_, side_bits_.data(), nullptr);
+  return true;
+}
+
+// Splits the faces the scan found crossed, and files the scan's other faces.
 void Cutter::split_crossed_faces() {
-  // One pass over the faces, in parallel chunks joined in id order: the faces the plane crosses
-  // (split below), the untouched faces with a corner on the plane (rim candidates) and the
-  // untouched faces off it by side (the bulk of the pieces: no edit changes them).
   const auto first_new_face = static_cast<std::uint32_t>(mesh_.face_slots());
-  struct Found {
-    std::vector<FaceId> crossed, touching, clean[2];
-  };
-  const std::size_t fgrain = grain_per_thread(first_new_face, kMinGrain);
-  std::vector<Found> found((first_new_face + fgrain - 1) / fgrain);
-  const std::uint8_t* bits = side_bits_.data();
-  const Triangle* faces = mesh_.faces().data();
-  // Without deleted faces (a mesh as loaded or compacted) the loop need not look for them.
-  const bool any_deleted = mesh_.face_count() != mesh_.face_slots();
-  parallel_for(first_new_face, fgrain, [&](std::size_t b, std::size_t e) {
-    Found& out = found[b / fgrain];
-    out.clean[0].reserve(e - b);
-    out.clean[1].reserve(e - b);
-    // Faces off the plane come in runs of one side (neighbours in id order are neighbours on the
-    // surface): each run is found by a tight scan and appended to its side's list whole.
-    for (auto i = static_cast<std::uint32_t>(b); i < e;) {
-      const FaceId f(i);
-      const unsigned c = corner_bits(faces[i], bits);
-      if (any_deleted && mesh_.is_deleted(f)) {
-        ++i;
-        continue;
-      }
-      if (c > 2) {
-        ((c & 3) == 3 ? out.crossed : out.touching).push_back(f);
-        ++i;
-        continue;
-      }
-      const auto stop = static_cast<std::uint32_t>(e);
-      const std::uint32_t end = any_deleted ? run_end<true>(mesh_, bits, i + 1, stop, c)
-                                            : run_end<false>(mesh_, bits, i + 1, stop, c);
-      detail::append_run(out.clean[c - 1], i, end);
-      i = end;
-    }
-  });
   // Room for the faces the cut makes and the caps (a few per crossed or touching face), which
   // join the pieces later: growing a list of most of the mesh would copy it.
   std::size_t rim_faces = 0;
-  for (const Found& part : found) rim_faces += part.crossed.size() + part.touching.size();
+  for (const detail::ScannedFaces& part : found_) rim_faces += part.crossed.size() + part.touching.size();
   for (int side = 0; side < 2; ++side) {
-    if (found.size() == 1) {
-      clean_[side] = std::move(found[0].clean[side]);
+    if (found_.size() == 1) {
+      clean_[side] = std::move(found_[0].clean[side]);
       clean_[side].reserve(clean_[side].size() + 8 * rim_faces + 64);
       continue;
     }
     std::size_t n = 0;
-    for (const Found& part : found) n += part.clean[side].size();
+    for (const detail::ScannedFaces& part : found_) n += part.clean[side].size();
     clean_[side].reserve(n + 8 * rim_faces + 64);
-    for (Found& part : found) {
+    for (detail::ScannedFaces& part : found_) {
       clean_[side].insert(clean_[side].end(), part.clean[side].begin(), part.clean[side].end());
       std::vector<FaceId>().swap(part.clean[side]);
     }
   }
   std::size_t crossed = 0;
-  for (const Found& part : found) crossed += part.crossed.size();
+  for (const detail::ScannedFaces& part : found_) crossed += part.crossed.size();
   splits_.reserve(2 * crossed);  // about one new crossed edge per crossed face, two at most
   rim_candidates_.reserve(8 * rim_faces + 64);  // the touching faces, the faces the cut makes
   // Per crossed face about: a crossing, its removal, three faces, and separating the sides a
   // copy and two faces moved (a removal and an addition each).
   editor_.reserve_log(10 * crossed);
   crossings_[0] = static_cast<std::uint32_t>(mesh_.vertex_count());
-  for (const Found& part : found)
+  merge_candidates_.reserve(crossed);
+  face_crossings_.reserve(2 * crossed);
+  for (const detail::ScannedFaces& part : found_)
     for (FaceId f : part.crossed) split_crossings(f);
+  make_crossings();
   crossings_[1] = static_cast<std::uint32_t>(mesh_.vertex_count());
   FaceBatch batch;
   batch.reserve(3 * crossed, crossed);
-  for (const Found& part : found) {
-    for (FaceId f : part.crossed) split_face(f, batch);
+  std::size_t face = 0;
+  for (const detail::ScannedFaces& part : found_) {
+    for (FaceId f : part.crossed) split_face(f, batch, &face_crossings_[2 * face++]);
     rim_candidates_.insert(rim_candidates_.end(), part.touching.begin(), part.touching.end());
   }
   editor_.apply(batch);
   detail::append_run(rim_candidates_, first_new_face, static_cast<std::uint32_t>(mesh_.face_slots()));
+  std::vector<detail::ScannedFaces>().swap(found_);
 }
 
 void Cutter::separate_or_drop_side() {
@@ -719,7 +737,7 @@ CutResult Cutter::run() {
   check_arguments();
   normal_ /= glm::length(normal_);
   const bool had_deleted = mesh_.face_count() != mesh_.face_slots();  // their vertices get a sign too
-  if (!classify_vertices()) {
+  if (!classify_and_scan()) {
     result.status = OpStatus::NoIntersection;
     return result;
   }

@@ -3,7 +3,10 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstring>
 #include <iterator>
+
+#include "deepcut/core/parallel.h"
 
 namespace deepcut::detail {
 namespace {
@@ -49,6 +52,71 @@ class IdCounter {
   std::uint32_t i_;
 };
 
+// Smallest parallel chunk: below it, waking another thread costs more than it saves.
+constexpr std::size_t kMinGrain = 4096;
+
+inline void flag_corners(UsedFlag* used, VertexId a, VertexId b, VertexId c) {
+  used[a.index].store(1, std::memory_order_relaxed);
+  used[b.index].store(1, std::memory_order_relaxed);
+  used[c.index].store(1, std::memory_order_relaxed);
+}
+
+// The first face from `i` on (below `end`) whose corner bits are not `c` (or, with
+// kCheckDeleted, that is deleted): the end of a run of faces on one side. With kFlag, the
+// corners of the faces it reads are flagged in `used`. Without deleted faces, four faces a step
+// with one test for the four.
+template <bool kCheckDeleted, bool kFlag>
+std::uint32_t run_end(const SurfaceMesh& mesh, const std::uint8_t* bits, UsedFlag* used, std::uint32_t i,
+                      std::uint32_t end, unsigned c) {
+  const Triangle* faces = mesh.faces().data();
+  if constexpr (!kCheckDeleted) {
+    auto other = [&](const Triangle& t) {  // nonzero when face t is not of the run
+      if constexpr (kFlag) flag_corners(used, t[0], t[1], t[2]);
+      return corner_bits(t, bits) ^ c;
+    };
+    const Triangle* at = faces + i;
+    const Triangle* const stop = faces + (end - i) / 4 * 4 + i;
+    for (; at != stop; at += 4) {
+      const Triangle t0 = at[0], t1 = at[1], t2 = at[2], t3 = at[3];
+      if ((other(t0) | other(t1) | other(t2) | other(t3)) != 0) break;
+    }
+    i = static_cast<std::uint32_t>(at - faces);
+  }
+  for (; i < end; ++i) {
+    const Triangle t = faces[i];
+    if constexpr (kFlag) flag_corners(used, t[0], t[1], t[2]);
+    if (corner_bits(t, bits) != c) break;
+    if (kCheckDeleted && mesh.is_deleted(FaceId(i))) break;
+  }
+  return i;
+}
+
+// The faces [b, e) into `out`, as scan_faces files them.
+template <bool kCheckDeleted, bool kFlag>
+void scan_chunk(const SurfaceMesh& mesh, const std::uint8_t* bits, UsedFlag* used, std::uint32_t b, std::uint32_t e,
+                ScannedFaces& out) {
+  const Triangle* faces = mesh.faces().data();
+  out.clean[0].reserve(e - b);
+  out.clean[1].reserve(e - b);
+  for (std::uint32_t i = b; i < e;) {
+    const Triangle t = faces[i];
+    if constexpr (kFlag) flag_corners(used, t[0], t[1], t[2]);
+    if (kCheckDeleted && mesh.is_deleted(FaceId(i))) {
+      ++i;
+      continue;
+    }
+    const unsigned c = corner_bits(t, bits);
+    if (c > 2) {
+      ((c & 3) == 3 ? out.crossed : out.touching).push_back(FaceId(i));
+      ++i;
+      continue;
+    }
+    const std::uint32_t end = run_end<kCheckDeleted, kFlag>(mesh, bits, used, i + 1, e, c);
+    append_run(out.clean[c - 1], i, end);
+    i = end;
+  }
+}
+
 }  // namespace
 
 void append_run(std::vector<FaceId>& list, std::uint32_t i, std::uint32_t end) {
@@ -85,6 +153,30 @@ void merge_sorted(std::vector<FaceId>& list, const std::vector<FaceId>& more) {
   list.insert(list.end(), more.begin(), more.end());
   if (mid > 0 && !more.empty() && more.front() < list[static_cast<std::size_t>(mid - 1)])
     std::inplace_merge(list.begin(), list.begin() + mid, list.end());
+}
+
+std::vector<ScannedFaces> scan_faces(const SurfaceMesh& mesh, const std::uint8_t* bits, UsedFlag* used) {
+  const std::size_t nf = mesh.face_slots();
+  const std::size_t grain = grain_per_thread(nf, kMinGrain);
+  std::vector<ScannedFaces> found((nf + grain - 1) / grain);
+  // Without deleted faces (a mesh as loaded or compacted) the loops need not look for them.
+  const bool any_deleted = mesh.face_count() != nf;
+  parallel_for(nf, grain, [&](std::size_t b, std::size_t e) {
+    ScannedFaces& out = found[b / grain];
+    const auto lo = static_cast<std::uint32_t>(b), hi = static_cast<std::uint32_t>(e);
+    if (any_deleted)
+      used ? scan_chunk<true, true>(mesh, bits, used, lo, hi, out) : scan_chunk<true, false>(mesh, bits, used, lo, hi, out);
+    else
+      used ? scan_chunk<false, true>(mesh, bits, used, lo, hi, out)
+           : scan_chunk<false, false>(mesh, bits, used, lo, hi, out);
+  });
+  return found;
+}
+
+bool all_flagged(const UsedFlag* flags, std::size_t count) {
+  static_assert(sizeof(UsedFlag) == 1 && UsedFlag::is_always_lock_free, "a flag is one plain byte");
+  // Read as bytes once the threads that set them are joined.
+  return count == 0 || std::memchr(reinterpret_cast<const unsigned char*>(flags), 0, count) == nullptr;
 }
 
 }  // namespace deepcut::detail

@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// The cut's face lists (ops/cut/cut.cpp): the scan that files the faces off the plane by side,
-// in runs, and the upkeep of sorted lists of face ids (merging, following moved faces). Private
+// The cut's face lists (ops/cut/cut.cpp): the scan that files the faces by kind, those off the
+// plane by side in runs, and the upkeep of sorted lists of face ids (merging, following moved faces). Private
 // to the cut.
 
+#include <atomic>
+#include <cstddef>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -19,19 +21,28 @@ inline unsigned corner_bits(const Triangle& t, const std::uint8_t* bits) {
   return bits[t[0].index] | bits[t[1].index] | bits[t[2].index];
 }
 
-/// The first face from `i` on (below `end`) whose corner bits are not `c` (or, with
-/// kCheckDeleted, that is deleted): the end of a run of faces on one side. A loop on its own
-/// (locals only), so the scan of a chunk stays tight.
-template <bool kCheckDeleted>
-std::uint32_t run_end(const SurfaceMesh& mesh, const std::uint8_t* bits, std::uint32_t i, std::uint32_t end,
-                      unsigned c) {
-  const Triangle* faces = mesh.faces().data();
-  for (; i < end; ++i) {
-    if (corner_bits(faces[i], bits) != c) break;
-    if (kCheckDeleted && mesh.is_deleted(FaceId(i))) break;
-  }
-  return i;
-}
+/// A flag per vertex: some face slot uses it (the scan's threads may flag one vertex together:
+/// relaxed atomic bytes).
+using UsedFlag = std::atomic<std::uint8_t>;
+
+/// The faces of one chunk of scan_faces, each list in id order.
+struct ScannedFaces {
+  std::vector<FaceId> crossed;   // corners on both sides
+  std::vector<FaceId> touching;  // a corner on the plane, none on both sides
+  std::vector<FaceId> clean[2];  // every corner on the positive (0) or the negative (1) side
+};
+
+/// One pass over the face slots of `mesh` by the cut's side bits (one per vertex): the live
+/// faces filed by kind, in parallel chunks (joined in order, they list the faces in id order;
+/// the chunks may follow the thread count). Faces off the plane come in runs of one side
+/// (neighbours in id order are neighbours on the surface): each run is found by a tight loop
+/// and appended to its side's list whole. With `used` (zeroed, a flag per vertex), every face
+/// slot's corners are flagged there too (deleted ones as well), so the cut needs no face pass
+/// of its own to learn which vertices no face uses.
+std::vector<ScannedFaces> scan_faces(const SurfaceMesh& mesh, const std::uint8_t* bits, UsedFlag* used);
+
+/// True when every one of the `count` flags is set.
+bool all_flagged(const UsedFlag* flags, std::size_t count);
 
 /// The face ids [i, end) appended to `list` in one insert: constructed in place, with no zero
 /// fill of the new elements first (a run can be most of the mesh).
