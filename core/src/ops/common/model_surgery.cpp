@@ -356,21 +356,10 @@ std::pair<std::size_t, std::size_t> element_bytes(const SurfaceMesh& mesh) {
 // The piece that keeps the mesh's arrays: the one that saves the most copying. A piece copied out
 // costs about twice its bytes (new memory is touched, then written); the one compacted in place
 // costs the bytes it moves, those past its leading run that stays put (in_place_steps). So the
-// piece with the most bytes plus bytes in place, the first of equals; none without faces. Room
-// made ahead for the pieces copied out (PieceRoom, made by the same rule on the sides' expected
-// sizes) decides where it is found: the one piece with faces and no room keeps the arrays.
-std::size_t in_place_piece(const SurfaceMesh& mesh, const Numbering& num, const PieceSides* sides) {
-  const std::size_t n = num.faces.size();
-  if (sides && sides->room) {
-    std::size_t without = n, count = 0;
-    for (std::size_t s = 0; s < n; ++s)
-      if (!num.faces[s].empty() && !sides->room->has((*sides->list_sides)[s])) {
-        without = s;
-        ++count;
-      }
-    if (count == 1 && n > 1) return without;
-  }
+// piece with the most bytes plus bytes in place, the first of equals; none without faces.
+std::size_t in_place_piece(const SurfaceMesh& mesh, const Numbering& num) {
   const auto [vertex_bytes, face_bytes] = element_bytes(mesh);
+  const std::size_t n = num.faces.size();
   std::size_t best = n, best_gain = 0;
   for (std::size_t s = 0; s < n; ++s) {
     if (num.faces[s].empty()) continue;
@@ -444,7 +433,7 @@ std::vector<SurfaceMesh> make_pieces(const SurfaceMesh& mesh, const std::vector<
     parallel_invoke(tasks);
     return out;
   }
-  const std::size_t big = owned ? in_place_piece(mesh, num, sides) : n;
+  const std::size_t big = owned ? in_place_piece(mesh, num) : n;
   if (sides && sides->room) sides->room->stop();
   std::vector<AttributeSet> sets = fill_pieces(mesh, num, big, sides);
   for (std::size_t s = 0; s < n; ++s)
@@ -548,10 +537,6 @@ void PieceRoom::start() {
 void PieceRoom::stop() {
   stop_.store(true);
   if (helper_.joinable()) helper_.join();
-}
-
-bool PieceRoom::has(int side) const {
-  return std::any_of(sides_.begin(), sides_.end(), [&](const Side& room) { return room.side == side; });
 }
 
 bool PieceRoom::take(const SurfaceMesh& mesh, int side, AttributeSet* sets, std::vector<Triangle>& tris) {

@@ -84,8 +84,6 @@ class PieceRoom {
   void start();
   /// Stops the helper (it finishes the part of at most 2 MiB it is faulting in) and waits for it.
   void stop();
-  /// True when there is room for side `side`, not handed over yet.
-  bool has(int side) const;
   /// Hands over the room for side `side` when there is one and `mesh` has the same attributes:
   /// `sets` (vertices, faces, corners) and `tris` get the empty arrays with their room.
   /// @pre stop() was called.
