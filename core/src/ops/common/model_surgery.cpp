@@ -6,11 +6,7 @@
 #include <cstring>
 #include <memory>
 #include <string>
-#include <system_error>
 #include <utility>
-
-#include <sys/mman.h>
-#include <unistd.h>
 
 #include "deepcut/core/parallel.h"
 #include "uninit_vector.h"
@@ -388,21 +384,17 @@ struct ArrayCopy {
 // The attribute sets of every piece but `big` (3 per piece: vertices, faces, corners), copied
 // out of `mesh`, and every piece's triangles (number_faces): each array filled by its own task
 // (gather_groups, number_faces; largest first).
-std::vector<AttributeSet> fill_pieces(const SurfaceMesh& mesh, Numbering& num, std::size_t big, const PieceSides* sides) {
+std::vector<AttributeSet> fill_pieces(const SurfaceMesh& mesh, Numbering& num, std::size_t big) {
   const std::size_t n = num.faces.size();
   std::vector<AttributeSet> sets(3 * n);
   std::vector<ArrayCopy> copies;
-  for (std::size_t s = 0; s < n; ++s) {
-    if (s == big) continue;
-    AttributeSet* piece = &sets[3 * s];
-    const bool room = sides && sides->room && sides->room->take(mesh, (*sides->list_sides)[s], piece, num.tris[s]);
-    for (int kind = 0; kind < 3; ++kind) {
-      AttributeSet& set = piece[kind];
-      if (!room) set = set_of(mesh, kind).subset({});
+  for (std::size_t s = 0; s < n; ++s)
+    for (int kind = 0; kind < 3 && s != big; ++kind) {
+      AttributeSet& set = sets[3 * s + static_cast<std::size_t>(kind)];
+      set = set_of(mesh, kind).subset({});
       for (const std::string& name : set.names())
         copies.push_back({set_of(mesh, kind).base(name), set.base(name), &list_of(num, s, kind), group_of(kind)});
     }
-  }
   std::vector<std::pair<std::size_t, std::function<void()>>> tasks;  // bytes written, task
   for (ArrayCopy& c : copies)
     tasks.emplace_back(c.keep->size() * c.group * c.from->element_bytes(),
@@ -434,8 +426,7 @@ std::vector<SurfaceMesh> make_pieces(const SurfaceMesh& mesh, const std::vector<
     return out;
   }
   const std::size_t big = owned ? in_place_piece(mesh, num) : n;
-  if (sides && sides->room) sides->room->stop();
-  std::vector<AttributeSet> sets = fill_pieces(mesh, num, big, sides);
+  std::vector<AttributeSet> sets = fill_pieces(mesh, num, big);
   for (std::size_t s = 0; s < n; ++s)
     if (s != big)
       TrustedAssign::assign(out[s], std::move(num.tris[s]), std::move(sets[3 * s]), std::move(sets[3 * s + 1]),
@@ -467,89 +458,6 @@ std::vector<SurfaceMesh> split_disjoint(SurfaceMesh&& mesh, const std::vector<st
                       list_sides->size() == lists.size() && lists.size() <= 2 &&
                       (lists.size() < 2 || (*list_sides)[0] != (*list_sides)[1]);
   return make_pieces(mesh, lists, mesh.observer() ? nullptr : &mesh, usable ? &sides : nullptr, elements);
-}
-
-namespace {
-
-// The pages of [data, data + bytes) faulted in for writing, on the calling thread (a refusal
-// only costs speed).
-void populate(unsigned char* data, std::size_t bytes) {
-#ifdef MADV_POPULATE_WRITE
-  const auto page = static_cast<std::uintptr_t>(::sysconf(_SC_PAGESIZE));
-  const auto begin = (reinterpret_cast<std::uintptr_t>(data) + page - 1) / page * page;
-  const auto end = (reinterpret_cast<std::uintptr_t>(data) + bytes) / page * page;
-  if (end > begin) ::madvise(reinterpret_cast<void*>(begin), end - begin, MADV_POPULATE_WRITE);
-#else
-  (void)data;
-  (void)bytes;
-#endif
-}
-
-// True when `a` and `b` hold arrays of the same names and types.
-bool same_arrays(const AttributeSet& a, const AttributeSet& b) {
-  const std::vector<std::string> names = a.names();
-  if (names != b.names()) return false;
-  return std::all_of(names.begin(), names.end(),
-                     [&](const std::string& name) { return a.base(name)->type() == b.base(name)->type(); });
-}
-
-}  // namespace
-
-void PieceRoom::reserve(const SurfaceMesh& mesh, int side, std::size_t vertices, std::size_t faces) {
-  Side& room = sides_.emplace_back();  // moving a Side moves no array's storage
-  room.side = side;
-  for (int kind = 0; kind < 3; ++kind) {
-    AttributeSet& set = room.sets[kind];
-    set = set_of(mesh, kind).subset({});
-    const std::size_t n = (kind == 0 ? vertices : faces) * group_of(kind);
-    for (const std::string& name : set.names()) {
-      AttributeArrayBase& array = *set.base(name);
-      array.reserve(n);
-      array.push_default(1);  // an element, for the address of the storage
-      ranges_.emplace_back(bytes_of(array), n * array.element_bytes());
-      array.resize(0);
-    }
-  }
-  room.tris.reserve(faces);
-  ranges_.emplace_back(reinterpret_cast<unsigned char*>(room.tris.data()), faces * sizeof(Triangle));
-}
-
-void PieceRoom::start() {
-  if (ranges_.empty() || helper_.joinable()) return;
-  stop_.store(false);
-  auto fault_in = [this] {
-    constexpr std::size_t kPart = std::size_t(2) << 20;
-    for (const auto& [data, bytes] : ranges_) {
-      advise_huge_pages(data, bytes);
-      for (std::size_t b = 0; b < bytes; b += kPart) {
-        if (stop_.load(std::memory_order_relaxed)) return;
-        populate(data + b, std::min(kPart, bytes - b));
-      }
-    }
-  };
-  try {
-    helper_ = std::thread(fault_in);
-  } catch (const std::system_error&) {
-    // No thread to spare: the split faults the pages in as it writes them.
-  }
-}
-
-void PieceRoom::stop() {
-  stop_.store(true);
-  if (helper_.joinable()) helper_.join();
-}
-
-bool PieceRoom::take(const SurfaceMesh& mesh, int side, AttributeSet* sets, std::vector<Triangle>& tris) {
-  for (Side& room : sides_) {
-    if (room.side != side) continue;
-    room.side = 0;  // handed over once
-    for (int kind = 0; kind < 3; ++kind)
-      if (!same_arrays(room.sets[kind], set_of(mesh, kind))) return false;
-    for (int kind = 0; kind < 3; ++kind) sets[kind] = std::move(room.sets[kind]);
-    tris = std::move(room.tris);
-    return true;
-  }
-  return false;
 }
 
 int cut_surface_material(Model& model) {

@@ -5,11 +5,9 @@
 // primitives added and removed, piece nodes added, instances dropped, with the PosedModel kept in
 // step. Private to core. The data flow is described in docs/architecture.md.
 
-#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <string>
-#include <thread>
 #include <utility>
 #include <vector>
 
@@ -61,51 +59,10 @@ struct PieceElements {
   std::vector<std::uint32_t> vertices, faces;
 };
 
-/// Memory for the pieces a split will copy out of a mesh, made ready while the operation that
-/// makes the pieces (a cut) runs. A piece copied out is written into new memory, and on this
-/// kind of machine most of that write is the kernel zero-filling the new pages on first touch;
-/// the cut itself leaves a core idle in its serial stretches. So the piece's arrays are reserved
-/// before the cut, for about as many elements as its side is expected to hold, and a helper
-/// thread faults their pages in (huge pages asked for) while the cut runs. Changes no byte of
-/// any piece: the split appends to these arrays as it would to new ones (an array that turns out
-/// too small moves to new memory as it grows), and room made for a side the split does not copy
-/// out is dropped. The helper uses no pool thread (the cut's loops keep the pool).
-class PieceRoom {
- public:
-  PieceRoom() = default;
-  PieceRoom(const PieceRoom&) = delete;
-  PieceRoom& operator=(const PieceRoom&) = delete;
-  ~PieceRoom() { stop(); }
-
-  /// Room for the piece on side `side` (+1 or -1) of `mesh`: arrays of each of `mesh`'s
-  /// attributes, and triangles, empty, with room for `vertices` vertices and `faces` faces.
-  void reserve(const SurfaceMesh& mesh, int side, std::size_t vertices, std::size_t faces);
-  /// Starts the helper thread faulting the pages reserved in.
-  void start();
-  /// Stops the helper (it finishes the part of at most 2 MiB it is faulting in) and waits for it.
-  void stop();
-  /// Hands over the room for side `side` when there is one and `mesh` has the same attributes:
-  /// `sets` (vertices, faces, corners) and `tris` get the empty arrays with their room.
-  /// @pre stop() was called.
-  bool take(const SurfaceMesh& mesh, int side, AttributeSet* sets, std::vector<Triangle>& tris);
-
- private:
-  struct Side {
-    int side = 0;
-    AttributeSet sets[3];
-    std::vector<Triangle> tris;
-  };
-  std::vector<Side> sides_;
-  std::vector<std::pair<unsigned char*, std::size_t>> ranges_;  // the reserved bytes
-  std::atomic<bool> stop_{false};
-  std::thread helper_;
-};
-
 /// The side of each of a cut's pieces and of each vertex (CutResult::piece_sides, vertex_sides).
 struct PieceSides {
   const std::vector<int>* list_sides = nullptr;             ///< +1 or -1 per list, each side once
   const std::vector<std::int8_t>* vertex_sides = nullptr;  ///< per vertex; a side no list has: none
-  PieceRoom* room = nullptr;  ///< room made for the pieces copied out, by side (or none)
 };
 
 /// `split_disjoint(mesh, lists)` for lists that are a cut's pieces by side: list `i` holds every

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <memory>
 #include <string>
 #include <variant>
@@ -62,61 +61,11 @@ int side_of(const SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const 
   return d >= 0.0 ? 1 : -1;
 }
 
-// Vertices a mesh needs for room made for its pieces to pay (the thread, the counting pass).
-constexpr std::size_t kRoomVertices = std::size_t(1) << 16;
-
-// Room for the pieces the split will copy out of `mesh` (detail::PieceRoom), made before the cut
-// when the split will go by the cut's sides (no cap, no components, no deleted faces), from the
-// vertices' sides against the plane: the piece kept in place predicted as the split picks it
-// (more vertices plus leading vertices on its side: faces follow vertices), each side's faces
-// taken in proportion to its vertices, and a margin for the rim. A watched mesh's pieces are all
-// copied out: room for both sides. Null when there is nothing to gain.
-std::unique_ptr<detail::PieceRoom> make_room(const SurfaceMesh& mesh, const std::vector<glm::vec3>& posed,
-                                             const Plane& plane, const CutOptions& options) {
-  const std::size_t nv = mesh.vertex_count(), nf = mesh.face_slots();
-  if (thread_count() < 2 || options.cap || options.split_components || mesh.face_count() != nf || nv < kRoomVertices ||
-      posed.size() != nv)
-    return nullptr;
-  struct Count {
-    std::size_t positive = 0, first_positive = SIZE_MAX, first_negative = SIZE_MAX;
-  };
-  const Count c = parallel_reduce(
-      nv, 65536, Count{},
-      [&](std::size_t b, std::size_t e) {
-        Count out;
-        for (std::size_t v = b; v < e; ++v) {
-          if (glm::dot(posed[v] - plane.point, plane.normal) > 0.0f) {
-            ++out.positive;
-            out.first_positive = std::min(out.first_positive, v);
-          } else {
-            out.first_negative = std::min(out.first_negative, v);
-          }
-        }
-        return out;
-      },
-      [](Count a, const Count& b) {
-        a.positive += b.positive;
-        a.first_positive = std::min(a.first_positive, b.first_positive);
-        a.first_negative = std::min(a.first_negative, b.first_negative);
-        return a;
-      });
-  const std::size_t count[2] = {nv - c.positive, c.positive};                   // sides -1, +1
-  const std::size_t leading[2] = {std::min(c.first_positive, nv), std::min(c.first_negative, nv)};
-  if (count[0] == 0 || count[1] == 0) return nullptr;
-  const int in_place = mesh.observer() ? -1 : count[1] + leading[1] > count[0] + leading[0] ? 1 : 0;
-  auto room = std::make_unique<detail::PieceRoom>();
-  for (int k = 0; k < 2; ++k)
-    if (k != in_place)
-      room->reserve(mesh, 2 * k - 1, count[k] + nv / 64 + 1024, nf * count[k] / nv + nf / 64 + 1024);
-  return room;
-}
-
 // The cut of one instance's primitives, made in place on the node's mesh (InstanceEdit::edit: a
 // copy only when other nodes draw it too). A primitive the plane misses is left untouched
 // (cut_mesh changes nothing then), so an instance missed everywhere needs no undoing.
 struct InstanceCut {
   std::vector<CutResult> results;
-  std::vector<std::unique_ptr<detail::PieceRoom>> rooms;  // made for each primitive's pieces (or null)
   std::vector<std::pair<std::size_t, std::size_t>> sizes_before;  // each primitive's vertex and face slot counts
   bool any = false;
 };
@@ -144,15 +93,9 @@ InstanceCut cut_instance(detail::InstanceEdit& inst, const std::vector<glm::mat4
     // the plane misses keeps its grid as it was.
     const bool gridless = posed->gridless;
     posed->gridless = true;
-    std::unique_ptr<detail::PieceRoom> room = make_room(mesh, posed->posed, plane, options);
-    if (room) room->start();
     out.results.push_back(cut_mesh(mesh, *posed, plane, options));
     CutResult& r = out.results.back();
-    if (r.status != OpStatus::Ok) {
-      posed->gridless = gridless;
-      room.reset();
-    }
-    out.rooms.push_back(std::move(room));
+    if (r.status != OpStatus::Ok) posed->gridless = gridless;
     if (r.status == OpStatus::Ok) snap_rim_to_plane(*posed, plane, r, mesh);
     if (r.status == OpStatus::NoIntersection) r.piece_sides = {side_of(mesh, posed->posed, plane)};
     out.any |= r.status == OpStatus::Ok;
@@ -261,7 +204,7 @@ std::shared_ptr<PrimitiveOrigin> piece_origin(const detail::PieceElements& eleme
 // primitive (0 positive, 1 negative) shares a mesh; with it, every piece is its own. `origins`
 // gets, per output mesh and primitive, where a piece's body came from (null for caps, and where
 // the surgery could not say).
-std::vector<Mesh> group_pieces(Mesh& edited, InstanceCut& cut, const CutOptions& options, int cut_material,
+std::vector<Mesh> group_pieces(Mesh& edited, const InstanceCut& cut, const CutOptions& options, int cut_material,
                                ModelCutResult& result, std::vector<std::vector<std::shared_ptr<PrimitiveOrigin>>>& origins) {
   std::vector<Mesh> piece_meshes;
   for (std::size_t p = 0; p < cut.results.size(); ++p) {
@@ -278,7 +221,7 @@ std::vector<Mesh> group_pieces(Mesh& edited, InstanceCut& cut, const CutOptions&
     }
     const auto& pieces = r.status == OpStatus::NoIntersection ? whole : r.pieces;
     const std::vector<std::int8_t>& vertex_sides = detail::CutSides::of(r);
-    const detail::PieceSides sides{&r.piece_sides, &vertex_sides, cut.rooms[p].get()};
+    const detail::PieceSides sides{&r.piece_sides, &vertex_sides};
     const bool by_side = r.status == OpStatus::Ok && !vertex_sides.empty();
     // Origins for a mesh an undo record watches: a front end that follows the steps (the
     // studio's session) hands them on; a one-off cut (the command line) spares the passes.
@@ -287,7 +230,6 @@ std::vector<Mesh> group_pieces(Mesh& edited, InstanceCut& cut, const CutOptions&
     std::vector<std::vector<Primitive>> prims =
         piece_primitives(std::move(mesh), pieces, by_side ? &sides : nullptr, edited.primitives[p].material, cut_material,
                          followed ? &elements : nullptr);
-    cut.rooms[p].reset();  // what the pieces did not take
     if (!followed) elements.assign(pieces.size(), {});
     const Rewritten rewritten = followed ? rewritten_by(r, cut.sizes_before[p]) : Rewritten();
     for (std::size_t k = 0; k < pieces.size(); ++k) {
@@ -358,7 +300,7 @@ ModelCutResult cut_model(Model& model, PosedModel& posed, const Plane& plane, co
   std::vector<std::shared_ptr<PrimitiveOrigin>> made;  // the pieces' origins
   detail::ModelSurgery surgery(model, posed);
   surgery.for_each_instance([&](detail::InstanceEdit& inst) {
-    InstanceCut cut = cut_instance(inst, world, plane, options);
+    const InstanceCut cut = cut_instance(inst, world, plane, options);
     if (!cut.any) {
       int votes = 0;
       for (const auto& r : cut.results) votes += r.piece_sides.empty() ? 0 : r.piece_sides[0];
