@@ -390,53 +390,6 @@ TEST(ModelSurgery, ACutsVertexSidesSplitItsMeshAsItsPiecesFacesDo) {
   EXPECT_TRUE(CutSides::of(cut_mesh(mesh, mesh.positions(), plane)).empty());
 }
 
-TEST(ModelSurgery, RoomMadeAheadForThePiecesChangesNoByteOfThem) {
-  // Room reserved before the split (PieceRoom) for one side, for both, too small for a piece, made
-  // from a mesh with another attribute (not taken), or never faulted in: the pieces are those
-  // split without it. Room that fits stays with the piece copied out into it.
-  CactusOptions cactus;
-  cactus.target_triangles = 60000;
-  SurfaceMesh mesh = make_cactus(cactus).meshes[0].primitives[0].mesh;
-  const BoundingBox box = mesh.bounds();
-  const CutResult r = cut_mesh(mesh, mesh.positions(), {0.5f * (box.min + box.max), glm::vec3(0.1f, 1.0f, 0.05f)});
-  ASSERT_EQ(r.status, OpStatus::Ok);
-  SurfaceMesh plain = mesh;
-  const std::vector<SurfaceMesh> expected =
-      split_disjoint(std::move(plain), r.pieces, PieceSides{&r.piece_sides, &CutSides::of(r)});
-  auto capacity = [](const std::vector<SurfaceMesh>& pieces) {
-    std::size_t bytes = 0;
-    for (const SurfaceMesh& piece : pieces) bytes += piece.capacity_bytes();
-    return bytes;
-  };
-  SurfaceMesh other = mesh;
-  other.vertex_attrs().add<float>("v:test_extra");
-  const std::size_t nv = mesh.vertex_count(), nf = mesh.face_slots();
-  struct Case {
-    const SurfaceMesh* from;
-    std::vector<int> sides;
-    std::size_t vertices, faces;
-    bool started, kept;
-  };
-  const Case cases[] = {{&mesh, {1}, nv, nf, true, false},    {&mesh, {-1}, nv, nf, true, false},
-                        {&mesh, {1, -1}, nv, nf, true, true}, {&mesh, {1, -1}, nv, nf, false, true},
-                        {&mesh, {1, -1}, 10, 10, true, false}, {&other, {1, -1}, nv, nf, true, false}};
-  for (const Case& c : cases) {
-    PieceRoom room;
-    for (int side : c.sides) room.reserve(*c.from, side, c.vertices, c.faces);
-    if (c.started) room.start();
-    SurfaceMesh taken = mesh;
-    const std::vector<SurfaceMesh> out =
-        split_disjoint(std::move(taken), r.pieces, PieceSides{&r.piece_sides, &CutSides::of(r), &room});
-    ASSERT_EQ(out.size(), expected.size());
-    for (std::size_t i = 0; i < out.size(); ++i) expect_same_bytes(out[i], expected[i]);
-    if (c.kept) {
-      EXPECT_GT(capacity(out), capacity(expected));
-    } else if (c.vertices == 10 || c.from == &other) {
-      EXPECT_EQ(capacity(out), capacity(expected));
-    }
-  }
-}
-
 TEST(ModelSurgery, ACutKeepsTheGridsOfTheInstancesItMisses) {
   // The instances a model cut cuts leave the posed model (followed without their grids); those
   // the plane misses keep their grids, and the posed model then matches a fresh build.
