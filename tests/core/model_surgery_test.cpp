@@ -390,6 +390,23 @@ TEST(ModelSurgery, ACutsVertexSidesSplitItsMeshAsItsPiecesFacesDo) {
   EXPECT_TRUE(CutSides::of(cut_mesh(mesh, mesh.positions(), plane)).empty());
 }
 
+TEST(ModelSurgery, ACutKeepsTheGridsOfTheInstancesItMisses) {
+  // The instances a model cut cuts leave the posed model (followed without their grids); those
+  // the plane misses keep their grids, and the posed model then matches a fresh build.
+  Model model = make_scene();
+  PosedModel posed = PosedModel::build(model, -1, 0.0f);
+  const Plane plane{{3.05f, 0.0f, 0.0f}, {1.0f, 0.0f, 0.0f}};  // through node b alone
+  ASSERT_EQ(cut_model(model, posed, plane, CutOptions{}, -1, 0.0f).status, OpStatus::Ok);
+  for (const auto& [node, primitive] : {std::pair{1, 0}, {3, 0}, {3, 1}}) {
+    const PosedMesh* inst = posed.find(node, primitive);
+    ASSERT_NE(inst, nullptr);
+    EXPECT_FALSE(inst->gridless);
+    EXPECT_EQ(inst->grid.face_count(), test::make_tube(8, 2).face_count());
+  }
+  EXPECT_EQ(posed.find(2, 0), nullptr);
+  expect_posed_matches_rebuild(posed, model);
+}
+
 std::vector<char> file_bytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};

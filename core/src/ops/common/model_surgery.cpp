@@ -301,37 +301,48 @@ std::vector<Step> in_place_steps(const std::vector<std::uint32_t>& keep) {
   return out;
 }
 
-// Piece `big` of `mesh`: every array of the mesh compacted in place (stretch by stretch, each
-// over every array at once), no allocation but its triangles; `mesh` is left empty.
+// Piece `big` of `mesh`: every array of the mesh, its triangles included, compacted in place
+// (stretch by stretch, each over every array at once), then its triangles renumbered in place;
+// no allocation. `mesh` is left empty.
 SurfaceMesh take_piece(SurfaceMesh& mesh, Numbering& num, std::size_t big) {
-  const std::vector<Step> steps[2] = {in_place_steps(num.vertices[big]), in_place_steps(num.faces[big])};
+  const std::vector<std::uint32_t>& faces = num.faces[big];
+  std::vector<Triangle>& tris = TrustedAssign::faces(mesh);
+  const std::vector<Step> steps[2] = {in_place_steps(num.vertices[big]), in_place_steps(faces)};
   const std::size_t rounds = std::max(steps[0].size(), steps[1].size());
   for (std::size_t r = 0; r < rounds; ++r) {
     std::vector<GroupCopy> jobs;
+    auto add = [&](unsigned char* bytes, std::size_t width, const std::vector<std::uint32_t>& keep, const Step& step) {
+      const GroupCopy copy{bytes, bytes, width, keep.data(), step.begin, step.end};
+      if (step.parallel) add_chunks(copy, step.begin, step.end, jobs);
+      else jobs.push_back(copy);
+    };
     for (int kind = 0; kind < 3; ++kind) {
       const std::vector<Step>& list = steps[kind == 0 ? 0 : 1];
       if (r >= list.size()) continue;
-      const Step& step = list[r];
       AttributeSet& set = set_of(mesh, kind);
       for (const std::string& name : set.names()) {
         AttributeArrayBase& array = *set.base(name);
-        const GroupCopy copy{bytes_of(array), bytes_of(array), array.element_bytes() * group_of(kind),
-                             list_of(num, big, kind).data(), step.begin, step.end};
-        if (step.parallel) add_chunks(copy, step.begin, step.end, jobs);
-        else jobs.push_back(copy);
+        add(bytes_of(array), array.element_bytes() * group_of(kind), list_of(num, big, kind), list[r]);
       }
     }
+    if (r < steps[1].size()) add(reinterpret_cast<unsigned char*>(tris.data()), sizeof(Triangle), faces, steps[1][r]);
     run_copies(jobs);
   }
+  tris.resize(faces.size());
+  const std::uint32_t* rank = num.rank.data();
+  parallel_for(tris.size(), kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i)
+      for (VertexId& v : tris[i]) v = VertexId(rank[v.index]);
+  });
   for (int kind = 0; kind < 3; ++kind) set_of(mesh, kind).resize(list_of(num, big, kind).size() * group_of(kind));
-  TrustedAssign::assign(mesh, std::move(num.tris[big]), std::move(mesh.vertex_attrs()), std::move(mesh.face_attrs()),
-                      std::move(mesh.corner_attrs()));
+  TrustedAssign::assign(mesh, std::move(tris), std::move(mesh.vertex_attrs()), std::move(mesh.face_attrs()),
+                        std::move(mesh.corner_attrs()));
   return std::move(mesh);
 }
 
-// Bytes of a vertex's and of a face's attributes (its corners' included).
+// Bytes of a vertex's and of a face's attributes (its corners' and its triangle included).
 std::pair<std::size_t, std::size_t> element_bytes(const SurfaceMesh& mesh) {
-  std::size_t vertex = 0, face = 0;
+  std::size_t vertex = 0, face = sizeof(Triangle);
   for (int kind = 0; kind < 3; ++kind)
     for (const std::string& name : set_of(mesh, kind).names())
       (kind == 0 ? vertex : face) += set_of(mesh, kind).base(name)->element_bytes() * group_of(kind);
@@ -389,7 +400,9 @@ std::vector<AttributeSet> fill_pieces(const SurfaceMesh& mesh, Numbering& num, s
     tasks.emplace_back(c.keep->size() * c.group * c.from->element_bytes(),
                        [&c] { c.from->gather_groups(*c.to, *c.keep, c.group, fresh_memory); });
   for (std::size_t s = 0; s < n; ++s)
-    tasks.emplace_back(num.faces[s].size() * sizeof(Triangle), [&, s] { number_faces(mesh, num.faces[s], num.rank, num.tris[s]); });
+    if (s != big)
+      tasks.emplace_back(num.faces[s].size() * sizeof(Triangle),
+                         [&, s] { number_faces(mesh, num.faces[s], num.rank, num.tris[s]); });
   std::stable_sort(tasks.begin(), tasks.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
   run_chunks(tasks.size(), [&](std::size_t i) { tasks[i].second(); });
   for (std::size_t s = 0; s < n; ++s)

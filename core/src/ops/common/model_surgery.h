@@ -29,6 +29,8 @@ struct TrustedAssign {
                      AttributeSet corner_attrs) {
     mesh.assign_trusted(std::move(faces), std::move(vertex_attrs), std::move(face_attrs), std::move(corner_attrs));
   }
+  /// The mesh's triangles, to take apart in place (the mesh is assigned anew right after).
+  static std::vector<Triangle>& faces(SurfaceMesh& mesh) { return mesh.faces_; }
 };
 
 /// A copy of `mesh` holding only `faces` (unused vertices dropped, attributes following).

@@ -87,8 +87,15 @@ InstanceCut cut_instance(detail::InstanceEdit& inst, const std::vector<glm::mat4
       posed = &own;
     }
     out.sizes_before.emplace_back(mesh.vertex_count(), mesh.face_slots());
+    // A cut instance leaves the posed model (its pieces replace the mesh, and the next prepare
+    // indexes them): its grid would be kept in step with the cut only to be dropped, so the cut
+    // follows it as gridless (positions and linear maps, which the rim's snap reads). A primitive
+    // the plane misses keeps its grid as it was.
+    const bool gridless = posed->gridless;
+    posed->gridless = true;
     out.results.push_back(cut_mesh(mesh, *posed, plane, options));
     CutResult& r = out.results.back();
+    if (r.status != OpStatus::Ok) posed->gridless = gridless;
     if (r.status == OpStatus::Ok) snap_rim_to_plane(*posed, plane, r, mesh);
     if (r.status == OpStatus::NoIntersection) r.piece_sides = {side_of(mesh, posed->posed, plane)};
     out.any |= r.status == OpStatus::Ok;
