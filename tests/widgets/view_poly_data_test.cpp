@@ -184,5 +184,19 @@ TEST(ViewPolyDataTest, more_ways_than_remembered_on_one_vertex) {
   f.become(original, "restored");
 }
 
+// The fan with a face naming its centre three times (its corners draw alike, so a point three
+// times in its cell): steps after the first build still find every corner of that face.
+TEST(ViewPolyDataTest, face_naming_one_vertex_three_times) {
+  SurfaceMesh mesh = make_many_ways_fan();
+  const FaceId lone = mesh.add_face(VertexId(0), VertexId(0), VertexId(0));
+  auto& uv = *mesh.corner_attrs().find<glm::vec2>(attr::kUv0);
+  for (int k = 0; k < 3; ++k) uv[SurfaceMesh::corner(lone, k)] = {5.0f, 5.0f};
+  Followed f(std::move(mesh));
+  const SurfaceMesh original = f.mesh;
+  f.edit([](MeshEditor& e) { e.remove_face(FaceId(1)); }, "a face beside removed");
+  f.edit([](MeshEditor& e) { e.move_vertex(VertexId(0), {0.0f, 0.0f, 1.0f}); }, "centre moved");
+  f.become(original, "restored");
+}
+
 }  // namespace
 }  // namespace deepcut
