@@ -105,6 +105,7 @@ struct SceneView::Impl {
   std::function<bool(const PointerEvent&)> pointer_handler;
   std::function<void()> render_listener;
   bool hold_renders = false, render_due = false;
+  bool updates_due = false;  // a new scene's data waits for prepare_updates after its first frame
   double last_render_cpu_ms = 0.0;
   int frames_drawn = 0;
 
@@ -465,6 +466,7 @@ std::vector<std::string> SceneView::set_scene(const plugins::Scene& scene, std::
   for (const plugins::SceneInstance& sp : scene.instances)
     d.add_actor(sp, prepared ? prepared->data[d.instances.size()] : instance_view_data(scene, sp), notes);
   d.rebuild_normals();
+  d.updates_due = true;
   return notes;
 }
 
@@ -738,6 +740,10 @@ void SceneView::render() {
   impl_->last_render_cpu_ms = thread_cpu_ms() - cpu;
   ++impl_->frames_drawn;
   impl_->widget->update();
+  if (impl_->updates_due) {  // what the first build left for the first step, when idle
+    impl_->updates_due = false;
+    QTimer::singleShot(0, this, [this] { prepare_updates(); });
+  }
 }
 
 void SceneView::warm_up() {

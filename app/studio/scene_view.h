@@ -71,9 +71,10 @@ class SceneView : public QWidget {
   /// that left (Scene::departed) is kept until the next structural step (or pose), for an undo or
   /// redo that brings them back. @pre an unmapped structural change is shown with `set_scene`.
   void update_scene(const ModelChange& change);
-  /// Builds what the data of the instances a structural step made left for later (the corner
-  /// lists a cut's pieces get only before their first update: ViewPolyData::prepare_updates):
-  /// when idle after the step's frame.
+  /// Builds what the data of the instances a structural step made, or a new scene's, left for
+  /// later (the corner lists they get only before their first update:
+  /// ViewPolyData::prepare_updates): when idle after the step's frame (a new scene's: after its
+  /// first frame, by itself).
   void prepare_updates();
   /// The drawn data of instance `instance` (nullptr for an unknown one): what tests and the
   /// studio benchmark compare with a fresh build.

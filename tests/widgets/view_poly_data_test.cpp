@@ -26,6 +26,7 @@
 
 #include "deepcut/core/mesh_editor.h"
 #include "deepcut/core/model_change.h"
+#include "deepcut/core/parallel.h"
 #include "fixtures.h"
 #include "view_checks.h"
 
@@ -182,6 +183,48 @@ TEST(ViewPolyDataTest, more_ways_than_remembered_on_one_vertex) {
     for (std::uint32_t i = 30; i < 72; i += 3) e.remove_face(FaceId(i));
   }, "every third face removed");
   f.become(original, "restored");
+}
+
+// The fan with a face naming its centre three times (its corners draw alike, so a point three
+// times in its cell): steps after the first build still find every corner of that face.
+TEST(ViewPolyDataTest, face_naming_one_vertex_three_times) {
+  SurfaceMesh mesh = make_many_ways_fan();
+  const FaceId lone = mesh.add_face(VertexId(0), VertexId(0), VertexId(0));
+  auto& uv = *mesh.corner_attrs().find<glm::vec2>(attr::kUv0);
+  for (int k = 0; k < 3; ++k) uv[SurfaceMesh::corner(lone, k)] = {5.0f, 5.0f};
+  Followed f(std::move(mesh));
+  const SurfaceMesh original = f.mesh;
+  f.edit([](MeshEditor& e) { e.remove_face(FaceId(1)); }, "a face beside removed");
+  f.edit([](MeshEditor& e) { e.move_vertex(VertexId(0), {0.0f, 0.0f, 1.0f}); }, "centre moved");
+  f.become(original, "restored");
+}
+
+// The first build's arrays, byte for byte, are the same whatever the thread count (the corners
+// are grouped by vertex ranges, one per thread), and so is the view after a step.
+TEST(ViewPolyDataTest, first_build_the_same_whatever_the_thread_count) {
+  const SurfaceMesh mesh = test::make_grid(40, 30);
+  auto bytes = [](vtkDataArray* a) {
+    const auto* p = static_cast<const unsigned char*>(a->GetVoidPointer(0));
+    return std::vector<unsigned char>(p, p + a->GetNumberOfValues() * a->GetDataTypeSize());
+  };
+  auto arrays = [&](const ViewPolyData& view) {
+    vtkPolyData* poly = view.poly();
+    return std::vector<std::vector<unsigned char>>{
+        bytes(poly->GetPoints()->GetData()), bytes(poly->GetPointData()->GetNormals()),
+        bytes(poly->GetPointData()->GetArray("uv0")), bytes(poly->GetPointData()->GetArray("vertex_id")),
+        bytes(poly->GetPolys()->GetConnectivityArray())};
+  };
+  const std::size_t threads = thread_count();
+  std::vector<std::vector<std::vector<unsigned char>>> got;
+  for (std::size_t n : {1, 2, 3, 7}) {
+    set_thread_count(n);
+    Followed f(mesh);
+    EXPECT_TRUE(f.view.corner_points());
+    got.push_back(arrays(f.view));
+    f.edit([](MeshEditor& e) { e.remove_face(FaceId(5)); }, "a face removed");
+  }
+  set_thread_count(threads);
+  for (std::size_t i = 1; i < got.size(); ++i) EXPECT_EQ(got[i], got[0]) << i;
 }
 
 }  // namespace

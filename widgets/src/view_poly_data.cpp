@@ -18,6 +18,7 @@
 
 #include "deepcut/core/morph.h"
 #include "deepcut/core/parallel.h"
+#include "corner_groups.h"
 
 namespace deepcut {
 namespace {
@@ -205,8 +206,13 @@ ViewPolyData::ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>
   const std::size_t slots = mesh.face_slots();
   Writer w(poly_, mesh, positions, corner_normals);
   if (corners_) {
-    make_lists(mesh);
-    build_corner_points(w, mesh.vertex_count());
+    const CornerGroups groups = group_corners(mesh);
+    build_corner_points(w, groups);
+    if (groups.one_vertex_face)  // else the lists wait (link_cells reads a cell (p, p, p) as deleted)
+      link_all(3 * slots, mesh.vertex_count(), [&](std::size_t c) {
+        const auto f = static_cast<std::uint32_t>(c / 3);
+        return mesh.is_deleted(FaceId(f)) ? kInvalidIndex : mesh.faces()[f][static_cast<int>(c % 3)].index;
+      });
   } else {
     parallel_for(slots, kGrain, [&](std::size_t b, std::size_t e) {
       for (std::size_t f = b; f < e; ++f) w.vertex_cell(f);
@@ -264,13 +270,6 @@ void ViewPolyData::make_arrays(const SurfaceMesh& mesh) {
   vtkNew<vtkTypeInt64Array> offsets, connectivity;
   polys->SetData(offsets, connectivity);
   poly_->SetPolys(polys);
-}
-
-void ViewPolyData::make_lists(const SurfaceMesh& mesh) {
-  link_all(3 * mesh.face_slots(), mesh.vertex_count(), [&](std::size_t c) {
-    const auto f = static_cast<std::uint32_t>(c / 3);
-    return mesh.is_deleted(FaceId(f)) ? kInvalidIndex : mesh.faces()[f][static_cast<int>(c % 3)].index;
-  });
 }
 
 // What a copying build knows of a piece's corners between its passes (copy_corner_points).
@@ -454,28 +453,30 @@ void ViewPolyData::assign_waiting(const Writer& w, const std::vector<std::uint32
   }
 }
 
-void ViewPolyData::build_corner_points(const Writer& writer, std::size_t vertices) {
-  // Two passes over each vertex's corners: the first numbers its points from 0 (into the
-  // corners' connectivity), the second adds the vertex's first point and writes the points.
-  // A deleted face's cell is (0, 0, 0).
+void ViewPolyData::build_corner_points(const Writer& writer, const CornerGroups& groups) {
+  const std::size_t vertices = groups.offset.size() - 1;
+  // Two passes over each vertex's corners: the first numbers its points from 0 (into the corners'
+  // connectivity), the second adds the vertex's first point and writes the points. A deleted face's cell
+  // is (0, 0, 0).
   const SurfaceMesh& mesh = writer.mesh;
   vtkTypeInt64* conn = writer.r.connectivity;
   parallel_for(mesh.face_slots(), kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t f = b; f < e; ++f) {
-      const bool deleted = mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)));
-      std::fill(conn + 3 * f, conn + 3 * f + 3, deleted ? 0 : -1);
-    }
+    for (std::size_t f = b; f < e; ++f)
+      std::fill(conn + 3 * f, conn + 3 * f + 3, mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f))) ? 0 : -1);
   });
+  const std::uint32_t* grouped = groups.corner.data();
   std::vector<std::uint32_t> first_point(vertices + 1, 0);
   parallel_for(vertices, kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t v = b; v < e; ++v) {
       Candidates seen;
       std::uint32_t count = 0;
-      for (std::uint32_t c = first_[v]; c != kInvalidIndex; c = next_[c]) {
-        std::uint32_t p = alike_point(writer, seen, linked(static_cast<std::uint32_t>(v)), c, conn);
+      const Corners corners{nullptr, kInvalidIndex, grouped + groups.offset[v], grouped + groups.offset[v + 1]};
+      corners.any([&](std::uint32_t c) {
+        std::uint32_t p = alike_point(writer, seen, corners, c, conn);
         if (p == kInvalidIndex) seen.add(p = count++, c);
         conn[c] = p;
-      }
+        return false;
+      });
       first_point[v + 1] = count;
     }
   });
@@ -490,7 +491,8 @@ void ViewPolyData::build_corner_points(const Writer& writer, std::size_t vertice
   parallel_for(vertices, kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t v = b; v < e; ++v) {
       std::uint32_t written = 0;
-      for (std::uint32_t c = first_[v]; c != kInvalidIndex; c = next_[c]) {
+      for (std::uint32_t i = groups.offset[v]; i < groups.offset[v + 1]; ++i) {
+        const std::uint32_t c = grouped[i];
         const auto local = static_cast<std::uint32_t>(conn[c]);
         const std::uint32_t p = first_point[v] + local;
         w.r.connectivity[c] = p;

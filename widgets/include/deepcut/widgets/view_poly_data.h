@@ -30,11 +30,15 @@
 
 namespace deepcut {
 
+struct CornerGroups;
+
 class ViewPolyData {
  public:
   /// Converts `mesh` drawn at `positions` (one per vertex slot) with `corner_normals` (one per
   /// corner, e.g. the posed ones; null or empty: the mesh's own normals, if any).
-  /// O(vertices + faces), in parallel; the points are the same whatever the thread count.
+  /// O(vertices + faces), in parallel; the points are the same whatever the thread count. The
+  /// corner lists `update` needs are left for `prepare_updates` (the data is drawn without them),
+  /// unless a live face names one vertex three times.
   /// @pre (here and in `update`) every live face of `mesh` names vertices below its
   ///      vertex_count (a deleted face's cell is (0, 0, 0) whatever it names).
   /// @pre (here, in `update` and `set_positions`) corner normals are what posing makes of the
@@ -57,7 +61,7 @@ class ViewPolyData {
                const std::vector<glm::vec3>* corner_normals, const ViewPolyData& source,
                const PrimitiveOrigin& origin);
 
-  /// Builds what `update` needs that the constructor from a source left out (the corner lists,
+  /// Builds what `update` needs that the constructors left out (the corner lists,
   /// O(corners) over the pool): once, when idle after the first frame (else the next `update`
   /// does it first). Nothing to do otherwise.
   void prepare_updates();
@@ -97,13 +101,12 @@ class ViewPolyData {
   void set_point_count(std::size_t n);
   /// The empty arrays (no points, no cells) for `mesh`.
   void make_arrays(const SurfaceMesh& mesh);
-  /// The corner lists of a new mesh (all of its live faces' corners linked).
-  void make_lists(const SurfaceMesh& mesh);
   /// The corner lists from the drawn cells (a live cell's corners, linked to their points'
   /// vertices; a deleted face's cell names one point three times).
   void link_cells();
-  /// Corner layout of a new mesh: groups every vertex's corners into points, in parallel.
-  void build_corner_points(const Writer& w, std::size_t vertices);
+  /// Corner layout of a new mesh: groups every vertex's corners (`groups`) into points, in
+  /// parallel.
+  void build_corner_points(const Writer& w, const CornerGroups& groups);
   /// Corner layout of a new mesh made out of `source`'s mesh as `origin` says (see the
   /// constructor). @returns false, having changed nothing, when they do not fit.
   bool copy_corner_points(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin);
