@@ -415,7 +415,8 @@ void MainWindow::report_error(const QString& message) {
 }
 
 void MainWindow::note_operation(const QString& label, double ms) {
-  last_operation_ = QString("%1: %2 ms").arg(label).arg(last_operation_ms_ = ms, 0, 'f', ms < 10.0 ? 1 : 0);
+  last_operation_ms_ = ms;
+  last_operation_ = QString("%1: %2 ms").arg(label).arg(ms, 0, 'f', ms < 10.0 ? 1 : 0);
   refresh_status();
 }
 

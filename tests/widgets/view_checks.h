@@ -52,8 +52,9 @@ inline vtkTypeInt64 point_of(vtkPolyData* poly, std::size_t corner) {
 }
 
 // `got` draws what a fresh build of `mesh` at `positions` with `normals` draws.
-inline void expect_rebuilt(const ViewPolyData& got, const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
-                    const Normals* normals, const std::string& what) {
+inline void expect_rebuilt(const ViewPolyData& got, const SurfaceMesh& mesh,
+                           const std::vector<glm::vec3>& positions, const Normals* normals,
+                           const std::string& what) {
   SCOPED_TRACE(what);
   const ViewPolyData fresh(mesh, positions, normals);
   vtkPolyData *g = got.poly(), *w = fresh.poly();

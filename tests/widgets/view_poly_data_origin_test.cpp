@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <variant>
@@ -14,6 +16,7 @@
 #include "deepcut/core/mesh_editor.h"
 #include "deepcut/core/model_undo.h"
 #include "deepcut/core/ops/operation.h"
+#include "deepcut/core/parallel.h"
 #include "deepcut/core/posed_model.h"
 #include "deepcut/widgets/view_poly_data.h"
 #include "fixtures.h"
@@ -72,14 +75,15 @@ void renumber_points(ViewPolyData& view, const Drawn& d, const std::string& what
   expect_rebuilt(view, *d.mesh, d.positions, &d.normals, what);
 }
 
-/// Cuts `model` by `plane` at (`animation`, `time`) under an undo record (as the studio's session
-/// does, so the cut says where its pieces came from), then checks every piece's data built
-/// through its origin against a fresh build. With `renumber` the source's data first follows a
-/// step that deletes some faces and one that brings them back, so its points are numbered
-/// otherwise than a fresh build's.
-void check_pieces(Model model, const Plane& plane, int animation, float time, bool renumber, const std::string& what) {
-  SCOPED_TRACE(what);
-  const Model before = model;
+/// A cut of a model under an undo record (as the studio's session does, so the cut says where
+/// its pieces came from): the model before and after, and the pieces' origins.
+struct Cut {
+  Model before, after;
+  std::vector<std::shared_ptr<const PrimitiveOrigin>> origins;
+};
+
+void cut(Cut& out, Model model, const Plane& plane, int animation, float time) {
+  out.before = model;
   Operation op;
   op.params = CutOperation{};
   std::get<CutOperation>(op.params).plane = plane;
@@ -93,25 +97,78 @@ void check_pieces(Model model, const Plane& plane, int animation, float time, bo
     recorder.finish();
   }
   ASSERT_EQ(result.status, OpStatus::Ok);
-  const auto& origins = std::get<ModelCutResult>(result.result).origins;
-  ASSERT_FALSE(origins.empty());
-  const PosedModel posed_before = PosedModel::build(before, animation, time, PoseDetail::Positions);
-  const PosedModel posed_after = PosedModel::build(model, animation, time, PoseDetail::Positions);
-  for (const auto& origin : origins) {
-    const Drawn source = drawn(before, posed_before, origin->node_before, origin->mesh_before, origin->primitive_before);
-    const Drawn piece = drawn(model, posed_after, origin->node, origin->mesh, origin->primitive);
-    ASSERT_TRUE(source.mesh && piece.mesh);
-    ASSERT_EQ(origin->faces.size(), piece.mesh->face_slots());
-    ASSERT_EQ(origin->vertices.size(), piece.mesh->vertex_count());
-    ViewPolyData source_view(*source.mesh, source.positions, &source.normals);
-    if (renumber) renumber_points(source_view, source, "the source renumbered");
-    ViewPolyData copied(*piece.mesh, piece.positions, &piece.normals, source_view, *origin);
+  out.origins = std::get<ModelCutResult>(result.result).origins;
+  ASSERT_FALSE(out.origins.empty());
+  out.after = std::move(model);
+}
+
+/// What a check does with a piece's copied data before its first update.
+enum class Then {
+  update,   // the update builds the corner lists first
+  prepare,  // `prepare_updates` (the studio's idle work) first
+  pose,     // a new pose (`set_positions`, lists not built), checked, then the update
+};
+
+/// The copied data of one piece (`origin`) of `c`, from the source's data (renumbered by two
+/// steps first with `renumber`), checked against a fresh build. The data must come from copying,
+/// with the corner lists left for later.
+std::unique_ptr<ViewPolyData> copy_piece(const Cut& c, const PrimitiveOrigin& origin,
+                                         const PosedModel& posed_before, const PosedModel& posed_after,
+                                         bool renumber, Drawn& piece) {
+  const Drawn source =
+      drawn(c.before, posed_before, origin.node_before, origin.mesh_before, origin.primitive_before);
+  piece = drawn(c.after, posed_after, origin.node, origin.mesh, origin.primitive);
+  EXPECT_TRUE(source.mesh && piece.mesh);
+  if (!source.mesh || !piece.mesh) return nullptr;
+  EXPECT_EQ(origin.faces.size(), piece.mesh->face_slots());
+  EXPECT_EQ(origin.vertices.size(), piece.mesh->vertex_count());
+  ViewPolyData source_view(*source.mesh, source.positions, &source.normals);
+  if (renumber) renumber_points(source_view, source, "the source renumbered");
+  auto copied =
+      std::make_unique<ViewPolyData>(*piece.mesh, piece.positions, &piece.normals, source_view, origin);
+  // (without corner points, one point per vertex slot: nothing to copy, nothing left for later)
+  EXPECT_EQ(copied->copied(), copied->corner_points()) << "a full build instead of a copy";
+  EXPECT_EQ(copied->updates_prepared(), !copied->corner_points()) << "corner lists built by the copy";
+  expect_rebuilt(*copied, *piece.mesh, piece.positions, &piece.normals,
+                 "piece of node " + std::to_string(origin.node));
+  return copied;
+}
+
+/// Cuts `model` by `plane` at (`animation`, `time`), then checks every piece's data built through
+/// its origin against a fresh build, and after `then` and steps that delete faces and bring them
+/// back. With `renumber` the source's data first follows such steps, so its points are numbered
+/// otherwise than a fresh build's.
+void check_pieces(Model model, const Plane& plane, int animation, float time, bool renumber,
+                  const std::string& what, Then then = Then::update) {
+  SCOPED_TRACE(what);
+  Cut c;
+  cut(c, std::move(model), plane, animation, time);
+  const PosedModel posed_before = PosedModel::build(c.before, animation, time, PoseDetail::Positions);
+  const PosedModel posed_after = PosedModel::build(c.after, animation, time, PoseDetail::Positions);
+  // Another pose: the next frame of the animation (at rest: the same).
+  const PosedModel posed_next = PosedModel::build(c.after, animation, time + 0.5f, PoseDetail::Positions);
+  for (const auto& origin : c.origins) {
+    Drawn piece;
+    const std::unique_ptr<ViewPolyData> copied =
+        copy_piece(c, *origin, posed_before, posed_after, renumber, piece);
+    if (!copied) continue;
     const std::string name = "piece of node " + std::to_string(origin->node);
-    expect_rebuilt(copied, *piece.mesh, piece.positions, &piece.normals, name);
-    // Its first update builds the corner lists the copy left out.
-    renumber_points(copied, piece, name + ", then updated");
+    if (then == Then::prepare) {
+      copied->prepare_updates();
+      EXPECT_TRUE(copied->updates_prepared());
+      expect_rebuilt(*copied, *piece.mesh, piece.positions, &piece.normals, name + ", prepared");
+    } else if (then == Then::pose) {
+      piece = drawn(c.after, posed_next, origin->node, origin->mesh, origin->primitive);
+      copied->set_positions(piece.positions, &piece.normals);
+      EXPECT_EQ(copied->updates_prepared(), !copied->corner_points());
+      expect_rebuilt(*copied, *piece.mesh, piece.positions, &piece.normals, name + ", posed again");
+    }
+    // Its first update builds the corner lists the copy left out (unless prepared).
+    renumber_points(*copied, piece, name + ", then updated");
+    EXPECT_TRUE(copied->updates_prepared());
   }
 }
+
 Plane plane_through(const glm::vec3& point, const glm::vec3& normal) {
   Plane plane;
   plane.point = point;
@@ -135,6 +192,103 @@ TEST(ViewPolyDataOriginTest, morph_targets_skinned) {
   const Plane plane = plane_through({0.0f, 1.8f, 0.0f}, {-0.1f, 1.0f, 0.2f});
   check_pieces(test::make_morph_tube_model(), plane, -1, 0.0f, false, "at rest");
   check_pieces(test::make_morph_tube_model(), plane, 0, 1.0f, true, "bent and morphed");
+}
+
+TEST(ViewPolyDataOriginTest, prepared_then_updated) {
+  const Plane plane = plane_through({0.0f, 1.8f, 0.0f}, {-0.1f, 1.0f, 0.2f});
+  check_pieces(test::make_morph_tube_model(), plane, 0, 0.5f, true, "bent and morphed", Then::prepare);
+  check_pieces(grid_model(12, 9), plane_through({0.37f, 0.0f, 0.41f}, {0.3f, 0.0f, 1.0f}), -1, 0.0f, false,
+               "uv seams", Then::prepare);
+}
+
+TEST(ViewPolyDataOriginTest, posed_again_before_the_lists) {
+  const Plane plane = plane_through({0.0f, 1.8f, 0.0f}, {-0.1f, 1.0f, 0.2f});
+  check_pieces(test::make_morph_tube_model(), plane, 0, 0.5f, false, "bent and morphed", Then::pose);
+  check_pieces(test::make_morph_tube_model(), plane, 0, 1.0f, true, "renumbered source", Then::pose);
+}
+
+// A live face whose three corners are one vertex drawn alike (a degenerate face the reader
+// keeps, or three coincident vertices welded) names one point three times, as a deleted face's
+// cell does. A piece copied with one keeps it live: a step that removes the vertex's other faces
+// leaves the point to it (not compacted away under it).
+TEST(ViewPolyDataOriginTest, a_face_collapsed_to_one_vertex_stays_drawn) {
+  Model model = grid_model(12, 9);
+  SurfaceMesh& mesh = model.meshes[0].primitives[0].mesh;
+  const VertexId v(0);  // the corner (0, 0): its two faces' corners draw alike
+  const FaceId collapsed = mesh.add_face(v, v, v);
+  auto& uv = mesh.corner_attrs().get<glm::vec2>(attr::kUv0).data();
+  auto& normal = mesh.corner_attrs().get<glm::vec3>(attr::kNormal).data();
+  for (int k = 0; k < 3; ++k) {
+    uv[SurfaceMesh::corner(collapsed, k)] = uv[SurfaceMesh::corner(FaceId(0), 0)];
+    normal[SurfaceMesh::corner(collapsed, k)] = normal[SurfaceMesh::corner(FaceId(0), 0)];
+  }
+  Cut c;
+  cut(c, std::move(model), plane_through({0.37f, 0.0f, 0.41f}, {0.3f, 0.0f, 1.0f}), -1, 0.0f);
+  const PosedModel posed_before = PosedModel::build(c.before, -1, 0.0f, PoseDetail::Positions);
+  const PosedModel posed_after = PosedModel::build(c.after, -1, 0.0f, PoseDetail::Positions);
+  bool found = false;
+  for (const auto& origin : c.origins) {
+    Drawn piece;
+    const std::unique_ptr<ViewPolyData> copied =
+        copy_piece(c, *origin, posed_before, posed_after, false, piece);
+    ASSERT_TRUE(copied);
+    const auto at = std::find(origin->vertices.begin(), origin->vertices.end(), v.index);
+    if (at == origin->vertices.end()) continue;
+    const VertexId w(static_cast<std::uint32_t>(at - origin->vertices.begin()));
+    SurfaceMesh fewer = *piece.mesh;
+    MeshEditor editor(fewer);
+    for (std::uint32_t f = 0; f < fewer.face_slots(); ++f) {
+      const Triangle& t = fewer.face(FaceId(f));
+      if (fewer.is_deleted(FaceId(f))) continue;
+      if (t[0] == w && t[1] == w && t[2] == w) {
+        found = true;
+      } else if (t[0] == w || t[1] == w || t[2] == w) {
+        editor.remove_face(FaceId(f));
+      }
+    }
+    PrimitiveChange change;
+    ASSERT_TRUE(diff_meshes(*piece.mesh, fewer, change));
+    copied->update(fewer, piece.positions, &piece.normals, change);
+    expect_rebuilt(*copied, fewer, piece.positions, &piece.normals, "the vertex's other faces removed");
+  }
+  EXPECT_TRUE(found) << "no piece kept the collapsed face";
+}
+
+// The chunked passes of the copy (more than two chunks of faces) give the same data whatever the
+// thread count, equal to a fresh build, and so do the steps after it.
+TEST(ViewPolyDataOriginTest, chunked_copy_is_the_same_whatever_the_thread_count) {
+  Cut c;
+  cut(c, grid_model(160, 120), plane_through({0.1f, 0.0f, 0.1f}, {0.3f, 0.0f, 1.0f}), -1, 0.0f);
+  const PosedModel posed_before = PosedModel::build(c.before, -1, 0.0f, PoseDetail::Positions);
+  const PosedModel posed_after = PosedModel::build(c.after, -1, 0.0f, PoseDetail::Positions);
+  ASSERT_GT(c.before.meshes[0].primitives[0].mesh.face_slots(), 2u * 16384u);
+  auto connectivity = [](const ViewPolyData& view) {
+    vtkTypeInt64Array* a = view.poly()->GetPolys()->GetConnectivityArray64();
+    return std::vector<vtkTypeInt64>(a->GetPointer(0), a->GetPointer(0) + a->GetNumberOfValues());
+  };
+  const std::size_t saved = thread_count();
+  std::vector<std::vector<vtkTypeInt64>> first;  // per piece and stage, with one thread
+  for (std::size_t threads : {1u, 2u, 3u}) {
+    SCOPED_TRACE("threads " + std::to_string(threads));
+    set_thread_count(threads);
+    std::size_t i = 0;
+    for (const auto& origin : c.origins) {
+      Drawn piece;
+      const std::unique_ptr<ViewPolyData> copied =
+          copy_piece(c, *origin, posed_before, posed_after, true, piece);
+      ASSERT_TRUE(copied);
+      if (piece.mesh->face_slots() <= 2u * 16384u) continue;
+      std::vector<vtkTypeInt64> got = connectivity(*copied);
+      renumber_points(*copied, piece, "updated");
+      for (auto& stage : {got, connectivity(*copied)}) {
+        if (threads == 1) first.push_back(stage);
+        ASSERT_LT(i, first.size());
+        EXPECT_TRUE(stage == first[i++]) << "connectivity differs from one thread's";
+      }
+    }
+    EXPECT_GE(i, 2u) << "no piece with more than two chunks of faces";
+  }
+  set_thread_count(saved);
 }
 
 }  // namespace

@@ -231,6 +231,7 @@ ViewPolyData::ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>
   resize(mesh);
   vertices_ = mesh.vertex_count();
   if (corners_ && copy_corner_points(Writer(poly_, mesh, positions, corner_normals), source, origin)) {
+    copied_ = true;
     modified();
     return;
   }
@@ -351,9 +352,12 @@ void ViewPolyData::copy_connectivity(const Writer& w, const ViewPolyData& source
       if (mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) std::fill(conn + 3 * f, conn + 3 * f + 3, 0);
   });
   std::size_t chunks = 0;
-  std::vector<std::vector<std::uint32_t>> waits((mesh.face_slots() + kGrain - 1) / kGrain);
+  const std::size_t parts = (mesh.face_slots() + kGrain - 1) / kGrain;
+  std::vector<std::vector<std::uint32_t>> waits(parts), collapsed(parts);
   for_live_faces(mesh, chunks, [&](std::size_t chunk, std::size_t f) {
     const std::uint32_t from = origin.faces[f];
+    const Triangle& t = mesh.faces()[f];
+    if (t[0] == t[1] && t[1] == t[2]) collapsed[chunk].push_back(static_cast<std::uint32_t>(f));
     for (std::size_t k = 0; k < 3; ++k) {
       vtkTypeInt64 p = -1;
       if (from < old_cells) {
@@ -369,6 +373,7 @@ void ViewPolyData::copy_connectivity(const Writer& w, const ViewPolyData& source
     }
   });
   join(waits, copying.waiting);
+  join(collapsed, collapsed_);  // (their cells may name one point three times, as deleted faces' do)
   // The source's points in use, numbered in order.
   copying.number.assign(old_points, kInvalidIndex);
   for (std::size_t p = 0; p < old_points; ++p)
@@ -390,7 +395,8 @@ void ViewPolyData::choose_corners(const Writer& w, const ViewPolyData& source, c
   std::vector<std::uint32_t> face_of(old_cells, kInvalidIndex);  // source face slot -> face slot
   parallel_for(slots, kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t f = b; f < e; ++f)
-      if (origin.faces[f] < old_cells) face_of[origin.faces[f]] = static_cast<std::uint32_t>(f);
+      if (origin.faces[f] < old_cells && !mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f))))
+        face_of[origin.faces[f]] = static_cast<std::uint32_t>(f);
   });
   uses_.assign(points, 0);
   point_corner_.resize(points);
@@ -564,9 +570,13 @@ void ViewPolyData::link_cells() {
   const std::size_t corners = 3 * static_cast<std::size_t>(poly_->GetNumberOfCells());
   link_all(corners, vertices_, [&](std::size_t c) {
     const vtkTypeInt64* cell = r.connectivity + 3 * (c / 3);
-    if (cell[0] == cell[1] && cell[1] == cell[2]) return kInvalidIndex;
+    const auto f = static_cast<std::uint32_t>(c / 3);
+    if (cell[0] == cell[1] && cell[1] == cell[2] &&
+        !std::binary_search(collapsed_.begin(), collapsed_.end(), f))
+      return kInvalidIndex;
     return static_cast<std::uint32_t>(r.vertex_id[r.connectivity[c]]);
   });
+  collapsed_ = {};
   // The uses of every point (a copying build leaves them to be counted here).
   std::fill(uses_.begin(), uses_.end(), 0);
   for (std::size_t c = 0; c < corners; ++c)

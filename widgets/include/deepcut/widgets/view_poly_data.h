@@ -55,8 +55,7 @@ class ViewPolyData {
   /// faces and points instead of comparing every vertex's corners; the corner lists `update`
   /// needs are left for `prepare_updates` (the data is drawn without them). Builds from scratch
   /// when `source` or `origin` does not fit (no corner points, other sizes).
-  /// @pre the vertices `origin` gives a source are distinct, and `source` draws its mesh with no
-  ///      live face naming one vertex three times (as every constructor and update make it).
+  /// @pre the vertices `origin` gives a source are distinct.
   ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
                const std::vector<glm::vec3>* corner_normals, const ViewPolyData& source,
                const PrimitiveOrigin& origin);
@@ -65,6 +64,11 @@ class ViewPolyData {
   /// O(corners) over the pool): once, when idle after the first frame (else the next `update`
   /// does it first). Nothing to do otherwise.
   void prepare_updates();
+  /// Whether this data was built by copying from a source (the constructor above, when it fits;
+  /// false for a build from scratch), and whether what `update` needs is built (false only
+  /// between a copying build and `prepare_updates` or the first `update`).
+  bool copied() const { return copied_; }
+  bool updates_prepared() const { return !corners_ || lists_; }
 
   vtkPolyData* poly() const { return poly_; }
   /// True when points stand for corners (the mesh has corner normals or UVs), shared by the
@@ -102,7 +106,9 @@ class ViewPolyData {
   /// The empty arrays (no points, no cells) for `mesh`.
   void make_arrays(const SurfaceMesh& mesh);
   /// The corner lists from the drawn cells (a live cell's corners, linked to their points'
-  /// vertices; a deleted face's cell names one point three times).
+  /// vertices). A cell naming one point three times is a deleted face's, unless its face is in
+  /// `collapsed_` (a live face whose three corners are one vertex drawn alike names one point
+  /// three times too).
   void link_cells();
   /// Corner layout of a new mesh: groups every vertex's corners (`groups`) into points, in
   /// parallel.
@@ -146,6 +152,7 @@ class ViewPolyData {
 
   bool corners_ = false;
   bool lists_ = false;        // the corner lists below are built (corner layout)
+  bool copied_ = false;       // built by copying from a source
   std::size_t vertices_ = 0;  // vertex slots of the mesh drawn
   vtkSmartPointer<vtkPolyData> poly_;
   // Corner layout: the corners of each vertex slot, as a doubly linked list through the corners
@@ -156,6 +163,9 @@ class ViewPolyData {
   // Per point: how many corners use it, and one of them (what it draws like; kInvalidIndex for
   // a point no corner uses). A corner's point is its connectivity entry.
   std::vector<std::uint32_t> uses_, point_corner_;
+  // Until the lists are built after a copying build: its live faces whose three corners are one
+  // vertex, ascending (what link_cells cannot tell from the cells).
+  std::vector<std::uint32_t> collapsed_;
 };
 
 }  // namespace deepcut
