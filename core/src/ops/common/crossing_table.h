@@ -35,6 +35,9 @@ class EdgeSlots {
   std::uint32_t find(std::uint64_t key) const;
   /// Files `key` (not filed yet) as entry `entry`; grows first when half full.
   void insert(std::uint64_t key, std::uint32_t entry);
+  /// Entry number of `key` and false when filed; otherwise files it as `next_entry` (one probe
+  /// sequence for both) and returns that and true.
+  std::pair<std::uint32_t, bool> find_or_insert(std::uint64_t key, std::uint32_t next_entry);
   void clear();
   static constexpr std::uint32_t kNone = ~std::uint32_t(0);
 
@@ -72,9 +75,8 @@ class CrossingTable {
   /// The record of edge {a, b}, default-made when the edge is new (`second` true: fill it in).
   std::pair<T*, bool> try_emplace(VertexId a, VertexId b) {
     const std::uint64_t key = edge_key(a, b);
-    const std::uint32_t e = slots_.find(key);
-    if (e != EdgeSlots::kNone) return {&records_[e], false};
-    slots_.insert(key, static_cast<std::uint32_t>(records_.size()));
+    const auto [e, made] = slots_.find_or_insert(key, static_cast<std::uint32_t>(records_.size()));
+    if (!made) return {&records_[e], false};
     keys_.push_back(key);
     records_.emplace_back();
     return {&records_.back(), true};
