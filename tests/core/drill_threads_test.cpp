@@ -5,6 +5,8 @@
 // drill's lists give their memory back when it ends.
 #include <gtest/gtest.h>
 
+#include <initializer_list>
+#include <utility>
 #include <vector>
 
 #include "deepcut/core/generate/cactus.h"
@@ -125,6 +127,30 @@ TEST(DrillThreadsTest, the_result_does_not_depend_on_earlier_drills) {
     expect_no_big_plan_lists();
     for (int again = 0; again < 2; ++again) expect_same(drill_with(threads, input, small, false), first);
   }
+}
+
+// The Steiner rule of a crossed edge (EdgeCut::takes_steiner): exactly one candidate face on each
+// side of the edge, neither of bad shape; the order the faces are filed in does not matter.
+TEST(EdgeCutTest, steiner_points_need_one_good_face_on_each_side) {
+  using drill::EdgeCut;
+  const VertexId lo(3), hi(7);
+  auto filed = [&](std::initializer_list<std::pair<bool, bool>> faces) {  // (lo -> hi, bad)
+    EdgeCut e;
+    for (const auto& [forward, bad] : faces) {
+      if (forward) e.file_side(lo, hi, bad);
+      else e.file_side(hi, lo, bad);
+    }
+    return e.takes_steiner();
+  };
+  EXPECT_TRUE(filed({{true, false}, {false, false}}));
+  EXPECT_TRUE(filed({{false, false}, {true, false}}));
+  EXPECT_FALSE(EdgeCut().takes_steiner()) << "no face";
+  EXPECT_FALSE(filed({{true, false}})) << "a boundary edge";
+  EXPECT_FALSE(filed({{false, false}})) << "a boundary edge";
+  EXPECT_FALSE(filed({{true, false}, {true, false}})) << "two faces on one side";
+  EXPECT_FALSE(filed({{true, false}, {false, false}, {true, false}})) << "three faces";
+  EXPECT_FALSE(filed({{true, true}, {false, false}})) << "a bad face";
+  EXPECT_FALSE(filed({{true, false}, {false, true}})) << "a bad face";
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <random>
 #include <set>
+#include <thread>
 
 #include "planar_checks.h"
 
@@ -265,6 +266,58 @@ TEST(PolygonTriangulationParts, ClipEarsOnAComb) {
     EXPECT_EQ(check_tiling(pts, {poly}, tris, 1), "");
     EXPECT_EQ(tris.size(), ring.size() - 2);
   }
+}
+
+// A star of `n` corners (radii alternating 1 and 0.7): half of them reflex.
+std::vector<P> star(int n) {
+  std::vector<P> r;
+  for (int i = 0; i < n; ++i) {
+    const double a = kTau * i / n, radius = i % 2 == 0 ? 1.0 : 0.7;
+    r.push_back(radius * P(std::cos(a), std::sin(a)));
+  }
+  return r;
+}
+
+// The triangles of clipping `poly` on a thread of its own (its first clip: nothing kept before).
+std::vector<LocalTri> clip_on_a_fresh_thread(const std::vector<P>& pts, const Loop& poly, EarSearch search) {
+  std::vector<LocalTri> tris;
+  std::thread([&] { clip_ears(pts, poly, search, tris); }).join();
+  return tris;
+}
+
+// The corner lists kept on each thread from clip to clip: a clip's triangles do not depend on
+// what the thread clipped before (a small polygon, one of more than 4096 corners, the small one
+// again), and lists grown past the bound give their memory back when the clip ends, among them
+// a kQueued input of many repeated points (its corner list is big only until they are dropped).
+TEST(PolygonTriangulationParts, ClipListsKeptOnTheThreadChangeNoResult) {
+  std::vector<P> pts;
+  const Loop small = add_loop(pts, comb_with_ten_teeth());
+  const Loop big = add_loop(pts, star(5000));
+  Loop repeated;  // a 12-gon, each corner 750 times in a row
+  for (std::uint32_t v : add_loop(pts, regular(P(3, 3), 1.0, 12, true))) repeated.insert(repeated.end(), 750, v);
+  ASSERT_GT(repeated.size() * sizeof(std::uint32_t), detail::kKeptClipListBytes);
+  for (EarSearch search : {EarSearch::kQueued, EarSearch::kExhaustive}) {
+    SCOPED_TRACE(search == EarSearch::kQueued ? "kQueued" : "kExhaustive");
+    std::vector<Loop> order = {small, big, small};
+    if (search == EarSearch::kQueued) order.insert(order.end(), {repeated, small});
+    auto run_all = [&] {
+      for (const Loop& poly : order) {
+        std::vector<LocalTri> tris;
+        clip_ears(pts, poly, search, tris);
+        EXPECT_EQ(tris, clip_on_a_fresh_thread(pts, poly, search)) << poly.size() << " corners";
+        EXPECT_LE(detail::largest_kept_clip_list(), detail::kKeptClipListBytes) << poly.size() << " corners";
+      }
+    };
+    run_all();
+    std::thread(run_all).join();
+  }
+  // A small clip keeps its lists: the next one of that size allocates none.
+  std::vector<LocalTri> tris;
+  clip_ears(pts, small, EarSearch::kExhaustive, tris);
+  const std::size_t kept = detail::largest_kept_clip_list();
+  EXPECT_GT(kept, 0u);
+  clip_ears(pts, small, EarSearch::kExhaustive, tris);
+  EXPECT_EQ(detail::largest_kept_clip_list(), kept);
 }
 
 TEST(PolygonTriangulationParts, TriangulateOneOuterLoopAndOneHole) {

@@ -2,6 +2,7 @@
 #include "geometry/polygon_triangulation.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -9,25 +10,44 @@
 #include <tuple>
 #include <utility>
 
+#include "kept_lists.h"
+
 namespace deepcut::geometry {
 namespace {
 
 // The corners and per-corner lists of one polygon being clipped, kept on each thread from polygon
-// to polygon (the drill clips about a hundred small ones per call: no allocation each). Every
-// list is written for the polygon's corners before it is read, so what an earlier polygon left
-// does not matter; lists grown past kKeptCorners give their memory back when the clip ends.
+// to polygon (the drill clips about a hundred small ones per call: kExhaustive then allocates
+// nothing per polygon, kQueued only its grid and queue). Every list is written for the polygon's
+// corners before it is read, so what an earlier polygon left does not matter. One clip at a time
+// uses them (EarClipper takes them in its constructor and hands them back in its destructor; no
+// clip runs inside another); when it ends, a list above detail::kKeptClipListBytes gives its
+// memory back (each list judged on its own: the small ones keep theirs).
 struct RingLists {
-  static constexpr std::size_t kKeptCorners = 4096;
   std::vector<std::uint32_t> poly, prev, next, version, ear_state;
   std::vector<char> alive, reflex;
   std::vector<double> ear_quality, corners;
+  bool in_use = false;
 
   static RingLists& local() {
     thread_local RingLists lists;
     return lists;
   }
-  void give_back_if_big() {
-    if (prev.capacity() > kKeptCorners) *this = RingLists();
+  // Takes this thread's lists for one clip.
+  static RingLists& take() {
+    RingLists& lists = local();
+    assert(!lists.in_use && "one ear clip at a time on a thread");
+    lists.in_use = true;
+    return lists;
+  }
+  // Ends the clip: gives back the memory of the lists above the bound.
+  void hand_back() {
+    constexpr std::size_t kept = detail::kKeptClipListBytes;
+    for (auto* list : {&poly, &prev, &next, &version, &ear_state}) detail::give_back_if_big(*list, kept);
+    detail::give_back_if_big(alive, kept);
+    detail::give_back_if_big(reflex, kept);
+    detail::give_back_if_big(ear_quality, kept);
+    detail::give_back_if_big(corners, kept);
+    in_use = false;
   }
 };
 
@@ -37,49 +57,39 @@ struct RingLists {
 class EarClipper {
  public:
   EarClipper(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& poly, EarSearch search)
-      : pts_(pts),
-        lists_(RingLists::local()),
-        poly_(lists_.poly),
-        search_(search),
-        prev_(lists_.prev),
-        next_(lists_.next),
-        alive_(lists_.alive),
-        reflex_(lists_.reflex),
-        version_(lists_.version),
-        ear_state_(lists_.ear_state),
-        ear_quality_(lists_.ear_quality) {
-    poly_.assign(poly.begin(), poly.end());
+      : pts_(pts), lists_(RingLists::take()), search_(search) {
+    lists_.poly.assign(poly.begin(), poly.end());
     if (search_ == EarSearch::kQueued) {
-      poly_.erase(std::unique(poly_.begin(), poly_.end()), poly_.end());
-      while (poly_.size() > 1 && poly_.front() == poly_.back()) poly_.pop_back();
+      lists_.poly.erase(std::unique(lists_.poly.begin(), lists_.poly.end()), lists_.poly.end());
+      while (lists_.poly.size() > 1 && lists_.poly.front() == lists_.poly.back()) lists_.poly.pop_back();
     }
-    const auto n = static_cast<std::uint32_t>(poly_.size());
-    prev_.resize(n);
-    next_.resize(n);
+    const auto n = static_cast<std::uint32_t>(lists_.poly.size());
+    lists_.prev.resize(n);
+    lists_.next.resize(n);
     for (std::uint32_t i = 0; i < n; ++i) {
-      prev_[i] = i - 1;
-      next_[i] = i + 1;
+      lists_.prev[i] = i - 1;
+      lists_.next[i] = i + 1;
     }
     if (n > 0) {
-      prev_[0] = n - 1;
-      next_[n - 1] = 0;
+      lists_.prev[0] = n - 1;
+      lists_.next[n - 1] = 0;
     }
-    alive_.assign(n, 1);
-    reflex_.assign(n, 0);
-    version_.assign(n, 0);
+    lists_.alive.assign(n, 1);
+    lists_.reflex.assign(n, 0);
+    lists_.version.assign(n, 0);
     remaining_ = n;
     if (search_ == EarSearch::kQueued) make_grid();
     if (search_ == EarSearch::kExhaustive) {
-      ear_state_.assign(n, kUnknown);
-      ear_quality_.assign(n, 0.0);
+      lists_.ear_state.assign(n, kUnknown);
+      lists_.ear_quality.assign(n, 0.0);
     }
   }
   EarClipper(const EarClipper&) = delete;
   EarClipper& operator=(const EarClipper&) = delete;
-  ~EarClipper() { lists_.give_back_if_big(); }
+  ~EarClipper() { lists_.hand_back(); }
 
   void run(std::vector<LocalTri>& out) {
-    const std::size_t n = poly_.size();
+    const std::size_t n = lists_.poly.size();
     if (n < 3) return;
     std::vector<double>& corners = lists_.corners;
     corners.resize(n);
@@ -98,8 +108,8 @@ class EarClipper {
       if (i == n) std::tie(i, emit) = most_convex();
       clip(i, emit, out);
     }
-    const std::size_t a = origin_, b = next_[a], c = next_[b];
-    if (corner_at(a, b, c) > 0.0) out.push_back({poly_[a], poly_[b], poly_[c]});
+    const std::size_t a = origin_, b = lists_.next[a], c = lists_.next[b];
+    if (corner_at(a, b, c) > 0.0) out.push_back({lists_.poly[a], lists_.poly[b], lists_.poly[c]});
   }
 
  private:
@@ -124,11 +134,11 @@ class EarClipper {
     Cell cell;
   };
 
-  const glm::dvec2& at(std::size_t i) const { return pts_[poly_[i]]; }
+  const glm::dvec2& at(std::size_t i) const { return pts_[lists_.poly[i]]; }
   double corner_at(std::size_t a, std::size_t b, std::size_t c) const { return orient(at(a), at(b), at(c)); }
-  double corner(std::size_t i) const { return corner_at(prev_[i], i, next_[i]); }
+  double corner(std::size_t i) const { return corner_at(lists_.prev[i], i, lists_.next[i]); }
   double longest(std::size_t i) const {
-    const glm::dvec2 &a = at(prev_[i]), &b = at(i), &c = at(next_[i]);
+    const glm::dvec2 &a = at(lists_.prev[i]), &b = at(i), &c = at(lists_.next[i]);
     return std::max({glm::dot(b - a, b - a), glm::dot(c - b, c - b), glm::dot(a - c, a - c)});
   }
   double quality(std::size_t i) const { return corner(i) / std::max(longest(i), 1e-300); }
@@ -137,9 +147,9 @@ class EarClipper {
   // of a weakly simple polygon).
   void queue_if_ear(std::size_t i, double turn) {
     if (turn <= 0.0 || reflex_blocker(i)) return;
-    ears_.push({turn / std::max(longest(i), 1e-300), static_cast<std::uint32_t>(i), version_[i]});
+    ears_.push({turn / std::max(longest(i), 1e-300), static_cast<std::uint32_t>(i), lists_.version[i]});
   }
-  Filed filing(std::size_t i) const { return {at(i), static_cast<std::uint32_t>(i), poly_[i]}; }
+  Filed filing(std::size_t i) const { return {at(i), static_cast<std::uint32_t>(i), lists_.poly[i]}; }
 
   // Whether corner i is reflex (returns its corner()); one that became reflex is filed (kQueued):
   // in the list, and once the grid is laid out, in its late filings. A dead corner is never
@@ -148,12 +158,12 @@ class EarClipper {
   double update_reflex(std::size_t i) {
     const double turn = corner(i);
     const bool r = turn <= 0.0;
-    if (r && !reflex_[i] && search_ == EarSearch::kQueued) {
+    if (r && !lists_.reflex[i] && search_ == EarSearch::kQueued) {
       ++filings_;
       reflex_list_.push_back(filing(i));
       if (grid_filed_ && grid_x_ > 0) late_.push_back({filing(i), cell_[i]});
     }
-    reflex_[i] = r;
+    lists_.reflex[i] = r;
     return turn;
   }
 
@@ -162,10 +172,10 @@ class EarClipper {
   // function of the coordinate, so every point of a closed triangle lies in the cells of its
   // bounding box; the scan takes one cell more on each side.
   void make_grid() {
-    const std::size_t n = poly_.size();
+    const std::size_t n = lists_.poly.size();
     if (n < 64) return;
     glm::dvec2 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
-    for (std::uint32_t p : poly_) {
+    for (std::uint32_t p : lists_.poly) {
       lo = glm::min(lo, pts_[p]);
       hi = glm::max(hi, pts_[p]);
     }
@@ -209,8 +219,8 @@ class EarClipper {
   // The ear's cell box is the box of its corners' cells (a cell index is a non-decreasing function
   // of the coordinate; a point that is not a number makes every test false anyway).
   bool reflex_blocker(std::size_t i) {
-    const std::size_t pa = prev_[i], pc = next_[i];
-    const std::uint32_t ia = poly_[pa], ib = poly_[i], ic = poly_[pc];
+    const std::size_t pa = lists_.prev[i], pc = lists_.next[i];
+    const std::uint32_t ia = lists_.poly[pa], ib = lists_.poly[i], ic = lists_.poly[pc];
     const glm::dvec2 &a = pts_[ia], &b = pts_[ib], &c = pts_[ic];
     // orient(c, a, p) >= 0 && orient(a, b, p) >= 0 && orient(b, c, p) >= 0, the edges' terms taken
     // out of the loop (the same operations in the same order: the same values). The diagonal c-a
@@ -237,7 +247,7 @@ class EarClipper {
           const Filed* f = filed_.data() + cell_start_[y * grid_x_ + xa];
           const Filed* end = filed_.data() + cell_start_[y * grid_x_ + xb + 1];
           for (; f != end; ++f)
-            if (reflex_[f->corner] && blocks(*f)) return true;
+            if (lists_.reflex[f->corner] && blocks(*f)) return true;
         }
         auto in_box = [&](const LateFiled& l) {
           return l.cell.x >= xa && l.cell.x <= xb && l.cell.y >= ya && l.cell.y <= yb && blocks(l.f);
@@ -253,7 +263,7 @@ class EarClipper {
   template <class Filing, class CornerOf, class Test>
   bool live_filing(std::vector<Filing>& v, CornerOf&& corner_of, Test&& test) const {
     for (std::size_t k = 0; k < v.size();) {
-      if (!reflex_[corner_of(v[k])]) {
+      if (!lists_.reflex[corner_of(v[k])]) {
         v[k] = v.back();
         v.pop_back();
       } else if (test(v[k])) {
@@ -268,13 +278,13 @@ class EarClipper {
   // kExhaustive: kEar for an ear (positive area beyond the tolerance and no other polygon point
   // in the closed triangle), else kFlat, or the first live corner met in its closed triangle.
   std::uint32_t find_blocker(std::size_t i) const {
-    const std::uint32_t ia = poly_[prev_[i]], ib = poly_[i], ic = poly_[next_[i]];
+    const std::uint32_t ia = lists_.poly[lists_.prev[i]], ib = lists_.poly[i], ic = lists_.poly[lists_.next[i]];
     const glm::dvec2 &a = pts_[ia], &b = pts_[ib], &c = pts_[ic];
     const double tiny = 1e-13 * longest(i);
     if (corner(i) <= tiny) return kFlat;
     std::size_t q = origin_;
-    for (std::size_t k = 0; k < remaining_; ++k, q = next_[q]) {
-      const std::uint32_t iq = poly_[q];
+    for (std::size_t k = 0; k < remaining_; ++k, q = lists_.next[q]) {
+      const std::uint32_t iq = lists_.poly[q];
       if (iq == ia || iq == ib || iq == ic) continue;  // the same point (bridges repeat points)
       const glm::dvec2& p = pts_[iq];
       if (orient(a, b, p) >= -tiny && orient(b, c, p) >= -tiny && orient(c, a, p) >= -tiny)
@@ -288,9 +298,9 @@ class EarClipper {
     while (!ears_.empty()) {
       const Entry e = ears_.top();
       ears_.pop();
-      if (alive_[e.i] && e.version == version_[e.i]) return e.i;
+      if (lists_.alive[e.i] && e.version == lists_.version[e.i]) return e.i;
     }
-    return poly_.size();
+    return lists_.poly.size();
   }
 
   // kExhaustive: the best ear among all corners (the first one in input order on ties), or n. A
@@ -298,17 +308,17 @@ class EarClipper {
   // it), and corners only leave: an ear stays one, and a blocked corner stays blocked while its
   // blocker lives. So a corner is looked at again only then.
   std::size_t scan_ears() {
-    std::size_t best = poly_.size();
+    std::size_t best = lists_.poly.size();
     double best_quality = -1.0;
     std::size_t i = origin_;
-    for (std::size_t k = 0; k < remaining_; ++k, i = next_[i]) {
-      std::uint32_t& state = ear_state_[i];
-      if (state == kUnknown || (state < kFlat && !alive_[state])) {
+    for (std::size_t k = 0; k < remaining_; ++k, i = lists_.next[i]) {
+      std::uint32_t& state = lists_.ear_state[i];
+      if (state == kUnknown || (state < kFlat && !lists_.alive[state])) {
         state = find_blocker(i);
-        if (state == kEar) ear_quality_[i] = quality(i);
+        if (state == kEar) lists_.ear_quality[i] = quality(i);
       }
       if (state != kEar) continue;
-      const double q = ear_quality_[i];
+      const double q = lists_.ear_quality[i];
       if (q > best_quality) {
         best_quality = q;
         best = i;
@@ -321,7 +331,7 @@ class EarClipper {
   std::pair<std::size_t, bool> most_convex() const {
     double best = -std::numeric_limits<double>::max();
     std::size_t i = origin_, j = origin_;
-    for (std::size_t k = 0; k < remaining_; ++k, j = next_[j])
+    for (std::size_t k = 0; k < remaining_; ++k, j = lists_.next[j])
       if (corner(j) > best) {
         best = corner(j);
         i = j;
@@ -330,15 +340,15 @@ class EarClipper {
   }
 
   void clip(std::size_t i, bool emit, std::vector<LocalTri>& out) {
-    const std::uint32_t a = prev_[i], c = next_[i];
-    if (emit) out.push_back({poly_[a], poly_[i], poly_[c]});
-    alive_[i] = 0;
-    reflex_[i] = 0;
-    next_[a] = c;
-    prev_[c] = a;
+    const std::uint32_t a = lists_.prev[i], c = lists_.next[i];
+    if (emit) out.push_back({lists_.poly[a], lists_.poly[i], lists_.poly[c]});
+    lists_.alive[i] = 0;
+    lists_.reflex[i] = 0;
+    lists_.next[a] = c;
+    lists_.prev[c] = a;
     --remaining_;
     if (search_ == EarSearch::kExhaustive) {
-      ear_state_[a] = ear_state_[c] = kUnknown;
+      lists_.ear_state[a] = lists_.ear_state[c] = kUnknown;
       if (origin_ == i) origin_ = c;
       update_reflex(a);
       update_reflex(c);
@@ -346,20 +356,14 @@ class EarClipper {
     }
     origin_ = a;
     for (std::uint32_t j : {a, c}) {
-      ++version_[j];
+      ++lists_.version[j];
       queue_if_ear(j, update_reflex(j));
     }
   }
 
   const std::vector<glm::dvec2>& pts_;
-  RingLists& lists_;
-  std::vector<std::uint32_t>& poly_;
+  RingLists& lists_;  // poly, prev/next, alive, reflex, version; ear_state, ear_quality (kExhaustive)
   EarSearch search_;
-  std::vector<std::uint32_t>& prev_;
-  std::vector<std::uint32_t>& next_;
-  std::vector<char>& alive_;
-  std::vector<char>& reflex_;
-  std::vector<std::uint32_t>& version_;
   // The filings of corners that became reflex (kQueued), less stale ones dropped by scans, and
   // how many filings there were: the threshold between the grid and the list.
   std::vector<Filed> reflex_list_;
@@ -375,11 +379,9 @@ class EarClipper {
   std::size_t grid_x_ = 0, grid_y_ = 0;
   glm::dvec2 origin_xy_{0.0}, inv_cell_{0.0};
   std::priority_queue<Entry> ears_;
-  // kExhaustive: what is known of each corner's ear (find_blocker, or kUnknown), and the quality
-  // of each known ear.
+  // kExhaustive: what is known of each corner's ear (lists_.ear_state: find_blocker, or
+  // kUnknown), and the quality of each known ear (lists_.ear_quality).
   static constexpr std::uint32_t kUnknown = ~std::uint32_t(0), kEar = kUnknown - 1, kFlat = kUnknown - 2;
-  std::vector<std::uint32_t>& ear_state_;
-  std::vector<double>& ear_quality_;
   std::size_t remaining_ = 0;
   std::size_t origin_ = 0;
 };
@@ -425,7 +427,7 @@ std::vector<std::uint32_t> join_at(const std::vector<std::uint32_t>& outer, cons
 
 }  // namespace
 
-void clip_ears(const std::vector<glm::dvec2>& pts, std::vector<std::uint32_t> poly, EarSearch search,
+void clip_ears(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& poly, EarSearch search,
                std::vector<LocalTri>& out) {
   EarClipper(pts, poly, search).run(out);
 }
@@ -463,7 +465,7 @@ std::vector<std::uint32_t> bridge_hole(const std::vector<glm::dvec2>& pts, const
 void triangulate_polygon(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& outer,
                          std::vector<std::vector<std::uint32_t>> holes, const TriangulationRules& rules,
                          std::vector<LocalTri>& out) {
-  if (holes.empty()) {  // clipped as it is (no copy of the loop)
+  if (holes.empty()) {  // clipped as it is (no bridged copy of the loop to allocate)
     EarClipper(pts, outer, rules.ears).run(out);
     return;
   }
@@ -516,3 +518,16 @@ std::vector<LocalTri> triangulate_loops(const std::vector<glm::dvec2>& points,
 }
 
 }  // namespace deepcut::geometry
+
+namespace deepcut::detail {
+
+std::size_t largest_kept_clip_list() {
+  using geometry::RingLists;
+  const RingLists& l = RingLists::local();
+  return std::max({l.poly.capacity() * sizeof(std::uint32_t), l.prev.capacity() * sizeof(std::uint32_t),
+                   l.next.capacity() * sizeof(std::uint32_t), l.version.capacity() * sizeof(std::uint32_t),
+                   l.ear_state.capacity() * sizeof(std::uint32_t), l.alive.capacity(), l.reflex.capacity(),
+                   l.ear_quality.capacity() * sizeof(double), l.corners.capacity() * sizeof(double)});
+}
+
+}  // namespace deepcut::detail

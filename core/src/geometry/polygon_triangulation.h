@@ -6,6 +6,7 @@
 // TriangulationRules); each caller keeps the rule its output was made with.
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -48,7 +49,14 @@ struct TriangulationRules {
 
 /// Ear clipping of one counter-clockwise, weakly simple polygon (indices into `pts`; a bridged
 /// hole repeats two points), appending counter-clockwise triangles to `out`.
-void clip_ears(const std::vector<glm::dvec2>& pts, std::vector<std::uint32_t> poly, EarSearch search,
+///
+/// The polygon's corner lists are kept on the calling thread from clip to clip, so small
+/// polygons clip without allocating them: one clip at a time per thread (a clip never starts
+/// another; checked by an assert in debug builds). Each list keeps at most
+/// detail::kKeptClipListBytes between clips (about 150 KB in all after a 4096-corner polygon,
+/// 288 KB at most); a bigger one gives its memory back when its clip ends. The result does not
+/// depend on what the lists held before.
+void clip_ears(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& poly, EarSearch search,
                std::vector<LocalTri>& out);
 
 /// Joins a clockwise `hole` lying inside the counter-clockwise `outer` into one weakly simple
@@ -59,7 +67,8 @@ std::vector<std::uint32_t> bridge_hole(const std::vector<glm::dvec2>& pts, const
                                        const std::vector<std::vector<std::uint32_t>>& others, HoleBridge rule);
 
 /// Triangulates the counter-clockwise `outer` with clockwise `holes` inside it: holes are bridged
-/// from right to left (by their largest x), then the polygon is clipped. Appends to `out`.
+/// from right to left (by their largest x), then the polygon is clipped (clip_ears: the same
+/// per-thread lists). Appends to `out`.
 void triangulate_polygon(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& outer,
                          std::vector<std::vector<std::uint32_t>> holes, const TriangulationRules& rules,
                          std::vector<LocalTri>& out);
@@ -75,3 +84,11 @@ std::vector<LocalTri> triangulate_loops(const std::vector<glm::dvec2>& points,
                                         const TriangulationRules& rules = {});
 
 }  // namespace deepcut::geometry
+
+namespace deepcut::detail {
+/// A corner list of ear clipping (see clip_ears) holding more bytes than this gives its memory
+/// back when its clip ends: 4096 corners of the widest list (doubles).
+inline constexpr std::size_t kKeptClipListBytes = std::size_t(4096) * sizeof(double);
+/// The bytes held by the largest of the calling thread's kept corner lists (for tests).
+std::size_t largest_kept_clip_list();
+}  // namespace deepcut::detail

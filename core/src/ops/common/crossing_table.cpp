@@ -53,6 +53,23 @@ void EdgeSlots::insert(std::uint64_t key, std::uint32_t entry) {
   ++count_;
 }
 
+std::pair<std::uint32_t, bool> EdgeSlots::find_or_insert(std::uint64_t key, std::uint32_t next_entry) {
+  if (!keys_.empty()) {
+    const std::size_t mask = keys_.size() - 1;
+    std::size_t slot = slot_of(key);
+    for (; keys_[slot] != kNoKey; slot = (slot + 1) & mask)
+      if (keys_[slot] == key) return {entries_[slot], false};
+    if (2 * (count_ + 1) <= keys_.size()) {  // room: file it in the empty slot the probe ended at
+      keys_[slot] = key;
+      entries_[slot] = next_entry;
+      ++count_;
+      return {next_entry, true};
+    }
+  }
+  insert(key, next_entry);
+  return {next_entry, true};
+}
+
 void EdgeSlots::clear() {
   if (count_ == 0) return;
   std::fill(keys_.begin(), keys_.end(), kNoKey);

@@ -35,6 +35,9 @@ class EdgeSlots {
   std::uint32_t find(std::uint64_t key) const;
   /// Files `key` (not filed yet) as entry `entry`; grows first when half full.
   void insert(std::uint64_t key, std::uint32_t entry);
+  /// Entry number of `key` and false when filed; otherwise files it as `next_entry` (one probe
+  /// sequence for both) and returns that and true.
+  std::pair<std::uint32_t, bool> find_or_insert(std::uint64_t key, std::uint32_t next_entry);
   void clear();
   static constexpr std::uint32_t kNone = ~std::uint32_t(0);
 
@@ -70,6 +73,8 @@ class CrossingTable {
     return e == EdgeSlots::kNone ? nullptr : &records_[e];
   }
   /// The record of edge {a, b}, default-made when the edge is new (`second` true: fill it in).
+  /// A plain find first: most calls find their edge, and this inlines cheaper there than
+  /// find_or_insert.
   std::pair<T*, bool> try_emplace(VertexId a, VertexId b) {
     const std::uint64_t key = edge_key(a, b);
     const std::uint32_t e = slots_.find(key);

@@ -268,7 +268,7 @@ void FacePlanner::sample_rim() {
   // min_rim_edges edges when the axis crosses the layer (its arc is then at least half a turn).
   for (const auto& [a_cap, hh] : chords) {
     if (!(hh > 0.0)) continue;
-    const double spacing = 2.0 * s_.cyl.r * std::sin(geometry::kPi / s_.samples);
+    const double spacing = s_.cyl.spacing;
     const int by_spacing = static_cast<int>(std::ceil(2.0 * hh / spacing));
     const int by_count =
         std::min(s_.samples - arc_rulings + 1, static_cast<int>(std::floor(4.0 * hh / spacing)));
@@ -333,7 +333,7 @@ void FacePlanner::kept_parts() {
 void FacePlanner::refine(geometry::FlipTriangulation& ft, std::vector<glm::dvec2>& q,
                          std::vector<LocalPoint>& pts, const std::vector<std::uint32_t>& outer,
                          const std::vector<std::vector<std::uint32_t>>& holes) {
-  const double spacing = 2.0 * s_.cyl.r * std::sin(geometry::kPi / s_.samples);
+  const double spacing = s_.cyl.spacing;
   const std::size_t boundary = pts.size();
   std::vector<std::pair<std::uint32_t, std::uint32_t>>& segments = w_.segments;
   segments.clear();

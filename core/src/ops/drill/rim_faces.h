@@ -13,6 +13,7 @@
 
 #include "geometry/delaunay_flip.h"
 #include "geometry/polygon_triangulation.h"
+#include "kept_lists.h"
 #include "ops/common/crossing_table.h"
 #include "ops/drill/cylinder_section.h"
 #include "ops/drill/posed_overlay.h"
@@ -29,11 +30,22 @@ struct EdgeCut {
   // Points on the kept parts of a crossed edge, graded away from the crossings (see
   // RimInserter::edge): parameters, increasing, and their vertices.
   std::vector<std::pair<double, VertexId>> steiner;
-  // The faces on the edge among the candidates not deep inside (1 for each with lo -> hi, 16 for
-  // each with hi -> lo), whether one of them has a bad shape (RimInserter::allow_steiner), and
-  // whether the edge has been crossed yet (RimInserter::edge).
+  // The faces on the edge among the candidates not deep inside (file_side: kLoHi for each with
+  // lo -> hi, kHiLo for each with hi -> lo), whether one of them has a bad shape, and whether the
+  // edge's crossings have been worked out (RimInserter::edge; the edge may be left uncrossed).
+  // All three are written only before planning starts (planning only reads them).
   std::uint32_t sides = 0;
-  bool bad_side = false, done = false;
+  bool bad_side = false, resolved = false;
+
+  static constexpr std::uint32_t kLoHi = 1, kHiLo = 16;
+  /// Files a candidate face holding the half-edge a -> b of this edge; `bad`: of bad shape.
+  void file_side(VertexId a, VertexId b, bool bad) {
+    sides += a < b ? kLoHi : kHiLo;
+    bad_side |= bad;
+  }
+  /// Whether the edge may take Steiner points: exactly one face on each side, neither of bad
+  /// shape (RimInserter::allow_steiner).
+  bool takes_steiner() const { return sides == kLoHi + kHiLo && !bad_side; }
 };
 
 // A point on the boundary of a triangle's kept region, or on its rim.
@@ -91,9 +103,9 @@ struct PlanChunk {
   std::vector<geometry::LocalTri> tris;
   std::vector<PolygonPlan> polys;
 
-  /// A list holding more bytes than this gives its memory back when a drill ends (a big drill's
-  /// memory does not stay with the thread, e.g. the studio's UI thread); smaller ones keep it,
-  /// so the next drill of that size plans without allocating.
+  /// A list holding more bytes than this gives its memory back when a drill ends
+  /// (detail::give_back_if_big); smaller ones keep it, so the next drill of that size plans
+  /// without allocating.
   static constexpr std::size_t kKeptBytes = std::size_t(1) << 16;
 
   /// This thread's chunks, kept from drill to drill.
@@ -124,13 +136,9 @@ struct PlanChunk {
 
  private:
   void give_back_lists() {
-    give_back_if_big(pts);
-    give_back_if_big(tris);
-    give_back_if_big(polys);
-  }
-  template <class T>
-  static void give_back_if_big(std::vector<T>& list) {
-    if (list.capacity() * sizeof(T) > kKeptBytes) std::vector<T>().swap(list);
+    detail::give_back_if_big(pts, kKeptBytes);
+    detail::give_back_if_big(tris, kKeptBytes);
+    detail::give_back_if_big(polys, kKeptBytes);
   }
 };
 

@@ -80,8 +80,8 @@ class RimInserter {
 
 const EdgeCut& RimInserter::edge(VertexId a, VertexId b) {
   EdgeCut& e = *edges_.try_emplace(a, b).first;  // made by allow_steiner
-  if (e.done) return e;
-  e.done = true;
+  if (e.resolved) return e;
+  e.resolved = true;
   e.lo = a < b ? a : b;
   e.hi = a < b ? b : a;
   const glm::dvec3 p = posed_(e.lo), q = posed_(e.hi);
@@ -149,7 +149,7 @@ const EdgeCut& RimInserter::edge(VertexId a, VertexId b) {
       // points or leaving rim points near a long edge (needles the in-plane refinement cannot
       // mend: its points would fall outside the parent). Only points well outside the cylinder.
       const double spacing = cyl_.spacing;  // 2 r sin(pi / samples)
-      const bool steiner = e.sides == 17 && !e.bad_side;  // one good face on each side (allow_steiner)
+      const bool steiner = e.takes_steiner();
       for (int i = 0; i < n && steiner; ++i) {
         const double dir = e.inside[i + 1] ? -1.0 : 1.0;  // toward the kept part
         const double room = (dir > 0.0 ? 1.0 - cuts[i] : cuts[i]) * len;
@@ -227,9 +227,7 @@ void RimInserter::allow_steiner(const std::vector<FaceId>& candidates) {
     }
     for (int k = 0; k < 3; ++k) {
       const VertexId a = t[k], b = t[(k + 1) % 3];
-      EdgeCut& e = *edges_.try_emplace(a, b).first;
-      e.sides += a < b ? 1 : 16;
-      e.bad_side |= bad;
+      edges_.try_emplace(a, b).first->file_side(a, b, bad);
     }
   }
 }

@@ -16,6 +16,61 @@ namespace {
 // so each vertex's outgoing edges keep that order).
 using RimSteps = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
 
+// Half-edges between two rim vertices (the only ones rim_steps asks about), each with a bit for
+// every kind of face it was filed from (only membership matters).
+class RimHalfEdges {
+ public:
+  static constexpr std::uint8_t kAdded = 1, kRemoved = 2, kUntouched = 4;
+
+  RimHalfEdges() { slots_.reserve(64); }  // grows with the rim (a few hundred half-edges at most for most holes)
+  /// Files the half-edges of `t` whose two corners are on the rim (`rim`, per corner) as `kind`.
+  void file_face(const Triangle& t, const bool rim[3], std::uint8_t kind) {
+    for (int k = 0; k < 3; ++k)
+      if (rim[k] && rim[(k + 1) % 3]) {
+        const auto [at, made] =
+            slots_.find_or_insert(directed_key(t[k], t[(k + 1) % 3]), static_cast<std::uint32_t>(kinds_.size()));
+        if (made) kinds_.push_back(kind);
+        else kinds_[at] |= kind;
+      }
+  }
+  /// Whether a -> b was filed as one of `kinds`.
+  bool has(VertexId a, VertexId b, std::uint8_t kinds) const {
+    const std::uint32_t at = slots_.find(directed_key(a, b));
+    return at != detail::EdgeSlots::kNone && (kinds_[at] & kinds) != 0;
+  }
+
+ private:
+  detail::EdgeSlots slots_;
+  std::vector<std::uint8_t> kinds_;  // per filed half-edge
+};
+
+// The rim half-edges of the added faces, of the removed ones and of the untouched candidates
+// (faces the drill left alone can border the hole too: an old edge that lies on the cylinder,
+// within the tolerance, between a removed face and an untouched one).
+template <class OnRim, class OldOnRim>
+RimHalfEdges file_rim_half_edges(const SurfaceMesh& mesh, const EditLog& log, const std::vector<FaceId>& candidates,
+                                 const OnRim& on_rim, const OldOnRim& old_on_rim) {
+  RimHalfEdges filed;
+  for (const Edit& e : log.edits) {
+    if (const auto* fa = std::get_if<FaceAdded>(&e)) {
+      const Triangle& t = fa->vertices;
+      const bool rim[3] = {on_rim(t[0]), on_rim(t[1]), on_rim(t[2])};
+      filed.file_face(t, rim, RimHalfEdges::kAdded);
+    } else if (const auto* fr = std::get_if<FaceRemoved>(&e)) {
+      const Triangle& t = fr->vertices;
+      const bool rim[3] = {old_on_rim(t[0]), old_on_rim(t[1]), old_on_rim(t[2])};
+      filed.file_face(t, rim, RimHalfEdges::kRemoved);
+    }
+  }
+  for (FaceId f : candidates)
+    if (!mesh.is_deleted(f)) {
+      const Triangle& t = mesh.face(f);
+      const bool rim[3] = {on_rim(t[0]), on_rim(t[1]), on_rim(t[2])};
+      filed.file_face(t, rim, RimHalfEdges::kUntouched);
+    }
+  return filed;
+}
+
 // Rim edges are found from the topology the edits left: boundary half-edges of the new faces
 // whose ends lie on the cylinder. An edge between two old vertices is an edge of the parent
 // triangle; it is a boundary only if the face across it was removed and not replaced there.
@@ -49,52 +104,11 @@ RimSteps rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFr
     v = base(v);
     return v.index >= posed.first_new() || old_on_rim(v);
   };
-  // Half-edges of the added faces, of the removed ones and of the untouched candidates, filed in
-  // one table with a bit for each (only membership matters). Only half-edges between two rim
-  // vertices are ever asked about, so only those are filed.
-  constexpr std::uint8_t kAdded = 1, kRemoved = 2, kUntouched = 4;
-  detail::EdgeSlots slots;
-  std::vector<std::uint8_t> kinds;  // per filed half-edge
-  auto file = [&](VertexId a, VertexId b, std::uint8_t kind) {
-    const std::uint64_t key = directed_key(a, b);
-    const std::uint32_t at = slots.find(key);
-    if (at != detail::EdgeSlots::kNone) {
-      kinds[at] |= kind;
-      return;
-    }
-    slots.insert(key, static_cast<std::uint32_t>(kinds.size()));
-    kinds.push_back(kind);
-  };
-  auto filed = [&](std::uint64_t key, std::uint8_t kind) {
-    const std::uint32_t at = slots.find(key);
-    return at != detail::EdgeSlots::kNone && (kinds[at] & kind) != 0;
-  };
-  slots.reserve(64);  // grows with the rim (a few hundred half-edges at most for most holes)
-  for (const Edit& e : log.edits) {
-    if (const auto* fa = std::get_if<FaceAdded>(&e)) {
-      const bool rim[3] = {on_rim(fa->vertices[0]), on_rim(fa->vertices[1]), on_rim(fa->vertices[2])};
-      for (int k = 0; k < 3; ++k)
-        if (rim[k] && rim[(k + 1) % 3]) file(fa->vertices[k], fa->vertices[(k + 1) % 3], kAdded);
-    } else if (const auto* fr = std::get_if<FaceRemoved>(&e)) {
-      const bool rim[3] = {old_on_rim(fr->vertices[0]), old_on_rim(fr->vertices[1]), old_on_rim(fr->vertices[2])};
-      for (int k = 0; k < 3; ++k)
-        if (rim[k] && rim[(k + 1) % 3]) file(fr->vertices[k], fr->vertices[(k + 1) % 3], kRemoved);
-    }
-  }
-  // Faces the drill left alone can border the hole too: an old edge that lies on the cylinder
-  // (within the tolerance) between a removed face and an untouched one.
-  for (FaceId f : candidates)
-    if (!mesh.is_deleted(f)) {
-      const Triangle& t = mesh.face(f);
-      const bool rim[3] = {on_rim(t[0]), on_rim(t[1]), on_rim(t[2])};
-      for (int k = 0; k < 3; ++k)
-        if (rim[k] && rim[(k + 1) % 3]) file(t[k], t[(k + 1) % 3], kUntouched);
-    }
+  const RimHalfEdges filed = file_rim_half_edges(mesh, log, candidates, on_rim, old_on_rim);
   auto consider = [&](VertexId a, VertexId b) {
-    if (!on_rim(a) || !on_rim(b) || filed(directed_key(b, a), kAdded | kUntouched)) return;
+    if (!on_rim(a) || !on_rim(b) || filed.has(b, a, RimHalfEdges::kAdded | RimHalfEdges::kUntouched)) return;
     const VertexId oa = base(a), ob = base(b);
-    if (oa.index < posed.first_new() && ob.index < posed.first_new() &&
-        !filed(directed_key(ob, oa), kRemoved))
+    if (oa.index < posed.first_new() && ob.index < posed.first_new() && !filed.has(ob, oa, RimHalfEdges::kRemoved))
       return;
     rim_next.emplace_back(a.index, b.index);
   };
@@ -170,14 +184,10 @@ std::vector<Rim> chain_rims(const SurfaceMesh& mesh, const EditLog& log, const C
   auto add_face = [&](const Triangle& t) {
     for (int k = 0; k < 3; ++k)
       if (on_rim.has(t[(k + 1) % 3].index)) {
-        const std::uint64_t key = directed_key(t[k], t[(k + 1) % 3]);
-        const std::uint32_t at = third_slots.find(key);
-        if (at != detail::EdgeSlots::kNone) {
-          third[at] = t[(k + 2) % 3].index;
-          continue;
-        }
-        third_slots.insert(key, static_cast<std::uint32_t>(third.size()));
-        third.push_back(t[(k + 2) % 3].index);
+        const auto [at, made] =
+            third_slots.find_or_insert(directed_key(t[k], t[(k + 1) % 3]), static_cast<std::uint32_t>(third.size()));
+        if (made) third.push_back(t[(k + 2) % 3].index);
+        else third[at] = t[(k + 2) % 3].index;
       }
   };
   for (const Edit& e : log.edits)
