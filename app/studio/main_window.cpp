@@ -498,7 +498,6 @@ void MainWindow::show_opened(const QString& path, OpenedModel opened, const QEla
   std::vector<std::pair<QString, float>> clips;
   for (const Animation& a : model->animations)
     clips.emplace_back(QString::fromStdString(a.name), a.duration());
-
   // The swap-in: every step below may ask for a frame; the view draws one, at the end.
   view_->hold_renders(true);
   path_ = path;

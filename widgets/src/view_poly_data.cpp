@@ -1,29 +1,27 @@
 // SPDX-License-Identifier: MIT
+// ViewPolyData's arrays, its full build (corners grouped by vertex), its corner lists, its
+// updates by step and its new poses. The copying build is in view_poly_data_copy.cpp.
 #include "deepcut/widgets/view_poly_data.h"
 
-#include <vtkCellArray.h>
-#include <vtkCellData.h>
-#include <vtkFloatArray.h>
-#include <vtkIdTypeArray.h>
 #include <vtkNew.h>
-#include <vtkPointData.h>
-#include <vtkPoints.h>
-#include <vtkTypeInt64Array.h>
 
 #include <algorithm>
-#include <atomic>
-#include <cstring>
-#include <memory>
 #include <functional>
 
-#include "deepcut/core/morph.h"
 #include "deepcut/core/parallel.h"
 #include "corner_groups.h"
+#include "view_poly_data_writer.h"
 
 namespace deepcut {
-namespace {
 
-constexpr std::size_t kGrain = 16384;
+using view_data::clear_point;
+using view_data::kGrain;
+using view_data::named;
+using view_data::raw;
+using view_data::Raw;
+using view_data::write_point;
+
+namespace {
 
 // Sets `n` tuples, keeping the values below and room to grow (a step appends a few elements:
 // no reallocation of the whole array each time).
@@ -34,114 +32,7 @@ void set_count(Array* a, std::size_t n) {
   a->SetNumberOfTuples(tuples);
 }
 
-template <class Array>
-Array* named(vtkDataSetAttributes* data, const char* name) {
-  return Array::SafeDownCast(data->GetArray(name));
-}
-
-// The arrays of a view poly data, by raw storage (valid until the next resize).
-struct Raw {
-  float* points = nullptr;
-  float* normals = nullptr;
-  float* uv = nullptr;
-  vtkIdType* vertex_id = nullptr;
-  vtkIdType* face_id = nullptr;
-  vtkTypeInt64* offsets = nullptr;
-  vtkTypeInt64* connectivity = nullptr;
-};
-
-Raw raw(vtkPolyData* poly) {
-  Raw r;
-  vtkPointData* pd = poly->GetPointData();
-  r.points = vtkFloatArray::SafeDownCast(poly->GetPoints()->GetData())->GetPointer(0);
-  if (auto* a = vtkFloatArray::SafeDownCast(pd->GetNormals())) r.normals = a->GetPointer(0);
-  if (auto* a = named<vtkFloatArray>(pd, "uv0")) r.uv = a->GetPointer(0);  // active or not
-  r.vertex_id = named<vtkIdTypeArray>(pd, "vertex_id")->GetPointer(0);
-  r.face_id = named<vtkIdTypeArray>(poly->GetCellData(), "face_id")->GetPointer(0);
-  r.offsets = poly->GetPolys()->GetOffsetsArray64()->GetPointer(0);
-  r.connectivity = poly->GetPolys()->GetConnectivityArray64()->GetPointer(0);
-  return r;
-}
-
-// Point `p`'s position and, when both are there, normal: what a build, an update and a new
-// pose all write.
-void write_point(const Raw& r, std::size_t p, const glm::vec3& position, const glm::vec3* normal) {
-  std::copy(&position.x, &position.x + 3, r.points + 3 * p);
-  if (r.normals && normal) std::copy(&normal->x, &normal->x + 3, r.normals + 3 * p);
-}
-
-// A point no corner draws (what a deleted face's cell names when no other point is left).
-void clear_point(const Raw& r, std::size_t p) {
-  std::fill(r.points + 3 * p, r.points + 3 * p + 3, 0.0f);
-  r.vertex_id[p] = 0;
-  if (r.uv) std::fill(r.uv + 2 * p, r.uv + 2 * p + 2, 0.0f);
-  if (r.normals) std::fill(r.normals + 3 * p, r.normals + 3 * p + 3, 0.0f);
-}
-
 }  // namespace
-
-// Writes elements of one state of the mesh into the arrays: the one kernel of the whole build
-// and of every update.
-struct ViewPolyData::Writer {
-  Raw r;
-  const SurfaceMesh& mesh;
-  const std::vector<glm::vec3>& positions;
-  const glm::vec3* normals = nullptr;  // posed corner normals, else the mesh's (or none)
-  const glm::vec2* uv = nullptr;
-  // What else decides a corner's normal in some pose: the mesh's normals (when posed ones are
-  // drawn) and the morph normal deltas.
-  std::vector<const glm::vec3*> normal_sources;
-
-  Writer(vtkPolyData* poly, const SurfaceMesh& m, const std::vector<glm::vec3>& p,
-         const std::vector<glm::vec3>* n)
-      : r(raw(poly)), mesh(m), positions(p) {
-    const auto& ca = m.corner_attrs();
-    if (const auto* a = ca.find<glm::vec2>(attr::kUv0)) uv = a->data().data();
-    const auto* own = ca.find<glm::vec3>(attr::kNormal);
-    if (n && !n->empty()) {
-      normals = n->data();
-      if (own) normal_sources.push_back(own->data().data());
-    } else if (own) {
-      normals = own->data().data();
-    }
-    for (int t = 0, targets = morph_target_count(m); t < targets; ++t)
-      if (const auto* a = ca.find<glm::vec3>(attr::morph_normal_name(t)))
-        normal_sources.push_back(a->data().data());
-  }
-
-  void refresh(vtkPolyData* poly) { r = raw(poly); }
-
-  // Corners `a` and `b` (of one vertex) draw alike in every pose: bit for bit.
-  bool alike(std::size_t a, std::size_t b) const {
-    auto same3 = [&](const glm::vec3* x) { return std::memcmp(&x[a], &x[b], sizeof(glm::vec3)) == 0; };
-    if (normals && !same3(normals)) return false;
-    if (uv && std::memcmp(&uv[a], &uv[b], sizeof(glm::vec2)) != 0) return false;
-    return std::all_of(normal_sources.begin(), normal_sources.end(), same3);
-  }
-
-  // Point `p` draws vertex `v` as corner `c` does.
-  void point(std::size_t p, std::uint32_t v, std::size_t c) const {
-    write_point(r, p, positions[v], normals ? &normals[c] : nullptr);
-    r.vertex_id[p] = v;
-    if (r.uv && uv) {
-      r.uv[2 * p] = uv[c].x;
-      r.uv[2 * p + 1] = uv[c].y;
-    }
-  }
-
-  void vertex_cell(std::size_t f) const {
-    const FaceId face(static_cast<std::uint32_t>(f));
-    const Triangle& t = mesh.face(face);
-    const bool deleted = mesh.is_deleted(face);
-    for (int k = 0; k < 3; ++k)
-      r.connectivity[3 * f + static_cast<std::size_t>(k)] = deleted ? 0 : t[k].index;
-  }
-
-  void vertex_point(std::size_t v) const {
-    write_point(r, v, positions[v], nullptr);
-    r.vertex_id[v] = static_cast<vtkIdType>(v);
-  }
-};
 
 // The points one vertex's corners use so far, each with a corner it draws like: a few, found
 // without a scan of the vertex's corners; a vertex whose corners draw in more ways than that
@@ -164,23 +55,6 @@ struct ViewPolyData::Candidates {
     for (int i = 0; i < n; ++i)
       if (w.alike(corner[i], c)) return point[i];
     return kInvalidIndex;
-  }
-};
-
-// The corners of one vertex: its linked list (from `head` through `next`), or a list of its own.
-struct ViewPolyData::Corners {
-  const std::uint32_t* next = nullptr;
-  std::uint32_t head = kInvalidIndex;
-  const std::uint32_t *begin = nullptr, *end = nullptr;
-  // Calls `fn(c)` for each corner in order until it returns true. @returns whether one did.
-  template <class Fn>
-  bool any(const Fn& fn) const {
-    if (next) {
-      for (std::uint32_t c = head; c != kInvalidIndex; c = next[c])
-        if (fn(c)) return true;
-      return false;
-    }
-    return std::any_of(begin, end, fn);
   }
 };
 
@@ -271,192 +145,6 @@ void ViewPolyData::make_arrays(const SurfaceMesh& mesh) {
   vtkNew<vtkTypeInt64Array> offsets, connectivity;
   polys->SetData(offsets, connectivity);
   poly_->SetPolys(polys);
-}
-
-// What a copying build knows of a piece's corners between its passes (copy_corner_points).
-struct ViewPolyData::Copying {
-  std::vector<std::uint32_t> kept;     // new point -> the source's point
-  std::vector<std::uint32_t> number;   // the source's point -> new point (kInvalidIndex: unused)
-  std::vector<std::uint32_t> waiting;  // corners without a point, in order
-  std::vector<char> orphan;            // per new point: no corner chosen yet
-  std::vector<char> rim;               // per vertex: some corner of it waits
-  std::vector<std::uint32_t> orphan_corners, rim_corners;  // their corners, in order
-};
-
-namespace {
-
-// Calls `fn(chunk, f)` for every face slot of `mesh` that is live, in chunks of kGrain slots
-// over the pool; `chunks` is set to their number (results kept per chunk join in order).
-template <class Fn>
-void for_live_faces(const SurfaceMesh& mesh, std::size_t& chunks, const Fn& fn) {
-  const std::size_t slots = mesh.face_slots();
-  chunks = (slots + kGrain - 1) / kGrain;
-  parallel_for(chunks, 1, [&](std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i)
-      for (std::size_t f = i * kGrain; f < std::min(slots, (i + 1) * kGrain); ++f)
-        if (!mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) fn(i, f);
-  });
-}
-
-template <class T>
-void join(const std::vector<std::vector<T>>& parts, std::vector<T>& out) {
-  for (const auto& part : parts) out.insert(out.end(), part.begin(), part.end());
-}
-
-}  // namespace
-
-bool ViewPolyData::copy_corner_points(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin) {
-  const SurfaceMesh& mesh = w.mesh;
-  if (!source.corners_ || origin.faces.size() != mesh.face_slots() || origin.vertices.size() != mesh.vertex_count() ||
-      source.uses_.size() != static_cast<std::size_t>(source.poly_->GetNumberOfPoints()))
-    return false;
-  Copying copying;
-  copy_connectivity(w, source, origin, copying);
-  choose_corners(w, source, origin, copying);
-  renumber(w, copying);
-  set_point_count(std::max<std::size_t>(copying.kept.size() + copying.waiting.size(), 1));  // room for the waiting
-  Writer writer = w;
-  writer.refresh(poly_);
-  const std::size_t points = copying.kept.size();
-  parallel_for(points, kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t p = b; p < e; ++p) {
-      const std::uint32_t c = point_corner_[p];
-      writer.point(p, mesh.faces()[c / 3][static_cast<int>(c % 3)].index, c);
-    }
-  });
-  assign_waiting(writer, copying.rim_corners);
-  if (uses_.empty()) {  // a deleted face's cell needs point 0
-    uses_.push_back(0);
-    point_corner_.push_back(kInvalidIndex);
-    clear_point(writer.r, 0);
-  }
-  set_point_count(uses_.size());
-  return true;
-}
-
-void ViewPolyData::copy_connectivity(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin,
-                                     Copying& copying) {
-  // A live face with a source face: each corner takes the point its source corner has (the
-  // source's number for now) when that point draws the corner's source vertex; the others wait.
-  const SurfaceMesh& mesh = w.mesh;
-  const std::size_t old_points = source.uses_.size();
-  const auto old_cells = static_cast<std::size_t>(source.poly_->GetNumberOfCells());
-  const Raw old = raw(source.poly_);
-  vtkTypeInt64* conn = w.r.connectivity;
-  std::unique_ptr<std::atomic<std::uint8_t>[]> used(new std::atomic<std::uint8_t>[old_points]);
-  parallel_for(old_points, kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t p = b; p < e; ++p) used[p].store(0, std::memory_order_relaxed);
-  });
-  parallel_for(mesh.face_slots(), kGrain, [&](std::size_t b, std::size_t e) {  // a deleted face's cell: (0, 0, 0)
-    for (std::size_t f = b; f < e; ++f)
-      if (mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) std::fill(conn + 3 * f, conn + 3 * f + 3, 0);
-  });
-  std::size_t chunks = 0;
-  const std::size_t parts = (mesh.face_slots() + kGrain - 1) / kGrain;
-  std::vector<std::vector<std::uint32_t>> waits(parts), collapsed(parts);
-  for_live_faces(mesh, chunks, [&](std::size_t chunk, std::size_t f) {
-    const std::uint32_t from = origin.faces[f];
-    const Triangle& t = mesh.faces()[f];
-    if (t[0] == t[1] && t[1] == t[2]) collapsed[chunk].push_back(static_cast<std::uint32_t>(f));
-    for (std::size_t k = 0; k < 3; ++k) {
-      vtkTypeInt64 p = -1;
-      if (from < old_cells) {
-        const vtkTypeInt64 q = old.connectivity[3 * std::size_t(from) + k];
-        const std::uint32_t v = origin.vertices[mesh.faces()[f][static_cast<int>(k)].index];
-        if (q >= 0 && static_cast<std::size_t>(q) < old_points && v != kInvalidIndex && old.vertex_id[q] == v) p = q;
-      }
-      conn[3 * f + k] = p;
-      if (p >= 0)
-        used[p].store(1, std::memory_order_relaxed);
-      else
-        waits[chunk].push_back(static_cast<std::uint32_t>(3 * f + k));
-    }
-  });
-  join(waits, copying.waiting);
-  join(collapsed, collapsed_);  // (their cells may name one point three times, as deleted faces' do)
-  // The source's points in use, numbered in order.
-  copying.number.assign(old_points, kInvalidIndex);
-  for (std::size_t p = 0; p < old_points; ++p)
-    if (used[p].load(std::memory_order_relaxed)) {
-      copying.number[p] = static_cast<std::uint32_t>(copying.kept.size());
-      copying.kept.push_back(static_cast<std::uint32_t>(p));
-    }
-}
-
-void ViewPolyData::choose_corners(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin,
-                                  Copying& copying) {
-  // Each point's corner: the one its source point has, where that corner's face is this mesh's
-  // too (found through the faces' sources) and draws it; the others (their source's corner on a
-  // face the step removed: around the rim) are orphans, given their first corner by `renumber`.
-  // The uses are counted with the lists (prepare_updates).
-  const SurfaceMesh& mesh = w.mesh;
-  const std::size_t slots = mesh.face_slots(), points = copying.kept.size();
-  const auto old_cells = static_cast<std::size_t>(source.poly_->GetNumberOfCells());
-  std::vector<std::uint32_t> face_of(old_cells, kInvalidIndex);  // source face slot -> face slot
-  parallel_for(slots, kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t f = b; f < e; ++f)
-      if (origin.faces[f] < old_cells && !mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f))))
-        face_of[origin.faces[f]] = static_cast<std::uint32_t>(f);
-  });
-  uses_.assign(points, 0);
-  point_corner_.resize(points);
-  copying.orphan.assign(points, 0);
-  const vtkTypeInt64* conn = w.r.connectivity;
-  parallel_for(points, kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t p = b; p < e; ++p) {
-      const std::uint32_t from = source.point_corner_[copying.kept[p]];
-      const std::uint32_t f = from == kInvalidIndex ? kInvalidIndex : face_of[from / 3];
-      const std::size_t c = 3 * std::size_t(f) + from % 3;
-      const bool found = f != kInvalidIndex && conn[c] == static_cast<vtkTypeInt64>(copying.kept[p]);
-      point_corner_[p] = found ? static_cast<std::uint32_t>(c) : kInvalidIndex;
-      copying.orphan[p] = !found;
-    }
-  });
-  copying.rim.assign(mesh.vertex_count(), 0);
-  for (std::uint32_t c : copying.waiting) copying.rim[mesh.faces()[c / 3][static_cast<int>(c % 3)].index] = 1;
-}
-
-void ViewPolyData::renumber(const Writer& w, Copying& copying) {
-  // One pass: the kept corners take their points' new numbers; the corners of orphan points and
-  // of vertices with waiting corners are gathered, in order.
-  const SurfaceMesh& mesh = w.mesh;
-  vtkTypeInt64* conn = w.r.connectivity;
-  const std::size_t parts = (mesh.face_slots() + kGrain - 1) / kGrain;
-  std::vector<std::vector<std::uint32_t>> orphans(parts), rims(parts);
-  std::size_t chunks = 0;
-  for_live_faces(mesh, chunks, [&](std::size_t chunk, std::size_t f) {
-    for (std::size_t k = 0; k < 3; ++k) {
-      const std::size_t c = 3 * f + k;
-      if (copying.rim[mesh.faces()[f][static_cast<int>(k)].index]) rims[chunk].push_back(static_cast<std::uint32_t>(c));
-      if (conn[c] < 0) continue;
-      const std::uint32_t p = copying.number[static_cast<std::size_t>(conn[c])];
-      conn[c] = p;
-      if (copying.orphan[p]) orphans[chunk].push_back(static_cast<std::uint32_t>(c));
-    }
-  });
-  join(orphans, copying.orphan_corners);
-  join(rims, copying.rim_corners);
-  for (std::uint32_t c : copying.orphan_corners) {
-    const auto p = static_cast<std::size_t>(conn[c]);
-    if (point_corner_[p] == kInvalidIndex) point_corner_[p] = c;
-  }
-}
-
-void ViewPolyData::assign_waiting(const Writer& w, const std::vector<std::uint32_t>& rim_corners) {
-  // The corners of each vertex with waiting corners, by vertex (in corner order), then points
-  // for the waiting ones.
-  const SurfaceMesh& mesh = w.mesh;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> all;  // (vertex, corner)
-  all.reserve(rim_corners.size());
-  for (std::uint32_t c : rim_corners) all.emplace_back(mesh.faces()[c / 3][static_cast<int>(c % 3)].index, c);
-  std::stable_sort(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  std::vector<std::uint32_t> corners;
-  for (const auto& vc : all) corners.push_back(vc.second);
-  std::vector<std::uint32_t> dead;
-  for (std::size_t i = 0, j = 0; i < all.size(); i = j) {
-    while (j < all.size() && all[j].first == all[i].first) ++j;
-    assign_points(w, all[i].first, Corners{nullptr, kInvalidIndex, corners.data() + i, corners.data() + j}, dead);
-  }
 }
 
 void ViewPolyData::build_corner_points(const Writer& writer, const CornerGroups& groups) {

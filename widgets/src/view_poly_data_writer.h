@@ -1,0 +1,155 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// What both builds of the view data and its updates write with: the arrays of a view poly data
+// by raw storage, and the Writer that fills points and cells from one state of the mesh (the one
+// kernel of every build and update), with a vertex's list of corners. Shared by the full build
+// and updates (view_poly_data.cpp) and the copying build (view_poly_data_copy.cpp).
+
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkFloatArray.h>
+#include <vtkIdTypeArray.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkTypeInt64Array.h>
+
+#include <algorithm>
+#include <cstring>
+#include <vector>
+
+#include "deepcut/core/morph.h"
+#include "deepcut/widgets/view_poly_data.h"
+
+namespace deepcut {
+namespace view_data {
+
+// Elements per task of the passes over the pool.
+constexpr std::size_t kGrain = 16384;
+
+template <class Array>
+inline Array* named(vtkDataSetAttributes* data, const char* name) {
+  return Array::SafeDownCast(data->GetArray(name));
+}
+
+// The arrays of a view poly data, by raw storage (valid until the next resize).
+struct Raw {
+  float* points = nullptr;
+  float* normals = nullptr;
+  float* uv = nullptr;
+  vtkIdType* vertex_id = nullptr;
+  vtkIdType* face_id = nullptr;
+  vtkTypeInt64* offsets = nullptr;
+  vtkTypeInt64* connectivity = nullptr;
+};
+
+inline Raw raw(vtkPolyData* poly) {
+  Raw r;
+  vtkPointData* pd = poly->GetPointData();
+  r.points = vtkFloatArray::SafeDownCast(poly->GetPoints()->GetData())->GetPointer(0);
+  if (auto* a = vtkFloatArray::SafeDownCast(pd->GetNormals())) r.normals = a->GetPointer(0);
+  if (auto* a = named<vtkFloatArray>(pd, "uv0")) r.uv = a->GetPointer(0);  // active or not
+  r.vertex_id = named<vtkIdTypeArray>(pd, "vertex_id")->GetPointer(0);
+  r.face_id = named<vtkIdTypeArray>(poly->GetCellData(), "face_id")->GetPointer(0);
+  r.offsets = poly->GetPolys()->GetOffsetsArray64()->GetPointer(0);
+  r.connectivity = poly->GetPolys()->GetConnectivityArray64()->GetPointer(0);
+  return r;
+}
+
+// Point `p`'s position and, when both are there, normal: what a build, an update and a new
+// pose all write.
+inline void write_point(const Raw& r, std::size_t p, const glm::vec3& position, const glm::vec3* normal) {
+  std::copy(&position.x, &position.x + 3, r.points + 3 * p);
+  if (r.normals && normal) std::copy(&normal->x, &normal->x + 3, r.normals + 3 * p);
+}
+
+// A point no corner draws (what a deleted face's cell names when no other point is left).
+inline void clear_point(const Raw& r, std::size_t p) {
+  std::fill(r.points + 3 * p, r.points + 3 * p + 3, 0.0f);
+  r.vertex_id[p] = 0;
+  if (r.uv) std::fill(r.uv + 2 * p, r.uv + 2 * p + 2, 0.0f);
+  if (r.normals) std::fill(r.normals + 3 * p, r.normals + 3 * p + 3, 0.0f);
+}
+
+}  // namespace view_data
+
+// Writes elements of one state of the mesh into the arrays: the one kernel of the whole build
+// and of every update.
+struct ViewPolyData::Writer {
+  view_data::Raw r;
+  const SurfaceMesh& mesh;
+  const std::vector<glm::vec3>& positions;
+  const glm::vec3* normals = nullptr;  // posed corner normals, else the mesh's (or none)
+  const glm::vec2* uv = nullptr;
+  // What else decides a corner's normal in some pose: the mesh's normals (when posed ones are
+  // drawn) and the morph normal deltas.
+  std::vector<const glm::vec3*> normal_sources;
+
+  Writer(vtkPolyData* poly, const SurfaceMesh& m, const std::vector<glm::vec3>& p,
+         const std::vector<glm::vec3>* n)
+      : r(view_data::raw(poly)), mesh(m), positions(p) {
+    const auto& ca = m.corner_attrs();
+    if (const auto* a = ca.find<glm::vec2>(attr::kUv0)) uv = a->data().data();
+    const auto* own = ca.find<glm::vec3>(attr::kNormal);
+    if (n && !n->empty()) {
+      normals = n->data();
+      if (own) normal_sources.push_back(own->data().data());
+    } else if (own) {
+      normals = own->data().data();
+    }
+    for (int t = 0, targets = morph_target_count(m); t < targets; ++t)
+      if (const auto* a = ca.find<glm::vec3>(attr::morph_normal_name(t)))
+        normal_sources.push_back(a->data().data());
+  }
+
+  void refresh(vtkPolyData* poly) { r = view_data::raw(poly); }
+
+  // Corners `a` and `b` (of one vertex) draw alike in every pose: bit for bit.
+  bool alike(std::size_t a, std::size_t b) const {
+    auto same3 = [&](const glm::vec3* x) { return std::memcmp(&x[a], &x[b], sizeof(glm::vec3)) == 0; };
+    if (normals && !same3(normals)) return false;
+    if (uv && std::memcmp(&uv[a], &uv[b], sizeof(glm::vec2)) != 0) return false;
+    return std::all_of(normal_sources.begin(), normal_sources.end(), same3);
+  }
+
+  // Point `p` draws vertex `v` as corner `c` does.
+  void point(std::size_t p, std::uint32_t v, std::size_t c) const {
+    view_data::write_point(r, p, positions[v], normals ? &normals[c] : nullptr);
+    r.vertex_id[p] = v;
+    if (r.uv && uv) {
+      r.uv[2 * p] = uv[c].x;
+      r.uv[2 * p + 1] = uv[c].y;
+    }
+  }
+
+  void vertex_cell(std::size_t f) const {
+    const FaceId face(static_cast<std::uint32_t>(f));
+    const Triangle& t = mesh.face(face);
+    const bool deleted = mesh.is_deleted(face);
+    for (int k = 0; k < 3; ++k)
+      r.connectivity[3 * f + static_cast<std::size_t>(k)] = deleted ? 0 : t[k].index;
+  }
+
+  void vertex_point(std::size_t v) const {
+    view_data::write_point(r, v, positions[v], nullptr);
+    r.vertex_id[v] = static_cast<vtkIdType>(v);
+  }
+};
+
+// The corners of one vertex: its linked list (from `head` through `next`), or a list of its own.
+struct ViewPolyData::Corners {
+  const std::uint32_t* next = nullptr;
+  std::uint32_t head = kInvalidIndex;
+  const std::uint32_t *begin = nullptr, *end = nullptr;
+  // Calls `fn(c)` for each corner in order until it returns true. @returns whether one did.
+  template <class Fn>
+  bool any(const Fn& fn) const {
+    if (next) {
+      for (std::uint32_t c = head; c != kInvalidIndex; c = next[c])
+        if (fn(c)) return true;
+      return false;
+    }
+    return std::any_of(begin, end, fn);
+  }
+};
+
+}  // namespace deepcut
