@@ -169,9 +169,11 @@ int Cutter::face_side(const Triangle& t) const {
 }
 
 // The crossing of edge {a, b}: on the first call for the edge, its record with the id of the
-// vertex make_crossings makes there (the crossings' vertices come in the order of their edges'
-// first calls).
+// vertex make_crossings makes there later (the crossings' vertices come in the order of their
+// edges' first calls, from crossings_[0] on). The id is handed out before the vertex exists, so
+// it holds only while no vertex is added between setting crossings_[0] and make_crossings.
 const Cutter::Split& Cutter::split_edge(VertexId a, VertexId b) {
+  assert(mesh_.vertex_count() == crossings_[0]);  // no vertex made since the ids were counted
   const auto [s, made] = splits_.try_emplace(a, b);
   if (!made) return *s;
   const VertexId lo = a < b ? a : b, hi = a < b ? b : a;
@@ -192,7 +194,9 @@ void Cutter::make_crossings() {
     ends[2 * i + 1] = splits_[i].hi.index;
     t[i] = splits_[i].t;
   }
-  editor_.add_vertices_on_edges(ends.data(), t.data(), n);
+  [[maybe_unused]] const VertexId first = editor_.add_vertices_on_edges(ends.data(), t.data(), n);
+  assert(first.index == crossings_[0]);  // the ids split_edge handed out
+  // The crossings' VertexAdded entries all come first, then their VertexMoved ones (edit_log.h).
   for (const Split& s : splits_) {
     const glm::vec3 at = glm::mix(posed_(s.lo), posed_(s.hi), s.t);
     posed_.add(at);
@@ -592,8 +596,9 @@ void Cutter::classify_vertices(const detail::UsedFlag* used) {
   const std::size_t nv = mesh_.vertex_count();
   // Room for the vertices the cut adds (crossings, their copies: a few per crossed face, far
   // fewer than the mesh's), so appending them in make_crossings does not copy the arrays.
-  detail::VertexSides sides = detail::classify_vertices(mesh_, posed_.input(), glm::vec3(point_), glm::vec3(normal_),
-                                                        options_.relative_tolerance, nv + nv / 16 + 256, used);
+  detail::VertexSides sides =
+      detail::classify_vertices(mesh_, posed_.input(), glm::vec3(point_), glm::vec3(normal_),
+                                options_.relative_tolerance, nv + nv / 16 + 256, used);
   dist_ = std::move(sides.dist);
   sign_ = std::move(sides.sign);
   side_bits_ = std::move(sides.bits);
