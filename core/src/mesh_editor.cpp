@@ -2,6 +2,7 @@
 #include "deepcut/core/mesh_editor.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -117,8 +118,8 @@ void blend_slots(const std::uint16_t* joints, const float* weights, const float*
 
 // MeshEditor::fix_skin_weights with kSets JOINTS_n / WEIGHTS_n sets.
 template <int kSets>
-void fix_skin(AttributeArray<glm::u16vec4>* const* joint_sets, AttributeArray<glm::vec4>* const* weight_sets, VertexId v,
-              const VertexId* src, const float* w, int count) {
+void fix_skin(AttributeArray<glm::u16vec4>* const* joint_sets, AttributeArray<glm::vec4>* const* weight_sets,
+              VertexId v, const VertexId* src, const float* w, int count) {
   constexpr int slots = 4 * kSets;
   std::uint16_t joints[kMaxBlendSources * slots];
   float weights[kMaxBlendSources * slots];
@@ -142,6 +143,18 @@ void fix_skin(AttributeArray<glm::u16vec4>* const* joint_sets, AttributeArray<gl
   }
 }
 
+// Throws, naming `op`, unless every source of new vertex i (`sources` of them, at sources * i)
+// is a vertex before it: below nv + i, where nv counts the vertices before the first new one.
+void check_blend_sources(const char* op, const std::uint32_t* src, int sources, std::size_t count,
+                         std::size_t nv) {
+  for (std::size_t i = 0; i < count; ++i)
+    for (int k = 0; k < sources; ++k)
+      if (src[sources * i + k] >= nv + i)
+        throw Error(ErrorCode::InvalidArgument,
+                    std::string(op) + ": source " + std::to_string(src[sources * i + k]) +
+                        " is not a vertex yet (" + std::to_string(nv + i) + " vertices)");
+}
+
 }  // namespace
 
 void blend_influences(const std::uint16_t* joints, const float* weights, const float* w, int count, int slots,
@@ -158,7 +171,8 @@ void blend_influences(const std::uint16_t* joints, const float* weights, const f
 void MeshEditor::fix_skin_weights(VertexId v, const VertexId* src, const float* w, int count) {
   if (skin_sets_ == 0) return;
   if (count < 1 || count > kMaxBlendSources)
-    throw Error(ErrorCode::InvalidArgument, "fix_skin_weights: " + std::to_string(count) + " sources (1 to 3)");
+    throw Error(ErrorCode::InvalidArgument,
+                "fix_skin_weights: " + std::to_string(count) + " sources (1 to 3)");
   if (skin_sets_ == 1)
     fix_skin<1>(joints_, weights_, v, src, w, count);
   else if (skin_sets_ == 2)
@@ -194,11 +208,10 @@ void MeshEditor::fix_corner_directions(FaceId first, std::size_t count, const st
 
 VertexId MeshEditor::add_blended(const std::uint32_t* src, const float* w, int sources, std::size_t count) {
   const std::size_t nv = mesh_.vertex_count();
+#ifndef NDEBUG
   for (std::size_t i = 0; i < count; ++i)
-    for (int k = 0; k < sources; ++k)
-      if (src[sources * i + k] >= nv + i)
-        throw Error(ErrorCode::InvalidArgument, "add_vertex: source " + std::to_string(src[sources * i + k]) +
-                                                    " is not a vertex yet (" + std::to_string(nv + i) + " vertices)");
+    for (int k = 0; k < sources; ++k) assert(src[sources * i + k] < nv + i);  // checked by the caller
+#endif
   mesh_.vertex_attrs().push_blend_batch(src, w, sources, count);
   const VertexId first(static_cast<std::uint32_t>(nv));
   for (std::size_t i = 0; i < count; ++i) {
@@ -220,10 +233,12 @@ VertexId MeshEditor::add_vertex_on_edge(VertexId a, VertexId b, float t) {
 }
 
 VertexId MeshEditor::add_vertices_on_edges(const std::uint32_t* ends, const float* t, std::size_t count) {
+  const std::size_t nv = mesh_.vertex_count();
+  // Every end checked before the first change: a bad end late in the batch changes nothing.
+  check_blend_sources("add_vertices_on_edges", ends, 2, count, nv);
   // In runs of up to kRun: the weights (1 - t, t) of a run on the stack.
   constexpr std::size_t kRun = 64;
   float w[2 * kRun];
-  const VertexId first(static_cast<std::uint32_t>(mesh_.vertex_count()));
   for (std::size_t i = 0; i < count; i += kRun) {
     const std::size_t n = std::min(kRun, count - i);
     for (std::size_t k = 0; k < n; ++k) {
@@ -232,12 +247,13 @@ VertexId MeshEditor::add_vertices_on_edges(const std::uint32_t* ends, const floa
     }
     add_blended(ends + 2 * i, w, 2, n);
   }
-  return first;
+  return VertexId(static_cast<std::uint32_t>(nv));
 }
 
 VertexId MeshEditor::add_vertex_in_triangle(const Triangle& tri, const glm::vec3& bary) {
   const std::uint32_t src[3] = {tri[0].index, tri[1].index, tri[2].index};
   const float w[3] = {bary.x, bary.y, bary.z};
+  check_blend_sources("add_vertex_in_triangle", src, 3, 1, mesh_.vertex_count());
   return add_blended(src, w, 3, 1);
 }
 

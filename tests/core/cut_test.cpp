@@ -8,6 +8,9 @@
 #include <map>
 #include <set>
 #include <random>
+#include <string>
+#include <variant>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -322,6 +325,38 @@ TEST(CutTest, posed_cut_puts_rim_vertices_on_the_plane_in_that_pose) {
   EXPECT_GT(bind_offset, 1e-3 * size);
 }
 
+TEST(CutTest, a_posed_cut_moves_each_new_vertex_after_adding_it) {
+  // Cut through a PosedMesh, as cut_model does: each crossing placed in the pose is moved after
+  // its VertexAdded (edit_log.h), not necessarily right after it.
+  const Model model = read_gltf(std::string(DEEPCUT_ASSETS_DIR) + "/cactus.glb");
+  int node = -1;
+  for (std::size_t n = 0; n < model.nodes.size(); ++n)
+    if (model.nodes[n].mesh == 0) node = static_cast<int>(n);
+  ASSERT_GE(node, 0);
+  const auto world = world_matrices(model, sample_pose(model, 0, 0.3f * model.animations[0].duration()));
+  SurfaceMesh mesh = model.meshes[0].primitives[0].mesh;
+  PosedMesh posed;
+  posed.posed = posed_positions(model, node, mesh, world);
+  for (const glm::vec3& p : posed.posed) posed.bounds.add(p);
+  const int skin = model.nodes[static_cast<std::size_t>(node)].skin;
+  if (skin >= 0) posed.joints = joint_matrices(model, skin, world);
+  posed.world = world[static_cast<std::size_t>(node)];
+  posed.gridless = true;
+  const std::size_t first_new = mesh.vertex_count();
+  const CutResult r = cut_mesh(mesh, posed, Plane{{0.3f, 6.0f, 0.0f}, {0.3f, 1.0f, 0.2f}});
+  ASSERT_EQ(r.status, OpStatus::Ok);
+  std::vector<bool> added(mesh.vertex_count(), false);
+  std::size_t new_moved = 0;
+  for (const Edit& e : r.log.edits) {
+    if (const auto* a = std::get_if<VertexAdded>(&e)) added[a->v.index] = true;
+    const auto* m = std::get_if<VertexMoved>(&e);
+    if (m == nullptr || m->v.index < first_new) continue;
+    ++new_moved;
+    EXPECT_TRUE(added[m->v.index]) << "vertex " << m->v.index << " moved before it was added";
+  }
+  EXPECT_GT(new_moved, 0u);
+}
+
 TEST(CutTest, model_cut_exports_animated_pieces_that_pass_the_validator) {
   const std::string dir = test::temp_dir("cutmodel");
   std::vector<std::string> outputs;
@@ -492,25 +527,28 @@ TEST(CutTest, a_sliver_whose_crossings_round_one_step_apart_makes_no_zero_area_f
 }
 
 TEST(CutTest, the_result_does_not_depend_on_the_thread_count) {
-  // Large enough for several parallel chunks of vertices and faces.
+  // Large enough for several parallel chunks of vertices and faces. Three cuts per thread count:
+  // whole, split into components, and with a vertex no face uses (found by the face scan).
   const SurfaceMesh input = test::make_grid(260, 140);
+  SurfaceMesh with_stray = input;
+  with_stray.add_vertex({9.0f, -7.0f, 2.0f});
   const Plane plane{{0.5f, 0.5f, 0.0f}, {1.0f, 0.37f, 0.0f}};
   const std::size_t saved = thread_count();
   std::vector<SurfaceMesh> meshes;
   std::vector<CutResult> results;
   for (std::size_t threads : {1u, 2u, 3u}) {
     set_thread_count(threads);
-    for (bool split : {false, true}) {
-      SurfaceMesh mesh = input;
+    for (int variant = 0; variant < 3; ++variant) {
+      SurfaceMesh mesh = variant == 2 ? with_stray : input;
       CutOptions options;
-      options.split_components = split;
+      options.split_components = variant == 1;
       results.push_back(cut_mesh(mesh, mesh.positions(), plane, options));
       meshes.push_back(std::move(mesh));
     }
   }
   set_thread_count(saved);
-  for (std::size_t i = 2; i < meshes.size(); ++i) {
-    const std::size_t j = i % 2;  // same options, one thread
+  for (std::size_t i = 3; i < meshes.size(); ++i) {
+    const std::size_t j = i % 3;  // same variant, one thread
     EXPECT_EQ(meshes[i].faces(), meshes[j].faces());
     EXPECT_EQ(meshes[i].positions(), meshes[j].positions());
     EXPECT_EQ(results[i].pieces, results[j].pieces);
@@ -519,6 +557,8 @@ TEST(CutTest, the_result_does_not_depend_on_the_thread_count) {
   }
   ASSERT_EQ(results[0].pieces.size(), 2u);
   EXPECT_EQ(results[0].pieces[0].size() + results[0].pieces[1].size(), meshes[0].face_count());
+  ASSERT_EQ(results[2].status, OpStatus::Ok);
+  EXPECT_EQ(results[2].pieces, results[0].pieces);  // the stray vertex changes nothing
 }
 
 // A vertex no face uses counts for neither side. Far off, it would widen the tolerance (the
@@ -529,31 +569,37 @@ TEST(CutTest, a_vertex_no_face_uses_changes_nothing) {
   const auto n = static_cast<std::uint32_t>(grid.vertex_count());
   // The cut of the grid with the stray vertex n, its ids shifted past n, is the grid's cut.
   auto shifted = [n](VertexId v) { return v.index < n ? v : VertexId(v.index + 1); };
-  for (bool split : {false, true}) {
-    SCOPED_TRACE(split);
-    CutOptions options;
-    options.split_components = split;
-    const Plane plane{{0.53f, 0.5f, 0.0f}, {1.0f, 0.21f, 0.0f}};
-    SurfaceMesh plain = grid, stray = grid;
-    stray.add_vertex({1e5f, -1e5f, 3e4f});
-    const CutResult a = cut_mesh(plain, plain.positions(), plane, options);
-    const CutResult b = cut_mesh(stray, stray.positions(), plane, options);
-    ASSERT_EQ(a.status, OpStatus::Ok);
-    ASSERT_EQ(b.status, OpStatus::Ok);
-    ASSERT_EQ(plain.face_slots(), stray.face_slots());
-    for (std::size_t f = 0; f < plain.face_slots(); ++f) {
-      const Triangle& t = plain.faces()[f];
-      EXPECT_EQ((Triangle{shifted(t[0]), shifted(t[1]), shifted(t[2])}), stray.faces()[f]);
-      EXPECT_EQ(plain.is_deleted(FaceId(std::uint32_t(f))), stray.is_deleted(FaceId(std::uint32_t(f))));
+  // Far off, the stray vertex's tolerance puts the whole grid on the plane: one side found
+  // first, then both once the scan finds the vertex unused. About 10 units off, both sides are
+  // found first with a wider tolerance: the classification and the face scan are redone.
+  for (const glm::vec3& off : {glm::vec3(1e5f, -1e5f, 3e4f), glm::vec3(9.0f, -7.0f, 2.0f)})
+    for (bool split : {false, true}) {
+      SCOPED_TRACE(std::to_string(off.x) + (split ? " split" : ""));
+      CutOptions options;
+      options.split_components = split;
+      const Plane plane{{0.53f, 0.5f, 0.0f}, {1.0f, 0.21f, 0.0f}};
+      SurfaceMesh plain = grid, stray = grid;
+      stray.add_vertex(off);
+      const CutResult a = cut_mesh(plain, plain.positions(), plane, options);
+      const CutResult b = cut_mesh(stray, stray.positions(), plane, options);
+      ASSERT_EQ(a.status, OpStatus::Ok);
+      ASSERT_EQ(b.status, OpStatus::Ok);
+      ASSERT_EQ(plain.face_slots(), stray.face_slots());
+      for (std::size_t f = 0; f < plain.face_slots(); ++f) {
+        const Triangle& t = plain.faces()[f];
+        EXPECT_EQ((Triangle{shifted(t[0]), shifted(t[1]), shifted(t[2])}), stray.faces()[f]);
+        EXPECT_EQ(plain.is_deleted(FaceId(std::uint32_t(f))), stray.is_deleted(FaceId(std::uint32_t(f))));
+      }
+      EXPECT_EQ(a.pieces, b.pieces);
+      ASSERT_EQ(a.rim_vertices.size(), b.rim_vertices.size());
+      for (std::size_t i = 0; i < a.rim_vertices.size(); ++i)
+        EXPECT_EQ(shifted(a.rim_vertices[i]), b.rim_vertices[i]);
     }
-    EXPECT_EQ(a.pieces, b.pieces);
-    ASSERT_EQ(a.rim_vertices.size(), b.rim_vertices.size());
-    for (std::size_t i = 0; i < a.rim_vertices.size(); ++i) EXPECT_EQ(shifted(a.rim_vertices[i]), b.rim_vertices[i]);
-  }
   // The grid (z = 0) wholly behind the plane z = 0.5, the stray vertex in front of it.
   SurfaceMesh stray = grid;
   stray.add_vertex({0.5f, 0.5f, 2.0f});
-  EXPECT_EQ(cut_mesh(stray, stray.positions(), Plane{{0, 0, 0.5f}, {0, 0, 1}}).status, OpStatus::NoIntersection);
+  EXPECT_EQ(cut_mesh(stray, stray.positions(), Plane{{0, 0, 0.5f}, {0, 0, 1}}).status,
+            OpStatus::NoIntersection);
   EXPECT_EQ(stray.face_slots(), grid.face_slots());
 }
 

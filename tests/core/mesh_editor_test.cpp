@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstring>
 #include <random>
 #include <string>
 #include <variant>
@@ -370,7 +371,9 @@ TEST(MeshEditorTest, a_vertex_batch_equals_its_calls_one_after_another) {
   for (std::size_t i = 0; i < by_call.log().size(); ++i) {
     const auto& x = std::get<VertexAdded>(by_batch.log().edits[i]);
     const auto& y = std::get<VertexAdded>(by_call.log().edits[i]);
-    EXPECT_TRUE(x.v == y.v && x.from == y.from && x.weight == y.weight) << i;
+    // memcmp: -0.0 and +0.0 weights are told apart.
+    const bool same_weights = std::memcmp(&x.weight, &y.weight, sizeof(x.weight)) == 0;
+    EXPECT_TRUE(x.v == y.v && x.from == y.from && same_weights) << i;
   }
   // Each of the first faces split at a new vertex on its edge (0, 1).
   Adjacency adjacency = Adjacency::build(start);
@@ -398,6 +401,39 @@ TEST(MeshEditorTest, a_vertex_batch_equals_its_calls_one_after_another) {
   EXPECT_THROW(by_batch.add_vertices_on_edges(bad, ts, 2), Error);
   EXPECT_EQ(mesh_bytes(batched), before);
   EXPECT_EQ(by_batch.log().size(), logged);
+}
+
+TEST(MeshEditorTest, a_vertex_batch_with_a_bad_end_late_in_it_changes_nothing) {
+  // More vertices than the editor grows its arrays for at once (64), the one bad end in the
+  // second group: refused before the first group is added, every array and the log unchanged.
+  SurfaceMesh mesh = test::make_grid(4, 3);
+  MeshEditor editor(mesh);
+  const auto nv = static_cast<std::uint32_t>(mesh.vertex_count());
+  std::vector<std::uint32_t> ends;
+  std::vector<float> t;
+  for (std::uint32_t i = 0; i < 100; ++i) {
+    ends.insert(ends.end(), {i % nv, (i + 1) % nv});
+    t.push_back(0.25f);
+  }
+  ends[2 * 80 + 1] = nv + 80;  // the vertex being made itself: not a vertex yet
+  const std::vector<unsigned char> before = mesh_bytes(mesh);
+  EXPECT_THROW(editor.add_vertices_on_edges(ends.data(), t.data(), t.size()), Error);
+  EXPECT_EQ(mesh.vertex_count(), nv);
+  EXPECT_EQ(mesh_bytes(mesh), before);
+  EXPECT_EQ(editor.log().size(), 0u);
+  // One below it is the vertex made just before: accepted.
+  ends[2 * 80 + 1] = nv + 79;
+  EXPECT_EQ(editor.add_vertices_on_edges(ends.data(), t.data(), t.size()), VertexId(nv));
+  EXPECT_EQ(editor.log().size(), t.size());
+  // No vertices: nothing changes, the next vertex's id is returned.
+  EXPECT_EQ(editor.add_vertices_on_edges(nullptr, nullptr, 0), VertexId(nv + 100));
+  EXPECT_EQ(editor.log().size(), t.size());
+  // A triangle corner that is not a vertex: refused too.
+  const std::vector<unsigned char> after = mesh_bytes(mesh);
+  const Triangle beyond = {VertexId(0), VertexId(1), VertexId(nv + 100)};
+  EXPECT_THROW(editor.add_vertex_in_triangle(beyond, glm::vec3(1.0f / 3)), Error);
+  EXPECT_EQ(mesh_bytes(mesh), after);
+  EXPECT_EQ(editor.log().size(), t.size());
 }
 
 TEST(MeshEditorTest, a_face_batch_removing_a_face_twice_changes_nothing) {

@@ -23,7 +23,7 @@ struct VertexAdded {
 struct VertexSplit {
   VertexId original, copy;
 };
-/// A vertex moved (tear lips pushed apart); topology unchanged.
+/// A vertex moved; topology unchanged. A new vertex's VertexMoved follows its VertexAdded, not always next.
 struct VertexMoved {
   VertexId v;
   glm::vec3 from, to;

@@ -54,13 +54,17 @@ class MeshEditor {
   explicit MeshEditor(SurfaceMesh& mesh);
 
   /// New vertex at parameter `t` on the segment a->b (t = 0 gives a copy of a's attributes).
+  /// @throws Error{InvalidArgument} (before any change) for an end that is not a vertex.
   VertexId add_vertex_on_edge(VertexId a, VertexId b, float t);
   /// `add_vertex_on_edge(VertexId(ends[2 * i]), VertexId(ends[2 * i + 1]), t[i])` for i = 0 ..
-  /// count - 1 in turn (each attribute array grown once per run of vertices and written in one
-  /// loop): vertex i is the returned vertex + i. An end may be a vertex made earlier in the batch.
-  /// @throws Error{InvalidArgument} (before any change) for an end that is not a vertex yet.
+  /// count - 1 in turn, with the same mesh and log (the attribute arrays grown for many vertices
+  /// at once): vertex i is the returned vertex + i. An end may be a vertex made earlier in the
+  /// batch. With count 0 nothing changes and the id the next new vertex would get is returned.
+  /// @throws Error{InvalidArgument} (before any change) for an end that is not a vertex yet:
+  ///         ends 2i and 2i + 1 must be below vertex_count() + i.
   VertexId add_vertices_on_edges(const std::uint32_t* ends, const float* t, std::size_t count);
   /// New vertex at barycentric coordinates `bary` of the triangle (a, b, c).
+  /// @throws Error{InvalidArgument} (before any change) for a corner that is not a vertex.
   VertexId add_vertex_in_triangle(const Triangle& tri, const glm::vec3& bary);
   /// Duplicate of `v` (same position and attributes), e.g. one side of a tear.
   VertexId split_vertex(VertexId v);
@@ -96,6 +100,7 @@ class MeshEditor {
  private:
   // `count` new vertices, vertex i the blend of `sources` vertices src[sources * i + k] with
   // weights w[sources * i + k] (1 <= sources <= kMaxBlendSources), logged as VertexAdded.
+  // @pre every source of vertex i is below vertex_count() + i (the callers check it first).
   VertexId add_blended(const std::uint32_t* src, const float* w, int sources, std::size_t count);
   void fix_skin_weights(VertexId v, const VertexId* src, const float* w, int count);
   // Corner normals and tangents of the faces [first, first + count) made from `parents` with

@@ -62,8 +62,8 @@ Four four(float x) { return Four{x, x, x, x}; }
 // exactly the scalar loop's operations; the bounds' lanes are folded into the six scalars at the
 // end (min / max in another order can change only the sign of a zero bound, which the diagonal
 // does not see). Returns where it stopped.
-std::size_t measure_fours(const Pass& in, std::size_t b, std::size_t e, float& lx, float& ly, float& lz, float& hx,
-                          float& hy, float& hz) {
+std::size_t measure_fours(const Pass& in, std::size_t b, std::size_t e, float& lx, float& ly, float& lz,
+                          float& hx, float& hy, float& hz) {
 #if defined(__clang__) || (defined(__GNUC__) && __GNUC__ >= 12)
   static_assert(sizeof(glm::vec3) == 3 * sizeof(float), "positions are packed x, y, z rows");
   const float* pos = reinterpret_cast<const float*>(in.posed);  // x, y, z of each vertex in a row

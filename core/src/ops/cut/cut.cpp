@@ -4,7 +4,8 @@
 //      posed position;
 //   2. split_crossed_faces: each crossed edge split once (ops/common/crossing_table.h, with the
 //      needle merges) at the posed point where the plane crosses it, unposed to bind space
-//      (ops/common/placement.h), each crossed face made again from up to three triangles;
+//      (ops/common/placement.h), each crossed face made again from up to three triangles
+//      (crossings.cpp; the cut's state is in cutter.h);
 //   3. separate_or_drop_side: rim vertices both sides use get a copy for the positive side, or
 //      the dropped side's faces go;
 //   4. pinch repair (ops/common/pinches.h), then the pieces: live faces by side (and component);
@@ -31,13 +32,12 @@
 #include "ops/common/posed_overlay.h"
 #include "ops/cut/caps.h"
 #include "ops/cut/classify.h"
+#include "ops/cut/cutter.h"
 #include "ops/cut/face_lists.h"
 #include "uninit_vector.h"
 
 namespace deepcut {
 namespace {
-
-using detail::edge_key;
 
 // Side of a face as Cutter::face_side gives it (its first corner off the plane; a face lying in
 // the plane is positive), coded 1 positive, 2 negative.
@@ -60,97 +60,9 @@ std::vector<std::int8_t> vertex_sides(const SurfaceMesh& mesh, std::vector<std::
   return std::move(sign);
 }
 
-using detail::follow_moved_faces;
-using detail::merge_sorted;
+}  // namespace
 
-class Cutter {
- public:
-  Cutter(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const Plane& plane, const CutOptions& options,
-         detail::Placement placement = {})
-      : mesh_(mesh), editor_(mesh), posed_(posed), placement_(placement), options_(options) {
-    normal_ = glm::dvec3(plane.normal);
-    point_ = glm::dvec3(plane.point);
-  }
-
-  CutResult run();
-
- private:
-  struct Split {
-    VertexId lo, hi, v;
-    float t = 0.0f;  // parameter from lo to hi
-  };
-  struct Corner {
-    VertexId v;
-    glm::vec3 bary;
-  };
-
-  const Split& split_edge(VertexId a, VertexId b);
-  void make_crossings();
-  Corner split_corner(const Triangle& t, int ka, int kb, const Split& s) const;
-  void split_crossings(FaceId f);
-  void split_face(FaceId f, FaceBatch& batch, const Split* const* crossings);
-  void separate_sides();
-  void move_positive_rim(const std::vector<FaceId>& rim_faces, const std::vector<std::uint32_t>& shared,
-                         std::size_t old_shared, const std::vector<std::uint32_t>& fresh, VertexId first_copy);
-  // A flag per vertex of [first, first + flags.size()).
-  struct VertexFlags {
-    std::uint32_t first = 0;
-    std::vector<std::uint8_t> flags;
-    bool operator()(std::uint32_t v) const { return v >= first && v - first < flags.size() && flags[v - first]; }
-  };
-  template <class OneFan>
-  std::vector<std::pair<VertexId, VertexId>> split_pinches(CutResult* result, const OneFan& one_fan);
-  bool single_fan(std::uint32_t v) const;
-  VertexFlags capped_single_fans(std::uint32_t first_cap_face, const std::vector<std::pair<VertexId, VertexId>>& rim) const;
-  void collect_pieces(CutResult& result);
-  void live_rim_by_side(std::vector<FaceId> (&out)[2]) const;
-  std::vector<detail::CapInput> rim_of_pieces(const CutResult& result) const;
-  int face_side(const Triangle& t) const;
-  // Stages of run().
-  void check_arguments() const;
-  void classify_vertices(const detail::UsedFlag* used);
-  bool classify_and_scan();
-  void split_crossed_faces();
-  void separate_or_drop_side();
-  void cap_pieces(CutResult& result, std::vector<VertexId>& rim);
-
-  SurfaceMesh& mesh_;
-  MeshEditor editor_;
-  // Posed positions: the caller's for existing vertices, ours for the ones the cut adds.
-  detail::PosedOverlay<glm::vec3> posed_;
-  // Bind positions of the rim vertices: their posed crossing points unposed.
-  detail::Placement placement_;
-  CutOptions options_;
-  glm::dvec3 normal_, point_;
-  // Signed distance to the plane and snapped sign per vertex (detail::VertexSides; the cut
-  // appends its new vertices), and the side bits of the input's vertices (split_crossed_faces;
-  // separate_sides then keeps its own bits above them).
-  detail::UninitVector<float> dist_;
-  std::vector<std::int8_t> sign_;
-  detail::UninitVector<std::uint8_t> side_bits_;
-  bool both_sides_ = false;  // some vertex lies on each side
-  detail::CrossingTable<Split> splits_;
-  detail::NeedleMerges merges_;
-  // Faces that may touch the plane: untouched ones with a corner on it, and every new face.
-  std::vector<FaceId> rim_candidates_;
-  // The input's faces by kind, in chunks (detail::scan_faces), until split_crossed_faces.
-  std::vector<detail::ScannedFaces> found_;
-  // The input's faces with no corner on the plane, by side (positive, negative), in id order:
-  // no edit of the cut touches them (but dropping a side).
-  std::vector<FaceId> clean_[2];
-  std::size_t intersections_ = 0;
-  // The two crossings of each crossed face with a lone corner, in face order: needle merge
-  // candidates (split_crossings), looked at once the crossings are made.
-  std::vector<std::pair<VertexId, VertexId>> merge_candidates_;
-  // The crossings of each crossed face, two a face in face order (the second null where the
-  // plane runs through a corner), as split_face uses them: found once, by split_crossings.
-  std::vector<const Split*> face_crossings_;
-  // The crossing vertices split_edge made, [first, end), and the positive side's copies of
-  // them separate_sides made, [first, end): without needle merges each of them has one fan of
-  // faces per side (single_fan).
-  std::uint32_t crossings_[2] = {0, 0};
-  std::uint32_t crossing_copies_[2] = {0, 0};
-};
+namespace detail {
 
 // True when vertex `v` is known to join its faces in one fan: a crossing vertex (or its copy)
 // while no needle merged two crossings. Each face split_face makes around a crossing m on side
@@ -166,123 +78,6 @@ int Cutter::face_side(const Triangle& t) const {
   for (auto v : t)
     if (sign_[v.index] != 0) return sign_[v.index];
   return 1;  // a face lying in the plane goes to the positive side
-}
-
-// The crossing of edge {a, b}: on the first call for the edge, its record with the id of the
-// vertex make_crossings makes there (the crossings' vertices come in the order of their edges'
-// first calls).
-const Cutter::Split& Cutter::split_edge(VertexId a, VertexId b) {
-  const auto [s, made] = splits_.try_emplace(a, b);
-  if (!made) return *s;
-  const VertexId lo = a < b ? a : b, hi = a < b ? b : a;
-  const double dl = dist_[lo.index], dh = dist_[hi.index];
-  const float t = static_cast<float>(dl / (dl - dh));
-  *s = Split{lo, hi, VertexId(crossings_[0] + static_cast<std::uint32_t>(splits_.size() - 1)), t};
-  return *s;
-}
-
-// Makes the vertices of the crossings split_crossings found, in one editor batch, each placed
-// at its posed crossing point; then merges the needles' crossings that came out near.
-void Cutter::make_crossings() {
-  const std::size_t n = splits_.size();
-  std::vector<std::uint32_t> ends(2 * n);
-  std::vector<float> t(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    ends[2 * i] = splits_[i].lo.index;
-    ends[2 * i + 1] = splits_[i].hi.index;
-    t[i] = splits_[i].t;
-  }
-  editor_.add_vertices_on_edges(ends.data(), t.data(), n);
-  for (const Split& s : splits_) {
-    const glm::vec3 at = glm::mix(posed_(s.lo), posed_(s.hi), s.t);
-    posed_.add(at);
-    placement_.place(editor_, s.v, at);
-    dist_.push_back(0.0f);
-    sign_.push_back(0);
-  }
-  intersections_ += n;
-  for (const auto& [a, b] : merge_candidates_) merges_.merge_if_near(mesh_, a, b);
-}
-
-// The corner split_face makes on the side (ka, kb) of face `t` at its crossing `s`.
-Cutter::Corner Cutter::split_corner(const Triangle& t, int ka, int kb, const Split& s) const {
-  const VertexId v = merges_.merged(s.v);
-  glm::vec3 bary(0.0f);
-  const float wa = t[ka] == s.lo ? 1.0f - s.t : s.t;
-  bary[ka] = wa;
-  bary[kb] = 1.0f - wa;
-  return {v, bary};
-}
-
-// Finds the crossings of a face the plane crosses, in the order split_face uses them. A face whose
-// lone corner has two long edges to corners a hair apart (a needle: the lips of a narrow tear, a
-// sliver) has its two crossings rounded to one bind position or a few float steps apart: they
-// become one vertex, and the needle's tip beyond the plane (a zero-area triangle) is not made.
-void Cutter::split_crossings(FaceId f) {
-  const Triangle& t = mesh_.face(f);
-  const std::int8_t s[3] = {sign_[t[0].index], sign_[t[1].index], sign_[t[2].index]};
-  const bool pos = s[0] > 0 || s[1] > 0 || s[2] > 0, neg = s[0] < 0 || s[1] < 0 || s[2] < 0;
-  if (!pos || !neg) {
-    face_crossings_.insert(face_crossings_.end(), 2, nullptr);
-    return;
-  }
-  for (int k = 0; k < 3; ++k)
-    if (s[k] == 0) {
-      face_crossings_.insert(face_crossings_.end(), {&split_edge(t[(k + 1) % 3], t[(k + 2) % 3]), nullptr});
-      return;
-    }
-  int lone = 0;
-  for (int k = 0; k < 3; ++k)
-    if (s[k] != s[(k + 1) % 3] && s[k] != s[(k + 2) % 3]) lone = k;
-  const Split& a = split_edge(t[lone], t[(lone + 1) % 3]);
-  const Split& b = split_edge(t[lone], t[(lone + 2) % 3]);
-  face_crossings_.insert(face_crossings_.end(), {&a, &b});
-  merge_candidates_.emplace_back(a.v, b.v);
-}
-
-// Queues the removal of a face the plane crosses and the up to three faces replacing it
-// (`crossings`: its two in face_crossings_).
-void Cutter::split_face(FaceId f, FaceBatch& batch, const Split* const* crossings) {
-  const Triangle t = mesh_.face(f);
-  const std::int8_t s[3] = {sign_[t[0].index], sign_[t[1].index], sign_[t[2].index]};
-  const bool pos = s[0] > 0 || s[1] > 0 || s[2] > 0, neg = s[0] < 0 || s[1] < 0 || s[2] < 0;
-  if (!pos || !neg) return;
-  auto corner = [&](int k) {
-    glm::vec3 b(0.0f);
-    b[k] = 1.0f;
-    return Corner{t[k], b};
-  };
-  auto emit = [&](const Corner& a, const Corner& b, const Corner& c) {
-    if (a.v == b.v || b.v == c.v || a.v == c.v) return;  // the tip of a needle whose crossings merged
-    batch.add_from({a.v, b.v, c.v}, f, {a.bary, b.bary, c.bary});
-  };
-  batch.remove(f);
-  int zero = -1;
-  for (int k = 0; k < 3; ++k)
-    if (s[k] == 0) zero = k;
-  if (zero >= 0) {  // the plane runs through one corner and the opposite edge
-    const int k1 = (zero + 1) % 3, k2 = (zero + 2) % 3;
-    const Corner m = split_corner(t, k1, k2, *crossings[0]);
-    emit(corner(zero), corner(k1), m);
-    emit(corner(zero), m, corner(k2));
-    return;
-  }
-  int lone = 0;  // the corner alone on its side
-  for (int k = 0; k < 3; ++k)
-    if (s[k] != s[(k + 1) % 3] && s[k] != s[(k + 2) % 3]) lone = k;
-  const int k1 = (lone + 1) % 3, k2 = (lone + 2) % 3;
-  const Corner m1 = split_corner(t, lone, k1, *crossings[0]), m2 = split_corner(t, lone, k2, *crossings[1]);
-  emit(corner(lone), m1, m2);
-  // The quad (m1, k1, k2, m2): split along its shorter diagonal.
-  const float d1 = glm::length(posed_(m1.v) - posed_(t[k2]));
-  const float d2 = glm::length(posed_(t[k1]) - posed_(m2.v));
-  if (d1 <= d2) {
-    emit(m1, corner(k1), corner(k2));
-    emit(m1, corner(k2), m2);
-  } else {
-    emit(m1, corner(k1), m2);
-    emit(corner(k1), corner(k2), m2);
-  }
 }
 
 // Rim vertices used by both sides get a copy for the positive side, so the sides come apart.
@@ -592,8 +387,9 @@ void Cutter::classify_vertices(const detail::UsedFlag* used) {
   const std::size_t nv = mesh_.vertex_count();
   // Room for the vertices the cut adds (crossings, their copies: a few per crossed face, far
   // fewer than the mesh's), so appending them in make_crossings does not copy the arrays.
-  detail::VertexSides sides = detail::classify_vertices(mesh_, posed_.input(), glm::vec3(point_), glm::vec3(normal_),
-                                                        options_.relative_tolerance, nv + nv / 16 + 256, used);
+  detail::VertexSides sides =
+      detail::classify_vertices(mesh_, posed_.input(), glm::vec3(point_), glm::vec3(normal_),
+                                options_.relative_tolerance, nv + nv / 16 + 256, used);
   dist_ = std::move(sides.dist);
   sign_ = std::move(sides.sign);
   side_bits_ = std::move(sides.bits);
@@ -753,7 +549,7 @@ CutResult Cutter::run() {
   return result;
 }
 
-}  // namespace
+}  // namespace detail
 
 void check_cut_plane(const Plane& plane) {
   const double nlen = glm::length(glm::dvec3(plane.normal));
@@ -764,14 +560,14 @@ void check_cut_plane(const Plane& plane) {
 }
 
 CutResult cut_mesh(SurfaceMesh& mesh, PosedMesh& posed, const Plane& plane, const CutOptions& options) {
-  Cutter cutter(mesh, posed.posed, plane, options, detail::Placement(posed, mesh));
+  detail::Cutter cutter(mesh, posed.posed, plane, options, detail::Placement(posed, mesh));
   CutResult result = cutter.run();
   posed.follow(mesh, result.log);
   return result;
 }
 
 CutResult cut_mesh(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const Plane& plane, const CutOptions& options) {
-  return Cutter(mesh, posed, plane, options).run();
+  return detail::Cutter(mesh, posed, plane, options).run();
 }
 
 }  // namespace deepcut

@@ -93,8 +93,8 @@ std::uint32_t run_end(const SurfaceMesh& mesh, const std::uint8_t* bits, UsedFla
 
 // The faces [b, e) into `out`, as scan_faces files them.
 template <bool kCheckDeleted, bool kFlag>
-void scan_chunk(const SurfaceMesh& mesh, const std::uint8_t* bits, UsedFlag* used, std::uint32_t b, std::uint32_t e,
-                ScannedFaces& out) {
+void scan_chunk(const SurfaceMesh& mesh, const std::uint8_t* bits, UsedFlag* used, std::uint32_t b,
+                std::uint32_t e, ScannedFaces& out) {
   const Triangle* faces = mesh.faces().data();
   out.clean[0].reserve(e - b);
   out.clean[1].reserve(e - b);
@@ -164,18 +164,22 @@ std::vector<ScannedFaces> scan_faces(const SurfaceMesh& mesh, const std::uint8_t
   parallel_for(nf, grain, [&](std::size_t b, std::size_t e) {
     ScannedFaces& out = found[b / grain];
     const auto lo = static_cast<std::uint32_t>(b), hi = static_cast<std::uint32_t>(e);
-    if (any_deleted)
-      used ? scan_chunk<true, true>(mesh, bits, used, lo, hi, out) : scan_chunk<true, false>(mesh, bits, used, lo, hi, out);
+    if (any_deleted && used)
+      scan_chunk<true, true>(mesh, bits, used, lo, hi, out);
+    else if (any_deleted)
+      scan_chunk<true, false>(mesh, bits, used, lo, hi, out);
+    else if (used)
+      scan_chunk<false, true>(mesh, bits, used, lo, hi, out);
     else
-      used ? scan_chunk<false, true>(mesh, bits, used, lo, hi, out)
-           : scan_chunk<false, false>(mesh, bits, used, lo, hi, out);
+      scan_chunk<false, false>(mesh, bits, used, lo, hi, out);
   });
   return found;
 }
 
 bool all_flagged(const UsedFlag* flags, std::size_t count) {
   static_assert(sizeof(UsedFlag) == 1 && UsedFlag::is_always_lock_free, "a flag is one plain byte");
-  // Read as bytes once the threads that set them are joined.
+  // Read as bytes once the threads that set them are joined: memchr, as a loop of atomic loads
+  // is not vectorised (about 25 times slower over 600k flags).
   return count == 0 || std::memchr(reinterpret_cast<const unsigned char*>(flags), 0, count) == nullptr;
 }
 

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 // The cut's face lists (ops/cut/cut.cpp): the scan that files the faces by kind, those off the
-// plane by side in runs, and the upkeep of sorted lists of face ids (merging, following moved faces). Private
-// to the cut.
+// plane by side in runs, and the upkeep of sorted lists of face ids (merging, following moved
+// faces). Private to the cut.
 
 #include <atomic>
 #include <cstddef>

@@ -1,0 +1,117 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// The cut's state and stages (ops/cut/cut.cpp states them); the crossings, the new vertices
+// where the plane crosses edges and the faces made around them, are in ops/cut/crossings.cpp.
+// Private to the cut.
+
+#include <cstddef>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "deepcut/core/mesh_editor.h"
+#include "deepcut/core/ops/cut.h"
+#include "ops/common/crossing_table.h"
+#include "ops/common/placement.h"
+#include "ops/common/posed_overlay.h"
+#include "ops/cut/caps.h"
+#include "ops/cut/face_lists.h"
+#include "uninit_vector.h"
+
+namespace deepcut::detail {
+
+/// One cut of a mesh by a plane, as cut_mesh makes it: run() goes through the stages in order.
+class Cutter {
+ public:
+  Cutter(SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const Plane& plane,
+         const CutOptions& options, Placement placement = {})
+      : mesh_(mesh), editor_(mesh), posed_(posed), placement_(placement), options_(options) {
+    normal_ = glm::dvec3(plane.normal);
+    point_ = glm::dvec3(plane.point);
+  }
+
+  CutResult run();
+
+ private:
+  struct Split {
+    VertexId lo, hi, v;
+    float t = 0.0f;  // parameter from lo to hi
+  };
+  struct Corner {
+    VertexId v;
+    glm::vec3 bary;
+  };
+
+  const Split& split_edge(VertexId a, VertexId b);
+  void make_crossings();
+  Corner split_corner(const Triangle& t, int ka, int kb, const Split& s) const;
+  void split_crossings(FaceId f);
+  void split_face(FaceId f, FaceBatch& batch, const Split* const* crossings);
+  void separate_sides();
+  void move_positive_rim(const std::vector<FaceId>& rim_faces, const std::vector<std::uint32_t>& shared,
+                         std::size_t old_shared, const std::vector<std::uint32_t>& fresh,
+                         VertexId first_copy);
+  // A flag per vertex of [first, first + flags.size()).
+  struct VertexFlags {
+    std::uint32_t first = 0;
+    std::vector<std::uint8_t> flags;
+    bool operator()(std::uint32_t v) const {
+      return v >= first && v - first < flags.size() && flags[v - first];
+    }
+  };
+  template <class OneFan>
+  std::vector<std::pair<VertexId, VertexId>> split_pinches(CutResult* result, const OneFan& one_fan);
+  bool single_fan(std::uint32_t v) const;
+  VertexFlags capped_single_fans(std::uint32_t first_cap_face,
+                                 const std::vector<std::pair<VertexId, VertexId>>& rim) const;
+  void collect_pieces(CutResult& result);
+  void live_rim_by_side(std::vector<FaceId> (&out)[2]) const;
+  std::vector<CapInput> rim_of_pieces(const CutResult& result) const;
+  int face_side(const Triangle& t) const;
+  // Stages of run().
+  void check_arguments() const;
+  void classify_vertices(const UsedFlag* used);
+  bool classify_and_scan();
+  void split_crossed_faces();
+  void separate_or_drop_side();
+  void cap_pieces(CutResult& result, std::vector<VertexId>& rim);
+
+  SurfaceMesh& mesh_;
+  MeshEditor editor_;
+  // Posed positions: the caller's for existing vertices, ours for the ones the cut adds.
+  PosedOverlay<glm::vec3> posed_;
+  // Bind positions of the rim vertices: their posed crossing points unposed.
+  Placement placement_;
+  CutOptions options_;
+  glm::dvec3 normal_, point_;
+  // Signed distance to the plane and snapped sign per vertex (VertexSides; the cut
+  // appends its new vertices), and the side bits of the input's vertices (split_crossed_faces;
+  // separate_sides then keeps its own bits above them).
+  UninitVector<float> dist_;
+  std::vector<std::int8_t> sign_;
+  UninitVector<std::uint8_t> side_bits_;
+  bool both_sides_ = false;  // some vertex lies on each side
+  CrossingTable<Split> splits_;
+  NeedleMerges merges_;
+  // Faces that may touch the plane: untouched ones with a corner on it, and every new face.
+  std::vector<FaceId> rim_candidates_;
+  // The input's faces by kind, in chunks (scan_faces), until split_crossed_faces.
+  std::vector<ScannedFaces> found_;
+  // The input's faces with no corner on the plane, by side (positive, negative), in id order:
+  // no edit of the cut touches them (but dropping a side).
+  std::vector<FaceId> clean_[2];
+  std::size_t intersections_ = 0;
+  // The two crossings of each crossed face with a lone corner, in face order: needle merge
+  // candidates (split_crossings), looked at once the crossings are made.
+  std::vector<std::pair<VertexId, VertexId>> merge_candidates_;
+  // The crossings of each crossed face, two a face in face order (the second null where the
+  // plane runs through a corner), as split_face uses them: found once, by split_crossings.
+  std::vector<const Split*> face_crossings_;
+  // The crossing vertices split_edge made, [first, end), and the positive side's copies of
+  // them separate_sides made, [first, end): without needle merges each of them has one fan of
+  // faces per side (single_fan).
+  std::uint32_t crossings_[2] = {0, 0};
+  std::uint32_t crossing_copies_[2] = {0, 0};
+};
+
+}  // namespace deepcut::detail
