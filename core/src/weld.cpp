@@ -113,14 +113,22 @@ struct Classes {
   std::size_t kept_apart = 0;
 };
 
-// The classes of the used vertices (in first-use order) by `hash` and `same`.
-template <class Hash, class Same>
-detail::Indices classes_of(const detail::Indices& first_use, Hash&& hash_of, Same&& same) {
-  detail::UninitVector<std::uint64_t> hash(first_use.size());
-  parallel_for(first_use.size(), kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i) hash[i] = hash_of(first_use[i]);
+// The classes of `items` (vertices, in first-use order) by `hash` and `same`.
+template <class Items, class Hash, class Same>
+detail::Indices classes_of(const Items& items, Hash&& hash_of, Same&& same) {
+  detail::UninitVector<std::uint64_t> hash(items.size());
+  parallel_for(items.size(), kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) hash[i] = hash_of(items[i]);
   });
-  return detail::first_of_class(hash, [&](std::uint32_t a, std::uint32_t b) { return same(first_use[a], first_use[b]); });
+  return detail::first_of_class(hash, [&](std::uint32_t a, std::uint32_t b) { return same(items[a], items[b]); });
+}
+
+// The classes of `items` (vertices) by position alone.
+template <class Items>
+detail::Indices position_classes(const VertexBytes& bytes, const Items& items) {
+  return classes_of(
+      items, [&](std::uint32_t v) { return detail::ByteRows::finish(bytes.position_hash(v)); },
+      [&](std::uint32_t u, std::uint32_t v) { return bytes.same_position(u, v); });
 }
 
 // How many items lead their class (first[i] == i).
@@ -142,9 +150,7 @@ std::size_t count_leaders(const detail::Indices& first) {
 // they are grouped again by the whole key. `*kept_apart` gets the classes less the positions.
 detail::Indices first_of_key(const VertexBytes& bytes, const detail::Indices& first_use, std::size_t* kept_apart) {
   const std::size_t nu = first_use.size();
-  const detail::Indices by_position = classes_of(
-      first_use, [&](std::uint32_t v) { return detail::ByteRows::finish(bytes.position_hash(v)); },
-      [&](std::uint32_t u, std::uint32_t v) { return bytes.same_position(u, v); });
+  const detail::Indices by_position = position_classes(bytes, first_use);
   const int split = parallel_reduce(
       nu, kGrain, 0,
       [&](std::size_t b, std::size_t e) {
@@ -164,13 +170,7 @@ detail::Indices first_of_key(const VertexBytes& bytes, const detail::Indices& fi
 
 // Representatives that share a position with an earlier one: all of them less the positions.
 std::size_t count_kept_apart(const VertexBytes& bytes, const std::vector<std::uint32_t>& keep) {
-  detail::UninitVector<std::uint64_t> hash(keep.size());
-  parallel_for(keep.size(), kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i) hash[i] = bytes.position_hash(keep[i]);
-  });
-  const detail::Indices first =
-      detail::first_of_class(hash, [&](std::uint32_t a, std::uint32_t b) { return bytes.same_position(keep[a], keep[b]); });
-  return keep.size() - count_leaders(first);
+  return keep.size() - count_leaders(position_classes(bytes, keep));
 }
 
 // Keying every used vertex, in first-use order, so the first user of a class is its

@@ -7,6 +7,7 @@
 #include <set>
 
 #include "deepcut/core/adjacency.h"
+#include "deepcut/core/operation_room.h"
 #include "deepcut/core/parallel.h"
 #include "fixtures.h"
 
@@ -209,6 +210,25 @@ TEST(WeldTest, dropping_repeating_faces_renumbers_by_the_kept_faces_and_drops_wh
   const auto& kept_uv = mesh.corner_attrs().get<glm::vec2>(attr::kUv0);
   EXPECT_EQ(kept_uv[0], glm::vec2(3, 0));
   EXPECT_EQ(kept_uv[2], glm::vec2(5, 0));
+}
+
+
+TEST(WeldTest, rebuilt_vertex_arrays_and_faces_have_the_room_operations_get) {
+  for (const WeldKey key : {WeldKey::PositionAndSkin, WeldKey::Position, WeldKey::None}) {
+    SCOPED_TRACE(static_cast<int>(key));
+    SurfaceMesh mesh = unweld(test::make_grid(6, 5));
+    WeldOptions options;
+    options.key = key;
+    weld(mesh, options);
+    EXPECT_GE(mesh.faces().capacity(), operation_face_room(mesh.face_count()));
+    const auto& va = mesh.vertex_attrs();
+    ASSERT_GE(va.names().size(), 3u);  // positions, joints, weights
+    for (const auto& name : va.names()) {
+      SCOPED_TRACE(name);
+      const AttributeArrayBase& a = *va.base(name);
+      EXPECT_GE(a.capacity_bytes(), operation_vertex_room(mesh.vertex_count()) * a.element_bytes());
+    }
+  }
 }
 
 }  // namespace deepcut

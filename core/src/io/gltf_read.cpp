@@ -398,42 +398,46 @@ const unsigned char* Reader::view_bytes(int view, std::size_t offset, std::size_
   return buf.data + bv.byteOffset + (count > 0 ? offset : 0);
 }
 
-template <class T, class Convert>
-Decoded<T> Reader::decode(int index, const char* what_c, int* components_out, Convert convert) {
-  const std::string what = std::string(what_c) + " (accessor " + std::to_string(index) + ")";
+// glTF stores little-endian values; reading them in place (Reader::decode) needs a host that does.
+#if defined(__BYTE_ORDER__) && defined(__ORDER_LITTLE_ENDIAN__)
+static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "the glTF reader reads little-endian file bytes in place");
+#endif
+
+AccessorBytes Reader::accessor_bytes(int index, const char* what_c, const std::string& what, std::size_t value_size,
+                                     int* components_out) {
   if (index < 0 || static_cast<std::size_t>(index) >= gltf_.accessors.size())
     fail(std::string(what_c) + ": accessor " + std::to_string(index) + " does not exist");
-  const auto& acc = gltf_.accessors[index];
-  int comps = 0;
+  AccessorBytes in;
+  in.acc = &gltf_.accessors[index];
+  const auto& acc = *in.acc;
   switch (acc.type) {
-    case TINYGLTF_TYPE_SCALAR: comps = 1; break;
-    case TINYGLTF_TYPE_VEC2: comps = 2; break;
-    case TINYGLTF_TYPE_VEC3: comps = 3; break;
-    case TINYGLTF_TYPE_VEC4: comps = 4; break;
-    case TINYGLTF_TYPE_MAT2: comps = 4; break;
-    case TINYGLTF_TYPE_MAT3: comps = 9; break;
-    case TINYGLTF_TYPE_MAT4: comps = 16; break;
+    case TINYGLTF_TYPE_SCALAR: in.comps = 1; break;
+    case TINYGLTF_TYPE_VEC2: in.comps = 2; break;
+    case TINYGLTF_TYPE_VEC3: in.comps = 3; break;
+    case TINYGLTF_TYPE_VEC4: in.comps = 4; break;
+    case TINYGLTF_TYPE_MAT2: in.comps = 4; break;
+    case TINYGLTF_TYPE_MAT3: in.comps = 9; break;
+    case TINYGLTF_TYPE_MAT4: in.comps = 16; break;
     default: fail(what + ": unknown type");
   }
-  const int csize = component_size(acc.componentType);
-  if (csize == 0) fail(what + ": unknown componentType " + std::to_string(acc.componentType));
+  in.csize = component_size(acc.componentType);
+  if (in.csize == 0) fail(what + ": unknown componentType " + std::to_string(acc.componentType));
   if (acc.count > kMaxAccessorElements) fail(what + ": count " + std::to_string(acc.count) + " is implausibly large");
-  if (components_out) *components_out = comps;
-  const std::size_t elem = std::size_t(comps) * std::size_t(csize);
+  if (components_out) *components_out = in.comps;
+  in.elem = std::size_t(in.comps) * std::size_t(in.csize);
 
   // Every claim is checked against the bytes that back it before anything is allocated: a tiny
   // file may claim millions of elements.
-  const unsigned char* base = nullptr;
-  std::size_t stride = elem;
+  in.stride = in.elem;
   if (acc.bufferView >= 0) {
     if (static_cast<std::size_t>(acc.bufferView) >= gltf_.bufferViews.size())
       fail(what + ": bufferView " + std::to_string(acc.bufferView) + " does not exist");
     const auto& bv = gltf_.bufferViews[acc.bufferView];
-    if (bv.byteStride) stride = bv.byteStride;
-    if (stride < elem) fail(what + ": byteStride " + std::to_string(stride) + " is smaller than an element");
-    base = view_bytes(acc.bufferView, acc.byteOffset, stride, elem, acc.count, what);
+    if (bv.byteStride) in.stride = bv.byteStride;
+    if (in.stride < in.elem) fail(what + ": byteStride " + std::to_string(in.stride) + " is smaller than an element");
+    in.base = view_bytes(acc.bufferView, acc.byteOffset, in.stride, in.elem, acc.count, what);
   }
-  const std::size_t decoded_bytes = acc.count * std::size_t(comps) * sizeof(T);  // <= 2^28 * 16 * 4
+  const std::size_t decoded_bytes = acc.count * std::size_t(in.comps) * value_size;  // <= 2^28 * 16 * 4
   if (decoded_bytes > decode_left_)
     fail(what + ": decoding " + std::to_string(acc.count) + " elements" +
          (acc.bufferView < 0 ? " (no bufferView: zeros)" : "") + " would take the model past " +
@@ -441,25 +445,48 @@ Decoded<T> Reader::decode(int index, const char* what_c, int* components_out, Co
          " times its input size; the file claims far more data than it holds");
   decode_left_ -= decoded_bytes;
   const auto& sp = acc.sparse;
-  const std::size_t n = sp.isSparse ? static_cast<std::size_t>(std::max(sp.count, 0)) : 0;
-  const unsigned char* ibase = nullptr;
-  const unsigned char* vbase = nullptr;
-  int isize = 0;
   if (sp.isSparse) {
-    if (sp.count < 0 || n > acc.count) fail(what + ": sparse count " + std::to_string(sp.count) + " is out of range");
-    isize = component_size(sp.indices.componentType);
-    if (isize == 0 || sp.indices.componentType == kFloat) fail(what + ": sparse indices have a bad componentType");
+    in.sparse = static_cast<std::size_t>(std::max(sp.count, 0));
+    if (sp.count < 0 || in.sparse > acc.count) fail(what + ": sparse count " + std::to_string(sp.count) + " is out of range");
+    in.isize = component_size(sp.indices.componentType);
+    if (in.isize == 0 || sp.indices.componentType == kFloat) fail(what + ": sparse indices have a bad componentType");
     if (sp.indices.byteOffset < 0 || sp.values.byteOffset < 0) fail(what + ": sparse byteOffset is negative");
-    ibase = view_bytes(sp.indices.bufferView, std::size_t(sp.indices.byteOffset), std::size_t(isize), std::size_t(isize), n,
-                       what + " sparse indices");
-    vbase = view_bytes(sp.values.bufferView, std::size_t(sp.values.byteOffset), elem, elem, n, what + " sparse values");
+    in.ibase = view_bytes(sp.indices.bufferView, std::size_t(sp.indices.byteOffset), std::size_t(in.isize),
+                          std::size_t(in.isize), in.sparse, what + " sparse indices");
+    in.vbase = view_bytes(sp.values.bufferView, std::size_t(sp.values.byteOffset), in.elem, in.elem, in.sparse,
+                          what + " sparse values");
   }
+  return in;
+}
+
+std::vector<std::size_t> Reader::sparse_targets(const AccessorBytes& in, const std::string& what) const {
+  std::vector<std::size_t> targets(in.sparse);
+  for (std::size_t i = 0; i < in.sparse; ++i) {
+    std::uint32_t idx = 0;
+    if (in.isize == 1) idx = in.ibase[i];
+    else if (in.isize == 2) { std::uint16_t v; std::memcpy(&v, in.ibase + 2 * i, 2); idx = v; }
+    else std::memcpy(&idx, in.ibase + 4 * i, 4);
+    if (idx >= in.acc->count) fail(what + ": sparse index " + std::to_string(idx) + " is out of range");
+    targets[i] = idx;
+  }
+  return targets;
+}
+
+template <class T, class Convert>
+Decoded<T> Reader::decode(int index, const char* what_c, int* components_out, Convert convert) {
+  const std::string what = std::string(what_c) + " (accessor " + std::to_string(index) + ")";
+  const AccessorBytes in = accessor_bytes(index, what_c, what, sizeof(T), components_out);
+  const auto& acc = *in.acc;
+  const int comps = in.comps;
+  const std::size_t stride = in.stride, elem = in.elem;
+  const unsigned char* base = in.base;
 
   // Elements that are the decoded type already (floats to floats, 32-bit indices) are taken as
   // they are: where the file holds them when packed and aligned, else copied; the rest converted.
   const bool raw = (std::is_same<T, float>::value && acc.componentType == kFloat) ||
                    (std::is_same<T, std::uint32_t>::value && acc.componentType == kUnsignedInt);
-  if (base && raw && stride == elem && !sp.isSparse && reinterpret_cast<std::uintptr_t>(base) % alignof(T) == 0)
+  if (base && raw && stride == elem && !in.sparse && reinterpret_cast<std::uintptr_t>(base) % alignof(T) == 0)
+    // Aligned file bytes that hold little-endian Ts (the host's order, asserted above) are those Ts.
     return Decoded<T>(reinterpret_cast<const T*>(base), acc.count * std::size_t(comps));
   // Backed by a bufferView, every element is written below; otherwise they are zeros.
   detail::UninitVector<T> out;
@@ -469,7 +496,7 @@ Decoded<T> Reader::decode(int index, const char* what_c, int* components_out, Co
     for (std::size_t i = 0; i < count; ++i) {
       const unsigned char* p = from + i * step;
       const std::size_t d = dst_index(i);
-      for (int c = 0; c < comps; ++c) out[d * comps + c] = convert(p + std::size_t(c) * csize, acc.componentType, acc.normalized);
+      for (int c = 0; c < comps; ++c) out[d * comps + c] = convert(p + std::size_t(c) * in.csize, acc.componentType, acc.normalized);
     }
   };
   if (base) {
@@ -484,19 +511,11 @@ Decoded<T> Reader::decode(int index, const char* what_c, int* components_out, Co
       }
     });
   }
-  if (sp.isSparse) {
-    std::vector<std::size_t> targets(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      std::uint32_t idx = 0;
-      if (isize == 1) idx = ibase[i];
-      else if (isize == 2) { std::uint16_t v; std::memcpy(&v, ibase + 2 * i, 2); idx = v; }
-      else std::memcpy(&idx, ibase + 4 * i, 4);
-      if (idx >= acc.count) fail(what + ": sparse index " + std::to_string(idx) + " is out of range");
-      targets[i] = idx;
-    }
-    load(vbase, elem, n, [&](std::size_t i) { return targets[i]; });
+  if (in.sparse) {
+    const std::vector<std::size_t> targets = sparse_targets(in, what);
+    load(in.vbase, elem, in.sparse, [&](std::size_t i) { return targets[i]; });
   }
-  return out;
+  return Decoded<T>(std::move(out));
 }
 
 namespace {

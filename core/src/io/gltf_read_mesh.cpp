@@ -72,6 +72,76 @@ SurfaceMesh file_mesh(const Floats& pos, const Uints& tris, const Influences& sk
   return mesh;
 }
 
+// What sanitising a primitive's skin influences repaired (InfluenceSanitiser).
+struct InfluenceRepairs {
+  std::size_t renormalised = 0, out_of_range = 0, zero = 0, bad_weights = 0, duplicates = 0;
+  InfluenceRepairs& operator+=(const InfluenceRepairs& o) {
+    renormalised += o.renormalised;
+    out_of_range += o.out_of_range;
+    zero += o.zero;
+    bad_weights += o.bad_weights;
+    duplicates += o.duplicates;
+    return *this;
+  }
+};
+
+// A primitive's influences as the file gives them (up to two sets of four per vertex, as plain
+// pointers) and what sanitising them needs to know of the skin.
+struct InfluenceSanitiser {
+  std::size_t sets = 0;
+  const std::uint32_t* joints[2] = {};
+  const float* weights[2] = {};
+  int joint_count = -1;            // the skin's joints; < 0 without a skin (joints then unchecked)
+  std::uint32_t file_joints = 0;   // joints as the file numbers them (before duplicates merged)
+  const std::uint32_t* remap = nullptr;  // file joint -> merged joint, `remap_size` of them
+  std::size_t remap_size = 0;
+
+  // Vertex v's influences, sanitised into `skin` (`nv` vertices per set); its repairs counted into `r`.
+  void operator()(std::size_t v, std::size_t nv, Influences& skin, InfluenceRepairs& r) const {
+    const int slots = 4 * static_cast<int>(sets);
+    std::uint16_t jj[8] = {};
+    float ww[8] = {};
+    std::uint32_t raw[8] = {};
+    // The validator's test (ACCESSOR_WEIGHTS_NON_NORMALIZED): the positive weights, summed in
+    // float, lie within 2e-7 per weight of 1. (It leaves a repeated joint's weight out of the
+    // sum; here it counts, since merging the repeats adds it to the first.)
+    float sum = 0.0f, tolerance = 0.0f;
+    for (int k = 0; k < slots; ++k) {
+      std::uint32_t joint = joints[k / 4][4 * v + std::size_t(k % 4)];
+      float weight = weights[k / 4][4 * v + std::size_t(k % 4)];
+      if (!std::isfinite(weight) || weight < 0.0f) {
+        ++r.bad_weights;
+        weight = 0.0f;
+      }
+      if (joint_count >= 0 && joint >= file_joints) {
+        // Dropped, and the slot points at joint 0: a vertex left with no weight is bound to its
+        // first slot's joint, which must exist.
+        r.out_of_range += weight > 0.0f;
+        weight = 0.0f;
+        joint = 0;
+      }
+      raw[k] = joint;
+      bool repeated = false;
+      for (int i = 0; i < k && weight > 0.0f; ++i) repeated = repeated || (raw[i] == joint && ww[i] > 0.0f);
+      r.duplicates += repeated;
+      if (weight > 0.0f) {
+        sum += weight;
+        tolerance += 2e-7f;
+      }
+      if (joint < remap_size) joint = remap[joint];
+      if (joint > 65535u) joint = 0;
+      jj[k] = static_cast<std::uint16_t>(joint);
+      ww[k] = weight;
+    }
+    if (sum > 0.0f && std::abs(sum - 1.0f) > tolerance) ++r.renormalised;
+    if (!normalize_influences(jj, ww, slots)) ++r.zero;
+    for (std::size_t s = 0; s < sets; ++s) {
+      skin.joints[s * nv + v] = glm::u16vec4(jj[4 * s], jj[4 * s + 1], jj[4 * s + 2], jj[4 * s + 3]);
+      skin.weights[s * nv + v] = glm::vec4(ww[4 * s], ww[4 * s + 1], ww[4 * s + 2], ww[4 * s + 3]);
+    }
+  }
+};
+
 }  // namespace
 
 Primitive Reader::read_primitive(const tinygltf::Primitive& p, const std::string& where, int joint_count, std::size_t targets) {
@@ -160,7 +230,7 @@ Uints Reader::read_triangles(const tinygltf::Primitive& p, const std::string& wh
   return Uints(std::move(tris));
 }
 
-// Up to two sets of four influences per vertex, sanitised; every repair is noted.
+// Up to two sets of four influences per vertex, sanitised (InfluenceSanitiser); every repair is noted.
 Influences Reader::read_influences(const tinygltf::Primitive& p, const std::string& where, std::size_t nv, int joint_count) {
   struct SkinSetData {
     Uints joints;
@@ -179,105 +249,49 @@ Influences Reader::read_influences(const tinygltf::Primitive& p, const std::stri
       fail(where + ": JOINTS_" + std::to_string(s) + "/WEIGHTS_" + std::to_string(s) + " must be VEC4 with one per vertex");
     sets.push_back(std::move(d));
   }
-  const int slots = 4 * static_cast<int>(sets.size());
+  InfluenceSanitiser sanitise;
+  sanitise.sets = sets.size();
+  for (std::size_t s = 0; s < sets.size(); ++s) {
+    sanitise.joints[s] = sets[s].joints.data();
+    sanitise.weights[s] = sets[s].weights.data();
+  }
   // Joint indices as the file numbers them, and how they are numbered once duplicate joints of
   // the skin are merged (read_skins).
-  const std::uint32_t file_joints = joint_remap_ && !joint_remap_->empty() ? static_cast<std::uint32_t>(joint_remap_->size())
-                                    : joint_count >= 0                     ? static_cast<std::uint32_t>(joint_count)
-                                                                           : 0u;
-  struct Repairs {
-    std::size_t renormalised = 0, out_of_range = 0, zero = 0, bad_weights = 0, duplicates = 0;
-  };
+  sanitise.joint_count = joint_count;
+  sanitise.file_joints = joint_remap_ && !joint_remap_->empty() ? static_cast<std::uint32_t>(joint_remap_->size())
+                         : joint_count >= 0                     ? static_cast<std::uint32_t>(joint_count)
+                                                                : 0u;
+  sanitise.remap = joint_remap_ ? joint_remap_->data() : nullptr;
+  sanitise.remap_size = joint_remap_ ? joint_remap_->size() : 0;
   Influences skin;
   skin.sets = sets.size();
   skin.joints.resize(sets.size() * nv);  // every element written below
   skin.weights.resize(sets.size() * nv);
-  // The sets' arrays and the joint remap as plain pointers, read in the loop below.
-  const std::uint32_t* set_joints[2] = {};
-  const float* set_weights[2] = {};
-  for (std::size_t s = 0; s < sets.size(); ++s) {
-    set_joints[s] = sets[s].joints.data();
-    set_weights[s] = sets[s].weights.data();
-  }
-  const std::uint32_t* remap = joint_remap_ ? joint_remap_->data() : nullptr;
-  const std::size_t remap_size = joint_remap_ ? joint_remap_->size() : 0;
-  // One vertex's influences, sanitised into `skin`; its repairs counted into `r`.
-  auto sanitise = [&](std::size_t v, Repairs& r) {
-    std::uint16_t jj[8] = {};
-    float ww[8] = {};
-    std::uint32_t raw[8] = {};
-    // The validator's test (ACCESSOR_WEIGHTS_NON_NORMALIZED): the positive weights, summed in
-    // float, lie within 2e-7 per weight of 1. (It leaves a repeated joint's weight out of the
-    // sum; here it counts, since merging the repeats adds it to the first.)
-    float sum = 0.0f, tolerance = 0.0f;
-    for (int k = 0; k < slots; ++k) {
-      std::uint32_t joint = set_joints[k / 4][4 * v + std::size_t(k % 4)];
-      float weight = set_weights[k / 4][4 * v + std::size_t(k % 4)];
-      if (!std::isfinite(weight) || weight < 0.0f) {
-        ++r.bad_weights;
-        weight = 0.0f;
-      }
-      if (joint_count >= 0 && joint >= file_joints) {
-        // Dropped, and the slot points at joint 0: a vertex left with no weight is bound to its
-        // first slot's joint, which must exist.
-        r.out_of_range += weight > 0.0f;
-        weight = 0.0f;
-        joint = 0;
-      }
-      raw[k] = joint;
-      bool repeated = false;
-      for (int i = 0; i < k && weight > 0.0f; ++i) repeated = repeated || (raw[i] == joint && ww[i] > 0.0f);
-      r.duplicates += repeated;
-      if (weight > 0.0f) {
-        sum += weight;
-        tolerance += 2e-7f;
-      }
-      if (joint < remap_size) joint = remap[joint];
-      if (joint > 65535u) joint = 0;
-      jj[k] = static_cast<std::uint16_t>(joint);
-      ww[k] = weight;
-    }
-    if (sum > 0.0f && std::abs(sum - 1.0f) > tolerance) ++r.renormalised;
-    if (!normalize_influences(jj, ww, slots)) ++r.zero;
-    for (std::size_t s = 0; s < sets.size(); ++s) {
-      skin.joints[s * nv + v] = glm::u16vec4(jj[4 * s], jj[4 * s + 1], jj[4 * s + 2], jj[4 * s + 3]);
-      skin.weights[s * nv + v] = glm::vec4(ww[4 * s], ww[4 * s + 1], ww[4 * s + 2], ww[4 * s + 3]);
-    }
-  };
-  const Repairs repairs = parallel_reduce(
-      slots > 0 ? nv : 0, kGrain, Repairs(),
+  const InfluenceRepairs repairs = parallel_reduce(
+      sets.empty() ? 0 : nv, kGrain, InfluenceRepairs(),
       [&](std::size_t b, std::size_t e) {
-        Repairs r;
-        for (std::size_t v = b; v < e; ++v) sanitise(v, r);
+        InfluenceRepairs r;
+        for (std::size_t v = b; v < e; ++v) sanitise(v, nv, skin, r);
         return r;
       },
-      [](Repairs a, const Repairs& b) {
-        a.renormalised += b.renormalised;
-        a.out_of_range += b.out_of_range;
-        a.zero += b.zero;
-        a.bad_weights += b.bad_weights;
-        a.duplicates += b.duplicates;
-        return a;
-      });
-  const std::size_t renormalised = repairs.renormalised, out_of_range = repairs.out_of_range, zero = repairs.zero,
-                    bad_weights = repairs.bad_weights, duplicates = repairs.duplicates;
-  if (bad_weights)
-    problem("weights-invalid", bad_weights,
+      [](InfluenceRepairs a, const InfluenceRepairs& b) { return a += b; });
+  if (repairs.bad_weights)
+    problem("weights-invalid", repairs.bad_weights,
             {"weight was negative or NaN (set to 0)", "weights were negative or NaN (set to 0)"}, where);
-  if (renormalised)
-    problem("weights-normalised", renormalised,
+  if (repairs.renormalised)
+    problem("weights-normalised", repairs.renormalised,
             {"vertex had weights not summing to 1 (normalised)", "vertices had weights not summing to 1 (normalised)"}, where);
-  if (out_of_range)
-    problem("joints-past-skin", out_of_range,
+  if (repairs.out_of_range)
+    problem("joints-past-skin", repairs.out_of_range,
             {"influence named a joint past the skin (dropped)", "influences named a joint past the skin (dropped)"},
             where);
-  if (duplicates)
-    problem("influences-duplicate-joint", duplicates,
+  if (repairs.duplicates)
+    problem("influences-duplicate-joint", repairs.duplicates,
             {"influence named a joint its vertex already had (weights summed)",
              "influences named a joint their vertex already had (weights summed)"},
             where);
-  if (zero)
-    problem("weights-zero", zero,
+  if (repairs.zero)
+    problem("weights-zero", repairs.zero,
             {"vertex had no weight (bound to its first joint)", "vertices had no weight (bound to their first joint)"}, where);
   return skin;
 }

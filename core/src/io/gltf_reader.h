@@ -9,8 +9,8 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
-#include <iterator>
 #include <functional>
+#include <iterator>
 #include <string>
 #include <utility>
 #include <vector>
@@ -41,13 +41,15 @@ template <class T>
 class Decoded {
  public:
   Decoded() = default;
-  Decoded(detail::UninitVector<T> own) : own_(std::move(own)), data_(own_.data()), size_(own_.size()) {}
+  explicit Decoded(detail::UninitVector<T> own) : own_(std::move(own)), data_(own_.data()), size_(own_.size()) {}
   Decoded(const T* in_file, std::size_t size) : data_(in_file), size_(size) {}
   Decoded(Decoded&& o) noexcept { *this = std::move(o); }
   Decoded& operator=(Decoded&& o) noexcept {
-    own_ = std::move(o.own_);  // the array keeps its address
-    data_ = std::exchange(o.data_, nullptr);
-    size_ = std::exchange(o.size_, 0);
+    if (this != &o) {
+      own_ = std::move(o.own_);  // the array keeps its address
+      data_ = std::exchange(o.data_, nullptr);
+      size_ = std::exchange(o.size_, 0);
+    }
     return *this;
   }
   Decoded(const Decoded&) = delete;
@@ -69,6 +71,21 @@ class Decoded {
 };
 using Floats = Decoded<float>;
 using Uints = Decoded<std::uint32_t>;
+
+// Where an accessor's elements lie, each claim checked against the bytes that back it
+// (Reader::accessor_bytes), before anything is decoded.
+struct AccessorBytes {
+  const tinygltf::Accessor* acc = nullptr;
+  int comps = 0;                         // components per element
+  int csize = 0;                         // bytes per component
+  std::size_t elem = 0;                  // bytes per element
+  std::size_t stride = 0;                // bytes from one element to the next
+  const unsigned char* base = nullptr;   // the first element; null without a bufferView (zeros)
+  std::size_t sparse = 0;                // sparse elements (0 when not sparse)
+  int isize = 0;                         // bytes per sparse index
+  const unsigned char* ibase = nullptr;  // the sparse indices
+  const unsigned char* vbase = nullptr;  // the sparse values
+};
 
 // The smallest i in [0, n) where bad(i) holds, or n (in parallel chunks; the answer is the same
 // whatever the thread count).
@@ -134,38 +151,52 @@ inline std::size_t corner_room(std::size_t faces) { return 3 * operation_face_ro
 
 // The values fill(0), fill(1), ... as an iterator range, so that a std::vector appends them
 // (insert at the end) writing each element once: growing it with resize would value-initialise
-// every element first, a second pass over memory the fill then overwrites. Only what
-// std::vector::insert uses (distance, advance, *, ++, ==) is meant to be called.
+// every element first, a second pass over memory the fill then overwrites. Random access, so
+// that insert measures the range with one subtraction and allocates once; like
+// std::vector<bool>'s iterator its reference is a value (`fill(i)`), not a T&.
 template <class T, class Fill>
 class Generated {
  public:
   using iterator_category = std::random_access_iterator_tag;
   using value_type = T;
   using difference_type = std::ptrdiff_t;
-  using pointer = const T*;
+  using pointer = void;
   using reference = T;
-  Generated(const Fill* fill, std::size_t i) : fill_(fill), i_(i) {}
-  T operator*() const { return (*fill_)(i_); }
-  Generated& operator++() {
-    ++i_;
-    return *this;
+  Generated() = default;
+  Generated(const Fill* fill, std::size_t i) : fill_(fill), i_(difference_type(i)) {}
+  T operator*() const { return (*fill_)(std::size_t(i_)); }
+  T operator[](difference_type n) const { return (*fill_)(std::size_t(i_ + n)); }
+  Generated& operator++() { return *this += 1; }
+  Generated operator++(int) {
+    Generated old = *this;
+    ++*this;
+    return old;
   }
-  Generated operator++(int) { return Generated(fill_, i_++); }
-  Generated& operator--() {
-    --i_;
-    return *this;
+  Generated& operator--() { return *this -= 1; }
+  Generated operator--(int) {
+    Generated old = *this;
+    --*this;
+    return old;
   }
-  difference_type operator-(const Generated& o) const { return difference_type(i_) - difference_type(o.i_); }
   Generated& operator+=(difference_type n) {
-    i_ = std::size_t(difference_type(i_) + n);
+    i_ += n;
     return *this;
   }
-  bool operator==(const Generated& o) const { return i_ == o.i_; }
-  bool operator!=(const Generated& o) const { return i_ != o.i_; }
+  Generated& operator-=(difference_type n) { return *this += -n; }
+  friend Generated operator+(Generated it, difference_type n) { return it += n; }
+  friend Generated operator+(difference_type n, Generated it) { return it += n; }
+  friend Generated operator-(Generated it, difference_type n) { return it -= n; }
+  friend difference_type operator-(const Generated& a, const Generated& b) { return a.i_ - b.i_; }
+  friend bool operator==(const Generated& a, const Generated& b) { return a.i_ == b.i_; }
+  friend bool operator!=(const Generated& a, const Generated& b) { return a.i_ != b.i_; }
+  friend bool operator<(const Generated& a, const Generated& b) { return a.i_ < b.i_; }
+  friend bool operator>(const Generated& a, const Generated& b) { return a.i_ > b.i_; }
+  friend bool operator<=(const Generated& a, const Generated& b) { return a.i_ <= b.i_; }
+  friend bool operator>=(const Generated& a, const Generated& b) { return a.i_ >= b.i_; }
 
  private:
-  const Fill* fill_;
-  std::size_t i_;
+  const Fill* fill_ = nullptr;
+  difference_type i_ = 0;
 };
 
 // Arrays of one primitive built apart and all at once, one array per thread of the pool: its
@@ -229,6 +260,12 @@ class Reader {
   Uints read_uints(int accessor, const char* what, int* components_out = nullptr);
   template <class T, class Convert>
   Decoded<T> decode(int accessor, const char* what, int* components_out, Convert convert);
+  // Accessor `index` checked and located; its decoded size (`value_size` bytes per component) is
+  // charged to decode_left_. `what` names it in messages (`what_c` when it does not exist).
+  AccessorBytes accessor_bytes(int index, const char* what_c, const std::string& what, std::size_t value_size,
+                               int* components_out);
+  // The element each sparse value of `in` replaces (checked to lie inside the accessor).
+  std::vector<std::size_t> sparse_targets(const AccessorBytes& in, const std::string& what) const;
   const unsigned char* view_bytes(int view, std::size_t offset, std::size_t stride, std::size_t elem,
                                   std::size_t count, const std::string& what);
   // Buffer `b`'s bytes: in the .glb's BIN chunk (glb_bin_) or as tinygltf loaded them.
