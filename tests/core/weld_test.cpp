@@ -5,6 +5,8 @@
 
 #include <array>
 #include <set>
+#include <utility>
+#include <vector>
 
 #include "deepcut/core/adjacency.h"
 #include "deepcut/core/operation_room.h"
@@ -69,9 +71,11 @@ TEST(WeldTest, never_merges_different_skin_weights_and_drops_unused_vertices) {
 
 namespace deepcut {
 
-TEST(WeldTest, the_result_does_not_depend_on_the_thread_count) {
-  // Large enough for several parallel chunks.
-  const SurfaceMesh split = unweld(test::make_grid(160, 120));
+namespace {
+
+// The weld of `split` on 1, 2 and 3 threads: the welded meshes and their reports, in that order.
+std::pair<std::vector<SurfaceMesh>, std::vector<WeldReport>> weld_on_1_2_and_3_threads(
+    const SurfaceMesh& split) {
   std::vector<SurfaceMesh> welded;
   std::vector<WeldReport> reports;
   const std::size_t saved = thread_count();
@@ -82,6 +86,15 @@ TEST(WeldTest, the_result_does_not_depend_on_the_thread_count) {
     welded.push_back(std::move(mesh));
   }
   set_thread_count(saved);
+  return {std::move(welded), std::move(reports)};
+}
+
+}  // namespace
+
+TEST(WeldTest, the_result_does_not_depend_on_the_thread_count) {
+  // Large enough for several parallel chunks.
+  const SurfaceMesh split = unweld(test::make_grid(160, 120));
+  const auto [welded, reports] = weld_on_1_2_and_3_threads(split);
   for (std::size_t i = 1; i < welded.size(); ++i) {
     EXPECT_EQ(welded[i].faces(), welded[0].faces());
     EXPECT_EQ(welded[i].positions(), welded[0].positions());
@@ -110,16 +123,7 @@ TEST(WeldTest, vertices_kept_apart_are_the_same_whatever_the_thread_count) {
     classes.insert({p.x, p.y, p.z, w[v].x, w[v].y, w[v].z, w[v].w});
   }
   ASSERT_GT(classes.size(), positions.size());
-  std::vector<SurfaceMesh> welded;
-  std::vector<WeldReport> reports;
-  const std::size_t saved = thread_count();
-  for (std::size_t threads : {1u, 2u, 3u}) {
-    set_thread_count(threads);
-    SurfaceMesh mesh = split;
-    reports.push_back(weld(mesh));
-    welded.push_back(std::move(mesh));
-  }
-  set_thread_count(saved);
+  const auto [welded, reports] = weld_on_1_2_and_3_threads(split);
   EXPECT_EQ(welded[0].vertex_count(), classes.size());
   EXPECT_EQ(reports[0].kept_apart, classes.size() - positions.size());
   for (std::size_t i = 1; i < welded.size(); ++i) {
