@@ -146,6 +146,15 @@ std::size_t count_faces_of_positive_area(const SurfaceMesh& mesh, Counted counte
   return n;
 }
 
+// Cuts `mesh` by `plane` (expecting success) with an adjacency following the cut's log, checks
+// the adjacency against a rebuild and the mesh's validity, and returns the adjacency.
+Adjacency cut_with_checks(SurfaceMesh& mesh, const Plane& plane) {
+  Adjacency adj = Adjacency::build(mesh);
+  const CutResult r = cut_mesh(mesh, mesh.positions(), plane);
+  test::follow_checked(adj, mesh, r.status, r.log);
+  return adj;
+}
+
 }  // namespace
 
 TEST(CutTest, plane_through_grid_vertices_and_along_edges) {
@@ -487,12 +496,7 @@ TEST(CutTest, plane_through_a_saddle_vertex_leaves_no_pinched_vertex) {
 // with two corners at one point) is not made.
 TEST(CutTest, a_needle_split_near_its_tip_makes_no_zero_area_face) {
   SurfaceMesh mesh = test::make_needle_fan();
-  Adjacency adj = Adjacency::build(mesh);
-  const CutResult r = cut_mesh(mesh, mesh.positions(), Plane{{0.5f, 0, 0}, {1, 0, 0}});
-  ASSERT_EQ(r.status, OpStatus::Ok);
-  adj.apply(r.log);
-  test::expect_adjacency_matches_rebuild(adj, mesh);
-  test::expect_valid(mesh);
+  const Adjacency adj = cut_with_checks(mesh, Plane{{0.5f, 0, 0}, {1, 0, 0}});
   const std::size_t near_side = count_faces_of_positive_area(mesh, [&](const Triangle& t) {
     return std::max({mesh.position(t[0]).x, mesh.position(t[1]).x, mesh.position(t[2]).x}) <= 0.5f;
   });
@@ -514,12 +518,7 @@ TEST(CutTest, a_sliver_whose_crossings_round_one_step_apart_makes_no_zero_area_f
   mesh.add_face(x, p, a);
   mesh.add_face(x, a, b);
   mesh.add_face(x, b, q);
-  Adjacency adj = Adjacency::build(mesh);
-  const CutResult r = cut_mesh(mesh, mesh.positions(), Plane{{1, 0.3f, 0}, {1, 1, 0}});
-  ASSERT_EQ(r.status, OpStatus::Ok);
-  adj.apply(r.log);
-  test::expect_adjacency_matches_rebuild(adj, mesh);
-  test::expect_valid(mesh);
+  const Adjacency adj = cut_with_checks(mesh, Plane{{1, 0.3f, 0}, {1, 1, 0}});
   const std::size_t near_side = count_faces_of_positive_area(
       mesh, [&](const Triangle& t) { return t[0] == x || t[1] == x || t[2] == x; });
   EXPECT_EQ(near_side, 2u) << "X keeps its two flanking faces' pieces, not the sliver's tip";

@@ -45,6 +45,30 @@ void expect_asset_drill_hits_and_walls(const Model& model, const Cylinder& cyl, 
     }
 }
 
+// Drills `mesh` at rest by `cyl` (expecting success) with an adjacency following the drill's
+// log, checks the adjacency against a rebuild and the mesh's validity, and returns the adjacency.
+Adjacency drill_with_checks(SurfaceMesh& mesh, const Cylinder& cyl, const DrillOptions& options) {
+  const std::vector<glm::vec3> posed = mesh.positions();
+  Adjacency adj = Adjacency::build(mesh);
+  const DrillResult r = drill_mesh(mesh, PosedMesh::at_positions(mesh, posed), cyl, options);
+  test::follow_checked(adj, mesh, r.status, r.log);
+  return adj;
+}
+
+// How many vertices within 1e-6 of `p` some face still uses.
+std::size_t used_vertices_at(const SurfaceMesh& mesh, const Adjacency& adj, const glm::vec3& p) {
+  std::size_t used = 0;
+  for (std::uint32_t i = 0; i < mesh.vertex_count(); ++i)
+    used += glm::distance(mesh.position(VertexId(i)), p) < 1e-6f && !adj.vertex_faces(VertexId(i)).empty();
+  return used;
+}
+
+// One drill of an asset model: the model and the cylinder.
+struct AssetDrill {
+  const Model* model;
+  Cylinder c;
+};
+
 }  // namespace
 
 // A saddle vertex lying on the cylinder's side, its surface rising into the cylinder towards +x
@@ -88,15 +112,11 @@ TEST(DrillTest, rim_through_a_saddle_vertex_leaves_no_pinched_vertex) {
 TEST(DrillTest, rim_corner_on_an_end_plane_is_kept) {
   const Model cactus = read_gltf(std::string(DEEPCUT_ASSETS_DIR) + "/cactus.glb");
   const Model fox = read_gltf(std::string(DEEPCUT_ASSETS_DIR) + "/models/Fox/Fox.glb");
-  struct Case {
-    const Model* model;
-    Cylinder c;
-  };
-  const Case cases[] = {
+  const AssetDrill cases[] = {
       {&fox, {{5.43106747f, 43.0290604f, 0.525301933f}, {9.20565319f, 15.536129f, -40.5920792f}, 14.184804f}},
       {&cactus, {{1.30557191f, 10.2793427f, -1.0248698f}, {-1.61410236f, 4.22243118f, 1.19152451f}, 0.477234244f}},
       {&cactus, {{1.89666462f, 5.35040665f, -1.75495446f}, {-0.600944042f, 2.68694258f, 0.668461919f}, 0.682955205f}}};
-  for (const Case& k : cases) {
+  for (const AssetDrill& k : cases) {
     expect_asset_drill_hits_and_walls(*k.model, k.c, false);
     if (::testing::Test::HasFatalFailure()) return;
   }
@@ -121,14 +141,10 @@ TEST(DrillTest, rims_meeting_at_a_vertex_follow_their_own_fans) {
 TEST(DrillTest, walls_close_rims_that_touch_and_thin_lenses_at_an_end) {
   const Model cactus = read_gltf(std::string(DEEPCUT_ASSETS_DIR) + "/cactus.glb");
   const Model simple = read_gltf(std::string(DEEPCUT_ASSETS_DIR) + "/models/RiggedSimple/RiggedSimple.gltf");
-  struct Case {
-    const Model* model;
-    Cylinder c;
-  };
-  const Case cases[] = {
+  const AssetDrill cases[] = {
       {&cactus, {{-1.70535243f, 9.63420868f, 4.90398598f}, {1.43953931f, 4.25307465f, -5.2903614f}, 0.674046218f}},
       {&simple, {{2.87141538f, -0.539521337f, 3.19743991f}, {-1.04472518f, 0.391219884f, -4.29873753f}, 0.587547898f}}};
-  for (const Case& k : cases) {
+  for (const AssetDrill& k : cases) {
     const Checked out = check_asset_drill(*k.model, k.c, true, false);
     if (::testing::Test::HasFatalFailure()) return;
     EXPECT_TRUE(out.intersected);
@@ -144,25 +160,14 @@ TEST(DrillTest, a_hole_inside_a_needle_makes_no_zero_area_face) {
   for (const bool wall : {false, true}) {
     SCOPED_TRACE(wall ? "walled" : "no wall");
     SurfaceMesh mesh = test::make_needle_fan();  // X (0,1,0); far corners at x = 1
-    const std::vector<glm::vec3> posed = mesh.positions();
-    Adjacency adj = Adjacency::build(mesh);
     // Axis along z through (0.2, 1): the circle of radius 0.1 crosses the needle at x = 0.1 and
     // x = 0.3, where both edges' crossings round to y = 1.
     DrillOptions options;
     options.wall = wall;
-    const DrillResult r =
-        drill_mesh(mesh, PosedMesh::at_positions(mesh, posed), Cylinder{{0.2f, 1, -1}, {0.2f, 1, 1}, 0.1f}, options);
-    ASSERT_EQ(r.status, OpStatus::Ok);
-    adj.apply(r.log);
-    test::expect_adjacency_matches_rebuild(adj, mesh);
-    test::expect_valid(mesh);
-    for (const float x : {0.1f, 0.3f}) {
-      std::size_t used = 0;  // used vertices where the needle is crossed
-      for (std::uint32_t i = 0; i < mesh.vertex_count(); ++i)
-        used += glm::distance(mesh.position(VertexId(i)), glm::vec3(x, 1, 0)) < 1e-6f &&
-                !adj.vertex_faces(VertexId(i)).empty();
-      EXPECT_EQ(used, 1u) << "both crossings of the needle at x = " << x << " are one vertex";
-    }
+    const Adjacency adj = drill_with_checks(mesh, Cylinder{{0.2f, 1, -1}, {0.2f, 1, 1}, 0.1f}, options);
+    for (const float x : {0.1f, 0.3f})
+      EXPECT_EQ(used_vertices_at(mesh, adj, {x, 1, 0}), 1u)
+          << "both crossings of the needle at x = " << x << " are one vertex";
     mesh.for_each_face([&](FaceId f, const Triangle& t) {
       const glm::dvec3 u(mesh.position(t[0])), v(mesh.position(t[1])), w(mesh.position(t[2]));
       EXPECT_GT(glm::length(glm::cross(v - u, w - u)), 0.0) << "face " << f.index << " has zero area";
@@ -178,20 +183,9 @@ TEST(DrillTest, a_rim_across_a_needle_makes_no_zero_area_face) {
   for (const bool indexed : {false, true}) {
     SCOPED_TRACE(indexed ? "indexed" : "scan");
     SurfaceMesh mesh = test::make_needle_fan();  // X (0,1,0); far corners at x = 1
-    const std::vector<glm::vec3> posed = mesh.positions();
-    Adjacency adj = Adjacency::build(mesh);
     // Axis along z through (1.3, 1): the circle of radius 0.9 crosses the needle at x = 0.4.
-    const DrillResult r =
-        drill_mesh(mesh, PosedMesh::at_positions(mesh, posed), Cylinder{{1.3f, 1, -1}, {1.3f, 1, 1}, 0.9f});
-    ASSERT_EQ(r.status, OpStatus::Ok);
-    adj.apply(r.log);
-    test::expect_adjacency_matches_rebuild(adj, mesh);
-    test::expect_valid(mesh);
-    std::size_t at_tip = 0;  // used vertices where the needle is crossed
-    for (std::uint32_t i = 0; i < mesh.vertex_count(); ++i)
-      at_tip += glm::distance(mesh.position(VertexId(i)), glm::vec3(0.4f, 1, 0)) < 1e-6f &&
-                !adj.vertex_faces(VertexId(i)).empty();
-    EXPECT_EQ(at_tip, 1u) << "both crossings of the needle are one vertex";
+    const Adjacency adj = drill_with_checks(mesh, Cylinder{{1.3f, 1, -1}, {1.3f, 1, 1}, 0.9f}, DrillOptions{});
+    EXPECT_EQ(used_vertices_at(mesh, adj, {0.4f, 1, 0}), 1u) << "both crossings of the needle are one vertex";
     mesh.for_each_face([&](FaceId f, const Triangle& t) {
       const glm::dvec3 u(mesh.position(t[0])), v(mesh.position(t[1])), w(mesh.position(t[2]));
       EXPECT_GT(glm::length(glm::cross(v - u, w - u)), 0.0) << "face " << f.index << " has zero area";

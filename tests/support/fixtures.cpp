@@ -203,6 +203,14 @@ void expect_valid(const SurfaceMesh& mesh, std::size_t joint_count) {
   EXPECT_NO_THROW(validate_mesh(mesh, joint_count));
 }
 
+void follow_checked(Adjacency& adj, const SurfaceMesh& mesh, OpStatus status, const EditLog& log) {
+  EXPECT_EQ(status, OpStatus::Ok);
+  if (status != OpStatus::Ok) return;
+  adj.apply(log);
+  expect_adjacency_matches_rebuild(adj, mesh);
+  expect_valid(mesh);
+}
+
 void expect_adjacency_matches_rebuild(const Adjacency& incremental, const SurfaceMesh& mesh) {
   const Adjacency rebuilt = Adjacency::build(mesh);
   ASSERT_EQ(incremental.vertex_count(), rebuilt.vertex_count());

@@ -6,7 +6,9 @@
 #include <vector>
 
 #include "deepcut/core/adjacency.h"
+#include "deepcut/core/edit_log.h"
 #include "deepcut/core/model.h"
+#include "deepcut/core/ops/op_status.h"
 #include "deepcut/core/surface_mesh.h"
 
 namespace deepcut::test {
@@ -45,6 +47,11 @@ std::vector<VertexId> pinched_vertices(const SurfaceMesh& mesh);
 
 /// Incremental adjacency equals the full rebuild.
 void expect_adjacency_matches_rebuild(const Adjacency& incremental, const SurfaceMesh& mesh);
+
+/// After an operation on `mesh` that returned `status` and `log`: expects it succeeded, makes
+/// `adj` (the adjacency before it) follow the log, and expects `adj` to equal a rebuild and the
+/// mesh to be valid. Does nothing more when the operation failed.
+void follow_checked(Adjacency& adj, const SurfaceMesh& mesh, OpStatus status, const EditLog& log);
 
 /// The point (s, r) of the parallelogram a + s (b - a) + r (c - a), folded into the triangle
 /// abc: for s, r uniform in [0, 1] it is uniform over the triangle.
