@@ -55,9 +55,12 @@ inline std::uint8_t side_code(const std::int8_t* sign, const Triangle& t) {
 std::vector<std::int8_t> vertex_sides(const SurfaceMesh& mesh, std::vector<std::int8_t>&& sign,
                                       const std::vector<FaceId>& rim) {
   sign.resize(mesh.vertex_count(), 0);
-  for (FaceId f : rim)
-    for (const VertexId v : mesh.face(f))
-      if (!mesh.is_deleted(f) && sign[v.index] == 0) sign[v.index] = side_code(sign.data(), mesh.face(f)) == 1 ? 1 : -1;
+  for (FaceId f : rim) {
+    if (mesh.is_deleted(f)) continue;
+    const Triangle& t = mesh.face(f);
+    for (const VertexId v : t)
+      if (sign[v.index] == 0) sign[v.index] = side_code(sign.data(), t) == 1 ? 1 : -1;
+  }
   return std::move(sign);
 }
 
