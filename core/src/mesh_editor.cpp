@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstring>
 #include <string>
+#include <typeindex>
 #include <vector>
 
 namespace deepcut {
@@ -350,6 +352,87 @@ void FaceBatch::reserve(std::size_t faces, std::size_t removals) {
   removals_.reserve(removals);
 }
 
+namespace {
+
+// Floats per element of `array` when it holds floats (float, glm::vec2 .. vec4); 0 for the
+// integer types attributes use (a blend takes the element of largest weight: the corner itself);
+// -1 for any other type.
+int floats_per_element(const AttributeArrayBase& array) {
+  const std::type_index t = array.type();
+  if (t == typeid(float)) return 1;
+  if (t == typeid(glm::vec2)) return 2;
+  if (t == typeid(glm::vec3)) return 3;
+  if (t == typeid(glm::vec4)) return 4;
+  for (const std::type_index i :
+       {std::type_index(typeid(std::uint8_t)), std::type_index(typeid(std::uint16_t)),
+        std::type_index(typeid(std::uint32_t)), std::type_index(typeid(std::int32_t)),
+        std::type_index(typeid(glm::u8vec4)), std::type_index(typeid(glm::u16vec4)),
+        std::type_index(typeid(glm::uvec2)), std::type_index(typeid(glm::uvec4))})
+    if (t == i) return 0;
+  return -1;
+}
+
+// Calls fn(begin, end) for each run of consecutive places in `places` (ascending).
+template <class Fn>
+void for_each_run(const std::vector<std::uint32_t>& places, Fn&& fn) {
+  for (std::size_t i = 0; i < places.size();) {
+    std::size_t j = i + 1;
+    while (j < places.size() && places[j] == places[j - 1] + 1) ++j;
+    fn(places[i], places[j - 1] + 1);
+    i = j;
+  }
+}
+
+// True when making each face first + moved[i] again from itself (corner k from its corners
+// with weights e_k) leaves `set` as it is. A float x becomes ((0 + x * 1) + y * 0) + z * 0 (y, z
+// the face's other corners): x itself when all three are finite and x is not -0 (that gives
+// +0). Checked on the bits of whole runs of faces, with no branch per float.
+bool remade_in_place(const AttributeSet& set, FaceId first, const std::vector<std::uint32_t>& moved) {
+  for (const std::string& name : set.names()) {
+    const AttributeArrayBase& array = *set.base(name);
+    const int floats = floats_per_element(array);
+    if (floats < 0) return false;
+    if (floats == 0) continue;
+    std::uint32_t bad = 0;
+    for_each_run(moved, [&](std::uint32_t b, std::uint32_t e) {
+      const auto* x = static_cast<const float*>(array.element_data(SurfaceMesh::corner(FaceId(first.index + b), 0)));
+      const std::size_t n = std::size_t(3 * floats) * (e - b);
+      for (std::size_t k = 0; k < n; ++k) {
+        std::uint32_t u;
+        std::memcpy(&u, x + k, sizeof u);
+        bad |= static_cast<std::uint32_t>((u & 0x7f800000u) == 0x7f800000u) | static_cast<std::uint32_t>(u == 0x80000000u);
+      }
+    });
+    if (bad) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+void MeshEditor::remake_moved(FaceId first, const std::vector<std::uint32_t>& moved) {
+  AttributeSet& corners = mesh_.corner_attrs();
+  std::vector<std::uint32_t> faces(moved.size());
+  std::vector<float> w(9 * moved.size(), 0.0f);
+  for (std::size_t i = 0; i < moved.size(); ++i) {
+    faces[i] = first.index + moved[i];
+    for (int k = 0; k < 3; ++k) w[9 * i + 4 * k] = 1.0f;  // corner k of its own face alone
+  }
+  if (!remade_in_place(corners, first, moved)) {
+    // Blended again, as a move blends, after the end of the arrays, then copied back.
+    const std::size_t end = corners.size();
+    corners.push_blend3_batch(faces.data(), w.data(), faces.size());
+    for (std::size_t i = 0; i < faces.size(); ++i)
+      for (int k = 0; k < 3; ++k) corners.copy(SurfaceMesh::corner(FaceId(faces[i]), k), end + 3 * i + std::size_t(k));
+    corners.resize(end);
+  }
+  std::size_t at = 0;
+  for_each_run(moved, [&](std::uint32_t b, std::uint32_t e) {
+    fix_corner_directions(FaceId(first.index + b), e - b, faces.data() + at, w.data() + 9 * at);
+    at += e - b;
+  });
+}
+
 void MeshEditor::apply(FaceBatch& batch) {
   check_removals(mesh_, batch.removals_);
   const std::size_t n = batch.faces_.size();
@@ -357,6 +440,7 @@ void MeshEditor::apply(FaceBatch& batch) {
   // batch's order: removing a face neither reads nor writes the faces added after it.
   const FaceId first = mesh_.add_faces_from(batch.faces_.data(), batch.parents_.data(), batch.weights_.data(), n);
   fix_corner_directions(first, n, batch.parents_.data(), batch.weights_.data());
+  if (!batch.moved_.empty()) remake_moved(first, batch.moved_);
   std::size_t r = 0;
   auto removals_before = [&](std::size_t i) {
     for (; r < batch.removals_.size() && batch.removals_[r].second <= i; ++r)
@@ -372,6 +456,7 @@ void MeshEditor::apply(FaceBatch& batch) {
   batch.parents_.clear();
   batch.weights_.clear();
   batch.removals_.clear();
+  batch.moved_.clear();
 }
 
 }  // namespace deepcut

@@ -34,6 +34,14 @@ class FaceBatch {
                         corner_bary[1].z, corner_bary[2].x, corner_bary[2].y, corner_bary[2].z};
     weights_.insert(weights_.end(), w, w + 9);  // appended as written: no zero fill first
   }
+  /// Queues what `add_from(vertices, parent, corner_bary)` and then moving that face would leave:
+  /// the face made again from itself (each corner its own, weight 1) onto `vertices`, its corner
+  /// normals and tangents normalised a second time. The same attributes as that pair of edits,
+  /// without the face in between (a cut's positive side made straight onto the vertex copies).
+  void add_moved_from(const Triangle& vertices, FaceId parent, const std::array<glm::vec3, 3>& corner_bary) {
+    moved_.push_back(static_cast<std::uint32_t>(faces_.size()));
+    add_from(vertices, parent, corner_bary);
+  }
   /// Room for `faces` additions and `removals` removals.
   void reserve(std::size_t faces, std::size_t removals);
   bool empty() const { return faces_.empty() && removals_.empty(); }
@@ -45,6 +53,8 @@ class FaceBatch {
   std::vector<float> weights_;  // nine per face: corner k's barycentric weights at 3k
   // Each removal, with the number of faces queued before it.
   std::vector<std::pair<FaceId, std::uint32_t>> removals_;
+  // The places of the faces add_moved_from queued, ascending.
+  std::vector<std::uint32_t> moved_;
 };
 
 /// @note The editor looks up the skin, normal and tangent attributes once, when it is made: add
@@ -106,6 +116,8 @@ class MeshEditor {
   // Corner normals and tangents of the faces [first, first + count) made from `parents` with
   // corner weights `w` (nine per face).
   void fix_corner_directions(FaceId first, std::size_t count, const std::uint32_t* parents, const float* w);
+  // The second half of FaceBatch::add_moved_from for the new faces first + moved[i].
+  void remake_moved(FaceId first, const std::vector<std::uint32_t>& moved);
 
   SurfaceMesh& mesh_;
   EditLog log_;

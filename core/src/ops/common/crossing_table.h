@@ -115,6 +115,7 @@ class NeedleMerges {
  public:
   /// The vertex `v` stands for (itself unless merged).
   VertexId merged(VertexId v) const {
+    if (to_.empty()) return v;  // the common case: no needle, no hashing
     for (auto it = to_.find(v.index); it != to_.end(); it = to_.find(v.index)) v = it->second;
     return v;
   }

@@ -86,9 +86,9 @@ void Cutter::split_crossings(FaceId f) {
   merge_candidates_.emplace_back(a.v, b.v);
 }
 
-// Queues the removal of a face the plane crosses and the up to three faces replacing it
-// (`crossings`: its two in face_crossings_).
-void Cutter::split_face(FaceId f, FaceBatch& batch, const Split* const* crossings) {
+// Plans the removal of a face the plane crosses and the up to three faces replacing it
+// (`crossings`: its two in face_crossings_), in planned_ and crossed_.
+void Cutter::split_face(FaceId f, const Split* const* crossings) {
   const Triangle t = mesh_.face(f);
   const std::int8_t s[3] = {sign_[t[0].index], sign_[t[1].index], sign_[t[2].index]};
   const bool pos = s[0] > 0 || s[1] > 0 || s[2] > 0, neg = s[0] < 0 || s[1] < 0 || s[2] < 0;
@@ -100,9 +100,9 @@ void Cutter::split_face(FaceId f, FaceBatch& batch, const Split* const* crossing
   };
   auto emit = [&](const Corner& a, const Corner& b, const Corner& c) {
     if (a.v == b.v || b.v == c.v || a.v == c.v) return;  // the tip of a needle whose crossings merged
-    batch.add_from({a.v, b.v, c.v}, f, {a.bary, b.bary, c.bary});
+    planned_.push_back({{a.v, b.v, c.v}, f, {a.bary, b.bary, c.bary}});
   };
-  batch.remove(f);
+  crossed_.emplace_back(f, static_cast<std::uint32_t>(planned_.size()));
   int zero = -1;
   for (int k = 0; k < 3; ++k)
     if (s[k] == 0) zero = k;
@@ -129,6 +129,22 @@ void Cutter::split_face(FaceId f, FaceBatch& batch, const Split* const* crossing
     emit(m1, corner(k1), m2);
     emit(corner(k1), corner(k2), m2);
   }
+}
+
+// Makes the planned faces, each crossed face removed before its own, in one editor batch; with
+// `moved`, only the planned faces it does not flag (move_positive_rim makes those).
+void Cutter::make_planned(const std::vector<std::uint8_t>* moved) {
+  const auto first_new_face = static_cast<std::uint32_t>(mesh_.face_slots());
+  FaceBatch batch;
+  batch.reserve(planned_.size(), crossed_.size());
+  for (std::size_t c = 0; c < crossed_.size(); ++c) {
+    batch.remove(crossed_[c].first);
+    const std::size_t end = c + 1 < crossed_.size() ? crossed_[c + 1].second : planned_.size();
+    for (std::size_t i = crossed_[c].second; i < end; ++i)
+      if (!moved || !(*moved)[i]) batch.add_from(planned_[i].t, planned_[i].parent, planned_[i].bary);
+  }
+  editor_.apply(batch);
+  detail::append_run(rim_candidates_, first_new_face, static_cast<std::uint32_t>(mesh_.face_slots()));
 }
 
 }  // namespace deepcut::detail

@@ -5,9 +5,10 @@
 //   2. split_crossed_faces: each crossed edge split once (ops/common/crossing_table.h, with the
 //      needle merges) at the posed point where the plane crosses it, unposed to bind space
 //      (ops/common/placement.h), each crossed face made again from up to three triangles
-//      (crossings.cpp; the cut's state is in cutter.h);
-//   3. separate_or_drop_side: rim vertices both sides use get a copy for the positive side, or
-//      the dropped side's faces go;
+//      (crossings.cpp, planned there; the cut's state is in cutter.h);
+//   3. separate_or_drop_side: the planned faces made, and rim vertices both sides use get a copy
+//      for the positive side (its faces there made straight onto the copies), or the dropped
+//      side's faces go;
 //   4. pinch repair (ops/common/pinches.h), then the pieces: live faces by side (and component);
 //   5. cap_pieces: each piece's rim, and with caps its cap (caps.cpp).
 // cut_model runs cut_mesh on every instance through the instance loop of
@@ -54,9 +55,12 @@ inline std::uint8_t side_code(const std::int8_t* sign, const Triangle& t) {
 std::vector<std::int8_t> vertex_sides(const SurfaceMesh& mesh, std::vector<std::int8_t>&& sign,
                                       const std::vector<FaceId>& rim) {
   sign.resize(mesh.vertex_count(), 0);
-  for (FaceId f : rim)
-    for (const VertexId v : mesh.face(f))
-      if (!mesh.is_deleted(f) && sign[v.index] == 0) sign[v.index] = side_code(sign.data(), mesh.face(f)) == 1 ? 1 : -1;
+  for (FaceId f : rim) {
+    if (mesh.is_deleted(f)) continue;
+    const Triangle& t = mesh.face(f);
+    for (const VertexId v : t)
+      if (sign[v.index] == 0) sign[v.index] = side_code(sign.data(), t) == 1 ? 1 : -1;
+  }
   return std::move(sign);
 }
 
@@ -80,24 +84,23 @@ int Cutter::face_side(const Triangle& t) const {
   return 1;  // a face lying in the plane goes to the positive side
 }
 
-// Rim vertices used by both sides get a copy for the positive side, so the sides come apart.
+// Rim vertices used by both sides get a copy for the positive side, so the sides come apart. The
+// faces split_face planned are made here: the positive side's on a shared vertex straight onto
+// the copies (move_positive_rim), the others first (make_planned), so no face is made only to
+// be moved.
 void Cutter::separate_sides() {
   // Per vertex on the plane: bit 1 a positive face uses it, bit 2 a negative one. The input's
   // vertices keep them in the scan's side bits (done with: bit 4 marks the vertices on the
   // plane, these go above it, at 8 and 16), the cut's in `fresh` (above them, for a vertex both
-  // use, 1 + its place in `shared`): no array over the whole mesh is cleared.
+  // use, 1 + its place in `shared`): no array over the whole mesh is cleared. The faces: the
+  // untouched ones on the plane (the rim candidates so far) and the planned ones.
   const std::uint32_t first_new = posed_.first_new();
   assert(side_bits_.size() == first_new);  // the input's vertices, each with its bits
   std::uint8_t* old_bits = side_bits_.data();
   std::vector<std::uint32_t> fresh(mesh_.vertex_count() - first_new, 0);
   std::vector<std::uint32_t> touched;  // the input's, each once
-  std::vector<FaceId> rim_faces;
-  rim_faces.reserve(rim_candidates_.size());
   const std::int8_t* sign = sign_.data();
-  for (FaceId f : rim_candidates_) {
-    if (mesh_.is_deleted(f)) continue;
-    const Triangle& t = mesh_.face(f);
-    rim_faces.push_back(f);
+  auto mark = [&](const Triangle& t) {
     const std::uint8_t bit = side_code(sign, t);
     for (auto v : t) {
       if (sign[v.index] != 0) continue;
@@ -108,7 +111,11 @@ void Cutter::separate_sides() {
       if ((old_bits[v.index] & 24) == 0) touched.push_back(v.index);
       old_bits[v.index] |= static_cast<std::uint8_t>(bit << 3);
     }
-  }
+  };
+  const std::size_t touching = rim_candidates_.size();
+  for (FaceId f : rim_candidates_)
+    if (!mesh_.is_deleted(f)) mark(mesh_.face(f));
+  for (const Planned& p : planned_) mark(p.t);
   // In id order (deterministic vertex numbering): the input's vertices sorted, then the cut's
   // (the newest ids) as they come.
   std::vector<std::uint32_t> shared;
@@ -121,8 +128,22 @@ void Cutter::separate_sides() {
       shared.push_back(first_new + static_cast<std::uint32_t>(i));
       fresh[i] |= static_cast<std::uint32_t>(shared.size()) << 2;
     }
-  if (shared.empty()) return;
-  const VertexId first_copy = editor_.split_vertices(shared.data(), shared.size());
+  if (shared.empty()) return make_planned(nullptr);
+  // The copies come next (the planned faces add no vertex): the positive side's planned faces on
+  // a shared vertex wait for them.
+  const SharedSlots slots{shared, old_shared, fresh};
+  const auto first_copy = static_cast<std::uint32_t>(mesh_.vertex_count());
+  // Each planned face to be moved is flagged and put on the copies at once.
+  std::vector<std::uint8_t> moved(planned_.size(), 0);
+  Triangle on_copies;
+  for (std::size_t i = 0; i < planned_.size(); ++i)
+    if (moved_face(planned_[i].t, slots, first_copy, on_copies)) {
+      moved[i] = 1;
+      planned_[i].t = on_copies;
+    }
+  make_planned(&moved);
+  [[maybe_unused]] const VertexId copy = editor_.split_vertices(shared.data(), shared.size());
+  assert(copy.index == first_copy);
   for (const std::uint32_t v : shared) {
     posed_.add(posed_(VertexId(v)));
     dist_.push_back(dist_[v]);
@@ -132,49 +153,61 @@ void Cutter::separate_sides() {
   const auto first_of_crossing =
       static_cast<std::size_t>(std::lower_bound(shared.begin(), shared.end(), crossings_[0]) - shared.begin());
   if (first_of_crossing < shared.size()) {
-    crossing_copies_[0] = first_copy.index + static_cast<std::uint32_t>(first_of_crossing);
-    crossing_copies_[1] = first_copy.index + static_cast<std::uint32_t>(shared.size());
+    crossing_copies_[0] = first_copy + static_cast<std::uint32_t>(first_of_crossing);
+    crossing_copies_[1] = first_copy + static_cast<std::uint32_t>(shared.size());
   }
-  move_positive_rim(rim_faces, shared, old_shared, fresh, first_copy);
+  move_positive_rim(touching, moved, slots, VertexId(first_copy));
 }
 
-// Moves the positive side's rim faces onto the copies of their shared vertices (`shared`, the
-// input's first `old_shared` of them sorted; `fresh` and the side bits as separate_sides left
-// them; the copy of shared[i] is first_copy + i).
-void Cutter::move_positive_rim(const std::vector<FaceId>& rim_faces, const std::vector<std::uint32_t>& shared,
-                               std::size_t old_shared, const std::vector<std::uint32_t>& fresh, VertexId first_copy) {
-  const std::uint32_t first_new = posed_.first_new();
-  const std::uint8_t* old_bits = side_bits_.data();
-  // The place in `shared` of a vertex on the plane, or none (the rim faces use no copy: every
-  // vertex is below them). The input's shared vertices are few.
-  const auto old_end = shared.begin() + static_cast<std::ptrdiff_t>(old_shared);
+// The place in `shared` of vertex `v` on the plane (the input's first `old_shared` of them
+// sorted; `fresh` and the side bits as separate_sides left them), or kInvalidIndex.
+std::uint32_t Cutter::SharedSlots::slot(std::uint32_t v, std::uint32_t first_new, const std::uint8_t* old_bits) const {
   static_assert(kInvalidIndex == std::uint32_t(0) - 1, "an unshared new vertex's slot, 0 - 1, reads as none");
-  auto slot_of = [&](std::uint32_t v) -> std::uint32_t {
-    if (v >= first_new) return (fresh[v - first_new] >> 2) - 1;  // not shared: 0 - 1, kInvalidIndex
-    if ((old_bits[v] & 24) != 24) return kInvalidIndex;
-    return static_cast<std::uint32_t>(std::lower_bound(shared.begin(), old_end, v) - shared.begin());
-  };
+  if (v >= first_new) return (fresh[v - first_new] >> 2) - 1;  // not shared: 0 - 1, kInvalidIndex
+  if ((old_bits[v] & 24) != 24) return kInvalidIndex;
+  const auto old_end = shared.begin() + static_cast<std::ptrdiff_t>(old_shared);  // few: searched
+  return static_cast<std::uint32_t>(std::lower_bound(shared.begin(), old_end, v) - shared.begin());
+}
+
+// True when `t` is a positive face using a shared vertex: `moved` is `t` on the copies (the copy
+// of shared[i] is first_copy + i).
+bool Cutter::moved_face(const Triangle& t, const SharedSlots& slots, std::uint32_t first_copy, Triangle& moved) const {
   const std::int8_t* sign = sign_.data();
+  if (side_code(sign, t) == 2) return false;
+  const std::uint32_t first_new = posed_.first_new();
+  moved = t;
+  bool changed = false;
+  for (auto& v : moved) {
+    if (sign[v.index] != 0) continue;
+    const std::uint32_t slot = slots.slot(v.index, first_new, side_bits_.data());
+    if (slot == kInvalidIndex) continue;
+    v = VertexId(first_copy + slot);
+    changed = true;
+  }
+  return changed;
+}
+
+// Moves the positive side's rim faces onto the copies of their shared vertices, in one batch: the
+// untouched faces on the plane (the first `touching` rim candidates) removed and made again, then
+// the planned faces `moved_planned` flags (already on the copies) made there at once.
+void Cutter::move_positive_rim(std::size_t touching, const std::vector<std::uint8_t>& moved_planned,
+                               const SharedSlots& slots, VertexId first_copy) {
+  const auto first_new_face = static_cast<std::uint32_t>(mesh_.face_slots());
   const glm::vec3 e[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   FaceBatch batch;
-  batch.reserve(rim_faces.size(), rim_faces.size());
-  for (FaceId f : rim_faces) {
-    const Triangle t = mesh_.face(f);
-    if (side_code(sign, t) == 2) continue;
-    Triangle moved = t;
-    bool changed = false;
-    for (auto& v : moved) {
-      if (sign[v.index] != 0) continue;
-      const std::uint32_t slot = slot_of(v.index);
-      if (slot == kInvalidIndex) continue;
-      v = VertexId(first_copy.index + slot);
-      changed = true;
-    }
-    if (!changed) continue;
+  batch.reserve(touching + planned_.size(), touching);
+  Triangle moved;
+  for (std::size_t i = 0; i < touching; ++i) {
+    const FaceId f = rim_candidates_[i];
+    if (mesh_.is_deleted(f) || !moved_face(mesh_.face(f), slots, first_copy.index, moved)) continue;
     batch.remove(f);
     batch.add_from(moved, f, {e[0], e[1], e[2]});
   }
+  for (std::size_t i = 0; i < planned_.size(); ++i) {
+    if (moved_planned[i]) batch.add_moved_from(planned_[i].t, planned_[i].parent, planned_[i].bary);
+  }
   editor_.apply(batch);
+  detail::append_run(rim_candidates_, first_new_face, static_cast<std::uint32_t>(mesh_.face_slots()));
 }
 
 // A rim through a vertex on the plane (a saddle, or a fold touching the plane within the
@@ -417,9 +450,9 @@ bool Cutter::classify_and_scan() {
   return true;
 }
 
-// Splits the faces the scan found crossed, and files the scan's other faces.
+// Makes the crossings of the faces the scan found crossed and plans the faces replacing those
+// (separate_or_drop_side makes them), and files the scan's other faces.
 void Cutter::split_crossed_faces() {
-  const auto first_new_face = static_cast<std::uint32_t>(mesh_.face_slots());
   // Room for the faces the cut makes and the caps (a few per crossed or touching face), which
   // join the pieces later: growing a list of most of the mesh would copy it.
   std::size_t rim_faces = 0;
@@ -443,7 +476,7 @@ void Cutter::split_crossed_faces() {
   splits_.reserve(2 * crossed);  // about one new crossed edge per crossed face, two at most
   rim_candidates_.reserve(8 * rim_faces + 64);  // the touching faces, the faces the cut makes
   // Per crossed face about: a crossing, its removal, three faces, and separating the sides a
-  // copy and two faces moved (a removal and an addition each).
+  // copy (and a few untouched faces moved: a removal and an addition each).
   editor_.reserve_log(10 * crossed);
   crossings_[0] = static_cast<std::uint32_t>(mesh_.vertex_count());
   merge_candidates_.reserve(crossed);
@@ -452,24 +485,21 @@ void Cutter::split_crossed_faces() {
     for (FaceId f : part.crossed) split_crossings(f);
   make_crossings();
   crossings_[1] = static_cast<std::uint32_t>(mesh_.vertex_count());
-  FaceBatch batch;
-  batch.reserve(3 * crossed, crossed);
+  planned_.reserve(3 * crossed);
+  crossed_.reserve(crossed);
   std::size_t face = 0;
   for (const detail::ScannedFaces& part : found_) {
-    for (FaceId f : part.crossed) split_face(f, batch, &face_crossings_[2 * face++]);
+    for (FaceId f : part.crossed) split_face(f, &face_crossings_[2 * face++]);
     rim_candidates_.insert(rim_candidates_.end(), part.touching.begin(), part.touching.end());
   }
-  editor_.apply(batch);
-  detail::append_run(rim_candidates_, first_new_face, static_cast<std::uint32_t>(mesh_.face_slots()));
   std::vector<detail::ScannedFaces>().swap(found_);
 }
 
 void Cutter::separate_or_drop_side() {
   if (options_.keep == CutKeep::Both) {
-    const auto before = static_cast<std::uint32_t>(mesh_.face_slots());
     separate_sides();
-    detail::append_run(rim_candidates_, before, static_cast<std::uint32_t>(mesh_.face_slots()));
   } else {
+    make_planned(nullptr);
     // Every live face of the dropped side, in id order.
     const int drop = options_.keep == CutKeep::Positive ? 1 : 0;
     std::vector<FaceId> rim[2];

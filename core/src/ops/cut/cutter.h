@@ -5,6 +5,7 @@
 // Private to the cut.
 
 #include <cstddef>
+#include <array>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -46,10 +47,24 @@ class Cutter {
   void make_crossings();
   Corner split_corner(const Triangle& t, int ka, int kb, const Split& s) const;
   void split_crossings(FaceId f);
-  void split_face(FaceId f, FaceBatch& batch, const Split* const* crossings);
+  // A face split_face makes from crossed face `parent`, before it is made.
+  struct Planned {
+    Triangle t;
+    FaceId parent;
+    std::array<glm::vec3, 3> bary;
+  };
+  void split_face(FaceId f, const Split* const* crossings);
+  void make_planned(const std::vector<std::uint8_t>* moved);
   void separate_sides();
-  void move_positive_rim(const std::vector<FaceId>& rim_faces, const std::vector<std::uint32_t>& shared,
-                         std::size_t old_shared, const std::vector<std::uint32_t>& fresh,
+  // The place in the shared vertices (separate_sides) of each vertex on the plane, or none.
+  struct SharedSlots {
+    const std::vector<std::uint32_t>& shared;
+    std::size_t old_shared;
+    const std::vector<std::uint32_t>& fresh;
+    std::uint32_t slot(std::uint32_t v, std::uint32_t first_new, const std::uint8_t* old_bits) const;
+  };
+  bool moved_face(const Triangle& t, const SharedSlots& slots, std::uint32_t first_copy, Triangle& moved) const;
+  void move_positive_rim(std::size_t touching, const std::vector<std::uint8_t>& moved_planned, const SharedSlots& slots,
                          VertexId first_copy);
   // A flag per vertex of [first, first + flags.size()).
   struct VertexFlags {
@@ -107,6 +122,11 @@ class Cutter {
   // The crossings of each crossed face, two a face in face order (the second null where the
   // plane runs through a corner), as split_face uses them: found once, by split_crossings.
   std::vector<const Split*> face_crossings_;
+  // The faces split_face makes, in order, and each crossed face it removes with the place of its
+  // first one there: made by make_planned (or, the positive side's faces on shared rim vertices,
+  // by move_positive_rim, straight onto the vertices' copies).
+  std::vector<Planned> planned_;
+  std::vector<std::pair<FaceId, std::uint32_t>> crossed_;
   // The crossing vertices split_edge made, [first, end), and the positive side's copies of
   // them separate_sides made, [first, end): without needle merges each of them has one fan of
   // faces per side (single_fan).
