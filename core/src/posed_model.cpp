@@ -194,21 +194,29 @@ std::vector<glm::vec3> PosedMesh::corner_normals(const SurfaceMesh& surface, con
   std::vector<glm::vec3> out;
   detail::resize_prefaulted(out, normals->size(), glm::vec3(0.0f));
   // Faces with a source copy its corners (the same corner attributes, vertices with the same
-  // linear maps: the kernel would give the same bits); the others are computed, in order.
-  std::vector<char> computed(slots, 0);
-  parallel_for(slots, kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t f = b; f < e; ++f) {
-      const std::size_t s = origin.faces[f];
-      if (s == kInvalidIndex || 3 * s + 2 >= source_normals.size()) {
-        computed[f] = 1;
-        continue;
+  // linear maps: the kernel would give the same bits); the others are listed per chunk, joined
+  // in order, and computed.
+  const std::size_t chunks = (slots + kGrain - 1) / kGrain;
+  std::vector<std::vector<std::uint32_t>> rims(chunks);
+  glm::vec3* const to = out.data();
+  parallel_for(chunks, 1, [&](std::size_t b, std::size_t e) {
+    const std::uint32_t* const from = origin.faces.data();
+    const glm::vec3* const source = source_normals.data();
+    const std::size_t sources = source_normals.size();
+    for (std::size_t i = b; i < e; ++i)
+      for (std::size_t f = i * kGrain, end = std::min(slots, (i + 1) * kGrain); f < end; ++f) {
+        const std::size_t s = from[f];
+        if (s == kInvalidIndex || 3 * s + 2 >= sources) {
+          rims[i].push_back(static_cast<std::uint32_t>(f));
+          continue;
+        }
+        to[3 * f] = source[3 * s];
+        to[3 * f + 1] = source[3 * s + 1];
+        to[3 * f + 2] = source[3 * s + 2];
       }
-      for (std::size_t k = 0; k < 3; ++k) out[3 * f + k] = source_normals[3 * s + k];
-    }
   });
   std::vector<std::uint32_t> faces;
-  for (std::size_t f = 0; f < slots; ++f)
-    if (computed[f]) faces.push_back(static_cast<std::uint32_t>(f));
+  for (const auto& rim : rims) faces.insert(faces.end(), rim.begin(), rim.end());
   corner_normals_of(*this, surface, *normals, faces, out);
   return out;
 }
