@@ -354,19 +354,28 @@ PosedMesh PosedModel::derive_instance(const Model& model, int node, int primitiv
   // A vertex with a source has its attributes, posed alike (same world, joints and weights):
   // its position and linear map are the source's bits. The others are posed.
   const bool copy = origin.vertices.size() == n && source.linear.size() == source.posed.size();
+  // The bounds are measured in the same pass (min / max are exact in any order).
   const VertexPoser pose(mesh, inst);
-  parallel_for(n, kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t v = b; v < e; ++v) {
-      const std::uint32_t s = copy ? origin.vertices[v] : kInvalidIndex;
-      if (s < source.posed.size()) {
-        inst.posed[v] = source.posed[s];
-        inst.linear[v] = source.linear[s];
-      } else {
-        pose(v, inst);
-      }
-    }
-  });
-  inst.bounds = bounds_of(inst.posed);
+  inst.bounds = parallel_reduce(
+      n, kGrain, BoundingBox(),
+      [&](std::size_t b, std::size_t e) {
+        BoundingBox part;
+        for (std::size_t v = b; v < e; ++v) {
+          const std::uint32_t s = copy ? origin.vertices[v] : kInvalidIndex;
+          if (s < source.posed.size()) {
+            inst.posed[v] = source.posed[s];
+            inst.linear[v] = source.linear[s];
+          } else {
+            pose(v, inst);
+          }
+          part.add(inst.posed[v]);
+        }
+        return part;
+      },
+      [](BoundingBox acc, const BoundingBox& part) {
+        acc.add(part);
+        return acc;
+      });
   return inst;
 }
 

@@ -173,7 +173,9 @@ void ViewPolyData::choose_corners(const Writer& w, const ViewPolyData& source, c
   const SurfaceMesh& mesh = w.mesh;
   const std::size_t slots = mesh.face_slots(), points = copying.kept.size();
   const auto old_cells = static_cast<std::size_t>(source.poly_->GetNumberOfCells());
-  std::vector<std::uint32_t> face_of(old_cells, kInvalidIndex);  // source face slot -> face slot
+  // Source face slot -> face slot (filled over the pool, not by a serial value fill first).
+  std::unique_ptr<std::uint32_t[]> face_of(new std::uint32_t[old_cells]);
+  parallel_for(old_cells, kGrain, [&](std::size_t b, std::size_t e) { std::fill(face_of.get() + b, face_of.get() + e, kInvalidIndex); });
   parallel_for(slots, kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t f = b; f < e; ++f)
       if (origin.faces[f] < old_cells && !mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f))))
