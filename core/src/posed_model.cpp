@@ -187,12 +187,25 @@ void PosedMesh::follow_corner_normals(const SurfaceMesh& surface, const Primitiv
 
 std::vector<glm::vec3> PosedMesh::corner_normals(const SurfaceMesh& surface, const PrimitiveOrigin& origin,
                                                  const std::vector<glm::vec3>& source_normals) const {
-  const auto* normals = surface.corner_attrs().find<glm::vec3>(attr::kNormal);
-  if (!normals) return {};
-  const std::size_t slots = surface.face_slots();
-  if (origin.faces.size() != slots) return corner_normals(surface);
   std::vector<glm::vec3> out;
-  detail::resize_prefaulted(out, normals->size(), glm::vec3(0.0f));
+  corner_normals(surface, origin, source_normals, out);
+  return out;
+}
+
+void PosedMesh::corner_normals(const SurfaceMesh& surface, const PrimitiveOrigin& origin,
+                               const std::vector<glm::vec3>& source_normals, std::vector<glm::vec3>& out) const {
+  const auto* normals = surface.corner_attrs().find<glm::vec3>(attr::kNormal);
+  const std::size_t slots = surface.face_slots();
+  if (!normals || origin.faces.size() != slots) {
+    out = corner_normals(surface);
+    return;
+  }
+  if (out.capacity() >= normals->size()) {
+    out.resize(normals->size());
+  } else {
+    out = std::vector<glm::vec3>();
+    detail::resize_prefaulted(out, normals->size(), glm::vec3(0.0f));
+  }
   // Faces with a source copy its corners (the same corner attributes, vertices with the same
   // linear maps: the kernel would give the same bits); the others are listed per chunk, joined
   // in order, and computed.
@@ -218,7 +231,6 @@ std::vector<glm::vec3> PosedMesh::corner_normals(const SurfaceMesh& surface, con
   std::vector<std::uint32_t> faces;
   for (const auto& rim : rims) faces.insert(faces.end(), rim.begin(), rim.end());
   corner_normals_of(*this, surface, *normals, faces, out);
-  return out;
 }
 
 PosedMesh PosedMesh::at_positions(const SurfaceMesh& surface, std::vector<glm::vec3> posed) {

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <initializer_list>
 #include <memory>
 
 #include "deepcut/core/parallel.h"
@@ -248,6 +249,36 @@ void ViewPolyData::assign_waiting(const Writer& w, const std::vector<std::uint32
     while (j < all.size() && all[j].first == all[i].first) ++j;
     assign_points(w, all[i].first, Corners{nullptr, kInvalidIndex, corners.data() + i, corners.data() + j}, dead);
   }
+}
+
+void ViewPolyData::take_arrays(ViewPolyData& spare, std::size_t slots) {
+  vtkPolyData* from = spare.poly_;
+  vtkCellArray* cells = from->GetPolys();
+  vtkTypeInt64Array *offsets = cells->GetOffsetsArray64(), *connectivity = cells->GetConnectivityArray64();
+  auto* face_ids = view_data::named<vtkIdTypeArray>(from->GetCellData(), "face_id");
+  if (!offsets || !connectivity || !face_ids || connectivity->GetSize() < static_cast<vtkIdType>(3 * slots) ||
+      offsets->GetSize() <= static_cast<vtkIdType>(slots) || face_ids->GetSize() < static_cast<vtkIdType>(slots))
+    return;
+  // The cells: every data's offsets and face ids are the identity, so those already there stay.
+  poly_->GetPolys()->SetData(offsets, connectivity);
+  vtkCellData* cd = poly_->GetCellData();
+  cd->RemoveArray("face_id");
+  cd->AddArray(face_ids);
+  // The points' arrays of each kind this data has.
+  vtkPointData *pd = poly_->GetPointData(), *spare_pd = from->GetPointData();
+  auto* points = vtkFloatArray::SafeDownCast(from->GetPoints()->GetData());
+  if (points && points->GetNumberOfComponents() == 3) poly_->GetPoints()->SetData(points);
+  if (auto* ids = view_data::named<vtkIdTypeArray>(spare_pd, "vertex_id")) {
+    pd->RemoveArray("vertex_id");
+    pd->AddArray(ids);
+  }
+  auto* normals = vtkFloatArray::SafeDownCast(spare_pd->GetNormals());
+  if (normals && pd->GetNormals() && normals->GetNumberOfComponents() == 3) pd->SetNormals(normals);
+  auto* uv = view_data::named<vtkFloatArray>(spare_pd, "uv0");
+  if (uv && pd->GetTCoords() && uv->GetNumberOfComponents() == 2) pd->SetTCoords(uv);
+  for (vtkAbstractArray* a : std::initializer_list<vtkAbstractArray*>{offsets, connectivity, face_ids, points, normals, uv})
+    if (a) a->Modified();  // (ranges cached for the values before)
+  spare.poly_ = nullptr;  // (only to be destroyed now)
 }
 
 }  // namespace deepcut
