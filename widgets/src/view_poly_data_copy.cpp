@@ -278,6 +278,13 @@ void ViewPolyData::take_arrays(ViewPolyData& spare, std::size_t slots) {
   if (uv && pd->GetTCoords() && uv->GetNumberOfComponents() == 2) pd->SetTCoords(uv);
   for (vtkAbstractArray* a : std::initializer_list<vtkAbstractArray*>{offsets, connectivity, face_ids, points, normals, uv})
     if (a) a->Modified();  // (ranges cached for the values before)
+  // The per-point and per-corner arrays too: each is sized and written whole before it is read.
+  uses_.swap(spare.uses_);
+  point_corner_.swap(spare.point_corner_);
+  first_.swap(spare.first_);
+  next_.swap(spare.next_);
+  prev_.swap(spare.prev_);
+  corner_vertex_.swap(spare.corner_vertex_);
   spare.poly_ = nullptr;  // (only to be destroyed now)
 }
 
