@@ -23,7 +23,7 @@ using view_data::Raw;
 // What a copying build knows of a piece's corners between its passes (copy_corner_points).
 struct ViewPolyData::Copying {
   std::vector<std::uint32_t> kept;     // new point -> the source's point
-  std::vector<std::uint32_t> number;   // the source's point -> new point (kInvalidIndex: unused)
+  std::unique_ptr<std::uint32_t[]> number;  // the source's point -> new point (kInvalidIndex: unused)
   std::vector<std::uint32_t> waiting;  // corners without a point, in order
   std::vector<char> orphan;            // per new point: no corner chosen yet
   std::vector<char> rim;               // per vertex: some corner of it waits
@@ -53,7 +53,7 @@ void join(const std::vector<std::vector<T>>& parts, std::vector<T>& out) {
 // The points among `n` that are `used`, numbered in order: `number` (point -> its number, else
 // kInvalidIndex) and `kept` (number -> point). Counted per chunk, then numbered from each chunk's
 // first number, over the pool.
-void number_in_order(const std::atomic<std::uint8_t>* used, std::size_t n, std::vector<std::uint32_t>& number,
+void number_in_order(const std::atomic<std::uint8_t>* used, std::size_t n, std::unique_ptr<std::uint32_t[]>& number,
                      std::vector<std::uint32_t>& kept) {
   const std::size_t chunks = (n + kGrain - 1) / kGrain;
   std::vector<std::uint32_t> first(chunks + 1, 0);
@@ -66,10 +66,10 @@ void number_in_order(const std::atomic<std::uint8_t>* used, std::size_t n, std::
     }
   });
   for (std::size_t i = 0; i < chunks; ++i) first[i + 1] += first[i];
-  number.resize(n);
+  number.reset(new std::uint32_t[n]);  // written whole below (no value fill first)
   kept.resize(first[chunks]);
   parallel_for(chunks, 1, [&](std::size_t b, std::size_t e) {
-    std::uint32_t *const to_number = number.data(), *const to_kept = kept.data();
+    std::uint32_t *const to_number = number.get(), *const to_kept = kept.data();
     for (std::size_t i = b; i < e; ++i) {
       std::uint32_t next = first[i];
       for (std::size_t p = i * kGrain, end = std::min(n, (i + 1) * kGrain); p < end; ++p) {
@@ -210,7 +210,7 @@ void ViewPolyData::renumber(const Writer& w, Copying& copying) {
     vtkTypeInt64* const conn = w.r.connectivity;
     const Triangle* const faces = mesh.faces().data();
     const char *const rim = copying.rim.data(), *const orphan = copying.orphan.data();
-    const std::uint32_t* const number = copying.number.data();
+    const std::uint32_t* const number = copying.number.get();
     std::vector<std::uint32_t>&orphan_list = orphans[chunk], &rim_list = rims[chunk];
     for (std::size_t f = b; f < e; ++f) {
       if (mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) continue;
