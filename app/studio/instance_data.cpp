@@ -45,8 +45,9 @@ std::shared_ptr<ViewPolyData> instance_view_data(const plugins::Scene& scene,
   return data;
 }
 
-std::shared_ptr<ViewPolyData> instance_view_data(const plugins::Scene& scene, const plugins::SceneInstance& sp,
-                                                 const ViewPolyData& source, const PrimitiveOrigin& origin,
+std::shared_ptr<ViewPolyData> instance_view_data(const plugins::Scene& scene,
+                                                 const plugins::SceneInstance& sp, const ViewPolyData& source,
+                                                 const PrimitiveOrigin& origin,
                                                  std::vector<std::shared_ptr<ViewPolyData>>* spare) {
   std::shared_ptr<ViewPolyData> taken;
   if (spare) {
@@ -62,7 +63,8 @@ std::shared_ptr<ViewPolyData> instance_view_data(const plugins::Scene& scene, co
       spare->erase(best);
     }
   }
-  auto data = std::make_shared<ViewPolyData>(*sp.surface, sp.posed(), &sp.posed_normals, source, origin, taken.get());
+  auto data =
+      std::make_shared<ViewPolyData>(*sp.surface, sp.posed(), &sp.posed_normals, source, origin, taken.get());
   const MaterialLook look = instance_look(scene, sp);
   use_texture_coords(data->poly(), look.base_color_image >= 0 && look.texcoord == 0);
   return data;

@@ -37,8 +37,9 @@ std::shared_ptr<ViewPolyData> instance_view_data(const plugins::Scene& scene,
 /// corners share points from `source`, the data drawn for that other instance before the step.
 /// `spare` (or null): data no longer drawn and held nowhere else; the smallest whose arrays hold
 /// the instance's cells leaves it, and the new data takes its arrays (their memory reused).
-std::shared_ptr<ViewPolyData> instance_view_data(const plugins::Scene& scene, const plugins::SceneInstance& sp,
-                                                 const ViewPolyData& source, const PrimitiveOrigin& origin,
+std::shared_ptr<ViewPolyData> instance_view_data(const plugins::Scene& scene,
+                                                 const plugins::SceneInstance& sp, const ViewPolyData& source,
+                                                 const PrimitiveOrigin& origin,
                                                  std::vector<std::shared_ptr<ViewPolyData>>* spare = nullptr);
 
 /// Computes what drawing `poly` the first time would otherwise compute on the UI thread, cached

@@ -4,9 +4,9 @@
 #include <QTimer>
 #include <algorithm>
 #include <chrono>
-#include <ctime>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 
 #include "inspector_host.h"
 #include "morph_panel.h"

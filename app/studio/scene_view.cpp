@@ -497,9 +497,9 @@ void SceneView::update_scene(const ModelChange& change) {
   if (d.show_normals) d.rebuild_normals();
 }
 
-std::shared_ptr<ViewPolyData> SceneView::Impl::built_data(const plugins::SceneInstance& sp, const ModelChange& change,
-                                                         const std::vector<InstanceActor>& old,
-                                                         std::vector<std::shared_ptr<ViewPolyData>>& spare) const {
+std::shared_ptr<ViewPolyData> SceneView::Impl::built_data(
+    const plugins::SceneInstance& sp, const ModelChange& change, const std::vector<InstanceActor>& old,
+    std::vector<std::shared_ptr<ViewPolyData>>& spare) const {
   for (const auto& o : change.origins) {
     if (!o || o->node != sp.node || o->mesh != sp.mesh || o->primitive != sp.primitive) continue;
     for (const InstanceActor& from : old)

@@ -193,7 +193,8 @@ std::vector<glm::vec3> PosedMesh::corner_normals(const SurfaceMesh& surface, con
 }
 
 void PosedMesh::corner_normals(const SurfaceMesh& surface, const PrimitiveOrigin& origin,
-                               const std::vector<glm::vec3>& source_normals, std::vector<glm::vec3>& out) const {
+                               const std::vector<glm::vec3>& source_normals,
+                               std::vector<glm::vec3>& out) const {
   const auto* normals = surface.corner_attrs().find<glm::vec3>(attr::kNormal);
   const std::size_t slots = surface.face_slots();
   if (!normals || origin.faces.size() != slots) {

@@ -124,7 +124,8 @@ std::vector<glm::vec3> take_spare(std::vector<std::vector<glm::vec3>>& spare, st
 /// out of (ModelChange::origins) when that was posed alike, computed for the others. The copy is
 /// written into one of `spare` where one is large enough (its memory reused).
 std::vector<glm::vec3> built_normals(const SceneInstance& instance, const ModelChange& change,
-                                     const std::vector<SceneInstance>& old, const std::vector<PosedMeshHeader>& old_poses,
+                                     const std::vector<SceneInstance>& old,
+                                     const std::vector<PosedMeshHeader>& old_poses,
                                      std::vector<std::vector<glm::vec3>>& spare) {
   const PosedMesh& pose = *instance.pose;
   for (const auto& o : change.origins) {
@@ -132,9 +133,9 @@ std::vector<glm::vec3> built_normals(const SceneInstance& instance, const ModelC
     for (std::size_t i = 0; i < old.size(); ++i) {
       const SceneInstance& before = old[i];
       const PosedMeshHeader& posed = old_poses[i];
-      if (before.node == o->node_before && before.mesh == o->mesh_before && before.primitive == o->primitive_before &&
-          !before.posed_normals.empty() && posed.world == pose.world && posed.joints == pose.joints &&
-          posed.weights == pose.weights) {
+      if (before.node == o->node_before && before.mesh == o->mesh_before &&
+          before.primitive == o->primitive_before && !before.posed_normals.empty() &&
+          posed.world == pose.world && posed.joints == pose.joints && posed.weights == pose.weights) {
         std::vector<glm::vec3> out = take_spare(spare, 3 * instance.surface->face_slots());
         pose.corner_normals(*instance.surface, *o, before.posed_normals, out);
         return out;
@@ -201,7 +202,8 @@ void follow_structure(Scene& scene, std::shared_ptr<const Model> model, const Mo
     }
     const bool normals_fit = instance.posed_normals.size() == 3 * instance.surface->face_slots();
     if (origin.kind == InstanceOrigin::Kind::Built || (with_normals && !normals_fit))
-      instance.posed_normals = with_normals ? built_normals(instance, change, old, old_poses, spare) : std::vector<glm::vec3>();
+      instance.posed_normals =
+          with_normals ? built_normals(instance, change, old, old_poses, spare) : std::vector<glm::vec3>();
   }
   // The instances whose posed mesh went into the stash, with their normals.
   scene.departed.clear();

@@ -237,8 +237,11 @@ json time_operation(MainWindow& window, Timer& timer, const std::function<deepcu
     window.undo_action()->trigger();
   }
   json out = {{"apply", step_json(applied)}, {"undo", step_json(undone)}, {"redo", step_json(redone)}};
-  out["apply"]["phases"] = {{"operation_ms", median(operation)}, {"scene_ms", median(scene)}, {"view_ms", median(view)},
-                            {"scene_process_cpu_ms", median(scene_cpu)}, {"view_process_cpu_ms", median(view_cpu)}};
+  out["apply"]["phases"] = {{"operation_ms", median(operation)},
+                            {"scene_ms", median(scene)},
+                            {"view_ms", median(view)},
+                            {"scene_process_cpu_ms", median(scene_cpu)},
+                            {"view_process_cpu_ms", median(view_cpu)}};
   out["apply"]["prepare_updates_ms"] = median(idle);
   return out;
 }

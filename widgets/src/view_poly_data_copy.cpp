@@ -53,8 +53,8 @@ void join(const std::vector<std::vector<T>>& parts, std::vector<T>& out) {
 // The points among `n` that are `used`, numbered in order: `number` (point -> its number, else
 // kInvalidIndex) and `kept` (number -> point). Counted per chunk, then numbered from each chunk's
 // first number, over the pool.
-void number_in_order(const std::atomic<std::uint8_t>* used, std::size_t n, std::unique_ptr<std::uint32_t[]>& number,
-                     std::vector<std::uint32_t>& kept) {
+void number_in_order(const std::atomic<std::uint8_t>* used, std::size_t n,
+                     std::unique_ptr<std::uint32_t[]>& number, std::vector<std::uint32_t>& kept) {
   const std::size_t chunks = (n + kGrain - 1) / kGrain;
   std::vector<std::uint32_t> first(chunks + 1, 0);
   parallel_for(chunks, 1, [&](std::size_t b, std::size_t e) {
@@ -150,7 +150,8 @@ void ViewPolyData::copy_connectivity(const Writer& w, const ViewPolyData& source
         if (from < old_cells) {
           const vtkTypeInt64 q = old_conn[3 * std::size_t(from) + k];
           const std::uint32_t v = vertex_from[t[static_cast<int>(k)].index];
-          if (q >= 0 && static_cast<std::size_t>(q) < old_points && v != kInvalidIndex && old_vertex[q] == v) p = q;
+          if (q >= 0 && static_cast<std::size_t>(q) < old_points && v != kInvalidIndex && old_vertex[q] == v)
+            p = q;
         }
         cell[k] = p;
         if (p >= 0)
@@ -176,7 +177,9 @@ void ViewPolyData::choose_corners(const Writer& w, const ViewPolyData& source, c
   const auto old_cells = static_cast<std::size_t>(source.poly_->GetNumberOfCells());
   // Source face slot -> face slot (filled over the pool, not by a serial value fill first).
   std::unique_ptr<std::uint32_t[]> face_of(new std::uint32_t[old_cells]);
-  parallel_for(old_cells, kGrain, [&](std::size_t b, std::size_t e) { std::fill(face_of.get() + b, face_of.get() + e, kInvalidIndex); });
+  parallel_for(old_cells, kGrain, [&](std::size_t b, std::size_t e) {
+    std::fill(face_of.get() + b, face_of.get() + e, kInvalidIndex);
+  });
   parallel_for(slots, kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t f = b; f < e; ++f)
       if (origin.faces[f] < old_cells && !mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f))))
@@ -257,7 +260,8 @@ void ViewPolyData::take_arrays(ViewPolyData& spare, std::size_t slots) {
   vtkTypeInt64Array *offsets = cells->GetOffsetsArray64(), *connectivity = cells->GetConnectivityArray64();
   auto* face_ids = view_data::named<vtkIdTypeArray>(from->GetCellData(), "face_id");
   if (!offsets || !connectivity || !face_ids || connectivity->GetSize() < static_cast<vtkIdType>(3 * slots) ||
-      offsets->GetSize() <= static_cast<vtkIdType>(slots) || face_ids->GetSize() < static_cast<vtkIdType>(slots))
+      offsets->GetSize() <= static_cast<vtkIdType>(slots) ||
+      face_ids->GetSize() < static_cast<vtkIdType>(slots))
     return;
   // The cells: every data's offsets and face ids are the identity, so those already there stay.
   poly_->GetPolys()->SetData(offsets, connectivity);
@@ -276,7 +280,8 @@ void ViewPolyData::take_arrays(ViewPolyData& spare, std::size_t slots) {
   if (normals && pd->GetNormals() && normals->GetNumberOfComponents() == 3) pd->SetNormals(normals);
   auto* uv = view_data::named<vtkFloatArray>(spare_pd, "uv0");
   if (uv && pd->GetTCoords() && uv->GetNumberOfComponents() == 2) pd->SetTCoords(uv);
-  for (vtkAbstractArray* a : std::initializer_list<vtkAbstractArray*>{offsets, connectivity, face_ids, points, normals, uv})
+  for (vtkAbstractArray* a :
+       std::initializer_list<vtkAbstractArray*>{offsets, connectivity, face_ids, points, normals, uv})
     if (a) a->Modified();  // (ranges cached for the values before)
   // The per-point and per-corner arrays too: each is sized and written whole before it is read.
   uses_.swap(spare.uses_);
