@@ -10,6 +10,7 @@
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkTexture.h>
+#include <vtkTypeInt64Array.h>
 
 #include <algorithm>
 #include <cmath>
@@ -44,9 +45,26 @@ std::shared_ptr<ViewPolyData> instance_view_data(const plugins::Scene& scene,
   return data;
 }
 
-std::shared_ptr<ViewPolyData> instance_view_data(const plugins::Scene& scene, const plugins::SceneInstance& sp,
-                                                 const ViewPolyData& source, const PrimitiveOrigin& origin) {
-  auto data = std::make_shared<ViewPolyData>(*sp.surface, sp.posed(), &sp.posed_normals, source, origin);
+std::shared_ptr<ViewPolyData> instance_view_data(const plugins::Scene& scene,
+                                                 const plugins::SceneInstance& sp, const ViewPolyData& source,
+                                                 const PrimitiveOrigin& origin,
+                                                 std::vector<std::shared_ptr<ViewPolyData>>* spare) {
+  std::shared_ptr<ViewPolyData> taken;
+  if (spare) {
+    const auto cells = static_cast<vtkIdType>(3 * sp.surface->face_slots());
+    auto room = [](const std::shared_ptr<ViewPolyData>& data) {
+      return data->poly()->GetPolys()->GetConnectivityArray64()->GetSize();
+    };
+    auto best = spare->end();
+    for (auto it = spare->begin(); it != spare->end(); ++it)
+      if (room(*it) >= cells && (best == spare->end() || room(*it) < room(*best))) best = it;
+    if (best != spare->end()) {
+      taken = std::move(*best);
+      spare->erase(best);
+    }
+  }
+  auto data =
+      std::make_shared<ViewPolyData>(*sp.surface, sp.posed(), &sp.posed_normals, source, origin, taken.get());
   const MaterialLook look = instance_look(scene, sp);
   use_texture_coords(data->poly(), look.base_color_image >= 0 && look.texcoord == 0);
   return data;

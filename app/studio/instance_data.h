@@ -35,8 +35,12 @@ std::shared_ptr<ViewPolyData> instance_view_data(const plugins::Scene& scene,
                                                  const plugins::SceneInstance& sp);
 /// The same for an instance a step made out of another (a cut's piece: `origin`), taking how its
 /// corners share points from `source`, the data drawn for that other instance before the step.
-std::shared_ptr<ViewPolyData> instance_view_data(const plugins::Scene& scene, const plugins::SceneInstance& sp,
-                                                 const ViewPolyData& source, const PrimitiveOrigin& origin);
+/// `spare` (or null): data no longer drawn and held nowhere else; the smallest whose arrays hold
+/// the instance's cells leaves it, and the new data takes its arrays (their memory reused).
+std::shared_ptr<ViewPolyData> instance_view_data(const plugins::Scene& scene,
+                                                 const plugins::SceneInstance& sp, const ViewPolyData& source,
+                                                 const PrimitiveOrigin& origin,
+                                                 std::vector<std::shared_ptr<ViewPolyData>>* spare = nullptr);
 
 /// Computes what drawing `poly` the first time would otherwise compute on the UI thread, cached
 /// by VTK until the data changes: the bounds of its cells (the camera's clipping range) and the

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 
 #include "inspector_host.h"
 #include "morph_panel.h"
@@ -131,16 +132,21 @@ void SceneHost::show_step(const ModelChange& change) {
   const char* rebuild = std::getenv("DEEPCUT_VIEW_REBUILD");
   const bool follow = !(rebuild && std::strcmp(rebuild, "1") == 0);
   using Clock = std::chrono::steady_clock;
+  auto cpu_ms = [] { return 1e3 * static_cast<double>(std::clock()) / CLOCKS_PER_SEC; };
   const auto t0 = Clock::now();
+  const double c0 = cpu_ms();
   if (!scene_ || !session_.current() || !follow || !plugins::follow_scene(*scene_, session_.current(), change)) {
     step_timing_ = {};
     if (scene_) show_current();
     return;
   }
   const auto t1 = Clock::now();
+  const double c1 = cpu_ms();
   view_->update_scene(change);
   step_timing_.scene_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
   step_timing_.view_ms = std::chrono::duration<double, std::milli>(Clock::now() - t1).count();
+  step_timing_.scene_cpu_ms = c1 - c0;
+  step_timing_.view_cpu_ms = cpu_ms() - c1;
   // A structural step may add or drop nodes that morph: the panel follows (re-posing the
   // scene when the weights set by hand change).
   if (change.structure && sync_morph_panel()) view_->update_pose();

@@ -68,9 +68,11 @@ class SceneHost : public QObject {
   /// frame (the tool's preview, the inspector's colours and the overlays all in it).
   void show_step(const ModelChange& change);
   /// Where the last `show_step` that followed its step spent its time before the frame, in ms:
-  /// the scene (posed meshes, corner normals) and the view's VTK data.
+  /// the scene (posed meshes, corner normals) and the view's VTK data, wall clock and the
+  /// process's CPU time (every thread of the pool; steadier on a loaded machine).
   struct StepTiming {
     double scene_ms = 0.0, view_ms = 0.0;
+    double scene_cpu_ms = 0.0, view_cpu_ms = 0.0;
   };
   StepTiming last_step_timing() const { return step_timing_; }
   /// Poses the scene at `time` of `animation` (the time line moved), at the morph weights set by

@@ -117,8 +117,10 @@ struct SceneView::Impl {
   void follow_structure(const ModelChange& change);
   /// The data of `sp`, new in a structural step: copied through the step's origins from the data
   /// drawn for the instance it was made out of (among `old`), else built afresh.
+  /// `spare`: data no longer drawn, held nowhere else, whose arrays a copy may take.
   std::shared_ptr<ViewPolyData> built_data(const plugins::SceneInstance& sp, const ModelChange& change,
-                                           const std::vector<InstanceActor>& old) const;
+                                           const std::vector<InstanceActor>& old,
+                                           std::vector<std::shared_ptr<ViewPolyData>>& spare) const;
   /// The look and display mode every instance's actor gets.
   void set_up(InstanceActor& instance) const;
   /// Draws the next shader variant of SceneView::warm_up. @returns whether one remains.
@@ -495,13 +497,14 @@ void SceneView::update_scene(const ModelChange& change) {
   if (d.show_normals) d.rebuild_normals();
 }
 
-std::shared_ptr<ViewPolyData> SceneView::Impl::built_data(const plugins::SceneInstance& sp, const ModelChange& change,
-                                                         const std::vector<InstanceActor>& old) const {
+std::shared_ptr<ViewPolyData> SceneView::Impl::built_data(
+    const plugins::SceneInstance& sp, const ModelChange& change, const std::vector<InstanceActor>& old,
+    std::vector<std::shared_ptr<ViewPolyData>>& spare) const {
   for (const auto& o : change.origins) {
     if (!o || o->node != sp.node || o->mesh != sp.mesh || o->primitive != sp.primitive) continue;
     for (const InstanceActor& from : old)
       if (from.data && from.node == o->node_before && from.mesh == o->mesh_before && from.primitive == o->primitive_before)
-        return instance_view_data(*scene, sp, *from.data, *o);
+        return instance_view_data(*scene, sp, *from.data, *o, &spare);
   }
   return instance_view_data(*scene, sp);
 }
@@ -515,10 +518,13 @@ void SceneView::Impl::follow_structure(const ModelChange& change) {
   old.swap(instances);
   for (InstanceActor& instance : old) renderer->RemoveActor(instance.actor);
   picker->InitializePickList();
-  decltype(stash) back;  // only what comes back (the rest goes before anything is built)
+  decltype(stash) back;  // only what comes back (the rest is spare: a copy reuses its arrays)
   using Kind = plugins::InstanceOrigin::Kind;
   for (const plugins::InstanceOrigin& origin : scene->origins)
     if (const auto it = stash.find(origin.key); origin.kind == Kind::Stashed && it != stash.end()) back.insert(*it);
+  std::vector<std::shared_ptr<ViewPolyData>> spare;
+  for (auto& [key, data] : stash)
+    if (!back.count(key) && data && data.use_count() == 1) spare.push_back(std::move(data));
   stash.clear();
   std::vector<std::string> notes;
   for (std::size_t i = 0; i < scene->instances.size(); ++i) {
@@ -535,7 +541,7 @@ void SceneView::Impl::follow_structure(const ModelChange& change) {
     // (A guard: data of another state than the scene's.)
     if (data && static_cast<std::size_t>(data->poly()->GetNumberOfCells()) != sp.surface->face_slots()) data = nullptr;
     if (data) clear_colors(data->poly());  // the inspectors colour again
-    add_actor(sp, data ? std::move(data) : built_data(sp, change, old), notes);
+    add_actor(sp, data ? std::move(data) : built_data(sp, change, old, spare), notes);
   }
   for (const auto& [j, key] : scene->departed)  // (displaced data is not kept: built again)
     if (j < old.size() && old[j].data && !old[j].displaced) stash[key] = std::move(old[j].data);

@@ -187,30 +187,51 @@ void PosedMesh::follow_corner_normals(const SurfaceMesh& surface, const Primitiv
 
 std::vector<glm::vec3> PosedMesh::corner_normals(const SurfaceMesh& surface, const PrimitiveOrigin& origin,
                                                  const std::vector<glm::vec3>& source_normals) const {
-  const auto* normals = surface.corner_attrs().find<glm::vec3>(attr::kNormal);
-  if (!normals) return {};
-  const std::size_t slots = surface.face_slots();
-  if (origin.faces.size() != slots) return corner_normals(surface);
   std::vector<glm::vec3> out;
-  detail::resize_prefaulted(out, normals->size(), glm::vec3(0.0f));
+  corner_normals(surface, origin, source_normals, out);
+  return out;
+}
+
+void PosedMesh::corner_normals(const SurfaceMesh& surface, const PrimitiveOrigin& origin,
+                               const std::vector<glm::vec3>& source_normals,
+                               std::vector<glm::vec3>& out) const {
+  const auto* normals = surface.corner_attrs().find<glm::vec3>(attr::kNormal);
+  const std::size_t slots = surface.face_slots();
+  if (!normals || origin.faces.size() != slots) {
+    out = corner_normals(surface);
+    return;
+  }
+  if (out.capacity() >= normals->size()) {
+    out.resize(normals->size());
+  } else {
+    out = std::vector<glm::vec3>();
+    detail::resize_prefaulted(out, normals->size(), glm::vec3(0.0f));
+  }
   // Faces with a source copy its corners (the same corner attributes, vertices with the same
-  // linear maps: the kernel would give the same bits); the others are computed, in order.
-  std::vector<char> computed(slots, 0);
-  parallel_for(slots, kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t f = b; f < e; ++f) {
-      const std::size_t s = origin.faces[f];
-      if (s == kInvalidIndex || 3 * s + 2 >= source_normals.size()) {
-        computed[f] = 1;
-        continue;
+  // linear maps: the kernel would give the same bits); the others are listed per chunk, joined
+  // in order, and computed.
+  const std::size_t chunks = (slots + kGrain - 1) / kGrain;
+  std::vector<std::vector<std::uint32_t>> rims(chunks);
+  glm::vec3* const to = out.data();
+  parallel_for(chunks, 1, [&](std::size_t b, std::size_t e) {
+    const std::uint32_t* const from = origin.faces.data();
+    const glm::vec3* const source = source_normals.data();
+    const std::size_t sources = source_normals.size();
+    for (std::size_t i = b; i < e; ++i)
+      for (std::size_t f = i * kGrain, end = std::min(slots, (i + 1) * kGrain); f < end; ++f) {
+        const std::size_t s = from[f];
+        if (s == kInvalidIndex || 3 * s + 2 >= sources) {
+          rims[i].push_back(static_cast<std::uint32_t>(f));
+          continue;
+        }
+        to[3 * f] = source[3 * s];
+        to[3 * f + 1] = source[3 * s + 1];
+        to[3 * f + 2] = source[3 * s + 2];
       }
-      for (std::size_t k = 0; k < 3; ++k) out[3 * f + k] = source_normals[3 * s + k];
-    }
   });
   std::vector<std::uint32_t> faces;
-  for (std::size_t f = 0; f < slots; ++f)
-    if (computed[f]) faces.push_back(static_cast<std::uint32_t>(f));
+  for (const auto& rim : rims) faces.insert(faces.end(), rim.begin(), rim.end());
   corner_normals_of(*this, surface, *normals, faces, out);
-  return out;
 }
 
 PosedMesh PosedMesh::at_positions(const SurfaceMesh& surface, std::vector<glm::vec3> posed) {
@@ -346,19 +367,28 @@ PosedMesh PosedModel::derive_instance(const Model& model, int node, int primitiv
   // A vertex with a source has its attributes, posed alike (same world, joints and weights):
   // its position and linear map are the source's bits. The others are posed.
   const bool copy = origin.vertices.size() == n && source.linear.size() == source.posed.size();
+  // The bounds are measured in the same pass (min / max are exact in any order).
   const VertexPoser pose(mesh, inst);
-  parallel_for(n, kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t v = b; v < e; ++v) {
-      const std::uint32_t s = copy ? origin.vertices[v] : kInvalidIndex;
-      if (s < source.posed.size()) {
-        inst.posed[v] = source.posed[s];
-        inst.linear[v] = source.linear[s];
-      } else {
-        pose(v, inst);
-      }
-    }
-  });
-  inst.bounds = bounds_of(inst.posed);
+  inst.bounds = parallel_reduce(
+      n, kGrain, BoundingBox(),
+      [&](std::size_t b, std::size_t e) {
+        BoundingBox part;
+        for (std::size_t v = b; v < e; ++v) {
+          const std::uint32_t s = copy ? origin.vertices[v] : kInvalidIndex;
+          if (s < source.posed.size()) {
+            inst.posed[v] = source.posed[s];
+            inst.linear[v] = source.linear[s];
+          } else {
+            pose(v, inst);
+          }
+          part.add(inst.posed[v]);
+        }
+        return part;
+      },
+      [](BoundingBox acc, const BoundingBox& part) {
+        acc.add(part);
+        return acc;
+      });
   return inst;
 }
 

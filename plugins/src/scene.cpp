@@ -2,10 +2,13 @@
 #include "deepcut/plugins/scene.h"
 
 #include <algorithm>
+#include <atomic>
+#include <memory>
 #include <set>
 #include <unordered_set>
 
 #include "deepcut/core/errors.h"
+#include "deepcut/core/parallel.h"
 #include "deepcut/core/skinning.h"
 #include "deepcut/plugins/colors.h"
 
@@ -104,21 +107,39 @@ const SurfaceMesh* primitive_mesh(const Model& model, int mesh, int primitive) {
 
 namespace {
 
+/// Of `spare` (arrays of normals no longer drawn), the smallest holding `n` values without
+/// growing (taken out of it), else an empty array.
+std::vector<glm::vec3> take_spare(std::vector<std::vector<glm::vec3>>& spare, std::size_t n) {
+  auto best = spare.end();
+  for (auto it = spare.begin(); it != spare.end(); ++it)
+    if (it->capacity() >= n && (best == spare.end() || it->capacity() < best->capacity())) best = it;
+  if (best == spare.end()) return {};
+  std::vector<glm::vec3> out = std::move(*best);
+  spare.erase(best);
+  return out;
+}
+
 /// The corner normals of `instance`, built in a structural step: copied from the normals drawn
 /// before (`old`, posed as `old_poses` say) for the faces a piece has of the instance it was made
-/// out of (ModelChange::origins) when that was posed alike, computed for the others.
+/// out of (ModelChange::origins) when that was posed alike, computed for the others. The copy is
+/// written into one of `spare` where one is large enough (its memory reused).
 std::vector<glm::vec3> built_normals(const SceneInstance& instance, const ModelChange& change,
-                                     const std::vector<SceneInstance>& old, const std::vector<PosedMeshHeader>& old_poses) {
+                                     const std::vector<SceneInstance>& old,
+                                     const std::vector<PosedMeshHeader>& old_poses,
+                                     std::vector<std::vector<glm::vec3>>& spare) {
   const PosedMesh& pose = *instance.pose;
   for (const auto& o : change.origins) {
     if (!o || o->node != instance.node || o->mesh != instance.mesh || o->primitive != instance.primitive) continue;
     for (std::size_t i = 0; i < old.size(); ++i) {
       const SceneInstance& before = old[i];
       const PosedMeshHeader& posed = old_poses[i];
-      if (before.node == o->node_before && before.mesh == o->mesh_before && before.primitive == o->primitive_before &&
-          !before.posed_normals.empty() && posed.world == pose.world && posed.joints == pose.joints &&
-          posed.weights == pose.weights)
-        return pose.corner_normals(*instance.surface, *o, before.posed_normals);
+      if (before.node == o->node_before && before.mesh == o->mesh_before &&
+          before.primitive == o->primitive_before && !before.posed_normals.empty() &&
+          posed.world == pose.world && posed.joints == pose.joints && posed.weights == pose.weights) {
+        std::vector<glm::vec3> out = take_spare(spare, 3 * instance.surface->face_slots());
+        pose.corner_normals(*instance.surface, *o, before.posed_normals, out);
+        return out;
+      }
     }
   }
   return pose.corner_normals(*instance.surface);
@@ -145,10 +166,19 @@ void follow_structure(Scene& scene, std::shared_ptr<const Model> model, const Mo
   std::map<const glm::vec3*, std::pair<std::uint64_t, int>> stashed;
   for (const auto& [key, inst] : scene.stash->posed)
     if (arriving.count(key.first)) stashed[inst.posed.data()] = key;
+  // The normals of what does not come back are spare: a piece's copied normals reuse their
+  // memory (the pages are there already).
   auto normals_back = std::move(scene.stash->normals);
   scene.stash->normals.clear();
-  for (auto it = normals_back.begin(); it != normals_back.end();)
-    it = arriving.count(it->first.first) ? std::next(it) : normals_back.erase(it);
+  std::vector<std::vector<glm::vec3>> spare;
+  for (auto it = normals_back.begin(); it != normals_back.end();) {
+    if (arriving.count(it->first.first)) {
+      ++it;
+      continue;
+    }
+    spare.push_back(std::move(it->second));
+    it = normals_back.erase(it);
+  }
   scene.model = std::move(model);
   const Model& m = *scene.model;
   scene.posed->follow(m, change, PoseDetail::Positions, &scene.stash->posed);
@@ -172,7 +202,8 @@ void follow_structure(Scene& scene, std::shared_ptr<const Model> model, const Mo
     }
     const bool normals_fit = instance.posed_normals.size() == 3 * instance.surface->face_slots();
     if (origin.kind == InstanceOrigin::Kind::Built || (with_normals && !normals_fit))
-      instance.posed_normals = with_normals ? built_normals(instance, change, old, old_poses) : std::vector<glm::vec3>();
+      instance.posed_normals =
+          with_normals ? built_normals(instance, change, old, old_poses, spare) : std::vector<glm::vec3>();
   }
   // The instances whose posed mesh went into the stash, with their normals.
   scene.departed.clear();
@@ -303,15 +334,31 @@ Overlay skeleton_overlay(const Scene& scene) {
 }
 
 SceneCounts scene_counts(const Scene& scene) {
+  // Each instance's referenced vertices marked, then counted, over the pool (the status bar
+  // asks after every frame).
+  constexpr std::size_t kGrain = 65536;
   SceneCounts counts;
   for (const SceneInstance& instance : scene.instances) {
     const SurfaceMesh& mesh = *instance.surface;
     counts.triangles += mesh.face_count();
-    std::vector<char> used(mesh.vertex_count(), 0);
-    mesh.for_each_face([&](FaceId, const Triangle& t) {
-      for (VertexId v : t) used[v.index] = 1;
+    std::unique_ptr<std::atomic<std::uint8_t>[]> used(new std::atomic<std::uint8_t>[mesh.vertex_count()]);
+    parallel_for(mesh.vertex_count(), kGrain, [&](std::size_t b, std::size_t e) {
+      for (std::size_t v = b; v < e; ++v) used[v].store(0, std::memory_order_relaxed);
     });
-    counts.vertices += static_cast<std::size_t>(std::count(used.begin(), used.end(), 1));
+    parallel_for(mesh.face_slots(), kGrain, [&](std::size_t b, std::size_t e) {
+      const Triangle* const faces = mesh.faces().data();
+      for (std::size_t f = b; f < e; ++f)
+        if (!mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f))))
+          for (VertexId v : faces[f]) used[v.index].store(1, std::memory_order_relaxed);
+    });
+    counts.vertices += parallel_reduce(
+        mesh.vertex_count(), kGrain, std::size_t(0),
+        [&](std::size_t b, std::size_t e) {
+          std::size_t n = 0;
+          for (std::size_t v = b; v < e; ++v) n += used[v].load(std::memory_order_relaxed);
+          return n;
+        },
+        [](std::size_t a, std::size_t b) { return a + b; });
   }
   return counts;
 }

@@ -17,10 +17,10 @@
 // the action to its render call, the UI thread's CPU time ("to_render_call_ui_cpu_ms") and the
 // whole process's (every thread of the pool, "to_render_call_process_cpu_ms"). An operation's
 // apply also says where its time to the render call went ("phases": the operation with its undo
-// record, the scene following it, the view's VTK data; none for the "..._rebuild" rows but the
-// operation's) and what it left for when the UI is idle after its frame ("prepare_updates_ms":
-// SceneView::prepare_updates, the corner lists of a cut's pieces, timed on its own before the
-// undo so that the undo does not pay for it).
+// record, the scene following it, the view's VTK data, the last two also as the process's CPU
+// time; none for the "..._rebuild" rows but the operation's) and what it left for when the UI
+// is idle after its frame ("prepare_updates_ms": SceneView::prepare_updates, the corner lists of
+// a cut's pieces, timed on its own before the undo so that the undo does not pay for it).
 //   deepcut_studio_bench [--json] [--quick] [--size N] [--no-rebuild] [--ops N] [--open-only]
 //                        [--only drill|tear|cut]
 // --quick: the 25K cactus only; --size N: only the cactus of about N triangles (a profile of one
@@ -212,7 +212,7 @@ json step_json(const std::vector<Timed>& runs) {
 /// One operation kind: apply, undo and redo three times each (undone again after each redo).
 json time_operation(MainWindow& window, Timer& timer, const std::function<deepcut::Operation()>& make) {
   std::vector<Timed> applied, undone, redone;
-  std::vector<double> operation, scene, view, idle;  // the apply's phases, its idle work
+  std::vector<double> operation, scene, view, scene_cpu, view_cpu, idle;  // the apply's phases, its idle work
   for (int rep = 0, misses = 0; rep < 3;) {
     const deepcut::Operation op = make();
     bool hit = false;
@@ -227,6 +227,8 @@ json time_operation(MainWindow& window, Timer& timer, const std::function<deepcu
     operation.push_back(window.last_operation_ms());
     scene.push_back(step.scene_ms);
     view.push_back(step.view_ms);
+    scene_cpu.push_back(step.scene_cpu_ms);
+    view_cpu.push_back(step.view_cpu_ms);
     const auto idle0 = Clock::now();
     window.view()->prepare_updates();  // what the step's zero timer would do after its frame
     idle.push_back(ms_since(idle0, Clock::now()));
@@ -235,7 +237,11 @@ json time_operation(MainWindow& window, Timer& timer, const std::function<deepcu
     window.undo_action()->trigger();
   }
   json out = {{"apply", step_json(applied)}, {"undo", step_json(undone)}, {"redo", step_json(redone)}};
-  out["apply"]["phases"] = {{"operation_ms", median(operation)}, {"scene_ms", median(scene)}, {"view_ms", median(view)}};
+  out["apply"]["phases"] = {{"operation_ms", median(operation)},
+                            {"scene_ms", median(scene)},
+                            {"view_ms", median(view)},
+                            {"scene_process_cpu_ms", median(scene_cpu)},
+                            {"view_process_cpu_ms", median(view_cpu)}};
   out["apply"]["prepare_updates_ms"] = median(idle);
   return out;
 }

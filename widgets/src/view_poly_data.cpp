@@ -100,8 +100,9 @@ ViewPolyData::ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>
 
 ViewPolyData::ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
                            const std::vector<glm::vec3>* corner_normals, const ViewPolyData& source,
-                           const PrimitiveOrigin& origin) {
+                           const PrimitiveOrigin& origin, ViewPolyData* spare) {
   make_arrays(mesh);
+  if (spare && spare != &source && spare->poly_) take_arrays(*spare, mesh.face_slots());
   resize(mesh);
   vertices_ = mesh.vertex_count();
   if (corners_ && copy_corner_points(Writer(poly_, mesh, positions, corner_normals), source, origin)) {

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <initializer_list>
 #include <memory>
 
 #include "deepcut/core/parallel.h"
@@ -22,7 +23,7 @@ using view_data::Raw;
 // What a copying build knows of a piece's corners between its passes (copy_corner_points).
 struct ViewPolyData::Copying {
   std::vector<std::uint32_t> kept;     // new point -> the source's point
-  std::vector<std::uint32_t> number;   // the source's point -> new point (kInvalidIndex: unused)
+  std::unique_ptr<std::uint32_t[]> number;  // the source's point -> new point (kInvalidIndex: unused)
   std::vector<std::uint32_t> waiting;  // corners without a point, in order
   std::vector<char> orphan;            // per new point: no corner chosen yet
   std::vector<char> rim;               // per vertex: some corner of it waits
@@ -31,22 +32,53 @@ struct ViewPolyData::Copying {
 
 namespace {
 
-// Calls `fn(chunk, f)` for every face slot of `mesh` that is live, in chunks of kGrain slots
-// over the pool; `chunks` is set to their number (results kept per chunk join in order).
+// Calls `fn(chunk, begin, end)` for the face slots of `mesh` in chunks of kGrain slots, over
+// the pool (results kept per chunk join in order). @returns the number of chunks. The bodies
+// read what they use into locals first: their stores (bytes among them) could otherwise alias
+// the captures, read again for every corner.
 template <class Fn>
-void for_live_faces(const SurfaceMesh& mesh, std::size_t& chunks, const Fn& fn) {
-  const std::size_t slots = mesh.face_slots();
-  chunks = (slots + kGrain - 1) / kGrain;
+std::size_t for_face_chunks(const SurfaceMesh& mesh, const Fn& fn) {
+  const std::size_t slots = mesh.face_slots(), chunks = (slots + kGrain - 1) / kGrain;
   parallel_for(chunks, 1, [&](std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i)
-      for (std::size_t f = i * kGrain; f < std::min(slots, (i + 1) * kGrain); ++f)
-        if (!mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) fn(i, f);
+    for (std::size_t i = b; i < e; ++i) fn(i, i * kGrain, std::min(slots, (i + 1) * kGrain));
   });
+  return chunks;
 }
 
 template <class T>
 void join(const std::vector<std::vector<T>>& parts, std::vector<T>& out) {
   for (const auto& part : parts) out.insert(out.end(), part.begin(), part.end());
+}
+
+// The points among `n` that are `used`, numbered in order: `number` (point -> its number, else
+// kInvalidIndex) and `kept` (number -> point). Counted per chunk, then numbered from each chunk's
+// first number, over the pool.
+void number_in_order(const std::atomic<std::uint8_t>* used, std::size_t n,
+                     std::unique_ptr<std::uint32_t[]>& number, std::vector<std::uint32_t>& kept) {
+  const std::size_t chunks = (n + kGrain - 1) / kGrain;
+  std::vector<std::uint32_t> first(chunks + 1, 0);
+  parallel_for(chunks, 1, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      std::uint32_t count = 0;
+      for (std::size_t p = i * kGrain, end = std::min(n, (i + 1) * kGrain); p < end; ++p)
+        count += used[p].load(std::memory_order_relaxed);
+      first[i + 1] = count;
+    }
+  });
+  for (std::size_t i = 0; i < chunks; ++i) first[i + 1] += first[i];
+  number.reset(new std::uint32_t[n]);  // written whole below (no value fill first)
+  kept.resize(first[chunks]);
+  parallel_for(chunks, 1, [&](std::size_t b, std::size_t e) {
+    std::uint32_t *const to_number = number.get(), *const to_kept = kept.data();
+    for (std::size_t i = b; i < e; ++i) {
+      std::uint32_t next = first[i];
+      for (std::size_t p = i * kGrain, end = std::min(n, (i + 1) * kGrain); p < end; ++p) {
+        const bool in_use = used[p].load(std::memory_order_relaxed);
+        to_number[p] = in_use ? next : kInvalidIndex;
+        if (in_use) to_kept[next++] = static_cast<std::uint32_t>(p);
+      }
+    }
+  });
 }
 
 }  // namespace
@@ -84,49 +116,54 @@ void ViewPolyData::copy_connectivity(const Writer& w, const ViewPolyData& source
                                      Copying& copying) {
   // A live face with a source face: each corner takes the point its source corner has (the
   // source's number for now) when that point draws the corner's source vertex; the others wait.
+  // A deleted face's cell is (0, 0, 0).
   const SurfaceMesh& mesh = w.mesh;
   const std::size_t old_points = source.uses_.size();
   const auto old_cells = static_cast<std::size_t>(source.poly_->GetNumberOfCells());
   const Raw old = raw(source.poly_);
-  vtkTypeInt64* conn = w.r.connectivity;
-  std::unique_ptr<std::atomic<std::uint8_t>[]> used(new std::atomic<std::uint8_t>[old_points]);
+  std::unique_ptr<std::atomic<std::uint8_t>[]> used_points(new std::atomic<std::uint8_t>[old_points]);
+  std::atomic<std::uint8_t>* const used = used_points.get();
   parallel_for(old_points, kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t p = b; p < e; ++p) used[p].store(0, std::memory_order_relaxed);
   });
-  parallel_for(mesh.face_slots(), kGrain, [&](std::size_t b, std::size_t e) {  // a deleted face's cell: (0, 0, 0)
-    for (std::size_t f = b; f < e; ++f)
-      if (mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) std::fill(conn + 3 * f, conn + 3 * f + 3, 0);
-  });
-  std::size_t chunks = 0;
   const std::size_t parts = (mesh.face_slots() + kGrain - 1) / kGrain;
   std::vector<std::vector<std::uint32_t>> waits(parts), collapsed(parts);
-  for_live_faces(mesh, chunks, [&](std::size_t chunk, std::size_t f) {
-    const std::uint32_t from = origin.faces[f];
-    const Triangle& t = mesh.faces()[f];
-    if (t[0] == t[1] && t[1] == t[2]) collapsed[chunk].push_back(static_cast<std::uint32_t>(f));
-    for (std::size_t k = 0; k < 3; ++k) {
-      vtkTypeInt64 p = -1;
-      if (from < old_cells) {
-        const vtkTypeInt64 q = old.connectivity[3 * std::size_t(from) + k];
-        const std::uint32_t v = origin.vertices[mesh.faces()[f][static_cast<int>(k)].index];
-        if (q >= 0 && static_cast<std::size_t>(q) < old_points && v != kInvalidIndex && old.vertex_id[q] == v) p = q;
+  for_face_chunks(mesh, [&](std::size_t chunk, std::size_t b, std::size_t e) {
+    vtkTypeInt64* const conn = w.r.connectivity;
+    const vtkTypeInt64* const old_conn = old.connectivity;
+    const vtkIdType* const old_vertex = old.vertex_id;
+    const std::uint32_t *const face_from = origin.faces.data(), *const vertex_from = origin.vertices.data();
+    const Triangle* const faces = mesh.faces().data();
+    std::atomic<std::uint8_t>* const in_use = used;
+    std::vector<std::uint32_t>& wait = waits[chunk];
+    for (std::size_t f = b; f < e; ++f) {
+      vtkTypeInt64* const cell = conn + 3 * f;
+      if (mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) {
+        cell[0] = cell[1] = cell[2] = 0;
+        continue;
       }
-      conn[3 * f + k] = p;
-      if (p >= 0)
-        used[p].store(1, std::memory_order_relaxed);
-      else
-        waits[chunk].push_back(static_cast<std::uint32_t>(3 * f + k));
+      const std::uint32_t from = face_from[f];
+      const Triangle& t = faces[f];
+      if (t[0] == t[1] && t[1] == t[2]) collapsed[chunk].push_back(static_cast<std::uint32_t>(f));
+      for (std::size_t k = 0; k < 3; ++k) {
+        vtkTypeInt64 p = -1;
+        if (from < old_cells) {
+          const vtkTypeInt64 q = old_conn[3 * std::size_t(from) + k];
+          const std::uint32_t v = vertex_from[t[static_cast<int>(k)].index];
+          if (q >= 0 && static_cast<std::size_t>(q) < old_points && v != kInvalidIndex && old_vertex[q] == v)
+            p = q;
+        }
+        cell[k] = p;
+        if (p >= 0)
+          in_use[p].store(1, std::memory_order_relaxed);
+        else
+          wait.push_back(static_cast<std::uint32_t>(3 * f + k));
+      }
     }
   });
   join(waits, copying.waiting);
   join(collapsed, collapsed_);  // (their cells may name one point three times, as deleted faces' do)
-  // The source's points in use, numbered in order.
-  copying.number.assign(old_points, kInvalidIndex);
-  for (std::size_t p = 0; p < old_points; ++p)
-    if (used[p].load(std::memory_order_relaxed)) {
-      copying.number[p] = static_cast<std::uint32_t>(copying.kept.size());
-      copying.kept.push_back(static_cast<std::uint32_t>(p));
-    }
+  number_in_order(used, old_points, copying.number, copying.kept);
 }
 
 void ViewPolyData::choose_corners(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin,
@@ -138,7 +175,11 @@ void ViewPolyData::choose_corners(const Writer& w, const ViewPolyData& source, c
   const SurfaceMesh& mesh = w.mesh;
   const std::size_t slots = mesh.face_slots(), points = copying.kept.size();
   const auto old_cells = static_cast<std::size_t>(source.poly_->GetNumberOfCells());
-  std::vector<std::uint32_t> face_of(old_cells, kInvalidIndex);  // source face slot -> face slot
+  // Source face slot -> face slot (filled over the pool, not by a serial value fill first).
+  std::unique_ptr<std::uint32_t[]> face_of(new std::uint32_t[old_cells]);
+  parallel_for(old_cells, kGrain, [&](std::size_t b, std::size_t e) {
+    std::fill(face_of.get() + b, face_of.get() + e, kInvalidIndex);
+  });
   parallel_for(slots, kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t f = b; f < e; ++f)
       if (origin.faces[f] < old_cells && !mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f))))
@@ -166,22 +207,30 @@ void ViewPolyData::renumber(const Writer& w, Copying& copying) {
   // One pass: the kept corners take their points' new numbers; the corners of orphan points and
   // of vertices with waiting corners are gathered, in order.
   const SurfaceMesh& mesh = w.mesh;
-  vtkTypeInt64* conn = w.r.connectivity;
   const std::size_t parts = (mesh.face_slots() + kGrain - 1) / kGrain;
   std::vector<std::vector<std::uint32_t>> orphans(parts), rims(parts);
-  std::size_t chunks = 0;
-  for_live_faces(mesh, chunks, [&](std::size_t chunk, std::size_t f) {
-    for (std::size_t k = 0; k < 3; ++k) {
-      const std::size_t c = 3 * f + k;
-      if (copying.rim[mesh.faces()[f][static_cast<int>(k)].index]) rims[chunk].push_back(static_cast<std::uint32_t>(c));
-      if (conn[c] < 0) continue;
-      const std::uint32_t p = copying.number[static_cast<std::size_t>(conn[c])];
-      conn[c] = p;
-      if (copying.orphan[p]) orphans[chunk].push_back(static_cast<std::uint32_t>(c));
+  for_face_chunks(mesh, [&](std::size_t chunk, std::size_t b, std::size_t e) {
+    vtkTypeInt64* const conn = w.r.connectivity;
+    const Triangle* const faces = mesh.faces().data();
+    const char *const rim = copying.rim.data(), *const orphan = copying.orphan.data();
+    const std::uint32_t* const number = copying.number.get();
+    std::vector<std::uint32_t>&orphan_list = orphans[chunk], &rim_list = rims[chunk];
+    for (std::size_t f = b; f < e; ++f) {
+      if (mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) continue;
+      const Triangle& t = faces[f];
+      for (std::size_t k = 0; k < 3; ++k) {
+        const std::size_t c = 3 * f + k;
+        if (rim[t[static_cast<int>(k)].index]) rim_list.push_back(static_cast<std::uint32_t>(c));
+        if (conn[c] < 0) continue;
+        const std::uint32_t p = number[static_cast<std::size_t>(conn[c])];
+        conn[c] = p;
+        if (orphan[p]) orphan_list.push_back(static_cast<std::uint32_t>(c));
+      }
     }
   });
   join(orphans, copying.orphan_corners);
   join(rims, copying.rim_corners);
+  vtkTypeInt64* conn = w.r.connectivity;
   for (std::uint32_t c : copying.orphan_corners) {
     const auto p = static_cast<std::size_t>(conn[c]);
     if (point_corner_[p] == kInvalidIndex) point_corner_[p] = c;
@@ -203,6 +252,45 @@ void ViewPolyData::assign_waiting(const Writer& w, const std::vector<std::uint32
     while (j < all.size() && all[j].first == all[i].first) ++j;
     assign_points(w, all[i].first, Corners{nullptr, kInvalidIndex, corners.data() + i, corners.data() + j}, dead);
   }
+}
+
+void ViewPolyData::take_arrays(ViewPolyData& spare, std::size_t slots) {
+  vtkPolyData* from = spare.poly_;
+  vtkCellArray* cells = from->GetPolys();
+  vtkTypeInt64Array *offsets = cells->GetOffsetsArray64(), *connectivity = cells->GetConnectivityArray64();
+  auto* face_ids = view_data::named<vtkIdTypeArray>(from->GetCellData(), "face_id");
+  if (!offsets || !connectivity || !face_ids || connectivity->GetSize() < static_cast<vtkIdType>(3 * slots) ||
+      offsets->GetSize() <= static_cast<vtkIdType>(slots) ||
+      face_ids->GetSize() < static_cast<vtkIdType>(slots))
+    return;
+  // The cells: every data's offsets and face ids are the identity, so those already there stay.
+  poly_->GetPolys()->SetData(offsets, connectivity);
+  vtkCellData* cd = poly_->GetCellData();
+  cd->RemoveArray("face_id");
+  cd->AddArray(face_ids);
+  // The points' arrays of each kind this data has.
+  vtkPointData *pd = poly_->GetPointData(), *spare_pd = from->GetPointData();
+  auto* points = vtkFloatArray::SafeDownCast(from->GetPoints()->GetData());
+  if (points && points->GetNumberOfComponents() == 3) poly_->GetPoints()->SetData(points);
+  if (auto* ids = view_data::named<vtkIdTypeArray>(spare_pd, "vertex_id")) {
+    pd->RemoveArray("vertex_id");
+    pd->AddArray(ids);
+  }
+  auto* normals = vtkFloatArray::SafeDownCast(spare_pd->GetNormals());
+  if (normals && pd->GetNormals() && normals->GetNumberOfComponents() == 3) pd->SetNormals(normals);
+  auto* uv = view_data::named<vtkFloatArray>(spare_pd, "uv0");
+  if (uv && pd->GetTCoords() && uv->GetNumberOfComponents() == 2) pd->SetTCoords(uv);
+  for (vtkAbstractArray* a :
+       std::initializer_list<vtkAbstractArray*>{offsets, connectivity, face_ids, points, normals, uv})
+    if (a) a->Modified();  // (ranges cached for the values before)
+  // The per-point and per-corner arrays too: each is sized and written whole before it is read.
+  uses_.swap(spare.uses_);
+  point_corner_.swap(spare.point_corner_);
+  first_.swap(spare.first_);
+  next_.swap(spare.next_);
+  prev_.swap(spare.prev_);
+  corner_vertex_.swap(spare.corner_vertex_);
+  spare.poly_ = nullptr;  // (only to be destroyed now)
 }
 
 }  // namespace deepcut

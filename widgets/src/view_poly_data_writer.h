@@ -57,9 +57,14 @@ inline Raw raw(vtkPolyData* poly) {
 
 // Point `p`'s position and, when both are there, normal: what a build, an update and a new
 // pose all write.
+// (Three stores each: a copy of three floats compiles to a call to memmove, per point.)
 inline void write_point(const Raw& r, std::size_t p, const glm::vec3& position, const glm::vec3* normal) {
-  std::copy(&position.x, &position.x + 3, r.points + 3 * p);
-  if (r.normals && normal) std::copy(&normal->x, &normal->x + 3, r.normals + 3 * p);
+  float* const to = r.points + 3 * p;
+  to[0] = position.x, to[1] = position.y, to[2] = position.z;
+  if (r.normals && normal) {
+    float* const n = r.normals + 3 * p;
+    n[0] = normal->x, n[1] = normal->y, n[2] = normal->z;
+  }
 }
 
 // A point no corner draws (what a deleted face's cell names when no other point is left).

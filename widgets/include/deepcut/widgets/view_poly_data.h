@@ -55,10 +55,14 @@ class ViewPolyData {
   /// faces and points instead of comparing every vertex's corners; the corner lists `update`
   /// needs are left for `prepare_updates` (the data is drawn without them). Builds from scratch
   /// when `source` or `origin` does not fit (no corner points, other sizes).
+  /// `spare` (data no longer drawn, or null): where its arrays are large enough for this mesh's
+  /// cells, they are taken over, so their memory is reused: no new pages to fault in, and the
+  /// cells' offsets and face ids (the same for every data) are written only past the spare's
+  /// cells. `spare` is then left without data, only to be destroyed.
   /// @pre the vertices `origin` gives a source are distinct.
   ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
                const std::vector<glm::vec3>* corner_normals, const ViewPolyData& source,
-               const PrimitiveOrigin& origin);
+               const PrimitiveOrigin& origin, ViewPolyData* spare = nullptr);
 
   /// Builds what `update` needs that the constructors left out (the corner lists,
   /// O(corners) over the pool): once, when idle after the first frame (else the next `update`
@@ -105,6 +109,11 @@ class ViewPolyData {
   void set_point_count(std::size_t n);
   /// The empty arrays (no points, no cells) for `mesh`.
   void make_arrays(const SurfaceMesh& mesh);
+  /// Takes `spare`'s arrays in place of the empty ones (make_arrays) when its cell arrays hold
+  /// `slots` cells, those it has of each kind (points, vertex ids, normals, texture
+  /// coordinates): their values stay until written, so the cells' identity offsets and face ids
+  /// are not written again.
+  void take_arrays(ViewPolyData& spare, std::size_t slots);
   /// The corner lists from the drawn cells (a live cell's corners, linked to their points'
   /// vertices). A cell naming one point three times is a deleted face's, unless its face is in
   /// `collapsed_` (a live face whose three corners are one vertex drawn alike names one point
