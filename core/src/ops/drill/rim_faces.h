@@ -86,7 +86,7 @@ struct RimShared {
   const CylinderFrame& cyl;
   const detail::NeedleMerges& merges;
   // Per candidate: its edges' records (edge k from corner k to corner k + 1).
-  const std::vector<std::array<const EdgeCut*, 3>>& face_edges;
+  const std::vector<std::array<EdgeCut*, 3>>& face_edges;  // only read while planning
   double eps = 0.0, sep = 0.0, ruling_reach = -1.0;
   int samples = 32;
   std::vector<glm::dvec3> ruling_base;  // where each sampled ruling starts (s = 0)
@@ -194,7 +194,7 @@ class FacePlanner {
   std::uint32_t chunk_;
   PlanScratch& w_;
   FacePlan* plan_ = nullptr;                                  // the candidate being planned
-  const std::array<const EdgeCut*, 3>* cur_edges_ = nullptr;  // its edges' records
+  const std::array<EdgeCut*, 3>* cur_edges_ = nullptr;  // its edges' records
   FacePlane face_;
   const std::vector<std::vector<std::uint32_t>> no_holes_;
 };

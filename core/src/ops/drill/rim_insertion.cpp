@@ -43,7 +43,7 @@ class RimInserter {
   RimInsertion run(const std::vector<FaceId>& candidates);
 
  private:
-  const EdgeCut& edge(VertexId a, VertexId b);
+  const EdgeCut& edge(EdgeCut& e, VertexId a, VertexId b);
   void merge_crossings(std::size_t c, FaceId f);
   void allow_steiner(const std::vector<FaceId>& candidates);
   bool deep(const Triangle& t, detail::VertexSlots& judged) const;
@@ -66,8 +66,9 @@ class RimInserter {
   // whole and none of its edges is crossed: it is removed without looking at its edges.
   std::vector<std::uint8_t> deep_;
   // Per candidate: its edges' records (edge k from corner k to corner k + 1), looked up once by
-  // merge_crossings and read again by the planning (CrossingTable records never move).
-  std::vector<std::array<const EdgeCut*, 3>> face_edges_;
+  // allow_steiner and read again by merge_crossings and the planning (CrossingTable records
+  // never move).
+  std::vector<std::array<EdgeCut*, 3>> face_edges_;
   // Crossings that fell on one bind position (the two long edges of a needle crossed at the same
   // parameter): the later vertex maps to the earlier, so the needle's tip is not a zero-area face.
   detail::NeedleMerges merges_;
@@ -78,8 +79,8 @@ class RimInserter {
   std::size_t crossings_ = 0, removed_ = 0, added_ = 0;
 };
 
-const EdgeCut& RimInserter::edge(VertexId a, VertexId b) {
-  EdgeCut& e = *edges_.try_emplace(a, b).first;  // made by allow_steiner
+// The crossings of edge {a, b}, worked out the first time its record `e` is asked for.
+const EdgeCut& RimInserter::edge(EdgeCut& e, VertexId a, VertexId b) {
   if (e.resolved) return e;
   e.resolved = true;
   e.lo = a < b ? a : b;
@@ -187,8 +188,8 @@ VertexId RimInserter::vertex_of(const Triangle& tri, LocalPoint& lp) {
 // triangle with two corners at one point), is not made. Same rule as the cut and the tear.
 void RimInserter::merge_crossings(std::size_t c, FaceId f) {
   const Triangle tri = mesh_.face(f);
-  std::array<const EdgeCut*, 3>& es = face_edges_[c];
-  for (int k = 0; k < 3; ++k) es[k] = &edge(tri[k], tri[(k + 1) % 3]);  // records never move
+  std::array<EdgeCut*, 3>& es = face_edges_[c];  // filed by allow_steiner
+  for (int k = 0; k < 3; ++k) edge(*es[k], tri[k], tri[(k + 1) % 3]);
   for (int k = 0; k < 3; ++k) {
     const EdgeCut& ea = *es[k];            // corner k to corner k + 1
     const EdgeCut& eb = *es[(k + 2) % 3];  // corner k + 2 to corner k
@@ -203,8 +204,9 @@ void RimInserter::merge_crossings(std::size_t c, FaceId f) {
 // edges, whose points at one parameter would round to one bind position (zero-area faces).
 void RimInserter::allow_steiner(const std::vector<FaceId>& candidates) {
   // Each candidate's half-edges file its edge's record (made here, in the order edge() asks for
-  // them): weight 1 for lo -> hi, 16 for hi -> lo, and whether the face is of bad shape. Faces
-  // deep inside hold no crossed edge, the only ones asked about.
+  // them; the candidate keeps it in face_edges_): weight 1 for lo -> hi, 16 for hi -> lo, and
+  // whether the face is of bad shape. Faces deep inside hold no crossed edge, the only ones
+  // asked about.
   const double cos_parent = std::cos(kSteinerParentAngle);
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     if (deep_[c]) continue;
@@ -214,9 +216,12 @@ void RimInserter::allow_steiner(const std::vector<FaceId>& candidates) {
     // than that margin, so the answer is acos's everywhere).
     bool bad = false;
     const glm::dvec3 corner[3] = {posed_(t[0]), posed_(t[1]), posed_(t[2])};
+    // Side k from corner k to corner k + 1 (c - a is -(a - c) exactly: one length per side).
+    double side[3];
+    for (int k = 0; k < 3; ++k) side[k] = glm::length(corner[(k + 1) % 3] - corner[k]);
     for (int k = 0; k < 3; ++k) {
       const glm::dvec3 &a = corner[k], &b = corner[(k + 1) % 3], &c3 = corner[(k + 2) % 3];
-      const double lb = glm::length(b - a), lc = glm::length(c3 - a);
+      const double lb = side[k], lc = side[(k + 2) % 3];
       if (!(lb > 0.0 && lc > 0.0)) {
         bad = true;
         continue;
@@ -227,7 +232,9 @@ void RimInserter::allow_steiner(const std::vector<FaceId>& candidates) {
     }
     for (int k = 0; k < 3; ++k) {
       const VertexId a = t[k], b = t[(k + 1) % 3];
-      edges_.try_emplace(a, b).first->file_side(a, b, bad);
+      EdgeCut* e = edges_.try_emplace(a, b).first;
+      e->file_side(a, b, bad);
+      face_edges_[c][k] = e;
     }
   }
 }
