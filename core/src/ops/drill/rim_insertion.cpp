@@ -27,6 +27,8 @@ constexpr double kSteinerClear = 0.3;
 constexpr double kSteinerParentAngle = 10.0 * geometry::kPi / 180.0;
 // Fewest candidates planned per parallel chunk (a few dozen crossed faces are worth a thread).
 constexpr std::size_t kPlanGrain = 24;
+// Fewest candidates judged (deep inside, bad shape) per parallel chunk.
+constexpr std::size_t kJudgeGrain = 128;
 
 // Runs the insertion: crossings and needle merges first (in candidate order, each edge split
 // once), then every candidate's plan (rim_faces.h, in parallel), then the plans carried out in
@@ -45,6 +47,8 @@ class RimInserter {
  private:
   const EdgeCut& edge(EdgeCut& e, VertexId a, VertexId b);
   void merge_crossings(std::size_t c, FaceId f);
+  std::size_t judge_faces(const std::vector<FaceId>& candidates);
+  bool bad_shape(const Triangle& t) const;
   void allow_steiner(const std::vector<FaceId>& candidates);
   bool deep(const Triangle& t, detail::VertexSlots& judged) const;
   void plan_faces(const std::vector<FaceId>& candidates);
@@ -65,6 +69,8 @@ class RimInserter {
   // Per candidate: all three corners deep inside (CylinderFrame::deep_inside), so the face goes
   // whole and none of its edges is crossed: it is removed without looking at its edges.
   std::vector<std::uint8_t> deep_;
+  // Per candidate not deep inside: of bad shape for Steiner points (allow_steiner).
+  std::vector<std::uint8_t> bad_;
   // Per candidate: its edges' records (edge k from corner k to corner k + 1), looked up once by
   // allow_steiner and read again by merge_crossings and the planning (CrossingTable records
   // never move).
@@ -198,6 +204,48 @@ void RimInserter::merge_crossings(std::size_t c, FaceId f) {
   }
 }
 
+// A corner of zero length or an angle under kSteinerParentAngle. The angle's acos is taken only
+// where its cosine lies within 1e-9 of the bound's (acos is far more accurate than that margin,
+// so the answer is acos's everywhere).
+bool RimInserter::bad_shape(const Triangle& t) const {
+  const double cos_parent = std::cos(kSteinerParentAngle);
+  const glm::dvec3 corner[3] = {posed_(t[0]), posed_(t[1]), posed_(t[2])};
+  // Side k from corner k to corner k + 1 (c - a is -(a - c) exactly: one length per side).
+  double side[3];
+  for (int k = 0; k < 3; ++k) side[k] = glm::length(corner[(k + 1) % 3] - corner[k]);
+  bool bad = false;
+  for (int k = 0; k < 3; ++k) {
+    const glm::dvec3 &a = corner[k], &b = corner[(k + 1) % 3], &c3 = corner[(k + 2) % 3];
+    const double lb = side[k], lc = side[(k + 2) % 3];
+    if (!(lb > 0.0 && lc > 0.0)) {
+      bad = true;
+      continue;
+    }
+    const double cosine = std::clamp(glm::dot(b - a, c3 - a) / (lb * lc), -1.0, 1.0);
+    if (cosine < cos_parent - 1e-9) continue;
+    if (cosine > cos_parent + 1e-9 || std::acos(cosine) < kSteinerParentAngle) bad = true;
+  }
+  return bad;
+}
+
+// Every candidate judged on its own (in parallel chunks): deep inside (deep_) or, if not, of
+// bad shape (bad_). Returns the count of those not deep inside.
+std::size_t RimInserter::judge_faces(const std::vector<FaceId>& candidates) {
+  const std::size_t n = candidates.size();
+  deep_.assign(n, 0);
+  bad_.assign(n, 0);
+  parallel_for(n, grain_per_thread(n, kJudgeGrain), [&](std::size_t begin, std::size_t end) {
+    detail::VertexSlots& judged = detail::VertexSlots::scratch();  // this thread's
+    judged.reset(mesh_.vertex_count());
+    for (std::size_t c = begin; c < end; ++c) {
+      const Triangle& t = mesh_.face(candidates[c]);
+      deep_[c] = deep(t, judged) ? 1 : 0;
+      if (!deep_[c]) bad_[c] = bad_shape(t) ? 1 : 0;
+    }
+  });
+  return static_cast<std::size_t>(std::count(deep_.begin(), deep_.end(), std::uint8_t(0)));
+}
+
 // Steiner points (see edge()) go only on edges between two candidates of good shape (smallest
 // angle 10 degrees or more), one on each side: not on the mesh's border or a non-manifold edge,
 // where a point off the cylinder could end up on the hole's boundary, and not on a needle's long
@@ -207,29 +255,10 @@ void RimInserter::allow_steiner(const std::vector<FaceId>& candidates) {
   // them; the candidate keeps it in face_edges_): weight 1 for lo -> hi, 16 for hi -> lo, and
   // whether the face is of bad shape. Faces deep inside hold no crossed edge, the only ones
   // asked about.
-  const double cos_parent = std::cos(kSteinerParentAngle);
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     if (deep_[c]) continue;
     const Triangle& t = mesh_.face(candidates[c]);
-    // Bad: a corner of zero length or an angle under kSteinerParentAngle. The angle's acos is
-    // taken only where its cosine lies within 1e-9 of the bound's (acos is far more accurate
-    // than that margin, so the answer is acos's everywhere).
-    bool bad = false;
-    const glm::dvec3 corner[3] = {posed_(t[0]), posed_(t[1]), posed_(t[2])};
-    // Side k from corner k to corner k + 1 (c - a is -(a - c) exactly: one length per side).
-    double side[3];
-    for (int k = 0; k < 3; ++k) side[k] = glm::length(corner[(k + 1) % 3] - corner[k]);
-    for (int k = 0; k < 3; ++k) {
-      const glm::dvec3 &a = corner[k], &b = corner[(k + 1) % 3], &c3 = corner[(k + 2) % 3];
-      const double lb = side[k], lc = side[(k + 2) % 3];
-      if (!(lb > 0.0 && lc > 0.0)) {
-        bad = true;
-        continue;
-      }
-      const double cosine = std::clamp(glm::dot(b - a, c3 - a) / (lb * lc), -1.0, 1.0);
-      if (cosine < cos_parent - 1e-9) continue;
-      if (cosine > cos_parent + 1e-9 || std::acos(cosine) < kSteinerParentAngle) bad = true;
-    }
+    const bool bad = bad_[c] != 0;
     for (int k = 0; k < 3; ++k) {
       const VertexId a = t[k], b = t[(k + 1) % 3];
       EdgeCut* e = edges_.try_emplace(a, b).first;
@@ -238,7 +267,6 @@ void RimInserter::allow_steiner(const std::vector<FaceId>& candidates) {
     }
   }
 }
-
 
 // New vertices for the part's points that have none (in order), then its faces, but a merged
 // tip's.
@@ -307,14 +335,7 @@ void RimInserter::apply_plan(FaceId f, const FacePlan& plan) {
 }
 
 RimInsertion RimInserter::run(const std::vector<FaceId>& candidates) {
-  deep_.resize(candidates.size());
-  std::size_t shallow = 0;
-  detail::VertexSlots& judged = detail::VertexSlots::scratch();
-  judged.reset(mesh_.vertex_count());
-  for (std::size_t c = 0; c < candidates.size(); ++c) {
-    deep_[c] = deep(mesh_.face(candidates[c]), judged) ? 1 : 0;
-    shallow += !deep_[c];
-  }
+  const std::size_t shallow = judge_faces(candidates);
   edges_.reserve(3 * shallow + 3);  // every edge looked up is a shallow candidate's
   face_edges_.resize(candidates.size());
   allow_steiner(candidates);
