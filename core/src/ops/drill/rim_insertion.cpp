@@ -27,9 +27,11 @@ constexpr double kSteinerClear = 0.3;
 constexpr double kSteinerParentAngle = 10.0 * geometry::kPi / 180.0;
 // Fewest candidates planned per parallel chunk (a few dozen crossed faces are worth a thread).
 constexpr std::size_t kPlanGrain = 24;
-// Fewest candidates judged (deep inside, bad shape), and fewest edges crossed, per parallel chunk.
-constexpr std::size_t kJudgeGrain = 128;
-constexpr std::size_t kCrossGrain = 64;
+// Fewest candidates judged (deep inside, bad shape), and fewest edges crossed, per parallel
+// chunk: a chunk of a few hundred thousand instructions is worth waking a thread for, so a hole
+// of a few hundred faces runs them inline and only bigger ones spread.
+constexpr std::size_t kJudgeGrain = 1024;
+constexpr std::size_t kCrossGrain = 512;
 
 // Runs the insertion: crossings and needle merges first (in candidate order, each edge split
 // once), then every candidate's plan (rim_faces.h, in parallel), then the plans carried out in
