@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // split_pinched_vertices (ops/common/pinches.h) on bow ties: a vertex where fans of faces meet
 // only at that point gets one copy per fan beyond the first, and each fan's faces all use one
-// vertex. Fans of up to 16 faces in all are found by comparing every pair of faces, wider ones by
+// vertex; any_pinched tells the same cases apart without editing. Fans of up to 16 faces in all are found by comparing every pair of faces, wider ones by
 // sorting their other corners: both ways are run here.
 #include "ops/common/pinches.h"
 
@@ -43,6 +43,10 @@ void expect_split_in_two(SurfaceMesh& mesh, VertexId centre, const std::vector<F
                          const std::vector<FaceId>& right) {
   std::vector<FaceId> incident = left;
   incident.insert(incident.end(), right.begin(), right.end());
+  const std::size_t vertices = mesh.vertex_count(), faces = mesh.face_count();
+  EXPECT_TRUE(any_pinched(mesh, {centre}, incident));  // found without splitting
+  EXPECT_EQ(mesh.vertex_count(), vertices);
+  EXPECT_EQ(mesh.face_count(), faces);
   MeshEditor editor(mesh);
   const PinchSplits splits = split_pinched_vertices(editor, {centre}, incident);
   ASSERT_EQ(splits.copies.size(), 1u);
@@ -100,6 +104,7 @@ TEST(SplitPinchedVertices, LeavesASingleFanAlone) {
   SurfaceMesh mesh;
   const VertexId centre = mesh.add_vertex({0, 0, 0});
   const auto fan = add_fan(mesh, centre, 5, 1.0f);
+  EXPECT_FALSE(any_pinched(mesh, {centre}, fan));
   MeshEditor editor(mesh);
   const PinchSplits splits = split_pinched_vertices(editor, {centre}, fan);
   EXPECT_TRUE(splits.copies.empty());

@@ -108,6 +108,40 @@ bool find_fans(const SurfaceMesh& mesh, VertexId v, const FaceId* fs, std::size_
   return several;
 }
 
+// Whether the faces `fs` around `v` form two fans or more, as find_fans says, without its forest:
+// up to kPairwiseFans faces with two other corners each, the fan of face 0 is grown over a bit
+// set (each face taken once, compared with the faces not reached yet); any other list asks
+// find_fans.
+bool several_fans(const SurfaceMesh& mesh, VertexId v, const FaceId* fs, std::size_t size,
+                  std::vector<std::uint32_t>& parent,
+                  std::vector<std::pair<std::uint32_t, std::uint32_t>>& by_other) {
+  static_assert(kPairwiseFans <= 32, "one bit per face");
+  if (size > kPairwiseFans) return find_fans(mesh, v, fs, size, parent, by_other);
+  std::uint32_t o0[kPairwiseFans], o1[kPairwiseFans];  // each face's two other corners
+  for (std::size_t i = 0; i < size; ++i) {
+    const Triangle& t = mesh.face(fs[i]);
+    const int at = (t[0] == v) + (t[1] == v) + (t[2] == v);
+    if (at != 1) return find_fans(mesh, v, fs, size, parent, by_other);
+    const int q = t[0] == v ? 0 : t[1] == v ? 1 : 2;
+    o0[i] = t[(q + 1) % 3].index;
+    o1[i] = t[(q + 2) % 3].index;
+  }
+  const std::uint32_t all = size == 32 ? ~0u : (1u << size) - 1u;
+  std::uint32_t reached = 1, open = 1;  // open: reached, neighbours not looked for yet
+  while (open != 0 && reached != all) {
+    const int i = __builtin_ctz(open);
+    open &= open - 1;
+    for (std::uint32_t rest = all & ~reached; rest != 0; rest &= rest - 1) {
+      const int j = __builtin_ctz(rest);
+      if (o0[j] == o0[i] || o0[j] == o1[i] || o1[j] == o0[i] || o1[j] == o1[i]) {
+        reached |= 1u << j;
+        open |= 1u << j;
+      }
+    }
+  }
+  return reached != all;
+}
+
 // The live faces of `incident` (a face may be listed twice) grouped by the candidates among their
 // corners (`slot` of a corner: its candidate, `count` for none), each group in id order: candidate
 // s's faces are [first[s], first[s + 1]) of the list returned.
@@ -146,36 +180,71 @@ std::vector<FaceId> faces_by_candidate(const SurfaceMesh& mesh, const std::vecto
   return around;
 }
 
+// The candidates sorted and unique, each with the live faces around it in id order: candidate
+// s's are around[first[s], first[s + 1]). `slots` (reset here) maps each candidate to s.
+struct CandidateFans {
+  std::vector<VertexId> sorted;
+  std::vector<std::uint32_t> first;
+  std::vector<FaceId> around;
+  std::vector<std::uint32_t> parent;                              // find_fans' forest
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> by_other;  // (other vertex, face slot in fs)
+
+  /// Candidate v's place in `sorted` (its size for a vertex that is none).
+  auto slot_of(const VertexSlots& slots) const {
+    return [&slots, n = sorted.size()](VertexId v) {
+      const std::uint32_t s = slots.get(v.index);
+      return s == VertexSlots::kNone ? n : static_cast<std::size_t>(s);
+    };
+  }
+  CandidateFans(const SurfaceMesh& mesh, const std::vector<VertexId>& candidates, const std::vector<FaceId>& incident,
+                VertexSlots& slots)
+      : sorted(candidates) {
+    if (!std::is_sorted(sorted.begin(), sorted.end())) std::sort(sorted.begin(), sorted.end());
+    sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
+    // Candidate -> its position in `sorted` (the copies split_vertex makes are none).
+    slots.reset(mesh.vertex_count());
+    for (std::size_t s = 0; s < sorted.size(); ++s)
+      if (sorted[s].index < mesh.vertex_count()) slots.set(sorted[s].index, static_cast<std::uint32_t>(s));
+    around = faces_by_candidate(mesh, incident, sorted.size(), slot_of(slots), first);
+  }
+  /// Whether candidate s's faces (as `mesh` has them now) form two fans or more; `forest`: with
+  /// the fans in `parent` (find_fans) when they do.
+  bool pinched(const SurfaceMesh& mesh, std::size_t s, bool forest) {
+    const std::size_t size = first[s + 1] - first[s];
+    if (size < 2 || !several_fans(mesh, sorted[s], around.data() + first[s], size, parent, by_other)) return false;
+    return !forest || find_fans(mesh, sorted[s], around.data() + first[s], size, parent, by_other);
+  }
+};
+
 }  // namespace
+
+bool any_pinched(const SurfaceMesh& mesh, const std::vector<VertexId>& candidates, const std::vector<FaceId>& incident) {
+  if (candidates.empty()) return false;
+  CandidateFans fans(mesh, candidates, incident, VertexSlots::scratch());
+  for (std::size_t s = 0; s < fans.sorted.size(); ++s)
+    if (fans.pinched(mesh, s, false)) return true;
+  return false;
+}
 
 PinchSplits split_pinched_vertices(MeshEditor& editor, const std::vector<VertexId>& candidates,
                                    const std::vector<FaceId>& incident) {
   PinchSplits out;
   if (candidates.empty()) return out;
   SurfaceMesh& mesh = editor.mesh();
-  std::vector<VertexId> sorted = candidates;
-  if (!std::is_sorted(sorted.begin(), sorted.end())) std::sort(sorted.begin(), sorted.end());
-  sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
-  // Candidate -> its position in `sorted` (the copies split_vertex makes are none).
   VertexSlots& slots = VertexSlots::scratch();
-  slots.reset(mesh.vertex_count());
-  for (std::size_t s = 0; s < sorted.size(); ++s)
-    if (sorted[s].index < mesh.vertex_count()) slots.set(sorted[s].index, static_cast<std::uint32_t>(s));
-  auto slot = [&](VertexId v) {
-    const std::uint32_t s = slots.get(v.index);
-    return s == VertexSlots::kNone ? sorted.size() : static_cast<std::size_t>(s);
-  };
-  // Live faces around each candidate, in id order: candidate s's are around[first[s], first[s + 1]).
-  std::vector<std::uint32_t> first;
-  std::vector<FaceId> around = faces_by_candidate(mesh, incident, sorted.size(), slot, first);
+  CandidateFans fans(mesh, candidates, incident, slots);
+  const std::vector<VertexId>& sorted = fans.sorted;
+  const std::vector<std::uint32_t>& first = fans.first;
+  std::vector<FaceId>& around = fans.around;
+  const auto slot = fans.slot_of(slots);
   const glm::vec3 e[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-  std::vector<std::uint32_t> parent, fan_copy;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> by_other;  // (other vertex, face slot in fs)
+  std::vector<std::uint32_t> fan_copy;
+  std::vector<std::uint32_t>& parent = fans.parent;  // the fans of the candidate being split
   for (std::size_t s = 0; s < sorted.size(); ++s) {
     const VertexId v = sorted[s];
     const FaceId* fs_begin = around.data() + first[s];
     const std::size_t fs_size = first[s + 1] - first[s];
-    if (fs_size < 2 || !find_fans(mesh, v, fs_begin, fs_size, parent, by_other)) continue;
+    if (!fans.pinched(mesh, s, true)) continue;
     auto fs = [&](std::size_t i) { return fs_begin[i]; };
     // fs is in id order, so fan roots are each fan's lowest face; fan 0 keeps v.
     const std::size_t before = out.replaced.size();

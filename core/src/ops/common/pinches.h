@@ -37,6 +37,10 @@ std::vector<FaceId> faces_around(const SurfaceMesh& mesh, const EditLog& log, co
                                  std::uint32_t first_new_vertex, const TriangleGrid* index,
                                  const std::vector<glm::vec3>& input_posed);
 
+/// Whether split_pinched_vertices(editor, candidates, incident) would split anything (it then
+/// leaves the mesh as it is): read-only, so it can run beside other readers of the mesh.
+bool any_pinched(const SurfaceMesh& mesh, const std::vector<VertexId>& candidates, const std::vector<FaceId>& incident);
+
 /// Splits each of `candidates` whose live faces form two or more fans (faces joined through an
 /// edge at the vertex): the fan holding the lowest face id keeps the vertex, every other fan gets
 /// a copy (MeshEditor::split_vertex, so attributes follow and the edit is logged) and its faces

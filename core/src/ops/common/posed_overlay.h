@@ -27,7 +27,7 @@ class PosedOverlay {
   /// Posed position of vertex `v`: added, moved, or the input's.
   Vec operator()(std::uint32_t v) const {
     if (v >= first_new_) return added_[v - first_new_];
-    if (!moved_.empty()) {
+    if (might_be_moved(v)) {
       const auto it = std::lower_bound(
           moved_.begin(), moved_.end(), v,
           [](const std::pair<std::uint32_t, Vec>& x, std::uint32_t i) { return x.first < i; });
@@ -51,10 +51,12 @@ class PosedOverlay {
     const auto it =
         std::lower_bound(moved_.begin(), moved_.end(), v.index,
                          [](const std::pair<std::uint32_t, Vec>& x, std::uint32_t i) { return x.first < i; });
-    if (it != moved_.end() && it->first == v.index)
+    if (it != moved_.end() && it->first == v.index) {
       it->second = p;
-    else
+    } else {
       moved_.insert(it, {v.index, p});
+      moved_bits_[(v.index >> 6) & (kMovedWords - 1)] |= std::uint64_t(1) << (v.index & 63);
+    }
   }
 
   /// First vertex the operation added (the input's vertex count).
@@ -66,10 +68,18 @@ class PosedOverlay {
   const std::vector<std::pair<std::uint32_t, Vec>>& moved() const { return moved_; }
 
  private:
+  // A filter over the moved vertices (bit v mod kMovedWords * 64 set for each): most lookups are
+  // of vertices never moved, answered here without searching moved_.
+  static constexpr std::uint32_t kMovedWords = 16;
+  bool might_be_moved(std::uint32_t v) const {
+    return (moved_bits_[(v >> 6) & (kMovedWords - 1)] >> (v & 63)) & 1;
+  }
+
   const std::vector<glm::vec3>& input_;
   std::uint32_t first_new_;
   std::vector<Vec> added_;
   std::vector<std::pair<std::uint32_t, Vec>> moved_;
+  std::uint64_t moved_bits_[kMovedWords] = {};
 };
 
 }  // namespace deepcut::detail

@@ -73,6 +73,20 @@ double ruling_reach_angle(const CylinderFrame& cyl, double reach) {
   return std::asin(reach / (cyl.r - reach)) + 1e-9;
 }
 
+namespace {
+
+// std::remainder(x, 2 pi) for |x| at most 2 pi (a difference of two atan2 angles), without the
+// library call: the nearest multiple of the turn is -1, 0 or 1 (0 on a tie, the even one), and
+// x -+ 2 pi is exact for |x| >= pi (Sterbenz), so the result is the same double.
+double wrap_half_turn(double x) {
+  const double turn = 2.0 * geometry::kPi;
+  if (x > 0.5 * turn) return x - turn;
+  if (x < -0.5 * turn) return x + turn;
+  return x;
+}
+
+}  // namespace
+
 RulingWindow ruling_window(const CylinderFrame& cyl, const glm::dvec3 p[3], double reach_angle) {
   const int n = cyl.samples;
   const RulingWindow all{0, n};
@@ -82,10 +96,11 @@ RulingWindow ruling_window(const CylinderFrame& cyl, const glm::dvec3 p[3], doub
     const glm::dvec3 q = cyl.perp(p[k]);
     angle[k] = std::atan2(glm::dot(q, cyl.w), glm::dot(q, cyl.u));
   }
-  // The shadow's angles from corner 0's, each within half a turn of it.
+  // The shadow's angles from corner 0's, each within half a turn of it: the remainder of the
+  // difference by a turn (|difference| <= a turn, and the step by a turn is exact there).
   double lo = 0.0, hi = 0.0;
   for (int k = 1; k < 3; ++k) {
-    const double d = std::remainder(angle[k] - angle[0], 2.0 * geometry::kPi);
+    const double d = wrap_half_turn(angle[k] - angle[0]);
     lo = std::min(lo, d);
     hi = std::max(hi, d);
   }

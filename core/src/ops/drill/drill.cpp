@@ -17,6 +17,7 @@
 #include <unordered_map>
 
 #include "deepcut/core/mesh_editor.h"
+#include "deepcut/core/parallel.h"
 #include "deepcut/core/posed_model.h"
 #include "deepcut/core/skinning.h"
 #include "ops/common/model_surgery.h"
@@ -104,11 +105,17 @@ std::vector<VertexId> pinch_candidates(const SurfaceMesh& mesh, const EditLog& l
   return out;
 }
 
-// Splits the vertices where a rim pinches the surface (a vertex joining two fans: one vertex
-// each); the copies' posed positions go to `posed`.
-detail::PinchSplits split_pinches(MeshEditor& editor, const drill::CylinderFrame& cyl, drill::PosedOverlay& posed,
-                                  const std::vector<FaceId>& candidates, const TriangleGrid& index) {
-  const auto touched = pinch_candidates(editor.mesh(), editor.log(), cyl, posed);
+// Where the edits can have pinched the surface: the candidate vertices and the live faces
+// around them (read-only).
+struct PinchInput {
+  std::vector<VertexId> touched;
+  std::vector<FaceId> around;
+};
+
+PinchInput pinch_input(const SurfaceMesh& mesh, const EditLog& log, const drill::CylinderFrame& cyl,
+                       const drill::PosedOverlay& posed, const std::vector<FaceId>& candidates,
+                       const TriangleGrid& index) {
+  auto touched = pinch_candidates(mesh, log, cyl, posed);
   // Faces are found where their old vertices were filed in the grid; the live faces around a
   // snapped vertex (filed where it was, and the input's posed positions may be the mesh's own
   // positions) are merged in (the list stays in id order). Those are the live candidates with a
@@ -118,7 +125,7 @@ detail::PinchSplits split_pinches(MeshEditor& editor, const drill::CylinderFrame
   // - faces are never rewritten in place (an edit removes a face and adds a new one, found through
   //   the log by faces_around), so a live candidate still has the corners it was a candidate with.
   auto around =
-      detail::faces_around(editor.mesh(), editor.log(), touched, posed.first_new(), &index, posed.input());
+      detail::faces_around(mesh, log, touched, posed.first_new(), &index, posed.input());
   if (!posed.moved().empty()) {
     const auto& moved = posed.moved();
     auto is_moved = [&moved](VertexId v) {
@@ -128,8 +135,8 @@ detail::PinchSplits split_pinches(MeshEditor& editor, const drill::CylinderFrame
     };
     std::vector<FaceId> snapped;
     for (const FaceId f : candidates)
-      if (!editor.mesh().is_deleted(f)) {
-        const Triangle& t = editor.mesh().face(f);
+      if (!mesh.is_deleted(f)) {
+        const Triangle& t = mesh.face(f);
         if (is_moved(t[0]) || is_moved(t[1]) || is_moved(t[2])) snapped.push_back(f);
       }
     std::sort(snapped.begin(), snapped.end());
@@ -137,12 +144,39 @@ detail::PinchSplits split_pinches(MeshEditor& editor, const drill::CylinderFrame
     around.insert(around.end(), snapped.begin(), snapped.end());
     std::inplace_merge(around.begin(), around.begin() + middle, around.end());
   }
-  auto pinches = detail::split_pinched_vertices(editor, touched, around);
+  return {std::move(touched), std::move(around)};
+}
+
+// Splits the vertices where a rim pinches the surface (a vertex joining two fans: one vertex
+// each), found in `in` (pinch_input); the copies' posed positions go to `posed`.
+detail::PinchSplits split_pinches(MeshEditor& editor, drill::PosedOverlay& posed, const PinchInput& in) {
+  auto pinches = detail::split_pinched_vertices(editor, in.touched, in.around);
   for (const auto& [v, c] : pinches.copies) {
     (void)c;
     posed.add(posed(v));
   }
   return pinches;
+}
+
+// Without walls: the pinch split, then the rims traced through the copies. The search for
+// pinches and the tracing only read the mesh, and a pinch is rare, so they run side by side
+// (parallel_invoke) and the rims are traced again only when a vertex was split.
+std::vector<drill::Rim> split_and_trace(MeshEditor& editor, const drill::CylinderFrame& cyl,
+                                        drill::PosedOverlay& posed, const std::vector<FaceId>& candidates,
+                                        const TriangleGrid& index) {
+  const SurfaceMesh& mesh = editor.mesh();
+  PinchInput in;
+  bool pinched = false;
+  std::vector<drill::Rim> rims;
+  parallel_invoke({[&] {
+                     in = pinch_input(mesh, editor.log(), cyl, posed, candidates, index);
+                     pinched = detail::any_pinched(mesh, in.touched, in.around);
+                   },
+                   [&] { rims = drill::trace_rims(mesh, editor.log(), cyl, posed, candidates, {}); }});
+  if (!pinched) return rims;
+  std::unordered_map<std::uint32_t, std::uint32_t> copy_of;  // pinch-split copy -> original
+  for (const auto& [v, c] : split_pinches(editor, posed, in).copies) copy_of.emplace(c.index, v.index);
+  return drill::trace_rims(mesh, editor.log(), cyl, posed, candidates, copy_of);
 }
 
 DrillResult run(SurfaceMesh& mesh, const std::vector<glm::vec3>& input_posed, const Cylinder& cylinder,
@@ -164,11 +198,8 @@ DrillResult run(SurfaceMesh& mesh, const std::vector<glm::vec3>& input_posed, co
   // A rim through a vertex snapped onto the cylinder can leave it joining two fans: one vertex
   // each. Without walls before the rims are traced, so each rim runs through its own copy; with
   // walls after them (a wall can join the fans again), the rims following the copies.
-  std::unordered_map<std::uint32_t, std::uint32_t> copy_of;  // pinch-split copy -> original (no wall)
-  if (!options.wall)
-    for (const auto& [v, c] : split_pinches(editor, cyl, posed, candidates, index).copies)
-      copy_of.emplace(c.index, v.index);
-  const std::vector<drill::Rim> rims = drill::trace_rims(mesh, editor.log(), cyl, posed, candidates, copy_of);
+  const std::vector<drill::Rim> rims = options.wall ? drill::trace_rims(mesh, editor.log(), cyl, posed, candidates, {})
+                                                    : split_and_trace(editor, cyl, posed, candidates, index);
   for (const drill::Rim& rim : rims) {
     DrillHole hole;
     hole.rim = rim.vertices;
@@ -185,7 +216,7 @@ DrillResult run(SurfaceMesh& mesh, const std::vector<glm::vec3>& input_posed, co
     result.wall_triangles = walls.wall_triangles;
     result.triangles_removed += walls.triangles_removed;
     result.triangles_added += walls.wall_triangles;
-    const auto pinches = split_pinches(editor, cyl, posed, candidates, index);
+    const auto pinches = split_pinches(editor, posed, pinch_input(mesh, editor.log(), cyl, posed, candidates, index));
     for (DrillHole& h : result.holes) detail::follow_pinch_splits(mesh, pinches, h.rim, h.closed);
   }
   result.added_posed.reserve(posed.added().size());

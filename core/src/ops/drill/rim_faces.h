@@ -28,11 +28,12 @@ struct EdgeCut {
   VertexId v[2];                       // their vertices
   std::uint8_t inside[3] = {0, 0, 0};  // sub-segments between 0, t[0..n-1], 1
   // Points on the kept parts of a crossed edge, graded away from the crossings (see
-  // RimInserter::edge): parameters, increasing, and their vertices.
+  // RimInserter::cross): parameters, increasing once RimInserter::edge has made their vertices.
   std::vector<std::pair<double, VertexId>> steiner;
   // The faces on the edge among the candidates not deep inside (file_side: kLoHi for each with
   // lo -> hi, kHiLo for each with hi -> lo), whether one of them has a bad shape, and whether the
-  // edge's crossings have been worked out (RimInserter::edge; the edge may be left uncrossed).
+  // vertices of the edge's crossings have been made (RimInserter::edge; the edge may be left
+  // uncrossed).
   // All three are written only before planning starts (planning only reads them).
   std::uint32_t sides = 0;
   bool bad_side = false, resolved = false;
@@ -86,7 +87,7 @@ struct RimShared {
   const CylinderFrame& cyl;
   const detail::NeedleMerges& merges;
   // Per candidate: its edges' records (edge k from corner k to corner k + 1).
-  const std::vector<std::array<const EdgeCut*, 3>>& face_edges;
+  const std::vector<std::array<EdgeCut*, 3>>& face_edges;  // only read while planning
   double eps = 0.0, sep = 0.0, ruling_reach = -1.0;
   int samples = 32;
   std::vector<glm::dvec3> ruling_base;  // where each sampled ruling starts (s = 0)
@@ -194,7 +195,7 @@ class FacePlanner {
   std::uint32_t chunk_;
   PlanScratch& w_;
   FacePlan* plan_ = nullptr;                                  // the candidate being planned
-  const std::array<const EdgeCut*, 3>* cur_edges_ = nullptr;  // its edges' records
+  const std::array<EdgeCut*, 3>* cur_edges_ = nullptr;  // its edges' records
   FacePlane face_;
   const std::vector<std::vector<std::uint32_t>> no_holes_;
 };

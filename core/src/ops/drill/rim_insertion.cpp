@@ -22,11 +22,16 @@
 namespace deepcut::drill {
 namespace {
 
-// Steiner points on crossed edges (see edge()) lie at least this many rim spacings outside.
+// Steiner points on crossed edges (see cross()) lie at least this many rim spacings outside.
 constexpr double kSteinerClear = 0.3;
 constexpr double kSteinerParentAngle = 10.0 * geometry::kPi / 180.0;
 // Fewest candidates planned per parallel chunk (a few dozen crossed faces are worth a thread).
 constexpr std::size_t kPlanGrain = 24;
+// Fewest candidates judged (deep inside, bad shape), and fewest edges crossed, per parallel
+// chunk: a chunk of a few hundred thousand instructions is worth waking a thread for, so a hole
+// of a few hundred faces runs them inline and only bigger ones spread.
+constexpr std::size_t kJudgeGrain = 1024;
+constexpr std::size_t kCrossGrain = 512;
 
 // Runs the insertion: crossings and needle merges first (in candidate order, each edge split
 // once), then every candidate's plan (rim_faces.h, in parallel), then the plans carried out in
@@ -43,8 +48,12 @@ class RimInserter {
   RimInsertion run(const std::vector<FaceId>& candidates);
 
  private:
-  const EdgeCut& edge(VertexId a, VertexId b);
-  void merge_crossings(std::size_t c, FaceId f);
+  void cross(EdgeCut& e, std::uint64_t key) const;
+  void cross_edges();
+  const EdgeCut& edge(EdgeCut& e);
+  void merge_crossings(std::size_t c);
+  std::size_t judge_faces(const std::vector<FaceId>& candidates);
+  bool bad_shape(const Triangle& t) const;
   void allow_steiner(const std::vector<FaceId>& candidates);
   bool deep(const Triangle& t, detail::VertexSlots& judged) const;
   void plan_faces(const std::vector<FaceId>& candidates);
@@ -65,9 +74,12 @@ class RimInserter {
   // Per candidate: all three corners deep inside (CylinderFrame::deep_inside), so the face goes
   // whole and none of its edges is crossed: it is removed without looking at its edges.
   std::vector<std::uint8_t> deep_;
+  // Per candidate not deep inside: of bad shape for Steiner points (allow_steiner).
+  std::vector<std::uint8_t> bad_;
   // Per candidate: its edges' records (edge k from corner k to corner k + 1), looked up once by
-  // merge_crossings and read again by the planning (CrossingTable records never move).
-  std::vector<std::array<const EdgeCut*, 3>> face_edges_;
+  // allow_steiner and read again by merge_crossings and the planning (CrossingTable records
+  // never move).
+  std::vector<std::array<EdgeCut*, 3>> face_edges_;
   // Crossings that fell on one bind position (the two long edges of a needle crossed at the same
   // parameter): the later vertex maps to the earlier, so the needle's tip is not a zero-area face.
   detail::NeedleMerges merges_;
@@ -78,12 +90,13 @@ class RimInserter {
   std::size_t crossings_ = 0, removed_ = 0, added_ = 0;
 };
 
-const EdgeCut& RimInserter::edge(VertexId a, VertexId b) {
-  EdgeCut& e = *edges_.try_emplace(a, b).first;  // made by allow_steiner
-  if (e.resolved) return e;
-  e.resolved = true;
-  e.lo = a < b ? a : b;
-  e.hi = a < b ? b : a;
+// What the solid cylinder does to the edge of record `e` (edge key `key`): its crossings'
+// parameters, which sub-segments lie inside, and the parameters of its Steiner points (their
+// vertices are made by edge()). Reads only old vertices' posed positions and the record's sides
+// (final once allow_steiner has run), so every record is worked out in parallel (cross_edges).
+void RimInserter::cross(EdgeCut& e, std::uint64_t key) const {
+  e.lo = VertexId(static_cast<std::uint32_t>(key >> 32));
+  e.hi = VertexId(static_cast<std::uint32_t>(key));
   const glm::dvec3 p = posed_(e.lo), q = posed_(e.hi);
   const double len = glm::length(q - p);
   // Parameter interval of the segment inside the closed solid cylinder.
@@ -115,58 +128,71 @@ const EdgeCut& RimInserter::edge(VertexId a, VertexId b) {
     t0 = 1.0;
     t1 = 0.0;
   }
-  if (t0 < t1) {
-    // A graze (never deeper than the tolerance) does not cut the edge.
-    const double tm = 0.5 * (t0 + t1);
-    tc = std::clamp(tc, t0, t1);
-    const double depth = -std::min(cyl_.sd(glm::mix(p, q, tm)), cyl_.sd(glm::mix(p, q, tc)));
-    if (depth > eps_) {
-      double cuts[2];
-      int n = 0;
-      if (t0 * len > eps_) cuts[n++] = t0;
-      if ((1.0 - t1) * len > eps_) cuts[n++] = t1;
-      e.n = n;
-      double bounds[4] = {0.0, 0.0, 0.0, 0.0};
-      for (int i = 0; i < n; ++i) bounds[i + 1] = cuts[i];
-      bounds[n + 1] = 1.0;
-      for (int i = 0; i <= n; ++i) {
-        const double mid = 0.5 * (bounds[i] + bounds[i + 1]);
-        e.inside[i] = mid >= t0 && mid <= t1 ? 1 : 0;
-      }
-      for (int i = 0; i < n; ++i) {
-        e.t[i] = cuts[i];
-        e.v[i] = editor_.add_vertex_on_edge(e.lo, e.hi, static_cast<float>(cuts[i]));
-        // The exact point on the cylinder; the bind vertex uses the same parameter, corrected
-        // through its own (blended) skinning when the pose is not the bind pose.
-        posed_.add(glm::mix(p, q, cuts[i]));
-        posed_.place(editor_, e.v[i], posed_(e.v[i]));
-        ++crossings_;
-      }
-      // The kept parts of a crossed edge get points a rim spacing from each crossing, then 2,
-      // 4, ... spacings (Ruppert's grading), up to a spacing before the far end: both faces on
-      // the edge are processed (it is crossed), so both take them, and their kept parts meet
-      // the rim with boundary points at its scale instead of fanning a far corner to close rim
-      // points or leaving rim points near a long edge (needles the in-plane refinement cannot
-      // mend: its points would fall outside the parent). Only points well outside the cylinder.
-      const double spacing = cyl_.spacing;  // 2 r sin(pi / samples)
-      const bool steiner = e.takes_steiner();
-      for (int i = 0; i < n && steiner; ++i) {
-        const double dir = e.inside[i + 1] ? -1.0 : 1.0;  // toward the kept part
-        const double room = (dir > 0.0 ? 1.0 - cuts[i] : cuts[i]) * len;
-        for (double step = spacing; step + spacing <= room; step *= 2.0) {
-          const double t = cuts[i] + dir * step / len;
-          const glm::dvec3 x = glm::mix(p, q, t);
-          if (!(cyl_.sd(x) > kSteinerClear * spacing)) continue;
-          const VertexId v = editor_.add_vertex_on_edge(e.lo, e.hi, static_cast<float>(t));
-          posed_.add(x);
-          posed_.place(editor_, v, x);
-          e.steiner.emplace_back(t, v);
-        }
-      }
-      std::sort(e.steiner.begin(), e.steiner.end(),
-                [](const auto& x, const auto& y) { return x.first < y.first; });
+  if (!(t0 < t1)) return;
+  // A graze (never deeper than the tolerance) does not cut the edge.
+  const double tm = 0.5 * (t0 + t1);
+  tc = std::clamp(tc, t0, t1);
+  const double depth = -std::min(cyl_.sd(glm::mix(p, q, tm)), cyl_.sd(glm::mix(p, q, tc)));
+  if (!(depth > eps_)) return;
+  int n = 0;
+  if (t0 * len > eps_) e.t[n++] = t0;
+  if ((1.0 - t1) * len > eps_) e.t[n++] = t1;
+  e.n = n;
+  double bounds[4] = {0.0, 0.0, 0.0, 0.0};
+  for (int i = 0; i < n; ++i) bounds[i + 1] = e.t[i];
+  bounds[n + 1] = 1.0;
+  for (int i = 0; i <= n; ++i) {
+    const double mid = 0.5 * (bounds[i] + bounds[i + 1]);
+    e.inside[i] = mid >= t0 && mid <= t1 ? 1 : 0;
+  }
+  // The kept parts of a crossed edge get points a rim spacing from each crossing, then 2, 4, ...
+  // spacings (Ruppert's grading), up to a spacing before the far end: both faces on the edge are
+  // processed (it is crossed), so both take them, and their kept parts meet the rim with boundary
+  // points at its scale instead of fanning a far corner to close rim points or leaving rim
+  // points near a long edge (needles the in-plane refinement cannot mend: its points would fall
+  // outside the parent). Only points well outside the cylinder.
+  const double spacing = cyl_.spacing;  // 2 r sin(pi / samples)
+  const bool steiner = e.takes_steiner();
+  for (int i = 0; i < n && steiner; ++i) {
+    const double dir = e.inside[i + 1] ? -1.0 : 1.0;  // toward the kept part
+    const double room = (dir > 0.0 ? 1.0 - e.t[i] : e.t[i]) * len;
+    for (double step = spacing; step + spacing <= room; step *= 2.0) {
+      const double t = e.t[i] + dir * step / len;
+      if (cyl_.sd(glm::mix(p, q, t)) > kSteinerClear * spacing) e.steiner.emplace_back(t, VertexId());
     }
   }
+}
+
+// Every record's crossings worked out (cross), in parallel chunks.
+void RimInserter::cross_edges() {
+  const std::size_t n = edges_.size();
+  parallel_for(n, grain_per_thread(n, kCrossGrain), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) cross(edges_[i], edges_.key(i));
+  });
+}
+
+// The vertices of record `e`'s crossings, then of its Steiner points (in the order cross found
+// them, then sorted along the edge), made the first time a face asks for the edge.
+const EdgeCut& RimInserter::edge(EdgeCut& e) {
+  if (e.resolved) return e;
+  e.resolved = true;
+  if (e.n == 0) return e;
+  const glm::dvec3 p = posed_(e.lo), q = posed_(e.hi);
+  for (int i = 0; i < e.n; ++i) {
+    e.v[i] = editor_.add_vertex_on_edge(e.lo, e.hi, static_cast<float>(e.t[i]));
+    // The exact point on the cylinder; the bind vertex uses the same parameter, corrected
+    // through its own (blended) skinning when the pose is not the bind pose.
+    posed_.add(glm::mix(p, q, e.t[i]));
+    posed_.place(editor_, e.v[i], posed_(e.v[i]));
+    ++crossings_;
+  }
+  for (auto& [t, v] : e.steiner) {
+    v = editor_.add_vertex_on_edge(e.lo, e.hi, static_cast<float>(t));
+    const glm::dvec3 x = glm::mix(p, q, t);
+    posed_.add(x);
+    posed_.place(editor_, v, x);
+  }
+  std::sort(e.steiner.begin(), e.steiner.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
   return e;
 }
 
@@ -185,10 +211,9 @@ VertexId RimInserter::vertex_of(const Triangle& tri, LocalPoint& lp) {
 // crossings of the two edges rounded to one bind position: they become one vertex, and the
 // needle's tip, or the kept part at its far end when the circle crosses each edge twice (a
 // triangle with two corners at one point), is not made. Same rule as the cut and the tear.
-void RimInserter::merge_crossings(std::size_t c, FaceId f) {
-  const Triangle tri = mesh_.face(f);
-  std::array<const EdgeCut*, 3>& es = face_edges_[c];
-  for (int k = 0; k < 3; ++k) es[k] = &edge(tri[k], tri[(k + 1) % 3]);  // records never move
+void RimInserter::merge_crossings(std::size_t c) {
+  std::array<EdgeCut*, 3>& es = face_edges_[c];  // filed by allow_steiner
+  for (int k = 0; k < 3; ++k) edge(*es[k]);
   for (int k = 0; k < 3; ++k) {
     const EdgeCut& ea = *es[k];            // corner k to corner k + 1
     const EdgeCut& eb = *es[(k + 2) % 3];  // corner k + 2 to corner k
@@ -197,41 +222,69 @@ void RimInserter::merge_crossings(std::size_t c, FaceId f) {
   }
 }
 
-// Steiner points (see edge()) go only on edges between two candidates of good shape (smallest
+// A corner of zero length or an angle under kSteinerParentAngle. The angle's acos is taken only
+// where its cosine lies within 1e-9 of the bound's (acos is far more accurate than that margin,
+// so the answer is acos's everywhere).
+bool RimInserter::bad_shape(const Triangle& t) const {
+  const double cos_parent = std::cos(kSteinerParentAngle);
+  const glm::dvec3 corner[3] = {posed_(t[0]), posed_(t[1]), posed_(t[2])};
+  // Side k from corner k to corner k + 1 (c - a is -(a - c) exactly: one length per side).
+  double side[3];
+  for (int k = 0; k < 3; ++k) side[k] = glm::length(corner[(k + 1) % 3] - corner[k]);
+  bool bad = false;
+  for (int k = 0; k < 3; ++k) {
+    const glm::dvec3 &a = corner[k], &b = corner[(k + 1) % 3], &c3 = corner[(k + 2) % 3];
+    const double lb = side[k], lc = side[(k + 2) % 3];
+    if (!(lb > 0.0 && lc > 0.0)) {
+      bad = true;
+      continue;
+    }
+    const double cosine = std::clamp(glm::dot(b - a, c3 - a) / (lb * lc), -1.0, 1.0);
+    if (cosine < cos_parent - 1e-9) continue;
+    if (cosine > cos_parent + 1e-9 || std::acos(cosine) < kSteinerParentAngle) bad = true;
+  }
+  return bad;
+}
+
+// Every candidate judged on its own (in parallel chunks): deep inside (deep_) or, if not, of
+// bad shape (bad_). Returns the count of those not deep inside.
+std::size_t RimInserter::judge_faces(const std::vector<FaceId>& candidates) {
+  const std::size_t n = candidates.size();
+  deep_.assign(n, 0);
+  bad_.assign(n, 0);
+  parallel_for(n, grain_per_thread(n, kJudgeGrain), [&](std::size_t begin, std::size_t end) {
+    detail::VertexSlots& judged = detail::VertexSlots::scratch();  // this thread's
+    judged.reset(mesh_.vertex_count());
+    for (std::size_t c = begin; c < end; ++c) {
+      const Triangle& t = mesh_.face(candidates[c]);
+      deep_[c] = deep(t, judged) ? 1 : 0;
+      if (!deep_[c]) bad_[c] = bad_shape(t) ? 1 : 0;
+    }
+  });
+  return static_cast<std::size_t>(std::count(deep_.begin(), deep_.end(), std::uint8_t(0)));
+}
+
+// Steiner points (see cross()) go only on edges between two candidates of good shape (smallest
 // angle 10 degrees or more), one on each side: not on the mesh's border or a non-manifold edge,
 // where a point off the cylinder could end up on the hole's boundary, and not on a needle's long
 // edges, whose points at one parameter would round to one bind position (zero-area faces).
 void RimInserter::allow_steiner(const std::vector<FaceId>& candidates) {
   // Each candidate's half-edges file its edge's record (made here, in the order edge() asks for
-  // them): weight 1 for lo -> hi, 16 for hi -> lo, and whether the face is of bad shape. Faces
-  // deep inside hold no crossed edge, the only ones asked about.
-  const double cos_parent = std::cos(kSteinerParentAngle);
+  // them; the candidate keeps it in face_edges_): weight 1 for lo -> hi, 16 for hi -> lo, and
+  // whether the face is of bad shape. Faces deep inside hold no crossed edge, the only ones
+  // asked about.
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     if (deep_[c]) continue;
     const Triangle& t = mesh_.face(candidates[c]);
-    // Bad: a corner of zero length or an angle under kSteinerParentAngle. The angle's acos is
-    // taken only where its cosine lies within 1e-9 of the bound's (acos is far more accurate
-    // than that margin, so the answer is acos's everywhere).
-    bool bad = false;
-    const glm::dvec3 corner[3] = {posed_(t[0]), posed_(t[1]), posed_(t[2])};
-    for (int k = 0; k < 3; ++k) {
-      const glm::dvec3 &a = corner[k], &b = corner[(k + 1) % 3], &c3 = corner[(k + 2) % 3];
-      const double lb = glm::length(b - a), lc = glm::length(c3 - a);
-      if (!(lb > 0.0 && lc > 0.0)) {
-        bad = true;
-        continue;
-      }
-      const double cosine = std::clamp(glm::dot(b - a, c3 - a) / (lb * lc), -1.0, 1.0);
-      if (cosine < cos_parent - 1e-9) continue;
-      if (cosine > cos_parent + 1e-9 || std::acos(cosine) < kSteinerParentAngle) bad = true;
-    }
+    const bool bad = bad_[c] != 0;
     for (int k = 0; k < 3; ++k) {
       const VertexId a = t[k], b = t[(k + 1) % 3];
-      edges_.try_emplace(a, b).first->file_side(a, b, bad);
+      EdgeCut* e = edges_.try_emplace(a, b).first;
+      e->file_side(a, b, bad);
+      face_edges_[c][k] = e;
     }
   }
 }
-
 
 // New vertices for the part's points that have none (in order), then its faces, but a merged
 // tip's.
@@ -300,19 +353,13 @@ void RimInserter::apply_plan(FaceId f, const FacePlan& plan) {
 }
 
 RimInsertion RimInserter::run(const std::vector<FaceId>& candidates) {
-  deep_.resize(candidates.size());
-  std::size_t shallow = 0;
-  detail::VertexSlots& judged = detail::VertexSlots::scratch();
-  judged.reset(mesh_.vertex_count());
-  for (std::size_t c = 0; c < candidates.size(); ++c) {
-    deep_[c] = deep(mesh_.face(candidates[c]), judged) ? 1 : 0;
-    shallow += !deep_[c];
-  }
+  const std::size_t shallow = judge_faces(candidates);
   edges_.reserve(3 * shallow + 3);  // every edge looked up is a shallow candidate's
   face_edges_.resize(candidates.size());
   allow_steiner(candidates);
+  cross_edges();
   for (std::size_t c = 0; c < candidates.size(); ++c)
-    if (!deep_[c]) merge_crossings(c, candidates[c]);
+    if (!deep_[c]) merge_crossings(c);
   plan_faces(candidates);
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     if (!deep_[c]) {

@@ -22,7 +22,8 @@ class RimHalfEdges {
  public:
   static constexpr std::uint8_t kAdded = 1, kRemoved = 2, kUntouched = 4;
 
-  RimHalfEdges() { slots_.reserve(64); }  // grows with the rim (a few hundred half-edges at most for most holes)
+  /// Room for `expected` half-edges up front (it grows past them when needed).
+  explicit RimHalfEdges(std::size_t expected) { slots_.reserve(expected); }
   /// Files the half-edges of `t` whose two corners are on the rim (`rim`, per corner) as `kind`.
   void file_face(const Triangle& t, const bool rim[3], std::uint8_t kind) {
     for (int k = 0; k < 3; ++k)
@@ -50,7 +51,7 @@ class RimHalfEdges {
 template <class OnRim, class OldOnRim>
 RimHalfEdges file_rim_half_edges(const SurfaceMesh& mesh, const EditLog& log, const std::vector<FaceId>& candidates,
                                  const OnRim& on_rim, const OldOnRim& old_on_rim) {
-  RimHalfEdges filed;
+  RimHalfEdges filed(log.edits.size() / 4 + 16);  // about one rim half-edge per added face
   for (const Edit& e : log.edits) {
     if (const auto* fa = std::get_if<FaceAdded>(&e)) {
       const Triangle& t = fa->vertices;
