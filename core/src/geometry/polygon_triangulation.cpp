@@ -506,34 +506,46 @@ void triangulate_polygon(const std::vector<glm::dvec2>& pts, const std::vector<s
   EarClipper(pts, poly, rules.ears).run(out);
 }
 
-std::vector<LocalTri> triangulate_loops(const std::vector<glm::dvec2>& points,
-                                        const std::vector<std::vector<std::uint32_t>>& loops, int outer_sign,
-                                        const TriangulationRules& rules) {
-  // Work counter-clockwise: mirror when the outer loops are clockwise, flip the output back.
-  std::vector<glm::dvec2> pts = points;
+LoopPolygons loop_polygons(const std::vector<glm::dvec2>& points, const std::vector<std::vector<std::uint32_t>>& loops,
+                           int outer_sign) {
+  // Work counter-clockwise: mirror when the outer loops are clockwise (mirroring reverses
+  // orientation once, so the triangles already have the outer loops' orientation).
+  LoopPolygons out;
+  out.pts = points;
   if (outer_sign < 0)
-    for (auto& p : pts) p.x = -p.x;
-  std::vector<std::size_t> outers, holes;
+    for (auto& p : out.pts) p.x = -p.x;
+  const auto& pts = out.pts;
+  std::vector<std::size_t> holes;
   std::vector<double> area(loops.size());
   for (std::size_t i = 0; i < loops.size(); ++i) {
     if (loops[i].size() < 3) continue;
     area[i] = signed_area2(pts, loops[i]);
-    if (area[i] > 0) outers.push_back(i);
+    if (area[i] > 0) out.outers.push_back(i);
     else if (area[i] < 0) holes.push_back(i);
   }
+  // The hole lists by outer loop, then by position in `outers`.
   std::vector<std::vector<std::vector<std::uint32_t>>> holes_of(loops.size());
   for (std::size_t h : holes) {
     std::size_t owner = loops.size();
-    for (std::size_t o : outers)
+    for (std::size_t o : out.outers)
       if (point_in_loop(pts, loops[o], pts[loops[h][0]]) && (owner == loops.size() || area[o] < area[owner])) owner = o;
     if (owner != loops.size()) holes_of[owner].push_back(loops[h]);
   }
+  out.holes.reserve(out.outers.size());
+  for (std::size_t o : out.outers) out.holes.push_back(std::move(holes_of[o]));
+  return out;
+}
+
+std::vector<LocalTri> triangulate_loops(const std::vector<glm::dvec2>& points,
+                                        const std::vector<std::vector<std::uint32_t>>& loops, int outer_sign,
+                                        const TriangulationRules& rules) {
+  LoopPolygons polygons = loop_polygons(points, loops, outer_sign);
   std::vector<LocalTri> out;
   std::size_t corners = 0;  // a polygon of n corners (holes bridged in) makes n - 2 triangles at most
   for (const auto& loop : loops) corners += loop.size() + 2;
   out.reserve(corners);
-  for (std::size_t o : outers) triangulate_polygon(pts, loops[o], std::move(holes_of[o]), rules, out);
-  // Mirroring reversed orientation once, so `out` already has the outer loops' orientation.
+  for (std::size_t k = 0; k < polygons.outers.size(); ++k)
+    triangulate_polygon(polygons.pts, loops[polygons.outers[k]], std::move(polygons.holes[k]), rules, out);
   return out;
 }
 

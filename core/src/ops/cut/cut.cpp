@@ -515,7 +515,7 @@ void Cutter::cap_pieces(CutResult& result, std::vector<VertexId>& rim) {
   if (!options_.cap) return;
   const auto first_cap_face = static_cast<std::uint32_t>(mesh_.face_slots());
   const std::size_t live_before = mesh_.face_count();
-  for (std::size_t p = 0; p < result.pieces.size(); ++p) detail::cap_piece(editor_, rims[p], result.pieces[p]);
+  detail::make_caps(editor_, rims, result.pieces);
   detail::append_run(rim_candidates_, first_cap_face, static_cast<std::uint32_t>(mesh_.face_slots()));
   // With a face of a piece removed (a flat one the cap replaced) its fans may have come apart:
   // then every rim vertex is looked at.
