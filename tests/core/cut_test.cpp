@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "deepcut/core/adjacency.h"
+#include "deepcut/core/generate/cactus.h"
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/mesh_editor.h"
 #include "deepcut/core/parallel.h"
@@ -558,6 +559,45 @@ TEST(CutTest, the_result_does_not_depend_on_the_thread_count) {
   EXPECT_EQ(results[0].pieces[0].size() + results[0].pieces[1].size(), meshes[0].face_count());
   ASSERT_EQ(results[2].status, OpStatus::Ok);
   EXPECT_EQ(results[2].pieces, results[0].pieces);  // the stray vertex changes nothing
+}
+
+TEST(CutTest, a_capped_cut_does_not_depend_on_the_thread_count) {
+  // The caps' polygons are triangulated on the pool when they are big enough: this plane cuts
+  // the cactus's trunk and two arms, three loops of about a hundred corners on each side.
+  CactusOptions cactus;
+  cactus.target_triangles = 25000;
+  const SurfaceMesh input = std::move(make_cactus(cactus).meshes[0].primitives[0].mesh);
+  const BoundingBox box = input.bounds();
+  const Plane plane{0.5f * (box.min + box.max) + glm::vec3(0.0f, 0.13f, 0.0f), glm::vec3(0.1f, 1.0f, 0.05f)};
+  const std::size_t saved = thread_count();
+  std::vector<SurfaceMesh> meshes;
+  std::vector<CutResult> results;
+  for (std::size_t threads : {1u, 2u, 3u}) {
+    set_thread_count(threads);
+    for (bool split : {false, true}) {
+      SurfaceMesh mesh = input;
+      CutOptions options;
+      options.cap = true;
+      options.split_components = split;
+      results.push_back(cut_mesh(mesh, mesh.positions(), plane, options));
+      meshes.push_back(std::move(mesh));
+    }
+  }
+  set_thread_count(saved);
+  const auto* flags = meshes[0].face_attrs().find<std::uint8_t>(attr::kCutSurface);
+  ASSERT_NE(flags, nullptr);
+  EXPECT_GT(std::count(flags->data().begin(), flags->data().end(), std::uint8_t(1)), 600);
+  for (std::size_t i = 2; i < meshes.size(); ++i) {
+    const std::size_t j = i % 2;  // same options, one thread
+    EXPECT_EQ(meshes[i].faces(), meshes[j].faces());
+    EXPECT_EQ(meshes[i].corner_attrs().find<glm::vec2>(attr::kUv0)->data(),
+              meshes[j].corner_attrs().find<glm::vec2>(attr::kUv0)->data());
+    EXPECT_EQ(meshes[i].corner_attrs().find<glm::vec3>(attr::kNormal)->data(),
+              meshes[j].corner_attrs().find<glm::vec3>(attr::kNormal)->data());
+    EXPECT_EQ(results[i].pieces, results[j].pieces);
+    EXPECT_EQ(results[i].rim_vertices, results[j].rim_vertices);
+    EXPECT_EQ(results[i].log.size(), results[j].log.size());
+  }
 }
 
 // A vertex no face uses counts for neither side. Far off, it would widen the tolerance (the

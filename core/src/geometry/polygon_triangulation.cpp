@@ -129,6 +129,10 @@ class EarClipper {
   struct Cell {
     std::uint32_t x, y;
   };
+  // The cells a corner reaches (make_grid): [x0, x1] by [y0, y1].
+  struct Reach {
+    std::uint32_t x0, x1, y0, y1;
+  };
   struct LateFiled {
     Filed f;
     Cell cell;
@@ -168,9 +172,14 @@ class EarClipper {
   }
 
   // A uniform grid over the points (about one cell per corner) of the reflex corners, so an ear
-  // test looks at the reflex corners near the ear only. A cell index is a non-decreasing
-  // function of the coordinate, so every point of a closed triangle lies in the cells of its
-  // bounding box; the scan takes one cell more on each side.
+  // test looks at the reflex corners near the ear only: in the box of the cells its corners
+  // reach. A corner reaches the cells of its coordinates moved by `pad` (kBoxPad times the
+  // points' largest coordinate and extent), at most one cell on from its own. A point the rounded
+  // tests of reflex_blocker find in a closed triangle lies within about 1e-15 times that scale of
+  // it, and a cell index is a non-decreasing function of the coordinate: so the box holds every
+  // point the test can find. One cell on is where the box always reached before (and where a pad
+  // that is not finite ends): within it the test finds the same points as then, from mostly one
+  // or two cells a side instead of three or four.
   void make_grid() {
     const std::size_t n = lists_.poly.size();
     if (n < 64) return;
@@ -185,9 +194,22 @@ class EarClipper {
     const glm::dvec2 extent = hi - lo;
     inv_cell_.x = extent.x > 0.0 && std::isfinite(extent.x) ? double(side) / extent.x : 0.0;
     inv_cell_.y = extent.y > 0.0 && std::isfinite(extent.y) ? double(side) / extent.y : 0.0;
+    constexpr double kBoxPad = 1e-9;
+    const double pad = kBoxPad * (std::max({std::abs(lo.x), std::abs(lo.y), std::abs(hi.x), std::abs(hi.y)}) +
+                                  extent.x + extent.y);
     cell_.resize(n);
-    for (std::size_t i = 0; i < n; ++i)
-      cell_[i] = {static_cast<std::uint32_t>(cell_x(at(i).x)), static_cast<std::uint32_t>(cell_y(at(i).y))};
+    reach_.resize(n);
+    auto cell = [](std::size_t c) { return static_cast<std::uint32_t>(c); };
+    for (std::size_t i = 0; i < n; ++i) {
+      const glm::dvec2& p = at(i);
+      const Cell own = {cell(cell_x(p.x)), cell(cell_y(p.y))};
+      cell_[i] = own;
+      // (cell_x and cell_y stay below the grid's size; below its own cell a corner's is not 0.)
+      reach_[i] = {own.x > 0 ? std::max(cell(cell_x(p.x - pad)), own.x - 1) : 0,
+                   std::min(cell(cell_x(p.x + pad)), own.x + 1),
+                   own.y > 0 ? std::max(cell(cell_y(p.y - pad)), own.y - 1) : 0,
+                   std::min(cell(cell_y(p.y + pad)), own.y + 1)};
+    }
   }
   static std::size_t clamp_cell(double c, std::size_t cells) {
     if (!(c > 0.0)) return 0;  // NaN too
@@ -215,9 +237,8 @@ class EarClipper {
   }
 
   // True when some live reflex corner other than the ear's points lies in the closed ear of
-  // corner i: through the grid where its cells are fewer than the filings, else through the list.
-  // The ear's cell box is the box of its corners' cells (a cell index is a non-decreasing function
-  // of the coordinate; a point that is not a number makes every test false anyway).
+  // corner i: through the grid where the cells its corners reach (make_grid) are fewer than the
+  // filings, else through the list (a point that is not a number makes every test false).
   bool reflex_blocker(std::size_t i) {
     const std::size_t pa = lists_.prev[i], pc = lists_.next[i];
     const std::uint32_t ia = lists_.poly[pa], ib = lists_.poly[i], ic = lists_.poly[pc];
@@ -237,11 +258,9 @@ class EarClipper {
              f.point != ia && f.point != ib && f.point != ic;  // not the same point (bridges repeat points)
     };
     if (grid_x_ > 0) {
-      const Cell u = cell_[pa], v = cell_[i], w = cell_[pc];
-      const std::size_t x0 = std::min({u.x, v.x, w.x}), x1 = std::max({u.x, v.x, w.x});
-      const std::size_t y0 = std::min({u.y, v.y, w.y}), y1 = std::max({u.y, v.y, w.y});
-      const std::size_t xa = x0 > 0 ? x0 - 1 : 0, xb = std::min(x1 + 1, grid_x_ - 1);
-      const std::size_t ya = y0 > 0 ? y0 - 1 : 0, yb = std::min(y1 + 1, grid_y_ - 1);
+      const Reach &u = reach_[pa], &v = reach_[i], &w = reach_[pc];
+      const std::size_t xa = std::min({u.x0, v.x0, w.x0}), xb = std::max({u.x1, v.x1, w.x1});
+      const std::size_t ya = std::min({u.y0, v.y0, w.y0}), yb = std::max({u.y1, v.y1, w.y1});
       if ((xb - xa + 1) * (yb - ya + 1) < filings_) {
         for (std::size_t y = ya; y <= yb; ++y) {
           const Filed* f = filed_.data() + cell_start_[y * grid_x_ + xa];
@@ -375,6 +394,7 @@ class EarClipper {
   std::vector<Filed> filed_;
   std::vector<LateFiled> late_;
   std::vector<Cell> cell_;  // the cell of every corner
+  std::vector<Reach> reach_;  // the cells every corner reaches
   bool grid_filed_ = false;
   std::size_t grid_x_ = 0, grid_y_ = 0;
   glm::dvec2 origin_xy_{0.0}, inv_cell_{0.0};
@@ -486,34 +506,46 @@ void triangulate_polygon(const std::vector<glm::dvec2>& pts, const std::vector<s
   EarClipper(pts, poly, rules.ears).run(out);
 }
 
-std::vector<LocalTri> triangulate_loops(const std::vector<glm::dvec2>& points,
-                                        const std::vector<std::vector<std::uint32_t>>& loops, int outer_sign,
-                                        const TriangulationRules& rules) {
-  // Work counter-clockwise: mirror when the outer loops are clockwise, flip the output back.
-  std::vector<glm::dvec2> pts = points;
+LoopPolygons loop_polygons(const std::vector<glm::dvec2>& points, const std::vector<std::vector<std::uint32_t>>& loops,
+                           int outer_sign) {
+  // Work counter-clockwise: mirror when the outer loops are clockwise (mirroring reverses
+  // orientation once, so the triangles already have the outer loops' orientation).
+  LoopPolygons out;
+  out.pts = points;
   if (outer_sign < 0)
-    for (auto& p : pts) p.x = -p.x;
-  std::vector<std::size_t> outers, holes;
+    for (auto& p : out.pts) p.x = -p.x;
+  const auto& pts = out.pts;
+  std::vector<std::size_t> holes;
   std::vector<double> area(loops.size());
   for (std::size_t i = 0; i < loops.size(); ++i) {
     if (loops[i].size() < 3) continue;
     area[i] = signed_area2(pts, loops[i]);
-    if (area[i] > 0) outers.push_back(i);
+    if (area[i] > 0) out.outers.push_back(i);
     else if (area[i] < 0) holes.push_back(i);
   }
+  // The hole lists by outer loop, then by position in `outers`.
   std::vector<std::vector<std::vector<std::uint32_t>>> holes_of(loops.size());
   for (std::size_t h : holes) {
     std::size_t owner = loops.size();
-    for (std::size_t o : outers)
+    for (std::size_t o : out.outers)
       if (point_in_loop(pts, loops[o], pts[loops[h][0]]) && (owner == loops.size() || area[o] < area[owner])) owner = o;
     if (owner != loops.size()) holes_of[owner].push_back(loops[h]);
   }
+  out.holes.reserve(out.outers.size());
+  for (std::size_t o : out.outers) out.holes.push_back(std::move(holes_of[o]));
+  return out;
+}
+
+std::vector<LocalTri> triangulate_loops(const std::vector<glm::dvec2>& points,
+                                        const std::vector<std::vector<std::uint32_t>>& loops, int outer_sign,
+                                        const TriangulationRules& rules) {
+  LoopPolygons polygons = loop_polygons(points, loops, outer_sign);
   std::vector<LocalTri> out;
   std::size_t corners = 0;  // a polygon of n corners (holes bridged in) makes n - 2 triangles at most
   for (const auto& loop : loops) corners += loop.size() + 2;
   out.reserve(corners);
-  for (std::size_t o : outers) triangulate_polygon(pts, loops[o], std::move(holes_of[o]), rules, out);
-  // Mirroring reversed orientation once, so `out` already has the outer loops' orientation.
+  for (std::size_t k = 0; k < polygons.outers.size(); ++k)
+    triangulate_polygon(polygons.pts, loops[polygons.outers[k]], std::move(polygons.holes[k]), rules, out);
   return out;
 }
 

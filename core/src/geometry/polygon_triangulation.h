@@ -73,6 +73,21 @@ void triangulate_polygon(const std::vector<glm::dvec2>& pts, const std::vector<s
                          std::vector<std::vector<std::uint32_t>> holes, const TriangulationRules& rules,
                          std::vector<LocalTri>& out);
 
+/// The polygons triangulate_loops clips, so that they can be clipped apart (e.g. on several
+/// threads): triangulate_polygon(pts, loops[outers[k]], holes[k], rules, out) for k in order
+/// appends what triangulate_loops returns.
+struct LoopPolygons {
+  /// The points in a frame where the outer loops run counter-clockwise (x mirrored when
+  /// `outer_sign` < 0; the triangles then have the outer loops' orientation in the input).
+  std::vector<glm::dvec2> pts;
+  std::vector<std::size_t> outers;  ///< indices into the loops, in loop order
+  std::vector<std::vector<std::vector<std::uint32_t>>> holes;  ///< holes[k]: those of outers[k]
+};
+
+/// The outer loops and holes of `loops`, as triangulate_loops assigns them.
+LoopPolygons loop_polygons(const std::vector<glm::dvec2>& points, const std::vector<std::vector<std::uint32_t>>& loops,
+                           int outer_sign);
+
 /// Triangulates the region bounded by `loops` (2D points, each loop a closed polygon given by
 /// indices into `points`). Loops whose signed area has the sign of `outer_sign` (+1: counter-
 /// clockwise) are outer boundaries; the others are holes, assigned to the smallest outer loop

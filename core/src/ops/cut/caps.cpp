@@ -7,6 +7,7 @@
 #include <unordered_set>
 
 #include "deepcut/core/morph.h"
+#include "deepcut/core/parallel.h"
 #include "ops/common/crossing_table.h"
 #include "geometry/polygon_triangulation.h"
 
@@ -128,19 +129,31 @@ bool trace_loops(const std::vector<std::pair<VertexId, VertexId>>& halfedges, Ri
   return all_closed;
 }
 
+// One piece's cap, planned before any cap is made (plan_cap), so that the caps' polygons can be
+// triangulated together (triangulate_caps), then made one piece after another (make_cap).
+struct CapPlan {
+  RimLoops rim;
+  std::vector<FaceId> flat_faces;   // the piece's faces in the plane the cap replaces (sorted)
+  std::vector<Triangle> kept_flat;  // those it does not replace: the cap must not repeat them
+  glm::dvec3 u{0.0};                // the first axis of the plane's 2D frame
+  std::vector<glm::dvec2> pts;      // rim.verts in that frame
+  int outer_sign = 1;               // the orientation of the cap's outer loops in that frame
+  geometry::LoopPolygons polygons;
+  std::vector<std::vector<geometry::LocalTri>> tris;  // by polygon
+};
+
 // Faces of the piece lying in the plane (every corner on it) are where the cap goes: capping
 // round them would put a second layer on top of them (a duplicate face, or cap triangles sharing
-// their edges: non-manifold edges). When the rim closes without them they are removed and the
-// cap takes their place; otherwise (open input) they stay and the rim is capped as it is, and
-// they are returned: the cap must not repeat them.
-std::vector<Triangle> choose_loops(MeshEditor& editor, const CapInput& in, std::vector<FaceId>& piece,
-                                   RimLoops& rim) {
-  const SurfaceMesh& mesh = editor.mesh();
-  std::vector<FaceId> flat_faces;
+// their edges: non-manifold edges). When the rim closes without them the cap takes their place
+// (plan.flat_faces: make_cap removes them); otherwise (open input) they stay and the rim is
+// capped as it is (plan.kept_flat: the cap must not repeat them).
+void choose_loops(const SurfaceMesh& mesh, const CapInput& in, CapPlan& plan) {
+  RimLoops& rim = plan.rim;
+  std::vector<FaceId>& flat_faces = plan.flat_faces;
   for (FaceId f : in.rim_faces)
     if (flat(*in.sign, mesh.face(f))) flat_faces.push_back(f);
   std::sort(flat_faces.begin(), flat_faces.end());
-  std::vector<Triangle> kept_flat;
+  std::vector<Triangle>& kept_flat = plan.kept_flat;
   if (flat_faces.empty() || !trace_loops(rim_halfedges(mesh, in, flat_faces), rim)) {
     for (FaceId f : flat_faces) kept_flat.push_back(mesh.face(f));
     flat_faces.clear();
@@ -160,14 +173,64 @@ std::vector<Triangle> choose_loops(MeshEditor& editor, const CapInput& in, std::
       if (runs_along) rim.loops.clear();
     }
   }
-  if (!flat_faces.empty() && !rim.loops.empty()) {
-    for (FaceId f : flat_faces) editor.remove_face(f);
-    piece.erase(
-        std::remove_if(piece.begin(), piece.end(),
-                       [&](FaceId f) { return std::binary_search(flat_faces.begin(), flat_faces.end(), f); }),
-        piece.end());
+  if (rim.loops.empty()) flat_faces.clear();  // no cap: they stay
+}
+
+// The cap's polygons in the plane's 2D frame (plan.pts, plan.u), with the orientation of its
+// largest loop (an outer one) as the cap's.
+void plan_polygons(const CapInput& in, CapPlan& plan) {
+  const auto& loops = plan.rim.loops;
+  const auto& verts = plan.rim.verts;
+  const glm::dvec3 n = in.normal;
+  const glm::dvec3 u = glm::normalize(std::abs(n.x) < 0.9 ? glm::cross(n, glm::dvec3(1, 0, 0))
+                                                          : glm::cross(n, glm::dvec3(0, 1, 0)));
+  const glm::dvec3 w = glm::cross(n, u);
+  plan.u = u;
+  plan.pts.resize(verts.size());
+  for (std::size_t i = 0; i < verts.size(); ++i) {
+    const glm::dvec3 p = glm::dvec3((*in.posed)(verts[i])) - in.point;
+    plan.pts[i] = {glm::dot(p, u), glm::dot(p, w)};
   }
-  return kept_flat;
+  double largest_area = geometry::signed_area2(plan.pts, loops[0]);
+  for (std::size_t i = 1; i < loops.size(); ++i) {
+    const double area = geometry::signed_area2(plan.pts, loops[i]);
+    if (std::abs(area) > std::abs(largest_area)) largest_area = area;
+  }
+  plan.outer_sign = largest_area >= 0 ? 1 : -1;
+  plan.polygons = geometry::loop_polygons(plan.pts, loops, plan.outer_sign);
+  plan.tris.resize(plan.polygons.outers.size());
+}
+
+// Caps with this many polygon corners in all (or more) are triangulated on the pool: below it
+// handing the polygons to other threads costs about what it saves.
+constexpr std::size_t kParallelCapCorners = 256;
+
+// Triangulates every planned polygon of every cap (as triangulate_loops would), on the pool
+// when they are big enough: each polygon's triangles are its own, so the result is the same
+// whatever the thread count.
+void triangulate_caps(std::vector<CapPlan>& plans) {
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> jobs;  // (plan, polygon)
+  std::size_t corners = 0;
+  for (std::size_t p = 0; p < plans.size(); ++p)
+    for (std::size_t k = 0; k < plans[p].polygons.outers.size(); ++k) {
+      jobs.emplace_back(static_cast<std::uint32_t>(p), static_cast<std::uint32_t>(k));
+      corners += plans[p].rim.loops[plans[p].polygons.outers[k]].size();
+      for (const auto& hole : plans[p].polygons.holes[k]) corners += hole.size();
+    }
+  auto triangulate = [&](std::size_t j) {
+    CapPlan& plan = plans[jobs[j].first];
+    const std::size_t k = jobs[j].second;
+    const auto& outer = plan.rim.loops[plan.polygons.outers[k]];
+    plan.tris[k].reserve(outer.size());
+    geometry::triangulate_polygon(plan.polygons.pts, outer, std::move(plan.polygons.holes[k]), {}, plan.tris[k]);
+  };
+  if (jobs.size() < 2 || corners < kParallelCapCorners) {
+    for (std::size_t j = 0; j < jobs.size(); ++j) triangulate(j);
+    return;
+  }
+  parallel_for(jobs.size(), 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t j = begin; j < end; ++j) triangulate(j);
+  });
 }
 
 // The attributes of the cap faces `faces` (faces[k] made from tris[made[k]], its corners'
@@ -214,9 +277,19 @@ void set_cap_attributes(SurfaceMesh& mesh, AttributeArray<std::uint8_t>& cap_fla
   for (auto* d : corner_morph_deltas(mesh)) fill(d, glm::vec3(0.0f));
 }
 
-// Triangulates the loops in the plane's 2D frame and adds the cap faces with their attributes.
-void add_cap_faces(MeshEditor& editor, const CapInput& in, const RimLoops& rim,
-                   const std::vector<Triangle>& kept_flat, std::vector<FaceId>& piece) {
+// Makes the planned cap of a piece: removes the flat faces it replaces, adds its faces (in the
+// order of its polygons' triangles) with their attributes.
+void make_cap(MeshEditor& editor, const CapInput& in, const CapPlan& plan, std::vector<FaceId>& piece) {
+  if (plan.rim.loops.empty()) return;
+  const auto& flat_faces = plan.flat_faces;
+  if (!flat_faces.empty()) {
+    for (FaceId f : flat_faces) editor.remove_face(f);
+    piece.erase(
+        std::remove_if(piece.begin(), piece.end(),
+                       [&](FaceId f) { return std::binary_search(flat_faces.begin(), flat_faces.end(), f); }),
+        piece.end());
+  }
+  const auto& kept_flat = plan.kept_flat;
   auto repeats_flat = [&](Triangle t) {
     std::sort(t.begin(), t.end());
     return std::any_of(kept_flat.begin(), kept_flat.end(), [&](Triangle g) {
@@ -224,27 +297,13 @@ void add_cap_faces(MeshEditor& editor, const CapInput& in, const RimLoops& rim,
       return g == t;
     });
   };
-  const auto& loops = rim.loops;
-  const auto& verts = rim.verts;
-  // 2D frame in the plane.
-  const glm::dvec3 n = in.normal;
-  const glm::dvec3 u = glm::normalize(std::abs(n.x) < 0.9 ? glm::cross(n, glm::dvec3(1, 0, 0))
-                                                          : glm::cross(n, glm::dvec3(0, 1, 0)));
-  const glm::dvec3 w = glm::cross(n, u);
-  std::vector<glm::dvec2> pts(verts.size());
-  for (std::size_t i = 0; i < verts.size(); ++i) {
-    const glm::dvec3 p = glm::dvec3((*in.posed)(verts[i])) - in.point;
-    pts[i] = {glm::dot(p, u), glm::dot(p, w)};
+  const auto& verts = plan.rim.verts;
+  std::vector<geometry::LocalTri> tris;
+  if (plan.tris.size() == 1) {
+    tris = plan.tris[0];
+  } else {
+    for (const auto& t : plan.tris) tris.insert(tris.end(), t.begin(), t.end());
   }
-  // The largest loop is an outer one; its orientation is the cap's.
-  double largest_area = geometry::signed_area2(pts, loops[0]);
-  for (std::size_t i = 1; i < loops.size(); ++i) {
-    const double area = geometry::signed_area2(pts, loops[i]);
-    if (std::abs(area) > std::abs(largest_area)) largest_area = area;
-  }
-  const int outer_sign = largest_area >= 0 ? 1 : -1;
-  const auto tris = geometry::triangulate_loops(pts, loops, outer_sign);
-
   // The faces, then each attribute in one pass over them.
   SurfaceMesh& mesh = editor.mesh();
   auto* cap_flag = mesh.face_attrs().find<std::uint8_t>(attr::kCutSurface);
@@ -260,8 +319,8 @@ void add_cap_faces(MeshEditor& editor, const CapInput& in, const RimLoops& rim,
     piece.push_back(editor.add_face(t));
     made.push_back(static_cast<std::uint32_t>(i));
   }
-  const glm::vec3 flat_normal = float(outer_sign) * glm::vec3(n);
-  set_cap_attributes(mesh, *cap_flag, piece.data() + first, made, pts, tris, flat_normal, u);
+  const glm::vec3 flat_normal = float(plan.outer_sign) * glm::vec3(in.normal);
+  set_cap_attributes(mesh, *cap_flag, piece.data() + first, made, plan.pts, tris, flat_normal, plan.u);
 }
 
 }  // namespace
@@ -312,11 +371,14 @@ std::vector<std::pair<VertexId, VertexId>> rim_halfedges(const SurfaceMesh& mesh
   return halfedges;
 }
 
-void cap_piece(MeshEditor& editor, const CapInput& in, std::vector<FaceId>& piece) {
-  RimLoops rim;
-  const std::vector<Triangle> kept_flat = choose_loops(editor, in, piece, rim);
-  if (rim.loops.empty()) return;
-  add_cap_faces(editor, in, rim, kept_flat, piece);
+void make_caps(MeshEditor& editor, const std::vector<CapInput>& in, std::vector<std::vector<FaceId>>& pieces) {
+  std::vector<CapPlan> plans(in.size());
+  for (std::size_t p = 0; p < in.size(); ++p) {
+    choose_loops(editor.mesh(), in[p], plans[p]);
+    if (!plans[p].rim.loops.empty()) plan_polygons(in[p], plans[p]);
+  }
+  triangulate_caps(plans);
+  for (std::size_t p = 0; p < in.size(); ++p) make_cap(editor, in[p], plans[p], pieces[p]);
 }
 
 }  // namespace deepcut::detail

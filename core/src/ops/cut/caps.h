@@ -21,7 +21,7 @@ struct CapInput {
   const std::vector<std::int8_t>* sign = nullptr;
   /// The piece's faces with two or more corners on the plane (the only ones with rim edges).
   std::vector<FaceId> rim_faces;
-  /// rim_halfedges(mesh, *this) where the caller has it already (cap_piece finds it otherwise).
+  /// rim_halfedges(mesh, *this) where the caller has it already (make_caps finds it otherwise).
   std::optional<std::vector<std::pair<VertexId, VertexId>>> rim;
 };
 
@@ -30,11 +30,13 @@ struct CapInput {
 std::vector<std::pair<VertexId, VertexId>> rim_halfedges(const SurfaceMesh& mesh, const CapInput& in,
                                                          const std::vector<FaceId>& skip = {});
 
-/// Caps the piece whose faces are `piece`: traces its rim into loops and adds cap faces (flagged
-/// attr::kCutSurface, corner attributes set, corner morph deltas zero) to `piece`. A cap uses only
-/// rim vertices, so it shares their morph targets' POSITION deltas and stays on the rim whatever
-/// the weights. Faces of the piece lying in the plane
-/// are replaced by the cap when the rim closes without them; open rims are not capped.
-void cap_piece(MeshEditor& editor, const CapInput& in, std::vector<FaceId>& piece);
+/// Caps every piece: pieces[p], from in[p], traced into loops and given cap faces (flagged
+/// attr::kCutSurface, corner attributes set, corner morph deltas zero). A cap uses only rim
+/// vertices, so it shares their morph targets' POSITION deltas and stays on the rim whatever the
+/// weights. Faces of a piece lying in the plane are replaced by the cap when the rim closes
+/// without them; open rims are not capped. The caps are planned first and their polygons
+/// triangulated together (on the pool when they are big enough), then made one piece after
+/// another: the same faces, ids and log as capping each piece in turn, whatever the thread count.
+void make_caps(MeshEditor& editor, const std::vector<CapInput>& in, std::vector<std::vector<FaceId>>& pieces);
 
 }  // namespace deepcut::detail

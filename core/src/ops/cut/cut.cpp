@@ -298,36 +298,38 @@ Cutter::VertexFlags Cutter::capped_single_fans(std::uint32_t first_cap_face,
   }
   out.first = lo;
   out.flags.assign(n, 0);
+  // A vertex's cap faces as bits (face i of its list: bit i): those sharing an edge at the vertex
+  // with each face (a corner besides it), and those along a rim edge; the faces reached from the
+  // latter through the former must be all of them.
   constexpr std::uint32_t kMaxFan = 32;  // more cap faces at one vertex: left to the pinch split
-  std::uint32_t parent[kMaxFan];
-  bool anchored[kMaxFan];
+  std::uint32_t shares[kMaxFan];
   for (std::size_t v = 0; v < n; ++v) {
     const std::uint32_t m = first[v + 1] - first[v];
     if (m == 0 || m > kMaxFan) continue;
     const auto* c = others.data() + first[v];
     const std::uint32_t* nb = rim_next.data() + rim_first[v];
-    const std::uint32_t nbs = rim_first[v + 1] - rim_first[v];
-    auto along_rim = [&](std::uint32_t x) { return std::find(nb, nb + nbs, x) != nb + nbs; };
-    auto root = [&](std::uint32_t x) {
-      while (parent[x] != x) x = parent[x];
-      return x;
-    };
+    const std::uint32_t* nb_end = rim_next.data() + rim_first[v + 1];
+    std::uint32_t reached = 0;
     for (std::uint32_t i = 0; i < m; ++i) {
-      parent[i] = i;
-      anchored[i] = along_rim(c[i].first) || along_rim(c[i].second);
+      shares[i] = 0;
+      for (const std::uint32_t* x = nb; x != nb_end; ++x)
+        if (c[i].first == *x || c[i].second == *x) reached |= 1u << i;
     }
     for (std::uint32_t i = 0; i < m; ++i)
       for (std::uint32_t j = i + 1; j < m; ++j)
         if (c[i].first == c[j].first || c[i].first == c[j].second || c[i].second == c[j].first ||
             c[i].second == c[j].second) {
-          const std::uint32_t ri = root(i), rj = root(j);
-          if (ri == rj) continue;
-          parent[std::max(ri, rj)] = std::min(ri, rj);
-          anchored[std::min(ri, rj)] = anchored[ri] || anchored[rj];
+          shares[i] |= 1u << j;
+          shares[j] |= 1u << i;
         }
-    bool all = true;
-    for (std::uint32_t i = 0; i < m && all; ++i) all = anchored[root(i)];
-    out.flags[v] = all ? 1 : 0;
+    for (std::uint32_t grown = reached; grown;) {  // the faces newly reached, until none
+      std::uint32_t next = 0;
+      for (std::uint32_t i = 0; i < m; ++i)
+        if (grown >> i & 1u) next |= shares[i];
+      grown = next & ~reached;
+      reached |= grown;
+    }
+    out.flags[v] = reached == (m == 32 ? ~0u : (1u << m) - 1) ? 1 : 0;
   }
   return out;
 }
@@ -545,7 +547,7 @@ void Cutter::cap_pieces(CutResult& result, std::vector<VertexId>& rim) {
   if (!options_.cap) return;
   const auto first_cap_face = static_cast<std::uint32_t>(mesh_.face_slots());
   const std::size_t live_before = mesh_.face_count();
-  for (std::size_t p = 0; p < result.pieces.size(); ++p) detail::cap_piece(editor_, rims[p], result.pieces[p]);
+  detail::make_caps(editor_, rims, result.pieces);
   detail::append_run(rim_candidates_, first_cap_face, static_cast<std::uint32_t>(mesh_.face_slots()));
   // With a face of a piece removed (a flat one the cap replaced) its fans may have come apart:
   // then every rim vertex is looked at.
