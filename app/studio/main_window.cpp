@@ -477,15 +477,19 @@ BackgroundTask::Job MainWindow::open_job(const QString& path, std::shared_ptr<QE
   return [this, path, clock](TaskProgress& progress) -> BackgroundTask::Deliver {
     progress.stage("Reading");
     Model loaded = plugins::read_model(path.toStdString());
+    const double read_ms = ms_since(*clock);
     progress.stage("Preparing");
     reserve_for_operations(loaded);  // room to grow: the first operations do not reallocate
     auto opened = std::make_shared<OpenedModel>();
     opened->model = std::make_shared<const Model>(std::move(loaded));
+    opened->read_ms = read_ms;
     progress.stage("Posing");
     const int animation = opened->model->animations.empty() ? -1 : 0;
     opened->scene = plugins::make_scene(opened->model, animation, 0.0f);
+    opened->posed_ms = ms_since(*clock);
     progress.stage("Building the view");
     opened->drawn = SceneView::prepare(opened->scene);
+    opened->prepared_ms = ms_since(*clock);
     progress.stage("Drawing");
     return [this, path, clock, opened] { show_opened(path, std::move(*opened), *clock); };
   };
@@ -494,6 +498,9 @@ BackgroundTask::Job MainWindow::open_job(const QString& path, std::shared_ptr<QE
 void MainWindow::show_opened(const QString& path, OpenedModel opened, const QElapsedTimer& clock) {
   open_timing_ = {};
   open_timing_.delivered_ms = ms_since(clock);
+  open_timing_.read_ms = opened.read_ms;
+  open_timing_.posed_ms = opened.posed_ms;
+  open_timing_.prepared_ms = opened.prepared_ms;
   const std::shared_ptr<const Model> model = opened.model;
   std::vector<std::pair<QString, float>> clips;
   for (const Animation& a : model->animations)
