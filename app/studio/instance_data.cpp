@@ -155,7 +155,8 @@ Overlay stand_in_skeleton(vtkCamera* camera) {
   glm::dvec3 focus, up;
   camera->GetFocalPoint(&focus.x);
   camera->GetViewUp(&up.x);
-  const glm::dvec3 top = focus + up * (0.5 * camera->GetDistance() * std::tan(0.5 * vtkMath::RadiansFromDegrees(camera->GetViewAngle())));
+  const double half = camera->GetDistance() * std::tan(0.5 * vtkMath::RadiansFromDegrees(camera->GetViewAngle()));
+  const glm::dvec3 top = focus + up * (0.5 * half);
   OverlayLines bones;  // as skeleton_overlay's
   bones.width_px = 3.0f;
   bones.on_top = true;

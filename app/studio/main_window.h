@@ -231,7 +231,7 @@ class MainWindow : public QMainWindow {
     std::shared_ptr<const Model> model;  // the session takes it over: the scene draws the live model
     plugins::Scene scene;
     std::shared_ptr<const SceneView::Prepared> drawn;  // the scene's VTK data
-    double read_ms = 0.0, posed_ms = 0.0, prepared_ms = 0.0;  // OpenTiming's worker marks
+    OpenTiming timing;  // the worker's marks
   };
   BackgroundTask::Job open_job(const QString& path, std::shared_ptr<QElapsedTimer> clock);
   /// Swaps the opened model in and draws its first frame (UI thread).

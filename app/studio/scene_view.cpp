@@ -167,7 +167,8 @@ bool SceneView::Impl::warm_up_next() {
   for (vtkActor* actor : hidden) actor->VisibilityOff();
   renderer->AddActor(warm.actor);
   // With the untextured surface, a skinned model's skeleton overlay (its own shaders).
-  const OverlayProps skeleton = textured ? OverlayProps{} : make_overlay_props(stand_in_skeleton(renderer->GetActiveCamera()));
+  const OverlayProps skeleton =
+      textured ? OverlayProps{} : make_overlay_props(stand_in_skeleton(renderer->GetActiveCamera()));
   for (const auto& prop : skeleton.on_top) top->AddViewProp(prop);
   window->SwapBuffersOff();
   window->Render();
