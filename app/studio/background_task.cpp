@@ -7,8 +7,17 @@
 #include <QPushButton>
 #include <QStatusBar>
 #include <QThread>
+#include <QTimer>
 
 namespace deepcut::studio {
+namespace {
+
+// A task shows in the status bar once it has run this long, then follows its stages at most
+// once per kRefreshMs (BackgroundTask's header says why).
+constexpr int kShowAfterMs = 500;
+constexpr int kRefreshMs = 500;
+
+}  // namespace
 
 void TaskProgress::stage(const QString& name) {
   if (cancelled_.load()) throw TaskCancelled{};
@@ -18,6 +27,7 @@ void TaskProgress::stage(const QString& name) {
 struct BackgroundTask::Running {
   QString title, stage;
   int stages = 1, done = 0;
+  bool cancelling = false;  // Cancel was pressed: the status bar says so
   std::shared_ptr<TaskProgress> progress = std::make_shared<TaskProgress>();
   QThread* thread = nullptr;
   // Written by the worker before it ends, read on the UI thread after QThread::finished.
@@ -44,6 +54,9 @@ BackgroundTask::BackgroundTask(QStatusBar* bar, QObject* parent) : QObject(paren
   for (QWidget* w : {static_cast<QWidget*>(label_), static_cast<QWidget*>(bar_), static_cast<QWidget*>(cancel_)})
     w->hide();
   connect(cancel_, &QPushButton::clicked, this, &BackgroundTask::cancel);
+  refresh_ = new QTimer(this);
+  refresh_->setSingleShot(true);
+  connect(refresh_, &QTimer::timeout, this, &BackgroundTask::refresh);
 }
 
 BackgroundTask::~BackgroundTask() {
@@ -76,12 +89,7 @@ bool BackgroundTask::start(const QString& title, int stages, Job job,
     }
   });
   connect(run->thread, &QThread::finished, this, &BackgroundTask::end, Qt::QueuedConnection);
-  bar_->setRange(0, run->stages);
-  bar_->setValue(0);
-  label_->setText(title);
-  cancel_->setEnabled(true);
-  for (QWidget* w : {static_cast<QWidget*>(label_), static_cast<QWidget*>(bar_), static_cast<QWidget*>(cancel_)})
-    w->show();
+  refresh_->start(kShowAfterMs);
   emit busy_changed(true);
   run->thread->start();
   return true;
@@ -90,9 +98,21 @@ bool BackgroundTask::start(const QString& title, int stages, Job job,
 void BackgroundTask::show_stage(const QString& stage) {
   if (!running_) return;
   running_->stage = stage;
-  bar_->setValue(std::min(running_->done++, running_->stages));
-  label_->setText(text());
+  ++running_->done;
+  if (bar_->isVisible() && !refresh_->isActive()) refresh_->start(kRefreshMs);
   emit stage_changed(stage);
+}
+
+void BackgroundTask::refresh() {
+  if (!running_) return;
+  if (!bar_->isVisible()) {
+    bar_->setRange(0, running_->stages);
+    cancel_->setEnabled(!running_->cancelling);
+    for (QWidget* w : {static_cast<QWidget*>(label_), static_cast<QWidget*>(bar_), static_cast<QWidget*>(cancel_)})
+      w->show();
+  }
+  bar_->setValue(std::min(std::max(running_->done - 1, 0), running_->stages));
+  label_->setText(running_->cancelling ? running_->title + ": cancelling" : text());
 }
 
 QString BackgroundTask::text() const {
@@ -103,6 +123,7 @@ QString BackgroundTask::text() const {
 void BackgroundTask::cancel() {
   if (!running_) return;
   running_->progress->cancelled_ = true;
+  running_->cancelling = true;
   cancel_->setEnabled(false);
   label_->setText(running_->title + ": cancelling");
 }
@@ -112,6 +133,7 @@ void BackgroundTask::end() {
   running_->thread->wait();
   std::unique_ptr<Running> run = std::move(running_);
   delete run->thread;
+  refresh_->stop();
   for (QWidget* w : {static_cast<QWidget*>(label_), static_cast<QWidget*>(bar_), static_cast<QWidget*>(cancel_)})
     w->hide();
   emit busy_changed(false);

@@ -4,7 +4,10 @@
 /// Long work off the UI thread: opening a model, exporting, re-running an edited history and
 /// re-clustering run as a job on a worker thread while the event loop goes on (the view still
 /// turns, the window still repaints). The status bar shows what runs ("Opening cactus.glb:
-/// Welding"), a progress bar (one step per stage) and Cancel. The job names its stages through
+/// Welding"), a progress bar (one step per stage) and Cancel, once the task has run for a moment
+/// (a quick one shows nothing), and follows its stages a few times a second at most: each change
+/// of the status bar repaints the whole window, the 3D view included, which on a software
+/// renderer takes a core for tens of milliseconds away from the job. The job names its stages through
 /// `TaskProgress::stage`; each stage boundary is where Cancel takes effect: the job stops there
 /// (TaskCancelled), its partial result is dropped and nothing it would have changed changes. A
 /// job returns what to do with its result on the UI thread (`Deliver`), which runs only when the
@@ -24,6 +27,7 @@ class QProgressBar;
 class QPushButton;
 class QStatusBar;
 class QThread;
+class QTimer;
 
 namespace deepcut::studio {
 
@@ -33,7 +37,7 @@ struct TaskCancelled {};
 /// What a running job sees: its stages and whether it was cancelled. Thread-safe.
 class TaskProgress {
  public:
-  /// Starts stage `name` ("Reading", "Welding", ...): the status bar shows it.
+  /// Starts stage `name` ("Reading", "Welding", ...): the status bar shows it (at its next refresh).
   /// @throws TaskCancelled when Cancel was pressed (the stage does not start).
   void stage(const QString& name);
   bool cancelled() const { return cancelled_.load(); }
@@ -81,9 +85,12 @@ class BackgroundTask : public QObject {
  private:
   struct Running;
   void show_stage(const QString& stage);
+  /// Shows the running task's title, stage and progress in the status bar (a timer calls it).
+  void refresh();
   void end();
 
   QLabel* label_ = nullptr;
+  QTimer* refresh_ = nullptr;  // single shot: the first showing, then each refresh
   QProgressBar* bar_ = nullptr;
   QPushButton* cancel_ = nullptr;
   std::unique_ptr<Running> running_;

@@ -169,4 +169,24 @@ vtkSmartPointer<vtkTexture> stand_in_texture() {
   return make_texture({"stand-in", "image/png", kOnePixelPng});
 }
 
+Overlay stand_in_skeleton(vtkCamera* camera) {
+  glm::dvec3 focus, up;
+  camera->GetFocalPoint(&focus.x);
+  camera->GetViewUp(&up.x);
+  const double half = camera->GetDistance() * std::tan(0.5 * vtkMath::RadiansFromDegrees(camera->GetViewAngle()));
+  const glm::dvec3 top = focus + up * (0.5 * half);
+  OverlayLines bones;  // as skeleton_overlay's
+  bones.width_px = 3.0f;
+  bones.on_top = true;
+  bones.endpoints = {glm::vec3(focus), glm::vec3(top)};
+  OverlayPoints joints;
+  joints.size_px = 7.0f;
+  joints.on_top = true;
+  joints.positions = {glm::vec3(focus)};
+  Overlay overlay;
+  overlay.lines.push_back(std::move(bones));
+  overlay.points.push_back(std::move(joints));
+  return overlay;
+}
+
 }  // namespace deepcut::studio

@@ -60,5 +60,9 @@ vtkSmartPointer<vtkPolyData> normal_lines(const std::vector<vtkPolyData*>& drawn
 vtkSmartPointer<vtkPolyData> stand_in_triangle(vtkCamera* camera, bool textured);
 /// A one-pixel texture made as a material's is (make_texture).
 vtkSmartPointer<vtkTexture> stand_in_texture();
+/// One bone and one joint at `camera`'s focal point, drawn as plugins::skeleton_overlay draws a
+/// skinned model's (lines and points over the model): drawing them compiles what that overlay
+/// needs in the first frame of such a model.
+Overlay stand_in_skeleton(vtkCamera* camera);
 
 }  // namespace deepcut::studio

@@ -445,9 +445,7 @@ bool MainWindow::begin_open(const QString& path) {
         view_->hold_renders(false);  // a swap-in that failed half-way still draws
         report_exception(error, name);
       },
-      [this, name] {
-        statusBar()->showMessage("Opening " + name + " cancelled: nothing changed", 8000);
-      });
+      [this, name] { statusBar()->showMessage("Opening " + name + " cancelled: nothing changed", 8000); });
 }
 
 void MainWindow::report_exception(std::exception_ptr error, const QString& file) {
@@ -475,28 +473,30 @@ BackgroundTask::Job MainWindow::open_job(const QString& path, std::shared_ptr<QE
   // Off the UI thread: everything that does not touch the window or the session. The window
   // changes only in the Deliver, so a failure or Cancel keeps the old model.
   return [this, path, clock](TaskProgress& progress) -> BackgroundTask::Deliver {
+    auto opened = std::make_shared<OpenedModel>();
     progress.stage("Reading");
     Model loaded = plugins::read_model(path.toStdString());
+    opened->timing.read_ms = ms_since(*clock);
     progress.stage("Preparing");
     reserve_for_operations(loaded);  // room to grow: the first operations do not reallocate
-    auto opened = std::make_shared<OpenedModel>();
     opened->model = std::make_shared<const Model>(std::move(loaded));
     progress.stage("Posing");
     const int animation = opened->model->animations.empty() ? -1 : 0;
     opened->scene = plugins::make_scene(opened->model, animation, 0.0f);
+    opened->timing.posed_ms = ms_since(*clock);
     progress.stage("Building the view");
     opened->drawn = SceneView::prepare(opened->scene);
+    opened->timing.prepared_ms = ms_since(*clock);
     progress.stage("Drawing");
     return [this, path, clock, opened] { show_opened(path, std::move(*opened), *clock); };
   };
 }
 
 void MainWindow::show_opened(const QString& path, OpenedModel opened, const QElapsedTimer& clock) {
-  open_timing_ = {};
+  open_timing_ = opened.timing;
   open_timing_.delivered_ms = ms_since(clock);
-  const std::shared_ptr<const Model> model = opened.model;
   std::vector<std::pair<QString, float>> clips;
-  for (const Animation& a : model->animations)
+  for (const Animation& a : opened.model->animations)
     clips.emplace_back(QString::fromStdString(a.name), a.duration());
   // The swap-in: every step below may ask for a frame; the view draws one, at the end.
   view_->hold_renders(true);
@@ -511,7 +511,7 @@ void MainWindow::show_opened(const QString& path, OpenedModel opened, const QEla
   last_error_.clear();
   operations_->refresh_list();
   // What reading repaired or dropped: the Problems panel lists it, the status bar points at it.
-  problems_->set_problems(QFileInfo(path).fileName(), model->import_problems);
+  problems_->set_problems(QFileInfo(path).fileName(), opened.model->import_problems);
   problems_dock_->setVisible(!problems_->lines().isEmpty());
   QStringList status;
   if (!notes.empty()) status << QString::fromStdString(notes.front());
@@ -519,10 +519,11 @@ void MainWindow::show_opened(const QString& path, OpenedModel opened, const QEla
   if (!status.isEmpty()) statusBar()->showMessage(status.join("; "), 15000);
   open_timing_.swap_ms = ms_since(clock) - open_timing_.delivered_ms;
   emit model_changed();
-  // The first frame in the next turn of the event loop: what is queued runs between the two.
+  // The first frame in the next turn of the event loop: what is queued runs between the two. Posted, not
+  // a zero timer: it runs before the swap-in's repaint requests (low priority), so one repaint shows all.
   open_clock_ = clock;
   first_frame_pending_ = true;
-  QTimer::singleShot(0, this, &MainWindow::draw_first_frame);
+  QMetaObject::invokeMethod(this, &MainWindow::draw_first_frame, Qt::QueuedConnection);
 }
 
 void MainWindow::draw_first_frame() {
@@ -541,13 +542,12 @@ void MainWindow::draw_frame_and_index(bool in_background) {
   note_operation("Open " + QFileInfo(path_).fileName(), open_timing_.total_ms);
   // Then the operations' posed model (positions again, with the grids the tools search), off
   // the UI thread while edits wait for it: an operation never finds a half-built one.
-  if (!in_background) {
-    if (!session().current() || !scene()) return;
+  if (in_background) {
+    start_indexing();
+  } else if (session().current() && scene()) {
     TaskProgress progress;
     index_job(session().current(), scene_host_->pose_key())(progress)();
-    return;
   }
-  start_indexing();
 }
 
 bool MainWindow::start_indexing() {

@@ -168,9 +168,14 @@ bool SceneView::Impl::warm_up_next() {
   if (normals && normals->GetVisibility()) hidden.push_back(normals);
   for (vtkActor* actor : hidden) actor->VisibilityOff();
   renderer->AddActor(warm.actor);
+  // With the untextured surface, a skinned model's skeleton overlay (its own shaders).
+  const OverlayProps skeleton =
+      textured ? OverlayProps{} : make_overlay_props(stand_in_skeleton(renderer->GetActiveCamera()));
+  for (const auto& prop : skeleton.on_top) top->AddViewProp(prop);
   window->SwapBuffersOff();
   window->Render();
   window->SwapBuffersOn();
+  for (const auto& prop : skeleton.on_top) top->RemoveViewProp(prop);
   renderer->RemoveActor(warm.actor);
   for (vtkActor* actor : hidden) actor->VisibilityOn();
   return warmed < 2;

@@ -235,15 +235,22 @@ std::vector<glm::vec3> posed_positions(const Model& model, int node, const Surfa
 
 std::vector<glm::vec3> posed_positions(const Model& model, int node, const SurfaceMesh& mesh,
                                        const std::vector<glm::mat4>& world, const std::vector<float>& weights) {
-  const std::vector<glm::vec3> p = morphed_positions(mesh, weights);
-  std::vector<glm::vec3> out(p.size());
-  const auto skin = vertex_matrices(model, node, mesh, world);
+  // Each vertex morphed (morphed_positions), then moved by its skinning matrix (vertex_matrices)
+  // or the node's: the same arithmetic in one pass, without the morphed copy and the matrix
+  // per vertex in memory between them.
+  const MorphBlend morph(mesh, weights);
+  const auto& rest = mesh.positions();
+  std::vector<glm::vec3> out(rest.size());
   const glm::mat4& rigid = world.at(static_cast<std::size_t>(node));
-  parallel_for(p.size(), kGrain, [&](std::size_t b, std::size_t e) {
-    if (skin.empty()) {
-      for (std::size_t v = b; v < e; ++v) out[v] = glm::vec3(rigid * glm::vec4(p[v], 1.0f));
-    } else {
-      for (std::size_t v = b; v < e; ++v) out[v] = glm::vec3(skin[v] * glm::vec4(p[v], 1.0f));
+  const Node& n = model.nodes.at(static_cast<std::size_t>(node));
+  const bool has_skin = n.skin >= 0 && static_cast<std::size_t>(n.skin) < model.skins.size();
+  const std::vector<glm::mat4> joints = has_skin ? joint_matrices(model, n.skin, world) : std::vector<glm::mat4>();
+  const SkinBlend blend(mesh, joints);
+  const bool skinned = has_skin && blend.skinned();
+  parallel_for(rest.size(), kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t v = b; v < e; ++v) {
+      const glm::vec4 p(morph.position(v, rest[v]), 1.0f);
+      out[v] = glm::vec3(skinned ? blend.matrix(v) * p : rigid * p);
     }
   });
   return out;

@@ -96,9 +96,11 @@ struct InfluenceSanitiser {
   const std::uint32_t* remap = nullptr;  // file joint -> merged joint, `remap_size` of them
   std::size_t remap_size = 0;
 
-  // Vertex v's influences, sanitised into `skin` (`nv` vertices per set); its repairs counted into `r`.
-  void operator()(std::size_t v, std::size_t nv, Influences& skin, InfluenceRepairs& r) const {
-    const int slots = 4 * static_cast<int>(sets);
+  // Vertex v's influences, sanitised into `skin` (`nv` vertices per set); its repairs counted into
+  // `r`. `kSets` is `sets` (1 or 2) as a constant: the loops over the slots unroll.
+  template <int kSets>
+  void run(std::size_t v, std::size_t nv, Influences& skin, InfluenceRepairs& r) const {
+    constexpr int slots = 4 * kSets;
     std::uint16_t jj[8] = {};
     float ww[8] = {};
     std::uint32_t raw[8] = {};
@@ -135,10 +137,16 @@ struct InfluenceSanitiser {
     }
     if (sum > 0.0f && std::abs(sum - 1.0f) > tolerance) ++r.renormalised;
     if (!normalize_influences(jj, ww, slots)) ++r.zero;
-    for (std::size_t s = 0; s < sets; ++s) {
+    for (std::size_t s = 0; s < kSets; ++s) {
       skin.joints[s * nv + v] = glm::u16vec4(jj[4 * s], jj[4 * s + 1], jj[4 * s + 2], jj[4 * s + 3]);
       skin.weights[s * nv + v] = glm::vec4(ww[4 * s], ww[4 * s + 1], ww[4 * s + 2], ww[4 * s + 3]);
     }
+  }
+  // Vertices [b, e) sanitised (run); their repairs.
+  InfluenceRepairs operator()(std::size_t b, std::size_t e, std::size_t nv, Influences& skin) const {
+    InfluenceRepairs r;
+    for (std::size_t v = b; v < e; ++v) sets == 1 ? run<1>(v, nv, skin, r) : run<2>(v, nv, skin, r);
+    return r;
   }
 };
 
@@ -269,11 +277,7 @@ Influences Reader::read_influences(const tinygltf::Primitive& p, const std::stri
   skin.weights.resize(sets.size() * nv);
   const InfluenceRepairs repairs = parallel_reduce(
       sets.empty() ? 0 : nv, kGrain, InfluenceRepairs(),
-      [&](std::size_t b, std::size_t e) {
-        InfluenceRepairs r;
-        for (std::size_t v = b; v < e; ++v) sanitise(v, nv, skin, r);
-        return r;
-      },
+      [&](std::size_t b, std::size_t e) { return sanitise(b, e, nv, skin); },
       [](InfluenceRepairs a, const InfluenceRepairs& b) { return a += b; });
   if (repairs.bad_weights)
     problem("weights-invalid", repairs.bad_weights,
