@@ -12,12 +12,14 @@
 #include <utility>
 
 #include "model_undo_parts.h"
+#include "ops/common/model_surgery.h"
 
 namespace deepcut {
 
 using undo::HeldArray;
 using undo::MeshDelta;
 using undo::Place;
+using undo::SplitPart;
 
 namespace {
 
@@ -64,6 +66,7 @@ struct ModelStep::Impl {
     std::uint32_t id = 0;
     Place before, after;  // `after` invalid: the step released the primitive
     MeshDelta delta;
+    std::optional<SplitPart> split;  // the step split it in place: its pieces stand for it
   };
   bool whole = false;  // replace(): `other` is the model not current
   Model other;
@@ -167,8 +170,15 @@ void ModelStep::Impl::undo_structure(Model& model) {
     }
   }
   for (Place p : fresh) fresh_meshes.push_back(std::move(mesh_at(model, p)));
-  for (Edited& e : edited)
+  for (Edited& e : edited) {
+    if (e.split) {
+      const SplitPart& part = *e.split;
+      std::vector<const SurfaceMesh*> pieces;
+      for (std::size_t i : part.fresh) pieces.push_back(&fresh_meshes[i]);
+      held[e.id].emplace(part.grow(std::move(fresh_meshes[part.fresh[part.big]]), pieces));
+    }
     if (held[e.id]) e.delta.undo(*held[e.id]);
+  }
   undo::restore_shell(model, shell_before);
   for (std::size_t id = 0; id < held.size(); ++id)
     if (held[id]) mesh_at(model, before_all[id]) = std::move(*held[id]);
@@ -177,7 +187,12 @@ void ModelStep::Impl::undo_structure(Model& model) {
 void ModelStep::Impl::redo_structure(Model& model) {
   std::vector<std::optional<SurfaceMesh>> held(before_all.size());
   for (std::size_t id = 0; id < held.size(); ++id) held[id].emplace(std::move(mesh_at(model, before_all[id])));
-  for (Edited& e : edited) e.delta.redo(*held[e.id]);
+  for (Edited& e : edited) {
+    e.delta.redo(*held[e.id]);
+    if (!e.split) continue;
+    fresh_meshes[e.split->fresh[e.split->big]] = e.split->shrink(std::move(*held[e.id]));
+    held[e.id].reset();
+  }
   undo::restore_shell(model, shell_after);
   for (std::size_t id = 0; id < held.size(); ++id) {
     if (after_all[id].valid()) {
@@ -218,7 +233,7 @@ std::size_t ModelStep::bytes() const {
       for (const Primitive& p : m.primitives) out += p.mesh.capacity_bytes();
     out += undo::shell_bytes(s.other);
   }
-  for (const auto& e : s.edited) out += e.delta.bytes();
+  for (const auto& e : s.edited) out += e.delta.bytes() + (e.split ? e.split->bytes() : 0);
   for (const auto& k : s.kept)
     if (k) out += k->capacity_bytes();
   for (const auto& m : s.fresh_meshes) out += m.capacity_bytes();
@@ -243,14 +258,30 @@ struct Watched {
   std::vector<std::uint8_t> old_deleted;
   std::vector<HeldArray> saved;  // attributes an operation may remove, as they were
   std::optional<SurfaceMesh> released;
+  // Split in place (SplitWatcher): the edits up to the split, and what the pieces (watched as
+  // pieces, see Piece) do not hold while they stand for the primitive. Put back together into
+  // `released` once a piece changes; `lost` when a piece left for where the recorder cannot see.
+  std::optional<MeshDelta> at_split;
+  std::optional<SplitPart> split;
+  std::vector<std::uint32_t> pieces;  // indices into ModelRecorder::Impl::pieces
+  bool lost = false;
 };
+
+/// A piece of a primitive split in place, watched as kPiece | its index until it changes.
+struct Piece {
+  std::uint32_t owner = 0;  // the primitive split
+  std::optional<SurfaceMesh> released;
+};
+
+constexpr std::uint32_t kPiece = 0x80000000u;
 
 }  // namespace
 
-struct ModelRecorder::Impl final : MeshObserver {
+struct ModelRecorder::Impl final : MeshObserver, detail::SplitWatcher {
   Model& model;
   Model shell;
   std::vector<Watched> watched;
+  std::vector<Piece> pieces;
   std::vector<std::pair<const void*, std::size_t>> images;
   bool exact = true;
 
@@ -259,6 +290,12 @@ struct ModelRecorder::Impl final : MeshObserver {
   void vertex_writing(std::uint32_t id, const SurfaceMesh& mesh, VertexId v) override;
   void face_writing(std::uint32_t id, const SurfaceMesh& mesh, FaceId f) override;
   void released(std::uint32_t id, SurfaceMesh&& content) noexcept override;
+  bool splitting(std::uint32_t id, SurfaceMesh& mesh, const std::vector<std::vector<std::uint32_t>>& vertices,
+                 const std::vector<std::vector<std::uint32_t>>& faces, std::size_t big) override;
+  void split(std::uint32_t id, std::vector<SurfaceMesh>& made) override;
+  SurfaceMesh* find_piece(std::uint32_t piece);
+  void put_together(Watched& w);
+  void settle_splits();
   MeshDelta delta_of(Watched& w, const SurfaceMesh& now);
   void keep_changed_vertices(Watched& w, const SurfaceMesh& now, MeshDelta& d);
   void keep_changed_faces(Watched& w, const SurfaceMesh& now, MeshDelta& d);
@@ -291,6 +328,7 @@ void ModelRecorder::Impl::unwatch_all() {
 }
 
 void ModelRecorder::Impl::vertex_writing(std::uint32_t id, const SurfaceMesh& mesh, VertexId v) {
+  if (id & kPiece) return put_together(watched[pieces[id & ~kPiece].owner]);
   Watched& w = watched[id];
   if (v.index >= w.v0 || !w.seen_v.insert(v.index).second) return;
   w.order_v.push_back(v.index);
@@ -302,6 +340,7 @@ void ModelRecorder::Impl::vertex_writing(std::uint32_t id, const SurfaceMesh& me
 }
 
 void ModelRecorder::Impl::face_writing(std::uint32_t id, const SurfaceMesh& mesh, FaceId f) {
+  if (id & kPiece) return put_together(watched[pieces[id & ~kPiece].owner]);
   Watched& w = watched[id];
   if (f.index >= w.f0 || !w.seen_f.insert(f.index).second) return;
   w.order_f.push_back(f.index);
@@ -316,7 +355,87 @@ void ModelRecorder::Impl::face_writing(std::uint32_t id, const SurfaceMesh& mesh
 }
 
 void ModelRecorder::Impl::released(std::uint32_t id, SurfaceMesh&& content) noexcept {
-  watched[id].released.emplace(std::move(content));
+  if (id & kPiece) {
+    pieces[id & ~kPiece].released.emplace(std::move(content));
+  } else {
+    watched[id].released.emplace(std::move(content));
+  }
+}
+
+bool ModelRecorder::Impl::splitting(std::uint32_t id, SurfaceMesh& mesh, const std::vector<std::vector<std::uint32_t>>& vertices,
+                                    const std::vector<std::vector<std::uint32_t>>& faces, std::size_t big) {
+  // Once per primitive and recording, and never a mesh with cut-surface flags: its pieces lose
+  // them right after (cut_model), so they would not stand for it.
+  if ((id & kPiece) || watched[id].at_split || mesh.face_attrs().base(attr::kCutSurface)) return false;
+  Watched& w = watched[id];
+  SplitPart part;
+  part.vertices = vertices;
+  part.faces = faces;
+  part.big = big;
+  part.take_rest(mesh);
+  w.at_split = delta_of(w, mesh);
+  w.split = std::move(part);
+  mesh.watch(nullptr, 0);
+  return true;
+}
+
+void ModelRecorder::Impl::split(std::uint32_t id, std::vector<SurfaceMesh>& made) {
+  Watched& w = watched[id];
+  for (std::size_t k = 0; k < made.size(); ++k) {
+    w.pieces.push_back(static_cast<std::uint32_t>(pieces.size()));
+    made[k].watch(this, kPiece | static_cast<std::uint32_t>(pieces.size()));
+    pieces.push_back({id, std::nullopt});
+  }
+}
+
+SurfaceMesh* ModelRecorder::Impl::find_piece(std::uint32_t piece) {
+  for (Mesh& m : model.meshes)
+    for (Primitive& p : m.primitives)
+      if (p.mesh.observer() == this && p.mesh.observer_id() == (kPiece | piece)) return &p.mesh;
+  return nullptr;
+}
+
+void ModelRecorder::Impl::put_together(Watched& w) {
+  if (!w.split) return;
+  const SplitPart& part = *w.split;
+  std::vector<const SurfaceMesh*> found(w.pieces.size(), nullptr);
+  for (std::size_t k = 0; k < w.pieces.size(); ++k) {
+    Piece& piece = pieces[w.pieces[k]];
+    SurfaceMesh* live = piece.released ? nullptr : find_piece(w.pieces[k]);
+    if (live) live->watch(nullptr, 0);  // an ordinary primitive the step made from now on
+    found[k] = piece.released ? &*piece.released : live;
+    w.lost = w.lost || !found[k];
+  }
+  if (!w.lost) {
+    try {
+      // The pieces' elements past the split's (appended since) and attributes added since are
+      // not the primitive's.
+      SurfaceMesh whole = *found[part.big];
+      whole.take_tail(part.vertices[part.big].size(), part.faces[part.big].size());
+      for (int kind = 0; kind < 3; ++kind)
+        for (const std::string& name : undo::attrs(whole, kind).names())
+          if (!contains(part.names[static_cast<std::size_t>(kind)], name)) undo::attrs(whole, kind).remove(name);
+      w.released.emplace(part.grow(std::move(whole), found));
+    } catch (const Error&) {
+      w.lost = true;
+    }
+  }
+  for (std::uint32_t i : w.pieces) pieces[i].released.reset();
+  w.split.reset();
+}
+
+void ModelRecorder::Impl::settle_splits() {
+  // A split whose pieces are not all in the model as the split made them is put back together
+  // now: its pieces are then primitives the step made, like any other.
+  for (Watched& w : watched) {
+    if (!w.split) continue;
+    bool standing = true;
+    for (std::size_t k = 0; k < w.pieces.size() && standing; ++k) {
+      const SurfaceMesh* live = pieces[w.pieces[k]].released ? nullptr : find_piece(w.pieces[k]);
+      standing = live && w.split->holds(k, *live);
+    }
+    if (!standing) put_together(w);
+  }
 }
 
 void ModelRecorder::Impl::keep_changed_vertices(Watched& w, const SurfaceMesh& now, MeshDelta& d) {
@@ -385,33 +504,43 @@ ModelRecorder::~ModelRecorder() {
 
 ModelStep ModelRecorder::finish() {
   Impl& r = *impl_;
+  r.settle_splits();
   ModelStep step;
   ModelStep::Impl& s = *step.impl_;
   const std::size_t n = r.watched.size();
   std::vector<Place> after(n);
-  std::vector<Place> fresh;
+  std::vector<Place> fresh;  // primitives the step made, the pieces standing for a split included
+  std::vector<std::size_t> piece_at(r.pieces.size(), 0);  // a standing piece's index in `fresh`
   for (std::size_t mi = 0; mi < r.model.meshes.size(); ++mi)
     for (std::size_t pi = 0; pi < r.model.meshes[mi].primitives.size(); ++pi) {
       SurfaceMesh& mesh = r.model.meshes[mi].primitives[pi].mesh;
       const Place place{static_cast<int>(mi), static_cast<int>(pi)};
-      if (mesh.observer() == &r) {
+      const bool watched = mesh.observer() == &r;
+      if (watched && !(mesh.observer_id() & kPiece)) {
         after[mesh.observer_id()] = place;
-        mesh.watch(nullptr, 0);
       } else {
+        if (watched) piece_at[mesh.observer_id() & ~kPiece] = fresh.size();
         fresh.push_back(place);
       }
+      if (watched) mesh.watch(nullptr, 0);
     }
   bool local = fresh.empty();
   for (std::uint32_t id = 0; id < n; ++id) {
     Watched& w = r.watched[id];
     local = local && after[id] == w.before;
+    if (w.split) {  // its pieces stand for it (settle_splits)
+      SplitPart part = std::move(*w.split);
+      for (std::uint32_t i : w.pieces) part.fresh.push_back(piece_at[i]);
+      s.edited.push_back({id, w.before, after[id], std::move(*w.at_split), std::move(part)});
+      continue;
+    }
     SurfaceMesh* now = after[id].valid() ? &mesh_at(r.model, after[id]) : w.released ? &*w.released : nullptr;
-    if (!now) {
+    if (!now || w.lost) {
       r.exact = false;  // it left the model for somewhere the recorder cannot see
       continue;
     }
-    MeshDelta d = r.delta_of(w, *now);
-    if (!d.empty()) s.edited.push_back({id, w.before, after[id], std::move(d)});
+    MeshDelta d = w.at_split ? std::move(*w.at_split) : r.delta_of(w, *now);
+    if (!d.empty()) s.edited.push_back({id, w.before, after[id], std::move(d), std::nullopt});
   }
   std::vector<std::pair<const void*, std::size_t>> images;
   for (const Image& image : r.model.images) images.emplace_back(image.data.data(), image.data.size());

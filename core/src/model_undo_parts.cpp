@@ -5,6 +5,10 @@
 
 #include <algorithm>
 
+#include "deepcut/core/parallel.h"
+#include "ops/common/model_surgery_in_place.h"
+#include "uninit_vector.h"
+
 namespace deepcut::undo {
 
 AttributeSet& attrs(SurfaceMesh& mesh, int kind) {
@@ -49,6 +53,89 @@ std::size_t MeshDelta::bytes() const {
     if (a.array) out += a.array->capacity_bytes();
   for (const HeldArray& r : removed)
     if (r.array) out += r.array->capacity_bytes();
+  return out;
+}
+
+namespace {
+
+/// The indices below `count` that no list holds, increasing.
+std::vector<std::uint32_t> unlisted(const std::vector<std::vector<std::uint32_t>>& lists, std::size_t count) {
+  std::vector<char> listed(count, 0);
+  for (const std::vector<std::uint32_t>& list : lists)
+    parallel_for(list.size(), 65536, [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i < e; ++i) listed[list[i]] = 1;
+    });
+  std::vector<std::uint32_t> out;
+  for (std::size_t i = 0; i < count; ++i)
+    if (!listed[i]) out.push_back(static_cast<std::uint32_t>(i));
+  return out;
+}
+
+}  // namespace
+
+void SplitPart::take_rest(const SurfaceMesh& mesh) {
+  vertex_count = mesh.vertex_count();
+  face_count = mesh.face_slots();
+  for (int kind = 0; kind < 3; ++kind) names[static_cast<std::size_t>(kind)] = attrs(mesh, kind).names();
+  rest_vertices = unlisted(vertices, vertex_count);
+  rest_faces = unlisted(faces, face_count);
+  std::vector<std::uint32_t> corners;
+  corners.reserve(3 * rest_faces.size());
+  for (std::uint32_t f : rest_faces) {
+    for (std::uint32_t k = 0; k < 3; ++k) corners.push_back(3 * f + k);
+    rest_corners.push_back(mesh.face(FaceId(f)));
+    rest_deleted.push_back(mesh.is_deleted(FaceId(f)) ? 1 : 0);
+  }
+  rest_values[0] = mesh.vertex_attrs().subset(rest_vertices);
+  rest_values[1] = mesh.face_attrs().subset(rest_faces);
+  rest_values[2] = mesh.corner_attrs().subset(corners);
+}
+
+bool SplitPart::holds(std::size_t k, const SurfaceMesh& piece) const {
+  if (piece.vertex_count() != vertices[k].size() || piece.face_slots() != faces[k].size()) return false;
+  for (int kind = 0; kind < 3; ++kind)
+    if (attrs(piece, kind).names() != names[static_cast<std::size_t>(kind)]) return false;
+  return true;
+}
+
+SurfaceMesh SplitPart::grow(SurfaceMesh&& big_piece, const std::vector<const SurfaceMesh*>& pieces) const {
+  SurfaceMesh out = std::move(big_piece);
+  detail::expand_piece(out, vertices[big], faces[big], vertex_count, face_count);
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    if (k == big) continue;
+    const SurfaceMesh& p = *pieces[k];
+    detail::scatter(out, {{&p.vertex_attrs(), &p.face_attrs(), &p.corner_attrs()}, p.faces().data(), &vertices[k]},
+                    vertices[k], faces[k]);
+  }
+  detail::scatter(out, {{&rest_values[0], &rest_values[1], &rest_values[2]}, rest_corners.data(), nullptr},
+                  rest_vertices, rest_faces);
+  for (std::size_t j = 0; j < rest_faces.size(); ++j)
+    if (rest_deleted[j]) {
+      Triangle t = rest_corners[j];
+      std::uint8_t mark = 1;
+      out.swap_face(FaceId(rest_faces[j]), t, mark);
+    }
+  return out;
+}
+
+SurfaceMesh SplitPart::shrink(SurfaceMesh&& whole) const {
+  const std::vector<std::uint32_t>& kept = vertices[big];
+  detail::UninitVector<std::uint32_t> rank(vertex_count);  // read for the piece's vertices only
+  parallel_for(kept.size(), 65536, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) rank[kept[i]] = static_cast<std::uint32_t>(i);
+  });
+  SurfaceMesh out = std::move(whole);
+  detail::compact_piece(out, kept, faces[big], rank.data());
+  return out;
+}
+
+std::size_t SplitPart::bytes() const {
+  std::size_t out = sizeof(SplitPart) + (rest_vertices.capacity() + rest_faces.capacity()) * sizeof(std::uint32_t) +
+                    rest_corners.capacity() * sizeof(Triangle) + rest_deleted.capacity() +
+                    fresh.capacity() * sizeof(std::size_t);
+  for (const auto& list : vertices) out += list.capacity() * sizeof(std::uint32_t);
+  for (const auto& list : faces) out += list.capacity() * sizeof(std::uint32_t);
+  for (const AttributeSet& set : rest_values) out += set.capacity_bytes();
   return out;
 }
 

@@ -1,0 +1,57 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// A piece of a mesh made from the mesh's own arrays, and the mesh made back from its pieces, in
+// place (private to core): the model surgery's split (split_disjoint) compacts the piece that
+// keeps the mesh's arrays, and an undo record (model_undo.h) that kept only what the pieces do
+// not hold grows that piece back into the mesh and compacts it again on redo. No array is
+// allocated anew: the bytes move inside the arrays they are in, stretch by stretch, each stretch
+// in chunks over the pool across every array at once (the same bytes whatever the threads).
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "deepcut/core/surface_mesh.h"
+
+namespace deepcut::detail {
+
+/// The three attribute sets of a mesh by kind (0 vertex, 1 face, 2 corner), and how many
+/// elements of each a vertex (1), a face (1) or a face's corners (3) are.
+const AttributeSet& set_of(const SurfaceMesh& mesh, int kind);
+AttributeSet& set_of(SurfaceMesh& mesh, int kind);
+inline std::size_t group_of(int kind) { return kind == 2 ? 3 : 1; }
+
+/// Length of the leading run of an increasing `keep` that stays put (keep[i] == i): the elements
+/// an in-place move by `keep` leaves where they are.
+std::size_t staying_put(const std::vector<std::uint32_t>& keep);
+
+/// `mesh` becomes its piece of the (increasing) `vertices` and `faces` (live faces whose corners
+/// are among `vertices`): every array compacted in place, then the triangles renumbered by `rank`
+/// (`rank[v]`: vertex v's index in `vertices`, read for those vertices only). No allocation.
+void compact_piece(SurfaceMesh& mesh, const std::vector<std::uint32_t>& vertices,
+                   const std::vector<std::uint32_t>& faces, const std::uint32_t* rank);
+
+/// The inverse of compact_piece: `piece` (exactly `vertices.size()` vertices and `faces.size()`
+/// faces) grown in place to `vertex_count` vertices and `face_slots` live faces, its vertex i
+/// moved to `vertices[i]`, face i to `faces[i]` (its corners naming `vertices` again). The other
+/// slots are left for `scatter` (their values are unspecified). No allocation where the arrays'
+/// capacity holds the sizes (a piece compact_piece made keeps the mesh's).
+void expand_piece(SurfaceMesh& piece, const std::vector<std::uint32_t>& vertices,
+                  const std::vector<std::uint32_t>& faces, std::size_t vertex_count, std::size_t face_slots);
+
+/// Elements to write into a mesh's slots: `values` (vertices, faces, 3 corners per face; the
+/// mesh's attribute names at least) and `triangles` (one per face), whose corners are mesh
+/// vertices, or indices into `vertex_map` when it is given (a piece's own numbering).
+struct Elements {
+  std::array<const AttributeSet*, 3> values{};
+  const Triangle* triangles = nullptr;
+  const std::vector<std::uint32_t>* vertex_map = nullptr;
+};
+
+/// Vertex i of `from` written to vertex `vertices[i]` of `mesh`, face i (its attributes, corners
+/// and triangle) to face `faces[i]`, over the pool. The faces' deleted marks are left as they are.
+/// @throws Error{MissingAttribute} when `from` lacks one of the mesh's attributes.
+void scatter(SurfaceMesh& mesh, const Elements& from, const std::vector<std::uint32_t>& vertices,
+             const std::vector<std::uint32_t>& faces);
+
+}  // namespace deepcut::detail
