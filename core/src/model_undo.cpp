@@ -290,7 +290,8 @@ struct ModelRecorder::Impl final : MeshObserver, detail::SplitWatcher {
   void vertex_writing(std::uint32_t id, const SurfaceMesh& mesh, VertexId v) override;
   void face_writing(std::uint32_t id, const SurfaceMesh& mesh, FaceId f) override;
   void released(std::uint32_t id, SurfaceMesh&& content) noexcept override;
-  bool splitting(std::uint32_t id, SurfaceMesh& mesh, const std::vector<std::vector<std::uint32_t>>& vertices,
+  bool accepts(std::uint32_t id, const SurfaceMesh& mesh) const override;
+  void splitting(std::uint32_t id, SurfaceMesh& mesh, const std::vector<std::vector<std::uint32_t>>& vertices,
                  const std::vector<std::vector<std::uint32_t>>& faces, std::size_t big) override;
   void split(std::uint32_t id, std::vector<SurfaceMesh>& made) override;
   SurfaceMesh* find_piece(std::uint32_t piece);
@@ -362,11 +363,14 @@ void ModelRecorder::Impl::released(std::uint32_t id, SurfaceMesh&& content) noex
   }
 }
 
-bool ModelRecorder::Impl::splitting(std::uint32_t id, SurfaceMesh& mesh, const std::vector<std::vector<std::uint32_t>>& vertices,
-                                    const std::vector<std::vector<std::uint32_t>>& faces, std::size_t big) {
+bool ModelRecorder::Impl::accepts(std::uint32_t id, const SurfaceMesh& mesh) const {
   // Once per primitive and recording, and never a mesh with cut-surface flags: its pieces lose
   // them right after (cut_model), so they would not stand for it.
-  if ((id & kPiece) || watched[id].at_split || mesh.face_attrs().base(attr::kCutSurface)) return false;
+  return !(id & kPiece) && !watched[id].at_split && !mesh.face_attrs().base(attr::kCutSurface);
+}
+
+void ModelRecorder::Impl::splitting(std::uint32_t id, SurfaceMesh& mesh, const std::vector<std::vector<std::uint32_t>>& vertices,
+                                    const std::vector<std::vector<std::uint32_t>>& faces, std::size_t big) {
   Watched& w = watched[id];
   SplitPart part;
   part.vertices = vertices;
@@ -376,7 +380,6 @@ bool ModelRecorder::Impl::splitting(std::uint32_t id, SurfaceMesh& mesh, const s
   w.at_split = delta_of(w, mesh);
   w.split = std::move(part);
   mesh.watch(nullptr, 0);
-  return true;
 }
 
 void ModelRecorder::Impl::split(std::uint32_t id, std::vector<SurfaceMesh>& made) {
@@ -399,6 +402,7 @@ void ModelRecorder::Impl::put_together(Watched& w) {
   if (!w.split) return;
   const SplitPart& part = *w.split;
   std::vector<const SurfaceMesh*> found(w.pieces.size(), nullptr);
+  w.lost = w.lost || w.pieces.size() != part.vertices.size();  // the split never finished
   for (std::size_t k = 0; k < w.pieces.size(); ++k) {
     Piece& piece = pieces[w.pieces[k]];
     SurfaceMesh* live = piece.released ? nullptr : find_piece(w.pieces[k]);
@@ -429,7 +433,7 @@ void ModelRecorder::Impl::settle_splits() {
   // now: its pieces are then primitives the step made, like any other.
   for (Watched& w : watched) {
     if (!w.split) continue;
-    bool standing = true;
+    bool standing = w.pieces.size() == w.split->vertices.size();
     for (std::size_t k = 0; k < w.pieces.size() && standing; ++k) {
       const SurfaceMesh* live = pieces[w.pieces[k]].released ? nullptr : find_piece(w.pieces[k]);
       standing = live && w.split->holds(k, *live);

@@ -281,10 +281,11 @@ std::vector<SurfaceMesh> make_pieces(const SurfaceMesh& mesh, const std::vector<
     return out;
   }
   std::size_t big = owned ? in_place_piece(mesh, num) : n;
-  // A watched mesh is taken apart only when its watcher follows it through the split.
+  // A watched mesh is taken apart only when its watcher follows it through the split; it is told
+  // once the other pieces are copied out, right before the compaction.
   SplitWatcher* watcher = big < n && owned->observer() ? dynamic_cast<SplitWatcher*>(owned->observer()) : nullptr;
   const std::uint32_t watched_as = owned ? owned->observer_id() : 0;
-  if (big < n && owned->observer() && !(watcher && watcher->splitting(watched_as, *owned, num.vertices, num.faces, big))) {
+  if (big < n && owned->observer() && !(watcher && watcher->accepts(watched_as, *owned))) {
     big = n;
     watcher = nullptr;
   }
@@ -293,6 +294,7 @@ std::vector<SurfaceMesh> make_pieces(const SurfaceMesh& mesh, const std::vector<
     if (s != big)
       TrustedAssign::assign(out[s], std::move(num.tris[s]), std::move(sets[3 * s]), std::move(sets[3 * s + 1]),
                             std::move(sets[3 * s + 2]));
+  if (watcher) watcher->splitting(watched_as, *owned, num.vertices, num.faces, big);
   if (big < n) {
     compact_piece(*owned, num.vertices[big], num.faces[big], num.rank.data());
     out[big] = std::move(*owned);

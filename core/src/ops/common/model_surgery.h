@@ -60,13 +60,15 @@ std::vector<SurfaceMesh> split_disjoint(SurfaceMesh&& mesh, const std::vector<st
 class SplitWatcher {
  public:
   virtual ~SplitWatcher() = default;
-  /// `mesh`, watched as `id`, is about to be split: piece k holds its (increasing) vertices
-  /// `vertices[k]` and faces `faces[k]`, and piece `big` keeps its arrays, compacted in place.
-  /// True: the watcher kept what it needs and no longer watches `mesh`; false: the mesh is left
-  /// whole (still watched).
-  virtual bool splitting(std::uint32_t id, SurfaceMesh& mesh, const std::vector<std::vector<std::uint32_t>>& vertices,
+  /// True when `mesh`, watched as `id`, may be taken apart (no side effect); false: it is left
+  /// whole and stays watched, every piece copied out of it.
+  virtual bool accepts(std::uint32_t id, const SurfaceMesh& mesh) const = 0;
+  /// `mesh`, accepted, is about to be compacted in place into piece `big` (the others are copied
+  /// out): piece k holds its (increasing) vertices `vertices[k]` and faces `faces[k]`. The
+  /// watcher keeps what it needs and no longer watches `mesh`.
+  virtual void splitting(std::uint32_t id, SurfaceMesh& mesh, const std::vector<std::vector<std::uint32_t>>& vertices,
                          const std::vector<std::vector<std::uint32_t>>& faces, std::size_t big) = 0;
-  /// The pieces `splitting` agreed to, made (in its lists' order).
+  /// The pieces made (in the lists' order).
   virtual void split(std::uint32_t id, std::vector<SurfaceMesh>& pieces) = 0;
 };
 
