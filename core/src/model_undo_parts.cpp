@@ -100,7 +100,16 @@ bool SplitPart::holds(std::size_t k, const SurfaceMesh& piece) const {
 
 SurfaceMesh SplitPart::grow(SurfaceMesh&& big_piece, const std::vector<const SurfaceMesh*>& pieces) const {
   SurfaceMesh out = std::move(big_piece);
-  detail::expand_piece(out, vertices[big], faces[big], vertex_count, face_count);
+  std::vector<detail::Room> rooms;  // the other pieces and the rest, whose elements come in
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    if (k == big) continue;
+    const SurfaceMesh& p = *pieces[k];
+    rooms.push_back({{&p.vertex_attrs(), &p.face_attrs(), &p.corner_attrs()}, p.faces().data(), vertices[k].size(),
+                     faces[k].size()});
+  }
+  rooms.push_back({{&rest_values[0], &rest_values[1], &rest_values[2]}, rest_corners.data(), rest_vertices.size(),
+                   rest_faces.size()});
+  detail::expand_piece(out, vertices[big], faces[big], vertex_count, face_count, rooms);
   for (std::size_t k = 0; k < pieces.size(); ++k) {
     if (k == big) continue;
     const SurfaceMesh& p = *pieces[k];

@@ -31,14 +31,6 @@ std::size_t staying_put(const std::vector<std::uint32_t>& keep);
 void compact_piece(SurfaceMesh& mesh, const std::vector<std::uint32_t>& vertices,
                    const std::vector<std::uint32_t>& faces, const std::uint32_t* rank);
 
-/// The inverse of compact_piece: `piece` (exactly `vertices.size()` vertices and `faces.size()`
-/// faces) grown in place to `vertex_count` vertices and `face_slots` live faces, its vertex i
-/// moved to `vertices[i]`, face i to `faces[i]` (its corners naming `vertices` again). The other
-/// slots are left for `scatter` (their values are unspecified). No allocation where the arrays'
-/// capacity holds the sizes (a piece compact_piece made keeps the mesh's).
-void expand_piece(SurfaceMesh& piece, const std::vector<std::uint32_t>& vertices,
-                  const std::vector<std::uint32_t>& faces, std::size_t vertex_count, std::size_t face_slots);
-
 /// Elements to write into a mesh's slots: `values` (vertices, faces, 3 corners per face; the
 /// mesh's attribute names at least) and `triangles` (one per face), whose corners are mesh
 /// vertices, or indices into `vertex_map` when it is given (a piece's own numbering).
@@ -47,6 +39,25 @@ struct Elements {
   const Triangle* triangles = nullptr;
   const std::vector<std::uint32_t>* vertex_map = nullptr;
 };
+
+/// The first `vertices` vertices and `faces` faces of some elements (`values`, `triangles`),
+/// copied to make the room a piece grows into: what the other pieces and the slots none holds
+/// bring, whose values overwrite them right after.
+struct Room {
+  std::array<const AttributeSet*, 3> values{};
+  const Triangle* triangles = nullptr;
+  std::size_t vertices = 0, faces = 0;
+};
+
+/// The inverse of compact_piece: `piece` (exactly `vertices.size()` vertices and `faces.size()`
+/// faces) grown in place to `vertex_count` vertices and `face_slots` live faces, its vertex i
+/// moved to `vertices[i]`, face i to `faces[i]` (its corners naming `vertices` again). The other
+/// slots are left for `scatter` (their values are unspecified). The arrays grow by copies of
+/// `rooms` (where they make up the growth, else by default values). No allocation where the
+/// arrays' capacity holds the sizes (a piece compact_piece made keeps the mesh's).
+void expand_piece(SurfaceMesh& piece, const std::vector<std::uint32_t>& vertices,
+                  const std::vector<std::uint32_t>& faces, std::size_t vertex_count, std::size_t face_slots,
+                  const std::vector<Room>& rooms);
 
 /// Vertex i of `from` written to vertex `vertices[i]` of `mesh`, face i (its attributes, corners
 /// and triangle) to face `faces[i]`, over the pool. The faces' deleted marks are left as they are.
