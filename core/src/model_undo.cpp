@@ -369,7 +369,8 @@ bool ModelRecorder::Impl::accepts(std::uint32_t id, const SurfaceMesh& mesh) con
   return !(id & kPiece) && !watched[id].at_split && !mesh.face_attrs().base(attr::kCutSurface);
 }
 
-void ModelRecorder::Impl::splitting(std::uint32_t id, SurfaceMesh& mesh, const std::vector<std::vector<std::uint32_t>>& vertices,
+void ModelRecorder::Impl::splitting(std::uint32_t id, SurfaceMesh& mesh,
+                                    const std::vector<std::vector<std::uint32_t>>& vertices,
                                     const std::vector<std::vector<std::uint32_t>>& faces, std::size_t big) {
   Watched& w = watched[id];
   SplitPart part;

@@ -286,11 +286,13 @@ void expect_cycles(Session& session, const std::vector<Model>& states, int cycle
   for (int cycle = 0; cycle < cycles; ++cycle) {
     for (std::size_t i = states.size() - 1; i-- > 0;) {
       session.undo();
-      expect_same(*session.current(), states[i], what + ": cycle " + std::to_string(cycle) + " undo to " + std::to_string(i));
+      const std::string when = what + ": cycle " + std::to_string(cycle) + " undo to " + std::to_string(i);
+      expect_same(*session.current(), states[i], when);
     }
     for (std::size_t i = 1; i < states.size(); ++i) {
       session.redo();
-      expect_same(*session.current(), states[i], what + ": cycle " + std::to_string(cycle) + " redo to " + std::to_string(i));
+      const std::string when = what + ": cycle " + std::to_string(cycle) + " redo to " + std::to_string(i);
+      expect_same(*session.current(), states[i], when);
     }
   }
 }
@@ -339,7 +341,8 @@ TEST(UndoRecordTest, one_step_over_cuts_of_pieces_and_drills_into_them_is_exact)
     ASSERT_TRUE(session.refresh_posed_model(-1, 0.0f));
     Operations ops(rest_bounds(*session.current()), seed);
     History history;
-    for (int i = 0; i < 7; ++i) history.operations.push_back(i % 3 == 2 ? ops.drill(0.02f) : i == 4 ? ops.tear() : ops.cut());
+    for (int i = 0; i < 7; ++i)
+      history.operations.push_back(i % 3 == 2 ? ops.drill(0.02f) : i == 4 ? ops.tear() : ops.cut());
     const Model before = *session.current();
     session.apply_history(history, "history");
     const Model after = *session.current();

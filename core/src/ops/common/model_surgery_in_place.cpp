@@ -146,7 +146,9 @@ std::vector<Step> spread_steps(const std::vector<std::uint32_t>& keep) {
 void move_in_place(SurfaceMesh& mesh, const std::vector<std::uint32_t>& vertices,
                    const std::vector<std::uint32_t>& faces, bool spread) {
   std::vector<Triangle>& tris = TrustedAssign::faces(mesh);
-  auto steps_of = [&](const std::vector<std::uint32_t>& keep) { return spread ? spread_steps(keep) : gather_steps(keep); };
+  auto steps_of = [&](const std::vector<std::uint32_t>& keep) {
+    return spread ? spread_steps(keep) : gather_steps(keep);
+  };
   const std::vector<Step> steps[2] = {steps_of(vertices), steps_of(faces)};
   const std::size_t rounds = std::max(steps[0].size(), steps[1].size());
   for (std::size_t r = 0; r < rounds; ++r) {
@@ -199,7 +201,8 @@ void compact_piece(SurfaceMesh& mesh, const std::vector<std::uint32_t>& vertices
     for (std::size_t i = b; i < e; ++i)
       for (VertexId& v : tris[i]) v = VertexId(rank[v.index]);
   });
-  for (int kind = 0; kind < 3; ++kind) set_of(mesh, kind).resize((kind == 0 ? vertices : faces).size() * group_of(kind));
+  for (int kind = 0; kind < 3; ++kind)
+    set_of(mesh, kind).resize((kind == 0 ? vertices : faces).size() * group_of(kind));
   reassign(mesh);
 }
 
@@ -237,7 +240,8 @@ void expand_piece(SurfaceMesh& piece, const std::vector<std::uint32_t>& vertices
     AttributeSet& set = set_of(piece, kind);
     for (const std::string& name : set.names()) {
       AttributeArrayBase* array = set.base(name);
-      grow.emplace_back(n * array->element_bytes(), [array, kind, name, n, &rooms] { grow_array(*array, kind, name, n, rooms); });
+      grow.emplace_back(n * array->element_bytes(),
+                        [array, kind, name, n, &rooms] { grow_array(*array, kind, name, n, rooms); });
     }
   }
   grow.emplace_back(face_slots * sizeof(Triangle), [&tris, face_slots, &rooms] {
@@ -247,7 +251,8 @@ void expand_piece(SurfaceMesh& piece, const std::vector<std::uint32_t>& vertices
   });
   std::stable_sort(grow.begin(), grow.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
   run_chunks(grow.size(), [&](std::size_t i) { grow[i].second(); });
-  for (int kind = 0; kind < 3; ++kind) set_of(piece, kind).resize((kind == 0 ? vertex_count : face_slots) * group_of(kind));
+  for (int kind = 0; kind < 3; ++kind)
+    set_of(piece, kind).resize((kind == 0 ? vertex_count : face_slots) * group_of(kind));
   move_in_place(piece, vertices, faces, true);
   const std::uint32_t* to = vertices.data();
   parallel_for(faces.size(), kGrain, [&](std::size_t b, std::size_t e) {
