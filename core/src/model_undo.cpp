@@ -7,6 +7,7 @@
 #include <array>
 #include <atomic>
 #include <cstring>
+#include <functional>
 #include <optional>
 #include <unordered_set>
 #include <utility>
@@ -298,8 +299,10 @@ struct ModelRecorder::Impl final : MeshObserver, detail::SplitWatcher {
   void put_together(Watched& w);
   void settle_splits();
   MeshDelta delta_of(Watched& w, const SurfaceMesh& now);
-  void keep_changed_vertices(Watched& w, const SurfaceMesh& now, MeshDelta& d);
-  void keep_changed_faces(Watched& w, const SurfaceMesh& now, MeshDelta& d);
+  static void keep_changed_vertices(const Watched& w, const std::array<AttributeSet, 3>& old, const SurfaceMesh& now,
+                                    MeshDelta& d);
+  static void keep_changed_faces(const Watched& w, const std::array<AttributeSet, 3>& old, const SurfaceMesh& now,
+                                 MeshDelta& d);
 };
 
 ModelRecorder::Impl::Impl(Model& m) : model(m), shell(undo::shell_of(m)) {
@@ -378,8 +381,13 @@ void ModelRecorder::Impl::splitting(std::uint32_t id, SurfaceMesh& mesh,
   part.faces = faces;
   part.big = big;
   part.take_rest(mesh);
-  w.at_split = delta_of(w, mesh);
-  w.split = std::move(part);
+  // split() then allocates nothing; delta_of changes the recording only once it succeeded, so a
+  // failure up to here leaves the mesh whole and watched as before.
+  w.pieces.reserve(vertices.size());
+  pieces.reserve(pieces.size() + vertices.size());
+  MeshDelta at_split = delta_of(w, mesh);
+  w.at_split.emplace(std::move(at_split));
+  w.split.emplace(std::move(part));
   mesh.watch(nullptr, 0);
 }
 
@@ -443,21 +451,23 @@ void ModelRecorder::Impl::settle_splits() {
   }
 }
 
-void ModelRecorder::Impl::keep_changed_vertices(Watched& w, const SurfaceMesh& now, MeshDelta& d) {
+void ModelRecorder::Impl::keep_changed_vertices(const Watched& w, const std::array<AttributeSet, 3>& old,
+                                                const SurfaceMesh& now, MeshDelta& d) {
   std::vector<std::uint32_t> keep;  // indices into order_v
   for (std::uint32_t i = 0; i < w.order_v.size(); ++i)
-    if (differs(w.old[0], i, now.vertex_attrs(), w.order_v[i])) keep.push_back(i);
+    if (differs(old[0], i, now.vertex_attrs(), w.order_v[i])) keep.push_back(i);
   std::sort(keep.begin(), keep.end(), [&](std::uint32_t a, std::uint32_t b) { return w.order_v[a] < w.order_v[b]; });
   for (std::uint32_t i : keep) d.vertices.push_back(w.order_v[i]);
-  d.vertex_values = w.old[0].subset(keep);
+  d.vertex_values = old[0].subset(keep);
 }
 
-void ModelRecorder::Impl::keep_changed_faces(Watched& w, const SurfaceMesh& now, MeshDelta& d) {
+void ModelRecorder::Impl::keep_changed_faces(const Watched& w, const std::array<AttributeSet, 3>& old,
+                                             const SurfaceMesh& now, MeshDelta& d) {
   std::vector<std::uint32_t> keep, keep3;
   for (std::uint32_t i = 0; i < w.order_f.size(); ++i) {
     const FaceId f(w.order_f[i]);
     if (w.old_corners[i] != now.face(f) || (w.old_deleted[i] != 0) != now.is_deleted(f) ||
-        differs(w.old[1], i, now.face_attrs(), f.index) || differs(w.old[2], i, now.corner_attrs(), f.index, 3))
+        differs(old[1], i, now.face_attrs(), f.index) || differs(old[2], i, now.corner_attrs(), f.index, 3))
       keep.push_back(i);
   }
   std::sort(keep.begin(), keep.end(), [&](std::uint32_t a, std::uint32_t b) { return w.order_f[a] < w.order_f[b]; });
@@ -467,17 +477,22 @@ void ModelRecorder::Impl::keep_changed_faces(Watched& w, const SurfaceMesh& now,
     d.deleted.push_back(w.old_deleted[i]);
     for (std::uint32_t k = 0; k < 3; ++k) keep3.push_back(3 * i + k);
   }
-  d.face_values = w.old[1].subset(keep);
-  d.corner_values = w.old[2].subset(keep3);
+  d.face_values = old[1].subset(keep);
+  d.corner_values = old[2].subset(keep3);
 }
 
 MeshDelta ModelRecorder::Impl::delta_of(Watched& w, const SurfaceMesh& now) {
+  // Made apart from `w` and `exact`, which change only once all of it is made: a failure (out of
+  // memory) leaves the recording as it was.
   MeshDelta d;
   d.v0 = w.v0;
   d.f0 = w.f0;
   d.v1 = now.vertex_count();
   d.f1 = now.face_slots();
-  if (d.v1 < d.v0 || d.f1 < d.f0) exact = false;  // shrunk in place: not an edit this records
+  bool lossless = d.v1 >= d.v0 && d.f1 >= d.f0;  // shrunk in place: not an edit this records
+  const std::array<AttributeSet, 3>* old = &w.old;
+  std::array<AttributeSet, 3> trimmed;  // the old values of the attributes both states have
+  std::vector<std::size_t> removed;     // indices into w.saved
   for (int kind = 0; kind < 3; ++kind) {
     const auto k = static_cast<std::size_t>(kind);
     const std::vector<std::string> names = undo::attrs(now, kind).names();
@@ -485,19 +500,22 @@ MeshDelta ModelRecorder::Impl::delta_of(Watched& w, const SurfaceMesh& now) {
       if (!contains(w.names[k], n)) d.added.push_back({kind, n, nullptr});
     for (const std::string& n : w.names[k]) {
       if (contains(names, n)) continue;
-      w.old[k].take(n);  // the old values keep the attributes both states have
+      if (old == &w.old) old = &(trimmed = w.old);
+      trimmed[k].take(n);
       auto saved = std::find_if(w.saved.begin(), w.saved.end(),
                                 [&](const HeldArray& h) { return h.kind == kind && h.name == n; });
-      if (saved == w.saved.end()) {
-        exact = false;
-        continue;
-      }
-      d.removed.push_back(std::move(*saved));
-      w.saved.erase(saved);
+      if (saved == w.saved.end()) lossless = false;
+      else removed.push_back(static_cast<std::size_t>(saved - w.saved.begin()));
     }
   }
-  keep_changed_vertices(w, now, d);
-  keep_changed_faces(w, now, d);
+  keep_changed_vertices(w, *old, now, d);
+  keep_changed_faces(w, *old, now, d);
+  d.removed.reserve(removed.size());
+  // Nothing below allocates: the removed attributes leave what the recording saved.
+  for (std::size_t i : removed) d.removed.push_back(std::move(w.saved[i]));
+  std::sort(removed.begin(), removed.end(), std::greater<>());
+  for (std::size_t i : removed) w.saved.erase(w.saved.begin() + static_cast<std::ptrdiff_t>(i));
+  exact = exact && lossless;
   return d;
 }
 

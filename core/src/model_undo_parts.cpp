@@ -134,7 +134,7 @@ SurfaceMesh SplitPart::shrink(SurfaceMesh&& whole) const {
     for (std::size_t i = b; i < e; ++i) rank[kept[i]] = static_cast<std::uint32_t>(i);
   });
   SurfaceMesh out = std::move(whole);
-  detail::compact_piece(out, kept, faces[big], rank.data());
+  detail::compact_piece(out, detail::plan_compaction(out, kept, faces[big]), kept, faces[big], rank.data());
   return out;
 }
 

@@ -294,9 +294,12 @@ std::vector<SurfaceMesh> make_pieces(const SurfaceMesh& mesh, const std::vector<
     if (s != big)
       TrustedAssign::assign(out[s], std::move(num.tris[s]), std::move(sets[3 * s]), std::move(sets[3 * s + 1]),
                             std::move(sets[3 * s + 2]));
+  // Every allocation of the compaction is made before the watcher is told: from then on the mesh
+  // is taken apart without a failure that could leave it half compacted.
+  const MovePlan plan = big < n ? plan_compaction(*owned, num.vertices[big], num.faces[big]) : MovePlan{};
   if (watcher) watcher->splitting(watched_as, *owned, num.vertices, num.faces, big);
   if (big < n) {
-    compact_piece(*owned, num.vertices[big], num.faces[big], num.rank.data());
+    compact_piece(*owned, plan, num.vertices[big], num.faces[big], num.rank.data());
     out[big] = std::move(*owned);
   }
   if (watcher) watcher->split(watched_as, out);

@@ -55,7 +55,7 @@ std::vector<SurfaceMesh> split_disjoint(SurfaceMesh&& mesh, const std::vector<st
 
 /// A mesh's watcher (MeshObserver) that follows it through split_disjoint instead of being handed
 /// it whole: an undo record (model_undo.h) keeps what the pieces do not hold, so a watched mesh is
-/// taken apart in place like an unwatched one (its largest piece not copied) and put back
+/// taken apart in place like an unwatched one (the piece that keeps the arrays not copied) and put back
 /// together from the pieces on undo. Found by a dynamic_cast on the mesh's observer.
 class SplitWatcher {
  public:
@@ -65,7 +65,9 @@ class SplitWatcher {
   virtual bool accepts(std::uint32_t id, const SurfaceMesh& mesh) const = 0;
   /// `mesh`, accepted, is about to be compacted in place into piece `big` (the others are copied
   /// out): piece k holds its (increasing) vertices `vertices[k]` and faces `faces[k]`. The
-  /// watcher keeps what it needs and no longer watches `mesh`.
+  /// watcher keeps what it needs and no longer watches `mesh`; should it throw, it leaves `mesh`
+  /// watched as before (the split then fails with the mesh whole). It makes every allocation
+  /// `split` needs: `split` does not throw.
   virtual void splitting(std::uint32_t id, SurfaceMesh& mesh, const std::vector<std::vector<std::uint32_t>>& vertices,
                          const std::vector<std::vector<std::uint32_t>>& faces, std::size_t big) = 0;
   /// The pieces made (in the lists' order).

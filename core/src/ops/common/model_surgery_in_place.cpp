@@ -33,19 +33,6 @@ unsigned char* bytes_of(AttributeArrayBase& array) {
   return const_cast<unsigned char*>(bytes_of(static_cast<const AttributeArrayBase&>(array)));
 }
 
-// Groups of `width` bytes moved by an increasing `keep`, groups `begin .. end - 1`: gathering
-// (`spread` false), group i of `dst` gets group keep[i] of `src`; spreading, group keep[i] of
-// `dst` gets group i of `src`. In place (dst == src) keep[i] >= i, so a gather runs forward and
-// a spread backward, and neither reads a group it wrote.
-struct GroupCopy {
-  unsigned char* dst;
-  const unsigned char* src;
-  std::size_t width;
-  const std::uint32_t* keep;
-  std::size_t begin, end;
-  bool spread;
-};
-
 // Run by run: consecutive groups (keep[i + 1] == keep[i] + 1, as the pieces of a mesh stored in
 // spatial order come) in one memmove, which in place gives what copying group by group in that
 // order gives; a lone group by a copy of fixed width (W 0: `width` bytes).
@@ -141,18 +128,19 @@ std::vector<Step> spread_steps(const std::vector<std::uint32_t>& keep) {
   return out;
 }
 
-// Every array of `mesh` (its triangles included) gathered (`spread` false) or spread in place by
-// `vertices` and `faces`, stretch by stretch, each over every array at once.
-void move_in_place(SurfaceMesh& mesh, const std::vector<std::uint32_t>& vertices,
-                   const std::vector<std::uint32_t>& faces, bool spread) {
+// Every array of `mesh` (its triangles included) to gather (`spread` false) or spread in place
+// by `vertices` and `faces`: stretch by stretch, each over every array at once.
+MovePlan plan_moves(SurfaceMesh& mesh, const std::vector<std::uint32_t>& vertices,
+                    const std::vector<std::uint32_t>& faces, bool spread) {
   std::vector<Triangle>& tris = TrustedAssign::faces(mesh);
   auto steps_of = [&](const std::vector<std::uint32_t>& keep) {
     return spread ? spread_steps(keep) : gather_steps(keep);
   };
   const std::vector<Step> steps[2] = {steps_of(vertices), steps_of(faces)};
-  const std::size_t rounds = std::max(steps[0].size(), steps[1].size());
-  for (std::size_t r = 0; r < rounds; ++r) {
-    std::vector<GroupCopy> jobs;
+  MovePlan plan;
+  plan.rounds.resize(std::max(steps[0].size(), steps[1].size()));
+  for (std::size_t r = 0; r < plan.rounds.size(); ++r) {
+    std::vector<GroupCopy>& jobs = plan.rounds[r];
     auto add = [&](unsigned char* bytes, std::size_t width, const std::vector<std::uint32_t>& keep, const Step& step) {
       const GroupCopy copy{bytes, bytes, width, keep.data(), step.begin, step.end, spread};
       if (step.parallel) add_chunks(copy, step.begin, step.end, jobs);
@@ -168,8 +156,13 @@ void move_in_place(SurfaceMesh& mesh, const std::vector<std::uint32_t>& vertices
       }
     }
     if (r < steps[1].size()) add(reinterpret_cast<unsigned char*>(tris.data()), sizeof(Triangle), faces, steps[1][r]);
-    run_copies(jobs);
   }
+  return plan;
+}
+
+// The plan's rounds, one after the other (allocates nothing).
+void run_moves(const MovePlan& plan) {
+  for (const std::vector<GroupCopy>& jobs : plan.rounds) run_copies(jobs);
 }
 
 // The mesh's arrays, as they are now, made its content again (sizes as the sets say).
@@ -192,9 +185,14 @@ std::size_t staying_put(const std::vector<std::uint32_t>& keep) {
   return lo;
 }
 
-void compact_piece(SurfaceMesh& mesh, const std::vector<std::uint32_t>& vertices,
+MovePlan plan_compaction(SurfaceMesh& mesh, const std::vector<std::uint32_t>& vertices,
+                         const std::vector<std::uint32_t>& faces) {
+  return plan_moves(mesh, vertices, faces, false);
+}
+
+void compact_piece(SurfaceMesh& mesh, const MovePlan& plan, const std::vector<std::uint32_t>& vertices,
                    const std::vector<std::uint32_t>& faces, const std::uint32_t* rank) {
-  move_in_place(mesh, vertices, faces, false);
+  run_moves(plan);
   std::vector<Triangle>& tris = TrustedAssign::faces(mesh);
   tris.resize(faces.size());
   parallel_for(tris.size(), kGrain, [&](std::size_t b, std::size_t e) {
@@ -253,7 +251,7 @@ void expand_piece(SurfaceMesh& piece, const std::vector<std::uint32_t>& vertices
   run_chunks(grow.size(), [&](std::size_t i) { grow[i].second(); });
   for (int kind = 0; kind < 3; ++kind)
     set_of(piece, kind).resize((kind == 0 ? vertex_count : face_slots) * group_of(kind));
-  move_in_place(piece, vertices, faces, true);
+  run_moves(plan_moves(piece, vertices, faces, true));
   const std::uint32_t* to = vertices.data();
   parallel_for(faces.size(), kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i)

@@ -3,9 +3,10 @@
 // A piece of a mesh made from the mesh's own arrays, and the mesh made back from its pieces, in
 // place (private to core): the model surgery's split (split_disjoint) compacts the piece that
 // keeps the mesh's arrays, and an undo record (model_undo.h) that kept only what the pieces do
-// not hold grows that piece back into the mesh and compacts it again on redo. No array is
-// allocated anew: the bytes move inside the arrays they are in, stretch by stretch, each stretch
-// in chunks over the pool across every array at once (the same bytes whatever the threads).
+// not hold grows that piece back into the mesh and compacts it again on redo. The bytes move
+// inside the arrays they are in (a compaction allocates no array; growing a piece back reallocates
+// an array only where its capacity does not hold the mesh), stretch by stretch, each stretch in
+// chunks over the pool across every array at once (the same bytes whatever the threads).
 
 #include <array>
 #include <cstdint>
@@ -25,10 +26,36 @@ inline std::size_t group_of(int kind) { return kind == 2 ? 3 : 1; }
 /// an in-place move by `keep` leaves where they are.
 std::size_t staying_put(const std::vector<std::uint32_t>& keep);
 
+/// Groups of `width` bytes moved by an increasing `keep`, groups `begin .. end - 1`: gathering
+/// (`spread` false), group i of `dst` gets group keep[i] of `src`; spreading, group keep[i] of
+/// `dst` gets group i of `src`. In place (dst == src) keep[i] >= i, so a gather runs forward and
+/// a spread backward, and neither reads a group it wrote.
+struct GroupCopy {
+  unsigned char* dst;
+  const unsigned char* src;
+  std::size_t width;
+  const std::uint32_t* keep;
+  std::size_t begin, end;
+  bool spread;
+};
+
+/// The moves of an in-place compaction, planned before it starts: rounds run one after the other,
+/// the copies of a round at once over the pool. Running a plan allocates nothing, so a mesh taken
+/// apart is never left half compacted for want of memory. The plan holds the addresses of the
+/// mesh's arrays and the lists: valid while neither is resized.
+struct MovePlan {
+  std::vector<std::vector<GroupCopy>> rounds;
+};
+
+/// The moves that make `mesh` its piece of the (increasing) `vertices` and `faces`.
+MovePlan plan_compaction(SurfaceMesh& mesh, const std::vector<std::uint32_t>& vertices,
+                         const std::vector<std::uint32_t>& faces);
+
 /// `mesh` becomes its piece of the (increasing) `vertices` and `faces` (live faces whose corners
-/// are among `vertices`): every array compacted in place, then the triangles renumbered by `rank`
-/// (`rank[v]`: vertex v's index in `vertices`, read for those vertices only). No allocation.
-void compact_piece(SurfaceMesh& mesh, const std::vector<std::uint32_t>& vertices,
+/// are among `vertices`): every array compacted in place by `plan` (plan_compaction, with the same
+/// lists), then the triangles renumbered by `rank` (`rank[v]`: vertex v's index in `vertices`,
+/// read for those vertices only). Allocates nothing.
+void compact_piece(SurfaceMesh& mesh, const MovePlan& plan, const std::vector<std::uint32_t>& vertices,
                    const std::vector<std::uint32_t>& faces, const std::uint32_t* rank);
 
 /// Elements to write into a mesh's slots: `values` (vertices, faces, 3 corners per face; the
