@@ -417,7 +417,8 @@ void ModelRecorder::Impl::put_together(Watched& w) {
     SurfaceMesh* live = piece.released ? nullptr : find_piece(w.pieces[k]);
     if (live) live->watch(nullptr, 0);  // an ordinary primitive the step made from now on
     found[k] = piece.released ? &*piece.released : live;
-    w.lost = w.lost || !found[k];
+    // A piece that shrank or lost an attribute of the split no longer holds its elements.
+    w.lost = w.lost || !found[k] || !part.covers(k, *found[k]);
   }
   if (!w.lost) {
     try {

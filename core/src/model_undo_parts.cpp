@@ -98,6 +98,18 @@ bool SplitPart::holds(std::size_t k, const SurfaceMesh& piece) const {
   return true;
 }
 
+bool SplitPart::covers(std::size_t k, const SurfaceMesh& piece) const {
+  if (piece.vertex_count() < vertices[k].size() || piece.face_slots() < faces[k].size()) return false;
+  for (int kind = 0; kind < 3; ++kind) {
+    const auto i = static_cast<std::size_t>(kind);
+    for (const std::string& name : names[i]) {
+      const AttributeArrayBase* array = attrs(piece, kind).base(name);
+      if (!array || array->type() != rest_values[i].base(name)->type()) return false;
+    }
+  }
+  return true;
+}
+
 SurfaceMesh SplitPart::grow(SurfaceMesh&& big_piece, const std::vector<const SurfaceMesh*>& pieces) const {
   SurfaceMesh out = std::move(big_piece);
   std::vector<detail::Room> rooms;  // the other pieces and the rest, whose elements come in
@@ -113,10 +125,14 @@ SurfaceMesh SplitPart::grow(SurfaceMesh&& big_piece, const std::vector<const Sur
   for (std::size_t k = 0; k < pieces.size(); ++k) {
     if (k == big) continue;
     const SurfaceMesh& p = *pieces[k];
-    detail::scatter(out, {{&p.vertex_attrs(), &p.face_attrs(), &p.corner_attrs()}, p.faces().data(), &vertices[k]},
+    detail::scatter(out,
+                    {{&p.vertex_attrs(), &p.face_attrs(), &p.corner_attrs()}, p.faces().data(), &vertices[k],
+                     p.faces().size()},
                     vertices[k], faces[k]);
   }
-  detail::scatter(out, {{&rest_values[0], &rest_values[1], &rest_values[2]}, rest_corners.data(), nullptr},
+  detail::scatter(out,
+                  {{&rest_values[0], &rest_values[1], &rest_values[2]}, rest_corners.data(), nullptr,
+                   rest_corners.size()},
                   rest_vertices, rest_faces);
   for (std::size_t j = 0; j < rest_faces.size(); ++j)
     if (rest_deleted[j]) {

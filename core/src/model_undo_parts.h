@@ -78,6 +78,9 @@ struct SplitPart {
   void take_rest(const SurfaceMesh& mesh);
   /// True when `piece` is still piece `k` as the split made it (sizes and attribute names).
   bool holds(std::size_t k, const SurfaceMesh& piece) const;
+  /// True when `piece` holds at least what piece `k` held at the split: that many vertices and
+  /// faces (or more, appended since) and every attribute the primitive had, of the same type.
+  bool covers(std::size_t k, const SurfaceMesh& piece) const;
   /// The primitive at the split: `big_piece` (piece `big` as made, grown in place) and the other
   /// pieces (`pieces[k]`; piece `big`'s entry is not read).
   /// @throws Error{MissingAttribute} when a piece lacks an attribute.

@@ -271,11 +271,15 @@ void scatter(SurfaceMesh& mesh, const Elements& from, const std::vector<std::uin
       const AttributeArrayBase* src = from.values[static_cast<std::size_t>(kind)]->base(name);
       if (!src || src->element_bytes() != array.element_bytes())
         throw Error(ErrorCode::MissingAttribute, "scatter: attribute '" + name + "' is missing");
+      if (src->size() < keep.size() * group_of(kind))
+        throw Error(ErrorCode::InvalidArgument, "scatter: attribute '" + name + "' holds too few elements");
       if (keep.empty()) continue;
       add_chunks({bytes_of(array), bytes_of(*src), array.element_bytes() * group_of(kind), keep.data(), 0, 0, true}, 0,
                  keep.size(), jobs);
     }
   }
+  if (from.triangle_count < faces.size())
+    throw Error(ErrorCode::InvalidArgument, "scatter: too few triangles");
   run_copies(jobs);
   std::vector<Triangle>& tris = TrustedAssign::faces(mesh);
   const std::uint32_t* map = from.vertex_map ? from.vertex_map->data() : nullptr;

@@ -59,12 +59,13 @@ void compact_piece(SurfaceMesh& mesh, const MovePlan& plan, const std::vector<st
                    const std::vector<std::uint32_t>& faces, const std::uint32_t* rank);
 
 /// Elements to write into a mesh's slots: `values` (vertices, faces, 3 corners per face; the
-/// mesh's attribute names at least) and `triangles` (one per face), whose corners are mesh
+/// mesh's attribute names at least) and `triangle_count` `triangles`, whose corners are mesh
 /// vertices, or indices into `vertex_map` when it is given (a piece's own numbering).
 struct Elements {
   std::array<const AttributeSet*, 3> values{};
   const Triangle* triangles = nullptr;
   const std::vector<std::uint32_t>* vertex_map = nullptr;
+  std::size_t triangle_count = 0;
 };
 
 /// The first `vertices` vertices and `faces` faces of some elements (`values`, `triangles`),
@@ -88,7 +89,9 @@ void expand_piece(SurfaceMesh& piece, const std::vector<std::uint32_t>& vertices
 
 /// Vertex i of `from` written to vertex `vertices[i]` of `mesh`, face i (its attributes, corners
 /// and triangle) to face `faces[i]`, over the pool. The faces' deleted marks are left as they are.
-/// @throws Error{MissingAttribute} when `from` lacks one of the mesh's attributes.
+/// @throws Error{MissingAttribute} when `from` lacks one of the mesh's attributes (or has it with
+/// another element size), Error{InvalidArgument} when it holds fewer elements than the lists
+/// name; nothing is written then.
 void scatter(SurfaceMesh& mesh, const Elements& from, const std::vector<std::uint32_t>& vertices,
              const std::vector<std::uint32_t>& faces);
 
