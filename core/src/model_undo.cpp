@@ -14,6 +14,7 @@
 
 #include "model_undo_parts.h"
 #include "ops/common/model_surgery.h"
+#include "ops/common/model_surgery_in_place.h"
 
 namespace deepcut {
 
@@ -315,8 +316,8 @@ ModelRecorder::Impl::Impl(Model& m) : model(m), shell(undo::shell_of(m)) {
       w.v0 = mesh.vertex_count();
       w.f0 = mesh.face_slots();
       for (int kind = 0; kind < 3; ++kind) {
-        w.names[static_cast<std::size_t>(kind)] = undo::attrs(mesh, kind).names();
-        w.old[static_cast<std::size_t>(kind)] = undo::attrs(mesh, kind).subset({});
+        w.names[static_cast<std::size_t>(kind)] = detail::set_of(mesh, kind).names();
+        w.old[static_cast<std::size_t>(kind)] = detail::set_of(mesh, kind).subset({});
       }
       if (const AttributeArrayBase* flag = mesh.face_attrs().base(attr::kCutSurface))
         w.saved.push_back({1, attr::kCutSurface, flag->clone()});
@@ -427,8 +428,8 @@ void ModelRecorder::Impl::put_together(Watched& w) {
       SurfaceMesh whole = *found[part.big];
       whole.take_tail(part.vertices[part.big].size(), part.faces[part.big].size());
       for (int kind = 0; kind < 3; ++kind)
-        for (const std::string& name : undo::attrs(whole, kind).names())
-          if (!contains(part.names[static_cast<std::size_t>(kind)], name)) undo::attrs(whole, kind).remove(name);
+        for (const std::string& name : detail::set_of(whole, kind).names())
+          if (!contains(part.names[static_cast<std::size_t>(kind)], name)) detail::set_of(whole, kind).remove(name);
       w.released.emplace(part.grow(std::move(whole), found));
     } catch (const Error&) {
       w.lost = true;
@@ -496,7 +497,7 @@ MeshDelta ModelRecorder::Impl::delta_of(Watched& w, const SurfaceMesh& now) {
   std::vector<std::size_t> removed;     // indices into w.saved
   for (int kind = 0; kind < 3; ++kind) {
     const auto k = static_cast<std::size_t>(kind);
-    const std::vector<std::string> names = undo::attrs(now, kind).names();
+    const std::vector<std::string> names = detail::set_of(now, kind).names();
     for (const std::string& n : names)
       if (!contains(w.names[k], n)) d.added.push_back({kind, n, nullptr});
     for (const std::string& n : w.names[k]) {

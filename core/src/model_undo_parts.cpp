@@ -11,14 +11,6 @@
 
 namespace deepcut::undo {
 
-AttributeSet& attrs(SurfaceMesh& mesh, int kind) {
-  return kind == 0 ? mesh.vertex_attrs() : kind == 1 ? mesh.face_attrs() : mesh.corner_attrs();
-}
-
-const AttributeSet& attrs(const SurfaceMesh& mesh, int kind) {
-  return kind == 0 ? mesh.vertex_attrs() : kind == 1 ? mesh.face_attrs() : mesh.corner_attrs();
-}
-
 void MeshDelta::swap_existing(SurfaceMesh& mesh) {
   for (std::size_t i = 0; i < vertices.size(); ++i) mesh.vertex_attrs().swap_elements(vertex_values, vertices[i], i);
   for (std::size_t i = 0; i < faces.size(); ++i) {
@@ -31,16 +23,16 @@ void MeshDelta::swap_existing(SurfaceMesh& mesh) {
 
 void MeshDelta::undo(SurfaceMesh& mesh) {
   swap_existing(mesh);
-  for (HeldArray& a : added) a.array = attrs(mesh, a.kind).take(a.name);
+  for (HeldArray& a : added) a.array = detail::set_of(mesh, a.kind).take(a.name);
   tail = mesh.take_tail(v0, f0);
-  for (HeldArray& r : removed) attrs(mesh, r.kind).put(r.name, std::move(r.array));
+  for (HeldArray& r : removed) detail::set_of(mesh, r.kind).put(r.name, std::move(r.array));
 }
 
 void MeshDelta::redo(SurfaceMesh& mesh) {
-  for (HeldArray& r : removed) r.array = attrs(mesh, r.kind).take(r.name);
+  for (HeldArray& r : removed) r.array = detail::set_of(mesh, r.kind).take(r.name);
   if (tail) mesh.append_tail(*tail);
   tail.reset();
-  for (HeldArray& a : added) attrs(mesh, a.kind).put(a.name, std::move(a.array));
+  for (HeldArray& a : added) detail::set_of(mesh, a.kind).put(a.name, std::move(a.array));
   swap_existing(mesh);
 }
 
@@ -62,7 +54,7 @@ namespace {
 std::vector<std::uint32_t> unlisted(const std::vector<std::vector<std::uint32_t>>& lists, std::size_t count) {
   std::vector<char> listed(count, 0);
   for (const std::vector<std::uint32_t>& list : lists)
-    parallel_for(list.size(), 65536, [&](std::size_t b, std::size_t e) {
+    parallel_for(list.size(), detail::kIndexGrain, [&](std::size_t b, std::size_t e) {
       for (std::size_t i = b; i < e; ++i) listed[list[i]] = 1;
     });
   std::vector<std::uint32_t> out;
@@ -76,7 +68,7 @@ std::vector<std::uint32_t> unlisted(const std::vector<std::vector<std::uint32_t>
 void SplitPart::take_rest(const SurfaceMesh& mesh) {
   vertex_count = mesh.vertex_count();
   face_count = mesh.face_slots();
-  for (int kind = 0; kind < 3; ++kind) names[static_cast<std::size_t>(kind)] = attrs(mesh, kind).names();
+  for (int kind = 0; kind < 3; ++kind) names[static_cast<std::size_t>(kind)] = detail::set_of(mesh, kind).names();
   rest_vertices = unlisted(vertices, vertex_count);
   rest_faces = unlisted(faces, face_count);
   std::vector<std::uint32_t> corners;
@@ -94,7 +86,7 @@ void SplitPart::take_rest(const SurfaceMesh& mesh) {
 bool SplitPart::holds(std::size_t k, const SurfaceMesh& piece) const {
   if (piece.vertex_count() != vertices[k].size() || piece.face_slots() != faces[k].size()) return false;
   for (int kind = 0; kind < 3; ++kind)
-    if (attrs(piece, kind).names() != names[static_cast<std::size_t>(kind)]) return false;
+    if (detail::set_of(piece, kind).names() != names[static_cast<std::size_t>(kind)]) return false;
   return true;
 }
 
@@ -103,7 +95,7 @@ bool SplitPart::covers(std::size_t k, const SurfaceMesh& piece) const {
   for (int kind = 0; kind < 3; ++kind) {
     const auto i = static_cast<std::size_t>(kind);
     for (const std::string& name : names[i]) {
-      const AttributeArrayBase* array = attrs(piece, kind).base(name);
+      const AttributeArrayBase* array = detail::set_of(piece, kind).base(name);
       if (!array || array->type() != rest_values[i].base(name)->type()) return false;
     }
   }
@@ -146,7 +138,7 @@ SurfaceMesh SplitPart::grow(SurfaceMesh&& big_piece, const std::vector<const Sur
 SurfaceMesh SplitPart::shrink(SurfaceMesh&& whole) const {
   const std::vector<std::uint32_t>& kept = vertices[big];
   detail::UninitVector<std::uint32_t> rank(vertex_count);  // read for the piece's vertices only
-  parallel_for(kept.size(), 65536, [&](std::size_t b, std::size_t e) {
+  parallel_for(kept.size(), detail::kIndexGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) rank[kept[i]] = static_cast<std::uint32_t>(i);
   });
   SurfaceMesh out = std::move(whole);

@@ -22,10 +22,6 @@ struct Place {
   bool operator<(const Place& o) const { return mesh != o.mesh ? mesh < o.mesh : primitive < o.primitive; }
 };
 
-/// The three attribute sets of a mesh by kind (0 vertex, 1 face, 2 corner).
-AttributeSet& attrs(SurfaceMesh& mesh, int kind);
-const AttributeSet& attrs(const SurfaceMesh& mesh, int kind);
-
 /// An attribute array the step added or removed, held while it is not in the mesh.
 struct HeldArray {
   int kind = 0;

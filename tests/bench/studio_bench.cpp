@@ -231,7 +231,8 @@ json time_operation(MainWindow& window, Timer& timer, const std::function<deepcu
     applied.push_back(t);
     const deepcut::studio::SceneHost::StepTiming step = window.scene_host()->last_step_timing();
     operation.push_back(window.last_operation_ms());
-    if (clean) record.push_back(static_cast<double>(window.session().undo_bytes() - held));
+    // Signed: a step that is not exact clears the steps before it, so the bytes may drop.
+    if (clean) record.push_back(static_cast<double>(window.session().undo_bytes()) - static_cast<double>(held));
     scene.push_back(step.scene_ms);
     view.push_back(step.view_ms);
     const auto idle0 = Clock::now();

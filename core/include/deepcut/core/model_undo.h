@@ -14,7 +14,7 @@
 /// - a primitive the step replaced or removed (a swallowed primitive, a capped cut's source) kept
 ///   by move, and the model's small parts (nodes, meshes list, skins, animations, materials, ...)
 ///   before and after, when anything but the primitives' element data changed (`structure`);
-/// - a primitive a cut took apart in place (its largest piece keeps its arrays): which of its
+/// - a primitive a cut took apart in place (the piece that keeps its arrays is compacted): which of its
 ///   elements each piece holds and the slots none holds; undo grows that piece back and writes
 ///   the other pieces into it (O(mesh), over the pool), redo compacts it again. Should a piece
 ///   change later in the same recording, the primitive is put back together first;

@@ -266,8 +266,8 @@ std::vector<AttributeSet> fill_pieces(const SurfaceMesh& mesh, Numbering& num, s
   return sets;
 }
 
-// The pieces `lists` of `mesh`; with `owned` (`mesh` itself, to take apart) the largest (most
-// faces) keeps the mesh's arrays, compacted in place once the others are copied out.
+// The pieces `lists` of `mesh`; with `owned` (`mesh` itself, to take apart) the piece that keeps
+// the mesh's arrays (in_place_piece) is compacted in place once the others are copied out.
 std::vector<SurfaceMesh> make_pieces(const SurfaceMesh& mesh, const std::vector<std::vector<FaceId>>& lists,
                                      SurfaceMesh* owned, const PieceSides* sides = nullptr,
                                      std::vector<PieceElements>* elements = nullptr) {

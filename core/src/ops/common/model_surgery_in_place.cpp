@@ -21,7 +21,6 @@ AttributeSet& set_of(SurfaceMesh& mesh, int kind) {
 
 namespace {
 
-constexpr std::size_t kGrain = 65536;
 constexpr std::size_t kCopyGrain = 16384;  // groups per copy job
 
 // An array's storage as bytes (contiguous: AttributeArray holds a std::vector). The arrays
@@ -195,7 +194,7 @@ void compact_piece(SurfaceMesh& mesh, const MovePlan& plan, const std::vector<st
   run_moves(plan);
   std::vector<Triangle>& tris = TrustedAssign::faces(mesh);
   tris.resize(faces.size());
-  parallel_for(tris.size(), kGrain, [&](std::size_t b, std::size_t e) {
+  parallel_for(tris.size(), kIndexGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i)
       for (VertexId& v : tris[i]) v = VertexId(rank[v.index]);
   });
@@ -253,7 +252,7 @@ void expand_piece(SurfaceMesh& piece, const std::vector<std::uint32_t>& vertices
     set_of(piece, kind).resize((kind == 0 ? vertex_count : face_slots) * group_of(kind));
   run_moves(plan_moves(piece, vertices, faces, true));
   const std::uint32_t* to = vertices.data();
-  parallel_for(faces.size(), kGrain, [&](std::size_t b, std::size_t e) {
+  parallel_for(faces.size(), kIndexGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i)
       for (VertexId& v : tris[faces[i]]) v = VertexId(to[v.index]);
   });
@@ -283,7 +282,7 @@ void scatter(SurfaceMesh& mesh, const Elements& from, const std::vector<std::uin
   run_copies(jobs);
   std::vector<Triangle>& tris = TrustedAssign::faces(mesh);
   const std::uint32_t* map = from.vertex_map ? from.vertex_map->data() : nullptr;
-  parallel_for(faces.size(), kGrain, [&](std::size_t b, std::size_t e) {
+  parallel_for(faces.size(), kIndexGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) {
       Triangle t = from.triangles[i];
       if (map)

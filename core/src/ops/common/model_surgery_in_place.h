@@ -22,6 +22,10 @@ const AttributeSet& set_of(const SurfaceMesh& mesh, int kind);
 AttributeSet& set_of(SurfaceMesh& mesh, int kind);
 inline std::size_t group_of(int kind) { return kind == 2 ? 3 : 1; }
 
+/// Elements per task of a pass over the pool that reads or writes one small value per element
+/// (an index list, a renumbered triangle): enough to outweigh handing the task out.
+constexpr std::size_t kIndexGrain = 65536;
+
 /// Length of the leading run of an increasing `keep` that stays put (keep[i] == i): the elements
 /// an in-place move by `keep` leaves where they are.
 std::size_t staying_put(const std::vector<std::uint32_t>& keep);

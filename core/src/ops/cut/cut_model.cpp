@@ -105,7 +105,7 @@ InstanceCut cut_instance(detail::InstanceEdit& inst, const std::vector<glm::mat4
 
 // Each piece of a cut primitive as primitives: its original-material faces and its cut-surface
 // faces (caps), each extracted straight from the cut mesh, without the cut-surface flag. The cut
-// mesh is taken apart (split_disjoint): the largest piece keeps its arrays, the others are
+// mesh is taken apart (split_disjoint): one piece keeps its arrays, the others are
 // copied out of it, in parallel (a watched mesh too, when its watcher follows it: SplitWatcher).
 // `sides` (the cut's sides of the pieces and vertices, or nullptr) spares the surgery finding
 // each vertex's piece.
