@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // An undo record (model_undo.h) following a primitive the mesh surgery takes apart in place
 // (split_disjoint): pieces destroyed without ever entering the model still give the primitive
-// back, byte for byte, on undo.
+// back, byte for byte, on undo, whatever attributes the primitive carries.
 #include <gtest/gtest.h>
 
 #include "deepcut/core/mesh_editor.h"
@@ -35,15 +35,44 @@ SurfaceMesh two_tubes() {
   return mesh;
 }
 
+// `mesh` with an 8-slot skin (JOINTS_0/1, WEIGHTS_0/1), u8 and u32 face attributes and attributes
+// whose default is not zero (a face's and a corner's), every element a value of its own.
+SurfaceMesh with_attribute_kinds(SurfaceMesh mesh) {
+  AttributeSet &v = mesh.vertex_attrs(), &f = mesh.face_attrs(), &c = mesh.corner_attrs();
+  auto& j0 = v.add<glm::u16vec4>(attr::kJoints0);
+  auto& j1 = v.add<glm::u16vec4>(attr::kJoints1);
+  auto& w0 = v.add<glm::vec4>(attr::kWeights0);
+  auto& w1 = v.add<glm::vec4>(attr::kWeights1, glm::vec4(0.25f));
+  auto& f8 = f.add<std::uint8_t>("f:u8");
+  auto& f32 = f.add<std::uint32_t>("f:u32", 7u);
+  auto& cs = c.add<float>("c:scale", 1.5f);
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    const auto k = static_cast<std::uint16_t>(i);
+    j0[i] = glm::u16vec4(k, k + 1, k + 2, k + 3);
+    j1[i] = glm::u16vec4(k + 4, k + 5, k + 6, k + 7);
+    w0[i] = glm::vec4(0.5f, 0.2f, 0.1f, 0.05f) + static_cast<float>(i) * 1e-4f;
+    if (i % 3) w1[i] = glm::vec4(0.05f, 0.04f, 0.03f, 0.03f);
+  }
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    f8[i] = static_cast<std::uint8_t>(i * 37);
+    if (i % 4) f32[i] = static_cast<std::uint32_t>(i * 2654435761u);
+  }
+  for (std::size_t i = 0; i < c.size(); ++i)
+    if (i % 5) cs[i] = static_cast<float>(i) * 0.5f;
+  return mesh;
+}
+
 void expect_same(const Model& a, const Model& b, const char* when) {
   ASSERT_TRUE(same_structure(a, b)) << when;
   EXPECT_TRUE(diff_models(a, b).empty()) << when;
 }
 
-TEST(ModelUndoSplitTest, pieces_destroyed_without_entering_the_model_give_the_primitive_back_on_undo) {
+// Records an edit of `mesh`'s primitive and its split in place into the tubes; the pieces are
+// destroyed without entering the model. The step is exact; undo and redo give back the states.
+void expect_pieces_destroyed_undone(SurfaceMesh source) {
   Model model;
   Primitive prim;
-  prim.mesh = two_tubes();
+  prim.mesh = std::move(source);
   model.meshes.push_back({"tubes", {prim}, ""});
   Node node;
   node.mesh = 0;
@@ -79,6 +108,14 @@ TEST(ModelUndoSplitTest, pieces_destroyed_without_entering_the_model_give_the_pr
     step.redo(model);
     expect_same(model, after, "redo");
   }
+}
+
+TEST(ModelUndoSplitTest, pieces_destroyed_without_entering_the_model_give_the_primitive_back_on_undo) {
+  expect_pieces_destroyed_undone(two_tubes());
+}
+
+TEST(ModelUndoSplitTest, a_skin_of_8_slots_face_attributes_and_defaults_not_zero_come_back_too) {
+  expect_pieces_destroyed_undone(with_attribute_kinds(two_tubes()));
 }
 
 }  // namespace
