@@ -161,8 +161,13 @@ void ModelStep::Impl::map_structure() {
   }
 }
 
+// Undo and redo allocate what they need around the primitives (the shell's copy, the lists that
+// hold the meshes) before a mesh leaves the model, so only a primitive's own edit can fail once
+// one has (growing a split primitive back, compacting it again, a delta).
 void ModelStep::Impl::undo_structure(Model& model) {
+  Model shell = shell_before;
   std::vector<std::optional<SurfaceMesh>> held(before_all.size());
+  fresh_meshes.reserve(fresh.size());
   for (std::size_t id = 0; id < held.size(); ++id) {
     if (after_all[id].valid()) {
       held[id].emplace(std::move(mesh_at(model, after_all[id])));
@@ -181,12 +186,13 @@ void ModelStep::Impl::undo_structure(Model& model) {
     }
     if (held[e.id]) e.delta.undo(*held[e.id]);
   }
-  undo::restore_shell(model, shell_before);
+  undo::restore_shell(model, std::move(shell));
   for (std::size_t id = 0; id < held.size(); ++id)
     if (held[id]) mesh_at(model, before_all[id]) = std::move(*held[id]);
 }
 
 void ModelStep::Impl::redo_structure(Model& model) {
+  Model shell = shell_after;
   std::vector<std::optional<SurfaceMesh>> held(before_all.size());
   for (std::size_t id = 0; id < held.size(); ++id) held[id].emplace(std::move(mesh_at(model, before_all[id])));
   for (Edited& e : edited) {
@@ -195,7 +201,7 @@ void ModelStep::Impl::redo_structure(Model& model) {
     fresh_meshes[e.split->fresh[e.split->big]] = e.split->shrink(std::move(*held[e.id]));
     held[e.id].reset();
   }
-  undo::restore_shell(model, shell_after);
+  undo::restore_shell(model, std::move(shell));
   for (std::size_t id = 0; id < held.size(); ++id) {
     if (after_all[id].valid()) {
       mesh_at(model, after_all[id]) = std::move(*held[id]);

@@ -197,9 +197,9 @@ Model shell_of(const Model& model) {
   return shell;
 }
 
-void restore_shell(Model& model, const Model& shell) {
+void restore_shell(Model& model, Model shell) {
   std::vector<Image> images = std::move(model.images);
-  model = shell;
+  model = std::move(shell);
   model.images = std::move(images);
 }
 

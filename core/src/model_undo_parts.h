@@ -90,8 +90,9 @@ struct SplitPart {
 /// attribute names and types, no elements).
 Model shell_of(const Model& model);
 /// Makes `model` the shell's small parts, keeping its images; its primitives' meshes are the
-/// shell's (empty) ones until the caller puts meshes back.
-void restore_shell(Model& model, const Model& shell);
+/// shell's (empty) ones until the caller puts meshes back. Takes a copy the caller made (by move,
+/// allocating nothing), so the copy can be made before any mesh leaves the model.
+void restore_shell(Model& model, Model shell);
 /// Bytes a shell holds (roughly: strings and arrays).
 std::size_t shell_bytes(const Model& shell);
 
