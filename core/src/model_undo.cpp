@@ -302,8 +302,9 @@ struct ModelRecorder::Impl final : MeshObserver, detail::SplitWatcher {
   void splitting(std::uint32_t id, SurfaceMesh& mesh, const std::vector<std::vector<std::uint32_t>>& vertices,
                  const std::vector<std::vector<std::uint32_t>>& faces, std::size_t big) override;
   void split(std::uint32_t id, std::vector<SurfaceMesh>& made) override;
-  SurfaceMesh* find_piece(std::uint32_t piece);
-  void put_together(Watched& w);
+  std::vector<SurfaceMesh*> live_pieces();
+  void put_together(Watched& w, const std::vector<SurfaceMesh*>& live);
+  void piece_writing(std::uint32_t piece, std::uint32_t index, int kind);
   void settle_splits();
   MeshDelta delta_of(Watched& w, const SurfaceMesh& now);
   static void keep_changed_vertices(const Watched& w, const std::array<AttributeSet, 3>& old, const SurfaceMesh& now,
@@ -339,7 +340,7 @@ void ModelRecorder::Impl::unwatch_all() {
 }
 
 void ModelRecorder::Impl::vertex_writing(std::uint32_t id, const SurfaceMesh& mesh, VertexId v) {
-  if (id & kPiece) return put_together(watched[pieces[id & ~kPiece].owner]);
+  if (id & kPiece) return piece_writing(id & ~kPiece, v.index, 0);
   Watched& w = watched[id];
   if (v.index >= w.v0 || !w.seen_v.insert(v.index).second) return;
   w.order_v.push_back(v.index);
@@ -351,7 +352,7 @@ void ModelRecorder::Impl::vertex_writing(std::uint32_t id, const SurfaceMesh& me
 }
 
 void ModelRecorder::Impl::face_writing(std::uint32_t id, const SurfaceMesh& mesh, FaceId f) {
-  if (id & kPiece) return put_together(watched[pieces[id & ~kPiece].owner]);
+  if (id & kPiece) return piece_writing(id & ~kPiece, f.index, 1);
   Watched& w = watched[id];
   if (f.index >= w.f0 || !w.seen_f.insert(f.index).second) return;
   w.order_f.push_back(f.index);
@@ -407,21 +408,23 @@ void ModelRecorder::Impl::split(std::uint32_t id, std::vector<SurfaceMesh>& made
   }
 }
 
-SurfaceMesh* ModelRecorder::Impl::find_piece(std::uint32_t piece) {
+std::vector<SurfaceMesh*> ModelRecorder::Impl::live_pieces() {
+  // The pieces in the model now, by index (nullptr: not there), from one pass over the model.
+  std::vector<SurfaceMesh*> out(pieces.size(), nullptr);
   for (Mesh& m : model.meshes)
     for (Primitive& p : m.primitives)
-      if (p.mesh.observer() == this && p.mesh.observer_id() == (kPiece | piece)) return &p.mesh;
-  return nullptr;
+      if (p.mesh.observer() == this && (p.mesh.observer_id() & kPiece)) out[p.mesh.observer_id() & ~kPiece] = &p.mesh;
+  return out;
 }
 
-void ModelRecorder::Impl::put_together(Watched& w) {
+void ModelRecorder::Impl::put_together(Watched& w, const std::vector<SurfaceMesh*>& live_now) {
   if (!w.split) return;
   const SplitPart& part = *w.split;
   std::vector<const SurfaceMesh*> found(w.pieces.size(), nullptr);
   w.lost = w.lost || w.pieces.size() != part.vertices.size();  // the split never finished
   for (std::size_t k = 0; k < w.pieces.size(); ++k) {
     Piece& piece = pieces[w.pieces[k]];
-    SurfaceMesh* live = piece.released ? nullptr : find_piece(w.pieces[k]);
+    SurfaceMesh* live = piece.released ? nullptr : live_now[w.pieces[k]];
     if (live) live->watch(nullptr, 0);  // an ordinary primitive the step made from now on
     found[k] = piece.released ? &*piece.released : live;
     // A piece that shrank or lost an attribute of the split no longer holds its elements.
@@ -431,7 +434,9 @@ void ModelRecorder::Impl::put_together(Watched& w) {
     try {
       // The pieces' elements past the split's (appended since) and attributes added since are
       // not the primitive's.
-      SurfaceMesh whole = *found[part.big];
+      // The piece that keeps the arrays, moved when the recorder holds it (released), else copied.
+      std::optional<SurfaceMesh>& released = pieces[w.pieces[part.big]].released;
+      SurfaceMesh whole = released ? std::move(*released) : *found[part.big];
       whole.take_tail(part.vertices[part.big].size(), part.faces[part.big].size());
       for (int kind = 0; kind < 3; ++kind)
         for (const std::string& name : detail::set_of(whole, kind).names())
@@ -445,17 +450,31 @@ void ModelRecorder::Impl::put_together(Watched& w) {
   w.split.reset();
 }
 
+void ModelRecorder::Impl::piece_writing(std::uint32_t piece, std::uint32_t index, int kind) {
+  // An element the piece appended since the split is not the primitive's (put_together cuts it
+  // off), so writing it leaves the split standing, as writes past v0 / f0 are ignored unsplit.
+  Watched& w = watched[pieces[piece].owner];
+  if (!w.split) return;
+  const auto at = std::find(w.pieces.begin(), w.pieces.end(), piece);
+  if (at != w.pieces.end()) {
+    const auto k = static_cast<std::size_t>(at - w.pieces.begin());
+    if (index >= (kind == 0 ? w.split->vertices[k] : w.split->faces[k]).size()) return;
+  }
+  put_together(w, live_pieces());
+}
+
 void ModelRecorder::Impl::settle_splits() {
   // A split whose pieces are not all in the model as the split made them is put back together
   // now: its pieces are then primitives the step made, like any other.
+  const std::vector<SurfaceMesh*> live = live_pieces();  // putting a split together moves no mesh
   for (Watched& w : watched) {
     if (!w.split) continue;
     bool standing = w.pieces.size() == w.split->vertices.size();
     for (std::size_t k = 0; k < w.pieces.size() && standing; ++k) {
-      const SurfaceMesh* live = pieces[w.pieces[k]].released ? nullptr : find_piece(w.pieces[k]);
-      standing = live && w.split->holds(k, *live);
+      const SurfaceMesh* piece = pieces[w.pieces[k]].released ? nullptr : live[w.pieces[k]];
+      standing = piece && w.split->holds(k, *piece);
     }
-    if (!standing) put_together(w);
+    if (!standing) put_together(w, live);
   }
 }
 
