@@ -141,8 +141,11 @@ SurfaceMesh SplitPart::shrink(SurfaceMesh&& whole) const {
   parallel_for(kept.size(), detail::kIndexGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) rank[kept[i]] = static_cast<std::uint32_t>(i);
   });
+  // Planned on `whole` before it changes (a move keeps its arrays where they are): a failure to
+  // allocate leaves it whole.
+  const detail::MovePlan plan = detail::plan_compaction(whole, kept, faces[big]);
   SurfaceMesh out = std::move(whole);
-  detail::compact_piece(out, detail::plan_compaction(out, kept, faces[big]), kept, faces[big], rank.data());
+  detail::compact_piece(out, plan, kept, faces[big], rank.data());
   return out;
 }
 

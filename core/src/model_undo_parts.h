@@ -81,7 +81,8 @@ struct SplitPart {
   /// pieces (`pieces[k]`; piece `big`'s entry is not read).
   /// @throws Error{MissingAttribute} when a piece lacks an attribute.
   SurfaceMesh grow(SurfaceMesh&& big_piece, const std::vector<const SurfaceMesh*>& pieces) const;
-  /// Piece `big` again, from the primitive at the split (compacted in place).
+  /// Piece `big` again, from the primitive at the split (compacted in place). Should it throw,
+  /// `whole` is left as it was.
   SurfaceMesh shrink(SurfaceMesh&& whole) const;
   std::size_t bytes() const;
 };
