@@ -7,17 +7,21 @@
 #include <array>
 #include <atomic>
 #include <cstring>
+#include <functional>
 #include <optional>
 #include <unordered_set>
 #include <utility>
 
 #include "model_undo_parts.h"
+#include "ops/common/model_surgery.h"
+#include "ops/common/model_surgery_in_place.h"
 
 namespace deepcut {
 
 using undo::HeldArray;
 using undo::MeshDelta;
 using undo::Place;
+using undo::SplitPart;
 
 namespace {
 
@@ -64,6 +68,7 @@ struct ModelStep::Impl {
     std::uint32_t id = 0;
     Place before, after;  // `after` invalid: the step released the primitive
     MeshDelta delta;
+    std::optional<SplitPart> split;  // the step split it in place: its pieces stand for it
   };
   bool whole = false;  // replace(): `other` is the model not current
   Model other;
@@ -156,8 +161,13 @@ void ModelStep::Impl::map_structure() {
   }
 }
 
+// Undo and redo allocate what they need around the primitives (the shell's copy, the lists that
+// hold the meshes) before a mesh leaves the model, so only a primitive's own edit can fail once
+// one has (growing a split primitive back, compacting it again, a delta).
 void ModelStep::Impl::undo_structure(Model& model) {
+  Model shell = shell_before;
   std::vector<std::optional<SurfaceMesh>> held(before_all.size());
+  fresh_meshes.reserve(fresh.size());
   for (std::size_t id = 0; id < held.size(); ++id) {
     if (after_all[id].valid()) {
       held[id].emplace(std::move(mesh_at(model, after_all[id])));
@@ -167,18 +177,31 @@ void ModelStep::Impl::undo_structure(Model& model) {
     }
   }
   for (Place p : fresh) fresh_meshes.push_back(std::move(mesh_at(model, p)));
-  for (Edited& e : edited)
+  for (Edited& e : edited) {
+    if (e.split) {
+      const SplitPart& part = *e.split;
+      std::vector<const SurfaceMesh*> pieces;
+      for (std::size_t i : part.fresh) pieces.push_back(&fresh_meshes[i]);
+      held[e.id].emplace(part.grow(std::move(fresh_meshes[part.fresh[part.big]]), pieces));
+    }
     if (held[e.id]) e.delta.undo(*held[e.id]);
-  undo::restore_shell(model, shell_before);
+  }
+  undo::restore_shell(model, std::move(shell));
   for (std::size_t id = 0; id < held.size(); ++id)
     if (held[id]) mesh_at(model, before_all[id]) = std::move(*held[id]);
 }
 
 void ModelStep::Impl::redo_structure(Model& model) {
+  Model shell = shell_after;
   std::vector<std::optional<SurfaceMesh>> held(before_all.size());
   for (std::size_t id = 0; id < held.size(); ++id) held[id].emplace(std::move(mesh_at(model, before_all[id])));
-  for (Edited& e : edited) e.delta.redo(*held[e.id]);
-  undo::restore_shell(model, shell_after);
+  for (Edited& e : edited) {
+    e.delta.redo(*held[e.id]);
+    if (!e.split) continue;
+    fresh_meshes[e.split->fresh[e.split->big]] = e.split->shrink(std::move(*held[e.id]));
+    held[e.id].reset();
+  }
+  undo::restore_shell(model, std::move(shell));
   for (std::size_t id = 0; id < held.size(); ++id) {
     if (after_all[id].valid()) {
       mesh_at(model, after_all[id]) = std::move(*held[id]);
@@ -218,7 +241,7 @@ std::size_t ModelStep::bytes() const {
       for (const Primitive& p : m.primitives) out += p.mesh.capacity_bytes();
     out += undo::shell_bytes(s.other);
   }
-  for (const auto& e : s.edited) out += e.delta.bytes();
+  for (const auto& e : s.edited) out += e.delta.bytes() + (e.split ? e.split->bytes() : 0);
   for (const auto& k : s.kept)
     if (k) out += k->capacity_bytes();
   for (const auto& m : s.fresh_meshes) out += m.capacity_bytes();
@@ -243,14 +266,30 @@ struct Watched {
   std::vector<std::uint8_t> old_deleted;
   std::vector<HeldArray> saved;  // attributes an operation may remove, as they were
   std::optional<SurfaceMesh> released;
+  // Split in place (SplitWatcher): the edits up to the split, and what the pieces (watched as
+  // pieces, see Piece) do not hold while they stand for the primitive. Put back together into
+  // `released` once a piece changes; `lost` when a piece left for where the recorder cannot see.
+  std::optional<MeshDelta> at_split;
+  std::optional<SplitPart> split;
+  std::vector<std::uint32_t> pieces;  // indices into ModelRecorder::Impl::pieces
+  bool lost = false;
 };
+
+/// A piece of a primitive split in place, watched as kPiece | its index until it changes.
+struct Piece {
+  std::uint32_t owner = 0;  // the primitive split
+  std::optional<SurfaceMesh> released;
+};
+
+constexpr std::uint32_t kPiece = 0x80000000u;
 
 }  // namespace
 
-struct ModelRecorder::Impl final : MeshObserver {
+struct ModelRecorder::Impl final : MeshObserver, detail::SplitWatcher {
   Model& model;
   Model shell;
   std::vector<Watched> watched;
+  std::vector<Piece> pieces;
   std::vector<std::pair<const void*, std::size_t>> images;
   bool exact = true;
 
@@ -259,9 +298,19 @@ struct ModelRecorder::Impl final : MeshObserver {
   void vertex_writing(std::uint32_t id, const SurfaceMesh& mesh, VertexId v) override;
   void face_writing(std::uint32_t id, const SurfaceMesh& mesh, FaceId f) override;
   void released(std::uint32_t id, SurfaceMesh&& content) noexcept override;
+  bool accepts(std::uint32_t id, const SurfaceMesh& mesh) const override;
+  void splitting(std::uint32_t id, SurfaceMesh& mesh, const std::vector<std::vector<std::uint32_t>>& vertices,
+                 const std::vector<std::vector<std::uint32_t>>& faces, std::size_t big) override;
+  void split(std::uint32_t id, std::vector<SurfaceMesh>& made) override;
+  std::vector<SurfaceMesh*> live_pieces();
+  void put_together(Watched& w, const std::vector<SurfaceMesh*>& live);
+  void piece_writing(std::uint32_t piece, std::uint32_t index, int kind);
+  void settle_splits();
   MeshDelta delta_of(Watched& w, const SurfaceMesh& now);
-  void keep_changed_vertices(Watched& w, const SurfaceMesh& now, MeshDelta& d);
-  void keep_changed_faces(Watched& w, const SurfaceMesh& now, MeshDelta& d);
+  static void keep_changed_vertices(const Watched& w, const std::array<AttributeSet, 3>& old, const SurfaceMesh& now,
+                                    MeshDelta& d);
+  static void keep_changed_faces(const Watched& w, const std::array<AttributeSet, 3>& old, const SurfaceMesh& now,
+                                 MeshDelta& d);
 };
 
 ModelRecorder::Impl::Impl(Model& m) : model(m), shell(undo::shell_of(m)) {
@@ -274,8 +323,8 @@ ModelRecorder::Impl::Impl(Model& m) : model(m), shell(undo::shell_of(m)) {
       w.v0 = mesh.vertex_count();
       w.f0 = mesh.face_slots();
       for (int kind = 0; kind < 3; ++kind) {
-        w.names[static_cast<std::size_t>(kind)] = undo::attrs(mesh, kind).names();
-        w.old[static_cast<std::size_t>(kind)] = undo::attrs(mesh, kind).subset({});
+        w.names[static_cast<std::size_t>(kind)] = detail::set_of(mesh, kind).names();
+        w.old[static_cast<std::size_t>(kind)] = detail::set_of(mesh, kind).subset({});
       }
       if (const AttributeArrayBase* flag = mesh.face_attrs().base(attr::kCutSurface))
         w.saved.push_back({1, attr::kCutSurface, flag->clone()});
@@ -291,6 +340,7 @@ void ModelRecorder::Impl::unwatch_all() {
 }
 
 void ModelRecorder::Impl::vertex_writing(std::uint32_t id, const SurfaceMesh& mesh, VertexId v) {
+  if (id & kPiece) return piece_writing(id & ~kPiece, v.index, 0);
   Watched& w = watched[id];
   if (v.index >= w.v0 || !w.seen_v.insert(v.index).second) return;
   w.order_v.push_back(v.index);
@@ -302,6 +352,7 @@ void ModelRecorder::Impl::vertex_writing(std::uint32_t id, const SurfaceMesh& me
 }
 
 void ModelRecorder::Impl::face_writing(std::uint32_t id, const SurfaceMesh& mesh, FaceId f) {
+  if (id & kPiece) return piece_writing(id & ~kPiece, f.index, 1);
   Watched& w = watched[id];
   if (f.index >= w.f0 || !w.seen_f.insert(f.index).second) return;
   w.order_f.push_back(f.index);
@@ -316,24 +367,134 @@ void ModelRecorder::Impl::face_writing(std::uint32_t id, const SurfaceMesh& mesh
 }
 
 void ModelRecorder::Impl::released(std::uint32_t id, SurfaceMesh&& content) noexcept {
-  watched[id].released.emplace(std::move(content));
+  if (id & kPiece) {
+    pieces[id & ~kPiece].released.emplace(std::move(content));
+  } else {
+    watched[id].released.emplace(std::move(content));
+  }
 }
 
-void ModelRecorder::Impl::keep_changed_vertices(Watched& w, const SurfaceMesh& now, MeshDelta& d) {
+bool ModelRecorder::Impl::accepts(std::uint32_t id, const SurfaceMesh& mesh) const {
+  // Once per primitive and recording, and never a mesh with cut-surface flags: its pieces lose
+  // them right after (cut_model), so they would not stand for it.
+  return !(id & kPiece) && !watched[id].at_split && !mesh.face_attrs().base(attr::kCutSurface);
+}
+
+void ModelRecorder::Impl::splitting(std::uint32_t id, SurfaceMesh& mesh,
+                                    const std::vector<std::vector<std::uint32_t>>& vertices,
+                                    const std::vector<std::vector<std::uint32_t>>& faces, std::size_t big) {
+  Watched& w = watched[id];
+  SplitPart part;
+  part.vertices = vertices;
+  part.faces = faces;
+  part.big = big;
+  part.take_rest(mesh);
+  // split() then allocates nothing; delta_of changes the recording only once it succeeded, so a
+  // failure up to here leaves the mesh whole and watched as before.
+  w.pieces.reserve(vertices.size());
+  pieces.reserve(pieces.size() + vertices.size());
+  MeshDelta at_split = delta_of(w, mesh);
+  w.at_split.emplace(std::move(at_split));
+  w.split.emplace(std::move(part));
+  mesh.watch(nullptr, 0);
+}
+
+void ModelRecorder::Impl::split(std::uint32_t id, std::vector<SurfaceMesh>& made) {
+  Watched& w = watched[id];
+  for (std::size_t k = 0; k < made.size(); ++k) {
+    w.pieces.push_back(static_cast<std::uint32_t>(pieces.size()));
+    made[k].watch(this, kPiece | static_cast<std::uint32_t>(pieces.size()));
+    pieces.push_back({id, std::nullopt});
+  }
+}
+
+std::vector<SurfaceMesh*> ModelRecorder::Impl::live_pieces() {
+  // The pieces in the model now, by index (nullptr: not there), from one pass over the model.
+  std::vector<SurfaceMesh*> out(pieces.size(), nullptr);
+  for (Mesh& m : model.meshes)
+    for (Primitive& p : m.primitives)
+      if (p.mesh.observer() == this && (p.mesh.observer_id() & kPiece)) out[p.mesh.observer_id() & ~kPiece] = &p.mesh;
+  return out;
+}
+
+void ModelRecorder::Impl::put_together(Watched& w, const std::vector<SurfaceMesh*>& live_now) {
+  if (!w.split) return;
+  const SplitPart& part = *w.split;
+  std::vector<const SurfaceMesh*> found(w.pieces.size(), nullptr);
+  w.lost = w.lost || w.pieces.size() != part.vertices.size();  // the split never finished
+  for (std::size_t k = 0; k < w.pieces.size(); ++k) {
+    Piece& piece = pieces[w.pieces[k]];
+    SurfaceMesh* live = piece.released ? nullptr : live_now[w.pieces[k]];
+    if (live) live->watch(nullptr, 0);  // an ordinary primitive the step made from now on
+    found[k] = piece.released ? &*piece.released : live;
+    // A piece that shrank or lost an attribute of the split no longer holds its elements.
+    w.lost = w.lost || !found[k] || !part.covers(k, *found[k]);
+  }
+  if (!w.lost) {
+    try {
+      // The pieces' elements past the split's (appended since) and attributes added since are
+      // not the primitive's.
+      // The piece that keeps the arrays, moved when the recorder holds it (released), else copied.
+      std::optional<SurfaceMesh>& released = pieces[w.pieces[part.big]].released;
+      SurfaceMesh whole = released ? std::move(*released) : *found[part.big];
+      whole.take_tail(part.vertices[part.big].size(), part.faces[part.big].size());
+      for (int kind = 0; kind < 3; ++kind)
+        for (const std::string& name : detail::set_of(whole, kind).names())
+          if (!contains(part.names[static_cast<std::size_t>(kind)], name)) detail::set_of(whole, kind).remove(name);
+      w.released.emplace(part.grow(std::move(whole), found));
+    } catch (const Error&) {
+      w.lost = true;
+    }
+  }
+  for (std::uint32_t i : w.pieces) pieces[i].released.reset();
+  w.split.reset();
+}
+
+void ModelRecorder::Impl::piece_writing(std::uint32_t piece, std::uint32_t index, int kind) {
+  // An element the piece appended since the split is not the primitive's (put_together cuts it
+  // off), so writing it leaves the split standing, as writes past v0 / f0 are ignored unsplit.
+  Watched& w = watched[pieces[piece].owner];
+  if (!w.split) return;
+  const auto at = std::find(w.pieces.begin(), w.pieces.end(), piece);
+  if (at != w.pieces.end()) {
+    const auto k = static_cast<std::size_t>(at - w.pieces.begin());
+    if (index >= (kind == 0 ? w.split->vertices[k] : w.split->faces[k]).size()) return;
+  }
+  put_together(w, live_pieces());
+}
+
+void ModelRecorder::Impl::settle_splits() {
+  // A split whose pieces are not all in the model as the split made them is put back together
+  // now: its pieces are then primitives the step made, like any other.
+  const std::vector<SurfaceMesh*> live = live_pieces();  // putting a split together moves no mesh
+  for (Watched& w : watched) {
+    if (!w.split) continue;
+    bool standing = w.pieces.size() == w.split->vertices.size();
+    for (std::size_t k = 0; k < w.pieces.size() && standing; ++k) {
+      const SurfaceMesh* piece = pieces[w.pieces[k]].released ? nullptr : live[w.pieces[k]];
+      standing = piece && w.split->holds(k, *piece);
+    }
+    if (!standing) put_together(w, live);
+  }
+}
+
+void ModelRecorder::Impl::keep_changed_vertices(const Watched& w, const std::array<AttributeSet, 3>& old,
+                                                const SurfaceMesh& now, MeshDelta& d) {
   std::vector<std::uint32_t> keep;  // indices into order_v
   for (std::uint32_t i = 0; i < w.order_v.size(); ++i)
-    if (differs(w.old[0], i, now.vertex_attrs(), w.order_v[i])) keep.push_back(i);
+    if (differs(old[0], i, now.vertex_attrs(), w.order_v[i])) keep.push_back(i);
   std::sort(keep.begin(), keep.end(), [&](std::uint32_t a, std::uint32_t b) { return w.order_v[a] < w.order_v[b]; });
   for (std::uint32_t i : keep) d.vertices.push_back(w.order_v[i]);
-  d.vertex_values = w.old[0].subset(keep);
+  d.vertex_values = old[0].subset(keep);
 }
 
-void ModelRecorder::Impl::keep_changed_faces(Watched& w, const SurfaceMesh& now, MeshDelta& d) {
+void ModelRecorder::Impl::keep_changed_faces(const Watched& w, const std::array<AttributeSet, 3>& old,
+                                             const SurfaceMesh& now, MeshDelta& d) {
   std::vector<std::uint32_t> keep, keep3;
   for (std::uint32_t i = 0; i < w.order_f.size(); ++i) {
     const FaceId f(w.order_f[i]);
     if (w.old_corners[i] != now.face(f) || (w.old_deleted[i] != 0) != now.is_deleted(f) ||
-        differs(w.old[1], i, now.face_attrs(), f.index) || differs(w.old[2], i, now.corner_attrs(), f.index, 3))
+        differs(old[1], i, now.face_attrs(), f.index) || differs(old[2], i, now.corner_attrs(), f.index, 3))
       keep.push_back(i);
   }
   std::sort(keep.begin(), keep.end(), [&](std::uint32_t a, std::uint32_t b) { return w.order_f[a] < w.order_f[b]; });
@@ -343,37 +504,45 @@ void ModelRecorder::Impl::keep_changed_faces(Watched& w, const SurfaceMesh& now,
     d.deleted.push_back(w.old_deleted[i]);
     for (std::uint32_t k = 0; k < 3; ++k) keep3.push_back(3 * i + k);
   }
-  d.face_values = w.old[1].subset(keep);
-  d.corner_values = w.old[2].subset(keep3);
+  d.face_values = old[1].subset(keep);
+  d.corner_values = old[2].subset(keep3);
 }
 
 MeshDelta ModelRecorder::Impl::delta_of(Watched& w, const SurfaceMesh& now) {
+  // Made apart from `w` and `exact`, which change only once all of it is made: a failure (out of
+  // memory) leaves the recording as it was.
   MeshDelta d;
   d.v0 = w.v0;
   d.f0 = w.f0;
   d.v1 = now.vertex_count();
   d.f1 = now.face_slots();
-  if (d.v1 < d.v0 || d.f1 < d.f0) exact = false;  // shrunk in place: not an edit this records
+  bool lossless = d.v1 >= d.v0 && d.f1 >= d.f0;  // shrunk in place: not an edit this records
+  const std::array<AttributeSet, 3>* old = &w.old;
+  std::array<AttributeSet, 3> trimmed;  // the old values of the attributes both states have
+  std::vector<std::size_t> removed;     // indices into w.saved
   for (int kind = 0; kind < 3; ++kind) {
     const auto k = static_cast<std::size_t>(kind);
-    const std::vector<std::string> names = undo::attrs(now, kind).names();
+    const std::vector<std::string> names = detail::set_of(now, kind).names();
     for (const std::string& n : names)
       if (!contains(w.names[k], n)) d.added.push_back({kind, n, nullptr});
     for (const std::string& n : w.names[k]) {
       if (contains(names, n)) continue;
-      w.old[k].take(n);  // the old values keep the attributes both states have
+      if (old == &w.old) old = &(trimmed = w.old);
+      trimmed[k].take(n);
       auto saved = std::find_if(w.saved.begin(), w.saved.end(),
                                 [&](const HeldArray& h) { return h.kind == kind && h.name == n; });
-      if (saved == w.saved.end()) {
-        exact = false;
-        continue;
-      }
-      d.removed.push_back(std::move(*saved));
-      w.saved.erase(saved);
+      if (saved == w.saved.end()) lossless = false;
+      else removed.push_back(static_cast<std::size_t>(saved - w.saved.begin()));
     }
   }
-  keep_changed_vertices(w, now, d);
-  keep_changed_faces(w, now, d);
+  keep_changed_vertices(w, *old, now, d);
+  keep_changed_faces(w, *old, now, d);
+  d.removed.reserve(removed.size());
+  // Nothing below allocates: the removed attributes leave what the recording saved.
+  for (std::size_t i : removed) d.removed.push_back(std::move(w.saved[i]));
+  std::sort(removed.begin(), removed.end(), std::greater<>());
+  for (std::size_t i : removed) w.saved.erase(w.saved.begin() + static_cast<std::ptrdiff_t>(i));
+  exact = exact && lossless;
   return d;
 }
 
@@ -385,33 +554,43 @@ ModelRecorder::~ModelRecorder() {
 
 ModelStep ModelRecorder::finish() {
   Impl& r = *impl_;
+  r.settle_splits();
   ModelStep step;
   ModelStep::Impl& s = *step.impl_;
   const std::size_t n = r.watched.size();
   std::vector<Place> after(n);
-  std::vector<Place> fresh;
+  std::vector<Place> fresh;  // primitives the step made, the pieces standing for a split included
+  std::vector<std::size_t> piece_at(r.pieces.size(), 0);  // a standing piece's index in `fresh`
   for (std::size_t mi = 0; mi < r.model.meshes.size(); ++mi)
     for (std::size_t pi = 0; pi < r.model.meshes[mi].primitives.size(); ++pi) {
       SurfaceMesh& mesh = r.model.meshes[mi].primitives[pi].mesh;
       const Place place{static_cast<int>(mi), static_cast<int>(pi)};
-      if (mesh.observer() == &r) {
+      const bool watched = mesh.observer() == &r;
+      if (watched && !(mesh.observer_id() & kPiece)) {
         after[mesh.observer_id()] = place;
-        mesh.watch(nullptr, 0);
       } else {
+        if (watched) piece_at[mesh.observer_id() & ~kPiece] = fresh.size();
         fresh.push_back(place);
       }
+      if (watched) mesh.watch(nullptr, 0);
     }
   bool local = fresh.empty();
   for (std::uint32_t id = 0; id < n; ++id) {
     Watched& w = r.watched[id];
     local = local && after[id] == w.before;
+    if (w.split) {  // its pieces stand for it (settle_splits)
+      SplitPart part = std::move(*w.split);
+      for (std::uint32_t i : w.pieces) part.fresh.push_back(piece_at[i]);
+      s.edited.push_back({id, w.before, after[id], std::move(*w.at_split), std::move(part)});
+      continue;
+    }
     SurfaceMesh* now = after[id].valid() ? &mesh_at(r.model, after[id]) : w.released ? &*w.released : nullptr;
-    if (!now) {
+    if (!now || w.lost) {
       r.exact = false;  // it left the model for somewhere the recorder cannot see
       continue;
     }
-    MeshDelta d = r.delta_of(w, *now);
-    if (!d.empty()) s.edited.push_back({id, w.before, after[id], std::move(d)});
+    MeshDelta d = w.at_split ? std::move(*w.at_split) : r.delta_of(w, *now);
+    if (!d.empty()) s.edited.push_back({id, w.before, after[id], std::move(d), std::nullopt});
   }
   std::vector<std::pair<const void*, std::size_t>> images;
   for (const Image& image : r.model.images) images.emplace_back(image.data.data(), image.data.size());

@@ -5,15 +5,11 @@
 
 #include <algorithm>
 
+#include "deepcut/core/parallel.h"
+#include "ops/common/model_surgery_in_place.h"
+#include "uninit_vector.h"
+
 namespace deepcut::undo {
-
-AttributeSet& attrs(SurfaceMesh& mesh, int kind) {
-  return kind == 0 ? mesh.vertex_attrs() : kind == 1 ? mesh.face_attrs() : mesh.corner_attrs();
-}
-
-const AttributeSet& attrs(const SurfaceMesh& mesh, int kind) {
-  return kind == 0 ? mesh.vertex_attrs() : kind == 1 ? mesh.face_attrs() : mesh.corner_attrs();
-}
 
 void MeshDelta::swap_existing(SurfaceMesh& mesh) {
   for (std::size_t i = 0; i < vertices.size(); ++i) mesh.vertex_attrs().swap_elements(vertex_values, vertices[i], i);
@@ -27,16 +23,16 @@ void MeshDelta::swap_existing(SurfaceMesh& mesh) {
 
 void MeshDelta::undo(SurfaceMesh& mesh) {
   swap_existing(mesh);
-  for (HeldArray& a : added) a.array = attrs(mesh, a.kind).take(a.name);
+  for (HeldArray& a : added) a.array = detail::set_of(mesh, a.kind).take(a.name);
   tail = mesh.take_tail(v0, f0);
-  for (HeldArray& r : removed) attrs(mesh, r.kind).put(r.name, std::move(r.array));
+  for (HeldArray& r : removed) detail::set_of(mesh, r.kind).put(r.name, std::move(r.array));
 }
 
 void MeshDelta::redo(SurfaceMesh& mesh) {
-  for (HeldArray& r : removed) r.array = attrs(mesh, r.kind).take(r.name);
+  for (HeldArray& r : removed) r.array = detail::set_of(mesh, r.kind).take(r.name);
   if (tail) mesh.append_tail(*tail);
   tail.reset();
-  for (HeldArray& a : added) attrs(mesh, a.kind).put(a.name, std::move(a.array));
+  for (HeldArray& a : added) detail::set_of(mesh, a.kind).put(a.name, std::move(a.array));
   swap_existing(mesh);
 }
 
@@ -49,6 +45,117 @@ std::size_t MeshDelta::bytes() const {
     if (a.array) out += a.array->capacity_bytes();
   for (const HeldArray& r : removed)
     if (r.array) out += r.array->capacity_bytes();
+  return out;
+}
+
+namespace {
+
+/// The indices below `count` that no list holds, increasing.
+std::vector<std::uint32_t> unlisted(const std::vector<std::vector<std::uint32_t>>& lists, std::size_t count) {
+  std::vector<char> listed(count, 0);
+  for (const std::vector<std::uint32_t>& list : lists)
+    parallel_for(list.size(), detail::kIndexGrain, [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i < e; ++i) listed[list[i]] = 1;
+    });
+  std::vector<std::uint32_t> out;
+  for (std::size_t i = 0; i < count; ++i)
+    if (!listed[i]) out.push_back(static_cast<std::uint32_t>(i));
+  return out;
+}
+
+}  // namespace
+
+void SplitPart::take_rest(const SurfaceMesh& mesh) {
+  vertex_count = mesh.vertex_count();
+  face_count = mesh.face_slots();
+  for (int kind = 0; kind < 3; ++kind) names[static_cast<std::size_t>(kind)] = detail::set_of(mesh, kind).names();
+  rest_vertices = unlisted(vertices, vertex_count);
+  rest_faces = unlisted(faces, face_count);
+  std::vector<std::uint32_t> corners;
+  corners.reserve(3 * rest_faces.size());
+  for (std::uint32_t f : rest_faces) {
+    for (std::uint32_t k = 0; k < 3; ++k) corners.push_back(3 * f + k);
+    rest_corners.push_back(mesh.face(FaceId(f)));
+    rest_deleted.push_back(mesh.is_deleted(FaceId(f)) ? 1 : 0);
+  }
+  rest_values[0] = mesh.vertex_attrs().subset(rest_vertices);
+  rest_values[1] = mesh.face_attrs().subset(rest_faces);
+  rest_values[2] = mesh.corner_attrs().subset(corners);
+}
+
+bool SplitPart::holds(std::size_t k, const SurfaceMesh& piece) const {
+  if (piece.vertex_count() != vertices[k].size() || piece.face_slots() != faces[k].size()) return false;
+  for (int kind = 0; kind < 3; ++kind)
+    if (detail::set_of(piece, kind).names() != names[static_cast<std::size_t>(kind)]) return false;
+  return true;
+}
+
+bool SplitPart::covers(std::size_t k, const SurfaceMesh& piece) const {
+  if (piece.vertex_count() < vertices[k].size() || piece.face_slots() < faces[k].size()) return false;
+  for (int kind = 0; kind < 3; ++kind) {
+    const auto i = static_cast<std::size_t>(kind);
+    for (const std::string& name : names[i]) {
+      const AttributeArrayBase* array = detail::set_of(piece, kind).base(name);
+      if (!array || array->type() != rest_values[i].base(name)->type()) return false;
+    }
+  }
+  return true;
+}
+
+SurfaceMesh SplitPart::grow(SurfaceMesh&& big_piece, const std::vector<const SurfaceMesh*>& pieces) const {
+  SurfaceMesh out = std::move(big_piece);
+  std::vector<detail::Room> rooms;  // the other pieces and the rest, whose elements come in
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    if (k == big) continue;
+    const SurfaceMesh& p = *pieces[k];
+    rooms.push_back({{&p.vertex_attrs(), &p.face_attrs(), &p.corner_attrs()}, p.faces().data(), vertices[k].size(),
+                     faces[k].size()});
+  }
+  rooms.push_back({{&rest_values[0], &rest_values[1], &rest_values[2]}, rest_corners.data(), rest_vertices.size(),
+                   rest_faces.size()});
+  detail::expand_piece(out, vertices[big], faces[big], vertex_count, face_count, rooms);
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    if (k == big) continue;
+    const SurfaceMesh& p = *pieces[k];
+    detail::scatter(out,
+                    {{&p.vertex_attrs(), &p.face_attrs(), &p.corner_attrs()}, p.faces().data(), &vertices[k],
+                     p.faces().size()},
+                    vertices[k], faces[k]);
+  }
+  detail::scatter(out,
+                  {{&rest_values[0], &rest_values[1], &rest_values[2]}, rest_corners.data(), nullptr,
+                   rest_corners.size()},
+                  rest_vertices, rest_faces);
+  for (std::size_t j = 0; j < rest_faces.size(); ++j)
+    if (rest_deleted[j]) {
+      Triangle t = rest_corners[j];
+      std::uint8_t mark = 1;
+      out.swap_face(FaceId(rest_faces[j]), t, mark);
+    }
+  return out;
+}
+
+SurfaceMesh SplitPart::shrink(SurfaceMesh&& whole) const {
+  const std::vector<std::uint32_t>& kept = vertices[big];
+  detail::UninitVector<std::uint32_t> rank(vertex_count);  // read for the piece's vertices only
+  parallel_for(kept.size(), detail::kIndexGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) rank[kept[i]] = static_cast<std::uint32_t>(i);
+  });
+  // Planned on `whole` before it changes (a move keeps its arrays where they are): a failure to
+  // allocate leaves it whole.
+  const detail::MovePlan plan = detail::plan_compaction(whole, kept, faces[big]);
+  SurfaceMesh out = std::move(whole);
+  detail::compact_piece(out, plan, kept, faces[big], rank.data());
+  return out;
+}
+
+std::size_t SplitPart::bytes() const {
+  std::size_t out = sizeof(SplitPart) + (rest_vertices.capacity() + rest_faces.capacity()) * sizeof(std::uint32_t) +
+                    rest_corners.capacity() * sizeof(Triangle) + rest_deleted.capacity() +
+                    fresh.capacity() * sizeof(std::size_t);
+  for (const auto& list : vertices) out += list.capacity() * sizeof(std::uint32_t);
+  for (const auto& list : faces) out += list.capacity() * sizeof(std::uint32_t);
+  for (const AttributeSet& set : rest_values) out += set.capacity_bytes();
   return out;
 }
 
@@ -93,9 +200,9 @@ Model shell_of(const Model& model) {
   return shell;
 }
 
-void restore_shell(Model& model, const Model& shell) {
+void restore_shell(Model& model, Model shell) {
   std::vector<Image> images = std::move(model.images);
-  model = shell;
+  model = std::move(shell);
   model.images = std::move(images);
 }
 

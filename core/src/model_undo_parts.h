@@ -22,10 +22,6 @@ struct Place {
   bool operator<(const Place& o) const { return mesh != o.mesh ? mesh < o.mesh : primitive < o.primitive; }
 };
 
-/// The three attribute sets of a mesh by kind (0 vertex, 1 face, 2 corner).
-AttributeSet& attrs(SurfaceMesh& mesh, int kind);
-const AttributeSet& attrs(const SurfaceMesh& mesh, int kind);
-
 /// An attribute array the step added or removed, held while it is not in the mesh.
 struct HeldArray {
   int kind = 0;
@@ -58,12 +54,46 @@ struct MeshDelta {
   void swap_existing(SurfaceMesh& mesh);
 };
 
+/// A primitive the step split in place (detail::SplitWatcher): the piece that kept its arrays
+/// (`big`) and the pieces copied out of it hold its elements as the lists say; the rest (the slots
+/// no piece holds: deleted faces, unused vertices) is kept here. Undo grows that piece back into
+/// the primitive as it was at the split, reading the other pieces; redo compacts it again. The
+/// pieces stand for the primitive only while they are as the split made them.
+struct SplitPart {
+  std::size_t vertex_count = 0, face_count = 0;             // the primitive's sizes at the split
+  std::vector<std::vector<std::uint32_t>> vertices, faces;  // what each piece holds (increasing)
+  std::size_t big = 0;
+  std::array<std::vector<std::string>, 3> names;  // the attribute names at the split
+  std::vector<std::uint32_t> rest_vertices, rest_faces;
+  std::array<AttributeSet, 3> rest_values;  // theirs (3 corners per face)
+  std::vector<Triangle> rest_corners;
+  std::vector<std::uint8_t> rest_deleted;
+  std::vector<std::size_t> fresh;  // each piece's index among the primitives the step made
+
+  /// Keeps what `mesh` (at the split) holds outside the pieces of the lists.
+  void take_rest(const SurfaceMesh& mesh);
+  /// True when `piece` is still piece `k` as the split made it (sizes and attribute names).
+  bool holds(std::size_t k, const SurfaceMesh& piece) const;
+  /// True when `piece` holds at least what piece `k` held at the split: that many vertices and
+  /// faces (or more, appended since) and every attribute the primitive had, of the same type.
+  bool covers(std::size_t k, const SurfaceMesh& piece) const;
+  /// The primitive at the split: `big_piece` (piece `big` as made, grown in place) and the other
+  /// pieces (`pieces[k]`; piece `big`'s entry is not read).
+  /// @throws Error{MissingAttribute} when a piece lacks an attribute.
+  SurfaceMesh grow(SurfaceMesh&& big_piece, const std::vector<const SurfaceMesh*>& pieces) const;
+  /// Piece `big` again, from the primitive at the split (compacted in place). Should it throw,
+  /// `whole` is left as it was.
+  SurfaceMesh shrink(SurfaceMesh&& whole) const;
+  std::size_t bytes() const;
+};
+
 /// The model without its primitives' element data and images (each primitive's mesh keeps its
 /// attribute names and types, no elements).
 Model shell_of(const Model& model);
 /// Makes `model` the shell's small parts, keeping its images; its primitives' meshes are the
-/// shell's (empty) ones until the caller puts meshes back.
-void restore_shell(Model& model, const Model& shell);
+/// shell's (empty) ones until the caller puts meshes back. Takes a copy the caller made (by move,
+/// allocating nothing), so the copy can be made before any mesh leaves the model.
+void restore_shell(Model& model, Model shell);
 /// Bytes a shell holds (roughly: strings and arrays).
 std::size_t shell_bytes(const Model& shell);
 

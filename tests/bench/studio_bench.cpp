@@ -18,9 +18,11 @@
 // whole process's (every thread of the pool, "to_render_call_process_cpu_ms"). An operation's
 // apply also says where its time to the render call went ("phases": the operation with its undo
 // record, the scene following it, the view's VTK data, the last two also as the process's CPU
-// time; none for the "..._rebuild" rows but the operation's) and what it left for when the UI
-// is idle after its frame ("prepare_updates_ms": SceneView::prepare_updates, the corner lists of
-// a cut's pieces, timed on its own before the undo so that the undo does not pay for it).
+// time; none for the "..._rebuild" rows but the operation's), the bytes its undo step holds once
+// made ("undo_record_bytes": what the session keeps to take it back, read on the first
+// repetition, before which no undone step is dropped) and what it left for when the UI is idle
+// after its frame ("prepare_updates_ms": SceneView::prepare_updates, the corner lists of a cut's
+// pieces, timed on its own before the undo so that the undo does not pay for it).
 //   deepcut_studio_bench [--json] [--quick] [--size N] [--no-rebuild] [--ops N] [--open-only]
 //                        [--only drill|tear|cut]
 // --quick: the 25K cactus only; --size N: only the cactus of about N triangles (a profile of one
@@ -213,9 +215,13 @@ json step_json(const std::vector<Timed>& runs) {
 json time_operation(MainWindow& window, Timer& timer, const std::function<deepcut::Operation()>& make) {
   std::vector<Timed> applied, undone, redone;
   std::vector<double> operation, scene, view, scene_cpu, view_cpu, idle;  // the apply's phases, its idle work
+  std::vector<double> record;  // bytes of the apply's undo step (where no step undone was dropped)
   for (int rep = 0, misses = 0; rep < 3;) {
     const deepcut::Operation op = make();
     bool hit = false;
+    // A step undone before the apply is dropped by it: the step's own bytes are read where none is.
+    const bool clean = !window.session().can_redo();
+    const std::size_t held = window.session().undo_bytes();
     const Timed t = timer.time([&] { hit = apply(window, op); });
     if (!hit) {  // placed where the tool misses: placed again, untimed
       if (++misses > 20) throw std::runtime_error("the operations keep missing the model");
@@ -225,6 +231,8 @@ json time_operation(MainWindow& window, Timer& timer, const std::function<deepcu
     applied.push_back(t);
     const deepcut::studio::SceneHost::StepTiming step = window.scene_host()->last_step_timing();
     operation.push_back(window.last_operation_ms());
+    // Signed: a step that is not exact clears the steps before it, so the bytes may drop.
+    if (clean) record.push_back(static_cast<double>(window.session().undo_bytes()) - static_cast<double>(held));
     scene.push_back(step.scene_ms);
     view.push_back(step.view_ms);
     scene_cpu.push_back(step.scene_cpu_ms);
@@ -243,6 +251,7 @@ json time_operation(MainWindow& window, Timer& timer, const std::function<deepcu
                             {"scene_process_cpu_ms", median(scene_cpu)},
                             {"view_process_cpu_ms", median(view_cpu)}};
   out["apply"]["prepare_updates_ms"] = median(idle);
+  out["apply"]["undo_record_bytes"] = median(record);
   return out;
 }
 
@@ -357,7 +366,8 @@ void print_table(const json& results) {
       if (std::strstr(kind, "_rebuild") == nullptr)  // (a rebuild is not timed by phase)
         std::printf(", scene %.1f ms, view %.1f ms", a["phases"]["scene_ms"].get<double>(),
                     a["phases"]["view_ms"].get<double>());
-      std::printf("; after the frame, prepare_updates %.1f ms\n", a["prepare_updates_ms"].get<double>());
+      std::printf("; undo record %.2f MiB; after the frame, prepare_updates %.1f ms\n",
+                  a["undo_record_bytes"].get<double>() / (1024.0 * 1024.0), a["prepare_updates_ms"].get<double>());
     }
     if (!r.contains("memory")) continue;
     const json& m = r["memory"];

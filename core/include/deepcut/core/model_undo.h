@@ -11,9 +11,13 @@
 /// - per primitive edited in place: its sizes before and after, the old values of the existing
 ///   vertices and faces the step rewrote (moved vertices, deleted marks), attributes it added or
 ///   removed; the elements it appended stay in the model (the step holds them while undone);
-/// - a primitive the step replaced or removed (a cut's source, a swallowed primitive) kept by
-///   move, and the model's small parts (nodes, meshes list, skins, animations, materials, ...)
+/// - a primitive the step replaced or removed (a swallowed primitive, a capped cut's source) kept
+///   by move, and the model's small parts (nodes, meshes list, skins, animations, materials, ...)
 ///   before and after, when anything but the primitives' element data changed (`structure`);
+/// - a primitive a cut took apart in place (the piece that keeps its arrays is compacted): which of its
+///   elements each piece holds and the slots none holds; undo grows that piece back and writes
+///   the other pieces into it (O(mesh), over the pool), redo compacts it again. Should a piece
+///   change later in the same recording, the primitive is put back together first;
 /// - the root extras (the history) as the text that differs.
 /// Undo and redo give back the model byte for byte. Images are never copied: operations leave
 /// them alone (a step that changes them is not exact). A structural step says where each
@@ -21,7 +25,8 @@
 /// and redone, so followers keep what they drew of the contents it kept or brings back.
 ///
 /// Operations append vertices and faces and mark faces deleted; they never compact a primitive
-/// or rewrite an existing element behind the observer's back (writes go through MeshEditor, or
+/// (but through the cut's split, which the recorder follows) or rewrite an existing element
+/// behind the observer's back (writes go through MeshEditor, or
 /// call SurfaceMesh::writing_vertex first). An operation may add attributes and remove the ones it
 /// adds; of the attributes present before, it may remove only `f:cut_surface` (saved when the
 /// recording begins).

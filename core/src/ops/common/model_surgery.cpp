@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "deepcut/core/parallel.h"
+#include "ops/common/model_surgery_in_place.h"
 #include "uninit_vector.h"
 
 namespace deepcut::detail {
@@ -186,158 +187,12 @@ bool number_pieces(const SurfaceMesh& mesh, const std::vector<std::vector<FaceId
 // --- the pieces' arrays ------------------------------------------------------------------------
 // Groups of elements are copied: a vertex's or a face's element, or a face's three corners (side
 // by side). A piece copied out is new memory: each of its arrays is written once, by one task
-// (fill_pieces, through AttributeArrayBase::gather_groups). The in-place compaction runs as byte
-// copies cut into chunks spread over the pool across every array at once.
+// (fill_pieces, through AttributeArrayBase::gather_groups). The piece that keeps the mesh's arrays
+// is compacted in place (compact_piece).
 
-constexpr std::size_t kCopyGrain = 16384;  // groups per copy job
-
-const AttributeSet& set_of(const SurfaceMesh& mesh, int kind) {
-  return kind == 0 ? mesh.vertex_attrs() : kind == 1 ? mesh.face_attrs() : mesh.corner_attrs();
-}
-AttributeSet& set_of(SurfaceMesh& mesh, int kind) {
-  return kind == 0 ? mesh.vertex_attrs() : kind == 1 ? mesh.face_attrs() : mesh.corner_attrs();
-}
-// The list that picks a set's elements (faces pick their corners too) and its group size.
+// The list that picks a set's elements (faces pick their corners too).
 const std::vector<std::uint32_t>& list_of(const Numbering& num, std::size_t s, int kind) {
   return kind == 0 ? num.vertices[s] : num.faces[s];
-}
-std::size_t group_of(int kind) { return kind == 2 ? 3 : 1; }
-
-// An array's storage as bytes (contiguous: AttributeArray holds a std::vector). The arrays
-// written are the surgery's own: a piece's new arrays, or those of the mesh it takes apart.
-const unsigned char* bytes_of(const AttributeArrayBase& array) {
-  return array.size() == 0 ? nullptr : static_cast<const unsigned char*>(array.element_data(0));
-}
-unsigned char* bytes_of(AttributeArrayBase& array) {
-  return const_cast<unsigned char*>(bytes_of(static_cast<const AttributeArrayBase&>(array)));
-}
-
-// Groups `begin .. end - 1` of `dst` get groups keep[begin .. end - 1] of `src` (groups of
-// `width` bytes). In place (dst == src) keep[i] > i, so a group never overlaps its source.
-struct GroupCopy {
-  unsigned char* dst;
-  const unsigned char* src;
-  std::size_t width;
-  const std::uint32_t* keep;
-  std::size_t begin, end;
-};
-
-// Run by run: consecutive groups (keep[i + 1] == keep[i] + 1, as the pieces of a mesh stored in
-// spatial order come) in one memmove, which in place (dst < src) gives what copying group by
-// group in order gives; a lone group by a copy of fixed width.
-template <std::size_t W>
-void copy_fixed(const GroupCopy& c) {
-  for (std::size_t i = c.begin; i < c.end;) {
-    std::size_t j = i + 1;
-    while (j < c.end && c.keep[j] == c.keep[j - 1] + 1) ++j;
-    if (j - i == 1) std::memcpy(c.dst + i * W, c.src + std::size_t{c.keep[i]} * W, W);
-    else std::memmove(c.dst + i * W, c.src + std::size_t{c.keep[i]} * W, (j - i) * W);
-    i = j;
-  }
-}
-
-void copy_groups(const GroupCopy& c) {
-  switch (c.width) {
-    case 1: return copy_fixed<1>(c);
-    case 2: return copy_fixed<2>(c);
-    case 4: return copy_fixed<4>(c);
-    case 8: return copy_fixed<8>(c);
-    case 12: return copy_fixed<12>(c);
-    case 16: return copy_fixed<16>(c);
-    case 24: return copy_fixed<24>(c);
-    case 36: return copy_fixed<36>(c);
-    case 48: return copy_fixed<48>(c);
-    default:
-      for (std::size_t i = c.begin; i < c.end; ++i)
-        std::memcpy(c.dst + i * c.width, c.src + std::size_t{c.keep[i]} * c.width, c.width);
-  }
-}
-
-// `copy` over groups [begin, end), as jobs of kCopyGrain groups appended to `jobs`.
-void add_chunks(GroupCopy copy, std::size_t begin, std::size_t end, std::vector<GroupCopy>& jobs) {
-  for (std::size_t b = begin; b < end; b += kCopyGrain) {
-    copy.begin = b;
-    copy.end = std::min(end, b + kCopyGrain);
-    jobs.push_back(copy);
-  }
-}
-
-// The jobs over the pool (they write disjoint bytes, so the result is the same in any order).
-void run_copies(const std::vector<GroupCopy>& jobs) {
-  run_chunks(jobs.size(), [&](std::size_t i) { copy_groups(jobs[i]); });
-}
-
-// Length of the leading run of an increasing `keep` that stays put (keep[i] == i): keep[i] - i
-// never decreases, so the run is found by bisection.
-std::size_t staying_put(const std::vector<std::uint32_t>& keep) {
-  std::size_t lo = 0, hi = keep.size();
-  while (lo < hi) {
-    const std::size_t mid = lo + (hi - lo) / 2;
-    if (keep[mid] == mid) lo = mid + 1;
-    else hi = mid;
-  }
-  return lo;
-}
-
-// A stretch of the in-place gather by an increasing `keep` (so keep[i] >= i).
-struct Step {
-  std::size_t begin, end;
-  bool parallel;  // copied by chunks at once; else by one job, in order
-};
-
-// The stretches of the in-place gather by `keep`, in the order they run. Every group a stretch
-// starting at i reads lies at or beyond keep[i], so a stretch no longer than keep[i] - i reads
-// nothing it writes and its chunks may run at once; shorter reaches are copied in order. The
-// leading run that stays put is not copied.
-std::vector<Step> in_place_steps(const std::vector<std::uint32_t>& keep) {
-  std::vector<Step> out;
-  for (std::size_t i = staying_put(keep); i < keep.size();) {
-    const std::size_t reach = keep[i] - i;
-    const bool parallel = reach >= 2 * kCopyGrain;
-    const std::size_t end = std::min(keep.size(), i + (parallel ? reach : 2 * kCopyGrain));
-    out.push_back({i, end, parallel});
-    i = end;
-  }
-  return out;
-}
-
-// Piece `big` of `mesh`: every array of the mesh, its triangles included, compacted in place
-// (stretch by stretch, each over every array at once), then its triangles renumbered in place;
-// no allocation. `mesh` is left empty.
-SurfaceMesh take_piece(SurfaceMesh& mesh, Numbering& num, std::size_t big) {
-  const std::vector<std::uint32_t>& faces = num.faces[big];
-  std::vector<Triangle>& tris = TrustedAssign::faces(mesh);
-  const std::vector<Step> steps[2] = {in_place_steps(num.vertices[big]), in_place_steps(faces)};
-  const std::size_t rounds = std::max(steps[0].size(), steps[1].size());
-  for (std::size_t r = 0; r < rounds; ++r) {
-    std::vector<GroupCopy> jobs;
-    auto add = [&](unsigned char* bytes, std::size_t width, const std::vector<std::uint32_t>& keep, const Step& step) {
-      const GroupCopy copy{bytes, bytes, width, keep.data(), step.begin, step.end};
-      if (step.parallel) add_chunks(copy, step.begin, step.end, jobs);
-      else jobs.push_back(copy);
-    };
-    for (int kind = 0; kind < 3; ++kind) {
-      const std::vector<Step>& list = steps[kind == 0 ? 0 : 1];
-      if (r >= list.size()) continue;
-      AttributeSet& set = set_of(mesh, kind);
-      for (const std::string& name : set.names()) {
-        AttributeArrayBase& array = *set.base(name);
-        add(bytes_of(array), array.element_bytes() * group_of(kind), list_of(num, big, kind), list[r]);
-      }
-    }
-    if (r < steps[1].size()) add(reinterpret_cast<unsigned char*>(tris.data()), sizeof(Triangle), faces, steps[1][r]);
-    run_copies(jobs);
-  }
-  tris.resize(faces.size());
-  const std::uint32_t* rank = num.rank.data();
-  parallel_for(tris.size(), kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i)
-      for (VertexId& v : tris[i]) v = VertexId(rank[v.index]);
-  });
-  for (int kind = 0; kind < 3; ++kind) set_of(mesh, kind).resize(list_of(num, big, kind).size() * group_of(kind));
-  TrustedAssign::assign(mesh, std::move(tris), std::move(mesh.vertex_attrs()), std::move(mesh.face_attrs()),
-                        std::move(mesh.corner_attrs()));
-  return std::move(mesh);
 }
 
 // Bytes of a vertex's and of a face's attributes (its corners' and its triangle included).
@@ -351,7 +206,7 @@ std::pair<std::size_t, std::size_t> element_bytes(const SurfaceMesh& mesh) {
 
 // The piece that keeps the mesh's arrays: the one that saves the most copying. A piece copied out
 // costs about twice its bytes (new memory is touched, then written); the one compacted in place
-// costs the bytes it moves, those past its leading run that stays put (in_place_steps). So the
+// costs the bytes it moves, those past its leading run that stays put (staying_put). So the
 // piece with the most bytes plus bytes in place, the first of equals; none without faces.
 std::size_t in_place_piece(const SurfaceMesh& mesh, const Numbering& num) {
   const auto [vertex_bytes, face_bytes] = element_bytes(mesh);
@@ -411,8 +266,8 @@ std::vector<AttributeSet> fill_pieces(const SurfaceMesh& mesh, Numbering& num, s
   return sets;
 }
 
-// The pieces `lists` of `mesh`; with `owned` (`mesh` itself, to take apart) the largest (most
-// faces) keeps the mesh's arrays, compacted in place once the others are copied out.
+// The pieces `lists` of `mesh`; with `owned` (`mesh` itself, to take apart) the piece that keeps
+// the mesh's arrays (in_place_piece) is compacted in place once the others are copied out.
 std::vector<SurfaceMesh> make_pieces(const SurfaceMesh& mesh, const std::vector<std::vector<FaceId>>& lists,
                                      SurfaceMesh* owned, const PieceSides* sides = nullptr,
                                      std::vector<PieceElements>* elements = nullptr) {
@@ -425,13 +280,29 @@ std::vector<SurfaceMesh> make_pieces(const SurfaceMesh& mesh, const std::vector<
     parallel_invoke(tasks);
     return out;
   }
-  const std::size_t big = owned ? in_place_piece(mesh, num) : n;
+  std::size_t big = owned ? in_place_piece(mesh, num) : n;
+  // A watched mesh is taken apart only when its watcher follows it through the split; it is told
+  // once the other pieces are copied out, right before the compaction.
+  SplitWatcher* watcher = big < n && owned->observer() ? dynamic_cast<SplitWatcher*>(owned->observer()) : nullptr;
+  const std::uint32_t watched_as = owned ? owned->observer_id() : 0;
+  if (big < n && owned->observer() && !(watcher && watcher->accepts(watched_as, *owned))) {
+    big = n;
+    watcher = nullptr;
+  }
   std::vector<AttributeSet> sets = fill_pieces(mesh, num, big);
   for (std::size_t s = 0; s < n; ++s)
     if (s != big)
       TrustedAssign::assign(out[s], std::move(num.tris[s]), std::move(sets[3 * s]), std::move(sets[3 * s + 1]),
                             std::move(sets[3 * s + 2]));
-  if (big < n) out[big] = take_piece(*owned, num, big);
+  // Every allocation of the compaction is made before the watcher is told: from then on the mesh
+  // is taken apart without a failure that could leave it half compacted.
+  const MovePlan plan = big < n ? plan_compaction(*owned, num.vertices[big], num.faces[big]) : MovePlan{};
+  if (watcher) watcher->splitting(watched_as, *owned, num.vertices, num.faces, big);
+  if (big < n) {
+    compact_piece(*owned, plan, num.vertices[big], num.faces[big], num.rank.data());
+    out[big] = std::move(*owned);
+  }
+  if (watcher) watcher->split(watched_as, out);
   if (elements) {
     elements->resize(n);
     for (std::size_t s = 0; s < n; ++s) (*elements)[s] = {std::move(num.vertices[s]), std::move(num.faces[s])};
@@ -446,9 +317,7 @@ std::vector<SurfaceMesh> extract_disjoint(const SurfaceMesh& mesh, const std::ve
 }
 
 std::vector<SurfaceMesh> split_disjoint(SurfaceMesh&& mesh, const std::vector<std::vector<FaceId>>& lists) {
-  // A watched mesh (an undo record follows it) is not taken apart: compacting its arrays in place
-  // would destroy the content the record gets back when the mesh is replaced.
-  return make_pieces(mesh, lists, mesh.observer() ? nullptr : &mesh);
+  return make_pieces(mesh, lists, &mesh);
 }
 
 std::vector<SurfaceMesh> split_disjoint(SurfaceMesh&& mesh, const std::vector<std::vector<FaceId>>& lists,
@@ -457,7 +326,7 @@ std::vector<SurfaceMesh> split_disjoint(SurfaceMesh&& mesh, const std::vector<st
   const bool usable = sides.vertex_sides && list_sides && sides.vertex_sides->size() == mesh.vertex_count() &&
                       list_sides->size() == lists.size() && lists.size() <= 2 &&
                       (lists.size() < 2 || (*list_sides)[0] != (*list_sides)[1]);
-  return make_pieces(mesh, lists, mesh.observer() ? nullptr : &mesh, usable ? &sides : nullptr, elements);
+  return make_pieces(mesh, lists, &mesh, usable ? &sides : nullptr, elements);
 }
 
 int cut_surface_material(Model& model) {

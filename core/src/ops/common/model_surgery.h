@@ -49,9 +49,30 @@ std::vector<SurfaceMesh> extract_disjoint(const SurfaceMesh& mesh, const std::ve
 /// they already are (a leading run of the mesh's vertices and faces, as a cut of a mesh stored in
 /// spatial order leaves its lower side). The pieces copied out are written once into new memory
 /// asked to come as huge pages, one task per array (largest first); the compaction runs in chunks
-/// over every array at once. A watched mesh (SurfaceMesh::watch) is left whole, every piece
-/// copied out of it.
+/// over every array at once. A watched mesh (SurfaceMesh::watch) is taken apart so only when its
+/// watcher is a SplitWatcher that agrees; otherwise it is left whole, every piece copied out of it.
 std::vector<SurfaceMesh> split_disjoint(SurfaceMesh&& mesh, const std::vector<std::vector<FaceId>>& lists);
+
+/// A mesh's watcher (MeshObserver) that follows it through split_disjoint instead of being handed
+/// it whole: an undo record (model_undo.h) keeps what the pieces do not hold, so a watched mesh is
+/// taken apart in place like an unwatched one (the piece that keeps the arrays not copied) and put back
+/// together from the pieces on undo. Found by a dynamic_cast on the mesh's observer.
+class SplitWatcher {
+ public:
+  virtual ~SplitWatcher() = default;
+  /// True when `mesh`, watched as `id`, may be taken apart (no side effect); false: it is left
+  /// whole and stays watched, every piece copied out of it.
+  virtual bool accepts(std::uint32_t id, const SurfaceMesh& mesh) const = 0;
+  /// `mesh`, accepted, is about to be compacted in place into piece `big` (the others are copied
+  /// out): piece k holds its (increasing) vertices `vertices[k]` and faces `faces[k]`. The
+  /// watcher keeps what it needs and no longer watches `mesh`; should it throw, it leaves `mesh`
+  /// watched as before (the split then fails with the mesh whole). It makes every allocation
+  /// `split` needs: `split` does not throw.
+  virtual void splitting(std::uint32_t id, SurfaceMesh& mesh, const std::vector<std::vector<std::uint32_t>>& vertices,
+                         const std::vector<std::vector<std::uint32_t>>& faces, std::size_t big) = 0;
+  /// The pieces made (in the lists' order).
+  virtual void split(std::uint32_t id, std::vector<SurfaceMesh>& pieces) = 0;
+};
 
 /// What a piece split out of a mesh holds of it: piece vertex (face) i is the mesh's vertex (face
 /// slot) `vertices[i]` (`faces[i]`), both increasing.

@@ -76,9 +76,9 @@ InstanceCut cut_instance(detail::InstanceEdit& inst, const std::vector<glm::mat4
   auto& prims = inst.edit().primitives;
   for (std::size_t p = 0; p < prims.size(); ++p) {
     // A watched mesh (the session's undo record follows it) is cut in place like any other: the
-    // record keeps the old values of what the cut rewrites, split_disjoint copies every piece out
-    // of it instead of taking it apart, and replacing the mesh hands it to the record, whose undo
-    // takes the cut back on it (O(cut), not a copy of the whole primitive first).
+    // record keeps the old values of what the cut rewrites, and split_disjoint takes it apart as
+    // it takes any mesh apart, the record keeping only what no piece holds (SplitWatcher): its
+    // undo grows the piece that kept the arrays back and takes the cut back on it.
     SurfaceMesh& mesh = prims[p].mesh;
     PosedMesh own;
     PosedMesh* posed = inst.posed(static_cast<int>(p));
@@ -105,10 +105,10 @@ InstanceCut cut_instance(detail::InstanceEdit& inst, const std::vector<glm::mat4
 
 // Each piece of a cut primitive as primitives: its original-material faces and its cut-surface
 // faces (caps), each extracted straight from the cut mesh, without the cut-surface flag. The cut
-// mesh is taken apart (split_disjoint): the largest piece keeps its arrays, the others are
-// copied out of it, in parallel (a watched mesh is left whole, every piece copied out). `sides`
-// (the cut's sides of the pieces and vertices, or nullptr) spares the surgery finding each
-// vertex's piece.
+// mesh is taken apart (split_disjoint): one piece keeps its arrays, the others are
+// copied out of it, in parallel (a watched mesh too, when its watcher follows it: SplitWatcher).
+// `sides` (the cut's sides of the pieces and vertices, or nullptr) spares the surgery finding
+// each vertex's piece.
 std::vector<std::vector<Primitive>> piece_primitives(SurfaceMesh&& mesh, const std::vector<std::vector<FaceId>>& pieces,
                                                      const detail::PieceSides* sides, int material, int cut_material,
                                                      std::vector<detail::PieceElements>* elements) {
