@@ -29,8 +29,11 @@ constexpr double kSteinerParentAngle = 10.0 * geometry::kPi / 180.0;
 constexpr std::size_t kPlanGrain = 24;
 // Fewest candidates judged (deep inside, bad shape), and fewest edges crossed, per parallel
 // chunk: a chunk of a few hundred thousand instructions is worth waking a thread for, so a hole
-// of a few hundred faces runs them inline and only bigger ones spread.
-constexpr std::size_t kJudgeGrain = 1024;
+// of a few hundred faces runs them inline and only bigger ones spread. Judging needs a
+// vertex-sized scratch (VertexSlots) on each thread that takes a chunk: a hole of about a
+// thousand faces (the 1M model's small one has 1.1k candidates) is judged inline, so it grows none
+// on a worker.
+constexpr std::size_t kJudgeGrain = 2048;
 constexpr std::size_t kCrossGrain = 512;
 
 // Runs the insertion: crossings and needle merges first (in candidate order, each edge split
