@@ -79,10 +79,9 @@ class RimInserter {
   std::vector<std::uint8_t> deep_;
   // Per candidate not deep inside: of bad shape for Steiner points (allow_steiner).
   std::vector<std::uint8_t> bad_;
-  // Per candidate: its edges' records (edge k from corner k to corner k + 1), looked up once by
-  // allow_steiner and read again by merge_crossings and the planning (CrossingTable records
-  // never move).
-  std::vector<std::array<EdgeCut*, 3>> face_edges_;
+  // Per candidate: its edges' records in edges_ (edge k from corner k to corner k + 1), looked
+  // up once by allow_steiner and read again by merge_crossings and the planning.
+  std::vector<std::array<std::uint32_t, 3>> face_edges_;
   // Crossings that fell on one bind position (the two long edges of a needle crossed at the same
   // parameter): the later vertex maps to the earlier, so the needle's tip is not a zero-area face.
   detail::NeedleMerges merges_;
@@ -215,11 +214,11 @@ VertexId RimInserter::vertex_of(const Triangle& tri, LocalPoint& lp) {
 // needle's tip, or the kept part at its far end when the circle crosses each edge twice (a
 // triangle with two corners at one point), is not made. Same rule as the cut and the tear.
 void RimInserter::merge_crossings(std::size_t c) {
-  std::array<EdgeCut*, 3>& es = face_edges_[c];  // filed by allow_steiner
-  for (int k = 0; k < 3; ++k) edge(*es[k]);
+  const std::array<std::uint32_t, 3>& es = face_edges_[c];  // filed by allow_steiner
+  for (int k = 0; k < 3; ++k) edge(edges_[es[k]]);
   for (int k = 0; k < 3; ++k) {
-    const EdgeCut& ea = *es[k];            // corner k to corner k + 1
-    const EdgeCut& eb = *es[(k + 2) % 3];  // corner k + 2 to corner k
+    const EdgeCut& ea = edges_[es[k]];            // corner k to corner k + 1
+    const EdgeCut& eb = edges_[es[(k + 2) % 3]];  // corner k + 2 to corner k
     for (int i = 0; i < ea.n; ++i)
       for (int j = 0; j < eb.n; ++j) merges_.merge_if_coincident(mesh_, ea.v[i], eb.v[j]);
   }
@@ -282,8 +281,8 @@ void RimInserter::allow_steiner(const std::vector<FaceId>& candidates) {
     const bool bad = bad_[c] != 0;
     for (int k = 0; k < 3; ++k) {
       const VertexId a = t[k], b = t[(k + 1) % 3];
-      EdgeCut* e = edges_.try_emplace(a, b).first;
-      e->file_side(a, b, bad);
+      const std::uint32_t e = edges_.try_emplace_index(a, b).first;
+      edges_[e].file_side(a, b, bad);
       face_edges_[c][k] = e;
     }
   }
@@ -318,7 +317,7 @@ bool RimInserter::deep(const Triangle& t, detail::VertexSlots& judged) const {
 // the mesh, the posed positions and the crossings made before, so it is the same whatever the
 // chunks or the thread count.
 void RimInserter::plan_faces(const std::vector<FaceId>& candidates) {
-  RimShared shared{mesh_, posed_, cyl_, merges_, face_edges_};
+  RimShared shared{mesh_, posed_, cyl_, merges_, edges_, face_edges_};
   shared.eps = eps_;
   shared.samples = samples_;
   shared.sep = 0.3 * 2.0 * cyl_.r * std::sin(geometry::kPi / samples_);
