@@ -127,17 +127,11 @@ PinchInput pinch_input(const SurfaceMesh& mesh, const EditLog& log, const drill:
   auto around =
       detail::faces_around(mesh, log, touched, posed.first_new(), &index, posed.input());
   if (!posed.moved().empty()) {
-    const auto& moved = posed.moved();
-    auto is_moved = [&moved](VertexId v) {
-      const auto it = std::lower_bound(moved.begin(), moved.end(), v.index,
-                                       [](const auto& m, std::uint32_t i) { return m.first < i; });
-      return it != moved.end() && it->first == v.index;
-    };
     std::vector<FaceId> snapped;
     for (const FaceId f : candidates)
       if (!mesh.is_deleted(f)) {
         const Triangle& t = mesh.face(f);
-        if (is_moved(t[0]) || is_moved(t[1]) || is_moved(t[2])) snapped.push_back(f);
+        if (posed.is_moved(t[0]) || posed.is_moved(t[1]) || posed.is_moved(t[2])) snapped.push_back(f);
       }
     std::sort(snapped.begin(), snapped.end());
     const auto middle = static_cast<std::ptrdiff_t>(around.size());
