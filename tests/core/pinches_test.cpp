@@ -182,7 +182,8 @@ TEST(AnyPinched, AFanJoinedThroughALaterFace) {
 
 TEST(AnyPinched, OnlyTheLastCandidateIsPinched) {
   SurfaceMesh mesh;
-  const VertexId a = mesh.add_vertex({0, 0, 0}), b = mesh.add_vertex({0, 0, 1}), c = mesh.add_vertex({0, 0, 2});
+  const VertexId a = mesh.add_vertex({0, 0, 0}), b = mesh.add_vertex({0, 0, 1}),
+                 c = mesh.add_vertex({0, 0, 2});
   auto incident = joined(add_fan(mesh, a, 4, 1.0f), add_fan(mesh, b, 5, -1.0f));
   incident = joined(incident, joined(add_fan(mesh, c, 3, -1.0f), add_fan(mesh, c, 3, 1.0f)));
   expect_agree(mesh, {a, b, c}, incident, 1);

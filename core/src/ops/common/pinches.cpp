@@ -93,7 +93,8 @@ bool other_corners(const SurfaceMesh& mesh, VertexId v, const FaceId* fs, std::s
 // and compared with the faces not reached yet. With `parent`, each face's entry is set to its
 // fan's lowest index (a forest of depth one, as find_fans makes); without, it stops at the
 // second fan. True when there are two fans or more.
-bool pairwise_fans(const std::uint32_t* o0, const std::uint32_t* o1, std::size_t size, std::uint32_t* parent) {
+bool pairwise_fans(const std::uint32_t* o0, const std::uint32_t* o1, std::size_t size,
+                   std::uint32_t* parent) {
   static_assert(kPairwiseFans <= 32, "one bit per face");
   auto shares_other = [&](int i, int j) {
     return o0[j] == o0[i] || o0[j] == o1[i] || o1[j] == o0[i] || o1[j] == o1[i];
@@ -210,8 +211,8 @@ struct CandidateFans {
       return s == VertexSlots::kNone ? n : static_cast<std::size_t>(s);
     };
   }
-  CandidateFans(const SurfaceMesh& mesh, const std::vector<VertexId>& candidates, const std::vector<FaceId>& incident,
-                VertexSlots& slots)
+  CandidateFans(const SurfaceMesh& mesh, const std::vector<VertexId>& candidates,
+                const std::vector<FaceId>& incident, VertexSlots& slots)
       : sorted(candidates) {
     if (!std::is_sorted(sorted.begin(), sorted.end())) std::sort(sorted.begin(), sorted.end());
     sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
@@ -231,7 +232,8 @@ struct CandidateFans {
 
 }  // namespace
 
-bool any_pinched(const SurfaceMesh& mesh, const std::vector<VertexId>& candidates, const std::vector<FaceId>& incident) {
+bool any_pinched(const SurfaceMesh& mesh, const std::vector<VertexId>& candidates,
+                 const std::vector<FaceId>& incident) {
   if (candidates.empty()) return false;
   CandidateFans fans(mesh, candidates, incident, VertexSlots::scratch());
   for (std::size_t s = 0; s < fans.sorted.size(); ++s)

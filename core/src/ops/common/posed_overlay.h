@@ -78,8 +78,9 @@ class PosedOverlay {
   }
   // The first entry of moved_ not below vertex `v`.
   typename std::vector<std::pair<std::uint32_t, Vec>>::const_iterator find_moved(std::uint32_t v) const {
-    return std::lower_bound(moved_.begin(), moved_.end(), v,
-                            [](const std::pair<std::uint32_t, Vec>& x, std::uint32_t i) { return x.first < i; });
+    return std::lower_bound(
+        moved_.begin(), moved_.end(), v,
+        [](const std::pair<std::uint32_t, Vec>& x, std::uint32_t i) { return x.first < i; });
   }
 
   const std::vector<glm::vec3>& input_;

@@ -208,8 +208,9 @@ DrillResult run(SurfaceMesh& mesh, const std::vector<glm::vec3>& input_posed, co
   // A rim through a vertex snapped onto the cylinder can leave it joining two fans: one vertex
   // each. Without walls before the rims are traced, so each rim runs through its own copy; with
   // walls after them (a wall can join the fans again), the rims following the copies.
-  const std::vector<drill::Rim> rims = options.wall ? drill::trace_rims(mesh, editor.log(), cyl, posed, candidates, {})
-                                                    : split_and_trace(editor, cyl, posed, candidates, index);
+  const std::vector<drill::Rim> rims = options.wall
+                                           ? drill::trace_rims(mesh, editor.log(), cyl, posed, candidates, {})
+                                           : split_and_trace(editor, cyl, posed, candidates, index);
   for (const drill::Rim& rim : rims) {
     DrillHole hole;
     hole.rim = rim.vertices;
@@ -226,7 +227,8 @@ DrillResult run(SurfaceMesh& mesh, const std::vector<glm::vec3>& input_posed, co
     result.wall_triangles = walls.wall_triangles;
     result.triangles_removed += walls.triangles_removed;
     result.triangles_added += walls.wall_triangles;
-    const auto pinches = split_pinches(editor, posed, pinch_input(mesh, editor.log(), cyl, posed, candidates, index));
+    const auto pinches =
+        split_pinches(editor, posed, pinch_input(mesh, editor.log(), cyl, posed, candidates, index));
     for (DrillHole& h : result.holes) detail::follow_pinch_splits(mesh, pinches, h.rim, h.closed);
   }
   result.added_posed.reserve(posed.added().size());

@@ -25,6 +25,7 @@ namespace {
 // Steiner points on crossed edges (see cross()) lie at least this many rim spacings outside.
 constexpr double kSteinerClear = 0.3;
 constexpr double kSteinerParentAngle = 10.0 * geometry::kPi / 180.0;
+const double kCosSteinerParent = std::cos(kSteinerParentAngle);  // worked out once
 // Fewest candidates planned per parallel chunk (a few dozen crossed faces are worth a thread).
 constexpr std::size_t kPlanGrain = 24;
 // Fewest candidates judged (deep inside, bad shape), and fewest edges crossed, per parallel
@@ -194,7 +195,8 @@ const EdgeCut& RimInserter::edge(EdgeCut& e) {
     posed_.add(x);
     posed_.place(editor_, v, x);
   }
-  std::sort(e.steiner.begin(), e.steiner.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  std::sort(e.steiner.begin(), e.steiner.end(),
+            [](const auto& x, const auto& y) { return x.first < y.first; });
   return e;
 }
 
@@ -228,7 +230,6 @@ void RimInserter::merge_crossings(std::size_t c) {
 // where its cosine lies within 1e-9 of the bound's (acos is far more accurate than that margin,
 // so the answer is acos's everywhere).
 bool RimInserter::bad_shape(const Triangle& t) const {
-  const double cos_parent = std::cos(kSteinerParentAngle);
   const glm::dvec3 corner[3] = {posed_(t[0]), posed_(t[1]), posed_(t[2])};
   // Side k from corner k to corner k + 1 (c - a is -(a - c) exactly: one length per side).
   double side[3];
@@ -242,8 +243,8 @@ bool RimInserter::bad_shape(const Triangle& t) const {
       continue;
     }
     const double cosine = std::clamp(glm::dot(b - a, c3 - a) / (lb * lc), -1.0, 1.0);
-    if (cosine < cos_parent - 1e-9) continue;
-    if (cosine > cos_parent + 1e-9 || std::acos(cosine) < kSteinerParentAngle) bad = true;
+    if (cosine < kCosSteinerParent - 1e-9) continue;
+    if (cosine > kCosSteinerParent + 1e-9 || std::acos(cosine) < kSteinerParentAngle) bad = true;
   }
   return bad;
 }
