@@ -7,6 +7,7 @@
 
 #include <initializer_list>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "deepcut/core/generate/cactus.h"
@@ -69,6 +70,32 @@ TEST(DrillThreadsTest, the_result_does_not_depend_on_the_thread_count) {
         expect_same(many, one);
       }
     }
+}
+
+// The saddle of DrillTest.an_old_boundary_edge_at_a_split_vertex_is_not_rim (drill_rim_test.cpp)
+// without walls: its vertex is pinched, split once, and the rims are traced again through the
+// copy, the same whatever the thread count.
+TEST(DrillThreadsTest, a_pinch_split_and_its_second_rim_trace_do_not_depend_on_the_thread_count) {
+  SurfaceMesh input;
+  const VertexId v = input.add_vertex({0, 0, 0}), w = input.add_vertex({0.5f, 0, 0});
+  const VertexId py = input.add_vertex({0, 1, -1}), mx = input.add_vertex({-1, 0, 1}),
+                 my = input.add_vertex({0, -1, -1}), my2 = input.add_vertex({0.3f, -1, -1}),
+                 px = input.add_vertex({1, 0, 1});
+  input.add_face(v, my, my2);
+  input.add_face(v, mx, my);
+  input.add_face(v, my2, px);
+  input.add_face(v, w, py);
+  input.add_face(v, py, mx);
+  const Cylinder cyl{{-2, 0, 0.6f}, {2, 0, 0.6f}, 0.6f};
+  const Drilled one = drill_with(1, input, cyl, false);
+  ASSERT_EQ(one.result.status, OpStatus::Ok);
+  std::size_t splits = 0;
+  for (const Edit& e : one.result.log.edits) splits += std::holds_alternative<VertexSplit>(e) ? 1 : 0;
+  EXPECT_EQ(splits, 1u);
+  for (const std::size_t threads : {2u, 8u}) {
+    SCOPED_TRACE(testing::Message() << threads << " threads");
+    expect_same(drill_with(threads, input, cyl, false), one);
+  }
 }
 
 // The calling thread's planning lists: none holds more than kKeptBytes.

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 // split_pinched_vertices (ops/common/pinches.h) on bow ties: a vertex where fans of faces meet
 // only at that point gets one copy per fan beyond the first, and each fan's faces all use one
-// vertex; any_pinched tells the same cases apart without editing. Fans of up to 16 faces in all are found by comparing every pair of faces, wider ones by
-// sorting their other corners: both ways are run here.
+// vertex; any_pinched tells the same cases apart without editing. Up to 16 faces around a vertex,
+// each using it once, are grouped by comparing pairs; wider lists, or a face using the vertex at
+// two corners, by sorting their other corners: both ways are run here.
 #include "ops/common/pinches.h"
 
 #include <gtest/gtest.h>
@@ -109,6 +110,83 @@ TEST(SplitPinchedVertices, LeavesASingleFanAlone) {
   const PinchSplits splits = split_pinched_vertices(editor, {centre}, fan);
   EXPECT_TRUE(splits.copies.empty());
   EXPECT_TRUE(splits.replaced.empty());
+}
+
+// any_pinched on `candidates` says what split_pinched_vertices does (on a copy of `mesh`): true
+// exactly when it makes copies, and it makes `copies` of them.
+void expect_agree(const SurfaceMesh& mesh, const std::vector<VertexId>& candidates,
+                  const std::vector<FaceId>& incident, std::size_t copies) {
+  const bool pinched = any_pinched(mesh, candidates, incident);
+  SurfaceMesh split = mesh;
+  MeshEditor editor(split);
+  const PinchSplits splits = split_pinched_vertices(editor, candidates, incident);
+  EXPECT_EQ(pinched, !splits.copies.empty());
+  EXPECT_EQ(splits.copies.size(), copies);
+}
+
+std::vector<FaceId> joined(std::vector<FaceId> a, const std::vector<FaceId>& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
+}
+
+TEST(AnyPinched, AFaceAtTwoCornersOfTheVertexIsSorted) {  // 7 faces, one using the centre twice
+  SurfaceMesh mesh;
+  const VertexId centre = mesh.add_vertex({0, 0, 0});
+  const auto left = add_fan(mesh, centre, 3, -1.0f);
+  auto right = add_fan(mesh, centre, 3, 1.0f);
+  const VertexId u = mesh.face(right[1])[1];
+  right.push_back(mesh.add_face(centre, centre, u));
+  expect_agree(mesh, {centre}, joined(left, right), 1);
+  expect_agree(mesh, {centre}, right, 0);
+}
+
+TEST(AnyPinched, FansOfSixteenAndSeventeenFaces) {  // the last pairwise size and the first sorted
+  for (const int faces : {16, 17}) {
+    SCOPED_TRACE(testing::Message() << faces << " faces");
+    SurfaceMesh mesh;
+    const VertexId centre = mesh.add_vertex({0, 0, 0});
+    const auto left = add_fan(mesh, centre, 8, -1.0f);
+    const auto right = add_fan(mesh, centre, faces - 8, 1.0f);
+    expect_agree(mesh, {centre}, joined(left, right), 1);
+    SurfaceMesh one;
+    const VertexId c1 = one.add_vertex({0, 0, 0});
+    expect_agree(one, {c1}, add_fan(one, c1, faces, 1.0f), 0);
+  }
+  SurfaceMesh wide;  // a single fan wider than 16
+  const VertexId c = wide.add_vertex({0, 0, 0});
+  expect_agree(wide, {c}, add_fan(wide, c, 20, 1.0f), 0);
+}
+
+TEST(AnyPinched, ThreeFansGetTwoCopies) {
+  SurfaceMesh mesh;
+  const VertexId centre = mesh.add_vertex({0, 0, 0});
+  const auto a = add_fan(mesh, centre, 3, -1.0f), b = add_fan(mesh, centre, 3, 1.0f);
+  const auto c = add_fan(mesh, centre, 2, 1.0f);
+  expect_agree(mesh, {centre}, joined(joined(a, b), c), 2);
+}
+
+// Face 0 (r0, r1) and face 1 (r2, r3) join only through face 2 (r1, r2), found after them.
+TEST(AnyPinched, AFanJoinedThroughALaterFace) {
+  for (const bool bow_tie : {false, true}) {
+    SCOPED_TRACE(bow_tie ? "with a second fan" : "one fan");
+    SurfaceMesh mesh;
+    const VertexId centre = mesh.add_vertex({0, 0, 0});
+    VertexId r[4];
+    for (int i = 0; i < 4; ++i) r[i] = mesh.add_vertex({std::cos(0.5f * i), std::sin(0.5f * i), 0});
+    std::vector<FaceId> fan = {mesh.add_face(centre, r[0], r[1]), mesh.add_face(centre, r[2], r[3]),
+                               mesh.add_face(centre, r[1], r[2])};
+    if (bow_tie) fan = joined(fan, add_fan(mesh, centre, 3, -1.0f));
+    expect_agree(mesh, {centre}, fan, bow_tie ? 1 : 0);
+  }
+}
+
+TEST(AnyPinched, OnlyTheLastCandidateIsPinched) {
+  SurfaceMesh mesh;
+  const VertexId a = mesh.add_vertex({0, 0, 0}), b = mesh.add_vertex({0, 0, 1}),
+                 c = mesh.add_vertex({0, 0, 2});
+  auto incident = joined(add_fan(mesh, a, 4, 1.0f), add_fan(mesh, b, 5, -1.0f));
+  incident = joined(incident, joined(add_fan(mesh, c, 3, -1.0f), add_fan(mesh, c, 3, 1.0f)));
+  expect_agree(mesh, {a, b, c}, incident, 1);
 }
 
 }  // namespace

@@ -52,6 +52,31 @@ TEST(PosedOverlay, MovedInputVerticesReadTheirNewPosition) {
   EXPECT_EQ(posed.input()[2], glm::vec3(0, 1, 0));  // the input stays as it was
 }
 
+// The filter over moved vertices keeps one bit per vertex modulo 1024: vertices sharing a bit
+// with a moved one still read the input, and more moved vertices than bits all read back.
+TEST(PosedOverlay, MovedVerticesSharingTheFilterReadCorrectly) {
+  std::vector<glm::vec3> input(4096);
+  for (std::size_t i = 0; i < input.size(); ++i) input[i] = glm::vec3(static_cast<float>(i), 0, 0);
+  PosedOverlay<glm::dvec3> posed(input);
+  posed.move(VertexId(3), {-3, 1, 0});
+  EXPECT_EQ(posed(VertexId(3 + 1024)), glm::dvec3(3 + 1024, 0, 0));
+  EXPECT_FALSE(posed.is_moved(VertexId(3 + 1024)));
+  EXPECT_TRUE(posed.is_moved(VertexId(3)));
+  posed.move(VertexId(1027), {-1027, 1, 0});
+  EXPECT_EQ(posed(VertexId(1027 + 1024)), glm::dvec3(1027 + 1024, 0, 0));
+  EXPECT_FALSE(posed.is_moved(VertexId(1027 + 1024)));
+  EXPECT_EQ(posed(VertexId(1027)), glm::dvec3(-1027, 1, 0));
+  EXPECT_EQ(posed(VertexId(3)), glm::dvec3(-3, 1, 0));
+
+  PosedOverlay<glm::dvec3> many(input);
+  for (std::uint32_t v = 0; v < 3000; v += 2) many.move(VertexId(v), {-double(v), 1, 0});  // 1500 moved
+  for (std::uint32_t v = 0; v < input.size(); ++v) {
+    const bool moved = v < 3000 && v % 2 == 0;
+    EXPECT_EQ(many.is_moved(VertexId(v)), moved) << v;
+    EXPECT_EQ(many(VertexId(v)), moved ? glm::dvec3(-double(v), 1, 0) : glm::dvec3(v, 0, 0)) << v;
+  }
+}
+
 // The drill computes in double: the input's floats are widened exactly, added points keep
 // their double precision.
 TEST(PosedOverlay, DoublePrecisionKeepsAddedPointsExactly) {

@@ -76,13 +76,19 @@ class CrossingTable {
   /// A plain find first: most calls find their edge, and this inlines cheaper there than
   /// find_or_insert.
   std::pair<T*, bool> try_emplace(VertexId a, VertexId b) {
+    const auto [e, added] = try_emplace_index(a, b);
+    return {&records_[e], added};
+  }
+  /// As try_emplace, with the record's index (operator[]) instead of its address.
+  std::pair<std::uint32_t, bool> try_emplace_index(VertexId a, VertexId b) {
     const std::uint64_t key = edge_key(a, b);
     const std::uint32_t e = slots_.find(key);
-    if (e != EdgeSlots::kNone) return {&records_[e], false};
-    slots_.insert(key, static_cast<std::uint32_t>(records_.size()));
+    if (e != EdgeSlots::kNone) return {e, false};
+    const auto added = static_cast<std::uint32_t>(records_.size());
+    slots_.insert(key, added);
     keys_.push_back(key);
     records_.emplace_back();
-    return {&records_.back(), true};
+    return {added, true};
   }
   std::size_t size() const { return records_.size(); }
   bool empty() const { return records_.empty(); }

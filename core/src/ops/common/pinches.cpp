@@ -73,13 +73,72 @@ namespace {
 // it, by comparing every pair of faces (fewer steps for the usual handful).
 constexpr std::size_t kPairwiseFans = 16;
 
+// Each face's two corners other than `v` (o0, o1), for up to kPairwiseFans faces each using `v`
+// at one corner only; false for any other list.
+bool other_corners(const SurfaceMesh& mesh, VertexId v, const FaceId* fs, std::size_t size, std::uint32_t* o0,
+                   std::uint32_t* o1) {
+  if (size > kPairwiseFans) return false;
+  for (std::size_t i = 0; i < size; ++i) {
+    const Triangle& t = mesh.face(fs[i]);
+    if ((t[0] == v) + (t[1] == v) + (t[2] == v) != 1) return false;
+    const int q = t[0] == v ? 0 : t[1] == v ? 1 : 2;
+    o0[i] = t[(q + 1) % 3].index;
+    o1[i] = t[(q + 2) % 3].index;
+  }
+  return true;
+}
+
+// The fans of up to kPairwiseFans faces given by their other corners (other_corners), found by
+// comparing pairs: each fan is grown over a bit set from its lowest face, each face taken once
+// and compared with the faces not reached yet. With `parent`, each face's entry is set to its
+// fan's lowest index (a forest of depth one, as find_fans makes); without, it stops at the
+// second fan. True when there are two fans or more.
+bool pairwise_fans(const std::uint32_t* o0, const std::uint32_t* o1, std::size_t size,
+                   std::uint32_t* parent) {
+  static_assert(kPairwiseFans <= 32, "one bit per face");
+  auto shares_other = [&](int i, int j) {
+    return o0[j] == o0[i] || o0[j] == o1[i] || o1[j] == o0[i] || o1[j] == o1[i];
+  };
+  const std::uint32_t all = size == 32 ? ~0u : (1u << size) - 1u;
+  std::uint32_t reached = 0;
+  int fans = 0;
+  while (reached != all) {
+    const int root = __builtin_ctz(all & ~reached);
+    if (++fans > 1 && !parent) return true;
+    const std::uint32_t before = reached;
+    reached |= 1u << root;
+    std::uint32_t open = 1u << root;  // reached, neighbours not looked for yet
+    while (open != 0 && reached != all) {
+      const int i = __builtin_ctz(open);
+      open &= open - 1;
+      for (std::uint32_t rest = all & ~reached; rest != 0; rest &= rest - 1) {
+        const int j = __builtin_ctz(rest);
+        if (shares_other(i, j)) {
+          reached |= 1u << j;
+          open |= 1u << j;
+        }
+      }
+    }
+    if (parent)
+      for (std::uint32_t fan = reached & ~before; fan != 0; fan &= fan - 1) parent[__builtin_ctz(fan)] = root;
+  }
+  return fans > 1;
+}
+
 // The fans of the faces `fs` around `v` (faces joined through an edge (v, u), i.e. sharing a
-// second vertex u) as a union-find forest in `parent`. The higher root always links under the
-// lower, so each fan's root is its lowest index whatever order the unions come in. True when
-// there are two fans or more.
-bool find_fans(const SurfaceMesh& mesh, VertexId v, const FaceId* fs, std::size_t size,
+// second vertex u) as a forest in `parent` whose roots are each fan's lowest index: pairwise_fans
+// for the usual handful, else a union-find over the faces sorted by their other corners (the
+// higher root always links under the lower, whatever order the unions come in). `forest` false:
+// only whether there are two fans, `parent` left unspecified. True when there are two fans or more.
+bool find_fans(const SurfaceMesh& mesh, VertexId v, const FaceId* fs, std::size_t size, bool forest,
                std::vector<std::uint32_t>& parent,
                std::vector<std::pair<std::uint32_t, std::uint32_t>>& by_other) {
+  std::uint32_t o0[kPairwiseFans], o1[kPairwiseFans];
+  if (other_corners(mesh, v, fs, size, o0, o1)) {
+    if (!forest) return pairwise_fans(o0, o1, size, nullptr);
+    parent.resize(size);
+    return pairwise_fans(o0, o1, size, parent.data());
+  }
   parent.resize(size);
   std::iota(parent.begin(), parent.end(), 0u);
   auto unite = [&](std::uint32_t i, std::uint32_t j) {
@@ -90,56 +149,12 @@ bool find_fans(const SurfaceMesh& mesh, VertexId v, const FaceId* fs, std::size_
   for (std::uint32_t i = 0; i < size; ++i)
     for (const VertexId u : mesh.face(fs[i]))
       if (u != v) by_other.emplace_back(u.index, i);
-  if (size <= kPairwiseFans && by_other.size() == 2 * size) {  // each face: two other corners
-    for (std::uint32_t i = 1; i < size; ++i) {
-      const std::uint32_t a0 = by_other[2 * i].first, a1 = by_other[2 * i + 1].first;
-      for (std::uint32_t j = 0; j < i; ++j) {
-        const std::uint32_t b0 = by_other[2 * j].first, b1 = by_other[2 * j + 1].first;
-        if (a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1) unite(i, j);
-      }
-    }
-  } else {
-    std::sort(by_other.begin(), by_other.end());
-    for (std::size_t i = 1; i < by_other.size(); ++i)
-      if (by_other[i].first == by_other[i - 1].first) unite(by_other[i].second, by_other[i - 1].second);
-  }
+  std::sort(by_other.begin(), by_other.end());
+  for (std::size_t i = 1; i < by_other.size(); ++i)
+    if (by_other[i].first == by_other[i - 1].first) unite(by_other[i].second, by_other[i - 1].second);
   bool several = false;
   for (std::uint32_t i = 0; i < size; ++i) several |= find_root(parent, i) != 0;
   return several;
-}
-
-// Whether the faces `fs` around `v` form two fans or more, as find_fans says, without its forest:
-// up to kPairwiseFans faces with two other corners each, the fan of face 0 is grown over a bit
-// set (each face taken once, compared with the faces not reached yet); any other list asks
-// find_fans.
-bool several_fans(const SurfaceMesh& mesh, VertexId v, const FaceId* fs, std::size_t size,
-                  std::vector<std::uint32_t>& parent,
-                  std::vector<std::pair<std::uint32_t, std::uint32_t>>& by_other) {
-  static_assert(kPairwiseFans <= 32, "one bit per face");
-  if (size > kPairwiseFans) return find_fans(mesh, v, fs, size, parent, by_other);
-  std::uint32_t o0[kPairwiseFans], o1[kPairwiseFans];  // each face's two other corners
-  for (std::size_t i = 0; i < size; ++i) {
-    const Triangle& t = mesh.face(fs[i]);
-    const int at = (t[0] == v) + (t[1] == v) + (t[2] == v);
-    if (at != 1) return find_fans(mesh, v, fs, size, parent, by_other);
-    const int q = t[0] == v ? 0 : t[1] == v ? 1 : 2;
-    o0[i] = t[(q + 1) % 3].index;
-    o1[i] = t[(q + 2) % 3].index;
-  }
-  const std::uint32_t all = size == 32 ? ~0u : (1u << size) - 1u;
-  std::uint32_t reached = 1, open = 1;  // open: reached, neighbours not looked for yet
-  while (open != 0 && reached != all) {
-    const int i = __builtin_ctz(open);
-    open &= open - 1;
-    for (std::uint32_t rest = all & ~reached; rest != 0; rest &= rest - 1) {
-      const int j = __builtin_ctz(rest);
-      if (o0[j] == o0[i] || o0[j] == o1[i] || o1[j] == o0[i] || o1[j] == o1[i]) {
-        reached |= 1u << j;
-        open |= 1u << j;
-      }
-    }
-  }
-  return reached != all;
 }
 
 // The live faces of `incident` (a face may be listed twice) grouped by the candidates among their
@@ -196,8 +211,8 @@ struct CandidateFans {
       return s == VertexSlots::kNone ? n : static_cast<std::size_t>(s);
     };
   }
-  CandidateFans(const SurfaceMesh& mesh, const std::vector<VertexId>& candidates, const std::vector<FaceId>& incident,
-                VertexSlots& slots)
+  CandidateFans(const SurfaceMesh& mesh, const std::vector<VertexId>& candidates,
+                const std::vector<FaceId>& incident, VertexSlots& slots)
       : sorted(candidates) {
     if (!std::is_sorted(sorted.begin(), sorted.end())) std::sort(sorted.begin(), sorted.end());
     sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
@@ -211,14 +226,14 @@ struct CandidateFans {
   /// the fans in `parent` (find_fans) when they do.
   bool pinched(const SurfaceMesh& mesh, std::size_t s, bool forest) {
     const std::size_t size = first[s + 1] - first[s];
-    if (size < 2 || !several_fans(mesh, sorted[s], around.data() + first[s], size, parent, by_other)) return false;
-    return !forest || find_fans(mesh, sorted[s], around.data() + first[s], size, parent, by_other);
+    return size >= 2 && find_fans(mesh, sorted[s], around.data() + first[s], size, forest, parent, by_other);
   }
 };
 
 }  // namespace
 
-bool any_pinched(const SurfaceMesh& mesh, const std::vector<VertexId>& candidates, const std::vector<FaceId>& incident) {
+bool any_pinched(const SurfaceMesh& mesh, const std::vector<VertexId>& candidates,
+                 const std::vector<FaceId>& incident) {
   if (candidates.empty()) return false;
   CandidateFans fans(mesh, candidates, incident, VertexSlots::scratch());
   for (std::size_t s = 0; s < fans.sorted.size(); ++s)

@@ -39,7 +39,8 @@ std::vector<FaceId> faces_around(const SurfaceMesh& mesh, const EditLog& log, co
 
 /// Whether split_pinched_vertices(editor, candidates, incident) would split anything (it then
 /// leaves the mesh as it is): read-only, so it can run beside other readers of the mesh.
-bool any_pinched(const SurfaceMesh& mesh, const std::vector<VertexId>& candidates, const std::vector<FaceId>& incident);
+bool any_pinched(const SurfaceMesh& mesh, const std::vector<VertexId>& candidates,
+                 const std::vector<FaceId>& incident);
 
 /// Splits each of `candidates` whose live faces form two or more fans (faces joined through an
 /// edge at the vertex): the fan holding the lowest face id keeps the vertex, every other fan gets

@@ -28,14 +28,18 @@ class PosedOverlay {
   Vec operator()(std::uint32_t v) const {
     if (v >= first_new_) return added_[v - first_new_];
     if (might_be_moved(v)) {
-      const auto it = std::lower_bound(
-          moved_.begin(), moved_.end(), v,
-          [](const std::pair<std::uint32_t, Vec>& x, std::uint32_t i) { return x.first < i; });
+      const auto it = find_moved(v);
       if (it != moved_.end() && it->first == v) return it->second;
     }
     return Vec(input_[v]);
   }
   Vec operator()(VertexId v) const { return (*this)(v.index); }
+  /// Whether input vertex `v` was moved (added vertices never are).
+  bool is_moved(VertexId v) const {
+    if (!might_be_moved(v.index)) return false;
+    const auto it = find_moved(v.index);
+    return it != moved_.end() && it->first == v.index;
+  }
 
   /// Posed position of the vertex just added (vertices are added in id order).
   void add(const Vec& p) { added_.push_back(p); }
@@ -48,9 +52,7 @@ class PosedOverlay {
   }
   /// New posed position of input vertex `v` (below first_new()).
   void move(VertexId v, const Vec& p) {
-    const auto it =
-        std::lower_bound(moved_.begin(), moved_.end(), v.index,
-                         [](const std::pair<std::uint32_t, Vec>& x, std::uint32_t i) { return x.first < i; });
+    const auto it = moved_.begin() + (find_moved(v.index) - moved_.cbegin());
     if (it != moved_.end() && it->first == v.index) {
       it->second = p;
     } else {
@@ -73,6 +75,12 @@ class PosedOverlay {
   static constexpr std::uint32_t kMovedWords = 16;
   bool might_be_moved(std::uint32_t v) const {
     return (moved_bits_[(v >> 6) & (kMovedWords - 1)] >> (v & 63)) & 1;
+  }
+  // The first entry of moved_ not below vertex `v`.
+  typename std::vector<std::pair<std::uint32_t, Vec>>::const_iterator find_moved(std::uint32_t v) const {
+    return std::lower_bound(
+        moved_.begin(), moved_.end(), v,
+        [](const std::pair<std::uint32_t, Vec>& x, std::uint32_t i) { return x.first < i; });
   }
 
   const std::vector<glm::vec3>& input_;

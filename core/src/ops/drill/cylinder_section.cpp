@@ -77,7 +77,8 @@ namespace {
 
 // std::remainder(x, 2 pi) for |x| at most 2 pi (a difference of two atan2 angles), without the
 // library call: the nearest multiple of the turn is -1, 0 or 1 (0 on a tie, the even one), and
-// x -+ 2 pi is exact for |x| >= pi (Sterbenz), so the result is the same double.
+// x -+ 2 pi is exact for |x| >= pi (Sterbenz), so the result is the same value (a zero may lose
+// its sign: std::remainder gives -0.0 for x = -2 pi, this +0.0).
 double wrap_half_turn(double x) {
   const double turn = 2.0 * geometry::kPi;
   if (x > 0.5 * turn) return x - turn;

@@ -88,7 +88,7 @@ void FacePlanner::face_boundary(const Triangle& tri, const glm::dvec3 corner[3])
   seg_inside.clear();
   for (int k = 0; k < 3; ++k) {
     const int k1 = (k + 1) % 3;
-    const EdgeCut& e = *(*cur_edges_)[k];
+    const EdgeCut& e = cur_edge(k);
     LocalPoint c;
     c.v = tri[k];
     c.p = corner[k];
@@ -160,7 +160,7 @@ void FacePlanner::consider(const glm::dvec3& x, bool corner_point) {
     if (corner_point || lows > 1) return;
     const int k1 = (low + 1) % 3, k2 = (low + 2) % 3;
     const double shift = s_.eps - lp.bary[low] * face_.height[low], bound = 0.005 * s_.cyl.r;
-    if (shift > bound || (*cur_edges_)[k1]->n != 0) return;
+    if (shift > bound || cur_edge(k1).n != 0) return;
     const glm::dvec2 along = glm::normalize(face_.tq[k2] - face_.tq[k1]);
     lp.q += shift * glm::dvec2(-along.y, along.x);  // inside is on the left
     lp.bary = face_.bary_of(lp.q);

@@ -25,12 +25,16 @@ namespace {
 // Steiner points on crossed edges (see cross()) lie at least this many rim spacings outside.
 constexpr double kSteinerClear = 0.3;
 constexpr double kSteinerParentAngle = 10.0 * geometry::kPi / 180.0;
+const double kCosSteinerParent = std::cos(kSteinerParentAngle);  // worked out once
 // Fewest candidates planned per parallel chunk (a few dozen crossed faces are worth a thread).
 constexpr std::size_t kPlanGrain = 24;
 // Fewest candidates judged (deep inside, bad shape), and fewest edges crossed, per parallel
 // chunk: a chunk of a few hundred thousand instructions is worth waking a thread for, so a hole
-// of a few hundred faces runs them inline and only bigger ones spread.
-constexpr std::size_t kJudgeGrain = 1024;
+// of a few hundred faces runs them inline and only bigger ones spread. Judging needs a
+// vertex-sized scratch (VertexSlots) on each thread that takes a chunk: a hole of about a
+// thousand faces (the 1M model's small one has 1.1k candidates) is judged inline, so it grows none
+// on a worker.
+constexpr std::size_t kJudgeGrain = 2048;
 constexpr std::size_t kCrossGrain = 512;
 
 // Runs the insertion: crossings and needle merges first (in candidate order, each edge split
@@ -76,10 +80,9 @@ class RimInserter {
   std::vector<std::uint8_t> deep_;
   // Per candidate not deep inside: of bad shape for Steiner points (allow_steiner).
   std::vector<std::uint8_t> bad_;
-  // Per candidate: its edges' records (edge k from corner k to corner k + 1), looked up once by
-  // allow_steiner and read again by merge_crossings and the planning (CrossingTable records
-  // never move).
-  std::vector<std::array<EdgeCut*, 3>> face_edges_;
+  // Per candidate: its edges' records in edges_ (edge k from corner k to corner k + 1), looked
+  // up once by allow_steiner and read again by merge_crossings and the planning.
+  std::vector<std::array<std::uint32_t, 3>> face_edges_;
   // Crossings that fell on one bind position (the two long edges of a needle crossed at the same
   // parameter): the later vertex maps to the earlier, so the needle's tip is not a zero-area face.
   detail::NeedleMerges merges_;
@@ -192,7 +195,8 @@ const EdgeCut& RimInserter::edge(EdgeCut& e) {
     posed_.add(x);
     posed_.place(editor_, v, x);
   }
-  std::sort(e.steiner.begin(), e.steiner.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  std::sort(e.steiner.begin(), e.steiner.end(),
+            [](const auto& x, const auto& y) { return x.first < y.first; });
   return e;
 }
 
@@ -212,11 +216,11 @@ VertexId RimInserter::vertex_of(const Triangle& tri, LocalPoint& lp) {
 // needle's tip, or the kept part at its far end when the circle crosses each edge twice (a
 // triangle with two corners at one point), is not made. Same rule as the cut and the tear.
 void RimInserter::merge_crossings(std::size_t c) {
-  std::array<EdgeCut*, 3>& es = face_edges_[c];  // filed by allow_steiner
-  for (int k = 0; k < 3; ++k) edge(*es[k]);
+  const std::array<std::uint32_t, 3>& es = face_edges_[c];  // filed by allow_steiner
+  for (int k = 0; k < 3; ++k) edge(edges_[es[k]]);
   for (int k = 0; k < 3; ++k) {
-    const EdgeCut& ea = *es[k];            // corner k to corner k + 1
-    const EdgeCut& eb = *es[(k + 2) % 3];  // corner k + 2 to corner k
+    const EdgeCut& ea = edges_[es[k]];            // corner k to corner k + 1
+    const EdgeCut& eb = edges_[es[(k + 2) % 3]];  // corner k + 2 to corner k
     for (int i = 0; i < ea.n; ++i)
       for (int j = 0; j < eb.n; ++j) merges_.merge_if_coincident(mesh_, ea.v[i], eb.v[j]);
   }
@@ -226,7 +230,6 @@ void RimInserter::merge_crossings(std::size_t c) {
 // where its cosine lies within 1e-9 of the bound's (acos is far more accurate than that margin,
 // so the answer is acos's everywhere).
 bool RimInserter::bad_shape(const Triangle& t) const {
-  const double cos_parent = std::cos(kSteinerParentAngle);
   const glm::dvec3 corner[3] = {posed_(t[0]), posed_(t[1]), posed_(t[2])};
   // Side k from corner k to corner k + 1 (c - a is -(a - c) exactly: one length per side).
   double side[3];
@@ -240,8 +243,8 @@ bool RimInserter::bad_shape(const Triangle& t) const {
       continue;
     }
     const double cosine = std::clamp(glm::dot(b - a, c3 - a) / (lb * lc), -1.0, 1.0);
-    if (cosine < cos_parent - 1e-9) continue;
-    if (cosine > cos_parent + 1e-9 || std::acos(cosine) < kSteinerParentAngle) bad = true;
+    if (cosine < kCosSteinerParent - 1e-9) continue;
+    if (cosine > kCosSteinerParent + 1e-9 || std::acos(cosine) < kSteinerParentAngle) bad = true;
   }
   return bad;
 }
@@ -279,8 +282,8 @@ void RimInserter::allow_steiner(const std::vector<FaceId>& candidates) {
     const bool bad = bad_[c] != 0;
     for (int k = 0; k < 3; ++k) {
       const VertexId a = t[k], b = t[(k + 1) % 3];
-      EdgeCut* e = edges_.try_emplace(a, b).first;
-      e->file_side(a, b, bad);
+      const std::uint32_t e = edges_.try_emplace_index(a, b).first;
+      edges_[e].file_side(a, b, bad);
       face_edges_[c][k] = e;
     }
   }
@@ -315,7 +318,7 @@ bool RimInserter::deep(const Triangle& t, detail::VertexSlots& judged) const {
 // the mesh, the posed positions and the crossings made before, so it is the same whatever the
 // chunks or the thread count.
 void RimInserter::plan_faces(const std::vector<FaceId>& candidates) {
-  RimShared shared{mesh_, posed_, cyl_, merges_, face_edges_};
+  RimShared shared{mesh_, posed_, cyl_, merges_, edges_, face_edges_};
   shared.eps = eps_;
   shared.samples = samples_;
   shared.sep = 0.3 * 2.0 * cyl_.r * std::sin(geometry::kPi / samples_);

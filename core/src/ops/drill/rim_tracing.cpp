@@ -51,7 +51,9 @@ class RimHalfEdges {
 template <class OnRim, class OldOnRim>
 RimHalfEdges file_rim_half_edges(const SurfaceMesh& mesh, const EditLog& log, const std::vector<FaceId>& candidates,
                                  const OnRim& on_rim, const OldOnRim& old_on_rim) {
-  RimHalfEdges filed(log.edits.size() / 4 + 16);  // about one rim half-edge per added face
+  // Room for a quarter of the edits (the log also holds removed faces, new vertices and moves,
+  // and most added faces have no rim half-edge): enough for most holes without growing.
+  RimHalfEdges filed(log.edits.size() / 4 + 16);
   for (const Edit& e : log.edits) {
     if (const auto* fa = std::get_if<FaceAdded>(&e)) {
       const Triangle& t = fa->vertices;
