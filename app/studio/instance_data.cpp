@@ -10,7 +10,6 @@
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkTexture.h>
-#include <vtkTypeInt64Array.h>
 
 #include <algorithm>
 #include <cmath>
@@ -51,13 +50,11 @@ std::shared_ptr<ViewPolyData> instance_view_data(const plugins::Scene& scene,
                                                  std::vector<std::shared_ptr<ViewPolyData>>* spare) {
   std::shared_ptr<ViewPolyData> taken;
   if (spare) {
-    const auto cells = static_cast<vtkIdType>(3 * sp.surface->face_slots());
-    auto room = [](const std::shared_ptr<ViewPolyData>& data) {
-      return data->poly()->GetPolys()->GetConnectivityArray64()->GetSize();
-    };
+    const std::size_t slots = sp.surface->face_slots();
+    auto room = [](const std::shared_ptr<ViewPolyData>& data) { return ViewPolyData::room(*data); };
     auto best = spare->end();
     for (auto it = spare->begin(); it != spare->end(); ++it)
-      if (room(*it) >= cells && (best == spare->end() || room(*it) < room(*best))) best = it;
+      if (ViewPolyData::can_take(**it, slots) && (best == spare->end() || room(*it) < room(*best))) best = it;
     if (best != spare->end()) {
       taken = std::move(*best);
       spare->erase(best);

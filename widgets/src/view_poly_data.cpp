@@ -101,23 +101,29 @@ ViewPolyData::ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>
 ViewPolyData::ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
                            const std::vector<glm::vec3>* corner_normals, const ViewPolyData& source,
                            const PrimitiveOrigin& origin, ViewPolyData* spare) {
-  make_arrays(mesh);
-  if (spare && spare != &source && spare->poly_) take_arrays(*spare, mesh.face_slots());
-  resize(mesh);
-  vertices_ = mesh.vertex_count();
-  if (corners_ && copy_corner_points(Writer(poly_, mesh, positions, corner_normals), source, origin)) {
-    copied_ = true;
-    modified();
+  if (!copy_fits(mesh, source, origin)) {
+    *this = ViewPolyData(mesh, positions, corner_normals);
     return;
   }
-  *this = ViewPolyData(mesh, positions, corner_normals);
+  make_arrays(mesh);
+  if (spare && spare != &source && can_take(*spare, mesh.face_slots())) take_arrays(*spare);
+  resize(mesh);
+  vertices_ = mesh.vertex_count();
+  copy_corner_points(Writer(poly_, mesh, positions, corner_normals), source, origin);
+  copied_ = true;
+  modified();
+}
+
+bool ViewPolyData::draws_corners(const SurfaceMesh& mesh) {
+  const auto& ca = mesh.corner_attrs();
+  return ca.find<glm::vec2>(attr::kUv0) || ca.find<glm::vec3>(attr::kNormal);
 }
 
 void ViewPolyData::make_arrays(const SurfaceMesh& mesh) {
   const auto& ca = mesh.corner_attrs();
   const auto* uv = ca.find<glm::vec2>(attr::kUv0);
   const auto* normal = ca.find<glm::vec3>(attr::kNormal);
-  corners_ = uv || normal;
+  corners_ = draws_corners(mesh);
   poly_ = vtkSmartPointer<vtkPolyData>::New();
   vtkNew<vtkFloatArray> point_data;
   point_data->SetNumberOfComponents(3);

@@ -83,11 +83,14 @@ void number_in_order(const std::atomic<std::uint8_t>* used, std::size_t n,
 
 }  // namespace
 
-bool ViewPolyData::copy_corner_points(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin) {
+bool ViewPolyData::copy_fits(const SurfaceMesh& mesh, const ViewPolyData& source, const PrimitiveOrigin& origin) {
+  return draws_corners(mesh) && source.corners_ && origin.faces.size() == mesh.face_slots() &&
+         origin.vertices.size() == mesh.vertex_count() &&
+         source.uses_.size() == static_cast<std::size_t>(source.poly_->GetNumberOfPoints());
+}
+
+void ViewPolyData::copy_corner_points(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin) {
   const SurfaceMesh& mesh = w.mesh;
-  if (!source.corners_ || origin.faces.size() != mesh.face_slots() || origin.vertices.size() != mesh.vertex_count() ||
-      source.uses_.size() != static_cast<std::size_t>(source.poly_->GetNumberOfPoints()))
-    return false;
   Copying copying;
   copy_connectivity(w, source, origin, copying);
   choose_corners(w, source, origin, copying);
@@ -109,7 +112,6 @@ bool ViewPolyData::copy_corner_points(const Writer& w, const ViewPolyData& sourc
     clear_point(writer.r, 0);
   }
   set_point_count(uses_.size());
-  return true;
 }
 
 void ViewPolyData::copy_connectivity(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin,
@@ -254,15 +256,26 @@ void ViewPolyData::assign_waiting(const Writer& w, const std::vector<std::uint32
   }
 }
 
-void ViewPolyData::take_arrays(ViewPolyData& spare, std::size_t slots) {
+std::size_t ViewPolyData::room(const ViewPolyData& spare) {
+  if (!spare.poly_) return 0;
+  vtkCellArray* cells = spare.poly_->GetPolys();
+  const vtkTypeInt64Array *offsets = cells->GetOffsetsArray64(), *connectivity = cells->GetConnectivityArray64();
+  const auto* face_ids = view_data::named<vtkIdTypeArray>(spare.poly_->GetCellData(), "face_id");
+  if (!offsets || !connectivity || !face_ids) return 0;
+  const auto held = std::min({connectivity->GetSize() / 3, offsets->GetSize() - 1, face_ids->GetSize()});
+  return static_cast<std::size_t>(std::max<vtkIdType>(held, 0));
+}
+
+bool ViewPolyData::can_take(const ViewPolyData& spare, std::size_t slots) {
+  return spare.poly_ && room(spare) >= slots;
+}
+
+void ViewPolyData::take_arrays(ViewPolyData& spare) {
   vtkPolyData* from = spare.poly_;
   vtkCellArray* cells = from->GetPolys();
-  vtkTypeInt64Array *offsets = cells->GetOffsetsArray64(), *connectivity = cells->GetConnectivityArray64();
+  vtkTypeInt64Array* offsets = cells->GetOffsetsArray64();
+  vtkTypeInt64Array* connectivity = cells->GetConnectivityArray64();
   auto* face_ids = view_data::named<vtkIdTypeArray>(from->GetCellData(), "face_id");
-  if (!offsets || !connectivity || !face_ids || connectivity->GetSize() < static_cast<vtkIdType>(3 * slots) ||
-      offsets->GetSize() <= static_cast<vtkIdType>(slots) ||
-      face_ids->GetSize() < static_cast<vtkIdType>(slots))
-    return;
   // The cells: every data's offsets and face ids are the identity, so those already there stay.
   poly_->GetPolys()->SetData(offsets, connectivity);
   vtkCellData* cd = poly_->GetCellData();
