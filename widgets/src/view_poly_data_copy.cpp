@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <initializer_list>
 #include <memory>
 
 #include "deepcut/core/parallel.h"
@@ -268,42 +267,6 @@ std::size_t ViewPolyData::room(const ViewPolyData& spare) {
 
 bool ViewPolyData::can_take(const ViewPolyData& spare, std::size_t slots) {
   return spare.poly_ && room(spare) >= slots;
-}
-
-void ViewPolyData::take_arrays(ViewPolyData& spare) {
-  vtkPolyData* from = spare.poly_;
-  vtkCellArray* cells = from->GetPolys();
-  vtkTypeInt64Array* offsets = cells->GetOffsetsArray64();
-  vtkTypeInt64Array* connectivity = cells->GetConnectivityArray64();
-  auto* face_ids = view_data::named<vtkIdTypeArray>(from->GetCellData(), "face_id");
-  // The cells: every data's offsets and face ids are the identity, so those already there stay.
-  poly_->GetPolys()->SetData(offsets, connectivity);
-  vtkCellData* cd = poly_->GetCellData();
-  cd->RemoveArray("face_id");
-  cd->AddArray(face_ids);
-  // The points' arrays of each kind this data has.
-  vtkPointData *pd = poly_->GetPointData(), *spare_pd = from->GetPointData();
-  auto* points = vtkFloatArray::SafeDownCast(from->GetPoints()->GetData());
-  if (points && points->GetNumberOfComponents() == 3) poly_->GetPoints()->SetData(points);
-  if (auto* ids = view_data::named<vtkIdTypeArray>(spare_pd, "vertex_id")) {
-    pd->RemoveArray("vertex_id");
-    pd->AddArray(ids);
-  }
-  auto* normals = vtkFloatArray::SafeDownCast(spare_pd->GetNormals());
-  if (normals && pd->GetNormals() && normals->GetNumberOfComponents() == 3) pd->SetNormals(normals);
-  auto* uv = view_data::named<vtkFloatArray>(spare_pd, "uv0");
-  if (uv && pd->GetTCoords() && uv->GetNumberOfComponents() == 2) pd->SetTCoords(uv);
-  for (vtkAbstractArray* a :
-       std::initializer_list<vtkAbstractArray*>{offsets, connectivity, face_ids, points, normals, uv})
-    if (a) a->Modified();  // (ranges cached for the values before)
-  // The per-point and per-corner arrays too: each is sized and written whole before it is read.
-  uses_.swap(spare.uses_);
-  point_corner_.swap(spare.point_corner_);
-  first_.swap(spare.first_);
-  next_.swap(spare.next_);
-  prev_.swap(spare.prev_);
-  corner_vertex_.swap(spare.corner_vertex_);
-  spare.poly_ = nullptr;  // (only to be destroyed now)
 }
 
 }  // namespace deepcut

@@ -114,14 +114,15 @@ class ViewPolyData {
   /// point count.
   void resize(const SurfaceMesh& mesh);
   void set_point_count(std::size_t n);
-  /// The empty arrays (no points, no cells) for `mesh`.
-  void make_arrays(const SurfaceMesh& mesh);
+  /// The arrays for `mesh`, in one order whatever their origin: empty ones (no points, no
+  /// cells), or, with `spare` (`can_take` holds), those `spare` has of each kind (points,
+  /// vertex ids, texture coordinates, normals, face ids, offsets, connectivity) and its per-point
+  /// and per-corner vectors. Taken values stay until written (each is sized and written whole
+  /// before it is read), so the cells' identity offsets and face ids are not written again;
+  /// `spare` is left without data.
+  void make_arrays(const SurfaceMesh& mesh, ViewPolyData* spare = nullptr);
   /// Whether `mesh` is drawn with a point per corner way of drawing (it has corner normals or UVs).
   static bool draws_corners(const SurfaceMesh& mesh);
-  /// Takes `spare`'s arrays (`can_take` holds) in place of the empty ones (make_arrays), those
-  /// it has of each kind (points, vertex ids, normals, texture coordinates): their values stay
-  /// until written, so the cells' identity offsets and face ids are not written again.
-  void take_arrays(ViewPolyData& spare);
   /// The corner lists from the drawn cells (a live cell's corners, linked to their points'
   /// vertices). A cell naming one point three times is a deleted face's, unless its face is in
   /// `collapsed_` (a live face whose three corners are one vertex drawn alike names one point
