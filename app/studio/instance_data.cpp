@@ -15,6 +15,7 @@
 #include <cmath>
 #include <vector>
 
+#include "deepcut/core/smallest_fit.h"
 #include "deepcut/widgets/texture.h"
 
 namespace deepcut::studio {
@@ -49,17 +50,9 @@ std::shared_ptr<ViewPolyData> instance_view_data(const plugins::Scene& scene,
                                                  const PrimitiveOrigin& origin,
                                                  std::vector<std::shared_ptr<ViewPolyData>>* spare) {
   std::shared_ptr<ViewPolyData> taken;
-  if (spare) {
-    const std::size_t slots = sp.surface->face_slots();
-    auto room = [](const std::shared_ptr<ViewPolyData>& data) { return ViewPolyData::room(*data); };
-    auto best = spare->end();
-    for (auto it = spare->begin(); it != spare->end(); ++it)
-      if (ViewPolyData::can_take(**it, slots) && (best == spare->end() || room(*it) < room(*best))) best = it;
-    if (best != spare->end()) {
-      taken = std::move(*best);
-      spare->erase(best);
-    }
-  }
+  if (spare)
+    taken = take_smallest_fit(*spare, sp.surface->face_slots(),
+                              [](const std::shared_ptr<ViewPolyData>& data) { return ViewPolyData::room(*data); });
   auto data =
       std::make_shared<ViewPolyData>(*sp.surface, sp.posed(), &sp.posed_normals, source, origin, taken.get());
   const MaterialLook look = instance_look(scene, sp);
