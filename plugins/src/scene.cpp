@@ -8,6 +8,7 @@
 #include <unordered_set>
 
 #include "deepcut/core/errors.h"
+#include "deepcut/core/flags.h"
 #include "deepcut/core/parallel.h"
 #include "deepcut/core/skinning.h"
 #include "deepcut/core/smallest_fit.h"
@@ -331,10 +332,7 @@ SceneCounts scene_counts(const Scene& scene) {
   for (const SceneInstance& instance : scene.instances) {
     const SurfaceMesh& mesh = *instance.surface;
     counts.triangles += mesh.face_count();
-    std::unique_ptr<std::atomic<std::uint8_t>[]> used(new std::atomic<std::uint8_t>[mesh.vertex_count()]);
-    parallel_for(mesh.vertex_count(), kGrain, [&](std::size_t b, std::size_t e) {
-      for (std::size_t v = b; v < e; ++v) used[v].store(0, std::memory_order_relaxed);
-    });
+    const Flags used = cleared_flags(mesh.vertex_count(), kGrain);
     parallel_for(mesh.face_slots(), kGrain, [&](std::size_t b, std::size_t e) {
       const Triangle* const faces = mesh.faces().data();
       for (std::size_t f = b; f < e; ++f)
