@@ -10,12 +10,12 @@
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkTexture.h>
-#include <vtkTypeInt64Array.h>
 
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
+#include "deepcut/core/smallest_fit.h"
 #include "deepcut/widgets/texture.h"
 
 namespace deepcut::studio {
@@ -50,19 +50,9 @@ std::shared_ptr<ViewPolyData> instance_view_data(const plugins::Scene& scene,
                                                  const PrimitiveOrigin& origin,
                                                  std::vector<std::shared_ptr<ViewPolyData>>* spare) {
   std::shared_ptr<ViewPolyData> taken;
-  if (spare) {
-    const auto cells = static_cast<vtkIdType>(3 * sp.surface->face_slots());
-    auto room = [](const std::shared_ptr<ViewPolyData>& data) {
-      return data->poly()->GetPolys()->GetConnectivityArray64()->GetSize();
-    };
-    auto best = spare->end();
-    for (auto it = spare->begin(); it != spare->end(); ++it)
-      if (room(*it) >= cells && (best == spare->end() || room(*it) < room(*best))) best = it;
-    if (best != spare->end()) {
-      taken = std::move(*best);
-      spare->erase(best);
-    }
-  }
+  if (spare)
+    taken = take_smallest_fit(*spare, sp.surface->face_slots(),
+                              [](const std::shared_ptr<ViewPolyData>& data) { return ViewPolyData::room(*data); });
   auto data =
       std::make_shared<ViewPolyData>(*sp.surface, sp.posed(), &sp.posed_normals, source, origin, taken.get());
   const MaterialLook look = instance_look(scene, sp);

@@ -35,8 +35,9 @@ std::shared_ptr<ViewPolyData> instance_view_data(const plugins::Scene& scene,
                                                  const plugins::SceneInstance& sp);
 /// The same for an instance a step made out of another (a cut's piece: `origin`), taking how its
 /// corners share points from `source`, the data drawn for that other instance before the step.
-/// `spare` (or null): data no longer drawn and held nowhere else; the smallest whose arrays hold
-/// the instance's cells leaves it, and the new data takes its arrays (their memory reused).
+/// `spare` (or null): data no longer drawn and held nowhere else; the one take_smallest_fit
+/// chooses by ViewPolyData::room for the instance's cells leaves it, and the new data takes its
+/// arrays (their memory reused).
 std::shared_ptr<ViewPolyData> instance_view_data(const plugins::Scene& scene,
                                                  const plugins::SceneInstance& sp, const ViewPolyData& source,
                                                  const PrimitiveOrigin& origin,

@@ -2,6 +2,7 @@
 #include "deepcut/core/posed_model.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <functional>
 #include <string>
@@ -20,6 +21,12 @@ namespace {
 
 constexpr std::size_t kGrain = 16384;
 
+// The box around two boxes (what the parallel passes over positions combine their parts with).
+BoundingBox joined(BoundingBox acc, const BoundingBox& part) {
+  acc.add(part);
+  return acc;
+}
+
 // Bounds of every position, combined in chunk order (min / max are exact in any order).
 BoundingBox bounds_of(const std::vector<glm::vec3>& points) {
   return parallel_reduce(
@@ -29,10 +36,7 @@ BoundingBox bounds_of(const std::vector<glm::vec3>& points) {
         for (std::size_t i = b; i < e; ++i) part.add(points[i]);
         return part;
       },
-      [](BoundingBox acc, const BoundingBox& part) {
-        acc.add(part);
-        return acc;
-      });
+      joined);
 }
 
 bool on_boundary(const BoundingBox& box, const glm::vec3& p) {
@@ -195,12 +199,14 @@ std::vector<glm::vec3> PosedMesh::corner_normals(const SurfaceMesh& surface, con
 void PosedMesh::corner_normals(const SurfaceMesh& surface, const PrimitiveOrigin& origin,
                                const std::vector<glm::vec3>& source_normals,
                                std::vector<glm::vec3>& out) const {
+  assert(&out != &source_normals);
   const auto* normals = surface.corner_attrs().find<glm::vec3>(attr::kNormal);
   const std::size_t slots = surface.face_slots();
   if (!normals || origin.faces.size() != slots) {
     out = corner_normals(surface);
     return;
   }
+  assert(normals->size() == 3 * slots);  // (so the passes below write every value of `out`)
   if (out.capacity() >= normals->size()) {
     out.resize(normals->size());
   } else {
@@ -385,10 +391,7 @@ PosedMesh PosedModel::derive_instance(const Model& model, int node, int primitiv
         }
         return part;
       },
-      [](BoundingBox acc, const BoundingBox& part) {
-        acc.add(part);
-        return acc;
-      });
+      joined);
   return inst;
 }
 

@@ -8,8 +8,10 @@
 #include <unordered_set>
 
 #include "deepcut/core/errors.h"
+#include "deepcut/core/flags.h"
 #include "deepcut/core/parallel.h"
 #include "deepcut/core/skinning.h"
+#include "deepcut/core/smallest_fit.h"
 #include "deepcut/plugins/colors.h"
 
 namespace deepcut::plugins {
@@ -107,22 +109,10 @@ const SurfaceMesh* primitive_mesh(const Model& model, int mesh, int primitive) {
 
 namespace {
 
-/// Of `spare` (arrays of normals no longer drawn), the smallest holding `n` values without
-/// growing (taken out of it), else an empty array.
-std::vector<glm::vec3> take_spare(std::vector<std::vector<glm::vec3>>& spare, std::size_t n) {
-  auto best = spare.end();
-  for (auto it = spare.begin(); it != spare.end(); ++it)
-    if (it->capacity() >= n && (best == spare.end() || it->capacity() < best->capacity())) best = it;
-  if (best == spare.end()) return {};
-  std::vector<glm::vec3> out = std::move(*best);
-  spare.erase(best);
-  return out;
-}
-
 /// The corner normals of `instance`, built in a structural step: copied from the normals drawn
 /// before (`old`, posed as `old_poses` say) for the faces a piece has of the instance it was made
 /// out of (ModelChange::origins) when that was posed alike, computed for the others. The copy is
-/// written into one of `spare` where one is large enough (its memory reused).
+/// written into one of `spare` where one fits (take_smallest_fit: its memory reused).
 std::vector<glm::vec3> built_normals(const SceneInstance& instance, const ModelChange& change,
                                      const std::vector<SceneInstance>& old,
                                      const std::vector<PosedMeshHeader>& old_poses,
@@ -136,7 +126,8 @@ std::vector<glm::vec3> built_normals(const SceneInstance& instance, const ModelC
       if (before.node == o->node_before && before.mesh == o->mesh_before &&
           before.primitive == o->primitive_before && !before.posed_normals.empty() &&
           posed.world == pose.world && posed.joints == pose.joints && posed.weights == pose.weights) {
-        std::vector<glm::vec3> out = take_spare(spare, 3 * instance.surface->face_slots());
+        std::vector<glm::vec3> out = take_smallest_fit(
+            spare, 3 * instance.surface->face_slots(), [](const std::vector<glm::vec3>& a) { return a.capacity(); });
         pose.corner_normals(*instance.surface, *o, before.posed_normals, out);
         return out;
       }
@@ -341,10 +332,7 @@ SceneCounts scene_counts(const Scene& scene) {
   for (const SceneInstance& instance : scene.instances) {
     const SurfaceMesh& mesh = *instance.surface;
     counts.triangles += mesh.face_count();
-    std::unique_ptr<std::atomic<std::uint8_t>[]> used(new std::atomic<std::uint8_t>[mesh.vertex_count()]);
-    parallel_for(mesh.vertex_count(), kGrain, [&](std::size_t b, std::size_t e) {
-      for (std::size_t v = b; v < e; ++v) used[v].store(0, std::memory_order_relaxed);
-    });
+    const Flags used = cleared_flags(mesh.vertex_count(), kGrain);
     parallel_for(mesh.face_slots(), kGrain, [&](std::size_t b, std::size_t e) {
       const Triangle* const faces = mesh.faces().data();
       for (std::size_t f = b; f < e; ++f)

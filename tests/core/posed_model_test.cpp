@@ -9,10 +9,13 @@
 #include <cstring>
 #include <random>
 #include <string>
+#include <variant>
+#include <vector>
 
 #include "deepcut/core/generate/cactus.h"
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/mesh_editor.h"
+#include "deepcut/core/model_undo.h"
 #include "deepcut/core/ops/operation.h"
 #include "deepcut/core/skinning.h"
 #include "fixtures.h"
@@ -422,5 +425,70 @@ TEST(PosedModelTest, a_positions_copy_equals_a_positions_build_and_a_cut_given_i
   ASSERT_EQ(apply_operation(plain, cut).status, OpStatus::Ok);
   expect_identical(model, plain);
 }
+
+namespace {
+
+// Whether `a` and `b` hold the same values, bit for bit.
+bool same_bits(const std::vector<glm::vec3>& a, const std::vector<glm::vec3>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(glm::vec3)) == 0;
+}
+
+const SurfaceMesh& primitive_of(const Model& m, int mesh, int primitive) {
+  return m.meshes[static_cast<std::size_t>(mesh)].primitives[static_cast<std::size_t>(primitive)].mesh;
+}
+
+// A cut piece's corner normals written into a given array (how a spare's memory is reused) are
+// bit-equal to the returned ones and to a fresh corner_normals, whatever the array held (NaN)
+// and its size (empty, smaller, exact, bigger); an origin that does not fit falls back to the
+// fresh computation.
+TEST(PosedModelTest, corner_normals_written_into_an_array_equal_the_returned_ones) {
+  Model model = test::make_morph_tube_model();
+  const Model before = model;
+  Operation op;
+  op.params = CutOperation{};
+  std::get<CutOperation>(op.params).plane.point = glm::vec3(0.0f, 1.8f, 0.0f);
+  std::get<CutOperation>(op.params).plane.normal = glm::vec3(-0.1f, 1.0f, 0.2f);
+  op.animation = 0;
+  op.time = 0.5f;
+  PosedModel posed;
+  OperationResult result;
+  {
+    ModelRecorder recorder(model);  // (under a record, the cut says where its pieces came from)
+    result = apply_operation(model, op, posed);
+    recorder.finish();
+  }
+  ASSERT_EQ(result.status, OpStatus::Ok);
+  const auto& origins = std::get<ModelCutResult>(result.result).origins;
+  ASSERT_FALSE(origins.empty());
+  const PosedModel posed_before = PosedModel::build(before, 0, 0.5f, PoseDetail::Positions);
+  const PosedModel posed_after = PosedModel::build(model, 0, 0.5f, PoseDetail::Positions);
+  const glm::vec3 nan(std::nanf(""));
+  for (const auto& o : origins) {
+    ASSERT_TRUE(o);
+    const SurfaceMesh& source_mesh = primitive_of(before, o->mesh_before, o->primitive_before);
+    const SurfaceMesh& mesh = primitive_of(model, o->mesh, o->primitive);
+    const PosedMesh* from = posed_before.find(o->node_before, o->primitive_before);
+    const PosedMesh* pose = posed_after.find(o->node, o->primitive);
+    ASSERT_TRUE(from && pose);
+    const std::vector<glm::vec3> source = from->corner_normals(source_mesh);
+    const std::vector<glm::vec3> fresh = pose->corner_normals(mesh);
+    const std::vector<glm::vec3> returned = pose->corner_normals(mesh, *o, source);
+    ASSERT_EQ(fresh.size(), 3 * mesh.face_slots());
+    EXPECT_TRUE(same_bits(returned, fresh)) << "the copy differs from a fresh computation";
+    const std::size_t n = fresh.size();
+    for (std::size_t size : {std::size_t(0), n / 2, n, 2 * n + 5}) {
+      std::vector<glm::vec3> out(size, nan);
+      pose->corner_normals(mesh, *o, source, out);
+      EXPECT_TRUE(same_bits(out, returned)) << "written into " << size << " values";
+    }
+    PrimitiveOrigin misfit = *o;
+    misfit.faces.pop_back();
+    std::vector<glm::vec3> out(n, nan);
+    pose->corner_normals(mesh, misfit, source, out);
+    EXPECT_TRUE(same_bits(out, fresh)) << "the fallback differs from a fresh computation";
+  }
+}
+
+}  // namespace
 
 }  // namespace deepcut

@@ -9,6 +9,8 @@
 #include "deepcut/core/adjacency.h"
 #include "deepcut/core/attributes.h"
 #include "deepcut/core/errors.h"
+#include "deepcut/core/mesh_editor.h"
+#include "deepcut/core/parallel.h"
 #include "deepcut/core/skinning.h"
 #include "deepcut/core/softbody/clustering.h"
 #include "deepcut/core/softbody/simulation.h"
@@ -351,6 +353,46 @@ TEST(ClustersInspectorTest, colours_vertices_by_particle_and_reclusters_with_rho
   EXPECT_TRUE(contains(inspector->summary(), "Particle "));
   ASSERT_TRUE(inspector->focus().has_value());
   EXPECT_FLOAT_EQ(inspector->focus()->radius, 3.0f);
+}
+
+// The status bar's counts (vertices marked over the pool) are the same whatever the thread
+// count, and equal to a serial count, over several chunks of vertices with deleted faces (whose
+// vertices only they used are not counted).
+TEST(SceneCountsTest, the_same_whatever_the_thread_count) {
+  Model model;
+  Primitive prim;
+  prim.mesh = test::make_grid(260, 260);
+  ASSERT_GT(prim.mesh.vertex_count(), 65536u);
+  {
+    MeshEditor editor(prim.mesh);
+    for (std::uint32_t f = 0; f < prim.mesh.face_slots(); f += 5) editor.remove_face(FaceId(f));
+    for (std::uint32_t f = 1; f < 2000; ++f)  // a patch whose vertices no live face uses
+      if (!prim.mesh.is_deleted(FaceId(f))) editor.remove_face(FaceId(f));
+  }
+  std::vector<char> used(prim.mesh.vertex_count(), 0);
+  std::size_t faces = 0;
+  for (std::uint32_t f = 0; f < prim.mesh.face_slots(); ++f) {
+    if (prim.mesh.is_deleted(FaceId(f))) continue;
+    ++faces;
+    for (VertexId v : prim.mesh.face(FaceId(f))) used[v.index] = 1;
+  }
+  const auto vertices = static_cast<std::size_t>(std::count(used.begin(), used.end(), 1));
+  ASSERT_LT(vertices, prim.mesh.vertex_count());
+  model.meshes.push_back({"grid", {}, ""});
+  model.meshes[0].primitives.push_back(std::move(prim));
+  Node node;
+  node.mesh = 0;
+  model.nodes.push_back(node);
+  model.scenes = {{0}};
+  const Scene scene = make_scene(std::make_shared<const Model>(std::move(model)), -1, 0.0f, false);
+  const std::size_t saved = thread_count();
+  for (std::size_t threads : {1u, 2u, 3u}) {
+    set_thread_count(threads);
+    const SceneCounts counts = scene_counts(scene);
+    EXPECT_EQ(counts.vertices, vertices) << threads << " threads";
+    EXPECT_EQ(counts.triangles, faces) << threads << " threads";
+  }
+  set_thread_count(saved);
 }
 
 }  // namespace

@@ -9,14 +9,19 @@
 // cell its points' positions, normals, texture coordinates, vertex ids, face id and colours.
 
 #include <QtTest/QtTest>
+#include <algorithm>
 #include <memory>
 #include <string>
+#include <variant>
+#include <vector>
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
 #include <vtkPointData.h>
 #include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
+#include <vtkTypeInt64Array.h>
 
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/ops/operation.h"
@@ -128,9 +133,13 @@ class ViewFollowGuiTest : public QObject {
   // A cut, its undo and its redo are followed too: what they kept or bring back is drawn from
   // what was drawn before (not built again), and the result equals a full build.
   void cuts_undo_and_redo_follow_like_a_full_build() { follow_steps(true); }
+  // Two cuts in a row, then two undos and two redos: the second cut's larger piece takes the
+  // arrays of the data the first cut set aside (a spare: what no undo brings back any more), and
+  // every step draws what a full build draws.
+  void a_second_cut_reuses_what_the_first_set_aside() { follow_steps(true, true); }
 
  private:
-  void follow_steps(bool cuts) {
+  void follow_steps(bool cuts, bool two_cuts = false) {
     auto opened = std::make_shared<Model>(read_gltf(DEEPCUT_ASSETS_DIR "/cactus.glb"));
     reserve_for_operations(*opened);
     const int animation = opened->animations.empty() ? -1 : 0;
@@ -144,7 +153,26 @@ class ViewFollowGuiTest : public QObject {
     plugins::Scene scene = plugins::make_scene(session.current(), animation, time);
     view.set_scene(scene);
     view.render();
-    int followed = 0, structural = 0, reused = 0;
+    int followed = 0, structural = 0, reused = 0, taken = 0;
+    // The connectivity arrays drawn after some step, and those drawn after the last one: an
+    // operation's piece drawing one seen before but not last took a spare's arrays.
+    std::vector<vtkSmartPointer<vtkTypeInt64Array>> seen, last;
+    auto drawn_arrays = [&] {
+      std::vector<vtkSmartPointer<vtkTypeInt64Array>> out;
+      for (std::size_t i = 0; i < scene.instances.size(); ++i)
+        out.emplace_back(view.instance_poly_data(i)->GetPolys()->GetConnectivityArray64());
+      return out;
+    };
+    auto count_taken = [&] {
+      const auto now = drawn_arrays();
+      for (const auto& a : now)
+        if (std::find(seen.begin(), seen.end(), a) != seen.end() &&
+            std::find(last.begin(), last.end(), a) == last.end())
+          ++taken;
+      seen.insert(seen.end(), now.begin(), now.end());
+      last = now;
+    };
+    count_taken();
     // `change`: what the session says the step changed (as the studio is told).
     auto check_step = [&](const ModelChange& change, const std::string& what) {
       if (plugins::follow_scene(scene, session.current(), change)) {
@@ -183,13 +211,22 @@ class ViewFollowGuiTest : public QObject {
     BoundingBox box;
     for (const auto& entry : rest.instances()) box.add(entry.second.bounds);
     LocalOperations operations(box, animation, time, cuts);
-    const int steps = 8;
+    const int steps = two_cuts ? 2 : 8;
     for (int i = 0; i < steps; ++i) {
-      const session::Applied applied = session.apply(operations.next_operation(i));
+      Operation op = operations.next_operation(two_cuts ? 2 : i);
+      if (two_cuts) {  // the first across the top, the second across the larger piece's top
+        const float h = box.max.y - box.min.y;
+        auto& plane = std::get<CutOperation>(op.params).plane;
+        plane.point = 0.5f * (box.min + box.max) + glm::vec3(0.0f, (i == 0 ? 0.3f : 0.15f) * h, 0.0f);
+        plane.normal = glm::vec3(0.05f, 1.0f, 0.02f);
+      }
+      const session::Applied applied = session.apply(op);
       if (applied.result.status != OpStatus::Ok) continue;
       check_step(applied.change, "operation " + std::to_string(i));
       if (QTest::currentTestFailed()) return;
+      count_taken();
     }
+    if (two_cuts) QVERIFY2(taken >= 1, "the second cut's piece took the arrays the first cut set aside");
     while (session.can_undo()) {
       check_step(session.undo(), "undo");
       if (QTest::currentTestFailed()) return;
@@ -198,7 +235,7 @@ class ViewFollowGuiTest : public QObject {
       check_step(session.redo(), "redo");
       if (QTest::currentTestFailed()) return;
     }
-    QVERIFY2(followed >= steps, "the view followed the steps");
+    QVERIFY2(followed >= (two_cuts ? 6 : steps), "the view followed the steps");
     if (cuts) {
       QVERIFY2(structural >= 3, "cuts, their undo and redo were followed");
       QVERIFY2(reused >= 2, "undo and redo of cuts drew what was drawn before");

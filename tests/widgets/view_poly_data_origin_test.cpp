@@ -5,6 +5,9 @@
 // and from source data whose points were renumbered by earlier steps. Headless: VTK data only.
 
 #include <gtest/gtest.h>
+#include <vtkIdTypeArray.h>
+#include <vtkNew.h>
+#include <vtkUnsignedCharArray.h>
 
 #include <algorithm>
 #include <cstdint>
@@ -57,6 +60,12 @@ Drawn drawn(const Model& model, const PosedModel& posed, int node, int mesh, int
   out.positions = pose->posed;
   out.normals = pose->corner_normals(*out.mesh);
   return out;
+}
+
+/// The connectivity `view` draws, as values.
+std::vector<vtkTypeInt64> connectivity_of(const ViewPolyData& view) {
+  vtkTypeInt64Array* a = view.poly()->GetPolys()->GetConnectivityArray64();
+  return std::vector<vtkTypeInt64>(a->GetPointer(0), a->GetPointer(0) + a->GetNumberOfValues());
 }
 
 /// `view` (drawing `d`) follows a step that deletes every third face, then one that brings them
@@ -287,6 +296,127 @@ TEST(ViewPolyDataOriginTest, chunked_copy_is_the_same_whatever_the_thread_count)
       }
     }
     EXPECT_GE(i, 2u) << "no piece with more than two chunks of faces";
+  }
+  set_thread_count(saved);
+}
+
+/// The positions of `mesh`'s vertices (at rest, unposed).
+const std::vector<glm::vec3>& rest(const SurfaceMesh& mesh) {
+  return mesh.vertex_attrs().get<glm::vec3>(attr::kPosition).data();
+}
+
+/// `mesh` with every face but each `keep`-th deleted (its slots stay: as many cells, few points).
+SurfaceMesh sparse_faces(const SurfaceMesh& mesh, std::uint32_t keep) {
+  SurfaceMesh fewer = mesh;
+  MeshEditor editor(fewer);
+  for (std::uint32_t f = 0; f < fewer.face_slots(); ++f)
+    if (f % keep != 0 && !fewer.is_deleted(FaceId(f))) editor.remove_face(FaceId(f));
+  return fewer;
+}
+
+/// The cells' raw offsets (slots + 1) and face ids (slots) are the identity, and the point
+/// arrays are those of a fresh build, in its order (what the VTK data's readers index by).
+void expect_raw_like_fresh(const ViewPolyData& got, const SurfaceMesh& mesh) {
+  const std::size_t slots = mesh.face_slots();
+  vtkTypeInt64Array* offsets = got.poly()->GetPolys()->GetOffsetsArray64();
+  auto* face_ids = vtkIdTypeArray::SafeDownCast(got.poly()->GetCellData()->GetArray("face_id"));
+  ASSERT_TRUE(offsets && face_ids);
+  ASSERT_EQ(offsets->GetNumberOfValues(), static_cast<vtkIdType>(slots + 1));
+  ASSERT_EQ(face_ids->GetNumberOfValues(), static_cast<vtkIdType>(slots));
+  for (std::size_t f = 0; f <= slots; ++f) ASSERT_EQ(offsets->GetValue(f), vtkTypeInt64(3 * f)) << "offset " << f;
+  for (std::size_t f = 0; f < slots; ++f) ASSERT_EQ(face_ids->GetValue(f), vtkIdType(f)) << "face id " << f;
+  const ViewPolyData fresh(mesh, rest(mesh));
+  auto names = [](vtkDataSetAttributes* data) {
+    std::vector<std::string> out;
+    for (int i = 0; i < data->GetNumberOfArrays(); ++i) out.emplace_back(data->GetArrayName(i));
+    return out;
+  };
+  EXPECT_EQ(names(got.poly()->GetPointData()), names(fresh.poly()->GetPointData()));
+  EXPECT_EQ(names(got.poly()->GetCellData()), names(fresh.poly()->GetCellData()));
+}
+
+/// Gives `view` colour arrays, as the studio's inspectors do (point and cell "colors").
+void colour(ViewPolyData& view) {
+  vtkNew<vtkUnsignedCharArray> points, cells;
+  points->SetName("colors");
+  points->SetNumberOfComponents(3);
+  points->SetNumberOfTuples(view.poly()->GetNumberOfPoints());
+  points->FillValue(7);
+  cells->SetName("colors");
+  cells->SetNumberOfComponents(3);
+  cells->SetNumberOfTuples(view.poly()->GetNumberOfCells());
+  cells->FillValue(9);
+  view.poly()->GetPointData()->AddArray(points);
+  view.poly()->GetCellData()->AddArray(cells);
+}
+
+// A piece's copying build that takes a spare's arrays (more cells, fewer points, fewer cells
+// within its room, prepared lists, colours) equals a fresh build, raw arrays included, and so do
+// its steps after; the spare is left without data, the source unchanged; a spare too small is
+// left alone. The same connectivity whatever the thread count, the spare spanning many chunks.
+TEST(ViewPolyDataOriginTest, a_piece_taking_a_spare_equals_a_fresh_build) {
+  Cut c;
+  cut(c, grid_model(160, 120), plane_through({0.1f, 0.0f, 0.1f}, {0.3f, 0.0f, 1.0f}), -1, 0.0f);
+  const PosedModel posed_before = PosedModel::build(c.before, -1, 0.0f, PoseDetail::Positions);
+  const PosedModel posed_after = PosedModel::build(c.after, -1, 0.0f, PoseDetail::Positions);
+  const SurfaceMesh& whole = c.before.meshes[0].primitives[0].mesh;
+  const SurfaceMesh sparse = sparse_faces(whole, 50);
+  enum Kind { bigger, fewer_points, fewer_cells, prepared, coloured, too_small };
+  const std::size_t saved = thread_count();
+  std::vector<std::vector<vtkTypeInt64>> first;  // per piece and kind, with one thread
+  for (std::size_t threads : {1u, 2u, 3u}) {
+    SCOPED_TRACE("threads " + std::to_string(threads));
+    set_thread_count(threads);
+    std::size_t i = 0;
+    for (const auto& origin : c.origins) {
+      const Drawn source =
+          drawn(c.before, posed_before, origin->node_before, origin->mesh_before, origin->primitive_before);
+      const Drawn piece = drawn(c.after, posed_after, origin->node, origin->mesh, origin->primitive);
+      ASSERT_TRUE(source.mesh && piece.mesh);
+      const std::size_t slots = piece.mesh->face_slots();
+      if (slots < 4000u) continue;  // (the smaller spare's room needs a build's slack)
+      // A grid of a little fewer faces than the piece: its room (with a build's slack) holds it.
+      const SurfaceMesh smaller = test::make_grid(50, static_cast<int>((slots - 500) / 100));
+      ASSERT_LT(smaller.face_slots(), slots);
+      const SurfaceMesh tiny = test::make_grid(4, 4);
+      for (Kind kind : {bigger, fewer_points, fewer_cells, prepared, coloured, too_small}) {
+        SCOPED_TRACE("spare kind " + std::to_string(kind));
+        ViewPolyData source_view(*source.mesh, source.positions, &source.normals);
+        renumber_points(source_view, source, "the source renumbered");
+        const std::vector<vtkTypeInt64> source_cells = connectivity_of(source_view);
+        const SurfaceMesh& spare_mesh =
+            kind == fewer_points ? sparse : kind == fewer_cells ? smaller : kind == too_small ? tiny : whole;
+        ViewPolyData spare(spare_mesh, rest(spare_mesh));
+        if (kind == prepared) {
+          renumber_points(spare, Drawn{&whole, rest(whole), {}}, "the spare renumbered");
+          spare.prepare_updates();
+        }
+        if (kind == coloured) colour(spare);
+        if (kind == fewer_points) {  // (the points' arrays grow)
+          ASSERT_LT(4 * spare.poly()->GetNumberOfPoints(), source_view.poly()->GetNumberOfPoints());
+        }
+        ASSERT_EQ(ViewPolyData::can_take(spare, slots), kind != too_small);
+        ViewPolyData copied(*piece.mesh, piece.positions, &piece.normals, source_view, *origin, &spare);
+        EXPECT_TRUE(copied.copied());
+        EXPECT_EQ(spare.poly() == nullptr, kind != too_small) << "the spare's arrays taken";
+        EXPECT_TRUE(connectivity_of(source_view) == source_cells) << "the source changed";
+        EXPECT_EQ(copied.poly()->GetPointData()->GetArray("colors"), nullptr);
+        EXPECT_EQ(copied.poly()->GetCellData()->GetArray("colors"), nullptr);
+        expect_rebuilt(copied, *piece.mesh, piece.positions, &piece.normals, "copied");
+        expect_raw_like_fresh(copied, *piece.mesh);
+        std::vector<vtkTypeInt64> got = connectivity_of(copied);
+        copied.prepare_updates();
+        Drawn d = piece;
+        renumber_points(copied, d, "prepared, then updated");
+        expect_raw_like_fresh(copied, *piece.mesh);
+        for (auto& stage : {got, connectivity_of(copied)}) {
+          if (threads == 1) first.push_back(stage);
+          ASSERT_LT(i, first.size());
+          EXPECT_TRUE(stage == first[i++]) << "connectivity differs from one thread's";
+        }
+      }
+    }
+    EXPECT_GE(i, 12u) << "no piece large enough";
   }
   set_thread_count(saved);
 }

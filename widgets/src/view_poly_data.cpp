@@ -6,6 +6,7 @@
 #include <vtkNew.h>
 
 #include <algorithm>
+#include <cassert>
 #include <functional>
 
 #include "deepcut/core/parallel.h"
@@ -22,6 +23,21 @@ using view_data::Raw;
 using view_data::write_point;
 
 namespace {
+
+// `spare` (an array of a spare data, or null) when it is an Array with `components` components,
+// marked modified (ranges cached for its values before are stale); else a new one named `name`.
+template <class Array>
+vtkSmartPointer<Array> reused_or_new(vtkAbstractArray* spare, const char* name, int components) {
+  if (auto* a = Array::SafeDownCast(spare); a && a->GetNumberOfComponents() == components) {
+    a->Modified();
+    return a;
+  }
+  auto a = vtkSmartPointer<Array>::New();
+  if (name) a->SetName(name);
+  a->SetNumberOfComponents(components);
+  return a;
+}
+
 
 // Sets `n` tuples, keeping the values below and room to grow (a step appends a few elements:
 // no reallocation of the whole array each time).
@@ -101,51 +117,64 @@ ViewPolyData::ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>
 ViewPolyData::ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
                            const std::vector<glm::vec3>* corner_normals, const ViewPolyData& source,
                            const PrimitiveOrigin& origin, ViewPolyData* spare) {
-  make_arrays(mesh);
-  if (spare && spare != &source && spare->poly_) take_arrays(*spare, mesh.face_slots());
-  resize(mesh);
-  vertices_ = mesh.vertex_count();
-  if (corners_ && copy_corner_points(Writer(poly_, mesh, positions, corner_normals), source, origin)) {
-    copied_ = true;
-    modified();
+  if (!copy_fits(mesh, source, origin)) {
+    *this = ViewPolyData(mesh, positions, corner_normals);
     return;
   }
-  *this = ViewPolyData(mesh, positions, corner_normals);
+  make_arrays(mesh, spare && spare != &source && can_take(*spare, mesh.face_slots()) ? spare : nullptr);
+  resize(mesh);
+  vertices_ = mesh.vertex_count();
+  copy_corner_points(Writer(poly_, mesh, positions, corner_normals), source, origin);
+  copied_ = true;
+  modified();
 }
 
-void ViewPolyData::make_arrays(const SurfaceMesh& mesh) {
+bool ViewPolyData::draws_corners(const SurfaceMesh& mesh) {
   const auto& ca = mesh.corner_attrs();
-  const auto* uv = ca.find<glm::vec2>(attr::kUv0);
-  const auto* normal = ca.find<glm::vec3>(attr::kNormal);
-  corners_ = uv || normal;
+  return ca.find<glm::vec2>(attr::kUv0) || ca.find<glm::vec3>(attr::kNormal);
+}
+
+void ViewPolyData::make_arrays(const SurfaceMesh& mesh, ViewPolyData* spare) {
+  const auto& ca = mesh.corner_attrs();
+  corners_ = draws_corners(mesh);
+  const bool uv = corners_ && ca.find<glm::vec2>(attr::kUv0);
+  const bool normal = corners_ && ca.find<glm::vec3>(attr::kNormal);
+  vtkPolyData* const from = spare ? spare->poly_.Get() : nullptr;
+  vtkPointData* const from_pd = from ? from->GetPointData() : nullptr;
+  vtkCellArray* const from_cells = from ? from->GetPolys() : nullptr;
   poly_ = vtkSmartPointer<vtkPolyData>::New();
-  vtkNew<vtkFloatArray> point_data;
-  point_data->SetNumberOfComponents(3);
   vtkNew<vtkPoints> points;
-  points->SetData(point_data);
+  points->SetData(reused_or_new<vtkFloatArray>(from ? from->GetPoints()->GetData() : nullptr, nullptr, 3));
   poly_->SetPoints(points);
-  vtkNew<vtkIdTypeArray> vertex_ids;
-  vertex_ids->SetName("vertex_id");
-  poly_->GetPointData()->AddArray(vertex_ids);
-  if (corners_ && uv) {
-    vtkNew<vtkFloatArray> a;
-    a->SetName("uv0");
-    a->SetNumberOfComponents(2);
-    poly_->GetPointData()->SetTCoords(a);
-  }
-  if (corners_ && normal) {
-    vtkNew<vtkFloatArray> a;
-    a->SetName("normal");
-    a->SetNumberOfComponents(3);
-    poly_->GetPointData()->SetNormals(a);
-  }
-  vtkNew<vtkIdTypeArray> face_ids;
-  face_ids->SetName("face_id");
+  vtkPointData* pd = poly_->GetPointData();
+  pd->AddArray(reused_or_new<vtkIdTypeArray>(from_pd ? named<vtkIdTypeArray>(from_pd, "vertex_id") : nullptr,
+                                             "vertex_id", 1));
+  if (uv)
+    pd->SetTCoords(
+        reused_or_new<vtkFloatArray>(from_pd ? named<vtkFloatArray>(from_pd, "uv0") : nullptr, "uv0", 2));
+  if (normal)
+    pd->SetNormals(reused_or_new<vtkFloatArray>(from_pd ? from_pd->GetNormals() : nullptr, "normal", 3));
+  auto face_ids = reused_or_new<vtkIdTypeArray>(
+      from ? named<vtkIdTypeArray>(from->GetCellData(), "face_id") : nullptr, "face_id", 1);
   poly_->GetCellData()->AddArray(face_ids);
   vtkNew<vtkCellArray> polys;
-  vtkNew<vtkTypeInt64Array> offsets, connectivity;
-  polys->SetData(offsets, connectivity);
+  auto offsets =
+      reused_or_new<vtkTypeInt64Array>(from_cells ? from_cells->GetOffsetsArray64() : nullptr, nullptr, 1);
+  polys->SetData(offsets, reused_or_new<vtkTypeInt64Array>(
+                              from_cells ? from_cells->GetConnectivityArray64() : nullptr, nullptr, 1));
   poly_->SetPolys(polys);
+  if (!spare) return;
+  // A data's offsets and face ids are the identity (resize writes only those past its cells).
+  const vtkIdType cells = face_ids->GetNumberOfTuples();
+  assert(cells == 0 || (offsets->GetValue(cells) == 3 * cells && face_ids->GetValue(cells - 1) == cells - 1));
+  (void)cells;
+  uses_.swap(spare->uses_);
+  point_corner_.swap(spare->point_corner_);
+  first_.swap(spare->first_);
+  next_.swap(spare->next_);
+  prev_.swap(spare->prev_);
+  corner_vertex_.swap(spare->corner_vertex_);
+  spare->poly_ = nullptr;
 }
 
 void ViewPolyData::build_corner_points(const Writer& writer, const CornerGroups& groups) {

@@ -7,9 +7,9 @@
 
 #include <algorithm>
 #include <atomic>
-#include <initializer_list>
 #include <memory>
 
+#include "deepcut/core/flags.h"
 #include "deepcut/core/parallel.h"
 #include "view_poly_data_writer.h"
 
@@ -32,15 +32,17 @@ struct ViewPolyData::Copying {
 
 namespace {
 
-// Calls `fn(chunk, begin, end)` for the face slots of `mesh` in chunks of kGrain slots, over
-// the pool (results kept per chunk join in order). @returns the number of chunks. The bodies
-// read what they use into locals first: their stores (bytes among them) could otherwise alias
-// the captures, read again for every corner.
+// The number of chunks of kGrain elements among `n`.
+std::size_t chunk_count(std::size_t n) { return (n + kGrain - 1) / kGrain; }
+
+// Calls `fn(chunk, begin, end)` for `n` elements in chunks of kGrain, over the pool (results
+// kept per chunk join in order). @returns the number of chunks. The bodies copy the captures
+// they read into locals first, so that their stores cannot make those be read again per corner.
 template <class Fn>
-std::size_t for_face_chunks(const SurfaceMesh& mesh, const Fn& fn) {
-  const std::size_t slots = mesh.face_slots(), chunks = (slots + kGrain - 1) / kGrain;
+std::size_t for_chunks(std::size_t n, const Fn& fn) {
+  const std::size_t chunks = chunk_count(n);
   parallel_for(chunks, 1, [&](std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i) fn(i, i * kGrain, std::min(slots, (i + 1) * kGrain));
+    for (std::size_t i = b; i < e; ++i) fn(i, i * kGrain, std::min(n, (i + 1) * kGrain));
   });
   return chunks;
 }
@@ -55,39 +57,38 @@ void join(const std::vector<std::vector<T>>& parts, std::vector<T>& out) {
 // first number, over the pool.
 void number_in_order(const std::atomic<std::uint8_t>* used, std::size_t n,
                      std::unique_ptr<std::uint32_t[]>& number, std::vector<std::uint32_t>& kept) {
-  const std::size_t chunks = (n + kGrain - 1) / kGrain;
+  const std::size_t chunks = chunk_count(n);
   std::vector<std::uint32_t> first(chunks + 1, 0);
-  parallel_for(chunks, 1, [&](std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i) {
-      std::uint32_t count = 0;
-      for (std::size_t p = i * kGrain, end = std::min(n, (i + 1) * kGrain); p < end; ++p)
-        count += used[p].load(std::memory_order_relaxed);
-      first[i + 1] = count;
-    }
+  for_chunks(n, [&](std::size_t i, std::size_t b, std::size_t e) {
+    std::uint32_t count = 0;
+    for (std::size_t p = b; p < e; ++p) count += used[p].load(std::memory_order_relaxed);
+    first[i + 1] = count;
   });
   for (std::size_t i = 0; i < chunks; ++i) first[i + 1] += first[i];
   number.reset(new std::uint32_t[n]);  // written whole below (no value fill first)
   kept.resize(first[chunks]);
-  parallel_for(chunks, 1, [&](std::size_t b, std::size_t e) {
-    std::uint32_t *const to_number = number.get(), *const to_kept = kept.data();
-    for (std::size_t i = b; i < e; ++i) {
-      std::uint32_t next = first[i];
-      for (std::size_t p = i * kGrain, end = std::min(n, (i + 1) * kGrain); p < end; ++p) {
-        const bool in_use = used[p].load(std::memory_order_relaxed);
-        to_number[p] = in_use ? next : kInvalidIndex;
-        if (in_use) to_kept[next++] = static_cast<std::uint32_t>(p);
-      }
+  for_chunks(n, [&](std::size_t i, std::size_t b, std::size_t e) {
+    std::uint32_t* const to_number = number.get();
+    std::uint32_t* const to_kept = kept.data();
+    std::uint32_t next = first[i];
+    for (std::size_t p = b; p < e; ++p) {
+      const bool in_use = used[p].load(std::memory_order_relaxed);
+      to_number[p] = in_use ? next : kInvalidIndex;
+      if (in_use) to_kept[next++] = static_cast<std::uint32_t>(p);
     }
   });
 }
 
 }  // namespace
 
-bool ViewPolyData::copy_corner_points(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin) {
+bool ViewPolyData::copy_fits(const SurfaceMesh& mesh, const ViewPolyData& source, const PrimitiveOrigin& origin) {
+  return draws_corners(mesh) && source.corners_ && origin.faces.size() == mesh.face_slots() &&
+         origin.vertices.size() == mesh.vertex_count() &&
+         source.uses_.size() == static_cast<std::size_t>(source.poly_->GetNumberOfPoints());
+}
+
+void ViewPolyData::copy_corner_points(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin) {
   const SurfaceMesh& mesh = w.mesh;
-  if (!source.corners_ || origin.faces.size() != mesh.face_slots() || origin.vertices.size() != mesh.vertex_count() ||
-      source.uses_.size() != static_cast<std::size_t>(source.poly_->GetNumberOfPoints()))
-    return false;
   Copying copying;
   copy_connectivity(w, source, origin, copying);
   choose_corners(w, source, origin, copying);
@@ -109,7 +110,6 @@ bool ViewPolyData::copy_corner_points(const Writer& w, const ViewPolyData& sourc
     clear_point(writer.r, 0);
   }
   set_point_count(uses_.size());
-  return true;
 }
 
 void ViewPolyData::copy_connectivity(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin,
@@ -121,18 +121,16 @@ void ViewPolyData::copy_connectivity(const Writer& w, const ViewPolyData& source
   const std::size_t old_points = source.uses_.size();
   const auto old_cells = static_cast<std::size_t>(source.poly_->GetNumberOfCells());
   const Raw old = raw(source.poly_);
-  std::unique_ptr<std::atomic<std::uint8_t>[]> used_points(new std::atomic<std::uint8_t>[old_points]);
+  const Flags used_points = cleared_flags(old_points, kGrain);
   std::atomic<std::uint8_t>* const used = used_points.get();
-  parallel_for(old_points, kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t p = b; p < e; ++p) used[p].store(0, std::memory_order_relaxed);
-  });
-  const std::size_t parts = (mesh.face_slots() + kGrain - 1) / kGrain;
+  const std::size_t parts = chunk_count(mesh.face_slots());
   std::vector<std::vector<std::uint32_t>> waits(parts), collapsed(parts);
-  for_face_chunks(mesh, [&](std::size_t chunk, std::size_t b, std::size_t e) {
+  for_chunks(mesh.face_slots(), [&](std::size_t chunk, std::size_t b, std::size_t e) {
     vtkTypeInt64* const conn = w.r.connectivity;
     const vtkTypeInt64* const old_conn = old.connectivity;
     const vtkIdType* const old_vertex = old.vertex_id;
-    const std::uint32_t *const face_from = origin.faces.data(), *const vertex_from = origin.vertices.data();
+    const std::uint32_t* const face_from = origin.faces.data();
+    const std::uint32_t* const vertex_from = origin.vertices.data();
     const Triangle* const faces = mesh.faces().data();
     std::atomic<std::uint8_t>* const in_use = used;
     std::vector<std::uint32_t>& wait = waits[chunk];
@@ -207,14 +205,16 @@ void ViewPolyData::renumber(const Writer& w, Copying& copying) {
   // One pass: the kept corners take their points' new numbers; the corners of orphan points and
   // of vertices with waiting corners are gathered, in order.
   const SurfaceMesh& mesh = w.mesh;
-  const std::size_t parts = (mesh.face_slots() + kGrain - 1) / kGrain;
+  const std::size_t parts = chunk_count(mesh.face_slots());
   std::vector<std::vector<std::uint32_t>> orphans(parts), rims(parts);
-  for_face_chunks(mesh, [&](std::size_t chunk, std::size_t b, std::size_t e) {
+  for_chunks(mesh.face_slots(), [&](std::size_t chunk, std::size_t b, std::size_t e) {
     vtkTypeInt64* const conn = w.r.connectivity;
     const Triangle* const faces = mesh.faces().data();
-    const char *const rim = copying.rim.data(), *const orphan = copying.orphan.data();
+    const char* const rim = copying.rim.data();
+    const char* const orphan = copying.orphan.data();
     const std::uint32_t* const number = copying.number.get();
-    std::vector<std::uint32_t>&orphan_list = orphans[chunk], &rim_list = rims[chunk];
+    std::vector<std::uint32_t>& orphan_list = orphans[chunk];
+    std::vector<std::uint32_t>& rim_list = rims[chunk];
     for (std::size_t f = b; f < e; ++f) {
       if (mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) continue;
       const Triangle& t = faces[f];
@@ -254,43 +254,19 @@ void ViewPolyData::assign_waiting(const Writer& w, const std::vector<std::uint32
   }
 }
 
-void ViewPolyData::take_arrays(ViewPolyData& spare, std::size_t slots) {
-  vtkPolyData* from = spare.poly_;
-  vtkCellArray* cells = from->GetPolys();
-  vtkTypeInt64Array *offsets = cells->GetOffsetsArray64(), *connectivity = cells->GetConnectivityArray64();
-  auto* face_ids = view_data::named<vtkIdTypeArray>(from->GetCellData(), "face_id");
-  if (!offsets || !connectivity || !face_ids || connectivity->GetSize() < static_cast<vtkIdType>(3 * slots) ||
-      offsets->GetSize() <= static_cast<vtkIdType>(slots) ||
-      face_ids->GetSize() < static_cast<vtkIdType>(slots))
-    return;
-  // The cells: every data's offsets and face ids are the identity, so those already there stay.
-  poly_->GetPolys()->SetData(offsets, connectivity);
-  vtkCellData* cd = poly_->GetCellData();
-  cd->RemoveArray("face_id");
-  cd->AddArray(face_ids);
-  // The points' arrays of each kind this data has.
-  vtkPointData *pd = poly_->GetPointData(), *spare_pd = from->GetPointData();
-  auto* points = vtkFloatArray::SafeDownCast(from->GetPoints()->GetData());
-  if (points && points->GetNumberOfComponents() == 3) poly_->GetPoints()->SetData(points);
-  if (auto* ids = view_data::named<vtkIdTypeArray>(spare_pd, "vertex_id")) {
-    pd->RemoveArray("vertex_id");
-    pd->AddArray(ids);
-  }
-  auto* normals = vtkFloatArray::SafeDownCast(spare_pd->GetNormals());
-  if (normals && pd->GetNormals() && normals->GetNumberOfComponents() == 3) pd->SetNormals(normals);
-  auto* uv = view_data::named<vtkFloatArray>(spare_pd, "uv0");
-  if (uv && pd->GetTCoords() && uv->GetNumberOfComponents() == 2) pd->SetTCoords(uv);
-  for (vtkAbstractArray* a :
-       std::initializer_list<vtkAbstractArray*>{offsets, connectivity, face_ids, points, normals, uv})
-    if (a) a->Modified();  // (ranges cached for the values before)
-  // The per-point and per-corner arrays too: each is sized and written whole before it is read.
-  uses_.swap(spare.uses_);
-  point_corner_.swap(spare.point_corner_);
-  first_.swap(spare.first_);
-  next_.swap(spare.next_);
-  prev_.swap(spare.prev_);
-  corner_vertex_.swap(spare.corner_vertex_);
-  spare.poly_ = nullptr;  // (only to be destroyed now)
+std::size_t ViewPolyData::room(const ViewPolyData& spare) {
+  if (!spare.poly_) return 0;
+  vtkCellArray* cells = spare.poly_->GetPolys();
+  const vtkTypeInt64Array* offsets = cells->GetOffsetsArray64();
+  const vtkTypeInt64Array* connectivity = cells->GetConnectivityArray64();
+  const auto* face_ids = view_data::named<vtkIdTypeArray>(spare.poly_->GetCellData(), "face_id");
+  if (!offsets || !connectivity || !face_ids) return 0;
+  const auto held = std::min({connectivity->GetSize() / 3, offsets->GetSize() - 1, face_ids->GetSize()});
+  return static_cast<std::size_t>(std::max<vtkIdType>(held, 0));
+}
+
+bool ViewPolyData::can_take(const ViewPolyData& spare, std::size_t slots) {
+  return spare.poly_ && room(spare) >= slots;
 }
 
 }  // namespace deepcut

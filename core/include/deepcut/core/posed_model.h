@@ -81,9 +81,10 @@ struct PosedMesh : PosedMeshHeader {
   /// the others computed. Equal to corner_normals(surface). O(faces) copies, O(rim) computed.
   std::vector<glm::vec3> corner_normals(const SurfaceMesh& surface, const PrimitiveOrigin& origin,
                                         const std::vector<glm::vec3>& source_normals) const;
-  /// The same written into `out`, resized to one per corner: every value is written, so the
-  /// array of a mesh dropped meanwhile may be given to reuse its memory (where it is large
-  /// enough, no new pages to fault in and no value fill before the copy).
+  /// The same written into `out`, resized to one per corner: every value is written (the mesh
+  /// has one corner normal per corner of each face slot), so the array of a mesh dropped
+  /// meanwhile may be given to reuse its memory (where it is large enough, no new pages to fault
+  /// in and no value fill before the copy). @pre `out` is not `source_normals`.
   void corner_normals(const SurfaceMesh& surface, const PrimitiveOrigin& origin,
                       const std::vector<glm::vec3>& source_normals, std::vector<glm::vec3>& out) const;
   /// Brings `normals` (this pose's `corner_normals` of `surface` before a step) up to date after

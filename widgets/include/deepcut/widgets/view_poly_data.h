@@ -55,14 +55,21 @@ class ViewPolyData {
   /// faces and points instead of comparing every vertex's corners; the corner lists `update`
   /// needs are left for `prepare_updates` (the data is drawn without them). Builds from scratch
   /// when `source` or `origin` does not fit (no corner points, other sizes).
-  /// `spare` (data no longer drawn, or null): where its arrays are large enough for this mesh's
-  /// cells, they are taken over, so their memory is reused: no new pages to fault in, and the
+  /// `spare` (data no longer drawn, or null): where the copy fits and `can_take(*spare, slots)`,
+  /// its arrays are taken over, so their memory is reused: no new pages to fault in, and the
   /// cells' offsets and face ids (the same for every data) are written only past the spare's
-  /// cells. `spare` is then left without data, only to be destroyed.
+  /// cells. `spare` is then left without data, only to be destroyed; otherwise it is untouched.
   /// @pre the vertices `origin` gives a source are distinct.
   ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
                const std::vector<glm::vec3>* corner_normals, const ViewPolyData& source,
                const PrimitiveOrigin& origin, ViewPolyData* spare = nullptr);
+
+  /// How many cells `spare`'s cell arrays (offsets, connectivity, face ids) hold without
+  /// growing; 0 for data left without arrays by a build that took them.
+  static std::size_t room(const ViewPolyData& spare);
+  /// Whether a copying build of a mesh with `slots` face slots can take `spare`'s arrays (what
+  /// the constructor checks; a caller choosing among spares asks the same).
+  static bool can_take(const ViewPolyData& spare, std::size_t slots);
 
   /// Builds what `update` needs that the constructors left out (the corner lists,
   /// O(corners) over the pool): once, when idle after the first frame (else the next `update`
@@ -107,13 +114,15 @@ class ViewPolyData {
   /// point count.
   void resize(const SurfaceMesh& mesh);
   void set_point_count(std::size_t n);
-  /// The empty arrays (no points, no cells) for `mesh`.
-  void make_arrays(const SurfaceMesh& mesh);
-  /// Takes `spare`'s arrays in place of the empty ones (make_arrays) when its cell arrays hold
-  /// `slots` cells, those it has of each kind (points, vertex ids, normals, texture
-  /// coordinates): their values stay until written, so the cells' identity offsets and face ids
-  /// are not written again.
-  void take_arrays(ViewPolyData& spare, std::size_t slots);
+  /// The arrays for `mesh`, in one order whatever their origin: empty ones (no points, no
+  /// cells), or, with `spare` (`can_take` holds), those `spare` has of each kind (points,
+  /// vertex ids, texture coordinates, normals, face ids, offsets, connectivity) and its per-point
+  /// and per-corner vectors. Taken values stay until written (each is sized and written whole
+  /// before it is read), so the cells' identity offsets and face ids are not written again;
+  /// `spare` is left without data.
+  void make_arrays(const SurfaceMesh& mesh, ViewPolyData* spare = nullptr);
+  /// Whether `mesh` is drawn with a point per corner way of drawing (it has corner normals or UVs).
+  static bool draws_corners(const SurfaceMesh& mesh);
   /// The corner lists from the drawn cells (a live cell's corners, linked to their points'
   /// vertices). A cell naming one point three times is a deleted face's, unless its face is in
   /// `collapsed_` (a live face whose three corners are one vertex drawn alike names one point
@@ -122,9 +131,12 @@ class ViewPolyData {
   /// Corner layout of a new mesh: groups every vertex's corners (`groups`) into points, in
   /// parallel.
   void build_corner_points(const Writer& w, const CornerGroups& groups);
+  /// Whether a copying build of `mesh` from `source` as `origin` says fits (corner points on
+  /// both sides, `origin` sized for `mesh`, `source` consistent).
+  static bool copy_fits(const SurfaceMesh& mesh, const ViewPolyData& source, const PrimitiveOrigin& origin);
   /// Corner layout of a new mesh made out of `source`'s mesh as `origin` says (see the
-  /// constructor). @returns false, having changed nothing, when they do not fit.
-  bool copy_corner_points(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin);
+  /// constructor). @pre copy_fits.
+  void copy_corner_points(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin);
   /// The passes of copy_corner_points, over what they know (Copying): connectivity from the
   /// source's points (in the source's numbers; a corner without one waits, -1), a corner for
   /// each point, the new numbers (one pass over the corners), points for the waiting corners.

@@ -1,0 +1,35 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file smallest_fit.h
+/// Choosing which of the buffers a step sets aside (spares) a new buffer reuses: the smallest
+/// that holds what is needed, so large spares stay for large needs, and none far larger than
+/// needed, so a small piece does not keep a large allocation alive (its unused room would
+/// outlive the step; the spare is better freed).
+
+#include <cstddef>
+#include <utility>
+#include <vector>
+
+namespace deepcut {
+
+/// Of `spare`, the element with the least room (`room(element)`, in the units of `n`) that
+/// holds `n` and at most twice `n`, taken out of `spare`; else a default T (nothing reused).
+/// The first of equal rooms is taken, so the choice depends only on the order of `spare`.
+template <class T, class Room>
+T take_smallest_fit(std::vector<T>& spare, std::size_t n, const Room& room) {
+  auto best = spare.end();
+  std::size_t best_room = 0;
+  for (auto it = spare.begin(); it != spare.end(); ++it) {
+    const std::size_t r = room(*it);
+    if (r >= n && r / 2 <= n && (best == spare.end() || r < best_room)) {
+      best = it;
+      best_room = r;
+    }
+  }
+  if (best == spare.end()) return T();
+  T out = std::move(*best);
+  spare.erase(best);
+  return out;
+}
+
+}  // namespace deepcut
