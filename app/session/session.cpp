@@ -134,14 +134,21 @@ ModelChange Session::redo() {
   return was_editing ? structure() : change;
 }
 
-std::size_t Session::undo_bytes() const {
+namespace {
+template <typename Steps>
+std::size_t bytes_of(const Steps& steps, std::size_t count) {
   std::size_t out = 0;
-  for (const Step& step : steps_) {
-    out += sizeof(Step) + step.record.bytes();
-    if (step.entries) out += step.entries->capacity() * sizeof(OperationEntry);
+  for (std::size_t i = 0; i < count; ++i) {
+    out += sizeof(steps[i]) + steps[i].record.bytes();
+    if (steps[i].entries) out += steps[i].entries->capacity() * sizeof(OperationEntry);
   }
   return out;
 }
+}  // namespace
+
+std::size_t Session::undo_bytes() const { return bytes_of(steps_, steps_.size()); }
+
+std::size_t Session::done_bytes() const { return bytes_of(steps_, done_); }
 
 void Session::follow(const ModelChange& change) {
   if (!posed_ || posed_state_ != live_.get() || !posed_->valid()) {

@@ -161,6 +161,9 @@ class Session {
   ModelChange redo();
   /// Bytes the undo stack holds (what the steps keep of the states not current).
   std::size_t undo_bytes() const;
+  /// Bytes the steps that can be undone hold: what an apply keeps (it drops the steps undone), so
+  /// `undo_bytes()` after an apply less this before it is what the new step holds.
+  std::size_t done_bytes() const;
 
   // --- the posed model --------------------------------------------------------------------------
   /// The posed model when it describes the current state, else nullptr. Operations keep it up to

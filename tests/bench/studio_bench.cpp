@@ -19,8 +19,8 @@
 // apply also says where its time to the render call went ("phases": the operation with its undo
 // record, the scene following it, the view's VTK data, the last two also as the process's CPU
 // time; none for the "..._rebuild" rows but the operation's), the bytes its undo step holds once
-// made ("undo_record_bytes": what the session keeps to take it back, read on the first
-// repetition, before which no undone step is dropped) and what it left for when the UI is idle
+// made ("undo_record_bytes": what the session keeps to take it back, beside the steps the apply
+// keeps; the median of the repetitions) and what it left for when the UI is idle
 // after its frame ("prepare_updates_ms": SceneView::prepare_updates, the corner lists of a cut's
 // pieces, timed on its own before the undo so that the undo does not pay for it).
 //   deepcut_studio_bench [--json] [--quick] [--size N] [--no-rebuild] [--ops N] [--open-only]
@@ -219,9 +219,8 @@ json time_operation(MainWindow& window, Timer& timer, const std::function<deepcu
   for (int rep = 0, misses = 0; rep < 3;) {
     const deepcut::Operation op = make();
     bool hit = false;
-    // A step undone before the apply is dropped by it: the step's own bytes are read where none is.
-    const bool clean = !window.session().can_redo();
-    const std::size_t held = window.session().undo_bytes();
+    // The apply drops the steps undone: what it adds to those it keeps is its own step.
+    const std::size_t held = window.session().done_bytes();
     const Timed t = timer.time([&] { hit = apply(window, op); });
     if (!hit) {  // placed where the tool misses: placed again, untimed
       if (++misses > 20) throw std::runtime_error("the operations keep missing the model");
@@ -232,7 +231,7 @@ json time_operation(MainWindow& window, Timer& timer, const std::function<deepcu
     const deepcut::studio::SceneHost::StepTiming step = window.scene_host()->last_step_timing();
     operation.push_back(window.last_operation_ms());
     // Signed: a step that is not exact clears the steps before it, so the bytes may drop.
-    if (clean) record.push_back(static_cast<double>(window.session().undo_bytes()) - static_cast<double>(held));
+    record.push_back(static_cast<double>(window.session().undo_bytes()) - static_cast<double>(held));
     scene.push_back(step.scene_ms);
     view.push_back(step.view_ms);
     scene_cpu.push_back(step.scene_cpu_ms);

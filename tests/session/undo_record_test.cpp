@@ -216,6 +216,30 @@ TEST(UndoRecordTest, every_step_reports_what_diff_models_finds_and_undo_redo_are
   }
 }
 
+// done_bytes counts the steps an apply keeps (it drops those undone): the studio bench reads a
+// new step's bytes as undo_bytes() after the apply less done_bytes() before it.
+TEST(UndoRecordTest, done_bytes_counts_the_steps_an_apply_keeps) {
+  Session session;
+  session.open(cactus(20000));
+  Operations ops(rest_bounds(*session.current()), 5);
+  const auto drill = [&] {
+    for (int tries = 0; tries < 20; ++tries)
+      if (session.apply(ops.drill(0.01f)).result.status == OpStatus::Ok) return;
+    FAIL() << "the drills keep missing the model";
+  };
+  EXPECT_EQ(session.done_bytes(), session.undo_bytes());
+  drill();
+  drill();
+  EXPECT_EQ(session.done_bytes(), session.undo_bytes());
+  session.undo();
+  const std::size_t kept = session.done_bytes();
+  EXPECT_LT(kept, session.undo_bytes()) << "the step undone is held but not counted as done";
+  drill();
+  EXPECT_FALSE(session.can_redo());
+  EXPECT_EQ(session.done_bytes(), session.undo_bytes());
+  EXPECT_GT(session.undo_bytes(), kept) << "the new step holds what its drill touched";
+}
+
 TEST(UndoRecordTest, a_small_drill_on_a_big_mesh_holds_bytes_of_the_edit_not_of_the_model) {
   Session session;
   session.open(cactus(400000));
