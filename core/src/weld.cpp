@@ -12,6 +12,7 @@
 #include "deepcut/core/parallel.h"
 #include "byte_rows.h"
 #include "first_of_class.h"
+#include "ops/common/model_surgery.h"
 
 namespace deepcut {
 namespace {
@@ -54,8 +55,13 @@ class VertexBytes {
 
 // The live faces, and the vertices in order of first use by them.
 struct FaceUse {
-  detail::Indices faces;      // live face slots, in order
-  detail::Indices first_use;  // vertices, in order of first use by `faces`
+  bool all = false;           // every face slot is live and kept (then `faces` is left empty)
+  std::size_t slots = 0;      // the mesh's face slots
+  detail::Indices faces;      // live face slots, in order (unless `all`)
+  detail::Indices first_use;  // vertices, in order of first use by the live faces
+
+  std::size_t size() const { return all ? slots : faces.size(); }
+  std::uint32_t face(std::size_t i) const { return all ? static_cast<std::uint32_t>(i) : faces[i]; }
 };
 
 // In parallel: each vertex's first corner (an atomic minimum over the corners using it), then
@@ -64,15 +70,18 @@ struct FaceUse {
 FaceUse first_uses(const SurfaceMesh& mesh) {
   FaceUse use;
   const auto& tris = mesh.faces();
-  use.faces = detail::ordered_indices(tris.size(), [&](std::size_t f) { return !mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f))); });
-  const std::size_t nf = use.faces.size();
+  use.all = mesh.face_count() == tris.size();  // as read from a file: no face deleted, no list of them
+  use.slots = tris.size();
+  if (!use.all)
+    use.faces = detail::ordered_indices(tris.size(), [&](std::size_t f) { return !mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f))); });
+  const std::size_t nf = use.size();
   std::unique_ptr<std::atomic<std::uint32_t>[]> first(new std::atomic<std::uint32_t>[mesh.vertex_count()]);
   parallel_for(mesh.vertex_count(), kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t v = b; v < e; ++v) first[v].store(kInvalidIndex, std::memory_order_relaxed);
   });
   parallel_for(nf, kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) {
-      const Triangle& t = tris[use.faces[i]];
+      const Triangle& t = tris[use.face(i)];
       for (std::uint32_t k = 0; k < 3; ++k) {
         const auto c = static_cast<std::uint32_t>(3 * i + k);
         std::atomic<std::uint32_t>& slot = first[t[k].index];
@@ -85,7 +94,7 @@ FaceUse first_uses(const SurfaceMesh& mesh) {
   // Calls emit(v) for each corner of faces [b, e) that is its vertex v's first, in order.
   auto firsts = [&](std::size_t b, std::size_t e, auto&& emit) {
     for (std::size_t i = b; i < e; ++i) {
-      const Triangle& t = tris[use.faces[i]];
+      const Triangle& t = tris[use.face(i)];
       for (std::uint32_t k = 0; k < 3; ++k)
         if (first[t[k].index].load(std::memory_order_relaxed) == 3 * i + k) emit(t[k].index);
     }
@@ -206,8 +215,8 @@ Classes classify(const VertexBytes& bytes, const detail::Indices& first_use, std
   return out;
 }
 
-// Drops the faces of `use.faces` whose corners fall on one welded vertex and renumbers the
-// welded vertices by first use in the faces left; vertices only dropped faces used go.
+// Drops the live faces whose corners fall on one welded vertex and renumbers the welded
+// vertices by first use in the faces left; vertices only dropped faces used go.
 // @returns the number of faces dropped.
 std::size_t drop_repeating_faces(const std::vector<Triangle>& in_faces, FaceUse& use, Classes& classes) {
   auto repeats = [&](std::uint32_t f) {
@@ -218,18 +227,19 @@ std::size_t drop_repeating_faces(const std::vector<Triangle>& in_faces, FaceUse&
   // Usually none repeats (checked in parallel): the classes are then already numbered by first
   // use in the faces (classify numbers them by their first user) and nothing changes.
   const int any = parallel_reduce(
-      use.faces.size(), kGrain, 0,
+      use.size(), kGrain, 0,
       [&](std::size_t b, std::size_t e) {
         for (std::size_t i = b; i < e; ++i)
-          if (repeats(use.faces[i])) return 1;
+          if (repeats(use.face(i))) return 1;
         return 0;
       },
       [](int a, int b) { return a | b; });
   if (!any) return 0;
   detail::Indices faces;
-  faces.reserve(use.faces.size());
+  faces.reserve(use.size());
   std::vector<std::uint32_t> renumber(classes.keep.size(), kInvalidIndex), keep;
-  for (const std::uint32_t f : use.faces) {
+  for (std::size_t i = 0; i < use.size(); ++i) {
+    const std::uint32_t f = use.face(i);
     if (repeats(f)) continue;
     const Triangle& t = in_faces[f];
     const std::uint32_t w[3] = {classes.to_new[t[0].index], classes.to_new[t[1].index], classes.to_new[t[2].index]};
@@ -240,8 +250,9 @@ std::size_t drop_repeating_faces(const std::vector<Triangle>& in_faces, FaceUse&
         keep.push_back(classes.keep[c]);
       }
   }
-  const std::size_t dropped = use.faces.size() - faces.size();
+  const std::size_t dropped = use.size() - faces.size();
   use.faces = std::move(faces);
+  use.all = false;
   for (std::uint32_t& to : classes.to_new)
     if (to != kInvalidIndex) to = renumber[to];
   classes.keep = std::move(keep);
@@ -269,30 +280,47 @@ AttributeSet gather_vertices(const AttributeSet& in, const std::vector<std::uint
   return out;
 }
 
-// The mesh rebuilt from the kept faces, their corners and the representatives' vertex attributes.
-void rebuild(SurfaceMesh& mesh, const detail::Indices& kept_faces, const Classes& classes) {
-  const auto& in_faces = mesh.faces();
+// The kept faces renumbered to the welded vertices. When every face is kept (`use.all`) they are
+// renumbered in place, in the mesh's own array (no new memory to fault in), which gets the room
+// that operations get if it lacks it; otherwise copied into a new array with that room.
+std::vector<Triangle> welded_faces(SurfaceMesh& mesh, const FaceUse& use, const Classes& classes) {
   const auto& to_new = classes.to_new;
+  auto welded = [&](const Triangle& t) {
+    return Triangle{VertexId(to_new[t[0].index]), VertexId(to_new[t[1].index]), VertexId(to_new[t[2].index])};
+  };
   std::vector<Triangle> faces;
-  detail::resize_prefaulted(faces, kept_faces.size(), Triangle(), operation_face_room(kept_faces.size()));
+  if (use.all && !mesh.observer()) {
+    faces = std::move(detail::TrustedAssign::faces(mesh));  // the mesh is assigned anew right after
+    parallel_for(faces.size(), kGrain, [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i < e; ++i) faces[i] = welded(faces[i]);
+    });
+    faces.reserve(operation_face_room(faces.size()));
+    return faces;
+  }
+  const auto& in_faces = mesh.faces();
+  detail::resize_prefaulted(faces, use.size(), Triangle(), operation_face_room(use.size()));
   parallel_for(faces.size(), kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i) {
-      const Triangle& t = in_faces[kept_faces[i]];
-      faces[i] = {VertexId(to_new[t[0].index]), VertexId(to_new[t[1].index]), VertexId(to_new[t[2].index])};
-    }
+    for (std::size_t i = b; i < e; ++i) faces[i] = welded(in_faces[use.face(i)]);
   });
+  return faces;
+}
+
+// The mesh rebuilt from the kept faces, their corners and the representatives' vertex attributes.
+void rebuild(SurfaceMesh& mesh, const FaceUse& use, const Classes& classes) {
+  const bool faces_deleted = use.size() != mesh.faces().size();
+  std::vector<Triangle> faces = welded_faces(mesh, use, classes);
   // The attribute sets leave the mesh (no copy) and come back gathered.
-  const bool faces_deleted = kept_faces.size() != in_faces.size();
   AttributeSet vattrs = gather_vertices(mesh.vertex_attrs(), classes.keep), fattrs = std::move(mesh.face_attrs()),
                cattrs = std::move(mesh.corner_attrs());
   if (faces_deleted) {
-    std::vector<std::uint32_t> corners(3 * kept_faces.size());
-    for (std::size_t i = 0; i < kept_faces.size(); ++i)
-      for (std::uint32_t k = 0; k < 3; ++k) corners[3 * i + k] = 3 * kept_faces[i] + k;
-    fattrs.gather(std::vector<std::uint32_t>(kept_faces.begin(), kept_faces.end()));
+    std::vector<std::uint32_t> corners(3 * use.faces.size());
+    for (std::size_t i = 0; i < use.faces.size(); ++i)
+      for (std::uint32_t k = 0; k < 3; ++k) corners[3 * i + k] = 3 * use.faces[i] + k;
+    fattrs.gather(std::vector<std::uint32_t>(use.faces.begin(), use.faces.end()));
     cattrs.gather(corners);
   }
-  mesh.assign(std::move(faces), std::move(vattrs), std::move(fattrs), std::move(cattrs));
+  // Every index is a welded vertex (to_new): the check of each against the vertex count is skipped.
+  detail::TrustedAssign::assign(mesh, std::move(faces), std::move(vattrs), std::move(fattrs), std::move(cattrs));
 }
 
 }  // namespace
@@ -315,7 +343,7 @@ WeldReport weld(SurfaceMesh& mesh, const WeldOptions& options) {
   }
   report.dropped = nv - used;
   report.merged = used - classes.keep.size();
-  rebuild(mesh, use.faces, classes);
+  rebuild(mesh, use, classes);
   return report;
 }
 

@@ -216,6 +216,26 @@ TEST(WeldTest, dropping_repeating_faces_renumbers_by_the_kept_faces_and_drops_wh
   EXPECT_EQ(kept_uv[2], glm::vec2(5, 0));
 }
 
+TEST(WeldTest, a_deleted_face_is_left_out_as_if_it_was_never_there) {
+  // Without a deleted face the faces are renumbered in their own array; with one they are
+  // copied through the list of live faces. Both give the same mesh.
+  const SurfaceMesh plain = unweld(test::make_grid(6, 5));
+  SurfaceMesh with_deleted = plain;
+  VertexId v[3];
+  for (int k = 0; k < 3; ++k) v[k] = with_deleted.add_vertex({9.0f, float(k), 0.0f});
+  with_deleted.mark_deleted(with_deleted.add_face(v[0], v[1], v[2]));
+  SurfaceMesh welded = plain;
+  const WeldReport a = weld(welded);
+  const WeldReport b = weld(with_deleted);
+  EXPECT_EQ(a.merged, b.merged);
+  EXPECT_EQ(b.dropped, a.dropped + 3);  // the deleted face's own vertices
+  ASSERT_EQ(with_deleted.face_count(), welded.face_count());
+  EXPECT_EQ(with_deleted.faces(), welded.faces());
+  EXPECT_EQ(with_deleted.positions(), welded.positions());
+  EXPECT_EQ(with_deleted.corner_attrs().get<glm::vec2>(attr::kUv0).data(),
+            welded.corner_attrs().get<glm::vec2>(attr::kUv0).data());
+  EXPECT_GE(with_deleted.faces().capacity(), operation_face_room(with_deleted.face_count()));
+}
 
 TEST(WeldTest, rebuilt_vertex_arrays_and_faces_have_the_room_operations_get) {
   for (const WeldKey key : {WeldKey::PositionAndSkin, WeldKey::Position, WeldKey::None}) {
