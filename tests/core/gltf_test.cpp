@@ -10,8 +10,10 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "deepcut/core/operation_room.h"
 #include "deepcut/core/ops/cut.h"
 #include "deepcut/core/ops/drill.h"
+#include "deepcut/core/posed_model.h"
 #include "deepcut/core/validate.h"
 #include "fixtures.h"
 #include "tools.h"
@@ -148,6 +150,30 @@ TEST(GltfTest, import_without_weld_keeps_every_referenced_gltf_vertex_in_order_o
       EXPECT_EQ(b.mesh.position(t[k]), a.mesh.position(a.mesh.face(FaceId(f))[k]));
     }
   }
+}
+
+TEST(GltfTest, a_file_reads_as_its_bytes_do_into_arrays_with_the_room_operations_get) {
+  auto read_bytes = [](const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::vector<unsigned char>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  };
+  const std::string cesium = std::string(DEEPCUT_ASSETS_DIR) + "/models/CesiumMan/CesiumMan.glb";
+  const std::vector<unsigned char> bytes = read_bytes(cesium);
+  Model from_file = read_gltf(cesium);  // the file mapped, where the system allows it
+  const Model from_memory = read_gltf_memory(bytes, "CesiumMan.glb");
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "deepcut_gltf_mapped";
+  std::filesystem::create_directories(dir);
+  write_gltf(from_file, (dir / "file.glb").string());
+  write_gltf(from_memory, (dir / "memory.glb").string());
+  EXPECT_EQ(read_bytes((dir / "file.glb").string()), read_bytes((dir / "memory.glb").string()));
+  std::filesystem::remove_all(dir);
+  // The weld renumbers the faces in the array the reader made with room: reserving room for
+  // operations afterwards moves no face.
+  SurfaceMesh& mesh = from_file.meshes[0].primitives[0].mesh;
+  EXPECT_GE(mesh.faces().capacity(), operation_face_room(mesh.face_slots()));
+  const Triangle* faces = mesh.faces().data();
+  reserve_for_operations(from_file);
+  EXPECT_EQ(mesh.faces().data(), faces);
 }
 
 TEST(GltfTest, fox_is_non_indexed_and_welds_to_a_closed_surface) {

@@ -492,11 +492,23 @@ Decoded<T> Reader::decode(int index, const char* what_c, int* components_out, Co
   detail::UninitVector<T> out;
   if (base) out.resize(acc.count * std::size_t(comps));
   else out.resize(acc.count * std::size_t(comps), T(0));
-  auto load = [&](const unsigned char* from, std::size_t step, std::size_t count, auto&& dst_index) {
+  // The component type is a constant inside each loop (one loop per type), so the converter's
+  // switch folds away instead of running for every component.
+  auto load_as = [&](auto type, const unsigned char* from, std::size_t step, std::size_t count, auto&& dst_index) {
     for (std::size_t i = 0; i < count; ++i) {
       const unsigned char* p = from + i * step;
       const std::size_t d = dst_index(i);
-      for (int c = 0; c < comps; ++c) out[d * comps + c] = convert(p + std::size_t(c) * in.csize, acc.componentType, acc.normalized);
+      for (int c = 0; c < comps; ++c) out[d * comps + c] = convert(p + std::size_t(c) * in.csize, type(), acc.normalized);
+    }
+  };
+  auto load = [&](const unsigned char* from, std::size_t step, std::size_t count, auto&& dst_index) {
+    switch (acc.componentType) {
+      case kFloat: return load_as(std::integral_constant<int, kFloat>(), from, step, count, dst_index);
+      case kByte: return load_as(std::integral_constant<int, kByte>(), from, step, count, dst_index);
+      case kUnsignedByte: return load_as(std::integral_constant<int, kUnsignedByte>(), from, step, count, dst_index);
+      case kShort: return load_as(std::integral_constant<int, kShort>(), from, step, count, dst_index);
+      case kUnsignedShort: return load_as(std::integral_constant<int, kUnsignedShort>(), from, step, count, dst_index);
+      default: return load_as(std::integral_constant<int, kUnsignedInt>(), from, step, count, dst_index);
     }
   };
   if (base) {

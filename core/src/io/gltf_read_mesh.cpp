@@ -11,6 +11,7 @@
 #include "deepcut/core/weld.h"
 #include "io/gltf_common.h"
 #include "io/gltf_reader.h"
+#include "ops/common/model_surgery.h"
 #include "uninit_vector.h"
 
 namespace deepcut::gltf_detail {
@@ -23,7 +24,7 @@ constexpr std::size_t kGrain = 32768;
 // The primitive as the file stores it: glTF vertex v is vertex v (-0 coordinates read as +0),
 // triangle t is face t, and the corner attributes come from each corner's glTF vertex. The arrays
 // are added to empty sets, built at once (ArrayBuild) and handed to the mesh whole; the per-corner
-// ones with room (corner_room).
+// ones and the faces with the room operations get (corner_room, operation_face_room).
 SurfaceMesh file_mesh(const Floats& pos, const Uints& tris, const Influences& skin,
                       const std::vector<CornerSource>& corner_sources) {
   SurfaceMesh mesh;
@@ -36,7 +37,7 @@ SurfaceMesh file_mesh(const Floats& pos, const Uints& tris, const Influences& sk
     return glm::vec3(p[3 * v] + 0.0f, p[3 * v + 1] + 0.0f, p[3 * v + 2] + 0.0f);  // -0 == +0
   });
   std::vector<Triangle> faces;
-  build.add(&faces, nf, 0, [t](std::size_t f) {
+  build.add(&faces, nf, operation_face_room(nf), [t](std::size_t f) {  // the weld renumbers them in place
     return Triangle{VertexId(t[3 * f]), VertexId(t[3 * f + 1]), VertexId(t[3 * f + 2])};
   });
   const char* jn[2] = {attr::kJoints0, attr::kJoints1};
@@ -68,7 +69,8 @@ SurfaceMesh file_mesh(const Floats& pos, const Uints& tris, const Influences& sk
   vattrs.resize(nv);  // every array has its size already: this sets the sets' sizes
   fattrs.resize(nf);
   cattrs.resize(nc);
-  mesh.assign(std::move(faces), std::move(vattrs), std::move(fattrs), std::move(cattrs));
+  // read_triangles checked every index against the vertex count: assign need not check them again.
+  detail::TrustedAssign::assign(mesh, std::move(faces), std::move(vattrs), std::move(fattrs), std::move(cattrs));
   return mesh;
 }
 
@@ -208,7 +210,8 @@ Uints Reader::read_triangles(const tinygltf::Primitive& p, const std::string& wh
     idx = read_uints(p.indices, "indices", &ic);
     if (ic != 1) fail(where + ": indices are not SCALAR");
     if (gltf_.accessors[p.indices].componentType == kFloat) fail(where + ": indices must be integers");
-    const std::size_t i = first_bad(idx.size(), [&](std::size_t k) { return idx[k] >= nv; });
+    const auto limit = static_cast<std::uint32_t>(nv);  // nv <= kMaxAccessorElements; 32 bits compare faster
+    const std::size_t i = first_bad(idx.size(), [&](std::size_t k) { return idx[k] >= limit; });
     if (i < idx.size())
       fail(where + ": index " + std::to_string(idx[i]) + " (position " + std::to_string(i) + ") is past the " +
            std::to_string(nv) + " vertices");

@@ -88,15 +88,22 @@ struct AccessorBytes {
 };
 
 // The smallest i in [0, n) where bad(i) holds, or n (in parallel chunks; the answer is the same
-// whatever the thread count).
+// whatever the thread count). Each block of a chunk is tested whole, without a branch per
+// element, so the test vectorises; only a block with a bad element is searched.
 template <class Bad>
 std::size_t first_bad(std::size_t n, Bad&& bad) {
-  constexpr std::size_t kGrain = 32768;
+  constexpr std::size_t kGrain = 32768, kBlock = 256;
   return parallel_reduce(
       n, kGrain, n,
       [&](std::size_t b, std::size_t e) {
-        for (std::size_t i = b; i < e; ++i)
-          if (bad(i)) return i;
+        for (std::size_t s = b; s < e; s += kBlock) {
+          const std::size_t t = std::min(e, s + kBlock);
+          unsigned any = 0;  // an integer: an OR of bools does not vectorise
+          for (std::size_t i = s; i < t; ++i) any |= unsigned(bad(i));
+          if (!any) continue;
+          for (std::size_t i = s; i < t; ++i)
+            if (bad(i)) return i;
+        }
         return n;
       },
       [](std::size_t a, std::size_t b) { return std::min(a, b); });
