@@ -10,6 +10,7 @@
 #include <random>
 
 #include <fcntl.h>
+#include <sys/mman.h>
 #include <unistd.h>
 
 #include "deepcut/core/errors.h"
@@ -126,6 +127,37 @@ detail::UninitVector<unsigned char> read_file_parallel(const std::string& path, 
   });
   if (failed) throw Error(ErrorCode::Io, path + ": read failed");
   return bytes;
+}
+
+namespace {
+#ifdef MAP_POPULATE
+constexpr int kPopulate = MAP_POPULATE;
+#else
+constexpr int kPopulate = 0;
+#endif
+}  // namespace
+
+FileBytes::~FileBytes() {
+  if (map_) ::munmap(map_, size_);
+}
+
+void FileBytes::open(const std::string& path, std::size_t max_bytes) {
+  {
+    OpenFile file;
+    open_checked(path, max_bytes, file);
+    // Populated at once: the cached pages are entered into the mapping in one call, not faulted
+    // in one by one as the reader goes.
+    void* map = file.size > 0 ? ::mmap(nullptr, file.size, PROT_READ, MAP_PRIVATE | kPopulate, file.fd, 0) : MAP_FAILED;
+    if (map != MAP_FAILED) {
+      map_ = map;
+      data_ = static_cast<const unsigned char*>(map);
+      size_ = file.size;
+      return;
+    }
+  }
+  read_ = read_file_parallel(path, max_bytes);
+  data_ = read_.data();
+  size_ = read_.size();
 }
 
 namespace {

@@ -26,6 +26,28 @@ std::vector<unsigned char> read_file(const std::string& path, std::size_t max_by
 // copies, and takes the page faults of, its own part): for the model file itself.
 detail::UninitVector<unsigned char> read_file_parallel(const std::string& path, std::size_t max_bytes);
 
+// A model file's bytes, read only. Mapped where the system allows it: the pages the file system
+// caches are used where they are, neither copied nor preceded by fresh pages the kernel must
+// zero; else read (read_file_parallel). The file must not shrink while it is mapped (the pages
+// past its new end would fault): a reader holds it only while it reads.
+class FileBytes {
+ public:
+  FileBytes() = default;
+  FileBytes(const FileBytes&) = delete;
+  FileBytes& operator=(const FileBytes&) = delete;
+  ~FileBytes();
+  // The file at `path`; throws as read_file does.
+  void open(const std::string& path, std::size_t max_bytes);
+  const unsigned char* data() const { return data_; }
+  std::size_t size() const { return size_; }
+
+ private:
+  void* map_ = nullptr;  // the mapping, or null when read into `read_`
+  const unsigned char* data_ = nullptr;
+  std::size_t size_ = 0;
+  detail::UninitVector<unsigned char> read_;
+};
+
 // Writes `bytes` to a temporary file beside `path`, flushes it and renames it over `path`.
 // Throws Error{Io}; never leaves a partial file at `path`. The temporary is unnamed (O_TMPFILE)
 // where the file system allows, so a killed writer leaves no temporary behind either; elsewhere a

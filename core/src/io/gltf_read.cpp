@@ -212,7 +212,7 @@ std::vector<std::size_t> buffers_in_bin(const json& doc, std::size_t bin_size) {
 }
 
 void Reader::parse_container() {
-  if (!memory_) file_ = read_file_parallel(path_, kMaxFileBytes);
+  if (!memory_) file_.open(path_, kMaxFileBytes);
   const unsigned char* bytes = memory_ ? memory_->data() : file_.data();
   const std::size_t size = memory_ ? memory_->size() : file_.size();
   if (size == 0) fail("file is empty");

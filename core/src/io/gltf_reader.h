@@ -319,7 +319,7 @@ class Reader {
   std::string path_;
   ImportOptions options_;
   const std::vector<unsigned char>* memory_ = nullptr;
-  detail::UninitVector<unsigned char> file_;  // the model file's bytes (empty when read from memory)
+  FileBytes file_;  // the model file's bytes (empty when read from memory)
   // Per buffer: its bytes in the .glb's BIN chunk (in file_ or *memory_), for the buffers that
   // tinygltf was given a 1-byte stand-in for, so it did not copy the chunk; {nullptr, 0} elsewhere.
   std::vector<ByteSpan> glb_bin_;
