@@ -28,12 +28,13 @@ struct EdgeCut {
   VertexId v[2];                       // their vertices
   std::uint8_t inside[3] = {0, 0, 0};  // sub-segments between 0, t[0..n-1], 1
   // Points on the kept parts of a crossed edge, graded away from the crossings (see
-  // RimInserter::cross): parameters, increasing once RimInserter::edge has made their vertices.
+  // RimInserter::cross): parameters, increasing once RimInserter::make_edge_vertices has made
+  // their vertices.
   std::vector<std::pair<double, VertexId>> steiner;
   // The faces on the edge among the candidates not deep inside (file_side: kLoHi for each with
   // lo -> hi, kHiLo for each with hi -> lo), whether one of them has a bad shape, and whether the
-  // vertices of the edge's crossings have been made (RimInserter::edge; the edge may be left
-  // uncrossed).
+  // vertices of the edge's crossings have been made (RimInserter::make_edge_vertices; the edge
+  // may be left uncrossed).
   // All three are written only before planning starts (planning only reads them).
   std::uint32_t sides = 0;
   bool bad_side = false, resolved = false;

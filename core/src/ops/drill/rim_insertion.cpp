@@ -54,7 +54,7 @@ class RimInserter {
  private:
   void cross(EdgeCut& e, std::uint64_t key) const;
   void cross_edges();
-  const EdgeCut& edge(EdgeCut& e);
+  void make_edge_vertices(const std::vector<FaceId>& candidates);
   void merge_crossings(std::size_t c);
   std::size_t judge_faces(const std::vector<FaceId>& candidates);
   bool bad_shape(const Triangle& t) const;
@@ -90,13 +90,16 @@ class RimInserter {
   // calling thread's PlanChunk::reused lists).
   std::vector<FacePlan> plans_;
   std::vector<PlanChunk>* chunks_ = nullptr;
+  // The removals and kept parts the plans say, made in one editor batch (candidate order).
+  FaceBatch batch_;
   std::size_t crossings_ = 0, removed_ = 0, added_ = 0;
 };
 
 // What the solid cylinder does to the edge of record `e` (edge key `key`): its crossings'
 // parameters, which sub-segments lie inside, and the parameters of its Steiner points (their
-// vertices are made by edge()). Reads only old vertices' posed positions and the record's sides
-// (final once allow_steiner has run), so every record is worked out in parallel (cross_edges).
+// vertices are made by make_edge_vertices). Reads only old vertices' posed positions and the
+// record's sides (final once allow_steiner has run), so every record is worked out in parallel
+// (cross_edges).
 void RimInserter::cross(EdgeCut& e, std::uint64_t key) const {
   e.lo = VertexId(static_cast<std::uint32_t>(key >> 32));
   e.hi = VertexId(static_cast<std::uint32_t>(key));
@@ -174,30 +177,51 @@ void RimInserter::cross_edges() {
   });
 }
 
-// The vertices of record `e`'s crossings, then of its Steiner points (in the order cross found
-// them, then sorted along the edge), made the first time a face asks for the edge.
-const EdgeCut& RimInserter::edge(EdgeCut& e) {
-  if (e.resolved) return e;
-  e.resolved = true;
-  if (e.n == 0) return e;
-  const glm::dvec3 p = posed_(e.lo), q = posed_(e.hi);
-  for (int i = 0; i < e.n; ++i) {
-    e.v[i] = editor_.add_vertex_on_edge(e.lo, e.hi, static_cast<float>(e.t[i]));
-    // The exact point on the cylinder; the bind vertex uses the same parameter, corrected
-    // through its own (blended) skinning when the pose is not the bind pose.
-    posed_.add(glm::mix(p, q, e.t[i]));
-    posed_.place(editor_, e.v[i], posed_(e.v[i]));
-    ++crossings_;
+// The vertices of the crossed edges' crossings, then of their Steiner points (in the order cross
+// found them, then sorted along the edge), edge by edge in the order the candidates ask for them
+// (edge k of each candidate not deep inside), made in one editor batch.
+void RimInserter::make_edge_vertices(const std::vector<FaceId>& candidates) {
+  std::vector<std::uint32_t> order;  // the records making vertices, in that order
+  std::vector<std::uint32_t> ends;
+  std::vector<float> ts;
+  for (std::size_t c = 0; c < candidates.size(); ++c) {
+    if (deep_[c]) continue;
+    for (const std::uint32_t i : face_edges_[c]) {
+      EdgeCut& e = edges_[i];
+      if (e.resolved) continue;
+      e.resolved = true;
+      if (e.n == 0) continue;
+      order.push_back(i);
+      auto on_edge = [&](double t) {
+        ends.push_back(e.lo.index);
+        ends.push_back(e.hi.index);
+        ts.push_back(static_cast<float>(t));
+      };
+      for (int j = 0; j < e.n; ++j) on_edge(e.t[j]);
+      for (const auto& st : e.steiner) on_edge(st.first);
+    }
   }
-  for (auto& [t, v] : e.steiner) {
-    v = editor_.add_vertex_on_edge(e.lo, e.hi, static_cast<float>(t));
-    const glm::dvec3 x = glm::mix(p, q, t);
-    posed_.add(x);
-    posed_.place(editor_, v, x);
+  std::uint32_t next = editor_.add_vertices_on_edges(ends.data(), ts.data(), ts.size()).index;
+  for (const std::uint32_t i : order) {
+    EdgeCut& e = edges_[i];
+    const glm::dvec3 p = posed_(e.lo), q = posed_(e.hi);
+    for (int j = 0; j < e.n; ++j) {
+      e.v[j] = VertexId(next++);
+      // The exact point on the cylinder; the bind vertex uses the same parameter, corrected
+      // through its own (blended) skinning when the pose is not the bind pose.
+      posed_.add(glm::mix(p, q, e.t[j]));
+      posed_.place(editor_, e.v[j], posed_(e.v[j]));
+      ++crossings_;
+    }
+    for (auto& [t, v] : e.steiner) {
+      v = VertexId(next++);
+      const glm::dvec3 x = glm::mix(p, q, t);
+      posed_.add(x);
+      posed_.place(editor_, v, x);
+    }
+    std::sort(e.steiner.begin(), e.steiner.end(),
+              [](const auto& x, const auto& y) { return x.first < y.first; });
   }
-  std::sort(e.steiner.begin(), e.steiner.end(),
-            [](const auto& x, const auto& y) { return x.first < y.first; });
-  return e;
 }
 
 // The vertex of a kept part's point: made inside triangle `tri` at its barycentric coordinates
@@ -210,14 +234,13 @@ VertexId RimInserter::vertex_of(const Triangle& tri, LocalPoint& lp) {
   return lp.v;
 }
 
-// Crosses a candidate's edges (in the order the planning asks for them). A face whose corner has
+// Merges the crossings of a candidate's edges (made by make_edge_vertices). A face whose corner has
 // two long edges to corners a hair apart (a needle: the lips of a narrow tear, a sliver) can have
 // crossings of the two edges rounded to one bind position: they become one vertex, and the
 // needle's tip, or the kept part at its far end when the circle crosses each edge twice (a
 // triangle with two corners at one point), is not made. Same rule as the cut and the tear.
 void RimInserter::merge_crossings(std::size_t c) {
   const std::array<std::uint32_t, 3>& es = face_edges_[c];  // filed by allow_steiner
-  for (int k = 0; k < 3; ++k) edge(edges_[es[k]]);
   for (int k = 0; k < 3; ++k) {
     const EdgeCut& ea = edges_[es[k]];            // corner k to corner k + 1
     const EdgeCut& eb = edges_[es[(k + 2) % 3]];  // corner k + 2 to corner k
@@ -272,10 +295,10 @@ std::size_t RimInserter::judge_faces(const std::vector<FaceId>& candidates) {
 // where a point off the cylinder could end up on the hole's boundary, and not on a needle's long
 // edges, whose points at one parameter would round to one bind position (zero-area faces).
 void RimInserter::allow_steiner(const std::vector<FaceId>& candidates) {
-  // Each candidate's half-edges file its edge's record (made here, in the order edge() asks for
-  // them; the candidate keeps it in face_edges_): weight 1 for lo -> hi, 16 for hi -> lo, and
-  // whether the face is of bad shape. Faces deep inside hold no crossed edge, the only ones
-  // asked about.
+  // Each candidate's half-edges file its edge's record (made here, in the order
+  // make_edge_vertices asks for them; the candidate keeps it in face_edges_): weight 1 for
+  // lo -> hi, 16 for hi -> lo, and whether the face is of bad shape. Faces deep inside hold no
+  // crossed edge, the only ones asked about.
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     if (deep_[c]) continue;
     const Triangle& t = mesh_.face(candidates[c]);
@@ -298,8 +321,8 @@ void RimInserter::emit_faces(FaceId f, const Triangle& tri, LocalPoint* pts, std
     const geometry::LocalTri& t = tris[i];
     if (pts[t[0]].v == pts[t[1]].v || pts[t[1]].v == pts[t[2]].v || pts[t[0]].v == pts[t[2]].v)
       continue;  // merged tip
-    editor_.add_face_from({pts[t[0]].v, pts[t[1]].v, pts[t[2]].v}, f,
-                          {glm::vec3(pts[t[0]].bary), glm::vec3(pts[t[1]].bary), glm::vec3(pts[t[2]].bary)});
+    batch_.add_from({pts[t[0]].v, pts[t[1]].v, pts[t[2]].v}, f,
+                    {glm::vec3(pts[t[0]].bary), glm::vec3(pts[t[1]].bary), glm::vec3(pts[t[2]].bary)});
     ++added_;
   }
 }
@@ -343,7 +366,7 @@ void RimInserter::plan_faces(const std::vector<FaceId>& candidates) {
 // Removes the candidate and adds its kept parts, as its plan says.
 void RimInserter::apply_plan(FaceId f, const FacePlan& plan) {
   if (plan.remove) {
-    editor_.remove_face(f);
+    batch_.remove(f);
     ++removed_;
   }
   if (plan.polys == 0) return;
@@ -361,17 +384,20 @@ RimInsertion RimInserter::run(const std::vector<FaceId>& candidates) {
   face_edges_.resize(candidates.size());
   allow_steiner(candidates);
   cross_edges();
+  make_edge_vertices(candidates);
   for (std::size_t c = 0; c < candidates.size(); ++c)
     if (!deep_[c]) merge_crossings(c);
   plan_faces(candidates);
+  batch_.reserve(3 * candidates.size(), candidates.size());
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     if (!deep_[c]) {
       apply_plan(candidates[c], plans_[c]);
       continue;
     }
-    editor_.remove_face(candidates[c]);  // what the plan of a face inside says
+    batch_.remove(candidates[c]);  // what the plan of a face inside says
     ++removed_;
   }
+  editor_.apply(batch_);
   PlanChunk::give_back_big(*chunks_);  // a big drill's plans do not stay with the thread
   RimInsertion out;
   out.crossings = crossings_;

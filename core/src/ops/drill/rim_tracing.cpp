@@ -2,6 +2,7 @@
 // The rims the rim insertion left, traced from the topology of its edits.
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <unordered_map>
 #include <vector>
 
@@ -146,6 +147,64 @@ int winding(const CylinderFrame& cyl, const PosedOverlay& posed, const std::vect
   return static_cast<int>(std::lround(turn / (2.0 * geometry::kPi)));
 }
 
+// Where several rims meet at one vertex (a vertex on the cylinder whose surface the hole pinches,
+// or two holes touching there), each incoming rim edge continues with the outgoing one of its
+// own fan: turning around the vertex through the kept faces from the incoming edge's face to
+// the next boundary edge. Pairing them otherwise crosses the rims there (they cannot be walled,
+// and after the pinch split the rim would jump between the vertex's copies).
+class RimFans {
+ public:
+  // Half-edge a->b of a kept face: its third corner (the last face filed wins), in a hash map.
+  // Only half-edges into a vertex with outgoing rim edges (`starts`) are asked about (fan_next's
+  // `cur`).
+  RimFans(const SurfaceMesh& mesh, const EditLog& log, const std::vector<FaceId>& candidates,
+          const RimSteps& rim_next, const std::vector<std::uint32_t>& starts)
+      : rim_next_(rim_next) {
+    detail::VertexSlots& on_rim = detail::VertexSlots::scratch();
+    on_rim.reset(mesh.vertex_count());
+    for (const std::uint32_t v : starts) on_rim.set(v, 0);
+    slots_.reserve(4 * rim_next.size() + 16);
+    auto add_face = [&](const Triangle& t) {
+      for (int k = 0; k < 3; ++k)
+        if (on_rim.has(t[(k + 1) % 3].index)) {
+          const auto [at, made] = slots_.find_or_insert(directed_key(t[k], t[(k + 1) % 3]),
+                                                        static_cast<std::uint32_t>(third_.size()));
+          if (made) third_.push_back(t[(k + 2) % 3].index);
+          else third_[at] = t[(k + 2) % 3].index;
+        }
+    };
+    for (const Edit& e : log.edits)
+      if (const auto* fa = std::get_if<FaceAdded>(&e))
+        if (!mesh.is_deleted(fa->f)) add_face(mesh.face(fa->f));
+    for (FaceId f : candidates)
+      if (!mesh.is_deleted(f)) add_face(mesh.face(f));
+  }
+
+  // The outgoing rim edge of `cur` (those are `out_edges` in rim_next) in the fan of prev->cur
+  // (used or not; -1 when the faces around do not say), as an index into rim_next.
+  long fan_next(std::uint32_t prev, std::uint32_t cur, std::pair<std::size_t, std::size_t> out_edges,
+                const std::vector<char>& used) const {
+    std::uint32_t from = prev;  // turn from the face holding prev->cur
+    for (std::size_t guard = 0; guard < 256; ++guard) {
+      const std::uint32_t at = slots_.find(directed_key(VertexId(from), VertexId(cur)));
+      if (at == detail::EdgeSlots::kNone) return -1;
+      const std::uint32_t out = third_[at];  // cur->out is the next half-edge of that face
+      long found = -1;
+      for (std::size_t i = out_edges.first; i < out_edges.second; ++i)
+        if (rim_next_[i].second == out && (found < 0 || !used[i])) found = static_cast<long>(i);
+      if (found >= 0) return found;
+      if (out == prev) return -1;  // went all the way round
+      from = out;                  // across cur->out to the face holding out->cur
+    }
+    return -1;
+  }
+
+ private:
+  const RimSteps& rim_next_;
+  detail::EdgeSlots slots_;  // half-edge -> index into third_
+  std::vector<std::uint32_t> third_;
+};
+
 // Chains the rim steps into rims: open chains first, then closed loops, each with its winding
 // around the axis.
 std::vector<Rim> chain_rims(const SurfaceMesh& mesh, const EditLog& log, const CylinderFrame& cyl,
@@ -171,55 +230,15 @@ std::vector<Rim> chain_rims(const SurfaceMesh& mesh, const EditLog& log, const C
   std::stable_partition(starts.begin(), starts.end(), [&](std::uint32_t v) {
     return !std::binary_search(targets.begin(), targets.end(), v);
   });
-  // Where several rims meet at one vertex (a vertex on the cylinder whose surface the hole pinches,
-  // or two holes touching there), each incoming rim edge continues with the outgoing one of its
-  // own fan: turning around the vertex through the kept faces from the incoming edge's face to
-  // the next boundary edge. Pairing them otherwise crosses the rims there (they cannot be walled,
-  // and after the pinch split the rim would jump between the vertex's copies).
-  // Half-edge a->b of a kept face: its third corner (the last face filed wins), in a hash map.
-  // Only half-edges into a vertex with outgoing rim edges are asked about (fan_next's `cur`).
-  detail::VertexSlots& on_rim = detail::VertexSlots::scratch();
-  on_rim.reset(mesh.vertex_count());
-  for (const std::uint32_t v : starts) on_rim.set(v, 0);
-  detail::EdgeSlots third_slots;  // half-edge -> index into third
-  std::vector<std::uint32_t> third;
-  third_slots.reserve(4 * rim_next.size() + 16);
-  auto add_face = [&](const Triangle& t) {
-    for (int k = 0; k < 3; ++k)
-      if (on_rim.has(t[(k + 1) % 3].index)) {
-        const auto [at, made] =
-            third_slots.find_or_insert(directed_key(t[k], t[(k + 1) % 3]), static_cast<std::uint32_t>(third.size()));
-        if (made) third.push_back(t[(k + 2) % 3].index);
-        else third[at] = t[(k + 2) % 3].index;
-      }
-  };
-  for (const Edit& e : log.edits)
-    if (const auto* fa = std::get_if<FaceAdded>(&e))
-      if (!mesh.is_deleted(fa->f)) add_face(mesh.face(fa->f));
-  for (FaceId f : candidates)
-    if (!mesh.is_deleted(f)) add_face(mesh.face(f));
-  auto third_of = [&](std::uint64_t key) -> const std::uint32_t* {
-    const std::uint32_t at = third_slots.find(key);
-    return at == detail::EdgeSlots::kNone ? nullptr : &third[at];
-  };
+  // A vertex with several outgoing rim edges continues each rim along its own fan (RimFans).
+  // Where none has, a walk takes the one unused edge whatever the fans say, and closes at its
+  // start (whose only edge is its first) either way: the fans are not looked for.
+  bool forks = false;
+  for (std::size_t i = 1; i < rim_next.size() && !forks; ++i)
+    forks = rim_next[i].first == rim_next[i - 1].first;
+  std::optional<RimFans> fans;
+  if (forks) fans.emplace(mesh, log, candidates, rim_next, starts);
   std::vector<char> used(rim_next.size(), 0);  // per outgoing rim edge
-  // The outgoing rim edge of `cur` in the fan of prev->cur (used or not; -1 when the faces
-  // around do not say), as an index into rim_next.
-  auto fan_next = [&](std::uint32_t prev, std::uint32_t cur, std::pair<std::size_t, std::size_t> next) -> long {
-    std::uint32_t from = prev;  // turn from the face holding prev->cur
-    for (std::size_t guard = 0; guard < 256; ++guard) {
-      const std::uint32_t* out_of = third_of(directed_key(VertexId(from), VertexId(cur)));
-      if (!out_of) return -1;
-      const std::uint32_t out = *out_of;  // cur->out is the next half-edge of that face
-      long found = -1;
-      for (std::size_t i = next.first; i < next.second; ++i)
-        if (rim_next[i].second == out && (found < 0 || !used[i])) found = static_cast<long>(i);
-      if (found >= 0) return found;
-      if (out == prev) return -1;  // went all the way round
-      from = out;                  // across cur->out to the face holding out->cur
-    }
-    return -1;
-  };
   for (std::uint32_t s : starts) {
     const auto from_start = outgoing(s);
     for (std::size_t first = from_start.first; first < from_start.second; ++first) {
@@ -232,7 +251,7 @@ std::vector<Rim> chain_rims(const SurfaceMesh& mesh, const EditLog& log, const C
       while (true) {
         const auto next = outgoing(cur);
         const bool any = next.first < next.second;
-        const long fan = any ? fan_next(prev, cur, next) : -1;
+        const long fan = any && fans ? fans->fan_next(prev, cur, next, used) : -1;
         if (cur == s && (fan < 0 || fan == static_cast<long>(first))) {  // back through the start's own fan
           hole.closed = true;
           break;
