@@ -70,8 +70,10 @@ class Pool {
     t_inside = true;
     job->work();
     t_inside = false;
-    std::unique_lock<std::mutex> lock(job->mutex);
-    job->finished.wait(lock, [&] { return job->done == job->chunks; });
+    if (job->done.load(std::memory_order_acquire) != chunks) {  // a worker still runs one
+      std::unique_lock<std::mutex> lock(job->mutex);
+      job->finished.wait(lock, [&] { return job->done.load(std::memory_order_acquire) == chunks; });
+    }
     if (job->error) std::rethrow_exception(job->error);
   }
 
@@ -80,26 +82,31 @@ class Pool {
     const std::function<void(std::size_t)>* task = nullptr;
     std::size_t chunks = 0;
     std::atomic<std::size_t> next{0};
-    std::mutex mutex;  // guards done and error
+    // Chunks finished: each thread adds its own once, when it finds none left, so the mutex is
+    // taken only by a failed chunk and by the thread that finishes the job (to wake the caller
+    // if it waits), not once per chunk.
+    std::atomic<std::size_t> done{0};
+    std::mutex mutex;  // guards error; the caller waits on `finished` under it
     std::condition_variable finished;
-    std::size_t done = 0;
     std::exception_ptr error;
 
     // Takes chunks until none are left.
     void work() {
-      for (;;) {
+      std::size_t ran = 0;
+      for (;; ++ran) {
         const std::size_t c = next.fetch_add(1, std::memory_order_relaxed);
-        if (c >= chunks) return;
-        std::exception_ptr failed;
+        if (c >= chunks) break;
         try {
           (*task)(c);
         } catch (...) {
-          failed = std::current_exception();
+          std::lock_guard<std::mutex> lock(mutex);
+          if (!error) error = std::current_exception();
         }
-        std::lock_guard<std::mutex> lock(mutex);
-        if (failed && !error) error = failed;
-        if (++done == chunks) finished.notify_all();
       }
+      // Release: the chunks' writes are seen by the caller that reads `done` (acquire).
+      if (ran == 0 || done.fetch_add(ran, std::memory_order_acq_rel) + ran != chunks) return;
+      std::lock_guard<std::mutex> lock(mutex);  // the caller is waiting or has not checked yet
+      finished.notify_all();
     }
   };
 

@@ -22,6 +22,7 @@
 #include "deepcut/core/skinning.h"
 #include "deepcut/core/validate.h"
 #include "fixtures.h"
+#include "ops/cut/face_lists.h"
 #include "tools.h"
 
 namespace deepcut {
@@ -559,6 +560,23 @@ TEST(CutTest, the_result_does_not_depend_on_the_thread_count) {
   EXPECT_EQ(results[0].pieces[0].size() + results[0].pieces[1].size(), meshes[0].face_count());
   ASSERT_EQ(results[2].status, OpStatus::Ok);
   EXPECT_EQ(results[2].pieces, results[0].pieces);  // the stray vertex changes nothing
+}
+
+TEST(CutTest, the_face_scan_splits_only_ranges_worth_a_thread) {
+  // Below kMinPassGrain faces the scan is one chunk on the caller whatever the thread count (a
+  // 25k-triangle cut pays more for the pool than it saves); above it, the threads share it.
+  const std::size_t saved = thread_count();
+  set_thread_count(2);
+  for (const auto& [nx, ny] : {std::pair{100, 100}, std::pair{260, 140}}) {
+    const SurfaceMesh mesh = test::make_grid(nx, ny);
+    const std::vector<std::uint8_t> bits(mesh.vertex_count(), 1);  // every vertex on the positive side
+    const std::vector<detail::ScannedFaces> parts = detail::scan_faces(mesh, bits.data(), nullptr);
+    EXPECT_EQ(parts.size(), mesh.face_slots() < detail::kMinPassGrain ? 1u : 2u) << mesh.face_slots() << " faces";
+    std::size_t clean = 0;
+    for (const detail::ScannedFaces& part : parts) clean += part.clean[0].size();
+    EXPECT_EQ(clean, mesh.face_slots());
+  }
+  set_thread_count(saved);
 }
 
 TEST(CutTest, a_capped_cut_does_not_depend_on_the_thread_count) {

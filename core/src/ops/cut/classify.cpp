@@ -16,16 +16,10 @@
 #include "deepcut/core/parallel.h"
 
 namespace deepcut::detail {
-namespace {
-
-// Smallest parallel chunk: below it, waking another thread costs more than it saves.
-constexpr std::size_t kMinGrain = 4096;
-
-}  // namespace
 
 void flag_used(const SurfaceMesh& mesh, UsedFlag* used) {
   const std::size_t nf = mesh.face_slots();
-  parallel_for(nf, grain_per_thread(nf, kMinGrain), [&](std::size_t b, std::size_t e) {
+  parallel_for(nf, grain_per_thread(nf, kMinPassGrain), [&](std::size_t b, std::size_t e) {
     const Triangle* faces = mesh.faces().data();
     for (std::size_t f = b; f < e; ++f) {
       const Triangle& t = faces[f];
@@ -191,7 +185,7 @@ VertexSides classify_vertices(const SurfaceMesh& mesh, const std::vector<glm::ve
   out.sign.resize(nv);
   out.bits.resize(nv);
   const Pass in{used, posed.data(), out.dist.data(), point, normal};
-  const std::size_t grain = grain_per_thread(nv, kMinGrain);
+  const std::size_t grain = grain_per_thread(nv, kMinPassGrain);
   auto measure_all = [&](auto skip_unused) {
     return parallel_reduce(
         nv, grain, Measure(),

@@ -52,9 +52,6 @@ class IdCounter {
   std::uint32_t i_;
 };
 
-// Smallest parallel chunk: below it, waking another thread costs more than it saves.
-constexpr std::size_t kMinGrain = 4096;
-
 inline void flag_corners(UsedFlag* used, VertexId a, VertexId b, VertexId c) {
   used[a.index].store(1, std::memory_order_relaxed);
   used[b.index].store(1, std::memory_order_relaxed);
@@ -157,7 +154,7 @@ void merge_sorted(std::vector<FaceId>& list, const std::vector<FaceId>& more) {
 
 std::vector<ScannedFaces> scan_faces(const SurfaceMesh& mesh, const std::uint8_t* bits, UsedFlag* used) {
   const std::size_t nf = mesh.face_slots();
-  const std::size_t grain = grain_per_thread(nf, kMinGrain);
+  const std::size_t grain = grain_per_thread(nf, kMinPassGrain);
   std::vector<ScannedFaces> found((nf + grain - 1) / grain);
   // Without deleted faces (a mesh as loaded or compacted) the loops need not look for them.
   const bool any_deleted = mesh.face_count() != nf;

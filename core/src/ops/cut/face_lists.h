@@ -21,6 +21,13 @@ inline unsigned corner_bits(const Triangle& t, const std::uint8_t* bits) {
   return bits[t[0].index] | bits[t[1].index] | bits[t[2].index];
 }
 
+/// Smallest parallel chunk of the cut's passes over every vertex or face (classification, the
+/// face scan, flag_used): each costs a few instructions an element, so a range below it runs
+/// inline on the caller. The pool's wake-up and join cost more than half of such a pass saves: a
+/// 25k-triangle cut (about 13k vertices) on two threads took 0.83-0.85 ms against 0.72-0.74 ms
+/// on one when its three passes were split at 4096.
+inline constexpr std::size_t kMinPassGrain = 32768;
+
 /// A flag per vertex: some face slot uses it (the scan's threads may flag one vertex together:
 /// relaxed atomic bytes).
 using UsedFlag = std::atomic<std::uint8_t>;
