@@ -50,16 +50,42 @@ std::size_t MeshDelta::bytes() const {
 
 namespace {
 
-/// The indices below `count` that no list holds, increasing.
+/// Indices per task of `unlisted`: small, so that most hold only listed indices and are skipped.
+constexpr std::size_t kRestGrain = 4096;
+
+/// The indices below `count` that no list holds, increasing. The lists are increasing and
+/// disjoint (the pieces of a split): a stretch of indices whose parts of the lists (found by
+/// bisection) add up to its length holds none and is skipped; only the others are walked. The
+/// rest of a split is small (deleted faces, unused vertices), so this is about O(rest) over the
+/// pool, stretches joined in order (the same list whatever the threads).
 std::vector<std::uint32_t> unlisted(const std::vector<std::vector<std::uint32_t>>& lists, std::size_t count) {
-  std::vector<char> listed(count, 0);
-  for (const std::vector<std::uint32_t>& list : lists)
-    parallel_for(list.size(), detail::kIndexGrain, [&](std::size_t b, std::size_t e) {
-      for (std::size_t i = b; i < e; ++i) listed[list[i]] = 1;
-    });
+  const std::size_t stretches = (count + kRestGrain - 1) / kRestGrain;
+  std::vector<std::vector<std::uint32_t>> parts(stretches);
+  parallel_for(stretches, 16, [&](std::size_t first, std::size_t last) {
+    std::vector<std::pair<const std::uint32_t*, const std::uint32_t*>> held(lists.size());
+    for (std::size_t r = first; r < last; ++r) {
+      const std::size_t b = r * kRestGrain, e = std::min(count, b + kRestGrain);
+      std::size_t listed = 0;
+      for (std::size_t s = 0; s < lists.size(); ++s) {
+        const std::uint32_t* const end = lists[s].data() + lists[s].size();
+        const std::uint32_t* const lo = std::lower_bound(lists[s].data(), end, b);
+        held[s] = {lo, std::lower_bound(lo, end, e)};
+        listed += static_cast<std::size_t>(held[s].second - lo);
+      }
+      if (listed == e - b) continue;
+      for (std::size_t i = b; i < e; ++i) {
+        bool in_list = false;
+        for (auto& [next, stop] : held)
+          if (next != stop && *next == i) {
+            ++next;
+            in_list = true;
+          }
+        if (!in_list) parts[r].push_back(static_cast<std::uint32_t>(i));
+      }
+    }
+  });
   std::vector<std::uint32_t> out;
-  for (std::size_t i = 0; i < count; ++i)
-    if (!listed[i]) out.push_back(static_cast<std::uint32_t>(i));
+  for (const auto& part : parts) out.insert(out.end(), part.begin(), part.end());
   return out;
 }
 
