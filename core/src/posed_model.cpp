@@ -13,6 +13,7 @@
 #include "deepcut/core/operation_room.h"
 #include "deepcut/core/parallel.h"
 #include "deepcut/core/skinning.h"
+#include "deepcut/core/smallest_fit.h"
 #include "uninit_vector.h"
 
 namespace deepcut {
@@ -357,7 +358,7 @@ const std::vector<glm::mat4>& PosedModel::joints_of(const Model& model, int node
 }
 
 PosedMesh PosedModel::derive_instance(const Model& model, int node, int primitive, const PosedMesh& source,
-                                      const PrimitiveOrigin& origin) const {
+                                      const PrimitiveOrigin& origin, std::vector<PosedMesh>& spare) const {
   const SurfaceMesh& mesh = *instance_mesh(model, node, primitive);
   PosedMesh inst;
   inst.node = node;
@@ -368,8 +369,17 @@ PosedMesh PosedModel::derive_instance(const Model& model, int node, int primitiv
   inst.weights = weights(node);
   inst.gridless = true;
   const std::size_t n = mesh.vertex_count(), room = operation_vertex_room(n);
-  parallel_invoke({[&] { detail::resize_prefaulted(inst.posed, n, glm::vec3(0.0f), room); },
-                   [&] { detail::resize_prefaulted(inst.linear, n, glm::mat3(1.0f), room); }});
+  PosedMesh taken = take_smallest_fit(
+      spare, room, [](const PosedMesh& m) { return std::min(m.posed.capacity(), m.linear.capacity()); });
+  if (taken.posed.capacity() >= room && taken.linear.capacity() >= room) {
+    // Its pages are there: only the elements past its sizes are filled (all are written below).
+    inst.posed = std::move(taken.posed);
+    inst.linear = std::move(taken.linear);
+    parallel_invoke({[&] { inst.posed.resize(n); }, [&] { inst.linear.resize(n); }});
+  } else {
+    parallel_invoke({[&] { detail::resize_prefaulted(inst.posed, n, glm::vec3(0.0f), room); },
+                     [&] { detail::resize_prefaulted(inst.linear, n, glm::mat3(1.0f), room); }});
+  }
   // A vertex with a source has its attributes, posed alike (same world, joints and weights):
   // its position and linear map are the source's bits. The others are posed.
   const bool copy = origin.vertices.size() == n && source.linear.size() == source.posed.size();

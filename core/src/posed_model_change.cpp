@@ -65,8 +65,17 @@ void PosedModel::follow(const Model& model, const ModelChange& change, PoseDetai
     arrived[{a.mesh, a.primitive}] = a.tag;
     tags.insert(a.tag);
   }
-  // What the stash holds for none of the arrivals goes first (before anything is built).
-  for (auto it = back.begin(); it != back.end();) it = tags.count(it->first.first) ? std::next(it) : back.erase(it);
+  // What the stash holds for none of the arrivals is set aside: an instance derived below takes
+  // the arrays of one (their memory reused, no new pages to fault in), the others go at the end.
+  std::vector<PosedMesh> spare;
+  for (auto it = back.begin(); it != back.end();) {
+    if (tags.count(it->first.first)) {
+      ++it;
+      continue;
+    }
+    spare.push_back(std::move(it->second));
+    it = back.erase(it);
+  }
   // Posed as a build would pose `place` for `node` (the sizes: a guard against a follower that
   // did not show the state before the step).
   auto posed_alike = [&](const PosedMesh& inst, int node, const Place& place) {
@@ -120,7 +129,7 @@ void PosedModel::follow(const Model& model, const ModelChange& change, PoseDetai
         inst.mesh = mi;
         inst.primitive = prim;
       } else if (const auto [source, origin] = source_of(node, {mi, prim}); source) {
-        inst = derive_instance(model, node, prim, *source, *origin);
+        inst = derive_instance(model, node, prim, *source, *origin, spare);
       } else {
         inst = make_instance(model, node, prim, detail);
       }

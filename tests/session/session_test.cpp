@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <fstream>
 #include <map>
+#include <set>
 #include <iterator>
 #include <string>
 #include <vector>
@@ -407,6 +408,38 @@ TEST(SessionTest, a_cut_hands_its_pieces_origins_and_a_follower_that_copies_by_t
     }
     EXPECT_GT(copied, 0u) << "the faces away from the rim are copied";
   }
+}
+
+// A follower that stashed a cut's pieces (its undo) and follows another cut takes the arrays of
+// a piece it set aside for a piece it derives (their memory reused), and still equals a fresh
+// build.
+TEST(SessionTest, a_follower_derives_a_new_cut_s_piece_into_the_arrays_of_a_piece_it_set_aside) {
+  Session session;
+  session.open(load_cactus());
+  PosedModel follower = PosedModel::build(*session.current(), -1, 0.0f, PoseDetail::Positions);
+  PoseStash stash;
+  Operations ops(*session.current(), 7);
+  const Operation first = ops.cut();
+  const Applied cut = session.apply(first);
+  ASSERT_EQ(cut.result.status, OpStatus::Ok);
+  follower.follow(*session.current(), cut.change, PoseDetail::Positions, &stash);
+  // Its undo: the pieces go into the stash.
+  follower.follow(*session.current(), session.undo(), PoseDetail::Positions, &stash);
+  ASSERT_FALSE(stash.empty());
+  std::set<const glm::vec3*> set_aside;
+  for (const auto& [key, inst] : stash) set_aside.insert(inst.posed.data());
+  // A little lower: the pieces differ from the stashed ones (a value left over would show).
+  Operation second = first;
+  std::get<CutOperation>(second.params).plane.point.y -= 0.01f * rest_bounds(*session.current()).diagonal();
+  const Applied applied = session.apply(second);
+  ASSERT_EQ(applied.result.status, OpStatus::Ok);
+  follower.follow(*session.current(), applied.change, PoseDetail::Positions, &stash);
+  EXPECT_EQ(test::difference_from_fresh_build(follower, *session.current()), "");
+  std::size_t reused = 0;
+  for (const auto& origin : applied.change.origins)
+    if (const PosedMesh* inst = follower.find(origin->node, origin->primitive))
+      reused += set_aside.count(inst->posed.data());
+  EXPECT_GT(reused, 0u) << "a derived piece takes the arrays of a piece set aside";
 }
 
 TEST(SessionTest, a_session_writes_what_deepcut_apply_writes_and_refuses_a_swallowing_drill_alike) {
