@@ -388,7 +388,9 @@ RimInsertion RimInserter::run(const std::vector<FaceId>& candidates) {
   for (std::size_t c = 0; c < candidates.size(); ++c)
     if (!deep_[c]) merge_crossings(c);
   plan_faces(candidates);
-  batch_.reserve(3 * candidates.size(), candidates.size());
+  std::size_t planned_tris = 0;  // every face the plans can add (a merged tip's is not)
+  for (const PlanChunk& chunk : *chunks_) planned_tris += chunk.tris.size();
+  batch_.reserve(planned_tris, candidates.size());
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     if (!deep_[c]) {
       apply_plan(candidates[c], plans_[c]);
