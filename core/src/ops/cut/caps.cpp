@@ -328,17 +328,22 @@ void make_cap(MeshEditor& editor, const CapInput& in, const CapPlan& plan, std::
   SurfaceMesh& mesh = editor.mesh();
   auto* cap_flag = mesh.face_attrs().find<std::uint8_t>(attr::kCutSurface);
   if (!cap_flag) cap_flag = &mesh.face_attrs().add<std::uint8_t>(attr::kCutSurface);
-  const std::size_t first = piece.size();
+  std::vector<Triangle> faces;
   std::vector<std::uint32_t> made;  // the triangle of each face made, in order
+  faces.reserve(tris.size());
   made.reserve(tris.size());
-  piece.reserve(piece.size() + tris.size());
   for (std::size_t i = 0; i < tris.size(); ++i) {
     const auto& tri = tris[i];
     const Triangle t = {verts[tri[0]], verts[tri[1]], verts[tri[2]]};
     if (!kept_flat.empty() && repeats_flat(t)) continue;  // that surface is there already
-    piece.push_back(editor.add_face(t));
+    faces.push_back(t);
     made.push_back(static_cast<std::uint32_t>(i));
   }
+  // All in one call: each attribute array grown once.
+  const std::size_t first = piece.size();
+  const FaceId first_face = editor.add_faces(faces.data(), faces.size());
+  piece.reserve(piece.size() + faces.size());
+  for (std::uint32_t k = 0; k < faces.size(); ++k) piece.push_back(FaceId(first_face.index + k));
   const glm::vec3 flat_normal = float(plan.outer_sign) * glm::vec3(in.normal);
   set_cap_attributes(mesh, *cap_flag, piece.data() + first, made, plan.pts, tris, flat_normal, plan.u);
 }
