@@ -297,10 +297,13 @@ FaceId MeshEditor::add_face_from(const Triangle& vertices, FaceId parent,
   return f;
 }
 
-FaceId MeshEditor::add_face(const Triangle& vertices) {
-  const FaceId f = mesh_.add_face(vertices[0], vertices[1], vertices[2]);
-  log_.edits.push_back(FaceAdded{f, FaceId(), vertices});
-  return f;
+FaceId MeshEditor::add_face(const Triangle& vertices) { return add_faces(&vertices, 1); }
+
+FaceId MeshEditor::add_faces(const Triangle* faces, std::size_t count) {
+  const FaceId first = mesh_.add_faces(faces, count);
+  for (std::size_t i = 0; i < count; ++i)
+    log_.edits.push_back(FaceAdded{FaceId(first.index + static_cast<std::uint32_t>(i)), FaceId(), faces[i]});
+  return first;
 }
 
 namespace {

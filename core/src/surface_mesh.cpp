@@ -150,12 +150,19 @@ void check_face_vertices(VertexId a, VertexId b, VertexId c, std::size_t nv) {
 }  // namespace
 
 FaceId SurfaceMesh::add_face(VertexId a, VertexId b, VertexId c) {
-  check_face_vertices(a, b, c, vertex_count());
-  faces_.push_back({a, b, c});
-  deleted_.push_back(0);
-  fattrs_.push_default(1);
-  cattrs_.push_default(3);
-  return FaceId(static_cast<std::uint32_t>(faces_.size() - 1));
+  const Triangle t = {a, b, c};
+  return add_faces(&t, 1);
+}
+
+FaceId SurfaceMesh::add_faces(const Triangle* faces, std::size_t count) {
+  const std::size_t nv = vertex_count();
+  for (std::size_t i = 0; i < count; ++i) check_face_vertices(faces[i][0], faces[i][1], faces[i][2], nv);
+  const FaceId first(static_cast<std::uint32_t>(faces_.size()));
+  faces_.insert(faces_.end(), faces, faces + count);
+  deleted_.resize(deleted_.size() + count, 0);
+  fattrs_.push_default(count);
+  cattrs_.push_default(3 * count);
+  return first;
 }
 
 FaceId SurfaceMesh::add_face_from(VertexId a, VertexId b, VertexId c, FaceId parent, const float* w) {

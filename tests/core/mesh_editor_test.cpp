@@ -437,6 +437,37 @@ TEST(MeshEditorTest, a_vertex_batch_with_a_bad_end_late_in_it_changes_nothing) {
   EXPECT_EQ(editor.log().size(), t.size());
 }
 
+TEST(MeshEditorTest, parentless_faces_in_one_call_equal_them_one_by_one) {
+  // The same mesh (default corner and face attributes) and the same log as add_face face by
+  // face; a corner that is not a vertex, late in the list, is refused before any change.
+  SurfaceMesh start = test::make_grid(3, 2);
+  start.face_attrs().add<std::uint8_t>(attr::kCutSurface);
+  start.corner_attrs().add<glm::vec4>(attr::kTangent, glm::vec4(1.0f, 0.0f, 0.0f, -1.0f));
+  SurfaceMesh one = start, batched = start;
+  MeshEditor by_call(one), by_batch(batched);
+  std::vector<Triangle> faces;
+  for (std::uint32_t f = 0; f < 5; ++f) {
+    const Triangle t = start.face(FaceId(f));
+    faces.push_back({t[2], t[1], t[0]});
+  }
+  for (const Triangle& t : faces) by_call.add_face(t);
+  const auto first = static_cast<std::uint32_t>(start.face_slots());
+  EXPECT_EQ(by_batch.add_faces(faces.data(), faces.size()), FaceId(first));
+  EXPECT_EQ(mesh_bytes(batched), mesh_bytes(one));
+  ASSERT_EQ(by_batch.log().size(), faces.size());
+  for (std::size_t i = 0; i < faces.size(); ++i) {
+    const auto& x = std::get<FaceAdded>(by_batch.log().edits[i]);
+    const auto& y = std::get<FaceAdded>(by_call.log().edits[i]);
+    EXPECT_TRUE(x.f == y.f && x.parent == y.parent && x.vertices == y.vertices) << i;
+    EXPECT_EQ(x.f, FaceId(first + static_cast<std::uint32_t>(i)));
+  }
+  const std::vector<unsigned char> before = mesh_bytes(batched);
+  faces[3][1] = VertexId(static_cast<std::uint32_t>(start.vertex_count()));
+  EXPECT_THROW(by_batch.add_faces(faces.data(), faces.size()), Error);
+  EXPECT_EQ(mesh_bytes(batched), before);
+  EXPECT_EQ(by_batch.log().size(), 5u);
+}
+
 TEST(MeshEditorTest, a_face_batch_removing_a_face_twice_changes_nothing) {
   // The second removal would find the face deleted: the batch is refused before any change,
   // whether the two removals are next to each other or apart, with faces queued between them.

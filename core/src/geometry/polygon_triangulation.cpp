@@ -213,7 +213,8 @@ class EarClipper {
   }
   static std::size_t clamp_cell(double c, std::size_t cells) {
     if (!(c > 0.0)) return 0;  // NaN too
-    return c >= double(cells - 1) ? cells - 1 : static_cast<std::size_t>(c);
+    // Through a signed integer (c is below the cell count): the same value, a cheaper conversion.
+    return c >= double(cells - 1) ? cells - 1 : static_cast<std::size_t>(static_cast<std::int64_t>(c));
   }
   std::size_t cell_x(double x) const { return clamp_cell((x - origin_xy_.x) * inv_cell_.x, grid_x_); }
   std::size_t cell_y(double y) const { return clamp_cell((y - origin_xy_.y) * inv_cell_.y, grid_y_); }

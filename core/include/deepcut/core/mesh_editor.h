@@ -93,6 +93,10 @@ class MeshEditor {
   /// New face with no parent (cap, wall): corner and face attributes get default values;
   /// set them through `mesh().corner_attrs()` afterwards.
   FaceId add_face(const Triangle& vertices);
+  /// `add_face(faces[i])` for i = 0 .. count - 1 in turn, with the same mesh and log (each
+  /// attribute array grown once for all of them): face i is the returned face + i.
+  /// @throws Error{InvalidArgument} (before any change) for a corner that is not a vertex.
+  FaceId add_faces(const Triangle* faces, std::size_t count);
   /// Marks `f` deleted. @throws Error{InvalidArgument} if it is already deleted.
   void remove_face(FaceId f);
   /// Makes the queued edits of `batch` and empties it: the same mesh and the same log as its

@@ -62,6 +62,10 @@ class SurfaceMesh {
   /// Appends a triangle; corner and face attributes get their default values.
   /// @throws Error{InvalidArgument} if an index is out of range.
   FaceId add_face(VertexId a, VertexId b, VertexId c);
+  /// `add_face(faces[i][0], faces[i][1], faces[i][2])` for i = 0 .. count - 1 in turn, each
+  /// attribute array grown once for all of them. @returns the first new face.
+  /// @throws Error{InvalidArgument} (before any change) if an index is out of range.
+  FaceId add_faces(const Triangle* faces, std::size_t count);
   /// Appends a triangle made from face `parent`: its face attributes copy the parent's, and
   /// corner `k`'s attributes blend the parent's three corners with weights `w[3k .. 3k + 2]`.
   /// The same result as `add_face` then `copy`/`set_blend3`, each attribute written once.

@@ -54,6 +54,37 @@ void sort_by_vertex(std::vector<std::uint64_t>& keys, std::vector<std::uint64_t>
     });
 }
 
+// The group (index into `from`, the sorted vertices steps leave) of the vertex each halfedge's
+// step reaches (its first end), or kInvalidIndex where no step leaves it. When the groups span
+// few ids (a cut's rim vertices are its newest ones) a table over that span answers; otherwise
+// the reached vertices are sorted and merged with `from`.
+void reached_groups(const std::vector<std::pair<VertexId, VertexId>>& halfedges, const std::vector<std::uint32_t>& from,
+                    std::vector<std::uint32_t>& reached) {
+  const std::size_t m = halfedges.size();
+  const auto groups = static_cast<std::uint32_t>(from.size());
+  reached.assign(m, kInvalidIndex);
+  if (groups == 0) return;
+  const std::uint32_t lo = from.front(), hi = from.back();
+  if (hi - lo < 4 * m + 256) {
+    std::vector<std::uint32_t> group_of(std::size_t(hi - lo) + 1, kInvalidIndex);
+    for (std::uint32_t r = 0; r < groups; ++r) group_of[from[r] - lo] = r;
+    for (std::size_t k = 0; k < m; ++k) {
+      const std::uint32_t v = halfedges[k].first.index;
+      if (v >= lo && v <= hi) reached[k] = group_of[v - lo];
+    }
+    return;
+  }
+  std::vector<std::uint64_t> reaches(m), scratch;
+  std::vector<std::uint32_t> count;
+  for (std::size_t k = 0; k < m; ++k) reaches[k] = (std::uint64_t(halfedges[k].first.index) << 32) | k;
+  sort_by_vertex(reaches, scratch, count);
+  for (std::size_t p = 0, r = 0; p < m; ++p) {
+    const auto v = static_cast<std::uint32_t>(reaches[p] >> 32);
+    while (r < groups && from[r] < v) ++r;
+    if (r < groups && from[r] == v) reached[reaches[p] & 0xffffffffu] = static_cast<std::uint32_t>(r);
+  }
+}
+
 // Follows the rim halfedges backwards (the cap runs along the piece's rim edges in the opposite
 // direction) into closed loops; returns false if some rim chain is open. Each rim edge is used by
 // one rim face, so every reversed halfedge b -> a is listed once. The steps are grouped by the
@@ -65,15 +96,11 @@ bool trace_loops(const std::vector<std::pair<VertexId, VertexId>>& halfedges, Ri
   out.verts.clear();
   const std::size_t m = halfedges.size();
   // The steps sorted by the vertex they leave (ties in halfedge order): (vertex, halfedge) as
-  // one key; and the vertices they reach, sorted the same way.
-  std::vector<std::uint64_t> leaves(m), reaches(m), scratch;
+  // one key.
+  std::vector<std::uint64_t> leaves(m), scratch;
   std::vector<std::uint32_t> count;
-  for (std::size_t k = 0; k < m; ++k) {
-    leaves[k] = (std::uint64_t(halfedges[k].second.index) << 32) | k;
-    reaches[k] = (std::uint64_t(halfedges[k].first.index) << 32) | k;
-  }
+  for (std::size_t k = 0; k < m; ++k) leaves[k] = (std::uint64_t(halfedges[k].second.index) << 32) | k;
   sort_by_vertex(leaves, scratch, count);
-  sort_by_vertex(reaches, scratch, count);
   // Group r: the steps leaving vertex from[r], which are steps [start[r], start[r + 1]).
   std::vector<std::uint32_t> from, start;
   from.reserve(m);
@@ -85,14 +112,9 @@ bool trace_loops(const std::vector<std::pair<VertexId, VertexId>>& halfedges, Ri
     }
   const auto groups = static_cast<std::uint32_t>(from.size());
   start.push_back(static_cast<std::uint32_t>(m));
-  // The group each halfedge's step reaches (kInvalidIndex: a vertex no step leaves), merged from
-  // the two sorted lists; then by step.
-  std::vector<std::uint32_t> reached(m), to(m);
-  for (std::size_t p = 0, r = 0; p < m; ++p) {
-    const auto v = static_cast<std::uint32_t>(reaches[p] >> 32);
-    while (r < groups && from[r] < v) ++r;
-    reached[reaches[p] & 0xffffffffu] = r < groups && from[r] == v ? static_cast<std::uint32_t>(r) : kInvalidIndex;
-  }
+  // The group each step reaches (kInvalidIndex: a vertex no step leaves), by step.
+  std::vector<std::uint32_t> reached, to(m);
+  reached_groups(halfedges, from, reached);
   for (std::size_t p = 0; p < m; ++p) to[p] = reached[leaves[p] & 0xffffffffu];
   std::vector<std::uint32_t> cursor(start.begin(), start.end() - 1);
   // Local index of each rim vertex (by group), by first appearance in a kept loop.
@@ -298,27 +320,30 @@ void make_cap(MeshEditor& editor, const CapInput& in, const CapPlan& plan, std::
     });
   };
   const auto& verts = plan.rim.verts;
-  std::vector<geometry::LocalTri> tris;
-  if (plan.tris.size() == 1) {
-    tris = plan.tris[0];
-  } else {
-    for (const auto& t : plan.tris) tris.insert(tris.end(), t.begin(), t.end());
-  }
+  std::vector<geometry::LocalTri> joined;  // the polygons' triangles in order, where there are several
+  if (plan.tris.size() > 1)
+    for (const auto& t : plan.tris) joined.insert(joined.end(), t.begin(), t.end());
+  const auto& tris = plan.tris.size() == 1 ? plan.tris[0] : joined;
   // The faces, then each attribute in one pass over them.
   SurfaceMesh& mesh = editor.mesh();
   auto* cap_flag = mesh.face_attrs().find<std::uint8_t>(attr::kCutSurface);
   if (!cap_flag) cap_flag = &mesh.face_attrs().add<std::uint8_t>(attr::kCutSurface);
-  const std::size_t first = piece.size();
+  std::vector<Triangle> faces;
   std::vector<std::uint32_t> made;  // the triangle of each face made, in order
+  faces.reserve(tris.size());
   made.reserve(tris.size());
-  piece.reserve(piece.size() + tris.size());
   for (std::size_t i = 0; i < tris.size(); ++i) {
     const auto& tri = tris[i];
     const Triangle t = {verts[tri[0]], verts[tri[1]], verts[tri[2]]};
     if (!kept_flat.empty() && repeats_flat(t)) continue;  // that surface is there already
-    piece.push_back(editor.add_face(t));
+    faces.push_back(t);
     made.push_back(static_cast<std::uint32_t>(i));
   }
+  // All in one call: each attribute array grown once.
+  const std::size_t first = piece.size();
+  const FaceId first_face = editor.add_faces(faces.data(), faces.size());
+  piece.reserve(piece.size() + faces.size());
+  for (std::uint32_t k = 0; k < faces.size(); ++k) piece.push_back(FaceId(first_face.index + k));
   const glm::vec3 flat_normal = float(plan.outer_sign) * glm::vec3(in.normal);
   set_cap_attributes(mesh, *cap_flag, piece.data() + first, made, plan.pts, tris, flat_normal, plan.u);
 }
