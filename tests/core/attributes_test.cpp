@@ -3,9 +3,12 @@
 
 #include <gtest/gtest.h>
 
+#include <glm/ext/vector_float1.hpp>
+
 #include <cmath>
 #include <cstring>
 #include <string>
+#include <vector>
 
 namespace deepcut {
 
@@ -138,6 +141,58 @@ TEST(AttributesTest, batches_equal_the_single_calls_in_turn) {
     for (std::size_t i = 0; i < a.size(); ++i)
       EXPECT_EQ(std::memcmp(a.element_data(i), b.element_data(i), a.element_bytes()), 0) << name << " " << i;
   }
+}
+
+
+// Each component of corner k: ((0 + s0 w0) + s1 w1) + s2 w2, one float operation at a time.
+template <class T>
+T scalar_blend(const T* s, const float* w) {
+  T out(0.0f);
+  for (int c = 0; c < T::length(); ++c) {
+    float x = 0.0f;
+    for (int i = 0; i < 3; ++i) {
+      const volatile float term = s[i][c] * w[i];  // rounded alone, as the rule rounds it
+      x = x + term;
+    }
+    out[c] = x;
+  }
+  return out;
+}
+
+template <class T>
+void expect_batches_blend_exactly() {
+  // Runs of faces longer than a batch's stack run, parents up to the array's last face (read
+  // right at its end), zeros of both signs and subnormals among the values.
+  constexpr std::uint32_t kFaces = 40, kNew = 75;
+  AttributeArray<T> array;
+  std::vector<T>& data = array.data();
+  for (std::uint32_t i = 0; i < 3 * kFaces; ++i) {
+    T x(0.0f);
+    for (int c = 0; c < T::length(); ++c)
+      x[c] = (i + c) % 7 == 0 ? -0.0f : (i + c) % 11 == 0 ? 1e-41f : std::sin(float(3 * i + c)) * 40.0f;
+    data.push_back(x);
+  }
+  data.shrink_to_fit();  // no room past the end: the batch grows the array itself
+  std::vector<std::uint32_t> parents(kNew);
+  std::vector<float> w(9 * kNew);
+  for (std::uint32_t i = 0; i < kNew; ++i) parents[i] = i % 3 == 0 ? kFaces - 1 : (7 * i) % kFaces;
+  for (std::size_t i = 0; i < w.size(); ++i) w[i] = i % 5 == 0 ? 0.0f : std::cos(float(i)) * 0.75f;
+  const std::vector<T> before = data;
+  array.push_blend3_batch(parents.data(), w.data(), kNew);
+  ASSERT_EQ(data.size(), 3 * std::size_t(kFaces + kNew));
+  for (std::uint32_t i = 0; i < kNew; ++i)
+    for (int k = 0; k < 3; ++k) {
+      const T expected = scalar_blend(&before[3 * parents[i]], &w[9 * i + 3 * k]);
+      EXPECT_EQ(std::memcmp(&expected, &data[3 * (kFaces + i) + k], sizeof(T)), 0) << T::length() << " face " << i;
+    }
+  EXPECT_EQ(std::memcmp(before.data(), data.data(), before.size() * sizeof(T)), 0);  // the sources untouched
+}
+
+TEST(AttributesTest, batches_blend_every_float_width_exactly_as_the_scalar_rule) {
+  expect_batches_blend_exactly<glm::vec1>();
+  expect_batches_blend_exactly<glm::vec2>();
+  expect_batches_blend_exactly<glm::vec3>();
+  expect_batches_blend_exactly<glm::vec4>();
 }
 
 }  // namespace deepcut

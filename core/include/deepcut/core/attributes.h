@@ -5,8 +5,10 @@
 /// containers, VTK's InterpolateAllocate). A `SurfaceMesh` owns one `AttributeSet` per element
 /// kind, so adding or splitting a vertex updates every attribute, including ones a plugin added.
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <map>
 #include <memory>
 #include <string>
@@ -20,6 +22,14 @@
 
 #include "deepcut/core/errors.h"
 #include "deepcut/core/parallel.h"
+
+// Float attributes blend in vector registers where the compiler has GCC >= 12 / Clang vector
+// extensions (AttributeArray::kLanes); elsewhere by the same rule one float at a time.
+#if defined(__clang__) || (defined(__GNUC__) && __GNUC__ >= 12)
+#define DEEPCUT_ATTRIBUTE_LANES 1
+#else
+#define DEEPCUT_ATTRIBUTE_LANES 0
+#endif
 
 namespace deepcut {
 
@@ -154,26 +164,30 @@ class AttributeArray final : public AttributeArrayBase {
     const T value = data_[src];
     data_.push_back(value);
   }
+  // The batches grow the array once and append each element as it is made (no default fill
+  // first; the sources do not move meanwhile). A face's corners are blended a run at a time on
+  // the stack and appended in one copy; a face whose parent is still in the run appends it first.
   void push_blend3_batch(const std::uint32_t* triples, const float* w, std::size_t count) override {
-    const std::size_t at = data_.size();
-    data_.resize(at + 3 * count);  // grown first: the sources are read where they then lie
-    T* out = data_.data() + at;
-    for (std::size_t i = 0; i < count; ++i, out += 3, w += 9) {
-      const T* s = data_.data() + 3 * std::size_t(triples[i]);
-      out[0] = blend3(s, w);
-      out[1] = blend3(s, w + 3);
-      out[2] = blend3(s, w + 6);
+    room_for(3 * count);
+    T out[3 * kRun + kSpill];
+    std::size_t n = 0;  // faces in `out`
+    for (std::size_t i = 0; i < count; ++i) {
+      const std::size_t s = 3 * std::size_t(triples[i]);
+      if (n == kRun || (n > 0 && s + 3 > data_.size())) {
+        data_.insert(data_.end(), out, out + 3 * n);
+        n = 0;
+      }
+      blend_face(data_.data() + s, w + 9 * i, out + 3 * n++);
     }
+    data_.insert(data_.end(), out, out + 3 * n);
   }
   void push_blend_batch(const std::uint32_t* src, const float* w, int sources, std::size_t count) override {
-    const std::size_t at = data_.size();
-    data_.resize(at + count);
-    for (std::size_t i = 0; i < count; ++i, src += sources, w += sources) data_[at + i] = blend(src, w, sources);
+    room_for(count);  // a source may be an element made earlier in the batch
+    for (std::size_t i = 0; i < count; ++i, src += sources, w += sources) data_.push_back(blend(src, w, sources));
   }
   void push_copy_batch(const std::uint32_t* src, std::size_t count) override {
-    const std::size_t at = data_.size();
-    data_.resize(at + count);
-    for (std::size_t i = 0; i < count; ++i) data_[at + i] = data_[src[i]];
+    room_for(count);
+    for (std::size_t i = 0; i < count; ++i) data_.push_back(data_[src[i]]);  // the room is there: no move
   }
   void copy(std::size_t dst, std::size_t src) override { data_[dst] = data_[src]; }
   void gather(const std::vector<std::uint32_t>& keep) override {
@@ -251,10 +265,68 @@ class AttributeArray final : public AttributeArrayBase {
     return const_cast<AttributeArray&>(same_type(static_cast<const AttributeArrayBase&>(other)));
   }
   static constexpr bool kBlends = std::is_floating_point_v<T> || std::is_floating_point_v<typename GlmScalar<T>::type>;
+#if DEEPCUT_ATTRIBUTE_LANES
+  // float to glm::vec4: up to four floats, blended lane by lane in one vector register (GCC >= 12
+  // / Clang vector extensions), each lane by exactly the scalar rule's operations in its order.
+  static constexpr bool kLanes =
+      std::is_same_v<typename GlmScalar<T>::type, float> && sizeof(T) <= 16 && sizeof(T) % sizeof(float) == 0;
+  using Lanes = float __attribute__((vector_size(16)));
+  static Lanes splat(float x) { return Lanes{x, x, x, x}; }
+  static Lanes lanes(const T& x) {
+    Lanes v = splat(0.0f);
+    std::memcpy(&v, &x, sizeof(T));
+    return v;
+  }
+  static const Lanes& lanes(const Lanes& v) { return v; }
+  // s[0], s[1], s[2] as lanes (the lanes past an element hold whatever follows it): three 16-byte
+  // reads inside the three elements' floats where they span 16 bytes or more.
+  static void lanes3(const T* s, Lanes* a) {
+    constexpr int n = static_cast<int>(sizeof(T) / sizeof(float)), last = 3 * n - 4;
+    if constexpr (last >= 0) {
+      constexpr int o1 = n < last ? n : last, o2 = 2 * n < last ? 2 * n : last;
+      constexpr int k1 = n - o1, k2 = 2 * n - o2;  // where each element starts in its read
+      const auto* f = reinterpret_cast<const unsigned char*>(s);
+      Lanes p1, p2;
+      std::memcpy(&a[0], f, sizeof(Lanes));
+      std::memcpy(&p1, f + sizeof(float) * o1, sizeof(Lanes));
+      std::memcpy(&p2, f + sizeof(float) * o2, sizeof(Lanes));
+      a[1] = __builtin_shufflevector(p1, p1, k1, k1 + 1, k1 + 2, k1 + 3);
+      a[2] = __builtin_shufflevector(p2, p2, k2, k2 + 1, k2 + 2, k2 + 3);
+    } else {
+      for (int i = 0; i < 3; ++i) a[i] = lanes(s[i]);
+    }
+  }
+  template <class At>
+  static Lanes mix_lanes(At at, const float* w, int count) {
+    Lanes out = splat(0.0f);
+    for (int i = 0; i < count; ++i) out = out + lanes(at(i)) * splat(w[i]);
+    return out;
+  }
+#else
+  static constexpr bool kLanes = false;
+#endif
+  // Faces push_blend3_batch blends on the stack before appending them; a lanes store may write
+  // up to 16 bytes at the last corner, `kSpill` elements past it.
+  static constexpr std::size_t kRun = 32;
+  static constexpr std::size_t kSpill = kLanes ? 16 / sizeof(T) : 0;
+  // Room for `count` more elements, grown as the vector grows itself (at least doubling).
+  void room_for(std::size_t count) {
+    const std::size_t need = data_.size() + count;
+    if (need > data_.capacity()) data_.reserve(std::max(need, 2 * data_.size()));
+  }
   // The one blend rule, over the `count` elements `at(0) .. at(count - 1)`: floating types mix
-  // by the weights, others take the element of the largest weight.
+  // by the weights, ((0 + a0 w0) + a1 w1) + a2 w2 in each component; others take the element
+  // of the largest weight.
   template <class At>
   static T mix(At at, const float* w, int count) {
+#if DEEPCUT_ATTRIBUTE_LANES
+    if constexpr (kLanes) {
+      const Lanes v = mix_lanes(at, w, count);
+      T out;
+      std::memcpy(&out, &v, sizeof(T));
+      return out;
+    }
+#endif
     if constexpr (kBlends) {
       T out = T(0);
       for (int i = 0; i < count; ++i) out += at(i) * w[i];
@@ -273,7 +345,22 @@ class AttributeArray final : public AttributeArrayBase {
   static T blend3(const T* s, const float* w) {
     return mix([s](int i) -> const T& { return s[i]; }, w, 3);
   }
-
+  // out[k] = blend3(s, w + 3 k) for the three corners of a face, `out` apart from `s` with room
+  // for kSpill more elements: with lanes, the sources are read once for the three.
+  static void blend_face(const T* s, const float* w, T* out) {
+#if DEEPCUT_ATTRIBUTE_LANES
+    if constexpr (kLanes) {
+      Lanes a[3];
+      lanes3(s, a);
+      for (int k = 0; k < 3; ++k) {
+        const Lanes v = mix_lanes([&a](int i) -> const Lanes& { return a[i]; }, w + 3 * k, 3);
+        std::memcpy(static_cast<void*>(out + k), &v, sizeof(Lanes));  // past it: written next, or spill room
+      }
+      return;
+    }
+#endif
+    for (int k = 0; k < 3; ++k) out[k] = blend3(s, w + 3 * k);
+  }
 
   std::vector<T> data_;
   T default_;

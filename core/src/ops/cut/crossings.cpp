@@ -53,11 +53,11 @@ void Cutter::make_crossings() {
 // The corner split_face makes on the side (ka, kb) of face `t` at its crossing `s`.
 Cutter::Corner Cutter::split_corner(const Triangle& t, int ka, int kb, const Split& s) const {
   const VertexId v = merges_.merged(s.v);
-  glm::vec3 bary(0.0f);
+  float bary[3] = {0.0f, 0.0f, 0.0f};  // by index: glm's operator[] branches on it
   const float wa = t[ka] == s.lo ? 1.0f - s.t : s.t;
   bary[ka] = wa;
   bary[kb] = 1.0f - wa;
-  return {v, bary};
+  return {v, glm::vec3(bary[0], bary[1], bary[2])};
 }
 
 // Finds the crossings of a face the plane crosses, in the order split_face uses them. A face whose
@@ -68,13 +68,16 @@ void Cutter::split_crossings(FaceId f) {
   const Triangle& t = mesh_.face(f);
   const std::int8_t s[3] = {sign_[t[0].index], sign_[t[1].index], sign_[t[2].index]};
   const bool pos = s[0] > 0 || s[1] > 0 || s[2] > 0, neg = s[0] < 0 || s[1] < 0 || s[2] < 0;
+  // Two entries a face, each pushed alone (a range insert costs more than the pair).
   if (!pos || !neg) {
-    face_crossings_.insert(face_crossings_.end(), 2, nullptr);
+    face_crossings_.push_back(nullptr);
+    face_crossings_.push_back(nullptr);
     return;
   }
   for (int k = 0; k < 3; ++k)
     if (s[k] == 0) {
-      face_crossings_.insert(face_crossings_.end(), {&split_edge(t[(k + 1) % 3], t[(k + 2) % 3]), nullptr});
+      face_crossings_.push_back(&split_edge(t[(k + 1) % 3], t[(k + 2) % 3]));
+      face_crossings_.push_back(nullptr);
       return;
     }
   int lone = 0;
@@ -82,7 +85,8 @@ void Cutter::split_crossings(FaceId f) {
     if (s[k] != s[(k + 1) % 3] && s[k] != s[(k + 2) % 3]) lone = k;
   const Split& a = split_edge(t[lone], t[(lone + 1) % 3]);
   const Split& b = split_edge(t[lone], t[(lone + 2) % 3]);
-  face_crossings_.insert(face_crossings_.end(), {&a, &b});
+  face_crossings_.push_back(&a);
+  face_crossings_.push_back(&b);
   merge_candidates_.emplace_back(a.v, b.v);
 }
 
@@ -93,11 +97,8 @@ void Cutter::split_face(FaceId f, const Split* const* crossings) {
   const std::int8_t s[3] = {sign_[t[0].index], sign_[t[1].index], sign_[t[2].index]};
   const bool pos = s[0] > 0 || s[1] > 0 || s[2] > 0, neg = s[0] < 0 || s[1] < 0 || s[2] < 0;
   if (!pos || !neg) return;
-  auto corner = [&](int k) {
-    glm::vec3 b(0.0f);
-    b[k] = 1.0f;
-    return Corner{t[k], b};
-  };
+  static const glm::vec3 kOwn[3] = {{1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, {0.0f, 0.0f, 1.0f}};
+  auto corner = [&](int k) { return Corner{t[k], kOwn[k]}; };  // the parent's corner k itself
   auto emit = [&](const Corner& a, const Corner& b, const Corner& c) {
     if (a.v == b.v || b.v == c.v || a.v == c.v) return;  // the tip of a needle whose crossings merged
     planned_.push_back({{a.v, b.v, c.v}, f, {a.bary, b.bary, c.bary}});
