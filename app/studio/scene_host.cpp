@@ -12,6 +12,7 @@
 #include "morph_panel.h"
 #include "scene_tree.h"
 #include "scene_view.h"
+#include "thread_cpu_time.h"
 #include "timeline.h"
 #include "tool_host.h"
 
@@ -135,6 +136,7 @@ void SceneHost::show_step(const ModelChange& change) {
   auto cpu_ms = [] { return 1e3 * static_cast<double>(std::clock()) / CLOCKS_PER_SEC; };
   const auto t0 = Clock::now();
   const double c0 = cpu_ms();
+  const long f0 = process_minor_faults();
   if (!scene_ || !session_.current() || !follow || !plugins::follow_scene(*scene_, session_.current(), change)) {
     step_timing_ = {};
     if (scene_) show_current();
@@ -142,11 +144,15 @@ void SceneHost::show_step(const ModelChange& change) {
   }
   const auto t1 = Clock::now();
   const double c1 = cpu_ms();
+  const long f1 = process_minor_faults();
   view_->update_scene(change);
   step_timing_.scene_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
   step_timing_.view_ms = std::chrono::duration<double, std::milli>(Clock::now() - t1).count();
   step_timing_.scene_cpu_ms = c1 - c0;
   step_timing_.view_cpu_ms = cpu_ms() - c1;
+  step_timing_.faults_at_start = f0;
+  step_timing_.scene_faults = f1 - f0;
+  step_timing_.view_faults = process_minor_faults() - f1;
   // A structural step may add or drop nodes that morph: the panel follows (re-posing the
   // scene when the weights set by hand change).
   if (change.structure && sync_morph_panel()) view_->update_pose();

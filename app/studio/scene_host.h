@@ -69,10 +69,13 @@ class SceneHost : public QObject {
   void show_step(const ModelChange& change);
   /// Where the last `show_step` that followed its step spent its time before the frame, in ms:
   /// the scene (posed meshes, corner normals) and the view's VTK data, wall clock and the
-  /// process's CPU time (every thread of the pool; steadier on a loaded machine).
+  /// process's CPU time (every thread of the pool; steadier on a loaded machine), and the
+  /// process's minor page faults: at the step's start (before the scene follows it: what came
+  /// before, the operation and its undo record, is counted from there), in the scene, in the view.
   struct StepTiming {
     double scene_ms = 0.0, view_ms = 0.0;
     double scene_cpu_ms = 0.0, view_cpu_ms = 0.0;
+    long faults_at_start = 0, scene_faults = 0, view_faults = 0;
   };
   StepTiming last_step_timing() const { return step_timing_; }
   /// Poses the scene at `time` of `animation` (the time line moved), at the morph weights set by

@@ -12,6 +12,8 @@
 #endif
 #include <windows.h>  // GetThreadTimes
 #include <cstdint>
+#else
+#include <sys/resource.h>  // getrusage
 #endif
 
 namespace deepcut::studio {
@@ -31,6 +33,15 @@ double thread_cpu_ms() {
     return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) / 1e6;
 #endif
   return 1e3 * static_cast<double>(std::clock()) / CLOCKS_PER_SEC;
+}
+
+long process_minor_faults() {
+#if defined(_WIN32)
+  return 0;
+#else
+  rusage usage{};
+  return getrusage(RUSAGE_SELF, &usage) == 0 ? usage.ru_minflt : 0;
+#endif
 }
 
 }  // namespace deepcut::studio

@@ -15,7 +15,9 @@
 // Beside the wall times: the UI thread's CPU time in the first frame and in an unchanged one
 // ("frame_ui_cpu_ms"; the renderer's own threads not counted), steadier on a loaded machine; from
 // the action to its render call, the UI thread's CPU time ("to_render_call_ui_cpu_ms") and the
-// whole process's (every thread of the pool, "to_render_call_process_cpu_ms"). An operation's
+// whole process's (every thread of the pool, "to_render_call_process_cpu_ms"), and the process's
+// minor page faults ("to_render_call_minor_faults": fresh memory, whose cost on some machines
+// instruction counts do not show; for an apply also split as its phases are). An operation's
 // apply also says where its time to the render call went ("phases": the operation with its undo
 // record, the scene following it, the view's VTK data, the last two also as the process's CPU
 // time; none for the "..._rebuild" rows but the operation's), the bytes its undo step holds once
@@ -97,6 +99,7 @@ struct Timed {
   Clock::time_point start;
   double frame_cpu = 0.0;  // the UI thread's CPU time in the last frame drawn (SceneView)
   double ui_cpu = 0.0, process_cpu = 0.0;  // CPU time to the render call: the UI thread's, every thread's
+  long faults_at_start = 0, faults = 0;    // the process's minor page faults: at the start, to the render call
 };
 
 class Timer {
@@ -107,6 +110,7 @@ class Timer {
       first_render_ = Clock::now();
       render_ui_cpu_ = deepcut::studio::thread_cpu_ms();
       render_process_cpu_ = process_cpu_ms();
+      render_faults_ = deepcut::studio::process_minor_faults();
       rendered_ = true;
     });
   }
@@ -115,19 +119,23 @@ class Timer {
   Timed time(Action&& action) {
     rendered_ = false;
     const double ui0 = deepcut::studio::thread_cpu_ms(), process0 = process_cpu_ms();
+    const long faults0 = deepcut::studio::process_minor_faults();
     const auto t0 = Clock::now();
     action();
     const auto t1 = Clock::now();
     if (!rendered_) {
       render_ui_cpu_ = deepcut::studio::thread_cpu_ms();
       render_process_cpu_ = process_cpu_ms();
+      render_faults_ = deepcut::studio::process_minor_faults();
     }
     return {ms_since(t0, rendered_ ? first_render_ : t1),
             ms_since(t0, t1),
             t0,
             rendered_ ? window_.view()->last_render_cpu_ms() : 0.0,
             render_ui_cpu_ - ui0,
-            render_process_cpu_ - process0};
+            render_process_cpu_ - process0,
+            faults0,
+            render_faults_ - faults0};
   }
 
  private:
@@ -135,6 +143,7 @@ class Timer {
   bool rendered_ = false;
   Clock::time_point first_render_;
   double render_ui_cpu_ = 0.0, render_process_cpu_ = 0.0;
+  long render_faults_ = 0;
 };
 
 /// Operations around the cactus' middle, at the window's pose: small drills (no wall), tears
@@ -198,8 +207,9 @@ bool apply(MainWindow& window, const deepcut::Operation& op) {
 }
 
 json step_json(const std::vector<Timed>& runs) {
-  std::vector<double> render, frame, cpu, ui, process;
+  std::vector<double> render, frame, cpu, ui, process, faults;
   for (const Timed& t : runs) {
+    faults.push_back(static_cast<double>(t.faults));
     render.push_back(t.to_render);
     frame.push_back(t.to_frame);
     cpu.push_back(t.frame_cpu);
@@ -208,13 +218,14 @@ json step_json(const std::vector<Timed>& runs) {
   }
   return {{"to_render_call_ms", median(render)}, {"to_frame_ms", median(frame)},
           {"frame_ui_cpu_ms", median(cpu)},      {"to_render_call_ui_cpu_ms", median(ui)},
-          {"to_render_call_process_cpu_ms", median(process)}};
+          {"to_render_call_process_cpu_ms", median(process)}, {"to_render_call_minor_faults", median(faults)}};
 }
 
 /// One operation kind: apply, undo and redo three times each (undone again after each redo).
 json time_operation(MainWindow& window, Timer& timer, const std::function<deepcut::Operation()>& make) {
   std::vector<Timed> applied, undone, redone;
   std::vector<double> operation, scene, view, scene_cpu, view_cpu, idle;  // the apply's phases, its idle work
+  std::vector<double> before_faults, scene_faults, view_faults;  // minor page faults: to the scene, in it, in the view
   std::vector<double> record;  // bytes of the apply's undo step (where no step undone was dropped)
   for (int rep = 0, misses = 0; rep < 3;) {
     const deepcut::Operation op = make();
@@ -236,6 +247,11 @@ json time_operation(MainWindow& window, Timer& timer, const std::function<deepcu
     view.push_back(step.view_ms);
     scene_cpu.push_back(step.scene_cpu_ms);
     view_cpu.push_back(step.view_cpu_ms);
+    // A step the scene did not follow (a rebuild) has no phases: its faults all count before.
+    const long at_scene = step.faults_at_start != 0 ? step.faults_at_start : t.faults_at_start + t.faults;
+    before_faults.push_back(static_cast<double>(at_scene - t.faults_at_start));
+    scene_faults.push_back(static_cast<double>(step.scene_faults));
+    view_faults.push_back(static_cast<double>(step.view_faults));
     const auto idle0 = Clock::now();
     window.view()->prepare_updates();  // what the step's zero timer would do after its frame
     idle.push_back(ms_since(idle0, Clock::now()));
@@ -248,7 +264,10 @@ json time_operation(MainWindow& window, Timer& timer, const std::function<deepcu
                             {"scene_ms", median(scene)},
                             {"view_ms", median(view)},
                             {"scene_process_cpu_ms", median(scene_cpu)},
-                            {"view_process_cpu_ms", median(view_cpu)}};
+                            {"view_process_cpu_ms", median(view_cpu)},
+                            {"before_scene_minor_faults", median(before_faults)},
+                            {"scene_minor_faults", median(scene_faults)},
+                            {"view_minor_faults", median(view_faults)}};
   out["apply"]["prepare_updates_ms"] = median(idle);
   out["apply"]["undo_record_bytes"] = median(record);
   return out;
@@ -365,6 +384,9 @@ void print_table(const json& results) {
       if (std::strstr(kind, "_rebuild") == nullptr)  // (a rebuild is not timed by phase)
         std::printf(", scene %.1f ms, view %.1f ms", a["phases"]["scene_ms"].get<double>(),
                     a["phases"]["view_ms"].get<double>());
+      std::printf("; minor faults %.0f (before the scene %.0f, scene %.0f, view %.0f)",
+                  a["to_render_call_minor_faults"].get<double>(), a["phases"]["before_scene_minor_faults"].get<double>(),
+                  a["phases"]["scene_minor_faults"].get<double>(), a["phases"]["view_minor_faults"].get<double>());
       std::printf("; undo record %.2f MiB; after the frame, prepare_updates %.1f ms\n",
                   a["undo_record_bytes"].get<double>() / (1024.0 * 1024.0), a["prepare_updates_ms"].get<double>());
     }
