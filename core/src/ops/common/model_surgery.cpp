@@ -55,20 +55,23 @@ namespace {
 constexpr std::size_t kGrain = 65536;
 constexpr std::uint32_t kNoList = kInvalidIndex;
 
-// Live faces of `faces`, increasing, each once: the faces extract() keeps.
+// Live faces of `faces`, increasing, each once: the faces extract() keeps. A cut's lists are so
+// already: one pass that only reads says so, then they are copied whole (no append per face).
 std::vector<std::uint32_t> live_increasing(const SurfaceMesh& mesh, const std::vector<FaceId>& faces) {
+  bool kept_as_is = true;
+  for (std::size_t i = 0; i < faces.size(); ++i)
+    kept_as_is &= !mesh.is_deleted(faces[i]) && (i == 0 || faces[i - 1].index < faces[i].index);
   std::vector<std::uint32_t> out;
+  if (kept_as_is) {
+    out.resize(faces.size());
+    std::transform(faces.begin(), faces.end(), out.begin(), [](FaceId f) { return f.index; });
+    return out;
+  }
   out.reserve(faces.size());
-  bool increasing = true;
-  for (FaceId f : faces) {
-    if (mesh.is_deleted(f)) continue;
-    if (!out.empty() && f.index <= out.back()) increasing = false;
-    out.push_back(f.index);
-  }
-  if (!increasing) {
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
-  }
+  for (FaceId f : faces)
+    if (!mesh.is_deleted(f)) out.push_back(f.index);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
 }
 
@@ -101,12 +104,13 @@ Marks mark_vertices(const SurfaceMesh& mesh, const std::vector<std::vector<std::
   return marks;
 }
 
-// Each list's vertices, increasing, and every vertex's index in its list (`list_of(v)`: the list
-// using vertex v, kNoList for none): chunks count per list, then fill from their running offsets
-// (the same numbers whatever the chunks).
+// Each list's vertices, increasing, and every used vertex's index in its list (`list_of(v)`: the
+// list using vertex v, kNoList for none; an unused vertex's rank is left unset, never read):
+// chunks count per list, then fill from their running offsets (the same numbers whatever the
+// chunks).
 template <class ListOf>
 void number_vertices(const ListOf& list_of, std::size_t nv, std::size_t lists, std::vector<std::vector<std::uint32_t>>& keep,
-                     std::vector<std::uint32_t>& rank) {
+                     UninitVector<std::uint32_t>& rank) {
   const std::size_t grain = grain_per_thread(nv, kGrain);
   const std::size_t chunks = std::max<std::size_t>(1, (nv + grain - 1) / grain);
   std::vector<std::uint32_t> start(chunks * lists, 0);
@@ -141,13 +145,13 @@ void number_vertices(const ListOf& list_of, std::size_t nv, std::size_t lists, s
 // corners follow it) and its triangles renumbered.
 struct Numbering {
   std::vector<std::vector<std::uint32_t>> faces, vertices;
-  std::vector<std::uint32_t> rank;  // each used vertex's index in its list
+  UninitVector<std::uint32_t> rank;  // each used vertex's index in its list (only theirs are written)
   std::vector<std::vector<Triangle>> tris;
 };
 
 // The triangles `fs` renumbered by `rank` (the lists use disjoint vertices), written once into new
 // memory: reserved (huge pages asked for), then appended to, no value-initialisation first.
-void number_faces(const SurfaceMesh& mesh, const std::vector<std::uint32_t>& fs, const std::vector<std::uint32_t>& rank,
+void number_faces(const SurfaceMesh& mesh, const std::vector<std::uint32_t>& fs, const UninitVector<std::uint32_t>& rank,
                   std::vector<Triangle>& tris) {
   tris.reserve(fs.size());
   advise_huge_pages(tris.data(), fs.size() * sizeof(Triangle));
