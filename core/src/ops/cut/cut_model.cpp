@@ -175,26 +175,27 @@ Rewritten rewritten_by(const CutResult& r, std::pair<std::size_t, std::size_t> b
 // of the same index; a face slot it neither added nor removed whose corners all have a source
 // vertex, the source face slot of the same index. The places are set once the pieces are
 // installed.
-std::shared_ptr<PrimitiveOrigin> piece_origin(const detail::PieceElements& elements, const SurfaceMesh& piece,
+std::shared_ptr<PrimitiveOrigin> piece_origin(detail::PieceElements&& elements, const SurfaceMesh& piece,
                                               const Rewritten& rewritten, int primitive) {
   auto out = std::make_shared<PrimitiveOrigin>();
   out->primitive_before = primitive;
   const std::vector<char>&rv = rewritten.vertices, &rf = rewritten.faces;
-  out->vertices.resize(elements.vertices.size());
+  // The elements' arrays become the origin's (no new memory), each entry kept or made invalid.
+  out->vertices = std::move(elements.vertices);
   parallel_for(out->vertices.size(), 65536, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) {
-      const std::uint32_t v = elements.vertices[i];
-      out->vertices[i] = v < rv.size() && !rv[v] ? v : kInvalidIndex;
+      const std::uint32_t v = out->vertices[i];
+      if (v >= rv.size() || rv[v]) out->vertices[i] = kInvalidIndex;
     }
   });
-  out->faces.resize(elements.faces.size());
+  out->faces = std::move(elements.faces);
   parallel_for(out->faces.size(), 65536, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) {
-      const std::uint32_t f = elements.faces[i];
+      const std::uint32_t f = out->faces[i];
       const Triangle& t = piece.face(FaceId(static_cast<std::uint32_t>(i)));
       const bool kept = f < rf.size() && !rf[f] && out->vertices[t[0].index] != kInvalidIndex &&
                         out->vertices[t[1].index] != kInvalidIndex && out->vertices[t[2].index] != kInvalidIndex;
-      out->faces[i] = kept ? f : kInvalidIndex;
+      if (!kept) out->faces[i] = kInvalidIndex;
     }
   });
   return out;
@@ -241,7 +242,8 @@ std::vector<Mesh> group_pieces(Mesh& edited, const InstanceCut& cut, const CutOp
       }
       for (std::size_t j = 0; j < prims[k].size(); ++j) {
         const bool body = j == 0 && !elements[k].faces.empty();
-        origins[slot].push_back(body ? piece_origin(elements[k], prims[k][j].mesh, rewritten, static_cast<int>(p)) : nullptr);
+        origins[slot].push_back(
+            body ? piece_origin(std::move(elements[k]), prims[k][j].mesh, rewritten, static_cast<int>(p)) : nullptr);
         piece_meshes[slot].primitives.push_back(std::move(prims[k][j]));
       }
     }
