@@ -22,6 +22,8 @@
 #include "deepcut/core/skinning.h"
 #include "deepcut/core/validate.h"
 #include "fixtures.h"
+#include "ops/common/posed_overlay.h"
+#include "ops/cut/caps.h"
 #include "ops/cut/face_lists.h"
 #include "tools.h"
 
@@ -658,6 +660,89 @@ TEST(CutTest, a_vertex_no_face_uses_changes_nothing) {
   EXPECT_EQ(cut_mesh(stray, stray.positions(), Plane{{0, 0, 0.5f}, {0, 0, 1}}).status,
             OpStatus::NoIntersection);
   EXPECT_EQ(stray.face_slots(), grid.face_slots());
+}
+
+// Open cones standing on the plane z = 0 (apex up), as one piece; `radii` gives each cone's base
+// ring (a negative radius: the cone turned inside out, its ring running the other way).
+namespace {
+
+struct OpenCones {
+  SurfaceMesh mesh;
+  std::vector<std::int8_t> sign;
+  std::vector<std::vector<VertexId>> rings;
+};
+OpenCones open_cones(const std::vector<float>& radii, int around) {
+  OpenCones c;
+  for (const float r : radii) {
+    const VertexId apex = c.mesh.add_vertex({0, 0, 1});
+    c.sign.push_back(1);
+    std::vector<VertexId> ring;
+    for (int i = 0; i < around; ++i) {
+      const double a = 2 * M_PI * i / around;
+      ring.push_back(c.mesh.add_vertex({std::abs(r) * std::cos(a), std::abs(r) * std::sin(a), 0}));
+      c.sign.push_back(0);
+    }
+    for (int i = 0; i < around; ++i) {
+      const VertexId a = ring[i], b = ring[(i + 1) % around];
+      r > 0 ? c.mesh.add_face(apex, a, b) : c.mesh.add_face(apex, b, a);
+    }
+    c.rings.push_back(ring);
+  }
+  return c;
+}
+
+}  // namespace
+
+// make_caps says its caps are whole fans (the cut then skips looking at their vertices' fans)
+// for a loop without holes, where every cap face at a rim vertex is in one fan from one of the
+// vertex's rim edges to the other; not for an annulus, whose hole is bridged in.
+TEST(CutTest, caps_are_whole_fans_only_without_holes) {
+  for (const bool annulus : {false, true}) {
+    OpenCones c = open_cones(annulus ? std::vector<float>{2.0f, -1.0f} : std::vector<float>{2.0f}, 12);
+    const detail::PosedOverlay<glm::vec3> posed(c.mesh.positions());
+    std::vector<detail::CapInput> in(1);
+    in[0].normal = {0, 0, 1};
+    in[0].posed = &posed;
+    in[0].sign = &c.sign;
+    std::vector<std::vector<FaceId>> pieces(1);
+    c.mesh.for_each_face([&](FaceId f, const Triangle&) {
+      in[0].rim_faces.push_back(f);
+      pieces[0].push_back(f);
+    });
+    const auto first_cap = static_cast<std::uint32_t>(c.mesh.face_slots());
+    MeshEditor editor(c.mesh);
+    EXPECT_EQ(detail::make_caps(editor, in, pieces), !annulus);
+    EXPECT_EQ(census(c.mesh, pieces[0]).boundary, 0u);
+    if (annulus) continue;
+    const auto& ring = c.rings[0];
+    for (std::size_t i = 0; i < ring.size(); ++i) {
+      // The cap faces at ring[i], walked from the one on the rim edge to ring[i - 1] across
+      // shared edges, end on the rim edge to ring[i + 1] having met every one of them.
+      std::vector<Triangle> fan;
+      for (auto f = first_cap; f < c.mesh.face_slots(); ++f) {
+        const Triangle& t = c.mesh.face(FaceId(f));
+        if (std::count(t.begin(), t.end(), ring[i])) fan.push_back(t);
+      }
+      VertexId at = ring[(i + ring.size() - 1) % ring.size()];
+      std::size_t walked = 0;
+      for (bool stepped = true; stepped;) {
+        stepped = false;
+        for (Triangle& t : fan)
+          if (t[0] != t[1] && std::count(t.begin(), t.end(), at)) {
+            VertexId next = at;
+            for (const VertexId v : t)
+              if (v != ring[i] && v != at) next = v;
+            at = next;
+            t[1] = t[0];  // walked
+            ++walked;
+            stepped = true;
+            break;
+          }
+      }
+      EXPECT_EQ(walked, fan.size()) << "vertex " << i;
+      EXPECT_EQ(at, ring[(i + 1) % ring.size()]) << "vertex " << i;
+    }
+  }
 }
 
 }  // namespace deepcut

@@ -161,6 +161,7 @@ struct CapPlan {
   std::vector<glm::dvec2> pts;      // rim.verts in that frame
   int outer_sign = 1;               // the orientation of the cap's outer loops in that frame
   geometry::LoopPolygons polygons;
+  bool holes = false;               // whether a polygon has holes (bridged: points repeat)
   std::vector<std::vector<geometry::LocalTri>> tris;  // by polygon
 };
 
@@ -220,6 +221,8 @@ void plan_polygons(const CapInput& in, CapPlan& plan) {
   }
   plan.outer_sign = largest_area >= 0 ? 1 : -1;
   plan.polygons = geometry::loop_polygons(plan.pts, loops, plan.outer_sign);
+  plan.holes = std::any_of(plan.polygons.holes.begin(), plan.polygons.holes.end(),
+                           [](const auto& holes) { return !holes.empty(); });
   plan.tris.resize(plan.polygons.outers.size());
 }
 
@@ -299,10 +302,26 @@ void set_cap_attributes(SurfaceMesh& mesh, AttributeArray<std::uint8_t>& cap_fla
   for (auto* d : corner_morph_deltas(mesh)) fill(d, glm::vec3(0.0f));
 }
 
+// Whether each of the cap's polygons is a loop of rim edges (no holes) clipped into all of its
+// n - 2 triangles, each with three distinct corners. Clipping a ring of n corners one corner at a
+// time is, whatever the geometry, a triangulation of a disk with that ring as its boundary: the
+// triangles at one corner of the ring form one fan from the rim edge before it to the rim edge
+// after it.
+bool whole_fans(const CapPlan& plan) {
+  if (plan.holes) return false;
+  for (std::size_t k = 0; k < plan.tris.size(); ++k) {
+    if (plan.tris[k].size() + 2 != plan.rim.loops[plan.polygons.outers[k]].size()) return false;
+    for (const auto& t : plan.tris[k])
+      if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) return false;
+  }
+  return true;
+}
+
 // Makes the planned cap of a piece: removes the flat faces it replaces, adds its faces (in the
-// order of its polygons' triangles) with their attributes.
-void make_cap(MeshEditor& editor, const CapInput& in, const CapPlan& plan, std::vector<FaceId>& piece) {
-  if (plan.rim.loops.empty()) return;
+// order of its polygons' triangles) with their attributes. Returns whether the cap's faces are
+// whole fans (whole_fans, every triangle made).
+bool make_cap(MeshEditor& editor, const CapInput& in, const CapPlan& plan, std::vector<FaceId>& piece) {
+  if (plan.rim.loops.empty()) return true;
   const auto& flat_faces = plan.flat_faces;
   if (!flat_faces.empty()) {
     for (FaceId f : flat_faces) editor.remove_face(f);
@@ -346,6 +365,7 @@ void make_cap(MeshEditor& editor, const CapInput& in, const CapPlan& plan, std::
   for (std::uint32_t k = 0; k < faces.size(); ++k) piece.push_back(FaceId(first_face.index + k));
   const glm::vec3 flat_normal = float(plan.outer_sign) * glm::vec3(in.normal);
   set_cap_attributes(mesh, *cap_flag, piece.data() + first, made, plan.pts, tris, flat_normal, plan.u);
+  return faces.size() == tris.size() && whole_fans(plan);
 }
 
 }  // namespace
@@ -396,14 +416,16 @@ std::vector<std::pair<VertexId, VertexId>> rim_halfedges(const SurfaceMesh& mesh
   return halfedges;
 }
 
-void make_caps(MeshEditor& editor, const std::vector<CapInput>& in, std::vector<std::vector<FaceId>>& pieces) {
+bool make_caps(MeshEditor& editor, const std::vector<CapInput>& in, std::vector<std::vector<FaceId>>& pieces) {
   std::vector<CapPlan> plans(in.size());
   for (std::size_t p = 0; p < in.size(); ++p) {
     choose_loops(editor.mesh(), in[p], plans[p]);
     if (!plans[p].rim.loops.empty()) plan_polygons(in[p], plans[p]);
   }
   triangulate_caps(plans);
-  for (std::size_t p = 0; p < in.size(); ++p) make_cap(editor, in[p], plans[p], pieces[p]);
+  bool whole = true;
+  for (std::size_t p = 0; p < in.size(); ++p) whole = make_cap(editor, in[p], plans[p], pieces[p]) && whole;
+  return whole;
 }
 
 }  // namespace deepcut::detail
