@@ -662,25 +662,33 @@ TEST(CutTest, a_vertex_no_face_uses_changes_nothing) {
   EXPECT_EQ(stray.face_slots(), grid.face_slots());
 }
 
-// Open cones standing on the plane z = 0 (apex up), as one piece; `radii` gives each cone's base
-// ring (a negative radius: the cone turned inside out, its ring running the other way).
 namespace {
 
+// Open cones standing on the plane z = 0 (apex up), as one piece: a cone of each (radius, centre
+// x) in `cones` (a negative radius: the cone turned inside out, its ring running the other way).
+// Ring vertices at one point are one vertex.
 struct OpenCones {
   SurfaceMesh mesh;
   std::vector<std::int8_t> sign;
   std::vector<std::vector<VertexId>> rings;
 };
-OpenCones open_cones(const std::vector<float>& radii, int around) {
+OpenCones open_cones(const std::vector<std::pair<float, float>>& cones, int around) {
   OpenCones c;
-  for (const float r : radii) {
-    const VertexId apex = c.mesh.add_vertex({0, 0, 1});
+  std::map<std::pair<float, float>, VertexId> at;
+  for (const auto& [r, x] : cones) {
+    const VertexId apex = c.mesh.add_vertex({x, 0, 1});
     c.sign.push_back(1);
     std::vector<VertexId> ring;
     for (int i = 0; i < around; ++i) {
       const double a = 2 * M_PI * i / around;
-      ring.push_back(c.mesh.add_vertex({std::abs(r) * std::cos(a), std::abs(r) * std::sin(a), 0}));
-      c.sign.push_back(0);
+      const double sin_a = std::abs(std::sin(a)) < 1e-9 ? 0.0 : std::sin(a);  // on the axis at a half turn
+      const glm::vec3 p(x + std::abs(r) * std::cos(a), std::abs(r) * sin_a, 0);
+      const auto [it, added] = at.emplace(std::pair(p.x, p.y), VertexId());
+      if (added) {
+        it->second = c.mesh.add_vertex(p);
+        c.sign.push_back(0);
+      }
+      ring.push_back(it->second);
     }
     for (int i = 0; i < around; ++i) {
       const VertexId a = ring[i], b = ring[(i + 1) % around];
@@ -695,10 +703,15 @@ OpenCones open_cones(const std::vector<float>& radii, int around) {
 
 // make_caps says its caps are whole fans (the cut then skips looking at their vertices' fans)
 // for a loop without holes, where every cap face at a rim vertex is in one fan from one of the
-// vertex's rim edges to the other; not for an annulus, whose hole is bridged in.
+// vertex's rim edges to the other; not for an annulus, whose hole is bridged in. Two cones whose
+// rims touch at a vertex (two rim steps leave it: the loops are traced the general way) are
+// capped closed too, each loop by itself.
 TEST(CutTest, caps_are_whole_fans_only_without_holes) {
-  for (const bool annulus : {false, true}) {
-    OpenCones c = open_cones(annulus ? std::vector<float>{2.0f, -1.0f} : std::vector<float>{2.0f}, 12);
+  using Cones = std::vector<std::pair<float, float>>;
+  for (const Cones& cones : {Cones{{2.0f, 0.0f}}, Cones{{2.0f, 0.0f}, {2.0f, 4.0f}}, Cones{{2.0f, 0.0f}, {-1.0f, 0.0f}}}) {
+    const bool annulus = cones.back().first < 0;
+    OpenCones c = open_cones(cones, 12);
+    ASSERT_EQ(c.sign.size(), cones.size() * 13 - (cones.size() == 2 && !annulus ? 1 : 0));  // touching: one shared
     const detail::PosedOverlay<glm::vec3> posed(c.mesh.positions());
     std::vector<detail::CapInput> in(1);
     in[0].normal = {0, 0, 1};
@@ -712,8 +725,11 @@ TEST(CutTest, caps_are_whole_fans_only_without_holes) {
     const auto first_cap = static_cast<std::uint32_t>(c.mesh.face_slots());
     MeshEditor editor(c.mesh);
     EXPECT_EQ(detail::make_caps(editor, in, pieces), !annulus);
-    EXPECT_EQ(census(c.mesh, pieces[0]).boundary, 0u);
-    if (annulus) continue;
+    const EdgeCensus census_of_piece = census(c.mesh, pieces[0]);
+    EXPECT_EQ(census_of_piece.boundary, 0u);
+    EXPECT_EQ(census_of_piece.inconsistent, 0u);
+    EXPECT_EQ(c.mesh.face_slots() - first_cap, annulus ? 24u : cones.size() * 10u);
+    if (cones.size() > 1) continue;
     const auto& ring = c.rings[0];
     for (std::size_t i = 0; i < ring.size(); ++i) {
       // The cap faces at ring[i], walked from the one on the rim edge to ring[i - 1] across

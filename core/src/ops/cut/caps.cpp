@@ -85,6 +85,63 @@ void reached_groups(const std::vector<std::pair<VertexId, VertexId>>& halfedges,
   }
 }
 
+// trace_loops where no vertex leaves two steps and the vertices steps leave span few ids (a cut's
+// rim vertices are its newest ones): the vertex each step reaches by a table over that span of
+// the vertices it leaves, walks started in increasing vertex order as trace_loops starts them.
+// Returns false, having done nothing, otherwise.
+bool trace_single_steps(const std::vector<std::pair<VertexId, VertexId>>& halfedges, RimLoops& out,
+                        bool& all_closed) {
+  const std::size_t m = halfedges.size();
+  if (m == 0) return false;
+  std::uint32_t lo = kInvalidIndex, hi = 0;
+  for (const auto& h : halfedges) {
+    lo = std::min(lo, h.second.index);
+    hi = std::max(hi, h.second.index);
+  }
+  if (hi - lo >= 4 * m + 256) return false;
+  const std::size_t span = std::size_t(hi - lo) + 1;
+  std::vector<std::uint32_t> step(span, kInvalidIndex);  // by leaving vertex - lo: the vertex reached
+  for (const auto& [a, b] : halfedges) {
+    std::uint32_t& s = step[b.index - lo];
+    if (s != kInvalidIndex) return false;  // a vertex two steps leave
+    s = a.index;
+  }
+  // Local index of each rim vertex (by vertex - lo), by first appearance in a kept loop.
+  std::vector<std::uint32_t> local(span, kInvalidIndex);
+  all_closed = true;
+  std::vector<std::uint32_t> loop;  // vertices - lo
+  for (std::uint32_t first = 0; first < span; ++first) {
+    if (step[first] == kInvalidIndex) continue;
+    loop.assign(1, first);
+    std::uint32_t r = first;
+    bool closed = false;
+    while (true) {
+      const std::uint32_t next = step[r] - lo;  // past the span (wrapping below it): no step leaves it
+      step[r] = kInvalidIndex;
+      r = next;
+      if (r == first) {
+        closed = true;
+        break;
+      }
+      if (r >= span || step[r] == kInvalidIndex) break;  // an open rim chain (open input): not capped
+      loop.push_back(r);
+    }
+    all_closed = all_closed && closed;
+    if (!closed || loop.size() < 3) continue;
+    std::vector<std::uint32_t> l;
+    l.reserve(loop.size());
+    for (std::uint32_t g : loop) {
+      if (local[g] == kInvalidIndex) {
+        local[g] = static_cast<std::uint32_t>(out.verts.size());
+        out.verts.push_back(VertexId(lo + g));
+      }
+      l.push_back(local[g]);
+    }
+    out.loops.push_back(std::move(l));
+  }
+  return true;
+}
+
 // Follows the rim halfedges backwards (the cap runs along the piece's rim edges in the opposite
 // direction) into closed loops; returns false if some rim chain is open. Each rim edge is used by
 // one rim face, so every reversed halfedge b -> a is listed once. The steps are grouped by the
@@ -94,6 +151,8 @@ void reached_groups(const std::vector<std::pair<VertexId, VertexId>>& halfedges,
 bool trace_loops(const std::vector<std::pair<VertexId, VertexId>>& halfedges, RimLoops& out) {
   out.loops.clear();
   out.verts.clear();
+  bool all_closed = true;
+  if (trace_single_steps(halfedges, out, all_closed)) return all_closed;
   const std::size_t m = halfedges.size();
   // The steps sorted by the vertex they leave (ties in halfedge order): (vertex, halfedge) as
   // one key.
@@ -119,7 +178,6 @@ bool trace_loops(const std::vector<std::pair<VertexId, VertexId>>& halfedges, Ri
   std::vector<std::uint32_t> cursor(start.begin(), start.end() - 1);
   // Local index of each rim vertex (by group), by first appearance in a kept loop.
   std::vector<std::uint32_t> local(groups, kInvalidIndex);
-  bool all_closed = true;
   std::vector<std::uint32_t> loop;  // groups
   for (std::uint32_t first = 0; first < groups; ++first)
     while (cursor[first] < start[first + 1]) {
