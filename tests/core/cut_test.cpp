@@ -22,6 +22,8 @@
 #include "deepcut/core/skinning.h"
 #include "deepcut/core/validate.h"
 #include "fixtures.h"
+#include "ops/common/posed_overlay.h"
+#include "ops/cut/caps.h"
 #include "ops/cut/face_lists.h"
 #include "tools.h"
 
@@ -658,6 +660,105 @@ TEST(CutTest, a_vertex_no_face_uses_changes_nothing) {
   EXPECT_EQ(cut_mesh(stray, stray.positions(), Plane{{0, 0, 0.5f}, {0, 0, 1}}).status,
             OpStatus::NoIntersection);
   EXPECT_EQ(stray.face_slots(), grid.face_slots());
+}
+
+namespace {
+
+// Open cones standing on the plane z = 0 (apex up), as one piece: a cone of each (radius, centre
+// x) in `cones` (a negative radius: the cone turned inside out, its ring running the other way).
+// Ring vertices at one point are one vertex.
+struct OpenCones {
+  SurfaceMesh mesh;
+  std::vector<std::int8_t> sign;
+  std::vector<std::vector<VertexId>> rings;
+};
+OpenCones open_cones(const std::vector<std::pair<float, float>>& cones, int around) {
+  OpenCones c;
+  std::map<std::pair<float, float>, VertexId> at;
+  for (const auto& [r, x] : cones) {
+    const VertexId apex = c.mesh.add_vertex({x, 0, 1});
+    c.sign.push_back(1);
+    std::vector<VertexId> ring;
+    for (int i = 0; i < around; ++i) {
+      const double a = 2 * M_PI * i / around;
+      const double sin_a = std::abs(std::sin(a)) < 1e-9 ? 0.0 : std::sin(a);  // on the axis at a half turn
+      const glm::vec3 p(x + std::abs(r) * std::cos(a), std::abs(r) * sin_a, 0);
+      const auto [it, added] = at.emplace(std::pair(p.x, p.y), VertexId());
+      if (added) {
+        it->second = c.mesh.add_vertex(p);
+        c.sign.push_back(0);
+      }
+      ring.push_back(it->second);
+    }
+    for (int i = 0; i < around; ++i) {
+      const VertexId a = ring[i], b = ring[(i + 1) % around];
+      r > 0 ? c.mesh.add_face(apex, a, b) : c.mesh.add_face(apex, b, a);
+    }
+    c.rings.push_back(ring);
+  }
+  return c;
+}
+
+}  // namespace
+
+// make_caps says its caps are whole fans (the cut then skips looking at their vertices' fans)
+// for a loop without holes, where every cap face at a rim vertex is in one fan from one of the
+// vertex's rim edges to the other; not for an annulus, whose hole is bridged in. Two cones whose
+// rims touch at a vertex (two rim steps leave it: the loops are traced the general way) are
+// capped closed too, each loop by itself.
+TEST(CutTest, caps_are_whole_fans_only_without_holes) {
+  using Cones = std::vector<std::pair<float, float>>;
+  for (const Cones& cones : {Cones{{2.0f, 0.0f}}, Cones{{2.0f, 0.0f}, {2.0f, 4.0f}}, Cones{{2.0f, 0.0f}, {-1.0f, 0.0f}}}) {
+    const bool annulus = cones.back().first < 0;
+    OpenCones c = open_cones(cones, 12);
+    ASSERT_EQ(c.sign.size(), cones.size() * 13 - (cones.size() == 2 && !annulus ? 1 : 0));  // touching: one shared
+    const detail::PosedOverlay<glm::vec3> posed(c.mesh.positions());
+    std::vector<detail::CapInput> in(1);
+    in[0].normal = {0, 0, 1};
+    in[0].posed = &posed;
+    in[0].sign = &c.sign;
+    std::vector<std::vector<FaceId>> pieces(1);
+    c.mesh.for_each_face([&](FaceId f, const Triangle&) {
+      in[0].rim_faces.push_back(f);
+      pieces[0].push_back(f);
+    });
+    const auto first_cap = static_cast<std::uint32_t>(c.mesh.face_slots());
+    MeshEditor editor(c.mesh);
+    EXPECT_EQ(detail::make_caps(editor, in, pieces), !annulus);
+    const EdgeCensus census_of_piece = census(c.mesh, pieces[0]);
+    EXPECT_EQ(census_of_piece.boundary, 0u);
+    EXPECT_EQ(census_of_piece.inconsistent, 0u);
+    EXPECT_EQ(c.mesh.face_slots() - first_cap, annulus ? 24u : cones.size() * 10u);
+    if (cones.size() > 1) continue;
+    const auto& ring = c.rings[0];
+    for (std::size_t i = 0; i < ring.size(); ++i) {
+      // The cap faces at ring[i], walked from the one on the rim edge to ring[i - 1] across
+      // shared edges, end on the rim edge to ring[i + 1] having met every one of them.
+      std::vector<Triangle> fan;
+      for (auto f = first_cap; f < c.mesh.face_slots(); ++f) {
+        const Triangle& t = c.mesh.face(FaceId(f));
+        if (std::count(t.begin(), t.end(), ring[i])) fan.push_back(t);
+      }
+      VertexId at = ring[(i + ring.size() - 1) % ring.size()];
+      std::size_t walked = 0;
+      for (bool stepped = true; stepped;) {
+        stepped = false;
+        for (Triangle& t : fan)
+          if (t[0] != t[1] && std::count(t.begin(), t.end(), at)) {
+            VertexId next = at;
+            for (const VertexId v : t)
+              if (v != ring[i] && v != at) next = v;
+            at = next;
+            t[1] = t[0];  // walked
+            ++walked;
+            stepped = true;
+            break;
+          }
+      }
+      EXPECT_EQ(walked, fan.size()) << "vertex " << i;
+      EXPECT_EQ(at, ring[(i + 1) % ring.size()]) << "vertex " << i;
+    }
+  }
 }
 
 }  // namespace deepcut

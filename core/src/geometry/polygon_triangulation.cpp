@@ -258,10 +258,10 @@ class EarClipper {
              bc.x * (p.y - b.y) - bc.y * (p.x - b.x) >= 0.0 &&
              f.point != ia && f.point != ib && f.point != ic;  // not the same point (bridges repeat points)
     };
-    if (grid_x_ > 0) {
+    if (grid_x_ > 0 && filings_ > 1) {  // a box has a cell at least: one filing goes through the list
       const Reach &u = reach_[pa], &v = reach_[i], &w = reach_[pc];
-      const std::size_t xa = std::min({u.x0, v.x0, w.x0}), xb = std::max({u.x1, v.x1, w.x1});
-      const std::size_t ya = std::min({u.y0, v.y0, w.y0}), yb = std::max({u.y1, v.y1, w.y1});
+      const std::size_t xa = std::min(u.x0, std::min(v.x0, w.x0)), xb = std::max(u.x1, std::max(v.x1, w.x1));
+      const std::size_t ya = std::min(u.y0, std::min(v.y0, w.y0)), yb = std::max(u.y1, std::max(v.y1, w.y1));
       if ((xb - xa + 1) * (yb - ya + 1) < filings_) {
         for (std::size_t y = ya; y <= yb; ++y) {
           const Filed* f = filed_.data() + cell_start_[y * grid_x_ + xa];

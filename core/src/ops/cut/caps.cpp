@@ -85,6 +85,63 @@ void reached_groups(const std::vector<std::pair<VertexId, VertexId>>& halfedges,
   }
 }
 
+// trace_loops where no vertex leaves two steps and the vertices steps leave span few ids (a cut's
+// rim vertices are its newest ones): the vertex each step reaches by a table over that span of
+// the vertices it leaves, walks started in increasing vertex order as trace_loops starts them.
+// Returns false, having done nothing, otherwise.
+bool trace_single_steps(const std::vector<std::pair<VertexId, VertexId>>& halfedges, RimLoops& out,
+                        bool& all_closed) {
+  const std::size_t m = halfedges.size();
+  if (m == 0) return false;
+  std::uint32_t lo = kInvalidIndex, hi = 0;
+  for (const auto& h : halfedges) {
+    lo = std::min(lo, h.second.index);
+    hi = std::max(hi, h.second.index);
+  }
+  if (hi - lo >= 4 * m + 256) return false;
+  const std::size_t span = std::size_t(hi - lo) + 1;
+  std::vector<std::uint32_t> step(span, kInvalidIndex);  // by leaving vertex - lo: the vertex reached
+  for (const auto& [a, b] : halfedges) {
+    std::uint32_t& s = step[b.index - lo];
+    if (s != kInvalidIndex) return false;  // a vertex two steps leave
+    s = a.index;
+  }
+  // Local index of each rim vertex (by vertex - lo), by first appearance in a kept loop.
+  std::vector<std::uint32_t> local(span, kInvalidIndex);
+  all_closed = true;
+  std::vector<std::uint32_t> loop;  // vertices - lo
+  for (std::uint32_t first = 0; first < span; ++first) {
+    if (step[first] == kInvalidIndex) continue;
+    loop.assign(1, first);
+    std::uint32_t r = first;
+    bool closed = false;
+    while (true) {
+      const std::uint32_t next = step[r] - lo;  // past the span (wrapping below it): no step leaves it
+      step[r] = kInvalidIndex;
+      r = next;
+      if (r == first) {
+        closed = true;
+        break;
+      }
+      if (r >= span || step[r] == kInvalidIndex) break;  // an open rim chain (open input): not capped
+      loop.push_back(r);
+    }
+    all_closed = all_closed && closed;
+    if (!closed || loop.size() < 3) continue;
+    std::vector<std::uint32_t> l;
+    l.reserve(loop.size());
+    for (std::uint32_t g : loop) {
+      if (local[g] == kInvalidIndex) {
+        local[g] = static_cast<std::uint32_t>(out.verts.size());
+        out.verts.push_back(VertexId(lo + g));
+      }
+      l.push_back(local[g]);
+    }
+    out.loops.push_back(std::move(l));
+  }
+  return true;
+}
+
 // Follows the rim halfedges backwards (the cap runs along the piece's rim edges in the opposite
 // direction) into closed loops; returns false if some rim chain is open. Each rim edge is used by
 // one rim face, so every reversed halfedge b -> a is listed once. The steps are grouped by the
@@ -94,6 +151,8 @@ void reached_groups(const std::vector<std::pair<VertexId, VertexId>>& halfedges,
 bool trace_loops(const std::vector<std::pair<VertexId, VertexId>>& halfedges, RimLoops& out) {
   out.loops.clear();
   out.verts.clear();
+  bool all_closed = true;
+  if (trace_single_steps(halfedges, out, all_closed)) return all_closed;
   const std::size_t m = halfedges.size();
   // The steps sorted by the vertex they leave (ties in halfedge order): (vertex, halfedge) as
   // one key.
@@ -119,7 +178,6 @@ bool trace_loops(const std::vector<std::pair<VertexId, VertexId>>& halfedges, Ri
   std::vector<std::uint32_t> cursor(start.begin(), start.end() - 1);
   // Local index of each rim vertex (by group), by first appearance in a kept loop.
   std::vector<std::uint32_t> local(groups, kInvalidIndex);
-  bool all_closed = true;
   std::vector<std::uint32_t> loop;  // groups
   for (std::uint32_t first = 0; first < groups; ++first)
     while (cursor[first] < start[first + 1]) {
@@ -161,6 +219,7 @@ struct CapPlan {
   std::vector<glm::dvec2> pts;      // rim.verts in that frame
   int outer_sign = 1;               // the orientation of the cap's outer loops in that frame
   geometry::LoopPolygons polygons;
+  bool holes = false;               // whether a polygon has holes (bridged: points repeat)
   std::vector<std::vector<geometry::LocalTri>> tris;  // by polygon
 };
 
@@ -220,6 +279,8 @@ void plan_polygons(const CapInput& in, CapPlan& plan) {
   }
   plan.outer_sign = largest_area >= 0 ? 1 : -1;
   plan.polygons = geometry::loop_polygons(plan.pts, loops, plan.outer_sign);
+  plan.holes = std::any_of(plan.polygons.holes.begin(), plan.polygons.holes.end(),
+                           [](const auto& holes) { return !holes.empty(); });
   plan.tris.resize(plan.polygons.outers.size());
 }
 
@@ -299,10 +360,26 @@ void set_cap_attributes(SurfaceMesh& mesh, AttributeArray<std::uint8_t>& cap_fla
   for (auto* d : corner_morph_deltas(mesh)) fill(d, glm::vec3(0.0f));
 }
 
+// Whether each of the cap's polygons is a loop of rim edges (no holes) clipped into all of its
+// n - 2 triangles, each with three distinct corners. Clipping a ring of n corners one corner at a
+// time is, whatever the geometry, a triangulation of a disk with that ring as its boundary: the
+// triangles at one corner of the ring form one fan from the rim edge before it to the rim edge
+// after it.
+bool whole_fans(const CapPlan& plan) {
+  if (plan.holes) return false;
+  for (std::size_t k = 0; k < plan.tris.size(); ++k) {
+    if (plan.tris[k].size() + 2 != plan.rim.loops[plan.polygons.outers[k]].size()) return false;
+    for (const auto& t : plan.tris[k])
+      if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) return false;
+  }
+  return true;
+}
+
 // Makes the planned cap of a piece: removes the flat faces it replaces, adds its faces (in the
-// order of its polygons' triangles) with their attributes.
-void make_cap(MeshEditor& editor, const CapInput& in, const CapPlan& plan, std::vector<FaceId>& piece) {
-  if (plan.rim.loops.empty()) return;
+// order of its polygons' triangles) with their attributes. Returns whether the cap's faces are
+// whole fans (whole_fans, every triangle made).
+bool make_cap(MeshEditor& editor, const CapInput& in, const CapPlan& plan, std::vector<FaceId>& piece) {
+  if (plan.rim.loops.empty()) return true;
   const auto& flat_faces = plan.flat_faces;
   if (!flat_faces.empty()) {
     for (FaceId f : flat_faces) editor.remove_face(f);
@@ -346,6 +423,7 @@ void make_cap(MeshEditor& editor, const CapInput& in, const CapPlan& plan, std::
   for (std::uint32_t k = 0; k < faces.size(); ++k) piece.push_back(FaceId(first_face.index + k));
   const glm::vec3 flat_normal = float(plan.outer_sign) * glm::vec3(in.normal);
   set_cap_attributes(mesh, *cap_flag, piece.data() + first, made, plan.pts, tris, flat_normal, plan.u);
+  return faces.size() == tris.size() && whole_fans(plan);
 }
 
 }  // namespace
@@ -396,14 +474,16 @@ std::vector<std::pair<VertexId, VertexId>> rim_halfedges(const SurfaceMesh& mesh
   return halfedges;
 }
 
-void make_caps(MeshEditor& editor, const std::vector<CapInput>& in, std::vector<std::vector<FaceId>>& pieces) {
+bool make_caps(MeshEditor& editor, const std::vector<CapInput>& in, std::vector<std::vector<FaceId>>& pieces) {
   std::vector<CapPlan> plans(in.size());
   for (std::size_t p = 0; p < in.size(); ++p) {
     choose_loops(editor.mesh(), in[p], plans[p]);
     if (!plans[p].rim.loops.empty()) plan_polygons(in[p], plans[p]);
   }
   triangulate_caps(plans);
-  for (std::size_t p = 0; p < in.size(); ++p) make_cap(editor, in[p], plans[p], pieces[p]);
+  bool whole = true;
+  for (std::size_t p = 0; p < in.size(); ++p) whole = make_cap(editor, in[p], plans[p], pieces[p]) && whole;
+  return whole;
 }
 
 }  // namespace deepcut::detail

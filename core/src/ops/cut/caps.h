@@ -37,6 +37,9 @@ std::vector<std::pair<VertexId, VertexId>> rim_halfedges(const SurfaceMesh& mesh
 /// without them; open rims are not capped. The caps are planned first and their polygons
 /// triangulated together (on the pool when they are big enough), then made one piece after
 /// another: the same faces, ids and log as capping each piece in turn, whatever the thread count.
-void make_caps(MeshEditor& editor, const std::vector<CapInput>& in, std::vector<std::vector<FaceId>>& pieces);
+/// Returns true when every cap is whole fans: each polygon a loop of the piece's rim edges
+/// without holes, given all its triangles, none degenerate; then at every rim vertex each run of
+/// cap faces through one corner of a loop is one fan between the two rim edges of that corner.
+bool make_caps(MeshEditor& editor, const std::vector<CapInput>& in, std::vector<std::vector<FaceId>>& pieces);
 
 }  // namespace deepcut::detail

@@ -252,27 +252,23 @@ std::vector<std::pair<VertexId, VertexId>> Cutter::split_pinches(CutResult* resu
   return splits.copies;
 }
 
-// Flags over the rim vertices [first, first + size): 1 where the vertex's faces are still one fan
-// with the caps added. Every cap face there reaches, through cap faces sharing an edge there, a
-// cap face along one of the piece's rim edges (`rim`: its halfedges), which is an edge of the
-// vertex's one fan of piece faces (the first pinch split left one; no face of it was removed).
-Cutter::VertexFlags Cutter::capped_single_fans(std::uint32_t first_cap_face,
-                                               const std::vector<std::pair<VertexId, VertexId>>& rim) const {
-  VertexFlags out;
-  const auto end_face = static_cast<std::uint32_t>(mesh_.face_slots());
-  // Only the vertices the cut made, [lo, hi] (the input's on the rim are few: the pinch split
-  // looks at them), so the arrays below follow the edit, not the mesh.
-  const std::uint32_t lo = posed_.first_new();
-  if (mesh_.vertex_count() <= lo) return out;
-  const auto hi = static_cast<std::uint32_t>(mesh_.vertex_count() - 1);
-  // Cap corners (the face's other two vertices) and rim neighbours, by vertex: counting sorts
-  // over [lo, hi].
-  const std::size_t n = hi - lo + 1;
-  std::vector<std::uint32_t> first(n + 1, 0), rim_first(n + 1, 0);
-  auto in_range = [&](VertexId v) { return v.index >= lo && v.index <= hi; };
-  for (auto f = first_cap_face; f < end_face; ++f)
-    for (const VertexId v : mesh_.face(FaceId(f)))
-      if (in_range(v)) ++first[v.index - lo + 1];
+namespace {
+
+// More cap faces than this at one vertex: left to the pinch split.
+constexpr std::uint32_t kMaxCapFan = 32;
+
+// The flags of capped_single_fans over the vertices [lo, lo + n) from the cap faces [first_cap_face,
+// end of the mesh) and the rim halfedges, `first` counting each vertex's cap faces at first[v - lo
+// + 1]. A vertex's cap faces as bits (face i of its list: bit i): those sharing an edge at the
+// vertex with each face (a corner besides it), and those along a rim edge; the faces reached from
+// the latter through the former must be all of them. False for a degenerate cap face.
+bool fans_reach_rim(const SurfaceMesh& mesh, std::uint32_t first_cap_face,
+                    const std::vector<std::pair<VertexId, VertexId>>& rim, std::uint32_t lo,
+                    std::vector<std::uint32_t>& first, std::vector<std::uint8_t>& flags) {
+  const std::size_t n = first.size() - 1;
+  const auto end_face = static_cast<std::uint32_t>(mesh.face_slots());
+  auto in_range = [&](VertexId v) { return v.index >= lo && v.index - lo < n; };
+  std::vector<std::uint32_t> rim_first(n + 1, 0);
   for (const auto& [a, b] : rim) {
     if (in_range(a)) ++rim_first[a.index - lo + 1];
     if (in_range(b)) ++rim_first[b.index - lo + 1];
@@ -286,8 +282,8 @@ Cutter::VertexFlags Cutter::capped_single_fans(std::uint32_t first_cap_face,
   {
     std::vector<std::uint32_t> fill(first.begin(), first.end() - 1), rim_fill(rim_first.begin(), rim_first.end() - 1);
     for (auto f = first_cap_face; f < end_face; ++f) {
-      const Triangle& t = mesh_.face(FaceId(f));
-      if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) return out;  // a degenerate cap: no shortcut
+      const Triangle& t = mesh.face(FaceId(f));
+      if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) return false;  // a degenerate cap: no shortcut
       for (int k = 0; k < 3; ++k)
         if (in_range(t[k])) others[fill[t[k].index - lo]++] = {t[(k + 1) % 3].index, t[(k + 2) % 3].index};
     }
@@ -296,16 +292,11 @@ Cutter::VertexFlags Cutter::capped_single_fans(std::uint32_t first_cap_face,
       if (in_range(b)) rim_next[rim_fill[b.index - lo]++] = a.index;
     }
   }
-  out.first = lo;
-  out.flags.assign(n, 0);
-  // A vertex's cap faces as bits (face i of its list: bit i): those sharing an edge at the vertex
-  // with each face (a corner besides it), and those along a rim edge; the faces reached from the
-  // latter through the former must be all of them.
-  constexpr std::uint32_t kMaxFan = 32;  // more cap faces at one vertex: left to the pinch split
-  std::uint32_t shares[kMaxFan];
+  flags.assign(n, 0);
+  std::uint32_t shares[kMaxCapFan];
   for (std::size_t v = 0; v < n; ++v) {
     const std::uint32_t m = first[v + 1] - first[v];
-    if (m == 0 || m > kMaxFan) continue;
+    if (m == 0 || m > kMaxCapFan) continue;
     const auto* c = others.data() + first[v];
     const std::uint32_t* nb = rim_next.data() + rim_first[v];
     const std::uint32_t* nb_end = rim_next.data() + rim_first[v + 1];
@@ -329,8 +320,42 @@ Cutter::VertexFlags Cutter::capped_single_fans(std::uint32_t first_cap_face,
       grown = next & ~reached;
       reached |= grown;
     }
-    out.flags[v] = reached == (m == 32 ? ~0u : (1u << m) - 1) ? 1 : 0;
+    flags[v] = reached == (m == 32 ? ~0u : (1u << m) - 1) ? 1 : 0;
   }
+  return true;
+}
+
+}  // namespace
+
+// Flags over the rim vertices [first, first + size): 1 where the vertex's faces are still one fan
+// with the caps added. Every cap face there reaches, through cap faces sharing an edge there, a
+// cap face along one of the piece's rim edges (`rim`: its halfedges), which is an edge of the
+// vertex's one fan of piece faces (the first pinch split left one; no face of it was removed).
+// With `whole_fans` (make_caps) every cap face at a vertex is in a fan from one of its rim edges
+// to another, so a vertex with cap faces (not too many) is flagged without looking at them.
+Cutter::VertexFlags Cutter::capped_single_fans(std::uint32_t first_cap_face,
+                                               const std::vector<std::pair<VertexId, VertexId>>& rim,
+                                               bool whole_fans) const {
+  VertexFlags out;
+  const auto end_face = static_cast<std::uint32_t>(mesh_.face_slots());
+  // Only the vertices the cut made, [lo, hi] (the input's on the rim are few: the pinch split
+  // looks at them), so the arrays below follow the edit, not the mesh.
+  const std::uint32_t lo = posed_.first_new();
+  if (mesh_.vertex_count() <= lo) return out;
+  const auto hi = static_cast<std::uint32_t>(mesh_.vertex_count() - 1);
+  // Cap faces by vertex, counted at first[v - lo + 1].
+  const std::size_t n = hi - lo + 1;
+  std::vector<std::uint32_t> first(n + 1, 0);
+  for (auto f = first_cap_face; f < end_face; ++f)
+    for (const VertexId v : mesh_.face(FaceId(f)))
+      if (v.index >= lo && v.index <= hi) ++first[v.index - lo + 1];
+  if (whole_fans) {
+    out.flags.resize(n);
+    for (std::size_t v = 0; v < n; ++v) out.flags[v] = first[v + 1] != 0 && first[v + 1] <= kMaxCapFan;
+  } else if (!fans_reach_rim(mesh_, first_cap_face, rim, lo, first, out.flags)) {
+    return out;
+  }
+  out.first = lo;
   return out;
 }
 
@@ -547,13 +572,13 @@ void Cutter::cap_pieces(CutResult& result, std::vector<VertexId>& rim) {
   if (!options_.cap) return;
   const auto first_cap_face = static_cast<std::uint32_t>(mesh_.face_slots());
   const std::size_t live_before = mesh_.face_count();
-  detail::make_caps(editor_, rims, result.pieces);
+  const bool whole_fans = detail::make_caps(editor_, rims, result.pieces);
   detail::append_run(rim_candidates_, first_cap_face, static_cast<std::uint32_t>(mesh_.face_slots()));
   // With a face of a piece removed (a flat one the cap replaced) its fans may have come apart:
   // then every rim vertex is looked at.
   VertexFlags one_fan;
   if (mesh_.face_count() - live_before == mesh_.face_slots() - first_cap_face)
-    one_fan = capped_single_fans(first_cap_face, rim_edges);
+    one_fan = capped_single_fans(first_cap_face, rim_edges, whole_fans);
   const std::size_t before = rim.size();
   for (const auto& [v, c] : split_pinches(&result, one_fan))
     if (std::binary_search(rim.begin(), rim.begin() + static_cast<std::ptrdiff_t>(before), v)) rim.push_back(c);

@@ -77,8 +77,8 @@ class Cutter {
   template <class OneFan>
   std::vector<std::pair<VertexId, VertexId>> split_pinches(CutResult* result, const OneFan& one_fan);
   bool single_fan(std::uint32_t v) const;
-  VertexFlags capped_single_fans(std::uint32_t first_cap_face,
-                                 const std::vector<std::pair<VertexId, VertexId>>& rim) const;
+  VertexFlags capped_single_fans(std::uint32_t first_cap_face, const std::vector<std::pair<VertexId, VertexId>>& rim,
+                                 bool whole_fans) const;
   void collect_pieces(CutResult& result);
   void live_rim_by_side(std::vector<FaceId> (&out)[2]) const;
   std::vector<CapInput> rim_of_pieces(const CutResult& result) const;
