@@ -93,6 +93,7 @@ class RimInserter {
   // The removals and kept parts the plans say, made in one editor batch (candidate order).
   FaceBatch batch_;
   std::size_t crossings_ = 0, removed_ = 0, added_ = 0;
+  std::vector<VertexId> bared_;  // RimInsertion::bared
 };
 
 // What the solid cylinder does to the edge of record `e` (edge key `key`): its crossings'
@@ -369,8 +370,11 @@ void RimInserter::apply_plan(FaceId f, const FacePlan& plan) {
     batch_.remove(f);
     ++removed_;
   }
-  if (plan.polys == 0) return;
   const Triangle tri = mesh_.face(f);
+  if (plan.polys == 0) {
+    if (plan.remove) bared_.insert(bared_.end(), tri.begin(), tri.end());
+    return;
+  }
   PlanChunk& chunk = (*chunks_)[plan.chunk];
   for (std::uint32_t i = plan.first_poly; i < plan.first_poly + plan.polys; ++i) {
     const PolygonPlan& poly = chunk.polys[i];
@@ -405,6 +409,7 @@ RimInsertion RimInserter::run(const std::vector<FaceId>& candidates) {
   out.crossings = crossings_;
   out.removed = removed_;
   out.added = added_;
+  out.bared = std::move(bared_);
   return out;
 }
 
