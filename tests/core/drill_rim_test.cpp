@@ -110,13 +110,15 @@ TEST(DrillTest, rim_through_a_saddle_vertex_leaves_no_pinched_vertex) {
 // (one vertex per fan).
 TEST(DrillTest, a_corner_bared_off_the_rim_is_split_where_its_fans_part) {
   SurfaceMesh mesh;
-  const VertexId v = mesh.add_vertex({2, 0, 0}), a = mesh.add_vertex({1.5f, 1, 0}), b = mesh.add_vertex({1, 0, 0}),
-                 c = mesh.add_vertex({0, 0, 0}), d = mesh.add_vertex({1.5f, -1, 0});
+  const VertexId v = mesh.add_vertex({2, 0, 0}), a = mesh.add_vertex({1.5f, 1, 0});
+  const VertexId b = mesh.add_vertex({1, 0, 0}), c = mesh.add_vertex({0, 0, 0});
+  const VertexId d = mesh.add_vertex({1.5f, -1, 0});
   mesh.add_face(v, a, b);
   mesh.add_face(v, b, c);  // degenerate: v, b and c on the x axis
   mesh.add_face(v, c, d);
   const std::vector<glm::vec3> posed = mesh.positions();
-  const DrillResult r = drill_mesh(mesh, PosedMesh::at_positions(mesh, posed), Cylinder{{0, 0, -2}, {0, 0, 2}, 0.5f});
+  const DrillResult r =
+      drill_mesh(mesh, PosedMesh::at_positions(mesh, posed), Cylinder{{0, 0, -2}, {0, 0, 2}, 0.5f});
   ASSERT_EQ(r.status, OpStatus::Ok);
   EXPECT_TRUE(test::pinched_vertices(mesh).empty());
   std::size_t splits = 0;

@@ -151,17 +151,19 @@ detail::PinchSplits split_pinches(MeshEditor& editor, drill::PosedOverlay& posed
 }
 
 // The vertices the rim insertion can have pinched (without walls): those on the rims just
-// traced, and the corners it bared (RimInsertion::bared) not deep inside. Elsewhere no fan is
-// parted: an old vertex off the cylinder keeps every face around it, each as a kept part holding
-// that corner and the first pieces of its two edges there, and the kept parts on either side of
-// an edge split its pieces alike (one set of crossings and Steiner points per edge; a needle's
-// merged crossings are merged in both), so faces joined through an edge at the vertex still are;
-// a new vertex off the rim (a Steiner point on an edge with one face on each side, a refinement
-// point inside a kept part) lies in one fan; a vertex whose faces part leaves boundary edges
-// there, and on the cylinder those are rim. As the cut, the drill mends the pinches it makes, not
-// those the input had.
-std::vector<VertexId> rim_pinch_candidates(const std::vector<drill::Rim>& rims, const std::vector<VertexId>& bared,
-                                           const drill::CylinderFrame& cyl, const drill::PosedOverlay& posed) {
+// traced, and the corners it bared (RimInsertion::bared: no face added for a removed candidate
+// uses them) not deep inside. Elsewhere no fan is parted: an old vertex off the cylinder keeps
+// every face around it, each as a kept part holding that corner and the first pieces of its two
+// edges there, and the kept parts on either side of an edge split its pieces alike (one set of
+// crossings and Steiner points per edge; a needle's merged crossings are merged in both), so
+// faces joined through an edge at the vertex still are; a new vertex off the rim (a Steiner point
+// on an edge with one face on each side, a refinement point inside a kept part) lies in one fan;
+// a vertex whose faces part leaves boundary edges there, and on the cylinder those are rim. As
+// the cut, the drill mends the pinches it makes, not those the input had.
+std::vector<VertexId> rim_pinch_candidates(const std::vector<drill::Rim>& rims,
+                                           const std::vector<VertexId>& bared,
+                                           const drill::CylinderFrame& cyl,
+                                           const drill::PosedOverlay& posed) {
   std::vector<VertexId> out;
   for (const drill::Rim& rim : rims) out.insert(out.end(), rim.vertices.begin(), rim.vertices.end());
   for (const VertexId v : bared)
@@ -205,9 +207,9 @@ DrillResult run(SurfaceMesh& mesh, const std::vector<glm::vec3>& input_posed, co
   // A rim through a vertex snapped onto the cylinder can leave it joining two fans: one vertex
   // each. Without walls before the rims are traced, so each rim runs through its own copy; with
   // walls after them (a wall can join the fans again), the rims following the copies.
-  const std::vector<drill::Rim> rims = options.wall
-                                           ? drill::trace_rims(mesh, editor.log(), cyl, posed, candidates, {})
-                                           : split_and_trace(editor, cyl, posed, candidates, index, inserted.bared);
+  const std::vector<drill::Rim> rims =
+      options.wall ? drill::trace_rims(mesh, editor.log(), cyl, posed, candidates, {})
+                   : split_and_trace(editor, cyl, posed, candidates, index, inserted.bared);
   for (const drill::Rim& rim : rims) {
     DrillHole hole;
     hole.rim = rim.vertices;
