@@ -104,6 +104,29 @@ TEST(DrillTest, rim_through_a_saddle_vertex_leaves_no_pinched_vertex) {
     }
 }
 
+// A vertex off the cylinder whose faces the drill parts: the face between them is degenerate
+// (its corners on one line into the cylinder), so it is removed with no kept part, and the two
+// faces beside it no longer share an edge at the vertex. Off the rim, the vertex is still split
+// (one vertex per fan).
+TEST(DrillTest, a_corner_bared_off_the_rim_is_split_where_its_fans_part) {
+  SurfaceMesh mesh;
+  const VertexId v = mesh.add_vertex({2, 0, 0}), a = mesh.add_vertex({1.5f, 1, 0});
+  const VertexId b = mesh.add_vertex({1, 0, 0}), c = mesh.add_vertex({0, 0, 0});
+  const VertexId d = mesh.add_vertex({1.5f, -1, 0});
+  mesh.add_face(v, a, b);
+  mesh.add_face(v, b, c);  // degenerate: v, b and c on the x axis
+  mesh.add_face(v, c, d);
+  const std::vector<glm::vec3> posed = mesh.positions();
+  const DrillResult r =
+      drill_mesh(mesh, PosedMesh::at_positions(mesh, posed), Cylinder{{0, 0, -2}, {0, 0, 2}, 0.5f});
+  ASSERT_EQ(r.status, OpStatus::Ok);
+  EXPECT_TRUE(test::pinched_vertices(mesh).empty());
+  std::size_t splits = 0;
+  for (const Edit& e : r.log.edits)
+    if (const auto* sp = std::get_if<VertexSplit>(&e)) splits += sp->original == v ? 1 : 0;
+  EXPECT_EQ(splits, 1u) << "the bared corner is split";
+}
+
 // Drills whose D-shaped rim has a corner where its straight part (on the end plane at B) meets
 // its arc, within a rim spacing of a crossing or just outside the triangle the rim bends in
 // (random drills of the Fox and the cactus, DEEPCUT_DRILL_SEED 1 to 3). The corner stays a rim

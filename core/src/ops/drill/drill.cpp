@@ -17,7 +17,6 @@
 #include <unordered_map>
 
 #include "deepcut/core/mesh_editor.h"
-#include "deepcut/core/parallel.h"
 #include "deepcut/core/posed_model.h"
 #include "deepcut/core/skinning.h"
 #include "ops/common/model_surgery.h"
@@ -105,17 +104,16 @@ std::vector<VertexId> pinch_candidates(const SurfaceMesh& mesh, const EditLog& l
   return out;
 }
 
-// Where the edits can have pinched the surface: the candidate vertices and the live faces
-// around them (read-only).
+// Where the edits can have pinched the surface: the candidate vertices `touched` (sorted) and
+// the live faces around them (read-only).
 struct PinchInput {
   std::vector<VertexId> touched;
   std::vector<FaceId> around;
 };
 
-PinchInput pinch_input(const SurfaceMesh& mesh, const EditLog& log, const drill::CylinderFrame& cyl,
-                       const drill::PosedOverlay& posed, const std::vector<FaceId>& candidates,
+PinchInput pinch_input(const SurfaceMesh& mesh, const EditLog& log, const drill::PosedOverlay& posed,
+                       std::vector<VertexId> touched, const std::vector<FaceId>& candidates,
                        const TriangleGrid& index) {
-  auto touched = pinch_candidates(mesh, log, cyl, posed);
   // Faces are found where their old vertices were filed in the grid; the live faces around a
   // snapped vertex (filed where it was, and the input's posed positions may be the mesh's own
   // positions) are merged in (the list stays in id order). Those are the live candidates with a
@@ -152,38 +150,39 @@ detail::PinchSplits split_pinches(MeshEditor& editor, drill::PosedOverlay& posed
   return pinches;
 }
 
-// Edits from which the pinch search and the rim tracing run side by side. Serially each takes
-// about 0.12 ms at a 25k-triangle hole's 1.2k edits (and the 1M model's small hole's 1.6k) and
-// about 1 ms at the 1M model's 3% hole's 24k: the most side by side can save is the shorter one,
-// against waking a worker, whose vertex-sized scratch (VertexSlots, 8 bytes a vertex) then grows.
-// Measured (deepcut_bench drill/ours, drill_small/ours, 2 threads, both forced, least of 15 to
-// 450 calls, 2 cores under a load of 8): side by side vs serial 234 vs 247 us at 1.2k edits,
-// 436 vs 400 at 1.6k, 1914 vs 1835 at 24k. So small holes stay serial; big ones, where an idle
-// second core saves up to ~1 ms, go side by side.
-constexpr std::size_t kSideBySideEdits = 8192;
+// The vertices the rim insertion can have pinched (without walls): those on the rims just
+// traced, and the corners it bared (RimInsertion::bared: no face added for a removed candidate
+// uses them) not deep inside. Elsewhere no fan is parted: an old vertex off the cylinder keeps
+// every face around it, each as a kept part holding that corner and the first pieces of its two
+// edges there, and the kept parts on either side of an edge split its pieces alike (one set of
+// crossings and Steiner points per edge; a needle's merged crossings are merged in both), so
+// faces joined through an edge at the vertex still are; a new vertex off the rim (a Steiner point
+// on an edge with one face on each side, a refinement point inside a kept part) lies in one fan;
+// a vertex whose faces part leaves boundary edges there, and on the cylinder those are rim. As
+// the cut, the drill mends the pinches it makes, not those the input had.
+std::vector<VertexId> rim_pinch_candidates(const std::vector<drill::Rim>& rims,
+                                           const std::vector<VertexId>& bared,
+                                           const drill::CylinderFrame& cyl,
+                                           const drill::PosedOverlay& posed) {
+  std::vector<VertexId> out;
+  for (const drill::Rim& rim : rims) out.insert(out.end(), rim.vertices.begin(), rim.vertices.end());
+  for (const VertexId v : bared)
+    if (!drill::deep_vertex(cyl, posed, v)) out.push_back(v);
+  detail::sort_unique_ids(out);
+  return out;
+}
 
-// Without walls: the pinch split, then the rims traced through the copies. The search for
-// pinches and the tracing only read the mesh, and a pinch is rare, so for a big hole they run
-// side by side (parallel_invoke) and the rims are traced again only when a vertex was split.
+// Without walls: the pinch split, then the rims traced through the copies. The rims are traced
+// first and the search for pinches looks only at their vertices (and the bared corners); a pinch
+// is rare, so the rims are traced again only when a vertex was split.
 std::vector<drill::Rim> split_and_trace(MeshEditor& editor, const drill::CylinderFrame& cyl,
                                         drill::PosedOverlay& posed, const std::vector<FaceId>& candidates,
-                                        const TriangleGrid& index) {
+                                        const TriangleGrid& index, const std::vector<VertexId>& bared) {
   const SurfaceMesh& mesh = editor.mesh();
-  PinchInput in;
-  bool pinched = false;
-  std::vector<drill::Rim> rims;
-  auto search = [&] {
-    in = pinch_input(mesh, editor.log(), cyl, posed, candidates, index);
-    pinched = detail::any_pinched(mesh, in.touched, in.around);
-  };
-  auto trace = [&] { rims = drill::trace_rims(mesh, editor.log(), cyl, posed, candidates, {}); };
-  if (editor.log().edits.size() < kSideBySideEdits) {
-    search();
-    trace();
-  } else {
-    parallel_invoke({search, trace});
-  }
-  if (!pinched) return rims;
+  std::vector<drill::Rim> rims = drill::trace_rims(mesh, editor.log(), cyl, posed, candidates, {});
+  const PinchInput in = pinch_input(mesh, editor.log(), posed, rim_pinch_candidates(rims, bared, cyl, posed),
+                                    candidates, index);
+  if (!detail::any_pinched(mesh, in.touched, in.around)) return rims;
   std::unordered_map<std::uint32_t, std::uint32_t> copy_of;  // pinch-split copy -> original
   for (const auto& [v, c] : split_pinches(editor, posed, in).copies) copy_of.emplace(c.index, v.index);
   return drill::trace_rims(mesh, editor.log(), cyl, posed, candidates, copy_of);
@@ -208,9 +207,9 @@ DrillResult run(SurfaceMesh& mesh, const std::vector<glm::vec3>& input_posed, co
   // A rim through a vertex snapped onto the cylinder can leave it joining two fans: one vertex
   // each. Without walls before the rims are traced, so each rim runs through its own copy; with
   // walls after them (a wall can join the fans again), the rims following the copies.
-  const std::vector<drill::Rim> rims = options.wall
-                                           ? drill::trace_rims(mesh, editor.log(), cyl, posed, candidates, {})
-                                           : split_and_trace(editor, cyl, posed, candidates, index);
+  const std::vector<drill::Rim> rims =
+      options.wall ? drill::trace_rims(mesh, editor.log(), cyl, posed, candidates, {})
+                   : split_and_trace(editor, cyl, posed, candidates, index, inserted.bared);
   for (const drill::Rim& rim : rims) {
     DrillHole hole;
     hole.rim = rim.vertices;
@@ -228,7 +227,9 @@ DrillResult run(SurfaceMesh& mesh, const std::vector<glm::vec3>& input_posed, co
     result.triangles_removed += walls.triangles_removed;
     result.triangles_added += walls.wall_triangles;
     const auto pinches =
-        split_pinches(editor, posed, pinch_input(mesh, editor.log(), cyl, posed, candidates, index));
+        split_pinches(editor, posed,
+                      pinch_input(mesh, editor.log(), posed, pinch_candidates(mesh, editor.log(), cyl, posed),
+                                  candidates, index));
     for (DrillHole& h : result.holes) detail::follow_pinch_splits(mesh, pinches, h.rim, h.closed);
   }
   result.added_posed.reserve(posed.added().size());

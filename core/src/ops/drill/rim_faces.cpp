@@ -12,6 +12,21 @@
 
 namespace deepcut::drill {
 
+namespace {
+
+// Whether a piece of one of the face's edges (`edges`, its records' indices) lies inside the
+// cylinder: whether face_boundary would mark any segment inside.
+bool any_piece_inside(const RimShared& s, const std::array<std::uint32_t, 3>& edges) {
+  for (const std::uint32_t i : edges) {
+    const EdgeCut& e = s.edges[i];
+    for (int j = 0; j <= e.n; ++j)
+      if (e.inside[j]) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
 void FacePlanner::plan(std::size_t c, FaceId f, FacePlan& plan) {
   plan_ = &plan;
   plan.chunk = chunk_;
@@ -19,19 +34,10 @@ void FacePlanner::plan(std::size_t c, FaceId f, FacePlan& plan) {
   const Triangle tri = s_.mesh.face(f);
   cur_edges_ = &s_.face_edges[c];
   const glm::dvec3 corner[3] = {s_.posed(tri[0]), s_.posed(tri[1]), s_.posed(tri[2])};
-  face_boundary(tri, corner);
-  std::vector<LocalPoint>& pts = w_.pts;
-  const std::vector<std::uint8_t>& seg_inside = w_.seg_inside;
-  const std::size_t m = pts.size();
-  bool any_inside = false, all_inside = true;
-  for (auto s : seg_inside) {
-    any_inside |= s != 0;
-    all_inside &= s != 0;
-  }
-  for (std::size_t i = 0; i < m; ++i)
-    if (seg_inside[i] || seg_inside[(i + m - 1) % m] || std::abs(s_.cyl.sd(pts[i].p)) <= s_.eps)
-      pts[i].on_rim = true;
-  if (all_inside) {
+  // A face with no piece of an edge inside keeps all of itself but a hole wholly inside it: its
+  // boundary is worked out only for such a hole (most of those candidates are beside the rim).
+  const bool any_inside = any_piece_inside(s_, *cur_edges_);
+  if (any_inside && boundary(tri, corner)) {  // all inside
     plan_->remove = 1;
     return;
   }
@@ -54,29 +60,46 @@ void FacePlanner::plan(std::size_t c, FaceId f, FacePlan& plan) {
     // Only a hole wholly inside the triangle can be left: its centre must lie inside.
     const glm::dvec3 cb = face_.bary_of({pc.ac, pc.b0});
     if (cb.x <= 0.0 || cb.y <= 0.0 || cb.z <= 0.0) return;
+    boundary(tri, corner);
   }
-  for (auto& lp : pts) lp.q = pc.coords(lp.p);
+  for (auto& lp : w_.pts) lp.q = pc.coords(lp.p);
   // Distance of a plane point from each edge is its barycentric coordinate times the height.
   for (int k = 0; k < 3; ++k)
     face_.height[k] = area2 / std::max(glm::length(tq[(k + 2) % 3] - tq[(k + 1) % 3]), 1e-300);
   sample_rim();
-  std::vector<LocalPoint>& rim = w_.rim;
-  if (!any_inside) {
-    if (rim.size() < 3) return;
-    // Triangle with an elliptic hole: the hole runs clockwise (decreasing phi).
-    std::sort(rim.begin(), rim.end(), [](const LocalPoint& x, const LocalPoint& y) { return x.phi > y.phi; });
-    std::vector<LocalPoint>& all = w_.all;
-    all.assign(pts.begin(), pts.begin() + 3);
-    std::vector<std::uint32_t> outer = {0, 1, 2}, hole;
-    for (auto& lp : rim) {
-      hole.push_back(static_cast<std::uint32_t>(all.size()));
-      all.push_back(lp);
-    }
-    plan_->remove = 1;
-    add_polygon(all, outer, {hole});
+  if (any_inside) {
+    kept_parts();
     return;
   }
-  kept_parts();
+  std::vector<LocalPoint>& rim = w_.rim;
+  if (rim.size() < 3) return;
+  // Triangle with an elliptic hole: the hole runs clockwise (decreasing phi).
+  std::sort(rim.begin(), rim.end(), [](const LocalPoint& x, const LocalPoint& y) { return x.phi > y.phi; });
+  std::vector<LocalPoint>& all = w_.all;
+  all.assign(w_.pts.begin(), w_.pts.begin() + 3);
+  std::vector<std::uint32_t> outer = {0, 1, 2}, hole;
+  for (auto& lp : rim) {
+    hole.push_back(static_cast<std::uint32_t>(all.size()));
+    all.push_back(lp);
+  }
+  plan_->remove = 1;
+  add_polygon(all, outer, {hole});
+}
+
+// The triangle's boundary (face_boundary) with its rim points marked: the ends of every segment
+// inside, and the points within the tolerance of the cylinder. Returns whether every segment
+// lies inside.
+bool FacePlanner::boundary(const Triangle& tri, const glm::dvec3 corner[3]) {
+  face_boundary(tri, corner);
+  std::vector<LocalPoint>& pts = w_.pts;
+  const std::vector<std::uint8_t>& seg_inside = w_.seg_inside;
+  const std::size_t m = pts.size();
+  bool all_inside = true;
+  for (auto s : seg_inside) all_inside &= s != 0;
+  for (std::size_t i = 0; i < m; ++i)
+    if (seg_inside[i] || seg_inside[(i + m - 1) % m] || std::abs(s_.cyl.sd(pts[i].p)) <= s_.eps)
+      pts[i].on_rim = true;
+  return all_inside;
 }
 
 // The triangle's boundary: corners, crossings and Steiner points in order (w_.pts), with the

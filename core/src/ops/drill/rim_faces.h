@@ -183,6 +183,7 @@ class FacePlanner {
   void plan(std::size_t c, FaceId f, FacePlan& plan);
 
  private:
+  bool boundary(const Triangle& tri, const glm::dvec3 corner[3]);
   void face_boundary(const Triangle& tri, const glm::dvec3 corner[3]);
   void sample_rim();
   void consider(const glm::dvec3& x, bool corner_point);

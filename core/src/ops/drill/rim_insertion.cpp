@@ -62,8 +62,8 @@ class RimInserter {
   bool deep(const Triangle& t, detail::VertexSlots& judged) const;
   void plan_faces(const std::vector<FaceId>& candidates);
   void apply_plan(FaceId f, const FacePlan& plan);
-  void emit_faces(FaceId f, const Triangle& tri, LocalPoint* pts, std::size_t points, const geometry::LocalTri* tris,
-                  std::size_t count);
+  unsigned emit_faces(FaceId f, const Triangle& tri, LocalPoint* pts, std::size_t points,
+                      const geometry::LocalTri* tris, std::size_t count);
   VertexId vertex_of(const Triangle& tri, LocalPoint& lp);
 
   SurfaceMesh& mesh_;
@@ -93,6 +93,7 @@ class RimInserter {
   // The removals and kept parts the plans say, made in one editor batch (candidate order).
   FaceBatch batch_;
   std::size_t crossings_ = 0, removed_ = 0, added_ = 0;
+  std::vector<VertexId> bared_;  // RimInsertion::bared
 };
 
 // What the solid cylinder does to the edge of record `e` (edge key `key`): its crossings'
@@ -313,10 +314,11 @@ void RimInserter::allow_steiner(const std::vector<FaceId>& candidates) {
 }
 
 // New vertices for the part's points that have none (in order), then its faces, but a merged
-// tip's.
-void RimInserter::emit_faces(FaceId f, const Triangle& tri, LocalPoint* pts, std::size_t points,
-                             const geometry::LocalTri* tris, std::size_t count) {
+// tip's. Returns which corners of `tri` those faces use (bit k for corner k).
+unsigned RimInserter::emit_faces(FaceId f, const Triangle& tri, LocalPoint* pts, std::size_t points,
+                                 const geometry::LocalTri* tris, std::size_t count) {
   for (std::size_t i = 0; i < points; ++i) vertex_of(tri, pts[i]);
+  unsigned used = 0;
   for (std::size_t i = 0; i < count; ++i) {
     const geometry::LocalTri& t = tris[i];
     if (pts[t[0]].v == pts[t[1]].v || pts[t[1]].v == pts[t[2]].v || pts[t[0]].v == pts[t[2]].v)
@@ -324,7 +326,13 @@ void RimInserter::emit_faces(FaceId f, const Triangle& tri, LocalPoint* pts, std
     batch_.add_from({pts[t[0]].v, pts[t[1]].v, pts[t[2]].v}, f,
                     {glm::vec3(pts[t[0]].bary), glm::vec3(pts[t[1]].bary), glm::vec3(pts[t[2]].bary)});
     ++added_;
+    for (int j = 0; j < 3; ++j) {
+      const VertexId w = pts[t[j]].v;
+      if (w.index < first_new_)
+        used |= unsigned(w == tri[0]) | unsigned(w == tri[1]) << 1 | unsigned(w == tri[2]) << 2;
+    }
   }
+  return used;
 }
 
 // All three corners deep inside; `judged` keeps each vertex's answer (1 deep, 0 not).
@@ -363,19 +371,22 @@ void RimInserter::plan_faces(const std::vector<FaceId>& candidates) {
   });
 }
 
-// Removes the candidate and adds its kept parts, as its plan says.
+// Removes the candidate and adds its kept parts, as its plan says; a removed candidate's corners
+// that none of its kept parts' faces use are bared (RimInsertion::bared).
 void RimInserter::apply_plan(FaceId f, const FacePlan& plan) {
-  if (plan.remove) {
-    batch_.remove(f);
-    ++removed_;
-  }
-  if (plan.polys == 0) return;
+  if (!plan.remove) return;  // left as it is (a plan with kept parts removes the candidate)
+  batch_.remove(f);
+  ++removed_;
   const Triangle tri = mesh_.face(f);
+  unsigned kept = 0;  // bit k: a face added for the candidate uses corner k
   PlanChunk& chunk = (*chunks_)[plan.chunk];
   for (std::uint32_t i = plan.first_poly; i < plan.first_poly + plan.polys; ++i) {
     const PolygonPlan& poly = chunk.polys[i];
-    emit_faces(f, tri, chunk.pts.data() + poly.first_pt, poly.pts, chunk.tris.data() + poly.first_tri, poly.tris);
+    kept |= emit_faces(f, tri, chunk.pts.data() + poly.first_pt, poly.pts, chunk.tris.data() + poly.first_tri,
+                       poly.tris);
   }
+  for (int k = 0; k < 3; ++k)
+    if (!(kept >> k & 1u)) bared_.push_back(tri[k]);
 }
 
 RimInsertion RimInserter::run(const std::vector<FaceId>& candidates) {
@@ -405,6 +416,7 @@ RimInsertion RimInserter::run(const std::vector<FaceId>& candidates) {
   out.crossings = crossings_;
   out.removed = removed_;
   out.added = added_;
+  out.bared = std::move(bared_);
   return out;
 }
 
