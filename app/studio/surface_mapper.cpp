@@ -53,8 +53,11 @@ void SurfaceMapper::BuildIBO(vtkRenderer* ren, vtkActor* act, vtkPolyData* poly)
     return;
   }
   vtkCellArray* polys = poly->GetPolys();
-  const std::string key =
-      std::to_string(reinterpret_cast<std::uintptr_t>(polys)) + ':' + std::to_string(polys->GetMTime());
+  // The cell array and its two arrays (a writer may mark either modified).
+  const std::string key = std::to_string(reinterpret_cast<std::uintptr_t>(polys)) + ':' +
+                          std::to_string(polys->GetMTime()) + ':' +
+                          std::to_string(polys->GetConnectivityArray()->GetMTime()) + ':' +
+                          std::to_string(polys->GetOffsetsArray()->GetMTime());
   if (key == built_) return;  // new positions only (a pose): the triangles are those uploaded
   const auto n = static_cast<std::size_t>(polys->GetNumberOfConnectivityIds());
   std::unique_ptr<unsigned int[]> indices(new unsigned int[n]);  // every entry written below

@@ -9,7 +9,8 @@
 /// a buffer made to size. A degenerate triangle it keeps covers no pixel, so the frame is the
 /// same. Anything else (edges, wireframe, points, lines or strips, cell colours or normals, a
 /// hardware selection) is VTK's own build. VTK 9.1 builds the index buffers again with every
-/// upload, new positions alone included; this one keeps them while the cells are unchanged.
+/// upload, new positions alone included; this one only when the cells (or their arrays) were
+/// marked modified.
 
 #include <vtkOpenGLPolyDataMapper.h>
 

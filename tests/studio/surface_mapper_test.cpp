@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 // The surface mapper (app/studio/surface_mapper.h) under xvfb-run: its frames equal VTK's own
 // mapper's pixel for pixel on a surface with a degenerate triangle, with edges drawn, after its
-// cells change and after its points alone change; its own triangle buffer is what drew (every
-// triangle, the degenerate one too, where VTK's leaves that out), VTK's build takes over for
-// edges and its own comes back after them.
+// cells change (the cell array or only its connectivity marked modified) and after its points
+// alone change; its own triangle buffer is what drew (every triangle, the degenerate one too,
+// where VTK's leaves that out), VTK's build takes over for edges and its own comes back after.
 #include "surface_mapper.h"
 
 #include <vtkActor.h>
@@ -19,6 +19,7 @@
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
 #include <vtkSmartPointer.h>
+#include <vtkTypeInt64Array.h>
 #include <vtkUnsignedCharArray.h>
 
 #include <QtTest/QtTest>
@@ -121,6 +122,12 @@ void SurfaceMapperTest::frames_equal_vtks_own_mapper_and_follow_every_change() {
   poly->GetPolys()->Modified();
   check(false);
   QCOMPARE(ours->triangle_indices(), std::size_t(3 * (cells - 1)));
+
+  // A cell rewritten with only its connectivity array marked modified: the frame follows it.
+  vtkTypeInt64Array* connectivity = poly->GetPolys()->GetConnectivityArray64();
+  for (int k = 0; k < 3; ++k) connectivity->SetValue(3 * (cells / 2) + k, 0);
+  connectivity->Modified();
+  check(false);
 
   // New positions only (a pose): the frame follows them.
   vtkFloatArray* xyz = vtkFloatArray::SafeDownCast(poly->GetPoints()->GetData());
