@@ -21,7 +21,6 @@
 #include <vtkOrientationMarkerWidget.h>
 #include <vtkPointData.h>
 #include <vtkPolyData.h>
-#include <vtkPolyDataMapper.h>
 #include <vtkProperty.h>
 #include <vtkRenderWindowInteractor.h>
 #include <vtkRenderer.h>
@@ -44,6 +43,7 @@
 #include "deepcut/widgets/view_poly_data.h"
 #include "click_style.h"
 #include "instance_data.h"
+#include "surface_mapper.h"
 #include "thread_cpu_time.h"
 
 namespace deepcut::studio {
@@ -149,7 +149,7 @@ bool SceneView::Impl::warm_up_next() {
   InstanceActor warm;
   warm.poly = stand_in_triangle(renderer->GetActiveCamera(), textured);
   if (textured) warm.texture = stand_in_texture();
-  warm.mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
+  warm.mapper = vtkSmartPointer<SurfaceMapper>::New();
   warm.mapper->SetInputData(warm.poly);
   warm.mapper->SetColorModeToDirectScalars();
   warm.actor = vtkSmartPointer<vtkActor>::New();
@@ -413,7 +413,7 @@ void SceneView::Impl::add_actor(const plugins::SceneInstance& sp, std::shared_pt
   instance.data = std::move(data);
   instance.node = sp.node, instance.mesh = sp.mesh, instance.primitive = sp.primitive;
   instance.poly = instance.data->poly();
-  instance.mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
+  instance.mapper = vtkSmartPointer<SurfaceMapper>::New();
   instance.mapper->SetInputData(instance.poly);
   instance.mapper->SetColorModeToDirectScalars();
   instance.actor = vtkSmartPointer<vtkActor>::New();

@@ -12,20 +12,11 @@
 namespace deepcut {
 namespace {
 
-// normalize_influences over kSlots slots (a constant, so the loops unroll for the editor's 4 and
-// 8), or over `runtime_slots` when kSlots is 0.
+// renormalize_influences over kSlots slots, or `runtime_slots` when kSlots is 0: the second half
+// of normalize_slots.
 template <int kSlots>
-bool normalize_slots(std::uint16_t* joints, float* weights, int runtime_slots) {
+bool renormalize_slots(std::uint16_t* joints, float* weights, int runtime_slots) {
   const int slots = kSlots != 0 ? kSlots : runtime_slots;
-  // Merge duplicate joints into their first slot, then renormalise; the slots keep their order.
-  for (int i = 0; i < slots; ++i) {
-    if (!std::isfinite(weights[i]) || weights[i] < 0.0f) weights[i] = 0.0f;
-    for (int j = 0; j < i; ++j)
-      if (weights[j] > 0.0f && joints[j] == joints[i]) {
-        weights[j] += weights[i];
-        weights[i] = 0.0f;
-      }
-  }
   double sum = 0.0;
   for (int i = 0; i < slots; ++i) sum += weights[i];
   if (!(sum > 0.0)) {
@@ -47,12 +38,35 @@ bool normalize_slots(std::uint16_t* joints, float* weights, int runtime_slots) {
   return true;
 }
 
+// normalize_influences over kSlots slots (a constant, so the loops unroll for the editor's 4 and
+// 8), or over `runtime_slots` when kSlots is 0.
+template <int kSlots>
+bool normalize_slots(std::uint16_t* joints, float* weights, int runtime_slots) {
+  const int slots = kSlots != 0 ? kSlots : runtime_slots;
+  // Merge duplicate joints into their first slot, then renormalise; the slots keep their order.
+  for (int i = 0; i < slots; ++i) {
+    if (!std::isfinite(weights[i]) || weights[i] < 0.0f) weights[i] = 0.0f;
+    for (int j = 0; j < i; ++j)
+      if (weights[j] > 0.0f && joints[j] == joints[i]) {
+        weights[j] += weights[i];
+        weights[i] = 0.0f;
+      }
+  }
+  return renormalize_slots<kSlots>(joints, weights, runtime_slots);
+}
+
 }  // namespace
 
 bool normalize_influences(std::uint16_t* joints, float* weights, int slots) {
   if (slots == 4) return normalize_slots<4>(joints, weights, slots);
   if (slots == kMaxInfluences) return normalize_slots<kMaxInfluences>(joints, weights, slots);
   return normalize_slots<0>(joints, weights, slots);
+}
+
+bool renormalize_influences(std::uint16_t* joints, float* weights, int slots) {
+  if (slots == 4) return renormalize_slots<4>(joints, weights, slots);
+  if (slots == kMaxInfluences) return renormalize_slots<kMaxInfluences>(joints, weights, slots);
+  return renormalize_slots<0>(joints, weights, slots);
 }
 
 MeshEditor::MeshEditor(SurfaceMesh& mesh) : mesh_(mesh) {

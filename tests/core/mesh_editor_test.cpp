@@ -530,6 +530,33 @@ TEST(MeshEditorTest, normalize_influences_handles_zero_nan_and_duplicates) {
   EXPECT_EQ(zw[0], 1.0f);
 }
 
+// Influences already checked (finite weights >= 0, positive weights on distinct joints) come out of
+// renormalize_influences bit for bit as out of normalize_influences: summing to 1, not, or to 0,
+// over 4, 8 and 3 slots.
+TEST(MeshEditorTest, renormalize_influences_equals_normalize_influences_on_checked_influences) {
+  std::mt19937 rng(19);
+  std::uniform_real_distribution<float> weight(0.0f, 1.0f);
+  for (int slots : {4, 8, 3})
+    for (int round = 0; round < 2000; ++round) {
+      std::uint16_t j[8], j2[8];
+      float w[8], w2[8];
+      for (int i = 0; i < slots; ++i) {
+        j[i] = static_cast<std::uint16_t>(round % 3 == 0 ? 7 * i : (13 * i + round) % 500);  // distinct
+        w[i] = round % 5 == 0 ? 0.0f : (round % 4 == 0 && i % 2 ? 0.0f : weight(rng));
+      }
+      if (round % 7 == 1) {  // summing to 1 exactly: kept as they are
+        float rest = 1.0f;
+        for (int i = 0; i + 1 < slots; ++i) rest -= (w[i] = std::ldexp(std::floor(w[i] * 64.0f), -9));
+        w[slots - 1] = rest;
+      }
+      std::copy(j, j + slots, j2);
+      std::copy(w, w + slots, w2);
+      EXPECT_EQ(renormalize_influences(j, w, slots), normalize_influences(j2, w2, slots));
+      EXPECT_EQ(std::memcmp(j, j2, sizeof(j[0]) * std::size_t(slots)), 0);
+      EXPECT_EQ(std::memcmp(w, w2, sizeof(w[0]) * std::size_t(slots)), 0);
+    }
+}
+
 namespace {
 
 // Bytes of the corner and face attributes of face `f`.

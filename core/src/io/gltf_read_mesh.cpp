@@ -110,6 +110,7 @@ struct InfluenceSanitiser {
     // float, lie within 2e-7 per weight of 1. (It leaves a repeated joint's weight out of the
     // sum; here it counts, since merging the repeats adds it to the first.)
     float sum = 0.0f, tolerance = 0.0f;
+    const std::size_t repeats_before = r.duplicates;
     for (int k = 0; k < slots; ++k) {
       std::uint32_t joint = joints[k / 4][4 * v + std::size_t(k % 4)];
       float weight = weights[k / 4][4 * v + std::size_t(k % 4)];
@@ -138,7 +139,12 @@ struct InfluenceSanitiser {
       ww[k] = weight;
     }
     if (sum > 0.0f && std::abs(sum - 1.0f) > tolerance) ++r.renormalised;
-    if (!normalize_influences(jj, ww, slots)) ++r.zero;
+    // The weights are finite and >= 0 now; two slots of positive weight name one joint only
+    // after a repeat, through a remap or when a joint past 65535 became 0: else there is nothing
+    // for normalize_influences to merge.
+    const bool distinct =
+        r.duplicates == repeats_before && remap_size == 0 && joint_count >= 0 && file_joints <= 65536u;
+    if (!(distinct ? renormalize_influences(jj, ww, slots) : normalize_influences(jj, ww, slots))) ++r.zero;
     for (std::size_t s = 0; s < kSets; ++s) {
       skin.joints[s * nv + v] = glm::u16vec4(jj[4 * s], jj[4 * s + 1], jj[4 * s + 2], jj[4 * s + 3]);
       skin.weights[s * nv + v] = glm::vec4(ww[4 * s], ww[4 * s + 1], ww[4 * s + 2], ww[4 * s + 3]);

@@ -163,4 +163,9 @@ void blend_influences(const std::uint16_t* joints, const float* weights, const f
 ///          gets weight 1, so the vertex follows that joint.
 bool normalize_influences(std::uint16_t* joints, float* weights, int slots);
 
+/// normalize_influences of influences already checked: every weight finite and >= 0, and no
+/// joint named by two slots of positive weight. The same result, without checking again (the
+/// importer checks each vertex's influences as it reads them).
+bool renormalize_influences(std::uint16_t* joints, float* weights, int slots);
+
 }  // namespace deepcut

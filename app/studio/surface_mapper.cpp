@@ -1,0 +1,80 @@
+// SPDX-License-Identifier: MIT
+#include "surface_mapper.h"
+
+#include <vtkActor.h>
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkObjectFactory.h>
+#include <vtkOpenGLIndexBufferObject.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+#include <vtkProperty.h>
+#include <vtkRenderer.h>
+
+#include <cstdint>
+#include <memory>
+
+#include "deepcut/core/parallel.h"
+
+namespace deepcut::studio {
+
+vtkStandardNewMacro(SurfaceMapper);
+
+namespace {
+
+// Connectivity ids narrowed to index buffer entries, over the pool.
+template <class Id>
+void narrow(const Id* ids, std::size_t n, unsigned int* out) {
+  parallel_for(n, std::size_t{1} << 16, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) out[i] = static_cast<unsigned int>(ids[i]);
+  });
+}
+
+}  // namespace
+
+bool SurfaceMapper::triangles_only(vtkRenderer* ren, vtkActor* act, vtkPolyData* poly) {
+  vtkProperty* prop = act->GetProperty();
+  vtkCellArray* polys = poly->GetPolys();
+  // No colour or normal read per cell (their buffers are indexed by the triangles VTK keeps),
+  // nothing drawn but filled triangles.
+  return prop->GetRepresentation() == VTK_SURFACE && !prop->GetEdgeVisibility() &&
+         !prop->GetVertexVisibility() && !ren->GetSelector() && !GetScalarVisibility() &&
+         !poly->GetCellData()->GetNormals() &&
+         !poly->GetPointData()->GetAttribute(vtkDataSetAttributes::EDGEFLAG) &&
+         poly->GetVerts()->GetNumberOfCells() == 0 && poly->GetLines()->GetNumberOfCells() == 0 &&
+         poly->GetStrips()->GetNumberOfCells() == 0 && polys->GetNumberOfCells() > 0 &&
+         polys->GetNumberOfConnectivityIds() == 3 * polys->GetNumberOfCells();
+}
+
+void SurfaceMapper::BuildIBO(vtkRenderer* ren, vtkActor* act, vtkPolyData* poly) {
+  if (!triangles_only(ren, act, poly)) {
+    built_.clear();
+    Superclass::BuildIBO(ren, act, poly);
+    return;
+  }
+  vtkCellArray* polys = poly->GetPolys();
+  // The cell array and its two arrays (a writer may mark either modified).
+  const std::string key = std::to_string(reinterpret_cast<std::uintptr_t>(polys)) + ':' +
+                          std::to_string(polys->GetMTime()) + ':' +
+                          std::to_string(polys->GetConnectivityArray()->GetMTime()) + ':' +
+                          std::to_string(polys->GetOffsetsArray()->GetMTime());
+  if (key == built_) return;  // new positions only (a pose): the triangles are those uploaded
+  const auto n = static_cast<std::size_t>(polys->GetNumberOfConnectivityIds());
+  std::unique_ptr<unsigned int[]> indices(new unsigned int[n]);  // every entry written below
+  if (polys->IsStorage64Bit())
+    narrow(polys->GetConnectivityArray64()->GetPointer(0), n, indices.get());
+  else
+    narrow(polys->GetConnectivityArray32()->GetPointer(0), n, indices.get());
+  vtkOpenGLIndexBufferObject* tris = Primitives[PrimitiveTris].IBO;
+  tris->Upload(indices.get(), n, vtkOpenGLIndexBufferObject::ElementArrayBuffer);
+  tris->IndexCount = n;
+  for (int p : {PrimitivePoints, PrimitiveLines, PrimitiveTriStrips}) Primitives[p].IBO->IndexCount = 0;
+  built_ = key;
+}
+
+void SurfaceMapper::ReleaseGraphicsResources(vtkWindow* window) {
+  built_.clear();
+  Superclass::ReleaseGraphicsResources(window);
+}
+
+}  // namespace deepcut::studio

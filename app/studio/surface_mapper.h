@@ -1,0 +1,39 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file surface_mapper.h
+/// The mapper of a model's surface. VTK 9.1 builds a triangle index buffer cell by cell, each
+/// triangle's three points compared to leave out degenerate ones, into a vector that grows as
+/// it goes: at 1M triangles about a fifth of the first frame after opening (and of the frame
+/// after a cut). A surface of triangles only, drawn filled with nothing read per cell, needs no
+/// more than its connectivity narrowed to 32 bits: this mapper converts it over the pool into
+/// a buffer made to size. A degenerate triangle it keeps covers no pixel, so the frame is the
+/// same. Anything else (edges, wireframe, points, lines or strips, cell colours or normals, a
+/// hardware selection) is VTK's own build. VTK 9.1 builds the index buffers again with every
+/// upload, new positions alone included; this one only when the cells (or their arrays) were
+/// marked modified.
+
+#include <vtkOpenGLPolyDataMapper.h>
+
+#include <string>
+
+namespace deepcut::studio {
+
+class SurfaceMapper : public vtkOpenGLPolyDataMapper {
+ public:
+  static SurfaceMapper* New();
+  vtkTypeMacro(SurfaceMapper, vtkOpenGLPolyDataMapper)
+  void ReleaseGraphicsResources(vtkWindow* window) override;
+
+ protected:
+  SurfaceMapper() = default;
+  void BuildIBO(vtkRenderer* ren, vtkActor* act, vtkPolyData* poly) override;
+
+ private:
+  /// Whether the triangles' connectivity alone makes the index buffers VTK would draw with.
+  bool triangles_only(vtkRenderer* ren, vtkActor* act, vtkPolyData* poly);
+  /// The cells the triangle buffer was last built from here; empty while VTK's own build (or
+  /// none) is current.
+  std::string built_;
+};
+
+}  // namespace deepcut::studio
