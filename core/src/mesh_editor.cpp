@@ -5,15 +5,36 @@
 #include <cassert>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <typeindex>
 #include <vector>
 
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
+
 namespace deepcut {
 namespace {
 
-// renormalize_influences over kSlots slots, or `runtime_slots` when kSlots is 0: the second half
-// of normalize_slots.
+// The first half of normalize_influences over kSlots slots (a constant, so the loops unroll for
+// the editor's 4 and 8), or over `runtime_slots` when kSlots is 0: negative or non-finite
+// weights become 0, duplicate joints are merged into their first slot.
+template <int kSlots>
+void clean_slots(const std::uint16_t* joints, float* weights, int runtime_slots) {
+  const int slots = kSlots != 0 ? kSlots : runtime_slots;
+  for (int i = 0; i < slots; ++i) {
+    if (!std::isfinite(weights[i]) || weights[i] < 0.0f) weights[i] = 0.0f;
+    for (int j = 0; j < i; ++j)
+      if (weights[j] > 0.0f && joints[j] == joints[i]) {
+        weights[j] += weights[i];
+        weights[i] = 0.0f;
+      }
+  }
+}
+
+// The second half: the weights renormalised (the slots keep their order), zero-weight slots
+// given joint 0.
 template <int kSlots>
 bool renormalize_slots(std::uint16_t* joints, float* weights, int runtime_slots) {
   const int slots = kSlots != 0 ? kSlots : runtime_slots;
@@ -38,20 +59,9 @@ bool renormalize_slots(std::uint16_t* joints, float* weights, int runtime_slots)
   return true;
 }
 
-// normalize_influences over kSlots slots (a constant, so the loops unroll for the editor's 4 and
-// 8), or over `runtime_slots` when kSlots is 0.
 template <int kSlots>
 bool normalize_slots(std::uint16_t* joints, float* weights, int runtime_slots) {
-  const int slots = kSlots != 0 ? kSlots : runtime_slots;
-  // Merge duplicate joints into their first slot, then renormalise; the slots keep their order.
-  for (int i = 0; i < slots; ++i) {
-    if (!std::isfinite(weights[i]) || weights[i] < 0.0f) weights[i] = 0.0f;
-    for (int j = 0; j < i; ++j)
-      if (weights[j] > 0.0f && joints[j] == joints[i]) {
-        weights[j] += weights[i];
-        weights[i] = 0.0f;
-      }
-  }
+  clean_slots<kSlots>(joints, weights, runtime_slots);
   return renormalize_slots<kSlots>(joints, weights, runtime_slots);
 }
 
@@ -110,9 +120,10 @@ void blend_slots(const std::uint16_t* joints, const float* weights, const float*
       const std::uint16_t joint = joints[s * slots + c];
       const float weight = weights[s * slots + c];
       if (!(weight > 0.0f)) continue;
+      acc[n] = {joint, 0.0f};  // the search's sentinel: found there when the joint is new
       int found = 0;
-      while (found < n && acc[found].joint != joint) ++found;
-      if (found == n) acc[n++] = {joint, 0.0f};
+      while (acc[found].joint != joint) ++found;
+      n += found == n;
       acc[found].weight += weight * w[s];
     }
   }
@@ -129,7 +140,12 @@ void blend_slots(const std::uint16_t* joints, const float* weights, const float*
     out_weights[i] = i < n ? acc[i].weight : 0.0f;
   }
   if (n == 0) out_joints[0] = joints[0];  // no weight anywhere: follow the first source's first joint
-  normalize_slots<kSlots>(out_joints, out_weights, kSlots);
+  // The weights are sums of positive products (no -0) under distinct joints, the unused slots 0:
+  // cleaning them changes nothing unless a sum overflowed.
+  bool finite = true;
+  for (int i = 0; i < slots; ++i) finite &= out_weights[i] <= std::numeric_limits<float>::max();
+  if (!finite) clean_slots<kSlots>(out_joints, out_weights, kSlots);
+  renormalize_slots<kSlots>(out_joints, out_weights, kSlots);
 }
 
 // MeshEditor::fix_skin_weights with kSets JOINTS_n / WEIGHTS_n sets.
@@ -171,6 +187,96 @@ void check_blend_sources(const char* op, const std::uint32_t* src, int sources, 
                         " is not a vertex yet (" + std::to_string(nv + i) + " vertices)");
 }
 
+#if defined(__SSE__) && (defined(__clang__) || (defined(__GNUC__) && __GNUC__ >= 12))
+#define DEEPCUT_FOUR_FLOATS 1
+// Four floats as one value (SSE; GCC >= 12 / Clang vector extensions): operators act lane by lane.
+using Four = float __attribute__((vector_size(16)));
+Four sqrt4(Four x) { return _mm_sqrt_ps(x); }
+#endif
+
+// Normals [begin, end) divided by their length where it is above 0 (glm::length: the square
+// root of (x * x + y * y) + z * z). Four corners a step while four remain, each lane doing
+// exactly those operations.
+void unit_normals(glm::vec3* n, std::size_t begin, std::size_t end) {
+  std::size_t c = begin;
+#ifdef DEEPCUT_FOUR_FLOATS
+  static_assert(sizeof(glm::vec3) == 3 * sizeof(float), "normals are packed x, y, z rows");
+  for (; c + 4 <= end; c += 4) {
+    float* at = reinterpret_cast<float*>(n + c);
+    Four p0, p1, p2;  // x0 y0 z0 x1 | y1 z1 x2 y2 | z2 x3 y3 z3
+    std::memcpy(&p0, at, sizeof p0);
+    std::memcpy(&p1, at + 4, sizeof p1);
+    std::memcpy(&p2, at + 8, sizeof p2);
+    const Four s0 = p0 * p0, s1 = p1 * p1, s2 = p2 * p2;
+    const Four xy = __builtin_shufflevector(s1, s2, 2, 3, 5, 6);  // x2 y2 x3 y3
+    const Four yz = __builtin_shufflevector(s0, s1, 1, 2, 4, 5);  // y0 z0 y1 z1
+    const Four xx = __builtin_shufflevector(s0, xy, 0, 3, 4, 6);
+    const Four yy = __builtin_shufflevector(yz, xy, 0, 2, 5, 7);
+    const Four zz = __builtin_shufflevector(yz, s2, 1, 3, 4, 7);
+    const Four len = sqrt4((xx + yy) + zz);
+    // Each corner's length under its own x, y and z.
+    const Four l0 = __builtin_shufflevector(len, len, 0, 0, 0, 1), l1 = __builtin_shufflevector(len, len, 1, 1, 2, 2),
+               l2 = __builtin_shufflevector(len, len, 2, 3, 3, 3);
+    p0 = l0 > Four{} ? p0 / l0 : p0;
+    p1 = l1 > Four{} ? p1 / l1 : p1;
+    p2 = l2 > Four{} ? p2 / l2 : p2;
+    std::memcpy(at, &p0, sizeof p0);
+    std::memcpy(at + 4, &p1, sizeof p1);
+    std::memcpy(at + 8, &p2, sizeof p2);
+  }
+#endif
+  for (; c < end; ++c) {
+    const float len = glm::length(n[c]);
+    if (len > 0.0f) n[c] /= len;
+  }
+}
+
+// Tangents [begin, end): xyz divided by its length where that is above 0 (as unit_normals), w
+// set to -1 or +1 by the sign of the w of corner source(c). Four corners a step while four
+// remain; every source's w is read before any of the four is written (a corner's own w gives
+// the same sign before and after: -1 stays negative, +1 positive).
+template <class Source>
+void unit_tangents(glm::vec4* t, std::size_t begin, std::size_t end, const Source& source) {
+  std::size_t c = begin;
+#ifdef DEEPCUT_FOUR_FLOATS
+  static_assert(sizeof(glm::vec4) == sizeof(Four), "a tangent is four packed floats");
+  for (; c + 4 <= end; c += 4) {
+    const float h0 = t[source(c)].w, h1 = t[source(c + 1)].w, h2 = t[source(c + 2)].w, h3 = t[source(c + 3)].w;
+    Four p0, p1, p2, p3;
+    std::memcpy(&p0, t + c, sizeof p0);
+    std::memcpy(&p1, t + c + 1, sizeof p1);
+    std::memcpy(&p2, t + c + 2, sizeof p2);
+    std::memcpy(&p3, t + c + 3, sizeof p3);
+    const Four s0 = p0 * p0, s1 = p1 * p1, s2 = p2 * p2, s3 = p3 * p3;
+    const Four a = __builtin_shufflevector(s0, s1, 0, 4, 1, 5);  // x0 x1 y0 y1
+    const Four b = __builtin_shufflevector(s2, s3, 0, 4, 1, 5);  // x2 x3 y2 y3
+    const Four zz = __builtin_shufflevector(__builtin_shufflevector(s0, s1, 2, 6, 2, 6),
+                                            __builtin_shufflevector(s2, s3, 2, 6, 2, 6), 0, 1, 4, 5);
+    const Four len = sqrt4((__builtin_shufflevector(a, b, 0, 1, 4, 5) + __builtin_shufflevector(a, b, 2, 3, 6, 7)) + zz);
+    auto unit = [](Four p, Four l, float handedness) {  // l: the corner's length in every lane
+      p = l > Four{} ? p / l : p;
+      p[3] = handedness < 0.0f ? -1.0f : 1.0f;
+      return p;
+    };
+    p0 = unit(p0, __builtin_shufflevector(len, len, 0, 0, 0, 0), h0);
+    p1 = unit(p1, __builtin_shufflevector(len, len, 1, 1, 1, 1), h1);
+    p2 = unit(p2, __builtin_shufflevector(len, len, 2, 2, 2, 2), h2);
+    p3 = unit(p3, __builtin_shufflevector(len, len, 3, 3, 3, 3), h3);
+    std::memcpy(t + c, &p0, sizeof p0);
+    std::memcpy(t + c + 1, &p1, sizeof p1);
+    std::memcpy(t + c + 2, &p2, sizeof p2);
+    std::memcpy(t + c + 3, &p3, sizeof p3);
+  }
+#endif
+  for (; c < end; ++c) {
+    glm::vec3 xyz(t[c]);
+    const float len = glm::length(xyz);
+    if (len > 0.0f) xyz /= len;
+    const float handedness = t[source(c)].w;
+    t[c] = glm::vec4(xyz, handedness < 0.0f ? -1.0f : 1.0f);
+  }
+}
+
 }  // namespace
 
 void blend_influences(const std::uint16_t* joints, const float* weights, const float* w, int count, int slots,
@@ -195,31 +301,23 @@ void MeshEditor::fix_skin_weights(VertexId v, const VertexId* src, const float* 
     fix_skin<2>(joints_, weights_, v, src, w, count);
 }
 
+// `parents` (and `w`) null: each face made from itself, each corner its own alone (remake_moved).
 void MeshEditor::fix_corner_directions(FaceId first, std::size_t count, const std::uint32_t* parents,
                                        const float* w) {
   const std::size_t begin = SurfaceMesh::corner(first, 0), end = begin + 3 * count;
-  if (auto* normals = normals_) {
-    glm::vec3* n = normals->data().data();
-    for (std::size_t c = begin; c < end; ++c) {
-      const float len = glm::length(n[c]);
-      if (len > 0.0f) n[c] /= len;
-    }
-  }
-  if (auto* tangents = tangents_) {
-    glm::vec4* t = tangents->data().data();
-    for (std::size_t c = begin; c < end; ++c) {
-      glm::vec3 xyz(t[c]);
-      const float len = glm::length(xyz);
-      if (len > 0.0f) xyz /= len;
-      // Handedness of the dominant source corner, never a blend of +1 and -1.
-      const float* cw = w + 3 * (c - begin);
-      int best = 0;
-      for (int i = 1; i < 3; ++i)
-        if (cw[i] > cw[best]) best = i;
-      const float handedness = t[SurfaceMesh::corner(FaceId(parents[(c - begin) / 3]), best)].w;
-      t[c] = glm::vec4(xyz, handedness < 0.0f ? -1.0f : 1.0f);
-    }
-  }
+  if (normals_) unit_normals(normals_->data().data(), begin, end);
+  if (!tangents_) return;
+  // Handedness of the dominant source corner, never a blend of +1 and -1; without parents, each
+  // corner's own.
+  auto source = [&](std::size_t c) -> std::size_t {
+    if (!parents) return c;
+    const float* cw = w + 3 * (c - begin);
+    int best = 0;
+    for (int i = 1; i < 3; ++i)
+      if (cw[i] > cw[best]) best = i;
+    return SurfaceMesh::corner(FaceId(parents[(c - begin) / 3]), best);
+  };
+  unit_tangents(tangents_->data().data(), begin, end, source);
 }
 
 VertexId MeshEditor::add_blended(const std::uint32_t* src, const float* w, int sources, std::size_t count) {
@@ -389,15 +487,44 @@ int floats_per_element(const AttributeArrayBase& array) {
   return -1;
 }
 
-// Calls fn(begin, end) for each run of consecutive places in `places` (ascending).
+// Calls fn(begin, end) for each run of consecutive places in `places` (ascending, distinct).
 template <class Fn>
 void for_each_run(const std::vector<std::uint32_t>& places, Fn&& fn) {
+  // One run exactly when its ends are as far apart as its size says (the common case: not read
+  // place by place).
+  if (!places.empty() && places.back() - places.front() == places.size() - 1)
+    return fn(places.front(), places.back() + 1);
   for (std::size_t i = 0; i < places.size();) {
     std::size_t j = i + 1;
     while (j < places.size() && places[j] == places[j - 1] + 1) ++j;
     fn(places[i], places[j - 1] + 1);
     i = j;
   }
+}
+
+// True when one of the `n` floats at `x` is infinite, NaN or -0, by its bits (the exponent all
+// ones, or the sign bit alone): with no branch per float, four a step while four remain.
+bool any_odd_float(const float* x, std::size_t n) {
+  std::size_t k = 0;
+  std::uint32_t bad = 0;
+#ifdef DEEPCUT_FOUR_FLOATS
+  using Bits = std::uint32_t __attribute__((vector_size(16)));
+  const Bits exponent = {0x7f800000u, 0x7f800000u, 0x7f800000u, 0x7f800000u};
+  const Bits negative_zero = {0x80000000u, 0x80000000u, 0x80000000u, 0x80000000u};
+  Bits any = {0, 0, 0, 0};
+  for (; k + 4 <= n; k += 4) {
+    Bits u;
+    std::memcpy(&u, x + k, sizeof u);
+    any |= reinterpret_cast<Bits>((u & exponent) == exponent) | reinterpret_cast<Bits>(u == negative_zero);
+  }
+  bad = any[0] | any[1] | any[2] | any[3];
+#endif
+  for (; k < n; ++k) {
+    std::uint32_t u;
+    std::memcpy(&u, x + k, sizeof u);
+    bad |= static_cast<std::uint32_t>((u & 0x7f800000u) == 0x7f800000u) | static_cast<std::uint32_t>(u == 0x80000000u);
+  }
+  return bad != 0;
 }
 
 // True when making each face first + moved[i] again from itself (corner k from its corners
@@ -410,15 +537,10 @@ bool remade_in_place(const AttributeSet& set, FaceId first, const std::vector<st
     const int floats = floats_per_element(array);
     if (floats < 0) return false;
     if (floats == 0) continue;
-    std::uint32_t bad = 0;
+    bool bad = false;
     for_each_run(moved, [&](std::uint32_t b, std::uint32_t e) {
       const auto* x = static_cast<const float*>(array.element_data(SurfaceMesh::corner(FaceId(first.index + b), 0)));
-      const std::size_t n = std::size_t(3 * floats) * (e - b);
-      for (std::size_t k = 0; k < n; ++k) {
-        std::uint32_t u;
-        std::memcpy(&u, x + k, sizeof u);
-        bad |= static_cast<std::uint32_t>((u & 0x7f800000u) == 0x7f800000u) | static_cast<std::uint32_t>(u == 0x80000000u);
-      }
+      bad |= any_odd_float(x, std::size_t(3 * floats) * (e - b));
     });
     if (bad) return false;
   }
@@ -429,24 +551,24 @@ bool remade_in_place(const AttributeSet& set, FaceId first, const std::vector<st
 
 void MeshEditor::remake_moved(FaceId first, const std::vector<std::uint32_t>& moved) {
   AttributeSet& corners = mesh_.corner_attrs();
-  std::vector<std::uint32_t> faces(moved.size());
-  std::vector<float> w(9 * moved.size(), 0.0f);
-  for (std::size_t i = 0; i < moved.size(); ++i) {
-    faces[i] = first.index + moved[i];
-    for (int k = 0; k < 3; ++k) w[9 * i + 4 * k] = 1.0f;  // corner k of its own face alone
-  }
   if (!remade_in_place(corners, first, moved)) {
-    // Blended again, as a move blends, after the end of the arrays, then copied back.
+    // Blended again, as a move blends (corner k of its own face alone), after the end of the
+    // arrays, then copied back.
+    std::vector<std::uint32_t> faces(moved.size());
+    std::vector<float> w(9 * moved.size(), 0.0f);
+    for (std::size_t i = 0; i < moved.size(); ++i) {
+      faces[i] = first.index + moved[i];
+      for (int k = 0; k < 3; ++k) w[9 * i + 4 * k] = 1.0f;
+    }
     const std::size_t end = corners.size();
     corners.push_blend3_batch(faces.data(), w.data(), faces.size());
     for (std::size_t i = 0; i < faces.size(); ++i)
       for (int k = 0; k < 3; ++k) corners.copy(SurfaceMesh::corner(FaceId(faces[i]), k), end + 3 * i + std::size_t(k));
     corners.resize(end);
   }
-  std::size_t at = 0;
+  // Each corner its own face's alone: its own handedness.
   for_each_run(moved, [&](std::uint32_t b, std::uint32_t e) {
-    fix_corner_directions(FaceId(first.index + b), e - b, faces.data() + at, w.data() + 9 * at);
-    at += e - b;
+    fix_corner_directions(FaceId(first.index + b), e - b, nullptr, nullptr);
   });
 }
 

@@ -24,6 +24,7 @@
 #include "fixtures.h"
 #include "ops/common/posed_overlay.h"
 #include "ops/cut/caps.h"
+#include "ops/cut/classify.h"
 #include "ops/cut/face_lists.h"
 #include "tools.h"
 
@@ -579,6 +580,32 @@ TEST(CutTest, the_face_scan_splits_only_ranges_worth_a_thread) {
     EXPECT_EQ(clean, mesh.face_slots());
   }
   set_thread_count(saved);
+}
+
+TEST(CutTest, vertex_sides_sixteen_at_a_time_follow_the_rule_of_each_vertex) {
+  // Sides snap sixteen vertices at a time, then one by one: every lane where its vertex is (a
+  // count that leaves a tail, every side in every lane). A negative tolerance leaves a band of
+  // vertices both above and below (side 0, all bits set), as the one-by-one rule has it.
+  SurfaceMesh mesh;
+  for (int i = 0; i < 53; ++i) mesh.add_vertex(glm::vec3(float((i * 5) % 7 - 3), float(i % 3), 0.0f));
+  for (std::uint32_t i = 0; i + 2 < 53; ++i) mesh.add_face(VertexId(i), VertexId(i + 1), VertexId(i + 2));
+  const glm::vec3 origin(0.0f), normal(1.0f, 0.0f, 0.0f);
+  for (const float tolerance : {1e-5f, -0.1f}) {
+    const detail::VertexSides sides =
+        detail::classify_vertices(mesh, mesh.positions(), origin, normal, tolerance, mesh.vertex_count(), nullptr);
+    const float band = 0.1f * glm::length(glm::vec3(6.0f, 2.0f, 0.0f));  // |tolerance| of the diagonal
+    for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) {
+      const float d = mesh.position(VertexId(v)).x;
+      const bool above = tolerance > 0.0f ? d > 0.0f : d > -band;
+      const bool below = tolerance > 0.0f ? d < 0.0f : d < band;
+      const int sign = int(above) - int(below);
+      const unsigned bits = (above ? 1u : 0u) | (below ? 2u : 0u) | (above || below ? 0u : 4u);
+      EXPECT_EQ(sides.dist[v], d) << v;
+      EXPECT_EQ(sides.sign[v], sign) << "vertex " << v << ", tolerance " << tolerance;
+      EXPECT_EQ(sides.bits[v], above && below ? 0xffu : bits) << "vertex " << v << ", tolerance " << tolerance;
+    }
+    EXPECT_TRUE(sides.both_sides);
+  }
 }
 
 TEST(CutTest, a_capped_cut_does_not_depend_on_the_thread_count) {

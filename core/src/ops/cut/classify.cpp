@@ -13,6 +13,10 @@
 #include <memory>
 #include <type_traits>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "deepcut/core/parallel.h"
 
 namespace deepcut::detail {
@@ -148,6 +152,45 @@ float float_at_or_below(double x) {
   return f;
 }
 
+// `snap` of every vertex (without kCheckUsed) from `b`, sixteen at a time while sixteen remain:
+// each lane compares as the scalar loop does, the masks packed to bytes (-1 or 0). Returns where
+// it stopped; ors into `pos` and `neg` whether some vertex was above or below.
+std::size_t snap_sixteens(const float* dist, float hi, float lo, std::int8_t* sign, std::uint8_t* bits, std::size_t b,
+                          std::size_t e, int& pos, int& neg) {
+#if defined(__SSE2__)
+  if (lo > hi) return b;  // a negative tolerance: a vertex can be both above and below (scalar loop)
+  const __m128 h = _mm_set1_ps(hi), l = _mm_set1_ps(lo);
+  const __m128i one = _mm_set1_epi8(1), two = _mm_set1_epi8(2), four_bits = _mm_set1_epi8(4);
+  __m128i any_above = _mm_setzero_si128(), any_below = _mm_setzero_si128();
+  std::size_t v = b;
+  for (; v + 16 <= e; v += 16) {
+    __m128 d[4];
+    for (int k = 0; k < 4; ++k) d[k] = _mm_loadu_ps(dist + v + 4 * k);
+    auto packed = [&](auto compare) {  // sixteen byte masks, in vertex order
+      const __m128i m01 = _mm_packs_epi32(_mm_castps_si128(compare(d[0])), _mm_castps_si128(compare(d[1])));
+      const __m128i m23 = _mm_packs_epi32(_mm_castps_si128(compare(d[2])), _mm_castps_si128(compare(d[3])));
+      return _mm_packs_epi16(m01, m23);
+    };
+    const __m128i above = packed([&](__m128 x) { return _mm_cmpgt_ps(x, h); });
+    const __m128i below = packed([&](__m128 x) { return _mm_cmplt_ps(x, l); });
+    // above - below, as -below - -above; bits 1 above, 2 below, 4 neither.
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(sign + v), _mm_sub_epi8(below, above));
+    const __m128i side = _mm_or_si128(_mm_and_si128(above, one), _mm_and_si128(below, two));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(bits + v),
+                     _mm_or_si128(side, _mm_andnot_si128(_mm_or_si128(above, below), four_bits)));
+    any_above = _mm_or_si128(any_above, above);
+    any_below = _mm_or_si128(any_below, below);
+  }
+  pos |= _mm_movemask_epi8(any_above) != 0;
+  neg |= _mm_movemask_epi8(any_below) != 0;
+  return v;
+#else
+  // Without SSE2 every vertex is left to the scalar loop.
+  (void)dist, (void)hi, (void)lo, (void)sign, (void)bits, (void)e, (void)pos, (void)neg;
+  return b;
+#endif
+}
+
 // Sides of the vertices [b, e) from their distances: above `hi`, below `lo`, else on the plane.
 // kCheckUsed: vertices not in use are on the plane (needed only when the tolerance is negative:
 // otherwise their distance 0 snaps there). Bit 1 of the result: some vertex above; bit 2: below.
@@ -156,7 +199,9 @@ int snap(const Pass& in, float hi, float lo, std::int8_t* sign, std::uint8_t* bi
   const float* dist = in.dist;
   const UsedFlag* used = in.used;
   int pos = 0, neg = 0;
-  for (std::size_t v = b; v < e; ++v) {
+  std::size_t first = b;
+  if constexpr (!kCheckUsed) first = snap_sixteens(dist, hi, lo, sign, bits, b, e, pos, neg);
+  for (std::size_t v = first; v < e; ++v) {
     const float d = dist[v];
     int above = d > hi, below = d < lo;
     if constexpr (kCheckUsed) {
