@@ -11,6 +11,7 @@
 #include <vtkProperty.h>
 #include <vtkRenderer.h>
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 
@@ -28,6 +29,24 @@ void narrow(const Id* ids, std::size_t n, unsigned int* out) {
   parallel_for(n, std::size_t{1} << 16, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) out[i] = static_cast<unsigned int>(ids[i]);
   });
+}
+
+// Whether every cell has three points (the connectivity's length alone does not say it).
+template <class Offset>
+bool uniform_triangles(const Offset* offsets, std::size_t cells) {
+  std::atomic<bool> other{false};
+  parallel_for(cells, std::size_t{1} << 16, [&](std::size_t b, std::size_t e) {
+    bool bad = false;
+    for (std::size_t c = b; c < e; ++c) bad |= offsets[c + 1] - offsets[c] != 3;
+    if (bad) other.store(true, std::memory_order_relaxed);
+  });
+  return !other.load();
+}
+
+bool every_cell_a_triangle(vtkCellArray* polys) {
+  const auto cells = static_cast<std::size_t>(polys->GetNumberOfCells());
+  if (polys->IsStorage64Bit()) return uniform_triangles(polys->GetOffsetsArray64()->GetPointer(0), cells);
+  return uniform_triangles(polys->GetOffsetsArray32()->GetPointer(0), cells);
 }
 
 }  // namespace
@@ -59,6 +78,11 @@ void SurfaceMapper::BuildIBO(vtkRenderer* ren, vtkActor* act, vtkPolyData* poly)
                           std::to_string(polys->GetConnectivityArray()->GetMTime()) + ':' +
                           std::to_string(polys->GetOffsetsArray()->GetMTime());
   if (key == built_) return;  // new positions only (a pose): the triangles are those uploaded
+  if (!every_cell_a_triangle(polys)) {  // e.g. a quad and a two-point cell: VTK's build
+    built_.clear();
+    Superclass::BuildIBO(ren, act, poly);
+    return;
+  }
   const auto n = static_cast<std::size_t>(polys->GetNumberOfConnectivityIds());
   std::unique_ptr<unsigned int[]> indices(new unsigned int[n]);  // every entry written below
   if (polys->IsStorage64Bit())
@@ -68,7 +92,9 @@ void SurfaceMapper::BuildIBO(vtkRenderer* ren, vtkActor* act, vtkPolyData* poly)
   vtkOpenGLIndexBufferObject* tris = Primitives[PrimitiveTris].IBO;
   tris->Upload(indices.get(), n, vtkOpenGLIndexBufferObject::ElementArrayBuffer);
   tris->IndexCount = n;
-  for (int p : {PrimitivePoints, PrimitiveLines, PrimitiveTriStrips}) Primitives[p].IBO->IndexCount = 0;
+  for (int p = PrimitiveStart; p < PrimitiveEnd; ++p)
+    if (p != PrimitiveTris) Primitives[p].IBO->IndexCount = 0;
+  IBOBuildState.Clear();  // VTK's own build, when it is next asked, starts again from scratch
   built_ = key;
 }
 

@@ -23,7 +23,9 @@
 #include <vtkUnsignedCharArray.h>
 
 #include <QtTest/QtTest>
+#include <array>
 #include <cmath>
+#include <string>
 
 namespace {
 
@@ -60,24 +62,35 @@ vtkSmartPointer<vtkPolyData> grid(int n) {
   return poly;
 }
 
-/// One frame of `poly` drawn by `mapper` (with edges when asked), as RGB bytes.
+/// One actor and renderer kept across frames (VTK keeps its index buffers' state with the mapper).
+struct Kept {
+  vtkNew<vtkActor> actor;
+  vtkNew<vtkRenderer> renderer;
+  Kept(vtkPolyDataMapper* mapper, vtkPolyData* poly) {
+    mapper->SetInputData(poly);
+    mapper->ScalarVisibilityOff();  // as the studio draws a surface (colours per cell take VTK's build)
+    actor->SetMapper(mapper);
+    renderer->AddActor(actor);
+    renderer->GetActiveCamera()->SetPosition(0.3, -1.0, 2.0);
+    renderer->ResetCamera();
+  }
+  vtkSmartPointer<vtkUnsignedCharArray> frame(vtkRenderWindow* window, int representation) {
+    actor->GetProperty()->SetRepresentation(representation);
+    window->AddRenderer(renderer);
+    window->Render();
+    auto pixels = vtkSmartPointer<vtkUnsignedCharArray>::New();
+    window->GetPixelData(0, 0, 159, 159, 1, pixels);
+    window->RemoveRenderer(renderer);
+    return pixels;
+  }
+};
+
+/// One frame of `poly` drawn by `mapper` through a new actor (with edges when asked), as RGB bytes.
 vtkSmartPointer<vtkUnsignedCharArray> frame(vtkRenderWindow* window, vtkPolyDataMapper* mapper,
                                             vtkPolyData* poly, bool edges) {
-  mapper->SetInputData(poly);
-  mapper->ScalarVisibilityOff();  // as the studio draws a surface (colours per cell take VTK's build)
-  vtkNew<vtkActor> actor;
-  actor->SetMapper(mapper);
-  actor->GetProperty()->SetEdgeVisibility(edges);
-  vtkNew<vtkRenderer> renderer;
-  renderer->AddActor(actor);
-  renderer->GetActiveCamera()->SetPosition(0.3, -1.0, 2.0);
-  renderer->ResetCamera();
-  window->AddRenderer(renderer);
-  window->Render();
-  auto pixels = vtkSmartPointer<vtkUnsignedCharArray>::New();
-  window->GetPixelData(0, 0, 159, 159, 1, pixels);
-  window->RemoveRenderer(renderer);
-  return pixels;
+  Kept kept(mapper, poly);
+  kept.actor->GetProperty()->SetEdgeVisibility(edges);
+  return kept.frame(window, VTK_SURFACE);
 }
 
 bool same(vtkUnsignedCharArray* a, vtkUnsignedCharArray* b) {
@@ -92,6 +105,8 @@ class SurfaceMapperTest : public QObject {
 
  private slots:
   void frames_equal_vtks_own_mapper_and_follow_every_change();
+  void one_actor_switching_representations_draws_as_vtk_does();
+  void cells_other_than_triangles_take_vtks_build();
 };
 
 void SurfaceMapperTest::frames_equal_vtks_own_mapper_and_follow_every_change() {
@@ -134,6 +149,47 @@ void SurfaceMapperTest::frames_equal_vtks_own_mapper_and_follow_every_change() {
   for (vtkIdType i = 0; i < xyz->GetNumberOfTuples(); ++i) xyz->SetComponent(i, 2, -xyz->GetComponent(i, 2));
   poly->GetPoints()->Modified();
   check(false);
+}
+
+void SurfaceMapperTest::one_actor_switching_representations_draws_as_vtk_does() {
+  // Surface, wireframe, surface, wireframe again (nothing else changed), points, surface: VTK's
+  // build must not take the mapper's triangle buffer for its own line or point buffers.
+  vtkNew<vtkRenderWindow> window;
+  window->SetOffScreenRendering(1);
+  window->SetSize(160, 160);
+  vtkSmartPointer<vtkPolyData> poly = grid(12);
+  vtkNew<ProbedMapper> ours;
+  vtkNew<vtkPolyDataMapper> theirs;
+  Kept a(ours, poly), b(theirs, poly);
+  for (int representation : {VTK_SURFACE, VTK_WIREFRAME, VTK_SURFACE, VTK_WIREFRAME, VTK_POINTS, VTK_SURFACE}) {
+    vtkSmartPointer<vtkUnsignedCharArray> x = a.frame(window, representation);
+    vtkSmartPointer<vtkUnsignedCharArray> y = b.frame(window, representation);
+    QVERIFY2(same(x, y), ("representation " + std::to_string(representation)).c_str());
+  }
+  QCOMPARE(ours->triangle_indices(), std::size_t(3 * poly->GetNumberOfCells()));  // its own again
+}
+
+void SurfaceMapperTest::cells_other_than_triangles_take_vtks_build() {
+  // A quad and a two-point cell: three ids per cell on average, but not triangles (read as
+  // triangles they would draw (0, 1, 2) and (3, 4, 5), the second where VTK draws nothing).
+  vtkNew<vtkRenderWindow> window;
+  window->SetOffScreenRendering(1);
+  window->SetSize(160, 160);
+  vtkNew<vtkPoints> points;
+  for (const auto& p : {std::array<double, 3>{-0.5, -0.5, 0.0}, {0.5, -0.5, 0.1}, {0.5, 0.5, 0.0}, {-0.5, 0.5, 0.1}, {0.9, 0.9, 0.0}, {-0.9, 0.9, 0.0}})
+    points->InsertNextPoint(p.data());
+  vtkNew<vtkCellArray> polys;
+  polys->InsertNextCell({0, 1, 2, 3});
+  polys->InsertNextCell({4, 5});
+  auto poly = vtkSmartPointer<vtkPolyData>::New();
+  poly->SetPoints(points);
+  poly->SetPolys(polys);
+  vtkNew<ProbedMapper> ours;
+  vtkNew<vtkPolyDataMapper> theirs;
+  vtkSmartPointer<vtkUnsignedCharArray> x = frame(window, ours, poly, false);
+  vtkSmartPointer<vtkUnsignedCharArray> y = frame(window, theirs, poly, false);
+  QVERIFY(same(x, y));
+  QCOMPARE(ours->triangle_indices(), std::size_t(6));  // the quad's two triangles, VTK's build
 }
 
 QTEST_APPLESS_MAIN(SurfaceMapperTest)
