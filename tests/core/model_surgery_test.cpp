@@ -390,6 +390,31 @@ TEST(ModelSurgery, ACutsVertexSidesSplitItsMeshAsItsPiecesFacesDo) {
   EXPECT_TRUE(CutSides::of(cut_mesh(mesh, mesh.positions(), plane)).empty());
 }
 
+TEST(ModelSurgery, VertexSidesThatBreakTheFacesFallBackToSplittingByFaces) {
+  // Sides that break the cut's promise (a used vertex with side 0, another on the other side)
+  // are noticed: the pieces are those split by their faces, not renumbered through ranks that
+  // were never written.
+  CactusOptions cactus;
+  cactus.target_triangles = 20000;
+  SurfaceMesh mesh = make_cactus(cactus).meshes[0].primitives[0].mesh;
+  const BoundingBox box = mesh.bounds();
+  const Plane plane{0.5f * (box.min + box.max), glm::vec3(0.1f, 1.0f, 0.05f)};
+  const CutResult r = cut_mesh(mesh, mesh.positions(), plane, CutOptions{});
+  ASSERT_EQ(r.status, OpStatus::Ok);
+  ASSERT_EQ(r.pieces.size(), 2u);
+  for (int broken_side : {0, 2}) {
+    std::vector<std::int8_t> sides_of = CutSides::of(r);
+    const VertexId v = mesh.face(r.pieces[0][r.pieces[0].size() / 2])[1];
+    sides_of[v.index] = broken_side == 0 ? std::int8_t(0) : std::int8_t(-sides_of[v.index]);
+    const PieceSides sides{&r.piece_sides, &sides_of};
+    SurfaceMesh a = mesh, b = mesh;
+    const std::vector<SurfaceMesh> by_sides = split_disjoint(std::move(a), r.pieces, sides);
+    const std::vector<SurfaceMesh> by_faces = split_disjoint(std::move(b), r.pieces);
+    ASSERT_EQ(by_sides.size(), by_faces.size());
+    for (std::size_t i = 0; i < by_sides.size(); ++i) expect_same_bytes(by_sides[i], by_faces[i]);
+  }
+}
+
 TEST(ModelSurgery, ACutKeepsTheGridsOfTheInstancesItMisses) {
   // The instances a model cut cuts leave the posed model (followed without their grids); those
   // the plane misses keep their grids, and the posed model then matches a fresh build.

@@ -161,6 +161,21 @@ void number_faces(const SurfaceMesh& mesh, const std::vector<std::uint32_t>& fs,
   }
 }
 
+// Whether every face of every list uses only vertices whose side picks that list (what the cut's
+// vertex sides promise). A face that broke it would be renumbered through a rank never written.
+bool sides_hold(const SurfaceMesh& mesh, const std::vector<std::vector<std::uint32_t>>& faces,
+                const std::int8_t* side, const std::uint32_t* list_of_side) {
+  std::atomic<bool> broken{false};
+  for (std::size_t s = 0; s < faces.size(); ++s)
+    parallel_for(faces[s].size(), kGrain, [&](std::size_t b, std::size_t e) {
+      bool bad = false;
+      for (std::size_t i = b; i < e; ++i)
+        for (VertexId v : mesh.face(FaceId(faces[s][i]))) bad |= list_of_side[side[v.index] + 1] != s;
+      if (bad) broken.store(true, std::memory_order_relaxed);
+    });
+  return !broken.load();
+}
+
 // Every list's faces and vertices numbered (out.tris is filled by fill_pieces). The list using
 // each vertex is read from `sides` when given, else marked by the lists' faces. False when the
 // lists share vertices.
@@ -174,9 +189,10 @@ bool number_pieces(const SurfaceMesh& mesh, const std::vector<std::vector<FaceId
   for (std::size_t s = 0; s < n; ++s) tasks.emplace_back([&, s] { out.faces[s] = live_increasing(mesh, lists[s]); });
   parallel_invoke(tasks);
   const std::size_t nv = mesh.vertex_count();
-  if (sides) {
-    std::uint32_t list_of_side[3] = {kNoList, kNoList, kNoList};  // side -1, 0, +1
+  std::uint32_t list_of_side[3] = {kNoList, kNoList, kNoList};  // side -1, 0, +1
+  if (sides)
     for (std::size_t s = 0; s < n; ++s) list_of_side[(*sides->list_sides)[s] > 0 ? 2 : 0] = static_cast<std::uint32_t>(s);
+  if (sides && sides_hold(mesh, out.faces, sides->vertex_sides->data(), list_of_side)) {
     const std::int8_t* side = sides->vertex_sides->data();
     number_vertices([&](std::size_t v) { return list_of_side[side[v] + 1]; }, nv, n, out.vertices, out.rank);
     return true;
