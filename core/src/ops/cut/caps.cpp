@@ -85,6 +85,23 @@ void reached_groups(const std::vector<std::pair<VertexId, VertexId>>& halfedges,
   }
 }
 
+// Appends a closed loop of rim slots to `out`, each slot's vertex (`vertex_of(slot)`) numbered
+// locally by its first appearance in a kept loop (`local`, by slot).
+template <class VertexOf>
+void add_loop(const std::vector<std::uint32_t>& loop, std::vector<std::uint32_t>& local, VertexOf vertex_of,
+              RimLoops& out) {
+  std::vector<std::uint32_t> l;
+  l.reserve(loop.size());
+  for (std::uint32_t g : loop) {
+    if (local[g] == kInvalidIndex) {
+      local[g] = static_cast<std::uint32_t>(out.verts.size());
+      out.verts.push_back(vertex_of(g));
+    }
+    l.push_back(local[g]);
+  }
+  out.loops.push_back(std::move(l));
+}
+
 // trace_loops where no vertex leaves two steps and the vertices steps leave span few ids (a cut's
 // rim vertices are its newest ones): the vertex each step reaches by a table over that span of
 // the vertices it leaves, walks started in increasing vertex order as trace_loops starts them.
@@ -128,16 +145,7 @@ bool trace_single_steps(const std::vector<std::pair<VertexId, VertexId>>& halfed
     }
     all_closed = all_closed && closed;
     if (!closed || loop.size() < 3) continue;
-    std::vector<std::uint32_t> l;
-    l.reserve(loop.size());
-    for (std::uint32_t g : loop) {
-      if (local[g] == kInvalidIndex) {
-        local[g] = static_cast<std::uint32_t>(out.verts.size());
-        out.verts.push_back(VertexId(lo + g));
-      }
-      l.push_back(local[g]);
-    }
-    out.loops.push_back(std::move(l));
+    add_loop(loop, local, [lo](std::uint32_t g) { return VertexId(lo + g); }, out);
   }
   return true;
 }
@@ -195,16 +203,7 @@ bool trace_loops(const std::vector<std::pair<VertexId, VertexId>>& halfedges, Ri
       }
       all_closed = all_closed && closed;
       if (!closed || loop.size() < 3) continue;
-      std::vector<std::uint32_t> l;
-      l.reserve(loop.size());
-      for (std::uint32_t g : loop) {
-        if (local[g] == kInvalidIndex) {
-          local[g] = static_cast<std::uint32_t>(out.verts.size());
-          out.verts.push_back(VertexId(from[g]));
-        }
-        l.push_back(local[g]);
-      }
-      out.loops.push_back(std::move(l));
+      add_loop(loop, local, [&from](std::uint32_t g) { return VertexId(from[g]); }, out);
     }
   return all_closed;
 }
