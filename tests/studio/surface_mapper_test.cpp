@@ -104,15 +104,24 @@ class SurfaceMapperTest : public QObject {
   Q_OBJECT
 
  private slots:
+  void initTestCase();
   void frames_equal_vtks_own_mapper_and_follow_every_change();
   void one_actor_switching_representations_draws_as_vtk_does();
   void cells_other_than_triangles_take_vtks_build();
+
+ private:
+  // One window for every case: a window closed and another opened at once can find the X server
+  // resetting after its last client left.
+  vtkNew<vtkRenderWindow> window_;
 };
 
+void SurfaceMapperTest::initTestCase() {
+  window_->SetOffScreenRendering(1);
+  window_->SetSize(160, 160);
+}
+
 void SurfaceMapperTest::frames_equal_vtks_own_mapper_and_follow_every_change() {
-  vtkNew<vtkRenderWindow> window;
-  window->SetOffScreenRendering(1);
-  window->SetSize(160, 160);
+  vtkRenderWindow* window = window_;
   vtkSmartPointer<vtkPolyData> poly = grid(12);
   const vtkIdType cells = poly->GetNumberOfCells();
   vtkNew<ProbedMapper> ours;
@@ -154,9 +163,7 @@ void SurfaceMapperTest::frames_equal_vtks_own_mapper_and_follow_every_change() {
 void SurfaceMapperTest::one_actor_switching_representations_draws_as_vtk_does() {
   // Surface, wireframe, surface, wireframe again (nothing else changed), points, surface: VTK's
   // build must not take the mapper's triangle buffer for its own line or point buffers.
-  vtkNew<vtkRenderWindow> window;
-  window->SetOffScreenRendering(1);
-  window->SetSize(160, 160);
+  vtkRenderWindow* window = window_;
   vtkSmartPointer<vtkPolyData> poly = grid(12);
   vtkNew<ProbedMapper> ours;
   vtkNew<vtkPolyDataMapper> theirs;
@@ -172,9 +179,7 @@ void SurfaceMapperTest::one_actor_switching_representations_draws_as_vtk_does() 
 void SurfaceMapperTest::cells_other_than_triangles_take_vtks_build() {
   // A quad and a two-point cell: three ids per cell on average, but not triangles (read as
   // triangles they would draw (0, 1, 2) and (3, 4, 5), the second where VTK draws nothing).
-  vtkNew<vtkRenderWindow> window;
-  window->SetOffScreenRendering(1);
-  window->SetSize(160, 160);
+  vtkRenderWindow* window = window_;
   vtkNew<vtkPoints> points;
   for (const auto& p : {std::array<double, 3>{-0.5, -0.5, 0.0}, {0.5, -0.5, 0.1}, {0.5, 0.5, 0.0}, {-0.5, 0.5, 0.1}, {0.9, 0.9, 0.0}, {-0.9, 0.9, 0.0}})
     points->InsertNextPoint(p.data());
