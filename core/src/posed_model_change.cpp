@@ -7,6 +7,7 @@
 #include <set>
 
 #include "deepcut/core/posed_model.h"
+#include "deepcut/core/smallest_fit.h"
 
 namespace deepcut {
 namespace {
@@ -44,22 +45,6 @@ void cut_back(PosedMesh& inst, const SurfaceMesh& mesh) {
 
 using Place = std::pair<int, int>;  // (mesh, primitive)
 
-// Takes out of `stash` what it holds for none of the arrivals' `tags`: an instance derived by a
-// follow takes the arrays of one (their memory reused, no new pages to fault in); the others are
-// freed with the returned list.
-std::vector<PosedMesh> set_aside_unclaimed(PoseStash& stash, const std::set<std::uint64_t>& tags) {
-  std::vector<PosedMesh> spare;
-  for (auto it = stash.begin(); it != stash.end();) {
-    if (tags.count(it->first.first)) {
-      ++it;
-      continue;
-    }
-    spare.push_back(std::move(it->second));
-    it = stash.erase(it);
-  }
-  return spare;
-}
-
 }  // namespace
 
 void PosedModel::follow(const Model& model, const ModelChange& change, PoseDetail detail, PoseStash* stash) {
@@ -81,7 +66,9 @@ void PosedModel::follow(const Model& model, const ModelChange& change, PoseDetai
     arrived[{a.mesh, a.primitive}] = a.tag;
     tags.insert(a.tag);
   }
-  std::vector<PosedMesh> spare = set_aside_unclaimed(back, tags);
+  // What the stash holds for no arrival: a derived instance takes the arrays of one (their memory
+  // reused, no new pages to fault in); the others are freed with the list.
+  std::vector<PosedMesh> spare = take_unclaimed(back, tags);
   // Posed as a build would pose `place` for `node` (the sizes: a guard against a follower that
   // did not show the state before the step).
   auto posed_alike = [&](const PosedMesh& inst, int node, const Place& place) {

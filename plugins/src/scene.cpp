@@ -161,15 +161,7 @@ void follow_structure(Scene& scene, std::shared_ptr<const Model> model, const Mo
   // memory (the pages are there already).
   auto normals_back = std::move(scene.stash->normals);
   scene.stash->normals.clear();
-  std::vector<std::vector<glm::vec3>> spare;
-  for (auto it = normals_back.begin(); it != normals_back.end();) {
-    if (arriving.count(it->first.first)) {
-      ++it;
-      continue;
-    }
-    spare.push_back(std::move(it->second));
-    it = normals_back.erase(it);
-  }
+  std::vector<std::vector<glm::vec3>> spare = take_unclaimed(normals_back, arriving);
   scene.model = std::move(model);
   const Model& m = *scene.model;
   scene.posed->follow(m, change, PoseDetail::Positions, &scene.stash->posed);

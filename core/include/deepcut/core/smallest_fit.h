@@ -7,6 +7,8 @@
 /// outlive the step; the spare is better freed).
 
 #include <cstddef>
+#include <cstdint>
+#include <set>
 #include <utility>
 #include <vector>
 
@@ -30,6 +32,22 @@ T take_smallest_fit(std::vector<T>& spare, std::size_t n, const Room& room) {
   T out = std::move(*best);
   spare.erase(best);
   return out;
+}
+
+/// Moves out of `stash` (a map keyed by (content tag, index)) the values whose tag is not in
+/// `claimed`, in key order: the spares a step's new buffers may reuse (take_smallest_fit).
+template <class Map>
+std::vector<typename Map::mapped_type> take_unclaimed(Map& stash, const std::set<std::uint64_t>& claimed) {
+  std::vector<typename Map::mapped_type> spare;
+  for (auto it = stash.begin(); it != stash.end();) {
+    if (claimed.count(it->first.first)) {
+      ++it;
+      continue;
+    }
+    spare.push_back(std::move(it->second));
+    it = stash.erase(it);
+  }
+  return spare;
 }
 
 }  // namespace deepcut
