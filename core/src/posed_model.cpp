@@ -135,20 +135,28 @@ void corner_normals_of(const PosedMesh& inst, const SurfaceMesh& surface, const 
   });
 }
 
+// The capacity a new array of `surface`'s posed corner normals is given: a corner per corner of
+// the face slots operations add (operation_face_room, as the mesh and the posed positions have).
+// The pages past the corners are not touched (address space only), and the array need not move:
+// a step that adds faces grows it in place (follow_corner_normals), and once set aside (a
+// structural step's spare) it holds a piece somewhat larger than the one it was made for, as a
+// cut again at another plane after an undo makes, instead of a fresh array filled whole.
+std::size_t normals_room(const SurfaceMesh& surface) { return 3 * operation_face_room(surface.face_slots()); }
+
 }  // namespace
 
 std::vector<glm::vec3> PosedMesh::corner_normals(const SurfaceMesh& surface) const {
   const auto* normals = surface.corner_attrs().find<glm::vec3>(attr::kNormal);
   if (!normals) return {};
   // The maps are written whole by the parallel loop (no serial zero fill first); the result's
-  // pages are faulted in over the pool before its fill.
+  // pages are faulted in over the pool before its fill, with room to grow (normals_room).
   detail::UninitVector<glm::mat3> normal_maps(linear.size());
   parallel_for(normal_maps.size(), kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t v = b; v < e; ++v) normal_maps[v] = normal_map(linear[v]);
   });
   const MorphBlend morph(surface, weights);
   std::vector<glm::vec3> out;
-  detail::resize_prefaulted(out, normals->size(), glm::vec3(0.0f));
+  detail::resize_prefaulted(out, normals->size(), glm::vec3(0.0f), normals_room(surface));
   parallel_for(surface.face_slots(), kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t f = b; f < e; ++f) {
       const auto& t = surface.face(FaceId(static_cast<std::uint32_t>(f)));
@@ -212,7 +220,7 @@ void PosedMesh::corner_normals(const SurfaceMesh& surface, const PrimitiveOrigin
     out.resize(normals->size());
   } else {
     out = std::vector<glm::vec3>();
-    detail::resize_prefaulted(out, normals->size(), glm::vec3(0.0f));
+    detail::resize_prefaulted(out, normals->size(), glm::vec3(0.0f), normals_room(surface));
   }
   // Faces with a source copy its corners (the same corner attributes, vertices with the same
   // linear maps: the kernel would give the same bits); the others are listed per chunk, joined

@@ -16,6 +16,7 @@
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/mesh_editor.h"
 #include "deepcut/core/model_undo.h"
+#include "deepcut/core/operation_room.h"
 #include "deepcut/core/ops/operation.h"
 #include "deepcut/core/skinning.h"
 #include "fixtures.h"
@@ -481,6 +482,11 @@ TEST(PosedModelTest, corner_normals_written_into_an_array_equal_the_returned_one
       pose->corner_normals(mesh, *o, source, out);
       EXPECT_TRUE(same_bits(out, returned)) << "written into " << size << " values";
     }
+    // Room for the faces operations add, so the array grows in place and, set aside, takes a
+    // larger piece (the pages past its corners untouched).
+    const std::size_t room = 3 * operation_face_room(mesh.face_slots());
+    EXPECT_GE(fresh.capacity(), room) << "a fresh array has room to grow";
+    EXPECT_GE(returned.capacity(), room) << "a copied array has room to grow";
     PrimitiveOrigin misfit = *o;
     misfit.faces.pop_back();
     std::vector<glm::vec3> out(n, nan);
