@@ -137,6 +137,47 @@ class ViewFollowGuiTest : public QObject {
   // arrays of the data the first cut set aside (a spare: what no undo brings back any more), and
   // every step draws what a full build draws.
   void a_second_cut_reuses_what_the_first_set_aside() { follow_steps(true, true); }
+  // A cut, its undo, then a cut a little lower (what a user trying again does): every piece of
+  // the second cut writes its posed corner normals into those a piece of the first set aside
+  // (their room holds the piece that grew), and they equal a fresh scene's.
+  void a_cut_again_after_its_undo_writes_every_piece_s_normals_into_a_set_aside_array() {
+    auto opened = std::make_shared<Model>(read_gltf(DEEPCUT_ASSETS_DIR "/cactus.glb"));
+    reserve_for_operations(*opened);
+    session::Session session;
+    session.open(opened);
+    plugins::Scene scene = plugins::make_scene(session.current(), -1, 0.0f);
+    const PosedModel rest = PosedModel::build(*opened, -1, 0.0f);
+    BoundingBox box;
+    for (const auto& entry : rest.instances()) box.add(entry.second.bounds);
+    Operation op;
+    op.animation = -1;
+    CutOperation cut;
+    cut.plane.point = 0.5f * (box.min + box.max) + glm::vec3(0.0f, 0.1f * (box.max.y - box.min.y), 0.0f);
+    cut.plane.normal = glm::vec3(0.05f, 1.0f, 0.02f);
+    op.params = cut;
+    const session::Applied first = session.apply(op);
+    QCOMPARE(first.result.status, OpStatus::Ok);
+    QVERIFY(plugins::follow_scene(scene, session.current(), first.change));
+    QVERIFY(plugins::follow_scene(scene, session.current(), session.undo()));
+    std::vector<const glm::vec3*> set_aside;
+    for (const auto& entry : scene.stash->normals) set_aside.push_back(entry.second.data());
+    QVERIFY2(set_aside.size() >= 2, "the undo set the pieces' normals aside");
+    std::get<CutOperation>(op.params).plane.point.y -= 0.01f * (box.max.y - box.min.y);
+    const session::Applied second = session.apply(op);
+    QCOMPARE(second.result.status, OpStatus::Ok);
+    QVERIFY(plugins::follow_scene(scene, session.current(), second.change));
+    const plugins::Scene fresh = plugins::make_scene(session.current(), -1, 0.0f);
+    std::size_t pieces = 0, written = 0;
+    for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+      QVERIFY(scene.instances[i].posed_normals == fresh.instances[i].posed_normals);
+      if (scene.origins[i].kind != plugins::InstanceOrigin::Kind::Built) continue;
+      ++pieces;
+      const glm::vec3* data = scene.instances[i].posed_normals.data();
+      written += std::find(set_aside.begin(), set_aside.end(), data) != set_aside.end();
+    }
+    QVERIFY(pieces >= 2);
+    QCOMPARE(written, pieces);
+  }
 
  private:
   void follow_steps(bool cuts, bool two_cuts = false) {
