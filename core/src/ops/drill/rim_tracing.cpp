@@ -16,6 +16,8 @@ namespace {
 // Directed rim edges (from, to): made in discovery order, then grouped by `from` (a stable sort,
 // so each vertex's outgoing edges keep that order).
 using RimSteps = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
+// Half-edges of live faces with both ends on the rim, in the order their faces were filed.
+using RimHalfEdgeList = std::vector<std::pair<VertexId, VertexId>>;
 
 // Half-edges between two rim vertices (the only ones rim_steps asks about), each with a bit for
 // every kind of face it was filed from (only membership matters).
@@ -25,14 +27,16 @@ class RimHalfEdges {
 
   /// Room for `expected` half-edges up front (it grows past them when needed).
   explicit RimHalfEdges(std::size_t expected) { slots_.reserve(expected); }
-  /// Files the half-edges of `t` whose two corners are on the rim (`rim`, per corner) as `kind`.
-  void file_face(const Triangle& t, const bool rim[3], std::uint8_t kind) {
+  /// Files the half-edges of `t` whose two corners are on the rim (`rim`, per corner) as `kind`,
+  /// and lists them in `live` unless it is null.
+  void file_face(const Triangle& t, const bool rim[3], std::uint8_t kind, RimHalfEdgeList* live) {
     for (int k = 0; k < 3; ++k)
       if (rim[k] && rim[(k + 1) % 3]) {
         const auto [at, made] =
             slots_.find_or_insert(directed_key(t[k], t[(k + 1) % 3]), static_cast<std::uint32_t>(kinds_.size()));
         if (made) kinds_.push_back(kind);
         else kinds_[at] |= kind;
+        if (live) live->emplace_back(t[k], t[(k + 1) % 3]);
       }
   }
   /// Whether a -> b was filed as one of `kinds`.
@@ -48,10 +52,12 @@ class RimHalfEdges {
 
 // The rim half-edges of the added faces, of the removed ones and of the untouched candidates
 // (faces the drill left alone can border the hole too: an old edge that lies on the cylinder,
-// within the tolerance, between a removed face and an untouched one).
+// within the tolerance, between a removed face and an untouched one); those of the live faces
+// (the added ones still there, then the untouched candidates) are listed in `live` too: the
+// only half-edges that can be rim steps.
 template <class OnRim, class OldOnRim>
 RimHalfEdges file_rim_half_edges(const SurfaceMesh& mesh, const EditLog& log, const std::vector<FaceId>& candidates,
-                                 const OnRim& on_rim, const OldOnRim& old_on_rim) {
+                                 const OnRim& on_rim, const OldOnRim& old_on_rim, RimHalfEdgeList& live) {
   // Room for a quarter of the edits (the log also holds removed faces, new vertices and moves,
   // and most added faces have no rim half-edge): enough for most holes without growing.
   RimHalfEdges filed(log.edits.size() / 4 + 16);
@@ -59,18 +65,18 @@ RimHalfEdges file_rim_half_edges(const SurfaceMesh& mesh, const EditLog& log, co
     if (const auto* fa = std::get_if<FaceAdded>(&e)) {
       const Triangle& t = fa->vertices;
       const bool rim[3] = {on_rim(t[0]), on_rim(t[1]), on_rim(t[2])};
-      filed.file_face(t, rim, RimHalfEdges::kAdded);
+      filed.file_face(t, rim, RimHalfEdges::kAdded, mesh.is_deleted(fa->f) ? nullptr : &live);
     } else if (const auto* fr = std::get_if<FaceRemoved>(&e)) {
       const Triangle& t = fr->vertices;
       const bool rim[3] = {old_on_rim(t[0]), old_on_rim(t[1]), old_on_rim(t[2])};
-      filed.file_face(t, rim, RimHalfEdges::kRemoved);
+      filed.file_face(t, rim, RimHalfEdges::kRemoved, nullptr);
     }
   }
   for (FaceId f : candidates)
     if (!mesh.is_deleted(f)) {
       const Triangle& t = mesh.face(f);
       const bool rim[3] = {on_rim(t[0]), on_rim(t[1]), on_rim(t[2])};
-      filed.file_face(t, rim, RimHalfEdges::kUntouched);
+      filed.file_face(t, rim, RimHalfEdges::kUntouched, &live);
     }
   return filed;
 }
@@ -108,24 +114,17 @@ RimSteps rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFr
     v = base(v);
     return v.index >= posed.first_new() || old_on_rim(v);
   };
-  const RimHalfEdges filed = file_rim_half_edges(mesh, log, candidates, on_rim, old_on_rim);
-  auto consider = [&](VertexId a, VertexId b) {
-    if (!on_rim(a) || !on_rim(b) || filed.has(b, a, RimHalfEdges::kAdded | RimHalfEdges::kUntouched)) return;
+  // The live faces' half-edges between two rim vertices, listed while filing, in the order of
+  // the added faces' edits and then the candidates.
+  RimHalfEdgeList live;
+  const RimHalfEdges filed = file_rim_half_edges(mesh, log, candidates, on_rim, old_on_rim, live);
+  for (const auto& [a, b] : live) {
+    if (filed.has(b, a, RimHalfEdges::kAdded | RimHalfEdges::kUntouched)) continue;
     const VertexId oa = base(a), ob = base(b);
     if (oa.index < posed.first_new() && ob.index < posed.first_new() && !filed.has(ob, oa, RimHalfEdges::kRemoved))
-      return;
+      continue;
     rim_next.emplace_back(a.index, b.index);
-  };
-  for (const Edit& e : log.edits) {
-    const auto* fa = std::get_if<FaceAdded>(&e);
-    if (!fa || mesh.is_deleted(fa->f)) continue;
-    for (int k = 0; k < 3; ++k) consider(fa->vertices[k], fa->vertices[(k + 1) % 3]);
   }
-  for (FaceId f : candidates)
-    if (!mesh.is_deleted(f)) {
-      const Triangle t = mesh.face(f);
-      for (int k = 0; k < 3; ++k) consider(t[k], t[(k + 1) % 3]);
-    }
   std::stable_sort(rim_next.begin(), rim_next.end(),
                    [](const auto& x, const auto& y) { return x.first < y.first; });
   return rim_next;
