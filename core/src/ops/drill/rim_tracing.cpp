@@ -210,25 +210,9 @@ std::vector<Rim> chain_rims(const SurfaceMesh& mesh, const EditLog& log, const C
                             const PosedOverlay& posed, const std::vector<FaceId>& candidates,
                             const RimSteps& rim_next) {
   std::vector<Rim> rims;
-  // The outgoing rim edges of v: [first, last) in rim_next (empty when none).
-  auto outgoing = [&](std::uint32_t v) {
-    const auto lo = std::lower_bound(rim_next.begin(), rim_next.end(), v,
-                                     [](const auto& x, std::uint32_t key) { return x.first < key; });
-    auto hi = lo;
-    while (hi != rim_next.end() && hi->first == v) ++hi;
-    return std::pair<std::size_t, std::size_t>(lo - rim_next.begin(), hi - rim_next.begin());
-  };
-  std::vector<std::uint32_t> targets;  // every rim edge's end, sorted: the in-degrees
-  targets.reserve(rim_next.size());
-  for (const auto& step : rim_next) targets.push_back(step.second);
-  std::sort(targets.begin(), targets.end());
   std::vector<std::uint32_t> starts;
   for (const auto& step : rim_next)
     if (starts.empty() || starts.back() != step.first) starts.push_back(step.first);
-  // Open chains first (from vertices nothing leads to), then closed loops.
-  std::stable_partition(starts.begin(), starts.end(), [&](std::uint32_t v) {
-    return !std::binary_search(targets.begin(), targets.end(), v);
-  });
   // A vertex with several outgoing rim edges continues each rim along its own fan (RimFans).
   // Where none has, a walk takes the one unused edge whatever the fans say, and closes at its
   // start (whose only edge is its first) either way: the fans are not looked for.
@@ -236,7 +220,27 @@ std::vector<Rim> chain_rims(const SurfaceMesh& mesh, const EditLog& log, const C
   for (std::size_t i = 1; i < rim_next.size() && !forks; ++i)
     forks = rim_next[i].first == rim_next[i - 1].first;
   std::optional<RimFans> fans;
-  if (forks) fans.emplace(mesh, log, candidates, rim_next, starts);
+  if (forks) fans.emplace(mesh, log, candidates, rim_next, starts);  // done with the scratch map
+  // Each vertex with outgoing rim edges maps to its first one in rim_next (the scratch map, free
+  // again), and whether a rim edge leads to it.
+  detail::VertexSlots& first_out = detail::VertexSlots::scratch();
+  first_out.reset(mesh.vertex_count());
+  for (std::size_t i = rim_next.size(); i-- > 0;) first_out.set(rim_next[i].first, static_cast<std::uint32_t>(i));
+  std::vector<char> led_to(rim_next.size(), 0);  // by a vertex's first outgoing edge
+  for (const auto& step : rim_next) {
+    const std::uint32_t at = first_out.get(step.second);
+    if (at != detail::VertexSlots::kNone) led_to[at] = 1;
+  }
+  // The outgoing rim edges of v: [first, last) in rim_next (empty when none).
+  auto outgoing = [&](std::uint32_t v) {
+    const std::uint32_t at = first_out.get(v);
+    if (at == detail::VertexSlots::kNone) return std::pair<std::size_t, std::size_t>(0, 0);
+    std::size_t hi = at;
+    while (hi != rim_next.size() && rim_next[hi].first == v) ++hi;
+    return std::pair<std::size_t, std::size_t>(at, hi);
+  };
+  // Open chains first (from vertices nothing leads to), then closed loops.
+  std::stable_partition(starts.begin(), starts.end(), [&](std::uint32_t v) { return !led_to[first_out.get(v)]; });
   std::vector<char> used(rim_next.size(), 0);  // per outgoing rim edge
   for (std::uint32_t s : starts) {
     const auto from_start = outgoing(s);
