@@ -175,8 +175,7 @@ void RimInserter::cross(EdgeCut& e, std::uint64_t key) const {
 void RimInserter::cross_edges() {
   const std::size_t n = edges_.size();
   parallel_for(n, grain_per_thread(n, kCrossGrain), [&](std::size_t begin, std::size_t end) {
-    auto e = edges_.begin() + static_cast<std::ptrdiff_t>(begin);  // stepped, not indexed
-    for (std::size_t i = begin; i < end; ++i, ++e) cross(*e, edges_.key(i));
+    for (std::size_t i = begin; i < end; ++i) cross(edges_[i], edges_.key(i));
   });
 }
 
