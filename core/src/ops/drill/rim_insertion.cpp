@@ -186,6 +186,11 @@ void RimInserter::make_edge_vertices(const std::vector<FaceId>& candidates) {
   std::vector<EdgeCut*> order;  // the records making vertices, in that order
   std::vector<std::uint32_t> ends;
   std::vector<float> ts;
+  // Room for every record and two points on each (crossings and Steiner points), so the lists
+  // of most holes do not grow.
+  order.reserve(edges_.size());
+  ends.reserve(4 * edges_.size());
+  ts.reserve(2 * edges_.size());
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     if (deep_[c]) continue;
     for (EdgeCut* const ep : face_edges_[c]) {

@@ -117,6 +117,7 @@ RimSteps rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFr
   // The live faces' half-edges between two rim vertices, listed while filing, in the order of
   // the added faces' edits and then the candidates.
   RimHalfEdgeList live;
+  live.reserve(log.edits.size() / 4 + 16);  // as file_rim_half_edges' table
   const RimHalfEdges filed = file_rim_half_edges(mesh, log, candidates, on_rim, old_on_rim, live);
   for (const auto& [a, b] : live) {
     if (filed.has(b, a, RimHalfEdges::kAdded | RimHalfEdges::kUntouched)) continue;
@@ -242,12 +243,15 @@ std::vector<Rim> chain_rims(const SurfaceMesh& mesh, const EditLog& log, const C
   // Open chains first (from vertices nothing leads to), then closed loops.
   std::stable_partition(starts.begin(), starts.end(), [&](std::uint32_t v) { return !led_to[first_out.get(v)]; });
   std::vector<char> used(rim_next.size(), 0);  // per outgoing rim edge
+  std::size_t left = rim_next.size();          // edges not used yet: the most a new rim takes
   for (std::uint32_t s : starts) {
     const auto from_start = outgoing(s);
     for (std::size_t first = from_start.first; first < from_start.second; ++first) {
       if (used[first]) continue;
       used[first] = 1;
       Rim hole;
+      hole.vertices.reserve(left + 1);
+      --left;
       hole.vertices.push_back(VertexId(s));
       std::uint32_t prev = s, cur = rim_next[first].second;
       hole.closed = false;
@@ -266,6 +270,7 @@ std::vector<Rim> chain_rims(const SurfaceMesh& mesh, const EditLog& log, const C
           if (!used[j]) i = static_cast<long>(j);
         if (i < 0) break;
         used[static_cast<std::size_t>(i)] = 1;
+        --left;
         prev = cur;
         cur = rim_next[static_cast<std::size_t>(i)].second;
       }
