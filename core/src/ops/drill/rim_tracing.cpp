@@ -205,6 +205,37 @@ class RimFans {
   std::vector<std::uint32_t> third_;
 };
 
+// The outgoing rim edges of each vertex, found through the thread's scratch vertex map (each
+// vertex with outgoing edges maps to its first one in the sorted steps), and whether a rim edge
+// leads to a vertex. Holds the scratch map while it is used.
+class OutgoingSteps {
+ public:
+  OutgoingSteps(const SurfaceMesh& mesh, const RimSteps& rim_next)
+      : rim_next_(rim_next), first_out_(detail::VertexSlots::scratch()), led_to_(rim_next.size(), 0) {
+    first_out_.reset(mesh.vertex_count());
+    for (std::size_t i = rim_next.size(); i-- > 0;) first_out_.set(rim_next[i].first, static_cast<std::uint32_t>(i));
+    for (const auto& step : rim_next) {
+      const std::uint32_t at = first_out_.get(step.second);
+      if (at != detail::VertexSlots::kNone) led_to_[at] = 1;
+    }
+  }
+  /// The outgoing rim edges of v: [first, last) in rim_next (empty when none).
+  std::pair<std::size_t, std::size_t> of(std::uint32_t v) const {
+    const std::uint32_t at = first_out_.get(v);
+    if (at == detail::VertexSlots::kNone) return {0, 0};
+    std::size_t hi = at;
+    while (hi != rim_next_.size() && rim_next_[hi].first == v) ++hi;
+    return {at, hi};
+  }
+  /// Whether a rim edge leads to v, a vertex with outgoing rim edges.
+  bool led_to(std::uint32_t v) const { return led_to_[first_out_.get(v)] != 0; }
+
+ private:
+  const RimSteps& rim_next_;
+  detail::VertexSlots& first_out_;
+  std::vector<char> led_to_;  // by a vertex's first outgoing edge
+};
+
 // Chains the rim steps into rims: open chains first, then closed loops, each with its winding
 // around the axis.
 std::vector<Rim> chain_rims(const SurfaceMesh& mesh, const EditLog& log, const CylinderFrame& cyl,
@@ -222,30 +253,13 @@ std::vector<Rim> chain_rims(const SurfaceMesh& mesh, const EditLog& log, const C
     forks = rim_next[i].first == rim_next[i - 1].first;
   std::optional<RimFans> fans;
   if (forks) fans.emplace(mesh, log, candidates, rim_next, starts);  // done with the scratch map
-  // Each vertex with outgoing rim edges maps to its first one in rim_next (the scratch map, free
-  // again), and whether a rim edge leads to it.
-  detail::VertexSlots& first_out = detail::VertexSlots::scratch();
-  first_out.reset(mesh.vertex_count());
-  for (std::size_t i = rim_next.size(); i-- > 0;) first_out.set(rim_next[i].first, static_cast<std::uint32_t>(i));
-  std::vector<char> led_to(rim_next.size(), 0);  // by a vertex's first outgoing edge
-  for (const auto& step : rim_next) {
-    const std::uint32_t at = first_out.get(step.second);
-    if (at != detail::VertexSlots::kNone) led_to[at] = 1;
-  }
-  // The outgoing rim edges of v: [first, last) in rim_next (empty when none).
-  auto outgoing = [&](std::uint32_t v) {
-    const std::uint32_t at = first_out.get(v);
-    if (at == detail::VertexSlots::kNone) return std::pair<std::size_t, std::size_t>(0, 0);
-    std::size_t hi = at;
-    while (hi != rim_next.size() && rim_next[hi].first == v) ++hi;
-    return std::pair<std::size_t, std::size_t>(at, hi);
-  };
+  const OutgoingSteps steps(mesh, rim_next);                          // takes it after RimFans
   // Open chains first (from vertices nothing leads to), then closed loops.
-  std::stable_partition(starts.begin(), starts.end(), [&](std::uint32_t v) { return !led_to[first_out.get(v)]; });
+  std::stable_partition(starts.begin(), starts.end(), [&](std::uint32_t v) { return !steps.led_to(v); });
   std::vector<char> used(rim_next.size(), 0);  // per outgoing rim edge
   std::size_t left = rim_next.size();          // edges not used yet: the most a new rim takes
   for (std::uint32_t s : starts) {
-    const auto from_start = outgoing(s);
+    const auto from_start = steps.of(s);
     for (std::size_t first = from_start.first; first < from_start.second; ++first) {
       if (used[first]) continue;
       used[first] = 1;
@@ -256,7 +270,7 @@ std::vector<Rim> chain_rims(const SurfaceMesh& mesh, const EditLog& log, const C
       std::uint32_t prev = s, cur = rim_next[first].second;
       hole.closed = false;
       while (true) {
-        const auto next = outgoing(cur);
+        const auto next = steps.of(cur);
         const bool any = next.first < next.second;
         const long fan = any && fans ? fans->fan_next(prev, cur, next, used) : -1;
         if (cur == s && (fan < 0 || fan == static_cast<long>(first))) {  // back through the start's own fan
