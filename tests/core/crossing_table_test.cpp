@@ -94,6 +94,21 @@ TEST(CrossingTable, ClearForgetsEveryEdge) {
   EXPECT_EQ(table.size(), 1u);
 }
 
+// Records are kept in blocks that a clear keeps: every record made after it (in the first block,
+// which held written records, and past it) is default-made, as a new table's.
+TEST(CrossingTable, RecordsMadeAfterAClearAreDefaultMade) {
+  CrossingTable<Record> table;
+  for (std::uint32_t i = 0; i < 200; ++i) table.try_emplace(VertexId(i), VertexId(i + 1)).first->value = int(i);
+  table.clear();
+  for (std::uint32_t i = 0; i < 300; ++i) {
+    const auto [r, made] = table.try_emplace(VertexId(i + 1000), VertexId(i));
+    ASSERT_TRUE(made);
+    EXPECT_EQ(r->value, -1) << "record " << i;
+  }
+  EXPECT_EQ(table.size(), 300u);
+  EXPECT_EQ(&table[0], table.find(VertexId(1000), VertexId(0)));
+}
+
 TEST(NeedleMerges, FollowLinksToTheLowestAndKeepTheFirstLink) {
   NeedleMerges merges;
   EXPECT_EQ(merges.merged(VertexId(9)), VertexId(9));

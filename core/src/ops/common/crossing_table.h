@@ -7,7 +7,8 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
-#include <deque>
+#include <memory>
+#include <type_traits>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -53,6 +54,54 @@ class EdgeSlots {
   int shift_ = 64;
 };
 
+/// Value-initialised records appended in order that never move: blocks of kBlock records, so
+/// finding record i is a shift and a mask (a deque holds only a few large records per block and
+/// divides to find one), and a table of a few hundred edges allocates a few blocks, not dozens.
+template <class T>
+class StableRecords {
+ public:
+  T& operator[](std::size_t i) { return blocks_[i >> kShift][i & (kBlock - 1)]; }
+  const T& operator[](std::size_t i) const { return blocks_[i >> kShift][i & (kBlock - 1)]; }
+  std::size_t size() const { return size_; }
+  /// Appends a record equal to T(): a new block's are made so, and clear() remakes used ones.
+  T& emplace_back() {
+    if (size_ == blocks_.size() * kBlock) blocks_.push_back(std::make_unique<T[]>(kBlock));
+    return (*this)[size_++];
+  }
+  /// Forgets every record (the blocks stay, their used records remade as T()).
+  void clear() {
+    for (std::size_t i = 0; i < size_; ++i) (*this)[i] = T();
+    size_ = 0;
+  }
+
+  /// Iterates the records in order.
+  template <bool Const>
+  class Iterator {
+   public:
+    using List = std::conditional_t<Const, const StableRecords, StableRecords>;
+    Iterator(List* list, std::size_t i) : list_(list), i_(i) {}
+    auto& operator*() const { return (*list_)[i_]; }
+    Iterator& operator++() {
+      ++i_;
+      return *this;
+    }
+    bool operator!=(const Iterator& o) const { return i_ != o.i_; }
+
+   private:
+    List* list_;
+    std::size_t i_;
+  };
+  Iterator<false> begin() { return {this, 0}; }
+  Iterator<false> end() { return {this, size_}; }
+  Iterator<true> begin() const { return {this, 0}; }
+  Iterator<true> end() const { return {this, size_}; }
+
+ private:
+  static constexpr std::size_t kShift = 6, kBlock = std::size_t(1) << kShift;
+  std::vector<std::unique_ptr<T[]>> blocks_;
+  std::size_t size_ = 0;
+};
+
 /// Edge -> crossing record `T` (what the operation keeps per crossed edge: parameters, the
 /// vertices made there). Records live in insertion order and never move (references stay valid
 /// as edges are added); iteration runs in insertion order. Sized up front with `reserve`.
@@ -91,7 +140,7 @@ class CrossingTable {
     return {added, true};
   }
   std::size_t size() const { return records_.size(); }
-  bool empty() const { return records_.empty(); }
+  bool empty() const { return records_.size() == 0; }
   /// Edge key of the i-th record (insertion order).
   std::uint64_t key(std::size_t i) const { return keys_[i]; }
   T& operator[](std::size_t i) { return records_[i]; }
@@ -111,7 +160,7 @@ class CrossingTable {
   T* at_entry(std::uint32_t e) { return e == EdgeSlots::kNone ? nullptr : &records_[e]; }
   EdgeSlots slots_;
   std::vector<std::uint64_t> keys_;
-  std::deque<T> records_;
+  StableRecords<T> records_;
 };
 
 /// Crossings that fell on one bind position (the two long edges of a needle crossed at the same

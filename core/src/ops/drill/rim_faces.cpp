@@ -14,13 +14,12 @@ namespace deepcut::drill {
 
 namespace {
 
-// Whether a piece of one of the face's edges (`edges`, its records' indices) lies inside the
-// cylinder: whether face_boundary would mark any segment inside.
-bool any_piece_inside(const RimShared& s, const std::array<std::uint32_t, 3>& edges) {
-  for (const std::uint32_t i : edges) {
-    const EdgeCut& e = s.edges[i];
-    for (int j = 0; j <= e.n; ++j)
-      if (e.inside[j]) return true;
+// Whether a piece of one of the face's edges (`edges`, its records) lies inside the cylinder:
+// whether face_boundary would mark any segment inside.
+bool any_piece_inside(const std::array<EdgeCut*, 3>& edges) {
+  for (const EdgeCut* e : edges) {
+    for (int j = 0; j <= e->n; ++j)
+      if (e->inside[j]) return true;
   }
   return false;
 }
@@ -36,7 +35,7 @@ void FacePlanner::plan(std::size_t c, FaceId f, FacePlan& plan) {
   const glm::dvec3 corner[3] = {s_.posed(tri[0]), s_.posed(tri[1]), s_.posed(tri[2])};
   // A face with no piece of an edge inside keeps all of itself but a hole wholly inside it: its
   // boundary is worked out only for such a hole (most of those candidates are beside the rim).
-  const bool any_inside = any_piece_inside(s_, *cur_edges_);
+  const bool any_inside = any_piece_inside(*cur_edges_);
   if (any_inside && boundary(tri, corner)) {  // all inside
     plan_->remove = 1;
     return;

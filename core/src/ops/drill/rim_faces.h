@@ -87,10 +87,9 @@ struct RimShared {
   const PosedOverlay& posed;
   const CylinderFrame& cyl;
   const detail::NeedleMerges& merges;
-  // The edges' records (read-only: planning runs in parallel) and per candidate its edges'
-  // indices there (edge k from corner k to corner k + 1).
-  const detail::CrossingTable<EdgeCut>& edges;
-  const std::vector<std::array<std::uint32_t, 3>>& face_edges;
+  // Per candidate its edges' records (edge k from corner k to corner k + 1; read-only: planning
+  // runs in parallel).
+  const std::vector<std::array<EdgeCut*, 3>>& face_edges;
   double eps = 0.0, sep = 0.0, ruling_reach = -1.0;
   int samples = 32;
   std::vector<glm::dvec3> ruling_base;  // where each sampled ruling starts (s = 0)
@@ -199,8 +198,8 @@ class FacePlanner {
   std::uint32_t chunk_;
   PlanScratch& w_;
   FacePlan* plan_ = nullptr;                                  // the candidate being planned
-  const std::array<std::uint32_t, 3>* cur_edges_ = nullptr;  // its edges' indices in s_.edges
-  const EdgeCut& cur_edge(int k) const { return s_.edges[(*cur_edges_)[k]]; }
+  const std::array<EdgeCut*, 3>* cur_edges_ = nullptr;  // its edges' records
+  const EdgeCut& cur_edge(int k) const { return *(*cur_edges_)[k]; }
   FacePlane face_;
   const std::vector<std::vector<std::uint32_t>> no_holes_;
 };

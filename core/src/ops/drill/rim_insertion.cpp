@@ -80,9 +80,10 @@ class RimInserter {
   std::vector<std::uint8_t> deep_;
   // Per candidate not deep inside: of bad shape for Steiner points (allow_steiner).
   std::vector<std::uint8_t> bad_;
-  // Per candidate: its edges' records in edges_ (edge k from corner k to corner k + 1), looked
-  // up once by allow_steiner and read again by merge_crossings and the planning.
-  std::vector<std::array<std::uint32_t, 3>> face_edges_;
+  // Per candidate: its edges' records in edges_ (edge k from corner k to corner k + 1; records
+  // never move), looked up once by allow_steiner and read again by merge_crossings and the
+  // planning without indexing the table.
+  std::vector<std::array<EdgeCut*, 3>> face_edges_;
   // Crossings that fell on one bind position (the two long edges of a needle crossed at the same
   // parameter): the later vertex maps to the earlier, so the needle's tip is not a zero-area face.
   detail::NeedleMerges merges_;
@@ -182,17 +183,22 @@ void RimInserter::cross_edges() {
 // found them, then sorted along the edge), edge by edge in the order the candidates ask for them
 // (edge k of each candidate not deep inside), made in one editor batch.
 void RimInserter::make_edge_vertices(const std::vector<FaceId>& candidates) {
-  std::vector<std::uint32_t> order;  // the records making vertices, in that order
+  std::vector<EdgeCut*> order;  // the records making vertices, in that order
   std::vector<std::uint32_t> ends;
   std::vector<float> ts;
+  // Room for every record and two points on each (crossings and Steiner points), so the lists
+  // of most holes do not grow.
+  order.reserve(edges_.size());
+  ends.reserve(4 * edges_.size());
+  ts.reserve(2 * edges_.size());
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     if (deep_[c]) continue;
-    for (const std::uint32_t i : face_edges_[c]) {
-      EdgeCut& e = edges_[i];
+    for (EdgeCut* const ep : face_edges_[c]) {
+      EdgeCut& e = *ep;
       if (e.resolved) continue;
       e.resolved = true;
       if (e.n == 0) continue;
-      order.push_back(i);
+      order.push_back(ep);
       auto on_edge = [&](double t) {
         ends.push_back(e.lo.index);
         ends.push_back(e.hi.index);
@@ -203,8 +209,8 @@ void RimInserter::make_edge_vertices(const std::vector<FaceId>& candidates) {
     }
   }
   std::uint32_t next = editor_.add_vertices_on_edges(ends.data(), ts.data(), ts.size()).index;
-  for (const std::uint32_t i : order) {
-    EdgeCut& e = edges_[i];
+  for (EdgeCut* const ep : order) {
+    EdgeCut& e = *ep;
     const glm::dvec3 p = posed_(e.lo), q = posed_(e.hi);
     for (int j = 0; j < e.n; ++j) {
       e.v[j] = VertexId(next++);
@@ -241,10 +247,10 @@ VertexId RimInserter::vertex_of(const Triangle& tri, LocalPoint& lp) {
 // needle's tip, or the kept part at its far end when the circle crosses each edge twice (a
 // triangle with two corners at one point), is not made. Same rule as the cut and the tear.
 void RimInserter::merge_crossings(std::size_t c) {
-  const std::array<std::uint32_t, 3>& es = face_edges_[c];  // filed by allow_steiner
+  const std::array<EdgeCut*, 3>& es = face_edges_[c];  // filed by allow_steiner
   for (int k = 0; k < 3; ++k) {
-    const EdgeCut& ea = edges_[es[k]];            // corner k to corner k + 1
-    const EdgeCut& eb = edges_[es[(k + 2) % 3]];  // corner k + 2 to corner k
+    const EdgeCut& ea = *es[k];            // corner k to corner k + 1
+    const EdgeCut& eb = *es[(k + 2) % 3];  // corner k + 2 to corner k
     for (int i = 0; i < ea.n; ++i)
       for (int j = 0; j < eb.n; ++j) merges_.merge_if_coincident(mesh_, ea.v[i], eb.v[j]);
   }
@@ -306,8 +312,8 @@ void RimInserter::allow_steiner(const std::vector<FaceId>& candidates) {
     const bool bad = bad_[c] != 0;
     for (int k = 0; k < 3; ++k) {
       const VertexId a = t[k], b = t[(k + 1) % 3];
-      const std::uint32_t e = edges_.try_emplace_index(a, b).first;
-      edges_[e].file_side(a, b, bad);
+      EdgeCut* const e = edges_.try_emplace(a, b).first;
+      e->file_side(a, b, bad);
       face_edges_[c][k] = e;
     }
   }
@@ -349,7 +355,7 @@ bool RimInserter::deep(const Triangle& t, detail::VertexSlots& judged) const {
 // the mesh, the posed positions and the crossings made before, so it is the same whatever the
 // chunks or the thread count.
 void RimInserter::plan_faces(const std::vector<FaceId>& candidates) {
-  RimShared shared{mesh_, posed_, cyl_, merges_, edges_, face_edges_};
+  RimShared shared{mesh_, posed_, cyl_, merges_, face_edges_};
   shared.eps = eps_;
   shared.samples = samples_;
   shared.sep = 0.3 * 2.0 * cyl_.r * std::sin(geometry::kPi / samples_);

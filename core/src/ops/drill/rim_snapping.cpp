@@ -43,6 +43,7 @@ std::vector<FaceId> find_candidates(const SurfaceMesh& mesh, const CylinderFrame
       keep[i] = f.index < mesh.face_slots() && !mesh.is_deleted(f) && near_axis(mesh.face(f));
     }
   });
+  candidates.reserve(near.size());
   for (std::size_t i = 0; i < near.size(); ++i)
     if (keep[i]) candidates.push_back(near[i]);
   return candidates;

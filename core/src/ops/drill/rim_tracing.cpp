@@ -16,6 +16,8 @@ namespace {
 // Directed rim edges (from, to): made in discovery order, then grouped by `from` (a stable sort,
 // so each vertex's outgoing edges keep that order).
 using RimSteps = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
+// Half-edges of live faces with both ends on the rim, in the order their faces were filed.
+using RimHalfEdgeList = std::vector<std::pair<VertexId, VertexId>>;
 
 // Half-edges between two rim vertices (the only ones rim_steps asks about), each with a bit for
 // every kind of face it was filed from (only membership matters).
@@ -25,14 +27,16 @@ class RimHalfEdges {
 
   /// Room for `expected` half-edges up front (it grows past them when needed).
   explicit RimHalfEdges(std::size_t expected) { slots_.reserve(expected); }
-  /// Files the half-edges of `t` whose two corners are on the rim (`rim`, per corner) as `kind`.
-  void file_face(const Triangle& t, const bool rim[3], std::uint8_t kind) {
+  /// Files the half-edges of `t` whose two corners are on the rim (`rim`, per corner) as `kind`,
+  /// and lists them in `live` unless it is null.
+  void file_face(const Triangle& t, const bool rim[3], std::uint8_t kind, RimHalfEdgeList* live) {
     for (int k = 0; k < 3; ++k)
       if (rim[k] && rim[(k + 1) % 3]) {
         const auto [at, made] =
             slots_.find_or_insert(directed_key(t[k], t[(k + 1) % 3]), static_cast<std::uint32_t>(kinds_.size()));
         if (made) kinds_.push_back(kind);
         else kinds_[at] |= kind;
+        if (live) live->emplace_back(t[k], t[(k + 1) % 3]);
       }
   }
   /// Whether a -> b was filed as one of `kinds`.
@@ -48,10 +52,12 @@ class RimHalfEdges {
 
 // The rim half-edges of the added faces, of the removed ones and of the untouched candidates
 // (faces the drill left alone can border the hole too: an old edge that lies on the cylinder,
-// within the tolerance, between a removed face and an untouched one).
+// within the tolerance, between a removed face and an untouched one); those of the live faces
+// (the added ones still there, then the untouched candidates) are listed in `live` too: the
+// only half-edges that can be rim steps.
 template <class OnRim, class OldOnRim>
 RimHalfEdges file_rim_half_edges(const SurfaceMesh& mesh, const EditLog& log, const std::vector<FaceId>& candidates,
-                                 const OnRim& on_rim, const OldOnRim& old_on_rim) {
+                                 const OnRim& on_rim, const OldOnRim& old_on_rim, RimHalfEdgeList& live) {
   // Room for a quarter of the edits (the log also holds removed faces, new vertices and moves,
   // and most added faces have no rim half-edge): enough for most holes without growing.
   RimHalfEdges filed(log.edits.size() / 4 + 16);
@@ -59,18 +65,18 @@ RimHalfEdges file_rim_half_edges(const SurfaceMesh& mesh, const EditLog& log, co
     if (const auto* fa = std::get_if<FaceAdded>(&e)) {
       const Triangle& t = fa->vertices;
       const bool rim[3] = {on_rim(t[0]), on_rim(t[1]), on_rim(t[2])};
-      filed.file_face(t, rim, RimHalfEdges::kAdded);
+      filed.file_face(t, rim, RimHalfEdges::kAdded, mesh.is_deleted(fa->f) ? nullptr : &live);
     } else if (const auto* fr = std::get_if<FaceRemoved>(&e)) {
       const Triangle& t = fr->vertices;
       const bool rim[3] = {old_on_rim(t[0]), old_on_rim(t[1]), old_on_rim(t[2])};
-      filed.file_face(t, rim, RimHalfEdges::kRemoved);
+      filed.file_face(t, rim, RimHalfEdges::kRemoved, nullptr);
     }
   }
   for (FaceId f : candidates)
     if (!mesh.is_deleted(f)) {
       const Triangle& t = mesh.face(f);
       const bool rim[3] = {on_rim(t[0]), on_rim(t[1]), on_rim(t[2])};
-      filed.file_face(t, rim, RimHalfEdges::kUntouched);
+      filed.file_face(t, rim, RimHalfEdges::kUntouched, &live);
     }
   return filed;
 }
@@ -108,24 +114,18 @@ RimSteps rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFr
     v = base(v);
     return v.index >= posed.first_new() || old_on_rim(v);
   };
-  const RimHalfEdges filed = file_rim_half_edges(mesh, log, candidates, on_rim, old_on_rim);
-  auto consider = [&](VertexId a, VertexId b) {
-    if (!on_rim(a) || !on_rim(b) || filed.has(b, a, RimHalfEdges::kAdded | RimHalfEdges::kUntouched)) return;
+  // The live faces' half-edges between two rim vertices, listed while filing, in the order of
+  // the added faces' edits and then the candidates.
+  RimHalfEdgeList live;
+  live.reserve(log.edits.size() / 4 + 16);  // as file_rim_half_edges' table
+  const RimHalfEdges filed = file_rim_half_edges(mesh, log, candidates, on_rim, old_on_rim, live);
+  for (const auto& [a, b] : live) {
+    if (filed.has(b, a, RimHalfEdges::kAdded | RimHalfEdges::kUntouched)) continue;
     const VertexId oa = base(a), ob = base(b);
     if (oa.index < posed.first_new() && ob.index < posed.first_new() && !filed.has(ob, oa, RimHalfEdges::kRemoved))
-      return;
+      continue;
     rim_next.emplace_back(a.index, b.index);
-  };
-  for (const Edit& e : log.edits) {
-    const auto* fa = std::get_if<FaceAdded>(&e);
-    if (!fa || mesh.is_deleted(fa->f)) continue;
-    for (int k = 0; k < 3; ++k) consider(fa->vertices[k], fa->vertices[(k + 1) % 3]);
   }
-  for (FaceId f : candidates)
-    if (!mesh.is_deleted(f)) {
-      const Triangle t = mesh.face(f);
-      for (int k = 0; k < 3; ++k) consider(t[k], t[(k + 1) % 3]);
-    }
   std::stable_sort(rim_next.begin(), rim_next.end(),
                    [](const auto& x, const auto& y) { return x.first < y.first; });
   return rim_next;
@@ -205,31 +205,46 @@ class RimFans {
   std::vector<std::uint32_t> third_;
 };
 
+// The outgoing rim edges of each vertex, found through the thread's scratch vertex map (each
+// vertex with outgoing edges maps to its first one in the sorted steps), and whether a rim edge
+// leads to a vertex. Holds the scratch map while it is used.
+class OutgoingSteps {
+ public:
+  OutgoingSteps(const SurfaceMesh& mesh, const RimSteps& rim_next)
+      : rim_next_(rim_next), first_out_(detail::VertexSlots::scratch()), led_to_(rim_next.size(), 0) {
+    first_out_.reset(mesh.vertex_count());
+    for (std::size_t i = rim_next.size(); i-- > 0;) first_out_.set(rim_next[i].first, static_cast<std::uint32_t>(i));
+    for (const auto& step : rim_next) {
+      const std::uint32_t at = first_out_.get(step.second);
+      if (at != detail::VertexSlots::kNone) led_to_[at] = 1;
+    }
+  }
+  /// The outgoing rim edges of v: [first, last) in rim_next (empty when none).
+  std::pair<std::size_t, std::size_t> of(std::uint32_t v) const {
+    const std::uint32_t at = first_out_.get(v);
+    if (at == detail::VertexSlots::kNone) return {0, 0};
+    std::size_t hi = at;
+    while (hi != rim_next_.size() && rim_next_[hi].first == v) ++hi;
+    return {at, hi};
+  }
+  /// Whether a rim edge leads to v, a vertex with outgoing rim edges.
+  bool led_to(std::uint32_t v) const { return led_to_[first_out_.get(v)] != 0; }
+
+ private:
+  const RimSteps& rim_next_;
+  detail::VertexSlots& first_out_;
+  std::vector<char> led_to_;  // by a vertex's first outgoing edge
+};
+
 // Chains the rim steps into rims: open chains first, then closed loops, each with its winding
 // around the axis.
 std::vector<Rim> chain_rims(const SurfaceMesh& mesh, const EditLog& log, const CylinderFrame& cyl,
                             const PosedOverlay& posed, const std::vector<FaceId>& candidates,
                             const RimSteps& rim_next) {
   std::vector<Rim> rims;
-  // The outgoing rim edges of v: [first, last) in rim_next (empty when none).
-  auto outgoing = [&](std::uint32_t v) {
-    const auto lo = std::lower_bound(rim_next.begin(), rim_next.end(), v,
-                                     [](const auto& x, std::uint32_t key) { return x.first < key; });
-    auto hi = lo;
-    while (hi != rim_next.end() && hi->first == v) ++hi;
-    return std::pair<std::size_t, std::size_t>(lo - rim_next.begin(), hi - rim_next.begin());
-  };
-  std::vector<std::uint32_t> targets;  // every rim edge's end, sorted: the in-degrees
-  targets.reserve(rim_next.size());
-  for (const auto& step : rim_next) targets.push_back(step.second);
-  std::sort(targets.begin(), targets.end());
   std::vector<std::uint32_t> starts;
   for (const auto& step : rim_next)
     if (starts.empty() || starts.back() != step.first) starts.push_back(step.first);
-  // Open chains first (from vertices nothing leads to), then closed loops.
-  std::stable_partition(starts.begin(), starts.end(), [&](std::uint32_t v) {
-    return !std::binary_search(targets.begin(), targets.end(), v);
-  });
   // A vertex with several outgoing rim edges continues each rim along its own fan (RimFans).
   // Where none has, a walk takes the one unused edge whatever the fans say, and closes at its
   // start (whose only edge is its first) either way: the fans are not looked for.
@@ -237,19 +252,25 @@ std::vector<Rim> chain_rims(const SurfaceMesh& mesh, const EditLog& log, const C
   for (std::size_t i = 1; i < rim_next.size() && !forks; ++i)
     forks = rim_next[i].first == rim_next[i - 1].first;
   std::optional<RimFans> fans;
-  if (forks) fans.emplace(mesh, log, candidates, rim_next, starts);
+  if (forks) fans.emplace(mesh, log, candidates, rim_next, starts);  // done with the scratch map
+  const OutgoingSteps steps(mesh, rim_next);                          // takes it after RimFans
+  // Open chains first (from vertices nothing leads to), then closed loops.
+  std::stable_partition(starts.begin(), starts.end(), [&](std::uint32_t v) { return !steps.led_to(v); });
   std::vector<char> used(rim_next.size(), 0);  // per outgoing rim edge
+  std::size_t left = rim_next.size();          // edges not used yet: the most a new rim takes
   for (std::uint32_t s : starts) {
-    const auto from_start = outgoing(s);
+    const auto from_start = steps.of(s);
     for (std::size_t first = from_start.first; first < from_start.second; ++first) {
       if (used[first]) continue;
       used[first] = 1;
       Rim hole;
+      hole.vertices.reserve(left + 1);
+      --left;
       hole.vertices.push_back(VertexId(s));
       std::uint32_t prev = s, cur = rim_next[first].second;
       hole.closed = false;
       while (true) {
-        const auto next = outgoing(cur);
+        const auto next = steps.of(cur);
         const bool any = next.first < next.second;
         const long fan = any && fans ? fans->fan_next(prev, cur, next, used) : -1;
         if (cur == s && (fan < 0 || fan == static_cast<long>(first))) {  // back through the start's own fan
@@ -263,6 +284,7 @@ std::vector<Rim> chain_rims(const SurfaceMesh& mesh, const EditLog& log, const C
           if (!used[j]) i = static_cast<long>(j);
         if (i < 0) break;
         used[static_cast<std::size_t>(i)] = 1;
+        --left;
         prev = cur;
         cur = rim_next[static_cast<std::size_t>(i)].second;
       }
