@@ -258,8 +258,9 @@ struct ArrayCopy {
 
 // The attribute sets of every piece but `big` (3 per piece: vertices, faces, corners), copied
 // out of `mesh`, and every piece's triangles (number_faces): each array filled by its own task
-// (gather_groups, number_faces; largest first).
-std::vector<AttributeSet> fill_pieces(const SurfaceMesh& mesh, Numbering& num, std::size_t big) {
+// (gather_groups, number_faces; largest first). Each array takes its room from `watcher`'s spares
+// where one fits (SplitWatcher::spare_array), else new memory.
+std::vector<AttributeSet> fill_pieces(const SurfaceMesh& mesh, Numbering& num, std::size_t big, SplitWatcher* watcher) {
   const std::size_t n = num.faces.size();
   std::vector<AttributeSet> sets(3 * n);
   std::vector<ArrayCopy> copies;
@@ -270,6 +271,13 @@ std::vector<AttributeSet> fill_pieces(const SurfaceMesh& mesh, Numbering& num, s
       for (const std::string& name : set.names())
         copies.push_back({set_of(mesh, kind).base(name), set.base(name), &list_of(num, s, kind), group_of(kind)});
     }
+  if (watcher) {
+    for (ArrayCopy& c : copies)
+      if (std::unique_ptr<AttributeArrayBase> spare = watcher->spare_array(*c.to, c.keep->size() * c.group))
+        c.to->take_room(*spare);
+    for (std::size_t s = 0; s < n; ++s)
+      if (s != big) num.tris[s] = watcher->spare_triangles(num.faces[s].size());
+  }
   std::vector<std::pair<std::size_t, std::function<void()>>> tasks;  // bytes written, task
   for (ArrayCopy& c : copies)
     tasks.emplace_back(c.keep->size() * c.group * c.from->element_bytes(),
@@ -309,7 +317,7 @@ std::vector<SurfaceMesh> make_pieces(const SurfaceMesh& mesh, const std::vector<
     big = n;
     watcher = nullptr;
   }
-  std::vector<AttributeSet> sets = fill_pieces(mesh, num, big);
+  std::vector<AttributeSet> sets = fill_pieces(mesh, num, big, watcher);
   for (std::size_t s = 0; s < n; ++s)
     if (s != big)
       TrustedAssign::assign(out[s], std::move(num.tris[s]), std::move(sets[3 * s]), std::move(sets[3 * s + 1]),
