@@ -318,7 +318,8 @@ struct ModelRecorder::Impl final : MeshObserver, detail::SplitWatcher {
   void splitting(std::uint32_t id, SurfaceMesh& mesh, const std::vector<std::vector<std::uint32_t>>& vertices,
                  const std::vector<std::vector<std::uint32_t>>& faces, std::size_t big) override;
   void split(std::uint32_t id, std::vector<SurfaceMesh>& made) override;
-  std::unique_ptr<AttributeArrayBase> spare_array(const AttributeArrayBase& like, std::size_t elements) override;
+  std::unique_ptr<AttributeArrayBase> spare_array(const AttributeArrayBase& like,
+                                                  std::size_t elements) override;
   std::vector<Triangle> spare_triangles(std::size_t count) override;
   void take_spares();
   std::vector<SurfaceMesh*> live_pieces();

@@ -456,9 +456,9 @@ std::set<const void*> array_memory(const Model& model) {
 }
 
 // A cut made after an undo drops the undone step: the pieces it copies out take the memory of
-// the pieces that step held (a smaller piece fits in a larger one's arrays), and the state is the
-// one a session that never made the undone cut reaches, byte for byte. A miss after an undo takes
-// nothing: the undone step can still be redone.
+// the pieces that step held (where they fit: a piece copied out has room to grow), and the state
+// is the one a session that never made the undone cut reaches, byte for byte. A miss after an
+// undo takes nothing: the undone step can still be redone.
 TEST(SessionTest, a_cut_after_an_undo_copies_its_pieces_into_the_memory_of_the_step_it_drops) {
   const auto cactus = load_cactus();
   Session session;
@@ -489,19 +489,25 @@ TEST(SessionTest, a_cut_after_an_undo_copies_its_pieces_into_the_memory_of_the_s
   far.plane.point = glm::vec3(0.0f, 1000.0f, 0.0f);
   ASSERT_EQ(session.apply(Operation{far, -1, 0.0f}).result.status, OpStatus::NoIntersection);
   ASSERT_TRUE(session.can_redo()) << "a miss keeps the step undone";
-  // The plane moved towards that piece: it comes out a little smaller, and different.
-  Operation second = first;
+  // The plane moved towards that piece (it comes out a little smaller, and different), then past
+  // where it was (a little larger: the room the piece was given holds it).
   const float step = 0.01f * rest_bounds(*cactus).diagonal();
-  std::get<CutOperation>(second.params).plane.point += (side > 0.0f ? step : -step) * glm::normalize(plane.normal);
-  ASSERT_EQ(session.apply(second).result.status, OpStatus::Ok);
-  EXPECT_FALSE(session.can_redo());
-  std::size_t reused = 0;
-  for (const void* memory : array_memory(*session.current())) reused += copied.count(memory);
-  EXPECT_GT(reused, 0u) << "a piece copied out reuses the memory of the step dropped";
-  Session fresh;
-  fresh.open(cactus);
-  ASSERT_EQ(fresh.apply(second).result.status, OpStatus::Ok);
-  EXPECT_EQ(bytes(*session.current()), bytes(*fresh.current()));
+  for (const float shift : {1.0f, -0.5f}) {
+    Operation next = first;
+    std::get<CutOperation>(next.params).plane.point +=
+        shift * (side > 0.0f ? step : -step) * glm::normalize(plane.normal);
+    ASSERT_EQ(session.apply(next).result.status, OpStatus::Ok);
+    EXPECT_FALSE(session.can_redo());
+    std::size_t reused = 0;
+    for (const void* memory : array_memory(*session.current())) reused += copied.count(memory);
+    EXPECT_GT(reused, 0u) << "shift " << shift
+                          << ": a piece copied out reuses the memory of the step dropped";
+    Session fresh;
+    fresh.open(cactus);
+    ASSERT_EQ(fresh.apply(next).result.status, OpStatus::Ok);
+    EXPECT_EQ(bytes(*session.current()), bytes(*fresh.current())) << "shift " << shift;
+    session.undo();
+  }
 }
 
 TEST(SessionTest, a_session_writes_what_deepcut_apply_writes_and_refuses_a_swallowing_drill_alike) {
