@@ -98,9 +98,28 @@ void Session::open(std::shared_ptr<const Model> model, std::unique_ptr<PosedMode
 void Session::push(ModelStep record, std::optional<std::vector<OperationEntry>> entries) {
   ++version_;
   steps_.resize(done_);  // a new step drops the undone ones
+  lent_ = false;
   if (!record.exact()) steps_.clear();  // it cannot be taken back: nothing before it can either
   steps_.push_back({std::move(record), std::move(entries)});
   done_ = steps_.size();
+}
+
+void Session::lend_undone(ModelRecorder& recorder) {
+  if (!can_redo()) return;
+  recorder.lend_spares([this] {
+    lent_ = true;
+    std::vector<SurfaceMesh> out;
+    for (std::size_t i = done_; i < steps_.size(); ++i)
+      for (SurfaceMesh& mesh : steps_[i].record.take_meshes()) out.push_back(std::move(mesh));
+    return out;
+  });
+}
+
+void Session::drop_lent() {
+  if (!lent_) return;
+  lent_ = false;
+  steps_.resize(done_);
+  stash_.clear();  // it kept contents of the steps dropped
 }
 
 ModelChange Session::commit(std::shared_ptr<const Model> state) {
@@ -195,15 +214,18 @@ Applied Session::apply(const Operation& op) {
   PosedModel* posed = posed_for(live_.get());
   Applied applied;
   ModelRecorder recorder(*live_);
+  lend_undone(recorder);
   try {
     applied.result = apply_operation(*live_, op, *posed);
   } catch (...) {
     recorder.finish().undo(*live_);  // what a refused drill did is taken back
+    drop_lent();
     throw;
   }
   ModelStep record = recorder.finish();
   if (applied.result.status != OpStatus::Ok) {
     if (!record.change().empty()) record.undo(*live_);  // a miss changes nothing
+    drop_lent();
     posed_state_ = live_.get();
     applied.ms = ms_since(start);
     return applied;
@@ -232,13 +254,18 @@ std::vector<Applied> Session::apply_history(const History& history, const std::s
   auto take_back = [&] {  // a bad operation leaves the session as it was
     if (recorder) recorder->finish().undo(*live_);
     for (std::size_t i = records.size(); i-- > 0;) records[i].undo(*live_);
+    drop_lent();
     posed_state_ = nullptr;
   };
-  if (undo_mode_ == Undo::None) recorder.emplace(*live_);
+  auto record_next = [&] {
+    recorder.emplace(*live_);
+    lend_undone(*recorder);
+  };
+  if (undo_mode_ == Undo::None) record_next();
   for (std::size_t i = 0; i < history.operations.size(); ++i) {
     const auto start = std::chrono::steady_clock::now();
     PosedModel* posed = posed_for(live_.get());
-    if (undo_mode_ == Undo::PerOperation) recorder.emplace(*live_);
+    if (undo_mode_ == Undo::PerOperation) record_next();
     Applied applied;
     try {
       applied.result = apply_operation(*live_, history.operations[i], *posed);
@@ -268,6 +295,7 @@ std::vector<Applied> Session::apply_history(const History& history, const std::s
   }
   if (!records.empty()) stash_.clear();
   for (auto& record : records) push(std::move(record), std::nullopt);
+  drop_lent();  // none applied
   return out;
 }
 

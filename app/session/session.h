@@ -206,6 +206,12 @@ class Session {
   };
 
   void push(ModelStep record, std::optional<std::vector<OperationEntry>> entries);
+  /// Lends `recorder` the memory of the steps undone, which an operation that applies drops
+  /// (ModelRecorder::lend_spares): the pieces a cut copies out reuse it instead of new memory.
+  void lend_undone(ModelRecorder& recorder);
+  /// After an operation that did not apply: the steps undone are dropped when their memory was
+  /// taken (they can no longer be redone).
+  void drop_lent();
   /// The operation list recorded for the live model by an edit, if any.
   const std::vector<OperationEntry>* rerun_entries() const;
   /// The posed model, made to follow `state` (kept when it describes it, else emptied: the
@@ -228,6 +234,7 @@ class Session {
   std::size_t opened_operations_ = 0;     // operations already in the opened model's history
   std::vector<Step> steps_;
   std::size_t done_ = 0;
+  bool lent_ = false;  // the steps undone gave their memory to an operation (lend_undone)
   Editing editing_;
   // The posed model and the model object it describes as that model is now (nullptr: none).
   std::unique_ptr<PosedModel> posed_;

@@ -12,6 +12,7 @@
 #include <unordered_set>
 #include <utility>
 
+#include "deepcut/core/smallest_fit.h"
 #include "model_undo_parts.h"
 #include "ops/common/model_surgery.h"
 #include "ops/common/model_surgery_in_place.h"
@@ -250,6 +251,16 @@ std::size_t ModelStep::bytes() const {
   return out;
 }
 
+std::vector<SurfaceMesh> ModelStep::take_meshes() {
+  Impl& s = *impl_;
+  std::vector<SurfaceMesh> out = std::move(s.fresh_meshes);
+  s.fresh_meshes.clear();
+  for (std::optional<SurfaceMesh>& k : s.kept)
+    if (k) out.push_back(std::move(*k));
+  s.kept.clear();
+  return out;
+}
+
 // --- the recorder -----------------------------------------------------------------------------
 
 namespace {
@@ -292,6 +303,11 @@ struct ModelRecorder::Impl final : MeshObserver, detail::SplitWatcher {
   std::vector<Piece> pieces;
   std::vector<std::pair<const void*, std::size_t>> images;
   bool exact = true;
+  // Memory lent for the pieces copied out (lend_spares): the source until first asked, then its
+  // meshes' arrays and triangles not reused yet.
+  std::function<std::vector<SurfaceMesh>()> spare_source;
+  std::vector<std::unique_ptr<AttributeArrayBase>> spare_arrays;
+  std::vector<std::vector<Triangle>> spare_tris;
 
   explicit Impl(Model& m);
   void unwatch_all();
@@ -302,6 +318,10 @@ struct ModelRecorder::Impl final : MeshObserver, detail::SplitWatcher {
   void splitting(std::uint32_t id, SurfaceMesh& mesh, const std::vector<std::vector<std::uint32_t>>& vertices,
                  const std::vector<std::vector<std::uint32_t>>& faces, std::size_t big) override;
   void split(std::uint32_t id, std::vector<SurfaceMesh>& made) override;
+  std::unique_ptr<AttributeArrayBase> spare_array(const AttributeArrayBase& like,
+                                                  std::size_t elements) override;
+  std::vector<Triangle> spare_triangles(std::size_t count) override;
+  void take_spares();
   std::vector<SurfaceMesh*> live_pieces();
   void put_together(Watched& w, const std::vector<SurfaceMesh*>& live);
   void piece_writing(std::uint32_t piece, std::uint32_t index, int kind);
@@ -406,6 +426,34 @@ void ModelRecorder::Impl::split(std::uint32_t id, std::vector<SurfaceMesh>& made
     made[k].watch(this, kPiece | static_cast<std::uint32_t>(pieces.size()));
     pieces.push_back({id, std::nullopt});
   }
+}
+
+void ModelRecorder::Impl::take_spares() {
+  if (!spare_source) return;
+  std::vector<SurfaceMesh> meshes = spare_source();
+  spare_source = nullptr;
+  for (SurfaceMesh& mesh : meshes) {
+    for (int kind = 0; kind < 3; ++kind)
+      for (const std::string& name : detail::set_of(mesh, kind).names())
+        spare_arrays.push_back(detail::set_of(mesh, kind).take(name));
+    spare_tris.push_back(std::move(detail::TrustedAssign::faces(mesh)));
+  }
+}
+
+std::unique_ptr<AttributeArrayBase> ModelRecorder::Impl::spare_array(const AttributeArrayBase& like,
+                                                                     std::size_t elements) {
+  take_spares();
+  return take_smallest_fit(spare_arrays, elements, [&](const std::unique_ptr<AttributeArrayBase>& a) {
+    return a->type() == like.type() ? a->capacity_bytes() / a->element_bytes() : 0;
+  });
+}
+
+std::vector<Triangle> ModelRecorder::Impl::spare_triangles(std::size_t count) {
+  take_spares();
+  std::vector<Triangle> out =
+      take_smallest_fit(spare_tris, count, [](const std::vector<Triangle>& t) { return t.capacity(); });
+  out.clear();
+  return out;
 }
 
 std::vector<SurfaceMesh*> ModelRecorder::Impl::live_pieces() {
@@ -550,6 +598,10 @@ ModelRecorder::ModelRecorder(Model& model) : impl_(std::make_unique<Impl>(model)
 
 ModelRecorder::~ModelRecorder() {
   if (impl_) impl_->unwatch_all();
+}
+
+void ModelRecorder::lend_spares(std::function<std::vector<SurfaceMesh>()> source) {
+  impl_->spare_source = std::move(source);
 }
 
 ModelStep ModelRecorder::finish() {

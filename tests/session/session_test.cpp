@@ -442,6 +442,74 @@ TEST(SessionTest, a_follower_derives_a_new_cut_s_piece_into_the_arrays_of_a_piec
   EXPECT_GT(reused, 0u) << "a derived piece takes the arrays of a piece set aside";
 }
 
+/// The memory of every non-empty array of the model's primitives (attributes and triangles).
+std::set<const void*> array_memory(const Model& model) {
+  std::set<const void*> out;
+  for (const Mesh& m : model.meshes)
+    for (const Primitive& p : m.primitives) {
+      if (p.mesh.face_slots() > 0) out.insert(p.mesh.faces().data());
+      for (const AttributeSet* set : {&p.mesh.vertex_attrs(), &p.mesh.face_attrs(), &p.mesh.corner_attrs()})
+        for (const std::string& name : set->names())
+          if (set->size() > 0) out.insert(set->base(name)->element_data(0));
+    }
+  return out;
+}
+
+// A cut made after an undo drops the undone step: the pieces it copies out take the memory of
+// the pieces that step held (where they fit: a piece copied out has room to grow), and the state
+// is the one a session that never made the undone cut reaches, byte for byte. A miss after an
+// undo takes nothing: the undone step can still be redone.
+TEST(SessionTest, a_cut_after_an_undo_copies_its_pieces_into_the_memory_of_the_step_it_drops) {
+  const auto cactus = load_cactus();
+  Session session;
+  session.open(cactus);
+  const std::set<const void*> opened = array_memory(*session.current());
+  Operations ops(*cactus, 7);
+  Operation first = ops.cut();
+  first.animation = -1;
+  first.time = 0.0f;
+  ASSERT_EQ(session.apply(first).result.status, OpStatus::Ok);
+  // The arrays the cut copied out (the piece that keeps the source's is compacted in place), and
+  // the side of the plane their piece lies on.
+  std::set<const void*> copied;
+  for (const void* memory : array_memory(*session.current()))
+    if (!opened.count(memory)) copied.insert(memory);
+  ASSERT_FALSE(copied.empty());
+  const Plane plane = std::get<CutOperation>(first.params).plane;
+  ASSERT_TRUE(session.refresh_posed_model(-1, 0.0f));
+  float side = 0.0f;
+  for (const auto& [key, inst] : session.posed_model()->instances())
+    if (copied.count(instance_surface(*session.current(), key.first, key.second)->faces().data()))
+      side = glm::dot(0.5f * (inst.bounds.min + inst.bounds.max) - plane.point, plane.normal);
+  ASSERT_NE(side, 0.0f);
+  session.undo();
+  session.redo();
+  session.undo();
+  CutOperation far;
+  far.plane.point = glm::vec3(0.0f, 1000.0f, 0.0f);
+  ASSERT_EQ(session.apply(Operation{far, -1, 0.0f}).result.status, OpStatus::NoIntersection);
+  ASSERT_TRUE(session.can_redo()) << "a miss keeps the step undone";
+  // The plane moved towards that piece (it comes out a little smaller, and different), then past
+  // where it was (a little larger: the room the piece was given holds it).
+  const float step = 0.01f * rest_bounds(*cactus).diagonal();
+  for (const float shift : {1.0f, -0.5f}) {
+    Operation next = first;
+    std::get<CutOperation>(next.params).plane.point +=
+        shift * (side > 0.0f ? step : -step) * glm::normalize(plane.normal);
+    ASSERT_EQ(session.apply(next).result.status, OpStatus::Ok);
+    EXPECT_FALSE(session.can_redo());
+    std::size_t reused = 0;
+    for (const void* memory : array_memory(*session.current())) reused += copied.count(memory);
+    EXPECT_GT(reused, 0u) << "shift " << shift
+                          << ": a piece copied out reuses the memory of the step dropped";
+    Session fresh;
+    fresh.open(cactus);
+    ASSERT_EQ(fresh.apply(next).result.status, OpStatus::Ok);
+    EXPECT_EQ(bytes(*session.current()), bytes(*fresh.current())) << "shift " << shift;
+    session.undo();
+  }
+}
+
 TEST(SessionTest, a_session_writes_what_deepcut_apply_writes_and_refuses_a_swallowing_drill_alike) {
   const std::string dir = test::temp_dir("session-cli");
   Session session;

@@ -120,6 +120,11 @@ class AttributeArrayBase {
   /// @throws Error{InvalidArgument} for another type.
   virtual void gather_groups(AttributeArrayBase& to, const std::vector<std::uint32_t>& keep, std::size_t group,
                              void (*on_reserved)(void* data, std::size_t bytes)) const = 0;
+  /// Takes the memory of `spare`, an array of the same type, as this empty array's room: its
+  /// elements are dropped, its capacity kept (a piece copied out reuses what a dropped undo step
+  /// held instead of new memory). `spare` is left empty, without memory.
+  /// @throws Error{InvalidArgument} for another type.
+  virtual void take_room(AttributeArrayBase& spare) = 0;
   /// Appends elements `begin .. end - 1` of `other`, an array of the same type.
   /// @throws Error{InvalidArgument} for another type.
   virtual void append_from(const AttributeArrayBase& other, std::size_t begin, std::size_t end) = 0;
@@ -227,6 +232,11 @@ class AttributeArray final : public AttributeArrayBase {
       else out.insert(out.end(), src + std::size_t{keep[i]} * group, src + (std::size_t{keep[j - 1]} + 1) * group);
       i = j;
     }
+  }
+  void take_room(AttributeArrayBase& spare) override {
+    std::vector<T> room = std::move(same_type(spare).data_);
+    room.clear();
+    data_.swap(room);
   }
   void append_from(const AttributeArrayBase& other, std::size_t begin, std::size_t end) override {
     const auto& src = same_type(other).data_;

@@ -32,7 +32,9 @@
 /// recording begins).
 
 #include <cstddef>
+#include <functional>
 #include <memory>
+#include <vector>
 
 #include "deepcut/core/model.h"
 #include "deepcut/core/model_change.h"
@@ -65,6 +67,10 @@ class ModelStep {
   bool exact() const;
   /// Bytes the step holds now (what it keeps of the state not current).
   std::size_t bytes() const;
+  /// Hands over the meshes the step holds (the primitives it made, while undone, and those it
+  /// removed, while done), leaving a step that can no longer be undone or redone: for a step
+  /// being dropped, whose memory a later operation reuses (ModelRecorder::lend_spares).
+  std::vector<SurfaceMesh> take_meshes();
 
  private:
   friend class ModelRecorder;
@@ -84,6 +90,12 @@ class ModelRecorder {
 
   /// The step the edits since the recorder was made form; the model is no longer watched.
   ModelStep finish();
+  /// Memory the pieces a cut copies out of a primitive it takes apart may reuse instead of new
+  /// memory: `source` is called once, the first time they need some, and returns meshes whose
+  /// arrays nobody needs any more (ModelStep::take_meshes of steps being dropped); an array is
+  /// reused only where it fits (take_smallest_fit), and what is not reused is freed with the
+  /// recorder. The pieces' bytes are the same either way.
+  void lend_spares(std::function<std::vector<SurfaceMesh>()> source);
 
  private:
   struct Impl;

@@ -8,6 +8,7 @@
 #include <string>
 #include <utility>
 
+#include "deepcut/core/operation_room.h"
 #include "deepcut/core/parallel.h"
 #include "ops/common/model_surgery_in_place.h"
 #include "uninit_vector.h"
@@ -254,12 +255,35 @@ struct ArrayCopy {
   AttributeArrayBase* to;
   const std::vector<std::uint32_t>* keep;
   std::size_t group;
+  int kind;  // 0 vertices, 1 faces, 2 corners
 };
+
+// Room for the arrays of the pieces copied out of a watched mesh (a session's, edited further):
+// each takes a spare that fits (SplitWatcher::spare_array), else new memory with the operations'
+// room (operation_room.h, reserved, not touched), so an operation on the piece finds room, and so
+// does a next cut's piece a little larger than this one, copied into it once this step is dropped.
+void give_room(SplitWatcher& watcher, std::vector<ArrayCopy>& copies, Numbering& num, std::size_t big) {
+  for (ArrayCopy& c : copies) {
+    const std::size_t count = c.keep->size();
+    if (std::unique_ptr<AttributeArrayBase> spare = watcher.spare_array(*c.to, count * c.group))
+      c.to->take_room(*spare);
+    else
+      c.to->reserve(c.group * (c.kind == 0 ? operation_vertex_room(count) : operation_face_room(count)));
+  }
+  for (std::size_t s = 0; s < num.faces.size(); ++s) {
+    if (s == big) continue;
+    num.tris[s] = watcher.spare_triangles(num.faces[s].size());
+    if (num.tris[s].capacity() < num.faces[s].size())
+      num.tris[s].reserve(operation_face_room(num.faces[s].size()));
+  }
+}
 
 // The attribute sets of every piece but `big` (3 per piece: vertices, faces, corners), copied
 // out of `mesh`, and every piece's triangles (number_faces): each array filled by its own task
-// (gather_groups, number_faces; largest first).
-std::vector<AttributeSet> fill_pieces(const SurfaceMesh& mesh, Numbering& num, std::size_t big) {
+// (gather_groups, number_faces; largest first), into the room give_room makes when `watcher`
+// follows the split, else into new memory of exactly their size.
+std::vector<AttributeSet> fill_pieces(const SurfaceMesh& mesh, Numbering& num, std::size_t big,
+                                      SplitWatcher* watcher) {
   const std::size_t n = num.faces.size();
   std::vector<AttributeSet> sets(3 * n);
   std::vector<ArrayCopy> copies;
@@ -268,8 +292,10 @@ std::vector<AttributeSet> fill_pieces(const SurfaceMesh& mesh, Numbering& num, s
       AttributeSet& set = sets[3 * s + static_cast<std::size_t>(kind)];
       set = set_of(mesh, kind).subset({});
       for (const std::string& name : set.names())
-        copies.push_back({set_of(mesh, kind).base(name), set.base(name), &list_of(num, s, kind), group_of(kind)});
+        copies.push_back(
+            {set_of(mesh, kind).base(name), set.base(name), &list_of(num, s, kind), group_of(kind), kind});
     }
+  if (watcher) give_room(*watcher, copies, num, big);
   std::vector<std::pair<std::size_t, std::function<void()>>> tasks;  // bytes written, task
   for (ArrayCopy& c : copies)
     tasks.emplace_back(c.keep->size() * c.group * c.from->element_bytes(),
@@ -309,7 +335,7 @@ std::vector<SurfaceMesh> make_pieces(const SurfaceMesh& mesh, const std::vector<
     big = n;
     watcher = nullptr;
   }
-  std::vector<AttributeSet> sets = fill_pieces(mesh, num, big);
+  std::vector<AttributeSet> sets = fill_pieces(mesh, num, big, watcher);
   for (std::size_t s = 0; s < n; ++s)
     if (s != big)
       TrustedAssign::assign(out[s], std::move(num.tris[s]), std::move(sets[3 * s]), std::move(sets[3 * s + 1]),
