@@ -40,34 +40,86 @@ void erase_sorted(std::vector<T>& list, T value) {
   list.pop_back();
 }
 
+// The same on an added list of `n` faces at `p` (with room for one more on insert); both return
+// the list's new size.
+std::uint32_t insert_sorted(FaceId* p, std::uint32_t n, FaceId value) {
+  if (n == 0 || p[n - 1] < value) {
+    p[n] = value;
+    return n + 1;
+  }
+  const auto at = static_cast<std::uint32_t>(std::lower_bound(p, p + n, value) - p);
+  if (p[at] == value) return n;
+  for (std::uint32_t i = n; i > at; --i) p[i] = p[i - 1];
+  p[at] = value;
+  return n + 1;
+}
+
+std::uint32_t erase_sorted(FaceId* p, std::uint32_t n, FaceId value) {
+  std::uint32_t at = 0;
+  while (at < n && p[at] < value) ++at;
+  if (at == n || p[at] != value) return n;
+  for (std::uint32_t i = at + 1; i < n; ++i) p[i - 1] = p[i];
+  return n - 1;
+}
+
 }  // namespace
 
 // Room every vertex's face list keeps beyond its faces, so the few faces an edit adds around an
 // old vertex (a split face leaves two or three where there was one) fit without reallocating
-// the list; a vertex an edit makes starts with room for a typical fan.
+// the list; a vertex an edit makes starts with room for a typical fan, and an added list that
+// outgrows its room moves to twice that room.
 constexpr std::size_t kListSlack = 4;
-constexpr std::size_t kNewListRoom = 8;
+constexpr std::uint32_t kNewListRoom = 8;
 
-void Adjacency::ensure_vertex(VertexId v) {
-  if (v.index < vertex_faces_.size()) return;
-  const std::size_t first = vertex_faces_.size();
-  vertex_faces_.resize(v.index + 1);
-  for (std::size_t i = first; i < vertex_faces_.size(); ++i) vertex_faces_[i].reserve(kNewListRoom);
+void Adjacency::add_vertices(std::size_t count) {
+  auto at = static_cast<std::uint32_t>(added_pool_.size());
+  added_pool_.resize(added_pool_.size() + kNewListRoom * count);
+  const std::size_t first = added_.size();
+  added_.resize(first + count);
+  for (std::size_t i = first; i < added_.size(); ++i, at += kNewListRoom)
+    added_[i] = AddedList{at, 0, kNewListRoom};
 }
 
-// `apply` has sized both arrays for the log's vertices and faces.
+void Adjacency::grow(AddedList& list) {
+  const std::uint32_t room = 2 * list.room;
+  const auto at = static_cast<std::uint32_t>(added_pool_.size());
+  added_pool_.resize(added_pool_.size() + room);
+  const auto from = added_pool_.begin() + list.at;
+  std::copy(from, from + list.size, added_pool_.begin() + at);
+  list.at = at;
+  list.room = room;
+}
+
+// `apply` has sized the arrays for the log's vertices and faces.
 void Adjacency::add_face(FaceId f, const Triangle& t) {
   face_vertices_[f.index] = t;
-  for (int k = 0; k < 3; ++k) insert_sorted(vertex_faces_[t[k].index], f);
+  for (int k = 0; k < 3; ++k) {
+    const std::uint32_t v = t[k].index;
+    if (v < vertex_faces_.size()) {
+      insert_sorted(vertex_faces_[v], f);
+      continue;
+    }
+    AddedList& list = added_[v - vertex_faces_.size()];
+    if (list.size == list.room) grow(list);
+    list.size = insert_sorted(added_pool_.data() + list.at, list.size, f);
+  }
 }
 
 void Adjacency::remove_face(FaceId f, const Triangle& t) {
   if (f.index < face_vertices_.size()) face_vertices_[f.index] = Triangle{};
-  for (int k = 0; k < 3; ++k)
-    if (t[k].index < vertex_faces_.size()) erase_sorted(vertex_faces_[t[k].index], f);
+  for (int k = 0; k < 3; ++k) {
+    const std::uint32_t v = t[k].index;
+    if (v < vertex_faces_.size()) {
+      erase_sorted(vertex_faces_[v], f);
+    } else if (v < vertex_count()) {
+      AddedList& list = added_[v - vertex_faces_.size()];
+      list.size = erase_sorted(added_pool_.data() + list.at, list.size, f);
+    }
+  }
 }
 
-Adjacency::Adjacency(const Adjacency& other) : face_vertices_(other.face_vertices_) {
+Adjacency::Adjacency(const Adjacency& other)
+    : added_(other.added_), added_pool_(other.added_pool_), face_vertices_(other.face_vertices_) {
   vertex_faces_.resize(other.vertex_faces_.size());
   for (std::size_t v = 0; v < vertex_faces_.size(); ++v) {
     const auto& from = other.vertex_faces_[v];
@@ -82,7 +134,10 @@ Adjacency& Adjacency::operator=(const Adjacency& other) {
 }
 
 void Adjacency::reserve(std::size_t vertices, std::size_t faces) {
-  vertex_faces_.reserve(vertices);
+  // New vertices' lists, and added lists that outgrow their room, fit in added_pool_'s room.
+  const std::size_t more_vertices = vertices > vertex_count() ? vertices - vertex_count() : 0;
+  added_.reserve(added_.size() + more_vertices);
+  added_pool_.reserve(added_pool_.size() + 2 * kNewListRoom * more_vertices);
   face_vertices_.reserve(faces);
   // A copied adjacency's lists hold exactly their faces: give them back their room.
   parallel_for(vertex_faces_.size(), 8192, [&](std::size_t b, std::size_t e) {
@@ -145,7 +200,7 @@ void Adjacency::apply(const EditLog& log) {
       vertices = std::max(vertices, s->copy.index + 1);
     }
   }
-  if (vertices > 0) ensure_vertex(VertexId(vertices - 1));
+  if (vertices > vertex_count()) add_vertices(vertices - vertex_count());
   if (faces > face_vertices_.size()) face_vertices_.resize(faces, Triangle{});
   for (const Edit& edit : log.edits) {
     std::visit(
@@ -163,7 +218,7 @@ void Adjacency::apply(const EditLog& log) {
 
 std::vector<VertexId> Adjacency::vertex_neighbors(VertexId v) const {
   std::vector<VertexId> out;
-  for (FaceId f : vertex_faces_[v.index])
+  for (FaceId f : vertex_faces(v))
     for (VertexId u : face_vertices_[f.index])
       if (u != v) out.push_back(u);
   std::sort(out.begin(), out.end());
@@ -173,9 +228,8 @@ std::vector<VertexId> Adjacency::vertex_neighbors(VertexId v) const {
 
 std::vector<FaceId> Adjacency::edge_faces(VertexId u, VertexId v) const {
   std::vector<FaceId> out;
-  if (u == v || u.index >= vertex_faces_.size() || v.index >= vertex_faces_.size()) return out;
-  const auto& a = vertex_faces_[u.index];
-  const auto& b = vertex_faces_[v.index];
+  if (u == v || u.index >= vertex_count() || v.index >= vertex_count()) return out;
+  const VertexFaces a = vertex_faces(u), b = vertex_faces(v);
   std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(out));
   return out;
 }
@@ -255,7 +309,7 @@ std::vector<Edge> Adjacency::seam_edges(const SurfaceMesh& mesh) const {
 }
 
 std::vector<std::uint32_t> Adjacency::vertex_components(std::size_t* count) const {
-  const auto n = static_cast<std::uint32_t>(vertex_faces_.size());
+  const auto n = static_cast<std::uint32_t>(vertex_count());
   std::vector<std::uint32_t> parent(n);
   std::iota(parent.begin(), parent.end(), 0u);
   for (const auto& t : face_vertices_) {
@@ -268,7 +322,7 @@ std::vector<std::uint32_t> Adjacency::vertex_components(std::size_t* count) cons
   std::vector<std::uint32_t> label(n, kInvalidIndex), root_label(n, kInvalidIndex);
   std::uint32_t next = 0;
   for (std::uint32_t v = 0; v < n; ++v) {
-    if (vertex_faces_[v].empty()) continue;
+    if (vertex_faces(VertexId(v)).empty()) continue;
     const auto r = detail::find_root(parent, v);
     if (root_label[r] == kInvalidIndex) root_label[r] = next++;
     label[v] = root_label[r];
@@ -284,7 +338,11 @@ std::size_t Adjacency::component_count() const {
 }
 
 bool Adjacency::operator==(const Adjacency& other) const {
-  if (vertex_faces_ != other.vertex_faces_) return false;
+  if (vertex_count() != other.vertex_count()) return false;
+  for (std::uint32_t v = 0; v < vertex_count(); ++v) {
+    const VertexFaces a = vertex_faces(VertexId(v)), b = other.vertex_faces(VertexId(v));
+    if (!std::equal(a.begin(), a.end(), b.begin(), b.end())) return false;
+  }
   // Face slots beyond the shorter list must all be removed ones.
   const std::size_t n = std::max(face_vertices_.size(), other.face_vertices_.size());
   for (std::size_t f = 0; f < n; ++f) {

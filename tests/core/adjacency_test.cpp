@@ -139,4 +139,32 @@ TEST(AdjacencyTest, incremental_equals_rebuild_on_every_asset) {
   }
 }
 
+// The vertices an edit adds keep their lists in a shared pool, with room for eight faces: a fan
+// of twenty faces around one of them outgrows that room twice, and copies taken along the way
+// (with or without reserve) must follow later edits like the original.
+TEST(AdjacencyTest, added_vertex_lists_grow_shrink_and_copy) {
+  SurfaceMesh mesh = test::make_grid(6, 5);
+  Adjacency adj = Adjacency::build(mesh);
+  std::vector<FaceId> fan;
+  {
+    MeshEditor editor(mesh);
+    const VertexId hub = editor.add_vertex_in_triangle(mesh.face(FaceId(0)), glm::vec3(1.0f / 3.0f));
+    for (std::uint32_t i = 0; i < 20; ++i)
+      fan.push_back(editor.add_face({hub, VertexId(i + 1), VertexId(i + 2)}));
+    adj.apply(editor.take_log());
+    const VertexFaces faces = adj.vertex_faces(hub);
+    EXPECT_EQ(std::vector<FaceId>(faces.begin(), faces.end()), fan);
+  }
+  test::expect_adjacency_matches_rebuild(adj, mesh);
+  Adjacency reserved = adj;
+  reserved.reserve(mesh.vertex_count() + 64, mesh.face_slots() + 128);
+  for (Adjacency* a : {&adj, &reserved}) {
+    SurfaceMesh edited = mesh;
+    MeshEditor editor(edited);
+    for (std::size_t i = 0; i < fan.size(); i += 3) editor.remove_face(fan[i]);
+    a->apply(editor.take_log());
+    test::expect_adjacency_matches_rebuild(*a, edited);
+  }
+}
+
 }  // namespace deepcut

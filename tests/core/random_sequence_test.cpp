@@ -569,10 +569,12 @@ class Sequence {
     if (part.vertex_manifold_input) {
       std::sort(touched.begin(), touched.end());
       touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-      for (const VertexId v : touched)
-        if (nonmanifold_vertices(mesh, rebuilt, {v}) != 0)
-          FAIL() << where << "vertex " << v.index << " became non-manifold (two fans of faces meet only there); its faces: "
-                 << describe_faces(mesh, rebuilt.vertex_faces(v));
+      for (const VertexId v : touched) {
+        if (nonmanifold_vertices(mesh, rebuilt, {v}) == 0) continue;
+        const VertexFaces faces = rebuilt.vertex_faces(v);
+        FAIL() << where << "vertex " << v.index << " became non-manifold (two fans of faces meet only there); its faces: "
+               << describe_faces(mesh, std::vector<FaceId>(faces.begin(), faces.end()));
+      }
     }
     // Clusters followed through the log keep the invariants clustering guarantees.
     try {

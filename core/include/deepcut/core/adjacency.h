@@ -5,6 +5,7 @@
 /// edges and connected components. `build` is the slow, obviously correct reference;
 /// `apply(log)` updates an existing adjacency from an edit log, touching only what changed.
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -20,6 +21,24 @@ struct Edge {
   bool operator<(const Edge& o) const { return a == o.a ? b < o.b : a < o.a; }
 };
 inline Edge make_edge(VertexId u, VertexId v) { return u < v ? Edge{u, v} : Edge{v, u}; }
+
+/// The faces around one vertex, sorted by id: a view into an Adjacency, valid until its next
+/// update.
+class VertexFaces {
+ public:
+  VertexFaces(const FaceId* first, std::size_t count) : first_(first), count_(count) {}
+  const FaceId* begin() const { return first_; }
+  const FaceId* end() const { return first_ + count_; }
+  std::size_t size() const { return count_; }
+  bool empty() const { return count_ == 0; }
+  const FaceId& front() const { return first_[0]; }
+  const FaceId& back() const { return first_[count_ - 1]; }
+  const FaceId& operator[](std::size_t i) const { return first_[i]; }
+
+ private:
+  const FaceId* first_;
+  std::size_t count_;
+};
 
 class Adjacency {
  public:
@@ -42,9 +61,13 @@ class Adjacency {
   /// an old vertex do not reallocate its list.
   void reserve(std::size_t vertices, std::size_t faces);
 
-  std::size_t vertex_count() const { return vertex_faces_.size(); }
+  std::size_t vertex_count() const { return vertex_faces_.size() + added_.size(); }
   /// Live faces around `v`, sorted by id.
-  const std::vector<FaceId>& vertex_faces(VertexId v) const { return vertex_faces_[v.index]; }
+  VertexFaces vertex_faces(VertexId v) const {
+    if (v.index < vertex_faces_.size()) return VertexFaces(vertex_faces_[v.index].data(), vertex_faces_[v.index].size());
+    const AddedList& list = added_[v.index - vertex_faces_.size()];
+    return VertexFaces(added_pool_.data() + list.at, list.size);
+  }
   /// Vertices sharing an edge with `v`, sorted by id.
   std::vector<VertexId> vertex_neighbors(VertexId v) const;
   /// Faces sharing an edge with `f`, sorted by id (more than three at non-manifold edges).
@@ -74,13 +97,24 @@ class Adjacency {
   // Calls fn(a, b, faces_of_edge) once per edge (a < b) of the live faces.
   template <class Fn>
   void for_each_edge(Fn&& fn) const;
+  // Where the list of a vertex an edit made lies in added_pool_: `size` faces from `at`, in room
+  // for `room`.
+  struct AddedList {
+    std::uint32_t at = 0, size = 0, room = 0;
+  };
   void add_face(FaceId f, const Triangle& t);
   void remove_face(FaceId f, const Triangle& t);
-  void ensure_vertex(VertexId v);
+  void add_vertices(std::size_t count);
+  // Moves a full added list to twice its room at added_pool_'s end (its old room is left unused).
+  void grow(AddedList& list);
 
   // Edges are not stored: the faces of edge (u, v) are those in both vertex lists, which are
-  // short and sorted. That keeps build and every update to one sorted insert per corner.
+  // short and sorted. That keeps build and every update to one sorted insert per corner. The
+  // vertices `build` saw have a list each; the vertices edits add since share one pool, so a new
+  // vertex costs no allocation of its own (a cut adds hundreds).
   std::vector<std::vector<FaceId>> vertex_faces_;
+  std::vector<AddedList> added_;
+  std::vector<FaceId> added_pool_;
   std::vector<Triangle> face_vertices_;  // by face slot; invalid ids for removed faces
 };
 
