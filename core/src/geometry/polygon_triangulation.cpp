@@ -310,7 +310,7 @@ class EarClipper {
     for (std::size_t k = 0; k < remaining_; ++k, q = lists_.next[q]) {
       const std::uint32_t iq = lists_.poly[q];
       if (iq == ia || iq == ib || iq == ic) continue;  // the same point (bridges repeat points)
-      const glm::dvec2& p = pts_[iq];
+      const glm::dvec2& p = at(q);
       if (orient(a, b, p) >= -tiny && orient(b, c, p) >= -tiny && orient(c, a, p) >= -tiny)
         return static_cast<std::uint32_t>(q);
     }
