@@ -40,8 +40,8 @@
 namespace deepcut {
 namespace {
 
-// Side of a face as Cutter::face_side gives it (its first corner off the plane; a face lying in
-// the plane is positive), coded 1 positive, 2 negative.
+// Side of a face: the side of its first corner off the plane (a face lying in the plane is
+// positive), coded 1 positive, 2 negative.
 inline std::uint8_t side_code(const std::int8_t* sign, const Triangle& t) {
   const int s0 = sign[t[0].index], s1 = sign[t[1].index], s2 = sign[t[2].index];
   const int s = s0 != 0 ? s0 : (s1 != 0 ? s1 : s2);
@@ -76,12 +76,6 @@ namespace detail {
 bool Cutter::single_fan(std::uint32_t v) const {
   if (!merges_.empty()) return false;
   return (v >= crossings_[0] && v < crossings_[1]) || (v >= crossing_copies_[0] && v < crossing_copies_[1]);
-}
-
-int Cutter::face_side(const Triangle& t) const {
-  for (auto v : t)
-    if (sign_[v.index] != 0) return sign_[v.index];
-  return 1;  // a face lying in the plane goes to the positive side
 }
 
 // Rim vertices used by both sides get a copy for the positive side, so the sides come apart. The
@@ -398,7 +392,8 @@ std::vector<detail::CapInput> Cutter::rim_of_pieces(const CutResult& result) con
     const Triangle& t = mesh_.face(f);
     const int zeros = (sign_[t[0].index] == 0) + (sign_[t[1].index] == 0) + (sign_[t[2].index] == 0);
     if (zeros < 2) continue;
-    const std::uint32_t p = options_.split_components ? piece_of_face[f.index] : piece_of_side[face_side(t) > 0 ? 0 : 1];
+    const std::uint32_t p =
+        options_.split_components ? piece_of_face[f.index] : piece_of_side[side_code(sign_.data(), t) - 1];
     if (p != kInvalidIndex) rims[p].rim_faces.push_back(f);
   }
   return rims;

@@ -85,7 +85,6 @@ class Cutter {
   void collect_pieces(CutResult& result);
   void live_rim_by_side(std::vector<FaceId> (&out)[2]) const;
   std::vector<CapInput> rim_of_pieces(const CutResult& result) const;
-  int face_side(const Triangle& t) const;
   // Stages of run().
   void check_arguments() const;
   void classify_vertices(const UsedFlag* used);
