@@ -287,8 +287,10 @@ void plan_polygons(const CapInput& in, CapPlan& plan) {
 }
 
 // Caps with this many polygon corners in all (or more) are triangulated on the pool: below it
-// handing the polygons to other threads costs about what it saves.
-constexpr std::size_t kParallelCapCorners = 256;
+// handing the polygons to other threads costs about what it saves, or more on a busy machine (the
+// bench's 25k cut, 634 corners, ran faster on one thread in 18 of 23 alternating runs on two
+// shared cores; its 1M cut has 4070).
+constexpr std::size_t kParallelCapCorners = 2048;
 
 // Triangulates every planned polygon of every cap (as triangulate_loops would), on the pool
 // when they are big enough: each polygon's triangles are its own, so the result is the same
