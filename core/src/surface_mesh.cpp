@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "deepcut/core/surface_mesh.h"
 
+#include <algorithm>
 #include <string>
 #include <utility>
 
@@ -147,6 +148,16 @@ void check_face_vertices(VertexId a, VertexId b, VertexId c, std::size_t nv) {
                                                 std::to_string(b.index) + "," + std::to_string(c.index) + " of " +
                                                 std::to_string(nv) + " vertices)");
 }
+
+// check_face_vertices over `count` faces: their largest index first (one pass without calls),
+// the faces one by one only when it is out of range, so the first bad face is the one reported.
+void check_faces_vertices(const Triangle* faces, std::size_t count, std::size_t nv) {
+  std::uint32_t largest = 0;
+  for (std::size_t i = 0; i < count; ++i)
+    largest = std::max({largest, faces[i][0].index, faces[i][1].index, faces[i][2].index});
+  if (count == 0 || largest < nv) return;
+  for (std::size_t i = 0; i < count; ++i) check_face_vertices(faces[i][0], faces[i][1], faces[i][2], nv);
+}
 }  // namespace
 
 FaceId SurfaceMesh::add_face(VertexId a, VertexId b, VertexId c) {
@@ -156,7 +167,7 @@ FaceId SurfaceMesh::add_face(VertexId a, VertexId b, VertexId c) {
 
 FaceId SurfaceMesh::add_faces(const Triangle* faces, std::size_t count) {
   const std::size_t nv = vertex_count();
-  for (std::size_t i = 0; i < count; ++i) check_face_vertices(faces[i][0], faces[i][1], faces[i][2], nv);
+  check_faces_vertices(faces, count, nv);
   const FaceId first(static_cast<std::uint32_t>(faces_.size()));
   faces_.insert(faces_.end(), faces, faces + count);
   deleted_.resize(deleted_.size() + count, 0);
@@ -177,7 +188,7 @@ FaceId SurfaceMesh::add_face_from(VertexId a, VertexId b, VertexId c, FaceId par
 FaceId SurfaceMesh::add_faces_from(const Triangle* faces, const std::uint32_t* parents, const float* w,
                                    std::size_t count) {
   const std::size_t nv = vertex_count();
-  for (std::size_t i = 0; i < count; ++i) check_face_vertices(faces[i][0], faces[i][1], faces[i][2], nv);
+  check_faces_vertices(faces, count, nv);
   const FaceId first(static_cast<std::uint32_t>(faces_.size()));
   faces_.insert(faces_.end(), faces, faces + count);
   deleted_.resize(deleted_.size() + count, 0);

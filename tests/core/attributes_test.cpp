@@ -32,6 +32,22 @@ TEST(AttributesTest, arrays_grow_together_and_blend_by_type) {
   EXPECT_EQ(j[2], glm::u16vec4(5, 6, 7, 8));  // integers take the dominant source
 }
 
+TEST(AttributesTest, push_default_appends_defaults_after_the_values_kept) {
+  AttributeSet set;
+  auto& f = set.add<glm::vec3>("c:normal", glm::vec3(0.0f, 0.0f, 1.0f));
+  auto& g = set.add<std::uint8_t>("f:flag", std::uint8_t(7));
+  set.resize(2);
+  f[0] = glm::vec3(1.0f);
+  g[1] = 3;
+  set.push_default(5);
+  set.push_default(0);
+  ASSERT_EQ(set.size(), 7u);
+  EXPECT_EQ(f[0], glm::vec3(1.0f));
+  EXPECT_EQ(g[1], 3);
+  for (std::size_t i = 1; i < 7; ++i) EXPECT_EQ(f[i], glm::vec3(0.0f, 0.0f, 1.0f)) << i;
+  for (std::size_t i = 2; i < 7; ++i) EXPECT_EQ(g[i], 7) << i;
+}
+
 TEST(AttributesTest, add_rejects_duplicates_and_get_rejects_missing_or_wrong_type) {
   AttributeSet set;
   set.add<float>("v:x");

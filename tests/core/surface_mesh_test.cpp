@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
+
 #include "fixtures.h"
 
 namespace deepcut {
@@ -26,6 +28,28 @@ TEST(SurfaceMeshTest, add_face_rejects_bad_index) {
   SurfaceMesh mesh;
   mesh.add_vertex({0, 0, 0});
   EXPECT_THROW(mesh.add_face(VertexId(0), VertexId(1), VertexId(2)), Error);
+}
+
+TEST(SurfaceMeshTest, add_faces_rejects_a_batch_naming_its_first_bad_face) {
+  SurfaceMesh mesh = test::make_grid(1, 1);  // 4 vertices, 2 faces
+  const std::size_t corners = mesh.corner_attrs().size();
+  const Triangle faces[4] = {{VertexId(0), VertexId(1), VertexId(2)},
+                             {VertexId(1), VertexId(7), VertexId(2)},
+                             {VertexId(9), VertexId(1), VertexId(2)},
+                             {VertexId(0), VertexId(2), VertexId(3)}};
+  try {
+    mesh.add_faces(faces, 4);
+    ADD_FAILURE() << "a face past the vertices was added";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("(1,7,2 of 4 vertices)"), std::string::npos) << e.what();
+  }
+  // Refused before any change; a good batch is added whole, with a default per corner.
+  EXPECT_EQ(mesh.face_slots(), 2u);
+  EXPECT_EQ(mesh.corner_attrs().size(), corners);
+  EXPECT_EQ(mesh.add_faces(faces + 3, 1), FaceId(2));
+  EXPECT_EQ(mesh.face_slots(), 3u);
+  EXPECT_EQ(mesh.corner_attrs().size(), corners + 3);
+  EXPECT_EQ(mesh.add_faces(faces, 0), FaceId(3));
 }
 
 TEST(SurfaceMeshTest, compact_drops_deleted_faces_and_unused_vertices) {

@@ -24,6 +24,7 @@ namespace {
 // memory back (each list judged on its own: the small ones keep theirs).
 struct RingLists {
   std::vector<std::uint32_t> poly, prev, next, version, ear_state;
+  std::vector<glm::dvec2> xy;  // the point of each corner
   std::vector<char> alive, reflex;
   std::vector<double> ear_quality, corners;
   bool in_use = false;
@@ -43,6 +44,7 @@ struct RingLists {
   void hand_back() {
     constexpr std::size_t kept = detail::kKeptClipListBytes;
     for (auto* list : {&poly, &prev, &next, &version, &ear_state}) detail::give_back_if_big(*list, kept);
+    detail::give_back_if_big(xy, kept);
     detail::give_back_if_big(alive, kept);
     detail::give_back_if_big(reflex, kept);
     detail::give_back_if_big(ear_quality, kept);
@@ -64,6 +66,8 @@ class EarClipper {
       while (lists_.poly.size() > 1 && lists_.poly.front() == lists_.poly.back()) lists_.poly.pop_back();
     }
     const auto n = static_cast<std::uint32_t>(lists_.poly.size());
+    lists_.xy.resize(n);
+    for (std::uint32_t i = 0; i < n; ++i) lists_.xy[i] = pts_[lists_.poly[i]];
     lists_.prev.resize(n);
     lists_.next.resize(n);
     for (std::uint32_t i = 0; i < n; ++i) {
@@ -138,7 +142,7 @@ class EarClipper {
     Cell cell;
   };
 
-  const glm::dvec2& at(std::size_t i) const { return pts_[lists_.poly[i]]; }
+  const glm::dvec2& at(std::size_t i) const { return lists_.xy[i]; }
   double corner_at(std::size_t a, std::size_t b, std::size_t c) const { return orient(at(a), at(b), at(c)); }
   double corner(std::size_t i) const { return corner_at(lists_.prev[i], i, lists_.next[i]); }
   double longest(std::size_t i) const {
@@ -243,7 +247,7 @@ class EarClipper {
   bool reflex_blocker(std::size_t i) {
     const std::size_t pa = lists_.prev[i], pc = lists_.next[i];
     const std::uint32_t ia = lists_.poly[pa], ib = lists_.poly[i], ic = lists_.poly[pc];
-    const glm::dvec2 &a = pts_[ia], &b = pts_[ib], &c = pts_[ic];
+    const glm::dvec2 &a = at(pa), &b = at(i), &c = at(pc);
     // orient(c, a, p) >= 0 && orient(a, b, p) >= 0 && orient(b, c, p) >= 0, the edges' terms taken
     // out of the loop (the same operations in the same order: the same values). The diagonal c-a
     // first: the other two sides are polygon edges, with most of the polygon on their inner side.
@@ -306,7 +310,7 @@ class EarClipper {
     for (std::size_t k = 0; k < remaining_; ++k, q = lists_.next[q]) {
       const std::uint32_t iq = lists_.poly[q];
       if (iq == ia || iq == ib || iq == ic) continue;  // the same point (bridges repeat points)
-      const glm::dvec2& p = pts_[iq];
+      const glm::dvec2& p = at(q);
       if (orient(a, b, p) >= -tiny && orient(b, c, p) >= -tiny && orient(c, a, p) >= -tiny)
         return static_cast<std::uint32_t>(q);
     }
@@ -560,7 +564,8 @@ std::size_t largest_kept_clip_list() {
   return std::max({l.poly.capacity() * sizeof(std::uint32_t), l.prev.capacity() * sizeof(std::uint32_t),
                    l.next.capacity() * sizeof(std::uint32_t), l.version.capacity() * sizeof(std::uint32_t),
                    l.ear_state.capacity() * sizeof(std::uint32_t), l.alive.capacity(), l.reflex.capacity(),
-                   l.ear_quality.capacity() * sizeof(double), l.corners.capacity() * sizeof(double)});
+                   l.ear_quality.capacity() * sizeof(double), l.corners.capacity() * sizeof(double),
+                   l.xy.capacity() * sizeof(glm::dvec2)});
 }
 
 }  // namespace deepcut::detail

@@ -146,9 +146,7 @@ class AttributeArray final : public AttributeArrayBase {
 
   std::size_t size() const override { return data_.size(); }
   void resize(std::size_t n) override { data_.resize(n, default_); }
-  void push_default(std::size_t count) override {
-    for (std::size_t i = 0; i < count; ++i) data_.push_back(default_);
-  }
+  void push_default(std::size_t count) override { data_.insert(data_.end(), count, default_); }
   void reserve(std::size_t n) override { data_.reserve(n); }
   void push_blend(const std::uint32_t* src, const float* w, int count) override {
     data_.push_back(blend(src, w, count));

@@ -127,6 +127,7 @@ bool trace_single_steps(const std::vector<std::pair<VertexId, VertexId>>& halfed
   std::vector<std::uint32_t> local(span, kInvalidIndex);
   all_closed = true;
   std::vector<std::uint32_t> loop;  // vertices - lo
+  loop.reserve(m);
   for (std::uint32_t first = 0; first < span; ++first) {
     if (step[first] == kInvalidIndex) continue;
     loop.assign(1, first);
@@ -159,6 +160,7 @@ bool trace_single_steps(const std::vector<std::pair<VertexId, VertexId>>& halfed
 bool trace_loops(const std::vector<std::pair<VertexId, VertexId>>& halfedges, RimLoops& out) {
   out.loops.clear();
   out.verts.clear();
+  out.verts.reserve(halfedges.size());  // each rim vertex once: at most one per step
   bool all_closed = true;
   if (trace_single_steps(halfedges, out, all_closed)) return all_closed;
   const std::size_t m = halfedges.size();
@@ -187,6 +189,7 @@ bool trace_loops(const std::vector<std::pair<VertexId, VertexId>>& halfedges, Ri
   // Local index of each rim vertex (by group), by first appearance in a kept loop.
   std::vector<std::uint32_t> local(groups, kInvalidIndex);
   std::vector<std::uint32_t> loop;  // groups
+  loop.reserve(m);
   for (std::uint32_t first = 0; first < groups; ++first)
     while (cursor[first] < start[first + 1]) {
       loop.assign(1, first);
@@ -284,8 +287,10 @@ void plan_polygons(const CapInput& in, CapPlan& plan) {
 }
 
 // Caps with this many polygon corners in all (or more) are triangulated on the pool: below it
-// handing the polygons to other threads costs about what it saves.
-constexpr std::size_t kParallelCapCorners = 256;
+// handing the polygons to other threads costs about what it saves, or more on a busy machine (the
+// bench's 25k cut, 634 corners, ran faster on one thread in 18 of 23 alternating runs on two
+// shared cores; its 1M cut has 4070).
+constexpr std::size_t kParallelCapCorners = 2048;
 
 // Triangulates every planned polygon of every cap (as triangulate_loops would), on the pool
 // when they are big enough: each polygon's triangles are its own, so the result is the same

@@ -40,8 +40,8 @@
 namespace deepcut {
 namespace {
 
-// Side of a face as Cutter::face_side gives it (its first corner off the plane; a face lying in
-// the plane is positive), coded 1 positive, 2 negative.
+// Side of a face: the side of its first corner off the plane (a face lying in the plane is
+// positive), coded 1 positive, 2 negative.
 inline std::uint8_t side_code(const std::int8_t* sign, const Triangle& t) {
   const int s0 = sign[t[0].index], s1 = sign[t[1].index], s2 = sign[t[2].index];
   const int s = s0 != 0 ? s0 : (s1 != 0 ? s1 : s2);
@@ -76,12 +76,6 @@ namespace detail {
 bool Cutter::single_fan(std::uint32_t v) const {
   if (!merges_.empty()) return false;
   return (v >= crossings_[0] && v < crossings_[1]) || (v >= crossing_copies_[0] && v < crossing_copies_[1]);
-}
-
-int Cutter::face_side(const Triangle& t) const {
-  for (auto v : t)
-    if (sign_[v.index] != 0) return sign_[v.index];
-  return 1;  // a face lying in the plane goes to the positive side
 }
 
 // Rim vertices used by both sides get a copy for the positive side, so the sides come apart. The
@@ -213,14 +207,17 @@ void Cutter::move_positive_rim(std::size_t touching, const std::vector<std::uint
 // A rim through a vertex on the plane (a saddle, or a fold touching the plane within the
 // tolerance) can leave that vertex joining two fans of one side's faces that meet only there, and
 // a cap over a rim that touches itself can too: each fan gets its own vertex. Every face using an
-// on-plane vertex is a rim candidate or a cap face. With `result`, its pieces follow the faces
-// moved onto copies.
+// on-plane vertex is a rim candidate or a cap face. The first `candidates` rim candidates are
+// looked at: the ones after them (the cap faces) must have every corner on the plane one fan.
+// With `result`, its pieces follow the faces moved onto copies.
 template <class OneFan>
-std::vector<std::pair<VertexId, VertexId>> Cutter::split_pinches(CutResult* result, const OneFan& one_fan) {
+std::vector<std::pair<VertexId, VertexId>> Cutter::split_pinches(CutResult* result, const OneFan& one_fan,
+                                                                 std::size_t candidates) {
   std::vector<VertexId> on_plane;  // each once
   std::vector<FaceId> incident;    // the live rim candidates using one of them
   std::vector<std::uint8_t> listed(mesh_.vertex_count(), 0);
-  for (FaceId f : rim_candidates_) {
+  for (std::size_t k = 0; k < candidates; ++k) {
+    const FaceId f = rim_candidates_[k];
     if (mesh_.is_deleted(f)) continue;
     bool uses = false;
     for (const VertexId v : mesh_.face(f)) {
@@ -346,12 +343,22 @@ Cutter::VertexFlags Cutter::capped_single_fans(std::uint32_t first_cap_face,
   // Cap faces by vertex, counted at first[v - lo + 1].
   const std::size_t n = hi - lo + 1;
   std::vector<std::uint32_t> first(n + 1, 0);
+  std::size_t outside = 0;  // cap corners before lo
   for (auto f = first_cap_face; f < end_face; ++f)
-    for (const VertexId v : mesh_.face(FaceId(f)))
-      if (v.index >= lo && v.index <= hi) ++first[v.index - lo + 1];
+    for (const VertexId v : mesh_.face(FaceId(f))) {
+      if (v.index >= lo && v.index <= hi)
+        ++first[v.index - lo + 1];
+      else
+        ++outside;
+    }
   if (whole_fans) {
     out.flags.resize(n);
-    for (std::size_t v = 0; v < n; ++v) out.flags[v] = first[v + 1] != 0 && first[v + 1] <= kMaxCapFan;
+    bool crowded = false;  // a vertex with more cap faces than kMaxCapFan
+    for (std::size_t v = 0; v < n; ++v) {
+      out.flags[v] = first[v + 1] != 0 && first[v + 1] <= kMaxCapFan;
+      crowded = crowded || first[v + 1] > kMaxCapFan;
+    }
+    out.cap_corners = outside == 0 && !crowded;
   } else if (!fans_reach_rim(mesh_, first_cap_face, rim, lo, first, out.flags)) {
     return out;
   }
@@ -385,7 +392,8 @@ std::vector<detail::CapInput> Cutter::rim_of_pieces(const CutResult& result) con
     const Triangle& t = mesh_.face(f);
     const int zeros = (sign_[t[0].index] == 0) + (sign_[t[1].index] == 0) + (sign_[t[2].index] == 0);
     if (zeros < 2) continue;
-    const std::uint32_t p = options_.split_components ? piece_of_face[f.index] : piece_of_side[face_side(t) > 0 ? 0 : 1];
+    const std::uint32_t p =
+        options_.split_components ? piece_of_face[f.index] : piece_of_side[side_code(sign_.data(), t) - 1];
     if (p != kInvalidIndex) rims[p].rim_faces.push_back(f);
   }
   return rims;
@@ -553,8 +561,14 @@ void Cutter::cap_pieces(CutResult& result, std::vector<VertexId>& rim) {
   const std::uint32_t first_new = posed_.first_new();
   std::vector<std::uint8_t> on_rim(mesh_.vertex_count() - first_new, 0);
   std::vector<std::pair<VertexId, VertexId>> rim_edges;
+  std::size_t halfedges = 0;
   for (detail::CapInput& in : rims) {
     in.rim = detail::rim_halfedges(mesh_, in);  // the cap takes it too
+    halfedges += in.rim->size();
+  }
+  rim_edges.reserve(halfedges);
+  rim.reserve(halfedges);  // each rim vertex ends a rim halfedge
+  for (const detail::CapInput& in : rims) {
     for (const auto& [a, b] : *in.rim) {
       rim_edges.emplace_back(a, b);
       for (const VertexId v : {a, b}) {
@@ -572,6 +586,7 @@ void Cutter::cap_pieces(CutResult& result, std::vector<VertexId>& rim) {
   if (!options_.cap) return;
   const auto first_cap_face = static_cast<std::uint32_t>(mesh_.face_slots());
   const std::size_t live_before = mesh_.face_count();
+  const std::size_t uncapped = rim_candidates_.size();
   const bool whole_fans = detail::make_caps(editor_, rims, result.pieces);
   detail::append_run(rim_candidates_, first_cap_face, static_cast<std::uint32_t>(mesh_.face_slots()));
   // With a face of a piece removed (a flat one the cap replaced) its fans may have come apart:
@@ -580,9 +595,11 @@ void Cutter::cap_pieces(CutResult& result, std::vector<VertexId>& rim) {
   if (mesh_.face_count() - live_before == mesh_.face_slots() - first_cap_face)
     one_fan = capped_single_fans(first_cap_face, rim_edges, whole_fans);
   const std::size_t before = rim.size();
-  for (const auto& [v, c] : split_pinches(&result, one_fan))
+  // The cap faces (the last rim candidates) are left out where every corner of theirs is one fan.
+  const std::size_t candidates = one_fan.cap_corners ? uncapped : rim_candidates_.size();
+  for (const auto& [v, c] : split_pinches(&result, one_fan, candidates))
     if (std::binary_search(rim.begin(), rim.begin() + static_cast<std::ptrdiff_t>(before), v)) rim.push_back(c);
-  std::sort(rim.begin(), rim.end());
+  if (rim.size() > before) std::sort(rim.begin(), rim.end());  // rim[0, before) is sorted already
 }
 
 CutResult Cutter::run() {
@@ -596,7 +613,7 @@ CutResult Cutter::run() {
   }
   split_crossed_faces();
   separate_or_drop_side();
-  split_pinches(nullptr, [this](std::uint32_t v) { return single_fan(v); });
+  split_pinches(nullptr, [this](std::uint32_t v) { return single_fan(v); }, rim_candidates_.size());
   collect_pieces(result);
   cap_pieces(result, result.rim_vertices);
   if (!options_.cap && !options_.split_components && merges_.empty() && !had_deleted)

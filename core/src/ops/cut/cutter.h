@@ -66,23 +66,25 @@ class Cutter {
   bool moved_face(const Triangle& t, const SharedSlots& slots, std::uint32_t first_copy, Triangle& moved) const;
   void move_positive_rim(std::size_t touching, const std::vector<std::uint8_t>& moved_planned, const SharedSlots& slots,
                          VertexId first_copy);
-  // A flag per vertex of [first, first + flags.size()).
+  // A flag per vertex of [first, first + flags.size()); `cap_corners`: every corner of every cap
+  // face is flagged.
   struct VertexFlags {
     std::uint32_t first = 0;
     std::vector<std::uint8_t> flags;
+    bool cap_corners = false;
     bool operator()(std::uint32_t v) const {
       return v >= first && v - first < flags.size() && flags[v - first];
     }
   };
   template <class OneFan>
-  std::vector<std::pair<VertexId, VertexId>> split_pinches(CutResult* result, const OneFan& one_fan);
+  std::vector<std::pair<VertexId, VertexId>> split_pinches(CutResult* result, const OneFan& one_fan,
+                                                           std::size_t candidates);
   bool single_fan(std::uint32_t v) const;
   VertexFlags capped_single_fans(std::uint32_t first_cap_face, const std::vector<std::pair<VertexId, VertexId>>& rim,
                                  bool whole_fans) const;
   void collect_pieces(CutResult& result);
   void live_rim_by_side(std::vector<FaceId> (&out)[2]) const;
   std::vector<CapInput> rim_of_pieces(const CutResult& result) const;
-  int face_side(const Triangle& t) const;
   // Stages of run().
   void check_arguments() const;
   void classify_vertices(const UsedFlag* used);
