@@ -10,6 +10,7 @@
 
 #include <QtTest/QtTest>
 #include <algorithm>
+#include <cstring>
 #include <memory>
 #include <string>
 #include <variant>
@@ -168,8 +169,12 @@ class ViewFollowGuiTest : public QObject {
     QVERIFY(plugins::follow_scene(scene, session.current(), second.change));
     const plugins::Scene fresh = plugins::make_scene(session.current(), -1, 0.0f);
     std::size_t pieces = 0, written = 0;
+    QCOMPARE(scene.instances.size(), fresh.instances.size());
     for (std::size_t i = 0; i < scene.instances.size(); ++i) {
-      QVERIFY(scene.instances[i].posed_normals == fresh.instances[i].posed_normals);
+      const std::vector<glm::vec3>& got = scene.instances[i].posed_normals;
+      const std::vector<glm::vec3>& want = fresh.instances[i].posed_normals;
+      QCOMPARE(got.size(), want.size());
+      QVERIFY(got.empty() || std::memcmp(got.data(), want.data(), got.size() * sizeof(glm::vec3)) == 0);
       if (scene.origins[i].kind != plugins::InstanceOrigin::Kind::Built) continue;
       ++pieces;
       const glm::vec3* data = scene.instances[i].posed_normals.data();
