@@ -141,7 +141,7 @@ void corner_normals_of(const PosedMesh& inst, const SurfaceMesh& surface, const 
 // a step that adds faces grows it in place (follow_corner_normals), and once set aside (a
 // structural step's spare) it holds a piece somewhat larger than the one it was made for, as a
 // cut again at another plane after an undo makes, instead of a fresh array filled whole.
-std::size_t normals_room(const SurfaceMesh& surface) { return 3 * operation_face_room(surface.face_slots()); }
+std::size_t normals_room(const SurfaceMesh& surface) { return operation_corner_room(surface.face_slots()); }
 
 }  // namespace
 

@@ -484,7 +484,7 @@ TEST(PosedModelTest, corner_normals_written_into_an_array_equal_the_returned_one
     }
     // Room for the faces operations add, so the array grows in place and, set aside, takes a
     // larger piece (the pages past its corners untouched).
-    const std::size_t room = 3 * operation_face_room(mesh.face_slots());
+    const std::size_t room = operation_corner_room(mesh.face_slots());
     EXPECT_GE(fresh.capacity(), room) << "a fresh array has room to grow";
     EXPECT_GE(returned.capacity(), room) << "a copied array has room to grow";
     PrimitiveOrigin misfit = *o;

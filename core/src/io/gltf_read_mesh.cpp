@@ -24,7 +24,7 @@ constexpr std::size_t kGrain = 32768;
 // The primitive as the file stores it: glTF vertex v is vertex v (-0 coordinates read as +0),
 // triangle t is face t, and the corner attributes come from each corner's glTF vertex. The arrays
 // are added to empty sets, built at once (ArrayBuild) and handed to the mesh whole; the per-corner
-// ones and the faces with the room operations get (corner_room, operation_face_room).
+// ones and the faces with the room operations get (operation_corner_room, operation_face_room).
 SurfaceMesh file_mesh(const Floats& pos, const Uints& tris, const Influences& skin,
                       const std::vector<CornerSource>& corner_sources) {
   SurfaceMesh mesh;
@@ -48,18 +48,19 @@ SurfaceMesh file_mesh(const Floats& pos, const Uints& tris, const Influences& sk
     build.add(&vattrs.add<glm::u16vec4>(jn[s]).data(), nv, 0, [joints](std::size_t v) { return joints[v]; });
     build.add(&vattrs.add<glm::vec4>(wn[s]).data(), nv, 0, [weights](std::size_t v) { return weights[v]; });
   }
+  const std::size_t room = operation_corner_room(nf);
   for (const auto& source : corner_sources) {
     const float* d = source.data.data();
     if (source.comps == 2) {
-      build.add(&cattrs.add<glm::vec2>(source.name).data(), nc, corner_room(nf),
+      build.add(&cattrs.add<glm::vec2>(source.name).data(), nc, room,
                 [d, t](std::size_t c) { return glm::vec2(d[2 * t[c]], d[2 * t[c] + 1]); });
     } else if (source.comps == 3) {
-      build.add(&cattrs.add<glm::vec3>(source.name).data(), nc, corner_room(nf), [d, t](std::size_t c) {
+      build.add(&cattrs.add<glm::vec3>(source.name).data(), nc, room, [d, t](std::size_t c) {
         return glm::vec3(d[3 * t[c]], d[3 * t[c] + 1], d[3 * t[c] + 2]);
       });
     } else {
       const auto k = static_cast<std::size_t>(source.data_comps);
-      build.add(&cattrs.add<glm::vec4>(source.name, glm::vec4(1.0f)).data(), nc, corner_room(nf), [d, t, k](std::size_t c) {
+      build.add(&cattrs.add<glm::vec4>(source.name, glm::vec4(1.0f)).data(), nc, room, [d, t, k](std::size_t c) {
         const float* x = &d[k * t[c]];
         return glm::vec4(x[0], x[1], x[2], k == 4 ? x[3] : 1.0f);
       });

@@ -48,7 +48,7 @@ void drop_unused_samplers(Animation& anim) {
 void add_morph_targets(SurfaceMesh& mesh, const Uints& tris, const std::vector<MorphTarget>& targets) {
   const std::size_t nv = mesh.vertex_count(), nc = tris.size();
   // Each array built apart (ArrayBuild), then put in; the per-corner ones with room
-  // (corner_room). A POSITION delta is per vertex, a NORMAL or TANGENT delta per corner.
+  // (operation_corner_room). A POSITION delta is per vertex, a NORMAL or TANGENT delta per corner.
   struct Built {
     bool per_corner;
     std::string name;
@@ -61,7 +61,7 @@ void add_morph_targets(SurfaceMesh& mesh, const Uints& tris, const std::vector<M
     built.push_back({per_corner, std::move(name), std::make_unique<AttributeArray<glm::vec3>>()});
     const float* d = deltas.data();
     if (per_corner)
-      build.add(&built.back().array->data(), nc, corner_room(nc / 3), [d, t](std::size_t c) {
+      build.add(&built.back().array->data(), nc, operation_corner_room(nc / 3), [d, t](std::size_t c) {
         return glm::vec3(d[3 * std::size_t(t[c])], d[3 * std::size_t(t[c]) + 1], d[3 * std::size_t(t[c]) + 2]);
       });
     else  // -0 reads as +0, as positions do, so the weld sees equal deltas

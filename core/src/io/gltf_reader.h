@@ -151,11 +151,6 @@ struct MorphTarget {
   Floats position, normal, tangent;
 };
 
-// The capacity the reader gives a primitive's per-corner arrays (`faces` triangles): the room to
-// grow that reserve_for_operations (posed_model.h, operation_room.h) gives them, which every front end that edits
-// asks for right after reading, so that call finds the room there and copies none of them.
-inline std::size_t corner_room(std::size_t faces) { return 3 * operation_face_room(faces); }
-
 // The values fill(0), fill(1), ... as an iterator range, so that a std::vector appends them
 // (insert at the end) writing each element once: growing it with resize would value-initialise
 // every element first, a second pass over memory the fill then overwrites. Random access, so

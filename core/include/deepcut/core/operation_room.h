@@ -11,5 +11,7 @@ namespace deepcut {
 
 inline std::size_t operation_vertex_room(std::size_t vertices) { return vertices + vertices / 8 + 1024; }
 inline std::size_t operation_face_room(std::size_t face_slots) { return face_slots + face_slots / 8 + 2048; }
+/// The room of a per-corner array (three corners per face slot): a corner per corner of the face room.
+inline std::size_t operation_corner_room(std::size_t face_slots) { return 3 * operation_face_room(face_slots); }
 
 }  // namespace deepcut

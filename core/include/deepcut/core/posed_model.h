@@ -74,6 +74,8 @@ struct PosedMesh : PosedMeshHeader {
   /// World corner normals of `surface` (the mesh this poses) at this pose: each corner's normal
   /// plus its morph normal deltas at `weights`, through the inverse transpose of its vertex's
   /// `linear` map (the identity when `linear` is empty), renormalised. Empty without normals.
+  /// Its capacity is operation_corner_room(face slots) (operation_room.h): the pages past the
+  /// corners are not touched, and the array holds the faces later operations add.
   std::vector<glm::vec3> corner_normals(const SurfaceMesh& surface) const;
   /// The same for `surface` made out of a source mesh as `origin` says (this posed mesh derived
   /// from the source's as PosedModel does, ModelChange::origins): the corners of faces with a
@@ -83,8 +85,9 @@ struct PosedMesh : PosedMeshHeader {
                                         const std::vector<glm::vec3>& source_normals) const;
   /// The same written into `out`, resized to one per corner: every value is written (the mesh
   /// has one corner normal per corner of each face slot), so the array of a mesh dropped
-  /// meanwhile may be given to reuse its memory (where it is large enough, no new pages to fault
-  /// in and no value fill before the copy). @pre `out` is not `source_normals`.
+  /// meanwhile may be given to reuse its memory: where its size already holds the corners, no
+  /// new pages and no value fill before the copy; where only its capacity does, the part past
+  /// its old size is value-filled first, on the calling thread. @pre `out` is not `source_normals`.
   void corner_normals(const SurfaceMesh& surface, const PrimitiveOrigin& origin,
                       const std::vector<glm::vec3>& source_normals, std::vector<glm::vec3>& out) const;
   /// Brings `normals` (this pose's `corner_normals` of `surface` before a step) up to date after
