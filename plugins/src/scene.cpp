@@ -9,6 +9,7 @@
 
 #include "deepcut/core/errors.h"
 #include "deepcut/core/flags.h"
+#include "deepcut/core/operation_room.h"
 #include "deepcut/core/parallel.h"
 #include "deepcut/core/skinning.h"
 #include "deepcut/core/smallest_fit.h"
@@ -126,8 +127,9 @@ std::vector<glm::vec3> built_normals(const SceneInstance& instance, const ModelC
       if (before.node == o->node_before && before.mesh == o->mesh_before &&
           before.primitive == o->primitive_before && !before.posed_normals.empty() &&
           posed.world == pose.world && posed.joints == pose.joints && posed.weights == pose.weights) {
-        std::vector<glm::vec3> out = take_smallest_fit(
-            spare, 3 * instance.surface->face_slots(), [](const std::vector<glm::vec3>& a) { return a.capacity(); });
+        const std::size_t slots = instance.surface->face_slots();
+        std::vector<glm::vec3> out = take_smallest_fit(spare, 3 * slots, 2 * operation_corner_room(slots),
+                                                       [](const std::vector<glm::vec3>& a) { return a.capacity(); });
         pose.corner_normals(*instance.surface, *o, before.posed_normals, out);
         return out;
       }

@@ -15,15 +15,17 @@
 namespace deepcut {
 
 /// Of `spare`, the element with the least room (`room(element)`, in the units of `n`) that
-/// holds `n` and at most twice `n`, taken out of `spare`; else a default T (nothing reused).
-/// The first of equal rooms is taken, so the choice depends only on the order of `spare`.
+/// holds `n` and at most `most`, taken out of `spare`; else a default T (nothing reused). The
+/// first of equal rooms is taken, so the choice depends only on the order of `spare`. `most` is
+/// twice the room a new buffer for `n` would be given (a buffer given fixed room to grow past
+/// `n` still fits a piece of its own size).
 template <class T, class Room>
-T take_smallest_fit(std::vector<T>& spare, std::size_t n, const Room& room) {
+T take_smallest_fit(std::vector<T>& spare, std::size_t n, std::size_t most, const Room& room) {
   auto best = spare.end();
   std::size_t best_room = 0;
   for (auto it = spare.begin(); it != spare.end(); ++it) {
     const std::size_t r = room(*it);
-    if (r >= n && r / 2 <= n && (best == spare.end() || r < best_room)) {
+    if (r >= n && r <= most && (best == spare.end() || r < best_room)) {
       best = it;
       best_room = r;
     }
@@ -32,6 +34,12 @@ T take_smallest_fit(std::vector<T>& spare, std::size_t n, const Room& room) {
   T out = std::move(*best);
   spare.erase(best);
   return out;
+}
+
+/// take_smallest_fit for buffers made with no room past `n`: at most twice `n`.
+template <class T, class Room>
+T take_smallest_fit(std::vector<T>& spare, std::size_t n, const Room& room) {
+  return take_smallest_fit(spare, n, 2 * n + 1, room);
 }
 
 /// Moves out of `stash` (a map keyed by (content tag, index)) the values whose tag is not in
