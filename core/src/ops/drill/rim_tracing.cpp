@@ -147,6 +147,43 @@ int winding(const CylinderFrame& cyl, const PosedOverlay& posed, const std::vect
   return static_cast<int>(std::lround(turn / (2.0 * geometry::kPi)));
 }
 
+// The outgoing rim edges of each vertex, found through the thread's scratch vertex map (each
+// vertex with outgoing edges maps to its first one in the sorted steps), and whether a rim edge
+// leads to a vertex. Holds the scratch map while it is used.
+class OutgoingSteps {
+ public:
+  OutgoingSteps(const SurfaceMesh& mesh, const RimSteps& rim_next)
+      : rim_next_(rim_next), first_out_(detail::VertexSlots::scratch()), led_to_(rim_next.size(), 0) {
+    first_out_.reset(mesh.vertex_count());
+    for (std::size_t i = rim_next.size(); i-- > 0;)
+      first_out_.set(rim_next[i].first, static_cast<std::uint32_t>(i));
+    for (const auto& step : rim_next) {
+      const std::uint32_t at = first_out_.get(step.second);
+      if (at != detail::VertexSlots::kNone) led_to_[at] = 1;
+    }
+  }
+  /// The outgoing rim edges of v: [first, last) in rim_next (empty when none).
+  std::pair<std::size_t, std::size_t> of(std::uint32_t v) const {
+    const std::uint32_t at = first_out_.get(v);
+    if (at == detail::VertexSlots::kNone) return {0, 0};
+    std::size_t hi = at;
+    while (hi != rim_next_.size() && rim_next_[hi].first == v) ++hi;
+    return {at, hi};
+  }
+  /// Whether v has outgoing rim edges.
+  bool has_outgoing(std::uint32_t v) const { return first_out_.get(v) != detail::VertexSlots::kNone; }
+  /// Whether a rim edge leads to v, a vertex with outgoing rim edges.
+  bool led_to(std::uint32_t v) const {
+    const std::uint32_t at = first_out_.get(v);
+    return at != detail::VertexSlots::kNone && led_to_[at] != 0;
+  }
+
+ private:
+  const RimSteps& rim_next_;
+  detail::VertexSlots& first_out_;
+  std::vector<char> led_to_;  // by a vertex's first outgoing edge
+};
+
 // Where several rims meet at one vertex (a vertex on the cylinder whose surface the hole pinches,
 // or two holes touching there), each incoming rim edge continues with the outgoing one of its
 // own fan: turning around the vertex through the kept faces from the incoming edge's face to
@@ -155,18 +192,14 @@ int winding(const CylinderFrame& cyl, const PosedOverlay& posed, const std::vect
 class RimFans {
  public:
   // Half-edge a->b of a kept face: its third corner (the last face filed wins), in a hash map.
-  // Only half-edges into a vertex with outgoing rim edges (`starts`) are asked about (fan_next's
-  // `cur`).
+  // Only half-edges into a vertex with outgoing rim edges are asked about (fan_next's `cur`).
   RimFans(const SurfaceMesh& mesh, const EditLog& log, const std::vector<FaceId>& candidates,
-          const RimSteps& rim_next, const std::vector<std::uint32_t>& starts)
+          const RimSteps& rim_next, const OutgoingSteps& steps)
       : rim_next_(rim_next) {
-    detail::VertexSlots& on_rim = detail::VertexSlots::scratch();
-    on_rim.reset(mesh.vertex_count());
-    for (const std::uint32_t v : starts) on_rim.set(v, 0);
     slots_.reserve(4 * rim_next.size() + 16);
     auto add_face = [&](const Triangle& t) {
       for (int k = 0; k < 3; ++k)
-        if (on_rim.has(t[(k + 1) % 3].index)) {
+        if (steps.has_outgoing(t[(k + 1) % 3].index)) {
           const auto [at, made] = slots_.find_or_insert(directed_key(t[k], t[(k + 1) % 3]),
                                                         static_cast<std::uint32_t>(third_.size()));
           if (made) third_.push_back(t[(k + 2) % 3].index);
@@ -205,37 +238,6 @@ class RimFans {
   std::vector<std::uint32_t> third_;
 };
 
-// The outgoing rim edges of each vertex, found through the thread's scratch vertex map (each
-// vertex with outgoing edges maps to its first one in the sorted steps), and whether a rim edge
-// leads to a vertex. Holds the scratch map while it is used.
-class OutgoingSteps {
- public:
-  OutgoingSteps(const SurfaceMesh& mesh, const RimSteps& rim_next)
-      : rim_next_(rim_next), first_out_(detail::VertexSlots::scratch()), led_to_(rim_next.size(), 0) {
-    first_out_.reset(mesh.vertex_count());
-    for (std::size_t i = rim_next.size(); i-- > 0;) first_out_.set(rim_next[i].first, static_cast<std::uint32_t>(i));
-    for (const auto& step : rim_next) {
-      const std::uint32_t at = first_out_.get(step.second);
-      if (at != detail::VertexSlots::kNone) led_to_[at] = 1;
-    }
-  }
-  /// The outgoing rim edges of v: [first, last) in rim_next (empty when none).
-  std::pair<std::size_t, std::size_t> of(std::uint32_t v) const {
-    const std::uint32_t at = first_out_.get(v);
-    if (at == detail::VertexSlots::kNone) return {0, 0};
-    std::size_t hi = at;
-    while (hi != rim_next_.size() && rim_next_[hi].first == v) ++hi;
-    return {at, hi};
-  }
-  /// Whether a rim edge leads to v, a vertex with outgoing rim edges.
-  bool led_to(std::uint32_t v) const { return led_to_[first_out_.get(v)] != 0; }
-
- private:
-  const RimSteps& rim_next_;
-  detail::VertexSlots& first_out_;
-  std::vector<char> led_to_;  // by a vertex's first outgoing edge
-};
-
 // Chains the rim steps into rims: open chains first, then closed loops, each with its winding
 // around the axis.
 std::vector<Rim> chain_rims(const SurfaceMesh& mesh, const EditLog& log, const CylinderFrame& cyl,
@@ -251,22 +253,21 @@ std::vector<Rim> chain_rims(const SurfaceMesh& mesh, const EditLog& log, const C
   bool forks = false;
   for (std::size_t i = 1; i < rim_next.size() && !forks; ++i)
     forks = rim_next[i].first == rim_next[i - 1].first;
+  const OutgoingSteps steps(mesh, rim_next);
   std::optional<RimFans> fans;
-  if (forks) fans.emplace(mesh, log, candidates, rim_next, starts);  // done with the scratch map
-  const OutgoingSteps steps(mesh, rim_next);                          // takes it after RimFans
+  if (forks) fans.emplace(mesh, log, candidates, rim_next, steps);
   // Open chains first (from vertices nothing leads to), then closed loops.
   std::stable_partition(starts.begin(), starts.end(), [&](std::uint32_t v) { return !steps.led_to(v); });
   std::vector<char> used(rim_next.size(), 0);  // per outgoing rim edge
-  std::size_t left = rim_next.size();          // edges not used yet: the most a new rim takes
+  std::vector<VertexId> walk;                  // the rim being walked, copied out whole once
+  walk.reserve(rim_next.size() + 1);           // (a rim uses each edge at most once)
   for (std::uint32_t s : starts) {
     const auto from_start = steps.of(s);
     for (std::size_t first = from_start.first; first < from_start.second; ++first) {
       if (used[first]) continue;
       used[first] = 1;
       Rim hole;
-      hole.vertices.reserve(left + 1);
-      --left;
-      hole.vertices.push_back(VertexId(s));
+      walk.assign(1, VertexId(s));
       std::uint32_t prev = s, cur = rim_next[first].second;
       hole.closed = false;
       while (true) {
@@ -277,17 +278,17 @@ std::vector<Rim> chain_rims(const SurfaceMesh& mesh, const EditLog& log, const C
           hole.closed = true;
           break;
         }
-        hole.vertices.push_back(VertexId(cur));
+        walk.push_back(VertexId(cur));
         if (!any) break;
         long i = fan >= 0 && !used[static_cast<std::size_t>(fan)] ? fan : -1;
         for (std::size_t j = next.first; j < next.second && i < 0; ++j)
           if (!used[j]) i = static_cast<long>(j);
         if (i < 0) break;
         used[static_cast<std::size_t>(i)] = 1;
-        --left;
         prev = cur;
         cur = rim_next[static_cast<std::size_t>(i)].second;
       }
+      hole.vertices.assign(walk.begin(), walk.end());
       if (hole.closed) hole.winding = winding(cyl, posed, hole.vertices);
       rims.push_back(std::move(hole));
     }
