@@ -12,6 +12,7 @@
 #include <unordered_set>
 #include <utility>
 
+#include "deepcut/core/errors.h"
 #include "deepcut/core/smallest_fit.h"
 #include "model_undo_parts.h"
 #include "ops/common/model_surgery.h"
@@ -87,6 +88,7 @@ struct ModelStep::Impl {
   ModelChange change;       // what the step made (and what redo makes)
   ModelChange undo_change;  // what undo makes
   std::uint64_t serial = 0;  // names the step in content tags
+  bool taken = false;        // take_meshes handed its meshes over: it can be neither undone nor redone
 
   /// Says in `change` and `undo_change` where the primitives' contents went (ModelChange::mapped).
   void map_structure();
@@ -214,7 +216,14 @@ void ModelStep::Impl::redo_structure(Model& model) {
   fresh_meshes.clear();
 }
 
+namespace {
+void check_not_taken(bool taken) {
+  if (taken) throw Error(ErrorCode::InvariantViolated, "a step whose meshes were taken cannot be undone or redone");
+}
+}  // namespace
+
 ModelChange ModelStep::undo(Model& model) {
+  check_not_taken(impl_->taken);
   if (impl_->whole) {
     std::swap(model, impl_->other);
     return impl_->change;
@@ -225,6 +234,7 @@ ModelChange ModelStep::undo(Model& model) {
 }
 
 ModelChange ModelStep::redo(Model& model) {
+  check_not_taken(impl_->taken);
   if (impl_->whole) {
     std::swap(model, impl_->other);
     return impl_->change;
@@ -253,11 +263,14 @@ std::size_t ModelStep::bytes() const {
 
 std::vector<SurfaceMesh> ModelStep::take_meshes() {
   Impl& s = *impl_;
-  std::vector<SurfaceMesh> out = std::move(s.fresh_meshes);
-  s.fresh_meshes.clear();
+  s.taken = true;  // the lists keep their sizes (no index into them can go out of range)
+  std::vector<SurfaceMesh> out;
+  for (SurfaceMesh& m : s.fresh_meshes) out.push_back(std::move(m));
   for (std::optional<SurfaceMesh>& k : s.kept)
-    if (k) out.push_back(std::move(*k));
-  s.kept.clear();
+    if (k) {
+      out.push_back(std::move(*k));
+      k.reset();
+    }
   return out;
 }
 

@@ -68,8 +68,9 @@ class ModelStep {
   /// Bytes the step holds now (what it keeps of the state not current).
   std::size_t bytes() const;
   /// Hands over the meshes the step holds (the primitives it made, while undone, and those it
-  /// removed, while done), leaving a step that can no longer be undone or redone: for a step
-  /// being dropped, whose memory a later operation reuses (ModelRecorder::lend_spares).
+  /// removed, while done), leaving a step that can no longer be undone or redone (both throw
+  /// Error InvariantViolated): for a step being dropped, whose memory a later operation reuses
+  /// (ModelRecorder::lend_spares).
   std::vector<SurfaceMesh> take_meshes();
 
  private:
