@@ -69,6 +69,17 @@ ModelChange with_origins(ModelChange change, const OperationResult& result) {
   return change;
 }
 
+// Runs `f` when the scope is left, however it is left (a return, a miss, an exception).
+template <class F>
+struct AtExit {
+  F f;
+  ~AtExit() { f(); }
+};
+template <class F>
+AtExit<F> at_exit(F f) {
+  return {std::move(f)};
+}
+
 }  // namespace
 
 void Session::open(std::shared_ptr<const Model> model, bool take_over) {
@@ -76,6 +87,7 @@ void Session::open(std::shared_ptr<const Model> model, bool take_over) {
   editing_ = {};
   steps_.clear();
   done_ = 0;
+  lent_ = false;
   if (take_over) {
     live_ = std::const_pointer_cast<Model>(std::move(model));
   } else {
@@ -214,18 +226,17 @@ Applied Session::apply(const Operation& op) {
   PosedModel* posed = posed_for(live_.get());
   Applied applied;
   ModelRecorder recorder(*live_);
+  const auto dropping = at_exit([this] { drop_lent(); });  // however it ends, unless a step is pushed
   lend_undone(recorder);
   try {
     applied.result = apply_operation(*live_, op, *posed);
   } catch (...) {
     recorder.finish().undo(*live_);  // what a refused drill did is taken back
-    drop_lent();
     throw;
   }
   ModelStep record = recorder.finish();
   if (applied.result.status != OpStatus::Ok) {
     if (!record.change().empty()) record.undo(*live_);  // a miss changes nothing
-    drop_lent();
     posed_state_ = live_.get();
     applied.ms = ms_since(start);
     return applied;
@@ -251,10 +262,10 @@ std::vector<Applied> Session::apply_history(const History& history, const std::s
   std::vector<Applied> out;
   std::vector<ModelStep> records;  // one per operation that applied (Undo::None: one in all)
   std::optional<ModelRecorder> recorder;
+  const auto dropping = at_exit([this] { drop_lent(); });  // however it ends, unless a step is pushed
   auto take_back = [&] {  // a bad operation leaves the session as it was
     if (recorder) recorder->finish().undo(*live_);
     for (std::size_t i = records.size(); i-- > 0;) records[i].undo(*live_);
-    drop_lent();
     posed_state_ = nullptr;
   };
   auto record_next = [&] {
@@ -286,7 +297,12 @@ std::vector<Applied> Session::apply_history(const History& history, const std::s
       }
     }
     applied.ms = ms_since(start);
-    if (observer) observer(i, *live_, applied);
+    try {
+      if (observer) observer(i, *live_, applied);
+    } catch (...) {  // the observer's failure is the history's: nothing changes
+      take_back();
+      throw;
+    }
     out.push_back(std::move(applied));
   }
   if (recorder) {
@@ -295,7 +311,6 @@ std::vector<Applied> Session::apply_history(const History& history, const std::s
   }
   if (!records.empty()) stash_.clear();
   for (auto& record : records) push(std::move(record), std::nullopt);
-  drop_lent();  // none applied
   return out;
 }
 

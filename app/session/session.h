@@ -104,7 +104,8 @@ class Session {
   /// Sees operation `index` of a history just applied, with the model right after it.
   using AppliedObserver = std::function<void(std::size_t index, const Model& after, const Applied& applied)>;
   /// Runs every operation of `history` on the current state as `deepcut apply` does (one that
-  /// misses changes nothing); all first, so a bad operation leaves the session as it was.
+  /// misses changes nothing); all first, so a bad operation (or an observer that throws) leaves
+  /// the session as it was.
   /// @returns one entry per operation of `history`.
   /// @throws Error naming `source` and the operation index when one is invalid.
   std::vector<Applied> apply_history(const History& history, const std::string& source,
@@ -209,8 +210,8 @@ class Session {
   /// Lends `recorder` the memory of the steps undone, which an operation that applies drops
   /// (ModelRecorder::lend_spares): the pieces a cut copies out reuse it instead of new memory.
   void lend_undone(ModelRecorder& recorder);
-  /// After an operation that did not apply: the steps undone are dropped when their memory was
-  /// taken (they can no longer be redone).
+  /// On every way out of an apply (a miss, a failure, an exception) that pushed no step: the
+  /// steps undone are dropped when their memory was taken (they can no longer be redone).
   void drop_lent();
   /// The operation list recorded for the live model by an edit, if any.
   const std::vector<OperationEntry>* rerun_entries() const;

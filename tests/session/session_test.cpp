@@ -510,6 +510,39 @@ TEST(SessionTest, a_cut_after_an_undo_copies_its_pieces_into_the_memory_of_the_s
   }
 }
 
+// An apply that took the undone step's memory and then ended without a step (here its observer
+// throws after the cut copied its pieces out) drops that step: it can no longer be redone (its
+// meshes are gone), and the session can still undo, redo and apply as one that never had it.
+TEST(SessionTest, an_apply_that_took_the_undone_step_s_memory_and_pushed_no_step_drops_it) {
+  const auto cactus = load_cactus();
+  Session session;
+  session.open(cactus);
+  Operations ops(*cactus, 7);
+  Operation first = ops.cut();
+  first.animation = -1;
+  first.time = 0.0f;
+  ASSERT_EQ(session.apply(first).result.status, OpStatus::Ok);
+  session.undo();
+  ASSERT_TRUE(session.can_redo());
+  History history;
+  history.operations.push_back(first);
+  EXPECT_THROW(session.apply_history(history, "h.json",
+                                     [](std::size_t, const Model&, const Applied&) {
+                                       throw std::runtime_error("the observer fails");
+                                     }),
+               std::runtime_error);
+  EXPECT_EQ(bytes(*session.current()), bytes(*cactus)) << "the history's failure changes nothing";
+  EXPECT_FALSE(session.can_redo()) << "the step whose memory was taken is dropped";
+  EXPECT_TRUE(session.redo().empty()) << "nothing to redo";
+  ASSERT_EQ(session.apply(first).result.status, OpStatus::Ok);
+  Session fresh;
+  fresh.open(cactus);
+  ASSERT_EQ(fresh.apply(first).result.status, OpStatus::Ok);
+  EXPECT_EQ(bytes(*session.current()), bytes(*fresh.current()));
+  session.undo();
+  EXPECT_EQ(bytes(*session.current()), bytes(*cactus));
+}
+
 TEST(SessionTest, a_session_writes_what_deepcut_apply_writes_and_refuses_a_swallowing_drill_alike) {
   const std::string dir = test::temp_dir("session-cli");
   Session session;
