@@ -86,11 +86,19 @@ void OperationsHost::commit(const QString& label, std::shared_ptr<const Model> s
   emit done(label, ms);
 }
 
+void OperationsHost::drop_stale_redo() {
+  if (session_.can_redo() || !undo_stack_->canRedo()) return;
+  auto* drop = new QUndoCommand;
+  drop->setObsolete(true);  // never run nor kept: pushing it drops the commands past the index
+  undo_stack_->push(drop);
+}
+
 template <class Run>
 bool OperationsHost::reporting(const std::string& title, Run&& run) {
+  bool ran = false;
   try {
     run();
-    return true;
+    ran = true;
   } catch (const Error& e) {
     emit failed(QString::fromStdString(title + ": " + e.what()));
   } catch (const std::bad_alloc&) {
@@ -98,7 +106,8 @@ bool OperationsHost::reporting(const std::string& title, Run&& run) {
   } catch (const std::exception& e) {  // a defect in an operation: reported, never a crash
     emit failed(QString::fromStdString(title + ": internal error: " + e.what()));
   }
-  return false;
+  drop_stale_redo();
+  return ran;
 }
 
 bool OperationsHost::apply_tool() {
@@ -128,7 +137,13 @@ bool OperationsHost::apply_tool() {
 
 void OperationsHost::apply_history(const History& history, const std::string& source) {
   if (!history.operations.empty()) lend_scene_pose(history.operations.front());
-  const std::vector<session::Applied> applied = session_.apply_history(history, source);
+  std::vector<session::Applied> applied;
+  try {
+    applied = session_.apply_history(history, source);
+  } catch (...) {
+    drop_stale_redo();
+    throw;
+  }
   ModelChange structure;
   structure.structure = true;
   for (std::size_t i = 0; i < applied.size(); ++i)

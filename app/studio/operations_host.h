@@ -98,7 +98,12 @@ class OperationsHost : public QObject {
   /// Reports what a re-run made (on the UI thread) and makes it current. @returns true when
   /// the edited operation applied.
   bool take_edit(session::EditRun run, const std::string& title, int index);
-  /// Reports what `run` throws (an operation's defect included) as `title: ...`.
+  /// After an apply that did not apply but dropped the session's undone steps (their memory was
+  /// taken: Session::apply): drops the undo stack's redo commands too, so that Undo and Redo keep
+  /// acting on the session's steps.
+  void drop_stale_redo();
+  /// Reports what `run` throws (an operation's defect included) as `title: ...`, then drops the
+  /// redo commands the session no longer has (drop_stale_redo).
   template <class Run>
   bool reporting(const std::string& title, Run&& run);
 
