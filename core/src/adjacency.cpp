@@ -12,38 +12,11 @@ namespace deepcut {
 namespace {
 
 // The lists are a vertex's faces: a handful of ids, so the elements after an insertion or a
-// removal are moved one by one (no call out to memmove).
+// removal are moved one by one (no call out to memmove). A list of `n` ids at `p` (with room for
+// one more on insert); both return the list's new size.
 template <class T>
-void insert_sorted(std::vector<T>& list, T value) {
-  if (list.empty() || list.back() < value) {  // the common case: a new face, the newest id
-    list.push_back(value);
-    return;
-  }
-  const auto at = static_cast<std::size_t>(std::lower_bound(list.begin(), list.end(), value) - list.begin());
-  if (list[at] == value) return;
-  list.push_back(value);
-  T* p = list.data();
-  for (std::size_t i = list.size() - 1; i > at; --i) p[i] = p[i - 1];
-  p[at] = value;
-}
-
-// Found by a scan from the front: over a handful of ids it costs less than a binary search, and
-// the elements after it are moved one by one anyway.
-template <class T>
-void erase_sorted(std::vector<T>& list, T value) {
-  T* p = list.data();
-  const std::size_t n = list.size();
-  std::size_t at = 0;
-  while (at < n && p[at] < value) ++at;
-  if (at == n || p[at] != value) return;
-  for (std::size_t i = at + 1; i < n; ++i) p[i - 1] = p[i];
-  list.pop_back();
-}
-
-// The same on an added list of `n` faces at `p` (with room for one more on insert); both return
-// the list's new size.
-std::uint32_t insert_sorted(FaceId* p, std::uint32_t n, FaceId value) {
-  if (n == 0 || p[n - 1] < value) {
+std::uint32_t insert_sorted(T* p, std::uint32_t n, T value) {
+  if (n == 0 || p[n - 1] < value) {  // the common case: a new face, the newest id
     p[n] = value;
     return n + 1;
   }
@@ -54,12 +27,28 @@ std::uint32_t insert_sorted(FaceId* p, std::uint32_t n, FaceId value) {
   return n + 1;
 }
 
-std::uint32_t erase_sorted(FaceId* p, std::uint32_t n, FaceId value) {
+// Found by a scan from the front: over a handful of ids it costs less than a binary search, and
+// the elements after it are moved one by one anyway.
+template <class T>
+std::uint32_t erase_sorted(T* p, std::uint32_t n, T value) {
   std::uint32_t at = 0;
   while (at < n && p[at] < value) ++at;
   if (at == n || p[at] != value) return n;
   for (std::uint32_t i = at + 1; i < n; ++i) p[i - 1] = p[i];
   return n - 1;
+}
+
+// The same on a vertex's own list (the vertices the build saw).
+template <class T>
+void insert_sorted(std::vector<T>& list, T value) {
+  const auto n = static_cast<std::uint32_t>(list.size());
+  list.push_back(value);  // the room for one more (taken off again where `value` was there)
+  list.resize(insert_sorted(list.data(), n, value));
+}
+
+template <class T>
+void erase_sorted(std::vector<T>& list, T value) {
+  list.resize(erase_sorted(list.data(), static_cast<std::uint32_t>(list.size()), value));
 }
 
 }  // namespace

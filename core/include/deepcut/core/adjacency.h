@@ -55,8 +55,10 @@ class Adjacency {
   /// Updates from the edits of one or more operations, in order. O(#edits).
   void apply(const EditLog& log);
   /// Reserves room for `vertices` vertices and `faces` face slots, so updates that grow the
-  /// adjacency up to these sizes never move the existing lists (call it with the headroom given
-  /// to SurfaceMesh::reserve; a copy of an Adjacency keeps only the room it uses). Also gives
+  /// adjacency up to these sizes never move the lists of the vertices `build` saw (call it with
+  /// the headroom given to SurfaceMesh::reserve; a copy of an Adjacency keeps only the room it
+  /// uses). The added vertices' lists share one pool, which an update may move (a list that
+  /// outgrows its room): a VertexFaces view is not held across an update. Also gives
   /// every vertex's face list the few spare entries `build` leaves, so an edit's inserts around
   /// an old vertex do not reallocate its list.
   void reserve(std::size_t vertices, std::size_t faces);
@@ -64,7 +66,8 @@ class Adjacency {
   std::size_t vertex_count() const { return vertex_faces_.size() + added_.size(); }
   /// Live faces around `v`, sorted by id.
   VertexFaces vertex_faces(VertexId v) const {
-    if (v.index < vertex_faces_.size()) return VertexFaces(vertex_faces_[v.index].data(), vertex_faces_[v.index].size());
+    if (v.index < vertex_faces_.size())
+      return VertexFaces(vertex_faces_[v.index].data(), vertex_faces_[v.index].size());
     const AddedList& list = added_[v.index - vertex_faces_.size()];
     return VertexFaces(added_pool_.data() + list.at, list.size);
   }
