@@ -207,9 +207,10 @@ bool number_pieces(const SurfaceMesh& mesh, const std::vector<std::vector<FaceId
 
 // --- the pieces' arrays ------------------------------------------------------------------------
 // Groups of elements are copied: a vertex's or a face's element, or a face's three corners (side
-// by side). A piece copied out is new memory: each of its arrays is written once, by one task
-// (fill_pieces, through AttributeArrayBase::gather_groups). The piece that keeps the mesh's arrays
-// is compacted in place (compact_piece).
+// by side). A piece copied out is new memory, or the memory of a step being dropped (give_room):
+// each of its arrays is written once, by one task (fill_pieces, through
+// AttributeArrayBase::gather_groups). The piece that keeps the mesh's arrays is compacted in place
+// (compact_piece).
 
 // The list that picks a set's elements (faces pick their corners too).
 const std::vector<std::uint32_t>& list_of(const Numbering& num, std::size_t s, int kind) {
@@ -245,8 +246,8 @@ std::size_t in_place_piece(const SurfaceMesh& mesh, const Numbering& num) {
   return best;
 }
 
-// New memory a piece's array is written into once (AttributeArrayBase::gather_groups): asked to
-// come as huge pages.
+// Memory a piece's array is written into once (AttributeArrayBase::gather_groups): asked to come
+// as huge pages (which changes nothing where the memory is a reused spare's, already present).
 void fresh_memory(void* data, std::size_t bytes) { advise_huge_pages(data, bytes); }
 
 // One array of a piece copied out: where from, where to, which groups.
