@@ -221,7 +221,13 @@ class ViewFollowGuiTest : public QObject {
     count_taken();
     // `change`: what the session says the step changed (as the studio is told).
     auto check_step = [&](const ModelChange& change, const std::string& what) {
+      std::vector<const glm::vec3*> normals_before;
+      for (const plugins::SceneInstance& s : scene.instances) normals_before.push_back(s.posed_normals.data());
       if (plugins::follow_scene(scene, session.current(), change)) {
+        // A local step's corner normals grow (or shrink) in place, in the room they were made with.
+        for (std::size_t i = 0; !change.structure && i < scene.instances.size(); ++i)
+          QVERIFY2(scene.instances[i].posed_normals.data() == normals_before[i],
+                   (what + ": a local step moved the corner normals").c_str());
         view.update_scene(change);
         ++followed;
         structural += change.structure;
