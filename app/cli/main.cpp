@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "deepcut/core/errors.h"
+#include "deepcut/core/process_memory.h"
 #include "args.h"
 #include "help.h"
 
@@ -24,6 +25,7 @@ std::string one_line(const char* text) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  deepcut::keep_freed_memory();  // an operation writes into the pages the last one freed
   std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "-h" || args[0] == "--help" || args[0] == "help") {
     std::cout << deepcut::cli::usage();

@@ -22,6 +22,7 @@
 #include <sstream>
 
 #include "deepcut/core/errors.h"
+#include "deepcut/core/process_memory.h"
 #include "deepcut/core/ops/operation.h"
 #include "main_window.h"
 #include "scene_view.h"
@@ -148,6 +149,7 @@ int screenshot(MainWindow& window, const StudioOptions& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  deepcut::keep_freed_memory();  // an operation writes into the pages the last one freed
   // --help, and a clear message instead of Qt's abort when there is no display at all.
   for (int i = 1; i < argc; ++i)
     if (std::string(argv[i]) == "-h" || std::string(argv[i]) == "--help") {

@@ -14,6 +14,7 @@
 #include <benchmark/benchmark.h>
 #include <nlohmann/json.hpp>
 
+#include "deepcut/core/process_memory.h"
 #include "bench_cases.h"
 
 namespace {
@@ -49,6 +50,7 @@ class Collector : public benchmark::BenchmarkReporter {
 }  // namespace
 
 int main(int argc, char** argv) {
+  deepcut::keep_freed_memory();  // an operation writes into the pages the last one freed
   bool as_json = false, quick = false;
   std::vector<char*> args = {argv[0]};
   for (int i = 1; i < argc; ++i) {

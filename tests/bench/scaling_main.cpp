@@ -38,6 +38,7 @@
 #include <unistd.h>
 
 #include "deepcut/core/generate/cactus.h"
+#include "deepcut/core/process_memory.h"
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/ops/cut.h"
 #include "deepcut/core/ops/operation.h"
@@ -323,6 +324,7 @@ std::string fmt(double v, int digits) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  deepcut::keep_freed_memory();  // an operation writes into the pages the last one freed
   const Options opt = parse(argc, argv);
   const char* tmp = std::getenv("TMPDIR");
   const std::string dir = tmp && *tmp ? tmp : "/tmp";

@@ -54,6 +54,7 @@
 #include <nlohmann/json.hpp>
 
 #include "deepcut/core/generate/cactus.h"
+#include "deepcut/core/process_memory.h"
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/ops/operation.h"
 #include "main_window.h"
@@ -401,6 +402,7 @@ void print_table(const json& results) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  deepcut::keep_freed_memory();  // an operation writes into the pages the last one freed
   bool as_json = false, quick = false, rebuilds = true, open_only = false;
   int ops = 100;
   std::size_t size = 0;
