@@ -331,9 +331,9 @@ struct ModelRecorder::Impl final : MeshObserver, detail::SplitWatcher {
   void splitting(std::uint32_t id, SurfaceMesh& mesh, const std::vector<std::vector<std::uint32_t>>& vertices,
                  const std::vector<std::vector<std::uint32_t>>& faces, std::size_t big) override;
   void split(std::uint32_t id, std::vector<SurfaceMesh>& made) override;
-  std::unique_ptr<AttributeArrayBase> spare_array(const AttributeArrayBase& like,
-                                                  std::size_t elements) override;
-  std::vector<Triangle> spare_triangles(std::size_t count) override;
+  std::unique_ptr<AttributeArrayBase> spare_array(const AttributeArrayBase& like, std::size_t elements,
+                                                  std::size_t most) override;
+  std::vector<Triangle> spare_triangles(std::size_t count, std::size_t most) override;
   void take_spares();
   std::vector<SurfaceMesh*> live_pieces();
   void put_together(Watched& w, const std::vector<SurfaceMesh*>& live);
@@ -454,17 +454,17 @@ void ModelRecorder::Impl::take_spares() {
 }
 
 std::unique_ptr<AttributeArrayBase> ModelRecorder::Impl::spare_array(const AttributeArrayBase& like,
-                                                                     std::size_t elements) {
+                                                                     std::size_t elements, std::size_t most) {
   take_spares();
-  return take_smallest_fit(spare_arrays, elements, [&](const std::unique_ptr<AttributeArrayBase>& a) {
+  return take_smallest_fit(spare_arrays, elements, most, [&](const std::unique_ptr<AttributeArrayBase>& a) {
     return a->type() == like.type() ? a->capacity_bytes() / a->element_bytes() : 0;
   });
 }
 
-std::vector<Triangle> ModelRecorder::Impl::spare_triangles(std::size_t count) {
+std::vector<Triangle> ModelRecorder::Impl::spare_triangles(std::size_t count, std::size_t most) {
   take_spares();
   std::vector<Triangle> out =
-      take_smallest_fit(spare_tris, count, [](const std::vector<Triangle>& t) { return t.capacity(); });
+      take_smallest_fit(spare_tris, count, most, [](const std::vector<Triangle>& t) { return t.capacity(); });
   out.clear();
   return out;
 }

@@ -510,6 +510,37 @@ TEST(SessionTest, a_cut_after_an_undo_copies_its_pieces_into_the_memory_of_the_s
   }
 }
 
+// A small piece (a few hundred vertices: the cactus's top, cut off near its tip) is copied out
+// with the operations' fixed room, several times its size; cut again a little lower after the
+// undo, its larger successor still takes that memory.
+TEST(SessionTest, a_small_piece_cut_again_after_an_undo_takes_the_memory_of_the_one_dropped) {
+  const auto cactus = load_cactus();
+  const BoundingBox box = rest_bounds(*cactus);
+  Session session;
+  session.open(cactus);
+  const std::set<const void*> opened = array_memory(*session.current());
+  const float height = box.max.y - box.min.y;
+  Operation first{CutOperation{}, -1, 0.0f};
+  std::get<CutOperation>(first.params).plane = Plane{glm::vec3(0.0f, box.max.y - 0.04f * height, 0.0f),
+                                                    glm::vec3(0.0f, 1.0f, 0.0f)};
+  ASSERT_EQ(session.apply(first).result.status, OpStatus::Ok);
+  std::set<const void*> copied;
+  for (const void* memory : array_memory(*session.current()))
+    if (!opened.count(memory)) copied.insert(memory);
+  ASSERT_FALSE(copied.empty());
+  session.undo();
+  Operation lower = first;
+  std::get<CutOperation>(lower.params).plane.point.y -= 0.01f * height;
+  ASSERT_EQ(session.apply(lower).result.status, OpStatus::Ok);
+  std::size_t reused = 0;
+  for (const void* memory : array_memory(*session.current())) reused += copied.count(memory);
+  EXPECT_GT(reused, 0u) << "the small piece copied out reuses the memory of the step dropped";
+  Session fresh;
+  fresh.open(cactus);
+  ASSERT_EQ(fresh.apply(lower).result.status, OpStatus::Ok);
+  EXPECT_EQ(bytes(*session.current()), bytes(*fresh.current()));
+}
+
 // An apply that took the undone step's memory and then ended without a step (here its observer
 // throws after the cut copied its pieces out) drops that step: it can no longer be redone (its
 // meshes are gone), and the session can still undo, redo and apply as one that never had it.

@@ -74,12 +74,12 @@ class SplitWatcher {
   /// The pieces made (in the lists' order).
   virtual void split(std::uint32_t id, std::vector<SurfaceMesh>& pieces) = 0;
   /// Memory an accepted split's pieces copied out may take instead of new memory (what steps
-  /// being dropped held): an empty array of `like`'s type with room for `elements` (at most about
-  /// twice that: take_smallest_fit), or nullptr; triangles likewise (empty: none). Asked before
+  /// being dropped held): an empty array of `like`'s type with room for `elements` and at most
+  /// `most` (take_smallest_fit), or nullptr; triangles likewise (empty: none). Asked before
   /// `splitting`, from one thread; what is taken is written over.
-  virtual std::unique_ptr<AttributeArrayBase> spare_array(const AttributeArrayBase& like,
-                                                          std::size_t elements) = 0;
-  virtual std::vector<Triangle> spare_triangles(std::size_t count) = 0;
+  virtual std::unique_ptr<AttributeArrayBase> spare_array(const AttributeArrayBase& like, std::size_t elements,
+                                                          std::size_t most) = 0;
+  virtual std::vector<Triangle> spare_triangles(std::size_t count, std::size_t most) = 0;
 };
 
 /// What a piece split out of a mesh holds of it: piece vertex (face) i is the mesh's vertex (face
