@@ -16,6 +16,7 @@
 
 #include "deepcut/core/generate/cactus.h"
 #include "deepcut/core/posed_model.h"
+#include "deepcut/core/process_memory.h"
 #include "session.h"
 
 namespace {
@@ -82,6 +83,7 @@ void run(session::Session& s, const char* what, const std::vector<Operation>& op
 }  // namespace
 
 int main(int argc, char** argv) {
+  keep_freed_memory();  // as the studio and the CLI run
   const std::size_t triangles = argc > 1 ? std::strtoul(argv[1], nullptr, 10) : 1000000;
   const int drills = argc > 2 ? std::atoi(argv[2]) : 10;
   CactusOptions options;
