@@ -376,10 +376,15 @@ PosedMesh PosedModel::derive_instance(const Model& model, int node, int primitiv
   inst.world = world_.at(static_cast<std::size_t>(node));
   inst.weights = weights(node);
   inst.gridless = true;
+  // A spare's arrays are taken when they hold the vertices (as a piece's corner normals take a
+  // spare's, built_normals in the studio's scene): a piece a little larger than the one the
+  // spare was made for fits in that one's room (which then holds less room to follow later
+  // steps; a step past it grows the arrays as any std::vector grows).
   const std::size_t n = mesh.vertex_count(), room = operation_vertex_room(n);
-  PosedMesh taken = take_smallest_fit(
-      spare, room, [](const PosedMesh& m) { return std::min(m.posed.capacity(), m.linear.capacity()); });
-  if (taken.posed.capacity() >= room && taken.linear.capacity() >= room) {
+  PosedMesh taken = take_smallest_fit(spare, n, 2 * room + 1, [](const PosedMesh& m) {
+    return std::min(m.posed.capacity(), m.linear.capacity());
+  });
+  if (taken.posed.capacity() >= n && taken.linear.capacity() >= n) {
     // Its pages are there: only the elements past its sizes are filled (all are written below).
     inst.posed = std::move(taken.posed);
     inst.linear = std::move(taken.linear);

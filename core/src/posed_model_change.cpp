@@ -45,6 +45,36 @@ void cut_back(PosedMesh& inst, const SurfaceMesh& mesh) {
 
 using Place = std::pair<int, int>;  // (mesh, primitive)
 
+/// An instance a structural step makes out of one drawn before (PosedModel::derive_instance).
+struct Derivation {
+  std::pair<int, int> key;  // (node, primitive)
+  const PosedMesh* source;
+  const PrimitiveOrigin* origin;
+};
+
+/// `derived` (instances of `model`) with the most vertices first, so each takes the smallest
+/// spare that holds it (take_smallest_fit) and a piece that grew a little past the spare of the
+/// one it was does not take the spare a larger piece needs (leaving that one new arrays). Equal
+/// sizes keep their order.
+std::vector<Derivation> largest_first(const Model& model, std::vector<Derivation> derived) {
+  auto vertices = [&](const Derivation& d) {
+    const Mesh& mesh = model.meshes[static_cast<std::size_t>(model.nodes[static_cast<std::size_t>(d.key.first)].mesh)];
+    return mesh.primitives[static_cast<std::size_t>(d.key.second)].mesh.vertex_count();
+  };
+  std::stable_sort(derived.begin(), derived.end(),
+                   [&](const Derivation& a, const Derivation& b) { return vertices(a) > vertices(b); });
+  return derived;
+}
+
+/// Moves the instances of the contents that left (`left`) out of `old` into `stash`.
+void stash_left(const std::vector<PrimitiveContent>& left, std::map<std::pair<int, int>, PosedMesh>& old,
+                PoseStash& stash) {
+  for (const PrimitiveContent& l : left)
+    for (auto& [key, inst] : old)
+      if (inst.mesh == l.mesh && inst.primitive == l.primitive && !inst.posed.empty())
+        stash[{l.tag, inst.node}] = std::move(inst);
+}
+
 }  // namespace
 
 void PosedModel::follow(const Model& model, const ModelChange& change, PoseDetail detail, PoseStash* stash) {
@@ -111,6 +141,7 @@ void PosedModel::follow(const Model& model, const ModelChange& change, PoseDetai
     }
     return {nullptr, nullptr};
   };
+  std::vector<Derivation> derived;  // made once every instance kept or brought back is in place
   for (std::size_t ni = 0; ni < model.nodes.size(); ++ni) {
     const int mi = model.nodes[ni].mesh;
     if (mi < 0 || static_cast<std::size_t>(mi) >= model.meshes.size()) continue;
@@ -122,18 +153,16 @@ void PosedModel::follow(const Model& model, const ModelChange& change, PoseDetai
         inst.mesh = mi;
         inst.primitive = prim;
       } else if (const auto [source, origin] = source_of(node, {mi, prim}); source) {
-        inst = derive_instance(model, node, prim, *source, *origin, spare);
+        derived.push_back({{node, prim}, source, origin});  // its place held until it is made
       } else {
         inst = make_instance(model, node, prim, detail);
       }
       instances_[{node, prim}] = std::move(inst);
     }
   }
-  if (!stash) return;
-  for (const PrimitiveContent& l : change.left)
-    for (auto& [key, inst] : old)
-      if (inst.mesh == l.mesh && inst.primitive == l.primitive && !inst.posed.empty())
-        (*stash)[{l.tag, inst.node}] = std::move(inst);
+  for (const Derivation& d : largest_first(model, std::move(derived)))
+    instances_[d.key] = derive_instance(model, d.key.first, d.key.second, *d.source, *d.origin, spare);
+  if (stash) stash_left(change.left, old, *stash);
 }
 
 void PosedModel::follow(const Model& model, const ModelChange& change) {

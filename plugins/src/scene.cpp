@@ -170,6 +170,7 @@ void follow_structure(Scene& scene, std::shared_ptr<const Model> model, const Mo
   scene.world = scene.posed->world();
   scene.instances = list_instances(m);
   scene.origins.assign(scene.instances.size(), InstanceOrigin());
+  std::vector<std::size_t> built;  // the instances whose corner normals are made below
   for (std::size_t i = 0; i < scene.instances.size(); ++i) {
     SceneInstance& instance = scene.instances[i];
     instance.pose = scene.posed->find(instance.node, instance.primitive);
@@ -186,10 +187,18 @@ void follow_structure(Scene& scene, std::shared_ptr<const Model> model, const Mo
       if (n != normals_back.end()) instance.posed_normals = std::move(n->second);
     }
     const bool normals_fit = instance.posed_normals.size() == 3 * instance.surface->face_slots();
-    if (origin.kind == InstanceOrigin::Kind::Built || (with_normals && !normals_fit))
-      instance.posed_normals =
-          with_normals ? built_normals(instance, change, old, old_poses, spare) : std::vector<glm::vec3>();
+    if (origin.kind == InstanceOrigin::Kind::Built || (with_normals && !normals_fit)) {
+      instance.posed_normals = std::vector<glm::vec3>();
+      if (with_normals) built.push_back(i);
+    }
   }
+  // The largest first: each takes the smallest spare that holds it, so a piece that grew a little
+  // past the spare of the one it was does not take the spare a larger piece needs.
+  std::stable_sort(built.begin(), built.end(), [&](std::size_t a, std::size_t b) {
+    return scene.instances[a].surface->face_slots() > scene.instances[b].surface->face_slots();
+  });
+  for (std::size_t i : built)
+    scene.instances[i].posed_normals = built_normals(scene.instances[i], change, old, old_poses, spare);
   // The instances whose posed mesh went into the stash, with their normals.
   scene.departed.clear();
   for (const auto& [key, inst] : scene.stash->posed)

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <fstream>
 #include <map>
@@ -435,11 +436,57 @@ TEST(SessionTest, a_follower_derives_a_new_cut_s_piece_into_the_arrays_of_a_piec
   ASSERT_EQ(applied.result.status, OpStatus::Ok);
   follower.follow(*session.current(), applied.change, PoseDetail::Positions, &stash);
   EXPECT_EQ(test::difference_from_fresh_build(follower, *session.current()), "");
-  std::size_t reused = 0;
+  std::size_t derived = 0, reused = 0;
   for (const auto& origin : applied.change.origins)
-    if (const PosedMesh* inst = follower.find(origin->node, origin->primitive))
+    if (const PosedMesh* inst = follower.find(origin->node, origin->primitive)) {
+      ++derived;
       reused += set_aside.count(inst->posed.data());
-  EXPECT_GT(reused, 0u) << "a derived piece takes the arrays of a piece set aside";
+    }
+  // Each piece holds about as many vertices as one set aside: the one that grew takes the arrays
+  // of the one it was (their room holds it), not new ones.
+  EXPECT_EQ(derived, set_aside.size());
+  EXPECT_EQ(reused, derived) << "every derived piece takes the arrays of a piece set aside";
+}
+
+// With one spare that holds every piece of a cut, the piece with the most vertices takes it and
+// the others get new arrays: pieces are derived largest first, so a smaller one met earlier in
+// node order does not take the spare the largest needs (the fewest bytes are new pages).
+TEST(SessionTest, a_follower_derives_the_largest_piece_into_the_one_spare_that_holds_it) {
+  Session session;
+  session.open(load_cactus());
+  for (std::uint32_t seed = 1; seed < 40; ++seed) {
+    PosedModel follower = PosedModel::build(*session.current(), -1, 0.0f, PoseDetail::Positions);
+    Operation op = Operations(*session.current(), seed / 2).cut();
+    if (seed % 2) {  // the plane flipped: the pieces swap sides (and their order in the model)
+      Plane& plane = std::get<CutOperation>(op.params).plane;
+      plane.normal = -plane.normal;
+    }
+    const Applied cut = session.apply(op);
+    if (cut.result.status != OpStatus::Ok) continue;
+    std::map<std::pair<int, int>, std::size_t> pieces;  // vertices by (node, primitive): met in this order
+    for (const auto& o : cut.change.origins)
+      pieces[{o->node, o->primitive}] = instance_surface(*session.current(), o->node, o->primitive)->vertex_count();
+    const auto largest = std::max_element(pieces.begin(), pieces.end(),
+                                          [](const auto& a, const auto& b) { return a.second < b.second; });
+    if (pieces.size() < 2 || largest == pieces.begin()) {  // the largest met first: another cut
+      session.undo();
+      continue;
+    }
+    // Set aside by no arrival (a tag no content has), with room for the largest piece only.
+    PosedMesh spare;
+    spare.posed.reserve(largest->second);
+    spare.linear.reserve(largest->second);
+    const glm::vec3* memory = spare.posed.data();
+    PoseStash stash;
+    stash[{~std::uint64_t(0), 0}] = std::move(spare);
+    follower.follow(*session.current(), cut.change, PoseDetail::Positions, &stash);
+    EXPECT_EQ(test::difference_from_fresh_build(follower, *session.current()), "");
+    const PosedMesh* inst = follower.find(largest->first.first, largest->first.second);
+    ASSERT_NE(inst, nullptr);
+    EXPECT_EQ(inst->posed.data(), memory) << "the largest piece takes the spare";
+    return;
+  }
+  FAIL() << "no cut whose largest piece a follower meets after a smaller one";
 }
 
 /// The memory of every non-empty array of the model's primitives (attributes and triangles).

@@ -25,6 +25,7 @@
 #include <vtkTypeInt64Array.h>
 
 #include "deepcut/core/io/gltf.h"
+#include "deepcut/core/operation_room.h"
 #include "deepcut/core/ops/operation.h"
 #include "deepcut/core/posed_model.h"
 #include "deepcut/plugins/scene.h"
@@ -182,6 +183,60 @@ class ViewFollowGuiTest : public QObject {
     }
     QVERIFY(pieces >= 2);
     QCOMPARE(written, pieces);
+  }
+
+  // With one set-aside array that holds the corner normals of every piece of a cut, the piece
+  // with the most face slots writes into it and the others get new arrays: the pieces' normals
+  // are made largest first, so a smaller piece drawn earlier does not take the array the
+  // largest needs.
+  void the_largest_piece_writes_its_normals_into_the_one_set_aside_array_that_holds_it() {
+    auto opened = std::make_shared<Model>(read_gltf(DEEPCUT_ASSETS_DIR "/cactus.glb"));
+    reserve_for_operations(*opened);
+    session::Session session;
+    session.open(opened);
+    const BoundingBox box = opened->meshes.front().primitives.front().mesh.bounds();
+    for (int attempt = 0; attempt < 40; ++attempt) {
+      plugins::Scene scene = plugins::make_scene(session.current(), -1, 0.0f);
+      CutOperation cut;
+      const float dy = (static_cast<float>(attempt / 2) / 20.0f - 0.5f) * (box.max.y - box.min.y);
+      cut.plane.point = 0.5f * (box.min + box.max) + glm::vec3(0.0f, dy, 0.0f);
+      cut.plane.normal = glm::vec3(0.05f, attempt % 2 ? -1.0f : 1.0f, 0.02f);  // flipped: sides swap
+      const session::Applied applied = session.apply(Operation{cut, -1, 0.0f});
+      if (applied.result.status != OpStatus::Ok) continue;
+      // The pieces' face slots in drawing order (the order follow_scene meets them).
+      std::vector<std::size_t> face_slots;
+      const auto fresh = plugins::make_scene(session.current(), -1, 0.0f);
+      for (const plugins::SceneInstance& s : fresh.instances)
+        for (const auto& o : applied.change.origins)
+          if (o->node == s.node && o->primitive == s.primitive) face_slots.push_back(s.surface->face_slots());
+      // A cut where a piece met before the largest could take the largest's array (its room is
+      // at most twice a fresh array's for that piece: take_smallest_fit) tells the order.
+      const auto largest = std::max_element(face_slots.begin(), face_slots.end());
+      const bool smaller_first = std::any_of(face_slots.begin(), largest, [&](std::size_t n) {
+        return 2 * operation_corner_room(n) >= 3 * *largest;
+      });
+      if (!smaller_first) {
+        session.undo();
+        continue;
+      }
+      // Set aside by no arrival (a tag no content has), with room for the largest piece only.
+      std::vector<glm::vec3> spare;
+      spare.reserve(3 * *largest);
+      const glm::vec3* memory = spare.data();
+      scene.stash = std::make_shared<plugins::SceneStash>();
+      scene.stash->normals[{~std::uint64_t(0), 0}] = std::move(spare);
+      QVERIFY(plugins::follow_scene(scene, session.current(), applied.change));
+      std::size_t written = 0;
+      for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+        QVERIFY(scene.instances[i].posed_normals == fresh.instances[i].posed_normals);
+        if (scene.instances[i].posed_normals.data() != memory) continue;
+        ++written;
+        QCOMPARE(scene.instances[i].surface->face_slots(), *largest);
+      }
+      QCOMPARE(written, std::size_t(1));
+      return;
+    }
+    QFAIL("no cut whose largest piece the scene meets after a smaller one");
   }
 
  private:

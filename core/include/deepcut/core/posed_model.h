@@ -236,8 +236,8 @@ class PosedModel {
   /// Instance (node, primitive) of `model` made out of `source` (the instance before the step) as
   /// `origin` says: positions and linear maps of vertices with a source copied, the others posed.
   /// Equal to make_instance(model, node, primitive, Positions). Its arrays are those of one of
-  /// `spare` (instances no longer drawn, taken by take_smallest_fit) when they hold the room
-  /// make_instance gives, so their memory is reused; else new.
+  /// `spare` (instances no longer drawn, taken by take_smallest_fit) when they hold its vertices,
+  /// so their memory is reused; else new, with the room make_instance gives.
   PosedMesh derive_instance(const Model& model, int node, int primitive, const PosedMesh& source,
                             const PrimitiveOrigin& origin, std::vector<PosedMesh>& spare) const;
   void set_pose(const Model& model, const PoseKey& key);
