@@ -467,7 +467,8 @@ TEST(ViewPolyDataOriginTest, a_kept_scratch_gives_what_own_memory_gives) {
       ViewPolyData source_view(*source.mesh, source.positions, &source.normals);
       renumber_points(source_view, source, "the source renumbered");
       const ViewPolyData own(*piece.mesh, piece.positions, &piece.normals, source_view, *origin);
-      const ViewPolyData kept(*piece.mesh, piece.positions, &piece.normals, source_view, *origin, nullptr, &scratch);
+      const ViewPolyData kept(*piece.mesh, piece.positions, &piece.normals, source_view, *origin, nullptr,
+                              &scratch);
       ASSERT_TRUE(kept.copied());
       expect_rebuilt(kept, *piece.mesh, piece.positions, &piece.normals, "with the kept scratch");
       EXPECT_TRUE(raw_arrays(kept) == raw_arrays(own)) << "arrays differ from a copy with memory of its own";

@@ -125,7 +125,8 @@ ViewPolyData::ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>
   resize(mesh);
   vertices_ = mesh.vertex_count();
   CopyScratch own;  // (without `scratch`)
-  copy_corner_points(Writer(poly_, mesh, positions, corner_normals), source, origin, scratch ? *scratch : own);
+  copy_corner_points(Writer(poly_, mesh, positions, corner_normals), source, origin,
+                     scratch ? *scratch : own);
   copied_ = true;
   modified();
 }

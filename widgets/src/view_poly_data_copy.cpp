@@ -123,14 +123,15 @@ bool ViewPolyData::copy_fits(const SurfaceMesh& mesh, const ViewPolyData& source
          source.uses_.size() == static_cast<std::size_t>(source.poly_->GetNumberOfPoints());
 }
 
-void ViewPolyData::copy_corner_points(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin,
-                                      CopyScratch& scratch) {
+void ViewPolyData::copy_corner_points(const Writer& w, const ViewPolyData& source,
+                                      const PrimitiveOrigin& origin, CopyScratch& scratch) {
   const SurfaceMesh& mesh = w.mesh;
   if (!scratch.copying_) scratch.copying_ = std::make_unique<Copying>();
   Copying& copying = *scratch.copying_;
   copying.start(source.uses_.size(), chunk_count(mesh.face_slots()));
   copy_connectivity(w, source, origin, copying);
-  const std::size_t points = number_taken(copying.point.get(), source.uses_.size(), copying.first, point_corner_);
+  const std::size_t points =
+      number_taken(copying.point.get(), source.uses_.size(), copying.first, point_corner_);
   uses_.assign(points, 0);  // (counted with the lists: prepare_updates)
   std::size_t waiting = 0;
   copying.rim.assign(mesh.vertex_count(), 0);
@@ -166,7 +167,8 @@ void ViewPolyData::copy_connectivity(const Writer& w, const ViewPolyData& source
   const SurfaceMesh& mesh = w.mesh;
   const std::size_t old_points = source.uses_.size();
   const auto old_cells = static_cast<std::size_t>(source.poly_->GetNumberOfCells());
-  const vtkTypeInt64* const old_connectivity = source.poly_->GetPolys()->GetConnectivityArray64()->GetPointer(0);
+  const vtkTypeInt64* const old_connectivity =
+      source.poly_->GetPolys()->GetConnectivityArray64()->GetPointer(0);
   for_chunks(mesh.face_slots(), [&](std::size_t chunk, std::size_t b, std::size_t e) {
     vtkTypeInt64* const conn = w.r.connectivity;
     const vtkTypeInt64* const old_conn = old_connectivity;
