@@ -48,13 +48,14 @@ std::shared_ptr<ViewPolyData> instance_view_data(const plugins::Scene& scene,
 std::shared_ptr<ViewPolyData> instance_view_data(const plugins::Scene& scene,
                                                  const plugins::SceneInstance& sp, const ViewPolyData& source,
                                                  const PrimitiveOrigin& origin,
-                                                 std::vector<std::shared_ptr<ViewPolyData>>* spare) {
+                                                 std::vector<std::shared_ptr<ViewPolyData>>* spare,
+                                                 ViewPolyData::CopyScratch* scratch) {
   std::shared_ptr<ViewPolyData> taken;
   if (spare)
     taken = take_smallest_fit(*spare, sp.surface->face_slots(),
                               [](const std::shared_ptr<ViewPolyData>& data) { return ViewPolyData::room(*data); });
-  auto data =
-      std::make_shared<ViewPolyData>(*sp.surface, sp.posed(), &sp.posed_normals, source, origin, taken.get());
+  auto data = std::make_shared<ViewPolyData>(*sp.surface, sp.posed(), &sp.posed_normals, source, origin,
+                                             taken.get(), scratch);
   const MaterialLook look = instance_look(scene, sp);
   use_texture_coords(data->poly(), look.base_color_image >= 0 && look.texcoord == 0);
   return data;

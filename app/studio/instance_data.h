@@ -37,11 +37,13 @@ std::shared_ptr<ViewPolyData> instance_view_data(const plugins::Scene& scene,
 /// corners share points from `source`, the data drawn for that other instance before the step.
 /// `spare` (or null): data no longer drawn and held nowhere else; the one take_smallest_fit
 /// chooses by ViewPolyData::room for the instance's cells leaves it, and the new data takes its
-/// arrays (their memory reused).
+/// arrays (their memory reused). `scratch` (or null): the copy's working memory, kept by the
+/// caller from copy to copy.
 std::shared_ptr<ViewPolyData> instance_view_data(const plugins::Scene& scene,
                                                  const plugins::SceneInstance& sp, const ViewPolyData& source,
                                                  const PrimitiveOrigin& origin,
-                                                 std::vector<std::shared_ptr<ViewPolyData>>* spare = nullptr);
+                                                 std::vector<std::shared_ptr<ViewPolyData>>* spare = nullptr,
+                                                 ViewPolyData::CopyScratch* scratch = nullptr);
 
 /// Computes what drawing `poly` the first time would otherwise compute on the UI thread, cached
 /// by VTK until the data changes: the bounds of its cells (the camera's clipping range) and the

@@ -43,22 +43,12 @@
 #include "deepcut/widgets/view_poly_data.h"
 #include "click_style.h"
 #include "instance_data.h"
+#include "scene_view_impl.h"
 #include "surface_mapper.h"
 #include "thread_cpu_time.h"
 
 namespace deepcut::studio {
 namespace {
-
-struct InstanceActor {
-  std::shared_ptr<ViewPolyData> data;  // follows the instance's mesh step by step
-  vtkSmartPointer<vtkPolyData> poly;   // data's
-  vtkSmartPointer<vtkPolyDataMapper> mapper;
-  vtkSmartPointer<vtkActor> actor;
-  vtkSmartPointer<vtkTexture> texture;  // the material's base colour texture, or null
-  MaterialLook look;
-  bool displaced = false;  // drawn at positions set by hand (set_instance_positions)
-  int node = -1, mesh = -1, primitive = -1;  // the scene instance it draws
-};
 
 double distance_to_segment(const glm::dvec2& p, const glm::dvec2& a, const glm::dvec2& b) {
   const glm::dvec2 ab = b - a;
@@ -68,69 +58,6 @@ double distance_to_segment(const glm::dvec2& p, const glm::dvec2& a, const glm::
 }
 
 }  // namespace
-
-struct SceneView::Prepared {
-  // One per scene instance: the view's own data (set_scene takes it, then it follows the steps).
-  std::vector<std::shared_ptr<ViewPolyData>> data;
-};
-
-struct SceneView::Impl {
-  QVTKOpenGLNativeWidget* widget = nullptr;
-  vtkNew<vtkGenericOpenGLRenderWindow> window;
-  vtkNew<vtkRenderer> renderer;  // the model and depth-tested overlays
-  vtkNew<vtkRenderer> tools;     // the tool widget, over the model
-  vtkNew<vtkRenderer> top;       // overlays drawn over the model and the widget
-  vtkNew<vtkCellPicker> picker;
-  vtkNew<vtkCornerAnnotation> caption;
-  vtkNew<vtkOrientationMarkerWidget> axes;
-  vtkNew<ClickStyle> style;
-  vtkSmartPointer<vtkProp> color_bar;
-  vtkSmartPointer<vtkActor> normals;
-  std::map<Layer, OverlayProps> overlays;
-  std::vector<InstanceActor> instances;
-  // The drawn data of the instances the last structural step removed, by the scene's stash keys.
-  std::map<std::pair<std::uint64_t, int>, std::shared_ptr<ViewPolyData>> stash;
-  std::map<int, vtkSmartPointer<vtkTexture>> textures;  // by image index
-  const plugins::Scene* scene = nullptr;
-  DisplayMode mode = DisplayMode::Shaded;
-  bool show_normals = false;
-  std::vector<BoneHandle> bones;
-  std::function<void(const plugins::Pick&)> pick_handler;
-  vtkSmartPointer<vtkAbstractWidget> tool_widget;
-  vtkNew<vtkCallbackCommand> clipping;
-  std::function<bool(const PointerEvent&)> pointer_handler;
-  std::function<void()> render_listener;
-  bool hold_renders = false, render_due = false;
-  bool updates_due = false;  // a new scene's data waits for prepare_updates after its first frame
-  double last_render_cpu_ms = 0.0;
-  int frames_drawn = 0;
-
-  int warmed = 0;  // how many of warm_up_next's variants were drawn
-
-  /// Adds the actor of scene instance `sp` drawing `data`.
-  void add_actor(const plugins::SceneInstance& sp, std::shared_ptr<ViewPolyData> data, std::vector<std::string>& notes);
-  /// update_scene of a structural step (the scene followed it: Scene::origins, Scene::departed).
-  void follow_structure(const ModelChange& change);
-  /// The data of `sp`, new in a structural step: copied through the step's origins from the data
-  /// drawn for the instance it was made out of (among `old`), else built afresh.
-  /// `spare`: data no longer drawn, held nowhere else, whose arrays a copy may take.
-  std::shared_ptr<ViewPolyData> built_data(const plugins::SceneInstance& sp, const ModelChange& change,
-                                           const std::vector<InstanceActor>& old,
-                                           std::vector<std::shared_ptr<ViewPolyData>>& spare) const;
-  /// The look and display mode every instance's actor gets.
-  void set_up(InstanceActor& instance) const;
-  /// Draws the next shader variant of SceneView::warm_up. @returns whether one remains.
-  bool warm_up_next();
-  void apply_look(InstanceActor& instance) const;
-  void apply_display_mode(InstanceActor& instance) const;
-  void rebuild_normals();
-  glm::dvec2 to_display(const glm::vec3& p) const;
-  bool pick_display(int x, int y);
-  /// The model (not the bones) under display (x, y).
-  bool pick_model(int x, int y, plugins::Pick& pick);
-  /// The ray through display (x, y), world space.
-  void display_ray(int x, int y, PointerEvent& event) const;
-};
 
 void SceneView::Impl::set_up(InstanceActor& instance) const {
   vtkProperty* property = instance.actor->GetProperty();
@@ -483,70 +410,6 @@ void SceneView::update_pose() {
   }
   d.stash.clear();  // drawn at the pose before
   d.rebuild_normals();
-}
-
-void SceneView::update_scene(const ModelChange& change) {
-  Impl& d = *impl_;
-  if (!d.scene) return;
-  if (change.structure) return d.follow_structure(change);
-  for (const PrimitiveChange& edit : change.primitives)
-    for (std::size_t i = 0; i < d.instances.size() && i < d.scene->instances.size(); ++i) {
-      const plugins::SceneInstance& sp = d.scene->instances[i];
-      if (sp.mesh == edit.mesh && sp.primitive == edit.primitive)
-        d.instances[i].data->update(*sp.surface, sp.posed(), &sp.posed_normals, edit);
-    }
-  if (d.show_normals) d.rebuild_normals();
-}
-
-std::shared_ptr<ViewPolyData> SceneView::Impl::built_data(
-    const plugins::SceneInstance& sp, const ModelChange& change, const std::vector<InstanceActor>& old,
-    std::vector<std::shared_ptr<ViewPolyData>>& spare) const {
-  for (const auto& o : change.origins) {
-    if (!o || o->node != sp.node || o->mesh != sp.mesh || o->primitive != sp.primitive) continue;
-    for (const InstanceActor& from : old)
-      if (from.data && from.node == o->node_before && from.mesh == o->mesh_before && from.primitive == o->primitive_before)
-        return instance_view_data(*scene, sp, *from.data, *o, &spare);
-  }
-  return instance_view_data(*scene, sp);
-}
-
-void SceneView::prepare_updates() {
-  for (InstanceActor& instance : impl_->instances) instance.data->prepare_updates();
-}
-
-void SceneView::Impl::follow_structure(const ModelChange& change) {
-  std::vector<InstanceActor> old;
-  old.swap(instances);
-  for (InstanceActor& instance : old) renderer->RemoveActor(instance.actor);
-  picker->InitializePickList();
-  decltype(stash) back;  // only what comes back (the rest is spare: a copy reuses its arrays)
-  using Kind = plugins::InstanceOrigin::Kind;
-  for (const plugins::InstanceOrigin& origin : scene->origins)
-    if (const auto it = stash.find(origin.key); origin.kind == Kind::Stashed && it != stash.end()) back.insert(*it);
-  std::vector<std::shared_ptr<ViewPolyData>> spare;
-  for (auto& [key, data] : stash)
-    if (!back.count(key) && data && data.use_count() == 1) spare.push_back(std::move(data));
-  stash.clear();
-  std::vector<std::string> notes;
-  for (std::size_t i = 0; i < scene->instances.size(); ++i) {
-    const plugins::SceneInstance& sp = scene->instances[i];
-    const plugins::InstanceOrigin origin = i < scene->origins.size() ? scene->origins[i] : plugins::InstanceOrigin();
-    std::shared_ptr<ViewPolyData> data;
-    if (origin.kind == Kind::Kept && origin.instance < old.size() && old[origin.instance].data) {
-      InstanceActor& from = old[origin.instance];  // displaced positions go back to the pose
-      if (from.displaced) from.data->set_positions(sp.posed(), nullptr);
-      data = std::move(from.data);
-    } else if (const auto it = back.find(origin.key); origin.kind == Kind::Stashed && it != back.end()) {
-      data = std::move(it->second);
-    }
-    // (A guard: data of another state than the scene's.)
-    if (data && static_cast<std::size_t>(data->poly()->GetNumberOfCells()) != sp.surface->face_slots()) data = nullptr;
-    if (data) clear_colors(data->poly());  // the inspectors colour again
-    add_actor(sp, data ? std::move(data) : built_data(sp, change, old, spare), notes);
-  }
-  for (const auto& [j, key] : scene->departed)  // (displaced data is not kept: built again)
-    if (j < old.size() && old[j].data && !old[j].displaced) stash[key] = std::move(old[j].data);
-  rebuild_normals();
 }
 
 vtkPolyData* SceneView::instance_poly_data(std::size_t instance) const {

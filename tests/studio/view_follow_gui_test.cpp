@@ -139,6 +139,10 @@ class ViewFollowGuiTest : public QObject {
   // arrays of the data the first cut set aside (a spare: what no undo brings back any more), and
   // every step draws what a full build draws.
   void a_second_cut_reuses_what_the_first_set_aside() { follow_steps(true, true); }
+  // A cut, its undo, then a cut a little lower (a user trying again): the pieces are copied in
+  // the working memory the view kept from the first cut's copies, into the arrays the undo set
+  // aside, and every step draws what a full build draws.
+  void a_cut_again_after_its_undo_draws_like_a_full_build() { follow_steps(true, true, true); }
   // A cut, its undo, then a cut a little lower (what a user trying again does): every piece of
   // the second cut writes its posed corner normals into those a piece of the first set aside
   // (their room holds the piece that grew), and they equal a fresh scene's.
@@ -240,7 +244,7 @@ class ViewFollowGuiTest : public QObject {
   }
 
  private:
-  void follow_steps(bool cuts, bool two_cuts = false) {
+  void follow_steps(bool cuts, bool two_cuts = false, bool undo_between = false) {
     auto opened = std::make_shared<Model>(read_gltf(DEEPCUT_ASSETS_DIR "/cactus.glb"));
     reserve_for_operations(*opened);
     const int animation = opened->animations.empty() ? -1 : 0;
@@ -324,8 +328,14 @@ class ViewFollowGuiTest : public QObject {
       if (two_cuts) {  // the first across the top, the second across the larger piece's top
         const float h = box.max.y - box.min.y;
         auto& plane = std::get<CutOperation>(op.params).plane;
-        plane.point = 0.5f * (box.min + box.max) + glm::vec3(0.0f, (i == 0 ? 0.3f : 0.15f) * h, 0.0f);
+        const float at = i == 0 ? 0.3f : undo_between ? 0.25f : 0.15f;
+        plane.point = 0.5f * (box.min + box.max) + glm::vec3(0.0f, at * h, 0.0f);
         plane.normal = glm::vec3(0.05f, 1.0f, 0.02f);
+      }
+      if (undo_between && i == 1) {
+        check_step(session.undo(), "undo between the cuts");
+        if (QTest::currentTestFailed()) return;
+        count_taken();
       }
       const session::Applied applied = session.apply(op);
       if (applied.result.status != OpStatus::Ok) continue;
@@ -342,7 +352,7 @@ class ViewFollowGuiTest : public QObject {
       check_step(session.redo(), "redo");
       if (QTest::currentTestFailed()) return;
     }
-    QVERIFY2(followed >= (two_cuts ? 6 : steps), "the view followed the steps");
+    QVERIFY2(followed >= (two_cuts ? (undo_between ? 4 : 6) : steps), "the view followed the steps");
     if (cuts) {
       QVERIFY2(structural >= 3, "cuts, their undo and redo were followed");
       QVERIFY2(reused >= 2, "undo and redo of cuts drew what was drawn before");

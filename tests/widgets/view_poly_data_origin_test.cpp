@@ -421,5 +421,62 @@ TEST(ViewPolyDataOriginTest, a_piece_taking_a_spare_equals_a_fresh_build) {
   set_thread_count(saved);
 }
 
+/// The raw values of every array `view` draws with (points, point data by name, cells).
+std::vector<std::vector<char>> raw_arrays(const ViewPolyData& view) {
+  std::vector<std::vector<char>> out;
+  auto add = [&](vtkDataArray* a) {
+    ASSERT_NE(a, nullptr);
+    const auto* from = static_cast<const char*>(a->GetVoidPointer(0));
+    out.emplace_back(from, from + a->GetNumberOfValues() * a->GetDataTypeSize());
+  };
+  vtkPolyData* poly = view.poly();
+  add(poly->GetPoints()->GetData());
+  for (const char* name : {"vertex_id", "uv0", "normal"}) add(poly->GetPointData()->GetArray(name));
+  add(poly->GetCellData()->GetArray("face_id"));
+  add(poly->GetPolys()->GetOffsetsArray64());
+  add(poly->GetPolys()->GetConnectivityArray64());
+  return out;
+}
+
+// One scratch kept across copying builds, as the studio's view keeps one: the pieces of a cut,
+// of another cut of the same model (the first undone), of a smaller model (fewer points, fewer
+// chunks of faces) and of a bigger one, each equal to a fresh build and, raw array by raw array,
+// to a copy with memory of its own: a build reads nothing an earlier one left in the scratch.
+TEST(ViewPolyDataOriginTest, a_kept_scratch_gives_what_own_memory_gives) {
+  struct Step {
+    int nx, ny;
+    Plane plane;
+  };
+  const Step steps[] = {{160, 120, plane_through({0.1f, 0.0f, 0.1f}, {0.3f, 0.0f, 1.0f})},
+                        {160, 120, plane_through({0.6f, 0.0f, 0.3f}, {1.0f, 0.0f, 0.2f})},
+                        {30, 20, plane_through({0.37f, 0.0f, 0.41f}, {0.3f, 0.0f, 1.0f})},
+                        {200, 150, plane_through({0.5f, 0.0f, 0.5f}, {-0.4f, 0.0f, 1.0f})}};
+  ViewPolyData::CopyScratch scratch;
+  std::size_t copies = 0;
+  for (const Step& step : steps) {
+    SCOPED_TRACE("grid " + std::to_string(step.nx) + " x " + std::to_string(step.ny));
+    Cut c;
+    cut(c, grid_model(step.nx, step.ny), step.plane, -1, 0.0f);
+    const PosedModel posed_before = PosedModel::build(c.before, -1, 0.0f, PoseDetail::Positions);
+    const PosedModel posed_after = PosedModel::build(c.after, -1, 0.0f, PoseDetail::Positions);
+    for (const auto& origin : c.origins) {
+      const Drawn source =
+          drawn(c.before, posed_before, origin->node_before, origin->mesh_before, origin->primitive_before);
+      const Drawn piece = drawn(c.after, posed_after, origin->node, origin->mesh, origin->primitive);
+      ASSERT_TRUE(source.mesh && piece.mesh);
+      ViewPolyData source_view(*source.mesh, source.positions, &source.normals);
+      renumber_points(source_view, source, "the source renumbered");
+      const ViewPolyData own(*piece.mesh, piece.positions, &piece.normals, source_view, *origin);
+      const ViewPolyData kept(*piece.mesh, piece.positions, &piece.normals, source_view, *origin, nullptr,
+                              &scratch);
+      ASSERT_TRUE(kept.copied());
+      expect_rebuilt(kept, *piece.mesh, piece.positions, &piece.normals, "with the kept scratch");
+      EXPECT_TRUE(raw_arrays(kept) == raw_arrays(own)) << "arrays differ from a copy with memory of its own";
+      ++copies;
+    }
+  }
+  EXPECT_GE(copies, 8u);
+}
+
 }  // namespace
 }  // namespace deepcut

@@ -116,7 +116,7 @@ ViewPolyData::ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>
 
 ViewPolyData::ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
                            const std::vector<glm::vec3>* corner_normals, const ViewPolyData& source,
-                           const PrimitiveOrigin& origin, ViewPolyData* spare) {
+                           const PrimitiveOrigin& origin, ViewPolyData* spare, CopyScratch* scratch) {
   if (!copy_fits(mesh, source, origin)) {
     *this = ViewPolyData(mesh, positions, corner_normals);
     return;
@@ -124,7 +124,9 @@ ViewPolyData::ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>
   make_arrays(mesh, spare && spare != &source && can_take(*spare, mesh.face_slots()) ? spare : nullptr);
   resize(mesh);
   vertices_ = mesh.vertex_count();
-  copy_corner_points(Writer(poly_, mesh, positions, corner_normals), source, origin);
+  CopyScratch own;  // (without `scratch`)
+  copy_corner_points(Writer(poly_, mesh, positions, corner_normals), source, origin,
+                     scratch ? *scratch : own);
   copied_ = true;
   modified();
 }

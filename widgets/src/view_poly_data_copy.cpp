@@ -9,7 +9,6 @@
 #include <atomic>
 #include <memory>
 
-#include "deepcut/core/flags.h"
 #include "deepcut/core/parallel.h"
 #include "view_poly_data_writer.h"
 
@@ -17,18 +16,27 @@ namespace deepcut {
 
 using view_data::clear_point;
 using view_data::kGrain;
-using view_data::raw;
-using view_data::Raw;
 
-// What a copying build knows of a piece's corners between its passes (copy_corner_points).
+// What a copying build knows of a piece's corners between its passes (copy_corner_points), in a
+// CopyScratch's memory kept from build to build: each build sizes and clears what it reads.
 struct ViewPolyData::Copying {
-  std::vector<std::uint32_t> kept;     // new point -> the source's point
-  std::unique_ptr<std::uint32_t[]> number;  // the source's point -> new point (kInvalidIndex: unused)
-  std::vector<std::uint32_t> waiting;  // corners without a point, in order
-  std::vector<char> orphan;            // per new point: no corner chosen yet
-  std::vector<char> rim;               // per vertex: some corner of it waits
-  std::vector<std::uint32_t> orphan_corners, rim_corners;  // their corners, in order
+  // Per source point: the first corner that takes it while the connectivity is copied
+  // (kInvalidIndex: none), then its new number (kInvalidIndex: unused).
+  std::unique_ptr<std::atomic<std::uint32_t>[]> point;
+  std::size_t point_room = 0;
+  std::vector<std::uint32_t> first;  // per chunk of source points: its first new number
+  // Per chunk of faces: corners without a point, live faces whose corners are one vertex, and
+  // the corners of vertices with waiting corners (rim vertices), in order.
+  std::vector<std::vector<std::uint32_t>> waits, collapsed, rims;
+  std::vector<std::uint32_t> rim_corners;  // the rims joined
+  std::vector<char> rim;                   // per vertex: some corner of it waits
+
+  // Ready for a build from `source_points` points of a mesh of `face_chunks` chunks of faces.
+  void start(std::size_t source_points, std::size_t face_chunks);
 };
+
+ViewPolyData::CopyScratch::CopyScratch() = default;
+ViewPolyData::CopyScratch::~CopyScratch() = default;
 
 namespace {
 
@@ -52,34 +60,62 @@ void join(const std::vector<std::vector<T>>& parts, std::vector<T>& out) {
   for (const auto& part : parts) out.insert(out.end(), part.begin(), part.end());
 }
 
-// The points among `n` that are `used`, numbered in order: `number` (point -> its number, else
-// kInvalidIndex) and `kept` (number -> point). Counted per chunk, then numbered from each chunk's
-// first number, over the pool.
-void number_in_order(const std::atomic<std::uint8_t>* used, std::size_t n,
-                     std::unique_ptr<std::uint32_t[]>& number, std::vector<std::uint32_t>& kept) {
+// Makes corner `c` the one `slot` notes unless a smaller corner is there: the first corner,
+// whatever order the threads come in.
+inline void take_first(std::atomic<std::uint32_t>& slot, std::uint32_t c) {
+  std::uint32_t seen = slot.load(std::memory_order_relaxed);
+  while (c < seen && !slot.compare_exchange_weak(seen, c, std::memory_order_relaxed)) {
+  }
+}
+
+// The points among `n` that some corner took (`point`: each one's first corner, else
+// kInvalidIndex), numbered in order: `point` then holds each one's number (else kInvalidIndex)
+// and `corner` (number -> its first corner) is sized and written. Counted per chunk, then
+// numbered from each chunk's first number (`first`), over the pool. @returns how many.
+std::size_t number_taken(std::atomic<std::uint32_t>* point, std::size_t n, std::vector<std::uint32_t>& first,
+                         std::vector<std::uint32_t>& corner) {
   const std::size_t chunks = chunk_count(n);
-  std::vector<std::uint32_t> first(chunks + 1, 0);
+  first.assign(chunks + 1, 0);
   for_chunks(n, [&](std::size_t i, std::size_t b, std::size_t e) {
+    const std::atomic<std::uint32_t>* const from = point;
     std::uint32_t count = 0;
-    for (std::size_t p = b; p < e; ++p) count += used[p].load(std::memory_order_relaxed);
+    for (std::size_t p = b; p < e; ++p) count += from[p].load(std::memory_order_relaxed) != kInvalidIndex;
     first[i + 1] = count;
   });
   for (std::size_t i = 0; i < chunks; ++i) first[i + 1] += first[i];
-  number.reset(new std::uint32_t[n]);  // written whole below (no value fill first)
-  kept.resize(first[chunks]);
+  corner.resize(first[chunks]);
   for_chunks(n, [&](std::size_t i, std::size_t b, std::size_t e) {
-    std::uint32_t* const to_number = number.get();
-    std::uint32_t* const to_kept = kept.data();
+    std::atomic<std::uint32_t>* const to = point;
+    std::uint32_t* const to_corner = corner.data();
     std::uint32_t next = first[i];
     for (std::size_t p = b; p < e; ++p) {
-      const bool in_use = used[p].load(std::memory_order_relaxed);
-      to_number[p] = in_use ? next : kInvalidIndex;
-      if (in_use) to_kept[next++] = static_cast<std::uint32_t>(p);
+      const std::uint32_t c = to[p].load(std::memory_order_relaxed);
+      if (c == kInvalidIndex) continue;
+      to_corner[next] = c;
+      to[p].store(next++, std::memory_order_relaxed);
     }
   });
+  return first[chunks];
 }
 
 }  // namespace
+
+void ViewPolyData::Copying::start(std::size_t source_points, std::size_t face_chunks) {
+  if (point_room < source_points) {
+    point.reset();  // (the old memory goes first)
+    point.reset(new std::atomic<std::uint32_t>[source_points]);  // cleared below
+    point_room = source_points;
+  }
+  std::atomic<std::uint32_t>* const to = point.get();
+  parallel_for(source_points, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t p = b; p < e; ++p) to[p].store(kInvalidIndex, std::memory_order_relaxed);
+  });
+  for (auto* lists : {&waits, &collapsed, &rims}) {
+    lists->resize(face_chunks);
+    for (auto& list : *lists) list.clear();
+  }
+  rim_corners.clear();
+}
 
 bool ViewPolyData::copy_fits(const SurfaceMesh& mesh, const ViewPolyData& source, const PrimitiveOrigin& origin) {
   return draws_corners(mesh) && source.corners_ && origin.faces.size() == mesh.face_slots() &&
@@ -87,16 +123,27 @@ bool ViewPolyData::copy_fits(const SurfaceMesh& mesh, const ViewPolyData& source
          source.uses_.size() == static_cast<std::size_t>(source.poly_->GetNumberOfPoints());
 }
 
-void ViewPolyData::copy_corner_points(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin) {
+void ViewPolyData::copy_corner_points(const Writer& w, const ViewPolyData& source,
+                                      const PrimitiveOrigin& origin, CopyScratch& scratch) {
   const SurfaceMesh& mesh = w.mesh;
-  Copying copying;
+  if (!scratch.copying_) scratch.copying_ = std::make_unique<Copying>();
+  Copying& copying = *scratch.copying_;
+  copying.start(source.uses_.size(), chunk_count(mesh.face_slots()));
   copy_connectivity(w, source, origin, copying);
-  choose_corners(w, source, origin, copying);
+  const std::size_t points =
+      number_taken(copying.point.get(), source.uses_.size(), copying.first, point_corner_);
+  uses_.assign(points, 0);  // (counted with the lists: prepare_updates)
+  std::size_t waiting = 0;
+  copying.rim.assign(mesh.vertex_count(), 0);
+  for (const auto& wait : copying.waits) {
+    waiting += wait.size();
+    for (std::uint32_t c : wait) copying.rim[mesh.faces()[c / 3][static_cast<int>(c % 3)].index] = 1;
+  }
   renumber(w, copying);
-  set_point_count(std::max<std::size_t>(copying.kept.size() + copying.waiting.size(), 1));  // room for the waiting
+  set_point_count(std::max<std::size_t>(points + waiting, 1));  // room for the waiting
   Writer writer = w;
   writer.refresh(poly_);
-  const std::size_t points = copying.kept.size();
+  // Each point is drawn from its first corner (the corners of a point draw alike, bit for bit).
   parallel_for(points, kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t p = b; p < e; ++p) {
       const std::uint32_t c = point_corner_[p];
@@ -115,126 +162,70 @@ void ViewPolyData::copy_corner_points(const Writer& w, const ViewPolyData& sourc
 void ViewPolyData::copy_connectivity(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin,
                                      Copying& copying) {
   // A live face with a source face: each corner takes the point its source corner has (the
-  // source's number for now) when that point draws the corner's source vertex; the others wait.
-  // A deleted face's cell is (0, 0, 0).
+  // source's number for now; the point notes its first corner); the others wait. A deleted
+  // face's cell is (0, 0, 0).
   const SurfaceMesh& mesh = w.mesh;
   const std::size_t old_points = source.uses_.size();
   const auto old_cells = static_cast<std::size_t>(source.poly_->GetNumberOfCells());
-  const Raw old = raw(source.poly_);
-  const Flags used_points = cleared_flags(old_points, kGrain);
-  std::atomic<std::uint8_t>* const used = used_points.get();
-  const std::size_t parts = chunk_count(mesh.face_slots());
-  std::vector<std::vector<std::uint32_t>> waits(parts), collapsed(parts);
+  const vtkTypeInt64* const old_connectivity =
+      source.poly_->GetPolys()->GetConnectivityArray64()->GetPointer(0);
   for_chunks(mesh.face_slots(), [&](std::size_t chunk, std::size_t b, std::size_t e) {
     vtkTypeInt64* const conn = w.r.connectivity;
-    const vtkTypeInt64* const old_conn = old.connectivity;
-    const vtkIdType* const old_vertex = old.vertex_id;
+    const vtkTypeInt64* const old_conn = old_connectivity;
     const std::uint32_t* const face_from = origin.faces.data();
-    const std::uint32_t* const vertex_from = origin.vertices.data();
     const Triangle* const faces = mesh.faces().data();
-    std::atomic<std::uint8_t>* const in_use = used;
-    std::vector<std::uint32_t>& wait = waits[chunk];
+    std::atomic<std::uint32_t>* const first = copying.point.get();
+    const std::size_t cells = old_cells, points = old_points;
+    std::vector<std::uint32_t>& wait = copying.waits[chunk];
     for (std::size_t f = b; f < e; ++f) {
       vtkTypeInt64* const cell = conn + 3 * f;
       if (mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) {
         cell[0] = cell[1] = cell[2] = 0;
         continue;
       }
-      const std::uint32_t from = face_from[f];
       const Triangle& t = faces[f];
-      if (t[0] == t[1] && t[1] == t[2]) collapsed[chunk].push_back(static_cast<std::uint32_t>(f));
-      for (std::size_t k = 0; k < 3; ++k) {
-        vtkTypeInt64 p = -1;
-        if (from < old_cells) {
-          const vtkTypeInt64 q = old_conn[3 * std::size_t(from) + k];
-          const std::uint32_t v = vertex_from[t[static_cast<int>(k)].index];
-          if (q >= 0 && static_cast<std::size_t>(q) < old_points && v != kInvalidIndex && old_vertex[q] == v)
-            p = q;
+      if (t[0] == t[1] && t[1] == t[2]) copying.collapsed[chunk].push_back(static_cast<std::uint32_t>(f));
+      const std::size_t from = face_from[f];
+      const auto c = static_cast<std::uint32_t>(3 * f);
+      const vtkTypeInt64* const old_cell = from < cells ? old_conn + 3 * from : nullptr;
+      auto corner = [&](std::uint32_t k) {  // (called three times, unrolled)
+        const vtkTypeInt64 q = old_cell ? old_cell[k] : -1;
+        if (static_cast<std::uint64_t>(q) < points) {  // (none: negative)
+          cell[k] = q;
+          take_first(first[q], c + k);
+        } else {
+          cell[k] = -1;
+          wait.push_back(c + k);
         }
-        cell[k] = p;
-        if (p >= 0)
-          in_use[p].store(1, std::memory_order_relaxed);
-        else
-          wait.push_back(static_cast<std::uint32_t>(3 * f + k));
-      }
+      };
+      corner(0), corner(1), corner(2);
     }
   });
-  join(waits, copying.waiting);
-  join(collapsed, collapsed_);  // (their cells may name one point three times, as deleted faces' do)
-  number_in_order(used, old_points, copying.number, copying.kept);
-}
-
-void ViewPolyData::choose_corners(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin,
-                                  Copying& copying) {
-  // Each point's corner: the one its source point has, where that corner's face is this mesh's
-  // too (found through the faces' sources) and draws it; the others (their source's corner on a
-  // face the step removed: around the rim) are orphans, given their first corner by `renumber`.
-  // The uses are counted with the lists (prepare_updates).
-  const SurfaceMesh& mesh = w.mesh;
-  const std::size_t slots = mesh.face_slots(), points = copying.kept.size();
-  const auto old_cells = static_cast<std::size_t>(source.poly_->GetNumberOfCells());
-  // Source face slot -> face slot (filled over the pool, not by a serial value fill first).
-  std::unique_ptr<std::uint32_t[]> face_of(new std::uint32_t[old_cells]);
-  parallel_for(old_cells, kGrain, [&](std::size_t b, std::size_t e) {
-    std::fill(face_of.get() + b, face_of.get() + e, kInvalidIndex);
-  });
-  parallel_for(slots, kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t f = b; f < e; ++f)
-      if (origin.faces[f] < old_cells && !mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f))))
-        face_of[origin.faces[f]] = static_cast<std::uint32_t>(f);
-  });
-  uses_.assign(points, 0);
-  point_corner_.resize(points);
-  copying.orphan.assign(points, 0);
-  const vtkTypeInt64* conn = w.r.connectivity;
-  parallel_for(points, kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t p = b; p < e; ++p) {
-      const std::uint32_t from = source.point_corner_[copying.kept[p]];
-      const std::uint32_t f = from == kInvalidIndex ? kInvalidIndex : face_of[from / 3];
-      const std::size_t c = 3 * std::size_t(f) + from % 3;
-      const bool found = f != kInvalidIndex && conn[c] == static_cast<vtkTypeInt64>(copying.kept[p]);
-      point_corner_[p] = found ? static_cast<std::uint32_t>(c) : kInvalidIndex;
-      copying.orphan[p] = !found;
-    }
-  });
-  copying.rim.assign(mesh.vertex_count(), 0);
-  for (std::uint32_t c : copying.waiting) copying.rim[mesh.faces()[c / 3][static_cast<int>(c % 3)].index] = 1;
+  join(copying.collapsed, collapsed_);  // (their cells may name one point three times, as deleted faces' do)
 }
 
 void ViewPolyData::renumber(const Writer& w, Copying& copying) {
-  // One pass: the kept corners take their points' new numbers; the corners of orphan points and
-  // of vertices with waiting corners are gathered, in order.
+  // One pass: the kept corners take their points' new numbers; the corners of rim vertices are
+  // gathered, in order.
   const SurfaceMesh& mesh = w.mesh;
-  const std::size_t parts = chunk_count(mesh.face_slots());
-  std::vector<std::vector<std::uint32_t>> orphans(parts), rims(parts);
   for_chunks(mesh.face_slots(), [&](std::size_t chunk, std::size_t b, std::size_t e) {
     vtkTypeInt64* const conn = w.r.connectivity;
     const Triangle* const faces = mesh.faces().data();
     const char* const rim = copying.rim.data();
-    const char* const orphan = copying.orphan.data();
-    const std::uint32_t* const number = copying.number.get();
-    std::vector<std::uint32_t>& orphan_list = orphans[chunk];
-    std::vector<std::uint32_t>& rim_list = rims[chunk];
+    const std::atomic<std::uint32_t>* const number = copying.point.get();
+    std::vector<std::uint32_t>& rim_list = copying.rims[chunk];
     for (std::size_t f = b; f < e; ++f) {
       if (mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) continue;
       const Triangle& t = faces[f];
-      for (std::size_t k = 0; k < 3; ++k) {
-        const std::size_t c = 3 * f + k;
-        if (rim[t[static_cast<int>(k)].index]) rim_list.push_back(static_cast<std::uint32_t>(c));
-        if (conn[c] < 0) continue;
-        const std::uint32_t p = number[static_cast<std::size_t>(conn[c])];
-        conn[c] = p;
-        if (orphan[p]) orphan_list.push_back(static_cast<std::uint32_t>(c));
-      }
+      auto corner = [&](int k) {  // (called three times, unrolled)
+        const std::size_t c = 3 * f + static_cast<std::size_t>(k);
+        if (rim[t[k].index]) rim_list.push_back(static_cast<std::uint32_t>(c));
+        if (conn[c] >= 0) conn[c] = number[static_cast<std::size_t>(conn[c])].load(std::memory_order_relaxed);
+      };
+      corner(0), corner(1), corner(2);
     }
   });
-  join(orphans, copying.orphan_corners);
-  join(rims, copying.rim_corners);
-  vtkTypeInt64* conn = w.r.connectivity;
-  for (std::uint32_t c : copying.orphan_corners) {
-    const auto p = static_cast<std::size_t>(conn[c]);
-    if (point_corner_[p] == kInvalidIndex) point_corner_[p] = c;
-  }
+  join(copying.rims, copying.rim_corners);
 }
 
 void ViewPolyData::assign_waiting(const Writer& w, const std::vector<std::uint32_t>& rim_corners) {

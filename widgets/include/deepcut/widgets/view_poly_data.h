@@ -19,6 +19,7 @@
 /// parallel, without per-element virtual calls.
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <vtkPolyData.h>
@@ -33,7 +34,26 @@ namespace deepcut {
 struct CornerGroups;
 
 class ViewPolyData {
+ private:
+  struct Copying;
+
  public:
+  /// The working memory of copying builds (the constructor from a source), sized by the source's
+  /// points and the mesh's vertices and faces: kept by a caller that copies again and again (a
+  /// view following cuts), each build reuses what the last one allocated instead of touching new
+  /// pages. One build at a time; a build reads nothing the last one left in it.
+  class CopyScratch {
+   public:
+    CopyScratch();
+    ~CopyScratch();
+    CopyScratch(const CopyScratch&) = delete;
+    CopyScratch& operator=(const CopyScratch&) = delete;
+
+   private:
+    friend class ViewPolyData;
+    std::unique_ptr<Copying> copying_;
+  };
+
   /// Converts `mesh` drawn at `positions` (one per vertex slot) with `corner_normals` (one per
   /// corner, e.g. the posed ones; null or empty: the mesh's own normals, if any).
   /// O(vertices + faces), in parallel; the points are the same whatever the thread count. The
@@ -59,10 +79,13 @@ class ViewPolyData {
   /// its arrays are taken over, so their memory is reused: no new pages to fault in, and the
   /// cells' offsets and face ids (the same for every data) are written only past the spare's
   /// cells. `spare` is then left without data, only to be destroyed; otherwise it is untouched.
-  /// @pre the vertices `origin` gives a source are distinct.
+  /// `scratch` (or null: the build's own): the working memory of the copy, reused.
+  /// @pre the vertices `origin` gives a source are distinct, and a face it gives a source has
+  ///      that live source face's corners (each vertex mapped by `origin.vertices`), as
+  ///      PrimitiveOrigin says: the copy reads the source's cells, not its vertices.
   ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
                const std::vector<glm::vec3>* corner_normals, const ViewPolyData& source,
-               const PrimitiveOrigin& origin, ViewPolyData* spare = nullptr);
+               const PrimitiveOrigin& origin, ViewPolyData* spare = nullptr, CopyScratch* scratch = nullptr);
 
   /// How many cells `spare`'s cell arrays (offsets, connectivity, face ids) hold without
   /// growing; 0 for data left without arrays by a build that took them.
@@ -135,14 +158,14 @@ class ViewPolyData {
   /// both sides, `origin` sized for `mesh`, `source` consistent).
   static bool copy_fits(const SurfaceMesh& mesh, const ViewPolyData& source, const PrimitiveOrigin& origin);
   /// Corner layout of a new mesh made out of `source`'s mesh as `origin` says (see the
-  /// constructor). @pre copy_fits.
-  void copy_corner_points(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin);
+  /// constructor), in `scratch`'s memory. @pre copy_fits.
+  void copy_corner_points(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin,
+                          CopyScratch& scratch);
   /// The passes of copy_corner_points, over what they know (Copying): connectivity from the
-  /// source's points (in the source's numbers; a corner without one waits, -1), a corner for
-  /// each point, the new numbers (one pass over the corners), points for the waiting corners.
-  struct Copying;
+  /// source's points (in the source's numbers, each taken point noting its first corner; a
+  /// corner without one waits, -1), the new numbers (one pass over the points, then one over the
+  /// corners), points for the waiting corners.
   void copy_connectivity(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin, Copying& copying);
-  void choose_corners(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin, Copying& copying);
   void renumber(const Writer& w, Copying& copying);
   void assign_waiting(const Writer& w, const std::vector<std::uint32_t>& rim_corners);
   /// A point (while building: a number among the vertex's points) that a corner of `v` other
