@@ -265,12 +265,24 @@ class EarClipper {
       const glm::dvec2& p = at(i);
       const Cell own = {cell(cell_x(p.x)), cell(cell_y(p.y))};
       cell_[i] = own;
-      // (cell_x and cell_y stay below the grid's size; below its own cell a corner's is not 0.)
-      reach_[i] = {own.x > 0 ? std::max(cell(cell_x(p.x - pad)), own.x - 1) : 0,
-                   std::min(cell(cell_x(p.x + pad)), own.x + 1),
-                   own.y > 0 ? std::max(cell(cell_y(p.y - pad)), own.y - 1) : 0,
-                   std::min(cell(cell_y(p.y + pad)), own.y + 1)};
+      const auto [x0, x1] = reach(p.x, pad, origin_xy_.x, inv_cell_.x, grid_x_, own.x);
+      const auto [y0, y1] = reach(p.y, pad, origin_xy_.y, inv_cell_.y, grid_y_, own.y);
+      reach_[i] = {x0, x1, y0, y1};
     }
+  }
+  // The cells [lo, hi] coordinate v of a corner in cell `own` reaches on one axis (make_grid):
+  // lo = own > 0 ? max(cell(v - pad), own - 1) : 0 and hi = min(cell(v + pad), own + 1), cell
+  // being clamp_cell of the same arithmetic, without its conversions. The rounded arithmetic is
+  // monotone and pad is 0 or more (or not a number), so cell(v - pad) <= own <= cell(v + pad)
+  // where pad is a number: lo is own just when cell(v - pad) >= own > 0, that is when
+  // (v - pad - origin) * inv >= own (false for a NaN, whose cell is 0); hi is own + 1 just when
+  // own + 1 is a cell and (v + pad - origin) * inv >= own + 1, else own, and 0 where that is not
+  // above 0 (it is then not a number: cell 0).
+  static std::pair<std::uint32_t, std::uint32_t> reach(double v, double pad, double origin, double inv,
+                                                       std::size_t cells, std::uint32_t own) {
+    const double lo = (v - pad - origin) * inv, hi = (v + pad - origin) * inv;
+    return {own > 0 && !(lo >= double(own)) ? own - 1 : own,
+            !(hi > 0.0) ? 0 : (own + 1 < cells && hi >= double(own + 1) ? own + 1 : own)};
   }
   static std::size_t clamp_cell(double c, std::size_t cells) {
     if (!(c > 0.0)) return 0;  // NaN too
