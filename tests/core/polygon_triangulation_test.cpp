@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <random>
 #include <set>
 #include <thread>
@@ -318,6 +319,49 @@ TEST(PolygonTriangulationParts, ClipListsKeptOnTheThreadChangeNoResult) {
   EXPECT_GT(kept, 0u);
   clip_ears(pts, small, EarSearch::kExhaustive, tris);
   EXPECT_EQ(detail::largest_kept_clip_list(), kept);
+}
+
+// The queued search's grid (64 corners and more) with the points on the lines between its cells
+// (3 units wide and 1 high here) or between them, exactly: long collinear runs, and a V from the
+// top whose tip is on the line y = 1, over the bottom run. An ear may only be clipped with no
+// point in its closed triangle, so every collinear point on a diagonal, and the tip on the
+// diagonals of the bottom run's ears, must be found in the cells the ear reaches.
+TEST(PolygonTriangulationParts, GridFindsPointsOnCellLinesAndDiagonals) {
+  std::vector<P> ring;
+  for (int x = 0; x < 24; ++x) ring.push_back(P(x, 0));
+  for (int y = 0; y < 8; ++y) ring.push_back(P(24, y));
+  for (int x = 24; x > 12; --x) ring.push_back(P(x, 8));
+  for (int y = 8; y > 1; y -= 2) ring.push_back(P(12.0 + (y - 1) / 8.0, y));  // the V down to (12, 1)
+  ring.push_back(P(12, 1));
+  for (int y = 2; y <= 8; y += 2) ring.push_back(P(12.0 - (y - 1) / 8.0, y));
+  for (int x = 11; x > 0; --x) ring.push_back(P(x, 8));
+  for (int y = 8; y > 0; --y) ring.push_back(P(0, y));
+  ASSERT_GE(ring.size(), 64u);
+  std::vector<P> pts;
+  const Loop poly = add_loop(pts, ring);
+  std::vector<LocalTri> tris;
+  clip_ears(pts, poly, EarSearch::kQueued, tris);
+  EXPECT_EQ(check_tiling(pts, {poly}, tris, 1), "");  // no T-junction, no overlap, positive areas
+  EXPECT_EQ(tris.size(), ring.size() - 2);
+}
+
+// Ears of equal quality are clipped in the order the results were made with (the priority
+// queue's among equals): every ear of a regular octagon ties with the others, and corners of a
+// square with its sides' midpoints tie in pairs. (A queue that takes any of the best ears
+// clips the octagon's corner 6 before 7 at the fifth ear.)
+TEST(PolygonTriangulationParts, TiedEarsAreClippedInTheRecordedOrder) {
+  auto clip = [](const std::vector<P>& pts) {
+    Loop poly(pts.size());
+    std::iota(poly.begin(), poly.end(), 0u);
+    std::vector<LocalTri> tris;
+    clip_ears(pts, poly, EarSearch::kQueued, tris);
+    EXPECT_EQ(check_tiling(pts, {poly}, tris, 1), "");
+    return tris;
+  };
+  const std::vector<LocalTri> octagon = {{1, 2, 3}, {0, 1, 3}, {7, 0, 3}, {7, 3, 4}, {7, 4, 5}, {7, 5, 6}};
+  EXPECT_EQ(clip(regular(P(0, 0), 1.0, 8, true)), octagon);
+  const std::vector<LocalTri> midpoints = {{7, 0, 1}, {3, 4, 5}, {5, 6, 7}, {1, 2, 3}, {3, 5, 7}, {3, 7, 1}};
+  EXPECT_EQ(clip({P(0, 0), P(1, 0), P(2, 0), P(2, 1), P(2, 2), P(1, 2), P(0, 2), P(0, 1)}), midpoints);
 }
 
 TEST(PolygonTriangulationParts, TriangulateOneOuterLoopAndOneHole) {

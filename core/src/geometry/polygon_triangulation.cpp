@@ -23,7 +23,7 @@ namespace {
 // clip runs inside another); when it ends, a list above detail::kKeptClipListBytes gives its
 // memory back (each list judged on its own: the small ones keep theirs).
 struct RingLists {
-  std::vector<std::uint32_t> poly, prev, next, version, ear_state;
+  std::vector<std::uint32_t> poly, prev, next, version, slot, ear_state;
   std::vector<glm::dvec2> xy;  // the point of each corner
   std::vector<char> alive, reflex;
   std::vector<double> ear_quality, corners;
@@ -43,7 +43,7 @@ struct RingLists {
   // Ends the clip: gives back the memory of the lists above the bound.
   void hand_back() {
     constexpr std::size_t kept = detail::kKeptClipListBytes;
-    for (auto* list : {&poly, &prev, &next, &version, &ear_state}) detail::give_back_if_big(*list, kept);
+    for (auto* list : {&poly, &prev, &next, &version, &slot, &ear_state}) detail::give_back_if_big(*list, kept);
     detail::give_back_if_big(xy, kept);
     detail::give_back_if_big(alive, kept);
     detail::give_back_if_big(reflex, kept);
@@ -53,13 +53,23 @@ struct RingLists {
   }
 };
 
+// How kQueued keeps its ears. The order of clipping is the priority queue's: std::priority_queue
+// over every ear found, stale ones dropped when they come up (kLazy). Where no two ears tie for
+// the best, any queue that gives the best ear clips the same ears: kIndexed keeps one entry per
+// corner (a binary heap whose entries move when their corner changes, so it pops clips only) and
+// stops when the best ear ties with another one, or a quality is not a number; the polygon is
+// then clipped again through kLazy, whose order among equals is the one the results were made
+// with.
+enum class EarQueue { kIndexed, kLazy };
+
 // One polygon being clipped: a ring of corners over `poly`, linked by prev/next, that loses one
 // corner per clip. The origin is where the fallback scan and the last triangle start: the corner
 // before the last clip (kQueued) or the first remaining corner in input order (kExhaustive).
 class EarClipper {
  public:
-  EarClipper(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& poly, EarSearch search)
-      : pts_(pts), lists_(RingLists::take()), search_(search) {
+  EarClipper(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& poly, EarSearch search,
+             EarQueue queue = EarQueue::kLazy)
+      : pts_(pts), lists_(RingLists::take()), search_(search), indexed_(queue == EarQueue::kIndexed) {
     lists_.poly.assign(poly.begin(), poly.end());
     if (search_ == EarSearch::kQueued) {
       lists_.poly.erase(std::unique(lists_.poly.begin(), lists_.poly.end()), lists_.poly.end());
@@ -80,7 +90,8 @@ class EarClipper {
     }
     lists_.alive.assign(n, 1);
     lists_.reflex.assign(n, 0);
-    lists_.version.assign(n, 0);
+    if (indexed_) lists_.slot.assign(n, kNoSlot);
+    else lists_.version.assign(n, 0);
     remaining_ = n;
     if (search_ == EarSearch::kQueued) make_grid();
     if (search_ == EarSearch::kExhaustive) {
@@ -92,32 +103,37 @@ class EarClipper {
   EarClipper& operator=(const EarClipper&) = delete;
   ~EarClipper() { lists_.hand_back(); }
 
-  void run(std::vector<LocalTri>& out) {
+  // Returns false, having stopped part way, where kIndexed met a tie (see EarQueue).
+  bool run(std::vector<LocalTri>& out) {
     const std::size_t n = lists_.poly.size();
-    if (n < 3) return;
+    if (n < 3) return true;
     std::vector<double>& corners = lists_.corners;
     corners.resize(n);
     for (std::size_t i = 0; i < n; ++i) corners[i] = update_reflex(i);
     if (search_ == EarSearch::kQueued) {
       file_grid();
       std::vector<Entry> room;
-      room.reserve(3 * n);  // every corner once, then at most two per clip
-      ears_ = std::priority_queue<Entry>(std::less<Entry>(), std::move(room));
+      room.reserve(indexed_ ? n : 3 * n);  // every corner once, then (kLazy) at most two per clip
+      if (indexed_) heap_ = std::move(room);
+      else ears_ = std::priority_queue<Entry>(std::less<Entry>(), std::move(room));
       for (std::size_t i = 0; i < n; ++i)
         queue_if_ear(i, corners[i]);
     }
     while (remaining_ > 3) {
       std::size_t i = search_ == EarSearch::kQueued ? pop_ear() : scan_ears();
+      if (tied_) return false;
       bool emit = true;
       if (i == n) std::tie(i, emit) = most_convex();
       clip(i, emit, out);
     }
     const std::size_t a = origin_, b = lists_.next[a], c = lists_.next[b];
     if (corner_at(a, b, c) > 0.0) out.push_back({lists_.poly[a], lists_.poly[b], lists_.poly[c]});
+    return true;
   }
 
  private:
-  // A queued ear; the same comparison (quality only) keeps the same order among equals.
+  // A queued ear (kIndexed leaves the version 0); the same comparison (quality only) keeps the
+  // same order among equals.
   struct Entry {
     double quality;
     std::uint32_t i;
@@ -152,10 +168,51 @@ class EarClipper {
   double quality(std::size_t i) const { return corner(i) / std::max(longest(i), 1e-300); }
   // kQueued: queues corner i (its corner() `turn`, its quality) when it is an ear: positive area
   // and no other polygon point in the closed triangle (only a reflex corner can lie inside an ear
-  // of a weakly simple polygon).
+  // of a weakly simple polygon). kIndexed moves its entry, or drops it when it is no ear.
   void queue_if_ear(std::size_t i, double turn) {
-    if (turn <= 0.0 || reflex_blocker(i)) return;
-    ears_.push({turn / std::max(longest(i), 1e-300), static_cast<std::uint32_t>(i), lists_.version[i]});
+    const auto corner = static_cast<std::uint32_t>(i);
+    if (turn <= 0.0 || reflex_blocker(i)) {
+      if (indexed_) heap_remove(corner);
+      return;
+    }
+    const double quality = turn / std::max(longest(i), 1e-300);
+    if (!indexed_) {
+      ears_.push({quality, corner, lists_.version[i]});
+      return;
+    }
+    tied_ = tied_ || std::isnan(quality);
+    std::uint32_t s = lists_.slot[i];
+    if (s == kNoSlot) {
+      s = static_cast<std::uint32_t>(heap_.size());
+      heap_.emplace_back();
+    }
+    heap_place(s, {quality, corner, 0});
+  }
+
+  // kIndexed: puts `e` at slot s of the heap and moves it up or down to where every entry's
+  // quality is at most its parent's (lists_.slot follows the entries).
+  void heap_place(std::size_t s, Entry e) {
+    auto put = [&](std::size_t at, const Entry& x) {
+      heap_[at] = x;
+      lists_.slot[x.i] = static_cast<std::uint32_t>(at);
+    };
+    for (; s > 0 && heap_[(s - 1) / 2] < e; s = (s - 1) / 2) put(s, heap_[(s - 1) / 2]);
+    const std::size_t size = heap_.size();
+    for (std::size_t c = 2 * s + 1; c < size; s = c, c = 2 * s + 1) {
+      if (c + 1 < size && heap_[c] < heap_[c + 1]) ++c;
+      if (!(e < heap_[c])) break;
+      put(s, heap_[c]);
+    }
+    put(s, e);
+  }
+  // kIndexed: takes corner i's entry out of the heap, if it has one.
+  void heap_remove(std::uint32_t i) {
+    const std::uint32_t s = lists_.slot[i];
+    if (s == kNoSlot) return;
+    lists_.slot[i] = kNoSlot;
+    const Entry last = heap_.back();
+    heap_.pop_back();
+    if (s < heap_.size()) heap_place(s, last);
   }
   Filed filing(std::size_t i) const { return {at(i), static_cast<std::uint32_t>(i), lists_.poly[i]}; }
 
@@ -208,12 +265,24 @@ class EarClipper {
       const glm::dvec2& p = at(i);
       const Cell own = {cell(cell_x(p.x)), cell(cell_y(p.y))};
       cell_[i] = own;
-      // (cell_x and cell_y stay below the grid's size; below its own cell a corner's is not 0.)
-      reach_[i] = {own.x > 0 ? std::max(cell(cell_x(p.x - pad)), own.x - 1) : 0,
-                   std::min(cell(cell_x(p.x + pad)), own.x + 1),
-                   own.y > 0 ? std::max(cell(cell_y(p.y - pad)), own.y - 1) : 0,
-                   std::min(cell(cell_y(p.y + pad)), own.y + 1)};
+      const auto [x0, x1] = reach(p.x, pad, origin_xy_.x, inv_cell_.x, grid_x_, own.x);
+      const auto [y0, y1] = reach(p.y, pad, origin_xy_.y, inv_cell_.y, grid_y_, own.y);
+      reach_[i] = {x0, x1, y0, y1};
     }
+  }
+  // The cells [lo, hi] coordinate v of a corner in cell `own` reaches on one axis (make_grid):
+  // lo = own > 0 ? max(cell(v - pad), own - 1) : 0 and hi = min(cell(v + pad), own + 1), cell
+  // being clamp_cell of the same arithmetic, without its conversions. The rounded arithmetic is
+  // monotone and pad is 0 or more (or not a number), so cell(v - pad) <= own <= cell(v + pad)
+  // where pad is a number: lo is own just when cell(v - pad) >= own > 0, that is when
+  // (v - pad - origin) * inv >= own (false for a NaN, whose cell is 0); hi is own + 1 just when
+  // own + 1 is a cell and (v + pad - origin) * inv >= own + 1, else own, and 0 where that is not
+  // above 0 (it is then not a number: cell 0).
+  static std::pair<std::uint32_t, std::uint32_t> reach(double v, double pad, double origin, double inv,
+                                                       std::size_t cells, std::uint32_t own) {
+    const double lo = (v - pad - origin) * inv, hi = (v + pad - origin) * inv;
+    return {own > 0 && !(lo >= double(own)) ? own - 1 : own,
+            !(hi > 0.0) ? 0 : (own + 1 < cells && hi >= double(own + 1) ? own + 1 : own)};
   }
   static std::size_t clamp_cell(double c, std::size_t cells) {
     if (!(c > 0.0)) return 0;  // NaN too
@@ -317,8 +386,18 @@ class EarClipper {
     return kEar;
   }
 
-  // The best queued ear still valid, or n.
+  // The best queued ear still valid, or n. kIndexed: every entry is valid, and one of equal
+  // quality to the best is a child of it (no entry is above its parent): then it stops (tied_).
   std::size_t pop_ear() {
+    if (indexed_) {
+      if (heap_.empty()) return lists_.poly.size();
+      const std::uint32_t best = heap_[0].i;
+      const double quality = heap_[0].quality;
+      tied_ = tied_ || (heap_.size() > 1 && heap_[1].quality == quality) ||
+              (heap_.size() > 2 && heap_[2].quality == quality);
+      heap_remove(best);
+      return best;
+    }
     while (!ears_.empty()) {
       const Entry e = ears_.top();
       ears_.pop();
@@ -380,14 +459,16 @@ class EarClipper {
     }
     origin_ = a;
     for (std::uint32_t j : {a, c}) {
-      ++lists_.version[j];
+      if (!indexed_) ++lists_.version[j];
       queue_if_ear(j, update_reflex(j));
     }
   }
 
   const std::vector<glm::dvec2>& pts_;
-  RingLists& lists_;  // poly, prev/next, alive, reflex, version; ear_state, ear_quality (kExhaustive)
+  RingLists& lists_;  // poly, prev/next, alive, reflex, version or slot; ear_state, ear_quality (kExhaustive)
   EarSearch search_;
+  bool indexed_;  // kQueued: the queue is kIndexed, else kLazy
+  bool tied_ = false;  // kIndexed met a tie: run stops
   // The filings of corners that became reflex (kQueued), less stale ones dropped by scans, and
   // how many filings there were: the threshold between the grid and the list.
   std::vector<Filed> reflex_list_;
@@ -403,13 +484,24 @@ class EarClipper {
   bool grid_filed_ = false;
   std::size_t grid_x_ = 0, grid_y_ = 0;
   glm::dvec2 origin_xy_{0.0}, inv_cell_{0.0};
-  std::priority_queue<Entry> ears_;
+  std::priority_queue<Entry> ears_;  // kLazy
+  std::vector<Entry> heap_;  // kIndexed: a binary max-heap, heap_[(s - 1) / 2] the parent of heap_[s]
+  static constexpr std::uint32_t kNoSlot = ~std::uint32_t(0);  // lists_.slot of a corner without an entry
   // kExhaustive: what is known of each corner's ear (lists_.ear_state: find_blocker, or
   // kUnknown), and the quality of each known ear (lists_.ear_quality).
   static constexpr std::uint32_t kUnknown = ~std::uint32_t(0), kEar = kUnknown - 1, kFlat = kUnknown - 2;
   std::size_t remaining_ = 0;
   std::size_t origin_ = 0;
 };
+// Clips one polygon (kQueued: through kIndexed, and again through kLazy where that meets a tie).
+void clip_polygon(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& poly, EarSearch search,
+                  std::vector<LocalTri>& out) {
+  const std::size_t before = out.size();
+  if (search == EarSearch::kQueued && EarClipper(pts, poly, search, EarQueue::kIndexed).run(out)) return;
+  out.resize(before);
+  EarClipper(pts, poly, search, EarQueue::kLazy).run(out);
+}
+
 // The (outer, hole) position pairs a bridge may join, in the order they are tried.
 std::vector<std::pair<std::size_t, std::size_t>> bridge_candidates(const std::vector<glm::dvec2>& pts,
                                                                    const std::vector<std::uint32_t>& outer,
@@ -454,7 +546,7 @@ std::vector<std::uint32_t> join_at(const std::vector<std::uint32_t>& outer, cons
 
 void clip_ears(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& poly, EarSearch search,
                std::vector<LocalTri>& out) {
-  EarClipper(pts, poly, search).run(out);
+  clip_polygon(pts, poly, search, out);
 }
 
 std::vector<std::uint32_t> bridge_hole(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& outer,
@@ -491,7 +583,7 @@ void triangulate_polygon(const std::vector<glm::dvec2>& pts, const std::vector<s
                          std::vector<std::vector<std::uint32_t>> holes, const TriangulationRules& rules,
                          std::vector<LocalTri>& out) {
   if (holes.empty()) {  // clipped as it is (no bridged copy of the loop to allocate)
-    EarClipper(pts, outer, rules.ears).run(out);
+    clip_polygon(pts, outer, rules.ears, out);
     return;
   }
   // Bridge holes from right to left so earlier bridges do not block later ones.
@@ -508,7 +600,7 @@ void triangulate_polygon(const std::vector<glm::dvec2>& pts, const std::vector<s
       later.assign(holes.begin() + static_cast<std::ptrdiff_t>(k) + 1, holes.end());
     poly = bridge_hole(pts, poly, holes[k], later, rules.holes);
   }
-  EarClipper(pts, poly, rules.ears).run(out);
+  clip_polygon(pts, poly, rules.ears, out);
 }
 
 LoopPolygons loop_polygons(const std::vector<glm::dvec2>& points, const std::vector<std::vector<std::uint32_t>>& loops,
@@ -563,6 +655,7 @@ std::size_t largest_kept_clip_list() {
   const RingLists& l = RingLists::local();
   return std::max({l.poly.capacity() * sizeof(std::uint32_t), l.prev.capacity() * sizeof(std::uint32_t),
                    l.next.capacity() * sizeof(std::uint32_t), l.version.capacity() * sizeof(std::uint32_t),
+                   l.slot.capacity() * sizeof(std::uint32_t),
                    l.ear_state.capacity() * sizeof(std::uint32_t), l.alive.capacity(), l.reflex.capacity(),
                    l.ear_quality.capacity() * sizeof(double), l.corners.capacity() * sizeof(double),
                    l.xy.capacity() * sizeof(glm::dvec2)});
