@@ -24,7 +24,62 @@ bool any_piece_inside(const std::array<EdgeCut*, 3>& edges) {
   return false;
 }
 
+// Whether FlipTriangulation::legalize flips edge a-b of triangle a-b-c, with d across it (over
+// the points `q`): d clearly inside the circumcircle, and the quad c-a-d-b convex.
+bool flips(const glm::dvec2 q[4], std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {
+  const glm::dvec2 &pa = q[a], &pb = q[b], &pc = q[c], &pd = q[d];
+  double scale = 0.0;
+  for (const auto* x : {&pa, &pb, &pc}) scale = std::max(scale, glm::dot(*x - pd, *x - pd));
+  if (geometry::incircle(pa, pb, pc, pd) <= 1e-10 * scale * scale) return false;
+  return !(geometry::orient(pc, pa, pd) <= 0.0 || geometry::orient(pd, pb, pc) <= 0.0);
+}
+
+// The corner of the quad 0-1-2-3 that ear clipping (EarSearch::kExhaustive) clips: the ear of
+// best shape (area over squared longest edge; the first on ties) among the corners with area
+// beyond the tolerance whose closed triangle leaves out the opposite corner; 4 when none is.
+int quad_ear(const glm::dvec2 q[4]) {
+  int best = 4;
+  double best_quality = -1.0;
+  for (int i = 0; i < 4; ++i) {
+    const glm::dvec2 &a = q[(i + 3) % 4], &b = q[i], &c = q[(i + 1) % 4], &p = q[(i + 2) % 4];
+    const double turn = geometry::orient(a, b, c);
+    const double longest = std::max({glm::dot(b - a, b - a), glm::dot(c - b, c - b), glm::dot(a - c, a - c)});
+    const double tiny = 1e-13 * longest;
+    if (turn <= tiny) continue;
+    if (geometry::orient(a, b, p) >= -tiny && geometry::orient(b, c, p) >= -tiny &&
+        geometry::orient(c, a, p) >= -tiny)
+      continue;  // blocked
+    const double quality = turn / std::max(longest, 1e-300);
+    if (quality > best_quality) {
+      best_quality = quality;
+      best = i;
+    }
+  }
+  return best;
+}
+
 }  // namespace
+
+bool quad_triangles(const glm::dvec2 q[4], std::array<geometry::LocalTri, 2>& out) {
+  const int i = quad_ear(q);
+  if (i == 4) return false;
+  const auto ear = static_cast<std::uint32_t>(i), prev = (ear + 3) % 4, next = (ear + 1) % 4, far = (ear + 2) % 4;
+  // The last triangle starts at the first corner left (in input order): the three left, sorted.
+  geometry::LocalTri last{};
+  for (std::uint32_t k = 0, n = 0; k < 4; ++k)
+    if (k != ear) last[n++] = k;
+  if (!(geometry::orient(q[last[0]], q[last[1]], q[last[2]]) > 0.0)) return false;
+  // The flips look at the last triangle's side of the diagonal first (prev -> next, with `far`
+  // opposite), then at the other: after a flip, at the new diagonal from the first triangle.
+  if (!flips(q, prev, next, far, ear)) {
+    if (flips(q, next, prev, ear, far)) return false;
+    out = {geometry::LocalTri{prev, ear, next}, last};
+    return true;
+  }
+  if (flips(q, far, ear, next, prev)) return false;
+  out = {geometry::LocalTri{ear, next, far}, geometry::LocalTri{far, prev, ear}};
+  return true;
+}
 
 void FacePlanner::plan(std::size_t c, FaceId f, FacePlan& plan) {
   plan_ = &plan;
@@ -371,20 +426,8 @@ void FacePlanner::refine(geometry::FlipTriangulation& ft, std::vector<glm::dvec2
   };
   const std::size_t budget = 4 * boundary + 8;
   for (std::size_t added = 0; added < budget;) {
-    const geometry::LocalTri* worst = nullptr;
-    double worst_ratio = 0.684;  // shortest edge / circumradius = 2 sin(min angle): 20 degrees
-    for (const auto& t : ft.triangles()) {
-      const glm::dvec2 &a = q[t[0]], &b = q[t[1]], &c = q[t[2]];
-      const double la = glm::length(b - c), lb = glm::length(c - a), lc = glm::length(a - b);
-      const double area2 = std::abs(geometry::orient(a, b, c));
-      if (!(area2 > 0.0) || std::max({la, lb, lc}) < 2.0 * spacing) continue;
-      const double circumradius = la * lb * lc / (2.0 * area2);
-      const double ratio = std::min({la, lb, lc}) / circumradius;
-      if (ratio < worst_ratio && !has_failed(geometry::sorted_corners(t))) {
-        worst_ratio = ratio;
-        worst = &t;
-      }
-    }
+    const std::vector<geometry::LocalTri>& tris = ft.triangles();
+    const geometry::LocalTri* worst = worst_triangle(tris.data(), tris.data() + tris.size(), q.data());
     if (!worst) return;
     const geometry::LocalTri t = *worst;
     const glm::dvec2 centre = geometry::circumcentre(q[t[0]], q[t[1]], q[t[2]]);
@@ -409,16 +452,57 @@ void FacePlanner::refine(geometry::FlipTriangulation& ft, std::vector<glm::dvec2
   }
 }
 
-// A kept part that is a triangle is added as it is; any other is triangulated, flipped to
-// Delaunay and refined in the plane. Its points (with the refinement's) and triangles go to the
-// chunk's lists.
+// The triangle refine splits next: the one of worst shape (shortest edge over circumradius, under
+// 20 degrees' worth) among those with an edge of two rim spacings or more, not in w_.failed (by
+// sorted_corners); null when none is.
+const geometry::LocalTri* FacePlanner::worst_triangle(const geometry::LocalTri* begin,
+                                                      const geometry::LocalTri* end, const glm::dvec2* q) const {
+  const double spacing = s_.cyl.spacing;
+  const std::vector<geometry::LocalTri>& failed = w_.failed;
+  const geometry::LocalTri* worst = nullptr;
+  double worst_ratio = 0.684;  // shortest edge / circumradius = 2 sin(min angle): 20 degrees
+  for (const geometry::LocalTri* t = begin; t != end; ++t) {
+    const glm::dvec2 &a = q[(*t)[0]], &b = q[(*t)[1]], &c = q[(*t)[2]];
+    const double la = glm::length(b - c), lb = glm::length(c - a), lc = glm::length(a - b);
+    const double area2 = std::abs(geometry::orient(a, b, c));
+    if (!(area2 > 0.0) || std::max({la, lb, lc}) < 2.0 * spacing) continue;
+    const double circumradius = la * lb * lc / (2.0 * area2);
+    const double ratio = std::min({la, lb, lc}) / circumradius;
+    if (ratio < worst_ratio &&
+        std::find(failed.begin(), failed.end(), geometry::sorted_corners(*t)) == failed.end()) {
+      worst_ratio = ratio;
+      worst = t;
+    }
+  }
+  return worst;
+}
+
+// A kept part that is a quad (points 0-3 in order) whose triangles quad_triangles works out and
+// that refine would leave alone: its two triangles go to the chunk's list. Returns false (nothing
+// added) for any other part.
+bool FacePlanner::add_quad(const std::vector<LocalPoint>& pts, const std::vector<std::uint32_t>& outer) {
+  if (outer.size() != 4 || pts.size() != 4) return false;
+  const glm::dvec2 q[4] = {pts[0].q, pts[1].q, pts[2].q, pts[3].q};
+  std::array<geometry::LocalTri, 2> tris;
+  for (std::uint32_t k = 0; k < 4; ++k)
+    if (outer[k] != k) return false;
+  if (!quad_triangles(q, tris)) return false;
+  w_.failed.clear();  // refine starts with none failed
+  if (worst_triangle(tris.data(), tris.data() + 2, q)) return false;
+  out_.tris.insert(out_.tris.end(), tris.begin(), tris.end());
+  return true;
+}
+
+// A kept part that is a triangle is added as it is, most quads as add_quad works them out; any
+// other is triangulated, flipped to Delaunay and refined in the plane. Its points (with the
+// refinement's) and triangles go to the chunk's lists.
 void FacePlanner::add_polygon(std::vector<LocalPoint>& pts, const std::vector<std::uint32_t>& outer,
                               const std::vector<std::vector<std::uint32_t>>& holes) {
   PolygonPlan poly;
   poly.first_tri = static_cast<std::uint32_t>(out_.tris.size());
   if (holes.empty() && outer.size() == 3) {
     out_.tris.push_back({outer[0], outer[1], outer[2]});
-  } else {
+  } else if (!(holes.empty() && add_quad(pts, outer))) {
     std::vector<glm::dvec2>& q = w_.q;
     q.resize(pts.size());
     for (std::size_t i = 0; i < pts.size(); ++i) q[i] = pts[i].q;

@@ -172,6 +172,14 @@ struct PlanScratch {
   }
 };
 
+/// The triangles of the quad 0-1-2-3 over `q` (counter-clockwise) as the general path of a kept
+/// part makes them (ear clipping by kRimTriangulation, then Lawson flips: FlipTriangulation), in
+/// the same order with the same first corners, worked out without the general path's lists (most
+/// kept parts are quads). Returns false where that path would take a step this one does not
+/// follow (no ear, a last triangle without area, a flip undone or a second one): the caller runs
+/// the general path there.
+bool quad_triangles(const glm::dvec2 q[4], std::array<geometry::LocalTri, 2>& out);
+
 /// Plans candidates of one chunk into `out` (see the file comment).
 class FacePlanner {
  public:
@@ -192,6 +200,9 @@ class FacePlanner {
                    const std::vector<std::vector<std::uint32_t>>& holes);
   void refine(geometry::FlipTriangulation& ft, std::vector<glm::dvec2>& q, std::vector<LocalPoint>& pts,
               const std::vector<std::uint32_t>& outer, const std::vector<std::vector<std::uint32_t>>& holes);
+  const geometry::LocalTri* worst_triangle(const geometry::LocalTri* begin, const geometry::LocalTri* end,
+                                           const glm::dvec2* q) const;
+  bool add_quad(const std::vector<LocalPoint>& pts, const std::vector<std::uint32_t>& outer);
 
   const RimShared& s_;
   PlanChunk& out_;
