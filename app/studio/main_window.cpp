@@ -443,6 +443,7 @@ bool MainWindow::begin_open(const QString& path) {
       "Opening " + name, 5, open_job(path, clock),
       [this, name](std::exception_ptr error) {
         view_->hold_renders(false);  // a swap-in that failed half-way still draws
+        refresh_status();
         report_exception(error, name);
       },
       [this, name] { statusBar()->showMessage("Opening " + name + " cancelled: nothing changed", 8000); });
@@ -498,15 +499,20 @@ void MainWindow::show_opened(const QString& path, OpenedModel opened, const QEla
   std::vector<std::pair<QString, float>> clips;
   for (const Animation& a : opened.model->animations)
     clips.emplace_back(QString::fromStdString(a.name), a.duration());
-  // The swap-in: every step below may ask for a frame; the view draws one, at the end.
+  // The swap-in: every step below may ask for a frame; the view draws one, at the end. The
+  // status bar and the recent files follow that frame (draw_frame_and_index).
   view_->hold_renders(true);
+  status_held_ = true;
+  struct Release {
+    bool& held;
+    ~Release() { held = false; }
+  } release{status_held_};
   path_ = path;
   open_done_ = true;
   operations_->open(opened.model, nullptr);  // the scene draws the live model; posed after the first frame
   timeline_->set_animations(clips);
   const std::vector<std::string> notes =
       scene_host_->show_opened(std::move(opened.scene), QFileInfo(path).fileName(), std::move(opened.drawn));
-  RecentFiles::remember(path);
   setWindowTitle(QFileInfo(path).fileName() + " - DeepCut Studio");
   last_error_.clear();
   operations_->refresh_list();
@@ -539,6 +545,7 @@ void MainWindow::draw_frame_and_index(bool in_background) {
   open_timing_.first_frame_ms =
       std::chrono::duration<double, std::milli>(open_timing_.frame_end - open_timing_.frame_begin).count();
   open_timing_.total_ms = ms_since(open_clock_);
+  RecentFiles::remember(path_);
   note_operation("Open " + QFileInfo(path_).fileName(), open_timing_.total_ms);
   // Then the operations' posed model (positions again, with the grids the tools search), off
   // the UI thread while edits wait for it: an operation never finds a half-built one.
@@ -754,6 +761,7 @@ void MainWindow::set_normals_visible(bool visible) {
 }
 
 void MainWindow::refresh_status() {
+  if (status_held_) return;
   operation_label_->setText(last_operation_);
   if (!scene()) {
     counts_label_->setText("no model");

@@ -10,6 +10,7 @@
 #include <vtkPolyData.h>
 #include <vtkProperty.h>
 #include <vtkRenderer.h>
+#include <vtk_glew.h>
 
 #include <atomic>
 #include <cstdint>
@@ -49,6 +50,37 @@ bool every_cell_a_triangle(vtkCellArray* polys) {
   return uniform_triangles(polys->GetOffsetsArray32()->GetPointer(0), cells);
 }
 
+void narrow_connectivity(vtkCellArray* polys, std::size_t n, unsigned int* out) {
+  if (polys->IsStorage64Bit())
+    narrow(polys->GetConnectivityArray64()->GetPointer(0), n, out);
+  else
+    narrow(polys->GetConnectivityArray32()->GetPointer(0), n, out);
+}
+
+// `ibo` made (Upload creates and binds it), given room for `n` indices and mapped for writing,
+// so that the connectivity is narrowed straight into the memory the draw reads: no array of its
+// own to fault in and fill, then copy. Null when the driver does not map it.
+unsigned int* mapped_for_write(vtkOpenGLIndexBufferObject* ibo, std::size_t n) {
+  const unsigned int none = 0;
+  if (!ibo->Upload(&none, 1, vtkOpenGLIndexBufferObject::ElementArrayBuffer)) return nullptr;
+  const auto bytes = static_cast<GLsizeiptr>(n * sizeof(unsigned int));
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, bytes, nullptr, GL_STATIC_DRAW);
+  return static_cast<unsigned int*>(
+      glMapBufferRange(GL_ELEMENT_ARRAY_BUFFER, 0, bytes, GL_MAP_WRITE_BIT | GL_MAP_INVALIDATE_BUFFER_BIT));
+}
+
+// The triangle buffer made from the connectivity of `polys` (`n` ids): written in place when the
+// buffer maps (and unmaps intact), else narrowed into an array and uploaded.
+void upload_triangles(vtkOpenGLIndexBufferObject* ibo, vtkCellArray* polys, std::size_t n) {
+  if (unsigned int* mapped = mapped_for_write(ibo, n)) {
+    narrow_connectivity(polys, n, mapped);
+    if (glUnmapBuffer(GL_ELEMENT_ARRAY_BUFFER) == GL_TRUE) return;
+  }
+  std::unique_ptr<unsigned int[]> indices(new unsigned int[n]);  // every entry written below
+  narrow_connectivity(polys, n, indices.get());
+  ibo->Upload(indices.get(), n, vtkOpenGLIndexBufferObject::ElementArrayBuffer);
+}
+
 }  // namespace
 
 bool SurfaceMapper::triangles_only(vtkRenderer* ren, vtkActor* act, vtkPolyData* poly) {
@@ -84,13 +116,8 @@ void SurfaceMapper::BuildIBO(vtkRenderer* ren, vtkActor* act, vtkPolyData* poly)
     return;
   }
   const auto n = static_cast<std::size_t>(polys->GetNumberOfConnectivityIds());
-  std::unique_ptr<unsigned int[]> indices(new unsigned int[n]);  // every entry written below
-  if (polys->IsStorage64Bit())
-    narrow(polys->GetConnectivityArray64()->GetPointer(0), n, indices.get());
-  else
-    narrow(polys->GetConnectivityArray32()->GetPointer(0), n, indices.get());
   vtkOpenGLIndexBufferObject* tris = Primitives[PrimitiveTris].IBO;
-  tris->Upload(indices.get(), n, vtkOpenGLIndexBufferObject::ElementArrayBuffer);
+  upload_triangles(tris, polys, n);
   tris->IndexCount = n;
   for (int p = PrimitiveStart; p < PrimitiveEnd; ++p)
     if (p != PrimitiveTris) Primitives[p].IBO->IndexCount = 0;

@@ -5,8 +5,8 @@
 /// triangle's three points compared to leave out degenerate ones, into a vector that grows as
 /// it goes: at 1M triangles about a fifth of the first frame after opening (and of the frame
 /// after a cut). A surface of triangles only, drawn filled with nothing read per cell, needs no
-/// more than its connectivity narrowed to 32 bits: this mapper converts it over the pool into
-/// a buffer made to size. A degenerate triangle it keeps covers no pixel, so the frame is the
+/// more than its connectivity narrowed to 32 bits: this mapper converts it over the pool
+/// straight into the index buffer, mapped for writing (no array of its own, no copy). A degenerate triangle it keeps covers no pixel, so the frame is the
 /// same. Anything else (edges, wireframe, points, lines or strips, cell colours or normals, a
 /// hardware selection) is VTK's own build. VTK 9.1 builds the index buffers again with every
 /// upload, new positions alone included; this one only when the cells (or their arrays) were
