@@ -58,7 +58,8 @@ struct Derivation {
 /// sizes keep their order.
 std::vector<Derivation> largest_first(const Model& model, std::vector<Derivation> derived) {
   auto vertices = [&](const Derivation& d) {
-    const Mesh& mesh = model.meshes[static_cast<std::size_t>(model.nodes[static_cast<std::size_t>(d.key.first)].mesh)];
+    const Node& node = model.nodes[static_cast<std::size_t>(d.key.first)];
+    const Mesh& mesh = model.meshes[static_cast<std::size_t>(node.mesh)];
     return mesh.primitives[static_cast<std::size_t>(d.key.second)].mesh.vertex_count();
   };
   std::stable_sort(derived.begin(), derived.end(),
