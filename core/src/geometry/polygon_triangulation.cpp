@@ -15,10 +15,37 @@
 namespace deepcut::geometry {
 namespace {
 
+// An ear queued by kQueued (kIndexed leaves the version 0); the same comparison (quality only)
+// keeps the same order among equals.
+struct Entry {
+  double quality;
+  std::uint32_t i;
+  std::uint32_t version;
+  bool operator<(const Entry& o) const { return quality < o.quality; }
+};
+// A filed reflex corner with its point, so a blocker test reads one record.
+struct Filed {
+  glm::dvec2 p;
+  std::uint32_t corner, point;
+};
+// A cell of kQueued's grid (make_grid).
+struct Cell {
+  std::uint32_t x, y;
+};
+// The cells a corner reaches (make_grid): [x0, x1] by [y0, y1].
+struct Reach {
+  std::uint32_t x0, x1, y0, y1;
+};
+// A corner filed after the grid was laid out (numerically degenerate input), with its cell.
+struct LateFiled {
+  Filed f;
+  Cell cell;
+};
+
 // The corners and per-corner lists of one polygon being clipped, kept on each thread from polygon
-// to polygon (the drill clips about a hundred small ones per call: kExhaustive then allocates
-// nothing per polygon, kQueued only its grid and queue). Every list is written for the polygon's
-// corners before it is read, so what an earlier polygon left does not matter. One clip at a time
+// to polygon (the drill clips about a hundred small ones per call, a cut's cap a few: they then
+// allocate nothing per polygon but kLazy's queue). Every list is written for the polygon's
+// corners (or emptied) before it is read, so what an earlier polygon left does not matter. One clip at a time
 // uses them (EarClipper takes them in its constructor and hands them back in its destructor; no
 // clip runs inside another); when it ends, a list above detail::kKeptClipListBytes gives its
 // memory back (each list judged on its own: the small ones keep theirs).
@@ -27,6 +54,14 @@ struct RingLists {
   std::vector<glm::dvec2> xy;  // the point of each corner
   std::vector<char> alive, reflex;
   std::vector<double> ear_quality, corners;
+  // kQueued's filings and grid (EarClipper's members of these names), file_grid's working lists,
+  // and kIndexed's heap.
+  std::vector<Filed> reflex_list, filed;
+  std::vector<LateFiled> late;
+  std::vector<Cell> cell;
+  std::vector<Reach> reach;
+  std::vector<std::uint32_t> cell_start, cell_of, fill;
+  std::vector<Entry> heap;
   bool in_use = false;
 
   static RingLists& local() {
@@ -43,7 +78,14 @@ struct RingLists {
   // Ends the clip: gives back the memory of the lists above the bound.
   void hand_back() {
     constexpr std::size_t kept = detail::kKeptClipListBytes;
-    for (auto* list : {&poly, &prev, &next, &version, &slot, &ear_state}) detail::give_back_if_big(*list, kept);
+    for (auto* list : {&poly, &prev, &next, &version, &slot, &ear_state, &cell_start, &cell_of, &fill})
+      detail::give_back_if_big(*list, kept);
+    detail::give_back_if_big(reflex_list, kept);
+    detail::give_back_if_big(filed, kept);
+    detail::give_back_if_big(late, kept);
+    detail::give_back_if_big(cell, kept);
+    detail::give_back_if_big(reach, kept);
+    detail::give_back_if_big(heap, kept);
     detail::give_back_if_big(xy, kept);
     detail::give_back_if_big(alive, kept);
     detail::give_back_if_big(reflex, kept);
@@ -90,9 +132,13 @@ class EarClipper {
     }
     lists_.alive.assign(n, 1);
     lists_.reflex.assign(n, 0);
-    if (indexed_) lists_.slot.assign(n, kNoSlot);
-    else lists_.version.assign(n, 0);
+    if (indexed_)
+      lists_.slot.assign(n, kNoSlot);
+    else
+      lists_.version.assign(n, 0);
     remaining_ = n;
+    reflex_list_.clear();
+    late_.clear();
     if (search_ == EarSearch::kQueued) make_grid();
     if (search_ == EarSearch::kExhaustive) {
       lists_.ear_state.assign(n, kUnknown);
@@ -112,10 +158,12 @@ class EarClipper {
     for (std::size_t i = 0; i < n; ++i) corners[i] = update_reflex(i);
     if (search_ == EarSearch::kQueued) {
       file_grid();
-      std::vector<Entry> room;
-      room.reserve(indexed_ ? n : 3 * n);  // every corner once, then (kLazy) at most two per clip
-      if (indexed_) heap_ = std::move(room);
-      else ears_ = std::priority_queue<Entry>(std::less<Entry>(), std::move(room));
+      heap_.clear();
+      if (!indexed_) {
+        std::vector<Entry> room;
+        room.reserve(3 * n);  // every corner once, then at most two per clip
+        ears_ = std::priority_queue<Entry>(std::less<Entry>(), std::move(room));
+      }
       for (std::size_t i = 0; i < n; ++i)
         queue_if_ear(i, corners[i]);
     }
@@ -132,32 +180,6 @@ class EarClipper {
   }
 
  private:
-  // A queued ear (kIndexed leaves the version 0); the same comparison (quality only) keeps the
-  // same order among equals.
-  struct Entry {
-    double quality;
-    std::uint32_t i;
-    std::uint32_t version;
-    bool operator<(const Entry& o) const { return quality < o.quality; }
-  };
-  // A filed reflex corner with its point, so a blocker test reads one record.
-  struct Filed {
-    glm::dvec2 p;
-    std::uint32_t corner, point;
-  };
-  // A corner filed after the grid was laid out (numerically degenerate input), with its cell.
-  struct Cell {
-    std::uint32_t x, y;
-  };
-  // The cells a corner reaches (make_grid): [x0, x1] by [y0, y1].
-  struct Reach {
-    std::uint32_t x0, x1, y0, y1;
-  };
-  struct LateFiled {
-    Filed f;
-    Cell cell;
-  };
-
   const glm::dvec2& at(std::size_t i) const { return lists_.xy[i]; }
   double corner_at(std::size_t a, std::size_t b, std::size_t c) const { return orient(at(a), at(b), at(c)); }
   double corner(std::size_t i) const { return corner_at(lists_.prev[i], i, lists_.next[i]); }
@@ -297,7 +319,8 @@ class EarClipper {
   void file_grid() {
     grid_filed_ = true;
     if (grid_x_ == 0) return;
-    std::vector<std::uint32_t> cell(reflex_list_.size());
+    std::vector<std::uint32_t>& cell = lists_.cell_of;
+    cell.resize(reflex_list_.size());
     cell_start_.assign(grid_x_ * grid_y_ + 1, 0);
     for (std::size_t k = 0; k < reflex_list_.size(); ++k) {
       const Cell xy = cell_[reflex_list_[k].corner];
@@ -306,7 +329,8 @@ class EarClipper {
     }
     for (std::size_t c = 1; c < cell_start_.size(); ++c) cell_start_[c] += cell_start_[c - 1];
     filed_.resize(reflex_list_.size());
-    std::vector<std::uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
+    std::vector<std::uint32_t>& fill = lists_.fill;
+    fill.assign(cell_start_.begin(), cell_start_.end() - 1);
     for (std::size_t k = 0; k < reflex_list_.size(); ++k) filed_[fill[cell[k]]++] = reflex_list_[k];
   }
 
@@ -471,21 +495,22 @@ class EarClipper {
   bool tied_ = false;  // kIndexed met a tie: run stops
   // The filings of corners that became reflex (kQueued), less stale ones dropped by scans, and
   // how many filings there were: the threshold between the grid and the list.
-  std::vector<Filed> reflex_list_;
+  std::vector<Filed>& reflex_list_ = lists_.reflex_list;
   std::size_t filings_ = 0;
   // The grid (kQueued, 64 corners and more): the filings up to the first ear test by cell
   // (cell c holds filed_[cell_start_[c], cell_start_[c + 1]), stale ones too), the later ones in
   // late_.
-  std::vector<std::uint32_t> cell_start_;
-  std::vector<Filed> filed_;
-  std::vector<LateFiled> late_;
-  std::vector<Cell> cell_;  // the cell of every corner
-  std::vector<Reach> reach_;  // the cells every corner reaches
+  std::vector<std::uint32_t>& cell_start_ = lists_.cell_start;
+  std::vector<Filed>& filed_ = lists_.filed;
+  std::vector<LateFiled>& late_ = lists_.late;
+  std::vector<Cell>& cell_ = lists_.cell;  // the cell of every corner
+  std::vector<Reach>& reach_ = lists_.reach;  // the cells every corner reaches
   bool grid_filed_ = false;
   std::size_t grid_x_ = 0, grid_y_ = 0;
   glm::dvec2 origin_xy_{0.0}, inv_cell_{0.0};
   std::priority_queue<Entry> ears_;  // kLazy
-  std::vector<Entry> heap_;  // kIndexed: a binary max-heap, heap_[(s - 1) / 2] the parent of heap_[s]
+  // kIndexed: a binary max-heap, heap_[(s - 1) / 2] the parent of heap_[s].
+  std::vector<Entry>& heap_ = lists_.heap;
   static constexpr std::uint32_t kNoSlot = ~std::uint32_t(0);  // lists_.slot of a corner without an entry
   // kExhaustive: what is known of each corner's ear (lists_.ear_state: find_blocker, or
   // kUnknown), and the quality of each known ear (lists_.ear_quality).
@@ -655,7 +680,11 @@ std::size_t largest_kept_clip_list() {
   const RingLists& l = RingLists::local();
   return std::max({l.poly.capacity() * sizeof(std::uint32_t), l.prev.capacity() * sizeof(std::uint32_t),
                    l.next.capacity() * sizeof(std::uint32_t), l.version.capacity() * sizeof(std::uint32_t),
-                   l.slot.capacity() * sizeof(std::uint32_t),
+                   l.slot.capacity() * sizeof(std::uint32_t), l.cell_start.capacity() * sizeof(std::uint32_t),
+                   l.cell_of.capacity() * sizeof(std::uint32_t), l.fill.capacity() * sizeof(std::uint32_t),
+                   l.reflex_list.capacity() * sizeof(geometry::Filed), l.filed.capacity() * sizeof(geometry::Filed),
+                   l.late.capacity() * sizeof(geometry::LateFiled), l.cell.capacity() * sizeof(geometry::Cell),
+                   l.reach.capacity() * sizeof(geometry::Reach), l.heap.capacity() * sizeof(geometry::Entry),
                    l.ear_state.capacity() * sizeof(std::uint32_t), l.alive.capacity(), l.reflex.capacity(),
                    l.ear_quality.capacity() * sizeof(double), l.corners.capacity() * sizeof(double),
                    l.xy.capacity() * sizeof(glm::dvec2)});
