@@ -88,15 +88,10 @@ double wrap_half_turn(double x) {
 
 }  // namespace
 
-RulingWindow ruling_window(const CylinderFrame& cyl, const glm::dvec3 p[3], double reach_angle) {
+RulingWindow ruling_window(const CylinderFrame& cyl, const double angle[3], double reach_angle) {
   const int n = cyl.samples;
   const RulingWindow all{0, n};
   if (!(reach_angle >= 0.0)) return all;
-  double angle[3];
-  for (int k = 0; k < 3; ++k) {
-    const glm::dvec3 q = cyl.perp(p[k]);
-    angle[k] = std::atan2(glm::dot(q, cyl.w), glm::dot(q, cyl.u));
-  }
   // The shadow's angles from corner 0's, each within half a turn of it: the remainder of the
   // difference by a turn (|difference| <= a turn, and the step by a turn is exact there).
   double lo = 0.0, hi = 0.0;

@@ -84,10 +84,11 @@ struct RulingWindow {
 /// negative value when `reach` is not small against r (every ruling can then reach it).
 double ruling_reach_angle(const CylinderFrame& cyl, double reach);
 
-/// The rulings that can pass within `reach` of the triangle `p` (posed corners), given
-/// `reach_angle` = ruling_reach_angle(cyl, reach): those within that angle of the triangle's
-/// shadow, or all of them when the shadow comes round the axis, so the rim sampling tests only
-/// the rulings that can give it a point.
-RulingWindow ruling_window(const CylinderFrame& cyl, const glm::dvec3 p[3], double reach_angle);
+/// The rulings that can pass within `reach` of the triangle whose corners lie at the angles
+/// `angle` around the axis (CylinderFrame::theta of its posed corners), given `reach_angle` =
+/// ruling_reach_angle(cyl, reach): those within that angle of the triangle's shadow, or all of
+/// them when the shadow comes round the axis, so the rim sampling tests only the rulings that can
+/// give it a point.
+RulingWindow ruling_window(const CylinderFrame& cyl, const double angle[3], double reach_angle);
 
 }  // namespace deepcut::drill

@@ -14,16 +14,6 @@ namespace deepcut::drill {
 
 namespace {
 
-// Whether a piece of one of the face's edges (`edges`, its records) lies inside the cylinder:
-// whether face_boundary would mark any segment inside.
-bool any_piece_inside(const std::array<EdgeCut*, 3>& edges) {
-  for (const EdgeCut* e : edges) {
-    for (int j = 0; j <= e->n; ++j)
-      if (e->inside[j]) return true;
-  }
-  return false;
-}
-
 // Whether FlipTriangulation::legalize flips edge a-b of triangle a-b-c, with d across it (over
 // the points `q`): d clearly inside the circumcircle, and the quad c-a-d-b convex.
 bool flips(const glm::dvec2 q[4], std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {
@@ -86,11 +76,11 @@ void FacePlanner::plan(std::size_t c, FaceId f, FacePlan& plan) {
   plan.chunk = chunk_;
   plan.first_poly = static_cast<std::uint32_t>(out_.polys.size());
   const Triangle tri = s_.mesh.face(f);
-  cur_edges_ = &s_.face_edges[c];
+  cur_ = &s_.faces[c];
   const glm::dvec3 corner[3] = {s_.posed(tri[0]), s_.posed(tri[1]), s_.posed(tri[2])};
   // A face with no piece of an edge inside keeps all of itself but a hole wholly inside it: its
   // boundary is worked out only for such a hole (most of those candidates are beside the rim).
-  const bool any_inside = any_piece_inside(*cur_edges_);
+  const bool any_inside = any_piece_inside(*cur_);
   if (any_inside && boundary(tri, corner)) {  // all inside
     plan_->remove = 1;
     return;
@@ -314,7 +304,9 @@ void FacePlanner::sample_rim() {
   if (!pc.parallel) {
     // Rulings in increasing order (an earlier point wins over a later one too close to it); only
     // those in the window, unless a chord needs the count of all of them.
-    const RulingWindow w = ruling_window(s_.cyl, face_.corner, s_.ruling_reach);
+    double angle[3];
+    for (int k = 0; k < 3; ++k) angle[k] = cur_->angled ? cur_->angle[k] : s_.cyl.theta(face_.corner[k]);
+    const RulingWindow w = ruling_window(s_.cyl, angle, s_.ruling_reach);
     const bool count_all = chords[0].second > 0.0 || chords[1].second > 0.0;
     const int wrapped = std::max(0, w.first + w.count - s_.samples);  // the window's part from 0
     for (int k = 0; k < s_.samples; ++k) {

@@ -50,6 +50,27 @@ struct EdgeCut {
   bool takes_steiner() const { return sides == kLoHi + kHiLo && !bad_side; }
 };
 
+// What the planning reads of one candidate: its edges' records (edge k from corner k to corner
+// k + 1; records never move) and, for a candidate with a piece of an edge inside
+// (any_piece_inside), its corners' angles around the axis (CylinderFrame::theta), worked out
+// once per vertex before planning (the window of rulings each such face samples). Left
+// unwritten for a candidate deep inside (nothing reads it).
+struct CandidateFace {
+  std::array<EdgeCut*, 3> edges;
+  std::array<double, 3> angle;
+  bool angled;  // angle holds the corners' angles
+};
+
+/// Whether a piece of one of the candidate's edges lies inside the cylinder (FacePlanner::plan
+/// then works out its boundary).
+inline bool any_piece_inside(const CandidateFace& face) {
+  for (const EdgeCut* e : face.edges) {
+    for (int j = 0; j <= e->n; ++j)
+      if (e->inside[j]) return true;
+  }
+  return false;
+}
+
 // A point on the boundary of a triangle's kept region, or on its rim.
 struct LocalPoint {
   VertexId v;           // invalid until a rim sample is created
@@ -87,9 +108,8 @@ struct RimShared {
   const PosedOverlay& posed;
   const CylinderFrame& cyl;
   const detail::NeedleMerges& merges;
-  // Per candidate its edges' records (edge k from corner k to corner k + 1; read-only: planning
-  // runs in parallel).
-  const std::vector<std::array<EdgeCut*, 3>>& face_edges;
+  // Per candidate its records (read-only: planning runs in parallel).
+  const CandidateFace* faces;
   double eps = 0.0, sep = 0.0, ruling_reach = -1.0;
   int samples = 32;
   std::vector<glm::dvec3> ruling_base;  // where each sampled ruling starts (s = 0)
@@ -209,8 +229,8 @@ class FacePlanner {
   std::uint32_t chunk_;
   PlanScratch& w_;
   FacePlan* plan_ = nullptr;                                  // the candidate being planned
-  const std::array<EdgeCut*, 3>* cur_edges_ = nullptr;  // its edges' records
-  const EdgeCut& cur_edge(int k) const { return *(*cur_edges_)[k]; }
+  const CandidateFace* cur_ = nullptr;  // its records
+  const EdgeCut& cur_edge(int k) const { return *cur_->edges[k]; }
   FacePlane face_;
   const std::vector<std::vector<std::uint32_t>> no_holes_;
 };

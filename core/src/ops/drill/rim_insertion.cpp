@@ -18,6 +18,7 @@
 #include "geometry/predicates.h"
 #include "ops/common/vertex_slots.h"
 #include "ops/drill/rim_faces.h"
+#include "uninit_vector.h"
 
 namespace deepcut::drill {
 namespace {
@@ -59,6 +60,7 @@ class RimInserter {
   std::size_t judge_faces(const std::vector<FaceId>& candidates);
   bool bad_shape(const Triangle& t) const;
   void allow_steiner(const std::vector<FaceId>& candidates);
+  void angle_corners(const std::vector<FaceId>& candidates);
   bool deep(const Triangle& t, detail::VertexSlots& judged) const;
   void plan_faces(const std::vector<FaceId>& candidates);
   void apply_plan(FaceId f, const FacePlan& plan);
@@ -80,10 +82,10 @@ class RimInserter {
   std::vector<std::uint8_t> deep_;
   // Per candidate not deep inside: of bad shape for Steiner points (allow_steiner).
   std::vector<std::uint8_t> bad_;
-  // Per candidate: its edges' records in edges_ (edge k from corner k to corner k + 1; records
-  // never move), looked up once by allow_steiner and read again by merge_crossings and the
-  // planning without indexing the table.
-  std::vector<std::array<EdgeCut*, 3>> face_edges_;
+  // Per candidate: its edges' records in edges_, looked up once by allow_steiner and read again
+  // by merge_crossings and the planning without indexing the table, and its corners' angles
+  // (angle_corners); sized without a fill (a candidate deep inside leaves its record unwritten).
+  detail::UninitVector<CandidateFace> faces_;
   // Crossings that fell on one bind position (the two long edges of a needle crossed at the same
   // parameter): the later vertex maps to the earlier, so the needle's tip is not a zero-area face.
   detail::NeedleMerges merges_;
@@ -193,7 +195,7 @@ void RimInserter::make_edge_vertices(const std::vector<FaceId>& candidates) {
   ts.reserve(2 * edges_.size());
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     if (deep_[c]) continue;
-    for (EdgeCut* const ep : face_edges_[c]) {
+    for (EdgeCut* const ep : faces_[c].edges) {
       EdgeCut& e = *ep;
       if (e.resolved) continue;
       e.resolved = true;
@@ -247,7 +249,7 @@ VertexId RimInserter::vertex_of(const Triangle& tri, LocalPoint& lp) {
 // needle's tip, or the kept part at its far end when the circle crosses each edge twice (a
 // triangle with two corners at one point), is not made. Same rule as the cut and the tear.
 void RimInserter::merge_crossings(std::size_t c) {
-  const std::array<EdgeCut*, 3>& es = face_edges_[c];  // filed by allow_steiner
+  const std::array<EdgeCut*, 3>& es = faces_[c].edges;  // filed by allow_steiner
   for (int k = 0; k < 3; ++k) {
     const EdgeCut& ea = *es[k];            // corner k to corner k + 1
     const EdgeCut& eb = *es[(k + 2) % 3];  // corner k + 2 to corner k
@@ -303,7 +305,7 @@ std::size_t RimInserter::judge_faces(const std::vector<FaceId>& candidates) {
 // edges, whose points at one parameter would round to one bind position (zero-area faces).
 void RimInserter::allow_steiner(const std::vector<FaceId>& candidates) {
   // Each candidate's half-edges file its edge's record (made here, in the order
-  // make_edge_vertices asks for them; the candidate keeps it in face_edges_): weight 1 for
+  // make_edge_vertices asks for them; the candidate keeps it in faces_): weight 1 for
   // lo -> hi, 16 for hi -> lo, and whether the face is of bad shape. Faces deep inside hold no
   // crossed edge, the only ones asked about.
   for (std::size_t c = 0; c < candidates.size(); ++c) {
@@ -314,7 +316,31 @@ void RimInserter::allow_steiner(const std::vector<FaceId>& candidates) {
       const VertexId a = t[k], b = t[(k + 1) % 3];
       EdgeCut* const e = edges_.try_emplace(a, b).first;
       e->file_side(a, b, bad);
-      face_edges_[c][k] = e;
+      faces_[c].edges[k] = e;
+    }
+  }
+}
+
+// The corners' angles around the axis of every candidate with a piece of an edge inside (those
+// sample the rim in their plane), each vertex's worked out once: the faces around a vertex on
+// the rim share it.
+void RimInserter::angle_corners(const std::vector<FaceId>& candidates) {
+  detail::VertexSlots& seen = detail::VertexSlots::scratch();  // vertex -> 3 c + k, its first
+  seen.reset(mesh_.vertex_count());
+  for (std::size_t c = 0; c < candidates.size(); ++c) {
+    if (deep_[c]) continue;
+    CandidateFace& face = faces_[c];
+    face.angled = any_piece_inside(face);
+    if (!face.angled) continue;
+    const Triangle& t = mesh_.face(candidates[c]);
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t first = seen.get(t[k].index);
+      if (first != detail::VertexSlots::kNone) {
+        face.angle[k] = faces_[first / 3].angle[first % 3];
+        continue;
+      }
+      face.angle[k] = cyl_.theta(posed_(t[k]));
+      seen.set(t[k].index, static_cast<std::uint32_t>(3 * c + k));
     }
   }
 }
@@ -355,7 +381,7 @@ bool RimInserter::deep(const Triangle& t, detail::VertexSlots& judged) const {
 // the mesh, the posed positions and the crossings made before, so it is the same whatever the
 // chunks or the thread count.
 void RimInserter::plan_faces(const std::vector<FaceId>& candidates) {
-  RimShared shared{mesh_, posed_, cyl_, merges_, face_edges_};
+  RimShared shared{mesh_, posed_, cyl_, merges_, faces_.data()};
   shared.eps = eps_;
   shared.samples = samples_;
   shared.sep = 0.3 * 2.0 * cyl_.r * std::sin(geometry::kPi / samples_);
@@ -398,9 +424,10 @@ void RimInserter::apply_plan(FaceId f, const FacePlan& plan) {
 RimInsertion RimInserter::run(const std::vector<FaceId>& candidates) {
   const std::size_t shallow = judge_faces(candidates);
   edges_.reserve(3 * shallow + 3);  // every edge looked up is a shallow candidate's
-  face_edges_.resize(candidates.size());
+  faces_.resize(candidates.size());
   allow_steiner(candidates);
   cross_edges();
+  angle_corners(candidates);
   make_edge_vertices(candidates);
   for (std::size_t c = 0; c < candidates.size(); ++c)
     if (!deep_[c]) merge_crossings(c);
