@@ -291,6 +291,23 @@ std::vector<glm::mat4> vertex_skin_matrices(const Model& model, int node, const 
   return out;
 }
 
+BoundingBox face_bounds(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions) {
+  // Reduced over the pool (min and max are exact in any order).
+  return parallel_reduce(
+      mesh.face_slots(), 65536, BoundingBox(),
+      [&](std::size_t b, std::size_t e) {
+        BoundingBox part;
+        for (std::size_t f = b; f < e; ++f)
+          if (!mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f))))
+            for (auto v : mesh.face(FaceId(static_cast<std::uint32_t>(f)))) part.add(positions[v.index]);
+        return part;
+      },
+      [](BoundingBox acc, const BoundingBox& part) {
+        acc.add(part);
+        return acc;
+      });
+}
+
 BoundingBox world_bounds(const Model& model, const Pose& pose) {
   const auto world = world_matrices(model, pose);
   const std::vector<float> none;
@@ -300,21 +317,7 @@ BoundingBox world_bounds(const Model& model, const Pose& pose) {
     if (m < 0 || static_cast<std::size_t>(m) >= model.meshes.size()) continue;
     for (const auto& prim : model.meshes[m].primitives) {
       const auto& weights = i < pose.weights.size() ? pose.weights[i] : none;
-      const auto posed = posed_positions(model, static_cast<int>(i), prim.mesh, world, weights);
-      // The live faces' corners, reduced over the pool (min and max are exact in any order).
-      box.add(parallel_reduce(
-          prim.mesh.face_slots(), 65536, BoundingBox(),
-          [&](std::size_t b, std::size_t e) {
-            BoundingBox part;
-            for (std::size_t f = b; f < e; ++f)
-              if (!prim.mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f))))
-                for (auto v : prim.mesh.face(FaceId(static_cast<std::uint32_t>(f)))) part.add(posed[v.index]);
-            return part;
-          },
-          [](BoundingBox acc, const BoundingBox& part) {
-            acc.add(part);
-            return acc;
-          }));
+      box.add(face_bounds(prim.mesh, posed_positions(model, static_cast<int>(i), prim.mesh, world, weights)));
     }
   }
   return box;

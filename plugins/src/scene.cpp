@@ -57,6 +57,23 @@ std::vector<SceneInstance> list_instances(const Model& m) {
   return out;
 }
 
+// The model's bounds at rest (world_bounds of the rest pose: what sizes the camera and the tools).
+// A scene posed at rest with every primitive of every node that has a mesh among its instances
+// (an open, as a rule) measures its own positions, which are those of the rest pose (posed the
+// same way, bit for bit); any other scene poses the model again at rest.
+BoundingBox rest_bounds(const Scene& scene, const PoseKey& key) {
+  const Model& m = *scene.model;
+  std::size_t primitives = 0;
+  for (const Node& node : m.nodes)
+    if (node.mesh >= 0 && static_cast<std::size_t>(node.mesh) < m.meshes.size())
+      primitives += m.meshes[static_cast<std::size_t>(node.mesh)].primitives.size();
+  if (key.animation >= 0 || !key.weights.empty() || primitives != scene.instances.size())
+    return world_bounds(m, rest_pose(m));
+  BoundingBox box;
+  for (const SceneInstance& instance : scene.instances) box.add(face_bounds(*instance.surface, instance.posed()));
+  return box;
+}
+
 }  // namespace
 
 Scene make_scene(std::shared_ptr<const Model> model, int animation, float time, bool with_normals) {
@@ -71,7 +88,7 @@ Scene make_scene(std::shared_ptr<const Model> model, const PoseKey& key, bool wi
   scene.instances = list_instances(m);
   scene.weights = key.weights;
   pose_scene(scene, key.animation, key.time, with_normals);
-  const BoundingBox box = world_bounds(m, rest_pose(m));  // over the pool, as the pose
+  const BoundingBox box = rest_bounds(scene, key);
   scene.size = box.empty() || box.diagonal() <= 0.0f ? 1.0f : box.diagonal();
   return scene;
 }

@@ -9,6 +9,7 @@
 #include "deepcut/core/adjacency.h"
 #include "deepcut/core/attributes.h"
 #include "deepcut/core/errors.h"
+#include "deepcut/core/io/gltf.h"
 #include "deepcut/core/mesh_editor.h"
 #include "deepcut/core/parallel.h"
 #include "deepcut/core/skinning.h"
@@ -101,6 +102,22 @@ TEST(SceneTest, the_scene_pose_is_a_posed_model_equal_to_a_fresh_build_at_every_
   const PosedMesh* inst = operations.find(0, 0);
   EXPECT_FALSE(inst->gridless);
   EXPECT_EQ(inst->grid.face_count(), model->meshes[0].primitives[0].mesh.face_count());
+}
+
+// A scene made at rest measures the model's size from its own posed positions; it equals the
+// rest pose's world bounds bit for bit on skinned, morphing and multi-node models, and so does
+// the size of a scene made at another pose (which poses the model again at rest).
+TEST(SceneTest, the_size_is_the_rest_pose_s_world_bounds_at_any_pose) {
+  for (const char* name : {"cactus.glb", "models/Fox/Fox.glb", "models/CesiumMan/CesiumMan.glb",
+                           "models/RiggedFigure/RiggedFigure.glb", "models/AnimatedMorphCube/AnimatedMorphCube.gltf",
+                           "models/AnimatedMorphSphere/AnimatedMorphSphere.gltf"}) {
+    const auto model = std::make_shared<const Model>(read_gltf(std::string(DEEPCUT_ASSETS_DIR) + "/" + name));
+    const float expected = world_bounds(*model, rest_pose(*model)).diagonal();
+    EXPECT_EQ(make_scene(model, -1, 0.0f).size, expected) << name;
+    if (!model->animations.empty()) {
+      EXPECT_EQ(make_scene(model, 0, 0.5f).size, expected) << name << " posed by its first clip";
+    }
+  }
 }
 
 TEST(SceneTest, pieces_follow_the_pose_and_skeleton_links_joints) {

@@ -124,5 +124,8 @@ std::vector<glm::vec3> posed_normals(const Model& model, int node, const Surface
 
 /// Bounding box of every mesh instance in world space for `pose` (its morph weights included).
 BoundingBox world_bounds(const Model& model, const Pose& pose);
+/// Bounding box of the corners of `mesh`'s live faces at `positions` (one per vertex slot), over
+/// the pool: what world_bounds measures of each instance.
+BoundingBox face_bounds(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions);
 
 }  // namespace deepcut
