@@ -136,11 +136,7 @@ void FlipTriangulation::legalize() {
     if (j < 0) continue;
     const std::uint32_t d = tris_[u][(j + 2) % 3];
     if (d == c) continue;
-    const glm::dvec2 &pa = pts[a], &pb = pts[b], &pc = pts[c], &pd = pts[d];
-    double scale = 0.0;
-    for (const auto* q : {&pa, &pb, &pc}) scale = std::max(scale, glm::dot(*q - pd, *q - pd));
-    if (incircle(pa, pb, pc, pd) <= 1e-10 * scale * scale) continue;
-    if (orient(pc, pa, pd) <= 0.0 || orient(pd, pb, pc) <= 0.0) continue;
+    if (!delaunay_flips(pts[a], pts[b], pts[c], pts[d])) continue;
     const int n_bc = nbr_[t][(k + 1) % 3], n_ca = nbr_[t][(k + 2) % 3];
     const int n_ad = nbr_[u][(j + 1) % 3], n_db = nbr_[u][(j + 2) % 3];
     tris_[t] = {c, a, d};

@@ -183,11 +183,8 @@ class EarClipper {
   const glm::dvec2& at(std::size_t i) const { return lists_.xy[i]; }
   double corner_at(std::size_t a, std::size_t b, std::size_t c) const { return orient(at(a), at(b), at(c)); }
   double corner(std::size_t i) const { return corner_at(lists_.prev[i], i, lists_.next[i]); }
-  double longest(std::size_t i) const {
-    const glm::dvec2 &a = at(lists_.prev[i]), &b = at(i), &c = at(lists_.next[i]);
-    return std::max({glm::dot(b - a, b - a), glm::dot(c - b, c - b), glm::dot(a - c, a - c)});
-  }
-  double quality(std::size_t i) const { return corner(i) / std::max(longest(i), 1e-300); }
+  double longest(std::size_t i) const { return longest_edge2(at(lists_.prev[i]), at(i), at(lists_.next[i])); }
+  double quality(std::size_t i) const { return ear_quality(corner(i), longest(i)); }
   // kQueued: queues corner i (its corner() `turn`, its quality) when it is an ear: positive area
   // and no other polygon point in the closed triangle (only a reflex corner can lie inside an ear
   // of a weakly simple polygon). kIndexed moves its entry, or drops it when it is no ear.
@@ -197,7 +194,7 @@ class EarClipper {
       if (indexed_) heap_remove(corner);
       return;
     }
-    const double quality = turn / std::max(longest(i), 1e-300);
+    const double quality = ear_quality(turn, longest(i));
     if (!indexed_) {
       ears_.push({quality, corner, lists_.version[i]});
       return;
@@ -397,15 +394,14 @@ class EarClipper {
   std::uint32_t find_blocker(std::size_t i) const {
     const std::uint32_t ia = lists_.poly[lists_.prev[i]], ib = lists_.poly[i], ic = lists_.poly[lists_.next[i]];
     const glm::dvec2 &a = pts_[ia], &b = pts_[ib], &c = pts_[ic];
-    const double tiny = 1e-13 * longest(i);
+    const double tiny = ear_tolerance(longest(i));
     if (corner(i) <= tiny) return kFlat;
     std::size_t q = origin_;
     for (std::size_t k = 0; k < remaining_; ++k, q = lists_.next[q]) {
       const std::uint32_t iq = lists_.poly[q];
       if (iq == ia || iq == ib || iq == ic) continue;  // the same point (bridges repeat points)
       const glm::dvec2& p = at(q);
-      if (orient(a, b, p) >= -tiny && orient(b, c, p) >= -tiny && orient(c, a, p) >= -tiny)
-        return static_cast<std::uint32_t>(q);
+      if (blocks_ear(a, b, c, p, tiny)) return static_cast<std::uint32_t>(q);
     }
     return kEar;
   }

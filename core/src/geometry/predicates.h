@@ -50,6 +50,36 @@ inline glm::dvec2 circumcentre(const glm::dvec2& a, const glm::dvec2& b, const g
                  d;
 }
 
+/// Whether FlipTriangulation::legalize flips edge a-b of the counter-clockwise triangle a-b-c,
+/// with d across it: d inside the circle through a, b, c beyond a tolerance scaled by their
+/// spread around d, and the quad c-a-d-b convex (both new triangles counter-clockwise).
+inline bool delaunay_flips(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c, const glm::dvec2& d) {
+  double scale = 0.0;
+  for (const auto* q : {&a, &b, &c}) scale = std::max(scale, glm::dot(*q - d, *q - d));
+  if (incircle(a, b, c, d) <= 1e-10 * scale * scale) return false;
+  return !(orient(c, a, d) <= 0.0 || orient(d, b, c) <= 0.0);
+}
+
+/// The square of the longest edge of triangle a-b-c: the length ear clipping rates an ear by.
+inline double longest_edge2(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c) {
+  return std::max({glm::dot(b - a, b - a), glm::dot(c - b, c - b), glm::dot(a - c, a - c)});
+}
+
+/// Ear clipping's quality of an ear of twice-area `turn` and squared longest edge `longest2`
+/// (1 for the best shape scale-free; larger is better).
+inline double ear_quality(double turn, double longest2) { return turn / std::max(longest2, 1e-300); }
+
+/// The tolerance of the exhaustive ear test for an ear of squared longest edge `longest2`: an
+/// area at most this is flat, and a point this far outside an edge still blocks.
+inline double ear_tolerance(double longest2) { return 1e-13 * longest2; }
+
+/// Whether p blocks the ear a-b-c in the exhaustive test: inside the closed triangle, widened
+/// by `tiny` (ear_tolerance).
+inline bool blocks_ear(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c, const glm::dvec2& p,
+                       double tiny) {
+  return orient(a, b, p) >= -tiny && orient(b, c, p) >= -tiny && orient(c, a, p) >= -tiny;
+}
+
 /// `x` wrapped to [0, 2 pi).
 inline double wrap_2pi(double x) {
   x = std::fmod(x, 2.0 * kPi);

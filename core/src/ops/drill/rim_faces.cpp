@@ -15,31 +15,23 @@ namespace deepcut::drill {
 namespace {
 
 // Whether FlipTriangulation::legalize flips edge a-b of triangle a-b-c, with d across it (over
-// the points `q`): d clearly inside the circumcircle, and the quad c-a-d-b convex.
+// the points `q`).
 bool flips(const glm::dvec2 q[4], std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {
-  const glm::dvec2 &pa = q[a], &pb = q[b], &pc = q[c], &pd = q[d];
-  double scale = 0.0;
-  for (const auto* x : {&pa, &pb, &pc}) scale = std::max(scale, glm::dot(*x - pd, *x - pd));
-  if (geometry::incircle(pa, pb, pc, pd) <= 1e-10 * scale * scale) return false;
-  return !(geometry::orient(pc, pa, pd) <= 0.0 || geometry::orient(pd, pb, pc) <= 0.0);
+  return geometry::delaunay_flips(q[a], q[b], q[c], q[d]);
 }
 
 // The corner of the quad 0-1-2-3 that ear clipping (EarSearch::kExhaustive) clips: the ear of
-// best shape (area over squared longest edge; the first on ties) among the corners with area
-// beyond the tolerance whose closed triangle leaves out the opposite corner; 4 when none is.
+// best quality (the first on ties) among the corners with area beyond the tolerance whose closed
+// triangle leaves out the opposite corner; 4 when none is.
 int quad_ear(const glm::dvec2 q[4]) {
   int best = 4;
   double best_quality = -1.0;
   for (int i = 0; i < 4; ++i) {
     const glm::dvec2 &a = q[(i + 3) % 4], &b = q[i], &c = q[(i + 1) % 4], &p = q[(i + 2) % 4];
-    const double turn = geometry::orient(a, b, c);
-    const double longest = std::max({glm::dot(b - a, b - a), glm::dot(c - b, c - b), glm::dot(a - c, a - c)});
-    const double tiny = 1e-13 * longest;
-    if (turn <= tiny) continue;
-    if (geometry::orient(a, b, p) >= -tiny && geometry::orient(b, c, p) >= -tiny &&
-        geometry::orient(c, a, p) >= -tiny)
-      continue;  // blocked
-    const double quality = turn / std::max(longest, 1e-300);
+    const double turn = geometry::orient(a, b, c), longest = geometry::longest_edge2(a, b, c);
+    const double tiny = geometry::ear_tolerance(longest);
+    if (turn <= tiny || geometry::blocks_ear(a, b, c, p, tiny)) continue;
+    const double quality = geometry::ear_quality(turn, longest);
     if (quality > best_quality) {
       best_quality = quality;
       best = i;
