@@ -3,7 +3,7 @@
 // The 3D view of the studio: a QVTKOpenGLNativeWidget showing every instance of the scene posed,
 // with its material (base colour and texture) or an inspector's colours, overlays (skeleton,
 // normals, the inspector's markers and edges), a colour bar and a caption. VTK stays inside
-// scene_view*.cpp; this header is cheap to include.
+// scene_view*.cpp and scene_view_impl.h; this header is cheap to include.
 
 #include <QImage>
 #include <QWidget>

@@ -384,7 +384,7 @@ PosedMesh PosedModel::derive_instance(const Model& model, int node, int primitiv
   PosedMesh taken = take_smallest_fit(spare, n, 2 * room + 1, [](const PosedMesh& m) {
     return std::min(m.posed.capacity(), m.linear.capacity());
   });
-  if (taken.posed.capacity() >= n && taken.linear.capacity() >= n) {
+  if (n > 0 && taken.posed.capacity() >= n && taken.linear.capacity() >= n) {  // (none taken: empty)
     // Its pages are there: only the elements past its sizes are filled (all are written below).
     inst.posed = std::move(taken.posed);
     inst.linear = std::move(taken.linear);

@@ -48,9 +48,37 @@ using Place = std::pair<int, int>;  // (mesh, primitive)
 /// An instance a structural step makes out of one drawn before (PosedModel::derive_instance).
 struct Derivation {
   std::pair<int, int> key;  // (node, primitive)
-  const PosedMesh* source;
-  const PrimitiveOrigin* origin;
+  Place place;
 };
+
+/// Calls `fn(node, mesh, primitive)` for every primitive of every node with a mesh, in order.
+template <class Fn>
+void for_each_instance(const Model& model, Fn&& fn) {
+  for (std::size_t ni = 0; ni < model.nodes.size(); ++ni) {
+    const int mi = model.nodes[ni].mesh;
+    if (mi < 0 || static_cast<std::size_t>(mi) >= model.meshes.size()) continue;
+    for (std::size_t p = 0; p < model.meshes[static_cast<std::size_t>(mi)].primitives.size(); ++p)
+      fn(static_cast<int>(ni), mi, static_cast<int>(p));
+  }
+}
+
+/// What a structural change says of the places (mesh, primitive) now: where the content kept
+/// there was before, and the tag of the content that arrived there (`tags`: all of them).
+struct Arrivals {
+  std::map<Place, Place> kept_from;
+  std::map<Place, std::uint64_t> arrived;
+  std::set<std::uint64_t> tags;
+};
+
+Arrivals arrivals_of(const ModelChange& change) {
+  Arrivals out;
+  for (const PrimitiveKept& k : change.kept) out.kept_from[{k.mesh, k.primitive}] = {k.mesh_before, k.primitive_before};
+  for (const PrimitiveContent& a : change.arrived) {
+    out.arrived[{a.mesh, a.primitive}] = a.tag;
+    out.tags.insert(a.tag);
+  }
+  return out;
+}
 
 /// `derived` (instances of `model`) with the most vertices first, so each takes the smallest
 /// spare that holds it (take_smallest_fit) and a piece that grew a little past the spare of the
@@ -89,17 +117,10 @@ void PosedModel::follow(const Model& model, const ModelChange& change, PoseDetai
   PoseStash back;
   if (stash) back.swap(*stash);
   set_pose(model, key_);
-  std::map<Place, Place> kept_from;  // place now -> place before
-  for (const PrimitiveKept& k : change.kept) kept_from[{k.mesh, k.primitive}] = {k.mesh_before, k.primitive_before};
-  std::map<Place, std::uint64_t> arrived;
-  std::set<std::uint64_t> tags;
-  for (const PrimitiveContent& a : change.arrived) {
-    arrived[{a.mesh, a.primitive}] = a.tag;
-    tags.insert(a.tag);
-  }
+  const Arrivals arrivals = arrivals_of(change);
   // What the stash holds for no arrival: a derived instance takes the arrays of one (their memory
   // reused, no new pages to fault in); the others are freed with the list.
-  std::vector<PosedMesh> spare = take_unclaimed(back, tags);
+  std::vector<PosedMesh> spare = take_unclaimed(back, arrivals.tags);
   // Posed as a build would pose `place` for `node` (the sizes: a guard against a follower that
   // did not show the state before the step).
   auto posed_alike = [&](const PosedMesh& inst, int node, const Place& place) {
@@ -111,16 +132,16 @@ void PosedModel::follow(const Model& model, const ModelChange& change, PoseDetai
   };
   // The instance of content `place` drew before (kept) or that `stash` holds, if posed alike.
   auto reuse = [&](int node, const Place& place, PosedMesh& out) {
-    const auto k = kept_from.find(place);
-    if (k != kept_from.end()) {
+    const auto k = arrivals.kept_from.find(place);
+    if (k != arrivals.kept_from.end()) {
       const auto it = old.find({node, k->second.second});
       if (it == old.end() || it->second.mesh != k->second.first || !posed_alike(it->second, node, place)) return false;
       out = std::move(it->second);
       old.erase(it);
       return true;
     }
-    const auto a = arrived.find(place);
-    if (a == arrived.end()) return false;
+    const auto a = arrivals.arrived.find(place);
+    if (a == arrivals.arrived.end()) return false;
     const auto it = back.find({a->second, node});
     if (it == back.end() || !posed_alike(it->second, node, place)) return false;
     out = std::move(it->second);
@@ -143,26 +164,24 @@ void PosedModel::follow(const Model& model, const ModelChange& change, PoseDetai
     return {nullptr, nullptr};
   };
   std::vector<Derivation> derived;  // made once every instance kept or brought back is in place
-  for (std::size_t ni = 0; ni < model.nodes.size(); ++ni) {
-    const int mi = model.nodes[ni].mesh;
-    if (mi < 0 || static_cast<std::size_t>(mi) >= model.meshes.size()) continue;
-    const int node = static_cast<int>(ni);
-    for (std::size_t p = 0; p < model.meshes[static_cast<std::size_t>(mi)].primitives.size(); ++p) {
-      const int prim = static_cast<int>(p);
-      PosedMesh inst;
-      if (reuse(node, {mi, prim}, inst)) {
-        inst.mesh = mi;
-        inst.primitive = prim;
-      } else if (const auto [source, origin] = source_of(node, {mi, prim}); source) {
-        derived.push_back({{node, prim}, source, origin});  // its place held until it is made
-      } else {
-        inst = make_instance(model, node, prim, detail);
-      }
-      instances_[{node, prim}] = std::move(inst);
+  for_each_instance(model, [&](int node, int mi, int prim) {
+    PosedMesh inst;
+    if (reuse(node, {mi, prim}, inst)) {
+      inst.mesh = mi;
+      inst.primitive = prim;
+    } else if (source_of(node, {mi, prim}).first) {
+      derived.push_back({{node, prim}, {mi, prim}});  // its place held until it is made
+    } else {
+      inst = make_instance(model, node, prim, detail);
     }
+    instances_[{node, prim}] = std::move(inst);
+  });
+  for (const Derivation& d : largest_first(model, std::move(derived))) {
+    // Looked up again: a later reuse may have taken it out of `old` (a cut never does).
+    const auto [source, origin] = source_of(d.key.first, d.place);
+    instances_[d.key] = source ? derive_instance(model, d.key.first, d.key.second, *source, *origin, spare)
+                               : make_instance(model, d.key.first, d.key.second, detail);
   }
-  for (const Derivation& d : largest_first(model, std::move(derived)))
-    instances_[d.key] = derive_instance(model, d.key.first, d.key.second, *d.source, *d.origin, spare);
   if (stash) stash_left(change.left, old, *stash);
 }
 

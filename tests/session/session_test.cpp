@@ -19,6 +19,7 @@
 
 #include "deepcut/core/errors.h"
 #include "deepcut/core/io/gltf.h"
+#include "deepcut/core/operation_room.h"
 #include "deepcut/core/posed_model.h"
 #include "tools.h"
 #include "posed_checks.h"
@@ -468,7 +469,12 @@ TEST(SessionTest, a_follower_derives_the_largest_piece_into_the_one_spare_that_h
       pieces[{o->node, o->primitive}] = instance_surface(*session.current(), o->node, o->primitive)->vertex_count();
     const auto largest = std::max_element(pieces.begin(), pieces.end(),
                                           [](const auto& a, const auto& b) { return a.second < b.second; });
-    if (pieces.size() < 2 || largest == pieces.begin()) {  // the largest met first: another cut
+    // A smaller piece met before the largest that the spare would also fit (it is at most twice
+    // the room that piece would get): unsorted, that piece would take it.
+    const bool smaller_first = std::any_of(pieces.begin(), largest, [&](const auto& p) {
+      return 2 * operation_vertex_room(p.second) + 1 >= largest->second;
+    });
+    if (!smaller_first) {  // the largest met first, or no smaller piece would fit: another cut
       session.undo();
       continue;
     }
