@@ -69,16 +69,18 @@ unsigned int* mapped_for_write(vtkOpenGLIndexBufferObject* ibo, std::size_t n) {
       glMapBufferRange(GL_ELEMENT_ARRAY_BUFFER, 0, bytes, GL_MAP_WRITE_BIT | GL_MAP_INVALIDATE_BUFFER_BIT));
 }
 
-// The triangle buffer made from the connectivity of `polys` (`n` ids): written in place when the
-// buffer maps (and unmaps intact), else narrowed into an array and uploaded.
-void upload_triangles(vtkOpenGLIndexBufferObject* ibo, vtkCellArray* polys, std::size_t n) {
-  if (unsigned int* mapped = mapped_for_write(ibo, n)) {
+// The triangle buffer made from the connectivity of `polys` (`n` ids): written in place when
+// `map` and the buffer maps (and unmaps intact), else narrowed into an array and uploaded.
+// @returns whether it was written in place.
+bool upload_triangles(vtkOpenGLIndexBufferObject* ibo, vtkCellArray* polys, std::size_t n, bool map) {
+  if (unsigned int* mapped = map ? mapped_for_write(ibo, n) : nullptr) {
     narrow_connectivity(polys, n, mapped);
-    if (glUnmapBuffer(GL_ELEMENT_ARRAY_BUFFER) == GL_TRUE) return;
+    if (glUnmapBuffer(GL_ELEMENT_ARRAY_BUFFER) == GL_TRUE) return true;
   }
   std::unique_ptr<unsigned int[]> indices(new unsigned int[n]);  // every entry written below
   narrow_connectivity(polys, n, indices.get());
   ibo->Upload(indices.get(), n, vtkOpenGLIndexBufferObject::ElementArrayBuffer);
+  return false;
 }
 
 }  // namespace
@@ -117,7 +119,7 @@ void SurfaceMapper::BuildIBO(vtkRenderer* ren, vtkActor* act, vtkPolyData* poly)
   }
   const auto n = static_cast<std::size_t>(polys->GetNumberOfConnectivityIds());
   vtkOpenGLIndexBufferObject* tris = Primitives[PrimitiveTris].IBO;
-  upload_triangles(tris, polys, n);
+  last_mapped_ = upload_triangles(tris, polys, n, map_uploads_);
   tris->IndexCount = n;
   for (int p = PrimitiveStart; p < PrimitiveEnd; ++p)
     if (p != PrimitiveTris) Primitives[p].IBO->IndexCount = 0;

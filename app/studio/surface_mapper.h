@@ -6,8 +6,8 @@
 /// it goes: at 1M triangles about a fifth of the first frame after opening (and of the frame
 /// after a cut). A surface of triangles only, drawn filled with nothing read per cell, needs no
 /// more than its connectivity narrowed to 32 bits: this mapper converts it over the pool
-/// straight into the index buffer, mapped for writing (no array of its own, no copy). A degenerate triangle it keeps covers no pixel, so the frame is the
-/// same. Anything else (edges, wireframe, points, lines or strips, cell colours or normals, a
+/// straight into the index buffer, mapped for writing (no array of its own, no copy). A
+/// degenerate triangle it keeps covers no pixel, so the frame is the same. Anything else (edges, wireframe, points, lines or strips, cell colours or normals, a
 /// hardware selection) is VTK's own build. VTK 9.1 builds the index buffers again with every
 /// upload, new positions alone included; this one only when the cells (or their arrays) were
 /// marked modified.
@@ -27,6 +27,10 @@ class SurfaceMapper : public vtkOpenGLPolyDataMapper {
  protected:
   SurfaceMapper() = default;
   void BuildIBO(vtkRenderer* ren, vtkActor* act, vtkPolyData* poly) override;
+  /// Whether the triangle buffer is written mapped (else narrowed into an array and uploaded,
+  /// as where a driver does not map it), and whether the last one built here was.
+  bool map_uploads_ = true;
+  bool last_mapped_ = false;
 
  private:
   /// Whether the triangles' connectivity alone makes the index buffers VTK would draw with.

@@ -35,6 +35,8 @@ class ProbedMapper : public deepcut::studio::SurfaceMapper {
   static ProbedMapper* New();
   vtkTypeMacro(ProbedMapper, deepcut::studio::SurfaceMapper)
   std::size_t triangle_indices() const { return Primitives[PrimitiveTris].IBO->IndexCount; }
+  bool mapped() const { return last_mapped_; }
+  void map_uploads(bool map) { map_uploads_ = map; }
 };
 vtkStandardNewMacro(ProbedMapper);
 
@@ -108,6 +110,7 @@ class SurfaceMapperTest : public QObject {
   void frames_equal_vtks_own_mapper_and_follow_every_change();
   void one_actor_switching_representations_draws_as_vtk_does();
   void cells_other_than_triangles_take_vtks_build();
+  void an_upload_without_mapping_draws_the_same();
 
  private:
   // One window for every case: a window closed and another opened at once can find the X server
@@ -133,6 +136,7 @@ void SurfaceMapperTest::frames_equal_vtks_own_mapper_and_follow_every_change() {
   };
   check(false);
   QCOMPARE(ours->triangle_indices(), std::size_t(3 * cells));  // VTK's own: 3 * (cells - 1)
+  QVERIFY2(ours->mapped(), "the buffer was written mapped (Mesa maps index buffers)");
 
   // Edges: VTK's own build (which leaves the degenerate triangle out), then the mapper's again.
   check(true);
@@ -195,6 +199,20 @@ void SurfaceMapperTest::cells_other_than_triangles_take_vtks_build() {
   vtkSmartPointer<vtkUnsignedCharArray> y = frame(window, theirs, poly, false);
   QVERIFY(same(x, y));
   QCOMPARE(ours->triangle_indices(), std::size_t(6));  // the quad's two triangles, VTK's build
+}
+
+void SurfaceMapperTest::an_upload_without_mapping_draws_the_same() {
+  // The path taken where a driver does not map the buffer: an array narrowed, then uploaded.
+  vtkRenderWindow* window = window_;
+  vtkSmartPointer<vtkPolyData> poly = grid(12);
+  vtkNew<ProbedMapper> ours;
+  ours->map_uploads(false);
+  vtkNew<vtkPolyDataMapper> theirs;
+  vtkSmartPointer<vtkUnsignedCharArray> x = frame(window, ours, poly, false);
+  vtkSmartPointer<vtkUnsignedCharArray> y = frame(window, theirs, poly, false);
+  QVERIFY(same(x, y));
+  QVERIFY(!ours->mapped());
+  QCOMPARE(ours->triangle_indices(), std::size_t(3 * poly->GetNumberOfCells()));
 }
 
 QTEST_APPLESS_MAIN(SurfaceMapperTest)
