@@ -127,7 +127,7 @@ vtkSmartPointer<vtkPolyData> stand_in_triangle(vtkCamera* camera, bool textured)
   camera->GetDirectionOfProjection(&direction.x);
   const double half =
       camera->GetDistance() * std::tan(0.5 * vtkMath::RadiansFromDegrees(camera->GetViewAngle()));
-  const glm::dvec3 right = glm::cross(direction, up) * (0.5 * half), upward = up * (0.25 * half);
+  const glm::dvec3 right = glm::cross(direction, up) * (0.75 * half), upward = up * (0.375 * half);
   vtkNew<vtkPoints> points;
   points->SetDataTypeToFloat();
   for (const glm::dvec3& p : {focus - right - upward, focus + right - upward, focus + 2.0 * upward})
