@@ -212,6 +212,8 @@ class MainWindow : public QMainWindow {
   void closeEvent(QCloseEvent* event) override;
 
  private:
+  /// Milliseconds since `clock` started.
+  static double ms_since(const QElapsedTimer& clock);
   void build_docks();
   void build_menus();
   void build_edit_menu();

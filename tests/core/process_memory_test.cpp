@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cstddef>
+#include <fstream>
 #include <memory>
 
 #if defined(__GLIBC__)
@@ -37,6 +38,23 @@ TEST(ProcessMemory, AFreedLargeBlockIsReusedWithoutPageFaults) {
   touch_block(kBytes);
   const long pages = static_cast<long>(kBytes / 4096);
   EXPECT_LT(minor_faults() - before, pages / 100) << "of " << pages << " pages";
+}
+
+long resident_pages() {
+  std::ifstream in("/proc/self/statm");
+  long size = 0, resident = 0;
+  in >> size >> resident;
+  return resident;
+}
+
+// What is kept is given back on request: a freed 64 MiB block leaves the resident set.
+TEST(ProcessMemory, ReleasedMemoryLeavesTheResidentSet) {
+  ASSERT_TRUE(deepcut::keep_freed_memory());
+  constexpr std::size_t kBytes = std::size_t(64) << 20;
+  touch_block(kBytes);
+  const long kept = resident_pages();
+  deepcut::release_freed_memory();
+  EXPECT_GT(kept - resident_pages(), static_cast<long>(kBytes / 4096 / 2)) << "pages given back";
 }
 #endif
 

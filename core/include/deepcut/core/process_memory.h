@@ -17,6 +17,17 @@ namespace deepcut {
 /// Keeps freed memory in the process for later allocations (glibc: blocks up to 1 GiB come from
 /// the heap, and the heap is never trimmed). Call once at the start of `main`, before any thread
 /// starts. Returns false where the C library has no such setting (nothing changes there).
+///
+/// glibc gives each thread that allocates its own arena: a block goes back to the arena it came
+/// from, whichever thread frees it, and serves only that arena's later allocations. So resident
+/// memory may reach the sum of the arenas' peaks (the open's worker, the pool's threads, the UI
+/// thread). Arenas other than the main one grow in 64 MiB heaps, so a block larger than that
+/// made on another thread is still mapped and unmapped on its own.
 bool keep_freed_memory();
+
+/// Hands the free memory of every arena back to the system (glibc: malloc_trim). For the moment
+/// a large model has been replaced: what it held and the new model did not reuse. Costs a walk
+/// of the heaps; the next allocations fault their pages in again.
+void release_freed_memory();
 
 }  // namespace deepcut
