@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "args.h"
 #include "deepcut/core/errors.h"
 #include "deepcut/core/process_memory.h"
-#include "args.h"
 #include "help.h"
 
 namespace {

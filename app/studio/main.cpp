@@ -22,8 +22,8 @@
 #include <sstream>
 
 #include "deepcut/core/errors.h"
-#include "deepcut/core/process_memory.h"
 #include "deepcut/core/ops/operation.h"
+#include "deepcut/core/process_memory.h"
 #include "main_window.h"
 #include "scene_view.h"
 #include "studio_options.h"

@@ -75,7 +75,9 @@ QString thousands(std::size_t n) { return QLocale(QLocale::English).toString(sta
 
 }  // namespace
 
-double MainWindow::ms_since(const QElapsedTimer& clock) { return static_cast<double>(clock.nsecsElapsed()) / 1e6; }
+double MainWindow::ms_since(const QElapsedTimer& clock) {
+  return static_cast<double>(clock.nsecsElapsed()) / 1e6;
+}
 
 MainWindow::MainWindow(const MainWindowOptions& options, QWidget* parent)
     : QMainWindow(parent), options_(options) {

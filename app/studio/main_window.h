@@ -291,7 +291,8 @@ class MainWindow : public QMainWindow {
   OpenTiming open_timing_;
   QElapsedTimer open_clock_;  // since the last open started
   bool first_frame_pending_ = false;
-  bool status_held_ = false;  // the swap-in: the status bar follows the first frame (its counts scan the model)
+  bool status_held_ =
+      false;               // the swap-in: the status bar follows the first frame (its counts scan the model)
   bool indexing_ = false;  // index_job runs
 };
 

@@ -5,8 +5,8 @@
 #include <QElapsedTimer>
 #include <QFileInfo>
 #include <QMetaObject>
-#include <QString>
 #include <QStatusBar>
+#include <QString>
 #include <QStringList>
 #include <memory>
 

@@ -1,8 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "scene_view.h"
 
-#include "anti_aliasing.h"
-
 #include <QVTKOpenGLNativeWidget.h>
 #include <vtkAbstractWidget.h>
 #include <vtkActor.h>
@@ -35,13 +33,14 @@
 #include <cstdint>
 #include <map>
 
+#include "anti_aliasing.h"
+#include "click_style.h"
 #include "deepcut/core/errors.h"
 #include "deepcut/widgets/material_look.h"
 #include "deepcut/widgets/overlay_props.h"
 #include "deepcut/widgets/poly_data_bridge.h"
 #include "deepcut/widgets/texture.h"
 #include "deepcut/widgets/view_poly_data.h"
-#include "click_style.h"
 #include "instance_data.h"
 #include "scene_view_impl.h"
 #include "surface_mapper.h"

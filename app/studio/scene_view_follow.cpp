@@ -29,13 +29,15 @@ void SceneView::update_scene(const ModelChange& change) {
   if (d.show_normals) d.rebuild_normals();
 }
 
-std::shared_ptr<ViewPolyData> SceneView::Impl::built_data(
-    const plugins::SceneInstance& sp, const ModelChange& change, const std::vector<InstanceActor>& old,
-    std::vector<std::shared_ptr<ViewPolyData>>& spare) {
+std::shared_ptr<ViewPolyData> SceneView::Impl::built_data(const plugins::SceneInstance& sp,
+                                                          const ModelChange& change,
+                                                          const std::vector<InstanceActor>& old,
+                                                          std::vector<std::shared_ptr<ViewPolyData>>& spare) {
   for (const auto& o : change.origins) {
     if (!o || o->node != sp.node || o->mesh != sp.mesh || o->primitive != sp.primitive) continue;
     for (const InstanceActor& from : old)
-      if (from.data && from.node == o->node_before && from.mesh == o->mesh_before && from.primitive == o->primitive_before)
+      if (from.data && from.node == o->node_before && from.mesh == o->mesh_before &&
+          from.primitive == o->primitive_before)
         return instance_view_data(*scene, sp, *from.data, *o, &spare, &copy_scratch);
   }
   return instance_view_data(*scene, sp);
@@ -53,7 +55,8 @@ void SceneView::Impl::follow_structure(const ModelChange& change) {
   decltype(stash) back;  // only what comes back (the rest is spare: a copy reuses its arrays)
   using Kind = plugins::InstanceOrigin::Kind;
   for (const plugins::InstanceOrigin& origin : scene->origins)
-    if (const auto it = stash.find(origin.key); origin.kind == Kind::Stashed && it != stash.end()) back.insert(*it);
+    if (const auto it = stash.find(origin.key); origin.kind == Kind::Stashed && it != stash.end())
+      back.insert(*it);
   std::vector<std::shared_ptr<ViewPolyData>> spare;
   for (auto& [key, data] : stash)
     if (!back.count(key) && data && data.use_count() == 1) spare.push_back(std::move(data));
@@ -61,7 +64,8 @@ void SceneView::Impl::follow_structure(const ModelChange& change) {
   std::vector<std::string> notes;
   for (std::size_t i = 0; i < scene->instances.size(); ++i) {
     const plugins::SceneInstance& sp = scene->instances[i];
-    const plugins::InstanceOrigin origin = i < scene->origins.size() ? scene->origins[i] : plugins::InstanceOrigin();
+    const plugins::InstanceOrigin origin =
+        i < scene->origins.size() ? scene->origins[i] : plugins::InstanceOrigin();
     std::shared_ptr<ViewPolyData> data;
     if (origin.kind == Kind::Kept && origin.instance < old.size() && old[origin.instance].data) {
       InstanceActor& from = old[origin.instance];  // displaced positions go back to the pose
@@ -71,7 +75,8 @@ void SceneView::Impl::follow_structure(const ModelChange& change) {
       data = std::move(it->second);
     }
     // (A guard: data of another state than the scene's.)
-    if (data && static_cast<std::size_t>(data->poly()->GetNumberOfCells()) != sp.surface->face_slots()) data = nullptr;
+    if (data && static_cast<std::size_t>(data->poly()->GetNumberOfCells()) != sp.surface->face_slots())
+      data = nullptr;
     if (data) clear_colors(data->poly());  // the inspectors colour again
     add_actor(sp, data ? std::move(data) : built_data(sp, change, old, spare), notes);
   }

@@ -26,10 +26,10 @@
 #include <utility>
 #include <vector>
 
+#include "click_style.h"
 #include "deepcut/widgets/material_look.h"
 #include "deepcut/widgets/overlay_props.h"
 #include "deepcut/widgets/view_poly_data.h"
-#include "click_style.h"
 #include "scene_view.h"
 
 class QVTKOpenGLNativeWidget;
@@ -43,7 +43,7 @@ struct InstanceActor {
   vtkSmartPointer<vtkActor> actor;
   vtkSmartPointer<vtkTexture> texture;  // the material's base colour texture, or null
   MaterialLook look;
-  bool displaced = false;  // drawn at positions set by hand (set_instance_positions)
+  bool displaced = false;                    // drawn at positions set by hand (set_instance_positions)
   int node = -1, mesh = -1, primitive = -1;  // the scene instance it draws
 };
 
@@ -88,7 +88,8 @@ struct SceneView::Impl {
   int warmed = 0;  // how many of warm_up_next's variants were drawn
 
   /// Adds the actor of scene instance `sp` drawing `data`.
-  void add_actor(const plugins::SceneInstance& sp, std::shared_ptr<ViewPolyData> data, std::vector<std::string>& notes);
+  void add_actor(const plugins::SceneInstance& sp, std::shared_ptr<ViewPolyData> data,
+                 std::vector<std::string>& notes);
   /// update_scene of a structural step (the scene followed it: Scene::origins, Scene::departed).
   void follow_structure(const ModelChange& change);
   /// The data of `sp`, new in a structural step: copied through the step's origins from the data

@@ -7,10 +7,10 @@
 /// after a cut). A surface of triangles only, drawn filled with nothing read per cell, needs no
 /// more than its connectivity narrowed to 32 bits: this mapper converts it over the pool
 /// straight into the index buffer, mapped for writing (no array of its own, no copy). A
-/// degenerate triangle it keeps covers no pixel, so the frame is the same. Anything else (edges, wireframe, points, lines or strips, cell colours or normals, a
-/// hardware selection) is VTK's own build. VTK 9.1 builds the index buffers again with every
-/// upload, new positions alone included; this one only when the cells (or their arrays) were
-/// marked modified.
+/// degenerate triangle it keeps covers no pixel, so the frame is the same. Anything else (edges, wireframe,
+/// points, lines or strips, cell colours or normals, a hardware selection) is VTK's own build. VTK 9.1 builds
+/// the index buffers again with every upload, new positions alone included; this one only when the cells (or
+/// their arrays) were marked modified.
 
 #include <vtkOpenGLPolyDataMapper.h>
 

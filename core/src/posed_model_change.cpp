@@ -72,7 +72,8 @@ struct Arrivals {
 
 Arrivals arrivals_of(const ModelChange& change) {
   Arrivals out;
-  for (const PrimitiveKept& k : change.kept) out.kept_from[{k.mesh, k.primitive}] = {k.mesh_before, k.primitive_before};
+  for (const PrimitiveKept& k : change.kept)
+    out.kept_from[{k.mesh, k.primitive}] = {k.mesh_before, k.primitive_before};
   for (const PrimitiveContent& a : change.arrived) {
     out.arrived[{a.mesh, a.primitive}] = a.tag;
     out.tags.insert(a.tag);
@@ -135,7 +136,8 @@ void PosedModel::follow(const Model& model, const ModelChange& change, PoseDetai
     const auto k = arrivals.kept_from.find(place);
     if (k != arrivals.kept_from.end()) {
       const auto it = old.find({node, k->second.second});
-      if (it == old.end() || it->second.mesh != k->second.first || !posed_alike(it->second, node, place)) return false;
+      if (it == old.end() || it->second.mesh != k->second.first || !posed_alike(it->second, node, place))
+        return false;
       out = std::move(it->second);
       old.erase(it);
       return true;

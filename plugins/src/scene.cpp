@@ -70,7 +70,8 @@ BoundingBox rest_bounds(const Scene& scene, const PoseKey& key) {
   if (key.animation >= 0 || !key.weights.empty() || primitives != scene.instances.size())
     return world_bounds(m, rest_pose(m));
   BoundingBox box;
-  for (const SceneInstance& instance : scene.instances) box.add(face_bounds(*instance.surface, instance.posed()));
+  for (const SceneInstance& instance : scene.instances)
+    box.add(face_bounds(*instance.surface, instance.posed()));
   return box;
 }
 

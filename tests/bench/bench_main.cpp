@@ -3,19 +3,19 @@
 // the peer's median measured in the same run on the same mesh, and the ratio peer / ours.
 //   deepcut_bench [--json] [--quick] [--benchmark_* flags]
 // --quick skips the ~1M-triangle cases (CTest label `bench` uses it).
+#include <benchmark/benchmark.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <iostream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
-#include <benchmark/benchmark.h>
-#include <nlohmann/json.hpp>
-
-#include "deepcut/core/process_memory.h"
 #include "bench_cases.h"
+#include "deepcut/core/process_memory.h"
 
 namespace {
 

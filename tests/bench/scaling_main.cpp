@@ -20,6 +20,8 @@
 // Links deepcut_core only (no VTK, Qt or Google Benchmark), so it can be linked statically
 // (-DDEEPCUT_STATIC_SCALING=ON).
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
@@ -35,15 +37,13 @@
 #include <thread>
 #include <vector>
 
-#include <unistd.h>
-
 #include "deepcut/core/generate/cactus.h"
-#include "deepcut/core/process_memory.h"
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/ops/cut.h"
 #include "deepcut/core/ops/operation.h"
 #include "deepcut/core/parallel.h"
 #include "deepcut/core/posed_model.h"
+#include "deepcut/core/process_memory.h"
 #include "deepcut/core/softbody/clustering.h"
 #include "deepcut/core/spatial_index.h"
 #include "deepcut/core/weld.h"

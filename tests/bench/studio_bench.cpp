@@ -32,11 +32,13 @@
 // re-renders only (a profile of the open); --only KIND: of the operations, only that kind's
 // apply, undo and redo (a profile of one operation; `--ops 0` skips the memory run too).
 // Medians of three repetitions for each timed step.
+#include <unistd.h>
+
 #include <QAction>
 #include <QApplication>
-#include <QUndoStack>
 #include <QDir>
 #include <QTemporaryDir>
+#include <QUndoStack>
 #include <QtTest/QtTest>
 #include <algorithm>
 #include <chrono>
@@ -47,16 +49,14 @@
 #include <functional>
 #include <iostream>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "deepcut/core/generate/cactus.h"
-#include "deepcut/core/process_memory.h"
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/ops/operation.h"
+#include "deepcut/core/process_memory.h"
 #include "main_window.h"
 #include "scene_host.h"
 #include "scene_view.h"

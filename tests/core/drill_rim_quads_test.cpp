@@ -68,8 +68,8 @@ TEST(DrillRimQuads, DirectTrianglesAreTheGeneralPaths) {
       ++answered[kind];
       const std::vector<LocalTri> general = general_path(quad);
       ASSERT_EQ(general, std::vector<LocalTri>(direct.begin(), direct.end()))
-          << "kind " << kind << " quad " << quad[0].x << "," << quad[0].y << " " << quad[1].x << "," << quad[1].y
-          << " " << quad[2].x << "," << quad[2].y << " " << quad[3].x << "," << quad[3].y;
+          << "kind " << kind << " quad " << quad[0].x << "," << quad[0].y << " " << quad[1].x << ","
+          << quad[1].y << " " << quad[2].x << "," << quad[2].y << " " << quad[3].x << "," << quad[3].y;
       // A flip leaves the second triangle not starting at the first corner left.
       flipped += direct[1][0] != 0 && direct[1][0] != 1;
     }

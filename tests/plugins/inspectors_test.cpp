@@ -108,9 +108,10 @@ TEST(SceneTest, the_scene_pose_is_a_posed_model_equal_to_a_fresh_build_at_every_
 // rest pose's world bounds bit for bit on skinned, morphing and multi-node models, and so does
 // the size of a scene made at another pose (which poses the model again at rest).
 TEST(SceneTest, the_size_is_the_rest_pose_s_world_bounds_at_any_pose) {
-  for (const char* name : {"cactus.glb", "models/Fox/Fox.glb", "models/CesiumMan/CesiumMan.glb",
-                           "models/RiggedFigure/RiggedFigure.glb", "models/AnimatedMorphCube/AnimatedMorphCube.gltf",
-                           "models/AnimatedMorphSphere/AnimatedMorphSphere.gltf"}) {
+  for (const char* name :
+       {"cactus.glb", "models/Fox/Fox.glb", "models/CesiumMan/CesiumMan.glb",
+        "models/RiggedFigure/RiggedFigure.glb", "models/AnimatedMorphCube/AnimatedMorphCube.gltf",
+        "models/AnimatedMorphSphere/AnimatedMorphSphere.gltf"}) {
     const auto model = std::make_shared<const Model>(read_gltf(std::string(DEEPCUT_ASSETS_DIR) + "/" + name));
     const float expected = world_bounds(*model, rest_pose(*model)).diagonal();
     EXPECT_EQ(make_scene(model, -1, 0.0f).size, expected) << name;

@@ -5,13 +5,14 @@
 // keep); it uses only the Session calls every version has, so the same source measures the
 // immutable-snapshot session it replaced. Not a test: no assertions, numbers on stdout.
 //   deepcut_session_measure [TRIANGLES] [DRILLS]
+#include <unistd.h>
+
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <memory>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
 #include "deepcut/core/generate/cactus.h"

@@ -11,9 +11,9 @@
 #include <algorithm>
 #include <cstdint>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <set>
-#include <iterator>
 #include <string>
 #include <vector>
 
@@ -21,8 +21,8 @@
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/operation_room.h"
 #include "deepcut/core/posed_model.h"
-#include "tools.h"
 #include "posed_checks.h"
+#include "tools.h"
 
 namespace deepcut::session {
 namespace {
@@ -466,7 +466,8 @@ TEST(SessionTest, a_follower_derives_the_largest_piece_into_the_one_spare_that_h
     if (cut.result.status != OpStatus::Ok) continue;
     std::map<std::pair<int, int>, std::size_t> pieces;  // vertices by (node, primitive): met in this order
     for (const auto& o : cut.change.origins)
-      pieces[{o->node, o->primitive}] = instance_surface(*session.current(), o->node, o->primitive)->vertex_count();
+      pieces[{o->node, o->primitive}] =
+          instance_surface(*session.current(), o->node, o->primitive)->vertex_count();
     const auto largest = std::max_element(pieces.begin(), pieces.end(),
                                           [](const auto& a, const auto& b) { return a.second < b.second; });
     // A smaller piece met before the largest that the spare would also fit (it is at most twice
@@ -574,8 +575,8 @@ TEST(SessionTest, a_small_piece_cut_again_after_an_undo_takes_the_memory_of_the_
   const std::set<const void*> opened = array_memory(*session.current());
   const float height = box.max.y - box.min.y;
   Operation first{CutOperation{}, -1, 0.0f};
-  std::get<CutOperation>(first.params).plane = Plane{glm::vec3(0.0f, box.max.y - 0.04f * height, 0.0f),
-                                                    glm::vec3(0.0f, 1.0f, 0.0f)};
+  std::get<CutOperation>(first.params).plane =
+      Plane{glm::vec3(0.0f, box.max.y - 0.04f * height, 0.0f), glm::vec3(0.0f, 1.0f, 0.0f)};
   ASSERT_EQ(session.apply(first).result.status, OpStatus::Ok);
   std::set<const void*> copied;
   for (const void* memory : array_memory(*session.current()))

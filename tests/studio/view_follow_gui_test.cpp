@@ -8,14 +8,6 @@
 // ViewPolyData): posed positions and corner normals bit for bit, as many points, and per drawn
 // cell its points' positions, normals, texture coordinates, vertex ids, face id and colours.
 
-#include <QtTest/QtTest>
-#include <algorithm>
-#include <cstring>
-#include <memory>
-#include <string>
-#include <variant>
-#include <vector>
-
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
@@ -23,6 +15,14 @@
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
 #include <vtkTypeInt64Array.h>
+
+#include <QtTest/QtTest>
+#include <algorithm>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <variant>
+#include <vector>
 
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/operation_room.h"

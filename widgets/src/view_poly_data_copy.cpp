@@ -102,8 +102,8 @@ std::size_t number_taken(std::atomic<std::uint32_t>* point, std::size_t n, std::
 
 void ViewPolyData::Copying::start(std::size_t source_points, std::size_t face_chunks) {
   if (point_room < source_points) {
-    point.reset();  // (the old memory goes first)
-    point_room = 0;  // (a failed allocation leaves none)
+    point.reset();                                               // (the old memory goes first)
+    point_room = 0;                                              // (a failed allocation leaves none)
     point.reset(new std::atomic<std::uint32_t>[source_points]);  // cleared below
     point_room = source_points;
   }

@@ -487,7 +487,7 @@ class EarClipper {
   const std::vector<glm::dvec2>& pts_;
   RingLists& lists_;  // poly, prev/next, alive, reflex, version or slot; ear_state, ear_quality (kExhaustive)
   EarSearch search_;
-  bool indexed_;  // kQueued: the queue is kIndexed, else kLazy
+  bool indexed_;       // kQueued: the queue is kIndexed, else kLazy
   bool tied_ = false;  // kIndexed met a tie: run stops
   // The filings of corners that became reflex (kQueued), less stale ones dropped by scans, and
   // how many filings there were: the threshold between the grid and the list.
@@ -499,7 +499,7 @@ class EarClipper {
   std::vector<std::uint32_t>& cell_start_ = lists_.cell_start;
   std::vector<Filed>& filed_ = lists_.filed;
   std::vector<LateFiled>& late_ = lists_.late;
-  std::vector<Cell>& cell_ = lists_.cell;  // the cell of every corner
+  std::vector<Cell>& cell_ = lists_.cell;     // the cell of every corner
   std::vector<Reach>& reach_ = lists_.reach;  // the cells every corner reaches
   bool grid_filed_ = false;
   std::size_t grid_x_ = 0, grid_y_ = 0;
@@ -515,8 +515,8 @@ class EarClipper {
   std::size_t origin_ = 0;
 };
 // Clips one polygon (kQueued: through kIndexed, and again through kLazy where that meets a tie).
-void clip_polygon(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& poly, EarSearch search,
-                  std::vector<LocalTri>& out) {
+void clip_polygon(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& poly,
+                  EarSearch search, std::vector<LocalTri>& out) {
   const std::size_t before = out.size();
   if (search == EarSearch::kQueued && EarClipper(pts, poly, search, EarQueue::kIndexed).run(out)) return;
   out.resize(before);
@@ -674,15 +674,25 @@ namespace deepcut::detail {
 std::size_t largest_kept_clip_list() {
   using geometry::RingLists;
   const RingLists& l = RingLists::local();
-  return std::max({l.poly.capacity() * sizeof(std::uint32_t), l.prev.capacity() * sizeof(std::uint32_t),
-                   l.next.capacity() * sizeof(std::uint32_t), l.version.capacity() * sizeof(std::uint32_t),
-                   l.slot.capacity() * sizeof(std::uint32_t), l.cell_start.capacity() * sizeof(std::uint32_t),
-                   l.cell_of.capacity() * sizeof(std::uint32_t), l.fill.capacity() * sizeof(std::uint32_t),
-                   l.reflex_list.capacity() * sizeof(geometry::Filed), l.filed.capacity() * sizeof(geometry::Filed),
-                   l.late.capacity() * sizeof(geometry::LateFiled), l.cell.capacity() * sizeof(geometry::Cell),
-                   l.reach.capacity() * sizeof(geometry::Reach), l.heap.capacity() * sizeof(geometry::Entry),
-                   l.ear_state.capacity() * sizeof(std::uint32_t), l.alive.capacity(), l.reflex.capacity(),
-                   l.ear_quality.capacity() * sizeof(double), l.corners.capacity() * sizeof(double),
+  return std::max({l.poly.capacity() * sizeof(std::uint32_t),
+                   l.prev.capacity() * sizeof(std::uint32_t),
+                   l.next.capacity() * sizeof(std::uint32_t),
+                   l.version.capacity() * sizeof(std::uint32_t),
+                   l.slot.capacity() * sizeof(std::uint32_t),
+                   l.cell_start.capacity() * sizeof(std::uint32_t),
+                   l.cell_of.capacity() * sizeof(std::uint32_t),
+                   l.fill.capacity() * sizeof(std::uint32_t),
+                   l.reflex_list.capacity() * sizeof(geometry::Filed),
+                   l.filed.capacity() * sizeof(geometry::Filed),
+                   l.late.capacity() * sizeof(geometry::LateFiled),
+                   l.cell.capacity() * sizeof(geometry::Cell),
+                   l.reach.capacity() * sizeof(geometry::Reach),
+                   l.heap.capacity() * sizeof(geometry::Entry),
+                   l.ear_state.capacity() * sizeof(std::uint32_t),
+                   l.alive.capacity(),
+                   l.reflex.capacity(),
+                   l.ear_quality.capacity() * sizeof(double),
+                   l.corners.capacity() * sizeof(double),
                    l.xy.capacity() * sizeof(glm::dvec2)});
 }
 

@@ -53,7 +53,8 @@ inline glm::dvec2 circumcentre(const glm::dvec2& a, const glm::dvec2& b, const g
 /// Whether FlipTriangulation::legalize flips edge a-b of the counter-clockwise triangle a-b-c,
 /// with d across it: d inside the circle through a, b, c beyond a tolerance scaled by their
 /// spread around d, and the quad c-a-d-b convex (both new triangles counter-clockwise).
-inline bool delaunay_flips(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c, const glm::dvec2& d) {
+inline bool delaunay_flips(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c,
+                           const glm::dvec2& d) {
   double scale = 0.0;
   for (const auto* q : {&a, &b, &c}) scale = std::max(scale, glm::dot(*q - d, *q - d));
   if (incircle(a, b, c, d) <= 1e-10 * scale * scale) return false;

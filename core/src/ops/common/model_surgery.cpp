@@ -267,7 +267,8 @@ struct ArrayCopy {
 void give_room(SplitWatcher& watcher, std::vector<ArrayCopy>& copies, Numbering& num, std::size_t big) {
   for (ArrayCopy& c : copies) {
     const std::size_t count = c.keep->size();
-    const std::size_t room = c.group * (c.kind == 0 ? operation_vertex_room(count) : operation_face_room(count));
+    const std::size_t room =
+        c.group * (c.kind == 0 ? operation_vertex_room(count) : operation_face_room(count));
     if (std::unique_ptr<AttributeArrayBase> spare = watcher.spare_array(*c.to, count * c.group, 2 * room))
       c.to->take_room(*spare);
     else

@@ -77,8 +77,8 @@ class SplitWatcher {
   /// being dropped held): an empty array of `like`'s type with room for `elements` and at most
   /// `most` (take_smallest_fit), or nullptr; triangles likewise (empty: none). Asked before
   /// `splitting`, from one thread; what is taken is written over.
-  virtual std::unique_ptr<AttributeArrayBase> spare_array(const AttributeArrayBase& like, std::size_t elements,
-                                                          std::size_t most) = 0;
+  virtual std::unique_ptr<AttributeArrayBase> spare_array(const AttributeArrayBase& like,
+                                                          std::size_t elements, std::size_t most) = 0;
   virtual std::vector<Triangle> spare_triangles(std::size_t count, std::size_t most) = 0;
 };
 

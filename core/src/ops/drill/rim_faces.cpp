@@ -45,7 +45,8 @@ int quad_ear(const glm::dvec2 q[4]) {
 bool quad_triangles(const glm::dvec2 q[4], std::array<geometry::LocalTri, 2>& out) {
   const int i = quad_ear(q);
   if (i == 4) return false;
-  const auto ear = static_cast<std::uint32_t>(i), prev = (ear + 3) % 4, next = (ear + 1) % 4, far = (ear + 2) % 4;
+  const auto ear = static_cast<std::uint32_t>(i), prev = (ear + 3) % 4, next = (ear + 1) % 4,
+             far = (ear + 2) % 4;
   // The last triangle starts at the first corner left (in input order): the three left, sorted.
   geometry::LocalTri last{};
   for (std::uint32_t k = 0, n = 0; k < 4; ++k)
@@ -440,7 +441,8 @@ void FacePlanner::refine(geometry::FlipTriangulation& ft, std::vector<glm::dvec2
 // 20 degrees' worth) among those with an edge of two rim spacings or more, not in w_.failed (by
 // sorted_corners); null when none is.
 const geometry::LocalTri* FacePlanner::worst_triangle(const geometry::LocalTri* begin,
-                                                      const geometry::LocalTri* end, const glm::dvec2* q) const {
+                                                      const geometry::LocalTri* end,
+                                                      const glm::dvec2* q) const {
   const double spacing = s_.cyl.spacing;
   const std::vector<geometry::LocalTri>& failed = w_.failed;
   const geometry::LocalTri* worst = nullptr;

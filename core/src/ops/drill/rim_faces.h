@@ -229,7 +229,7 @@ class FacePlanner {
   std::uint32_t chunk_;
   PlanScratch& w_;
   FacePlan* plan_ = nullptr;                                  // the candidate being planned
-  const CandidateFace* cur_ = nullptr;  // its records
+  const CandidateFace* cur_ = nullptr;                        // its records
   const EdgeCut& cur_edge(int k) const { return *cur_->edges[k]; }
   FacePlane face_;
   const std::vector<std::vector<std::uint32_t>> no_holes_;

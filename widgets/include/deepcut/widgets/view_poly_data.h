@@ -18,13 +18,13 @@
 /// else the mesh's); cell data "face_id". Arrays are filled through their raw storage, in
 /// parallel, without per-element virtual calls.
 
-#include <cstdint>
-#include <memory>
-#include <vector>
-
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
 #include <vtkType.h>
+
+#include <cstdint>
+#include <memory>
+#include <vector>
 
 #include "deepcut/core/model_change.h"
 #include "deepcut/core/surface_mesh.h"
@@ -165,7 +165,8 @@ class ViewPolyData {
   /// source's points (in the source's numbers, each taken point noting its first corner; a
   /// corner without one waits, -1), the new numbers (one pass over the points, then one over the
   /// corners), points for the waiting corners.
-  void copy_connectivity(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin, Copying& copying);
+  void copy_connectivity(const Writer& w, const ViewPolyData& source, const PrimitiveOrigin& origin,
+                         Copying& copying);
   void renumber(const Writer& w, Copying& copying);
   void assign_waiting(const Writer& w, const std::vector<std::uint32_t>& rim_corners);
   /// A point (while building: a number among the vertex's points) that a corner of `v` other
