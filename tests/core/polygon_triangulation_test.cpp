@@ -288,18 +288,19 @@ std::vector<LocalTri> clip_on_a_fresh_thread(const std::vector<P>& pts, const Lo
 
 // The corner lists kept on each thread from clip to clip: a clip's triangles do not depend on
 // what the thread clipped before (a small polygon, one of more than 4096 corners, the small one
-// again), and lists grown past the bound give their memory back when the clip ends, among them
+// again, then two that the queued search files in its grid, the larger first), and lists grown past the bound give their memory back when the clip ends, among them
 // a kQueued input of many repeated points (its corner list is big only until they are dropped).
 TEST(PolygonTriangulationParts, ClipListsKeptOnTheThreadChangeNoResult) {
   std::vector<P> pts;
   const Loop small = add_loop(pts, comb_with_ten_teeth());
   const Loop big = add_loop(pts, star(5000));
+  const Loop gridded = add_loop(pts, star(1000)), smaller_gridded = add_loop(pts, star(300));  // the grid's lists reused
   Loop repeated;  // a 12-gon, each corner 750 times in a row
   for (std::uint32_t v : add_loop(pts, regular(P(3, 3), 1.0, 12, true))) repeated.insert(repeated.end(), 750, v);
   ASSERT_GT(repeated.size() * sizeof(std::uint32_t), detail::kKeptClipListBytes);
   for (EarSearch search : {EarSearch::kQueued, EarSearch::kExhaustive}) {
     SCOPED_TRACE(search == EarSearch::kQueued ? "kQueued" : "kExhaustive");
-    std::vector<Loop> order = {small, big, small};
+    std::vector<Loop> order = {small, big, small, gridded, smaller_gridded};
     if (search == EarSearch::kQueued) order.insert(order.end(), {repeated, small});
     auto run_all = [&] {
       for (const Loop& poly : order) {
