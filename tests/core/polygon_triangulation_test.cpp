@@ -288,8 +288,9 @@ std::vector<LocalTri> clip_on_a_fresh_thread(const std::vector<P>& pts, const Lo
 
 // The corner lists kept on each thread from clip to clip: a clip's triangles do not depend on
 // what the thread clipped before (a small polygon, one of more than 4096 corners, the small one
-// again, then two that the queued search files in its grid, the larger first), and lists grown past the bound give their memory back when the clip ends, among them
-// a kQueued input of many repeated points (its corner list is big only until they are dropped).
+// again, then two that the queued search files in its grid, the larger first), and lists grown
+// past the bound give their memory back when the clip ends, among them a kQueued input of many
+// repeated points (its corner list is big only until they are dropped).
 TEST(PolygonTriangulationParts, ClipListsKeptOnTheThreadChangeNoResult) {
   std::vector<P> pts;
   const Loop small = add_loop(pts, comb_with_ten_teeth());

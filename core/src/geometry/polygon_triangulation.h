@@ -54,8 +54,8 @@ struct TriangulationRules {
 /// polygons clip without allocating them: one clip at a time per thread (a clip never starts
 /// another; checked by an assert in debug builds). Each list keeps at most
 /// detail::kKeptClipListBytes (32 KB) between clips: twenty lists, 640 KB at most per thread; a
-/// bigger one gives its memory back when its clip ends. The result does not
-/// depend on what the lists held before.
+/// bigger one gives its memory back when its clip ends. The result does not depend on what the
+/// lists held before.
 void clip_ears(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& poly, EarSearch search,
                std::vector<LocalTri>& out);
 
