@@ -57,18 +57,26 @@ std::vector<SceneInstance> list_instances(const Model& m) {
   return out;
 }
 
+// Whether `a` and `b` give every node the same transform and morph weights, value for value.
+bool same_pose(const Pose& a, const Pose& b) {
+  return a.translation == b.translation && a.rotation == b.rotation && a.scale == b.scale && a.weights == b.weights;
+}
+
 // The model's bounds at rest (world_bounds of the rest pose: what sizes the camera and the tools).
-// A scene posed at rest with every primitive of every node that has a mesh among its instances
-// (an open, as a rule) measures its own positions, which are those of the rest pose (posed the
-// same way, bit for bit); any other scene poses the model again at rest.
+// A scene whose pose is the rest pose (posed at rest, or at a clip's time whose pose is the rest
+// pose, as the first key of many clips is) and whose instances are every primitive of every node
+// with a mesh measures its own positions, which are those of the rest pose (posed the same way,
+// bit for bit); any other scene poses the model again at rest.
 BoundingBox rest_bounds(const Scene& scene, const PoseKey& key) {
   const Model& m = *scene.model;
   std::size_t primitives = 0;
   for (const Node& node : m.nodes)
     if (node.mesh >= 0 && static_cast<std::size_t>(node.mesh) < m.meshes.size())
       primitives += m.meshes[static_cast<std::size_t>(node.mesh)].primitives.size();
-  if (key.animation >= 0 || !key.weights.empty() || primitives != scene.instances.size())
-    return world_bounds(m, rest_pose(m));
+  const Pose rest = rest_pose(m);
+  if (!key.weights.empty() || primitives != scene.instances.size() ||
+      (key.animation >= 0 && !same_pose(sample_pose(m, key.animation, key.time), rest)))
+    return world_bounds(m, rest);
   BoundingBox box;
   for (const SceneInstance& instance : scene.instances)
     box.add(face_bounds(*instance.surface, instance.posed()));

@@ -104,9 +104,10 @@ TEST(SceneTest, the_scene_pose_is_a_posed_model_equal_to_a_fresh_build_at_every_
   EXPECT_EQ(inst->grid.face_count(), model->meshes[0].primitives[0].mesh.face_count());
 }
 
-// A scene made at rest measures the model's size from its own posed positions; it equals the
-// rest pose's world bounds bit for bit on skinned, morphing and multi-node models, and so does
-// the size of a scene made at another pose (which poses the model again at rest).
+// A scene made at rest (or at a clip's start that is the rest pose) measures the model's size from
+// its own posed positions; it equals the rest pose's world bounds bit for bit on skinned, morphing
+// and multi-node models, and so does the size of a scene made at another pose (which poses the
+// model again at rest).
 TEST(SceneTest, the_size_is_the_rest_pose_s_world_bounds_at_any_pose) {
   for (const char* name :
        {"cactus.glb", "models/Fox/Fox.glb", "models/CesiumMan/CesiumMan.glb",
@@ -116,6 +117,7 @@ TEST(SceneTest, the_size_is_the_rest_pose_s_world_bounds_at_any_pose) {
     const float expected = world_bounds(*model, rest_pose(*model)).diagonal();
     EXPECT_EQ(make_scene(model, -1, 0.0f).size, expected) << name;
     if (!model->animations.empty()) {
+      EXPECT_EQ(make_scene(model, 0, 0.0f).size, expected) << name << " at its first clip's start";
       EXPECT_EQ(make_scene(model, 0, 0.5f).size, expected) << name << " posed by its first clip";
     }
   }
