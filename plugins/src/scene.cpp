@@ -59,7 +59,8 @@ std::vector<SceneInstance> list_instances(const Model& m) {
 
 // Whether `a` and `b` give every node the same transform and morph weights, value for value.
 bool same_pose(const Pose& a, const Pose& b) {
-  return a.translation == b.translation && a.rotation == b.rotation && a.scale == b.scale && a.weights == b.weights;
+  return a.translation == b.translation && a.rotation == b.rotation && a.scale == b.scale &&
+         a.weights == b.weights;
 }
 
 // The model's bounds at rest (world_bounds of the rest pose: what sizes the camera and the tools).
