@@ -81,19 +81,11 @@ Arrivals arrivals_of(const ModelChange& change) {
   return out;
 }
 
-/// `derived` (instances of `model`) with the most vertices first, so each takes the smallest
-/// spare that holds it (take_smallest_fit) and a piece that grew a little past the spare of the
-/// one it was does not take the spare a larger piece needs (leaving that one new arrays). Equal
-/// sizes keep their order.
-std::vector<Derivation> largest_first(const Model& model, std::vector<Derivation> derived) {
-  auto vertices = [&](const Derivation& d) {
-    const Node& node = model.nodes[static_cast<std::size_t>(d.key.first)];
-    const Mesh& mesh = model.meshes[static_cast<std::size_t>(node.mesh)];
-    return mesh.primitives[static_cast<std::size_t>(d.key.second)].mesh.vertex_count();
-  };
-  std::stable_sort(derived.begin(), derived.end(),
-                   [&](const Derivation& a, const Derivation& b) { return vertices(a) > vertices(b); });
-  return derived;
+/// The vertices of the primitive a derivation makes.
+std::size_t vertices_of(const Model& model, const Derivation& d) {
+  const Node& node = model.nodes[static_cast<std::size_t>(d.key.first)];
+  const Mesh& mesh = model.meshes[static_cast<std::size_t>(node.mesh)];
+  return mesh.primitives[static_cast<std::size_t>(d.key.second)].mesh.vertex_count();
 }
 
 /// Moves the instances of the contents that left (`left`) out of `old` into `stash`.
@@ -178,7 +170,8 @@ void PosedModel::follow(const Model& model, const ModelChange& change, PoseDetai
     }
     instances_[{node, prim}] = std::move(inst);
   });
-  for (const Derivation& d : largest_first(model, std::move(derived))) {
+  largest_first(derived, [&](const Derivation& d) { return vertices_of(model, d); });
+  for (const Derivation& d : derived) {
     // Looked up again: a later reuse may have taken it out of `old` (a cut never does).
     const auto [source, origin] = source_of(d.key.first, d.place);
     instances_[d.key] = source ? derive_instance(model, d.key.first, d.key.second, *source, *origin, spare)

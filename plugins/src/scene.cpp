@@ -219,11 +219,7 @@ void follow_structure(Scene& scene, std::shared_ptr<const Model> model, const Mo
       if (with_normals) built.push_back(i);
     }
   }
-  // The largest first: each takes the smallest spare that holds it, so a piece that grew a little
-  // past the spare of the one it was does not take the spare a larger piece needs.
-  std::stable_sort(built.begin(), built.end(), [&](std::size_t a, std::size_t b) {
-    return scene.instances[a].surface->face_slots() > scene.instances[b].surface->face_slots();
-  });
+  largest_first(built, [&](std::size_t i) { return scene.instances[i].surface->face_slots(); });
   for (std::size_t i : built)
     scene.instances[i].posed_normals = built_normals(scene.instances[i], change, old, old_poses, spare);
   // The instances whose posed mesh went into the stash, with their normals.

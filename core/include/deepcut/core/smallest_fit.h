@@ -6,6 +6,7 @@
 /// needed, so a small piece does not keep a large allocation alive (its unused room would
 /// outlive the step; the spare is better freed).
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <set>
@@ -40,6 +41,14 @@ T take_smallest_fit(std::vector<T>& spare, std::size_t n, std::size_t most, cons
 template <class T, class Room>
 T take_smallest_fit(std::vector<T>& spare, std::size_t n, const Room& room) {
   return take_smallest_fit(spare, n, 2 * n + 1, room);
+}
+
+/// Orders `items` by `size(item)`, largest first (equal sizes keep their order): the order in
+/// which buffers take spares, so each takes the smallest that holds it and a piece that grew a
+/// little past the spare of the one it was does not take the spare a larger piece needs.
+template <class T, class Size>
+void largest_first(std::vector<T>& items, const Size& size) {
+  std::stable_sort(items.begin(), items.end(), [&](const T& a, const T& b) { return size(a) > size(b); });
 }
 
 /// Moves out of `stash` (a map keyed by (content tag, index)) the values whose tag is not in

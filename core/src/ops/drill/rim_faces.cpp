@@ -406,9 +406,6 @@ void FacePlanner::refine(geometry::FlipTriangulation& ft, std::vector<glm::dvec2
   for (const auto& l : holes) add_segments(l);
   std::vector<geometry::LocalTri>& failed = w_.failed;  // by sorted_corners
   failed.clear();
-  auto has_failed = [&failed](const geometry::LocalTri& t) {
-    return std::find(failed.begin(), failed.end(), t) != failed.end();
-  };
   const std::size_t budget = 4 * boundary + 8;
   for (std::size_t added = 0; added < budget;) {
     const std::vector<geometry::LocalTri>& tris = ft.triangles();
@@ -425,7 +422,7 @@ void FacePlanner::refine(geometry::FlipTriangulation& ft, std::vector<glm::dvec2
       ok = std::sqrt(geometry::segment_distance2(centre, q[u], q[v])) > 0.35 * spacing;
     }
     if (!ok || !ft.insert(centre)) {
-      if (!has_failed(geometry::sorted_corners(t))) failed.push_back(geometry::sorted_corners(t));
+      failed.push_back(geometry::sorted_corners(t));  // not there: worst_triangle leaves those out
       continue;
     }
     LocalPoint lp;
