@@ -89,9 +89,10 @@ class OperationsHost : public QObject {
   /// changed.
   void push_step(const QString& label, const ModelChange& change);
   /// Before `op` is applied: a cut needs the model posed, not its grids. When the session has no
-  /// posed model (a cut, its undo or redo left none and the idle rebuild has not run yet), it is
-  /// lent a copy of the scene's (PosedModel::positions_copy), which describes the live model at
-  /// the shown pose (the scene follows every step), instead of the cut posing the model again.
+  /// posed model at the cut's pose (a cut, its undo or redo left none, or the time line or the
+  /// morph weights moved, and the idle rebuild has not run yet), it is lent a copy of the scene's
+  /// (PosedModel::positions_copy), which describes the live model at the shown pose (the scene
+  /// follows every step), instead of the cut posing the model again.
   void lend_scene_pose(const Operation& op);
   /// Re-runs the edited operation with the tool's parameters and every later one.
   bool apply_edit();

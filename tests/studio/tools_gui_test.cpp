@@ -298,6 +298,34 @@ class StudioToolsTest : public QObject {
     QVERIFY2(difference.empty(), difference.c_str());
   }
 
+  // The time line moved and the operations' posed model is still at the old pose (the idle
+  // rebuild has not run): a cut right away is made at the shown pose (lent the scene's posed
+  // positions, OperationsHost::lend_scene_pose) and equals the operation applied on its own.
+  void a_cut_right_after_the_time_line_moved_cuts_at_the_shown_pose() {
+    auto window = shown_window();
+    QVERIFY(window);
+    QVERIFY(window->open_file(kCactus));
+    QVERIFY(!window->model()->animations.empty());
+    QTRY_VERIFY_WITH_TIMEOUT(window->posed_model() != nullptr, 20000);
+    window->timeline()->set_time(1.5f);
+    const deepcut::plugins::Scene& scene = *window->scene();
+    QCOMPARE(scene.time, 1.5f);
+    QVERIFY(window->posed_model() != nullptr &&
+            !window->posed_model()->matches(deepcut::PoseKey(scene.animation, scene.time, scene.weights)));
+    window->set_tool("cut");
+    deepcut::Operation op;
+    op.params = window->tool()->parameters();
+    op.animation = scene.animation;
+    op.time = scene.time;
+    op.weights = scene.weights;
+    deepcut::Model expected = *window->model();
+    QVERIFY(deepcut::apply_operation(expected, op).status == deepcut::OpStatus::Ok);
+    QVERIFY2(window->apply_tool(), qPrintable(window->last_error()));
+    const std::string path = deepcut::test::temp_dir("studio-states") + "/cut_at_new_pose_expected.glb";
+    deepcut::write_gltf(expected, path);
+    QVERIFY2(model_bytes(*window, "cut_at_new_pose") == read_bytes(path), "the cut differs from the operation alone");
+  }
+
   void a_tool_that_misses_reports_and_keeps_the_model() {
     auto window = shown_window();
     QVERIFY(window);
