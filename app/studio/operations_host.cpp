@@ -42,8 +42,9 @@ void OperationsHost::lend_scene_pose(const Operation& op) {
   // A posed model at another pose (the time line or the morph weights moved, and the idle
   // rebuild has not run yet) is no use to the cut: it would pose the whole model again on its own.
   const PosedModel* posed = session_.posed_model();
-  if (!std::holds_alternative<CutOperation>(op.params) || (posed && posed->matches(key)) || session_.editing() >= 0 ||
-      !scene || !scene->posed || scene->model != session_.current() || !scene->posed->matches(key))
+  if (!std::holds_alternative<CutOperation>(op.params) || (posed && posed->matches(key)) ||
+      session_.editing() >= 0 || !scene || !scene->posed || scene->model != session_.current() ||
+      !scene->posed->matches(key))
     return;
   session_.adopt_posed_model(std::make_unique<PosedModel>(scene->posed->positions_copy()), session_.current().get(),
                              session_.state_version());

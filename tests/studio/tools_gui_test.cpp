@@ -323,7 +323,8 @@ class StudioToolsTest : public QObject {
     QVERIFY2(window->apply_tool(), qPrintable(window->last_error()));
     const std::string path = deepcut::test::temp_dir("studio-states") + "/cut_at_new_pose_expected.glb";
     deepcut::write_gltf(expected, path);
-    QVERIFY2(model_bytes(*window, "cut_at_new_pose") == read_bytes(path), "the cut differs from the operation alone");
+    QVERIFY2(model_bytes(*window, "cut_at_new_pose") == read_bytes(path),
+             "the cut differs from the operation alone");
   }
 
   void a_tool_that_misses_reports_and_keeps_the_model() {
