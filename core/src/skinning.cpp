@@ -2,6 +2,8 @@
 #include "deepcut/core/skinning.h"
 
 #include <algorithm>
+#include <atomic>
+#include <memory>
 #include <string>
 
 #include "deepcut/core/errors.h"
@@ -308,6 +310,52 @@ BoundingBox face_bounds(const SurfaceMesh& mesh, const std::vector<glm::vec3>& p
       });
 }
 
+namespace {
+
+// face_bounds(mesh, posed_positions(model, node, mesh, world, weights)) without the posed array:
+// the vertices a live face uses are marked (a byte each), then posed and measured in one pass
+// over the pool, by posed_positions' arithmetic (the same value for each vertex; min and max
+// are exact in any order). The array was 12 bytes a vertex of new memory, filled with zeros on
+// the calling thread before the posing, and read again face by face.
+BoundingBox posed_face_bounds(const Model& model, int node, const SurfaceMesh& mesh,
+                              const std::vector<glm::mat4>& world, const std::vector<float>& weights) {
+  const auto& rest = mesh.positions();
+  const std::size_t nv = rest.size();
+  std::unique_ptr<std::atomic<unsigned char>[]> used(new std::atomic<unsigned char>[nv]);
+  parallel_for(nv, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t v = b; v < e; ++v) used[v].store(0, std::memory_order_relaxed);
+  });
+  parallel_for(mesh.face_slots(), kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t f = b; f < e; ++f)
+      if (!mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f))))
+        for (auto v : mesh.face(FaceId(static_cast<std::uint32_t>(f)))) used[v.index].store(1, std::memory_order_relaxed);
+  });
+  const MorphBlend morph(mesh, weights);
+  const glm::mat4& rigid = world.at(static_cast<std::size_t>(node));
+  const Node& n = model.nodes.at(static_cast<std::size_t>(node));
+  const bool has_skin = n.skin >= 0 && static_cast<std::size_t>(n.skin) < model.skins.size();
+  const std::vector<glm::mat4> joints = has_skin ? joint_matrices(model, n.skin, world) : std::vector<glm::mat4>();
+  const SkinBlend blend(mesh, joints);
+  const bool skinned = has_skin && blend.skinned();
+  return parallel_reduce(
+      nv, kGrain, BoundingBox(),
+      [&](std::size_t b, std::size_t e) {
+        BoundingBox part;
+        for (std::size_t v = b; v < e; ++v) {
+          if (!used[v].load(std::memory_order_relaxed)) continue;
+          const glm::vec4 p(morph.position(v, rest[v]), 1.0f);
+          part.add(glm::vec3(skinned ? blend.matrix(v) * p : rigid * p));
+        }
+        return part;
+      },
+      [](BoundingBox acc, const BoundingBox& part) {
+        acc.add(part);
+        return acc;
+      });
+}
+
+}  // namespace
+
 BoundingBox world_bounds(const Model& model, const Pose& pose) {
   const auto world = world_matrices(model, pose);
   const std::vector<float> none;
@@ -317,7 +365,7 @@ BoundingBox world_bounds(const Model& model, const Pose& pose) {
     if (m < 0 || static_cast<std::size_t>(m) >= model.meshes.size()) continue;
     for (const auto& prim : model.meshes[m].primitives) {
       const auto& weights = i < pose.weights.size() ? pose.weights[i] : none;
-      box.add(face_bounds(prim.mesh, posed_positions(model, static_cast<int>(i), prim.mesh, world, weights)));
+      box.add(posed_face_bounds(model, static_cast<int>(i), prim.mesh, world, weights));
     }
   }
   return box;

@@ -80,4 +80,45 @@ TEST(SkinningTest, rest_pose_skinning_reproduces_bind_positions_and_bends_with_a
   EXPECT_NEAR(box.max.y, 4.0f, 1e-5);
 }
 
+// world_bounds measures each instance without its posed array (the vertices a live face uses,
+// posed in one pass): the same bounds, bit for bit, as face_bounds of posed_positions, also with
+// a deleted face and a vertex no face uses (left out, as face_bounds leaves them).
+TEST(SkinningTest, world_bounds_are_face_bounds_of_the_posed_positions_bit_for_bit) {
+  Model model = test::make_morph_tube_model();
+  auto expected = [](const Model& m, const Pose& pose) {
+    const auto world = world_matrices(m, pose);
+    BoundingBox box;
+    for (std::size_t i = 0; i < m.nodes.size(); ++i) {
+      const int mesh = m.nodes[i].mesh;
+      if (mesh < 0) continue;
+      for (const auto& prim : m.meshes[static_cast<std::size_t>(mesh)].primitives)
+        box.add(face_bounds(prim.mesh, posed_positions(m, static_cast<int>(i), prim.mesh, world, pose.weights[i])));
+    }
+    return box;
+  };
+  auto check = [&](const Model& m) {
+    for (const Pose& pose : {rest_pose(m), sample_pose(m, 0, 0.37f), sample_pose(m, 0, 1.0f), sample_pose(m, 0, 1.6f)}) {
+      const BoundingBox a = world_bounds(m, pose), b = expected(m, pose);
+      ASSERT_FALSE(a.empty());
+      for (int k = 0; k < 3; ++k) {
+        EXPECT_EQ(a.min[k], b.min[k]);
+        EXPECT_EQ(a.max[k], b.max[k]);
+      }
+    }
+  };
+  check(model);
+  SurfaceMesh& mesh = model.meshes[0].primitives[0].mesh;
+  // The face at the top of the tube deleted, a vertex far away that no face uses.
+  const glm::vec3 top = mesh.positions().back();
+  for (std::uint32_t f = 0; f < mesh.face_slots(); ++f)
+    for (VertexId v : mesh.face(FaceId(f)))
+      if (mesh.position(v) == top) {
+        mesh.mark_deleted(FaceId(f));
+        break;
+      }
+  mesh.add_vertex(glm::vec3(100.0f));
+  check(model);
+  EXPECT_LT(world_bounds(model, rest_pose(model)).max.x, 50.0f);
+}
+
 }  // namespace deepcut
