@@ -528,6 +528,37 @@ bool make_cap(MeshEditor& editor, const CapInput& in, const CapPlan& plan, std::
   return faces.size() == tris.size() && whole_fans(plan);
 }
 
+// rim_halfedges' last step where no vertex is left by two halfedges (nor reached by the one
+// leaving it) and the vertices they leave span few ids (a cut's rim vertices are its newest
+// ones): then the halfedges of one edge are a -> b and b -> a, found by a table over that span of
+// the vertex reached from each vertex. Drops every halfedge whose edge has two, keeping the
+// order. Returns false, having changed nothing, otherwise.
+bool drop_twins(std::vector<std::pair<VertexId, VertexId>>& halfedges) {
+  const std::size_t m = halfedges.size();
+  if (m == 0) return true;
+  std::uint32_t lo = kInvalidIndex, hi = 0;
+  for (const auto& [a, b] : halfedges) {
+    lo = std::min(lo, a.index);
+    hi = std::max(hi, a.index);
+  }
+  if (hi - lo >= 4 * m + 256) return false;
+  std::vector<std::uint32_t> reached(std::size_t(hi - lo) + 1, kInvalidIndex);  // by vertex - lo
+  for (const auto& [a, b] : halfedges) {
+    std::uint32_t& r = reached[a.index - lo];
+    if (r != kInvalidIndex || a == b) return false;
+    r = b.index;
+  }
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < m; ++i) {
+    const auto [a, b] = halfedges[i];
+    const std::uint32_t back = b.index - lo;  // past the span (wrapping below it): no halfedge leaves b
+    if (back < reached.size() && reached[back] == a.index) continue;
+    halfedges[n++] = halfedges[i];
+  }
+  halfedges.resize(n);
+  return true;
+}
+
 }  // namespace
 
 std::vector<std::pair<VertexId, VertexId>> rim_halfedges(const SurfaceMesh& mesh, const CapInput& in,
@@ -537,11 +568,8 @@ std::vector<std::pair<VertexId, VertexId>> rim_halfedges(const SurfaceMesh& mesh
   // (lower end, halfedge) sorted: the halfedges of one edge share a run of lower ends.
   const auto& sign = *in.sign;
   std::vector<std::pair<VertexId, VertexId>> halfedges;
-  std::vector<std::uint64_t> keys, scratch;
-  std::vector<std::uint32_t> count;
   // Most rim faces have one edge on the plane: room for one each to start with.
   halfedges.reserve(in.rim_faces.size() + 8);
-  keys.reserve(in.rim_faces.size() + 8);
   for (FaceId f : in.rim_faces) {
     if (!skip.empty() && std::binary_search(skip.begin(), skip.end(), f)) continue;
     const auto& t = mesh.face(f);
@@ -549,9 +577,16 @@ std::vector<std::pair<VertexId, VertexId>> rim_halfedges(const SurfaceMesh& mesh
     for (int k = 0; k < 3; ++k) {
       const int k1 = k == 2 ? 0 : k + 1;
       if (!on[k] || !on[k1]) continue;
-      keys.push_back((std::uint64_t(std::min(t[k].index, t[k1].index)) << 32) | halfedges.size());
       halfedges.emplace_back(t[k], t[k1]);
     }
+  }
+  if (drop_twins(halfedges)) return halfedges;
+  std::vector<std::uint64_t> keys, scratch;
+  std::vector<std::uint32_t> count;
+  keys.reserve(halfedges.size());
+  for (std::size_t i = 0; i < halfedges.size(); ++i) {
+    const auto& [a, b] = halfedges[i];
+    keys.push_back((std::uint64_t(std::min(a.index, b.index)) << 32) | i);
   }
   sort_by_vertex(keys, scratch, count);
   auto upper = [&](std::uint64_t key) {
