@@ -366,6 +366,58 @@ TEST(PolygonTriangulationParts, TiedEarsAreClippedInTheRecordedOrder) {
   EXPECT_EQ(clip({P(0, 0), P(1, 0), P(2, 0), P(2, 1), P(2, 2), P(1, 2), P(0, 2), P(0, 1)}), midpoints);
 }
 
+// Where a clip says its mirror image clips the same (MirrorClip::exact), clipping the polygon
+// with x negated and its corners reversed, numbered another way, gives its triangles so mapped:
+// ears (p, q, r) as (r, q, p), the closing one as (q, p, r). Random stars small and big (with the
+// grid), shifted far from the origin (rounding at larger scale); a regular octagon's ears tie, so
+// its clip is not exact.
+TEST(PolygonTriangulationParts, MirrorImageClipsTheSame) {
+  std::mt19937 rng(1234);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int exact = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    std::vector<P> ring = random_star(rng, u, trial % 2 ? 8 : 64, trial % 2 ? 40 : 300, 0.2, 1.0);
+    const P shift = trial % 3 == 0 ? P(1e4, -3e3) : P(0.0);
+    for (P& p : ring) p += shift;
+    const auto n = static_cast<std::uint32_t>(ring.size());
+    Loop poly(n);
+    std::iota(poly.begin(), poly.end(), 0u);
+    std::vector<LocalTri> tris;
+    MirrorClip mirror;
+    clip_ears(ring, poly, EarSearch::kQueued, tris, &mirror);
+    std::vector<LocalTri> plain;
+    clip_ears(ring, poly, EarSearch::kQueued, plain);
+    ASSERT_EQ(tris, plain);  // the report changes nothing
+    if (!mirror.exact) continue;
+    ++exact;
+    // The mirror image: point i of the ring is point (n - 1 - i + 5) % n of `pts`, x negated, and
+    // the loop runs from a point other than the first.
+    auto moved = [n](std::uint32_t i) { return (n - 1 - i + 5) % n; };
+    std::vector<P> pts(n);
+    for (std::uint32_t i = 0; i < n; ++i) pts[moved(i)] = P(-ring[i].x, ring[i].y);
+    Loop reversed;
+    for (std::uint32_t k = 0; k < n; ++k) reversed.push_back(moved((n + 7 - k) % n));
+    std::vector<LocalTri> mirrored;
+    clip_ears(pts, reversed, EarSearch::kQueued, mirrored);
+    ASSERT_EQ(mirrored.size(), tris.size());
+    for (std::size_t t = 0; t < tris.size(); ++t) {
+      const LocalTri& a = tris[t];
+      const bool closing = mirror.closed && t + 1 == tris.size();
+      const LocalTri want = closing ? LocalTri{moved(a[1]), moved(a[0]), moved(a[2])}
+                                    : LocalTri{moved(a[2]), moved(a[1]), moved(a[0])};
+      EXPECT_EQ(mirrored[t], want) << "trial " << trial << " triangle " << t;
+    }
+  }
+  EXPECT_GT(exact, 150);
+  std::vector<P> octagon = regular(P(0, 0), 1.0, 8, true);
+  Loop poly(8);
+  std::iota(poly.begin(), poly.end(), 0u);
+  std::vector<LocalTri> tris;
+  MirrorClip mirror;
+  clip_ears(octagon, poly, EarSearch::kQueued, tris, &mirror);
+  EXPECT_FALSE(mirror.exact);
+}
+
 TEST(PolygonTriangulationParts, TriangulateOneOuterLoopAndOneHole) {
   std::vector<P> pts;
   const std::vector<Loop> loops = {add_loop(pts, regular(P(0, 0), 5.0, 16, true)),

@@ -110,8 +110,9 @@ enum class EarQueue { kIndexed, kLazy };
 class EarClipper {
  public:
   EarClipper(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& poly, EarSearch search,
-             EarQueue queue = EarQueue::kLazy)
-      : pts_(pts), lists_(RingLists::take()), search_(search), indexed_(queue == EarQueue::kIndexed) {
+             EarQueue queue = EarQueue::kLazy, MirrorClip* mirror = nullptr)
+      : pts_(pts), lists_(RingLists::take()), search_(search), indexed_(queue == EarQueue::kIndexed),
+        mirror_(search == EarSearch::kQueued && indexed_ ? mirror : nullptr) {
     lists_.poly.assign(poly.begin(), poly.end());
     if (search_ == EarSearch::kQueued) {
       lists_.poly.erase(std::unique(lists_.poly.begin(), lists_.poly.end()), lists_.poly.end());
@@ -120,6 +121,7 @@ class EarClipper {
     const auto n = static_cast<std::uint32_t>(lists_.poly.size());
     lists_.xy.resize(n);
     for (std::uint32_t i = 0; i < n; ++i) lists_.xy[i] = pts_[lists_.poly[i]];
+    if (mirror_) set_margin(poly.size());
     lists_.prev.resize(n);
     lists_.next.resize(n);
     for (std::uint32_t i = 0; i < n; ++i) {
@@ -147,11 +149,15 @@ class EarClipper {
   }
   EarClipper(const EarClipper&) = delete;
   EarClipper& operator=(const EarClipper&) = delete;
-  ~EarClipper() { lists_.hand_back(); }
+  ~EarClipper() {
+    if (mirror_) mirror_->exact = exact_ && !tied_;
+    lists_.hand_back();
+  }
 
   // Returns false, having stopped part way, where kIndexed met a tie (see EarQueue).
   bool run(std::vector<LocalTri>& out) {
     const std::size_t n = lists_.poly.size();
+    if (n <= 3) exact_ = false;  // no clip: the closing triangle starts where the ring does
     if (n < 3) return true;
     std::vector<double>& corners = lists_.corners;
     corners.resize(n);
@@ -171,11 +177,19 @@ class EarClipper {
       std::size_t i = search_ == EarSearch::kQueued ? pop_ear() : scan_ears();
       if (tied_) return false;
       bool emit = true;
-      if (i == n) std::tie(i, emit) = most_convex();
+      if (i == n) {
+        exact_ = false;
+        std::tie(i, emit) = most_convex();
+      }
       clip(i, emit, out);
     }
     const std::size_t a = origin_, b = lists_.next[a], c = lists_.next[b];
-    if (corner_at(a, b, c) > 0.0) out.push_back({lists_.poly[a], lists_.poly[b], lists_.poly[c]});
+    const double last = corner_at(a, b, c);
+    if (mirror_) {
+      check_margin(last);
+      mirror_->closed = last > 0.0;
+    }
+    if (last > 0.0) out.push_back({lists_.poly[a], lists_.poly[b], lists_.poly[c]});
     return true;
   }
 
@@ -185,12 +199,35 @@ class EarClipper {
   double corner(std::size_t i) const { return corner_at(lists_.prev[i], i, lists_.next[i]); }
   double longest(std::size_t i) const { return longest_edge2(at(lists_.prev[i]), at(i), at(lists_.next[i])); }
   double quality(std::size_t i) const { return ear_quality(corner(i), longest(i)); }
+
+  // MirrorClip: the margin a decision on an orient()-like value v (a difference of two products
+  // of coordinate differences of polygon points) needs, and the check of one. Every such
+  // difference is at most the points' extent D in magnitude (rounding is monotone), so each
+  // product at most D^2 (1 + eps), and the value of either clip (the mirror image's takes other
+  // differences of the same points, with the same magnitudes) is within (3 eps + 16 eps^2) of
+  // twice that of the exact value, the same for both: |v - v'| < 1.4e-15 D^2. The margin is
+  // about three times that. Not exact where D^2 is out of [1e-200, 1e200] (underflow, overflow)
+  // or not a number, or where repeated points were dropped (fewer corners than `given`).
+  void set_margin(std::size_t given) {
+    if (lists_.poly.size() != given) exact_ = false;
+    glm::dvec2 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    for (const glm::dvec2& p : lists_.xy) {
+      lo = glm::min(lo, p);
+      hi = glm::max(hi, p);
+    }
+    const double d = std::max(hi.x - lo.x, hi.y - lo.y), d2 = d * d;
+    if (!(d2 >= 1e-200 && d2 <= 1e200)) exact_ = false;
+    margin_ = 4e-15 * d2;
+  }
+  void check_margin(double v) {
+    if (!(std::abs(v) > margin_)) exact_ = false;
+  }
   // kQueued: queues corner i (its corner() `turn`, its quality) when it is an ear: positive area
   // and no other polygon point in the closed triangle (only a reflex corner can lie inside an ear
   // of a weakly simple polygon). kIndexed moves its entry, or drops it when it is no ear.
   void queue_if_ear(std::size_t i, double turn) {
     const auto corner = static_cast<std::uint32_t>(i);
-    if (turn <= 0.0 || reflex_blocker(i)) {
+    if (turn <= 0.0 || (mirror_ ? reflex_blocker<true>(i) : reflex_blocker<false>(i))) {
       if (indexed_) heap_remove(corner);
       return;
     }
@@ -241,6 +278,7 @@ class EarClipper {
   // would be filed again): the scans drop those.
   double update_reflex(std::size_t i) {
     const double turn = corner(i);
+    if (mirror_) check_margin(turn);
     const bool r = turn <= 0.0;
     if (r && !lists_.reflex[i] && search_ == EarSearch::kQueued) {
       ++filings_;
@@ -334,6 +372,8 @@ class EarClipper {
   // True when some live reflex corner other than the ear's points lies in the closed ear of
   // corner i: through the grid where the cells its corners reach (make_grid) are fewer than the
   // filings, else through the list (a point that is not a number makes every test false).
+  // Checked: each value tested is checked against the margin (MirrorClip).
+  template <bool Checked>
   bool reflex_blocker(std::size_t i) {
     const std::size_t pa = lists_.prev[i], pc = lists_.next[i];
     const std::uint32_t ia = lists_.poly[pa], ib = lists_.poly[i], ic = lists_.poly[pc];
@@ -348,6 +388,17 @@ class EarClipper {
     auto blocks = [&](const Filed& f) {
       if (f.corner == prev_corner || f.corner == next_corner) return false;
       const glm::dvec2 p = f.p;
+      if constexpr (Checked) {  // the same tests in the same order, each value checked
+        const double d = ca.x * (p.y - c.y) - ca.y * (p.x - c.x);
+        check_margin(d);
+        if (!(d >= 0.0)) return false;
+        const double e = ab.x * (p.y - a.y) - ab.y * (p.x - a.x);
+        check_margin(e);
+        if (!(e >= 0.0)) return false;
+        const double g = bc.x * (p.y - b.y) - bc.y * (p.x - b.x);
+        check_margin(g);
+        return g >= 0.0 && f.point != ia && f.point != ib && f.point != ic;
+      }
       return ca.x * (p.y - c.y) - ca.y * (p.x - c.x) >= 0.0 && ab.x * (p.y - a.y) - ab.y * (p.x - a.x) >= 0.0 &&
              bc.x * (p.y - b.y) - bc.y * (p.x - b.x) >= 0.0 &&
              f.point != ia && f.point != ib && f.point != ic;  // not the same point (bridges repeat points)
@@ -415,6 +466,15 @@ class EarClipper {
       const double quality = heap_[0].quality;
       tied_ = tied_ || (heap_.size() > 1 && heap_[1].quality == quality) ||
               (heap_.size() > 2 && heap_[2].quality == quality);
+      if (mirror_) {
+        // The mirror image's qualities: its turn differs by under 1.4e-15 times the ear's squared
+        // longest edge (the bound of set_margin with the ear's own edges; the longest edge is
+        // the same value, and above the margin: no underflow), so its quality by under 1.4e-15 +
+        // 2 eps |q| < 1.7e-15. The best ear leads the next by more than twice that, with room.
+        const double next = std::max(heap_.size() > 1 ? heap_[1].quality : -1.0,
+                                     heap_.size() > 2 ? heap_[2].quality : -1.0);
+        if (!(quality - next > 8e-15)) exact_ = false;
+      }
       heap_remove(best);
       return best;
     }
@@ -489,6 +549,9 @@ class EarClipper {
   EarSearch search_;
   bool indexed_;       // kQueued: the queue is kIndexed, else kLazy
   bool tied_ = false;  // kIndexed met a tie: run stops
+  MirrorClip* mirror_;   // kIndexed: the report on the mirror image, or null
+  bool exact_ = true;    // MirrorClip::exact so far
+  double margin_ = 0.0;  // MirrorClip: the margin (set_margin)
   // The filings of corners that became reflex (kQueued), less stale ones dropped by scans, and
   // how many filings there were: the threshold between the grid and the list.
   std::vector<Filed>& reflex_list_ = lists_.reflex_list;
@@ -516,9 +579,12 @@ class EarClipper {
 };
 // Clips one polygon (kQueued: through kIndexed, and again through kLazy where that meets a tie).
 void clip_polygon(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& poly,
-                  EarSearch search, std::vector<LocalTri>& out) {
+                  EarSearch search, std::vector<LocalTri>& out, MirrorClip* mirror = nullptr) {
   const std::size_t before = out.size();
-  if (search == EarSearch::kQueued && EarClipper(pts, poly, search, EarQueue::kIndexed).run(out)) return;
+  if (mirror) *mirror = {};
+  if (search == EarSearch::kQueued && EarClipper(pts, poly, search, EarQueue::kIndexed, mirror).run(out))
+    return;
+  if (mirror) *mirror = {};
   out.resize(before);
   EarClipper(pts, poly, search, EarQueue::kLazy).run(out);
 }
@@ -566,8 +632,8 @@ std::vector<std::uint32_t> join_at(const std::vector<std::uint32_t>& outer, cons
 }  // namespace
 
 void clip_ears(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& poly, EarSearch search,
-               std::vector<LocalTri>& out) {
-  clip_polygon(pts, poly, search, out);
+               std::vector<LocalTri>& out, MirrorClip* mirror) {
+  clip_polygon(pts, poly, search, out, mirror);
 }
 
 std::vector<std::uint32_t> bridge_hole(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& outer,
@@ -602,11 +668,12 @@ std::vector<std::uint32_t> bridge_hole(const std::vector<glm::dvec2>& pts, const
 
 void triangulate_polygon(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& outer,
                          std::vector<std::vector<std::uint32_t>> holes, const TriangulationRules& rules,
-                         std::vector<LocalTri>& out) {
+                         std::vector<LocalTri>& out, MirrorClip* mirror) {
   if (holes.empty()) {  // clipped as it is (no bridged copy of the loop to allocate)
-    clip_polygon(pts, outer, rules.ears, out);
+    clip_polygon(pts, outer, rules.ears, out, mirror);
     return;
   }
+  if (mirror) *mirror = {};
   // Bridge holes from right to left so earlier bridges do not block later ones.
   auto maxx = [&](const std::vector<std::uint32_t>& l) {
     double m = -std::numeric_limits<double>::max();

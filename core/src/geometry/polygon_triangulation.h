@@ -47,6 +47,18 @@ struct TriangulationRules {
   HoleBridge holes = HoleBridge::kRightmost;
 };
 
+/// What a clip (kQueued) found out about the clip of its mirror image: the same polygon with x
+/// negated (exactly) and its corners in reverse order, its points numbered by any one-to-one map.
+/// Where `exact` is true every decision of the clip (each corner's convexity, each blocker test,
+/// each ear chosen over the next best, the closing triangle) held with a margin wider than the
+/// rounding of both clips' arithmetic: so the mirror image's clip makes the same decisions and
+/// gives the same triangles in the same order, each ear (p, q, r) as (r, q, p), and the closing
+/// triangle (the last one, where `closed`) (p, q, r) as (q, p, r).
+struct MirrorClip {
+  bool exact = false;
+  bool closed = false;  ///< the clip ended with its closing triangle (else it had no area)
+};
+
 /// Ear clipping of one counter-clockwise, weakly simple polygon (indices into `pts`; a bridged
 /// hole repeats two points), appending counter-clockwise triangles to `out`.
 ///
@@ -56,8 +68,10 @@ struct TriangulationRules {
 /// detail::kKeptClipListBytes (32 KB) between clips: twenty lists, 640 KB at most per thread; a
 /// bigger one gives its memory back when its clip ends. The result does not depend on what the
 /// lists held before.
+/// With `mirror`, also what the clip tells of its mirror image's (MirrorClip; never exact for
+/// kExhaustive, for fewer than four corners, or for a polygon with repeated consecutive points).
 void clip_ears(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& poly, EarSearch search,
-               std::vector<LocalTri>& out);
+               std::vector<LocalTri>& out, MirrorClip* mirror = nullptr);
 
 /// Joins a clockwise `hole` lying inside the counter-clockwise `outer` into one weakly simple
 /// polygon (the bridge is walked both ways, so its two ends appear twice). `others` are further
@@ -68,10 +82,11 @@ std::vector<std::uint32_t> bridge_hole(const std::vector<glm::dvec2>& pts, const
 
 /// Triangulates the counter-clockwise `outer` with clockwise `holes` inside it: holes are bridged
 /// from right to left (by their largest x), then the polygon is clipped (clip_ears: the same
-/// per-thread lists). Appends to `out`.
+/// per-thread lists). Appends to `out`. With `mirror`, as clip_ears tells it (never exact with
+/// holes).
 void triangulate_polygon(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& outer,
                          std::vector<std::vector<std::uint32_t>> holes, const TriangulationRules& rules,
-                         std::vector<LocalTri>& out);
+                         std::vector<LocalTri>& out, MirrorClip* mirror = nullptr);
 
 /// The polygons triangulate_loops clips, so that they can be clipped apart (e.g. on several
 /// threads): triangulate_polygon(pts, loops[outers[k]], holes[k], rules, out) for k in order

@@ -292,32 +292,130 @@ void plan_polygons(const CapInput& in, CapPlan& plan) {
 // shared cores; its 1M cut has 4070).
 constexpr std::size_t kParallelCapCorners = 2048;
 
+// The triangles of polygon k of `to` taken from those of `from`'s polygon that is its mirror
+// image, where that one's clip says they are the same (MirrorClip::exact): a plane cut of a
+// closed surface caps its two sides over the same rim loops, each loop run the other way by the
+// other side, and plan_polygons gives both the same frame, mirrored for one of them (its outer
+// loops run the other way). So polygon k's points are exactly those of a polygon of `from` with x
+// negated, in reverse order (checked point by point, with the point numbering one-to-one), and its
+// clip would make every decision the same. `from_polygon` (by point of `from`: its polygon, or
+// kInvalidIndex) and `position` (in that polygon's loop) locate the points; `used` the polygons of
+// `from` taken already; `to_from` and `from_to` are scratch (by point, kInvalidIndex between
+// calls). Returns false, having taken nothing, where some check fails.
+bool mirror_triangles(const CapPlan& from, const std::vector<geometry::MirrorClip>& clips,
+                      const std::vector<std::uint32_t>& from_polygon,
+                      const std::vector<std::uint32_t>& position,
+                      std::vector<char>& used, std::vector<std::uint32_t>& from_to,
+                      std::vector<std::uint32_t>& to_from, CapPlan& to, std::size_t k) {
+  const auto& loop = to.rim.loops[to.polygons.outers[k]];
+  const std::size_t n = loop.size();
+  const auto& pts = to.polygons.pts;
+  const auto& from_pts = from.polygons.pts;
+  // The first point of `from` (on one of its polygons) that is the loop's first point mirrored
+  // (were there several, the check below finds whether this one is where the mirror image starts).
+  const glm::dvec2 first = pts[loop[0]];
+  std::uint32_t match = 0;
+  const auto count = static_cast<std::uint32_t>(from_pts.size());
+  while (match < count && !(from_pts[match].x == -first.x && from_pts[match].y == first.y &&
+                            from_polygon[match] != kInvalidIndex))
+    ++match;
+  if (match == count) return false;
+  const std::uint32_t kf = from_polygon[match];
+  const auto& from_loop = from.rim.loops[from.polygons.outers[kf]];
+  if (used[kf] || !clips[kf].exact || from_loop.size() != n) return false;
+  // Point j of the loop is point position - j (mod n) of from_loop, mirrored.
+  bool same = true;
+  std::size_t j = 0;
+  for (std::size_t f = position[match]; j < n; ++j, f = f == 0 ? n - 1 : f - 1) {
+    const std::uint32_t a = from_loop[f], b = loop[j];
+    if (!(from_pts[a].x == -pts[b].x && from_pts[a].y == pts[b].y) ||
+        (from_to[a] != kInvalidIndex && from_to[a] != b) ||
+        (to_from[b] != kInvalidIndex && to_from[b] != a)) {
+      same = false;
+      break;
+    }
+    from_to[a] = b;
+    to_from[b] = a;
+  }
+  if (same) {
+    const auto& tris = from.tris[kf];
+    auto& out = to.tris[k];
+    out.resize(tris.size());
+    const std::size_t ears = clips[kf].closed ? tris.size() - 1 : tris.size();
+    auto to_of = [&](const geometry::LocalTri& t, int a, int b, int c) {
+      return geometry::LocalTri{from_to[t[a]], from_to[t[b]], from_to[t[c]]};
+    };
+    for (std::size_t t = 0; t < ears; ++t) out[t] = to_of(tris[t], 2, 1, 0);
+    if (ears < tris.size()) out[ears] = to_of(tris[ears], 1, 0, 2);
+    used[kf] = 1;
+  }
+  // The scratch back to kInvalidIndex.
+  for (std::size_t i = 0, f = position[match]; i <= j && i < n; ++i, f = f == 0 ? n - 1 : f - 1) {
+    from_to[from_loop[f]] = kInvalidIndex;
+    to_from[loop[i]] = kInvalidIndex;
+  }
+  return same;
+}
+
 // Triangulates every planned polygon of every cap (as triangulate_loops would), on the pool
 // when they are big enough: each polygon's triangles are its own, so the result is the same
-// whatever the thread count.
+// whatever the thread count. Of two caps without holes (the sides of one closed surface), the
+// second takes the triangles of a polygon from the first where they are the same
+// (mirror_triangles), and is clipped where they may not be.
 void triangulate_caps(std::vector<CapPlan>& plans) {
+  const bool pair = plans.size() == 2 && !plans[0].rim.loops.empty() && !plans[1].rim.loops.empty() &&
+                    !plans[0].holes && !plans[1].holes &&
+                    plans[0].polygons.outers.size() == plans[1].polygons.outers.size();
+  std::vector<geometry::MirrorClip> clips(pair ? plans[0].polygons.outers.size() : 0);
   std::vector<std::pair<std::uint32_t, std::uint32_t>> jobs;  // (plan, polygon)
-  std::size_t corners = 0;
-  for (std::size_t p = 0; p < plans.size(); ++p)
-    for (std::size_t k = 0; k < plans[p].polygons.outers.size(); ++k) {
-      jobs.emplace_back(static_cast<std::uint32_t>(p), static_cast<std::uint32_t>(k));
-      corners += plans[p].rim.loops[plans[p].polygons.outers[k]].size();
-      for (const auto& hole : plans[p].polygons.holes[k]) corners += hole.size();
-    }
   auto triangulate = [&](std::size_t j) {
     CapPlan& plan = plans[jobs[j].first];
     const std::size_t k = jobs[j].second;
     const auto& outer = plan.rim.loops[plan.polygons.outers[k]];
     plan.tris[k].reserve(outer.size());
-    geometry::triangulate_polygon(plan.polygons.pts, outer, std::move(plan.polygons.holes[k]), {}, plan.tris[k]);
+    geometry::MirrorClip* mirror = pair && jobs[j].first == 0 ? &clips[k] : nullptr;
+    auto& holes = plan.polygons.holes[k];
+    geometry::triangulate_polygon(plan.polygons.pts, outer, std::move(holes), {}, plan.tris[k], mirror);
   };
-  if (jobs.size() < 2 || corners < kParallelCapCorners) {
-    for (std::size_t j = 0; j < jobs.size(); ++j) triangulate(j);
-    return;
+  auto run_jobs = [&] {
+    std::size_t corners = 0;
+    for (const auto& [p, k] : jobs) {
+      corners += plans[p].rim.loops[plans[p].polygons.outers[k]].size();
+      for (const auto& hole : plans[p].polygons.holes[k]) corners += hole.size();
+    }
+    if (jobs.size() < 2 || corners < kParallelCapCorners) {
+      for (std::size_t j = 0; j < jobs.size(); ++j) triangulate(j);
+      return;
+    }
+    parallel_for(jobs.size(), 1, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t j = begin; j < end; ++j) triangulate(j);
+    });
+  };
+  for (std::size_t p = 0; p < plans.size(); ++p)
+    if (!pair || p == 0)
+      for (std::size_t k = 0; k < plans[p].polygons.outers.size(); ++k)
+        jobs.emplace_back(static_cast<std::uint32_t>(p), static_cast<std::uint32_t>(k));
+  run_jobs();
+  if (!pair) return;
+  const CapPlan& from = plans[0];
+  CapPlan& to = plans[1];
+  const std::size_t from_points = from.polygons.pts.size();
+  std::vector<std::uint32_t> from_polygon(from_points, kInvalidIndex), position(from_points);
+  for (std::uint32_t k = 0; k < from.polygons.outers.size(); ++k) {
+    const auto& loop = from.rim.loops[from.polygons.outers[k]];
+    for (std::uint32_t i = 0; i < loop.size(); ++i) {
+      from_polygon[loop[i]] = k;
+      position[loop[i]] = i;
+    }
   }
-  parallel_for(jobs.size(), 1, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t j = begin; j < end; ++j) triangulate(j);
-  });
+  std::vector<char> used(from.polygons.outers.size(), 0);
+  std::vector<std::uint32_t> from_to(from_points, kInvalidIndex);
+  std::vector<std::uint32_t> to_from(to.polygons.pts.size(), kInvalidIndex);
+  jobs.clear();
+  for (std::uint32_t k = 0; k < to.polygons.outers.size(); ++k)
+    if (!mirror_triangles(from, clips, from_polygon, position, used, from_to, to_from, to, k))
+      jobs.emplace_back(1, k);
+  run_jobs();
 }
 
 // The attributes of the cap faces `faces` (faces[k] made from tris[made[k]], its corners'
@@ -430,6 +528,37 @@ bool make_cap(MeshEditor& editor, const CapInput& in, const CapPlan& plan, std::
   return faces.size() == tris.size() && whole_fans(plan);
 }
 
+// rim_halfedges' last step where no vertex is left by two halfedges (nor reached by the one
+// leaving it) and the vertices they leave span few ids (a cut's rim vertices are its newest
+// ones): then the halfedges of one edge are a -> b and b -> a, found by a table over that span of
+// the vertex reached from each vertex. Drops every halfedge whose edge has two, keeping the
+// order. Returns false, having changed nothing, otherwise.
+bool drop_twins(std::vector<std::pair<VertexId, VertexId>>& halfedges) {
+  const std::size_t m = halfedges.size();
+  if (m == 0) return true;
+  std::uint32_t lo = kInvalidIndex, hi = 0;
+  for (const auto& [a, b] : halfedges) {
+    lo = std::min(lo, a.index);
+    hi = std::max(hi, a.index);
+  }
+  if (hi - lo >= 4 * m + 256) return false;
+  std::vector<std::uint32_t> reached(std::size_t(hi - lo) + 1, kInvalidIndex);  // by vertex - lo
+  for (const auto& [a, b] : halfedges) {
+    std::uint32_t& r = reached[a.index - lo];
+    if (r != kInvalidIndex || a == b) return false;
+    r = b.index;
+  }
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < m; ++i) {
+    const auto [a, b] = halfedges[i];
+    const std::uint32_t back = b.index - lo;  // past the span (wrapping below it): no halfedge leaves b
+    if (back < reached.size() && reached[back] == a.index) continue;
+    halfedges[n++] = halfedges[i];
+  }
+  halfedges.resize(n);
+  return true;
+}
+
 }  // namespace
 
 std::vector<std::pair<VertexId, VertexId>> rim_halfedges(const SurfaceMesh& mesh, const CapInput& in,
@@ -439,11 +568,8 @@ std::vector<std::pair<VertexId, VertexId>> rim_halfedges(const SurfaceMesh& mesh
   // (lower end, halfedge) sorted: the halfedges of one edge share a run of lower ends.
   const auto& sign = *in.sign;
   std::vector<std::pair<VertexId, VertexId>> halfedges;
-  std::vector<std::uint64_t> keys, scratch;
-  std::vector<std::uint32_t> count;
   // Most rim faces have one edge on the plane: room for one each to start with.
   halfedges.reserve(in.rim_faces.size() + 8);
-  keys.reserve(in.rim_faces.size() + 8);
   for (FaceId f : in.rim_faces) {
     if (!skip.empty() && std::binary_search(skip.begin(), skip.end(), f)) continue;
     const auto& t = mesh.face(f);
@@ -451,9 +577,16 @@ std::vector<std::pair<VertexId, VertexId>> rim_halfedges(const SurfaceMesh& mesh
     for (int k = 0; k < 3; ++k) {
       const int k1 = k == 2 ? 0 : k + 1;
       if (!on[k] || !on[k1]) continue;
-      keys.push_back((std::uint64_t(std::min(t[k].index, t[k1].index)) << 32) | halfedges.size());
       halfedges.emplace_back(t[k], t[k1]);
     }
+  }
+  if (drop_twins(halfedges)) return halfedges;
+  std::vector<std::uint64_t> keys, scratch;
+  std::vector<std::uint32_t> count;
+  keys.reserve(halfedges.size());
+  for (std::size_t i = 0; i < halfedges.size(); ++i) {
+    const auto& [a, b] = halfedges[i];
+    keys.push_back((std::uint64_t(std::min(a.index, b.index)) << 32) | i);
   }
   sort_by_vertex(keys, scratch, count);
   auto upper = [&](std::uint64_t key) {

@@ -387,6 +387,9 @@ std::vector<detail::CapInput> Cutter::rim_of_pieces(const CutResult& result) con
     for (std::size_t p = 0; p < result.pieces.size(); ++p)
       piece_of_side[result.piece_sides[p] > 0 ? 0 : 1] = static_cast<std::uint32_t>(p);
   }
+  // Room for every candidate in each of two pieces (more pieces grow their lists as they go).
+  if (rims.size() <= 2)
+    for (detail::CapInput& rim : rims) rim.rim_faces.reserve(rim_candidates_.size());
   for (FaceId f : rim_candidates_) {
     if (mesh_.is_deleted(f)) continue;
     const Triangle& t = mesh_.face(f);
