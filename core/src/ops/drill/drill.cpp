@@ -199,9 +199,9 @@ std::vector<drill::Rim> split_and_trace(MeshEditor& editor, const drill::Cylinde
   std::vector<drill::Rim> rims = drill::trace_rims(mesh, editor.log(), cyl, posed, candidates, {});
   std::vector<VertexId> touched = rim_pinch_candidates(rims, inserted.bared, cyl, posed);
   {
-    const PinchInput old =
-        pinch_input(mesh, editor.log(), posed, old_pinch_candidates(touched, posed.first_new(), inserted.merged),
-                    candidates, index);
+    std::vector<VertexId> old_ones = old_pinch_candidates(touched, posed.first_new(), inserted.merged);
+    if (old_ones.empty()) return rims;  // nothing to look at (pinch_input would walk the log)
+    const PinchInput old = pinch_input(mesh, editor.log(), posed, std::move(old_ones), candidates, index);
     if (!detail::any_pinched(mesh, old.touched, old.around)) return rims;
   }
   const PinchInput in = pinch_input(mesh, editor.log(), posed, std::move(touched), candidates, index);

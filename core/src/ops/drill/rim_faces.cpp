@@ -78,7 +78,8 @@ void FacePlanner::plan(std::size_t c, FaceId f, FacePlan& plan) {
     plan_->remove = 1;
     return;
   }
-  const PlaneCut pc = plane_cut(s_.cyl, corner);
+  face_.pc = plane_cut(s_.cyl, corner);  // worked out in place (the face's plane from here on)
+  const PlaneCut& pc = face_.pc;
   if (pc.empty) {
     if (any_inside) plan_->remove = 1;  // a degenerate triangle or a plane the cylinder only touches
     return;
@@ -90,7 +91,6 @@ void FacePlanner::plan(std::size_t c, FaceId f, FacePlan& plan) {
     if (any_inside) plan_->remove = 1;
     return;
   }
-  face_.pc = pc;
   for (int k = 0; k < 3; ++k) face_.tq[k] = tq[k], face_.corner[k] = corner[k];
   face_.area2 = area2;
   if (!any_inside) {
