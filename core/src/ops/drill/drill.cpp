@@ -172,17 +172,39 @@ std::vector<VertexId> rim_pinch_candidates(const std::vector<drill::Rim>& rims,
   return out;
 }
 
+// Of the rim pinch candidates (rim_pinch_candidates), those that can be pinched: without merged
+// crossings, the old ones only. A new vertex joins one fan: a crossing or a Steiner point lies on
+// one mesh edge, and every kept part holding it holds the edge's piece beside it (outside the
+// cylinder, one set of points per edge), so all its faces are joined through that piece; a rim
+// sample or a refinement point lies in one kept part, a triangulated disk (or a triangle with a
+// hole), where the faces around a point form one fan. A merged crossing stands on two edges
+// (and a merged tip drops faces): then every candidate is looked at.
+std::vector<VertexId> old_pinch_candidates(const std::vector<VertexId>& touched, std::uint32_t first_new,
+                                           bool merged) {
+  if (merged) return touched;
+  std::vector<VertexId> out;
+  for (const VertexId v : touched)
+    if (v.index < first_new) out.push_back(v);  // `touched` is sorted: so is `out`
+  return out;
+}
+
 // Without walls: the pinch split, then the rims traced through the copies. The rims are traced
-// first and the search for pinches looks only at their vertices (and the bared corners); a pinch
-// is rare, so the rims are traced again only when a vertex was split.
+// first and the search for pinches looks only at their vertices that can be pinched
+// (old_pinch_candidates) and the bared corners; a pinch is rare, so the rims are traced again
+// only when a vertex was split (the split itself is given every rim vertex and bared corner).
 std::vector<drill::Rim> split_and_trace(MeshEditor& editor, const drill::CylinderFrame& cyl,
                                         drill::PosedOverlay& posed, const std::vector<FaceId>& candidates,
-                                        const TriangleGrid& index, const std::vector<VertexId>& bared) {
+                                        const TriangleGrid& index, const drill::RimInsertion& inserted) {
   const SurfaceMesh& mesh = editor.mesh();
   std::vector<drill::Rim> rims = drill::trace_rims(mesh, editor.log(), cyl, posed, candidates, {});
-  const PinchInput in = pinch_input(mesh, editor.log(), posed, rim_pinch_candidates(rims, bared, cyl, posed),
-                                    candidates, index);
-  if (!detail::any_pinched(mesh, in.touched, in.around)) return rims;
+  std::vector<VertexId> touched = rim_pinch_candidates(rims, inserted.bared, cyl, posed);
+  {
+    std::vector<VertexId> old_ones = old_pinch_candidates(touched, posed.first_new(), inserted.merged);
+    if (old_ones.empty()) return rims;  // nothing to look at (pinch_input would walk the log)
+    const PinchInput old = pinch_input(mesh, editor.log(), posed, std::move(old_ones), candidates, index);
+    if (!detail::any_pinched(mesh, old.touched, old.around)) return rims;
+  }
+  const PinchInput in = pinch_input(mesh, editor.log(), posed, std::move(touched), candidates, index);
   std::unordered_map<std::uint32_t, std::uint32_t> copy_of;  // pinch-split copy -> original
   for (const auto& [v, c] : split_pinches(editor, posed, in).copies) copy_of.emplace(c.index, v.index);
   return drill::trace_rims(mesh, editor.log(), cyl, posed, candidates, copy_of);
@@ -209,7 +231,7 @@ DrillResult run(SurfaceMesh& mesh, const std::vector<glm::vec3>& input_posed, co
   // walls after them (a wall can join the fans again), the rims following the copies.
   const std::vector<drill::Rim> rims =
       options.wall ? drill::trace_rims(mesh, editor.log(), cyl, posed, candidates, {})
-                   : split_and_trace(editor, cyl, posed, candidates, index, inserted.bared);
+                   : split_and_trace(editor, cyl, posed, candidates, index, inserted);
   for (const drill::Rim& rim : rims) {
     DrillHole hole;
     hole.rim = rim.vertices;

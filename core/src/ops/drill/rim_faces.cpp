@@ -40,6 +40,24 @@ int quad_ear(const glm::dvec2 q[4]) {
   return best;
 }
 
+// Whether the triangle with corners `p` lies wholly outside the solid cylinder, a tolerance
+// clear of it: beyond one end plane, or beyond the line tangent to the cylinder across the
+// corners' mean direction from the axis (every corner farther than r + eps along it). Then no
+// point of the cylinder's cut in its plane, the centre of a hole included, lies in the triangle.
+bool clear_of_cylinder(const CylinderFrame& cyl, const glm::dvec3 p[3]) {
+  const double s0 = cyl.s(p[0]), s1 = cyl.s(p[1]), s2 = cyl.s(p[2]);
+  if ((s0 < -cyl.eps && s1 < -cyl.eps && s2 < -cyl.eps) ||
+      (s0 > cyl.len + cyl.eps && s1 > cyl.len + cyl.eps && s2 > cyl.len + cyl.eps))
+    return true;
+  const glm::dvec3 m[3] = {cyl.perp(p[0]), cyl.perp(p[1]), cyl.perp(p[2])};
+  const glm::dvec3 sum = m[0] + m[1] + m[2];
+  const double sl = glm::length(sum);
+  if (!(sl > 0.0)) return false;
+  const glm::dvec3 e = sum / sl;
+  const double beyond = cyl.r + cyl.eps;
+  return glm::dot(m[0], e) > beyond && glm::dot(m[1], e) > beyond && glm::dot(m[2], e) > beyond;
+}
+
 }  // namespace
 
 bool quad_triangles(const glm::dvec2 q[4], std::array<geometry::LocalTri, 2>& out) {
@@ -74,11 +92,15 @@ void FacePlanner::plan(std::size_t c, FaceId f, FacePlan& plan) {
   // A face with no piece of an edge inside keeps all of itself but a hole wholly inside it: its
   // boundary is worked out only for such a hole (most of those candidates are beside the rim).
   const bool any_inside = any_piece_inside(*cur_);
+  // Without a piece of an edge inside, only a hole wholly inside the triangle can be cut (its
+  // centre inside the triangle, below): none where the triangle lies clear of the cylinder.
+  if (!any_inside && clear_of_cylinder(s_.cyl, corner)) return;
   if (any_inside && boundary(tri, corner)) {  // all inside
     plan_->remove = 1;
     return;
   }
-  const PlaneCut pc = plane_cut(s_.cyl, corner);
+  face_.pc = plane_cut(s_.cyl, corner);  // worked out in place (the face's plane from here on)
+  const PlaneCut& pc = face_.pc;
   if (pc.empty) {
     if (any_inside) plan_->remove = 1;  // a degenerate triangle or a plane the cylinder only touches
     return;
@@ -90,7 +112,6 @@ void FacePlanner::plan(std::size_t c, FaceId f, FacePlan& plan) {
     if (any_inside) plan_->remove = 1;
     return;
   }
-  face_.pc = pc;
   for (int k = 0; k < 3; ++k) face_.tq[k] = tq[k], face_.corner[k] = corner[k];
   face_.area2 = area2;
   if (!any_inside) {

@@ -450,6 +450,7 @@ RimInsertion RimInserter::run(const std::vector<FaceId>& candidates) {
   out.removed = removed_;
   out.added = added_;
   out.bared = std::move(bared_);
+  out.merged = !merges_.empty();
   return out;
 }
 

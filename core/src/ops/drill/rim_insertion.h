@@ -63,6 +63,9 @@ struct RimInsertion {
   /// removed whole (within the tolerance, or degenerate). In candidate order, a corner once per
   /// candidate: off the rim, the only old vertices whose fans the insertion can part (drill.cpp).
   std::vector<VertexId> bared;
+  /// Whether crossings were merged (a needle's two long edges crossed at one bind position): a
+  /// merged vertex stands on two edges, so its kept parts need not meet around it.
+  bool merged = false;
 };
 
 /// Faces near the cylinder (far enough to hold every face around a vertex

@@ -92,12 +92,9 @@ void snap_shallow_vertices(MeshEditor& editor, const CylinderFrame& cyl, PosedOv
     const glm::dvec3 m = cyl.perp(p);
     int near = 0;
     glm::dvec3 normal(0.0);
-    ring.clear();
     for (std::size_t c = i; c < j; ++c) {
       const Triangle& t = mesh.face(FaceId(corners[c].second));
       normal += glm::cross(posed(t[1]) - posed(t[0]), posed(t[2]) - posed(t[0]));
-      for (VertexId y : t)
-        if (y != x) ring.push_back(y);
     }
     // A vertex on the mesh's border stays where it is: primitives split at a material seam keep
     // a copy of each seam vertex each, and sliding one copy alone would open a crack along the
@@ -115,8 +112,11 @@ void snap_shallow_vertices(MeshEditor& editor, const CylinderFrame& cyl, PosedOv
     std::sort(ahead.begin(), ahead.end());
     std::sort(behind.begin(), behind.end());
     if (ahead != behind) continue;
-    std::sort(ring.begin(), ring.end());
+    // Its neighbours (the faces' corners other than x), each once: with the edges ahead and behind
+    // alike, those ahead are all of them (x itself only in a face holding it twice).
+    ring.assign(ahead.begin(), ahead.end());
     ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+    ring.erase(std::remove(ring.begin(), ring.end(), x), ring.end());
     for (VertexId y : ring) {
       const glm::dvec3 q = posed(y), k = cyl.perp(q) - m;
       const double a = glm::dot(k, k), b = glm::dot(m, k), cq = glm::dot(m, m) - cyl.r * cyl.r;
