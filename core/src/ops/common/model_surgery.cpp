@@ -192,20 +192,24 @@ bool live_increasing_on_sides(const SurfaceMesh& mesh, const std::vector<std::ve
     faces[s].resize(lists[s].size());
     for (std::size_t b = 0; b < lists[s].size(); b += kGrain) chunks.push_back({s, b, std::min(lists[s].size(), b + kGrain)});
   }
+  // The side value each list's corners must have (list_of_side[side + 1] == list): none (a value
+  // no vertex has) for a list no side picks.
+  std::vector<int> wanted(lists.size(), 2);
+  for (int v = -1; v <= 1; ++v)
+    if (list_of_side[v + 1] < lists.size()) wanted[list_of_side[v + 1]] = v;
   std::atomic<bool> broken{false};
   run_chunks(chunks.size(), [&](std::size_t c) {
     const Chunk& k = chunks[c];
     const FaceId* list = lists[k.list].data();
     std::uint32_t* to = faces[k.list].data();
-    const std::uint32_t s = static_cast<std::uint32_t>(k.list);
-    std::uint32_t last = k.begin == 0 ? 0 : list[k.begin - 1].index;
-    bool bad = k.begin > 0 && list[k.begin].index <= last;
+    const int want = wanted[k.list];
+    std::int64_t last = k.begin == 0 ? -1 : std::int64_t{list[k.begin - 1].index};
+    bool bad = false;
     for (std::size_t i = k.begin; i < k.end; ++i) {
       const std::uint32_t f = list[i].index;
-      bad |= (i > k.begin && f <= last) || mesh.is_deleted(list[i]);
       const Triangle& t = mesh.face(list[i]);
-      bad |= (list_of_side[side[t[0].index] + 1] != s) | (list_of_side[side[t[1].index] + 1] != s) |
-             (list_of_side[side[t[2].index] + 1] != s);
+      bad |= (std::int64_t{f} <= last) | mesh.is_deleted(list[i]) | (side[t[0].index] != want) |
+             (side[t[1].index] != want) | (side[t[2].index] != want);
       to[i] = f;
       last = f;
     }
