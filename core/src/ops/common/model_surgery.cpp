@@ -190,7 +190,8 @@ bool live_increasing_on_sides(const SurfaceMesh& mesh, const std::vector<std::ve
   std::vector<Chunk> chunks;
   for (std::size_t s = 0; s < lists.size(); ++s) {
     faces[s].resize(lists[s].size());
-    for (std::size_t b = 0; b < lists[s].size(); b += kGrain) chunks.push_back({s, b, std::min(lists[s].size(), b + kGrain)});
+    for (std::size_t b = 0; b < lists[s].size(); b += kGrain)
+      chunks.push_back({s, b, std::min(lists[s].size(), b + kGrain)});
   }
   // The side value each list's corners must have (list_of_side[side + 1] == list): none (a value
   // no vertex has) for a list no side picks.
