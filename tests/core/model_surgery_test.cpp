@@ -415,6 +415,35 @@ TEST(ModelSurgery, VertexSidesThatBreakTheFacesFallBackToSplittingByFaces) {
   }
 }
 
+TEST(ModelSurgery, VertexSidesWithListsOutOfOrderSplitAsTheSortedLists) {
+  // Lists checked and copied in one pass only when each is live and increasing: a list out of
+  // order (within a chunk of the pass or across two), or naming a face twice, is sorted first,
+  // and the pieces are those of the cut's own lists.
+  CactusOptions cactus;
+  cactus.target_triangles = 200000;  // lists longer than one chunk (65536 faces) of the pass
+  SurfaceMesh mesh = make_cactus(cactus).meshes[0].primitives[0].mesh;
+  const BoundingBox box = mesh.bounds();
+  const Plane plane{0.5f * (box.min + box.max), glm::vec3(0.1f, 1.0f, 0.05f)};
+  const CutResult r = cut_mesh(mesh, mesh.positions(), plane, CutOptions{});
+  ASSERT_EQ(r.status, OpStatus::Ok);
+  ASSERT_EQ(r.pieces.size(), 2u);
+  ASSERT_GT(r.pieces[1].size(), 65537u);
+  const PieceSides sides{&r.piece_sides, &CutSides::of(r)};
+  SurfaceMesh b = mesh;
+  const std::vector<SurfaceMesh> by_faces = split_disjoint(std::move(b), r.pieces);
+  for (int change = 0; change < 4; ++change) {
+    std::vector<std::vector<FaceId>> lists = r.pieces;
+    if (change == 0) std::reverse(lists[0].begin(), lists[0].end());
+    if (change == 1) std::swap(lists[1][65535], lists[1][65536]);  // across two chunks
+    if (change == 2) std::swap(lists[1][10], lists[1][11]);         // within one
+    if (change == 3) lists[1].insert(lists[1].begin() + 65536, lists[1][65535]);
+    SurfaceMesh a = mesh;
+    const std::vector<SurfaceMesh> by_sides = split_disjoint(std::move(a), lists, sides);
+    ASSERT_EQ(by_sides.size(), by_faces.size()) << change;
+    for (std::size_t i = 0; i < by_sides.size(); ++i) expect_same_bytes(by_sides[i], by_faces[i]);
+  }
+}
+
 TEST(ModelSurgery, ACutKeepsTheGridsOfTheInstancesItMisses) {
   // The instances a model cut cuts leave the posed model (followed without their grids); those
   // the plane misses keep their grids, and the posed model then matches a fresh build.

@@ -177,6 +177,48 @@ bool sides_hold(const SurfaceMesh& mesh, const std::vector<std::vector<std::uint
   return !broken.load();
 }
 
+// live_increasing and sides_hold at once, for lists that need no sorting (a cut's): true, with
+// `faces` the lists' indices, when every list is live and increasing and every face's corners lie
+// on its list's side; false (`faces` unspecified) otherwise. The lists are sized on the calling
+// thread (its heap), then checked and copied in chunks over the pool, in one job.
+bool live_increasing_on_sides(const SurfaceMesh& mesh, const std::vector<std::vector<FaceId>>& lists,
+                              const std::int8_t* side, const std::uint32_t* list_of_side,
+                              std::vector<std::vector<std::uint32_t>>& faces) {
+  struct Chunk {
+    std::size_t list, begin, end;
+  };
+  std::vector<Chunk> chunks;
+  for (std::size_t s = 0; s < lists.size(); ++s) {
+    faces[s].resize(lists[s].size());
+    for (std::size_t b = 0; b < lists[s].size(); b += kGrain)
+      chunks.push_back({s, b, std::min(lists[s].size(), b + kGrain)});
+  }
+  // The side value each list's corners must have (list_of_side[side + 1] == list): none (a value
+  // no vertex has) for a list no side picks.
+  std::vector<int> wanted(lists.size(), 2);
+  for (int v = -1; v <= 1; ++v)
+    if (list_of_side[v + 1] < lists.size()) wanted[list_of_side[v + 1]] = v;
+  std::atomic<bool> broken{false};
+  run_chunks(chunks.size(), [&](std::size_t c) {
+    const Chunk& k = chunks[c];
+    const FaceId* list = lists[k.list].data();
+    std::uint32_t* to = faces[k.list].data();
+    const int want = wanted[k.list];
+    std::int64_t last = k.begin == 0 ? -1 : std::int64_t{list[k.begin - 1].index};
+    bool bad = false;
+    for (std::size_t i = k.begin; i < k.end; ++i) {
+      const std::uint32_t f = list[i].index;
+      const Triangle& t = mesh.face(list[i]);
+      bad |= (std::int64_t{f} <= last) | mesh.is_deleted(list[i]) | (side[t[0].index] != want) |
+             (side[t[1].index] != want) | (side[t[2].index] != want);
+      to[i] = f;
+      last = f;
+    }
+    if (bad) broken.store(true, std::memory_order_relaxed);
+  });
+  return !broken.load();
+}
+
 // Every list's faces and vertices numbered (out.tris is filled by fill_pieces). The list using
 // each vertex is read from `sides` when given, else marked by the lists' faces. False when the
 // lists share vertices.
@@ -186,13 +228,20 @@ bool number_pieces(const SurfaceMesh& mesh, const std::vector<std::vector<FaceId
   if (n >= kNoList) return false;
   out.faces.resize(n);
   out.tris.resize(n);
-  std::vector<std::function<void()>> tasks;
-  for (std::size_t s = 0; s < n; ++s) tasks.emplace_back([&, s] { out.faces[s] = live_increasing(mesh, lists[s]); });
-  parallel_invoke(tasks);
   const std::size_t nv = mesh.vertex_count();
   std::uint32_t list_of_side[3] = {kNoList, kNoList, kNoList};  // side -1, 0, +1
   if (sides)
     for (std::size_t s = 0; s < n; ++s) list_of_side[(*sides->list_sides)[s] > 0 ? 2 : 0] = static_cast<std::uint32_t>(s);
+  // A cut's lists as the cut makes them (live, increasing, each face's corners on its list's
+  // side) are read once: checked and copied in one pass over the pool.
+  if (sides && live_increasing_on_sides(mesh, lists, sides->vertex_sides->data(), list_of_side, out.faces)) {
+    const std::int8_t* side = sides->vertex_sides->data();
+    number_vertices([&](std::size_t v) { return list_of_side[side[v] + 1]; }, nv, n, out.vertices, out.rank);
+    return true;
+  }
+  std::vector<std::function<void()>> tasks;
+  for (std::size_t s = 0; s < n; ++s) tasks.emplace_back([&, s] { out.faces[s] = live_increasing(mesh, lists[s]); });
+  parallel_invoke(tasks);
   if (sides && sides_hold(mesh, out.faces, sides->vertex_sides->data(), list_of_side)) {
     const std::int8_t* side = sides->vertex_sides->data();
     number_vertices([&](std::size_t v) { return list_of_side[side[v] + 1]; }, nv, n, out.vertices, out.rank);
@@ -299,7 +348,19 @@ std::vector<AttributeSet> fill_pieces(const SurfaceMesh& mesh, Numbering& num, s
         copies.push_back(
             {set_of(mesh, kind).base(name), set.base(name), &list_of(num, s, kind), group_of(kind), kind});
     }
-  if (watcher) give_room(*watcher, copies, num, big);
+  if (watcher) {
+    give_room(*watcher, copies, num, big);
+  } else {
+    // Reserved here, on the calling thread, exactly as the tasks would (gather_groups and
+    // number_faces find their room made): every array comes from the caller's heap (arena),
+    // whichever thread fills it. Reserved on the pool's threads, each array came from the heap
+    // of the thread that happened to take its task, and a thread's heap that held less than the
+    // pieces it took this time grew into fresh pages (faults) at a cost that moved from call to
+    // call.
+    for (ArrayCopy& c : copies) c.to->reserve(c.keep->size() * c.group);
+    for (std::size_t s = 0; s < n; ++s)
+      if (s != big) num.tris[s].reserve(num.faces[s].size());
+  }
   std::vector<std::pair<std::size_t, std::function<void()>>> tasks;  // bytes written, task
   for (ArrayCopy& c : copies)
     tasks.emplace_back(c.keep->size() * c.group * c.from->element_bytes(),
