@@ -252,7 +252,8 @@ class Poser {
 
  private:
   // The joint matrices of the node's skin; none when it has no skin (the node's matrix poses it).
-  static std::vector<glm::mat4> skin_joints(const Model& model, int node, const std::vector<glm::mat4>& world) {
+  static std::vector<glm::mat4> skin_joints(const Model& model, int node,
+                                            const std::vector<glm::mat4>& world) {
     const Node& n = model.nodes.at(static_cast<std::size_t>(node));
     if (n.skin < 0 || static_cast<std::size_t>(n.skin) >= model.skins.size()) return {};
     return joint_matrices(model, n.skin, world);
