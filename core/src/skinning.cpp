@@ -228,6 +228,45 @@ std::vector<glm::mat4> vertex_matrices(const Model& model, int node, const Surfa
   return out;
 }
 
+// The posed position of each vertex (posed_positions; posed_face_bounds measures the same values
+// without storing them): morphed (MorphBlend), then moved by its skinning matrix (SkinBlend) or
+// the node's, in one pass, without the morphed copy and the matrix per vertex in memory between
+// them. Set up once per instance; the call is the per-vertex arithmetic, written only here.
+class Poser {
+ public:
+  Poser(const Model& model, int node, const SurfaceMesh& mesh, const std::vector<glm::mat4>& world,
+        const std::vector<float>& weights)
+      : morph_(mesh, weights),
+        rest_(mesh.positions()),
+        rigid_(world.at(static_cast<std::size_t>(node))),
+        joints_(skin_joints(model, node, world)),
+        blend_(mesh, joints_),
+        skinned_(blend_.skinned()) {}
+  Poser(const Poser&) = delete;  // blend_ keeps joints_ by reference
+  Poser& operator=(const Poser&) = delete;
+
+  glm::vec3 operator()(std::size_t v) const {
+    const glm::vec4 p(morph_.position(v, rest_[v]), 1.0f);
+    return glm::vec3(skinned_ ? blend_.matrix(v) * p : rigid_ * p);
+  }
+
+ private:
+  // The joint matrices of the node's skin; none when it has no skin (the node's matrix poses it).
+  static std::vector<glm::mat4> skin_joints(const Model& model, int node,
+                                            const std::vector<glm::mat4>& world) {
+    const Node& n = model.nodes.at(static_cast<std::size_t>(node));
+    if (n.skin < 0 || static_cast<std::size_t>(n.skin) >= model.skins.size()) return {};
+    return joint_matrices(model, n.skin, world);
+  }
+
+  const MorphBlend morph_;
+  const std::vector<glm::vec3>& rest_;
+  const glm::mat4& rigid_;
+  const std::vector<glm::mat4> joints_;  // before blend_, which refers to it
+  const SkinBlend blend_;
+  const bool skinned_;
+};
+
 }  // namespace
 
 std::vector<glm::vec3> posed_positions(const Model& model, int node, const SurfaceMesh& mesh,
@@ -237,23 +276,10 @@ std::vector<glm::vec3> posed_positions(const Model& model, int node, const Surfa
 
 std::vector<glm::vec3> posed_positions(const Model& model, int node, const SurfaceMesh& mesh,
                                        const std::vector<glm::mat4>& world, const std::vector<float>& weights) {
-  // Each vertex morphed (morphed_positions), then moved by its skinning matrix (vertex_matrices)
-  // or the node's: the same arithmetic in one pass, without the morphed copy and the matrix
-  // per vertex in memory between them.
-  const MorphBlend morph(mesh, weights);
-  const auto& rest = mesh.positions();
-  std::vector<glm::vec3> out(rest.size());
-  const glm::mat4& rigid = world.at(static_cast<std::size_t>(node));
-  const Node& n = model.nodes.at(static_cast<std::size_t>(node));
-  const bool has_skin = n.skin >= 0 && static_cast<std::size_t>(n.skin) < model.skins.size();
-  const std::vector<glm::mat4> joints = has_skin ? joint_matrices(model, n.skin, world) : std::vector<glm::mat4>();
-  const SkinBlend blend(mesh, joints);
-  const bool skinned = has_skin && blend.skinned();
-  parallel_for(rest.size(), kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t v = b; v < e; ++v) {
-      const glm::vec4 p(morph.position(v, rest[v]), 1.0f);
-      out[v] = glm::vec3(skinned ? blend.matrix(v) * p : rigid * p);
-    }
+  const Poser poser(model, node, mesh, world, weights);
+  std::vector<glm::vec3> out(mesh.positions().size());
+  parallel_for(out.size(), kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t v = b; v < e; ++v) out[v] = poser(v);
   });
   return out;
 }
@@ -294,7 +320,8 @@ std::vector<glm::mat4> vertex_skin_matrices(const Model& model, int node, const 
 }
 
 BoundingBox face_bounds(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions) {
-  // Reduced over the pool (min and max are exact in any order).
+  // Reduced over the pool: min and max give the same values in any order, bit for bit except the
+  // sign of a zero (BoundingBox::add keeps the first of -0 and +0, so face order decides).
   return parallel_reduce(
       mesh.face_slots(), 65536, BoundingBox(),
       [&](std::size_t b, std::size_t e) {
@@ -314,9 +341,10 @@ namespace {
 
 // face_bounds(mesh, posed_positions(model, node, mesh, world, weights)) without the posed array:
 // the vertices a live face uses are marked (a byte each), then posed and measured in one pass
-// over the pool, by posed_positions' arithmetic (the same value for each vertex; min and max
-// are exact in any order). The array was 12 bytes a vertex of new memory, filled with zeros on
-// the calling thread before the posing, and read again face by face.
+// over the pool by the same Poser (the same value for each vertex). The bounds are equal in
+// value, bit for bit except the sign of a zero: vertex order here, face order there, and
+// BoundingBox::add keeps the first of -0 and +0. The array was 12 bytes a vertex of new memory,
+// filled with zeros on the calling thread before the posing, and read again face by face.
 BoundingBox posed_face_bounds(const Model& model, int node, const SurfaceMesh& mesh,
                               const std::vector<glm::mat4>& world, const std::vector<float>& weights) {
   const auto& rest = mesh.positions();
@@ -330,22 +358,13 @@ BoundingBox posed_face_bounds(const Model& model, int node, const SurfaceMesh& m
       if (!mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f))))
         for (auto v : mesh.face(FaceId(static_cast<std::uint32_t>(f)))) used[v.index].store(1, std::memory_order_relaxed);
   });
-  const MorphBlend morph(mesh, weights);
-  const glm::mat4& rigid = world.at(static_cast<std::size_t>(node));
-  const Node& n = model.nodes.at(static_cast<std::size_t>(node));
-  const bool has_skin = n.skin >= 0 && static_cast<std::size_t>(n.skin) < model.skins.size();
-  const std::vector<glm::mat4> joints = has_skin ? joint_matrices(model, n.skin, world) : std::vector<glm::mat4>();
-  const SkinBlend blend(mesh, joints);
-  const bool skinned = has_skin && blend.skinned();
+  const Poser poser(model, node, mesh, world, weights);
   return parallel_reduce(
       nv, kGrain, BoundingBox(),
       [&](std::size_t b, std::size_t e) {
         BoundingBox part;
-        for (std::size_t v = b; v < e; ++v) {
-          if (!used[v].load(std::memory_order_relaxed)) continue;
-          const glm::vec4 p(morph.position(v, rest[v]), 1.0f);
-          part.add(glm::vec3(skinned ? blend.matrix(v) * p : rigid * p));
-        }
+        for (std::size_t v = b; v < e; ++v)
+          if (used[v].load(std::memory_order_relaxed)) part.add(poser(v));
         return part;
       },
       [](BoundingBox acc, const BoundingBox& part) {

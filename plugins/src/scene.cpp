@@ -67,7 +67,8 @@ bool same_pose(const Pose& a, const Pose& b) {
 // A scene whose pose is the rest pose (posed at rest, or at a clip's time whose pose is the rest
 // pose, as the first key of many clips is) and whose instances are every primitive of every node
 // with a mesh measures its own positions, which are those of the rest pose (posed the same way,
-// bit for bit); any other scene poses the model again at rest.
+// bit for bit), so its bounds equal world_bounds' in value, bit for bit except the sign of a zero
+// (face order here, vertex order there); any other scene poses the model again at rest.
 BoundingBox rest_bounds(const Scene& scene, const PoseKey& key) {
   const Model& m = *scene.model;
   std::size_t primitives = 0;

@@ -14,11 +14,15 @@
 #include <QSurfaceFormat>
 #include <QUndoStack>
 #include <QtTest/QtTest>
+#include <cstdint>
+#include <functional>
+#include <limits>
 
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/ops/operation.h"
 #include "deepcut/plugins/tool.h"
 #include "main_window.h"
+#include "morph_panel.h"
 #include "posed_checks.h"
 #include "scene_view.h"
 #include "timeline.h"
@@ -44,6 +48,24 @@ QAction* action_named(MainWindow& window, const QString& name) {
 std::size_t preview_segments(MainWindow& window) {
   const deepcut::Overlay overlay = window.tool()->preview(*window.scene());
   return overlay.lines.empty() ? 0 : overlay.lines.front().endpoints.size() / 2;
+}
+
+const QString kMorphCube =
+    QStringLiteral(DEEPCUT_ASSETS_DIR "/models/AnimatedMorphCube/AnimatedMorphCube.gltf");
+
+/// The cut tool's parameters with its plane (unit normal as placed) through the middle of the
+/// drawn bounds at the shown pose.
+deepcut::CutOperation cut_through_the_middle(MainWindow& window) {
+  auto cut = std::get<deepcut::CutOperation>(window.tool()->parameters());
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (const auto& instance : window.scene()->instances)
+    for (const glm::vec3& p : instance.posed()) {
+      lo = glm::min(lo, p);
+      hi = glm::max(hi, p);
+    }
+  cut.plane.point = 0.5f * (lo + hi);
+  cut.plane.normal = glm::normalize(cut.plane.normal);
+  return cut;
 }
 
 void save_shot(MainWindow& window, const std::string& dir, const std::string& name) {
@@ -298,33 +320,32 @@ class StudioToolsTest : public QObject {
     QVERIFY2(difference.empty(), difference.c_str());
   }
 
-  // The time line moved and the operations' posed model is still at the old pose (the idle
-  // rebuild has not run): a cut right away is made at the shown pose (lent the scene's posed
-  // positions, OperationsHost::lend_scene_pose) and equals the operation applied on its own.
+  // The time line moved: see cut_right_after_the_pose_moved.
   void a_cut_right_after_the_time_line_moved_cuts_at_the_shown_pose() {
     auto window = shown_window();
     QVERIFY(window);
     QVERIFY(window->open_file(kCactus));
     QVERIFY(!window->model()->animations.empty());
-    QTRY_VERIFY_WITH_TIMEOUT(window->posed_model() != nullptr, 20000);
-    window->timeline()->set_time(1.5f);
-    const deepcut::plugins::Scene& scene = *window->scene();
-    QCOMPARE(scene.time, 1.5f);
-    QVERIFY(window->posed_model() != nullptr &&
-            !window->posed_model()->matches(deepcut::PoseKey(scene.animation, scene.time, scene.weights)));
-    window->set_tool("cut");
-    deepcut::Operation op;
-    op.params = window->tool()->parameters();
-    op.animation = scene.animation;
-    op.time = scene.time;
-    op.weights = scene.weights;
-    deepcut::Model expected = *window->model();
-    QVERIFY(deepcut::apply_operation(expected, op).status == deepcut::OpStatus::Ok);
-    QVERIFY2(window->apply_tool(), qPrintable(window->last_error()));
-    const std::string path = deepcut::test::temp_dir("studio-states") + "/cut_at_new_pose_expected.glb";
-    deepcut::write_gltf(expected, path);
-    QVERIFY2(model_bytes(*window, "cut_at_new_pose") == read_bytes(path),
-             "the cut differs from the operation alone");
+    cut_right_after_the_pose_moved(*window, "time_line", [&](int round) {
+      window->timeline()->set_time(round == 0 ? 1.5f : 1.0f);
+      QCOMPARE(window->scene()->time, round == 0 ? 1.5f : 1.0f);
+    });
+  }
+
+  // The morph weights were set by hand (AnimatedMorphCube): see cut_right_after_the_pose_moved.
+  void a_cut_right_after_the_morph_weights_moved_cuts_at_the_shown_pose() {
+    auto window = shown_window();
+    QVERIFY(window);
+    QVERIFY2(window->open_file(kMorphCube), qPrintable(window->last_error()));
+    auto* panel = window->findChild<deepcut::studio::MorphPanel*>();
+    QVERIFY(panel);
+    const int node = window->scene()->instances[0].node;
+    cut_right_after_the_pose_moved(*window, "morph_weights", [&](int round) {
+      panel->set_weight(node, 0, round == 0 ? 1.0f : 0.5f);
+      panel->set_weight(node, 1, 0.0f);
+      const std::vector<float> hand = {round == 0 ? 1.0f : 0.5f, 0.0f};
+      QCOMPARE(window->scene()->weights.at(node), hand);
+    });
   }
 
   void a_tool_that_misses_reports_and_keeps_the_model() {
@@ -342,6 +363,62 @@ class StudioToolsTest : public QObject {
     QVERIFY(model_bytes(*window, "after_miss") == model);
     QCOMPARE(window->history()->count(), 0);
     QVERIFY_EXCEPTION_THROWN(window->tool()->set_parameters(deepcut::DrillOperation{}), deepcut::Error);
+  }
+
+ private:
+  // The pose moved (`move_pose(round)`: the time line or the morph weights) while the operations'
+  // posed model is still at the old pose (the idle rebuild has not run yet). A cut right away is
+  // lent the scene's posed positions (OperationsHost::lend_scene_pose) instead of posing the whole
+  // model again, which gives the same pieces: so the lend is seen where a cut that misses leaves
+  // it (the lend comes before the cut, hit or miss): the operations' posed model is then another
+  // object than before, at the shown pose, without grids: the scene's copy. Without the lend it
+  // stays at the old pose (the time line: the cut poses the model on its own) or is the same
+  // object posed again in place (the weights: Operation::weights re-pose it); an idle rebuild has
+  // grids. Then, the pose moved again, a cut that hits equals the operation applied on its own.
+  static void cut_right_after_the_pose_moved(MainWindow& window, const std::string& name,
+                                             const std::function<void(int round)>& move_pose) {
+    QTRY_VERIFY_WITH_TIMEOUT(window.posed_model() != nullptr, 20000);
+    const deepcut::plugins::Scene& scene = *window.scene();
+    auto shown = [&] { return deepcut::PoseKey(scene.animation, scene.time, scene.weights); };
+    window.set_tool("cut");
+
+    move_pose(0);
+    if (QTest::currentTestFailed()) return;
+    const deepcut::PosedModel* old_posed = window.posed_model();
+    QVERIFY(old_posed && !old_posed->matches(shown()));
+    const auto old_address = reinterpret_cast<std::uintptr_t>(old_posed);
+    deepcut::CutOperation away = cut_through_the_middle(window);
+    away.plane.point += 2.0f * scene.size * away.plane.normal;
+    window.tool()->set_parameters(away);
+    const std::string model = model_bytes(window, name + "_before_miss");
+    QVERIFY(!window.apply_tool());
+    QVERIFY(window.last_error().contains("misses"));
+    QVERIFY(model_bytes(window, name + "_after_miss") == model);
+    QCOMPARE(window.history()->count(), 0);
+    const deepcut::PosedModel* lent = window.posed_model();
+    QVERIFY2(lent && lent->matches(shown()), "the operations' posed model is not at the shown pose");
+    QVERIFY2(reinterpret_cast<std::uintptr_t>(lent) != old_address,
+             "the old posed model was posed again in place");
+    QVERIFY(lent->size() > 0);
+    for (const auto& [id, mesh] : lent->instances())
+      QVERIFY2(mesh.gridless, "the operations' posed model has grids: not the scene's positions");
+
+    move_pose(1);
+    if (QTest::currentTestFailed()) return;
+    QVERIFY(window.posed_model() != nullptr && !window.posed_model()->matches(shown()));
+    window.tool()->set_parameters(cut_through_the_middle(window));
+    deepcut::Operation op;
+    op.params = window.tool()->parameters();
+    op.animation = scene.animation;
+    op.time = scene.time;
+    op.weights = scene.weights;
+    deepcut::Model expected = *window.model();
+    QVERIFY(deepcut::apply_operation(expected, op).status == deepcut::OpStatus::Ok);
+    QVERIFY2(window.apply_tool(), qPrintable(window.last_error()));
+    const std::string path = deepcut::test::temp_dir("studio-states") + "/" + name + "_cut_expected.glb";
+    deepcut::write_gltf(expected, path);
+    QVERIFY2(model_bytes(window, name + "_cut") == read_bytes(path),
+             "the cut differs from the operation alone");
   }
 };
 
