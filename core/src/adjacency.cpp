@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <numeric>
 #include <type_traits>
+#include <variant>
 
 #include "deepcut/core/parallel.h"
 #include "union_find.h"
@@ -51,6 +52,15 @@ void erase_sorted(std::vector<T>& list, T value) {
   list.resize(erase_sorted(list.data(), static_cast<std::uint32_t>(list.size()), value));
 }
 
+// The index of alternative T in Edit.
+template <class T, std::size_t I = 0>
+constexpr std::size_t variant_index() {
+  if constexpr (std::is_same_v<std::variant_alternative_t<I, Edit>, T>)
+    return I;
+  else
+    return variant_index<T, I + 1>();
+}
+
 }  // namespace
 
 // Room every vertex's face list keeps beyond its faces, so the few faces an edit adds around an
@@ -82,15 +92,25 @@ void Adjacency::grow(AddedList& list) {
 // `apply` has sized the arrays for the log's vertices and faces.
 void Adjacency::add_face(FaceId f, const Triangle& t) {
   face_vertices_[f.index] = t;
+  const std::size_t old_vertices = vertex_faces_.size();
   for (int k = 0; k < 3; ++k) {
     const std::uint32_t v = t[k].index;
-    if (v < vertex_faces_.size()) {
-      insert_sorted(vertex_faces_[v], f);
+    if (v < old_vertices) {
+      // The common case inline: a new face is the newest id in the list, appended (no search).
+      std::vector<FaceId>& list = vertex_faces_[v];
+      if (list.empty() || list.back() < f)
+        list.push_back(f);
+      else
+        insert_sorted(list, f);
       continue;
     }
-    AddedList& list = added_[v - vertex_faces_.size()];
+    AddedList& list = added_[v - old_vertices];
     if (list.size == list.room) grow(list);
-    list.size = insert_sorted(added_pool_.data() + list.at, list.size, f);
+    FaceId* p = added_pool_.data() + list.at;
+    if (list.size == 0 || p[list.size - 1] < f)
+      p[list.size++] = f;
+    else
+      list.size = insert_sorted(p, list.size, f);
   }
 }
 
@@ -178,30 +198,39 @@ Adjacency Adjacency::build(const SurfaceMesh& mesh) {
 void Adjacency::apply(const EditLog& log) {
   // Sized once for the vertices and face slots the log names, so the edits below never grow
   // the outer arrays one element at a time.
+  // One switch on the alternative's index per edit (no chain of get_if, no visit table).
+  constexpr std::size_t kVertexAdded = variant_index<VertexAdded>(), kVertexSplit = variant_index<VertexSplit>(),
+                        kFaceAdded = variant_index<FaceAdded>(), kFaceRemoved = variant_index<FaceRemoved>();
   std::uint32_t vertices = 0, faces = 0;
   for (const Edit& edit : log.edits) {
-    if (const auto* a = std::get_if<FaceAdded>(&edit)) {
-      faces = std::max(faces, a->f.index + 1);
-      for (VertexId v : a->vertices) vertices = std::max(vertices, v.index + 1);
-    } else if (const auto* v = std::get_if<VertexAdded>(&edit)) {
-      vertices = std::max(vertices, v->v.index + 1);
-    } else if (const auto* s = std::get_if<VertexSplit>(&edit)) {
-      vertices = std::max(vertices, s->copy.index + 1);
+    switch (edit.index()) {
+      case kFaceAdded: {
+        const auto& a = *std::get_if<kFaceAdded>(&edit);
+        faces = std::max(faces, a.f.index + 1);
+        vertices = std::max({vertices, a.vertices[0].index + 1, a.vertices[1].index + 1, a.vertices[2].index + 1});
+        break;
+      }
+      case kVertexAdded:
+        vertices = std::max(vertices, std::get_if<kVertexAdded>(&edit)->v.index + 1);
+        break;
+      case kVertexSplit:
+        vertices = std::max(vertices, std::get_if<kVertexSplit>(&edit)->copy.index + 1);
+        break;
+      default:
+        break;
     }
   }
   if (vertices > vertex_count()) add_vertices(vertices - vertex_count());
   if (faces > face_vertices_.size()) face_vertices_.resize(faces, Triangle{});
   for (const Edit& edit : log.edits) {
-    std::visit(
-        [this](const auto& e) {
-          using T = std::decay_t<decltype(e)>;
-          if constexpr (std::is_same_v<T, FaceAdded>) {
-            add_face(e.f, e.vertices);
-          } else if constexpr (std::is_same_v<T, FaceRemoved>) {
-            remove_face(e.f, e.vertices);
-          }
-        },
-        edit);
+    const std::size_t kind = edit.index();
+    if (kind == kFaceAdded) {
+      const auto& e = *std::get_if<kFaceAdded>(&edit);
+      add_face(e.f, e.vertices);
+    } else if (kind == kFaceRemoved) {
+      const auto& e = *std::get_if<kFaceRemoved>(&edit);
+      remove_face(e.f, e.vertices);
+    }
   }
 }
 

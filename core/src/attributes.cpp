@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "deepcut/core/attributes.h"
 
+#include <algorithm>
 #include <cstring>
+#include <typeinfo>
+#include <vector>
 
 namespace deepcut {
 
@@ -70,8 +73,54 @@ void AttributeSet::push_blend3_batch(const std::uint32_t* triples, const float* 
   size_ += 3 * count;
 }
 
+namespace {
+
+// AttributeArray::push_blend_batch for an array of type T and kSources sources (constants, so
+// the loops over sources and components unroll): the same rule, ((0 + a0 w0) + a1 w1) + a2 w2
+// in each component of a floating type, the element of the largest weight (the first of equal
+// ones) for others, and the same growth. False, changing nothing, when the array is not a T.
+template <class T, bool kFloating, int kSources>
+bool push_blend_as(AttributeArrayBase& base, const std::uint32_t* src, const float* w, std::size_t count) {
+  if (base.type() != typeid(T)) return false;
+  std::vector<T>& data = static_cast<AttributeArray<T>&>(base).data();
+  const std::size_t need = data.size() + count;
+  if (need > data.capacity()) data.reserve(std::max(need, 2 * data.size()));
+  const T* at = data.data();  // the room is there: appending moves nothing
+  for (std::size_t i = 0; i < count; ++i, src += kSources, w += kSources) {
+    if constexpr (kFloating) {
+      T out = T(0);
+      for (int k = 0; k < kSources; ++k) out += at[src[k]] * w[k];
+      data.push_back(out);
+    } else {
+      int best = 0;
+      for (int k = 1; k < kSources; ++k)
+        if (w[k] > w[best]) best = k;
+      data.push_back(at[src[best]]);
+    }
+  }
+  return true;
+}
+
+template <int kSources>
+bool push_blend_known(AttributeArrayBase& array, const std::uint32_t* src, const float* w, std::size_t count) {
+  return push_blend_as<glm::vec3, true, kSources>(array, src, w, count) ||
+         push_blend_as<glm::vec4, true, kSources>(array, src, w, count) ||
+         push_blend_as<glm::vec2, true, kSources>(array, src, w, count) ||
+         push_blend_as<float, true, kSources>(array, src, w, count) ||
+         push_blend_as<glm::u16vec4, false, kSources>(array, src, w, count) ||
+         push_blend_as<glm::u8vec4, false, kSources>(array, src, w, count);
+}
+
+}  // namespace
+
 void AttributeSet::push_blend_batch(const std::uint32_t* src, const float* w, int sources, std::size_t count) {
-  for (AttributeArrayBase* array : list_) array->push_blend_batch(src, w, sources, count);
+  // The attribute types a mesh holds, with one and two sources (copies, edge splits), blended
+  // here with the type and the count known; anything else by the array itself.
+  for (AttributeArrayBase* array : list_) {
+    const bool done = (sources == 2 && push_blend_known<2>(*array, src, w, count)) ||
+                      (sources == 1 && push_blend_known<1>(*array, src, w, count));
+    if (!done) array->push_blend_batch(src, w, sources, count);
+  }
   size_ += count;
 }
 

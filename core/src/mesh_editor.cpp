@@ -103,10 +103,12 @@ EditLog MeshEditor::take_log() {
 namespace {
 
 // blend_influences over kSlots slots (4 or 8), its arguments checked.
-template <int kSlots>
-void blend_slots(const std::uint16_t* joints, const float* weights, const float* w, int count,
+template <int kSlots, int kCount = 0>
+void blend_slots(const std::uint16_t* joints, const float* weights, const float* w, int runtime_count,
                  std::uint16_t* out_joints, float* out_weights) {
   constexpr int slots = kSlots;
+  // kCount sources (a constant, so the loop over them unrolls), or `runtime_count` when 0.
+  const int count = kCount != 0 ? kCount : runtime_count;
   // Merged by joint, in the order joints first appear (sources in order, slots in order).
   struct Influence {
     std::uint16_t joint;
@@ -148,30 +150,60 @@ void blend_slots(const std::uint16_t* joints, const float* weights, const float*
   renormalize_slots<kSlots>(out_joints, out_weights, kSlots);
 }
 
-// MeshEditor::fix_skin_weights with kSets JOINTS_n / WEIGHTS_n sets.
-template <int kSets>
+// MeshEditor::fix_skin_weights with kSets JOINTS_n / WEIGHTS_n sets, for `n` new vertices from
+// v: vertex v + i from the `count` sources src[count * i + s] with weights w[count * i + s]
+// (kCount sources when it is not 0), in order (a source may be a vertex fixed just before).
+// The sets' arrays are looked up once for the whole run.
+template <int kSets, int kCount = 0>
 void fix_skin(AttributeArray<glm::u16vec4>* const* joint_sets, AttributeArray<glm::vec4>* const* weight_sets,
-              VertexId v, const VertexId* src, const float* w, int count) {
+              std::uint32_t v, const std::uint32_t* src, const float* w, int runtime_count, std::size_t n) {
   constexpr int slots = 4 * kSets;
-  std::uint16_t joints[kMaxBlendSources * slots];
-  float weights[kMaxBlendSources * slots];
-  for (int s = 0; s < count; ++s)
-    for (int k = 0; k < kSets; ++k) {
-      const glm::u16vec4 j = (*joint_sets[k])[src[s].index];
-      const glm::vec4 x = (*weight_sets[k])[src[s].index];
-      for (int c = 0; c < 4; ++c) {
-        joints[s * slots + 4 * k + c] = j[c];
-        weights[s * slots + 4 * k + c] = x[c];
-      }
-    }
-  std::uint16_t out_joints[slots];
-  float out_weights[slots];
-  blend_slots<slots>(joints, weights, w, count, out_joints, out_weights);
+  const int count = kCount != 0 ? kCount : runtime_count;
+  glm::u16vec4* joint_data[kSets];
+  glm::vec4* weight_data[kSets];
   for (int k = 0; k < kSets; ++k) {
-    (*joint_sets[k])[v.index] = glm::u16vec4(out_joints[4 * k], out_joints[4 * k + 1], out_joints[4 * k + 2],
-                                             out_joints[4 * k + 3]);
-    (*weight_sets[k])[v.index] = glm::vec4(out_weights[4 * k], out_weights[4 * k + 1], out_weights[4 * k + 2],
-                                           out_weights[4 * k + 3]);
+    joint_data[k] = joint_sets[k]->data().data();
+    weight_data[k] = weight_sets[k]->data().data();
+  }
+  for (std::size_t i = 0; i < n; ++i, src += count, w += count) {
+    std::uint16_t joints[kMaxBlendSources * slots];
+    float weights[kMaxBlendSources * slots];
+    for (int s = 0; s < count; ++s)
+      for (int k = 0; k < kSets; ++k) {
+        const glm::u16vec4 j = joint_data[k][src[s]];
+        const glm::vec4 x = weight_data[k][src[s]];
+        for (int c = 0; c < 4; ++c) {
+          joints[s * slots + 4 * k + c] = j[c];
+          weights[s * slots + 4 * k + c] = x[c];
+        }
+      }
+    std::uint16_t out_joints[slots];
+    float out_weights[slots];
+    blend_slots<slots, kCount>(joints, weights, w, count, out_joints, out_weights);
+    const std::size_t at = v + i;
+    for (int k = 0; k < kSets; ++k) {
+      joint_data[k][at] = glm::u16vec4(out_joints[4 * k], out_joints[4 * k + 1], out_joints[4 * k + 2],
+                                       out_joints[4 * k + 3]);
+      weight_data[k][at] = glm::vec4(out_weights[4 * k], out_weights[4 * k + 1], out_weights[4 * k + 2],
+                                     out_weights[4 * k + 3]);
+    }
+  }
+}
+
+// fix_skin over a run, dispatched once: the sets, and two sources (an edge split) as a constant.
+void fix_skin_run(int sets, AttributeArray<glm::u16vec4>* const* joint_sets,
+                  AttributeArray<glm::vec4>* const* weight_sets, std::uint32_t v, const std::uint32_t* src,
+                  const float* w, int count, std::size_t n) {
+  if (sets == 1) {
+    if (count == 2)
+      fix_skin<1, 2>(joint_sets, weight_sets, v, src, w, count, n);
+    else
+      fix_skin<1>(joint_sets, weight_sets, v, src, w, count, n);
+  } else if (sets == 2) {
+    if (count == 2)
+      fix_skin<2, 2>(joint_sets, weight_sets, v, src, w, count, n);
+    else
+      fix_skin<2>(joint_sets, weight_sets, v, src, w, count, n);
   }
 }
 
@@ -277,6 +309,13 @@ void unit_tangents(glm::vec4* t, std::size_t begin, std::size_t end, const Sourc
   }
 }
 
+// Room in `log` for `more` edits, grown as a vector grows itself (at least doubling), so a
+// batch's appends check no capacity and runs of batches still reallocate only now and then.
+void grow_log(EditLog& log, std::size_t more) {
+  const std::size_t need = log.edits.size() + more;
+  if (need > log.edits.capacity()) log.edits.reserve(std::max(need, 2 * log.edits.size()));
+}
+
 }  // namespace
 
 void blend_influences(const std::uint16_t* joints, const float* weights, const float* w, int count, int slots,
@@ -295,10 +334,9 @@ void MeshEditor::fix_skin_weights(VertexId v, const VertexId* src, const float* 
   if (count < 1 || count > kMaxBlendSources)
     throw Error(ErrorCode::InvalidArgument,
                 "fix_skin_weights: " + std::to_string(count) + " sources (1 to 3)");
-  if (skin_sets_ == 1)
-    fix_skin<1>(joints_, weights_, v, src, w, count);
-  else if (skin_sets_ == 2)
-    fix_skin<2>(joints_, weights_, v, src, w, count);
+  std::uint32_t sources[kMaxBlendSources];
+  for (int s = 0; s < count; ++s) sources[s] = src[s].index;
+  fix_skin_run(skin_sets_, joints_, weights_, v.index, sources, w, count, 1);
 }
 
 // `parents` (and `w`) null: each face made from itself, each corner its own alone (remake_moved).
@@ -328,6 +366,9 @@ VertexId MeshEditor::add_blended(const std::uint32_t* src, const float* w, int s
 #endif
   mesh_.vertex_attrs().push_blend_batch(src, w, sources, count);
   const VertexId first(static_cast<std::uint32_t>(nv));
+  // The skin of the whole run (in order: a source may be a vertex of the run), one dispatch.
+  if (skin_sets_ != 0) fix_skin_run(skin_sets_, joints_, weights_, first.index, src, w, sources, count);
+  grow_log(log_, count);
   for (std::size_t i = 0; i < count; ++i) {
     const VertexId v(first.index + static_cast<std::uint32_t>(i));
     VertexAdded added{v, {VertexId(), VertexId(), VertexId()}, {0.0f, 0.0f, 0.0f}};
@@ -335,8 +376,7 @@ VertexId MeshEditor::add_blended(const std::uint32_t* src, const float* w, int s
       added.from[k] = VertexId(src[sources * i + k]);
       added.weight[k] = w[sources * i + k];
     }
-    fix_skin_weights(v, added.from.data(), w + sources * i, sources);
-    log_.edits.push_back(added);
+    log_.edits.emplace_back(added);
   }
   return first;
 }
@@ -580,6 +620,7 @@ void MeshEditor::apply(FaceBatch& batch) {
   const FaceId first = mesh_.add_faces_from(batch.faces_.data(), batch.parents_.data(), batch.weights_.data(), n);
   fix_corner_directions(first, n, batch.parents_.data(), batch.weights_.data());
   if (!batch.moved_.empty()) remake_moved(first, batch.moved_);
+  grow_log(log_, n + batch.removals_.size());
   std::size_t r = 0;
   auto removals_before = [&](std::size_t i) {
     for (; r < batch.removals_.size() && batch.removals_[r].second <= i; ++r)

@@ -129,11 +129,17 @@ TEST(AttributesTest, batches_equal_the_single_calls_in_turn) {
     auto& v = set->add<glm::vec3>("c:v");
     auto& j = set->add<glm::u16vec4>("c:ids");
     auto& f = set->add<float>("c:f");
+    auto& v2 = set->add<glm::vec2>("c:v2");
+    auto& v4 = set->add<glm::vec4>("c:v4");
+    auto& c = set->add<glm::u8vec4>("c:colour");
     set->resize(9);
     for (std::uint32_t i = 0; i < 9; ++i) {
       v[i] = {0.1f * float(i) - 0.35f, -0.0f, i == 4 ? std::nanf("") : 1.0f / float(i + 3)};
       j[i] = glm::u16vec4(std::uint16_t(i + 1));
       f[i] = i % 2 ? -0.0f : 2.5f * float(i);
+      v2[i] = {i % 3 ? -0.0f : 0.7f * float(i), 1e-41f * float(i)};
+      v4[i] = {std::sin(float(i)), i == 5 ? INFINITY : -0.0f, 0.25f * float(i), -1.0f / float(i + 1)};
+      c[i] = glm::u8vec4(std::uint8_t(3 * i), 0, std::uint8_t(255 - i), 1);
     }
   }
   const std::uint32_t triples[3] = {2, 0, 1};
@@ -148,7 +154,13 @@ TEST(AttributesTest, batches_equal_the_single_calls_in_turn) {
   for (int i = 0; i < 6; ++i) single.push_blend(src + i, w + 3 + i, 1);
   batch.push_copy_batch(src, 6);
   for (std::uint32_t s : src) single.push_copy(s);
-  ASSERT_EQ(batch.size(), 9u + 9u + 3u + 6u + 6u);
+  // Sources made earlier in the same batch (elements 33 and 34 are its first two), three sources.
+  const std::uint32_t later[8] = {2, 30, 33, 5, 33, 34, 1, 0};
+  batch.push_blend_batch(later, w + 7, 2, 4);
+  for (int i = 0; i < 4; ++i) single.push_blend(later + 2 * i, w + 7 + 2 * i, 2);
+  batch.push_blend_batch(later, w + 11, 3, 2);
+  for (int i = 0; i < 2; ++i) single.push_blend(later + 3 * i, w + 11 + 3 * i, 3);
+  ASSERT_EQ(batch.size(), 9u + 9u + 3u + 6u + 6u + 4u + 2u);
   ASSERT_EQ(single.size(), batch.size());
   for (const std::string& name : batch.names()) {
     const AttributeArrayBase& a = *batch.base(name);
