@@ -240,7 +240,8 @@ bool number_pieces(const SurfaceMesh& mesh, const std::vector<std::vector<FaceId
     on_sides = sides && live_increasing_on_sides(mesh, out.faces, side, list_of_side, out.faces);
   }
   if (on_sides) {
-    number_vertices([&](std::size_t v) { return list_of_side[side[v] + 1]; }, nv, n, out.vertices, out.rank);
+    const std::uint32_t* list_by_side = list_of_side + 1;  // indexed by the side itself
+    number_vertices([&](std::size_t v) { return list_by_side[side[v]]; }, nv, n, out.vertices, out.rank);
     return true;
   }
   bool shared = false;
