@@ -444,6 +444,43 @@ TEST(ModelSurgery, VertexSidesWithListsOutOfOrderSplitAsTheSortedLists) {
   }
 }
 
+TEST(ModelSurgery, VertexSidesWithDeletedFacesInTheListsKeepTheVerticesOnTheirSide) {
+  // A list naming deleted faces fails the split's one-pass check; made live and increasing, it is
+  // split by the vertex sides all the same, which keep a vertex only deleted faces used (marking by
+  // the live faces would drop it): the pieces of the lists without those faces.
+  CactusOptions cactus;
+  cactus.target_triangles = 20000;
+  SurfaceMesh mesh = make_cactus(cactus).meshes[0].primitives[0].mesh;
+  const BoundingBox box = mesh.bounds();
+  const Plane plane{0.5f * (box.min + box.max), glm::vec3(0.1f, 1.0f, 0.05f)};
+  const CutResult r = cut_mesh(mesh, mesh.positions(), plane, CutOptions{});
+  ASSERT_EQ(r.status, OpStatus::Ok);
+  ASSERT_EQ(r.pieces.size(), 2u);
+  const std::vector<std::int8_t>& side = CutSides::of(r);
+  const PieceSides sides{&r.piece_sides, &side};
+  // Every face of list 1 around one of its vertices deleted (still named by the list).
+  const std::uint32_t v = mesh.face(r.pieces[1][r.pieces[1].size() / 2])[0].index;
+  std::vector<std::vector<FaceId>> live = r.pieces;
+  live[1].clear();
+  for (FaceId f : r.pieces[1]) {
+    const Triangle& t = mesh.face(f);
+    if (t[0].index == v || t[1].index == v || t[2].index == v)
+      mesh.mark_deleted(f);
+    else
+      live[1].push_back(f);
+  }
+  ASSERT_LT(live[1].size(), r.pieces[1].size());
+  SurfaceMesh a = mesh, b = mesh;
+  const std::vector<SurfaceMesh> with_deleted = split_disjoint(std::move(a), r.pieces, sides);
+  const std::vector<SurfaceMesh> live_only = split_disjoint(std::move(b), live, sides);
+  ASSERT_EQ(with_deleted.size(), 2u);
+  ASSERT_EQ(live_only.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) expect_same_bytes(with_deleted[i], live_only[i]);
+  const auto on_side = static_cast<std::size_t>(
+      std::count(side.begin(), side.end(), static_cast<std::int8_t>(r.piece_sides[1])));
+  EXPECT_EQ(with_deleted[1].vertex_count(), on_side);
+}
+
 TEST(ModelSurgery, ACutKeepsTheGridsOfTheInstancesItMisses) {
   // The instances a model cut cuts leave the posed model (followed without their grids); those
   // the plane misses keep their grids, and the posed model then matches a fresh build.

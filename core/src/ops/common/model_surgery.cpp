@@ -6,6 +6,7 @@
 #include <cstring>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 #include "deepcut/core/operation_room.h"
@@ -117,8 +118,10 @@ void number_vertices(const ListOf& list_of, std::size_t nv, std::size_t lists, s
   std::vector<std::uint32_t> start(chunks * lists, 0);
   parallel_for(nv, grain, [&](std::size_t b, std::size_t e) {
     std::uint32_t* count = &start[b / grain * lists];
-    for (std::size_t v = b; v < e; ++v)
-      if (list_of(v) != kNoList) ++count[list_of(v)];
+    for (std::size_t v = b; v < e; ++v) {
+      const std::uint32_t s = list_of(v);
+      if (s != kNoList) ++count[s];
+    }
   });
   keep.assign(lists, {});
   for (std::size_t s = 0; s < lists; ++s) {
@@ -151,45 +154,36 @@ struct Numbering {
 };
 
 // The triangles `fs` renumbered by `rank` (the lists use disjoint vertices), written once into new
-// memory: reserved (huge pages asked for), then appended to, no value-initialisation first.
+// memory: reserved, then appended to, no value-initialisation first.
 void number_faces(const SurfaceMesh& mesh, const std::vector<std::uint32_t>& fs, const UninitVector<std::uint32_t>& rank,
                   std::vector<Triangle>& tris) {
   tris.reserve(fs.size());
-  advise_huge_pages(tris.data(), fs.size() * sizeof(Triangle));
   for (std::uint32_t f : fs) {
     const Triangle& t = mesh.face(FaceId(f));
     tris.push_back({VertexId(rank[t[0].index]), VertexId(rank[t[1].index]), VertexId(rank[t[2].index])});
   }
 }
 
-// Whether every face of every list uses only vertices whose side picks that list (what the cut's
-// vertex sides promise). A face that broke it would be renumbered through a rank never written.
-bool sides_hold(const SurfaceMesh& mesh, const std::vector<std::vector<std::uint32_t>>& faces,
-                const std::int8_t* side, const std::uint32_t* list_of_side) {
-  std::atomic<bool> broken{false};
-  for (std::size_t s = 0; s < faces.size(); ++s)
-    parallel_for(faces[s].size(), kGrain, [&](std::size_t b, std::size_t e) {
-      bool bad = false;
-      for (std::size_t i = b; i < e; ++i)
-        for (VertexId v : mesh.face(FaceId(faces[s][i]))) bad |= list_of_side[side[v.index] + 1] != s;
-      if (bad) broken.store(true, std::memory_order_relaxed);
-    });
-  return !broken.load();
-}
+std::uint32_t index_of(FaceId f) { return f.index; }
+std::uint32_t index_of(std::uint32_t f) { return f; }
 
-// live_increasing and sides_hold at once, for lists that need no sorting (a cut's): true, with
-// `faces` the lists' indices, when every list is live and increasing and every face's corners lie
-// on its list's side; false (`faces` unspecified) otherwise. The lists are sized on the calling
-// thread (its heap), then checked and copied in chunks over the pool, in one job.
-bool live_increasing_on_sides(const SurfaceMesh& mesh, const std::vector<std::vector<FaceId>>& lists,
+// Whether every list is live and increasing (as live_increasing leaves it) and every face's
+// corners lie on its list's side (list_of_side[side + 1] == list: what the cut's vertex sides
+// promise; a face that broke it would be renumbered through a rank never written). The lists are
+// a cut's FaceIds, copied into `faces` as they are checked (sized on the calling thread, its
+// heap; unspecified when false), or `faces` itself, indices sorted by live_increasing, only
+// checked. In chunks over the pool, in one job.
+template <class Id>
+bool live_increasing_on_sides(const SurfaceMesh& mesh, const std::vector<std::vector<Id>>& lists,
                               const std::int8_t* side, const std::uint32_t* list_of_side,
                               std::vector<std::vector<std::uint32_t>>& faces) {
+  constexpr bool copy = std::is_same_v<Id, FaceId>;
   struct Chunk {
     std::size_t list, begin, end;
   };
   std::vector<Chunk> chunks;
   for (std::size_t s = 0; s < lists.size(); ++s) {
-    faces[s].resize(lists[s].size());
+    if constexpr (copy) faces[s].resize(lists[s].size());
     for (std::size_t b = 0; b < lists[s].size(); b += kGrain)
       chunks.push_back({s, b, std::min(lists[s].size(), b + kGrain)});
   }
@@ -201,17 +195,17 @@ bool live_increasing_on_sides(const SurfaceMesh& mesh, const std::vector<std::ve
   std::atomic<bool> broken{false};
   run_chunks(chunks.size(), [&](std::size_t c) {
     const Chunk& k = chunks[c];
-    const FaceId* list = lists[k.list].data();
-    std::uint32_t* to = faces[k.list].data();
+    const Id* list = lists[k.list].data();
+    [[maybe_unused]] std::uint32_t* to = faces[k.list].data();
     const int want = wanted[k.list];
-    std::int64_t last = k.begin == 0 ? -1 : std::int64_t{list[k.begin - 1].index};
+    std::int64_t last = k.begin == 0 ? -1 : std::int64_t{index_of(list[k.begin - 1])};
     bool bad = false;
     for (std::size_t i = k.begin; i < k.end; ++i) {
-      const std::uint32_t f = list[i].index;
-      const Triangle& t = mesh.face(list[i]);
-      bad |= (std::int64_t{f} <= last) | mesh.is_deleted(list[i]) | (side[t[0].index] != want) |
+      const std::uint32_t f = index_of(list[i]);
+      const Triangle& t = mesh.face(FaceId(f));
+      bad |= (std::int64_t{f} <= last) | mesh.is_deleted(FaceId(f)) | (side[t[0].index] != want) |
              (side[t[1].index] != want) | (side[t[2].index] != want);
-      to[i] = f;
+      if constexpr (copy) to[i] = f;
       last = f;
     }
     if (bad) broken.store(true, std::memory_order_relaxed);
@@ -232,19 +226,22 @@ bool number_pieces(const SurfaceMesh& mesh, const std::vector<std::vector<FaceId
   std::uint32_t list_of_side[3] = {kNoList, kNoList, kNoList};  // side -1, 0, +1
   if (sides)
     for (std::size_t s = 0; s < n; ++s) list_of_side[(*sides->list_sides)[s] > 0 ? 2 : 0] = static_cast<std::uint32_t>(s);
+  const std::int8_t* side = sides ? sides->vertex_sides->data() : nullptr;
   // A cut's lists as the cut makes them (live, increasing, each face's corners on its list's
-  // side) are read once: checked and copied in one pass over the pool.
-  if (sides && live_increasing_on_sides(mesh, lists, sides->vertex_sides->data(), list_of_side, out.faces)) {
-    const std::int8_t* side = sides->vertex_sides->data();
-    number_vertices([&](std::size_t v) { return list_of_side[side[v] + 1]; }, nv, n, out.vertices, out.rank);
-    return true;
+  // side) are read once: checked and copied in one pass over the pool. Other lists are made live
+  // and increasing first; the sides still number them when their faces lie on them (the sides
+  // keep every vertex on a list's side, also one only a deleted face used; marking drops it).
+  bool on_sides = sides && live_increasing_on_sides(mesh, lists, side, list_of_side, out.faces);
+  if (!on_sides) {
+    std::vector<std::function<void()>> tasks;
+    for (std::size_t s = 0; s < n; ++s)
+      tasks.emplace_back([&, s] { out.faces[s] = live_increasing(mesh, lists[s]); });
+    parallel_invoke(tasks);
+    on_sides = sides && live_increasing_on_sides(mesh, out.faces, side, list_of_side, out.faces);
   }
-  std::vector<std::function<void()>> tasks;
-  for (std::size_t s = 0; s < n; ++s) tasks.emplace_back([&, s] { out.faces[s] = live_increasing(mesh, lists[s]); });
-  parallel_invoke(tasks);
-  if (sides && sides_hold(mesh, out.faces, sides->vertex_sides->data(), list_of_side)) {
-    const std::int8_t* side = sides->vertex_sides->data();
-    number_vertices([&](std::size_t v) { return list_of_side[side[v] + 1]; }, nv, n, out.vertices, out.rank);
+  if (on_sides) {
+    const std::uint32_t* list_by_side = list_of_side + 1;  // indexed by the side itself
+    number_vertices([&](std::size_t v) { return list_by_side[side[v]]; }, nv, n, out.vertices, out.rank);
     return true;
   }
   bool shared = false;
@@ -294,10 +291,6 @@ std::size_t in_place_piece(const SurfaceMesh& mesh, const Numbering& num) {
   }
   return best;
 }
-
-// Memory a piece's array is written into once (AttributeArrayBase::gather_groups): asked to come
-// as huge pages (which changes nothing where the memory is a reused spare's, already present).
-void fresh_memory(void* data, std::size_t bytes) { advise_huge_pages(data, bytes); }
 
 // One array of a piece copied out: where from, where to, which groups.
 struct ArrayCopy {
@@ -364,7 +357,7 @@ std::vector<AttributeSet> fill_pieces(const SurfaceMesh& mesh, Numbering& num, s
   std::vector<std::pair<std::size_t, std::function<void()>>> tasks;  // bytes written, task
   for (ArrayCopy& c : copies)
     tasks.emplace_back(c.keep->size() * c.group * c.from->element_bytes(),
-                       [&c] { c.from->gather_groups(*c.to, *c.keep, c.group, fresh_memory); });
+                       [&c] { c.from->gather_groups(*c.to, *c.keep, c.group, nullptr); });
   for (std::size_t s = 0; s < n; ++s)
     if (s != big)
       tasks.emplace_back(num.faces[s].size() * sizeof(Triangle),

@@ -48,10 +48,10 @@ std::vector<SurfaceMesh> extract_disjoint(const SurfaceMesh& mesh, const std::ve
 /// once the other pieces are copied out, so no memory is allocated for it. That piece is the one
 /// that saves the most copying: the largest, unless a smaller one has more of its elements where
 /// they already are (a leading run of the mesh's vertices and faces, as a cut of a mesh stored in
-/// spatial order leaves its lower side). The pieces copied out are written once into new memory
-/// asked to come as huge pages, one task per array (largest first); the compaction runs in chunks
-/// over every array at once. A watched mesh (SurfaceMesh::watch) is taken apart so only when its
-/// watcher is a SplitWatcher that agrees; otherwise it is left whole, every piece copied out of it.
+/// spatial order leaves its lower side). The pieces copied out are written once into new memory,
+/// one task per array (largest first); the compaction runs in chunks over every array at once. A
+/// watched mesh (SurfaceMesh::watch) is taken apart so only when its watcher is a SplitWatcher that
+/// agrees; otherwise it is left whole, every piece copied out of it.
 std::vector<SurfaceMesh> split_disjoint(SurfaceMesh&& mesh, const std::vector<std::vector<FaceId>>& lists);
 
 /// A mesh's watcher (MeshObserver) that follows it through split_disjoint instead of being handed
