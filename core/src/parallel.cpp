@@ -199,19 +199,6 @@ void parallel_invoke(const std::vector<std::function<void()>>& tasks) {
 
 namespace detail {
 
-void advise_huge_pages(void* data, std::size_t bytes) {
-  // Asks nothing of the kernel. On the 2-core VM #19 is measured on, memory the process has not
-  // touched yet is what costs (each new page is backed by the host on its first write), and
-  // huge pages made it cost more, not less: a 2 MiB page comes from memory the guest has not
-  // used lately, a 4 KiB page from what it freed lately. The 1M open's read and weld, with the
-  // same work, took 1425-1921 ms advised against 491-931 ms not advised (session 19, 21:40-21:47
-  // UTC, runs alternating at load 5-10), to the first frame 3124-3932 ms against 1525-2801 ms;
-  // the prefault's clearing of 2 MiB pages was a third of the open's samples (perf), and the
-  // whole bench's system time halved (1.6-2.0 s to 0.9-1.0 s). Kept as the one place to ask.
-  (void)data;
-  (void)bytes;
-}
-
 void prefault(void* data, std::size_t bytes) {
 #ifdef MADV_POPULATE_WRITE
   constexpr std::size_t kPart = std::size_t(2) << 20;
@@ -219,7 +206,6 @@ void prefault(void* data, std::size_t bytes) {
   const auto begin = (reinterpret_cast<std::uintptr_t>(data) + page - 1) / page * page;
   const auto end = (reinterpret_cast<std::uintptr_t>(data) + bytes) / page * page;
   if (end <= begin || end - begin < kPart) return;  // a few pages: faulting them costs less
-  advise_huge_pages(data, bytes);
   parallel_for(end - begin, kPart, [&](std::size_t b, std::size_t e) {
     ::madvise(reinterpret_cast<void*>(begin + b), e - b, MADV_POPULATE_WRITE);  // a refusal only costs speed
   });

@@ -9,6 +9,8 @@
 // - resize_prefaulted: for the arrays that must be std::vectors (a mesh's attributes and faces),
 //   whose growth value-initialises every element on the calling thread: their memory is reserved
 //   and its pages faulted in over the pool first, so the serial fill writes to present pages.
+// Neither asks for huge pages: on the 2-core machine #19 is measured on, a fresh 2 MiB page cost
+// more than 512 fresh 4 KiB ones (docs/BENCHMARKS.md, session 19).
 
 #include <algorithm>
 #include <memory>
@@ -17,15 +19,6 @@
 #include <vector>
 
 namespace deepcut::detail {
-
-/// Arrays of at least this many bytes were advised onto huge pages (see advise_huge_pages).
-constexpr std::size_t kMinHugeBytes = std::size_t(8) << 20;
-
-/// The one place that would ask the kernel for huge pages (MADV_HUGEPAGE) for a large array;
-/// it asks nothing now. On the 2-core VM #19 is measured on, a fresh 2 MiB page cost more than
-/// 512 fresh 4 KiB ones (parallel.cpp gives the measurements): the 1M open's read took 2-2.5x
-/// less wall time without the advice, for twice the page faults. Changes no byte.
-void advise_huge_pages(void* data, std::size_t bytes);
 
 template <class T>
 struct UninitAllocator : std::allocator<T> {
@@ -46,20 +39,13 @@ struct UninitAllocator : std::allocator<T> {
   void construct(U* p, Args&&... args) {
     ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
   }
-  // A large array would be advised onto huge pages here (advise_huge_pages: it asks nothing now).
-  T* allocate(std::size_t n) {
-    T* p = std::allocator<T>::allocate(n);
-    advise_huge_pages(p, n * sizeof(T));
-    return p;
-  }
 };
 
 template <class T>
 using UninitVector = std::vector<T, UninitAllocator<T>>;
 
 /// Asks the kernel to fault in the pages of [data, data + bytes) for writing, in parallel parts
-/// (MADV_POPULATE_WRITE, huge pages advised first; nothing happens where the kernel does not
-/// offer it). Changes no byte.
+/// (MADV_POPULATE_WRITE; nothing happens where the kernel does not offer it). Changes no byte.
 void prefault(void* data, std::size_t bytes);
 
 /// Grows the empty `v` to `n` copies of `value`, its pages faulted in over the pool first; its

@@ -114,7 +114,7 @@ class AttributeArrayBase {
   /// Appends to `to`, an array of the same type, the groups of `group` consecutive elements that
   /// `keep` lists (group `k` is elements `group * k .. group * k + group - 1`), each element
   /// written once: room for exactly them is reserved, handed to `on_reserved` (nullptr: nothing;
-  /// the mesh surgery asks for huge pages there), then appended to run by run (consecutive groups
+  /// the weld faults its pages in over the pool there), then appended to run by run (consecutive groups
   /// in one copy), with no value-initialisation pass. `to` is empty (its reserved room is what
   /// `on_reserved` gets). The kernel of `clone_subset` and of a mesh's pieces copied out.
   /// @throws Error{InvalidArgument} for another type.
