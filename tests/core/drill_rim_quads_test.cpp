@@ -82,5 +82,26 @@ TEST(DrillRimQuads, DirectTrianglesAreTheGeneralPaths) {
   EXPECT_LT(flipped, answered[0] + answered[1] + answered[2] + answered[3]);
 }
 
+// The count the drill's pinch check trusts (PlanChunk::gaps): a whole clip of a kept part makes
+// whole_clip_triangles, with or without holes and with points along an edge, and a clip that
+// drops a flat ear makes fewer.
+TEST(DrillRimQuads, ClipsThatDropAnEarMakeFewerThanAWholeClip) {
+  auto clip = [](const std::vector<P>& q, const std::vector<std::uint32_t>& outer,
+                 const std::vector<std::vector<std::uint32_t>>& holes) {
+    std::vector<LocalTri> out;
+    geometry::triangulate_polygon(q, outer, holes, kRimTriangulation, out);
+    return out.size();
+  };
+  const std::vector<P> ring = {{0, 0}, {4, 0}, {4, 4}, {0, 4}, {1, 1}, {1, 3}, {3, 3}, {3, 1}};
+  EXPECT_EQ(clip(ring, {0, 1, 2, 3}, {{4, 5, 6, 7}}), whole_clip_triangles({0, 1, 2, 3}, {{4, 5, 6, 7}}));
+  EXPECT_EQ(whole_clip_triangles({0, 1, 2, 3}, {{4, 5, 6, 7}}), 8u);
+  const std::vector<P> edge_point = {{0, 0}, {1, 0}, {2, 0}, {2, 2}, {0, 2}};
+  EXPECT_EQ(clip(edge_point, {0, 1, 2, 3, 4}, {}), whole_clip_triangles({0, 1, 2, 3, 4}, {}));
+  const std::vector<P> flat = {{0, 0}, {1, 0}, {3, 0}, {2, 0}};
+  EXPECT_LT(clip(flat, {0, 1, 2, 3}, {}), whole_clip_triangles({0, 1, 2, 3}, {}));
+  const std::vector<P> flat_tip = {{0, 0}, {2, 0}, {2, 2}, {2, 1}};
+  EXPECT_LT(clip(flat_tip, {0, 1, 2, 3}, {}), whole_clip_triangles({0, 1, 2, 3}, {}));
+}
+
 }  // namespace
 }  // namespace deepcut::drill

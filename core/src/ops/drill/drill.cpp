@@ -178,10 +178,11 @@ std::vector<VertexId> rim_pinch_candidates(const std::vector<drill::Rim>& rims,
 // cylinder, one set of points per edge), so all its faces are joined through that piece; a rim
 // sample or a refinement point lies in one kept part, a triangulated disk (or a triangle with a
 // hole), where the faces around a point form one fan. A merged crossing stands on two edges
-// (and a merged tip drops faces): then every candidate is looked at.
+// (and a merged tip drops faces), and a kept part whose clip dropped a degenerate ear may leave
+// a gap beside a point: then (`every`) every candidate is looked at.
 std::vector<VertexId> old_pinch_candidates(const std::vector<VertexId>& touched, std::uint32_t first_new,
-                                           bool merged) {
-  if (merged) return touched;
+                                           bool every) {
+  if (every) return touched;
   std::vector<VertexId> out;
   for (const VertexId v : touched)
     if (v.index < first_new) out.push_back(v);  // `touched` is sorted: so is `out`
@@ -199,7 +200,7 @@ std::vector<drill::Rim> split_and_trace(MeshEditor& editor, const drill::Cylinde
   std::vector<drill::Rim> rims = drill::trace_rims(mesh, editor.log(), cyl, posed, candidates, {});
   std::vector<VertexId> touched = rim_pinch_candidates(rims, inserted.bared, cyl, posed);
   {
-    std::vector<VertexId> old_ones = old_pinch_candidates(touched, posed.first_new(), inserted.merged);
+    std::vector<VertexId> old_ones = old_pinch_candidates(touched, posed.first_new(), inserted.merged || inserted.gaps);
     if (old_ones.empty()) return rims;  // nothing to look at (pinch_input would walk the log)
     const PinchInput old = pinch_input(mesh, editor.log(), posed, std::move(old_ones), candidates, index);
     if (!detail::any_pinched(mesh, old.touched, old.around)) return rims;

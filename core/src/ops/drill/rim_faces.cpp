@@ -513,6 +513,7 @@ void FacePlanner::add_polygon(std::vector<LocalPoint>& pts, const std::vector<st
     std::vector<geometry::LocalTri>& clipped = w_.clipped;
     clipped.clear();
     geometry::triangulate_polygon(q, outer, holes, kRimTriangulation, clipped);
+    out_.gaps = out_.gaps || clipped.size() < whole_clip_triangles(outer, holes);
     geometry::FlipTriangulation& ft = w_.flips;
     ft.reset(q, clipped);
     ft.make_delaunay();

@@ -120,11 +120,24 @@ struct PolygonPlan {
   std::uint32_t first_pt = 0, pts = 0, first_tri = 0, tris = 0;
 };
 
+// The triangles a whole clip of `outer` with `holes` (kRimTriangulation) makes: two fewer than
+// its corners, the bridge of each hole adding two corners. A clip that makes fewer has dropped a
+// degenerate ear (most_convex found none to emit, or the closing triangle was flat).
+inline std::size_t whole_clip_triangles(const std::vector<std::uint32_t>& outer,
+                                        const std::vector<std::vector<std::uint32_t>>& holes) {
+  std::size_t corners = outer.size();
+  for (const auto& hole : holes) corners += hole.size() + 2;
+  return corners >= 2 ? corners - 2 : 0;
+}
+
 // The plans of a run of candidates: their kept parts' points and triangles.
 struct PlanChunk {
   std::vector<LocalPoint> pts;
   std::vector<geometry::LocalTri> tris;
   std::vector<PolygonPlan> polys;
+  /// Whether the ear clipping of one of these kept parts gave fewer triangles than its corners
+  /// call for (a degenerate ear dropped): that part may leave a gap, and a point of it two fans.
+  bool gaps = false;
 
   /// A list holding more bytes than this gives its memory back when a drill ends
   /// (detail::give_back_if_big); smaller ones keep it, so the next drill of that size plans
@@ -147,6 +160,7 @@ struct PlanChunk {
       c.pts.clear();
       c.tris.clear();
       c.polys.clear();
+      c.gaps = false;
     }
     return chunks;
   }

@@ -433,7 +433,11 @@ RimInsertion RimInserter::run(const std::vector<FaceId>& candidates) {
     if (!deep_[c]) merge_crossings(c);
   plan_faces(candidates);
   std::size_t planned_tris = 0;  // every face the plans can add (a merged tip's is not)
-  for (const PlanChunk& chunk : *chunks_) planned_tris += chunk.tris.size();
+  bool gaps = false;
+  for (const PlanChunk& chunk : *chunks_) {
+    planned_tris += chunk.tris.size();
+    gaps = gaps || chunk.gaps;
+  }
   batch_.reserve(planned_tris, candidates.size());
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     if (!deep_[c]) {
@@ -451,6 +455,7 @@ RimInsertion RimInserter::run(const std::vector<FaceId>& candidates) {
   out.added = added_;
   out.bared = std::move(bared_);
   out.merged = !merges_.empty();
+  out.gaps = gaps;
   return out;
 }
 

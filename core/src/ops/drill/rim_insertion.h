@@ -66,6 +66,9 @@ struct RimInsertion {
   /// Whether crossings were merged (a needle's two long edges crossed at one bind position): a
   /// merged vertex stands on two edges, so its kept parts need not meet around it.
   bool merged = false;
+  /// Whether a kept part's triangulation dropped a degenerate ear (PlanChunk::gaps): a new
+  /// vertex of that part may then stand between two fans.
+  bool gaps = false;
 };
 
 /// Faces near the cylinder (far enough to hold every face around a vertex
