@@ -366,6 +366,29 @@ TEST(PolygonTriangulationParts, TiedEarsAreClippedInTheRecordedOrder) {
   EXPECT_EQ(clip({P(0, 0), P(1, 0), P(2, 0), P(2, 1), P(2, 2), P(1, 2), P(0, 2), P(0, 1)}), midpoints);
 }
 
+// The mirror image of `ring` clipped: point i of the ring is point (n - 1 - i + 5) % n of its
+// points, x negated, and its loop runs from a point other than the first. Expects the triangles
+// `tris` of the ring's clip so mapped (see MirrorImageClipsTheSame).
+void expect_mirror_clips_the_same(const std::vector<P>& ring, const std::vector<LocalTri>& tris,
+                                  const MirrorClip& mirror, int trial) {
+  const auto n = static_cast<std::uint32_t>(ring.size());
+  auto moved = [n](std::uint32_t i) { return (n - 1 - i + 5) % n; };
+  std::vector<P> pts(n);
+  for (std::uint32_t i = 0; i < n; ++i) pts[moved(i)] = P(-ring[i].x, ring[i].y);
+  Loop reversed;
+  for (std::uint32_t k = 0; k < n; ++k) reversed.push_back(moved((n + 7 - k) % n));
+  std::vector<LocalTri> mirrored;
+  clip_ears(pts, reversed, EarSearch::kQueued, mirrored);
+  ASSERT_EQ(mirrored.size(), tris.size());
+  for (std::size_t t = 0; t < tris.size(); ++t) {
+    const LocalTri& a = tris[t];
+    const bool closing = mirror.closed && t + 1 == tris.size();
+    const LocalTri want = closing ? LocalTri{moved(a[1]), moved(a[0]), moved(a[2])}
+                                  : LocalTri{moved(a[2]), moved(a[1]), moved(a[0])};
+    EXPECT_EQ(mirrored[t], want) << "trial " << trial << " triangle " << t;
+  }
+}
+
 // Where a clip says its mirror image clips the same (MirrorClip::exact), clipping the polygon
 // with x negated and its corners reversed, numbered another way, gives its triangles so mapped:
 // ears (p, q, r) as (r, q, p), the closing one as (q, p, r). Random stars small and big (with the
@@ -390,23 +413,7 @@ TEST(PolygonTriangulationParts, MirrorImageClipsTheSame) {
     ASSERT_EQ(tris, plain);  // the report changes nothing
     if (!mirror.exact) continue;
     ++exact;
-    // The mirror image: point i of the ring is point (n - 1 - i + 5) % n of `pts`, x negated, and
-    // the loop runs from a point other than the first.
-    auto moved = [n](std::uint32_t i) { return (n - 1 - i + 5) % n; };
-    std::vector<P> pts(n);
-    for (std::uint32_t i = 0; i < n; ++i) pts[moved(i)] = P(-ring[i].x, ring[i].y);
-    Loop reversed;
-    for (std::uint32_t k = 0; k < n; ++k) reversed.push_back(moved((n + 7 - k) % n));
-    std::vector<LocalTri> mirrored;
-    clip_ears(pts, reversed, EarSearch::kQueued, mirrored);
-    ASSERT_EQ(mirrored.size(), tris.size());
-    for (std::size_t t = 0; t < tris.size(); ++t) {
-      const LocalTri& a = tris[t];
-      const bool closing = mirror.closed && t + 1 == tris.size();
-      const LocalTri want = closing ? LocalTri{moved(a[1]), moved(a[0]), moved(a[2])}
-                                    : LocalTri{moved(a[2]), moved(a[1]), moved(a[0])};
-      EXPECT_EQ(mirrored[t], want) << "trial " << trial << " triangle " << t;
-    }
+    expect_mirror_clips_the_same(ring, tris, mirror, trial);
   }
   EXPECT_GT(exact, 150);
   std::vector<P> octagon = regular(P(0, 0), 1.0, 8, true);
@@ -416,6 +423,39 @@ TEST(PolygonTriangulationParts, MirrorImageClipsTheSame) {
   MirrorClip mirror;
   clip_ears(octagon, poly, EarSearch::kQueued, tris, &mirror);
   EXPECT_FALSE(mirror.exact);
+}
+
+// Needle ears (MirrorClip, through the grid): stars of 300 points with points put on their edges
+// just off the line (1e-6 to 3e-9 of the edge, either side) make ears whose smallest angle is
+// far below what the grid box's padding covers; the clip then tests every live reflex corner too,
+// and where it still says exact, the mirror image clips the same.
+TEST(PolygonTriangulationParts, MirrorImageOfNeedleEarsClipsTheSame) {
+  std::mt19937 rng(4321);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int exact = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    const std::vector<P> star = random_star(rng, u, 150, 300, 0.2, 1.0);
+    std::vector<P> ring;
+    for (std::size_t i = 0; i < star.size(); ++i) {
+      const P a = star[i], b = star[(i + 1) % star.size()];
+      ring.push_back(a);
+      if (i % 3 != 0) continue;
+      const double t = 0.02 + 0.96 * u(rng), off = std::pow(10.0, -6.0 - 2.5 * u(rng)) * (u(rng) < 0.5 ? -1 : 1);
+      ring.push_back(a + t * (b - a) + off * P(a.y - b.y, b.x - a.x));
+    }
+    const auto n = static_cast<std::uint32_t>(ring.size());
+    Loop poly(n);
+    std::iota(poly.begin(), poly.end(), 0u);
+    std::vector<LocalTri> tris, plain;
+    MirrorClip mirror;
+    clip_ears(ring, poly, EarSearch::kQueued, tris, &mirror);
+    clip_ears(ring, poly, EarSearch::kQueued, plain);
+    ASSERT_EQ(tris, plain);
+    if (!mirror.exact) continue;
+    ++exact;
+    expect_mirror_clips_the_same(ring, tris, mirror, trial);
+  }
+  EXPECT_GT(exact, 0);
 }
 
 TEST(PolygonTriangulationParts, TriangulateOneOuterLoopAndOneHole) {

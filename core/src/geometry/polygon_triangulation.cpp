@@ -203,11 +203,14 @@ class EarClipper {
   // MirrorClip: the margin a decision on an orient()-like value v (a difference of two products
   // of coordinate differences of polygon points) needs, and the check of one. Every such
   // difference is at most the points' extent D in magnitude (rounding is monotone), so each
-  // product at most D^2 (1 + eps), and the value of either clip (the mirror image's takes other
-  // differences of the same points, with the same magnitudes) is within (3 eps + 16 eps^2) of
-  // twice that of the exact value, the same for both: |v - v'| < 1.4e-15 D^2. The margin is
-  // about three times that. Not exact where D^2 is out of [1e-200, 1e200] (underflow, overflow)
-  // or not a number, or where repeated points were dropped (fewer corners than `given`).
+  // product at most D^2 (1 + u) (u = 2^-53 ~ 1.11e-16, the unit roundoff), and the value of either
+  // clip (the mirror image's takes other differences of the same points, with the same
+  // magnitudes) is within about 4u (two differences, a product, the final difference) of each of
+  // the two products, 8u D^2 ~ 8.9e-16 D^2 in all, of the exact value: the two clips' values
+  // differ by up to 16u D^2 ~ 1.8e-15 D^2. The margin, 4e-15 D^2, is more than twice that: a value
+  // beyond it in one clip has the same sign, beyond 2.2e-15 D^2, in the other. Not exact where D^2
+  // is out of [1e-200, 1e200] (underflow, overflow) or not a number, or where repeated points were
+  // dropped (fewer corners than `given`).
   void set_margin(std::size_t given) {
     if (lists_.poly.size() != given) exact_ = false;
     glm::dvec2 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
@@ -221,6 +224,31 @@ class EarClipper {
   }
   void check_margin(double v) {
     if (!(std::abs(v) > margin_)) exact_ = false;
+  }
+  // MirrorClip, an ear (a, b, c) found free through the grid: the mirror image's test may look
+  // at points this one did not (its grid is another), and is the same only if none of those
+  // passes its rounded tests. A test of p against the side through v, w, taken as
+  // (w - v) x (p - x) with x = v or w (with or without a fused multiply-add), is non-negative
+  // only where the exact value is at least -3.01u (|(w - v).x (p - x).y| + |(w - v).y (p - x).x|)
+  // >= -3.01u |w - v| |p - x| (u = 2^-53; rounding keeps the sign of the last difference;
+  // Cauchy-Schwarz): so p lies at most g |p - x| outside that side's line, g = 3.01u. Were s the
+  // distance of p from the triangle (longest edge L, perimeter P, turn = 2 x area, inradius
+  // rho = turn / P), |p - x| <= s + L: every side moved out by t = g (s + L) holds p, that is the
+  // triangle scaled about its incentre by 1 + t / rho, whose points lie within t L / rho of it.
+  // So s <= K (s + L), K = g L P / turn, and where K <= 1/100, s <= 1.0102 K L. With K that
+  // small the rounding of turn is within 3u L^2 / turn <= K / 2 (P >= 2L) of it: the bound is
+  // taken as 4e-16 L^2 P / turn with P as 3L (no square roots but one), and K as that over L. make_grid's box holds every point within
+  // box_reach_ of the bounding box of the ear's corners: where the bound is within it, every
+  // point the mirror image's test finds was tested here, with the margin. Else (a needle: the
+  // sine of its smallest angle, about turn / L^2, below about 1.2e-15 L / box_reach_, 1e-7 and
+  // less in the caps clipped; the bound is tight at such a tip, whose sides both round by up to
+  // g L) reflex_blocker tests every live reflex corner too, with the margin, and the clip is not
+  // exact where one of them blocks. An ear found blocked needs no check: its blocker is inside
+  // the triangle by more than the rounding, in every box of it.
+  bool within_box(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c) const {
+    const double turn = orient(a, b, c), l2 = longest_edge2(a, b, c), l = std::sqrt(l2);
+    const double bound = 1.2e-15 * l2 * l;  // times 1 / turn; P <= 3L
+    return bound <= 0.01 * l * turn && bound <= box_reach_ * turn;
   }
   // kQueued: queues corner i (its corner() `turn`, its quality) when it is an ear: positive area
   // and no other polygon point in the closed triangle (only a reflex corner can lie inside an ear
@@ -315,6 +343,18 @@ class EarClipper {
     constexpr double kBoxPad = 1e-9;
     const double pad = kBoxPad * (std::max({std::abs(lo.x), std::abs(lo.y), std::abs(hi.x), std::abs(hi.y)}) +
                                   extent.x + extent.y);
+    // MirrorClip (within_box): a point within pad (1 - 1e-6) and half a cell, on each axis, of
+    // the bounding box of an ear's corners is in its box: p.x >= v - pad (1 - 1e-6) is at least
+    // v - pad rounded (|v| is at most 1e9 pad), so its cell is at least that of v - pad, and
+    // p.x >= v - (cell width) / 2 has (p.x - origin) x inv_cell at least own - 1/2 before a
+    // rounding of a few u times the cell count: its cell is at least own - 1. A coordinate of one
+    // cell (no extent, or not finite) reaches every point. Not a number: never within it.
+    if (mirror_) {
+      auto width = [&](double e, double inv) {
+        return inv > 0.0 ? e / double(side) : std::numeric_limits<double>::infinity();
+      };
+      box_reach_ = std::min({pad * (1.0 - 1e-6), 0.5 * width(extent.x, inv_cell_.x), 0.5 * width(extent.y, inv_cell_.y)});
+    }
     cell_.resize(n);
     reach_.resize(n);
     auto cell = [](std::size_t c) { return static_cast<std::uint32_t>(c); };
@@ -417,7 +457,15 @@ class EarClipper {
         auto in_box = [&](const LateFiled& l) {
           return l.cell.x >= xa && l.cell.x <= xb && l.cell.y >= ya && l.cell.y <= yb && blocks(l.f);
         };
-        return live_filing(late_, [](const LateFiled& l) { return l.f.corner; }, in_box);
+        const bool found = live_filing(late_, [](const LateFiled& l) { return l.f.corner; }, in_box);
+        if constexpr (Checked)  // a needle (within_box): every live reflex corner tested, with the margin
+          if (!found && !within_box(a, b, c))
+            for (const Filed& f : reflex_list_)
+              if (lists_.reflex[f.corner] && blocks(f)) {
+                exact_ = false;  // the rounded tests find a point outside the box
+                break;
+              }
+        return found;
       }
     }
     return live_filing(reflex_list_, [](const Filed& f) { return f.corner; }, blocks);
@@ -467,10 +515,11 @@ class EarClipper {
       tied_ = tied_ || (heap_.size() > 1 && heap_[1].quality == quality) ||
               (heap_.size() > 2 && heap_[2].quality == quality);
       if (mirror_) {
-        // The mirror image's qualities: its turn differs by under 1.4e-15 times the ear's squared
-        // longest edge (the bound of set_margin with the ear's own edges; the longest edge is
-        // the same value, and above the margin: no underflow), so its quality by under 1.4e-15 +
-        // 2 eps |q| < 1.7e-15. The best ear leads the next by more than twice that, with room.
+        // The mirror image's qualities: its turn differs by up to 16u ~ 1.8e-15 times the ear's
+        // squared longest edge (the bound of set_margin with the ear's own edges; the longest
+        // edge is the same value, and above the margin: no underflow), so its quality (at most 1)
+        // by up to 1.8e-15 + 2u |q| < 2.1e-15. The best ear leads the next by more than twice
+        // that (8e-15), with room.
         const double next = std::max(heap_.size() > 1 ? heap_[1].quality : -1.0,
                                      heap_.size() > 2 ? heap_[2].quality : -1.0);
         if (!(quality - next > 8e-15)) exact_ = false;
@@ -552,6 +601,7 @@ class EarClipper {
   MirrorClip* mirror_;   // kIndexed: the report on the mirror image, or null
   bool exact_ = true;    // MirrorClip::exact so far
   double margin_ = 0.0;  // MirrorClip: the margin (set_margin)
+  double box_reach_ = 0.0;  // MirrorClip: how far past an ear's corners its grid box reaches (make_grid)
   // The filings of corners that became reflex (kQueued), less stale ones dropped by scans, and
   // how many filings there were: the threshold between the grid and the list.
   std::vector<Filed>& reflex_list_ = lists_.reflex_list;

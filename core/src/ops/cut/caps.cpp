@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
+#include <cstring>
 #include <unordered_set>
 
 #include "deepcut/core/morph.h"
@@ -24,6 +26,24 @@ struct RimLoops {
   std::vector<VertexId> verts;
 };
 
+// The least and the greatest of some ids (a cut's rim vertices are its newest ones: their ids are
+// close), and whether a table over that span is cheap beside m items: fewer than 4 entries per
+// item, and 256 more.
+struct IdSpan {
+  std::uint32_t lo = kInvalidIndex, hi = 0;
+  bool few(std::size_t m) const { return hi - lo < 4 * m + 256; }
+  std::size_t size() const { return std::size_t(hi - lo) + 1; }
+};
+template <class Items, class Id>
+IdSpan id_span(const Items& items, Id id) {
+  IdSpan span;
+  for (const auto& item : items) {
+    span.lo = std::min(span.lo, id(item));
+    span.hi = std::max(span.hi, id(item));
+  }
+  return span;
+}
+
 // Sorts keys (vertex << 32 | halfedge) as numbers when the halfedges are listed in increasing
 // order: stably by vertex. When the vertices span few ids (a cut's rim vertices are its newest
 // ones) one counting pass over that span does it; otherwise least significant byte first over
@@ -31,11 +51,8 @@ struct RimLoops {
 void sort_by_vertex(std::vector<std::uint64_t>& keys, std::vector<std::uint64_t>& scratch,
                     std::vector<std::uint32_t>& count) {
   if (keys.size() < 2) return;
-  std::uint32_t lo = kInvalidIndex, hi = 0;
-  for (const std::uint64_t k : keys) {
-    lo = std::min(lo, static_cast<std::uint32_t>(k >> 32));
-    hi = std::max(hi, static_cast<std::uint32_t>(k >> 32));
-  }
+  const IdSpan span = id_span(keys, [](std::uint64_t k) { return static_cast<std::uint32_t>(k >> 32); });
+  const std::uint32_t lo = span.lo, hi = span.hi;
   scratch.resize(keys.size());
   auto pass = [&](std::uint32_t buckets, auto&& bucket) {
     count.assign(std::size_t(buckets) + 1, 0);
@@ -44,8 +61,8 @@ void sort_by_vertex(std::vector<std::uint64_t>& keys, std::vector<std::uint64_t>
     for (const std::uint64_t k : keys) scratch[count[bucket(k)]++] = k;
     keys.swap(scratch);
   };
-  if (hi - lo < 4 * keys.size() + 256) {
-    pass(hi - lo + 1, [lo](std::uint64_t k) { return static_cast<std::uint32_t>(k >> 32) - lo; });
+  if (span.few(keys.size())) {
+    pass(static_cast<std::uint32_t>(span.size()), [lo](std::uint64_t k) { return static_cast<std::uint32_t>(k >> 32) - lo; });
     return;
   }
   for (int shift = 0; shift < 32 && ((hi - lo) >> shift) != 0; shift += 8)
@@ -64,9 +81,10 @@ void reached_groups(const std::vector<std::pair<VertexId, VertexId>>& halfedges,
   const auto groups = static_cast<std::uint32_t>(from.size());
   reached.assign(m, kInvalidIndex);
   if (groups == 0) return;
-  const std::uint32_t lo = from.front(), hi = from.back();
-  if (hi - lo < 4 * m + 256) {
-    std::vector<std::uint32_t> group_of(std::size_t(hi - lo) + 1, kInvalidIndex);
+  const IdSpan span{from.front(), from.back()};
+  const std::uint32_t lo = span.lo, hi = span.hi;
+  if (span.few(m)) {
+    std::vector<std::uint32_t> group_of(span.size(), kInvalidIndex);
     for (std::uint32_t r = 0; r < groups; ++r) group_of[from[r] - lo] = r;
     for (std::size_t k = 0; k < m; ++k) {
       const std::uint32_t v = halfedges[k].first.index;
@@ -110,13 +128,10 @@ bool trace_single_steps(const std::vector<std::pair<VertexId, VertexId>>& halfed
                         bool& all_closed) {
   const std::size_t m = halfedges.size();
   if (m == 0) return false;
-  std::uint32_t lo = kInvalidIndex, hi = 0;
-  for (const auto& h : halfedges) {
-    lo = std::min(lo, h.second.index);
-    hi = std::max(hi, h.second.index);
-  }
-  if (hi - lo >= 4 * m + 256) return false;
-  const std::size_t span = std::size_t(hi - lo) + 1;
+  const IdSpan ids = id_span(halfedges, [](const auto& h) { return h.second.index; });
+  if (!ids.few(m)) return false;
+  const std::uint32_t lo = ids.lo;
+  const std::size_t span = ids.size();
   std::vector<std::uint32_t> step(span, kInvalidIndex);  // by leaving vertex - lo: the vertex reached
   for (const auto& [a, b] : halfedges) {
     std::uint32_t& s = step[b.index - lo];
@@ -292,6 +307,46 @@ void plan_polygons(const CapInput& in, CapPlan& plan) {
 // shared cores; its 1M cut has 4070).
 constexpr std::size_t kParallelCapCorners = 2048;
 
+// The points of a cap's polygons by their coordinates, built once per cap pair (O(points)): an
+// open-addressing table of point indices probed linearly from a hash of the coordinates' bit
+// patterns, -0 taken as +0 (so that a match is where == holds). Of equal points the lowest index
+// is kept; a point that is not a number is left out (== matches none).
+class PointTable {
+ public:
+  // The points `pts[i]` with on[i] != kInvalidIndex.
+  PointTable(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& on) : pts_(pts) {
+    std::size_t size = 16;
+    while (size < 2 * pts.size()) size *= 2;
+    slots_.assign(size, kInvalidIndex);
+    for (std::uint32_t i = 0; i < pts.size(); ++i) {
+      if (on[i] == kInvalidIndex || std::isnan(pts[i].x) || std::isnan(pts[i].y)) continue;
+      std::size_t s = slot(pts[i]);
+      while (slots_[s] != kInvalidIndex && !(pts_[slots_[s]] == pts[i])) s = (s + 1) & (slots_.size() - 1);
+      if (slots_[s] == kInvalidIndex) slots_[s] = i;
+    }
+  }
+  // The lowest index of a point equal to p, or kInvalidIndex.
+  std::uint32_t find(const glm::dvec2& p) const {
+    if (std::isnan(p.x) || std::isnan(p.y)) return kInvalidIndex;
+    for (std::size_t s = slot(p);; s = (s + 1) & (slots_.size() - 1))
+      if (slots_[s] == kInvalidIndex || pts_[slots_[s]] == p) return slots_[s];
+  }
+
+ private:
+  std::size_t slot(const glm::dvec2& p) const {
+    auto bits = [](double v) {
+      v = v == 0.0 ? 0.0 : v;
+      std::uint64_t b;
+      std::memcpy(&b, &v, sizeof b);
+      return b;
+    };
+    const std::uint64_t h = (bits(p.x) * 0x9E3779B97F4A7C15ull) ^ (bits(p.y) * 0xC2B2AE3D27D4EB4Full);
+    return std::size_t(h ^ (h >> 29)) & (slots_.size() - 1);
+  }
+  const std::vector<glm::dvec2>& pts_;
+  std::vector<std::uint32_t> slots_;
+};
+
 // The triangles of polygon k of `to` taken from those of `from`'s polygon that is its mirror
 // image, where that one's clip says they are the same (MirrorClip::exact): a plane cut of a
 // closed surface caps its two sides over the same rim loops, each loop run the other way by the
@@ -299,12 +354,13 @@ constexpr std::size_t kParallelCapCorners = 2048;
 // loops run the other way). So polygon k's points are exactly those of a polygon of `from` with x
 // negated, in reverse order (checked point by point, with the point numbering one-to-one), and its
 // clip would make every decision the same. `from_polygon` (by point of `from`: its polygon, or
-// kInvalidIndex) and `position` (in that polygon's loop) locate the points; `used` the polygons of
+// kInvalidIndex) and `position` (in that polygon's loop) locate the points, `from_points` finds
+// them by coordinates (the points on a polygon); `used` the polygons of
 // `from` taken already; `to_from` and `from_to` are scratch (by point, kInvalidIndex between
 // calls). Returns false, having taken nothing, where some check fails.
 bool mirror_triangles(const CapPlan& from, const std::vector<geometry::MirrorClip>& clips,
                       const std::vector<std::uint32_t>& from_polygon,
-                      const std::vector<std::uint32_t>& position,
+                      const std::vector<std::uint32_t>& position, const PointTable& from_points,
                       std::vector<char>& used, std::vector<std::uint32_t>& from_to,
                       std::vector<std::uint32_t>& to_from, CapPlan& to, std::size_t k) {
   const auto& loop = to.rim.loops[to.polygons.outers[k]];
@@ -314,12 +370,8 @@ bool mirror_triangles(const CapPlan& from, const std::vector<geometry::MirrorCli
   // The first point of `from` (on one of its polygons) that is the loop's first point mirrored
   // (were there several, the check below finds whether this one is where the mirror image starts).
   const glm::dvec2 first = pts[loop[0]];
-  std::uint32_t match = 0;
-  const auto count = static_cast<std::uint32_t>(from_pts.size());
-  while (match < count && !(from_pts[match].x == -first.x && from_pts[match].y == first.y &&
-                            from_polygon[match] != kInvalidIndex))
-    ++match;
-  if (match == count) return false;
+  const std::uint32_t match = from_points.find({-first.x, first.y});
+  if (match == kInvalidIndex) return false;
   const std::uint32_t kf = from_polygon[match];
   const auto& from_loop = from.rim.loops[from.polygons.outers[kf]];
   if (used[kf] || !clips[kf].exact || from_loop.size() != n) return false;
@@ -362,8 +414,11 @@ bool mirror_triangles(const CapPlan& from, const std::vector<geometry::MirrorCli
 // whatever the thread count. Of two caps without holes (the sides of one closed surface), the
 // second takes the triangles of a polygon from the first where they are the same
 // (mirror_triangles), and is clipped where they may not be.
+std::atomic<bool> cap_mirroring{true};
+
 void triangulate_caps(std::vector<CapPlan>& plans) {
-  const bool pair = plans.size() == 2 && !plans[0].rim.loops.empty() && !plans[1].rim.loops.empty() &&
+  cap_mirror_stats() = {};
+  const bool pair = cap_mirroring.load(std::memory_order_relaxed) && plans.size() == 2 && !plans[0].rim.loops.empty() && !plans[1].rim.loops.empty() &&
                     !plans[0].holes && !plans[1].holes &&
                     plans[0].polygons.outers.size() == plans[1].polygons.outers.size();
   std::vector<geometry::MirrorClip> clips(pair ? plans[0].polygons.outers.size() : 0);
@@ -408,13 +463,15 @@ void triangulate_caps(std::vector<CapPlan>& plans) {
       position[loop[i]] = i;
     }
   }
+  const PointTable from_points_by_key(from.polygons.pts, from_polygon);
   std::vector<char> used(from.polygons.outers.size(), 0);
   std::vector<std::uint32_t> from_to(from_points, kInvalidIndex);
   std::vector<std::uint32_t> to_from(to.polygons.pts.size(), kInvalidIndex);
   jobs.clear();
   for (std::uint32_t k = 0; k < to.polygons.outers.size(); ++k)
-    if (!mirror_triangles(from, clips, from_polygon, position, used, from_to, to_from, to, k))
+    if (!mirror_triangles(from, clips, from_polygon, position, from_points_by_key, used, from_to, to_from, to, k))
       jobs.emplace_back(1, k);
+  cap_mirror_stats() = {to.polygons.outers.size() - jobs.size(), jobs.size()};
   run_jobs();
 }
 
@@ -536,13 +593,10 @@ bool make_cap(MeshEditor& editor, const CapInput& in, const CapPlan& plan, std::
 bool drop_twins(std::vector<std::pair<VertexId, VertexId>>& halfedges) {
   const std::size_t m = halfedges.size();
   if (m == 0) return true;
-  std::uint32_t lo = kInvalidIndex, hi = 0;
-  for (const auto& [a, b] : halfedges) {
-    lo = std::min(lo, a.index);
-    hi = std::max(hi, a.index);
-  }
-  if (hi - lo >= 4 * m + 256) return false;
-  std::vector<std::uint32_t> reached(std::size_t(hi - lo) + 1, kInvalidIndex);  // by vertex - lo
+  const IdSpan span = id_span(halfedges, [](const auto& h) { return h.first.index; });
+  if (!span.few(m)) return false;
+  const std::uint32_t lo = span.lo;
+  std::vector<std::uint32_t> reached(span.size(), kInvalidIndex);  // by vertex - lo
   for (const auto& [a, b] : halfedges) {
     std::uint32_t& r = reached[a.index - lo];
     if (r != kInvalidIndex || a == b) return false;
@@ -560,6 +614,12 @@ bool drop_twins(std::vector<std::pair<VertexId, VertexId>>& halfedges) {
 }
 
 }  // namespace
+
+CapMirrorStats& cap_mirror_stats() {
+  thread_local CapMirrorStats stats;
+  return stats;
+}
+void set_cap_mirroring(bool on) { cap_mirroring.store(on, std::memory_order_relaxed); }
 
 std::vector<std::pair<VertexId, VertexId>> rim_halfedges(const SurfaceMesh& mesh, const CapInput& in,
                                                          const std::vector<FaceId>& skip) {

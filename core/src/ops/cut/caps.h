@@ -42,4 +42,15 @@ std::vector<std::pair<VertexId, VertexId>> rim_halfedges(const SurfaceMesh& mesh
 /// cap faces through one corner of a loop is one fan between the two rim edges of that corner.
 bool make_caps(MeshEditor& editor, const std::vector<CapInput>& in, std::vector<std::vector<FaceId>>& pieces);
 
+/// Tests: how the last make_caps on this thread made the polygons of its second cap, where its two
+/// caps are the sides of one closed surface: `mirrored` taken from the first cap's triangles,
+/// `clipped` clipped (both 0 otherwise).
+struct CapMirrorStats {
+  std::size_t mirrored = 0, clipped = 0;
+};
+CapMirrorStats& cap_mirror_stats();
+/// Tests: whether make_caps may take the second cap's triangles from the first (default true; off,
+/// every polygon is clipped). Process-wide.
+void set_cap_mirroring(bool on);
+
 }  // namespace deepcut::detail
