@@ -199,15 +199,17 @@ void Adjacency::apply(const EditLog& log) {
   // Sized once for the vertices and face slots the log names, so the edits below never grow
   // the outer arrays one element at a time.
   // One switch on the alternative's index per edit (no chain of get_if, no visit table).
-  constexpr std::size_t kVertexAdded = variant_index<VertexAdded>(), kVertexSplit = variant_index<VertexSplit>(),
-                        kFaceAdded = variant_index<FaceAdded>(), kFaceRemoved = variant_index<FaceRemoved>();
+  constexpr std::size_t kVertexAdded = variant_index<VertexAdded>(),
+                        kVertexSplit = variant_index<VertexSplit>(), kFaceAdded = variant_index<FaceAdded>(),
+                        kFaceRemoved = variant_index<FaceRemoved>();
   std::uint32_t vertices = 0, faces = 0;
   for (const Edit& edit : log.edits) {
     switch (edit.index()) {
       case kFaceAdded: {
         const auto& a = *std::get_if<kFaceAdded>(&edit);
         faces = std::max(faces, a.f.index + 1);
-        vertices = std::max({vertices, a.vertices[0].index + 1, a.vertices[1].index + 1, a.vertices[2].index + 1});
+        vertices =
+            std::max({vertices, a.vertices[0].index + 1, a.vertices[1].index + 1, a.vertices[2].index + 1});
         break;
       }
       case kVertexAdded:

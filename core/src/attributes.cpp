@@ -102,7 +102,8 @@ bool push_blend_as(AttributeArrayBase& base, const std::uint32_t* src, const flo
 }
 
 template <int kSources>
-bool push_blend_known(AttributeArrayBase& array, const std::uint32_t* src, const float* w, std::size_t count) {
+bool push_blend_known(AttributeArrayBase& array, const std::uint32_t* src, const float* w,
+                      std::size_t count) {
   return push_blend_as<glm::vec3, true, kSources>(array, src, w, count) ||
          push_blend_as<glm::vec4, true, kSources>(array, src, w, count) ||
          push_blend_as<glm::vec2, true, kSources>(array, src, w, count) ||

@@ -356,7 +356,8 @@ BoundingBox posed_face_bounds(const Model& model, int node, const SurfaceMesh& m
   parallel_for(mesh.face_slots(), kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t f = b; f < e; ++f)
       if (!mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f))))
-        for (auto v : mesh.face(FaceId(static_cast<std::uint32_t>(f)))) used[v.index].store(1, std::memory_order_relaxed);
+        for (auto v : mesh.face(FaceId(static_cast<std::uint32_t>(f))))
+          used[v.index].store(1, std::memory_order_relaxed);
   });
   const Poser poser(model, node, mesh, world, weights);
   return parallel_reduce(

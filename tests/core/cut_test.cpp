@@ -801,7 +801,8 @@ SurfaceMesh two_tubes(float jitter) {
   const auto offset = static_cast<std::uint32_t>(mesh.vertex_count());
   for (const auto& p : other.positions()) mesh.add_vertex(p + glm::vec3(3.0f, 0.0f, 0.5f));
   other.for_each_face([&](FaceId, const Triangle& t) {
-    mesh.add_face(VertexId(t[0].index + offset), VertexId(t[1].index + offset), VertexId(t[2].index + offset));
+    mesh.add_face(VertexId(t[0].index + offset), VertexId(t[1].index + offset),
+                  VertexId(t[2].index + offset));
   });
   std::mt19937 rng(19);
   std::uniform_real_distribution<float> scale(1.0f - jitter, 1.0f + jitter);
@@ -815,7 +816,8 @@ SurfaceMesh two_tubes(float jitter) {
 
 // The capped cut of `input` by `plane`, with the second cap's triangles taken from the first where
 // they are the same (`mirroring`), or every polygon clipped.
-std::pair<SurfaceMesh, detail::CapMirrorStats> capped_cut(const SurfaceMesh& input, const Plane& plane, bool mirroring) {
+std::pair<SurfaceMesh, detail::CapMirrorStats> capped_cut(const SurfaceMesh& input, const Plane& plane,
+                                                          bool mirroring) {
   SurfaceMesh mesh = input;
   CutOptions options;
   options.cap = true;
@@ -830,7 +832,8 @@ TEST(CutTest, second_cap_taken_from_the_first_equals_clipping_it) {
   std::size_t mirrored = 0, clipped = 0;
   for (int k = 0; k < 12; ++k) {
     const float t = float(k) / 12.0f;
-    const Plane plane{{0.1f * t, 0.3f + 1.4f * t, 0.05f}, {0.15f * std::sin(7.0f * t), 1.0f, 0.1f * std::cos(5.0f * t)}};
+    const Plane plane{{0.1f * t, 0.3f + 1.4f * t, 0.05f},
+                      {0.15f * std::sin(7.0f * t), 1.0f, 0.1f * std::cos(5.0f * t)}};
     // The regular tubes cut square across: rotationally symmetric polygons.
     const Plane across{{0.0f, 0.13f + 0.14f * float(k), 0.0f}, {0.0f, 1.0f, 0.0f}};
     for (const SurfaceMesh* input : {&jittered, &regular}) {

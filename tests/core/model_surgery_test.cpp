@@ -435,7 +435,7 @@ TEST(ModelSurgery, VertexSidesWithListsOutOfOrderSplitAsTheSortedLists) {
     std::vector<std::vector<FaceId>> lists = r.pieces;
     if (change == 0) std::reverse(lists[0].begin(), lists[0].end());
     if (change == 1) std::swap(lists[1][65535], lists[1][65536]);  // across two chunks
-    if (change == 2) std::swap(lists[1][10], lists[1][11]);         // within one
+    if (change == 2) std::swap(lists[1][10], lists[1][11]);        // within one
     if (change == 3) lists[1].insert(lists[1].begin() + 65536, lists[1][65535]);
     SurfaceMesh a = mesh;
     const std::vector<SurfaceMesh> by_sides = split_disjoint(std::move(a), lists, sides);

@@ -440,7 +440,8 @@ TEST(PolygonTriangulationParts, MirrorImageOfNeedleEarsClipsTheSame) {
       const P a = star[i], b = star[(i + 1) % star.size()];
       ring.push_back(a);
       if (i % 3 != 0) continue;
-      const double t = 0.02 + 0.96 * u(rng), off = std::pow(10.0, -6.0 - 2.5 * u(rng)) * (u(rng) < 0.5 ? -1 : 1);
+      const double t = 0.02 + 0.96 * u(rng),
+                   off = std::pow(10.0, -6.0 - 2.5 * u(rng)) * (u(rng) < 0.5 ? -1 : 1);
       ring.push_back(a + t * (b - a) + off * P(a.y - b.y, b.x - a.x));
     }
     const auto n = static_cast<std::uint32_t>(ring.size());

@@ -107,7 +107,8 @@ TEST(SkinningTest, world_bounds_equal_face_bounds_of_the_posed_positions_but_for
       const int mesh = m.nodes[i].mesh;
       if (mesh < 0) continue;
       for (const auto& prim : m.meshes[static_cast<std::size_t>(mesh)].primitives)
-        box.add(face_bounds(prim.mesh, posed_positions(m, static_cast<int>(i), prim.mesh, world, pose.weights[i])));
+        box.add(face_bounds(prim.mesh,
+                            posed_positions(m, static_cast<int>(i), prim.mesh, world, pose.weights[i])));
     }
     return box;
   };

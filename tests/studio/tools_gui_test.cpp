@@ -25,8 +25,8 @@
 #include "morph_panel.h"
 #include "posed_checks.h"
 #include "scene_view.h"
-#include "timeline.h"
 #include "studio_test_support.h"
+#include "timeline.h"
 #include "tools.h"
 
 using deepcut::studio::MainWindow;

@@ -111,7 +111,10 @@ class EarClipper {
  public:
   EarClipper(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& poly, EarSearch search,
              EarQueue queue = EarQueue::kLazy, MirrorClip* mirror = nullptr)
-      : pts_(pts), lists_(RingLists::take()), search_(search), indexed_(queue == EarQueue::kIndexed),
+      : pts_(pts),
+        lists_(RingLists::take()),
+        search_(search),
+        indexed_(queue == EarQueue::kIndexed),
         mirror_(search == EarSearch::kQueued && indexed_ ? mirror : nullptr) {
     lists_.poly.assign(poly.begin(), poly.end());
     if (search_ == EarSearch::kQueued) {
@@ -237,14 +240,14 @@ class EarClipper {
   // triangle scaled about its incentre by 1 + t / rho, whose points lie within t L / rho of it.
   // So s <= K (s + L), K = g L P / turn, and where K <= 1/100, s <= 1.0102 K L. With K that
   // small the rounding of turn is within 3u L^2 / turn <= K / 2 (P >= 2L) of it: the bound is
-  // taken as 4e-16 L^2 P / turn with P as 3L (no square roots but one), and K as that over L. make_grid's box holds every point within
-  // box_reach_ of the bounding box of the ear's corners: where the bound is within it, every
-  // point the mirror image's test finds was tested here, with the margin. Else (a needle: the
-  // sine of its smallest angle, about turn / L^2, below about 1.2e-15 L / box_reach_, 1e-7 and
-  // less in the caps clipped; the bound is tight at such a tip, whose sides both round by up to
-  // g L) reflex_blocker tests every live reflex corner too, with the margin, and the clip is not
-  // exact where one of them blocks. An ear found blocked needs no check: its blocker is inside
-  // the triangle by more than the rounding, in every box of it.
+  // taken as 4e-16 L^2 P / turn with P as 3L (no square roots but one), and K as that over L. make_grid's box
+  // holds every point within box_reach_ of the bounding box of the ear's corners: where the bound is within
+  // it, every point the mirror image's test finds was tested here, with the margin. Else (a needle: the sine
+  // of its smallest angle, about turn / L^2, below about 1.2e-15 L / box_reach_, 1e-7 and less in the caps
+  // clipped; the bound is tight at such a tip, whose sides both round by up to g L) reflex_blocker tests
+  // every live reflex corner too, with the margin, and the clip is not exact where one of them blocks. An ear
+  // found blocked needs no check: its blocker is inside the triangle by more than the rounding, in every box
+  // of it.
   bool within_box(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c) const {
     const double turn = orient(a, b, c), l2 = longest_edge2(a, b, c), l = std::sqrt(l2);
     const double bound = 1.2e-15 * l2 * l;  // times 1 / turn; P <= 3L
@@ -353,7 +356,8 @@ class EarClipper {
       auto width = [&](double e, double inv) {
         return inv > 0.0 ? e / double(side) : std::numeric_limits<double>::infinity();
       };
-      box_reach_ = std::min({pad * (1.0 - 1e-6), 0.5 * width(extent.x, inv_cell_.x), 0.5 * width(extent.y, inv_cell_.y)});
+      box_reach_ = std::min(
+          {pad * (1.0 - 1e-6), 0.5 * width(extent.x, inv_cell_.x), 0.5 * width(extent.y, inv_cell_.y)});
     }
     cell_.resize(n);
     reach_.resize(n);
@@ -457,7 +461,8 @@ class EarClipper {
         auto in_box = [&](const LateFiled& l) {
           return l.cell.x >= xa && l.cell.x <= xb && l.cell.y >= ya && l.cell.y <= yb && blocks(l.f);
         };
-        const bool found = live_filing(late_, [](const LateFiled& l) { return l.f.corner; }, in_box);
+        const bool found = live_filing(
+            late_, [](const LateFiled& l) { return l.f.corner; }, in_box);
         if constexpr (Checked)  // a needle (within_box): every live reflex corner tested, with the margin
           if (!found && !within_box(a, b, c))
             for (const Filed& f : reflex_list_)
@@ -520,8 +525,8 @@ class EarClipper {
         // edge is the same value, and above the margin: no underflow), so its quality (at most 1)
         // by up to 1.8e-15 + 2u |q| < 2.1e-15. The best ear leads the next by more than twice
         // that (8e-15), with room.
-        const double next = std::max(heap_.size() > 1 ? heap_[1].quality : -1.0,
-                                     heap_.size() > 2 ? heap_[2].quality : -1.0);
+        const double next =
+            std::max(heap_.size() > 1 ? heap_[1].quality : -1.0, heap_.size() > 2 ? heap_[2].quality : -1.0);
         if (!(quality - next > 8e-15)) exact_ = false;
       }
       heap_remove(best);
@@ -598,9 +603,9 @@ class EarClipper {
   EarSearch search_;
   bool indexed_;       // kQueued: the queue is kIndexed, else kLazy
   bool tied_ = false;  // kIndexed met a tie: run stops
-  MirrorClip* mirror_;   // kIndexed: the report on the mirror image, or null
-  bool exact_ = true;    // MirrorClip::exact so far
-  double margin_ = 0.0;  // MirrorClip: the margin (set_margin)
+  MirrorClip* mirror_;      // kIndexed: the report on the mirror image, or null
+  bool exact_ = true;       // MirrorClip::exact so far
+  double margin_ = 0.0;     // MirrorClip: the margin (set_margin)
   double box_reach_ = 0.0;  // MirrorClip: how far past an ear's corners its grid box reaches (make_grid)
   // The filings of corners that became reflex (kQueued), less stale ones dropped by scans, and
   // how many filings there were: the threshold between the grid and the list.

@@ -10,8 +10,8 @@
 
 #include "deepcut/core/morph.h"
 #include "deepcut/core/parallel.h"
-#include "ops/common/crossing_table.h"
 #include "geometry/polygon_triangulation.h"
+#include "ops/common/crossing_table.h"
 
 namespace deepcut::detail {
 namespace {
@@ -62,7 +62,8 @@ void sort_by_vertex(std::vector<std::uint64_t>& keys, std::vector<std::uint64_t>
     keys.swap(scratch);
   };
   if (span.few(keys.size())) {
-    pass(static_cast<std::uint32_t>(span.size()), [lo](std::uint64_t k) { return static_cast<std::uint32_t>(k >> 32) - lo; });
+    pass(static_cast<std::uint32_t>(span.size()),
+         [lo](std::uint64_t k) { return static_cast<std::uint32_t>(k >> 32) - lo; });
     return;
   }
   for (int shift = 0; shift < 32 && ((hi - lo) >> shift) != 0; shift += 8)
@@ -418,9 +419,9 @@ std::atomic<bool> cap_mirroring{true};
 
 void triangulate_caps(std::vector<CapPlan>& plans) {
   cap_mirror_stats() = {};
-  const bool pair = cap_mirroring.load(std::memory_order_relaxed) && plans.size() == 2 && !plans[0].rim.loops.empty() && !plans[1].rim.loops.empty() &&
-                    !plans[0].holes && !plans[1].holes &&
-                    plans[0].polygons.outers.size() == plans[1].polygons.outers.size();
+  const bool pair = cap_mirroring.load(std::memory_order_relaxed) && plans.size() == 2 &&
+                    !plans[0].rim.loops.empty() && !plans[1].rim.loops.empty() && !plans[0].holes &&
+                    !plans[1].holes && plans[0].polygons.outers.size() == plans[1].polygons.outers.size();
   std::vector<geometry::MirrorClip> clips(pair ? plans[0].polygons.outers.size() : 0);
   std::vector<std::pair<std::uint32_t, std::uint32_t>> jobs;  // (plan, polygon)
   auto triangulate = [&](std::size_t j) {
@@ -469,7 +470,8 @@ void triangulate_caps(std::vector<CapPlan>& plans) {
   std::vector<std::uint32_t> to_from(to.polygons.pts.size(), kInvalidIndex);
   jobs.clear();
   for (std::uint32_t k = 0; k < to.polygons.outers.size(); ++k)
-    if (!mirror_triangles(from, clips, from_polygon, position, from_points_by_key, used, from_to, to_from, to, k))
+    if (!mirror_triangles(from, clips, from_polygon, position, from_points_by_key, used, from_to, to_from, to,
+                          k))
       jobs.emplace_back(1, k);
   cap_mirror_stats() = {to.polygons.outers.size() - jobs.size(), jobs.size()};
   run_jobs();

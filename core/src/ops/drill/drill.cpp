@@ -200,7 +200,8 @@ std::vector<drill::Rim> split_and_trace(MeshEditor& editor, const drill::Cylinde
   std::vector<drill::Rim> rims = drill::trace_rims(mesh, editor.log(), cyl, posed, candidates, {});
   std::vector<VertexId> touched = rim_pinch_candidates(rims, inserted.bared, cyl, posed);
   {
-    std::vector<VertexId> old_ones = old_pinch_candidates(touched, posed.first_new(), inserted.merged || inserted.gaps);
+    std::vector<VertexId> old_ones =
+        old_pinch_candidates(touched, posed.first_new(), inserted.merged || inserted.gaps);
     if (old_ones.empty()) return rims;  // nothing to look at (pinch_input would walk the log)
     const PinchInput old = pinch_input(mesh, editor.log(), posed, std::move(old_ones), candidates, index);
     if (!detail::any_pinched(mesh, old.touched, old.around)) return rims;
@@ -230,9 +231,9 @@ DrillResult run(SurfaceMesh& mesh, const std::vector<glm::vec3>& input_posed, co
   // A rim through a vertex snapped onto the cylinder can leave it joining two fans: one vertex
   // each. Without walls before the rims are traced, so each rim runs through its own copy; with
   // walls after them (a wall can join the fans again), the rims following the copies.
-  const std::vector<drill::Rim> rims =
-      options.wall ? drill::trace_rims(mesh, editor.log(), cyl, posed, candidates, {})
-                   : split_and_trace(editor, cyl, posed, candidates, index, inserted);
+  const std::vector<drill::Rim> rims = options.wall
+                                           ? drill::trace_rims(mesh, editor.log(), cyl, posed, candidates, {})
+                                           : split_and_trace(editor, cyl, posed, candidates, index, inserted);
   for (const drill::Rim& rim : rims) {
     DrillHole hole;
     hole.rim = rim.vertices;
