@@ -390,16 +390,29 @@ TEST(ModelSurgery, ACutsVertexSidesSplitItsMeshAsItsPiecesFacesDo) {
   EXPECT_TRUE(CutSides::of(cut_mesh(mesh, mesh.positions(), plane)).empty());
 }
 
+// A generated cactus of about `triangles` triangles cut across its middle by a slanted plane
+// (both pieces kept, no cap): the mesh after the cut and the cut's result.
+struct CactusCut {
+  SurfaceMesh mesh;
+  CutResult result;
+};
+CactusCut cut_cactus(std::size_t triangles) {
+  CactusOptions cactus;
+  cactus.target_triangles = triangles;
+  CactusCut out{make_cactus(cactus).meshes[0].primitives[0].mesh, {}};
+  const BoundingBox box = out.mesh.bounds();
+  const Plane plane{0.5f * (box.min + box.max), glm::vec3(0.1f, 1.0f, 0.05f)};
+  out.result = cut_mesh(out.mesh, out.mesh.positions(), plane, CutOptions{});
+  return out;
+}
+
 TEST(ModelSurgery, VertexSidesThatBreakTheFacesFallBackToSplittingByFaces) {
   // Sides that break the cut's promise (a used vertex with side 0, another on the other side)
   // are noticed: the pieces are those split by their faces, not renumbered through ranks that
   // were never written.
-  CactusOptions cactus;
-  cactus.target_triangles = 20000;
-  SurfaceMesh mesh = make_cactus(cactus).meshes[0].primitives[0].mesh;
-  const BoundingBox box = mesh.bounds();
-  const Plane plane{0.5f * (box.min + box.max), glm::vec3(0.1f, 1.0f, 0.05f)};
-  const CutResult r = cut_mesh(mesh, mesh.positions(), plane, CutOptions{});
+  CactusCut cut = cut_cactus(20000);
+  SurfaceMesh& mesh = cut.mesh;
+  const CutResult& r = cut.result;
   ASSERT_EQ(r.status, OpStatus::Ok);
   ASSERT_EQ(r.pieces.size(), 2u);
   for (int broken_side : {0, 2}) {
@@ -419,12 +432,9 @@ TEST(ModelSurgery, VertexSidesWithListsOutOfOrderSplitAsTheSortedLists) {
   // Lists checked and copied in one pass only when each is live and increasing: a list out of
   // order (within a chunk of the pass or across two), or naming a face twice, is sorted first,
   // and the pieces are those of the cut's own lists.
-  CactusOptions cactus;
-  cactus.target_triangles = 200000;  // lists longer than one chunk (65536 faces) of the pass
-  SurfaceMesh mesh = make_cactus(cactus).meshes[0].primitives[0].mesh;
-  const BoundingBox box = mesh.bounds();
-  const Plane plane{0.5f * (box.min + box.max), glm::vec3(0.1f, 1.0f, 0.05f)};
-  const CutResult r = cut_mesh(mesh, mesh.positions(), plane, CutOptions{});
+  CactusCut cut = cut_cactus(200000);  // lists longer than one chunk (65536 faces) of the pass
+  SurfaceMesh& mesh = cut.mesh;
+  const CutResult& r = cut.result;
   ASSERT_EQ(r.status, OpStatus::Ok);
   ASSERT_EQ(r.pieces.size(), 2u);
   ASSERT_GT(r.pieces[1].size(), 65537u);
@@ -448,12 +458,9 @@ TEST(ModelSurgery, VertexSidesWithDeletedFacesInTheListsKeepTheVerticesOnTheirSi
   // A list naming deleted faces fails the split's one-pass check; made live and increasing, it is
   // split by the vertex sides all the same, which keep a vertex only deleted faces used (marking by
   // the live faces would drop it): the pieces of the lists without those faces.
-  CactusOptions cactus;
-  cactus.target_triangles = 20000;
-  SurfaceMesh mesh = make_cactus(cactus).meshes[0].primitives[0].mesh;
-  const BoundingBox box = mesh.bounds();
-  const Plane plane{0.5f * (box.min + box.max), glm::vec3(0.1f, 1.0f, 0.05f)};
-  const CutResult r = cut_mesh(mesh, mesh.positions(), plane, CutOptions{});
+  CactusCut cut = cut_cactus(20000);
+  SurfaceMesh& mesh = cut.mesh;
+  const CutResult& r = cut.result;
   ASSERT_EQ(r.status, OpStatus::Ok);
   ASSERT_EQ(r.pieces.size(), 2u);
   const std::vector<std::int8_t>& side = CutSides::of(r);
