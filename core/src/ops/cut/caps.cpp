@@ -410,13 +410,14 @@ bool mirror_triangles(const CapPlan& from, const std::vector<geometry::MirrorCli
   return same;
 }
 
+// Whether the second cap may take its triangles from the first (set_cap_mirroring: tests compare).
+std::atomic<bool> cap_mirroring{true};
+
 // Triangulates every planned polygon of every cap (as triangulate_loops would), on the pool
 // when they are big enough: each polygon's triangles are its own, so the result is the same
 // whatever the thread count. Of two caps without holes (the sides of one closed surface), the
 // second takes the triangles of a polygon from the first where they are the same
 // (mirror_triangles), and is clipped where they may not be.
-std::atomic<bool> cap_mirroring{true};
-
 void triangulate_caps(std::vector<CapPlan>& plans) {
   cap_mirror_stats() = {};
   const bool pair = cap_mirroring.load(std::memory_order_relaxed) && plans.size() == 2 &&
