@@ -114,6 +114,10 @@ void PosedModel::follow(const Model& model, const ModelChange& change, PoseDetai
   // What the stash holds for no arrival: a derived instance takes the arrays of one (their memory
   // reused, no new pages to fault in); the others are freed with the list.
   std::vector<PosedMesh> spare = take_unclaimed(back, arrivals.tags);
+  // Those that held the most vertices first: of spares with equal room (the pieces of one
+  // source, piece_vertex_room), the largest piece, derived first, takes the one with the most
+  // pages already faulted in, and so on down.
+  largest_first(spare, [](const PosedMesh& m) { return m.posed.size(); });
   // Posed as a build would pose `place` for `node` (the sizes: a guard against a follower that
   // did not show the state before the step).
   auto posed_alike = [&](const PosedMesh& inst, int node, const Place& place) {

@@ -155,9 +155,11 @@ std::vector<glm::vec3> built_normals(const SceneInstance& instance, const ModelC
       if (before.node == o->node_before && before.mesh == o->mesh_before &&
           before.primitive == o->primitive_before && !before.posed_normals.empty() &&
           posed.world == pose.world && posed.joints == pose.joints && posed.weights == pose.weights) {
+        // Any array the source's room holds (PosedMesh::corner_normals gives a piece that room).
         const std::size_t slots = instance.surface->face_slots();
-        std::vector<glm::vec3> out = take_smallest_fit(spare, 3 * slots, 2 * operation_corner_room(slots),
-                                                       [](const std::vector<glm::vec3>& a) { return a.capacity(); });
+        const std::size_t room = operation_corner_room(std::max(slots, before.posed_normals.size() / 3));
+        std::vector<glm::vec3> out = take_smallest_fit(
+            spare, 3 * slots, 2 * room, [](const std::vector<glm::vec3>& a) { return a.capacity(); });
         pose.corner_normals(*instance.surface, *o, before.posed_normals, out);
         return out;
       }
@@ -192,6 +194,8 @@ void follow_structure(Scene& scene, std::shared_ptr<const Model> model, const Mo
   auto normals_back = std::move(scene.stash->normals);
   scene.stash->normals.clear();
   std::vector<std::vector<glm::vec3>> spare = take_unclaimed(normals_back, arriving);
+  // The fullest first: of equal rooms, the largest piece takes the one with the most pages in.
+  largest_first(spare, [](const std::vector<glm::vec3>& a) { return a.size(); });
   scene.model = std::move(model);
   const Model& m = *scene.model;
   scene.posed->follow(m, change, PoseDetail::Positions, &scene.stash->posed);

@@ -449,6 +449,46 @@ TEST(SessionTest, a_follower_derives_a_new_cut_s_piece_into_the_arrays_of_a_piec
   EXPECT_EQ(reused, derived) << "every derived piece takes the arrays of a piece set aside";
 }
 
+// A follower that set aside a cut's pieces derives a more even cut's pieces into their arrays
+// too: a piece's arrays have the room of the content it was cut out of, so the piece a cut low
+// down made (a small one) holds a piece of a cut across the middle (the studio's cuts after a
+// drill and a tear: one piece of the later cut outgrew its own room and took new pages).
+TEST(SessionTest, a_follower_derives_a_more_even_cut_s_pieces_into_the_arrays_a_lopsided_one_set_aside) {
+  Session session;
+  session.open(load_cactus());
+  const BoundingBox box = rest_bounds(*session.current());
+  auto cut_at = [&](float height) {  // a level cut at `height` of the rest bounds (0: the bottom)
+    CutOperation cut;
+    cut.plane.point = box.min + height * (box.max - box.min);
+    cut.plane.normal = glm::vec3(0.02f, 1.0f, 0.01f);
+    return session.apply(Operation{cut, -1, 0.0f});
+  };
+  PosedModel follower = PosedModel::build(*session.current(), -1, 0.0f, PoseDetail::Positions);
+  PoseStash stash;
+  const Applied low = cut_at(0.15f);
+  ASSERT_EQ(low.result.status, OpStatus::Ok);
+  follower.follow(*session.current(), low.change, PoseDetail::Positions, &stash);
+  follower.follow(*session.current(), session.undo(), PoseDetail::Positions, &stash);
+  std::map<const glm::vec3*, std::size_t> set_aside;  // memory -> the vertices it held
+  for (const auto& [key, inst] : stash) set_aside[inst.posed.data()] = inst.posed.size();
+  ASSERT_GE(set_aside.size(), 2u);
+  const Applied middle = cut_at(0.5f);
+  ASSERT_EQ(middle.result.status, OpStatus::Ok);
+  follower.follow(*session.current(), middle.change, PoseDetail::Positions, &stash);
+  EXPECT_EQ(test::difference_from_fresh_build(follower, *session.current()), "");
+  std::size_t derived = 0, reused = 0, outgrown = 0;
+  for (const auto& origin : middle.change.origins)
+    if (const PosedMesh* inst = follower.find(origin->node, origin->primitive)) {
+      ++derived;
+      const auto it = set_aside.find(inst->posed.data());
+      if (it == set_aside.end()) continue;
+      ++reused;
+      outgrown += inst->posed.size() > operation_vertex_room(it->second);
+    }
+  EXPECT_EQ(reused, derived) << "every derived piece takes the arrays of a piece set aside";
+  EXPECT_GT(outgrown, 0u) << "a piece past the room its set-aside piece would have had alone";
+}
+
 // With one spare that holds every piece of a cut, the piece with the most vertices takes it and
 // the others get new arrays: pieces are derived largest first, so a smaller one met earlier in
 // node order does not take the spare the largest needs (the fewest bytes are new pages).
