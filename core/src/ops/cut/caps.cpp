@@ -508,7 +508,8 @@ void set_cap_attributes(const SurfaceMesh& mesh, const CapCorners& arrays, std::
   };
   if (arrays.uv) {
     double extent = 0.0;
-    for (const auto& p : pts) extent = std::max({extent, std::abs(p.x), std::abs(p.y)});
+    // std::max({extent, |x|, |y|}) as two std::max: the same comparisons in the same order.
+    for (const auto& p : pts) extent = std::max(std::max(extent, std::abs(p.x)), std::abs(p.y));
     if (extent <= 0.0) extent = 1.0;
     // Each point's UV once (a point is a corner of about three faces).
     std::vector<glm::vec2> at(pts.size());
