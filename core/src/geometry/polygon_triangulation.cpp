@@ -53,6 +53,7 @@ struct RingLists {
   std::vector<glm::dvec2> xy;  // the point of each corner
   std::vector<char> alive, reflex;
   std::vector<double> ear_quality, corners;
+  std::vector<double> edge2;  // the squared length of the edge from each corner to the next
   // kQueued's filings and grid (EarClipper's members of these names), file_grid's working lists,
   // and kIndexed's heap.
   std::vector<Filed> reflex_list, filed;
@@ -90,6 +91,7 @@ struct RingLists {
     detail::give_back_if_big(reflex, kept);
     detail::give_back_if_big(ear_quality, kept);
     detail::give_back_if_big(corners, kept);
+    detail::give_back_if_big(edge2, kept);
     in_use = false;
   }
 };
@@ -134,6 +136,8 @@ class EarClipper {
       lists_.prev[0] = n - 1;
       lists_.next[n - 1] = 0;
     }
+    lists_.edge2.resize(n);
+    for (std::uint32_t i = 0; i < n; ++i) lists_.edge2[i] = edge_length2(i, lists_.next[i]);
     lists_.alive.assign(n, 1);
     lists_.reflex.assign(n, 0);
     if (indexed_)
@@ -199,7 +203,17 @@ class EarClipper {
   const glm::dvec2& at(std::size_t i) const { return lists_.xy[i]; }
   double corner_at(std::size_t a, std::size_t b, std::size_t c) const { return orient(at(a), at(b), at(c)); }
   double corner(std::size_t i) const { return corner_at(lists_.prev[i], i, lists_.next[i]); }
-  double longest(std::size_t i) const { return longest_edge2(at(lists_.prev[i]), at(i), at(lists_.next[i])); }
+  // The squared length of the edge from corner a to corner b: glm::dot(b - a, b - a), the value
+  // longest_edge2 takes (the same from b to a: negation is exact).
+  double edge_length2(std::size_t a, std::size_t b) const {
+    const glm::dvec2 d = at(b) - at(a);
+    return glm::dot(d, d);
+  }
+  // longest_edge2 of corner i's triangle: its two edges kept (lists_.edge2), the diagonal made.
+  double longest(std::size_t i) const {
+    const std::size_t a = lists_.prev[i], c = lists_.next[i];
+    return std::max({lists_.edge2[a], lists_.edge2[i], edge_length2(c, a)});
+  }
   double quality(std::size_t i) const { return ear_quality(corner(i), longest(i)); }
 
   // MirrorClip: the margin a decision on an orient()-like value v (a difference of two products
@@ -247,8 +261,9 @@ class EarClipper {
   // every live reflex corner too, with the margin, and the clip is not exact where one of them blocks. An ear
   // found blocked needs no check: its blocker is inside the triangle by more than the rounding, in every box
   // of it.
-  bool within_box(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c) const {
-    const double turn = orient(a, b, c), l2 = longest_edge2(a, b, c), l = std::sqrt(l2);
+  // `turn` and `l2` are orient(a, b, c) and longest_edge2(a, b, c) of the ear (a, b, c).
+  bool within_box(double turn, double l2) const {
+    const double l = std::sqrt(l2);
     const double bound = 1.2e-15 * l2 * l;  // times 1 / turn; P <= 3L
     return bound <= 0.01 * l * turn && bound <= box_reach_ * turn;
   }
@@ -257,11 +272,16 @@ class EarClipper {
   // of a weakly simple polygon). kIndexed moves its entry, or drops it when it is no ear.
   void queue_if_ear(std::size_t i, double turn) {
     const auto corner = static_cast<std::uint32_t>(i);
-    if (turn <= 0.0 || (mirror_ ? reflex_blocker<true>(i) : reflex_blocker<false>(i))) {
+    if (turn <= 0.0) {
       if (indexed_) heap_remove(corner);
       return;
     }
-    const double quality = ear_quality(turn, longest(i));
+    const double l2 = longest(i);
+    if (mirror_ ? reflex_blocker<true>(i, turn, l2) : reflex_blocker<false>(i, turn, l2)) {
+      if (indexed_) heap_remove(corner);
+      return;
+    }
+    const double quality = ear_quality(turn, l2);
     if (!indexed_) {
       ears_.push({quality, corner, lists_.version[i]});
       return;
@@ -416,8 +436,9 @@ class EarClipper {
   // corner i: through the grid where the cells its corners reach (make_grid) are fewer than the
   // filings, else through the list (a point that is not a number makes every test false).
   // Checked: each value tested is checked against the margin (MirrorClip).
+  // `turn` and `l2`: corner(i) and longest(i).
   template <bool Checked>
-  bool reflex_blocker(std::size_t i) {
+  bool reflex_blocker(std::size_t i, double turn, double l2) {
     const std::size_t pa = lists_.prev[i], pc = lists_.next[i];
     const std::uint32_t ia = lists_.poly[pa], ib = lists_.poly[i], ic = lists_.poly[pc];
     const glm::dvec2 &a = at(pa), &b = at(i), &c = at(pc);
@@ -463,7 +484,7 @@ class EarClipper {
         const bool found = live_filing(
             late_, [](const LateFiled& l) { return l.f.corner; }, in_box);
         if constexpr (Checked)  // a needle (within_box): every live reflex corner tested, with the margin
-          if (!found && !within_box(a, b, c))
+          if (!found && !within_box(turn, l2))
             for (const Filed& f : reflex_list_)
               if (lists_.reflex[f.corner] && blocks(f)) {
                 exact_ = false;  // the rounded tests find a point outside the box
@@ -582,6 +603,7 @@ class EarClipper {
     lists_.reflex[i] = 0;
     lists_.next[a] = c;
     lists_.prev[c] = a;
+    lists_.edge2[a] = edge_length2(a, c);
     --remaining_;
     if (search_ == EarSearch::kExhaustive) {
       lists_.ear_state[a] = lists_.ear_state[c] = kUnknown;
@@ -714,6 +736,7 @@ std::size_t largest_kept_clip_list() {
                    l.reflex.capacity(),
                    l.ear_quality.capacity() * sizeof(double),
                    l.corners.capacity() * sizeof(double),
+                   l.edge2.capacity() * sizeof(double),
                    l.xy.capacity() * sizeof(glm::dvec2)});
 }
 

@@ -478,69 +478,93 @@ void triangulate_caps(std::vector<CapPlan>& plans) {
   run_jobs();
 }
 
-// The attributes of the cap faces `faces` (faces[k] made from tris[made[k]], its corners'
-// points in the plane's frame `pts`, first axis `u`): the cut-surface flag, a planar UV over the
-// cap's extent, the face normal (`flat_normal`, the plane's oriented as the cap, for a degenerate
-// face), the tangent u, white, and zero morph deltas.
-void set_cap_attributes(SurfaceMesh& mesh, AttributeArray<std::uint8_t>& cap_flag, const FaceId* faces,
+// The corner arrays a cap sets (null where the mesh has none), found once for all caps: adding
+// faces grows them but never replaces them.
+struct CapCorners {
+  AttributeArray<glm::vec2>* uv = nullptr;
+  AttributeArray<glm::vec3>* normal = nullptr;
+  AttributeArray<glm::vec4>*tangent = nullptr, *color = nullptr;
+  std::vector<AttributeArray<glm::vec3>*> deltas;  // corner morph deltas
+  explicit CapCorners(SurfaceMesh& mesh)
+      : uv(mesh.corner_attrs().find<glm::vec2>(attr::kUv0)),
+        normal(mesh.corner_attrs().find<glm::vec3>(attr::kNormal)),
+        tangent(mesh.corner_attrs().find<glm::vec4>(attr::kTangent)),
+        color(mesh.corner_attrs().find<glm::vec4>(attr::kColor0)),
+        deltas(corner_morph_deltas(mesh)) {}
+};
+
+// The corner attributes of the cap faces first .. first + made.size() - 1 (face k made from
+// tris[made[k]], its corners' points in the plane's frame `pts`, first axis `u`): a planar UV
+// over the cap's extent, the face normal (`flat_normal`, the plane's oriented as the cap, for a
+// degenerate face), the tangent u, white, and zero morph deltas. The faces are consecutive: so
+// are their corners.
+void set_cap_attributes(const SurfaceMesh& mesh, const CapCorners& arrays, std::uint32_t first,
                         const std::vector<std::uint32_t>& made, const std::vector<glm::dvec2>& pts,
                         const std::vector<geometry::LocalTri>& tris, const glm::vec3& flat_normal,
                         const glm::dvec3& u) {
-  const std::size_t count = made.size();
-  for (std::size_t k = 0; k < count; ++k) cap_flag[faces[k].index] = 1;
-  auto& ca = mesh.corner_attrs();
-  // Face k's three corners in a corner attribute's values.
-  auto corners = [&](auto* values, std::size_t k) { return values + 3 * std::size_t(faces[k].index); };
+  const std::size_t count = made.size(), corner0 = 3 * std::size_t(first);
   auto fill = [&](auto* attribute, const auto& value) {
-    if (!attribute) return;
-    for (std::size_t k = 0; k < count; ++k) std::fill_n(corners(attribute->data().data(), k), 3, value);
+    if (attribute) std::fill_n(attribute->data().data() + corner0, 3 * count, value);
   };
-  if (auto* uv = ca.find<glm::vec2>(attr::kUv0)) {
+  if (arrays.uv) {
     double extent = 0.0;
-    for (const auto& p : pts) extent = std::max({extent, std::abs(p.x), std::abs(p.y)});
+    // std::max({extent, |x|, |y|}) as two std::max: the same comparisons in the same order.
+    for (const auto& p : pts) extent = std::max(std::max(extent, std::abs(p.x)), std::abs(p.y));
     if (extent <= 0.0) extent = 1.0;
-    for (std::size_t k = 0; k < count; ++k) {
-      glm::vec2* out = corners(uv->data().data(), k);
-      for (int j = 0; j < 3; ++j) {
-        const glm::dvec2 p = pts[tris[made[k]][j]];
-        out[j] = glm::vec2(0.5 + 0.5 * p.x / extent, 0.5 + 0.5 * p.y / extent);
-      }
+    // Each point's UV once (a point is a corner of about three faces).
+    std::vector<glm::vec2> at(pts.size());
+    for (std::size_t i = 0; i < pts.size(); ++i)
+      at[i] = glm::vec2(0.5 + 0.5 * pts[i].x / extent, 0.5 + 0.5 * pts[i].y / extent);
+    glm::vec2* out = arrays.uv->data().data() + corner0;
+    for (std::size_t k = 0; k < count; ++k, out += 3) {
+      const geometry::LocalTri& t = tris[made[k]];
+      out[0] = at[t[0]];
+      out[1] = at[t[1]];
+      out[2] = at[t[2]];
     }
   }
-  if (auto* normals = ca.find<glm::vec3>(attr::kNormal)) {
-    const auto& bind = mesh.positions();
-    for (std::size_t k = 0; k < count; ++k) {
-      const Triangle& t = mesh.face(faces[k]);
+  if (arrays.normal) {
+    const glm::vec3* bind = mesh.positions().data();
+    const Triangle* faces = &mesh.face(FaceId(first));
+    glm::vec3* out = arrays.normal->data().data() + corner0;
+    for (std::size_t k = 0; k < count; ++k, out += 3) {
+      const Triangle& t = faces[k];
       glm::vec3 fn = glm::cross(bind[t[1].index] - bind[t[0].index], bind[t[2].index] - bind[t[0].index]);
       const float len = glm::length(fn);
       fn = len > 0.0f ? fn / len : flat_normal;
-      std::fill_n(corners(normals->data().data(), k), 3, fn);
+      out[0] = out[1] = out[2] = fn;
     }
   }
-  fill(ca.find<glm::vec4>(attr::kTangent), glm::vec4(glm::vec3(u), 1.0f));
-  fill(ca.find<glm::vec4>(attr::kColor0), glm::vec4(1.0f));
-  for (auto* d : corner_morph_deltas(mesh)) fill(d, glm::vec3(0.0f));
+  fill(arrays.tangent, glm::vec4(glm::vec3(u), 1.0f));
+  fill(arrays.color, glm::vec4(1.0f));
+  for (auto* d : arrays.deltas) fill(d, glm::vec3(0.0f));
+}
+
+// Flags the cap faces (from `first` to the end of the mesh) attr::kCutSurface, adding the flags
+// when the mesh has none: after the faces, so the array is made at its full size once.
+void flag_cap_faces(SurfaceMesh& mesh, std::uint32_t first) {
+  auto* flags = mesh.face_attrs().find<std::uint8_t>(attr::kCutSurface);
+  if (!flags) flags = &mesh.face_attrs().add<std::uint8_t>(attr::kCutSurface);
+  std::fill(flags->data().begin() + first, flags->data().end(), std::uint8_t(1));
 }
 
 // Whether each of the cap's polygons is a loop of rim edges (no holes) clipped into all of its
-// n - 2 triangles, each with three distinct corners. Clipping a ring of n corners one corner at a
-// time is, whatever the geometry, a triangulation of a disk with that ring as its boundary: the
-// triangles at one corner of the ring form one fan from the rim edge before it to the rim edge
+// n - 2 triangles, each with three distinct corners (`distinct`: the caller looked). Clipping a ring of n
+// corners one corner at a time is, whatever the geometry, a triangulation of a disk with that ring as its
+// boundary: the triangles at one corner of the ring form one fan from the rim edge before it to the rim edge
 // after it.
-bool whole_fans(const CapPlan& plan) {
-  if (plan.holes) return false;
-  for (std::size_t k = 0; k < plan.tris.size(); ++k) {
+bool whole_fans(const CapPlan& plan, bool distinct) {
+  if (plan.holes || !distinct) return false;
+  for (std::size_t k = 0; k < plan.tris.size(); ++k)
     if (plan.tris[k].size() + 2 != plan.rim.loops[plan.polygons.outers[k]].size()) return false;
-    for (const auto& t : plan.tris[k])
-      if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) return false;
-  }
   return true;
 }
 
 // Makes the planned cap of a piece: removes the flat faces it replaces, adds its faces (in the
 // order of its polygons' triangles) with their attributes. Returns whether the cap's faces are
 // whole fans (whole_fans, every triangle made).
-bool make_cap(MeshEditor& editor, const CapInput& in, const CapPlan& plan, std::vector<FaceId>& piece) {
+bool make_cap(MeshEditor& editor, const CapInput& in, const CapPlan& plan, const CapCorners& arrays,
+              std::vector<FaceId>& piece) {
   if (plan.rim.loops.empty()) return true;
   const auto& flat_faces = plan.flat_faces;
   if (!flat_faces.empty()) {
@@ -564,28 +588,27 @@ bool make_cap(MeshEditor& editor, const CapInput& in, const CapPlan& plan, std::
     for (const auto& t : plan.tris) joined.insert(joined.end(), t.begin(), t.end());
   const auto& tris = plan.tris.size() == 1 ? plan.tris[0] : joined;
   // The faces, then each attribute in one pass over them.
-  SurfaceMesh& mesh = editor.mesh();
-  auto* cap_flag = mesh.face_attrs().find<std::uint8_t>(attr::kCutSurface);
-  if (!cap_flag) cap_flag = &mesh.face_attrs().add<std::uint8_t>(attr::kCutSurface);
   std::vector<Triangle> faces;
   std::vector<std::uint32_t> made;  // the triangle of each face made, in order
   faces.reserve(tris.size());
   made.reserve(tris.size());
+  bool distinct = true;  // every triangle has three distinct corners
   for (std::size_t i = 0; i < tris.size(); ++i) {
     const auto& tri = tris[i];
+    distinct = distinct && tri[0] != tri[1] && tri[1] != tri[2] && tri[0] != tri[2];
     const Triangle t = {verts[tri[0]], verts[tri[1]], verts[tri[2]]};
     if (!kept_flat.empty() && repeats_flat(t)) continue;  // that surface is there already
     faces.push_back(t);
     made.push_back(static_cast<std::uint32_t>(i));
   }
   // All in one call: each attribute array grown once.
-  const std::size_t first = piece.size();
   const FaceId first_face = editor.add_faces(faces.data(), faces.size());
-  piece.reserve(piece.size() + faces.size());
-  for (std::uint32_t k = 0; k < faces.size(); ++k) piece.push_back(FaceId(first_face.index + k));
+  const std::size_t listed = piece.size();
+  piece.resize(listed + faces.size());
+  for (std::uint32_t k = 0; k < faces.size(); ++k) piece[listed + k] = FaceId(first_face.index + k);
   const glm::vec3 flat_normal = float(plan.outer_sign) * glm::vec3(in.normal);
-  set_cap_attributes(mesh, *cap_flag, piece.data() + first, made, plan.pts, tris, flat_normal, plan.u);
-  return faces.size() == tris.size() && whole_fans(plan);
+  set_cap_attributes(editor.mesh(), arrays, first_face.index, made, plan.pts, tris, flat_normal, plan.u);
+  return faces.size() == tris.size() && whole_fans(plan, distinct);
 }
 
 // rim_halfedges' last step where no vertex is left by two halfedges (nor reached by the one
@@ -676,13 +699,21 @@ std::vector<std::pair<VertexId, VertexId>> rim_halfedges(const SurfaceMesh& mesh
 
 bool make_caps(MeshEditor& editor, const std::vector<CapInput>& in, std::vector<std::vector<FaceId>>& pieces) {
   std::vector<CapPlan> plans(in.size());
+  bool capped = false;  // some piece has a cap
   for (std::size_t p = 0; p < in.size(); ++p) {
     choose_loops(editor.mesh(), in[p], plans[p]);
     if (!plans[p].rim.loops.empty()) plan_polygons(in[p], plans[p]);
+    capped = capped || !plans[p].rim.loops.empty();
   }
   triangulate_caps(plans);
+  if (!capped) return true;
+  SurfaceMesh& mesh = editor.mesh();
+  const auto first_cap_face = static_cast<std::uint32_t>(mesh.face_slots());
+  const CapCorners arrays(mesh);
   bool whole = true;
-  for (std::size_t p = 0; p < in.size(); ++p) whole = make_cap(editor, in[p], plans[p], pieces[p]) && whole;
+  for (std::size_t p = 0; p < in.size(); ++p)
+    whole = make_cap(editor, in[p], plans[p], arrays, pieces[p]) && whole;
+  flag_cap_faces(mesh, first_cap_face);
   return whole;
 }
 
