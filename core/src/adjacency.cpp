@@ -12,9 +12,10 @@
 namespace deepcut {
 namespace {
 
-// The lists are a vertex's faces: a handful of ids, so the elements after an insertion or a
-// removal are moved one by one (no call out to memmove). A list of `n` ids at `p` (with room for
-// one more on insert); both return the list's new size.
+// The lists are a vertex's faces, sorted by id (the order is the contract: edge_faces intersects
+// two lists, and a rebuild gives the same): a handful of ids, so the elements after an insertion
+// or a removal are moved one by one (no call out to memmove). A list of `n` ids at `p`, with room
+// for one more; returns the list's new size.
 template <class T>
 std::uint32_t insert_sorted(T* p, std::uint32_t n, T value) {
   if (n == 0 || p[n - 1] < value) {  // the common case: a new face, the newest id
@@ -28,15 +29,25 @@ std::uint32_t insert_sorted(T* p, std::uint32_t n, T value) {
   return n + 1;
 }
 
-// Found by a scan from the front: over a handful of ids it costs less than a binary search, and
-// the elements after it are moved one by one anyway.
+// `value` taken out of the sorted list [p, end), the elements after it moved down by one (the
+// last element is then stale: the caller drops it); false when it is not there. Found by a scan
+// from the front, over a handful of ids cheaper than a binary search, which needs no bound: the
+// last element, checked first, is not below `value`. The elements after it are moved one by one
+// from the back, each through a register (a plain forward copy loop the compiler turns into a
+// call to memmove, which costs more for a handful).
 template <class T>
-std::uint32_t erase_sorted(T* p, std::uint32_t n, T value) {
-  std::uint32_t at = 0;
-  while (at < n && p[at] < value) ++at;
-  if (at == n || p[at] != value) return n;
-  for (std::uint32_t i = at + 1; i < n; ++i) p[i - 1] = p[i];
-  return n - 1;
+bool erase_sorted(T* p, T* end, T value) {
+  if (p == end || end[-1] < value) return false;
+  while (*p < value) ++p;
+  if (*p != value) return false;
+  T carry = end[-1];
+  for (T* q = end - 1; q != p;) {
+    --q;
+    const T moved = *q;
+    *q = carry;
+    carry = moved;
+  }
+  return true;
 }
 
 // The same on a vertex's own list (the vertices the build saw).
@@ -45,11 +56,6 @@ void insert_sorted(std::vector<T>& list, T value) {
   const auto n = static_cast<std::uint32_t>(list.size());
   list.push_back(value);  // the room for one more (taken off again where `value` was there)
   list.resize(insert_sorted(list.data(), n, value));
-}
-
-template <class T>
-void erase_sorted(std::vector<T>& list, T value) {
-  list.resize(erase_sorted(list.data(), static_cast<std::uint32_t>(list.size()), value));
 }
 
 // The index of alternative T in Edit.
@@ -116,13 +122,15 @@ void Adjacency::add_face(FaceId f, const Triangle& t) {
 
 void Adjacency::remove_face(FaceId f, const Triangle& t) {
   if (f.index < face_vertices_.size()) face_vertices_[f.index] = Triangle{};
-  for (int k = 0; k < 3; ++k) {
-    const std::uint32_t v = t[k].index;
-    if (v < vertex_faces_.size()) {
-      erase_sorted(vertex_faces_[v], f);
-    } else if (v < vertex_count()) {
-      AddedList& list = added_[v - vertex_faces_.size()];
-      list.size = erase_sorted(added_pool_.data() + list.at, list.size, f);
+  const std::size_t old_vertices = vertex_faces_.size(), vertices = vertex_count();
+  for (const VertexId v : t) {
+    if (v.index < old_vertices) {
+      std::vector<FaceId>& list = vertex_faces_[v.index];
+      if (erase_sorted(list.data(), list.data() + list.size(), f)) list.pop_back();
+    } else if (v.index < vertices) {
+      AddedList& list = added_[v.index - old_vertices];
+      FaceId* p = added_pool_.data() + list.at;
+      if (erase_sorted(p, p + list.size, f)) --list.size;
     }
   }
 }

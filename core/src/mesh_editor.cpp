@@ -2,6 +2,7 @@
 #include "deepcut/core/mesh_editor.h"
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <cmath>
 #include <cstring>
@@ -329,16 +330,6 @@ void blend_influences(const std::uint16_t* joints, const float* weights, const f
     blend_slots<kMaxInfluences>(joints, weights, w, count, out_joints, out_weights);
 }
 
-void MeshEditor::fix_skin_weights(VertexId v, const VertexId* src, const float* w, int count) {
-  if (skin_sets_ == 0) return;
-  if (count < 1 || count > kMaxBlendSources)
-    throw Error(ErrorCode::InvalidArgument,
-                "fix_skin_weights: " + std::to_string(count) + " sources (1 to 3)");
-  std::uint32_t sources[kMaxBlendSources];
-  for (int s = 0; s < count; ++s) sources[s] = src[s].index;
-  fix_skin_run(skin_sets_, joints_, weights_, v.index, sources, w, count, 1);
-}
-
 // `parents` (and `w`) null: each face made from itself, each corner its own alone (remake_moved).
 void MeshEditor::fix_corner_directions(FaceId first, std::size_t count, const std::uint32_t* parents,
                                        const float* w) {
@@ -358,7 +349,15 @@ void MeshEditor::fix_corner_directions(FaceId first, std::size_t count, const st
   unit_tangents(tangents_->data().data(), begin, end, source);
 }
 
-VertexId MeshEditor::add_blended(const std::uint32_t* src, const float* w, int sources, std::size_t count) {
+template <int kSources>
+VertexId MeshEditor::add_blended(const std::uint32_t* src, const float* w, std::size_t count) {
+  // The log entry's slots and the skin blend's room (fix_skin's arrays on the stack).
+  static_assert(kSources >= 1 && kSources <= kMaxBlendSources,
+                "a new vertex blends 1 to kMaxBlendSources vertices");
+  static_assert(std::tuple_size<decltype(VertexAdded::from)>::value == kMaxBlendSources &&
+                    std::tuple_size<decltype(VertexAdded::weight)>::value == kMaxBlendSources,
+                "a VertexAdded entry holds kMaxBlendSources sources");
+  constexpr int sources = kSources;
   const std::size_t nv = mesh_.vertex_count();
 #ifndef NDEBUG
   for (std::size_t i = 0; i < count; ++i)
@@ -399,7 +398,7 @@ VertexId MeshEditor::add_vertices_on_edges(const std::uint32_t* ends, const floa
       w[2 * k] = 1.0f - t[i + k];
       w[2 * k + 1] = t[i + k];
     }
-    add_blended(ends + 2 * i, w, 2, n);
+    add_blended<2>(ends + 2 * i, w, n);
   }
   return VertexId(static_cast<std::uint32_t>(nv));
 }
@@ -408,7 +407,7 @@ VertexId MeshEditor::add_vertex_in_triangle(const Triangle& tri, const glm::vec3
   const std::uint32_t src[3] = {tri[0].index, tri[1].index, tri[2].index};
   const float w[3] = {bary.x, bary.y, bary.z};
   check_blend_sources("add_vertex_in_triangle", src, 3, 1, mesh_.vertex_count());
-  return add_blended(src, w, 3, 1);
+  return add_blended<3>(src, w, 1);
 }
 
 VertexId MeshEditor::split_vertex(VertexId v) { return split_vertices(&v.index, 1); }

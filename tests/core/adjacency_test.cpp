@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: MIT
 #include "deepcut/core/adjacency.h"
 
-#include <random>
-
 #include <gtest/gtest.h>
+
+#include <random>
+#include <string>
+#include <vector>
 
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/mesh_editor.h"
@@ -165,6 +167,50 @@ TEST(AdjacencyTest, added_vertex_lists_grow_shrink_and_copy) {
     a->apply(editor.take_log());
     test::expect_adjacency_matches_rebuild(*a, edited);
   }
+}
+
+// A removal takes the face out of every corner's list wherever it sits (first, middle, last, the
+// only one), for the vertices `build` saw and the ones an edit added, and leaves a list alone
+// where the face is not (the second corner of a face using a vertex twice, listed once): each
+// step's lists equal a rebuild's, in order.
+TEST(AdjacencyTest, removals_anywhere_in_a_list_match_a_rebuild) {
+  SurfaceMesh mesh = test::make_grid(2, 2);  // vertex 4 in the middle: faces 0, 1, 3, 4, 6, 7
+  Adjacency adj = Adjacency::build(mesh);
+  auto edit = [&](auto&& change) {
+    MeshEditor editor(mesh);
+    change(editor);
+    adj.apply(editor.take_log());
+    test::expect_adjacency_matches_rebuild(adj, mesh);
+  };
+  const VertexId mid(4);
+  ASSERT_EQ(adj.vertex_faces(mid).size(), 6u);
+  for (const std::uint32_t f : {7u, 0u, 4u}) {  // last, first, middle
+    SCOPED_TRACE("face " + std::to_string(f));
+    edit([&](MeshEditor& e) { e.remove_face(FaceId(f)); });
+  }
+  // A fold using the middle vertex twice: removed while the newest face there (the second visit
+  // of the vertex sees a list whose last face is below it), then while an older one.
+  FaceId fold;
+  edit([&](MeshEditor& e) { fold = e.add_face({mid, mid, VertexId(5)}); });
+  edit([&](MeshEditor& e) { e.remove_face(fold); });
+  edit([&](MeshEditor& e) {
+    fold = e.add_face({mid, mid, VertexId(5)});
+    e.add_face({mid, VertexId(5), VertexId(2)});
+  });
+  edit([&](MeshEditor& e) { e.remove_face(fold); });
+  // An added vertex's list (the shared pool): its last, first and middle faces, then the rest.
+  VertexId hub;
+  std::vector<FaceId> fan;
+  edit([&](MeshEditor& e) {
+    hub = e.add_vertex_in_triangle(mesh.face(FaceId(2)), glm::vec3(1.0f / 3.0f));
+    for (const std::uint32_t v : {0u, 1u, 2u, 5u, 8u})
+      fan.push_back(e.add_face({hub, VertexId(v), VertexId(v + 1)}));
+  });
+  for (const std::size_t i : {4u, 0u, 2u, 1u, 3u}) {
+    SCOPED_TRACE("fan face " + std::to_string(i));
+    edit([&](MeshEditor& e) { e.remove_face(fan[i]); });
+  }
+  EXPECT_TRUE(adj.vertex_faces(hub).empty());
 }
 
 }  // namespace deepcut

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -252,6 +253,34 @@ TEST(MeshEditorTest, blend_influences_refuses_counts_it_has_no_room_for) {
   EXPECT_THROW(blend_influences(joints, weights, w, 0, 4, out_joints, out_weights), Error);
   blend_influences(joints, weights, w, 1, 4, out_joints, out_weights);
   EXPECT_EQ(out_weights[0], 1.0f);
+}
+
+// A new vertex blends one to kMaxBlendSources sources, the slots of its log entry (the editor's
+// blend takes the count as a constant and refuses more when compiled): an edge split fills two
+// slots and leaves the third empty, a point in a triangle fills all three, in the callers' order.
+TEST(MeshEditorTest, a_new_vertex_logs_its_sources_in_the_entry_slots) {
+  static_assert(std::tuple_size<decltype(VertexAdded::from)>::value == kMaxBlendSources, "one slot a source");
+  SurfaceMesh mesh = skinned_pair({glm::u16vec4{1, 0, 0, 0}, {2, 0, 0, 0}, {3, 0, 0, 0}, {1, 0, 0, 0}},
+                                  {glm::vec4{1, 0, 0, 0}, {1, 0, 0, 0}, {1, 0, 0, 0}, {1, 0, 0, 0}});
+  MeshEditor editor(mesh);
+  const VertexId e = editor.add_vertex_on_edge(VertexId(1), VertexId(0), 0.25f);
+  const VertexId p =
+      editor.add_vertex_in_triangle({VertexId(2), VertexId(0), VertexId(1)}, {0.5f, 0.3f, 0.2f});
+  ASSERT_EQ(editor.log().size(), 2u);
+  const auto& on_edge = std::get<VertexAdded>(editor.log().edits[0]);
+  EXPECT_EQ(on_edge.v, e);
+  EXPECT_EQ(on_edge.from, (std::array<VertexId, 3>{VertexId(1), VertexId(0), VertexId()}));
+  EXPECT_EQ(on_edge.weight, (std::array<float, 3>{0.75f, 0.25f, 0.0f}));
+  const auto& in_triangle = std::get<VertexAdded>(editor.log().edits[1]);
+  EXPECT_EQ(in_triangle.v, p);
+  EXPECT_EQ(in_triangle.from, (std::array<VertexId, 3>{VertexId(2), VertexId(0), VertexId(1)}));
+  EXPECT_EQ(in_triangle.weight, (std::array<float, 3>{0.5f, 0.3f, 0.2f}));
+  // Each blended its own sources' skin: joint 1 at 0.25 on the edge, joints 3, 1, 2 in the triangle.
+  EXPECT_NEAR(weight_of(mesh, e, 1), 0.25f, 1e-6);
+  EXPECT_NEAR(weight_of(mesh, e, 2), 0.75f, 1e-6);
+  EXPECT_NEAR(weight_of(mesh, p, 3), 0.5f, 1e-6);
+  EXPECT_NEAR(weight_of(mesh, p, 1), 0.3f, 1e-6);
+  EXPECT_NEAR(weight_of(mesh, p, 2), 0.2f, 1e-6);
 }
 
 TEST(MeshEditorTest, face_split_interpolates_corner_uvs_in_the_parent_and_keeps_seams) {

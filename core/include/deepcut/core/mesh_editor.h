@@ -112,11 +112,12 @@ class MeshEditor {
   EditLog take_log();
 
  private:
-  // `count` new vertices, vertex i the blend of `sources` vertices src[sources * i + k] with
-  // weights w[sources * i + k] (1 <= sources <= kMaxBlendSources), logged as VertexAdded.
+  // `count` new vertices, vertex i the blend of kSources vertices src[kSources * i + k] with
+  // weights w[kSources * i + k], logged as VertexAdded. kSources is 1 to kMaxBlendSources (the
+  // log entry's slots, the skin blend's room), checked when the call is compiled.
   // @pre every source of vertex i is below vertex_count() + i (the callers check it first).
-  VertexId add_blended(const std::uint32_t* src, const float* w, int sources, std::size_t count);
-  void fix_skin_weights(VertexId v, const VertexId* src, const float* w, int count);
+  template <int kSources>
+  VertexId add_blended(const std::uint32_t* src, const float* w, std::size_t count);
   // Corner normals and tangents of the faces [first, first + count) made from `parents` with
   // corner weights `w` (nine per face).
   void fix_corner_directions(FaceId first, std::size_t count, const std::uint32_t* parents, const float* w);
