@@ -58,7 +58,7 @@ class RimInserter {
   void make_edge_vertices(const std::vector<FaceId>& candidates);
   void merge_crossings(std::size_t c);
   std::size_t judge_faces(const std::vector<FaceId>& candidates);
-  bool bad_shape(const Triangle& t) const;
+  bool bad_shape(const glm::dvec3 corner[3]) const;
   void allow_steiner(const std::vector<FaceId>& candidates);
   void angle_corners(const std::vector<FaceId>& candidates);
   bool deep(const Triangle& t, detail::VertexSlots& judged) const;
@@ -77,10 +77,15 @@ class RimInserter {
   std::uint32_t first_new_ = 0;
   // Edges met so far, sized for the candidates' edges up front (no allocation per edge).
   detail::CrossingTable<EdgeCut> edges_;
-  // Per candidate: all three corners deep inside (CylinderFrame::deep_inside), so the face goes
-  // whole and none of its edges is crossed: it is removed without looking at its edges.
-  std::vector<std::uint8_t> deep_;
-  // Per candidate not deep inside: of bad shape for Steiner points (allow_steiner).
+  // Per candidate: kDeep, all three corners deep inside (CylinderFrame::deep_inside), so the face
+  // goes whole and none of its edges is crossed: it is removed without looking at its edges;
+  // kClear, wholly outside the solid a tolerance clear of it (clear_of_cylinder), so none of its
+  // edges is crossed and it is left as it is, without looking at its edges (an edge it shares
+  // with a crossed face is filed by that face; its sides matter only to a crossed edge); kCut
+  // otherwise, the only candidates with edge records, angles and plans.
+  static constexpr std::uint8_t kCut = 0, kDeep = 1, kClear = 2;
+  std::vector<std::uint8_t> kind_;
+  // Per candidate of kind kCut: of bad shape for Steiner points (allow_steiner).
   std::vector<std::uint8_t> bad_;
   // Per candidate: its edges' records in edges_, looked up once by allow_steiner and read again
   // by merge_crossings and the planning without indexing the table, and its corners' angles
@@ -194,7 +199,7 @@ void RimInserter::make_edge_vertices(const std::vector<FaceId>& candidates) {
   ends.reserve(4 * edges_.size());
   ts.reserve(2 * edges_.size());
   for (std::size_t c = 0; c < candidates.size(); ++c) {
-    if (deep_[c]) continue;
+    if (kind_[c] != kCut) continue;
     for (EdgeCut* const ep : faces_[c].edges) {
       EdgeCut& e = *ep;
       if (e.resolved) continue;
@@ -261,8 +266,7 @@ void RimInserter::merge_crossings(std::size_t c) {
 // A corner of zero length or an angle under kSteinerParentAngle. The angle's acos is taken only
 // where its cosine lies within 1e-9 of the bound's (acos is far more accurate than that margin,
 // so the answer is acos's everywhere).
-bool RimInserter::bad_shape(const Triangle& t) const {
-  const glm::dvec3 corner[3] = {posed_(t[0]), posed_(t[1]), posed_(t[2])};
+bool RimInserter::bad_shape(const glm::dvec3 corner[3]) const {
   // Side k from corner k to corner k + 1 (c - a is -(a - c) exactly: one length per side).
   double side[3];
   for (int k = 0; k < 3; ++k) side[k] = glm::length(corner[(k + 1) % 3] - corner[k]);
@@ -281,22 +285,29 @@ bool RimInserter::bad_shape(const Triangle& t) const {
   return bad;
 }
 
-// Every candidate judged on its own (in parallel chunks): deep inside (deep_) or, if not, of
-// bad shape (bad_). Returns the count of those not deep inside.
+// Every candidate judged on its own (in parallel chunks): its kind (kind_) and, for one of kind
+// kCut, whether it is of bad shape (bad_). Returns the count of those of kind kCut.
 std::size_t RimInserter::judge_faces(const std::vector<FaceId>& candidates) {
   const std::size_t n = candidates.size();
-  deep_.assign(n, 0);
+  kind_.assign(n, kCut);
   bad_.assign(n, 0);
   parallel_for(n, grain_per_thread(n, kJudgeGrain), [&](std::size_t begin, std::size_t end) {
     detail::VertexSlots& judged = detail::VertexSlots::scratch();  // this thread's
     judged.reset(mesh_.vertex_count());
     for (std::size_t c = begin; c < end; ++c) {
       const Triangle& t = mesh_.face(candidates[c]);
-      deep_[c] = deep(t, judged) ? 1 : 0;
-      if (!deep_[c]) bad_[c] = bad_shape(t) ? 1 : 0;
+      if (deep(t, judged)) {
+        kind_[c] = kDeep;
+        continue;
+      }
+      const glm::dvec3 corner[3] = {posed_(t[0]), posed_(t[1]), posed_(t[2])};
+      if (clear_of_cylinder(cyl_, corner))
+        kind_[c] = kClear;
+      else
+        bad_[c] = bad_shape(corner) ? 1 : 0;
     }
   });
-  return static_cast<std::size_t>(std::count(deep_.begin(), deep_.end(), std::uint8_t(0)));
+  return static_cast<std::size_t>(std::count(kind_.begin(), kind_.end(), kCut));
 }
 
 // Steiner points (see cross()) go only on edges between two candidates of good shape (smallest
@@ -309,7 +320,7 @@ void RimInserter::allow_steiner(const std::vector<FaceId>& candidates) {
   // lo -> hi, 16 for hi -> lo, and whether the face is of bad shape. Faces deep inside hold no
   // crossed edge, the only ones asked about.
   for (std::size_t c = 0; c < candidates.size(); ++c) {
-    if (deep_[c]) continue;
+    if (kind_[c] != kCut) continue;
     const Triangle& t = mesh_.face(candidates[c]);
     const bool bad = bad_[c] != 0;
     for (int k = 0; k < 3; ++k) {
@@ -328,7 +339,7 @@ void RimInserter::angle_corners(const std::vector<FaceId>& candidates) {
   detail::VertexSlots& seen = detail::VertexSlots::scratch();  // vertex -> 3 c + k, its first
   seen.reset(mesh_.vertex_count());
   for (std::size_t c = 0; c < candidates.size(); ++c) {
-    if (deep_[c]) continue;
+    if (kind_[c] != kCut) continue;
     CandidateFace& face = faces_[c];
     face.angled = any_piece_inside(face);
     if (!face.angled) continue;
@@ -399,7 +410,7 @@ void RimInserter::plan_faces(const std::vector<FaceId>& candidates) {
     const auto chunk = static_cast<std::uint32_t>(begin / grain);
     FacePlanner planner(shared, (*chunks_)[chunk], chunk);
     for (std::size_t c = begin; c < end; ++c)
-      if (!deep_[c]) planner.plan(c, candidates[c], plans_[c]);
+      if (kind_[c] == kCut) planner.plan(c, candidates[c], plans_[c]);
   });
 }
 
@@ -430,7 +441,7 @@ RimInsertion RimInserter::run(const std::vector<FaceId>& candidates) {
   angle_corners(candidates);
   make_edge_vertices(candidates);
   for (std::size_t c = 0; c < candidates.size(); ++c)
-    if (!deep_[c]) merge_crossings(c);
+    if (kind_[c] == kCut) merge_crossings(c);
   plan_faces(candidates);
   std::size_t planned_tris = 0;  // every face the plans can add (a merged tip's is not)
   bool gaps = false;
@@ -440,7 +451,8 @@ RimInsertion RimInserter::run(const std::vector<FaceId>& candidates) {
   }
   batch_.reserve(planned_tris, candidates.size());
   for (std::size_t c = 0; c < candidates.size(); ++c) {
-    if (!deep_[c]) {
+    if (kind_[c] == kClear) continue;  // left as it is
+    if (kind_[c] == kCut) {
       apply_plan(candidates[c], plans_[c]);
       continue;
     }
