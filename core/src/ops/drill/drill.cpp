@@ -220,8 +220,9 @@ DrillResult run(SurfaceMesh& mesh, const std::vector<glm::vec3>& input_posed, co
   DrillResult result;
   result.first_new_vertex = posed.first_new();
   const std::vector<FaceId> candidates = drill::find_candidates(mesh, cyl, posed, index);
-  drill::snap_shallow_vertices(editor, cyl, posed, candidates);
-  const drill::RimInsertion inserted = drill::insert_rim(editor, cyl, posed, candidates);
+  std::vector<std::uint8_t> deep_corners;  // per candidate (snap_shallow_vertices)
+  drill::snap_shallow_vertices(editor, cyl, posed, candidates, deep_corners);
+  const drill::RimInsertion inserted = drill::insert_rim(editor, cyl, posed, candidates, deep_corners);
   if (editor.log().size() == posed.moved().size()) {  // nothing cut: the snaps go back, the log stays empty
     for (const Edit& e : editor.log().edits)
       if (const auto* mv = std::get_if<VertexMoved>(&e)) mesh.positions()[mv->v.index] = mv->from;

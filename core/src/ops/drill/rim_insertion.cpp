@@ -31,10 +31,7 @@ const double kCosSteinerParent = std::cos(kSteinerParentAngle);  // worked out o
 constexpr std::size_t kPlanGrain = 24;
 // Fewest candidates judged (deep inside, bad shape), and fewest edges crossed, per parallel
 // chunk: a chunk of a few hundred thousand instructions is worth waking a thread for, so a hole
-// of a few hundred faces runs them inline and only bigger ones spread. Judging needs a
-// vertex-sized scratch (VertexSlots) on each thread that takes a chunk: a hole of about a
-// thousand faces (the 1M model's small one has 1.1k candidates) is judged inline, so it grows none
-// on a worker.
+// of a few hundred faces runs them inline and only bigger ones spread.
 constexpr std::size_t kJudgeGrain = 2048;
 constexpr std::size_t kCrossGrain = 512;
 
@@ -50,18 +47,18 @@ class RimInserter {
     first_new_ = posed_.first_new();
   }
 
-  RimInsertion run(const std::vector<FaceId>& candidates);
+  RimInsertion run(const std::vector<FaceId>& candidates, const std::vector<std::uint8_t>& deep_corners);
 
  private:
   void cross(EdgeCut& e, std::uint64_t key) const;
   void cross_edges();
   void make_edge_vertices(const std::vector<FaceId>& candidates);
   void merge_crossings(std::size_t c);
-  std::size_t judge_faces(const std::vector<FaceId>& candidates);
+  std::size_t judge_faces(const std::vector<FaceId>& candidates,
+                          const std::vector<std::uint8_t>& deep_corners);
   bool bad_shape(const glm::dvec3 corner[3]) const;
   void allow_steiner(const std::vector<FaceId>& candidates);
   void angle_corners(const std::vector<FaceId>& candidates);
-  bool deep(const Triangle& t, detail::VertexSlots& judged) const;
   void plan_faces(const std::vector<FaceId>& candidates);
   void apply_plan(FaceId f, const FacePlan& plan);
   unsigned emit_faces(FaceId f, const Triangle& tri, LocalPoint* pts, std::size_t points,
@@ -285,21 +282,21 @@ bool RimInserter::bad_shape(const glm::dvec3 corner[3]) const {
   return bad;
 }
 
-// Every candidate judged on its own (in parallel chunks): its kind (kind_) and, for one of kind
-// kCut, whether it is of bad shape (bad_). Returns the count of those of kind kCut.
-std::size_t RimInserter::judge_faces(const std::vector<FaceId>& candidates) {
+// Every candidate judged on its own (in parallel chunks): its kind (kind_; deep inside when all
+// three of its `deep_corners` are) and, for one of kind kCut, whether it is of bad shape (bad_).
+// Returns the count of those of kind kCut.
+std::size_t RimInserter::judge_faces(const std::vector<FaceId>& candidates,
+                                     const std::vector<std::uint8_t>& deep_corners) {
   const std::size_t n = candidates.size();
   kind_.assign(n, kCut);
   bad_.assign(n, 0);
   parallel_for(n, grain_per_thread(n, kJudgeGrain), [&](std::size_t begin, std::size_t end) {
-    detail::VertexSlots& judged = detail::VertexSlots::scratch();  // this thread's
-    judged.reset(mesh_.vertex_count());
     for (std::size_t c = begin; c < end; ++c) {
-      const Triangle& t = mesh_.face(candidates[c]);
-      if (deep(t, judged)) {
+      if (deep_corners[c] == 7) {
         kind_[c] = kDeep;
         continue;
       }
+      const Triangle& t = mesh_.face(candidates[c]);
       const glm::dvec3 corner[3] = {posed_(t[0]), posed_(t[1]), posed_(t[2])};
       if (clear_of_cylinder(cyl_, corner))
         kind_[c] = kClear;
@@ -378,16 +375,6 @@ unsigned RimInserter::emit_faces(FaceId f, const Triangle& tri, LocalPoint* pts,
   return used;
 }
 
-// All three corners deep inside; `judged` keeps each vertex's answer (1 deep, 0 not).
-bool RimInserter::deep(const Triangle& t, detail::VertexSlots& judged) const {
-  for (const VertexId v : t) {
-    std::uint32_t j = judged.get(v.index);
-    if (j == detail::VertexSlots::kNone) judged.set(v.index, j = deep_vertex(cyl_, posed_, v) ? 1 : 0);
-    if (j == 0) return false;
-  }
-  return true;
-}
-
 // Every candidate that is not deep inside gets its plan, in parallel chunks: a plan reads only
 // the mesh, the posed positions and the crossings made before, so it is the same whatever the
 // chunks or the thread count.
@@ -432,8 +419,9 @@ void RimInserter::apply_plan(FaceId f, const FacePlan& plan) {
     if (!(kept >> k & 1u)) bared_.push_back(tri[k]);
 }
 
-RimInsertion RimInserter::run(const std::vector<FaceId>& candidates) {
-  const std::size_t shallow = judge_faces(candidates);
+RimInsertion RimInserter::run(const std::vector<FaceId>& candidates,
+                              const std::vector<std::uint8_t>& deep_corners) {
+  const std::size_t shallow = judge_faces(candidates, deep_corners);
   edges_.reserve(3 * shallow + 3);  // every edge looked up is a shallow candidate's
   faces_.resize(candidates.size());
   allow_steiner(candidates);
@@ -474,9 +462,10 @@ RimInsertion RimInserter::run(const std::vector<FaceId>& candidates) {
 }  // namespace
 
 RimInsertion insert_rim(MeshEditor& editor, const CylinderFrame& cyl, PosedOverlay& posed,
-                        const std::vector<FaceId>& candidates) {
+                        const std::vector<FaceId>& candidates,
+                        const std::vector<std::uint8_t>& deep_corners) {
   RimInserter inserter(editor, cyl, posed);
-  return inserter.run(candidates);
+  return inserter.run(candidates, deep_corners);
 }
 
 }  // namespace deepcut::drill

@@ -77,14 +77,16 @@ std::vector<FaceId> find_candidates(const SurfaceMesh& mesh, const CylinderFrame
                                     const PosedOverlay& posed, const TriangleGrid& index);
 
 /// Slides old vertices lying a hair from the cylinder's side onto it (VertexMoved edits; their
-/// new posed positions go to `posed`).
+/// new posed positions go to `posed`). Per candidate, `deep_corners` gets bit k set when its
+/// corner k lies deep inside (deep_vertex) once the vertices have slid.
 void snap_shallow_vertices(MeshEditor& editor, const CylinderFrame& cyl, PosedOverlay& posed,
-                           const std::vector<FaceId>& candidates);
+                           const std::vector<FaceId>& candidates, std::vector<std::uint8_t>& deep_corners);
 
 /// Splits the crossed edges of the candidates and re-triangulates the kept part of each one in
-/// its plane (new vertices' posed positions go to `posed`).
+/// its plane (new vertices' posed positions go to `posed`); `deep_corners` as
+/// snap_shallow_vertices gave them.
 RimInsertion insert_rim(MeshEditor& editor, const CylinderFrame& cyl, PosedOverlay& posed,
-                        const std::vector<FaceId>& candidates);
+                        const std::vector<FaceId>& candidates, const std::vector<std::uint8_t>& deep_corners);
 
 /// The rims the edits so far left: boundary half-edges of the new faces (and of candidates left
 /// alone) whose ends lie on the cylinder, chained. `copy_of` maps a pinch-split copy to its
