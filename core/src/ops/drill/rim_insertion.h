@@ -28,20 +28,11 @@ constexpr double kSnapClose = 0.5;
 constexpr geometry::TriangulationRules kRimTriangulation = {geometry::EarSearch::kExhaustive,
                                                             geometry::HoleBridge::kNearestPair};
 
-/// Posed position of `v`: an input vertex farther from the cylinder's side than the snapping
-/// band (snap_shallow_vertices never moves it) is read from the input without searching the
-/// moved ones.
-inline glm::dvec3 posed_of(const CylinderFrame& cyl, const PosedOverlay& posed, VertexId v) {
-  if (v.index < posed.first_new()) {
-    const glm::dvec3 p(posed.input()[v.index]);
-    if (std::abs(cyl.rho(p) - cyl.r) > 2.0 * kSnapBand * cyl.spacing) return p;
-  }
-  return posed(v);
-}
-
-/// True when vertex `v` lies deep inside the cylinder (CylinderFrame::deep_inside).
+/// True when vertex `v` lies deep inside the cylinder (CylinderFrame::deep_inside). Its posed
+/// position is read straight from `posed` (a vertex never moved is found so without searching
+/// the moved ones).
 inline bool deep_vertex(const CylinderFrame& cyl, const PosedOverlay& posed, VertexId v) {
-  return cyl.deep_inside(posed_of(cyl, posed, v));
+  return cyl.deep_inside(posed(v));
 }
 
 /// One rim: a chain of new boundary edges around a hole (DrillHole without the wall's answer).

@@ -76,8 +76,8 @@ std::vector<BandCorner> band_corners(const SurfaceMesh& mesh, const CylinderFram
       const VertexId v = t[k];
       std::uint32_t b = judged.get(v.index);
       if (b == detail::VertexSlots::kNone) {
-        // Nothing has moved: posed_of (deep_vertex) reads the same position, and cyl.sd is this
-        // maximum of the same terms.
+        // As deep_vertex judges it (nothing has moved yet: cyl.sd is this maximum of the same
+        // terms).
         const glm::dvec3 p = posed(v);
         const double sv = cyl.s(p), off = cyl.rho(p) - cyl.r;
         b = (in_band(sv, off) && v.index < posed.first_new() ? 1u : 0u) |

@@ -105,7 +105,7 @@ RimSteps rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFr
     if (v.index >= posed.first_new()) return false;
     std::uint32_t j = judged.get(v.index);
     if (j == detail::VertexSlots::kNone) {
-      j = std::abs(cyl.sd(posed_of(cyl, posed, v))) <= 2.0 * cyl.eps ? 1 : 0;
+      j = std::abs(cyl.sd(posed(v))) <= 2.0 * cyl.eps ? 1 : 0;
       judged.set(v.index, j);
     }
     return j == 1;
