@@ -298,7 +298,8 @@ std::size_t RimInserter::judge_faces(const std::vector<FaceId>& candidates,
       }
       const Triangle& t = mesh_.face(candidates[c]);
       const glm::dvec3 corner[3] = {posed_(t[0]), posed_(t[1]), posed_(t[2])};
-      if (clear_of_cylinder(cyl_, corner))
+      // A face with a corner deep inside is not clear of the cylinder (not tested again).
+      if (deep_corners[c] == 0 && clear_of_cylinder(cyl_, corner))
         kind_[c] = kClear;
       else
         bad_[c] = bad_shape(corner) ? 1 : 0;

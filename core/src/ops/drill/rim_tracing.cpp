@@ -58,9 +58,9 @@ class RimHalfEdges {
 template <class OnRim, class OldOnRim>
 RimHalfEdges file_rim_half_edges(const SurfaceMesh& mesh, const EditLog& log, const std::vector<FaceId>& candidates,
                                  const OnRim& on_rim, const OldOnRim& old_on_rim, RimHalfEdgeList& live) {
-  // Room for a quarter of the edits (the log also holds removed faces, new vertices and moves,
+  // Room for an eighth of the edits (the log also holds removed faces, new vertices and moves,
   // and most added faces have no rim half-edge): enough for most holes without growing.
-  RimHalfEdges filed(log.edits.size() / 4 + 16);
+  RimHalfEdges filed(log.edits.size() / 8 + 16);
   for (const Edit& e : log.edits) {
     if (const auto* fa = std::get_if<FaceAdded>(&e)) {
       const Triangle& t = fa->vertices;
@@ -117,7 +117,7 @@ RimSteps rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFr
   // The live faces' half-edges between two rim vertices, listed while filing, in the order of
   // the added faces' edits and then the candidates.
   RimHalfEdgeList live;
-  live.reserve(log.edits.size() / 4 + 16);  // as file_rim_half_edges' table
+  live.reserve(log.edits.size() / 8 + 16);  // as file_rim_half_edges' table
   const RimHalfEdges filed = file_rim_half_edges(mesh, log, candidates, on_rim, old_on_rim, live);
   for (const auto& [a, b] : live) {
     if (filed.has(b, a, RimHalfEdges::kAdded | RimHalfEdges::kUntouched)) continue;
