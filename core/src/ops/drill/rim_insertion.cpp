@@ -423,7 +423,9 @@ void RimInserter::apply_plan(FaceId f, const FacePlan& plan) {
 RimInsertion RimInserter::run(const std::vector<FaceId>& candidates,
                               const std::vector<std::uint8_t>& deep_corners) {
   const std::size_t shallow = judge_faces(candidates, deep_corners);
-  edges_.reserve(3 * shallow + 3);  // every edge looked up is a shallow candidate's
+  // Every edge looked up is a candidate's of kind kCut: about two per such face (most of their
+  // edges are shared by two of them); the table grows when a hole needs more.
+  edges_.reserve(2 * shallow + 16);
   faces_.resize(candidates.size());
   allow_steiner(candidates);
   cross_edges();

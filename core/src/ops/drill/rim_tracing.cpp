@@ -126,9 +126,14 @@ RimSteps rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFr
       continue;
     rim_next.emplace_back(a.index, b.index);
   }
-  std::stable_sort(rim_next.begin(), rim_next.end(),
-                   [](const auto& x, const auto& y) { return x.first < y.first; });
-  return rim_next;
+  // Grouped by `from`, each group in discovery order: sorted by (from, discovery index) as one
+  // 64-bit key per step (a plain sort of integers, where a stable sort of the pairs merges).
+  std::vector<std::uint64_t> order(rim_next.size());
+  for (std::size_t i = 0; i < rim_next.size(); ++i) order[i] = std::uint64_t(rim_next[i].first) << 32 | i;
+  std::sort(order.begin(), order.end());
+  RimSteps sorted(rim_next.size());
+  for (std::size_t i = 0; i < order.size(); ++i) sorted[i] = rim_next[static_cast<std::uint32_t>(order[i])];
+  return sorted;
 }
 
 // Turns of a closed rim around the axis.
