@@ -60,7 +60,7 @@ class RimInserter {
   void allow_steiner(const std::vector<FaceId>& candidates);
   void angle_corners(const std::vector<FaceId>& candidates);
   void plan_faces(const std::vector<FaceId>& candidates);
-  void apply_plan(FaceId f, const FacePlan& plan);
+  void apply_plan(FaceId f, const FacePlan& plan, std::uint8_t deep_corners);
   unsigned emit_faces(FaceId f, const Triangle& tri, LocalPoint* pts, std::size_t points,
                       const geometry::LocalTri* tris, std::size_t count);
   VertexId vertex_of(const Triangle& tri, LocalPoint& lp);
@@ -403,8 +403,9 @@ void RimInserter::plan_faces(const std::vector<FaceId>& candidates) {
 }
 
 // Removes the candidate and adds its kept parts, as its plan says; a removed candidate's corners
-// that none of its kept parts' faces use are bared (RimInsertion::bared).
-void RimInserter::apply_plan(FaceId f, const FacePlan& plan) {
+// that none of its kept parts' faces use are bared (RimInsertion::bared) unless they lie deep
+// inside (bit k of `deep_corners` for corner k).
+void RimInserter::apply_plan(FaceId f, const FacePlan& plan, std::uint8_t deep_corners) {
   if (!plan.remove) return;  // left as it is (a plan with kept parts removes the candidate)
   batch_.remove(f);
   ++removed_;
@@ -417,7 +418,7 @@ void RimInserter::apply_plan(FaceId f, const FacePlan& plan) {
                        poly.tris);
   }
   for (int k = 0; k < 3; ++k)
-    if (!(kept >> k & 1u)) bared_.push_back(tri[k]);
+    if (!((kept | deep_corners) >> k & 1u)) bared_.push_back(tri[k]);
 }
 
 RimInsertion RimInserter::run(const std::vector<FaceId>& candidates,
@@ -444,7 +445,7 @@ RimInsertion RimInserter::run(const std::vector<FaceId>& candidates,
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     if (kind_[c] == kClear) continue;  // left as it is
     if (kind_[c] == kCut) {
-      apply_plan(candidates[c], plans_[c]);
+      apply_plan(candidates[c], plans_[c], deep_corners[c]);
       continue;
     }
     batch_.remove(candidates[c]);  // what the plan of a face inside says

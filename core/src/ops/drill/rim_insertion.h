@@ -49,8 +49,8 @@ struct RimInsertion {
   /// Mesh edges the cylinder crossed (each split once).
   std::size_t crossings = 0;
   std::size_t removed = 0, added = 0;
-  /// The corners of the planned candidates (those not deep inside) that were removed and that
-  /// none of their kept parts' faces use: corners inside the cylinder, and those of a candidate
+  /// The corners not deep inside (deep_vertex) of the planned candidates that were removed and
+  /// that none of their kept parts' faces use: corners inside the cylinder, and those of a candidate
   /// removed whole (within the tolerance, or degenerate). In candidate order, a corner once per
   /// candidate: off the rim, the only old vertices whose fans the insertion can part (drill.cpp).
   std::vector<VertexId> bared;
