@@ -152,7 +152,7 @@ detail::PinchSplits split_pinches(MeshEditor& editor, drill::PosedOverlay& posed
 
 // The vertices the rim insertion can have pinched (without walls): those on the rims just
 // traced, and the corners it bared (RimInsertion::bared: no face added for a removed candidate
-// uses them) not deep inside. Elsewhere no fan is parted: an old vertex off the cylinder keeps
+// uses them, none deep inside). Elsewhere no fan is parted: an old vertex off the cylinder keeps
 // every face around it, each as a kept part holding that corner and the first pieces of its two
 // edges there, and the kept parts on either side of an edge split its pieces alike (one set of
 // crossings and Steiner points per edge; a needle's merged crossings are merged in both), so
@@ -161,13 +161,10 @@ detail::PinchSplits split_pinches(MeshEditor& editor, drill::PosedOverlay& posed
 // a vertex whose faces part leaves boundary edges there, and on the cylinder those are rim. As
 // the cut, the drill mends the pinches it makes, not those the input had.
 std::vector<VertexId> rim_pinch_candidates(const std::vector<drill::Rim>& rims,
-                                           const std::vector<VertexId>& bared,
-                                           const drill::CylinderFrame& cyl,
-                                           const drill::PosedOverlay& posed) {
+                                           const std::vector<VertexId>& bared) {
   std::vector<VertexId> out;
   for (const drill::Rim& rim : rims) out.insert(out.end(), rim.vertices.begin(), rim.vertices.end());
-  for (const VertexId v : bared)
-    if (!drill::deep_vertex(cyl, posed, v)) out.push_back(v);
+  out.insert(out.end(), bared.begin(), bared.end());
   detail::sort_unique_ids(out);
   return out;
 }
@@ -198,7 +195,7 @@ std::vector<drill::Rim> split_and_trace(MeshEditor& editor, const drill::Cylinde
                                         const TriangleGrid& index, const drill::RimInsertion& inserted) {
   const SurfaceMesh& mesh = editor.mesh();
   std::vector<drill::Rim> rims = drill::trace_rims(mesh, editor.log(), cyl, posed, candidates, {});
-  std::vector<VertexId> touched = rim_pinch_candidates(rims, inserted.bared, cyl, posed);
+  std::vector<VertexId> touched = rim_pinch_candidates(rims, inserted.bared);
   {
     std::vector<VertexId> old_ones =
         old_pinch_candidates(touched, posed.first_new(), inserted.merged || inserted.gaps);
@@ -220,8 +217,9 @@ DrillResult run(SurfaceMesh& mesh, const std::vector<glm::vec3>& input_posed, co
   DrillResult result;
   result.first_new_vertex = posed.first_new();
   const std::vector<FaceId> candidates = drill::find_candidates(mesh, cyl, posed, index);
-  drill::snap_shallow_vertices(editor, cyl, posed, candidates);
-  const drill::RimInsertion inserted = drill::insert_rim(editor, cyl, posed, candidates);
+  std::vector<std::uint8_t> deep_corners;  // per candidate (snap_shallow_vertices)
+  drill::snap_shallow_vertices(editor, cyl, posed, candidates, deep_corners);
+  const drill::RimInsertion inserted = drill::insert_rim(editor, cyl, posed, candidates, deep_corners);
   if (editor.log().size() == posed.moved().size()) {  // nothing cut: the snaps go back, the log stays empty
     for (const Edit& e : editor.log().edits)
       if (const auto* mv = std::get_if<VertexMoved>(&e)) mesh.positions()[mv->v.index] = mv->from;

@@ -40,6 +40,8 @@ int quad_ear(const glm::dvec2 q[4]) {
   return best;
 }
 
+}  // namespace
+
 // Whether the triangle with corners `p` lies wholly outside the solid cylinder, a tolerance
 // clear of it: beyond one end plane, or beyond the line tangent to the cylinder across the
 // corners' mean direction from the axis (every corner farther than r + eps along it). Then no
@@ -57,8 +59,6 @@ bool clear_of_cylinder(const CylinderFrame& cyl, const glm::dvec3 p[3]) {
   const double beyond = cyl.r + cyl.eps;
   return glm::dot(m[0], e) > beyond && glm::dot(m[1], e) > beyond && glm::dot(m[2], e) > beyond;
 }
-
-}  // namespace
 
 bool quad_triangles(const glm::dvec2 q[4], std::array<geometry::LocalTri, 2>& out) {
   const int i = quad_ear(q);
@@ -91,10 +91,8 @@ void FacePlanner::plan(std::size_t c, FaceId f, FacePlan& plan) {
   const glm::dvec3 corner[3] = {s_.posed(tri[0]), s_.posed(tri[1]), s_.posed(tri[2])};
   // A face with no piece of an edge inside keeps all of itself but a hole wholly inside it: its
   // boundary is worked out only for such a hole (most of those candidates are beside the rim).
+  // A face clear of the cylinder (clear_of_cylinder) is not planned: none is cut there.
   const bool any_inside = any_piece_inside(*cur_);
-  // Without a piece of an edge inside, only a hole wholly inside the triangle can be cut (its
-  // centre inside the triangle, below): none where the triangle lies clear of the cylinder.
-  if (!any_inside && clear_of_cylinder(s_.cyl, corner)) return;
   if (any_inside && boundary(tri, corner)) {  // all inside
     plan_->remove = 1;
     return;

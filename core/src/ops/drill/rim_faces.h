@@ -206,6 +206,10 @@ struct PlanScratch {
   }
 };
 
+/// Whether the triangle with posed corners `p` lies wholly outside the solid cylinder, a
+/// tolerance clear of it (then none of its edges is crossed and no hole lies inside it).
+bool clear_of_cylinder(const CylinderFrame& cyl, const glm::dvec3 p[3]);
+
 /// The triangles of the quad 0-1-2-3 over `q` (counter-clockwise) as the general path of a kept
 /// part makes them (ear clipping by kRimTriangulation, then Lawson flips: FlipTriangulation), in
 /// the same order with the same first corners, worked out without the general path's lists (most
@@ -220,7 +224,7 @@ class FacePlanner {
   FacePlanner(const RimShared& shared, PlanChunk& out, std::uint32_t chunk)
       : s_(shared), out_(out), chunk_(chunk), w_(PlanScratch::local()) {}
 
-  /// The plan for candidate `c` (face `f`, not deep inside).
+  /// The plan for candidate `c` (face `f`, neither deep inside nor clear of the cylinder).
   void plan(std::size_t c, FaceId f, FacePlan& plan);
 
  private:

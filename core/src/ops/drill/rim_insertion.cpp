@@ -31,10 +31,7 @@ const double kCosSteinerParent = std::cos(kSteinerParentAngle);  // worked out o
 constexpr std::size_t kPlanGrain = 24;
 // Fewest candidates judged (deep inside, bad shape), and fewest edges crossed, per parallel
 // chunk: a chunk of a few hundred thousand instructions is worth waking a thread for, so a hole
-// of a few hundred faces runs them inline and only bigger ones spread. Judging needs a
-// vertex-sized scratch (VertexSlots) on each thread that takes a chunk: a hole of about a
-// thousand faces (the 1M model's small one has 1.1k candidates) is judged inline, so it grows none
-// on a worker.
+// of a few hundred faces runs them inline and only bigger ones spread.
 constexpr std::size_t kJudgeGrain = 2048;
 constexpr std::size_t kCrossGrain = 512;
 
@@ -50,20 +47,20 @@ class RimInserter {
     first_new_ = posed_.first_new();
   }
 
-  RimInsertion run(const std::vector<FaceId>& candidates);
+  RimInsertion run(const std::vector<FaceId>& candidates, const std::vector<std::uint8_t>& deep_corners);
 
  private:
   void cross(EdgeCut& e, std::uint64_t key) const;
   void cross_edges();
   void make_edge_vertices(const std::vector<FaceId>& candidates);
   void merge_crossings(std::size_t c);
-  std::size_t judge_faces(const std::vector<FaceId>& candidates);
-  bool bad_shape(const Triangle& t) const;
+  std::size_t judge_faces(const std::vector<FaceId>& candidates,
+                          const std::vector<std::uint8_t>& deep_corners);
+  bool bad_shape(const glm::dvec3 corner[3]) const;
   void allow_steiner(const std::vector<FaceId>& candidates);
   void angle_corners(const std::vector<FaceId>& candidates);
-  bool deep(const Triangle& t, detail::VertexSlots& judged) const;
   void plan_faces(const std::vector<FaceId>& candidates);
-  void apply_plan(FaceId f, const FacePlan& plan);
+  void apply_plan(FaceId f, const FacePlan& plan, std::uint8_t deep_corners);
   unsigned emit_faces(FaceId f, const Triangle& tri, LocalPoint* pts, std::size_t points,
                       const geometry::LocalTri* tris, std::size_t count);
   VertexId vertex_of(const Triangle& tri, LocalPoint& lp);
@@ -77,10 +74,15 @@ class RimInserter {
   std::uint32_t first_new_ = 0;
   // Edges met so far, sized for the candidates' edges up front (no allocation per edge).
   detail::CrossingTable<EdgeCut> edges_;
-  // Per candidate: all three corners deep inside (CylinderFrame::deep_inside), so the face goes
-  // whole and none of its edges is crossed: it is removed without looking at its edges.
-  std::vector<std::uint8_t> deep_;
-  // Per candidate not deep inside: of bad shape for Steiner points (allow_steiner).
+  // Per candidate: kDeep, all three corners deep inside (CylinderFrame::deep_inside), so the face
+  // goes whole and none of its edges is crossed: it is removed without looking at its edges;
+  // kClear, wholly outside the solid a tolerance clear of it (clear_of_cylinder), so none of its
+  // edges is crossed and it is left as it is, without looking at its edges (an edge it shares
+  // with a crossed face is filed by that face; its sides matter only to a crossed edge); kCut
+  // otherwise, the only candidates with edge records, angles and plans.
+  static constexpr std::uint8_t kCut = 0, kDeep = 1, kClear = 2;
+  std::vector<std::uint8_t> kind_;
+  // Per candidate of kind kCut: of bad shape for Steiner points (allow_steiner).
   std::vector<std::uint8_t> bad_;
   // Per candidate: its edges' records in edges_, looked up once by allow_steiner and read again
   // by merge_crossings and the planning without indexing the table, and its corners' angles
@@ -194,7 +196,7 @@ void RimInserter::make_edge_vertices(const std::vector<FaceId>& candidates) {
   ends.reserve(4 * edges_.size());
   ts.reserve(2 * edges_.size());
   for (std::size_t c = 0; c < candidates.size(); ++c) {
-    if (deep_[c]) continue;
+    if (kind_[c] != kCut) continue;
     for (EdgeCut* const ep : faces_[c].edges) {
       EdgeCut& e = *ep;
       if (e.resolved) continue;
@@ -261,8 +263,7 @@ void RimInserter::merge_crossings(std::size_t c) {
 // A corner of zero length or an angle under kSteinerParentAngle. The angle's acos is taken only
 // where its cosine lies within 1e-9 of the bound's (acos is far more accurate than that margin,
 // so the answer is acos's everywhere).
-bool RimInserter::bad_shape(const Triangle& t) const {
-  const glm::dvec3 corner[3] = {posed_(t[0]), posed_(t[1]), posed_(t[2])};
+bool RimInserter::bad_shape(const glm::dvec3 corner[3]) const {
   // Side k from corner k to corner k + 1 (c - a is -(a - c) exactly: one length per side).
   double side[3];
   for (int k = 0; k < 3; ++k) side[k] = glm::length(corner[(k + 1) % 3] - corner[k]);
@@ -281,22 +282,30 @@ bool RimInserter::bad_shape(const Triangle& t) const {
   return bad;
 }
 
-// Every candidate judged on its own (in parallel chunks): deep inside (deep_) or, if not, of
-// bad shape (bad_). Returns the count of those not deep inside.
-std::size_t RimInserter::judge_faces(const std::vector<FaceId>& candidates) {
+// Every candidate judged on its own (in parallel chunks): its kind (kind_; deep inside when all
+// three of its `deep_corners` are) and, for one of kind kCut, whether it is of bad shape (bad_).
+// Returns the count of those of kind kCut.
+std::size_t RimInserter::judge_faces(const std::vector<FaceId>& candidates,
+                                     const std::vector<std::uint8_t>& deep_corners) {
   const std::size_t n = candidates.size();
-  deep_.assign(n, 0);
+  kind_.assign(n, kCut);
   bad_.assign(n, 0);
   parallel_for(n, grain_per_thread(n, kJudgeGrain), [&](std::size_t begin, std::size_t end) {
-    detail::VertexSlots& judged = detail::VertexSlots::scratch();  // this thread's
-    judged.reset(mesh_.vertex_count());
     for (std::size_t c = begin; c < end; ++c) {
+      if (deep_corners[c] == 7) {
+        kind_[c] = kDeep;
+        continue;
+      }
       const Triangle& t = mesh_.face(candidates[c]);
-      deep_[c] = deep(t, judged) ? 1 : 0;
-      if (!deep_[c]) bad_[c] = bad_shape(t) ? 1 : 0;
+      const glm::dvec3 corner[3] = {posed_(t[0]), posed_(t[1]), posed_(t[2])};
+      // A face with a corner deep inside is not clear of the cylinder (not tested again).
+      if (deep_corners[c] == 0 && clear_of_cylinder(cyl_, corner))
+        kind_[c] = kClear;
+      else
+        bad_[c] = bad_shape(corner) ? 1 : 0;
     }
   });
-  return static_cast<std::size_t>(std::count(deep_.begin(), deep_.end(), std::uint8_t(0)));
+  return static_cast<std::size_t>(std::count(kind_.begin(), kind_.end(), kCut));
 }
 
 // Steiner points (see cross()) go only on edges between two candidates of good shape (smallest
@@ -309,7 +318,7 @@ void RimInserter::allow_steiner(const std::vector<FaceId>& candidates) {
   // lo -> hi, 16 for hi -> lo, and whether the face is of bad shape. Faces deep inside hold no
   // crossed edge, the only ones asked about.
   for (std::size_t c = 0; c < candidates.size(); ++c) {
-    if (deep_[c]) continue;
+    if (kind_[c] != kCut) continue;
     const Triangle& t = mesh_.face(candidates[c]);
     const bool bad = bad_[c] != 0;
     for (int k = 0; k < 3; ++k) {
@@ -328,7 +337,7 @@ void RimInserter::angle_corners(const std::vector<FaceId>& candidates) {
   detail::VertexSlots& seen = detail::VertexSlots::scratch();  // vertex -> 3 c + k, its first
   seen.reset(mesh_.vertex_count());
   for (std::size_t c = 0; c < candidates.size(); ++c) {
-    if (deep_[c]) continue;
+    if (kind_[c] != kCut) continue;
     CandidateFace& face = faces_[c];
     face.angled = any_piece_inside(face);
     if (!face.angled) continue;
@@ -367,16 +376,6 @@ unsigned RimInserter::emit_faces(FaceId f, const Triangle& tri, LocalPoint* pts,
   return used;
 }
 
-// All three corners deep inside; `judged` keeps each vertex's answer (1 deep, 0 not).
-bool RimInserter::deep(const Triangle& t, detail::VertexSlots& judged) const {
-  for (const VertexId v : t) {
-    std::uint32_t j = judged.get(v.index);
-    if (j == detail::VertexSlots::kNone) judged.set(v.index, j = deep_vertex(cyl_, posed_, v) ? 1 : 0);
-    if (j == 0) return false;
-  }
-  return true;
-}
-
 // Every candidate that is not deep inside gets its plan, in parallel chunks: a plan reads only
 // the mesh, the posed positions and the crossings made before, so it is the same whatever the
 // chunks or the thread count.
@@ -399,13 +398,14 @@ void RimInserter::plan_faces(const std::vector<FaceId>& candidates) {
     const auto chunk = static_cast<std::uint32_t>(begin / grain);
     FacePlanner planner(shared, (*chunks_)[chunk], chunk);
     for (std::size_t c = begin; c < end; ++c)
-      if (!deep_[c]) planner.plan(c, candidates[c], plans_[c]);
+      if (kind_[c] == kCut) planner.plan(c, candidates[c], plans_[c]);
   });
 }
 
 // Removes the candidate and adds its kept parts, as its plan says; a removed candidate's corners
-// that none of its kept parts' faces use are bared (RimInsertion::bared).
-void RimInserter::apply_plan(FaceId f, const FacePlan& plan) {
+// that none of its kept parts' faces use are bared (RimInsertion::bared) unless they lie deep
+// inside (bit k of `deep_corners` for corner k).
+void RimInserter::apply_plan(FaceId f, const FacePlan& plan, std::uint8_t deep_corners) {
   if (!plan.remove) return;  // left as it is (a plan with kept parts removes the candidate)
   batch_.remove(f);
   ++removed_;
@@ -418,19 +418,22 @@ void RimInserter::apply_plan(FaceId f, const FacePlan& plan) {
                        poly.tris);
   }
   for (int k = 0; k < 3; ++k)
-    if (!(kept >> k & 1u)) bared_.push_back(tri[k]);
+    if (!((kept | deep_corners) >> k & 1u)) bared_.push_back(tri[k]);
 }
 
-RimInsertion RimInserter::run(const std::vector<FaceId>& candidates) {
-  const std::size_t shallow = judge_faces(candidates);
-  edges_.reserve(3 * shallow + 3);  // every edge looked up is a shallow candidate's
+RimInsertion RimInserter::run(const std::vector<FaceId>& candidates,
+                              const std::vector<std::uint8_t>& deep_corners) {
+  const std::size_t shallow = judge_faces(candidates, deep_corners);
+  // Every edge looked up is a candidate's of kind kCut: about two per such face (most of their
+  // edges are shared by two of them); the table grows when a hole needs more.
+  edges_.reserve(2 * shallow + 16);
   faces_.resize(candidates.size());
   allow_steiner(candidates);
   cross_edges();
   angle_corners(candidates);
   make_edge_vertices(candidates);
   for (std::size_t c = 0; c < candidates.size(); ++c)
-    if (!deep_[c]) merge_crossings(c);
+    if (kind_[c] == kCut) merge_crossings(c);
   plan_faces(candidates);
   std::size_t planned_tris = 0;  // every face the plans can add (a merged tip's is not)
   bool gaps = false;
@@ -440,8 +443,9 @@ RimInsertion RimInserter::run(const std::vector<FaceId>& candidates) {
   }
   batch_.reserve(planned_tris, candidates.size());
   for (std::size_t c = 0; c < candidates.size(); ++c) {
-    if (!deep_[c]) {
-      apply_plan(candidates[c], plans_[c]);
+    if (kind_[c] == kClear) continue;  // left as it is
+    if (kind_[c] == kCut) {
+      apply_plan(candidates[c], plans_[c], deep_corners[c]);
       continue;
     }
     batch_.remove(candidates[c]);  // what the plan of a face inside says
@@ -462,9 +466,10 @@ RimInsertion RimInserter::run(const std::vector<FaceId>& candidates) {
 }  // namespace
 
 RimInsertion insert_rim(MeshEditor& editor, const CylinderFrame& cyl, PosedOverlay& posed,
-                        const std::vector<FaceId>& candidates) {
+                        const std::vector<FaceId>& candidates,
+                        const std::vector<std::uint8_t>& deep_corners) {
   RimInserter inserter(editor, cyl, posed);
-  return inserter.run(candidates);
+  return inserter.run(candidates, deep_corners);
 }
 
 }  // namespace deepcut::drill

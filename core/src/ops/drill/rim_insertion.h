@@ -28,20 +28,11 @@ constexpr double kSnapClose = 0.5;
 constexpr geometry::TriangulationRules kRimTriangulation = {geometry::EarSearch::kExhaustive,
                                                             geometry::HoleBridge::kNearestPair};
 
-/// Posed position of `v`: an input vertex farther from the cylinder's side than the snapping
-/// band (snap_shallow_vertices never moves it) is read from the input without searching the
-/// moved ones.
-inline glm::dvec3 posed_of(const CylinderFrame& cyl, const PosedOverlay& posed, VertexId v) {
-  if (v.index < posed.first_new()) {
-    const glm::dvec3 p(posed.input()[v.index]);
-    if (std::abs(cyl.rho(p) - cyl.r) > 2.0 * kSnapBand * cyl.spacing) return p;
-  }
-  return posed(v);
-}
-
-/// True when vertex `v` lies deep inside the cylinder (CylinderFrame::deep_inside).
+/// True when vertex `v` lies deep inside the cylinder (CylinderFrame::deep_inside). Its posed
+/// position is read straight from `posed` (a vertex never moved is found so without searching
+/// the moved ones).
 inline bool deep_vertex(const CylinderFrame& cyl, const PosedOverlay& posed, VertexId v) {
-  return cyl.deep_inside(posed_of(cyl, posed, v));
+  return cyl.deep_inside(posed(v));
 }
 
 /// One rim: a chain of new boundary edges around a hole (DrillHole without the wall's answer).
@@ -58,8 +49,8 @@ struct RimInsertion {
   /// Mesh edges the cylinder crossed (each split once).
   std::size_t crossings = 0;
   std::size_t removed = 0, added = 0;
-  /// The corners of the planned candidates (those not deep inside) that were removed and that
-  /// none of their kept parts' faces use: corners inside the cylinder, and those of a candidate
+  /// The corners not deep inside (deep_vertex) of the planned candidates that were removed and
+  /// that none of their kept parts' faces use: corners inside the cylinder, and those of a candidate
   /// removed whole (within the tolerance, or degenerate). In candidate order, a corner once per
   /// candidate: off the rim, the only old vertices whose fans the insertion can part (drill.cpp).
   std::vector<VertexId> bared;
@@ -77,14 +68,16 @@ std::vector<FaceId> find_candidates(const SurfaceMesh& mesh, const CylinderFrame
                                     const PosedOverlay& posed, const TriangleGrid& index);
 
 /// Slides old vertices lying a hair from the cylinder's side onto it (VertexMoved edits; their
-/// new posed positions go to `posed`).
+/// new posed positions go to `posed`). Per candidate, `deep_corners` gets bit k set when its
+/// corner k lies deep inside (deep_vertex) once the vertices have slid.
 void snap_shallow_vertices(MeshEditor& editor, const CylinderFrame& cyl, PosedOverlay& posed,
-                           const std::vector<FaceId>& candidates);
+                           const std::vector<FaceId>& candidates, std::vector<std::uint8_t>& deep_corners);
 
 /// Splits the crossed edges of the candidates and re-triangulates the kept part of each one in
-/// its plane (new vertices' posed positions go to `posed`).
+/// its plane (new vertices' posed positions go to `posed`); `deep_corners` as
+/// snap_shallow_vertices gave them.
 RimInsertion insert_rim(MeshEditor& editor, const CylinderFrame& cyl, PosedOverlay& posed,
-                        const std::vector<FaceId>& candidates);
+                        const std::vector<FaceId>& candidates, const std::vector<std::uint8_t>& deep_corners);
 
 /// The rims the edits so far left: boundary half-edges of the new faces (and of candidates left
 /// alone) whose ends lie on the cylinder, chained. `copy_of` maps a pinch-split copy to its

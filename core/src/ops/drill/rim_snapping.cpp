@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
+#include <tuple>
 
 #include "deepcut/core/parallel.h"
 #include "ops/common/vertex_slots.h"
@@ -49,6 +51,219 @@ std::vector<FaceId> find_candidates(const SurfaceMesh& mesh, const CylinderFrame
   return candidates;
 }
 
+namespace {
+
+// A corner of a candidate at an old vertex within the snapping band: (vertex, face, candidate),
+// sorted by vertex then face (the face decides the order of the sums over a vertex's faces).
+using BandCorner = std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>;
+
+// The corners of the candidates at old vertices within kSnapBand rim spacings of the side and
+// between the ends (`in_band`), sorted, and per candidate (`deep_corners`) bit k set when its
+// corner k lies deep inside (deep_vertex, before any vertex moves). Each vertex judged once.
+template <class InBand>
+std::vector<BandCorner> band_corners(const SurfaceMesh& mesh, const CylinderFrame& cyl,
+                                     const PosedOverlay& posed, const std::vector<FaceId>& candidates,
+                                     const InBand& in_band, std::vector<std::uint8_t>& deep_corners) {
+  std::vector<BandCorner> corners;
+  deep_corners.assign(candidates.size(), 0);
+  detail::VertexSlots& judged = detail::VertexSlots::scratch();  // each vertex: bit 0 in the band, bit 1 deep
+  judged.reset(posed.first_new());
+  for (std::size_t c = 0; c < candidates.size(); ++c) {
+    const FaceId f = candidates[c];
+    const Triangle& t = mesh.face(f);
+    std::uint8_t deep = 0;
+    for (int k = 0; k < 3; ++k) {
+      const VertexId v = t[k];
+      std::uint32_t b = judged.get(v.index);
+      if (b == detail::VertexSlots::kNone) {
+        // As deep_vertex judges it (nothing has moved yet: cyl.sd is this maximum of the same
+        // terms).
+        const glm::dvec3 p = posed(v);
+        const double sv = cyl.s(p), off = cyl.rho(p) - cyl.r;
+        b = (in_band(sv, off) && v.index < posed.first_new() ? 1u : 0u) |
+            (std::max({off, -sv, sv - cyl.len}) < -2.0 * cyl.eps ? 2u : 0u);
+        if (v.index < posed.first_new()) judged.set(v.index, b);
+      }
+      if (b & 1u) corners.emplace_back(v.index, f.index, static_cast<std::uint32_t>(c));
+      if (b & 2u) deep |= static_cast<std::uint8_t>(1u << k);
+    }
+    deep_corners[c] = deep;
+  }
+  std::sort(corners.begin(), corners.end());
+  return corners;
+}
+
+// Where the snapping slides an old vertex: its new posed and bind positions.
+struct Slide {
+  glm::dvec3 target;
+  glm::vec3 moved;
+};
+
+// Slides old vertices a hair from the cylinder's side onto it (snap_shallow_vertices), one at a
+// time in vertex order.
+class Snapper {
+ public:
+  Snapper(MeshEditor& editor, const CylinderFrame& cyl, PosedOverlay& posed)
+      : mesh_(editor.mesh()), editor_(editor), cyl_(cyl), posed_(posed) {
+    spacing_ = 2.0 * cyl.r * std::sin(geometry::kPi / cyl.samples);
+    band_ = kSnapBand * spacing_;
+    close_ = kSnapClose * spacing_;
+  }
+  void run(const std::vector<FaceId>& candidates, std::vector<std::uint8_t>& deep_corners);
+
+ private:
+  bool on_border(VertexId x, const BandCorner* first, const BandCorner* last);
+  bool two_near(const glm::dvec3& p) const;
+  std::optional<Slide> slide(VertexId x, const BandCorner* first, const BandCorner* last) const;
+  bool keeps_faces(VertexId x, const Slide& s, const BandCorner* first, const BandCorner* last) const;
+
+  const SurfaceMesh& mesh_;
+  MeshEditor& editor_;
+  const CylinderFrame& cyl_;
+  PosedOverlay& posed_;
+  double spacing_ = 0.0, band_ = 0.0, close_ = 0.0;
+  std::vector<VertexId> ring_;                   // x's neighbours (on_border)
+  std::array<std::vector<VertexId>, 2> border_;  // edges ahead of / behind x in its faces
+};
+
+// A vertex on the mesh's border stays where it is: primitives split at a material seam keep a
+// copy of each seam vertex each, and sliding one copy alone would open a crack along the seam.
+// It is on the border when an edge from it has a face on one side only. Otherwise ring_ gets its
+// neighbours (the faces' corners other than x), each once: with the edges ahead and behind
+// alike, those ahead are all of them (x itself only in a face holding it twice).
+bool Snapper::on_border(VertexId x, const BandCorner* first, const BandCorner* last) {
+  std::vector<VertexId>& ahead = border_[0];
+  std::vector<VertexId>& behind = border_[1];
+  ahead.clear();
+  behind.clear();
+  for (const BandCorner* c = first; c != last; ++c) {
+    const Triangle& t = mesh_.face(FaceId(std::get<1>(*c)));
+    const int q = t[0] == x ? 0 : t[1] == x ? 1 : 2;
+    ahead.push_back(t[(q + 1) % 3]);
+    behind.push_back(t[(q + 2) % 3]);
+  }
+  std::sort(ahead.begin(), ahead.end());
+  std::sort(behind.begin(), behind.end());
+  if (ahead != behind) return true;
+  ring_.assign(ahead.begin(), ahead.end());
+  ring_.erase(std::unique(ring_.begin(), ring_.end()), ring_.end());
+  ring_.erase(std::remove(ring_.begin(), ring_.end(), x), ring_.end());
+  return false;
+}
+
+// Whether the crossings that two or more edges from a vertex at posed position p to its
+// neighbours (ring_) would get lie near it (entering from outside, leaving from inside).
+bool Snapper::two_near(const glm::dvec3& p) const {
+  const double off = cyl_.rho(p) - cyl_.r;
+  const glm::dvec3 m = cyl_.perp(p);
+  int near = 0;
+  for (VertexId y : ring_) {
+    const glm::dvec3 q = posed_(y), k = cyl_.perp(q) - m;
+    const double a = glm::dot(k, k), b = glm::dot(m, k), cq = glm::dot(m, m) - cyl_.r * cyl_.r;
+    const double disc = b * b - a * cq;
+    if (!(a > 0.0) || disc < 0.0) continue;
+    const double tt = off > 0.0 ? (-b - std::sqrt(disc)) / a : (-b + std::sqrt(disc)) / a;
+    near += tt > 0.0 && tt < 1.0 && tt * glm::length(q - p) < close_;
+  }
+  return near >= 2;
+}
+
+// The slide of x (its faces' corners [first, last)) in its tangent plane onto the cylinder, when
+// it is short, keeps x between the ends and moves its bind position.
+std::optional<Slide> Snapper::slide(VertexId x, const BandCorner* first, const BandCorner* last) const {
+  const glm::dvec3 p = posed_(x), m = cyl_.perp(p);
+  glm::dvec3 normal(0.0);
+  for (const BandCorner* c = first; c != last; ++c) {
+    const Triangle& t = mesh_.face(FaceId(std::get<1>(*c)));
+    normal += glm::cross(posed_(t[1]) - posed_(t[0]), posed_(t[2]) - posed_(t[0]));
+  }
+  const double nl = glm::length(normal);
+  if (!(nl > 0.0)) return std::nullopt;
+  normal /= nl;
+  const glm::dvec3 radial = m / glm::length(m);
+  glm::dvec3 dir = radial - glm::dot(radial, normal) * normal;
+  const double dl = glm::length(dir);
+  if (dl < 0.5) return std::nullopt;  // the surface runs along the cylinder there: no slide reaches it
+  dir /= dl;
+  const glm::dvec3 k = dir - glm::dot(dir, cyl_.d) * cyl_.d;
+  const double a = glm::dot(k, k), b = glm::dot(m, k), cq = glm::dot(m, m) - cyl_.r * cyl_.r;
+  const double disc = b * b - a * cq;
+  if (!(a > 0.0) || disc < 0.0) return std::nullopt;
+  const double l1 = (-b - std::sqrt(disc)) / a, l2 = (-b + std::sqrt(disc)) / a;
+  const double step = std::abs(l1) < std::abs(l2) ? l1 : l2;
+  if (!(std::abs(step) <= 2.0 * band_)) return std::nullopt;
+  const glm::dvec3 target = p + step * dir;
+  const double st = cyl_.s(target);
+  if (st < spacing_ || st > cyl_.len - spacing_) return std::nullopt;
+  const glm::vec3 bind = mesh_.position(x);
+  glm::dvec3 shift = target - p;
+  if (posed_.unpose())
+    shift = glm::dvec3(posed_.unpose()(mesh_, x, glm::vec3(target))) -
+            glm::dvec3(posed_.unpose()(mesh_, x, glm::vec3(p)));
+  const glm::vec3 moved = glm::vec3(glm::dvec3(bind) + shift);
+  if (!(std::isfinite(moved.x) && std::isfinite(moved.y) && std::isfinite(moved.z)) || moved == bind)
+    return std::nullopt;
+  return Slide{target, moved};
+}
+
+// Whether every face around x keeps its orientation (and a non-zero area) in posed and in bind
+// space when x slides as `s` says.
+bool Snapper::keeps_faces(VertexId x, const Slide& s, const BandCorner* first, const BandCorner* last) const {
+  for (const BandCorner* c = first; c != last; ++c) {
+    const Triangle& t = mesh_.face(FaceId(std::get<1>(*c)));
+    glm::dvec3 pp[3], pn[3], bp[3], bn[3];
+    for (int q = 0; q < 3; ++q) {
+      pp[q] = posed_(t[q]);
+      pn[q] = t[q] == x ? s.target : pp[q];
+      bp[q] = glm::dvec3(mesh_.position(t[q]));
+      bn[q] = glm::dvec3(t[q] == x ? s.moved : mesh_.position(t[q]));
+    }
+    for (int space = 0; space < 2; ++space) {
+      const glm::dvec3* o = space == 0 ? pp : bp;
+      const glm::dvec3* n = space == 0 ? pn : bn;
+      const glm::dvec3 before = glm::cross(o[1] - o[0], o[2] - o[0]),
+                       after = glm::cross(n[1] - n[0], n[2] - n[0]);
+      const double longest = std::max({glm::dot(n[1] - n[0], n[1] - n[0]), glm::dot(n[2] - n[1], n[2] - n[1]),
+                                       glm::dot(n[0] - n[2], n[0] - n[2])});
+      if (!(glm::length(after) > 1e-9 * longest &&
+            glm::dot(before, after) > 0.5 * glm::length(before) * glm::length(after)))
+        return false;
+    }
+  }
+  return true;
+}
+
+void Snapper::run(const std::vector<FaceId>& candidates, std::vector<std::uint8_t>& deep_corners) {
+  // Within the band of the side and between the ends, as the vertex lies before any slide.
+  auto in_band = [&](double sv, double off) {
+    return !(sv < spacing_ || sv > cyl_.len - spacing_ || std::abs(off) > band_ ||
+             std::abs(off) <= 1e-9 * cyl_.r);
+  };
+  // Every face around a vertex within the band of the side is a candidate (the reach covers it).
+  const std::vector<BandCorner> corners =
+      band_corners(mesh_, cyl_, posed_, candidates, in_band, deep_corners);
+  for (std::size_t i = 0, j = 0; i < corners.size(); i = j) {
+    while (j < corners.size() && std::get<0>(corners[j]) == std::get<0>(corners[i])) ++j;
+    const VertexId x(std::get<0>(corners[i]));
+    const BandCorner *first = corners.data() + i, *last = corners.data() + j;
+    if (on_border(x, first, last) || !two_near(posed_(x))) continue;
+    const std::optional<Slide> s = slide(x, first, last);
+    if (!s || !keeps_faces(x, *s, first, last)) continue;
+    editor_.move_vertex(x, s->moved);
+    posed_.move(x, s->target);  // in index order: the corners are sorted
+    // Its faces' deep corners follow (as deep_vertex judges the moved vertex).
+    const auto bit = static_cast<std::uint8_t>(deep_vertex(cyl_, posed_, x) ? 1u : 0u);
+    for (const BandCorner* c = first; c != last; ++c) {
+      const Triangle& t = mesh_.face(FaceId(std::get<1>(*c)));
+      std::uint8_t& deep = deep_corners[std::get<2>(*c)];
+      for (int k = 0; k < 3; ++k)
+        if (t[k] == x) deep = static_cast<std::uint8_t>((deep & ~(1u << k)) | (bit << k));
+    }
+  }
+}
+
+}  // namespace
+
 // An old vertex lying just inside (or just outside) the cylinder leaves the crossings of two of
 // its edges a hair apart: the far corners of its faces fan to those two close rim points (needles
 // under a degree), or it stays as the tip of a sliver between them. Such a vertex, within
@@ -58,125 +273,7 @@ std::vector<FaceId> find_candidates(const SurfaceMesh& mesh, const CylinderFrame
 // the bind position moves by the vertex's own skinning inverted (the unposer), so the edit is a
 // VertexMoved in the log and the new posed position is reported (DrillResult::moved).
 void snap_shallow_vertices(MeshEditor& editor, const CylinderFrame& cyl, PosedOverlay& posed,
-                           const std::vector<FaceId>& candidates) {
-  const SurfaceMesh& mesh = editor.mesh();
-  const int samples = cyl.samples;
-  std::vector<VertexId> ring;
-  std::array<std::vector<VertexId>, 2> border;  // edges ahead of / behind a vertex in its faces
-  const double spacing = 2.0 * cyl.r * std::sin(geometry::kPi / samples);
-  const double band = kSnapBand * spacing, close = kSnapClose * spacing;
-  // Within the band of the side and between the ends (a vertex moves only in its own turn, so
-  // this is its position when its turn comes).
-  auto in_band = [&](const glm::dvec3& p) {
-    const double sv = cyl.s(p), off = cyl.rho(p) - cyl.r;
-    return !(sv < spacing || sv > cyl.len - spacing || std::abs(off) > band || std::abs(off) <= 1e-9 * cyl.r);
-  };
-  // Every face around a vertex within the band of the side is a candidate (the reach covers it).
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> corners;  // (old vertex in the band, candidate face)
-  detail::VertexSlots& banded = detail::VertexSlots::scratch();  // each vertex judged once: 1 in the band
-  banded.reset(posed.first_new());
-  for (FaceId f : candidates)
-    for (VertexId v : mesh.face(f)) {
-      if (v.index >= posed.first_new()) continue;
-      std::uint32_t b = banded.get(v.index);
-      if (b == detail::VertexSlots::kNone) banded.set(v.index, b = in_band(posed(v)) ? 1 : 0);
-      if (b == 1) corners.emplace_back(v.index, f.index);
-    }
-  std::sort(corners.begin(), corners.end());
-  for (std::size_t i = 0, j = 0; i < corners.size(); i = j) {
-    while (j < corners.size() && corners[j].first == corners[i].first) ++j;
-    const VertexId x(corners[i].first);
-    const glm::dvec3 p = posed(x);
-    const double off = cyl.rho(p) - cyl.r;
-    // The crossings its edges would get near it (entering from outside, leaving from inside).
-    const glm::dvec3 m = cyl.perp(p);
-    int near = 0;
-    glm::dvec3 normal(0.0);
-    for (std::size_t c = i; c < j; ++c) {
-      const Triangle& t = mesh.face(FaceId(corners[c].second));
-      normal += glm::cross(posed(t[1]) - posed(t[0]), posed(t[2]) - posed(t[0]));
-    }
-    // A vertex on the mesh's border stays where it is: primitives split at a material seam keep
-    // a copy of each seam vertex each, and sliding one copy alone would open a crack along the
-    // seam. It is on the border when an edge from it has a face on one side only.
-    std::vector<VertexId>& ahead = border[0];
-    std::vector<VertexId>& behind = border[1];
-    ahead.clear();
-    behind.clear();
-    for (std::size_t c = i; c < j; ++c) {
-      const Triangle& t = mesh.face(FaceId(corners[c].second));
-      const int q = t[0] == x ? 0 : t[1] == x ? 1 : 2;
-      ahead.push_back(t[(q + 1) % 3]);
-      behind.push_back(t[(q + 2) % 3]);
-    }
-    std::sort(ahead.begin(), ahead.end());
-    std::sort(behind.begin(), behind.end());
-    if (ahead != behind) continue;
-    // Its neighbours (the faces' corners other than x), each once: with the edges ahead and behind
-    // alike, those ahead are all of them (x itself only in a face holding it twice).
-    ring.assign(ahead.begin(), ahead.end());
-    ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
-    ring.erase(std::remove(ring.begin(), ring.end(), x), ring.end());
-    for (VertexId y : ring) {
-      const glm::dvec3 q = posed(y), k = cyl.perp(q) - m;
-      const double a = glm::dot(k, k), b = glm::dot(m, k), cq = glm::dot(m, m) - cyl.r * cyl.r;
-      const double disc = b * b - a * cq;
-      if (!(a > 0.0) || disc < 0.0) continue;
-      const double tt = off > 0.0 ? (-b - std::sqrt(disc)) / a : (-b + std::sqrt(disc)) / a;
-      near += tt > 0.0 && tt < 1.0 && tt * glm::length(q - p) < close;
-    }
-    if (near < 2) continue;
-    const double nl = glm::length(normal);
-    if (!(nl > 0.0)) continue;
-    normal /= nl;
-    const glm::dvec3 radial = m / glm::length(m);
-    glm::dvec3 dir = radial - glm::dot(radial, normal) * normal;
-    const double dl = glm::length(dir);
-    if (dl < 0.5) continue;  // the surface runs along the cylinder there: no slide reaches it
-    dir /= dl;
-    const glm::dvec3 k = dir - glm::dot(dir, cyl.d) * cyl.d;
-    const double a = glm::dot(k, k), b = glm::dot(m, k), cq = glm::dot(m, m) - cyl.r * cyl.r;
-    const double disc = b * b - a * cq;
-    if (!(a > 0.0) || disc < 0.0) continue;
-    const double l1 = (-b - std::sqrt(disc)) / a, l2 = (-b + std::sqrt(disc)) / a;
-    const double step = std::abs(l1) < std::abs(l2) ? l1 : l2;
-    if (!(std::abs(step) <= 2.0 * band)) continue;
-    const glm::dvec3 target = p + step * dir;
-    const double st = cyl.s(target);
-    if (st < spacing || st > cyl.len - spacing) continue;
-    const glm::vec3 bind = mesh.position(x);
-    glm::dvec3 shift = target - p;
-    if (posed.unpose())
-      shift = glm::dvec3(posed.unpose()(mesh, x, glm::vec3(target))) -
-              glm::dvec3(posed.unpose()(mesh, x, glm::vec3(p)));
-    const glm::vec3 moved = glm::vec3(glm::dvec3(bind) + shift);
-    if (!(std::isfinite(moved.x) && std::isfinite(moved.y) && std::isfinite(moved.z)) || moved == bind)
-      continue;
-    bool ok = true;
-    for (std::size_t c = i; c < j && ok; ++c) {
-      const Triangle& t = mesh.face(FaceId(corners[c].second));
-      glm::dvec3 pp[3], pn[3], bp[3], bn[3];
-      for (int q = 0; q < 3; ++q) {
-        pp[q] = posed(t[q]);
-        pn[q] = t[q] == x ? target : pp[q];
-        bp[q] = glm::dvec3(mesh.position(t[q]));
-        bn[q] = glm::dvec3(t[q] == x ? moved : mesh.position(t[q]));
-      }
-      for (int space = 0; space < 2 && ok; ++space) {
-        const glm::dvec3* o = space == 0 ? pp : bp;
-        const glm::dvec3* n = space == 0 ? pn : bn;
-        const glm::dvec3 before = glm::cross(o[1] - o[0], o[2] - o[0]),
-                         after = glm::cross(n[1] - n[0], n[2] - n[0]);
-        const double longest =
-            std::max({glm::dot(n[1] - n[0], n[1] - n[0]), glm::dot(n[2] - n[1], n[2] - n[1]),
-                      glm::dot(n[0] - n[2], n[0] - n[2])});
-        ok = glm::length(after) > 1e-9 * longest &&
-             glm::dot(before, after) > 0.5 * glm::length(before) * glm::length(after);
-      }
-    }
-    if (!ok) continue;
-    editor.move_vertex(x, moved);
-    posed.move(x, target);  // in index order: the corners are sorted
-  }
+                           const std::vector<FaceId>& candidates, std::vector<std::uint8_t>& deep_corners) {
+  Snapper(editor, cyl, posed).run(candidates, deep_corners);
 }
 }  // namespace deepcut::drill

@@ -58,9 +58,9 @@ class RimHalfEdges {
 template <class OnRim, class OldOnRim>
 RimHalfEdges file_rim_half_edges(const SurfaceMesh& mesh, const EditLog& log, const std::vector<FaceId>& candidates,
                                  const OnRim& on_rim, const OldOnRim& old_on_rim, RimHalfEdgeList& live) {
-  // Room for a quarter of the edits (the log also holds removed faces, new vertices and moves,
+  // Room for an eighth of the edits (the log also holds removed faces, new vertices and moves,
   // and most added faces have no rim half-edge): enough for most holes without growing.
-  RimHalfEdges filed(log.edits.size() / 4 + 16);
+  RimHalfEdges filed(log.edits.size() / 8 + 16);
   for (const Edit& e : log.edits) {
     if (const auto* fa = std::get_if<FaceAdded>(&e)) {
       const Triangle& t = fa->vertices;
@@ -105,7 +105,7 @@ RimSteps rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFr
     if (v.index >= posed.first_new()) return false;
     std::uint32_t j = judged.get(v.index);
     if (j == detail::VertexSlots::kNone) {
-      j = std::abs(cyl.sd(posed_of(cyl, posed, v))) <= 2.0 * cyl.eps ? 1 : 0;
+      j = std::abs(cyl.sd(posed(v))) <= 2.0 * cyl.eps ? 1 : 0;
       judged.set(v.index, j);
     }
     return j == 1;
@@ -117,7 +117,7 @@ RimSteps rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFr
   // The live faces' half-edges between two rim vertices, listed while filing, in the order of
   // the added faces' edits and then the candidates.
   RimHalfEdgeList live;
-  live.reserve(log.edits.size() / 4 + 16);  // as file_rim_half_edges' table
+  live.reserve(log.edits.size() / 8 + 16);  // as file_rim_half_edges' table
   const RimHalfEdges filed = file_rim_half_edges(mesh, log, candidates, on_rim, old_on_rim, live);
   for (const auto& [a, b] : live) {
     if (filed.has(b, a, RimHalfEdges::kAdded | RimHalfEdges::kUntouched)) continue;
@@ -126,9 +126,14 @@ RimSteps rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFr
       continue;
     rim_next.emplace_back(a.index, b.index);
   }
-  std::stable_sort(rim_next.begin(), rim_next.end(),
-                   [](const auto& x, const auto& y) { return x.first < y.first; });
-  return rim_next;
+  // Grouped by `from`, each group in discovery order: sorted by (from, discovery index) as one
+  // 64-bit key per step (a plain sort of integers, where a stable sort of the pairs merges).
+  std::vector<std::uint64_t> order(rim_next.size());
+  for (std::size_t i = 0; i < rim_next.size(); ++i) order[i] = std::uint64_t(rim_next[i].first) << 32 | i;
+  std::sort(order.begin(), order.end());
+  RimSteps sorted(rim_next.size());
+  for (std::size_t i = 0; i < order.size(); ++i) sorted[i] = rim_next[static_cast<std::uint32_t>(order[i])];
+  return sorted;
 }
 
 // Turns of a closed rim around the axis.
