@@ -151,7 +151,7 @@ void blend_slots(const std::uint16_t* joints, const float* weights, const float*
   renormalize_slots<kSlots>(out_joints, out_weights, kSlots);
 }
 
-// MeshEditor::fix_skin_weights with kSets JOINTS_n / WEIGHTS_n sets, for `n` new vertices from
+// The skin of `n` new vertices (add_blended) with kSets JOINTS_n / WEIGHTS_n sets, from
 // v: vertex v + i from the `count` sources src[count * i + s] with weights w[count * i + s]
 // (kCount sources when it is not 0), in order (a source may be a vertex fixed just before).
 // The sets' arrays are looked up once for the whole run.

@@ -154,11 +154,9 @@ std::vector<ScannedFaces> scan_faces(const SurfaceMesh& mesh, const std::uint8_t
   const std::size_t nf = mesh.face_slots();
   const std::size_t grain = grain_per_thread(nf, kMinPassGrain);
   std::vector<ScannedFaces> found((nf + grain - 1) / grain);
-  // Each chunk's side lists reserved here, on the calling thread, for every face of the chunk
-  // (as the chunk's task did before): all of them then come from the caller's heap (arena),
-  // whichever thread fills them. Reserved in the tasks, each came from the heap of the thread
-  // that took its chunk, and a thread's heap that held less than that grew into fresh pages:
-  // a 1M cut took 200-1000 faults now and then, long after its first call.
+  // Each chunk's side lists reserved here, on the calling thread, for every face of the chunk:
+  // all of them then come from the caller's heap (arena), whichever thread fills them, instead
+  // of growing the heap of a pool thread into fresh pages.
   for (std::size_t c = 0; c < found.size(); ++c) {
     const std::size_t size = std::min(nf, (c + 1) * grain) - c * grain;
     for (std::vector<FaceId>& list : found[c].clean) list.reserve(size);
