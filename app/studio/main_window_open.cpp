@@ -8,6 +8,7 @@
 #include <QStatusBar>
 #include <QString>
 #include <QStringList>
+#include <QTimer>
 #include <memory>
 
 #include "deepcut/core/errors.h"
@@ -29,6 +30,7 @@ bool MainWindow::open_file(const QString& path) {
   if (!begin_open(path)) return false;
   task_->wait();
   draw_first_frame();
+  scene_host_->complete_normals();  // (queued after the frame, which may be later)
   task_->wait();  // the operations' posed model, built after the first frame
   return open_done_;
 }
@@ -88,7 +90,9 @@ BackgroundTask::Job MainWindow::open_job(const QString& path, std::shared_ptr<QE
     opened->model = std::make_shared<const Model>(std::move(loaded));
     progress.stage("Posing");
     const int animation = opened->model->animations.empty() ? -1 : 0;
-    opened->scene = plugins::make_scene(opened->model, animation, 0.0f);
+    // Without the corner normals: the view poses one per drawn point for the first frame, and
+    // the scene gets them after it (SceneHost::complete_normals).
+    opened->scene = plugins::make_scene(opened->model, animation, 0.0f, /*with_normals=*/false);
     opened->timing.posed_ms = ms_since(*clock);
     progress.stage("Building the view");
     opened->drawn = SceneView::prepare(opened->scene);
@@ -152,6 +156,11 @@ void MainWindow::draw_frame_and_index(bool in_background) {
   open_timing_.total_ms = ms_since(open_clock_);
   RecentFiles::remember(path_);
   note_operation("Open " + QFileInfo(path_).fileName(), open_timing_.total_ms);
+  // The scene's corner normals, left out of the open for the first frame: after it is shown.
+  if (in_background)
+    QTimer::singleShot(0, this, [this] { scene_host_->complete_normals(); });
+  else
+    scene_host_->complete_normals();
   // Then the operations' posed model (positions again, with the grids the tools search), off
   // the UI thread while edits wait for it: an operation never finds a half-built one.
   if (in_background) {

@@ -81,6 +81,13 @@ std::vector<std::string> SceneHost::show_opened(plugins::Scene scene, const QStr
   return notes;
 }
 
+void SceneHost::complete_normals() {
+  if (!scene_) return;
+  for (plugins::SceneInstance& instance : scene_->instances)
+    if (instance.posed_normals.empty() && instance.pose)
+      instance.posed_normals = instance.pose->corner_normals(*instance.surface);
+}
+
 PoseKey SceneHost::pose_key() const { return PoseKey(scene_->animation, scene_->time, scene_->weights); }
 
 void SceneHost::adopt_posed_model(std::unique_ptr<PosedModel> posed, const Model* built_for, std::uint64_t version) {

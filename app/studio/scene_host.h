@@ -45,6 +45,10 @@ class SceneHost : public QObject {
   /// the view's notes on what it cannot draw.
   std::vector<std::string> show_opened(plugins::Scene scene, const QString& title,
                                        std::shared_ptr<const SceneView::Prepared> prepared = nullptr);
+  /// Gives every instance without corner normals (a scene opened without them: its first frame
+  /// posed a normal per drawn point only) the corner normals of its pose, which the scene's
+  /// followers use from the first step. Once, after that frame; nothing to do otherwise.
+  void complete_normals();
   /// The pose the scene is drawn at (animation, time, morph weights set by hand). @pre scene().
   PoseKey pose_key() const;
   /// The operations' posed model of the state just opened, built off the UI thread after its
