@@ -15,6 +15,7 @@
 #include <cmath>
 #include <vector>
 
+#include "deepcut/core/posed_corner_normal.h"
 #include "deepcut/core/smallest_fit.h"
 #include "deepcut/widgets/texture.h"
 
@@ -39,7 +40,14 @@ void use_texture_coords(vtkPolyData* poly, bool use) {
 
 std::shared_ptr<ViewPolyData> instance_view_data(const plugins::Scene& scene,
                                                  const plugins::SceneInstance& sp) {
-  auto data = std::make_shared<ViewPolyData>(*sp.surface, sp.posed(), &sp.posed_normals);
+  std::shared_ptr<ViewPolyData> data;
+  // Without the scene's corner normals (an open's scene, before its first frame): each drawn
+  // point's posed normal, computed alone (the same bits).
+  const CornerNormalPoser poser(*sp.pose, *sp.surface);
+  if (sp.posed_normals.empty() && poser.has_normals())
+    data = std::make_shared<ViewPolyData>(*sp.surface, sp.posed(), poser);
+  else
+    data = std::make_shared<ViewPolyData>(*sp.surface, sp.posed(), &sp.posed_normals);
   const MaterialLook look = instance_look(scene, sp);
   use_texture_coords(data->poly(), look.base_color_image >= 0 && look.texcoord == 0);
   return data;

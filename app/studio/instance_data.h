@@ -30,7 +30,9 @@ void use_texture_coords(vtkPolyData* poly, bool use);
 
 /// The full build of an instance's drawn data (the one conversion, on whichever thread), with
 /// texture coordinates active when its material's texture reads them (the view makes the final
-/// choice: a texture may not decode).
+/// choice: a texture may not decode). An instance without corner normals (a scene made without
+/// them, as an open makes it for its first frame) is drawn with its posed normals all the same,
+/// each computed for a drawn point only.
 std::shared_ptr<ViewPolyData> instance_view_data(const plugins::Scene& scene,
                                                  const plugins::SceneInstance& sp);
 /// The same for an instance a step made out of another (a cut's piece: `origin`), taking how its

@@ -9,6 +9,8 @@
 #include <QString>
 #include <QStringList>
 #include <memory>
+#include <utility>
+#include <vector>
 
 #include "deepcut/core/errors.h"
 #include "deepcut/core/io/gltf.h"
@@ -30,6 +32,7 @@ bool MainWindow::open_file(const QString& path) {
   task_->wait();
   draw_first_frame();
   task_->wait();  // the operations' posed model, built after the first frame
+  scene_host_->complete_normals();  // (what the index job did not make)
   return open_done_;
 }
 
@@ -88,7 +91,9 @@ BackgroundTask::Job MainWindow::open_job(const QString& path, std::shared_ptr<QE
     opened->model = std::make_shared<const Model>(std::move(loaded));
     progress.stage("Posing");
     const int animation = opened->model->animations.empty() ? -1 : 0;
-    opened->scene = plugins::make_scene(opened->model, animation, 0.0f);
+    // Without the corner normals: the view poses one per drawn point for the first frame, and
+    // the scene gets them after it (SceneHost::complete_normals).
+    opened->scene = plugins::make_scene(opened->model, animation, 0.0f, /*with_normals=*/false);
     opened->timing.posed_ms = ms_since(*clock);
     progress.stage("Building the view");
     opened->drawn = SceneView::prepare(opened->scene);
@@ -159,6 +164,7 @@ void MainWindow::draw_frame_and_index(bool in_background) {
   } else if (session().current() && scene()) {
     TaskProgress progress;
     index_job(session().current(), scene_host_->pose_key())(progress)();
+    scene_host_->complete_normals();  // (what the index job did not make)
   }
 }
 
@@ -183,12 +189,26 @@ void MainWindow::finish_indexing() {
 
 BackgroundTask::Job MainWindow::index_job(std::shared_ptr<const Model> model, const PoseKey& key) {
   const std::uint64_t version = session().state_version();
-  return [this, model, key, version](TaskProgress& progress) -> BackgroundTask::Deliver {
+  // The scene's instances without corner normals (an open's scene: its first frame posed a
+  // normal per drawn point only), as (node, primitive), else (-1, -1): this posed model (the
+  // same pose: the same bits) makes theirs too, handed to the scene with it.
+  std::vector<std::pair<int, int>> bare;
+  if (scene() && scene()->model == model)
+    for (const plugins::SceneInstance& i : scene()->instances)
+      bare.push_back(i.posed_normals.empty() ? std::pair(i.node, i.primitive) : std::pair(-1, -1));
+  return [this, model, key, version, bare](TaskProgress& progress) -> BackgroundTask::Deliver {
     progress.stage("Indexing");
     auto posed = std::make_shared<std::unique_ptr<PosedModel>>(
         std::make_unique<PosedModel>(PosedModel::build(*model, key, PoseDetail::Full)));
-    return [this, model, posed, version] {
+    auto normals = std::make_shared<std::vector<std::vector<glm::vec3>>>(bare.size());
+    for (std::size_t i = 0; i < bare.size(); ++i)
+      if (const PosedMesh* pose = (*posed)->find(bare[i].first, bare[i].second))
+        (*normals)[i] = pose->corner_normals(model->meshes[static_cast<std::size_t>(pose->mesh)]
+                                                 .primitives[static_cast<std::size_t>(pose->primitive)]
+                                                 .mesh);
+    return [this, model, key, posed, normals, version] {
       indexing_ = false;
+      scene_host_->adopt_normals(std::move(*normals), model.get(), key);
       scene_host_->adopt_posed_model(std::move(*posed), model.get(), version);
       release_freed_memory();  // the open is over: what the last model held and this one did not reuse
     };

@@ -81,6 +81,25 @@ std::vector<std::string> SceneHost::show_opened(plugins::Scene scene, const QStr
   return notes;
 }
 
+void SceneHost::adopt_normals(std::vector<std::vector<glm::vec3>> normals, const Model* built_for,
+                              const PoseKey& key) {
+  if (!scene_ || scene_->model.get() != built_for || !(pose_key() == key) ||
+      normals.size() != scene_->instances.size())
+    return;
+  for (std::size_t i = 0; i < normals.size(); ++i) {
+    plugins::SceneInstance& instance = scene_->instances[i];
+    if (instance.posed_normals.empty() && normals[i].size() == 3 * instance.surface->face_slots())
+      instance.posed_normals = std::move(normals[i]);
+  }
+}
+
+void SceneHost::complete_normals() {
+  if (!scene_) return;
+  for (plugins::SceneInstance& instance : scene_->instances)
+    if (instance.posed_normals.empty() && instance.pose)
+      instance.posed_normals = instance.pose->corner_normals(*instance.surface);
+}
+
 PoseKey SceneHost::pose_key() const { return PoseKey(scene_->animation, scene_->time, scene_->weights); }
 
 void SceneHost::adopt_posed_model(std::unique_ptr<PosedModel> posed, const Model* built_for, std::uint64_t version) {

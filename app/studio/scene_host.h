@@ -45,6 +45,15 @@ class SceneHost : public QObject {
   /// the view's notes on what it cannot draw.
   std::vector<std::string> show_opened(plugins::Scene scene, const QString& title,
                                        std::shared_ptr<const SceneView::Prepared> prepared = nullptr);
+  /// Gives every instance without corner normals (a scene opened without them: its first frame
+  /// posed a normal per drawn point only) the corner normals of its pose, which the scene's
+  /// followers use from the first step: `normals` (one array per instance, made off the UI
+  /// thread after that frame) when the scene still shows `built_for` at `key`, each where it
+  /// holds the instance's corners. Nothing otherwise (a step or a new pose made them).
+  void adopt_normals(std::vector<std::vector<glm::vec3>> normals, const Model* built_for, const PoseKey& key);
+  /// The same, the corner normals made here (what adopt_normals did not give). Nothing to do
+  /// otherwise.
+  void complete_normals();
   /// The pose the scene is drawn at (animation, time, morph weights set by hand). @pre scene().
   PoseKey pose_key() const;
   /// The operations' posed model of the state just opened, built off the UI thread after its

@@ -12,6 +12,7 @@
 #include "deepcut/core/morph.h"
 #include "deepcut/core/operation_room.h"
 #include "deepcut/core/parallel.h"
+#include "deepcut/core/posed_corner_normal.h"
 #include "deepcut/core/skinning.h"
 #include "deepcut/core/smallest_fit.h"
 #include "uninit_vector.h"
@@ -102,20 +103,6 @@ glm::vec3 PosedMesh::unpose(const SurfaceMesh& surface, VertexId v, const glm::v
 
 namespace {
 
-// The normal map of a vertex's linear bind-to-world map: its inverse transpose.
-glm::mat3 normal_map(const glm::mat3& linear) { return glm::transpose(glm::inverse(linear)); }
-
-// World normal of corner `c` (of a face whose corner k is vertex `v`): its normal plus its morph
-// deltas, through the vertex's normal map (`map` null: the identity), renormalised. The one
-// kernel of every posed corner normal, whole mesh or followed.
-glm::vec3 posed_corner_normal(const MorphBlend& morph, const AttributeArray<glm::vec3>& normals, std::size_t c,
-                              const glm::mat3* map) {
-  const glm::vec3 m = morph.normal(c, normals[c]);
-  const glm::vec3 n = map ? *map * m : m;
-  const float len = glm::length(n);
-  return len > 0.0f ? n / len : n;
-}
-
 // The world corner normals of faces `faces` of `surface` (corner normals `normals`) posed by
 // `inst`, written into `out` (one per corner slot): the one kernel of every corner normal.
 void corner_normals_of(const PosedMesh& inst, const SurfaceMesh& surface, const AttributeArray<glm::vec3>& normals,
@@ -128,7 +115,7 @@ void corner_normals_of(const PosedMesh& inst, const SurfaceMesh& surface, const 
       const auto& t = surface.face(FaceId(static_cast<std::uint32_t>(f)));
       for (int k = 0; k < 3; ++k) {
         const std::size_t c = 3 * f + static_cast<std::size_t>(k);
-        const glm::mat3 map = linear.empty() ? glm::mat3(1.0f) : normal_map(linear[t[k].index]);
+        const glm::mat3 map = linear.empty() ? glm::mat3(1.0f) : posed_normal_map(linear[t[k].index]);
         out[c] = posed_corner_normal(morph, normals, c, linear.empty() ? nullptr : &map);
       }
     }
@@ -161,7 +148,7 @@ std::vector<glm::vec3> PosedMesh::corner_normals(const SurfaceMesh& surface) con
   // pages are faulted in over the pool before its fill, with room to grow (normals_room).
   detail::UninitVector<glm::mat3> normal_maps(linear.size());
   parallel_for(normal_maps.size(), kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t v = b; v < e; ++v) normal_maps[v] = normal_map(linear[v]);
+    for (std::size_t v = b; v < e; ++v) normal_maps[v] = posed_normal_map(linear[v]);
   });
   const MorphBlend morph(surface, weights);
   std::vector<glm::vec3> out;

@@ -27,6 +27,8 @@
 #include "deepcut/core/mesh_editor.h"
 #include "deepcut/core/model_change.h"
 #include "deepcut/core/parallel.h"
+#include "deepcut/core/posed_corner_normal.h"
+#include "deepcut/core/posed_model.h"
 #include "fixtures.h"
 #include "view_checks.h"
 
@@ -225,6 +227,39 @@ TEST(ViewPolyDataTest, first_build_the_same_whatever_the_thread_count) {
   }
   set_thread_count(threads);
   for (std::size_t i = 1; i < got.size(); ++i) EXPECT_EQ(got[i], got[0]) << i;
+}
+
+// The build that poses a normal per point (an open's first frame) makes the arrays of the build
+// given the posed corner normals, byte for byte.
+TEST(ViewPolyDataTest, normals_posed_per_point_as_per_corner) {
+  SurfaceMesh mesh = test::make_grid(12, 9);
+  auto& own = mesh.corner_attrs().get<glm::vec3>(attr::kNormal).data();
+  for (std::size_t c = 0; c < own.size(); ++c)  // corners of a vertex drawn in several ways
+    own[c] = glm::normalize(glm::vec3(0.1f * static_cast<float>(c % 3), 0.2f, 1.0f));
+  PosedMesh pose;
+  pose.posed = mesh.positions();
+  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+    const float a = 0.1f * static_cast<float>(v);
+    pose.linear.push_back(glm::mat3(std::cos(a), std::sin(a), 0.0f, -std::sin(a), std::cos(a), 0.0f, 0.0f,
+                                    0.0f, 1.0f + 0.01f * static_cast<float>(v)));
+  }
+  const std::vector<glm::vec3> normals = pose.corner_normals(mesh);
+  ASSERT_EQ(normals.size(), 3 * mesh.face_slots());
+  const ViewPolyData per_corner(mesh, pose.posed, &normals);
+  const ViewPolyData per_point(mesh, pose.posed, CornerNormalPoser(pose, mesh));
+  auto bytes = [](vtkDataArray* a) {
+    const auto* p = static_cast<const unsigned char*>(a->GetVoidPointer(0));
+    return std::vector<unsigned char>(p, p + a->GetNumberOfValues() * a->GetDataTypeSize());
+  };
+  auto arrays = [&](const ViewPolyData& view) {
+    vtkPolyData* poly = view.poly();
+    return std::vector<std::vector<unsigned char>>{
+        bytes(poly->GetPoints()->GetData()), bytes(poly->GetPointData()->GetNormals()),
+        bytes(poly->GetPointData()->GetArray("uv0")), bytes(poly->GetPointData()->GetArray("vertex_id")),
+        bytes(poly->GetPolys()->GetConnectivityArray())};
+  };
+  EXPECT_GT(per_point.poly()->GetNumberOfPoints(), static_cast<vtkIdType>(mesh.vertex_count()));
+  EXPECT_EQ(arrays(per_point), arrays(per_corner));
 }
 
 }  // namespace

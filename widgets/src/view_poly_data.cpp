@@ -9,8 +9,9 @@
 #include <cassert>
 #include <functional>
 
-#include "deepcut/core/parallel.h"
 #include "corner_groups.h"
+#include "deepcut/core/parallel.h"
+#include "deepcut/core/posed_corner_normal.h"
 #include "view_poly_data_writer.h"
 
 namespace deepcut {
@@ -111,6 +112,25 @@ ViewPolyData::ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>
       for (std::size_t v = b; v < e; ++v) w.vertex_point(v);
     });
   }
+  modified();
+}
+
+ViewPolyData::ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
+                           const CornerNormalPoser& posed)
+    : ViewPolyData(mesh, positions, static_cast<const std::vector<glm::vec3>*>(nullptr)) {
+  // Built with the mesh's own normals (grouped alike), then each point's normal posed from the
+  // corner it draws like.
+  const view_data::Raw r = view_data::raw(poly_);
+  if (!corners_ || !r.normals || !posed.has_normals()) return;
+  parallel_for(point_corner_.size(), kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t p = b; p < e; ++p) {
+      const std::uint32_t c = point_corner_[p];
+      if (c == kInvalidIndex) continue;
+      const glm::vec3 n = posed(static_cast<std::uint32_t>(r.vertex_id[p]), c);
+      float* const to = r.normals + 3 * p;
+      to[0] = n.x, to[1] = n.y, to[2] = n.z;
+    }
+  });
   modified();
 }
 

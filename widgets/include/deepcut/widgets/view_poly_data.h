@@ -32,6 +32,7 @@
 namespace deepcut {
 
 struct CornerGroups;
+class CornerNormalPoser;
 
 class ViewPolyData {
  private:
@@ -66,6 +67,14 @@ class ViewPolyData {
   ///      get equal normals in every pose.
   ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
                const std::vector<glm::vec3>* corner_normals = nullptr);
+  /// The same data as the constructor above given the posed corner normals `posed` makes
+  /// (posed_corner_normal.h: those of PosedMesh::corner_normals, bit for bit), each computed
+  /// only for the corner a point draws like: one per point, without an array of one per corner
+  /// (the studio's first frame after an open, drawn before the scene's corner normals are made).
+  /// Corners are grouped as the constructor above groups them (by the mesh's normals and morph
+  /// normal deltas, which decide the posed ones). @pre `posed` poses `mesh`'s corners.
+  ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
+               const CornerNormalPoser& posed);
 
   /// The same data as the constructor above (the same points, perhaps numbered otherwise) for a
   /// mesh a step made out of another (a cut's piece, ModelChange::origins): how the corners of
