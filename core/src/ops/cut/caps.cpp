@@ -503,6 +503,9 @@ void set_cap_attributes(const SurfaceMesh& mesh, const CapCorners& arrays, std::
                         const std::vector<geometry::LocalTri>& tris, const glm::vec3& flat_normal,
                         const glm::dvec3& u) {
   const std::size_t count = made.size(), corner0 = 3 * std::size_t(first);
+  // No faces (each triangle repeats a kept flat face, or the loops gave none): `first` is the
+  // face count, no face to read.
+  if (count == 0) return;
   auto fill = [&](auto* attribute, const auto& value) {
     if (attribute) std::fill_n(attribute->data().data() + corner0, 3 * count, value);
   };
