@@ -607,6 +607,7 @@ bool make_cap(MeshEditor& editor, const CapInput& in, const CapPlan& plan, const
   // All in one call: each attribute array grown once.
   const FaceId first_face = editor.add_faces(faces.data(), faces.size());
   const std::size_t listed = piece.size();
+  piece.reserve(listed + faces.size());  // exactly (resize alone may double the capacity)
   piece.resize(listed + faces.size());
   for (std::uint32_t k = 0; k < faces.size(); ++k) piece[listed + k] = FaceId(first_face.index + k);
   const glm::vec3 flat_normal = float(plan.outer_sign) * glm::vec3(in.normal);
