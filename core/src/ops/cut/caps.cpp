@@ -483,7 +483,8 @@ void triangulate_caps(std::vector<CapPlan>& plans) {
 struct CapCorners {
   AttributeArray<glm::vec2>* uv = nullptr;
   AttributeArray<glm::vec3>* normal = nullptr;
-  AttributeArray<glm::vec4>*tangent = nullptr, *color = nullptr;
+  AttributeArray<glm::vec4>* tangent = nullptr;
+  AttributeArray<glm::vec4>* color = nullptr;
   std::vector<AttributeArray<glm::vec3>*> deltas;  // corner morph deltas
   explicit CapCorners(SurfaceMesh& mesh)
       : uv(mesh.corner_attrs().find<glm::vec2>(attr::kUv0)),
@@ -497,12 +498,15 @@ struct CapCorners {
 // tris[made[k]], its corners' points in the plane's frame `pts`, first axis `u`): a planar UV
 // over the cap's extent, the face normal (`flat_normal`, the plane's oriented as the cap, for a
 // degenerate face), the tangent u, white, and zero morph deltas. The faces are consecutive: so
-// are their corners.
-void set_cap_attributes(const SurfaceMesh& mesh, const CapCorners& arrays, std::uint32_t first,
+// are their corners. Writes the mesh's corner arrays (through `arrays`).
+void set_cap_attributes(SurfaceMesh& mesh, const CapCorners& arrays, std::uint32_t first,
                         const std::vector<std::uint32_t>& made, const std::vector<glm::dvec2>& pts,
                         const std::vector<geometry::LocalTri>& tris, const glm::vec3& flat_normal,
                         const glm::dvec3& u) {
   const std::size_t count = made.size(), corner0 = 3 * std::size_t(first);
+  // No faces (each triangle repeats a kept flat face, or the loops gave none): `first` is the
+  // face count, no face to read.
+  if (count == 0) return;
   auto fill = [&](auto* attribute, const auto& value) {
     if (attribute) std::fill_n(attribute->data().data() + corner0, 3 * count, value);
   };
@@ -604,6 +608,7 @@ bool make_cap(MeshEditor& editor, const CapInput& in, const CapPlan& plan, const
   // All in one call: each attribute array grown once.
   const FaceId first_face = editor.add_faces(faces.data(), faces.size());
   const std::size_t listed = piece.size();
+  piece.reserve(listed + faces.size());  // exactly (resize alone may double the capacity)
   piece.resize(listed + faces.size());
   for (std::uint32_t k = 0; k < faces.size(); ++k) piece[listed + k] = FaceId(first_face.index + k);
   const glm::vec3 flat_normal = float(plan.outer_sign) * glm::vec3(in.normal);
