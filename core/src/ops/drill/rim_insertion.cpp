@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cassert>
 #include <cmath>
 
 #include "deepcut/core/parallel.h"
@@ -468,6 +469,7 @@ RimInsertion RimInserter::run(const std::vector<FaceId>& candidates,
 RimInsertion insert_rim(MeshEditor& editor, const CylinderFrame& cyl, PosedOverlay& posed,
                         const std::vector<FaceId>& candidates,
                         const std::vector<std::uint8_t>& deep_corners) {
+  assert(deep_corners.size() == candidates.size());  // one per candidate, indexed as the candidates
   RimInserter inserter(editor, cyl, posed);
   return inserter.run(candidates, deep_corners);
 }
