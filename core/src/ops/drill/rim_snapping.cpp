@@ -59,7 +59,9 @@ using BandCorner = std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>;
 
 // The corners of the candidates at old vertices within kSnapBand rim spacings of the side and
 // between the ends (`in_band`), sorted, and per candidate (`deep_corners`) bit k set when its
-// corner k lies deep inside (deep_vertex, before any vertex moves). Each vertex judged once.
+// corner k lies deep inside (deep_vertex, before any vertex moves). Each old vertex is judged
+// once (the scratch map remembers old vertices only); a new one would be judged at each of its
+// corners, but there is none yet when the snap runs.
 template <class InBand>
 std::vector<BandCorner> band_corners(const SurfaceMesh& mesh, const CylinderFrame& cyl,
                                      const PosedOverlay& posed, const std::vector<FaceId>& candidates,
