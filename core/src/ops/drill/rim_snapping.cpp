@@ -78,12 +78,11 @@ std::vector<BandCorner> band_corners(const SurfaceMesh& mesh, const CylinderFram
       const VertexId v = t[k];
       std::uint32_t b = judged.get(v.index);
       if (b == detail::VertexSlots::kNone) {
-        // As deep_vertex judges it (nothing has moved yet: cyl.sd is this maximum of the same
-        // terms).
+        // As deep_vertex judges it (nothing has moved yet: cyl.sd is sd_of these terms).
         const glm::dvec3 p = posed(v);
         const double sv = cyl.s(p), off = cyl.rho(p) - cyl.r;
         b = (in_band(sv, off) && v.index < posed.first_new() ? 1u : 0u) |
-            (std::max({off, -sv, sv - cyl.len}) < -2.0 * cyl.eps ? 2u : 0u);
+            (cyl.deep_sd(cyl.sd_of(sv, off)) ? 2u : 0u);
         if (v.index < posed.first_new()) judged.set(v.index, b);
       }
       if (b & 1u) corners.emplace_back(v.index, f.index, static_cast<std::uint32_t>(c));
