@@ -1,23 +1,25 @@
 // SPDX-License-Identifier: MIT
 // The drill's rim in special places: through a saddle vertex, at an end plane's corner, rims
 // meeting at a vertex, needles, grazed edges, vertices a hair from the side, float precision.
-#include "deepcut/core/ops/drill.h"
-
 #include <gtest/gtest.h>
-
-#include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
 #include <map>
 #include <random>
 #include <string>
 
 #include "deepcut/core/adjacency.h"
 #include "deepcut/core/io/gltf.h"
+#include "deepcut/core/mesh_editor.h"
+#include "deepcut/core/ops/drill.h"
+#include "deepcut/core/spatial_index.h"
 #include "drill_checks.h"
 #include "fixtures.h"
 #include "geometry/predicates.h"
+#include "ops/drill/rim_faces.h"
+#include "ops/drill/rim_insertion.h"
 #include "tools.h"
 
 namespace deepcut {
@@ -376,6 +378,120 @@ TEST(DrillTest, a_border_vertex_just_inside_the_cylinder_stays) {
   Adjacency adj = Adjacency::build(input);
   adj.apply(res.log);
   test::expect_adjacency_matches_rebuild(adj, mesh);
+}
+
+// The snap's pass over the candidates' corners marks those deep inside, and marks a vertex it
+// slides again: a vertex 1% of r inside the side (deep inside, beyond twice the tolerance of 0.2%
+// of r, and within the snap band, a tenth of a rim spacing or 2% of r) slid onto the cylinder is
+// no longer deep. Every candidate's deep corners are what deep_vertex says of its corners once
+// the vertex has slid (what judging each corner afresh gives), so a face at the vertex with its
+// two other corners deep inside is not removed whole as a face deep inside: it is removed with no
+// kept part at the vertex and bares it (RimInsertion::bared), once; no other face bares it here.
+// Without the second mark both checks fail (the slid vertex stays marked deep).
+TEST(DrillTest, a_vertex_slid_out_of_deep_inside_is_bared_by_its_removed_faces) {
+  SurfaceMesh mesh = test::make_grid(8, 8);  // unit square, spacing 0.125
+  const std::vector<glm::vec3> input = mesh.positions();
+  const VertexId centre(4 * 9 + 4);  // at (0.5, 0.5)
+  const float r = 0.2f;
+  // The axis 0.99 r from it, towards 200 degrees (as in
+  // a_vertex_just_inside_the_cylinder_becomes_a_rim_vertex).
+  const glm::vec3 toward(std::cos(3.49066f), std::sin(3.49066f), 0.0f);
+  const Cylinder c{glm::vec3(0.5f, 0.5f, -1.0f) + 0.99f * r * toward,
+                   glm::vec3(0.5f, 0.5f, 1.0f) + 0.99f * r * toward, r};
+  const drill::CylinderFrame cyl = drill::CylinderFrame::make(c, DrillOptions{});
+  drill::PosedOverlay posed(input, drill::Unposer());
+  ASSERT_TRUE(drill::deep_vertex(cyl, posed, centre)) << "deep inside before the snap";
+  const TriangleGrid grid = TriangleGrid::build(mesh, input);
+  MeshEditor editor(mesh);
+  const std::vector<FaceId> candidates = drill::find_candidates(mesh, cyl, posed, grid);
+  std::vector<std::uint8_t> deep_corners;
+  drill::snap_shallow_vertices(editor, cyl, posed, candidates, deep_corners);
+  ASSERT_TRUE(posed.is_moved(centre)) << "the vertex is slid";
+  EXPECT_FALSE(drill::deep_vertex(cyl, posed, centre)) << "on the cylinder";
+  ASSERT_EQ(deep_corners.size(), candidates.size());
+  std::vector<FaceId> others_deep;  // faces at the vertex whose two other corners lie deep inside
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    const Triangle& t = mesh.face(candidates[i]);
+    unsigned fresh = 0, at = 3;
+    for (unsigned k = 0; k < 3; ++k) {
+      fresh |= unsigned(drill::deep_vertex(cyl, posed, t[k])) << k;
+      if (t[k] == centre) at = k;
+    }
+    EXPECT_EQ(unsigned(deep_corners[i]), fresh)
+        << "candidate " << i << " (face " << candidates[i].index << ")";
+    if (at < 3 && (fresh | 1u << at) == 7u) others_deep.push_back(candidates[i]);
+  }
+  // Without the second mark these would be removed whole (three corners marked deep), the vertex
+  // not bared.
+  ASSERT_FALSE(others_deep.empty());
+  const drill::RimInsertion inserted = drill::insert_rim(editor, cyl, posed, candidates, deep_corners);
+  for (const FaceId f : others_deep) EXPECT_TRUE(mesh.is_deleted(f)) << "face " << f.index;
+  EXPECT_EQ(static_cast<std::size_t>(std::count(inserted.bared.begin(), inserted.bared.end(), centre)),
+            others_deep.size());
+}
+
+// Candidates wholly outside the solid, a tolerance clear of it (clear_of_cylinder), are left as
+// they are without a look at their edges: a second sheet just beyond the end plane, a small
+// triangle just outside the side (both within the candidates' reach, each by more than the
+// tolerance of 0.2% of r) and the faces of the drilled sheet around the hole keep their corners,
+// positions and texture coordinates, and no edit removes them. Fails if the drill removes them.
+TEST(DrillTest, faces_clear_of_the_cylinder_near_the_hole_are_left_as_they_are) {
+  SurfaceMesh mesh = test::make_grid(8, 8);  // unit square at z = 0, spacing 0.125
+  const std::size_t sheet_faces = mesh.face_slots();
+  const float r = 0.2f;
+  const Cylinder c{{0.5f, 0.5f, -1.0f}, {0.5f, 0.5f, 1.0f}, r};
+  // The same sheet again, 0.01 (25 tolerances) beyond the end plane at z = 1.
+  const std::uint32_t lid_first = mesh.vertex_count();
+  for (std::uint32_t v = 0; v < lid_first; ++v)
+    mesh.add_vertex(mesh.position(VertexId(v)) + glm::vec3(0, 0, 1.01f));
+  for (std::uint32_t f = 0; f < sheet_faces; ++f) {
+    const Triangle t = mesh.face(FaceId(f));
+    mesh.add_face(VertexId(t[0].index + lid_first), VertexId(t[1].index + lid_first),
+                  VertexId(t[2].index + lid_first));
+  }
+  const std::size_t lid_faces = mesh.face_slots();
+  // A triangle half way up, its nearest corner 0.005 (12 tolerances) outside the side.
+  const VertexId near = mesh.add_vertex({0.5f + r + 0.005f, 0.5f, 0.5f});
+  const VertexId far0 = mesh.add_vertex({0.5f + r + 0.025f, 0.48f, 0.5f});
+  const VertexId far1 = mesh.add_vertex({0.5f + r + 0.025f, 0.52f, 0.5f});
+  mesh.add_face(near, far0, far1);
+  const SurfaceMesh before = mesh;
+  const std::vector<glm::vec3> input = mesh.positions();
+  // The candidates clear of the cylinder, as the drill judges them (no vertex slides here).
+  const drill::CylinderFrame cyl = drill::CylinderFrame::make(c, DrillOptions{});
+  const drill::PosedOverlay posed(input, drill::Unposer());
+  std::vector<FaceId> clear;
+  std::size_t in_sheet = 0, in_lid = 0, lone = 0;
+  for (const FaceId f : drill::find_candidates(mesh, cyl, posed, TriangleGrid::build(mesh, input))) {
+    const Triangle& t = mesh.face(f);
+    const glm::dvec3 corner[3] = {posed(t[0]), posed(t[1]), posed(t[2])};
+    if (!drill::clear_of_cylinder(cyl, corner)) continue;
+    clear.push_back(f);
+    (f.index < sheet_faces ? in_sheet : f.index < lid_faces ? in_lid : lone) += 1;
+  }
+  EXPECT_GT(in_sheet, 0u);
+  EXPECT_GT(in_lid, 0u);
+  EXPECT_EQ(lone, 1u);
+  const DrillResult res = drill_mesh(mesh, PosedMesh::at_positions(mesh, input), c);
+  ASSERT_EQ(res.status, OpStatus::Ok);
+  EXPECT_TRUE(res.moved.empty());
+  std::vector<bool> is_clear(before.face_slots(), false);
+  const auto& uv = mesh.corner_attrs().get<glm::vec2>(attr::kUv0);
+  const auto& uv_before = before.corner_attrs().get<glm::vec2>(attr::kUv0);
+  for (const FaceId f : clear) {
+    is_clear[f.index] = true;
+    ASSERT_FALSE(mesh.is_deleted(f)) << "face " << f.index;
+    EXPECT_EQ(mesh.face(f), before.face(f)) << "face " << f.index;
+    for (std::size_t k = 0; k < 3; ++k) {
+      EXPECT_EQ(mesh.position(mesh.face(f)[k]), before.position(before.face(f)[k])) << "face " << f.index;
+      EXPECT_EQ(uv[3 * f.index + k], uv_before[3 * f.index + k]) << "face " << f.index;
+    }
+  }
+  for (const Edit& e : res.log.edits)
+    if (const auto* fr = std::get_if<FaceRemoved>(&e)) {
+      EXPECT_FALSE(fr->f.index < is_clear.size() && is_clear[fr->f.index])
+          << "face " << fr->f.index << " removed";
+    }
 }
 
 // A speck 2e-5 across at coordinates about 1.3, drilled with 48 rim edges at radii from 1% of

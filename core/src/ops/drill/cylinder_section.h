@@ -44,14 +44,15 @@ struct CylinderFrame {
     return std::atan2(glm::dot(q, w), glm::dot(q, u));
   }
   // Signed distance-like function: negative inside, 1-Lipschitz, <= the true distance outside.
-  double sd(const glm::dvec3& p) const {
-    const double sv = s(p);
-    return std::max({rho(p) - r, -sv, sv - len});
-  }
+  double sd(const glm::dvec3& p) const { return sd_of(s(p), rho(p) - r); }
+  // sd of a point at s(p) = sv and rho(p) - r = rho_off (for a caller that has both already).
+  double sd_of(double sv, double rho_off) const { return std::max({rho_off, -sv, sv - len}); }
   // Well inside the solid (beyond twice the tolerance): no edge between two such points is
   // crossed or grazed (the solid is convex), and a face with three such corners is removed
   // whole, leaving its corners without faces.
-  bool deep_inside(const glm::dvec3& p) const { return sd(p) < -2.0 * eps; }
+  bool deep_inside(const glm::dvec3& p) const { return deep_sd(sd(p)); }
+  // Whether a point with this sd lies deep inside (deep_inside).
+  bool deep_sd(double sdv) const { return sdv < -2.0 * eps; }
   glm::dvec3 ruling(double th) const { return std::cos(th) * u + std::sin(th) * w; }
   glm::dvec3 at(double th, double sv) const { return a + r * ruling(th) + sv * d; }
 };

@@ -31,10 +31,10 @@ struct EdgeCut {
   // RimInserter::cross): parameters, increasing once RimInserter::make_edge_vertices has made
   // their vertices.
   std::vector<std::pair<double, VertexId>> steiner;
-  // The faces on the edge among the candidates not deep inside (file_side: kLoHi for each with
-  // lo -> hi, kHiLo for each with hi -> lo), whether one of them has a bad shape, and whether the
-  // vertices of the edge's crossings have been made (RimInserter::make_edge_vertices; the edge
-  // may be left uncrossed).
+  // The faces on the edge among the candidates of kind kCut, neither deep inside nor clear of the
+  // cylinder (file_side: kLoHi for each with lo -> hi, kHiLo for each with hi -> lo), whether one
+  // of them has a bad shape, and whether the vertices of the edge's crossings have been made
+  // (RimInserter::make_edge_vertices; the edge may be left uncrossed).
   // All three are written only before planning starts (planning only reads them).
   std::uint32_t sides = 0;
   bool bad_side = false, resolved = false;
@@ -54,7 +54,7 @@ struct EdgeCut {
 // k + 1; records never move) and, for a candidate with a piece of an edge inside
 // (any_piece_inside), its corners' angles around the axis (CylinderFrame::theta), worked out
 // once per vertex before planning (the window of rulings each such face samples). Left
-// unwritten for a candidate deep inside (nothing reads it).
+// unwritten for a candidate deep inside or clear of the cylinder (nothing reads it).
 struct CandidateFace {
   std::array<EdgeCut*, 3> edges;
   std::array<double, 3> angle;

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cassert>
 #include <cmath>
 
 #include "deepcut/core/parallel.h"
@@ -29,9 +30,9 @@ constexpr double kSteinerParentAngle = 10.0 * geometry::kPi / 180.0;
 const double kCosSteinerParent = std::cos(kSteinerParentAngle);  // worked out once
 // Fewest candidates planned per parallel chunk (a few dozen crossed faces are worth a thread).
 constexpr std::size_t kPlanGrain = 24;
-// Fewest candidates judged (deep inside, bad shape), and fewest edges crossed, per parallel
-// chunk: a chunk of a few hundred thousand instructions is worth waking a thread for, so a hole
-// of a few hundred faces runs them inline and only bigger ones spread.
+// Fewest candidates judged (deep inside, clear of the cylinder, bad shape), and fewest edges
+// crossed, per parallel chunk: a chunk of a few hundred thousand instructions is worth waking a
+// thread for, so a hole of a few hundred faces runs them inline and only bigger ones spread.
 constexpr std::size_t kJudgeGrain = 2048;
 constexpr std::size_t kCrossGrain = 512;
 
@@ -86,13 +87,14 @@ class RimInserter {
   std::vector<std::uint8_t> bad_;
   // Per candidate: its edges' records in edges_, looked up once by allow_steiner and read again
   // by merge_crossings and the planning without indexing the table, and its corners' angles
-  // (angle_corners); sized without a fill (a candidate deep inside leaves its record unwritten).
+  // (angle_corners); sized without a fill (a candidate deep inside or clear of the cylinder leaves
+  // its record unwritten).
   detail::UninitVector<CandidateFace> faces_;
   // Crossings that fell on one bind position (the two long edges of a needle crossed at the same
   // parameter): the later vertex maps to the earlier, so the needle's tip is not a zero-area face.
   detail::NeedleMerges merges_;
-  // Per candidate its plan (deep ones have none), and the chunks' points and triangles (the
-  // calling thread's PlanChunk::reused lists).
+  // Per candidate its plan (made only for those of kind kCut), and the chunks' points and
+  // triangles (the calling thread's PlanChunk::reused lists).
   std::vector<FacePlan> plans_;
   std::vector<PlanChunk>* chunks_ = nullptr;
   // The removals and kept parts the plans say, made in one editor batch (candidate order).
@@ -185,7 +187,7 @@ void RimInserter::cross_edges() {
 
 // The vertices of the crossed edges' crossings, then of their Steiner points (in the order cross
 // found them, then sorted along the edge), edge by edge in the order the candidates ask for them
-// (edge k of each candidate not deep inside), made in one editor batch.
+// (edge k of each candidate of kind kCut), made in one editor batch.
 void RimInserter::make_edge_vertices(const std::vector<FaceId>& candidates) {
   std::vector<EdgeCut*> order;  // the records making vertices, in that order
   std::vector<std::uint32_t> ends;
@@ -315,8 +317,8 @@ std::size_t RimInserter::judge_faces(const std::vector<FaceId>& candidates,
 void RimInserter::allow_steiner(const std::vector<FaceId>& candidates) {
   // Each candidate's half-edges file its edge's record (made here, in the order
   // make_edge_vertices asks for them; the candidate keeps it in faces_): weight 1 for
-  // lo -> hi, 16 for hi -> lo, and whether the face is of bad shape. Faces deep inside hold no
-  // crossed edge, the only ones asked about.
+  // lo -> hi, 16 for hi -> lo, and whether the face is of bad shape. Faces deep inside or clear
+  // of the cylinder hold no crossed edge, the only ones asked about.
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     if (kind_[c] != kCut) continue;
     const Triangle& t = mesh_.face(candidates[c]);
@@ -376,9 +378,9 @@ unsigned RimInserter::emit_faces(FaceId f, const Triangle& tri, LocalPoint* pts,
   return used;
 }
 
-// Every candidate that is not deep inside gets its plan, in parallel chunks: a plan reads only
-// the mesh, the posed positions and the crossings made before, so it is the same whatever the
-// chunks or the thread count.
+// Every candidate of kind kCut (neither deep inside nor clear of the cylinder) gets its plan, in
+// parallel chunks: a plan reads only the mesh, the posed positions and the crossings made before,
+// so it is the same whatever the chunks or the thread count.
 void RimInserter::plan_faces(const std::vector<FaceId>& candidates) {
   RimShared shared{mesh_, posed_, cyl_, merges_, faces_.data()};
   shared.eps = eps_;
@@ -468,6 +470,7 @@ RimInsertion RimInserter::run(const std::vector<FaceId>& candidates,
 RimInsertion insert_rim(MeshEditor& editor, const CylinderFrame& cyl, PosedOverlay& posed,
                         const std::vector<FaceId>& candidates,
                         const std::vector<std::uint8_t>& deep_corners) {
+  assert(deep_corners.size() == candidates.size());  // one per candidate, indexed as the candidates
   RimInserter inserter(editor, cyl, posed);
   return inserter.run(candidates, deep_corners);
 }

@@ -75,7 +75,8 @@ void snap_shallow_vertices(MeshEditor& editor, const CylinderFrame& cyl, PosedOv
 
 /// Splits the crossed edges of the candidates and re-triangulates the kept part of each one in
 /// its plane (new vertices' posed positions go to `posed`); `deep_corners` as
-/// snap_shallow_vertices gave them.
+/// snap_shallow_vertices gave them, one per candidate (asserted: they are indexed as the
+/// candidates).
 RimInsertion insert_rim(MeshEditor& editor, const CylinderFrame& cyl, PosedOverlay& posed,
                         const std::vector<FaceId>& candidates, const std::vector<std::uint8_t>& deep_corners);
 

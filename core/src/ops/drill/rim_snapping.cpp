@@ -59,7 +59,9 @@ using BandCorner = std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>;
 
 // The corners of the candidates at old vertices within kSnapBand rim spacings of the side and
 // between the ends (`in_band`), sorted, and per candidate (`deep_corners`) bit k set when its
-// corner k lies deep inside (deep_vertex, before any vertex moves). Each vertex judged once.
+// corner k lies deep inside (deep_vertex, before any vertex moves). Each old vertex is judged
+// once (the scratch map remembers old vertices only); a new one would be judged at each of its
+// corners, but there is none yet when the snap runs.
 template <class InBand>
 std::vector<BandCorner> band_corners(const SurfaceMesh& mesh, const CylinderFrame& cyl,
                                      const PosedOverlay& posed, const std::vector<FaceId>& candidates,
@@ -76,12 +78,11 @@ std::vector<BandCorner> band_corners(const SurfaceMesh& mesh, const CylinderFram
       const VertexId v = t[k];
       std::uint32_t b = judged.get(v.index);
       if (b == detail::VertexSlots::kNone) {
-        // As deep_vertex judges it (nothing has moved yet: cyl.sd is this maximum of the same
-        // terms).
+        // As deep_vertex judges it (nothing has moved yet: cyl.sd is sd_of these terms).
         const glm::dvec3 p = posed(v);
         const double sv = cyl.s(p), off = cyl.rho(p) - cyl.r;
         b = (in_band(sv, off) && v.index < posed.first_new() ? 1u : 0u) |
-            (std::max({off, -sv, sv - cyl.len}) < -2.0 * cyl.eps ? 2u : 0u);
+            (cyl.deep_sd(cyl.sd_of(sv, off)) ? 2u : 0u);
         if (v.index < posed.first_new()) judged.set(v.index, b);
       }
       if (b & 1u) corners.emplace_back(v.index, f.index, static_cast<std::uint32_t>(c));

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The rims the rim insertion left, traced from the topology of its edits.
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <optional>
 #include <unordered_map>
@@ -13,8 +14,8 @@
 namespace deepcut::drill {
 namespace {
 
-// Directed rim edges (from, to): made in discovery order, then grouped by `from` (a stable sort,
-// so each vertex's outgoing edges keep that order).
+// Directed rim edges (from, to): made in discovery order, then grouped by `from` (sorted by
+// (from, discovery index), so each vertex's outgoing edges keep that order).
 using RimSteps = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
 // Half-edges of live faces with both ends on the rim, in the order their faces were filed.
 using RimHalfEdgeList = std::vector<std::pair<VertexId, VertexId>>;
@@ -128,6 +129,7 @@ RimSteps rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFr
   }
   // Grouped by `from`, each group in discovery order: sorted by (from, discovery index) as one
   // 64-bit key per step (a plain sort of integers, where a stable sort of the pairs merges).
+  assert(rim_next.size() < (std::uint64_t(1) << 32));  // the discovery index fits the key's low half
   std::vector<std::uint64_t> order(rim_next.size());
   for (std::size_t i = 0; i < rim_next.size(); ++i) order[i] = std::uint64_t(rim_next[i].first) << 32 | i;
   std::sort(order.begin(), order.end());
