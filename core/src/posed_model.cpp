@@ -130,15 +130,6 @@ void corner_normals_of(const PosedMesh& inst, const SurfaceMesh& surface, const 
 // cut again at another plane after an undo makes, instead of a fresh array filled whole.
 std::size_t normals_room(const SurfaceMesh& surface) { return operation_corner_room(surface.face_slots()); }
 
-// The room of a piece's posed arrays (`n` vertices) made out of a source of `source` vertices:
-// the source's (operation_vertex_room), or the piece's own when larger. The pages past the
-// piece's vertices are not touched (address space only). Each piece of a later cut of that
-// source fits it, so the arrays an undo set aside are reused whatever the split (sized by the
-// piece alone, a piece a little larger than the one before did not fit, and took new pages).
-std::size_t piece_vertex_room(std::size_t n, std::size_t source) {
-  return operation_vertex_room(std::max(n, source));
-}
-
 }  // namespace
 
 std::vector<glm::vec3> PosedMesh::corner_normals(const SurfaceMesh& surface) const {
@@ -214,11 +205,10 @@ void PosedMesh::corner_normals(const SurfaceMesh& surface, const PrimitiveOrigin
   assert(normals->size() == 3 * slots);  // (so the passes below write every value of `out`)
   if (out.capacity() >= normals->size()) {
     out.resize(normals->size());
-  } else {  // the source's room (as piece_vertex_room): set aside, it holds any later piece of it
+  } else {  // a piece's room (as derive_instance gives its positions)
     out = std::vector<glm::vec3>();
-    const std::size_t room =
-        std::max(normals_room(surface), operation_corner_room(source_normals.size() / 3));
-    detail::resize_prefaulted(out, normals->size(), glm::vec3(0.0f), room);
+    detail::resize_prefaulted(out, normals->size(), glm::vec3(0.0f),
+                              piece_corner_room(slots, source_normals.size() / 3));
   }
   // Faces with a source copy its corners (the same corner attributes, vertices with the same
   // linear maps: the kernel would give the same bits); the others are listed per chunk, joined
@@ -374,12 +364,15 @@ PosedMesh PosedModel::derive_instance(const Model& model, int node, int primitiv
   inst.world = world_.at(static_cast<std::size_t>(node));
   inst.weights = weights(node);
   inst.gridless = true;
-  // A spare's arrays are taken when they hold the vertices (as a piece's corner normals take a
-  // spare's, built_normals in the studio's scene). New arrays get the room of the content the
-  // piece was cut out of (piece_vertex_room), so, set aside by an undo, they hold any piece a
-  // later cut of that content makes, however it splits it.
+  // A spare's arrays are taken when they hold the vertices and are at most twice the room the
+  // piece's own would have (as a piece's corner normals take a spare's, built_normals in the
+  // studio's scene), so a small piece does not keep a large allocation alive. New arrays get
+  // piece_vertex_room: set aside by an undo, they hold the smaller piece of any later cut of
+  // that content. Only the piece's elements are written; the rest of the room is address space
+  // unless the allocator gives back memory freed before (keep_freed_memory keeps it resident),
+  // and a taken spare's pages are in up to the most it held.
   const std::size_t n = mesh.vertex_count(), room = piece_vertex_room(n, source.posed.size());
-  PosedMesh taken = take_smallest_fit(spare, n, 2 * room + 1, [](const PosedMesh& m) {
+  PosedMesh taken = take_smallest_fit(spare, n, 2 * operation_vertex_room(n) + 1, [](const PosedMesh& m) {
     return std::min(m.posed.capacity(), m.linear.capacity());
   });
   if (n > 0 && taken.posed.capacity() >= n && taken.linear.capacity() >= n) {  // (none taken: empty)

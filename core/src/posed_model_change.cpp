@@ -81,6 +81,17 @@ Arrivals arrivals_of(const ModelChange& change) {
   return out;
 }
 
+/// What `stash` holds for no arrival, moved out: a derived instance takes the arrays of one
+/// (their memory reused, no new pages to fault in); the others are freed with the list. Those
+/// that held the most vertices come first: of spares with equal room (the pieces of one source
+/// up to half of it, piece_vertex_room), the largest piece, derived first, takes the one with
+/// the most pages already faulted in, and so on down.
+std::vector<PosedMesh> spares_of(PoseStash& stash, const Arrivals& arrivals) {
+  std::vector<PosedMesh> spare = take_unclaimed(stash, arrivals.tags);
+  largest_first(spare, [](const PosedMesh& m) { return m.posed.size(); });
+  return spare;
+}
+
 /// The vertices of the primitive a derivation makes.
 std::size_t vertices_of(const Model& model, const Derivation& d) {
   const Node& node = model.nodes[static_cast<std::size_t>(d.key.first)];
@@ -111,13 +122,7 @@ void PosedModel::follow(const Model& model, const ModelChange& change, PoseDetai
   if (stash) back.swap(*stash);
   set_pose(model, key_);
   const Arrivals arrivals = arrivals_of(change);
-  // What the stash holds for no arrival: a derived instance takes the arrays of one (their memory
-  // reused, no new pages to fault in); the others are freed with the list.
-  std::vector<PosedMesh> spare = take_unclaimed(back, arrivals.tags);
-  // Those that held the most vertices first: of spares with equal room (the pieces of one
-  // source, piece_vertex_room), the largest piece, derived first, takes the one with the most
-  // pages already faulted in, and so on down.
-  largest_first(spare, [](const PosedMesh& m) { return m.posed.size(); });
+  std::vector<PosedMesh> spare = spares_of(back, arrivals);
   // Posed as a build would pose `place` for `node` (the sizes: a guard against a follower that
   // did not show the state before the step).
   auto posed_alike = [&](const PosedMesh& inst, int node, const Place& place) {

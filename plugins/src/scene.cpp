@@ -155,11 +155,11 @@ std::vector<glm::vec3> built_normals(const SceneInstance& instance, const ModelC
       if (before.node == o->node_before && before.mesh == o->mesh_before &&
           before.primitive == o->primitive_before && !before.posed_normals.empty() &&
           posed.world == pose.world && posed.joints == pose.joints && posed.weights == pose.weights) {
-        // Any array the source's room holds (PosedMesh::corner_normals gives a piece that room).
+        // At most twice the piece's own room, so a small piece keeps no large array alive (a new
+        // one gets piece_corner_room: set aside, it holds the smaller piece of a later cut).
         const std::size_t slots = instance.surface->face_slots();
-        const std::size_t room = operation_corner_room(std::max(slots, before.posed_normals.size() / 3));
-        std::vector<glm::vec3> out = take_smallest_fit(
-            spare, 3 * slots, 2 * room, [](const std::vector<glm::vec3>& a) { return a.capacity(); });
+        std::vector<glm::vec3> out = take_smallest_fit(spare, 3 * slots, 2 * operation_corner_room(slots),
+                                                       [](const std::vector<glm::vec3>& a) { return a.capacity(); });
         pose.corner_normals(*instance.surface, *o, before.posed_normals, out);
         return out;
       }

@@ -25,12 +25,15 @@
 // keeps; the median of the repetitions) and what it left for when the UI is idle
 // after its frame ("prepare_updates_ms": SceneView::prepare_updates, the corner lists of a cut's
 // pieces, timed on its own before the undo so that the undo does not pay for it).
-//   deepcut_studio_bench [--json] [--quick] [--size N] [--no-rebuild] [--ops N] [--open-only]
-//                        [--only drill|tear|cut]
+//   deepcut_studio_bench [--json] [--quick] [--size N] [--no-rebuild] [--ops N] [--cuts N]
+//                        [--open-only] [--only drill|tear|cut]
 // --quick: the 25K cactus only; --size N: only the cactus of about N triangles (a profile of one
 // size); --no-rebuild: without the "..._rebuild" rows; --open-only: the open and the unchanged
 // re-renders only (a profile of the open); --only KIND: of the operations, only that kind's
-// apply, undo and redo (a profile of one operation; `--ops 0` skips the memory run too).
+// apply, undo and redo (a profile of one operation; `--ops 0` skips the memory run too);
+// --cuts N: after the drills' memory run, N cuts each undone, across the middle and at the tip
+// by turns, and the resident memory before and after ("cut_undo_memory": what the pieces an
+// undo set aside and the spares they are made into keep alive over a long session).
 // Medians of three repetitions for each timed step.
 #include <unistd.h>
 
@@ -171,6 +174,14 @@ class Placer {
     tear.end = {handle - 0.3f * height * up, at - 0.3f * height * up};
     return posed(tear);
   }
+  /// A cut near the top of the model (a small piece: its tip).
+  deepcut::Operation tip_cut() {
+    deepcut::CutOperation cut;
+    cut.plane.point = centre();
+    cut.plane.point.y = box_.max.y - (0.02f + 0.02f * next()) * (box_.max.y - box_.min.y);
+    cut.plane.normal = glm::vec3(0.1f * (next() - 0.5f), 1.0f, 0.05f);
+    return posed(cut);
+  }
   deepcut::Operation cut() {
     deepcut::CutOperation cut;
     cut.plane.point = centre() + glm::vec3(0.0f, (next() - 0.5f) * 0.3f * size(), 0.0f);
@@ -274,7 +285,7 @@ json time_operation(MainWindow& window, Timer& timer, const std::function<deepcu
   return out;
 }
 
-json run_size(std::size_t target, int ops, bool rebuilds, bool open_only, const std::string& only,
+json run_size(std::size_t target, int ops, int cuts, bool rebuilds, bool open_only, const std::string& only,
               const QString& dir) {
   deepcut::CactusOptions options;
   options.target_triangles = target;
@@ -337,6 +348,21 @@ json run_size(std::size_t target, int ops, bool rebuilds, bool open_only, const 
                    {"resident_before_mib", before},
                    {"resident_after_mib", after},
                    {"growth_per_operation_kib", ops > 0 ? (after - before) * 1024.0 / ops : 0.0}};
+  if (cuts > 0) {
+    const double cuts_before = resident_mib();
+    int made = 0;
+    for (int i = 0; i < cuts; ++i)
+      if (apply(window, i % 2 ? place.tip_cut() : place.cut())) {  // a miss changes nothing
+        ++made;
+        window.undo_action()->trigger();
+      }
+    const double cuts_after = resident_mib();
+    out["cut_undo_memory"] = {
+        {"cuts", made},
+        {"resident_before_mib", cuts_before},
+        {"resident_after_mib", cuts_after},
+        {"growth_per_cut_kib", made > 0 ? (cuts_after - cuts_before) * 1024.0 / made : 0.0}};
+  }
   for (const bool rebuild : {false, true}) {
     if (rebuild && !rebuilds) break;
     // The reference: the scene and its VTK data built again after every step.
@@ -404,7 +430,7 @@ void print_table(const json& results) {
 int main(int argc, char** argv) {
   deepcut::keep_freed_memory();  // an operation writes into the pages the last one freed
   bool as_json = false, quick = false, rebuilds = true, open_only = false;
-  int ops = 100;
+  int ops = 100, cuts = 0;
   std::size_t size = 0;
   std::string only;
   for (int i = 1; i < argc; ++i) {
@@ -420,13 +446,16 @@ int main(int argc, char** argv) {
       size = static_cast<std::size_t>(std::max(1000L, std::atol(argv[++i])));
     } else if (std::strcmp(argv[i], "--ops") == 0 && i + 1 < argc) {
       ops = std::max(0, std::atoi(argv[++i]));
+    } else if (std::strcmp(argv[i], "--cuts") == 0 && i + 1 < argc) {
+      cuts = std::max(0, std::atoi(argv[++i]));
     } else if (std::strcmp(argv[i], "--only") == 0 && i + 1 < argc &&
                (std::strcmp(argv[i + 1], "drill") == 0 || std::strcmp(argv[i + 1], "tear") == 0 ||
                 std::strcmp(argv[i + 1], "cut") == 0)) {
       only = argv[++i];
     } else {
       std::cerr << "deepcut_studio_bench: unknown argument '" << argv[i]
-                << "' (--json, --quick, --size N, --no-rebuild, --ops N, --open-only, --only drill|tear|cut)\n";
+                << "' (--json, --quick, --size N, --no-rebuild, --ops N, --cuts N, --open-only, --only "
+                   "drill|tear|cut)\n";
       return 2;
     }
   }
@@ -435,10 +464,10 @@ int main(int argc, char** argv) {
   try {
     json results = json::array();
     if (size > 0) {
-      results.push_back(run_size(size, ops, rebuilds, open_only, only, dir.path()));
+      results.push_back(run_size(size, ops, cuts, rebuilds, open_only, only, dir.path()));
     } else {
-      results.push_back(run_size(25300, ops, rebuilds, open_only, only, dir.path()));
-      if (!quick) results.push_back(run_size(1000000, ops, rebuilds, open_only, only, dir.path()));
+      results.push_back(run_size(25300, ops, cuts, rebuilds, open_only, only, dir.path()));
+      if (!quick) results.push_back(run_size(1000000, ops, cuts, rebuilds, open_only, only, dir.path()));
     }
     if (as_json)
       std::cout << results.dump(2) << "\n";

@@ -19,6 +19,7 @@
 #include <QtTest/QtTest>
 #include <algorithm>
 #include <cstring>
+#include <map>
 #include <memory>
 #include <string>
 #include <variant>
@@ -187,6 +188,55 @@ class ViewFollowGuiTest : public QObject {
     }
     QVERIFY(pieces >= 2);
     QCOMPARE(written, pieces);
+  }
+
+  // A cut low down, its undo, then a cut across the middle (the studio's cuts after a drill and
+  // a tear): every piece of the even cut writes its corner normals into an array a piece of the
+  // lopsided one set aside, one past the room its set-aside piece would have had alone (a new
+  // piece's normals get the room of half the content it was cut out of, piece_corner_room).
+  void a_more_even_cut_writes_its_pieces_normals_into_the_arrays_a_lopsided_one_set_aside() {
+    auto opened = std::make_shared<Model>(read_gltf(DEEPCUT_ASSETS_DIR "/cactus.glb"));
+    reserve_for_operations(*opened);
+    session::Session session;
+    session.open(opened);
+    plugins::Scene scene = plugins::make_scene(session.current(), -1, 0.0f);
+    const PosedModel rest = PosedModel::build(*opened, -1, 0.0f);
+    BoundingBox box;
+    for (const auto& entry : rest.instances()) box.add(entry.second.bounds);
+    auto cut_at = [&](float height) {  // a level cut at `height` of the rest bounds (0: the bottom)
+      CutOperation cut;
+      cut.plane.point = box.min + height * (box.max - box.min);
+      cut.plane.normal = glm::vec3(0.02f, 1.0f, 0.01f);
+      return session.apply(Operation{cut, -1, 0.0f});
+    };
+    const session::Applied low = cut_at(0.15f);
+    QCOMPARE(low.result.status, OpStatus::Ok);
+    QVERIFY(plugins::follow_scene(scene, session.current(), low.change));
+    QVERIFY(plugins::follow_scene(scene, session.current(), session.undo()));
+    std::map<const glm::vec3*, std::size_t> set_aside;  // memory -> the corners it held
+    for (const auto& entry : scene.stash->normals) set_aside[entry.second.data()] = entry.second.size();
+    QVERIFY2(set_aside.size() >= 2, "the undo set the pieces' normals aside");
+    const session::Applied middle = cut_at(0.5f);
+    QCOMPARE(middle.result.status, OpStatus::Ok);
+    QVERIFY(plugins::follow_scene(scene, session.current(), middle.change));
+    const plugins::Scene fresh = plugins::make_scene(session.current(), -1, 0.0f);
+    QCOMPARE(scene.instances.size(), fresh.instances.size());
+    std::size_t pieces = 0, written = 0, outgrown = 0;
+    for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+      const std::vector<glm::vec3>& got = scene.instances[i].posed_normals;
+      const std::vector<glm::vec3>& want = fresh.instances[i].posed_normals;
+      QCOMPARE(got.size(), want.size());
+      QVERIFY(got.empty() || std::memcmp(got.data(), want.data(), got.size() * sizeof(glm::vec3)) == 0);
+      if (scene.origins[i].kind != plugins::InstanceOrigin::Kind::Built) continue;
+      ++pieces;
+      const auto it = set_aside.find(got.data());
+      if (it == set_aside.end()) continue;
+      ++written;
+      outgrown += got.size() > operation_corner_room(it->second / 3);
+    }
+    QVERIFY(pieces >= 2);
+    QCOMPARE(written, pieces);
+    QVERIFY2(outgrown > 0, "a piece past the room its set-aside piece would have had alone");
   }
 
   // With one set-aside array that holds the corner normals of every piece of a cut, the piece
