@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 // Capped cuts at the edge of what a cap can be: sections that give no cap faces.
-#include <algorithm>
-
 #include <gtest/gtest.h>
+
+#include <algorithm>
 
 #include "deepcut/core/ops/cut.h"
 #include "deepcut/core/surface_mesh.h"
