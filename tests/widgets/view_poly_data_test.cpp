@@ -201,28 +201,29 @@ TEST(ViewPolyDataTest, face_naming_one_vertex_three_times) {
   f.become(original, "restored");
 }
 
-// The first build's arrays, byte for byte, are the same whatever the thread count (the corners
-// are grouped by vertex ranges, one per thread), and so is the view after a step.
-TEST(ViewPolyDataTest, first_build_the_same_whatever_the_thread_count) {
-  const SurfaceMesh mesh = test::make_grid(40, 30);
+// The bytes of a view's drawn arrays: points, normals, uv0, vertex ids, connectivity.
+std::vector<std::vector<unsigned char>> view_arrays(const ViewPolyData& view) {
   auto bytes = [](vtkDataArray* a) {
     const auto* p = static_cast<const unsigned char*>(a->GetVoidPointer(0));
     return std::vector<unsigned char>(p, p + a->GetNumberOfValues() * a->GetDataTypeSize());
   };
-  auto arrays = [&](const ViewPolyData& view) {
-    vtkPolyData* poly = view.poly();
-    return std::vector<std::vector<unsigned char>>{
-        bytes(poly->GetPoints()->GetData()), bytes(poly->GetPointData()->GetNormals()),
-        bytes(poly->GetPointData()->GetArray("uv0")), bytes(poly->GetPointData()->GetArray("vertex_id")),
-        bytes(poly->GetPolys()->GetConnectivityArray())};
-  };
+  vtkPolyData* poly = view.poly();
+  return {bytes(poly->GetPoints()->GetData()), bytes(poly->GetPointData()->GetNormals()),
+          bytes(poly->GetPointData()->GetArray("uv0")), bytes(poly->GetPointData()->GetArray("vertex_id")),
+          bytes(poly->GetPolys()->GetConnectivityArray())};
+}
+
+// The first build's arrays, byte for byte, are the same whatever the thread count (the corners
+// are grouped by vertex ranges, one per thread), and so is the view after a step.
+TEST(ViewPolyDataTest, first_build_the_same_whatever_the_thread_count) {
+  const SurfaceMesh mesh = test::make_grid(40, 30);
   const std::size_t threads = thread_count();
   std::vector<std::vector<std::vector<unsigned char>>> got;
   for (std::size_t n : {1, 2, 3, 7}) {
     set_thread_count(n);
     Followed f(mesh);
     EXPECT_TRUE(f.view.corner_points());
-    got.push_back(arrays(f.view));
+    got.push_back(view_arrays(f.view));
     f.edit([](MeshEditor& e) { e.remove_face(FaceId(5)); }, "a face removed");
   }
   set_thread_count(threads);
@@ -247,19 +248,8 @@ TEST(ViewPolyDataTest, normals_posed_per_point_as_per_corner) {
   ASSERT_EQ(normals.size(), 3 * mesh.face_slots());
   const ViewPolyData per_corner(mesh, pose.posed, &normals);
   const ViewPolyData per_point(mesh, pose.posed, CornerNormalPoser(pose, mesh));
-  auto bytes = [](vtkDataArray* a) {
-    const auto* p = static_cast<const unsigned char*>(a->GetVoidPointer(0));
-    return std::vector<unsigned char>(p, p + a->GetNumberOfValues() * a->GetDataTypeSize());
-  };
-  auto arrays = [&](const ViewPolyData& view) {
-    vtkPolyData* poly = view.poly();
-    return std::vector<std::vector<unsigned char>>{
-        bytes(poly->GetPoints()->GetData()), bytes(poly->GetPointData()->GetNormals()),
-        bytes(poly->GetPointData()->GetArray("uv0")), bytes(poly->GetPointData()->GetArray("vertex_id")),
-        bytes(poly->GetPolys()->GetConnectivityArray())};
-  };
   EXPECT_GT(per_point.poly()->GetNumberOfPoints(), static_cast<vtkIdType>(mesh.vertex_count()));
-  EXPECT_EQ(arrays(per_point), arrays(per_corner));
+  EXPECT_EQ(view_arrays(per_point), view_arrays(per_corner));
 }
 
 }  // namespace
