@@ -391,30 +391,31 @@ TEST(ModelSurgery, ACutsVertexSidesSplitItsMeshAsItsPiecesFacesDo) {
 }
 
 // A generated cactus of about `triangles` triangles cut across its middle by a slanted plane
-// (both pieces kept, no cap): the mesh after the cut and the cut's result.
+// (both pieces kept, no cap): the mesh after the cut and the cut's result, asserted to have
+// gone through in two pieces (call it in ASSERT_NO_FATAL_FAILURE).
 struct CactusCut {
   SurfaceMesh mesh;
   CutResult result;
 };
-CactusCut cut_cactus(std::size_t triangles) {
+void cut_cactus(std::size_t triangles, CactusCut& out) {
   CactusOptions cactus;
   cactus.target_triangles = triangles;
-  CactusCut out{make_cactus(cactus).meshes[0].primitives[0].mesh, {}};
+  out.mesh = make_cactus(cactus).meshes[0].primitives[0].mesh;
   const BoundingBox box = out.mesh.bounds();
   const Plane plane{0.5f * (box.min + box.max), glm::vec3(0.1f, 1.0f, 0.05f)};
   out.result = cut_mesh(out.mesh, out.mesh.positions(), plane, CutOptions{});
-  return out;
+  ASSERT_EQ(out.result.status, OpStatus::Ok);
+  ASSERT_EQ(out.result.pieces.size(), 2u);
 }
 
 TEST(ModelSurgery, VertexSidesThatBreakTheFacesFallBackToSplittingByFaces) {
   // Sides that break the cut's promise (a used vertex with side 0, another on the other side)
   // are noticed: the pieces are those split by their faces, not renumbered through ranks that
   // were never written.
-  CactusCut cut = cut_cactus(20000);
+  CactusCut cut;
+  ASSERT_NO_FATAL_FAILURE(cut_cactus(20000, cut));
   SurfaceMesh& mesh = cut.mesh;
   const CutResult& r = cut.result;
-  ASSERT_EQ(r.status, OpStatus::Ok);
-  ASSERT_EQ(r.pieces.size(), 2u);
   for (int broken_side : {0, 2}) {
     std::vector<std::int8_t> sides_of = CutSides::of(r);
     const VertexId v = mesh.face(r.pieces[0][r.pieces[0].size() / 2])[1];
@@ -432,11 +433,10 @@ TEST(ModelSurgery, VertexSidesWithListsOutOfOrderSplitAsTheSortedLists) {
   // Lists checked and copied in one pass only when each is live and increasing: a list out of
   // order (within a chunk of the pass or across two), or naming a face twice, is sorted first,
   // and the pieces are those of the cut's own lists.
-  CactusCut cut = cut_cactus(200000);  // lists longer than one chunk (65536 faces) of the pass
+  CactusCut cut;  // lists longer than one chunk (65536 faces) of the pass
+  ASSERT_NO_FATAL_FAILURE(cut_cactus(200000, cut));
   SurfaceMesh& mesh = cut.mesh;
   const CutResult& r = cut.result;
-  ASSERT_EQ(r.status, OpStatus::Ok);
-  ASSERT_EQ(r.pieces.size(), 2u);
   ASSERT_GT(r.pieces[1].size(), 65537u);
   const PieceSides sides{&r.piece_sides, &CutSides::of(r)};
   SurfaceMesh b = mesh;
@@ -458,11 +458,10 @@ TEST(ModelSurgery, VertexSidesWithDeletedFacesInTheListsKeepTheVerticesOnTheirSi
   // A list naming deleted faces fails the split's one-pass check; made live and increasing, it is
   // split by the vertex sides all the same, which keep a vertex only deleted faces used (marking by
   // the live faces would drop it): the pieces of the lists without those faces.
-  CactusCut cut = cut_cactus(20000);
+  CactusCut cut;
+  ASSERT_NO_FATAL_FAILURE(cut_cactus(20000, cut));
   SurfaceMesh& mesh = cut.mesh;
   const CutResult& r = cut.result;
-  ASSERT_EQ(r.status, OpStatus::Ok);
-  ASSERT_EQ(r.pieces.size(), 2u);
   const std::vector<std::int8_t>& side = CutSides::of(r);
   const PieceSides sides{&r.piece_sides, &side};
   // Every face of list 1 around one of its vertices deleted (still named by the list).
