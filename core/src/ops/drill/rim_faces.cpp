@@ -359,11 +359,33 @@ void FacePlanner::sample_rim() {
   }
 }
 
+// Appends to `poly` the rim samples not yet used (w_.used) on the arc from `end` back to `start`
+// (boundary points on the rim), in order from `end`, and marks them used. Returns how many.
+std::size_t FacePlanner::add_arc(const LocalPoint& start, const LocalPoint& end,
+                                 std::vector<LocalPoint>& poly) {
+  const std::vector<LocalPoint>& rim = w_.rim;
+  std::vector<std::uint8_t>& used = w_.used;
+  const double phi_end = face_.pc.phi(end.q);
+  const double span = geometry::wrap_2pi(phi_end - face_.pc.phi(start.q));
+  std::vector<std::pair<double, std::size_t>>& arc = w_.arc;
+  arc.clear();
+  for (std::size_t i = 0; i < rim.size(); ++i) {
+    if (used[i]) continue;
+    const double delta = geometry::wrap_2pi(phi_end - rim[i].phi);
+    if (delta > 0.0 && delta < span) arc.emplace_back(delta, i);
+  }
+  std::sort(arc.begin(), arc.end());
+  for (const auto& [delta, i] : arc) {
+    used[i] = 1;
+    poly.push_back(rim[i]);
+  }
+  return arc.size();
+}
+
 // Runs of outside segments; each closes with the rim arc from its end back to its start.
 void FacePlanner::kept_parts() {
   const std::vector<LocalPoint>& pts = w_.pts;
   const std::vector<std::uint8_t>& seg_inside = w_.seg_inside;
-  const std::vector<LocalPoint>& rim = w_.rim;
   const std::size_t m = pts.size();
   std::size_t start = m;
   for (std::size_t i = 0; i < m; ++i)
@@ -373,8 +395,8 @@ void FacePlanner::kept_parts() {
     }
   plan_->remove = 1;
   if (start == m) return;
-  std::vector<std::uint8_t>& used = w_.used;
-  used.assign(rim.size(), 0);
+  w_.used.assign(w_.rim.size(), 0);
+  std::size_t left = w_.rim.size();  // rim samples in no part yet (no angles needed once none is)
   for (std::size_t step = 0; step < m; ++step) {
     const std::size_t j = (start + step) % m;
     if (!(seg_inside[(j + m - 1) % m] && !seg_inside[j])) continue;
@@ -387,20 +409,7 @@ void FacePlanner::kept_parts() {
       poly.push_back(pts[k]);
       if (k == j) break;
     }
-    const double phi_end = face_.pc.phi(pts[k].q);
-    const double span = geometry::wrap_2pi(phi_end - face_.pc.phi(pts[j].q));
-    std::vector<std::pair<double, std::size_t>>& arc = w_.arc;
-    arc.clear();
-    for (std::size_t i = 0; i < rim.size(); ++i) {
-      if (used[i]) continue;
-      const double delta = geometry::wrap_2pi(phi_end - rim[i].phi);
-      if (delta > 0.0 && delta < span) arc.emplace_back(delta, i);
-    }
-    std::sort(arc.begin(), arc.end());
-    for (const auto& [delta, i] : arc) {
-      used[i] = 1;
-      poly.push_back(rim[i]);
-    }
+    if (left > 0) left -= add_arc(pts[j], pts[k], poly);
     std::vector<std::uint32_t>& loop = w_.loop;
     loop.resize(poly.size());
     for (std::size_t i = 0; i < poly.size(); ++i) loop[i] = static_cast<std::uint32_t>(i);
