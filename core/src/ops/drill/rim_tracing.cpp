@@ -138,20 +138,21 @@ RimSteps rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFr
   return sorted;
 }
 
-// Turns of a closed rim around the axis.
+// Turns of a closed rim around the axis: the winding number around the axis of the rim's chords
+// seen along it (geometry::winding). A chord between two points around the axis turns the short
+// way, so this is the sum of the turns from each vertex to the next, each under half a turn,
+// without an angle per vertex.
 int winding(const CylinderFrame& cyl, const PosedOverlay& posed, const std::vector<VertexId>& rim) {
-  double turn = 0.0;
-  const double first = rim.empty() ? 0.0 : cyl.theta(posed(rim[0]));
-  double b = first;
-  for (std::size_t i = 0; i < rim.size(); ++i) {
-    const double a = b;  // each vertex's angle computed once
-    b = i + 1 < rim.size() ? cyl.theta(posed(rim[i + 1])) : first;
-    double dth = b - a;
-    while (dth > geometry::kPi) dth -= 2.0 * geometry::kPi;
-    while (dth < -geometry::kPi) dth += 2.0 * geometry::kPi;
-    turn += dth;
+  std::vector<std::vector<std::uint32_t>> loop(1);
+  std::vector<glm::dvec2> xy;
+  loop[0].reserve(rim.size());
+  xy.reserve(rim.size());
+  for (const VertexId v : rim) {
+    const glm::dvec3 q = cyl.perp(posed(v));
+    loop[0].push_back(static_cast<std::uint32_t>(xy.size()));
+    xy.emplace_back(glm::dot(q, cyl.u), glm::dot(q, cyl.w));
   }
-  return static_cast<int>(std::lround(turn / (2.0 * geometry::kPi)));
+  return geometry::winding(xy, loop, glm::dvec2(0.0));
 }
 
 // The outgoing rim edges of each vertex, found through the thread's scratch vertex map (each
