@@ -51,6 +51,17 @@ class RimHalfEdges {
   std::vector<std::uint8_t> kinds_;  // per filed half-edge
 };
 
+// Which corners of `t` lie on the rim (`on_rim`), in `rim`; returns whether an edge of `t` can
+// have both ends there. Every edge has corner 0 or 1, so the third is looked at only when one of
+// those is on the rim (most faces of the log lie off it).
+template <class OnRim>
+bool rim_corners(const Triangle& t, const OnRim& on_rim, bool rim[3]) {
+  rim[0] = on_rim(t[0]);
+  rim[1] = on_rim(t[1]);
+  rim[2] = (rim[0] || rim[1]) && on_rim(t[2]);
+  return int(rim[0]) + int(rim[1]) + int(rim[2]) >= 2;
+}
+
 // The rim half-edges of the added faces, of the removed ones and of the untouched candidates
 // (faces the drill left alone can border the hole too: an old edge that lies on the cylinder,
 // within the tolerance, between a removed face and an untouched one); those of the live faces
@@ -62,23 +73,19 @@ RimHalfEdges file_rim_half_edges(const SurfaceMesh& mesh, const EditLog& log, co
   // Room for an eighth of the edits (the log also holds removed faces, new vertices and moves,
   // and most added faces have no rim half-edge): enough for most holes without growing.
   RimHalfEdges filed(log.edits.size() / 8 + 16);
+  bool rim[3];
   for (const Edit& e : log.edits) {
     if (const auto* fa = std::get_if<FaceAdded>(&e)) {
-      const Triangle& t = fa->vertices;
-      const bool rim[3] = {on_rim(t[0]), on_rim(t[1]), on_rim(t[2])};
-      filed.file_face(t, rim, RimHalfEdges::kAdded, mesh.is_deleted(fa->f) ? nullptr : &live);
+      if (rim_corners(fa->vertices, on_rim, rim))
+        filed.file_face(fa->vertices, rim, RimHalfEdges::kAdded, mesh.is_deleted(fa->f) ? nullptr : &live);
     } else if (const auto* fr = std::get_if<FaceRemoved>(&e)) {
-      const Triangle& t = fr->vertices;
-      const bool rim[3] = {old_on_rim(t[0]), old_on_rim(t[1]), old_on_rim(t[2])};
-      filed.file_face(t, rim, RimHalfEdges::kRemoved, nullptr);
+      if (rim_corners(fr->vertices, old_on_rim, rim))
+        filed.file_face(fr->vertices, rim, RimHalfEdges::kRemoved, nullptr);
     }
   }
   for (FaceId f : candidates)
-    if (!mesh.is_deleted(f)) {
-      const Triangle& t = mesh.face(f);
-      const bool rim[3] = {on_rim(t[0]), on_rim(t[1]), on_rim(t[2])};
-      filed.file_face(t, rim, RimHalfEdges::kUntouched, &live);
-    }
+    if (!mesh.is_deleted(f) && rim_corners(mesh.face(f), on_rim, rim))
+      filed.file_face(mesh.face(f), rim, RimHalfEdges::kUntouched, &live);
   return filed;
 }
 
