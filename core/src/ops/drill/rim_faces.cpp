@@ -354,9 +354,33 @@ void FacePlanner::sample_rim() {
     const int by_count =
         std::min(s_.samples - arc_rulings + 1, static_cast<int>(std::floor(4.0 * hh / spacing)));
     const int pieces = std::min(std::max(by_spacing, by_count), 4 * s_.samples);
-    for (int j = 1; j < pieces; ++j)
-      consider(pc.point(a_cap, pc.b0 - hh + 2.0 * hh * j / pieces), false);
+    const auto [first, last] = chord_pieces(a_cap, hh, pieces);
+    for (int j = first; j < last; ++j) consider(pc.point(a_cap, pc.b0 - hh + 2.0 * hh * j / pieces), false);
   }
+}
+
+// The points j of an end plane's chord at a = a_cap, split into `pieces` (b from b0 - hh to
+// b0 + hh, 0 < j < pieces), that consider() can keep, as [first, last): it keeps a point only
+// inside the triangle, or outside one edge by at most its shift bound (0.005 r). A point farther
+// out than twice that (plus two tolerances: rounding is far smaller) is left out without being
+// looked at; one more point each side of the range is looked at.
+std::pair<int, int> FacePlanner::chord_pieces(double a_cap, double hh, int pieces) const {
+  const double reach = 2.0 * (0.005 * s_.cyl.r + s_.eps);
+  const glm::dvec3 from = face_.bary_of({a_cap, face_.pc.b0 - hh}),
+                   to = face_.bary_of({a_cap, face_.pc.b0 + hh});
+  double lo = 0.0, hi = 1.0;  // along the chord: distance from edge k is d0 + t (d1 - d0)
+  for (int k = 0; k < 3; ++k) {
+    const double d0 = from[k] * face_.height[k], slope = to[k] * face_.height[k] - d0;
+    if (slope > 0.0)
+      lo = std::max(lo, (-reach - d0) / slope);
+    else if (slope < 0.0)
+      hi = std::min(hi, (-reach - d0) / slope);
+    else if (d0 < -reach)
+      return {1, 1};
+  }
+  if (!(lo <= hi)) return {1, 1};
+  const int first = std::max(1, static_cast<int>(std::floor(lo * pieces)) - 1);
+  return {first, std::min(pieces, static_cast<int>(std::ceil(hi * pieces)) + 2)};
 }
 
 // Appends to `poly` the rim samples not yet used (w_.used) on the arc from `end` back to `start`

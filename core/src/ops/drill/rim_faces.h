@@ -231,6 +231,7 @@ class FacePlanner {
   bool boundary(const Triangle& tri, const glm::dvec3 corner[3]);
   void face_boundary(const Triangle& tri, const glm::dvec3 corner[3]);
   void sample_rim();
+  std::pair<int, int> chord_pieces(double a_cap, double hh, int pieces) const;
   void consider(const glm::dvec3& x, bool corner_point);
   void end_corner(double a_cap, double hh, double sign);
   void kept_parts();
