@@ -354,16 +354,62 @@ void FacePlanner::sample_rim() {
     const int by_count =
         std::min(s_.samples - arc_rulings + 1, static_cast<int>(std::floor(4.0 * hh / spacing)));
     const int pieces = std::min(std::max(by_spacing, by_count), 4 * s_.samples);
-    for (int j = 1; j < pieces; ++j)
-      consider(pc.point(a_cap, pc.b0 - hh + 2.0 * hh * j / pieces), false);
+    const auto [first, last] = chord_pieces(a_cap, hh, pieces);
+    for (int j = first; j < last; ++j) consider(pc.point(a_cap, pc.b0 - hh + 2.0 * hh * j / pieces), false);
   }
+}
+
+// The points j of an end plane's chord at a = a_cap, split into `pieces` (b from b0 - hh to
+// b0 + hh, 0 < j < pieces), that consider() can keep, as [first, last): it keeps a point only
+// inside the triangle, or outside one edge by at most its shift bound (0.005 r). A point farther
+// out than twice that (plus two tolerances: rounding is far smaller) is left out without being
+// looked at; one more point each side of the range is looked at.
+std::pair<int, int> FacePlanner::chord_pieces(double a_cap, double hh, int pieces) const {
+  const double reach = 2.0 * (0.005 * s_.cyl.r + s_.eps);
+  const glm::dvec3 from = face_.bary_of({a_cap, face_.pc.b0 - hh}),
+                   to = face_.bary_of({a_cap, face_.pc.b0 + hh});
+  double lo = 0.0, hi = 1.0;  // along the chord: distance from edge k is d0 + t (d1 - d0)
+  for (int k = 0; k < 3; ++k) {
+    const double d0 = from[k] * face_.height[k], slope = to[k] * face_.height[k] - d0;
+    if (slope > 0.0)
+      lo = std::max(lo, (-reach - d0) / slope);
+    else if (slope < 0.0)
+      hi = std::min(hi, (-reach - d0) / slope);
+    else if (d0 < -reach)
+      return {1, 1};
+  }
+  if (!(lo <= hi)) return {1, 1};
+  const int first = std::max(1, static_cast<int>(std::floor(lo * pieces)) - 1);
+  return {first, std::min(pieces, static_cast<int>(std::ceil(hi * pieces)) + 2)};
+}
+
+// Appends to `poly` the rim samples not yet used (w_.used) on the arc from `end` back to `start`
+// (boundary points on the rim), in order from `end`, and marks them used. Returns how many.
+std::size_t FacePlanner::add_arc(const LocalPoint& start, const LocalPoint& end,
+                                 std::vector<LocalPoint>& poly) {
+  const std::vector<LocalPoint>& rim = w_.rim;
+  std::vector<std::uint8_t>& used = w_.used;
+  const double phi_end = face_.pc.phi(end.q);
+  const double span = geometry::wrap_2pi(phi_end - face_.pc.phi(start.q));
+  std::vector<std::pair<double, std::size_t>>& arc = w_.arc;
+  arc.clear();
+  for (std::size_t i = 0; i < rim.size(); ++i) {
+    if (used[i]) continue;
+    const double delta = geometry::wrap_2pi(phi_end - rim[i].phi);
+    if (delta > 0.0 && delta < span) arc.emplace_back(delta, i);
+  }
+  std::sort(arc.begin(), arc.end());
+  for (const auto& [delta, i] : arc) {
+    used[i] = 1;
+    poly.push_back(rim[i]);
+  }
+  return arc.size();
 }
 
 // Runs of outside segments; each closes with the rim arc from its end back to its start.
 void FacePlanner::kept_parts() {
   const std::vector<LocalPoint>& pts = w_.pts;
   const std::vector<std::uint8_t>& seg_inside = w_.seg_inside;
-  const std::vector<LocalPoint>& rim = w_.rim;
   const std::size_t m = pts.size();
   std::size_t start = m;
   for (std::size_t i = 0; i < m; ++i)
@@ -373,8 +419,8 @@ void FacePlanner::kept_parts() {
     }
   plan_->remove = 1;
   if (start == m) return;
-  std::vector<std::uint8_t>& used = w_.used;
-  used.assign(rim.size(), 0);
+  w_.used.assign(w_.rim.size(), 0);
+  std::size_t left = w_.rim.size();  // rim samples in no part yet (no angles needed once none is)
   for (std::size_t step = 0; step < m; ++step) {
     const std::size_t j = (start + step) % m;
     if (!(seg_inside[(j + m - 1) % m] && !seg_inside[j])) continue;
@@ -387,20 +433,7 @@ void FacePlanner::kept_parts() {
       poly.push_back(pts[k]);
       if (k == j) break;
     }
-    const double phi_end = face_.pc.phi(pts[k].q);
-    const double span = geometry::wrap_2pi(phi_end - face_.pc.phi(pts[j].q));
-    std::vector<std::pair<double, std::size_t>>& arc = w_.arc;
-    arc.clear();
-    for (std::size_t i = 0; i < rim.size(); ++i) {
-      if (used[i]) continue;
-      const double delta = geometry::wrap_2pi(phi_end - rim[i].phi);
-      if (delta > 0.0 && delta < span) arc.emplace_back(delta, i);
-    }
-    std::sort(arc.begin(), arc.end());
-    for (const auto& [delta, i] : arc) {
-      used[i] = 1;
-      poly.push_back(rim[i]);
-    }
+    if (left > 0) left -= add_arc(pts[j], pts[k], poly);
     std::vector<std::uint32_t>& loop = w_.loop;
     loop.resize(poly.size());
     for (std::size_t i = 0; i < poly.size(); ++i) loop[i] = static_cast<std::uint32_t>(i);

@@ -231,9 +231,11 @@ class FacePlanner {
   bool boundary(const Triangle& tri, const glm::dvec3 corner[3]);
   void face_boundary(const Triangle& tri, const glm::dvec3 corner[3]);
   void sample_rim();
+  std::pair<int, int> chord_pieces(double a_cap, double hh, int pieces) const;
   void consider(const glm::dvec3& x, bool corner_point);
   void end_corner(double a_cap, double hh, double sign);
   void kept_parts();
+  std::size_t add_arc(const LocalPoint& start, const LocalPoint& end, std::vector<LocalPoint>& poly);
   void add_polygon(std::vector<LocalPoint>& pts, const std::vector<std::uint32_t>& outer,
                    const std::vector<std::vector<std::uint32_t>>& holes);
   void refine(geometry::FlipTriangulation& ft, std::vector<glm::dvec2>& q, std::vector<LocalPoint>& pts,

@@ -51,6 +51,17 @@ class RimHalfEdges {
   std::vector<std::uint8_t> kinds_;  // per filed half-edge
 };
 
+// Which corners of `t` lie on the rim (`on_rim`), in `rim`; returns whether an edge of `t` can
+// have both ends there. Every edge has corner 0 or 1, so the third is looked at only when one of
+// those is on the rim (most faces of the log lie off it).
+template <class OnRim>
+bool rim_corners(const Triangle& t, const OnRim& on_rim, bool rim[3]) {
+  rim[0] = on_rim(t[0]);
+  rim[1] = on_rim(t[1]);
+  rim[2] = (rim[0] || rim[1]) && on_rim(t[2]);
+  return int(rim[0]) + int(rim[1]) + int(rim[2]) >= 2;
+}
+
 // The rim half-edges of the added faces, of the removed ones and of the untouched candidates
 // (faces the drill left alone can border the hole too: an old edge that lies on the cylinder,
 // within the tolerance, between a removed face and an untouched one); those of the live faces
@@ -62,23 +73,19 @@ RimHalfEdges file_rim_half_edges(const SurfaceMesh& mesh, const EditLog& log, co
   // Room for an eighth of the edits (the log also holds removed faces, new vertices and moves,
   // and most added faces have no rim half-edge): enough for most holes without growing.
   RimHalfEdges filed(log.edits.size() / 8 + 16);
+  bool rim[3];
   for (const Edit& e : log.edits) {
     if (const auto* fa = std::get_if<FaceAdded>(&e)) {
-      const Triangle& t = fa->vertices;
-      const bool rim[3] = {on_rim(t[0]), on_rim(t[1]), on_rim(t[2])};
-      filed.file_face(t, rim, RimHalfEdges::kAdded, mesh.is_deleted(fa->f) ? nullptr : &live);
+      if (rim_corners(fa->vertices, on_rim, rim))
+        filed.file_face(fa->vertices, rim, RimHalfEdges::kAdded, mesh.is_deleted(fa->f) ? nullptr : &live);
     } else if (const auto* fr = std::get_if<FaceRemoved>(&e)) {
-      const Triangle& t = fr->vertices;
-      const bool rim[3] = {old_on_rim(t[0]), old_on_rim(t[1]), old_on_rim(t[2])};
-      filed.file_face(t, rim, RimHalfEdges::kRemoved, nullptr);
+      if (rim_corners(fr->vertices, old_on_rim, rim))
+        filed.file_face(fr->vertices, rim, RimHalfEdges::kRemoved, nullptr);
     }
   }
   for (FaceId f : candidates)
-    if (!mesh.is_deleted(f)) {
-      const Triangle& t = mesh.face(f);
-      const bool rim[3] = {on_rim(t[0]), on_rim(t[1]), on_rim(t[2])};
-      filed.file_face(t, rim, RimHalfEdges::kUntouched, &live);
-    }
+    if (!mesh.is_deleted(f) && rim_corners(mesh.face(f), on_rim, rim))
+      filed.file_face(mesh.face(f), rim, RimHalfEdges::kUntouched, &live);
   return filed;
 }
 
@@ -138,20 +145,21 @@ RimSteps rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFr
   return sorted;
 }
 
-// Turns of a closed rim around the axis.
+// Turns of a closed rim around the axis: the winding number around the axis of the rim's chords
+// seen along it (geometry::winding). A chord between two points around the axis turns the short
+// way, so this is the sum of the turns from each vertex to the next, each under half a turn,
+// without an angle per vertex.
 int winding(const CylinderFrame& cyl, const PosedOverlay& posed, const std::vector<VertexId>& rim) {
-  double turn = 0.0;
-  const double first = rim.empty() ? 0.0 : cyl.theta(posed(rim[0]));
-  double b = first;
-  for (std::size_t i = 0; i < rim.size(); ++i) {
-    const double a = b;  // each vertex's angle computed once
-    b = i + 1 < rim.size() ? cyl.theta(posed(rim[i + 1])) : first;
-    double dth = b - a;
-    while (dth > geometry::kPi) dth -= 2.0 * geometry::kPi;
-    while (dth < -geometry::kPi) dth += 2.0 * geometry::kPi;
-    turn += dth;
+  std::vector<std::vector<std::uint32_t>> loop(1);
+  std::vector<glm::dvec2> xy;
+  loop[0].reserve(rim.size());
+  xy.reserve(rim.size());
+  for (const VertexId v : rim) {
+    const glm::dvec3 q = cyl.perp(posed(v));
+    loop[0].push_back(static_cast<std::uint32_t>(xy.size()));
+    xy.emplace_back(glm::dot(q, cyl.u), glm::dot(q, cyl.w));
   }
-  return static_cast<int>(std::lround(turn / (2.0 * geometry::kPi)));
+  return geometry::winding(xy, loop, glm::dvec2(0.0));
 }
 
 // The outgoing rim edges of each vertex, found through the thread's scratch vertex map (each
