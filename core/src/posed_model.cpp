@@ -347,15 +347,26 @@ PosedModel PosedModel::positions_copy() const {
     PosedMesh& copy = out.instances_[key];
     static_cast<PosedMeshHeader&>(copy) = inst;
     copy.gridless = true;
-    // As make_instance sizes them: with room, the pages faulted in over the pool, then each
-    // array copied on its own thread.
-    const std::size_t room = operation_vertex_room(inst.posed.size());
+    // As make_instance sizes them: with room, the pages faulted in over the pool. The first
+    // task copies the positions (a std::vector: one serial pass), the others the linear maps
+    // in parts (an UninitVector, sized without a fill), three quarters of the bytes.
+    const std::size_t room = operation_vertex_room(inst.posed.size()), maps = inst.linear.size();
     copy.posed.reserve(room);
     copy.linear.reserve(room);
     detail::prefault(copy.posed.data(), inst.posed.size() * sizeof(glm::vec3));
-    detail::prefault(copy.linear.data(), inst.linear.size() * sizeof(glm::mat3));
-    parallel_invoke({[&] { copy.posed.assign(inst.posed.begin(), inst.posed.end()); },
-                     [&] { copy.linear.assign(inst.linear.begin(), inst.linear.end()); }});
+    detail::prefault(copy.linear.data(), maps * sizeof(glm::mat3));
+    copy.linear.resize(maps);
+    const std::size_t parts = (maps + kGrain - 1) / kGrain;
+    parallel_for(1 + parts, 1, [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i < e; ++i) {
+        if (i == 0) {
+          copy.posed.assign(inst.posed.begin(), inst.posed.end());
+          continue;
+        }
+        const std::size_t from = (i - 1) * kGrain, to = std::min(maps, from + kGrain);
+        std::copy(inst.linear.begin() + from, inst.linear.begin() + to, copy.linear.begin() + from);
+      }
+    });
   }
   return out;
 }
