@@ -107,7 +107,7 @@ namespace {
 // `inst`, written into `out` (one per corner slot): the one kernel of every corner normal.
 void corner_normals_of(const PosedMesh& inst, const SurfaceMesh& surface, const AttributeArray<glm::vec3>& normals,
                        const std::vector<std::uint32_t>& faces, std::vector<glm::vec3>& out) {
-  const std::vector<glm::mat3>& linear = inst.linear;
+  const auto& linear = inst.linear;
   const MorphBlend morph(surface, inst.weights);
   parallel_for(faces.size(), 4096, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) {
@@ -129,6 +129,20 @@ void corner_normals_of(const PosedMesh& inst, const SurfaceMesh& surface, const 
 // structural step's spare) it holds a piece somewhat larger than the one it was made for, as a
 // cut again at another plane after an undo makes, instead of a fresh array filled whole.
 std::size_t normals_room(const SurfaceMesh& surface) { return operation_corner_room(surface.face_slots()); }
+
+// Sizes the empty arrays of `inst` to `n` vertices with capacity `room` (the pages past `n` left
+// untouched), for a posing pass that writes every element next: the pages of both are faulted
+// in over the pool (from the calling thread: nested in a pool task, the pool would fault them
+// serially), then the positions value-filled (a std::vector: serial, on present pages) and the
+// linear maps, three quarters of the bytes, left as they are (an UninitVector).
+void size_posed_arrays(PosedMesh& inst, std::size_t n, std::size_t room) {
+  inst.posed.reserve(room);
+  inst.linear.reserve(room);
+  detail::prefault(inst.posed.data(), n * sizeof(glm::vec3));
+  detail::prefault(inst.linear.data(), n * sizeof(glm::mat3));
+  inst.posed.resize(n);
+  inst.linear.resize(n);
+}
 
 }  // namespace
 
@@ -333,15 +347,26 @@ PosedModel PosedModel::positions_copy() const {
     PosedMesh& copy = out.instances_[key];
     static_cast<PosedMeshHeader&>(copy) = inst;
     copy.gridless = true;
-    // As make_instance sizes them: with room, the pages faulted in over the pool, then each
-    // array copied on its own thread.
-    const std::size_t room = operation_vertex_room(inst.posed.size());
+    // As make_instance sizes them: with room, the pages faulted in over the pool. The first
+    // task copies the positions (a std::vector: one serial pass), the others the linear maps
+    // in parts (an UninitVector, sized without a fill), three quarters of the bytes.
+    const std::size_t room = operation_vertex_room(inst.posed.size()), maps = inst.linear.size();
     copy.posed.reserve(room);
     copy.linear.reserve(room);
     detail::prefault(copy.posed.data(), inst.posed.size() * sizeof(glm::vec3));
-    detail::prefault(copy.linear.data(), inst.linear.size() * sizeof(glm::mat3));
-    parallel_invoke({[&] { copy.posed.assign(inst.posed.begin(), inst.posed.end()); },
-                     [&] { copy.linear.assign(inst.linear.begin(), inst.linear.end()); }});
+    detail::prefault(copy.linear.data(), maps * sizeof(glm::mat3));
+    copy.linear.resize(maps);
+    const std::size_t parts = (maps + kGrain - 1) / kGrain;
+    parallel_for(1 + parts, 1, [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i < e; ++i) {
+        if (i == 0) {
+          copy.posed.assign(inst.posed.begin(), inst.posed.end());
+          continue;
+        }
+        const std::size_t from = (i - 1) * kGrain, to = std::min(maps, from + kGrain);
+        std::copy(inst.linear.begin() + from, inst.linear.begin() + to, copy.linear.begin() + from);
+      }
+    });
   }
   return out;
 }
@@ -376,13 +401,13 @@ PosedMesh PosedModel::derive_instance(const Model& model, int node, int primitiv
     return std::min(m.posed.capacity(), m.linear.capacity());
   });
   if (n > 0 && taken.posed.capacity() >= n && taken.linear.capacity() >= n) {  // (none taken: empty)
-    // Its pages are there: only the elements past its sizes are filled (all are written below).
+    // Its pages are there: only the positions past its size are filled (all are written below).
     inst.posed = std::move(taken.posed);
     inst.linear = std::move(taken.linear);
-    parallel_invoke({[&] { inst.posed.resize(n); }, [&] { inst.linear.resize(n); }});
+    inst.posed.resize(n);
+    inst.linear.resize(n);
   } else {
-    parallel_invoke({[&] { detail::resize_prefaulted(inst.posed, n, glm::vec3(0.0f), room); },
-                     [&] { detail::resize_prefaulted(inst.linear, n, glm::mat3(1.0f), room); }});
+    size_posed_arrays(inst, n, room);
   }
   // A vertex with a source has its attributes, posed alike (same world, joints and weights):
   // its position and linear map are the source's bits. The others are posed.
@@ -416,11 +441,9 @@ PosedMesh PosedModel::make_instance(const Model& model, int node, int primitive,
   inst.mesh = model.nodes[static_cast<std::size_t>(node)].mesh;
   inst.primitive = primitive;
   // Room to grow (as interactive sessions reserve the meshes), so following the first
-  // operations never reallocates the whole arrays; the two arrays' value-fills (serial within
-  // each std::vector) run side by side.
-  const std::size_t n = mesh.vertex_count(), room = operation_vertex_room(n);
-  parallel_invoke({[&] { detail::resize_prefaulted(inst.posed, n, glm::vec3(0.0f), room); },
-                   [&] { detail::resize_prefaulted(inst.linear, n, glm::mat3(1.0f), room); }});
+  // operations never reallocates the whole arrays.
+  const std::size_t n = mesh.vertex_count();
+  size_posed_arrays(inst, n, operation_vertex_room(n));
   inst.joints = joints_of(model, node);
   inst.world = world_.at(static_cast<std::size_t>(node));
   inst.weights = weights(node);

@@ -271,7 +271,7 @@ bool follow_scene(Scene& scene, std::shared_ptr<const Model> model, const ModelC
     for (std::size_t i = 0; i < scene.instances.size(); ++i) {
       const SceneInstance& instance = scene.instances[i];
       if (instance.mesh != edit.mesh || instance.primitive != edit.primitive) continue;
-      const std::vector<glm::mat3>& linear = instance.pose->linear;
+      const auto& linear = instance.pose->linear;
       for (VertexId v : edit.vertices)
         if (v.index < linear.size()) linear_before[i].emplace_back(v, linear[v.index]);
     }

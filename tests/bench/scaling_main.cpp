@@ -67,8 +67,8 @@ std::uint64_t hash_bytes(const void* data, std::size_t n, std::uint64_t h) {
   for (; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
   return h;
 }
-template <class T>
-std::uint64_t hash_vec(const std::vector<T>& v, std::uint64_t h) {
+template <class T, class A>
+std::uint64_t hash_vec(const std::vector<T, A>& v, std::uint64_t h) {
   return hash_bytes(v.data(), v.size() * sizeof(T), hash_bytes(&h, 0, h) ^ v.size());
 }
 

@@ -12,8 +12,8 @@ std::string where(const std::pair<int, int>& key, const std::string& what) {
   return out.str();
 }
 
-template <typename T>
-std::string first_differing(const std::vector<T>& got, const std::vector<T>& want, const char* what) {
+template <typename T, typename A>
+std::string first_differing(const std::vector<T, A>& got, const std::vector<T, A>& want, const char* what) {
   if (got.size() != want.size()) return std::string(what) + " count differs";
   for (std::size_t i = 0; i < want.size(); ++i)
     if (!(got[i] == want[i])) return std::string(what) + " " + std::to_string(i) + " differs";

@@ -47,7 +47,7 @@ class CornerNormalPoser {
 
  private:
   const AttributeArray<glm::vec3>* normals_;
-  const std::vector<glm::mat3>& linear_;
+  const UninitVector<glm::mat3>& linear_;
   MorphBlend morph_;
 };
 

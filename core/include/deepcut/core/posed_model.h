@@ -22,6 +22,7 @@
 #include "deepcut/core/model_change.h"
 #include "deepcut/core/skinning.h"
 #include "deepcut/core/spatial_index.h"
+#include "deepcut/core/uninit_vector.h"
 
 namespace deepcut {
 
@@ -59,8 +60,9 @@ struct PosedMesh : PosedMeshHeader {
   std::vector<glm::vec3> posed;
   /// Linear part of each vertex's bind-to-world map (the weighted sum of its joint matrices
   /// when skinned, else the node's world matrix): `tear_mesh` maps its world moves to bind space
-  /// through its inverse.
-  std::vector<glm::mat3> linear;
+  /// through its inverse. An UninitVector (growing it leaves the new maps unwritten): the
+  /// posing loops that size it write every map over the pool, with no serial fill first.
+  UninitVector<glm::mat3> linear;
   /// Grid over the live faces at `posed`.
   TriangleGrid grid;
 

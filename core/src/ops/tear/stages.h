@@ -68,7 +68,7 @@ class TearPose {
 
  private:
   PosedOverlay<glm::vec3> posed_;
-  const std::vector<glm::mat3>& input_linear_;
+  const UninitVector<glm::mat3>& input_linear_;
   Map<std::uint32_t, glm::mat3> new_linear_;
   Placement placement_;
 };

@@ -1,0 +1,42 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// UninitVector: a std::vector whose new elements are left uninitialised, for large arrays written
+// whole right after they are sized (PosedMesh::linear, core's whole-mesh passes): a fill first
+// would write every element on the calling thread (a serial pass, and the one that faults the
+// pages in), while the parallel loop that writes them touches each page on the thread that
+// writes it. Only for types without invariants (numbers, glm vectors and matrices). Growing
+// it by `resize(n)` leaves the new elements' bytes unspecified: the code that grows it writes
+// them.
+
+#include <memory>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+namespace deepcut {
+
+template <class T>
+struct UninitAllocator : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = UninitAllocator<U>;
+  };
+  UninitAllocator() = default;
+  template <class U>
+  UninitAllocator(const UninitAllocator<U>&) noexcept {}
+  // Value-initialisation (`resize(n)`, `vector(n)`) leaves the element as it is; explicit
+  // values are constructed as usual.
+  template <class U>
+  void construct(U* p) noexcept(std::is_nothrow_default_constructible<U>::value) {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+
+template <class T>
+using UninitVector = std::vector<T, UninitAllocator<T>>;
+
+}  // namespace deepcut
