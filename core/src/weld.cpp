@@ -272,17 +272,17 @@ std::size_t drop_repeating_faces(const std::vector<Triangle>& in_faces, FaceUse&
 // The representatives' vertex attributes (`keep`), one array per thread of the pool, each
 // appended run by run (gather_groups: never value-initialised) into memory with the room that
 // operations get (operation_room.h), so reserving that room after the import copies nothing.
+// The room is reserved on the calling thread: its heap keeps freed memory for the next weld
+// (keep_freed_memory), where a worker's would map and unmap an array over 64 MiB alone.
 AttributeSet gather_vertices(const AttributeSet& in, const std::vector<std::uint32_t>& keep) {
   const std::vector<std::string> names = in.names();
   std::vector<std::unique_ptr<AttributeArrayBase>> arrays(names.size());
   std::vector<std::function<void()>> tasks;
-  for (std::size_t i = 0; i < names.size(); ++i)
-    tasks.push_back([&, i] {
-      const AttributeArrayBase& from = *in.base(names[i]);
-      arrays[i] = from.clone_subset({});  // empty, of the same type and default
-      arrays[i]->reserve(operation_vertex_room(keep.size()));
-      from.gather_groups(*arrays[i], keep, 1, &detail::prefault);
-    });
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    arrays[i] = in.base(names[i])->clone_subset({});  // empty, of the same type and default
+    arrays[i]->reserve(operation_vertex_room(keep.size()));
+    tasks.push_back([&, i] { in.base(names[i])->gather_groups(*arrays[i], keep, 1, &detail::prefault); });
+  }
   parallel_invoke(tasks);
   AttributeSet out;
   out.resize(keep.size());

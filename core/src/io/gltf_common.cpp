@@ -1,6 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "io/gltf_common.h"
 
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
@@ -8,10 +12,8 @@
 #include <cstring>
 #include <filesystem>
 #include <random>
-
-#include <fcntl.h>
-#include <sys/mman.h>
-#include <unistd.h>
+#include <system_error>
+#include <thread>
 
 #include "deepcut/core/errors.h"
 #include "deepcut/core/parallel.h"
@@ -162,20 +164,69 @@ void FileBytes::open(const std::string& path, std::size_t max_bytes) {
 
 namespace {
 
-// Writes all of `bytes` to `fd` and flushes it to disk; returns errno on failure, 0 on success.
-int write_all_and_sync(int fd, const std::vector<ByteSpan>& parts) {
-  for (const ByteSpan& part : parts) {
-    std::size_t done = 0;
-    while (done < part.size) {
-      const ssize_t n = ::write(fd, part.data + done, part.size - done);
-      if (n < 0) {
-        if (errno == EINTR) continue;
-        return errno;
-      }
-      done += static_cast<std::size_t>(n);
+// Writes the `size` bytes at `data` where the file stands; returns errno on failure, 0 on success.
+int write_range(int fd, const unsigned char* data, std::size_t size) {
+  std::size_t done = 0;
+  while (done < size) {
+    const ssize_t n = ::write(fd, data + done, size - done);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return errno;
     }
+    done += static_cast<std::size_t>(n);
   }
+  return 0;
+}
+
+// Writes all of `parts` to `fd` and flushes it to disk; returns errno on failure, 0 on success.
+// Written in parts of kSyncPart bytes, each handed to the disk as soon as it is in the file
+// (sync_file_range starts its writeback and does not wait), so the disk writes while the next
+// part is copied and the fsync that ends the write waits for the last parts only. The fsync
+// still decides: the file is on disk only when it returns.
+int write_all_and_sync(int fd, const std::vector<ByteSpan>& parts) {
+  constexpr std::size_t kSyncPart = std::size_t(16) << 20;
+  std::size_t written = 0, synced = 0;
+  for (const ByteSpan& part : parts)
+    for (std::size_t at = 0; at < part.size;) {
+      const std::size_t n = std::min(part.size - at, kSyncPart - (written - synced));
+      if (const int err = write_range(fd, part.data + at, n)) return err;
+      at += n;
+      written += n;
+      if (written - synced == kSyncPart) {
+#ifdef SYNC_FILE_RANGE_WRITE
+        ::sync_file_range(fd, static_cast<off_t>(synced), static_cast<off_t>(kSyncPart),
+                          SYNC_FILE_RANGE_WRITE);  // a hint
+#endif
+        synced = written;
+      }
+    }
   return ::fsync(fd) != 0 ? errno : 0;
+}
+
+// Closes `fd` on a thread of its own (on the caller when none can start).
+void close_in_background(int fd) {
+  if (fd < 0) return;
+  try {
+    std::thread([fd] { ::close(fd); }).detach();
+  } catch (const std::system_error&) {
+    ::close(fd);
+  }
+}
+
+// Renames `tmp` over `path`; returns errno on failure (`tmp` is then removed), 0 on success. The
+// file `path` named until then is held open across the rename and let go on a thread of its own:
+// dropping the last reference to a replaced file frees its pages and blocks, which for a large
+// file takes a good part of a second, and the caller need not wait for that.
+int replace_file(const std::string& tmp, const std::string& path) {
+#ifdef O_PATH
+  const int replaced = ::open(path.c_str(), O_PATH | O_NOFOLLOW | O_CLOEXEC);  // -1 when there is none
+#else
+  const int replaced = -1;
+#endif
+  const int err = std::rename(tmp.c_str(), path.c_str()) != 0 ? errno : 0;
+  if (err) ::unlink(tmp.c_str());
+  close_in_background(replaced);
+  return err;
 }
 
 }  // namespace
@@ -209,11 +260,7 @@ void write_file_atomic(const std::string& path, const std::vector<ByteSpan>& byt
     const bool linked = ::linkat(AT_FDCWD, self.c_str(), AT_FDCWD, tmp.c_str(), AT_SYMLINK_FOLLOW) == 0;
     ::close(fd);
     if (linked) {
-      if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-        const int err = errno;
-        ::unlink(tmp.c_str());
-        fail("cannot replace the file", err);
-      }
+      if (const int err = replace_file(tmp.string(), path)) fail("cannot replace the file", err);
       return;
     }
     // No /proc or no link support: fall back to a named temporary below.
@@ -231,11 +278,7 @@ void write_file_atomic(const std::string& path, const std::vector<ByteSpan>& byt
     ::unlink(tmp.c_str());
     fail("write failed", err);
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    const int err = errno;
-    ::unlink(tmp.c_str());
-    fail("cannot replace the file", err);
-  }
+  if (const int err = replace_file(tmp.string(), path)) fail("cannot replace the file", err);
 }
 
 bool has_extension(const std::string& path, const char* ext) {

@@ -22,11 +22,13 @@ using nlohmann::json;
 constexpr std::size_t kGrain = 32768;
 
 // The primitive as the file stores it: glTF vertex v is vertex v (-0 coordinates read as +0),
-// triangle t is face t, and the corner attributes come from each corner's glTF vertex. The arrays
-// are added to empty sets, built at once (ArrayBuild) and handed to the mesh whole; the per-corner
-// ones and the faces with the room operations get (operation_corner_room, operation_face_room).
+// triangle t is face t, and the corner attributes come from each corner's glTF vertex. The arrays,
+// the morph targets' with them, are added to empty sets, built at once (one ArrayBuild) and handed
+// to the mesh whole; the per-corner ones and the faces with the room operations get
+// (operation_corner_room, operation_face_room).
 SurfaceMesh file_mesh(const Floats& pos, const Uints& tris, const Influences& skin,
-                      const std::vector<CornerSource>& corner_sources) {
+                      const std::vector<CornerSource>& corner_sources,
+                      const std::vector<MorphTarget>& morphs) {
   SurfaceMesh mesh;
   const std::size_t nv = pos.size() / 3, nf = tris.size() / 3, nc = tris.size();
   AttributeSet vattrs = std::move(mesh.vertex_attrs()), fattrs, cattrs;
@@ -66,12 +68,15 @@ SurfaceMesh file_mesh(const Floats& pos, const Uints& tris, const Influences& sk
       });
     }
   }
+  MorphArrays morph_arrays;
+  morph_arrays.add(build, nv, tris, morphs);
   build.run();
   vattrs.resize(nv);  // every array has its size already: this sets the sets' sizes
   fattrs.resize(nf);
   cattrs.resize(nc);
   // read_triangles checked every index against the vertex count: assign need not check them again.
   detail::TrustedAssign::assign(mesh, std::move(faces), std::move(vattrs), std::move(fattrs), std::move(cattrs));
+  morph_arrays.put_into(mesh);
   return mesh;
 }
 
@@ -181,8 +186,7 @@ Primitive Reader::read_primitive(const tinygltf::Primitive& p, const std::string
   const std::vector<MorphTarget> morphs = read_targets(p, where, nv, tris.size(), targets);
 
   // Weld: one topological vertex per distinct (position, skin, morph deltas); numbered by first use.
-  out.mesh = file_mesh(pos, tris, skin, corner_sources);
-  add_morph_targets(out.mesh, tris, morphs);
+  out.mesh = file_mesh(pos, tris, skin, corner_sources, morphs);
   const WeldReport welded = weld(out.mesh, {options_.weld ? WeldKey::PositionAndSkin : WeldKey::None});
   out.welded_merged = welded.merged;
   if (welded.kept_apart)

@@ -45,27 +45,20 @@ void drop_unused_samplers(Animation& anim) {
 
 }  // namespace
 
-void add_morph_targets(SurfaceMesh& mesh, const Uints& tris, const std::vector<MorphTarget>& targets) {
-  const std::size_t nv = mesh.vertex_count(), nc = tris.size();
-  // Each array built apart (ArrayBuild), then put in; the per-corner ones with room
-  // (operation_corner_room). A POSITION delta is per vertex, a NORMAL or TANGENT delta per corner.
-  struct Built {
-    bool per_corner;
-    std::string name;
-    std::unique_ptr<AttributeArray<glm::vec3>> array;
-  };
-  std::vector<Built> built;
-  ArrayBuild build;
+void MorphArrays::add(ArrayBuild& build, std::size_t nv, const Uints& tris,
+                      const std::vector<MorphTarget>& targets) {
+  const std::size_t nc = tris.size();
+  // The per-corner ones with room (operation_corner_room).
   const std::uint32_t* t = tris.data();
   auto add = [&](bool per_corner, std::string name, const Floats& deltas) {
-    built.push_back({per_corner, std::move(name), std::make_unique<AttributeArray<glm::vec3>>()});
+    built_.push_back({per_corner, std::move(name), std::make_unique<AttributeArray<glm::vec3>>()});
     const float* d = deltas.data();
     if (per_corner)
-      build.add(&built.back().array->data(), nc, operation_corner_room(nc / 3), [d, t](std::size_t c) {
+      build.add(&built_.back().array->data(), nc, operation_corner_room(nc / 3), [d, t](std::size_t c) {
         return glm::vec3(d[3 * std::size_t(t[c])], d[3 * std::size_t(t[c]) + 1], d[3 * std::size_t(t[c]) + 2]);
       });
     else  // -0 reads as +0, as positions do, so the weld sees equal deltas
-      build.add(&built.back().array->data(), nv, nv, [d](std::size_t v) {
+      build.add(&built_.back().array->data(), nv, nv, [d](std::size_t v) {
         return glm::vec3(d[3 * v] + 0.0f, d[3 * v + 1] + 0.0f, d[3 * v + 2] + 0.0f);
       });
   };
@@ -75,9 +68,12 @@ void add_morph_targets(SurfaceMesh& mesh, const Uints& tris, const std::vector<M
     if (!targets[i].normal.empty()) add(true, attr::morph_normal_name(n), targets[i].normal);
     if (!targets[i].tangent.empty()) add(true, attr::morph_tangent_name(n), targets[i].tangent);
   }
-  build.run();
-  for (Built& b : built)
+}
+
+void MorphArrays::put_into(SurfaceMesh& mesh) {
+  for (Built& b : built_)
     (b.per_corner ? mesh.corner_attrs() : mesh.vertex_attrs()).put(b.name, std::move(b.array));
+  built_.clear();
 }
 
 void Reader::charge_decode(std::size_t bytes, const std::string& what) {

@@ -6,17 +6,18 @@
 // animations, images, objects carried through), gltf_read_mesh.cpp (meshes and primitives) and
 // gltf_read_targets.cpp (morph targets, their weights and the animation channels that drive them).
 
+#include <tiny_gltf.h>
+
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <iterator>
+#include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <nlohmann/json.hpp>
-#include <tiny_gltf.h>
 
 #include "deepcut/core/errors.h"
 #include "deepcut/core/io/gltf.h"
@@ -201,24 +202,27 @@ class Generated {
   difference_type i_ = 0;
 };
 
-// Arrays of one primitive built apart and all at once, one array per thread of the pool: its
-// room reserved, its pages faulted in (prefault), then its elements appended from `fill` in one
-// pass (Generated). The one way the reader builds a mesh's and its morph targets' arrays
-// (file_mesh, add_morph_targets).
+// Arrays of one primitive built apart and all at once: the room of each reserved on the calling
+// thread, the pages of all faulted in over the whole pool (prefault), then each array's elements
+// appended from `fill` in one pass (Generated), one array per thread. Reserved on the calling
+// thread, the arrays come from its heap, which keeps freed memory for the next read
+// (keep_freed_memory); made on a worker, an array over 64 MiB would be mapped and unmapped alone
+// and its pages taken fresh every time. The one way the reader builds a mesh's and its morph
+// targets' arrays (file_mesh, MorphArrays).
 class ArrayBuild {
  public:
   // Grows the empty `*a` to `n` elements (capacity at least `capacity`), a[i] = fill(i) for each.
   // `a` and what `fill` reads must live until `run` returns.
   template <class T, class Fill>
   void add(std::vector<T>* a, std::size_t n, std::size_t capacity, Fill fill) {
-    tasks_.push_back({n * sizeof(T), [a, n, capacity, fill] {
-                        a->reserve(std::max(n, capacity));
-                        detail::prefault(a->data(), n * sizeof(T));
+    a->reserve(std::max(n, capacity));
+    tasks_.push_back({a->data(), n * sizeof(T), [a, n, fill] {
                         a->insert(a->end(), Generated<T, Fill>(&fill, 0), Generated<T, Fill>(&fill, n));
                       }});
   }
   // The largest arrays start first, so the threads finish close together.
   void run() {
+    for (const Task& t : tasks_) detail::prefault(t.data, t.bytes);
     std::stable_sort(tasks_.begin(), tasks_.end(), [](const Task& a, const Task& b) { return a.bytes > b.bytes; });
     std::vector<std::function<void()>> tasks;
     for (Task& t : tasks_) tasks.push_back(std::move(t.build));
@@ -227,15 +231,29 @@ class ArrayBuild {
 
  private:
   struct Task {
+    void* data;
     std::size_t bytes;
     std::function<void()> build;
   };
   std::vector<Task> tasks_;
 };
 
-// Adds the targets to the primitive as the file stores it (glTF vertex v is vertex v, triangle t
-// is face t): `attr::morph_position_name(i)` per vertex, the normal and tangent deltas per corner.
-void add_morph_targets(SurfaceMesh& mesh, const Uints& tris, const std::vector<MorphTarget>& targets);
+// The morph targets' arrays of a primitive as the file stores it (glTF vertex v is vertex v,
+// triangle t is face t): `attr::morph_position_name(i)` per vertex, the normal and tangent deltas
+// per corner. Added to the primitive's ArrayBuild (file_mesh), put into the mesh once it is built.
+class MorphArrays {
+ public:
+  void add(ArrayBuild& build, std::size_t nv, const Uints& tris, const std::vector<MorphTarget>& targets);
+  void put_into(SurfaceMesh& mesh);
+
+ private:
+  struct Built {
+    bool per_corner;
+    std::string name;
+    std::unique_ptr<AttributeArray<glm::vec3>> array;
+  };
+  std::vector<Built> built_;
+};
 
 class Reader {
  public:

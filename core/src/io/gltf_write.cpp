@@ -89,7 +89,8 @@ class Writer {
   void write_nodes();
   bool drives_written_targets(int node, int components) const;
   void write_images();
-  std::size_t bin_bound() const;
+  void reserve_bin(std::size_t bytes);
+  std::size_t tail_bound() const;
 
   const Model& model_;
   ExportOptions options_;
@@ -223,6 +224,19 @@ std::string gltf_name(const std::string& name) {
   return "";
 }
 
+// At least the bytes of a primitive of `mesh` (no deleted faces) with `n` glTF vertices: every
+// array it writes per glTF vertex (of at most the bytes of all its vertex and corner
+// attributes), its indices and the views' alignment.
+std::size_t primitive_bound(const SurfaceMesh& mesh, std::size_t n) {
+  std::size_t per_vertex = 0, arrays = 2;
+  for (const auto* set : {&mesh.vertex_attrs(), &mesh.corner_attrs()})
+    for (const auto& name : set->names()) {
+      per_vertex += set->base(name)->element_bytes();
+      ++arrays;
+    }
+  return n * per_vertex + 3 * mesh.faces().size() * sizeof(std::uint32_t) + 4 * arrays + 256;
+}
+
 void Writer::write_primitive(const Primitive& prim, std::size_t targets, json& out) {
   const SurfaceMesh* src = &prim.mesh;
   SurfaceMesh compacted;
@@ -244,6 +258,7 @@ void Writer::write_primitive(const Primitive& prim, std::size_t targets, json& o
   for (const auto& n : morph_corners) arrays.push_back(ca.base(n));
   const GltfVertices vertices = unweld(mesh, arrays);
   const std::size_t n = vertices.vertex.size();
+  reserve_bin(primitive_bound(mesh, n));
   json attributes = json::object();
   {
     std::size_t at = 0;
@@ -547,17 +562,18 @@ void Writer::write_images() {
   }
 }
 
-// At least the binary buffer's size (pages reserved past what is written are never touched), so
-// it grows without copying what it holds.
-std::size_t Writer::bin_bound() const {
+// Room in the binary buffer for `bytes` more and what the skins, animations and images add
+// (tail_bound), so it grows without copying what it holds; when it must grow, by half at least.
+// Sized by what is written, not by a bound of all the corners, it stays within what the heap
+// keeps for the next export (keep_freed_memory: blocks up to 1 GiB).
+void Writer::reserve_bin(std::size_t bytes) {
+  const std::size_t need = bin_.size() + bytes + tail_bound();
+  if (need > bin_.capacity()) bin_.reserve(std::max(need, bin_.capacity() + bin_.capacity() / 2));
+}
+
+// At least what the skins, animations and images add to the binary buffer.
+std::size_t Writer::tail_bound() const {
   std::size_t bytes = 1024;
-  for (const auto& mesh : model_.meshes)
-    for (const auto& prim : mesh.primitives) {
-      std::size_t per_corner = sizeof(std::uint32_t) + 16;  // index, alignment
-      for (const auto* set : {&prim.mesh.vertex_attrs(), &prim.mesh.corner_attrs()})
-        for (const auto& name : set->names()) per_corner += set->base(name)->element_bytes();
-      bytes += 3 * prim.mesh.face_slots() * per_corner + 256;
-    }
   for (const auto& s : model_.skins) bytes += 64 * s.joints.size() + 4;
   for (const auto& a : model_.animations)
     for (const auto& sm : a.samplers) bytes += 4 * (sm.input.size() + sm.output.size()) + 8;
@@ -570,7 +586,7 @@ std::vector<unsigned char> Writer::write(bool glb) {
   if (!model_.asset_copyright.empty()) asset["copyright"] = model_.asset_copyright;
   if (!model_.asset_extras_json.empty()) asset["extras"] = parse_or(model_.asset_extras_json, json::object());
   doc_["asset"] = asset;
-  bin_.reserve(bin_bound());
+  reserve_bin(0);
   write_meshes();
   write_nodes();
   write_skins();
