@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <string>
 #include <typeindex>
 #include <vector>
@@ -389,17 +390,20 @@ VertexId MeshEditor::add_vertices_on_edges(const std::uint32_t* ends, const floa
   const std::size_t nv = mesh_.vertex_count();
   // Every end checked before the first change: a bad end late in the batch changes nothing.
   check_blend_sources("add_vertices_on_edges", ends, 2, count, nv);
-  // In runs of up to kRun: the weights (1 - t, t) of a run on the stack.
-  constexpr std::size_t kRun = 64;
-  float w[2 * kRun];
-  for (std::size_t i = 0; i < count; i += kRun) {
-    const std::size_t n = std::min(kRun, count - i);
-    for (std::size_t k = 0; k < n; ++k) {
-      w[2 * k] = 1.0f - t[i + k];
-      w[2 * k + 1] = t[i + k];
-    }
-    add_blended<2>(ends + 2 * i, w, n);
+  // The weights (1 - t, t) of the whole batch (on the stack for a few), so each attribute array
+  // blends it in one call (side by side for a large batch: AttributeSet::push_blend_batch). A
+  // vertex's skin is made again from its sources' (fix_skin, in order) whatever the array blend
+  // left, so the batch's own vertices as sources give the same skin as runs made one by one.
+  if (count == 0) return VertexId(static_cast<std::uint32_t>(nv));
+  constexpr std::size_t kStack = 512;
+  float stack[2 * kStack];
+  const std::unique_ptr<float[]> heap(count > kStack ? new float[2 * count] : nullptr);  // not zeroed first
+  float* w = count > kStack ? heap.get() : stack;
+  for (std::size_t i = 0; i < count; ++i) {
+    w[2 * i] = 1.0f - t[i];
+    w[2 * i + 1] = t[i];
   }
+  add_blended<2>(ends, w, count);
   return VertexId(static_cast<std::uint32_t>(nv));
 }
 

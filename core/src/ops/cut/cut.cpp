@@ -24,6 +24,7 @@
 #include <unordered_map>
 
 #include "deepcut/core/mesh_editor.h"
+#include "deepcut/core/parallel.h"
 #include "deepcut/core/posed_model.h"
 #include "deepcut/core/skinning.h"
 #include "ops/common/crossing_table.h"
@@ -406,11 +407,9 @@ void Cutter::collect_pieces(CutResult& result) {
   // Live faces by side, in id order: the untouched ones off the plane (listed by the scan, no
   // edit removes them) merged with the live rim candidates (ascending: the scan's touching
   // faces, then every face the cut made).
-  std::vector<FaceId> side_faces[2];
-  for (int s = 0; s < 2; ++s) side_faces[s] = std::move(clean_[s]);
   std::vector<FaceId> rim[2];
   live_rim_by_side(rim);
-  for (int s = 0; s < 2; ++s) merge_sorted(side_faces[s], rim[s]);
+  std::vector<FaceId> side_faces[2] = {live_side_faces(0, rim[0]), live_side_faces(1, rim[1])};
   for (int s = 0; s < 2; ++s) {
     if (side_faces[s].empty()) continue;
     const int side = s == 0 ? 1 : -1;
@@ -495,20 +494,10 @@ void Cutter::split_crossed_faces() {
   // join the pieces later: growing a list of most of the mesh would copy it.
   std::size_t rim_faces = 0;
   for (const detail::ScannedFaces& part : found_) rim_faces += part.crossed.size() + part.touching.size();
-  for (int side = 0; side < 2; ++side) {
-    if (found_.size() == 1) {
-      clean_[side] = std::move(found_[0].clean[side]);
-      clean_[side].reserve(clean_[side].size() + 8 * rim_faces + 64);
-      continue;
-    }
-    std::size_t n = 0;
-    for (const detail::ScannedFaces& part : found_) n += part.clean[side].size();
-    clean_[side].reserve(n + 8 * rim_faces + 64);
-    for (detail::ScannedFaces& part : found_) {
-      clean_[side].insert(clean_[side].end(), part.clean[side].begin(), part.clean[side].end());
-      std::vector<FaceId>().swap(part.clean[side]);
-    }
-  }
+  side_room_ = 8 * rim_faces + 64;
+  // One chunk (one thread, a small mesh) holds the sides' lists themselves: their room is made now.
+  if (found_.size() == 1)
+    for (std::vector<FaceId>& list : found_[0].clean) list.reserve(list.size() + side_room_);
   std::size_t crossed = 0;
   for (const detail::ScannedFaces& part : found_) crossed += part.crossed.size();
   splits_.reserve(2 * crossed);  // about one new crossed edge per crossed face, two at most
@@ -530,7 +519,6 @@ void Cutter::split_crossed_faces() {
     for (FaceId f : part.crossed) split_face(f, &face_crossings_[2 * face++]);
     rim_candidates_.insert(rim_candidates_.end(), part.touching.begin(), part.touching.end());
   }
-  std::vector<detail::ScannedFaces>().swap(found_);
 }
 
 void Cutter::separate_or_drop_side() {
@@ -542,9 +530,7 @@ void Cutter::separate_or_drop_side() {
     const int drop = options_.keep == CutKeep::Positive ? 1 : 0;
     std::vector<FaceId> rim[2];
     live_rim_by_side(rim);
-    std::vector<FaceId> doomed = std::move(clean_[drop]);
-    clean_[drop].clear();
-    merge_sorted(doomed, rim[drop]);
+    std::vector<FaceId> doomed = live_side_faces(drop, rim[drop]);
     for (FaceId f : doomed) editor_.remove_face(f);
   }
 }
@@ -554,6 +540,42 @@ void Cutter::live_rim_by_side(std::vector<FaceId> (&out)[2]) const {
   const std::int8_t* sign = sign_.data();
   for (FaceId f : rim_candidates_)
     if (!mesh_.is_deleted(f)) out[side_code(sign, mesh_.face(f)) - 1].push_back(f);
+}
+
+// The live faces of `side` (0 positive, 1 negative) in id order, its untouched faces off the plane
+// (the scan's chunks, taken: a second call gives the rim alone) merged with its live rim
+// candidates `rim` (ascending), with side_room_ to grow. From several chunks, each chunk is
+// merged with the rim faces in its range of ids into its own part of the list, the parts side by
+// side (only sizing the list is left to the calling thread); the newer rim faces come last.
+std::vector<FaceId> Cutter::live_side_faces(int side, const std::vector<FaceId>& rim) {
+  const std::size_t n = found_.size();
+  if (n <= 1) {
+    std::vector<FaceId> out =
+        n == 0 ? std::vector<FaceId>() : std::move(found_[0].clean[side]);  // leaves it empty
+    merge_sorted(out, rim);
+    return out;
+  }
+  // Chunk c's rim faces are rim[first_rim[c], first_rim[c + 1]), its part starts at at[c].
+  std::vector<std::size_t> first_rim(n + 1, 0), at(n + 1, 0);
+  for (std::size_t c = 0; c < n; ++c) {
+    first_rim[c + 1] = static_cast<std::size_t>(
+        std::lower_bound(rim.begin(), rim.end(), FaceId(found_[c].end)) - rim.begin());
+    at[c + 1] = at[c] + found_[c].clean[side].size() + (first_rim[c + 1] - first_rim[c]);
+  }
+  std::vector<FaceId> out;
+  out.reserve(at[n] + (rim.size() - first_rim[n]) + side_room_);
+  out.resize(at[n] + (rim.size() - first_rim[n]));
+  detail::run_chunks(n + 1, [&](std::size_t c) {
+    const FaceId* r = rim.data();
+    if (c == n) {
+      std::copy(r + first_rim[n], r + rim.size(), out.data() + at[n]);
+      return;
+    }
+    std::vector<FaceId>& chunk = found_[c].clean[side];
+    std::merge(chunk.begin(), chunk.end(), r + first_rim[c], r + first_rim[c + 1], out.data() + at[c]);
+    std::vector<FaceId>().swap(chunk);
+  });
+  return out;
 }
 
 // Rim vertices (on the plane, bounding a piece) into `rim`, sorted and unique; with caps, each

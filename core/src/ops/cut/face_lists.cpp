@@ -166,6 +166,7 @@ std::vector<ScannedFaces> scan_faces(const SurfaceMesh& mesh, const std::uint8_t
   parallel_for(nf, grain, [&](std::size_t b, std::size_t e) {
     ScannedFaces& out = found[b / grain];
     const auto lo = static_cast<std::uint32_t>(b), hi = static_cast<std::uint32_t>(e);
+    out.end = hi;
     if (any_deleted && used)
       scan_chunk<true, true>(mesh, bits, used, lo, hi, out);
     else if (any_deleted)

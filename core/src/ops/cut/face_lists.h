@@ -37,6 +37,7 @@ struct ScannedFaces {
   std::vector<FaceId> crossed;   // corners on both sides
   std::vector<FaceId> touching;  // a corner on the plane, none on both sides
   std::vector<FaceId> clean[2];  // every corner on the positive (0) or the negative (1) side
+  std::uint32_t end = 0;         // the chunk's faces are below this face slot
 };
 
 /// One pass over the face slots of `mesh` by the cut's side bits (one per vertex): the live
