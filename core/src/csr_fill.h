@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 // Items packed into per-cell lists (private to core): the spatial index's faces per cell and the
-// clustering's points per cell. One kernel for both, every whole-array pass over the pool, so the
-// calling thread runs no pass of its own over the items or the cells.
+// clustering's points per cell, and the prefix sum they and the clustering's rows use. Every
+// whole-array pass runs over the pool, so the calling thread runs none over the items or cells.
 
 #include <algorithm>
 #include <atomic>
@@ -41,15 +41,57 @@ std::uint32_t exclusive_scan(std::size_t n, Count&& count, Put&& put) {
   return base[blocks];
 }
 
+/// Sorts [first, last): by insertion when short (a cell lists a few items; std::sort's call and
+/// set-up cost more than sorting them), else std::sort.
+inline void sort_short(std::uint32_t* first, std::uint32_t* last) {
+  if (last - first > 16) return std::sort(first, last);
+  for (std::uint32_t* i = first + (first != last); i < last; ++i)
+    for (std::uint32_t* j = i; j > first && j[0] < j[-1]; --j) std::swap(j[0], j[-1]);
+}
+
+/// fill_csr for few cells: a count per chunk and cell, their prefix sum in cell order (chunks in
+/// order within a cell), then each chunk files its items from its own offsets. No atomics and
+/// no sort: every cell lists its items in increasing order by construction.
+template <class CellsOf>
+void fill_csr_by_chunk(std::size_t n, std::size_t cells, std::size_t grain, std::vector<std::uint32_t>& start,
+                       std::vector<std::uint32_t>& items, CellsOf&& cells_of) {
+  const std::size_t chunks = (n + grain - 1) / grain;
+  std::vector<std::uint32_t> at(chunks * cells,
+                                0);  // chunk k's count, then offset, in cell c: at[k * cells + c]
+  parallel_for(n, grain, [&](std::size_t b, std::size_t e) {
+    std::uint32_t* mine = at.data() + (b / grain) * cells;
+    for (std::size_t i = b; i < e; ++i) cells_of(i, [&](std::size_t c) { ++mine[c]; });
+  });
+  auto slot = [&](std::size_t j) -> std::uint32_t& { return at[(j % chunks) * cells + j / chunks]; };
+  resize_prefaulted(start, cells + 1, std::uint32_t(0));
+  const std::uint32_t total = exclusive_scan(
+      chunks * cells, [&](std::size_t j) { return slot(j); },
+      [&](std::size_t j, std::uint32_t offset) {
+        if (j % chunks == 0) start[j / chunks] = offset;
+        slot(j) = offset;
+      });
+  start[cells] = total;
+  resize_prefaulted(items, std::size_t(total), std::uint32_t(0));
+  parallel_for(n, grain, [&](std::size_t b, std::size_t e) {
+    std::uint32_t* mine = at.data() + (b / grain) * cells;
+    for (std::size_t i = b; i < e; ++i)
+      cells_of(i, [&](std::size_t c) { items[mine[c]++] = static_cast<std::uint32_t>(i); });
+  });
+}
+
 /// Fills `start` (cells + 1 offsets) and `items` (cell c lists items[start[c] .. start[c + 1]))
 /// from cells_of(i, visit), which calls visit(cell) for each cell item i in [0, n) goes to.
-/// Every cell lists its items in increasing order, whatever the thread count: on one thread the
-/// items are filed in order, on several with atomic cursors and each cell's list sorted after.
+/// Every cell lists its items in increasing order, whatever the thread count: for few cells (a
+/// count per chunk and cell costs no more than the items) by fill_csr_by_chunk; else on one
+/// thread the items are filed in order, on several with atomic cursors and each cell's list
+/// sorted after.
 /// `start` and `items` must be empty.
 template <class CellsOf>
 void fill_csr(std::size_t n, std::size_t cells, std::vector<std::uint32_t>& start,
               std::vector<std::uint32_t>& items, CellsOf&& cells_of) {
   constexpr std::size_t kGrain = 1 << 15;
+  if ((n + kGrain - 1) / kGrain * cells <= std::max<std::size_t>(n, kGrain))
+    return fill_csr_by_chunk(n, cells, kGrain, start, items, cells_of);
   using Cursor = std::atomic<std::uint32_t>;
   std::unique_ptr<Cursor[]> cursor(new Cursor[cells]);
   parallel_for(cells, kGrain, [&](std::size_t b, std::size_t e) {
@@ -82,7 +124,7 @@ void fill_csr(std::size_t n, std::size_t cells, std::vector<std::uint32_t>& star
   });
   if (serial) return;
   parallel_for(cells, kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t c = b; c < e; ++c) std::sort(items.begin() + start[c], items.begin() + start[c + 1]);
+    for (std::size_t c = b; c < e; ++c) sort_short(items.data() + start[c], items.data() + start[c + 1]);
   });
 }
 
