@@ -2,14 +2,14 @@
 #include "deepcut/core/spatial_index.h"
 
 #include <algorithm>
-#include <atomic>
-#include <memory>
 #include <cmath>
 #include <limits>
 #include <string>
 
+#include "csr_fill.h"
 #include "deepcut/core/parallel.h"
 #include "sorted_ids.h"
+#include "uninit_vector.h"
 
 namespace deepcut {
 
@@ -23,62 +23,26 @@ struct Extent {
   std::size_t faces = 0;
 };
 
-}  // namespace
-
-// The packed cell lists, in parallel: cell sizes counted with atomic increments, a prefix sum,
-// faces scattered with atomic cursors, then each cell's list sorted, so every cell lists its faces
-// in increasing order (what a serial fill in face order gives) whatever the thread count.
-template <class CellsOf>
-void TriangleGrid::fill_cells(std::size_t slots, CellsOf&& cells_of) {
-  const std::size_t cells = static_cast<std::size_t>(dims_.x) * dims_.y * dims_.z;
-  std::unique_ptr<std::atomic<std::uint32_t>[]> cursor(new std::atomic<std::uint32_t>[cells]);
-  parallel_for(cells, kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t c = b; c < e; ++c) cursor[c].store(0, std::memory_order_relaxed);
-  });
-  parallel_for(slots, kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t f = b; f < e; ++f)
-      cells_of(f, [&](std::size_t c) { cursor[c].fetch_add(1, std::memory_order_relaxed); });
-  });
-  start_.assign(cells + 1, 0);
-  for (std::size_t c = 0; c < cells; ++c) {
-    start_[c + 1] = start_[c] + cursor[c].load(std::memory_order_relaxed);
-    cursor[c].store(start_[c], std::memory_order_relaxed);
-  }
-  faces_.resize(start_[cells]);
-  parallel_for(slots, kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t f = b; f < e; ++f)
-      cells_of(f, [&](std::size_t c) {
-        faces_[cursor[c].fetch_add(1, std::memory_order_relaxed)] = static_cast<std::uint32_t>(f);
-      });
-  });
-  parallel_for(cells, kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t c = b; c < e; ++c) std::sort(faces_.begin() + start_[c], faces_.begin() + start_[c + 1]);
-  });
+inline BoundingBox face_box(const std::vector<glm::vec3>& points, const Triangle& t) {
+  const glm::vec3 &a = points[t[0].index], &b = points[t[1].index], &c = points[t[2].index];
+  BoundingBox box;
+  box.min = glm::min(a, glm::min(b, c));
+  box.max = glm::max(a, glm::max(b, c));
+  return box;
 }
 
-TriangleGrid TriangleGrid::build(const SurfaceMesh& mesh, const std::vector<glm::vec3>& points,
-                                 float cell_size) {
-  if (points.size() != mesh.vertex_count())
-    throw Error(ErrorCode::InvalidArgument, "spatial index: " + std::to_string(points.size()) +
-                                                " positions for " + std::to_string(mesh.vertex_count()) +
-                                                " vertices");
-  TriangleGrid grid;
+// The bounds and the summed largest extents of the live faces; marks them in `alive`.
+Extent face_extent(const SurfaceMesh& mesh, const std::vector<glm::vec3>& points,
+                   std::vector<std::uint8_t>& alive) {
   const auto& tris = mesh.faces();
-  const std::size_t slots = tris.size();
-  auto face_box = [&](const Triangle& t) {
-    const glm::vec3 &a = points[t[0].index], &b = points[t[1].index], &c = points[t[2].index];
-    BoundingBox box;
-    box.min = glm::min(a, glm::min(b, c));
-    box.max = glm::max(a, glm::max(b, c));
-    return box;
-  };
-  const Extent extent = parallel_reduce(
-      slots, kGrain, Extent(),
+  return parallel_reduce(
+      tris.size(), kGrain, Extent(),
       [&](std::size_t b, std::size_t e) {
         Extent part;
         for (std::size_t f = b; f < e; ++f) {
           if (mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) continue;
-          const BoundingBox box = face_box(tris[f]);
+          alive[f] = 1;
+          const BoundingBox box = face_box(points, tris[f]);
           part.bounds.add(box);
           const glm::vec3 d = box.max - box.min;
           part.extent_sum += std::max({d.x, d.y, d.z});
@@ -92,47 +56,122 @@ TriangleGrid TriangleGrid::build(const SurfaceMesh& mesh, const std::vector<glm:
         acc.faces += part.faces;
         return acc;
       });
-  grid.bounds_ = extent.bounds;
+}
+
+// The cells a face goes to: the box of cells from cell `lo`, `d` more along each axis.
+struct FaceCells {
+  enum Kind : std::uint8_t { kNone, kBox, kWide };
+  std::uint32_t lo = 0;
+  std::uint8_t d[3] = {0, 0, 0};
+  Kind kind = kNone;
+
+  static FaceCells of(const glm::ivec3& lo, const glm::ivec3& hi, std::size_t lo_index) {
+    FaceCells s;
+    const glm::ivec3 d = hi - lo;
+    if (d.x < 0 || d.y < 0 || d.z < 0) {
+      s.kind = kNone;  // NaN corners: in no cell
+    } else if (d.x > 255 || d.y > 255 || d.z > 255 || lo_index > 0xffffffffu) {
+      s.kind = kWide;
+    } else {
+      s.kind = kBox;
+      s.lo = static_cast<std::uint32_t>(lo_index);
+      for (int k = 0; k < 3; ++k) s.d[k] = static_cast<std::uint8_t>(d[k]);
+    }
+    return s;
+  }
+};
+
+// Calls visit(cell) for the cells from `lo` to `d` more along each axis of a grid of `dims`,
+// in increasing order (none when a `d` is negative).
+template <class Visit>
+void visit_box(std::size_t lo, const glm::ivec3& d, const glm::ivec3& dims, Visit&& visit) {
+  for (int z = 0; z <= d.z; ++z)
+    for (int y = 0; y <= d.y; ++y) {
+      const std::size_t row =
+          lo + (std::size_t(z) * std::size_t(dims.y) + std::size_t(y)) * std::size_t(dims.x);
+      for (int x = 0; x <= d.x; ++x) visit(row + std::size_t(x));
+    }
+}
+
+// The cell edge: `cell_size`, or 0 for about two mean face extents; at most about one cell per
+// face (and never a degenerate cell) in a box of `size`.
+float grid_cell(const Extent& extent, const glm::vec3& size, float cell_size) {
   const std::size_t faces = extent.faces;
-  grid.alive_.assign(slots, 0);
-  grid.tris_ = tris;
-  grid.placed_ = points;
-  if (faces == 0) return grid;
-  const glm::vec3 size =
-      glm::max(grid.bounds_.max - grid.bounds_.min, glm::vec3(1e-6f * (grid.bounds_.diagonal() + 1.0f)));
   float cell = cell_size > 0.0f ? cell_size : static_cast<float>(2.0 * extent.extent_sum / double(faces));
-  // At most about one cell per face (and never a degenerate cell).
   const double volume = double(size.x) * size.y * size.z;
   const double min_cell = std::cbrt(volume / double(faces + 64));
   cell = std::max(cell, static_cast<float>(min_cell));
   if (!(cell > 0.0f)) cell = std::max({size.x, size.y, size.z});
+  return cell;
+}
+
+// `to` (empty) becomes a copy of `from`, its pages faulted in over the pool first.
+template <class T>
+void copy_prefaulted(std::vector<T>& to, const std::vector<T>& from) {
+  to.reserve(from.size());
+  detail::prefault(to.data(), from.size() * sizeof(T));
+  to.assign(from.begin(), from.end());
+}
+
+}  // namespace
+
+TriangleGrid TriangleGrid::build(const SurfaceMesh& mesh, const std::vector<glm::vec3>& points,
+                                 float cell_size) {
+  if (points.size() != mesh.vertex_count())
+    throw Error(ErrorCode::InvalidArgument, "spatial index: " + std::to_string(points.size()) +
+                                                " positions for " + std::to_string(mesh.vertex_count()) +
+                                                " vertices");
+  TriangleGrid grid;
+  const auto& tris = mesh.faces();
+  const std::size_t slots = tris.size();
+  // The arrays are faulted in over the pool; the calling thread only copies into present pages.
+  detail::resize_prefaulted(grid.alive_, slots, std::uint8_t(0));
+  copy_prefaulted(grid.tris_, tris);
+  copy_prefaulted(grid.placed_, points);
+  const Extent extent = face_extent(mesh, points, grid.alive_);
+  grid.bounds_ = extent.bounds;
+  const std::size_t faces = extent.faces;
+  if (faces == 0) return grid;
+  const glm::vec3 size =
+      glm::max(grid.bounds_.max - grid.bounds_.min, glm::vec3(1e-6f * (grid.bounds_.diagonal() + 1.0f)));
+  const float cell = grid_cell(extent, size, cell_size);
   grid.cell_ = cell;
   grid.origin_ = grid.bounds_.min;
   grid.dims_ = glm::max(glm::ivec3(glm::ceil(size / cell)), glm::ivec3(1));
 
-  // Cell range of every live face (parallel), then a counting sort into the packed lists.
-  struct Range {
-    glm::ivec3 lo, hi;
+  // The cells of each live face, found once (cell_of divides) and kept in 8 bytes for the
+  // fill's two passes; a face over more than 256 cells along an axis is found again instead.
+  auto face_range = [&](std::size_t f, glm::ivec3& lo, glm::ivec3& hi) {
+    const BoundingBox box = face_box(points, tris[f]);
+    lo = grid.cell_of(box.min);
+    hi = grid.cell_of(box.max);
   };
-  std::vector<Range> range(slots);
+  // A NaN corner can put a box's x range backwards: such a face is counted live but filed in no
+  // cell, and marked dead (as the grid always did).
+  detail::UninitVector<FaceCells> spans(slots);
   parallel_for(slots, kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t f = b; f < e; ++f) {
-      if (mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) {
-        range[f] = {glm::ivec3(0), glm::ivec3(-1)};
-        continue;
-      }
-      const BoundingBox box = face_box(tris[f]);
-      range[f] = {grid.cell_of(box.min), grid.cell_of(box.max)};
+      spans[f] = FaceCells{};
+      if (!grid.alive_[f]) continue;
+      glm::ivec3 lo, hi;
+      face_range(f, lo, hi);
+      spans[f] = FaceCells::of(lo, hi, grid.cell_index(lo.x, lo.y, lo.z));
+      if (hi.x < lo.x) grid.alive_[f] = 0;
     }
   });
-  grid.fill_cells(slots, [&](std::size_t f, auto&& visit) {
-    const Range& r = range[f];
-    for (int z = r.lo.z; z <= r.hi.z; ++z)
-      for (int y = r.lo.y; y <= r.hi.y; ++y)
-        for (int x = r.lo.x; x <= r.hi.x; ++x) visit(grid.cell_index(x, y, z));
-  });
-  parallel_for(slots, kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t f = b; f < e; ++f) grid.alive_[f] = range[f].hi.x >= range[f].lo.x ? 1 : 0;
+  const std::size_t cells = static_cast<std::size_t>(grid.dims_.x) * grid.dims_.y * grid.dims_.z;
+  detail::fill_csr(slots, cells, grid.start_, grid.faces_, [&](std::size_t f, auto&& visit) {
+    const FaceCells& s = spans[f];
+    if (s.kind == FaceCells::kNone) return;
+    std::size_t first = s.lo;
+    glm::ivec3 d(s.d[0], s.d[1], s.d[2]);
+    if (s.kind == FaceCells::kWide) {
+      glm::ivec3 lo, hi;
+      face_range(f, lo, hi);
+      first = grid.cell_index(lo.x, lo.y, lo.z);
+      d = hi - lo;
+    }
+    visit_box(first, d, grid.dims_, visit);
   });
   grid.live_ = faces;
   return grid;

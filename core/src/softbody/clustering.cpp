@@ -9,10 +9,12 @@
 #include <optional>
 #include <string>
 
+#include "csr_fill.h"
 #include "deepcut/core/errors.h"
 #include "deepcut/core/parallel.h"
 #include "softbody/clustering_detail.h"
 #include "softbody/point_grid.h"
+#include "uninit_vector.h"
 
 namespace deepcut {
 namespace {
@@ -35,43 +37,41 @@ std::vector<std::uint32_t> count_face_refs(const SurfaceMesh& mesh) {
       for (const VertexId v : mesh.face(id)) refs[v.index].fetch_add(1, std::memory_order_relaxed);
     }
   });
-  std::vector<std::uint32_t> out(n);
+  std::vector<std::uint32_t> out;
+  detail::resize_prefaulted(out, n, std::uint32_t(0));
   parallel_for(n, kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t v = b; v < e; ++v) out[v] = refs[v].load(std::memory_order_relaxed);
   });
   return out;
 }
 
-// The vertices with a live face, ascending (chunks joined in order). Throws for the smallest one
-// with a non-finite rest position.
+// The vertices with a live face, ascending (each placed by a prefix sum over the pool). Throws
+// for the smallest one with a non-finite rest position.
 std::vector<std::uint32_t> live_vertices(const std::vector<std::uint32_t>& face_refs,
                                          const std::vector<glm::vec3>& rest) {
-  struct Part {
-    std::vector<std::uint32_t> ids;
-    std::uint32_t bad = kInvalidIndex;  // the first vertex with a non-finite position
-  };
-  Part all = parallel_reduce(
-      face_refs.size(), 1 << 15, Part{},
+  const std::size_t n = face_refs.size();
+  const std::uint32_t bad = parallel_reduce(
+      n, 1 << 15, kInvalidIndex,
       [&](std::size_t b, std::size_t e) {
-        Part part;
         for (auto v = static_cast<std::uint32_t>(b); v < e; ++v) {
-          if (!face_refs[v]) continue;
           const glm::vec3& p = rest[v];
-          if (part.bad == kInvalidIndex && !(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)))
-            part.bad = v;
-          part.ids.push_back(v);
+          if (face_refs[v] && !(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))) return v;
         }
-        return part;
+        return kInvalidIndex;
       },
-      [](Part a, Part b) {
-        if (a.bad == kInvalidIndex) a.bad = b.bad;
-        a.ids.insert(a.ids.end(), b.ids.begin(), b.ids.end());
-        return a;
-      });
-  if (all.bad != kInvalidIndex)
+      [](std::uint32_t a, std::uint32_t b) { return a != kInvalidIndex ? a : b; });
+  if (bad != kInvalidIndex)
     throw Error(ErrorCode::InvalidInput,
-                "cluster: vertex " + std::to_string(all.bad) + " has a non-finite position");
-  return std::move(all.ids);
+                "cluster: vertex " + std::to_string(bad) + " has a non-finite position");
+  std::vector<std::uint32_t> ids;
+  detail::resize_prefaulted(ids, n, std::uint32_t(0));
+  const std::uint32_t live = detail::exclusive_scan(
+      n, [&](std::size_t v) { return face_refs[v] ? 1u : 0u; },
+      [&](std::size_t v, std::uint32_t at) {
+        if (face_refs[v]) ids[at] = static_cast<std::uint32_t>(v);
+      });
+  ids.resize(live);
+  return ids;
 }
 
 // Checks that `log` fits `mesh` before `apply` changes anything: every vertex and face it names
@@ -405,6 +405,7 @@ std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& parti
   struct Minor {
     std::uint32_t particle;
     std::vector<std::uint32_t> vertices;  // sorted
+    std::vector<std::uint32_t> entries;   // their pool entries for `particle`
   };
   // Each particle's parts in parallel (disjoint members and pool entries), gathered in order.
   std::vector<Parts> split(particles.size());
@@ -430,27 +431,32 @@ std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& parti
     }
   });
   std::vector<Minor> minors;
-  std::vector<std::uint8_t> minor_entry;  // by pool entry, allocated on the first split
   std::size_t split_count = 0;
   for (std::size_t k = 0; k < particles.size(); ++k) {
     if (!is_split[k]) continue;
-    const std::uint32_t p = particles[k];
     ++split_count;
-    if (minor_entry.empty()) minor_entry.assign(pool_.size(), 0);
-    for (auto& vertices : split[k].minors) {
-      for (std::uint32_t v : vertices) minor_entry[entry_of(v, p)] = 1;
-      minors.push_back({p, std::move(vertices)});
-    }
-    members_[p] = std::move(split[k].main);
+    for (auto& vertices : split[k].minors) minors.push_back({particles[k], std::move(vertices), {}});
+    members_[particles[k]] = std::move(split[k].main);
   }
   if (minors.empty()) return split_count;
 
+  // Every pass below runs over the pool, part by part or row by row (a build splits thousands of
+  // parts): the writes are to disjoint pool entries, and each row is fixed by one thread.
+  // The pool entries of the parts' vertices, marked by entry.
+  detail::UninitVector<std::uint8_t> minor_entry(pool_.size());
+  parallel_for(pool_.size(), 1 << 16, [&](std::size_t b, std::size_t e) {
+    std::fill(minor_entry.begin() + b, minor_entry.begin() + e, std::uint8_t(0));
+  });
+  parallel_for(minors.size(), 1, [&](std::size_t k, std::size_t) {
+    Minor& part = minors[k];
+    part.entries.resize(part.vertices.size());
+    for (std::size_t i = 0; i < part.vertices.size(); ++i)
+      minor_entry[part.entries[i] = entry_of(part.vertices[i], part.particle)] = 1;
+  });
   // A part whose every vertex keeps a main-part influence elsewhere is dropped; any other part
-  // becomes a particle of its own (same seed, so the radius invariant holds).
-  // Decide every part first: the decisions read minor_entry by pool position, which the
-  // renames below may reorder.
+  // becomes a particle of its own (same seed, so the radius invariant holds), numbered in order.
   std::vector<std::uint8_t> drop(minors.size(), 1);
-  for (std::size_t k = 0; k < minors.size(); ++k)
+  parallel_for(minors.size(), 1, [&](std::size_t k, std::size_t) {
     for (std::uint32_t v : minors[k].vertices) {
       const Row& r = rows_[v];
       bool has_main = false;
@@ -461,35 +467,41 @@ std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& parti
         break;
       }
     }
-  std::vector<std::uint32_t> dropped_vertices;
-  for (std::size_t k = 0; k < minors.size(); ++k) {
-    Minor& part = minors[k];
-    if (drop[k]) {
-      for (std::uint32_t v : part.vertices) {
-        pool_[entry_of(v, part.particle)].particle = kInvalidIndex;
-        dropped_vertices.push_back(v);
-      }
-    } else {
-      const std::uint32_t q = new_particle(seeds_[part.particle]);
-      for (std::uint32_t v : part.vertices) {
-        pool_[entry_of(v, part.particle)].particle = q;
-        sort_row(v);
-      }
-      members_[q] = std::move(part.vertices);
-      created.push_back({q, part.particle});
+  });
+  std::vector<std::uint32_t> renamed_to(minors.size(), kInvalidIndex);
+  for (std::size_t k = 0; k < minors.size(); ++k)
+    if (!drop[k]) {
+      renamed_to[k] = new_particle(seeds_[minors[k].particle]);
+      created.push_back({renamed_to[k], minors[k].particle});
     }
+  parallel_for(minors.size(), 1, [&](std::size_t k, std::size_t) {
+    for (const std::uint32_t e : minors[k].entries) pool_[e].particle = renamed_to[k];
+  });
+  // Rows with a renamed entry are sorted again; rows with a dropped one lose it and are
+  // renormalised (a row's entries end sorted whatever the order of the two).
+  std::vector<std::uint32_t> renamed, dropped;
+  for (std::size_t k = 0; k < minors.size(); ++k) {
+    auto& to = drop[k] ? dropped : renamed;
+    to.insert(to.end(), minors[k].vertices.begin(), minors[k].vertices.end());
+    if (!drop[k]) members_[renamed_to[k]] = std::move(minors[k].vertices);
   }
-  std::sort(dropped_vertices.begin(), dropped_vertices.end());
-  dropped_vertices.erase(std::unique(dropped_vertices.begin(), dropped_vertices.end()),
-                         dropped_vertices.end());
-  for (std::uint32_t v : dropped_vertices) {
-    Row& r = rows_[v];
-    std::uint32_t n = 0;
-    for (std::uint32_t i = 0; i < r.size; ++i)
-      if (pool_[r.begin + i].particle != kInvalidIndex) pool_[r.begin + n++] = pool_[r.begin + i];
-    r.size = n;
-    renormalise(v);
+  for (auto* v : {&renamed, &dropped}) {
+    std::sort(v->begin(), v->end());
+    v->erase(std::unique(v->begin(), v->end()), v->end());
   }
+  parallel_for(renamed.size(), 1024, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) sort_row(renamed[i]);
+  });
+  parallel_for(dropped.size(), 1024, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      Row& r = rows_[dropped[i]];
+      std::uint32_t n = 0;
+      for (std::uint32_t j = 0; j < r.size; ++j)
+        if (pool_[r.begin + j].particle != kInvalidIndex) pool_[r.begin + n++] = pool_[r.begin + j];
+      r.size = n;
+      renormalise(dropped[i]);
+    }
+  });
   return split_count;
 }
 
@@ -497,9 +509,9 @@ std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& parti
 // Build.
 
 // Every vertex of `ids` belongs to each particle whose seed lies within rho of it. Rows are built
-// per vertex from a grid over the seeds (count, prefix sum, fill), member lists per particle as
-// the sorted ball around its seed; both test the same float distance, so they agree, and every
-// write is to a disjoint range: the result does not depend on the thread count.
+// per vertex from a grid over the seeds (count, prefix sum, fill), member lists per particle by
+// turning the rows over (a counting sort by particle, in vertex order); every write is to a
+// disjoint range: the result does not depend on the thread count.
 void Clusters::build_memberships(const std::vector<glm::vec3>& rest, const std::vector<std::uint32_t>& ids,
                                  const clustering_detail::PointGrid& vertex_grid) {
   const float rho = radius_, rho2 = rho * rho;
@@ -511,17 +523,20 @@ void Clusters::build_memberships(const std::vector<glm::vec3>& rest, const std::
   for (std::uint32_t p = 0; p < particles; ++p) all[p] = p;
   const PointGrid seed_grid(seeds_, all, rho);
   constexpr std::size_t kGrain = 2048;
-  std::vector<std::uint32_t> start(ids.size() + 1, 0);
+  // Each vertex's row length, then in place its row's start (a prefix sum over the pool).
+  detail::UninitVector<std::uint32_t> start(ids.size() + 1);
   parallel_for(ids.size(), kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) {
       const glm::vec3 pv = rest[ids[i]];
       std::uint32_t count = 0;
       seed_grid.for_each_near(pv, reach, [&](std::uint32_t p) { count += distance2(pv, seeds_[p]) <= rho2; });
-      start[i + 1] = count;
+      start[i] = count;
     }
   });
-  for (std::size_t i = 0; i < ids.size(); ++i) start[i + 1] += start[i];
-  pool_.resize(start.back());
+  start[ids.size()] = detail::exclusive_scan(
+      ids.size(), [&](std::size_t i) { return start[i]; },
+      [&](std::size_t i, std::uint32_t at) { start[i] = at; });
+  detail::resize_prefaulted(pool_, std::size_t(start[ids.size()]));
   parallel_for(ids.size(), kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) {
       const std::uint32_t v = ids[i];
@@ -537,16 +552,19 @@ void Clusters::build_memberships(const std::vector<glm::vec3>& rest, const std::
       renormalise(v);
     }
   });
+  // Member lists: the rows turned over (a vertex is within rho of a seed exactly when the seed
+  // is within rho of it: distance2 is symmetric), ascending by vertex as `ids` is.
+  static_cast<void>(vertex_grid);  // the ball around each seed is no longer searched
+  std::vector<std::uint32_t> first, member;
+  detail::fill_csr(ids.size(), particles, first, member, [&](std::size_t i, auto&& visit) {
+    const Row& r = rows_[ids[i]];
+    for (std::uint32_t k = 0; k < r.size; ++k) visit(pool_[r.begin + k].particle);
+  });
   members_.assign(particles, {});
-  // Two particles per chunk: a build has only hundreds of particles, each of thousands of members.
   parallel_for(particles, 2, [&](std::size_t b, std::size_t e) {
     for (std::size_t p = b; p < e; ++p) {
-      const glm::vec3 ps = seeds_[p];
-      auto& m = members_[p];
-      vertex_grid.for_each_near(ps, reach, [&](std::uint32_t v) {
-        if (distance2(rest[v], ps) <= rho2) m.push_back(v);
-      });
-      std::sort(m.begin(), m.end());
+      members_[p].resize(first[p + 1] - first[p]);
+      for (std::uint32_t k = first[p]; k < first[p + 1]; ++k) members_[p][k - first[p]] = ids[member[k]];
     }
   });
 }
@@ -566,7 +584,7 @@ Clusters Clusters::build(const SurfaceMesh& mesh, const std::vector<glm::vec3>& 
   Clusters c;
   c.radius_ = options.radius;
   const std::size_t n = mesh.vertex_count();
-  c.rows_.assign(n, Row{});
+  detail::resize_prefaulted(c.rows_, n);
   c.face_refs_ = count_face_refs(mesh);
   const std::vector<std::uint32_t> ids = live_vertices(c.face_refs_, rest);
   if (ids.empty()) return c;

@@ -8,18 +8,20 @@
 #include <cstdint>
 #include <vector>
 
+#include "csr_fill.h"
 #include "deepcut/core/parallel.h"
 #include "deepcut/core/surface_mesh.h"
+#include "uninit_vector.h"
 
 namespace deepcut::clustering_detail {
 
-/// A uniform grid over a set of points, stored as a counting-sorted list per cell (CSR).
+/// A uniform grid over a set of points, stored as a counting-sorted list per cell (CSR): each
+/// cell lists its points in the order of `ids`.
 class PointGrid {
  public:
   PointGrid(const std::vector<glm::vec3>& pos, const std::vector<std::uint32_t>& ids, float cell)
       : pos_(pos) {
-    // The box and each point's cell in parallel (min / max and disjoint writes: the same grid
-    // whatever the thread count); the counting sort serially.
+    // The box in parallel (min / max: the same grid whatever the thread count).
     constexpr std::size_t kGrain = 1 << 15;
     box_ = parallel_reduce(
         ids.size(), kGrain, BoundingBox{},
@@ -44,16 +46,17 @@ class PointGrid {
     }
     for (int k = 0; k < 3; ++k) dims_[k] = static_cast<int>(std::floor(double(ext[k]) / h_)) + 1;
     const std::size_t cells = std::size_t(dims_[0]) * dims_[1] * dims_[2];
-    std::vector<std::size_t> cell_of_id(ids.size());
+    // Each point's cell, then the points packed per cell (their positions in `ids`, in order),
+    // then the positions replaced by the ids: every pass over the pool.
+    detail::UninitVector<std::size_t> cell_of_id(ids.size());
     parallel_for(ids.size(), kGrain, [&](std::size_t b, std::size_t e) {
       for (std::size_t i = b; i < e; ++i) cell_of_id[i] = cell_of(pos[ids[i]]);
     });
-    start_.assign(cells + 1, 0);
-    for (std::size_t c : cell_of_id) ++start_[c + 1];
-    for (std::size_t c = 0; c < cells; ++c) start_[c + 1] += start_[c];
-    items_.resize(ids.size());
-    std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
-    for (std::size_t i = 0; i < ids.size(); ++i) items_[fill[cell_of_id[i]]++] = ids[i];
+    detail::fill_csr(ids.size(), cells, start_, items_,
+                     [&](std::size_t i, auto&& visit) { visit(cell_of_id[i]); });
+    parallel_for(items_.size(), kGrain, [&](std::size_t b, std::size_t e) {
+      for (std::size_t k = b; k < e; ++k) items_[k] = ids[items_[k]];
+    });
   }
 
   std::size_t cell_count() const { return start_.size() - 1; }
@@ -66,21 +69,41 @@ class PointGrid {
   const std::uint32_t* cell_begin(std::size_t c) const { return items_.data() + start_[c]; }
   const std::uint32_t* cell_end(std::size_t c) const { return items_.data() + start_[c + 1]; }
 
+  /// A box of cells: lo[k] .. hi[k] along axis k; its rows run along x, one per (y, z).
+  struct CellBox {
+    int lo[3], hi[3];
+    std::size_t rows() const { return std::size_t(hi[1] - lo[1] + 1) * std::size_t(hi[2] - lo[2] + 1); }
+    std::size_t cells() const { return rows() * std::size_t(hi[0] - lo[0] + 1); }
+  };
+
+  /// The cells the ball (c, r) overlaps.
+  CellBox cells_near(const glm::vec3& c, float r) const {
+    CellBox box;
+    for (int k = 0; k < 3; ++k) {
+      box.lo[k] = clamp_cell(std::floor((double(c[k]) - r - box_.min[k]) / h_), k);
+      box.hi[k] = clamp_cell(std::floor((double(c[k]) + r - box_.min[k]) / h_), k);
+    }
+    return box;
+  }
+
+  /// Calls fn(cell) for every non-empty cell of rows [b, e) of `box`, in increasing order.
+  template <class F>
+  void for_each_cell_in_rows(const CellBox& box, std::size_t b, std::size_t e, F&& fn) const {
+    const std::size_t ny = std::size_t(box.hi[1] - box.lo[1] + 1);
+    for (std::size_t r = b; r < e; ++r) {
+      const std::size_t z = std::size_t(box.lo[2]) + r / ny, y = std::size_t(box.lo[1]) + r % ny;
+      const std::size_t row = (z * dims_[1] + y) * dims_[0];
+      for (int x = box.lo[0]; x <= box.hi[0]; ++x)
+        if (start_[row + x] != start_[row + x + 1]) fn(row + x);
+    }
+  }
+
   /// Calls fn(cell) for every non-empty cell the ball (c, r) overlaps.
   template <class F>
   void for_each_cell_near(const glm::vec3& c, float r, F&& fn) const {
     if (items_.empty()) return;
-    int lo[3], hi[3];
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = clamp_cell(std::floor((double(c[k]) - r - box_.min[k]) / h_), k);
-      hi[k] = clamp_cell(std::floor((double(c[k]) + r - box_.min[k]) / h_), k);
-    }
-    for (int z = lo[2]; z <= hi[2]; ++z)
-      for (int y = lo[1]; y <= hi[1]; ++y) {
-        const std::size_t row = (std::size_t(z) * dims_[1] + y) * dims_[0];
-        for (int x = lo[0]; x <= hi[0]; ++x)
-          if (start_[row + x] != start_[row + x + 1]) fn(row + x);
-      }
+    const CellBox box = cells_near(c, r);
+    for_each_cell_in_rows(box, 0, box.rows(), fn);
   }
 
   /// Calls fn(v) for every point in the cells the ball (c, r) overlaps (a superset of the ball).
