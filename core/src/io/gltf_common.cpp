@@ -173,6 +173,7 @@ int write_range(int fd, const unsigned char* data, std::size_t size) {
       if (errno == EINTR) continue;
       return errno;
     }
+    if (n == 0) return EIO;  // nothing written for a non-zero size: retrying would spin forever
     done += static_cast<std::size_t>(n);
   }
   return 0;
