@@ -204,12 +204,14 @@ int write_all_and_sync(int fd, const std::vector<ByteSpan>& parts) {
   return ::fsync(fd) != 0 ? errno : 0;
 }
 
-// Closes `fd` on a thread of its own (on the caller when none can start).
-void close_in_background(int fd) {
+// Closes `fd` on a thread of its own (on the caller when none can start). Called after a
+// successful rename: whatever starting the thread throws (std::system_error, std::bad_alloc), the
+// descriptor is closed here and nothing escapes, so the save still reports success.
+void close_in_background(int fd) noexcept {
   if (fd < 0) return;
   try {
     std::thread([fd] { ::close(fd); }).detach();
-  } catch (const std::system_error&) {
+  } catch (...) {
     ::close(fd);
   }
 }
