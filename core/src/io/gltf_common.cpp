@@ -261,7 +261,11 @@ void write_file_atomic(const std::string& path, const std::vector<ByteSpan>& byt
     }
     const std::string self = "/proc/self/fd/" + std::to_string(fd);
     const bool linked = ::linkat(AT_FDCWD, self.c_str(), AT_FDCWD, tmp.c_str(), AT_SYMLINK_FOLLOW) == 0;
-    ::close(fd);
+    if (::close(fd) != 0) {  // checked as the named temporary's close below is
+      const int err = errno;
+      if (linked) ::unlink(tmp.c_str());
+      fail("write failed", err);
+    }
     if (linked) {
       if (const int err = replace_file(tmp.string(), path)) fail("cannot replace the file", err);
       return;
