@@ -232,6 +232,23 @@ int replace_file(const std::string& tmp, const std::string& path) {
   return err;
 }
 
+// Flushes the folder `dir` (its entries: the rename) to disk; returns errno on failure, 0 on
+// success. Without it a crash soon after a save can bring the old file back under the name, the
+// new one's data on disk but not the rename. EINVAL (a file system that cannot flush a folder)
+// counts as success: there is nothing more to wait for there.
+int sync_folder(const std::filesystem::path& dir) {
+#ifdef O_DIRECTORY
+  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return errno;
+  const int err = ::fsync(fd) != 0 && errno != EINVAL ? errno : 0;
+  ::close(fd);
+  return err;
+#else
+  (void)dir;
+  return 0;
+#endif
+}
+
 }  // namespace
 
 void write_file_atomic(const std::string& path, const std::vector<unsigned char>& bytes) {
@@ -248,6 +265,12 @@ void write_file_atomic(const std::string& path, const std::vector<ByteSpan>& byt
   const fs::path tmp = dir / ("." + target.filename().string() + ".tmp" + std::to_string(rd()));
   auto fail = [&](const std::string& what, int err) {
     throw Error(ErrorCode::Io, path + ": " + what + " (" + std::strerror(err) + ")");
+  };
+  // Renames the temporary over `path`, then flushes the folder so the rename outlasts a crash.
+  auto replace = [&] {
+    if (const int err = replace_file(tmp.string(), path)) fail("cannot replace the file", err);
+    if (const int err = sync_folder(dir))  // the new content is in place: say so
+      fail("saved, but the folder could not be flushed", err);
   };
 #ifdef O_TMPFILE
   // Preferred: an unnamed temporary (O_TMPFILE). Until it is linked it has no name, so a writer
@@ -267,7 +290,7 @@ void write_file_atomic(const std::string& path, const std::vector<ByteSpan>& byt
       fail("write failed", err);
     }
     if (linked) {
-      if (const int err = replace_file(tmp.string(), path)) fail("cannot replace the file", err);
+      replace();
       return;
     }
     // No /proc or no link support: fall back to a named temporary below.
@@ -285,7 +308,7 @@ void write_file_atomic(const std::string& path, const std::vector<ByteSpan>& byt
     ::unlink(tmp.c_str());
     fail("write failed", err);
   }
-  if (const int err = replace_file(tmp.string(), path)) fail("cannot replace the file", err);
+  replace();
 }
 
 bool has_extension(const std::string& path, const char* ext) {
