@@ -3,10 +3,9 @@
 // previous complete file, never a partial one, and never leaves a partial temporary behind.
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
-
-#include <sys/stat.h>
 
 #include <chrono>
 #include <cstdint>
@@ -173,9 +172,9 @@ TEST(AtomicWriteTest, spans_of_odd_sizes_crossing_the_write_parts_are_written_wh
   const std::string target = dir + "/out.bin";
   constexpr std::size_t MiB = std::size_t(1) << 20;
   const std::vector<std::vector<std::size_t>> layouts = {
-      {7 * MiB + 1, 20 * MiB, 5 * MiB - 3},      // crosses 16 MiB and 32 MiB inside spans
-      {16 * MiB, 1, 16 * MiB - 1, 3},            // ends a part exactly, then a span of one byte
-      {0, 33 * MiB + 5, 0},                      // empty spans around one over two parts
+      {7 * MiB + 1, 20 * MiB, 5 * MiB - 3},  // crosses 16 MiB and 32 MiB inside spans
+      {16 * MiB, 1, 16 * MiB - 1, 3},        // ends a part exactly, then a span of one byte
+      {0, 33 * MiB + 5, 0},                  // empty spans around one over two parts
   };
   std::uint32_t seed = 1;
   for (const auto& sizes : layouts) {
