@@ -97,7 +97,7 @@ class Writer {
   ExportOptions options_;
   json doc_ = json::object();
   detail::UninitVector<unsigned char> bin_;
-  std::size_t tail_ = 0;  // tail_bound(), computed once per write
+  std::size_t tail_ = 0;       // tail_bound(), computed once per write
   std::vector<int> mesh_map_;  // model mesh -> glTF mesh (-1 when dropped)
   std::vector<std::size_t> mesh_targets_;  // model mesh -> morph targets written (0 when dropped)
 };
