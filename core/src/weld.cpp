@@ -272,8 +272,11 @@ std::size_t drop_repeating_faces(const std::vector<Triangle>& in_faces, FaceUse&
 // The representatives' vertex attributes (`keep`), one array per thread of the pool, each
 // appended run by run (gather_groups: never value-initialised) into memory with the room that
 // operations get (operation_room.h), so reserving that room after the import copies nothing.
-// The room is reserved on the calling thread: its heap keeps freed memory for the next weld
-// (keep_freed_memory), where a worker's would map and unmap an array over 64 MiB alone.
+// As the import builds its arrays (ArrayBuild, which wants typed std::vectors): the room is
+// reserved on the calling thread, whose heap keeps freed memory for the next weld
+// (keep_freed_memory; a worker's would map and unmap an array over 64 MiB alone), and the pages
+// the elements take are faulted in from there over the whole pool (prefault); inside the tasks a
+// prefault would run serially on each task's thread.
 AttributeSet gather_vertices(const AttributeSet& in, const std::vector<std::uint32_t>& keep) {
   const std::vector<std::string> names = in.names();
   std::vector<std::unique_ptr<AttributeArrayBase>> arrays(names.size());
@@ -281,7 +284,13 @@ AttributeSet gather_vertices(const AttributeSet& in, const std::vector<std::uint
   for (std::size_t i = 0; i < names.size(); ++i) {
     arrays[i] = in.base(names[i])->clone_subset({});  // empty, of the same type and default
     arrays[i]->reserve(operation_vertex_room(keep.size()));
-    tasks.push_back([&, i] { in.base(names[i])->gather_groups(*arrays[i], keep, 1, &detail::prefault); });
+    if (!keep.empty()) {  // one element for a pointer to the room, dropped again (the capacity stays)
+      arrays[i]->resize(1);
+      detail::prefault(const_cast<void*>(arrays[i]->element_data(0)),
+                       keep.size() * arrays[i]->element_bytes());
+      arrays[i]->resize(0);
+    }
+    tasks.push_back([&, i] { in.base(names[i])->gather_groups(*arrays[i], keep, 1, nullptr); });
   }
   parallel_invoke(tasks);
   AttributeSet out;

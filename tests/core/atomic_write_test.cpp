@@ -3,10 +3,12 @@
 // previous complete file, never a partial one, and never leaves a partial temporary behind.
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -17,8 +19,10 @@
 
 #include <gtest/gtest.h>
 
+#include "deepcut/core/errors.h"
 #include "deepcut/core/generate/cactus.h"
 #include "deepcut/core/io/gltf.h"
+#include "io/gltf_common.h"
 #include "tools.h"
 
 namespace deepcut {
@@ -146,6 +150,73 @@ TEST(AtomicWriteTest, a_writer_killed_at_random_moments_never_leaves_a_partial_f
   // The kills landed both before and after the rename, or the test proved nothing.
   EXPECT_GT(kept_old + absent, 0);
   EXPECT_GT(completed, 0);
+  fs::remove_all(dir);
+}
+
+// Bytes 0..n-1 of a pattern that differs from part to part (`seed`), so a part written at the
+// wrong place or twice shows.
+std::vector<unsigned char> pattern(std::size_t n, std::uint32_t seed) {
+  std::vector<unsigned char> out(n);
+  std::uint32_t x = seed * 2654435761u + 1;
+  for (std::size_t i = 0; i < n; ++i) {
+    x = x * 1664525u + 1013904223u;
+    out[i] = static_cast<unsigned char>(x >> 24);
+  }
+  return out;
+}
+
+// The file is written in 16 MiB parts (each handed to the disk as it is complete): spans of odd
+// sizes cross those parts at odd places, and every byte still lands where it belongs.
+TEST(AtomicWriteTest, spans_of_odd_sizes_crossing_the_write_parts_are_written_whole_and_the_last_write_wins) {
+  const std::string dir = test::temp_dir("atomic-spans");
+  const std::string target = dir + "/out.bin";
+  constexpr std::size_t MiB = std::size_t(1) << 20;
+  const std::vector<std::vector<std::size_t>> layouts = {
+      {7 * MiB + 1, 20 * MiB, 5 * MiB - 3},  // crosses 16 MiB and 32 MiB inside spans
+      {16 * MiB, 1, 16 * MiB - 1, 3},        // ends a part exactly, then a span of one byte
+      {0, 33 * MiB + 5, 0},                  // empty spans around one over two parts
+  };
+  std::uint32_t seed = 1;
+  for (const auto& sizes : layouts) {
+    std::vector<std::vector<unsigned char>> spans;
+    std::string expected;
+    for (const std::size_t n : sizes) {
+      spans.push_back(pattern(n, seed++));
+      expected.append(spans.back().begin(), spans.back().end());
+    }
+    std::vector<gltf_detail::ByteSpan> parts;
+    for (const auto& s : spans) parts.push_back({s.data(), s.size()});
+    gltf_detail::write_file_atomic(target, parts);
+    EXPECT_EQ(fs::file_size(target), expected.size());
+    EXPECT_TRUE(read_bytes(target) == expected) << "layout starting " << sizes[0] << " bytes";
+    EXPECT_TRUE(other_files(dir, {"out.bin"}).empty()) << "a temporary was left behind";
+  }
+  // Written twice to the same path, the second content is what the file holds.
+  const std::vector<unsigned char> first = pattern(17 * MiB + 7, 100), second = pattern(3 * MiB + 11, 200);
+  gltf_detail::write_file_atomic(target, first);
+  gltf_detail::write_file_atomic(target, second);
+  EXPECT_TRUE(read_bytes(target) == std::string(second.begin(), second.end()));
+  EXPECT_TRUE(other_files(dir, {"out.bin"}).empty()) << "a temporary was left behind";
+  fs::remove_all(dir);
+}
+
+TEST(AtomicWriteTest, a_write_into_a_read_only_folder_fails_with_an_error_naming_the_path) {
+  if (::geteuid() == 0) GTEST_SKIP() << "running as root: folder permissions do not apply";
+  const std::string dir = test::temp_dir("atomic-read-only");
+  const std::string target = dir + "/out.bin";
+  ASSERT_EQ(::chmod(dir.c_str(), 0555), 0);
+  bool threw = false;
+  try {
+    gltf_detail::write_file_atomic(target, pattern(1000, 7));
+  } catch (const Error& e) {
+    threw = true;
+    EXPECT_EQ(e.code(), ErrorCode::Io);
+    EXPECT_NE(std::string(e.what()).find(target), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(threw) << "no Error for a read-only folder";
+  EXPECT_FALSE(fs::exists(target));
+  ::chmod(dir.c_str(), 0755);
+  EXPECT_TRUE(other_files(dir, {}).empty()) << "a temporary was left behind";
   fs::remove_all(dir);
 }
 

@@ -173,6 +173,7 @@ int write_range(int fd, const unsigned char* data, std::size_t size) {
       if (errno == EINTR) continue;
       return errno;
     }
+    if (n == 0) return EIO;  // nothing written for a non-zero size: retrying would spin forever
     done += static_cast<std::size_t>(n);
   }
   return 0;
@@ -203,12 +204,14 @@ int write_all_and_sync(int fd, const std::vector<ByteSpan>& parts) {
   return ::fsync(fd) != 0 ? errno : 0;
 }
 
-// Closes `fd` on a thread of its own (on the caller when none can start).
-void close_in_background(int fd) {
+// Closes `fd` on a thread of its own (on the caller when none can start). Called after a
+// successful rename: whatever starting the thread throws (std::system_error, std::bad_alloc), the
+// descriptor is closed here and nothing escapes, so the save still reports success.
+void close_in_background(int fd) noexcept {
   if (fd < 0) return;
   try {
     std::thread([fd] { ::close(fd); }).detach();
-  } catch (const std::system_error&) {
+  } catch (...) {
     ::close(fd);
   }
 }
@@ -229,6 +232,23 @@ int replace_file(const std::string& tmp, const std::string& path) {
   return err;
 }
 
+// Flushes the folder `dir` (its entries: the rename) to disk; returns errno on failure, 0 on
+// success. Without it a crash soon after a save can bring the old file back under the name, the
+// new one's data on disk but not the rename. EINVAL (a file system that cannot flush a folder)
+// counts as success: there is nothing more to wait for there.
+int sync_folder(const std::filesystem::path& dir) {
+#ifdef O_DIRECTORY
+  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return errno;
+  const int err = ::fsync(fd) != 0 && errno != EINVAL ? errno : 0;
+  ::close(fd);
+  return err;
+#else
+  (void)dir;
+  return 0;
+#endif
+}
+
 }  // namespace
 
 void write_file_atomic(const std::string& path, const std::vector<unsigned char>& bytes) {
@@ -246,6 +266,12 @@ void write_file_atomic(const std::string& path, const std::vector<ByteSpan>& byt
   auto fail = [&](const std::string& what, int err) {
     throw Error(ErrorCode::Io, path + ": " + what + " (" + std::strerror(err) + ")");
   };
+  // Renames the temporary over `path`, then flushes the folder so the rename outlasts a crash.
+  auto replace = [&] {
+    if (const int err = replace_file(tmp.string(), path)) fail("cannot replace the file", err);
+    if (const int err = sync_folder(dir))  // the new content is in place: say so
+      fail("saved, but the folder could not be flushed", err);
+  };
 #ifdef O_TMPFILE
   // Preferred: an unnamed temporary (O_TMPFILE). Until it is linked it has no name, so a writer
   // killed while writing (SIGKILL, power loss) leaves nothing behind; it gets its temporary name
@@ -258,9 +284,13 @@ void write_file_atomic(const std::string& path, const std::vector<ByteSpan>& byt
     }
     const std::string self = "/proc/self/fd/" + std::to_string(fd);
     const bool linked = ::linkat(AT_FDCWD, self.c_str(), AT_FDCWD, tmp.c_str(), AT_SYMLINK_FOLLOW) == 0;
-    ::close(fd);
+    if (::close(fd) != 0) {  // checked as the named temporary's close below is
+      const int err = errno;
+      if (linked) ::unlink(tmp.c_str());
+      fail("write failed", err);
+    }
     if (linked) {
-      if (const int err = replace_file(tmp.string(), path)) fail("cannot replace the file", err);
+      replace();
       return;
     }
     // No /proc or no link support: fall back to a named temporary below.
@@ -278,7 +308,7 @@ void write_file_atomic(const std::string& path, const std::vector<ByteSpan>& byt
     ::unlink(tmp.c_str());
     fail("write failed", err);
   }
-  if (const int err = replace_file(tmp.string(), path)) fail("cannot replace the file", err);
+  replace();
 }
 
 bool has_extension(const std::string& path, const char* ext) {

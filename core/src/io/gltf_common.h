@@ -53,7 +53,9 @@ class FileBytes {
 // where the file system allows, so a killed writer leaves no temporary behind either; elsewhere a
 // writer killed mid-write leaves a hidden `.<name>.tmp<number>` beside the target. The bytes go to
 // the disk as they are written and the fsync before the rename waits for the rest; the file
-// replaced is let go on a thread of its own (freeing a large file's pages takes long).
+// replaced is let go on a thread of its own (freeing a large file's pages takes long). The folder
+// is flushed after the rename, so a crash cannot bring the old file back; when only that flush
+// fails the Error says "saved, but the folder could not be flushed" (the new content is in place).
 void write_file_atomic(const std::string& path, const std::vector<unsigned char>& bytes);
 // The same with the file's bytes given as consecutive parts (a .glb's header and JSON, then its
 // binary buffer), written without joining them first.

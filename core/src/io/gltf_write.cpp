@@ -2,6 +2,7 @@
 // glTF export: un-welds corners into glTF vertices, packs one binary buffer, writes the JSON with
 // nlohmann (so carried-through objects are emitted verbatim) and replaces the target atomically.
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <cstring>
 
@@ -96,6 +97,7 @@ class Writer {
   ExportOptions options_;
   json doc_ = json::object();
   detail::UninitVector<unsigned char> bin_;
+  std::size_t tail_ = 0;       // tail_bound(), computed once per write
   std::vector<int> mesh_map_;  // model mesh -> glTF mesh (-1 when dropped)
   std::vector<std::size_t> mesh_targets_;  // model mesh -> morph targets written (0 when dropped)
 };
@@ -259,6 +261,7 @@ void Writer::write_primitive(const Primitive& prim, std::size_t targets, json& o
   const GltfVertices vertices = unweld(mesh, arrays);
   const std::size_t n = vertices.vertex.size();
   reserve_bin(primitive_bound(mesh, n));
+  [[maybe_unused]] const std::size_t cap_before = bin_.capacity();  // primitive_bound held: no growth below
   json attributes = json::object();
   {
     std::size_t at = 0;
@@ -287,6 +290,7 @@ void Writer::write_primitive(const Primitive& prim, std::size_t targets, json& o
   out["mode"] = 4;
   if (prim.material >= 0 && static_cast<std::size_t>(prim.material) < model_.materials.size()) out["material"] = prim.material;
   if (!prim.extras_json.empty()) out["extras"] = parse_or(prim.extras_json, json::object());
+  assert(bin_.capacity() == cap_before && "primitive_bound too small: the binary buffer moved mid-primitive");
 }
 
 // The primitive's `targets`: each target's POSITION deltas per glTF vertex (with the min/max glTF
@@ -562,12 +566,15 @@ void Writer::write_images() {
   }
 }
 
-// Room in the binary buffer for `bytes` more and what the skins, animations and images add
-// (tail_bound), so it grows without copying what it holds; when it must grow, by half at least.
+// Room in the binary buffer for `bytes` more (a primitive's bound) and what the skins, animations
+// and images add (tail_, tail_bound), so a primitive is written without the buffer growing
+// (write_primitive asserts it) and the tail fits after the last one. The first primitive's
+// reserve copies nothing (the buffer is empty); a later one that does not fit copies what the
+// earlier ones wrote, and then grows by half at least so that many primitives copy it few times.
 // Sized by what is written, not by a bound of all the corners, it stays within what the heap
 // keeps for the next export (keep_freed_memory: blocks up to 1 GiB).
 void Writer::reserve_bin(std::size_t bytes) {
-  const std::size_t need = bin_.size() + bytes + tail_bound();
+  const std::size_t need = bin_.size() + bytes + tail_;
   if (need > bin_.capacity()) bin_.reserve(std::max(need, bin_.capacity() + bin_.capacity() / 2));
 }
 
@@ -586,8 +593,9 @@ std::vector<unsigned char> Writer::write(bool glb) {
   if (!model_.asset_copyright.empty()) asset["copyright"] = model_.asset_copyright;
   if (!model_.asset_extras_json.empty()) asset["extras"] = parse_or(model_.asset_extras_json, json::object());
   doc_["asset"] = asset;
-  reserve_bin(0);
+  tail_ = tail_bound();
   write_meshes();
+  reserve_bin(0);  // the tail's room: already there when a primitive was written
   write_nodes();
   write_skins();
   write_animations();
