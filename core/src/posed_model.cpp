@@ -136,10 +136,8 @@ std::size_t normals_room(const SurfaceMesh& surface) { return operation_corner_r
 // serially), then the positions value-filled (a std::vector: serial, on present pages) and the
 // linear maps, three quarters of the bytes, left as they are (an UninitVector).
 void size_posed_arrays(PosedMesh& inst, std::size_t n, std::size_t room) {
-  inst.posed.reserve(room);
-  inst.linear.reserve(room);
-  detail::prefault(inst.posed.data(), n * sizeof(glm::vec3));
-  detail::prefault(inst.linear.data(), n * sizeof(glm::mat3));
+  detail::reserve_prefaulted(inst.posed, n, room);
+  detail::reserve_prefaulted(inst.linear, n, room);
   inst.posed.resize(n);
   inst.linear.resize(n);
 }
@@ -351,10 +349,8 @@ PosedModel PosedModel::positions_copy() const {
     // task copies the positions (a std::vector: one serial pass), the others the linear maps
     // in parts (an UninitVector, sized without a fill), three quarters of the bytes.
     const std::size_t room = operation_vertex_room(inst.posed.size()), maps = inst.linear.size();
-    copy.posed.reserve(room);
-    copy.linear.reserve(room);
-    detail::prefault(copy.posed.data(), inst.posed.size() * sizeof(glm::vec3));
-    detail::prefault(copy.linear.data(), maps * sizeof(glm::mat3));
+    detail::reserve_prefaulted(copy.posed, inst.posed.size(), room);
+    detail::reserve_prefaulted(copy.linear, maps, room);
     copy.linear.resize(maps);
     const std::size_t parts = (maps + kGrain - 1) / kGrain;
     parallel_for(1 + parts, 1, [&](std::size_t b, std::size_t e) {
