@@ -136,12 +136,35 @@ std::size_t normals_room(const SurfaceMesh& surface) { return operation_corner_r
 // serially), then the positions value-filled (a std::vector: serial, on present pages) and the
 // linear maps, three quarters of the bytes, left as they are (an UninitVector).
 void size_posed_arrays(PosedMesh& inst, std::size_t n, std::size_t room) {
-  inst.posed.reserve(room);
-  inst.linear.reserve(room);
-  detail::prefault(inst.posed.data(), n * sizeof(glm::vec3));
-  detail::prefault(inst.linear.data(), n * sizeof(glm::mat3));
+  detail::reserve_prefaulted(inst.posed, n, room);
+  detail::reserve_prefaulted(inst.linear, n, room);
   inst.posed.resize(n);
   inst.linear.resize(n);
+}
+
+// Sizes the empty arrays of `inst`, a piece of `n` vertices derived from a primitive of
+// `source_vertices`, for a pass that writes every element next. A spare's arrays are taken when
+// they hold the vertices and are at most twice the room the piece's own would have (as a piece's
+// corner normals take a spare's, built_normals in the studio's scene), so a small piece does not
+// keep a large allocation alive. New arrays get piece_vertex_room: set aside by an undo, they
+// hold the smaller piece of any later cut of that content. Only the piece's elements are
+// written; the rest of the room is address space unless the allocator gives back memory freed
+// before (keep_freed_memory keeps it resident), and a taken spare's pages are in up to the most
+// it held.
+void size_piece_arrays(PosedMesh& inst, std::size_t n, std::size_t source_vertices,
+                       std::vector<PosedMesh>& spare) {
+  PosedMesh taken = take_smallest_fit(spare, n, 2 * operation_vertex_room(n) + 1, [](const PosedMesh& m) {
+    return std::min(m.posed.capacity(), m.linear.capacity());
+  });
+  if (n > 0 && taken.posed.capacity() >= n && taken.linear.capacity() >= n) {  // (none taken: empty)
+    // Its pages are there: only the positions past its size are filled (all are written next).
+    inst.posed = std::move(taken.posed);
+    inst.linear = std::move(taken.linear);
+    inst.posed.resize(n);
+    inst.linear.resize(n);
+  } else {
+    size_posed_arrays(inst, n, piece_vertex_room(n, source_vertices));
+  }
 }
 
 }  // namespace
@@ -351,10 +374,8 @@ PosedModel PosedModel::positions_copy() const {
     // task copies the positions (a std::vector: one serial pass), the others the linear maps
     // in parts (an UninitVector, sized without a fill), three quarters of the bytes.
     const std::size_t room = operation_vertex_room(inst.posed.size()), maps = inst.linear.size();
-    copy.posed.reserve(room);
-    copy.linear.reserve(room);
-    detail::prefault(copy.posed.data(), inst.posed.size() * sizeof(glm::vec3));
-    detail::prefault(copy.linear.data(), maps * sizeof(glm::mat3));
+    detail::reserve_prefaulted(copy.posed, inst.posed.size(), room);
+    detail::reserve_prefaulted(copy.linear, maps, room);
     copy.linear.resize(maps);
     const std::size_t parts = (maps + kGrain - 1) / kGrain;
     parallel_for(1 + parts, 1, [&](std::size_t b, std::size_t e) {
@@ -389,26 +410,8 @@ PosedMesh PosedModel::derive_instance(const Model& model, int node, int primitiv
   inst.world = world_.at(static_cast<std::size_t>(node));
   inst.weights = weights(node);
   inst.gridless = true;
-  // A spare's arrays are taken when they hold the vertices and are at most twice the room the
-  // piece's own would have (as a piece's corner normals take a spare's, built_normals in the
-  // studio's scene), so a small piece does not keep a large allocation alive. New arrays get
-  // piece_vertex_room: set aside by an undo, they hold the smaller piece of any later cut of
-  // that content. Only the piece's elements are written; the rest of the room is address space
-  // unless the allocator gives back memory freed before (keep_freed_memory keeps it resident),
-  // and a taken spare's pages are in up to the most it held.
-  const std::size_t n = mesh.vertex_count(), room = piece_vertex_room(n, source.posed.size());
-  PosedMesh taken = take_smallest_fit(spare, n, 2 * operation_vertex_room(n) + 1, [](const PosedMesh& m) {
-    return std::min(m.posed.capacity(), m.linear.capacity());
-  });
-  if (n > 0 && taken.posed.capacity() >= n && taken.linear.capacity() >= n) {  // (none taken: empty)
-    // Its pages are there: only the positions past its size are filled (all are written below).
-    inst.posed = std::move(taken.posed);
-    inst.linear = std::move(taken.linear);
-    inst.posed.resize(n);
-    inst.linear.resize(n);
-  } else {
-    size_posed_arrays(inst, n, room);
-  }
+  const std::size_t n = mesh.vertex_count();
+  size_piece_arrays(inst, n, source.posed.size(), spare);
   // A vertex with a source has its attributes, posed alike (same world, joints and weights):
   // its position and linear map are the source's bits. The others are posed.
   const bool copy = origin.vertices.size() == n && source.linear.size() == source.posed.size();

@@ -520,9 +520,16 @@ TEST(SessionTest, a_follower_derives_the_largest_piece_into_the_one_spare_that_h
       continue;
     }
     // Set aside by no arrival (a tag no content has), with room for the largest piece only.
+    // Its arrays hold a sentinel past their (zero) size, as a spare set aside after use holds
+    // old values: a linear map the taken-spare path missed (an UninitVector: growing it writes
+    // nothing) would read 7s, not the zeros of fresh memory.
     PosedMesh spare;
     spare.posed.reserve(largest->second);
     spare.linear.reserve(largest->second);
+    spare.posed.assign(largest->second, glm::vec3(7.0f));
+    spare.linear.assign(largest->second, glm::mat3(glm::vec3(7.0f), glm::vec3(7.0f), glm::vec3(7.0f)));
+    spare.posed.clear();
+    spare.linear.clear();
     const glm::vec3* memory = spare.posed.data();
     PoseStash stash;
     stash[{~std::uint64_t(0), 0}] = std::move(spare);

@@ -4,7 +4,8 @@
 // whole right after they are sized (PosedMesh::linear, core's whole-mesh passes): a fill first
 // would write every element on the calling thread (a serial pass, and the one that faults the
 // pages in), while the parallel loop that writes them touches each page on the thread that
-// writes it. Only for types without invariants (numbers, glm vectors and matrices). Growing
+// writes it. Only for types without invariants (numbers, glm vectors and matrices, plain structs
+// of them): the allocator asserts that the type is trivially copyable and destructible. Growing
 // it by `resize(n)` leaves the new elements' bytes unspecified: the code that grows it writes
 // them.
 
@@ -17,6 +18,10 @@ namespace deepcut {
 
 template <class T>
 struct UninitAllocator : std::allocator<T> {
+  // Bytes left unwritten are only harmless in a type that any bytes make a value of and that
+  // needs no clean-up: one with invariants (an owning pointer, a container) would be broken.
+  static_assert(std::is_trivially_copyable<T>::value && std::is_trivially_destructible<T>::value,
+                "UninitVector holds only types without invariants");
   template <class U>
   struct rebind {
     using other = UninitAllocator<U>;
