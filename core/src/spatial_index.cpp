@@ -289,51 +289,11 @@ std::vector<FaceId> TriangleGrid::query_points(const std::vector<glm::vec3>& poi
   return out;
 }
 
-namespace {
-
-// Face ids marked in a bitmap over the ids (this thread's, all zero between uses) and read back
-// in increasing order, each once: a sorted list without repeats, with no list of repeats to sort.
-class FaceMarks {
- public:
-  explicit FaceMarks(std::size_t slots) : bits_(local()) {
-    if (bits_.size() < (slots >> 6) + 1) bits_.resize((slots >> 6) + 1, 0);
-  }
-  void mark(std::uint32_t f) {
-    const std::uint64_t bit = std::uint64_t(1) << (f & 63);
-    count_ += (bits_[f >> 6] & bit) == 0;
-    bits_[f >> 6] |= bit;
-    first_ = std::min(first_, f);
-    last_ = std::max(last_, f);
-  }
-  /// The marked ids in increasing order into `out`; the bitmap is left all zero.
-  void take(std::vector<FaceId>& out) {
-    out.reserve(out.size() + count_);
-    for (std::size_t w = first_ >> 6; count_ > 0 && w <= (last_ >> 6); ++w) {
-      std::uint64_t b = bits_[w];
-      bits_[w] = 0;
-      for (; b != 0; b &= b - 1, --count_)
-        out.push_back(
-            FaceId(static_cast<std::uint32_t>(64 * w) + static_cast<std::uint32_t>(__builtin_ctzll(b))));
-    }
-  }
-
- private:
-  static std::vector<std::uint64_t>& local() {
-    thread_local std::vector<std::uint64_t> bits;
-    return bits;
-  }
-  std::vector<std::uint64_t>& bits_;
-  std::uint32_t first_ = std::numeric_limits<std::uint32_t>::max(), last_ = 0;
-  std::size_t count_ = 0;
-};
-
-}  // namespace
-
-// The cells' live faces are marked (FaceMarks) and read back in order.
+// The cells' live faces are marked (detail::IdMarks) and read back in order.
 std::vector<FaceId> TriangleGrid::query_capsule(const glm::vec3& a, const glm::vec3& b, float radius) const {
   std::vector<FaceId> out;
   if (empty()) return out;
-  FaceMarks marks(alive_.size());
+  detail::IdMarks marks(0, static_cast<std::uint32_t>(std::max<std::size_t>(alive_.size(), 1) - 1));
   const auto mark = [&](std::uint32_t f) {
     if (alive_[f]) marks.mark(f);
   };
