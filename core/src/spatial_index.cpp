@@ -249,14 +249,19 @@ void TriangleGrid::truncate(std::size_t faces, std::size_t vertices) {
 
 void TriangleGrid::sort_unique(std::vector<FaceId>& v) { detail::sort_unique_ids(v); }
 
-void TriangleGrid::collect_cell(std::size_t c, std::vector<FaceId>& out) const {
+template <class Fn>
+void TriangleGrid::for_each_live_in_cell(std::size_t c, Fn&& fn) const {
   for (std::uint32_t i = start_[c]; i < start_[c + 1]; ++i)
-    if (alive_[faces_[i]]) out.push_back(FaceId(faces_[i]));
+    if (alive_[faces_[i]]) fn(faces_[i]);
   if (added_.empty()) return;
-  auto it = added_.find(c);
+  const auto it = added_.find(c);
   if (it == added_.end()) return;
-  for (std::uint32_t f : it->second)
-    if (alive_[f]) out.push_back(FaceId(f));
+  for (const std::uint32_t f : it->second)
+    if (alive_[f]) fn(f);
+}
+
+void TriangleGrid::collect_cell(std::size_t c, std::vector<FaceId>& out) const {
+  for_each_live_in_cell(c, [&](std::uint32_t f) { out.push_back(FaceId(f)); });
 }
 
 void TriangleGrid::collect(int x, int y, int z0, int z1, std::vector<FaceId>& out) const {
@@ -294,18 +299,9 @@ std::vector<FaceId> TriangleGrid::query_capsule(const glm::vec3& a, const glm::v
   std::vector<FaceId> out;
   if (empty()) return out;
   detail::IdMarks marks(0, static_cast<std::uint32_t>(std::max<std::size_t>(alive_.size(), 1) - 1));
-  const auto mark = [&](std::uint32_t f) {
-    if (alive_[f]) marks.mark(f);
-  };
   const auto mark_column = [&](int x, int y, int z0, int z1) {
-    for (int z = z0; z <= z1; ++z) {
-      const std::size_t c = cell_index(x, y, z);
-      for (std::uint32_t i = start_[c]; i < start_[c + 1]; ++i) mark(faces_[i]);
-      if (added_.empty()) continue;
-      const auto it = added_.find(c);
-      if (it != added_.end())
-        for (const std::uint32_t f : it->second) mark(f);
-    }
+    for (int z = z0; z <= z1; ++z)
+      for_each_live_in_cell(cell_index(x, y, z), [&](std::uint32_t f) { marks.mark(f); });
   };
   BoundingBox box;
   box.add(glm::min(a, b) - glm::vec3(radius));
