@@ -27,20 +27,20 @@ class IdMarks {
   IdMarks(std::uint32_t lo, std::uint32_t hi) : s_(local()), lo_(lo) {
     const std::size_t words = (std::size_t(hi - lo) >> 6) + 1;
     if (s_.bits.size() < words) s_.bits.resize(words, 0);
+    bits_ = s_.bits.data();
   }
   IdMarks(const IdMarks&) = delete;
   IdMarks& operator=(const IdMarks&) = delete;
   ~IdMarks() {
-    for (const std::uint32_t w : s_.words) s_.bits[w] = 0;
+    for (const std::uint32_t w : s_.words) bits_[w] = 0;
     s_.words.clear();
   }
 
   void mark(std::uint32_t id) {
     const std::uint32_t r = id - lo_;
-    std::uint64_t& word = s_.bits[r >> 6];
+    std::uint64_t& word = bits_[r >> 6];
     const std::uint64_t bit = std::uint64_t(1) << (r & 63);
     if (word == 0) s_.words.push_back(r >> 6);  // before the bit: a throw leaves the word clear
-    count_ += (word & bit) == 0;
     word |= bit;
   }
 
@@ -49,21 +49,22 @@ class IdMarks {
   void take(std::vector<Id<Tag>>& out) {
     std::vector<std::uint32_t>& words = s_.words;
     if (words.empty()) return;
-    out.reserve(out.size() + count_);
     std::uint32_t first = words[0], last = words[0];
+    std::size_t count = 0;
     for (const std::uint32_t w : words) {
       first = std::min(first, w);
       last = std::max(last, w);
+      count += static_cast<std::size_t>(__builtin_popcountll(bits_[w]));
     }
+    out.reserve(out.size() + count);
     if (last - first >= 4 * words.size()) {
       std::sort(words.begin(), words.end());
       for (const std::uint32_t w : words) read(w, out);
     } else {
       for (std::uint32_t w = first; w <= last; ++w)
-        if (s_.bits[w] != 0) read(w, out);
+        if (bits_[w] != 0) read(w, out);
     }
     words.clear();
-    count_ = 0;
   }
 
  private:
@@ -77,15 +78,15 @@ class IdMarks {
   }
   template <class Tag>
   void read(std::uint32_t w, std::vector<Id<Tag>>& out) {
-    std::uint64_t b = s_.bits[w];
-    s_.bits[w] = 0;
+    std::uint64_t b = bits_[w];
+    bits_[w] = 0;
     const std::uint32_t base = lo_ + 64 * w;
     for (; b != 0; b &= b - 1) out.push_back(Id<Tag>(base + static_cast<std::uint32_t>(__builtin_ctzll(b))));
   }
 
   State& s_;
+  std::uint64_t* bits_;  // s_.bits
   std::uint32_t lo_;
-  std::size_t count_ = 0;
 };
 
 /// `ids` sorted ascending with repeats dropped: the same list `std::sort` then `std::unique` give.
