@@ -288,14 +288,19 @@ void TriangleGrid::truncate(std::size_t faces, std::size_t vertices) {
 
 void TriangleGrid::sort_unique(std::vector<FaceId>& v) { detail::sort_unique_ids(v); }
 
-void TriangleGrid::collect_cell(std::size_t c, std::vector<FaceId>& out) const {
+template <class Fn>
+void TriangleGrid::for_each_live_in_cell(std::size_t c, Fn&& fn) const {
   for (std::uint32_t i = start_[c]; i < start_[c + 1]; ++i)
-    if (alive_[faces_[i]]) out.push_back(FaceId(faces_[i]));
+    if (alive_[faces_[i]]) fn(faces_[i]);
   if (added_.empty()) return;
-  auto it = added_.find(c);
+  const auto it = added_.find(c);
   if (it == added_.end()) return;
-  for (std::uint32_t f : it->second)
-    if (alive_[f]) out.push_back(FaceId(f));
+  for (const std::uint32_t f : it->second)
+    if (alive_[f]) fn(f);
+}
+
+void TriangleGrid::collect_cell(std::size_t c, std::vector<FaceId>& out) const {
+  for_each_live_in_cell(c, [&](std::uint32_t f) { out.push_back(FaceId(f)); });
 }
 
 void TriangleGrid::collect(int x, int y, int z0, int z1, std::vector<FaceId>& out) const {
@@ -328,63 +333,14 @@ std::vector<FaceId> TriangleGrid::query_points(const std::vector<glm::vec3>& poi
   return out;
 }
 
-namespace {
-
-// Face ids marked in a bitmap over the ids (this thread's, all zero between uses) and read back
-// in increasing order, each once: a sorted list without repeats, with no list of repeats to sort.
-class FaceMarks {
- public:
-  explicit FaceMarks(std::size_t slots) : bits_(local()) {
-    if (bits_.size() < (slots >> 6) + 1) bits_.resize((slots >> 6) + 1, 0);
-  }
-  void mark(std::uint32_t f) {
-    const std::uint64_t bit = std::uint64_t(1) << (f & 63);
-    count_ += (bits_[f >> 6] & bit) == 0;
-    bits_[f >> 6] |= bit;
-    first_ = std::min(first_, f);
-    last_ = std::max(last_, f);
-  }
-  /// The marked ids in increasing order into `out`; the bitmap is left all zero.
-  void take(std::vector<FaceId>& out) {
-    out.reserve(out.size() + count_);
-    for (std::size_t w = first_ >> 6; count_ > 0 && w <= (last_ >> 6); ++w) {
-      std::uint64_t b = bits_[w];
-      bits_[w] = 0;
-      for (; b != 0; b &= b - 1, --count_)
-        out.push_back(
-            FaceId(static_cast<std::uint32_t>(64 * w) + static_cast<std::uint32_t>(__builtin_ctzll(b))));
-    }
-  }
-
- private:
-  static std::vector<std::uint64_t>& local() {
-    thread_local std::vector<std::uint64_t> bits;
-    return bits;
-  }
-  std::vector<std::uint64_t>& bits_;
-  std::uint32_t first_ = std::numeric_limits<std::uint32_t>::max(), last_ = 0;
-  std::size_t count_ = 0;
-};
-
-}  // namespace
-
-// The cells' live faces are marked (FaceMarks) and read back in order.
+// The cells' live faces are marked (detail::IdMarks) and read back in order.
 std::vector<FaceId> TriangleGrid::query_capsule(const glm::vec3& a, const glm::vec3& b, float radius) const {
   std::vector<FaceId> out;
   if (empty()) return out;
-  FaceMarks marks(alive_.size());
-  const auto mark = [&](std::uint32_t f) {
-    if (alive_[f]) marks.mark(f);
-  };
+  detail::IdMarks marks(0, static_cast<std::uint32_t>(std::max<std::size_t>(alive_.size(), 1) - 1));
   const auto mark_column = [&](int x, int y, int z0, int z1) {
-    for (int z = z0; z <= z1; ++z) {
-      const std::size_t c = cell_index(x, y, z);
-      for (std::uint32_t i = start_[c]; i < start_[c + 1]; ++i) mark(faces_[i]);
-      if (added_.empty()) continue;
-      const auto it = added_.find(c);
-      if (it != added_.end())
-        for (const std::uint32_t f : it->second) mark(f);
-    }
+    for (int z = z0; z <= z1; ++z)
+      for_each_live_in_cell(cell_index(x, y, z), [&](std::uint32_t f) { marks.mark(f); });
   };
   BoundingBox box;
   box.add(glm::min(a, b) - glm::vec3(radius));

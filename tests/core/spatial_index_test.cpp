@@ -189,6 +189,80 @@ TEST(SpatialIndexTest, slab_query_contains_every_face_near_the_plane_and_far_fac
   EXPECT_TRUE(std::find(hit.begin(), hit.end(), FaceId(static_cast<std::uint32_t>(mesh.face_slots() - 1))) != hit.end());
 }
 
+// Capsule queries share one bitmap per thread (detail::IdMarks): a query must leave it clear, so
+// the same query asked again after another gives the same faces. Also after `apply` added faces
+// past the old slot count (the bitmap grows), and for a capsule holding low original ids and high
+// new ones (sparse marks: the marked words are sorted, not the span scanned).
+TEST(SpatialIndexTest, capsule_queries_repeat_after_other_queries_and_edits) {
+  SurfaceMesh mesh = test::make_tube(128, 64, 1.0f, 4.0f);
+  TriangleGrid grid = TriangleGrid::build(mesh, mesh.positions());
+  const glm::vec3 a0(-2.0f, 2.0f, 0.0f), a1(2.0f, 2.0f, 0.0f), b0(0.0f, 0.5f, -2.0f), b1(0.0f, 3.5f, 2.0f);
+  const auto check = [&](const std::vector<FaceId>& got, const glm::vec3& p, const glm::vec3& q, float r) {
+    EXPECT_TRUE(std::adjacent_find(got.begin(), got.end(), [](FaceId x, FaceId y) { return !(x < y); }) ==
+                got.end())
+        << "sorted without repeats";
+    for (const FaceId f : got) EXPECT_FALSE(mesh.is_deleted(f)) << "face " << f.index;
+    for (const FaceId f : brute_capsule(mesh, p, q, r))
+      EXPECT_TRUE(std::binary_search(got.begin(), got.end(), f)) << "face " << f.index << " missing";
+  };
+  const auto first = grid.query_capsule(a0, a1, 0.05f);
+  check(first, a0, a1, 0.05f);
+  const auto other = grid.query_capsule(b0, b1, 0.2f);
+  check(other, b0, b1, 0.2f);
+  ASSERT_FALSE(first.empty());
+  EXPECT_EQ(grid.query_capsule(a0, a1, 0.05f), first);
+  EXPECT_EQ(grid.query_capsule(b0, b1, 0.2f), other);
+
+  // Split a few faces of the first capsule into three: their pieces take ids past every old slot.
+  const std::size_t old_slots = mesh.face_slots();
+  MeshEditor editor(mesh);
+  const glm::vec3 e[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  const glm::vec3 third(1.0f / 3.0f);
+  for (std::size_t i = 0; i < first.size(); i += 7) {
+    const FaceId f = first[i];
+    const Triangle t = mesh.face(f);
+    const VertexId c = editor.add_vertex_in_triangle(t, third);
+    editor.remove_face(f);
+    editor.add_face_from({t[0], t[1], c}, f, {e[0], e[1], third});
+    editor.add_face_from({t[1], t[2], c}, f, {e[1], e[2], third});
+    editor.add_face_from({t[2], t[0], c}, f, {e[2], e[0], third});
+  }
+  grid.apply(editor.take_log(), mesh.positions());
+  ASSERT_GT(mesh.face_slots(), old_slots);
+  const auto edited = grid.query_capsule(a0, a1, 0.05f);
+  check(edited, a0, a1, 0.05f);
+  ASSERT_FALSE(edited.empty());
+  EXPECT_LT(edited.front().index, old_slots) << "original ids";
+  EXPECT_GE(edited.back().index, old_slots) << "new ids";
+  std::vector<std::uint32_t> words;
+  for (const FaceId f : edited) words.push_back(f.index >> 6);
+  words.erase(std::unique(words.begin(), words.end()), words.end());
+  EXPECT_GE((edited.back().index >> 6) - (edited.front().index >> 6), 4 * words.size())
+      << "ids spread far wider than their words: the sparse case";
+  EXPECT_EQ(grid.query_capsule(b0, b1, 0.2f), other) << "the second capsule misses the edits";
+  EXPECT_EQ(grid.query_capsule(a0, a1, 0.05f), edited);
+}
+
+// Marks left unread (an exception between marking and reading back) are cleared when the
+// IdMarks goes: the thread's next use reads back only its own marks.
+TEST(SpatialIndexTest, id_marks_left_unread_are_cleared) {
+  {
+    detail::IdMarks marks(0, 1u << 16);
+    for (std::uint32_t id = 3; id < (1u << 16); id += 977) marks.mark(id);
+  }
+  detail::IdMarks marks(0, 1u << 16);
+  marks.mark(5000);
+  marks.mark(7);
+  marks.mark(5000);
+  marks.mark(60000);
+  std::vector<FaceId> got;
+  marks.take(got);
+  EXPECT_EQ(got, (std::vector<FaceId>{FaceId(7), FaceId(5000), FaceId(60000)}));
+  got.clear();
+  marks.take(got);
+  EXPECT_TRUE(got.empty());
+}
+
 // The grid queries' sort (sorted_ids.h): the list std::sort and std::unique give, for ids in a
 // narrow range (the bitmap) and spread wide (the sort), one call after another on one thread
 // (the bitmap must be left cleared), with repeats and without.

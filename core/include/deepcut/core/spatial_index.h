@@ -83,6 +83,9 @@ class TriangleGrid {
                static_cast<std::size_t>(dims_.x) +
            static_cast<std::size_t>(x);
   }
+  // Calls fn(face) for each live face of cell c: its build-time list, then what `apply` added.
+  template <class Fn>
+  void for_each_live_in_cell(std::size_t c, Fn&& fn) const;
   void collect_cell(std::size_t c, std::vector<FaceId>& out) const;
   void collect(int x, int y, int z0, int z1, std::vector<FaceId>& out) const;
   static void sort_unique(std::vector<FaceId>& v);

@@ -14,6 +14,12 @@ namespace deepcut::drill {
 
 namespace {
 
+// How far (as a fraction of the radius) consider() moves a ruling's point that falls just beyond
+// an edge back inside: the shift, and the point's distance from the cylinder after it, stay
+// within this. chord_pieces() skips chord points from the same figure, so the skip can never drop
+// a point consider() would keep.
+constexpr double kShiftBound = 0.005;
+
 // Whether FlipTriangulation::legalize flips edge a-b of triangle a-b-c, with d across it (over
 // the points `q`).
 bool flips(const glm::dvec2 q[4], std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {
@@ -238,7 +244,7 @@ void FacePlanner::consider(const glm::dvec3& x, bool corner_point) {
     // (zero-area faces): there the point is left out.
     if (corner_point || lows > 1) return;
     const int k1 = (low + 1) % 3, k2 = (low + 2) % 3;
-    const double shift = s_.eps - lp.bary[low] * face_.height[low], bound = 0.005 * s_.cyl.r;
+    const double shift = s_.eps - lp.bary[low] * face_.height[low], bound = kShiftBound * s_.cyl.r;
     if (shift > bound || cur_edge(k1).n != 0) return;
     const glm::dvec2 along = glm::normalize(face_.tq[k2] - face_.tq[k1]);
     lp.q += shift * glm::dvec2(-along.y, along.x);  // inside is on the left
@@ -361,11 +367,11 @@ void FacePlanner::sample_rim() {
 
 // The points j of an end plane's chord at a = a_cap, split into `pieces` (b from b0 - hh to
 // b0 + hh, 0 < j < pieces), that consider() can keep, as [first, last): it keeps a point only
-// inside the triangle, or outside one edge by at most its shift bound (0.005 r). A point farther
+// inside the triangle, or outside one edge by at most its shift bound (kShiftBound r). A point farther
 // out than twice that (plus two tolerances: rounding is far smaller) is left out without being
 // looked at; one more point each side of the range is looked at.
 std::pair<int, int> FacePlanner::chord_pieces(double a_cap, double hh, int pieces) const {
-  const double reach = 2.0 * (0.005 * s_.cyl.r + s_.eps);
+  const double reach = 2.0 * (kShiftBound * s_.cyl.r + s_.eps);
   const glm::dvec3 from = face_.bary_of({a_cap, face_.pc.b0 - hh}),
                    to = face_.bary_of({a_cap, face_.pc.b0 + hh});
   double lo = 0.0, hi = 1.0;  // along the chord: distance from edge k is d0 + t (d1 - d0)
