@@ -512,8 +512,7 @@ std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& parti
 // per vertex from a grid over the seeds (count, prefix sum, fill), member lists per particle by
 // turning the rows over (a counting sort by particle, in vertex order); every write is to a
 // disjoint range: the result does not depend on the thread count.
-void Clusters::build_memberships(const std::vector<glm::vec3>& rest, const std::vector<std::uint32_t>& ids,
-                                 const clustering_detail::PointGrid& vertex_grid) {
+void Clusters::build_memberships(const std::vector<glm::vec3>& rest, const std::vector<std::uint32_t>& ids) {
   const float rho = radius_, rho2 = rho * rho;
   // Cells are searched a little wider than rho so that no point within rho (in float) is missed;
   // the exact test below decides.
@@ -554,7 +553,6 @@ void Clusters::build_memberships(const std::vector<glm::vec3>& rest, const std::
   });
   // Member lists: the rows turned over (a vertex is within rho of a seed exactly when the seed
   // is within rho of it: distance2 is symmetric), ascending by vertex as `ids` is.
-  static_cast<void>(vertex_grid);  // the ball around each seed is no longer searched
   std::vector<std::uint32_t> first, member;
   detail::fill_csr(ids.size(), particles, first, member, [&](std::size_t i, auto&& visit) {
     const Row& r = rows_[ids[i]];
@@ -597,7 +595,7 @@ Clusters Clusters::build(const SurfaceMesh& mesh, const std::vector<glm::vec3>& 
   const auto particles = static_cast<std::uint32_t>(seeds.size());
   c.seeds_.resize(particles);
   for (std::uint32_t p = 0; p < particles; ++p) c.seeds_[p] = rest[seeds[p]];
-  c.build_memberships(rest, ids, grid);
+  c.build_memberships(rest, ids);
   c.centres_ = c.seeds_;
 
   std::vector<std::uint32_t> all(particles);

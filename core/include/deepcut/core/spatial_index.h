@@ -73,9 +73,6 @@ class TriangleGrid {
 
  private:
   void insert(FaceId f, const Triangle& t, const std::vector<glm::vec3>& points);
-  // Fills start_ and faces_ from cells_of(face, visit), which visits each cell a face goes to.
-  template <class CellsOf>
-  void fill_cells(std::size_t slots, CellsOf&& cells_of);
   void file(FaceId f, const Triangle& t, const std::vector<glm::vec3>& points);
   glm::ivec3 cell_of(const glm::vec3& p) const;
   std::size_t cell_index(int x, int y, int z) const {

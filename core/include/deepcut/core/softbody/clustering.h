@@ -27,10 +27,6 @@
 
 namespace deepcut {
 
-namespace clustering_detail {
-class PointGrid;
-}
-
 struct ClusterOptions {
   /// rho: the particle radius in the units of the rest positions (no default: must be > 0).
   float radius = 0.0f;
@@ -174,8 +170,7 @@ class Clusters {
   void compact_pool();
   void renormalise(std::uint32_t v);
   /// Rows, pool and member lists of a fresh build (seeds_ and radius_ set; rows_ sized).
-  void build_memberships(const std::vector<glm::vec3>& rest, const std::vector<std::uint32_t>& ids,
-                         const clustering_detail::PointGrid& vertex_grid);
+  void build_memberships(const std::vector<glm::vec3>& rest, const std::vector<std::uint32_t>& ids);
   void recompute_centre(std::uint32_t p, const std::vector<glm::vec3>& rest);
   std::uint32_t new_particle(const glm::vec3& seed);
   /// Splits the listed particles into their connected parts (see `build`); appends new particles
