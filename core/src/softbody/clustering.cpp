@@ -567,7 +567,6 @@ void Clusters::build_memberships(const std::vector<glm::vec3>& rest, const std::
   });
 }
 
-
 Clusters Clusters::build(const SurfaceMesh& mesh, const ClusterOptions& options) {
   return build(mesh, mesh.positions(), options);
 }
