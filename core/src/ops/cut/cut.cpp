@@ -519,6 +519,11 @@ void Cutter::split_crossed_faces() {
     for (FaceId f : part.crossed) split_face(f, &face_crossings_[2 * face++]);
     rim_candidates_.insert(rim_candidates_.end(), part.touching.begin(), part.touching.end());
   }
+  // Only the chunks' untouched faces are read later (live_side_faces): the rest goes now.
+  for (detail::ScannedFaces& part : found_) {
+    std::vector<FaceId>().swap(part.crossed);
+    std::vector<FaceId>().swap(part.touching);
+  }
 }
 
 void Cutter::separate_or_drop_side() {
