@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <string>
 #include <typeindex>
 #include <vector>
@@ -382,26 +383,27 @@ VertexId MeshEditor::add_blended(const std::uint32_t* src, const float* w, std::
 
 VertexId MeshEditor::add_vertex_on_edge(VertexId a, VertexId b, float t) {
   const std::uint32_t ends[2] = {a.index, b.index};
-  const float w[2] = {1.0f - t, t};  // one vertex: add_vertices_on_edges' weights, on the stack
-  check_blend_sources("add_vertex_on_edge", ends, 2, 1, mesh_.vertex_count());
-  return add_blended<2>(ends, w, 1);
+  return add_vertices_on_edges(ends, &t, 1);
 }
 
 VertexId MeshEditor::add_vertices_on_edges(const std::uint32_t* ends, const float* t, std::size_t count) {
   const std::size_t nv = mesh_.vertex_count();
   // Every end checked before the first change: a bad end late in the batch changes nothing.
   check_blend_sources("add_vertices_on_edges", ends, 2, count, nv);
-  // The weights (1 - t, t) of the whole batch, so each attribute array blends it in one call
-  // (side by side for a large batch: AttributeSet::push_blend_batch). A vertex's skin is made
-  // again from its sources' (fix_skin, in order) whatever the array blend left, so the batch's
-  // own vertices as sources give the same skin as runs made one by one.
+  // The weights (1 - t, t) of the whole batch (on the stack for a few), so each attribute array
+  // blends it in one call (side by side for a large batch: AttributeSet::push_blend_batch). A
+  // vertex's skin is made again from its sources' (fix_skin, in order) whatever the array blend
+  // left, so the batch's own vertices as sources give the same skin as runs made one by one.
   if (count == 0) return VertexId(static_cast<std::uint32_t>(nv));
-  std::vector<float> w(2 * count);
+  constexpr std::size_t kStack = 512;
+  float stack[2 * kStack];
+  const std::unique_ptr<float[]> heap(count > kStack ? new float[2 * count] : nullptr);  // not zeroed first
+  float* w = count > kStack ? heap.get() : stack;
   for (std::size_t i = 0; i < count; ++i) {
     w[2 * i] = 1.0f - t[i];
     w[2 * i + 1] = t[i];
   }
-  add_blended<2>(ends, w.data(), count);
+  add_blended<2>(ends, w, count);
   return VertexId(static_cast<std::uint32_t>(nv));
 }
 
