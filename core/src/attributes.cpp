@@ -75,29 +75,34 @@ namespace {
 // 17k corners and 4k vertices a batch, one of 25k about 1.4k corners and 300 vertices).
 constexpr std::size_t kMinParallelBatch = 2048;
 
-// `fn(array)` for every array of `list`, each appending `count` elements. A large batch runs the
-// arrays as tasks of their own (a cut's new corners read their parents' corners all over the
-// arrays: a cache miss per face and array, taken by each array's thread at once): each array
-// still appends its elements in order, so the results are the same. Its growth is made first, on
-// the calling thread, as the array's batch would make it (at least doubling): the memory then
-// comes from the caller's heap, whichever thread fills it.
+// `fn(array)` for every array of `list`, each appending `count` elements to its `size`. A large
+// batch runs the arrays as tasks of their own (a cut's new corners read their parents' corners
+// all over the arrays: a cache miss per face and array, taken by each array's thread at once):
+// each array still appends its elements in order, so the results are the same. Its growth is
+// made first, on the calling thread (room_for, as the array's batch would make it): the memory
+// then comes from the caller's heap, whichever thread fills it. When an array throws, every
+// array is cut back to `size` before the exception goes on: the others may have appended.
 template <class Fn>
-void each_array(const std::vector<AttributeArrayBase*>& list, std::size_t count, const Fn& fn) {
-  if (count < kMinParallelBatch || list.size() < 2) {
-    for (AttributeArrayBase* array : list) fn(*array);
-    return;
+void each_array(const std::vector<AttributeArrayBase*>& list, std::size_t size, std::size_t count,
+                const Fn& fn) {
+  try {
+    if (count < kMinParallelBatch || list.size() < 2) {
+      for (AttributeArrayBase* array : list) fn(*array);
+      return;
+    }
+    for (AttributeArrayBase* array : list) array->room_for(count);
+    detail::run_chunks(list.size(), [&](std::size_t i) { fn(*list[i]); });
+  } catch (...) {
+    for (AttributeArrayBase* array : list)
+      if (array->size() > size) array->resize(size);
+    throw;
   }
-  for (AttributeArrayBase* array : list) {
-    const std::size_t size = array->size(), need = size + count;
-    if (need * array->element_bytes() > array->capacity_bytes()) array->reserve(std::max(need, 2 * size));
-  }
-  detail::run_chunks(list.size(), [&](std::size_t i) { fn(*list[i]); });
 }
 
 }  // namespace
 
 void AttributeSet::push_blend3_batch(const std::uint32_t* triples, const float* w, std::size_t count) {
-  each_array(list_, 3 * count,
+  each_array(list_, size_, 3 * count,
              [&](AttributeArrayBase& array) { array.push_blend3_batch(triples, w, count); });
   size_ += 3 * count;
 }
@@ -111,9 +116,9 @@ namespace {
 template <class T, bool kFloating, int kSources>
 bool push_blend_as(AttributeArrayBase& base, const std::uint32_t* src, const float* w, std::size_t count) {
   if (base.type() != typeid(T)) return false;
-  std::vector<T>& data = static_cast<AttributeArray<T>&>(base).data();
-  const std::size_t need = data.size() + count;
-  if (need > data.capacity()) data.reserve(std::max(need, 2 * data.size()));
+  AttributeArray<T>& array = static_cast<AttributeArray<T>&>(base);
+  array.room_for(count);
+  std::vector<T>& data = array.data();
   const T* at = data.data();  // the room is there: appending moves nothing
   for (std::size_t i = 0; i < count; ++i, src += kSources, w += kSources) {
     if constexpr (kFloating) {
@@ -146,7 +151,7 @@ bool push_blend_known(AttributeArrayBase& array, const std::uint32_t* src, const
 void AttributeSet::push_blend_batch(const std::uint32_t* src, const float* w, int sources, std::size_t count) {
   // The attribute types a mesh holds, with one and two sources (copies, edge splits), blended
   // here with the type and the count known; anything else by the array itself.
-  each_array(list_, count, [&](AttributeArrayBase& array) {
+  each_array(list_, size_, count, [&](AttributeArrayBase& array) {
     const bool done = (sources == 2 && push_blend_known<2>(array, src, w, count)) ||
                       (sources == 1 && push_blend_known<1>(array, src, w, count));
     if (!done) array.push_blend_batch(src, w, sources, count);
@@ -155,7 +160,7 @@ void AttributeSet::push_blend_batch(const std::uint32_t* src, const float* w, in
 }
 
 void AttributeSet::push_copy_batch(const std::uint32_t* src, std::size_t count) {
-  each_array(list_, count, [&](AttributeArrayBase& array) { array.push_copy_batch(src, count); });
+  each_array(list_, size_, count, [&](AttributeArrayBase& array) { array.push_copy_batch(src, count); });
   size_ += count;
 }
 

@@ -3,12 +3,13 @@
 
 #include <gtest/gtest.h>
 
-#include <glm/ext/vector_float1.hpp>
-
 #include <cmath>
 #include <cstring>
+#include <glm/ext/vector_float1.hpp>
 #include <string>
 #include <vector>
+
+#include "deepcut/core/parallel.h"
 
 namespace deepcut {
 
@@ -171,6 +172,56 @@ TEST(AttributesTest, batches_equal_the_single_calls_in_turn) {
   }
 }
 
+TEST(AttributesTest, large_batches_run_side_by_side_equal_the_single_calls_in_turn) {
+  // 2048+ new elements an array: each array of the set appends its batch as a pool task of its
+  // own, sources made earlier in the same batch included; the result is what the single calls
+  // leave, element by element.
+  constexpr std::uint32_t kOld = 300, kBlends = 2600, kCopies = 2300, kFaces = 900;
+  AttributeSet batch, single;
+  for (AttributeSet* set : {&batch, &single}) {
+    auto& v = set->add<glm::vec3>("c:v");
+    auto& j = set->add<glm::u16vec4>("c:ids");
+    auto& f = set->add<float>("c:f");
+    auto& v2 = set->add<glm::vec2>("c:v2");
+    set->resize(kOld);
+    for (std::uint32_t i = 0; i < kOld; ++i) {
+      v[i] = {0.01f * float(i) - 0.35f, std::sin(float(i)), 1.0f / float(i + 3)};
+      j[i] = glm::u16vec4(std::uint16_t(i + 1), std::uint16_t(2 * i), 0, 7);
+      f[i] = i % 2 ? -0.0f : 2.5f * float(i);
+      v2[i] = {std::cos(float(i)), 1e-41f * float(i)};
+    }
+  }
+  std::vector<std::uint32_t> src(3 * kBlends), copies(kCopies), triples(kFaces);
+  std::vector<float> w(9 * std::size_t(kFaces) + 3 * kBlends);
+  for (std::uint32_t i = 0; i < kBlends; ++i)
+    for (std::uint32_t k = 0; k < 3; ++k)  // every third source an element the batch made
+      src[3 * i + k] = (i + k) % 3 == 0 && i > 0 ? kOld + (7 * i + k) % i : (11 * i + 5 * k) % kOld;
+  for (std::size_t i = 0; i < w.size(); ++i) w[i] = i % 7 == 0 ? 0.0f : std::cos(float(i)) * 0.6f;
+  const std::size_t saved = thread_count();
+  set_thread_count(3);
+  batch.push_blend_batch(src.data(), w.data(), 2, kBlends);
+  batch.push_blend_batch(src.data(), w.data(), 3, kBlends / 2);
+  std::size_t size = batch.size();
+  for (std::uint32_t i = 0; i < kCopies; ++i) copies[i] = (13 * i) % std::uint32_t(size);
+  batch.push_copy_batch(copies.data(), kCopies);
+  size = batch.size();
+  for (std::uint32_t i = 0; i < kFaces; ++i) triples[i] = (17 * i) % std::uint32_t(size / 3);
+  batch.push_blend3_batch(triples.data(), w.data(), kFaces);
+  set_thread_count(saved);
+  for (std::uint32_t i = 0; i < kBlends; ++i) single.push_blend(&src[2 * i], &w[2 * i], 2);
+  for (std::uint32_t i = 0; i < kBlends / 2; ++i) single.push_blend(&src[3 * i], &w[3 * i], 3);
+  for (std::uint32_t s : copies) single.push_copy(s);
+  for (std::uint32_t i = 0; i < kFaces; ++i) single.push_blend3(3 * std::size_t(triples[i]), &w[9 * i]);
+  ASSERT_EQ(batch.size(), kOld + kBlends + kBlends / 2 + kCopies + 3 * kFaces);
+  ASSERT_EQ(single.size(), batch.size());
+  for (const std::string& name : batch.names()) {
+    const AttributeArrayBase& a = *batch.base(name);
+    const AttributeArrayBase& b = *single.base(name);
+    ASSERT_EQ(a.size(), batch.size()) << name;
+    for (std::size_t i = 0; i < a.size(); ++i)
+      ASSERT_EQ(std::memcmp(a.element_data(i), b.element_data(i), a.element_bytes()), 0) << name << " " << i;
+  }
+}
 
 // Each component of corner k: ((0 + s0 w0) + s1 w1) + s2 w2, one float operation at a time.
 template <class T>

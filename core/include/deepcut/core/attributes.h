@@ -65,6 +65,10 @@ inline constexpr const char* kCutSurface = "f:cut_surface";
 }  // namespace attr
 
 /// Type-erased base: what `SurfaceMesh` and `MeshEditor` need without knowing `T`.
+///
+/// The batch methods (`room_for`, `push_blend3_batch`, `push_blend_batch`, `push_copy_batch`)
+/// may run at the same time on different arrays of one `AttributeSet` (a large batch runs each
+/// array as a pool task of its own): an array's batch touches only that array.
 class AttributeArrayBase {
  public:
   virtual ~AttributeArrayBase() = default;
@@ -89,6 +93,10 @@ class AttributeArrayBase {
   virtual void push_blend3(std::size_t src, const float* w) = 0;
   /// Appends a copy of element `src`: what `push_default(1)` then `copy(old size, src)` leaves.
   virtual void push_copy(std::size_t src) = 0;
+  /// Room for `count` more elements, grown as a std::vector grows itself (to at least double
+  /// the size): the growth each batch below makes first, made ahead of it by a set whose arrays
+  /// run a batch side by side (the memory then comes from the calling thread).
+  virtual void room_for(std::size_t count) = 0;
   /// Batches of the appends above, one call per array for many new elements (an edit's new
   /// faces or vertices: no per-element dispatch). Each leaves exactly what the single calls,
   /// made for i = 0 .. count - 1 in turn, would:
@@ -148,6 +156,10 @@ class AttributeArray final : public AttributeArrayBase {
   void resize(std::size_t n) override { data_.resize(n, default_); }
   void push_default(std::size_t count) override { data_.insert(data_.end(), count, default_); }
   void reserve(std::size_t n) override { data_.reserve(n); }
+  void room_for(std::size_t count) override {
+    const std::size_t need = data_.size() + count;
+    if (need > data_.capacity()) data_.reserve(std::max(need, 2 * data_.size()));
+  }
   void push_blend(const std::uint32_t* src, const float* w, int count) override {
     data_.push_back(blend(src, w, count));
   }
@@ -317,11 +329,6 @@ class AttributeArray final : public AttributeArrayBase {
   // up to 16 bytes at the last corner, `kSpill` elements past it.
   static constexpr std::size_t kRun = 32;
   static constexpr std::size_t kSpill = kLanes ? 16 / sizeof(T) : 0;
-  // Room for `count` more elements, grown as the vector grows itself (at least doubling).
-  void room_for(std::size_t count) {
-    const std::size_t need = data_.size() + count;
-    if (need > data_.capacity()) data_.reserve(std::max(need, 2 * data_.size()));
-  }
   // The one blend rule, over the `count` elements `at(0) .. at(count - 1)`: floating types mix
   // by the weights, ((0 + a0 w0) + a1 w1) + a2 w2 in each component; others take the element
   // of the largest weight.

@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
+#include "deepcut/core/parallel.h"
 #include "deepcut/core/skinning.h"
 
 namespace deepcut::detail {
@@ -47,11 +49,27 @@ glm::vec3 Placement::bind_position(const SurfaceMesh& mesh, VertexId v, const gl
   return glm::length(linear * (glm::dvec3(guess) - glm::dvec3(exact))) <= noise_ ? guess : exact;
 }
 
+void Placement::move_if_changed(MeshEditor& editor, VertexId v, const glm::vec3& guess,
+                                const glm::vec3& bind) {
+  if (bind != guess) editor.move_vertex(v, bind);
+}
+
 void Placement::place(MeshEditor& editor, VertexId v, const glm::vec3& target) const {
   if (!posed_) return;
   const glm::vec3 guess = editor.mesh().position(v);
-  const glm::vec3 bind = bind_position(editor.mesh(), v, target, guess);
-  if (bind != guess) editor.move_vertex(v, bind);
+  move_if_changed(editor, v, guess, bind_position(editor.mesh(), v, target, guess));
+}
+
+void Placement::place_all(MeshEditor& editor, const VertexId* ids, const glm::vec3* targets,
+                          std::size_t n) const {
+  if (!posed_ || n == 0) return;
+  const SurfaceMesh& mesh = editor.mesh();
+  std::vector<glm::vec3> bind(n);
+  parallel_for(n, kPlaceGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i)
+      bind[i] = bind_position(mesh, ids[i], targets[i], mesh.position(ids[i]));
+  });
+  for (std::size_t i = 0; i < n; ++i) move_if_changed(editor, ids[i], mesh.position(ids[i]), bind[i]);
 }
 
 }  // namespace deepcut::detail

@@ -6,7 +6,6 @@
 #include <cstdint>
 #include <vector>
 
-#include "deepcut/core/parallel.h"
 #include "ops/cut/cutter.h"
 
 namespace deepcut::detail {
@@ -39,39 +38,31 @@ void Cutter::make_crossings() {
   }
   [[maybe_unused]] const VertexId first = editor_.add_vertices_on_edges(ends.data(), t.data(), n);
   assert(first.index == crossings_[0]);  // the ids split_edge handed out
-  // The crossings' VertexAdded entries all come first, then their VertexMoved ones (edit_log.h):
-  // many crossings to unpose are placed after the loop, side by side (place_crossings).
-  const bool side_by_side = placement_.unposes() && n >= kPlaceGrain;
-  const Placement none;
-  const Placement& place_now = side_by_side ? none : placement_;
+  // The crossings' VertexAdded entries all come first, then their VertexMoved ones (edit_log.h),
+  // placing each as it is made or all of them after the loop alike: many crossings to unpose are
+  // placed after it, side by side (Placement::place_all).
+  const bool side_by_side = placement_.unposes() && n > Placement::kPlaceGrain;
+  std::vector<VertexId> ids;
+  std::vector<glm::vec3> targets;
+  if (side_by_side) {
+    ids.reserve(n);
+    targets.reserve(n);
+  }
   for (const Split& s : splits_) {
     const glm::vec3 at = glm::mix(posed_(s.lo), posed_(s.hi), s.t);
     posed_.add(at);
-    place_now.place(editor_, s.v, at);
+    if (!side_by_side) {
+      placement_.place(editor_, s.v, at);
+    } else {
+      ids.push_back(s.v);
+      targets.push_back(at);
+    }
     dist_.push_back(0.0f);
     sign_.push_back(0);
   }
-  if (side_by_side) place_crossings();
+  if (side_by_side) placement_.place_all(editor_, ids.data(), targets.data(), n);
   intersections_ += n;
   for (const auto& [a, b] : merge_candidates_) merges_.merge_if_near(mesh_, a, b);
-}
-
-// Places every crossing (Placement::place, in order) with the bind positions found over the pool
-// first: unposing one is a skin blend and an inverse (about 0.3 us at 4M triangles), and each
-// reads only its own vertex's skin and morph offsets and the posed input, which the moves made
-// in order leave as they are, so the positions are those `place` finds one after another.
-void Cutter::place_crossings() {
-  const std::size_t n = splits_.size();
-  std::vector<glm::vec3> bind(n);
-  parallel_for(n, kPlaceGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i) {
-      const Split& s = splits_[i];
-      const glm::vec3 at = posed_(s.v);  // added by make_crossings
-      bind[i] = placement_.bind_position(mesh_, s.v, at, mesh_.position(s.v));
-    }
-  });
-  for (std::size_t i = 0; i < n; ++i)
-    if (bind[i] != mesh_.position(splits_[i].v)) editor_.move_vertex(splits_[i].v, bind[i]);
 }
 
 // The corner split_face makes on the side (ka, kb) of face `t` at its crossing `s`.

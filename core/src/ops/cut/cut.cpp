@@ -519,6 +519,11 @@ void Cutter::split_crossed_faces() {
     for (FaceId f : part.crossed) split_face(f, &face_crossings_[2 * face++]);
     rim_candidates_.insert(rim_candidates_.end(), part.touching.begin(), part.touching.end());
   }
+  // Only the chunks' untouched faces are read later (live_side_faces): the rest goes now.
+  for (detail::ScannedFaces& part : found_) {
+    std::vector<FaceId>().swap(part.crossed);
+    std::vector<FaceId>().swap(part.touching);
+  }
 }
 
 void Cutter::separate_or_drop_side() {
@@ -546,7 +551,10 @@ void Cutter::live_rim_by_side(std::vector<FaceId> (&out)[2]) const {
 // (the scan's chunks, taken: a second call gives the rim alone) merged with its live rim
 // candidates `rim` (ascending), with side_room_ to grow. From several chunks, each chunk is
 // merged with the rim faces in its range of ids into its own part of the list, the parts side by
-// side (only sizing the list is left to the calling thread); the newer rim faces come last.
+// side; the newer rim faces come last. Sizing the list is left to the calling thread, and it
+// fills every entry with an invalid id first (a result's piece is a std::vector<FaceId>, whose
+// growth value-initialises): about 0.4-0.7 ms a side of a 4M-triangle cut (2M ids) where the
+// memory is reused, 15-65 ms where its pages are fresh (faulted in by the fill).
 std::vector<FaceId> Cutter::live_side_faces(int side, const std::vector<FaceId>& rim) {
   const std::size_t n = found_.size();
   if (n <= 1) {

@@ -44,11 +44,7 @@ class Cutter {
   };
 
   const Split& split_edge(VertexId a, VertexId b);
-  // Crossings a pool chunk places (Placement::bind_position, about 0.3 us each at 4M triangles);
-  // fewer are placed on the calling thread as they are made.
-  static constexpr std::size_t kPlaceGrain = 256;
   void make_crossings();
-  void place_crossings();
   Corner split_corner(const Triangle& t, int ka, int kb, const Split& s) const;
   void split_crossings(FaceId f);
   // A face split_face makes from crossed face `parent`, before it is made.
