@@ -122,6 +122,21 @@ TEST(AttributesTest, gather_groups_appends_the_listed_groups_run_by_run) {
   EXPECT_THROW(from.gather_groups(other, keep, 1, nullptr), Error);
 }
 
+namespace {
+
+// Every array of `batch` holds the same bytes as `single`'s, element by element.
+void expect_same_elements(const AttributeSet& batch, const AttributeSet& single) {
+  for (const std::string& name : batch.names()) {
+    const AttributeArrayBase& a = *batch.base(name);
+    const AttributeArrayBase& b = *single.base(name);
+    ASSERT_EQ(a.size(), batch.size()) << name;
+    for (std::size_t i = 0; i < a.size(); ++i)
+      ASSERT_EQ(std::memcmp(a.element_data(i), b.element_data(i), a.element_bytes()), 0) << name << " " << i;
+  }
+}
+
+}  // namespace
+
 TEST(AttributesTest, batches_equal_the_single_calls_in_turn) {
   // One call per array for many new elements must leave exactly what the calls one element at a
   // time leave: the same blends (negative zero and NaN included), the same integer choices.
@@ -163,13 +178,7 @@ TEST(AttributesTest, batches_equal_the_single_calls_in_turn) {
   for (int i = 0; i < 2; ++i) single.push_blend(later + 3 * i, w + 11 + 3 * i, 3);
   ASSERT_EQ(batch.size(), 9u + 9u + 3u + 6u + 6u + 4u + 2u);
   ASSERT_EQ(single.size(), batch.size());
-  for (const std::string& name : batch.names()) {
-    const AttributeArrayBase& a = *batch.base(name);
-    const AttributeArrayBase& b = *single.base(name);
-    ASSERT_EQ(a.size(), batch.size()) << name;
-    for (std::size_t i = 0; i < a.size(); ++i)
-      EXPECT_EQ(std::memcmp(a.element_data(i), b.element_data(i), a.element_bytes()), 0) << name << " " << i;
-  }
+  expect_same_elements(batch, single);
 }
 
 TEST(AttributesTest, large_batches_run_side_by_side_equal_the_single_calls_in_turn) {
@@ -214,13 +223,7 @@ TEST(AttributesTest, large_batches_run_side_by_side_equal_the_single_calls_in_tu
   for (std::uint32_t i = 0; i < kFaces; ++i) single.push_blend3(3 * std::size_t(triples[i]), &w[9 * i]);
   ASSERT_EQ(batch.size(), kOld + kBlends + kBlends / 2 + kCopies + 3 * kFaces);
   ASSERT_EQ(single.size(), batch.size());
-  for (const std::string& name : batch.names()) {
-    const AttributeArrayBase& a = *batch.base(name);
-    const AttributeArrayBase& b = *single.base(name);
-    ASSERT_EQ(a.size(), batch.size()) << name;
-    for (std::size_t i = 0; i < a.size(); ++i)
-      ASSERT_EQ(std::memcmp(a.element_data(i), b.element_data(i), a.element_bytes()), 0) << name << " " << i;
-  }
+  expect_same_elements(batch, single);
 }
 
 // Each component of corner k: ((0 + s0 w0) + s1 w1) + s2 w2, one float operation at a time.
