@@ -22,6 +22,7 @@
 #include "deepcut/core/errors.h"
 #include "deepcut/core/generate/cactus.h"
 #include "deepcut/core/io/gltf.h"
+#include "deepcut/core/parallel.h"
 #include "io/gltf_common.h"
 #include "tools.h"
 
@@ -165,8 +166,9 @@ std::vector<unsigned char> pattern(std::size_t n, std::uint32_t seed) {
   return out;
 }
 
-// The file is written in 16 MiB parts (each handed to the disk as it is complete): spans of odd
-// sizes cross those parts at odd places, and every byte still lands where it belongs.
+// The file is written in 16 MiB parts (each handed to the disk as it is complete) on one thread,
+// in mapped 4 MiB pieces filled in parallel on several: spans of odd sizes cross those parts and
+// pieces at odd places, and every byte still lands where it belongs, whatever the thread count.
 TEST(AtomicWriteTest, spans_of_odd_sizes_crossing_the_write_parts_are_written_whole_and_the_last_write_wins) {
   const std::string dir = test::temp_dir("atomic-spans");
   const std::string target = dir + "/out.bin";
@@ -175,22 +177,29 @@ TEST(AtomicWriteTest, spans_of_odd_sizes_crossing_the_write_parts_are_written_wh
       {7 * MiB + 1, 20 * MiB, 5 * MiB - 3},  // crosses 16 MiB and 32 MiB inside spans
       {16 * MiB, 1, 16 * MiB - 1, 3},        // ends a part exactly, then a span of one byte
       {0, 33 * MiB + 5, 0},                  // empty spans around one over two parts
+      {4 * MiB + 1},                         // two pieces, the second of one byte
+      {1, 1, 8 * MiB - 2, 2},                // many spans inside the first piece, one past the second
   };
+  const std::size_t threads = thread_count();
   std::uint32_t seed = 1;
-  for (const auto& sizes : layouts) {
-    std::vector<std::vector<unsigned char>> spans;
-    std::string expected;
-    for (const std::size_t n : sizes) {
-      spans.push_back(pattern(n, seed++));
-      expected.append(spans.back().begin(), spans.back().end());
+  for (const std::size_t t : {std::size_t(1), std::size_t(3)}) {
+    set_thread_count(t);
+    for (const auto& sizes : layouts) {
+      std::vector<std::vector<unsigned char>> spans;
+      std::string expected;
+      for (const std::size_t n : sizes) {
+        spans.push_back(pattern(n, seed++));
+        expected.append(spans.back().begin(), spans.back().end());
+      }
+      std::vector<gltf_detail::ByteSpan> parts;
+      for (const auto& s : spans) parts.push_back({s.data(), s.size()});
+      gltf_detail::write_file_atomic(target, parts);
+      EXPECT_EQ(fs::file_size(target), expected.size());
+      EXPECT_TRUE(read_bytes(target) == expected) << "layout starting " << sizes[0] << " bytes, " << t << " threads";
+      EXPECT_TRUE(other_files(dir, {"out.bin"}).empty()) << "a temporary was left behind";
     }
-    std::vector<gltf_detail::ByteSpan> parts;
-    for (const auto& s : spans) parts.push_back({s.data(), s.size()});
-    gltf_detail::write_file_atomic(target, parts);
-    EXPECT_EQ(fs::file_size(target), expected.size());
-    EXPECT_TRUE(read_bytes(target) == expected) << "layout starting " << sizes[0] << " bytes";
-    EXPECT_TRUE(other_files(dir, {"out.bin"}).empty()) << "a temporary was left behind";
   }
+  set_thread_count(threads);
   // Written twice to the same path, the second content is what the file holds.
   const std::vector<unsigned char> first = pattern(17 * MiB + 7, 100), second = pattern(3 * MiB + 11, 200);
   gltf_detail::write_file_atomic(target, first);

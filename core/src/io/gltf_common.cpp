@@ -204,6 +204,75 @@ int write_all_and_sync(int fd, const std::vector<ByteSpan>& parts) {
   return ::fsync(fd) != 0 ? errno : 0;
 }
 
+// The mapped write: files of at least two pieces, written by more than one thread.
+constexpr std::size_t kPiece = std::size_t(4) << 20;  // a multiple of any page size
+
+// Writes `parts` (`total` bytes) into `fd` (empty, its offset 0) through shared mappings of the
+// file, one piece of kPiece bytes per task, in parallel: a write() copies into the file's pages
+// under the file's lock, one writer at a time, where each task here faults in and fills its own
+// pages. The file's blocks are reserved first (fallocate), so filling a mapped page cannot fail
+// for want of space (a fault cannot report an error, it would kill the process); a piece that
+// cannot be mapped is written with pwrite instead, and each piece is handed to the disk as soon
+// as it is filled (sync_file_range, a hint; the fsync after it decides). Returns errno on failure,
+// 0 on success, and -1 when the file cannot be reserved for a reason other than space (the caller
+// then writes it the plain way; the file is empty again).
+int write_mapped(int fd, const std::vector<ByteSpan>& parts, std::size_t total) {
+  if (::fallocate(fd, 0, 0, static_cast<off_t>(total)) != 0) {
+    const int err = errno;
+    if (err == ENOSPC || err == EDQUOT || err == EFBIG) return err;
+    return ::ftruncate(fd, 0) == 0 ? -1 : errno;
+  }
+  std::vector<std::size_t> starts(parts.size() + 1, 0);  // the file offset of each part
+  for (std::size_t i = 0; i < parts.size(); ++i) starts[i + 1] = starts[i] + parts[i].size;
+  std::atomic<int> failed{0};
+  parallel_for((total + kPiece - 1) / kPiece, 1, [&](std::size_t first, std::size_t last) {
+    for (std::size_t piece = first; piece < last; ++piece) {
+      const std::size_t begin = piece * kPiece, end = std::min(total, begin + kPiece);
+      void* map = ::mmap(nullptr, end - begin, PROT_READ | PROT_WRITE, MAP_SHARED, fd, static_cast<off_t>(begin));
+      auto* out = map != MAP_FAILED ? static_cast<unsigned char*>(map) : nullptr;
+      // The parts overlapping [begin, end): the first one ending after `begin`, onwards.
+      const auto after = std::upper_bound(starts.begin(), starts.end(), begin);
+      for (auto i = static_cast<std::size_t>(after - starts.begin()) - 1; i < parts.size() && starts[i] < end; ++i) {
+        const std::size_t from = std::max(begin, starts[i]), to = std::min(end, starts[i + 1]);
+        if (from >= to) continue;
+        const unsigned char* src = parts[i].data + (from - starts[i]);
+        if (out) {
+          std::memcpy(out + (from - begin), src, to - from);
+        } else {
+          for (std::size_t at = from; at < to;) {
+            const ssize_t n = ::pwrite(fd, src + (at - from), to - at, static_cast<off_t>(at));
+            if (n < 0 && errno == EINTR) continue;
+            if (n <= 0) {
+              int expected = 0;
+              failed.compare_exchange_strong(expected, n < 0 ? errno : EIO);
+              return;
+            }
+            at += static_cast<std::size_t>(n);
+          }
+        }
+      }
+      if (out) ::munmap(map, end - begin);
+#ifdef SYNC_FILE_RANGE_WRITE
+      ::sync_file_range(fd, static_cast<off_t>(begin), static_cast<off_t>(end - begin), SYNC_FILE_RANGE_WRITE);
+#endif
+    }
+  });
+  if (const int err = failed.load()) return err;
+  return ::fsync(fd) != 0 ? errno : 0;
+}
+
+// Writes `parts` to the new unnamed temporary `fd` (open for reading too) and flushes it: mapped
+// in parallel where that pays (write_mapped: more than one piece and more than one thread), else
+// with write(). Only an unnamed temporary is mapped: no other process can open it and shrink it
+// under the mapping (a named one could be truncated by anyone allowed to, and the fill would fault).
+int write_unnamed_and_sync(int fd, const std::vector<ByteSpan>& parts) {
+  std::size_t total = 0;
+  for (const ByteSpan& part : parts) total += part.size;
+  if (total > kPiece && thread_count() > 1)
+    if (const int err = write_mapped(fd, parts, total); err >= 0) return err;
+  return write_all_and_sync(fd, parts);
+}
+
 // Closes `fd` on a thread of its own (on the caller when none can start). Called after a
 // successful rename: whatever starting the thread throws (std::system_error, std::bad_alloc), the
 // descriptor is closed here and nothing escapes, so the save still reports success.
@@ -276,9 +345,9 @@ void write_file_atomic(const std::string& path, const std::vector<ByteSpan>& byt
   // Preferred: an unnamed temporary (O_TMPFILE). Until it is linked it has no name, so a writer
   // killed while writing (SIGKILL, power loss) leaves nothing behind; it gets its temporary name
   // only for the instant between the link and the rename.
-  int fd = ::open(dir.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0644);
+  int fd = ::open(dir.c_str(), O_TMPFILE | O_RDWR | O_CLOEXEC, 0644);  // read too: mapped
   if (fd >= 0) {
-    if (const int err = write_all_and_sync(fd, bytes)) {
+    if (const int err = write_unnamed_and_sync(fd, bytes)) {
       ::close(fd);
       fail("write failed", err);
     }

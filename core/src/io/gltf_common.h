@@ -51,11 +51,13 @@ class FileBytes {
 // Writes `bytes` to a temporary file beside `path`, flushes it and renames it over `path`.
 // Throws Error{Io}; never leaves a partial file at `path`. The temporary is unnamed (O_TMPFILE)
 // where the file system allows, so a killed writer leaves no temporary behind either; elsewhere a
-// writer killed mid-write leaves a hidden `.<name>.tmp<number>` beside the target. The bytes go to
-// the disk as they are written and the fsync before the rename waits for the rest; the file
-// replaced is let go on a thread of its own (freeing a large file's pages takes long). The folder
-// is flushed after the rename, so a crash cannot bring the old file back; when only that flush
-// fails the Error says "saved, but the folder could not be flushed" (the new content is in place).
+// writer killed mid-write leaves a hidden `.<name>.tmp<number>` beside the target. A large unnamed
+// temporary is filled by the pool's threads in parallel, through mappings of it (its blocks
+// reserved first); anything else is written in one stream. The bytes go to the disk as they are
+// written and the fsync before the rename waits for the rest; the file replaced is let go on a
+// thread of its own (freeing a large file's pages takes long). The folder is flushed after the
+// rename, so a crash cannot bring the old file back; when only that flush fails the Error says
+// "saved, but the folder could not be flushed" (the new content is in place).
 void write_file_atomic(const std::string& path, const std::vector<unsigned char>& bytes);
 // The same with the file's bytes given as consecutive parts (a .glb's header and JSON, then its
 // binary buffer), written without joining them first.
