@@ -3,14 +3,17 @@
 
 #include <fcntl.h>
 #include <sys/mman.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <memory>
 #include <random>
 #include <system_error>
 #include <thread>
@@ -204,19 +207,63 @@ int write_all_and_sync(int fd, const std::vector<ByteSpan>& parts) {
   return ::fsync(fd) != 0 ? errno : 0;
 }
 
-// The mapped write: files of at least two pieces, written by more than one thread.
-constexpr std::size_t kPiece = std::size_t(4) << 20;  // a multiple of any page size
+// The parallel write: files of at least two pieces, written by more than one thread.
+constexpr std::size_t kPiece = std::size_t(4) << 20;  // a multiple of any page and block size
 
-// Writes `parts` (`total` bytes) into `fd` (empty, its offset 0) through shared mappings of the
-// file, one piece of kPiece bytes per task, in parallel: a write() copies into the file's pages
-// under the file's lock, one writer at a time, where each task here faults in and fills its own
-// pages. The file's blocks are reserved first (fallocate), so filling a mapped page cannot fail
-// for want of space (a fault cannot report an error, it would kill the process); a piece that
-// cannot be mapped is written with pwrite instead, and each piece is handed to the disk as soon
-// as it is filled (sync_file_range, a hint; the fsync after it decides). Returns errno on failure,
-// 0 on success, and -1 when the file cannot be reserved for a reason other than space (the caller
-// then writes it the plain way; the file is empty again).
-int write_mapped(int fd, const std::vector<ByteSpan>& parts, std::size_t total) {
+// The file's bytes [from, to) as consecutive `parts` starting at the offsets `starts`: calls
+// `fn(offset, data, size)` for each run of them in order.
+template <class Fn>
+void each_run(const std::vector<ByteSpan>& parts, const std::vector<std::size_t>& starts, std::size_t from,
+              std::size_t to, Fn&& fn) {
+  const auto after = std::upper_bound(starts.begin(), starts.end(), from);  // the part holding `from`, + 1
+  for (auto i = static_cast<std::size_t>(after - starts.begin()) - 1; i < parts.size() && starts[i] < to; ++i) {
+    const std::size_t b = std::max(from, starts[i]), e = std::min(to, starts[i + 1]);
+    if (b < e) fn(b, parts[i].data + (b - starts[i]), e - b);
+  }
+}
+
+// pwrite of all `size` bytes at `offset`; returns errno on failure, 0 on success.
+int pwrite_all(int fd, const unsigned char* data, std::size_t size, std::size_t offset) {
+  for (std::size_t done = 0; done < size;) {
+    const ssize_t n = ::pwrite(fd, data + done, size - done, static_cast<off_t>(offset + done));
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return n < 0 ? errno : EIO;
+    done += static_cast<std::size_t>(n);
+  }
+  return 0;
+}
+
+// The block that direct writes to `fd`'s file must be aligned to (offsets, lengths and memory),
+// or 0 when the file system takes none (STATX_DIOALIGN) or needs one kPiece is no multiple of.
+std::size_t direct_block(int fd) {
+#if defined(STATX_DIOALIGN) && defined(O_DIRECT)
+  struct statx sx {};
+  if (::statx(fd, "", AT_EMPTY_PATH, STATX_DIOALIGN, &sx) != 0 || !(sx.stx_mask & STATX_DIOALIGN) ||
+      sx.stx_dio_offset_align == 0 || sx.stx_dio_mem_align == 0)
+    return 0;
+  // Whole file system blocks too: a direct write of part of an unwritten block is serialised
+  // (the file system zeroes the rest of the block under an exclusive lock).
+  const std::size_t block = std::max<std::size_t>({sx.stx_dio_offset_align, sx.stx_dio_mem_align, sx.stx_blksize,
+                                                   static_cast<std::size_t>(::sysconf(_SC_PAGESIZE))});
+  return kPiece % block == 0 ? block : 0;
+#else
+  (void)fd;
+  return 0;
+#endif
+}
+
+// Writes `parts` (`total` bytes) into `fd` (empty, its offset 0) in pieces of kPiece bytes, one
+// task each, in parallel: a write() copies into the file's pages under the file's lock, one
+// writer at a time. The file's blocks are reserved first (fallocate). Then each piece goes, as
+// far as it spans whole blocks, straight to the disk (O_DIRECT, through an aligned copy of it:
+// direct writes into reserved blocks run side by side, and no page of the file is filled or
+// zeroed); the rest of it (the file's last partial block, or all of it where the file system
+// takes no direct writes) is filled through a shared mapping of the file (a fault cannot fail
+// for want of space, the blocks are reserved), else with pwrite, and handed to the disk at once
+// (sync_file_range, a hint; the fsync after it decides). Returns errno on failure, 0 on success,
+// and -1 when the file cannot be reserved for a reason other than space (the caller then writes
+// it the plain way; the file is empty again).
+int write_parallel(int fd, const std::vector<ByteSpan>& parts, std::size_t total) {
   if (::fallocate(fd, 0, 0, static_cast<off_t>(total)) != 0) {
     const int err = errno;
     if (err == ENOSPC || err == EDQUOT || err == EFBIG) return err;
@@ -224,52 +271,77 @@ int write_mapped(int fd, const std::vector<ByteSpan>& parts, std::size_t total) 
   }
   std::vector<std::size_t> starts(parts.size() + 1, 0);  // the file offset of each part
   for (std::size_t i = 0; i < parts.size(); ++i) starts[i + 1] = starts[i] + parts[i].size;
+  std::size_t block = direct_block(fd);
+  int direct = -1;
+#ifdef O_DIRECT
+  if (block > 0) direct = ::open(("/proc/self/fd/" + std::to_string(fd)).c_str(), O_WRONLY | O_DIRECT | O_CLOEXEC);
+#endif
+  const std::size_t direct_end = direct >= 0 ? total / block * block : 0;  // direct writes end there
+  std::atomic<bool> direct_refused{false};  // EINVAL once: the rest goes through the pages
   std::atomic<int> failed{0};
+  auto fail = [&](int err) {
+    int expected = 0;
+    failed.compare_exchange_strong(expected, err);
+  };
   parallel_for((total + kPiece - 1) / kPiece, 1, [&](std::size_t first, std::size_t last) {
     for (std::size_t piece = first; piece < last; ++piece) {
       const std::size_t begin = piece * kPiece, end = std::min(total, begin + kPiece);
-      void* map = ::mmap(nullptr, end - begin, PROT_READ | PROT_WRITE, MAP_SHARED, fd, static_cast<off_t>(begin));
-      auto* out = map != MAP_FAILED ? static_cast<unsigned char*>(map) : nullptr;
-      // The parts overlapping [begin, end): the first one ending after `begin`, onwards.
-      const auto after = std::upper_bound(starts.begin(), starts.end(), begin);
-      for (auto i = static_cast<std::size_t>(after - starts.begin()) - 1; i < parts.size() && starts[i] < end; ++i) {
-        const std::size_t from = std::max(begin, starts[i]), to = std::min(end, starts[i + 1]);
-        if (from >= to) continue;
-        const unsigned char* src = parts[i].data + (from - starts[i]);
-        if (out) {
-          std::memcpy(out + (from - begin), src, to - from);
-        } else {
-          for (std::size_t at = from; at < to;) {
-            const ssize_t n = ::pwrite(fd, src + (at - from), to - at, static_cast<off_t>(at));
-            if (n < 0 && errno == EINTR) continue;
-            if (n <= 0) {
-              int expected = 0;
-              failed.compare_exchange_strong(expected, n < 0 ? errno : EIO);
-              return;
-            }
-            at += static_cast<std::size_t>(n);
-          }
+      std::size_t mid = std::min(end, std::max(begin, direct_end));  // [begin, mid) direct
+      if (mid > begin && direct_refused) mid = begin;
+      if (mid > begin) {
+        struct Free {
+          void operator()(unsigned char* p) const { std::free(p); }
+        };
+        std::unique_ptr<unsigned char, Free> copy(static_cast<unsigned char*>(std::aligned_alloc(block, mid - begin)));
+        int err = copy ? 0 : ENOMEM;
+        if (copy) {
+          each_run(parts, starts, begin, mid, [&](std::size_t at, const unsigned char* data, std::size_t size) {
+            std::memcpy(copy.get() + (at - begin), data, size);
+          });
+          err = pwrite_all(direct, copy.get(), mid - begin, begin);
+        }
+        if (err == EINVAL || err == EOPNOTSUPP || err == ENOMEM) {  // this piece and the next ones through the pages
+          direct_refused = true;
+          mid = begin;
+        } else if (err) {
+          return fail(err);
         }
       }
-      if (out) ::munmap(map, end - begin);
+      if (mid == end) continue;
+      // [mid, end) through the file's pages; `mid` is a piece's start or a block's, page-aligned.
+      void* map = ::mmap(nullptr, end - mid, PROT_READ | PROT_WRITE, MAP_SHARED, fd, static_cast<off_t>(mid));
+      if (map != MAP_FAILED) {
+        auto* out = static_cast<unsigned char*>(map);
+        each_run(parts, starts, mid, end, [&](std::size_t at, const unsigned char* data, std::size_t size) {
+          std::memcpy(out + (at - mid), data, size);
+        });
+        ::munmap(map, end - mid);
+      } else {
+        int err = 0;
+        each_run(parts, starts, mid, end, [&](std::size_t at, const unsigned char* data, std::size_t size) {
+          if (!err) err = pwrite_all(fd, data, size, at);
+        });
+        if (err) return fail(err);
+      }
 #ifdef SYNC_FILE_RANGE_WRITE
-      ::sync_file_range(fd, static_cast<off_t>(begin), static_cast<off_t>(end - begin), SYNC_FILE_RANGE_WRITE);
+      ::sync_file_range(fd, static_cast<off_t>(mid), static_cast<off_t>(end - mid), SYNC_FILE_RANGE_WRITE);
 #endif
     }
   });
+  if (direct >= 0) ::close(direct);
   if (const int err = failed.load()) return err;
   return ::fsync(fd) != 0 ? errno : 0;
 }
 
-// Writes `parts` to the new unnamed temporary `fd` (open for reading too) and flushes it: mapped
-// in parallel where that pays (write_mapped: more than one piece and more than one thread), else
+// Writes `parts` to the new unnamed temporary `fd` (open for reading too) and flushes it: in
+// parallel where that pays (write_parallel: more than one piece and more than one thread), else
 // with write(). Only an unnamed temporary is mapped: no other process can open it and shrink it
 // under the mapping (a named one could be truncated by anyone allowed to, and the fill would fault).
 int write_unnamed_and_sync(int fd, const std::vector<ByteSpan>& parts) {
   std::size_t total = 0;
   for (const ByteSpan& part : parts) total += part.size;
   if (total > kPiece && thread_count() > 1)
-    if (const int err = write_mapped(fd, parts, total); err >= 0) return err;
+    if (const int err = write_parallel(fd, parts, total); err >= 0) return err;
   return write_all_and_sync(fd, parts);
 }
 

@@ -52,8 +52,9 @@ class FileBytes {
 // Throws Error{Io}; never leaves a partial file at `path`. The temporary is unnamed (O_TMPFILE)
 // where the file system allows, so a killed writer leaves no temporary behind either; elsewhere a
 // writer killed mid-write leaves a hidden `.<name>.tmp<number>` beside the target. A large unnamed
-// temporary is filled by the pool's threads in parallel, through mappings of it (its blocks
-// reserved first); anything else is written in one stream. The bytes go to the disk as they are
+// temporary is written by the pool's threads in parallel pieces, its blocks reserved first, each
+// piece straight to the disk (O_DIRECT) where the file system allows, else through a mapping of
+// the file; anything else is written in one stream. The bytes go to the disk as they are
 // written and the fsync before the rename waits for the rest; the file replaced is let go on a
 // thread of its own (freeing a large file's pages takes long). The folder is flushed after the
 // rename, so a crash cannot bring the old file back; when only that flush fails the Error says
