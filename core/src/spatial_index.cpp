@@ -142,18 +142,21 @@ TriangleGrid TriangleGrid::build(const SurfaceMesh& mesh, const std::vector<glm:
   // The grid's copies of the corners and positions, and its live flags, are std::vectors: each
   // is sized or copied on one thread, their pages faulted in over the pool first. Those serial
   // fills run beside the passes over the faces (the calling thread takes them while the others
-  // share the chunks), not before them.
+  // share the chunks), not before them: the flags and corners are sized beside the extent pass
+  // (the cell pass, which reads every face's corners, writes both), the positions copied beside
+  // the cell pass.
   detail::reserve_prefaulted(grid.alive_, slots, 0);
   detail::reserve_prefaulted(grid.tris_, slots, 0);
   detail::reserve_prefaulted(grid.placed_, points.size(), 0);
   const Extent extent = face_extent(mesh, points, [&] {
-    grid.placed_.assign(points.begin(), points.end());
     grid.alive_.resize(slots);
+    grid.tris_.resize(slots);
   });
   grid.bounds_ = extent.bounds;
   const std::size_t faces = extent.faces;
   if (faces == 0) {
-    grid.tris_.assign(tris.begin(), tris.end());
+    std::copy(tris.begin(), tris.end(), grid.tris_.begin());
+    grid.placed_.assign(points.begin(), points.end());
     return grid;
   }
   const glm::vec3 size =
@@ -179,6 +182,7 @@ TriangleGrid TriangleGrid::build(const SurfaceMesh& mesh, const std::vector<glm:
       slots, kGrain,
       [&](std::size_t b, std::size_t e) {
         for (std::size_t f = b; f < e; ++f) {
+          grid.tris_[f] = tris[f];
           spans[f] = FaceCells{};
           grid.alive_[f] = 0;
           if (mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) continue;
@@ -188,7 +192,7 @@ TriangleGrid TriangleGrid::build(const SurfaceMesh& mesh, const std::vector<glm:
           grid.alive_[f] = hi.x >= lo.x;
         }
       },
-      [&] { grid.tris_.assign(tris.begin(), tris.end()); });
+      [&] { grid.placed_.assign(points.begin(), points.end()); });
   const std::size_t cells = static_cast<std::size_t>(grid.dims_.x) * grid.dims_.y * grid.dims_.z;
   detail::fill_csr(slots, cells, grid.start_, grid.faces_, [&](std::size_t f, auto&& visit) {
     const FaceCells& s = spans[f];
