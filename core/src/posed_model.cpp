@@ -2,6 +2,7 @@
 #include "deepcut/core/posed_model.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cassert>
 #include <cmath>
 #include <functional>
@@ -30,9 +31,10 @@ BoundingBox joined(BoundingBox acc, const BoundingBox& part) {
 }
 
 // Bounds of every position, combined in chunk order (min / max are exact in any order).
+constexpr std::size_t kBoundsGrain = 65536;
 BoundingBox bounds_of(const std::vector<glm::vec3>& points) {
   return parallel_reduce(
-      points.size(), 65536, BoundingBox(),
+      points.size(), kBoundsGrain, BoundingBox(),
       [&](std::size_t b, std::size_t e) {
         BoundingBox part;
         for (std::size_t i = b; i < e; ++i) part.add(points[i]);
@@ -152,29 +154,43 @@ void size_posed_arrays(PosedMesh& inst, std::size_t n, std::size_t room) {
 
 // Poses every vertex of `mesh` into `inst`, whose arrays are empty, with capacity `room`, and
 // measures the bounds. The positions' std::vector is sized by a serial fill: the calling thread
-// runs it (as the first task of the posing job) while the others pose into a scratch array, the
-// linear maps in place and each chunk's bounds; the positions are copied over the pool after.
+// runs it as the first task of the posing job while the other threads pose chunks, the linear
+// maps in place and the positions into a scratch array until the fill is done, then in place
+// too; the chunks posed into the scratch array are copied over the pool after. On one thread the
+// fill runs first and every chunk is posed in place (the scratch array is never touched).
 void pose_into_empty(const SurfaceMesh& mesh, PosedMesh& inst, std::size_t room, const VertexPoser& pose) {
   const std::size_t n = mesh.vertex_count();
   detail::reserve_prefaulted(inst.posed, n, room);
   detail::reserve_prefaulted(inst.linear, n, room);
   inst.linear.resize(n);
-  detail::UninitVector<glm::vec3> placed(n);
-  detail::prefault(placed.data(), n * sizeof(glm::vec3));
+  detail::UninitVector<glm::vec3> scratch(n);  // its pages fault in where a chunk writes them
   const std::size_t chunks = (n + kGrain - 1) / kGrain;
+  std::vector<std::uint8_t> in_scratch(chunks, 0);
+  std::atomic<bool> sized{false};
   detail::run_chunks(chunks + 1, [&](std::size_t c) {
-    if (c == 0) return inst.posed.resize(n);
-    pose.range((c - 1) * kGrain, std::min(n, c * kGrain), placed.data(), inst.linear.data());
+    if (c == 0) {
+      inst.posed.resize(n);
+      sized.store(true, std::memory_order_release);
+      return;
+    }
+    const std::size_t b = (c - 1) * kGrain, e = std::min(n, c * kGrain);
+    const bool in_place = sized.load(std::memory_order_acquire);
+    glm::vec3* out = in_place ? inst.posed.data() : scratch.data();
+    pose.range(b, e, out, inst.linear.data());
+    in_scratch[c - 1] = !in_place;
   });
-  // The copy measures the bounds as bounds_of does (same chunks, folded in order).
+  // bounds_of's pass (its chunks, whole posing chunks), which first copies those in `scratch`.
+  static_assert(kBoundsGrain % kGrain == 0, "a bounds chunk covers whole posing chunks");
   inst.bounds = parallel_reduce(
-      n, 65536, BoundingBox(),
+      n, kBoundsGrain, BoundingBox(),
       [&](std::size_t b, std::size_t e) {
+        for (std::size_t k = b / kGrain; k * kGrain < e; ++k)
+          if (in_scratch[k]) {
+            const std::size_t kb = k * kGrain, ke = std::min(n, kb + kGrain);
+            std::copy(scratch.data() + kb, scratch.data() + ke, inst.posed.data() + kb);
+          }
         BoundingBox part;
-        for (std::size_t i = b; i < e; ++i) {
-          inst.posed[i] = placed[i];
-          part.add(placed[i]);
-        }
+        for (std::size_t i = b; i < e; ++i) part.add(inst.posed[i]);
         return part;
       },
       joined);
