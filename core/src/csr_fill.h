@@ -15,6 +15,20 @@
 
 namespace deepcut::detail {
 
+/// parallel_for(n, grain, fn) and `beside()` in one job, `beside` first (the calling thread
+/// takes it): a piece of serial work that the chunks do not need, such as sizing a std::vector
+/// (which writes every element on one thread), overlaps the chunks the other threads share
+/// instead of running before them. On one thread: `beside`, then the chunks in order.
+template <class Fn, class Beside>
+void parallel_for_beside(std::size_t n, std::size_t grain, Fn&& fn, Beside&& beside) {
+  if (grain == 0) grain = 1;
+  const std::size_t chunks = (n + grain - 1) / grain;
+  run_chunks(chunks + 1, [&](std::size_t c) {
+    if (c == 0) return static_cast<void>(beside());
+    fn((c - 1) * grain, std::min(n, c * grain));
+  });
+}
+
 /// An exclusive prefix sum over the pool: calls put(i, sum of count(j) for j < i) for every i in
 /// [0, n) and returns the total. count(i) is read before put(i) (so both may use one slot) and
 /// never after. In blocks: each block's total, the totals summed serially (one per block), then
@@ -79,11 +93,84 @@ void fill_csr_by_chunk(std::size_t n, std::size_t cells, std::size_t grain, std:
   });
 }
 
+/// fill_csr for many cells: fill_csr_by_chunk's scheme over buckets of 2^shift consecutive cells
+/// (a count per chunk and bucket, their prefix sum in bucket order, then each chunk files its
+/// items from its own offsets, each with its cell within the bucket: every bucket's range lists
+/// its items in increasing order, at the slots its cells' lists take in `items`), then each
+/// bucket's range put in cell order into `items` by a counting sort that keeps their order. No
+/// atomics and no comparison sort, and each pass works on a chunk's or a bucket's own small
+/// arrays. `start` and `items` are sized (a serial fill each) beside the two passes over the
+/// items. Needs shift <= 16.
+template <class CellsOf>
+void fill_csr_by_bucket(std::size_t n, std::size_t cells, std::size_t grain, unsigned shift,
+                        std::vector<std::uint32_t>& start, std::vector<std::uint32_t>& items, CellsOf&& cells_of) {
+  const std::size_t chunks = (n + grain - 1) / grain;
+  const std::size_t width = std::size_t(1) << shift;
+  const std::size_t buckets = (cells + width - 1) >> shift;
+  // Chunk k's count, then offset, in bucket b: at[k * buckets + b]; each chunk clears its own row.
+  UninitVector<std::uint32_t> at(chunks * buckets);
+  reserve_prefaulted(start, cells + 1, 0);
+  parallel_for_beside(
+      n, grain,
+      [&](std::size_t b, std::size_t e) {
+        std::uint32_t* mine = at.data() + (b / grain) * buckets;
+        std::fill(mine, mine + buckets, 0u);
+        for (std::size_t i = b; i < e; ++i) cells_of(i, [&](std::size_t c) { ++mine[c >> shift]; });
+      },
+      [&] { start.resize(cells + 1); });
+  std::vector<std::uint32_t> first(buckets + 1);  // each bucket's first slot
+  auto slot = [&](std::size_t j) -> std::uint32_t& { return at[(j % chunks) * buckets + j / chunks]; };
+  const std::uint32_t total = exclusive_scan(
+      chunks * buckets, [&](std::size_t j) { return slot(j); },
+      [&](std::size_t j, std::uint32_t offset) {
+        if (j % chunks == 0) first[j / chunks] = offset;
+        slot(j) = offset;
+      });
+  first[buckets] = total;
+  // The items by bucket, and each one's cell within its bucket.
+  UninitVector<std::uint32_t> filed(total);
+  UninitVector<std::uint16_t> local(total);
+  prefault(filed.data(), filed.size() * sizeof(std::uint32_t));
+  prefault(local.data(), local.size() * sizeof(std::uint16_t));
+  reserve_prefaulted(items, total, 0);
+  parallel_for_beside(
+      n, grain,
+      [&](std::size_t b, std::size_t e) {
+        std::uint32_t* mine = at.data() + (b / grain) * buckets;
+        for (std::size_t i = b; i < e; ++i)
+          cells_of(i, [&](std::size_t c) {
+            const std::uint32_t k = mine[c >> shift]++;
+            filed[k] = static_cast<std::uint32_t>(i);
+            local[k] = static_cast<std::uint16_t>(c & (width - 1));
+          });
+      },
+      [&] { items.resize(total); });
+  start[cells] = total;
+  parallel_for(buckets, 4, [&](std::size_t b0, std::size_t b1) {
+    std::vector<std::uint32_t> cursor(width);
+    for (std::size_t b = b0; b < b1; ++b) {
+      const std::uint32_t s = first[b], e = first[b + 1];
+      const std::size_t c0 = b << shift, w = std::min(cells - c0, width);
+      std::fill(cursor.begin(), cursor.begin() + w, 0u);
+      for (std::uint32_t k = s; k < e; ++k) ++cursor[local[k]];
+      std::uint32_t run = s;
+      for (std::size_t l = 0; l < w; ++l) {
+        const std::uint32_t count = cursor[l];
+        start[c0 + l] = run;
+        cursor[l] = run;
+        run += count;
+      }
+      for (std::uint32_t k = s; k < e; ++k) items[cursor[local[k]]++] = filed[k];
+    }
+  });
+}
+
 /// Fills `start` (cells + 1 offsets) and `items` (cell c lists items[start[c] .. start[c + 1]))
 /// from cells_of(i, visit), which calls visit(cell) for each cell item i in [0, n) goes to.
 /// Every cell lists its items in increasing order, whatever the thread count: for few cells (a
-/// count per chunk and cell costs no more than the items) by fill_csr_by_chunk; else on one
-/// thread the items are filed in order, on several with atomic cursors and each cell's list
+/// count per chunk and cell costs no more than the items) by fill_csr_by_chunk, for more by
+/// fill_csr_by_bucket; only past 2^16 cells per bucket (a count per chunk and bucket of 65536
+/// cells outnumbering the items) with atomic cursors, on several threads each cell's list
 /// sorted after.
 /// `start` and `items` must be empty.
 template <class CellsOf>
@@ -92,6 +179,15 @@ void fill_csr(std::size_t n, std::size_t cells, std::vector<std::uint32_t>& star
   constexpr std::size_t kGrain = 1 << 15;
   if ((n + kGrain - 1) / kGrain * cells <= std::max<std::size_t>(n, kGrain))
     return fill_csr_by_chunk(n, cells, kGrain, start, items, cells_of);
+  // Buckets of 4096 cells (fewer when that leaves under 512 buckets for the pool to share),
+  // wider while the counts per chunk and bucket would outnumber the items.
+  const std::size_t chunks = (n + kGrain - 1) / kGrain;
+  auto buckets = [cells](unsigned s) { return (cells + (std::size_t(1) << s) - 1) >> s; };
+  unsigned shift = 12;
+  while (shift > 6 && buckets(shift) < 512) --shift;
+  while (shift < 16 && chunks * buckets(shift) > std::max(n, kGrain)) ++shift;
+  if (chunks * buckets(shift) <= std::max(n, kGrain))
+    return fill_csr_by_bucket(n, cells, kGrain, shift, start, items, cells_of);
   using Cursor = std::atomic<std::uint32_t>;
   std::unique_ptr<Cursor[]> cursor(new Cursor[cells]);
   parallel_for(cells, kGrain, [&](std::size_t b, std::size_t e) {

@@ -2,6 +2,7 @@
 #include "deepcut/core/posed_model.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cassert>
 #include <cmath>
 #include <functional>
@@ -30,9 +31,10 @@ BoundingBox joined(BoundingBox acc, const BoundingBox& part) {
 }
 
 // Bounds of every position, combined in chunk order (min / max are exact in any order).
+constexpr std::size_t kBoundsGrain = 65536;
 BoundingBox bounds_of(const std::vector<glm::vec3>& points) {
   return parallel_reduce(
-      points.size(), 65536, BoundingBox(),
+      points.size(), kBoundsGrain, BoundingBox(),
       [&](std::size_t b, std::size_t e) {
         BoundingBox part;
         for (std::size_t i = b; i < e; ++i) part.add(points[i]);
@@ -62,6 +64,14 @@ class VertexPoser {
     const glm::mat4 m = skinned_ ? blend_.matrix(v) : rigid_;
     inst.posed[v] = glm::vec3(m * glm::vec4(morph_.position(v, p_[v]), 1.0f));
     if (with_linear) inst.linear[v] = glm::mat3(m);
+  }
+  // Poses vertices [b, e) into posed[v] and linear[v].
+  void range(std::size_t b, std::size_t e, glm::vec3* posed, glm::mat3* linear) const {
+    for (std::size_t v = b; v < e; ++v) {
+      const glm::mat4 m = skinned_ ? blend_.matrix(v) : rigid_;
+      posed[v] = glm::vec3(m * glm::vec4(morph_.position(v, p_[v]), 1.0f));
+      linear[v] = glm::mat3(m);
+    }
   }
 
  private:
@@ -140,6 +150,50 @@ void size_posed_arrays(PosedMesh& inst, std::size_t n, std::size_t room) {
   detail::reserve_prefaulted(inst.linear, n, room);
   inst.posed.resize(n);
   inst.linear.resize(n);
+}
+
+// Poses every vertex of `mesh` into `inst`, whose arrays are empty, with capacity `room`, and
+// measures the bounds. The positions' std::vector is sized by a serial fill: the calling thread
+// runs it as the first task of the posing job while the other threads pose chunks, the linear
+// maps in place and the positions into a scratch array until the fill is done, then in place
+// too; the chunks posed into the scratch array are copied over the pool after. On one thread the
+// fill runs first and every chunk is posed in place (the scratch array is never touched).
+void pose_into_empty(const SurfaceMesh& mesh, PosedMesh& inst, std::size_t room, const VertexPoser& pose) {
+  const std::size_t n = mesh.vertex_count();
+  detail::reserve_prefaulted(inst.posed, n, room);
+  detail::reserve_prefaulted(inst.linear, n, room);
+  inst.linear.resize(n);
+  detail::UninitVector<glm::vec3> scratch(n);  // its pages fault in where a chunk writes them
+  const std::size_t chunks = (n + kGrain - 1) / kGrain;
+  std::vector<std::uint8_t> in_scratch(chunks, 0);
+  std::atomic<bool> sized{false};
+  detail::run_chunks(chunks + 1, [&](std::size_t c) {
+    if (c == 0) {
+      inst.posed.resize(n);
+      sized.store(true, std::memory_order_release);
+      return;
+    }
+    const std::size_t b = (c - 1) * kGrain, e = std::min(n, c * kGrain);
+    const bool in_place = sized.load(std::memory_order_acquire);
+    glm::vec3* out = in_place ? inst.posed.data() : scratch.data();
+    pose.range(b, e, out, inst.linear.data());
+    in_scratch[c - 1] = !in_place;
+  });
+  // bounds_of's pass (its chunks, whole posing chunks), which first copies those in `scratch`.
+  static_assert(kBoundsGrain % kGrain == 0, "a bounds chunk covers whole posing chunks");
+  inst.bounds = parallel_reduce(
+      n, kBoundsGrain, BoundingBox(),
+      [&](std::size_t b, std::size_t e) {
+        for (std::size_t k = b / kGrain; k * kGrain < e; ++k)
+          if (in_scratch[k]) {
+            const std::size_t kb = k * kGrain, ke = std::min(n, kb + kGrain);
+            std::copy(scratch.data() + kb, scratch.data() + ke, inst.posed.data() + kb);
+          }
+        BoundingBox part;
+        for (std::size_t i = b; i < e; ++i) part.add(inst.posed[i]);
+        return part;
+      },
+      joined);
 }
 
 // Sizes the empty arrays of `inst`, a piece of `n` vertices derived from a primitive of
@@ -443,10 +497,6 @@ PosedMesh PosedModel::make_instance(const Model& model, int node, int primitive,
   inst.node = node;
   inst.mesh = model.nodes[static_cast<std::size_t>(node)].mesh;
   inst.primitive = primitive;
-  // Room to grow (as interactive sessions reserve the meshes), so following the first
-  // operations never reallocates the whole arrays.
-  const std::size_t n = mesh.vertex_count();
-  size_posed_arrays(inst, n, operation_vertex_room(n));
   inst.joints = joints_of(model, node);
   inst.world = world_.at(static_cast<std::size_t>(node));
   inst.weights = weights(node);
@@ -454,14 +504,21 @@ PosedMesh PosedModel::make_instance(const Model& model, int node, int primitive,
   return inst;
 }
 
+// An instance with no positions yet (a new one) is posed by pose_into_empty, with room to grow
+// (as interactive sessions reserve the meshes), so following the first operations never
+// reallocates the whole arrays; one posed before is posed again in place.
 void PosedModel::pose_instance(const SurfaceMesh& mesh, PosedMesh& inst, PoseDetail detail) const {
-  inst.posed.resize(mesh.vertex_count());
-  inst.linear.resize(mesh.vertex_count());
   const VertexPoser pose(mesh, inst);
-  parallel_for(mesh.vertex_count(), kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t v = b; v < e; ++v) pose(v, inst);
-  });
-  inst.bounds = bounds_of(inst.posed);
+  if (inst.posed.empty() && inst.linear.empty()) {
+    pose_into_empty(mesh, inst, operation_vertex_room(mesh.vertex_count()), pose);
+  } else {
+    inst.posed.resize(mesh.vertex_count());
+    inst.linear.resize(mesh.vertex_count());
+    parallel_for(mesh.vertex_count(), kGrain, [&](std::size_t b, std::size_t e) {
+      for (std::size_t v = b; v < e; ++v) pose(v, inst);
+    });
+    inst.bounds = bounds_of(inst.posed);
+  }
   inst.gridless = detail == PoseDetail::Positions;
   inst.grid = inst.gridless ? TriangleGrid() : TriangleGrid::build(mesh, inst.posed);
   if (!inst.gridless) inst.grid.reserve(operation_face_room(mesh.face_slots()), inst.posed.capacity());

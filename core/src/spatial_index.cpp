@@ -31,42 +31,46 @@ inline BoundingBox face_box(const std::vector<glm::vec3>& points, const Triangle
   return box;
 }
 
-// The bounds and the summed largest extents of the live faces; marks them in `alive`.
-Extent face_extent(const SurfaceMesh& mesh, const std::vector<glm::vec3>& points,
-                   std::vector<std::uint8_t>& alive) {
+// The bounds and the summed largest extents of the live faces, folded in chunk order (as
+// parallel_reduce), with `beside()` run beside the chunks (detail::parallel_for_beside).
+template <class Beside>
+Extent face_extent(const SurfaceMesh& mesh, const std::vector<glm::vec3>& points, Beside&& beside) {
   const auto& tris = mesh.faces();
-  return parallel_reduce(
-      tris.size(), kGrain, Extent(),
+  std::vector<Extent> parts((tris.size() + kGrain - 1) / kGrain);
+  detail::parallel_for_beside(
+      tris.size(), kGrain,
       [&](std::size_t b, std::size_t e) {
         Extent part;
         for (std::size_t f = b; f < e; ++f) {
           if (mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) continue;
-          alive[f] = 1;
           const BoundingBox box = face_box(points, tris[f]);
           part.bounds.add(box);
           const glm::vec3 d = box.max - box.min;
           part.extent_sum += std::max({d.x, d.y, d.z});
           ++part.faces;
         }
-        return part;
+        parts[b / kGrain] = part;
       },
-      [](Extent acc, const Extent& part) {
-        acc.bounds.add(part.bounds);
-        acc.extent_sum += part.extent_sum;
-        acc.faces += part.faces;
-        return acc;
-      });
+      beside);
+  Extent acc;
+  for (const Extent& part : parts) {
+    acc.bounds.add(part.bounds);
+    acc.extent_sum += part.extent_sum;
+    acc.faces += part.faces;
+  }
+  return acc;
 }
 
 // The cells a face goes to: the box of cells from cell `lo`, `d` more along each axis.
+// Trivial (no member initialisers), so that an UninitVector of them is left unwritten when sized.
 struct FaceCells {
   enum Kind : std::uint8_t { kNone, kBox, kWide };
-  std::uint32_t lo = 0;
-  std::uint8_t d[3] = {0, 0, 0};
-  Kind kind = kNone;
+  std::uint32_t lo;
+  std::uint8_t d[3];
+  Kind kind;
 
   static FaceCells of(const glm::ivec3& lo, const glm::ivec3& hi, std::size_t lo_index) {
-    FaceCells s;
+    FaceCells s{};
     const glm::ivec3 d = hi - lo;
     if (d.x < 0 || d.y < 0 || d.z < 0) {
       s.kind = kNone;  // NaN corners: in no cell
@@ -105,12 +109,23 @@ float grid_cell(const Extent& extent, const glm::vec3& size, float cell_size) {
   return cell;
 }
 
-// `to` (empty) becomes a copy of `from`, its pages faulted in over the pool first.
-template <class T>
-void copy_prefaulted(std::vector<T>& to, const std::vector<T>& from) {
-  to.reserve(from.size());
-  detail::prefault(to.data(), from.size() * sizeof(T));
-  to.assign(from.begin(), from.end());
+// The cell holding `p` in a grid of `dims` cells of edge `cell` from `origin`: what
+// TriangleGrid::cell_of returns, inlined into the build's loop over the faces.
+inline glm::ivec3 grid_cell_of(const glm::vec3& p, const glm::vec3& origin, float cell, const glm::ivec3& dims) {
+  const glm::vec3 q = (p - origin) / cell;
+  glm::ivec3 c;
+  for (int i = 0; i < 3; ++i) {
+    // Negative, NaN and infinite coordinates go to cell 0, those past the end to the last cell
+    // (what clamping floor(q) gives, without the library calls: this runs for every face).
+    const float v = q[i];
+    if (!(v >= 0.0f) || v == std::numeric_limits<float>::infinity())
+      c[i] = 0;
+    else if (v >= float(dims[i] - 1))
+      c[i] = dims[i] - 1;
+    else
+      c[i] = static_cast<int>(v);
+  }
+  return c;
 }
 
 }  // namespace
@@ -124,14 +139,26 @@ TriangleGrid TriangleGrid::build(const SurfaceMesh& mesh, const std::vector<glm:
   TriangleGrid grid;
   const auto& tris = mesh.faces();
   const std::size_t slots = tris.size();
-  // The arrays are faulted in over the pool; the calling thread only copies into present pages.
-  detail::resize_prefaulted(grid.alive_, slots, std::uint8_t(0));
-  copy_prefaulted(grid.tris_, tris);
-  copy_prefaulted(grid.placed_, points);
-  const Extent extent = face_extent(mesh, points, grid.alive_);
+  // The grid's copies of the corners and positions, and its live flags, are std::vectors: each
+  // is sized or copied on one thread, their pages faulted in over the pool first. Those serial
+  // fills run beside the passes over the faces (the calling thread takes them while the others
+  // share the chunks), not before them: the flags and corners are sized beside the extent pass
+  // (the cell pass, which reads every face's corners, writes both), the positions copied beside
+  // the cell pass.
+  detail::reserve_prefaulted(grid.alive_, slots, 0);
+  detail::reserve_prefaulted(grid.tris_, slots, 0);
+  detail::reserve_prefaulted(grid.placed_, points.size(), 0);
+  const Extent extent = face_extent(mesh, points, [&] {
+    grid.alive_.resize(slots);
+    grid.tris_.resize(slots);
+  });
   grid.bounds_ = extent.bounds;
   const std::size_t faces = extent.faces;
-  if (faces == 0) return grid;
+  if (faces == 0) {
+    std::copy(tris.begin(), tris.end(), grid.tris_.begin());
+    grid.placed_.assign(points.begin(), points.end());
+    return grid;
+  }
   const glm::vec3 size =
       glm::max(grid.bounds_.max - grid.bounds_.min, glm::vec3(1e-6f * (grid.bounds_.diagonal() + 1.0f)));
   const float cell = grid_cell(extent, size, cell_size);
@@ -141,24 +168,31 @@ TriangleGrid TriangleGrid::build(const SurfaceMesh& mesh, const std::vector<glm:
 
   // The cells of each live face, found once (cell_of divides) and kept in 8 bytes for the
   // fill's two passes; a face over more than 256 cells along an axis is found again instead.
+  const glm::vec3 origin = grid.origin_;
+  const glm::ivec3 dims = grid.dims_;
   auto face_range = [&](std::size_t f, glm::ivec3& lo, glm::ivec3& hi) {
     const BoundingBox box = face_box(points, tris[f]);
-    lo = grid.cell_of(box.min);
-    hi = grid.cell_of(box.max);
+    lo = grid_cell_of(box.min, origin, cell, dims);
+    hi = grid_cell_of(box.max, origin, cell, dims);
   };
   // A NaN corner can put a box's x range backwards: such a face is counted live but filed in no
-  // cell, and marked dead (as the grid always did).
+  // cell, and marked dead (as the grid always did). Every face's flag is written here.
   detail::UninitVector<FaceCells> spans(slots);
-  parallel_for(slots, kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t f = b; f < e; ++f) {
-      spans[f] = FaceCells{};
-      if (!grid.alive_[f]) continue;
-      glm::ivec3 lo, hi;
-      face_range(f, lo, hi);
-      spans[f] = FaceCells::of(lo, hi, grid.cell_index(lo.x, lo.y, lo.z));
-      if (hi.x < lo.x) grid.alive_[f] = 0;
-    }
-  });
+  detail::parallel_for_beside(
+      slots, kGrain,
+      [&](std::size_t b, std::size_t e) {
+        for (std::size_t f = b; f < e; ++f) {
+          grid.tris_[f] = tris[f];
+          spans[f] = FaceCells{};
+          grid.alive_[f] = 0;
+          if (mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) continue;
+          glm::ivec3 lo, hi;
+          face_range(f, lo, hi);
+          spans[f] = FaceCells::of(lo, hi, grid.cell_index(lo.x, lo.y, lo.z));
+          grid.alive_[f] = hi.x >= lo.x;
+        }
+      },
+      [&] { grid.placed_.assign(points.begin(), points.end()); });
   const std::size_t cells = static_cast<std::size_t>(grid.dims_.x) * grid.dims_.y * grid.dims_.z;
   detail::fill_csr(slots, cells, grid.start_, grid.faces_, [&](std::size_t f, auto&& visit) {
     const FaceCells& s = spans[f];
@@ -193,22 +227,7 @@ std::uint64_t TriangleGrid::layout_hash() const {
   return h;
 }
 
-glm::ivec3 TriangleGrid::cell_of(const glm::vec3& p) const {
-  const glm::vec3 q = (p - origin_) / cell_;
-  glm::ivec3 c;
-  for (int i = 0; i < 3; ++i) {
-    // Negative, NaN and infinite coordinates go to cell 0, those past the end to the last cell
-    // (what clamping floor(q) gives, without the library calls: this runs for every face).
-    const float v = q[i];
-    if (!(v >= 0.0f) || v == std::numeric_limits<float>::infinity())
-      c[i] = 0;
-    else if (v >= float(dims_[i] - 1))
-      c[i] = dims_[i] - 1;
-    else
-      c[i] = static_cast<int>(v);
-  }
-  return c;
-}
+glm::ivec3 TriangleGrid::cell_of(const glm::vec3& p) const { return grid_cell_of(p, origin_, cell_, dims_); }
 
 void TriangleGrid::insert(FaceId f, const Triangle& t, const std::vector<glm::vec3>& points) {
   if (f.index >= alive_.size()) alive_.resize(f.index + 1, 0);

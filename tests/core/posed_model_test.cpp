@@ -22,6 +22,7 @@
 #include "deepcut/core/skinning.h"
 #include "fixtures.h"
 #include "posed_checks.h"
+#include "thread_count.h"
 
 namespace deepcut {
 namespace {
@@ -261,6 +262,34 @@ TEST(PosedModelTest, animated_cactus_random_drills_and_tears_match_a_rebuild_and
   CactusOptions options;
   options.target_triangles = 8000;
   check_random_sequence(make_cactus(options), 30, 2);
+}
+
+// A new instance's positions are posed beside the fill that sizes them (some chunks into a
+// scratch array, copied after): positions, linear maps and bounds are the same bytes for every
+// thread count, and the arrays keep their room to grow.
+TEST(PosedModelTest, a_build_poses_the_same_bytes_for_every_thread_count) {
+  CactusOptions options;
+  options.target_triangles = 120000;  // about 60k vertices: several posing chunks
+  const Model model = make_cactus(options);
+  const int animation = model.animations.empty() ? -1 : 0;
+  auto posed_bytes = [&](std::size_t threads) {
+    test::ThreadCount guard(threads);
+    const PosedModel posed = PosedModel::build(model, animation, 0.7f, PoseDetail::Positions);
+    std::vector<unsigned char> out;
+    auto append = [&out](const void* p, std::size_t n) {
+      out.insert(out.end(), static_cast<const unsigned char*>(p), static_cast<const unsigned char*>(p) + n);
+    };
+    for (const auto& [key, inst] : posed.instances()) {
+      EXPECT_GE(inst.posed.capacity(), operation_vertex_room(inst.posed.size()));
+      append(inst.posed.data(), inst.posed.size() * sizeof(glm::vec3));
+      append(inst.linear.data(), inst.linear.size() * sizeof(glm::mat3));
+      append(&inst.bounds, sizeof(inst.bounds));
+    }
+    return out;
+  };
+  const std::vector<unsigned char> one = posed_bytes(1);
+  ASSERT_GT(one.size(), 60000 * sizeof(glm::vec3));
+  for (const std::size_t threads : {2u, 3u, 8u}) EXPECT_TRUE(posed_bytes(threads) == one) << threads << " threads";
 }
 
 TEST(PosedModelTest, asset_models_random_drills_and_tears_match_a_rebuild_and_the_uncached_path) {

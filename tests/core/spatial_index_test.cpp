@@ -7,6 +7,8 @@
 #include <random>
 
 #include "deepcut/core/mesh_editor.h"
+#include "csr_fill.h"
+#include "deepcut/core/parallel.h"
 #include "fixtures.h"
 #include "sorted_ids.h"
 
@@ -283,5 +285,38 @@ TEST(SpatialIndexTest, sort_unique_ids_matches_sort_and_unique) {
   }
 }
 
+// The packed per-cell lists (csr_fill.h) equal the ones filed item by item in order, for every
+// thread count: few cells (a count per chunk and cell), many (by buckets of cells, a partial one
+// last), items in no cell and in runs of cells.
+TEST(SpatialIndexTest, fill_csr_lists_every_cell_in_item_order_for_every_thread_count) {
+  const std::size_t saved = thread_count();
+  std::mt19937 rng(20261128);
+  for (const std::size_t cells : {std::size_t(5), std::size_t(3000), std::size_t(200003), std::size_t(5000011)}) {
+    const std::size_t n = 100000;
+    std::vector<std::uint32_t> first(n), count(n);
+    std::uniform_int_distribution<std::uint32_t> cell(0, static_cast<std::uint32_t>(cells - 1)), runs(0, 3);
+    for (std::size_t i = 0; i < n; ++i) {
+      first[i] = cell(rng);
+      count[i] = std::min<std::uint32_t>(runs(rng), static_cast<std::uint32_t>(cells - first[i]));
+    }
+    auto cells_of = [&](std::size_t i, auto&& visit) {
+      for (std::uint32_t k = 0; k < count[i]; ++k) visit(std::size_t(first[i] + k));
+    };
+    std::vector<std::vector<std::uint32_t>> want(cells);
+    for (std::size_t i = 0; i < n; ++i)
+      cells_of(i, [&](std::size_t c) { want[c].push_back(static_cast<std::uint32_t>(i)); });
+    for (const std::size_t threads : {1, 2, 5}) {
+      set_thread_count(threads);
+      std::vector<std::uint32_t> start, items;
+      detail::fill_csr(n, cells, start, items, cells_of);
+      ASSERT_EQ(start.size(), cells + 1) << cells << " cells, " << threads << " threads";
+      ASSERT_EQ(start[cells], items.size());
+      for (std::size_t c = 0; c < cells; ++c)
+        ASSERT_TRUE(std::equal(items.begin() + start[c], items.begin() + start[c + 1], want[c].begin(), want[c].end()))
+            << "cell " << c << " of " << cells << ", " << threads << " threads";
+    }
+  }
+  set_thread_count(saved);
+}
 
 }  // namespace deepcut
