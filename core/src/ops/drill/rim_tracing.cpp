@@ -91,7 +91,8 @@ void file_removed_half_edges(const EditLog& log, const OldOnRim& old_on_rim, Rim
   bool rim[3];
   for (const Edit& e : log.edits)
     if (const auto* fr = std::get_if<FaceRemoved>(&e))
-      if (rim_corners(fr->vertices, old_on_rim, rim)) filed.file_face(fr->vertices, rim, RimHalfEdges::kRemoved, nullptr);
+      if (rim_corners(fr->vertices, old_on_rim, rim))
+        filed.file_face(fr->vertices, rim, RimHalfEdges::kRemoved, nullptr);
 }
 
 // Rim edges are found from the topology the edits left: boundary half-edges of the new faces
