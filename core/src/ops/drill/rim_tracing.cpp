@@ -62,31 +62,37 @@ bool rim_corners(const Triangle& t, const OnRim& on_rim, bool rim[3]) {
   return int(rim[0]) + int(rim[1]) + int(rim[2]) >= 2;
 }
 
-// The rim half-edges of the added faces, of the removed ones and of the untouched candidates
-// (faces the drill left alone can border the hole too: an old edge that lies on the cylinder,
-// within the tolerance, between a removed face and an untouched one); those of the live faces
-// (the added ones still there, then the untouched candidates) are listed in `live` too: the
-// only half-edges that can be rim steps.
-template <class OnRim, class OldOnRim>
+// The rim half-edges of the added faces and of the untouched candidates (faces the drill left
+// alone can border the hole too: an old edge that lies on the cylinder, within the tolerance,
+// between a removed face and an untouched one); those of the live faces (the added ones still
+// there, then the untouched candidates) are listed in `live` too: the only half-edges that can
+// be rim steps. The removed faces' are filed by file_removed_half_edges, only when asked about.
+template <class OnRim>
 RimHalfEdges file_rim_half_edges(const SurfaceMesh& mesh, const EditLog& log, const std::vector<FaceId>& candidates,
-                                 const OnRim& on_rim, const OldOnRim& old_on_rim, RimHalfEdgeList& live) {
+                                 const OnRim& on_rim, RimHalfEdgeList& live) {
   // Room for an eighth of the edits (the log also holds removed faces, new vertices and moves,
   // and most added faces have no rim half-edge): enough for most holes without growing.
   RimHalfEdges filed(log.edits.size() / 8 + 16);
   bool rim[3];
-  for (const Edit& e : log.edits) {
-    if (const auto* fa = std::get_if<FaceAdded>(&e)) {
+  for (const Edit& e : log.edits)
+    if (const auto* fa = std::get_if<FaceAdded>(&e))
       if (rim_corners(fa->vertices, on_rim, rim))
         filed.file_face(fa->vertices, rim, RimHalfEdges::kAdded, mesh.is_deleted(fa->f) ? nullptr : &live);
-    } else if (const auto* fr = std::get_if<FaceRemoved>(&e)) {
-      if (rim_corners(fr->vertices, old_on_rim, rim))
-        filed.file_face(fr->vertices, rim, RimHalfEdges::kRemoved, nullptr);
-    }
-  }
   for (FaceId f : candidates)
     if (!mesh.is_deleted(f) && rim_corners(mesh.face(f), on_rim, rim))
       filed.file_face(mesh.face(f), rim, RimHalfEdges::kUntouched, &live);
   return filed;
+}
+
+// The rim half-edges of the removed faces, filed into `filed` (only membership matters, so the
+// order they are filed in does not).
+template <class OldOnRim>
+void file_removed_half_edges(const EditLog& log, const OldOnRim& old_on_rim, RimHalfEdges& filed) {
+  bool rim[3];
+  for (const Edit& e : log.edits)
+    if (const auto* fr = std::get_if<FaceRemoved>(&e))
+      if (rim_corners(fr->vertices, old_on_rim, rim))
+        filed.file_face(fr->vertices, rim, RimHalfEdges::kRemoved, nullptr);
 }
 
 // Rim edges are found from the topology the edits left: boundary half-edges of the new faces
@@ -126,7 +132,14 @@ RimSteps rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFr
   // the added faces' edits and then the candidates.
   RimHalfEdgeList live;
   live.reserve(log.edits.size() / 8 + 16);  // as file_rim_half_edges' table
-  const RimHalfEdges filed = file_rim_half_edges(mesh, log, candidates, on_rim, old_on_rim, live);
+  RimHalfEdges filed = file_rim_half_edges(mesh, log, candidates, on_rim, live);
+  // The removed faces' half-edges are asked about only for a live one between two old vertices
+  // (most rims have none: their old vertices are the few slid onto the cylinder).
+  for (const auto& [a, b] : live)
+    if (base(a).index < posed.first_new() && base(b).index < posed.first_new()) {
+      file_removed_half_edges(log, old_on_rim, filed);
+      break;
+    }
   for (const auto& [a, b] : live) {
     if (filed.has(b, a, RimHalfEdges::kAdded | RimHalfEdges::kUntouched)) continue;
     const VertexId oa = base(a), ob = base(b);
