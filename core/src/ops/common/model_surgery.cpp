@@ -124,6 +124,7 @@ void number_vertices(const ListOf& list_of, std::size_t nv, std::size_t lists, s
     }
   });
   keep.assign(lists, {});
+  std::vector<std::uint32_t> totals(lists, 0);
   for (std::size_t s = 0; s < lists; ++s) {
     std::uint32_t total = 0;
     for (std::size_t c = 0; c < chunks; ++c) {
@@ -131,8 +132,10 @@ void number_vertices(const ListOf& list_of, std::size_t nv, std::size_t lists, s
       start[c * lists + s] = total;
       total += count;
     }
-    keep[s].resize(total);
+    totals[s] = total;
+    keep[s].reserve(total);  // on the calling thread (its heap); sized side by side below
   }
+  run_chunks(lists, [&](std::size_t s) { keep[s].resize(totals[s]); });
   rank.resize(nv);
   parallel_for(nv, grain, [&](std::size_t b, std::size_t e) {
     std::uint32_t* next = &start[b / grain * lists];
@@ -182,8 +185,12 @@ bool live_increasing_on_sides(const SurfaceMesh& mesh, const std::vector<std::ve
     std::size_t list, begin, end;
   };
   std::vector<Chunk> chunks;
+  if constexpr (copy) {
+    // Reserved on the calling thread (its heap), sized side by side: a list's growth fills it.
+    for (std::size_t s = 0; s < lists.size(); ++s) faces[s].reserve(lists[s].size());
+    run_chunks(lists.size(), [&](std::size_t s) { faces[s].resize(lists[s].size()); });
+  }
   for (std::size_t s = 0; s < lists.size(); ++s) {
-    if constexpr (copy) faces[s].resize(lists[s].size());
     for (std::size_t b = 0; b < lists[s].size(); b += kGrain)
       chunks.push_back({s, b, std::min(lists[s].size(), b + kGrain)});
   }

@@ -214,9 +214,10 @@ void Cutter::move_positive_rim(std::size_t touching, const std::vector<std::uint
 template <class OneFan>
 std::vector<std::pair<VertexId, VertexId>> Cutter::split_pinches(CutResult* result, const OneFan& one_fan,
                                                                  std::size_t candidates) {
-  std::vector<VertexId> on_plane;  // each once
-  std::vector<FaceId> incident;    // the live rim candidates using one of them
-  std::vector<std::uint8_t> listed(mesh_.vertex_count(), 0);
+  // The vertices listed as often as faces use them, then sorted and made unique: a flag per
+  // vertex of the mesh would be an array of the whole mesh to clear for the few on the plane.
+  std::vector<VertexId> on_plane;
+  std::vector<FaceId> incident;  // the live rim candidates using one of them
   for (std::size_t k = 0; k < candidates; ++k) {
     const FaceId f = rim_candidates_[k];
     if (mesh_.is_deleted(f)) continue;
@@ -224,15 +225,13 @@ std::vector<std::pair<VertexId, VertexId>> Cutter::split_pinches(CutResult* resu
     for (const VertexId v : mesh_.face(f)) {
       if (sign_[v.index] != 0 || one_fan(v.index)) continue;
       uses = true;
-      if (!listed[v.index]) {
-        listed[v.index] = 1;
-        on_plane.push_back(v);
-      }
+      on_plane.push_back(v);
     }
     if (uses) incident.push_back(f);
   }
   if (on_plane.empty()) return {};
   std::sort(on_plane.begin(), on_plane.end());
+  on_plane.erase(std::unique(on_plane.begin(), on_plane.end()), on_plane.end());
   const std::size_t before = mesh_.face_slots();
   const auto splits = detail::split_pinched_vertices(editor_, on_plane, incident);
   for (const auto& [v, c] : splits.copies) {
@@ -407,9 +406,9 @@ void Cutter::collect_pieces(CutResult& result) {
   // Live faces by side, in id order: the untouched ones off the plane (listed by the scan, no
   // edit removes them) merged with the live rim candidates (ascending: the scan's touching
   // faces, then every face the cut made).
-  std::vector<FaceId> rim[2];
+  std::vector<FaceId> rim[2], side_faces[2];
   live_rim_by_side(rim);
-  std::vector<FaceId> side_faces[2] = {live_side_faces(0, rim[0]), live_side_faces(1, rim[1])};
+  live_side_faces({0, 1}, rim, side_faces);
   for (int s = 0; s < 2; ++s) {
     if (side_faces[s].empty()) continue;
     const int side = s == 0 ? 1 : -1;
@@ -474,7 +473,8 @@ void Cutter::classify_vertices(const detail::UsedFlag* used) {
 // every vertex); else both are made again knowing the unused ones.
 bool Cutter::classify_and_scan() {
   const std::size_t nv = mesh_.vertex_count();
-  std::unique_ptr<detail::UsedFlag[]> used(new detail::UsedFlag[nv]());
+  std::unique_ptr<detail::UsedFlag[]> used(new detail::UsedFlag[nv]);
+  detail::clear_flags(used.get(), nv);
   classify_vertices(nullptr);
   if (both_sides_)
     found_ = detail::scan_faces(mesh_, side_bits_.data(), used.get());
@@ -533,10 +533,10 @@ void Cutter::separate_or_drop_side() {
     make_planned(nullptr);
     // Every live face of the dropped side, in id order.
     const int drop = options_.keep == CutKeep::Positive ? 1 : 0;
-    std::vector<FaceId> rim[2];
+    std::vector<FaceId> rim[2], doomed[2];
     live_rim_by_side(rim);
-    std::vector<FaceId> doomed = live_side_faces(drop, rim[drop]);
-    for (FaceId f : doomed) editor_.remove_face(f);
+    live_side_faces({drop}, rim, doomed);
+    for (FaceId f : doomed[drop]) editor_.remove_face(f);
   }
 }
 
@@ -547,43 +547,56 @@ void Cutter::live_rim_by_side(std::vector<FaceId> (&out)[2]) const {
     if (!mesh_.is_deleted(f)) out[side_code(sign, mesh_.face(f)) - 1].push_back(f);
 }
 
-// The live faces of `side` (0 positive, 1 negative) in id order, its untouched faces off the plane
-// (the scan's chunks, taken: a second call gives the rim alone) merged with its live rim
-// candidates `rim` (ascending), with side_room_ to grow. From several chunks, each chunk is
-// merged with the rim faces in its range of ids into its own part of the list, the parts side by
-// side; the newer rim faces come last. Sizing the list is left to the calling thread, and it
+// The live faces of each of `sides` (0 positive, 1 negative) in id order, into `out` by side:
+// the side's untouched faces off the plane (the scan's chunks, taken: a second call gives the rim
+// alone) merged with its live rim candidates `rim[side]` (ascending), with side_room_ to grow.
+// From several chunks, each chunk is merged with the rim faces in its range of ids into its own
+// part of the list, the parts side by side; the newer rim faces come last. Each list's room is
+// reserved on the calling thread (its heap), then sized side by side, a list a task: its growth
 // fills every entry with an invalid id first (a result's piece is a std::vector<FaceId>, whose
-// growth value-initialises): about 0.4-0.7 ms a side of a 4M-triangle cut (2M ids) where the
-// memory is reused, 15-65 ms where its pages are fresh (faulted in by the fill).
-std::vector<FaceId> Cutter::live_side_faces(int side, const std::vector<FaceId>& rim) {
+// growth value-initialises), about 0.4-0.7 ms a side of a 4M-triangle cut (2M ids) where the
+// memory is reused, the one serial part of the join; then every side's parts are merged in one
+// job.
+void Cutter::live_side_faces(const std::vector<int>& sides, const std::vector<FaceId> (&rim)[2],
+                             std::vector<FaceId> (&out)[2]) {
   const std::size_t n = found_.size();
   if (n <= 1) {
-    std::vector<FaceId> out =
-        n == 0 ? std::vector<FaceId>() : std::move(found_[0].clean[side]);  // leaves it empty
-    merge_sorted(out, rim);
-    return out;
+    for (const int side : sides) {
+      out[side] = n == 0 ? std::vector<FaceId>() : std::move(found_[0].clean[side]);  // leaves it empty
+      merge_sorted(out[side], rim[side]);
+    }
+    return;
   }
-  // Chunk c's rim faces are rim[first_rim[c], first_rim[c + 1]), its part starts at at[c].
-  std::vector<std::size_t> first_rim(n + 1, 0), at(n + 1, 0);
-  for (std::size_t c = 0; c < n; ++c) {
-    first_rim[c + 1] = static_cast<std::size_t>(
-        std::lower_bound(rim.begin(), rim.end(), FaceId(found_[c].end)) - rim.begin());
-    at[c + 1] = at[c] + found_[c].clean[side].size() + (first_rim[c + 1] - first_rim[c]);
+  // Side i's chunk c has the rim faces rim[first_rim[i][c], first_rim[i][c + 1]), its part starts
+  // at at[i][c]; past at[i][n] come the newer rim faces.
+  const std::size_t count = sides.size();
+  std::vector<std::vector<std::size_t>> first_rim(count, std::vector<std::size_t>(n + 1, 0)), at = first_rim;
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::vector<FaceId>& r = rim[sides[i]];
+    for (std::size_t c = 0; c < n; ++c) {
+      first_rim[i][c + 1] =
+          static_cast<std::size_t>(std::lower_bound(r.begin(), r.end(), FaceId(found_[c].end)) - r.begin());
+      at[i][c + 1] = at[i][c] + found_[c].clean[sides[i]].size() + (first_rim[i][c + 1] - first_rim[i][c]);
+    }
+    out[sides[i]] = std::vector<FaceId>();
+    out[sides[i]].reserve(at[i][n] + (r.size() - first_rim[i][n]) + side_room_);
   }
-  std::vector<FaceId> out;
-  out.reserve(at[n] + (rim.size() - first_rim[n]) + side_room_);
-  out.resize(at[n] + (rim.size() - first_rim[n]));
-  detail::run_chunks(n + 1, [&](std::size_t c) {
-    const FaceId* r = rim.data();
+  detail::run_chunks(count, [&](std::size_t i) {
+    out[sides[i]].resize(at[i][n] + (rim[sides[i]].size() - first_rim[i][n]));  // in its room: no allocation
+  });
+  detail::run_chunks(count * (n + 1), [&](std::size_t k) {
+    const std::size_t i = k / (n + 1), c = k % (n + 1);
+    const int side = sides[i];
+    const FaceId* r = rim[side].data();
+    FaceId* to = out[side].data();
     if (c == n) {
-      std::copy(r + first_rim[n], r + rim.size(), out.data() + at[n]);
+      std::copy(r + first_rim[i][n], r + rim[side].size(), to + at[i][n]);
       return;
     }
     std::vector<FaceId>& chunk = found_[c].clean[side];
-    std::merge(chunk.begin(), chunk.end(), r + first_rim[c], r + first_rim[c + 1], out.data() + at[c]);
+    std::merge(chunk.begin(), chunk.end(), r + first_rim[i][c], r + first_rim[i][c + 1], to + at[i][c]);
     std::vector<FaceId>().swap(chunk);
   });
-  return out;
 }
 
 // Rim vertices (on the plane, bounding a piece) into `rim`, sorted and unique; with caps, each

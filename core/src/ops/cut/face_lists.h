@@ -49,8 +49,12 @@ struct ScannedFaces {
 /// of its own to learn which vertices no face uses.
 std::vector<ScannedFaces> scan_faces(const SurfaceMesh& mesh, const std::uint8_t* bits, UsedFlag* used);
 
-/// True when every one of the `count` flags is set.
+/// True when every one of the `count` flags is set (read once the threads that set them are
+/// joined).
 bool all_flagged(const UsedFlag* flags, std::size_t count);
+
+/// Sets the `count` flags to 0 (fresh ones, before any thread uses them), in parts over the pool.
+void clear_flags(UsedFlag* flags, std::size_t count);
 
 /// The face ids [i, end) appended to `list` in one insert: constructed in place, with no zero
 /// fill of the new elements first (a run can be most of the mesh).
