@@ -44,7 +44,11 @@ class FarthestPointSampler {
     const std::size_t cells = grid.cell_count();
     lo_.resize(cells);
     hi_.resize(cells);
-    parallel_for(cells, 1 << 12, [&](std::size_t b, std::size_t e) {
+    // About kPiece points per chunk: a coarse grid's cells hold thousands of points each (a fixed
+    // grain of cells put them all in one chunk, a whole pass over the points on this thread).
+    const std::size_t cell_grain =
+        std::max<std::size_t>(1, cells * kPiece / std::max<std::size_t>(1, items.size()));
+    parallel_for(cells, cell_grain, [&](std::size_t b, std::size_t e) {
       for (std::size_t c = b; c < e; ++c) {
         glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
         for (std::size_t i = grid_.slot_begin(c); i < grid_.slot_begin(c + 1); ++i) {
@@ -98,8 +102,9 @@ class FarthestPointSampler {
   // cells tested and rescanned per row of cells over the pool (visit_all), not listed first.
   static constexpr std::size_t kMaxListedCells = std::size_t(1) << 16;
   // The most points of one piece of a cell's rescan, and the fewest points per pool chunk (small
-  // cells' pieces are rescanned together).
-  static constexpr std::size_t kPiece = 4096;
+  // cells' pieces are rescanned together). Small: a later seed rescans a few thousand points, and
+  // a rescan of fewer than two pieces' worth runs on the calling thread.
+  static constexpr std::size_t kPiece = 1024;
 
   // Tests every non-empty cell of `box` (the cells within reach) for a seed at `ps`, rows of
   // cells over the pool, and rescans those that may change, their leaves written in place; then
