@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
-// The clustering's build on 1, 2 and 4 threads: the seeds' rescans cut into pieces, the split of
-// particles into parts (grouped per root without sorting when a particle has few parts), and the
-// rows fixed after a split (a mark per vertex when parts hold many vertices, sorted lists when
-// few) must give the same clusters whatever the thread count.
+// The clustering's build on 1, 2 and 4 threads: the seeds' rescans cut into pieces, the unions
+// of the split (one walk of a face's three rows), the split of particles into parts (grouped per
+// root without sorting when a particle has few parts), and the rows fixed after a split (a mark
+// per vertex when parts hold many vertices, sorted lists when few) must give the same clusters
+// whatever the thread count.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -137,6 +138,21 @@ TEST(SoftbodyClusterThreadsTest, coarse_grid_of_large_cells_builds_alike_on_ever
   const BoundingBox box = mesh.bounds();
   const glm::vec3 ext = box.max - box.min;
   expect_same_on_every_thread_count(mesh, ClusterOptions{0.25f * std::max({ext.x, ext.y, ext.z})});
+}
+
+TEST(SoftbodyClusterThreadsTest, degenerate_face_joins_its_two_distinct_corners) {
+  // Two islands under one ball: two particles, unless a face with a repeated corner links them
+  // (its rows are walked like any face's: the repeated corner's entry joins itself).
+  SurfaceMesh apart = islands(2, 1, 0.1f, 0.04f);
+  EXPECT_EQ(Clusters::build(apart, ClusterOptions{1.0f}).particle_count(), 2u);
+  SurfaceMesh linked = apart;
+  linked.add_face(VertexId(1), VertexId(1), VertexId(3));
+  EXPECT_EQ(Clusters::build(linked, ClusterOptions{1.0f}).particle_count(), 1u);
+  expect_same_on_every_thread_count(linked, ClusterOptions{1.0f});
+  // A face of one vertex links nothing.
+  SurfaceMesh point = apart;
+  point.add_face(VertexId(1), VertexId(1), VertexId(1));
+  EXPECT_EQ(Clusters::build(point, ClusterOptions{1.0f}).particle_count(), 2u);
 }
 
 TEST(SoftbodyClusterThreadsTest, empty_and_single_triangle_meshes_build_on_every_thread_count) {
