@@ -115,6 +115,19 @@ TEST(SoftbodyClusterThreadsTest, many_islands_per_particle_split_alike_on_every_
   }
 }
 
+TEST(SoftbodyClusterThreadsTest, more_particles_than_vertices_per_chunk_list_members_alike_on_every_thread_count) {
+  // 67500 vertices (three chunks of the member lists) and a radius under an island's size: tens
+  // of thousands of particles, so the lists are filed through the packed copy, not per chunk.
+  const SurfaceMesh mesh = islands(150, 150, 0.1f, 0.04f);
+  Clusters one;
+  {
+    ThreadCount guard(1);
+    one = Clusters::build(mesh, ClusterOptions{0.015f});
+  }
+  ASSERT_GT(one.particle_count() * 3, mesh.vertex_count());
+  expect_same_on_every_thread_count(mesh, ClusterOptions{0.015f});
+}
+
 TEST(SoftbodyClusterThreadsTest, one_small_island_beside_a_sheet_splits_alike_on_every_thread_count) {
   // A sheet and one small triangle just off it: few vertices leave their particles (rows fixed
   // from sorted lists).

@@ -560,12 +560,44 @@ void Clusters::build_memberships(const std::vector<glm::vec3>& rest,
   });
   // Member lists: the rows turned over (a vertex is within rho of a seed exactly when the seed
   // is within rho of it: distance2 is symmetric), ascending by vertex as `ids` is.
-  std::vector<std::uint32_t> first, member;
-  detail::fill_csr(ids.size(), particles, first, member, [&](std::size_t i, auto&& visit) {
+  members_.assign(particles, {});
+  auto for_each_particle = [&](std::size_t i, auto&& visit) {
     const Row& r = rows_[ids[i]];
     for (std::uint32_t k = 0; k < r.size; ++k) visit(pool_[r.begin + k].particle);
-  });
-  members_.assign(particles, {});
+  };
+  constexpr std::size_t kListGrain = 1 << 15;
+  const std::size_t chunks = (ids.size() + kListGrain - 1) / kListGrain;
+  if (chunks * particles <= std::max(ids.size(), kListGrain)) {
+    // Few particles (the usual case): a count per chunk of `ids` and particle, their sums per
+    // particle in chunk order (each list sized there, over the pool), then every chunk files its
+    // vertices straight into the lists from its own offsets: no packed copy of the lists, whose
+    // sizing filled it on this thread.
+    detail::UninitVector<std::uint32_t> at(chunks * particles);  // chunk c, particle p: at[c * particles + p]
+    parallel_for(ids.size(), kListGrain, [&](std::size_t b, std::size_t e) {
+      std::uint32_t* mine = at.data() + (b / kListGrain) * particles;
+      std::fill(mine, mine + particles, 0u);
+      for (std::size_t i = b; i < e; ++i) for_each_particle(i, [&](std::uint32_t p) { ++mine[p]; });
+    });
+    parallel_for(particles, 2, [&](std::size_t b, std::size_t e) {
+      for (std::size_t p = b; p < e; ++p) {
+        std::uint32_t sum = 0;
+        for (std::size_t c = 0; c < chunks; ++c) {
+          const std::uint32_t count = at[c * particles + p];
+          at[c * particles + p] = sum;
+          sum += count;
+        }
+        members_[p].resize(sum);
+      }
+    });
+    parallel_for(ids.size(), kListGrain, [&](std::size_t b, std::size_t e) {
+      std::uint32_t* mine = at.data() + (b / kListGrain) * particles;
+      for (std::size_t i = b; i < e; ++i)
+        for_each_particle(i, [&](std::uint32_t p) { members_[p][mine[p]++] = ids[i]; });
+    });
+    return;
+  }
+  std::vector<std::uint32_t> first, member;
+  detail::fill_csr(ids.size(), particles, first, member, for_each_particle);
   parallel_for(particles, 2, [&](std::size_t b, std::size_t e) {
     for (std::size_t p = b; p < e; ++p) {
       members_[p].resize(first[p + 1] - first[p]);
