@@ -1,9 +1,8 @@
 // SPDX-License-Identifier: MIT
-// The clustering's build on 1, 2 and 4 threads: the seeds' rescans cut into pieces, the unions
-// of the split (one walk of a face's three rows), the split of particles into parts (grouped per
-// root without sorting when a particle has few parts), and the rows fixed after a split (a mark
-// per vertex when parts hold many vertices, sorted lists when few) must give the same clusters
-// whatever the thread count.
+// The clustering's build on 1, 2 and 4 threads: the seeds' rescans cut into pieces, the member
+// lists filed per chunk, the split of particles into parts (grouped per root without sorting when
+// a particle has few parts), and the rows fixed after a split (a mark per vertex when parts hold
+// many vertices, sorted lists when few) must give the same clusters whatever the thread count.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -155,7 +154,7 @@ TEST(SoftbodyClusterThreadsTest, coarse_grid_of_large_cells_builds_alike_on_ever
 
 TEST(SoftbodyClusterThreadsTest, degenerate_face_joins_its_two_distinct_corners) {
   // Two islands under one ball: two particles, unless a face with a repeated corner links them
-  // (its rows are walked like any face's: the repeated corner's entry joins itself).
+  // (the edge between its repeated corners is skipped, its other edges link the islands).
   SurfaceMesh apart = islands(2, 1, 0.1f, 0.04f);
   EXPECT_EQ(Clusters::build(apart, ClusterOptions{1.0f}).particle_count(), 2u);
   SurfaceMesh linked = apart;

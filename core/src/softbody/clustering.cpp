@@ -349,29 +349,26 @@ std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& parti
   ConcurrentUnionFind uf(pool_.size());
   auto find = [&](std::uint32_t x) { return uf.find(x); };
   for_each_face([&](const Triangle& t) {
-    // The corners' rows (sorted by particle) walked at once: a particle of all three corners
-    // joins their entries with two unions, one of two corners with one. The same parts as a
-    // union per edge and shared particle, with a third fewer unions and one walk instead of three.
-    std::uint32_t at[3], end[3];
     for (int k = 0; k < 3; ++k) {
-      const Row& r = rows_[t[k].index];
-      at[k] = r.begin;
-      end[k] = r.begin + r.size;
-    }
-    for (;;) {
-      std::uint32_t p = kInvalidIndex;
-      int live = 0;
-      for (int k = 0; k < 3; ++k)
-        if (at[k] < end[k]) ++live, p = std::min(p, pool_[at[k]].particle);
-      if (live < 2) break;
-      const bool listed = in_set[p];
-      std::uint32_t first = kInvalidIndex;  // the entry of the first corner in p
-      for (int k = 0; k < 3; ++k)
-        if (at[k] < end[k] && pool_[at[k]].particle == p) {
-          if (listed && first != kInvalidIndex) uf.unite(first, at[k]);
-          if (first == kInvalidIndex) first = at[k];
-          ++at[k];
+      const std::uint32_t a = t[k].index, b = t[(k + 1) % 3].index;
+      if (a == b) continue;
+      // Rows are sorted by particle: walk both at once.
+      const Row& ra = rows_[a];
+      const Row& rb = rows_[b];
+      std::uint32_t i = ra.begin, j = rb.begin;
+      const std::uint32_t ie = ra.begin + ra.size, je = rb.begin + rb.size;
+      while (i < ie && j < je) {
+        const std::uint32_t pa = pool_[i].particle, pb = pool_[j].particle;
+        if (pa < pb) {
+          ++i;
+        } else if (pb < pa) {
+          ++j;
+        } else {
+          if (in_set[pa]) uf.unite(i, j);
+          ++i;
+          ++j;
         }
+      }
     }
   });
 
