@@ -21,9 +21,10 @@ namespace {
 
 using namespace clustering_detail;
 
-// The live faces around each vertex. Counted in parallel with atomic increments: a count does
-// not depend on their order.
-std::vector<std::uint32_t> count_face_refs(const SurfaceMesh& mesh) {
+// The live faces around each vertex, into `out` (empty; sized here, every element written over
+// the pool). Counted in parallel with atomic increments: a count does not depend on their order.
+template <class Refs>
+void count_face_refs(const SurfaceMesh& mesh, Refs& out) {
   const std::size_t n = mesh.vertex_count();
   constexpr std::size_t kGrain = 1 << 15;
   std::unique_ptr<std::atomic<std::uint32_t>[]> refs(new std::atomic<std::uint32_t>[n]);
@@ -37,18 +38,18 @@ std::vector<std::uint32_t> count_face_refs(const SurfaceMesh& mesh) {
       for (const VertexId v : mesh.face(id)) refs[v.index].fetch_add(1, std::memory_order_relaxed);
     }
   });
-  std::vector<std::uint32_t> out;
-  detail::resize_prefaulted(out, n, std::uint32_t(0));
+  detail::reserve_prefaulted(out, n, 0);
+  out.resize(n);
   parallel_for(n, kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t v = b; v < e; ++v) out[v] = refs[v].load(std::memory_order_relaxed);
   });
-  return out;
 }
 
-// The vertices with a live face, ascending (each placed by a prefix sum over the pool). Throws
-// for the smallest one with a non-finite rest position.
-std::vector<std::uint32_t> live_vertices(const std::vector<std::uint32_t>& face_refs,
-                                         const std::vector<glm::vec3>& rest) {
+// The vertices with a live face, ascending, into `ids` (empty; each placed by a prefix sum over
+// the pool, nothing written first on the calling thread). Throws for the smallest one with a
+// non-finite rest position.
+template <class Refs, class Ids>
+void live_vertices(const Refs& face_refs, const std::vector<glm::vec3>& rest, Ids& ids) {
   const std::size_t n = face_refs.size();
   const std::uint32_t bad = parallel_reduce(
       n, 1 << 15, kInvalidIndex,
@@ -63,22 +64,22 @@ std::vector<std::uint32_t> live_vertices(const std::vector<std::uint32_t>& face_
   if (bad != kInvalidIndex)
     throw Error(ErrorCode::InvalidInput,
                 "cluster: vertex " + std::to_string(bad) + " has a non-finite position");
-  std::vector<std::uint32_t> ids;
-  detail::resize_prefaulted(ids, n, std::uint32_t(0));
+  detail::reserve_prefaulted(ids, n, 0);
+  ids.resize(n);
   const std::uint32_t live = detail::exclusive_scan(
       n, [&](std::size_t v) { return face_refs[v] ? 1u : 0u; },
       [&](std::size_t v, std::uint32_t at) {
         if (face_refs[v]) ids[at] = static_cast<std::uint32_t>(v);
       });
   ids.resize(live);
-  return ids;
 }
 
 // Checks that `log` fits `mesh` before `apply` changes anything: every vertex and face it names
 // exists (vertices with a finite rest position), and every face it removes is deleted in the mesh
 // and was live (`face_refs`: the live faces per vertex before the log).
+template <class Refs>
 void check_log(const SurfaceMesh& mesh, const std::vector<glm::vec3>& rest, const EditLog& log,
-               const std::vector<std::uint32_t>& face_refs) {
+               const Refs& face_refs) {
   const std::size_t n = mesh.vertex_count();
   auto check_vertex = [&](VertexId v) {
     if (v.index >= n)
@@ -147,36 +148,6 @@ void blend_influences(const VertexAdded& e, const Clusters& clusters, std::vecto
         it->weight += e.weight[i] * in.weight;
     }
   }
-}
-
-// The connected parts of one particle's members: the largest (the first in root order on ties)
-// and the others, each sorted by vertex.
-struct Parts {
-  std::vector<std::uint32_t> main;
-  std::vector<std::vector<std::uint32_t>> minors;
-};
-
-// `by_root`: (union-find root, vertex) for every member; sorted here.
-Parts parts_by_root(std::vector<std::pair<std::uint32_t, std::uint32_t>>& by_root) {
-  std::sort(by_root.begin(), by_root.end());
-  // Parts as ranges of by_root.
-  std::size_t best_begin = 0, best_size = 0;
-  for (std::size_t i = 0; i < by_root.size();) {
-    std::size_t j = i;
-    while (j < by_root.size() && by_root[j].first == by_root[i].first) ++j;
-    if (j - i > best_size) best_begin = i, best_size = j - i;
-    i = j;
-  }
-  Parts parts;
-  for (std::size_t i = 0; i < by_root.size();) {
-    std::size_t j = i;
-    while (j < by_root.size() && by_root[j].first == by_root[i].first) ++j;
-    std::vector<std::uint32_t>& out = i == best_begin ? parts.main : parts.minors.emplace_back();
-    for (std::size_t k = i; k < j; ++k) out.push_back(by_root[k].second);
-    std::sort(out.begin(), out.end());
-    i = j;
-  }
-  return parts;
 }
 
 // Where an uncovered vertex goes: the nearest live particle whose seed lies within rho of it
@@ -303,7 +274,7 @@ void Clusters::sort_row(std::uint32_t v) {
 }
 
 void Clusters::compact_pool() {
-  std::vector<Influence> pool;
+  decltype(pool_) pool;
   pool.reserve(pool_.size() - pool_garbage_);
   for (Row& r : rows_) {
     const auto b = static_cast<std::uint32_t>(pool.size());
@@ -411,22 +382,27 @@ std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& parti
   std::vector<Parts> split(particles.size());
   std::vector<std::uint8_t> is_split(particles.size(), 0);
   parallel_for(particles.size(), 4, [&](std::size_t b, std::size_t e) {
+    std::vector<std::uint32_t> roots;  // of the members, in order
+    std::vector<std::uint8_t> group;
     std::vector<std::pair<std::uint32_t, std::uint32_t>> by_root;  // (root, vertex)
     for (std::size_t k = b; k < e; ++k) {
       const std::uint32_t p = particles[k];
       const auto& m = members_[p];
       if (m.size() < 2) continue;
-      by_root.clear();
+      roots.resize(m.size());
       bool single = true;
-      std::uint32_t first_root = kInvalidIndex;
-      for (std::uint32_t v : m) {
-        const std::uint32_t r = find(entry_of(v, p));
-        if (first_root == kInvalidIndex) first_root = r;
-        single = single && r == first_root;
-        by_root.emplace_back(r, v);
+      for (std::size_t i = 0; i < m.size(); ++i) {
+        roots[i] = find(entry_of(m[i], p));
+        single = single && roots[i] == roots[0];
       }
       if (single) continue;
       is_split[k] = 1;
+      if (std::optional<Parts> parts = parts_by_group(m, roots, group)) {
+        split[k] = std::move(*parts);
+        continue;
+      }
+      by_root.clear();
+      for (std::size_t i = 0; i < m.size(); ++i) by_root.emplace_back(roots[i], m[i]);
       split[k] = parts_by_root(by_root);
     }
   });
@@ -478,30 +454,55 @@ std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& parti
     for (const std::uint32_t e : minors[k].entries) pool_[e].particle = renamed_to[k];
   });
   // Rows with a renamed entry are sorted again; rows with a dropped one lose it and are
-  // renormalised (a row's entries end sorted whatever the order of the two).
-  std::vector<std::uint32_t> renamed, dropped;
-  for (std::size_t k = 0; k < minors.size(); ++k) {
-    auto& to = drop[k] ? dropped : renamed;
-    to.insert(to.end(), minors[k].vertices.begin(), minors[k].vertices.end());
-    if (!drop[k]) members_[renamed_to[k]] = std::move(minors[k].vertices);
-  }
-  for (auto* v : {&renamed, &dropped}) {
-    std::sort(v->begin(), v->end());
-    v->erase(std::unique(v->begin(), v->end()), v->end());
-  }
-  parallel_for(renamed.size(), 1024, [&](std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i) sort_row(renamed[i]);
-  });
-  parallel_for(dropped.size(), 1024, [&](std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i) {
-      Row& r = rows_[dropped[i]];
-      std::uint32_t n = 0;
-      for (std::uint32_t j = 0; j < r.size; ++j)
-        if (pool_[r.begin + j].particle != kInvalidIndex) pool_[r.begin + n++] = pool_[r.begin + j];
-      r.size = n;
-      renormalise(dropped[i]);
+  // renormalised (a row's entries end sorted whatever the order of the two). A vertex may lie in
+  // several parts: each row is fixed once, by one thread.
+  auto lose_dropped = [&](std::uint32_t v) {
+    Row& r = rows_[v];
+    std::uint32_t n = 0;
+    for (std::uint32_t j = 0; j < r.size; ++j)
+      if (pool_[r.begin + j].particle != kInvalidIndex) pool_[r.begin + n++] = pool_[r.begin + j];
+    r.size = n;
+    renormalise(v);
+  };
+  std::size_t listed = 0;
+  for (const Minor& part : minors) listed += part.vertices.size();
+  if (listed * 16 >= rows_.size()) {
+    // Many (a build): a mark per vertex (1 renamed, 2 dropped), then one pass over the rows
+    // instead of sorting the lists on this thread.
+    std::unique_ptr<std::atomic<std::uint8_t>[]> mark(new std::atomic<std::uint8_t>[rows_.size()]);
+    parallel_for(rows_.size(), 1 << 16, [&](std::size_t b, std::size_t e) {
+      for (std::size_t v = b; v < e; ++v) mark[v].store(0, std::memory_order_relaxed);
+    });
+    parallel_for(minors.size(), 1, [&](std::size_t k, std::size_t) {
+      const std::uint8_t bit = drop[k] ? 2 : 1;
+      for (const std::uint32_t v : minors[k].vertices) mark[v].fetch_or(bit, std::memory_order_relaxed);
+    });
+    parallel_for(rows_.size(), 1 << 14, [&](std::size_t b, std::size_t e) {
+      for (std::size_t v = b; v < e; ++v) {
+        const std::uint8_t m = mark[v].load(std::memory_order_relaxed);
+        if (m & 1) sort_row(static_cast<std::uint32_t>(v));
+        if (m & 2) lose_dropped(static_cast<std::uint32_t>(v));
+      }
+    });
+  } else {
+    std::vector<std::uint32_t> renamed, dropped;
+    for (std::size_t k = 0; k < minors.size(); ++k) {
+      auto& to = drop[k] ? dropped : renamed;
+      to.insert(to.end(), minors[k].vertices.begin(), minors[k].vertices.end());
     }
-  });
+    for (auto* v : {&renamed, &dropped}) {
+      std::sort(v->begin(), v->end());
+      v->erase(std::unique(v->begin(), v->end()), v->end());
+    }
+    parallel_for(renamed.size(), 1024, [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i < e; ++i) sort_row(renamed[i]);
+    });
+    parallel_for(dropped.size(), 1024, [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i < e; ++i) lose_dropped(dropped[i]);
+    });
+  }
+  for (std::size_t k = 0; k < minors.size(); ++k)
+    if (!drop[k]) members_[renamed_to[k]] = std::move(minors[k].vertices);
   return split_count;
 }
 
@@ -512,7 +513,8 @@ std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& parti
 // per vertex from a grid over the seeds (count, prefix sum, fill), member lists per particle by
 // turning the rows over (a counting sort by particle, in vertex order); every write is to a
 // disjoint range: the result does not depend on the thread count.
-void Clusters::build_memberships(const std::vector<glm::vec3>& rest, const std::vector<std::uint32_t>& ids) {
+void Clusters::build_memberships(const std::vector<glm::vec3>& rest,
+                                 const UnfilledVector<std::uint32_t>& ids) {
   const float rho = radius_, rho2 = rho * rho;
   // Cells are searched a little wider than rho so that no point within rho (in float) is missed;
   // the exact test below decides.
@@ -535,7 +537,9 @@ void Clusters::build_memberships(const std::vector<glm::vec3>& rest, const std::
   start[ids.size()] = detail::exclusive_scan(
       ids.size(), [&](std::size_t i) { return start[i]; },
       [&](std::size_t i, std::uint32_t at) { start[i] = at; });
-  detail::resize_prefaulted(pool_, std::size_t(start[ids.size()]));
+  // Sized without a fill on this thread: the pass below writes every entry.
+  detail::reserve_prefaulted(pool_, std::size_t(start[ids.size()]), 0);
+  pool_.resize(start[ids.size()]);
   parallel_for(ids.size(), kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) {
       const std::uint32_t v = ids[i];
@@ -553,12 +557,44 @@ void Clusters::build_memberships(const std::vector<glm::vec3>& rest, const std::
   });
   // Member lists: the rows turned over (a vertex is within rho of a seed exactly when the seed
   // is within rho of it: distance2 is symmetric), ascending by vertex as `ids` is.
-  std::vector<std::uint32_t> first, member;
-  detail::fill_csr(ids.size(), particles, first, member, [&](std::size_t i, auto&& visit) {
+  members_.assign(particles, {});
+  auto for_each_particle = [&](std::size_t i, auto&& visit) {
     const Row& r = rows_[ids[i]];
     for (std::uint32_t k = 0; k < r.size; ++k) visit(pool_[r.begin + k].particle);
-  });
-  members_.assign(particles, {});
+  };
+  constexpr std::size_t kListGrain = 1 << 15;
+  const std::size_t chunks = (ids.size() + kListGrain - 1) / kListGrain;
+  if (chunks * particles <= std::max(ids.size(), kListGrain)) {
+    // Few particles (the usual case): a count per chunk of `ids` and particle, their sums per
+    // particle in chunk order (each list sized there, over the pool), then every chunk files its
+    // vertices straight into the lists from its own offsets: no packed copy of the lists, whose
+    // sizing filled it on this thread.
+    detail::UninitVector<std::uint32_t> at(chunks * particles);  // chunk c, particle p: at[c * particles + p]
+    parallel_for(ids.size(), kListGrain, [&](std::size_t b, std::size_t e) {
+      std::uint32_t* mine = at.data() + (b / kListGrain) * particles;
+      std::fill(mine, mine + particles, 0u);
+      for (std::size_t i = b; i < e; ++i) for_each_particle(i, [&](std::uint32_t p) { ++mine[p]; });
+    });
+    parallel_for(particles, 2, [&](std::size_t b, std::size_t e) {
+      for (std::size_t p = b; p < e; ++p) {
+        std::uint32_t sum = 0;
+        for (std::size_t c = 0; c < chunks; ++c) {
+          const std::uint32_t count = at[c * particles + p];
+          at[c * particles + p] = sum;
+          sum += count;
+        }
+        members_[p].resize(sum);
+      }
+    });
+    parallel_for(ids.size(), kListGrain, [&](std::size_t b, std::size_t e) {
+      std::uint32_t* mine = at.data() + (b / kListGrain) * particles;
+      for (std::size_t i = b; i < e; ++i)
+        for_each_particle(i, [&](std::uint32_t p) { members_[p][mine[p]++] = ids[i]; });
+    });
+    return;
+  }
+  std::vector<std::uint32_t> first, member;
+  detail::fill_csr(ids.size(), particles, first, member, for_each_particle);
   parallel_for(particles, 2, [&](std::size_t b, std::size_t e) {
     for (std::size_t p = b; p < e; ++p) {
       members_[p].resize(first[p + 1] - first[p]);
@@ -581,15 +617,21 @@ Clusters Clusters::build(const SurfaceMesh& mesh, const std::vector<glm::vec3>& 
   Clusters c;
   c.radius_ = options.radius;
   const std::size_t n = mesh.vertex_count();
-  detail::resize_prefaulted(c.rows_, n);
-  c.face_refs_ = count_face_refs(mesh);
-  const std::vector<std::uint32_t> ids = live_vertices(c.face_refs_, rest);
+  // Every row empty (written over the pool; build_memberships fills the live vertices' rows).
+  detail::reserve_prefaulted(c.rows_, n, 0);
+  c.rows_.resize(n);
+  parallel_for(n, 1 << 15, [&](std::size_t b, std::size_t e) {
+    std::fill(c.rows_.begin() + b, c.rows_.begin() + e, Row{});
+  });
+  count_face_refs(mesh, c.face_refs_);
+  UnfilledVector<std::uint32_t> ids;
+  live_vertices(c.face_refs_, rest, ids);
   if (ids.empty()) return c;
 
   const float rho = options.radius;
   const PointGrid grid(rest, ids, rho);
   const std::vector<std::uint32_t> seeds =
-      farthest_point_seeds(rest, ids, grid, rho * options.cover_fraction);
+      farthest_point_seeds(rest, ids.data(), ids.size(), grid, rho * options.cover_fraction);
 
   const auto particles = static_cast<std::uint32_t>(seeds.size());
   c.seeds_.resize(particles);

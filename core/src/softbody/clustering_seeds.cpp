@@ -5,12 +5,15 @@
 // A max tree over the grid cells (each leaf: the farthest point of its cell) gives the next seed.
 // Per seed, only the cells its ball reaches are considered, and of those only the cells where a
 // point could get closer: a cell whose farthest point is nearer than the cell's bounding box is
-// to the seed cannot change, so it is skipped unscanned. The cells are tested and rescanned in
-// parallel when there are enough of them; while a seed reaches a quarter of the grid or more (the
-// first few), the tree is built again over the pool instead of updated per cell. Every cell's rescan reads
-// and writes only its own points, and the tree is the max tree of its leaves whatever the order of the
-// updates, so the seeds do not depend on the thread count, nor on the skipping (a skipped cell's leaf would
-// not have changed).
+// to the seed cannot change, so it is skipped unscanned. The cells to rescan are cut into pieces
+// of at most kPiece points, rescanned over the pool (a cell holds thousands of points when the
+// radius is large against the model, and a seed reaches a few cells: cells alone would keep one
+// or two threads busy); each cell's farthest point is then the best of its pieces'. While a seed
+// reaches a quarter of the grid or more (the first few), the tree is built again over the pool
+// instead of updated per cell. Every piece reads and writes only its own points, the best of a
+// cell's points does not depend on how they are cut, and the tree is the max tree of its leaves
+// whatever the order of the updates, so the seeds do not depend on the thread count, nor on the
+// skipping (a skipped cell's leaf would not have changed).
 
 #include <algorithm>
 #include <cmath>
@@ -41,7 +44,11 @@ class FarthestPointSampler {
     const std::size_t cells = grid.cell_count();
     lo_.resize(cells);
     hi_.resize(cells);
-    parallel_for(cells, 1 << 12, [&](std::size_t b, std::size_t e) {
+    // About kPiece points per chunk: a coarse grid's cells hold thousands of points each (a fixed
+    // grain of cells put them all in one chunk, a whole pass over the points on this thread).
+    const std::size_t cell_grain =
+        std::max<std::size_t>(1, cells * kPiece / std::max<std::size_t>(1, items.size()));
+    parallel_for(cells, cell_grain, [&](std::size_t b, std::size_t e) {
       for (std::size_t c = b; c < e; ++c) {
         glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
         for (std::size_t i = grid_.slot_begin(c); i < grid_.slot_begin(c + 1); ++i) {
@@ -71,10 +78,11 @@ class FarthestPointSampler {
       // Early seeds reach most of the grid: every cell is tested over the pool and the tree built
       // again over the pool; later ones only the cells near them, the tree updated per cell.
       const PointGrid::CellBox box = grid_.cells_near(ps, reach);
-      if (box.cells() * 4 >= grid_.cell_count())
+      const bool rebuild = box.cells() * 4 >= grid_.cell_count();
+      if (rebuild && box.cells() > kMaxListedCells)
         visit_all(ps, box);
       else
-        visit_near(ps, box);
+        visit_listed(ps, box, rebuild);
       const Item top = tree_[1];
       if (top.v == kInvalidIndex || top.d2 <= cover2) break;
       seed = top.v;
@@ -90,19 +98,29 @@ class FarthestPointSampler {
     std::uint32_t v;
   };
   static constexpr Item kNone{-1.0f, kInvalidIndex};
-  // Fewer cells than this near a seed are tested and rescanned on the calling thread.
-  static constexpr std::size_t kMinCellsPerChunk = 8;
+  // A seed reaching more cells than this while the tree is built again (a fine grid) has its
+  // cells tested and rescanned per row of cells over the pool (visit_all), not listed first.
+  static constexpr std::size_t kMaxListedCells = std::size_t(1) << 16;
+  // The most points of one piece of a cell's rescan, and the fewest points per pool chunk (small
+  // cells' pieces are rescanned together). Small: a later seed rescans a few thousand points, and
+  // a rescan of fewer than two pieces' worth runs on the calling thread.
+  static constexpr std::size_t kPiece = 1024;
 
   // Tests every non-empty cell of `box` (the cells within reach) for a seed at `ps`, rows of
   // cells over the pool, and rescans those that may change, their leaves written in place; then
   // builds the tree's inner nodes again, level after level over the pool (the max tree of its
-  // leaves, what the updates of visit_near keep it).
+  // leaves, what the updates of visit_listed keep it).
   void visit_all(const glm::vec3& ps, const PointGrid::CellBox& box) {
     parallel_for(box.rows(), 16, [&](std::size_t b, std::size_t e) {
       grid_.for_each_cell_in_rows(box, b, e, [&](std::size_t c) {
-        if (!unchanged(c, ps)) tree_[leaves_ + c] = rescan(c, ps);
+        if (!unchanged(c, ps)) tree_[leaves_ + c] = rescan(grid_.slot_begin(c), grid_.slot_begin(c + 1), ps);
       });
     });
+    build_tree();
+  }
+
+  // The tree's inner nodes from its leaves, level after level over the pool.
+  void build_tree() {
     for (std::size_t level = leaves_ / 2; level >= 1; level /= 2)
       parallel_for(level, 1 << 14, [&](std::size_t b, std::size_t e) {
         for (std::size_t node = level + b; node < level + e; ++node) {
@@ -113,23 +131,52 @@ class FarthestPointSampler {
       });
   }
 
-  // Tests the cells of `box` (the cells within reach) for a seed at `ps` and rescans those that
-  // may change, a few cells per chunk so that the threads stay busy though cells differ in size;
-  // then updates the tree from each rescanned cell.
-  void visit_near(const glm::vec3& ps, const PointGrid::CellBox& box) {
+  // Tests the non-empty cells of `box` (the cells within reach) for a seed at `ps`, listed on
+  // the calling thread, and rescans those that may change in pieces over the pool; then writes
+  // their leaves and builds the tree again over the pool (`rebuild`), or updates the tree from
+  // each rescanned cell.
+  void visit_listed(const glm::vec3& ps, const PointGrid::CellBox& box, bool rebuild) {
     cells_.clear();
     grid_.for_each_cell_in_rows(box, 0, box.rows(), [&](std::size_t cell) { cells_.push_back(cell); });
-    tops_.resize(cells_.size());
     rescanned_.resize(cells_.size());
-    const std::size_t grain = std::max(kMinCellsPerChunk, cells_.size() / (8 * thread_count()));
-    parallel_for(cells_.size(), grain, [&](std::size_t b, std::size_t e) {
-      for (std::size_t k = b; k < e; ++k) {
-        rescanned_[k] = !unchanged(cells_[k], ps);
-        if (rescanned_[k]) tops_[k] = rescan(cells_[k], ps);
-      }
+    parallel_for(cells_.size(), 1024, [&](std::size_t b, std::size_t e) {
+      for (std::size_t k = b; k < e; ++k) rescanned_[k] = !unchanged(cells_[k], ps);
     });
-    for (std::size_t k = 0; k < cells_.size(); ++k)
-      if (rescanned_[k]) update(cells_[k], tops_[k]);
+    // The pieces, cell after cell; the pool's chunks: runs of pieces of kPiece points or more.
+    pieces_.clear();
+    chunk_start_.clear();
+    std::size_t points = kPiece;  // in the chunk being filled
+    for (std::size_t k = 0; k < cells_.size(); ++k) {
+      if (!rescanned_[k]) continue;
+      const std::size_t end = grid_.slot_begin(cells_[k] + 1);
+      for (std::size_t b = grid_.slot_begin(cells_[k]); b < end; b += kPiece) {
+        if (points >= kPiece) {
+          chunk_start_.push_back(pieces_.size());
+          points = 0;
+        }
+        const std::size_t e = std::min(end, b + kPiece);
+        pieces_.push_back({k, b, e});
+        points += e - b;
+      }
+    }
+    chunk_start_.push_back(pieces_.size());
+    tops_.resize(pieces_.size());
+    parallel_for(chunk_start_.size() - 1, 1, [&](std::size_t c, std::size_t) {
+      for (std::size_t i = chunk_start_[c]; i < chunk_start_[c + 1]; ++i)
+        tops_[i] = rescan(pieces_[i].begin, pieces_[i].end, ps);
+    });
+    // Each rescanned cell's farthest point: the best of its pieces' (in order, one cell at a time).
+    for (std::size_t i = 0; i < pieces_.size();) {
+      const std::size_t k = pieces_[i].cell;
+      Item top = tops_[i];
+      for (++i; i < pieces_.size() && pieces_[i].cell == k; ++i)
+        if (better(tops_[i], top)) top = tops_[i];
+      if (rebuild)
+        tree_[leaves_ + cells_[k]] = top;
+      else
+        update(cells_[k], top);
+    }
+    if (rebuild) build_tree();
   }
 
   // Farther first; among equals the smaller vertex index.
@@ -149,11 +196,12 @@ class FarthestPointSampler {
     return double(leaf.d2) < gap2 * (1.0 - 1e-4);
   }
 
-  // The cell's farthest point after the seed at `ps`; lowers the distances of its points.
-  Item rescan(std::size_t cell, const glm::vec3& ps) {
+  // The farthest of the points in slots [begin, end) after the seed at `ps`; lowers their
+  // distances.
+  Item rescan(std::size_t begin, std::size_t end, const glm::vec3& ps) {
     const std::vector<std::uint32_t>& items = grid_.items();
     Item top = kNone;
-    for (std::size_t i = grid_.slot_begin(cell); i < grid_.slot_begin(cell + 1); ++i) {
+    for (std::size_t i = begin; i < end; ++i) {
       const float d2 = std::min(dist2_[i], distance2(at_[i], ps));
       dist2_[i] = d2;
       if (better({d2, items[i]}, top)) top = {d2, items[i]};
@@ -180,18 +228,23 @@ class FarthestPointSampler {
   detail::UninitVector<glm::vec3> lo_, hi_;  // the box of each cell's points
   std::size_t leaves_ = 1;
   detail::UninitVector<Item> tree_;  // a max tree over the cells: leaf c the farthest point of cell c
-  // visit_near's cells, the farthest point of each, whether it was rescanned.
+  // visit_listed's cells, whether each is rescanned, the pieces (the cell's index in cells_ and
+  // a range of slots), the first piece of each pool chunk, the farthest point of each piece.
+  struct Piece {
+    std::size_t cell, begin, end;
+  };
   std::vector<std::size_t> cells_;
-  std::vector<Item> tops_;
   std::vector<std::uint8_t> rescanned_;
+  std::vector<Piece> pieces_;
+  std::vector<std::size_t> chunk_start_;
+  std::vector<Item> tops_;
 };
 
 }  // namespace
 
-std::vector<std::uint32_t> farthest_point_seeds(const std::vector<glm::vec3>& rest,
-                                                const std::vector<std::uint32_t>& ids, const PointGrid& grid,
-                                                float cover) {
-  if (ids.empty()) return {};
+std::vector<std::uint32_t> farthest_point_seeds(const std::vector<glm::vec3>& rest, const std::uint32_t* ids,
+                                                std::size_t count, const PointGrid& grid, float cover) {
+  if (count == 0) return {};
   // The first seed: the point farthest from the bounding-box centre, ties to the smaller index.
   const BoundingBox& box = grid.bounds();
   const glm::vec3 centre = 0.5f * (box.min + box.max);
@@ -201,7 +254,7 @@ std::vector<std::uint32_t> farthest_point_seeds(const std::vector<glm::vec3>& re
   };
   auto farther = [](Far a, Far b) { return b.d2 > a.d2 || (b.d2 == a.d2 && b.v < a.v) ? b : a; };
   const Far first = parallel_reduce(
-      ids.size(), 1 << 16, Far{-1.0f, ids[0]},
+      count, 1 << 16, Far{-1.0f, ids[0]},
       [&](std::size_t b, std::size_t e) {
         Far best{-1.0f, ids[b]};
         for (std::size_t i = b; i < e; ++i) best = farther(best, {distance2(rest[ids[i]], centre), ids[i]});

@@ -19,8 +19,9 @@ namespace deepcut::clustering_detail {
 /// cell lists its points in the order of `ids`.
 class PointGrid {
  public:
-  PointGrid(const std::vector<glm::vec3>& pos, const std::vector<std::uint32_t>& ids, float cell)
-      : pos_(pos) {
+  /// `ids`: a vector of uint32 point indices (any allocator).
+  template <class Ids>
+  PointGrid(const std::vector<glm::vec3>& pos, const Ids& ids, float cell) : pos_(pos) {
     // The box in parallel (min / max: the same grid whatever the thread count).
     constexpr std::size_t kGrain = 1 << 15;
     box_ = parallel_reduce(

@@ -18,7 +18,11 @@
 ///  - each particle's rest centre is the mean rest position of its members.
 
 #include <cstdint>
+#include <memory>
+#include <new>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "deepcut/core/adjacency.h"
@@ -161,6 +165,32 @@ class Clusters {
   }
 
  private:
+  /// The allocator of the per-vertex arrays (rows, pool, face counts): growing one writes no new
+  /// element (`resize(n)` leaves them as they are; explicit values are written as usual), so a
+  /// build sizes them for millions of entries and writes them over the thread pool instead of
+  /// filling them first on the calling thread. Only for aggregates of plain numbers: their
+  /// storage holds them once allocated, whatever its bytes.
+  template <class T>
+  struct Unfilled : std::allocator<T> {
+    static_assert(std::is_trivially_copyable<T>::value && std::is_trivially_destructible<T>::value,
+                  "Unfilled holds only plain aggregates");
+    template <class U>
+    struct rebind {
+      using other = Unfilled<U>;
+    };
+    Unfilled() = default;
+    template <class U>
+    Unfilled(const Unfilled<U>&) noexcept {}
+    template <class U>
+    void construct(U*) noexcept {}
+    template <class U, class... Args>
+    void construct(U* p, Args&&... args) {
+      ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
+  };
+  template <class T>
+  using UnfilledVector = std::vector<T, Unfilled<T>>;
+
   struct Row {
     std::uint32_t begin = 0, size = 0, capacity = 0;
   };
@@ -170,7 +200,7 @@ class Clusters {
   void compact_pool();
   void renormalise(std::uint32_t v);
   /// Rows, pool and member lists of a fresh build (seeds_ and radius_ set; rows_ sized).
-  void build_memberships(const std::vector<glm::vec3>& rest, const std::vector<std::uint32_t>& ids);
+  void build_memberships(const std::vector<glm::vec3>& rest, const UnfilledVector<std::uint32_t>& ids);
   void recompute_centre(std::uint32_t p, const std::vector<glm::vec3>& rest);
   std::uint32_t new_particle(const glm::vec3& seed);
   /// Splits the listed particles into their connected parts (see `build`); appends new particles
@@ -184,10 +214,10 @@ class Clusters {
   std::vector<glm::vec3> seeds_;
   std::vector<glm::vec3> centres_;
   std::vector<std::vector<std::uint32_t>> members_;
-  std::vector<Row> rows_;         // one per vertex: its influences in pool_, sorted by particle
-  std::vector<Influence> pool_;   // rows, with gaps left by relocated rows
-  std::size_t pool_garbage_ = 0;  // entries in pool_ no row uses
-  std::vector<std::uint32_t>
+  UnfilledVector<Row> rows_;        // one per vertex: its influences in pool_, sorted by particle
+  UnfilledVector<Influence> pool_;  // rows, with gaps left by relocated rows
+  std::size_t pool_garbage_ = 0;    // entries in pool_ no row uses
+  UnfilledVector<std::uint32_t>
       face_refs_;  // live faces per vertex (corners, so a degenerate face counts twice)
 };
 
