@@ -14,9 +14,11 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <new>
 #include <random>
 #include <system_error>
 #include <thread>
+#include <utility>
 
 #include "deepcut/core/errors.h"
 #include "deepcut/core/parallel.h"
@@ -167,6 +169,27 @@ void FileBytes::open(const std::string& path, std::size_t max_bytes) {
 
 namespace {
 
+// An owned file descriptor (-1: none), closed when it goes out of scope: a throw between the
+// open and the close cannot leak it.
+class UniqueFd {
+ public:
+  explicit UniqueFd(int fd = -1) noexcept : fd_(fd) {}
+  UniqueFd(const UniqueFd&) = delete;
+  UniqueFd& operator=(const UniqueFd&) = delete;
+  ~UniqueFd() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  int get() const noexcept { return fd_; }
+  // Closes it now; returns errno when the close fails, else 0.
+  int close() noexcept {
+    const int fd = std::exchange(fd_, -1);
+    return fd >= 0 && ::close(fd) != 0 ? errno : 0;
+  }
+
+ private:
+  int fd_;
+};
+
 // Writes the `size` bytes at `data` where the file stands; returns errno on failure, 0 on success.
 int write_range(int fd, const unsigned char* data, std::size_t size) {
   std::size_t done = 0;
@@ -269,67 +292,76 @@ int write_parallel(int fd, const std::vector<ByteSpan>& parts, std::size_t total
     if (err == ENOSPC || err == EDQUOT || err == EFBIG) return err;
     return ::ftruncate(fd, 0) == 0 ? -1 : errno;
   }
-  std::vector<std::size_t> starts(parts.size() + 1, 0);  // the file offset of each part
-  for (std::size_t i = 0; i < parts.size(); ++i) starts[i + 1] = starts[i] + parts[i].size;
-  std::size_t block = direct_block(fd);
-  int direct = -1;
+  // Out of memory here (the offsets, the /proc name, the pool's bookkeeping) is a failed write
+  // like any other: the caller reports it naming the file, and the descriptors are closed.
+  int failed_with = 0;
+  try {
+    std::vector<std::size_t> starts(parts.size() + 1, 0);  // the file offset of each part
+    for (std::size_t i = 0; i < parts.size(); ++i) starts[i + 1] = starts[i] + parts[i].size;
+    std::size_t block = direct_block(fd);
+    int opened = -1;
 #ifdef O_DIRECT
-  if (block > 0) direct = ::open(("/proc/self/fd/" + std::to_string(fd)).c_str(), O_WRONLY | O_DIRECT | O_CLOEXEC);
+    if (block > 0) opened = ::open(("/proc/self/fd/" + std::to_string(fd)).c_str(), O_WRONLY | O_DIRECT | O_CLOEXEC);
 #endif
-  const std::size_t direct_end = direct >= 0 ? total / block * block : 0;  // direct writes end there
-  std::atomic<bool> direct_refused{false};  // EINVAL once: the rest goes through the pages
-  std::atomic<int> failed{0};
-  auto fail = [&](int err) {
-    int expected = 0;
-    failed.compare_exchange_strong(expected, err);
-  };
-  parallel_for((total + kPiece - 1) / kPiece, 1, [&](std::size_t first, std::size_t last) {
-    for (std::size_t piece = first; piece < last; ++piece) {
-      const std::size_t begin = piece * kPiece, end = std::min(total, begin + kPiece);
-      std::size_t mid = std::min(end, std::max(begin, direct_end));  // [begin, mid) direct
-      if (mid > begin && direct_refused) mid = begin;
-      if (mid > begin) {
-        struct Free {
-          void operator()(unsigned char* p) const { std::free(p); }
-        };
-        std::unique_ptr<unsigned char, Free> copy(static_cast<unsigned char*>(std::aligned_alloc(block, mid - begin)));
-        int err = copy ? 0 : ENOMEM;
-        if (copy) {
-          each_run(parts, starts, begin, mid, [&](std::size_t at, const unsigned char* data, std::size_t size) {
-            std::memcpy(copy.get() + (at - begin), data, size);
+    const UniqueFd direct_fd(opened);  // nothing throws between the open and here
+    const int direct = direct_fd.get();
+    const std::size_t direct_end = direct >= 0 ? total / block * block : 0;  // direct writes end there
+    std::atomic<bool> direct_refused{false};  // EINVAL once: the rest goes through the pages
+    std::atomic<int> failed{0};
+    auto fail = [&](int err) {
+      int expected = 0;
+      failed.compare_exchange_strong(expected, err);
+    };
+    parallel_for((total + kPiece - 1) / kPiece, 1, [&](std::size_t first, std::size_t last) {
+      for (std::size_t piece = first; piece < last; ++piece) {
+        const std::size_t begin = piece * kPiece, end = std::min(total, begin + kPiece);
+        std::size_t mid = std::min(end, std::max(begin, direct_end));  // [begin, mid) direct
+        if (mid > begin && direct_refused) mid = begin;
+        if (mid > begin) {
+          struct Free {
+            void operator()(unsigned char* p) const { std::free(p); }
+          };
+          std::unique_ptr<unsigned char, Free> copy(static_cast<unsigned char*>(std::aligned_alloc(block, mid - begin)));
+          int err = copy ? 0 : ENOMEM;
+          if (copy) {
+            each_run(parts, starts, begin, mid, [&](std::size_t at, const unsigned char* data, std::size_t size) {
+              std::memcpy(copy.get() + (at - begin), data, size);
+            });
+            err = pwrite_all(direct, copy.get(), mid - begin, begin);
+          }
+          if (err == EINVAL || err == EOPNOTSUPP || err == ENOMEM) {  // this piece and the next ones through the pages
+            direct_refused = true;
+            mid = begin;
+          } else if (err) {
+            return fail(err);
+          }
+        }
+        if (mid == end) continue;
+        // [mid, end) through the file's pages; `mid` is a piece's start or a block's, page-aligned.
+        void* map = ::mmap(nullptr, end - mid, PROT_READ | PROT_WRITE, MAP_SHARED, fd, static_cast<off_t>(mid));
+        if (map != MAP_FAILED) {
+          auto* out = static_cast<unsigned char*>(map);
+          each_run(parts, starts, mid, end, [&](std::size_t at, const unsigned char* data, std::size_t size) {
+            std::memcpy(out + (at - mid), data, size);
           });
-          err = pwrite_all(direct, copy.get(), mid - begin, begin);
+          ::munmap(map, end - mid);
+        } else {
+          int err = 0;
+          each_run(parts, starts, mid, end, [&](std::size_t at, const unsigned char* data, std::size_t size) {
+            if (!err) err = pwrite_all(fd, data, size, at);
+          });
+          if (err) return fail(err);
         }
-        if (err == EINVAL || err == EOPNOTSUPP || err == ENOMEM) {  // this piece and the next ones through the pages
-          direct_refused = true;
-          mid = begin;
-        } else if (err) {
-          return fail(err);
-        }
-      }
-      if (mid == end) continue;
-      // [mid, end) through the file's pages; `mid` is a piece's start or a block's, page-aligned.
-      void* map = ::mmap(nullptr, end - mid, PROT_READ | PROT_WRITE, MAP_SHARED, fd, static_cast<off_t>(mid));
-      if (map != MAP_FAILED) {
-        auto* out = static_cast<unsigned char*>(map);
-        each_run(parts, starts, mid, end, [&](std::size_t at, const unsigned char* data, std::size_t size) {
-          std::memcpy(out + (at - mid), data, size);
-        });
-        ::munmap(map, end - mid);
-      } else {
-        int err = 0;
-        each_run(parts, starts, mid, end, [&](std::size_t at, const unsigned char* data, std::size_t size) {
-          if (!err) err = pwrite_all(fd, data, size, at);
-        });
-        if (err) return fail(err);
-      }
 #ifdef SYNC_FILE_RANGE_WRITE
-      ::sync_file_range(fd, static_cast<off_t>(mid), static_cast<off_t>(end - mid), SYNC_FILE_RANGE_WRITE);
+        ::sync_file_range(fd, static_cast<off_t>(mid), static_cast<off_t>(end - mid), SYNC_FILE_RANGE_WRITE);
 #endif
-    }
-  });
-  if (direct >= 0) ::close(direct);
-  if (const int err = failed.load()) return err;
+      }
+    });
+    failed_with = failed.load();
+  } catch (const std::bad_alloc&) {
+    return ENOMEM;
+  }
+  if (failed_with) return failed_with;
   return ::fsync(fd) != 0 ? errno : 0;
 }
 
@@ -417,16 +449,12 @@ void write_file_atomic(const std::string& path, const std::vector<ByteSpan>& byt
   // Preferred: an unnamed temporary (O_TMPFILE). Until it is linked it has no name, so a writer
   // killed while writing (SIGKILL, power loss) leaves nothing behind; it gets its temporary name
   // only for the instant between the link and the rename.
-  int fd = ::open(dir.c_str(), O_TMPFILE | O_RDWR | O_CLOEXEC, 0644);  // read too: mapped
-  if (fd >= 0) {
-    if (const int err = write_unnamed_and_sync(fd, bytes)) {
-      ::close(fd);
-      fail("write failed", err);
-    }
-    const std::string self = "/proc/self/fd/" + std::to_string(fd);
+  UniqueFd fd(::open(dir.c_str(), O_TMPFILE | O_RDWR | O_CLOEXEC, 0644));  // read too: mapped
+  if (fd.get() >= 0) {
+    if (const int err = write_unnamed_and_sync(fd.get(), bytes)) fail("write failed", err);
+    const std::string self = "/proc/self/fd/" + std::to_string(fd.get());
     const bool linked = ::linkat(AT_FDCWD, self.c_str(), AT_FDCWD, tmp.c_str(), AT_SYMLINK_FOLLOW) == 0;
-    if (::close(fd) != 0) {  // checked as the named temporary's close below is
-      const int err = errno;
+    if (const int err = fd.close()) {  // checked as the named temporary's close below is
       if (linked) ::unlink(tmp.c_str());
       fail("write failed", err);
     }
