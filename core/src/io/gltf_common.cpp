@@ -314,6 +314,7 @@ int write_parallel(int fd, const std::vector<ByteSpan>& parts, std::size_t total
     };
     parallel_for((total + kPiece - 1) / kPiece, 1, [&](std::size_t first, std::size_t last) {
       for (std::size_t piece = first; piece < last; ++piece) {
+        if (failed.load(std::memory_order_relaxed)) return;  // the write has failed: stop writing
         const std::size_t begin = piece * kPiece, end = std::min(total, begin + kPiece);
         std::size_t mid = std::min(end, std::max(begin, direct_end));  // [begin, mid) direct
         if (mid > begin && direct_refused) mid = begin;
