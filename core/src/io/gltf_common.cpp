@@ -2,8 +2,10 @@
 #include "io/gltf_common.h"
 
 #include <fcntl.h>
+#include <linux/magic.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
+#include <sys/vfs.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -277,11 +279,23 @@ std::size_t direct_block(int fd) {
 #endif
 }
 
+// Whether `fd`'s file system keeps the blocks fallocate reserved for the file until they are
+// written (ext4, xfs, tmpfs): only there is a mapped fill kept from faulting for want of space.
+// Copy-on-write file systems (btrfs, ZFS, bcachefs) write every block anew and may find no room
+// then, and FUSE promises nothing; a fault that fails there kills the process (SIGBUS).
+bool keeps_reserved_blocks(int fd) {
+  struct statfs fs {};
+  if (::fstatfs(fd, &fs) != 0) return false;
+  const auto type = static_cast<unsigned long>(fs.f_type);
+  return type == EXT4_SUPER_MAGIC || type == XFS_SUPER_MAGIC || type == TMPFS_MAGIC;
+}
+
 // What the pieces of one parallel write share.
 struct ParallelWrite {
   int fd;                                  // the temporary
   int direct;                              // the same file opened O_DIRECT, or -1
   std::size_t block;                       // the alignment of direct writes (when direct >= 0)
+  bool map;                                // fill through a mapping (else pwrite)
   const std::vector<ByteSpan>& parts;      // the file's bytes
   const std::vector<std::size_t>& starts;  // the file offset of each part, then the total
   std::atomic<bool> direct_refused{false};  // EINVAL once: the rest goes through the pages
@@ -336,7 +350,9 @@ int write_piece_pwrite(const ParallelWrite& w, std::size_t begin, std::size_t en
 // side depends on the kernel: ext4 before about Linux 6.5 takes the file's lock exclusively for a
 // direct write into unwritten extents, so there they go one at a time). The rest of it (the
 // file's last partial block, or all of it where the file system takes no direct writes) is filled
-// through a shared mapping of the file, else with pwrite, and handed to the disk at once
+// through a shared mapping of the file where the file system keeps the reserved blocks
+// (keeps_reserved_blocks: a fault there finds its block; only a failing disk could still make it
+// fail, with SIGBUS), else with pwrite, and handed to the disk at once
 // (sync_file_range, a hint; the fsync after it decides). Returns errno on failure, 0 on success,
 // and -1 when the file cannot be reserved for a reason other than space (the caller then writes
 // it the plain way; the file is empty again).
@@ -359,7 +375,7 @@ int write_parallel(int fd, const std::vector<ByteSpan>& parts, std::size_t total
 #endif
     const UniqueFd direct(opened);  // nothing throws between the open and here
     const std::size_t direct_end = direct.get() >= 0 ? total / block * block : 0;  // direct writes end there
-    ParallelWrite w{fd, direct.get(), block, parts, starts};
+    ParallelWrite w{fd, direct.get(), block, keeps_reserved_blocks(fd), parts, starts};
     parallel_for((total + kPiece - 1) / kPiece, 1, [&](std::size_t first, std::size_t last) {
       for (std::size_t piece = first; piece < last; ++piece) {
         if (w.failed.load(std::memory_order_relaxed)) return;  // the write has failed: stop writing
@@ -375,7 +391,7 @@ int write_parallel(int fd, const std::vector<ByteSpan>& parts, std::size_t total
             at = to;
         }
         if (at == end) continue;
-        if (!write_piece_mapped(w, at, end))
+        if (!w.map || !write_piece_mapped(w, at, end))
           if (const int err = write_piece_pwrite(w, at, end)) return w.fail(err);
 #ifdef SYNC_FILE_RANGE_WRITE
         ::sync_file_range(fd, static_cast<off_t>(at), static_cast<off_t>(end - at), SYNC_FILE_RANGE_WRITE);
