@@ -290,6 +290,11 @@ bool keeps_reserved_blocks(int fd) {
   return type == EXT4_SUPER_MAGIC || type == XFS_SUPER_MAGIC || type == TMPFS_MAGIC;
 }
 
+std::atomic<unsigned> forced_fill_way{0};  // a FillWay (the test seam)
+std::atomic<unsigned> fill_ways{0};        // FillWay bits of the last unnamed temporary
+
+void took(FillWay way) { fill_ways.fetch_or(static_cast<unsigned>(way), std::memory_order_relaxed); }
+
 // What the pieces of one parallel write share.
 struct ParallelWrite {
   int fd;                                  // the temporary
@@ -355,8 +360,8 @@ int write_piece_pwrite(const ParallelWrite& w, std::size_t begin, std::size_t en
 // fail, with SIGBUS), else with pwrite, and handed to the disk at once
 // (sync_file_range, a hint; the fsync after it decides). Returns errno on failure, 0 on success,
 // and -1 when the file cannot be reserved for a reason other than space (the caller then writes
-// it the plain way; the file is empty again).
-int write_parallel(int fd, const std::vector<ByteSpan>& parts, std::size_t total) {
+// it the plain way; the file is empty again). `way`: Auto, or the way the test seam forces.
+int write_parallel(int fd, const std::vector<ByteSpan>& parts, std::size_t total, FillWay way) {
   if (::fallocate(fd, 0, 0, static_cast<off_t>(total)) != 0) {
     const int err = errno;
     if (err == ENOSPC || err == EDQUOT || err == EFBIG) return err;
@@ -368,14 +373,15 @@ int write_parallel(int fd, const std::vector<ByteSpan>& parts, std::size_t total
   try {
     std::vector<std::size_t> starts(parts.size() + 1, 0);
     for (std::size_t i = 0; i < parts.size(); ++i) starts[i + 1] = starts[i] + parts[i].size;
-    const std::size_t block = direct_block(fd);
+    const std::size_t block = way == FillWay::Auto || way == FillWay::Direct ? direct_block(fd) : 0;
     int opened = -1;
 #ifdef O_DIRECT
     if (block > 0) opened = ::open(("/proc/self/fd/" + std::to_string(fd)).c_str(), O_WRONLY | O_DIRECT | O_CLOEXEC);
 #endif
     const UniqueFd direct(opened);  // nothing throws between the open and here
     const std::size_t direct_end = direct.get() >= 0 ? total / block * block : 0;  // direct writes end there
-    ParallelWrite w{fd, direct.get(), block, keeps_reserved_blocks(fd), parts, starts};
+    const bool map = way == FillWay::Mapped || (way != FillWay::Pwrite && keeps_reserved_blocks(fd));
+    ParallelWrite w{fd, direct.get(), block, map, parts, starts};
     parallel_for((total + kPiece - 1) / kPiece, 1, [&](std::size_t first, std::size_t last) {
       for (std::size_t piece = first; piece < last; ++piece) {
         if (w.failed.load(std::memory_order_relaxed)) return;  // the write has failed: stop writing
@@ -383,16 +389,22 @@ int write_parallel(int fd, const std::vector<ByteSpan>& parts, std::size_t total
         std::size_t at = begin;  // [begin, at) is written
         if (const std::size_t to = std::min(end, std::max(begin, direct_end)); to > begin && !w.direct_refused) {
           const int err = write_piece_direct(w, begin, to);
-          if (err == EINVAL || err == EOPNOTSUPP || err == ENOMEM)  // this piece and the next ones through the pages
-            w.direct_refused = true;
-          else if (err)
-            return w.fail(err);
-          else
+          if (err == 0) {
             at = to;
+            took(FillWay::Direct);
+          } else if (err == EINVAL || err == EOPNOTSUPP || err == ENOMEM) {
+            w.direct_refused = true;  // this piece and the next ones through the pages
+          } else {
+            return w.fail(err);
+          }
         }
         if (at == end) continue;
-        if (!w.map || !write_piece_mapped(w, at, end))
+        if (w.map && write_piece_mapped(w, at, end)) {
+          took(FillWay::Mapped);
+        } else {
           if (const int err = write_piece_pwrite(w, at, end)) return w.fail(err);
+          took(FillWay::Pwrite);
+        }
 #ifdef SYNC_FILE_RANGE_WRITE
         ::sync_file_range(fd, static_cast<off_t>(at), static_cast<off_t>(end - at), SYNC_FILE_RANGE_WRITE);
 #endif
@@ -415,8 +427,11 @@ int write_parallel(int fd, const std::vector<ByteSpan>& parts, std::size_t total
 int write_unnamed_and_sync(int fd, const std::vector<ByteSpan>& parts) {
   std::size_t total = 0;
   for (const ByteSpan& part : parts) total += part.size;
-  if (total > kPiece && thread_count() > 1)
-    if (const int err = write_parallel(fd, parts, total); err >= 0) return err;
+  const auto way = static_cast<FillWay>(forced_fill_way.load());
+  fill_ways = 0;
+  if (way != FillWay::Plain && total > kPiece && thread_count() > 1)
+    if (const int err = write_parallel(fd, parts, total, way); err >= 0) return err;
+  took(FillWay::Plain);
   return write_all_and_sync(fd, parts);
 }
 
@@ -522,6 +537,10 @@ void write_file_atomic(const std::string& path, const std::vector<ByteSpan>& byt
   }
   replace();
 }
+
+void force_fill_way(FillWay way) { forced_fill_way = static_cast<unsigned>(way); }
+
+unsigned last_fill_ways() { return fill_ways.load(); }
 
 bool has_extension(const std::string& path, const char* ext) {
   std::string e = std::filesystem::path(path).extension().string();
