@@ -2,8 +2,11 @@
 // Nothing lost (issue 10): a writer killed at any moment leaves the target either absent or the
 // previous complete file, never a partial one, and never leaves a partial temporary behind.
 #include <fcntl.h>
+#include <linux/magic.h>
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/vfs.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -24,6 +27,7 @@
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/parallel.h"
 #include "io/gltf_common.h"
+#include "thread_count.h"
 #include "tools.h"
 
 namespace deepcut {
@@ -179,10 +183,9 @@ void check_spans(const std::string& dir) {
       {1, 1, 8 * MiB - 2, 2},                // many spans inside the first piece, one past the second
       {8 * MiB},                             // whole pieces only, no partial block at the end
   };
-  const std::size_t threads = thread_count();
   std::uint32_t seed = 1;
   for (const std::size_t t : {std::size_t(1), std::size_t(3)}) {
-    set_thread_count(t);
+    const test::ThreadCount threads(t);
     for (const auto& sizes : layouts) {
       std::vector<std::vector<unsigned char>> spans;
       std::string expected;
@@ -199,7 +202,6 @@ void check_spans(const std::string& dir) {
       EXPECT_TRUE(other_files(dir, {"out.bin"}).empty()) << "a temporary was left behind";
     }
   }
-  set_thread_count(threads);
   // Written twice to the same path, the second content is what the file holds.
   const std::vector<unsigned char> first = pattern(17 * MiB + 7, 100), second = pattern(3 * MiB + 11, 200);
   gltf_detail::write_file_atomic(target, first);
@@ -243,6 +245,142 @@ TEST(AtomicWriteTest, a_write_into_a_read_only_folder_fails_with_an_error_naming
   EXPECT_FALSE(fs::exists(target));
   ::chmod(dir.c_str(), 0755);
   EXPECT_TRUE(other_files(dir, {}).empty()) << "a temporary was left behind";
+  fs::remove_all(dir);
+}
+
+// Forces one way of filling the unnamed temporary for a scope (the test seam), then Auto again.
+class ForcedFillWay {
+ public:
+  explicit ForcedFillWay(gltf_detail::FillWay way) { gltf_detail::force_fill_way(way); }
+  ~ForcedFillWay() { gltf_detail::force_fill_way(gltf_detail::FillWay::Auto); }
+  ForcedFillWay(const ForcedFillWay&) = delete;
+  ForcedFillWay& operator=(const ForcedFillWay&) = delete;
+};
+
+// Whether a regular file in `dir` takes direct writes the parallel write can use (STATX_DIOALIGN
+// reported, and a block 4 MiB is a multiple of).
+bool takes_direct_writes(const std::string& dir) {
+#if defined(STATX_DIOALIGN) && defined(O_DIRECT)
+  const std::string probe = dir + "/probe";
+  { std::ofstream(probe) << "x"; }
+  struct statx sx {};
+  const bool ok = ::statx(AT_FDCWD, probe.c_str(), 0, STATX_DIOALIGN, &sx) == 0 && (sx.stx_mask & STATX_DIOALIGN) &&
+                  sx.stx_dio_offset_align != 0 && sx.stx_dio_mem_align != 0 &&
+                  (std::size_t(4) << 20) % sx.stx_blksize == 0;
+  fs::remove(probe);
+  return ok;
+#else
+  (void)dir;
+  return false;
+#endif
+}
+// Whether `dir`'s file system keeps reserved blocks (ext4, xfs, tmpfs: the pieces are mapped there).
+bool keeps_reserved_blocks(const std::string& dir) {
+  struct statfs sf {};
+  if (::statfs(dir.c_str(), &sf) != 0) return false;
+  const auto type = static_cast<unsigned long>(sf.f_type);
+  return type == EXT4_SUPER_MAGIC || type == XFS_SUPER_MAGIC || type == TMPFS_MAGIC;
+}
+
+// Each way of filling the temporary (forced through the test seam) writes the same bytes, and is
+// the way that ran: straight to the disk, through mappings, with pwrite, or in one stream.
+TEST(AtomicWriteTest, each_way_of_filling_the_temporary_is_the_one_taken_and_writes_the_same_bytes) {
+  using gltf_detail::FillWay;
+  const std::string dir = test::temp_dir("atomic-ways");
+  const std::string target = dir + "/out.bin";
+  constexpr std::size_t MiB = std::size_t(1) << 20;
+  const test::ThreadCount threads(3);
+  // Three pieces, spans crossing them at odd places, the last block partial.
+  std::vector<std::vector<unsigned char>> spans = {pattern(1, 1), pattern(5 * MiB - 7, 2), pattern(3 * MiB + 13, 3),
+                                                   pattern(2 * MiB + 1, 4)};
+  std::string expected;
+  std::vector<gltf_detail::ByteSpan> parts;
+  for (const auto& s : spans) {
+    expected.append(s.begin(), s.end());
+    parts.push_back({s.data(), s.size()});
+  }
+  const bool direct = takes_direct_writes(dir), mapped = keeps_reserved_blocks(dir);
+  const unsigned tail = mapped ? unsigned(FillWay::Mapped) : unsigned(FillWay::Pwrite);  // the partial block
+  const unsigned auto_ways = direct ? unsigned(FillWay::Direct) | tail : tail;
+  const std::pair<FillWay, unsigned> cases[] = {{FillWay::Auto, auto_ways},
+                                                {FillWay::Direct, auto_ways},
+                                                {FillWay::Mapped, unsigned(FillWay::Mapped)},
+                                                {FillWay::Pwrite, unsigned(FillWay::Pwrite)},
+                                                {FillWay::Plain, unsigned(FillWay::Plain)}};
+  for (const auto& [way, ways] : cases) {
+    std::remove(target.c_str());
+    {
+      const ForcedFillWay forced(way);
+      gltf_detail::write_file_atomic(target, parts);
+    }
+    EXPECT_EQ(gltf_detail::last_fill_ways(), ways) << "forced " << unsigned(way) << " on " << dir;
+    EXPECT_EQ(fs::file_size(target), expected.size());
+    EXPECT_TRUE(read_bytes(target) == expected) << "forced " << unsigned(way);
+    EXPECT_TRUE(other_files(dir, {"out.bin"}).empty()) << "a temporary was left behind";
+  }
+  std::printf("[atomic] %s: direct writes %s, mapped %s\n", dir.c_str(), direct ? "yes" : "no", mapped ? "yes" : "no");
+  fs::remove_all(dir);
+}
+
+// The descriptors this process has open.
+std::size_t open_descriptors() {
+  std::size_t n = 0;
+  for ([[maybe_unused]] const auto& entry : fs::directory_iterator("/proc/self/fd")) ++n;
+  return n;
+}
+
+// The file size limit (RLIMIT_FSIZE) set to `bytes` for a scope, SIGXFSZ ignored so that going
+// past it is an EFBIG error, not the end of the process; both restored after.
+class FileSizeLimit {
+ public:
+  explicit FileSizeLimit(rlim_t bytes) {
+    ::getrlimit(RLIMIT_FSIZE, &saved_);
+    old_handler_ = ::signal(SIGXFSZ, SIG_IGN);
+    struct rlimit limit = saved_;
+    limit.rlim_cur = bytes;
+    set_ = ::setrlimit(RLIMIT_FSIZE, &limit) == 0;
+  }
+  ~FileSizeLimit() {
+    ::setrlimit(RLIMIT_FSIZE, &saved_);
+    ::signal(SIGXFSZ, old_handler_);
+  }
+  FileSizeLimit(const FileSizeLimit&) = delete;
+  FileSizeLimit& operator=(const FileSizeLimit&) = delete;
+  bool set() const { return set_; }
+
+ private:
+  struct rlimit saved_ {};
+  sighandler_t old_handler_ = SIG_DFL;
+  bool set_ = false;
+};
+
+// A write the file system refuses partway (EFBIG past the file size limit, as a full disk would
+// be) fails with an Error naming the path; the old file stays, and no temporary or descriptor
+// is left behind.
+TEST(AtomicWriteTest, a_parallel_write_past_the_file_size_limit_fails_naming_the_path_and_leaves_the_old_file) {
+  const std::string dir = test::temp_dir("atomic-efbig");
+  const std::string target = dir + "/out.bin";
+  constexpr std::size_t MiB = std::size_t(1) << 20;
+  const test::ThreadCount threads(3);
+  const std::vector<unsigned char> old = pattern(1000, 7), big = pattern(8 * MiB, 8);
+  gltf_detail::write_file_atomic(target, old);
+  const std::size_t descriptors = open_descriptors();
+  bool threw = false;
+  {
+    const FileSizeLimit limit(6 * MiB);
+    ASSERT_TRUE(limit.set());
+    try {
+      gltf_detail::write_file_atomic(target, big);
+    } catch (const Error& e) {
+      threw = true;
+      EXPECT_EQ(e.code(), ErrorCode::Io);
+      EXPECT_NE(std::string(e.what()).find(target), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_TRUE(threw) << "no Error for a write past the file size limit";
+  EXPECT_TRUE(read_bytes(target) == std::string(old.begin(), old.end())) << "the old file was not kept";
+  EXPECT_TRUE(other_files(dir, {"out.bin"}).empty()) << "a temporary was left behind";
+  EXPECT_EQ(open_descriptors(), descriptors) << "a descriptor was left open";
   fs::remove_all(dir);
 }
 

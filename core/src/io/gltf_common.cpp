@@ -2,8 +2,10 @@
 #include "io/gltf_common.h"
 
 #include <fcntl.h>
+#include <linux/magic.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
+#include <sys/vfs.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -14,9 +16,11 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <new>
 #include <random>
 #include <system_error>
 #include <thread>
+#include <utility>
 
 #include "deepcut/core/errors.h"
 #include "deepcut/core/parallel.h"
@@ -167,6 +171,27 @@ void FileBytes::open(const std::string& path, std::size_t max_bytes) {
 
 namespace {
 
+// An owned file descriptor (-1: none), closed when it goes out of scope: a throw between the
+// open and the close cannot leak it.
+class UniqueFd {
+ public:
+  explicit UniqueFd(int fd = -1) noexcept : fd_(fd) {}
+  UniqueFd(const UniqueFd&) = delete;
+  UniqueFd& operator=(const UniqueFd&) = delete;
+  ~UniqueFd() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  int get() const noexcept { return fd_; }
+  // Closes it now; returns errno when the close fails, else 0.
+  int close() noexcept {
+    const int fd = std::exchange(fd_, -1);
+    return fd >= 0 && ::close(fd) != 0 ? errno : 0;
+  }
+
+ private:
+  int fd_;
+};
+
 // Writes the `size` bytes at `data` where the file stands; returns errno on failure, 0 on success.
 int write_range(int fd, const unsigned char* data, std::size_t size) {
   std::size_t done = 0;
@@ -207,8 +232,10 @@ int write_all_and_sync(int fd, const std::vector<ByteSpan>& parts) {
   return ::fsync(fd) != 0 ? errno : 0;
 }
 
-// The parallel write: files of at least two pieces, written by more than one thread.
-constexpr std::size_t kPiece = std::size_t(4) << 20;  // a multiple of any page and block size
+// The parallel write: files of at least two pieces, written by more than one thread. 4 MiB is a
+// multiple of the page size and of the usual block sizes, not of every one: direct_block checks it
+// against the file's.
+constexpr std::size_t kPiece = std::size_t(4) << 20;
 
 // The file's bytes [from, to) as consecutive `parts` starting at the offsets `starts`: calls
 // `fn(offset, data, size)` for each run of them in order.
@@ -252,96 +279,159 @@ std::size_t direct_block(int fd) {
 #endif
 }
 
+// Whether `fd`'s file system keeps the blocks fallocate reserved for the file until they are
+// written (ext4, xfs, tmpfs): only there is a mapped fill kept from faulting for want of space.
+// Copy-on-write file systems (btrfs, ZFS, bcachefs) write every block anew and may find no room
+// then, and FUSE promises nothing; a fault that fails there kills the process (SIGBUS).
+bool keeps_reserved_blocks(int fd) {
+  struct statfs fs {};
+  if (::fstatfs(fd, &fs) != 0) return false;
+  const auto type = static_cast<unsigned long>(fs.f_type);
+  return type == EXT4_SUPER_MAGIC || type == XFS_SUPER_MAGIC || type == TMPFS_MAGIC;
+}
+
+std::atomic<unsigned> forced_fill_way{0};  // a FillWay (the test seam)
+std::atomic<unsigned> fill_ways{0};        // FillWay bits of the last unnamed temporary
+
+void took(FillWay way) { fill_ways.fetch_or(static_cast<unsigned>(way), std::memory_order_relaxed); }
+
+// What the pieces of one parallel write share.
+struct ParallelWrite {
+  int fd;                                  // the temporary
+  int direct;                              // the same file opened O_DIRECT, or -1
+  std::size_t block;                       // the alignment of direct writes (when direct >= 0)
+  bool map;                                // fill through a mapping (else pwrite)
+  const std::vector<ByteSpan>& parts;      // the file's bytes
+  const std::vector<std::size_t>& starts;  // the file offset of each part, then the total
+  std::atomic<bool> direct_refused{false};  // EINVAL once: the rest goes through the pages
+  std::atomic<int> failed{0};               // the first error, 0 while none
+  void fail(int err) {
+    int expected = 0;
+    failed.compare_exchange_strong(expected, err);
+  }
+};
+
+// Writes the file's bytes [begin, end) (whole blocks) straight to the disk through an aligned copy
+// of them; returns errno on failure, ENOMEM when no copy can be had, 0 on success.
+int write_piece_direct(const ParallelWrite& w, std::size_t begin, std::size_t end) {
+  struct Free {
+    void operator()(unsigned char* p) const { std::free(p); }
+  };
+  const std::unique_ptr<unsigned char, Free> copy(static_cast<unsigned char*>(std::aligned_alloc(w.block, end - begin)));
+  if (!copy) return ENOMEM;
+  each_run(w.parts, w.starts, begin, end, [&](std::size_t at, const unsigned char* data, std::size_t size) {
+    std::memcpy(copy.get() + (at - begin), data, size);
+  });
+  return pwrite_all(w.direct, copy.get(), end - begin, begin);
+}
+
+// Fills the file's bytes [begin, end) (`begin` page-aligned) through a shared mapping of them;
+// false when they cannot be mapped (nothing was written then).
+bool write_piece_mapped(const ParallelWrite& w, std::size_t begin, std::size_t end) {
+  void* map = ::mmap(nullptr, end - begin, PROT_READ | PROT_WRITE, MAP_SHARED, w.fd, static_cast<off_t>(begin));
+  if (map == MAP_FAILED) return false;
+  auto* out = static_cast<unsigned char*>(map);
+  each_run(w.parts, w.starts, begin, end, [&](std::size_t at, const unsigned char* data, std::size_t size) {
+    std::memcpy(out + (at - begin), data, size);
+  });
+  ::munmap(map, end - begin);
+  return true;
+}
+
+// Writes the file's bytes [begin, end) with pwrite; returns errno on failure, 0 on success.
+int write_piece_pwrite(const ParallelWrite& w, std::size_t begin, std::size_t end) {
+  int err = 0;
+  each_run(w.parts, w.starts, begin, end, [&](std::size_t at, const unsigned char* data, std::size_t size) {
+    if (!err) err = pwrite_all(w.fd, data, size, at);
+  });
+  return err;
+}
+
 // Writes `parts` (`total` bytes) into `fd` (empty, its offset 0) in pieces of kPiece bytes, one
 // task each, in parallel: a write() copies into the file's pages under the file's lock, one
 // writer at a time. The file's blocks are reserved first (fallocate). Then each piece goes, as
-// far as it spans whole blocks, straight to the disk (O_DIRECT, through an aligned copy of it:
-// direct writes into reserved blocks run side by side, and no page of the file is filled or
-// zeroed); the rest of it (the file's last partial block, or all of it where the file system
-// takes no direct writes) is filled through a shared mapping of the file (a fault cannot fail
-// for want of space, the blocks are reserved), else with pwrite, and handed to the disk at once
+// far as it spans whole blocks, straight to the disk (O_DIRECT, through an aligned copy of it: no
+// page of the file is filled or zeroed; whether direct writes into reserved blocks run side by
+// side depends on the kernel: ext4 before about Linux 6.5 takes the file's lock exclusively for a
+// direct write into unwritten extents, so there they go one at a time). The rest of it (the
+// file's last partial block, or all of it where the file system takes no direct writes) is filled
+// through a shared mapping of the file where the file system keeps the reserved blocks
+// (keeps_reserved_blocks: a fault there finds its block; only a failing disk could still make it
+// fail, with SIGBUS), else with pwrite, and handed to the disk at once
 // (sync_file_range, a hint; the fsync after it decides). Returns errno on failure, 0 on success,
 // and -1 when the file cannot be reserved for a reason other than space (the caller then writes
-// it the plain way; the file is empty again).
-int write_parallel(int fd, const std::vector<ByteSpan>& parts, std::size_t total) {
+// it the plain way; the file is empty again). `way`: Auto, or the way the test seam forces.
+int write_parallel(int fd, const std::vector<ByteSpan>& parts, std::size_t total, FillWay way) {
   if (::fallocate(fd, 0, 0, static_cast<off_t>(total)) != 0) {
     const int err = errno;
     if (err == ENOSPC || err == EDQUOT || err == EFBIG) return err;
     return ::ftruncate(fd, 0) == 0 ? -1 : errno;
   }
-  std::vector<std::size_t> starts(parts.size() + 1, 0);  // the file offset of each part
-  for (std::size_t i = 0; i < parts.size(); ++i) starts[i + 1] = starts[i] + parts[i].size;
-  std::size_t block = direct_block(fd);
-  int direct = -1;
+  // Out of memory here (the offsets, the /proc name, the pool's bookkeeping) is a failed write
+  // like any other: the caller reports it naming the file, and the descriptors are closed.
+  int failed_with = 0;
+  try {
+    std::vector<std::size_t> starts(parts.size() + 1, 0);
+    for (std::size_t i = 0; i < parts.size(); ++i) starts[i + 1] = starts[i] + parts[i].size;
+    const std::size_t block = way == FillWay::Auto || way == FillWay::Direct ? direct_block(fd) : 0;
+    int opened = -1;
 #ifdef O_DIRECT
-  if (block > 0) direct = ::open(("/proc/self/fd/" + std::to_string(fd)).c_str(), O_WRONLY | O_DIRECT | O_CLOEXEC);
+    if (block > 0) opened = ::open(("/proc/self/fd/" + std::to_string(fd)).c_str(), O_WRONLY | O_DIRECT | O_CLOEXEC);
 #endif
-  const std::size_t direct_end = direct >= 0 ? total / block * block : 0;  // direct writes end there
-  std::atomic<bool> direct_refused{false};  // EINVAL once: the rest goes through the pages
-  std::atomic<int> failed{0};
-  auto fail = [&](int err) {
-    int expected = 0;
-    failed.compare_exchange_strong(expected, err);
-  };
-  parallel_for((total + kPiece - 1) / kPiece, 1, [&](std::size_t first, std::size_t last) {
-    for (std::size_t piece = first; piece < last; ++piece) {
-      const std::size_t begin = piece * kPiece, end = std::min(total, begin + kPiece);
-      std::size_t mid = std::min(end, std::max(begin, direct_end));  // [begin, mid) direct
-      if (mid > begin && direct_refused) mid = begin;
-      if (mid > begin) {
-        struct Free {
-          void operator()(unsigned char* p) const { std::free(p); }
-        };
-        std::unique_ptr<unsigned char, Free> copy(static_cast<unsigned char*>(std::aligned_alloc(block, mid - begin)));
-        int err = copy ? 0 : ENOMEM;
-        if (copy) {
-          each_run(parts, starts, begin, mid, [&](std::size_t at, const unsigned char* data, std::size_t size) {
-            std::memcpy(copy.get() + (at - begin), data, size);
-          });
-          err = pwrite_all(direct, copy.get(), mid - begin, begin);
+    const UniqueFd direct(opened);  // nothing throws between the open and here
+    const std::size_t direct_end = direct.get() >= 0 ? total / block * block : 0;  // direct writes end there
+    const bool map = way == FillWay::Mapped || (way != FillWay::Pwrite && keeps_reserved_blocks(fd));
+    ParallelWrite w{fd, direct.get(), block, map, parts, starts};
+    parallel_for((total + kPiece - 1) / kPiece, 1, [&](std::size_t first, std::size_t last) {
+      for (std::size_t piece = first; piece < last; ++piece) {
+        if (w.failed.load(std::memory_order_relaxed)) return;  // the write has failed: stop writing
+        const std::size_t begin = piece * kPiece, end = std::min(total, begin + kPiece);
+        std::size_t at = begin;  // [begin, at) is written
+        if (const std::size_t to = std::min(end, std::max(begin, direct_end)); to > begin && !w.direct_refused) {
+          const int err = write_piece_direct(w, begin, to);
+          if (err == 0) {
+            at = to;
+            took(FillWay::Direct);
+          } else if (err == EINVAL || err == EOPNOTSUPP || err == ENOMEM) {
+            w.direct_refused = true;  // this piece and the next ones through the pages
+          } else {
+            return w.fail(err);
+          }
         }
-        if (err == EINVAL || err == EOPNOTSUPP || err == ENOMEM) {  // this piece and the next ones through the pages
-          direct_refused = true;
-          mid = begin;
-        } else if (err) {
-          return fail(err);
+        if (at == end) continue;
+        if (w.map && write_piece_mapped(w, at, end)) {
+          took(FillWay::Mapped);
+        } else {
+          if (const int err = write_piece_pwrite(w, at, end)) return w.fail(err);
+          took(FillWay::Pwrite);
         }
-      }
-      if (mid == end) continue;
-      // [mid, end) through the file's pages; `mid` is a piece's start or a block's, page-aligned.
-      void* map = ::mmap(nullptr, end - mid, PROT_READ | PROT_WRITE, MAP_SHARED, fd, static_cast<off_t>(mid));
-      if (map != MAP_FAILED) {
-        auto* out = static_cast<unsigned char*>(map);
-        each_run(parts, starts, mid, end, [&](std::size_t at, const unsigned char* data, std::size_t size) {
-          std::memcpy(out + (at - mid), data, size);
-        });
-        ::munmap(map, end - mid);
-      } else {
-        int err = 0;
-        each_run(parts, starts, mid, end, [&](std::size_t at, const unsigned char* data, std::size_t size) {
-          if (!err) err = pwrite_all(fd, data, size, at);
-        });
-        if (err) return fail(err);
-      }
 #ifdef SYNC_FILE_RANGE_WRITE
-      ::sync_file_range(fd, static_cast<off_t>(mid), static_cast<off_t>(end - mid), SYNC_FILE_RANGE_WRITE);
+        ::sync_file_range(fd, static_cast<off_t>(at), static_cast<off_t>(end - at), SYNC_FILE_RANGE_WRITE);
 #endif
-    }
-  });
-  if (direct >= 0) ::close(direct);
-  if (const int err = failed.load()) return err;
+      }
+    });
+    failed_with = w.failed.load();
+  } catch (const std::bad_alloc&) {
+    return ENOMEM;
+  }
+  if (failed_with) return failed_with;
   return ::fsync(fd) != 0 ? errno : 0;
 }
 
 // Writes `parts` to the new unnamed temporary `fd` (open for reading too) and flushes it: in
 // parallel where that pays (write_parallel: more than one piece and more than one thread), else
-// with write(). Only an unnamed temporary is mapped: no other process can open it and shrink it
-// under the mapping (a named one could be truncated by anyone allowed to, and the fill would fault).
+// with write(). Only an unnamed temporary is mapped: no name leads to it, so no other process
+// finds it and shrinks it under the mapping (a named one could be truncated by anyone allowed to,
+// and the fill would fault). A process of the same user could still open it through
+// /proc/<pid>/fd; that is not guarded against.
 int write_unnamed_and_sync(int fd, const std::vector<ByteSpan>& parts) {
   std::size_t total = 0;
   for (const ByteSpan& part : parts) total += part.size;
-  if (total > kPiece && thread_count() > 1)
-    if (const int err = write_parallel(fd, parts, total); err >= 0) return err;
+  const auto way = static_cast<FillWay>(forced_fill_way.load());
+  fill_ways = 0;
+  if (way != FillWay::Plain && total > kPiece && thread_count() > 1)
+    if (const int err = write_parallel(fd, parts, total, way); err >= 0) return err;
+  took(FillWay::Plain);
   return write_all_and_sync(fd, parts);
 }
 
@@ -417,16 +507,12 @@ void write_file_atomic(const std::string& path, const std::vector<ByteSpan>& byt
   // Preferred: an unnamed temporary (O_TMPFILE). Until it is linked it has no name, so a writer
   // killed while writing (SIGKILL, power loss) leaves nothing behind; it gets its temporary name
   // only for the instant between the link and the rename.
-  int fd = ::open(dir.c_str(), O_TMPFILE | O_RDWR | O_CLOEXEC, 0644);  // read too: mapped
-  if (fd >= 0) {
-    if (const int err = write_unnamed_and_sync(fd, bytes)) {
-      ::close(fd);
-      fail("write failed", err);
-    }
-    const std::string self = "/proc/self/fd/" + std::to_string(fd);
+  UniqueFd fd(::open(dir.c_str(), O_TMPFILE | O_RDWR | O_CLOEXEC, 0644));  // read too: mapped
+  if (fd.get() >= 0) {
+    if (const int err = write_unnamed_and_sync(fd.get(), bytes)) fail("write failed", err);
+    const std::string self = "/proc/self/fd/" + std::to_string(fd.get());
     const bool linked = ::linkat(AT_FDCWD, self.c_str(), AT_FDCWD, tmp.c_str(), AT_SYMLINK_FOLLOW) == 0;
-    if (::close(fd) != 0) {  // checked as the named temporary's close below is
-      const int err = errno;
+    if (const int err = fd.close()) {  // checked as the named temporary's close below is
       if (linked) ::unlink(tmp.c_str());
       fail("write failed", err);
     }
@@ -451,6 +537,10 @@ void write_file_atomic(const std::string& path, const std::vector<ByteSpan>& byt
   }
   replace();
 }
+
+void force_fill_way(FillWay way) { forced_fill_way = static_cast<unsigned>(way); }
+
+unsigned last_fill_ways() { return fill_ways.load(); }
 
 bool has_extension(const std::string& path, const char* ext) {
   std::string e = std::filesystem::path(path).extension().string();

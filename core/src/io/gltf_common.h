@@ -54,7 +54,8 @@ class FileBytes {
 // writer killed mid-write leaves a hidden `.<name>.tmp<number>` beside the target. A large unnamed
 // temporary is written by the pool's threads in parallel pieces, its blocks reserved first, each
 // piece straight to the disk (O_DIRECT) where the file system allows, else through a mapping of
-// the file; anything else is written in one stream. The bytes go to the disk as they are
+// the file where the file system keeps reserved blocks (ext4, xfs, tmpfs), else with pwrite;
+// anything else is written in one stream. The bytes go to the disk as they are
 // written and the fsync before the rename waits for the rest; the file replaced is let go on a
 // thread of its own (freeing a large file's pages takes long). The folder is flushed after the
 // rename, so a crash cannot bring the old file back; when only that flush fails the Error says
@@ -67,6 +68,16 @@ struct ByteSpan {
   std::size_t size;
 };
 void write_file_atomic(const std::string& path, const std::vector<ByteSpan>& parts);
+
+// Test seam, for tests only: the ways write_file_atomic fills an unnamed temporary. Auto chooses
+// as described above. Direct, Mapped and Pwrite force that way for the pieces where the parallel
+// write runs (Direct: as far as the file system takes direct writes, the rest as Auto would;
+// Mapped: on any file system); Plain forces the one stream. Not thread-safe against concurrent
+// writes; a test sets it back to Auto when done.
+enum class FillWay : unsigned { Auto = 0, Direct = 1, Mapped = 2, Pwrite = 4, Plain = 8 };
+void force_fill_way(FillWay way);
+// The ways (FillWay bits) the last unnamed temporary written was filled in; 0 when none was.
+unsigned last_fill_ways();
 
 // "file.glb" -> true (case-insensitive extension test).
 bool has_extension(const std::string& path, const char* ext);
