@@ -11,23 +11,10 @@
 #include <vector>
 
 #include "deepcut/core/parallel.h"
+#include "parallel_beside.h"
 #include "uninit_vector.h"
 
 namespace deepcut::detail {
-
-/// parallel_for(n, grain, fn) and `beside()` in one job, `beside` first (the calling thread
-/// takes it): a piece of serial work that the chunks do not need, such as sizing a std::vector
-/// (which writes every element on one thread), overlaps the chunks the other threads share
-/// instead of running before them. On one thread: `beside`, then the chunks in order.
-template <class Fn, class Beside>
-void parallel_for_beside(std::size_t n, std::size_t grain, Fn&& fn, Beside&& beside) {
-  if (grain == 0) grain = 1;
-  const std::size_t chunks = (n + grain - 1) / grain;
-  run_chunks(chunks + 1, [&](std::size_t c) {
-    if (c == 0) return static_cast<void>(beside());
-    fn((c - 1) * grain, std::min(n, c * grain));
-  });
-}
 
 /// An exclusive prefix sum over the pool: calls put(i, sum of count(j) for j < i) for every i in
 /// [0, n) and returns the total. count(i) is read before put(i) (so both may use one slot) and

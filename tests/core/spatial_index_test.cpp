@@ -8,6 +8,7 @@
 
 #include "deepcut/core/mesh_editor.h"
 #include "csr_fill.h"
+#include "parallel_beside.h"
 #include "deepcut/core/parallel.h"
 #include "fixtures.h"
 #include "sorted_ids.h"
@@ -316,6 +317,29 @@ TEST(SpatialIndexTest, fill_csr_lists_every_cell_in_item_order_for_every_thread_
             << "cell " << c << " of " << cells << ", " << threads << " threads";
     }
   }
+  set_thread_count(saved);
+}
+
+// The grid's serial copies run beside its passes over the faces: the same layout whether they
+// run before every chunk, after every chunk or where the pool puts them, on 1, 2 and 5 threads.
+TEST(SpatialIndexTest, build_lays_out_the_same_grid_whatever_runs_beside_its_passes) {
+  const std::size_t saved = thread_count();
+  SurfaceMesh mesh = test::make_tube(400, 200, 1.0f, 4.0f);  // 160000 faces: five chunks
+  set_thread_count(1);
+  const TriangleGrid one = TriangleGrid::build(mesh, mesh.positions());
+  // Points on the surface, answered from the grid's own copies of the corners and positions.
+  std::vector<glm::vec3> probes;
+  for (std::size_t v = 0; v < mesh.positions().size(); v += 997) probes.push_back(mesh.positions()[v]);
+  const std::vector<FaceId> want = one.query_points(probes);
+  for (const auto order : {detail::BesideOrder::Shared, detail::BesideOrder::First, detail::BesideOrder::Last})
+    for (const std::size_t threads : {1, 2, 5}) {
+      set_thread_count(threads);
+      detail::beside_order_for_tests = order;
+      const TriangleGrid grid = TriangleGrid::build(mesh, mesh.positions());
+      detail::beside_order_for_tests = detail::BesideOrder::Shared;
+      EXPECT_EQ(grid.layout_hash(), one.layout_hash()) << int(order) << ", " << threads << " threads";
+      EXPECT_EQ(grid.query_points(probes), want) << int(order) << ", " << threads << " threads";
+    }
   set_thread_count(saved);
 }
 
