@@ -8,6 +8,7 @@
 
 #include "csr_fill.h"
 #include "deepcut/core/parallel.h"
+#include "parallel_beside.h"
 #include "sorted_ids.h"
 #include "uninit_vector.h"
 
@@ -31,14 +32,13 @@ inline BoundingBox face_box(const std::vector<glm::vec3>& points, const Triangle
   return box;
 }
 
-// The bounds and the summed largest extents of the live faces, folded in chunk order (as
-// parallel_reduce), with `beside()` run beside the chunks (detail::parallel_for_beside).
+// The bounds and the summed largest extents of the live faces, folded in chunk order, with
+// `beside()` run beside the chunks (detail::parallel_reduce_beside).
 template <class Beside>
 Extent face_extent(const SurfaceMesh& mesh, const std::vector<glm::vec3>& points, Beside&& beside) {
   const auto& tris = mesh.faces();
-  std::vector<Extent> parts((tris.size() + kGrain - 1) / kGrain);
-  detail::parallel_for_beside(
-      tris.size(), kGrain,
+  return detail::parallel_reduce_beside(
+      tris.size(), kGrain, Extent(),
       [&](std::size_t b, std::size_t e) {
         Extent part;
         for (std::size_t f = b; f < e; ++f) {
@@ -49,16 +49,15 @@ Extent face_extent(const SurfaceMesh& mesh, const std::vector<glm::vec3>& points
           part.extent_sum += std::max({d.x, d.y, d.z});
           ++part.faces;
         }
-        parts[b / kGrain] = part;
+        return part;
+      },
+      [](Extent acc, const Extent& part) {
+        acc.bounds.add(part.bounds);
+        acc.extent_sum += part.extent_sum;
+        acc.faces += part.faces;
+        return acc;
       },
       beside);
-  Extent acc;
-  for (const Extent& part : parts) {
-    acc.bounds.add(part.bounds);
-    acc.extent_sum += part.extent_sum;
-    acc.faces += part.faces;
-  }
-  return acc;
 }
 
 // The cells a face goes to: the box of cells from cell `lo`, `d` more along each axis.
@@ -141,10 +140,10 @@ TriangleGrid TriangleGrid::build(const SurfaceMesh& mesh, const std::vector<glm:
   const std::size_t slots = tris.size();
   // The grid's copies of the corners and positions, and its live flags, are std::vectors: each
   // is sized or copied on one thread, their pages faulted in over the pool first. Those serial
-  // fills run beside the passes over the faces (the calling thread takes them while the others
-  // share the chunks), not before them: the flags and corners are sized beside the extent pass
-  // (the cell pass, which reads every face's corners, writes both), the positions copied beside
-  // the cell pass.
+  // fills run beside the passes over the faces (usually the calling thread takes them while the
+  // others share the chunks), not before them: the flags and corners are sized beside the extent
+  // pass (the cell pass, which reads every face's corners, writes both), the positions copied
+  // beside the cell pass.
   detail::reserve_prefaulted(grid.alive_, slots, 0);
   detail::reserve_prefaulted(grid.tris_, slots, 0);
   detail::reserve_prefaulted(grid.placed_, points.size(), 0);
