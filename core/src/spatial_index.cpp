@@ -127,6 +127,52 @@ inline glm::ivec3 grid_cell_of(const glm::vec3& p, const glm::vec3& origin, floa
   return c;
 }
 
+
+// Where the build places faces: the grid's origin, cell edge and cell counts.
+struct GridFrame {
+  glm::vec3 origin;
+  float cell;
+  glm::ivec3 dims;
+
+  // The cells of the corners of face `t`'s box.
+  void range(const std::vector<glm::vec3>& points, const Triangle& t, glm::ivec3& lo, glm::ivec3& hi) const {
+    const BoundingBox box = face_box(points, t);
+    lo = grid_cell_of(box.min, origin, cell, dims);
+    hi = grid_cell_of(box.max, origin, cell, dims);
+  }
+  // TriangleGrid::cell_index.
+  std::size_t index(const glm::ivec3& c) const {
+    return (static_cast<std::size_t>(c.z) * static_cast<std::size_t>(dims.y) + static_cast<std::size_t>(c.y)) *
+               static_cast<std::size_t>(dims.x) +
+           static_cast<std::size_t>(c.x);
+  }
+};
+
+// The cell pass: each face's cells into spans[f] (found once: grid_cell_of divides), its corners
+// copied into tris_out[f] and its live flag into alive[f], every face written; `beside()` run
+// beside the chunks. A NaN corner can put a box's x range backwards: such a face (counted live
+// by the extent pass) is filed in no cell and marked dead (as the grid always did).
+template <class Beside>
+void face_cells(const SurfaceMesh& mesh, const std::vector<glm::vec3>& points, const GridFrame& frame,
+                Triangle* tris_out, std::uint8_t* alive, FaceCells* spans, Beside&& beside) {
+  const auto& tris = mesh.faces();
+  detail::parallel_for_beside(
+      tris.size(), kGrain,
+      [&](std::size_t b, std::size_t e) {
+        for (std::size_t f = b; f < e; ++f) {
+          tris_out[f] = tris[f];
+          spans[f] = FaceCells{};
+          alive[f] = 0;
+          if (mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) continue;
+          glm::ivec3 lo, hi;
+          frame.range(points, tris[f], lo, hi);
+          spans[f] = FaceCells::of(lo, hi, frame.index(lo));
+          alive[f] = hi.x >= lo.x;
+        }
+      },
+      beside);
+}
+
 }  // namespace
 
 TriangleGrid TriangleGrid::build(const SurfaceMesh& mesh, const std::vector<glm::vec3>& points,
@@ -165,33 +211,12 @@ TriangleGrid TriangleGrid::build(const SurfaceMesh& mesh, const std::vector<glm:
   grid.origin_ = grid.bounds_.min;
   grid.dims_ = glm::max(glm::ivec3(glm::ceil(size / cell)), glm::ivec3(1));
 
-  // The cells of each live face, found once (cell_of divides) and kept in 8 bytes for the
-  // fill's two passes; a face over more than 256 cells along an axis is found again instead.
-  const glm::vec3 origin = grid.origin_;
-  const glm::ivec3 dims = grid.dims_;
-  auto face_range = [&](std::size_t f, glm::ivec3& lo, glm::ivec3& hi) {
-    const BoundingBox box = face_box(points, tris[f]);
-    lo = grid_cell_of(box.min, origin, cell, dims);
-    hi = grid_cell_of(box.max, origin, cell, dims);
-  };
-  // A NaN corner can put a box's x range backwards: such a face is counted live but filed in no
-  // cell, and marked dead (as the grid always did). Every face's flag is written here.
+  // The cells of each live face, kept in 8 bytes for the fill's two passes; a face over more
+  // than 256 cells along an axis is found again instead.
+  const GridFrame frame{grid.origin_, cell, grid.dims_};
   detail::UninitVector<FaceCells> spans(slots);
-  detail::parallel_for_beside(
-      slots, kGrain,
-      [&](std::size_t b, std::size_t e) {
-        for (std::size_t f = b; f < e; ++f) {
-          grid.tris_[f] = tris[f];
-          spans[f] = FaceCells{};
-          grid.alive_[f] = 0;
-          if (mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) continue;
-          glm::ivec3 lo, hi;
-          face_range(f, lo, hi);
-          spans[f] = FaceCells::of(lo, hi, grid.cell_index(lo.x, lo.y, lo.z));
-          grid.alive_[f] = hi.x >= lo.x;
-        }
-      },
-      [&] { grid.placed_.assign(points.begin(), points.end()); });
+  face_cells(mesh, points, frame, grid.tris_.data(), grid.alive_.data(), spans.data(),
+             [&] { grid.placed_.assign(points.begin(), points.end()); });
   const std::size_t cells = static_cast<std::size_t>(grid.dims_.x) * grid.dims_.y * grid.dims_.z;
   detail::fill_csr(slots, cells, grid.start_, grid.faces_, [&](std::size_t f, auto&& visit) {
     const FaceCells& s = spans[f];
@@ -200,8 +225,8 @@ TriangleGrid TriangleGrid::build(const SurfaceMesh& mesh, const std::vector<glm:
     glm::ivec3 d(s.d[0], s.d[1], s.d[2]);
     if (s.kind == FaceCells::kWide) {
       glm::ivec3 lo, hi;
-      face_range(f, lo, hi);
-      first = grid.cell_index(lo.x, lo.y, lo.z);
+      frame.range(points, tris[f], lo, hi);
+      first = frame.index(lo);
       d = hi - lo;
     }
     visit_box(first, d, grid.dims_, visit);
