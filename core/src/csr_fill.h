@@ -8,8 +8,10 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
+#include "deepcut/core/errors.h"
 #include "deepcut/core/parallel.h"
 #include "parallel_beside.h"
 #include "uninit_vector.h"
@@ -19,27 +21,31 @@ namespace deepcut::detail {
 /// An exclusive prefix sum over the pool: calls put(i, sum of count(j) for j < i) for every i in
 /// [0, n) and returns the total. count(i) is read before put(i) (so both may use one slot) and
 /// never after. In blocks: each block's total, the totals summed serially (one per block), then
-/// each block's sums.
+/// each block's sums. The sums are taken in 64 bits: a total past UINT32_MAX throws
+/// Error{InvalidArgument} before any put (the offsets, and the arrays they index, are 32-bit).
 template <class Count, class Put>
 std::uint32_t exclusive_scan(std::size_t n, Count&& count, Put&& put) {
   constexpr std::size_t kBlock = 1 << 16;
   const std::size_t blocks = (n + kBlock - 1) / kBlock;
-  std::vector<std::uint32_t> base(blocks + 1, 0);
+  std::vector<std::uint64_t> base(blocks + 1, 0);
   parallel_for(blocks, 1, [&](std::size_t b, std::size_t) {
-    std::uint32_t sum = 0;
+    std::uint64_t sum = 0;
     for (std::size_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) sum += count(i);
     base[b + 1] = sum;
   });
   for (std::size_t b = 0; b < blocks; ++b) base[b + 1] += base[b];
+  if (base[blocks] > UINT32_MAX)
+    throw Error(ErrorCode::InvalidArgument,
+                "packed lists: " + std::to_string(base[blocks]) + " entries, more than 32-bit offsets hold");
   parallel_for(blocks, 1, [&](std::size_t b, std::size_t) {
-    std::uint32_t at = base[b];
+    auto at = static_cast<std::uint32_t>(base[b]);
     for (std::size_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) {
       const std::uint32_t c = count(i);
       put(i, at);
       at += c;
     }
   });
-  return base[blocks];
+  return static_cast<std::uint32_t>(base[blocks]);
 }
 
 /// Sorts [first, last): by insertion when short (a cell lists a few items; std::sort's call and

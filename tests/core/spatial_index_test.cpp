@@ -320,6 +320,25 @@ TEST(SpatialIndexTest, fill_csr_lists_every_cell_in_item_order_for_every_thread_
   set_thread_count(saved);
 }
 
+// The prefix sum's total past UINT32_MAX throws before any offset is put, whether one block's
+// sum or only the blocks' total passes it; UINT32_MAX itself is a total.
+TEST(SpatialIndexTest, exclusive_scan_throws_past_32_bit_offsets) {
+  std::size_t puts = 0;
+  auto put = [&puts](std::size_t, std::uint32_t) { ++puts; };
+  EXPECT_THROW(detail::exclusive_scan(3, [](std::size_t) { return 0x80000000u; }, put), Error);
+  EXPECT_THROW(detail::exclusive_scan(70000, [](std::size_t) { return 70000u; }, put), Error);
+  EXPECT_THROW(detail::exclusive_scan(
+                   (std::size_t(1) << 17) + 2,
+                   [](std::size_t i) { return i % (std::size_t(1) << 16) == 0 ? 0xffffffffu : 0u; }, put),
+               Error);
+  EXPECT_EQ(puts, 0u);
+  std::vector<std::uint32_t> at(2);
+  EXPECT_EQ(detail::exclusive_scan(
+                2, [](std::size_t i) { return i == 0 ? 0xfffffff0u : 0xfu; }, [&](std::size_t i, std::uint32_t a) { at[i] = a; }),
+            0xffffffffu);
+  EXPECT_EQ(at, (std::vector<std::uint32_t>{0u, 0xfffffff0u}));
+}
+
 // The grid's serial copies run beside its passes over the faces: the same layout whether they
 // run before every chunk, after every chunk or where the pool puts them, on 1, 2 and 5 threads.
 TEST(SpatialIndexTest, build_lays_out_the_same_grid_whatever_runs_beside_its_passes) {
