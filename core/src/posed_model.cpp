@@ -426,9 +426,9 @@ PosedModel PosedModel::positions_copy() const {
     PosedMesh& copy = out.instances_[key];
     static_cast<PosedMeshHeader&>(copy) = inst;
     copy.gridless = true;
-    // As make_instance sizes them: with room, the pages faulted in over the pool. The first
-    // task copies the positions (a std::vector: one serial pass), the others the linear maps
-    // in parts (an UninitVector, sized without a fill), three quarters of the bytes.
+    // As pose_into_empty sizes a new instance's: with room, the pages faulted in over the pool.
+    // The first task copies the positions (a std::vector: one serial pass), the others the
+    // linear maps in parts (an UninitVector, sized without a fill), three quarters of the bytes.
     const std::size_t room = operation_vertex_room(inst.posed.size()), maps = inst.linear.size();
     detail::reserve_prefaulted(copy.posed, inst.posed.size(), room);
     detail::reserve_prefaulted(copy.linear, maps, room);
