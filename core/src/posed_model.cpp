@@ -155,7 +155,7 @@ void size_posed_arrays(PosedMesh& inst, std::size_t n, std::size_t room) {
 
 // Poses every vertex of `mesh` into `inst`, whose arrays are empty, with capacity `room`, and
 // measures the bounds. The positions' std::vector is sized by a serial fill run beside the
-// posing chunks (detail::parallel_for_beside: usually the calling thread takes it) while the other
+// posing chunks (detail::run_chunks_beside: usually the calling thread takes it) while the other
 // threads pose chunks, the linear maps in place and the positions into a scratch array until the
 // fill is done, then in place too; the chunks posed into the scratch array are copied over the
 // pool after. On one thread the fill runs first and every chunk is posed in place (the scratch
@@ -169,13 +169,14 @@ void pose_into_empty(const SurfaceMesh& mesh, PosedMesh& inst, std::size_t room,
   const std::size_t chunks = (n + kGrain - 1) / kGrain;
   std::vector<std::uint8_t> in_scratch(chunks, 0);
   std::atomic<bool> sized{false};
-  detail::parallel_for_beside(
-      n, kGrain,
-      [&](std::size_t b, std::size_t e) {
+  detail::run_chunks_beside(
+      chunks,
+      [&](std::size_t c) {
+        const std::size_t b = c * kGrain, e = std::min(n, b + kGrain);
         const bool in_place = sized.load(std::memory_order_acquire);
         glm::vec3* out = in_place ? inst.posed.data() : scratch.data();
         pose.range(b, e, out, inst.linear.data());
-        in_scratch[b / kGrain] = !in_place;
+        in_scratch[c] = !in_place;
       },
       [&] {
         inst.posed.resize(n);
