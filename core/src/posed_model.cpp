@@ -16,6 +16,7 @@
 #include "deepcut/core/posed_corner_normal.h"
 #include "deepcut/core/skinning.h"
 #include "deepcut/core/smallest_fit.h"
+#include "parallel_beside.h"
 #include "uninit_vector.h"
 
 namespace deepcut {
@@ -153,11 +154,12 @@ void size_posed_arrays(PosedMesh& inst, std::size_t n, std::size_t room) {
 }
 
 // Poses every vertex of `mesh` into `inst`, whose arrays are empty, with capacity `room`, and
-// measures the bounds. The positions' std::vector is sized by a serial fill: the calling thread
-// runs it as the first task of the posing job while the other threads pose chunks, the linear
-// maps in place and the positions into a scratch array until the fill is done, then in place
-// too; the chunks posed into the scratch array are copied over the pool after. On one thread the
-// fill runs first and every chunk is posed in place (the scratch array is never touched).
+// measures the bounds. The positions' std::vector is sized by a serial fill run beside the
+// posing chunks (detail::run_chunks_beside: usually the calling thread takes it) while the other
+// threads pose chunks, the linear maps in place and the positions into a scratch array until the
+// fill is done, then in place too; the chunks posed into the scratch array are copied over the
+// pool after. On one thread the fill runs first and every chunk is posed in place (the scratch
+// array is never touched).
 void pose_into_empty(const SurfaceMesh& mesh, PosedMesh& inst, std::size_t room, const VertexPoser& pose) {
   const std::size_t n = mesh.vertex_count();
   detail::reserve_prefaulted(inst.posed, n, room);
@@ -167,18 +169,19 @@ void pose_into_empty(const SurfaceMesh& mesh, PosedMesh& inst, std::size_t room,
   const std::size_t chunks = (n + kGrain - 1) / kGrain;
   std::vector<std::uint8_t> in_scratch(chunks, 0);
   std::atomic<bool> sized{false};
-  detail::run_chunks(chunks + 1, [&](std::size_t c) {
-    if (c == 0) {
-      inst.posed.resize(n);
-      sized.store(true, std::memory_order_release);
-      return;
-    }
-    const std::size_t b = (c - 1) * kGrain, e = std::min(n, c * kGrain);
-    const bool in_place = sized.load(std::memory_order_acquire);
-    glm::vec3* out = in_place ? inst.posed.data() : scratch.data();
-    pose.range(b, e, out, inst.linear.data());
-    in_scratch[c - 1] = !in_place;
-  });
+  detail::run_chunks_beside(
+      chunks,
+      [&](std::size_t c) {
+        const std::size_t b = c * kGrain, e = std::min(n, b + kGrain);
+        const bool in_place = sized.load(std::memory_order_acquire);
+        glm::vec3* out = in_place ? inst.posed.data() : scratch.data();
+        pose.range(b, e, out, inst.linear.data());
+        in_scratch[c] = !in_place;
+      },
+      [&] {
+        inst.posed.resize(n);
+        sized.store(true, std::memory_order_release);
+      });
   // bounds_of's pass (its chunks, whole posing chunks), which first copies those in `scratch`.
   static_assert(kBoundsGrain % kGrain == 0, "a bounds chunk covers whole posing chunks");
   inst.bounds = parallel_reduce(
@@ -424,9 +427,9 @@ PosedModel PosedModel::positions_copy() const {
     PosedMesh& copy = out.instances_[key];
     static_cast<PosedMeshHeader&>(copy) = inst;
     copy.gridless = true;
-    // As make_instance sizes them: with room, the pages faulted in over the pool. The first
-    // task copies the positions (a std::vector: one serial pass), the others the linear maps
-    // in parts (an UninitVector, sized without a fill), three quarters of the bytes.
+    // As pose_into_empty sizes a new instance's: with room, the pages faulted in over the pool.
+    // The first task copies the positions (a std::vector: one serial pass), the others the
+    // linear maps in parts (an UninitVector, sized without a fill), three quarters of the bytes.
     const std::size_t room = operation_vertex_room(inst.posed.size()), maps = inst.linear.size();
     detail::reserve_prefaulted(copy.posed, inst.posed.size(), room);
     detail::reserve_prefaulted(copy.linear, maps, room);

@@ -8,6 +8,7 @@
 
 #include "csr_fill.h"
 #include "deepcut/core/parallel.h"
+#include "parallel_beside.h"
 #include "sorted_ids.h"
 #include "uninit_vector.h"
 
@@ -31,14 +32,13 @@ inline BoundingBox face_box(const std::vector<glm::vec3>& points, const Triangle
   return box;
 }
 
-// The bounds and the summed largest extents of the live faces, folded in chunk order (as
-// parallel_reduce), with `beside()` run beside the chunks (detail::parallel_for_beside).
+// The bounds and the summed largest extents of the live faces, folded in chunk order, with
+// `beside()` run beside the chunks (detail::parallel_reduce_beside).
 template <class Beside>
 Extent face_extent(const SurfaceMesh& mesh, const std::vector<glm::vec3>& points, Beside&& beside) {
   const auto& tris = mesh.faces();
-  std::vector<Extent> parts((tris.size() + kGrain - 1) / kGrain);
-  detail::parallel_for_beside(
-      tris.size(), kGrain,
+  return detail::parallel_reduce_beside(
+      tris.size(), kGrain, Extent(),
       [&](std::size_t b, std::size_t e) {
         Extent part;
         for (std::size_t f = b; f < e; ++f) {
@@ -49,16 +49,15 @@ Extent face_extent(const SurfaceMesh& mesh, const std::vector<glm::vec3>& points
           part.extent_sum += std::max({d.x, d.y, d.z});
           ++part.faces;
         }
-        parts[b / kGrain] = part;
+        return part;
+      },
+      [](Extent acc, const Extent& part) {
+        acc.bounds.add(part.bounds);
+        acc.extent_sum += part.extent_sum;
+        acc.faces += part.faces;
+        return acc;
       },
       beside);
-  Extent acc;
-  for (const Extent& part : parts) {
-    acc.bounds.add(part.bounds);
-    acc.extent_sum += part.extent_sum;
-    acc.faces += part.faces;
-  }
-  return acc;
 }
 
 // The cells a face goes to: the box of cells from cell `lo`, `d` more along each axis.
@@ -128,6 +127,52 @@ inline glm::ivec3 grid_cell_of(const glm::vec3& p, const glm::vec3& origin, floa
   return c;
 }
 
+
+// Where the build places faces: the grid's origin, cell edge and cell counts.
+struct GridFrame {
+  glm::vec3 origin;
+  float cell;
+  glm::ivec3 dims;
+
+  // The cells of the corners of face `t`'s box.
+  void range(const std::vector<glm::vec3>& points, const Triangle& t, glm::ivec3& lo, glm::ivec3& hi) const {
+    const BoundingBox box = face_box(points, t);
+    lo = grid_cell_of(box.min, origin, cell, dims);
+    hi = grid_cell_of(box.max, origin, cell, dims);
+  }
+  // TriangleGrid::cell_index.
+  std::size_t index(const glm::ivec3& c) const {
+    return (static_cast<std::size_t>(c.z) * static_cast<std::size_t>(dims.y) + static_cast<std::size_t>(c.y)) *
+               static_cast<std::size_t>(dims.x) +
+           static_cast<std::size_t>(c.x);
+  }
+};
+
+// The cell pass: each face's cells into spans[f] (found once: grid_cell_of divides), its corners
+// copied into tris_out[f] and its live flag into alive[f], every face written; `beside()` run
+// beside the chunks. A NaN corner can put a box's x range backwards: such a face (counted live
+// by the extent pass) is filed in no cell and marked dead (as the grid always did).
+template <class Beside>
+void face_cells(const SurfaceMesh& mesh, const std::vector<glm::vec3>& points, const GridFrame& frame,
+                Triangle* tris_out, std::uint8_t* alive, FaceCells* spans, Beside&& beside) {
+  const auto& tris = mesh.faces();
+  detail::parallel_for_beside(
+      tris.size(), kGrain,
+      [&](std::size_t b, std::size_t e) {
+        for (std::size_t f = b; f < e; ++f) {
+          tris_out[f] = tris[f];
+          spans[f] = FaceCells{};
+          alive[f] = 0;
+          if (mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) continue;
+          glm::ivec3 lo, hi;
+          frame.range(points, tris[f], lo, hi);
+          spans[f] = FaceCells::of(lo, hi, frame.index(lo));
+          alive[f] = hi.x >= lo.x;
+        }
+      },
+      beside);
+}
+
 }  // namespace
 
 TriangleGrid TriangleGrid::build(const SurfaceMesh& mesh, const std::vector<glm::vec3>& points,
@@ -141,10 +186,10 @@ TriangleGrid TriangleGrid::build(const SurfaceMesh& mesh, const std::vector<glm:
   const std::size_t slots = tris.size();
   // The grid's copies of the corners and positions, and its live flags, are std::vectors: each
   // is sized or copied on one thread, their pages faulted in over the pool first. Those serial
-  // fills run beside the passes over the faces (the calling thread takes them while the others
-  // share the chunks), not before them: the flags and corners are sized beside the extent pass
-  // (the cell pass, which reads every face's corners, writes both), the positions copied beside
-  // the cell pass.
+  // fills run beside the passes over the faces (usually the calling thread takes them while the
+  // others share the chunks), not before them: the flags and corners are sized beside the extent
+  // pass (the cell pass, which reads every face's corners, writes both), the positions copied
+  // beside the cell pass.
   detail::reserve_prefaulted(grid.alive_, slots, 0);
   detail::reserve_prefaulted(grid.tris_, slots, 0);
   detail::reserve_prefaulted(grid.placed_, points.size(), 0);
@@ -166,33 +211,12 @@ TriangleGrid TriangleGrid::build(const SurfaceMesh& mesh, const std::vector<glm:
   grid.origin_ = grid.bounds_.min;
   grid.dims_ = glm::max(glm::ivec3(glm::ceil(size / cell)), glm::ivec3(1));
 
-  // The cells of each live face, found once (cell_of divides) and kept in 8 bytes for the
-  // fill's two passes; a face over more than 256 cells along an axis is found again instead.
-  const glm::vec3 origin = grid.origin_;
-  const glm::ivec3 dims = grid.dims_;
-  auto face_range = [&](std::size_t f, glm::ivec3& lo, glm::ivec3& hi) {
-    const BoundingBox box = face_box(points, tris[f]);
-    lo = grid_cell_of(box.min, origin, cell, dims);
-    hi = grid_cell_of(box.max, origin, cell, dims);
-  };
-  // A NaN corner can put a box's x range backwards: such a face is counted live but filed in no
-  // cell, and marked dead (as the grid always did). Every face's flag is written here.
+  // The cells of each live face, kept in 8 bytes for the fill's two passes; a face over more
+  // than 256 cells along an axis is found again instead.
+  const GridFrame frame{grid.origin_, cell, grid.dims_};
   detail::UninitVector<FaceCells> spans(slots);
-  detail::parallel_for_beside(
-      slots, kGrain,
-      [&](std::size_t b, std::size_t e) {
-        for (std::size_t f = b; f < e; ++f) {
-          grid.tris_[f] = tris[f];
-          spans[f] = FaceCells{};
-          grid.alive_[f] = 0;
-          if (mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) continue;
-          glm::ivec3 lo, hi;
-          face_range(f, lo, hi);
-          spans[f] = FaceCells::of(lo, hi, grid.cell_index(lo.x, lo.y, lo.z));
-          grid.alive_[f] = hi.x >= lo.x;
-        }
-      },
-      [&] { grid.placed_.assign(points.begin(), points.end()); });
+  face_cells(mesh, points, frame, grid.tris_.data(), grid.alive_.data(), spans.data(),
+             [&] { grid.placed_.assign(points.begin(), points.end()); });
   const std::size_t cells = static_cast<std::size_t>(grid.dims_.x) * grid.dims_.y * grid.dims_.z;
   detail::fill_csr(slots, cells, grid.start_, grid.faces_, [&](std::size_t f, auto&& visit) {
     const FaceCells& s = spans[f];
@@ -201,8 +225,8 @@ TriangleGrid TriangleGrid::build(const SurfaceMesh& mesh, const std::vector<glm:
     glm::ivec3 d(s.d[0], s.d[1], s.d[2]);
     if (s.kind == FaceCells::kWide) {
       glm::ivec3 lo, hi;
-      face_range(f, lo, hi);
-      first = grid.cell_index(lo.x, lo.y, lo.z);
+      frame.range(points, tris[f], lo, hi);
+      first = frame.index(lo);
       d = hi - lo;
     }
     visit_box(first, d, grid.dims_, visit);

@@ -21,6 +21,7 @@
 #include "deepcut/core/ops/operation.h"
 #include "deepcut/core/skinning.h"
 #include "fixtures.h"
+#include "parallel_beside.h"
 #include "posed_checks.h"
 #include "thread_count.h"
 
@@ -266,15 +267,18 @@ TEST(PosedModelTest, animated_cactus_random_drills_and_tears_match_a_rebuild_and
 
 // A new instance's positions are posed beside the fill that sizes them (some chunks into a
 // scratch array, copied after): positions, linear maps and bounds are the same bytes for every
-// thread count, and the arrays keep their room to grow.
+// thread count, whether the fill runs before every chunk (none in scratch), after every chunk
+// (all in scratch) or where the pool puts it, and the arrays keep their room to grow.
 TEST(PosedModelTest, a_build_poses_the_same_bytes_for_every_thread_count) {
   CactusOptions options;
   options.target_triangles = 120000;  // about 60k vertices: several posing chunks
   const Model model = make_cactus(options);
   const int animation = model.animations.empty() ? -1 : 0;
-  auto posed_bytes = [&](std::size_t threads) {
+  auto posed_bytes = [&](std::size_t threads, detail::BesideOrder order) {
     test::ThreadCount guard(threads);
+    detail::beside_order_for_tests = order;
     const PosedModel posed = PosedModel::build(model, animation, 0.7f, PoseDetail::Positions);
+    detail::beside_order_for_tests = detail::BesideOrder::Shared;
     std::vector<unsigned char> out;
     auto append = [&out](const void* p, std::size_t n) {
       out.insert(out.end(), static_cast<const unsigned char*>(p), static_cast<const unsigned char*>(p) + n);
@@ -287,9 +291,11 @@ TEST(PosedModelTest, a_build_poses_the_same_bytes_for_every_thread_count) {
     }
     return out;
   };
-  const std::vector<unsigned char> one = posed_bytes(1);
+  const std::vector<unsigned char> one = posed_bytes(1, detail::BesideOrder::Shared);
   ASSERT_GT(one.size(), 60000 * sizeof(glm::vec3));
-  for (const std::size_t threads : {2u, 3u, 8u}) EXPECT_TRUE(posed_bytes(threads) == one) << threads << " threads";
+  for (const auto order : {detail::BesideOrder::Shared, detail::BesideOrder::First, detail::BesideOrder::Last})
+    for (const std::size_t threads : {1u, 2u, 3u, 8u})
+      EXPECT_TRUE(posed_bytes(threads, order) == one) << int(order) << ", " << threads << " threads";
 }
 
 TEST(PosedModelTest, asset_models_random_drills_and_tears_match_a_rebuild_and_the_uncached_path) {

@@ -8,6 +8,7 @@
 
 #include "deepcut/core/mesh_editor.h"
 #include "csr_fill.h"
+#include "parallel_beside.h"
 #include "deepcut/core/parallel.h"
 #include "fixtures.h"
 #include "sorted_ids.h"
@@ -309,13 +310,65 @@ TEST(SpatialIndexTest, fill_csr_lists_every_cell_in_item_order_for_every_thread_
       set_thread_count(threads);
       std::vector<std::uint32_t> start, items;
       detail::fill_csr(n, cells, start, items, cells_of);
-      ASSERT_EQ(start.size(), cells + 1) << cells << " cells, " << threads << " threads";
-      ASSERT_EQ(start[cells], items.size());
-      for (std::size_t c = 0; c < cells; ++c)
-        ASSERT_TRUE(std::equal(items.begin() + start[c], items.begin() + start[c + 1], want[c].begin(), want[c].end()))
-            << "cell " << c << " of " << cells << ", " << threads << " threads";
+      auto check = [&](const char* how) {
+        ASSERT_EQ(start.size(), cells + 1) << how << ", " << cells << " cells, " << threads << " threads";
+        ASSERT_EQ(start[cells], items.size());
+        for (std::size_t c = 0; c < cells; ++c)
+          ASSERT_TRUE(
+              std::equal(items.begin() + start[c], items.begin() + start[c + 1], want[c].begin(), want[c].end()))
+              << how << ", cell " << c << " of " << cells << ", " << threads << " threads";
+      };
+      check("fill_csr");
+      if (cells < 200000) continue;
+      // The widest buckets, which fill_csr takes only above about 2^31 cells.
+      start.clear();
+      items.clear();
+      detail::fill_csr_by_bucket(n, cells, 1 << 15, 16, start, items, cells_of);
+      check("buckets of 65536 cells");
     }
   }
+  set_thread_count(saved);
+}
+
+// The prefix sum's total past UINT32_MAX throws before any offset is put, whether one block's
+// sum or only the blocks' total passes it; UINT32_MAX itself is a total.
+TEST(SpatialIndexTest, exclusive_scan_throws_past_32_bit_offsets) {
+  std::size_t puts = 0;
+  auto put = [&puts](std::size_t, std::uint32_t) { ++puts; };
+  EXPECT_THROW(detail::exclusive_scan(3, [](std::size_t) { return 0x80000000u; }, put), Error);
+  EXPECT_THROW(detail::exclusive_scan(70000, [](std::size_t) { return 70000u; }, put), Error);
+  EXPECT_THROW(detail::exclusive_scan(
+                   (std::size_t(1) << 17) + 2,
+                   [](std::size_t i) { return i % (std::size_t(1) << 16) == 0 ? 0xffffffffu : 0u; }, put),
+               Error);
+  EXPECT_EQ(puts, 0u);
+  std::vector<std::uint32_t> at(2);
+  EXPECT_EQ(detail::exclusive_scan(
+                2, [](std::size_t i) { return i == 0 ? 0xfffffff0u : 0xfu; }, [&](std::size_t i, std::uint32_t a) { at[i] = a; }),
+            0xffffffffu);
+  EXPECT_EQ(at, (std::vector<std::uint32_t>{0u, 0xfffffff0u}));
+}
+
+// The grid's serial copies run beside its passes over the faces: the same layout whether they
+// run before every chunk, after every chunk or where the pool puts them, on 1, 2 and 5 threads.
+TEST(SpatialIndexTest, build_lays_out_the_same_grid_whatever_runs_beside_its_passes) {
+  const std::size_t saved = thread_count();
+  SurfaceMesh mesh = test::make_tube(400, 200, 1.0f, 4.0f);  // 160000 faces: five chunks
+  set_thread_count(1);
+  const TriangleGrid one = TriangleGrid::build(mesh, mesh.positions());
+  // Points on the surface, answered from the grid's own copies of the corners and positions.
+  std::vector<glm::vec3> probes;
+  for (std::size_t v = 0; v < mesh.positions().size(); v += 997) probes.push_back(mesh.positions()[v]);
+  const std::vector<FaceId> want = one.query_points(probes);
+  for (const auto order : {detail::BesideOrder::Shared, detail::BesideOrder::First, detail::BesideOrder::Last})
+    for (const std::size_t threads : {1, 2, 5}) {
+      set_thread_count(threads);
+      detail::beside_order_for_tests = order;
+      const TriangleGrid grid = TriangleGrid::build(mesh, mesh.positions());
+      detail::beside_order_for_tests = detail::BesideOrder::Shared;
+      EXPECT_EQ(grid.layout_hash(), one.layout_hash()) << int(order) << ", " << threads << " threads";
+      EXPECT_EQ(grid.query_points(probes), want) << int(order) << ", " << threads << " threads";
+    }
   set_thread_count(saved);
 }
 
