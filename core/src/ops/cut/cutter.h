@@ -89,7 +89,7 @@ class Cutter {
   std::vector<CapInput> rim_of_pieces(const CutResult& result) const;
   // Stages of run().
   void check_arguments() const;
-  void classify_vertices(const UsedFlag* used);
+  void classify_vertices(const std::uint8_t* used);
   bool classify_and_scan();
   void split_crossed_faces();
   void separate_or_drop_side();
