@@ -12,6 +12,7 @@
 #include "deepcut/core/operation_room.h"
 #include "deepcut/core/parallel.h"
 #include "ops/common/model_surgery_in_place.h"
+#include "side_by_side.h"
 #include "uninit_vector.h"
 
 namespace deepcut::detail {
@@ -133,9 +134,10 @@ void number_vertices(const ListOf& list_of, std::size_t nv, std::size_t lists, s
       total += count;
     }
     totals[s] = total;
-    keep[s].reserve(total);  // on the calling thread (its heap); sized side by side below
   }
-  run_chunks(lists, [&](std::size_t s) { keep[s].resize(totals[s]); });
+  size_side_by_side(
+      lists, [&](std::size_t s) -> std::vector<std::uint32_t>& { return keep[s]; },
+      [&](std::size_t s) { return totals[s]; });
   rank.resize(nv);
   parallel_for(nv, grain, [&](std::size_t b, std::size_t e) {
     std::uint32_t* next = &start[b / grain * lists];
@@ -186,9 +188,9 @@ bool live_increasing_on_sides(const SurfaceMesh& mesh, const std::vector<std::ve
   };
   std::vector<Chunk> chunks;
   if constexpr (copy) {
-    // Reserved on the calling thread (its heap), sized side by side: a list's growth fills it.
-    for (std::size_t s = 0; s < lists.size(); ++s) faces[s].reserve(lists[s].size());
-    run_chunks(lists.size(), [&](std::size_t s) { faces[s].resize(lists[s].size()); });
+    size_side_by_side(
+        lists.size(), [&](std::size_t s) -> std::vector<std::uint32_t>& { return faces[s]; },
+        [&](std::size_t s) { return lists[s].size(); });
   }
   for (std::size_t s = 0; s < lists.size(); ++s) {
     for (std::size_t b = 0; b < lists[s].size(); b += kGrain)

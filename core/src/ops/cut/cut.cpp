@@ -36,6 +36,7 @@
 #include "ops/cut/classify.h"
 #include "ops/cut/cutter.h"
 #include "ops/cut/face_lists.h"
+#include "side_by_side.h"
 #include "uninit_vector.h"
 
 namespace deepcut {
@@ -581,11 +582,10 @@ void Cutter::live_side_faces(const std::vector<int>& sides, const std::vector<Fa
       at[i][c + 1] = at[i][c] + found_[c].clean[sides[i]].size() + (first_rim[i][c + 1] - first_rim[i][c]);
     }
     out[sides[i]] = std::vector<FaceId>();
-    out[sides[i]].reserve(at[i][n] + (r.size() - first_rim[i][n]) + side_room_);
   }
-  detail::run_chunks(count, [&](std::size_t i) {
-    out[sides[i]].resize(at[i][n] + (rim[sides[i]].size() - first_rim[i][n]));  // in its room: no allocation
-  });
+  detail::size_side_by_side(
+      count, [&](std::size_t i) -> std::vector<FaceId>& { return out[sides[i]]; },
+      [&](std::size_t i) { return at[i][n] + (rim[sides[i]].size() - first_rim[i][n]); }, side_room_);
   detail::run_chunks(count * (n + 1), [&](std::size_t k) {
     const std::size_t i = k / (n + 1), c = k % (n + 1);
     const int side = sides[i];
