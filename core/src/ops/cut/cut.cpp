@@ -409,7 +409,7 @@ void Cutter::collect_pieces(CutResult& result) {
   // faces, then every face the cut made).
   std::vector<FaceId> rim[2], side_faces[2];
   live_rim_by_side(rim);
-  live_side_faces({0, 1}, rim, side_faces);
+  live_side_faces({true, true}, rim, side_faces);
   for (int s = 0; s < 2; ++s) {
     if (side_faces[s].empty()) continue;
     const int side = s == 0 ? 1 : -1;
@@ -538,7 +538,7 @@ void Cutter::separate_or_drop_side() {
     const int drop = options_.keep == CutKeep::Positive ? 1 : 0;
     std::vector<FaceId> rim[2], doomed[2];
     live_rim_by_side(rim);
-    live_side_faces({drop}, rim, doomed);
+    live_side_faces({drop == 0, drop == 1}, rim, doomed);
     for (FaceId f : doomed[drop]) editor_.remove_face(f);
   }
 }
@@ -550,7 +550,7 @@ void Cutter::live_rim_by_side(std::vector<FaceId> (&out)[2]) const {
     if (!mesh_.is_deleted(f)) out[side_code(sign, mesh_.face(f)) - 1].push_back(f);
 }
 
-// The live faces of each of `sides` (0 positive, 1 negative) in id order, into `out` by side:
+// The live faces of each side `want`s (0 positive, 1 negative) in id order, into `out` by side:
 // the side's untouched faces off the plane (the scan's chunks, taken: a second call gives the rim
 // alone) merged with its live rim candidates `rim[side]` (ascending), with side_room_ to grow.
 // From several chunks, each chunk is merged with the rim faces in its range of ids into its own
@@ -560,11 +560,16 @@ void Cutter::live_rim_by_side(std::vector<FaceId> (&out)[2]) const {
 // growth value-initialises), about 0.4-0.7 ms a side of a 4M-triangle cut (2M ids) where the
 // memory is reused, the one serial part of the join; then every side's parts are merged in one
 // job.
-void Cutter::live_side_faces(const std::vector<int>& sides, const std::vector<FaceId> (&rim)[2],
+void Cutter::live_side_faces(const bool (&want)[2], const std::vector<FaceId> (&rim)[2],
                              std::vector<FaceId> (&out)[2]) {
+  int sides[2];  // the wanted sides, each once
+  std::size_t count = 0;
+  for (int s = 0; s < 2; ++s)
+    if (want[s]) sides[count++] = s;
   const std::size_t n = found_.size();
   if (n <= 1) {
-    for (const int side : sides) {
+    for (std::size_t i = 0; i < count; ++i) {
+      const int side = sides[i];
       out[side] = n == 0 ? std::vector<FaceId>() : std::move(found_[0].clean[side]);  // leaves it empty
       merge_sorted(out[side], rim[side]);
     }
@@ -572,7 +577,6 @@ void Cutter::live_side_faces(const std::vector<int>& sides, const std::vector<Fa
   }
   // Side i's chunk c has the rim faces rim[first_rim[i][c], first_rim[i][c + 1]), its part starts
   // at at[i][c]; past at[i][n] come the newer rim faces.
-  const std::size_t count = sides.size();
   std::vector<std::vector<std::size_t>> first_rim(count, std::vector<std::size_t>(n + 1, 0)), at = first_rim;
   for (std::size_t i = 0; i < count; ++i) {
     const std::vector<FaceId>& r = rim[sides[i]];

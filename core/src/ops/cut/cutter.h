@@ -84,7 +84,7 @@ class Cutter {
                                  bool whole_fans) const;
   void collect_pieces(CutResult& result);
   void live_rim_by_side(std::vector<FaceId> (&out)[2]) const;
-  void live_side_faces(const std::vector<int>& sides, const std::vector<FaceId> (&rim)[2],
+  void live_side_faces(const bool (&want)[2], const std::vector<FaceId> (&rim)[2],
                        std::vector<FaceId> (&out)[2]);
   std::vector<CapInput> rim_of_pieces(const CutResult& result) const;
   // Stages of run().
