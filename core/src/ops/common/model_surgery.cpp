@@ -175,9 +175,10 @@ std::uint32_t index_of(std::uint32_t f) { return f; }
 // Whether every list is live and increasing (as live_increasing leaves it) and every face's
 // corners lie on its list's side (list_of_side[side + 1] == list: what the cut's vertex sides
 // promise; a face that broke it would be renumbered through a rank never written). The lists are
-// a cut's FaceIds, copied into `faces` as they are checked (sized on the calling thread, its
-// heap; unspecified when false), or `faces` itself, indices sorted by live_increasing, only
-// checked. In chunks over the pool, in one job.
+// a cut's FaceIds, copied into `faces` as they are checked (reserved on the calling thread, its
+// heap, and sized side by side, a list a task: size_side_by_side; unspecified when false), or
+// `faces` itself, indices sorted by live_increasing, only checked. In chunks over the pool, in
+// one job.
 template <class Id>
 bool live_increasing_on_sides(const SurfaceMesh& mesh, const std::vector<std::vector<Id>>& lists,
                               const std::int8_t* side, const std::uint32_t* list_of_side,
