@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: MIT
 // A cut's result does not depend on the thread count where its passes split over the pool: the
-// posed crossings' bind positions (Placement::place_all) and the dropped side's faces joined
-// chunk by chunk (live_side_faces).
+// posed crossings' bind positions (Placement::place_all) and the sides' faces joined
+// chunk by chunk (live_side_faces), and the used-vertex flags of a big mesh cleared and checked in
+// parts.
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <iterator>
 #include <type_traits>
 #include <variant>
 #include <vector>
@@ -82,26 +84,33 @@ TEST(CutTest, a_posed_cut_with_many_crossings_does_not_depend_on_the_thread_coun
 
 TEST(CutTest, keeping_one_side_does_not_depend_on_the_thread_count) {
   // Two scan chunks or more at two threads (2 x kMinPassGrain faces and more): the dropped side's
-  // faces are joined chunk by chunk (live_side_faces) before they are removed.
+  // faces (or, keeping both, each side's) are joined chunk by chunk (live_side_faces).
   const SurfaceMesh input = test::make_grid(260, 140);
   ASSERT_GE(input.face_count(), 2 * detail::kMinPassGrain);
   const Plane plane{{0.5f, 0.5f, 0.0f}, {1.0f, 0.37f, 0.0f}};
   const std::size_t saved = thread_count();
-  for (CutKeep keep : {CutKeep::Positive, CutKeep::Negative}) {
+  const std::size_t threads[] = {1, 2, 3, 16};
+  constexpr std::size_t kRuns = std::size(threads);
+  for (CutKeep keep : {CutKeep::Positive, CutKeep::Negative, CutKeep::Both}) {
+    SCOPED_TRACE(static_cast<int>(keep));
     CutOptions options;
     options.keep = keep;
-    SurfaceMesh mesh[3] = {input, input, input};
-    CutResult r[3];
-    for (std::size_t i = 0; i < 3; ++i) {
-      set_thread_count(i + 1);
+    SurfaceMesh mesh[kRuns] = {input, input, input, input};
+    CutResult r[kRuns];
+    for (std::size_t i = 0; i < kRuns; ++i) {
+      set_thread_count(threads[i]);
       r[i] = cut_mesh(mesh[i], mesh[i].positions(), plane, options);
     }
     set_thread_count(saved);
     ASSERT_EQ(r[0].status, OpStatus::Ok);
-    ASSERT_EQ(r[0].pieces.size(), 1u);
-    EXPECT_LT(r[0].pieces[0].size(), input.face_count());  // a side dropped
-    for (std::size_t i = 1; i < 3; ++i) {
-      SCOPED_TRACE(i + 1);
+    if (keep == CutKeep::Both) {
+      ASSERT_EQ(r[0].pieces.size(), 2u);
+    } else {
+      ASSERT_EQ(r[0].pieces.size(), 1u);
+      EXPECT_LT(r[0].pieces[0].size(), input.face_count());  // a side dropped
+    }
+    for (std::size_t i = 1; i < kRuns; ++i) {
+      SCOPED_TRACE(threads[i]);
       EXPECT_EQ(mesh[i].faces(), mesh[0].faces());
       EXPECT_EQ(mesh[i].positions(), mesh[0].positions());
       std::vector<bool> dropped[2];
@@ -112,6 +121,42 @@ TEST(CutTest, keeping_one_side_does_not_depend_on_the_thread_count) {
       EXPECT_EQ(r[i].pieces, r[0].pieces);
       expect_same_log(r[i].log, r[0].log);
     }
+  }
+}
+
+TEST(CutTest, a_vertex_no_face_uses_in_a_big_mesh_does_not_depend_on_the_thread_count) {
+  // More vertices than the used-vertex flags' smallest part (8 x kMinPassGrain), so clearing and
+  // checking them split over the pool; one vertex, the last, no face uses, so the vertices are
+  // classified and the faces scanned again. The same result at 1, 2 and 16 threads, and the
+  // grid's own cut (the stray vertex comes after the grid's, so every id is the same).
+  const SurfaceMesh grid = test::make_grid(560, 560);
+  ASSERT_GT(grid.vertex_count(), 8 * detail::kMinPassGrain);
+  const Plane plane{{0.53f, 0.5f, 0.0f}, {1.0f, 0.21f, 0.0f}};
+  const std::size_t saved = thread_count();
+  SurfaceMesh plain = grid;
+  set_thread_count(1);
+  const CutResult a = cut_mesh(plain, plain.positions(), plane);
+  const std::size_t threads[] = {1, 2, 16};
+  constexpr std::size_t kRuns = std::size(threads);
+  SurfaceMesh mesh[kRuns] = {grid, grid, grid};
+  CutResult r[kRuns];
+  for (std::size_t i = 0; i < kRuns; ++i) {
+    mesh[i].add_vertex({9.0f, -7.0f, 2.0f});  // about 10 units off: a wider tolerance until redone
+    set_thread_count(threads[i]);
+    r[i] = cut_mesh(mesh[i], mesh[i].positions(), plane);
+  }
+  set_thread_count(saved);
+  ASSERT_EQ(a.status, OpStatus::Ok);
+  ASSERT_EQ(r[0].status, OpStatus::Ok);
+  EXPECT_EQ(r[0].pieces, a.pieces);
+  EXPECT_EQ(mesh[0].face_slots(), plain.face_slots());
+  for (std::size_t i = 1; i < kRuns; ++i) {
+    SCOPED_TRACE(threads[i]);
+    EXPECT_EQ(mesh[i].faces(), mesh[0].faces());
+    EXPECT_EQ(mesh[i].positions(), mesh[0].positions());
+    EXPECT_EQ(r[i].pieces, r[0].pieces);
+    EXPECT_EQ(r[i].rim_vertices, r[0].rim_vertices);
+    expect_same_log(r[i].log, r[0].log);
   }
 }
 

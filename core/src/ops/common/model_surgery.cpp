@@ -12,6 +12,7 @@
 #include "deepcut/core/operation_room.h"
 #include "deepcut/core/parallel.h"
 #include "ops/common/model_surgery_in_place.h"
+#include "side_by_side.h"
 #include "uninit_vector.h"
 
 namespace deepcut::detail {
@@ -133,9 +134,10 @@ void number_vertices(const ListOf& list_of, std::size_t nv, std::size_t lists, s
       total += count;
     }
     totals[s] = total;
-    keep[s].reserve(total);  // on the calling thread (its heap); sized side by side below
   }
-  run_chunks(lists, [&](std::size_t s) { keep[s].resize(totals[s]); });
+  size_side_by_side(
+      lists, [&](std::size_t s) -> std::vector<std::uint32_t>& { return keep[s]; },
+      [&](std::size_t s) { return totals[s]; });
   rank.resize(nv);
   parallel_for(nv, grain, [&](std::size_t b, std::size_t e) {
     std::uint32_t* next = &start[b / grain * lists];
@@ -173,9 +175,10 @@ std::uint32_t index_of(std::uint32_t f) { return f; }
 // Whether every list is live and increasing (as live_increasing leaves it) and every face's
 // corners lie on its list's side (list_of_side[side + 1] == list: what the cut's vertex sides
 // promise; a face that broke it would be renumbered through a rank never written). The lists are
-// a cut's FaceIds, copied into `faces` as they are checked (sized on the calling thread, its
-// heap; unspecified when false), or `faces` itself, indices sorted by live_increasing, only
-// checked. In chunks over the pool, in one job.
+// a cut's FaceIds, copied into `faces` as they are checked (reserved on the calling thread, its
+// heap, and sized side by side, a list a task: size_side_by_side; unspecified when false), or
+// `faces` itself, indices sorted by live_increasing, only checked. In chunks over the pool, in
+// one job.
 template <class Id>
 bool live_increasing_on_sides(const SurfaceMesh& mesh, const std::vector<std::vector<Id>>& lists,
                               const std::int8_t* side, const std::uint32_t* list_of_side,
@@ -186,9 +189,9 @@ bool live_increasing_on_sides(const SurfaceMesh& mesh, const std::vector<std::ve
   };
   std::vector<Chunk> chunks;
   if constexpr (copy) {
-    // Reserved on the calling thread (its heap), sized side by side: a list's growth fills it.
-    for (std::size_t s = 0; s < lists.size(); ++s) faces[s].reserve(lists[s].size());
-    run_chunks(lists.size(), [&](std::size_t s) { faces[s].resize(lists[s].size()); });
+    size_side_by_side(
+        lists.size(), [&](std::size_t s) -> std::vector<std::uint32_t>& { return faces[s]; },
+        [&](std::size_t s) { return lists[s].size(); });
   }
   for (std::size_t s = 0; s < lists.size(); ++s) {
     for (std::size_t b = 0; b < lists[s].size(); b += kGrain)

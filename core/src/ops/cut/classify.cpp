@@ -21,15 +21,15 @@
 
 namespace deepcut::detail {
 
-void flag_used(const SurfaceMesh& mesh, UsedFlag* used) {
+void flag_used(const SurfaceMesh& mesh, std::uint8_t* used) {
   const std::size_t nf = mesh.face_slots();
   parallel_for(nf, grain_per_thread(nf, kMinPassGrain), [&](std::size_t b, std::size_t e) {
     const Triangle* faces = mesh.faces().data();
     for (std::size_t f = b; f < e; ++f) {
       const Triangle& t = faces[f];
-      used[t[0].index].store(1, std::memory_order_relaxed);
-      used[t[1].index].store(1, std::memory_order_relaxed);
-      used[t[2].index].store(1, std::memory_order_relaxed);
+      set_flag(used, t[0].index);
+      set_flag(used, t[1].index);
+      set_flag(used, t[2].index);
     }
   });
 }
@@ -38,7 +38,7 @@ namespace {
 
 // What the vertex passes read and write.
 struct Pass {
-  const UsedFlag* used;  // nullptr: every vertex is used
+  const std::uint8_t* used;  // nullptr: every vertex is used
   const glm::vec3* posed;
   float* dist;
   glm::vec3 point, normal;
@@ -112,7 +112,7 @@ template <bool kSkipUnused>
 Measure measure(const Pass& in, std::size_t b, std::size_t e) {
   // Locals, not members: the stores to `dist` could alias them, which would then be read again
   // at every vertex. The box in six scalars, each kept as BoundingBox::add keeps it.
-  const UsedFlag* used = in.used;
+  const std::uint8_t* used = in.used;
   const glm::vec3* pos = in.posed;
   float* dist = in.dist;
   const glm::vec3 o = in.point, n = in.normal;
@@ -122,7 +122,7 @@ Measure measure(const Pass& in, std::size_t b, std::size_t e) {
   if constexpr (!kSkipUnused) v = measure_fours(in, b, e, lx, ly, lz, hx, hy, hz);
   for (; v < e; ++v) {
     if constexpr (kSkipUnused) {
-      if (used[v].load(std::memory_order_relaxed) == 0) {
+      if (!flag_of(used, v)) {
         dist[v] = 0.0f;
         continue;
       }
@@ -197,7 +197,7 @@ std::size_t snap_sixteens(const float* dist, float hi, float lo, std::int8_t* si
 template <bool kCheckUsed>
 int snap(const Pass& in, float hi, float lo, std::int8_t* sign, std::uint8_t* bits, std::size_t b, std::size_t e) {
   const float* dist = in.dist;
-  const UsedFlag* used = in.used;
+  const std::uint8_t* used = in.used;
   int pos = 0, neg = 0;
   std::size_t first = b;
   if constexpr (!kCheckUsed) first = snap_sixteens(dist, hi, lo, sign, bits, b, e, pos, neg);
@@ -205,7 +205,7 @@ int snap(const Pass& in, float hi, float lo, std::int8_t* sign, std::uint8_t* bi
     const float d = dist[v];
     int above = d > hi, below = d < lo;
     if constexpr (kCheckUsed) {
-      const int u = used[v].load(std::memory_order_relaxed) != 0;
+      const int u = flag_of(used, v);
       above &= u;
       below &= u;
     }
@@ -221,7 +221,7 @@ int snap(const Pass& in, float hi, float lo, std::int8_t* sign, std::uint8_t* bi
 
 VertexSides classify_vertices(const SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const glm::vec3& point,
                               const glm::vec3& normal, float relative_tolerance, std::size_t room,
-                              const UsedFlag* used) {
+                              const std::uint8_t* used) {
   const std::size_t nv = mesh.vertex_count();
   VertexSides out;
   out.dist.reserve(room);

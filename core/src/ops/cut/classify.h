@@ -35,9 +35,9 @@ struct VertexSides {
 /// on the thread count.
 VertexSides classify_vertices(const SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const glm::vec3& point,
                               const glm::vec3& normal, float relative_tolerance, std::size_t room,
-                              const UsedFlag* used);
+                              const std::uint8_t* used);
 
 /// Flags in `used` (zeroed, a flag per vertex) the corners of every face slot of `mesh`.
-void flag_used(const SurfaceMesh& mesh, UsedFlag* used);
+void flag_used(const SurfaceMesh& mesh, std::uint8_t* used);
 
 }  // namespace deepcut::detail

@@ -36,6 +36,7 @@
 #include "ops/cut/classify.h"
 #include "ops/cut/cutter.h"
 #include "ops/cut/face_lists.h"
+#include "side_by_side.h"
 #include "uninit_vector.h"
 
 namespace deepcut {
@@ -408,7 +409,7 @@ void Cutter::collect_pieces(CutResult& result) {
   // faces, then every face the cut made).
   std::vector<FaceId> rim[2], side_faces[2];
   live_rim_by_side(rim);
-  live_side_faces({0, 1}, rim, side_faces);
+  live_side_faces({true, true}, rim, side_faces);
   for (int s = 0; s < 2; ++s) {
     if (side_faces[s].empty()) continue;
     const int side = s == 0 ? 1 : -1;
@@ -452,7 +453,7 @@ void Cutter::check_arguments() const {
 }
 
 // Classifies every vertex (ops/cut/classify.h): the vertices `used` flags count, or all.
-void Cutter::classify_vertices(const detail::UsedFlag* used) {
+void Cutter::classify_vertices(const std::uint8_t* used) {
   const std::size_t nv = mesh_.vertex_count();
   // Room for the vertices the cut adds (crossings, their copies: a few per crossed face, far
   // fewer than the mesh's), so appending them in make_crossings does not copy the arrays.
@@ -473,7 +474,9 @@ void Cutter::classify_vertices(const detail::UsedFlag* used) {
 // every vertex); else both are made again knowing the unused ones.
 bool Cutter::classify_and_scan() {
   const std::size_t nv = mesh_.vertex_count();
-  std::unique_ptr<detail::UsedFlag[]> used(new detail::UsedFlag[nv]);
+  // Not value-initialised (new[] without ()): clear_flags zeroes the bytes over the pool, where
+  // value-initialising would zero them first on the calling thread (2M at 4M triangles).
+  std::unique_ptr<std::uint8_t[]> used(new std::uint8_t[nv]);
   detail::clear_flags(used.get(), nv);
   classify_vertices(nullptr);
   if (both_sides_)
@@ -535,7 +538,7 @@ void Cutter::separate_or_drop_side() {
     const int drop = options_.keep == CutKeep::Positive ? 1 : 0;
     std::vector<FaceId> rim[2], doomed[2];
     live_rim_by_side(rim);
-    live_side_faces({drop}, rim, doomed);
+    live_side_faces({drop == 0, drop == 1}, rim, doomed);
     for (FaceId f : doomed[drop]) editor_.remove_face(f);
   }
 }
@@ -547,21 +550,30 @@ void Cutter::live_rim_by_side(std::vector<FaceId> (&out)[2]) const {
     if (!mesh_.is_deleted(f)) out[side_code(sign, mesh_.face(f)) - 1].push_back(f);
 }
 
-// The live faces of each of `sides` (0 positive, 1 negative) in id order, into `out` by side:
+// The live faces of each side `want`s (0 positive, 1 negative) in id order, into `out` by side:
 // the side's untouched faces off the plane (the scan's chunks, taken: a second call gives the rim
 // alone) merged with its live rim candidates `rim[side]` (ascending), with side_room_ to grow.
 // From several chunks, each chunk is merged with the rim faces in its range of ids into its own
 // part of the list, the parts side by side; the newer rim faces come last. Each list's room is
-// reserved on the calling thread (its heap), then sized side by side, a list a task: its growth
-// fills every entry with an invalid id first (a result's piece is a std::vector<FaceId>, whose
-// growth value-initialises), about 0.4-0.7 ms a side of a 4M-triangle cut (2M ids) where the
-// memory is reused, the one serial part of the join; then every side's parts are merged in one
-// job.
-void Cutter::live_side_faces(const std::vector<int>& sides, const std::vector<FaceId> (&rim)[2],
+// reserved on the calling thread (its heap), then the lists are sized side by side, a list a
+// task (size_side_by_side): a list's growth fills every entry with an invalid id first (a
+// result's piece is a std::vector<FaceId>, whose growth value-initialises), about 0.4-0.7 ms a
+// side of a 4M-triangle cut (2M ids) where the memory is reused, 15-65 ms where its pages are
+// fresh (faulted in by the fill); the sides' fills run in parallel, each one serial within its
+// task. Then every side's parts are merged in one job. Both sides' lists are allocated while
+// every chunk's lists are still alive (each chunk's are freed as it is merged): at the peak the
+// faces off the plane are held twice, in the chunks and in the sides' lists, about 8 MB more at
+// 4M triangles than sizing and merging one side after the other.
+void Cutter::live_side_faces(const bool (&want)[2], const std::vector<FaceId> (&rim)[2],
                              std::vector<FaceId> (&out)[2]) {
+  int sides[2];  // the wanted sides, each once
+  std::size_t count = 0;
+  for (int s = 0; s < 2; ++s)
+    if (want[s]) sides[count++] = s;
   const std::size_t n = found_.size();
   if (n <= 1) {
-    for (const int side : sides) {
+    for (std::size_t i = 0; i < count; ++i) {
+      const int side = sides[i];
       out[side] = n == 0 ? std::vector<FaceId>() : std::move(found_[0].clean[side]);  // leaves it empty
       merge_sorted(out[side], rim[side]);
     }
@@ -569,7 +581,6 @@ void Cutter::live_side_faces(const std::vector<int>& sides, const std::vector<Fa
   }
   // Side i's chunk c has the rim faces rim[first_rim[i][c], first_rim[i][c + 1]), its part starts
   // at at[i][c]; past at[i][n] come the newer rim faces.
-  const std::size_t count = sides.size();
   std::vector<std::vector<std::size_t>> first_rim(count, std::vector<std::size_t>(n + 1, 0)), at = first_rim;
   for (std::size_t i = 0; i < count; ++i) {
     const std::vector<FaceId>& r = rim[sides[i]];
@@ -579,11 +590,10 @@ void Cutter::live_side_faces(const std::vector<int>& sides, const std::vector<Fa
       at[i][c + 1] = at[i][c] + found_[c].clean[sides[i]].size() + (first_rim[i][c + 1] - first_rim[i][c]);
     }
     out[sides[i]] = std::vector<FaceId>();
-    out[sides[i]].reserve(at[i][n] + (r.size() - first_rim[i][n]) + side_room_);
   }
-  detail::run_chunks(count, [&](std::size_t i) {
-    out[sides[i]].resize(at[i][n] + (rim[sides[i]].size() - first_rim[i][n]));  // in its room: no allocation
-  });
+  detail::size_side_by_side(
+      count, [&](std::size_t i) -> std::vector<FaceId>& { return out[sides[i]]; },
+      [&](std::size_t i) { return at[i][n] + (rim[sides[i]].size() - first_rim[i][n]); }, side_room_);
   detail::run_chunks(count * (n + 1), [&](std::size_t k) {
     const std::size_t i = k / (n + 1), c = k % (n + 1);
     const int side = sides[i];

@@ -84,12 +84,12 @@ class Cutter {
                                  bool whole_fans) const;
   void collect_pieces(CutResult& result);
   void live_rim_by_side(std::vector<FaceId> (&out)[2]) const;
-  void live_side_faces(const std::vector<int>& sides, const std::vector<FaceId> (&rim)[2],
+  void live_side_faces(const bool (&want)[2], const std::vector<FaceId> (&rim)[2],
                        std::vector<FaceId> (&out)[2]);
   std::vector<CapInput> rim_of_pieces(const CutResult& result) const;
   // Stages of run().
   void check_arguments() const;
-  void classify_vertices(const UsedFlag* used);
+  void classify_vertices(const std::uint8_t* used);
   bool classify_and_scan();
   void split_crossed_faces();
   void separate_or_drop_side();

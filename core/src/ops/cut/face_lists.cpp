@@ -52,10 +52,10 @@ class IdCounter {
   std::uint32_t i_;
 };
 
-inline void flag_corners(UsedFlag* used, VertexId a, VertexId b, VertexId c) {
-  used[a.index].store(1, std::memory_order_relaxed);
-  used[b.index].store(1, std::memory_order_relaxed);
-  used[c.index].store(1, std::memory_order_relaxed);
+inline void flag_corners(std::uint8_t* used, VertexId a, VertexId b, VertexId c) {
+  set_flag(used, a.index);
+  set_flag(used, b.index);
+  set_flag(used, c.index);
 }
 
 // The first face from `i` on (below `end`) whose corner bits are not `c` (or, with
@@ -63,7 +63,7 @@ inline void flag_corners(UsedFlag* used, VertexId a, VertexId b, VertexId c) {
 // corners of the faces it reads are flagged in `used`. Without deleted faces, four faces a step
 // with one test for the four.
 template <bool kCheckDeleted, bool kFlag>
-std::uint32_t run_end(const SurfaceMesh& mesh, const std::uint8_t* bits, UsedFlag* used, std::uint32_t i,
+std::uint32_t run_end(const SurfaceMesh& mesh, const std::uint8_t* bits, std::uint8_t* used, std::uint32_t i,
                       std::uint32_t end, unsigned c) {
   const Triangle* faces = mesh.faces().data();
   if constexpr (!kCheckDeleted) {
@@ -90,7 +90,7 @@ std::uint32_t run_end(const SurfaceMesh& mesh, const std::uint8_t* bits, UsedFla
 
 // The faces [b, e) into `out`, as scan_faces files them.
 template <bool kCheckDeleted, bool kFlag>
-void scan_chunk(const SurfaceMesh& mesh, const std::uint8_t* bits, UsedFlag* used, std::uint32_t b,
+void scan_chunk(const SurfaceMesh& mesh, const std::uint8_t* bits, std::uint8_t* used, std::uint32_t b,
                 std::uint32_t e, ScannedFaces& out) {
   const Triangle* faces = mesh.faces().data();
   for (std::uint32_t i = b; i < e;) {
@@ -150,7 +150,7 @@ void merge_sorted(std::vector<FaceId>& list, const std::vector<FaceId>& more) {
     std::inplace_merge(list.begin(), list.begin() + mid, list.end());
 }
 
-std::vector<ScannedFaces> scan_faces(const SurfaceMesh& mesh, const std::uint8_t* bits, UsedFlag* used) {
+std::vector<ScannedFaces> scan_faces(const SurfaceMesh& mesh, const std::uint8_t* bits, std::uint8_t* used) {
   const std::size_t nf = mesh.face_slots();
   const std::size_t grain = grain_per_thread(nf, kMinPassGrain);
   std::vector<ScannedFaces> found((nf + grain - 1) / grain);
@@ -179,23 +179,19 @@ std::vector<ScannedFaces> scan_faces(const SurfaceMesh& mesh, const std::uint8_t
   return found;
 }
 
-bool all_flagged(const UsedFlag* flags, std::size_t count) {
-  static_assert(sizeof(UsedFlag) == 1 && UsedFlag::is_always_lock_free, "a flag is one plain byte");
-  // Read as bytes once the threads that set them are joined: memchr, as a loop of atomic loads
-  // is not vectorised (about 25 times slower over 600k flags).
-  // In parts over the pool (a flag a vertex: 2M at 4M triangles).
-  const auto* bytes = reinterpret_cast<const unsigned char*>(flags);
+bool all_flagged(const std::uint8_t* flags, std::size_t count) {
+  // Read as bytes once the threads that set them are joined: memchr, as a loop of flag_of
+  // (atomic loads) is not vectorised (about 25 times slower over 600k flags). In parts over the
+  // pool (a flag a vertex: 2M at 4M triangles).
   return parallel_reduce(
              count, grain_per_thread(count, 8 * kMinPassGrain), 1,
-             [&](std::size_t b, std::size_t e) { return std::memchr(bytes + b, 0, e - b) == nullptr ? 1 : 0; },
+             [&](std::size_t b, std::size_t e) { return std::memchr(flags + b, 0, e - b) == nullptr ? 1 : 0; },
              [](int a, int b) { return a & b; }) != 0;
 }
 
-void clear_flags(UsedFlag* flags, std::size_t count) {
-  static_assert(sizeof(UsedFlag) == 1 && UsedFlag::is_always_lock_free, "a flag is one plain byte");
-  auto* bytes = reinterpret_cast<unsigned char*>(flags);
+void clear_flags(std::uint8_t* flags, std::size_t count) {
   parallel_for(count, grain_per_thread(count, 8 * kMinPassGrain),
-               [&](std::size_t b, std::size_t e) { std::memset(bytes + b, 0, e - b); });
+               [&](std::size_t b, std::size_t e) { std::memset(flags + b, 0, e - b); });
 }
 
 }  // namespace deepcut::detail

@@ -4,7 +4,6 @@
 // plane by side in runs, and the upkeep of sorted lists of face ids (merging, following moved
 // faces). Private to the cut.
 
-#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <utility>
@@ -28,9 +27,16 @@ inline unsigned corner_bits(const Triangle& t, const std::uint8_t* bits) {
 /// on one when its three passes were split at 4096.
 inline constexpr std::size_t kMinPassGrain = 32768;
 
-/// A flag per vertex: some face slot uses it (the scan's threads may flag one vertex together:
-/// relaxed atomic bytes).
-using UsedFlag = std::atomic<std::uint8_t>;
+/// A flag per vertex (plain bytes, 0 or 1): some face slot uses it. The scan's threads may flag
+/// one vertex together, so a flag is set and read through set_flag and flag_of, relaxed atomic
+/// accesses to the byte (the __atomic builtins: C++17 has no std::atomic_ref), and the whole
+/// buffer is cleared and checked as bytes (memset, memchr) only while no thread flags it.
+inline void set_flag(std::uint8_t* flags, std::uint32_t i) {
+  __atomic_store_n(flags + i, std::uint8_t{1}, __ATOMIC_RELAXED);
+}
+inline bool flag_of(const std::uint8_t* flags, std::size_t i) {
+  return __atomic_load_n(flags + i, __ATOMIC_RELAXED) != 0;
+}
 
 /// The faces of one chunk of scan_faces, each list in id order.
 struct ScannedFaces {
@@ -47,14 +53,14 @@ struct ScannedFaces {
 /// and appended to its side's list whole. With `used` (zeroed, a flag per vertex), every face
 /// slot's corners are flagged there too (deleted ones as well), so the cut needs no face pass
 /// of its own to learn which vertices no face uses.
-std::vector<ScannedFaces> scan_faces(const SurfaceMesh& mesh, const std::uint8_t* bits, UsedFlag* used);
+std::vector<ScannedFaces> scan_faces(const SurfaceMesh& mesh, const std::uint8_t* bits, std::uint8_t* used);
 
 /// True when every one of the `count` flags is set (read once the threads that set them are
 /// joined).
-bool all_flagged(const UsedFlag* flags, std::size_t count);
+bool all_flagged(const std::uint8_t* flags, std::size_t count);
 
 /// Sets the `count` flags to 0 (fresh ones, before any thread uses them), in parts over the pool.
-void clear_flags(UsedFlag* flags, std::size_t count);
+void clear_flags(std::uint8_t* flags, std::size_t count);
 
 /// The face ids [i, end) appended to `list` in one insert: constructed in place, with no zero
 /// fill of the new elements first (a run can be most of the mesh).
