@@ -133,18 +133,20 @@ RimSteps rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFr
   RimHalfEdgeList live;
   live.reserve(log.edits.size() / 8 + 16);  // as file_rim_half_edges' table
   RimHalfEdges filed = file_rim_half_edges(mesh, log, candidates, on_rim, live);
+  // Whether both ends of a half-edge, judged by their originals, are old vertices.
+  const std::uint32_t first_new = posed.first_new();
+  auto both_old = [&](VertexId a, VertexId b) { return a.index < first_new && b.index < first_new; };
   // The removed faces' half-edges are asked about only for a live one between two old vertices
   // (most rims have none: their old vertices are the few slid onto the cylinder).
   for (const auto& [a, b] : live)
-    if (base(a).index < posed.first_new() && base(b).index < posed.first_new()) {
+    if (both_old(base(a), base(b))) {
       file_removed_half_edges(log, old_on_rim, filed);
       break;
     }
   for (const auto& [a, b] : live) {
     if (filed.has(b, a, RimHalfEdges::kAdded | RimHalfEdges::kUntouched)) continue;
     const VertexId oa = base(a), ob = base(b);
-    if (oa.index < posed.first_new() && ob.index < posed.first_new() && !filed.has(ob, oa, RimHalfEdges::kRemoved))
-      continue;
+    if (both_old(oa, ob) && !filed.has(ob, oa, RimHalfEdges::kRemoved)) continue;
     rim_next.emplace_back(a.index, b.index);
   }
   // Grouped by `from`, each group in discovery order: sorted by (from, discovery index) as one
