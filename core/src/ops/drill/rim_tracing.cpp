@@ -103,18 +103,20 @@ void file_removed_half_edges(const EditLog& log, const OldOnRim& old_on_rim, Rim
 template <class Base, class OldOnRim>
 RimSteps steps_from_live(const EditLog& log, const RimHalfEdgeList& live, const Base& base,
                          std::uint32_t first_new, const OldOnRim& old_on_rim, RimHalfEdges& filed) {
-  // Whether both ends of a half-edge, judged by their originals, are old vertices.
-  auto both_old = [&](VertexId a, VertexId b) { return a.index < first_new && b.index < first_new; };
+  // Whether both ends of a half-edge, judged by their originals, are old vertices (the second
+  // looked up only when the first is).
+  auto both_old = [&](VertexId a, VertexId b) {
+    return base(a).index < first_new && base(b).index < first_new;
+  };
   for (const auto& [a, b] : live)
-    if (both_old(base(a), base(b))) {
+    if (both_old(a, b)) {
       file_removed_half_edges(log, old_on_rim, filed);
       break;
     }
   RimSteps steps;
   for (const auto& [a, b] : live) {
     if (filed.has(b, a, RimHalfEdges::kAdded | RimHalfEdges::kUntouched)) continue;
-    const VertexId oa = base(a), ob = base(b);
-    if (both_old(oa, ob) && !filed.has(ob, oa, RimHalfEdges::kRemoved)) continue;
+    if (both_old(a, b) && !filed.has(base(b), base(a), RimHalfEdges::kRemoved)) continue;
     steps.emplace_back(a.index, b.index);
   }
   return steps;
