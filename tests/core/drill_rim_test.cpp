@@ -270,6 +270,49 @@ TEST(DrillTest, an_old_boundary_edge_at_a_split_vertex_is_not_rim) {
   }
 }
 
+// A cylinder through two neighbouring grid vertices a and b: the old edge a-b lies inside it by
+// less than the tolerance (its sagitta), so it is not crossed; the face inside it is removed, the
+// one outside is kept, and the rim runs along a-b. That step is a half-edge between two old
+// vertices, a rim step only because the face across it was removed (the removed faces' rim
+// half-edges are filed for it): the hole is one closed rim through a then b, and the mesh's
+// boundary is the grid's outline and that rim, nothing else.
+TEST(DrillTest, a_rim_along_an_old_edge_closes_the_hole) {
+  constexpr int n = 64;  // spacing 1/64: sagitta 1.5e-4 of r 0.2, under the tolerance (4e-4)
+  SurfaceMesh mesh = test::make_grid(n, n);
+  const VertexId a(static_cast<std::uint32_t>(n / 2 * (n + 1) + n / 2)), b(a.index + 1);
+  const glm::vec3 pa = mesh.position(a), pb = mesh.position(b);
+  ASSERT_EQ(pa, glm::vec3(0.5f, 0.5f, 0.0f));
+  ASSERT_EQ(pb, glm::vec3(0.5f + 1.0f / n, 0.5f, 0.0f));
+  // The axis along z, below a-b on its perpendicular bisector, at distance r from both.
+  const float radius = 0.2f, half = 0.5f / n;
+  const float cy = 0.5f - std::sqrt(radius * radius - half * half);
+  const glm::vec3 centre(pa.x + half, cy, 0.0f);
+  const Cylinder cyl{centre - glm::vec3(0, 0, 1), centre + glm::vec3(0, 0, 1), glm::distance(centre, pa)};
+  const std::size_t outline = 4 * n;  // the grid's boundary edges
+  const Adjacency before = Adjacency::build(mesh);
+  ASSERT_EQ(before.boundary_edges().size(), outline);
+  const std::vector<glm::vec3> posed = mesh.positions();
+  const DrillResult r = drill_mesh(mesh, PosedMesh::at_positions(mesh, posed), cyl);
+  ASSERT_EQ(r.status, OpStatus::Ok);
+  test::expect_valid(mesh);
+  ASSERT_EQ(r.holes.size(), 1u);
+  const DrillHole& h = r.holes[0];
+  EXPECT_TRUE(h.closed);
+  EXPECT_EQ(std::abs(h.winding), 1);
+  const Adjacency adj = Adjacency::build(mesh);
+  EXPECT_EQ(adj.edge_faces(a, b).size(), 1u) << "the face outside a-b is kept, the one inside removed";
+  const auto boundary = adj.boundary_edges();
+  EXPECT_EQ(boundary.size(), outline + h.rim.size()) << "the boundary is the outline and the rim";
+  std::size_t along_ab = 0;
+  for (std::size_t i = 0; i < h.rim.size(); ++i) {
+    const VertexId u = h.rim[i], v = h.rim[(i + 1) % h.rim.size()];
+    EXPECT_TRUE(std::binary_search(boundary.begin(), boundary.end(), make_edge(u, v)))
+        << "rim step " << u.index << "->" << v.index << " is not a boundary edge";
+    along_ab += make_edge(u, v) == make_edge(a, b);
+  }
+  EXPECT_EQ(along_ab, 1u) << "the rim runs along the old edge a-b once";
+}
+
 // A SimpleSkin drill that only grazes an edge at a crease (shallower than the tolerance, so it is
 // not cut): a ruling's point lies just beyond that edge in its triangle's plane and, at the
 // crease, beyond it in the neighbour's plane too. It moves inside its triangle, so the hole is

@@ -26,13 +26,8 @@ std::vector<FaceId> find_candidates(const SurfaceMesh& mesh, const CylinderFrame
   // Far enough to hold every face around a vertex snap_shallow_vertices may move.
   const double reach =
       cyl.r + std::max(2.0 * eps, (kSnapBand + 0.01) * 2.0 * cyl.r * std::sin(geometry::kPi / cyl.samples));
-  // Nothing is added or moved before the snap (the drill's first stages): the input's positions
-  // are read straight, without the overlay's look-ups; otherwise through the overlay.
-  const std::vector<glm::vec3>& input = posed.input();
-  const bool plain = posed.added().empty() && posed.moved().empty();
-  auto at = [&](VertexId v) { return plain ? glm::dvec3(input[v.index]) : posed(v); };
   auto near_axis = [&](const Triangle& t) {
-    const glm::dvec3 p0 = at(t[0]), p1 = at(t[1]), p2 = at(t[2]);
+    const glm::dvec3 p0 = posed(t[0]), p1 = posed(t[1]), p2 = posed(t[2]);
     const glm::dvec3 c = (p0 + p1 + p2) / 3.0;
     const double rad =
         std::sqrt(std::max({glm::dot(p0 - c, p0 - c), glm::dot(p1 - c, p1 - c), glm::dot(p2 - c, p2 - c)}));

@@ -95,13 +95,39 @@ void file_removed_half_edges(const EditLog& log, const OldOnRim& old_on_rim, Rim
         filed.file_face(fr->vertices, rim, RimHalfEdges::kRemoved, nullptr);
 }
 
+// The rim steps among the live half-edges (`live`, in discovery order), unsorted: a live rim
+// half-edge is a step unless an added or untouched face holds its reverse, or it joins two old
+// vertices (judged by `base`, the original of a pinch copy) whose edge no removed face held. The
+// removed faces' half-edges are filed into `filed` only when some live one joins two old
+// vertices (most rims have none: their old vertices are the few slid onto the cylinder).
+template <class Base, class OldOnRim>
+RimSteps steps_from_live(const EditLog& log, const RimHalfEdgeList& live, const Base& base,
+                         std::uint32_t first_new, const OldOnRim& old_on_rim, RimHalfEdges& filed) {
+  // Whether both ends of a half-edge, judged by their originals, are old vertices (the second
+  // looked up only when the first is).
+  auto both_old = [&](VertexId a, VertexId b) {
+    return base(a).index < first_new && base(b).index < first_new;
+  };
+  for (const auto& [a, b] : live)
+    if (both_old(a, b)) {
+      file_removed_half_edges(log, old_on_rim, filed);
+      break;
+    }
+  RimSteps steps;
+  for (const auto& [a, b] : live) {
+    if (filed.has(b, a, RimHalfEdges::kAdded | RimHalfEdges::kUntouched)) continue;
+    if (both_old(a, b) && !filed.has(base(b), base(a), RimHalfEdges::kRemoved)) continue;
+    steps.emplace_back(a.index, b.index);
+  }
+  return steps;
+}
+
 // Rim edges are found from the topology the edits left: boundary half-edges of the new faces
 // whose ends lie on the cylinder. An edge between two old vertices is an edge of the parent
 // triangle; it is a boundary only if the face across it was removed and not replaced there.
 RimSteps rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFrame& cyl,
                   const PosedOverlay& posed, const std::vector<FaceId>& candidates,
                   const std::unordered_map<std::uint32_t, std::uint32_t>& copy_of) {
-  RimSteps rim_next;
   // A copy the pinch split made of an old vertex is new, but the faces moved onto it keep their
   // old edges: both are judged by the original (an old boundary edge at a split vertex is not rim).
   // The copies are the newest vertices: ids below the lowest copy are looked up nowhere.
@@ -133,20 +159,7 @@ RimSteps rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFr
   RimHalfEdgeList live;
   live.reserve(log.edits.size() / 8 + 16);  // as file_rim_half_edges' table
   RimHalfEdges filed = file_rim_half_edges(mesh, log, candidates, on_rim, live);
-  // The removed faces' half-edges are asked about only for a live one between two old vertices
-  // (most rims have none: their old vertices are the few slid onto the cylinder).
-  for (const auto& [a, b] : live)
-    if (base(a).index < posed.first_new() && base(b).index < posed.first_new()) {
-      file_removed_half_edges(log, old_on_rim, filed);
-      break;
-    }
-  for (const auto& [a, b] : live) {
-    if (filed.has(b, a, RimHalfEdges::kAdded | RimHalfEdges::kUntouched)) continue;
-    const VertexId oa = base(a), ob = base(b);
-    if (oa.index < posed.first_new() && ob.index < posed.first_new() && !filed.has(ob, oa, RimHalfEdges::kRemoved))
-      continue;
-    rim_next.emplace_back(a.index, b.index);
-  }
+  const RimSteps rim_next = steps_from_live(log, live, base, posed.first_new(), old_on_rim, filed);
   // Grouped by `from`, each group in discovery order: sorted by (from, discovery index) as one
   // 64-bit key per step (a plain sort of integers, where a stable sort of the pairs merges).
   assert(rim_next.size() < (std::uint64_t(1) << 32));  // the discovery index fits the key's low half
