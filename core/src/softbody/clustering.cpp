@@ -444,6 +444,27 @@ std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& parti
       }
     }
   });
+  // Everything the row fixing below needs is allocated before any entry is renamed, so that a
+  // failed allocation leaves the clusters as they were. Many listed vertices (a build): a mark
+  // per vertex (1 renamed, 2 dropped), then one pass over the rows instead of sorting the lists
+  // on this thread; few: the renamed and dropped vertices, sorted and unique.
+  std::size_t listed = 0;
+  for (const Minor& part : minors) listed += part.vertices.size();
+  const bool marked = listed * 16 >= rows_.size();
+  std::unique_ptr<std::atomic<std::uint8_t>[]> mark;
+  std::vector<std::uint32_t> renamed, dropped;
+  if (marked) {
+    mark.reset(new std::atomic<std::uint8_t>[rows_.size()]);
+  } else {
+    for (std::size_t k = 0; k < minors.size(); ++k) {
+      auto& to = drop[k] ? dropped : renamed;
+      to.insert(to.end(), minors[k].vertices.begin(), minors[k].vertices.end());
+    }
+    for (auto* v : {&renamed, &dropped}) {
+      std::sort(v->begin(), v->end());
+      v->erase(std::unique(v->begin(), v->end()), v->end());
+    }
+  }
   std::vector<std::uint32_t> renamed_to(minors.size(), kInvalidIndex);
   for (std::size_t k = 0; k < minors.size(); ++k)
     if (!drop[k]) {
@@ -464,12 +485,7 @@ std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& parti
     r.size = n;
     renormalise(v);
   };
-  std::size_t listed = 0;
-  for (const Minor& part : minors) listed += part.vertices.size();
-  if (listed * 16 >= rows_.size()) {
-    // Many (a build): a mark per vertex (1 renamed, 2 dropped), then one pass over the rows
-    // instead of sorting the lists on this thread.
-    std::unique_ptr<std::atomic<std::uint8_t>[]> mark(new std::atomic<std::uint8_t>[rows_.size()]);
+  if (marked) {
     parallel_for(rows_.size(), 1 << 16, [&](std::size_t b, std::size_t e) {
       for (std::size_t v = b; v < e; ++v) mark[v].store(0, std::memory_order_relaxed);
     });
@@ -485,15 +501,6 @@ std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& parti
       }
     });
   } else {
-    std::vector<std::uint32_t> renamed, dropped;
-    for (std::size_t k = 0; k < minors.size(); ++k) {
-      auto& to = drop[k] ? dropped : renamed;
-      to.insert(to.end(), minors[k].vertices.begin(), minors[k].vertices.end());
-    }
-    for (auto* v : {&renamed, &dropped}) {
-      std::sort(v->begin(), v->end());
-      v->erase(std::unique(v->begin(), v->end()), v->end());
-    }
     parallel_for(renamed.size(), 1024, [&](std::size_t b, std::size_t e) {
       for (std::size_t i = b; i < e; ++i) sort_row(renamed[i]);
     });
