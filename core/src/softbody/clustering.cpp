@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cassert>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -552,13 +553,17 @@ void Clusters::build_memberships(const std::vector<glm::vec3>& rest,
       const std::uint32_t v = ids[i];
       const glm::vec3 pv = rest[v];
       Influence* out = pool_.data() + start[i];
+      // The row's length is the count pass's; the fill (the same test) writes no more than that
+      // and, should it find fewer, leaves the rest as spare capacity rather than unwritten size.
+      const std::uint32_t count = start[i + 1] - start[i];
       std::uint32_t n = 0;
       seed_grid.for_each_near(pv, reach, [&](std::uint32_t p) {
         const float d2 = distance2(pv, seeds_[p]);
-        if (d2 <= rho2) out[n++] = Influence{p, falloff(d2, rho2)};
+        if (d2 <= rho2 && n < count) out[n++] = Influence{p, falloff(d2, rho2)};
       });
+      assert(n == count && "build_memberships: the fill and the count pass disagree");
       std::sort(out, out + n, [](const Influence& a, const Influence& x) { return a.particle < x.particle; });
-      rows_[v] = Row{start[i], n, n};
+      rows_[v] = Row{start[i], n, count};
       renormalise(v);
     }
   });
