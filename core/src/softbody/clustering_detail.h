@@ -93,8 +93,8 @@ inline Parts parts_by_root(std::vector<std::pair<std::uint32_t, std::uint32_t>>&
 // The parts of one particle's members `m` from their roots (`root[i]` that of m[i]), as
 // parts_by_root gives them, without its sorts: each member is filed under its root (looked up
 // among the few roots met so far, the last one first), in the order of `m`, which keeps every
-// part ascending. Only for ascending `m` and at most kMaxParts parts: else nothing (the caller
-// uses parts_by_root). `group`: scratch.
+// part ascending. Only for strictly ascending `m` and at most kMaxParts parts: else nothing (the
+// caller uses parts_by_root). `group`: scratch.
 inline std::optional<Parts> parts_by_group(const std::vector<std::uint32_t>& m,
                                            const std::vector<std::uint32_t>& root,
                                            std::vector<std::uint8_t>& group) {
