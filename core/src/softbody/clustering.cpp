@@ -384,8 +384,7 @@ std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& parti
   std::vector<std::uint8_t> is_split(particles.size(), 0);
   parallel_for(particles.size(), 4, [&](std::size_t b, std::size_t e) {
     std::vector<std::uint32_t> roots;  // of the members, in order
-    std::vector<std::uint8_t> group;
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> by_root;  // (root, vertex)
+    PartsScratch scratch;
     for (std::size_t k = b; k < e; ++k) {
       const std::uint32_t p = particles[k];
       const auto& m = members_[p];
@@ -398,13 +397,7 @@ std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& parti
       }
       if (single) continue;
       is_split[k] = 1;
-      if (std::optional<Parts> parts = parts_by_group(m, roots, group)) {
-        split[k] = std::move(*parts);
-        continue;
-      }
-      by_root.clear();
-      for (std::size_t i = 0; i < m.size(); ++i) by_root.emplace_back(roots[i], m[i]);
-      split[k] = parts_by_root(by_root);
+      split[k] = parts_by_group(m, roots, scratch);
     }
   });
   std::vector<Minor> minors;
