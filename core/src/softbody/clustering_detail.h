@@ -71,8 +71,8 @@ struct Parts {
 struct PartsScratch {
   std::vector<std::uint32_t> group;     // per member: its part's number
   std::vector<std::uint32_t> distinct;  // the roots, sorted and unique (more than kLinearRoots)
-  std::vector<std::uint32_t> sizes;     // per part: its member count
-  std::vector<std::uint32_t> slot;      // per part: kInvalidIndex (main) or its minor's index
+  std::vector<std::uint32_t> sizes;     // per part: its member count (more than kLinearRoots)
+  std::vector<std::uint32_t> slot;      // per part: the main part or its minor (likewise)
 };
 
 // The parts of one particle's members `m` (strictly ascending) from their roots (`root[i]` that
@@ -84,7 +84,9 @@ struct PartsScratch {
 inline Parts parts_by_group(const std::vector<std::uint32_t>& m, const std::vector<std::uint32_t>& root,
                             PartsScratch& scratch) {
   constexpr std::size_t kLinearRoots = 16;
-  std::uint32_t linear_roots[kLinearRoots];
+  if (m.empty()) return Parts{};
+  // Up to kLinearRoots parts: roots, sizes and slots on the stack; past that, in the scratch.
+  std::uint32_t linear_roots[kLinearRoots], linear_sizes[kLinearRoots], linear_slot[kLinearRoots];
   std::vector<std::uint32_t>& group = scratch.group;
   group.resize(m.size());
   std::size_t count = 0, last = 0;
@@ -99,50 +101,49 @@ inline Parts parts_by_group(const std::vector<std::uint32_t>& m, const std::vect
           linear = false;
           break;
         }
-        linear_roots[count++] = root[i];
+        linear_roots[count] = root[i];
+        linear_sizes[count++] = 0;
       }
     }
+    ++linear_sizes[last];
     group[i] = static_cast<std::uint32_t>(last);
   }
-  if (m.empty()) return Parts{};
-  const std::uint32_t* roots = linear_roots;
-  if (!linear) {
+  const std::uint32_t* sizes = linear_sizes;
+  std::uint32_t* slot = linear_slot;  // per part: kInvalidIndex (main) or its minor's index
+  std::uint32_t best = 0;
+  if (linear) {
+    // The parts in root order; the largest (the first in that order on ties) is the main one.
+    std::uint32_t order[kLinearRoots];
+    for (std::uint32_t g = 0; g < count; ++g) order[g] = g;
+    std::sort(order, order + count,
+              [&](std::uint32_t a, std::uint32_t b) { return linear_roots[a] < linear_roots[b]; });
+    best = order[0];
+    for (std::size_t k = 1; k < count; ++k)
+      if (linear_sizes[order[k]] > linear_sizes[best]) best = order[k];
+    for (std::uint32_t k = 0, minor = 0; k < count; ++k)
+      slot[order[k]] = order[k] == best ? kInvalidIndex : minor++;
+  } else {
+    // Numbered by the sorted unique roots: already in root order.
     std::vector<std::uint32_t>& distinct = scratch.distinct;
     distinct.assign(root.begin(), root.begin() + static_cast<std::ptrdiff_t>(m.size()));
     std::sort(distinct.begin(), distinct.end());
     distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
-    for (std::size_t i = 0; i < m.size(); ++i)
+    count = distinct.size();
+    scratch.sizes.assign(count, 0);
+    for (std::size_t i = 0; i < m.size(); ++i) {
       group[i] = static_cast<std::uint32_t>(std::lower_bound(distinct.begin(), distinct.end(), root[i]) -
                                             distinct.begin());
-    roots = distinct.data();
-    count = distinct.size();
-  }
-  std::vector<std::uint32_t>& sizes = scratch.sizes;
-  sizes.assign(count, 0);
-  for (std::size_t i = 0; i < m.size(); ++i) ++sizes[group[i]];
-  // The parts in root order (the sorted list's numbering already is).
-  std::uint32_t linear_order[kLinearRoots];
-  std::vector<std::uint32_t>& slot = scratch.slot;
-  slot.resize(count);
-  std::uint32_t* order = slot.data();  // the order first, then turned into the slots
-  if (linear) {
-    order = linear_order;
-    for (std::uint32_t g = 0; g < count; ++g) order[g] = g;
-    std::sort(order, order + count, [&](std::uint32_t a, std::uint32_t b) { return roots[a] < roots[b]; });
-  } else {
-    for (std::uint32_t g = 0; g < count; ++g) order[g] = g;
-  }
-  std::uint32_t best = order[0];
-  for (std::size_t k = 1; k < count; ++k)
-    if (sizes[order[k]] > sizes[best]) best = order[k];
-  Parts parts;
-  parts.minors.resize(count - 1);
-  if (linear) {
-    for (std::uint32_t k = 0, minor = 0; k < count; ++k)
-      slot[order[k]] = order[k] == best ? kInvalidIndex : minor++;
-  } else {
+      ++scratch.sizes[group[i]];
+    }
+    sizes = scratch.sizes.data();
+    for (std::uint32_t g = 1; g < count; ++g)
+      if (sizes[g] > sizes[best]) best = g;
+    scratch.slot.resize(count);
+    slot = scratch.slot.data();
     for (std::uint32_t g = 0, minor = 0; g < count; ++g) slot[g] = g == best ? kInvalidIndex : minor++;
   }
+  Parts parts;
+  parts.minors.resize(count - 1);
   auto out = [&](std::uint32_t g) -> std::vector<std::uint32_t>& {
     return slot[g] == kInvalidIndex ? parts.main : parts.minors[slot[g]];
   };
