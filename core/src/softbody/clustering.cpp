@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cassert>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -383,8 +384,7 @@ std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& parti
   std::vector<std::uint8_t> is_split(particles.size(), 0);
   parallel_for(particles.size(), 4, [&](std::size_t b, std::size_t e) {
     std::vector<std::uint32_t> roots;  // of the members, in order
-    std::vector<std::uint8_t> group;
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> by_root;  // (root, vertex)
+    PartsScratch scratch;
     for (std::size_t k = b; k < e; ++k) {
       const std::uint32_t p = particles[k];
       const auto& m = members_[p];
@@ -397,13 +397,7 @@ std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& parti
       }
       if (single) continue;
       is_split[k] = 1;
-      if (std::optional<Parts> parts = parts_by_group(m, roots, group)) {
-        split[k] = std::move(*parts);
-        continue;
-      }
-      by_root.clear();
-      for (std::size_t i = 0; i < m.size(); ++i) by_root.emplace_back(roots[i], m[i]);
-      split[k] = parts_by_root(by_root);
+      split[k] = parts_by_group(m, roots, scratch);
     }
   });
   std::vector<Minor> minors;
@@ -444,6 +438,27 @@ std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& parti
       }
     }
   });
+  // Everything the row fixing below needs is allocated before any entry is renamed, so that a
+  // failed allocation leaves the clusters as they were. Many listed vertices (a build): a mark
+  // per vertex (1 renamed, 2 dropped), then one pass over the rows instead of sorting the lists
+  // on this thread; few: the renamed and dropped vertices, sorted and unique.
+  std::size_t listed = 0;
+  for (const Minor& part : minors) listed += part.vertices.size();
+  const bool marked = listed * 16 >= rows_.size();
+  std::unique_ptr<std::atomic<std::uint8_t>[]> mark;
+  std::vector<std::uint32_t> renamed, dropped;
+  if (marked) {
+    mark.reset(new std::atomic<std::uint8_t>[rows_.size()]);
+  } else {
+    for (std::size_t k = 0; k < minors.size(); ++k) {
+      auto& to = drop[k] ? dropped : renamed;
+      to.insert(to.end(), minors[k].vertices.begin(), minors[k].vertices.end());
+    }
+    for (auto* v : {&renamed, &dropped}) {
+      std::sort(v->begin(), v->end());
+      v->erase(std::unique(v->begin(), v->end()), v->end());
+    }
+  }
   std::vector<std::uint32_t> renamed_to(minors.size(), kInvalidIndex);
   for (std::size_t k = 0; k < minors.size(); ++k)
     if (!drop[k]) {
@@ -464,12 +479,7 @@ std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& parti
     r.size = n;
     renormalise(v);
   };
-  std::size_t listed = 0;
-  for (const Minor& part : minors) listed += part.vertices.size();
-  if (listed * 16 >= rows_.size()) {
-    // Many (a build): a mark per vertex (1 renamed, 2 dropped), then one pass over the rows
-    // instead of sorting the lists on this thread.
-    std::unique_ptr<std::atomic<std::uint8_t>[]> mark(new std::atomic<std::uint8_t>[rows_.size()]);
+  if (marked) {
     parallel_for(rows_.size(), 1 << 16, [&](std::size_t b, std::size_t e) {
       for (std::size_t v = b; v < e; ++v) mark[v].store(0, std::memory_order_relaxed);
     });
@@ -485,15 +495,6 @@ std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& parti
       }
     });
   } else {
-    std::vector<std::uint32_t> renamed, dropped;
-    for (std::size_t k = 0; k < minors.size(); ++k) {
-      auto& to = drop[k] ? dropped : renamed;
-      to.insert(to.end(), minors[k].vertices.begin(), minors[k].vertices.end());
-    }
-    for (auto* v : {&renamed, &dropped}) {
-      std::sort(v->begin(), v->end());
-      v->erase(std::unique(v->begin(), v->end()), v->end());
-    }
     parallel_for(renamed.size(), 1024, [&](std::size_t b, std::size_t e) {
       for (std::size_t i = b; i < e; ++i) sort_row(renamed[i]);
     });
@@ -545,13 +546,17 @@ void Clusters::build_memberships(const std::vector<glm::vec3>& rest,
       const std::uint32_t v = ids[i];
       const glm::vec3 pv = rest[v];
       Influence* out = pool_.data() + start[i];
+      // The row's length is the count pass's; the fill (the same test) writes no more than that
+      // and, should it find fewer, leaves the rest as spare capacity rather than unwritten size.
+      const std::uint32_t count = start[i + 1] - start[i];
       std::uint32_t n = 0;
       seed_grid.for_each_near(pv, reach, [&](std::uint32_t p) {
         const float d2 = distance2(pv, seeds_[p]);
-        if (d2 <= rho2) out[n++] = Influence{p, falloff(d2, rho2)};
+        if (d2 <= rho2 && n < count) out[n++] = Influence{p, falloff(d2, rho2)};
       });
+      assert(n == count && "build_memberships: the fill and the count pass disagree");
       std::sort(out, out + n, [](const Influence& a, const Influence& x) { return a.particle < x.particle; });
-      rows_[v] = Row{start[i], n, n};
+      rows_[v] = Row{start[i], n, count};
       renormalise(v);
     }
   });

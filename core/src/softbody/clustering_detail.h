@@ -7,10 +7,10 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cassert>
 #include <cmath>
 #include <cstdint>
 #include <memory>
-#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -67,71 +67,88 @@ struct Parts {
   std::vector<std::vector<std::uint32_t>> minors;
 };
 
-// `by_root`: (union-find root, vertex) for every member; sorted here.
-inline Parts parts_by_root(std::vector<std::pair<std::uint32_t, std::uint32_t>>& by_root) {
-  std::sort(by_root.begin(), by_root.end());
-  // Parts as ranges of by_root.
-  std::size_t best_begin = 0, best_size = 0;
-  for (std::size_t i = 0; i < by_root.size();) {
-    std::size_t j = i;
-    while (j < by_root.size() && by_root[j].first == by_root[i].first) ++j;
-    if (j - i > best_size) best_begin = i, best_size = j - i;
-    i = j;
-  }
-  Parts parts;
-  for (std::size_t i = 0; i < by_root.size();) {
-    std::size_t j = i;
-    while (j < by_root.size() && by_root[j].first == by_root[i].first) ++j;
-    std::vector<std::uint32_t>& out = i == best_begin ? parts.main : parts.minors.emplace_back();
-    for (std::size_t k = i; k < j; ++k) out.push_back(by_root[k].second);
-    std::sort(out.begin(), out.end());
-    i = j;
-  }
-  return parts;
-}
+// Scratch of parts_by_group, kept across calls so that they allocate nothing once grown.
+struct PartsScratch {
+  std::vector<std::uint32_t> group;     // per member: its part's number
+  std::vector<std::uint32_t> distinct;  // the roots, sorted and unique (more than kLinearRoots)
+  std::vector<std::uint32_t> sizes;     // per part: its member count (more than kLinearRoots)
+  std::vector<std::uint32_t> slot;      // per part: the main part or its minor (likewise)
+};
 
-// The parts of one particle's members `m` from their roots (`root[i]` that of m[i]), as
-// parts_by_root gives them, without its sorts: each member is filed under its root (looked up
-// among the few roots met so far, the last one first), in the order of `m`, which keeps every
-// part ascending. Only for ascending `m` and at most kMaxParts parts: else nothing (the caller
-// uses parts_by_root). `group`: scratch.
-inline std::optional<Parts> parts_by_group(const std::vector<std::uint32_t>& m,
-                                           const std::vector<std::uint32_t>& root,
-                                           std::vector<std::uint8_t>& group) {
-  constexpr std::size_t kMaxParts = 16;
-  std::uint32_t roots[kMaxParts];
-  std::size_t sizes[kMaxParts];
-  std::size_t count = 0, last = 0;
+// The parts of one particle's members `m` (strictly ascending) from their roots (`root[i]` that
+// of m[i]), without sorting any part: each member is filed under its root's part in the order of
+// `m`, which keeps every part ascending. The parts are numbered by a linear search among the
+// roots met so far (the last one first) while there are at most kLinearRoots of them; past that,
+// by a binary search in the sorted unique list of all the roots. The largest part (the first in
+// root order on ties) is the main one, the others the minors in root order.
+inline Parts parts_by_group(const std::vector<std::uint32_t>& m, const std::vector<std::uint32_t>& root,
+                            PartsScratch& scratch) {
+  constexpr std::size_t kLinearRoots = 16;
+  if (m.empty()) return Parts{};
+  // Up to kLinearRoots parts: roots, sizes and slots on the stack; past that, in the scratch.
+  std::uint32_t linear_roots[kLinearRoots], linear_sizes[kLinearRoots], linear_slot[kLinearRoots];
+  std::vector<std::uint32_t>& group = scratch.group;
   group.resize(m.size());
+  std::size_t count = 0, last = 0;
+  bool linear = true;
   for (std::size_t i = 0; i < m.size(); ++i) {
-    if (i > 0 && !(m[i - 1] < m[i])) return std::nullopt;
-    if (count == 0 || roots[last] != root[i]) {
+    assert((i == 0 || m[i - 1] < m[i]) && "parts_by_group: members not strictly ascending");
+    if (count == 0 || linear_roots[last] != root[i]) {
       last = 0;
-      while (last < count && roots[last] != root[i]) ++last;
+      while (last < count && linear_roots[last] != root[i]) ++last;
       if (last == count) {
-        if (count == kMaxParts) return std::nullopt;
-        roots[count] = root[i];
-        sizes[count++] = 0;
+        if (count == kLinearRoots) {
+          linear = false;
+          break;
+        }
+        linear_roots[count] = root[i];
+        linear_sizes[count++] = 0;
       }
     }
-    ++sizes[last];
-    group[i] = static_cast<std::uint8_t>(last);
+    ++linear_sizes[last];
+    group[i] = static_cast<std::uint32_t>(last);
   }
-  if (count == 0) return Parts{};
-  // The parts in root order; the largest (the first in that order on ties) is the main one.
-  std::size_t order[kMaxParts];
-  for (std::size_t g = 0; g < count; ++g) order[g] = g;
-  std::sort(order, order + count, [&](std::size_t a, std::size_t b) { return roots[a] < roots[b]; });
-  std::size_t best = order[0];
-  for (std::size_t k = 1; k < count; ++k)
-    if (sizes[order[k]] > sizes[best]) best = order[k];
+  const std::uint32_t* sizes = linear_sizes;
+  std::uint32_t* slot = linear_slot;  // per part: kInvalidIndex (main) or its minor's index
+  std::uint32_t best = 0;
+  if (linear) {
+    // The parts in root order; the largest (the first in that order on ties) is the main one.
+    std::uint32_t order[kLinearRoots];
+    for (std::uint32_t g = 0; g < count; ++g) order[g] = g;
+    std::sort(order, order + count,
+              [&](std::uint32_t a, std::uint32_t b) { return linear_roots[a] < linear_roots[b]; });
+    best = order[0];
+    for (std::size_t k = 1; k < count; ++k)
+      if (linear_sizes[order[k]] > linear_sizes[best]) best = order[k];
+    for (std::uint32_t k = 0, minor = 0; k < count; ++k)
+      slot[order[k]] = order[k] == best ? kInvalidIndex : minor++;
+  } else {
+    // Numbered by the sorted unique roots: already in root order.
+    std::vector<std::uint32_t>& distinct = scratch.distinct;
+    distinct.assign(root.begin(), root.begin() + static_cast<std::ptrdiff_t>(m.size()));
+    std::sort(distinct.begin(), distinct.end());
+    distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+    count = distinct.size();
+    scratch.sizes.assign(count, 0);
+    for (std::size_t i = 0; i < m.size(); ++i) {
+      group[i] = static_cast<std::uint32_t>(std::lower_bound(distinct.begin(), distinct.end(), root[i]) -
+                                            distinct.begin());
+      ++scratch.sizes[group[i]];
+    }
+    sizes = scratch.sizes.data();
+    for (std::uint32_t g = 1; g < count; ++g)
+      if (sizes[g] > sizes[best]) best = g;
+    scratch.slot.resize(count);
+    slot = scratch.slot.data();
+    for (std::uint32_t g = 0, minor = 0; g < count; ++g) slot[g] = g == best ? kInvalidIndex : minor++;
+  }
   Parts parts;
   parts.minors.resize(count - 1);
-  std::vector<std::uint32_t>* out[kMaxParts];
-  for (std::size_t k = 0, minor = 0; k < count; ++k)
-    out[order[k]] = order[k] == best ? &parts.main : &parts.minors[minor++];
-  for (std::size_t g = 0; g < count; ++g) out[g]->reserve(sizes[g]);
-  for (std::size_t i = 0; i < m.size(); ++i) out[group[i]]->push_back(m[i]);
+  auto out = [&](std::uint32_t g) -> std::vector<std::uint32_t>& {
+    return slot[g] == kInvalidIndex ? parts.main : parts.minors[slot[g]];
+  };
+  for (std::uint32_t g = 0; g < count; ++g) out(g).reserve(sizes[g]);
+  for (std::size_t i = 0; i < m.size(); ++i) out(group[i]).push_back(m[i]);
   return parts;
 }
 

@@ -103,7 +103,7 @@ class FarthestPointSampler {
   static constexpr std::size_t kMaxListedCells = std::size_t(1) << 16;
   // The most points of one piece of a cell's rescan, and the fewest points per pool chunk (small
   // cells' pieces are rescanned together). Small: a later seed rescans a few thousand points, and
-  // a rescan of fewer than two pieces' worth runs on the calling thread.
+  // a rescan runs inline when the pieces before the last total under kPiece points.
   static constexpr std::size_t kPiece = 1024;
 
   // Tests every non-empty cell of `box` (the cells within reach) for a seed at `ps`, rows of
