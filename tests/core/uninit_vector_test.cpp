@@ -15,6 +15,30 @@ namespace {
 
 static_assert(std::is_same<UninitVector<float>::allocator_type, UninitAllocator<float>>::value);
 
+static_assert(std::is_same<UnfilledVector<float>::allocator_type, UninitAllocator<float, false>>::value);
+
+struct WithDefaults {
+  std::uint32_t a = 7, b = 9;
+};
+
+// Growing an UninitVector default-initialises: a type's default member values are written.
+// Growing an UnfilledVector writes nothing: the storage keeps what it held (here, after clear(),
+// the values written before, since the memory is kept).
+TEST(UninitVector, UnfilledGrowthWritesNoDefaults) {
+  UninitVector<WithDefaults> with(64, WithDefaults{1, 2});
+  with.clear();
+  with.resize(64);
+  for (const WithDefaults& w : with) ASSERT_EQ(w.a * 100 + w.b, 709u);
+  UnfilledVector<WithDefaults> unfilled(64, WithDefaults{1, 2});
+  const WithDefaults* storage = unfilled.data();
+  unfilled.clear();
+  unfilled.resize(64);
+  ASSERT_EQ(unfilled.data(), storage);
+  for (const WithDefaults& w : unfilled) ASSERT_EQ(w.a * 100 + w.b, 102u);
+  unfilled.resize(128, WithDefaults{});  // explicit values are written
+  for (std::size_t i = 64; i < 128; ++i) ASSERT_EQ(unfilled[i].a * 100 + unfilled[i].b, 709u) << i;
+}
+
 // Growing it keeps the elements it held (and their order); shrinking keeps the first ones.
 TEST(UninitVector, ResizeKeepsTheElementsItHeld) {
   UninitVector<std::uint32_t> v;

@@ -28,6 +28,7 @@
 #include "deepcut/core/adjacency.h"
 #include "deepcut/core/edit_log.h"
 #include "deepcut/core/surface_mesh.h"
+#include "deepcut/core/uninit_vector.h"
 
 namespace deepcut {
 
@@ -165,31 +166,9 @@ class Clusters {
   }
 
  private:
-  /// The allocator of the per-vertex arrays (rows, pool, face counts): growing one writes no new
-  /// element (`resize(n)` leaves them as they are; explicit values are written as usual), so a
-  /// build sizes them for millions of entries and writes them over the thread pool instead of
-  /// filling them first on the calling thread. Only for aggregates of plain numbers: their
-  /// storage holds them once allocated, whatever its bytes.
-  template <class T>
-  struct Unfilled : std::allocator<T> {
-    static_assert(std::is_trivially_copyable<T>::value && std::is_trivially_destructible<T>::value,
-                  "Unfilled holds only plain aggregates");
-    template <class U>
-    struct rebind {
-      using other = Unfilled<U>;
-    };
-    Unfilled() = default;
-    template <class U>
-    Unfilled(const Unfilled<U>&) noexcept {}
-    template <class U>
-    void construct(U*) noexcept {}
-    template <class U, class... Args>
-    void construct(U* p, Args&&... args) {
-      ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-    }
-  };
-  template <class T>
-  using UnfilledVector = std::vector<T, Unfilled<T>>;
+  /// The per-vertex arrays (rows, pool, face counts) are UnfilledVectors: a build sizes them for
+  /// millions of entries and writes them over the thread pool instead of filling them first on
+  /// the calling thread.
 
   struct Row {
     std::uint32_t begin = 0, size = 0, capacity = 0;
