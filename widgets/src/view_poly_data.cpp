@@ -217,12 +217,14 @@ void ViewPolyData::build_corner_points(const Writer& writer, const CornerGroups&
       Candidates seen;
       std::uint32_t count = 0;
       const Corners corners{nullptr, kInvalidIndex, grouped + groups.offset[v], grouped + groups.offset[v + 1]};
-      corners.any([&](std::uint32_t c) {
-        std::uint32_t p = alike_point(writer, seen, corners, c, conn);
+      for (const std::uint32_t* at = corners.begin; at != corners.end; ++at) {
+        const std::uint32_t c = *at;
+        // alike_point's usual case inline (no call per corner): the first point seen that draws alike.
+        std::uint32_t p = seen.find(writer, c);
+        if (p == kInvalidIndex && seen.full) p = alike_point(writer, seen, corners, c, conn);
         if (p == kInvalidIndex) seen.add(p = count++, c);
         conn[c] = p;
-        return false;
-      });
+      }
       first_point[v + 1] = count;
     }
   });
