@@ -18,6 +18,7 @@
 #include "deepcut/core/posed_corner_normal.h"
 #include "deepcut/core/smallest_fit.h"
 #include "deepcut/widgets/texture.h"
+#include "surface_mapper.h"
 
 namespace deepcut::studio {
 
@@ -69,21 +70,6 @@ std::shared_ptr<ViewPolyData> instance_view_data(const plugins::Scene& scene,
   return data;
 }
 
-namespace {
-
-// Sets the cached bounds of the points its cells use (what vtkPolyData::GetCellsBounds returns
-// until the points or cells change), which VTK keeps in protected members.
-struct CellsBoundsCache : vtkPolyData {
-  static void set(vtkPolyData* poly, const double bounds[6]) {
-    double(vtkPolyData::*const cached)[6] = &CellsBoundsCache::CellsBounds;
-    vtkTimeStamp vtkPolyData::*const time = &CellsBoundsCache::CellsBoundsTime;
-    std::copy(bounds, bounds + 6, poly->*cached);
-    (poly->*time).Modified();
-  }
-};
-
-}  // namespace
-
 void compute_draw_caches(const ViewPolyData& data) {
   vtkPolyData* poly = data.poly();
   vtkDataArray* points = poly->GetPoints()->GetData();
@@ -91,11 +77,13 @@ void compute_draw_caches(const ViewPolyData& data) {
   for (int k = 0; k < 3; ++k) points->GetRange(bounds + 2 * k, k);
   // A full build's corner points are each made for a corner of a live face, and a deleted
   // face's cell names point 0 (then made too): every point is some cell's, so the cells' bounds
-  // are the coordinates' ranges, known now, and VTK's pass over every cell's point ids (about
-  // 70M instructions at 1M triangles) is not needed. Otherwise (a point per vertex slot, some
-  // perhaps unused) VTK's own.
+  // are the coordinates' ranges, known now, kept for the surface mapper (its bounds while the
+  // points and cells are unchanged) in place of VTK's pass over every cell's point ids.
+  // Otherwise (a point per vertex slot, some perhaps unused) VTK's own, cached in the data.
+  // The one caller (SceneView::prepare) passes a full build (instance_view_data without a
+  // source), with at least one cell and point: the guards hold there and are for other callers.
   if (data.corner_points() && !data.copied() && poly->GetNumberOfCells() > 0 && poly->GetNumberOfPoints() > 0)
-    CellsBoundsCache::set(poly, bounds);
+    SurfaceMapper::keep_cells_bounds(poly, bounds);
   else
     poly->GetCellsBounds(bounds);
 }
