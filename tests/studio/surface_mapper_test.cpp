@@ -4,7 +4,6 @@
 // cells change (the cell array or only its connectivity marked modified) and after its points
 // alone change; its own triangle buffer is what drew (every triangle, the degenerate one too,
 // where VTK's leaves that out), VTK's build takes over for edges and its own comes back after.
-// Beside it, the cell bounds the view's draw caches set (instance_data.h) equal VTK's own.
 #include "surface_mapper.h"
 
 #include <vtkActor.h>
@@ -27,9 +26,6 @@
 #include <array>
 #include <cmath>
 #include <string>
-
-#include "deepcut/core/generate/cactus.h"
-#include "instance_data.h"
 
 namespace {
 
@@ -115,7 +111,6 @@ class SurfaceMapperTest : public QObject {
   void one_actor_switching_representations_draws_as_vtk_does();
   void cells_other_than_triangles_take_vtks_build();
   void an_upload_without_mapping_draws_the_same();
-  void draw_caches_give_the_cell_bounds_vtk_computes();
 
  private:
   // One window for every case: a window closed and another opened at once can find the X server
@@ -218,34 +213,6 @@ void SurfaceMapperTest::an_upload_without_mapping_draws_the_same() {
   QVERIFY(same(x, y));
   QVERIFY(!ours->mapped());
   QCOMPARE(ours->triangle_indices(), std::size_t(3 * poly->GetNumberOfCells()));
-}
-
-void SurfaceMapperTest::draw_caches_give_the_cell_bounds_vtk_computes() {
-  // compute_draw_caches sets a full corner-point build's cell bounds from its coordinates'
-  // ranges: they equal what VTK computes over the points its cells use.
-  deepcut::CactusOptions options;
-  options.target_triangles = 3000;
-  const deepcut::Model model = deepcut::make_cactus(options);
-  const deepcut::SurfaceMesh& mesh = model.meshes.at(0).primitives.at(0).mesh;
-  std::vector<glm::vec3> moved = mesh.positions();
-  for (glm::vec3& p : moved) p = p * 1.5f + glm::vec3(-2.0f, 0.25f, 7.0f);
-  const std::vector<glm::vec3>* const poses[] = {&mesh.positions(), &moved};
-  for (const std::vector<glm::vec3>* positions : poses) {
-    const deepcut::ViewPolyData data(mesh, *positions);
-    QVERIFY(data.corner_points());
-    deepcut::studio::compute_draw_caches(data);
-    double cached[6], computed[6];
-    data.poly()->GetCellsBounds(cached);
-    auto fresh = vtkSmartPointer<vtkPolyData>::New();
-    vtkNew<vtkPoints> points;
-    points->DeepCopy(data.poly()->GetPoints());
-    fresh->SetPoints(points);
-    vtkNew<vtkCellArray> cells;
-    cells->DeepCopy(data.poly()->GetPolys());
-    fresh->SetPolys(cells);
-    fresh->GetCellsBounds(computed);
-    for (int k = 0; k < 6; ++k) QCOMPARE(cached[k], computed[k]);
-  }
 }
 
 QTEST_APPLESS_MAIN(SurfaceMapperTest)
