@@ -18,6 +18,7 @@
 #include "deepcut/core/posed_corner_normal.h"
 #include "deepcut/core/smallest_fit.h"
 #include "deepcut/widgets/texture.h"
+#include "surface_mapper.h"
 
 namespace deepcut::studio {
 
@@ -69,11 +70,22 @@ std::shared_ptr<ViewPolyData> instance_view_data(const plugins::Scene& scene,
   return data;
 }
 
-void compute_draw_caches(vtkPolyData* poly) {
-  double bounds[6];
-  poly->GetCellsBounds(bounds);
+void compute_draw_caches(const ViewPolyData& data) {
+  vtkPolyData* poly = data.poly();
   vtkDataArray* points = poly->GetPoints()->GetData();
-  for (int k = 0; k < points->GetNumberOfComponents(); ++k) points->GetRange(k);
+  double bounds[6];
+  for (int k = 0; k < 3; ++k) points->GetRange(bounds + 2 * k, k);
+  // A full build's corner points are each made for a corner of a live face, and a deleted
+  // face's cell names point 0 (then made too): every point is some cell's, so the cells' bounds
+  // are the coordinates' ranges, known now, kept for the surface mapper (its bounds while the
+  // points and cells are unchanged) in place of VTK's pass over every cell's point ids.
+  // Otherwise (a point per vertex slot, some perhaps unused) VTK's own, cached in the data.
+  // The one caller (SceneView::prepare) passes a full build (instance_view_data without a
+  // source), with at least one cell and point: the guards hold there and are for other callers.
+  if (data.corner_points() && !data.copied() && poly->GetNumberOfCells() > 0 && poly->GetNumberOfPoints() > 0)
+    SurfaceMapper::keep_cells_bounds(poly, bounds);
+  else
+    poly->GetCellsBounds(bounds);
 }
 
 vtkSmartPointer<vtkPolyData> normal_lines(const std::vector<vtkPolyData*>& drawn, float length) {

@@ -47,10 +47,12 @@ std::shared_ptr<ViewPolyData> instance_view_data(const plugins::Scene& scene,
                                                  std::vector<std::shared_ptr<ViewPolyData>>* spare = nullptr,
                                                  ViewPolyData::CopyScratch* scratch = nullptr);
 
-/// Computes what drawing `poly` the first time would otherwise compute on the UI thread, cached
-/// by VTK until the data changes: the bounds of its cells (the camera's clipping range) and the
-/// range of each coordinate (whether the vertex buffer needs a shift and scale).
-void compute_draw_caches(vtkPolyData* poly);
+/// Computes what drawing `data` the first time would otherwise compute on the UI thread, cached
+/// until the data changes: the bounds of its cells (the camera's clipping range) and the range
+/// of each coordinate (whether the vertex buffer needs a shift and scale). The cells' bounds are
+/// the ranges when every point is drawn by some cell (a full build with corner points), kept
+/// for the surface mapper (SurfaceMapper::keep_cells_bounds), else VTK computes and caches them.
+void compute_draw_caches(const ViewPolyData& data);
 
 /// The normals overlay of the drawn data `drawn`: a line of `length` along each point's normal
 /// from the point, or where the data has none, along each face normal from the face centre

@@ -377,7 +377,7 @@ std::shared_ptr<const SceneView::Prepared> SceneView::prepare(const plugins::Sce
   auto prepared = std::make_shared<Prepared>();
   for (const plugins::SceneInstance& sp : scene.instances) {
     prepared->data.push_back(instance_view_data(scene, sp));
-    compute_draw_caches(prepared->data.back()->poly());  // off the UI thread
+    compute_draw_caches(*prepared->data.back());  // off the UI thread
   }
   return prepared;
 }

@@ -4,6 +4,8 @@
 #include <vtkActor.h>
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
+#include <vtkInformation.h>
+#include <vtkInformationDoubleVectorKey.h>
 #include <vtkObjectFactory.h>
 #include <vtkOpenGLIndexBufferObject.h>
 #include <vtkPointData.h>
@@ -12,6 +14,7 @@
 #include <vtkRenderer.h>
 #include <vtk_glew.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -23,6 +26,13 @@ namespace deepcut::studio {
 vtkStandardNewMacro(SurfaceMapper);
 
 namespace {
+
+// The cells' bounds kept with a poly data, then the modification time they were kept at.
+vtkInformationDoubleVectorKey* kept_cells_bounds() {
+  static vtkInformationDoubleVectorKey* const key =
+      new vtkInformationDoubleVectorKey("DEEPCUT_KEPT_CELLS_BOUNDS", "SurfaceMapper", 7);
+  return key;
+}
 
 // Connectivity ids narrowed to index buffer entries, over the pool.
 template <class Id>
@@ -125,6 +135,29 @@ void SurfaceMapper::BuildIBO(vtkRenderer* ren, vtkActor* act, vtkPolyData* poly)
     if (p != PrimitiveTris) Primitives[p].IBO->IndexCount = 0;
   IBOBuildState.Clear();  // VTK's own build, when it is next asked, starts again from scratch
   built_ = key;
+}
+
+void SurfaceMapper::keep_cells_bounds(vtkPolyData* poly, const double bounds[6]) {
+  vtkTimeStamp now;
+  now.Modified();  // later than every change to `poly` so far
+  double kept[7];
+  std::copy(bounds, bounds + 6, kept);
+  kept[6] = static_cast<double>(now.GetMTime());  // exact: far below 2^53
+  poly->GetInformation()->Set(kept_cells_bounds(), kept, 7);
+}
+
+void SurfaceMapper::ComputeBounds() {
+  vtkPolyData* poly = GetInput();
+  if (poly) {
+    vtkInformation* info = poly->GetInformation();
+    const double* kept = info->Has(kept_cells_bounds()) ? info->Get(kept_cells_bounds()) : nullptr;
+    if (kept && static_cast<double>(poly->GetMeshMTime()) <= kept[6]) {
+      std::copy(kept, kept + 6, Bounds);
+      return;
+    }
+    ++cells_bounds_passes_;
+  }
+  Superclass::ComputeBounds();
 }
 
 void SurfaceMapper::ReleaseGraphicsResources(vtkWindow* window) {

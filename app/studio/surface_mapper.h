@@ -10,10 +10,12 @@
 /// degenerate triangle it keeps covers no pixel, so the frame is the same. Anything else (edges, wireframe,
 /// points, lines or strips, cell colours or normals, a hardware selection) is VTK's own build. VTK 9.1 builds
 /// the index buffers again with every upload, new positions alone included; this one only when the cells (or
-/// their arrays) were marked modified.
+/// their arrays) were marked modified. Its bounds are the cells' bounds kept with the data
+/// (keep_cells_bounds) while its points and cells are unchanged since, else VTK's pass over the cells.
 
 #include <vtkOpenGLPolyDataMapper.h>
 
+#include <cstddef>
 #include <string>
 
 namespace deepcut::studio {
@@ -23,10 +25,18 @@ class SurfaceMapper : public vtkOpenGLPolyDataMapper {
   static SurfaceMapper* New();
   vtkTypeMacro(SurfaceMapper, vtkOpenGLPolyDataMapper)
   void ReleaseGraphicsResources(vtkWindow* window) override;
+  /// Keeps `bounds` with `poly` as the bounds of the points its cells use, known to the caller
+  /// (what vtkPolyData::GetCellsBounds would compute): this mapper's bounds while `poly`'s points
+  /// and cells stay unchanged (its GetMeshMTime), in place of VTK's pass over every cell.
+  static void keep_cells_bounds(vtkPolyData* poly, const double bounds[6]);
+  /// How many times this mapper's bounds were computed by VTK's pass over the cells.
+  std::size_t cells_bounds_passes() const { return cells_bounds_passes_; }
 
  protected:
   SurfaceMapper() = default;
   void BuildIBO(vtkRenderer* ren, vtkActor* act, vtkPolyData* poly) override;
+  /// The bounds kept with the input (keep_cells_bounds) while they hold, else VTK's.
+  void ComputeBounds() override;
   /// Whether the triangle buffer is written mapped (else narrowed into an array and uploaded,
   /// as where a driver does not map it), and whether the last one built here was.
   bool map_uploads_ = true;
@@ -38,6 +48,7 @@ class SurfaceMapper : public vtkOpenGLPolyDataMapper {
   /// The cells the triangle buffer was last built from here; empty while VTK's own build (or
   /// none) is current.
   std::string built_;
+  std::size_t cells_bounds_passes_ = 0;
 };
 
 }  // namespace deepcut::studio

@@ -77,16 +77,29 @@ struct ViewPolyData::Candidates {
 
 ViewPolyData::Corners ViewPolyData::linked(std::uint32_t v) const { return {next_.data(), first_[v]}; }
 
-std::uint32_t ViewPolyData::alike_point(const Writer& w, const Candidates& seen, const Corners& corners,
-                                        std::uint32_t c, const vtkTypeInt64* conn) const {
-  std::uint32_t p = seen.find(w, c);
-  if (p != kInvalidIndex || !seen.full) return p;
+namespace {
+
+// The point (connectivity `conn` >= 0) of a corner among `corners` other than `c` that draws like
+// `c`, else kInvalidIndex: the scan of every corner of a vertex, for one with more points than
+// `Candidates` keeps (alike_point's second half, without its first).
+template <class Writer, class Corners>
+std::uint32_t scan_alike(const Writer& w, const Corners& corners, std::uint32_t c, const vtkTypeInt64* conn) {
+  std::uint32_t p = kInvalidIndex;
   corners.any([&](std::uint32_t d) {
     if (d == c || conn[d] < 0 || !w.alike(d, c)) return false;
     p = static_cast<std::uint32_t>(conn[d]);
     return true;
   });
   return p;
+}
+
+}  // namespace
+
+std::uint32_t ViewPolyData::alike_point(const Writer& w, const Candidates& seen, const Corners& corners,
+                                        std::uint32_t c, const vtkTypeInt64* conn) const {
+  const std::uint32_t p = seen.find(w, c);
+  if (p != kInvalidIndex || !seen.full) return p;
+  return scan_alike(w, corners, c, conn);
 }
 
 ViewPolyData::ViewPolyData(const SurfaceMesh& mesh, const std::vector<glm::vec3>& positions,
@@ -217,12 +230,15 @@ void ViewPolyData::build_corner_points(const Writer& writer, const CornerGroups&
       Candidates seen;
       std::uint32_t count = 0;
       const Corners corners{nullptr, kInvalidIndex, grouped + groups.offset[v], grouped + groups.offset[v + 1]};
-      corners.any([&](std::uint32_t c) {
-        std::uint32_t p = alike_point(writer, seen, corners, c, conn);
+      for (const std::uint32_t* at = corners.begin; at != corners.end; ++at) {
+        const std::uint32_t c = *at;
+        // alike_point inline (no call per corner): the first point seen that draws alike, else,
+        // when `seen` is full, the scan of the vertex's corners (seen.find once).
+        std::uint32_t p = seen.find(writer, c);
+        if (p == kInvalidIndex && seen.full) p = scan_alike(writer, corners, c, conn);
         if (p == kInvalidIndex) seen.add(p = count++, c);
         conn[c] = p;
-        return false;
-      });
+      }
       first_point[v + 1] = count;
     }
   });
