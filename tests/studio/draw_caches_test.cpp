@@ -4,6 +4,7 @@
 // data and are the mapper's bounds, without VTK's pass over the cells, while the points and cells
 // are unchanged; they equal what VTK computes over the points the cells use (a vertex without a
 // live face, every face deleted, a new pose). No window: runs without a display.
+#include <algorithm>
 #include <vtkCellArray.h>
 #include <vtkNew.h>
 #include <vtkPoints.h>
@@ -41,6 +42,15 @@ std::size_t mapper_bounds(vtkPolyData* poly, double out[6]) {
   mapper->SetInputData(poly);
   mapper->GetBounds(out);
   return mapper->cells_bounds_passes();
+}
+
+// The caches made for `data`, then its bounds through the mapper (`got`) and through VTK's own
+// pass (`computed`); returns how often the mapper ran VTK's pass.
+std::size_t cached_bounds(const deepcut::ViewPolyData& data, double got[6], double computed[6]) {
+  deepcut::studio::compute_draw_caches(data);
+  const std::size_t passes = mapper_bounds(data.poly(), got);
+  vtk_cells_bounds(data.poly(), computed);
+  return passes;
 }
 
 deepcut::Model cactus() {
@@ -89,11 +99,9 @@ void DrawCachesTest::kept_cell_bounds_equal_vtks_at_rest_and_moved() {
   for (const std::vector<glm::vec3>* positions : poses) {
     const deepcut::ViewPolyData data(mesh, *positions);
     QVERIFY(data.corner_points());
-    deepcut::studio::compute_draw_caches(data);
     double got[6], computed[6];
-    QCOMPARE(mapper_bounds(data.poly(), got), std::size_t(0));
-    vtk_cells_bounds(data.poly(), computed);
-    for (int k = 0; k < 6; ++k) QCOMPARE(got[k], computed[k]);
+    QCOMPARE(cached_bounds(data, got, computed), std::size_t(0));
+    QVERIFY(std::equal(got, got + 6, computed));
   }
 }
 
@@ -115,11 +123,9 @@ void DrawCachesTest::a_vertex_without_faces_is_left_out() {
   positions[extreme].x += 10.0f;
   const deepcut::ViewPolyData data(mesh, positions);
   QVERIFY(data.corner_points());
-  deepcut::studio::compute_draw_caches(data);
   double got[6], computed[6];
-  QCOMPARE(mapper_bounds(data.poly(), got), std::size_t(0));
-  vtk_cells_bounds(data.poly(), computed);
-  for (int k = 0; k < 6; ++k) QCOMPARE(got[k], computed[k]);
+  QCOMPARE(cached_bounds(data, got, computed), std::size_t(0));
+  QVERIFY(std::equal(got, got + 6, computed));
   QVERIFY(got[1] < static_cast<double>(mesh.positions()[extreme].x) + 1.0);
 }
 
@@ -129,11 +135,9 @@ void DrawCachesTest::every_face_deleted() {
   deepcut::MeshEditor editor(mesh);
   for (std::uint32_t f = 0; f < mesh.face_slots(); ++f) editor.remove_face(deepcut::FaceId(f));
   const deepcut::ViewPolyData data(mesh, mesh.positions());
-  deepcut::studio::compute_draw_caches(data);
   double got[6], computed[6];
-  mapper_bounds(data.poly(), got);
-  vtk_cells_bounds(data.poly(), computed);
-  for (int k = 0; k < 6; ++k) QCOMPARE(got[k], computed[k]);
+  cached_bounds(data, got, computed);
+  QVERIFY(std::equal(got, got + 6, computed));
 }
 
 void DrawCachesTest::a_new_pose_after_the_caches_gives_its_bounds() {
