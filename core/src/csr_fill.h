@@ -49,9 +49,9 @@ std::uint32_t exclusive_scan(std::size_t n, Count&& count, Put&& put) {
 /// Puts the range [s, e) of a bucket of `w` cells from cell c0, filed in item order with each
 /// item's cell within the bucket in local[k], into `items` in cell order (a counting sort that
 /// keeps their order), and sets the cells' starts. `cursor` holds at least w counts.
-inline void sort_bucket(std::uint32_t s, std::uint32_t e, std::size_t c0, std::size_t w, const std::uint32_t* filed,
-                        const std::uint16_t* local, std::uint32_t* cursor, std::uint32_t* start,
-                        std::uint32_t* items) {
+inline void sort_bucket(std::uint32_t s, std::uint32_t e, std::size_t c0, std::size_t w,
+                        const std::uint32_t* filed, const std::uint16_t* local, std::uint32_t* cursor,
+                        std::uint32_t* start, std::uint32_t* items) {
   std::fill(cursor, cursor + w, 0u);
   for (std::uint32_t k = s; k < e; ++k) ++cursor[local[k]];
   std::uint32_t run = s;
@@ -75,7 +75,8 @@ inline void sort_bucket(std::uint32_t s, std::uint32_t e, std::size_t c0, std::s
 /// shift <= 16.
 template <class CellsOf>
 void fill_csr_by_bucket(std::size_t n, std::size_t cells, std::size_t grain, unsigned shift,
-                        std::vector<std::uint32_t>& start, std::vector<std::uint32_t>& items, CellsOf&& cells_of) {
+                        std::vector<std::uint32_t>& start, std::vector<std::uint32_t>& items,
+                        CellsOf&& cells_of) {
   const std::size_t chunks = (n + grain - 1) / grain;
   const std::size_t width = std::size_t(1) << shift;
   const std::size_t buckets = (cells + width - 1) >> shift;
@@ -133,8 +134,8 @@ void fill_csr_by_bucket(std::size_t n, std::size_t cells, std::size_t grain, uns
     std::vector<std::uint32_t> cursor(width);
     for (std::size_t b = b0; b < b1; ++b) {
       const std::size_t c0 = b << shift;
-      sort_bucket(first[b], first[b + 1], c0, std::min(cells - c0, width), filed.data(), local.data(), cursor.data(),
-                  start.data(), items.data());
+      sort_bucket(first[b], first[b + 1], c0, std::min(cells - c0, width), filed.data(), local.data(),
+                  cursor.data(), start.data(), items.data());
     }
   });
 }

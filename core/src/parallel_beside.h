@@ -40,14 +40,15 @@ void run_chunks_beside(std::size_t chunks, Chunk&& chunk, Beside&& beside) {
 template <class Fn, class Beside>
 void parallel_for_beside(std::size_t n, std::size_t grain, Fn&& fn, Beside&& beside) {
   if (grain == 0) grain = 1;
-  run_chunks_beside(
-      (n + grain - 1) / grain, [&](std::size_t c) { fn(c * grain, std::min(n, (c + 1) * grain)); }, beside);
+  run_chunks_beside((n + grain - 1) / grain,
+                    [&](std::size_t c) { fn(c * grain, std::min(n, (c + 1) * grain)); }, beside);
 }
 
 /// parallel_reduce(n, grain, init, map, combine) with `beside()` run beside the chunks: the
 /// partials folded left to right in chunk order, whatever the thread count.
 template <class T, class Map, class Combine, class Beside>
-T parallel_reduce_beside(std::size_t n, std::size_t grain, T init, Map&& map, Combine&& combine, Beside&& beside) {
+T parallel_reduce_beside(std::size_t n, std::size_t grain, T init, Map&& map, Combine&& combine,
+                         Beside&& beside) {
   if (grain == 0) grain = 1;
   std::vector<T> partial((n + grain - 1) / grain, init);
   parallel_for_beside(

@@ -17,7 +17,8 @@ namespace deepcut::detail {
 /// that faults in fresh pages, which the tasks share instead of the calling thread taking them
 /// one after the other.
 template <class ListAt, class SizeAt>
-void size_side_by_side(std::size_t count, const ListAt& list, const SizeAt& size, std::size_t extra_room = 0) {
+void size_side_by_side(std::size_t count, const ListAt& list, const SizeAt& size,
+                       std::size_t extra_room = 0) {
   for (std::size_t i = 0; i < count; ++i) list(i).reserve(size(i) + extra_room);
   run_chunks(count, [&](std::size_t i) { list(i).resize(size(i)); });  // in its room: no allocation
 }

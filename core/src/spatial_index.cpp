@@ -110,7 +110,8 @@ float grid_cell(const Extent& extent, const glm::vec3& size, float cell_size) {
 
 // The cell holding `p` in a grid of `dims` cells of edge `cell` from `origin`: what
 // TriangleGrid::cell_of returns, inlined into the build's loop over the faces.
-inline glm::ivec3 grid_cell_of(const glm::vec3& p, const glm::vec3& origin, float cell, const glm::ivec3& dims) {
+inline glm::ivec3 grid_cell_of(const glm::vec3& p, const glm::vec3& origin, float cell,
+                               const glm::ivec3& dims) {
   const glm::vec3 q = (p - origin) / cell;
   glm::ivec3 c;
   for (int i = 0; i < 3; ++i) {
@@ -127,7 +128,6 @@ inline glm::ivec3 grid_cell_of(const glm::vec3& p, const glm::vec3& origin, floa
   return c;
 }
 
-
 // Where the build places faces: the grid's origin, cell edge and cell counts.
 struct GridFrame {
   glm::vec3 origin;
@@ -142,7 +142,8 @@ struct GridFrame {
   }
   // TriangleGrid::cell_index.
   std::size_t index(const glm::ivec3& c) const {
-    return (static_cast<std::size_t>(c.z) * static_cast<std::size_t>(dims.y) + static_cast<std::size_t>(c.y)) *
+    return (static_cast<std::size_t>(c.z) * static_cast<std::size_t>(dims.y) +
+            static_cast<std::size_t>(c.y)) *
                static_cast<std::size_t>(dims.x) +
            static_cast<std::size_t>(c.x);
   }

@@ -2,6 +2,7 @@
 // Nothing lost (issue 10): a writer killed at any moment leaves the target either absent or the
 // previous complete file, never a partial one, and never leaves a partial temporary behind.
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <linux/magic.h>
 #include <signal.h>
 #include <sys/resource.h>
@@ -19,8 +20,6 @@
 #include <string>
 #include <thread>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "deepcut/core/errors.h"
 #include "deepcut/core/generate/cactus.h"
@@ -264,9 +263,9 @@ bool takes_direct_writes(const std::string& dir) {
   const std::string probe = dir + "/probe";
   { std::ofstream(probe) << "x"; }
   struct statx sx {};
-  const bool ok = ::statx(AT_FDCWD, probe.c_str(), 0, STATX_DIOALIGN, &sx) == 0 && (sx.stx_mask & STATX_DIOALIGN) &&
-                  sx.stx_dio_offset_align != 0 && sx.stx_dio_mem_align != 0 &&
-                  (std::size_t(4) << 20) % sx.stx_blksize == 0;
+  const bool ok = ::statx(AT_FDCWD, probe.c_str(), 0, STATX_DIOALIGN, &sx) == 0 &&
+                  (sx.stx_mask & STATX_DIOALIGN) && sx.stx_dio_offset_align != 0 &&
+                  sx.stx_dio_mem_align != 0 && (std::size_t(4) << 20) % sx.stx_blksize == 0;
   fs::remove(probe);
   return ok;
 #else
@@ -291,8 +290,8 @@ TEST(AtomicWriteTest, each_way_of_filling_the_temporary_is_the_one_taken_and_wri
   constexpr std::size_t MiB = std::size_t(1) << 20;
   const test::ThreadCount threads(3);
   // Three pieces, spans crossing them at odd places, the last block partial.
-  std::vector<std::vector<unsigned char>> spans = {pattern(1, 1), pattern(5 * MiB - 7, 2), pattern(3 * MiB + 13, 3),
-                                                   pattern(2 * MiB + 1, 4)};
+  std::vector<std::vector<unsigned char>> spans = {pattern(1, 1), pattern(5 * MiB - 7, 2),
+                                                   pattern(3 * MiB + 13, 3), pattern(2 * MiB + 1, 4)};
   std::string expected;
   std::vector<gltf_detail::ByteSpan> parts;
   for (const auto& s : spans) {
@@ -318,7 +317,8 @@ TEST(AtomicWriteTest, each_way_of_filling_the_temporary_is_the_one_taken_and_wri
     EXPECT_TRUE(read_bytes(target) == expected) << "forced " << unsigned(way);
     EXPECT_TRUE(other_files(dir, {"out.bin"}).empty()) << "a temporary was left behind";
   }
-  std::printf("[atomic] %s: direct writes %s, mapped %s\n", dir.c_str(), direct ? "yes" : "no", mapped ? "yes" : "no");
+  std::printf("[atomic] %s: direct writes %s, mapped %s\n", dir.c_str(), direct ? "yes" : "no",
+              mapped ? "yes" : "no");
   fs::remove_all(dir);
 }
 
@@ -357,7 +357,8 @@ class FileSizeLimit {
 // A write the file system refuses partway (EFBIG past the file size limit, as a full disk would
 // be) fails with an Error naming the path; the old file stays, and no temporary or descriptor
 // is left behind.
-TEST(AtomicWriteTest, a_parallel_write_past_the_file_size_limit_fails_naming_the_path_and_leaves_the_old_file) {
+TEST(AtomicWriteTest,
+     a_parallel_write_past_the_file_size_limit_fails_naming_the_path_and_leaves_the_old_file) {
   const std::string dir = test::temp_dir("atomic-efbig");
   const std::string target = dir + "/out.bin";
   constexpr std::size_t MiB = std::size_t(1) << 20;

@@ -293,7 +293,8 @@ TEST(PosedModelTest, a_build_poses_the_same_bytes_for_every_thread_count) {
   };
   const std::vector<unsigned char> one = posed_bytes(1, detail::BesideOrder::Shared);
   ASSERT_GT(one.size(), 60000 * sizeof(glm::vec3));
-  for (const auto order : {detail::BesideOrder::Shared, detail::BesideOrder::First, detail::BesideOrder::Last})
+  for (const auto order :
+       {detail::BesideOrder::Shared, detail::BesideOrder::First, detail::BesideOrder::Last})
     for (const std::size_t threads : {1u, 2u, 3u, 8u})
       EXPECT_TRUE(posed_bytes(threads, order) == one) << int(order) << ", " << threads << " threads";
 }

@@ -331,7 +331,8 @@ TEST(SoftbodyClusterThreadsTest, many_islands_per_particle_split_alike_on_every_
   }
 }
 
-TEST(SoftbodyClusterThreadsTest, more_particles_than_vertices_per_chunk_list_members_alike_on_every_thread_count) {
+TEST(SoftbodyClusterThreadsTest,
+     more_particles_than_vertices_per_chunk_list_members_alike_on_every_thread_count) {
   // 67500 vertices (three chunks of the member lists) and a radius under an island's size: tens
   // of thousands of particles, so the lists are filed through the packed copy, not per chunk.
   const SurfaceMesh mesh = islands(150, 150, 0.1f, 0.04f);

@@ -6,11 +6,11 @@
 #include <algorithm>
 #include <random>
 
-#include "deepcut/core/mesh_editor.h"
 #include "csr_fill.h"
-#include "parallel_beside.h"
+#include "deepcut/core/mesh_editor.h"
 #include "deepcut/core/parallel.h"
 #include "fixtures.h"
+#include "parallel_beside.h"
 #include "sorted_ids.h"
 
 namespace deepcut {
@@ -292,7 +292,8 @@ TEST(SpatialIndexTest, sort_unique_ids_matches_sort_and_unique) {
 TEST(SpatialIndexTest, fill_csr_lists_every_cell_in_item_order_for_every_thread_count) {
   const std::size_t saved = thread_count();
   std::mt19937 rng(20261128);
-  for (const std::size_t cells : {std::size_t(5), std::size_t(3000), std::size_t(200003), std::size_t(5000011)}) {
+  for (const std::size_t cells :
+       {std::size_t(5), std::size_t(3000), std::size_t(200003), std::size_t(5000011)}) {
     const std::size_t n = 100000;
     std::vector<std::uint32_t> first(n), count(n);
     std::uniform_int_distribution<std::uint32_t> cell(0, static_cast<std::uint32_t>(cells - 1)), runs(0, 3);
@@ -314,8 +315,8 @@ TEST(SpatialIndexTest, fill_csr_lists_every_cell_in_item_order_for_every_thread_
         ASSERT_EQ(start.size(), cells + 1) << how << ", " << cells << " cells, " << threads << " threads";
         ASSERT_EQ(start[cells], items.size());
         for (std::size_t c = 0; c < cells; ++c)
-          ASSERT_TRUE(
-              std::equal(items.begin() + start[c], items.begin() + start[c + 1], want[c].begin(), want[c].end()))
+          ASSERT_TRUE(std::equal(items.begin() + start[c], items.begin() + start[c + 1], want[c].begin(),
+                                 want[c].end()))
               << how << ", cell " << c << " of " << cells << ", " << threads << " threads";
       };
       check("fill_csr");
@@ -335,8 +336,12 @@ TEST(SpatialIndexTest, fill_csr_lists_every_cell_in_item_order_for_every_thread_
 TEST(SpatialIndexTest, exclusive_scan_throws_past_32_bit_offsets) {
   std::size_t puts = 0;
   auto put = [&puts](std::size_t, std::uint32_t) { ++puts; };
-  EXPECT_THROW(detail::exclusive_scan(3, [](std::size_t) { return 0x80000000u; }, put), Error);
-  EXPECT_THROW(detail::exclusive_scan(70000, [](std::size_t) { return 70000u; }, put), Error);
+  EXPECT_THROW(detail::exclusive_scan(
+                   3, [](std::size_t) { return 0x80000000u; }, put),
+               Error);
+  EXPECT_THROW(detail::exclusive_scan(
+                   70000, [](std::size_t) { return 70000u; }, put),
+               Error);
   EXPECT_THROW(detail::exclusive_scan(
                    (std::size_t(1) << 17) + 2,
                    [](std::size_t i) { return i % (std::size_t(1) << 16) == 0 ? 0xffffffffu : 0u; }, put),
@@ -344,7 +349,8 @@ TEST(SpatialIndexTest, exclusive_scan_throws_past_32_bit_offsets) {
   EXPECT_EQ(puts, 0u);
   std::vector<std::uint32_t> at(2);
   EXPECT_EQ(detail::exclusive_scan(
-                2, [](std::size_t i) { return i == 0 ? 0xfffffff0u : 0xfu; }, [&](std::size_t i, std::uint32_t a) { at[i] = a; }),
+                2, [](std::size_t i) { return i == 0 ? 0xfffffff0u : 0xfu; },
+                [&](std::size_t i, std::uint32_t a) { at[i] = a; }),
             0xffffffffu);
   EXPECT_EQ(at, (std::vector<std::uint32_t>{0u, 0xfffffff0u}));
 }
@@ -360,7 +366,8 @@ TEST(SpatialIndexTest, build_lays_out_the_same_grid_whatever_runs_beside_its_pas
   std::vector<glm::vec3> probes;
   for (std::size_t v = 0; v < mesh.positions().size(); v += 997) probes.push_back(mesh.positions()[v]);
   const std::vector<FaceId> want = one.query_points(probes);
-  for (const auto order : {detail::BesideOrder::Shared, detail::BesideOrder::First, detail::BesideOrder::Last})
+  for (const auto order :
+       {detail::BesideOrder::Shared, detail::BesideOrder::First, detail::BesideOrder::Last})
     for (const std::size_t threads : {1, 2, 5}) {
       set_thread_count(threads);
       detail::beside_order_for_tests = order;

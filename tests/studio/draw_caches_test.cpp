@@ -4,7 +4,6 @@
 // data and are the mapper's bounds, without VTK's pass over the cells, while the points and cells
 // are unchanged; they equal what VTK computes over the points the cells use (a vertex without a
 // live face, every face deleted, a new pose). No window: runs without a display.
-#include <algorithm>
 #include <vtkCellArray.h>
 #include <vtkNew.h>
 #include <vtkPoints.h>
@@ -12,7 +11,7 @@
 #include <vtkSmartPointer.h>
 
 #include <QtTest/QtTest>
-
+#include <algorithm>
 #include <vector>
 
 #include "deepcut/core/generate/cactus.h"

@@ -243,7 +243,8 @@ template <class Fn>
 void each_run(const std::vector<ByteSpan>& parts, const std::vector<std::size_t>& starts, std::size_t from,
               std::size_t to, Fn&& fn) {
   const auto after = std::upper_bound(starts.begin(), starts.end(), from);  // the part holding `from`, + 1
-  for (auto i = static_cast<std::size_t>(after - starts.begin()) - 1; i < parts.size() && starts[i] < to; ++i) {
+  for (auto i = static_cast<std::size_t>(after - starts.begin()) - 1; i < parts.size() && starts[i] < to;
+       ++i) {
     const std::size_t b = std::max(from, starts[i]), e = std::min(to, starts[i + 1]);
     if (b < e) fn(b, parts[i].data + (b - starts[i]), e - b);
   }
@@ -270,8 +271,9 @@ std::size_t direct_block(int fd) {
     return 0;
   // Whole file system blocks too: a direct write of part of an unwritten block is serialised
   // (the file system zeroes the rest of the block under an exclusive lock).
-  const std::size_t block = std::max<std::size_t>({sx.stx_dio_offset_align, sx.stx_dio_mem_align, sx.stx_blksize,
-                                                   static_cast<std::size_t>(::sysconf(_SC_PAGESIZE))});
+  const std::size_t block =
+      std::max<std::size_t>({sx.stx_dio_offset_align, sx.stx_dio_mem_align, sx.stx_blksize,
+                             static_cast<std::size_t>(::sysconf(_SC_PAGESIZE))});
   return kPiece % block == 0 ? block : 0;
 #else
   (void)fd;
@@ -297,12 +299,12 @@ void took(FillWay way) { fill_ways.fetch_or(static_cast<unsigned>(way), std::mem
 
 // What the pieces of one parallel write share.
 struct ParallelWrite {
-  int fd;                                  // the temporary
-  int direct;                              // the same file opened O_DIRECT, or -1
-  std::size_t block;                       // the alignment of direct writes (when direct >= 0)
-  bool map;                                // fill through a mapping (else pwrite)
-  const std::vector<ByteSpan>& parts;      // the file's bytes
-  const std::vector<std::size_t>& starts;  // the file offset of each part, then the total
+  int fd;                                   // the temporary
+  int direct;                               // the same file opened O_DIRECT, or -1
+  std::size_t block;                        // the alignment of direct writes (when direct >= 0)
+  bool map;                                 // fill through a mapping (else pwrite)
+  const std::vector<ByteSpan>& parts;       // the file's bytes
+  const std::vector<std::size_t>& starts;   // the file offset of each part, then the total
   std::atomic<bool> direct_refused{false};  // EINVAL once: the rest goes through the pages
   std::atomic<int> failed{0};               // the first error, 0 while none
   void fail(int err) {
@@ -317,7 +319,8 @@ int write_piece_direct(const ParallelWrite& w, std::size_t begin, std::size_t en
   struct Free {
     void operator()(unsigned char* p) const { std::free(p); }
   };
-  const std::unique_ptr<unsigned char, Free> copy(static_cast<unsigned char*>(std::aligned_alloc(w.block, end - begin)));
+  const std::unique_ptr<unsigned char, Free> copy(
+      static_cast<unsigned char*>(std::aligned_alloc(w.block, end - begin)));
   if (!copy) return ENOMEM;
   each_run(w.parts, w.starts, begin, end, [&](std::size_t at, const unsigned char* data, std::size_t size) {
     std::memcpy(copy.get() + (at - begin), data, size);
@@ -328,7 +331,8 @@ int write_piece_direct(const ParallelWrite& w, std::size_t begin, std::size_t en
 // Fills the file's bytes [begin, end) (`begin` page-aligned) through a shared mapping of them;
 // false when they cannot be mapped (nothing was written then).
 bool write_piece_mapped(const ParallelWrite& w, std::size_t begin, std::size_t end) {
-  void* map = ::mmap(nullptr, end - begin, PROT_READ | PROT_WRITE, MAP_SHARED, w.fd, static_cast<off_t>(begin));
+  void* map =
+      ::mmap(nullptr, end - begin, PROT_READ | PROT_WRITE, MAP_SHARED, w.fd, static_cast<off_t>(begin));
   if (map == MAP_FAILED) return false;
   auto* out = static_cast<unsigned char*>(map);
   each_run(w.parts, w.starts, begin, end, [&](std::size_t at, const unsigned char* data, std::size_t size) {
@@ -376,7 +380,8 @@ int write_parallel(int fd, const std::vector<ByteSpan>& parts, std::size_t total
     const std::size_t block = way == FillWay::Auto || way == FillWay::Direct ? direct_block(fd) : 0;
     int opened = -1;
 #ifdef O_DIRECT
-    if (block > 0) opened = ::open(("/proc/self/fd/" + std::to_string(fd)).c_str(), O_WRONLY | O_DIRECT | O_CLOEXEC);
+    if (block > 0)
+      opened = ::open(("/proc/self/fd/" + std::to_string(fd)).c_str(), O_WRONLY | O_DIRECT | O_CLOEXEC);
 #endif
     const UniqueFd direct(opened);  // nothing throws between the open and here
     const std::size_t direct_end = direct.get() >= 0 ? total / block * block : 0;  // direct writes end there
@@ -387,7 +392,8 @@ int write_parallel(int fd, const std::vector<ByteSpan>& parts, std::size_t total
         if (w.failed.load(std::memory_order_relaxed)) return;  // the write has failed: stop writing
         const std::size_t begin = piece * kPiece, end = std::min(total, begin + kPiece);
         std::size_t at = begin;  // [begin, at) is written
-        if (const std::size_t to = std::min(end, std::max(begin, direct_end)); to > begin && !w.direct_refused) {
+        if (const std::size_t to = std::min(end, std::max(begin, direct_end));
+            to > begin && !w.direct_refused) {
           const int err = write_piece_direct(w, begin, to);
           if (err == 0) {
             at = to;

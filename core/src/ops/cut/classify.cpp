@@ -219,9 +219,9 @@ int snap(const Pass& in, float hi, float lo, std::int8_t* sign, std::uint8_t* bi
 
 }  // namespace
 
-VertexSides classify_vertices(const SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const glm::vec3& point,
-                              const glm::vec3& normal, float relative_tolerance, std::size_t room,
-                              const std::uint8_t* used) {
+VertexSides classify_vertices(const SurfaceMesh& mesh, const std::vector<glm::vec3>& posed,
+                              const glm::vec3& point, const glm::vec3& normal, float relative_tolerance,
+                              std::size_t room, const std::uint8_t* used) {
   const std::size_t nv = mesh.vertex_count();
   VertexSides out;
   out.dist.reserve(room);

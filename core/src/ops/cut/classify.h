@@ -33,9 +33,9 @@ struct VertexSides {
 /// cut's first guess, which its face scan then checks). `dist` and `sign` get room for `room`
 /// vertices (the cut appends its new ones). Runs in parallel chunks; the result does not depend
 /// on the thread count.
-VertexSides classify_vertices(const SurfaceMesh& mesh, const std::vector<glm::vec3>& posed, const glm::vec3& point,
-                              const glm::vec3& normal, float relative_tolerance, std::size_t room,
-                              const std::uint8_t* used);
+VertexSides classify_vertices(const SurfaceMesh& mesh, const std::vector<glm::vec3>& posed,
+                              const glm::vec3& point, const glm::vec3& normal, float relative_tolerance,
+                              std::size_t room, const std::uint8_t* used);
 
 /// Flags in `used` (zeroed, a flag per vertex) the corners of every face slot of `mesh`.
 void flag_used(const SurfaceMesh& mesh, std::uint8_t* used);

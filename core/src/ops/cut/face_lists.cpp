@@ -185,7 +185,9 @@ bool all_flagged(const std::uint8_t* flags, std::size_t count) {
   // pool (a flag a vertex: 2M at 4M triangles).
   return parallel_reduce(
              count, grain_per_thread(count, 8 * kMinPassGrain), 1,
-             [&](std::size_t b, std::size_t e) { return std::memchr(flags + b, 0, e - b) == nullptr ? 1 : 0; },
+             [&](std::size_t b, std::size_t e) {
+               return std::memchr(flags + b, 0, e - b) == nullptr ? 1 : 0;
+             },
              [](int a, int b) { return a & b; }) != 0;
 }
 

@@ -68,8 +68,9 @@ bool rim_corners(const Triangle& t, const OnRim& on_rim, bool rim[3]) {
 // there, then the untouched candidates) are listed in `live` too: the only half-edges that can
 // be rim steps. The removed faces' are filed by file_removed_half_edges, only when asked about.
 template <class OnRim>
-RimHalfEdges file_rim_half_edges(const SurfaceMesh& mesh, const EditLog& log, const std::vector<FaceId>& candidates,
-                                 const OnRim& on_rim, RimHalfEdgeList& live) {
+RimHalfEdges file_rim_half_edges(const SurfaceMesh& mesh, const EditLog& log,
+                                 const std::vector<FaceId>& candidates, const OnRim& on_rim,
+                                 RimHalfEdgeList& live) {
   // Room for an eighth of the edits (the log also holds removed faces, new vertices and moves,
   // and most added faces have no rim half-edge): enough for most holes without growing.
   RimHalfEdges filed(log.edits.size() / 8 + 16);
@@ -126,8 +127,8 @@ RimSteps steps_from_live(const EditLog& log, const RimHalfEdgeList& live, const 
 // whose ends lie on the cylinder. An edge between two old vertices is an edge of the parent
 // triangle; it is a boundary only if the face across it was removed and not replaced there.
 RimSteps rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFrame& cyl,
-                  const PosedOverlay& posed, const std::vector<FaceId>& candidates,
-                  const std::unordered_map<std::uint32_t, std::uint32_t>& copy_of) {
+                   const PosedOverlay& posed, const std::vector<FaceId>& candidates,
+                   const std::unordered_map<std::uint32_t, std::uint32_t>& copy_of) {
   // A copy the pinch split made of an old vertex is new, but the faces moved onto it keep their
   // old edges: both are judged by the original (an old boundary edge at a split vertex is not rim).
   // The copies are the newest vertices: ids below the lowest copy are looked up nowhere.
