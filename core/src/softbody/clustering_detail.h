@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// Constants and small helpers of the soft-body clustering (private to core): shared by
-// clustering.cpp (build, apply) and clustering_report.cpp (stats, checks, radius search); the
-// union-find and the grouping of the split into connected parts; the seed sampling
-// (clustering_seeds.cpp).
+// Constants and small helpers of the soft-body clustering (private to core), shared by its files:
+// clustering_build.cpp (Clusters::build), clustering_seeds.cpp (the seed sampling),
+// clustering_split.cpp (splitting particles into connected parts), clustering_apply.cpp
+// (following an edit log), clustering_rows.cpp (rows, pool and particles) and
+// clustering_report.cpp (stats, checks, radius search). Here: the falloff and the argument
+// checks; the union-find and the grouping of the split; the faces a split walks.
 
 #include <algorithm>
 #include <atomic>
@@ -15,8 +17,10 @@
 #include <utility>
 #include <vector>
 
+#include "deepcut/core/adjacency.h"
 #include "deepcut/core/errors.h"
 #include "deepcut/core/parallel.h"
+#include "deepcut/core/softbody/clustering.h"
 #include "deepcut/core/surface_mesh.h"
 
 namespace deepcut::clustering_detail {
@@ -188,4 +192,96 @@ class ConcurrentUnionFind {
   std::unique_ptr<std::atomic<std::uint32_t>[]> up_;
 };
 
+// ------------------------------------------------------------------------------------------------
+// The faces Clusters::split_disconnected walks: `walk(fn)` calls `fn(triangle)` for (at least)
+// every live face around the members of the listed particles. split_disconnected is compiled in
+// clustering_split.cpp for these three only (the declarations at the end of this file).
+
+// Every live face, over the pool (a build: the split's unions do not depend on the faces' order).
+class AllFacesParallel {
+ public:
+  explicit AllFacesParallel(const SurfaceMesh& mesh) : mesh_(mesh) {}
+  template <class Fn>
+  void operator()(Fn&& fn) const {
+    // The chunks capture the mesh itself, not this walker: one load less per face (the unions'
+    // atomics keep the compiler from holding the mesh's address in a register).
+    const SurfaceMesh& mesh = mesh_;
+    parallel_for(mesh.face_slots(), 8192, [&](std::size_t b, std::size_t e) {
+      for (std::size_t f = b; f < e; ++f) {
+        const FaceId id(static_cast<std::uint32_t>(f));
+        if (!mesh.is_deleted(id)) fn(mesh.face(id));
+      }
+    });
+  }
+
+ private:
+  const SurfaceMesh& mesh_;
+};
+
+// Every live face, in order on the calling thread (an apply without adjacency).
+class AllFaces {
+ public:
+  explicit AllFaces(const SurfaceMesh& mesh) : mesh_(mesh) {}
+  template <class Fn>
+  void operator()(Fn&& fn) const {
+    mesh_.for_each_face([&](FaceId, const Triangle& t) { fn(t); });
+  }
+
+ private:
+  const SurfaceMesh& mesh_;
+};
+
+// The live faces around the members of the touched particles (an apply with adjacency), each
+// visited once without a visited set: a vertex is visited from its first touched particle, a
+// face from its first such vertex.
+class FacesAroundParticles {
+ public:
+  FacesAroundParticles(const SurfaceMesh& mesh, const Adjacency& adjacency, const Clusters& clusters,
+                       const std::vector<std::uint32_t>& touched, const std::vector<std::uint8_t>& is_touched)
+      : mesh_(mesh), adjacency_(adjacency), clusters_(clusters), touched_(touched), is_touched_(is_touched) {}
+
+  template <class Fn>
+  void operator()(Fn&& fn) const {
+    for (std::uint32_t p : touched_)
+      for (std::uint32_t v : clusters_.members(p)) {
+        if (v >= adjacency_.vertex_count() || first_touched(v) != p) continue;
+        for (const FaceId f : adjacency_.vertex_faces(VertexId(v))) {
+          const Triangle& t = mesh_.face(f);
+          std::uint32_t first = kInvalidIndex;
+          for (int k = 0; k < 3 && first == kInvalidIndex; ++k)
+            if (first_touched(t[k].index) != kInvalidIndex) first = t[k].index;
+          if (first == v) fn(t);
+        }
+      }
+  }
+
+ private:
+  std::uint32_t first_touched(std::uint32_t v) const {
+    for (const Influence& in : clusters_.influences(VertexId(v)))
+      if (in.particle < is_touched_.size() && is_touched_[in.particle]) return in.particle;
+    return kInvalidIndex;
+  }
+
+  const SurfaceMesh& mesh_;
+  const Adjacency& adjacency_;
+  const Clusters& clusters_;
+  const std::vector<std::uint32_t>& touched_;
+  const std::vector<std::uint8_t>& is_touched_;
+};
+
 }  // namespace deepcut::clustering_detail
+
+namespace deepcut {
+
+// Compiled in clustering_split.cpp.
+extern template std::size_t Clusters::split_disconnected<clustering_detail::AllFacesParallel>(
+    const std::vector<std::uint32_t>&, clustering_detail::AllFacesParallel&&,
+    std::vector<ClusterUpdate::NewParticle>&);
+extern template std::size_t Clusters::split_disconnected<clustering_detail::AllFaces>(
+    const std::vector<std::uint32_t>&, clustering_detail::AllFaces&&,
+    std::vector<ClusterUpdate::NewParticle>&);
+extern template std::size_t Clusters::split_disconnected<clustering_detail::FacesAroundParticles>(
+    const std::vector<std::uint32_t>&, clustering_detail::FacesAroundParticles&&,
+    std::vector<ClusterUpdate::NewParticle>&);
+
+}  // namespace deepcut

@@ -178,8 +178,17 @@ class Clusters {
   void sort_row(std::uint32_t v);
   void compact_pool();
   void renormalise(std::uint32_t v);
-  /// Rows, pool and member lists of a fresh build (seeds_ and radius_ set; rows_ sized).
-  void build_memberships(const std::vector<glm::vec3>& rest, const UnfilledVector<std::uint32_t>& ids);
+  /// Rows and pool, then member lists, of a fresh build for the live vertices `ids` (seeds_ and
+  /// radius_ set; rows_ sized).
+  void build_rows(const std::vector<glm::vec3>& rest, const UnfilledVector<std::uint32_t>& ids);
+  void build_member_lists(const UnfilledVector<std::uint32_t>& ids);
+  /// Steps of `apply`: rows for the log's new vertices and the live-face counts, returning the
+  /// vertices to revisit (sorted, unique); then the revisit of those rows (`old_count`: the
+  /// vertices known before), returning the particles that uncovered vertices joined, in order.
+  std::vector<std::uint32_t> follow_log(const EditLog& log);
+  std::vector<std::uint32_t> refit_rows(const std::vector<glm::vec3>& rest,
+                                        const std::vector<std::uint32_t>& vertices, std::size_t old_count,
+                                        ClusterUpdate& update);
   void recompute_centre(std::uint32_t p, const std::vector<glm::vec3>& rest);
   std::uint32_t new_particle(const glm::vec3& seed);
   /// Splits the listed particles into their connected parts (see `build`); appends new particles
