@@ -40,32 +40,26 @@ ClusterStats cluster_stats(const Clusters& clusters, const SurfaceMesh& mesh) {
   return s;
 }
 
-std::vector<std::string> check_clusters(const Clusters& clusters, const SurfaceMesh& mesh,
-                                        const std::vector<glm::vec3>& rest, std::size_t max_problems) {
-  std::vector<std::string> problems;
-  auto report = [&](const std::string& line) {
-    if (problems.size() < max_problems) problems.push_back(line);
-  };
-  const std::size_t n = mesh.vertex_count();
-  if (clusters.vertex_count() != n) {
-    report("clusters know " + std::to_string(clusters.vertex_count()) + " vertices, the mesh has " +
-           std::to_string(n));
-    return problems;
+namespace {
+
+// The problems check_clusters finds, up to `max` lines.
+struct Problems {
+  std::vector<std::string> lines;
+  std::size_t max;
+  void report(const std::string& line) {
+    if (lines.size() < max) lines.push_back(line);
   }
-  if (rest.size() != n) {
-    report("rest positions: " + std::to_string(rest.size()) + " for " + std::to_string(n) + " vertices");
-    return problems;
-  }
+};
+
+// Rows: coverage, weights, radius, and agreement with the member lists (`referenced`: per vertex,
+// whether a live face uses it).
+void check_rows(const Clusters& clusters, const std::vector<glm::vec3>& rest,
+                const std::vector<std::uint8_t>& referenced, Problems& problems) {
+  auto report = [&](const std::string& line) { problems.report(line); };
   const float rho = clusters.radius();
   const float limit2 = rho * rho * (1.0f + kRadiusSlack) * (1.0f + kRadiusSlack);
   const std::size_t slots = clusters.particle_slots();
-  std::vector<std::uint8_t> referenced(n, 0);
-  mesh.for_each_face([&](FaceId, const Triangle& t) {
-    for (const VertexId v : t) referenced[v.index] = 1;
-  });
-
-  // Rows: coverage, weights, radius, and agreement with the member lists.
-  for (std::uint32_t v = 0; v < n; ++v) {
+  for (std::uint32_t v = 0; v < referenced.size(); ++v) {
     const InfluenceRange row = clusters.influences(VertexId(v));
     if (referenced[v] && row.empty()) report("coverage: vertex " + std::to_string(v) + " is in no particle");
     if (!referenced[v] && !row.empty())
@@ -98,11 +92,41 @@ std::vector<std::string> check_clusters(const Clusters& clusters, const SurfaceM
     if (!row.empty() && std::abs(sum - 1.0) > 1e-4)
       report("vertex " + std::to_string(v) + " weights sum to " + std::to_string(sum));
   }
+}
 
-  // Particles: sorted members that agree with the rows, rest centres, connectivity.
+// How many members of particle `p` (`m`, each stamped `p` in `stamp`) a breadth-first search from
+// the first one reaches over edges between members. Leaves the reached members stamped with a
+// visited marker.
+std::size_t connected_members(const SurfaceMesh& mesh, const Adjacency& adjacency, std::uint32_t p,
+                              const std::vector<std::uint32_t>& m, std::vector<std::uint32_t>& stamp,
+                              std::vector<std::uint32_t>& queue) {
+  std::size_t reached = 1;
+  queue.assign(1, m[0]);
+  stamp[m[0]] = kInvalidIndex - 1 - p % 2;  // visited marker distinct from "member of p"
+  const std::uint32_t visited = stamp[m[0]];
+  for (std::size_t q = 0; q < queue.size(); ++q) {
+    const std::uint32_t v = queue[q];
+    if (v >= adjacency.vertex_count()) continue;
+    for (const FaceId f : adjacency.vertex_faces(VertexId(v)))
+      for (const VertexId u : mesh.face(f))
+        if (stamp[u.index] == p) {
+          stamp[u.index] = visited;
+          queue.push_back(u.index);
+          ++reached;
+        }
+  }
+  return reached;
+}
+
+// Particles: sorted members that agree with the rows, rest centres, connectivity. Stops at a
+// member outside the mesh.
+void check_particles(const Clusters& clusters, const SurfaceMesh& mesh, const std::vector<glm::vec3>& rest,
+                     Problems& problems) {
+  auto report = [&](const std::string& line) { problems.report(line); };
+  const std::size_t n = mesh.vertex_count();
   const Adjacency adjacency = Adjacency::build(mesh);
   std::vector<std::uint32_t> stamp(n, kInvalidIndex), queue;
-  for (std::uint32_t p = 0; p < slots; ++p) {
+  for (std::uint32_t p = 0; p < clusters.particle_slots(); ++p) {
     const auto& m = clusters.members(p);
     if (m.empty()) continue;
     if (!std::is_sorted(m.begin(), m.end()) || std::adjacent_find(m.begin(), m.end()) != m.end())
@@ -111,7 +135,7 @@ std::vector<std::string> check_clusters(const Clusters& clusters, const SurfaceM
     for (std::uint32_t v : m) {
       if (v >= n) {
         report("particle " + std::to_string(p) + " lists vertex " + std::to_string(v) + " outside the mesh");
-        return problems;
+        return;
       }
       bool listed = false;
       for (const Influence& in : clusters.influences(VertexId(v))) listed = listed || in.particle == p;
@@ -122,32 +146,41 @@ std::vector<std::string> check_clusters(const Clusters& clusters, const SurfaceM
       stamp[v] = p;
     }
     const glm::vec3 centre(sum / double(m.size()));
-    const float tol = 1e-4f * std::max(rho, glm::length(centre));
+    const float tol = 1e-4f * std::max(clusters.radius(), glm::length(centre));
     if (glm::length(centre - clusters.rest_centre(p)) > tol)
       report("particle " + std::to_string(p) + ": rest centre is stale");
-    // Breadth-first search from the first member over edges between members.
-    std::size_t reached = 1;
-    queue.assign(1, m[0]);
-    stamp[m[0]] = kInvalidIndex - 1 - p % 2;  // visited marker distinct from "member of p"
-    const std::uint32_t visited = stamp[m[0]];
-    for (std::size_t q = 0; q < queue.size(); ++q) {
-      const std::uint32_t v = queue[q];
-      if (v >= adjacency.vertex_count()) continue;
-      for (const FaceId f : adjacency.vertex_faces(VertexId(v)))
-        for (const VertexId u : mesh.face(f))
-          if (stamp[u.index] == p) {
-            stamp[u.index] = visited;
-            queue.push_back(u.index);
-            ++reached;
-          }
-    }
+    const std::size_t reached = connected_members(mesh, adjacency, p, m, stamp, queue);
     if (reached != m.size())
       report("connectivity: particle " + std::to_string(p) + " holds " + std::to_string(m.size()) +
              " vertices of which only " + std::to_string(reached) + " are connected to vertex " +
              std::to_string(m[0]) + " through its members");
     for (std::uint32_t v : m) stamp[v] = kInvalidIndex;
   }
-  return problems;
+}
+
+}  // namespace
+
+std::vector<std::string> check_clusters(const Clusters& clusters, const SurfaceMesh& mesh,
+                                        const std::vector<glm::vec3>& rest, std::size_t max_problems) {
+  Problems problems{{}, max_problems};
+  const std::size_t n = mesh.vertex_count();
+  if (clusters.vertex_count() != n) {
+    problems.report("clusters know " + std::to_string(clusters.vertex_count()) + " vertices, the mesh has " +
+                    std::to_string(n));
+    return problems.lines;
+  }
+  if (rest.size() != n) {
+    problems.report("rest positions: " + std::to_string(rest.size()) + " for " + std::to_string(n) +
+                    " vertices");
+    return problems.lines;
+  }
+  std::vector<std::uint8_t> referenced(n, 0);
+  mesh.for_each_face([&](FaceId, const Triangle& t) {
+    for (const VertexId v : t) referenced[v.index] = 1;
+  });
+  check_rows(clusters, rest, referenced, problems);
+  check_particles(clusters, mesh, rest, problems);
+  return problems.lines;
 }
 
 float radius_for_particle_count(const SurfaceMesh& mesh, const std::vector<glm::vec3>& rest,
