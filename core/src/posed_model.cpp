@@ -428,23 +428,18 @@ PosedModel PosedModel::positions_copy() const {
     static_cast<PosedMeshHeader&>(copy) = inst;
     copy.gridless = true;
     // As pose_into_empty sizes a new instance's: with room, the pages faulted in over the pool.
-    // The first task copies the positions (a std::vector: one serial pass), the others the
-    // linear maps in parts (an UninitVector, sized without a fill), three quarters of the bytes.
+    // The linear maps (an UninitVector, sized without a fill; three quarters of the bytes) are
+    // copied in chunks, the positions (a std::vector: one serial pass) beside them.
     const std::size_t room = operation_vertex_room(inst.posed.size()), maps = inst.linear.size();
     detail::reserve_prefaulted(copy.posed, inst.posed.size(), room);
     detail::reserve_prefaulted(copy.linear, maps, room);
     copy.linear.resize(maps);
-    const std::size_t parts = (maps + kGrain - 1) / kGrain;
-    parallel_for(1 + parts, 1, [&](std::size_t b, std::size_t e) {
-      for (std::size_t i = b; i < e; ++i) {
-        if (i == 0) {
-          copy.posed.assign(inst.posed.begin(), inst.posed.end());
-          continue;
-        }
-        const std::size_t from = (i - 1) * kGrain, to = std::min(maps, from + kGrain);
-        std::copy(inst.linear.begin() + from, inst.linear.begin() + to, copy.linear.begin() + from);
-      }
-    });
+    detail::parallel_for_beside(
+        maps, kGrain,
+        [&](std::size_t b, std::size_t e) {
+          std::copy(inst.linear.begin() + b, inst.linear.begin() + e, copy.linear.begin() + b);
+        },
+        [&] { copy.posed.assign(inst.posed.begin(), inst.posed.end()); });
   }
   return out;
 }

@@ -464,32 +464,40 @@ TEST(PosedModelTest, a_positions_copy_equals_a_positions_build_and_a_cut_given_i
   expect_identical(model, plain);
 }
 
-// positions_copy copies the linear maps in parts of 16384 (its grain), one task each: a primitive
-// of more than two parts (the default cactus has fewer vertices than one) has a first, a middle
-// and a last, shorter part, each of which must land at its own offset, whole.
+// positions_copy copies the linear maps in parts of 16384 (its grain), one task each, and the
+// positions beside them (detail::parallel_for_beside): a primitive of more than two parts (the
+// default cactus has fewer vertices than one) has a first, a middle and a last, shorter part,
+// each of which must land at its own offset, whole, whether the positions are copied before every
+// part, after every part or where the pool puts them.
 TEST(PosedModelTest, a_positions_copy_of_a_primitive_of_several_parts_equals_its_source_element_for_element) {
   CactusOptions options;
   options.target_triangles = 100000;
   Model model = make_cactus(options);
   reserve_for_operations(model);
   const PosedModel source = PosedModel::build(model, 0, 0.5f, PoseDetail::Positions);
-  const PosedModel copy = source.positions_copy();
-  ASSERT_EQ(copy.size(), source.size());
   constexpr std::size_t kPart = 16384;
-  std::size_t largest = 0;
-  for (const auto& [key, inst] : source.instances()) {
-    const PosedMesh* c = copy.find(key.first, key.second);
-    ASSERT_NE(c, nullptr);
-    ASSERT_EQ(c->linear.size(), inst.linear.size());
-    ASSERT_EQ(c->posed.size(), inst.posed.size());
-    largest = std::max(largest, inst.linear.size());
-    for (std::size_t v = 0; v < inst.linear.size(); ++v) {
-      ASSERT_EQ(std::memcmp(&c->linear[v], &inst.linear[v], sizeof(glm::mat3)), 0) << "linear map " << v;
-      ASSERT_EQ(std::memcmp(&c->posed[v], &inst.posed[v], sizeof(glm::vec3)), 0) << "position " << v;
+  for (const auto order :
+       {detail::BesideOrder::Shared, detail::BesideOrder::First, detail::BesideOrder::Last}) {
+    SCOPED_TRACE(static_cast<int>(order));
+    detail::beside_order_for_tests = order;
+    const PosedModel copy = source.positions_copy();
+    detail::beside_order_for_tests = detail::BesideOrder::Shared;
+    ASSERT_EQ(copy.size(), source.size());
+    std::size_t largest = 0;
+    for (const auto& [key, inst] : source.instances()) {
+      const PosedMesh* c = copy.find(key.first, key.second);
+      ASSERT_NE(c, nullptr);
+      ASSERT_EQ(c->linear.size(), inst.linear.size());
+      ASSERT_EQ(c->posed.size(), inst.posed.size());
+      largest = std::max(largest, inst.linear.size());
+      for (std::size_t v = 0; v < inst.linear.size(); ++v) {
+        ASSERT_EQ(std::memcmp(&c->linear[v], &inst.linear[v], sizeof(glm::mat3)), 0) << "linear map " << v;
+        ASSERT_EQ(std::memcmp(&c->posed[v], &inst.posed[v], sizeof(glm::vec3)), 0) << "position " << v;
+      }
     }
+    ASSERT_GT(largest, 2 * kPart) << "a primitive with a middle part";
+    ASSERT_NE(largest % kPart, 0u) << "a shorter last part";
   }
-  ASSERT_GT(largest, 2 * kPart) << "a primitive with a middle part";
-  ASSERT_NE(largest % kPart, 0u) << "a shorter last part";
 }
 
 namespace {
