@@ -124,6 +124,20 @@ TEST(AttributesTest, gather_groups_appends_the_listed_groups_run_by_run) {
 
 namespace {
 
+// The arrays both batch tests fill, alike in `batch` and `single`: three float types and an
+// integer one (the first test adds two more).
+struct BatchArrays {
+  AttributeArray<glm::vec3>& v;
+  AttributeArray<glm::u16vec4>& j;
+  AttributeArray<float>& f;
+  AttributeArray<glm::vec2>& v2;
+};
+
+BatchArrays add_batch_arrays(AttributeSet& set) {
+  return {set.add<glm::vec3>("c:v"), set.add<glm::u16vec4>("c:ids"), set.add<float>("c:f"),
+          set.add<glm::vec2>("c:v2")};
+}
+
 // Every array of `batch` holds the same bytes as `single`'s, element by element.
 void expect_same_elements(const AttributeSet& batch, const AttributeSet& single) {
   for (const std::string& name : batch.names()) {
@@ -142,10 +156,7 @@ TEST(AttributesTest, batches_equal_the_single_calls_in_turn) {
   // time leave: the same blends (negative zero and NaN included), the same integer choices.
   AttributeSet batch, single;
   for (AttributeSet* set : {&batch, &single}) {
-    auto& v = set->add<glm::vec3>("c:v");
-    auto& j = set->add<glm::u16vec4>("c:ids");
-    auto& f = set->add<float>("c:f");
-    auto& v2 = set->add<glm::vec2>("c:v2");
+    auto [v, j, f, v2] = add_batch_arrays(*set);
     auto& v4 = set->add<glm::vec4>("c:v4");
     auto& c = set->add<glm::u8vec4>("c:colour");
     set->resize(9);
@@ -188,10 +199,7 @@ TEST(AttributesTest, large_batches_run_side_by_side_equal_the_single_calls_in_tu
   constexpr std::uint32_t kOld = 300, kBlends = 2600, kCopies = 2300, kFaces = 900;
   AttributeSet batch, single;
   for (AttributeSet* set : {&batch, &single}) {
-    auto& v = set->add<glm::vec3>("c:v");
-    auto& j = set->add<glm::u16vec4>("c:ids");
-    auto& f = set->add<float>("c:f");
-    auto& v2 = set->add<glm::vec2>("c:v2");
+    auto [v, j, f, v2] = add_batch_arrays(*set);
     set->resize(kOld);
     for (std::uint32_t i = 0; i < kOld; ++i) {
       v[i] = {0.01f * float(i) - 0.35f, std::sin(float(i)), 1.0f / float(i + 3)};
