@@ -10,7 +10,6 @@
 #include <vtkCaptionActor2D.h>
 #include <vtkCellData.h>
 #include <vtkCellPicker.h>
-#include <vtkCornerAnnotation.h>
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkIdTypeArray.h>
 #include <vtkLightKit.h>
@@ -255,9 +254,7 @@ SceneView::SceneView(QWidget* parent) : QWidget(parent), impl_(std::make_unique<
   lights->SetKeyLightIntensity(0.9);
   lights->AddLightsToRenderer(d.renderer);
 
-  d.caption->SetMaximumFontSize(15);
-  d.caption->SetLinearFontScaleFactor(2);
-  d.caption->SetNonlinearFontScaleFactor(1);
+  // The caption: upper left, its size fitted to the view (scene_view_caption.h).
   d.caption->GetTextProperty()->SetColor(0.93, 0.93, 0.93);
   d.caption->GetTextProperty()->SetFontFamilyToArial();
   d.caption->GetTextProperty()->ShadowOn();
@@ -483,7 +480,7 @@ void SceneView::set_color_bar(const std::optional<ColorBar>& bar) {
 void SceneView::set_caption(const std::vector<std::string>& lines) {
   std::string text;
   for (const std::string& line : lines) text += (text.empty() ? "" : "\n") + line;
-  impl_->caption->SetText(vtkCornerAnnotation::UpperLeft, text.c_str());
+  impl_->caption->SetText(text);
 }
 
 void SceneView::set_bone_handles(std::vector<BoneHandle> handles) { impl_->bones = std::move(handles); }

@@ -7,7 +7,6 @@
 #include <vtkActor.h>
 #include <vtkCallbackCommand.h>
 #include <vtkCellPicker.h>
-#include <vtkCornerAnnotation.h>
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkNew.h>
 #include <vtkOrientationMarkerWidget.h>
@@ -31,6 +30,7 @@
 #include "deepcut/widgets/overlay_props.h"
 #include "deepcut/widgets/view_poly_data.h"
 #include "scene_view.h"
+#include "scene_view_caption.h"
 
 class QVTKOpenGLNativeWidget;
 
@@ -59,7 +59,7 @@ struct SceneView::Impl {
   vtkNew<vtkRenderer> tools;     // the tool widget, over the model
   vtkNew<vtkRenderer> top;       // overlays drawn over the model and the widget
   vtkNew<vtkCellPicker> picker;
-  vtkNew<vtkCornerAnnotation> caption;
+  vtkNew<CaptionActor> caption;
   vtkNew<vtkOrientationMarkerWidget> axes;
   vtkNew<ClickStyle> style;
   vtkSmartPointer<vtkProp> color_bar;
