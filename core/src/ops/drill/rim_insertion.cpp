@@ -53,7 +53,7 @@ class RimInserter {
  private:
   void cross(EdgeCut& e, std::uint64_t key) const;
   void cross_edges();
-  void make_edge_vertices(const std::vector<FaceId>& candidates);
+  void make_edge_vertices();
   void merge_crossings(std::size_t c);
   std::size_t judge_faces(const std::vector<FaceId>& candidates,
                           const std::vector<std::uint8_t>& deep_corners);
@@ -83,6 +83,9 @@ class RimInserter {
   // otherwise, the only candidates with edge records, angles and plans.
   static constexpr std::uint8_t kCut = 0, kDeep = 1, kClear = 2;
   std::vector<std::uint8_t> kind_;
+  // The candidates of kind kCut, in candidate order (the later stages walk these, not every
+  // candidate: most of a hole's candidates lie deep inside).
+  std::vector<std::uint32_t> cut_;
   // Per candidate of kind kCut: of bad shape for Steiner points (allow_steiner).
   std::vector<std::uint8_t> bad_;
   // Per candidate: its edges' records in edges_, looked up once by allow_steiner and read again
@@ -93,8 +96,8 @@ class RimInserter {
   // Crossings that fell on one bind position (the two long edges of a needle crossed at the same
   // parameter): the later vertex maps to the earlier, so the needle's tip is not a zero-area face.
   detail::NeedleMerges merges_;
-  // Per candidate its plan (made only for those of kind kCut), and the chunks' points and
-  // triangles (the calling thread's PlanChunk::reused lists).
+  // Per candidate of kind kCut (as cut_) its plan, and the chunks' points and triangles (the
+  // calling thread's PlanChunk::reused lists).
   std::vector<FacePlan> plans_;
   std::vector<PlanChunk>* chunks_ = nullptr;
   // The removals and kept parts the plans say, made in one editor batch (candidate order).
@@ -188,7 +191,7 @@ void RimInserter::cross_edges() {
 // The vertices of the crossed edges' crossings, then of their Steiner points (in the order cross
 // found them, then sorted along the edge), edge by edge in the order the candidates ask for them
 // (edge k of each candidate of kind kCut), made in one editor batch.
-void RimInserter::make_edge_vertices(const std::vector<FaceId>& candidates) {
+void RimInserter::make_edge_vertices() {
   std::vector<EdgeCut*> order;  // the records making vertices, in that order
   std::vector<std::uint32_t> ends;
   std::vector<float> ts;
@@ -197,8 +200,7 @@ void RimInserter::make_edge_vertices(const std::vector<FaceId>& candidates) {
   order.reserve(edges_.size());
   ends.reserve(4 * edges_.size());
   ts.reserve(2 * edges_.size());
-  for (std::size_t c = 0; c < candidates.size(); ++c) {
-    if (kind_[c] != kCut) continue;
+  for (const std::uint32_t c : cut_) {
     for (EdgeCut* const ep : faces_[c].edges) {
       EdgeCut& e = *ep;
       if (e.resolved) continue;
@@ -232,8 +234,9 @@ void RimInserter::make_edge_vertices(const std::vector<FaceId>& candidates) {
       posed_.add(x);
       posed_.place(editor_, v, x);
     }
-    std::sort(e.steiner.begin(), e.steiner.end(),
-              [](const auto& x, const auto& y) { return x.first < y.first; });
+    if (e.steiner.size() > 1)  // most crossed edges have none or one
+      std::sort(e.steiner.begin(), e.steiner.end(),
+                [](const auto& x, const auto& y) { return x.first < y.first; });
   }
 }
 
@@ -286,7 +289,7 @@ bool RimInserter::bad_shape(const glm::dvec3 corner[3]) const {
 
 // Every candidate judged on its own (in parallel chunks): its kind (kind_; deep inside when all
 // three of its `deep_corners` are) and, for one of kind kCut, whether it is of bad shape (bad_).
-// Returns the count of those of kind kCut.
+// Lists those of kind kCut in cut_ and returns their count.
 std::size_t RimInserter::judge_faces(const std::vector<FaceId>& candidates,
                                      const std::vector<std::uint8_t>& deep_corners) {
   const std::size_t n = candidates.size();
@@ -307,7 +310,10 @@ std::size_t RimInserter::judge_faces(const std::vector<FaceId>& candidates,
         bad_[c] = bad_shape(corner) ? 1 : 0;
     }
   });
-  return static_cast<std::size_t>(std::count(kind_.begin(), kind_.end(), kCut));
+  cut_.clear();
+  for (std::size_t c = 0; c < n; ++c)
+    if (kind_[c] == kCut) cut_.push_back(static_cast<std::uint32_t>(c));
+  return cut_.size();
 }
 
 // Steiner points (see cross()) go only on edges between two candidates of good shape (smallest
@@ -319,8 +325,7 @@ void RimInserter::allow_steiner(const std::vector<FaceId>& candidates) {
   // make_edge_vertices asks for them; the candidate keeps it in faces_): weight 1 for
   // lo -> hi, 16 for hi -> lo, and whether the face is of bad shape. Faces deep inside or clear
   // of the cylinder hold no crossed edge, the only ones asked about.
-  for (std::size_t c = 0; c < candidates.size(); ++c) {
-    if (kind_[c] != kCut) continue;
+  for (const std::uint32_t c : cut_) {
     const Triangle& t = mesh_.face(candidates[c]);
     const bool bad = bad_[c] != 0;
     for (int k = 0; k < 3; ++k) {
@@ -338,8 +343,7 @@ void RimInserter::allow_steiner(const std::vector<FaceId>& candidates) {
 void RimInserter::angle_corners(const std::vector<FaceId>& candidates) {
   detail::VertexSlots& seen = detail::VertexSlots::scratch();  // vertex -> 3 c + k, its first
   seen.reset(mesh_.vertex_count());
-  for (std::size_t c = 0; c < candidates.size(); ++c) {
-    if (kind_[c] != kCut) continue;
+  for (const std::uint32_t c : cut_) {
     CandidateFace& face = faces_[c];
     face.angled = any_piece_inside(face);
     if (!face.angled) continue;
@@ -351,7 +355,7 @@ void RimInserter::angle_corners(const std::vector<FaceId>& candidates) {
         continue;
       }
       face.angle[k] = cyl_.theta(posed_(t[k]));
-      seen.set(t[k].index, static_cast<std::uint32_t>(3 * c + k));
+      seen.set(t[k].index, 3 * c + static_cast<std::uint32_t>(k));
     }
   }
 }
@@ -388,9 +392,10 @@ void RimInserter::plan_faces(const std::vector<FaceId>& candidates) {
   shared.sep = 0.3 * 2.0 * cyl_.r * std::sin(geometry::kPi / samples_);
   // A rim sample is kept only inside a triangle or within half a percent of r of it.
   shared.ruling_reach = ruling_reach_angle(cyl_, 0.02 * cyl_.r + 2.0 * eps_);
+  shared.ruling_base.reserve(static_cast<std::size_t>(samples_));
   for (int k = 0; k < samples_; ++k)
     shared.ruling_base.push_back(cyl_.a + cyl_.r * cyl_.ruling(2.0 * geometry::kPi * k / samples_));
-  const std::size_t n = candidates.size();
+  const std::size_t n = cut_.size();
   plans_.assign(n, FacePlan());
   // About four chunks per thread (each chunk's lists grow from empty); where chunks start
   // changes only where plans are stored.
@@ -399,8 +404,7 @@ void RimInserter::plan_faces(const std::vector<FaceId>& candidates) {
   parallel_for(n, grain, [&](std::size_t begin, std::size_t end) {
     const auto chunk = static_cast<std::uint32_t>(begin / grain);
     FacePlanner planner(shared, (*chunks_)[chunk], chunk);
-    for (std::size_t c = begin; c < end; ++c)
-      if (kind_[c] == kCut) planner.plan(c, candidates[c], plans_[c]);
+    for (std::size_t i = begin; i < end; ++i) planner.plan(cut_[i], candidates[cut_[i]], plans_[i]);
   });
 }
 
@@ -433,9 +437,8 @@ RimInsertion RimInserter::run(const std::vector<FaceId>& candidates,
   allow_steiner(candidates);
   cross_edges();
   angle_corners(candidates);
-  make_edge_vertices(candidates);
-  for (std::size_t c = 0; c < candidates.size(); ++c)
-    if (kind_[c] == kCut) merge_crossings(c);
+  make_edge_vertices();
+  for (const std::uint32_t c : cut_) merge_crossings(c);
   plan_faces(candidates);
   std::size_t planned_tris = 0;  // every face the plans can add (a merged tip's is not)
   bool gaps = false;
@@ -444,10 +447,11 @@ RimInsertion RimInserter::run(const std::vector<FaceId>& candidates,
     gaps = gaps || chunk.gaps;
   }
   batch_.reserve(planned_tris, candidates.size());
+  std::size_t next_cut = 0;  // plans_ follows cut_, in candidate order
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     if (kind_[c] == kClear) continue;  // left as it is
     if (kind_[c] == kCut) {
-      apply_plan(candidates[c], plans_[c], deep_corners[c]);
+      apply_plan(candidates[c], plans_[next_cut++], deep_corners[c]);
       continue;
     }
     batch_.remove(candidates[c]);  // what the plan of a face inside says

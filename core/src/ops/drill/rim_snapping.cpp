@@ -26,14 +26,20 @@ std::vector<FaceId> find_candidates(const SurfaceMesh& mesh, const CylinderFrame
   // Far enough to hold every face around a vertex snap_shallow_vertices may move.
   const double reach =
       cyl.r + std::max(2.0 * eps, (kSnapBand + 0.01) * 2.0 * cyl.r * std::sin(geometry::kPi / cyl.samples));
+  // A centre whose squared distance from the axis lies this far within reach squared is within
+  // reach after the square root's rounding (a margin far above a few roundings), so within reach
+  // plus the face's radius: most candidates (those inside the cylinder) skip the radius.
+  const double surely_near2 = reach * reach * (1.0 - 1e-9);
   auto near_axis = [&](const Triangle& t) {
     const glm::dvec3 p0 = posed(t[0]), p1 = posed(t[1]), p2 = posed(t[2]);
     const glm::dvec3 c = (p0 + p1 + p2) / 3.0;
-    const double rad =
-        std::sqrt(std::max({glm::dot(p0 - c, p0 - c), glm::dot(p1 - c, p1 - c), glm::dot(p2 - c, p2 - c)}));
     const double sv = std::clamp(cyl.s(c), 0.0, cyl.len);
     const glm::dvec3 closest = cyl.a + sv * cyl.d;
-    return glm::length(c - closest) <= reach + rad;
+    const double dist2 = glm::dot(c - closest, c - closest);  // glm::length squares the same way
+    if (dist2 <= surely_near2) return true;
+    const double rad =
+        std::sqrt(std::max({glm::dot(p0 - c, p0 - c), glm::dot(p1 - c, p1 - c), glm::dot(p2 - c, p2 - c)}));
+    return std::sqrt(dist2) <= reach + rad;
   };
   const std::vector<FaceId> near =
       index.query_capsule(glm::vec3(cyl.a), glm::vec3(cyl.a + cyl.len * cyl.d), static_cast<float>(reach));

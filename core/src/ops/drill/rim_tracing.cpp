@@ -123,22 +123,11 @@ RimSteps steps_from_live(const EditLog& log, const RimHalfEdgeList& live, const 
   return steps;
 }
 
-// Rim edges are found from the topology the edits left: boundary half-edges of the new faces
-// whose ends lie on the cylinder. An edge between two old vertices is an edge of the parent
-// triangle; it is a boundary only if the face across it was removed and not replaced there.
-RimSteps rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFrame& cyl,
-                   const PosedOverlay& posed, const std::vector<FaceId>& candidates,
-                   const std::unordered_map<std::uint32_t, std::uint32_t>& copy_of) {
-  // A copy the pinch split made of an old vertex is new, but the faces moved onto it keep their
-  // old edges: both are judged by the original (an old boundary edge at a split vertex is not rim).
-  // The copies are the newest vertices: ids below the lowest copy are looked up nowhere.
-  std::uint32_t first_copy = ~std::uint32_t(0);
-  for (const auto& [c, v] : copy_of) first_copy = std::min(first_copy, c);
-  auto base = [&](VertexId v) {
-    if (v.index < first_copy) return v;
-    const auto it = copy_of.find(v.index);
-    return it == copy_of.end() ? v : VertexId(it->second);
-  };
+// The rim steps, unsorted (steps_from_live), with `base` giving the original of a pinch copy
+// (rim_steps).
+template <class Base>
+RimSteps unsorted_rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFrame& cyl,
+                            const PosedOverlay& posed, const std::vector<FaceId>& candidates, const Base& base) {
   // Each old vertex is judged once (1 on the rim, 0 not).
   detail::VertexSlots& judged = detail::VertexSlots::scratch();
   judged.reset(posed.first_new());
@@ -160,7 +149,32 @@ RimSteps rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFr
   RimHalfEdgeList live;
   live.reserve(log.edits.size() / 8 + 16);  // as file_rim_half_edges' table
   RimHalfEdges filed = file_rim_half_edges(mesh, log, candidates, on_rim, live);
-  const RimSteps rim_next = steps_from_live(log, live, base, posed.first_new(), old_on_rim, filed);
+  return steps_from_live(log, live, base, posed.first_new(), old_on_rim, filed);
+}
+
+// Rim edges are found from the topology the edits left: boundary half-edges of the new faces
+// whose ends lie on the cylinder. An edge between two old vertices is an edge of the parent
+// triangle; it is a boundary only if the face across it was removed and not replaced there.
+RimSteps rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFrame& cyl,
+                   const PosedOverlay& posed, const std::vector<FaceId>& candidates,
+                   const std::unordered_map<std::uint32_t, std::uint32_t>& copy_of) {
+  RimSteps rim_next;
+  if (copy_of.empty()) {  // no pinch split (the usual trace): every vertex is its own original
+    rim_next = unsorted_rim_steps(mesh, log, cyl, posed, candidates, [](VertexId v) { return v; });
+  } else {
+    // A copy the pinch split made of an old vertex is new, but the faces moved onto it keep
+    // their old edges: both are judged by the original (an old boundary edge at a split vertex
+    // is not rim). The copies are the newest vertices: ids below the lowest copy are looked up
+    // nowhere.
+    std::uint32_t first_copy = ~std::uint32_t(0);
+    for (const auto& [c, v] : copy_of) first_copy = std::min(first_copy, c);
+    auto base = [&](VertexId v) {
+      if (v.index < first_copy) return v;
+      const auto it = copy_of.find(v.index);
+      return it == copy_of.end() ? v : VertexId(it->second);
+    };
+    rim_next = unsorted_rim_steps(mesh, log, cyl, posed, candidates, base);
+  }
   // Grouped by `from`, each group in discovery order: sorted by (from, discovery index) as one
   // 64-bit key per step (a plain sort of integers, where a stable sort of the pairs merges).
   assert(rim_next.size() < (std::uint64_t(1) << 32));  // the discovery index fits the key's low half
