@@ -2,9 +2,9 @@
 #pragma once
 // The rim insertion's work on one crossed triangle, in its own plane (rim_insertion.cpp runs it):
 // the kept parts of the triangle are found and triangulated without touching the mesh, and what
-// to do is written down as a plan (remove the triangle, add these kept parts). The plans of all
-// candidates are made in parallel (each reads only the crossings made before) and carried out in
-// candidate order, so the edits are the same whatever the thread count. Private to the drill.
+// to do is written down as a plan (remove the triangle, add these kept parts). The plans of the
+// crossed candidates are made in parallel (each reads only the crossings made before) and carried
+// out in candidate order, so the edits are the same whatever the thread count. Private to the drill.
 
 #include <array>
 #include <cstdint>

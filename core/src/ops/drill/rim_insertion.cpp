@@ -28,7 +28,7 @@ namespace {
 constexpr double kSteinerClear = 0.3;
 constexpr double kSteinerParentAngle = 10.0 * geometry::kPi / 180.0;
 const double kCosSteinerParent = std::cos(kSteinerParentAngle);  // worked out once
-// Fewest candidates planned per parallel chunk (a few dozen crossed faces are worth a thread).
+// Fewest crossed candidates planned per parallel chunk (a few dozen crossed faces are worth a thread).
 constexpr std::size_t kPlanGrain = 24;
 // Fewest candidates judged (deep inside, clear of the cylinder, bad shape), and fewest edges
 // crossed, per parallel chunk: a chunk of a few hundred thousand instructions is worth waking a
@@ -457,6 +457,7 @@ RimInsertion RimInserter::run(const std::vector<FaceId>& candidates,
     batch_.remove(candidates[c]);  // what the plan of a face inside says
     ++removed_;
   }
+  assert(next_cut == plans_.size());  // every plan carried out, each for its own face
   editor_.apply(batch_);
   PlanChunk::give_back_big(*chunks_);  // a big drill's plans do not stay with the thread
   RimInsertion out;

@@ -127,7 +127,8 @@ RimSteps steps_from_live(const EditLog& log, const RimHalfEdgeList& live, const 
 // (rim_steps).
 template <class Base>
 RimSteps unsorted_rim_steps(const SurfaceMesh& mesh, const EditLog& log, const CylinderFrame& cyl,
-                            const PosedOverlay& posed, const std::vector<FaceId>& candidates, const Base& base) {
+                            const PosedOverlay& posed, const std::vector<FaceId>& candidates,
+                            const Base& base) {
   // Each old vertex is judged once (1 on the rim, 0 not).
   detail::VertexSlots& judged = detail::VertexSlots::scratch();
   judged.reset(posed.first_new());
