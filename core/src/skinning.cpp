@@ -243,8 +243,10 @@ class Poser {
         joints_(skin_joints(model, node, world)),
         blend_(mesh, joints_),
         skinned_(blend_.skinned()),
-        joint_rows_{mesh.vertex_attrs().find<glm::u16vec4>(attr::kJoints0), mesh.vertex_attrs().find<glm::u16vec4>(attr::kJoints1)},
-        weight_rows_{mesh.vertex_attrs().find<glm::vec4>(attr::kWeights0), mesh.vertex_attrs().find<glm::vec4>(attr::kWeights1)} {
+        joint_rows_{mesh.vertex_attrs().find<glm::u16vec4>(attr::kJoints0),
+                    mesh.vertex_attrs().find<glm::u16vec4>(attr::kJoints1)},
+        weight_rows_{mesh.vertex_attrs().find<glm::vec4>(attr::kWeights0),
+                     mesh.vertex_attrs().find<glm::vec4>(attr::kWeights1)} {
     // As SkinBlend reads them: the second set only when both of its arrays are there.
     if (!joint_rows_[1] || !weight_rows_[1]) joint_rows_[1] = nullptr, weight_rows_[1] = nullptr;
   }

@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "byte_rows.h"
 #include "deepcut/core/operation_room.h"
 #include "deepcut/core/parallel.h"
-#include "byte_rows.h"
 #include "first_of_class.h"
 #include "ops/common/model_surgery.h"
 

@@ -158,19 +158,23 @@ SurfaceMesh renumbered(const SurfaceMesh& mesh, const std::vector<std::uint32_t>
   }
   for (std::size_t i = 0; i < extra; ++i) out.add_vertex({7.0f, 7.0f, float(i)});
   mesh.for_each_face([&](FaceId f, const Triangle& t) {
-    const FaceId g = out.add_face(VertexId(to[t[0].index]), VertexId(to[t[1].index]), VertexId(to[t[2].index]));
+    const FaceId g =
+        out.add_face(VertexId(to[t[0].index]), VertexId(to[t[1].index]), VertexId(to[t[2].index]));
     for (int k = 0; k < 3; ++k) uv[SurfaceMesh::corner(g, k)] = suv[SurfaceMesh::corner(f, k)];
   });
   return out;
 }
 
-void expect_same_weld(const SurfaceMesh& a, const WeldReport& ra, const SurfaceMesh& b, const WeldReport& rb) {
+void expect_same_weld(const SurfaceMesh& a, const WeldReport& ra, const SurfaceMesh& b,
+                      const WeldReport& rb) {
   EXPECT_EQ(a.faces(), b.faces());
   EXPECT_EQ(a.positions(), b.positions());
-  EXPECT_EQ(a.vertex_attrs().get<glm::vec4>(attr::kWeights0).data(), b.vertex_attrs().get<glm::vec4>(attr::kWeights0).data());
+  EXPECT_EQ(a.vertex_attrs().get<glm::vec4>(attr::kWeights0).data(),
+            b.vertex_attrs().get<glm::vec4>(attr::kWeights0).data());
   EXPECT_EQ(a.vertex_attrs().get<glm::u16vec4>(attr::kJoints0).data(),
             b.vertex_attrs().get<glm::u16vec4>(attr::kJoints0).data());
-  EXPECT_EQ(a.corner_attrs().get<glm::vec2>(attr::kUv0).data(), b.corner_attrs().get<glm::vec2>(attr::kUv0).data());
+  EXPECT_EQ(a.corner_attrs().get<glm::vec2>(attr::kUv0).data(),
+            b.corner_attrs().get<glm::vec2>(attr::kUv0).data());
   EXPECT_EQ(ra.merged, rb.merged);
   EXPECT_EQ(ra.dropped, rb.dropped);
   EXPECT_EQ(ra.kept_apart, rb.kept_apart);
@@ -187,7 +191,8 @@ TEST(WeldTest, vertices_numbered_in_first_use_order_or_not_weld_the_same) {
   for (std::uint32_t v = 0; v < split.vertex_count(); v += 11) w[v] = {0.25f, 0.75f, 0.0f, 0.0f};
   const std::size_t n = split.vertex_count();
   std::vector<std::uint32_t> same(n), reversed(n), late(n);
-  for (std::uint32_t v = 0; v < n; ++v) same[v] = late[v] = v, reversed[v] = static_cast<std::uint32_t>(n - 1 - v);
+  for (std::uint32_t v = 0; v < n; ++v)
+    same[v] = late[v] = v, reversed[v] = static_cast<std::uint32_t>(n - 1 - v);
   // Two vertices first used in the last faces swap numbers: the order breaks only there.
   std::swap(late[n - 4], late[n - 2]);
   const std::size_t saved = thread_count();

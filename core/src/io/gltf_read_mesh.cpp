@@ -184,7 +184,9 @@ struct InfluenceSanitiser {
   // Whether vertex v's influences are vertex u's, byte for byte (joints as the file stores them).
   template <int kJointType>
   bool same_as(std::size_t v, std::size_t u) const {
-    constexpr std::size_t joint_bytes = kJointType == kUnsignedByte ? 4 : kJointType == kUnsignedShort ? 8 : 16;
+    constexpr std::size_t joint_bytes = kJointType == kUnsignedByte    ? 4
+                                        : kJointType == kUnsignedShort ? 8
+                                                                       : 16;
     for (std::size_t s = 0; s < sets; ++s)
       if (!same_bytes<joint_bytes>(joints[s] + v * joint_stride[s], joints[s] + u * joint_stride[s]) ||
           !same_bytes<16>(weights[s] + 4 * v, weights[s] + 4 * u))
@@ -341,8 +343,9 @@ Influences Reader::read_influences(const tinygltf::Primitive& p, const std::stri
     auto j = p.attributes.find("JOINTS_" + std::to_string(s));
     if (j == p.attributes.end() || p.attributes.count("WEIGHTS_" + std::to_string(s)) == 0) break;
     const int ja = j->second;
-    const tinygltf::Accessor* acc =
-        ja >= 0 && static_cast<std::size_t>(ja) < gltf_.accessors.size() ? &gltf_.accessors[std::size_t(ja)] : nullptr;
+    const tinygltf::Accessor* acc = ja >= 0 && static_cast<std::size_t>(ja) < gltf_.accessors.size()
+                                        ? &gltf_.accessors[std::size_t(ja)]
+                                        : nullptr;
     const bool in_file = acc && acc->bufferView >= 0 && !acc->sparse.isSparse &&
                          (acc->componentType == kUnsignedByte || acc->componentType == kUnsignedShort) &&
                          (joint_type < 0 || joint_type == acc->componentType);
