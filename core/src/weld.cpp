@@ -1,16 +1,18 @@
 // SPDX-License-Identifier: MIT
 #include "deepcut/core/weld.h"
 
+#include <algorithm>
 #include <atomic>
+#include <cstdint>
 #include <cstring>
 #include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "byte_rows.h"
 #include "deepcut/core/operation_room.h"
 #include "deepcut/core/parallel.h"
-#include "byte_rows.h"
 #include "first_of_class.h"
 #include "ops/common/model_surgery.h"
 
@@ -64,9 +66,41 @@ struct FaceUse {
   std::uint32_t face(std::size_t i) const { return all ? static_cast<std::uint32_t>(i) : faces[i]; }
 };
 
+// When the corners of faces [0, nf) name the vertices in order of first use (each corner's
+// vertex at most one past the largest before it: 0, 1, 2, 0, 2, 3, ...), the number of vertices
+// they use (vertices 0 .. n - 1; none past them), else 0. Files written vertex by vertex as their
+// faces first use them (DeepCut's own, many exporters') are so. One pass over the corners in
+// parallel chunks: each chunk notes one past its largest vertex (`top`) and the largest vertex it
+// names past one more than the largest of its own before it (`need`: the chunks before it must
+// reach one less); the chunks are then checked in order.
+std::size_t used_in_first_use_order(const std::vector<Triangle>& tris, std::size_t nf) {
+  struct Chunk {
+    std::uint32_t top = 0, need = 0;  // need 0: none (vertex 0 is always allowed)
+  };
+  const std::size_t chunks = (nf + kGrain - 1) / kGrain;
+  std::vector<Chunk> parts(chunks);
+  parallel_for(nf, kGrain, [&](std::size_t b, std::size_t e) {
+    std::uint32_t top = 0, need = 0;  // vertex indices are below 2^32 - 1 (kInvalidIndex)
+    for (std::size_t f = b; f < e; ++f)
+      for (std::uint32_t k = 0; k < 3; ++k) {
+        const std::uint32_t v = tris[f][k].index;
+        need = std::max(need, v > top ? v : 0u);
+        top = std::max(top, v + 1);
+      }
+    parts[b / kGrain] = {top, need};
+  });
+  std::uint32_t top = 0;
+  for (const Chunk& c : parts) {
+    if (c.need > top) return 0;
+    top = std::max(top, c.top);
+  }
+  return top;
+}
+
 // In parallel: each vertex's first corner (an atomic minimum over the corners using it), then
 // the vertices whose first corner each face holds, face by face: counted per chunk of faces, a
-// prefix sum, then each chunk of faces writes its own range.
+// prefix sum, then each chunk of faces writes its own range. Faces that name their vertices in
+// order of first use (used_in_first_use_order) need neither.
 FaceUse first_uses(const SurfaceMesh& mesh) {
   FaceUse use;
   const auto& tris = mesh.faces();
@@ -75,6 +109,15 @@ FaceUse first_uses(const SurfaceMesh& mesh) {
   if (!use.all)
     use.faces = detail::ordered_indices(tris.size(), [&](std::size_t f) { return !mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f))); });
   const std::size_t nf = use.size();
+  if (use.all) {
+    if (const std::size_t used = used_in_first_use_order(tris, nf)) {
+      use.first_use.resize(used);
+      parallel_for(used, kGrain, [&](std::size_t b, std::size_t e) {
+        for (std::size_t v = b; v < e; ++v) use.first_use[v] = static_cast<std::uint32_t>(v);
+      });
+      return use;
+    }
+  }
   std::unique_ptr<std::atomic<std::uint32_t>[]> first(new std::atomic<std::uint32_t>[mesh.vertex_count()]);
   parallel_for(mesh.vertex_count(), kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t v = b; v < e; ++v) first[v].store(kInvalidIndex, std::memory_order_relaxed);

@@ -136,6 +136,80 @@ TEST(WeldTest, vertices_kept_apart_are_the_same_whatever_the_thread_count) {
   }
 }
 
+namespace {
+
+// `mesh` (made by unweld) with vertex v renumbered to `to[v]`, and `extra` unreferenced
+// vertices after them: the same faces, corners and vertex attributes.
+SurfaceMesh renumbered(const SurfaceMesh& mesh, const std::vector<std::uint32_t>& to, std::size_t extra = 0) {
+  const std::size_t n = mesh.vertex_count();
+  std::vector<std::uint32_t> from(n);
+  for (std::uint32_t v = 0; v < n; ++v) from[to[v]] = v;
+  SurfaceMesh out;
+  auto& j = out.vertex_attrs().add<glm::u16vec4>(attr::kJoints0);
+  auto& w = out.vertex_attrs().add<glm::vec4>(attr::kWeights0);
+  auto& uv = out.corner_attrs().add<glm::vec2>(attr::kUv0);
+  const auto& sj = mesh.vertex_attrs().get<glm::u16vec4>(attr::kJoints0);
+  const auto& sw = mesh.vertex_attrs().get<glm::vec4>(attr::kWeights0);
+  const auto& suv = mesh.corner_attrs().get<glm::vec2>(attr::kUv0);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const VertexId v = out.add_vertex(mesh.positions()[from[i]]);
+    j[v.index] = sj[from[i]];
+    w[v.index] = sw[from[i]];
+  }
+  for (std::size_t i = 0; i < extra; ++i) out.add_vertex({7.0f, 7.0f, float(i)});
+  mesh.for_each_face([&](FaceId f, const Triangle& t) {
+    const FaceId g =
+        out.add_face(VertexId(to[t[0].index]), VertexId(to[t[1].index]), VertexId(to[t[2].index]));
+    for (int k = 0; k < 3; ++k) uv[SurfaceMesh::corner(g, k)] = suv[SurfaceMesh::corner(f, k)];
+  });
+  return out;
+}
+
+void expect_same_weld(const SurfaceMesh& a, const WeldReport& ra, const SurfaceMesh& b,
+                      const WeldReport& rb) {
+  EXPECT_EQ(a.faces(), b.faces());
+  EXPECT_EQ(a.positions(), b.positions());
+  EXPECT_EQ(a.vertex_attrs().get<glm::vec4>(attr::kWeights0).data(),
+            b.vertex_attrs().get<glm::vec4>(attr::kWeights0).data());
+  EXPECT_EQ(a.vertex_attrs().get<glm::u16vec4>(attr::kJoints0).data(),
+            b.vertex_attrs().get<glm::u16vec4>(attr::kJoints0).data());
+  EXPECT_EQ(a.corner_attrs().get<glm::vec2>(attr::kUv0).data(),
+            b.corner_attrs().get<glm::vec2>(attr::kUv0).data());
+  EXPECT_EQ(ra.merged, rb.merged);
+  EXPECT_EQ(ra.dropped, rb.dropped);
+  EXPECT_EQ(ra.kept_apart, rb.kept_apart);
+}
+
+}  // namespace
+
+// Faces that name their vertices in order of first use (as unweld and most files number them)
+// take a shorter way to the vertices' order; any other numbering, however far into the faces it
+// first breaks that order, welds to the same mesh, on any thread count.
+TEST(WeldTest, vertices_numbered_in_first_use_order_or_not_weld_the_same) {
+  SurfaceMesh split = unweld(test::make_grid(160, 120));  // 38400 faces: several parallel chunks
+  auto& w = split.vertex_attrs().get<glm::vec4>(attr::kWeights0);
+  for (std::uint32_t v = 0; v < split.vertex_count(); v += 11) w[v] = {0.25f, 0.75f, 0.0f, 0.0f};
+  const std::size_t n = split.vertex_count();
+  std::vector<std::uint32_t> same(n), reversed(n), late(n);
+  for (std::uint32_t v = 0; v < n; ++v)
+    same[v] = late[v] = v, reversed[v] = static_cast<std::uint32_t>(n - 1 - v);
+  // Two vertices first used in the last faces swap numbers: the order breaks only there.
+  std::swap(late[n - 4], late[n - 2]);
+  const std::size_t saved = thread_count();
+  for (std::size_t threads : {1u, 2u, 3u}) {
+    set_thread_count(threads);
+    SurfaceMesh expected = split;
+    const WeldReport re = weld(expected);
+    for (const auto* to : {&same, &reversed, &late})
+      for (std::size_t extra : {0u, 5u}) {
+        SurfaceMesh mesh = renumbered(split, *to, extra);
+        const WeldReport r = weld(mesh);
+        expect_same_weld(mesh, r, expected, WeldReport{re.merged, re.kept_apart, re.dropped + extra});
+      }
+  }
+  set_thread_count(saved);
+}
+
 }  // namespace deepcut
 
 namespace deepcut {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstring>
 
 #include "deepcut/core/mesh_editor.h"
 #include "deepcut/core/parallel.h"
@@ -91,13 +92,22 @@ struct InfluenceRepairs {
     duplicates += o.duplicates;
     return *this;
   }
+  // What was repaired since `before` (a count this one started from).
+  InfluenceRepairs since(const InfluenceRepairs& before) const {
+    return {renormalised - before.renormalised, out_of_range - before.out_of_range, zero - before.zero,
+            bad_weights - before.bad_weights, duplicates - before.duplicates};
+  }
 };
 
 // A primitive's influences as the file gives them (up to two sets of four per vertex, as plain
 // pointers) and what sanitising them needs to know of the skin.
 struct InfluenceSanitiser {
   std::size_t sets = 0;
-  const std::uint32_t* joints[2] = {};
+  // Set s's joints: vertex v's four at joints[s] + v * joint_stride[s], components of
+  // joint_type (unsigned bytes or shorts where the file holds them, else decoded 32-bit ones).
+  const unsigned char* joints[2] = {};
+  std::size_t joint_stride[2] = {};
+  int joint_type = kUnsignedInt;  // every set's (read_influences reads all in the file or decodes all)
   const float* weights[2] = {};
   int joint_count = -1;            // the skin's joints; < 0 without a skin (joints then unchecked)
   std::uint32_t file_joints = 0;   // joints as the file numbers them (before duplicates merged)
@@ -106,7 +116,7 @@ struct InfluenceSanitiser {
 
   // Vertex v's influences, sanitised into `skin` (`nv` vertices per set); its repairs counted into
   // `r`. `kSets` is `sets` (1 or 2) as a constant: the loops over the slots unroll.
-  template <int kSets>
+  template <int kSets, int kJointType>
   void run(std::size_t v, std::size_t nv, Influences& skin, InfluenceRepairs& r) const {
     constexpr int slots = 4 * kSets;
     std::uint16_t jj[8] = {};
@@ -118,7 +128,7 @@ struct InfluenceSanitiser {
     float sum = 0.0f, tolerance = 0.0f;
     const std::size_t repeats_before = r.duplicates;
     for (int k = 0; k < slots; ++k) {
-      std::uint32_t joint = joints[k / 4][4 * v + std::size_t(k % 4)];
+      std::uint32_t joint = joint_at<kJointType>(joints[k / 4] + v * joint_stride[k / 4], k % 4);
       float weight = weights[k / 4][4 * v + std::size_t(k % 4)];
       if (!std::isfinite(weight) || weight < 0.0f) {
         ++r.bad_weights;
@@ -156,11 +166,76 @@ struct InfluenceSanitiser {
       skin.weights[s * nv + v] = glm::vec4(ww[4 * s], ww[4 * s + 1], ww[4 * s + 2], ww[4 * s + 3]);
     }
   }
+  // Component `c` of the joints at `p` (a vertex's four), as the decode reads it (to_uint).
+  template <int kJointType>
+  static std::uint32_t joint_at(const unsigned char* p, int c) {
+    if constexpr (kJointType == kUnsignedByte) {
+      return p[c];
+    } else if constexpr (kJointType == kUnsignedShort) {
+      std::uint16_t j;
+      std::memcpy(&j, p + 2 * c, 2);
+      return j;
+    } else {
+      std::uint32_t j;
+      std::memcpy(&j, p + 4 * c, 4);
+      return j;
+    }
+  }
+  // Whether vertex v's influences are vertex u's, byte for byte (joints as the file stores them).
+  template <int kJointType>
+  bool same_as(std::size_t v, std::size_t u) const {
+    constexpr std::size_t joint_bytes = kJointType == kUnsignedByte    ? 4
+                                        : kJointType == kUnsignedShort ? 8
+                                                                       : 16;
+    for (std::size_t s = 0; s < sets; ++s)
+      if (!same_bytes<joint_bytes>(joints[s] + v * joint_stride[s], joints[s] + u * joint_stride[s]) ||
+          !same_bytes<16>(weights[s] + 4 * v, weights[s] + 4 * u))
+        return false;
+    return true;
+  }
+  // Whether the `kBytes` (4, 8 or 16) at `a` and `b` are the same: compared as whole words.
+  template <std::size_t kBytes>
+  static bool same_bytes(const void* a, const void* b) {
+    if constexpr (kBytes == 4) {
+      std::uint32_t x, y;
+      std::memcpy(&x, a, 4);
+      std::memcpy(&y, b, 4);
+      return x == y;
+    } else {
+      std::uint64_t x[kBytes / 8], y[kBytes / 8];
+      std::memcpy(x, a, kBytes);
+      std::memcpy(y, b, kBytes);
+      std::uint64_t diff = 0;
+      for (std::size_t i = 0; i < kBytes / 8; ++i) diff |= x[i] ^ y[i];
+      return diff == 0;
+    }
+  }
+  // Vertices [b, e) sanitised (run). Sanitising is a function of a vertex's influences alone, so
+  // a vertex whose influences are those of the vertex before it gets that one's result and
+  // repairs: most vertices of a part bound to one joint, and a seam's copies of a vertex, do.
+  template <int kJointType>
+  InfluenceRepairs run_all(std::size_t b, std::size_t e, std::size_t nv, Influences& skin) const {
+    InfluenceRepairs r, last;
+    for (std::size_t v = b; v < e; ++v) {
+      if (v > b && same_as<kJointType>(v, v - 1)) {
+        for (std::size_t s = 0; s < sets; ++s) {
+          skin.joints[s * nv + v] = skin.joints[s * nv + v - 1];
+          skin.weights[s * nv + v] = skin.weights[s * nv + v - 1];
+        }
+        r += last;
+        continue;
+      }
+      const InfluenceRepairs before = r;
+      sets == 1 ? run<1, kJointType>(v, nv, skin, r) : run<2, kJointType>(v, nv, skin, r);
+      last = r.since(before);
+    }
+    return r;
+  }
   // Vertices [b, e) sanitised (run); their repairs.
   InfluenceRepairs operator()(std::size_t b, std::size_t e, std::size_t nv, Influences& skin) const {
-    InfluenceRepairs r;
-    for (std::size_t v = b; v < e; ++v) sets == 1 ? run<1>(v, nv, skin, r) : run<2>(v, nv, skin, r);
-    return r;
+    if (joint_type == kUnsignedByte) return run_all<kUnsignedByte>(b, e, nv, skin);
+    if (joint_type == kUnsignedShort) return run_all<kUnsignedShort>(b, e, nv, skin);
+    return run_all<kUnsignedInt>(b, e, nv, skin);
   }
 };
 
@@ -255,26 +330,60 @@ Uints Reader::read_triangles(const tinygltf::Primitive& p, const std::string& wh
 // Up to two sets of four influences per vertex, sanitised (InfluenceSanitiser); every repair is noted.
 Influences Reader::read_influences(const tinygltf::Primitive& p, const std::string& where, std::size_t nv, int joint_count) {
   struct SkinSetData {
-    Uints joints;
+    Uints joints;  // decoded, unless read where the file holds them (`in_file`)
+    AccessorBytes in_file;
     Floats weights;
   };
   std::vector<SkinSetData> sets;
+  // Joints that are unsigned bytes or shorts in a bufferView, not sparse, are read where the file
+  // holds them (checked and charged as the decode would: accessor_bytes), not decoded to 32 bits
+  // first; when every set's are, of one component type (`joint_type`, else 0).
+  int joint_type = -1;
+  for (int s = 0; s < 2; ++s) {
+    auto j = p.attributes.find("JOINTS_" + std::to_string(s));
+    if (j == p.attributes.end() || p.attributes.count("WEIGHTS_" + std::to_string(s)) == 0) break;
+    const int ja = j->second;
+    const tinygltf::Accessor* acc = ja >= 0 && static_cast<std::size_t>(ja) < gltf_.accessors.size()
+                                        ? &gltf_.accessors[std::size_t(ja)]
+                                        : nullptr;
+    const bool in_file = acc && acc->bufferView >= 0 && !acc->sparse.isSparse &&
+                         (acc->componentType == kUnsignedByte || acc->componentType == kUnsignedShort) &&
+                         (joint_type < 0 || joint_type == acc->componentType);
+    joint_type = in_file ? acc->componentType : 0;
+    if (!in_file) break;
+  }
+  if (joint_type < 0) joint_type = 0;
   for (int s = 0; s < 2; ++s) {
     auto j = p.attributes.find("JOINTS_" + std::to_string(s));
     auto w = p.attributes.find("WEIGHTS_" + std::to_string(s));
     if (j == p.attributes.end() || w == p.attributes.end()) break;
     SkinSetData d;
     int jc = 0, wc = 0;
-    d.joints = read_uints(j->second, "JOINTS", &jc);
+    std::size_t joints_read = 0;
+    if (joint_type != 0) {
+      d.in_file = accessor_bytes(j->second, "JOINTS", "JOINTS (accessor " + std::to_string(j->second) + ")",
+                                 sizeof(std::uint32_t), &jc);
+      joints_read = d.in_file.acc->count * std::size_t(jc);
+    } else {
+      d.joints = read_uints(j->second, "JOINTS", &jc);
+      joints_read = d.joints.size();
+    }
     d.weights = read_floats(w->second, "WEIGHTS", &wc);
-    if (jc != 4 || wc != 4 || d.joints.size() != 4 * nv || d.weights.size() != 4 * nv)
+    if (jc != 4 || wc != 4 || joints_read != 4 * nv || d.weights.size() != 4 * nv)
       fail(where + ": JOINTS_" + std::to_string(s) + "/WEIGHTS_" + std::to_string(s) + " must be VEC4 with one per vertex");
     sets.push_back(std::move(d));
   }
   InfluenceSanitiser sanitise;
   sanitise.sets = sets.size();
+  sanitise.joint_type = joint_type != 0 ? joint_type : kUnsignedInt;
   for (std::size_t s = 0; s < sets.size(); ++s) {
-    sanitise.joints[s] = sets[s].joints.data();
+    if (sanitise.joint_type == kUnsignedInt) {
+      sanitise.joints[s] = reinterpret_cast<const unsigned char*>(sets[s].joints.data());
+      sanitise.joint_stride[s] = 4 * sizeof(std::uint32_t);
+    } else {
+      sanitise.joints[s] = sets[s].in_file.base;
+      sanitise.joint_stride[s] = sets[s].in_file.stride;
+    }
     sanitise.weights[s] = sets[s].weights.data();
   }
   // Joint indices as the file numbers them, and how they are numbered once duplicate joints of
