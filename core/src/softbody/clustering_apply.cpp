@@ -171,22 +171,22 @@ void check_apply(const SurfaceMesh& mesh, const std::vector<glm::vec3>& rest, co
 
 // The particles an apply revisits: a flag per particle slot and the list, in the order touched.
 struct TouchedParticles {
-  explicit TouchedParticles(std::size_t slots) : is(slots, 0) {}
+  explicit TouchedParticles(std::size_t slots) : is_touched(slots, 0) {}
   // `slots`: the particle slots now (p may be a particle created since the last touch).
   void touch(std::uint32_t p, std::size_t slots) {
-    if (p >= is.size()) is.resize(slots, 0);
-    if (!is[p]) {
-      is[p] = 1;
+    if (p >= is_touched.size()) is_touched.resize(slots, 0);
+    if (!is_touched[p]) {
+      is_touched[p] = 1;
       list.push_back(p);
     }
   }
-  std::vector<std::uint8_t> is;
+  std::vector<std::uint8_t> is_touched;
   std::vector<std::uint32_t> list;
 };
 
 }  // namespace
 
-std::vector<std::uint32_t> Clusters::follow_log(const EditLog& log) {
+std::vector<std::uint32_t> Clusters::replay_log(const EditLog& log) {
   std::vector<std::uint32_t> touched_vertices;
   std::vector<Influence> acc;
   for (const Edit& edit : log.edits) {
@@ -282,7 +282,7 @@ ClusterUpdate Clusters::apply(const SurfaceMesh& mesh, const std::vector<glm::ve
   ClusterUpdate update;
 
   // 1. Walk the log: rows for new vertices, live-face counts, the vertices to revisit.
-  const std::vector<std::uint32_t> touched_vertices = follow_log(log);
+  const std::vector<std::uint32_t> touched_vertices = replay_log(log);
 
   // 2. The particles to revisit: every particle of a touched vertex (before any removal).
   TouchedParticles touched(seeds_.size());
@@ -302,7 +302,7 @@ ClusterUpdate Clusters::apply(const SurfaceMesh& mesh, const std::vector<glm::ve
   const std::size_t created_before = update.created.size();
   if (adjacency)
     update.particles_split = split_disconnected(
-        touched.list, FacesAroundParticles(mesh, *adjacency, *this, touched.list, touched.is),
+        touched.list, FacesAroundParticles(mesh, *adjacency, *this, touched.list, touched.is_touched),
         update.created);
   else
     update.particles_split = split_disconnected(touched.list, AllFaces(mesh), update.created);

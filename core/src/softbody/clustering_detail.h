@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// Constants and small helpers of the soft-body clustering (private to core), shared by its files:
-// clustering_build.cpp (Clusters::build), clustering_seeds.cpp (the seed sampling),
-// clustering_split.cpp (splitting particles into connected parts), clustering_apply.cpp
-// (following an edit log), clustering_rows.cpp (rows, pool and particles) and
-// clustering_report.cpp (stats, checks, radius search). Here: the falloff and the argument
-// checks; the union-find and the grouping of the split; the faces a split walks.
+// Constants and small helpers of the soft-body clustering (private to core), shared by the files
+// that include it: clustering_build.cpp (Clusters::build), clustering_seeds.cpp (the seed
+// sampling), clustering_split.cpp (splitting particles into connected parts),
+// clustering_apply.cpp (following an edit log) and clustering_report.cpp (stats, checks, radius
+// search). Here: the falloff and the argument checks; the seed sampling's entry point
+// (farthest_point_seeds, over a PointGrid of point_grid.h); the union-find and the grouping of
+// the split; the faces a split walks.
 
 #include <algorithm>
 #include <atomic>

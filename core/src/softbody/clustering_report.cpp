@@ -55,42 +55,43 @@ struct Problems {
 // whether a live face uses it).
 void check_rows(const Clusters& clusters, const std::vector<glm::vec3>& rest,
                 const std::vector<std::uint8_t>& referenced, Problems& problems) {
-  auto report = [&](const std::string& line) { problems.report(line); };
   const float rho = clusters.radius();
   const float limit2 = rho * rho * (1.0f + kRadiusSlack) * (1.0f + kRadiusSlack);
   const std::size_t slots = clusters.particle_slots();
   for (std::uint32_t v = 0; v < referenced.size(); ++v) {
     const InfluenceRange row = clusters.influences(VertexId(v));
-    if (referenced[v] && row.empty()) report("coverage: vertex " + std::to_string(v) + " is in no particle");
+    if (referenced[v] && row.empty())
+      problems.report("coverage: vertex " + std::to_string(v) + " is in no particle");
     if (!referenced[v] && !row.empty())
-      report("vertex " + std::to_string(v) + " has no live face but is in " + std::to_string(row.size()) +
-             " particles");
+      problems.report("vertex " + std::to_string(v) + " has no live face but is in " +
+                      std::to_string(row.size()) + " particles");
     double sum = 0.0;
     for (const Influence* a = row.begin(); a != row.end(); ++a) {
       if (a->particle >= slots) {
-        report("vertex " + std::to_string(v) + " names particle " + std::to_string(a->particle) + " of " +
-               std::to_string(slots));
+        problems.report("vertex " + std::to_string(v) + " names particle " + std::to_string(a->particle) +
+                        " of " + std::to_string(slots));
         continue;
       }
       if (!(a->weight > 0.0f) || !std::isfinite(a->weight))
-        report("vertex " + std::to_string(v) + " has weight " + std::to_string(a->weight) + " in particle " +
-               std::to_string(a->particle));
+        problems.report("vertex " + std::to_string(v) + " has weight " + std::to_string(a->weight) +
+                        " in particle " + std::to_string(a->particle));
       sum += a->weight;
       for (const Influence* b = row.begin(); b != a; ++b)
         if (b->particle == a->particle)
-          report("vertex " + std::to_string(v) + " lists particle " + std::to_string(a->particle) + " twice");
+          problems.report("vertex " + std::to_string(v) + " lists particle " + std::to_string(a->particle) +
+                          " twice");
       const auto& m = clusters.members(a->particle);
       if (!std::binary_search(m.begin(), m.end(), v))
-        report("vertex " + std::to_string(v) + " is influenced by particle " + std::to_string(a->particle) +
-               " but not among its members");
+        problems.report("vertex " + std::to_string(v) + " is influenced by particle " +
+                        std::to_string(a->particle) + " but not among its members");
       const float d2 = distance2(rest[v], clusters.seed(a->particle));
       if (d2 > limit2)
-        report("radius: vertex " + std::to_string(v) + " lies " + std::to_string(std::sqrt(d2)) +
-               " from the seed of particle " + std::to_string(a->particle) + " (rho " + std::to_string(rho) +
-               ")");
+        problems.report("radius: vertex " + std::to_string(v) + " lies " + std::to_string(std::sqrt(d2)) +
+                        " from the seed of particle " + std::to_string(a->particle) + " (rho " +
+                        std::to_string(rho) + ")");
     }
     if (!row.empty() && std::abs(sum - 1.0) > 1e-4)
-      report("vertex " + std::to_string(v) + " weights sum to " + std::to_string(sum));
+      problems.report("vertex " + std::to_string(v) + " weights sum to " + std::to_string(sum));
   }
 }
 
@@ -122,7 +123,6 @@ std::size_t connected_members(const SurfaceMesh& mesh, const Adjacency& adjacenc
 // member outside the mesh.
 void check_particles(const Clusters& clusters, const SurfaceMesh& mesh, const std::vector<glm::vec3>& rest,
                      Problems& problems) {
-  auto report = [&](const std::string& line) { problems.report(line); };
   const std::size_t n = mesh.vertex_count();
   const Adjacency adjacency = Adjacency::build(mesh);
   std::vector<std::uint32_t> stamp(n, kInvalidIndex), queue;
@@ -130,30 +130,31 @@ void check_particles(const Clusters& clusters, const SurfaceMesh& mesh, const st
     const auto& m = clusters.members(p);
     if (m.empty()) continue;
     if (!std::is_sorted(m.begin(), m.end()) || std::adjacent_find(m.begin(), m.end()) != m.end())
-      report("particle " + std::to_string(p) + ": members not sorted and unique");
+      problems.report("particle " + std::to_string(p) + ": members not sorted and unique");
     glm::dvec3 sum(0.0);
     for (std::uint32_t v : m) {
       if (v >= n) {
-        report("particle " + std::to_string(p) + " lists vertex " + std::to_string(v) + " outside the mesh");
+        problems.report("particle " + std::to_string(p) + " lists vertex " + std::to_string(v) +
+                        " outside the mesh");
         return;
       }
       bool listed = false;
       for (const Influence& in : clusters.influences(VertexId(v))) listed = listed || in.particle == p;
       if (!listed)
-        report("particle " + std::to_string(p) + " lists vertex " + std::to_string(v) +
-               " without an influence");
+        problems.report("particle " + std::to_string(p) + " lists vertex " + std::to_string(v) +
+                        " without an influence");
       sum += glm::dvec3(rest[v]);
       stamp[v] = p;
     }
     const glm::vec3 centre(sum / double(m.size()));
     const float tol = 1e-4f * std::max(clusters.radius(), glm::length(centre));
     if (glm::length(centre - clusters.rest_centre(p)) > tol)
-      report("particle " + std::to_string(p) + ": rest centre is stale");
+      problems.report("particle " + std::to_string(p) + ": rest centre is stale");
     const std::size_t reached = connected_members(mesh, adjacency, p, m, stamp, queue);
     if (reached != m.size())
-      report("connectivity: particle " + std::to_string(p) + " holds " + std::to_string(m.size()) +
-             " vertices of which only " + std::to_string(reached) + " are connected to vertex " +
-             std::to_string(m[0]) + " through its members");
+      problems.report("connectivity: particle " + std::to_string(p) + " holds " + std::to_string(m.size()) +
+                      " vertices of which only " + std::to_string(reached) + " are connected to vertex " +
+                      std::to_string(m[0]) + " through its members");
     for (std::uint32_t v : m) stamp[v] = kInvalidIndex;
   }
 }

@@ -198,36 +198,9 @@ void fix_listed_rows(const std::vector<std::uint32_t>& renamed, const std::vecto
 
 }  // namespace
 
-template <class ForEachFace>
-std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& particles,
-                                         ForEachFace&& for_each_face,
-                                         std::vector<ClusterUpdate::NewParticle>& created) {
-  if (particles.empty()) return 0;
-  auto entry_of = [&](std::uint32_t v, std::uint32_t p) {
-    const Row& r = rows_[v];
-    for (std::uint32_t i = 0; i < r.size; ++i)
-      if (pool_[r.begin + i].particle == p) return r.begin + i;
-    throw Error(ErrorCode::InvariantViolated, "clusters: vertex " + std::to_string(v) +
-                                                  " is listed in particle " + std::to_string(p) +
-                                                  " but has no influence from it");
-  };
-  std::vector<std::uint8_t> in_set(seeds_.size(), 0);
-  for (std::uint32_t p : particles) in_set[p] = 1;
-  // Union-find over the pool entries (one per vertex-in-particle) of the listed particles.
-  ConcurrentUnionFind uf(pool_.size());
-  unite_shared_entries(rows_, pool_, in_set, for_each_face, uf);
-
-  // Group each particle's members by root; the largest part keeps the particle.
-  std::vector<Minor> minors;
-  const std::size_t split_count = group_parts(
-      particles, members_, [&](std::uint32_t v, std::uint32_t p) { return uf.find(entry_of(v, p)); }, minors);
-  if (minors.empty()) return split_count;
-
-  // Every pass below runs over the pool, part by part or row by row (a build splits thousands of
-  // parts): the writes are to disjoint pool entries, and each row is fixed by one thread.
-  // A dropped part's vertices keep a main-part influence elsewhere; any other part becomes a
-  // particle of its own (same seed, so the radius invariant holds), numbered in order.
-  const std::vector<std::uint8_t> drop = parts_to_drop(minors, rows_, pool_, entry_of);
+template <class Minors>
+void Clusters::rename_minor_parts(Minors& minors, const std::vector<std::uint8_t>& drop,
+                                  std::vector<ClusterUpdate::NewParticle>& created) {
   const RowsToFix fix = rows_to_fix(minors, drop, rows_.size());
   std::vector<std::uint32_t> renamed_to(minors.size(), kInvalidIndex);
   for (std::size_t k = 0; k < minors.size(); ++k)
@@ -256,6 +229,39 @@ std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& parti
     fix_listed_rows(fix.renamed, fix.dropped, resort, lose_dropped);
   for (std::size_t k = 0; k < minors.size(); ++k)
     if (!drop[k]) members_[renamed_to[k]] = std::move(minors[k].vertices);
+}
+
+template <class ForEachFace>
+std::size_t Clusters::split_disconnected(const std::vector<std::uint32_t>& particles,
+                                         ForEachFace&& for_each_face,
+                                         std::vector<ClusterUpdate::NewParticle>& created) {
+  if (particles.empty()) return 0;
+  auto entry_of = [&](std::uint32_t v, std::uint32_t p) {
+    const Row& r = rows_[v];
+    for (std::uint32_t i = 0; i < r.size; ++i)
+      if (pool_[r.begin + i].particle == p) return r.begin + i;
+    throw Error(ErrorCode::InvariantViolated, "clusters: vertex " + std::to_string(v) +
+                                                  " is listed in particle " + std::to_string(p) +
+                                                  " but has no influence from it");
+  };
+  std::vector<std::uint8_t> listed(seeds_.size(), 0);
+  for (std::uint32_t p : particles) listed[p] = 1;
+  // Union-find over the pool entries (one per vertex-in-particle) of the listed particles.
+  ConcurrentUnionFind uf(pool_.size());
+  unite_shared_entries(rows_, pool_, listed, for_each_face, uf);
+
+  // Group each particle's members by root; the largest part keeps the particle.
+  std::vector<Minor> minors;
+  const std::size_t split_count = group_parts(
+      particles, members_, [&](std::uint32_t v, std::uint32_t p) { return uf.find(entry_of(v, p)); }, minors);
+  if (minors.empty()) return split_count;
+
+  // Every pass below runs over the pool, part by part or row by row (a build splits thousands of
+  // parts): the writes are to disjoint pool entries, and each row is fixed by one thread.
+  // A dropped part's vertices keep a main-part influence elsewhere; any other part becomes a
+  // particle of its own (same seed, so the radius invariant holds), numbered in order.
+  const std::vector<std::uint8_t> drop = parts_to_drop(minors, rows_, pool_, entry_of);
+  rename_minor_parts(minors, drop, created);
   return split_count;
 }
 

@@ -175,17 +175,24 @@ class Clusters {
   };
   /// Replaces the influences of `v` (kept sorted by particle).
   void set_row(std::uint32_t v, const Influence* first, std::size_t count);
+  /// Sorts the row of `v` by particle.
   void sort_row(std::uint32_t v);
   void compact_pool();
+  /// Scales the weights of `v` to sum 1 (all equal when they sum to 0).
   void renormalise(std::uint32_t v);
   /// Rows and pool, then member lists, of a fresh build for the live vertices `ids` (seeds_ and
   /// radius_ set; rows_ sized).
   void build_rows(const std::vector<glm::vec3>& rest, const UnfilledVector<std::uint32_t>& ids);
   void build_member_lists(const UnfilledVector<std::uint32_t>& ids);
-  /// Steps of `apply`: rows for the log's new vertices and the live-face counts, returning the
-  /// vertices to revisit (sorted, unique); then the revisit of those rows (`old_count`: the
-  /// vertices known before), returning the particles that uncovered vertices joined, in order.
-  std::vector<std::uint32_t> follow_log(const EditLog& log);
+  /// First step of `apply`: replays `log` on the rows (rows for its new vertices, the live-face
+  /// counts of its faces' corners); rows_ and face_refs_ must already be sized to the mesh.
+  /// Returns the vertices to revisit, sorted and unique.
+  std::vector<std::uint32_t> replay_log(const EditLog& log);
+  /// Next step of `apply`: revisits the rows of `vertices` (`old_count`: the vertices known
+  /// before): dead vertices leave (counted in `update.vertices_removed`), memberships beyond rho
+  /// go, uncovered vertices join a particle, new (appended to `update.created`) if none is near;
+  /// live vertices new to the clusters, or known without influences, are counted in
+  /// `update.vertices_added`. Returns the particles that uncovered vertices joined, in order.
   std::vector<std::uint32_t> refit_rows(const std::vector<glm::vec3>& rest,
                                         const std::vector<std::uint32_t>& vertices, std::size_t old_count,
                                         ClusterUpdate& update);
@@ -194,9 +201,17 @@ class Clusters {
   /// Splits the listed particles into their connected parts (see `build`); appends new particles
   /// to `created` and returns how many particles were disconnected. `for_each_face(fn)` calls
   /// `fn(triangle)` for (at least) every live face around the members of those particles.
+  /// Compiled (clustering_split.cpp) only for the three face walkers of the core-private
+  /// softbody/clustering_detail.h.
   template <class ForEachFace>
   std::size_t split_disconnected(const std::vector<std::uint32_t>& particles, ForEachFace&& for_each_face,
                                  std::vector<ClusterUpdate::NewParticle>& created);
+  /// Last step of split_disconnected (clustering_split.cpp, its only user): each part in
+  /// `minors` not marked in `drop` becomes a particle of its own (appended to `created`); the
+  /// rows holding a part's entries are fixed.
+  template <class Minors>
+  void rename_minor_parts(Minors& minors, const std::vector<std::uint8_t>& drop,
+                          std::vector<ClusterUpdate::NewParticle>& created);
 
   float radius_ = 0.0f;
   std::vector<glm::vec3> seeds_;
