@@ -288,6 +288,19 @@ void CaptionTest::a_wide_view_measures_the_text_once() {
   frame(window_, pair.with_ours);
   QVERIFY(pair.ours->sizes_measured() > 3);
   QVERIFY(pair.ours->font_size() < CaptionActor::kMaximumFontSize);
+  // From a drawn size of 8 (fitted 4) into a view where the text at 6 is exactly at the limit:
+  // size 8 is measured once (by the shortcut, then reused as the search's start), then 7 and 6.
+  const std::string& text = texts()[0];
+  vtkTextProperty* style = pair.ours->GetTextProperty();
+  pair.set_text(text);
+  window_->SetSize(view_for(extent_at(window_, style, text, 4).first), 700);
+  frame(window_, pair.with_ours);
+  QCOMPARE(pair.ours->font_size(), 8);
+  const int before = pair.ours->sizes_measured();
+  window_->SetSize(view_for(extent_at(window_, style, text, 6).first), 700);
+  frame(window_, pair.with_ours);
+  QCOMPARE(pair.ours->font_size(), 12);
+  QCOMPARE(pair.ours->sizes_measured() - before, 3);
 }
 
 QTEST_APPLESS_MAIN(CaptionTest)
