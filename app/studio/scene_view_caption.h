@@ -1,18 +1,18 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 /// @file scene_view_caption.h
-/// The view's caption: text in the upper left corner, the same pixels as vtkCornerAnnotation's
-/// upper-left text with the studio's settings (the font size fitted to the view, then doubled and
-/// at most 15). vtkCornerAnnotation fits the size by rendering the text at every size from the
-/// last one up to where it no longer fits in the view (17 sizes for an open's caption in the
-/// studio's window, each glyph loaded and the text rasterized: 118M instructions, a sixth of what
-/// a 1M-triangle model's first frame runs on the UI thread besides the renderer's own work), and
-/// again whenever the text or the view's size changes (an edit's caption). Any fitted size from 8
-/// up gives 15, and the fit ends at 8 or above whenever the text fits at 8 and the search starts
-/// there or above (the size only shrinks while the text is too large): this caption measures the
-/// text once, at 8, and takes 15 then; otherwise (a view a few hundred pixels wide) it searches
-/// as vtkCornerAnnotation does, from the same start. The text is drawn as given (vtkCornerAnnotation
-/// replaced tokens meant for image viewers, such as "<slice>", with nothing).
+/// The view's caption: text in the upper left corner of the view. What it guarantees: every frame
+/// has the same pixels as vtkCornerAnnotation's (VTK 9.1) with the text in its upper left corner
+/// and the studio's settings (the font size fitted to the view, times 2, at most 15, not drawn
+/// below 6), at any view size, DPI and style, except that the text is drawn as given, where
+/// vtkCornerAnnotation replaced image viewers' tokens such as "<slice>" or "<window>" with
+/// nothing (the caption shows file and joint names, which may hold such text).
+/// What it does differently: vtkCornerAnnotation fits the size by measuring the text at every
+/// size from the last one drawn to where it no longer fits, whenever the text, the style or the
+/// view's size changes. Any fitted size from 8 up is drawn at 15, and a search that starts at 8 or
+/// above ends at 8 or above when the text fits at 8 (the size only shrinks while the text is too
+/// large): so the caption measures the text at 8 first and, when it fits, stops there; otherwise
+/// (a view a few hundred pixels wide or a few dozen high) it searches as vtkCornerAnnotation does.
 
 #include <vtkActor2D.h>
 #include <vtkNew.h>
@@ -27,15 +27,16 @@ class CaptionActor : public vtkActor2D {
  public:
   static CaptionActor* New();
   vtkTypeMacro(CaptionActor, vtkActor2D)
+  void PrintSelf(ostream& os, vtkIndent indent) override;
 
   /// The text's style (as vtkCornerAnnotation::GetTextProperty): its size and justification are
   /// the caption's own.
   vtkTextProperty* GetTextProperty() { return style_; }
   /// The text, lines separated by '\n' (as vtkCornerAnnotation::SetText for its upper left corner).
   void SetText(const std::string& text);
-  /// The size the text is drawn at, fitted at the last frame that drew text.
+  /// The size the text is drawn at, fitted at the last frame that fitted it.
   int font_size() const { return font_size_; }
-  /// How many sizes the text was measured at by the fits so far.
+  /// For tests only: how many sizes the text was measured at by the fits so far.
   int sizes_measured() const { return measured_; }
 
   /// Fits the size when the text, its style or the view's size changed, then draws.
@@ -50,14 +51,19 @@ class CaptionActor : public vtkActor2D {
   static constexpr int kMaximumFontSize = 15;
   static constexpr int kMinimumFontSize = 6;
 
+  CaptionActor(const CaptionActor&) = delete;
+  CaptionActor& operator=(const CaptionActor&) = delete;
+
  protected:
   CaptionActor();
+  ~CaptionActor() override = default;
 
  private:
   /// The text's size at font size `size` (what vtkTextMapper::GetSize says).
   void measure(vtkViewport* viewport, int size, int extent[2]);
   /// The fitted size (before scaling) for a view of `view` pixels, as vtkCornerAnnotation finds it
-  /// from `start`, the size the text was drawn at before.
+  /// from `start`, the size the text was drawn at before; -1 when the text measures 0 x 0 at
+  /// `start` (vtkCornerAnnotation then gives up: no fit, nothing drawn).
   int fit(vtkViewport* viewport, const int view[2], int start);
 
   vtkNew<vtkTextProperty> style_;
