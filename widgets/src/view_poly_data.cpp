@@ -250,26 +250,35 @@ template <class Key>
 void number_points(const Key& key, const CornerGroups& groups, std::size_t b, std::size_t e, vtkTypeInt64* conn,
                    std::uint32_t* counts) {
   constexpr std::uint32_t kKept = 32;
-  constexpr int kWords = Key::kWords;
+  constexpr int kWords = Key::kWords > 0 ? Key::kWords : 1;
   const std::uint32_t* grouped = groups.corner.data();
   const std::uint32_t* offset = groups.offset.data();
-  std::uint64_t kept[kKept][kWords > 0 ? kWords : 1];
+  std::uint64_t kept[kKept][kWords];
   for (std::size_t v = b; v < e; ++v) {
     const std::uint32_t* const begin = grouped + offset[v];
     const std::uint32_t* const end = grouped + offset[v + 1];
     std::uint32_t count = 0;
-    for (const std::uint32_t* at = begin; at != end; ++at) {
+    if (begin != end) {  // the first corner: point 0
+      key.load(*begin, kept[0]);
+      conn[*begin] = 0;
+      count = 1;
+    }
+    for (const std::uint32_t* at = begin + (begin != end); at < end; ++at) {
       const std::uint32_t c = *at;
-      std::uint64_t w[kWords > 0 ? kWords : 1];
+      std::uint64_t w[kWords];
       key.load(c, w);
+      if (key.same(kept[0], w)) {  // (most corners: a vertex drawn one way)
+        conn[c] = 0;
+        continue;
+      }
       const std::uint32_t known = std::min(count, kKept);
-      std::uint32_t p = 0;
+      std::uint32_t p = 1;
       while (p < known && !key.same(kept[p], w)) ++p;
       if (p == known) {
         p = kInvalidIndex;
         if (count > kKept)
           for (const std::uint32_t* d = begin; d != at; ++d) {
-            std::uint64_t x[kWords > 0 ? kWords : 1];
+            std::uint64_t x[kWords];
             key.load(*d, x);
             if (key.same(x, w)) {
               p = static_cast<std::uint32_t>(conn[*d]);
