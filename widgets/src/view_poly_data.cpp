@@ -358,6 +358,15 @@ void ViewPolyData::build_corner_points(const Writer& writer, const CornerGroups&
   parallel_for(vertices, kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t v = b; v < e; ++v) {
       const std::uint32_t first = first_point[v];
+      if (first_point[v + 1] == first + 1) {  // drawn one way: every corner's point is the first
+        const std::uint32_t* const begin = grouped + offset[v];
+        const std::uint32_t* const end = grouped + offset[v + 1];
+        for (const std::uint32_t* at = begin; at != end; ++at) conn[*at] = first;
+        uses[first] = static_cast<std::uint32_t>(end - begin);
+        w.point(first, static_cast<std::uint32_t>(v), *begin);
+        point_corner[first] = *begin;
+        continue;
+      }
       std::uint32_t written = 0;
       for (std::uint32_t i = offset[v], end = offset[v + 1]; i < end; ++i) {
         const std::uint32_t c = grouped[i];
