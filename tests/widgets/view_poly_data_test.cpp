@@ -230,6 +230,110 @@ TEST(ViewPolyDataTest, first_build_the_same_whatever_the_thread_count) {
   for (std::size_t i = 1; i < got.size(); ++i) EXPECT_EQ(got[i], got[0]) << i;
 }
 
+// The arrays of a first build as the plain rule makes them: every vertex's corners ascending,
+// each sharing the point of the first corner before it that has the same normal, texture
+// coordinates and morph normal deltas bit for bit (else a new point, after the vertex's points
+// so far); the vertices' points in vertex order; a deleted face's cell (0, 0, 0).
+std::vector<std::vector<unsigned char>> plainly_grouped_arrays(const SurfaceMesh& mesh) {
+  const auto& ca = mesh.corner_attrs();
+  std::vector<const float*> words;  // per corner: 3 floats each, then 2 for uv
+  const glm::vec3* normal = ca.find<glm::vec3>(attr::kNormal) ? ca.find<glm::vec3>(attr::kNormal)->data().data() : nullptr;
+  const glm::vec2* uv = ca.find<glm::vec2>(attr::kUv0) ? ca.find<glm::vec2>(attr::kUv0)->data().data() : nullptr;
+  std::vector<const glm::vec3*> deltas;
+  for (int t = 0; mesh.vertex_attrs().find<glm::vec3>(attr::morph_position_name(t)); ++t)
+    if (const auto* a = ca.find<glm::vec3>(attr::morph_normal_name(t))) deltas.push_back(a->data().data());
+  auto alike = [&](std::size_t a, std::size_t b) {
+    if (normal && std::memcmp(&normal[a], &normal[b], sizeof(glm::vec3)) != 0) return false;
+    if (uv && std::memcmp(&uv[a], &uv[b], sizeof(glm::vec2)) != 0) return false;
+    for (const glm::vec3* d : deltas)
+      if (std::memcmp(&d[a], &d[b], sizeof(glm::vec3)) != 0) return false;
+    return true;
+  };
+  std::vector<std::vector<std::size_t>> corners(mesh.vertex_count());
+  for (std::uint32_t f = 0; f < mesh.face_slots(); ++f)
+    if (!mesh.is_deleted(FaceId(f)))
+      for (int k = 0; k < 3; ++k) corners[mesh.face(FaceId(f))[k].index].push_back(3 * f + static_cast<std::size_t>(k));
+  std::vector<float> points, normals, uvs;
+  std::vector<vtkIdType> vertex_ids;
+  std::vector<vtkTypeInt64> conn(3 * mesh.face_slots(), 0);
+  for (std::size_t v = 0; v < corners.size(); ++v) {
+    std::vector<std::size_t> firsts;  // each point's first corner
+    const std::size_t first_point = vertex_ids.size();
+    for (std::size_t c : corners[v]) {
+      std::size_t p = 0;
+      while (p < firsts.size() && !alike(firsts[p], c)) ++p;
+      if (p == firsts.size()) {
+        firsts.push_back(c);
+        const glm::vec3 x = mesh.position(VertexId(static_cast<std::uint32_t>(v)));
+        points.insert(points.end(), {x.x, x.y, x.z});
+        if (normal) normals.insert(normals.end(), {normal[c].x, normal[c].y, normal[c].z});
+        if (uv) uvs.insert(uvs.end(), {uv[c].x, uv[c].y});
+        vertex_ids.push_back(static_cast<vtkIdType>(v));
+      }
+      conn[c] = static_cast<vtkTypeInt64>(first_point + p);
+    }
+  }
+  if (vertex_ids.empty()) {  // a deleted face's cell names point 0
+    points.assign(3, 0.0f);
+    if (normal) normals.assign(3, 0.0f);
+    if (uv) uvs.assign(2, 0.0f);
+    vertex_ids.assign(1, 0);
+  }
+  auto bytes = [](const auto& values) {
+    const auto* p = reinterpret_cast<const unsigned char*>(values.data());
+    return std::vector<unsigned char>(p, p + values.size() * sizeof(values[0]));
+  };
+  return {bytes(points), bytes(normals), bytes(uvs), bytes(vertex_ids), bytes(conn)};
+}
+
+// A grid with a uv seam, hard normals (every third face turned), a morph target whose normal
+// deltas split corners that draw alike otherwise, corners equal but for the sign of a zero or
+// equal NaNs, and deleted faces; then the fan with more ways at its centre than are remembered,
+// and the grid with five morph targets.
+TEST(ViewPolyDataTest, first_build_groups_corners_as_the_plain_rule) {
+  SurfaceMesh grid = test::make_grid(12, 9);
+  {
+    auto& normal = grid.corner_attrs().get<glm::vec3>(attr::kNormal).data();
+    auto& uv = grid.corner_attrs().get<glm::vec2>(attr::kUv0).data();
+    grid.vertex_attrs().add<glm::vec3>(attr::morph_position_name(0));
+    auto& delta = grid.corner_attrs().add<glm::vec3>(attr::morph_normal_name(0)).data();
+    for (std::size_t c = 0; c < normal.size(); ++c) {
+      const std::size_t f = c / 3;
+      if (f % 3 == 0) normal[c] = glm::normalize(glm::vec3(0.0f, 0.6f, 0.8f));  // hard edges
+      if (f % 7 == 2) normal[c].x = -0.0f;                                       // equal but not bitwise
+      if (f % 5 == 1) delta[c] = {0.0f, 0.25f, 0.0f};                            // a morph seam
+      if (f % 11 == 4) uv[c].y = std::nanf("");                                  // equal bits, unequal values
+    }
+  }
+  {
+    MeshEditor editor(grid);
+    for (std::uint32_t f = 3; f < grid.face_slots(); f += 17) editor.remove_face(FaceId(f));
+  }
+  ASSERT_LT(grid.face_count(), grid.face_slots());
+  SurfaceMesh fan = make_many_ways_fan();
+  fan.corner_attrs().add<glm::vec3>(attr::kNormal).data().assign(3 * fan.face_slots(), glm::vec3(0.0f, 0.0f, 1.0f));
+  // More morph targets than the grouping's fixed words hold (its plain comparison).
+  SurfaceMesh targets = grid;
+  for (int t = 1; t < 5; ++t) {
+    targets.vertex_attrs().add<glm::vec3>(attr::morph_position_name(t));
+    auto& delta = targets.corner_attrs().add<glm::vec3>(attr::morph_normal_name(t)).data();
+    for (std::size_t c = 0; c < delta.size(); ++c)
+      if ((c / 3) % (5 + static_cast<std::size_t>(t)) == 0) delta[c] = {0.1f * static_cast<float>(t), 0.0f, 0.0f};
+  }
+  const std::size_t threads = thread_count();
+  for (const SurfaceMesh* mesh : {&grid, &fan, &targets}) {
+    const auto expected = plainly_grouped_arrays(*mesh);
+    EXPECT_GT(expected[3].size() / sizeof(vtkIdType), mesh->vertex_count() + 40);  // seams
+    for (std::size_t n : {1, 2, 3}) {
+      set_thread_count(n);
+      const ViewPolyData view(*mesh, mesh->positions());
+      ASSERT_TRUE(view.corner_points());
+      EXPECT_EQ(view_arrays(view), expected) << n << " threads";
+    }
+  }
+  set_thread_count(threads);
+}
+
 // The build that poses a normal per point (an open's first frame) makes the arrays of the build
 // given the posed corner normals, byte for byte.
 TEST(ViewPolyDataTest, normals_posed_per_point_as_per_corner) {

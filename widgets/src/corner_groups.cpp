@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <type_traits>
 
 #include "deepcut/core/parallel.h"
 
@@ -21,31 +22,46 @@ CornerGroups group_corners(const SurfaceMesh& mesh) {
       for (std::size_t r = b; r < e; ++r) fn(vertices * r / ranges, vertices * (r + 1) / ranges);
     });
   };
-  std::atomic<bool> one_vertex{false};
+  // Every corner of a live face, to `fn(vertex, corner)` where the vertex is in [lo, hi) (one
+  // unsigned comparison); no test per face for deletion when no face is deleted.
+  const bool all_live = mesh.face_count() == slots;
+  auto scan = [&](std::size_t lo, std::size_t hi, auto&& fn) {
+    auto run = [&](auto live) {
+      for (std::size_t f = 0; f < slots; ++f) {
+        if (!decltype(live)::value && mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) continue;
+        for (std::size_t k = 0; k < 3; ++k) {
+          const std::uint32_t v = faces[f][static_cast<int>(k)].index;
+          if (v - lo < hi - lo) fn(v, static_cast<std::uint32_t>(3 * f + k));
+        }
+      }
+    };
+    if (all_live)
+      run(std::true_type{});
+    else
+      run(std::false_type{});
+  };
   by_range([&](std::size_t lo, std::size_t hi) {
+    std::uint32_t* count = g.offset.data() + 1;
+    scan(lo, hi, [&](std::uint32_t v, std::uint32_t) { ++count[v]; });
+  });
+  std::atomic<bool> one_vertex{false};
+  parallel_for(slots, 16384, [&](std::size_t b, std::size_t e) {
     bool same = false;
-    for (std::size_t f = 0; f < slots; ++f) {
-      if (mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) continue;
+    for (std::size_t f = b; f < e; ++f) {
       const Triangle& t = faces[f];
-      same |= t[0] == t[1] && t[1] == t[2];
-      for (int k = 0; k < 3; ++k)
-        if (t[k].index >= lo && t[k].index < hi) ++g.offset[t[k].index + 1];
+      same |= t[0] == t[1] && t[1] == t[2] && !mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)));
     }
     if (same) one_vertex.store(true, std::memory_order_relaxed);
   });
-  for (std::size_t v = 0; v < vertices; ++v) g.offset[v + 1] += g.offset[v];
   g.one_vertex_face = one_vertex.load();
+  for (std::size_t v = 0; v < vertices; ++v) g.offset[v + 1] += g.offset[v];
   g.corner.resize(g.offset[vertices]);
   by_range([&](std::size_t lo, std::size_t hi) {
     std::vector<std::uint32_t> cursor(g.offset.begin() + static_cast<std::ptrdiff_t>(lo),
                                       g.offset.begin() + static_cast<std::ptrdiff_t>(hi));
-    for (std::size_t f = 0; f < slots; ++f) {
-      if (mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) continue;
-      for (int k = 0; k < 3; ++k) {
-        const std::uint32_t v = faces[f][k].index;
-        if (v >= lo && v < hi) g.corner[cursor[v - lo]++] = static_cast<std::uint32_t>(3 * f + static_cast<std::size_t>(k));
-      }
-    }
+    std::uint32_t* const at = cursor.data();
+    std::uint32_t* const corner = g.corner.data();
+    scan(lo, hi, [&](std::uint32_t v, std::uint32_t c) { corner[at[v - lo]++] = c; });
   });
   return g;
 }

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cstring>
 #include <functional>
 
 #include "corner_groups.h"
@@ -212,6 +213,101 @@ void ViewPolyData::make_arrays(const SurfaceMesh& mesh, ViewPolyData* spare) {
   spare->poly_ = nullptr;
 }
 
+namespace {
+
+// Corner `c`'s attributes that decide how it draws, as 64-bit words compared bit for bit (as
+// Writer::alike compares them): `N` three-float arrays (the normals, then the other normal
+// sources), two words each, then, with `UV`, the texture coordinates.
+template <int N, bool UV>
+struct CornerWords {
+  static constexpr int kWords = 2 * N + (UV ? 1 : 0);
+  const float* vec3[N > 0 ? N : 1] = {};
+  const float* uv = nullptr;
+  void load(std::uint32_t c, std::uint64_t* w) const {
+    for (int i = 0; i < N; ++i) {
+      const float* x = vec3[i] + 3 * static_cast<std::size_t>(c);
+      std::uint32_t z;
+      std::memcpy(&w[2 * i], x, sizeof(std::uint64_t));
+      std::memcpy(&z, x + 2, sizeof z);
+      w[2 * i + 1] = z;
+    }
+    if (UV) std::memcpy(&w[2 * N], uv + 2 * static_cast<std::size_t>(c), sizeof(std::uint64_t));
+  }
+  static bool same(const std::uint64_t* a, const std::uint64_t* b) {
+    std::uint64_t diff = 0;
+    for (int i = 0; i < kWords; ++i) diff |= a[i] ^ b[i];
+    return diff == 0;
+  }
+};
+
+// Numbers the points of vertices [b, e) from 0 each, into `conn` (a corner's number among its
+// vertex's points: the points in the order of their first corners, the vertex's corners
+// ascending), and each vertex's point count into `counts[v + 1]`. A corner's words are read
+// once and compared with those of the first few points' first corners (kept), else, for a
+// vertex with more points, with every corner before it: the same numbers as a scan of every
+// corner before, as drawing alike is bitwise equality.
+template <class Key>
+void number_points(const Key& key, const CornerGroups& groups, std::size_t b, std::size_t e, vtkTypeInt64* conn,
+                   std::uint32_t* counts) {
+  constexpr std::uint32_t kKept = 32;
+  constexpr int kWords = Key::kWords > 0 ? Key::kWords : 1;
+  const std::uint32_t* grouped = groups.corner.data();
+  const std::uint32_t* offset = groups.offset.data();
+  std::uint64_t kept[kKept][kWords];
+  for (std::size_t v = b; v < e; ++v) {
+    const std::uint32_t* const begin = grouped + offset[v];
+    const std::uint32_t* const end = grouped + offset[v + 1];
+    std::uint32_t count = 0;
+    if (begin != end) {  // the first corner: point 0
+      key.load(*begin, kept[0]);
+      conn[*begin] = 0;
+      count = 1;
+    }
+    for (const std::uint32_t* at = begin + (begin != end); at < end; ++at) {
+      const std::uint32_t c = *at;
+      std::uint64_t w[kWords];
+      key.load(c, w);
+      if (key.same(kept[0], w)) {  // (most corners: a vertex drawn one way)
+        conn[c] = 0;
+        continue;
+      }
+      const std::uint32_t known = std::min(count, kKept);
+      std::uint32_t p = 1;
+      while (p < known && !key.same(kept[p], w)) ++p;
+      if (p == known) {
+        p = kInvalidIndex;
+        if (count > kKept)
+          for (const std::uint32_t* d = begin; d != at; ++d) {
+            std::uint64_t x[kWords];
+            key.load(*d, x);
+            if (key.same(x, w)) {
+              p = static_cast<std::uint32_t>(conn[*d]);
+              break;
+            }
+          }
+        if (p == kInvalidIndex) {
+          if (count < kKept) std::copy(w, w + kWords, kept[count]);
+          p = count++;
+        }
+      }
+      conn[c] = p;
+    }
+    counts[v + 1] = count;
+  }
+}
+
+// Writer::alike behind the interface of CornerWords (a corner's "words" are the corner itself):
+// for more normal sources than the words cover.
+template <class Writer>
+struct AlikeKey {
+  static constexpr int kWords = 1;
+  const Writer& w;
+  void load(std::uint32_t c, std::uint64_t* x) const { x[0] = c; }
+  bool same(const std::uint64_t* a, const std::uint64_t* b) const { return w.alike(a[0], b[0]); }
+};
+
+}  // namespace
+
 void ViewPolyData::build_corner_points(const Writer& writer, const CornerGroups& groups) {
   const std::size_t vertices = groups.offset.size() - 1;
   // Two passes over each vertex's corners: the first numbers its points from 0 (into the corners'
@@ -219,29 +315,35 @@ void ViewPolyData::build_corner_points(const Writer& writer, const CornerGroups&
   // is (0, 0, 0).
   const SurfaceMesh& mesh = writer.mesh;
   vtkTypeInt64* conn = writer.r.connectivity;
-  parallel_for(mesh.face_slots(), kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t f = b; f < e; ++f)
-      std::fill(conn + 3 * f, conn + 3 * f + 3, mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f))) ? 0 : -1);
-  });
+  if (mesh.face_count() != mesh.face_slots())
+    parallel_for(mesh.face_slots(), kGrain, [&](std::size_t b, std::size_t e) {
+      for (std::size_t f = b; f < e; ++f)
+        if (mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) std::fill(conn + 3 * f, conn + 3 * f + 3, 0);
+    });
   const std::uint32_t* grouped = groups.corner.data();
   std::vector<std::uint32_t> first_point(vertices + 1, 0);
-  parallel_for(vertices, kGrain, [&](std::size_t b, std::size_t e) {
-    for (std::size_t v = b; v < e; ++v) {
-      Candidates seen;
-      std::uint32_t count = 0;
-      const Corners corners{nullptr, kInvalidIndex, grouped + groups.offset[v], grouped + groups.offset[v + 1]};
-      for (const std::uint32_t* at = corners.begin; at != corners.end; ++at) {
-        const std::uint32_t c = *at;
-        // alike_point inline (no call per corner): the first point seen that draws alike, else,
-        // when `seen` is full, the scan of the vertex's corners (seen.find once).
-        std::uint32_t p = seen.find(writer, c);
-        if (p == kInvalidIndex && seen.full) p = scan_alike(writer, corners, c, conn);
-        if (p == kInvalidIndex) seen.add(p = count++, c);
-        conn[c] = p;
-      }
-      first_point[v + 1] = count;
-    }
-  });
+  auto number = [&](const auto& key) {
+    parallel_for(vertices, kGrain, [&](std::size_t b, std::size_t e) {
+      number_points(key, groups, b, e, conn, first_point.data());
+    });
+  };
+  // The arrays that decide how a corner draws: N three-float ones, and the texture coordinates.
+  std::vector<const float*> vec3;
+  if (writer.normals) vec3.push_back(&writer.normals[0].x);
+  for (const glm::vec3* a : writer.normal_sources) vec3.push_back(&a[0].x);
+  const float* uv = writer.uv ? &writer.uv[0].x : nullptr;
+  auto with = [&](auto words) {
+    using Words = decltype(words);
+    if (2 * vec3.size() + (uv ? 1 : 0) != Words::kWords) return false;  // (N and UV both)
+    std::copy(vec3.begin(), vec3.end(), words.vec3);
+    words.uv = uv;
+    number(words);
+    return true;
+  };
+  if (!(with(CornerWords<3, true>{}) || with(CornerWords<1, true>{}) || with(CornerWords<1, false>{}) ||
+        with(CornerWords<0, true>{}) || with(CornerWords<2, true>{}) || with(CornerWords<2, false>{}) ||
+        with(CornerWords<3, false>{}) || with(CornerWords<4, true>{}) || with(CornerWords<4, false>{})))
+    number(AlikeKey<Writer>{writer});  // more arrays than the words cover
   for (std::size_t v = 0; v < vertices; ++v) first_point[v + 1] += first_point[v];
   const std::size_t points = first_point[vertices];
   set_point_count(std::max<std::size_t>(points, 1));  // a deleted face's cell needs point 0
@@ -250,18 +352,31 @@ void ViewPolyData::build_corner_points(const Writer& writer, const CornerGroups&
   Writer w = writer;
   w.refresh(poly_);
   if (points == 0) clear_point(w.r, 0);
+  std::uint32_t* const uses = uses_.data();
+  std::uint32_t* const point_corner = point_corner_.data();
+  const std::uint32_t* const offset = groups.offset.data();
   parallel_for(vertices, kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t v = b; v < e; ++v) {
+      const std::uint32_t first = first_point[v];
+      if (first_point[v + 1] == first + 1) {  // drawn one way: every corner's point is the first
+        const std::uint32_t* const begin = grouped + offset[v];
+        const std::uint32_t* const end = grouped + offset[v + 1];
+        for (const std::uint32_t* at = begin; at != end; ++at) conn[*at] = first;
+        uses[first] = static_cast<std::uint32_t>(end - begin);
+        w.point(first, static_cast<std::uint32_t>(v), *begin);
+        point_corner[first] = *begin;
+        continue;
+      }
       std::uint32_t written = 0;
-      for (std::uint32_t i = groups.offset[v]; i < groups.offset[v + 1]; ++i) {
+      for (std::uint32_t i = offset[v], end = offset[v + 1]; i < end; ++i) {
         const std::uint32_t c = grouped[i];
         const auto local = static_cast<std::uint32_t>(conn[c]);
-        const std::uint32_t p = first_point[v] + local;
-        w.r.connectivity[c] = p;
-        ++uses_[p];
+        const std::uint32_t p = first + local;
+        conn[c] = p;
+        ++uses[p];
         if (local == written) {
           w.point(p, static_cast<std::uint32_t>(v), c);
-          point_corner_[p] = c;
+          point_corner[p] = c;
           ++written;
         }
       }
