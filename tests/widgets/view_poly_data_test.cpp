@@ -237,8 +237,10 @@ TEST(ViewPolyDataTest, first_build_the_same_whatever_the_thread_count) {
 std::vector<std::vector<unsigned char>> plainly_grouped_arrays(const SurfaceMesh& mesh) {
   const auto& ca = mesh.corner_attrs();
   std::vector<const float*> words;  // per corner: 3 floats each, then 2 for uv
-  const glm::vec3* normal = ca.find<glm::vec3>(attr::kNormal) ? ca.find<glm::vec3>(attr::kNormal)->data().data() : nullptr;
-  const glm::vec2* uv = ca.find<glm::vec2>(attr::kUv0) ? ca.find<glm::vec2>(attr::kUv0)->data().data() : nullptr;
+  const glm::vec3* normal =
+      ca.find<glm::vec3>(attr::kNormal) ? ca.find<glm::vec3>(attr::kNormal)->data().data() : nullptr;
+  const glm::vec2* uv =
+      ca.find<glm::vec2>(attr::kUv0) ? ca.find<glm::vec2>(attr::kUv0)->data().data() : nullptr;
   std::vector<const glm::vec3*> deltas;
   for (int t = 0; mesh.vertex_attrs().find<glm::vec3>(attr::morph_position_name(t)); ++t)
     if (const auto* a = ca.find<glm::vec3>(attr::morph_normal_name(t))) deltas.push_back(a->data().data());
@@ -252,7 +254,8 @@ std::vector<std::vector<unsigned char>> plainly_grouped_arrays(const SurfaceMesh
   std::vector<std::vector<std::size_t>> corners(mesh.vertex_count());
   for (std::uint32_t f = 0; f < mesh.face_slots(); ++f)
     if (!mesh.is_deleted(FaceId(f)))
-      for (int k = 0; k < 3; ++k) corners[mesh.face(FaceId(f))[k].index].push_back(3 * f + static_cast<std::size_t>(k));
+      for (int k = 0; k < 3; ++k)
+        corners[mesh.face(FaceId(f))[k].index].push_back(3 * f + static_cast<std::size_t>(k));
   std::vector<float> points, normals, uvs;
   std::vector<vtkIdType> vertex_ids;
   std::vector<vtkTypeInt64> conn(3 * mesh.face_slots(), 0);
@@ -300,9 +303,9 @@ TEST(ViewPolyDataTest, first_build_groups_corners_as_the_plain_rule) {
     for (std::size_t c = 0; c < normal.size(); ++c) {
       const std::size_t f = c / 3;
       if (f % 3 == 0) normal[c] = glm::normalize(glm::vec3(0.0f, 0.6f, 0.8f));  // hard edges
-      if (f % 7 == 2) normal[c].x = -0.0f;                                       // equal but not bitwise
-      if (f % 5 == 1) delta[c] = {0.0f, 0.25f, 0.0f};                            // a morph seam
-      if (f % 11 == 4) uv[c].y = std::nanf("");                                  // equal bits, unequal values
+      if (f % 7 == 2) normal[c].x = -0.0f;                                      // equal but not bitwise
+      if (f % 5 == 1) delta[c] = {0.0f, 0.25f, 0.0f};                           // a morph seam
+      if ((f / 2) % 11 == 2) uv[c].y = std::nanf("");  // both faces of a cell: equal bits, unequal values
     }
   }
   {
@@ -311,14 +314,18 @@ TEST(ViewPolyDataTest, first_build_groups_corners_as_the_plain_rule) {
   }
   ASSERT_LT(grid.face_count(), grid.face_slots());
   SurfaceMesh fan = make_many_ways_fan();
-  fan.corner_attrs().add<glm::vec3>(attr::kNormal).data().assign(3 * fan.face_slots(), glm::vec3(0.0f, 0.0f, 1.0f));
+  fan.corner_attrs()
+      .add<glm::vec3>(attr::kNormal)
+      .data()
+      .assign(3 * fan.face_slots(), glm::vec3(0.0f, 0.0f, 1.0f));
   // More morph targets than the grouping's fixed words hold (its plain comparison).
   SurfaceMesh targets = grid;
   for (int t = 1; t < 5; ++t) {
     targets.vertex_attrs().add<glm::vec3>(attr::morph_position_name(t));
     auto& delta = targets.corner_attrs().add<glm::vec3>(attr::morph_normal_name(t)).data();
     for (std::size_t c = 0; c < delta.size(); ++c)
-      if ((c / 3) % (5 + static_cast<std::size_t>(t)) == 0) delta[c] = {0.1f * static_cast<float>(t), 0.0f, 0.0f};
+      if ((c / 3) % (5 + static_cast<std::size_t>(t)) == 0)
+        delta[c] = {0.1f * static_cast<float>(t), 0.0f, 0.0f};
   }
   const std::size_t threads = thread_count();
   for (const SurfaceMesh* mesh : {&grid, &fan, &targets}) {

@@ -9,6 +9,10 @@
 
 namespace deepcut {
 
+namespace {
+constexpr std::size_t kFaceGrain = 16384;  // faces per parallel chunk
+}  // namespace
+
 CornerGroups group_corners(const SurfaceMesh& mesh) {
   CornerGroups g;
   const std::size_t vertices = mesh.vertex_count(), slots = mesh.face_slots();
@@ -45,7 +49,7 @@ CornerGroups group_corners(const SurfaceMesh& mesh) {
     scan(lo, hi, [&](std::uint32_t v, std::uint32_t) { ++count[v]; });
   });
   std::atomic<bool> one_vertex{false};
-  parallel_for(slots, 16384, [&](std::size_t b, std::size_t e) {
+  parallel_for(slots, kFaceGrain, [&](std::size_t b, std::size_t e) {
     bool same = false;
     for (std::size_t f = b; f < e; ++f) {
       const Triangle& t = faces[f];

@@ -217,21 +217,23 @@ namespace {
 
 // Corner `c`'s attributes that decide how it draws, as 64-bit words compared bit for bit (as
 // Writer::alike compares them): `N` three-float arrays (the normals, then the other normal
-// sources), two words each, then, with `UV`, the texture coordinates.
+// sources), two words each (the third float in the low half of the second word, the rest zero),
+// then, with `UV`, the texture coordinates.
 template <int N, bool UV>
 struct CornerWords {
+  static_assert(sizeof(glm::vec3) == 3 * sizeof(float) && sizeof(glm::vec2) == sizeof(std::uint64_t));
   static constexpr int kWords = 2 * N + (UV ? 1 : 0);
-  const float* vec3[N > 0 ? N : 1] = {};
-  const float* uv = nullptr;
+  const glm::vec3* vec3[N > 0 ? N : 1] = {};
+  const glm::vec2* uv = nullptr;
   void load(std::uint32_t c, std::uint64_t* w) const {
     for (int i = 0; i < N; ++i) {
-      const float* x = vec3[i] + 3 * static_cast<std::size_t>(c);
+      const glm::vec3& x = vec3[i][c];
       std::uint32_t z;
-      std::memcpy(&w[2 * i], x, sizeof(std::uint64_t));
-      std::memcpy(&z, x + 2, sizeof z);
+      std::memcpy(&w[2 * i], &x, sizeof(std::uint64_t));
+      std::memcpy(&z, &x.z, sizeof z);
       w[2 * i + 1] = z;
     }
-    if (UV) std::memcpy(&w[2 * N], uv + 2 * static_cast<std::size_t>(c), sizeof(std::uint64_t));
+    if constexpr (UV) std::memcpy(&w[2 * N], &uv[c], sizeof(std::uint64_t));
   }
   static bool same(const std::uint64_t* a, const std::uint64_t* b) {
     std::uint64_t diff = 0;
@@ -247,9 +249,9 @@ struct CornerWords {
 // vertex with more points, with every corner before it: the same numbers as a scan of every
 // corner before, as drawing alike is bitwise equality.
 template <class Key>
-void number_points(const Key& key, const CornerGroups& groups, std::size_t b, std::size_t e, vtkTypeInt64* conn,
-                   std::uint32_t* counts) {
-  constexpr std::uint32_t kKept = 32;
+void number_points(const Key& key, const CornerGroups& groups, std::size_t b, std::size_t e,
+                   vtkTypeInt64* conn, std::uint32_t* counts) {
+  constexpr std::uint32_t kKept = 32;  // how many is speed only: the numbers do not depend on it
   constexpr int kWords = Key::kWords > 0 ? Key::kWords : 1;
   const std::uint32_t* grouped = groups.corner.data();
   const std::uint32_t* offset = groups.offset.data();
@@ -306,44 +308,51 @@ struct AlikeKey {
   bool same(const std::uint64_t* a, const std::uint64_t* b) const { return w.alike(a[0], b[0]); }
 };
 
-}  // namespace
-
-void ViewPolyData::build_corner_points(const Writer& writer, const CornerGroups& groups) {
-  const std::size_t vertices = groups.offset.size() - 1;
-  // Two passes over each vertex's corners: the first numbers its points from 0 (into the corners'
-  // connectivity), the second adds the vertex's first point and writes the points. A deleted face's cell
-  // is (0, 0, 0).
+// Numbers each live corner's point among its vertex's points (into `writer`'s connectivity:
+// number_points) and each vertex's point count into `counts[v + 1]`; a deleted face's cell is
+// (0, 0, 0). The corners are compared through the words of the arrays the writer draws with, or
+// Writer::alike where there are more arrays than the words cover.
+template <class Writer>
+void number_corner_points(const Writer& writer, const CornerGroups& groups, std::uint32_t* counts) {
   const SurfaceMesh& mesh = writer.mesh;
   vtkTypeInt64* conn = writer.r.connectivity;
   if (mesh.face_count() != mesh.face_slots())
     parallel_for(mesh.face_slots(), kGrain, [&](std::size_t b, std::size_t e) {
       for (std::size_t f = b; f < e; ++f)
-        if (mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f)))) std::fill(conn + 3 * f, conn + 3 * f + 3, 0);
+        if (mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f))))
+          std::fill(conn + 3 * f, conn + 3 * f + 3, 0);
     });
-  const std::uint32_t* grouped = groups.corner.data();
-  std::vector<std::uint32_t> first_point(vertices + 1, 0);
   auto number = [&](const auto& key) {
-    parallel_for(vertices, kGrain, [&](std::size_t b, std::size_t e) {
-      number_points(key, groups, b, e, conn, first_point.data());
-    });
+    parallel_for(groups.offset.size() - 1, kGrain,
+                 [&](std::size_t b, std::size_t e) { number_points(key, groups, b, e, conn, counts); });
   };
-  // The arrays that decide how a corner draws: N three-float ones, and the texture coordinates.
-  std::vector<const float*> vec3;
-  if (writer.normals) vec3.push_back(&writer.normals[0].x);
-  for (const glm::vec3* a : writer.normal_sources) vec3.push_back(&a[0].x);
-  const float* uv = writer.uv ? &writer.uv[0].x : nullptr;
-  auto with = [&](auto words) {
+  std::vector<const glm::vec3*> vec3;  // the three-float arrays that decide how a corner draws
+  if (writer.normals) vec3.push_back(writer.normals);
+  for (const glm::vec3* a : writer.normal_sources) vec3.push_back(a);
+  auto with = [&](auto words) {  // the one CornerWords whose words fit (2N + UV differs for each)
     using Words = decltype(words);
-    if (2 * vec3.size() + (uv ? 1 : 0) != Words::kWords) return false;  // (N and UV both)
+    if (2 * vec3.size() + (writer.uv ? 1 : 0) != Words::kWords) return false;
     std::copy(vec3.begin(), vec3.end(), words.vec3);
-    words.uv = uv;
+    words.uv = writer.uv;
     number(words);
     return true;
   };
-  if (!(with(CornerWords<3, true>{}) || with(CornerWords<1, true>{}) || with(CornerWords<1, false>{}) ||
-        with(CornerWords<0, true>{}) || with(CornerWords<2, true>{}) || with(CornerWords<2, false>{}) ||
-        with(CornerWords<3, false>{}) || with(CornerWords<4, true>{}) || with(CornerWords<4, false>{})))
-    number(AlikeKey<Writer>{writer});  // more arrays than the words cover
+  if (!(with(CornerWords<0, true>{}) || with(CornerWords<1, false>{}) || with(CornerWords<1, true>{}) ||
+        with(CornerWords<2, false>{}) || with(CornerWords<2, true>{}) || with(CornerWords<3, false>{}) ||
+        with(CornerWords<3, true>{}) || with(CornerWords<4, false>{}) || with(CornerWords<4, true>{})))
+    number(AlikeKey<Writer>{writer});  // no arrays, or more than the words cover
+}
+
+}  // namespace
+
+void ViewPolyData::build_corner_points(const Writer& writer, const CornerGroups& groups) {
+  const std::size_t vertices = groups.offset.size() - 1;
+  // Two passes over each vertex's corners: the first numbers its points from 0 (into the corners'
+  // connectivity), the second adds the vertex's first point and writes the points.
+  vtkTypeInt64* conn = writer.r.connectivity;
+  const std::uint32_t* grouped = groups.corner.data();
+  std::vector<std::uint32_t> first_point(vertices + 1, 0);
+  number_corner_points(writer, groups, first_point.data());
   for (std::size_t v = 0; v < vertices; ++v) first_point[v + 1] += first_point[v];
   const std::size_t points = first_point[vertices];
   set_point_count(std::max<std::size_t>(points, 1));  // a deleted face's cell needs point 0
