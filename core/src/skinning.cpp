@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <cstring>
 #include <memory>
 #include <string>
 
@@ -242,21 +241,11 @@ class Poser {
         rigid_(world.at(static_cast<std::size_t>(node))),
         joints_(skin_joints(model, node, world)),
         blend_(mesh, joints_),
-        skinned_(blend_.skinned()),
-        joint_rows_{mesh.vertex_attrs().find<glm::u16vec4>(attr::kJoints0),
-                    mesh.vertex_attrs().find<glm::u16vec4>(attr::kJoints1)},
-        weight_rows_{mesh.vertex_attrs().find<glm::vec4>(attr::kWeights0),
-                     mesh.vertex_attrs().find<glm::vec4>(attr::kWeights1)} {
-    // As SkinBlend reads them: the second set only when both of its arrays are there.
-    if (!joint_rows_[1] || !weight_rows_[1]) joint_rows_[1] = nullptr, weight_rows_[1] = nullptr;
-  }
+        skinned_(blend_.skinned()) {}
   Poser(const Poser&) = delete;  // blend_ keeps joints_ by reference
   Poser& operator=(const Poser&) = delete;
 
-  glm::vec3 operator()(std::size_t v) const {
-    const glm::vec4 p(morph_.position(v, rest_[v]), 1.0f);
-    return glm::vec3(skinned_ ? blend_.matrix(v) * p : rigid_ * p);
-  }
+  glm::vec3 operator()(std::size_t v) const { return posed(v, matrix(v)); }
 
   // The same in two steps, for callers that reuse a blended matrix: the vertex's matrix (its
   // skin's blend, else the node's), and the vertex posed by `m` (its matrix or an equal one).
@@ -267,16 +256,7 @@ class Poser {
   }
   // Whether vertices u and v have one matrix for certain: the same joints and weights, bit for
   // bit (SkinBlend::matrix is a function of them alone), or no skin.
-  bool same_matrix(std::size_t u, std::size_t v) const {
-    if (!skinned_) return true;
-    for (int s = 0; s < 2; ++s) {
-      if (!joint_rows_[s]) break;
-      if (std::memcmp(&(*joint_rows_[s])[u], &(*joint_rows_[s])[v], sizeof(glm::u16vec4)) != 0 ||
-          std::memcmp(&(*weight_rows_[s])[u], &(*weight_rows_[s])[v], sizeof(glm::vec4)) != 0)
-        return false;
-    }
-    return true;
-  }
+  bool same_matrix(std::size_t u, std::size_t v) const { return !skinned_ || blend_.same_influences(u, v); }
 
  private:
   // The joint matrices of the node's skin; none when it has no skin (the node's matrix poses it).
@@ -293,8 +273,6 @@ class Poser {
   const std::vector<glm::mat4> joints_;  // before blend_, which refers to it
   const SkinBlend blend_;
   const bool skinned_;
-  const AttributeArray<glm::u16vec4>* joint_rows_[2];  // what blend_ reads (same_matrix)
-  const AttributeArray<glm::vec4>* weight_rows_[2];
 };
 
 }  // namespace

@@ -97,6 +97,19 @@ std::size_t used_in_first_use_order(const std::vector<Triangle>& tris, std::size
   return top;
 }
 
+// When every face slot is live and the faces name their vertices in order of first use
+// (used_in_first_use_order): `use.first_use` set to 0, 1, ... and true. Else false, `use` as it was.
+bool first_uses_in_order(const std::vector<Triangle>& tris, FaceUse& use) {
+  if (!use.all) return false;
+  const std::size_t used = used_in_first_use_order(tris, use.size());
+  if (used == 0) return false;
+  use.first_use.resize(used);
+  parallel_for(used, kGrain, [&](std::size_t b, std::size_t e) {
+    for (std::size_t v = b; v < e; ++v) use.first_use[v] = static_cast<std::uint32_t>(v);
+  });
+  return true;
+}
+
 // In parallel: each vertex's first corner (an atomic minimum over the corners using it), then
 // the vertices whose first corner each face holds, face by face: counted per chunk of faces, a
 // prefix sum, then each chunk of faces writes its own range. Faces that name their vertices in
@@ -108,16 +121,8 @@ FaceUse first_uses(const SurfaceMesh& mesh) {
   use.slots = tris.size();
   if (!use.all)
     use.faces = detail::ordered_indices(tris.size(), [&](std::size_t f) { return !mesh.is_deleted(FaceId(static_cast<std::uint32_t>(f))); });
+  if (first_uses_in_order(tris, use)) return use;
   const std::size_t nf = use.size();
-  if (use.all) {
-    if (const std::size_t used = used_in_first_use_order(tris, nf)) {
-      use.first_use.resize(used);
-      parallel_for(used, kGrain, [&](std::size_t b, std::size_t e) {
-        for (std::size_t v = b; v < e; ++v) use.first_use[v] = static_cast<std::uint32_t>(v);
-      });
-      return use;
-    }
-  }
   std::unique_ptr<std::atomic<std::uint32_t>[]> first(new std::atomic<std::uint32_t>[mesh.vertex_count()]);
   parallel_for(mesh.vertex_count(), kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t v = b; v < e; ++v) first[v].store(kInvalidIndex, std::memory_order_relaxed);

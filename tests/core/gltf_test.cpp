@@ -1,14 +1,15 @@
 // SPDX-License-Identifier: MIT
 #include "deepcut/core/io/gltf.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-
-#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <tuple>
 
 #include "deepcut/core/operation_room.h"
 #include "deepcut/core/ops/cut.h"
@@ -99,6 +100,95 @@ json quirky_gltf(std::vector<unsigned char>& buf) {
   doc["extensionsUsed"] = json::array({"KHR_materials_emissive_strength"});
   doc["meshes"][0]["primitives"][0]["material"] = 0;
   doc["buffers"] = json::array({json{{"byteLength", buf.size()}, {"uri", "data:application/octet-stream;base64," + base64(buf)}}});
+  return doc;
+}
+
+// Joint indices `j` (four per vertex) as components of `type` (5121, 5123 or 5125), packed, or
+// at `offset` in elements `stride` bytes apart (shorts only) with filler bytes between.
+std::vector<unsigned char> joint_bytes(const std::vector<std::uint32_t>& j, int type, std::size_t stride,
+                                       std::size_t offset) {
+  const std::size_t size = type == 5121 ? 1 : type == 5123 ? 2 : 4, nv = j.size() / 4;
+  if (stride == 0) stride = 4 * size;
+  std::vector<unsigned char> out(offset + stride * nv, 0xAB);
+  for (std::size_t i = 0; i < j.size(); ++i) {
+    const std::uint8_t b = static_cast<std::uint8_t>(j[i]);
+    const std::uint16_t h = static_cast<std::uint16_t>(j[i]);
+    unsigned char* at = &out[offset + stride * (i / 4) + size * (i % 4)];
+    if (size == 1)
+      *at = b;
+    else if (size == 2)
+      std::memcpy(at, &h, 2);
+    else
+      std::memcpy(at, &j[i], 4);
+  }
+  return out;
+}
+
+// A skinned triangle soup of `nv` vertices (non-indexed) whose JOINTS_0 are stored with
+// `joint_type` (5121, 5123 or 5125: bytes, shorts or 32-bit ints, the last decoded by the reader,
+// not read in place); `interleaved` (shorts only) puts them at an odd byteOffset in a view of
+// byteStride 12 with filler bytes between. The influences come in runs of 37 vertices, of one
+// kind each (good, a negative or NaN weight, a joint past the skin, a repeated joint, no weight,
+// weights not summing to 1): `kinds[k]` counts the vertices of kind k. The binary buffer is
+// written beside the file.
+json run_skinned_gltf(const std::string& dir, const std::string& name, std::size_t nv, int joint_type,
+                      bool interleaved, std::size_t kinds[7]) {
+  static const std::uint32_t joints[7][4] = {{0, 1, 0, 0}, {0, 1, 2, 0}, {1, 2, 0, 0}, {7, 1, 0, 0},
+                                             {1, 1, 2, 0}, {2, 0, 0, 0}, {0, 2, 0, 0}};
+  const float nan = std::nanf("");
+  const float weights[7][4] = {{0.5f, 0.5f, 0, 0}, {1, -0.5f, 0, 0},        {nan, 1, 0, 0},
+                               {0.5f, 0.5f, 0, 0}, {0.25f, 0.25f, 0.5f, 0}, {0, 0, 0, 0},
+                               {0.3f, 0.3f, 0, 0}};
+  std::vector<float> pos, w;
+  std::vector<std::uint32_t> j32;
+  for (int k = 0; k < 7; ++k) kinds[k] = 0;
+  for (std::size_t v = 0; v < nv; ++v) {
+    const std::size_t t = v / 3, c = v % 3, kind = (v / 37) % 7;
+    pos.insert(pos.end(), {float(t % 200 + (c == 1)), float(t / 200 + (c == 2)), 0.0f});
+    j32.insert(j32.end(), joints[kind], joints[kind] + 4);
+    w.insert(w.end(), weights[kind], weights[kind] + 4);
+    ++kinds[kind];
+  }
+  std::vector<unsigned char> buf;
+  append(buf, pos);
+  const std::size_t weights_off = buf.size();
+  append(buf, w);
+  const std::size_t joints_off = buf.size();
+  const std::size_t stride = interleaved ? 12 : 0, joint_offset = interleaved ? 3 : 0;
+  const std::vector<unsigned char> joint_view = joint_bytes(j32, joint_type, stride, joint_offset);
+  const std::size_t joints_len = joint_view.size();
+  append(buf, joint_view);
+  std::ofstream(dir + "/" + name + ".bin", std::ios::binary)
+      .write(reinterpret_cast<const char*>(buf.data()), std::streamsize(buf.size()));
+  json doc;
+  doc["asset"] = {{"version", "2.0"}};
+  doc["scene"] = 0;
+  doc["scenes"] = json::array({json{{"nodes", {0, 1}}}});
+  doc["nodes"] = json::array({json{{"mesh", 0}, {"skin", 0}}, json{{"name", "j0"}, {"children", {2, 3}}},
+                              json{{"name", "j1"}, {"translation", {0, 1, 0}}}, json{{"name", "j2"}}});
+  doc["skins"] = json::array({json{{"joints", {1, 2, 3}}}});
+  json prim = {{"attributes", {{"POSITION", 0}, {"WEIGHTS_0", 1}, {"JOINTS_0", 2}}}};
+  doc["meshes"] = json::array({json{{"primitives", json::array({prim})}}});
+  auto view = [](std::size_t offset, std::size_t length) {
+    return json{{"buffer", 0}, {"byteOffset", offset}, {"byteLength", length}};
+  };
+  json joints_view = view(joints_off, joints_len);
+  if (stride) joints_view["byteStride"] = stride;
+  doc["bufferViews"] = json::array({view(0, 12 * nv), view(weights_off, 16 * nv), joints_view});
+  doc["accessors"] =
+      json::array({json{{"bufferView", 0},
+                        {"componentType", 5126},
+                        {"count", nv},
+                        {"type", "VEC3"},
+                        {"min", {0, 0, 0}},
+                        {"max", {200, 1000, 0}}},
+                   json{{"bufferView", 1}, {"componentType", 5126}, {"count", nv}, {"type", "VEC4"}},
+                   json{{"bufferView", 2},
+                        {"byteOffset", joint_offset},
+                        {"componentType", joint_type},
+                        {"count", nv},
+                        {"type", "VEC4"}}});
+  doc["buffers"] = json::array({json{{"byteLength", buf.size()}, {"uri", name + ".bin"}}});
   return doc;
 }
 
@@ -219,6 +309,59 @@ TEST(GltfTest, strides_normalised_ints_sparse_and_skin_without_inverse_bind_matr
   EXPECT_TRUE(again.skins[0].had_inverse_bind_matrices);
   EXPECT_EQ(again.extensions_used, model.extensions_used);
   EXPECT_EQ(again.meshes[0].primitives[0].mesh.positions(), mesh.positions());
+  std::filesystem::remove_all(dir);
+}
+
+TEST(GltfTest, skin_joints_read_in_place_sanitise_as_the_decoded_ones_do) {
+  // More than one chunk of vertices (32768), runs of repeated bad influences crossing its edge;
+  // 32-bit joints take the decode, an independent reference for bytes and shorts read in place.
+  const std::string dir = test::temp_dir("joint-types");
+  const std::size_t nv = 3 * 13000;
+  ImportOptions apart;
+  apart.weld = false;
+  std::size_t kinds[7];
+  auto read = [&](const std::string& name, int joint_type, bool interleaved) {
+    const json doc = run_skinned_gltf(dir, name, nv, joint_type, interleaved, kinds);
+    return read_gltf(write_text(dir, name + ".gltf", doc.dump()), apart);
+  };
+  const Model reference = read("u32", 5125, false);
+  const SurfaceMesh& ref = reference.meshes[0].primitives[0].mesh;
+  ASSERT_EQ(ref.vertex_count(), nv);
+  auto count = [&](const Model& m, const std::string& kind) {
+    std::size_t n = 0;
+    for (const ImportProblem& p : m.import_problems) n += p.kind == kind ? p.count : 0;
+    return n;
+  };
+  // Each kind of bad influence, repaired once per vertex that has it.
+  EXPECT_EQ(count(reference, "weights-invalid"), kinds[1] + kinds[2]);
+  EXPECT_EQ(count(reference, "joints-past-skin"), kinds[3]);
+  EXPECT_EQ(count(reference, "influences-duplicate-joint"), kinds[4]);
+  EXPECT_EQ(count(reference, "weights-zero"), kinds[5]);
+  EXPECT_EQ(count(reference, "weights-normalised"), kinds[3] + kinds[6]);
+  const auto& ref_joints = ref.vertex_attrs().get<glm::u16vec4>(attr::kJoints0);
+  const auto& ref_weights = ref.vertex_attrs().get<glm::vec4>(attr::kWeights0);
+  const std::tuple<const char*, int, bool> variants[] = {
+      {"u16", 5123, false}, {"u16-interleaved", 5123, true}, {"u8", 5121, false}};
+  for (const auto& [name, type, interleaved] : variants) {
+    SCOPED_TRACE(name);
+    const Model m = read(name, type, interleaved);
+    const SurfaceMesh& mesh = m.meshes[0].primitives[0].mesh;
+    ASSERT_EQ(mesh.vertex_count(), nv);
+    const auto& joints = mesh.vertex_attrs().get<glm::u16vec4>(attr::kJoints0);
+    const auto& weights = mesh.vertex_attrs().get<glm::vec4>(attr::kWeights0);
+    std::size_t differ = 0;
+    for (std::size_t v = 0; v < nv; ++v)
+      differ +=
+          joints[v] != ref_joints[v] || std::memcmp(&weights[v], &ref_weights[v], sizeof(glm::vec4)) != 0;
+    EXPECT_EQ(differ, 0u);
+    ASSERT_EQ(m.import_problems.size(), reference.import_problems.size());
+    for (std::size_t i = 0; i < m.import_problems.size(); ++i) {
+      EXPECT_EQ(m.import_problems[i].kind, reference.import_problems[i].kind);
+      EXPECT_EQ(m.import_problems[i].count, reference.import_problems[i].count) << m.import_problems[i].kind;
+      EXPECT_EQ(m.import_problems[i].message, reference.import_problems[i].message);
+      EXPECT_EQ(m.import_problems[i].places, reference.import_problems[i].places);
+    }
+  }
   std::filesystem::remove_all(dir);
 }
 

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <set>
 #include <utility>
@@ -138,11 +139,12 @@ TEST(WeldTest, vertices_kept_apart_are_the_same_whatever_the_thread_count) {
 
 namespace {
 
-// `mesh` (made by unweld) with vertex v renumbered to `to[v]`, and `extra` unreferenced
-// vertices after them: the same faces, corners and vertex attributes.
+// `mesh` (made by unweld) with vertex v renumbered to `to[v]` (distinct numbers; one that none
+// takes is an unreferenced vertex), and `extra` unreferenced vertices after them: the same
+// faces, corners and vertex attributes.
 SurfaceMesh renumbered(const SurfaceMesh& mesh, const std::vector<std::uint32_t>& to, std::size_t extra = 0) {
   const std::size_t n = mesh.vertex_count();
-  std::vector<std::uint32_t> from(n);
+  std::vector<std::uint32_t> from(n == 0 ? 0 : *std::max_element(to.begin(), to.end()) + 1, kInvalidIndex);
   for (std::uint32_t v = 0; v < n; ++v) from[to[v]] = v;
   SurfaceMesh out;
   auto& j = out.vertex_attrs().add<glm::u16vec4>(attr::kJoints0);
@@ -151,12 +153,17 @@ SurfaceMesh renumbered(const SurfaceMesh& mesh, const std::vector<std::uint32_t>
   const auto& sj = mesh.vertex_attrs().get<glm::u16vec4>(attr::kJoints0);
   const auto& sw = mesh.vertex_attrs().get<glm::vec4>(attr::kWeights0);
   const auto& suv = mesh.corner_attrs().get<glm::vec2>(attr::kUv0);
-  for (std::uint32_t i = 0; i < n; ++i) {
+  std::size_t unused = 0;
+  for (std::uint32_t i = 0; i < from.size(); ++i) {
+    if (from[i] == kInvalidIndex) {
+      out.add_vertex({7.0f, 7.0f, float(unused++)});
+      continue;
+    }
     const VertexId v = out.add_vertex(mesh.positions()[from[i]]);
     j[v.index] = sj[from[i]];
     w[v.index] = sw[from[i]];
   }
-  for (std::size_t i = 0; i < extra; ++i) out.add_vertex({7.0f, 7.0f, float(i)});
+  for (std::size_t i = 0; i < extra; ++i) out.add_vertex({7.0f, 7.0f, float(unused++)});
   mesh.for_each_face([&](FaceId f, const Triangle& t) {
     const FaceId g =
         out.add_face(VertexId(to[t[0].index]), VertexId(to[t[1].index]), VertexId(to[t[2].index]));
@@ -178,33 +185,48 @@ void expect_same_weld(const SurfaceMesh& a, const WeldReport& ra, const SurfaceM
   EXPECT_EQ(ra.merged, rb.merged);
   EXPECT_EQ(ra.dropped, rb.dropped);
   EXPECT_EQ(ra.kept_apart, rb.kept_apart);
+  EXPECT_EQ(ra.faces_dropped, rb.faces_dropped);
 }
 
 }  // namespace
 
 // Faces that name their vertices in order of first use (as unweld and most files number them)
 // take a shorter way to the vertices' order; any other numbering, however far into the faces it
-// first breaks that order, welds to the same mesh, on any thread count.
+// first breaks that order (or with an unused vertex between used ones), welds to the same mesh,
+// the same faces dropped, on any thread count.
 TEST(WeldTest, vertices_numbered_in_first_use_order_or_not_weld_the_same) {
   SurfaceMesh split = unweld(test::make_grid(160, 120));  // 38400 faces: several parallel chunks
   auto& w = split.vertex_attrs().get<glm::vec4>(attr::kWeights0);
+  auto& j = split.vertex_attrs().get<glm::u16vec4>(attr::kJoints0);
   for (std::uint32_t v = 0; v < split.vertex_count(); v += 11) w[v] = {0.25f, 0.75f, 0.0f, 0.0f};
+  // Two faces collapse (a corner at its neighbour's position, joints and weights): dropped.
+  for (std::uint32_t f : {100u, 20000u}) {
+    split.positions()[3 * f + 1] = split.positions()[3 * f];
+    w[3 * f + 1] = w[3 * f];
+    j[3 * f + 1] = j[3 * f];
+  }
+  const WeldOptions drop{WeldKey::PositionAndSkin, /*drop_repeating_faces=*/true};
   const std::size_t n = split.vertex_count();
-  std::vector<std::uint32_t> same(n), reversed(n), late(n);
+  std::vector<std::uint32_t> same(n), reversed(n), late(n), gap(n);
   for (std::uint32_t v = 0; v < n; ++v)
     same[v] = late[v] = v, reversed[v] = static_cast<std::uint32_t>(n - 1 - v);
   // Two vertices first used in the last faces swap numbers: the order breaks only there.
   std::swap(late[n - 4], late[n - 2]);
+  // Number n / 2 is no face's: the faces name the vertices in order of first use but for a gap.
+  for (std::uint32_t v = 0; v < n; ++v) gap[v] = v < n / 2 ? v : v + 1;
   const std::size_t saved = thread_count();
   for (std::size_t threads : {1u, 2u, 3u}) {
     set_thread_count(threads);
     SurfaceMesh expected = split;
-    const WeldReport re = weld(expected);
-    for (const auto* to : {&same, &reversed, &late})
+    const WeldReport re = weld(expected, drop);
+    EXPECT_EQ(re.faces_dropped, 2u);
+    for (const auto* to : {&same, &reversed, &late, &gap})
       for (std::size_t extra : {0u, 5u}) {
         SurfaceMesh mesh = renumbered(split, *to, extra);
-        const WeldReport r = weld(mesh);
-        expect_same_weld(mesh, r, expected, WeldReport{re.merged, re.kept_apart, re.dropped + extra});
+        const std::size_t unused = mesh.vertex_count() - n;
+        const WeldReport r = weld(mesh, drop);
+        expect_same_weld(mesh, r, expected,
+                         WeldReport{re.merged, re.kept_apart, re.dropped + unused, re.faces_dropped});
       }
   }
   set_thread_count(saved);

@@ -239,6 +239,62 @@ struct InfluenceSanitiser {
   }
 };
 
+// One joint set of a primitive, with its weights.
+struct SkinSetData {
+  Uints joints;          // decoded, unless read where the file holds them (`stored`)
+  AccessorBytes stored;  // where the file holds the joints, when read there
+  Floats weights;
+};
+
+// Joints that are unsigned bytes or shorts in a bufferView, not sparse, are read where the file
+// holds them (checked and charged as the decode would: accessor_bytes), not decoded to 32 bits
+// first; when every set's are, of one component type: that type, else 0.
+int joint_type_in_file(const tinygltf::Model& gltf, const tinygltf::Primitive& p) {
+  int joint_type = -1;
+  for (int s = 0; s < 2; ++s) {
+    auto j = p.attributes.find("JOINTS_" + std::to_string(s));
+    if (j == p.attributes.end() || p.attributes.count("WEIGHTS_" + std::to_string(s)) == 0) break;
+    const int ja = j->second;
+    const tinygltf::Accessor* acc = ja >= 0 && static_cast<std::size_t>(ja) < gltf.accessors.size()
+                                        ? &gltf.accessors[std::size_t(ja)]
+                                        : nullptr;
+    const bool in_file = acc && acc->bufferView >= 0 && !acc->sparse.isSparse &&
+                         (acc->componentType == kUnsignedByte || acc->componentType == kUnsignedShort) &&
+                         (joint_type < 0 || joint_type == acc->componentType);
+    joint_type = in_file ? acc->componentType : 0;
+    if (!in_file) break;
+  }
+  return joint_type < 0 ? 0 : joint_type;
+}
+
+// The sanitiser of `sets` (their joints of `joint_type` where the file holds them, or decoded
+// when it is 0), for a skin of `joint_count` joints whose duplicates `remap` merges (may be null).
+InfluenceSanitiser influence_sanitiser(const std::vector<SkinSetData>& sets, int joint_type, int joint_count,
+                                       const std::vector<std::uint32_t>* remap) {
+  InfluenceSanitiser sanitise;
+  sanitise.sets = sets.size();
+  sanitise.joint_type = joint_type != 0 ? joint_type : kUnsignedInt;
+  for (std::size_t s = 0; s < sets.size(); ++s) {
+    if (sanitise.joint_type == kUnsignedInt) {
+      sanitise.joints[s] = reinterpret_cast<const unsigned char*>(sets[s].joints.data());
+      sanitise.joint_stride[s] = 4 * sizeof(std::uint32_t);
+    } else {
+      sanitise.joints[s] = sets[s].stored.base;
+      sanitise.joint_stride[s] = sets[s].stored.stride;
+    }
+    sanitise.weights[s] = sets[s].weights.data();
+  }
+  // Joint indices as the file numbers them, and how they are numbered once duplicate joints of
+  // the skin are merged (read_skins).
+  sanitise.joint_count = joint_count;
+  sanitise.file_joints = remap && !remap->empty() ? static_cast<std::uint32_t>(remap->size())
+                         : joint_count >= 0       ? static_cast<std::uint32_t>(joint_count)
+                                                  : 0u;
+  sanitise.remap = remap ? remap->data() : nullptr;
+  sanitise.remap_size = remap ? remap->size() : 0;
+  return sanitise;
+}
+
 }  // namespace
 
 Primitive Reader::read_primitive(const tinygltf::Primitive& p, const std::string& where, int joint_count, std::size_t targets) {
@@ -328,31 +384,10 @@ Uints Reader::read_triangles(const tinygltf::Primitive& p, const std::string& wh
 }
 
 // Up to two sets of four influences per vertex, sanitised (InfluenceSanitiser); every repair is noted.
-Influences Reader::read_influences(const tinygltf::Primitive& p, const std::string& where, std::size_t nv, int joint_count) {
-  struct SkinSetData {
-    Uints joints;  // decoded, unless read where the file holds them (`in_file`)
-    AccessorBytes in_file;
-    Floats weights;
-  };
+Influences Reader::read_influences(const tinygltf::Primitive& p, const std::string& where, std::size_t nv,
+                                   int joint_count) {
   std::vector<SkinSetData> sets;
-  // Joints that are unsigned bytes or shorts in a bufferView, not sparse, are read where the file
-  // holds them (checked and charged as the decode would: accessor_bytes), not decoded to 32 bits
-  // first; when every set's are, of one component type (`joint_type`, else 0).
-  int joint_type = -1;
-  for (int s = 0; s < 2; ++s) {
-    auto j = p.attributes.find("JOINTS_" + std::to_string(s));
-    if (j == p.attributes.end() || p.attributes.count("WEIGHTS_" + std::to_string(s)) == 0) break;
-    const int ja = j->second;
-    const tinygltf::Accessor* acc = ja >= 0 && static_cast<std::size_t>(ja) < gltf_.accessors.size()
-                                        ? &gltf_.accessors[std::size_t(ja)]
-                                        : nullptr;
-    const bool in_file = acc && acc->bufferView >= 0 && !acc->sparse.isSparse &&
-                         (acc->componentType == kUnsignedByte || acc->componentType == kUnsignedShort) &&
-                         (joint_type < 0 || joint_type == acc->componentType);
-    joint_type = in_file ? acc->componentType : 0;
-    if (!in_file) break;
-  }
-  if (joint_type < 0) joint_type = 0;
+  const int joint_type = joint_type_in_file(gltf_, p);
   for (int s = 0; s < 2; ++s) {
     auto j = p.attributes.find("JOINTS_" + std::to_string(s));
     auto w = p.attributes.find("WEIGHTS_" + std::to_string(s));
@@ -361,9 +396,9 @@ Influences Reader::read_influences(const tinygltf::Primitive& p, const std::stri
     int jc = 0, wc = 0;
     std::size_t joints_read = 0;
     if (joint_type != 0) {
-      d.in_file = accessor_bytes(j->second, "JOINTS", "JOINTS (accessor " + std::to_string(j->second) + ")",
-                                 sizeof(std::uint32_t), &jc);
-      joints_read = d.in_file.acc->count * std::size_t(jc);
+      d.stored = accessor_bytes(j->second, "JOINTS", "JOINTS (accessor " + std::to_string(j->second) + ")",
+                                sizeof(std::uint32_t), &jc);
+      joints_read = d.stored.acc->count * std::size_t(jc);
     } else {
       d.joints = read_uints(j->second, "JOINTS", &jc);
       joints_read = d.joints.size();
@@ -373,27 +408,7 @@ Influences Reader::read_influences(const tinygltf::Primitive& p, const std::stri
       fail(where + ": JOINTS_" + std::to_string(s) + "/WEIGHTS_" + std::to_string(s) + " must be VEC4 with one per vertex");
     sets.push_back(std::move(d));
   }
-  InfluenceSanitiser sanitise;
-  sanitise.sets = sets.size();
-  sanitise.joint_type = joint_type != 0 ? joint_type : kUnsignedInt;
-  for (std::size_t s = 0; s < sets.size(); ++s) {
-    if (sanitise.joint_type == kUnsignedInt) {
-      sanitise.joints[s] = reinterpret_cast<const unsigned char*>(sets[s].joints.data());
-      sanitise.joint_stride[s] = 4 * sizeof(std::uint32_t);
-    } else {
-      sanitise.joints[s] = sets[s].in_file.base;
-      sanitise.joint_stride[s] = sets[s].in_file.stride;
-    }
-    sanitise.weights[s] = sets[s].weights.data();
-  }
-  // Joint indices as the file numbers them, and how they are numbered once duplicate joints of
-  // the skin are merged (read_skins).
-  sanitise.joint_count = joint_count;
-  sanitise.file_joints = joint_remap_ && !joint_remap_->empty() ? static_cast<std::uint32_t>(joint_remap_->size())
-                         : joint_count >= 0                     ? static_cast<std::uint32_t>(joint_count)
-                                                                : 0u;
-  sanitise.remap = joint_remap_ ? joint_remap_->data() : nullptr;
-  sanitise.remap_size = joint_remap_ ? joint_remap_->size() : 0;
+  const InfluenceSanitiser sanitise = influence_sanitiser(sets, joint_type, joint_count, joint_remap_);
   Influences skin;
   skin.sets = sets.size();
   skin.joints.resize(sets.size() * nv);  // every element written below

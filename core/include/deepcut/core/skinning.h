@@ -4,6 +4,7 @@
 /// Animation sampling and linear blend skinning: posed positions and normals for any time.
 /// Morph targets (morph.h) are applied to the bind positions and normals before skinning.
 
+#include <cstring>
 #include <map>
 #include <utility>
 #include <vector>
@@ -84,11 +85,21 @@ class SkinBlend {
     if (j1_) add(m, (*j1_)[v], (*w1_)[v]);
     return m;
   }
+  /// Whether vertices u and v have the same joints and weights, bit for bit (the sets matrix()
+  /// reads): then they have one matrix for certain. @pre skinned().
+  bool same_influences(std::size_t u, std::size_t v) const {
+    return same_set(j0_, w0_, u, v) && (!j1_ || same_set(j1_, w1_, u, v));
+  }
 
  private:
   void add(glm::mat4& m, const glm::u16vec4& j, const glm::vec4& w) const {
     for (int c = 0; c < 4; ++c)
       if (w[c] != 0.0f && j[c] < joints_.size()) m += w[c] * joints_[j[c]];
+  }
+  static bool same_set(const AttributeArray<glm::u16vec4>* j, const AttributeArray<glm::vec4>* w,
+                       std::size_t u, std::size_t v) {
+    return std::memcmp(&(*j)[u], &(*j)[v], sizeof(glm::u16vec4)) == 0 &&
+           std::memcmp(&(*w)[u], &(*w)[v], sizeof(glm::vec4)) == 0;
   }
   const std::vector<glm::mat4>& joints_;
   const AttributeArray<glm::u16vec4>* j0_;
