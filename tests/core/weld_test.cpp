@@ -17,24 +17,41 @@
 namespace deepcut {
 namespace {
 
+// The attributes the weld tests carry from a mesh into a new one: joints, weights and UVs.
+struct CarriedAttributes {
+  CarriedAttributes(const SurfaceMesh& from, SurfaceMesh& to)
+      : j(to.vertex_attrs().add<glm::u16vec4>(attr::kJoints0)),
+        w(to.vertex_attrs().add<glm::vec4>(attr::kWeights0)),
+        uv(to.corner_attrs().add<glm::vec2>(attr::kUv0)),
+        sj(from.vertex_attrs().get<glm::u16vec4>(attr::kJoints0)),
+        sw(from.vertex_attrs().get<glm::vec4>(attr::kWeights0)),
+        suv(from.corner_attrs().get<glm::vec2>(attr::kUv0)) {}
+  void vertex(VertexId to, std::uint32_t from) {
+    j[to.index] = sj[from];
+    w[to.index] = sw[from];
+  }
+  void corners(FaceId to, FaceId from) {
+    for (int k = 0; k < 3; ++k) uv[SurfaceMesh::corner(to, k)] = suv[SurfaceMesh::corner(from, k)];
+  }
+  AttributeArray<glm::u16vec4>& j;
+  AttributeArray<glm::vec4>& w;
+  AttributeArray<glm::vec2>& uv;
+  const AttributeArray<glm::u16vec4>& sj;
+  const AttributeArray<glm::vec4>& sw;
+  const AttributeArray<glm::vec2>& suv;
+};
+
 // Every corner its own vertex, as a non-indexed glTF primitive stores it.
 SurfaceMesh unweld(const SurfaceMesh& mesh) {
   SurfaceMesh out;
-  auto& j = out.vertex_attrs().add<glm::u16vec4>(attr::kJoints0);
-  auto& w = out.vertex_attrs().add<glm::vec4>(attr::kWeights0);
-  auto& uv = out.corner_attrs().add<glm::vec2>(attr::kUv0);
-  const auto& sj = mesh.vertex_attrs().get<glm::u16vec4>(attr::kJoints0);
-  const auto& sw = mesh.vertex_attrs().get<glm::vec4>(attr::kWeights0);
-  const auto& suv = mesh.corner_attrs().get<glm::vec2>(attr::kUv0);
+  CarriedAttributes carried(mesh, out);
   mesh.for_each_face([&](FaceId f, const Triangle& t) {
     VertexId v[3];
     for (int k = 0; k < 3; ++k) {
       v[k] = out.add_vertex(mesh.position(t[k]));
-      j[v[k].index] = sj[t[k].index];
-      w[v[k].index] = sw[t[k].index];
+      carried.vertex(v[k], t[k].index);
     }
-    const FaceId g = out.add_face(v[0], v[1], v[2]);
-    for (int k = 0; k < 3; ++k) uv[SurfaceMesh::corner(g, k)] = suv[SurfaceMesh::corner(f, k)];
+    carried.corners(out.add_face(v[0], v[1], v[2]), f);
   });
   return out;
 }
@@ -147,27 +164,19 @@ SurfaceMesh renumbered(const SurfaceMesh& mesh, const std::vector<std::uint32_t>
   std::vector<std::uint32_t> from(n == 0 ? 0 : *std::max_element(to.begin(), to.end()) + 1, kInvalidIndex);
   for (std::uint32_t v = 0; v < n; ++v) from[to[v]] = v;
   SurfaceMesh out;
-  auto& j = out.vertex_attrs().add<glm::u16vec4>(attr::kJoints0);
-  auto& w = out.vertex_attrs().add<glm::vec4>(attr::kWeights0);
-  auto& uv = out.corner_attrs().add<glm::vec2>(attr::kUv0);
-  const auto& sj = mesh.vertex_attrs().get<glm::u16vec4>(attr::kJoints0);
-  const auto& sw = mesh.vertex_attrs().get<glm::vec4>(attr::kWeights0);
-  const auto& suv = mesh.corner_attrs().get<glm::vec2>(attr::kUv0);
+  CarriedAttributes carried(mesh, out);
   std::size_t unused = 0;
   for (std::uint32_t i = 0; i < from.size(); ++i) {
     if (from[i] == kInvalidIndex) {
       out.add_vertex({7.0f, 7.0f, float(unused++)});
       continue;
     }
-    const VertexId v = out.add_vertex(mesh.positions()[from[i]]);
-    j[v.index] = sj[from[i]];
-    w[v.index] = sw[from[i]];
+    carried.vertex(out.add_vertex(mesh.positions()[from[i]]), from[i]);
   }
   for (std::size_t i = 0; i < extra; ++i) out.add_vertex({7.0f, 7.0f, float(unused++)});
   mesh.for_each_face([&](FaceId f, const Triangle& t) {
-    const FaceId g =
-        out.add_face(VertexId(to[t[0].index]), VertexId(to[t[1].index]), VertexId(to[t[2].index]));
-    for (int k = 0; k < 3; ++k) uv[SurfaceMesh::corner(g, k)] = suv[SurfaceMesh::corner(f, k)];
+    carried.corners(
+        out.add_face(VertexId(to[t[0].index]), VertexId(to[t[1].index]), VertexId(to[t[2].index])), f);
   });
   return out;
 }
