@@ -19,6 +19,16 @@ namespace deepcut::detail {
 enum class BesideOrder { Shared, First, Last };
 inline BesideOrder beside_order_for_tests = BesideOrder::Shared;
 
+/// Sets beside_order_for_tests for its lifetime and puts Shared back when it ends, even when
+/// the pass under test throws. Tests only.
+class BesideOrderForTests {
+ public:
+  explicit BesideOrderForTests(BesideOrder order) { beside_order_for_tests = order; }
+  ~BesideOrderForTests() { beside_order_for_tests = BesideOrder::Shared; }
+  BesideOrderForTests(const BesideOrderForTests&) = delete;
+  BesideOrderForTests& operator=(const BesideOrderForTests&) = delete;
+};
+
 /// chunk(c) for every c in [0, chunks) and `beside()` in one pool job, `beside` first (usually
 /// the calling thread takes it; a quick worker can). On one thread: `beside`, then the chunks
 /// in order.

@@ -28,16 +28,6 @@
 namespace deepcut {
 namespace {
 
-// Sets detail::beside_order_for_tests for its lifetime and puts Shared back on the way out, so
-// that a throw cannot leave the order set for the tests that follow.
-class BesideOrderGuard {
- public:
-  explicit BesideOrderGuard(detail::BesideOrder order) { detail::beside_order_for_tests = order; }
-  ~BesideOrderGuard() { detail::beside_order_for_tests = detail::BesideOrder::Shared; }
-  BesideOrderGuard(const BesideOrderGuard&) = delete;
-  BesideOrderGuard& operator=(const BesideOrderGuard&) = delete;
-};
-
 // Every attribute array of `a` and `b` element for element, byte for byte.
 void expect_same_attributes(const AttributeSet& a, const AttributeSet& b, const std::string& where) {
   ASSERT_EQ(a.names(), b.names()) << where;
@@ -287,7 +277,7 @@ TEST(PosedModelTest, a_build_poses_the_same_bytes_for_every_thread_count) {
   auto posed_bytes = [&](std::size_t threads, detail::BesideOrder order) {
     test::ThreadCount guard(threads);
     const PosedModel posed = [&] {
-      const BesideOrderGuard beside(order);
+      const detail::BesideOrderForTests beside(order);
       return PosedModel::build(model, animation, 0.7f, PoseDetail::Positions);
     }();
     std::vector<unsigned char> out;
@@ -491,7 +481,7 @@ TEST(PosedModelTest, a_positions_copy_of_a_primitive_of_several_parts_equals_its
        {detail::BesideOrder::Shared, detail::BesideOrder::First, detail::BesideOrder::Last}) {
     SCOPED_TRACE(static_cast<int>(order));
     const PosedModel copy = [&] {
-      const BesideOrderGuard beside(order);
+      const detail::BesideOrderForTests beside(order);
       return source.positions_copy();
     }();
     ASSERT_EQ(copy.size(), source.size());

@@ -370,9 +370,10 @@ TEST(SpatialIndexTest, build_lays_out_the_same_grid_whatever_runs_beside_its_pas
        {detail::BesideOrder::Shared, detail::BesideOrder::First, detail::BesideOrder::Last})
     for (const std::size_t threads : {1, 2, 5}) {
       set_thread_count(threads);
-      detail::beside_order_for_tests = order;
-      const TriangleGrid grid = TriangleGrid::build(mesh, mesh.positions());
-      detail::beside_order_for_tests = detail::BesideOrder::Shared;
+      const TriangleGrid grid = [&] {
+        const detail::BesideOrderForTests in_order(order);
+        return TriangleGrid::build(mesh, mesh.positions());
+      }();
       EXPECT_EQ(grid.layout_hash(), one.layout_hash()) << int(order) << ", " << threads << " threads";
       EXPECT_EQ(grid.query_points(probes), want) << int(order) << ", " << threads << " threads";
     }
