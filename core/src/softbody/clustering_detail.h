@@ -3,10 +3,10 @@
 // Constants and small helpers of the soft-body clustering (private to core), shared by the files
 // that include it: clustering_build.cpp (Clusters::build), clustering_seeds.cpp (the seed
 // sampling), clustering_split.cpp (splitting particles into connected parts),
-// clustering_apply.cpp (following an edit log) and clustering_report.cpp (stats, checks, radius
-// search). Here: the falloff and the argument checks; the seed sampling's entry point
-// (farthest_point_seeds, over a PointGrid of point_grid.h); the union-find and the grouping of
-// the split; the faces a split walks.
+// clustering_parts.cpp (grouping a particle's members by part), clustering_apply.cpp (following
+// an edit log) and clustering_report.cpp (stats, checks, radius search). Here: the falloff and the
+// argument checks; the seed sampling's entry point (farthest_point_seeds, over a PointGrid of
+// point_grid.h); the union-find and the grouping of the split; the faces a split walks.
 
 #include <algorithm>
 #include <atomic>
@@ -83,79 +83,12 @@ struct PartsScratch {
 // The parts of one particle's members `m` (strictly ascending) from their roots (`root[i]` that
 // of m[i]), without sorting any part: each member is filed under its root's part in the order of
 // `m`, which keeps every part ascending. The parts are numbered by a linear search among the
-// roots met so far (the last one first) while there are at most kLinearRoots of them; past that,
-// by a binary search in the sorted unique list of all the roots. The largest part (the first in
-// root order on ties) is the main one, the others the minors in root order.
-inline Parts parts_by_group(const std::vector<std::uint32_t>& m, const std::vector<std::uint32_t>& root,
-                            PartsScratch& scratch) {
-  constexpr std::size_t kLinearRoots = 16;
-  if (m.empty()) return Parts{};
-  // Up to kLinearRoots parts: roots, sizes and slots on the stack; past that, in the scratch.
-  std::uint32_t linear_roots[kLinearRoots], linear_sizes[kLinearRoots], linear_slot[kLinearRoots];
-  std::vector<std::uint32_t>& group = scratch.group;
-  group.resize(m.size());
-  std::size_t count = 0, last = 0;
-  bool linear = true;
-  for (std::size_t i = 0; i < m.size(); ++i) {
-    assert((i == 0 || m[i - 1] < m[i]) && "parts_by_group: members not strictly ascending");
-    if (count == 0 || linear_roots[last] != root[i]) {
-      last = 0;
-      while (last < count && linear_roots[last] != root[i]) ++last;
-      if (last == count) {
-        if (count == kLinearRoots) {
-          linear = false;
-          break;
-        }
-        linear_roots[count] = root[i];
-        linear_sizes[count++] = 0;
-      }
-    }
-    ++linear_sizes[last];
-    group[i] = static_cast<std::uint32_t>(last);
-  }
-  const std::uint32_t* sizes = linear_sizes;
-  std::uint32_t* slot = linear_slot;  // per part: kInvalidIndex (main) or its minor's index
-  std::uint32_t best = 0;
-  if (linear) {
-    // The parts in root order; the largest (the first in that order on ties) is the main one.
-    std::uint32_t order[kLinearRoots];
-    for (std::uint32_t g = 0; g < count; ++g) order[g] = g;
-    std::sort(order, order + count,
-              [&](std::uint32_t a, std::uint32_t b) { return linear_roots[a] < linear_roots[b]; });
-    best = order[0];
-    for (std::size_t k = 1; k < count; ++k)
-      if (linear_sizes[order[k]] > linear_sizes[best]) best = order[k];
-    for (std::uint32_t k = 0, minor = 0; k < count; ++k)
-      slot[order[k]] = order[k] == best ? kInvalidIndex : minor++;
-  } else {
-    // Numbered by the sorted unique roots: already in root order.
-    std::vector<std::uint32_t>& distinct = scratch.distinct;
-    distinct.assign(root.begin(), root.begin() + static_cast<std::ptrdiff_t>(m.size()));
-    std::sort(distinct.begin(), distinct.end());
-    distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
-    count = distinct.size();
-    scratch.sizes.assign(count, 0);
-    for (std::size_t i = 0; i < m.size(); ++i) {
-      group[i] = static_cast<std::uint32_t>(std::lower_bound(distinct.begin(), distinct.end(), root[i]) -
-                                            distinct.begin());
-      ++scratch.sizes[group[i]];
-    }
-    sizes = scratch.sizes.data();
-    for (std::uint32_t g = 1; g < count; ++g)
-      if (sizes[g] > sizes[best]) best = g;
-    scratch.slot.resize(count);
-    slot = scratch.slot.data();
-    for (std::uint32_t g = 0, minor = 0; g < count; ++g) slot[g] = g == best ? kInvalidIndex : minor++;
-  }
-  Parts parts;
-  parts.minors.resize(count - 1);
-  auto out = [&](std::uint32_t g) -> std::vector<std::uint32_t>& {
-    return slot[g] == kInvalidIndex ? parts.main : parts.minors[slot[g]];
-  };
-  for (std::uint32_t g = 0; g < count; ++g) out(g).reserve(sizes[g]);
-  for (std::size_t i = 0; i < m.size(); ++i) out(group[i]).push_back(m[i]);
-  return parts;
-}
+// roots met so far (the last one first) while there are at most kLinearRoots (16) of them; past
+// that, by a binary search in the sorted unique list of all the roots. The largest part (the first
+// in root order on ties) is the main one, the others the minors in root order. In
+// clustering_parts.cpp.
+Parts parts_by_group(const std::vector<std::uint32_t>& m, const std::vector<std::uint32_t>& root,
+                     PartsScratch& scratch);
 
 // A union-find over [0, n), every element a set of its own at first (set up in parallel), whose
 // unions may run on several threads at once. The smaller root always wins, so a set's root is its
