@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 
@@ -155,7 +156,6 @@ void SurfaceMapper::ComputeBounds() {
       std::copy(kept, kept + 6, Bounds);
       return;
     }
-    ++cells_bounds_passes_;
   }
   Superclass::ComputeBounds();
 }

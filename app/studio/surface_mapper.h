@@ -15,7 +15,6 @@
 
 #include <vtkOpenGLPolyDataMapper.h>
 
-#include <cstddef>
 #include <string>
 
 namespace deepcut::studio {
@@ -29,8 +28,6 @@ class SurfaceMapper : public vtkOpenGLPolyDataMapper {
   /// (what vtkPolyData::GetCellsBounds would compute): this mapper's bounds while `poly`'s points
   /// and cells stay unchanged (its GetMeshMTime), in place of VTK's pass over every cell.
   static void keep_cells_bounds(vtkPolyData* poly, const double bounds[6]);
-  /// How many times this mapper's bounds were computed by VTK's pass over the cells.
-  std::size_t cells_bounds_passes() const { return cells_bounds_passes_; }
 
  protected:
   SurfaceMapper() = default;
@@ -48,7 +45,6 @@ class SurfaceMapper : public vtkOpenGLPolyDataMapper {
   /// The cells the triangle buffer was last built from here; empty while VTK's own build (or
   /// none) is current.
   std::string built_;
-  std::size_t cells_bounds_passes_ = 0;
 };
 
 }  // namespace deepcut::studio
