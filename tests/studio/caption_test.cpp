@@ -23,11 +23,15 @@
 #include <utility>
 #include <vector>
 
+#include "offscreen_frames.h"
 #include "scene_view_caption.h"
 
 namespace {
 
 using deepcut::studio::CaptionActor;
+using deepcut::test::studio::frame_of;
+using deepcut::test::studio::offscreen_window;
+using deepcut::test::studio::same_pixels;
 
 /// One renderer with the caption, one with the corner annotation, kept across frames (both keep
 /// the size they drew at: the next fit starts there).
@@ -54,21 +58,6 @@ struct Pair {
   }
 };
 
-vtkSmartPointer<vtkUnsignedCharArray> frame(vtkRenderWindow* window, vtkRenderer* renderer) {
-  window->AddRenderer(renderer);
-  window->Render();
-  const int* size = window->GetSize();
-  auto pixels = vtkSmartPointer<vtkUnsignedCharArray>::New();
-  window->GetPixelData(0, 0, size[0] - 1, size[1] - 1, 1, pixels);
-  window->RemoveRenderer(renderer);
-  return pixels;
-}
-
-bool same(vtkUnsignedCharArray* a, vtkUnsignedCharArray* b) {
-  return a->GetNumberOfValues() == b->GetNumberOfValues() &&
-         std::equal(a->GetPointer(0), a->GetPointer(0) + a->GetNumberOfValues(), b->GetPointer(0));
-}
-
 // Whether any pixel is well above the background (at most 41): the text drew.
 bool has_text(vtkUnsignedCharArray* a) {
   return std::any_of(a->GetPointer(0), a->GetPointer(0) + a->GetNumberOfValues(),
@@ -88,13 +77,13 @@ const std::vector<std::string>& texts() {
 // Renders both renderers in `window` at its size and says how the frames differ ("" when they
 // are the same and, where the caption is drawn, both show text).
 std::string compare(vtkRenderWindow* window, Pair& pair, const std::string& what) {
-  vtkSmartPointer<vtkUnsignedCharArray> a = frame(window, pair.with_ours);
-  vtkSmartPointer<vtkUnsignedCharArray> b = frame(window, pair.with_theirs);
+  vtkSmartPointer<vtkUnsignedCharArray> a = frame_of(window, pair.with_ours);
+  vtkSmartPointer<vtkUnsignedCharArray> b = frame_of(window, pair.with_theirs);
   const int* size = window->GetSize();
   const std::string where = what + " in " + std::to_string(size[0]) + " x " + std::to_string(size[1]) +
                             " at " + std::to_string(window->GetDPI()) + " dpi, size " +
                             std::to_string(pair.ours->font_size());
-  if (!same(a, b)) return "frames differ: " + where;
+  if (!same_pixels(a, b)) return "frames differ: " + where;
   const bool drawn = pair.ours->font_size() >= CaptionActor::kMinimumFontSize &&
                      !std::string(pair.theirs->GetText(vtkCornerAnnotation::UpperLeft)).empty();
   if (drawn && !(has_text(a) && has_text(b))) return "no text drawn: " + where;
@@ -129,21 +118,14 @@ class CaptionTest : public QObject {
   Q_OBJECT
 
  private slots:
-  void initTestCase();
   void frames_equal_the_corner_annotations();
   void frames_equal_where_the_text_just_fits();
   void tokens_are_drawn_as_given();
   void a_wide_view_measures_the_text_once();
 
  private:
-  // One window for every case (see surface_mapper_test.cpp).
-  vtkNew<vtkRenderWindow> window_;
+  vtkSmartPointer<vtkRenderWindow> window_ = offscreen_window(200, 150);  // for every case
 };
-
-void CaptionTest::initTestCase() {
-  window_->SetOffScreenRendering(1);
-  window_->SetSize(200, 150);
-}
 
 void CaptionTest::frames_equal_the_corner_annotations() {
   // Wide, narrow (the fit below the maximum), tiny (not drawn), back to wide, and sizes between.
@@ -182,12 +164,12 @@ void CaptionTest::frames_equal_the_corner_annotations() {
     // Empty text draws nothing, blank text (it measures above 0 x 0 with this font: fitted and
     // drawn), then text again.
     pair.set_text("");
-    QVERIFY(same(frame(window_, pair.with_ours), frame(window_, pair.with_theirs)));
+    QVERIFY(same_pixels(frame_of(window_, pair.with_ours), frame_of(window_, pair.with_theirs)));
     for (const char* blank : {" ", "\n", "  \n "}) {
       pair.set_text(blank);
-      QVERIFY(same(frame(window_, pair.with_ours), frame(window_, pair.with_theirs)));
+      QVERIFY(same_pixels(frame_of(window_, pair.with_ours), frame_of(window_, pair.with_theirs)));
       window_->SetSize(500, 300);
-      QVERIFY(same(frame(window_, pair.with_ours), frame(window_, pair.with_theirs)));
+      QVERIFY(same_pixels(frame_of(window_, pair.with_ours), frame_of(window_, pair.with_theirs)));
     }
     pair.set_text(texts()[0]);
     const std::string error = compare(window_, pair, "text after none");
@@ -210,7 +192,7 @@ void CaptionTest::frames_equal_where_the_text_just_fits() {
     for (int w = edge - 2; w <= edge + 2; ++w) {
       for (const int before : {edge + 40, 16}) {
         window_->SetSize(before, 200);
-        QVERIFY(same(frame(window_, pair.with_ours), frame(window_, pair.with_theirs)));
+        QVERIFY(same_pixels(frame_of(window_, pair.with_ours), frame_of(window_, pair.with_theirs)));
         window_->SetSize(w, 200);
         const std::string error = compare(
             window_, pair,
@@ -228,7 +210,7 @@ void CaptionTest::frames_equal_where_the_text_just_fits() {
   for (int h = edge - 2; h <= edge + 2; ++h) {
     for (const int before : {700, 12}) {
       window_->SetSize(1000, before);
-      QVERIFY(same(frame(window_, pair.with_ours), frame(window_, pair.with_theirs)));
+      QVERIFY(same_pixels(frame_of(window_, pair.with_ours), frame_of(window_, pair.with_theirs)));
       window_->SetSize(1000, h);
       const std::string error = compare(window_, pair, "4 lines from " + std::to_string(before) + " high");
       QVERIFY2(error.empty(), error.c_str());
@@ -247,12 +229,12 @@ void CaptionTest::tokens_are_drawn_as_given() {
   Pair with_token, without;
   with_token.set_text("<slice>.glb  |  Materials");
   without.set_text(".glb  |  Materials");
-  vtkSmartPointer<vtkUnsignedCharArray> ours = frame(window_, with_token.with_ours);
-  vtkSmartPointer<vtkUnsignedCharArray> theirs = frame(window_, with_token.with_theirs);
+  vtkSmartPointer<vtkUnsignedCharArray> ours = frame_of(window_, with_token.with_ours);
+  vtkSmartPointer<vtkUnsignedCharArray> theirs = frame_of(window_, with_token.with_theirs);
   QVERIFY(has_text(ours));
   QVERIFY(has_text(theirs));
-  QVERIFY(!same(ours, theirs));
-  QVERIFY(same(theirs, frame(window_, without.with_ours)));
+  QVERIFY(!same_pixels(ours, theirs));
+  QVERIFY(same_pixels(theirs, frame_of(window_, without.with_ours)));
 
   QCOMPARE(with_token.ours->font_size(), CaptionActor::kMaximumFontSize);
   vtkNew<vtkTextMapper> mapper;
@@ -268,24 +250,24 @@ void CaptionTest::tokens_are_drawn_as_given() {
   vtkNew<vtkRenderer> with_plain;
   with_plain->SetBackground(0.13, 0.14, 0.16);
   with_plain->AddViewProp(plain);
-  QVERIFY(same(ours, frame(window_, with_plain)));
+  QVERIFY(same_pixels(ours, frame_of(window_, with_plain)));
 }
 
 void CaptionTest::a_wide_view_measures_the_text_once() {
   Pair pair;
   window_->SetSize(1000, 700);
   pair.set_text("cactus_1000000.glb  |  Materials");
-  frame(window_, pair.with_ours);
+  frame_of(window_, pair.with_ours);
   QCOMPARE(pair.ours->font_size(), CaptionActor::kMaximumFontSize);
   QCOMPARE(pair.ours->sizes_measured(), 1);
   pair.set_text("cactus_1000000.glb  |  Mesh statistics\n999,656 triangles");
-  frame(window_, pair.with_ours);
+  frame_of(window_, pair.with_ours);
   QCOMPARE(pair.ours->sizes_measured(), 2);
-  frame(window_, pair.with_ours);  // unchanged: no fit
+  frame_of(window_, pair.with_ours);  // unchanged: no fit
   QCOMPARE(pair.ours->sizes_measured(), 2);
   // Narrow: the search, more sizes, a smaller one.
   window_->SetSize(120, 90);
-  frame(window_, pair.with_ours);
+  frame_of(window_, pair.with_ours);
   QVERIFY(pair.ours->sizes_measured() > 3);
   QVERIFY(pair.ours->font_size() < CaptionActor::kMaximumFontSize);
   // From a drawn size of 8 (fitted 4) into a view where the text at 6 is exactly at the limit:
@@ -294,11 +276,11 @@ void CaptionTest::a_wide_view_measures_the_text_once() {
   vtkTextProperty* style = pair.ours->GetTextProperty();
   pair.set_text(text);
   window_->SetSize(view_for(extent_at(window_, style, text, 4).first), 700);
-  frame(window_, pair.with_ours);
+  frame_of(window_, pair.with_ours);
   QCOMPARE(pair.ours->font_size(), 8);
   const int before = pair.ours->sizes_measured();
   window_->SetSize(view_for(extent_at(window_, style, text, 6).first), 700);
-  frame(window_, pair.with_ours);
+  frame_of(window_, pair.with_ours);
   QCOMPARE(pair.ours->font_size(), 12);
   QCOMPARE(pair.ours->sizes_measured() - before, 3);
 }

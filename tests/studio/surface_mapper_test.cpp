@@ -27,7 +27,13 @@
 #include <cmath>
 #include <string>
 
+#include "offscreen_frames.h"
+
 namespace {
+
+using deepcut::test::studio::frame_of;
+using deepcut::test::studio::offscreen_window;
+using deepcut::test::studio::same_pixels;
 
 /// The mapper, with the size of the triangle buffer it drew with.
 class ProbedMapper : public deepcut::studio::SurfaceMapper {
@@ -78,12 +84,7 @@ struct Kept {
   }
   vtkSmartPointer<vtkUnsignedCharArray> frame(vtkRenderWindow* window, int representation) {
     actor->GetProperty()->SetRepresentation(representation);
-    window->AddRenderer(renderer);
-    window->Render();
-    auto pixels = vtkSmartPointer<vtkUnsignedCharArray>::New();
-    window->GetPixelData(0, 0, 159, 159, 1, pixels);
-    window->RemoveRenderer(renderer);
-    return pixels;
+    return frame_of(window, renderer);
   }
 };
 
@@ -95,33 +96,20 @@ vtkSmartPointer<vtkUnsignedCharArray> frame(vtkRenderWindow* window, vtkPolyData
   return kept.frame(window, VTK_SURFACE);
 }
 
-bool same(vtkUnsignedCharArray* a, vtkUnsignedCharArray* b) {
-  if (a->GetNumberOfValues() != b->GetNumberOfValues()) return false;
-  return std::equal(a->GetPointer(0), a->GetPointer(0) + a->GetNumberOfValues(), b->GetPointer(0));
-}
-
 }  // namespace
 
 class SurfaceMapperTest : public QObject {
   Q_OBJECT
 
  private slots:
-  void initTestCase();
   void frames_equal_vtks_own_mapper_and_follow_every_change();
   void one_actor_switching_representations_draws_as_vtk_does();
   void cells_other_than_triangles_take_vtks_build();
   void an_upload_without_mapping_draws_the_same();
 
  private:
-  // One window for every case: a window closed and another opened at once can find the X server
-  // resetting after its last client left.
-  vtkNew<vtkRenderWindow> window_;
+  vtkSmartPointer<vtkRenderWindow> window_ = offscreen_window(160, 160);  // for every case
 };
-
-void SurfaceMapperTest::initTestCase() {
-  window_->SetOffScreenRendering(1);
-  window_->SetSize(160, 160);
-}
 
 void SurfaceMapperTest::frames_equal_vtks_own_mapper_and_follow_every_change() {
   vtkRenderWindow* window = window_;
@@ -132,7 +120,7 @@ void SurfaceMapperTest::frames_equal_vtks_own_mapper_and_follow_every_change() {
   auto check = [&](bool edges) {
     vtkSmartPointer<vtkUnsignedCharArray> a = frame(window, ours, poly, edges);
     vtkSmartPointer<vtkUnsignedCharArray> b = frame(window, theirs, poly, edges);
-    QVERIFY(same(a, b));
+    QVERIFY(same_pixels(a, b));
   };
   check(false);
   QCOMPARE(ours->triangle_indices(), std::size_t(3 * cells));  // VTK's own: 3 * (cells - 1)
@@ -175,7 +163,7 @@ void SurfaceMapperTest::one_actor_switching_representations_draws_as_vtk_does() 
   for (int representation : {VTK_SURFACE, VTK_WIREFRAME, VTK_SURFACE, VTK_WIREFRAME, VTK_POINTS, VTK_SURFACE}) {
     vtkSmartPointer<vtkUnsignedCharArray> x = a.frame(window, representation);
     vtkSmartPointer<vtkUnsignedCharArray> y = b.frame(window, representation);
-    QVERIFY2(same(x, y), ("representation " + std::to_string(representation)).c_str());
+    QVERIFY2(same_pixels(x, y), ("representation " + std::to_string(representation)).c_str());
   }
   QCOMPARE(ours->triangle_indices(), std::size_t(3 * poly->GetNumberOfCells()));  // its own again
 }
@@ -197,7 +185,7 @@ void SurfaceMapperTest::cells_other_than_triangles_take_vtks_build() {
   vtkNew<vtkPolyDataMapper> theirs;
   vtkSmartPointer<vtkUnsignedCharArray> x = frame(window, ours, poly, false);
   vtkSmartPointer<vtkUnsignedCharArray> y = frame(window, theirs, poly, false);
-  QVERIFY(same(x, y));
+  QVERIFY(same_pixels(x, y));
   QCOMPARE(ours->triangle_indices(), std::size_t(6));  // the quad's two triangles, VTK's build
 }
 
@@ -210,7 +198,7 @@ void SurfaceMapperTest::an_upload_without_mapping_draws_the_same() {
   vtkNew<vtkPolyDataMapper> theirs;
   vtkSmartPointer<vtkUnsignedCharArray> x = frame(window, ours, poly, false);
   vtkSmartPointer<vtkUnsignedCharArray> y = frame(window, theirs, poly, false);
-  QVERIFY(same(x, y));
+  QVERIFY(same_pixels(x, y));
   QVERIFY(!ours->mapped());
   QCOMPARE(ours->triangle_indices(), std::size_t(3 * poly->GetNumberOfCells()));
 }
