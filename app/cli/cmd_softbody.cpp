@@ -7,15 +7,18 @@
 #include <iostream>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <string>
+#include <utility>
+#include <vector>
 
-#include "commands.h"
 #include "args.h"
-#include "operation_report.h"
+#include "commands.h"
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/posed_model.h"
-#include "deepcut/plugins/formats.h"
 #include "deepcut/core/softbody/clustering.h"
 #include "deepcut/core/softbody/simulation.h"
+#include "deepcut/plugins/formats.h"
+#include "operation_report.h"
 
 namespace deepcut::cli {
 namespace {
@@ -268,137 +271,246 @@ const CommandSpec& softbody_command() {
   return spec;
 }
 
-int run_softbody(const std::vector<std::string>& argv) {
-  const Args args(argv, softbody_command());
-  const std::string path = model_path(args, "softbody");
+namespace {
+
+/// What softbody steps: the point poked, the frames and their length, the springs.
+struct StepOptions {
+  glm::vec3 point{0.0f};
+  int frames = 60;
+  float dt = 1.0f / 30.0f;
+  SoftBodyOptions sim;
+};
+
+StepOptions step_options(const Args& args) {
   if (!args.has("--poke"))
     throw UsageError("softbody needs --poke X,Y,Z (world space of the pose at --time)");
-  const glm::vec3 point = to_vec3(args.vector("--poke", 3));
+  StepOptions o;
+  o.point = to_vec3(args.vector("--poke", 3));
   const double frames_d = args.number("--frames", 60);
   if (!(frames_d >= 1 && frames_d <= 100000) || frames_d != std::floor(frames_d))
     throw UsageError("--frames must be a whole number between 1 and 100000");
-  const auto frames = static_cast<int>(frames_d);
-  const auto dt = static_cast<float>(args.number("--dt", 1.0 / 30.0));
-  if (!(dt > 0.0f && dt <= 1.0f)) throw UsageError("--dt must lie in (0, 1] seconds");
-  SoftBodyOptions sim;
-  sim.stiffness = static_cast<float>(args.number("--stiffness", sim.stiffness));
-  sim.damping = static_cast<float>(args.number("--damping", sim.damping));
-  sim.mass = static_cast<float>(args.number("--mass", sim.mass));
+  o.frames = static_cast<int>(frames_d);
+  o.dt = static_cast<float>(args.number("--dt", 1.0 / 30.0));
+  if (!(o.dt > 0.0f && o.dt <= 1.0f)) throw UsageError("--dt must lie in (0, 1] seconds");
+  o.sim.stiffness = static_cast<float>(args.number("--stiffness", o.sim.stiffness));
+  o.sim.damping = static_cast<float>(args.number("--damping", o.sim.damping));
+  o.sim.mass = static_cast<float>(args.number("--mass", o.sim.mass));
+  return o;
+}
 
-  const Model model = plugins::read_model(path);
-  print_problems(std::cerr, path, model.import_problems);
-  int animation = animation_option(args, model.animations.size());
-  const bool animate = args.flag("--animate");
-  if (animate && model.animations.empty()) throw UsageError("--animate: the model has no animation");
-  if (animate && animation < 0)
+/// The pose softbody plays (--animation, --time, --animate) and the model's problems with those
+/// of the pose after them (the pose's printed to stderr here).
+struct PlayedPose {
+  int animation = -1;  ///< -1: the rest pose
+  bool animate = false;
+  float start = 0.0f;
+  std::vector<ImportProblem> problems;
+};
+
+PlayedPose played_pose(const Args& args, const Model& model, const std::string& path) {
+  PlayedPose p;
+  p.animation = animation_option(args, model.animations.size());
+  p.animate = args.flag("--animate");
+  if (p.animate && model.animations.empty()) throw UsageError("--animate: the model has no animation");
+  if (p.animate && p.animation < 0)
     throw UsageError("--animate needs an animation to play; --animation -1 is the rest pose");
-  if (!animate && !args.has("--time")) animation = -1;
-  const auto t_start = static_cast<float>(args.number("--time", 0.0));
+  if (!p.animate && !args.has("--time")) p.animation = -1;
+  p.start = static_cast<float>(args.number("--time", 0.0));
   const std::vector<ImportProblem> pose = pose_problems(args, model);
   print_problems(std::cerr, path, pose);
-  std::vector<ImportProblem> problems = model.import_problems;
-  problems.insert(problems.end(), pose.begin(), pose.end());
+  p.problems = model.import_problems;
+  p.problems.insert(p.problems.end(), pose.begin(), pose.end());
+  return p;
+}
 
-  const PosedModel rest = PosedModel::build(model, -1, 0.0f, PoseDetail::Positions);
-  const auto inst = instances(model, rest);
-  const ClusterChoice choice = choose_clusters(args, inst, "--rho", 224);
-  Clustered c = cluster_all(inst, choice.options);
-  const float poke_radius = static_cast<float>(args.number("--radius", 1.5 * choice.options.radius));
-  if (!(poke_radius > 0.0f)) throw UsageError("--radius must be positive");
-
-  // Posed positions of every instance at time t (the rest pose when not animating).
-  PosedModel at_time;
-  auto pose_at = [&](float t) {
-    at_time.repose(model, animation, t);
+/// The posed positions of every instance at a time of one animation (-1: the rest pose).
+class InstancePoser {
+ public:
+  InstancePoser(const Model& model, const std::vector<Instance>& inst, int animation)
+      : model_(model), inst_(inst), animation_(animation) {}
+  std::vector<std::vector<glm::vec3>> operator()(float t) {
+    at_time_.repose(model_, animation_, t);
     std::vector<std::vector<glm::vec3>> out;
-    for (const auto& i : inst) out.push_back(at_time.find(i.rest->node, i.rest->primitive)->posed);
+    for (const auto& i : inst_) out.push_back(at_time_.find(i.rest->node, i.rest->primitive)->posed);
     return out;
-  };
-  auto posed = pose_at(t_start);
+  }
+
+ private:
+  const Model& model_;
+  const std::vector<Instance>& inst_;
+  int animation_;
+  PosedModel at_time_;
+};
+
+/// The diagonal of the bounding box of the points the instances' faces use.
+float drawn_diagonal(const std::vector<Instance>& inst, const std::vector<std::vector<glm::vec3>>& posed) {
   BoundingBox box;
   for (std::size_t k = 0; k < inst.size(); ++k)
     inst[k].mesh->for_each_face([&](FaceId, const Triangle& t) {
       for (const VertexId v : t) box.add(posed[k][v.index]);
     });
-  const float size = box.diagonal();
+  return box.diagonal();
+}
 
-  const glm::vec3 impulse = poke_impulse(args, inst, posed, point, poke_radius, size, sim.mass);
-
-  std::vector<SoftBodyState> states;
+/// One soft body per instance (into `states`), each poked at `point`. @returns how many particles
+/// the poke reached. @throws Error when it reaches none.
+std::size_t poke_all(const Clustered& c, const std::vector<std::vector<glm::vec3>>& posed,
+                     const StepOptions& o, const glm::vec3& impulse, float poke_radius,
+                     std::vector<SoftBodyState>& states) {
   std::size_t reached = 0;
-  for (std::size_t k = 0; k < inst.size(); ++k) {
+  for (std::size_t k = 0; k < c.clusters.size(); ++k) {
     states.push_back(make_soft_body(c.clusters[k]));
-    reached += poke(states[k], c.clusters[k], posed[k], point, impulse, poke_radius, sim);
+    reached += poke(states[k], c.clusters[k], posed[k], o.point, impulse, poke_radius, o.sim);
   }
   if (reached == 0)
-    throw Error(ErrorCode::InvalidArgument, "softbody: the poke at (" + std::to_string(point.x) + ", " +
-                                                std::to_string(point.y) + ", " + std::to_string(point.z) +
+    throw Error(ErrorCode::InvalidArgument, "softbody: the poke at (" + std::to_string(o.point.x) + ", " +
+                                                std::to_string(o.point.y) + ", " + std::to_string(o.point.z) +
                                                 ") with radius " + std::to_string(poke_radius) +
                                                 " reaches no particle");
+  return reached;
+}
 
-  // Step: springs, then the vertices (skinned pose + displacement), as the studio does per frame.
-  std::vector<double> max_disp;
-  std::vector<glm::vec3> deformed;
+/// Throws when a frame's displacement left float range (an impulse this large: the input's fault).
+void check_finite(float max_displacement, const std::vector<glm::vec3>& deformed, int frame) {
+  const bool overflow = !std::isfinite(max_displacement) ||
+                        std::any_of(deformed.begin(), deformed.end(), [](const glm::vec3& p) {
+                          return !std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z);
+                        });
+  if (overflow)
+    throw Error(ErrorCode::InvalidArgument, "the displacement overflows at frame " + std::to_string(frame) +
+                                                "; use a smaller --speed or --impulse");
+}
+
+/// The frames stepped: the largest vertex displacement of each, and the time the steps took.
+struct Stepped {
+  std::vector<double> max_displacement;
   double step_ms = 0.0;
-  float t = t_start;
-  for (int f = 0; f < frames; ++f) {
-    if (animate) {
-      t += dt;
+};
+
+/// Steps every soft body frame by frame: springs, then the vertices (skinned pose + displacement),
+/// as the studio does per frame; the pose moves on with the animation when `play.animate`.
+Stepped step_frames(const StepOptions& o, const PlayedPose& play, InstancePoser& pose_at,
+                    std::vector<std::vector<glm::vec3>> posed, const Clustered& c,
+                    std::vector<SoftBodyState>& states) {
+  Stepped out;
+  std::vector<glm::vec3> deformed;
+  float t = play.start;
+  for (int f = 0; f < o.frames; ++f) {
+    if (play.animate) {
+      t += o.dt;
       posed = pose_at(t);
     }
     const auto t0 = Clock::now();
     float m = 0.0f;
-    for (std::size_t k = 0; k < inst.size(); ++k) {
-      step_soft_body(states[k], dt, sim);
+    for (std::size_t k = 0; k < states.size(); ++k) {
+      step_soft_body(states[k], o.dt, o.sim);
       m = std::max(m, deformed_positions(states[k], c.clusters[k], posed[k], deformed));
-      // An impulse this large drives the displacement past float range: the input's fault.
-      const bool overflow = !std::isfinite(m) || std::any_of(deformed.begin(), deformed.end(), [](const glm::vec3& p) {
-                              return !std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z);
-                            });
-      if (overflow)
-        throw Error(ErrorCode::InvalidArgument,
-                    "the displacement overflows at frame " + std::to_string(f) +
-                        "; use a smaller --speed or --impulse");
+      check_finite(m, deformed, f);
     }
-    step_ms += ms_since(t0);
-    max_disp.push_back(m);
+    out.step_ms += ms_since(t0);
+    out.max_displacement.push_back(m);
   }
+  return out;
+}
+
+/// What softbody reports.
+struct PokeReport {
+  std::string path;
+  float rho = 0.0f;
+  std::size_t particles = 0;
+  double cluster_ms = 0.0;
+  glm::vec3 point{0.0f}, impulse{0.0f};
+  float poke_radius = 0.0f;
+  std::size_t reached = 0;
+  int frames = 0;
+  float dt = 0.0f;
+  bool animated = false;
+  float size = 0.0f;  ///< the model's size (its drawn bounding box's diagonal)
+  Stepped stepped;
+  std::vector<ImportProblem> problems;
+};
+
+void print_json(const PokeReport& r) {
+  const std::vector<double>& max_disp = r.stepped.max_displacement;
   const auto peak = std::max_element(max_disp.begin(), max_disp.end());
   const std::size_t peak_frame = static_cast<std::size_t>(peak - max_disp.begin());
-  if (args.flag("--json")) {
-    std::cout << json{{"file", path},
-                      {"rho", choice.options.radius},
-                      {"particles", c.total.particles},
-                      {"cluster_ms", c.ms},
-                      {"poke",
-                       {{"point", to_json(point)}, {"radius", poke_radius}, {"impulse", to_json(impulse)}}},
-                      {"particles_reached", reached},
-                      {"frames", frames},
-                      {"dt", dt},
-                      {"animated", animate},
-                      {"model_size", size},
-                      {"max_displacement", max_disp},
-                      {"peak", *peak},
-                      {"peak_frame", peak_frame},
-                      {"final", max_disp.back()},
-                      {"final_relative", size > 0.0f ? max_disp.back() / size : 0.0},
-                      {"problems", problems_report(problems)},
-                      {"step_ms", step_ms / frames}}
-                     .dump(2)
-              << "\n";
-    return 0;
-  }
-  std::cout << path << "\n"
-            << "  particles " << c.total.particles << " (rho " << choice.options.radius << "), poke reached "
-            << reached << "\n"
+  std::cout
+      << json{{"file", r.path},
+              {"rho", r.rho},
+              {"particles", r.particles},
+              {"cluster_ms", r.cluster_ms},
+              {"poke",
+               {{"point", to_json(r.point)}, {"radius", r.poke_radius}, {"impulse", to_json(r.impulse)}}},
+              {"particles_reached", r.reached},
+              {"frames", r.frames},
+              {"dt", r.dt},
+              {"animated", r.animated},
+              {"model_size", r.size},
+              {"max_displacement", max_disp},
+              {"peak", *peak},
+              {"peak_frame", peak_frame},
+              {"final", max_disp.back()},
+              {"final_relative", r.size > 0.0f ? max_disp.back() / r.size : 0.0},
+              {"problems", problems_report(r.problems)},
+              {"step_ms", r.stepped.step_ms / r.frames}}
+             .dump(2)
+      << "\n";
+}
+
+void print_text(const PokeReport& r) {
+  const std::vector<double>& max_disp = r.stepped.max_displacement;
+  const auto peak = std::max_element(max_disp.begin(), max_disp.end());
+  const std::size_t peak_frame = static_cast<std::size_t>(peak - max_disp.begin());
+  std::cout << r.path << "\n"
+            << "  particles " << r.particles << " (rho " << r.rho << "), poke reached " << r.reached << "\n"
             << "  max displacement: peak " << *peak << " at frame " << peak_frame << ", final "
-            << max_disp.back() << " (" << (size > 0.0f ? max_disp.back() / size : 0.0)
-            << " of the model size) after " << frames << " frames of " << dt << " s\n"
-            << "  step + vertex update " << std::fixed << std::setprecision(4) << step_ms / frames
+            << max_disp.back() << " (" << (r.size > 0.0f ? max_disp.back() / r.size : 0.0)
+            << " of the model size) after " << r.frames << " frames of " << r.dt << " s\n"
+            << "  step + vertex update " << std::fixed << std::setprecision(4) << r.stepped.step_ms / r.frames
             << " ms per frame\n";
-  for (int f = 0; f < frames; ++f)
+  for (int f = 0; f < r.frames; ++f)
     std::cout << "    frame " << std::setw(4) << f << "  " << std::scientific << std::setprecision(3)
-              << max_disp[f] << std::fixed << "\n";
+              << max_disp[static_cast<std::size_t>(f)] << std::fixed << "\n";
+}
+
+}  // namespace
+
+int run_softbody(const std::vector<std::string>& argv) {
+  const Args args(argv, softbody_command());
+  PokeReport r;
+  r.path = model_path(args, "softbody");
+  const StepOptions o = step_options(args);
+  const Model model = plugins::read_model(r.path);
+  print_problems(std::cerr, r.path, model.import_problems);
+  PlayedPose play = played_pose(args, model, r.path);
+
+  const PosedModel rest = PosedModel::build(model, -1, 0.0f, PoseDetail::Positions);
+  const auto inst = instances(model, rest);
+  const ClusterChoice choice = choose_clusters(args, inst, "--rho", 224);
+  const Clustered c = cluster_all(inst, choice.options);
+  r.poke_radius = static_cast<float>(args.number("--radius", 1.5 * choice.options.radius));
+  if (!(r.poke_radius > 0.0f)) throw UsageError("--radius must be positive");
+
+  InstancePoser pose_at(model, inst, play.animation);
+  std::vector<std::vector<glm::vec3>> posed = pose_at(play.start);
+  r.size = drawn_diagonal(inst, posed);
+  r.impulse = poke_impulse(args, inst, posed, o.point, r.poke_radius, r.size, o.sim.mass);
+  std::vector<SoftBodyState> states;
+  r.reached = poke_all(c, posed, o, r.impulse, r.poke_radius, states);
+  r.stepped = step_frames(o, play, pose_at, std::move(posed), c, states);
+
+  r.rho = choice.options.radius;
+  r.particles = c.total.particles;
+  r.cluster_ms = c.ms;
+  r.point = o.point;
+  r.frames = o.frames;
+  r.dt = o.dt;
+  r.animated = play.animate;
+  r.problems = std::move(play.problems);
+  if (args.flag("--json"))
+    print_json(r);
+  else
+    print_text(r);
   return 0;
 }
 
