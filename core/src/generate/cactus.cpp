@@ -267,53 +267,71 @@ double rib_factor(int ribs, double theta) {
   return 1.0 - kRibAmplitude + 2.0 * kRibAmplitude * std::abs(std::sin(0.5 * ribs * theta));
 }
 
-/// Sweeps one closed limb with `rings` rings (poles excluded) into `b`.
-void sweep_limb(const LimbSpec& spec, int rings, Builder& b) {
-  const int seg = spec.segments();
-  const Meridian meridian = spec.meridian();
-  const double total_arc = meridian.length();
-  const auto vbase = static_cast<std::uint32_t>(b.mesh.vertex_count());
-  const std::uint32_t pole0 = vbase;
-  const std::uint32_t pole1 = vbase + 1 + static_cast<std::uint32_t>(rings * seg);
-  auto ring_vertex = [&](int k, int j) {
-    return vbase + 1 + static_cast<std::uint32_t>(k * seg + (j % seg));
-  };
+/// Unit-circle directions and radius factors of a limb's cross-section, one per column.
+struct Columns {
+  std::vector<double> cos_t, sin_t, factor;
+};
 
-  // Unit-circle directions and radius factors, one per column.
-  std::vector<double> cos_t(seg), sin_t(seg), factor(seg);
+Columns limb_columns(const LimbSpec& spec) {
+  const int seg = spec.segments();
+  Columns c{std::vector<double>(seg), std::vector<double>(seg), std::vector<double>(seg)};
   for (int j = 0; j < seg; ++j) {
     const double theta = 2.0 * geometry::kPi * j / seg;
-    cos_t[j] = std::cos(theta);
-    sin_t[j] = std::sin(theta);
-    factor[j] = j % spec.segments_per_rib == 0 ? 1.0 - kRibAmplitude : rib_factor(spec.ribs, theta);
+    c.cos_t[j] = std::cos(theta);
+    c.sin_t[j] = std::sin(theta);
+    c.factor[j] = j % spec.segments_per_rib == 0 ? 1.0 - kRibAmplitude : rib_factor(spec.ribs, theta);
   }
+  return c;
+}
 
-  // Ring centres, radii and spine coordinates along the meridian (uniform in meridian arc length).
-  std::vector<glm::dvec3> centre(rings), tangent(rings);
-  std::vector<double> radius(rings), spine_s(rings);
-  for (int k = 0; k < rings; ++k) {
-    meridian.eval(total_arc * (k + 1) / (rings + 1), spine_s[k], radius[k]);
-    spec.spine.eval(spine_s[k], centre[k], tangent[k]);
-  }
+/// A limb's rings (poles excluded): centres, tangents, radii and spine coordinates along the
+/// meridian (uniform in meridian arc length), and each ring's theta = 0 direction.
+struct Rings {
+  std::vector<glm::dvec3> centre, tangent, normal;
+  std::vector<double> radius, spine_s;
+};
 
-  // Rotation-minimising frame by double reflection; `normal` is the theta = 0 direction.
-  std::vector<glm::dvec3> normal(rings);
-  normal[0] = glm::normalize(spec.seam_dir - glm::dot(spec.seam_dir, tangent[0]) * tangent[0]);
-  for (int k = 0; k + 1 < rings; ++k) {
-    const glm::dvec3 v1 = centre[k + 1] - centre[k];
+/// The theta = 0 directions of `r`'s rings: a rotation-minimising frame by double reflection,
+/// starting from the seam direction.
+void rotation_minimising_normals(const LimbSpec& spec, Rings& r) {
+  const std::size_t rings = r.centre.size();
+  r.normal.assign(rings, glm::dvec3(0.0));
+  r.normal[0] = glm::normalize(spec.seam_dir - glm::dot(spec.seam_dir, r.tangent[0]) * r.tangent[0]);
+  for (std::size_t k = 0; k + 1 < rings; ++k) {
+    const glm::dvec3 v1 = r.centre[k + 1] - r.centre[k];
     const double c1 = glm::dot(v1, v1);
-    glm::dvec3 r = normal[k], t = tangent[k];
+    glm::dvec3 n = r.normal[k], t = r.tangent[k];
     if (c1 > 0.0) {
-      r -= (2.0 / c1) * glm::dot(v1, r) * v1;
+      n -= (2.0 / c1) * glm::dot(v1, n) * v1;
       t -= (2.0 / c1) * glm::dot(v1, t) * v1;
     }
-    const glm::dvec3 v2 = tangent[k + 1] - t;
+    const glm::dvec3 v2 = r.tangent[k + 1] - t;
     const double c2 = glm::dot(v2, v2);
-    if (c2 > 1e-30) r -= (2.0 / c2) * glm::dot(v2, r) * v2;
-    normal[k + 1] = glm::normalize(r - glm::dot(r, tangent[k + 1]) * tangent[k + 1]);
+    if (c2 > 1e-30) n -= (2.0 / c2) * glm::dot(v2, n) * v2;
+    r.normal[k + 1] = glm::normalize(n - glm::dot(n, r.tangent[k + 1]) * r.tangent[k + 1]);
   }
+}
 
-  // Vertices: start pole, rings, end pole. Weights depend only on the spine coordinate.
+Rings limb_rings(const LimbSpec& spec, int rings) {
+  const Meridian meridian = spec.meridian();
+  const double total_arc = meridian.length();
+  Rings r{std::vector<glm::dvec3>(rings),
+          std::vector<glm::dvec3>(rings),
+          {},
+          std::vector<double>(rings),
+          std::vector<double>(rings)};
+  for (int k = 0; k < rings; ++k) {
+    meridian.eval(total_arc * (k + 1) / (rings + 1), r.spine_s[k], r.radius[k]);
+    spec.spine.eval(r.spine_s[k], r.centre[k], r.tangent[k]);
+  }
+  rotation_minimising_normals(spec, r);
+  return r;
+}
+
+/// Appends a limb's vertices to `b`: start pole, rings, end pole, with weights that depend only on
+/// the spine coordinate. `t0`, `t1`: the spine's tangents at the poles.
+void add_limb_vertices(const LimbSpec& spec, const Columns& columns, const Rings& r, Builder& b,
+                       glm::dvec3& t0, glm::dvec3& t1) {
   auto push_weights = [&](double s, int count) {
     glm::u16vec4 j;
     glm::vec4 w;
@@ -323,47 +341,73 @@ void sweep_limb(const LimbSpec& spec, int rings, Builder& b) {
     b.origin.limb.insert(b.origin.limb.end(), static_cast<std::size_t>(count), b.limb);
     b.origin.spine_s.insert(b.origin.spine_s.end(), static_cast<std::size_t>(count), static_cast<float>(s));
   };
-  glm::dvec3 p, t0, t1;
+  const int seg = spec.segments();
+  glm::dvec3 p;
   spec.spine.eval(-spec.start_cap, p, t0);
   b.mesh.add_vertex(glm::vec3(p));
   push_weights(-spec.start_cap, 1);
-  for (int k = 0; k < rings; ++k) {
-    const glm::dvec3 binormal = glm::cross(tangent[k], normal[k]);
+  for (std::size_t k = 0; k < r.centre.size(); ++k) {
+    const glm::dvec3 binormal = glm::cross(r.tangent[k], r.normal[k]);
     for (int j = 0; j < seg; ++j) {
-      const glm::dvec3 dir = cos_t[j] * normal[k] + sin_t[j] * binormal;
-      b.mesh.add_vertex(glm::vec3(centre[k] + radius[k] * factor[j] * dir));
+      const glm::dvec3 dir = columns.cos_t[j] * r.normal[k] + columns.sin_t[j] * binormal;
+      b.mesh.add_vertex(glm::vec3(r.centre[k] + r.radius[k] * columns.factor[j] * dir));
     }
-    push_weights(spine_s[k], seg);
+    push_weights(r.spine_s[k], seg);
   }
   spec.spine.eval(spec.spine.length() + spec.end_cap, p, t1);
   b.mesh.add_vertex(glm::vec3(p));
   push_weights(spec.spine.length() + spec.end_cap, 1);
+}
 
-  // Normal slots: one per ring vertex, two (left / right of the crease) in a rib valley,
-  // one analytic slot per pole.
-  std::vector<std::uint32_t> column_slot(seg + 1);
-  std::vector<std::uint8_t> valley(seg);
-  std::uint32_t per_ring = 0;
-  for (int j = 0; j < seg; ++j) {
-    valley[j] = j % spec.segments_per_rib == 0 ? 1 : 0;
-    column_slot[j] = per_ring;
-    per_ring += valley[j] ? 2u : 1u;
-  }
-  const auto sbase = static_cast<std::uint32_t>(b.normals.size());
-  const std::uint32_t pole0_slot = sbase + per_ring * static_cast<std::uint32_t>(rings);
-  const std::uint32_t pole1_slot = pole0_slot + 1;
-  b.normals.resize(pole1_slot + 1, glm::vec3(0.0f));
-  b.fixed.resize(pole1_slot + 1, 0);
-  b.normals[pole0_slot] = glm::vec3(-t0);
-  b.normals[pole1_slot] = glm::vec3(t1);
-  b.fixed[pole0_slot] = b.fixed[pole1_slot] = 1;
-  // `side` 1: the corner's face lies in the cell to the right of column j, 0: to the left.
-  auto slot = [&](int k, int j, int side) {
+/// A limb's normal slots: one per ring vertex, two (left / right of the crease) in a rib valley,
+/// one analytic slot per pole.
+struct NormalSlots {
+  std::vector<std::uint32_t> column_slot;  ///< per column: its first slot within a ring
+  std::vector<std::uint8_t> valley;        ///< per column: 1 in a rib valley
+  std::uint32_t per_ring = 0, base = 0, pole0 = 0, pole1 = 0;
+  int seg = 0;
+
+  /// The slot of ring k's column j; `side` 1: the corner's face lies in the cell to the right of
+  /// column j, 0: to the left.
+  std::uint32_t operator()(int k, int j, int side) const {
     const int jj = j % seg;
-    return sbase + per_ring * static_cast<std::uint32_t>(k) + column_slot[jj] +
+    return base + per_ring * static_cast<std::uint32_t>(k) + column_slot[jj] +
            (valley[jj] ? static_cast<std::uint32_t>(side) : 0u);
-  };
+  }
+};
 
+/// Lays out a limb's normal slots after those in `b` and sets the poles' analytic normals (the
+/// spine's tangents `t0`, `t1` there, outward).
+NormalSlots add_normal_slots(const LimbSpec& spec, int rings, const glm::dvec3& t0, const glm::dvec3& t1,
+                             Builder& b) {
+  NormalSlots s;
+  s.seg = spec.segments();
+  s.column_slot.resize(s.seg + 1);
+  s.valley.resize(s.seg);
+  for (int j = 0; j < s.seg; ++j) {
+    s.valley[j] = j % spec.segments_per_rib == 0 ? 1 : 0;
+    s.column_slot[j] = s.per_ring;
+    s.per_ring += s.valley[j] ? 2u : 1u;
+  }
+  s.base = static_cast<std::uint32_t>(b.normals.size());
+  s.pole0 = s.base + s.per_ring * static_cast<std::uint32_t>(rings);
+  s.pole1 = s.pole0 + 1;
+  b.normals.resize(s.pole1 + 1, glm::vec3(0.0f));
+  b.fixed.resize(s.pole1 + 1, 0);
+  b.normals[s.pole0] = glm::vec3(-t0);
+  b.normals[s.pole1] = glm::vec3(t1);
+  b.fixed[s.pole0] = b.fixed[s.pole1] = 1;
+  return s;
+}
+
+/// Appends a limb's faces to `b`: the start fan, the bands between consecutive rings, the end
+/// fan, with their UVs (u around, v along) and normal slots. `vbase`: the start pole's vertex.
+void add_limb_faces(int seg, int rings, std::uint32_t vbase, const NormalSlots& slot, Builder& b) {
+  const std::uint32_t pole0 = vbase;
+  const std::uint32_t pole1 = vbase + 1 + static_cast<std::uint32_t>(rings * seg);
+  auto ring_vertex = [&](int k, int j) {
+    return vbase + 1 + static_cast<std::uint32_t>(k * seg + (j % seg));
+  };
   std::vector<float> u(seg + 1);
   for (int j = 0; j <= seg; ++j) u[j] = static_cast<float>(j) / static_cast<float>(seg);
   std::vector<float> v(rings);
@@ -373,7 +417,7 @@ void sweep_limb(const LimbSpec& spec, int rings, Builder& b) {
   for (int j = 0; j < seg; ++j) {
     const glm::vec2 pole_uv(0.5f * (u[j] + u[j + 1]), 0.0f);
     b.add_triangle(pole0, ring_vertex(0, j + 1), ring_vertex(0, j), pole_uv, {u[j + 1], v[0]}, {u[j], v[0]},
-                   pole0_slot, slot(0, j + 1, 0), slot(0, j, 1));
+                   slot.pole0, slot(0, j + 1, 0), slot(0, j, 1));
   }
   // Bands between consecutive rings.
   for (int k = 0; k + 1 < rings; ++k) {
@@ -392,8 +436,17 @@ void sweep_limb(const LimbSpec& spec, int rings, Builder& b) {
   for (int j = 0; j < seg; ++j) {
     const glm::vec2 pole_uv(0.5f * (u[j] + u[j + 1]), 1.0f);
     b.add_triangle(pole1, ring_vertex(last, j), ring_vertex(last, j + 1), pole_uv, {u[j], v[last]},
-                   {u[j + 1], v[last]}, pole1_slot, slot(last, j, 1), slot(last, j + 1, 0));
+                   {u[j + 1], v[last]}, slot.pole1, slot(last, j, 1), slot(last, j + 1, 0));
   }
+}
+
+/// Sweeps one closed limb with `rings` rings (poles excluded) into `b`.
+void sweep_limb(const LimbSpec& spec, int rings, Builder& b) {
+  const auto vbase = static_cast<std::uint32_t>(b.mesh.vertex_count());
+  glm::dvec3 t0, t1;
+  add_limb_vertices(spec, limb_columns(spec), limb_rings(spec, rings), b, t0, t1);
+  const NormalSlots slots = add_normal_slots(spec, rings, t0, t1, b);
+  add_limb_faces(spec.segments(), rings, vbase, slots, b);
 }
 
 /// Makes the glTF rotation sampler of one joint: `amplitude` radians about `axis`, phase-lagged.
