@@ -18,66 +18,95 @@
 
 namespace deepcut {
 
-vtkSmartPointer<vtkPolyData> to_poly_data(const SurfaceMesh& mesh, const PolyDataOptions& options) {
-  const auto& pos = options.positions ? *options.positions : mesh.positions();
-  const auto& ca = mesh.corner_attrs();
-  const auto* uv = options.split_corners ? ca.find<glm::vec2>(attr::kUv0) : nullptr;
-  const auto* normal = options.split_corners ? ca.find<glm::vec3>(attr::kNormal) : nullptr;
+namespace {
 
-  // Point per (vertex, uv, normal) when splitting, per vertex otherwise.
-  std::vector<std::uint32_t> point_vertex, point_corner;
-  std::vector<vtkIdType> corner_point(3 * mesh.face_slots(), -1);
-  std::unordered_multimap<std::uint64_t, vtkIdType> seen;
+/// The points of a conversion: one per (vertex, uv, normal) when corners are split, per vertex
+/// otherwise, in the order the faces' corners first name them.
+struct PointMap {
+  std::vector<std::uint32_t> point_vertex, point_corner;  ///< per point: its vertex, its first corner
+  std::vector<vtkIdType> corner_point;                    ///< per corner slot: its point (-1: none)
+};
+
+/// Finds a corner's point among those of the same vertex, uv and normal met so far, by a hash of
+/// (vertex, uv, normal).
+class CornerPoints {
+ public:
+  CornerPoints(const AttributeArray<glm::vec2>* uv, const AttributeArray<glm::vec3>* normal)
+      : uv_(uv), normal_(normal) {}
+
+  /// The point of corner `c` of vertex `v` in `map`, or -1 (then noted as the next point's).
+  vtkIdType find(std::uint32_t v, std::uint32_t c, const PointMap& map) {
+    std::uint64_t h = v;
+    if (uv_) h = h * 1000003u ^ std::hash<float>()((*uv_)[c].x) ^ (std::hash<float>()((*uv_)[c].y) << 1);
+    if (normal_)
+      h = h * 1000003u ^ std::hash<float>()((*normal_)[c].x) ^ (std::hash<float>()((*normal_)[c].z) << 1);
+    vtkIdType id = -1;
+    auto range = seen_.equal_range(h);
+    for (auto it = range.first; it != range.second && id < 0; ++it)
+      if (map.point_vertex[std::size_t(it->second)] == v &&
+          same_corner(map.point_corner[std::size_t(it->second)], c))
+        id = it->second;
+    if (id < 0) seen_.emplace(h, static_cast<vtkIdType>(map.point_vertex.size()));
+    return id;
+  }
+
+ private:
+  bool same_corner(std::uint32_t a, std::uint32_t b) const {
+    return (!uv_ || (*uv_)[a] == (*uv_)[b]) && (!normal_ || (*normal_)[a] == (*normal_)[b]);
+  }
+  const AttributeArray<glm::vec2>* uv_;
+  const AttributeArray<glm::vec3>* normal_;
+  std::unordered_multimap<std::uint64_t, vtkIdType> seen_;
+};
+
+PointMap map_points(const SurfaceMesh& mesh, const AttributeArray<glm::vec2>* uv,
+                    const AttributeArray<glm::vec3>* normal) {
+  PointMap map;
+  map.corner_point.assign(3 * mesh.face_slots(), -1);
   std::vector<vtkIdType> vertex_point(mesh.vertex_count(), -1);
-  auto same_corner = [&](std::uint32_t a, std::uint32_t b) {
-    return (!uv || (*uv)[a] == (*uv)[b]) && (!normal || (*normal)[a] == (*normal)[b]);
-  };
+  CornerPoints split(uv, normal);
   mesh.for_each_face([&](FaceId f, const Triangle& t) {
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t c = SurfaceMesh::corner(f, k), v = t[k].index;
-      vtkIdType id = -1;
-      if (!uv && !normal) {
-        id = vertex_point[v];
-      } else {
-        std::uint64_t h = v;
-        if (uv) h = h * 1000003u ^ std::hash<float>()((*uv)[c].x) ^ (std::hash<float>()((*uv)[c].y) << 1);
-        if (normal) h = h * 1000003u ^ std::hash<float>()((*normal)[c].x) ^ (std::hash<float>()((*normal)[c].z) << 1);
-        auto range = seen.equal_range(h);
-        for (auto it = range.first; it != range.second && id < 0; ++it)
-          if (point_vertex[std::size_t(it->second)] == v && same_corner(point_corner[std::size_t(it->second)], c)) id = it->second;
-        if (id < 0) seen.emplace(h, static_cast<vtkIdType>(point_vertex.size()));
-      }
+      vtkIdType id = !uv && !normal ? vertex_point[v] : split.find(v, c, map);
       if (id < 0) {
-        id = static_cast<vtkIdType>(point_vertex.size());
-        point_vertex.push_back(v);
-        point_corner.push_back(c);
+        id = static_cast<vtkIdType>(map.point_vertex.size());
+        map.point_vertex.push_back(v);
+        map.point_corner.push_back(c);
         vertex_point[v] = id;
       }
-      corner_point[c] = id;
+      map.corner_point[c] = id;
     }
   });
+  return map;
+}
 
+/// The points at `pos` with their vertex and corner ids ("vertex_id", "corner_id"), and a
+/// triangle per live face with its face id ("face_id").
+vtkSmartPointer<vtkPolyData> points_and_cells(const SurfaceMesh& mesh, const std::vector<glm::vec3>& pos,
+                                              const PointMap& map) {
   vtkNew<vtkPoints> points;
   points->SetDataTypeToFloat();
-  points->SetNumberOfPoints(static_cast<vtkIdType>(point_vertex.size()));
+  points->SetNumberOfPoints(static_cast<vtkIdType>(map.point_vertex.size()));
   vtkNew<vtkIdTypeArray> vertex_ids;
   vertex_ids->SetName("vertex_id");
   vertex_ids->SetNumberOfValues(points->GetNumberOfPoints());
   vtkNew<vtkIdTypeArray> corner_ids;
   corner_ids->SetName("corner_id");
   corner_ids->SetNumberOfValues(points->GetNumberOfPoints());
-  for (std::size_t i = 0; i < point_vertex.size(); ++i) {
-    const auto& p = pos[point_vertex[i]];
+  for (std::size_t i = 0; i < map.point_vertex.size(); ++i) {
+    const auto& p = pos[map.point_vertex[i]];
     points->SetPoint(static_cast<vtkIdType>(i), p.x, p.y, p.z);
-    vertex_ids->SetValue(static_cast<vtkIdType>(i), point_vertex[i]);
-    corner_ids->SetValue(static_cast<vtkIdType>(i), point_corner[i]);
+    vertex_ids->SetValue(static_cast<vtkIdType>(i), map.point_vertex[i]);
+    corner_ids->SetValue(static_cast<vtkIdType>(i), map.point_corner[i]);
   }
   vtkNew<vtkCellArray> polys;
   vtkNew<vtkIdTypeArray> face_ids;
   face_ids->SetName("face_id");
   mesh.for_each_face([&](FaceId f, const Triangle&) {
-    const vtkIdType ids[3] = {corner_point[SurfaceMesh::corner(f, 0)], corner_point[SurfaceMesh::corner(f, 1)],
-                              corner_point[SurfaceMesh::corner(f, 2)]};
+    const vtkIdType ids[3] = {map.corner_point[SurfaceMesh::corner(f, 0)],
+                              map.corner_point[SurfaceMesh::corner(f, 1)],
+                              map.corner_point[SurfaceMesh::corner(f, 2)]};
     polys->InsertNextCell(3, ids);
     face_ids->InsertNextValue(f.index);
   });
@@ -87,41 +116,39 @@ vtkSmartPointer<vtkPolyData> to_poly_data(const SurfaceMesh& mesh, const PolyDat
   poly->GetPointData()->AddArray(vertex_ids);
   poly->GetPointData()->AddArray(corner_ids);
   poly->GetCellData()->AddArray(face_ids);
+  return poly;
+}
 
-  const auto n = static_cast<vtkIdType>(point_vertex.size());
-  if (uv) {
-    vtkNew<vtkFloatArray> a;
-    a->SetName("uv0");
-    a->SetNumberOfComponents(2);
-    a->SetNumberOfTuples(n);
-    for (vtkIdType i = 0; i < n; ++i) a->SetTypedTuple(i, &(*uv)[point_corner[std::size_t(i)]].x);
-    poly->GetPointData()->SetTCoords(a);
-  }
-  if (normal) {
-    vtkNew<vtkFloatArray> a;
-    a->SetName("normal");
-    a->SetNumberOfComponents(3);
-    a->SetNumberOfTuples(n);
-    for (vtkIdType i = 0; i < n; ++i) a->SetTypedTuple(i, &(*normal)[point_corner[std::size_t(i)]].x);
-    poly->GetPointData()->SetNormals(a);
-  }
+/// A point array `name` of `components` per point: point i's is values[from[i]].
+template <class Array, class Values>
+vtkSmartPointer<Array> gathered(const char* name, int components, const Values& values,
+                                const std::vector<std::uint32_t>& from) {
+  auto a = vtkSmartPointer<Array>::New();
+  a->SetName(name);
+  a->SetNumberOfComponents(components);
+  const auto n = static_cast<vtkIdType>(from.size());
+  a->SetNumberOfTuples(n);
+  for (vtkIdType i = 0; i < n; ++i) a->SetTypedTuple(i, &values[from[std::size_t(i)]].x);
+  return a;
+}
+
+}  // namespace
+
+vtkSmartPointer<vtkPolyData> to_poly_data(const SurfaceMesh& mesh, const PolyDataOptions& options) {
+  const auto& pos = options.positions ? *options.positions : mesh.positions();
+  const auto& ca = mesh.corner_attrs();
+  const auto* uv = options.split_corners ? ca.find<glm::vec2>(attr::kUv0) : nullptr;
+  const auto* normal = options.split_corners ? ca.find<glm::vec3>(attr::kNormal) : nullptr;
+  const PointMap map = map_points(mesh, uv, normal);
+  vtkSmartPointer<vtkPolyData> poly = points_and_cells(mesh, pos, map);
+  vtkPointData* data = poly->GetPointData();
+  if (uv) data->SetTCoords(gathered<vtkFloatArray>("uv0", 2, *uv, map.point_corner));
+  if (normal) data->SetNormals(gathered<vtkFloatArray>("normal", 3, *normal, map.point_corner));
   const auto& va = mesh.vertex_attrs();
-  if (const auto* j = va.find<glm::u16vec4>(attr::kJoints0)) {
-    vtkNew<vtkUnsignedShortArray> a;
-    a->SetName("joints0");
-    a->SetNumberOfComponents(4);
-    a->SetNumberOfTuples(n);
-    for (vtkIdType i = 0; i < n; ++i) a->SetTypedTuple(i, &(*j)[point_vertex[std::size_t(i)]].x);
-    poly->GetPointData()->AddArray(a);
-  }
-  if (const auto* w = va.find<glm::vec4>(attr::kWeights0)) {
-    vtkNew<vtkFloatArray> a;
-    a->SetName("weights0");
-    a->SetNumberOfComponents(4);
-    a->SetNumberOfTuples(n);
-    for (vtkIdType i = 0; i < n; ++i) a->SetTypedTuple(i, &(*w)[point_vertex[std::size_t(i)]].x);
-    poly->GetPointData()->AddArray(a);
-  }
+  if (const auto* j = va.find<glm::u16vec4>(attr::kJoints0))
+    data->AddArray(gathered<vtkUnsignedShortArray>("joints0", 4, *j, map.point_vertex));
+  if (const auto* w = va.find<glm::vec4>(attr::kWeights0))
+    data->AddArray(gathered<vtkFloatArray>("weights0", 4, *w, map.point_vertex));
   return poly;
 }
 
