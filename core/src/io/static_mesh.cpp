@@ -2,6 +2,9 @@
 #include "deepcut/core/io/static_mesh.h"
 
 #include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "deepcut/core/attributes.h"
 #include "deepcut/core/errors.h"
@@ -47,9 +50,9 @@ SurfaceMesh file_mesh(const StaticMesh& in, bool uvs_ok, bool colors_ok) {
   return mesh;
 }
 
-}  // namespace
-
-Model make_static_model(const StaticMesh& in, const std::string& name, const std::string& file) {
+// Throws InvalidInput (naming `file`) unless `in` has faces, finite points, faces naming points
+// it has, and per-point attributes either absent or one per point.
+void check_static_mesh(const StaticMesh& in, const std::string& file) {
   const auto fail = [&](const std::string& what) { throw Error(ErrorCode::InvalidInput, file + ": " + what); };
   const std::size_t np = in.positions.size();
   if (in.triangles.empty()) fail(np == 0 ? "no vertices and no faces" : "no faces (only " + plural(np, "point", "points") + ")");
@@ -68,23 +71,51 @@ Model make_static_model(const StaticMesh& in, const std::string& name, const std
   check_size(in.normals.size(), "normal");
   check_size(in.uvs.size(), "texture coordinate");
   check_size(in.colors.size(), "colour");
+}
 
-  Model model;
-  model.import_problems = in.problems;
+// Makes the corner normals of `mesh` unit length; a zero or non-finite one takes its face's normal
+// (the file gave no usable direction). Returns how many were replaced.
+std::size_t unit_corner_normals(SurfaceMesh& mesh) {
+  auto& normals = mesh.corner_attrs().get<glm::vec3>(attr::kNormal);
+  const auto& positions = mesh.positions();
+  std::size_t replaced = 0;
+  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+    const Triangle& t = mesh.face(FaceId(static_cast<std::uint32_t>(f)));
+    for (int k = 0; k < 3; ++k) {
+      glm::vec3& n = normals[3 * f + std::size_t(k)];
+      const float len = glm::length(n);
+      if (std::isfinite(len) && len > 1e-12f) {
+        n /= len;
+        continue;
+      }
+      const glm::vec3 a = positions[t[0].index], b = positions[t[1].index], c = positions[t[2].index];
+      const glm::vec3 face = glm::cross(b - a, c - a);
+      const float face_len = glm::length(face);
+      n = std::isfinite(face_len) && face_len > 0.0f ? face / face_len : glm::vec3(0.0f, 0.0f, 1.0f);
+      ++replaced;
+    }
+  }
+  return replaced;
+}
+
+// The primitive of `in` (checked): the mesh as the file stores it (one vertex per point, -0
+// coordinates read as +0; per-point attributes on the corners, so seams survive), welded by
+// position: triangles that then repeat a vertex go, and the vertices the kept triangles use are
+// numbered in order of first use. Every vertex bound to joint 0 alone; unit corner normals. What
+// it dropped or replaced is added to `problems`.
+Primitive static_primitive(const StaticMesh& in, const std::string& file,
+                           std::vector<ImportProblem>& problems) {
   const auto problem = [&](const char* kind, std::size_t count, const io_detail::Counted& what) {
-    io_detail::add_problem(model.import_problems, kind, count, what);
+    io_detail::add_problem(problems, kind, count, what);
   };
-
-  // The mesh as the file stores it (one vertex per point, -0 coordinates read as +0; per-point
-  // attributes on the corners, so seams survive), welded by position: triangles that then repeat
-  // a vertex go, and the vertices the kept triangles use are numbered in order of first use.
   const bool uvs_ok = all_finite(in.uvs), colors_ok = all_finite(in.colors);
   Primitive prim;
-  prim.gltf_vertices = np;
+  prim.gltf_vertices = in.positions.size();
   SurfaceMesh& mesh = prim.mesh;
   mesh = file_mesh(in, uvs_ok, colors_ok);
   const WeldReport welded = weld(mesh, {WeldKey::Position, /*drop_repeating_faces=*/true});
-  if (mesh.face_count() == 0) fail("every face repeats a vertex (nothing to draw)");
+  if (mesh.face_count() == 0)
+    throw Error(ErrorCode::InvalidInput, file + ": every face repeats a vertex (nothing to draw)");
   if (welded.faces_dropped)
     problem("faces-repeating-a-vertex-dropped", welded.faces_dropped,
             {"face repeats a vertex (dropped)", "faces repeat a vertex (dropped)"});
@@ -101,33 +132,17 @@ Model make_static_model(const StaticMesh& in, const std::string& name, const std
   if (!in.colors.empty() && !colors_ok)
     problem("colours-dropped", in.colors.size(),
             {"vertex colour dropped (some are not finite)", "vertex colours dropped (some are not finite)"});
-  if (!in.normals.empty()) {
-    // A zero or non-finite normal takes its face's normal (the file gave no usable direction).
-    auto& normals = mesh.corner_attrs().get<glm::vec3>(attr::kNormal);
-    const auto& positions = mesh.positions();
-    std::size_t replaced = 0;
-    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-      const Triangle& t = mesh.face(FaceId(static_cast<std::uint32_t>(f)));
-      for (int k = 0; k < 3; ++k) {
-        glm::vec3& n = normals[3 * f + std::size_t(k)];
-        const float len = glm::length(n);
-        if (std::isfinite(len) && len > 1e-12f) {
-          n /= len;
-          continue;
-        }
-        const glm::vec3 a = positions[t[0].index], b = positions[t[1].index], c = positions[t[2].index];
-        const glm::vec3 face = glm::cross(b - a, c - a);
-        const float face_len = glm::length(face);
-        n = std::isfinite(face_len) && face_len > 0.0f ? face / face_len : glm::vec3(0.0f, 0.0f, 1.0f);
-        ++replaced;
-      }
-    }
-    if (replaced)
-      problem("normals-replaced", replaced,
-              {"normal was zero or not finite (replaced by the face normal)",
-               "normals were zero or not finite (replaced by the face normal)"});
-  }
+  if (in.normals.empty()) return prim;
+  if (const std::size_t replaced = unit_corner_normals(mesh))
+    problem("normals-replaced", replaced,
+            {"normal was zero or not finite (replaced by the face normal)",
+             "normals were zero or not finite (replaced by the face normal)"});
+  return prim;
+}
 
+// Puts `prim` into `model` as its one mesh `name`, drawn by a node skinned to a root joint at the
+// origin, in the one scene.
+void add_rigged_mesh(Model& model, Primitive prim, const std::string& name) {
   Mesh out_mesh;
   out_mesh.name = name;
   out_mesh.primitives.push_back(std::move(prim));
@@ -148,6 +163,15 @@ Model make_static_model(const StaticMesh& in, const std::string& name, const std
   model.skins.push_back(std::move(skin));
   model.scenes = {{0, 1}};
   model.default_scene = 0;
+}
+
+}  // namespace
+
+Model make_static_model(const StaticMesh& in, const std::string& name, const std::string& file) {
+  check_static_mesh(in, file);
+  Model model;
+  model.import_problems = in.problems;
+  add_rigged_mesh(model, static_primitive(in, file, model.import_problems), name);
   return model;
 }
 
