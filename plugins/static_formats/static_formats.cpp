@@ -452,11 +452,10 @@ void check_stl(const std::string& path, std::uintmax_t size) {
   if (count == 0) fail(path, "no faces (the binary STL header says 0 triangles)");
 }
 
-/// vtkPolyData (polygons and strips; vertices and lines are skipped) to a StaticMesh.
-StaticMesh to_static_mesh(vtkPolyData* data, const std::string& path) {
-  StaticMesh out;
+/// Throws (naming `path`) unless every id of `data`'s polygons and strips names one of its points;
+/// checked before a filter touches them.
+void check_face_ids(vtkPolyData* data, const std::string& path) {
   const vtkIdType np = data->GetNumberOfPoints();
-  // Every cell's ids are checked before a filter touches them.
   for (vtkCellArray* cells : {data->GetPolys(), data->GetStrips()}) {
     if (!cells) continue;
     const vtkIdType n = cells->GetNumberOfCells();
@@ -470,28 +469,37 @@ StaticMesh to_static_mesh(vtkPolyData* data, const std::string& path) {
                          std::to_string(np) + " vertices");
     }
   }
-  const vtkIdType skipped = data->GetNumberOfVerts() + data->GetNumberOfLines();
-  if (skipped > 0) out.problems.push_back({"cells-skipped", std::to_string(skipped) + " point and line cells skipped (only faces are kept)", std::size_t(skipped), {}});
+}
 
+/// `data` with its faces as triangles alone: itself when they are, else its polygons and strips
+/// triangulated (noted in `problems`).
+vtkSmartPointer<vtkPolyData> face_triangles(vtkPolyData* data, std::vector<ImportProblem>& problems) {
   bool only_triangles = data->GetNumberOfStrips() == 0;
   if (vtkCellArray* polys = data->GetPolys(); only_triangles && polys)
     only_triangles = polys->IsHomogeneous() == 3 || polys->GetNumberOfCells() == 0;
-  vtkSmartPointer<vtkPolyData> tris = data;
-  if (!only_triangles) {
-    vtkNew<vtkPolyData> faces;
-    faces->SetPoints(data->GetPoints());
-    faces->SetPolys(data->GetPolys());
-    faces->SetStrips(data->GetStrips());
-    faces->GetPointData()->ShallowCopy(data->GetPointData());
-    vtkNew<vtkTriangleFilter> triangulate;
-    triangulate->SetInputData(faces);
-    triangulate->PassVertsOff();
-    triangulate->PassLinesOff();
-    triangulate->Update();
-    tris = triangulate->GetOutput();
-    out.problems.push_back({"polygons-triangulated", std::to_string(data->GetNumberOfPolys() + data->GetNumberOfStrips()) + " polygons and strips triangulated into " + std::to_string(tris->GetNumberOfPolys()) + " triangles", std::size_t(data->GetNumberOfPolys() + data->GetNumberOfStrips()), {}});
-  }
+  if (only_triangles) return data;
+  vtkNew<vtkPolyData> faces;
+  faces->SetPoints(data->GetPoints());
+  faces->SetPolys(data->GetPolys());
+  faces->SetStrips(data->GetStrips());
+  faces->GetPointData()->ShallowCopy(data->GetPointData());
+  vtkNew<vtkTriangleFilter> triangulate;
+  triangulate->SetInputData(faces);
+  triangulate->PassVertsOff();
+  triangulate->PassLinesOff();
+  triangulate->Update();
+  vtkSmartPointer<vtkPolyData> tris = triangulate->GetOutput();
+  problems.push_back({"polygons-triangulated",
+                      std::to_string(data->GetNumberOfPolys() + data->GetNumberOfStrips()) +
+                          " polygons and strips triangulated into " +
+                          std::to_string(tris->GetNumberOfPolys()) + " triangles",
+                      std::size_t(data->GetNumberOfPolys() + data->GetNumberOfStrips()),
+                      {}});
+  return tris;
+}
 
+/// The points and triangles of `tris` into `out` (cells other than triangles are left out).
+void read_positions_and_triangles(vtkPolyData* tris, const std::string& path, StaticMesh& out) {
   if (vtkPoints* points = tris->GetPoints()) {
     out.positions.resize(static_cast<std::size_t>(points->GetNumberOfPoints()));
     for (vtkIdType i = 0; i < points->GetNumberOfPoints(); ++i) {
@@ -501,20 +509,26 @@ StaticMesh to_static_mesh(vtkPolyData* data, const std::string& path) {
     }
   }
   const vtkIdType points = static_cast<vtkIdType>(out.positions.size());
-  if (vtkCellArray* polys = tris->GetPolys()) {
-    out.triangles.reserve(static_cast<std::size_t>(polys->GetNumberOfCells()));
-    for (vtkIdType c = 0; c < polys->GetNumberOfCells(); ++c) {
-      vtkIdType size = 0;
-      const vtkIdType* ids = nullptr;
-      polys->GetCellAtId(c, size, ids);
-      if (size != 3) continue;
-      if (std::any_of(ids, ids + 3, [&](vtkIdType id) { return id < 0 || id >= points; }))
-        fail(path, "triangle " + std::to_string(c) + " uses a vertex past the " + std::to_string(points) + " vertices");
-      out.triangles.push_back({static_cast<std::uint32_t>(ids[0]), static_cast<std::uint32_t>(ids[1]), static_cast<std::uint32_t>(ids[2])});
-    }
+  vtkCellArray* polys = tris->GetPolys();
+  if (!polys) return;
+  out.triangles.reserve(static_cast<std::size_t>(polys->GetNumberOfCells()));
+  for (vtkIdType c = 0; c < polys->GetNumberOfCells(); ++c) {
+    vtkIdType size = 0;
+    const vtkIdType* ids = nullptr;
+    polys->GetCellAtId(c, size, ids);
+    if (size != 3) continue;
+    if (std::any_of(ids, ids + 3, [&](vtkIdType id) { return id < 0 || id >= points; }))
+      fail(path, "triangle " + std::to_string(c) + " uses a vertex past the " + std::to_string(points) +
+                     " vertices");
+    out.triangles.push_back({static_cast<std::uint32_t>(ids[0]), static_cast<std::uint32_t>(ids[1]),
+                             static_cast<std::uint32_t>(ids[2])});
   }
+}
 
-  vtkPointData* pd = tris->GetPointData();
+/// The normals, texture coordinates and colours of `pd` (one per point of `out`, else left out)
+/// into `out`; byte colours scaled to [0, 1].
+void read_point_attributes(vtkPointData* pd, StaticMesh& out) {
+  const auto points = static_cast<vtkIdType>(out.positions.size());
   const auto tuples_ok = [&](vtkDataArray* a, int comps) {
     return a && a->GetNumberOfTuples() == points && a->GetNumberOfComponents() >= comps;
   };
@@ -539,6 +553,21 @@ StaticMesh to_static_mesh(vtkPolyData* data, const std::string& path) {
       for (int c = 0; c < comps; ++c)
         out.colors[std::size_t(i)][c] = static_cast<float>(colors->GetComponent(i, c) / (bytes ? 255.0 : 1.0));
   }
+}
+
+/// vtkPolyData (polygons and strips; vertices and lines are skipped) to a StaticMesh.
+StaticMesh to_static_mesh(vtkPolyData* data, const std::string& path) {
+  StaticMesh out;
+  check_face_ids(data, path);
+  const vtkIdType skipped = data->GetNumberOfVerts() + data->GetNumberOfLines();
+  if (skipped > 0)
+    out.problems.push_back({"cells-skipped",
+                            std::to_string(skipped) + " point and line cells skipped (only faces are kept)",
+                            std::size_t(skipped),
+                            {}});
+  const vtkSmartPointer<vtkPolyData> tris = face_triangles(data, out.problems);
+  read_positions_and_triangles(tris, path, out);
+  read_point_attributes(tris->GetPointData(), out);
   return out;
 }
 
