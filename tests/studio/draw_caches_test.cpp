@@ -53,8 +53,8 @@ void hide_cells(vtkPolyData* poly) {
 
 // The bounds of `data` through VTK's own pass over a copy (`computed`), then, with its cells
 // hidden (hide_cells), its caches made and its bounds through the mapper (`got`): equal only if
-// neither the caches nor the mapper passed over the cells.
-void cached_bounds(const deepcut::ViewPolyData& data, double got[6], double computed[6]) {
+// neither the caches nor the mapper passed over the cells. `data`'s cells are spent afterwards.
+void cached_bounds(deepcut::ViewPolyData& data, double got[6], double computed[6]) {
   vtk_cells_bounds(data.poly(), computed);
   hide_cells(data.poly());
   deepcut::studio::compute_draw_caches(data);

@@ -25,20 +25,23 @@ inline vtkSmartPointer<vtkRenderWindow> offscreen_window(int width, int height) 
   return window;
 }
 
-/// The frame of `renderer` drawn alone in `window`, at the window's size, as RGB bytes.
+/// The frame of `renderer` drawn alone in `window`, at the window's size, as RGB bytes; empty
+/// when the read-back did not give the whole frame.
 inline vtkSmartPointer<vtkUnsignedCharArray> frame_of(vtkRenderWindow* window, vtkRenderer* renderer) {
   window->AddRenderer(renderer);
   window->Render();
   const int* size = window->GetSize();
   auto pixels = vtkSmartPointer<vtkUnsignedCharArray>::New();
   window->GetPixelData(0, 0, size[0] - 1, size[1] - 1, 1, pixels);
+  if (pixels->GetNumberOfValues() != 3 * vtkIdType(size[0]) * size[1]) pixels->Initialize();  // not whole
   window->RemoveRenderer(renderer);
   return pixels;
 }
 
-/// Whether two frames have the same bytes.
+/// Whether two frames have the same bytes. An empty frame (a failed read-back, see frame_of) is
+/// never the same as another: two failed read-backs must not pass for equal frames.
 inline bool same_pixels(vtkUnsignedCharArray* a, vtkUnsignedCharArray* b) {
-  return a->GetNumberOfValues() == b->GetNumberOfValues() &&
+  return a->GetNumberOfValues() > 0 && a->GetNumberOfValues() == b->GetNumberOfValues() &&
          std::equal(a->GetPointer(0), a->GetPointer(0) + a->GetNumberOfValues(), b->GetPointer(0));
 }
 

@@ -27,6 +27,13 @@ struct PointMap {
   std::vector<vtkIdType> corner_point;                    ///< per corner slot: its point (-1: none)
 };
 
+/// Adds a point for corner `c` of vertex `v` to `map`; its id.
+vtkIdType add_point(std::uint32_t v, std::uint32_t c, PointMap& map) {
+  map.point_vertex.push_back(v);
+  map.point_corner.push_back(c);
+  return static_cast<vtkIdType>(map.point_vertex.size() - 1);
+}
+
 /// Finds a corner's point among those of the same vertex, uv and normal met so far, by a hash of
 /// (vertex, uv, normal).
 class CornerPoints {
@@ -34,19 +41,20 @@ class CornerPoints {
   CornerPoints(const AttributeArray<glm::vec2>* uv, const AttributeArray<glm::vec3>* normal)
       : uv_(uv), normal_(normal) {}
 
-  /// The point of corner `c` of vertex `v` in `map`, or -1 (then noted as the next point's).
-  vtkIdType find(std::uint32_t v, std::uint32_t c, const PointMap& map) {
+  /// The point of corner `c` of vertex `v`: one met so far with the same uv and normal, or a new
+  /// one added to `map`.
+  vtkIdType find_or_add(std::uint32_t v, std::uint32_t c, PointMap& map) {
     std::uint64_t h = v;
     if (uv_) h = h * 1000003u ^ std::hash<float>()((*uv_)[c].x) ^ (std::hash<float>()((*uv_)[c].y) << 1);
     if (normal_)
       h = h * 1000003u ^ std::hash<float>()((*normal_)[c].x) ^ (std::hash<float>()((*normal_)[c].z) << 1);
-    vtkIdType id = -1;
     auto range = seen_.equal_range(h);
-    for (auto it = range.first; it != range.second && id < 0; ++it)
+    for (auto it = range.first; it != range.second; ++it)
       if (map.point_vertex[std::size_t(it->second)] == v &&
           same_corner(map.point_corner[std::size_t(it->second)], c))
-        id = it->second;
-    if (id < 0) seen_.emplace(h, static_cast<vtkIdType>(map.point_vertex.size()));
+        return it->second;
+    const vtkIdType id = add_point(v, c, map);
+    seen_.emplace(h, id);
     return id;
   }
 
@@ -68,14 +76,12 @@ PointMap map_points(const SurfaceMesh& mesh, const AttributeArray<glm::vec2>* uv
   mesh.for_each_face([&](FaceId f, const Triangle& t) {
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t c = SurfaceMesh::corner(f, k), v = t[k].index;
-      vtkIdType id = !uv && !normal ? vertex_point[v] : split.find(v, c, map);
-      if (id < 0) {
-        id = static_cast<vtkIdType>(map.point_vertex.size());
-        map.point_vertex.push_back(v);
-        map.point_corner.push_back(c);
-        vertex_point[v] = id;
+      if (uv || normal) {
+        map.corner_point[c] = split.find_or_add(v, c, map);
+        continue;
       }
-      map.corner_point[c] = id;
+      if (vertex_point[v] < 0) vertex_point[v] = add_point(v, c, map);
+      map.corner_point[c] = vertex_point[v];
     }
   });
   return map;

@@ -75,6 +75,7 @@ void check_static_mesh(const StaticMesh& in, const std::string& file) {
 
 // Makes the corner normals of `mesh` unit length; a zero or non-finite one takes its face's normal
 // (the file gave no usable direction). Returns how many were replaced.
+// @pre `mesh` has corner normals (attr::kNormal).
 std::size_t unit_corner_normals(SurfaceMesh& mesh) {
   auto& normals = mesh.corner_attrs().get<glm::vec3>(attr::kNormal);
   const auto& positions = mesh.positions();

@@ -83,7 +83,7 @@ struct PartsScratch {
 // The parts of one particle's members `m` (strictly ascending) from their roots (`root[i]` that
 // of m[i]), without sorting any part: each member is filed under its root's part in the order of
 // `m`, which keeps every part ascending. The parts are numbered by a linear search among the
-// roots met so far (the last one first) while there are at most kLinearRoots (16) of them; past
+// roots met so far (the last one first) while there are at most kLinearRoots of them; past
 // that, by a binary search in the sorted unique list of all the roots. The largest part (the first
 // in root order on ties) is the main one, the others the minors in root order. In
 // clustering_parts.cpp.
