@@ -606,3 +606,34 @@ TEST(DrillTest, holes_in_a_coarse_quad_leave_few_needles) {
 }
 
 }  // namespace deepcut
+
+namespace deepcut {
+namespace {
+
+// The ruling windows take the corners' angles from window_theta, which must stay within 2e-6 of
+// theta (the windows' margin over any ruling that can give a point is about 0.015): on random
+// points round tilted axes at scales far apart, on the frame's half-axes and at the axis' start.
+TEST(DrillTest, window_theta_is_theta_within_two_millionths) {
+  std::mt19937 rng(19);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  DrillOptions options;
+  for (int axis = 0; axis < 8; ++axis) {
+    const glm::vec3 a(float(unit(rng)), float(unit(rng)), float(unit(rng)));
+    const glm::vec3 d = glm::normalize(glm::vec3(float(unit(rng)), float(unit(rng)), float(unit(rng))));
+    const drill::CylinderFrame cyl = drill::CylinderFrame::make({a, a + 3.0f * d, 0.25f}, options);
+    auto expect_close = [&](const glm::dvec3& p) {
+      const double diff = std::remainder(cyl.window_theta(p) - cyl.theta(p), 2.0 * kPi);
+      EXPECT_LE(std::abs(diff), 2e-6) << p.x << " " << p.y << " " << p.z;
+    };
+    for (int i = 0; i < 2000; ++i) {
+      const double scale = std::pow(10.0, 3.0 * unit(rng));
+      expect_close(cyl.a + scale * glm::dvec3(unit(rng), unit(rng), unit(rng)));
+    }
+    for (const glm::dvec3& dir : {cyl.u, -cyl.u, cyl.w, -cyl.w, cyl.u + cyl.w, cyl.u - cyl.w})
+      expect_close(cyl.a + 0.7 * dir + 1.5 * cyl.d);
+    EXPECT_EQ(cyl.window_theta(cyl.a), cyl.theta(cyl.a));  // on the axis: both 0
+  }
+}
+
+}  // namespace
+}  // namespace deepcut

@@ -22,6 +22,23 @@ CylinderFrame CylinderFrame::make(const Cylinder& cylinder, const DrillOptions& 
   return cyl;
 }
 
+double CylinderFrame::window_theta(const glm::dvec3& p) const {
+  const glm::dvec3 q = perp(p);
+  const double x = glm::dot(q, u), y = glm::dot(q, w);
+  if (std::isnan(x) || std::isnan(y)) return x + y;
+  const double ax = std::abs(x), ay = std::abs(y), hi = std::max(ax, ay);
+  if (!(hi > 0.0)) return 0.0;
+  // atan on [0, 1] by a minimax polynomial (error under 1.7e-6), then the octant's symmetries.
+  const double ratio = std::min(ax, ay) / hi, s2 = ratio * ratio;
+  double t =
+      ratio *
+      (0.99997726 +
+       s2 * (-0.33262347 + s2 * (0.19354346 + s2 * (-0.11643287 + s2 * (0.05265332 - s2 * 0.01172120)))));
+  if (ay > ax) t = 0.5 * geometry::kPi - t;
+  if (x < 0.0) t = geometry::kPi - t;
+  return y < 0.0 ? -t : t;
+}
+
 PlaneCut plane_cut(const CylinderFrame& cyl, const glm::dvec3 p[3]) {
   PlaneCut pc;
   glm::dvec3 n = glm::cross(p[1] - p[0], p[2] - p[0]);

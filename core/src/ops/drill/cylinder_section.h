@@ -53,6 +53,9 @@ struct CylinderFrame {
   bool deep_inside(const glm::dvec3& p) const { return deep_sd(sd(p)); }
   // Whether a point with this sd lies deep inside (deep_inside).
   bool deep_sd(double sdv) const { return sdv < -2.0 * eps; }
+  // theta(p) within 2e-6 (radians), without the library's atan2: for ruling windows only
+  // (ruling_window), whose margin is far wider than that.
+  double window_theta(const glm::dvec3& p) const;
   glm::dvec3 ruling(double th) const { return std::cos(th) * u + std::sin(th) * w; }
   glm::dvec3 at(double th, double sv) const { return a + r * ruling(th) + sv * d; }
 };
@@ -86,10 +89,13 @@ struct RulingWindow {
 double ruling_reach_angle(const CylinderFrame& cyl, double reach);
 
 /// The rulings that can pass within `reach` of the triangle whose corners lie at the angles
-/// `angle` around the axis (CylinderFrame::theta of its posed corners), given `reach_angle` =
-/// ruling_reach_angle(cyl, reach): those within that angle of the triangle's shadow, or all of
-/// them when the shadow comes round the axis, so the rim sampling tests only the rulings that can
-/// give it a point.
+/// `angle` around the axis (CylinderFrame::window_theta of its posed corners), given
+/// `reach_angle` = ruling_reach_angle(cyl, reach): those within that angle of the triangle's
+/// shadow, or all of them when the shadow comes round the axis, so the rim sampling tests only
+/// the rulings that can give it a point. The rim sampling keeps points within kShiftBound r
+/// (rim_faces.cpp) of a triangle and asks for a reach four times that: the window holds every
+/// ruling that can give a point with room far beyond window_theta's error, so a ruling more or
+/// less at its ends changes nothing (one outside gives no point).
 RulingWindow ruling_window(const CylinderFrame& cyl, const double angle[3], double reach_angle);
 
 }  // namespace deepcut::drill

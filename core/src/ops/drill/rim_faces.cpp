@@ -157,10 +157,10 @@ bool FacePlanner::boundary(const Triangle& tri, const glm::dvec3 corner[3]) {
   const std::vector<std::uint8_t>& seg_inside = w_.seg_inside;
   const std::size_t m = pts.size();
   bool all_inside = true;
-  for (auto s : seg_inside) all_inside &= s != 0;
-  for (std::size_t i = 0; i < m; ++i)
-    if (seg_inside[i] || seg_inside[(i + m - 1) % m] || std::abs(s_.cyl.sd(pts[i].p)) <= s_.eps)
-      pts[i].on_rim = true;
+  for (std::size_t i = 0, before = m - 1; i < m; before = i++) {
+    all_inside &= seg_inside[i] != 0;
+    if (seg_inside[i] || seg_inside[before] || std::abs(s_.cyl.sd(pts[i].p)) <= s_.eps) pts[i].on_rim = true;
+  }
   return all_inside;
 }
 
@@ -317,30 +317,9 @@ void FacePlanner::sample_rim() {
       chords[s_cap > 0.0 ? 1 : 0] = {a_cap, hh};
     }
   }
-  int arc_rulings = 0;  // rulings whose point in this plane lies between the end planes
   const std::size_t before_rulings = w_.rim.size();
-  if (!pc.parallel) {
-    // Rulings in increasing order (an earlier point wins over a later one too close to it); only
-    // those in the window, unless a chord needs the count of all of them.
-    double angle[3];
-    for (int k = 0; k < 3; ++k) angle[k] = cur_->angled ? cur_->angle[k] : s_.cyl.theta(face_.corner[k]);
-    const RulingWindow w = ruling_window(s_.cyl, angle, s_.ruling_reach);
-    const bool count_all = chords[0].second > 0.0 || chords[1].second > 0.0;
-    const int wrapped = std::max(0, w.first + w.count - s_.samples);  // the window's part from 0
-    for (int k = 0; k < s_.samples; ++k) {
-      const bool in_window = k < wrapped || (k >= w.first && k < w.first + w.count);
-      if (!in_window && !count_all) {
-        if (k >= wrapped && k < w.first) k = w.first - 1;  // on to the window's main part
-        else if (k >= w.first + w.count) break;
-        continue;
-      }
-      const glm::dvec3& base = s_.ruling_base[static_cast<std::size_t>(k)];
-      const double sv = glm::dot(pc.o - base, pc.n) / pc.dn;
-      if (sv < 0.0 || sv > s_.cyl.len) continue;
-      ++arc_rulings;
-      if (in_window) consider(base + sv * s_.cyl.d, false);
-    }
-  }
+  // Rulings whose point in this plane lies between the end planes.
+  const int arc_rulings = pc.parallel ? 0 : sample_rulings(chords[0].second > 0.0 || chords[1].second > 0.0);
   const bool arc_sampled = w_.rim.size() > before_rulings;
   // A layer that only clips the cylinder's rim edge (one end plane, no ruling point kept between
   // the end planes here) cuts a thin lens. Its arc gets one point, the ellipse's apex (taken
@@ -363,6 +342,36 @@ void FacePlanner::sample_rim() {
     const auto [first, last] = chord_pieces(a_cap, hh, pieces);
     for (int j = first; j < last; ++j) consider(pc.point(a_cap, pc.b0 - hh + 2.0 * hh * j / pieces), false);
   }
+}
+
+// The rulings' points in this (not parallel) plane, in increasing order of ruling (an earlier
+// point wins over a later one too close to it): those of the rulings in the window are
+// considered. Returns how many rulings meet the plane between the end planes, counted over
+// every ruling when `count_all` (a chord needs that count), else over the window's.
+int FacePlanner::sample_rulings(bool count_all) {
+  const PlaneCut& pc = face_.pc;
+  double angle[3];
+  for (int k = 0; k < 3; ++k) angle[k] = cur_->angled ? cur_->angle[k] : s_.cyl.window_theta(face_.corner[k]);
+  const RulingWindow w = ruling_window(s_.cyl, angle, s_.ruling_reach);
+  int arc_rulings = 0;
+  auto ruling = [&](int k, bool in_window) {
+    const glm::dvec3& base = s_.ruling_base[static_cast<std::size_t>(k)];
+    const double sv = glm::dot(pc.o - base, pc.n) / pc.dn;
+    if (sv < 0.0 || sv > s_.cyl.len) return;
+    ++arc_rulings;
+    if (in_window) consider(base + sv * s_.cyl.d, false);
+  };
+  // The window is [first, first + count) modulo samples: its part past the last ruling wraps
+  // round to [0, wrapped), below `first` (count <= samples).
+  const int wrapped = std::max(0, w.first + w.count - s_.samples),
+            last = std::min(w.first + w.count, s_.samples);
+  if (count_all) {
+    for (int k = 0; k < s_.samples; ++k) ruling(k, k < wrapped || (k >= w.first && k < last));
+    return arc_rulings;
+  }
+  for (int k = 0; k < wrapped; ++k) ruling(k, true);
+  for (int k = w.first; k < last; ++k) ruling(k, true);
+  return arc_rulings;
 }
 
 // The points j of an end plane's chord at a = a_cap, split into `pieces` (b from b0 - hh to

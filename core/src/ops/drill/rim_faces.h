@@ -52,7 +52,7 @@ struct EdgeCut {
 
 // What the planning reads of one candidate: its edges' records (edge k from corner k to corner
 // k + 1; records never move) and, for a candidate with a piece of an edge inside
-// (any_piece_inside), its corners' angles around the axis (CylinderFrame::theta), worked out
+// (any_piece_inside), its corners' angles around the axis (CylinderFrame::window_theta), worked out
 // once per vertex before planning (the window of rulings each such face samples). Left
 // unwritten for a candidate deep inside or clear of the cylinder (nothing reads it).
 struct CandidateFace {
@@ -231,6 +231,7 @@ class FacePlanner {
   bool boundary(const Triangle& tri, const glm::dvec3 corner[3]);
   void face_boundary(const Triangle& tri, const glm::dvec3 corner[3]);
   void sample_rim();
+  int sample_rulings(bool count_all);
   std::pair<int, int> chord_pieces(double a_cap, double hh, int pieces) const;
   void consider(const glm::dvec3& x, bool corner_point);
   void end_corner(double a_cap, double hh, double sign);

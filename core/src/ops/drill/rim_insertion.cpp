@@ -354,7 +354,7 @@ void RimInserter::angle_corners(const std::vector<FaceId>& candidates) {
         face.angle[k] = faces_[first / 3].angle[first % 3];
         continue;
       }
-      face.angle[k] = cyl_.theta(posed_(t[k]));
+      face.angle[k] = cyl_.window_theta(posed_(t[k]));
       seen.set(t[k].index, 3 * c + static_cast<std::uint32_t>(k));
     }
   }
