@@ -84,7 +84,7 @@ void DrawCachesTest::kept_cell_bounds_are_the_mappers_without_vtks_pass() {
   // Bounds kept that differ from the data's: the mapper returns them, so they were used.
   const deepcut::Model model = cactus();
   const deepcut::SurfaceMesh& mesh = model.meshes.at(0).primitives.at(0).mesh;
-  const deepcut::ViewPolyData data(mesh, mesh.positions());
+  deepcut::ViewPolyData data(mesh, mesh.positions());
   const double kept[6] = {-100, 100, -200, 200, -300, 300};
   SurfaceMapper::keep_cells_bounds(data.poly(), kept);
   double got[6];
@@ -105,7 +105,7 @@ void DrawCachesTest::kept_cell_bounds_equal_vtks_at_rest_and_moved() {
   for (glm::vec3& p : moved) p = p * 1.5f + glm::vec3(-2.0f, 0.25f, 7.0f);
   const std::vector<glm::vec3>* const poses[] = {&mesh.positions(), &moved};
   for (const std::vector<glm::vec3>* positions : poses) {
-    const deepcut::ViewPolyData data(mesh, *positions);
+    deepcut::ViewPolyData data(mesh, *positions);
     QVERIFY(data.corner_points());
     double got[6], computed[6];
     cached_bounds(data, got, computed);
@@ -129,7 +129,7 @@ void DrawCachesTest::a_vertex_without_faces_is_left_out() {
   }
   std::vector<glm::vec3> positions = mesh.positions();
   positions[extreme].x += 10.0f;
-  const deepcut::ViewPolyData data(mesh, positions);
+  deepcut::ViewPolyData data(mesh, positions);
   QVERIFY(data.corner_points());
   double got[6], computed[6];
   cached_bounds(data, got, computed);
@@ -142,7 +142,7 @@ void DrawCachesTest::every_face_deleted() {
   deepcut::SurfaceMesh& mesh = model.meshes.at(0).primitives.at(0).mesh;
   deepcut::MeshEditor editor(mesh);
   for (std::uint32_t f = 0; f < mesh.face_slots(); ++f) editor.remove_face(deepcut::FaceId(f));
-  const deepcut::ViewPolyData data(mesh, mesh.positions());
+  deepcut::ViewPolyData data(mesh, mesh.positions());
   double got[6], computed[6];
   cached_bounds(data, got, computed);
   QVERIFY(std::equal(got, got + 6, computed));
