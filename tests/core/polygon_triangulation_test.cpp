@@ -459,6 +459,54 @@ TEST(PolygonTriangulationParts, MirrorImageOfNeedleEarsClipsTheSame) {
   EXPECT_GT(exact, 0);
 }
 
+// Ear clipping tests an ear for blockers when it comes up, with the reflex corners live at the
+// tick it was queued at (EarQueue in polygon_triangulation.cpp): the clips, and the reports on
+// their mirror images, are those of testing each ear when queued. Random stars small and big (the
+// grid) swirled into spirals (each point turned by an angle growing with its radius: still simple),
+// whose ears are blocked by reflex corners that turn convex as their own neighbours are clipped,
+// before the ear comes up; some with needle ears (the mirror report's full scans).
+TEST(PolygonTriangulationParts, DeferredEarTestsClipTheSame) {
+  struct Restore {
+    ~Restore() { detail::set_deferred_ear_tests(true); }
+  } restore;
+  std::mt19937 rng(2024);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int exact = 0;
+  for (int trial = 0; trial < 240; ++trial) {
+    std::vector<P> ring =
+        random_star(rng, u, trial % 3 == 0 ? 8 : 64, trial % 3 == 0 ? 40 : 300, 0.1 + 0.3 * u(rng), 1.0);
+    const double swirl = trial % 5 == 0 ? 0.0 : 2.0 + 6.0 * u(rng);
+    for (P& p : ring) {
+      const double r = glm::length(p), a = std::atan2(p.y, p.x) + swirl * r;
+      p = r * P(std::cos(a), std::sin(a));
+    }
+    if (trial % 4 == 1) {  // needle ears: points just off every other edge
+      std::vector<P> star;
+      star.swap(ring);
+      for (std::size_t i = 0; i < star.size(); ++i) {
+        ring.push_back(star[i]);
+        const P a = star[i], b = star[(i + 1) % star.size()];
+        if (i % 2 == 0) ring.push_back(0.5 * (a + b) + 1e-8 * P(a.y - b.y, b.x - a.x));
+      }
+    }
+    Loop poly(ring.size());
+    std::iota(poly.begin(), poly.end(), 0u);
+    std::vector<LocalTri> deferred, when_queued;
+    MirrorClip deferred_mirror, queued_mirror;
+    detail::set_deferred_ear_tests(true);
+    clip_ears(ring, poly, EarSearch::kQueued, deferred, &deferred_mirror);
+    detail::set_deferred_ear_tests(false);
+    clip_ears(ring, poly, EarSearch::kQueued, when_queued, &queued_mirror);
+    ASSERT_EQ(deferred, when_queued) << "trial " << trial;
+    EXPECT_EQ(deferred_mirror.closed, queued_mirror.closed) << "trial " << trial;
+    if (!deferred_mirror.exact) continue;
+    ++exact;
+    detail::set_deferred_ear_tests(true);
+    expect_mirror_clips_the_same(ring, deferred, deferred_mirror, trial);
+  }
+  EXPECT_GT(exact, 30);  // 49 when written
+}
+
 TEST(PolygonTriangulationParts, TriangulateOneOuterLoopAndOneHole) {
   std::vector<P> pts;
   const std::vector<Loop> loops = {add_loop(pts, regular(P(0, 0), 5.0, 16, true)),

@@ -2,6 +2,7 @@
 #include "geometry/polygon_triangulation.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cassert>
 #include <cmath>
 #include <limits>
@@ -50,6 +51,9 @@ struct LateFiled {
 // memory back (each list judged on its own: the small ones keep theirs).
 struct RingLists {
   std::vector<std::uint32_t> poly, prev, next, version, slot, ear_state;
+  // kIndexed, deferred ear tests: the tick each corner was filed reflex at, and the tick it
+  // stopped being reflex at (kNever where it has not).
+  std::vector<std::uint32_t> since, until;
   std::vector<glm::dvec2> xy;  // the point of each corner
   std::vector<char> alive, reflex;
   std::vector<double> ear_quality, corners;
@@ -78,7 +82,8 @@ struct RingLists {
   // Ends the clip: gives back the memory of the lists above the bound.
   void hand_back() {
     constexpr std::size_t kept = detail::kKeptClipListBytes;
-    for (auto* list : {&poly, &prev, &next, &version, &slot, &ear_state, &cell_start, &cell_of, &fill})
+    for (auto* list :
+         {&poly, &prev, &next, &version, &slot, &ear_state, &since, &until, &cell_start, &cell_of, &fill})
       detail::give_back_if_big(*list, kept);
     detail::give_back_if_big(reflex_list, kept);
     detail::give_back_if_big(filed, kept);
@@ -103,7 +108,39 @@ struct RingLists {
 // stops when the best ear ties with another one, or a quality is not a number; the polygon is
 // then clipped again through kLazy, whose order among equals is the one the results were made
 // with.
+//
+// kIndexed defers each ear's blocker test (reflex_blocker) from when its corner is queued to when
+// it comes to the top of the heap: most corners are queued again (a neighbour clipped) before
+// they come up, so the test is made about once per ear clipped instead of once per corner queued.
+// The clip is the same as testing when queued (as kLazy does, and kIndexed with
+// detail::set_deferred_ear_tests(false): DeferredEarTestsClipTheSame in
+// polygon_triangulation_test.cpp compares the two on spirals whose blockers turn convex first):
+// - The deferred test is the same test. The ear's corners are those it was queued with (a
+//   neighbour clipped queues it again, at a new tick), and it looks at the reflex corners live at
+//   the tick it was queued at: filed at or before it, and not unfiled by it (lists_.since,
+//   lists_.until; ticks count the changes of reflex corners, in the order testing when queued
+//   sees them). Filings stale now stay in the lists for that. A corner filed twice (reflex,
+//   convex, reflex again: numerically degenerate) would need two spans: the clip stops as at a
+//   tie, and is made again through kLazy.
+// - So the heap holds every ear testing when queued holds, and corners found blocked when they
+//   come up (taken out then; a neighbour clipped queues them again, as it would). The first entry
+//   that comes up unblocked is the best ear testing when queued has. A tie of two such ears shows
+//   as before: an entry equal to the root has an equal parent, up to a child of the root. A tie
+//   with an entry not tested yet stops the clip too (the same clip, made through kLazy).
+// - MirrorClip: the mirror image's clip (deferring too) makes the same decisions. Each corner's
+//   convexity is checked when it changes, each ear test made here is checked (reflex_blocker
+//   <true>), and each ear clipped beats every entry left in the heap by the margin (pop_ear), those
+//   not tested yet too. The mirror image's heap holds the same entries but for ones found blocked
+//   here and taken out while the mirror image still holds them (it may order them within rounding
+//   after the ear clipped next): when they come up there they are found blocked too (the same
+//   test, checked here), unless a clip queued them again first, as it does here. So the ear it
+//   clips next is the one clipped here, every time; and where one of those ties with it there,
+//   the mirror image is clipped again through kLazy, which tests when queued and never holds
+//   them: the same clip again.
 enum class EarQueue { kIndexed, kLazy };
+
+// Tests: whether kIndexed defers its ear tests (set_deferred_ear_tests).
+std::atomic<bool> deferred_ear_tests{true};
 
 // One polygon being clipped: a ring of corners over `poly`, linked by prev/next, that loses one
 // corner per clip. The origin is where the fallback scan and the last triangle start: the corner
@@ -116,6 +153,8 @@ class EarClipper {
         lists_(RingLists::take()),
         search_(search),
         indexed_(queue == EarQueue::kIndexed),
+        deferred_(search == EarSearch::kQueued && indexed_ &&
+                  deferred_ear_tests.load(std::memory_order_relaxed)),
         mirror_(search == EarSearch::kQueued && indexed_ ? mirror : nullptr) {
     lists_.poly.assign(poly.begin(), poly.end());
     if (search_ == EarSearch::kQueued) {
@@ -144,6 +183,10 @@ class EarClipper {
       lists_.slot.assign(n, kNoSlot);
     else
       lists_.version.assign(n, 0);
+    if (deferred_) {
+      lists_.since.assign(n, kNever);
+      lists_.until.assign(n, kNever);
+    }
     remaining_ = n;
     reflex_list_.clear();
     late_.clear();
@@ -277,7 +320,7 @@ class EarClipper {
       return;
     }
     const double l2 = longest(i);
-    if (mirror_ ? reflex_blocker<true>(i, turn, l2) : reflex_blocker<false>(i, turn, l2)) {
+    if (!deferred_ && blocked(i, turn, l2)) {
       if (indexed_) heap_remove(corner);
       return;
     }
@@ -292,7 +335,27 @@ class EarClipper {
       s = static_cast<std::uint32_t>(heap_.size());
       heap_.emplace_back();
     }
-    heap_place(s, {quality, corner, 0});
+    heap_place(s, {quality, corner, ticks_});  // deferred: the tick its test is made at
+  }
+  bool blocked(std::size_t i, double turn, double l2) {
+    return mirror_ ? reflex_blocker<true>(i, turn, l2) : reflex_blocker<false>(i, turn, l2);
+  }
+  // Deferred ear tests: corner i was filed reflex (r) or stopped being reflex, at a new tick. A
+  // second filing of a corner (numerically degenerate) stops the clip as a tie does.
+  void tick(std::size_t i, bool r) {
+    ++ticks_;
+    if (!r) {
+      lists_.until[i] = ticks_;
+      return;
+    }
+    tied_ = tied_ || lists_.since[i] != kNever;
+    lists_.since[i] = ticks_;
+  }
+  // Whether the filing of `corner` is live for the test being made: reflex now, or (deferred) at
+  // the tick the ear was queued at (test_tick_).
+  bool live(std::uint32_t corner) const {
+    if (!deferred_) return lists_.reflex[corner];
+    return lists_.since[corner] <= test_tick_ && test_tick_ < lists_.until[corner];
   }
 
   // kIndexed: puts `e` at slot s of the heap and moves it up or down to where every entry's
@@ -330,6 +393,7 @@ class EarClipper {
     const double turn = corner(i);
     if (mirror_) check_margin(turn);
     const bool r = turn <= 0.0;
+    if (deferred_ && r != bool(lists_.reflex[i])) tick(i, r);
     if (r && !lists_.reflex[i] && search_ == EarSearch::kQueued) {
       ++filings_;
       reflex_list_.push_back(filing(i));
@@ -476,7 +540,7 @@ class EarClipper {
           const Filed* f = filed_.data() + cell_start_[y * grid_x_ + xa];
           const Filed* end = filed_.data() + cell_start_[y * grid_x_ + xb + 1];
           for (; f != end; ++f)
-            if (lists_.reflex[f->corner] && blocks(*f)) return true;
+            if (live(f->corner) && blocks(*f)) return true;
         }
         auto in_box = [&](const LateFiled& l) {
           return l.cell.x >= xa && l.cell.x <= xb && l.cell.y >= ya && l.cell.y <= yb && blocks(l.f);
@@ -486,7 +550,7 @@ class EarClipper {
         if constexpr (Checked)  // a needle (within_box): every live reflex corner tested, with the margin
           if (!found && !within_box(turn, l2))
             for (const Filed& f : reflex_list_)
-              if (lists_.reflex[f.corner] && blocks(f)) {
+              if (live(f.corner) && blocks(f)) {
                 exact_ = false;  // the rounded tests find a point outside the box
                 break;
               }
@@ -496,12 +560,15 @@ class EarClipper {
     return live_filing(reflex_list_, [](const Filed& f) { return f.corner; }, blocks);
   }
 
-  // Whether `test` holds for a filing in `v` whose corner is still reflex; stale filings met on
-  // the way are dropped (the order of `v` does not matter).
+  // Whether `test` holds for a live filing in `v` (live()); stale filings met on the way are
+  // dropped (the order of `v` does not matter), but where tests are deferred (an ear queued
+  // earlier may need a filing stale now).
   template <class Filing, class CornerOf, class Test>
   bool live_filing(std::vector<Filing>& v, CornerOf&& corner_of, Test&& test) const {
     for (std::size_t k = 0; k < v.size();) {
-      if (!lists_.reflex[corner_of(v[k])]) {
+      if (deferred_ && !live(corner_of(v[k]))) {
+        ++k;
+      } else if (!live(corner_of(v[k]))) {
         v[k] = v.back();
         v.pop_back();
       } else if (test(v[k])) {
@@ -534,6 +601,8 @@ class EarClipper {
   // quality to the best is a child of it (no entry is above its parent): then it stops (tied_).
   std::size_t pop_ear() {
     if (indexed_) {
+      // Deferred: entries found blocked when they come up are taken out (see EarQueue).
+      while (deferred_ && !heap_.empty() && top_blocked()) heap_remove(heap_[0].i);
       if (heap_.empty()) return lists_.poly.size();
       const std::uint32_t best = heap_[0].i;
       const double quality = heap_[0].quality;
@@ -558,6 +627,14 @@ class EarClipper {
       if (lists_.alive[e.i] && e.version == lists_.version[e.i]) return e.i;
     }
     return lists_.poly.size();
+  }
+
+  // Deferred: whether the ear at the top of the heap is blocked, tested with the reflex corners
+  // live at the tick it was queued at (its corners have not changed since).
+  bool top_blocked() {
+    const std::uint32_t i = heap_[0].i;
+    test_tick_ = heap_[0].version;
+    return blocked(i, corner(i), longest(i));
   }
 
   // kExhaustive: the best ear among all corners (the first one in input order on ties), or n. A
@@ -600,6 +677,7 @@ class EarClipper {
     const std::uint32_t a = lists_.prev[i], c = lists_.next[i];
     if (emit) out.push_back({lists_.poly[a], lists_.poly[i], lists_.poly[c]});
     lists_.alive[i] = 0;
+    if (deferred_ && lists_.reflex[i]) tick(i, false);
     lists_.reflex[i] = 0;
     lists_.next[a] = c;
     lists_.prev[c] = a;
@@ -623,6 +701,9 @@ class EarClipper {
   RingLists& lists_;  // poly, prev/next, alive, reflex, version or slot; ear_state, ear_quality (kExhaustive)
   EarSearch search_;
   bool indexed_;       // kQueued: the queue is kIndexed, else kLazy
+  bool deferred_;      // kIndexed: ear tests made when an ear comes up (see EarQueue)
+  std::uint32_t ticks_ = 0;      // deferred: changes of reflex corners so far
+  std::uint32_t test_tick_ = 0;  // deferred: the tick of the ear being tested
   bool tied_ = false;  // kIndexed met a tie: run stops
   MirrorClip* mirror_;      // kIndexed: the report on the mirror image, or null
   bool exact_ = true;       // MirrorClip::exact so far
@@ -647,6 +728,7 @@ class EarClipper {
   // kIndexed: a binary max-heap, heap_[(s - 1) / 2] the parent of heap_[s].
   std::vector<Entry>& heap_ = lists_.heap;
   static constexpr std::uint32_t kNoSlot = ~std::uint32_t(0);  // lists_.slot of a corner without an entry
+  static constexpr std::uint32_t kNever = ~std::uint32_t(0);   // lists_.since, lists_.until: no such tick
   // kExhaustive: what is known of each corner's ear (lists_.ear_state: find_blocker, or
   // kUnknown), and the quality of each known ear (lists_.ear_quality).
   static constexpr std::uint32_t kUnknown = ~std::uint32_t(0), kEar = kUnknown - 1, kFlat = kUnknown - 2;
@@ -714,6 +796,8 @@ std::vector<LocalTri> triangulate_loops(const std::vector<glm::dvec2>& points,
 
 namespace deepcut::detail {
 
+void set_deferred_ear_tests(bool on) { geometry::deferred_ear_tests.store(on, std::memory_order_relaxed); }
+
 std::size_t largest_kept_clip_list() {
   using geometry::RingLists;
   const RingLists& l = RingLists::local();
@@ -732,6 +816,8 @@ std::size_t largest_kept_clip_list() {
                    l.reach.capacity() * sizeof(geometry::Reach),
                    l.heap.capacity() * sizeof(geometry::Entry),
                    l.ear_state.capacity() * sizeof(std::uint32_t),
+                   l.since.capacity() * sizeof(std::uint32_t),
+                   l.until.capacity() * sizeof(std::uint32_t),
                    l.alive.capacity(),
                    l.reflex.capacity(),
                    l.ear_quality.capacity() * sizeof(double),

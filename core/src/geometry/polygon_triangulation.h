@@ -121,4 +121,7 @@ namespace deepcut::detail {
 inline constexpr std::size_t kKeptClipListBytes = std::size_t(4096) * sizeof(double);
 /// The bytes held by the largest of the calling thread's kept corner lists (for tests).
 std::size_t largest_kept_clip_list();
+/// Tests: whether ear clipping (EarSearch::kQueued) tests an ear for blockers when it comes up
+/// instead of when its corner is queued (default true; the clips are the same). Process-wide.
+void set_deferred_ear_tests(bool on);
 }  // namespace deepcut::detail

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstring>
+#include <type_traits>
 #include <unordered_set>
 
 #include "deepcut/core/morph.h"
@@ -507,8 +508,13 @@ void set_cap_attributes(SurfaceMesh& mesh, const CapCorners& arrays, std::uint32
   // No faces (each triangle repeats a kept flat face, or the loops gave none): `first` is the
   // face count, no face to read.
   if (count == 0) return;
+  // The faces were just added: their corners hold each array's default value (SurfaceMesh::
+  // add_face), so a value with the same bits (zero morph deltas, mostly) needs no writing.
   auto fill = [&](auto* attribute, const auto& value) {
-    if (attribute) std::fill_n(attribute->data().data() + corner0, 3 * count, value);
+    static_assert(
+        std::is_same_v<std::decay_t<decltype(attribute->default_value())>, std::decay_t<decltype(value)>>);
+    if (!attribute || std::memcmp(&attribute->default_value(), &value, sizeof value) == 0) return;
+    std::fill_n(attribute->data().data() + corner0, 3 * count, value);
   };
   if (arrays.uv) {
     double extent = 0.0;
