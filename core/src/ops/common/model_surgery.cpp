@@ -313,18 +313,23 @@ struct ArrayCopy {
 
 // Room for the arrays of the pieces copied out of a watched `mesh` (a session's, edited further):
 // each takes a spare that fits (SplitWatcher::spare_array), else new memory with the operations'
-// room for every element of `mesh` (operation_room.h; reserved, not touched: the pages past the
-// piece's own elements are address space only), so an operation on the piece finds room, and so
-// does the piece any later cut of `mesh` copies out, on whichever side and however large, once
-// this step is dropped: a cut undone and made elsewhere writes into pages the process already
-// has instead of faulting fresh ones in. A spare may hold up to twice that room.
+// room (operation_room.h; reserved, not touched: address space only past the piece's elements),
+// so an operation on the piece finds room. A mesh split in two (a cut: one piece copied out) gives
+// its piece the room of every element of `mesh`, so the piece any later cut of `mesh` copies out,
+// on whichever side and however large, fits in it once this step is dropped: a cut undone and
+// made elsewhere writes into pages the process already has instead of faulting fresh ones in.
+// A spare may hold up to twice the room.
 void give_room(SplitWatcher& watcher, const SurfaceMesh& mesh, std::vector<ArrayCopy>& copies, Numbering& num,
                std::size_t big) {
-  const std::size_t vertex_room = operation_vertex_room(mesh.vertex_count());
-  const std::size_t face_room = operation_face_room(mesh.face_slots());
+  const bool in_two = num.faces.size() == 2;
+  auto room_of = [&](std::size_t count, int kind) {
+    const std::size_t whole = kind == 0 ? mesh.vertex_count() : mesh.face_slots();
+    const std::size_t n = in_two ? std::max(count, whole) : count;
+    return kind == 0 ? operation_vertex_room(n) : operation_face_room(n);
+  };
   for (ArrayCopy& c : copies) {
     const std::size_t count = c.keep->size();
-    const std::size_t room = c.group * std::max(c.kind == 0 ? vertex_room : face_room, count);
+    const std::size_t room = c.group * room_of(count, c.kind);
     if (std::unique_ptr<AttributeArrayBase> spare = watcher.spare_array(*c.to, count * c.group, 2 * room))
       c.to->take_room(*spare);
     else
@@ -332,7 +337,7 @@ void give_room(SplitWatcher& watcher, const SurfaceMesh& mesh, std::vector<Array
   }
   for (std::size_t s = 0; s < num.faces.size(); ++s) {
     if (s == big) continue;
-    const std::size_t room = std::max(face_room, num.faces[s].size());
+    const std::size_t room = room_of(num.faces[s].size(), 1);
     num.tris[s] = watcher.spare_triangles(num.faces[s].size(), 2 * room);
     if (num.tris[s].capacity() < num.faces[s].size()) num.tris[s].reserve(room);
   }
