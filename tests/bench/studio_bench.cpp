@@ -24,7 +24,9 @@
 // made ("undo_record_bytes": what the session keeps to take it back, beside the steps the apply
 // keeps; the median of the repetitions) and what it left for when the UI is idle
 // after its frame ("prepare_updates_ms": SceneView::prepare_updates, the corner lists of a cut's
-// pieces, timed on its own before the undo so that the undo does not pay for it).
+// pieces, timed on its own before the undo so that the undo does not pay for it), and each of
+// the three applies on its own ("runs": the first takes fresh memory, the later ones the memory of
+// the step the one before undid).
 //   deepcut_studio_bench [--json] [--quick] [--size N] [--no-rebuild] [--ops N] [--cuts N]
 //                        [--open-only] [--only drill|tear|cut]
 // --quick: the 25K cactus only; --size N: only the cactus of about N triangles (a profile of one
@@ -233,6 +235,20 @@ json step_json(const std::vector<Timed>& runs) {
           {"to_render_call_process_cpu_ms", median(process)}, {"to_render_call_minor_faults", median(faults)}};
 }
 
+/// Each apply in order, beside the medians: the first finds no undone step whose memory it could
+/// take, the later ones take the memory of the step the one before undid.
+json runs_json(const std::vector<Timed>& applied, const std::vector<double>& operation,
+               const std::vector<double>& scene, const std::vector<double>& view) {
+  json runs = json::array();
+  for (std::size_t i = 0; i < applied.size(); ++i)
+    runs.push_back({{"to_render_call_ms", applied[i].to_render},
+                    {"minor_faults", applied[i].faults},
+                    {"operation_ms", operation[i]},
+                    {"scene_ms", scene[i]},
+                    {"view_ms", view[i]}});
+  return runs;
+}
+
 /// One operation kind: apply, undo and redo three times each (undone again after each redo).
 json time_operation(MainWindow& window, Timer& timer, const std::function<deepcut::Operation()>& make) {
   std::vector<Timed> applied, undone, redone;
@@ -280,6 +296,7 @@ json time_operation(MainWindow& window, Timer& timer, const std::function<deepcu
                             {"before_scene_minor_faults", median(before_faults)},
                             {"scene_minor_faults", median(scene_faults)},
                             {"view_minor_faults", median(view_faults)}};
+  out["apply"]["runs"] = runs_json(applied, operation, scene, view);
   out["apply"]["prepare_updates_ms"] = median(idle);
   out["apply"]["undo_record_bytes"] = median(record);
   return out;
@@ -416,6 +433,11 @@ void print_table(const json& results) {
                   a["phases"]["scene_minor_faults"].get<double>(), a["phases"]["view_minor_faults"].get<double>());
       std::printf("; undo record %.2f MiB; after the frame, prepare_updates %.1f ms\n",
                   a["undo_record_bytes"].get<double>() / (1024.0 * 1024.0), a["prepare_updates_ms"].get<double>());
+      std::printf("%-10s %s.apply, each run to the render call:", tri.c_str(), kind);
+      for (const json& run : a["runs"])
+        std::printf(" %.1f ms (%ld minor faults)", run["to_render_call_ms"].get<double>(),
+                    run["minor_faults"].get<long>());
+      std::printf("\n");
     }
     if (!r.contains("memory")) continue;
     const json& m = r["memory"];
