@@ -46,6 +46,17 @@ int quad_ear(const glm::dvec2 q[4]) {
   return best;
 }
 
+// Whether every side and diagonal of the quad 0-1-2-3 over `q` is shorter than two rim spacings
+// by a margin far beyond rounding: then worst_triangle (which looks only at triangles with an
+// edge of two spacings or more) finds nothing in its triangles, and need not be run.
+bool within_refine_size(const glm::dvec2 q[4], double spacing) {
+  const double bound = 4.0 * spacing * spacing * (1.0 - 1e-9);
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j)
+      if (!(glm::dot(q[j] - q[i], q[j] - q[i]) < bound)) return false;
+  return true;
+}
+
 }  // namespace
 
 // Whether the triangle with corners `p` lies wholly outside the solid cylinder, a tolerance
@@ -540,7 +551,7 @@ bool FacePlanner::add_quad(const LocalPoint* pts, std::size_t count,
     if (outer[k] != k) return false;
   if (!quad_triangles(q, tris)) return false;
   w_.failed.clear();  // refine starts with none failed
-  if (worst_triangle(tris.data(), tris.data() + 2, q)) return false;
+  if (!within_refine_size(q, s_.cyl.spacing) && worst_triangle(tris.data(), tris.data() + 2, q)) return false;
   out_.tris.insert(out_.tris.end(), tris.begin(), tris.end());
   return true;
 }
