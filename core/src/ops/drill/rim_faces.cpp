@@ -437,26 +437,26 @@ void FacePlanner::kept_parts() {
   const std::vector<LocalPoint>& pts = w_.pts;
   const std::vector<std::uint8_t>& seg_inside = w_.seg_inside;
   const std::size_t m = pts.size();
-  std::size_t start = m;
-  for (std::size_t i = 0; i < m; ++i)
-    if (seg_inside[(i + m - 1) % m] && !seg_inside[i]) {
-      start = i;
-      break;
-    }
+  const auto next = [m](std::size_t i) { return i + 1 == m ? 0 : i + 1; };
+  // A part starts at point i: the segment before it inside, the one after it outside.
+  const auto starts_part = [&](std::size_t i) {
+    return seg_inside[i == 0 ? m - 1 : i - 1] && !seg_inside[i];
+  };
+  std::size_t start = 0;
+  while (start < m && !starts_part(start)) ++start;
   plan_->remove = 1;
   if (start == m) return;
   w_.used.assign(w_.rim.size(), 0);
   std::size_t left = w_.rim.size();  // rim samples in no part yet (no angles needed once none is)
-  for (std::size_t step = 0; step < m; ++step) {
-    const std::size_t j = (start + step) % m;
-    if (!(seg_inside[(j + m - 1) % m] && !seg_inside[j])) continue;
+  for (std::size_t step = 0, j = start; step < m; ++step, j = next(j)) {
+    if (!starts_part(j)) continue;
     // The part's points go straight to the chunk's list (add_polygon plans them there).
     std::vector<LocalPoint>& poly = out_.pts;
     const std::size_t first = poly.size();
     std::size_t k = j;
     poly.push_back(pts[k]);
     while (!seg_inside[k]) {
-      k = (k + 1) % m;
+      k = next(k);
       poly.push_back(pts[k]);
       if (k == j) break;
     }
