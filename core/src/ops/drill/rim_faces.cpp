@@ -46,6 +46,17 @@ int quad_ear(const glm::dvec2 q[4]) {
   return best;
 }
 
+// Whether every side and diagonal of the quad 0-1-2-3 over `q` is shorter than two rim spacings
+// by a margin far beyond rounding: then worst_triangle (which looks only at triangles with an
+// edge of two spacings or more) finds nothing in its triangles, and need not be run.
+bool within_refine_size(const glm::dvec2 q[4], double spacing) {
+  const double bound = 4.0 * spacing * spacing * (1.0 - 1e-9);
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j)
+      if (!(glm::dot(q[j] - q[i], q[j] - q[i]) < bound)) return false;
+  return true;
+}
+
 }  // namespace
 
 // Whether the triangle with corners `p` lies wholly outside the solid cylinder, a tolerance
@@ -137,15 +148,15 @@ void FacePlanner::plan(std::size_t c, FaceId f, FacePlan& plan) {
   if (rim.size() < 3) return;
   // Triangle with an elliptic hole: the hole runs clockwise (decreasing phi).
   std::sort(rim.begin(), rim.end(), [](const LocalPoint& x, const LocalPoint& y) { return x.phi > y.phi; });
-  std::vector<LocalPoint>& all = w_.all;
-  all.assign(w_.pts.begin(), w_.pts.begin() + 3);
+  const std::size_t first = out_.pts.size();
+  out_.pts.insert(out_.pts.end(), w_.pts.begin(), w_.pts.begin() + 3);
   std::vector<std::uint32_t> outer = {0, 1, 2}, hole;
   for (auto& lp : rim) {
-    hole.push_back(static_cast<std::uint32_t>(all.size()));
-    all.push_back(lp);
+    hole.push_back(static_cast<std::uint32_t>(out_.pts.size() - first));
+    out_.pts.push_back(lp);
   }
   plan_->remove = 1;
-  add_polygon(all, outer, {hole});
+  add_polygon(first, outer, {hole});
 }
 
 // The triangle's boundary (face_boundary) with its rim points marked: the ends of every segment
@@ -426,33 +437,34 @@ void FacePlanner::kept_parts() {
   const std::vector<LocalPoint>& pts = w_.pts;
   const std::vector<std::uint8_t>& seg_inside = w_.seg_inside;
   const std::size_t m = pts.size();
-  std::size_t start = m;
-  for (std::size_t i = 0; i < m; ++i)
-    if (seg_inside[(i + m - 1) % m] && !seg_inside[i]) {
-      start = i;
-      break;
-    }
+  const auto next = [m](std::size_t i) { return i + 1 == m ? 0 : i + 1; };
+  // A part starts at point i: the segment before it inside, the one after it outside.
+  const auto starts_part = [&](std::size_t i) {
+    return seg_inside[i == 0 ? m - 1 : i - 1] && !seg_inside[i];
+  };
+  std::size_t start = 0;
+  while (start < m && !starts_part(start)) ++start;
   plan_->remove = 1;
   if (start == m) return;
   w_.used.assign(w_.rim.size(), 0);
   std::size_t left = w_.rim.size();  // rim samples in no part yet (no angles needed once none is)
-  for (std::size_t step = 0; step < m; ++step) {
-    const std::size_t j = (start + step) % m;
-    if (!(seg_inside[(j + m - 1) % m] && !seg_inside[j])) continue;
-    std::vector<LocalPoint>& poly = w_.poly;
-    poly.clear();
+  for (std::size_t step = 0, j = start; step < m; ++step, j = next(j)) {
+    if (!starts_part(j)) continue;
+    // The part's points go straight to the chunk's list (add_polygon plans them there).
+    std::vector<LocalPoint>& poly = out_.pts;
+    const std::size_t first = poly.size();
     std::size_t k = j;
     poly.push_back(pts[k]);
     while (!seg_inside[k]) {
-      k = (k + 1) % m;
+      k = next(k);
       poly.push_back(pts[k]);
       if (k == j) break;
     }
     if (left > 0) left -= add_arc(pts[j], pts[k], poly);
     std::vector<std::uint32_t>& loop = w_.loop;
-    loop.resize(poly.size());
-    for (std::size_t i = 0; i < poly.size(); ++i) loop[i] = static_cast<std::uint32_t>(i);
-    add_polygon(poly, loop, no_holes_);
+    loop.resize(poly.size() - first);
+    for (std::size_t i = 0; i < loop.size(); ++i) loop[i] = static_cast<std::uint32_t>(i);
+    add_polygon(first, loop, no_holes_);
   }
 }
 
@@ -460,10 +472,10 @@ void FacePlanner::kept_parts() {
 // are larger than the rim spacing (needles from a far corner to a small hole), kept away from
 // the part's boundary so no edge of the parent triangle is split (its neighbour shares it).
 void FacePlanner::refine(geometry::FlipTriangulation& ft, std::vector<glm::dvec2>& q,
-                         std::vector<LocalPoint>& pts, const std::vector<std::uint32_t>& outer,
+                         const std::vector<std::uint32_t>& outer,
                          const std::vector<std::vector<std::uint32_t>>& holes) {
   const double spacing = s_.cyl.spacing;
-  const std::size_t boundary = pts.size();
+  const std::size_t boundary = q.size();
   std::vector<std::pair<std::uint32_t, std::uint32_t>>& segments = w_.segments;
   segments.clear();
   const auto add_segments = [&segments](const std::vector<std::uint32_t>& l) {
@@ -496,7 +508,7 @@ void FacePlanner::refine(geometry::FlipTriangulation& ft, std::vector<glm::dvec2
     lp.q = centre;
     lp.p = face_.pc.point(centre.x, centre.y);
     lp.bary = bary;
-    pts.push_back(lp);
+    out_.pts.push_back(lp);
     ++added;
   }
 }
@@ -530,15 +542,16 @@ const geometry::LocalTri* FacePlanner::worst_triangle(const geometry::LocalTri* 
 // A kept part that is a quad (points 0-3 in order) whose triangles quad_triangles works out and
 // that refine would leave alone: its two triangles go to the chunk's list. Returns false (nothing
 // added) for any other part.
-bool FacePlanner::add_quad(const std::vector<LocalPoint>& pts, const std::vector<std::uint32_t>& outer) {
-  if (outer.size() != 4 || pts.size() != 4) return false;
+bool FacePlanner::add_quad(const LocalPoint* pts, std::size_t count,
+                           const std::vector<std::uint32_t>& outer) {
+  if (outer.size() != 4 || count != 4) return false;
   const glm::dvec2 q[4] = {pts[0].q, pts[1].q, pts[2].q, pts[3].q};
   std::array<geometry::LocalTri, 2> tris;
   for (std::uint32_t k = 0; k < 4; ++k)
     if (outer[k] != k) return false;
   if (!quad_triangles(q, tris)) return false;
   w_.failed.clear();  // refine starts with none failed
-  if (worst_triangle(tris.data(), tris.data() + 2, q)) return false;
+  if (!within_refine_size(q, s_.cyl.spacing) && worst_triangle(tris.data(), tris.data() + 2, q)) return false;
   out_.tris.insert(out_.tris.end(), tris.begin(), tris.end());
   return true;
 }
@@ -546,16 +559,17 @@ bool FacePlanner::add_quad(const std::vector<LocalPoint>& pts, const std::vector
 // A kept part that is a triangle is added as it is, most quads as add_quad works them out; any
 // other is triangulated, flipped to Delaunay and refined in the plane. Its points (with the
 // refinement's) and triangles go to the chunk's lists.
-void FacePlanner::add_polygon(std::vector<LocalPoint>& pts, const std::vector<std::uint32_t>& outer,
+void FacePlanner::add_polygon(std::size_t first, const std::vector<std::uint32_t>& outer,
                               const std::vector<std::vector<std::uint32_t>>& holes) {
   PolygonPlan poly;
   poly.first_tri = static_cast<std::uint32_t>(out_.tris.size());
+  const std::size_t count = out_.pts.size() - first;
   if (holes.empty() && outer.size() == 3) {
     out_.tris.push_back({outer[0], outer[1], outer[2]});
-  } else if (!(holes.empty() && add_quad(pts, outer))) {
+  } else if (!(holes.empty() && add_quad(out_.pts.data() + first, count, outer))) {
     std::vector<glm::dvec2>& q = w_.q;
-    q.resize(pts.size());
-    for (std::size_t i = 0; i < pts.size(); ++i) q[i] = pts[i].q;
+    q.resize(count);
+    for (std::size_t i = 0; i < count; ++i) q[i] = out_.pts[first + i].q;
     std::vector<geometry::LocalTri>& clipped = w_.clipped;
     clipped.clear();
     geometry::triangulate_polygon(q, outer, holes, kRimTriangulation, clipped);
@@ -563,13 +577,12 @@ void FacePlanner::add_polygon(std::vector<LocalPoint>& pts, const std::vector<st
     geometry::FlipTriangulation& ft = w_.flips;
     ft.reset(q, clipped);
     ft.make_delaunay();
-    refine(ft, q, pts, outer, holes);
+    refine(ft, q, outer, holes);
     out_.tris.insert(out_.tris.end(), ft.triangles().begin(), ft.triangles().end());
   }
   poly.tris = static_cast<std::uint32_t>(out_.tris.size()) - poly.first_tri;
-  poly.first_pt = static_cast<std::uint32_t>(out_.pts.size());
-  poly.pts = static_cast<std::uint32_t>(pts.size());
-  out_.pts.insert(out_.pts.end(), pts.begin(), pts.end());
+  poly.first_pt = static_cast<std::uint32_t>(first);
+  poly.pts = static_cast<std::uint32_t>(out_.pts.size() - first);
   out_.polys.push_back(poly);
   ++plan_->polys;
 }

@@ -190,7 +190,7 @@ struct FacePlan {
 // thread). They hold one face's plan at a time, so their size follows the largest face planned,
 // not the drill's size.
 struct PlanScratch {
-  std::vector<LocalPoint> pts, rim, all, poly;
+  std::vector<LocalPoint> pts, rim;
   std::vector<std::uint8_t> seg_inside, used;
   std::vector<std::pair<double, std::size_t>> arc;
   std::vector<std::uint32_t> loop;
@@ -237,13 +237,13 @@ class FacePlanner {
   void end_corner(double a_cap, double hh, double sign);
   void kept_parts();
   std::size_t add_arc(const LocalPoint& start, const LocalPoint& end, std::vector<LocalPoint>& poly);
-  void add_polygon(std::vector<LocalPoint>& pts, const std::vector<std::uint32_t>& outer,
+  void add_polygon(std::size_t first, const std::vector<std::uint32_t>& outer,
                    const std::vector<std::vector<std::uint32_t>>& holes);
-  void refine(geometry::FlipTriangulation& ft, std::vector<glm::dvec2>& q, std::vector<LocalPoint>& pts,
+  void refine(geometry::FlipTriangulation& ft, std::vector<glm::dvec2>& q,
               const std::vector<std::uint32_t>& outer, const std::vector<std::vector<std::uint32_t>>& holes);
   const geometry::LocalTri* worst_triangle(const geometry::LocalTri* begin, const geometry::LocalTri* end,
                                            const glm::dvec2* q) const;
-  bool add_quad(const std::vector<LocalPoint>& pts, const std::vector<std::uint32_t>& outer);
+  bool add_quad(const LocalPoint* pts, std::size_t count, const std::vector<std::uint32_t>& outer);
 
   const RimShared& s_;
   PlanChunk& out_;
