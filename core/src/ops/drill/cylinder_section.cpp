@@ -25,7 +25,7 @@ CylinderFrame CylinderFrame::make(const Cylinder& cylinder, const DrillOptions& 
 double CylinderFrame::window_theta(const glm::dvec3& p) const {
   const glm::dvec3 q = perp(p);
   const double x = glm::dot(q, u), y = glm::dot(q, w);
-  if (std::isnan(x) || std::isnan(y)) return x + y;
+  if (std::isnan(x) || std::isnan(y)) return x + y;  // NaN, as atan2 gives (not angle 0)
   const double ax = std::abs(x), ay = std::abs(y), hi = std::max(ax, ay);
   if (!(hi > 0.0)) return 0.0;
   // atan on [0, 1] by a minimax polynomial (error under 1.7e-6), then the octant's symmetries.
@@ -36,7 +36,7 @@ double CylinderFrame::window_theta(const glm::dvec3& p) const {
        s2 * (-0.33262347 + s2 * (0.19354346 + s2 * (-0.11643287 + s2 * (0.05265332 - s2 * 0.01172120)))));
   if (ay > ax) t = 0.5 * geometry::kPi - t;
   if (x < 0.0) t = geometry::kPi - t;
-  return y < 0.0 ? -t : t;
+  return std::copysign(t, y);  // y = -0 takes -t as atan2 does
 }
 
 PlaneCut plane_cut(const CylinderFrame& cyl, const glm::dvec3 p[3]) {
@@ -109,6 +109,7 @@ RulingWindow ruling_window(const CylinderFrame& cyl, const double angle[3], doub
   const int n = cyl.samples;
   const RulingWindow all{0, n};
   if (!(reach_angle >= 0.0)) return all;
+  if (!std::isfinite(angle[0] + angle[1] + angle[2])) return all;  // a corner not finite
   // The shadow's angles from corner 0's, each within half a turn of it: the remainder of the
   // difference by a turn (|difference| <= a turn, and the step by a turn is exact there).
   double lo = 0.0, hi = 0.0;
@@ -118,7 +119,7 @@ RulingWindow ruling_window(const CylinderFrame& cyl, const double angle[3], doub
     hi = std::max(hi, d);
   }
   const double margin = reach_angle;
-  if (!(hi - lo + 2.0 * margin < geometry::kPi)) return all;  // round the axis (or not finite)
+  if (!(hi - lo + 2.0 * margin < geometry::kPi)) return all;  // round the axis
   const double step = 2.0 * geometry::kPi / n;
   const double first = std::ceil((angle[0] + lo - margin) / step);
   const double last = std::floor((angle[0] + hi + margin) / step);

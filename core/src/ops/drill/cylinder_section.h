@@ -53,8 +53,9 @@ struct CylinderFrame {
   bool deep_inside(const glm::dvec3& p) const { return deep_sd(sd(p)); }
   // Whether a point with this sd lies deep inside (deep_inside).
   bool deep_sd(double sdv) const { return sdv < -2.0 * eps; }
-  // theta(p) within 2e-6 (radians), without the library's atan2: for ruling windows only
-  // (ruling_window), whose margin is far wider than that.
+  // theta(p) within 1.7e-6 (radians, modulo a turn; 0 on the axis), without the library's atan2:
+  // for ruling windows only (ruling_window), whose margin is far wider than that. Not finite
+  // for a point that is not (the window is then every ruling).
   double window_theta(const glm::dvec3& p) const;
   glm::dvec3 ruling(double th) const { return std::cos(th) * u + std::sin(th) * w; }
   glm::dvec3 at(double th, double sv) const { return a + r * ruling(th) + sv * d; }
@@ -83,6 +84,16 @@ struct RulingWindow {
   int first = 0, count = 0;  // 0 <= first < samples, 0 <= count <= samples
 };
 
+/// How far (as a fraction of the radius) the rim sampling's consider() (rim_faces.cpp) moves a
+/// ruling's point that falls just beyond an edge back inside: the shift, and the point's distance
+/// from the cylinder after it, stay within this. chord_pieces() skips chord points from the same
+/// figure, so the skip can never drop a point consider() would keep.
+inline constexpr double kShiftBound = 0.005;
+/// The reach the rim sampling's ruling windows ask for, as a fraction of the radius: four times
+/// kShiftBound, so a window holds every ruling that can give a point (one within kShiftBound r)
+/// with room far beyond CylinderFrame::window_theta's error (ruling_window).
+inline constexpr double kWindowReach = 4.0 * kShiftBound;
+
 /// How far around the axis, beyond a triangle's shadow on the axis's normal plane, a point of
 /// the cylinder's side within `reach` of the triangle can lie: asin(reach / (r - reach)), or a
 /// negative value when `reach` is not small against r (every ruling can then reach it).
@@ -93,7 +104,7 @@ double ruling_reach_angle(const CylinderFrame& cyl, double reach);
 /// `reach_angle` = ruling_reach_angle(cyl, reach): those within that angle of the triangle's
 /// shadow, or all of them when the shadow comes round the axis, so the rim sampling tests only
 /// the rulings that can give it a point. The rim sampling keeps points within kShiftBound r
-/// (rim_faces.cpp) of a triangle and asks for a reach four times that: the window holds every
+/// of a triangle and asks for a reach of kWindowReach r, four times that: the window holds every
 /// ruling that can give a point with room far beyond window_theta's error, so a ruling more or
 /// less at its ends changes nothing (one outside gives no point).
 RulingWindow ruling_window(const CylinderFrame& cyl, const double angle[3], double reach_angle);

@@ -14,12 +14,6 @@ namespace deepcut::drill {
 
 namespace {
 
-// How far (as a fraction of the radius) consider() moves a ruling's point that falls just beyond
-// an edge back inside: the shift, and the point's distance from the cylinder after it, stay
-// within this. chord_pieces() skips chord points from the same figure, so the skip can never drop
-// a point consider() would keep.
-constexpr double kShiftBound = 0.005;
-
 // Whether FlipTriangulation::legalize flips edge a-b of triangle a-b-c, with d across it (over
 // the points `q`).
 bool flips(const glm::dvec2 q[4], std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {

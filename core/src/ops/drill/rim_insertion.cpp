@@ -391,7 +391,7 @@ void RimInserter::plan_faces(const std::vector<FaceId>& candidates) {
   shared.samples = samples_;
   shared.sep = 0.3 * 2.0 * cyl_.r * std::sin(geometry::kPi / samples_);
   // A rim sample is kept only inside a triangle or within half a percent of r of it.
-  shared.ruling_reach = ruling_reach_angle(cyl_, 0.02 * cyl_.r + 2.0 * eps_);
+  shared.ruling_reach = ruling_reach_angle(cyl_, kWindowReach * cyl_.r + 2.0 * eps_);
   shared.ruling_base.reserve(static_cast<std::size_t>(samples_));
   for (int k = 0; k < samples_; ++k)
     shared.ruling_base.push_back(cyl_.a + cyl_.r * cyl_.ruling(2.0 * geometry::kPi * k / samples_));
