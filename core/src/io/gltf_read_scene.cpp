@@ -66,6 +66,11 @@ bool finite_transform(const Node& n) {
   return finite;
 }
 
+// How messages name channel `c` of animation `a`.
+std::string channel_name(std::size_t a, std::size_t c) {
+  return "animation " + std::to_string(a) + " channel " + std::to_string(c);
+}
+
 // The animated property a channel's target path names; none for an unknown path.
 std::optional<AnimationPath> path_named(const std::string& path) {
   if (path == "translation") return AnimationPath::Translation;
@@ -229,16 +234,15 @@ Animation Reader::read_animation(std::size_t a) {
   std::vector<int> sampler_map(g.samplers.size(), -1);  // the file's sampler -> anim.samplers' (-1: not read)
   for (std::size_t c = 0; c < g.channels.size(); ++c) {
     const auto& ch = g.channels[c];
-    const std::string where = "animation " + std::to_string(a) + " channel " + std::to_string(c);
     if (ch.sampler < 0 || static_cast<std::size_t>(ch.sampler) >= g.samplers.size())
-      fail(where + " refers to a missing sampler");
+      fail(channel_name(a, c) + " refers to a missing sampler");
     if (ch.target_node < 0) continue;  // targets defined by extensions are not animated here
     if (static_cast<std::size_t>(ch.target_node) >= model_.nodes.size())
-      fail(where + " targets a missing node");
+      fail(channel_name(a, c) + " targets a missing node");
     AnimationChannel out;
     out.node = ch.target_node;
     const std::optional<AnimationPath> path = path_named(ch.target_path);
-    if (!path) fail(where + ": unknown path '" + ch.target_path + "'");
+    if (!path) fail(channel_name(a, c) + ": unknown path '" + ch.target_path + "'");
     out.path = *path;
     if (sampler_map[ch.sampler] < 0) {
       std::optional<AnimationSampler> s = read_sampler(g.samplers[ch.sampler], out.path, a, c);
@@ -249,7 +253,7 @@ Animation Reader::read_animation(std::size_t a) {
     out.sampler = sampler_map[ch.sampler];
     // (weight channels are checked against the node's mesh in resolve_morph_weights)
     if (out.path != AnimationPath::Weights)
-      check_transform_sampler(anim.samplers[out.sampler], ch.target_path, where);
+      check_transform_sampler(anim.samplers[out.sampler], ch.target_path, a, c);
     anim.channels.push_back(out);
   }
   return anim;
@@ -259,17 +263,17 @@ Animation Reader::read_animation(std::size_t a) {
 // morph weights that fit_weights_sampler drops.
 std::optional<AnimationSampler> Reader::read_sampler(const tinygltf::AnimationSampler& gs, AnimationPath path,
                                                      std::size_t a, std::size_t c) {
-  const std::string where = "animation " + std::to_string(a);
+  auto where = [&] { return "animation " + std::to_string(a); };  // (built on failure only)
   AnimationSampler s;
   int in_comps = 0, out_comps = 0;
   const Floats input = read_floats(gs.input, "animation sampler input", &in_comps);
   const Floats output = read_floats(gs.output, "animation sampler output", &out_comps);
   s.input.assign(input.begin(), input.end());
   s.output.assign(output.begin(), output.end());
-  if (in_comps != 1) fail(where + ": sampler input is not SCALAR");
+  if (in_comps != 1) fail(where() + ": sampler input is not SCALAR");
   for (std::size_t k = 0; k < s.input.size(); ++k) {
-    if (!std::isfinite(s.input[k])) fail(where + ": key time is not finite");
-    if (k && s.input[k] < s.input[k - 1]) fail(where + ": key times are not increasing");
+    if (!std::isfinite(s.input[k])) fail(where() + ": key time is not finite");
+    if (k && s.input[k] < s.input[k - 1]) fail(where() + ": key times are not increasing");
   }
   s.components = out_comps;
   s.interpolation = interpolation_named(gs.interpolation);
@@ -277,25 +281,27 @@ std::optional<AnimationSampler> Reader::read_sampler(const tinygltf::AnimationSa
   if (path == AnimationPath::Weights) {
     if (!fit_weights_sampler(s, gltf_.accessors[gs.output].type, a, c)) return std::nullopt;
   } else if (s.output.size() != s.input.size() * per_key * std::size_t(out_comps)) {
-    fail(where + ": sampler output count does not match its input count");
+    fail(where() + ": sampler output count does not match its input count");
   }
   for (const float v : s.output)
-    if (!std::isfinite(v)) fail(where + ": a sampler output value is not finite (NaN or Inf)");
+    if (!std::isfinite(v)) fail(where() + ": a sampler output value is not finite (NaN or Inf)");
   return s;
 }
 
-// A translation, rotation or scale channel's sampler (at `where`, driving `path`): its values have
-// the path's type, and rotations are unit quaternions.
-void Reader::check_transform_sampler(AnimationSampler& s, const std::string& path, const std::string& where) {
+// A translation, rotation or scale channel's sampler (channel `c` of animation `a`, driving
+// `path`): its values have the path's type, and rotations are unit quaternions.
+void Reader::check_transform_sampler(AnimationSampler& s, const std::string& path, std::size_t a,
+                                     std::size_t c) {
   const bool rotation = path == "rotation";
-  if (s.components != (rotation ? 4 : 3)) fail(where + ": output has the wrong type for " + path);
+  if (s.components != (rotation ? 4 : 3))
+    fail(channel_name(a, c) + ": output has the wrong type for " + path);
   if (!rotation) return;
   const std::size_t fixed = normalise_rotations(s);
   if (fixed)
     problem("rotations-normalised", fixed,
             {"rotation was not a unit quaternion (normalised)",
              "rotations were not unit quaternions (normalised)"},
-            where);
+            channel_name(a, c));
 }
 
 void Reader::read_images() {

@@ -320,7 +320,7 @@ class Reader {
   Animation read_animation(std::size_t a);
   std::optional<AnimationSampler> read_sampler(const tinygltf::AnimationSampler& gs, AnimationPath path,
                                                std::size_t a, std::size_t c);
-  void check_transform_sampler(AnimationSampler& s, const std::string& path, const std::string& where);
+  void check_transform_sampler(AnimationSampler& s, const std::string& path, std::size_t a, std::size_t c);
   void read_images();
   void read_passthrough();
   void repair_skin(std::size_t index, Skin& skin);
