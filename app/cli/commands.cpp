@@ -87,6 +87,95 @@ void print_morphs(const Model& model) {
               << c["interpolation"].get<std::string>() << ")";
 }
 
+// What info reports on a model read from `path`.
+struct InfoReport {
+  const std::string& path;
+  const Model& model;
+  const ModelStats& stats;
+  std::vector<ImportProblem> problems;
+  std::size_t merged;  // glTF vertices the weld merged
+};
+
+// What reading repaired or dropped, then the checks of every primitive: info's report is the
+// list, so it prints no stderr lines of its own.
+std::vector<ImportProblem> info_problems(const Model& model, const ModelStats& s) {
+  auto problems = model_problems(model);
+  // A file with nothing to draw is a problem for every command that edits meshes.
+  const bool reported = std::any_of(problems.begin(), problems.end(),
+                                    [](const ImportProblem& p) { return p.kind == "no-triangles"; });
+  if (s.meshes == 0)
+    problems.push_back({"no-mesh", "the scene has no mesh", 1, {}});
+  else if (s.triangles == 0 && !reported)
+    problems.push_back({"no-triangles", "the mesh has no triangles", 1, {}});
+  return problems;
+}
+
+std::size_t weld_merged(const Model& model) {
+  std::size_t merged = 0;
+  for (const auto& m : model.meshes)
+    for (const auto& p : m.primitives) merged += p.welded_merged;
+  return merged;
+}
+
+// The rest pose's bounding box, a point at the origin when empty.
+std::pair<glm::vec3, glm::vec3> rest_bounds(const ModelStats& s) {
+  if (s.bounds.empty()) return {glm::vec3(0.0f), glm::vec3(0.0f)};
+  return {s.bounds.min, s.bounds.max};
+}
+
+// info --json's report, without load_ms.
+json info_json(const InfoReport& r) {
+  const ModelStats& s = r.stats;
+  json anims = json::array();
+  for (const auto& a : r.model.animations) anims.push_back({{"name", a.name}, {"duration", a.duration()}});
+  const auto [lo, hi] = rest_bounds(s);
+  return {{"file", r.path},
+          {"nodes", s.nodes},
+          {"meshes", s.meshes},
+          {"primitives", s.primitives},
+          {"vertices", s.gltf_vertices},
+          {"welded_vertices", s.welded_vertices},
+          {"weld_merged", r.merged},
+          {"triangles", s.triangles},
+          {"skins", s.skins},
+          {"joints", s.joints},
+          {"animations", s.animations},
+          {"animation_clips", anims},
+          {"morph_targets", morph_targets_json(r.model)},
+          {"weight_channels", weight_channels_json(r.model)},
+          {"materials", s.materials},
+          {"textures", s.textures},
+          {"images", s.images},
+          {"boundary_edges", s.boundary_edges},
+          {"nonmanifold_edges", s.nonmanifold_edges},
+          {"seam_edges", s.seam_edges},
+          {"components", s.components},
+          {"bbox", {{"min", {lo.x, lo.y, lo.z}}, {"max", {hi.x, hi.y, hi.z}}}},
+          {"problems", problems_report(r.problems)}};
+}
+
+// info's text report.
+void print_info(const InfoReport& r) {
+  const ModelStats& s = r.stats;
+  const auto [lo, hi] = rest_bounds(s);
+  std::cout << r.path << "\n"
+            << "  nodes " << s.nodes << ", meshes " << s.meshes << ", primitives " << s.primitives << "\n"
+            << "  vertices " << s.gltf_vertices << " (glTF), " << s.welded_vertices << " welded (" << r.merged
+            << " merged), triangles " << s.triangles << "\n"
+            << "  skins " << s.skins << ", joints " << s.joints << ", materials " << s.materials
+            << ", textures " << s.textures << ", images " << s.images << "\n"
+            << "  animations " << s.animations;
+  for (const auto& a : r.model.animations)
+    std::cout << "\n    '" << a.name << "' " << std::setprecision(4) << a.duration() << " s";
+  print_morphs(r.model);
+  std::cout << "\n  edges: boundary " << s.boundary_edges << ", non-manifold " << s.nonmanifold_edges
+            << ", seam " << s.seam_edges << "; components " << s.components << "\n"
+            << "  bbox (rest pose) [" << lo.x << ", " << lo.y << ", " << lo.z << "] - [" << hi.x << ", "
+            << hi.y << ", " << hi.z << "]\n"
+            << "  problems: " << (r.problems.empty() ? "none" : std::to_string(r.problems.size())) << "\n";
+  for (const auto& p : r.problems) std::cout << "    - " << p.message << "\n";
+}
+
 }  // namespace
 
 const CommandSpec& info_command() {
@@ -154,65 +243,15 @@ int run_info(const std::vector<std::string>& argv) {
   const auto t0 = Clock::now();
   const Model model = plugins::read_model(path);
   const double load_ms = ms_since(t0);
-  const ModelStats s = compute_stats(model);
-  // What reading repaired or dropped, then the checks of every primitive: info's report is the
-  // list, so it prints no stderr lines of its own.
-  auto problems = model_problems(model);
-  // A file with nothing to draw is a problem for every command that edits meshes.
-  const bool reported = std::any_of(problems.begin(), problems.end(),
-                                    [](const ImportProblem& p) { return p.kind == "no-triangles"; });
-  if (s.meshes == 0) problems.push_back({"no-mesh", "the scene has no mesh", 1, {}});
-  else if (s.triangles == 0 && !reported) problems.push_back({"no-triangles", "the mesh has no triangles", 1, {}});
-  json anims = json::array();
-  for (const auto& a : model.animations) anims.push_back({{"name", a.name}, {"duration", a.duration()}});
-  std::size_t merged = 0;
-  for (const auto& m : model.meshes)
-    for (const auto& p : m.primitives) merged += p.welded_merged;
-  const glm::vec3 lo = s.bounds.empty() ? glm::vec3(0.0f) : s.bounds.min, hi = s.bounds.empty() ? glm::vec3(0.0f) : s.bounds.max;
+  const ModelStats stats = compute_stats(model);
+  const InfoReport report{path, model, stats, info_problems(model, stats), weld_merged(model)};
   if (args.flag("--json")) {
-    json out = {{"file", path},
-                {"nodes", s.nodes},
-                {"meshes", s.meshes},
-                {"primitives", s.primitives},
-                {"vertices", s.gltf_vertices},
-                {"welded_vertices", s.welded_vertices},
-                {"weld_merged", merged},
-                {"triangles", s.triangles},
-                {"skins", s.skins},
-                {"joints", s.joints},
-                {"animations", s.animations},
-                {"animation_clips", anims},
-                {"morph_targets", morph_targets_json(model)},
-                {"weight_channels", weight_channels_json(model)},
-                {"materials", s.materials},
-                {"textures", s.textures},
-                {"images", s.images},
-                {"boundary_edges", s.boundary_edges},
-                {"nonmanifold_edges", s.nonmanifold_edges},
-                {"seam_edges", s.seam_edges},
-                {"components", s.components},
-                {"bbox", {{"min", {lo.x, lo.y, lo.z}}, {"max", {hi.x, hi.y, hi.z}}}},
-                {"problems", problems_report(problems)},
-                {"load_ms", load_ms}};
+    json out = info_json(report);
+    out["load_ms"] = load_ms;
     std::cout << out.dump(2) << "\n";
     return 0;
   }
-  std::cout << path << "\n"
-            << "  nodes " << s.nodes << ", meshes " << s.meshes << ", primitives " << s.primitives << "\n"
-            << "  vertices " << s.gltf_vertices << " (glTF), " << s.welded_vertices << " welded (" << merged
-            << " merged), triangles " << s.triangles << "\n"
-            << "  skins " << s.skins << ", joints " << s.joints << ", materials " << s.materials << ", textures "
-            << s.textures << ", images " << s.images << "\n"
-            << "  animations " << s.animations;
-  for (const auto& a : model.animations)
-    std::cout << "\n    '" << a.name << "' " << std::setprecision(4) << a.duration() << " s";
-  print_morphs(model);
-  std::cout << "\n  edges: boundary " << s.boundary_edges << ", non-manifold " << s.nonmanifold_edges << ", seam "
-            << s.seam_edges << "; components " << s.components << "\n"
-            << "  bbox (rest pose) [" << lo.x << ", " << lo.y << ", " << lo.z << "] - [" << hi.x << ", " << hi.y << ", "
-            << hi.z << "]\n"
-            << "  problems: " << (problems.empty() ? "none" : std::to_string(problems.size())) << "\n";
-  for (const auto& p : problems) std::cout << "    - " << p.message << "\n";
+  print_info(report);
   return 0;
 }
 

@@ -146,73 +146,99 @@ int screenshot(MainWindow& window, const StudioOptions& o) {
   return 0;
 }
 
+bool asks_for_help(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i)
+    if (std::string(argv[i]) == "-h" || std::string(argv[i]) == "--help") return true;
+  return false;
+}
+
+bool has_display() {
+  return !qEnvironmentVariableIsEmpty("DISPLAY") || !qEnvironmentVariableIsEmpty("WAYLAND_DISPLAY") ||
+         !qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM");
+}
+
+// Qt warns on stderr when XDG_RUNTIME_DIR is unset (xvfb-run, CI); give it a private one so
+// stderr keeps to the one-line messages the exit codes promise.
+void give_qt_a_runtime_dir() {
+  if (!qEnvironmentVariableIsEmpty("XDG_RUNTIME_DIR")) return;
+  const QString dir = QDir::tempPath() + "/runtime-deepcut-" + QString::number(::getuid());
+  if (QDir().mkpath(dir) &&
+      QFile::setPermissions(dir, QFileDevice::ReadOwner | QFileDevice::WriteOwner | QFileDevice::ExeOwner))
+    qputenv("XDG_RUNTIME_DIR", dir.toLocal8Bit());
+}
+
+// The command line's arguments after the program's name, as Qt left them.
+std::vector<std::string> studio_arguments() {
+  std::vector<std::string> args;
+  const QStringList qt_args = QApplication::arguments();
+  for (int i = 1; i < qt_args.size(); ++i) args.push_back(qt_args[i].toStdString());
+  return args;
+}
+
+// Opens the model and applies the options in the shown window; a failure is reported in a dialog.
+void open_with_options(MainWindow& window, const StudioOptions& options) {
+  std::string path;
+  try {
+    path = model_path(options);
+  } catch (const Error& e) {
+    QMessageBox::critical(&window, "DeepCut Studio", e.what());
+  }
+  if (!path.empty() && window.open_file(QString::fromStdString(path))) {
+    try {
+      apply_options(window, options);
+    } catch (const Error& e) {
+      QMessageBox::critical(&window, "DeepCut Studio", e.what());
+    }
+  }
+}
+
+// The studio's window: a screenshot taken, or the window shown until it is closed.
+int run_studio(const StudioOptions& options) {
+  deepcut::studio::MainWindowOptions window_options;
+  window_options.error_dialogs = options.screenshot.empty();
+  MainWindow window(window_options);
+  // A screenshot is one frame meant to be looked at: smooth edges unless told otherwise.
+  const std::string anti_aliasing =
+      options.anti_aliasing.empty() && !options.screenshot.empty() ? "on" : options.anti_aliasing;
+  if (!anti_aliasing.empty())
+    window.set_anti_aliasing(*deepcut::studio::parse_anti_aliasing(anti_aliasing), false);
+  if (!options.screenshot.empty()) return screenshot(window, options);
+  window.show();
+  QApplication::processEvents();  // lay the window out, so the first framing sees the view's size
+  open_with_options(window, options);
+  if (!window.isVisible()) return 0;  // closed while the model was opening (the open was cancelled)
+  return QApplication::exec();
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   deepcut::keep_freed_memory();  // an operation writes into the pages the last one freed
   // --help, and a clear message instead of Qt's abort when there is no display at all.
-  for (int i = 1; i < argc; ++i)
-    if (std::string(argv[i]) == "-h" || std::string(argv[i]) == "--help") {
-      std::cout << deepcut::studio::studio_usage();
-      return 0;
-    }
-  if (qEnvironmentVariableIsEmpty("DISPLAY") && qEnvironmentVariableIsEmpty("WAYLAND_DISPLAY") &&
-      qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM")) {
+  if (asks_for_help(argc, argv)) {
+    std::cout << deepcut::studio::studio_usage();
+    return 0;
+  }
+  if (!has_display()) {
     std::cerr << "deepcut-studio: no display; run it under xvfb-run -a -s \"-screen 0 1600x1000x24\" "
                  "(scripts/run.sh does)\n";
     return 1;
   }
-  // Qt warns on stderr when XDG_RUNTIME_DIR is unset (xvfb-run, CI); give it a private one so
-  // stderr keeps to the one-line messages the exit codes promise.
-  if (qEnvironmentVariableIsEmpty("XDG_RUNTIME_DIR")) {
-    const QString dir = QDir::tempPath() + "/runtime-deepcut-" + QString::number(::getuid());
-    if (QDir().mkpath(dir) &&
-        QFile::setPermissions(dir, QFileDevice::ReadOwner | QFileDevice::WriteOwner | QFileDevice::ExeOwner))
-      qputenv("XDG_RUNTIME_DIR", dir.toLocal8Bit());
-  }
+  give_qt_a_runtime_dir();
   QSurfaceFormat::setDefaultFormat(QVTKOpenGLNativeWidget::defaultFormat());
   QApplication app(argc, argv);
   QApplication::setOrganizationName("DeepCut");
   QApplication::setApplicationName("DeepCut Studio");
   apply_theme(app);
-
   StudioOptions options;
   try {
-    std::vector<std::string> args;
-    const QStringList qt_args = QApplication::arguments();
-    for (int i = 1; i < qt_args.size(); ++i) args.push_back(qt_args[i].toStdString());
-    options = deepcut::studio::parse_studio_options(args);
+    options = deepcut::studio::parse_studio_options(studio_arguments());
   } catch (const deepcut::studio::UsageError& e) {
     std::cerr << "deepcut-studio: " << e.what() << " (see deepcut-studio --help)\n";
     return 2;
   }
-
   try {
-    deepcut::studio::MainWindowOptions window_options;
-    window_options.error_dialogs = options.screenshot.empty();
-    MainWindow window(window_options);
-    // A screenshot is one frame meant to be looked at: smooth edges unless told otherwise.
-    const std::string anti_aliasing = options.anti_aliasing.empty() && !options.screenshot.empty() ? "on" : options.anti_aliasing;
-    if (!anti_aliasing.empty()) window.set_anti_aliasing(*deepcut::studio::parse_anti_aliasing(anti_aliasing), false);
-    if (!options.screenshot.empty()) return screenshot(window, options);
-
-    window.show();
-    QApplication::processEvents();  // lay the window out, so the first framing sees the view's size
-    std::string path;
-    try {
-      path = model_path(options);
-    } catch (const Error& e) {
-      QMessageBox::critical(&window, "DeepCut Studio", e.what());
-    }
-    if (!path.empty() && window.open_file(QString::fromStdString(path))) {
-      try {
-        apply_options(window, options);
-      } catch (const Error& e) {
-        QMessageBox::critical(&window, "DeepCut Studio", e.what());
-      }
-    }
-    if (!window.isVisible()) return 0;  // closed while the model was opening (the open was cancelled)
-    return QApplication::exec();
+    return run_studio(options);
   } catch (const Error& e) {
     std::cerr << "deepcut-studio: " << e.what() << "\n";
     return e.is_input_error() ? 2 : 1;

@@ -86,7 +86,18 @@ MainWindow::MainWindow(const MainWindowOptions& options, QWidget* parent)
   setAcceptDrops(true);
   setDockNestingEnabled(true);
   resize(1400, 880);
+  build_hosts();
+  build_docks();
+  build_scene_host();
+  build_menus();
+  build_status_bar();
+  refresh_status();
+  QSettings settings;
+  restoreState(settings.value("window_state").toByteArray());
+}
 
+// The view and the hosts of the inspectors, tools and operations around it.
+void MainWindow::build_hosts() {
   view_ = new SceneView(this);
   setCentralWidget(view_);
   inspectors_ = new InspectorHost(view_, this);
@@ -102,8 +113,10 @@ MainWindow::MainWindow(const MainWindowOptions& options, QWidget* parent)
   connect(operations_, &OperationsHost::done, this, &MainWindow::note_operation);
   connect(operations_, &OperationsHost::note, statusBar(), &QStatusBar::showMessage);
   connect(operations_, &OperationsHost::pose_requested, this, &MainWindow::set_pose);
+}
 
-  build_docks();
+// The scene host, between the view, the docks (built before), the hosts and the session.
+void MainWindow::build_scene_host() {
   scene_host_ = new SceneHost(view_, tree_, timeline_, tools_, inspectors_, operations_->session(), this);
   connect(operations_, &OperationsHost::state_kept, scene_host_, &SceneHost::lend_grids);
   connect(scene_host_, &SceneHost::overlays_changed, this, &MainWindow::refresh_status);
@@ -114,8 +127,10 @@ MainWindow::MainWindow(const MainWindowOptions& options, QWidget* parent)
   // an undo or redo (which edits the model it reads) waits for it.
   scene_host_->set_posed_builder([this] { return start_indexing(); });
   operations_->set_before_step([this] { finish_indexing(); });
-  build_menus();
+}
 
+// The status bar's labels and the background task, which runs the operations' and inspectors' work.
+void MainWindow::build_status_bar() {
   for (QLabel** label : {&operation_label_, &time_label_, &counts_label_}) {
     *label = new QLabel(this);
     statusBar()->addPermanentWidget(*label);
@@ -135,10 +150,6 @@ MainWindow::MainWindow(const MainWindowOptions& options, QWidget* parent)
         [this, title](std::exception_ptr error) { report_exception(error, QString::fromStdString(title)); },
         std::move(cancelled));
   });
-  refresh_status();
-
-  QSettings settings;
-  restoreState(settings.value("window_state").toByteArray());
 }
 
 MainWindow::~MainWindow() {

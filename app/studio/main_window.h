@@ -214,8 +214,11 @@ class MainWindow : public QMainWindow {
  private:
   /// Milliseconds since `clock` started.
   static double ms_since(const QElapsedTimer& clock);
+  void build_hosts();
   void build_docks();
+  void build_scene_host();
   void build_menus();
+  void build_status_bar();
   void build_edit_menu();
   /// @returns Reset camera (the tool bar shows it).
   QAction* build_view_menu();

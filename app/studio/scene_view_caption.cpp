@@ -59,7 +59,6 @@ void CaptionActor::SetText(const std::string& text) {
 void CaptionActor::measure(vtkViewport* viewport, int size, int extent[2]) {
   measure_->GetTextProperty()->SetFontSize(size);
   measure_->GetSize(viewport, extent);
-  ++measured_;
 }
 
 int CaptionActor::fit(vtkViewport* viewport, const int view[2], int start) {

@@ -36,8 +36,6 @@ class CaptionActor : public vtkActor2D {
   void SetText(const std::string& text);
   /// The size the text is drawn at, fitted at the last frame that fitted it.
   int font_size() const { return font_size_; }
-  /// For tests only: how many sizes the text was measured at by the fits so far.
-  int sizes_measured() const { return measured_; }
 
   /// Fits the size when the text, its style or the view's size changed, then draws.
   int RenderOpaqueGeometry(vtkViewport* viewport) override;
@@ -71,7 +69,6 @@ class CaptionActor : public vtkActor2D {
   vtkNew<vtkTextMapper> measure_;  // measures, so the drawn text's image stays while the view resizes
   int lines_ = 0;
   int font_size_ = kMaximumFontSize;  // (vtkCornerAnnotation's first)
-  int measured_ = 0;
   int last_view_[2] = {0, 0};
   bool text_changed_ = true;
   vtkTimeStamp built_;  // when the size was last fitted

@@ -162,19 +162,16 @@ int ply_type_size(const std::string& path, const std::string& t, bool* is_signed
   fail(path, "PLY property type '" + t.substr(0, 32) + (integer ? "' cannot count a list" : "' is unknown"));
 }
 
-// The header: short printable lines, known types, at most 64 elements of 256 properties.
-PlyHeader parse_ply_header(const std::string& path) {
-  const std::string head = read_head(path, 64 * 1024);
-  if (head.compare(0, 3, "ply") != 0 || (head.size() > 3 && head[3] != '\n' && head[3] != '\r'))
-    fail(path, "does not start with 'ply'");
-  // The header ends with a line that is exactly "end_header" (vtkPLY reads on into the binary
-  // body otherwise), and holds printable text only.
-  std::size_t end = std::string::npos, body = 0;
+// Where the header in `head` ends (after its "end_header" line's '\n'), and `*body`, where the
+// body starts. The header ends with a line that is exactly "end_header" (vtkPLY reads on into the
+// binary body otherwise), and holds printable text only.
+std::size_t ply_header_end(const std::string& path, const std::string& head, std::size_t* body) {
+  std::size_t end = std::string::npos;
   for (const char* marker : {"\nend_header\n", "\nend_header\r\n"}) {
     const std::size_t at = head.find(marker);
     if (at != std::string::npos && at < end) {
       end = at + 1;
-      body = at + std::strlen(marker);
+      *body = at + std::strlen(marker);
     }
   }
   if (end == std::string::npos) fail(path, "no 'end_header' line in the first 64 KiB (truncated or not a PLY header)");
@@ -183,55 +180,80 @@ PlyHeader parse_ply_header(const std::string& path) {
     if ((c < 0x20 && c != '\n' && c != '\r' && c != '\t') || c >= 0x7F)
       fail(path, "the PLY header holds a byte that is not text (offset " + std::to_string(i) + ")");
   }
-  PlyHeader header;
-  header.body = body;
+  return end;
+}
+
+// An "element NAME COUNT" line's element, after its first word.
+PlyElement read_ply_element(const std::string& path, std::istringstream& words) {
+  PlyElement e;
+  std::string count;
+  words >> e.name >> count;
+  if (count.empty() || count.size() > 12 ||
+      !std::all_of(count.begin(), count.end(), [](char c) { return c >= '0' && c <= '9'; }))
+    fail(path, "PLY element '" + e.name.substr(0, 32) + "' has no whole-number count");
+  e.count = std::stoull(count);
+  return e;
+}
+
+// A "property TYPE NAME" or "property list COUNT_TYPE ITEM_TYPE NAME" line's property of element
+// `e`, after its first word.
+PlyProperty read_ply_property(const std::string& path, std::istringstream& words, const PlyElement& e) {
+  std::string type;
+  words >> type;
+  PlyProperty prop;
+  if (type == "list") {
+    std::string count_type, item_type;
+    words >> count_type >> item_type >> prop.name;
+    prop.list = true;
+    prop.count_size = ply_type_size(path, count_type, &prop.count_signed, true);
+    prop.vertex_ids = e.name == "face" && (prop.name == "vertex_indices" || prop.name == "vertex_index");
+    prop.size = ply_type_size(path, item_type, &prop.item_signed, prop.vertex_ids);
+  } else {
+    words >> prop.name;
+    prop.size = ply_type_size(path, type);
+  }
+  return prop;
+}
+
+// One header line into `header`.
+void read_ply_header_line(const std::string& path, const std::string& line, PlyHeader& header) {
+  if (line.size() > 1000) fail(path, "a PLY header line is longer than 1000 characters");
   std::vector<PlyElement>& elements = header.elements;
-  std::string& format = header.format;
+  std::istringstream words(line);
+  std::string word;
+  words >> word;
+  if (word == "format") {
+    words >> header.format;
+    if (header.format != "ascii" && header.format != "binary_little_endian" &&
+        header.format != "binary_big_endian")
+      fail(path, "PLY format '" + header.format.substr(0, 32) + "' is unknown");
+  } else if (word == "element") {
+    elements.push_back(read_ply_element(path, words));
+    if (elements.size() > 64) fail(path, "the PLY header declares more than 64 elements");
+  } else if (word == "property") {
+    if (elements.empty()) fail(path, "a PLY property comes before any element");
+    PlyElement& e = elements.back();
+    if (e.properties.size() >= 256)
+      fail(path, "PLY element '" + e.name.substr(0, 32) + "' has more than 256 properties");
+    e.properties.push_back(read_ply_property(path, words, e));
+  } else if (!word.empty() && word != "comment" && word != "obj_info" && word != "ply") {
+    // vtkPLY's header parser misreads lines it does not know (a fuzzer crashed it).
+    fail(path,
+         "the PLY header line '" + line.substr(0, 32) + "' is not format, element, property or comment");
+  }
+}
+
+// The header: short printable lines, known types, at most 64 elements of 256 properties.
+PlyHeader parse_ply_header(const std::string& path) {
+  const std::string head = read_head(path, 64 * 1024);
+  if (head.compare(0, 3, "ply") != 0 || (head.size() > 3 && head[3] != '\n' && head[3] != '\r'))
+    fail(path, "does not start with 'ply'");
+  PlyHeader header;
+  const std::size_t end = ply_header_end(path, head, &header.body);
   std::istringstream lines(head.substr(0, end));
   std::string line;
-  while (std::getline(lines, line)) {
-    if (line.size() > 1000) fail(path, "a PLY header line is longer than 1000 characters");
-    std::istringstream words(line);
-    std::string word;
-    words >> word;
-    if (word == "format") {
-      words >> format;
-      if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian")
-        fail(path, "PLY format '" + format.substr(0, 32) + "' is unknown");
-    } else if (word == "element") {
-      PlyElement e;
-      std::string count;
-      words >> e.name >> count;
-      if (count.empty() || count.size() > 12 || !std::all_of(count.begin(), count.end(), [](char c) { return c >= '0' && c <= '9'; }))
-        fail(path, "PLY element '" + e.name.substr(0, 32) + "' has no whole-number count");
-      e.count = std::stoull(count);
-      elements.push_back(e);
-      if (elements.size() > 64) fail(path, "the PLY header declares more than 64 elements");
-    } else if (word == "property") {
-      if (elements.empty()) fail(path, "a PLY property comes before any element");
-      PlyElement& e = elements.back();
-      if (e.properties.size() >= 256) fail(path, "PLY element '" + e.name.substr(0, 32) + "' has more than 256 properties");
-      std::string type;
-      words >> type;
-      PlyProperty prop;
-      if (type == "list") {
-        std::string count_type, item_type;
-        words >> count_type >> item_type >> prop.name;
-        prop.list = true;
-        prop.count_size = ply_type_size(path, count_type, &prop.count_signed, true);
-        prop.vertex_ids = e.name == "face" && (prop.name == "vertex_indices" || prop.name == "vertex_index");
-        prop.size = ply_type_size(path, item_type, &prop.item_signed, prop.vertex_ids);
-      } else {
-        words >> prop.name;
-        prop.size = ply_type_size(path, type);
-      }
-      e.properties.push_back(prop);
-    } else if (!word.empty() && word != "comment" && word != "obj_info" && word != "ply") {
-      // vtkPLY's header parser misreads lines it does not know (a fuzzer crashed it).
-      fail(path, "the PLY header line '" + line.substr(0, 32) + "' is not format, element, property or comment");
-    }
-  }
-  if (format.empty()) fail(path, "the PLY header has no format line");
+  while (std::getline(lines, line)) read_ply_header_line(path, line, header);
+  if (header.format.empty()) fail(path, "the PLY header has no format line");
   return header;
 }
 

@@ -32,6 +32,20 @@ constexpr float kSumTolerance = 1e-3f;
 /// The skin weights of one vertex, as (joint node, weight) with repeated joints summed.
 using VertexWeights = std::map<int, float>;
 
+// The legend's ramp from weight 0 to 1.
+QPixmap weight_ramp_pixmap() {
+  QPixmap ramp(220, 14);
+  QPainter painter(&ramp);
+  QLinearGradient gradient(0, 0, 220, 0);
+  const auto stops = weight_ramp();
+  for (std::size_t i = 0; i < stops.size(); ++i)
+    gradient.setColorAt(static_cast<double>(i) / (stops.size() - 1),
+                        QColor::fromRgbF(stops[i].r, stops[i].g, stops[i].b));
+  painter.fillRect(ramp.rect(), gradient);
+  painter.end();
+  return ramp;
+}
+
 class WeightsInspector final : public Inspector {
  public:
   enum class Mode { JointWeight, DominantJoint };
@@ -55,6 +69,8 @@ class WeightsInspector final : public Inspector {
   void select_joint(int joint);
   void set_mode(Mode mode);
   void refresh_panel();
+  void rebuild_joint_tree();
+  QString picked_text() const;
   std::string joint_name(int joint) const {
     return scene_ ? node_label(*scene_->model, joint) : std::string();
   }
@@ -388,51 +404,15 @@ void WeightsInspector::refresh_panel() {
   const QSignalBlocker block_b(dominant_mode_.data());
   joint_mode_->setChecked(mode_ == Mode::JointWeight);
   dominant_mode_->setChecked(mode_ == Mode::DominantJoint);
-
-  // Rebuild the joint hierarchy when the joints changed.
-  if (tree_stale_) {
-    tree_stale_ = false;
-    tree_->clear();
-    std::map<int, QTreeWidgetItem*> items;
-    std::map<int, int> parent_of;
-    if (scene_)
-      for (const auto& [parent, child] : skeleton_bones(*scene_->model)) parent_of[child] = parent;
-    // Skin order lists parents before children in practice; attach children whose parent comes
-    // later in a second pass.
-    for (std::size_t i = 0; i < joints_.size(); ++i) {
-      auto* item =
-          new QTreeWidgetItem({QString::fromStdString(joint_name(joints_[i])), QString::number(joints_[i])});
-      item->setData(0, Qt::UserRole, joints_[i]);
-      item->setIcon(0, QIcon(swatch(category_color(i))));
-      items[joints_[i]] = item;
-    }
-    for (int j : joints_) {
-      const auto p = parent_of.find(j);
-      if (p != parent_of.end() && items.count(p->second))
-        items[p->second]->addChild(items[j]);
-      else
-        tree_->addTopLevelItem(items[j]);
-    }
-    tree_->expandAll();
-  }
+  if (tree_stale_) rebuild_joint_tree();
   for (QTreeWidgetItemIterator it(tree_); *it; ++it)
     if ((*it)->data(0, Qt::UserRole).toInt() == joint_) {
       tree_->setCurrentItem(*it);
       tree_->scrollToItem(*it);
     }
-
   // Legend: the ramp, or a note that the joint colours are the swatches in the list.
   if (mode_ == Mode::JointWeight) {
-    QPixmap ramp(220, 14);
-    QPainter painter(&ramp);
-    QLinearGradient gradient(0, 0, 220, 0);
-    const auto stops = weight_ramp();
-    for (std::size_t i = 0; i < stops.size(); ++i)
-      gradient.setColorAt(static_cast<double>(i) / (stops.size() - 1),
-                          QColor::fromRgbF(stops[i].r, stops[i].g, stops[i].b));
-    painter.fillRect(ramp.rect(), gradient);
-    painter.end();
-    legend_->setPixmap(ramp);
+    legend_->setPixmap(weight_ramp_pixmap());
     legend_->setToolTip("weight 0 (blue) to 1 (red)");
   } else {
     legend_->setText("Colour = joint with the largest weight (swatches below)");
@@ -441,20 +421,49 @@ void WeightsInspector::refresh_panel() {
   stats_->setText(lines.empty() ? QString() : QString::fromStdString(lines[0]));
   flags_->setText(lines.size() > 1 ? QString::fromStdString(lines[1]) : QString());
   flags_->setStyleSheet(lines.size() > 1 && lines[1].rfind("All", 0) != 0 ? "color: #ff40d0;" : "");
+  picked_label_->setText(picked_text());
+}
 
-  if (scene_ && picked_instance_ < scene_->instances.size()) {
-    QString text = QString("Vertex %1:").arg(picked_vertex_.index);
-    const VertexWeights w = weights_of(picked_instance_, picked_vertex_);
-    float sum = 0.0f;
-    for (const auto& [joint, weight] : w) {
-      text += QString(" %1 %2").arg(QString::fromStdString(joint_name(joint))).arg(weight, 0, 'f', 3);
-      sum += weight;
-    }
-    text += QString(" (sum %1)").arg(sum, 0, 'f', 3);
-    picked_label_->setText(text);
-  } else {
-    picked_label_->setText("Click a bone to choose its joint; click the surface to read a vertex's weights.");
+// The joint hierarchy, rebuilt when the joints changed.
+void WeightsInspector::rebuild_joint_tree() {
+  tree_stale_ = false;
+  tree_->clear();
+  std::map<int, QTreeWidgetItem*> items;
+  std::map<int, int> parent_of;
+  if (scene_)
+    for (const auto& [parent, child] : skeleton_bones(*scene_->model)) parent_of[child] = parent;
+  // Skin order lists parents before children in practice; attach children whose parent comes
+  // later in a second pass.
+  for (std::size_t i = 0; i < joints_.size(); ++i) {
+    auto* item =
+        new QTreeWidgetItem({QString::fromStdString(joint_name(joints_[i])), QString::number(joints_[i])});
+    item->setData(0, Qt::UserRole, joints_[i]);
+    item->setIcon(0, QIcon(swatch(category_color(i))));
+    items[joints_[i]] = item;
   }
+  for (int j : joints_) {
+    const auto p = parent_of.find(j);
+    if (p != parent_of.end() && items.count(p->second))
+      items[p->second]->addChild(items[j]);
+    else
+      tree_->addTopLevelItem(items[j]);
+  }
+  tree_->expandAll();
+}
+
+// The picked vertex's weights, or how to pick one.
+QString WeightsInspector::picked_text() const {
+  if (!scene_ || picked_instance_ >= scene_->instances.size())
+    return "Click a bone to choose its joint; click the surface to read a vertex's weights.";
+  QString text = QString("Vertex %1:").arg(picked_vertex_.index);
+  const VertexWeights w = weights_of(picked_instance_, picked_vertex_);
+  float sum = 0.0f;
+  for (const auto& [joint, weight] : w) {
+    text += QString(" %1 %2").arg(QString::fromStdString(joint_name(joint))).arg(weight, 0, 'f', 3);
+    sum += weight;
+  }
+  text += QString(" (sum %1)").arg(sum, 0, 'f', 3);
+  return text;
 }
 
 }  // namespace

@@ -6,16 +6,20 @@
 // swept across the width and height where the text at size 8 just fits (where the caption's
 // shortcut decides); where the caption differs on purpose (tokens such as "<slice>", which
 // vtkCornerAnnotation deleted), the frames differ and the caption draws the text as given. In a
-// wide view the text is measured at one size only, in a narrow one the size is searched.
+// wide view the text is measured at one size only, in a narrow one the size is searched (counted
+// by text mappers that VTK's object factory hands the caption in place of the OpenGL ones).
 #include <vtkActor2D.h>
 #include <vtkCornerAnnotation.h>
 #include <vtkNew.h>
+#include <vtkObjectFactory.h>
+#include <vtkOpenGLTextMapper.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
 #include <vtkSmartPointer.h>
 #include <vtkTextMapper.h>
 #include <vtkTextProperty.h>
 #include <vtkUnsignedCharArray.h>
+#include <vtkVersionMacros.h>
 
 #include <QtTest/QtTest>
 #include <algorithm>
@@ -33,13 +37,60 @@ using deepcut::test::studio::frame_of;
 using deepcut::test::studio::offscreen_window;
 using deepcut::test::studio::same_pixels;
 
+/// How many sizes the counting captions (counting_caption()) measured their text at so far.
+int sizes_measured = 0;
+
+/// The OpenGL text mapper, counting the caption's measurements (it measures through GetSize only).
+class CountingTextMapper : public vtkOpenGLTextMapper {
+ public:
+  static CountingTextMapper* New();
+  vtkTypeMacro(CountingTextMapper, vtkOpenGLTextMapper)
+  void GetSize(vtkViewport* viewport, int size[2]) override {
+    ++sizes_measured;
+    Superclass::GetSize(viewport, size);
+  }
+};
+vtkStandardNewMacro(CountingTextMapper);
+
+/// Hands out counting text mappers where vtkTextMapper::New() is asked for one.
+class CountingFactory : public vtkObjectFactory {
+ public:
+  static CountingFactory* New() {
+    auto* factory = new CountingFactory;
+    factory->InitializeObjectBase();
+    return factory;
+  }
+  vtkTypeMacro(CountingFactory, vtkObjectFactory)
+  const char* GetVTKSourceVersion() override { return VTK_SOURCE_VERSION; }
+  const char* GetDescription() override { return "text mappers that count their measurements"; }
+
+ protected:
+  CountingFactory() {
+    RegisterOverride("vtkTextMapper", "CountingTextMapper", "counting", 1,
+                     [] { return static_cast<vtkObject*>(CountingTextMapper::New()); });
+  }
+};
+
+/// A caption whose text mappers count into sizes_measured: made while VTK's object factory hands
+/// out counting text mappers in place of the OpenGL ones (the caption's interface has no counter).
+vtkSmartPointer<CaptionActor> counting_caption() {
+  vtkNew<CountingFactory> factory;
+  vtkObjectFactory::SetAllEnableFlags(0, "vtkTextMapper", "vtkOpenGLTextMapper");
+  vtkObjectFactory::RegisterFactory(factory);
+  auto caption = vtkSmartPointer<CaptionActor>::New();
+  vtkObjectFactory::UnRegisterFactory(factory);
+  vtkObjectFactory::SetAllEnableFlags(1, "vtkTextMapper", "vtkOpenGLTextMapper");
+  return caption;
+}
+
 /// One renderer with the caption, one with the corner annotation, kept across frames (both keep
 /// the size they drew at: the next fit starts there).
 struct Pair {
-  vtkNew<CaptionActor> ours;
+  vtkSmartPointer<CaptionActor> ours;
   vtkNew<vtkCornerAnnotation> theirs;
   vtkNew<vtkRenderer> with_ours, with_theirs;
-  Pair() {
+  Pair() : Pair(vtkSmartPointer<CaptionActor>::New()) {}
+  explicit Pair(vtkSmartPointer<CaptionActor> caption) : ours(std::move(caption)) {
     theirs->SetMaximumFontSize(15);
     theirs->SetLinearFontScaleFactor(2);
     theirs->SetNonlinearFontScaleFactor(1);
@@ -254,21 +305,22 @@ void CaptionTest::tokens_are_drawn_as_given() {
 }
 
 void CaptionTest::a_wide_view_measures_the_text_once() {
-  Pair pair;
+  Pair pair(counting_caption());
+  sizes_measured = 0;
   window_->SetSize(1000, 700);
   pair.set_text("cactus_1000000.glb  |  Materials");
   frame_of(window_, pair.with_ours);
   QCOMPARE(pair.ours->font_size(), CaptionActor::kMaximumFontSize);
-  QCOMPARE(pair.ours->sizes_measured(), 1);
+  QCOMPARE(sizes_measured, 1);
   pair.set_text("cactus_1000000.glb  |  Mesh statistics\n999,656 triangles");
   frame_of(window_, pair.with_ours);
-  QCOMPARE(pair.ours->sizes_measured(), 2);
+  QCOMPARE(sizes_measured, 2);
   frame_of(window_, pair.with_ours);  // unchanged: no fit
-  QCOMPARE(pair.ours->sizes_measured(), 2);
+  QCOMPARE(sizes_measured, 2);
   // Narrow: the search, more sizes, a smaller one.
   window_->SetSize(120, 90);
   frame_of(window_, pair.with_ours);
-  QVERIFY(pair.ours->sizes_measured() > 3);
+  QVERIFY(sizes_measured > 3);
   QVERIFY(pair.ours->font_size() < CaptionActor::kMaximumFontSize);
   // From a drawn size of 8 (fitted 4) into a view where the text at 6 is exactly at the limit:
   // size 8 is measured once (by the shortcut, then reused as the search's start), then 7 and 6.
@@ -278,11 +330,11 @@ void CaptionTest::a_wide_view_measures_the_text_once() {
   window_->SetSize(view_for(extent_at(window_, style, text, 4).first), 700);
   frame_of(window_, pair.with_ours);
   QCOMPARE(pair.ours->font_size(), 8);
-  const int before = pair.ours->sizes_measured();
+  const int before = sizes_measured;
   window_->SetSize(view_for(extent_at(window_, style, text, 6).first), 700);
   frame_of(window_, pair.with_ours);
   QCOMPARE(pair.ours->font_size(), 12);
-  QCOMPARE(pair.ours->sizes_measured() - before, 3);
+  QCOMPARE(sizes_measured - before, 3);
 }
 
 QTEST_APPLESS_MAIN(CaptionTest)

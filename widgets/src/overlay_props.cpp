@@ -63,71 +63,82 @@ vtkSmartPointer<vtkActor> make_actor(vtkPolyData* poly, bool has_colors, const g
   return actor;
 }
 
+// Point set `set` as points drawn as spheres of its pixel size.
+vtkSmartPointer<vtkActor> points_actor(const OverlayPoints& set) {
+  vtkNew<vtkPolyData> poly;
+  poly->SetPoints(make_points(set.positions));
+  vtkNew<vtkCellArray> verts;
+  for (vtkIdType i = 0; i < static_cast<vtkIdType>(set.positions.size()); ++i) verts->InsertNextCell(1, &i);
+  poly->SetVerts(verts);
+  const auto colors = make_colors(set.colors, set.positions.size());
+  if (colors) poly->GetPointData()->SetScalars(colors);
+  auto actor = make_actor(poly, colors != nullptr, set.color);
+  actor->GetProperty()->SetPointSize(set.size_px);
+  actor->GetProperty()->RenderPointsAsSpheresOn();
+  actor->GetProperty()->SetSpecular(0.3);
+  return actor;
+}
+
+// Line set `set` as segments of its pixel width (drawn as tubes when `line_tubes`).
+vtkSmartPointer<vtkActor> lines_actor(const OverlayLines& set, bool line_tubes) {
+  vtkNew<vtkPolyData> poly;
+  poly->SetPoints(make_points(set.endpoints));
+  vtkNew<vtkCellArray> lines;
+  for (vtkIdType i = 0; i + 1 < static_cast<vtkIdType>(set.endpoints.size()); i += 2) {
+    const vtkIdType ids[2] = {i, i + 1};
+    lines->InsertNextCell(2, ids);
+  }
+  poly->SetLines(lines);
+  auto actor = make_actor(poly, false, set.color);
+  actor->GetProperty()->SetLineWidth(set.width_px);
+  if (line_tubes) actor->GetProperty()->RenderLinesAsTubesOn();
+  return actor;
+}
+
+// Sphere set `set`: a unit sphere glyph at each centre, scaled by its radius.
+vtkSmartPointer<vtkActor> spheres_actor(const OverlaySpheres& set) {
+  vtkNew<vtkPolyData> poly;
+  poly->SetPoints(make_points(set.centers));
+  vtkNew<vtkFloatArray> radius;
+  radius->SetName("radius");
+  radius->SetNumberOfValues(static_cast<vtkIdType>(set.radii.size()));
+  for (std::size_t i = 0; i < set.radii.size(); ++i)
+    radius->SetValue(static_cast<vtkIdType>(i), set.radii[i]);
+  poly->GetPointData()->AddArray(radius);
+  const auto colors = make_colors(set.colors, set.centers.size());
+  if (colors) poly->GetPointData()->SetScalars(colors);
+  vtkNew<vtkSphereSource> sphere;
+  sphere->SetRadius(1.0);
+  sphere->SetThetaResolution(20);
+  sphere->SetPhiResolution(14);
+  vtkNew<vtkGlyph3DMapper> mapper;
+  mapper->SetInputData(poly);
+  mapper->SetSourceConnection(sphere->GetOutputPort());
+  mapper->SetScaleArray("radius");
+  mapper->SetScaleModeToScaleByMagnitude();
+  mapper->ScalingOn();
+  mapper->SetScalarVisibility(colors != nullptr);
+  mapper->SetColorModeToDirectScalars();
+  auto actor = vtkSmartPointer<vtkActor>::New();
+  actor->SetMapper(mapper);
+  actor->GetProperty()->SetColor(set.color.r, set.color.g, set.color.b);
+  actor->GetProperty()->SetOpacity(set.opacity);
+  actor->PickableOff();
+  return actor;
+}
+
 }  // namespace
 
 OverlayProps make_overlay_props(const Overlay& overlay, bool line_tubes) {
   OverlayProps props;
-  for (const OverlayPoints& set : overlay.points) {
-    if (set.positions.empty()) continue;
-    vtkNew<vtkPolyData> poly;
-    poly->SetPoints(make_points(set.positions));
-    vtkNew<vtkCellArray> verts;
-    for (vtkIdType i = 0; i < static_cast<vtkIdType>(set.positions.size()); ++i) verts->InsertNextCell(1, &i);
-    poly->SetVerts(verts);
-    const auto colors = make_colors(set.colors, set.positions.size());
-    if (colors) poly->GetPointData()->SetScalars(colors);
-    auto actor = make_actor(poly, colors != nullptr, set.color);
-    actor->GetProperty()->SetPointSize(set.size_px);
-    actor->GetProperty()->RenderPointsAsSpheresOn();
-    actor->GetProperty()->SetSpecular(0.3);
-    (set.on_top ? props.on_top : props.depth_tested).push_back(actor);
-  }
-  for (const OverlayLines& set : overlay.lines) {
-    if (set.endpoints.size() < 2) continue;
-    vtkNew<vtkPolyData> poly;
-    poly->SetPoints(make_points(set.endpoints));
-    vtkNew<vtkCellArray> lines;
-    for (vtkIdType i = 0; i + 1 < static_cast<vtkIdType>(set.endpoints.size()); i += 2) {
-      const vtkIdType ids[2] = {i, i + 1};
-      lines->InsertNextCell(2, ids);
-    }
-    poly->SetLines(lines);
-    auto actor = make_actor(poly, false, set.color);
-    actor->GetProperty()->SetLineWidth(set.width_px);
-    if (line_tubes) actor->GetProperty()->RenderLinesAsTubesOn();
-    (set.on_top ? props.on_top : props.depth_tested).push_back(actor);
-  }
-  for (const OverlaySpheres& set : overlay.spheres) {
-    if (set.centers.empty() || set.radii.size() != set.centers.size()) continue;
-    vtkNew<vtkPolyData> poly;
-    poly->SetPoints(make_points(set.centers));
-    vtkNew<vtkFloatArray> radius;
-    radius->SetName("radius");
-    radius->SetNumberOfValues(static_cast<vtkIdType>(set.radii.size()));
-    for (std::size_t i = 0; i < set.radii.size(); ++i)
-      radius->SetValue(static_cast<vtkIdType>(i), set.radii[i]);
-    poly->GetPointData()->AddArray(radius);
-    const auto colors = make_colors(set.colors, set.centers.size());
-    if (colors) poly->GetPointData()->SetScalars(colors);
-    vtkNew<vtkSphereSource> sphere;
-    sphere->SetRadius(1.0);
-    sphere->SetThetaResolution(20);
-    sphere->SetPhiResolution(14);
-    vtkNew<vtkGlyph3DMapper> mapper;
-    mapper->SetInputData(poly);
-    mapper->SetSourceConnection(sphere->GetOutputPort());
-    mapper->SetScaleArray("radius");
-    mapper->SetScaleModeToScaleByMagnitude();
-    mapper->ScalingOn();
-    mapper->SetScalarVisibility(colors != nullptr);
-    mapper->SetColorModeToDirectScalars();
-    auto actor = vtkSmartPointer<vtkActor>::New();
-    actor->SetMapper(mapper);
-    actor->GetProperty()->SetColor(set.color.r, set.color.g, set.color.b);
-    actor->GetProperty()->SetOpacity(set.opacity);
-    actor->PickableOff();
-    props.depth_tested.push_back(actor);
-  }
+  for (const OverlayPoints& set : overlay.points)
+    if (!set.positions.empty()) (set.on_top ? props.on_top : props.depth_tested).push_back(points_actor(set));
+  for (const OverlayLines& set : overlay.lines)
+    if (set.endpoints.size() >= 2)
+      (set.on_top ? props.on_top : props.depth_tested).push_back(lines_actor(set, line_tubes));
+  for (const OverlaySpheres& set : overlay.spheres)
+    if (!set.centers.empty() && set.radii.size() == set.centers.size())
+      props.depth_tested.push_back(spheres_actor(set));
   return props;
 }
 

@@ -691,58 +691,55 @@ Animation sway_animation(const std::vector<LimbSpec>& limbs, std::size_t joint_c
   return sway;
 }
 
-}  // namespace
+// Node 0 is the cactus, node 1 its mesh, the joints follow.
+constexpr int kJointNode0 = 2;
 
-Model make_cactus(const CactusOptions& options) {
-  check_options(options);
-  const double h = options.height;
-  const double scale = std::sqrt(static_cast<double>(options.target_triangles) / kReferenceTriangles);
-  std::vector<LimbSpec> limbs = cactus_limbs(h, scale);
-  const Skeleton skeleton = cactus_skeleton(limbs, h);
-  SurfaceMesh mesh = cactus_mesh(limbs, h, options.target_triangles);
+// The nodes: the cactus, its mesh (skinned by skin 0) and the joints of `skeleton`, with the skin.
+void add_nodes_and_skin(Model& model, const Skeleton& skeleton) {
   const auto& joint_pos = skeleton.position;
   const auto& joint_parent = skeleton.parent;
-  const auto& joint_name = skeleton.name;
-
-  Model model;
-  const int joint_node0 = 2;
-  model.nodes.resize(joint_node0 + joint_pos.size());
+  model.nodes.resize(kJointNode0 + joint_pos.size());
   model.nodes[0].name = "Cactus";
-  model.nodes[0].children = {1, joint_node0};
+  model.nodes[0].children = {1, kJointNode0};
   model.nodes[1].name = "CactusMesh";
   model.nodes[1].mesh = 0;
   model.nodes[1].skin = 0;
   Skin skin;
   skin.name = "CactusSkin";
-  skin.skeleton = joint_node0;
+  skin.skeleton = kJointNode0;
   std::vector<glm::vec3> joint_world(joint_pos.size());  // as a reader composes the float TRS
   for (std::size_t j = 0; j < joint_pos.size(); ++j) {   // parents come before their children
-    Node& node = model.nodes[joint_node0 + j];
-    node.name = joint_name[j];
+    Node& node = model.nodes[kJointNode0 + j];
+    node.name = skeleton.name[j];
     const int parent = joint_parent[j];
     node.translation = glm::vec3(parent < 0 ? joint_pos[j] : joint_pos[j] - joint_pos[parent]);
     joint_world[j] = parent < 0 ? node.translation : joint_world[parent] + node.translation;
-    if (parent >= 0) model.nodes[joint_node0 + parent].children.push_back(joint_node0 + static_cast<int>(j));
-    skin.joints.push_back(joint_node0 + static_cast<int>(j));
+    if (parent >= 0) model.nodes[kJointNode0 + parent].children.push_back(kJointNode0 + static_cast<int>(j));
+    skin.joints.push_back(kJointNode0 + static_cast<int>(j));
     skin.inverse_bind_matrices.push_back(glm::translate(glm::mat4(1.0f), -joint_world[j]));
   }
   model.skins.push_back(std::move(skin));
+}
 
-  model.animations.push_back(sway_animation(limbs, joint_pos.size(), joint_node0, options.animation_seconds));
-  // The blend shapes play in the same clip, on the mesh's node (sampler after the joints').
+// The clip: the limbs' sway and, in the same clip, the blend shapes on the mesh's node (their
+// sampler after the joints').
+void add_animation(Model& model, const std::vector<LimbSpec>& limbs, std::size_t joints, float seconds) {
+  model.animations.push_back(sway_animation(limbs, joints, kJointNode0, seconds));
   Animation& clip = model.animations.back();
-  clip.samplers.push_back(cactus_morph::weight_sampler(options.animation_seconds, kKeysPerSecond));
+  clip.samplers.push_back(cactus_morph::weight_sampler(seconds, kKeysPerSecond));
   AnimationChannel weights;
   weights.sampler = static_cast<int>(clip.samplers.size()) - 1;
   weights.node = 1;
   weights.path = AnimationPath::Weights;
   clip.channels.push_back(weights);
+}
 
+// The mesh, with its blend shapes' names and its green material, in the one scene.
+void add_mesh(Model& model, SurfaceMesh mesh) {
   model.materials.push_back(
       {"CactusGreen",
        R"({"name":"CactusGreen","pbrMetallicRoughness":{"baseColorFactor":[0.22,0.55,0.2,1.0],)"
        R"("metallicFactor":0.0,"roughnessFactor":0.8}})"});
-
   Mesh cactus_mesh;
   cactus_mesh.name = "Cactus";
   cactus_morph::describe_targets(cactus_mesh);
@@ -753,6 +750,21 @@ Model make_cactus(const CactusOptions& options) {
   model.meshes.push_back(std::move(cactus_mesh));
   model.scenes = {{0}};
   model.default_scene = 0;
+}
+
+}  // namespace
+
+Model make_cactus(const CactusOptions& options) {
+  check_options(options);
+  const double h = options.height;
+  const double scale = std::sqrt(static_cast<double>(options.target_triangles) / kReferenceTriangles);
+  std::vector<LimbSpec> limbs = cactus_limbs(h, scale);
+  const Skeleton skeleton = cactus_skeleton(limbs, h);
+  SurfaceMesh mesh = cactus_mesh(limbs, h, options.target_triangles);
+  Model model;
+  add_nodes_and_skin(model, skeleton);
+  add_animation(model, limbs, skeleton.position.size(), options.animation_seconds);
+  add_mesh(model, std::move(mesh));
   return model;
 }
 

@@ -92,6 +92,18 @@ void Reader::decode_draco_primitives() {
 
 void Reader::decode_draco_primitive(const json& raw_prim, tinygltf::Primitive& prim, const std::string& where) {
   const json& ext = raw_prim["extensions"][kDraco];
+  const std::unique_ptr<draco::Mesh> mesh = decode_draco_mesh(draco_bytes(ext, prim, where), where);
+  decode_draco_indices(raw_prim, prim, *mesh, where);
+  for (const auto& [name, id] : ext["attributes"].items()) {
+    auto it = prim.attributes.find(name);
+    if (it == prim.attributes.end())
+      fail(where + " attribute " + name + ": the primitive has no such attribute");
+    it->second = decode_draco_attribute(*mesh, id, it->second, where + " attribute " + name);
+  }
+}
+
+// The compressed bytes the extension `ext` of `prim` names, checked with the extension.
+ByteSpan Reader::draco_bytes(const json& ext, const tinygltf::Primitive& prim, const std::string& where) {
   if (!ext.is_object() || !ext.contains("bufferView") || !ext["bufferView"].is_number_integer())
     fail(where + ": 'bufferView' is missing or not a number");
   if (!ext.contains("attributes") || !ext["attributes"].is_object()) fail(where + ": 'attributes' is missing or not an object");
@@ -103,60 +115,63 @@ void Reader::decode_draco_primitive(const json& raw_prim, tinygltf::Primitive& p
   const std::size_t size = view < static_cast<int>(gltf_.bufferViews.size()) ? gltf_.bufferViews[view].byteLength : 0;
   const unsigned char* data = view_bytes(view, 0, 1, size, size > 0 ? 1 : 0, where);
   if (size == 0) fail(where + ": bufferView " + std::to_string(view) + " is empty");
+  return {data, size};
+}
 
+// The triangle mesh Draco decodes from `bytes`, of a plausible size.
+std::unique_ptr<draco::Mesh> Reader::decode_draco_mesh(ByteSpan bytes, const std::string& where) {
   draco::DecoderBuffer buffer;
-  buffer.Init(reinterpret_cast<const char*>(data), size);
+  buffer.Init(reinterpret_cast<const char*>(bytes.data), bytes.size);
   const auto type = draco::Decoder::GetEncodedGeometryType(&buffer);
   if (!type.ok()) fail(where + ": not Draco data (" + type.status().error_msg_string() + ")");
   if (type.value() != draco::TRIANGULAR_MESH) fail(where + ": the Draco data is a point cloud, not a triangle mesh");
   draco::Decoder decoder;
   auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
   if (!decoded.ok() || !decoded.value()) fail(where + ": the Draco data could not be decoded (" + decoded.status().error_msg_string() + ")");
-  const draco::Mesh& mesh = *decoded.value();
-  const std::size_t points = mesh.num_points(), faces = mesh.num_faces();
+  std::unique_ptr<draco::Mesh> mesh = std::move(decoded).value();
+  const std::size_t points = mesh->num_points(), faces = mesh->num_faces();
   if (points > (std::size_t(1) << 28) || faces > (std::size_t(1) << 28))
     fail(where + ": the Draco data decodes to " + std::to_string(points) + " vertices and " + std::to_string(faces) +
          " triangles, implausibly many");
+  return mesh;
+}
 
-  // Indices: the accessor's own component type when it has one, else 32-bit. tinygltf was given
-  // the primitive without them (stand_in_for_tinygltf).
+// Indices: the accessor's own component type when it has one, else 32-bit. tinygltf was given
+// the primitive without them (stand_in_for_tinygltf). `prim` gets them as a new accessor.
+void Reader::decode_draco_indices(const json& raw_prim, tinygltf::Primitive& prim, const draco::Mesh& mesh,
+                                  const std::string& where) {
+  const std::size_t points = mesh.num_points(), faces = mesh.num_faces();
   if (raw_prim.contains("indices")) {
     if (!raw_prim["indices"].is_number_integer() || raw_prim["indices"].get<std::int64_t>() < 0 ||
         raw_prim["indices"].get<std::int64_t>() > std::numeric_limits<int>::max())
       fail(where + ": 'indices' is not an accessor index");
     prim.indices = raw_prim["indices"].get<int>();
   }
-  {
-    int component_type = kUnsignedInt;
-    if (prim.indices >= 0) {
-      if (static_cast<std::size_t>(prim.indices) >= gltf_.accessors.size())
-        fail(where + ": indices accessor " + std::to_string(prim.indices) + " does not exist");
-      const auto& acc = gltf_.accessors[prim.indices];
-      if (acc.count != 3 * faces)
-        fail(where + ": Draco decodes " + std::to_string(3 * faces) + " indices, accessor " + std::to_string(prim.indices) +
-             " says " + std::to_string(acc.count));
-      component_type = acc.componentType;
-    }
-    const int isize = component_size(component_type);
-    if (isize == 0 || component_type == kFloat || component_type == kByte || component_type == kShort)
-      fail(where + ": indices have componentType " + std::to_string(component_type));
-    spend_decode_budget(3 * faces * std::size_t(isize), where);
-    std::vector<unsigned char> bytes(3 * faces * std::size_t(isize));
-    const std::uint64_t bad = copy_indices(mesh, isize, bytes);
-    if (bad != 0) fail(where + ": Draco index " + std::to_string(bad - 1) + " is past the " + std::to_string(points) + " vertices");
-    tinygltf::Accessor acc;
-    acc.componentType = component_type;
-    acc.type = TINYGLTF_TYPE_SCALAR;
-    acc.count = 3 * faces;
-    prim.indices = add_decoded_accessor(acc, std::move(bytes));
-    prim.mode = TINYGLTF_MODE_TRIANGLES;
+  int component_type = kUnsignedInt;
+  if (prim.indices >= 0) {
+    if (static_cast<std::size_t>(prim.indices) >= gltf_.accessors.size())
+      fail(where + ": indices accessor " + std::to_string(prim.indices) + " does not exist");
+    const auto& acc = gltf_.accessors[prim.indices];
+    if (acc.count != 3 * faces)
+      fail(where + ": Draco decodes " + std::to_string(3 * faces) + " indices, accessor " +
+           std::to_string(prim.indices) + " says " + std::to_string(acc.count));
+    component_type = acc.componentType;
   }
-
-  for (const auto& [name, id] : ext["attributes"].items()) {
-    auto it = prim.attributes.find(name);
-    if (it == prim.attributes.end()) fail(where + " attribute " + name + ": the primitive has no such attribute");
-    it->second = decode_draco_attribute(mesh, id, it->second, where + " attribute " + name);
-  }
+  const int isize = component_size(component_type);
+  if (isize == 0 || component_type == kFloat || component_type == kByte || component_type == kShort)
+    fail(where + ": indices have componentType " + std::to_string(component_type));
+  spend_decode_budget(3 * faces * std::size_t(isize), where);
+  std::vector<unsigned char> bytes(3 * faces * std::size_t(isize));
+  const std::uint64_t bad = copy_indices(mesh, isize, bytes);
+  if (bad != 0)
+    fail(where + ": Draco index " + std::to_string(bad - 1) + " is past the " + std::to_string(points) +
+         " vertices");
+  tinygltf::Accessor acc;
+  acc.componentType = component_type;
+  acc.type = TINYGLTF_TYPE_SCALAR;
+  acc.count = 3 * faces;
+  prim.indices = add_decoded_accessor(acc, std::move(bytes));
+  prim.mode = TINYGLTF_MODE_TRIANGLES;
 }
 
 // Attribute `id` of `mesh` as a new accessor like `accessor` (its type, component type and

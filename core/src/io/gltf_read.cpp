@@ -217,48 +217,45 @@ void Reader::parse_container() {
   const std::size_t size = memory_ ? memory_->size() : file_.size();
   if (size == 0) fail("file is empty");
   if (size > kMaxFileBytes) fail("input is over the " + std::to_string(kMaxFileBytes >> 20) + " MiB limit");
-  FsContext ctx;
-  ctx.allow_files = memory_ == nullptr;
-  std::error_code ec;
-  if (ctx.allow_files)
-    ctx.base = std::filesystem::weakly_canonical(std::filesystem::absolute(path_).parent_path(), ec);
-  const std::string base_dir = ctx.base.string();
-
-  tinygltf::TinyGLTF loader;
-  loader.SetFsCallbacks(tinygltf::FsCallbacks{&fs_exists, &fs_expand, &fs_read, &fs_write, &ctx});
-  loader.SetImageLoader(&keep_image_bytes, nullptr);
-  std::string err, warn;
-  bool ok = false;
-  std::string json_text;
-
   const bool glb = size >= 4 && std::memcmp(bytes, "glTF", 4) == 0;
-  if (glb) {
-    // Check the container ourselves so a broken file gets a precise message.
-    if (size < 20) fail("truncated .glb (" + std::to_string(size) + " bytes, header needs 20)");
-    std::uint32_t header[5];
-    std::memcpy(header, bytes, 20);
-    if (header[1] != 2) fail(".glb version " + std::to_string(header[1]) + " is not supported (need 2)");
-    if (header[2] > size)
-      fail("truncated .glb: header says " + std::to_string(header[2]) + " bytes, file has " + std::to_string(size));
-    if (header[4] != 0x4E4F534Au) fail(".glb first chunk is not JSON");
-    if (std::size_t(header[3]) + 20 > header[2]) fail(".glb JSON chunk length runs past the end of the file");
-    json_text.assign(reinterpret_cast<const char*>(bytes) + 20, header[3]);
-    const std::size_t bin_start = 20 + ((std::size_t(header[3]) + 3) & ~std::size_t(3));
-    if (bin_start + 8 <= header[2]) {
-      std::uint32_t chunk[2];
-      std::memcpy(chunk, bytes + bin_start, 8);
-      if (bin_start + 8 + std::size_t(chunk[0]) > header[2]) fail(".glb BIN chunk length runs past the end of the file");
-    }
-  } else if (has_extension(path_, ".glb")) {
-    fail("not a .glb file: it does not start with the magic 'glTF'");
-  } else {
-    json_text.assign(reinterpret_cast<const char*>(bytes), size);
-  }
+  if (!glb && has_extension(path_, ".glb")) fail("not a .glb file: it does not start with the magic 'glTF'");
+  std::string json_text =
+      glb ? glb_json_chunk(bytes, size) : std::string(reinterpret_cast<const char*>(bytes), size);
   parse_json(json_text);
+  load_tinygltf(bytes, size, glb, std::move(json_text));
+  std::size_t input_bytes = size;
+  for (std::size_t b = 0; b < gltf_.buffers.size(); ++b) input_bytes += buffer_bytes(b).size;
+  for (const auto& i : gltf_.images) input_bytes += i.image.size();
+  decode_left_ = kDecodeBaseBytes + kDecodePerInputByte * input_bytes;
+}
 
-  // What tinygltf is given: stand-ins for what it refuses (stand_in_for_tinygltf) and, in a .glb,
-  // 1-byte stand-ins for the buffers in the BIN chunk, which it would otherwise copy whole; their
-  // bytes are read where they lie (glb_bin_).
+// The JSON chunk of the .glb `bytes`, its container checked here so a broken file gets a precise
+// message.
+std::string Reader::glb_json_chunk(const unsigned char* bytes, std::size_t size) const {
+  if (size < 20) fail("truncated .glb (" + std::to_string(size) + " bytes, header needs 20)");
+  std::uint32_t header[5];
+  std::memcpy(header, bytes, 20);
+  if (header[1] != 2) fail(".glb version " + std::to_string(header[1]) + " is not supported (need 2)");
+  if (header[2] > size)
+    fail("truncated .glb: header says " + std::to_string(header[2]) + " bytes, file has " +
+         std::to_string(size));
+  if (header[4] != 0x4E4F534Au) fail(".glb first chunk is not JSON");
+  if (std::size_t(header[3]) + 20 > header[2]) fail(".glb JSON chunk length runs past the end of the file");
+  const std::size_t bin_start = 20 + ((std::size_t(header[3]) + 3) & ~std::size_t(3));
+  if (bin_start + 8 <= header[2]) {
+    std::uint32_t chunk[2];
+    std::memcpy(chunk, bytes + bin_start, 8);
+    if (bin_start + 8 + std::size_t(chunk[0]) > header[2])
+      fail(".glb BIN chunk length runs past the end of the file");
+  }
+  return std::string(reinterpret_cast<const char*>(bytes) + 20, header[3]);
+}
+
+// tinygltf loads the file (`bytes`, whose JSON is `json_text`, parsed into raw_). What it is
+// given: stand-ins for what it refuses (stand_in_for_tinygltf) and, in a .glb, 1-byte stand-ins
+// for the buffers in the BIN chunk, which it would otherwise copy whole; their bytes are read
+// where they lie (glb_bin_).
+void Reader::load_tinygltf(const unsigned char* bytes, std::size_t size, bool glb, std::string json_text) {
   json patched;
   bool changed = stand_in_for_tinygltf(raw_, glb, &patched);
   const ByteSpan bin = glb ? glb_bin_chunk(bytes, size) : ByteSpan{nullptr, 0};
@@ -269,22 +266,31 @@ void Reader::parse_container() {
     for (const std::size_t b : in_bin) patched["buffers"][b]["byteLength"] = 1;
   }
   if (changed) json_text = patched.dump();
-  if (glb) {
-    std::vector<unsigned char> stand_in;
-    if (changed) stand_in = glb_with_json(bytes, size, json_text, !in_bin.empty());
-    ok = changed ? loader.LoadBinaryFromMemory(&gltf_, &err, &warn, stand_in.data(), static_cast<unsigned>(stand_in.size()), base_dir)
-                 : loader.LoadBinaryFromMemory(&gltf_, &err, &warn, bytes, static_cast<unsigned>(size), base_dir);
-  } else {
-    ok = loader.LoadASCIIFromString(&gltf_, &err, &warn, json_text.data(), static_cast<unsigned>(json_text.size()),
-                                    base_dir);
-  }
-  check_tinygltf_errors(ok, err, ctx.error);
+  std::vector<unsigned char> stand_in;
+  if (glb && changed) stand_in = glb_with_json(bytes, size, json_text, !in_bin.empty());
+  run_tinygltf(glb, changed ? ByteSpan{stand_in.data(), stand_in.size()} : ByteSpan{bytes, size}, json_text);
   glb_bin_.assign(gltf_.buffers.size(), ByteSpan{nullptr, 0});
   for (const std::size_t b : in_bin) glb_bin_[b] = {bin.data, raw_["buffers"][b]["byteLength"].get<std::size_t>()};
-  std::size_t input_bytes = size;
-  for (std::size_t b = 0; b < gltf_.buffers.size(); ++b) input_bytes += buffer_bytes(b).size;
-  for (const auto& i : gltf_.images) input_bytes += i.image.size();
-  decode_left_ = kDecodeBaseBytes + kDecodePerInputByte * input_bytes;
+}
+
+// tinygltf loads `glb_file` (a .glb) or `json_text` (a .gltf) into gltf_, reading files only
+// beside a model read from a file (fs_read).
+void Reader::run_tinygltf(bool glb, ByteSpan glb_file, const std::string& json_text) {
+  FsContext ctx;
+  ctx.allow_files = memory_ == nullptr;
+  std::error_code ec;
+  if (ctx.allow_files)
+    ctx.base = std::filesystem::weakly_canonical(std::filesystem::absolute(path_).parent_path(), ec);
+  const std::string base_dir = ctx.base.string();
+  tinygltf::TinyGLTF loader;
+  loader.SetFsCallbacks(tinygltf::FsCallbacks{&fs_exists, &fs_expand, &fs_read, &fs_write, &ctx});
+  loader.SetImageLoader(&keep_image_bytes, nullptr);
+  std::string err, warn;
+  const bool ok = glb ? loader.LoadBinaryFromMemory(&gltf_, &err, &warn, glb_file.data,
+                                                    static_cast<unsigned>(glb_file.size), base_dir)
+                      : loader.LoadASCIIFromString(&gltf_, &err, &warn, json_text.data(),
+                                                   static_cast<unsigned>(json_text.size()), base_dir);
+  check_tinygltf_errors(ok, err, ctx.error);
 }
 
 // The JSON parsed into raw_ and its top level checked, before tinygltf sees it.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <optional>
 #include <set>
 #include <utility>
 
@@ -41,55 +42,119 @@ std::pair<std::uint32_t, std::uint32_t> image_dimensions(const std::vector<unsig
   return {0, 0};
 }
 
+// Node `g`'s transform (matrix, translation, rotation, scale, as the file gives them) into `n`.
+void read_transform(const tinygltf::Node& g, Node& n) {
+  if (g.matrix.size() == 16) {
+    glm::mat4 m;
+    for (int k = 0; k < 16; ++k) m[k / 4][k % 4] = static_cast<float>(g.matrix[k]);
+    n.matrix = m;
+  }
+  if (g.translation.size() == 3)
+    n.translation = glm::vec3(g.translation[0], g.translation[1], g.translation[2]);
+  if (g.rotation.size() == 4)
+    n.rotation = glm::quat(static_cast<float>(g.rotation[3]), static_cast<float>(g.rotation[0]),
+                           static_cast<float>(g.rotation[1]), static_cast<float>(g.rotation[2]));
+  if (g.scale.size() == 3) n.scale = glm::vec3(g.scale[0], g.scale[1], g.scale[2]);
+}
+
+bool finite_transform(const Node& n) {
+  bool finite = true;
+  if (n.matrix)
+    for (int k = 0; k < 16; ++k) finite = finite && std::isfinite((*n.matrix)[k / 4][k % 4]);
+  for (int k = 0; k < 3; ++k) finite = finite && std::isfinite(n.translation[k]) && std::isfinite(n.scale[k]);
+  for (int k = 0; k < 4; ++k) finite = finite && std::isfinite(n.rotation[k]);
+  return finite;
+}
+
+// How messages name channel `c` of animation `a`.
+std::string channel_name(std::size_t a, std::size_t c) {
+  return "animation " + std::to_string(a) + " channel " + std::to_string(c);
+}
+
+// The animated property a channel's target path names; none for an unknown path.
+std::optional<AnimationPath> path_named(const std::string& path) {
+  if (path == "translation") return AnimationPath::Translation;
+  if (path == "rotation") return AnimationPath::Rotation;
+  if (path == "scale") return AnimationPath::Scale;
+  if (path == "weights") return AnimationPath::Weights;
+  return std::nullopt;
+}
+
+// A sampler's interpolation by its glTF name (linear unless STEP or CUBICSPLINE).
+Interpolation interpolation_named(const std::string& name) {
+  if (name == "STEP") return Interpolation::Step;
+  if (name == "CUBICSPLINE") return Interpolation::CubicSpline;
+  return Interpolation::Linear;
+}
+
+// Rotations must be unit quaternions (glTF; the validator checks it): normalises the key values
+// of rotation sampler `s` (for cubic splines only the values, not the tangents), a zero one to the
+// identity. Float noise (SimpleSkin's 0.707s are 1.5e-4 short) is fixed silently: returns how many
+// were further off than that.
+std::size_t normalise_rotations(AnimationSampler& s) {
+  const std::size_t per_key = s.interpolation == Interpolation::CubicSpline ? 3 : 1;
+  std::size_t fixed = 0;
+  for (std::size_t k = 0; k < s.input.size(); ++k) {
+    float* q = &s.output[4 * (k * per_key + (per_key == 3 ? 1 : 0))];
+    const double len =
+        std::sqrt(double(q[0]) * q[0] + double(q[1]) * q[1] + double(q[2]) * q[2] + double(q[3]) * q[3]);
+    if (std::abs(len - 1.0) <= 1e-6) continue;
+    fixed += std::abs(len - 1.0) > 1e-3;
+    if (len < 1e-12 || !std::isfinite(len)) {
+      q[0] = q[1] = q[2] = 0.0f;
+      q[3] = 1.0f;
+    } else {
+      for (int i = 0; i < 4; ++i) q[i] = static_cast<float>(q[i] / len);
+    }
+  }
+  return fixed;
+}
 
 }  // namespace
 
 void Reader::read_nodes() {
+  for (std::size_t i = 0; i < gltf_.nodes.size(); ++i) model_.nodes.push_back(read_node(i));
+  check_hierarchy();
+  read_scenes();
+}
+
+Node Reader::read_node(std::size_t i) {
   const json empty = json::object();
-  for (std::size_t i = 0; i < gltf_.nodes.size(); ++i) {
-    const auto& g = gltf_.nodes[i];
-    const json& r = raw_.contains("nodes") && raw_["nodes"].is_array() && i < raw_["nodes"].size() ? raw_["nodes"][i] : empty;
-    Node n;
-    n.name = g.name;
-    for (int c : g.children) {
-      if (c < 0 || static_cast<std::size_t>(c) >= gltf_.nodes.size())
-        fail("node " + std::to_string(i) + " has child " + std::to_string(c) + ", which does not exist");
-      n.children.push_back(c);
-    }
-    if (g.matrix.size() == 16) {
-      glm::mat4 m;
-      for (int k = 0; k < 16; ++k) m[k / 4][k % 4] = static_cast<float>(g.matrix[k]);
-      n.matrix = m;
-    }
-    if (g.translation.size() == 3) n.translation = glm::vec3(g.translation[0], g.translation[1], g.translation[2]);
-    if (g.rotation.size() == 4)
-      n.rotation = glm::quat(static_cast<float>(g.rotation[3]), static_cast<float>(g.rotation[0]),
-                             static_cast<float>(g.rotation[1]), static_cast<float>(g.rotation[2]));
-    if (g.scale.size() == 3) n.scale = glm::vec3(g.scale[0], g.scale[1], g.scale[2]);
-    bool finite = true;
-    if (n.matrix)
-      for (int k = 0; k < 16; ++k) finite = finite && std::isfinite((*n.matrix)[k / 4][k % 4]);
-    for (int k = 0; k < 3; ++k) finite = finite && std::isfinite(n.translation[k]) && std::isfinite(n.scale[k]);
-    for (int k = 0; k < 4; ++k) finite = finite && std::isfinite(n.rotation[k]);
-    if (!finite) fail("node " + std::to_string(i) + ": its transform is not finite (a value overflows a 32-bit float)");
-    auto check = [&](int idx, std::size_t size, const char* kind) {
-      if (idx >= 0 && static_cast<std::size_t>(idx) >= size)
-        fail("node " + std::to_string(i) + " refers to " + kind + " " + std::to_string(idx) + ", which does not exist");
-      return idx;
-    };
-    n.mesh = check(g.mesh, gltf_.meshes.size(), "mesh");
-    n.skin = check(g.skin, gltf_.skins.size(), "skin");
-    n.camera = check(g.camera, gltf_.cameras.size(), "camera");
-    n.extras_json = dump_member(r, "extras");
-    n.extensions_json = dump_member(r, "extensions");
-    for (const double w : g.weights) {
-      if (!std::isfinite(static_cast<float>(w)))
-        fail("node " + std::to_string(i) + ": a morph weight is not finite (a value overflows a 32-bit float)");
-      n.weights.push_back(static_cast<float>(w));
-    }
-    model_.nodes.push_back(std::move(n));
+  const auto& g = gltf_.nodes[i];
+  const json& r = raw_.contains("nodes") && raw_["nodes"].is_array() && i < raw_["nodes"].size()
+                      ? raw_["nodes"][i]
+                      : empty;
+  Node n;
+  n.name = g.name;
+  for (int c : g.children) {
+    if (c < 0 || static_cast<std::size_t>(c) >= gltf_.nodes.size())
+      fail("node " + std::to_string(i) + " has child " + std::to_string(c) + ", which does not exist");
+    n.children.push_back(c);
   }
-  // Cycles or a node with two parents would make the hierarchy ill-defined.
+  read_transform(g, n);
+  if (!finite_transform(n))
+    fail("node " + std::to_string(i) + ": its transform is not finite (a value overflows a 32-bit float)");
+  auto check = [&](int idx, std::size_t size, const char* kind) {
+    if (idx >= 0 && static_cast<std::size_t>(idx) >= size)
+      fail("node " + std::to_string(i) + " refers to " + kind + " " + std::to_string(idx) +
+           ", which does not exist");
+    return idx;
+  };
+  n.mesh = check(g.mesh, gltf_.meshes.size(), "mesh");
+  n.skin = check(g.skin, gltf_.skins.size(), "skin");
+  n.camera = check(g.camera, gltf_.cameras.size(), "camera");
+  n.extras_json = dump_member(r, "extras");
+  n.extensions_json = dump_member(r, "extensions");
+  for (const double w : g.weights) {
+    if (!std::isfinite(static_cast<float>(w)))
+      fail("node " + std::to_string(i) + ": a morph weight is not finite (a value overflows a 32-bit float)");
+    n.weights.push_back(static_cast<float>(w));
+  }
+  return n;
+}
+
+// Cycles or a node with two parents would make the hierarchy ill-defined.
+void Reader::check_hierarchy() const {
   std::vector<int> parent(model_.nodes.size(), -1);
   for (std::size_t i = 0; i < model_.nodes.size(); ++i)
     for (int c : model_.nodes[i].children) {
@@ -101,6 +166,10 @@ void Reader::read_nodes() {
     for (int x = parent[i]; x >= 0; x = parent[x])
       if (++steps > parent.size()) fail("the node hierarchy has a cycle through node " + std::to_string(i));
   }
+}
+
+// The scenes' root nodes, and the default scene (one scene of every root when the file has none).
+void Reader::read_scenes() {
   for (const auto& s : gltf_.scenes) {
     std::vector<int> roots;
     for (int n : s.nodes) {
@@ -155,89 +224,84 @@ void Reader::read_skins() {
 }
 
 void Reader::read_animations() {
-  for (std::size_t a = 0; a < gltf_.animations.size(); ++a) {
-    const auto& g = gltf_.animations[a];
-    Animation anim;
-    anim.name = g.name;
-    std::vector<int> sampler_map(g.samplers.size(), -1);
-    for (std::size_t c = 0; c < g.channels.size(); ++c) {
-      const auto& ch = g.channels[c];
-      if (ch.sampler < 0 || static_cast<std::size_t>(ch.sampler) >= g.samplers.size())
-        fail("animation " + std::to_string(a) + " channel " + std::to_string(c) + " refers to a missing sampler");
-      if (ch.target_node < 0) continue;  // targets defined by extensions are not animated here
-      if (static_cast<std::size_t>(ch.target_node) >= model_.nodes.size())
-        fail("animation " + std::to_string(a) + " channel " + std::to_string(c) + " targets a missing node");
-      AnimationChannel out;
-      out.node = ch.target_node;
-      if (ch.target_path == "translation") out.path = AnimationPath::Translation;
-      else if (ch.target_path == "rotation") out.path = AnimationPath::Rotation;
-      else if (ch.target_path == "scale") out.path = AnimationPath::Scale;
-      else if (ch.target_path == "weights") out.path = AnimationPath::Weights;
-      else fail("animation " + std::to_string(a) + " channel " + std::to_string(c) + ": unknown path '" + ch.target_path + "'");
-      if (sampler_map[ch.sampler] < 0) {
-        const auto& gs = g.samplers[ch.sampler];
-        AnimationSampler s;
-        int in_comps = 0, out_comps = 0;
-        const Floats input = read_floats(gs.input, "animation sampler input", &in_comps);
-        const Floats output = read_floats(gs.output, "animation sampler output", &out_comps);
-        s.input.assign(input.begin(), input.end());
-        s.output.assign(output.begin(), output.end());
-        if (in_comps != 1) fail("animation " + std::to_string(a) + ": sampler input is not SCALAR");
-        for (std::size_t k = 0; k < s.input.size(); ++k) {
-          if (!std::isfinite(s.input[k])) fail("animation " + std::to_string(a) + ": key time is not finite");
-          if (k && s.input[k] < s.input[k - 1]) fail("animation " + std::to_string(a) + ": key times are not increasing");
-        }
-        s.components = out_comps;
-        if (gs.interpolation == "STEP") s.interpolation = Interpolation::Step;
-        else if (gs.interpolation == "CUBICSPLINE") s.interpolation = Interpolation::CubicSpline;
-        else s.interpolation = Interpolation::Linear;
-        const std::size_t per_key = s.interpolation == Interpolation::CubicSpline ? 3 : 1;
-        if (out.path == AnimationPath::Weights) {
-          if (!fit_weights_sampler(s, gltf_.accessors[gs.output].type, a, c)) continue;
-        } else if (s.output.size() != s.input.size() * per_key * std::size_t(out_comps)) {
-          fail("animation " + std::to_string(a) + ": sampler output count does not match its input count");
-        }
-        for (const float v : s.output)
-          if (!std::isfinite(v)) fail("animation " + std::to_string(a) + ": a sampler output value is not finite (NaN or Inf)");
-        sampler_map[ch.sampler] = static_cast<int>(anim.samplers.size());
-        anim.samplers.push_back(std::move(s));
-      }
-      out.sampler = sampler_map[ch.sampler];
-      if (out.path == AnimationPath::Weights) {  // checked against the node's mesh in resolve_morph_weights
-        anim.channels.push_back(out);
-        continue;
-      }
-      const int need = out.path == AnimationPath::Rotation ? 4 : 3;
-      if (anim.samplers[out.sampler].components != need)
-        fail("animation " + std::to_string(a) + " channel " + std::to_string(c) + ": output has the wrong type for " + ch.target_path);
-      if (out.path == AnimationPath::Rotation) {
-        // Rotations must be unit quaternions (glTF; the validator checks it): normalise them, and
-        // make a zero one the identity. For cubic splines only the values, not the tangents.
-        auto& smp = anim.samplers[out.sampler];
-        const std::size_t per_key = smp.interpolation == Interpolation::CubicSpline ? 3 : 1;
-        // Float noise (SimpleSkin's 0.707s are 1.5e-4 short) is fixed silently, larger errors noted.
-        std::size_t fixed = 0;
-        for (std::size_t k = 0; k < smp.input.size(); ++k) {
-          float* q = &smp.output[4 * (k * per_key + (per_key == 3 ? 1 : 0))];
-          const double len = std::sqrt(double(q[0]) * q[0] + double(q[1]) * q[1] + double(q[2]) * q[2] + double(q[3]) * q[3]);
-          if (std::abs(len - 1.0) <= 1e-6) continue;
-          fixed += std::abs(len - 1.0) > 1e-3;
-          if (len < 1e-12 || !std::isfinite(len)) {
-            q[0] = q[1] = q[2] = 0.0f;
-            q[3] = 1.0f;
-          } else {
-            for (int i = 0; i < 4; ++i) q[i] = static_cast<float>(q[i] / len);
-          }
-        }
-        if (fixed)
-          problem("rotations-normalised", fixed,
-                  {"rotation was not a unit quaternion (normalised)", "rotations were not unit quaternions (normalised)"},
-                  "animation " + std::to_string(a) + " channel " + std::to_string(c));
-      }
-      anim.channels.push_back(out);
+  for (std::size_t a = 0; a < gltf_.animations.size(); ++a) model_.animations.push_back(read_animation(a));
+}
+
+Animation Reader::read_animation(std::size_t a) {
+  const auto& g = gltf_.animations[a];
+  Animation anim;
+  anim.name = g.name;
+  std::vector<int> sampler_map(g.samplers.size(), -1);  // the file's sampler -> anim.samplers' (-1: not read)
+  for (std::size_t c = 0; c < g.channels.size(); ++c) {
+    const auto& ch = g.channels[c];
+    if (ch.sampler < 0 || static_cast<std::size_t>(ch.sampler) >= g.samplers.size())
+      fail(channel_name(a, c) + " refers to a missing sampler");
+    if (ch.target_node < 0) continue;  // targets defined by extensions are not animated here
+    if (static_cast<std::size_t>(ch.target_node) >= model_.nodes.size())
+      fail(channel_name(a, c) + " targets a missing node");
+    AnimationChannel out;
+    out.node = ch.target_node;
+    const std::optional<AnimationPath> path = path_named(ch.target_path);
+    if (!path) fail(channel_name(a, c) + ": unknown path '" + ch.target_path + "'");
+    out.path = *path;
+    if (sampler_map[ch.sampler] < 0) {
+      std::optional<AnimationSampler> s = read_sampler(g.samplers[ch.sampler], out.path, a, c);
+      if (!s) continue;  // a morph weight channel dropped (fit_weights_sampler says why)
+      sampler_map[ch.sampler] = static_cast<int>(anim.samplers.size());
+      anim.samplers.push_back(std::move(*s));
     }
-    model_.animations.push_back(std::move(anim));
+    out.sampler = sampler_map[ch.sampler];
+    // (weight channels are checked against the node's mesh in resolve_morph_weights)
+    if (out.path != AnimationPath::Weights)
+      check_transform_sampler(anim.samplers[out.sampler], ch.target_path, a, c);
+    anim.channels.push_back(out);
   }
+  return anim;
+}
+
+// Sampler `gs` of animation `a`, first read for channel `c` of path `path`; none when it drives
+// morph weights that fit_weights_sampler drops.
+std::optional<AnimationSampler> Reader::read_sampler(const tinygltf::AnimationSampler& gs, AnimationPath path,
+                                                     std::size_t a, std::size_t c) {
+  auto where = [&] { return "animation " + std::to_string(a); };  // (built on failure only)
+  AnimationSampler s;
+  int in_comps = 0, out_comps = 0;
+  const Floats input = read_floats(gs.input, "animation sampler input", &in_comps);
+  const Floats output = read_floats(gs.output, "animation sampler output", &out_comps);
+  s.input.assign(input.begin(), input.end());
+  s.output.assign(output.begin(), output.end());
+  if (in_comps != 1) fail(where() + ": sampler input is not SCALAR");
+  for (std::size_t k = 0; k < s.input.size(); ++k) {
+    if (!std::isfinite(s.input[k])) fail(where() + ": key time is not finite");
+    if (k && s.input[k] < s.input[k - 1]) fail(where() + ": key times are not increasing");
+  }
+  s.components = out_comps;
+  s.interpolation = interpolation_named(gs.interpolation);
+  const std::size_t per_key = s.interpolation == Interpolation::CubicSpline ? 3 : 1;
+  if (path == AnimationPath::Weights) {
+    if (!fit_weights_sampler(s, gltf_.accessors[gs.output].type, a, c)) return std::nullopt;
+  } else if (s.output.size() != s.input.size() * per_key * std::size_t(out_comps)) {
+    fail(where() + ": sampler output count does not match its input count");
+  }
+  for (const float v : s.output)
+    if (!std::isfinite(v)) fail(where() + ": a sampler output value is not finite (NaN or Inf)");
+  return s;
+}
+
+// A translation, rotation or scale channel's sampler (channel `c` of animation `a`, driving
+// `path`): its values have the path's type, and rotations are unit quaternions.
+void Reader::check_transform_sampler(AnimationSampler& s, const std::string& path, std::size_t a,
+                                     std::size_t c) {
+  const bool rotation = path == "rotation";
+  if (s.components != (rotation ? 4 : 3))
+    fail(channel_name(a, c) + ": output has the wrong type for " + path);
+  if (!rotation) return;
+  const std::size_t fixed = normalise_rotations(s);
+  if (fixed)
+    problem("rotations-normalised", fixed,
+            {"rotation was not a unit quaternion (normalised)",
+             "rotations were not unit quaternions (normalised)"},
+            channel_name(a, c));
 }
 
 void Reader::read_images() {

@@ -15,6 +15,7 @@
 #include <iterator>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -273,6 +274,9 @@ class Reader {
 
   // gltf_read.cpp
   void parse_container();
+  std::string glb_json_chunk(const unsigned char* bytes, std::size_t size) const;
+  void load_tinygltf(const unsigned char* bytes, std::size_t size, bool glb, std::string json_text);
+  void run_tinygltf(bool glb, ByteSpan glb_file, const std::string& json_text);
   void parse_json(const std::string& json_text);
   void check_tinygltf_errors(bool ok, const std::string& err, const std::string& fs_error) const;
   void check_uris() const;
@@ -297,6 +301,10 @@ class Reader {
   void decode_meshopt_views();
   void decode_draco_primitives();
   void decode_draco_primitive(const nlohmann::json& raw_prim, tinygltf::Primitive& prim, const std::string& where);
+  ByteSpan draco_bytes(const nlohmann::json& ext, const tinygltf::Primitive& prim, const std::string& where);
+  std::unique_ptr<draco::Mesh> decode_draco_mesh(ByteSpan bytes, const std::string& where);
+  void decode_draco_indices(const nlohmann::json& raw_prim, tinygltf::Primitive& prim,
+                            const draco::Mesh& mesh, const std::string& where);
   int decode_draco_attribute(const draco::Mesh& mesh, const nlohmann::json& id, int accessor, const std::string& what);
   int add_decoded_accessor(tinygltf::Accessor acc, std::vector<unsigned char> bytes);  // over a new view
   void spend_decode_budget(std::size_t bytes, const std::string& what);
@@ -304,8 +312,15 @@ class Reader {
 
   // gltf_read_scene.cpp
   void read_nodes();
+  Node read_node(std::size_t i);
+  void check_hierarchy() const;
+  void read_scenes();
   void read_skins();
   void read_animations();
+  Animation read_animation(std::size_t a);
+  std::optional<AnimationSampler> read_sampler(const tinygltf::AnimationSampler& gs, AnimationPath path,
+                                               std::size_t a, std::size_t c);
+  void check_transform_sampler(AnimationSampler& s, const std::string& path, std::size_t a, std::size_t c);
   void read_images();
   void read_passthrough();
   void repair_skin(std::size_t index, Skin& skin);

@@ -54,6 +54,31 @@ struct GltfVertices {
   Indices indices;                     // corner -> glTF vertex
 };
 
+// A .glb up to its binary chunk's bytes: the header, the JSON chunk of `doc` and, when `bin_size`
+// bytes follow, the binary chunk's header.
+std::vector<unsigned char> glb_start(const json& doc, std::size_t bin_size) {
+  std::string text = doc.dump();
+  while (text.size() % 4) text += ' ';
+  const std::uint32_t total =
+      static_cast<std::uint32_t>(12 + 8 + text.size() + (bin_size == 0 ? 0 : 8 + bin_size));
+  std::vector<unsigned char> out;
+  out.reserve(total - bin_size);
+  auto put32 = [&](std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) out.push_back(static_cast<unsigned char>(v >> (8 * i)));
+  };
+  put32(0x46546C67u);  // "glTF"
+  put32(2);
+  put32(total);
+  put32(static_cast<std::uint32_t>(text.size()));
+  put32(0x4E4F534Au);  // "JSON"
+  out.insert(out.end(), text.begin(), text.end());
+  if (bin_size != 0) {
+    put32(static_cast<std::uint32_t>(bin_size));
+    put32(0x004E4942u);  // "BIN\0"
+  }
+  return out;
+}
+
 class Writer {
  public:
   Writer(const Model& model, const ExportOptions& options) : model_(model), options_(options) {}
@@ -90,6 +115,10 @@ class Writer {
   void write_nodes();
   bool drives_written_targets(int node, int components) const;
   void write_images();
+  void write_asset();
+  void write_passthrough();
+  void write_extensions_and_extras();
+  void write_buffer(bool glb);
   void reserve_bin(std::size_t bytes);
   std::size_t tail_bound() const;
 
@@ -589,10 +618,7 @@ std::size_t Writer::tail_bound() const {
 }
 
 std::vector<unsigned char> Writer::write(bool glb) {
-  json asset = {{"version", "2.0"}, {"generator", options_.generator}};
-  if (!model_.asset_copyright.empty()) asset["copyright"] = model_.asset_copyright;
-  if (!model_.asset_extras_json.empty()) asset["extras"] = parse_or(model_.asset_extras_json, json::object());
-  doc_["asset"] = asset;
+  write_asset();
   tail_ = tail_bound();
   write_meshes();
   reserve_bin(0);  // the tail's room: already there when a primitive was written
@@ -600,6 +626,26 @@ std::vector<unsigned char> Writer::write(bool glb) {
   write_skins();
   write_animations();
   write_images();
+  write_passthrough();
+  write_extensions_and_extras();
+  write_buffer(glb);
+  compress_document(doc_, bin_, options_.compression, glb);
+  if (!glb) {
+    const std::string text = options_.pretty ? doc_.dump(2) : doc_.dump();
+    return std::vector<unsigned char>(text.begin(), text.end());
+  }
+  return glb_start(doc_, bin_.size());
+}
+
+void Writer::write_asset() {
+  json asset = {{"version", "2.0"}, {"generator", options_.generator}};
+  if (!model_.asset_copyright.empty()) asset["copyright"] = model_.asset_copyright;
+  if (!model_.asset_extras_json.empty()) asset["extras"] = parse_or(model_.asset_extras_json, json::object());
+  doc_["asset"] = asset;
+}
+
+// The objects carried through as read (materials, textures, samplers, cameras) and the scenes.
+void Writer::write_passthrough() {
   auto passthrough = [&](const char* key, const std::vector<PassthroughObject>& list) {
     for (const auto& o : list) doc_[key].push_back(parse_or(o.json, json::object()));
   };
@@ -611,6 +657,9 @@ std::vector<unsigned char> Writer::write(bool glb) {
     for (const auto& roots : model_.scenes) doc_["scenes"].push_back({{"nodes", roots}});
     doc_["scene"] = std::clamp(model_.default_scene, 0, static_cast<int>(model_.scenes.size()) - 1);
   }
+}
+
+void Writer::write_extensions_and_extras() {
   // Extensions that only concern the original encoding no longer apply to what we write.
   auto keep_extension = [](const std::string& e) {
     return e != "KHR_mesh_quantization" && e != "KHR_draco_mesh_compression" && e != "EXT_meshopt_compression";
@@ -621,37 +670,16 @@ std::vector<unsigned char> Writer::write(bool glb) {
     if (keep_extension(e)) doc_["extensionsRequired"].push_back(e);
   if (!model_.extras_json.empty()) doc_["extras"] = parse_or(model_.extras_json, json::object());
   if (!model_.extensions_json.empty()) doc_["extensions"] = parse_or(model_.extensions_json, json::object());
+}
 
+// The binary buffer padded to 4 bytes and declared (in a .gltf, embedded as base64).
+void Writer::write_buffer(bool glb) {
   while (bin_.size() % 4) bin_.push_back(0);
   if (!bin_.empty()) {
     json buffer = {{"byteLength", bin_.size()}};
     if (!glb) buffer["uri"] = "data:application/octet-stream;base64," + base64_encode(bin_.data(), bin_.size());
     doc_["buffers"] = json::array({buffer});
   }
-  compress_document(doc_, bin_, options_.compression, glb);
-  if (!glb) {
-    const std::string text = options_.pretty ? doc_.dump(2) : doc_.dump();
-    return std::vector<unsigned char>(text.begin(), text.end());
-  }
-  std::string text = doc_.dump();
-  while (text.size() % 4) text += ' ';
-  const std::uint32_t total = static_cast<std::uint32_t>(12 + 8 + text.size() + (bin_.empty() ? 0 : 8 + bin_.size()));
-  std::vector<unsigned char> out;
-  out.reserve(total - (bin_.empty() ? 0 : bin_.size()));
-  auto put32 = [&](std::uint32_t v) {
-    for (int i = 0; i < 4; ++i) out.push_back(static_cast<unsigned char>(v >> (8 * i)));
-  };
-  put32(0x46546C67u);  // "glTF"
-  put32(2);
-  put32(total);
-  put32(static_cast<std::uint32_t>(text.size()));
-  put32(0x4E4F534Au);  // "JSON"
-  out.insert(out.end(), text.begin(), text.end());
-  if (!bin_.empty()) {
-    put32(static_cast<std::uint32_t>(bin_.size()));
-    put32(0x004E4942u);  // "BIN\0"
-  }
-  return out;
 }
 
 }  // namespace

@@ -6,14 +6,15 @@
 // again into one binary buffer.
 #include "io/gltf_write_compress.h"
 
+#include <draco/compression/decode.h>
+#include <draco/compression/encode.h>
+#include <meshoptimizer.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
-
-#include <draco/compression/decode.h>
-#include <draco/compression/encode.h>
-#include <meshoptimizer.h>
+#include <memory>
 
 #include "deepcut/core/errors.h"
 #include "io/gltf_common.h"
@@ -144,66 +145,90 @@ bool keeps_vertex_order(const draco::Mesh& original, const draco::Mesh& decoded)
   return true;
 }
 
-// Replaces one primitive's plain indices and attributes by a Draco compressed view.
-void draco_primitive(Doc& d, json& prim, const std::string& where) {
-  json& accessors = d.doc["accessors"];
-  if (!prim.contains("indices") || !prim["attributes"].contains("POSITION") || prim.value("mode", 4) != 4) return;
+// The attributes of `prim` Draco compresses: those over plain views (not sparse). `plain_left`
+// says whether any attribute stays plain.
+std::vector<std::string> draco_attribute_names(const json& accessors, const json& prim, bool& plain_left) {
   std::vector<std::string> names;
-  bool plain_left = false;
+  plain_left = false;
   for (const auto& [name, a] : prim["attributes"].items()) {
     const json& acc = accessors[a.get<std::size_t>()];
     if (acc.contains("bufferView") && !acc.contains("sparse")) names.push_back(name);
     else plain_left = true;
   }
-  const bool keep_order = plain_left || (prim.contains("targets") && !prim["targets"].empty());
-  const auto mesh = build_draco_mesh(d, prim, names);
+  return names;
+}
 
+// `mesh` Draco encoded into `encoded`, keeping its vertex order when `keep_order`.
+void encode_draco(const Doc& d, const draco::Mesh& mesh, bool keep_order, draco::EncoderBuffer& encoded,
+                  const std::string& where) {
   draco::Encoder encoder;
   encoder.SetAttributeQuantization(draco::GeometryAttribute::POSITION, 14);
   encoder.SetAttributeQuantization(draco::GeometryAttribute::NORMAL, 10);
   encoder.SetAttributeQuantization(draco::GeometryAttribute::TEX_COORD, 12);
   encoder.SetEncodingMethod(keep_order ? draco::MESH_SEQUENTIAL_ENCODING : draco::MESH_EDGEBREAKER_ENCODING);
-  draco::EncoderBuffer encoded;
-  const draco::Status status = encoder.EncodeMeshToBuffer(*mesh, &encoded);
+  const draco::Status status = encoder.EncodeMeshToBuffer(mesh, &encoded);
   if (!status.ok()) d.fail(where + ": Draco could not encode it (" + status.error_msg_string() + ")");
+}
 
-  // Decode what was written: its counts and bounds are what the accessors must say.
+// What a reader decodes from `encoded`: its counts and bounds are what the accessors must say.
+std::unique_ptr<draco::Mesh> decode_draco(const Doc& d, const draco::EncoderBuffer& encoded,
+                                          const std::string& where) {
   draco::DecoderBuffer in;
   in.Init(encoded.data(), encoded.size());
   draco::Decoder decoder;
   auto decoded = decoder.DecodeMeshFromBuffer(&in);
   if (!decoded.ok() || !decoded.value()) d.fail(where + ": Draco cannot decode what it encoded (" + decoded.status().error_msg_string() + ")");
-  const draco::Mesh& back = *decoded.value();
-  if (keep_order && !keeps_vertex_order(*mesh, back))
-    d.fail(where + ": Draco changed its vertex order, which its morph targets (plain accessors) depend on; "
-                   "write it with --compress meshopt or without compression");
+  return std::move(decoded).value();
+}
 
+// Attribute accessor `acc`, now of the Draco data `back`: its vertex count and, for the positions
+// `pos`, their bounds.
+void draco_attribute_accessor(json& acc, const draco::Mesh& back, const draco::PointAttribute* pos) {
+  acc.erase("bufferView");
+  acc.erase("byteOffset");
+  acc["count"] = back.num_points();
+  if (!pos) return;
+  std::array<float, 3> lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+  for (std::uint32_t p = 0; p < back.num_points(); ++p) {
+    float q[3];
+    pos->ConvertValue<float>(pos->mapped_index(draco::PointIndex(p)), 3, q);
+    for (int c = 0; c < 3; ++c)
+      lo[std::size_t(c)] = std::min(lo[std::size_t(c)], q[c]),
+      hi[std::size_t(c)] = std::max(hi[std::size_t(c)], q[c]);
+  }
+  acc["min"] = lo;
+  acc["max"] = hi;
+}
+
+// Replaces one primitive's plain indices and attributes by a Draco compressed view.
+void draco_primitive(Doc& d, json& prim, const std::string& where) {
+  json& accessors = d.doc["accessors"];
+  if (!prim.contains("indices") || !prim["attributes"].contains("POSITION") || prim.value("mode", 4) != 4)
+    return;
+  bool plain_left = false;
+  const std::vector<std::string> names = draco_attribute_names(accessors, prim, plain_left);
+  const bool keep_order = plain_left || (prim.contains("targets") && !prim["targets"].empty());
+  const auto mesh = build_draco_mesh(d, prim, names);
+  draco::EncoderBuffer encoded;
+  encode_draco(d, *mesh, keep_order, encoded, where);
+  const std::unique_ptr<draco::Mesh> back = decode_draco(d, encoded, where);
+  if (keep_order && !keeps_vertex_order(*mesh, *back))
+    d.fail(where +
+           ": Draco changed its vertex order, which its morph targets (plain accessors) depend on; "
+           "write it with --compress meshopt or without compression");
   json ext_attributes = json::object();
   for (std::size_t i = 0; i < names.size(); ++i) {
     const std::uint32_t uid = mesh->attribute(static_cast<std::int32_t>(i))->unique_id();
-    if (!back.GetAttributeByUniqueId(uid)) d.fail(where + ": Draco lost attribute " + names[i]);
+    if (!back->GetAttributeByUniqueId(uid)) d.fail(where + ": Draco lost attribute " + names[i]);
     ext_attributes[names[i]] = uid;
-    json& acc = accessors[prim["attributes"][names[i]].get<std::size_t>()];
-    acc.erase("bufferView");
-    acc.erase("byteOffset");
-    acc["count"] = back.num_points();
-    if (names[i] == "POSITION") {
-      const auto* pos = back.GetAttributeByUniqueId(uid);
-      std::array<float, 3> lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
-      for (std::uint32_t p = 0; p < back.num_points(); ++p) {
-        float q[3];
-        pos->ConvertValue<float>(pos->mapped_index(draco::PointIndex(p)), 3, q);
-        for (int c = 0; c < 3; ++c) lo[std::size_t(c)] = std::min(lo[std::size_t(c)], q[c]), hi[std::size_t(c)] = std::max(hi[std::size_t(c)], q[c]);
-      }
-      acc["min"] = lo;
-      acc["max"] = hi;
-    }
+    draco_attribute_accessor(accessors[prim["attributes"][names[i]].get<std::size_t>()], *back,
+                             names[i] == "POSITION" ? back->GetAttributeByUniqueId(uid) : nullptr);
   }
   json& iacc = accessors[prim["indices"].get<std::size_t>()];
   iacc.erase("bufferView");
   iacc.erase("byteOffset");
-  iacc["count"] = std::size_t(back.num_faces()) * 3;
-  if (back.num_points() > 65535) iacc["componentType"] = kUnsignedInt;
+  iacc["count"] = std::size_t(back->num_faces()) * 3;
+  if (back->num_points() > 65535) iacc["componentType"] = kUnsignedInt;
   const int view = d.add_view(std::vector<unsigned char>(encoded.data(), encoded.data() + encoded.size()));
   prim["extensions"][kDraco] = {{"bufferView", view}, {"attributes", ext_attributes}};
 }
@@ -241,66 +266,93 @@ void prune_views(Doc& d) {
   doc["bufferViews"] = views;
 }
 
-// Chooses each view meshopt can carry and encodes it; true when any was.
-bool meshopt_views(Doc& d) {
-  json& doc = d.doc;
-  std::vector<int> readers(d.views.size(), 0);  // accessors reading a view whole; -1: other uses
-  std::vector<std::size_t> reader(d.views.size(), 0);
+// Who reads each view: `count[v]` accessors read view v (-1: something else uses it too, a
+// sparse accessor or an image), the last of them `accessor[v]`.
+struct ViewReaders {
+  std::vector<int> count;
+  std::vector<std::size_t> accessor;
+};
+
+ViewReaders view_readers(json& doc, std::size_t views) {
+  ViewReaders r{std::vector<int>(views, 0), std::vector<std::size_t>(views, 0)};
   for (std::size_t a = 0; a < doc["accessors"].size(); ++a) {
     const json& acc = doc["accessors"][a];
     if (acc.contains("sparse")) {
-      readers[acc["sparse"]["indices"]["bufferView"].get<std::size_t>()] = -1;
-      readers[acc["sparse"]["values"]["bufferView"].get<std::size_t>()] = -1;
+      r.count[acc["sparse"]["indices"]["bufferView"].get<std::size_t>()] = -1;
+      r.count[acc["sparse"]["values"]["bufferView"].get<std::size_t>()] = -1;
     }
     if (!acc.contains("bufferView")) continue;
     const std::size_t v = acc["bufferView"].get<std::size_t>();
-    if (readers[v] >= 0) ++readers[v];
-    reader[v] = a;
+    if (r.count[v] >= 0) ++r.count[v];
+    r.accessor[v] = a;
   }
+  if (doc.contains("images"))
+    for (const auto& img : doc["images"])
+      if (img.contains("bufferView")) r.count[img["bufferView"].get<std::size_t>()] = -1;
+  return r;
+}
+
+// Per accessor: whether it holds a triangle list's indices.
+std::vector<bool> triangle_index_accessors(json& doc) {
   std::vector<bool> index_accessor(doc["accessors"].size(), false);
   if (doc.contains("meshes"))
     for (const auto& mesh : doc["meshes"])
       for (const auto& prim : mesh["primitives"])
         if (prim.contains("indices") && prim.value("mode", 4) == 4) index_accessor[prim["indices"].get<std::size_t>()] = true;
-  if (doc.contains("images"))
-    for (const auto& img : doc["images"])
-      if (img.contains("bufferView")) readers[img["bufferView"].get<std::size_t>()] = -1;
+  return index_accessor;
+}
 
+// `view`'s `count` indices of `elem` bytes each, encoded as meshopt's TRIANGLES.
+void encode_meshopt_indices(View& view, std::size_t count, std::size_t elem) {
+  std::vector<unsigned int> idx(count);
+  unsigned int top = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    std::uint32_t x = 0;
+    std::memcpy(&x, view.bytes.data() + i * elem, elem);
+    idx[i] = x;
+    top = std::max(top, x);
+  }
+  view.payload.resize(meshopt_encodeIndexBufferBound(count, std::size_t(top) + 1));
+  view.payload.resize(meshopt_encodeIndexBuffer(view.payload.data(), view.payload.size(), idx.data(), count));
+  view.mode = "TRIANGLES";
+}
+
+// Encodes view `v`, read whole by accessor `acc` alone (triangle indices when `indices`), when
+// meshopt can carry it; true when it was.
+bool encode_meshopt_view(Doc& d, std::size_t v, const json& acc, bool indices) {
+  View& view = d.views[v];
+  const std::size_t elem = d.element_size(acc), count = acc["count"].get<std::size_t>();
+  const int ctype = acc["componentType"].get<int>();
+  if (count == 0 || acc.value("byteOffset", std::size_t(0)) != 0 || count * elem != view.bytes.size() ||
+      d.doc["bufferViews"][v].value("byteStride", elem) != elem)
+    return false;
+  if (indices && (ctype == kUnsignedShort || ctype == kUnsignedInt) && count % 3 == 0) {
+    encode_meshopt_indices(view, count, elem);
+  } else if (elem % 4 == 0 && elem <= 256) {
+    view.payload.resize(meshopt_encodeVertexBufferBound(count, elem));
+    view.payload.resize(
+        meshopt_encodeVertexBuffer(view.payload.data(), view.payload.size(), view.bytes.data(), count, elem));
+    view.mode = "ATTRIBUTES";
+  } else {
+    return false;
+  }
+  if (view.payload.empty()) d.fail("meshopt could not encode buffer view " + std::to_string(v));
+  view.stride = elem;
+  view.count = count;
+  return true;
+}
+
+// Chooses each view meshopt can carry (read whole by one accessor) and encodes it; true when any was.
+bool meshopt_views(Doc& d) {
+  const ViewReaders readers = view_readers(d.doc, d.views.size());
+  const std::vector<bool> index_accessor = triangle_index_accessors(d.doc);
   meshopt_encodeVertexVersion(0);
   meshopt_encodeIndexVersion(1);
   bool any = false;
   for (std::size_t v = 0; v < d.views.size(); ++v) {
-    if (readers[v] != 1) continue;
-    const json& acc = doc["accessors"][reader[v]];
-    View& view = d.views[v];
-    const std::size_t elem = d.element_size(acc), count = acc["count"].get<std::size_t>();
-    const int ctype = acc["componentType"].get<int>();
-    if (count == 0 || acc.value("byteOffset", std::size_t(0)) != 0 || count * elem != view.bytes.size() ||
-        doc["bufferViews"][v].value("byteStride", elem) != elem)
-      continue;
-    if (index_accessor[reader[v]] && (ctype == kUnsignedShort || ctype == kUnsignedInt) && count % 3 == 0) {
-      std::vector<unsigned int> idx(count);
-      unsigned int top = 0;
-      for (std::size_t i = 0; i < count; ++i) {
-        std::uint32_t x = 0;
-        std::memcpy(&x, view.bytes.data() + i * elem, elem);
-        idx[i] = x;
-        top = std::max(top, x);
-      }
-      view.payload.resize(meshopt_encodeIndexBufferBound(count, std::size_t(top) + 1));
-      view.payload.resize(meshopt_encodeIndexBuffer(view.payload.data(), view.payload.size(), idx.data(), count));
-      view.mode = "TRIANGLES";
-    } else if (elem % 4 == 0 && elem <= 256) {
-      view.payload.resize(meshopt_encodeVertexBufferBound(count, elem));
-      view.payload.resize(meshopt_encodeVertexBuffer(view.payload.data(), view.payload.size(), view.bytes.data(), count, elem));
-      view.mode = "ATTRIBUTES";
-    } else {
-      continue;
-    }
-    if (view.payload.empty()) d.fail("meshopt could not encode buffer view " + std::to_string(v));
-    view.stride = elem;
-    view.count = count;
-    any = true;
+    if (readers.count[v] != 1) continue;
+    const std::size_t a = readers.accessor[v];
+    any |= encode_meshopt_view(d, v, d.doc["accessors"][a], index_accessor[a]);
   }
   return any;
 }
