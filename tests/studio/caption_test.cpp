@@ -37,7 +37,8 @@ using deepcut::test::studio::frame_of;
 using deepcut::test::studio::offscreen_window;
 using deepcut::test::studio::same_pixels;
 
-/// How many sizes the counting captions (counting_caption()) measured their text at so far.
+/// How many sizes the counting captions (counting_caption()) measured their text at so far. Both of
+/// a caption's mappers count (the measuring and the drawing one): drawing never calls GetSize.
 int sizes_measured = 0;
 
 /// The OpenGL text mapper, counting the caption's measurements (it measures through GetSize only).
@@ -71,16 +72,29 @@ class CountingFactory : public vtkObjectFactory {
   }
 };
 
-/// A caption whose text mappers count into sizes_measured: made while VTK's object factory hands
-/// out counting text mappers in place of the OpenGL ones (the caption's interface has no counter).
+/// While alive, VTK's object factory hands out counting text mappers in place of the OpenGL ones
+/// (undone on every way out, so no later test gets them).
+class CountingMappers {
+ public:
+  CountingMappers() {
+    vtkObjectFactory::SetAllEnableFlags(0, "vtkTextMapper", "vtkOpenGLTextMapper");
+    vtkObjectFactory::RegisterFactory(factory_);
+  }
+  ~CountingMappers() {
+    vtkObjectFactory::UnRegisterFactory(factory_);
+    vtkObjectFactory::SetAllEnableFlags(1, "vtkTextMapper", "vtkOpenGLTextMapper");
+  }
+  CountingMappers(const CountingMappers&) = delete;
+  CountingMappers& operator=(const CountingMappers&) = delete;
+
+ private:
+  vtkNew<CountingFactory> factory_;
+};
+
+/// A caption whose text mappers count into sizes_measured (the caption's interface has no counter).
 vtkSmartPointer<CaptionActor> counting_caption() {
-  vtkNew<CountingFactory> factory;
-  vtkObjectFactory::SetAllEnableFlags(0, "vtkTextMapper", "vtkOpenGLTextMapper");
-  vtkObjectFactory::RegisterFactory(factory);
-  auto caption = vtkSmartPointer<CaptionActor>::New();
-  vtkObjectFactory::UnRegisterFactory(factory);
-  vtkObjectFactory::SetAllEnableFlags(1, "vtkTextMapper", "vtkOpenGLTextMapper");
-  return caption;
+  const CountingMappers counting;
+  return vtkSmartPointer<CaptionActor>::New();
 }
 
 /// One renderer with the caption, one with the corner annotation, kept across frames (both keep

@@ -119,7 +119,7 @@ void Reader::read_nodes() {
 }
 
 Node Reader::read_node(std::size_t i) {
-  const json empty = json::object();
+  static const json empty = json::object();
   const auto& g = gltf_.nodes[i];
   const json& r = raw_.contains("nodes") && raw_["nodes"].is_array() && i < raw_["nodes"].size()
                       ? raw_["nodes"][i]

@@ -151,7 +151,7 @@ std::vector<std::string> draco_attribute_names(const json& accessors, const json
   std::vector<std::string> names;
   plain_left = false;
   for (const auto& [name, a] : prim["attributes"].items()) {
-    const json& acc = accessors[a.get<std::size_t>()];
+    const json& acc = accessors.at(a.get<std::size_t>());
     if (acc.contains("bufferView") && !acc.contains("sparse")) names.push_back(name);
     else plain_left = true;
   }
