@@ -70,14 +70,16 @@ std::vector<std::int8_t> vertex_sides(const SurfaceMesh& mesh, std::vector<std::
 
 namespace detail {
 
-// True when vertex `v` is known to join its faces in one fan: a crossing vertex (or its copy)
+// A test, true when vertex `v` is known to join its faces in one fan: a crossing vertex (or its copy)
 // while no needle merged two crossings. Each face split_face makes around a crossing m on side
 // s holds the piece (m, e) of the crossed edge whose end e is on side s, or shares an edge at m
 // with a face that does; so each side's faces around m are joined through (m, e), and the
 // copy takes all of the positive side's. The pinch split leaves such vertices alone.
-bool Cutter::single_fan(std::uint32_t v) const {
-  if (!merges_.empty()) return false;
-  return (v >= crossings_[0] && v < crossings_[1]) || (v >= crossing_copies_[0] && v < crossing_copies_[1]);
+auto Cutter::single_fans() const {
+  return [merged = !merges_.empty(), c0 = crossings_[0], c1 = crossings_[1], d0 = crossing_copies_[0],
+          d1 = crossing_copies_[1]](std::uint32_t v) {
+    return !merged && ((v >= c0 && v < c1) || (v >= d0 && v < d1));
+  };
 }
 
 // Rim vertices used by both sides get a copy for the positive side, so the sides come apart. The
@@ -219,12 +221,18 @@ std::vector<std::pair<VertexId, VertexId>> Cutter::split_pinches(CutResult* resu
   // vertex of the mesh would be an array of the whole mesh to clear for the few on the plane.
   std::vector<VertexId> on_plane;
   std::vector<FaceId> incident;  // the live rim candidates using one of them
+  // What the loop reads, held locally: else the pushes, which might write anywhere, make the
+  // compiler read each member again for every face.
+  const OneFan fan = one_fan;
+  const FaceId* candidate = rim_candidates_.data();
+  const Triangle* faces = mesh_.faces().data();
+  const std::int8_t* sign = sign_.data();
   for (std::size_t k = 0; k < candidates; ++k) {
-    const FaceId f = rim_candidates_[k];
+    const FaceId f = candidate[k];
     if (mesh_.is_deleted(f)) continue;
     bool uses = false;
-    for (const VertexId v : mesh_.face(f)) {
-      if (sign_[v.index] != 0 || one_fan(v.index)) continue;
+    for (const VertexId v : faces[f.index]) {
+      if (sign[v.index] != 0 || fan(v.index)) continue;
       uses = true;
       on_plane.push_back(v);
     }
@@ -653,7 +661,7 @@ void Cutter::cap_pieces(CutResult& result, std::vector<VertexId>& rim) {
   const std::size_t before = rim.size();
   // The cap faces (the last rim candidates) are left out where every corner of theirs is one fan.
   const std::size_t candidates = one_fan.cap_corners ? uncapped : rim_candidates_.size();
-  for (const auto& [v, c] : split_pinches(&result, one_fan, candidates))
+  for (const auto& [v, c] : split_pinches(&result, one_fan.test(), candidates))
     if (std::binary_search(rim.begin(), rim.begin() + static_cast<std::ptrdiff_t>(before), v)) rim.push_back(c);
   if (rim.size() > before) std::sort(rim.begin(), rim.end());  // rim[0, before) is sorted already
 }
@@ -669,7 +677,7 @@ CutResult Cutter::run() {
   }
   split_crossed_faces();
   separate_or_drop_side();
-  split_pinches(nullptr, [this](std::uint32_t v) { return single_fan(v); }, rim_candidates_.size());
+  split_pinches(nullptr, single_fans(), rim_candidates_.size());
   collect_pieces(result);
   cap_pieces(result, result.rim_vertices);
   if (!options_.cap && !options_.split_components && merges_.empty() && !had_deleted)
