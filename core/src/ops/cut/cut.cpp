@@ -399,13 +399,15 @@ std::vector<detail::CapInput> Cutter::rim_of_pieces(const CutResult& result) con
   // Room for every candidate in each of two pieces (more pieces grow their lists as they go).
   if (rims.size() <= 2)
     for (detail::CapInput& rim : rims) rim.rim_faces.reserve(rim_candidates_.size());
+  const std::int8_t* sign = sign_.data();  // locals: the pushes would make members be read again
+  const Triangle* faces = mesh_.faces().data();
+  const bool split = options_.split_components;
   for (FaceId f : rim_candidates_) {
     if (mesh_.is_deleted(f)) continue;
-    const Triangle& t = mesh_.face(f);
-    const int zeros = (sign_[t[0].index] == 0) + (sign_[t[1].index] == 0) + (sign_[t[2].index] == 0);
+    const Triangle t = faces[f.index];
+    const int zeros = (sign[t[0].index] == 0) + (sign[t[1].index] == 0) + (sign[t[2].index] == 0);
     if (zeros < 2) continue;
-    const std::uint32_t p =
-        options_.split_components ? piece_of_face[f.index] : piece_of_side[side_code(sign_.data(), t) - 1];
+    const std::uint32_t p = split ? piece_of_face[f.index] : piece_of_side[side_code(sign, t) - 1];
     if (p != kInvalidIndex) rims[p].rim_faces.push_back(f);
   }
   return rims;
@@ -553,9 +555,13 @@ void Cutter::separate_or_drop_side() {
 
 // The live rim candidates by side (positive, negative), in id order.
 void Cutter::live_rim_by_side(std::vector<FaceId> (&out)[2]) const {
+  // Room for every candidate on each side (a few thousand ids at most), so neither list grows.
+  out[0].reserve(out[0].size() + rim_candidates_.size());
+  out[1].reserve(out[1].size() + rim_candidates_.size());
   const std::int8_t* sign = sign_.data();
+  const Triangle* faces = mesh_.faces().data();
   for (FaceId f : rim_candidates_)
-    if (!mesh_.is_deleted(f)) out[side_code(sign, mesh_.face(f)) - 1].push_back(f);
+    if (!mesh_.is_deleted(f)) out[side_code(sign, faces[f.index]) - 1].push_back(f);
 }
 
 // The live faces of each side `want`s (0 positive, 1 negative) in id order, into `out` by side:
