@@ -264,21 +264,24 @@ namespace {
 constexpr std::uint32_t kMaxCapFan = 32;
 
 // The flags of capped_single_fans over the vertices [lo, lo + n) from the cap faces [first_cap_face,
-// end of the mesh) and the rim halfedges, `first` counting each vertex's cap faces at first[v - lo
+// end of the mesh) and the pieces' rim halfedges, `first` counting each vertex's cap faces at first[v - lo
 // + 1]. A vertex's cap faces as bits (face i of its list: bit i): those sharing an edge at the
 // vertex with each face (a corner besides it), and those along a rim edge; the faces reached from
 // the latter through the former must be all of them. False for a degenerate cap face.
-bool fans_reach_rim(const SurfaceMesh& mesh, std::uint32_t first_cap_face,
-                    const std::vector<std::pair<VertexId, VertexId>>& rim, std::uint32_t lo,
-                    std::vector<std::uint32_t>& first, std::vector<std::uint8_t>& flags) {
+bool fans_reach_rim(const SurfaceMesh& mesh, std::uint32_t first_cap_face, const std::vector<CapInput>& rims,
+                    std::uint32_t lo, std::vector<std::uint32_t>& first, std::vector<std::uint8_t>& flags) {
   const std::size_t n = first.size() - 1;
   const auto end_face = static_cast<std::uint32_t>(mesh.face_slots());
   auto in_range = [&](VertexId v) { return v.index >= lo && v.index - lo < n; };
+  auto each_rim_edge = [&](auto&& fn) {
+    for (const CapInput& in : rims)
+      for (const auto& [a, b] : *in.rim) fn(a, b);
+  };
   std::vector<std::uint32_t> rim_first(n + 1, 0);
-  for (const auto& [a, b] : rim) {
+  each_rim_edge([&](VertexId a, VertexId b) {
     if (in_range(a)) ++rim_first[a.index - lo + 1];
     if (in_range(b)) ++rim_first[b.index - lo + 1];
-  }
+  });
   for (std::size_t i = 0; i < n; ++i) {
     first[i + 1] += first[i];
     rim_first[i + 1] += rim_first[i];
@@ -293,10 +296,10 @@ bool fans_reach_rim(const SurfaceMesh& mesh, std::uint32_t first_cap_face,
       for (int k = 0; k < 3; ++k)
         if (in_range(t[k])) others[fill[t[k].index - lo]++] = {t[(k + 1) % 3].index, t[(k + 2) % 3].index};
     }
-    for (const auto& [a, b] : rim) {
+    each_rim_edge([&](VertexId a, VertexId b) {
       if (in_range(a)) rim_next[rim_fill[a.index - lo]++] = b.index;
       if (in_range(b)) rim_next[rim_fill[b.index - lo]++] = a.index;
-    }
+    });
   }
   flags.assign(n, 0);
   std::uint32_t shares[kMaxCapFan];
@@ -335,12 +338,12 @@ bool fans_reach_rim(const SurfaceMesh& mesh, std::uint32_t first_cap_face,
 
 // Flags over the rim vertices [first, first + size): 1 where the vertex's faces are still one fan
 // with the caps added. Every cap face there reaches, through cap faces sharing an edge there, a
-// cap face along one of the piece's rim edges (`rim`: its halfedges), which is an edge of the
+// cap face along one of the piece's rim edges (`rims`: the pieces' rim halfedges), which is an edge of the
 // vertex's one fan of piece faces (the first pinch split left one; no face of it was removed).
 // With `whole_fans` (make_caps) every cap face at a vertex is in a fan from one of its rim edges
 // to another, so a vertex with cap faces (not too many) is flagged without looking at them.
 Cutter::VertexFlags Cutter::capped_single_fans(std::uint32_t first_cap_face,
-                                               const std::vector<std::pair<VertexId, VertexId>>& rim,
+                                               const std::vector<detail::CapInput>& rims,
                                                bool whole_fans) const {
   VertexFlags out;
   const auto end_face = static_cast<std::uint32_t>(mesh_.face_slots());
@@ -368,7 +371,7 @@ Cutter::VertexFlags Cutter::capped_single_fans(std::uint32_t first_cap_face,
       crowded = crowded || first[v + 1] > kMaxCapFan;
     }
     out.cap_corners = outside == 0 && !crowded;
-  } else if (!fans_reach_rim(mesh_, first_cap_face, rim, lo, first, out.flags)) {
+  } else if (!fans_reach_rim(mesh_, first_cap_face, rims, lo, first, out.flags)) {
     return out;
   }
   out.first = lo;
@@ -630,17 +633,14 @@ void Cutter::cap_pieces(CutResult& result, std::vector<VertexId>& rim) {
   // The input's rim vertices sorted, then the cut's (the newest ids) by a flag each.
   const std::uint32_t first_new = posed_.first_new();
   std::vector<std::uint8_t> on_rim(mesh_.vertex_count() - first_new, 0);
-  std::vector<std::pair<VertexId, VertexId>> rim_edges;
   std::size_t halfedges = 0;
   for (detail::CapInput& in : rims) {
     in.rim = detail::rim_halfedges(mesh_, in);  // the cap takes it too
     halfedges += in.rim->size();
   }
-  rim_edges.reserve(halfedges);
   rim.reserve(halfedges);  // each rim vertex ends a rim halfedge
   for (const detail::CapInput& in : rims) {
     for (const auto& [a, b] : *in.rim) {
-      rim_edges.emplace_back(a, b);
       for (const VertexId v : {a, b}) {
         if (v.index >= first_new)
           on_rim[v.index - first_new] = 1;
@@ -663,7 +663,7 @@ void Cutter::cap_pieces(CutResult& result, std::vector<VertexId>& rim) {
   // then every rim vertex is looked at.
   VertexFlags one_fan;
   if (mesh_.face_count() - live_before == mesh_.face_slots() - first_cap_face)
-    one_fan = capped_single_fans(first_cap_face, rim_edges, whole_fans);
+    one_fan = capped_single_fans(first_cap_face, rims, whole_fans);
   const std::size_t before = rim.size();
   // The cap faces (the last rim candidates) are left out where every corner of theirs is one fan.
   const std::size_t candidates = one_fan.cap_corners ? uncapped : rim_candidates_.size();

@@ -83,7 +83,7 @@ class Cutter {
   std::vector<std::pair<VertexId, VertexId>> split_pinches(CutResult* result, const OneFan& one_fan,
                                                            std::size_t candidates);
   auto single_fans() const;
-  VertexFlags capped_single_fans(std::uint32_t first_cap_face, const std::vector<std::pair<VertexId, VertexId>>& rim,
+  VertexFlags capped_single_fans(std::uint32_t first_cap_face, const std::vector<CapInput>& rims,
                                  bool whole_fans) const;
   void collect_pieces(CutResult& result);
   void live_rim_by_side(std::vector<FaceId> (&out)[2]) const;
