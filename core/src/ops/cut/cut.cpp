@@ -70,14 +70,16 @@ std::vector<std::int8_t> vertex_sides(const SurfaceMesh& mesh, std::vector<std::
 
 namespace detail {
 
-// True when vertex `v` is known to join its faces in one fan: a crossing vertex (or its copy)
+// A test, true when vertex `v` is known to join its faces in one fan: a crossing vertex (or its copy)
 // while no needle merged two crossings. Each face split_face makes around a crossing m on side
 // s holds the piece (m, e) of the crossed edge whose end e is on side s, or shares an edge at m
 // with a face that does; so each side's faces around m are joined through (m, e), and the
 // copy takes all of the positive side's. The pinch split leaves such vertices alone.
-bool Cutter::single_fan(std::uint32_t v) const {
-  if (!merges_.empty()) return false;
-  return (v >= crossings_[0] && v < crossings_[1]) || (v >= crossing_copies_[0] && v < crossing_copies_[1]);
+auto Cutter::single_fans() const {
+  return [merged = !merges_.empty(), c0 = crossings_[0], c1 = crossings_[1], d0 = crossing_copies_[0],
+          d1 = crossing_copies_[1]](std::uint32_t v) {
+    return !merged && ((v >= c0 && v < c1) || (v >= d0 && v < d1));
+  };
 }
 
 // Rim vertices used by both sides get a copy for the positive side, so the sides come apart. The
@@ -219,12 +221,18 @@ std::vector<std::pair<VertexId, VertexId>> Cutter::split_pinches(CutResult* resu
   // vertex of the mesh would be an array of the whole mesh to clear for the few on the plane.
   std::vector<VertexId> on_plane;
   std::vector<FaceId> incident;  // the live rim candidates using one of them
+  // What the loop reads, held locally: else the pushes, which might write anywhere, make the
+  // compiler read each member again for every face.
+  const OneFan fan = one_fan;
+  const FaceId* candidate = rim_candidates_.data();
+  const Triangle* faces = mesh_.faces().data();
+  const std::int8_t* sign = sign_.data();
   for (std::size_t k = 0; k < candidates; ++k) {
-    const FaceId f = rim_candidates_[k];
+    const FaceId f = candidate[k];
     if (mesh_.is_deleted(f)) continue;
     bool uses = false;
-    for (const VertexId v : mesh_.face(f)) {
-      if (sign_[v.index] != 0 || one_fan(v.index)) continue;
+    for (const VertexId v : faces[f.index]) {
+      if (sign[v.index] != 0 || fan(v.index)) continue;
       uses = true;
       on_plane.push_back(v);
     }
@@ -256,21 +264,24 @@ namespace {
 constexpr std::uint32_t kMaxCapFan = 32;
 
 // The flags of capped_single_fans over the vertices [lo, lo + n) from the cap faces [first_cap_face,
-// end of the mesh) and the rim halfedges, `first` counting each vertex's cap faces at first[v - lo
+// end of the mesh) and the pieces' rim halfedges, `first` counting each vertex's cap faces at first[v - lo
 // + 1]. A vertex's cap faces as bits (face i of its list: bit i): those sharing an edge at the
 // vertex with each face (a corner besides it), and those along a rim edge; the faces reached from
 // the latter through the former must be all of them. False for a degenerate cap face.
-bool fans_reach_rim(const SurfaceMesh& mesh, std::uint32_t first_cap_face,
-                    const std::vector<std::pair<VertexId, VertexId>>& rim, std::uint32_t lo,
-                    std::vector<std::uint32_t>& first, std::vector<std::uint8_t>& flags) {
+bool fans_reach_rim(const SurfaceMesh& mesh, std::uint32_t first_cap_face, const std::vector<CapInput>& rims,
+                    std::uint32_t lo, std::vector<std::uint32_t>& first, std::vector<std::uint8_t>& flags) {
   const std::size_t n = first.size() - 1;
   const auto end_face = static_cast<std::uint32_t>(mesh.face_slots());
   auto in_range = [&](VertexId v) { return v.index >= lo && v.index - lo < n; };
+  auto each_rim_edge = [&](auto&& fn) {
+    for (const CapInput& in : rims)
+      for (const auto& [a, b] : *in.rim) fn(a, b);
+  };
   std::vector<std::uint32_t> rim_first(n + 1, 0);
-  for (const auto& [a, b] : rim) {
+  each_rim_edge([&](VertexId a, VertexId b) {
     if (in_range(a)) ++rim_first[a.index - lo + 1];
     if (in_range(b)) ++rim_first[b.index - lo + 1];
-  }
+  });
   for (std::size_t i = 0; i < n; ++i) {
     first[i + 1] += first[i];
     rim_first[i + 1] += rim_first[i];
@@ -285,10 +296,10 @@ bool fans_reach_rim(const SurfaceMesh& mesh, std::uint32_t first_cap_face,
       for (int k = 0; k < 3; ++k)
         if (in_range(t[k])) others[fill[t[k].index - lo]++] = {t[(k + 1) % 3].index, t[(k + 2) % 3].index};
     }
-    for (const auto& [a, b] : rim) {
+    each_rim_edge([&](VertexId a, VertexId b) {
       if (in_range(a)) rim_next[rim_fill[a.index - lo]++] = b.index;
       if (in_range(b)) rim_next[rim_fill[b.index - lo]++] = a.index;
-    }
+    });
   }
   flags.assign(n, 0);
   std::uint32_t shares[kMaxCapFan];
@@ -327,12 +338,12 @@ bool fans_reach_rim(const SurfaceMesh& mesh, std::uint32_t first_cap_face,
 
 // Flags over the rim vertices [first, first + size): 1 where the vertex's faces are still one fan
 // with the caps added. Every cap face there reaches, through cap faces sharing an edge there, a
-// cap face along one of the piece's rim edges (`rim`: its halfedges), which is an edge of the
+// cap face along one of the piece's rim edges (`rims`: the pieces' rim halfedges), which is an edge of the
 // vertex's one fan of piece faces (the first pinch split left one; no face of it was removed).
 // With `whole_fans` (make_caps) every cap face at a vertex is in a fan from one of its rim edges
 // to another, so a vertex with cap faces (not too many) is flagged without looking at them.
 Cutter::VertexFlags Cutter::capped_single_fans(std::uint32_t first_cap_face,
-                                               const std::vector<std::pair<VertexId, VertexId>>& rim,
+                                               const std::vector<detail::CapInput>& rims,
                                                bool whole_fans) const {
   VertexFlags out;
   const auto end_face = static_cast<std::uint32_t>(mesh_.face_slots());
@@ -360,7 +371,7 @@ Cutter::VertexFlags Cutter::capped_single_fans(std::uint32_t first_cap_face,
       crowded = crowded || first[v + 1] > kMaxCapFan;
     }
     out.cap_corners = outside == 0 && !crowded;
-  } else if (!fans_reach_rim(mesh_, first_cap_face, rim, lo, first, out.flags)) {
+  } else if (!fans_reach_rim(mesh_, first_cap_face, rims, lo, first, out.flags)) {
     return out;
   }
   out.first = lo;
@@ -391,13 +402,15 @@ std::vector<detail::CapInput> Cutter::rim_of_pieces(const CutResult& result) con
   // Room for every candidate in each of two pieces (more pieces grow their lists as they go).
   if (rims.size() <= 2)
     for (detail::CapInput& rim : rims) rim.rim_faces.reserve(rim_candidates_.size());
+  const std::int8_t* sign = sign_.data();  // locals: the pushes would make members be read again
+  const Triangle* faces = mesh_.faces().data();
+  const bool split = options_.split_components;
   for (FaceId f : rim_candidates_) {
     if (mesh_.is_deleted(f)) continue;
-    const Triangle& t = mesh_.face(f);
-    const int zeros = (sign_[t[0].index] == 0) + (sign_[t[1].index] == 0) + (sign_[t[2].index] == 0);
+    const Triangle t = faces[f.index];
+    const int zeros = (sign[t[0].index] == 0) + (sign[t[1].index] == 0) + (sign[t[2].index] == 0);
     if (zeros < 2) continue;
-    const std::uint32_t p =
-        options_.split_components ? piece_of_face[f.index] : piece_of_side[side_code(sign_.data(), t) - 1];
+    const std::uint32_t p = split ? piece_of_face[f.index] : piece_of_side[side_code(sign, t) - 1];
     if (p != kInvalidIndex) rims[p].rim_faces.push_back(f);
   }
   return rims;
@@ -545,9 +558,13 @@ void Cutter::separate_or_drop_side() {
 
 // The live rim candidates by side (positive, negative), in id order.
 void Cutter::live_rim_by_side(std::vector<FaceId> (&out)[2]) const {
+  // Room for every candidate on each side (a few thousand ids at most), so neither list grows.
+  out[0].reserve(out[0].size() + rim_candidates_.size());
+  out[1].reserve(out[1].size() + rim_candidates_.size());
   const std::int8_t* sign = sign_.data();
+  const Triangle* faces = mesh_.faces().data();
   for (FaceId f : rim_candidates_)
-    if (!mesh_.is_deleted(f)) out[side_code(sign, mesh_.face(f)) - 1].push_back(f);
+    if (!mesh_.is_deleted(f)) out[side_code(sign, faces[f.index]) - 1].push_back(f);
 }
 
 // The live faces of each side `want`s (0 positive, 1 negative) in id order, into `out` by side:
@@ -616,17 +633,14 @@ void Cutter::cap_pieces(CutResult& result, std::vector<VertexId>& rim) {
   // The input's rim vertices sorted, then the cut's (the newest ids) by a flag each.
   const std::uint32_t first_new = posed_.first_new();
   std::vector<std::uint8_t> on_rim(mesh_.vertex_count() - first_new, 0);
-  std::vector<std::pair<VertexId, VertexId>> rim_edges;
   std::size_t halfedges = 0;
   for (detail::CapInput& in : rims) {
     in.rim = detail::rim_halfedges(mesh_, in);  // the cap takes it too
     halfedges += in.rim->size();
   }
-  rim_edges.reserve(halfedges);
   rim.reserve(halfedges);  // each rim vertex ends a rim halfedge
   for (const detail::CapInput& in : rims) {
     for (const auto& [a, b] : *in.rim) {
-      rim_edges.emplace_back(a, b);
       for (const VertexId v : {a, b}) {
         if (v.index >= first_new)
           on_rim[v.index - first_new] = 1;
@@ -649,11 +663,11 @@ void Cutter::cap_pieces(CutResult& result, std::vector<VertexId>& rim) {
   // then every rim vertex is looked at.
   VertexFlags one_fan;
   if (mesh_.face_count() - live_before == mesh_.face_slots() - first_cap_face)
-    one_fan = capped_single_fans(first_cap_face, rim_edges, whole_fans);
+    one_fan = capped_single_fans(first_cap_face, rims, whole_fans);
   const std::size_t before = rim.size();
   // The cap faces (the last rim candidates) are left out where every corner of theirs is one fan.
   const std::size_t candidates = one_fan.cap_corners ? uncapped : rim_candidates_.size();
-  for (const auto& [v, c] : split_pinches(&result, one_fan, candidates))
+  for (const auto& [v, c] : split_pinches(&result, one_fan.test(), candidates))
     if (std::binary_search(rim.begin(), rim.begin() + static_cast<std::ptrdiff_t>(before), v)) rim.push_back(c);
   if (rim.size() > before) std::sort(rim.begin(), rim.end());  // rim[0, before) is sorted already
 }
@@ -669,7 +683,7 @@ CutResult Cutter::run() {
   }
   split_crossed_faces();
   separate_or_drop_side();
-  split_pinches(nullptr, [this](std::uint32_t v) { return single_fan(v); }, rim_candidates_.size());
+  split_pinches(nullptr, single_fans(), rim_candidates_.size());
   collect_pieces(result);
   cap_pieces(result, result.rim_vertices);
   if (!options_.cap && !options_.split_components && merges_.empty() && !had_deleted)

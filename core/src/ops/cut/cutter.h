@@ -72,15 +72,18 @@ class Cutter {
     std::uint32_t first = 0;
     std::vector<std::uint8_t> flags;
     bool cap_corners = false;
-    bool operator()(std::uint32_t v) const {
-      return v >= first && v - first < flags.size() && flags[v - first];
+    // The flag test, holding no copy of the flags (split_pinches copies its test).
+    auto test() const {
+      return [first = first, n = flags.size(), bits = flags.data()](std::uint32_t v) {
+        return v >= first && v - first < n && bits[v - first] != 0;
+      };
     }
   };
   template <class OneFan>
   std::vector<std::pair<VertexId, VertexId>> split_pinches(CutResult* result, const OneFan& one_fan,
                                                            std::size_t candidates);
-  bool single_fan(std::uint32_t v) const;
-  VertexFlags capped_single_fans(std::uint32_t first_cap_face, const std::vector<std::pair<VertexId, VertexId>>& rim,
+  auto single_fans() const;
+  VertexFlags capped_single_fans(std::uint32_t first_cap_face, const std::vector<CapInput>& rims,
                                  bool whole_fans) const;
   void collect_pieces(CutResult& result);
   void live_rim_by_side(std::vector<FaceId> (&out)[2]) const;
@@ -136,7 +139,7 @@ class Cutter {
   std::vector<std::pair<FaceId, std::uint32_t>> crossed_;
   // The crossing vertices split_edge made, [first, end), and the positive side's copies of
   // them separate_sides made, [first, end): without needle merges each of them has one fan of
-  // faces per side (single_fan).
+  // faces per side (single_fans).
   std::uint32_t crossings_[2] = {0, 0};
   std::uint32_t crossing_copies_[2] = {0, 0};
 };
