@@ -459,27 +459,56 @@ TEST(PolygonTriangulationParts, MirrorImageOfNeedleEarsClipsTheSame) {
   EXPECT_GT(exact, 0);
 }
 
+// Clips `poly` with each ear tested for blockers when it comes up (EarTests::kWhenTop) and when
+// queued: the same triangles. Where both reports on the mirror image are exact they agree (not
+// otherwise: a clip that met a tie is made again without a report), and where the deferred one is,
+// the mirror image clips the same (counted in `exact`).
+void expect_deferred_clips_the_same(const std::vector<P>& ring, const Loop& poly, int trial, int& exact) {
+  std::vector<LocalTri> deferred, when_queued;
+  MirrorClip deferred_mirror, queued_mirror;
+  clip_ears(ring, poly, EarSearch::kQueued, deferred, &deferred_mirror, EarTests::kWhenTop);
+  clip_ears(ring, poly, EarSearch::kQueued, when_queued, &queued_mirror, EarTests::kWhenQueued);
+  ASSERT_EQ(deferred, when_queued) << "trial " << trial;
+  if (deferred_mirror.exact && queued_mirror.exact) {
+    EXPECT_EQ(deferred_mirror.closed, queued_mirror.closed) << "trial " << trial;
+  }
+  if (!deferred_mirror.exact) return;
+  ++exact;
+  expect_mirror_clips_the_same(ring, deferred, deferred_mirror, trial);
+}
+
+// A random star small or big (the grid) swirled into a spiral: each point turned by an angle
+// growing with its radius, so that most are self-intersecting.
+std::vector<P> random_spiral(std::mt19937& rng, std::uniform_real_distribution<double>& u, int trial) {
+  std::vector<P> ring =
+      random_star(rng, u, trial % 3 == 0 ? 8 : 64, trial % 3 == 0 ? 40 : 300, 0.1 + 0.3 * u(rng), 1.0);
+  const double swirl = trial % 5 == 0 ? 0.0 : 2.0 + 6.0 * u(rng);
+  for (P& p : ring) {
+    const double r = glm::length(p), a = std::atan2(p.y, p.x) + swirl * r;
+    p = r * P(std::cos(a), std::sin(a));
+  }
+  return ring;
+}
+
+Loop in_order(std::size_t n) {
+  Loop poly(n);
+  std::iota(poly.begin(), poly.end(), 0u);
+  return poly;
+}
+
 // Ear clipping tests an ear for blockers when it comes up, with the reflex corners live at the
-// tick it was queued at (EarQueue in polygon_triangulation.cpp): the clips, and the reports on
-// their mirror images, are those of testing each ear when queued. Random stars small and big (the
-// grid) swirled into spirals (each point turned by an angle growing with its radius: still simple),
-// whose ears are blocked by reflex corners that turn convex as their own neighbours are clipped,
-// before the ear comes up; some with needle ears (the mirror report's full scans).
+// tick it was queued at, through the grid or the list as testing when queued would (EarQueue in
+// polygon_triangulation.cpp): the clips are those of testing each ear when queued. Random
+// spirals (random_spiral: most self-intersect, some have negative area), whose ears are blocked
+// by reflex corners that turn convex as their own neighbours are clipped, before the ear comes
+// up, and where corners turn reflex after the grid is laid out; some with needle ears (the mirror
+// report's full scans).
 TEST(PolygonTriangulationParts, DeferredEarTestsClipTheSame) {
-  struct Restore {
-    ~Restore() { detail::set_deferred_ear_tests(true); }
-  } restore;
   std::mt19937 rng(2024);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   int exact = 0;
   for (int trial = 0; trial < 240; ++trial) {
-    std::vector<P> ring =
-        random_star(rng, u, trial % 3 == 0 ? 8 : 64, trial % 3 == 0 ? 40 : 300, 0.1 + 0.3 * u(rng), 1.0);
-    const double swirl = trial % 5 == 0 ? 0.0 : 2.0 + 6.0 * u(rng);
-    for (P& p : ring) {
-      const double r = glm::length(p), a = std::atan2(p.y, p.x) + swirl * r;
-      p = r * P(std::cos(a), std::sin(a));
-    }
+    std::vector<P> ring = random_spiral(rng, u, trial);
     if (trial % 4 == 1) {  // needle ears: points just off every other edge
       std::vector<P> star;
       star.swap(ring);
@@ -489,22 +518,36 @@ TEST(PolygonTriangulationParts, DeferredEarTestsClipTheSame) {
         if (i % 2 == 0) ring.push_back(0.5 * (a + b) + 1e-8 * P(a.y - b.y, b.x - a.x));
       }
     }
-    Loop poly(ring.size());
-    std::iota(poly.begin(), poly.end(), 0u);
-    std::vector<LocalTri> deferred, when_queued;
-    MirrorClip deferred_mirror, queued_mirror;
-    detail::set_deferred_ear_tests(true);
-    clip_ears(ring, poly, EarSearch::kQueued, deferred, &deferred_mirror);
-    detail::set_deferred_ear_tests(false);
-    clip_ears(ring, poly, EarSearch::kQueued, when_queued, &queued_mirror);
-    ASSERT_EQ(deferred, when_queued) << "trial " << trial;
-    EXPECT_EQ(deferred_mirror.closed, queued_mirror.closed) << "trial " << trial;
-    if (!deferred_mirror.exact) continue;
-    ++exact;
-    detail::set_deferred_ear_tests(true);
-    expect_mirror_clips_the_same(ring, deferred, deferred_mirror, trial);
+    expect_deferred_clips_the_same(ring, in_order(ring.size()), trial, exact);
   }
   EXPECT_GT(exact, 30);  // 49 when written
+}
+
+// The same on numerically degenerate and self-intersecting input, where corners turn reflex
+// again after being clipped around, and filings come late: spirals with points repeated
+// (not next to each other), spirals snapped to a grid of 1/64 (repeated and collinear points),
+// and random polygons.
+TEST(PolygonTriangulationParts, DeferredEarTestsClipTheSameOnDegenerateInput) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int exact = 0;
+  for (int trial = 0; trial < 1200; ++trial) {
+    std::vector<P> ring = random_spiral(rng, u, trial);
+    Loop poly = in_order(ring.size());
+    if (trial % 3 == 0) {  // repeated points: some corners visited again further on
+      const std::size_t n = poly.size();
+      for (std::size_t k = 0; k < n / 4; ++k) {
+        const std::size_t at = static_cast<std::size_t>(u(rng) * double(poly.size()));
+        const std::size_t from = (at + 2 + static_cast<std::size_t>(u(rng) * double(n - 4))) % n;
+        poly.insert(poly.begin() + static_cast<std::ptrdiff_t>(at), static_cast<std::uint32_t>(from));
+      }
+    } else if (trial % 3 == 1) {  // snapped to a grid of 1/64
+      for (P& p : ring) p = glm::round(64.0 * p) / 64.0;
+    } else {  // random points in random order
+      for (P& p : ring) p = P(u(rng), u(rng));
+    }
+    expect_deferred_clips_the_same(ring, poly, trial, exact);
+  }
 }
 
 TEST(PolygonTriangulationParts, TriangulateOneOuterLoopAndOneHole) {

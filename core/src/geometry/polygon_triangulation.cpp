@@ -2,7 +2,6 @@
 #include "geometry/polygon_triangulation.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cassert>
 #include <cmath>
 #include <limits>
@@ -15,8 +14,9 @@
 namespace deepcut::geometry {
 namespace {
 
-// An ear queued by kQueued (kIndexed leaves the version 0); the same comparison (quality only)
-// keeps the same order among equals.
+// An ear queued by kQueued: kLazy's `version` is its corner's version when queued, kIndexed's the
+// tick it was queued at (its deferred test looks at the reflex corners live then); the same
+// comparison (quality only) keeps the same order among equals.
 struct Entry {
   double quality;
   std::uint32_t i;
@@ -36,7 +36,8 @@ struct Cell {
 struct Reach {
   std::uint32_t x0, x1, y0, y1;
 };
-// A corner filed after the grid was laid out (numerically degenerate input), with its cell.
+// A corner filed after the grid was laid out (self-intersecting or numerically degenerate input),
+// with its cell.
 struct LateFiled {
   Filed f;
   Cell cell;
@@ -113,15 +114,19 @@ struct RingLists {
 // it comes to the top of the heap: most corners are queued again (a neighbour clipped) before
 // they come up, so the test is made about once per ear clipped instead of once per corner queued.
 // The clip is the same as testing when queued (as kLazy does, and kIndexed with
-// detail::set_deferred_ear_tests(false): DeferredEarTestsClipTheSame in
-// polygon_triangulation_test.cpp compares the two on spirals whose blockers turn convex first):
+// EarTests::kWhenQueued: DeferredEarTestsClipTheSame in polygon_triangulation_test.cpp compares
+// the two on spirals whose blockers turn convex first, and on self-intersecting and numerically
+// degenerate polygons):
 // - The deferred test is the same test. The ear's corners are those it was queued with (a
 //   neighbour clipped queues it again, at a new tick), and it looks at the reflex corners live at
 //   the tick it was queued at: filed at or before it, and not unfiled by it (lists_.since,
 //   lists_.until; ticks count the changes of reflex corners, in the order testing when queued
-//   sees them). Filings stale now stay in the lists for that. A corner filed twice (reflex,
-//   convex, reflex again: numerically degenerate) would need two spans: the clip stops as at a
-//   tie, and is made again through kLazy.
+//   sees them). Filings stale now stay in the lists for that. It goes through the grid or the
+//   list as testing when queued would: by the filings made up to that tick (filings_ less the
+//   late filings after it: late_ is in tick order, and never pruned when deferring), since grid
+//   and list may disagree on a needle ear. A corner filed twice (reflex, convex, reflex again:
+//   self-intersecting or numerically degenerate input) would need two spans: the clip stops as at
+//   a tie, and is made again through kLazy.
 // - So the heap holds every ear testing when queued holds, and corners found blocked when they
 //   come up (taken out then; a neighbour clipped queues them again, as it would). The first entry
 //   that comes up unblocked is the best ear testing when queued has. A tie of two such ears shows
@@ -139,22 +144,19 @@ struct RingLists {
 //   them: the same clip again.
 enum class EarQueue { kIndexed, kLazy };
 
-// Tests: whether kIndexed defers its ear tests (set_deferred_ear_tests).
-std::atomic<bool> deferred_ear_tests{true};
-
 // One polygon being clipped: a ring of corners over `poly`, linked by prev/next, that loses one
 // corner per clip. The origin is where the fallback scan and the last triangle start: the corner
 // before the last clip (kQueued) or the first remaining corner in input order (kExhaustive).
 class EarClipper {
  public:
   EarClipper(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& poly, EarSearch search,
-             EarQueue queue = EarQueue::kLazy, MirrorClip* mirror = nullptr)
+             EarQueue queue = EarQueue::kLazy, MirrorClip* mirror = nullptr,
+             EarTests tests = EarTests::kWhenQueued)
       : pts_(pts),
         lists_(RingLists::take()),
         search_(search),
         indexed_(queue == EarQueue::kIndexed),
-        deferred_(search == EarSearch::kQueued && indexed_ &&
-                  deferred_ear_tests.load(std::memory_order_relaxed)),
+        deferred_(search == EarSearch::kQueued && indexed_ && tests == EarTests::kWhenTop),
         mirror_(search == EarSearch::kQueued && indexed_ ? mirror : nullptr) {
     lists_.poly.assign(poly.begin(), poly.end());
     if (search_ == EarSearch::kQueued) {
@@ -320,7 +322,7 @@ class EarClipper {
       return;
     }
     const double l2 = longest(i);
-    if (!deferred_ && blocked(i, turn, l2)) {
+    if (!deferred_ && blocked(i, turn, l2, ticks_)) {
       if (indexed_) heap_remove(corner);
       return;
     }
@@ -337,11 +339,13 @@ class EarClipper {
     }
     heap_place(s, {quality, corner, ticks_});  // deferred: the tick its test is made at
   }
-  bool blocked(std::size_t i, double turn, double l2) {
-    return mirror_ ? reflex_blocker<true>(i, turn, l2) : reflex_blocker<false>(i, turn, l2);
+  // `tick`: the tick the ear was queued at (deferred).
+  bool blocked(std::size_t i, double turn, double l2, std::uint32_t tick) {
+    return mirror_ ? reflex_blocker<true>(i, turn, l2, tick) : reflex_blocker<false>(i, turn, l2, tick);
   }
   // Deferred ear tests: corner i was filed reflex (r) or stopped being reflex, at a new tick. A
-  // second filing of a corner (numerically degenerate) stops the clip as a tie does.
+  // second filing of a corner (self-intersecting or numerically degenerate input) stops the clip
+  // as a tie does.
   void tick(std::size_t i, bool r) {
     ++ticks_;
     if (!r) {
@@ -352,10 +356,18 @@ class EarClipper {
     lists_.since[i] = ticks_;
   }
   // Whether the filing of `corner` is live for the test being made: reflex now, or (deferred) at
-  // the tick the ear was queued at (test_tick_).
-  bool live(std::uint32_t corner) const {
+  // `tick`, the tick the ear was queued at.
+  bool live(std::uint32_t corner, std::uint32_t tick) const {
     if (!deferred_) return lists_.reflex[corner];
-    return lists_.since[corner] <= test_tick_ && test_tick_ < lists_.until[corner];
+    return lists_.since[corner] <= tick && tick < lists_.until[corner];
+  }
+  // The filings made up to `tick` (deferred; else all of them): the count testing when queued
+  // goes by. Late filings after it are the last ones of late_ (tick order, never pruned).
+  std::size_t filings_at(std::uint32_t tick) const {
+    std::size_t n = filings_;
+    if (!deferred_) return n;
+    for (std::size_t k = late_.size(); k > 0 && lists_.since[late_[k - 1].f.corner] > tick; --k) --n;
+    return n;
   }
 
   // kIndexed: puts `e` at slot s of the heap and moves it up or down to where every entry's
@@ -498,11 +510,12 @@ class EarClipper {
 
   // True when some live reflex corner other than the ear's points lies in the closed ear of
   // corner i: through the grid where the cells its corners reach (make_grid) are fewer than the
-  // filings, else through the list (a point that is not a number makes every test false).
+  // filings made up to the ear's queueing (filings_at), else through the list (a point that is
+  // not a number makes every test false).
   // Checked: each value tested is checked against the margin (MirrorClip).
-  // `turn` and `l2`: corner(i) and longest(i).
+  // `turn` and `l2`: corner(i) and longest(i); `tick`: see blocked().
   template <bool Checked>
-  bool reflex_blocker(std::size_t i, double turn, double l2) {
+  bool reflex_blocker(std::size_t i, double turn, double l2, std::uint32_t tick) {
     const std::size_t pa = lists_.prev[i], pc = lists_.next[i];
     const std::uint32_t ia = lists_.poly[pa], ib = lists_.poly[i], ic = lists_.poly[pc];
     const glm::dvec2 &a = at(pa), &b = at(i), &c = at(pc);
@@ -531,50 +544,51 @@ class EarClipper {
              bc.x * (p.y - b.y) - bc.y * (p.x - b.x) >= 0.0 &&
              f.point != ia && f.point != ib && f.point != ic;  // not the same point (bridges repeat points)
     };
-    if (grid_x_ > 0 && filings_ > 1) {  // a box has a cell at least: one filing goes through the list
+    const std::size_t filings = grid_x_ > 0 ? filings_at(tick) : 0;
+    if (filings > 1) {  // a box has a cell at least: one filing goes through the list
       const Reach &u = reach_[pa], &v = reach_[i], &w = reach_[pc];
       const std::size_t xa = std::min(u.x0, std::min(v.x0, w.x0)), xb = std::max(u.x1, std::max(v.x1, w.x1));
       const std::size_t ya = std::min(u.y0, std::min(v.y0, w.y0)), yb = std::max(u.y1, std::max(v.y1, w.y1));
-      if ((xb - xa + 1) * (yb - ya + 1) < filings_) {
+      if ((xb - xa + 1) * (yb - ya + 1) < filings) {
         for (std::size_t y = ya; y <= yb; ++y) {
           const Filed* f = filed_.data() + cell_start_[y * grid_x_ + xa];
           const Filed* end = filed_.data() + cell_start_[y * grid_x_ + xb + 1];
           for (; f != end; ++f)
-            if (live(f->corner) && blocks(*f)) return true;
+            if (live(f->corner, tick) && blocks(*f)) return true;
         }
         auto in_box = [&](const LateFiled& l) {
           return l.cell.x >= xa && l.cell.x <= xb && l.cell.y >= ya && l.cell.y <= yb && blocks(l.f);
         };
         const bool found = live_filing(
-            late_, [](const LateFiled& l) { return l.f.corner; }, in_box);
+            late_, tick, [](const LateFiled& l) { return l.f.corner; }, in_box);
         if constexpr (Checked)  // a needle (within_box): every live reflex corner tested, with the margin
           if (!found && !within_box(turn, l2))
             for (const Filed& f : reflex_list_)
-              if (live(f.corner) && blocks(f)) {
+              if (live(f.corner, tick) && blocks(f)) {
                 exact_ = false;  // the rounded tests find a point outside the box
                 break;
               }
         return found;
       }
     }
-    return live_filing(reflex_list_, [](const Filed& f) { return f.corner; }, blocks);
+    return live_filing(
+        reflex_list_, tick, [](const Filed& f) { return f.corner; }, blocks);
   }
 
   // Whether `test` holds for a live filing in `v` (live()); stale filings met on the way are
   // dropped (the order of `v` does not matter), but where tests are deferred (an ear queued
   // earlier may need a filing stale now).
   template <class Filing, class CornerOf, class Test>
-  bool live_filing(std::vector<Filing>& v, CornerOf&& corner_of, Test&& test) const {
+  bool live_filing(std::vector<Filing>& v, std::uint32_t tick, CornerOf&& corner_of, Test&& test) const {
     for (std::size_t k = 0; k < v.size();) {
-      if (deferred_ && !live(corner_of(v[k]))) {
+      if (live(corner_of(v[k]), tick)) {
+        if (test(v[k])) return true;
         ++k;
-      } else if (!live(corner_of(v[k]))) {
+      } else if (deferred_) {
+        ++k;
+      } else {
         v[k] = v.back();
         v.pop_back();
-      } else if (test(v[k])) {
-        return true;
-      } else {
-        ++k;
       }
     }
     return false;
@@ -633,8 +647,7 @@ class EarClipper {
   // live at the tick it was queued at (its corners have not changed since).
   bool top_blocked() {
     const std::uint32_t i = heap_[0].i;
-    test_tick_ = heap_[0].version;
-    return blocked(i, corner(i), longest(i));
+    return blocked(i, corner(i), longest(i), heap_[0].version);
   }
 
   // kExhaustive: the best ear among all corners (the first one in input order on ties), or n. A
@@ -702,8 +715,7 @@ class EarClipper {
   EarSearch search_;
   bool indexed_;       // kQueued: the queue is kIndexed, else kLazy
   bool deferred_;      // kIndexed: ear tests made when an ear comes up (see EarQueue)
-  std::uint32_t ticks_ = 0;      // deferred: changes of reflex corners so far
-  std::uint32_t test_tick_ = 0;  // deferred: the tick of the ear being tested
+  std::uint32_t ticks_ = 0;  // deferred: changes of reflex corners so far
   bool tied_ = false;  // kIndexed met a tie: run stops
   MirrorClip* mirror_;      // kIndexed: the report on the mirror image, or null
   bool exact_ = true;       // MirrorClip::exact so far
@@ -737,10 +749,12 @@ class EarClipper {
 };
 // Clips one polygon (kQueued: through kIndexed, and again through kLazy where that meets a tie).
 void clip_polygon(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& poly,
-                  EarSearch search, std::vector<LocalTri>& out, MirrorClip* mirror = nullptr) {
+                  EarSearch search, std::vector<LocalTri>& out, MirrorClip* mirror = nullptr,
+                  EarTests tests = EarTests::kWhenTop) {
   const std::size_t before = out.size();
   if (mirror) *mirror = {};
-  if (search == EarSearch::kQueued && EarClipper(pts, poly, search, EarQueue::kIndexed, mirror).run(out))
+  if (search == EarSearch::kQueued &&
+      EarClipper(pts, poly, search, EarQueue::kIndexed, mirror, tests).run(out))
     return;
   if (mirror) *mirror = {};
   out.resize(before);
@@ -750,8 +764,8 @@ void clip_polygon(const std::vector<glm::dvec2>& pts, const std::vector<std::uin
 }  // namespace
 
 void clip_ears(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& poly, EarSearch search,
-               std::vector<LocalTri>& out, MirrorClip* mirror) {
-  clip_polygon(pts, poly, search, out, mirror);
+               std::vector<LocalTri>& out, MirrorClip* mirror, EarTests tests) {
+  clip_polygon(pts, poly, search, out, mirror, tests);
 }
 
 void triangulate_polygon(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& outer,
@@ -795,8 +809,6 @@ std::vector<LocalTri> triangulate_loops(const std::vector<glm::dvec2>& points,
 }  // namespace deepcut::geometry
 
 namespace deepcut::detail {
-
-void set_deferred_ear_tests(bool on) { geometry::deferred_ear_tests.store(on, std::memory_order_relaxed); }
 
 std::size_t largest_kept_clip_list() {
   using geometry::RingLists;

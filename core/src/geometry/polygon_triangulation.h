@@ -56,8 +56,13 @@ struct TriangulationRules {
 /// triangle (the last one, where `closed`) (p, q, r) as (q, p, r).
 struct MirrorClip {
   bool exact = false;
-  bool closed = false;  ///< the clip ended with its closing triangle (else it had no area)
+  bool closed = false;  ///< the clip ended with its closing triangle (else it had no area); read where exact
 };
+
+/// When kQueued tests an ear for blockers: when its corner is queued, or when it comes to the top
+/// of the queue (fewer tests). The clips are the same (the argument at EarQueue in
+/// polygon_triangulation.cpp); kWhenQueued is there for the tests that compare the two.
+enum class EarTests { kWhenQueued, kWhenTop };
 
 /// Ear clipping of one counter-clockwise, weakly simple polygon (indices into `pts`; a bridged
 /// hole repeats two points), appending counter-clockwise triangles to `out`.
@@ -65,13 +70,14 @@ struct MirrorClip {
 /// The polygon's corner lists are kept on the calling thread from clip to clip, so small
 /// polygons clip without allocating them: one clip at a time per thread (a clip never starts
 /// another; checked by an assert in debug builds). Each list keeps at most
-/// detail::kKeptClipListBytes (32 KB) between clips: twenty lists, 640 KB at most per thread; a
+/// detail::kKeptClipListBytes (32 KB) between clips: 23 lists, 736 KB at most per thread; a
 /// bigger one gives its memory back when its clip ends. The result does not depend on what the
 /// lists held before.
 /// With `mirror`, also what the clip tells of its mirror image's (MirrorClip; never exact for
 /// kExhaustive, for fewer than four corners, or for a polygon with repeated consecutive points).
+/// `tests`: see EarTests (kQueued only).
 void clip_ears(const std::vector<glm::dvec2>& pts, const std::vector<std::uint32_t>& poly, EarSearch search,
-               std::vector<LocalTri>& out, MirrorClip* mirror = nullptr);
+               std::vector<LocalTri>& out, MirrorClip* mirror = nullptr, EarTests tests = EarTests::kWhenTop);
 
 /// Joins a clockwise `hole` lying inside the counter-clockwise `outer` into one weakly simple
 /// polygon (the bridge is walked both ways, so its two ends appear twice). `others` are further
@@ -121,7 +127,4 @@ namespace deepcut::detail {
 inline constexpr std::size_t kKeptClipListBytes = std::size_t(4096) * sizeof(double);
 /// The bytes held by the largest of the calling thread's kept corner lists (for tests).
 std::size_t largest_kept_clip_list();
-/// Tests: whether ear clipping (EarSearch::kQueued) tests an ear for blockers when it comes up
-/// instead of when its corner is queued (default true; the clips are the same). Process-wide.
-void set_deferred_ear_tests(bool on);
 }  // namespace deepcut::detail
