@@ -311,25 +311,16 @@ struct ArrayCopy {
   int kind;  // 0 vertices, 1 faces, 2 corners
 };
 
-// Room for the arrays of the pieces copied out of a watched `mesh` (a session's, edited further):
+// Room for the arrays of the pieces copied out of a watched mesh (a session's, edited further):
 // each takes a spare that fits (SplitWatcher::spare_array), else new memory with the operations'
-// room (operation_room.h; reserved, not touched: address space only past the piece's elements),
-// so an operation on the piece finds room. A mesh split in two (a cut: one piece copied out) gives
-// its piece the room of every element of `mesh`, so the piece any later cut of `mesh` copies out,
-// on whichever side and however large, fits in it once this step is dropped: a cut undone and
-// made elsewhere writes into pages the process already has instead of faulting fresh ones in.
-// A spare may hold up to twice the room.
-void give_room(SplitWatcher& watcher, const SurfaceMesh& mesh, std::vector<ArrayCopy>& copies, Numbering& num,
-               std::size_t big) {
-  const bool in_two = num.faces.size() == 2;
-  auto room_of = [&](std::size_t count, int kind) {
-    const std::size_t whole = kind == 0 ? mesh.vertex_count() : mesh.face_slots();
-    const std::size_t n = in_two ? std::max(count, whole) : count;
-    return kind == 0 ? operation_vertex_room(n) : operation_face_room(n);
-  };
+// room (operation_room.h, reserved, not touched), so an operation on the piece finds room, and so
+// does a next cut's piece a little larger than this one, copied into it once this step is dropped.
+// A spare may hold up to twice that room (a piece's own room fits it, however small the piece).
+void give_room(SplitWatcher& watcher, std::vector<ArrayCopy>& copies, Numbering& num, std::size_t big) {
   for (ArrayCopy& c : copies) {
     const std::size_t count = c.keep->size();
-    const std::size_t room = c.group * room_of(count, c.kind);
+    const std::size_t room =
+        c.group * (c.kind == 0 ? operation_vertex_room(count) : operation_face_room(count));
     if (std::unique_ptr<AttributeArrayBase> spare = watcher.spare_array(*c.to, count * c.group, 2 * room))
       c.to->take_room(*spare);
     else
@@ -337,7 +328,7 @@ void give_room(SplitWatcher& watcher, const SurfaceMesh& mesh, std::vector<Array
   }
   for (std::size_t s = 0; s < num.faces.size(); ++s) {
     if (s == big) continue;
-    const std::size_t room = room_of(num.faces[s].size(), 1);
+    const std::size_t room = operation_face_room(num.faces[s].size());
     num.tris[s] = watcher.spare_triangles(num.faces[s].size(), 2 * room);
     if (num.tris[s].capacity() < num.faces[s].size()) num.tris[s].reserve(room);
   }
@@ -361,7 +352,7 @@ std::vector<AttributeSet> fill_pieces(const SurfaceMesh& mesh, Numbering& num, s
             {set_of(mesh, kind).base(name), set.base(name), &list_of(num, s, kind), group_of(kind), kind});
     }
   if (watcher) {
-    give_room(*watcher, mesh, copies, num, big);
+    give_room(*watcher, copies, num, big);
   } else {
     // Reserved here, on the calling thread, exactly as the tasks would (gather_groups and
     // number_faces find their room made): every array comes from the caller's heap (arena),
