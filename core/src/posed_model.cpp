@@ -224,14 +224,29 @@ void size_piece_arrays(PosedMesh& inst, std::size_t n, std::size_t source_vertic
   }
 }
 
+// The calling thread's array of vertex normal maps, sized to `n` with its values unwritten: kept
+// between calls (a pose's corner normals are computed again on every frame of a playback and
+// after every step that poses a mesh afresh), so its pages are faulted in once, not on every
+// call. It grows to the largest mesh posed on the thread, and moves only when it grows.
+detail::UninitVector<glm::mat3>& normal_map_scratch(std::size_t n) {
+  thread_local detail::UninitVector<glm::mat3> maps;
+  if (maps.capacity() < n) {
+    maps = detail::UninitVector<glm::mat3>();  // not resized: the old maps need no copy
+    maps.reserve(n);
+  }
+  maps.resize(n);
+  return maps;
+}
+
 }  // namespace
 
 std::vector<glm::vec3> PosedMesh::corner_normals(const SurfaceMesh& surface) const {
   const auto* normals = surface.corner_attrs().find<glm::vec3>(attr::kNormal);
   if (!normals) return {};
-  // The maps are written whole by the parallel loop (no serial zero fill first); the result's
-  // pages are faulted in over the pool before its fill, with room to grow (normals_room).
-  detail::UninitVector<glm::mat3> normal_maps(linear.size());
+  // The maps are written whole by the parallel loop (no serial zero fill first) into the calling
+  // thread's scratch (normal_map_scratch); the result's pages are faulted in over the pool before
+  // its fill, with room to grow (normals_room).
+  detail::UninitVector<glm::mat3>& normal_maps = normal_map_scratch(linear.size());
   parallel_for(normal_maps.size(), kGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t v = b; v < e; ++v) normal_maps[v] = posed_normal_map(linear[v]);
   });
