@@ -28,7 +28,7 @@
 // the three applies on its own ("runs": the first takes fresh memory, the later ones the memory of
 // the step the one before undid).
 //   deepcut_studio_bench [--json] [--quick] [--size N] [--no-rebuild] [--ops N] [--cuts N]
-//                        [--open-only] [--only drill|tear|cut]
+//                        [--session N] [--open-only] [--only drill|tear|cut]
 // --quick: the 25K cactus only; --size N: only the cactus of about N triangles (a profile of one
 // size); --no-rebuild: without the "..._rebuild" rows; --open-only: the open and the unchanged
 // re-renders only (a profile of the open); --only KIND: of the operations, only that kind's
@@ -36,7 +36,24 @@
 // --cuts N: after the drills' memory run, N cuts each undone, across the middle and at the tip
 // by turns, and the resident memory before and after ("cut_undo_memory": what the pieces an
 // undo set aside and the spares they are made into keep alive over a long session).
+// --session N (default off): right after the open's rows, N operations as a designer applies them
+// over a session, none undone: small drills, tears and cuts (both sides kept) by turns, placed as
+// above (a miss is placed again, untimed); then the run for that size ends (the other rows would
+// time a model cut N times). "session" reports how many "drills", "tears" and "cuts" were made (and
+// "misses" placed again), and in "start" (the session's start, after the open and its re-renders)
+// and "after" (after the N operations): "primitives" (the model's), "model_bytes" (what the model's
+// meshes hold: over every primitive's SurfaceMesh, its face slots' corners and deleted marks and
+// every vertex, face and corner attribute, size times element bytes, capacity not counted; skins,
+// animations and images not counted) and "model_capacity_bytes" (the same arrays' capacity: room
+// reserved included); "undo_bytes" (Session::undo_bytes after the N: what the undo steps keep);
+// "resident_mib" (/proc/self/statm) and "heap_free_mib" (glibc mallinfo2 fordblks: freed memory the
+// heap keeps for reuse, resident or not; -1 elsewhere); and "resident_growth_over_model": (resident
+// after N less resident at the start) / model_bytes at the start, the issue's "a long session
+// within 2x the model's own memory" (what the session costs beyond what the open held, against the
+// model opened; the open's own baseline, Qt, VTK and the view's data, is not the session's), beside
+// "resident_after_over_start" (the whole process, after over before).
 // Medians of three repetitions for each timed step.
+#include <malloc.h>
 #include <unistd.h>
 
 #include <QAction>
@@ -220,6 +237,77 @@ bool apply(MainWindow& window, const deepcut::Operation& op) {
   return window.history()->index() > index;
 }
 
+/// Bytes the arrays of one attribute set hold, capacity not counted.
+std::size_t used_bytes(const deepcut::AttributeSet& attrs) {
+  std::size_t bytes = 0;
+  for (const std::string& name : attrs.names())
+    bytes += attrs.base(name)->size() * attrs.base(name)->element_bytes();
+  return bytes;
+}
+
+struct ModelBytes {
+  std::size_t used = 0, capacity = 0, primitives = 0;
+};
+
+/// What the model's meshes hold: bytes in use, bytes with the room reserved (see the header).
+ModelBytes model_bytes(const deepcut::Model& model) {
+  ModelBytes bytes;
+  for (const deepcut::Mesh& mesh : model.meshes)
+    for (const deepcut::Primitive& prim : mesh.primitives) {
+      ++bytes.primitives;
+      const deepcut::SurfaceMesh& m = prim.mesh;
+      bytes.used += m.face_slots() * (sizeof(deepcut::Triangle) + 1) + used_bytes(m.vertex_attrs()) +
+                    used_bytes(m.face_attrs()) + used_bytes(m.corner_attrs());
+      bytes.capacity += m.capacity_bytes();
+    }
+  return bytes;
+}
+
+/// Freed memory the heap keeps for reuse, in MiB (-1 where the heap does not say).
+double heap_free_mib() {
+#if defined(__GLIBC__)
+  return static_cast<double>(mallinfo2().fordblks) / (1024.0 * 1024.0);
+#else
+  return -1.0;
+#endif
+}
+
+/// The model's, the undo stack's and the process's memory now (the session's rows).
+json memory_json(const MainWindow& window) {
+  const ModelBytes model = model_bytes(*window.model());
+  json out;
+  out["primitives"] = model.primitives;
+  out["model_bytes"] = model.used;
+  out["model_capacity_bytes"] = model.capacity;
+  out["undo_bytes"] = window.session().undo_bytes();
+  out["resident_mib"] = resident_mib();
+  out["heap_free_mib"] = heap_free_mib();
+  return out;
+}
+
+/// `count` operations none undone, small drills, tears and cuts by turns (a miss placed again).
+json run_session(MainWindow& window, Placer& place, int count) {
+  json out = {{"operations", count}, {"start", memory_json(window)}};
+  int made[3] = {0, 0, 0}, misses = 0;
+  for (int i = 0; i < count; ++i) {
+    const int kind = i % 3;
+    while (!apply(window, kind == 0 ? place.drill() : kind == 1 ? place.tear() : place.cut()))
+      if (++misses > 20 * count + 20)
+        throw std::runtime_error("the session's operations keep missing the model");
+    ++made[kind];
+  }
+  out["drills"] = made[0];
+  out["tears"] = made[1];
+  out["cuts"] = made[2];
+  out["misses"] = misses;
+  out["after"] = memory_json(window);
+  const double start = out["start"]["resident_mib"], after = out["after"]["resident_mib"];
+  const double model = out["start"]["model_bytes"].get<double>() / (1024.0 * 1024.0);
+  out["resident_growth_over_model"] = (after - start) / model;
+  out["resident_after_over_start"] = after / start;
+  return out;
+}
+
 json step_json(const std::vector<Timed>& runs) {
   std::vector<double> render, frame, cpu, ui, process, faults;
   for (const Timed& t : runs) {
@@ -302,8 +390,8 @@ json time_operation(MainWindow& window, Timer& timer, const std::function<deepcu
   return out;
 }
 
-json run_size(std::size_t target, int ops, int cuts, bool rebuilds, bool open_only, const std::string& only,
-              const QString& dir) {
+json run_size(std::size_t target, int ops, int cuts, int session, bool rebuilds, bool open_only,
+              const std::string& only, const QString& dir) {
   deepcut::CactusOptions options;
   options.target_triangles = target;
   const QString path = dir + QString("/cactus_%1.glb").arg(target);
@@ -356,6 +444,10 @@ json run_size(std::size_t target, int ops, int cuts, bool rebuilds, bool open_on
   window.set_anti_aliasing(deepcut::studio::AntiAliasing::Automatic, false);
   if (open_only) return out;
   Placer place(window);
+  if (session > 0) {
+    out["session"] = run_session(window, place, session);
+    return out;
+  }
   // Memory first, on the model as opened: the cut steps below set aside what an undo or redo
   // brings back (the replaced primitive's scene data), and freeing that later would hide growth.
   const double before = resident_mib();
@@ -394,6 +486,26 @@ json run_size(std::size_t target, int ops, int cuts, bool rebuilds, bool open_on
   }
   setenv("DEEPCUT_VIEW_REBUILD", "0", 1);
   return out;
+}
+
+void print_session(const std::string& tri, const json& s) {
+  const double mib = 1024.0 * 1024.0;
+  for (const char* when : {"start", "after"}) {
+    const json& m = s[when];
+    std::printf(
+        "%-10s session %s: %zu primitives, model %.1f MiB (capacity %.1f MiB), undo %.1f MiB, resident %.1f "
+        "MiB, heap free "
+        "%.1f MiB\n",
+        tri.c_str(), when, m["primitives"].get<std::size_t>(), m["model_bytes"].get<double>() / mib,
+        m["model_capacity_bytes"].get<double>() / mib, m["undo_bytes"].get<double>() / mib,
+        m["resident_mib"].get<double>(), m["heap_free_mib"].get<double>());
+  }
+  std::printf(
+      "%-10s session: %d operations (%d drills, %d tears, %d cuts, %d misses placed again); resident growth "
+      "%.2fx the model opened, resident %.2fx the start\n",
+      tri.c_str(), s["operations"].get<int>(), s["drills"].get<int>(), s["tears"].get<int>(),
+      s["cuts"].get<int>(), s["misses"].get<int>(), s["resident_growth_over_model"].get<double>(),
+      s["resident_after_over_start"].get<double>());
 }
 
 void print_table(const json& results) {
@@ -439,6 +551,7 @@ void print_table(const json& results) {
                     run["minor_faults"].get<long>());
       std::printf("\n");
     }
+    if (r.contains("session")) print_session(tri, r["session"]);
     if (!r.contains("memory")) continue;
     const json& m = r["memory"];
     std::printf("%-10s memory: %.1f MiB resident, %.1f MiB after %d small drills (%.1f KiB per operation)\n",
@@ -452,7 +565,7 @@ void print_table(const json& results) {
 int main(int argc, char** argv) {
   deepcut::keep_freed_memory();  // an operation writes into the pages the last one freed
   bool as_json = false, quick = false, rebuilds = true, open_only = false;
-  int ops = 100, cuts = 0;
+  int ops = 100, cuts = 0, session = 0;
   std::size_t size = 0;
   std::string only;
   for (int i = 1; i < argc; ++i) {
@@ -470,13 +583,16 @@ int main(int argc, char** argv) {
       ops = std::max(0, std::atoi(argv[++i]));
     } else if (std::strcmp(argv[i], "--cuts") == 0 && i + 1 < argc) {
       cuts = std::max(0, std::atoi(argv[++i]));
+    } else if (std::strcmp(argv[i], "--session") == 0 && i + 1 < argc) {
+      session = std::max(0, std::atoi(argv[++i]));
     } else if (std::strcmp(argv[i], "--only") == 0 && i + 1 < argc &&
                (std::strcmp(argv[i + 1], "drill") == 0 || std::strcmp(argv[i + 1], "tear") == 0 ||
                 std::strcmp(argv[i + 1], "cut") == 0)) {
       only = argv[++i];
     } else {
       std::cerr << "deepcut_studio_bench: unknown argument '" << argv[i]
-                << "' (--json, --quick, --size N, --no-rebuild, --ops N, --cuts N, --open-only, --only "
+                << "' (--json, --quick, --size N, --no-rebuild, --ops N, --cuts N, --session N, --open-only, "
+                   "--only "
                    "drill|tear|cut)\n";
       return 2;
     }
@@ -486,10 +602,11 @@ int main(int argc, char** argv) {
   try {
     json results = json::array();
     if (size > 0) {
-      results.push_back(run_size(size, ops, cuts, rebuilds, open_only, only, dir.path()));
+      results.push_back(run_size(size, ops, cuts, session, rebuilds, open_only, only, dir.path()));
     } else {
-      results.push_back(run_size(25300, ops, cuts, rebuilds, open_only, only, dir.path()));
-      if (!quick) results.push_back(run_size(1000000, ops, cuts, rebuilds, open_only, only, dir.path()));
+      results.push_back(run_size(25300, ops, cuts, session, rebuilds, open_only, only, dir.path()));
+      if (!quick)
+        results.push_back(run_size(1000000, ops, cuts, session, rebuilds, open_only, only, dir.path()));
     }
     if (as_json)
       std::cout << results.dump(2) << "\n";
