@@ -478,5 +478,87 @@ TEST(ViewPolyDataOriginTest, a_kept_scratch_gives_what_own_memory_gives) {
   EXPECT_GE(copies, 8u);
 }
 
+
+/// Every array of `view` holds room for its own elements and a step's growth, and no more than
+/// twice that room (ViewPolyData::bytes): each VTK array at most n + n / 4 + 128 tuples for its
+/// n, and all of them with the lists within a quarter of their bytes and a few kilobytes.
+void expect_room_bounded(const ViewPolyData& view, const std::string& what) {
+  SCOPED_TRACE(what);
+  auto bounded = [](vtkDataArray* a) {
+    ASSERT_NE(a, nullptr);
+    const vtkIdType n = a->GetNumberOfTuples(), components = a->GetNumberOfComponents();
+    EXPECT_GE(a->GetSize(), n * components);
+    EXPECT_LE(a->GetSize(), (n + n / 4 + 128) * components) << (a->GetName() ? a->GetName() : "points");
+  };
+  vtkPolyData* poly = view.poly();
+  bounded(poly->GetPoints()->GetData());
+  for (const char* name : {"vertex_id", "uv0", "normal"}) bounded(poly->GetPointData()->GetArray(name));
+  bounded(poly->GetCellData()->GetArray("face_id"));
+  bounded(poly->GetPolys()->GetOffsetsArray64());
+  bounded(poly->GetPolys()->GetConnectivityArray64());
+  const ViewPolyData::Bytes bytes = view.bytes();
+  EXPECT_GT(bytes.used, 0u);
+  EXPECT_LE(bytes.held, bytes.used + bytes.used / 4 + 16 * 1024);
+}
+
+/// `mesh` with `count` more faces, copies of its first live ones (new corners with attributes of
+/// their own: new points), and the change to it.
+SurfaceMesh with_more_faces(const SurfaceMesh& mesh, std::size_t count, PrimitiveChange& change) {
+  SurfaceMesh more = mesh;
+  MeshEditor editor(more);
+  for (std::uint32_t f = 0; count > 0 && f < mesh.face_slots(); ++f)
+    if (!mesh.is_deleted(FaceId(f))) editor.add_face(mesh.faces()[f]), --count;
+  EXPECT_TRUE(diff_meshes(mesh, more, change));
+  return more;
+}
+
+// A small piece of a big cut that takes the whole's data as its spare (prepared: its lists
+// too) holds room for its own size, not the spare's; so it does after steps that add faces past
+// its room (VTK's own growth would double the arrays) and after one that deletes most of them.
+TEST(ViewPolyDataOriginTest, a_piece_holds_room_for_its_own_size) {
+  Cut c;
+  cut(c, grid_model(300, 200), plane_through({0.9f, 0.0f, 0.5f}, {1.0f, 0.0f, 0.1f}), -1, 0.0f);
+  const PosedModel posed_before = PosedModel::build(c.before, -1, 0.0f, PoseDetail::Positions);
+  const PosedModel posed_after = PosedModel::build(c.after, -1, 0.0f, PoseDetail::Positions);
+  const SurfaceMesh& whole = c.before.meshes[0].primitives[0].mesh;
+  std::size_t checked = 0;
+  for (const auto& origin : c.origins) {
+    const Drawn source =
+        drawn(c.before, posed_before, origin->node_before, origin->mesh_before, origin->primitive_before);
+    const Drawn piece = drawn(c.after, posed_after, origin->node, origin->mesh, origin->primitive);
+    ASSERT_TRUE(source.mesh && piece.mesh);
+    if (4 * piece.mesh->face_count() > whole.face_count()) continue;  // (the big side)
+    const ViewPolyData source_view(*source.mesh, source.positions, &source.normals);
+    ViewPolyData spare(*source.mesh, source.positions, &source.normals);
+    spare.prepare_updates();
+    ASSERT_TRUE(ViewPolyData::can_take(spare, piece.mesh->face_slots()));
+    ViewPolyData copied(*piece.mesh, piece.positions, &piece.normals, source_view, *origin, &spare);
+    ASSERT_EQ(spare.poly(), nullptr) << "the spare's arrays not taken";
+    expect_rebuilt(copied, *piece.mesh, piece.positions, &piece.normals, "copied");
+    expect_room_bounded(copied, "copied");
+    copied.prepare_updates();
+    expect_room_bounded(copied, "prepared");
+    SurfaceMesh mesh = *piece.mesh;
+    std::vector<glm::vec3> normals = piece.normals;
+    for (int step = 0; step < 3; ++step) {  // a fifth more faces each: past the room of an eighth
+      PrimitiveChange change;
+      SurfaceMesh more = with_more_faces(mesh, mesh.face_slots() / 5, change);
+      normals.resize(3 * more.face_slots(), glm::vec3(0.0f, 1.0f, 0.0f));
+      copied.update(more, piece.positions, &normals, change);
+      mesh = std::move(more);
+      expect_rebuilt(copied, mesh, piece.positions, &normals, "grown, step " + std::to_string(step));
+      expect_room_bounded(copied, "grown, step " + std::to_string(step));
+    }
+    const SurfaceMesh fewer = sparse_faces(mesh, 10);
+    PrimitiveChange change;
+    ASSERT_TRUE(diff_meshes(mesh, fewer, change));
+    copied.update(fewer, piece.positions, &normals, change);
+    expect_rebuilt(copied, fewer, piece.positions, &normals, "most faces deleted");
+    expect_room_bounded(copied, "most faces deleted");
+    ++checked;
+  }
+  EXPECT_GE(checked, 1u) << "no small piece";
+}
+
 }  // namespace
 }  // namespace deepcut

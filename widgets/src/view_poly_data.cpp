@@ -40,14 +40,25 @@ vtkSmartPointer<Array> reused_or_new(vtkAbstractArray* spare, const char* name, 
   return a;
 }
 
+// Makes `a` hold exactly `room` tuples, the values below kept. VTK's Resize grows an array to
+// what it held plus the request (about twice what a step needs), so a growth asks for more than
+// twice what it held and squeezes back to `room`: the squeeze shrinks the block in place.
+template <class Array>
+void set_room(Array* a, std::size_t room) {
+  const vtkIdType components = a->GetNumberOfComponents();
+  const auto want = static_cast<vtkIdType>(room);
+  const vtkIdType held = a->GetSize() / components;
+  if (want > held) a->Resize(std::max(want - held, held + 1));
+  if (a->GetSize() / components != want) a->Resize(want);
+}
 
-// Sets `n` tuples, keeping the values below and room to grow (a step appends a few elements:
-// no reallocation of the whole array each time).
+// Sets `n` tuples, keeping the values below, with room to grow by a step (view_data::room_for)
+// and no more than twice that (too_roomy: memory taken from a spare, or left as the data shrank).
 template <class Array>
 void set_count(Array* a, std::size_t n) {
-  const auto tuples = static_cast<vtkIdType>(n);
-  if (tuples * a->GetNumberOfComponents() > a->GetSize()) a->Resize(tuples + tuples / 8 + 1024);
-  a->SetNumberOfTuples(tuples);
+  const auto held = static_cast<std::size_t>(a->GetSize() / a->GetNumberOfComponents());
+  if (n > held || view_data::too_roomy(held, n)) set_room(a, view_data::room_for(n));
+  a->SetNumberOfTuples(static_cast<vtkIdType>(n));
 }
 
 }  // namespace
@@ -356,8 +367,8 @@ void ViewPolyData::build_corner_points(const Writer& writer, const CornerGroups&
   for (std::size_t v = 0; v < vertices; ++v) first_point[v + 1] += first_point[v];
   const std::size_t points = first_point[vertices];
   set_point_count(std::max<std::size_t>(points, 1));  // a deleted face's cell needs point 0
-  uses_.assign(std::max<std::size_t>(points, 1), 0);
-  point_corner_.assign(uses_.size(), kInvalidIndex);
+  view_data::refill(uses_, std::max<std::size_t>(points, 1), 0u);
+  view_data::refill(point_corner_, uses_.size(), kInvalidIndex);
   Writer w = writer;
   w.refresh(poly_);
   if (points == 0) clear_point(w.r, 0);
@@ -424,10 +435,10 @@ void ViewPolyData::resize(const SurfaceMesh& mesh) {
 
 template <class VertexOf>
 void ViewPolyData::link_all(std::size_t corners, std::size_t vertices, const VertexOf& vertex_of) {
-  first_.assign(vertices, kInvalidIndex);
-  next_.assign(corners, kInvalidIndex);
-  prev_.assign(corners, kInvalidIndex);
-  corner_vertex_.assign(corners, kInvalidIndex);
+  view_data::refill(first_, vertices, kInvalidIndex);
+  view_data::refill(next_, corners, kInvalidIndex);
+  view_data::refill(prev_, corners, kInvalidIndex);
+  view_data::refill(corner_vertex_, corners, kInvalidIndex);
   // A list crosses any chunk of corners, so the work is cut by vertices: each range scans every
   // corner (from the last: `link` pushes to the front) and links those of its own vertices. The
   // lists are the same for any number of ranges; all writes of a range are to its vertices'
@@ -541,10 +552,11 @@ bool ViewPolyData::update_corner_points(const SurfaceMesh& mesh, const std::vect
       regroup.push_back(v.index);
       for (std::uint32_t c = first_[v.index]; c != kInvalidIndex; c = next_[c]) release(c, dead);
     }
-  first_.resize(vertices, kInvalidIndex);
-  next_.resize(3 * slots, kInvalidIndex);
-  prev_.resize(3 * slots, kInvalidIndex);
-  corner_vertex_.resize(3 * slots, kInvalidIndex);
+  for (auto* v : {&first_, &next_, &prev_, &corner_vertex_}) {
+    const std::size_t n = v == &first_ ? vertices : 3 * slots;
+    view_data::grow(*v, n);
+    v->resize(n, kInvalidIndex);
+  }
   resize(mesh);
   // 2. Listed and new faces: live ones link their corners (without a point yet), deleted ones
   // draw nothing.
@@ -571,6 +583,8 @@ bool ViewPolyData::update_corner_points(const SurfaceMesh& mesh, const std::vect
       for (std::uint32_t c = first_[v]; c != kInvalidIndex; c = next_[c]) waiting += conn[c] < 0;
   const std::size_t points = uses_.size();
   set_point_count(points + waiting);
+  view_data::grow(uses_, points + waiting);  // (assign_points appends at most one per waiting corner)
+  view_data::grow(point_corner_, points + waiting);
   Writer w(poly_, mesh, positions, corner_normals);
   bool wrote = false;
   for (std::uint32_t v : regroup)
@@ -655,6 +669,8 @@ void ViewPolyData::compact(std::vector<std::uint32_t>& dead) {
   }
   uses_.resize(count);
   point_corner_.resize(count);
+  view_data::fit(uses_);
+  view_data::fit(point_corner_);
   dead.clear();
   set_point_count(count);
   if (uses_[0] == 0) clear_point(raw(poly_), 0);
@@ -675,6 +691,29 @@ void ViewPolyData::set_positions(const std::vector<glm::vec3>& positions,
     }
   });
   modified();
+}
+
+ViewPolyData::Bytes ViewPolyData::bytes() const {
+  Bytes b;
+  auto add = [&](vtkAbstractArray* a) {
+    if (!a) return;
+    const auto element = static_cast<std::size_t>(a->GetDataTypeSize());
+    b.used += static_cast<std::size_t>(a->GetNumberOfValues()) * element;
+    b.held += static_cast<std::size_t>(a->GetSize()) * element;
+  };
+  if (poly_) {
+    add(poly_->GetPoints()->GetData());
+    for (vtkDataSetAttributes* data : {static_cast<vtkDataSetAttributes*>(poly_->GetPointData()),
+                                       static_cast<vtkDataSetAttributes*>(poly_->GetCellData())})
+      for (int i = 0; i < data->GetNumberOfArrays(); ++i) add(data->GetAbstractArray(i));
+    add(poly_->GetPolys()->GetOffsetsArray());
+    add(poly_->GetPolys()->GetConnectivityArray());
+  }
+  for (const auto* v : {&first_, &next_, &prev_, &corner_vertex_, &uses_, &point_corner_, &collapsed_}) {
+    b.used += v->size() * sizeof(std::uint32_t);
+    b.held += v->capacity() * sizeof(std::uint32_t);
+  }
+  return b;
 }
 
 void ViewPolyData::modified() {

@@ -83,7 +83,7 @@ std::size_t number_taken(std::atomic<std::uint32_t>* point, std::size_t n, std::
     first[i + 1] = count;
   });
   for (std::size_t i = 0; i < chunks; ++i) first[i + 1] += first[i];
-  corner.resize(first[chunks]);
+  view_data::refill(corner, first[chunks], kInvalidIndex);  // (each entry written below)
   for_chunks(n, [&](std::size_t i, std::size_t b, std::size_t e) {
     std::atomic<std::uint32_t>* const to = point;
     std::uint32_t* const to_corner = corner.data();
@@ -133,7 +133,7 @@ void ViewPolyData::copy_corner_points(const Writer& w, const ViewPolyData& sourc
   copy_connectivity(w, source, origin, copying);
   const std::size_t points =
       number_taken(copying.point.get(), source.uses_.size(), copying.first, point_corner_);
-  uses_.assign(points, 0);  // (counted with the lists: prepare_updates)
+  view_data::refill(uses_, points, 0u);  // (counted with the lists: prepare_updates)
   std::size_t waiting = 0;
   copying.rim.assign(mesh.vertex_count(), 0);
   for (const auto& wait : copying.waits) {
@@ -142,6 +142,8 @@ void ViewPolyData::copy_corner_points(const Writer& w, const ViewPolyData& sourc
   }
   renumber(w, copying);
   set_point_count(std::max<std::size_t>(points + waiting, 1));  // room for the waiting
+  view_data::grow(uses_, points + waiting + 1);                 // (assign_waiting appends)
+  view_data::grow(point_corner_, points + waiting + 1);
   Writer writer = w;
   writer.refresh(poly_);
   // Each point is drawn from its first corner (the corners of a point draw alike, bit for bit).

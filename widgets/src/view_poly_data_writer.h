@@ -26,6 +26,46 @@ namespace view_data {
 // Elements per task of the passes over the pool.
 constexpr std::size_t kGrain = 16384;
 
+// The room every array of the data gets for `n` elements: theirs and a step's growth (a step
+// appends a few elements: no reallocation of the whole array each time; a reallocation costs
+// in proportion to the array, and so does the room), sized by the data's own elements, not by
+// data whose memory it took over. A long session draws a hundred pieces and more: a few dozen
+// elements past an eighth, not thousands, for each of their arrays.
+inline std::size_t room_for(std::size_t n) { return n + n / 8 + 64; }
+// Whether `held` elements' room for `n` is more than twice room_for's past them (memory taken
+// over from bigger data, or left as the data shrank): given back down to room_for(n). Between
+// the two, the room stays, so that a step that removes a few elements and the next that adds
+// them do not reallocate.
+inline bool too_roomy(std::size_t held, std::size_t n) { return held > n + n / 4 + 128; }
+
+// Room for `n` elements of `v` before it grows to them (its values kept): room_for(n) when it
+// has less (not the doubling of a vector's own growth).
+template <class T>
+void grow(std::vector<T>& v, std::size_t n) {
+  if (n > v.capacity()) v.reserve(room_for(n));
+}
+
+// `v`'s values in room_for of their own when it holds too much room for them (too_roomy).
+template <class T>
+void fit(std::vector<T>& v) {
+  if (!too_roomy(v.capacity(), v.size())) return;
+  std::vector<T> fitted;
+  fitted.reserve(room_for(v.size()));
+  fitted.assign(v.begin(), v.end());
+  v.swap(fitted);
+}
+
+// `v` made `n` copies of `value`, in the memory it has unless that is too small or too roomy
+// for them (then room_for(n) of its own).
+template <class T>
+void refill(std::vector<T>& v, std::size_t n, const T& value) {
+  if (n > v.capacity() || too_roomy(v.capacity(), n)) {
+    std::vector<T>().swap(v);  // (the old memory goes first)
+    v.reserve(room_for(n));
+  }
+  v.assign(n, value);
+}
+
 template <class Array>
 inline Array* named(vtkDataSetAttributes* data, const char* name) {
   return Array::SafeDownCast(data->GetArray(name));

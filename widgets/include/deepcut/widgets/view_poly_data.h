@@ -87,7 +87,8 @@ class ViewPolyData {
   /// `spare` (data no longer drawn, or null): where the copy fits and `can_take(*spare, slots)`,
   /// its arrays are taken over, so their memory is reused: no new pages to fault in, and the
   /// cells' offsets and face ids (the same for every data) are written only past the spare's
-  /// cells. `spare` is then left without data, only to be destroyed; otherwise it is untouched.
+  /// cells; what an array holds past the copy's own room is given back (see `bytes`). `spare`
+  /// is then left without data, only to be destroyed; otherwise it is untouched.
   /// `scratch` (or null: the build's own): the working memory of the copy, reused.
   /// @pre the vertices `origin` gives a source are distinct, and a face it gives a source has
   ///      that live source face's corners (each vertex mapped by `origin.vertices`), as
@@ -102,6 +103,16 @@ class ViewPolyData {
   /// Whether a copying build of a mesh with `slots` face slots can take `spare`'s arrays (what
   /// the constructor checks; a caller choosing among spares asks the same).
   static bool can_take(const ViewPolyData& spare, std::size_t slots);
+
+  /// The memory of the data's arrays (every array of its poly data, colours included, and its
+  /// per-point and per-corner lists; not a CopyScratch): `used` by their elements, `held` with
+  /// the room past them. Each array gets room for its own elements and a step's growth (an
+  /// eighth more and a few dozen), and gives back what it holds past twice that room (memory a
+  /// copying build took from a bigger spare, or left as the data shrank), whatever its history.
+  struct Bytes {
+    std::size_t used = 0, held = 0;
+  };
+  Bytes bytes() const;
 
   /// Builds what `update` needs that the constructors left out (the corner lists,
   /// O(corners) over the pool): once, when idle after the first frame (else the next `update`
