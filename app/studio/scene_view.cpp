@@ -412,6 +412,18 @@ vtkPolyData* SceneView::instance_poly_data(std::size_t instance) const {
   return instance < impl_->instances.size() ? impl_->instances[instance].poly.Get() : nullptr;
 }
 
+SceneView::DataBytes SceneView::data_bytes() const {
+  DataBytes all;
+  auto add = [&](const std::shared_ptr<ViewPolyData>& drawn) {
+    if (!drawn) return;
+    const ViewPolyData::Bytes b = drawn->bytes();
+    all.used += b.used, all.held += b.held;
+  };
+  for (const InstanceActor& instance : impl_->instances) add(instance.data);
+  for (const auto& entry : impl_->stash) add(entry.second);
+  return all;
+}
+
 void SceneView::set_instance_positions(std::size_t instance, const std::vector<glm::vec3>& positions) {
   Impl& d = *impl_;
   if (instance >= d.instances.size()) return;

@@ -79,6 +79,12 @@ class SceneView : public QWidget {
   /// The drawn data of instance `instance` (nullptr for an unknown one): what tests and the
   /// studio benchmark compare with a fresh build.
   vtkPolyData* instance_poly_data(std::size_t instance) const;
+  /// The memory of the view's own data (ViewPolyData::bytes over the instances drawn and the
+  /// data set aside for an undo): what the studio benchmark reports beside the model's.
+  struct DataBytes {
+    std::size_t used = 0, held = 0;
+  };
+  DataBytes data_bytes() const;
   /// Draws instance `instance` at `positions` (world, one per vertex slot of its mesh) instead of its
   /// posed positions, until the next `update_pose` or `set_scene`.
   void set_instance_positions(std::size_t instance, const std::vector<glm::vec3>& positions);

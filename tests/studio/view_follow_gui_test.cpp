@@ -355,6 +355,13 @@ class ViewFollowGuiTest : public QObject {
         view.set_scene(scene);
       }
       view.render();
+      // The view's data (drawn and set aside) holds room for its own elements and a step's
+      // growth, whatever spare's memory a piece took and however the arrays grew.
+      const studio::SceneView::DataBytes bytes = view.data_bytes();
+      QVERIFY2(bytes.used > 0 && bytes.held <= bytes.used + bytes.used / 4 + 64 * 1024,
+               (what + ": the view's data holds " + std::to_string(bytes.held) + " bytes for " +
+                std::to_string(bytes.used))
+                   .c_str());
       const plugins::Scene fresh = plugins::make_scene(session.current(), animation, time);
       QCOMPARE(scene.instances.size(), fresh.instances.size());
       for (std::size_t i = 0; i < fresh.instances.size(); ++i) {
