@@ -15,6 +15,7 @@
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
 #include <vtkTypeInt64Array.h>
+#include <vtkWeakPointer.h>
 
 #include <QtTest/QtTest>
 #include <algorithm>
@@ -388,6 +389,10 @@ class ViewFollowGuiTest : public QObject {
     for (const auto& entry : rest.instances()) box.add(entry.second.bounds);
     LocalOperations operations(box, animation, time, cuts);
     const int steps = two_cuts ? 2 : 8;
+    // The data drawn before the first step: set aside by the first cut, then spare at the second
+    // (taken or dropped), held by nothing after it (no actor, mapper, picker or cache keeps it).
+    const vtkWeakPointer<vtkPolyData> first_drawn = view.instance_poly_data(0);
+    QVERIFY(first_drawn);
     for (int i = 0; i < steps; ++i) {
       Operation op = operations.next_operation(two_cuts ? 2 : i);
       if (two_cuts) {  // the first across the top, the second across the larger piece's top
@@ -409,6 +414,7 @@ class ViewFollowGuiTest : public QObject {
       count_taken();
     }
     if (two_cuts) QVERIFY2(taken >= 1, "the second cut's piece took the arrays the first cut set aside");
+    if (two_cuts && !undo_between) QVERIFY2(!first_drawn, "the data the first cut set aside is still held");
     while (session.can_undo()) {
       check_step(session.undo(), "undo");
       if (QTest::currentTestFailed()) return;
