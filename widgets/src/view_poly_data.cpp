@@ -405,6 +405,10 @@ void ViewPolyData::build_corner_points(const Writer& writer, const CornerGroups&
 }
 
 void ViewPolyData::set_point_count(std::size_t n) {
+  if (corners_) {  // (assign_points appends to the per-point lists, up to the count set here)
+    view_data::grow(uses_, n);
+    view_data::grow(point_corner_, n);
+  }
   vtkPointData* pd = poly_->GetPointData();
   set_count(vtkFloatArray::SafeDownCast(poly_->GetPoints()->GetData()), n);
   set_count(named<vtkIdTypeArray>(pd, "vertex_id"), n);
@@ -552,11 +556,7 @@ bool ViewPolyData::update_corner_points(const SurfaceMesh& mesh, const std::vect
       regroup.push_back(v.index);
       for (std::uint32_t c = first_[v.index]; c != kInvalidIndex; c = next_[c]) release(c, dead);
     }
-  for (auto* v : {&first_, &next_, &prev_, &corner_vertex_}) {
-    const std::size_t n = v == &first_ ? vertices : 3 * slots;
-    view_data::grow(*v, n);
-    v->resize(n, kInvalidIndex);
-  }
+  size_lists(vertices, 3 * slots);
   resize(mesh);
   // 2. Listed and new faces: live ones link their corners (without a point yet), deleted ones
   // draw nothing.
@@ -577,14 +577,7 @@ bool ViewPolyData::update_corner_points(const SurfaceMesh& mesh, const std::vect
   // 3. Regroup (room first for a new point per waiting corner), then close the gaps.
   std::sort(regroup.begin(), regroup.end());
   regroup.erase(std::unique(regroup.begin(), regroup.end()), regroup.end());
-  std::size_t waiting = 0;
-  for (std::uint32_t v : regroup)
-    if (v < vertices)
-      for (std::uint32_t c = first_[v]; c != kInvalidIndex; c = next_[c]) waiting += conn[c] < 0;
-  const std::size_t points = uses_.size();
-  set_point_count(points + waiting);
-  view_data::grow(uses_, points + waiting);  // (assign_points appends at most one per waiting corner)
-  view_data::grow(point_corner_, points + waiting);
+  set_point_count(uses_.size() + waiting_corners(regroup, vertices));
   Writer w(poly_, mesh, positions, corner_normals);
   bool wrote = false;
   for (std::uint32_t v : regroup)
@@ -592,6 +585,24 @@ bool ViewPolyData::update_corner_points(const SurfaceMesh& mesh, const std::vect
   set_point_count(uses_.size());
   compact(dead);
   return wrote;
+}
+
+void ViewPolyData::size_lists(std::size_t vertices, std::size_t corners) {
+  for (auto* list : {&first_, &next_, &prev_, &corner_vertex_}) {
+    const std::size_t n = list == &first_ ? vertices : corners;
+    view_data::grow(*list, n);
+    list->resize(n, kInvalidIndex);
+  }
+}
+
+std::size_t ViewPolyData::waiting_corners(const std::vector<std::uint32_t>& vertices,
+                                          std::size_t count) const {
+  const vtkTypeInt64* conn = poly_->GetPolys()->GetConnectivityArray64()->GetPointer(0);
+  std::size_t waiting = 0;
+  for (std::uint32_t v : vertices)
+    if (v < count)
+      for (std::uint32_t c = first_[v]; c != kInvalidIndex; c = next_[c]) waiting += conn[c] < 0;
+  return waiting;
 }
 
 // A corner of vertex `v` keeps its point or, waiting (connectivity -1), takes one that draws

@@ -142,8 +142,6 @@ void ViewPolyData::copy_corner_points(const Writer& w, const ViewPolyData& sourc
   }
   renumber(w, copying);
   set_point_count(std::max<std::size_t>(points + waiting, 1));  // room for the waiting
-  view_data::grow(uses_, points + waiting + 1);                 // (assign_waiting appends)
-  view_data::grow(point_corner_, points + waiting + 1);
   Writer writer = w;
   writer.refresh(poly_);
   // Each point is drawn from its first corner (the corners of a point draw alike, bit for bit).

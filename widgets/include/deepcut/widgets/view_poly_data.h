@@ -156,7 +156,14 @@ class ViewPolyData {
   /// Sets the cell count (new cells' offsets and face ids) and, without corner points, the
   /// point count.
   void resize(const SurfaceMesh& mesh);
+  /// Sets the point arrays' count and, with corner points, gives the per-point lists room for
+  /// that many (their writers size them).
   void set_point_count(std::size_t n);
+  /// Sizes the corner lists for `vertices` vertex slots and `corners` corners (new entries
+  /// unlinked), with room for a step's growth.
+  void size_lists(std::size_t vertices, std::size_t corners);
+  /// How many corners of `vertices` (those below `count`) wait for a point (connectivity -1).
+  std::size_t waiting_corners(const std::vector<std::uint32_t>& vertices, std::size_t count) const;
   /// The arrays for `mesh`, in one order whatever their origin: empty ones (no points, no
   /// cells), or, with `spare` (`can_take` holds), those `spare` has of each kind (points,
   /// vertex ids, texture coordinates, normals, face ids, offsets, connectivity) and its per-point
