@@ -199,17 +199,15 @@ void pose_into_empty(const SurfaceMesh& mesh, PosedMesh& inst, std::size_t room,
       joined);
 }
 
-// Sizes the empty arrays of `inst`, a piece of `n` vertices derived from a primitive of
-// `source_vertices`, for a pass that writes every element next. A spare's arrays are taken when
-// they hold the vertices and are at most twice the room the piece's own would have (as a piece's
-// corner normals take a spare's, built_normals in the studio's scene), so a small piece does not
-// keep a large allocation alive. New arrays get piece_vertex_room: set aside by an undo, they
-// hold the smaller piece of any later cut of that content. Only the piece's elements are
-// written; the rest of the room is address space unless the allocator gives back memory freed
-// before (keep_freed_memory keeps it resident), and a taken spare's pages are in up to the most
-// it held.
-void size_piece_arrays(PosedMesh& inst, std::size_t n, std::size_t source_vertices,
-                       std::vector<PosedMesh>& spare) {
+// Sizes the empty arrays of `inst`, a piece of `n` vertices, for a pass that writes every element
+// next. A spare's arrays are taken when they hold the vertices and are at most twice the room the
+// piece's own would have (as a piece's corner normals take a spare's, built_normals in the
+// studio's scene), so a small piece does not keep a large allocation alive. New arrays get the
+// piece's own room (piece_vertex_room), not its source's: a session's many small pieces would
+// each keep that alive. Only the piece's elements are written; the rest of the room is address
+// space unless the allocator gives back memory freed before (keep_freed_memory keeps it
+// resident), and a taken spare's pages are in up to the most it held.
+void size_piece_arrays(PosedMesh& inst, std::size_t n, std::vector<PosedMesh>& spare) {
   PosedMesh taken = take_smallest_fit(spare, n, 2 * operation_vertex_room(n) + 1, [](const PosedMesh& m) {
     return std::min(m.posed.capacity(), m.linear.capacity());
   });
@@ -220,7 +218,7 @@ void size_piece_arrays(PosedMesh& inst, std::size_t n, std::size_t source_vertic
     inst.posed.resize(n);
     inst.linear.resize(n);
   } else {
-    size_posed_arrays(inst, n, piece_vertex_room(n, source_vertices));
+    size_posed_arrays(inst, n, piece_vertex_room(n));
   }
 }
 
@@ -314,10 +312,9 @@ void PosedMesh::corner_normals(const SurfaceMesh& surface, const PrimitiveOrigin
   assert(normals->size() == 3 * slots);  // (so the passes below write every value of `out`)
   if (out.capacity() >= normals->size()) {
     out.resize(normals->size());
-  } else {  // a piece's room (as derive_instance gives its positions)
+  } else {  // the piece's own room (as derive_instance gives its positions)
     out = std::vector<glm::vec3>();
-    detail::resize_prefaulted(out, normals->size(), glm::vec3(0.0f),
-                              piece_corner_room(slots, source_normals.size() / 3));
+    detail::resize_prefaulted(out, normals->size(), glm::vec3(0.0f), piece_corner_room(slots));
   }
   // Faces with a source copy its corners (the same corner attributes, vertices with the same
   // linear maps: the kernel would give the same bits); the others are listed per chunk, joined
@@ -478,7 +475,7 @@ PosedMesh PosedModel::derive_instance(const Model& model, int node, int primitiv
   inst.weights = weights(node);
   inst.gridless = true;
   const std::size_t n = mesh.vertex_count();
-  size_piece_arrays(inst, n, source.posed.size(), spare);
+  size_piece_arrays(inst, n, spare);
   // A vertex with a source has its attributes, posed alike (same world, joints and weights):
   // its position and linear map are the source's bits. The others are posed.
   const bool copy = origin.vertices.size() == n && source.linear.size() == source.posed.size();

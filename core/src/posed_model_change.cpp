@@ -83,9 +83,8 @@ Arrivals arrivals_of(const ModelChange& change) {
 
 /// What `stash` holds for no arrival, moved out: a derived instance takes the arrays of one
 /// (their memory reused, no new pages to fault in); the others are freed with the list. Those
-/// that held the most vertices come first: of spares with equal room (the pieces of one source
-/// up to half of it, piece_vertex_room), the largest piece, derived first, takes the one with
-/// the most pages already faulted in, and so on down.
+/// that held the most vertices come first: of spares with equal room, the largest piece, derived
+/// first, takes the one with the most pages already faulted in, and so on down.
 std::vector<PosedMesh> spares_of(PoseStash& stash, const Arrivals& arrivals) {
   std::vector<PosedMesh> spare = take_unclaimed(stash, arrivals.tags);
   largest_first(spare, [](const PosedMesh& m) { return m.posed.size(); });

@@ -156,7 +156,7 @@ std::vector<glm::vec3> built_normals(const SceneInstance& instance, const ModelC
           before.primitive == o->primitive_before && !before.posed_normals.empty() &&
           posed.world == pose.world && posed.joints == pose.joints && posed.weights == pose.weights) {
         // At most twice the piece's own room, so a small piece keeps no large array alive (a new
-        // one gets piece_corner_room: set aside, it holds the smaller piece of a later cut).
+        // one gets the piece's own room, piece_corner_room).
         const std::size_t slots = instance.surface->face_slots();
         std::vector<glm::vec3> out = take_smallest_fit(spare, 3 * slots, 2 * operation_corner_room(slots),
                                                        [](const std::vector<glm::vec3>& a) { return a.capacity(); });

@@ -14,17 +14,14 @@ inline std::size_t operation_face_room(std::size_t face_slots) { return face_slo
 /// The room of a per-corner array (three corners per face slot): a corner per corner of the face room.
 inline std::size_t operation_corner_room(std::size_t face_slots) { return 3 * operation_face_room(face_slots); }
 
-/// The room of a posed array of a piece of `vertices` cut out of content of `source` vertices
-/// (a derived piece's posed positions and linear maps): the room of half the source, or the
-/// piece's own when larger. Set aside by an undo, each piece's arrays hold the smaller piece of
-/// any later cut of that source (at most about half of it), however it splits it; a small piece
-/// keeps no more than that alive (a spare is taken only up to twice the taker's own room).
-inline std::size_t piece_vertex_room(std::size_t vertices, std::size_t source) {
-  return operation_vertex_room(vertices > source / 2 ? vertices : source / 2);
-}
-/// The same for a piece's posed corner normals (`face_slots`, out of a source of `source_face_slots`).
-inline std::size_t piece_corner_room(std::size_t face_slots, std::size_t source_face_slots) {
-  return operation_corner_room(face_slots > source_face_slots / 2 ? face_slots : source_face_slots / 2);
-}
+/// The room of a posed array of a piece of `vertices` cut out of other content (a derived
+/// piece's posed positions and linear maps): the piece's own, as any primitive's. Not the room of
+/// the content it was cut out of: most pieces of a long session are small and outlive the step
+/// that made them, and each would keep that room alive (keep_freed_memory makes it resident).
+/// Set aside by an undo, a piece's arrays still hold a later cut's piece of up to their room and
+/// down to about half of it (take_smallest_fit); a larger one gets new arrays.
+inline std::size_t piece_vertex_room(std::size_t vertices) { return operation_vertex_room(vertices); }
+/// The same for a piece's posed corner normals (`face_slots`): the piece's own corner room.
+inline std::size_t piece_corner_room(std::size_t face_slots) { return operation_corner_room(face_slots); }
 
 }  // namespace deepcut

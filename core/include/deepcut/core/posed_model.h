@@ -89,8 +89,8 @@ struct PosedMesh : PosedMeshHeader {
   /// has one corner normal per corner of each face slot), so the array of a mesh dropped
   /// meanwhile may be given to reuse its memory: where its size already holds the corners, no
   /// new pages and no value fill before the copy; where only its capacity does, the part past
-  /// its old size is value-filled first, on the calling thread. A new array gets piece_corner_room
-  /// of the source's face slots (operation_room.h; as PosedModel gives a piece's positions).
+  /// its old size is value-filled first, on the calling thread. A new array gets the piece's own
+  /// room, piece_corner_room (operation_room.h; as PosedModel gives a piece's positions).
   /// @pre `out` is not `source_normals`.
   void corner_normals(const SurfaceMesh& surface, const PrimitiveOrigin& origin,
                       const std::vector<glm::vec3>& source_normals, std::vector<glm::vec3>& out) const;
@@ -241,8 +241,8 @@ class PosedModel {
   /// `origin` says: positions and linear maps of vertices with a source copied, the others posed.
   /// Equal to make_instance(model, node, primitive, Positions). Its arrays are those of one of
   /// `spare` (instances no longer drawn, taken by take_smallest_fit) when they hold its vertices,
-  /// so their memory is reused; else new, with piece_vertex_room (operation_room.h): set aside,
-  /// they hold the smaller piece of any later cut of the same content.
+  /// so their memory is reused; else new, with the piece's own room (piece_vertex_room,
+  /// operation_room.h), so a small piece keeps no room of the content it was cut out of.
   PosedMesh derive_instance(const Model& model, int node, int primitive, const PosedMesh& source,
                             const PrimitiveOrigin& origin, std::vector<PosedMesh>& spare) const;
   void set_pose(const Model& model, const PoseKey& key);
