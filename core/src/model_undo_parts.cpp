@@ -4,7 +4,9 @@
 #include "model_undo_parts.h"
 
 #include <algorithm>
+#include <mutex>
 
+#include "deepcut/core/model_change.h"
 #include "deepcut/core/parallel.h"
 #include "ops/common/model_surgery_in_place.h"
 #include "uninit_vector.h"
@@ -50,55 +52,30 @@ std::size_t MeshDelta::bytes() const {
 
 namespace {
 
-/// Indices per task of `unlisted`: small, so that most hold only listed indices and are skipped.
-constexpr std::size_t kRestGrain = 4096;
-
-/// The indices below `count` that no list holds, increasing. The lists are increasing and
-/// disjoint (the pieces of a split): a stretch of indices whose parts of the lists (found by
-/// bisection) add up to its length holds none and is skipped; only the others are walked. The
-/// rest of a split is small (deleted faces, unused vertices), so this is about O(rest) over the
-/// pool, stretches joined in order (the same list whatever the threads).
-std::vector<std::uint32_t> unlisted(const std::vector<std::vector<std::uint32_t>>& lists, std::size_t count) {
-  const std::size_t stretches = (count + kRestGrain - 1) / kRestGrain;
-  std::vector<std::vector<std::uint32_t>> parts(stretches);
-  parallel_for(stretches, 16, [&](std::size_t first, std::size_t last) {
-    std::vector<std::pair<const std::uint32_t*, const std::uint32_t*>> held(lists.size());
-    for (std::size_t r = first; r < last; ++r) {
-      const std::size_t b = r * kRestGrain, e = std::min(count, b + kRestGrain);
-      std::size_t listed = 0;
-      for (std::size_t s = 0; s < lists.size(); ++s) {
-        const std::uint32_t* const end = lists[s].data() + lists[s].size();
-        const std::uint32_t* const lo = std::lower_bound(lists[s].data(), end, b);
-        held[s] = {lo, std::lower_bound(lo, end, e)};
-        listed += static_cast<std::size_t>(held[s].second - lo);
-      }
-      if (listed == e - b) continue;
-      for (std::size_t i = b; i < e; ++i) {
-        bool in_list = false;
-        for (auto& [next, stop] : held)
-          if (next != stop && *next == i) {
-            ++next;
-            in_list = true;
-          }
-        if (!in_list) parts[r].push_back(static_cast<std::uint32_t>(i));
-      }
-    }
-  });
+/// The slots of `rest` (increasing) below `n` that `rewritten` (increasing) does not hold.
+std::vector<std::uint32_t> not_rewritten(const std::vector<std::uint32_t>& rest, std::size_t n,
+                                         const std::vector<std::uint32_t>& rewritten) {
   std::vector<std::uint32_t> out;
-  for (const auto& part : parts) out.insert(out.end(), part.begin(), part.end());
+  auto next = rewritten.begin();
+  for (std::uint32_t i : rest) {
+    if (i >= n) break;
+    next = std::lower_bound(next, rewritten.end(), i);
+    if (next == rewritten.end() || *next != i) out.push_back(i);
+  }
+  out.shrink_to_fit();  // a record holds no spare room
   return out;
 }
 
 }  // namespace
 
-void SplitPart::take_rest(const SurfaceMesh& mesh) {
-  vertex_count = mesh.vertex_count();
-  face_count = mesh.face_slots();
+void SplitPart::take_rest(const SurfaceMesh& mesh, const MeshDelta& at_split) {
   for (int kind = 0; kind < 3; ++kind) names[static_cast<std::size_t>(kind)] = detail::set_of(mesh, kind).names();
-  rest_vertices = unlisted(vertices, vertex_count);
-  rest_faces = unlisted(faces, face_count);
+  rest_vertices = not_rewritten(vertices.list(pieces()), at_split.v0, at_split.vertices);
+  rest_faces = not_rewritten(faces.list(pieces()), at_split.f0, at_split.faces);
   std::vector<std::uint32_t> corners;
   corners.reserve(3 * rest_faces.size());
+  rest_corners.reserve(rest_faces.size());
+  rest_deleted.reserve(rest_faces.size());
   for (std::uint32_t f : rest_faces) {
     for (std::uint32_t k = 0; k < 3; ++k) corners.push_back(3 * f + k);
     rest_corners.push_back(mesh.face(FaceId(f)));
@@ -110,14 +87,14 @@ void SplitPart::take_rest(const SurfaceMesh& mesh) {
 }
 
 bool SplitPart::holds(std::size_t k, const SurfaceMesh& piece) const {
-  if (piece.vertex_count() != vertices[k].size() || piece.face_slots() != faces[k].size()) return false;
+  if (piece.vertex_count() != vertices.size(k) || piece.face_slots() != faces.size(k)) return false;
   for (int kind = 0; kind < 3; ++kind)
     if (detail::set_of(piece, kind).names() != names[static_cast<std::size_t>(kind)]) return false;
   return true;
 }
 
 bool SplitPart::covers(std::size_t k, const SurfaceMesh& piece) const {
-  if (piece.vertex_count() < vertices[k].size() || piece.face_slots() < faces[k].size()) return false;
+  if (piece.vertex_count() < vertices.size(k) || piece.face_slots() < faces.size(k)) return false;
   for (int kind = 0; kind < 3; ++kind) {
     const auto i = static_cast<std::size_t>(kind);
     for (const std::string& name : names[i]) {
@@ -129,24 +106,27 @@ bool SplitPart::covers(std::size_t k, const SurfaceMesh& piece) const {
 }
 
 SurfaceMesh SplitPart::grow(SurfaceMesh&& big_piece, const std::vector<const SurfaceMesh*>& pieces) const {
+  const std::vector<std::vector<std::uint32_t>> vl = vertices.lists(), fl = faces.lists();  // the rest last
   SurfaceMesh out = std::move(big_piece);
   std::vector<detail::Room> rooms;  // the other pieces and the rest, whose elements come in
   for (std::size_t k = 0; k < pieces.size(); ++k) {
     if (k == big) continue;
     const SurfaceMesh& p = *pieces[k];
-    rooms.push_back({{&p.vertex_attrs(), &p.face_attrs(), &p.corner_attrs()}, p.faces().data(), vertices[k].size(),
-                     faces[k].size()});
+    rooms.push_back({{&p.vertex_attrs(), &p.face_attrs(), &p.corner_attrs()},
+                     p.faces().data(),
+                     vl[k].size(),
+                     fl[k].size()});
   }
   rooms.push_back({{&rest_values[0], &rest_values[1], &rest_values[2]}, rest_corners.data(), rest_vertices.size(),
                    rest_faces.size()});
-  detail::expand_piece(out, vertices[big], faces[big], vertex_count, face_count, rooms);
+  detail::expand_piece(out, vl[big], fl[big], vertices.count(), faces.count(), rooms);
   for (std::size_t k = 0; k < pieces.size(); ++k) {
     if (k == big) continue;
     const SurfaceMesh& p = *pieces[k];
-    detail::scatter(out,
-                    {{&p.vertex_attrs(), &p.face_attrs(), &p.corner_attrs()}, p.faces().data(), &vertices[k],
-                     p.faces().size()},
-                    vertices[k], faces[k]);
+    detail::scatter(
+        out,
+        {{&p.vertex_attrs(), &p.face_attrs(), &p.corner_attrs()}, p.faces().data(), &vl[k], p.faces().size()},
+        vl[k], fl[k]);
   }
   detail::scatter(out,
                   {{&rest_values[0], &rest_values[1], &rest_values[2]}, rest_corners.data(), nullptr,
@@ -162,25 +142,24 @@ SurfaceMesh SplitPart::grow(SurfaceMesh&& big_piece, const std::vector<const Sur
 }
 
 SurfaceMesh SplitPart::shrink(SurfaceMesh&& whole) const {
-  const std::vector<std::uint32_t>& kept = vertices[big];
-  detail::UninitVector<std::uint32_t> rank(vertex_count);  // read for the piece's vertices only
+  const std::vector<std::uint32_t> kept = vertices.list(big), kept_faces = faces.list(big);
+  detail::UninitVector<std::uint32_t> rank(vertices.count());  // read for the piece's vertices only
   parallel_for(kept.size(), detail::kIndexGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) rank[kept[i]] = static_cast<std::uint32_t>(i);
   });
   // Planned on `whole` before it changes (a move keeps its arrays where they are): a failure to
   // allocate leaves it whole.
-  const detail::MovePlan plan = detail::plan_compaction(whole, kept, faces[big]);
+  const detail::MovePlan plan = detail::plan_compaction(whole, kept, kept_faces);
   SurfaceMesh out = std::move(whole);
-  detail::compact_piece(out, plan, kept, faces[big], rank.data());
+  detail::compact_piece(out, plan, kept, kept_faces, rank.data());
   return out;
 }
 
 std::size_t SplitPart::bytes() const {
-  std::size_t out = sizeof(SplitPart) + (rest_vertices.capacity() + rest_faces.capacity()) * sizeof(std::uint32_t) +
+  std::size_t out = sizeof(SplitPart) + vertices.bytes() + faces.bytes() +
+                    (rest_vertices.capacity() + rest_faces.capacity()) * sizeof(std::uint32_t) +
                     rest_corners.capacity() * sizeof(Triangle) + rest_deleted.capacity() +
                     fresh.capacity() * sizeof(std::size_t);
-  for (const auto& list : vertices) out += list.capacity() * sizeof(std::uint32_t);
-  for (const auto& list : faces) out += list.capacity() * sizeof(std::uint32_t);
   for (const AttributeSet& set : rest_values) out += set.capacity_bytes();
   return out;
 }
@@ -232,6 +211,80 @@ void restore_shell(Model& model, Model shell) {
   model.images = std::move(images);
 }
 
+namespace {
+
+/// The slices of a kept shell, which change apart.
+enum Slice : std::size_t { kAnimations, kNodes, kMeshes, kRest, kSlices };
+
+/// Moves slice `k`'s parts of `shell` into a model of their own (kRest: what is left of it).
+Model take_slice(Model& shell, std::size_t k) {
+  Model out;
+  if (k == kAnimations) {
+    out.animations = std::move(shell.animations);
+  } else if (k == kNodes) {
+    out.nodes = std::move(shell.nodes);
+    out.scenes = std::move(shell.scenes);
+    out.default_scene = shell.default_scene;
+    out.skins = std::move(shell.skins);
+  } else if (k == kMeshes) {
+    out.meshes = std::move(shell.meshes);
+  } else {
+    out = std::move(shell);
+  }
+  return out;
+}
+
+/// The slices of the shell kept last (by any step), which the next one shares where equal.
+struct LastKept {
+  std::mutex mutex;
+  std::array<std::weak_ptr<const Model>, kSlices> slices;
+};
+
+LastKept& last_kept() {
+  static LastKept last;
+  return last;
+}
+
+}  // namespace
+
+KeptShell::KeptShell(Model shell) {
+  shell.extras_json = std::string();
+  for (Mesh& m : shell.meshes)
+    for (Primitive& p : m.primitives) p.mesh = SurfaceMesh();
+  LastKept& last = last_kept();
+  const std::lock_guard<std::mutex> lock(last.mutex);
+  for (std::size_t k = 0; k < kSlices; ++k) {
+    Model slice = take_slice(shell, k);
+    // Every part of a model but its images and root extras is compared (both empty here).
+    std::shared_ptr<const Model> before = last.slices[k].lock();
+    if (before && same_structure(*before, slice, false)) {
+      slices_[k] = std::move(before);
+    } else {
+      slices_[k] = std::make_shared<const Model>(std::move(slice));
+      last.slices[k] = slices_[k];
+    }
+  }
+}
+
+Model KeptShell::model() const {
+  Model out = *slices_[kRest];
+  out.animations = slices_[kAnimations]->animations;
+  const Model& nodes = *slices_[kNodes];
+  out.nodes = nodes.nodes;
+  out.scenes = nodes.scenes;
+  out.default_scene = nodes.default_scene;
+  out.skins = nodes.skins;
+  out.meshes = slices_[kMeshes]->meshes;
+  return out;
+}
+
+std::size_t KeptShell::bytes() const {
+  std::size_t out = 0;
+  for (const auto& slice : slices_)
+    if (slice) out += shell_bytes(*slice) / static_cast<std::size_t>(std::max<long>(slice.use_count(), 1));
+  return out;
+}
+
 std::size_t shell_bytes(const Model& shell) {
   std::size_t out = sizeof(Model) + shell.extras_json.capacity();
   for (const Node& n : shell.nodes)
@@ -244,7 +297,11 @@ std::size_t shell_bytes(const Model& shell) {
     for (const AnimationSampler& s : a.samplers)
       out += sizeof(AnimationSampler) + (s.input.capacity() + s.output.capacity()) * sizeof(float);
   }
-  for (const Mesh& m : shell.meshes) out += sizeof(Mesh) + m.extras_json.capacity() + m.primitives.size() * 512;
+  for (const Mesh& m : shell.meshes) {
+    out += sizeof(Mesh) + m.extras_json.capacity() + m.name.capacity();
+    for (const Primitive& p : m.primitives)
+      out += sizeof(Primitive) + p.extras_json.capacity() + p.mesh.capacity_bytes();
+  }
   for (const auto* list : {&shell.materials, &shell.textures, &shell.samplers, &shell.cameras})
     for (const PassthroughObject& o : *list) out += sizeof(PassthroughObject) + o.name.capacity() + o.json.capacity();
   return out;
