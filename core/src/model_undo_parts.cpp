@@ -213,31 +213,68 @@ void restore_shell(Model& model, Model shell) {
 
 namespace {
 
-/// The slices of a kept shell, which change apart.
-enum Slice : std::size_t { kAnimations, kNodes, kMeshes, kRest, kSlices };
+/// The parts of a kept shell shared whole (the nodes and meshes are shared one by one).
+enum Slice : std::size_t { kAnimations, kRest, kSlices };
 
-/// Moves slice `k`'s parts of `shell` into a model of their own (kRest: what is left of it).
-Model take_slice(Model& shell, std::size_t k) {
-  Model out;
-  if (k == kAnimations) {
-    out.animations = std::move(shell.animations);
-  } else if (k == kNodes) {
-    out.nodes = std::move(shell.nodes);
-    out.scenes = std::move(shell.scenes);
-    out.default_scene = shell.default_scene;
-    out.skins = std::move(shell.skins);
-  } else if (k == kMeshes) {
-    out.meshes = std::move(shell.meshes);
-  } else {
-    out = std::move(shell);
+std::size_t node_bytes(const Node& n) {
+  return sizeof(Node) + n.name.capacity() + n.children.capacity() * sizeof(int) +
+         n.weights.capacity() * sizeof(float) + n.extras_json.capacity() + n.extensions_json.capacity();
+}
+
+std::size_t mesh_bytes(const Mesh& m) {
+  std::size_t out =
+      sizeof(Mesh) + m.extras_json.capacity() + m.name.capacity() + m.weights.capacity() * sizeof(float);
+  for (const Primitive& p : m.primitives)
+    out += sizeof(Primitive) + p.extras_json.capacity() + p.mesh.capacity_bytes();
+  return out;
+}
+
+/// `bytes` over the holders of `p`: a holder's share.
+template <class T>
+std::size_t share_of(const std::shared_ptr<const T>& p, std::size_t bytes) {
+  return bytes / static_cast<std::size_t>(std::max<long>(p.use_count(), 1));
+}
+
+/// True when `a` equals `b`, each the only element of `list` in a model otherwise empty
+/// (same_structure compares every part of a model but its images and root extras). `b` is left
+/// as it was.
+template <class T>
+bool same_element(const T& a, T& b, std::vector<T> Model::*list) {
+  Model x, y;
+  (x.*list).push_back(a);
+  (y.*list).push_back(std::move(b));
+  const bool same = same_structure(x, y, false);
+  b = std::move((y.*list).front());
+  return same;
+}
+
+/// Each element of `from`, shared with the element at its index in `last` where equal, else
+/// kept anew (and named in `last`).
+template <class T>
+std::vector<std::shared_ptr<const T>> share_elements(std::vector<T>&& from,
+                                                     std::vector<std::weak_ptr<const T>>& last,
+                                                     std::vector<T> Model::*list) {
+  std::vector<std::shared_ptr<const T>> out;
+  out.reserve(from.size());
+  last.resize(from.size());
+  for (std::size_t i = 0; i < from.size(); ++i) {
+    std::shared_ptr<const T> before = last[i].lock();
+    if (before && same_element(*before, from[i], list)) {
+      out.push_back(std::move(before));
+    } else {
+      out.push_back(std::make_shared<const T>(std::move(from[i])));
+      last[i] = out.back();
+    }
   }
   return out;
 }
 
-/// The slices of the shell kept last (by any step), which the next one shares where equal.
+/// The parts of the shell kept last (by any step), which the next one shares where equal.
 struct LastKept {
   std::mutex mutex;
   std::array<std::weak_ptr<const Model>, kSlices> slices;
+  std::vector<std::weak_ptr<const Node>> nodes;
+  std::vector<std::weak_ptr<const Mesh>> meshes;
 };
 
 LastKept& last_kept() {
@@ -253,14 +290,20 @@ KeptShell::KeptShell(Model shell) {
     for (Primitive& p : m.primitives) p.mesh = SurfaceMesh();
   LastKept& last = last_kept();
   const std::lock_guard<std::mutex> lock(last.mutex);
+  nodes_ = share_elements(std::move(shell.nodes), last.nodes, &Model::nodes);
+  meshes_ = share_elements(std::move(shell.meshes), last.meshes, &Model::meshes);
+  std::array<Model, kSlices> slices;
+  slices[kAnimations].animations = std::move(shell.animations);
+  shell.nodes.clear();
+  shell.meshes.clear();
+  shell.animations.clear();
+  slices[kRest] = std::move(shell);
   for (std::size_t k = 0; k < kSlices; ++k) {
-    Model slice = take_slice(shell, k);
-    // Every part of a model but its images and root extras is compared (both empty here).
     std::shared_ptr<const Model> before = last.slices[k].lock();
-    if (before && same_structure(*before, slice, false)) {
+    if (before && same_structure(*before, slices[k], false)) {
       slices_[k] = std::move(before);
     } else {
-      slices_[k] = std::make_shared<const Model>(std::move(slice));
+      slices_[k] = std::make_shared<const Model>(std::move(slices[k]));
       last.slices[k] = slices_[k];
     }
   }
@@ -269,27 +312,25 @@ KeptShell::KeptShell(Model shell) {
 Model KeptShell::model() const {
   Model out = *slices_[kRest];
   out.animations = slices_[kAnimations]->animations;
-  const Model& nodes = *slices_[kNodes];
-  out.nodes = nodes.nodes;
-  out.scenes = nodes.scenes;
-  out.default_scene = nodes.default_scene;
-  out.skins = nodes.skins;
-  out.meshes = slices_[kMeshes]->meshes;
+  out.nodes.reserve(nodes_.size());
+  for (const auto& n : nodes_) out.nodes.push_back(*n);
+  out.meshes.reserve(meshes_.size());
+  for (const auto& m : meshes_) out.meshes.push_back(*m);
   return out;
 }
 
 std::size_t KeptShell::bytes() const {
-  std::size_t out = 0;
+  std::size_t out = (nodes_.capacity() + meshes_.capacity()) * sizeof(std::shared_ptr<const Node>);
   for (const auto& slice : slices_)
-    if (slice) out += shell_bytes(*slice) / static_cast<std::size_t>(std::max<long>(slice.use_count(), 1));
+    if (slice) out += share_of(slice, shell_bytes(*slice));
+  for (const auto& n : nodes_) out += share_of(n, node_bytes(*n));
+  for (const auto& m : meshes_) out += share_of(m, mesh_bytes(*m));
   return out;
 }
 
 std::size_t shell_bytes(const Model& shell) {
   std::size_t out = sizeof(Model) + shell.extras_json.capacity();
-  for (const Node& n : shell.nodes)
-    out += sizeof(Node) + n.name.capacity() + n.children.capacity() * sizeof(int) + n.weights.capacity() * 4 +
-           n.extras_json.capacity() + n.extensions_json.capacity();
+  for (const Node& n : shell.nodes) out += node_bytes(n);
   for (const Skin& s : shell.skins)
     out += sizeof(Skin) + s.joints.capacity() * sizeof(int) + s.inverse_bind_matrices.capacity() * sizeof(glm::mat4);
   for (const Animation& a : shell.animations) {
@@ -297,11 +338,7 @@ std::size_t shell_bytes(const Model& shell) {
     for (const AnimationSampler& s : a.samplers)
       out += sizeof(AnimationSampler) + (s.input.capacity() + s.output.capacity()) * sizeof(float);
   }
-  for (const Mesh& m : shell.meshes) {
-    out += sizeof(Mesh) + m.extras_json.capacity() + m.name.capacity();
-    for (const Primitive& p : m.primitives)
-      out += sizeof(Primitive) + p.extras_json.capacity() + p.mesh.capacity_bytes();
-  }
+  for (const Mesh& m : shell.meshes) out += mesh_bytes(m);
   for (const auto* list : {&shell.materials, &shell.textures, &shell.samplers, &shell.cameras})
     for (const PassthroughObject& o : *list) out += sizeof(PassthroughObject) + o.name.capacity() + o.json.capacity();
   return out;

@@ -106,22 +106,25 @@ void restore_shell(Model& model, Model shell);
 std::size_t shell_bytes(const Model& shell);
 
 /// A shell (shell_of) as a structural step keeps it: without the root extras and the primitives'
-/// attribute layouts (the meshes undo and redo put back bring theirs), in slices that change
-/// apart (animations; nodes, scenes and skins; meshes; the rest). A slice equal to the same slice
-/// of the shell kept last is shared with it, not copied: a cut's shell before is mostly the last
-/// cut's shell after, and the animations seldom change, so a session's cuts keep about one copy
-/// of the nodes and meshes lists each and one of the animations in all.
+/// attribute layouts (the meshes undo and redo put back bring theirs), in parts that change
+/// apart: each node, each mesh, the animations, the rest. A part equal to the same part of the
+/// shell kept last (the node or mesh at the same index) is shared with it, not copied: a cut's
+/// shell before is mostly the last cut's shell after, and a cut changes a few nodes and meshes
+/// and adds some, so a session's cuts keep about one copy of each node and mesh and one of the
+/// animations in all.
 class KeptShell {
  public:
   KeptShell() = default;
   explicit KeptShell(Model shell);
   /// A copy of the shell, for restore_shell (root extras empty, primitives' meshes empty).
   Model model() const;
-  /// This shell's share of the bytes of its slices (each slice's bytes over its holders).
+  /// This shell's share of the bytes of its parts (each part's bytes over its holders).
   std::size_t bytes() const;
 
  private:
-  std::array<std::shared_ptr<const Model>, 4> slices_;
+  std::array<std::shared_ptr<const Model>, 2> slices_;  // the animations; the rest
+  std::vector<std::shared_ptr<const Node>> nodes_;
+  std::vector<std::shared_ptr<const Mesh>> meshes_;
 };
 
 /// Text that changed between two versions: the common head and tail are not kept.
