@@ -56,9 +56,21 @@ PrimitiveChange change_of(const MeshDelta& delta, Place place, bool undoing) {
   c.primitive = place.primitive;
   c.vertices_before = undoing ? delta.v1 : delta.v0;
   c.faces_before = undoing ? delta.f1 : delta.f0;
+  c.vertices.reserve(delta.vertices.size());  // a step keeps its change: no spare room
+  c.faces.reserve(delta.faces.size());
   for (std::uint32_t v : delta.vertices) c.vertices.push_back(VertexId(v));
   for (std::uint32_t f : delta.faces) c.faces.push_back(FaceId(f));
   return c;
+}
+
+/// Bytes a change holds (capacity).
+std::size_t change_bytes(const ModelChange& c) {
+  std::size_t out = c.primitives.capacity() * sizeof(PrimitiveChange) +
+                    c.kept.capacity() * sizeof(PrimitiveKept) +
+                    (c.left.capacity() + c.arrived.capacity()) * sizeof(PrimitiveContent);
+  for (const PrimitiveChange& p : c.primitives)
+    out += p.vertices.capacity() * sizeof(VertexId) + p.faces.capacity() * sizeof(FaceId);
+  return out;
 }
 
 }  // namespace
@@ -250,7 +262,7 @@ ModelChange ModelStep::redo(Model& model) {
 
 std::size_t ModelStep::bytes() const {
   const Impl& s = *impl_;
-  std::size_t out = sizeof(Impl) + s.extras.bytes();
+  std::size_t out = sizeof(Impl) + s.extras.bytes() + change_bytes(s.change) + change_bytes(s.undo_change);
   if (s.whole) {
     for (const Mesh& m : s.other.meshes)
       for (const Primitive& p : m.primitives) out += p.mesh.capacity_bytes();
