@@ -56,18 +56,28 @@ PieceLabels::PieceLabels(const std::vector<std::vector<std::uint32_t>>& lists, s
 
 void PieceLabels::decode(const std::vector<std::vector<std::uint32_t>*>& out) const {
   const std::size_t labels = sizes_.size();
-  for (std::size_t k = 0; k < labels; ++k)
+  bool all = true;
+  for (std::size_t k = 0; k < labels; ++k) {
     if (out[k]) out[k]->resize(sizes_[k]);
+    all = all && out[k];
+  }
   const std::size_t stretches = starts_.size() / std::max<std::size_t>(labels, 1);
+  const std::size_t per_word = 64 / bits_;
+  const std::uint64_t mask = (std::uint64_t{1} << bits_) - 1u;
   parallel_for(stretches, 1, [&](std::size_t first, std::size_t last) {
-    std::vector<std::uint32_t> at(labels);
+    // Where each label's next element goes: its list, or scratch for a list not wanted (each
+    // label writes at most a stretch there). Raw pointers, so the writes alias none of them.
+    std::vector<std::uint32_t> scratch(all ? 0 : kStretch);
+    std::vector<std::uint32_t*> to(labels);
     for (std::size_t r = first; r < last; ++r) {
-      std::copy_n(starts_.begin() + static_cast<std::ptrdiff_t>(r * labels), labels, at.begin());
+      for (std::size_t k = 0; k < labels; ++k)
+        to[k] = out[k] ? out[k]->data() + starts_[r * labels + k] : scratch.data();
       const std::size_t b = r * kStretch, e = std::min(count_, b + kStretch);
-      for (std::size_t i = b; i < e; ++i) {
-        const std::uint32_t k = label(i);
-        if (out[k]) (*out[k])[at[k]] = static_cast<std::uint32_t>(i);
-        ++at[k];
+      for (std::size_t w = b / per_word; w * per_word < e; ++w) {  // a word of labels at a time
+        std::uint64_t word = words_[w];
+        const std::size_t end = std::min(e, (w + 1) * per_word);
+        for (std::size_t i = w * per_word; i < end; ++i, word >>= bits_)
+          *to[static_cast<std::size_t>(word & mask)]++ = static_cast<std::uint32_t>(i);
       }
     }
   });

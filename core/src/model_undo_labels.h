@@ -35,10 +35,6 @@ class PieceLabels {
   std::size_t bytes() const;
 
  private:
-  std::uint32_t label(std::size_t i) const {
-    const std::size_t bit = i * bits_;
-    return static_cast<std::uint32_t>((words_[bit / 64] >> (bit % 64)) & ((std::uint64_t{1} << bits_) - 1u));
-  }
   /// Writes the lists named in `out` (nullptr: not wanted) from the labels.
   void decode(const std::vector<std::vector<std::uint32_t>*>& out) const;
 
