@@ -105,33 +105,41 @@ bool SplitPart::covers(std::size_t k, const SurfaceMesh& piece) const {
   return true;
 }
 
-SurfaceMesh SplitPart::grow(SurfaceMesh&& big_piece, const std::vector<const SurfaceMesh*>& pieces) const {
-  const std::vector<std::vector<std::uint32_t>> vl = vertices.lists(), fl = faces.lists();  // the rest last
-  SurfaceMesh out = std::move(big_piece);
-  std::vector<detail::Room> rooms;  // the other pieces and the rest, whose elements come in
+std::vector<detail::Room> SplitPart::rooms(const std::vector<const SurfaceMesh*>& pieces,
+                                           const std::vector<std::vector<std::uint32_t>>& vl,
+                                           const std::vector<std::vector<std::uint32_t>>& fl) const {
+  std::vector<detail::Room> out;  // the other pieces and the rest, whose elements come in
   for (std::size_t k = 0; k < pieces.size(); ++k) {
     if (k == big) continue;
     const SurfaceMesh& p = *pieces[k];
-    rooms.push_back({{&p.vertex_attrs(), &p.face_attrs(), &p.corner_attrs()},
-                     p.faces().data(),
-                     vl[k].size(),
-                     fl[k].size()});
+    out.push_back({{&p.vertex_attrs(), &p.face_attrs(), &p.corner_attrs()},
+                   p.faces().data(),
+                   vl[k].size(),
+                   fl[k].size()});
   }
-  rooms.push_back({{&rest_values[0], &rest_values[1], &rest_values[2]}, rest_corners.data(), rest_vertices.size(),
-                   rest_faces.size()});
+  out.push_back({{&rest_values[0], &rest_values[1], &rest_values[2]},
+                 rest_corners.data(),
+                 rest_vertices.size(),
+                 rest_faces.size()});
   // The slots take_rest left out need room too: rooms that do not add up to the growth leave
   // every array to grow by a slow fill of default values. Copies of another piece's first
   // elements make it up; they are written over or left unspecified.
-  const std::size_t missing_v = vertices.size(this->pieces()) - rest_vertices.size();
-  const std::size_t missing_f = faces.size(this->pieces()) - rest_faces.size();
+  const std::size_t missing_v = vl.back().size() - rest_vertices.size();
+  const std::size_t missing_f = fl.back().size() - rest_faces.size();
   for (std::size_t k = 0; k < pieces.size() && missing_v + missing_f > 0; ++k)
     if (k != big && vl[k].size() >= missing_v && fl[k].size() >= missing_f) {
       const SurfaceMesh& p = *pieces[k];
-      rooms.push_back(
+      out.push_back(
           {{&p.vertex_attrs(), &p.face_attrs(), &p.corner_attrs()}, p.faces().data(), missing_v, missing_f});
       break;
     }
-  detail::expand_piece(out, vl[big], fl[big], vertices.count(), faces.count(), rooms);
+  return out;
+}
+
+SurfaceMesh SplitPart::grow(SurfaceMesh&& big_piece, const std::vector<const SurfaceMesh*>& pieces) const {
+  const std::vector<std::vector<std::uint32_t>> vl = vertices.lists(), fl = faces.lists();  // the rest last
+  SurfaceMesh out = std::move(big_piece);
+  detail::expand_piece(out, vl[big], fl[big], vertices.count(), faces.count(), rooms(pieces, vl, fl));
   for (std::size_t k = 0; k < pieces.size(); ++k) {
     if (k == big) continue;
     const SurfaceMesh& p = *pieces[k];

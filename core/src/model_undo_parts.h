@@ -12,6 +12,7 @@
 
 #include "deepcut/core/model.h"
 #include "model_undo_labels.h"
+#include "ops/common/model_surgery_in_place.h"
 
 namespace deepcut::undo {
 
@@ -93,6 +94,13 @@ struct SplitPart {
   /// `whole` is left as it was.
   SurfaceMesh shrink(SurfaceMesh&& whole) const;
   std::size_t bytes() const;
+
+ private:
+  /// What the primitive grows by (detail::expand_piece), from the pieces and the lists of each
+  /// piece's elements (`vl`, `fl`; the rest last).
+  std::vector<detail::Room> rooms(const std::vector<const SurfaceMesh*>& pieces,
+                                  const std::vector<std::vector<std::uint32_t>>& vl,
+                                  const std::vector<std::vector<std::uint32_t>>& fl) const;
 };
 
 /// The model without its primitives' element data and images (each primitive's mesh keeps its
