@@ -56,9 +56,21 @@ PrimitiveChange change_of(const MeshDelta& delta, Place place, bool undoing) {
   c.primitive = place.primitive;
   c.vertices_before = undoing ? delta.v1 : delta.v0;
   c.faces_before = undoing ? delta.f1 : delta.f0;
+  c.vertices.reserve(delta.vertices.size());  // a step keeps its change: no spare room
+  c.faces.reserve(delta.faces.size());
   for (std::uint32_t v : delta.vertices) c.vertices.push_back(VertexId(v));
   for (std::uint32_t f : delta.faces) c.faces.push_back(FaceId(f));
   return c;
+}
+
+/// Bytes a change holds (capacity).
+std::size_t change_bytes(const ModelChange& c) {
+  std::size_t out = c.primitives.capacity() * sizeof(PrimitiveChange) +
+                    c.kept.capacity() * sizeof(PrimitiveKept) +
+                    (c.left.capacity() + c.arrived.capacity()) * sizeof(PrimitiveContent);
+  for (const PrimitiveChange& p : c.primitives)
+    out += p.vertices.capacity() * sizeof(VertexId) + p.faces.capacity() * sizeof(FaceId);
+  return out;
 }
 
 }  // namespace
@@ -76,7 +88,7 @@ struct ModelStep::Impl {
   Model other;
   bool structure = false, exact = true;
   std::vector<Edited> edited;  // in the order of their places before
-  undo::TextDelta extras;      // local steps: the root extras (the history)
+  undo::TextDelta extras;      // the root extras (the history)
   // Structure: every watched primitive's place before and after (invalid: released), the
   // released ones' content while done, the primitives the step made (places after) and their
   // content while undone, and the small parts before and after.
@@ -84,7 +96,7 @@ struct ModelStep::Impl {
   std::vector<std::optional<SurfaceMesh>> kept;
   std::vector<Place> fresh;
   std::vector<SurfaceMesh> fresh_meshes;
-  Model shell_before, shell_after;
+  undo::KeptShell shell_before, shell_after;
   ModelChange change;       // what the step made (and what redo makes)
   ModelChange undo_change;  // what undo makes
   std::uint64_t serial = 0;  // names the step in content tags
@@ -168,7 +180,9 @@ void ModelStep::Impl::map_structure() {
 // hold the meshes) before a mesh leaves the model, so only a primitive's own edit can fail once
 // one has (growing a split primitive back, compacting it again, a delta).
 void ModelStep::Impl::undo_structure(Model& model) {
-  Model shell = shell_before;
+  Model shell = shell_before.model();
+  shell.extras_json = model.extras_json;
+  extras.undo(shell.extras_json);
   std::vector<std::optional<SurfaceMesh>> held(before_all.size());
   fresh_meshes.reserve(fresh.size());
   for (std::size_t id = 0; id < held.size(); ++id) {
@@ -195,7 +209,9 @@ void ModelStep::Impl::undo_structure(Model& model) {
 }
 
 void ModelStep::Impl::redo_structure(Model& model) {
-  Model shell = shell_after;
+  Model shell = shell_after.model();
+  shell.extras_json = model.extras_json;
+  extras.redo(shell.extras_json);
   std::vector<std::optional<SurfaceMesh>> held(before_all.size());
   for (std::size_t id = 0; id < held.size(); ++id) held[id].emplace(std::move(mesh_at(model, before_all[id])));
   for (Edited& e : edited) {
@@ -246,7 +262,7 @@ ModelChange ModelStep::redo(Model& model) {
 
 std::size_t ModelStep::bytes() const {
   const Impl& s = *impl_;
-  std::size_t out = sizeof(Impl) + s.extras.bytes();
+  std::size_t out = sizeof(Impl) + s.extras.bytes() + change_bytes(s.change) + change_bytes(s.undo_change);
   if (s.whole) {
     for (const Mesh& m : s.other.meshes)
       for (const Primitive& p : m.primitives) out += p.mesh.capacity_bytes();
@@ -256,7 +272,7 @@ std::size_t ModelStep::bytes() const {
   for (const auto& k : s.kept)
     if (k) out += k->capacity_bytes();
   for (const auto& m : s.fresh_meshes) out += m.capacity_bytes();
-  if (s.structure && !s.whole) out += undo::shell_bytes(s.shell_before) + undo::shell_bytes(s.shell_after);
+  if (s.structure && !s.whole) out += s.shell_before.bytes() + s.shell_after.bytes();
   out += (s.before_all.capacity() + s.after_all.capacity() + s.fresh.capacity()) * sizeof(Place);
   return out;
 }
@@ -339,7 +355,18 @@ struct ModelRecorder::Impl final : MeshObserver, detail::SplitWatcher {
   void put_together(Watched& w, const std::vector<SurfaceMesh*>& live);
   void piece_writing(std::uint32_t piece, std::uint32_t index, int kind);
   void settle_splits();
-  MeshDelta delta_of(Watched& w, const SurfaceMesh& now);
+  /// One primitive's edit as the recording saw it (MeshDelta), with the saved attributes it
+  /// takes (indices into Watched::saved) and whether undo gives the primitive back exactly.
+  struct DeltaDraft {
+    MeshDelta delta;
+    std::vector<std::size_t> removed;
+    bool lossless = true;
+  };
+  /// Made apart from `w` and `exact`, which change only once it is committed: a failure (out of
+  /// memory) leaves the recording as it was.
+  static DeltaDraft draft_delta(const Watched& w, const SurfaceMesh& now);
+  /// The draft's delta, taking the saved attributes it removed from `w`; allocates nothing.
+  MeshDelta commit(Watched& w, DeltaDraft&& draft);
   static void keep_changed_vertices(const Watched& w, const std::array<AttributeSet, 3>& old, const SurfaceMesh& now,
                                     MeshDelta& d);
   static void keep_changed_faces(const Watched& w, const std::array<AttributeSet, 3>& old, const SurfaceMesh& now,
@@ -417,17 +444,17 @@ void ModelRecorder::Impl::splitting(std::uint32_t id, SurfaceMesh& mesh,
                                     const std::vector<std::vector<std::uint32_t>>& vertices,
                                     const std::vector<std::vector<std::uint32_t>>& faces, std::size_t big) {
   Watched& w = watched[id];
+  // split() then allocates nothing; the recording changes only once the delta is committed (which
+  // allocates nothing), so a failure up to there leaves the mesh whole and watched as before.
+  DeltaDraft at_split = draft_delta(w, mesh);
   SplitPart part;
-  part.vertices = vertices;
-  part.faces = faces;
+  part.vertices = undo::PieceLabels(vertices, mesh.vertex_count());
+  part.faces = undo::PieceLabels(faces, mesh.face_slots());
   part.big = big;
-  part.take_rest(mesh);
-  // split() then allocates nothing; delta_of changes the recording only once it succeeded, so a
-  // failure up to here leaves the mesh whole and watched as before.
+  part.take_rest(mesh, at_split.delta);
   w.pieces.reserve(vertices.size());
   pieces.reserve(pieces.size() + vertices.size());
-  MeshDelta at_split = delta_of(w, mesh);
-  w.at_split.emplace(std::move(at_split));
+  w.at_split.emplace(commit(w, std::move(at_split)));
   w.split.emplace(std::move(part));
   mesh.watch(nullptr, 0);
 }
@@ -482,7 +509,7 @@ void ModelRecorder::Impl::put_together(Watched& w, const std::vector<SurfaceMesh
   if (!w.split) return;
   const SplitPart& part = *w.split;
   std::vector<const SurfaceMesh*> found(w.pieces.size(), nullptr);
-  w.lost = w.lost || w.pieces.size() != part.vertices.size();  // the split never finished
+  w.lost = w.lost || w.pieces.size() != part.pieces();  // the split never finished
   for (std::size_t k = 0; k < w.pieces.size(); ++k) {
     Piece& piece = pieces[w.pieces[k]];
     SurfaceMesh* live = piece.released ? nullptr : live_now[w.pieces[k]];
@@ -498,7 +525,7 @@ void ModelRecorder::Impl::put_together(Watched& w, const std::vector<SurfaceMesh
       // The piece that keeps the arrays, moved when the recorder holds it (released), else copied.
       std::optional<SurfaceMesh>& released = pieces[w.pieces[part.big]].released;
       SurfaceMesh whole = released ? std::move(*released) : *found[part.big];
-      whole.take_tail(part.vertices[part.big].size(), part.faces[part.big].size());
+      whole.take_tail(part.vertices.size(part.big), part.faces.size(part.big));
       for (int kind = 0; kind < 3; ++kind)
         for (const std::string& name : detail::set_of(whole, kind).names())
           if (!contains(part.names[static_cast<std::size_t>(kind)], name)) detail::set_of(whole, kind).remove(name);
@@ -519,7 +546,7 @@ void ModelRecorder::Impl::piece_writing(std::uint32_t piece, std::uint32_t index
   const auto at = std::find(w.pieces.begin(), w.pieces.end(), piece);
   if (at != w.pieces.end()) {
     const auto k = static_cast<std::size_t>(at - w.pieces.begin());
-    if (index >= (kind == 0 ? w.split->vertices[k] : w.split->faces[k]).size()) return;
+    if (index >= (kind == 0 ? w.split->vertices : w.split->faces).size(k)) return;
   }
   put_together(w, live_pieces());
 }
@@ -530,7 +557,7 @@ void ModelRecorder::Impl::settle_splits() {
   const std::vector<SurfaceMesh*> live = live_pieces();  // putting a split together moves no mesh
   for (Watched& w : watched) {
     if (!w.split) continue;
-    bool standing = w.pieces.size() == w.split->vertices.size();
+    bool standing = w.pieces.size() == w.split->pieces();
     for (std::size_t k = 0; k < w.pieces.size() && standing; ++k) {
       const SurfaceMesh* piece = pieces[w.pieces[k]].released ? nullptr : live[w.pieces[k]];
       standing = piece && w.split->holds(k, *piece);
@@ -545,6 +572,7 @@ void ModelRecorder::Impl::keep_changed_vertices(const Watched& w, const std::arr
   for (std::uint32_t i = 0; i < w.order_v.size(); ++i)
     if (differs(old[0], i, now.vertex_attrs(), w.order_v[i])) keep.push_back(i);
   std::sort(keep.begin(), keep.end(), [&](std::uint32_t a, std::uint32_t b) { return w.order_v[a] < w.order_v[b]; });
+  d.vertices.reserve(keep.size());  // a record holds no spare room
   for (std::uint32_t i : keep) d.vertices.push_back(w.order_v[i]);
   d.vertex_values = old[0].subset(keep);
 }
@@ -559,6 +587,10 @@ void ModelRecorder::Impl::keep_changed_faces(const Watched& w, const std::array<
       keep.push_back(i);
   }
   std::sort(keep.begin(), keep.end(), [&](std::uint32_t a, std::uint32_t b) { return w.order_f[a] < w.order_f[b]; });
+  d.faces.reserve(keep.size());  // a record holds no spare room
+  d.corners.reserve(keep.size());
+  d.deleted.reserve(keep.size());
+  keep3.reserve(3 * keep.size());
   for (std::uint32_t i : keep) {
     d.faces.push_back(w.order_f[i]);
     d.corners.push_back(w.old_corners[i]);
@@ -569,18 +601,16 @@ void ModelRecorder::Impl::keep_changed_faces(const Watched& w, const std::array<
   d.corner_values = old[2].subset(keep3);
 }
 
-MeshDelta ModelRecorder::Impl::delta_of(Watched& w, const SurfaceMesh& now) {
-  // Made apart from `w` and `exact`, which change only once all of it is made: a failure (out of
-  // memory) leaves the recording as it was.
-  MeshDelta d;
+ModelRecorder::Impl::DeltaDraft ModelRecorder::Impl::draft_delta(const Watched& w, const SurfaceMesh& now) {
+  DeltaDraft out;
+  MeshDelta& d = out.delta;
   d.v0 = w.v0;
   d.f0 = w.f0;
   d.v1 = now.vertex_count();
   d.f1 = now.face_slots();
-  bool lossless = d.v1 >= d.v0 && d.f1 >= d.f0;  // shrunk in place: not an edit this records
+  out.lossless = d.v1 >= d.v0 && d.f1 >= d.f0;  // shrunk in place: not an edit this records
   const std::array<AttributeSet, 3>* old = &w.old;
   std::array<AttributeSet, 3> trimmed;  // the old values of the attributes both states have
-  std::vector<std::size_t> removed;     // indices into w.saved
   for (int kind = 0; kind < 3; ++kind) {
     const auto k = static_cast<std::size_t>(kind);
     const std::vector<std::string> names = detail::set_of(now, kind).names();
@@ -592,18 +622,26 @@ MeshDelta ModelRecorder::Impl::delta_of(Watched& w, const SurfaceMesh& now) {
       trimmed[k].take(n);
       auto saved = std::find_if(w.saved.begin(), w.saved.end(),
                                 [&](const HeldArray& h) { return h.kind == kind && h.name == n; });
-      if (saved == w.saved.end()) lossless = false;
-      else removed.push_back(static_cast<std::size_t>(saved - w.saved.begin()));
+      if (saved == w.saved.end())
+        out.lossless = false;
+      else
+        out.removed.push_back(static_cast<std::size_t>(saved - w.saved.begin()));
     }
   }
   keep_changed_vertices(w, *old, now, d);
   keep_changed_faces(w, *old, now, d);
-  d.removed.reserve(removed.size());
-  // Nothing below allocates: the removed attributes leave what the recording saved.
+  d.removed.reserve(out.removed.size());
+  return out;
+}
+
+MeshDelta ModelRecorder::Impl::commit(Watched& w, DeltaDraft&& draft) {
+  // Nothing here allocates: the removed attributes leave what the recording saved.
+  MeshDelta d = std::move(draft.delta);
+  std::vector<std::size_t>& removed = draft.removed;
   for (std::size_t i : removed) d.removed.push_back(std::move(w.saved[i]));
   std::sort(removed.begin(), removed.end(), std::greater<>());
   for (std::size_t i : removed) w.saved.erase(w.saved.begin() + static_cast<std::ptrdiff_t>(i));
-  exact = exact && lossless;
+  exact = exact && draft.lossless;
   return d;
 }
 
@@ -654,7 +692,7 @@ ModelStep ModelRecorder::finish() {
       r.exact = false;  // it left the model for somewhere the recorder cannot see
       continue;
     }
-    MeshDelta d = w.at_split ? std::move(*w.at_split) : r.delta_of(w, *now);
+    MeshDelta d = w.at_split ? std::move(*w.at_split) : r.commit(w, r.draft_delta(w, *now));
     if (!d.empty()) s.edited.push_back({id, w.before, after[id], std::move(d), std::nullopt});
   }
   std::vector<std::pair<const void*, std::size_t>> images;
@@ -662,8 +700,8 @@ ModelStep ModelRecorder::finish() {
   if (images != r.images) r.exact = false;
   local = local && same_structure(r.shell, r.model, false);
   s.exact = r.exact;
+  s.extras = undo::TextDelta::make(r.shell.extras_json, r.model.extras_json);
   if (local) {
-    s.extras = undo::TextDelta::make(r.shell.extras_json, r.model.extras_json);
     for (const auto& e : s.edited) s.change.primitives.push_back(change_of(e.delta, e.before, false));
     return step;
   }
@@ -677,8 +715,8 @@ ModelStep ModelRecorder::finish() {
   }
   s.after_all = std::move(after);
   s.fresh = std::move(fresh);
-  s.shell_before = std::move(r.shell);
-  s.shell_after = undo::shell_of(r.model);
+  s.shell_before = undo::KeptShell(std::move(r.shell));
+  s.shell_after = undo::KeptShell(undo::shell_of(r.model));
   s.map_structure();
   return step;
 }

@@ -4,7 +4,9 @@
 #include "model_undo_parts.h"
 
 #include <algorithm>
+#include <mutex>
 
+#include "deepcut/core/model_change.h"
 #include "deepcut/core/parallel.h"
 #include "ops/common/model_surgery_in_place.h"
 #include "uninit_vector.h"
@@ -50,55 +52,30 @@ std::size_t MeshDelta::bytes() const {
 
 namespace {
 
-/// Indices per task of `unlisted`: small, so that most hold only listed indices and are skipped.
-constexpr std::size_t kRestGrain = 4096;
-
-/// The indices below `count` that no list holds, increasing. The lists are increasing and
-/// disjoint (the pieces of a split): a stretch of indices whose parts of the lists (found by
-/// bisection) add up to its length holds none and is skipped; only the others are walked. The
-/// rest of a split is small (deleted faces, unused vertices), so this is about O(rest) over the
-/// pool, stretches joined in order (the same list whatever the threads).
-std::vector<std::uint32_t> unlisted(const std::vector<std::vector<std::uint32_t>>& lists, std::size_t count) {
-  const std::size_t stretches = (count + kRestGrain - 1) / kRestGrain;
-  std::vector<std::vector<std::uint32_t>> parts(stretches);
-  parallel_for(stretches, 16, [&](std::size_t first, std::size_t last) {
-    std::vector<std::pair<const std::uint32_t*, const std::uint32_t*>> held(lists.size());
-    for (std::size_t r = first; r < last; ++r) {
-      const std::size_t b = r * kRestGrain, e = std::min(count, b + kRestGrain);
-      std::size_t listed = 0;
-      for (std::size_t s = 0; s < lists.size(); ++s) {
-        const std::uint32_t* const end = lists[s].data() + lists[s].size();
-        const std::uint32_t* const lo = std::lower_bound(lists[s].data(), end, b);
-        held[s] = {lo, std::lower_bound(lo, end, e)};
-        listed += static_cast<std::size_t>(held[s].second - lo);
-      }
-      if (listed == e - b) continue;
-      for (std::size_t i = b; i < e; ++i) {
-        bool in_list = false;
-        for (auto& [next, stop] : held)
-          if (next != stop && *next == i) {
-            ++next;
-            in_list = true;
-          }
-        if (!in_list) parts[r].push_back(static_cast<std::uint32_t>(i));
-      }
-    }
-  });
+/// The slots of `rest` (increasing) below `n` that `rewritten` (increasing) does not hold.
+std::vector<std::uint32_t> not_rewritten(const std::vector<std::uint32_t>& rest, std::size_t n,
+                                         const std::vector<std::uint32_t>& rewritten) {
   std::vector<std::uint32_t> out;
-  for (const auto& part : parts) out.insert(out.end(), part.begin(), part.end());
+  auto next = rewritten.begin();
+  for (std::uint32_t i : rest) {
+    if (i >= n) break;
+    next = std::lower_bound(next, rewritten.end(), i);
+    if (next == rewritten.end() || *next != i) out.push_back(i);
+  }
+  out.shrink_to_fit();  // a record holds no spare room
   return out;
 }
 
 }  // namespace
 
-void SplitPart::take_rest(const SurfaceMesh& mesh) {
-  vertex_count = mesh.vertex_count();
-  face_count = mesh.face_slots();
+void SplitPart::take_rest(const SurfaceMesh& mesh, const MeshDelta& at_split) {
   for (int kind = 0; kind < 3; ++kind) names[static_cast<std::size_t>(kind)] = detail::set_of(mesh, kind).names();
-  rest_vertices = unlisted(vertices, vertex_count);
-  rest_faces = unlisted(faces, face_count);
+  rest_vertices = not_rewritten(vertices.list(pieces()), at_split.v0, at_split.vertices);
+  rest_faces = not_rewritten(faces.list(pieces()), at_split.f0, at_split.faces);
   std::vector<std::uint32_t> corners;
   corners.reserve(3 * rest_faces.size());
+  rest_corners.reserve(rest_faces.size());
+  rest_deleted.reserve(rest_faces.size());
   for (std::uint32_t f : rest_faces) {
     for (std::uint32_t k = 0; k < 3; ++k) corners.push_back(3 * f + k);
     rest_corners.push_back(mesh.face(FaceId(f)));
@@ -110,14 +87,14 @@ void SplitPart::take_rest(const SurfaceMesh& mesh) {
 }
 
 bool SplitPart::holds(std::size_t k, const SurfaceMesh& piece) const {
-  if (piece.vertex_count() != vertices[k].size() || piece.face_slots() != faces[k].size()) return false;
+  if (piece.vertex_count() != vertices.size(k) || piece.face_slots() != faces.size(k)) return false;
   for (int kind = 0; kind < 3; ++kind)
     if (detail::set_of(piece, kind).names() != names[static_cast<std::size_t>(kind)]) return false;
   return true;
 }
 
 bool SplitPart::covers(std::size_t k, const SurfaceMesh& piece) const {
-  if (piece.vertex_count() < vertices[k].size() || piece.face_slots() < faces[k].size()) return false;
+  if (piece.vertex_count() < vertices.size(k) || piece.face_slots() < faces.size(k)) return false;
   for (int kind = 0; kind < 3; ++kind) {
     const auto i = static_cast<std::size_t>(kind);
     for (const std::string& name : names[i]) {
@@ -128,25 +105,48 @@ bool SplitPart::covers(std::size_t k, const SurfaceMesh& piece) const {
   return true;
 }
 
-SurfaceMesh SplitPart::grow(SurfaceMesh&& big_piece, const std::vector<const SurfaceMesh*>& pieces) const {
-  SurfaceMesh out = std::move(big_piece);
-  std::vector<detail::Room> rooms;  // the other pieces and the rest, whose elements come in
+std::vector<detail::Room> SplitPart::rooms(const std::vector<const SurfaceMesh*>& pieces,
+                                           const std::vector<std::vector<std::uint32_t>>& vl,
+                                           const std::vector<std::vector<std::uint32_t>>& fl) const {
+  std::vector<detail::Room> out;  // the other pieces and the rest, whose elements come in
   for (std::size_t k = 0; k < pieces.size(); ++k) {
     if (k == big) continue;
     const SurfaceMesh& p = *pieces[k];
-    rooms.push_back({{&p.vertex_attrs(), &p.face_attrs(), &p.corner_attrs()}, p.faces().data(), vertices[k].size(),
-                     faces[k].size()});
+    out.push_back({{&p.vertex_attrs(), &p.face_attrs(), &p.corner_attrs()},
+                   p.faces().data(),
+                   vl[k].size(),
+                   fl[k].size()});
   }
-  rooms.push_back({{&rest_values[0], &rest_values[1], &rest_values[2]}, rest_corners.data(), rest_vertices.size(),
-                   rest_faces.size()});
-  detail::expand_piece(out, vertices[big], faces[big], vertex_count, face_count, rooms);
+  out.push_back({{&rest_values[0], &rest_values[1], &rest_values[2]},
+                 rest_corners.data(),
+                 rest_vertices.size(),
+                 rest_faces.size()});
+  // The slots take_rest left out need room too: rooms that do not add up to the growth leave
+  // every array to grow by a slow fill of default values. Copies of another piece's first
+  // elements make it up; they are written over or left unspecified.
+  const std::size_t missing_v = vl.back().size() - rest_vertices.size();
+  const std::size_t missing_f = fl.back().size() - rest_faces.size();
+  for (std::size_t k = 0; k < pieces.size() && missing_v + missing_f > 0; ++k)
+    if (k != big && vl[k].size() >= missing_v && fl[k].size() >= missing_f) {
+      const SurfaceMesh& p = *pieces[k];
+      out.push_back(
+          {{&p.vertex_attrs(), &p.face_attrs(), &p.corner_attrs()}, p.faces().data(), missing_v, missing_f});
+      break;
+    }
+  return out;
+}
+
+SurfaceMesh SplitPart::grow(SurfaceMesh&& big_piece, const std::vector<const SurfaceMesh*>& pieces) const {
+  const std::vector<std::vector<std::uint32_t>> vl = vertices.lists(), fl = faces.lists();  // the rest last
+  SurfaceMesh out = std::move(big_piece);
+  detail::expand_piece(out, vl[big], fl[big], vertices.count(), faces.count(), rooms(pieces, vl, fl));
   for (std::size_t k = 0; k < pieces.size(); ++k) {
     if (k == big) continue;
     const SurfaceMesh& p = *pieces[k];
-    detail::scatter(out,
-                    {{&p.vertex_attrs(), &p.face_attrs(), &p.corner_attrs()}, p.faces().data(), &vertices[k],
-                     p.faces().size()},
-                    vertices[k], faces[k]);
+    detail::scatter(
+        out,
+        {{&p.vertex_attrs(), &p.face_attrs(), &p.corner_attrs()}, p.faces().data(), &vl[k], p.faces().size()},
+        vl[k], fl[k]);
   }
   detail::scatter(out,
                   {{&rest_values[0], &rest_values[1], &rest_values[2]}, rest_corners.data(), nullptr,
@@ -162,25 +162,24 @@ SurfaceMesh SplitPart::grow(SurfaceMesh&& big_piece, const std::vector<const Sur
 }
 
 SurfaceMesh SplitPart::shrink(SurfaceMesh&& whole) const {
-  const std::vector<std::uint32_t>& kept = vertices[big];
-  detail::UninitVector<std::uint32_t> rank(vertex_count);  // read for the piece's vertices only
+  const std::vector<std::uint32_t> kept = vertices.list(big), kept_faces = faces.list(big);
+  detail::UninitVector<std::uint32_t> rank(vertices.count());  // read for the piece's vertices only
   parallel_for(kept.size(), detail::kIndexGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) rank[kept[i]] = static_cast<std::uint32_t>(i);
   });
   // Planned on `whole` before it changes (a move keeps its arrays where they are): a failure to
   // allocate leaves it whole.
-  const detail::MovePlan plan = detail::plan_compaction(whole, kept, faces[big]);
+  const detail::MovePlan plan = detail::plan_compaction(whole, kept, kept_faces);
   SurfaceMesh out = std::move(whole);
-  detail::compact_piece(out, plan, kept, faces[big], rank.data());
+  detail::compact_piece(out, plan, kept, kept_faces, rank.data());
   return out;
 }
 
 std::size_t SplitPart::bytes() const {
-  std::size_t out = sizeof(SplitPart) + (rest_vertices.capacity() + rest_faces.capacity()) * sizeof(std::uint32_t) +
+  std::size_t out = sizeof(SplitPart) + vertices.bytes() + faces.bytes() +
+                    (rest_vertices.capacity() + rest_faces.capacity()) * sizeof(std::uint32_t) +
                     rest_corners.capacity() * sizeof(Triangle) + rest_deleted.capacity() +
                     fresh.capacity() * sizeof(std::size_t);
-  for (const auto& list : vertices) out += list.capacity() * sizeof(std::uint32_t);
-  for (const auto& list : faces) out += list.capacity() * sizeof(std::uint32_t);
   for (const AttributeSet& set : rest_values) out += set.capacity_bytes();
   return out;
 }
@@ -232,11 +231,126 @@ void restore_shell(Model& model, Model shell) {
   model.images = std::move(images);
 }
 
+namespace {
+
+/// The parts of a kept shell shared whole (the nodes and meshes are shared one by one).
+enum Slice : std::size_t { kAnimations, kRest, kSlices };
+
+std::size_t node_bytes(const Node& n) {
+  return sizeof(Node) + n.name.capacity() + n.children.capacity() * sizeof(int) +
+         n.weights.capacity() * sizeof(float) + n.extras_json.capacity() + n.extensions_json.capacity();
+}
+
+std::size_t mesh_bytes(const Mesh& m) {
+  std::size_t out =
+      sizeof(Mesh) + m.extras_json.capacity() + m.name.capacity() + m.weights.capacity() * sizeof(float);
+  for (const Primitive& p : m.primitives)
+    out += sizeof(Primitive) + p.extras_json.capacity() + p.mesh.capacity_bytes();
+  return out;
+}
+
+/// `bytes` over the holders of `p`: a holder's share.
+template <class T>
+std::size_t share_of(const std::shared_ptr<const T>& p, std::size_t bytes) {
+  return bytes / static_cast<std::size_t>(std::max<long>(p.use_count(), 1));
+}
+
+/// True when `a` equals `b`, each the only element of `list` in a model otherwise empty
+/// (same_structure compares every part of a model but its images and root extras). `b` is left
+/// as it was.
+template <class T>
+bool same_element(const T& a, T& b, std::vector<T> Model::*list) {
+  Model x, y;
+  (x.*list).push_back(a);
+  (y.*list).push_back(std::move(b));
+  const bool same = same_structure(x, y, false);
+  b = std::move((y.*list).front());
+  return same;
+}
+
+/// Each element of `from`, shared with the element at its index in `last` where equal, else
+/// kept anew (and named in `last`).
+template <class T>
+std::vector<std::shared_ptr<const T>> share_elements(std::vector<T>&& from,
+                                                     std::vector<std::weak_ptr<const T>>& last,
+                                                     std::vector<T> Model::*list) {
+  std::vector<std::shared_ptr<const T>> out;
+  out.reserve(from.size());
+  last.resize(from.size());
+  for (std::size_t i = 0; i < from.size(); ++i) {
+    std::shared_ptr<const T> before = last[i].lock();
+    if (before && same_element(*before, from[i], list)) {
+      out.push_back(std::move(before));
+    } else {
+      out.push_back(std::make_shared<const T>(std::move(from[i])));
+      last[i] = out.back();
+    }
+  }
+  return out;
+}
+
+/// The parts of the shell kept last (by any step), which the next one shares where equal.
+struct LastKept {
+  std::mutex mutex;
+  std::array<std::weak_ptr<const Model>, kSlices> slices;
+  std::vector<std::weak_ptr<const Node>> nodes;
+  std::vector<std::weak_ptr<const Mesh>> meshes;
+};
+
+LastKept& last_kept() {
+  static LastKept last;
+  return last;
+}
+
+}  // namespace
+
+KeptShell::KeptShell(Model shell) {
+  shell.extras_json = std::string();
+  for (Mesh& m : shell.meshes)
+    for (Primitive& p : m.primitives) p.mesh = SurfaceMesh();
+  LastKept& last = last_kept();
+  const std::lock_guard<std::mutex> lock(last.mutex);
+  nodes_ = share_elements(std::move(shell.nodes), last.nodes, &Model::nodes);
+  meshes_ = share_elements(std::move(shell.meshes), last.meshes, &Model::meshes);
+  std::array<Model, kSlices> slices;
+  slices[kAnimations].animations = std::move(shell.animations);
+  shell.nodes.clear();
+  shell.meshes.clear();
+  shell.animations.clear();
+  slices[kRest] = std::move(shell);
+  for (std::size_t k = 0; k < kSlices; ++k) {
+    std::shared_ptr<const Model> before = last.slices[k].lock();
+    if (before && same_structure(*before, slices[k], false)) {
+      slices_[k] = std::move(before);
+    } else {
+      slices_[k] = std::make_shared<const Model>(std::move(slices[k]));
+      last.slices[k] = slices_[k];
+    }
+  }
+}
+
+Model KeptShell::model() const {
+  Model out = *slices_[kRest];
+  out.animations = slices_[kAnimations]->animations;
+  out.nodes.reserve(nodes_.size());
+  for (const auto& n : nodes_) out.nodes.push_back(*n);
+  out.meshes.reserve(meshes_.size());
+  for (const auto& m : meshes_) out.meshes.push_back(*m);
+  return out;
+}
+
+std::size_t KeptShell::bytes() const {
+  std::size_t out = (nodes_.capacity() + meshes_.capacity()) * sizeof(std::shared_ptr<const Node>);
+  for (const auto& slice : slices_)
+    if (slice) out += share_of(slice, shell_bytes(*slice));
+  for (const auto& n : nodes_) out += share_of(n, node_bytes(*n));
+  for (const auto& m : meshes_) out += share_of(m, mesh_bytes(*m));
+  return out;
+}
+
 std::size_t shell_bytes(const Model& shell) {
   std::size_t out = sizeof(Model) + shell.extras_json.capacity();
-  for (const Node& n : shell.nodes)
-    out += sizeof(Node) + n.name.capacity() + n.children.capacity() * sizeof(int) + n.weights.capacity() * 4 +
-           n.extras_json.capacity() + n.extensions_json.capacity();
+  for (const Node& n : shell.nodes) out += node_bytes(n);
   for (const Skin& s : shell.skins)
     out += sizeof(Skin) + s.joints.capacity() * sizeof(int) + s.inverse_bind_matrices.capacity() * sizeof(glm::mat4);
   for (const Animation& a : shell.animations) {
@@ -244,7 +358,7 @@ std::size_t shell_bytes(const Model& shell) {
     for (const AnimationSampler& s : a.samplers)
       out += sizeof(AnimationSampler) + (s.input.capacity() + s.output.capacity()) * sizeof(float);
   }
-  for (const Mesh& m : shell.meshes) out += sizeof(Mesh) + m.extras_json.capacity() + m.primitives.size() * 512;
+  for (const Mesh& m : shell.meshes) out += mesh_bytes(m);
   for (const auto* list : {&shell.materials, &shell.textures, &shell.samplers, &shell.cameras})
     for (const PassthroughObject& o : *list) out += sizeof(PassthroughObject) + o.name.capacity() + o.json.capacity();
   return out;

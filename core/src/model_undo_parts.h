@@ -11,6 +11,8 @@
 #include <vector>
 
 #include "deepcut/core/model.h"
+#include "model_undo_labels.h"
+#include "ops/common/model_surgery_in_place.h"
 
 namespace deepcut::undo {
 
@@ -55,36 +57,50 @@ struct MeshDelta {
 };
 
 /// A primitive the step split in place (detail::SplitWatcher): the piece that kept its arrays
-/// (`big`) and the pieces copied out of it hold its elements as the lists say; the rest (the slots
-/// no piece holds: deleted faces, unused vertices) is kept here. Undo grows that piece back into
-/// the primitive as it was at the split, reading the other pieces; redo compacts it again. The
-/// pieces stand for the primitive only while they are as the split made them.
+/// (`big`) and the pieces copied out of it hold its elements as the labels say; of the slots no
+/// piece holds (deleted faces, unused vertices) the values undo needs are kept here. Undo grows
+/// that piece back into the primitive as it was at the split, reading the other pieces; redo
+/// compacts it again. The pieces stand for the primitive only while they are as the split made
+/// them.
 struct SplitPart {
-  std::size_t vertex_count = 0, face_count = 0;             // the primitive's sizes at the split
-  std::vector<std::vector<std::uint32_t>> vertices, faces;  // what each piece holds (increasing)
+  PieceLabels vertices, faces;  // which piece holds each element of the primitive at the split
   std::size_t big = 0;
   std::array<std::vector<std::string>, 3> names;  // the attribute names at the split
+  // The slots no piece holds that the step's delta does not give back (see take_rest), and
+  // their values (3 corners per face).
   std::vector<std::uint32_t> rest_vertices, rest_faces;
-  std::array<AttributeSet, 3> rest_values;  // theirs (3 corners per face)
+  std::array<AttributeSet, 3> rest_values;
   std::vector<Triangle> rest_corners;
   std::vector<std::uint8_t> rest_deleted;
   std::vector<std::size_t> fresh;  // each piece's index among the primitives the step made
 
-  /// Keeps what `mesh` (at the split) holds outside the pieces of the lists.
-  void take_rest(const SurfaceMesh& mesh);
+  std::size_t pieces() const { return vertices.pieces(); }
+  /// Keeps what `mesh` (at the split) holds outside the pieces that undo needs: not the slots
+  /// `at_split` (the step's edits up to the split) rewrote or appended, whose values before the
+  /// step it gives back itself (their values at the split are the rest's, which redo's
+  /// compaction drops again). Those slots' values are left unspecified when the primitive grows
+  /// back.
+  void take_rest(const SurfaceMesh& mesh, const MeshDelta& at_split);
   /// True when `piece` is still piece `k` as the split made it (sizes and attribute names).
   bool holds(std::size_t k, const SurfaceMesh& piece) const;
   /// True when `piece` holds at least what piece `k` held at the split: that many vertices and
   /// faces (or more, appended since) and every attribute the primitive had, of the same type.
   bool covers(std::size_t k, const SurfaceMesh& piece) const;
-  /// The primitive at the split: `big_piece` (piece `big` as made, grown in place) and the other
-  /// pieces (`pieces[k]`; piece `big`'s entry is not read).
+  /// The primitive at the split (but the slots take_rest left out): `big_piece` (piece `big` as
+  /// made, grown in place) and the other pieces (`pieces[k]`; piece `big`'s entry is not read).
   /// @throws Error{MissingAttribute} when a piece lacks an attribute.
   SurfaceMesh grow(SurfaceMesh&& big_piece, const std::vector<const SurfaceMesh*>& pieces) const;
   /// Piece `big` again, from the primitive at the split (compacted in place). Should it throw,
   /// `whole` is left as it was.
   SurfaceMesh shrink(SurfaceMesh&& whole) const;
   std::size_t bytes() const;
+
+ private:
+  /// What the primitive grows by (detail::expand_piece), from the pieces and the lists of each
+  /// piece's elements (`vl`, `fl`; the rest last).
+  std::vector<detail::Room> rooms(const std::vector<const SurfaceMesh*>& pieces,
+                                  const std::vector<std::vector<std::uint32_t>>& vl,
+                                  const std::vector<std::vector<std::uint32_t>>& fl) const;
 };
 
 /// The model without its primitives' element data and images (each primitive's mesh keeps its
@@ -96,6 +112,28 @@ Model shell_of(const Model& model);
 void restore_shell(Model& model, Model shell);
 /// Bytes a shell holds (roughly: strings and arrays).
 std::size_t shell_bytes(const Model& shell);
+
+/// A shell (shell_of) as a structural step keeps it: without the root extras and the primitives'
+/// attribute layouts (the meshes undo and redo put back bring theirs), in parts that change
+/// apart: each node, each mesh, the animations, the rest. A part equal to the same part of the
+/// shell kept last (the node or mesh at the same index) is shared with it, not copied: a cut's
+/// shell before is mostly the last cut's shell after, and a cut changes a few nodes and meshes
+/// and adds some, so a session's cuts keep about one copy of each node and mesh and one of the
+/// animations in all.
+class KeptShell {
+ public:
+  KeptShell() = default;
+  explicit KeptShell(Model shell);
+  /// A copy of the shell, for restore_shell (root extras empty, primitives' meshes empty).
+  Model model() const;
+  /// This shell's share of the bytes of its parts (each part's bytes over its holders).
+  std::size_t bytes() const;
+
+ private:
+  std::array<std::shared_ptr<const Model>, 2> slices_;  // the animations; the rest
+  std::vector<std::shared_ptr<const Node>> nodes_;
+  std::vector<std::shared_ptr<const Mesh>> meshes_;
+};
 
 /// Text that changed between two versions: the common head and tail are not kept.
 struct TextDelta {

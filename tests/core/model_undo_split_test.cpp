@@ -1,13 +1,16 @@
 // SPDX-License-Identifier: MIT
 // An undo record (model_undo.h) following a primitive the mesh surgery takes apart in place
 // (split_disjoint): pieces destroyed without ever entering the model still give the primitive
-// back, byte for byte, on undo, whatever attributes the primitive carries.
+// back, byte for byte, on undo, whatever attributes the primitive carries; pieces that enter the
+// model are recorded in a few bits per element (PieceLabels), and consecutive structural steps
+// share the model's small parts.
 #include <gtest/gtest.h>
 
 #include "deepcut/core/mesh_editor.h"
 #include "deepcut/core/model_change.h"
 #include "deepcut/core/model_undo.h"
 #include "fixtures.h"
+#include "model_undo_labels.h"
 #include "ops/common/model_surgery.h"
 
 namespace deepcut {
@@ -129,6 +132,147 @@ TEST(ModelUndoSplitTest, a_rest_spread_over_a_big_primitive_comes_back_too) {
 
 TEST(ModelUndoSplitTest, a_skin_of_8_slots_face_attributes_and_defaults_not_zero_come_back_too) {
   expect_pieces_destroyed_undone(with_attribute_kinds(two_tubes()));
+}
+
+// Labels give back the lists they were made from and the elements none holds, whatever the
+// number of pieces, in the fewest bits (1, 2, 4, 8, ...) that number the pieces and the rest.
+TEST(PieceLabelsTest, give_back_the_lists_in_the_fewest_bits_per_element) {
+  const std::size_t count = 200000;  // several stretches of the labels' passes
+  for (std::size_t pieces : {1u, 2u, 3u, 4u, 17u}) {
+    std::vector<std::vector<std::uint32_t>> lists(pieces + 1);  // the rest last
+    std::uint32_t x = 12345;
+    for (std::uint32_t i = 0; i < count; ++i) {
+      x = x * 1664525u + 1013904223u;
+      lists[(x >> 8) % (pieces + 1)].push_back(i);
+    }
+    const std::vector<std::uint32_t> rest = lists.back();
+    lists.pop_back();
+    const undo::PieceLabels labels(lists, count);
+    const unsigned bits = pieces == 1 ? 1 : pieces <= 3 ? 2 : pieces <= 15 ? 4 : 8;
+    EXPECT_EQ(labels.bits(), bits);
+    ASSERT_EQ(labels.pieces(), pieces);
+    EXPECT_EQ(labels.count(), count);
+    const std::vector<std::vector<std::uint32_t>> got = labels.lists();
+    ASSERT_EQ(got.size(), pieces + 1);
+    for (std::size_t k = 0; k < pieces; ++k) {
+      EXPECT_TRUE(got[k] == lists[k]) << pieces << " pieces, piece " << k;
+      EXPECT_EQ(labels.size(k), lists[k].size());
+    }
+    EXPECT_TRUE(got[pieces] == rest) << pieces << " pieces";
+    EXPECT_TRUE(labels.list(pieces) == rest) << pieces << " pieces";
+    EXPECT_TRUE(labels.list(0) == lists[0]) << pieces << " pieces";
+    EXPECT_LE(labels.bytes(), count * bits / 8 + 64 * (pieces + 1) + 64) << pieces << " pieces";
+  }
+}
+
+Model model_of(SurfaceMesh mesh) {
+  Model model;
+  Primitive prim;
+  prim.mesh = std::move(mesh);
+  model.meshes.push_back({"tubes", {prim}, ""});
+  Node node;
+  node.mesh = 0;
+  model.nodes = {node};
+  model.scenes = {{0}};
+  return model;
+}
+
+// An animation of `keys` keys on node 0: 16 bytes a key.
+Animation long_animation(std::size_t keys) {
+  Animation a;
+  a.name = "sway";
+  AnimationSampler s;
+  for (std::size_t i = 0; i < keys; ++i) {
+    s.input.push_back(static_cast<float>(i) * 0.01f);
+    for (int c = 0; c < 3; ++c)
+      s.output.push_back(static_cast<float>(i % 97) * 0.001f * static_cast<float>(c + 1));
+  }
+  a.samplers.push_back(std::move(s));
+  a.channels.push_back({0, 0, AnimationPath::Translation});
+  return a;
+}
+
+// Splits the model's first primitive in place into its tubes, which take its place and a new
+// primitive's, after edits the step's delta gives back itself: a face deleted, the unused
+// vertex moved, a face appended and deleted (slots no piece holds whose values the rest need not
+// keep). Returns the step.
+ModelStep split_into_the_model(Model& model) {
+  ModelRecorder recorder(model);
+  SurfaceMesh& mesh = model.meshes[0].primitives[0].mesh;
+  const auto half = static_cast<std::uint32_t>(mesh.face_slots() / 2);
+  {
+    MeshEditor editor(mesh);
+    editor.remove_face(FaceId(half + 5));
+    editor.move_vertex(VertexId(static_cast<std::uint32_t>(mesh.vertex_count() - 1)), glm::vec3(7.0f));
+    const Triangle copy = mesh.face(FaceId(half + 6));  // a copy: adding a face may move the faces
+    editor.remove_face(editor.add_face(copy));
+  }
+  std::vector<std::vector<FaceId>> lists(2);
+  for (std::uint32_t f = 0; f < mesh.face_slots(); ++f)
+    if (!mesh.is_deleted(FaceId(f))) lists[f < half ? 0 : 1].push_back(FaceId(f));
+  std::vector<SurfaceMesh> pieces = detail::split_disjoint(std::move(mesh), lists);
+  EXPECT_EQ(pieces.size(), 2u);
+  model.meshes[0].primitives[0].mesh = std::move(pieces[0]);
+  Primitive second;
+  second.mesh = std::move(pieces[1]);
+  model.meshes[0].primitives.push_back(std::move(second));
+  return recorder.finish();
+}
+
+// A split whose pieces enter the model is recorded as a label of 2 bits per element and the few
+// slots no piece holds (not the pieces' index lists, 4 bytes per element): the record stays
+// under half a byte per element of the primitive, and undo and redo give back both states byte
+// for byte.
+TEST(ModelUndoSplitTest, a_split_whose_pieces_enter_the_model_is_recorded_in_a_few_bits_per_element) {
+  Model model = model_of(two_tubes(200, 100));  // big enough that the record's fixed bytes are small
+  const SurfaceMesh& source = model.meshes[0].primitives[0].mesh;
+  const std::size_t elements = source.vertex_count() + source.face_slots();
+  ASSERT_GT(elements, 100000u);
+  const Model before = model;
+  ModelStep step = split_into_the_model(model);
+  const Model after = model;
+  ASSERT_TRUE(step.exact());
+  ASSERT_EQ(model.meshes[0].primitives.size(), 2u);
+  EXPECT_LT(step.bytes(), elements / 2);
+  for (int cycle = 0; cycle < 2; ++cycle) {
+    step.undo(model);
+    expect_same(model, before, "undo");
+    step.redo(model);
+    expect_same(model, after, "redo");
+  }
+}
+
+// Two structural steps in a row keep one copy of the model's small parts they did not change (a
+// long animation here): each step holds a share of it, not a copy before and after. Undo and
+// redo of both still give back every state, root extras included.
+TEST(ModelUndoSplitTest, consecutive_structural_steps_share_the_small_parts_they_did_not_change) {
+  Model model = model_of(two_tubes());
+  model.animations.push_back(long_animation(50000));
+  model.extras_json = R"({"history":[]})";
+  const std::size_t animation_bytes = 50000 * 16;
+  const Model before = model;
+  ModelStep first = split_into_the_model(model);
+  model.extras_json = R"({"history":["split"]})";  // recorded by the next step
+  const Model middle = model;
+  ModelStep second;
+  {
+    ModelRecorder recorder(model);
+    model.extras_json = R"({"history":["split","add"]})";
+    model.meshes.push_back({"more", {Primitive{}}, ""});
+    second = recorder.finish();
+  }
+  const Model after = model;
+  ASSERT_TRUE(first.exact() && second.exact());
+  EXPECT_LT(first.bytes() + second.bytes(), animation_bytes * 3 / 2);
+  second.undo(model);
+  expect_same(model, middle, "undo the second");
+  EXPECT_EQ(model.extras_json, middle.extras_json);
+  first.undo(model);
+  expect_same(model, before, "undo the first");
+  first.redo(model);
+  second.redo(model);
+  expect_same(model, after, "redo both");
+  EXPECT_EQ(model.extras_json, after.extras_json);
 }
 
 }  // namespace

@@ -13,11 +13,15 @@
 ///   removed; the elements it appended stay in the model (the step holds them while undone);
 /// - a primitive the step replaced or removed (a swallowed primitive, a capped cut's source) kept
 ///   by move, and the model's small parts (nodes, meshes list, skins, animations, materials, ...)
-///   before and after, when anything but the primitives' element data changed (`structure`);
-/// - a primitive a cut took apart in place (the piece that keeps its arrays is compacted): which of its
-///   elements each piece holds and the slots none holds; undo grows that piece back and writes
-///   the other pieces into it (O(mesh), over the pool), redo compacts it again. Should a piece
-///   change later in the same recording, the primitive is put back together first;
+///   before and after, when anything but the primitives' element data changed (`structure`),
+///   shared with the step kept before where equal (a part the step did not change is not copied
+///   again);
+/// - a primitive a cut took apart in place (the piece that keeps its arrays is compacted): which
+///   piece holds each of its elements (a label of a few bits each) and the values of the slots
+///   none holds that the step's own edits do not give back (deleted faces and unused vertices
+///   older than the step); undo grows that piece back and writes the other pieces into it
+///   (O(mesh), over the pool), redo compacts it again. Should a piece change later in the same
+///   recording, the primitive is put back together first;
 /// - the root extras (the history) as the text that differs.
 /// Undo and redo give back the model byte for byte. Images are never copied: operations leave
 /// them alone (a step that changes them is not exact). A structural step says where each
@@ -65,7 +69,8 @@ class ModelStep {
   /// False when the recorder saw an edit it cannot take back (an attribute removed that was not
   /// saved, a primitive lost outside the model, images changed): undo would not be exact.
   bool exact() const;
-  /// Bytes the step holds now (what it keeps of the state not current).
+  /// Bytes the step holds now (what it keeps of the state not current; capacity, and its share
+  /// of what it shares with other steps).
   std::size_t bytes() const;
   /// Hands over the meshes the step holds (the primitives it made, while undone, and those it
   /// removed, while done), leaving a step that can no longer be undone or redone (both throw
