@@ -479,8 +479,9 @@ TEST(ViewPolyDataOriginTest, a_kept_scratch_gives_what_own_memory_gives) {
 }
 
 /// Every array of `view` holds room for its own elements and a step's growth, and no more than
-/// twice that room (ViewPolyData::bytes): each VTK array at most n + n / 4 + 128 tuples for its
-/// n, and all of them with the lists within a quarter of their bytes and a few kilobytes.
+/// twice that growth past them (ViewPolyData::bytes): each VTK array at most n + n / 4 + 128
+/// tuples for its n, and all of them with the lists within a quarter of their bytes and a few
+/// kilobytes.
 void expect_room_bounded(const ViewPolyData& view, const std::string& what) {
   SCOPED_TRACE(what);
   auto bounded = [](vtkDataArray* a) {

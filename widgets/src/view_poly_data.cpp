@@ -40,9 +40,10 @@ vtkSmartPointer<Array> reused_or_new(vtkAbstractArray* spare, const char* name, 
   return a;
 }
 
-// Makes `a` hold exactly `room` tuples, the values below kept. VTK's Resize grows an array to
-// what it held plus the request (about twice what a step needs), so a growth asks for more than
-// twice what it held and squeezes back to `room`: the squeeze shrinks the block in place.
+// Makes `a` hold exactly `room` tuples, the values below kept. VTK's Resize(k), for k past what
+// the array holds, grows it to what it held plus k (a Resize(k) below that shrinks it to k), so a
+// growth asks for the difference, at least what it held and one: to exactly `room` where that is
+// over twice what it held, else to twice that and squeezed back to `room` (in place).
 template <class Array>
 void set_room(Array* a, std::size_t room) {
   const vtkIdType components = a->GetNumberOfComponents();
@@ -52,12 +53,13 @@ void set_room(Array* a, std::size_t room) {
   if (a->GetSize() / components != want) a->Resize(want);
 }
 
-// Sets `n` tuples, keeping the values below, with room to grow by a step (view_data::room_for)
-// and no more than twice that (too_roomy: memory taken from a spare, or left as the data shrank).
+// Sets `n` tuples, keeping the values below, with room to grow by a step (view_data::room_size)
+// and at most n + 2 x (n / 8 + 64) tuples (too_roomy: memory taken from a spare, or left as the
+// data shrank, goes back down to room_size(n)).
 template <class Array>
 void set_count(Array* a, std::size_t n) {
   const auto held = static_cast<std::size_t>(a->GetSize() / a->GetNumberOfComponents());
-  if (n > held || view_data::too_roomy(held, n)) set_room(a, view_data::room_for(n));
+  if (n > held || view_data::too_roomy(held, n)) set_room(a, view_data::room_size(n));
   a->SetNumberOfTuples(static_cast<vtkIdType>(n));
 }
 

@@ -106,9 +106,10 @@ class ViewPolyData {
 
   /// The memory of the data's arrays (every array of its poly data, colours included, and its
   /// per-point and per-corner lists; not a CopyScratch): `used` by their elements, `held` with
-  /// the room past them. Each array gets room for its own elements and a step's growth (an
-  /// eighth more and a few dozen), and gives back what it holds past twice that room (memory a
-  /// copying build took from a bigger spare, or left as the data shrank), whatever its history.
+  /// the room past them. Each array of n elements gets room for them and a step's growth (an
+  /// eighth more and a few dozen), and gives back what it holds past twice that growth, n + 2 x
+  /// (n / 8 + 64) (memory a copying build took from a bigger spare, or left as the data shrank),
+  /// whatever its history.
   struct Bytes {
     std::size_t used = 0, held = 0;
   };
