@@ -58,6 +58,10 @@ void set_room(Array* a, std::size_t room) {
 // data shrank, goes back down to room_size(n)).
 template <class Array>
 void set_count(Array* a, std::size_t n) {
+  if (n == 0) {  // (VTK frees the block at 0 tuples: room set first would be a wasted reallocation)
+    a->SetNumberOfTuples(0);
+    return;
+  }
   const auto held = static_cast<std::size_t>(a->GetSize() / a->GetNumberOfComponents());
   if (n > held || view_data::too_roomy(held, n)) set_room(a, view_data::room_size(n));
   a->SetNumberOfTuples(static_cast<vtkIdType>(n));
