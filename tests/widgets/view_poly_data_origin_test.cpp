@@ -536,6 +536,7 @@ TEST(ViewPolyDataOriginTest, a_piece_holds_room_for_its_own_size) {
     ASSERT_EQ(spare.poly(), nullptr) << "the spare's arrays not taken";
     expect_rebuilt(copied, *piece.mesh, piece.positions, &piece.normals, "copied");
     expect_room_bounded(copied, "copied");
+    EXPECT_EQ(copied.bytes().lists, 0u) << "the copy, drawn without corner lists, holds the spare's";
     copied.prepare_updates();
     expect_room_bounded(copied, "prepared");
     SurfaceMesh mesh = *piece.mesh;

@@ -221,12 +221,11 @@ void ViewPolyData::make_arrays(const SurfaceMesh& mesh, ViewPolyData* spare) {
   const vtkIdType cells = face_ids->GetNumberOfTuples();
   assert(cells == 0 || (offsets->GetValue(cells) == 3 * cells && face_ids->GetValue(cells - 1) == cells - 1));
   (void)cells;
+  // The per-point lists are sized by the copy (too roomy ones given back); the corner lists go
+  // with the spare: a copy is drawn without them, perhaps for good (the studio prepares no
+  // copied piece), and the spare's were sized for its own corners, maybe many more.
   uses_.swap(spare->uses_);
   point_corner_.swap(spare->point_corner_);
-  first_.swap(spare->first_);
-  next_.swap(spare->next_);
-  prev_.swap(spare->prev_);
-  corner_vertex_.swap(spare->corner_vertex_);
   spare->poly_ = nullptr;
 }
 
@@ -726,10 +725,15 @@ ViewPolyData::Bytes ViewPolyData::bytes() const {
     add(poly_->GetPolys()->GetOffsetsArray());
     add(poly_->GetPolys()->GetConnectivityArray());
   }
-  for (const auto* v : {&first_, &next_, &prev_, &corner_vertex_, &uses_, &point_corner_, &collapsed_}) {
+  for (const auto* v : {&uses_, &point_corner_, &collapsed_}) {
     b.used += v->size() * sizeof(std::uint32_t);
     b.held += v->capacity() * sizeof(std::uint32_t);
   }
+  for (const auto* v : {&first_, &next_, &prev_, &corner_vertex_}) {
+    b.used += lists_ ? v->size() * sizeof(std::uint32_t) : 0;  // (unbuilt, they draw nothing)
+    b.lists += v->capacity() * sizeof(std::uint32_t);
+  }
+  b.held += b.lists;
   return b;
 }
 

@@ -87,8 +87,9 @@ class ViewPolyData {
   /// `spare` (data no longer drawn, or null): where the copy fits and `can_take(*spare, slots)`,
   /// its arrays are taken over, so their memory is reused: no new pages to fault in, and the
   /// cells' offsets and face ids (the same for every data) are written only past the spare's
-  /// cells; what an array holds past the copy's own room is given back (see `bytes`). `spare`
-  /// is then left without data, only to be destroyed; otherwise it is untouched.
+  /// cells; what an array holds past the copy's own room is given back (see `bytes`), and the
+  /// spare's corner lists (sized for its corners) are not taken. `spare` is then left without
+  /// data, only to be destroyed; otherwise it is untouched.
   /// `scratch` (or null: the build's own): the working memory of the copy, reused.
   /// @pre the vertices `origin` gives a source are distinct, and a face it gives a source has
   ///      that live source face's corners (each vertex mapped by `origin.vertices`), as
@@ -110,8 +111,10 @@ class ViewPolyData {
   /// eighth more and a few dozen), and gives back what it holds past twice that growth, n + 2 x
   /// (n / 8 + 64) (memory a copying build took from a bigger spare, or left as the data shrank),
   /// whatever its history.
+  /// The corner lists count as used once built (`updates_prepared`); `lists` is what they hold
+  /// (part of `held`).
   struct Bytes {
-    std::size_t used = 0, held = 0;
+    std::size_t used = 0, held = 0, lists = 0;
   };
   Bytes bytes() const;
 
@@ -168,9 +171,9 @@ class ViewPolyData {
   /// The arrays for `mesh`, in one order whatever their origin: empty ones (no points, no
   /// cells), or, with `spare` (`can_take` holds), those `spare` has of each kind (points,
   /// vertex ids, texture coordinates, normals, face ids, offsets, connectivity) and its per-point
-  /// and per-corner vectors. Taken values stay until written (each is sized and written whole
-  /// before it is read), so the cells' identity offsets and face ids are not written again;
-  /// `spare` is left without data.
+  /// vectors (not its corner lists: they go with it). Taken values stay until written (each is
+  /// sized and written whole before it is read), so the cells' identity offsets and face ids are
+  /// not written again; `spare` is left without data.
   void make_arrays(const SurfaceMesh& mesh, ViewPolyData* spare = nullptr);
   /// Whether `mesh` is drawn with a point per corner way of drawing (it has corner normals or UVs).
   static bool draws_corners(const SurfaceMesh& mesh);
