@@ -597,6 +597,7 @@ void ViewPolyData::size_lists(std::size_t vertices, std::size_t corners) {
     const std::size_t n = list == &first_ ? vertices : corners;
     view_data::grow(*list, n);
     list->resize(n, kInvalidIndex);
+    view_data::fit(*list);  // (fewer slots: an undo of a drill; copies only past too_roomy)
   }
 }
 

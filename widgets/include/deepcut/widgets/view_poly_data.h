@@ -164,7 +164,7 @@ class ViewPolyData {
   /// that many (their writers size them).
   void set_point_count(std::size_t n);
   /// Sizes the corner lists for `vertices` vertex slots and `corners` corners (new entries
-  /// unlinked), with room for a step's growth.
+  /// unlinked), with room for a step's growth, giving back too much room as `bytes` says.
   void size_lists(std::size_t vertices, std::size_t corners);
   /// How many corners of `vertices` (those below `count`) wait for a point (connectivity -1).
   std::size_t waiting_corners(const std::vector<std::uint32_t>& vertices, std::size_t count) const;
