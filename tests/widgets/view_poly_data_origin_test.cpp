@@ -559,6 +559,16 @@ TEST(ViewPolyDataOriginTest, a_piece_holds_room_for_its_own_size) {
       expect_rebuilt(copied, mesh, piece.positions, &normals, "grown, step " + std::to_string(step));
       expect_room_bounded(copied, "grown, step " + std::to_string(step), &mesh);
     }
+    {  // a one-face step past the growth moves no array and no list: it costs its own elements
+      const std::vector<const void*> blocks = copied.blocks();
+      PrimitiveChange change;
+      SurfaceMesh more = with_more_faces(mesh, 1, change);
+      normals.resize(3 * more.face_slots(), glm::vec3(0.0f, 1.0f, 0.0f));
+      copied.update(more, piece.positions, &normals, change);
+      mesh = std::move(more);
+      expect_rebuilt(copied, mesh, piece.positions, &normals, "one face more");
+      EXPECT_EQ(copied.blocks(), blocks) << "a one-face step reallocated an array or a list";
+    }
     PrimitiveChange back;  // the growth undone: fewer face slots
     ASSERT_TRUE(diff_meshes(mesh, *piece.mesh, back));
     copied.update(*piece.mesh, piece.positions, &piece.normals, back);

@@ -738,6 +738,22 @@ ViewPolyData::Bytes ViewPolyData::bytes() const {
   return b;
 }
 
+std::vector<const void*> ViewPolyData::blocks() const {
+  std::vector<const void*> out;
+  if (poly_) {
+    out.push_back(poly_->GetPoints()->GetData()->GetVoidPointer(0));
+    for (vtkDataSetAttributes* data : {static_cast<vtkDataSetAttributes*>(poly_->GetPointData()),
+                                       static_cast<vtkDataSetAttributes*>(poly_->GetCellData())})
+      for (int i = 0; i < data->GetNumberOfArrays(); ++i)
+        out.push_back(data->GetAbstractArray(i)->GetVoidPointer(0));
+    out.push_back(poly_->GetPolys()->GetOffsetsArray()->GetVoidPointer(0));
+    out.push_back(poly_->GetPolys()->GetConnectivityArray()->GetVoidPointer(0));
+  }
+  for (const auto* v : {&uses_, &point_corner_, &collapsed_, &first_, &next_, &prev_, &corner_vertex_})
+    out.push_back(v->data());
+  return out;
+}
+
 void ViewPolyData::modified() {
   vtkPointData* pd = poly_->GetPointData();
   poly_->GetPoints()->Modified();

@@ -117,6 +117,10 @@ class ViewPolyData {
     std::size_t used = 0, held = 0, lists = 0;
   };
   Bytes bytes() const;
+  /// Where each array and list keeps its elements (that of bytes: points, point and cell data,
+  /// offsets, connectivity, then the lists; null for an empty one): what tells a caller a step
+  /// moved none (an update of a few elements reallocates nothing, past a growth's room).
+  std::vector<const void*> blocks() const;
 
   /// Builds what `update` needs that the constructors left out (the corner lists,
   /// O(corners) over the pool): once, when idle after the first frame (else the next `update`
