@@ -57,15 +57,29 @@ void fit(std::vector<T>& v) {
   v.swap(fitted);
 }
 
-// `v` made `n` copies of `value`, in the memory it has unless that is too small or too roomy
-// for them (then room_size(n) of its own).
+// Gives `v` room for `room` >= its next size: the memory it has unless that is too small or too
+// roomy for `room` (then, the old values and memory dropped first, room_size(room) of its own).
 template <class T>
-void refill(std::vector<T>& v, std::size_t n, const T& value) {
-  if (n > v.capacity() || too_roomy(v.capacity(), n)) {
+void make_room(std::vector<T>& v, std::size_t room) {
+  if (room > v.capacity() || too_roomy(v.capacity(), room)) {
     std::vector<T>().swap(v);  // (the old memory goes first)
-    v.reserve(room_size(n));
+    v.reserve(room_size(room));
   }
+}
+
+// `v` made `n` copies of `value`, with room for `room` (make_room).
+template <class T>
+void refill(std::vector<T>& v, std::size_t n, const T& value, std::size_t room = 0) {
+  make_room(v, std::max(n, room));
   v.assign(n, value);
+}
+
+// `v` sized `n` for a caller that writes every element: in memory it keeps, only the elements
+// past its old size are written here (by resize), no pass over all `n`; room for `room` (make_room).
+template <class T>
+void resize_to_write(std::vector<T>& v, std::size_t n, std::size_t room = 0) {
+  make_room(v, std::max(n, room));
+  v.resize(n);
 }
 
 template <class Array>
