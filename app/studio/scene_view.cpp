@@ -417,7 +417,7 @@ SceneView::DataBytes SceneView::data_bytes() const {
   auto add = [&](const std::shared_ptr<ViewPolyData>& drawn) {
     if (!drawn) return;
     const ViewPolyData::Bytes b = drawn->bytes();
-    all.used += b.used, all.held += b.held;
+    all.used += b.used, all.held += b.held, ++all.count;
   };
   for (const InstanceActor& instance : impl_->instances) add(instance.data);
   for (const auto& entry : impl_->stash) add(entry.second);

@@ -80,9 +80,10 @@ class SceneView : public QWidget {
   /// studio benchmark compare with a fresh build.
   vtkPolyData* instance_poly_data(std::size_t instance) const;
   /// The memory of the view's own data (ViewPolyData::bytes over the instances drawn and the
-  /// data set aside for an undo): what the studio benchmark reports beside the model's.
+  /// data set aside for an undo; `count`: how many data): what the studio benchmark reports
+  /// beside the model's ("view_bytes").
   struct DataBytes {
-    std::size_t used = 0, held = 0;
+    std::size_t used = 0, held = 0, count = 0;
   };
   DataBytes data_bytes() const;
   /// Draws instance `instance` at `positions` (world, one per vertex slot of its mesh) instead of its

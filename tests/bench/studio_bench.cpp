@@ -46,6 +46,8 @@
 // every vertex, face and corner attribute, size times element bytes, capacity not counted; skins,
 // animations and images not counted) and "model_capacity_bytes" (the same arrays' capacity: room
 // reserved included); "undo_bytes" (Session::undo_bytes after the N: what the undo steps keep);
+// "view_bytes" and "view_used_bytes" (SceneView::data_bytes: what the view's data, drawn and set
+// aside, holds and uses);
 // "resident_mib" (/proc/self/statm) and "heap_free_mib" (glibc mallinfo2 fordblks: freed memory the
 // heap keeps for reuse, resident or not; -1 elsewhere); and "resident_growth_over_model": (resident
 // after N less resident at the start) / model_bytes at the start, the issue's "a long session
@@ -280,6 +282,9 @@ json memory_json(const MainWindow& window) {
   out["model_bytes"] = model.used;
   out["model_capacity_bytes"] = model.capacity;
   out["undo_bytes"] = window.session().undo_bytes();
+  const deepcut::studio::SceneView::DataBytes view = window.view()->data_bytes();
+  out["view_bytes"] = view.held;
+  out["view_used_bytes"] = view.used;
   out["resident_mib"] = resident_mib();
   out["heap_free_mib"] = heap_free_mib();
   return out;
@@ -493,11 +498,11 @@ void print_session(const std::string& tri, const json& s) {
   for (const char* when : {"start", "after"}) {
     const json& m = s[when];
     std::printf(
-        "%-10s session %s: %zu primitives, model %.1f MiB (capacity %.1f MiB), undo %.1f MiB, resident %.1f "
-        "MiB, heap free "
-        "%.1f MiB\n",
+        "%-10s session %s: %zu primitives, model %.1f MiB (capacity %.1f MiB), undo %.1f MiB, view %.1f MiB "
+        "(used %.1f MiB), resident %.1f MiB, heap free %.1f MiB\n",
         tri.c_str(), when, m["primitives"].get<std::size_t>(), m["model_bytes"].get<double>() / mib,
         m["model_capacity_bytes"].get<double>() / mib, m["undo_bytes"].get<double>() / mib,
+        m["view_bytes"].get<double>() / mib, m["view_used_bytes"].get<double>() / mib,
         m["resident_mib"].get<double>(), m["heap_free_mib"].get<double>());
   }
   std::printf(

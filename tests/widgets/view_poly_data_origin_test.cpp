@@ -479,9 +479,13 @@ TEST(ViewPolyDataOriginTest, a_kept_scratch_gives_what_own_memory_gives) {
 }
 
 /// Every array of `view` holds room for its own elements and a step's growth, and no more than
-/// twice that room (ViewPolyData::bytes): each VTK array at most n + n / 4 + 128 tuples for its
-/// n, and all of them with the lists within a quarter of their bytes and a few kilobytes.
-void expect_room_bounded(const ViewPolyData& view, const std::string& what) {
+/// twice that growth past them (ViewPolyData::bytes): each VTK array at most n + n / 4 + 128
+/// tuples for its n, and all of them with the lists within a quarter of their bytes and a few
+/// kilobytes.
+/// With `mesh` (what `view` draws) and its corner lists built, each list holds the same bound for
+/// its size (a slot per vertex, or per corner).
+void expect_room_bounded(const ViewPolyData& view, const std::string& what,
+                         const SurfaceMesh* mesh = nullptr) {
   SCOPED_TRACE(what);
   auto bounded = [](vtkDataArray* a) {
     ASSERT_NE(a, nullptr);
@@ -498,6 +502,11 @@ void expect_room_bounded(const ViewPolyData& view, const std::string& what) {
   const ViewPolyData::Bytes bytes = view.bytes();
   EXPECT_GT(bytes.used, 0u);
   EXPECT_LE(bytes.held, bytes.used + bytes.used / 4 + 16 * 1024);
+  if (!mesh || !view.updates_prepared()) return;
+  const std::size_t vertices = mesh->vertex_count(), corners = 3 * mesh->face_slots();
+  EXPECT_LE(bytes.lists,
+            sizeof(std::uint32_t) * (vertices + vertices / 4 + 3 * (corners + corners / 4) + 4 * 128))
+      << "the corner lists";
 }
 
 /// `mesh` with `count` more faces, copies of its first live ones (new corners with attributes of
@@ -513,7 +522,8 @@ SurfaceMesh with_more_faces(const SurfaceMesh& mesh, std::size_t count, Primitiv
 
 // A small piece of a big cut that takes the whole's data as its spare (prepared: its lists
 // too) holds room for its own size, not the spare's; so it does after steps that add faces past
-// its room (VTK's own growth would double the arrays) and after one that deletes most of them.
+// its room (VTK's own growth would double the arrays), after the step back to its own faces
+// (fewer slots: the lists shrink too) and after one that deletes most of them.
 TEST(ViewPolyDataOriginTest, a_piece_holds_room_for_its_own_size) {
   Cut c;
   cut(c, grid_model(300, 200), plane_through({0.9f, 0.0f, 0.5f}, {1.0f, 0.0f, 0.1f}), -1, 0.0f);
@@ -535,8 +545,9 @@ TEST(ViewPolyDataOriginTest, a_piece_holds_room_for_its_own_size) {
     ASSERT_EQ(spare.poly(), nullptr) << "the spare's arrays not taken";
     expect_rebuilt(copied, *piece.mesh, piece.positions, &piece.normals, "copied");
     expect_room_bounded(copied, "copied");
+    EXPECT_EQ(copied.bytes().lists, 0u) << "the copy, drawn without corner lists, holds the spare's";
     copied.prepare_updates();
-    expect_room_bounded(copied, "prepared");
+    expect_room_bounded(copied, "prepared", piece.mesh);
     SurfaceMesh mesh = *piece.mesh;
     std::vector<glm::vec3> normals = piece.normals;
     for (int step = 0; step < 3; ++step) {  // a fifth more faces each: past the room of an eighth
@@ -546,14 +557,31 @@ TEST(ViewPolyDataOriginTest, a_piece_holds_room_for_its_own_size) {
       copied.update(more, piece.positions, &normals, change);
       mesh = std::move(more);
       expect_rebuilt(copied, mesh, piece.positions, &normals, "grown, step " + std::to_string(step));
-      expect_room_bounded(copied, "grown, step " + std::to_string(step));
+      expect_room_bounded(copied, "grown, step " + std::to_string(step), &mesh);
     }
+    {  // a one-face step past the growth moves no array and no list: it costs its own elements
+      const std::vector<const void*> blocks = copied.blocks();
+      PrimitiveChange change;
+      SurfaceMesh more = with_more_faces(mesh, 1, change);
+      normals.resize(3 * more.face_slots(), glm::vec3(0.0f, 1.0f, 0.0f));
+      copied.update(more, piece.positions, &normals, change);
+      mesh = std::move(more);
+      expect_rebuilt(copied, mesh, piece.positions, &normals, "one face more");
+      EXPECT_EQ(copied.blocks(), blocks) << "a one-face step reallocated an array or a list";
+    }
+    PrimitiveChange back;  // the growth undone: fewer face slots
+    ASSERT_TRUE(diff_meshes(mesh, *piece.mesh, back));
+    copied.update(*piece.mesh, piece.positions, &piece.normals, back);
+    mesh = *piece.mesh;
+    normals = piece.normals;
+    expect_rebuilt(copied, mesh, piece.positions, &normals, "growth undone");
+    expect_room_bounded(copied, "growth undone", &mesh);
     const SurfaceMesh fewer = sparse_faces(mesh, 10);
     PrimitiveChange change;
     ASSERT_TRUE(diff_meshes(mesh, fewer, change));
     copied.update(fewer, piece.positions, &normals, change);
     expect_rebuilt(copied, fewer, piece.positions, &normals, "most faces deleted");
-    expect_room_bounded(copied, "most faces deleted");
+    expect_room_bounded(copied, "most faces deleted", &fewer);
     ++checked;
   }
   EXPECT_GE(checked, 1u) << "no small piece";

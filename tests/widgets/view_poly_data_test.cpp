@@ -31,6 +31,7 @@
 #include "deepcut/core/posed_model.h"
 #include "fixtures.h"
 #include "view_checks.h"
+#include "view_poly_data_writer.h"
 
 namespace deepcut {
 namespace {
@@ -75,6 +76,28 @@ std::vector<FaceId> live_faces(const SurfaceMesh& mesh) {
   for (std::uint32_t f = 0; f < mesh.face_slots(); ++f)
     if (!mesh.is_deleted(FaceId(f))) out.push_back(FaceId(f));
   return out;
+}
+
+// The room each array gets for n elements is not too roomy for them, nor for them less the few
+// elements (a few dozen) a step removes (the next adds them back without a reallocation), and too_roomy
+// starts past n + 2 x the growth.
+TEST(ViewPolyDataTest, room_size_and_too_roomy_agree) {
+  for (std::size_t n : {0u, 1u, 7u, 64u, 100u, 1000u, 12345u, 1u << 20, 3000000u}) {
+    SCOPED_TRACE(n);
+    EXPECT_GT(view_data::room_size(n), n);
+    EXPECT_FALSE(view_data::too_roomy(view_data::room_size(n), n));
+    for (std::size_t k : {1u, 2u, 3u, 10u, 32u})
+      EXPECT_FALSE(view_data::too_roomy(view_data::room_size(n + k), n));
+    EXPECT_FALSE(view_data::too_roomy(n + 2 * (n / 8 + 64), n));
+    EXPECT_TRUE(view_data::too_roomy(n + n / 4 + 129, n));
+  }
+  std::vector<std::uint32_t> v(1000, 7);
+  view_data::grow(v, 1001);
+  EXPECT_EQ(v.capacity(), view_data::room_size(1001));
+  v.resize(100);
+  view_data::fit(v);
+  EXPECT_EQ(v.capacity(), view_data::room_size(100));
+  EXPECT_EQ(v, std::vector<std::uint32_t>(100, 7));
 }
 
 TEST(ViewPolyDataTest, every_face_deleted_then_restored) {

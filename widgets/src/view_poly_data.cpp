@@ -40,9 +40,10 @@ vtkSmartPointer<Array> reused_or_new(vtkAbstractArray* spare, const char* name, 
   return a;
 }
 
-// Makes `a` hold exactly `room` tuples, the values below kept. VTK's Resize grows an array to
-// what it held plus the request (about twice what a step needs), so a growth asks for more than
-// twice what it held and squeezes back to `room`: the squeeze shrinks the block in place.
+// Makes `a` hold exactly `room` tuples, the values below kept. VTK's Resize(k), for k past what
+// the array holds, grows it to what it held plus k (a Resize(k) below that shrinks it to k), so a
+// growth asks for the difference, at least what it held and one: to exactly `room` where that is
+// over twice what it held, else to twice that and squeezed back to `room` (in place).
 template <class Array>
 void set_room(Array* a, std::size_t room) {
   const vtkIdType components = a->GetNumberOfComponents();
@@ -52,12 +53,17 @@ void set_room(Array* a, std::size_t room) {
   if (a->GetSize() / components != want) a->Resize(want);
 }
 
-// Sets `n` tuples, keeping the values below, with room to grow by a step (view_data::room_for)
-// and no more than twice that (too_roomy: memory taken from a spare, or left as the data shrank).
+// Sets `n` tuples, keeping the values below, with room to grow by a step (view_data::room_size)
+// and at most n + 2 x (n / 8 + 64) tuples (too_roomy: memory taken from a spare, or left as the
+// data shrank, goes back down to room_size(n)).
 template <class Array>
 void set_count(Array* a, std::size_t n) {
+  if (n == 0) {  // (VTK frees the block at 0 tuples: room set first would be a wasted reallocation)
+    a->SetNumberOfTuples(0);
+    return;
+  }
   const auto held = static_cast<std::size_t>(a->GetSize() / a->GetNumberOfComponents());
-  if (n > held || view_data::too_roomy(held, n)) set_room(a, view_data::room_for(n));
+  if (n > held || view_data::too_roomy(held, n)) set_room(a, view_data::room_size(n));
   a->SetNumberOfTuples(static_cast<vtkIdType>(n));
 }
 
@@ -215,12 +221,11 @@ void ViewPolyData::make_arrays(const SurfaceMesh& mesh, ViewPolyData* spare) {
   const vtkIdType cells = face_ids->GetNumberOfTuples();
   assert(cells == 0 || (offsets->GetValue(cells) == 3 * cells && face_ids->GetValue(cells - 1) == cells - 1));
   (void)cells;
+  // The per-point lists are sized by the copy (too roomy ones given back); the corner lists go
+  // with the spare: a copy is drawn without them, perhaps for good (the studio prepares no
+  // copied piece), and the spare's were sized for its own corners, maybe many more.
   uses_.swap(spare->uses_);
   point_corner_.swap(spare->point_corner_);
-  first_.swap(spare->first_);
-  next_.swap(spare->next_);
-  prev_.swap(spare->prev_);
-  corner_vertex_.swap(spare->corner_vertex_);
   spare->poly_ = nullptr;
 }
 
@@ -592,6 +597,7 @@ void ViewPolyData::size_lists(std::size_t vertices, std::size_t corners) {
     const std::size_t n = list == &first_ ? vertices : corners;
     view_data::grow(*list, n);
     list->resize(n, kInvalidIndex);
+    view_data::fit(*list);  // (fewer slots: an undo of a drill; copies only past too_roomy)
   }
 }
 
@@ -720,11 +726,32 @@ ViewPolyData::Bytes ViewPolyData::bytes() const {
     add(poly_->GetPolys()->GetOffsetsArray());
     add(poly_->GetPolys()->GetConnectivityArray());
   }
-  for (const auto* v : {&first_, &next_, &prev_, &corner_vertex_, &uses_, &point_corner_, &collapsed_}) {
+  for (const auto* v : {&uses_, &point_corner_, &collapsed_}) {
     b.used += v->size() * sizeof(std::uint32_t);
     b.held += v->capacity() * sizeof(std::uint32_t);
   }
+  for (const auto* v : {&first_, &next_, &prev_, &corner_vertex_}) {
+    b.used += lists_ ? v->size() * sizeof(std::uint32_t) : 0;  // (unbuilt, they draw nothing)
+    b.lists += v->capacity() * sizeof(std::uint32_t);
+  }
+  b.held += b.lists;
   return b;
+}
+
+std::vector<const void*> ViewPolyData::blocks() const {
+  std::vector<const void*> out;
+  if (poly_) {
+    out.push_back(poly_->GetPoints()->GetData()->GetVoidPointer(0));
+    for (vtkDataSetAttributes* data : {static_cast<vtkDataSetAttributes*>(poly_->GetPointData()),
+                                       static_cast<vtkDataSetAttributes*>(poly_->GetCellData())})
+      for (int i = 0; i < data->GetNumberOfArrays(); ++i)
+        out.push_back(data->GetAbstractArray(i)->GetVoidPointer(0));
+    out.push_back(poly_->GetPolys()->GetOffsetsArray()->GetVoidPointer(0));
+    out.push_back(poly_->GetPolys()->GetConnectivityArray()->GetVoidPointer(0));
+  }
+  for (const auto* v : {&uses_, &point_corner_, &collapsed_, &first_, &next_, &prev_, &corner_vertex_})
+    out.push_back(v->data());
+  return out;
 }
 
 void ViewPolyData::modified() {

@@ -70,10 +70,11 @@ inline void take_first(std::atomic<std::uint32_t>& slot, std::uint32_t c) {
 
 // The points among `n` that some corner took (`point`: each one's first corner, else
 // kInvalidIndex), numbered in order: `point` then holds each one's number (else kInvalidIndex)
-// and `corner` (number -> its first corner) is sized and written. Counted per chunk, then
-// numbered from each chunk's first number (`first`), over the pool. @returns how many.
+// and `corner` (number -> its first corner) is sized and written, with room for `more` (the
+// points still to come). Counted per chunk, then numbered from each chunk's first number
+// (`first`), over the pool. @returns how many.
 std::size_t number_taken(std::atomic<std::uint32_t>* point, std::size_t n, std::vector<std::uint32_t>& first,
-                         std::vector<std::uint32_t>& corner) {
+                         std::vector<std::uint32_t>& corner, std::size_t more) {
   const std::size_t chunks = chunk_count(n);
   first.assign(chunks + 1, 0);
   for_chunks(n, [&](std::size_t i, std::size_t b, std::size_t e) {
@@ -83,7 +84,7 @@ std::size_t number_taken(std::atomic<std::uint32_t>* point, std::size_t n, std::
     first[i + 1] = count;
   });
   for (std::size_t i = 0; i < chunks; ++i) first[i + 1] += first[i];
-  view_data::refill(corner, first[chunks], kInvalidIndex);  // (each entry written below)
+  view_data::resize_to_write(corner, first[chunks], first[chunks] + more);  // (each entry written below)
   for_chunks(n, [&](std::size_t i, std::size_t b, std::size_t e) {
     std::atomic<std::uint32_t>* const to = point;
     std::uint32_t* const to_corner = corner.data();
@@ -131,15 +132,14 @@ void ViewPolyData::copy_corner_points(const Writer& w, const ViewPolyData& sourc
   Copying& copying = *scratch.copying_;
   copying.start(source.uses_.size(), chunk_count(mesh.face_slots()));
   copy_connectivity(w, source, origin, copying);
+  std::size_t waiting = 0;  // (a point each at most: the per-point lists' room from the start)
+  for (const auto& wait : copying.waits) waiting += wait.size();
   const std::size_t points =
-      number_taken(copying.point.get(), source.uses_.size(), copying.first, point_corner_);
-  view_data::refill(uses_, points, 0u);  // (counted with the lists: prepare_updates)
-  std::size_t waiting = 0;
+      number_taken(copying.point.get(), source.uses_.size(), copying.first, point_corner_, waiting);
+  view_data::refill(uses_, points, 0u, points + waiting);  // (counted with the lists: prepare_updates)
   copying.rim.assign(mesh.vertex_count(), 0);
-  for (const auto& wait : copying.waits) {
-    waiting += wait.size();
+  for (const auto& wait : copying.waits)
     for (std::uint32_t c : wait) copying.rim[mesh.faces()[c / 3][static_cast<int>(c % 3)].index] = 1;
-  }
   renumber(w, copying);
   set_point_count(std::max<std::size_t>(points + waiting, 1));  // room for the waiting
   Writer writer = w;

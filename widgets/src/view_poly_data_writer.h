@@ -26,44 +26,60 @@ namespace view_data {
 // Elements per task of the passes over the pool.
 constexpr std::size_t kGrain = 16384;
 
-// The room every array of the data gets for `n` elements: theirs and a step's growth (a step
-// appends a few elements: no reallocation of the whole array each time; a reallocation costs
-// in proportion to the array, and so does the room), sized by the data's own elements, not by
-// data whose memory it took over. A long session draws a hundred pieces and more: a few dozen
-// elements past an eighth, not thousands, for each of their arrays.
-inline std::size_t room_for(std::size_t n) { return n + n / 8 + 64; }
-// Whether `held` elements' room for `n` is more than twice room_for's past them (memory taken
-// over from bigger data, or left as the data shrank): given back down to room_for(n). Between
-// the two, the room stays, so that a step that removes a few elements and the next that adds
-// them do not reallocate.
+// The room (a size, not "room for n more") every array of the data gets for `n` elements:
+// theirs and a step's growth (a step appends a few elements: no reallocation of the whole array
+// each time; a reallocation costs in proportion to the array, and so does the room), sized by the
+// data's own elements, not by data whose memory it took over. The model's arrays get an eighth
+// and a thousand or two (core's operation_room.h: a few primitives, each edited again and again);
+// a long session draws a hundred pieces and more, each with a dozen arrays here: an eighth and a
+// few dozen elements, not thousands, for each of them.
+inline std::size_t room_size(std::size_t n) { return n + n / 8 + 64; }
+// Whether `held` elements are too much room for `n`: more than n + 2 x (n / 8 + 64), twice the
+// growth room_size gives past n (memory taken over from bigger data, or left as the data
+// shrank): given back down to room_size(n). Up to that, the room stays, so that a step that
+// removes a few elements and the next that adds them do not reallocate.
 inline bool too_roomy(std::size_t held, std::size_t n) { return held > n + n / 4 + 128; }
 
-// Room for `n` elements of `v` before it grows to them (its values kept): room_for(n) when it
+// Room for `n` elements of `v` before it grows to them (its values kept): room_size(n) when it
 // has less (not the doubling of a vector's own growth).
 template <class T>
 void grow(std::vector<T>& v, std::size_t n) {
-  if (n > v.capacity()) v.reserve(room_for(n));
+  if (n > v.capacity()) v.reserve(room_size(n));
 }
 
-// `v`'s values in room_for of their own when it holds too much room for them (too_roomy).
+// `v`'s values in room_size of their own when it holds too much room for them (too_roomy).
 template <class T>
 void fit(std::vector<T>& v) {
   if (!too_roomy(v.capacity(), v.size())) return;
   std::vector<T> fitted;
-  fitted.reserve(room_for(v.size()));
+  fitted.reserve(room_size(v.size()));
   fitted.assign(v.begin(), v.end());
   v.swap(fitted);
 }
 
-// `v` made `n` copies of `value`, in the memory it has unless that is too small or too roomy
-// for them (then room_for(n) of its own).
+// Gives `v` room for `room` >= its next size: the memory it has unless that is too small or too
+// roomy for `room` (then, the old values and memory dropped first, room_size(room) of its own).
 template <class T>
-void refill(std::vector<T>& v, std::size_t n, const T& value) {
-  if (n > v.capacity() || too_roomy(v.capacity(), n)) {
+void make_room(std::vector<T>& v, std::size_t room) {
+  if (room > v.capacity() || too_roomy(v.capacity(), room)) {
     std::vector<T>().swap(v);  // (the old memory goes first)
-    v.reserve(room_for(n));
+    v.reserve(room_size(room));
   }
+}
+
+// `v` made `n` copies of `value`, with room for `room` (make_room).
+template <class T>
+void refill(std::vector<T>& v, std::size_t n, const T& value, std::size_t room = 0) {
+  make_room(v, std::max(n, room));
   v.assign(n, value);
+}
+
+// `v` sized `n` for a caller that writes every element: in memory it keeps, only the elements
+// past its old size are written here (by resize), no pass over all `n`; room for `room` (make_room).
+template <class T>
+void resize_to_write(std::vector<T>& v, std::size_t n, std::size_t room = 0) {
+  make_room(v, std::max(n, room));
+  v.resize(n);
 }
 
 template <class Array>
@@ -71,7 +87,8 @@ inline Array* named(vtkDataSetAttributes* data, const char* name) {
   return Array::SafeDownCast(data->GetArray(name));
 }
 
-// The arrays of a view poly data, by raw storage (valid until the next resize).
+// The arrays of a view poly data, by raw storage (valid until the next set_point_count, resize
+// or set_count: each may move an array).
 struct Raw {
   float* points = nullptr;
   float* normals = nullptr;

@@ -87,8 +87,9 @@ class ViewPolyData {
   /// `spare` (data no longer drawn, or null): where the copy fits and `can_take(*spare, slots)`,
   /// its arrays are taken over, so their memory is reused: no new pages to fault in, and the
   /// cells' offsets and face ids (the same for every data) are written only past the spare's
-  /// cells; what an array holds past the copy's own room is given back (see `bytes`). `spare`
-  /// is then left without data, only to be destroyed; otherwise it is untouched.
+  /// cells; what an array holds past the copy's own room is given back (see `bytes`), and the
+  /// spare's corner lists (sized for its corners) are not taken. `spare` is then left without
+  /// data, only to be destroyed; otherwise it is untouched.
   /// `scratch` (or null: the build's own): the working memory of the copy, reused.
   /// @pre the vertices `origin` gives a source are distinct, and a face it gives a source has
   ///      that live source face's corners (each vertex mapped by `origin.vertices`), as
@@ -106,13 +107,20 @@ class ViewPolyData {
 
   /// The memory of the data's arrays (every array of its poly data, colours included, and its
   /// per-point and per-corner lists; not a CopyScratch): `used` by their elements, `held` with
-  /// the room past them. Each array gets room for its own elements and a step's growth (an
-  /// eighth more and a few dozen), and gives back what it holds past twice that room (memory a
-  /// copying build took from a bigger spare, or left as the data shrank), whatever its history.
+  /// the room past them. Each array of n elements gets room for them and a step's growth (an
+  /// eighth more and a few dozen), and gives back what it holds past twice that growth, n + 2 x
+  /// (n / 8 + 64) (memory a copying build took from a bigger spare, or left as the data shrank),
+  /// whatever its history.
+  /// The corner lists count as used once built (`updates_prepared`); `lists` is what they hold
+  /// (part of `held`).
   struct Bytes {
-    std::size_t used = 0, held = 0;
+    std::size_t used = 0, held = 0, lists = 0;
   };
   Bytes bytes() const;
+  /// Where each array and list keeps its elements (that of bytes: points, point and cell data,
+  /// offsets, connectivity, then the lists; null for an empty one): what tells a caller a step
+  /// moved none (an update of a few elements reallocates nothing, past a growth's room).
+  std::vector<const void*> blocks() const;
 
   /// Builds what `update` needs that the constructors left out (the corner lists,
   /// O(corners) over the pool): once, when idle after the first frame (else the next `update`
@@ -160,16 +168,16 @@ class ViewPolyData {
   /// that many (their writers size them).
   void set_point_count(std::size_t n);
   /// Sizes the corner lists for `vertices` vertex slots and `corners` corners (new entries
-  /// unlinked), with room for a step's growth.
+  /// unlinked), with room for a step's growth, giving back too much room as `bytes` says.
   void size_lists(std::size_t vertices, std::size_t corners);
   /// How many corners of `vertices` (those below `count`) wait for a point (connectivity -1).
   std::size_t waiting_corners(const std::vector<std::uint32_t>& vertices, std::size_t count) const;
   /// The arrays for `mesh`, in one order whatever their origin: empty ones (no points, no
   /// cells), or, with `spare` (`can_take` holds), those `spare` has of each kind (points,
   /// vertex ids, texture coordinates, normals, face ids, offsets, connectivity) and its per-point
-  /// and per-corner vectors. Taken values stay until written (each is sized and written whole
-  /// before it is read), so the cells' identity offsets and face ids are not written again;
-  /// `spare` is left without data.
+  /// vectors (not its corner lists: they go with it). Taken values stay until written (each is
+  /// sized and written whole before it is read), so the cells' identity offsets and face ids are
+  /// not written again; `spare` is left without data.
   void make_arrays(const SurfaceMesh& mesh, ViewPolyData* spare = nullptr);
   /// Whether `mesh` is drawn with a point per corner way of drawing (it has corner normals or UVs).
   static bool draws_corners(const SurfaceMesh& mesh);
