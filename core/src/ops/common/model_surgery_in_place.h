@@ -58,7 +58,9 @@ MovePlan plan_compaction(SurfaceMesh& mesh, const std::vector<std::uint32_t>& ve
 /// `mesh` becomes its piece of the (increasing) `vertices` and `faces` (live faces whose corners
 /// are among `vertices`): every array compacted in place by `plan` (plan_compaction, with the same
 /// lists), then the triangles renumbered by `rank` (`rank[v]`: vertex v's index in `vertices`,
-/// read for those vertices only). Allocates nothing.
+/// read for those vertices only). Allocates nothing. The arrays keep their capacity, but their
+/// pages past the piece's operation room (operation_room.h) are handed back to the system
+/// (release_room, process_memory.h): they held the mesh's other elements.
 void compact_piece(SurfaceMesh& mesh, const MovePlan& plan, const std::vector<std::uint32_t>& vertices,
                    const std::vector<std::uint32_t>& faces, const std::uint32_t* rank);
 
@@ -86,7 +88,8 @@ struct Room {
 /// moved to `vertices[i]`, face i to `faces[i]` (its corners naming `vertices` again). The other
 /// slots are left for `scatter` (their values are unspecified). The arrays grow by copies of
 /// `rooms` (where they make up the growth, else by default values). No allocation where the
-/// arrays' capacity holds the sizes (a piece compact_piece made keeps the mesh's).
+/// arrays' capacity holds the sizes (a piece compact_piece made keeps the mesh's; the pages it
+/// handed back are faulted in again as the arrays grow into them).
 void expand_piece(SurfaceMesh& piece, const std::vector<std::uint32_t>& vertices,
                   const std::vector<std::uint32_t>& faces, std::size_t vertex_count, std::size_t face_slots,
                   const std::vector<Room>& rooms);
