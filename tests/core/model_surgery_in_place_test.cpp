@@ -17,7 +17,6 @@
 #include <unistd.h>
 #endif
 
-#include "deepcut/core/operation_room.h"
 #include "deepcut/core/parallel.h"
 
 namespace deepcut::detail {
@@ -183,7 +182,7 @@ std::size_t resident_pages(const void* begin, const void* end) {
 }
 
 // A piece compacted in place keeps its mesh's capacity, but the pages of every array past the
-// operations' room of the piece (which held the mesh's other elements, all written) are handed
+// piece's room (split_room) (which held the mesh's other elements, all written) are handed
 // back to the system: what stays resident follows the piece, not the mesh it was cut from.
 TEST(ModelSurgeryInPlaceTest, a_compacted_piece_keeps_no_page_past_its_operation_room_resident) {
   const std::size_t nv = 400000, nf = 360000;
@@ -196,8 +195,7 @@ TEST(ModelSurgeryInPlaceTest, a_compacted_piece_keeps_no_page_past_its_operation
   const std::size_t capacity = piece.capacity_bytes();
   compact_piece(piece, plan_compaction(piece, vk, fk), vk, fk, rank.data());
   EXPECT_EQ(piece.capacity_bytes(), capacity);
-  const std::size_t rooms[3] = {operation_vertex_room(vk.size()), operation_face_room(fk.size()),
-                                3 * operation_face_room(fk.size())};
+  const std::size_t rooms[3] = {split_room(vk.size()), split_room(fk.size()), 3 * split_room(fk.size())};
   for (int kind = 0; kind < 3; ++kind)
     for (const std::string& name : set_of(piece, kind).names()) {
       SCOPED_TRACE(name);

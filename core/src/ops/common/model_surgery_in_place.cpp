@@ -7,7 +7,6 @@
 #include <string>
 
 #include "deepcut/core/errors.h"
-#include "deepcut/core/operation_room.h"
 #include "deepcut/core/parallel.h"
 #include "deepcut/core/process_memory.h"
 #include "ops/common/model_surgery.h"
@@ -173,13 +172,13 @@ void reassign(SurfaceMesh& mesh) {
                         std::move(mesh.corner_attrs()));
 }
 
-// The pages of `mesh`'s arrays past the operations' room of `vertices` and `faces`
-// (operation_room.h) handed back to the system: a piece compacted in place keeps its mesh's
-// capacity, and the bytes past the piece held the mesh's elements, so without this every page of
-// the mesh stayed resident as long as the piece lived. The room an operation on the piece grows
-// into stays; growing the piece back into its mesh (expand_piece, an undo) faults the rest in again.
+// The pages of `mesh`'s arrays past the room (split_room) of `vertices` and `faces` handed back
+// to the system: a piece compacted in place keeps its mesh's capacity, and the bytes past the
+// piece held the mesh's elements, so without this every page of the mesh stayed resident as long
+// as the piece lived. The room an operation on the piece grows into stays; growing the piece
+// back into its mesh (expand_piece, an undo) faults the rest in again.
 void release_past_room(SurfaceMesh& mesh, std::size_t vertices, std::size_t faces) {
-  const std::size_t vertex_room = operation_vertex_room(vertices), face_room = operation_face_room(faces);
+  const std::size_t vertex_room = split_room(vertices), face_room = split_room(faces);
   for (int kind = 0; kind < 3; ++kind) {
     AttributeSet& set = set_of(mesh, kind);
     for (const std::string& name : set.names())
