@@ -2,9 +2,14 @@
 #include "deepcut/core/process_memory.h"
 
 #include <climits>
+#include <cstdint>
 
 #if defined(__GLIBC__)
 #include <malloc.h>
+#endif
+#if defined(__linux__)
+#include <sys/mman.h>
+#include <unistd.h>
 #endif
 
 namespace deepcut {
@@ -22,6 +27,21 @@ bool keep_freed_memory() {
 void release_freed_memory() {
 #if defined(__GLIBC__)
   ::malloc_trim(0);
+#endif
+}
+
+std::size_t release_pages(void* begin, void* end) {
+#if defined(__linux__)
+  static const auto page = static_cast<std::uintptr_t>(::sysconf(_SC_PAGESIZE));
+  const std::uintptr_t first = (reinterpret_cast<std::uintptr_t>(begin) + page - 1) / page * page;
+  const std::uintptr_t last = reinterpret_cast<std::uintptr_t>(end) / page * page;
+  if (begin == nullptr || last <= first) return 0;
+  const std::size_t bytes = last - first;
+  return ::madvise(reinterpret_cast<void*>(first), bytes, MADV_DONTNEED) == 0 ? bytes : 0;
+#else
+  (void)begin;
+  (void)end;
+  return 0;
 #endif
 }
 

@@ -8,8 +8,14 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <cstring>
 #include <string>
+
+#if defined(__linux__)
+#include <sys/mman.h>
+#include <unistd.h>
+#endif
 
 #include "deepcut/core/parallel.h"
 
@@ -160,6 +166,49 @@ TEST(ModelSurgeryInPlaceTest, compact_then_expand_and_scatter_is_a_serial_gather
   }
   set_thread_count(saved);
 }
+
+#if defined(__linux__)
+// Resident pages of the whole pages inside [begin, end) (mincore).
+std::size_t resident_pages(const void* begin, const void* end) {
+  const auto page = static_cast<std::uintptr_t>(sysconf(_SC_PAGESIZE));
+  const std::uintptr_t first = (reinterpret_cast<std::uintptr_t>(begin) + page - 1) / page * page;
+  const std::uintptr_t last = reinterpret_cast<std::uintptr_t>(end) / page * page;
+  if (last <= first) return 0;
+  std::vector<unsigned char> in((last - first) / page);
+  EXPECT_EQ(mincore(reinterpret_cast<void*>(first), last - first, in.data()), 0);
+  std::size_t out = 0;
+  for (unsigned char c : in) out += c & 1;
+  return out;
+}
+
+// A piece compacted in place keeps its mesh's capacity, but the pages of every array past the
+// piece's room (split_room) (which held the mesh's other elements, all written) are handed
+// back to the system: what stays resident follows the piece, not the mesh it was cut from.
+TEST(ModelSurgeryInPlaceTest, a_compacted_piece_keeps_no_page_past_its_operation_room_resident) {
+  const std::size_t nv = 400000, nf = 360000;
+  std::vector<std::uint32_t> vk(nv / 4), fk(nf / 4);
+  for (std::size_t i = 0; i < vk.size(); ++i) vk[i] = static_cast<std::uint32_t>(4 * i);
+  for (std::size_t i = 0; i < fk.size(); ++i) fk[i] = static_cast<std::uint32_t>(i + nf / 2);
+  SurfaceMesh piece = make_mesh(nv, nf, vk);
+  std::vector<std::uint32_t> rank(nv, 0);
+  for (std::size_t i = 0; i < vk.size(); ++i) rank[vk[i]] = static_cast<std::uint32_t>(i);
+  const std::size_t capacity = piece.capacity_bytes();
+  compact_piece(piece, plan_compaction(piece, vk, fk), vk, fk, rank.data());
+  EXPECT_EQ(piece.capacity_bytes(), capacity);
+  const std::size_t rooms[3] = {split_room(vk.size()), split_room(fk.size()), 3 * split_room(fk.size())};
+  for (int kind = 0; kind < 3; ++kind)
+    for (const std::string& name : set_of(piece, kind).names()) {
+      SCOPED_TRACE(name);
+      const AttributeArrayBase& a = *set_of(piece, kind).base(name);
+      const auto* data = static_cast<const unsigned char*>(a.element_data(0));
+      ASSERT_GT(a.capacity_bytes(), rooms[kind] * a.element_bytes());
+      EXPECT_EQ(resident_pages(data + rooms[kind] * a.element_bytes(), data + a.capacity_bytes()), 0u);
+      EXPECT_GT(resident_pages(data, data + a.size() * a.element_bytes()), 0u);
+    }
+  const Triangle* tris = piece.faces().data();
+  EXPECT_EQ(resident_pages(tris + rooms[1], tris + piece.faces().capacity()), 0u);
+}
+#endif
 
 }  // namespace
 }  // namespace deepcut::detail

@@ -4,11 +4,15 @@
 #include <gtest/gtest.h>
 
 #include <cstddef>
+#include <cstdint>
 #include <fstream>
 #include <memory>
+#include <vector>
 
 #if defined(__GLIBC__)
+#include <sys/mman.h>
 #include <sys/resource.h>
+#include <unistd.h>
 #endif
 
 namespace {
@@ -55,6 +59,35 @@ TEST(ProcessMemory, ReleasedMemoryLeavesTheResidentSet) {
   const long kept = resident_pages();
   deepcut::release_freed_memory();
   EXPECT_GT(kept - resident_pages(), static_cast<long>(kBytes / 4096 / 2)) << "pages given back";
+}
+
+// Whether the page holding `p` is resident (mincore).
+bool resident(const void* p) {
+  const auto page = static_cast<std::uintptr_t>(sysconf(_SC_PAGESIZE));
+  unsigned char in = 0;
+  EXPECT_EQ(mincore(reinterpret_cast<void*>(reinterpret_cast<std::uintptr_t>(p) / page * page), 1, &in), 0);
+  return (in & 1) != 0;
+}
+
+// The room of an array past the elements kept leaves the resident set, whole pages only: the
+// elements, the capacity and the page holding the last kept element stay; growing back into the
+// room gives the values written then.
+TEST(ProcessMemory, ReleasedRoomLeavesTheResidentSetAndKeepsTheElements) {
+  std::vector<std::uint32_t> array(std::size_t(4) << 20);
+  for (std::size_t i = 0; i < array.size(); ++i) array[i] = static_cast<std::uint32_t>(i);
+  const std::size_t capacity = array.capacity(), keep = 100000;
+  array.resize(1000);
+  const std::size_t released = deepcut::release_room(array, keep);
+  EXPECT_GT(released, (capacity - keep) * sizeof(std::uint32_t) - 2 * 4096);
+  EXPECT_LE(released, (capacity - keep) * sizeof(std::uint32_t));
+  EXPECT_EQ(array.capacity(), capacity);
+  EXPECT_TRUE(resident(array.data() + keep - 1));
+  EXPECT_FALSE(resident(array.data() + keep + 2048));
+  EXPECT_FALSE(resident(array.data() + capacity - 2048));  // (the last page may hold other bytes)
+  for (std::size_t i = 0; i < array.size(); ++i) ASSERT_EQ(array[i], i);
+  array.resize(capacity, 7);
+  EXPECT_EQ(array[capacity - 1], 7u);
+  EXPECT_EQ(deepcut::release_room(array, keep), 0u);  // the size is kept at least
 }
 #endif
 

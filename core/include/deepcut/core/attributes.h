@@ -9,6 +9,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <glm/glm.hpp>
+#include <glm/gtc/type_precision.hpp>
 #include <map>
 #include <memory>
 #include <string>
@@ -17,11 +19,9 @@
 #include <utility>
 #include <vector>
 
-#include <glm/glm.hpp>
-#include <glm/gtc/type_precision.hpp>
-
 #include "deepcut/core/errors.h"
 #include "deepcut/core/parallel.h"
+#include "deepcut/core/process_memory.h"
 
 // Float attributes blend in vector registers where the compiler has GCC >= 12 / Clang vector
 // extensions (AttributeArray::kLanes); elsewhere by the same rule one float at a time.
@@ -139,6 +139,10 @@ class AttributeArrayBase {
   /// Swaps element `i` with element `j` of `other`, an array of the same type (undo records).
   /// @throws Error{InvalidArgument} for another type.
   virtual void swap_element(std::size_t i, AttributeArrayBase& other, std::size_t j) = 0;
+  /// Hands the whole pages of the room past the first `keep` elements (the size at least) back
+  /// to the system (release_room, process_memory.h): the capacity stays, growing into that room
+  /// faults its pages in again. Returns the bytes released.
+  virtual std::size_t release_room(std::size_t keep) = 0;
   /// Bytes held, room reserved included.
   virtual std::size_t capacity_bytes() const = 0;
   virtual std::type_index type() const = 0;
@@ -256,6 +260,7 @@ class AttributeArray final : public AttributeArrayBase {
   void swap_element(std::size_t i, AttributeArrayBase& other, std::size_t j) override {
     std::swap(data_[i], same_type(other).data_[j]);
   }
+  std::size_t release_room(std::size_t keep) override { return deepcut::release_room(data_, keep); }
   std::size_t capacity_bytes() const override { return data_.capacity() * sizeof(T); }
   std::type_index type() const override { return typeid(T); }
   std::size_t element_bytes() const override { return sizeof(T); }

@@ -12,6 +12,9 @@
 /// largest model and operation needed), and an operation after the first writes into pages the
 /// process already has.
 
+#include <cstddef>
+#include <vector>
+
 namespace deepcut {
 
 /// Keeps freed memory in the process for later allocations (glibc: blocks up to 1 GiB come from
@@ -29,5 +32,25 @@ bool keep_freed_memory();
 /// a large model has been replaced: what it held and the new model did not reuse. Costs a walk
 /// of the heaps; the next allocations fault their pages in again.
 void release_freed_memory();
+
+/// Hands the whole pages lying inside [begin, end) back to the system (Linux: madvise
+/// MADV_DONTNEED), the block they are in staying allocated: a later write there faults in a fresh
+/// zeroed page. For the room of a live array past its elements that once held data (a piece
+/// compacted in place keeps its mesh's capacity, its old elements' pages written): with freed
+/// memory kept (keep_freed_memory), the pages of an allocation stay resident as long as it lives,
+/// whatever part of it is used. Only pages entirely inside the range are touched (the heap's own
+/// bookkeeping lies outside the bytes it handed out), and those bytes must hold no object.
+/// Returns the bytes released: 0 for a range shorter than a page or where the system has no such
+/// call (nothing changes there).
+std::size_t release_pages(void* begin, void* end);
+
+/// release_pages over the room of `array` past its first `keep` elements (its size at least): its
+/// capacity stays, and growing into that room faults the pages in again.
+template <class T>
+std::size_t release_room(std::vector<T>& array, std::size_t keep) {
+  if (keep < array.size()) keep = array.size();
+  if (keep >= array.capacity()) return 0;
+  return release_pages(array.data() + keep, array.data() + array.capacity());
+}
 
 }  // namespace deepcut

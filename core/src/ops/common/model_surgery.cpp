@@ -9,7 +9,6 @@
 #include <type_traits>
 #include <utility>
 
-#include "deepcut/core/operation_room.h"
 #include "deepcut/core/parallel.h"
 #include "ops/common/model_surgery_in_place.h"
 #include "side_by_side.h"
@@ -312,15 +311,14 @@ struct ArrayCopy {
 };
 
 // Room for the arrays of the pieces copied out of a watched mesh (a session's, edited further):
-// each takes a spare that fits (SplitWatcher::spare_array), else new memory with the operations'
-// room (operation_room.h, reserved, not touched), so an operation on the piece finds room, and so
+// each takes a spare that fits (SplitWatcher::spare_array), else new memory with a piece's room
+// (split_room, reserved, not touched), so an operation on the piece finds room, and so
 // does a next cut's piece a little larger than this one, copied into it once this step is dropped.
 // A spare may hold up to twice that room (a piece's own room fits it, however small the piece).
 void give_room(SplitWatcher& watcher, std::vector<ArrayCopy>& copies, Numbering& num, std::size_t big) {
   for (ArrayCopy& c : copies) {
     const std::size_t count = c.keep->size();
-    const std::size_t room =
-        c.group * (c.kind == 0 ? operation_vertex_room(count) : operation_face_room(count));
+    const std::size_t room = c.group * split_room(count);
     if (std::unique_ptr<AttributeArrayBase> spare = watcher.spare_array(*c.to, count * c.group, 2 * room))
       c.to->take_room(*spare);
     else
@@ -328,7 +326,7 @@ void give_room(SplitWatcher& watcher, std::vector<ArrayCopy>& copies, Numbering&
   }
   for (std::size_t s = 0; s < num.faces.size(); ++s) {
     if (s == big) continue;
-    const std::size_t room = operation_face_room(num.faces[s].size());
+    const std::size_t room = split_room(num.faces[s].size());
     num.tris[s] = watcher.spare_triangles(num.faces[s].size(), 2 * room);
     if (num.tris[s].capacity() < num.faces[s].size()) num.tris[s].reserve(room);
   }

@@ -45,7 +45,9 @@ std::vector<SurfaceMesh> extract_disjoint(const SurfaceMesh& mesh, const std::ve
 
 /// `extract_disjoint(mesh, lists)`, taking `mesh` apart (it is left empty when the lists use
 /// disjoint vertices, as it was otherwise): one piece keeps the mesh's arrays, compacted in place
-/// once the other pieces are copied out, so no memory is allocated for it. That piece is the one
+/// once the other pieces are copied out, so no memory is allocated for it (its arrays keep the
+/// mesh's capacity; their pages past the piece's room, split_room, go back to the system, see
+/// compact_piece). That piece is the one
 /// that saves the most copying: the largest, unless a smaller one has more of its elements where
 /// they already are (a leading run of the mesh's vertices and faces, as a cut of a mesh stored in
 /// spatial order leaves its lower side). The pieces copied out are written once into new memory,

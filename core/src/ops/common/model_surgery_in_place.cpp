@@ -8,6 +8,7 @@
 
 #include "deepcut/core/errors.h"
 #include "deepcut/core/parallel.h"
+#include "deepcut/core/process_memory.h"
 #include "ops/common/model_surgery.h"
 
 namespace deepcut::detail {
@@ -171,6 +172,21 @@ void reassign(SurfaceMesh& mesh) {
                         std::move(mesh.corner_attrs()));
 }
 
+// The pages of `mesh`'s arrays past the room (split_room) of `vertices` and `faces` handed back
+// to the system: a piece compacted in place keeps its mesh's capacity, and the bytes past the
+// piece held the mesh's elements, so without this every page of the mesh stayed resident as long
+// as the piece lived. The room an operation on the piece grows into stays; growing the piece
+// back into its mesh (expand_piece, an undo) faults the rest in again.
+void release_past_room(SurfaceMesh& mesh, std::size_t vertices, std::size_t faces) {
+  const std::size_t vertex_room = split_room(vertices), face_room = split_room(faces);
+  for (int kind = 0; kind < 3; ++kind) {
+    AttributeSet& set = set_of(mesh, kind);
+    for (const std::string& name : set.names())
+      set.base(name)->release_room((kind == 0 ? vertex_room : face_room) * group_of(kind));
+  }
+  release_room(TrustedAssign::faces(mesh), face_room);
+}
+
 }  // namespace
 
 std::size_t staying_put(const std::vector<std::uint32_t>& keep) {
@@ -200,6 +216,7 @@ void compact_piece(SurfaceMesh& mesh, const MovePlan& plan, const std::vector<st
   });
   for (int kind = 0; kind < 3; ++kind)
     set_of(mesh, kind).resize((kind == 0 ? vertices : faces).size() * group_of(kind));
+  release_past_room(mesh, vertices.size(), faces.size());
   reassign(mesh);
 }
 

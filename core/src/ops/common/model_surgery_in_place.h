@@ -22,6 +22,15 @@ const AttributeSet& set_of(const SurfaceMesh& mesh, int kind);
 AttributeSet& set_of(SurfaceMesh& mesh, int kind);
 inline std::size_t group_of(int kind) { return kind == 2 ? 3 : 1; }
 
+/// The room each array of a split's piece has past its `count` vertices or face slots (a piece
+/// copied out gets it reserved; one compacted in place keeps that much of its pages resident):
+/// an eighth more, as the operations' room (operation_room.h), with a smaller fixed part. A
+/// session leaves many small pieces (176 after 200 operations on 1M triangles, a few thousand
+/// faces each); with the operations' 1024 vertices and 2048 face slots per array each, their room
+/// held about 55 MiB resident. A small piece outgrowing its room at its next edit is copied whole
+/// (AttributeArrayBase::room_for), which costs little at its size.
+inline std::size_t split_room(std::size_t count) { return count + count / 8 + 64; }
+
 /// Elements per task of a pass over the pool that reads or writes one small value per element
 /// (an index list, a renumbered triangle): enough to outweigh handing the task out.
 constexpr std::size_t kIndexGrain = 65536;
@@ -58,7 +67,9 @@ MovePlan plan_compaction(SurfaceMesh& mesh, const std::vector<std::uint32_t>& ve
 /// `mesh` becomes its piece of the (increasing) `vertices` and `faces` (live faces whose corners
 /// are among `vertices`): every array compacted in place by `plan` (plan_compaction, with the same
 /// lists), then the triangles renumbered by `rank` (`rank[v]`: vertex v's index in `vertices`,
-/// read for those vertices only). Allocates nothing.
+/// read for those vertices only). Allocates nothing. The arrays keep their capacity, but their
+/// pages past the piece's room (split_room) are handed back to the system
+/// (release_room, process_memory.h): they held the mesh's other elements.
 void compact_piece(SurfaceMesh& mesh, const MovePlan& plan, const std::vector<std::uint32_t>& vertices,
                    const std::vector<std::uint32_t>& faces, const std::uint32_t* rank);
 
@@ -86,7 +97,8 @@ struct Room {
 /// moved to `vertices[i]`, face i to `faces[i]` (its corners naming `vertices` again). The other
 /// slots are left for `scatter` (their values are unspecified). The arrays grow by copies of
 /// `rooms` (where they make up the growth, else by default values). No allocation where the
-/// arrays' capacity holds the sizes (a piece compact_piece made keeps the mesh's).
+/// arrays' capacity holds the sizes (a piece compact_piece made keeps the mesh's; the pages it
+/// handed back are faulted in again as the arrays grow into them).
 void expand_piece(SurfaceMesh& piece, const std::vector<std::uint32_t>& vertices,
                   const std::vector<std::uint32_t>& faces, std::size_t vertex_count, std::size_t face_slots,
                   const std::vector<Room>& rooms);
