@@ -31,6 +31,7 @@ class QAction;
 class QDockWidget;
 class QActionGroup;
 class QLabel;
+class QTimer;
 class QListWidget;
 class QUndoStack;
 
@@ -58,6 +59,10 @@ class MainWindow : public QMainWindow {
   Q_OBJECT
 
  public:
+  /// How long the studio waits, with no step shown and no task running, before it hands the
+  /// heap's free memory back to the system (release_when_idle).
+  static constexpr int kIdleReleaseMs = 2000;
+
   explicit MainWindow(const MainWindowOptions& options = {}, QWidget* parent = nullptr);
   ~MainWindow() override;
 
@@ -228,6 +233,9 @@ class MainWindow : public QMainWindow {
   void note_operation(const QString& label, double ms);
   /// Shows the session's current state (after an undo step, an edit, a cancelled edit).
   void show_current();
+  /// Hands the heap's free memory back to the system once the studio has been idle for a while
+  /// (idle_release_): see release_when_idle.
+  void release_when_idle();
   void refresh_status();
   void choose_open();
   void choose_export();
@@ -289,6 +297,7 @@ class MainWindow : public QMainWindow {
   QLabel* time_label_ = nullptr;
   QLabel* operation_label_ = nullptr;
   BackgroundTask* task_ = nullptr;
+  QTimer* idle_release_ = nullptr;  // restarted by every step shown
   QList<QAction*> edit_actions_;  // disabled while a task runs
   bool open_done_ = false, export_done_ = false;  // the last open / export succeeded
   OpenTiming open_timing_;

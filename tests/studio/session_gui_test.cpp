@@ -6,8 +6,11 @@
 //  - three operations, the first edited from the History panel: the later ones re-run, the export
 //    equals `deepcut apply` of the edited history on the original model and validates, undo
 //    restores the previous export byte for byte; an edit that makes a later operation miss marks
-//    it instead of failing.
+//    it instead of failing;
+//  - once idle (no step for MainWindow::kIdleReleaseMs, no task running) the studio hands the
+//    heap's free memory back to the system, which it otherwise keeps for the next operation.
 #include <QVTKOpenGLNativeWidget.h>
+#include <unistd.h>
 
 #include <QAction>
 #include <QApplication>
@@ -21,14 +24,17 @@
 #include <QUndoStack>
 #include <QtTest/QtTest>
 #include <algorithm>
+#include <fstream>
+#include <vector>
 
 #include "deepcut/core/io/gltf.h"
 #include "deepcut/core/ops/operation.h"
+#include "deepcut/core/process_memory.h"
 #include "deepcut/plugins/tool.h"
 #include "main_window.h"
 #include "scene_view.h"
-#include "timeline.h"
 #include "studio_test_support.h"
+#include "timeline.h"
 #include "tools.h"
 
 using deepcut::studio::MainWindow;
@@ -39,6 +45,14 @@ using deepcut::test::studio::read_bytes;
 using deepcut::test::studio::shown_window;
 
 namespace {
+
+/// The process's resident memory (/proc/self/statm), in MiB.
+double resident_mib() {
+  std::ifstream in("/proc/self/statm");
+  long pages = 0, resident = 0;
+  in >> pages >> resident;
+  return static_cast<double>(resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0);
+}
 
 /// Largest distance between what the view draws for instance 0 and the skinned pose of the scene.
 float drawn_offset(MainWindow& window) {
@@ -165,6 +179,30 @@ class StudioSessionTest : public QObject {
     QCOMPARE(window->history()->count(), 0);
   }
 
+  void an_idle_studio_hands_free_memory_back() {
+    auto window = shown_window();
+    QVERIFY(window);
+    QVERIFY(window->open_file(kCactus));
+    window->set_tool("tear");
+    QVERIFY2(window->apply_tool(), qPrintable(window->last_error()));
+    while (window->task()->busy()) QTest::qWait(20);  // the posed model the step rebuilds
+    // 64 MiB written and freed: the heap keeps it (keep_freed_memory, as the studio runs) ...
+    constexpr std::size_t kBlock = std::size_t(64) << 20;
+    std::vector<char>* block = new std::vector<char>(kBlock, 1);
+    QVERIFY(block->back() == 1);
+    delete block;
+    const double kept = resident_mib();
+    window->undo_action()->trigger();  // a step shown: the idle interval starts again
+    QTest::qWait(MainWindow::kIdleReleaseMs / 4);
+    QVERIFY2(resident_mib() > kept - 16.0, "the free memory went back before the studio was idle");
+    // ... until the studio has been idle for the interval.
+    while (window->task()->busy()) QTest::qWait(20);
+    QTest::qWait(MainWindow::kIdleReleaseMs + 500);
+    const double released = resident_mib();
+    QVERIFY2(released < kept - 32.0,
+             qPrintable(QString("resident %1 MiB once idle, %2 MiB before").arg(released).arg(kept)));
+  }
+
   void editing_the_first_of_three_operations_reruns_the_rest() {
     auto window = shown_window();
     QVERIFY(window);
@@ -284,6 +322,7 @@ class StudioSessionTest : public QObject {
 };
 
 int main(int argc, char** argv) {
+  deepcut::keep_freed_memory();  // as the studio runs (main.cpp)
   QSurfaceFormat::setDefaultFormat(QVTKOpenGLNativeWidget::defaultFormat());
   QApplication app(argc, argv);
   QApplication::setOrganizationName("DeepCut");
