@@ -143,7 +143,10 @@ void MainWindow::build_status_bar() {
   idle_release_->setSingleShot(true);
   idle_release_->setInterval(kIdleReleaseMs);
   connect(idle_release_, &QTimer::timeout, this, &MainWindow::release_when_idle);
-  connect(task_, &BackgroundTask::busy_changed, this, [this](bool busy) { set_editing_enabled(!busy); });
+  connect(task_, &BackgroundTask::busy_changed, this, [this](bool busy) {
+    set_editing_enabled(!busy);
+    if (!busy) idle_release_->start();  // a task's memory too, once the studio has been idle
+  });
   inspectors_->set_background_runner([this](const std::string& title, plugins::Inspector::Work work,
                                             std::function<void()> cancelled) {
     finish_indexing();
@@ -447,11 +450,13 @@ void MainWindow::show_current() {
 
 // The heap keeps what an operation frees for the next one (keep_freed_memory, main.cpp): right
 // after a step that saves page faults, but over a long session the free memory of many steps'
-// peaks stays resident. Once the user has paused (no step for kIdleReleaseMs, no task running:
-// the posed model a step rebuilds comes first) it goes back to the system. The walk costs about
-// 20 ms on the UI thread at a 1.7 GB heap; the next operation takes fresh pages again.
+// peaks stays resident. Once the user has paused (kIdleReleaseMs since the last step shown and
+// the last task ended, e.g. the posed model a step rebuilds) it goes back to the system. The walk
+// costs about 20 ms on the UI thread at a 1.7 GB heap, so not while the animation plays; the next
+// operation takes fresh pages again.
 void MainWindow::release_when_idle() {
-  if (task_->busy()) {
+  if (task_->busy()) return;  // its end starts the interval again
+  if (timeline_->playing()) {
     idle_release_->start();
     return;
   }

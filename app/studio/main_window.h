@@ -59,8 +59,8 @@ class MainWindow : public QMainWindow {
   Q_OBJECT
 
  public:
-  /// How long the studio waits, with no step shown and no task running, before it hands the
-  /// heap's free memory back to the system (release_when_idle).
+  /// How long the studio waits after the last step shown and the last task's end before it
+  /// hands the heap's free memory back to the system (release_when_idle).
   static constexpr int kIdleReleaseMs = 2000;
 
   explicit MainWindow(const MainWindowOptions& options = {}, QWidget* parent = nullptr);
@@ -297,7 +297,7 @@ class MainWindow : public QMainWindow {
   QLabel* time_label_ = nullptr;
   QLabel* operation_label_ = nullptr;
   BackgroundTask* task_ = nullptr;
-  QTimer* idle_release_ = nullptr;  // restarted by every step shown
+  QTimer* idle_release_ = nullptr;  // restarted by every step shown and every task's end
   QList<QAction*> edit_actions_;  // disabled while a task runs
   bool open_done_ = false, export_done_ = false;  // the last open / export succeeded
   OpenTiming open_timing_;
