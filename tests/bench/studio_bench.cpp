@@ -85,6 +85,7 @@
 #include "deepcut/core/ops/operation.h"
 #include "deepcut/core/process_memory.h"
 #include "main_window.h"
+#include "resident.h"
 #include "scene_host.h"
 #include "scene_view.h"
 #include "thread_cpu_time.h"
@@ -93,6 +94,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 using deepcut::studio::MainWindow;
+using deepcut::test::resident_mib;
 using nlohmann::json;
 
 double ms_since(Clock::time_point t0, Clock::time_point t1) {
@@ -103,14 +105,6 @@ double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
   return v[v.size() / 2];
-}
-
-/// Resident memory of this process, in MiB (/proc/self/statm).
-double resident_mib() {
-  std::ifstream in("/proc/self/statm");
-  long pages = 0, resident = 0;
-  in >> pages >> resident;
-  return static_cast<double>(resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0);
 }
 
 /// CPU time of the whole process (every thread), in ms.

@@ -18,18 +18,12 @@
 #include "deepcut/core/generate/cactus.h"
 #include "deepcut/core/posed_model.h"
 #include "deepcut/core/process_memory.h"
+#include "resident.h"
 #include "session.h"
 
 namespace {
 
 using namespace deepcut;
-
-double resident_mb() {
-  std::ifstream in("/proc/self/statm");
-  long pages = 0, resident = 0;
-  in >> pages >> resident;
-  return static_cast<double>(resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0);
-}
 
 double ms_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -68,14 +62,14 @@ void run(session::Session& s, const char* what, const std::vector<Operation>& op
   double ms = 0.0, grown = 0.0;
   int ok = 0;
   for (const Operation& op : ops) {
-    const double before = resident_mb();
+    const double before = test::resident_mib();
     const auto start = std::chrono::steady_clock::now();
     const bool applied = s.apply(op).result.status == OpStatus::Ok;
     const double t = ms_since(start);
     if (!applied) continue;
     ++ok;
     ms += t;
-    grown += resident_mb() - before;
+    grown += test::resident_mib() - before;
   }
   std::printf("%-6s x%2d applied: %8.1f ms/op  %+8.2f MB resident/op\n", what, ok, ok ? ms / ok : 0.0,
               ok ? grown / ok : 0.0);
@@ -104,8 +98,8 @@ int main(int argc, char** argv) {
   for (const Mesh& m : s.current()->meshes)
     for (const Primitive& p : m.primitives) model_bytes += p.mesh.capacity_bytes();
   std::printf("cactus %zu triangles: the model's arrays %.1f MB, resident after open %.1f MB\n", triangles,
-              static_cast<double>(model_bytes) / (1024.0 * 1024.0), resident_mb());
-  const double start_mb = resident_mb();
+              static_cast<double>(model_bytes) / (1024.0 * 1024.0), test::resident_mib());
+  const double start_mb = test::resident_mib();
   std::vector<Operation> ds, ts;
   for (int i = 0; i < drills; ++i) ds.push_back(drill(b, -0.3f + 0.6f * static_cast<float>(i) / static_cast<float>(drills)));
   for (int i = 0; i < drills; ++i) ts.push_back(tear(b, -0.04f + 0.08f * static_cast<float>(i) / static_cast<float>(drills)));
@@ -127,6 +121,6 @@ int main(int argc, char** argv) {
     ms += ms_since(t0);
   }
   std::printf("redo   x%2zu: %8.1f ms/step (cut included)\n", steps, steps ? ms / static_cast<double>(steps) : 0.0);
-  std::printf("resident growth over the session: %+.1f MB\n", resident_mb() - start_mb);
+  std::printf("resident growth over the session: %+.1f MB\n", test::resident_mib() - start_mb);
   return 0;
 }

@@ -32,12 +32,14 @@
 #include "deepcut/core/process_memory.h"
 #include "deepcut/plugins/tool.h"
 #include "main_window.h"
+#include "resident.h"
 #include "scene_view.h"
 #include "studio_test_support.h"
 #include "timeline.h"
 #include "tools.h"
 
 using deepcut::studio::MainWindow;
+using deepcut::test::resident_mib;
 using deepcut::test::studio::export_bytes;
 using deepcut::test::studio::kCactus;
 using deepcut::test::studio::model_bytes;
@@ -47,14 +49,6 @@ using deepcut::test::studio::shown_window;
 namespace {
 
 bool g_keeps_freed_memory = false;  // keep_freed_memory took effect (main)
-
-/// The process's resident memory (/proc/self/statm), in MiB.
-double resident_mib() {
-  std::ifstream in("/proc/self/statm");
-  long pages = 0, resident = 0;
-  in >> pages >> resident;
-  return static_cast<double>(resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0);
-}
 
 /// Largest distance between what the view draws for instance 0 and the skinned pose of the scene.
 float drawn_offset(MainWindow& window) {
