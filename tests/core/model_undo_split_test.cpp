@@ -6,6 +6,8 @@
 // share the model's small parts.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "deepcut/core/mesh_editor.h"
 #include "deepcut/core/model_change.h"
 #include "deepcut/core/model_undo.h"
@@ -273,6 +275,33 @@ TEST(ModelUndoSplitTest, consecutive_structural_steps_share_the_small_parts_they
   second.redo(model);
   expect_same(model, after, "redo both");
   EXPECT_EQ(model.extras_json, after.extras_json);
+}
+
+// A step that turns a node's rotation from +0.0 into -0.0 changes the model's bytes: it is a
+// structural step (the floats are compared bit for bit), and undo and redo give back each sign,
+// whether the step changes nothing else or also adds a mesh (its shells then hold both signs).
+TEST(ModelUndoSplitTest, a_rotation_turned_to_minus_zero_comes_back_with_its_sign) {
+  for (const bool add_mesh : {false, true}) {
+    Model model = model_of(two_tubes());
+    const Model before = model;
+    ModelStep step;
+    {
+      ModelRecorder recorder(model);
+      model.nodes[0].rotation.x = -0.0f;
+      if (add_mesh) model.meshes.push_back({"more", {Primitive{}}, ""});
+      step = recorder.finish();
+    }
+    ASSERT_TRUE(step.change().structure) << add_mesh;
+    const Model after = model;
+    for (int cycle = 0; cycle < 2; ++cycle) {
+      step.undo(model);
+      expect_same(model, before, "undo");
+      EXPECT_FALSE(std::signbit(model.nodes[0].rotation.x)) << add_mesh;
+      step.redo(model);
+      expect_same(model, after, "redo");
+      EXPECT_TRUE(std::signbit(model.nodes[0].rotation.x)) << add_mesh;
+    }
+  }
 }
 
 }  // namespace
