@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "deepcut/core/model.h"
+#include "model_parts_equal.h"
 
 namespace deepcut {
 namespace {
@@ -132,6 +133,9 @@ std::vector<std::uint32_t> listed(const std::vector<std::uint8_t>& changed) {
 }
 
 }  // namespace
+
+bool detail::same_part(const Node& a, const Node& b) { return same(a, b); }
+bool detail::same_part(const Mesh& a, const Mesh& b) { return same(a, b); }
 
 bool same_structure(const Model& a, const Model& b, bool images) {
   return same_all(a.nodes, b.nodes) && a.scenes == b.scenes && a.default_scene == b.default_scene &&

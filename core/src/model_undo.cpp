@@ -655,7 +655,7 @@ void ModelRecorder::lend_spares(std::function<std::vector<SurfaceMesh>()> source
   impl_->spare_source = std::move(source);
 }
 
-ModelStep ModelRecorder::finish() {
+ModelStep ModelRecorder::finish(const ModelStep* last) {
   Impl& r = *impl_;
   r.settle_splits();
   ModelStep step;
@@ -715,8 +715,12 @@ ModelStep ModelRecorder::finish() {
   }
   s.after_all = std::move(after);
   s.fresh = std::move(fresh);
-  s.shell_before = undo::KeptShell(std::move(r.shell));
-  s.shell_after = undo::KeptShell(undo::shell_of(r.model));
+  const ModelStep::Impl* l = last ? last->impl_.get() : nullptr;
+  // The shell after of `last`, which the model's small parts are now but for this step's edits
+  // (a replace() step keeps none).
+  const undo::KeptShell* like = l && l->structure && !l->whole ? &l->shell_after : nullptr;
+  s.shell_before = undo::KeptShell(std::move(r.shell), like);
+  s.shell_after = undo::KeptShell(undo::shell_of(r.model), &s.shell_before);
   s.map_structure();
   return step;
 }

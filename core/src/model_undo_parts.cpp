@@ -4,10 +4,10 @@
 #include "model_undo_parts.h"
 
 #include <algorithm>
-#include <mutex>
 
 #include "deepcut/core/model_change.h"
 #include "deepcut/core/parallel.h"
+#include "model_parts_equal.h"
 #include "ops/common/model_surgery_in_place.h"
 #include "uninit_vector.h"
 
@@ -255,63 +255,31 @@ std::size_t share_of(const std::shared_ptr<const T>& p, std::size_t bytes) {
   return bytes / static_cast<std::size_t>(std::max<long>(p.use_count(), 1));
 }
 
-/// True when `a` equals `b`, each the only element of `list` in a model otherwise empty
-/// (same_structure compares every part of a model but its images and root extras). `b` is left
-/// as it was.
-template <class T>
-bool same_element(const T& a, T& b, std::vector<T> Model::*list) {
-  Model x, y;
-  (x.*list).push_back(a);
-  (y.*list).push_back(std::move(b));
-  const bool same = same_structure(x, y, false);
-  b = std::move((y.*list).front());
-  return same;
-}
-
-/// Each element of `from`, shared with the element at its index in `last` where equal, else
-/// kept anew (and named in `last`).
+/// Each element of `from`, shared with the element at its index in `like` (nullptr: none)
+/// where equal, else kept anew.
 template <class T>
 std::vector<std::shared_ptr<const T>> share_elements(std::vector<T>&& from,
-                                                     std::vector<std::weak_ptr<const T>>& last,
-                                                     std::vector<T> Model::*list) {
+                                                     const std::vector<std::shared_ptr<const T>>* like) {
   std::vector<std::shared_ptr<const T>> out;
   out.reserve(from.size());
-  last.resize(from.size());
   for (std::size_t i = 0; i < from.size(); ++i) {
-    std::shared_ptr<const T> before = last[i].lock();
-    if (before && same_element(*before, from[i], list)) {
-      out.push_back(std::move(before));
+    if (like && i < like->size() && detail::same_part(*(*like)[i], from[i])) {
+      out.push_back((*like)[i]);
     } else {
       out.push_back(std::make_shared<const T>(std::move(from[i])));
-      last[i] = out.back();
     }
   }
   return out;
 }
 
-/// The parts of the shell kept last (by any step), which the next one shares where equal.
-struct LastKept {
-  std::mutex mutex;
-  std::array<std::weak_ptr<const Model>, kSlices> slices;
-  std::vector<std::weak_ptr<const Node>> nodes;
-  std::vector<std::weak_ptr<const Mesh>> meshes;
-};
-
-LastKept& last_kept() {
-  static LastKept last;
-  return last;
-}
-
 }  // namespace
 
-KeptShell::KeptShell(Model shell) {
+KeptShell::KeptShell(Model shell, const KeptShell* like) {
   shell.extras_json = std::string();
   for (Mesh& m : shell.meshes)
     for (Primitive& p : m.primitives) p.mesh = SurfaceMesh();
-  LastKept& last = last_kept();
-  const std::lock_guard<std::mutex> lock(last.mutex);
-  nodes_ = share_elements(std::move(shell.nodes), last.nodes, &Model::nodes);
-  meshes_ = share_elements(std::move(shell.meshes), last.meshes, &Model::meshes);
+  nodes_ = share_elements(std::move(shell.nodes), like ? &like->nodes_ : nullptr);
+  meshes_ = share_elements(std::move(shell.meshes), like ? &like->meshes_ : nullptr);
   std::array<Model, kSlices> slices;
   slices[kAnimations].animations = std::move(shell.animations);
   shell.nodes.clear();
@@ -319,12 +287,11 @@ KeptShell::KeptShell(Model shell) {
   shell.animations.clear();
   slices[kRest] = std::move(shell);
   for (std::size_t k = 0; k < kSlices; ++k) {
-    std::shared_ptr<const Model> before = last.slices[k].lock();
-    if (before && same_structure(*before, slices[k], false)) {
-      slices_[k] = std::move(before);
+    const std::shared_ptr<const Model>* before = like ? &like->slices_[k] : nullptr;
+    if (before && *before && same_structure(**before, slices[k], false)) {
+      slices_[k] = *before;
     } else {
       slices_[k] = std::make_shared<const Model>(std::move(slices[k]));
-      last.slices[k] = slices_[k];
     }
   }
 }

@@ -116,14 +116,17 @@ std::size_t shell_bytes(const Model& shell);
 /// A shell (shell_of) as a structural step keeps it: without the root extras and the primitives'
 /// attribute layouts (the meshes undo and redo put back bring theirs), in parts that change
 /// apart: each node, each mesh, the animations, the rest. A part equal to the same part of the
-/// shell kept last (the node or mesh at the same index) is shared with it, not copied: a cut's
-/// shell before is mostly the last cut's shell after, and a cut changes a few nodes and meshes
-/// and adds some, so a session's cuts keep about one copy of each node and mesh and one of the
-/// animations in all.
+/// shell `like` (the node or mesh at the same index), one kept in the same history, is shared
+/// with it, not copied: a step's shell after shares what the step left alone with its shell
+/// before, and that one with the shell after of the structural step made last (mostly equal: a
+/// cut changes a few nodes and meshes and adds some), so a session's cuts keep about one copy of
+/// each node and mesh and one of the animations in all. Equal as same_structure says (floats
+/// bit for bit).
 class KeptShell {
  public:
   KeptShell() = default;
-  explicit KeptShell(Model shell);
+  /// `like`: the shell to share equal parts with, or nullptr.
+  KeptShell(Model shell, const KeptShell* like);
   /// A copy of the shell, for restore_shell (root extras empty, primitives' meshes empty).
   Model model() const;
   /// This shell's share of the bytes of its parts (each part's bytes over its holders).

@@ -197,9 +197,11 @@ Animation long_animation(std::size_t keys) {
 // Splits the model's first primitive in place into its tubes, which take its place and a new
 // primitive's, after edits the step's delta gives back itself: a face deleted, the unused
 // vertex moved, a face appended and deleted (slots no piece holds whose values the rest need not
-// keep). Returns the step.
-ModelStep split_into_the_model(Model& model) {
+// keep). `history`, when given, is written as the root extras within the recording (as the
+// session writes its history). `last`: the structural step made before. Returns the step.
+ModelStep split_into_the_model(Model& model, const char* history = nullptr, const ModelStep* last = nullptr) {
   ModelRecorder recorder(model);
+  if (history) model.extras_json = history;
   SurfaceMesh& mesh = model.meshes[0].primitives[0].mesh;
   const auto half = static_cast<std::uint32_t>(mesh.face_slots() / 2);
   {
@@ -218,7 +220,7 @@ ModelStep split_into_the_model(Model& model) {
   Primitive second;
   second.mesh = std::move(pieces[1]);
   model.meshes[0].primitives.push_back(std::move(second));
-  return recorder.finish();
+  return recorder.finish(last);
 }
 
 // A split whose pieces enter the model is recorded as a label of 2 bits per element and the few
@@ -245,36 +247,48 @@ TEST(ModelUndoSplitTest, a_split_whose_pieces_enter_the_model_is_recorded_in_a_f
 }
 
 // Two structural steps in a row keep one copy of the model's small parts they did not change (a
-// long animation here): each step holds a share of it, not a copy before and after. Undo and
-// redo of both still give back every state, root extras included.
+// long animation here) when the second is told the first (ModelRecorder::finish): each step
+// holds a share of it, not a copy before and after. Steps not told share nothing. Undo and redo
+// of both give back every state, root extras (written within each recording, a text delta
+// applied to the text as the step left it) included.
 TEST(ModelUndoSplitTest, consecutive_structural_steps_share_the_small_parts_they_did_not_change) {
-  Model model = model_of(two_tubes());
-  model.animations.push_back(long_animation(50000));
-  model.extras_json = R"({"history":[]})";
   const std::size_t animation_bytes = 50000 * 16;
-  const Model before = model;
-  ModelStep first = split_into_the_model(model);
-  model.extras_json = R"({"history":["split"]})";  // recorded by the next step
-  const Model middle = model;
-  ModelStep second;
-  {
-    ModelRecorder recorder(model);
-    model.extras_json = R"({"history":["split","add"]})";
-    model.meshes.push_back({"more", {Primitive{}}, ""});
-    second = recorder.finish();
+  for (const bool told : {true, false}) {
+    Model model = model_of(two_tubes());
+    model.animations.push_back(long_animation(50000));
+    model.extras_json = R"({"history":[]})";
+    const Model before = model;
+    ModelStep first = split_into_the_model(model, R"({"history":["split"]})");
+    const Model middle = model;
+    ModelStep second;
+    {
+      ModelRecorder recorder(model);
+      model.extras_json = R"({"history":["split","add"]})";
+      model.meshes.push_back({"more", {Primitive{}}, ""});
+      second = recorder.finish(told ? &first : nullptr);
+    }
+    const Model after = model;
+    ASSERT_TRUE(first.exact() && second.exact());
+    if (told) {
+      EXPECT_LT(first.bytes() + second.bytes(), animation_bytes * 3 / 2);
+    } else {
+      EXPECT_GT(first.bytes() + second.bytes(), animation_bytes * 19 / 10);
+    }
+    auto expect_state = [&](const Model& state, const char* when) {
+      expect_same(model, state, when);
+      EXPECT_EQ(model.extras_json, state.extras_json) << when;
+    };
+    for (int cycle = 0; cycle < 2; ++cycle) {
+      second.undo(model);
+      expect_state(middle, "undo the second");
+      first.undo(model);
+      expect_state(before, "undo the first");
+      first.redo(model);
+      expect_state(middle, "redo the first");
+      second.redo(model);
+      expect_state(after, "redo both");
+    }
   }
-  const Model after = model;
-  ASSERT_TRUE(first.exact() && second.exact());
-  EXPECT_LT(first.bytes() + second.bytes(), animation_bytes * 3 / 2);
-  second.undo(model);
-  expect_same(model, middle, "undo the second");
-  EXPECT_EQ(model.extras_json, middle.extras_json);
-  first.undo(model);
-  expect_same(model, before, "undo the first");
-  first.redo(model);
-  second.redo(model);
-  expect_same(model, after, "redo both");
-  EXPECT_EQ(model.extras_json, after.extras_json);
 }
 
 // A step that turns a node's rotation from +0.0 into -0.0 changes the model's bytes: it is a
