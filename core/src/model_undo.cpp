@@ -263,11 +263,7 @@ ModelChange ModelStep::redo(Model& model) {
 std::size_t ModelStep::bytes() const {
   const Impl& s = *impl_;
   std::size_t out = sizeof(Impl) + s.extras.bytes() + change_bytes(s.change) + change_bytes(s.undo_change);
-  if (s.whole) {
-    for (const Mesh& m : s.other.meshes)
-      for (const Primitive& p : m.primitives) out += p.mesh.capacity_bytes();
-    out += undo::shell_bytes(s.other);
-  }
+  if (s.whole) out += undo::shell_bytes(s.other);  // its primitives' meshes included
   for (const auto& e : s.edited) out += e.delta.bytes() + (e.split ? e.split->bytes() : 0);
   for (const auto& k : s.kept)
     if (k) out += k->capacity_bytes();

@@ -110,7 +110,8 @@ Model shell_of(const Model& model);
 /// shell's (empty) ones until the caller puts meshes back. Takes a copy the caller made (by move,
 /// allocating nothing), so the copy can be made before any mesh leaves the model.
 void restore_shell(Model& model, Model shell);
-/// Bytes a shell holds (roughly: strings and arrays).
+/// Bytes a shell holds (roughly: strings and arrays), its primitives' meshes (capacity) included:
+/// a whole model's too.
 std::size_t shell_bytes(const Model& shell);
 
 /// A shell (shell_of) as a structural step keeps it: without the root extras and the primitives'

@@ -291,6 +291,19 @@ TEST(ModelUndoSplitTest, consecutive_structural_steps_share_the_small_parts_they
   }
 }
 
+// A replace() step holds the model it replaced, counted once: its bytes are about the model's.
+TEST(ModelUndoSplitTest, a_replace_step_counts_the_model_it_holds_once) {
+  Model model = model_of(two_tubes(100, 50));
+  std::size_t mesh_bytes = 0;
+  for (const Mesh& m : model.meshes)
+    for (const Primitive& p : m.primitives) mesh_bytes += p.mesh.capacity_bytes();
+  ASSERT_GT(mesh_bytes, 100000u);
+  Model state = model;
+  ModelStep step = ModelStep::replace(model, std::move(state));
+  EXPECT_GE(step.bytes(), mesh_bytes);
+  EXPECT_LT(step.bytes(), mesh_bytes + mesh_bytes / 10);
+}
+
 // A step that turns a node's rotation from +0.0 into -0.0 changes the model's bytes: it is a
 // structural step (the floats are compared bit for bit), and undo and redo give back each sign,
 // whether the step changes nothing else or also adds a mesh (its shells then hold both signs).
