@@ -177,12 +177,16 @@ void ModelStep::Impl::map_structure() {
 }
 
 // Undo and redo allocate what they need around the primitives (the shell's copy, the lists that
-// hold the meshes) before a mesh leaves the model, so only a primitive's own edit can fail once
-// one has (growing a split primitive back, compacting it again, a delta).
+// hold the meshes, a split primitive's element lists) before a mesh leaves the model, so only a
+// primitive's own edit can fail once one has (growing a split primitive back or compacting it
+// again, which make its arrays, a delta).
 void ModelStep::Impl::undo_structure(Model& model) {
   Model shell = shell_before.model();
   shell.extras_json = model.extras_json;
   extras.undo(shell.extras_json);
+  std::vector<SplitPart::Lists> lists(edited.size());
+  for (std::size_t i = 0; i < edited.size(); ++i)
+    if (edited[i].split) lists[i] = edited[i].split->lists();
   std::vector<std::optional<SurfaceMesh>> held(before_all.size());
   fresh_meshes.reserve(fresh.size());
   for (std::size_t id = 0; id < held.size(); ++id) {
@@ -194,12 +198,14 @@ void ModelStep::Impl::undo_structure(Model& model) {
     }
   }
   for (Place p : fresh) fresh_meshes.push_back(std::move(mesh_at(model, p)));
-  for (Edited& e : edited) {
+  for (std::size_t i = 0; i < edited.size(); ++i) {
+    Edited& e = edited[i];
     if (e.split) {
       const SplitPart& part = *e.split;
       std::vector<const SurfaceMesh*> pieces;
-      for (std::size_t i : part.fresh) pieces.push_back(&fresh_meshes[i]);
-      held[e.id].emplace(part.grow(std::move(fresh_meshes[part.fresh[part.big]]), pieces));
+      for (std::size_t k : part.fresh) pieces.push_back(&fresh_meshes[k]);
+      held[e.id].emplace(part.grow(std::move(fresh_meshes[part.fresh[part.big]]), pieces, lists[i]));
+      lists[i] = {};  // freed before the next grows
     }
     if (held[e.id]) e.delta.undo(*held[e.id]);
   }
@@ -212,13 +218,18 @@ void ModelStep::Impl::redo_structure(Model& model) {
   Model shell = shell_after.model();
   shell.extras_json = model.extras_json;
   extras.redo(shell.extras_json);
+  std::vector<SplitPart::Lists> lists(edited.size());
+  for (std::size_t i = 0; i < edited.size(); ++i)
+    if (edited[i].split) lists[i] = edited[i].split->big_lists();
   std::vector<std::optional<SurfaceMesh>> held(before_all.size());
   for (std::size_t id = 0; id < held.size(); ++id) held[id].emplace(std::move(mesh_at(model, before_all[id])));
-  for (Edited& e : edited) {
+  for (std::size_t i = 0; i < edited.size(); ++i) {
+    Edited& e = edited[i];
     e.delta.redo(*held[e.id]);
     if (!e.split) continue;
-    fresh_meshes[e.split->fresh[e.split->big]] = e.split->shrink(std::move(*held[e.id]));
+    fresh_meshes[e.split->fresh[e.split->big]] = e.split->shrink(std::move(*held[e.id]), lists[i]);
     held[e.id].reset();
+    lists[i] = {};
   }
   undo::restore_shell(model, std::move(shell));
   for (std::size_t id = 0; id < held.size(); ++id) {
@@ -516,6 +527,7 @@ void ModelRecorder::Impl::put_together(Watched& w, const std::vector<SurfaceMesh
   }
   if (!w.lost) {
     try {
+      const SplitPart::Lists lists = part.lists();  // before the piece that keeps the arrays moves
       // The pieces' elements past the split's (appended since) and attributes added since are
       // not the primitive's.
       // The piece that keeps the arrays, moved when the recorder holds it (released), else copied.
@@ -525,7 +537,7 @@ void ModelRecorder::Impl::put_together(Watched& w, const std::vector<SurfaceMesh
       for (int kind = 0; kind < 3; ++kind)
         for (const std::string& name : detail::set_of(whole, kind).names())
           if (!contains(part.names[static_cast<std::size_t>(kind)], name)) detail::set_of(whole, kind).remove(name);
-      w.released.emplace(part.grow(std::move(whole), found));
+      w.released.emplace(part.grow(std::move(whole), found, lists));
     } catch (const Error&) {
       w.lost = true;
     }

@@ -106,8 +106,8 @@ bool SplitPart::covers(std::size_t k, const SurfaceMesh& piece) const {
 }
 
 std::vector<detail::Room> SplitPart::rooms(const std::vector<const SurfaceMesh*>& pieces,
-                                           const std::vector<std::vector<std::uint32_t>>& vl,
-                                           const std::vector<std::vector<std::uint32_t>>& fl) const {
+                                           const Lists& lists) const {
+  const auto &vl = lists.vertices, &fl = lists.faces;
   std::vector<detail::Room> out;  // the other pieces and the rest, whose elements come in
   for (std::size_t k = 0; k < pieces.size(); ++k) {
     if (k == big) continue;
@@ -136,10 +136,22 @@ std::vector<detail::Room> SplitPart::rooms(const std::vector<const SurfaceMesh*>
   return out;
 }
 
-SurfaceMesh SplitPart::grow(SurfaceMesh&& big_piece, const std::vector<const SurfaceMesh*>& pieces) const {
-  const std::vector<std::vector<std::uint32_t>> vl = vertices.lists(), fl = faces.lists();  // the rest last
+SplitPart::Lists SplitPart::lists() const { return {vertices.lists(), faces.lists()}; }
+
+SplitPart::Lists SplitPart::big_lists() const {
+  Lists out;
+  out.vertices.resize(pieces() + 1);
+  out.faces.resize(pieces() + 1);
+  out.vertices[big] = vertices.list(big);
+  out.faces[big] = faces.list(big);
+  return out;
+}
+
+SurfaceMesh SplitPart::grow(SurfaceMesh&& big_piece, const std::vector<const SurfaceMesh*>& pieces,
+                            const Lists& lists) const {
+  const auto &vl = lists.vertices, &fl = lists.faces;  // the rest last
   SurfaceMesh out = std::move(big_piece);
-  detail::expand_piece(out, vl[big], fl[big], vertices.count(), faces.count(), rooms(pieces, vl, fl));
+  detail::expand_piece(out, vl[big], fl[big], vertices.count(), faces.count(), rooms(pieces, lists));
   for (std::size_t k = 0; k < pieces.size(); ++k) {
     if (k == big) continue;
     const SurfaceMesh& p = *pieces[k];
@@ -161,8 +173,8 @@ SurfaceMesh SplitPart::grow(SurfaceMesh&& big_piece, const std::vector<const Sur
   return out;
 }
 
-SurfaceMesh SplitPart::shrink(SurfaceMesh&& whole) const {
-  const std::vector<std::uint32_t> kept = vertices.list(big), kept_faces = faces.list(big);
+SurfaceMesh SplitPart::shrink(SurfaceMesh&& whole, const Lists& lists) const {
+  const std::vector<std::uint32_t>&kept = lists.vertices[big], &kept_faces = lists.faces[big];
   detail::UninitVector<std::uint32_t> rank(vertices.count());  // read for the piece's vertices only
   parallel_for(kept.size(), detail::kIndexGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) rank[kept[i]] = static_cast<std::uint32_t>(i);

@@ -86,21 +86,30 @@ struct SplitPart {
   /// True when `piece` holds at least what piece `k` held at the split: that many vertices and
   /// faces (or more, appended since) and every attribute the primitive had, of the same type.
   bool covers(std::size_t k, const SurfaceMesh& piece) const;
+  /// The lists of each piece's elements, the rest last (PieceLabels::lists): made before any
+  /// mesh leaves the model, so that undo and redo allocate nothing that large once one has.
+  struct Lists {
+    std::vector<std::vector<std::uint32_t>> vertices, faces;
+  };
+  /// Every piece's and the rest's (what grow reads).
+  Lists lists() const;
+  /// Piece `big`'s only, the others empty (what shrink reads).
+  Lists big_lists() const;
   /// The primitive at the split (but the slots take_rest left out): `big_piece` (piece `big` as
-  /// made, grown in place) and the other pieces (`pieces[k]`; piece `big`'s entry is not read).
+  /// made, grown in place) and the other pieces (`pieces[k]`; piece `big`'s entry is not read);
+  /// `lists` from lists().
   /// @throws Error{MissingAttribute} when a piece lacks an attribute.
-  SurfaceMesh grow(SurfaceMesh&& big_piece, const std::vector<const SurfaceMesh*>& pieces) const;
-  /// Piece `big` again, from the primitive at the split (compacted in place). Should it throw,
-  /// `whole` is left as it was.
-  SurfaceMesh shrink(SurfaceMesh&& whole) const;
+  SurfaceMesh grow(SurfaceMesh&& big_piece, const std::vector<const SurfaceMesh*>& pieces,
+                   const Lists& lists) const;
+  /// Piece `big` again, from the primitive at the split (compacted in place); `lists` from
+  /// big_lists(). Should it throw, `whole` is left as it was.
+  SurfaceMesh shrink(SurfaceMesh&& whole, const Lists& lists) const;
   std::size_t bytes() const;
 
  private:
   /// What the primitive grows by (detail::expand_piece), from the pieces and the lists of each
-  /// piece's elements (`vl`, `fl`; the rest last).
-  std::vector<detail::Room> rooms(const std::vector<const SurfaceMesh*>& pieces,
-                                  const std::vector<std::vector<std::uint32_t>>& vl,
-                                  const std::vector<std::vector<std::uint32_t>>& fl) const;
+  /// piece's elements.
+  std::vector<detail::Room> rooms(const std::vector<const SurfaceMesh*>& pieces, const Lists& lists) const;
 };
 
 /// The model without its primitives' element data and images (each primitive's mesh keeps its
