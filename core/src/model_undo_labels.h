@@ -16,6 +16,8 @@ class PieceLabels {
   PieceLabels() = default;
   /// The elements below `count` that the (increasing, disjoint) `lists` hold: element i of list
   /// k is labelled k, the elements no list holds `lists.size()` (the rest).
+  /// @throws Error{InvalidArgument} when `count` is over 2^32 - 1 or the lists are not
+  /// increasing, below `count` and disjoint.
   PieceLabels(const std::vector<std::vector<std::uint32_t>>& lists, std::size_t count);
 
   /// Number of pieces (lists) and of elements labelled.
@@ -37,12 +39,14 @@ class PieceLabels {
  private:
   /// Writes the lists named in `out` (nullptr: not wanted) from the labels.
   void decode(const std::vector<std::vector<std::uint32_t>*>& out) const;
+  /// Per stretch of elements, per label: how many of its elements come before the stretch
+  /// (counted a word at a time when decoding, not kept).
+  std::vector<std::uint32_t> stretch_starts() const;
 
   unsigned bits_ = 1;
   std::size_t count_ = 0;
-  std::vector<std::uint64_t> words_;   // the labels, packed from the low bits up
-  std::vector<std::uint32_t> starts_;  // per stretch, per label: its elements before the stretch
-  std::vector<std::size_t> sizes_;     // per label: its elements
+  std::vector<std::uint64_t> words_;  // the labels, packed from the low bits up
+  std::vector<std::size_t> sizes_;    // per label: its elements
 };
 
 }  // namespace deepcut::undo

@@ -8,9 +8,11 @@
 
 #include <cmath>
 
+#include "deepcut/core/errors.h"
 #include "deepcut/core/mesh_editor.h"
 #include "deepcut/core/model_change.h"
 #include "deepcut/core/model_undo.h"
+#include "deepcut/core/parallel.h"
 #include "fixtures.h"
 #include "model_undo_labels.h"
 #include "ops/common/model_surgery.h"
@@ -165,6 +167,44 @@ TEST(PieceLabelsTest, give_back_the_lists_in_the_fewest_bits_per_element) {
     EXPECT_TRUE(labels.list(0) == lists[0]) << pieces << " pieces";
     EXPECT_LE(labels.bytes(), count * bits / 8 + 64 * (pieces + 1) + 64) << pieces << " pieces";
   }
+}
+
+// Labels of 16 and 32 bits (hundreds and tens of thousands of pieces), with empty pieces and a
+// last word only partly used, give back their lists, the same whatever the number of threads.
+TEST(PieceLabelsTest, give_back_the_lists_at_every_width_and_thread_count) {
+  const std::size_t threads = thread_count();
+  for (std::size_t pieces : {1000u, 70000u}) {
+    const std::size_t count = 3 * 65536 + 7;  // 7 labels in the last word
+    std::vector<std::vector<std::uint32_t>> lists(pieces + 1);
+    std::uint32_t x = 777;
+    for (std::uint32_t i = 0; i < count; ++i) {
+      x = x * 1664525u + 1013904223u;
+      lists[1 + (x >> 4) % pieces].push_back(i);  // piece 0 empty; the rest last
+    }
+    const std::vector<std::uint32_t> rest = lists.back();
+    lists.pop_back();
+    const undo::PieceLabels labels(lists, count);
+    EXPECT_EQ(labels.bits(), pieces < 65535 ? 16u : 32u);
+    EXPECT_EQ(labels.size(0), 0u);
+    for (std::size_t t : {std::size_t{1}, std::size_t{3}}) {
+      set_thread_count(t);
+      const std::vector<std::vector<std::uint32_t>> got = labels.lists();
+      ASSERT_EQ(got.size(), pieces + 1);
+      for (std::size_t k = 0; k < pieces; ++k) ASSERT_TRUE(got[k] == lists[k]) << pieces << " pieces, piece " << k;
+      EXPECT_TRUE(got[pieces] == rest) << pieces << " pieces, " << t << " threads";
+    }
+    set_thread_count(threads);
+  }
+}
+
+// Lists that are not increasing, reach past the count or share an element are refused.
+TEST(PieceLabelsTest, refuse_lists_not_increasing_or_overlapping) {
+  using Lists = std::vector<std::vector<std::uint32_t>>;
+  EXPECT_THROW(undo::PieceLabels(Lists{{3, 1}}, 10), Error);
+  EXPECT_THROW(undo::PieceLabels(Lists{{1, 1}}, 10), Error);
+  EXPECT_THROW(undo::PieceLabels(Lists{{1, 10}}, 10), Error);
+  EXPECT_THROW(undo::PieceLabels(Lists{{1, 2}, {2, 3}}, 10), Error);
+  EXPECT_NO_THROW(undo::PieceLabels(Lists{{1, 2}, {}, {3}}, 10));
 }
 
 Model model_of(SurfaceMesh mesh) {
