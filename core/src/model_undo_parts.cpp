@@ -4,6 +4,7 @@
 #include "model_undo_parts.h"
 
 #include <algorithm>
+#include <iterator>
 
 #include "deepcut/core/model_change.h"
 #include "deepcut/core/parallel.h"
@@ -56,12 +57,8 @@ namespace {
 std::vector<std::uint32_t> not_rewritten(const std::vector<std::uint32_t>& rest, std::size_t n,
                                          const std::vector<std::uint32_t>& rewritten) {
   std::vector<std::uint32_t> out;
-  auto next = rewritten.begin();
-  for (std::uint32_t i : rest) {
-    if (i >= n) break;
-    next = std::lower_bound(next, rewritten.end(), i);
-    if (next == rewritten.end() || *next != i) out.push_back(i);
-  }
+  const auto below = std::lower_bound(rest.begin(), rest.end(), n);
+  std::set_difference(rest.begin(), below, rewritten.begin(), rewritten.end(), std::back_inserter(out));
   out.shrink_to_fit();  // a record holds no spare room
   return out;
 }
