@@ -102,34 +102,33 @@ bool SplitPart::covers(std::size_t k, const SurfaceMesh& piece) const {
   return true;
 }
 
-std::vector<detail::Room> SplitPart::rooms(const std::vector<const SurfaceMesh*>& pieces,
-                                           const Lists& lists) const {
+std::vector<detail::Room> rooms_to_grow(const SplitPart& part, const std::vector<const SurfaceMesh*>& pieces,
+                                        const SplitPart::Lists& lists) {
   const auto &vl = lists.vertices, &fl = lists.faces;
+  auto room_of = [](const SurfaceMesh& p, std::size_t vertices, std::size_t faces) {
+    return detail::Room{
+        {&p.vertex_attrs(), &p.face_attrs(), &p.corner_attrs()}, p.faces().data(), vertices, faces};
+  };
   std::vector<detail::Room> out;  // the other pieces and the rest, whose elements come in
-  for (std::size_t k = 0; k < pieces.size(); ++k) {
-    if (k == big) continue;
-    const SurfaceMesh& p = *pieces[k];
-    out.push_back({{&p.vertex_attrs(), &p.face_attrs(), &p.corner_attrs()},
-                   p.faces().data(),
-                   vl[k].size(),
-                   fl[k].size()});
-  }
-  out.push_back({{&rest_values[0], &rest_values[1], &rest_values[2]},
-                 rest_corners.data(),
-                 rest_vertices.size(),
-                 rest_faces.size()});
+  for (std::size_t k = 0; k < pieces.size(); ++k)
+    if (k != part.big) out.push_back(room_of(*pieces[k], vl[k].size(), fl[k].size()));
+  out.push_back({{&part.rest_values[0], &part.rest_values[1], &part.rest_values[2]},
+                 part.rest_corners.data(),
+                 part.rest_vertices.size(),
+                 part.rest_faces.size()});
   // The slots take_rest left out need room too: rooms that do not add up to the growth leave
-  // every array to grow by a slow fill of default values. Copies of another piece's first
-  // elements make it up; they are written over or left unspecified.
-  const std::size_t missing_v = vl.back().size() - rest_vertices.size();
-  const std::size_t missing_f = fl.back().size() - rest_faces.size();
-  for (std::size_t k = 0; k < pieces.size() && missing_v + missing_f > 0; ++k)
-    if (k != big && vl[k].size() >= missing_v && fl[k].size() >= missing_f) {
-      const SurfaceMesh& p = *pieces[k];
-      out.push_back(
-          {{&p.vertex_attrs(), &p.face_attrs(), &p.corner_attrs()}, p.faces().data(), missing_v, missing_f});
-      break;
-    }
+  // every array to grow by a slow fill of default values. Copies of the other pieces' first
+  // elements make it up, vertices and faces apart, from as many pieces as it takes; they are
+  // written over or left unspecified.
+  std::size_t missing_v = vl.back().size() - part.rest_vertices.size();
+  std::size_t missing_f = fl.back().size() - part.rest_faces.size();
+  for (std::size_t k = 0; k < pieces.size() && missing_v + missing_f > 0; ++k) {
+    const std::size_t v = std::min(missing_v, vl[k].size()), f = std::min(missing_f, fl[k].size());
+    if (k == part.big || v + f == 0) continue;
+    out.push_back(room_of(*pieces[k], v, f));
+    missing_v -= v;
+    missing_f -= f;
+  }
   return out;
 }
 
@@ -148,7 +147,8 @@ SurfaceMesh SplitPart::grow(SurfaceMesh&& big_piece, const std::vector<const Sur
                             const Lists& lists) const {
   const auto &vl = lists.vertices, &fl = lists.faces;  // the rest last
   SurfaceMesh out = std::move(big_piece);
-  detail::expand_piece(out, vl[big], fl[big], vertices.count(), faces.count(), rooms(pieces, lists));
+  detail::expand_piece(out, vl[big], fl[big], vertices.count(), faces.count(),
+                       rooms_to_grow(*this, pieces, lists));
   for (std::size_t k = 0; k < pieces.size(); ++k) {
     if (k == big) continue;
     const SurfaceMesh& p = *pieces[k];

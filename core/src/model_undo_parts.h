@@ -106,11 +106,15 @@ struct SplitPart {
   SurfaceMesh shrink(SurfaceMesh&& whole, const Lists& lists) const;
   std::size_t bytes() const;
 
- private:
-  /// What the primitive grows by (detail::expand_piece), from the pieces and the lists of each
-  /// piece's elements.
-  std::vector<detail::Room> rooms(const std::vector<const SurfaceMesh*>& pieces, const Lists& lists) const;
 };
+
+/// What `part`'s primitive grows by when it grows back (detail::expand_piece): the pieces
+/// (`pieces[k]`, piece `big`'s not read), the rest, and copies of the other pieces' first
+/// elements for the slots take_rest left out. They add up to the growth (each array then grows
+/// by copies, not by a slow fill of default values) whenever the other pieces hold as many
+/// vertices and as many faces as those slots. `lists` from SplitPart::lists().
+std::vector<detail::Room> rooms_to_grow(const SplitPart& part, const std::vector<const SurfaceMesh*>& pieces,
+                                        const SplitPart::Lists& lists);
 
 /// The model without its primitives' element data and images (each primitive's mesh keeps its
 /// attribute names and types, no elements).

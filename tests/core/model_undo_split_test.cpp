@@ -15,6 +15,7 @@
 #include "deepcut/core/parallel.h"
 #include "fixtures.h"
 #include "model_undo_labels.h"
+#include "model_undo_parts.h"
 #include "ops/common/model_surgery.h"
 
 namespace deepcut {
@@ -190,7 +191,8 @@ TEST(PieceLabelsTest, give_back_the_lists_at_every_width_and_thread_count) {
       set_thread_count(t);
       const std::vector<std::vector<std::uint32_t>> got = labels.lists();
       ASSERT_EQ(got.size(), pieces + 1);
-      for (std::size_t k = 0; k < pieces; ++k) ASSERT_TRUE(got[k] == lists[k]) << pieces << " pieces, piece " << k;
+      for (std::size_t k = 0; k < pieces; ++k)
+        ASSERT_TRUE(got[k] == lists[k]) << pieces << " pieces, piece " << k;
       EXPECT_TRUE(got[pieces] == rest) << pieces << " pieces, " << t << " threads";
     }
     set_thread_count(threads);
@@ -205,6 +207,39 @@ TEST(PieceLabelsTest, refuse_lists_not_increasing_or_overlapping) {
   EXPECT_THROW(undo::PieceLabels(Lists{{1, 10}}, 10), Error);
   EXPECT_THROW(undo::PieceLabels(Lists{{1, 2}, {2, 3}}, 10), Error);
   EXPECT_NO_THROW(undo::PieceLabels(Lists{{1, 2}, {}, {3}}, 10));
+}
+
+std::vector<std::uint32_t> range(std::uint32_t b, std::uint32_t e) {
+  std::vector<std::uint32_t> out;
+  for (std::uint32_t i = b; i < e; ++i) out.push_back(i);
+  return out;
+}
+
+// The slots of the rest the step's delta gives back (here all of it) need room when the primitive
+// grows back: no other piece holds as many vertices and as many faces (one has the faces, the
+// other the vertices), so the room is made of both, and the rooms add up to the growth (the
+// arrays grow by copies, not by a fill of default values).
+TEST(ModelUndoSplitTest, the_room_a_primitive_grows_back_into_adds_up_from_several_pieces) {
+  const SurfaceMesh mesh = two_tubes();  // holds more than the 100 elements labelled
+  undo::SplitPart part;
+  part.vertices = undo::PieceLabels({range(0, 40), range(40, 45), range(45, 80)}, 100);
+  part.faces = undo::PieceLabels({range(0, 40), range(40, 80), range(80, 85)}, 100);
+  part.big = 0;
+  undo::MeshDelta at_split;
+  at_split.v0 = at_split.f0 = at_split.v1 = at_split.f1 = 100;
+  at_split.vertices = range(80, 100);  // the rest's vertices, all rewritten by the step
+  at_split.faces = range(85, 100);
+  part.take_rest(mesh, at_split);
+  EXPECT_TRUE(part.rest_vertices.empty() && part.rest_faces.empty());
+  const std::vector<const SurfaceMesh*> pieces(3, &mesh);
+  const std::vector<detail::Room> rooms = undo::rooms_to_grow(part, pieces, part.lists());
+  std::size_t vertices = 0, faces = 0;
+  for (const detail::Room& room : rooms) {
+    vertices += room.vertices;
+    faces += room.faces;
+  }
+  EXPECT_EQ(vertices, 60u);
+  EXPECT_EQ(faces, 60u);
 }
 
 Model model_of(SurfaceMesh mesh) {
