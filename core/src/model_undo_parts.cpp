@@ -242,8 +242,9 @@ void restore_shell(Model& model, Model shell) {
 
 namespace {
 
-/// The parts of a kept shell shared whole (the nodes and meshes are shared one by one).
-enum Slice : std::size_t { kAnimations, kRest, kSlices };
+// The parts of a kept shell shared whole, as indices of KeptShell::slices_ (the nodes and
+// meshes are shared one by one).
+constexpr std::size_t kAnimations = 0, kRest = 1, kSlices = 2;
 
 std::size_t node_bytes(const Node& n) {
   return sizeof(Node) + n.name.capacity() + n.children.capacity() * sizeof(int) +
