@@ -84,7 +84,7 @@ PieceLabels::PieceLabels(const std::vector<std::vector<std::uint32_t>>& lists, s
   if (overlap.load()) throw Error(ErrorCode::InvalidArgument, "piece labels: the lists overlap");
 }
 
-std::vector<std::uint32_t> PieceLabels::stretch_starts() const {
+std::vector<std::uint32_t> PieceLabels::stretch_starts(const std::vector<bool>& wanted) const {
   const std::size_t labels = sizes_.size();
   const std::size_t stretches = (count_ + kStretch - 1) / kStretch;
   const std::size_t per_word = 64 / bits_;
@@ -96,13 +96,18 @@ std::vector<std::uint32_t> PieceLabels::stretch_starts() const {
       std::uint32_t* const n = &out[r * labels];
       for (std::size_t w = b / per_word; w * per_word < e; ++w) {
         const std::size_t in_word = std::min(per_word, e - w * per_word);
-        if (labels <= 4) {  // a cut's few labels: each counted over the word at once
-          for (std::size_t k = 0; k < labels; ++k)
-            n[k] += static_cast<std::uint32_t>(count_in(words_[w], lows * k, bits_, lows, in_word));
+        if (labels <= 4) {  // a cut's few labels: each wanted one counted over the word at once
+          for (std::size_t k = 0; k + 1 < labels; ++k)
+            if (wanted[k] || wanted[labels - 1])
+              n[k] += static_cast<std::uint32_t>(count_in(words_[w], lows * k, bits_, lows, in_word));
         } else {
           std::uint64_t word = words_[w];
           for (std::size_t i = 0; i < in_word; ++i, word >>= bits_) ++n[word & mask];
         }
+      }
+      if (labels <= 4) {  // the last label's count: the stretch's others
+        n[labels - 1] = static_cast<std::uint32_t>(e - b);
+        for (std::size_t k = 0; k + 1 < labels; ++k) n[labels - 1] -= n[k];
       }
     }
   });
@@ -124,7 +129,9 @@ void PieceLabels::decode(const std::vector<std::vector<std::uint32_t>*>& out) co
     if (out[k]) out[k]->resize(sizes_[k]);
     all = all && out[k];
   }
-  const std::vector<std::uint32_t> starts = stretch_starts();
+  std::vector<bool> wanted(labels);
+  for (std::size_t k = 0; k < labels; ++k) wanted[k] = out[k] != nullptr;
+  const std::vector<std::uint32_t> starts = stretch_starts(wanted);
   const std::size_t stretches = starts.size() / std::max<std::size_t>(labels, 1);
   const std::size_t per_word = 64 / bits_;
   const std::uint64_t mask = (std::uint64_t{1} << bits_) - 1u;

@@ -40,8 +40,9 @@ class PieceLabels {
   /// Writes the lists named in `out` (nullptr: not wanted) from the labels.
   void decode(const std::vector<std::vector<std::uint32_t>*>& out) const;
   /// Per stretch of elements, per label: how many of its elements come before the stretch
-  /// (counted a word at a time when decoding, not kept).
-  std::vector<std::uint32_t> stretch_starts() const;
+  /// (counted a word at a time when decoding, not kept). Only the `wanted` labels' are right
+  /// (the others' may be left out).
+  std::vector<std::uint32_t> stretch_starts(const std::vector<bool>& wanted) const;
 
   unsigned bits_ = 1;
   std::size_t count_ = 0;
