@@ -25,7 +25,7 @@ std::uint64_t field_lows(unsigned bits) {
 /// How many of the first `n` fields of `word` hold the label whose fields `pattern` repeats.
 std::size_t count_in(std::uint64_t word, std::uint64_t pattern, unsigned bits, std::uint64_t lows,
                      std::size_t n) {
-  std::uint64_t x = word ^ pattern;                   // a field is 0 where it holds the label
+  std::uint64_t x = word ^ pattern;                    // a field is 0 where it holds the label
   for (unsigned s = 1; s < bits; s *= 2) x |= x >> s;  // each field's lowest bit: any bit set
   std::uint64_t hits = ~x & lows;
   if (n * bits < 64) hits &= (std::uint64_t{1} << (n * bits)) - 1u;

@@ -105,7 +105,6 @@ struct SplitPart {
   /// big_lists(). Should it throw, `whole` is left as it was.
   SurfaceMesh shrink(SurfaceMesh&& whole, const Lists& lists) const;
   std::size_t bytes() const;
-
 };
 
 /// What `part`'s primitive grows by when it grows back (detail::expand_piece): the pieces
