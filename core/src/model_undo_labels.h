@@ -2,8 +2,9 @@
 #pragma once
 // Which piece of a split each element of the primitive went to (model_undo_parts.h, SplitPart),
 // kept as a label of a few bits per element instead of the pieces' index lists (4 bytes per
-// element): a cut's undo record then holds about a sixteenth of the primitive's element count in
-// bytes, and the lists are made again, over the pool, when undo or redo need them.
+// element): a cut into two pieces keeps 2 bits per element, a sixteenth of the lists' bytes (a
+// quarter of a byte per element), and the lists are made again, over the pool, when undo or
+// redo need them.
 
 #include <cstddef>
 #include <cstdint>
