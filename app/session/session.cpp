@@ -116,6 +116,14 @@ void Session::push(ModelStep record, std::optional<std::vector<OperationEntry>> 
   done_ = steps_.size();
 }
 
+const ModelStep* Session::last_structural(const std::vector<ModelStep>& pending) const {
+  for (std::size_t i = pending.size(); i-- > 0;)
+    if (pending[i].change().structure) return &pending[i];
+  for (std::size_t i = done_; i-- > 0;)
+    if (steps_[i].record.change().structure) return &steps_[i].record;
+  return nullptr;
+}
+
 void Session::lend_undone(ModelRecorder& recorder) {
   if (!can_redo()) return;
   recorder.lend_spares([this] {
@@ -234,7 +242,7 @@ Applied Session::apply(const Operation& op) {
     recorder.finish().undo(*live_);  // what a refused drill did is taken back
     throw;
   }
-  ModelStep record = recorder.finish();
+  ModelStep record = recorder.finish(last_structural({}));
   if (applied.result.status != OpStatus::Ok) {
     if (!record.change().empty()) record.undo(*live_);  // a miss changes nothing
     posed_state_ = live_.get();
@@ -289,7 +297,7 @@ std::vector<Applied> Session::apply_history(const History& history, const std::s
     }
     posed_state_ = live_.get();
     if (undo_mode_ == Undo::PerOperation) {
-      ModelStep record = recorder->finish();
+      ModelStep record = recorder->finish(last_structural(records));
       recorder.reset();
       if (applied.result.status == OpStatus::Ok) {
         applied.change = with_origins(record.change(), applied.result);
@@ -306,7 +314,7 @@ std::vector<Applied> Session::apply_history(const History& history, const std::s
     out.push_back(std::move(applied));
   }
   if (recorder) {
-    ModelStep record = recorder->finish();
+    ModelStep record = recorder->finish(last_structural(records));
     if (!record.change().empty()) records.push_back(std::move(record));
   }
   if (!records.empty()) stash_.clear();

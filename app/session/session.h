@@ -207,6 +207,10 @@ class Session {
   };
 
   void push(ModelStep record, std::optional<std::vector<OperationEntry>> entries);
+  /// The structural step made last and done, past local steps: the last of `pending` (steps
+  /// made, not pushed yet) that is, else of the steps done. A new structural step shares the
+  /// model's small parts with it (ModelRecorder::finish).
+  const ModelStep* last_structural(const std::vector<ModelStep>& pending) const;
   /// Lends `recorder` the memory of the steps undone, which an operation that applies drops
   /// (ModelRecorder::lend_spares): the pieces a cut copies out reuse it instead of new memory.
   void lend_undone(ModelRecorder& recorder);

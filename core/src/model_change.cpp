@@ -5,22 +5,47 @@
 
 #include <algorithm>
 #include <cstring>
+#include <optional>
 #include <string>
+#include <type_traits>
+#include <vector>
 
 #include "deepcut/core/model.h"
+#include "model_parts_equal.h"
 
 namespace deepcut {
 namespace {
 
+// Floats are compared bit for bit, not with ==: -0.0 and +0.0 are written differently (a step
+// that turns one into the other changes the model's bytes, and an undo record sharing one for the
+// other would not give them back), and a NaN equals itself.
+template <class T>
+bool same_bits(const T& a, const T& b) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  return std::memcmp(&a, &b, sizeof(T)) == 0;
+}
+
+template <class T>
+bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+
+template <class T>
+bool same_bits(const std::optional<T>& a, const std::optional<T>& b) {
+  return a.has_value() == b.has_value() && (!a || same_bits(*a, *b));
+}
+
 bool same(const Node& a, const Node& b) {
-  return a.name == b.name && a.children == b.children && a.translation == b.translation &&
-         a.rotation == b.rotation && a.scale == b.scale && a.matrix == b.matrix && a.mesh == b.mesh &&
-         a.skin == b.skin && a.camera == b.camera && a.weights == b.weights && a.extras_json == b.extras_json &&
-         a.extensions_json == b.extensions_json;
+  return a.name == b.name && a.children == b.children && same_bits(a.translation, b.translation) &&
+         same_bits(a.rotation, b.rotation) && same_bits(a.scale, b.scale) && same_bits(a.matrix, b.matrix) &&
+         a.mesh == b.mesh && a.skin == b.skin && a.camera == b.camera && same_bits(a.weights, b.weights) &&
+         a.extras_json == b.extras_json && a.extensions_json == b.extensions_json;
 }
 
 bool same(const Skin& a, const Skin& b) {
-  return a.name == b.name && a.joints == b.joints && a.inverse_bind_matrices == b.inverse_bind_matrices &&
+  return a.name == b.name && a.joints == b.joints &&
+         same_bits(a.inverse_bind_matrices, b.inverse_bind_matrices) &&
          a.had_inverse_bind_matrices == b.had_inverse_bind_matrices && a.skeleton == b.skeleton;
 }
 
@@ -29,7 +54,7 @@ bool same(const Animation& a, const Animation& b) {
     return false;
   for (std::size_t i = 0; i < a.samplers.size(); ++i) {
     const AnimationSampler &x = a.samplers[i], &y = b.samplers[i];
-    if (x.input != y.input || x.output != y.output || x.components != y.components ||
+    if (!same_bits(x.input, y.input) || !same_bits(x.output, y.output) || x.components != y.components ||
         x.interpolation != y.interpolation)
       return false;
   }
@@ -64,7 +89,7 @@ bool same_layout(const SurfaceMesh& a, const SurfaceMesh& b) {
 }
 
 bool same(const Mesh& a, const Mesh& b) {
-  if (a.name != b.name || a.extras_json != b.extras_json || a.weights != b.weights ||
+  if (a.name != b.name || a.extras_json != b.extras_json || !same_bits(a.weights, b.weights) ||
       a.target_names != b.target_names || a.primitives.size() != b.primitives.size())
     return false;
   for (std::size_t i = 0; i < a.primitives.size(); ++i) {
@@ -108,6 +133,9 @@ std::vector<std::uint32_t> listed(const std::vector<std::uint8_t>& changed) {
 }
 
 }  // namespace
+
+bool detail::same_part(const Node& a, const Node& b) { return same(a, b); }
+bool detail::same_part(const Mesh& a, const Mesh& b) { return same(a, b); }
 
 bool same_structure(const Model& a, const Model& b, bool images) {
   return same_all(a.nodes, b.nodes) && a.scenes == b.scenes && a.default_scene == b.default_scene &&

@@ -177,12 +177,16 @@ void ModelStep::Impl::map_structure() {
 }
 
 // Undo and redo allocate what they need around the primitives (the shell's copy, the lists that
-// hold the meshes) before a mesh leaves the model, so only a primitive's own edit can fail once
-// one has (growing a split primitive back, compacting it again, a delta).
+// hold the meshes, a split primitive's element lists) before a mesh leaves the model, so only a
+// primitive's own edit can fail once one has (growing a split primitive back or compacting it
+// again, which make its arrays, a delta).
 void ModelStep::Impl::undo_structure(Model& model) {
   Model shell = shell_before.model();
   shell.extras_json = model.extras_json;
   extras.undo(shell.extras_json);
+  std::vector<SplitPart::Lists> lists(edited.size());
+  for (std::size_t i = 0; i < edited.size(); ++i)
+    if (edited[i].split) lists[i] = edited[i].split->lists();
   std::vector<std::optional<SurfaceMesh>> held(before_all.size());
   fresh_meshes.reserve(fresh.size());
   for (std::size_t id = 0; id < held.size(); ++id) {
@@ -194,12 +198,14 @@ void ModelStep::Impl::undo_structure(Model& model) {
     }
   }
   for (Place p : fresh) fresh_meshes.push_back(std::move(mesh_at(model, p)));
-  for (Edited& e : edited) {
+  for (std::size_t i = 0; i < edited.size(); ++i) {
+    Edited& e = edited[i];
     if (e.split) {
       const SplitPart& part = *e.split;
       std::vector<const SurfaceMesh*> pieces;
-      for (std::size_t i : part.fresh) pieces.push_back(&fresh_meshes[i]);
-      held[e.id].emplace(part.grow(std::move(fresh_meshes[part.fresh[part.big]]), pieces));
+      for (std::size_t k : part.fresh) pieces.push_back(&fresh_meshes[k]);
+      held[e.id].emplace(part.grow(std::move(fresh_meshes[part.fresh[part.big]]), pieces, lists[i]));
+      lists[i] = {};  // freed before the next grows
     }
     if (held[e.id]) e.delta.undo(*held[e.id]);
   }
@@ -212,13 +218,18 @@ void ModelStep::Impl::redo_structure(Model& model) {
   Model shell = shell_after.model();
   shell.extras_json = model.extras_json;
   extras.redo(shell.extras_json);
+  std::vector<SplitPart::Lists> lists(edited.size());
+  for (std::size_t i = 0; i < edited.size(); ++i)
+    if (edited[i].split) lists[i] = edited[i].split->big_lists();
   std::vector<std::optional<SurfaceMesh>> held(before_all.size());
   for (std::size_t id = 0; id < held.size(); ++id) held[id].emplace(std::move(mesh_at(model, before_all[id])));
-  for (Edited& e : edited) {
+  for (std::size_t i = 0; i < edited.size(); ++i) {
+    Edited& e = edited[i];
     e.delta.redo(*held[e.id]);
     if (!e.split) continue;
-    fresh_meshes[e.split->fresh[e.split->big]] = e.split->shrink(std::move(*held[e.id]));
+    fresh_meshes[e.split->fresh[e.split->big]] = e.split->shrink(std::move(*held[e.id]), lists[i]);
     held[e.id].reset();
+    lists[i] = {};
   }
   undo::restore_shell(model, std::move(shell));
   for (std::size_t id = 0; id < held.size(); ++id) {
@@ -263,11 +274,7 @@ ModelChange ModelStep::redo(Model& model) {
 std::size_t ModelStep::bytes() const {
   const Impl& s = *impl_;
   std::size_t out = sizeof(Impl) + s.extras.bytes() + change_bytes(s.change) + change_bytes(s.undo_change);
-  if (s.whole) {
-    for (const Mesh& m : s.other.meshes)
-      for (const Primitive& p : m.primitives) out += p.mesh.capacity_bytes();
-    out += undo::shell_bytes(s.other);
-  }
+  if (s.whole) out += undo::shell_bytes(s.other);  // its primitives' meshes included
   for (const auto& e : s.edited) out += e.delta.bytes() + (e.split ? e.split->bytes() : 0);
   for (const auto& k : s.kept)
     if (k) out += k->capacity_bytes();
@@ -351,6 +358,18 @@ struct ModelRecorder::Impl final : MeshObserver, detail::SplitWatcher {
                                                   std::size_t most) override;
   std::vector<Triangle> spare_triangles(std::size_t count, std::size_t most) override;
   void take_spares();
+  /// Where each watched primitive is now (`after`; invalid: gone), the primitives the step made
+  /// (`fresh`, the pieces standing for a split included) and each standing piece's index in
+  /// `fresh`. The model is no longer watched after it.
+  struct Placed {
+    std::vector<Place> after, fresh;
+    std::vector<std::size_t> piece_at;
+  };
+  Placed unwatch_placing();
+  /// Each watched primitive's edit, handed to `keep(id, delta, split)` (`split`: its pieces stand
+  /// for it); a primitive gone where the recorder cannot see makes the step inexact.
+  template <class Keep>
+  void collect_edits(const Placed& placed, Keep&& keep);
   std::vector<SurfaceMesh*> live_pieces();
   void put_together(Watched& w, const std::vector<SurfaceMesh*>& live);
   void piece_writing(std::uint32_t piece, std::uint32_t index, int kind);
@@ -520,6 +539,7 @@ void ModelRecorder::Impl::put_together(Watched& w, const std::vector<SurfaceMesh
   }
   if (!w.lost) {
     try {
+      const SplitPart::Lists lists = part.lists();  // before the piece that keeps the arrays moves
       // The pieces' elements past the split's (appended since) and attributes added since are
       // not the primitive's.
       // The piece that keeps the arrays, moved when the recorder holds it (released), else copied.
@@ -529,7 +549,7 @@ void ModelRecorder::Impl::put_together(Watched& w, const std::vector<SurfaceMesh
       for (int kind = 0; kind < 3; ++kind)
         for (const std::string& name : detail::set_of(whole, kind).names())
           if (!contains(part.names[static_cast<std::size_t>(kind)], name)) detail::set_of(whole, kind).remove(name);
-      w.released.emplace(part.grow(std::move(whole), found));
+      w.released.emplace(part.grow(std::move(whole), found, lists));
     } catch (const Error&) {
       w.lost = true;
     }
@@ -655,46 +675,60 @@ void ModelRecorder::lend_spares(std::function<std::vector<SurfaceMesh>()> source
   impl_->spare_source = std::move(source);
 }
 
-ModelStep ModelRecorder::finish() {
+ModelRecorder::Impl::Placed ModelRecorder::Impl::unwatch_placing() {
+  Placed out;
+  out.after.resize(watched.size());
+  out.piece_at.assign(pieces.size(), 0);
+  for (std::size_t mi = 0; mi < model.meshes.size(); ++mi)
+    for (std::size_t pi = 0; pi < model.meshes[mi].primitives.size(); ++pi) {
+      SurfaceMesh& mesh = model.meshes[mi].primitives[pi].mesh;
+      const Place place{static_cast<int>(mi), static_cast<int>(pi)};
+      const bool mine = mesh.observer() == this;
+      if (mine && !(mesh.observer_id() & kPiece)) {
+        out.after[mesh.observer_id()] = place;
+      } else {
+        if (mine) out.piece_at[mesh.observer_id() & ~kPiece] = out.fresh.size();
+        out.fresh.push_back(place);
+      }
+      if (mine) mesh.watch(nullptr, 0);
+    }
+  return out;
+}
+
+template <class Keep>
+void ModelRecorder::Impl::collect_edits(const Placed& placed, Keep&& keep) {
+  for (std::uint32_t id = 0; id < watched.size(); ++id) {
+    Watched& w = watched[id];
+    const Place after = placed.after[id];
+    if (w.split) {  // its pieces stand for it (settle_splits)
+      SplitPart part = std::move(*w.split);
+      for (std::uint32_t i : w.pieces) part.fresh.push_back(placed.piece_at[i]);
+      keep(id, std::move(*w.at_split), std::optional<SplitPart>(std::move(part)));
+      continue;
+    }
+    SurfaceMesh* now = after.valid() ? &mesh_at(model, after) : w.released ? &*w.released : nullptr;
+    if (!now || w.lost) {
+      exact = false;  // it left the model for somewhere the recorder cannot see
+      continue;
+    }
+    MeshDelta d = w.at_split ? std::move(*w.at_split) : commit(w, draft_delta(w, *now));
+    if (!d.empty()) keep(id, std::move(d), std::optional<SplitPart>());
+  }
+}
+
+ModelStep ModelRecorder::finish(const ModelStep* last) {
   Impl& r = *impl_;
   r.settle_splits();
   ModelStep step;
   ModelStep::Impl& s = *step.impl_;
   const std::size_t n = r.watched.size();
-  std::vector<Place> after(n);
-  std::vector<Place> fresh;  // primitives the step made, the pieces standing for a split included
-  std::vector<std::size_t> piece_at(r.pieces.size(), 0);  // a standing piece's index in `fresh`
-  for (std::size_t mi = 0; mi < r.model.meshes.size(); ++mi)
-    for (std::size_t pi = 0; pi < r.model.meshes[mi].primitives.size(); ++pi) {
-      SurfaceMesh& mesh = r.model.meshes[mi].primitives[pi].mesh;
-      const Place place{static_cast<int>(mi), static_cast<int>(pi)};
-      const bool watched = mesh.observer() == &r;
-      if (watched && !(mesh.observer_id() & kPiece)) {
-        after[mesh.observer_id()] = place;
-      } else {
-        if (watched) piece_at[mesh.observer_id() & ~kPiece] = fresh.size();
-        fresh.push_back(place);
-      }
-      if (watched) mesh.watch(nullptr, 0);
-    }
-  bool local = fresh.empty();
-  for (std::uint32_t id = 0; id < n; ++id) {
-    Watched& w = r.watched[id];
-    local = local && after[id] == w.before;
-    if (w.split) {  // its pieces stand for it (settle_splits)
-      SplitPart part = std::move(*w.split);
-      for (std::uint32_t i : w.pieces) part.fresh.push_back(piece_at[i]);
-      s.edited.push_back({id, w.before, after[id], std::move(*w.at_split), std::move(part)});
-      continue;
-    }
-    SurfaceMesh* now = after[id].valid() ? &mesh_at(r.model, after[id]) : w.released ? &*w.released : nullptr;
-    if (!now || w.lost) {
-      r.exact = false;  // it left the model for somewhere the recorder cannot see
-      continue;
-    }
-    MeshDelta d = w.at_split ? std::move(*w.at_split) : r.commit(w, r.draft_delta(w, *now));
-    if (!d.empty()) s.edited.push_back({id, w.before, after[id], std::move(d), std::nullopt});
-  }
+  Impl::Placed placed = r.unwatch_placing();
+  std::vector<Place>& after = placed.after;
+  bool local = placed.fresh.empty();
+  for (std::uint32_t id = 0; id < n; ++id) local = local && after[id] == r.watched[id].before;
+  r.collect_edits(placed, [&](std::uint32_t id, MeshDelta&& d, std::optional<SplitPart>&& split) {
+    s.edited.push_back({id, r.watched[id].before, after[id], std::move(d), std::move(split)});
+  });
   std::vector<std::pair<const void*, std::size_t>> images;
   for (const Image& image : r.model.images) images.emplace_back(image.data.data(), image.data.size());
   if (images != r.images) r.exact = false;
@@ -714,9 +748,13 @@ ModelStep ModelRecorder::finish() {
     if (!after[id].valid()) s.kept[id] = std::move(r.watched[id].released);
   }
   s.after_all = std::move(after);
-  s.fresh = std::move(fresh);
-  s.shell_before = undo::KeptShell(std::move(r.shell));
-  s.shell_after = undo::KeptShell(undo::shell_of(r.model));
+  s.fresh = std::move(placed.fresh);
+  const ModelStep::Impl* l = last ? last->impl_.get() : nullptr;
+  // The shell after of `last`, which the model's small parts are now but for this step's edits
+  // (a replace() step keeps none).
+  const undo::KeptShell* like = l && l->structure && !l->whole ? &l->shell_after : nullptr;
+  s.shell_before = undo::KeptShell(std::move(r.shell), like);
+  s.shell_after = undo::KeptShell(undo::shell_of(r.model), &s.shell_before);
   s.map_structure();
   return step;
 }

@@ -4,10 +4,11 @@
 #include "model_undo_parts.h"
 
 #include <algorithm>
-#include <mutex>
+#include <iterator>
 
 #include "deepcut/core/model_change.h"
 #include "deepcut/core/parallel.h"
+#include "model_parts_equal.h"
 #include "ops/common/model_surgery_in_place.h"
 #include "uninit_vector.h"
 
@@ -56,12 +57,8 @@ namespace {
 std::vector<std::uint32_t> not_rewritten(const std::vector<std::uint32_t>& rest, std::size_t n,
                                          const std::vector<std::uint32_t>& rewritten) {
   std::vector<std::uint32_t> out;
-  auto next = rewritten.begin();
-  for (std::uint32_t i : rest) {
-    if (i >= n) break;
-    next = std::lower_bound(next, rewritten.end(), i);
-    if (next == rewritten.end() || *next != i) out.push_back(i);
-  }
+  const auto below = std::lower_bound(rest.begin(), rest.end(), n);
+  std::set_difference(rest.begin(), below, rewritten.begin(), rewritten.end(), std::back_inserter(out));
   out.shrink_to_fit();  // a record holds no spare room
   return out;
 }
@@ -105,41 +102,53 @@ bool SplitPart::covers(std::size_t k, const SurfaceMesh& piece) const {
   return true;
 }
 
-std::vector<detail::Room> SplitPart::rooms(const std::vector<const SurfaceMesh*>& pieces,
-                                           const std::vector<std::vector<std::uint32_t>>& vl,
-                                           const std::vector<std::vector<std::uint32_t>>& fl) const {
+std::vector<detail::Room> rooms_to_grow(const SplitPart& part, const std::vector<const SurfaceMesh*>& pieces,
+                                        const SplitPart::Lists& lists) {
+  const auto &vl = lists.vertices, &fl = lists.faces;
+  auto room_of = [](const SurfaceMesh& p, std::size_t vertices, std::size_t faces) {
+    return detail::Room{
+        {&p.vertex_attrs(), &p.face_attrs(), &p.corner_attrs()}, p.faces().data(), vertices, faces};
+  };
   std::vector<detail::Room> out;  // the other pieces and the rest, whose elements come in
-  for (std::size_t k = 0; k < pieces.size(); ++k) {
-    if (k == big) continue;
-    const SurfaceMesh& p = *pieces[k];
-    out.push_back({{&p.vertex_attrs(), &p.face_attrs(), &p.corner_attrs()},
-                   p.faces().data(),
-                   vl[k].size(),
-                   fl[k].size()});
-  }
-  out.push_back({{&rest_values[0], &rest_values[1], &rest_values[2]},
-                 rest_corners.data(),
-                 rest_vertices.size(),
-                 rest_faces.size()});
+  for (std::size_t k = 0; k < pieces.size(); ++k)
+    if (k != part.big) out.push_back(room_of(*pieces[k], vl[k].size(), fl[k].size()));
+  out.push_back({{&part.rest_values[0], &part.rest_values[1], &part.rest_values[2]},
+                 part.rest_corners.data(),
+                 part.rest_vertices.size(),
+                 part.rest_faces.size()});
   // The slots take_rest left out need room too: rooms that do not add up to the growth leave
-  // every array to grow by a slow fill of default values. Copies of another piece's first
-  // elements make it up; they are written over or left unspecified.
-  const std::size_t missing_v = vl.back().size() - rest_vertices.size();
-  const std::size_t missing_f = fl.back().size() - rest_faces.size();
-  for (std::size_t k = 0; k < pieces.size() && missing_v + missing_f > 0; ++k)
-    if (k != big && vl[k].size() >= missing_v && fl[k].size() >= missing_f) {
-      const SurfaceMesh& p = *pieces[k];
-      out.push_back(
-          {{&p.vertex_attrs(), &p.face_attrs(), &p.corner_attrs()}, p.faces().data(), missing_v, missing_f});
-      break;
-    }
+  // every array to grow by a slow fill of default values. Copies of the other pieces' first
+  // elements make it up, vertices and faces apart, from as many pieces as it takes; they are
+  // written over or left unspecified.
+  std::size_t missing_v = vl.back().size() - part.rest_vertices.size();
+  std::size_t missing_f = fl.back().size() - part.rest_faces.size();
+  for (std::size_t k = 0; k < pieces.size() && missing_v + missing_f > 0; ++k) {
+    const std::size_t v = std::min(missing_v, vl[k].size()), f = std::min(missing_f, fl[k].size());
+    if (k == part.big || v + f == 0) continue;
+    out.push_back(room_of(*pieces[k], v, f));
+    missing_v -= v;
+    missing_f -= f;
+  }
   return out;
 }
 
-SurfaceMesh SplitPart::grow(SurfaceMesh&& big_piece, const std::vector<const SurfaceMesh*>& pieces) const {
-  const std::vector<std::vector<std::uint32_t>> vl = vertices.lists(), fl = faces.lists();  // the rest last
+SplitPart::Lists SplitPart::lists() const { return {vertices.lists(), faces.lists()}; }
+
+SplitPart::Lists SplitPart::big_lists() const {
+  Lists out;
+  out.vertices.resize(pieces() + 1);
+  out.faces.resize(pieces() + 1);
+  out.vertices[big] = vertices.list(big);
+  out.faces[big] = faces.list(big);
+  return out;
+}
+
+SurfaceMesh SplitPart::grow(SurfaceMesh&& big_piece, const std::vector<const SurfaceMesh*>& pieces,
+                            const Lists& lists) const {
+  const auto &vl = lists.vertices, &fl = lists.faces;  // the rest last
   SurfaceMesh out = std::move(big_piece);
-  detail::expand_piece(out, vl[big], fl[big], vertices.count(), faces.count(), rooms(pieces, vl, fl));
+  detail::expand_piece(out, vl[big], fl[big], vertices.count(), faces.count(),
+                       rooms_to_grow(*this, pieces, lists));
   for (std::size_t k = 0; k < pieces.size(); ++k) {
     if (k == big) continue;
     const SurfaceMesh& p = *pieces[k];
@@ -161,8 +170,8 @@ SurfaceMesh SplitPart::grow(SurfaceMesh&& big_piece, const std::vector<const Sur
   return out;
 }
 
-SurfaceMesh SplitPart::shrink(SurfaceMesh&& whole) const {
-  const std::vector<std::uint32_t> kept = vertices.list(big), kept_faces = faces.list(big);
+SurfaceMesh SplitPart::shrink(SurfaceMesh&& whole, const Lists& lists) const {
+  const std::vector<std::uint32_t>&kept = lists.vertices[big], &kept_faces = lists.faces[big];
   detail::UninitVector<std::uint32_t> rank(vertices.count());  // read for the piece's vertices only
   parallel_for(kept.size(), detail::kIndexGrain, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) rank[kept[i]] = static_cast<std::uint32_t>(i);
@@ -233,8 +242,9 @@ void restore_shell(Model& model, Model shell) {
 
 namespace {
 
-/// The parts of a kept shell shared whole (the nodes and meshes are shared one by one).
-enum Slice : std::size_t { kAnimations, kRest, kSlices };
+// The parts of a kept shell shared whole, as indices of KeptShell::slices_ (the nodes and
+// meshes are shared one by one).
+constexpr std::size_t kAnimations = 0, kRest = 1, kSlices = 2;
 
 std::size_t node_bytes(const Node& n) {
   return sizeof(Node) + n.name.capacity() + n.children.capacity() * sizeof(int) +
@@ -255,63 +265,31 @@ std::size_t share_of(const std::shared_ptr<const T>& p, std::size_t bytes) {
   return bytes / static_cast<std::size_t>(std::max<long>(p.use_count(), 1));
 }
 
-/// True when `a` equals `b`, each the only element of `list` in a model otherwise empty
-/// (same_structure compares every part of a model but its images and root extras). `b` is left
-/// as it was.
-template <class T>
-bool same_element(const T& a, T& b, std::vector<T> Model::*list) {
-  Model x, y;
-  (x.*list).push_back(a);
-  (y.*list).push_back(std::move(b));
-  const bool same = same_structure(x, y, false);
-  b = std::move((y.*list).front());
-  return same;
-}
-
-/// Each element of `from`, shared with the element at its index in `last` where equal, else
-/// kept anew (and named in `last`).
+/// Each element of `from`, shared with the element at its index in `like` (nullptr: none)
+/// where equal, else kept anew.
 template <class T>
 std::vector<std::shared_ptr<const T>> share_elements(std::vector<T>&& from,
-                                                     std::vector<std::weak_ptr<const T>>& last,
-                                                     std::vector<T> Model::*list) {
+                                                     const std::vector<std::shared_ptr<const T>>* like) {
   std::vector<std::shared_ptr<const T>> out;
   out.reserve(from.size());
-  last.resize(from.size());
   for (std::size_t i = 0; i < from.size(); ++i) {
-    std::shared_ptr<const T> before = last[i].lock();
-    if (before && same_element(*before, from[i], list)) {
-      out.push_back(std::move(before));
+    if (like && i < like->size() && detail::same_part(*(*like)[i], from[i])) {
+      out.push_back((*like)[i]);
     } else {
       out.push_back(std::make_shared<const T>(std::move(from[i])));
-      last[i] = out.back();
     }
   }
   return out;
 }
 
-/// The parts of the shell kept last (by any step), which the next one shares where equal.
-struct LastKept {
-  std::mutex mutex;
-  std::array<std::weak_ptr<const Model>, kSlices> slices;
-  std::vector<std::weak_ptr<const Node>> nodes;
-  std::vector<std::weak_ptr<const Mesh>> meshes;
-};
-
-LastKept& last_kept() {
-  static LastKept last;
-  return last;
-}
-
 }  // namespace
 
-KeptShell::KeptShell(Model shell) {
+KeptShell::KeptShell(Model shell, const KeptShell* like) {
   shell.extras_json = std::string();
   for (Mesh& m : shell.meshes)
     for (Primitive& p : m.primitives) p.mesh = SurfaceMesh();
-  LastKept& last = last_kept();
-  const std::lock_guard<std::mutex> lock(last.mutex);
-  nodes_ = share_elements(std::move(shell.nodes), last.nodes, &Model::nodes);
-  meshes_ = share_elements(std::move(shell.meshes), last.meshes, &Model::meshes);
+  nodes_ = share_elements(std::move(shell.nodes), like ? &like->nodes_ : nullptr);
+  meshes_ = share_elements(std::move(shell.meshes), like ? &like->meshes_ : nullptr);
   std::array<Model, kSlices> slices;
   slices[kAnimations].animations = std::move(shell.animations);
   shell.nodes.clear();
@@ -319,12 +297,11 @@ KeptShell::KeptShell(Model shell) {
   shell.animations.clear();
   slices[kRest] = std::move(shell);
   for (std::size_t k = 0; k < kSlices; ++k) {
-    std::shared_ptr<const Model> before = last.slices[k].lock();
-    if (before && same_structure(*before, slices[k], false)) {
-      slices_[k] = std::move(before);
+    const std::shared_ptr<const Model>* before = like ? &like->slices_[k] : nullptr;
+    if (before && *before && same_structure(**before, slices[k], false)) {
+      slices_[k] = *before;
     } else {
       slices_[k] = std::make_shared<const Model>(std::move(slices[k]));
-      last.slices[k] = slices_[k];
     }
   }
 }

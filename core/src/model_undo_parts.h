@@ -86,22 +86,34 @@ struct SplitPart {
   /// True when `piece` holds at least what piece `k` held at the split: that many vertices and
   /// faces (or more, appended since) and every attribute the primitive had, of the same type.
   bool covers(std::size_t k, const SurfaceMesh& piece) const;
+  /// The lists of each piece's elements, the rest last (PieceLabels::lists): made before any
+  /// mesh leaves the model, so that undo and redo allocate nothing that large once one has.
+  struct Lists {
+    std::vector<std::vector<std::uint32_t>> vertices, faces;
+  };
+  /// Every piece's and the rest's (what grow reads).
+  Lists lists() const;
+  /// Piece `big`'s only, the others empty (what shrink reads).
+  Lists big_lists() const;
   /// The primitive at the split (but the slots take_rest left out): `big_piece` (piece `big` as
-  /// made, grown in place) and the other pieces (`pieces[k]`; piece `big`'s entry is not read).
+  /// made, grown in place) and the other pieces (`pieces[k]`; piece `big`'s entry is not read);
+  /// `lists` from lists().
   /// @throws Error{MissingAttribute} when a piece lacks an attribute.
-  SurfaceMesh grow(SurfaceMesh&& big_piece, const std::vector<const SurfaceMesh*>& pieces) const;
-  /// Piece `big` again, from the primitive at the split (compacted in place). Should it throw,
-  /// `whole` is left as it was.
-  SurfaceMesh shrink(SurfaceMesh&& whole) const;
+  SurfaceMesh grow(SurfaceMesh&& big_piece, const std::vector<const SurfaceMesh*>& pieces,
+                   const Lists& lists) const;
+  /// Piece `big` again, from the primitive at the split (compacted in place); `lists` from
+  /// big_lists(). Should it throw, `whole` is left as it was.
+  SurfaceMesh shrink(SurfaceMesh&& whole, const Lists& lists) const;
   std::size_t bytes() const;
-
- private:
-  /// What the primitive grows by (detail::expand_piece), from the pieces and the lists of each
-  /// piece's elements (`vl`, `fl`; the rest last).
-  std::vector<detail::Room> rooms(const std::vector<const SurfaceMesh*>& pieces,
-                                  const std::vector<std::vector<std::uint32_t>>& vl,
-                                  const std::vector<std::vector<std::uint32_t>>& fl) const;
 };
+
+/// What `part`'s primitive grows by when it grows back (detail::expand_piece): the pieces
+/// (`pieces[k]`, piece `big`'s not read), the rest, and copies of the other pieces' first
+/// elements for the slots take_rest left out. They add up to the growth (each array then grows
+/// by copies, not by a slow fill of default values) whenever the other pieces hold as many
+/// vertices and as many faces as those slots. `lists` from SplitPart::lists().
+std::vector<detail::Room> rooms_to_grow(const SplitPart& part, const std::vector<const SurfaceMesh*>& pieces,
+                                        const SplitPart::Lists& lists);
 
 /// The model without its primitives' element data and images (each primitive's mesh keeps its
 /// attribute names and types, no elements).
@@ -110,20 +122,24 @@ Model shell_of(const Model& model);
 /// shell's (empty) ones until the caller puts meshes back. Takes a copy the caller made (by move,
 /// allocating nothing), so the copy can be made before any mesh leaves the model.
 void restore_shell(Model& model, Model shell);
-/// Bytes a shell holds (roughly: strings and arrays).
+/// Bytes a shell holds (roughly: strings and arrays), its primitives' meshes (capacity) included:
+/// a whole model's too.
 std::size_t shell_bytes(const Model& shell);
 
 /// A shell (shell_of) as a structural step keeps it: without the root extras and the primitives'
 /// attribute layouts (the meshes undo and redo put back bring theirs), in parts that change
 /// apart: each node, each mesh, the animations, the rest. A part equal to the same part of the
-/// shell kept last (the node or mesh at the same index) is shared with it, not copied: a cut's
-/// shell before is mostly the last cut's shell after, and a cut changes a few nodes and meshes
-/// and adds some, so a session's cuts keep about one copy of each node and mesh and one of the
-/// animations in all.
+/// shell `like` (the node or mesh at the same index), one kept in the same history, is shared
+/// with it, not copied: a step's shell after shares what the step left alone with its shell
+/// before, and that one with the shell after of the structural step made last (mostly equal: a
+/// cut changes a few nodes and meshes and adds some), so a session's cuts keep about one copy of
+/// each node and mesh and one of the animations in all. Equal as same_structure says (floats
+/// bit for bit).
 class KeptShell {
  public:
   KeptShell() = default;
-  explicit KeptShell(Model shell);
+  /// `like`: the shell to share equal parts with, or nullptr.
+  KeptShell(Model shell, const KeptShell* like);
   /// A copy of the shell, for restore_shell (root extras empty, primitives' meshes empty).
   Model model() const;
   /// This shell's share of the bytes of its parts (each part's bytes over its holders).

@@ -6,11 +6,16 @@
 // share the model's small parts.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
+#include "deepcut/core/errors.h"
 #include "deepcut/core/mesh_editor.h"
 #include "deepcut/core/model_change.h"
 #include "deepcut/core/model_undo.h"
+#include "deepcut/core/parallel.h"
 #include "fixtures.h"
 #include "model_undo_labels.h"
+#include "model_undo_parts.h"
 #include "ops/common/model_surgery.h"
 
 namespace deepcut {
@@ -165,6 +170,78 @@ TEST(PieceLabelsTest, give_back_the_lists_in_the_fewest_bits_per_element) {
   }
 }
 
+// Labels of 16 and 32 bits (hundreds and tens of thousands of pieces), with empty pieces and a
+// last word only partly used, give back their lists, the same whatever the number of threads.
+TEST(PieceLabelsTest, give_back_the_lists_at_every_width_and_thread_count) {
+  const std::size_t threads = thread_count();
+  for (std::size_t pieces : {1000u, 70000u}) {
+    const std::size_t count = 3 * 65536 + 7;  // 7 labels in the last word
+    std::vector<std::vector<std::uint32_t>> lists(pieces + 1);
+    std::uint32_t x = 777;
+    for (std::uint32_t i = 0; i < count; ++i) {
+      x = x * 1664525u + 1013904223u;
+      lists[1 + (x >> 4) % pieces].push_back(i);  // piece 0 empty; the rest last
+    }
+    const std::vector<std::uint32_t> rest = lists.back();
+    lists.pop_back();
+    const undo::PieceLabels labels(lists, count);
+    EXPECT_EQ(labels.bits(), pieces < 65535 ? 16u : 32u);
+    EXPECT_EQ(labels.size(0), 0u);
+    for (std::size_t t : {std::size_t{1}, std::size_t{3}}) {
+      set_thread_count(t);
+      const std::vector<std::vector<std::uint32_t>> got = labels.lists();
+      ASSERT_EQ(got.size(), pieces + 1);
+      for (std::size_t k = 0; k < pieces; ++k)
+        ASSERT_TRUE(got[k] == lists[k]) << pieces << " pieces, piece " << k;
+      EXPECT_TRUE(got[pieces] == rest) << pieces << " pieces, " << t << " threads";
+    }
+    set_thread_count(threads);
+  }
+}
+
+// Lists that are not increasing, reach past the count or share an element are refused.
+TEST(PieceLabelsTest, refuse_lists_not_increasing_or_overlapping) {
+  using Lists = std::vector<std::vector<std::uint32_t>>;
+  EXPECT_THROW(undo::PieceLabels(Lists{{3, 1}}, 10), Error);
+  EXPECT_THROW(undo::PieceLabels(Lists{{1, 1}}, 10), Error);
+  EXPECT_THROW(undo::PieceLabels(Lists{{1, 10}}, 10), Error);
+  EXPECT_THROW(undo::PieceLabels(Lists{{1, 2}, {2, 3}}, 10), Error);
+  EXPECT_NO_THROW(undo::PieceLabels(Lists{{1, 2}, {}, {3}}, 10));
+}
+
+std::vector<std::uint32_t> range(std::uint32_t b, std::uint32_t e) {
+  std::vector<std::uint32_t> out;
+  for (std::uint32_t i = b; i < e; ++i) out.push_back(i);
+  return out;
+}
+
+// The slots of the rest the step's delta gives back (here all of it) need room when the primitive
+// grows back: no other piece holds as many vertices and as many faces (one has the faces, the
+// other the vertices), so the room is made of both, and the rooms add up to the growth (the
+// arrays grow by copies, not by a fill of default values).
+TEST(ModelUndoSplitTest, the_room_a_primitive_grows_back_into_adds_up_from_several_pieces) {
+  const SurfaceMesh mesh = two_tubes();  // holds more than the 100 elements labelled
+  undo::SplitPart part;
+  part.vertices = undo::PieceLabels({range(0, 40), range(40, 45), range(45, 80)}, 100);
+  part.faces = undo::PieceLabels({range(0, 40), range(40, 80), range(80, 85)}, 100);
+  part.big = 0;
+  undo::MeshDelta at_split;
+  at_split.v0 = at_split.f0 = at_split.v1 = at_split.f1 = 100;
+  at_split.vertices = range(80, 100);  // the rest's vertices, all rewritten by the step
+  at_split.faces = range(85, 100);
+  part.take_rest(mesh, at_split);
+  EXPECT_TRUE(part.rest_vertices.empty() && part.rest_faces.empty());
+  const std::vector<const SurfaceMesh*> pieces(3, &mesh);
+  const std::vector<detail::Room> rooms = undo::rooms_to_grow(part, pieces, part.lists());
+  std::size_t vertices = 0, faces = 0;
+  for (const detail::Room& room : rooms) {
+    vertices += room.vertices;
+    faces += room.faces;
+  }
+  EXPECT_EQ(vertices, 60u);
+  EXPECT_EQ(faces, 60u);
+}
+
 Model model_of(SurfaceMesh mesh) {
   Model model;
   Primitive prim;
@@ -195,9 +272,11 @@ Animation long_animation(std::size_t keys) {
 // Splits the model's first primitive in place into its tubes, which take its place and a new
 // primitive's, after edits the step's delta gives back itself: a face deleted, the unused
 // vertex moved, a face appended and deleted (slots no piece holds whose values the rest need not
-// keep). Returns the step.
-ModelStep split_into_the_model(Model& model) {
+// keep). `history`, when given, is written as the root extras within the recording (as the
+// session writes its history). `last`: the structural step made before. Returns the step.
+ModelStep split_into_the_model(Model& model, const char* history = nullptr, const ModelStep* last = nullptr) {
   ModelRecorder recorder(model);
+  if (history) model.extras_json = history;
   SurfaceMesh& mesh = model.meshes[0].primitives[0].mesh;
   const auto half = static_cast<std::uint32_t>(mesh.face_slots() / 2);
   {
@@ -216,7 +295,7 @@ ModelStep split_into_the_model(Model& model) {
   Primitive second;
   second.mesh = std::move(pieces[1]);
   model.meshes[0].primitives.push_back(std::move(second));
-  return recorder.finish();
+  return recorder.finish(last);
 }
 
 // A split whose pieces enter the model is recorded as a label of 2 bits per element and the few
@@ -243,36 +322,88 @@ TEST(ModelUndoSplitTest, a_split_whose_pieces_enter_the_model_is_recorded_in_a_f
 }
 
 // Two structural steps in a row keep one copy of the model's small parts they did not change (a
-// long animation here): each step holds a share of it, not a copy before and after. Undo and
-// redo of both still give back every state, root extras included.
+// long animation here) when the second is told the first (ModelRecorder::finish): each step
+// holds a share of it, not a copy before and after. Steps not told share nothing. Undo and redo
+// of both give back every state, root extras (written within each recording, a text delta
+// applied to the text as the step left it) included.
 TEST(ModelUndoSplitTest, consecutive_structural_steps_share_the_small_parts_they_did_not_change) {
-  Model model = model_of(two_tubes());
-  model.animations.push_back(long_animation(50000));
-  model.extras_json = R"({"history":[]})";
   const std::size_t animation_bytes = 50000 * 16;
-  const Model before = model;
-  ModelStep first = split_into_the_model(model);
-  model.extras_json = R"({"history":["split"]})";  // recorded by the next step
-  const Model middle = model;
-  ModelStep second;
-  {
-    ModelRecorder recorder(model);
-    model.extras_json = R"({"history":["split","add"]})";
-    model.meshes.push_back({"more", {Primitive{}}, ""});
-    second = recorder.finish();
+  for (const bool told : {true, false}) {
+    Model model = model_of(two_tubes());
+    model.animations.push_back(long_animation(50000));
+    model.extras_json = R"({"history":[]})";
+    const Model before = model;
+    ModelStep first = split_into_the_model(model, R"({"history":["split"]})");
+    const Model middle = model;
+    ModelStep second;
+    {
+      ModelRecorder recorder(model);
+      model.extras_json = R"({"history":["split","add"]})";
+      model.meshes.push_back({"more", {Primitive{}}, ""});
+      second = recorder.finish(told ? &first : nullptr);
+    }
+    const Model after = model;
+    ASSERT_TRUE(first.exact() && second.exact());
+    if (told) {
+      EXPECT_LT(first.bytes() + second.bytes(), animation_bytes * 3 / 2);
+    } else {
+      EXPECT_GT(first.bytes() + second.bytes(), animation_bytes * 19 / 10);
+    }
+    auto expect_state = [&](const Model& state, const char* when) {
+      expect_same(model, state, when);
+      EXPECT_EQ(model.extras_json, state.extras_json) << when;
+    };
+    for (int cycle = 0; cycle < 2; ++cycle) {
+      second.undo(model);
+      expect_state(middle, "undo the second");
+      first.undo(model);
+      expect_state(before, "undo the first");
+      first.redo(model);
+      expect_state(middle, "redo the first");
+      second.redo(model);
+      expect_state(after, "redo both");
+    }
   }
-  const Model after = model;
-  ASSERT_TRUE(first.exact() && second.exact());
-  EXPECT_LT(first.bytes() + second.bytes(), animation_bytes * 3 / 2);
-  second.undo(model);
-  expect_same(model, middle, "undo the second");
-  EXPECT_EQ(model.extras_json, middle.extras_json);
-  first.undo(model);
-  expect_same(model, before, "undo the first");
-  first.redo(model);
-  second.redo(model);
-  expect_same(model, after, "redo both");
-  EXPECT_EQ(model.extras_json, after.extras_json);
+}
+
+// A replace() step holds the model it replaced, counted once: its bytes are about the model's.
+TEST(ModelUndoSplitTest, a_replace_step_counts_the_model_it_holds_once) {
+  Model model = model_of(two_tubes(100, 50));
+  std::size_t mesh_bytes = 0;
+  for (const Mesh& m : model.meshes)
+    for (const Primitive& p : m.primitives) mesh_bytes += p.mesh.capacity_bytes();
+  ASSERT_GT(mesh_bytes, 100000u);
+  Model state = model;
+  ModelStep step = ModelStep::replace(model, std::move(state));
+  EXPECT_GE(step.bytes(), mesh_bytes);
+  EXPECT_LT(step.bytes(), mesh_bytes + mesh_bytes / 10);
+}
+
+// A step that turns a node's rotation from +0.0 into -0.0 changes the model's bytes: it is a
+// structural step (the floats are compared bit for bit), and undo and redo give back each sign,
+// whether the step changes nothing else or also adds a mesh (its shells then hold both signs).
+TEST(ModelUndoSplitTest, a_rotation_turned_to_minus_zero_comes_back_with_its_sign) {
+  for (const bool add_mesh : {false, true}) {
+    Model model = model_of(two_tubes());
+    const Model before = model;
+    ModelStep step;
+    {
+      ModelRecorder recorder(model);
+      model.nodes[0].rotation.x = -0.0f;
+      if (add_mesh) model.meshes.push_back({"more", {Primitive{}}, ""});
+      step = recorder.finish();
+    }
+    ASSERT_TRUE(step.change().structure) << add_mesh;
+    const Model after = model;
+    for (int cycle = 0; cycle < 2; ++cycle) {
+      step.undo(model);
+      expect_same(model, before, "undo");
+      EXPECT_FALSE(std::signbit(model.nodes[0].rotation.x)) << add_mesh;
+      step.redo(model);
+      expect_same(model, after, "redo");
+      EXPECT_TRUE(std::signbit(model.nodes[0].rotation.x)) << add_mesh;
+    }
+  }
 }
 
 }  // namespace

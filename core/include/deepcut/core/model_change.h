@@ -103,7 +103,9 @@ bool diff_meshes(const SurfaceMesh& before, const SurfaceMesh& after, PrimitiveC
 
 /// True when the models are equal in everything but their primitives' element data (vertices,
 /// faces, attribute values) and the root `extras_json`: the parts `diff_models` calls structure.
-/// Compares attribute names and types, not values; images only when `images`.
+/// Compares attribute names and types, not values; images only when `images`. Floats (node
+/// transforms and weights, skins' matrices, animation keys) are compared bit for bit, as the
+/// model's bytes: -0.0 differs from +0.0, a NaN equals itself.
 /// O(everything but the element data).
 bool same_structure(const Model& a, const Model& b, bool images = true);
 

@@ -14,15 +14,17 @@
 /// - a primitive the step replaced or removed (a swallowed primitive, a capped cut's source) kept
 ///   by move, and the model's small parts (nodes, meshes list, skins, animations, materials, ...)
 ///   before and after, when anything but the primitives' element data changed (`structure`),
-///   shared with the step kept before where equal (a part the step did not change is not copied
-///   again);
+///   shared where equal with the structural step made before it, which the caller names
+///   (ModelRecorder::finish; a part the step did not change is not copied again);
 /// - a primitive a cut took apart in place (the piece that keeps its arrays is compacted): which
 ///   piece holds each of its elements (a label of a few bits each) and the values of the slots
 ///   none holds that the step's own edits do not give back (deleted faces and unused vertices
 ///   older than the step); undo grows that piece back and writes the other pieces into it
 ///   (O(mesh), over the pool), redo compacts it again. Should a piece change later in the same
 ///   recording, the primitive is put back together first;
-/// - the root extras (the history) as the text that differs.
+/// - the root extras (the history) as the text that differs: undo and redo apply it to the
+///   model's root extras as the step left them (or found them), so every change to them must be
+///   made within a recording (between steps, nothing may write them).
 /// Undo and redo give back the model byte for byte. Images are never copied: operations leave
 /// them alone (a step that changes them is not exact). A structural step says where each
 /// primitive's content went (ModelChange::mapped: kept, left or arrived, tagged), made, undone
@@ -95,7 +97,11 @@ class ModelRecorder {
   ModelRecorder& operator=(const ModelRecorder&) = delete;
 
   /// The step the edits since the recorder was made form; the model is no longer watched.
-  ModelStep finish();
+  /// `last`: the structural step made last in the same history and done (the model as it left
+  /// it but for local steps since), or nullptr: a structural step shares the model's small parts
+  /// it did not change with that step's (a replace() step shares none); nothing is shared across
+  /// histories.
+  ModelStep finish(const ModelStep* last = nullptr);
   /// Memory the pieces a cut copies out of a primitive it takes apart may reuse instead of new
   /// memory: `source` is called once, the first time they need some, and returns meshes whose
   /// arrays nobody needs any more (ModelStep::take_meshes of steps being dropped); an array is

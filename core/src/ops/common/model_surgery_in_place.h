@@ -85,7 +85,8 @@ struct Elements {
 
 /// The first `vertices` vertices and `faces` faces of some elements (`values`, `triangles`),
 /// copied to make the room a piece grows into: what the other pieces and the slots none holds
-/// bring, whose values overwrite them right after.
+/// bring, whose values overwrite them right after, or copies that only make up the room (their
+/// slots' values are written later or left unspecified).
 struct Room {
   std::array<const AttributeSet*, 3> values{};
   const Triangle* triangles = nullptr;
