@@ -30,7 +30,7 @@ void release_freed_memory() {
 #endif
 }
 
-std::size_t release_pages(void* begin, void* end) {
+std::size_t release_pages(void* begin, void* end) noexcept {
 #if defined(__linux__)
   static const auto page = static_cast<std::uintptr_t>(::sysconf(_SC_PAGESIZE));
   const std::uintptr_t first = (reinterpret_cast<std::uintptr_t>(begin) + page - 1) / page * page;

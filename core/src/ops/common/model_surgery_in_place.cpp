@@ -177,13 +177,11 @@ void reassign(SurfaceMesh& mesh) {
 // piece held the mesh's elements, so without this every page of the mesh stayed resident as long
 // as the piece lived. The room an operation on the piece grows into stays; growing the piece
 // back into its mesh (expand_piece, an undo) faults the rest in again.
-void release_past_room(SurfaceMesh& mesh, std::size_t vertices, std::size_t faces) {
+// Allocates nothing (AttributeSet::release_room loops over its arrays' flat list).
+void release_past_room(SurfaceMesh& mesh, std::size_t vertices, std::size_t faces) noexcept {
   const std::size_t vertex_room = split_room(vertices), face_room = split_room(faces);
-  for (int kind = 0; kind < 3; ++kind) {
-    AttributeSet& set = set_of(mesh, kind);
-    for (const std::string& name : set.names())
-      set.base(name)->release_room((kind == 0 ? vertex_room : face_room) * group_of(kind));
-  }
+  for (int kind = 0; kind < 3; ++kind)
+    set_of(mesh, kind).release_room((kind == 0 ? vertex_room : face_room) * group_of(kind));
   release_room(TrustedAssign::faces(mesh), face_room);
 }
 
