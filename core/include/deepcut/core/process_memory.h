@@ -18,6 +18,7 @@
 /// elements and, with freed memory kept, would stay resident as long as the piece lives).
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace deepcut {
@@ -59,5 +60,17 @@ std::size_t release_room(std::vector<T>& array, std::size_t keep) noexcept {
   if (keep >= array.capacity()) return 0;
   return release_pages(array.data() + keep, array.data() + array.capacity());
 }
+
+namespace detail {
+
+/// The addresses of the whole pages lying inside [begin, end): `first` rounded up from `begin`
+/// and `last` down from `end` to the system's page size, `last == first` when no whole page lies
+/// there. The bounds a call on pages (madvise) takes for a range it must not spill out of.
+struct PageSpan {
+  std::uintptr_t first, last;
+};
+PageSpan inner_pages(const void* begin, const void* end) noexcept;
+
+}  // namespace detail
 
 }  // namespace deepcut
