@@ -19,6 +19,7 @@
 
 #include "deepcut/core/parallel.h"
 #include "deepcut/core/process_memory.h"
+#include "ops/common/model_surgery.h"
 
 namespace deepcut::detail {
 namespace {
@@ -218,6 +219,9 @@ TEST(ModelSurgeryInPlaceTest, a_compacted_piece_keeps_no_page_past_its_split_roo
   EXPECT_EQ(pages_in(tris + rooms[1], tris + piece.faces().capacity()).resident, 0u);
   EXPECT_EQ(pages_in(tris + piece.faces().size(), tris + rooms[1]).resident,
             pages_in(tris + piece.faces().size(), tris + rooms[1]).whole);
+  const std::vector<std::uint8_t>& deleted = TrustedAssign::deleted(piece);
+  ASSERT_EQ(deleted.size(), fk.size());
+  EXPECT_EQ(pages_in(deleted.data() + rooms[1], deleted.data() + deleted.capacity()).resident, 0u);
 }
 #endif
 
