@@ -153,6 +153,10 @@ class AttributeArrayBase {
 
 template <class T>
 class AttributeArray final : public AttributeArrayBase {
+  // A mesh's surgery moves elements as bytes (model_surgery_in_place: compaction in place and
+  // its undo), and hashing and exact comparison read them as bytes (element_data).
+  static_assert(std::is_trivially_copyable_v<T>, "attribute elements are moved as bytes");
+
  public:
   explicit AttributeArray(T default_value = T()) : default_(default_value) {}
 
