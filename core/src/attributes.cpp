@@ -220,6 +220,12 @@ std::size_t AttributeSet::capacity_bytes() const {
   return out;
 }
 
+std::size_t AttributeSet::release_room(std::size_t keep) noexcept {
+  std::size_t out = 0;
+  for (AttributeArrayBase* array : list_) out += array->release_room(keep);
+  return out;
+}
+
 std::vector<std::string> AttributeSet::names() const {
   std::vector<std::string> out;
   out.reserve(arrays_.size());

@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "deepcut/core/parallel.h"
 
+#include <sys/mman.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <atomic>
 #include <condition_variable>
@@ -11,9 +14,7 @@
 #include <mutex>
 #include <thread>
 
-#include <sys/mman.h>
-#include <unistd.h>
-
+#include "deepcut/core/process_memory.h"
 #include "uninit_vector.h"
 
 namespace deepcut {
@@ -202,12 +203,11 @@ namespace detail {
 void prefault(void* data, std::size_t bytes) {
 #ifdef MADV_POPULATE_WRITE
   constexpr std::size_t kPart = std::size_t(2) << 20;
-  const auto page = static_cast<std::uintptr_t>(::sysconf(_SC_PAGESIZE));
-  const auto begin = (reinterpret_cast<std::uintptr_t>(data) + page - 1) / page * page;
-  const auto end = (reinterpret_cast<std::uintptr_t>(data) + bytes) / page * page;
-  if (end <= begin || end - begin < kPart) return;  // a few pages: faulting them costs less
-  parallel_for(end - begin, kPart, [&](std::size_t b, std::size_t e) {
-    ::madvise(reinterpret_cast<void*>(begin + b), e - b, MADV_POPULATE_WRITE);  // a refusal only costs speed
+  const PageSpan pages = inner_pages(data, static_cast<char*>(data) + bytes);
+  if (pages.last - pages.first < kPart) return;  // a few pages: faulting them costs less
+  parallel_for(pages.last - pages.first, kPart, [&](std::size_t b, std::size_t e) {
+    // A refusal only costs speed.
+    ::madvise(reinterpret_cast<void*>(pages.first + b), e - b, MADV_POPULATE_WRITE);
   });
 #else
   (void)data;

@@ -30,19 +30,32 @@ void release_freed_memory() {
 #endif
 }
 
-std::size_t release_pages(void* begin, void* end) {
+std::size_t release_pages(void* begin, void* end) noexcept {
 #if defined(__linux__)
-  static const auto page = static_cast<std::uintptr_t>(::sysconf(_SC_PAGESIZE));
-  const std::uintptr_t first = (reinterpret_cast<std::uintptr_t>(begin) + page - 1) / page * page;
-  const std::uintptr_t last = reinterpret_cast<std::uintptr_t>(end) / page * page;
-  if (begin == nullptr || last <= first) return 0;
-  const std::size_t bytes = last - first;
-  return ::madvise(reinterpret_cast<void*>(first), bytes, MADV_DONTNEED) == 0 ? bytes : 0;
+  const detail::PageSpan pages = detail::inner_pages(begin, end);
+  if (begin == nullptr || pages.last == pages.first) return 0;
+  const std::size_t bytes = pages.last - pages.first;
+  return ::madvise(reinterpret_cast<void*>(pages.first), bytes, MADV_DONTNEED) == 0 ? bytes : 0;
 #else
   (void)begin;
   (void)end;
   return 0;
 #endif
 }
+
+namespace detail {
+
+PageSpan inner_pages(const void* begin, const void* end) noexcept {
+#if defined(__linux__)
+  static const auto page = static_cast<std::uintptr_t>(::sysconf(_SC_PAGESIZE));
+#else
+  constexpr std::uintptr_t page = 4096;  // (no call on pages uses it there)
+#endif
+  const std::uintptr_t first = (reinterpret_cast<std::uintptr_t>(begin) + page - 1) / page * page;
+  const std::uintptr_t last = reinterpret_cast<std::uintptr_t>(end) / page * page;
+  return {first, last > first ? last : first};
+}
+
+}  // namespace detail
 
 }  // namespace deepcut

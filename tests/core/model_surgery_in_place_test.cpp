@@ -18,6 +18,8 @@
 #endif
 
 #include "deepcut/core/parallel.h"
+#include "deepcut/core/process_memory.h"
+#include "ops/common/model_surgery.h"
 
 namespace deepcut::detail {
 namespace {
@@ -168,23 +170,27 @@ TEST(ModelSurgeryInPlaceTest, compact_then_expand_and_scatter_is_a_serial_gather
 }
 
 #if defined(__linux__)
-// Resident pages of the whole pages inside [begin, end) (mincore).
-std::size_t resident_pages(const void* begin, const void* end) {
+// The whole pages inside [begin, end), and how many of them are resident (mincore).
+struct Pages {
+  std::size_t whole = 0, resident = 0;
+};
+Pages pages_in(const void* begin, const void* end) {
+  const PageSpan span = inner_pages(begin, end);
   const auto page = static_cast<std::uintptr_t>(sysconf(_SC_PAGESIZE));
-  const std::uintptr_t first = (reinterpret_cast<std::uintptr_t>(begin) + page - 1) / page * page;
-  const std::uintptr_t last = reinterpret_cast<std::uintptr_t>(end) / page * page;
-  if (last <= first) return 0;
-  std::vector<unsigned char> in((last - first) / page);
-  EXPECT_EQ(mincore(reinterpret_cast<void*>(first), last - first, in.data()), 0);
-  std::size_t out = 0;
-  for (unsigned char c : in) out += c & 1;
+  Pages out;
+  out.whole = (span.last - span.first) / page;
+  if (out.whole == 0) return out;
+  std::vector<unsigned char> in(out.whole);
+  EXPECT_EQ(mincore(reinterpret_cast<void*>(span.first), span.last - span.first, in.data()), 0);
+  for (unsigned char c : in) out.resident += c & 1;
   return out;
 }
 
 // A piece compacted in place keeps its mesh's capacity, but the pages of every array past the
 // piece's room (split_room) (which held the mesh's other elements, all written) are handed
-// back to the system: what stays resident follows the piece, not the mesh it was cut from.
-TEST(ModelSurgeryInPlaceTest, a_compacted_piece_keeps_no_page_past_its_operation_room_resident) {
+// back to the system: what stays resident follows the piece, not the mesh it was cut from. The
+// room itself, what an operation on the piece grows into, stays resident.
+TEST(ModelSurgeryInPlaceTest, a_compacted_piece_keeps_no_page_past_its_split_room_resident) {
   const std::size_t nv = 400000, nf = 360000;
   std::vector<std::uint32_t> vk(nv / 4), fk(nf / 4);
   for (std::size_t i = 0; i < vk.size(); ++i) vk[i] = static_cast<std::uint32_t>(4 * i);
@@ -201,12 +207,21 @@ TEST(ModelSurgeryInPlaceTest, a_compacted_piece_keeps_no_page_past_its_operation
       SCOPED_TRACE(name);
       const AttributeArrayBase& a = *set_of(piece, kind).base(name);
       const auto* data = static_cast<const unsigned char*>(a.element_data(0));
-      ASSERT_GT(a.capacity_bytes(), rooms[kind] * a.element_bytes());
-      EXPECT_EQ(resident_pages(data + rooms[kind] * a.element_bytes(), data + a.capacity_bytes()), 0u);
-      EXPECT_GT(resident_pages(data, data + a.size() * a.element_bytes()), 0u);
+      const std::size_t size = a.size() * a.element_bytes(), room = rooms[kind] * a.element_bytes();
+      ASSERT_GT(a.capacity_bytes(), room);
+      EXPECT_EQ(pages_in(data + room, data + a.capacity_bytes()).resident, 0u);
+      const Pages kept = pages_in(data + size, data + room);
+      EXPECT_GT(kept.whole, 0u);
+      EXPECT_EQ(kept.resident, kept.whole);
+      EXPECT_GT(pages_in(data, data + size).resident, 0u);
     }
   const Triangle* tris = piece.faces().data();
-  EXPECT_EQ(resident_pages(tris + rooms[1], tris + piece.faces().capacity()), 0u);
+  EXPECT_EQ(pages_in(tris + rooms[1], tris + piece.faces().capacity()).resident, 0u);
+  EXPECT_EQ(pages_in(tris + piece.faces().size(), tris + rooms[1]).resident,
+            pages_in(tris + piece.faces().size(), tris + rooms[1]).whole);
+  const std::vector<std::uint8_t>& deleted = TrustedAssign::deleted(piece);
+  ASSERT_EQ(deleted.size(), fk.size());
+  EXPECT_EQ(pages_in(deleted.data() + rooms[1], deleted.data() + deleted.capacity()).resident, 0u);
 }
 #endif
 

@@ -139,20 +139,24 @@ class AttributeArrayBase {
   /// Swaps element `i` with element `j` of `other`, an array of the same type (undo records).
   /// @throws Error{InvalidArgument} for another type.
   virtual void swap_element(std::size_t i, AttributeArrayBase& other, std::size_t j) = 0;
-  /// Hands the whole pages of the room past the first `keep` elements (the size at least) back
-  /// to the system (release_room, process_memory.h): the capacity stays, growing into that room
-  /// faults its pages in again. Returns the bytes released.
-  virtual std::size_t release_room(std::size_t keep) = 0;
   /// Bytes held, room reserved included.
   virtual std::size_t capacity_bytes() const = 0;
   virtual std::type_index type() const = 0;
   /// Bytes of one element and a pointer to element `i` (for hashing and exact comparison).
   virtual std::size_t element_bytes() const = 0;
   virtual const void* element_data(std::size_t i) const = 0;
+  /// Hands the whole pages of the room past the first `keep` elements (the size at least) back
+  /// to the system (release_room, process_memory.h): the capacity stays, growing into that room
+  /// faults its pages in again. Allocates nothing. Returns the bytes released.
+  virtual std::size_t release_room(std::size_t keep) noexcept = 0;
 };
 
 template <class T>
 class AttributeArray final : public AttributeArrayBase {
+  // A mesh's surgery moves elements as bytes (model_surgery_in_place: compaction in place and
+  // its undo), and hashing and exact comparison read them as bytes (element_data).
+  static_assert(std::is_trivially_copyable_v<T>, "attribute elements are moved as bytes");
+
  public:
   explicit AttributeArray(T default_value = T()) : default_(default_value) {}
 
@@ -260,11 +264,11 @@ class AttributeArray final : public AttributeArrayBase {
   void swap_element(std::size_t i, AttributeArrayBase& other, std::size_t j) override {
     std::swap(data_[i], same_type(other).data_[j]);
   }
-  std::size_t release_room(std::size_t keep) override { return deepcut::release_room(data_, keep); }
   std::size_t capacity_bytes() const override { return data_.capacity() * sizeof(T); }
   std::type_index type() const override { return typeid(T); }
   std::size_t element_bytes() const override { return sizeof(T); }
   const void* element_data(std::size_t i) const override { return &data_[i]; }
+  std::size_t release_room(std::size_t keep) noexcept override { return deepcut::release_room(data_, keep); }
 
   T& operator[](std::size_t i) { return data_[i]; }
   const T& operator[](std::size_t i) const { return data_[i]; }
@@ -435,6 +439,10 @@ class AttributeSet {
   void put(const std::string& name, std::unique_ptr<AttributeArrayBase> array);
   /// Bytes held by all arrays, room reserved included.
   std::size_t capacity_bytes() const;
+  /// `release_room(keep)` on every array (AttributeArrayBase): the pages past the first `keep`
+  /// elements handed back to the system, the capacity kept. Allocates nothing (a piece compacted
+  /// in place calls it where allocating must not happen). Returns the bytes released.
+  std::size_t release_room(std::size_t keep) noexcept;
 
   /// Adds an attribute. @throws Error{InvalidArgument} if `name` exists.
   template <class T>

@@ -11,8 +11,14 @@
 /// it frees for the next allocation instead: resident memory then stays at its peak (what the
 /// largest model and operation needed), and an operation after the first writes into pages the
 /// process already has.
+///
+/// The other way round, memory a live array holds past its elements: `release_pages` and
+/// `release_room` hand such pages back to the system while the array keeps its capacity (a
+/// piece compacted in place keeps its mesh's arrays, whose pages past the piece held the mesh's
+/// elements and, with freed memory kept, would stay resident as long as the piece lives).
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace deepcut {
@@ -40,17 +46,31 @@ void release_freed_memory();
 /// memory kept (keep_freed_memory), the pages of an allocation stay resident as long as it lives,
 /// whatever part of it is used. Only pages entirely inside the range are touched (the heap's own
 /// bookkeeping lies outside the bytes it handed out), and those bytes must hold no object.
-/// Returns the bytes released: 0 for a range shorter than a page or where the system has no such
-/// call (nothing changes there).
-std::size_t release_pages(void* begin, void* end);
+/// Costs one system call and time in proportion to the pages in the range (the kernel unmaps each
+/// resident one; each is faulted in again when written). Allocates nothing. Returns the bytes
+/// released: 0 for a range holding no whole page, where the system refuses the call (nothing is
+/// known to have changed then) or has no such call (nothing changes there).
+std::size_t release_pages(void* begin, void* end) noexcept;
 
 /// release_pages over the room of `array` past its first `keep` elements (its size at least): its
 /// capacity stays, and growing into that room faults the pages in again.
 template <class T>
-std::size_t release_room(std::vector<T>& array, std::size_t keep) {
+std::size_t release_room(std::vector<T>& array, std::size_t keep) noexcept {
   if (keep < array.size()) keep = array.size();
   if (keep >= array.capacity()) return 0;
   return release_pages(array.data() + keep, array.data() + array.capacity());
 }
+
+namespace detail {
+
+/// The addresses of the whole pages lying inside [begin, end): `first` rounded up from `begin`
+/// and `last` down from `end` to the system's page size, `last == first` when no whole page lies
+/// there. The bounds a call on pages (madvise) takes for a range it must not spill out of.
+struct PageSpan {
+  std::uintptr_t first, last;
+};
+PageSpan inner_pages(const void* begin, const void* end) noexcept;
+
+}  // namespace detail
 
 }  // namespace deepcut

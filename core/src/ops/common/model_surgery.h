@@ -32,6 +32,8 @@ struct TrustedAssign {
   }
   /// The mesh's triangles, to take apart in place (the mesh is assigned anew right after).
   static std::vector<Triangle>& faces(SurfaceMesh& mesh) { return mesh.faces_; }
+  /// The mesh's deleted marks (a piece compacted in place hands their pages past its room back).
+  static std::vector<std::uint8_t>& deleted(SurfaceMesh& mesh) { return mesh.deleted_; }
 };
 
 /// A copy of `mesh` holding only `faces` (unused vertices dropped, attributes following).

@@ -172,19 +172,19 @@ void reassign(SurfaceMesh& mesh) {
                         std::move(mesh.corner_attrs()));
 }
 
-// The pages of `mesh`'s arrays past the room (split_room) of `vertices` and `faces` handed back
-// to the system: a piece compacted in place keeps its mesh's capacity, and the bytes past the
-// piece held the mesh's elements, so without this every page of the mesh stayed resident as long
-// as the piece lived. The room an operation on the piece grows into stays; growing the piece
-// back into its mesh (expand_piece, an undo) faults the rest in again.
-void release_past_room(SurfaceMesh& mesh, std::size_t vertices, std::size_t faces) {
+// The pages of `mesh`'s arrays past the room (split_room) of its `vertices` and `faces` (its
+// sizes, assigned) handed back to the system: a piece compacted in place keeps its mesh's
+// capacity, and the bytes past the piece held the mesh's elements (the deleted marks too, which
+// assign_trusted rewrites only up to the piece's faces), so without this every page of the mesh
+// stayed resident as long as the piece lived. The room an operation on the piece grows into
+// stays; growing the piece back into its mesh (expand_piece, an undo) faults the rest in again.
+// Allocates nothing (AttributeSet::release_room loops over its arrays' flat list).
+void release_past_room(SurfaceMesh& mesh, std::size_t vertices, std::size_t faces) noexcept {
   const std::size_t vertex_room = split_room(vertices), face_room = split_room(faces);
-  for (int kind = 0; kind < 3; ++kind) {
-    AttributeSet& set = set_of(mesh, kind);
-    for (const std::string& name : set.names())
-      set.base(name)->release_room((kind == 0 ? vertex_room : face_room) * group_of(kind));
-  }
+  for (int kind = 0; kind < 3; ++kind)
+    set_of(mesh, kind).release_room((kind == 0 ? vertex_room : face_room) * group_of(kind));
   release_room(TrustedAssign::faces(mesh), face_room);
+  release_room(TrustedAssign::deleted(mesh), face_room);
 }
 
 }  // namespace
@@ -216,8 +216,8 @@ void compact_piece(SurfaceMesh& mesh, const MovePlan& plan, const std::vector<st
   });
   for (int kind = 0; kind < 3; ++kind)
     set_of(mesh, kind).resize((kind == 0 ? vertices : faces).size() * group_of(kind));
-  release_past_room(mesh, vertices.size(), faces.size());
   reassign(mesh);
+  release_past_room(mesh, vertices.size(), faces.size());
 }
 
 namespace {

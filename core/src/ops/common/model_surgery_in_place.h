@@ -27,8 +27,14 @@ inline std::size_t group_of(int kind) { return kind == 2 ? 3 : 1; }
 /// an eighth more, as the operations' room (operation_room.h), with a smaller fixed part. A
 /// session leaves many small pieces (176 after 200 operations on 1M triangles, a few thousand
 /// faces each); with the operations' 1024 vertices and 2048 face slots per array each, their room
-/// held about 55 MiB resident. A small piece outgrowing its room at its next edit is copied whole
-/// (AttributeArrayBase::room_for), which costs little at its size.
+/// held about 55 MiB resident. So a piece's first edit that adds more than `count / 8 + 64`
+/// elements outgrows it: AttributeArrayBase::room_for then moves each array into memory of twice
+/// its size, copying the piece once; cheap for the small pieces the fixed part was cut for (a few
+/// thousand elements), and a large piece's eighth is itself large.
+/// The posed model's piece rooms (operation_room.h, piece_vertex_room and piece_corner_room) are
+/// not this: they are the operations' room of half the source, so that posed arrays set aside by
+/// an undo hold the smaller piece of any later cut of that source, and they keep the operations'
+/// fixed part; they are prefaulted, and sized by the posed side, not here.
 inline std::size_t split_room(std::size_t count) { return count + count / 8 + 64; }
 
 /// Elements per task of a pass over the pool that reads or writes one small value per element
