@@ -182,7 +182,7 @@ class StudioSessionTest : public QObject {
     QVERIFY(window->open_file(kCactus));
     window->set_tool("tear");
     QVERIFY2(window->apply_tool(), qPrintable(window->last_error()));
-    while (window->task()->busy()) QTest::qWait(20);  // the posed model the step rebuilds
+    while (window->task()->busy()) QTest::qWait(20);   // the posed model the step rebuilds
     QTest::qWait(MainWindow::kIdleReleaseMs * 3 / 4);  // most of the tear's idle interval
     // 64 MiB written and freed: the heap keeps it for the next operation ...
     constexpr std::size_t kBlock = std::size_t(64) << 20;
