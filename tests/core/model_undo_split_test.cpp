@@ -75,6 +75,16 @@ void expect_same(const Model& a, const Model& b, const char* when) {
   EXPECT_TRUE(diff_models(a, b).empty()) << when;
 }
 
+// Undoes and redoes `step` twice over: `model` is `before` after each undo, `after` after each redo.
+void expect_undo_redo(ModelStep& step, Model& model, const Model& before, const Model& after) {
+  for (int cycle = 0; cycle < 2; ++cycle) {
+    step.undo(model);
+    expect_same(model, before, "undo");
+    step.redo(model);
+    expect_same(model, after, "redo");
+  }
+}
+
 // Records an edit of `mesh`'s primitive and its split in place into the tubes; the pieces are
 // destroyed without entering the model. The step is exact; undo and redo give back the states.
 void expect_pieces_destroyed_undone(SurfaceMesh source) {
@@ -110,12 +120,7 @@ void expect_pieces_destroyed_undone(SurfaceMesh source) {
   }
   const Model after = model;
   ASSERT_TRUE(step.exact());
-  for (int cycle = 0; cycle < 2; ++cycle) {
-    step.undo(model);
-    expect_same(model, before, "undo");
-    step.redo(model);
-    expect_same(model, after, "redo");
-  }
+  expect_undo_redo(step, model, before, after);
 }
 
 TEST(ModelUndoSplitTest, pieces_destroyed_without_entering_the_model_give_the_primitive_back_on_undo) {
@@ -313,12 +318,7 @@ TEST(ModelUndoSplitTest, a_split_whose_pieces_enter_the_model_is_recorded_in_a_f
   ASSERT_TRUE(step.exact());
   ASSERT_EQ(model.meshes[0].primitives.size(), 2u);
   EXPECT_LT(step.bytes(), elements / 2);
-  for (int cycle = 0; cycle < 2; ++cycle) {
-    step.undo(model);
-    expect_same(model, before, "undo");
-    step.redo(model);
-    expect_same(model, after, "redo");
-  }
+  expect_undo_redo(step, model, before, after);
 }
 
 // Two structural steps in a row keep one copy of the model's small parts they did not change (a

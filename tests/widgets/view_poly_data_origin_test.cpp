@@ -421,20 +421,26 @@ TEST(ViewPolyDataOriginTest, a_piece_taking_a_spare_equals_a_fresh_build) {
   set_thread_count(saved);
 }
 
-/// The raw values of every array `view` draws with (points, point data by name, cells).
+/// Calls `f` with every array `view` draws with (points, point data by name, cells; null when
+/// one is missing).
+template <class F>
+void for_each_array(const ViewPolyData& view, F f) {
+  vtkPolyData* poly = view.poly();
+  f(poly->GetPoints()->GetData());
+  for (const char* name : {"vertex_id", "uv0", "normal"}) f(poly->GetPointData()->GetArray(name));
+  f(poly->GetCellData()->GetArray("face_id"));
+  f(poly->GetPolys()->GetOffsetsArray64());
+  f(poly->GetPolys()->GetConnectivityArray64());
+}
+
+/// The raw values of every array `view` draws with.
 std::vector<std::vector<char>> raw_arrays(const ViewPolyData& view) {
   std::vector<std::vector<char>> out;
-  auto add = [&](vtkDataArray* a) {
+  for_each_array(view, [&](vtkDataArray* a) {
     ASSERT_NE(a, nullptr);
     const auto* from = static_cast<const char*>(a->GetVoidPointer(0));
     out.emplace_back(from, from + a->GetNumberOfValues() * a->GetDataTypeSize());
-  };
-  vtkPolyData* poly = view.poly();
-  add(poly->GetPoints()->GetData());
-  for (const char* name : {"vertex_id", "uv0", "normal"}) add(poly->GetPointData()->GetArray(name));
-  add(poly->GetCellData()->GetArray("face_id"));
-  add(poly->GetPolys()->GetOffsetsArray64());
-  add(poly->GetPolys()->GetConnectivityArray64());
+  });
   return out;
 }
 
@@ -487,18 +493,12 @@ TEST(ViewPolyDataOriginTest, a_kept_scratch_gives_what_own_memory_gives) {
 void expect_room_bounded(const ViewPolyData& view, const std::string& what,
                          const SurfaceMesh* mesh = nullptr) {
   SCOPED_TRACE(what);
-  auto bounded = [](vtkDataArray* a) {
+  for_each_array(view, [](vtkDataArray* a) {
     ASSERT_NE(a, nullptr);
     const vtkIdType n = a->GetNumberOfTuples(), components = a->GetNumberOfComponents();
     EXPECT_GE(a->GetSize(), n * components);
     EXPECT_LE(a->GetSize(), (n + n / 4 + 128) * components) << (a->GetName() ? a->GetName() : "points");
-  };
-  vtkPolyData* poly = view.poly();
-  bounded(poly->GetPoints()->GetData());
-  for (const char* name : {"vertex_id", "uv0", "normal"}) bounded(poly->GetPointData()->GetArray(name));
-  bounded(poly->GetCellData()->GetArray("face_id"));
-  bounded(poly->GetPolys()->GetOffsetsArray64());
-  bounded(poly->GetPolys()->GetConnectivityArray64());
+  });
   const ViewPolyData::Bytes bytes = view.bytes();
   EXPECT_GT(bytes.used, 0u);
   EXPECT_LE(bytes.held, bytes.used + bytes.used / 4 + 16 * 1024);
